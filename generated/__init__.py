@@ -1,0 +1,1 @@
+"""Generated code only: written by `make generate`, never edited by hand."""

@@ -1,0 +1,266 @@
+"""Derivations: loop closure, Jacobians, determinants and named singularity factors.
+
+Everything here is symbolic; the products are ``Program``s for the emitters and a dictionary of
+SymPy objects for inspection. Conventions: Jacobians give (v, w) of the origin of {P} in {B}.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from dataclasses import dataclass, field
+
+import mpmath
+import sympy as sp
+
+from generator.frames import vee
+from generator.model import POSE_SYMBOLS, Mechanism
+from generator.program import Program
+from generator.trigpoly import factor_list
+
+
+@dataclass
+class Derivation:
+    """What the generator derived for one mechanism."""
+
+    programs: list[Program]
+    symbolic: dict[str, object]
+    metadata: dict[str, object] = field(default_factory=dict)
+
+
+def _name(expr: sp.Expr) -> str:
+    text = str(expr)
+    for old, new in (("**", "_pow_"), ("(", "_"), (")", ""), ("*", "_"), (" ", ""), ("+", "_plus_"), ("-", "minus_")):
+        text = text.replace(old, new)
+    return text
+
+
+def loop_closure(mechanism: Mechanism) -> sp.Matrix:
+    """Every leg must reach the pose of the first: for each other leg k, the position difference
+    p_0 - p_k and the rotation error vee(R_0^T R_k) (zero exactly when R_0 = R_k, and well
+    conditioned near it, unlike a choice of three matrix entries)."""
+    transforms = [leg.end_transform() for leg in mechanism.legs]
+    first = transforms[0]
+    blocks = []
+    for other in transforms[1:]:
+        blocks.append(first[:3, 3] - other[:3, 3])
+        blocks.append(vee(first[:3, :3].T * other[:3, :3]))
+    return sp.Matrix.vstack(*blocks)
+
+
+def serial_factors(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> dict[str, dict]:
+    """Each leg Jacobian's determinant, factored; every factor named (eq 13-14 for SAM)."""
+    result = {}
+    for leg in mechanism.legs:
+        determinant = leg.determinant_jacobian().det(method="berkowitz")
+        constant, factors = factor_list(determinant)
+        named = []
+        for factor, multiplicity in factors:
+            name = mechanism.serial_factor_names.get(factor, f"{leg.name}_{_name(factor)}")
+            named.append((name, factor, multiplicity))
+        result[leg.name] = {"constant": constant, "factors": named}
+    return result
+
+
+def type2_matrix(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> sp.Matrix:
+    """Closed-loop matrix of the passive rates with the actuators locked: J_0p qdot_0 = J_kp qdot_k
+    for every other leg k. Singular exactly at forward (type II) singularities."""
+    passive_columns = []
+    for leg in mechanism.legs:
+        columns = [i for i, joint in enumerate(leg.joints) if joint in mechanism.passive]
+        passive_columns.append(jacobians[leg.name][:, columns])
+    rows = []
+    for k in range(1, len(mechanism.legs)):
+        blocks = [sp.zeros(6, m.cols) for m in passive_columns]
+        blocks[0] = passive_columns[0]
+        blocks[k] = -passive_columns[k]
+        rows.append(sp.Matrix.hstack(*blocks))
+    return sp.Matrix.vstack(*rows)
+
+
+def check_parallel_factors(mechanism: Mechanism, matrix: sp.Matrix, samples: int = 12) -> int:
+    """Prove numerically (30 digits, random closed configurations made by the inverse program) that
+    det(matrix) = sign * product(parallel factors); return the sign. Raise if it does not hold."""
+    if mechanism.inverse is None or not mechanism.parallel_factors:
+        return 1
+    mpmath.mp.dps = 30
+    variables = [*mechanism.actuated, *mechanism.passive, *mechanism.parameters]
+    product = sp.Mul(*mechanism.parallel_factors.values())
+    det_fn = sp.lambdify(variables, matrix, modules="mpmath")
+    product_fn = sp.lambdify(variables, product, modules="mpmath")
+    inverse_fn = _inverse_function(mechanism)
+    rng = random.Random(20261121)
+    signs = set()
+    for _ in range(samples):
+        pose = _random_pose(rng)
+        branch = [1] * len(mechanism.inverse.branches)
+        values = inverse_fn(pose, branch)
+        args = [values[v] for v in mechanism.actuated + mechanism.passive] + list(mechanism.parameters.values())
+        determinant = mpmath.det(mpmath.matrix(det_fn(*args).tolist()))
+        expected = product_fn(*args)
+        ratio = determinant / expected
+        if abs(abs(ratio) - 1) > mpmath.mpf(10) ** -20:
+            raise ValueError(f"{mechanism.name}: parallel factors do not multiply to det (ratio {ratio})")
+        signs.add(int(mpmath.sign(ratio)))
+    if len(signs) != 1:
+        raise ValueError(f"{mechanism.name}: parallel factor sign is not constant")
+    return signs.pop()
+
+
+def _random_pose(rng: random.Random) -> list:
+    """A random rigid pose: rotation from a unit quaternion, position in a 1 m cube above {B}."""
+    q = [mpmath.mpf(rng.gauss(0, 1)) for _ in range(4)]
+    norm = mpmath.sqrt(sum(x * x for x in q))
+    w, x, y, z = (c / norm for c in q)
+    rotation = [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ]
+    position = [mpmath.mpf(rng.uniform(-0.3, 0.3)), mpmath.mpf(rng.uniform(-0.3, 0.3)), mpmath.mpf(rng.uniform(0.4, 1.0))]
+    return [c for row in rotation for c in row] + position
+
+
+def _inverse_function(mechanism: Mechanism):
+    assert mechanism.inverse is not None
+    steps = mechanism.inverse.steps
+    parameters = dict(mechanism.parameters)
+
+    def evaluate(pose: list, branch: list) -> dict:
+        values: dict = dict(zip(POSE_SYMBOLS, pose, strict=True))
+        values.update(zip(mechanism.inverse.branches, branch, strict=True))
+        values.update({k: mpmath.mpf(v) for k, v in parameters.items()})
+        for target, expr in steps:
+            values[target] = sp.lambdify(list(expr.free_symbols), expr, modules="mpmath")(
+                *[values[s] for s in expr.free_symbols]
+            )
+        return values
+
+    return evaluate
+
+
+def derive(mechanism: Mechanism) -> Derivation:
+    actuated = ("actuated", mechanism.actuated)
+    passive = ("passive", mechanism.passive)
+    params = ("params", list(mechanism.parameters))
+    state = [actuated, passive, params]
+
+    platform = mechanism.legs[0].end_transform()
+    residual = loop_closure(mechanism)
+    jacobian_passive = residual.jacobian(mechanism.passive)
+    jacobians = {leg.name: leg.geometric_jacobian() for leg in mechanism.legs}
+    serial = serial_factors(mechanism, jacobians)
+    type2 = type2_matrix(mechanism, jacobians)
+    sign = check_parallel_factors(mechanism, type2)
+
+    factor_names: list[str] = []
+    factor_values: list[sp.Expr] = []
+    for leg in mechanism.legs:
+        for name, factor, _ in serial[leg.name]["factors"]:
+            factor_names.append(name)
+            factor_values.append(factor)
+    for name, factor in mechanism.parallel_factors.items():
+        factor_names.append(name)
+        factor_values.append(factor)
+    determinants = {
+        f"{leg.name}_leg_determinant": serial[leg.name]["constant"]
+        * sp.Mul(*(f**m for _, f, m in serial[leg.name]["factors"]))
+        for leg in mechanism.legs
+    }
+    determinants["closed_loop_determinant"] = sign * sp.Mul(*mechanism.parallel_factors.values())
+
+    programs = [
+        Program("platform_pose", "^B_P T (4x4) reached by the first leg from actuated and passive values.", state, [("pose", platform)]),
+        Program(
+            "loop_closure",
+            "Loop-closure residual (position difference, rotation error vee(R_0^T R_k)) and its Jacobian with respect to the passive variables.",
+            state,
+            [("residual", residual), ("jacobian", jacobian_passive)],
+        ),
+        Program(
+            "leg_jacobians",
+            "Each leg's 6x6 serial Jacobian (eq 9): rows (v, w) of {P} in {B}, columns the leg's joints.",
+            state,
+            [(f"{leg.name}", jacobians[leg.name]) for leg in mechanism.legs],
+        ),
+        Program(
+            "singularity_factors",
+            "Every named singularity factor, then the leg and closed-loop determinants.",
+            state,
+            [("factors", sp.Matrix(factor_values)), ("determinants", sp.Matrix(list(determinants.values())))],
+        ),
+    ]
+    metadata: dict[str, object] = {
+        "singularity_factors": factor_names,
+        "determinants": list(determinants),
+        "legs": [{"name": leg.name, "joints": [str(j) for j in leg.joints]} for leg in mechanism.legs],
+    }
+    symbolic: dict[str, object] = {
+        "platform_pose": platform,
+        "loop_closure": residual,
+        **{f"leg_jacobian_{name}": jacobian for name, jacobian in jacobians.items()},
+        **{f"leg_transform_{leg.name}": leg.end_transform() for leg in mechanism.legs},
+        "closed_loop_matrix": type2,
+        **{name: value for name, value in determinants.items()},
+        **{f"factor_{name}": value for name, value in zip(factor_names, factor_values, strict=True)},
+    }
+
+    if mechanism.inverse is not None:
+        inverse = mechanism.inverse
+        programs.append(
+            Program(
+                "inverse_pose",
+                "Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.",
+                [("pose", POSE_SYMBOLS), ("branch", inverse.branches), params],
+                [
+                    ("actuated", sp.Matrix(mechanism.actuated)),
+                    ("passive", sp.Matrix(mechanism.passive)),
+                    ("validity", sp.Matrix(list(inverse.validity.values()))),
+                ],
+                steps=inverse.steps,
+            )
+        )
+        metadata["inverse"] = {
+            "branches": [str(b) for b in inverse.branches],
+            "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(inverse.branches))],
+            "validity": list(inverse.validity),
+        }
+        symbolic["inverse_steps"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in inverse.steps))
+
+    if mechanism.forward is not None:
+        forward = mechanism.forward
+        programs.append(
+            Program(
+                "forward_polynomial",
+                "Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.",
+                [actuated, params],
+                [
+                    ("coefficients", sp.Matrix(forward.coefficients)),
+                    ("degeneracies", sp.Matrix(list(forward.degeneracies.values()))),
+                ],
+                steps=forward.auxiliary,
+            )
+        )
+        programs.append(
+            Program(
+                "forward_back_substitution",
+                "Platform pose ^B_P T from one root of the forward polynomial and one branch-sign combination.",
+                [actuated, ("root", [forward.unknown]), ("branch", forward.branches), params],
+                [("pose", forward.pose)],
+                steps=forward.auxiliary + forward.back_substitution,
+            )
+        )
+        metadata["forward"] = {
+            "unknown": str(forward.unknown),
+            "degree": len(forward.coefficients) - 1,
+            "branches": [str(b) for b in forward.branches],
+            "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(forward.branches))],
+            "degeneracies": list(forward.degeneracies),
+        }
+        symbolic["forward_polynomial"] = sp.Add(
+            *(c * forward.unknown**k for k, c in enumerate(forward.coefficients))
+        )
+        symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))
+    return Derivation(programs, symbolic, metadata)
+
+

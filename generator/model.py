@@ -1,0 +1,159 @@
+"""The declarative mechanism model that every module in ``mechanisms/`` fills in.
+
+A mechanism is a set of serial legs (modified-DH chains from the fixed base frame {B} to the
+moving platform frame {P}) that must all reach the same platform pose, plus optional closed-form
+solutions supplied as SymPy expressions:
+
+* ``InverseSolution``: a straight-line program (ordered assignments) from the platform pose to
+  every actuated and passive variable, with ``branch`` symbols that take the values +1 and -1.
+* ``ForwardElimination``: a univariate polynomial in one unknown whose coefficients depend on the
+  actuated variables only, and the platform pose written in terms of a root (and branch signs).
+
+The pose of {P} in {B} enters inverse programs through the symbols of ``POSE_SYMBOLS``
+(rotation entries r11..r33 and position px, py, pz of ^B_P T).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import sympy as sp
+
+from generator.frames import ModifiedDHLink
+
+POSE_ROTATION = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33", real=True))
+POSE_POSITION = sp.Matrix(sp.symbols("px py pz", real=True))
+POSE_SYMBOLS: list[sp.Symbol] = list(POSE_ROTATION) + list(POSE_POSITION)
+
+
+def pose_matrix() -> sp.Matrix:
+    """^B_P T written with the pose symbols."""
+    transform = sp.eye(4)
+    transform[:3, :3] = POSE_ROTATION
+    transform[:3, 3] = POSE_POSITION
+    return transform
+
+
+@dataclass
+class SerialChain:
+    """A leg: ^B_P T = base * prod(link transforms) * tool (modified DH, Craig)."""
+
+    name: str
+    base: sp.Matrix
+    links: list[ModifiedDHLink]
+    tool: sp.Matrix
+    #: the leg's joint variables in the order of its Jacobian columns (eq 9 of Williams & Poling)
+    joints: list[sp.Symbol]
+
+    @cached_property
+    def _frames(self) -> list[sp.Matrix]:
+        current = self.base
+        result = [current]
+        for link in self.links:
+            current = current * link.transform()
+            result.append(current)
+        return result
+
+    def frames(self) -> list[sp.Matrix]:
+        """^B_i T for i = 0..n (frame 0 is the leg's base frame), each simplified."""
+        return list(self._frames)
+
+    def end_transform(self) -> sp.Matrix:
+        """^B_P T as reached by this leg."""
+        return self._end
+
+    @cached_property
+    def _end(self) -> sp.Matrix:
+        return self._frames[-1] * self.tool
+
+    def geometric_jacobian(self) -> sp.Matrix:
+        """6 x n Jacobian [v; w] of {P}: linear velocity of the origin of {P} and angular velocity,
+        both expressed in {B}; columns ordered as ``joints``."""
+        return self._jacobian(self.frames(), self.end_transform()[:3, 3])
+
+    def determinant_jacobian(self) -> sp.Matrix:
+        """The same Jacobian taken at the origin of the last DH frame and expressed in the leg's
+        frame {0}. A change of reference point or of frame multiplies the Jacobian by a matrix
+        of determinant 1, so its determinant equals that of ``geometric_jacobian``, in far
+        smaller expressions (no base or tool offsets)."""
+        frames = [sp.eye(4)]
+        for link in self.links:
+            frames.append(frames[-1] * link.transform())
+        return self._jacobian(frames, frames[-1][:3, 3])
+
+    def _jacobian(self, frames: list[sp.Matrix], platform_origin: sp.Matrix) -> sp.Matrix:
+        columns: dict[sp.Symbol, sp.Matrix] = {}
+        for index, link in enumerate(self.links, start=1):
+            if link.joint is None:
+                continue
+            frame = frames[index]
+            if link.kind() == "R":
+                axis = frame[:3, 2] * sp.diff(link.theta, link.joint)
+                linear = axis.cross(platform_origin - frame[:3, 3])
+                columns[link.joint] = sp.Matrix.vstack(linear, axis)
+            else:
+                carrier = frames[index - 1][:3, 0] if link.prismatic_axis() == "x_prev" else frame[:3, 2]
+                scale = sp.diff(link.a + link.d, link.joint)
+                columns[link.joint] = sp.Matrix.vstack(carrier * scale, sp.zeros(3, 1))
+        return sp.Matrix.hstack(*(columns[joint] for joint in self.joints))
+
+
+@dataclass
+class InverseSolution:
+    """Closed-form inverse pose: ordered assignments from the pose symbols to the joint variables.
+
+    ``branches`` are symbols taking +1 or -1; combination k of all branches follows
+    ``itertools.product((+1, -1), repeat=len(branches))`` (bit j set means branches[j] = -1,
+    most significant bit first), so branch 0 is all signs +1.
+    ``validity`` maps a name to an expression that must be positive for the branch to be valid.
+    """
+
+    steps: list[tuple[sp.Symbol, sp.Expr]]
+    branches: list[sp.Symbol]
+    validity: dict[str, sp.Expr] = field(default_factory=dict)
+
+
+@dataclass
+class ForwardElimination:
+    """Forward pose through a univariate polynomial sum_k coefficients[k] * unknown**k = 0.
+
+    ``coefficients`` depend on actuated variables, parameters and the ``auxiliary`` assignments
+    (themselves functions of the actuated variables). For each real root and each combination of
+    ``branches`` (+1/-1), ``pose`` gives ^B_P T after the ``back_substitution`` assignments.
+    """
+
+    unknown: sp.Symbol
+    coefficients: list[sp.Expr]
+    branches: list[sp.Symbol]
+    auxiliary: list[tuple[sp.Symbol, sp.Expr]]
+    back_substitution: list[tuple[sp.Symbol, sp.Expr]]
+    pose: sp.Matrix
+    #: names and expressions that vanish where the elimination itself degenerates
+    degeneracies: dict[str, sp.Expr] = field(default_factory=dict)
+
+
+@dataclass
+class Mechanism:
+    """A parallel mechanism: legs sharing the platform frame {P}, as in its paper."""
+
+    name: str
+    title: str
+    reference: str
+    #: parameter symbol -> default value (SI units), with the paper's values
+    parameters: dict[sp.Symbol, float]
+    actuated: list[sp.Symbol]
+    passive: list[sp.Symbol]
+    legs: list[SerialChain]
+    inverse: InverseSolution | None = None
+    forward: ForwardElimination | None = None
+    #: a configuration used as the default Newton guess: variable -> value
+    home: dict[sp.Symbol, float] = field(default_factory=dict)
+    #: variable -> (lower, upper) physical range; outside it a branch or mode is flagged invalid
+    limits: dict[sp.Symbol, tuple[float, float]] = field(default_factory=dict)
+    #: names for factors of the leg determinants (factor expression -> name)
+    serial_factor_names: dict[sp.Expr, str] = field(default_factory=dict)
+    #: named factors whose product equals the closed-loop (type II) determinant
+    parallel_factors: dict[str, sp.Expr] = field(default_factory=dict)
+    #: angles (variables) that the runtime compares modulo 2 pi
+    angular: list[sp.Symbol] = field(default_factory=list)

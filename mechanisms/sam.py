@@ -1,0 +1,221 @@
+"""SAM, the Spherically-Actuated platform Manipulator (2-SPU, 6 dof).
+
+Reference: R. L. Williams II and D. B. Poling, "Spherically-Actuated Platform Manipulator",
+Journal of Robotic Systems, 2000 (``shared/papers/000_0fd26f24943f9b56.txt``).
+
+Conventions, as in the paper:
+* Frames: fixed base {B}; platform {P}; each leg is a modified-DH chain (Craig), Table I, from
+  its actuator frame {0} (^B_0 T: {0} at y = -L1 in {B}) to the U-joint frame {6}, and
+  ^6_P T places {P} with its origin at x6 = -L4 (eq 3). Both U joints lie on the Y_P axis.
+* Left leg: active S joint (theta1 roll, theta2 yaw, theta3 pitch), passive prismatic L2 and
+  U joint (phi2, phi3). Right leg: the same table with theta4..6, L3, phi5, phi6 and the signs of
+  L1 and L4 reversed.
+* Pose: ^B_P T, or {x, y, z, alpha, beta, gamma} with Z-Y-X Euler angles (eq 2).
+* Leg Jacobians (eq 9): columns (theta, theta, theta, L, phi, phi); rows (v, w) of {P}, the
+  linear velocity of the origin of {P} and the angular velocity, both in {B}.
+* Inverse branches per leg, signs (epsilon, delta): epsilon = sign of sin(phi2) (the two U-joint
+  sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
+  (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
+* Lengths in metres, angles in radians.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from generator.frames import ModifiedDHLink, homogeneous, inverse_transform, translation
+from generator.model import (
+    POSE_POSITION,
+    ForwardElimination,
+    InverseSolution,
+    Mechanism,
+    SerialChain,
+    pose_matrix,
+)
+
+L1, L4 = sp.symbols("L1 L4", positive=True)
+theta = sp.symbols("theta1:7", real=True)
+L2, L3 = sp.symbols("L2 L3", real=True)
+phi2, phi3, phi5, phi6 = sp.symbols("phi2 phi3 phi5 phi6", real=True)
+
+HALF_PI = sp.pi / 2
+
+
+def spu_leg(name: str, thetas, length, phis, base_offset, platform_offset) -> SerialChain:
+    """One SPU leg: Table I with the given variables; base_offset = L1, platform_offset = L4 for
+    the left leg (both negated for the right leg, section 3.1)."""
+    t1, t2, t3 = thetas
+    p2, p3 = phis
+    links = [
+        ModifiedDHLink(0, 0, 0, t1 + HALF_PI, t1),
+        ModifiedDHLink(HALF_PI, 0, 0, t2 + HALF_PI, t2),
+        ModifiedDHLink(HALF_PI, 0, 0, t3, t3),
+        ModifiedDHLink(-HALF_PI, length, 0, 0, length),
+        ModifiedDHLink(0, 0, 0, p2 + HALF_PI, p2),
+        ModifiedDHLink(HALF_PI, 0, 0, p3, p3),
+    ]
+    # eq (3): ^B_0 T and ^6_P T
+    base = translation(0, -base_offset, 0)
+    tool = homogeneous(sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]), [-platform_offset, 0, 0])
+    return SerialChain(name, base, links, tool, [t1, t2, t3, length, p2, p3])
+
+
+def spu_inverse(leg: SerialChain, epsilon: sp.Symbol, delta: sp.Symbol) -> tuple[list, dict]:
+    """Section 3.1 for one leg, as ordered assignments: eqs (3)-(5) for the passive joints, then
+    eqs (6)-(8) for the S joint. Signs epsilon and delta pick the branch (module docstring)."""
+    t1, t2, t3, length, p2, p3 = leg.joints
+    tag = str(t1)
+    # eq (3): ^0_6 T = ^B_0 T^-1 ^B_P T ^6_P T^-1, and its inverse's position {X1, Y1, Z1}
+    t06 = inverse_transform(leg.base) * pose_matrix() * inverse_transform(leg.tool)
+    t60 = inverse_transform(t06)
+    x1, y1, z1 = (sp.Symbol(f"{axis}_{tag}", real=True) for axis in "XYZ")
+    rho = sp.Symbol(f"rho_{tag}", real=True)
+    c_p2, s_p2, c_p3, s_p3 = (sp.Symbol(f"{f}_{p}", real=True) for p in (p2, p3) for f in "cs")
+    steps = [
+        (x1, t60[0, 3]),
+        (y1, t60[1, 3]),
+        (z1, t60[2, 3]),
+        (rho, sp.sqrt(x1**2 + y1**2)),
+        # eq (5), with the sign of sin(phi2) as the branch instead of a division by cos(phi3)
+        (length, sp.sqrt(x1**2 + y1**2 + z1**2)),
+        (c_p2, -z1 / length),
+        (s_p2, epsilon * rho / length),
+        (c_p3, epsilon * x1 / rho),
+        (s_p3, -epsilon * y1 / rho),
+        (p2, sp.atan2(s_p2, c_p2)),
+        (p3, sp.atan2(s_p3, c_p3)),
+    ]
+    # eq (6): ^0_3 R = ^0_6 R ^3_6 R^T with ^3_6 R from the chain (links 4..6)
+    r36 = sp.eye(3)
+    for link in leg.links[3:]:
+        r36 = r36 * link.transform()[:3, :3]
+    r36 = r36.subs({sp.cos(p2): c_p2, sp.sin(p2): s_p2, sp.cos(p3): c_p3, sp.sin(p3): s_p3})
+    r03 = t06[:3, :3] * r36.T
+    r = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"r{i + 1}{j + 1}_{tag}", real=True))
+    steps += [(r[i, j], r03[i, j]) for i, j in [(0, 2), (1, 2), (2, 2), (2, 0), (2, 1)]]
+    cos_t2 = sp.Symbol(f"abs_c_{t2}", real=True)
+    # eq (8), with the sign of cos(theta2) as the branch (the paper's "signs of c2")
+    steps += [
+        (cos_t2, sp.sqrt(r[0, 2] ** 2 + r[1, 2] ** 2)),
+        (t1, sp.atan2(-delta * r[0, 2], delta * r[1, 2])),
+        (t2, sp.atan2(r[2, 2], delta * cos_t2)),
+        (t3, sp.atan2(-delta * r[2, 1], delta * r[2, 0])),
+    ]
+    validity = {f"{leg.name}_u_joint_not_aligned": rho, f"{leg.name}_s_joint_not_locked": cos_t2}
+    return steps, validity
+
+
+def forward_elimination(left: SerialChain, right: SerialChain) -> ForwardElimination:
+    """Closed-form forward pose (not in the paper, which uses Newton only).
+
+    In Table I, z4 = z5 (alpha4 = 0) depends on the S-joint angles only, and z6 of both legs is the
+    platform Z axis; the U joint makes z6 normal to z5. So Z_P = sign * (z4_L x z4_R) / |.|.
+    The U joints are U_L = S_L + L2 x3_L and U_R = S_R + L3 x3_R (x3 is the leg line), and
+    U_R - U_L = 2 L4 Y_P with Y_P normal to Z_P: one linear equation (dot with Z_P) and one
+    quadratic (|U_R - U_L| = 2 L4). On the line (L2, L3) = p0 + t d of the linear equation the
+    quadratic becomes a univariate quadratic in t. Both signs of Z_P give a pose: 2 x 2 modes.
+    """
+    frames_left, frames_right = left.frames(), right.frames()
+    z4_left, z4_right = frames_left[4][:3, 2], frames_right[4][:3, 2]
+    x3_left, x3_right = frames_left[3][:3, 0], frames_right[3][:3, 0]
+    s_left, s_right = left.base[:3, 3], right.base[:3, 3]
+    t, sign = sp.symbols("t sigma", real=True)
+    normal = sp.Matrix(sp.symbols("n_x n_y n_z", real=True))
+    # the linear equation a L2 + b L3 + c = 0 (dot with the unnormalised normal)
+    a_lin, b_lin, c_lin = sp.symbols("a_lin b_lin c_lin", real=True)
+    line_norm2 = sp.Symbol("line_norm2", positive=True)
+    normal_norm = sp.Symbol("normal_norm", positive=True)
+    length_left, length_right = sp.symbols("L2_t L3_t", real=True)
+    normal_expr = z4_left.cross(z4_right)
+    span = (s_right - s_left) + length_right * x3_right - length_left * x3_left
+    # coefficients of |span|^2 - (2 L4)^2 in t, with L2 = p0_2 + t d_2, L3 = p0_3 + t d_3
+    base_point = sp.Matrix([-c_lin * a_lin, -c_lin * b_lin]) / line_norm2
+    direction = sp.Matrix([b_lin, -a_lin])
+    on_line = {length_left: base_point[0] + t * direction[0], length_right: base_point[1] + t * direction[1]}
+    quadratic = sp.expand((span.dot(span) - (2 * L4) ** 2).subs(on_line))
+    coefficients = [quadratic.coeff(t, k) for k in range(3)]
+    auxiliary = [
+        (normal[0], normal_expr[0]),
+        (normal[1], normal_expr[1]),
+        (normal[2], normal_expr[2]),
+        (a_lin, -x3_left.dot(normal)),
+        (b_lin, x3_right.dot(normal)),
+        (c_lin, (s_right - s_left).dot(normal)),
+        (line_norm2, a_lin**2 + b_lin**2),
+        (normal_norm, sp.sqrt(normal.dot(normal))),
+    ]
+    # back substitution: pose from the root t and the sign of Z_P
+    y_axis_sym = sp.Matrix(sp.symbols("yP_x yP_y yP_z", real=True))
+    z_axis_sym = sp.Matrix(sp.symbols("zP_x zP_y zP_z", real=True))
+    u_left_sym = sp.Matrix(sp.symbols("UL_x UL_y UL_z", real=True))
+    back = [
+        (length_left, on_line[length_left]),
+        (length_right, on_line[length_right]),
+    ]
+    back += [(z_axis_sym[k], sign * normal[k] / normal_norm) for k in range(3)]
+    u_left = s_left + length_left * x3_left
+    back += [(u_left_sym[k], u_left[k]) for k in range(3)]
+    back += [(y_axis_sym[k], span[k] / (2 * L4)) for k in range(3)]
+    x_axis = y_axis_sym.cross(z_axis_sym)
+    origin = u_left_sym + L4 * y_axis_sym  # left U joint sits at y = -L4 in {P}
+    pose = homogeneous(sp.Matrix.hstack(x_axis, y_axis_sym, z_axis_sym), origin)
+    return ForwardElimination(
+        unknown=t,
+        coefficients=coefficients,
+        branches=[sign],
+        auxiliary=auxiliary,
+        back_substitution=back,
+        pose=pose,
+        degeneracies={"u_joint_axes_parallel": normal_norm, "legs_parallel_to_platform": line_norm2},
+    )
+
+
+def build() -> Mechanism:
+    left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
+    right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
+    branches = sp.symbols("epsilon_left delta_left epsilon_right delta_right", real=True)
+    steps_left, valid_left = spu_inverse(left, branches[0], branches[1])
+    steps_right, valid_right = spu_inverse(right, branches[2], branches[3])
+    frames_left, frames_right = left.frames(), right.frames()
+    platform = left.end_transform()
+    # closed-loop (type II) factors: see derive.parallel_singularity for the block structure
+    parallel = {
+        "u_joint_axes_parallel": sp.Matrix.hstack(
+            frames_left[4][:3, 2], platform[:3, 2], frames_right[4][:3, 2]
+        ).det(),
+        "legs_coplanar_with_platform_x": sp.Matrix.hstack(
+            frames_left[3][:3, 0], frames_right[3][:3, 0], platform[:3, 0]
+        ).det(),
+        "platform_span": 2 * L4,
+    }
+    deg = sp.pi / 180
+    return Mechanism(
+        name="sam",
+        title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
+        reference="shared/papers/000_0fd26f24943f9b56.txt",
+        parameters={L1: 0.5334, L4: 0.3556},  # section 4.1, metres
+        actuated=list(theta),
+        passive=[L2, phi2, phi3, L3, phi5, phi6],
+        legs=[left, right],
+        inverse=InverseSolution(steps_left + steps_right, list(branches), valid_left | valid_right),
+        forward=forward_elimination(left, right),
+        # eq (15): the nominal configuration
+        home={
+            **dict(zip(theta, [0, float(-15 * deg), 0, 0, float(15 * deg), 0], strict=True)),
+            **dict(zip([L2, phi2, phi3, L3, phi5, phi6], [0.687, float(15 * deg), 0, 0.687, float(-15 * deg), 0], strict=True)),
+        },
+        limits={L2: (0.0, float("inf")), L3: (0.0, float("inf"))},
+        serial_factor_names={
+            L2: "left_leg_length",
+            sp.cos(theta[1]): "left_s_joint_gimbal_lock",
+            sp.sin(phi2): "left_u_joint_aligned",
+            L3: "right_leg_length",
+            sp.cos(theta[4]): "right_s_joint_gimbal_lock",
+            sp.sin(phi5): "right_u_joint_aligned",
+        },
+        parallel_factors=parallel,
+        angular=[*theta, phi2, phi3, phi5, phi6],
+    )
+
+
+__all__ = ["build", "POSE_POSITION"]
