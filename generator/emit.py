@@ -64,13 +64,15 @@ class ModulePrinter(PythonCodePrinter):
 
 
 def _environment() -> jinja2.Environment:
-    return jinja2.Environment(
+    environment = jinja2.Environment(
         loader=jinja2.FileSystemLoader(TEMPLATES),
         keep_trailing_newline=True,
         trim_blocks=True,
         lstrip_blocks=True,
         undefined=jinja2.StrictUndefined,
     )
+    environment.filters["pyrepr"] = repr  # Python literals (None, tuples), not JSON
+    return environment
 
 
 def _printed_program(program: LoweredProgram, printer: ModulePrinter) -> dict[str, Any]:

@@ -1,0 +1,95 @@
+"""Backends: the same generated kernels evaluated by NumPy, by CasADi, or compiled C.
+
+Every backend has ``call(kernel, *inputs) -> {output name: array}``, where each input is an
+array whose last axis indexes its group and whose leading axes broadcast.
+"""
+
+from __future__ import annotations
+
+import importlib
+from functools import lru_cache
+from typing import Any, Protocol
+
+import numpy as np
+
+from parakin.errors import BadInputError
+from parakin.results import Array
+
+
+class Backend(Protocol):
+    name: str
+
+    def call(self, kernel: str, *inputs: Array) -> dict[str, Array]: ...
+
+
+def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Array]]:
+    """The common batch shape and each input reshaped to (n, size) (or (1, size) to share)."""
+    shape = np.broadcast_shapes(*(np.shape(x)[:-1] for x in inputs))
+    count = int(np.prod(shape, dtype=np.int64))
+    flat = []
+    for x in inputs:
+        array = np.asarray(x, dtype=float)
+        if array.shape[:-1] == ():
+            flat.append(np.ascontiguousarray(array.reshape(1, -1)))
+        else:
+            flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + array.shape[-1:]).reshape(count, -1)))
+    return shape, flat
+
+
+class NumpyBackend:
+    """The generated NumPy module: pure Python + NumPy, no compiler needed."""
+
+    name = "numpy"
+
+    def __init__(self, mechanism: str) -> None:
+        self.module = importlib.import_module(f"generated.{mechanism}_numpy")
+
+    def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
+        return self.module.KERNELS[kernel](*inputs)
+
+
+class CasadiBackend:
+    """The generated CasADi Functions, mapped over the batch (one DM conversion per call)."""
+
+    name = "casadi"
+
+    def __init__(self, mechanism: str) -> None:
+        module = importlib.import_module(f"generated.{mechanism}_casadi")
+        self.functions: dict[str, Any] = module.build_functions()
+
+    @lru_cache(maxsize=64)  # noqa: B019  (the backend lives as long as its mechanism)
+    def _mapped(self, kernel: str, count: int) -> Any:
+        return self.functions[kernel].map(count)
+
+    def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
+        shape, flat = broadcast_batch(inputs)
+        count = int(np.prod(shape, dtype=np.int64))
+        function = self.functions[kernel]
+        mapped = self._mapped(kernel, count) if count > 1 else function
+        arguments = [x.T if x.shape[0] == count else np.repeat(x.T, count, axis=1) for x in flat]
+        outputs = mapped.call(arguments)
+        result = {}
+        for index, name in enumerate(function.name_out()):
+            rows, cols = function.size_out(index)
+            value = np.asarray(outputs[index], dtype=float).reshape(rows, count, cols).transpose(1, 0, 2)
+            result[name] = value.reshape(shape + ((rows,) if cols == 1 else (rows, cols)))
+        return result
+
+
+def make_backend(mechanism: str, backend: str) -> Backend:
+    """'numpy', 'casadi', 'compiled' (CasADi C code built with the system C compiler), or
+    'auto': compiled when a C compiler works, NumPy otherwise."""
+    if backend == "numpy":
+        return NumpyBackend(mechanism)
+    if backend == "casadi":
+        return CasadiBackend(mechanism)
+    if backend in ("compiled", "auto"):
+        from parakin.compiled import CompiledBackend, CompilerUnavailableError
+
+        try:
+            return CompiledBackend(mechanism)
+        except CompilerUnavailableError:
+            if backend == "compiled":
+                raise
+            return NumpyBackend(mechanism)
+    raise BadInputError(f"unknown backend {backend!r}; valid: 'auto', 'numpy', 'casadi', 'compiled'")

@@ -1,0 +1,357 @@
+"""The runtime mechanism: thin wrappers that validate input, call generated kernels through a
+backend, and return named results. Conventions are those of the mechanism's generated metadata
+(``m.metadata``) and its module docstring in ``mechanisms/``: SI units, radians, poses as
+^B_P T (..., 4, 4), twists as (v of the origin of {P}, w), both in {B}.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from parakin.backends import Backend
+from parakin.errors import (
+    BadInputError,
+    ConvergenceError,
+    SingularConfigurationError,
+    UnreachablePoseError,
+)
+from parakin.polynomial import real_roots
+from parakin.pose import as_array, as_pose, wrap_angle
+from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
+
+STATUS_OK, STATUS_NONFINITE, STATUS_NO_CONVERGENCE, STATUS_SINGULAR = 0, 1, 2, 3
+
+
+def pose_vector(pose: Array) -> Array:
+    """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
+    return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
+
+
+class Mechanism:
+    """A loaded mechanism. Build with ``parakin.load(name, **parameters)``.
+
+    Every method accepts a leading batch shape. Branch numbering of ``inverse_pose``: branch k
+    has the signs ``InversePose.branches[k]`` of ``metadata['inverse']['branches']`` (branch 0:
+    all +1, then binary counting with -1 as the set bit, most significant first).
+    """
+
+    def __init__(
+        self,
+        metadata: dict[str, Any],
+        backend: Backend,
+        parameters: dict[str, float],
+        limits: dict[str, tuple[float, float]],
+    ) -> None:
+        self.metadata = metadata
+        self.name: str = metadata["name"]
+        self.backend = backend
+        self.parameters = dict(parameters)
+        self.params = np.array([parameters[k] for k in metadata["parameters"]], dtype=float)
+        self.actuated_names: list[str] = list(metadata["actuated"])
+        self.passive_names: list[str] = list(metadata["passive"])
+        self.limits = limits
+        self._angular_passive = np.array([n in metadata["angular"] for n in self.passive_names])
+        self._angular_actuated = np.array([n in metadata["angular"] for n in self.actuated_names])
+        home = metadata["home"]
+        self.home_actuated = np.array([home[n] for n in self.actuated_names], dtype=float)
+        self.home_passive = np.array([home[n] for n in self.passive_names], dtype=float)
+        # each leg's joints as (is_actuated, index into actuated or passive)
+        self._leg_columns = {
+            leg["name"]: [
+                (True, self.actuated_names.index(j)) if j in self.actuated_names else (False, self.passive_names.index(j))
+                for j in leg["joints"]
+            ]
+            for leg in metadata["legs"]
+        }
+
+    def __repr__(self) -> str:
+        values = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
+        return f"parakin.load({self.name!r}, {values})  # backend {self.backend.name}"
+
+    # ------------------------------------------------------------------ input checks
+    def _actuated(self, value: ArrayLike) -> Array:
+        return as_array(value, "actuated", (len(self.actuated_names),))
+
+    def _passive(self, value: ArrayLike) -> Array:
+        return as_array(value, "passive", (len(self.passive_names),))
+
+    def _state(self, state: Configuration) -> tuple[Array, Array]:
+        if not isinstance(state, Configuration):
+            raise BadInputError(f"state must be a Configuration (from a solver), got {type(state).__name__}")
+        return self._actuated(state.actuated), self._passive(state.passive)
+
+    def within_limits(self, passive: Array) -> np.ndarray:
+        """Whether passive values lie inside ``limits`` (open interval), elementwise over the batch."""
+        inside = np.ones(passive.shape[:-1], dtype=bool)
+        for name, (low, high) in self.limits.items():
+            value = passive[..., self.passive_names.index(name)]
+            inside &= (value > low) & (value < high)
+        return inside
+
+    # ------------------------------------------------------------------ pose kernels
+    def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
+        """^B_P T reached by the first leg from joint values (the forward chain, eq 2-3)."""
+        return self.backend.call("platform_pose", self._actuated(actuated), self._passive(passive), self.params)["pose"]
+
+    def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]:
+        """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
+        return self.backend.call("loop_closure", self._actuated(actuated), self._passive(passive), self.params)
+
+    def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
+        """Every closed-form inverse branch for ^B_P T (..., 4, 4).
+
+        With ``strict``, a pose with no valid branch raises UnreachablePoseError (limits) or
+        SingularConfigurationError (every branch at a serial singularity), naming the pose index.
+        """
+        transform = as_pose(pose)
+        info = self.metadata["inverse"]
+        combinations = np.array(info["combinations"], dtype=np.int8)
+        out = self.backend.call(
+            "inverse_pose", pose_vector(transform)[..., None, :], combinations.astype(float), self.params
+        )
+        actuated = np.where(self._angular_actuated, wrap_angle(out["actuated"]), out["actuated"])
+        passive = np.where(self._angular_passive, wrap_angle(out["passive"]), out["passive"])
+        failures = {name: ~(out["validity"][..., k] > 1e-9) for k, name in enumerate(info["validity"])}
+        failures["limits"] = ~self.within_limits(passive)
+        failures["finite"] = ~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1))
+        valid = ~np.logical_or.reduce(list(failures.values()))
+        result = InversePose(actuated, passive, valid, combinations, tuple(info["branches"]), failures, transform)
+        if strict:
+            none = ~valid.any(-1)
+            if none.any():
+                index = tuple(int(i) for i in np.argwhere(none)[0])
+                failed = [name for name, mask in failures.items() if mask[index].all()]
+                at = f" at batch index {index}" if index else ""
+                if failed == ["limits"] or "limits" in failed and len(failed) == 1:
+                    raise UnreachablePoseError(f"pose{at} is outside the joint limits {self.limits} on every branch")
+                raise SingularConfigurationError(
+                    f"pose{at} has no valid inverse branch: {', '.join(failed) or 'mixed failures'} "
+                    "(serial singularity: the leg joints cannot be resolved)"
+                )
+        return result
+
+    # ------------------------------------------------------------------ forward pose (Newton)
+    def _passive_guess(self, actuated: Array, guess: Any) -> Array:
+        if guess is None:
+            return np.broadcast_to(self.home_passive, actuated.shape)
+        if isinstance(guess, Configuration):
+            return self._passive(guess.passive)
+        array = np.asarray(guess, dtype=float)
+        if array.shape[-2:] == (4, 4):
+            return self.passive_from_pose(actuated, array)
+        return self._passive(array)
+
+    def passive_from_pose(self, actuated: ArrayLike, pose: ArrayLike) -> Array:
+        """The passive values of the inverse branch whose actuated values match ``actuated``."""
+        theta = self._actuated(actuated)
+        branches = self.inverse_pose(pose, strict=False)
+        difference = np.where(self._angular_actuated, wrap_angle(branches.actuated - theta[..., None, :]), branches.actuated - theta[..., None, :])
+        mismatch = np.abs(difference).max(-1) + np.where(branches.valid, 0.0, 1e3)
+        best = np.argmin(mismatch, axis=-1)
+        return np.take_along_axis(branches.passive, best[..., None, None], axis=-2)[..., 0, :]
+
+    def forward_pose(
+        self,
+        actuated: ArrayLike,
+        guess: Configuration | ArrayLike | None = None,
+        tolerance: float = 1e-12,
+        max_iterations: int = 30,
+        max_step: float = 0.5,
+        strict: bool = True,
+    ) -> ForwardPose:
+        """Forward pose by Newton on the loop closure in the passive variables.
+
+        ``guess``: a previous result (tracking), passive values (..., n_p), a pose (..., 4, 4), or
+        None for the home configuration. The residual is the position difference and rotation
+        error between the legs (max-norm, metres and radians). With ``strict``, non-convergence
+        raises ConvergenceError (with the residual reached) and a singular Newton matrix raises
+        SingularConfigurationError.
+        """
+        theta = self._actuated(actuated)
+        start = np.broadcast_to(self._passive_guess(theta, guess), theta.shape[:-1] + self.home_passive.shape)
+        start = np.broadcast_to(start, np.broadcast_shapes(start.shape, theta.shape[:-1] + (start.shape[-1],)))
+        theta = np.broadcast_to(theta, start.shape[:-1] + theta.shape[-1:])
+        if self.backend.name == "compiled":
+            passive, pose, residual, iterations, status = self._newton_compiled(theta, start, tolerance, max_iterations, max_step)
+        else:
+            passive, pose, residual, iterations, status = self._newton_python(theta, start, tolerance, max_iterations, max_step)
+        passive = np.where(self._angular_passive, wrap_angle(passive), passive)
+        converged = status == STATUS_OK
+        if strict and not converged.all():
+            index = tuple(int(i) for i in np.argwhere(~converged)[0])
+            at = f" at batch index {index}" if index else ""
+            code = int(status[index])
+            if code == STATUS_SINGULAR:
+                raise SingularConfigurationError(
+                    f"forward pose{at}: the loop-closure Jacobian is singular (a type II singularity) "
+                    f"after {int(iterations[index])} iterations, residual {float(residual[index]):.3g}"
+                )
+            raise ConvergenceError(
+                f"forward pose{at} did not converge in {max_iterations} iterations: residual "
+                f"{float(residual[index]):.3g} > tolerance {tolerance:g}; try a closer guess",
+                residual=float(residual[index]),
+            )
+        return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))
+
+    def _newton_python(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
+        q = np.array(start, dtype=float)
+        batch = q.shape[:-1]
+        status = np.full(batch, STATUS_NO_CONVERGENCE, dtype=np.int32)
+        iterations = np.zeros(batch, dtype=np.int32)
+        residual_norm = np.full(batch, np.nan)
+        active = np.ones(batch, dtype=bool)
+        for iteration in range(max_iterations + 1):
+            out = self.backend.call("loop_closure", theta, q, self.params)
+            norm = np.abs(out["residual"]).max(-1)
+            residual_norm = np.where(active, norm, residual_norm)
+            iterations = np.where(active, iteration, iterations)
+            done = active & (norm < tolerance)
+            status[done] = STATUS_OK
+            active &= ~done & np.isfinite(norm)
+            if iteration == max_iterations or not active.any():
+                break
+            jacobian = out["jacobian"]
+            singular_values = np.linalg.svd(jacobian, compute_uv=False)
+            singular = active & ~(singular_values[..., -1] > 1e-10 * np.maximum(singular_values[..., 0], 1.0))
+            status[singular] = STATUS_SINGULAR
+            active &= ~singular
+            safe = np.where(active[..., None, None], jacobian, np.eye(jacobian.shape[-1]))
+            step = np.linalg.solve(safe, out["residual"][..., None])[..., 0]
+            size = np.abs(step).max(-1, keepdims=True)
+            scale = np.where(size > max_step, max_step / np.maximum(size, 1e-300), 1.0)
+            q = np.where(active[..., None], q - scale * step, q)
+        pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
+        return q, pose, residual_norm, iterations, status
+
+    def _newton_compiled(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
+        batch = theta.shape[:-1]
+        count = int(np.prod(batch, dtype=np.int64))
+        theta_c = np.ascontiguousarray(theta, dtype=float)
+        start_c = np.ascontiguousarray(start, dtype=float)
+        passive = np.empty(batch + start.shape[-1:])
+        pose = np.empty(batch + (4, 4))
+        residual = np.empty(batch)
+        iterations = np.empty(batch, dtype=np.int32)
+        status = np.empty(batch, dtype=np.int32)
+        self.backend.newton(  # type: ignore[attr-defined]
+            count, theta_c.ctypes.data, theta.shape[-1], start_c.ctypes.data, start.shape[-1],
+            self.params.ctypes.data, max_iterations, tolerance, max_step, 1e-10,
+            passive.ctypes.data, pose.ctypes.data, residual.ctypes.data, iterations.ctypes.data, status.ctypes.data,
+        )  # fmt: skip
+        return passive, pose, residual, iterations, status
+
+    # ------------------------------------------------------------------ forward pose, all modes
+    def forward_pose_all(self, actuated: ArrayLike, polish: bool = True, strict: bool = True) -> AssemblyModes:
+        """Every real assembly mode from the generated univariate polynomial (closed form).
+
+        Modes are padded to M = degree x branch combinations; ``valid`` marks real, polished
+        (residual below 1e-9) modes within joint limits. With ``strict``, a degenerate
+        elimination (a degeneracy measure below 1e-9, e.g. parallel U-joint axes for SAM, where
+        the platform has a self-motion) raises SingularConfigurationError.
+        """
+        theta = self._actuated(actuated)
+        info = self.metadata["forward"]
+        out = self.backend.call("forward_polynomial", theta, self.params)
+        degenerate = (np.abs(out["degeneracies"]) < 1e-9).any(-1)
+        if strict and degenerate.any():
+            index = tuple(int(i) for i in np.argwhere(degenerate)[0])
+            names = [n for k, n in enumerate(info["degeneracies"]) if abs(out["degeneracies"][index][k]) < 1e-9]
+            raise SingularConfigurationError(
+                f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
+                "the platform is not determined by the actuators here"
+            )
+        roots, real = real_roots(out["coefficients"])
+        combinations = np.array(info["combinations"], dtype=float)
+        n_roots, n_branches = roots.shape[-1], combinations.shape[0]
+        root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]
+        branch_grid = np.tile(combinations, (n_roots, 1))
+        real_grid = np.repeat(real, n_branches, axis=-1) & ~degenerate[..., None]
+        poses = self.backend.call("forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params)["pose"]
+        poses = np.where(real_grid[..., None, None], poses, np.eye(4))
+        theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
+        passive = self.passive_from_pose(theta_grid, poses)
+        residual = np.abs(self.loop_closure(theta_grid, passive)["residual"]).max(-1)
+        if polish:
+            polished = self.forward_pose(theta_grid, passive, tolerance=1e-13, max_iterations=8, strict=False)
+            better = polished.converged | (polished.residual < residual)
+            passive = np.where(better[..., None], polished.passive, passive)
+            poses = np.where(better[..., None, None], polished.pose, poses)
+            residual = np.where(better, polished.residual, residual)
+        valid = real_grid & (residual < 1e-9) & self.within_limits(passive)
+        return AssemblyModes(theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1))
+
+    # ------------------------------------------------------------------ rates
+    def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
+        """Each leg's 6x6 Jacobian (eq 9): twist (v of the origin of {P}, w; in {B}) per joint
+        rate, columns in the leg's joint order (``metadata['legs']``)."""
+        theta, passive = self._state(state)
+        return self.backend.call("leg_jacobians", theta, passive, self.params)
+
+    def inverse_rate(self, state: Configuration, twist: ArrayLike, damping: float | None = None) -> Rates:
+        """Joint rates for a platform twist (..., 6) = (v, w) in {B} (eq 10), leg by leg.
+
+        ``damping``: None solves exactly and raises SingularConfigurationError at a singular leg;
+        a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1, the
+        paper's recommendation near a singular leg (the motion is then not exactly as commanded).
+        """
+        xdot = as_array(twist, "twist", (6,))
+        jacobians = self.leg_jacobians(state)
+        actuated_rates = np.zeros(np.broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),))
+        passive_rates = np.zeros(actuated_rates.shape[:-1] + (len(self.passive_names),))
+        for leg, jacobian in jacobians.items():
+            if damping is None:
+                self._check_conditioning(jacobian, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse")
+                joint_rates = np.linalg.solve(jacobian, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None])[..., 0]
+            else:
+                gram = jacobian @ np.swapaxes(jacobian, -1, -2) + damping**2 * np.eye(6)
+                joint_rates = (np.swapaxes(jacobian, -1, -2) @ np.linalg.solve(gram, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None]))[..., 0]
+            for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
+                target = actuated_rates if is_actuated else passive_rates
+                target[..., index] = joint_rates[..., column]
+        return Rates(actuated_rates, passive_rates)
+
+    def rate_matrix(self, state: Configuration) -> Array:
+        """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
+        belong to actuated joints, in actuated order."""
+        jacobians = self.leg_jacobians(state)
+        rows = [np.zeros(0)] * len(self.actuated_names)
+        for leg, jacobian in jacobians.items():
+            self._check_conditioning(jacobian, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible")
+            inverse = np.linalg.inv(jacobian)
+            for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
+                if is_actuated:
+                    rows[index] = inverse[..., column, :]
+        return np.stack(rows, axis=-2)
+
+    def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
+        """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
+        rates = self._actuated(actuated_rates)
+        matrix = self.rate_matrix(state)
+        self._check_conditioning(matrix, "rate matrix M (eq 12)", "a type II (parallel) singularity")
+        return np.linalg.solve(matrix, np.broadcast_to(rates, matrix.shape[:-1])[..., None])[..., 0]
+
+    @staticmethod
+    def _check_conditioning(matrix: Array, what: str, hint: str) -> None:
+        singular_values = np.linalg.svd(matrix, compute_uv=False)
+        ratio = singular_values[..., -1] / np.maximum(singular_values[..., 0], 1e-300)
+        bad = ~(ratio > 1e-10)
+        if bad.any():
+            index = tuple(int(i) for i in np.argwhere(bad)[0])
+            at = f" at batch index {index}" if index else ""
+            raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
+
+    # ------------------------------------------------------------------ singularities
+    def singularities(self, state: Configuration) -> dict[str, Array]:
+        """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
+        closed-loop matrix), then the determinants themselves; zero means singular."""
+        theta, passive = self._state(state)
+        out = self.backend.call("singularity_factors", theta, passive, self.params)
+        names = self.metadata["singularity_factors"] + self.metadata["determinants"]
+        values = np.concatenate([out["factors"], out["determinants"]], axis=-1)
+        return {name: values[..., k] for k, name in enumerate(names)}
+
+
+__all__ = ["Mechanism", "pose_vector"]

@@ -1,0 +1,106 @@
+"""Poses: 4x4 homogeneous transforms ^B_P T and the papers' {x, y, z, alpha, beta, gamma}.
+
+Euler convention: Z-Y-X (Williams & Poling eq 2): R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma).
+Angles are radians; the ``*_deg`` helpers say so in their names. Every function broadcasts over
+leading batch axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from parakin.errors import BadInputError
+
+Array = NDArray[np.float64]
+
+
+def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...]) -> Array:
+    """``value`` as a float array whose last axes are ``trailing``; finite, or BadInputError."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as error:
+        raise BadInputError(f"{name} must be numeric, got {type(value).__name__}") from error
+    if array.ndim < len(trailing) or array.shape[array.ndim - len(trailing) :] != trailing:
+        expected = "(..., " + ", ".join(str(n) for n in trailing) + ")"
+        raise BadInputError(f"{name} must have shape {expected}, got {array.shape}")
+    if not np.isfinite(array).all():
+        bad = np.argwhere(~np.isfinite(array))[0]
+        raise BadInputError(f"{name} has a non-finite value at index {tuple(int(i) for i in bad)}")
+    return array
+
+
+def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Array:
+    """A (..., 4, 4) rigid transform: checked for a proper rotation block and a [0 0 0 1] row."""
+    pose = as_array(value, name, (4, 4))
+    rotation = pose[..., :3, :3]
+    gram = np.einsum("...ji,...jk->...ik", rotation, rotation)
+    orthogonality = np.abs(gram - np.eye(3)).max(axis=(-2, -1))
+    if (orthogonality > tolerance).any() or (np.abs(pose[..., 3, :] - [0, 0, 0, 1]) > tolerance).any():
+        worst = float(orthogonality.max())
+        raise BadInputError(
+            f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)"
+        )
+    if (np.linalg.det(rotation) < 0).any():
+        raise BadInputError(f"{name} has a reflection (det R < 0), not a rotation")
+    return pose
+
+
+def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> Array:
+    """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), eq (2) of Williams & Poling; radians."""
+    a, b, g = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (alpha, beta, gamma)))
+    ca, sa, cb, sb, cg, sg = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(g), np.sin(g)
+    return np.stack(
+        [
+            np.stack([ca * cb, -sa * cg + ca * sb * sg, sa * sg + ca * sb * cg], -1),
+            np.stack([sa * cb, ca * cg + sa * sb * sg, -ca * sg + sa * sb * cg], -1),
+            np.stack([-sb, cb * sg, cb * cg], -1),
+        ],
+        -2,
+    )
+
+
+def pose_from_xyz_euler(xyz_euler: ArrayLike) -> Array:
+    """^B_P T from (..., 6) values {x, y, z, alpha, beta, gamma}: metres, Z-Y-X radians (eq 2)."""
+    values = as_array(xyz_euler, "xyz_euler", (6,))
+    pose = np.zeros(values.shape[:-1] + (4, 4))
+    pose[..., :3, :3] = euler_zyx_to_rotation(values[..., 3], values[..., 4], values[..., 5])
+    pose[..., :3, 3] = values[..., :3]
+    pose[..., 3, 3] = 1.0
+    return pose
+
+
+def xyz_euler_from_pose(pose: ArrayLike) -> Array:
+    """(..., 6) {x, y, z, alpha, beta, gamma} from ^B_P T, Z-Y-X radians with beta in
+    [-pi/2, pi/2]. At beta = +-pi/2 (gimbal lock) alpha is set to 0 and gamma absorbs the rest."""
+    transform = as_pose(pose)
+    r = transform[..., :3, :3]
+    beta = np.arctan2(-r[..., 2, 0], np.hypot(r[..., 0, 0], r[..., 1, 0]))
+    locked = np.hypot(r[..., 0, 0], r[..., 1, 0]) < 1e-12
+    alpha = np.where(locked, 0.0, np.arctan2(r[..., 1, 0], r[..., 0, 0]))
+    gamma = np.where(
+        locked,
+        np.arctan2(-np.sign(r[..., 2, 0]) * r[..., 0, 1], r[..., 1, 1]),
+        np.arctan2(r[..., 2, 1], r[..., 2, 2]),
+    )
+    return np.concatenate([transform[..., :3, 3], np.stack([alpha, beta, gamma], -1)], axis=-1)
+
+
+def pose_from_xyz_euler_deg(xyz_euler_deg: ArrayLike) -> Array:
+    """As ``pose_from_xyz_euler`` with the three angles in degrees (lengths still in metres)."""
+    values = np.array(xyz_euler_deg, dtype=float)
+    values[..., 3:] = np.deg2rad(values[..., 3:])
+    return pose_from_xyz_euler(values)
+
+
+def xyz_euler_deg_from_pose(pose: ArrayLike) -> Array:
+    """As ``xyz_euler_from_pose`` with the three angles in degrees."""
+    values = xyz_euler_from_pose(pose)
+    values[..., 3:] = np.rad2deg(values[..., 3:])
+    return values
+
+
+def wrap_angle(angle: ArrayLike) -> Array:
+    """Angles mapped to (-pi, pi]."""
+    wrapped = np.mod(np.asarray(angle, dtype=float) + np.pi, 2 * np.pi) - np.pi
+    return np.where(wrapped == -np.pi, np.pi, wrapped)
