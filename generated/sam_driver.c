@@ -227,7 +227,7 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
         double* q = passive + i * NQ;
-        memcpy(q, guess + i * guess_stride, sizeof(double) * NQ);
+        memmove(q, guess + i * guess_stride, sizeof(double) * NQ);  // guess may alias passive
         int finite = 1;
         for (int k = 0; k < 6; ++k) finite &= isfinite(theta[k]);
         for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
@@ -263,4 +263,31 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
             for (int c = 0; c < 4; ++c) pose[i * 16 + r * 4 + c] = pose_cm[c * 4 + r];
     }
     return 0;
+}
+
+// One argument instead of fifteen: a caller that keeps this struct alive (a tracker) pays the
+// foreign-call overhead once per solve, not per argument.
+typedef struct {
+    long long n;
+    const double* actuated;
+    long long actuated_stride;
+    const double* guess;
+    long long guess_stride;
+    const double* params;
+    int max_iterations;
+    double tolerance;
+    double max_step;
+    double pivot_floor;
+    double* passive;
+    double* pose;
+    double* residual_norm;
+    int* iterations;
+    int* status;
+} parakin_newton_job;
+
+int parakin_forward_pose_job(const parakin_newton_job* job) {
+    return parakin_forward_pose(job->n, job->actuated, job->actuated_stride, job->guess, job->guess_stride,
+                                job->params, job->max_iterations, job->tolerance, job->max_step,
+                                job->pivot_floor, job->passive, job->pose, job->residual_norm,
+                                job->iterations, job->status);
 }

@@ -21,6 +21,7 @@ from parakin.errors import (
 from parakin.polynomial import real_roots
 from parakin.pose import as_array, as_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
+from parakin.tracker import ForwardPoseTracker
 
 STATUS_OK, STATUS_NONFINITE, STATUS_NO_CONVERGENCE, STATUS_SINGULAR = 0, 1, 2, 3
 
@@ -242,6 +243,11 @@ class Mechanism:
             passive.ctypes.data, pose.ctypes.data, residual.ctypes.data, iterations.ctypes.data, status.ctypes.data,
         )  # fmt: skip
         return passive, pose, residual, iterations, status
+
+    def tracker(self, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> ForwardPoseTracker:
+        """A ForwardPoseTracker from ``start`` (a solved configuration, batch allowed): Newton from
+        the previous solution with preallocated buffers; the fast path of a control loop."""
+        return ForwardPoseTracker(self, start, tolerance, max_iterations)
 
     # ------------------------------------------------------------------ forward pose, all modes
     def forward_pose_all(self, actuated: ArrayLike, polish: bool = True, strict: bool = True) -> AssemblyModes:

@@ -1,0 +1,102 @@
+"""A forward-pose tracker for control loops: Newton from the previous solution, with every
+buffer allocated once, so a solve costs one foreign call on the compiled backend."""
+
+from __future__ import annotations
+
+import ctypes
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError
+from parakin.results import Array, Configuration
+
+_STATUS_MESSAGES = {1: "non-finite actuated input", 2: "no convergence", 3: "singular loop-closure Jacobian (type II)"}
+
+
+class _NewtonJob(ctypes.Structure):
+    _fields_ = [
+        ("n", ctypes.c_longlong),
+        ("actuated", ctypes.c_void_p),
+        ("actuated_stride", ctypes.c_longlong),
+        ("guess", ctypes.c_void_p),
+        ("guess_stride", ctypes.c_longlong),
+        ("params", ctypes.c_void_p),
+        ("max_iterations", ctypes.c_int),
+        ("tolerance", ctypes.c_double),
+        ("max_step", ctypes.c_double),
+        ("pivot_floor", ctypes.c_double),
+        ("passive", ctypes.c_void_p),
+        ("pose", ctypes.c_void_p),
+        ("residual_norm", ctypes.c_void_p),
+        ("iterations", ctypes.c_void_p),
+        ("status", ctypes.c_void_p),
+    ]
+
+
+class ForwardPoseTracker:
+    """Tracks the forward pose of a batch of n mechanisms (n = 1 for one robot).
+
+    ``solve(actuated)`` runs Newton from the previous solution and returns the passive values
+    (n, n_p) and poses (n, 4, 4) as views of internal buffers (copy them to keep them); the
+    last ``residual``, ``iterations`` and ``status`` stay readable. Raises ConvergenceError or
+    SingularConfigurationError like ``Mechanism.forward_pose``.
+    """
+
+    def __init__(self, mechanism, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> None:
+        passive = np.atleast_2d(np.array(start.passive, dtype=float))
+        self.mechanism = mechanism
+        self.count = passive.shape[0]
+        shape = (self.count, len(mechanism.actuated_names))
+        self.actuated = np.array(np.broadcast_to(np.atleast_2d(start.actuated), shape), dtype=float, order="C")
+        self.passive = np.ascontiguousarray(passive)
+        self.pose = np.zeros((self.count, 4, 4))
+        self.residual = np.zeros(self.count)
+        self.iterations = np.zeros(self.count, dtype=np.int32)
+        self.status = np.zeros(self.count, dtype=np.int32)
+        self._params = np.ascontiguousarray(mechanism.params)
+        self.tolerance, self.max_iterations = tolerance, max_iterations
+        backend = mechanism.backend
+        self._compiled = backend.name == "compiled"
+        if self._compiled:
+            n_a, n_p = self.actuated.shape[1], self.passive.shape[1]
+            self._job = _NewtonJob(
+                self.count, self.actuated.ctypes.data, n_a, self.passive.ctypes.data, n_p, self._params.ctypes.data,
+                max_iterations, tolerance, 0.5, 1e-10, self.passive.ctypes.data, self.pose.ctypes.data,
+                self.residual.ctypes.data, self.iterations.ctypes.data, self.status.ctypes.data,
+            )  # fmt: skip
+            self._solve = backend.library.parakin_forward_pose_job
+            self._solve.argtypes = [ctypes.c_void_p]
+            self._job_address = ctypes.addressof(self._job)
+
+    def solve(self, actuated: ArrayLike) -> tuple[Array, Array]:
+        """Newton from the previous solution for new actuated values (n, n_a) or (n_a,)."""
+        try:
+            self.actuated[...] = actuated
+        except ValueError as error:
+            raise BadInputError(f"actuated must broadcast to {self.actuated.shape}: {error}") from error
+        if self._compiled:
+            self._solve(self._job_address)
+        else:
+            result = self.mechanism.forward_pose(self.actuated, self.passive, self.tolerance, self.max_iterations, strict=False)
+            self.passive[...] = result.passive
+            self.pose[...] = result.pose
+            self.residual[...] = result.residual
+            self.iterations[...] = result.iterations
+            self.status[...] = np.where(result.converged, 0, 2)
+        if self.status.any():
+            self._raise()
+        return self.passive, self.pose
+
+    def _raise(self) -> None:
+        index = int(np.argmax(self.status != 0))
+        code = int(self.status[index])
+        message = (
+            f"tracker element {index}: {_STATUS_MESSAGES.get(code, code)} after {int(self.iterations[index])} "
+            f"iterations, residual {float(self.residual[index]):.3g}"
+        )
+        if code == 3:
+            raise SingularConfigurationError(message)
+        if code == 1:
+            raise BadInputError(message)
+        raise ConvergenceError(message, residual=float(self.residual[index]))
