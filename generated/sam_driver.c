@@ -244,11 +244,13 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
             residual_norm[i] = norm;
             iterations[i] = it;
             if (!isfinite(norm)) break;
-            if (norm < tolerance) { status[i] = PARAKIN_OK; break; }
-            if (it == max_iterations) break;
+            if (norm >= tolerance && it == max_iterations) break;
             for (int r = 0; r < NQ; ++r)
                 for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
+            // also at convergence: a singular closed-loop Jacobian means the pose is not
+            // determined by the actuators (type II), which a zero residual does not reveal
             if (!solve_in_place(jacobian, residual, pivot_floor)) { status[i] = PARAKIN_SINGULAR; break; }
+            if (norm < tolerance) { status[i] = PARAKIN_OK; break; }
             double step = 0.0;
             for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
             double scale = step > max_step ? max_step / step : 1.0;

@@ -209,16 +209,19 @@ class Mechanism:
             norm = np.abs(out["residual"]).max(-1)
             residual_norm = np.where(active, norm, residual_norm)
             iterations = np.where(active, iteration, iterations)
+            active &= np.isfinite(norm)
             done = active & (norm < tolerance)
-            status[done] = STATUS_OK
-            active &= ~done & np.isfinite(norm)
-            if iteration == max_iterations or not active.any():
-                break
+            if iteration == max_iterations:
+                active &= done
+            # checked at convergence too: a zero residual does not reveal a type II singularity
             jacobian = out["jacobian"]
             singular_values = np.linalg.svd(jacobian, compute_uv=False)
             singular = active & ~(singular_values[..., -1] > 1e-10 * np.maximum(singular_values[..., 0], 1.0))
             status[singular] = STATUS_SINGULAR
-            active &= ~singular
+            status[done & ~singular] = STATUS_OK
+            active &= ~singular & ~done
+            if not active.any():
+                break
             safe = np.where(active[..., None, None], jacobian, np.eye(jacobian.shape[-1]))
             step = np.linalg.solve(safe, out["residual"][..., None])[..., 0]
             size = np.abs(step).max(-1, keepdims=True)

@@ -1,0 +1,35 @@
+# Every target works from a fresh clone: it creates .venv through `setup` when needed.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: setup generate test bench lint demo clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install --quiet --upgrade pip
+	$(BIN)/pip install --quiet -e ".[dev,plot]"
+	touch $(STAMP)
+
+generate: $(STAMP)
+	$(BIN)/python -m generator
+
+demo: generate
+	$(BIN)/parakin demo
+
+test: $(STAMP)
+	$(BIN)/python -m pytest
+
+bench: $(STAMP)
+	$(BIN)/python -m bench
+
+lint: $(STAMP)
+	$(BIN)/ruff check parakin generator mechanisms tests bench
+	$(BIN)/ruff format --check parakin generator mechanisms tests bench
+	$(BIN)/mypy
+
+clean:
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache
