@@ -1,0 +1,35 @@
+import numpy as np
+import pytest
+
+import parakin
+
+BACKENDS = ["numpy", "casadi", "compiled"]
+
+
+@pytest.fixture(scope="session", params=BACKENDS)
+def sam(request):
+    return parakin.load("sam", backend=request.param)
+
+
+@pytest.fixture(scope="session")
+def sam_numpy():
+    return parakin.load("sam", backend="numpy")
+
+
+@pytest.fixture(scope="session")
+def sam_compiled():
+    return parakin.load("sam", backend="compiled")
+
+
+def random_reachable_poses(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Poses around the working region of section 4: the platform above the actuators, within
+    +-0.15 m laterally and +-25 deg in each Euler angle."""
+    values = np.column_stack(
+        [
+            rng.uniform(-0.15, 0.15, count),
+            rng.uniform(-0.15, 0.15, count),
+            rng.uniform(0.5, 0.9, count),
+            *(rng.uniform(-0.45, 0.45, count) for _ in range(3)),
+        ]
+    )
+    return parakin.pose_from_xyz_euler(values)
