@@ -2,7 +2,7 @@
 // with template casadi.CodeGenerator. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 82
-//   loop_closure: 381
+//   loop_closure: 398
 //   leg_jacobians: 217
 //   singularity_factors: 261
 //   inverse_pose: 214
@@ -87,11 +87,11 @@ static const casadi_int casadi_s0[3] = {6, 1, 1};
 static const casadi_int casadi_s1[3] = {2, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {6, 6, 1};
-static const casadi_int casadi_s4[3] = {9, 1, 1};
-static const casadi_int casadi_s5[3] = {3, 1, 1};
-static const casadi_int casadi_s6[3] = {12, 1, 1};
-static const casadi_int casadi_s7[3] = {4, 1, 1};
-static const casadi_int casadi_s8[3] = {1, 1, 1};
+static const casadi_int casadi_s4[3] = {1, 1, 1};
+static const casadi_int casadi_s5[3] = {9, 1, 1};
+static const casadi_int casadi_s6[3] = {3, 1, 1};
+static const casadi_int casadi_s7[3] = {12, 1, 1};
+static const casadi_int casadi_s8[3] = {4, 1, 1};
 
 /* platform_pose:(actuated[6],passive[6],params[2])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -279,7 +279,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[6],passive[6],params[2])->(residual[6],jacobian[6x6]) */
+/* loop_closure:(actuated[6],passive[6],params[2])->(residual[6],jacobian[6x6],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -418,67 +418,66 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a44=(a21*a42);
   a00=(a00+a44);
   if (res[0]!=0) res[0][2]=a00;
-  a00=-5.0000000000000000e-01;
+  a00=5.0000000000000000e-01;
+  a18=(a18*a35);
+  a44=(a36*a17);
+  a44=(a44*a12);
+  a18=(a18-a44);
+  a44=(a00*a18);
+  a12=(a11*a44);
+  a45=(a36*a20);
+  a17=(a17*a35);
+  a14=(a14*a17);
+  a45=(a45+a14);
+  a14=(a00*a45);
+  a35=(a26*a14);
+  a12=(a12+a35);
+  a36=(a36*a33);
+  a15=(a15*a17);
+  a36=(a36-a15);
+  a15=(a00*a36);
+  a17=(a08*a15);
+  a12=(a12+a17);
+  a17=(a06*a27);
+  a03=(a03*a17);
+  a35=(a09*a28);
+  a03=(a03+a35);
+  a35=(a00*a03);
+  a46=(a34*a35);
+  a47=(a28*a25);
+  a17=(a17*a04);
+  a47=(a47-a17);
+  a17=(a00*a47);
+  a04=(a19*a17);
+  a48=(a46+a04);
   a07=(a07*a27);
   a01=(a01*a28);
   a01=(a01*a06);
   a07=(a07-a01);
   a01=(a00*a07);
-  a44=(a42*a01);
-  a45=5.0000000000000000e-01;
-  a06=(a06*a27);
-  a03=(a03*a06);
-  a27=(a09*a28);
-  a03=(a03+a27);
-  a27=(a45*a03);
-  a46=(a34*a27);
-  a28=(a28*a25);
-  a06=(a06*a04);
-  a28=(a28-a06);
-  a06=(a45*a28);
-  a04=(a19*a06);
-  a47=(a46+a04);
-  a47=(a44-a47);
-  a18=(a18*a35);
-  a48=(a36*a17);
-  a48=(a48*a12);
-  a18=(a18-a48);
-  a00=(a00*a18);
-  a48=(a11*a00);
-  a12=(a36*a20);
-  a17=(a17*a35);
-  a14=(a14*a17);
-  a12=(a12+a14);
-  a14=(a45*a12);
-  a35=(a26*a14);
-  a48=(a48-a35);
-  a36=(a36*a33);
-  a15=(a15*a17);
-  a36=(a36-a15);
-  a15=(a45*a36);
-  a17=(a08*a15);
-  a48=(a48-a17);
-  a47=(a47-a48);
-  if (res[0]!=0) res[0][3]=a47;
-  a47=(a31*a37);
+  a06=(a42*a01);
+  a48=(a48+a06);
+  a48=(a12-a48);
+  if (res[0]!=0) res[0][3]=a48;
+  a48=(a31*a37);
   a32=(a32*a30);
-  a47=(a47-a32);
-  a32=(a27*a47);
-  a17=(a31*a39);
+  a48=(a48-a32);
+  a32=(a35*a48);
+  a28=(a31*a39);
   a16=(a30*a16);
-  a17=(a17+a16);
-  a16=(a06*a17);
+  a28=(a28+a16);
+  a16=(a17*a28);
   a32=(a32-a16);
   a13=(a30*a13);
   a16=(a31*a43);
   a13=(a13-a16);
   a16=(a01*a13);
-  a32=(a32+a16);
+  a32=(a32-a16);
   a02=(a22*a02);
   a16=(a23*a40);
   a02=(a02-a16);
-  a16=(a00*a02);
-  a32=(a32-a16);
+  a16=(a44*a02);
+  a32=(a32+a16);
   a16=(a23*a29);
   a24=(a24*a22);
   a16=(a16-a24);
@@ -490,21 +489,21 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a05=(a15*a24);
   a32=(a32+a05);
   if (res[0]!=0) res[0][4]=a32;
-  a32=(a45*a26);
-  a32=(a32*a47);
-  a05=(a45*a11);
+  a32=(a00*a26);
+  a32=(a32*a48);
+  a05=(a00*a11);
   a05=(a05*a13);
   a32=(a32-a05);
-  a05=(a45*a08);
-  a05=(a05*a17);
+  a05=(a00*a08);
+  a05=(a05*a28);
   a32=(a32-a05);
-  a05=(a45*a42);
-  a35=(a02*a05);
-  a32=(a32+a35);
-  a35=(a45*a34);
-  a49=(a16*a35);
+  a05=(a00*a42);
+  a27=(a02*a05);
+  a32=(a32+a27);
+  a27=(a00*a34);
+  a49=(a16*a27);
   a32=(a32-a49);
-  a49=(a45*a19);
+  a49=(a00*a19);
   a50=(a24*a49);
   a32=(a32+a50);
   if (res[0]!=0) res[0][5]=a32;
@@ -518,36 +517,36 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a25=(a21*a22);
   a09=(a03*a25);
   if (res[1]!=0) res[1][6]=a09;
-  a09=(a25*a28);
+  a09=(a25*a47);
   if (res[1]!=0) res[1][7]=a09;
   a25=(a07*a25);
   a25=(-a25);
   if (res[1]!=0) res[1][8]=a25;
-  a25=(a07*a00);
+  a49=(a38*a49);
+  a25=(a07*a44);
   a09=(a22*a25);
   a32=(a14*a03);
   a50=(a22*a32);
-  a09=(a09-a50);
-  a50=(a15*a28);
+  a09=(a09+a50);
+  a50=(a15*a47);
   a51=(a22*a50);
-  a09=(a09-a51);
-  a35=(a29*a35);
-  a09=(a09-a35);
-  a49=(a38*a49);
-  a09=(a09+a49);
+  a09=(a09+a51);
+  a27=(a29*a27);
+  a09=(a09+a27);
+  a49=(a49-a09);
   a05=(a40*a05);
-  a09=(a09-a05);
-  if (res[1]!=0) res[1][9]=a09;
-  a09=(a45*a47);
-  a29=(a09*a29);
-  a05=(a45*a13);
+  a49=(a49-a05);
+  if (res[1]!=0) res[1][9]=a49;
+  a49=(a00*a48);
+  a29=(a49*a29);
+  a05=(a00*a13);
   a40=(a05*a40);
   a29=(a29-a40);
-  a40=(a45*a17);
+  a40=(a00*a28);
   a38=(a40*a38);
   a29=(a29+a38);
   a25=(a23*a25);
-  a29=(a29-a25);
+  a29=(a29+a25);
   a32=(a23*a32);
   a29=(a29+a32);
   a50=(a23*a50);
@@ -555,21 +554,21 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[1]!=0) res[1][10]=a29;
   a29=(a05*a22);
   a29=(a29*a07);
-  a50=(a09*a22);
+  a50=(a49*a22);
   a50=(a50*a03);
   a29=(a29-a50);
   a22=(a40*a22);
-  a22=(a22*a28);
+  a22=(a22*a47);
   a29=(a29+a22);
-  a22=(a45*a23);
+  a22=(a00*a23);
   a22=(a22*a34);
   a22=(a22*a03);
   a29=(a29+a22);
-  a22=(a45*a23);
+  a22=(a00*a23);
   a22=(a22*a19);
-  a22=(a22*a28);
+  a22=(a22*a47);
   a29=(a29+a22);
-  a23=(a45*a23);
+  a23=(a00*a23);
   a23=(a23*a42);
   a23=(a23*a07);
   a29=(a29+a23);
@@ -581,28 +580,29 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[1]!=0) res[1][13]=a29;
   a29=(a21*a02);
   if (res[1]!=0) res[1][14]=a29;
-  a15=(a15*a24);
-  a00=(a00*a02);
+  a44=(a44*a02);
   a14=(a14*a16);
-  a00=(a00+a14);
-  a15=(a15-a00);
-  if (res[1]!=0) res[1][15]=a15;
-  if (res[1]!=0) res[1][16]=a48;
+  a44=(a44-a14);
+  a15=(a15*a24);
+  a44=(a44+a15);
+  if (res[1]!=0) res[1][15]=a44;
+  a12=(-a12);
+  if (res[1]!=0) res[1][16]=a12;
+  a12=-5.0000000000000000e-01;
+  a34=(a34*a26);
+  a12=(a12*a34);
+  a19=(a19*a08);
+  a44=(a00*a19);
+  a12=(a12-a44);
+  a42=(a42*a11);
+  a44=(a00*a42);
+  a12=(a12-a44);
   a05=(a05*a02);
-  a09=(a09*a16);
-  a05=(a05+a09);
+  a49=(a49*a16);
+  a05=(a05+a49);
   a40=(a40*a24);
   a05=(a05+a40);
-  a26=(a45*a26);
-  a34=(a26*a34);
-  a08=(a45*a08);
-  a19=(a08*a19);
-  a34=(a34+a19);
-  a11=(a45*a11);
-  a42=(a42*a11);
-  a34=(a34+a42);
-  a05=(a05+a34);
-  a05=(-a05);
+  a05=(a12-a05);
   if (res[1]!=0) res[1][17]=a05;
   a20=(-a20);
   if (res[1]!=0) res[1][18]=a20;
@@ -614,84 +614,102 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[1]!=0) res[1][22]=a41;
   if (res[1]!=0) res[1][23]=a41;
   a41=(a21*a30);
-  a10=(a12*a41);
+  a10=(a45*a41);
   if (res[1]!=0) res[1][24]=a10;
   a10=(a41*a36);
   if (res[1]!=0) res[1][25]=a10;
   a41=(a18*a41);
   a41=(-a41);
   if (res[1]!=0) res[1][26]=a41;
-  a41=(a27*a12);
+  a41=(a01*a18);
   a10=(a41*a30);
-  a33=(a06*a36);
+  a11=(a00*a11);
+  a33=(a11*a43);
+  a10=(a10+a33);
+  a33=(a35*a45);
   a20=(a33*a30);
   a10=(a10+a20);
-  a20=(a26*a37);
-  a10=(a10+a20);
-  a20=(a08*a39);
-  a10=(a10-a20);
-  a20=(a01*a18);
-  a05=(a30*a20);
-  a10=(a10-a05);
-  a05=(a43*a11);
+  a20=(a17*a36);
+  a05=(a20*a30);
   a10=(a10+a05);
+  a26=(a00*a26);
+  a05=(a26*a37);
+  a10=(a10+a05);
+  a08=(a00*a08);
+  a05=(a08*a39);
+  a10=(a10-a05);
   if (res[1]!=0) res[1][27]=a10;
-  a02=(a45*a02);
-  a43=(a02*a43);
+  a10=(a00*a02);
+  a43=(a10*a43);
   a41=(a41*a31);
   a33=(a33*a31);
   a41=(a41+a33);
+  a20=(a20*a31);
+  a41=(a41+a20);
   a43=(a43-a41);
-  a16=(a45*a16);
-  a37=(a16*a37);
+  a41=(a00*a16);
+  a37=(a41*a37);
   a43=(a43-a37);
-  a45=(a45*a24);
-  a39=(a45*a39);
+  a00=(a00*a24);
+  a39=(a00*a39);
   a43=(a43-a39);
-  a20=(a31*a20);
-  a43=(a43+a20);
   if (res[1]!=0) res[1][28]=a43;
-  a43=(a16*a30);
-  a43=(a43*a12);
+  a43=(a41*a30);
+  a43=(a43*a45);
+  a11=(a11*a31);
+  a11=(a11*a18);
   a26=(a26*a31);
-  a26=(a26*a12);
+  a26=(a26*a45);
+  a11=(a11+a26);
   a08=(a08*a31);
   a08=(a08*a36);
-  a26=(a26+a08);
-  a08=(a02*a30);
+  a11=(a11+a08);
+  a08=(a10*a30);
   a08=(a08*a18);
-  a26=(a26+a08);
-  a43=(a43-a26);
-  a30=(a45*a30);
+  a11=(a11+a08);
+  a43=(a43-a11);
+  a30=(a00*a30);
   a30=(a30*a36);
   a43=(a43-a30);
-  a31=(a31*a18);
-  a31=(a31*a11);
-  a43=(a43-a31);
   if (res[1]!=0) res[1][29]=a43;
-  a43=(a21*a47);
+  a43=(a21*a48);
   if (res[1]!=0) res[1][30]=a43;
-  a43=(a21*a17);
+  a43=(a21*a28);
   a43=(-a43);
   if (res[1]!=0) res[1][31]=a43;
   a21=(a21*a13);
   if (res[1]!=0) res[1][32]=a21;
-  a27=(a27*a47);
-  a06=(a06*a17);
-  a27=(a27-a06);
+  a35=(a35*a48);
+  a17=(a17*a28);
+  a35=(a35-a17);
   a01=(a01*a13);
-  a27=(a27+a01);
-  if (res[1]!=0) res[1][33]=a27;
+  a35=(a35-a01);
+  if (res[1]!=0) res[1][33]=a35;
   a46=(a46+a04);
-  a46=(a46-a44);
+  a46=(a46+a06);
   if (res[1]!=0) res[1][34]=a46;
+  a10=(a10*a13);
+  a41=(a41*a48);
+  a10=(a10+a41);
+  a00=(a00*a28);
+  a10=(a10+a00);
+  a10=(a10-a12);
+  if (res[1]!=0) res[1][35]=a10;
+  a34=(a34+a19);
+  a34=(a34+a42);
+  a03=(a03*a45);
+  a34=(a34+a03);
+  a47=(a47*a36);
+  a34=(a34+a47);
+  a07=(a07*a18);
+  a34=(a34+a07);
   a02=(a02*a13);
-  a16=(a16*a47);
-  a02=(a02+a16);
-  a45=(a45*a17);
-  a02=(a02+a45);
-  a02=(a02+a34);
-  if (res[1]!=0) res[1][35]=a02;
+  a34=(a34+a02);
+  a16=(a16*a48);
+  a34=(a34+a16);
+  a24=(a24*a28);
+  a34=(a34+a24);
+  if (res[2]!=0) res[2][0]=a34;
   return 0;
 }
 
@@ -714,7 +732,7 @@ CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
 
 CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
 
 CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
   switch (i) {
@@ -735,6 +753,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
+    case 2: return "alignment";
     default: return 0;
   }
 }
@@ -752,13 +771,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
+    case 2: return casadi_s4;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
-  if (sz_res) *sz_res = 2;
+  if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
   if (sz_w) *sz_w = 0;
   return 0;
@@ -766,7 +786,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
 
 CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
-  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);
   return 0;
@@ -1506,8 +1526,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
 
 CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s4;
-    case 1: return casadi_s5;
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
     default: return 0;
   }
 }
@@ -1817,8 +1837,8 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s6;
-    case 1: return casadi_s7;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     case 2: return casadi_s1;
     default: return 0;
   }
@@ -1828,7 +1848,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
-    case 2: return casadi_s7;
+    case 2: return casadi_s8;
     default: return 0;
   }
 }
@@ -2384,7 +2404,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
 
 CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
+    case 0: return casadi_s6;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -2725,8 +2745,8 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i
 CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
-    case 1: return casadi_s8;
-    case 2: return casadi_s8;
+    case 1: return casadi_s4;
+    case 2: return casadi_s4;
     case 3: return casadi_s1;
     default: return 0;
   }

@@ -2,7 +2,7 @@
 # with template casadi_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 82
-#   loop_closure: 381
+#   loop_closure: 398
 #   leg_jacobians: 217
 #   singularity_factors: 261
 #   inverse_pose: 214
@@ -92,9 +92,9 @@ def platform_pose() -> casadi.Function:
 
 
 def loop_closure() -> casadi.Function:
-    """Loop-closure residual (position difference, rotation error vee(R_0^T R_k)) and its Jacobian with respect to the passive variables.
+    """Loop-closure residual (position difference, rotation error vee(R_0^T R_k)), its Jacobian with respect to the passive variables, and trace(R_0^T R_k) (3 when closed).
 
-    Operations: 381.
+    Operations: 398.
     """
     actuated = casadi.SX.sym("actuated", 6)
     passive = casadi.SX.sym("passive", 6)
@@ -174,123 +174,140 @@ def loop_closure() -> casadi.Function:
     _t58 = _t55 * _t57
     _t59 = -_t49
     _t60 = _t11 * _t22 - _t13 * _t20 * _t21
-    _t61 = -1 / 2 * _t60
-    _t62 = _t59 * _t61
-    _t63 = -_t46
-    _t64 = -_t29 * _t30 * _t5 + _t3 * _t31
-    _t65 = -1 / 2 * _t64
-    _t66 = -_t24
-    _t67 = _t30 * _t31
-    _t68 = _t29 * _t7 + _t4 * _t67
-    _t69 = (1 / 2) * _t68
-    _t70 = -_t38
-    _t71 = -_t1 * _t67 + _t29 * _t34
-    _t72 = (1 / 2) * _t71
-    _t73 = _t63 * _t65 + _t66 * _t69 + _t70 * _t72
-    _t74 = _t16 * _t45 + _t19 * _t43
-    _t75 = -_t74
-    _t76 = _t25 * _t48 + _t28 * _t47
+    _t61 = -_t60
+    _t62 = (1 / 2) * _t61
+    _t63 = _t59 * _t62
+    _t64 = -_t46
+    _t65 = -_t29 * _t30 * _t5 + _t3 * _t31
+    _t66 = -_t65
+    _t67 = (1 / 2) * _t66
+    _t68 = -_t24
+    _t69 = _t30 * _t31
+    _t70 = _t29 * _t7 + _t4 * _t69
+    _t71 = (1 / 2) * _t70
+    _t72 = -_t38
+    _t73 = -_t1 * _t69 + _t29 * _t34
+    _t74 = (1 / 2) * _t73
+    _t75 = _t64 * _t67 + _t68 * _t71 + _t72 * _t74
+    _t76 = _t16 * _t45 + _t19 * _t43
     _t77 = -_t76
-    _t78 = _t16 * _t23 - _t18 * _t19
+    _t78 = _t25 * _t48 + _t28 * _t47
     _t79 = -_t78
-    _t80 = _t25 * _t32 - _t27 * _t28
+    _t80 = _t16 * _t23 - _t18 * _t19
     _t81 = -_t80
-    _t82 = _t16 * _t37 - _t19 * _t36
+    _t82 = _t25 * _t32 - _t27 * _t28
     _t83 = -_t82
-    _t84 = _t25 * _t40 - _t28 * _t39
+    _t84 = _t16 * _t37 - _t19 * _t36
     _t85 = -_t84
-    _t86 = (1 / 2) * _t59
-    _t87 = (1 / 2) * _t50
-    _t88 = (1 / 2) * _t55
-    _t89 = -_t52
-    _t90 = L4 * _t19
-    _t91 = -_t68
-    _t92 = L4 * _t28
-    _t93 = -_t56
-    _t94 = -_t71
-    _t95 = _t60 * _t65
-    _t96 = _t69 * _t89
-    _t97 = _t72 * _t93
-    _t98 = _t61 * _t64
-    _t99 = (1 / 2) * _t63
-    _t100 = _t53 * _t91
-    _t101 = _t57 * _t94
-    _t102 = (1 / 2) * _t66
-    _t103 = (1 / 2) * _t70
-    _t104 = (1 / 2) * _t77
-    _t105 = (1 / 2) * _t81
-    _t106 = (1 / 2) * _t85
-    _t107 = (1 / 2) * _t75
-    _t108 = (1 / 2) * _t79
-    _t109 = (1 / 2) * _t83
-    _t110 = -_t102 * _t50 - _t103 * _t55 - _t59 * _t99
+    _t86 = _t25 * _t40 - _t28 * _t39
+    _t87 = -_t86
+    _t88 = (1 / 2) * _t59
+    _t89 = (1 / 2) * _t50
+    _t90 = (1 / 2) * _t55
+    _t91 = -_t52
+    _t92 = L4 * _t19
+    _t93 = -_t70
+    _t94 = L4 * _t28
+    _t95 = -_t56
+    _t96 = -_t73
+    _t97 = _t60 * _t67
+    _t98 = _t71 * _t91
+    _t99 = _t74 * _t95
+    _t100 = _t62 * _t65
+    _t101 = (1 / 2) * _t64
+    _t102 = _t53 * _t93
+    _t103 = _t57 * _t96
+    _t104 = (1 / 2) * _t68
+    _t105 = (1 / 2) * _t72
+    _t106 = (1 / 2) * _t79
+    _t107 = (1 / 2) * _t83
+    _t108 = (1 / 2) * _t87
+    _t109 = (1 / 2) * _t77
+    _t110 = (1 / 2) * _t81
+    _t111 = (1 / 2) * _t85
+    _t112 = _t50 * _t68
+    _t113 = _t55 * _t72
+    _t114 = _t59 * _t64
+    _t115 = -1 / 2 * _t112 - 1 / 2 * _t113 - 1 / 2 * _t114
     residual = casadi.SX.zeros(6)
     residual[0] = L2 * _t15 - L3 * _t7 - L4 * _t24 - L4 * _t33
     residual[1] = -2 * L1 + L2 * _t35 - L3 * _t34 - L4 * _t38 - L4 * _t41
     residual[2] = L2 * _t13 * _t21 - L3 * _t42 - L4 * _t46 - L4 * _t49
-    residual[3] = _t54 + _t58 + _t62 - _t73
-    residual[4] = -_t53 * _t81 - _t57 * _t85 - _t61 * _t77 + _t65 * _t75 + _t69 * _t79 + _t72 * _t83
+    residual[3] = _t54 + _t58 + _t63 - _t75
+    residual[4] = -_t53 * _t83 - _t57 * _t87 - _t62 * _t79 + _t67 * _t77 + _t71 * _t81 + _t74 * _t85
     residual[5] = (
-        (1 / 2) * _t63 * _t77
-        + (1 / 2) * _t66 * _t81
-        + (1 / 2) * _t70 * _t85
-        - _t75 * _t86
-        - _t79 * _t87
-        - _t83 * _t88
+        (1 / 2) * _t64 * _t79
+        + (1 / 2) * _t68 * _t83
+        + (1 / 2) * _t72 * _t87
+        - _t77 * _t88
+        - _t81 * _t89
+        - _t85 * _t90
     )
     jacobian = casadi.SX.zeros(6, 6)
     jacobian[0, 0] = _t15
-    jacobian[0, 1] = -_t89 * _t90
-    jacobian[0, 2] = -L4 * _t79
+    jacobian[0, 1] = -_t91 * _t92
+    jacobian[0, 2] = -L4 * _t81
     jacobian[0, 3] = -_t7
-    jacobian[0, 4] = -_t91 * _t92
-    jacobian[0, 5] = -L4 * _t81
+    jacobian[0, 4] = -_t93 * _t94
+    jacobian[0, 5] = -L4 * _t83
     jacobian[1, 0] = _t35
-    jacobian[1, 1] = -_t90 * _t93
-    jacobian[1, 2] = -L4 * _t83
+    jacobian[1, 1] = -_t92 * _t95
+    jacobian[1, 2] = -L4 * _t85
     jacobian[1, 3] = -_t34
-    jacobian[1, 4] = -_t92 * _t94
-    jacobian[1, 5] = -L4 * _t85
+    jacobian[1, 4] = -_t94 * _t96
+    jacobian[1, 5] = -L4 * _t87
     jacobian[2, 0] = _t44
-    jacobian[2, 1] = -_t60 * _t90
-    jacobian[2, 2] = -L4 * _t75
+    jacobian[2, 1] = -_t60 * _t92
+    jacobian[2, 2] = -L4 * _t77
     jacobian[2, 3] = -_t42
-    jacobian[2, 4] = -_t64 * _t92
-    jacobian[2, 5] = -L4 * _t77
+    jacobian[2, 4] = -_t65 * _t94
+    jacobian[2, 5] = -L4 * _t79
     jacobian[3, 1] = (
-        _t19 * _t95 + _t19 * _t96 + _t19 * _t97 + _t23 * _t87 + _t37 * _t88 + _t45 * _t86
+        _t19 * _t97 + _t19 * _t98 + _t19 * _t99 + _t23 * _t89 + _t37 * _t90 + _t45 * _t88
     )
-    jacobian[3, 2] = -_t65 * _t74 - _t69 * _t78 - _t72 * _t82
+    jacobian[3, 2] = -_t67 * _t76 - _t71 * _t80 - _t74 * _t84
     jacobian[3, 4] = (
-        -_t100 * _t28 - _t101 * _t28 - _t102 * _t32 - _t103 * _t40 - _t28 * _t98 - _t48 * _t99
+        -_t100 * _t28 - _t101 * _t48 - _t102 * _t28 - _t103 * _t28 - _t104 * _t32 - _t105 * _t40
     )
-    jacobian[3, 5] = _t53 * _t80 + _t57 * _t84 + _t61 * _t76
+    jacobian[3, 5] = _t53 * _t82 + _t57 * _t86 + _t62 * _t78
     jacobian[4, 1] = (
-        -_t104 * _t45 - _t105 * _t23 - _t106 * _t37 - _t16 * _t95 - _t16 * _t96 - _t16 * _t97
+        -_t106 * _t45 - _t107 * _t23 - _t108 * _t37 - _t16 * _t97 - _t16 * _t98 - _t16 * _t99
     )
-    jacobian[4, 2] = _t73
+    jacobian[4, 2] = _t75
     jacobian[4, 4] = (
-        _t100 * _t25 + _t101 * _t25 + _t107 * _t48 + _t108 * _t32 + _t109 * _t40 + _t25 * _t98
+        _t100 * _t25 + _t102 * _t25 + _t103 * _t25 + _t109 * _t48 + _t110 * _t32 + _t111 * _t40
     )
-    jacobian[4, 5] = -_t54 - _t58 - _t62
+    jacobian[4, 5] = -_t54 - _t58 - _t63
     jacobian[5, 1] = (
-        -_t104 * _t19 * _t60
-        - _t105 * _t19 * _t89
-        - _t106 * _t19 * _t93
-        + (1 / 2) * _t16 * _t50 * _t89
-        + (1 / 2) * _t16 * _t55 * _t93
+        -_t106 * _t19 * _t60
+        - _t107 * _t19 * _t91
+        - _t108 * _t19 * _t95
+        + (1 / 2) * _t16 * _t50 * _t91
+        + (1 / 2) * _t16 * _t55 * _t95
         + (1 / 2) * _t16 * _t59 * _t60
     )
-    jacobian[5, 2] = _t104 * _t74 + _t105 * _t78 + _t106 * _t82 + _t110
+    jacobian[5, 2] = _t106 * _t76 + _t107 * _t80 + _t108 * _t84 + _t115
     jacobian[5, 4] = (
-        -_t102 * _t25 * _t91
-        - _t103 * _t25 * _t94
-        + _t107 * _t28 * _t64
-        + _t108 * _t28 * _t91
-        + _t109 * _t28 * _t94
-        - _t25 * _t64 * _t99
+        -_t101 * _t25 * _t65
+        - _t104 * _t25 * _t93
+        - _t105 * _t25 * _t96
+        + _t109 * _t28 * _t65
+        + _t110 * _t28 * _t93
+        + _t111 * _t28 * _t96
     )
-    jacobian[5, 5] = -_t107 * _t76 - _t108 * _t80 - _t109 * _t84 - _t110
+    jacobian[5, 5] = -_t109 * _t78 - _t110 * _t82 - _t111 * _t86 - _t115
+    alignment = casadi.SX.zeros(1)
+    alignment[0] = (
+        _t112
+        + _t113
+        + _t114
+        + _t52 * _t70
+        + _t56 * _t73
+        + _t61 * _t66
+        + _t77 * _t79
+        + _t81 * _t83
+        + _t85 * _t87
+    )
     return casadi.Function(
         "loop_closure",
         [
@@ -301,6 +318,7 @@ def loop_closure() -> casadi.Function:
         [
             residual,
             jacobian,
+            alignment,
         ],
         [
             "actuated",
@@ -310,6 +328,7 @@ def loop_closure() -> casadi.Function:
         [
             "residual",
             "jacobian",
+            "alignment",
         ],
     )
 

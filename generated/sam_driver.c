@@ -2,7 +2,7 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 82
-//   loop_closure: 381
+//   loop_closure: 398
 //   leg_jacobians: 217
 //   singularity_factors: 261
 //   inverse_pose: 214
@@ -39,17 +39,19 @@ int platform_pose_batch(long long n, const double** inputs, const long long* str
 
 int loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
-    casadi_real* res[2];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[52 + 1];
     casadi_real out_residual[6];
     casadi_real out_jacobian[36];
+    casadi_real out_alignment[1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_residual;
         res[1] = out_jacobian;
+        res[2] = out_alignment;
         if (loop_closure(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 1; ++c)
@@ -57,6 +59,9 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 outputs[1][i * 36 + r * 6 + c] = out_jacobian[c * 6 + r];
+        for (int r = 0; r < 1; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[2][i * 1 + r * 1 + c] = out_alignment[c * 1 + r];
     }
     return 0;
 }
@@ -220,10 +225,10 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
                          double* passive, double* pose, double* residual_norm, int* iterations,
                          int* status) {
     const casadi_real* arg[3];
-    casadi_real* res[2];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[52 + 1];
-    double residual[NQ], jacobian_cm[NQ * NQ], jacobian[NQ * NQ], pose_cm[16];
+    double residual[NQ], jacobian_cm[NQ * NQ], jacobian[NQ * NQ], pose_cm[16], alignment[1];
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
         double* q = passive + i * NQ;
@@ -236,7 +241,7 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
         residual_norm[i] = NAN;
         if (!finite) continue;
         arg[0] = theta; arg[1] = q; arg[2] = params;
-        res[0] = residual; res[1] = jacobian_cm;
+        res[0] = residual; res[1] = jacobian_cm; res[2] = alignment;
         for (int it = 0; it <= max_iterations; ++it) {
             loop_closure(arg, res, iw, w, 0);
             double norm = 0.0;
@@ -250,7 +255,13 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
             // also at convergence: a singular closed-loop Jacobian means the pose is not
             // determined by the actuators (type II), which a zero residual does not reveal
             if (!solve_in_place(jacobian, residual, pivot_floor)) { status[i] = PARAKIN_SINGULAR; break; }
-            if (norm < tolerance) { status[i] = PARAKIN_OK; break; }
+            if (norm < tolerance) {
+                // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
+                int aligned = 1;
+                for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 1.0;
+                if (aligned) status[i] = PARAKIN_OK;
+                break;
+            }
             double step = 0.0;
             for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
             double scale = step > max_step ? max_step / step : 1.0;

@@ -80,6 +80,7 @@ def _c_sources(name: str, casadi_source: str, programs: list[LoweredProgram]) ->
     loop = next(p for p in programs if p.name == "loop_closure")
     newton = {
         "unknowns": len(loop.source.inputs[1][1]),
+        "pairs": next(o.shape[0] for o in loop.outputs if o.name == "alignment"),
         "actuated": len(loop.source.inputs[0][1]),
         "residual": "loop_closure",
         "pose": "platform_pose",

@@ -35,17 +35,20 @@ def _name(expr: sp.Expr) -> str:
     return text
 
 
-def loop_closure(mechanism: Mechanism) -> sp.Matrix:
+def loop_closure(mechanism: Mechanism) -> tuple[sp.Matrix, sp.Matrix]:
     """Every leg must reach the pose of the first: for each other leg k, the position difference
-    p_0 - p_k and the rotation error vee(R_0^T R_k) (zero exactly when R_0 = R_k, and well
-    conditioned near it, unlike a choice of three matrix entries)."""
+    p_0 - p_k and the rotation error vee(R_0^T R_k), well conditioned near a solution, unlike a
+    choice of three matrix entries. vee(R) also vanishes for a half-turn R, so the second
+    output, trace(R_0^T R_k) (3 at a true closure, -1 at a half-turn), tells the two apart."""
     transforms = [leg.end_transform() for leg in mechanism.legs]
     first = transforms[0]
-    blocks = []
+    blocks, alignment = [], []
     for other in transforms[1:]:
+        relative = first[:3, :3].T * other[:3, :3]
         blocks.append(first[:3, 3] - other[:3, 3])
-        blocks.append(vee(first[:3, :3].T * other[:3, :3]))
-    return sp.Matrix.vstack(*blocks)
+        blocks.append(vee(relative))
+        alignment.append(relative.trace())
+    return sp.Matrix.vstack(*blocks), sp.Matrix(alignment)
 
 
 def serial_factors(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> dict[str, dict]:
@@ -146,7 +149,7 @@ def derive(mechanism: Mechanism) -> Derivation:
     state = [actuated, passive, params]
 
     platform = mechanism.legs[0].end_transform()
-    residual = loop_closure(mechanism)
+    residual, alignment = loop_closure(mechanism)
     jacobian_passive = residual.jacobian(mechanism.passive)
     jacobians = {leg.name: leg.geometric_jacobian() for leg in mechanism.legs}
     serial = serial_factors(mechanism, jacobians)
@@ -173,9 +176,9 @@ def derive(mechanism: Mechanism) -> Derivation:
         Program("platform_pose", "^B_P T (4x4) reached by the first leg from actuated and passive values.", state, [("pose", platform)]),
         Program(
             "loop_closure",
-            "Loop-closure residual (position difference, rotation error vee(R_0^T R_k)) and its Jacobian with respect to the passive variables.",
+            "Loop-closure residual (position difference, rotation error vee(R_0^T R_k)), its Jacobian with respect to the passive variables, and trace(R_0^T R_k) (3 when closed).",
             state,
-            [("residual", residual), ("jacobian", jacobian_passive)],
+            [("residual", residual), ("jacobian", jacobian_passive), ("alignment", alignment)],
         ),
         Program(
             "leg_jacobians",

@@ -210,7 +210,10 @@ class Mechanism:
             residual_norm = np.where(active, norm, residual_norm)
             iterations = np.where(active, iteration, iterations)
             active &= np.isfinite(norm)
+            # a half-turn between legs zeroes the rotation error too: a wrong basin, not a closure
             done = active & (norm < tolerance)
+            active &= ~(done & ~(out["alignment"] > 1.0).all(-1))
+            done &= active
             if iteration == max_iterations:
                 active &= done
             # checked at convergence too: a zero residual does not reveal a type II singularity
