@@ -1,0 +1,91 @@
+"""Bad input gets a clear exception naming the problem, never a silent NaN."""
+
+import numpy as np
+import pytest
+
+import parakin
+
+
+@pytest.fixture(scope="module")
+def m():
+    return parakin.load("sam", backend="numpy")
+
+
+def test_unknown_mechanism_lists_the_valid_ones():
+    with pytest.raises(parakin.UnknownMechanismError, match="available: .*sam"):
+        parakin.load("stewart")
+
+
+def test_unknown_parameter_lists_the_valid_ones():
+    with pytest.raises(parakin.UnknownMechanismError, match="valid: .*L1.*L4"):
+        parakin.load("sam", L9=1.0)
+
+
+def test_parameters_override_defaults():
+    m = parakin.load("sam", backend="numpy", L1=0.6)
+    assert m.parameters == {"L1": 0.6, "L4": 0.3556}
+    config = m.inverse_pose(parakin.pose_from_xyz_euler([0, 0.05, 0.7, 0.1, 0, 0])).branch(0)
+    assert abs(m.platform_pose(config.actuated, config.passive)[1, 3] - 0.05) < 1e-12
+
+
+def test_nan_and_shape_errors(m):
+    with pytest.raises(parakin.BadInputError, match="non-finite"):
+        m.forward_pose([0, np.nan, 0, 0, 0, 0])
+    with pytest.raises(parakin.BadInputError, match=r"shape \(\.\.\., 6\)"):
+        m.forward_pose([0, 0, 0])
+    with pytest.raises(parakin.BadInputError, match=r"shape \(\.\.\., 4, 4\)"):
+        m.inverse_pose(np.eye(3))
+    with pytest.raises(parakin.BadInputError, match="not a rigid transform"):
+        m.inverse_pose(2 * np.eye(4))
+    with pytest.raises(parakin.BadInputError, match="reflection"):
+        m.inverse_pose(np.diag([1.0, 1.0, -1.0, 1.0]))
+    with pytest.raises(parakin.BadInputError, match="twist"):
+        m.inverse_rate(m.inverse_pose(parakin.pose_from_xyz_euler([0, 0, 0.7, 0.1, 0.1, 0])).branch(0), [1, 2])
+
+
+def test_unknown_backend_and_limit():
+    with pytest.raises(parakin.BadInputError, match="unknown backend"):
+        parakin.load("sam", backend="gpu")
+    with pytest.raises(parakin.UnknownMechanismError, match="unknown limit"):
+        parakin.load("sam", limits={"L9": (0, 1)})
+
+
+def test_unreachable_pose_outside_stroke():
+    m = parakin.load("sam", backend="numpy", limits={"L2": (0.3, 0.9), "L3": (0.3, 0.9)})
+    with pytest.raises(parakin.UnreachablePoseError, match="batch index \\(1,\\)"):
+        m.inverse_pose(parakin.pose_from_xyz_euler([[0, 0, 0.7, 0.1, 0, 0], [0, 0, 2.5, 0.1, 0, 0]]))
+    result = m.inverse_pose(parakin.pose_from_xyz_euler([0, 0, 2.5, 0.1, 0, 0]), strict=False)
+    assert not result.valid.any() and result.failures["limits"].all()
+
+
+def test_serial_singular_pose_is_reported(m):
+    """A U joint on the leg line's extension of {P}'s Z axis makes phi3 undefined (phi2 = 0)."""
+    actuated = np.array([0.2, -0.3, 0.1, 0.0, 0.3, 0.0])
+    passive = np.array([0.7, 0.0, 0.4, 0.7, -0.3, 0.0])
+    pose = m.platform_pose(actuated, passive)
+    result = m.inverse_pose(pose, strict=False)
+    assert result.failures["left_u_joint_not_aligned"].all()
+    assert not np.isnan(result.actuated[~result.failures["finite"]]).any()
+
+
+def test_newton_non_convergence_reports_the_residual(m):
+    config = m.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])).branch(2)
+    with pytest.raises(parakin.ConvergenceError, match="residual") as error:
+        m.forward_pose(config.actuated, guess=config.passive + 0.5, max_iterations=2)
+    assert error.value.residual is not None and error.value.residual > 1e-12
+
+
+def test_forward_all_at_self_motion_is_a_singular_error(m):
+    nominal = m.inverse_pose(parakin.pose_from_xyz_euler([0, 0, 0.664, 0, 0, 0])).branch(2)
+    with pytest.raises(parakin.SingularConfigurationError, match="u_joint_axes_parallel"):
+        m.forward_pose_all(nominal.actuated)
+
+
+def test_tracker_errors():
+    m = parakin.load("sam", backend="compiled")
+    config = m.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])).branch(2)
+    tracker = m.tracker(config)
+    with pytest.raises(parakin.BadInputError):
+        tracker.solve([np.nan] * 6)
+    with pytest.raises(parakin.BadInputError):
+        tracker.solve([0.0] * 4)
