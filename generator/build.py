@@ -113,7 +113,9 @@ def generate_mechanism(name: str, target: Path) -> dict[str, float]:
 
 def _format(directory: Path) -> None:
     python_files = sorted(str(p) for p in directory.glob("*.py"))
-    subprocess.run([sys.executable, "-m", "ruff", "format", "--quiet", "--line-length", "100", *python_files], check=True)
+    subprocess.run(
+        [sys.executable, "-m", "ruff", "format", "--quiet", "--line-length", "100", *python_files], check=True
+    )
 
 
 def generate(names: list[str], destination: Path = GENERATED) -> dict[str, dict[str, float]]:

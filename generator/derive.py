@@ -120,18 +120,23 @@ def _random_pose(rng: random.Random) -> list:
         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
     ]
-    position = [mpmath.mpf(rng.uniform(-0.3, 0.3)), mpmath.mpf(rng.uniform(-0.3, 0.3)), mpmath.mpf(rng.uniform(0.4, 1.0))]
+    position = [
+        mpmath.mpf(rng.uniform(-0.3, 0.3)),
+        mpmath.mpf(rng.uniform(-0.3, 0.3)),
+        mpmath.mpf(rng.uniform(0.4, 1.0)),
+    ]
     return [c for row in rotation for c in row] + position
 
 
 def _inverse_function(mechanism: Mechanism):
-    assert mechanism.inverse is not None
-    steps = mechanism.inverse.steps
+    inverse = mechanism.inverse
+    assert inverse is not None
+    steps = inverse.steps
     parameters = dict(mechanism.parameters)
 
     def evaluate(pose: list, branch: list) -> dict:
         values: dict = dict(zip(POSE_SYMBOLS, pose, strict=True))
-        values.update(zip(mechanism.inverse.branches, branch, strict=True))
+        values.update(zip(inverse.branches, branch, strict=True))
         values.update({k: mpmath.mpf(v) for k, v in parameters.items()})
         for target, expr in steps:
             values[target] = sp.lambdify(list(expr.free_symbols), expr, modules="mpmath")(
@@ -173,7 +178,12 @@ def derive(mechanism: Mechanism) -> Derivation:
     determinants["closed_loop_determinant"] = sign * sp.Mul(*mechanism.parallel_factors.values())
 
     programs = [
-        Program("platform_pose", "^B_P T (4x4) reached by the first leg from actuated and passive values.", state, [("pose", platform)]),
+        Program(
+            "platform_pose",
+            "^B_P T (4x4) reached by the first leg from actuated and passive values.",
+            state,
+            [("pose", platform)],
+        ),
         Program(
             "loop_closure",
             "Loop-closure residual (position difference, rotation error vee(R_0^T R_k)), its Jacobian with respect to the passive variables, and trace(R_0^T R_k) (3 when closed).",
@@ -260,10 +270,6 @@ def derive(mechanism: Mechanism) -> Derivation:
             "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(forward.branches))],
             "degeneracies": list(forward.degeneracies),
         }
-        symbolic["forward_polynomial"] = sp.Add(
-            *(c * forward.unknown**k for k, c in enumerate(forward.coefficients))
-        )
+        symbolic["forward_polynomial"] = sp.Add(*(c * forward.unknown**k for k, c in enumerate(forward.coefficients)))
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))
     return Derivation(programs, symbolic, metadata)
-
-

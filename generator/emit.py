@@ -99,29 +99,41 @@ def _printed_program(program: LoweredProgram, printer: ModulePrinter) -> dict[st
 
 
 def banner(mechanism: str, template: str, programs: list[LoweredProgram], comment: str) -> str:
-    return _environment().get_template("banner.j2").render(
-        mechanism=mechanism,
-        template=template,
-        version=GENERATOR_VERSION,
-        programs=[(p.name, p.operations) for p in programs],
-        comment=comment,
+    return (
+        _environment()
+        .get_template("banner.j2")
+        .render(
+            mechanism=mechanism,
+            template=template,
+            version=GENERATOR_VERSION,
+            programs=[(p.name, p.operations) for p in programs],
+            comment=comment,
+        )
     )
 
 
 def render_numpy(mechanism: str, programs: list[LoweredProgram], metadata: dict[str, Any]) -> str:
     printer = ModulePrinter("numpy")
-    return _environment().get_template("numpy_module.py.j2").render(
-        banner=banner(mechanism, "numpy_module.py.j2", programs, "#"),
-        programs=[_printed_program(p, printer) for p in programs],
-        metadata=metadata,
+    return (
+        _environment()
+        .get_template("numpy_module.py.j2")
+        .render(
+            banner=banner(mechanism, "numpy_module.py.j2", programs, "#"),
+            programs=[_printed_program(p, printer) for p in programs],
+            metadata=metadata,
+        )
     )
 
 
 def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     printer = ModulePrinter("casadi")
-    return _environment().get_template("casadi_module.py.j2").render(
-        banner=banner(mechanism, "casadi_module.py.j2", programs, "#"),
-        programs=[_printed_program(p, printer) for p in programs],
+    return (
+        _environment()
+        .get_template("casadi_module.py.j2")
+        .render(
+            banner=banner(mechanism, "casadi_module.py.j2", programs, "#"),
+            programs=[_printed_program(p, printer) for p in programs],
+        )
     )
 
 
@@ -129,16 +141,24 @@ def render_c_driver(
     mechanism: str, programs: list[LoweredProgram], described: list[dict[str, Any]], newton: dict[str, Any]
 ) -> str:
     """The batched C entry points; ``described`` gives each program's CasADi work sizes."""
-    return _environment().get_template("c_driver.c.j2").render(
-        banner=banner(mechanism, "c_driver.c.j2", programs, "//"),
-        mechanism=mechanism,
-        programs=described,
-        newton=newton,
+    return (
+        _environment()
+        .get_template("c_driver.c.j2")
+        .render(
+            banner=banner(mechanism, "c_driver.c.j2", programs, "//"),
+            mechanism=mechanism,
+            programs=described,
+            newton=newton,
+        )
     )
 
 
 def render_symbolic(mechanism: str, objects: dict[str, Any]) -> str:
-    return _environment().get_template("symbolic_module.py.j2").render(
-        banner=banner(mechanism, "symbolic_module.py.j2", [], "#"),
-        objects=[(name, sp.srepr(value)) for name, value in objects.items()],
+    return (
+        _environment()
+        .get_template("symbolic_module.py.j2")
+        .render(
+            banner=banner(mechanism, "symbolic_module.py.j2", [], "#"),
+            objects=[(name, sp.srepr(value)) for name, value in objects.items()],
+        )
     )

@@ -83,10 +83,7 @@ class ModifiedDHLink:
 
     def transform(self) -> sp.Matrix:
         """^{i-1}_i T = Rot_x(alpha) Trans_x(a) Rot_z(theta) Trans_z(d)."""
-        return (
-            homogeneous(rot_x(self.alpha), [self.a, 0, 0])
-            * homogeneous(rot_z(self.theta), [0, 0, self.d])
-        )
+        return homogeneous(rot_x(self.alpha), [self.a, 0, 0]) * homogeneous(rot_z(self.theta), [0, 0, self.d])
 
     def kind(self) -> str:
         """'R' when the joint variable sits in theta, 'P' when it sits in a or d."""

@@ -180,9 +180,7 @@ def build() -> Mechanism:
     platform = left.end_transform()
     # closed-loop (type II) factors: see derive.parallel_singularity for the block structure
     parallel = {
-        "u_joint_axes_parallel": sp.Matrix.hstack(
-            frames_left[4][:3, 2], platform[:3, 2], frames_right[4][:3, 2]
-        ).det(),
+        "u_joint_axes_parallel": sp.Matrix.hstack(frames_left[4][:3, 2], platform[:3, 2], frames_right[4][:3, 2]).det(),
         "legs_coplanar_with_platform_x": sp.Matrix.hstack(
             frames_left[3][:3, 0], frames_right[3][:3, 0], platform[:3, 0]
         ).det(),
@@ -202,7 +200,13 @@ def build() -> Mechanism:
         # eq (15): the nominal configuration
         home={
             **dict(zip(theta, [0, float(-15 * deg), 0, 0, float(15 * deg), 0], strict=True)),
-            **dict(zip([L2, phi2, phi3, L3, phi5, phi6], [0.687, float(15 * deg), 0, 0.687, float(-15 * deg), 0], strict=True)),
+            **dict(
+                zip(
+                    [L2, phi2, phi3, L3, phi5, phi6],
+                    [0.687, float(15 * deg), 0, 0.687, float(-15 * deg), 0],
+                    strict=True,
+                )
+            ),
         },
         limits={L2: (0.0, float("inf")), L3: (0.0, float("inf"))},
         serial_factor_names={

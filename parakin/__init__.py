@@ -71,7 +71,10 @@ def load(
     if unknown:
         raise UnknownMechanismError(f"unknown parameter(s) {unknown} for {name!r}; valid: {sorted(info['parameters'])}")
     values = {**info["parameters"], **{k: float(v) for k, v in parameters.items()}}
-    bounds = {k: (-float("inf") if lo is None else lo, float("inf") if hi is None else hi) for k, (lo, hi) in info["limits"].items()}
+    bounds = {
+        k: (-float("inf") if lo is None else lo, float("inf") if hi is None else hi)
+        for k, (lo, hi) in info["limits"].items()
+    }
     for key, bound in (limits or {}).items():
         if key not in info["passive"]:
             raise UnknownMechanismError(f"unknown limit {key!r} for {name!r}; valid: {info['passive']}")

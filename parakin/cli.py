@@ -29,7 +29,10 @@ def _inspect(name: str, fmt: str) -> None:
     print(f"parameters: {info['parameters']}\nactuated: {info['actuated']}\npassive: {info['passive']}\n")
     sections = [
         ("Loop-closure equations (position difference; rotation error vee(R_0^T R_k))", "loop_closure"),
-        *[(f"Leg Jacobian, {leg['name']} (eq 9; columns {leg['joints']})", f"leg_jacobian_{leg['name']}") for leg in info["legs"]],
+        *[
+            (f"Leg Jacobian, {leg['name']} (eq 9; columns {leg['joints']})", f"leg_jacobian_{leg['name']}")
+            for leg in info["legs"]
+        ],
     ]
     for title, key in sections:
         print(f"== {title}\n{show(objects[key])}\n")
@@ -63,7 +66,9 @@ def main(argv: list[str] | None = None) -> int:
     demo.add_argument("name", nargs="?", choices=sorted(DEMOS))
     ik = commands.add_parser("ik", help="inverse pose of {x y z alpha beta gamma}")
     ik.add_argument("name")
-    ik.add_argument("--pose-deg", nargs=6, type=float, required=True, metavar="V", help="x y z (m) alpha beta gamma (deg, Z-Y-X)")
+    ik.add_argument(
+        "--pose-deg", nargs=6, type=float, required=True, metavar="V", help="x y z (m) alpha beta gamma (deg, Z-Y-X)"
+    )
     fk = commands.add_parser("fk", help="every assembly mode for actuator angles")
     fk.add_argument("name")
     fk.add_argument("--actuated-deg", nargs="+", type=float, required=True, metavar="DEG")
@@ -81,12 +86,16 @@ def main(argv: list[str] | None = None) -> int:
             m = parakin.load(args.name)
             result = m.inverse_pose(parakin.pose_from_xyz_euler_deg(args.pose_deg), strict=False)
             for k in range(result.actuated.shape[-2]):
-                print(f"branch {k:2d} {result.branches[k]} valid={bool(result.valid[k])} actuated(deg)={np.rad2deg(result.actuated[k])} passive={result.passive[k]}")
+                print(
+                    f"branch {k:2d} {result.branches[k]} valid={bool(result.valid[k])} actuated(deg)={np.rad2deg(result.actuated[k])} passive={result.passive[k]}"
+                )
         elif args.command == "fk":
             m = parakin.load(args.name)
             modes = m.forward_pose_all(_vector(args.actuated_deg, degrees=True))
-            for k in np.nonzero(modes.valid)[0]:
-                print(f"mode {k}: x y z alpha beta gamma (m, deg) = {parakin.xyz_euler_deg_from_pose(modes.poses[k])} residual {modes.residual[k]:.1e}")
+            for mode in np.nonzero(modes.valid)[0]:
+                print(
+                    f"mode {mode}: x y z alpha beta gamma (m, deg) = {parakin.xyz_euler_deg_from_pose(modes.poses[mode])} residual {modes.residual[mode]:.1e}"
+                )
     except ParakinError as error:
         print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2

@@ -52,13 +52,17 @@ def sam() -> None:
     print(f"  L2 phi2 phi3 L3 phi5 phi6 paper {SAM_NOMINAL_PASSIVE}")
     print(f"                            ours  {passive}")
     factors = m.singularities(config)
-    print(f"  closed-loop determinant {float(factors['closed_loop_determinant']):.3g}: "
-          f"u_joint_axes_parallel = {float(factors['u_joint_axes_parallel']):.3g} -> the nominal pose is a type II singularity")
+    print(
+        f"  closed-loop determinant {float(factors['closed_loop_determinant']):.3g}: "
+        f"u_joint_axes_parallel = {float(factors['u_joint_axes_parallel']):.3g} -> the nominal pose is a type II singularity"
+    )
     print("\nTable II: the 4 x 4 inverse branches of the nominal pose (theta deg), all reproduce the pose:")
     for k in range(nominal.actuated.shape[0]):
         reached = m.platform_pose(nominal.actuated[k], nominal.passive[k])
         error = np.abs(reached - nominal.pose).max()
-        print(f"  branch {k:2d} signs {nominal.branches[k]}  {np.rad2deg(nominal.actuated[k])}  |pose error| {error:.1e}")
+        print(
+            f"  branch {k:2d} signs {nominal.branches[k]}  {np.rad2deg(nominal.actuated[k])}  |pose error| {error:.1e}"
+        )
 
     print("\nsection 4.2 trajectory: inverse pose, then forward pose (Newton tracking from the previous step)")
     poses = sam_trajectory_poses()
@@ -76,9 +80,13 @@ def sam() -> None:
         print(f"  step {k:2d} theta (deg) {np.rad2deg(branch.actuated)}  {fk}")
 
     modes = m.forward_pose_all(previous.actuated)
-    print(f"\nforward_pose_all at step 10 (closed form, degree {m.metadata['forward']['degree']} polynomial): {int(modes.count)} modes")
-    for k in np.nonzero(modes.valid)[0]:
-        print(f"  mode {k}: {{x y z alpha beta gamma}} = {xyz_euler_from_pose(modes.poses[k])}  residual {modes.residual[k]:.1e}")
+    print(
+        f"\nforward_pose_all at step 10 (closed form, degree {m.metadata['forward']['degree']} polynomial): {int(modes.count)} modes"
+    )
+    for mode in np.nonzero(modes.valid)[0]:
+        print(
+            f"  mode {mode}: {{x y z alpha beta gamma}} = {xyz_euler_from_pose(modes.poses[mode])}  residual {modes.residual[mode]:.1e}"
+        )
 
     print(f"\nsection 4.2 inverse rate at the nominal pose, twist {SAM_RATE_TWIST} (m/s, rad/s):")
     rates = m.inverse_rate(config, SAM_RATE_TWIST)

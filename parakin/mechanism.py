@@ -62,7 +62,9 @@ class Mechanism:
         # each leg's joints as (is_actuated, index into actuated or passive)
         self._leg_columns = {
             leg["name"]: [
-                (True, self.actuated_names.index(j)) if j in self.actuated_names else (False, self.passive_names.index(j))
+                (True, self.actuated_names.index(j))
+                if j in self.actuated_names
+                else (False, self.passive_names.index(j))
                 for j in leg["joints"]
             ]
             for leg in metadata["legs"]
@@ -115,9 +117,11 @@ class Mechanism:
         )
         actuated = np.where(self._angular_actuated, wrap_angle(out["actuated"]), out["actuated"])
         passive = np.where(self._angular_passive, wrap_angle(out["passive"]), out["passive"])
-        failures = {name: ~(out["validity"][..., k] > 1e-9) for k, name in enumerate(info["validity"])}
-        failures["limits"] = ~self.within_limits(passive)
-        failures["finite"] = ~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1))
+        failures: dict[str, np.ndarray] = {
+            name: np.asarray(~(out["validity"][..., k] > 1e-9)) for k, name in enumerate(info["validity"])
+        }
+        failures["limits"] = np.asarray(~self.within_limits(passive))
+        failures["finite"] = np.asarray(~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1)))
         valid = ~np.logical_or.reduce(list(failures.values()))
         result = InversePose(actuated, passive, valid, combinations, tuple(info["branches"]), failures, transform)
         if strict:
@@ -149,7 +153,11 @@ class Mechanism:
         """The passive values of the inverse branch whose actuated values match ``actuated``."""
         theta = self._actuated(actuated)
         branches = self.inverse_pose(pose, strict=False)
-        difference = np.where(self._angular_actuated, wrap_angle(branches.actuated - theta[..., None, :]), branches.actuated - theta[..., None, :])
+        difference = np.where(
+            self._angular_actuated,
+            wrap_angle(branches.actuated - theta[..., None, :]),
+            branches.actuated - theta[..., None, :],
+        )
         mismatch = np.abs(difference).max(-1) + np.where(branches.valid, 0.0, 1e3)
         best = np.argmin(mismatch, axis=-1)
         return np.take_along_axis(branches.passive, best[..., None, None], axis=-2)[..., 0, :]
@@ -176,9 +184,13 @@ class Mechanism:
         start = np.broadcast_to(start, np.broadcast_shapes(start.shape, theta.shape[:-1] + (start.shape[-1],)))
         theta = np.broadcast_to(theta, start.shape[:-1] + theta.shape[-1:])
         if self.backend.name == "compiled":
-            passive, pose, residual, iterations, status = self._newton_compiled(theta, start, tolerance, max_iterations, max_step)
+            passive, pose, residual, iterations, status = self._newton_compiled(
+                theta, start, tolerance, max_iterations, max_step
+            )
         else:
-            passive, pose, residual, iterations, status = self._newton_python(theta, start, tolerance, max_iterations, max_step)
+            passive, pose, residual, iterations, status = self._newton_python(
+                theta, start, tolerance, max_iterations, max_step
+            )
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
         converged = status == STATUS_OK
         if strict and not converged.all():
@@ -267,7 +279,7 @@ class Mechanism:
         theta = self._actuated(actuated)
         info = self.metadata["forward"]
         out = self.backend.call("forward_polynomial", theta, self.params)
-        degenerate = (np.abs(out["degeneracies"]) < 1e-9).any(-1)
+        degenerate = np.asarray((np.abs(out["degeneracies"]) < 1e-9).any(-1))
         if strict and degenerate.any():
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
             names = [n for k, n in enumerate(info["degeneracies"]) if abs(out["degeneracies"][index][k]) < 1e-9]
@@ -281,7 +293,9 @@ class Mechanism:
         root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]
         branch_grid = np.tile(combinations, (n_roots, 1))
         real_grid = np.repeat(real, n_branches, axis=-1) & ~degenerate[..., None]
-        poses = self.backend.call("forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params)["pose"]
+        poses = self.backend.call(
+            "forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params
+        )["pose"]
         poses = np.where(real_grid[..., None, None], poses, np.eye(4))
         theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
         passive = self.passive_from_pose(theta_grid, poses)
@@ -311,15 +325,22 @@ class Mechanism:
         """
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
-        actuated_rates = np.zeros(np.broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),))
+        actuated_rates = np.zeros(
+            np.broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),)
+        )
         passive_rates = np.zeros(actuated_rates.shape[:-1] + (len(self.passive_names),))
         for leg, jacobian in jacobians.items():
             if damping is None:
-                self._check_conditioning(jacobian, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse")
+                self._check_conditioning(
+                    jacobian, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse"
+                )
                 joint_rates = np.linalg.solve(jacobian, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None])[..., 0]
             else:
                 gram = jacobian @ np.swapaxes(jacobian, -1, -2) + damping**2 * np.eye(6)
-                joint_rates = (np.swapaxes(jacobian, -1, -2) @ np.linalg.solve(gram, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None]))[..., 0]
+                joint_rates = (
+                    np.swapaxes(jacobian, -1, -2)
+                    @ np.linalg.solve(gram, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None])
+                )[..., 0]
             for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
                 target = actuated_rates if is_actuated else passive_rates
                 target[..., index] = joint_rates[..., column]
@@ -329,7 +350,7 @@ class Mechanism:
         """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
         belong to actuated joints, in actuated order."""
         jacobians = self.leg_jacobians(state)
-        rows = [np.zeros(0)] * len(self.actuated_names)
+        rows: list[np.ndarray] = [np.zeros(0)] * len(self.actuated_names)
         for leg, jacobian in jacobians.items():
             self._check_conditioning(jacobian, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible")
             inverse = np.linalg.inv(jacobian)
@@ -343,7 +364,8 @@ class Mechanism:
         rates = self._actuated(actuated_rates)
         matrix = self.rate_matrix(state)
         self._check_conditioning(matrix, "rate matrix M (eq 12)", "a type II (parallel) singularity")
-        return np.linalg.solve(matrix, np.broadcast_to(rates, matrix.shape[:-1])[..., None])[..., 0]
+        twist = np.linalg.solve(matrix, np.broadcast_to(rates, matrix.shape[:-1])[..., None])[..., 0]
+        return np.asarray(twist, dtype=np.float64)
 
     @staticmethod
     def _check_conditioning(matrix: Array, what: str, hint: str) -> None:

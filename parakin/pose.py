@@ -38,9 +38,7 @@ def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Ar
     orthogonality = np.abs(gram - np.eye(3)).max(axis=(-2, -1))
     if (orthogonality > tolerance).any() or (np.abs(pose[..., 3, :] - [0, 0, 0, 1]) > tolerance).any():
         worst = float(orthogonality.max())
-        raise BadInputError(
-            f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)"
-        )
+        raise BadInputError(f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)")
     if (np.linalg.det(rotation) < 0).any():
         raise BadInputError(f"{name} has a reflection (det R < 0), not a rotation")
     return pose

@@ -78,7 +78,9 @@ class ForwardPoseTracker:
         if self._compiled:
             self._solve(self._job_address)
         else:
-            result = self.mechanism.forward_pose(self.actuated, self.passive, self.tolerance, self.max_iterations, strict=False)
+            result = self.mechanism.forward_pose(
+                self.actuated, self.passive, self.tolerance, self.max_iterations, strict=False
+            )
             self.passive[...] = result.passive
             self.pose[...] = result.pose
             self.residual[...] = result.residual

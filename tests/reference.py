@@ -10,9 +10,7 @@ L1, L4 = 0.5334, 0.3556
 
 def mdh(alpha: float, a: float, d: float, theta: float) -> np.ndarray:
     ca, sa, ct, st = np.cos(alpha), np.sin(alpha), np.cos(theta), np.sin(theta)
-    return np.array(
-        [[ct, -st, 0, a], [st * ca, ct * ca, -sa, -sa * d], [st * sa, ct * sa, ca, ca * d], [0, 0, 0, 1.0]]
-    )
+    return np.array([[ct, -st, 0, a], [st * ca, ct * ca, -sa, -sa * d], [st * sa, ct * sa, ca, ca * d], [0, 0, 0, 1.0]])
 
 
 def leg_pose(joints, base_offset: float = L1, platform_offset: float = L4) -> np.ndarray:
@@ -21,7 +19,14 @@ def leg_pose(joints, base_offset: float = L1, platform_offset: float = L4) -> np
     h = np.pi / 2
     transform = np.eye(4)
     transform[1, 3] = -base_offset
-    for row in [(0, 0, 0, t1 + h), (h, 0, 0, t2 + h), (h, 0, 0, t3), (-h, length, 0, 0), (0, 0, 0, p2 + h), (h, 0, 0, p3)]:
+    for row in [
+        (0, 0, 0, t1 + h),
+        (h, 0, 0, t2 + h),
+        (h, 0, 0, t3),
+        (-h, length, 0, 0),
+        (0, 0, 0, p2 + h),
+        (h, 0, 0, p3),
+    ]:
         transform = transform @ mdh(*row)
     tool = np.array([[0, -1, 0, -platform_offset], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
     return transform @ tool
@@ -41,7 +46,10 @@ def twist_jacobian(joints, base_offset: float = L1, platform_offset: float = L4,
     for k in range(6):
         step = np.zeros(6)
         step[k] = h
-        plus, minus = leg_pose(joints + step, base_offset, platform_offset), leg_pose(joints - step, base_offset, platform_offset)
+        plus, minus = (
+            leg_pose(joints + step, base_offset, platform_offset),
+            leg_pose(joints - step, base_offset, platform_offset),
+        )
         v = (plus[:3, 3] - minus[:3, 3]) / (2 * h)
         dr = (plus[:3, :3] - minus[:3, :3]) / (2 * h) @ leg_pose(joints, base_offset, platform_offset)[:3, :3].T
         w = np.array([dr[2, 1] - dr[1, 2], dr[0, 2] - dr[2, 0], dr[1, 0] - dr[0, 1]]) / 2

@@ -56,7 +56,12 @@ def test_exact_sympy_evaluation_agrees(backends, state):
     exact_residual = np.array(symbolic["loop_closure"].evalf(30, subs=substitution), dtype=float)[:, 0]
     for m in backends.values():
         assert np.abs(m.platform_pose(actuated[0], passive[0]) - exact_pose).max() < 1e-12
-        assert np.abs(m.leg_jacobians(parakin.Configuration(actuated[0], passive[0], exact_pose))["left"] - exact_left).max() < 1e-12
+        assert (
+            np.abs(
+                m.leg_jacobians(parakin.Configuration(actuated[0], passive[0], exact_pose))["left"] - exact_left
+            ).max()
+            < 1e-12
+        )
         assert np.abs(m.loop_closure(actuated[0], passive[0])["residual"] - exact_residual).max() < 1e-12
 
 

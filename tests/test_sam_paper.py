@@ -56,10 +56,10 @@ def test_table2_every_printed_row_reproduces_the_pose():
             assert np.abs(reference.leg_pose(row) - target).max() < 1e-12
 
 
-def test_table2_sixteen_branches_reproduce_the_pose(sam, rng=np.random.default_rng(3)):
+def test_table2_sixteen_branches_reproduce_the_pose(sam):
     from conftest import random_reachable_poses
 
-    poses = random_reachable_poses(rng, 50)
+    poses = random_reachable_poses(np.random.default_rng(3), 50)
     result = sam.inverse_pose(poses)
     assert result.actuated.shape == (50, 16, 6)
     assert result.valid.all()
@@ -182,7 +182,9 @@ def test_nominal_pose_is_type2_singular_with_a_self_motion(sam_numpy):
     for psi in np.deg2rad([2.0, 5.0, 10.0]):
         y_axis = np.array([0, np.cos(psi), np.sin(psi)])
         # s_left + L2 d_left + 2 L4 y = s_right + L3 d_right: two equations in the YZ plane
-        lengths = np.linalg.solve(np.column_stack([d_left, -d_right])[1:], (s_right - s_left - 2 * reference.L4 * y_axis)[1:])
+        lengths = np.linalg.solve(
+            np.column_stack([d_left, -d_right])[1:], (s_right - s_left - 2 * reference.L4 * y_axis)[1:]
+        )
         origin = s_left + lengths[0] * d_left + reference.L4 * y_axis
         pose = np.eye(4)
         pose[:3, :3] = np.column_stack([[1, 0, 0], y_axis, np.cross([1, 0, 0], y_axis)])

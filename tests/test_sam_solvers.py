@@ -77,12 +77,21 @@ def test_forward_modes_agree_with_an_independent_solver():
         actuated = m.inverse_pose(pose).branch(2).actuated
         modes = m.forward_pose_all(actuated)
 
-        def equations(q):
+        def equations(q, actuated=actuated):
             left, right = reference.sam_poses(actuated, q)
-            return np.concatenate([(left - right)[:3, 3], (left[:3, :3].T @ right[:3, :3] - np.eye(3))[[2, 0, 1], [1, 2, 0]]])
+            return np.concatenate(
+                [(left - right)[:3, 3], (left[:3, :3].T @ right[:3, :3] - np.eye(3))[[2, 0, 1], [1, 2, 0]]]
+            )
 
         for _ in range(40):
-            start = np.array([rng.uniform(0.2, 3.5), *rng.uniform(-np.pi, np.pi, 2), rng.uniform(0.2, 3.5), *rng.uniform(-np.pi, np.pi, 2)])
+            start = np.array(
+                [
+                    rng.uniform(0.2, 3.5),
+                    *rng.uniform(-np.pi, np.pi, 2),
+                    rng.uniform(0.2, 3.5),
+                    *rng.uniform(-np.pi, np.pi, 2),
+                ]
+            )
             solution = root(equations, start, tol=1e-13)
             if not solution.success or np.abs(equations(solution.x)).max() > 1e-9:
                 continue
@@ -98,7 +107,9 @@ def test_leg_jacobians_match_finite_differences(sam):
     jacobians = sam.leg_jacobians(config)
     for i in range(8):
         left = reference.twist_jacobian([*config.actuated[i, :3], *config.passive[i, :3]])
-        right = reference.twist_jacobian([*config.actuated[i, 3:], *config.passive[i, 3:]], -reference.L1, -reference.L4)
+        right = reference.twist_jacobian(
+            [*config.actuated[i, 3:], *config.passive[i, 3:]], -reference.L1, -reference.L4
+        )
         assert np.abs(jacobians["left"][i] - left).max() < 1e-7
         assert np.abs(jacobians["right"][i] - right).max() < 1e-7
 
@@ -110,7 +121,11 @@ def test_loop_closure_jacobian_matches_finite_differences(sam):
     h = 1e-6
     numeric = np.column_stack(
         [
-            (sam.loop_closure(actuated, passive + h * e)["residual"] - sam.loop_closure(actuated, passive - h * e)["residual"]) / (2 * h)
+            (
+                sam.loop_closure(actuated, passive + h * e)["residual"]
+                - sam.loop_closure(actuated, passive - h * e)["residual"]
+            )
+            / (2 * h)
             for e in np.eye(6)
         ]
     )
@@ -179,7 +194,12 @@ def test_tracker_follows_the_trajectory(sam):
 
 def test_xyz_euler_round_trip():
     rng = np.random.default_rng(11)
-    values = np.column_stack([rng.normal(size=(100, 3)), rng.uniform(-3, 3, 100), rng.uniform(-1.5, 1.5, 100), rng.uniform(-3, 3, 100)])
+    values = np.column_stack(
+        [rng.normal(size=(100, 3)), rng.uniform(-3, 3, 100), rng.uniform(-1.5, 1.5, 100), rng.uniform(-3, 3, 100)]
+    )
     back = parakin.xyz_euler_from_pose(parakin.pose_from_xyz_euler(values))
     assert np.abs(back - values).max() < 1e-9
-    assert np.abs(parakin.pose_from_xyz_euler_deg([0, 0, 0, 90, 0, 0])[:3, :3] - [[0, -1, 0], [1, 0, 0], [0, 0, 1]]).max() < 1e-15
+    assert (
+        np.abs(parakin.pose_from_xyz_euler_deg([0, 0, 0, 90, 0, 0])[:3, :3] - [[0, -1, 0], [1, 0, 0], [0, 0, 1]]).max()
+        < 1e-15
+    )
