@@ -140,14 +140,27 @@ class Mechanism:
 
     # ------------------------------------------------------------------ forward pose (Newton)
     def _passive_guess(self, actuated: Array, guess: Any) -> Array:
+        if guess is None and "forward" in self.metadata:
+            return self._closest_mode_to_home(actuated)
         if guess is None:
-            return np.broadcast_to(self.home_passive, actuated.shape)
+            return np.broadcast_to(self.home_passive, actuated.shape[:-1] + self.home_passive.shape)
         if isinstance(guess, Configuration):
             return self._passive(guess.passive)
         array = np.asarray(guess, dtype=float)
         if array.shape[-2:] == (4, 4):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
+
+    def _closest_mode_to_home(self, actuated: Array) -> Array:
+        """Without a guess: the closed-form assembly mode nearest the home configuration."""
+        modes = self.forward_pose_all(actuated, polish=False, strict=False)
+        difference = modes.passive - self.home_passive
+        difference = np.where(self._angular_passive, wrap_angle(difference), difference)
+        distance = np.abs(difference).max(-1) + np.where(modes.valid | modes.real, 0.0, 1e6)
+        best = np.argmin(distance, axis=-1)
+        fallback = np.broadcast_to(self.home_passive, modes.passive.shape[:-2] + self.home_passive.shape)
+        chosen = np.take_along_axis(modes.passive, best[..., None, None], axis=-2)[..., 0, :]
+        return np.where(modes.real.any(-1)[..., None], chosen, fallback)
 
     def passive_from_pose(self, actuated: ArrayLike, pose: ArrayLike) -> Array:
         """The passive values of the inverse branch whose actuated values match ``actuated``."""
@@ -174,7 +187,8 @@ class Mechanism:
         """Forward pose by Newton on the loop closure in the passive variables.
 
         ``guess``: a previous result (tracking), passive values (..., n_p), a pose (..., 4, 4), or
-        None for the home configuration. The residual is the position difference and rotation
+        None: then the closed-form assembly mode nearest the home configuration (eq 15 for SAM)
+        seeds Newton, or the home configuration itself when there is no closed form. The residual is the position difference and rotation
         error between the legs (max-norm, metres and radians). With ``strict``, non-convergence
         raises ConvergenceError (with the residual reached) and a singular Newton matrix raises
         SingularConfigurationError.
