@@ -160,7 +160,7 @@ class Mechanism:
         best = np.argmin(distance, axis=-1)
         fallback = np.broadcast_to(self.home_passive, modes.passive.shape[:-2] + self.home_passive.shape)
         chosen = np.take_along_axis(modes.passive, best[..., None, None], axis=-2)[..., 0, :]
-        return np.where(modes.real.any(-1)[..., None], chosen, fallback)
+        return np.where(np.asarray(modes.real.any(-1))[..., None], chosen, fallback)
 
     def passive_from_pose(self, actuated: ArrayLike, pose: ArrayLike) -> Array:
         """The passive values of the inverse branch whose actuated values match ``actuated``."""
