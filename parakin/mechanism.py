@@ -112,9 +112,10 @@ class Mechanism:
         transform = as_pose(pose)
         info = self.metadata["inverse"]
         combinations = np.array(info["combinations"], dtype=np.int8)
-        out = self.backend.call(
-            "inverse_pose", pose_vector(transform)[..., None, :], combinations.astype(float), self.params
-        )
+        with np.errstate(divide="ignore", invalid="ignore"):  # singular branches: masked below
+            out = self.backend.call(
+                "inverse_pose", pose_vector(transform)[..., None, :], combinations.astype(float), self.params
+            )
         actuated = np.where(self._angular_actuated, wrap_angle(out["actuated"]), out["actuated"])
         passive = np.where(self._angular_passive, wrap_angle(out["passive"]), out["passive"])
         failures: dict[str, np.ndarray] = {
@@ -292,7 +293,8 @@ class Mechanism:
         """
         theta = self._actuated(actuated)
         info = self.metadata["forward"]
-        out = self.backend.call("forward_polynomial", theta, self.params)
+        with np.errstate(divide="ignore", invalid="ignore"):  # degenerate inputs: reported below
+            out = self.backend.call("forward_polynomial", theta, self.params)
         degenerate = np.asarray((np.abs(out["degeneracies"]) < 1e-9).any(-1))
         if strict and degenerate.any():
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
@@ -307,9 +309,10 @@ class Mechanism:
         root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]
         branch_grid = np.tile(combinations, (n_roots, 1))
         real_grid = np.repeat(real, n_branches, axis=-1) & ~degenerate[..., None]
-        poses = self.backend.call(
-            "forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params
-        )["pose"]
+        with np.errstate(divide="ignore", invalid="ignore"):  # non-real roots: masked next
+            poses = self.backend.call(
+                "forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params
+            )["pose"]
         poses = np.where(real_grid[..., None, None], poses, np.eye(4))
         theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
         passive = self.passive_from_pose(theta_grid, poses)
