@@ -2,7 +2,7 @@
 // with template casadi.CodeGenerator. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 82
-//   loop_closure: 398
+//   loop_closure: 832
 //   leg_jacobians: 217
 //   singularity_factors: 261
 //   inverse_pose: 214
@@ -60,7 +60,7 @@ const casadi_int* loop_closure_sparsity_out(casadi_int i);
 int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
 int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
 #define loop_closure_SZ_ARG 3
-#define loop_closure_SZ_RES 3
+#define loop_closure_SZ_RES 4
 #define loop_closure_SZ_IW 0
 #define loop_closure_SZ_W 0
 int leg_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);

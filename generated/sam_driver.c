@@ -2,7 +2,7 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 82
-//   loop_closure: 398
+//   loop_closure: 832
 //   leg_jacobians: 217
 //   singularity_factors: 261
 //   inverse_pose: 214
@@ -39,11 +39,12 @@ int platform_pose_batch(long long n, const double** inputs, const long long* str
 
 int loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
-    casadi_real* res[3];
+    casadi_real* res[4];
     casadi_int iw[0 + 1];
-    casadi_real w[52 + 1];
+    casadi_real w[110 + 1];
     casadi_real out_residual[6];
     casadi_real out_jacobian[36];
+    casadi_real out_jacobian_actuated[36];
     casadi_real out_alignment[1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -51,7 +52,8 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_residual;
         res[1] = out_jacobian;
-        res[2] = out_alignment;
+        res[2] = out_jacobian_actuated;
+        res[3] = out_alignment;
         if (loop_closure(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 1; ++c)
@@ -59,9 +61,12 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 outputs[1][i * 36 + r * 6 + c] = out_jacobian[c * 6 + r];
+        for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 6; ++c)
+                outputs[2][i * 36 + r * 6 + c] = out_jacobian_actuated[c * 6 + r];
         for (int r = 0; r < 1; ++r)
             for (int c = 0; c < 1; ++c)
-                outputs[2][i * 1 + r * 1 + c] = out_alignment[c * 1 + r];
+                outputs[3][i * 1 + r * 1 + c] = out_alignment[c * 1 + r];
     }
     return 0;
 }
@@ -225,9 +230,9 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
                          double* passive, double* pose, double* residual_norm, int* iterations,
                          int* status) {
     const casadi_real* arg[3];
-    casadi_real* res[3];
+    casadi_real* res[4];
     casadi_int iw[0 + 1];
-    casadi_real w[52 + 1];
+    casadi_real w[110 + 1];
     double residual[NQ], jacobian_cm[NQ * NQ], jacobian[NQ * NQ], pose_cm[16], alignment[1];
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
@@ -241,7 +246,11 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
         residual_norm[i] = NAN;
         if (!finite) continue;
         arg[0] = theta; arg[1] = q; arg[2] = params;
-        res[0] = residual; res[1] = jacobian_cm; res[2] = alignment;
+        // outputs not needed here stay NULL: CasADi then skips computing them
+        for (int k = 0; k < 4; ++k) res[k] = 0;
+        res[0] = residual;
+        res[1] = jacobian_cm;
+        res[3] = alignment;
         for (int it = 0; it <= max_iterations; ++it) {
             loop_closure(arg, res, iw, w, 0);
             double norm = 0.0;
@@ -258,7 +267,7 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
             if (norm < tolerance) {
                 // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
                 int aligned = 1;
-                for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 1.0;
+                for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 0.0;
                 if (aligned) status[i] = PARAKIN_OK;
                 break;
             }

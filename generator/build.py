@@ -81,6 +81,7 @@ def _c_sources(name: str, casadi_source: str, programs: list[LoweredProgram]) ->
     newton = {
         "unknowns": len(loop.source.inputs[1][1]),
         "pairs": next(o.shape[0] for o in loop.outputs if o.name == "alignment"),
+        "outputs": {o.name: index for index, o in enumerate(loop.outputs)},
         "actuated": len(loop.source.inputs[0][1]),
         "residual": "loop_closure",
         "pose": "platform_pose",

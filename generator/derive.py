@@ -39,7 +39,7 @@ def loop_closure(mechanism: Mechanism) -> tuple[sp.Matrix, sp.Matrix]:
     """Every leg must reach the pose of the first: for each other leg k, the position difference
     p_0 - p_k and the rotation error vee(R_0^T R_k), well conditioned near a solution, unlike a
     choice of three matrix entries. vee(R) also vanishes for a half-turn R, so the second
-    output, trace(R_0^T R_k) (3 at a true closure, -1 at a half-turn), tells the two apart."""
+    output, trace(R_0^T R_k) - 1 (2 at a true closure, -2 at a half-turn), tells them apart."""
     transforms = [leg.end_transform() for leg in mechanism.legs]
     first = transforms[0]
     blocks, alignment = [], []
@@ -47,7 +47,7 @@ def loop_closure(mechanism: Mechanism) -> tuple[sp.Matrix, sp.Matrix]:
         relative = first[:3, :3].T * other[:3, :3]
         blocks.append(first[:3, 3] - other[:3, 3])
         blocks.append(vee(relative))
-        alignment.append(relative.trace())
+        alignment.append(relative.trace() - 1)
     return sp.Matrix.vstack(*blocks), sp.Matrix(alignment)
 
 
@@ -81,32 +81,45 @@ def type2_matrix(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> sp.Ma
     return sp.Matrix.vstack(*rows)
 
 
-def check_parallel_factors(mechanism: Mechanism, matrix: sp.Matrix, samples: int = 12) -> int:
+def check_parallel_factors(
+    mechanism: Mechanism, matrix: sp.Matrix, factors: dict[str, sp.Expr] | None = None, samples: int = 12
+) -> int:
     """Prove numerically (30 digits, random closed configurations made by the inverse program) that
-    det(matrix) = sign * product(parallel factors); return the sign. Raise if it does not hold."""
-    if mechanism.inverse is None or not mechanism.parallel_factors:
+    det(matrix) = sign * product(factors) (default: the parallel factors); return the sign.
+    Raise if it does not hold."""
+    factors = mechanism.parallel_factors if factors is None else factors
+    if mechanism.inverse is None or not factors:
         return 1
     mpmath.mp.dps = 30
     variables = [*mechanism.actuated, *mechanism.passive, *mechanism.parameters]
-    product = sp.Mul(*mechanism.parallel_factors.values())
+    product = sp.Mul(*factors.values())
     det_fn = sp.lambdify(variables, matrix, modules="mpmath")
     product_fn = sp.lambdify(variables, product, modules="mpmath")
     inverse_fn = _inverse_function(mechanism)
     rng = random.Random(20261121)
     signs = set()
-    for _ in range(samples):
+    checked = 0
+    for _ in range(50 * samples):
+        if checked == samples:
+            break
         pose = _random_pose(rng)
         branch = [1] * len(mechanism.inverse.branches)
         values = inverse_fn(pose, branch)
-        args = [values[v] for v in mechanism.actuated + mechanism.passive] + list(mechanism.parameters.values())
+        joints = [values[v] for v in mechanism.actuated + mechanism.passive]
+        if any(not isinstance(a, mpmath.mpf) for a in joints):
+            continue  # unreachable pose for this mechanism (complex joint values): draw another
+        args = joints + list(mechanism.parameters.values())
+        checked += 1
         determinant = mpmath.det(mpmath.matrix(det_fn(*args).tolist()))
         expected = product_fn(*args)
         ratio = determinant / expected
         if abs(abs(ratio) - 1) > mpmath.mpf(10) ** -20:
-            raise ValueError(f"{mechanism.name}: parallel factors do not multiply to det (ratio {ratio})")
+            raise ValueError(f"{mechanism.name}: named factors {list(factors)} do not multiply to det (ratio {ratio})")
         signs.add(int(mpmath.sign(ratio)))
     if len(signs) != 1:
-        raise ValueError(f"{mechanism.name}: parallel factor sign is not constant")
+        raise ValueError(
+            f"{mechanism.name}: sign of det / product({list(factors)}) is not constant ({checked} samples)"
+        )
     return signs.pop()
 
 
@@ -147,58 +160,115 @@ def _inverse_function(mechanism: Mechanism):
     return evaluate
 
 
-def derive(mechanism: Mechanism) -> Derivation:
-    actuated = ("actuated", mechanism.actuated)
-    passive = ("passive", mechanism.passive)
-    params = ("params", list(mechanism.parameters))
-    state = [actuated, passive, params]
+@dataclass
+class _Closure:
+    """What the two model styles (DH legs, or a written closure with A/B rates) both provide."""
 
-    platform = mechanism.legs[0].end_transform()
+    platform: sp.Matrix
+    residual: sp.Matrix
+    alignment: sp.Matrix
+    rate_program: Program
+    factors: dict[str, sp.Expr]
+    determinants: dict[str, sp.Expr]
+    symbolic: dict[str, object]
+    metadata: dict[str, object]
+
+
+def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
     residual, alignment = loop_closure(mechanism)
-    jacobian_passive = residual.jacobian(mechanism.passive)
     jacobians = {leg.name: leg.geometric_jacobian() for leg in mechanism.legs}
     serial = serial_factors(mechanism, jacobians)
-    type2 = type2_matrix(mechanism, jacobians)
-    sign = check_parallel_factors(mechanism, type2)
-
-    factor_names: list[str] = []
-    factor_values: list[sp.Expr] = []
-    for leg in mechanism.legs:
-        for name, factor, _ in serial[leg.name]["factors"]:
-            factor_names.append(name)
-            factor_values.append(factor)
-    for name, factor in mechanism.parallel_factors.items():
-        factor_names.append(name)
-        factor_values.append(factor)
+    sign = check_parallel_factors(mechanism, type2_matrix(mechanism, jacobians))
+    factors = {name: factor for leg in mechanism.legs for name, factor, _ in serial[leg.name]["factors"]}
+    factors.update(mechanism.parallel_factors)
     determinants = {
         f"{leg.name}_leg_determinant": serial[leg.name]["constant"]
         * sp.Mul(*(f**m for _, f, m in serial[leg.name]["factors"]))
         for leg in mechanism.legs
     }
     determinants["closed_loop_determinant"] = sign * sp.Mul(*mechanism.parallel_factors.values())
+    program = Program(
+        "leg_jacobians",
+        "Each leg's 6x6 serial Jacobian (eq 9): rows (v, w) of {P} in {B}, columns the leg's joints.",
+        state,
+        [(f"{leg.name}", jacobians[leg.name]) for leg in mechanism.legs],
+    )
+    return _Closure(
+        mechanism.legs[0].end_transform(),
+        residual,
+        alignment,
+        program,
+        factors,
+        determinants,
+        {
+            **{f"leg_jacobian_{name}": jacobian for name, jacobian in jacobians.items()},
+            **{f"leg_transform_{leg.name}": leg.end_transform() for leg in mechanism.legs},
+            "closed_loop_matrix": type2_matrix(mechanism, jacobians),
+        },
+        {"legs": [{"name": leg.name, "joints": [str(j) for j in leg.joints]} for leg in mechanism.legs]},
+    )
+
+
+def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
+    closure, rates = mechanism.closure, mechanism.rates
+    assert closure is not None and rates is not None
+    sign_a = check_parallel_factors(mechanism, rates.a)
+    serial_product = sp.Mul(*rates.serial_factors.values())
+    sign_b = check_parallel_factors(mechanism, rates.b, {"det B": serial_product})
+    factors = {**rates.serial_factors, **mechanism.parallel_factors}
+    determinants = {"det_A": sign_a * sp.Mul(*mechanism.parallel_factors.values()), "det_B": sign_b * serial_product}
+    program = Program(
+        "rate_jacobians",
+        "Input-output Jacobians of A twist = B actuated_rates.",
+        state,
+        [("a", rates.a), ("b", rates.b)],
+    )
+    return _Closure(
+        closure.pose,
+        closure.residual,
+        closure.alignment,
+        program,
+        factors,
+        determinants,
+        {"rate_matrix_A": rates.a, "rate_matrix_B": rates.b},
+        {"legs": [], "rates": {"twist": rates.twist, "input_independent": rates.input_independent}},
+    )
+
+
+def derive(mechanism: Mechanism) -> Derivation:
+    actuated = ("actuated", mechanism.actuated)
+    passive = ("passive", mechanism.passive)
+    params = ("params", list(mechanism.parameters))
+    state = [actuated, passive, params]
+    closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
+    residual = closed.residual
+    jacobian_passive = residual.jacobian(mechanism.passive)
+    jacobian_actuated = residual.jacobian(mechanism.actuated)
+    factor_names, factor_values = list(closed.factors), list(closed.factors.values())
+    determinants = closed.determinants
 
     programs = [
         Program(
             "platform_pose",
-            "^B_P T (4x4) reached by the first leg from actuated and passive values.",
+            "^B_P T (4x4) from actuated and passive values.",
             state,
-            [("pose", platform)],
+            [("pose", closed.platform)],
         ),
         Program(
             "loop_closure",
-            "Loop-closure residual (position difference, rotation error vee(R_0^T R_k)), its Jacobian with respect to the passive variables, and trace(R_0^T R_k) (3 when closed).",
+            "Loop-closure residual, its Jacobians with respect to the passive and the actuated variables, and the alignment measures (positive at a true closure).",
             state,
-            [("residual", residual), ("jacobian", jacobian_passive), ("alignment", alignment)],
+            [
+                ("residual", residual),
+                ("jacobian", jacobian_passive),
+                ("jacobian_actuated", jacobian_actuated),
+                ("alignment", closed.alignment),
+            ],
         ),
-        Program(
-            "leg_jacobians",
-            "Each leg's 6x6 serial Jacobian (eq 9): rows (v, w) of {P} in {B}, columns the leg's joints.",
-            state,
-            [(f"{leg.name}", jacobians[leg.name]) for leg in mechanism.legs],
-        ),
+        closed.rate_program,
         Program(
             "singularity_factors",
-            "Every named singularity factor, then the leg and closed-loop determinants.",
+            "Every named singularity factor, then the determinants.",
             state,
             [("factors", sp.Matrix(factor_values)), ("determinants", sp.Matrix(list(determinants.values())))],
         ),
@@ -206,14 +276,13 @@ def derive(mechanism: Mechanism) -> Derivation:
     metadata: dict[str, object] = {
         "singularity_factors": factor_names,
         "determinants": list(determinants),
-        "legs": [{"name": leg.name, "joints": [str(j) for j in leg.joints]} for leg in mechanism.legs],
+        "pose_kind": mechanism.pose_kind,
+        **closed.metadata,
     }
     symbolic: dict[str, object] = {
-        "platform_pose": platform,
+        "platform_pose": closed.platform,
         "loop_closure": residual,
-        **{f"leg_jacobian_{name}": jacobian for name, jacobian in jacobians.items()},
-        **{f"leg_transform_{leg.name}": leg.end_transform() for leg in mechanism.legs},
-        "closed_loop_matrix": type2,
+        **closed.symbolic,
         **{name: value for name, value in determinants.items()},
         **{f"factor_{name}": value for name, value in zip(factor_names, factor_values, strict=True)},
     }

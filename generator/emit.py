@@ -31,6 +31,8 @@ _FUNCTIONS = {
         "sign": "sign",
         "exp": "exp",
         "log": "log",
+        "Min": "fmin",
+        "Max": "fmax",
     },
     "casadi": {
         "sin": "sin",
@@ -44,6 +46,8 @@ _FUNCTIONS = {
         "sign": "sign",
         "exp": "exp",
         "log": "log",
+        "Min": "fmin",
+        "Max": "fmax",
     },
 }
 

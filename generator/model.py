@@ -134,6 +134,38 @@ class ForwardElimination:
 
 
 @dataclass
+class ClosureModel:
+    """A loop closure written directly, for mechanisms whose legs are not modified-DH chains.
+
+    ``residual`` (square in the passive variables) vanishes at a closed configuration;
+    ``alignment`` entries are positive at a true closure and negative at a false one that the
+    residual cannot tell apart (a mirror platform, a half-turn); ``pose`` is ^B_P T.
+    """
+
+    residual: sp.Matrix
+    alignment: sp.Matrix
+    pose: sp.Matrix
+
+
+@dataclass
+class RateModel:
+    """Input-output velocity equations A twist = B actuated_rates (Gosselin and Angeles' form).
+
+    ``twist`` names the twist components (e.g. wx, wy, wz for an orienting platform, in {B}).
+    ``serial_factors`` multiply to det B (inverse, type I singularities); the mechanism's
+    ``parallel_factors`` multiply to det A (direct, type II). Both products are verified.
+    ``input_independent`` names serial factors whose zeros give assembly modes that do not depend
+    on the inputs (the Agile Eye's folded poses); such modes are flagged, not counted.
+    """
+
+    twist: list[str]
+    a: sp.Matrix
+    b: sp.Matrix
+    serial_factors: dict[str, sp.Expr]
+    input_independent: list[str] = field(default_factory=list)
+
+
+@dataclass
 class Mechanism:
     """A parallel mechanism: legs sharing the platform frame {P}, as in its paper."""
 
@@ -157,3 +189,9 @@ class Mechanism:
     parallel_factors: dict[str, sp.Expr] = field(default_factory=dict)
     #: angles (variables) that the runtime compares modulo 2 pi
     angular: list[sp.Symbol] = field(default_factory=list)
+    #: the loop closure when it is not derived from ``legs``
+    closure: ClosureModel | None = None
+    #: input-output Jacobians when rates are not derived from ``legs``
+    rates: RateModel | None = None
+    #: "transform": ^B_P T is a general rigid pose; "rotation": an orienting platform (p = 0)
+    pose_kind: str = "transform"

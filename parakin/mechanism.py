@@ -103,13 +103,24 @@ class Mechanism:
         """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
         return self.backend.call("loop_closure", self._actuated(actuated), self._passive(passive), self.params)
 
+    def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
+        """^B_P T (..., 4, 4); an orienting platform (pose_kind 'rotation') also takes R (..., 3, 3)."""
+        array = np.asarray(pose, dtype=float)
+        if self.metadata.get("pose_kind") == "rotation" and array.shape[-2:] == (3, 3):
+            full = np.zeros(array.shape[:-2] + (4, 4))
+            full[..., :3, :3] = array
+            full[..., 3, 3] = 1.0
+            array = full
+        return as_pose(array, name)
+
     def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
-        """Every closed-form inverse branch for ^B_P T (..., 4, 4).
+        """Every closed-form inverse branch for ^B_P T (..., 4, 4) (or R (..., 3, 3) for an
+        orienting platform).
 
         With ``strict``, a pose with no valid branch raises UnreachablePoseError (limits) or
         SingularConfigurationError (every branch at a serial singularity), naming the pose index.
         """
-        transform = as_pose(pose)
+        transform = self._as_transform(pose)
         info = self.metadata["inverse"]
         combinations = np.array(info["combinations"], dtype=np.int8)
         with np.errstate(divide="ignore", invalid="ignore"):  # singular branches: masked below
@@ -148,7 +159,7 @@ class Mechanism:
         if isinstance(guess, Configuration):
             return self._passive(guess.passive)
         array = np.asarray(guess, dtype=float)
-        if array.shape[-2:] == (4, 4):
+        if array.shape[-2:] in ((4, 4), (3, 3)):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
 
@@ -239,7 +250,7 @@ class Mechanism:
             active &= np.isfinite(norm)
             # a half-turn between legs zeroes the rotation error too: a wrong basin, not a closure
             done = active & (norm < tolerance)
-            active &= ~(done & ~(out["alignment"] > 1.0).all(-1))
+            active &= ~(done & ~(out["alignment"] > 0.0).all(-1))
             done &= active
             if iteration == max_iterations:
                 active &= done
@@ -324,9 +335,37 @@ class Mechanism:
             poses = np.where(better[..., None, None], polished.pose, poses)
             residual = np.where(better, polished.residual, residual)
         valid = real_grid & (residual < 1e-9) & self.within_limits(passive)
-        return AssemblyModes(theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1))
+        # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
+        independent = np.zeros_like(valid)
+        names = self.metadata.get("rates", {}).get("input_independent", [])
+        if names:
+            factors = self.singularities(Configuration(theta_grid, passive, poses))
+            for name in names:
+                independent |= np.abs(factors[name]) < 1e-9
+        # a double root (or two branches reaching one pose) is one mode: keep the first
+        distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
+        earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)
+        duplicate = (valid[..., None, :] & earlier & (distance < 1e-7)).any(-1)
+        valid &= ~duplicate & ~independent
+        return AssemblyModes(
+            theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1), independent & real_grid
+        )
 
     # ------------------------------------------------------------------ rates
+    def rate_jacobians(self, state: Configuration) -> dict[str, Array]:
+        """A and B of A twist = B actuated_rates (mechanisms with a rate model, e.g. the SPM)."""
+        theta, passive = self._state(state)
+        return self.backend.call("rate_jacobians", theta, passive, self.params)
+
+    def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
+        """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
+        theta, passive = self._state(state)
+        rates = np.asarray(actuated_rates, dtype=float)
+        out = self.backend.call("loop_closure", theta, passive, self.params)
+        self._check_conditioning(out["jacobian"], "loop-closure Jacobian", "a type II (parallel) singularity")
+        right = -(out["jacobian_actuated"] @ rates[..., None])
+        return np.asarray(np.linalg.solve(out["jacobian"], right)[..., 0], dtype=np.float64)
+
     def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
         """Each leg's 6x6 Jacobian (eq 9): twist (v of the origin of {P}, w; in {B}) per joint
         rate, columns in the leg's joint order (``metadata['legs']``)."""
@@ -340,6 +379,8 @@ class Mechanism:
         a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1, the
         paper's recommendation near a singular leg (the motion is then not exactly as commanded).
         """
+        if "rates" in self.metadata:
+            return self._inverse_rate_ab(state, twist)
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
         actuated_rates = np.zeros(
@@ -363,6 +404,14 @@ class Mechanism:
                 target[..., index] = joint_rates[..., column]
         return Rates(actuated_rates, passive_rates)
 
+    def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike) -> Rates:
+        omega = as_array(twist, "twist", (len(self.metadata["rates"]["twist"]),))
+        jacobians = self.rate_jacobians(state)
+        self._check_conditioning(jacobians["b"], "B (inverse Jacobian)", "a serial (type I) singularity")
+        right = jacobians["a"] @ omega[..., None]
+        rates = np.linalg.solve(jacobians["b"], right)[..., 0]
+        return Rates(rates, self.passive_rates(state, rates))
+
     def rate_matrix(self, state: Configuration) -> Array:
         """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
         belong to actuated joints, in actuated order."""
@@ -379,6 +428,11 @@ class Mechanism:
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
         rates = self._actuated(actuated_rates)
+        if "rates" in self.metadata:
+            jacobians = self.rate_jacobians(state)
+            self._check_conditioning(jacobians["a"], "A (direct Jacobian)", "a type II (parallel) singularity")
+            twist = np.linalg.solve(jacobians["a"], (jacobians["b"] @ rates[..., None]))[..., 0]
+            return np.asarray(twist, dtype=np.float64)
         matrix = self.rate_matrix(state)
         self._check_conditioning(matrix, "rate matrix M (eq 12)", "a type II (parallel) singularity")
         twist = np.linalg.solve(matrix, np.broadcast_to(rates, matrix.shape[:-1])[..., None])[..., 0]

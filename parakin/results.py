@@ -19,6 +19,11 @@ class Configuration:
     passive: Array
     pose: Array
 
+    @property
+    def rotation(self) -> Array:
+        """The platform orientation ^B_P R (..., 3, 3)."""
+        return self.pose[..., :3, :3]
+
 
 @dataclass(frozen=True)
 class ForwardPose(Configuration):
@@ -54,8 +59,10 @@ class InversePose:
 class AssemblyModes:
     """Every forward-pose solution, padded to a fixed count M: arrays (..., M, ...).
 
-    ``real``: the polynomial root was real; ``valid``: real, polished to tolerance and within
-    joint limits; ``count`` = number of valid modes per input."""
+    ``real``: the polynomial root was real; ``valid``: real, polished to tolerance, within joint
+    limits, not a repeat of an earlier mode (double roots) and not input-independent;
+    ``input_independent``: real modes at a factor that makes the pose independent of the inputs
+    (e.g. the Agile Eye's folded poses), flagged and not counted; ``count`` = valid modes per input."""
 
     actuated: Array
     poses: Array
@@ -65,6 +72,7 @@ class AssemblyModes:
     real: Mask
     valid: Mask
     count: NDArray[np.int64]
+    input_independent: Mask
 
     def mode(self, index: int) -> Configuration:
         """Mode ``index`` as a configuration."""
