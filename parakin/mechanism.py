@@ -410,7 +410,7 @@ class Mechanism:
         self._check_conditioning(jacobians["b"], "B (inverse Jacobian)", "a serial (type I) singularity")
         right = jacobians["a"] @ omega[..., None]
         rates = np.linalg.solve(jacobians["b"], right)[..., 0]
-        return Rates(rates, self.passive_rates(state, rates))
+        return Rates(np.asarray(rates, dtype=np.float64), self.passive_rates(state, rates))
 
     def rate_matrix(self, state: Configuration) -> Array:
         """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
