@@ -93,8 +93,8 @@ def check_parallel_factors(
     mpmath.mp.dps = 30
     variables = [*mechanism.actuated, *mechanism.passive, *mechanism.parameters]
     product = sp.Mul(*factors.values())
-    det_fn = sp.lambdify(variables, matrix, modules="mpmath")
-    product_fn = sp.lambdify(variables, product, modules="mpmath")
+    det_fn = sp.lambdify(variables, matrix, modules="mpmath", cse=True)
+    product_fn = sp.lambdify(variables, product, modules="mpmath", cse=True)
     inverse_fn = _inverse_function(mechanism)
     rng = random.Random(20261121)
     signs = set()
@@ -106,8 +106,10 @@ def check_parallel_factors(
         branch = [1] * len(mechanism.inverse.branches)
         values = inverse_fn(pose, branch)
         joints = [values[v] for v in mechanism.actuated + mechanism.passive]
-        if any(not isinstance(a, mpmath.mpf) for a in joints):
-            continue  # unreachable pose for this mechanism (complex joint values): draw another
+        if any(not isinstance(a, mpmath.mpf) for a in joints) or not all(
+            _evaluate(condition, values) > 0 for condition in mechanism.inverse.validity.values()
+        ):
+            continue  # unreachable pose for this mechanism: draw another
         args = joints + list(mechanism.parameters.values())
         checked += 1
         determinant = mpmath.det(mpmath.matrix(det_fn(*args).tolist()))
@@ -141,6 +143,11 @@ def _random_pose(rng: random.Random) -> list:
     return [c for row in rotation for c in row] + position
 
 
+def _evaluate(expr: sp.Expr, values: dict) -> mpmath.mpf:
+    symbols = sorted(expr.free_symbols, key=sp.default_sort_key)
+    return sp.lambdify(symbols, expr, modules="mpmath")(*[values[s] for s in symbols])
+
+
 def _inverse_function(mechanism: Mechanism):
     inverse = mechanism.inverse
     assert inverse is not None
@@ -152,9 +159,7 @@ def _inverse_function(mechanism: Mechanism):
         values.update(zip(inverse.branches, branch, strict=True))
         values.update({k: mpmath.mpf(v) for k, v in parameters.items()})
         for target, expr in steps:
-            values[target] = sp.lambdify(list(expr.free_symbols), expr, modules="mpmath")(
-                *[values[s] for s in expr.free_symbols]
-            )
+            values[target] = _evaluate(expr, values)
         return values
 
     return evaluate
@@ -316,10 +321,8 @@ def derive(mechanism: Mechanism) -> Derivation:
                 "forward_polynomial",
                 "Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.",
                 [actuated, params],
-                [
-                    ("coefficients", sp.Matrix(forward.coefficients)),
-                    ("degeneracies", sp.Matrix(list(forward.degeneracies.values()))),
-                ],
+                [("coefficients", sp.Matrix(forward.coefficients))]
+                + ([("degeneracies", sp.Matrix(list(forward.degeneracies.values())))] if forward.degeneracies else []),
                 steps=forward.auxiliary,
             )
         )

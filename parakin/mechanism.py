@@ -306,10 +306,11 @@ class Mechanism:
         info = self.metadata["forward"]
         with np.errstate(divide="ignore", invalid="ignore"):  # degenerate inputs: reported below
             out = self.backend.call("forward_polynomial", theta, self.params)
-        degenerate = np.asarray((np.abs(out["degeneracies"]) < 1e-9).any(-1))
+        measures = out.get("degeneracies", np.zeros(theta.shape[:-1] + (0,)))
+        degenerate = np.asarray((np.abs(measures) < 1e-9).any(-1))
         if strict and degenerate.any():
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
-            names = [n for k, n in enumerate(info["degeneracies"]) if abs(out["degeneracies"][index][k]) < 1e-9]
+            names = [n for k, n in enumerate(info["degeneracies"]) if abs(measures[index][k]) < 1e-9]
             raise SingularConfigurationError(
                 f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
                 "the platform is not determined by the actuators here"
@@ -327,14 +328,21 @@ class Mechanism:
         poses = np.where(real_grid[..., None, None], poses, np.eye(4))
         theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
         passive = self.passive_from_pose(theta_grid, poses)
-        residual = np.abs(self.loop_closure(theta_grid, passive)["residual"]).max(-1)
+        closure = self.loop_closure(theta_grid, passive)
+        residual = np.abs(closure["residual"]).max(-1)
+        # a candidate is a mode if it nearly closes (a loose bound keeps near-double roots, whose
+        # back-substitution is less accurate); Newton then must converge, so that a wrong
+        # candidate is never polished into some other mode
+        candidate = real_grid & (residual < 1e-4) & (closure["alignment"] > 0).all(-1)
+        closed = candidate & (residual < 1e-9)
         if polish:
             polished = self.forward_pose(theta_grid, passive, tolerance=1e-13, max_iterations=8, strict=False)
-            better = polished.converged | (polished.residual < residual)
-            passive = np.where(better[..., None], polished.passive, passive)
-            poses = np.where(better[..., None, None], polished.pose, poses)
-            residual = np.where(better, polished.residual, residual)
-        valid = real_grid & (residual < 1e-9) & self.within_limits(passive)
+            accept = candidate & polished.converged
+            passive = np.where(accept[..., None], polished.passive, passive)
+            poses = np.where(accept[..., None, None], polished.pose, poses)
+            residual = np.where(accept, polished.residual, residual)
+            closed = accept | closed
+        valid = closed & self.within_limits(passive)
         # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
         independent = np.zeros_like(valid)
         names = self.metadata.get("rates", {}).get("input_independent", [])
