@@ -106,7 +106,9 @@ class InverseSolution:
     ``branches`` are symbols taking +1 or -1; combination k of all branches follows
     ``itertools.product((+1, -1), repeat=len(branches))`` (bit j set means branches[j] = -1,
     most significant bit first), so branch 0 is all signs +1.
-    ``validity`` maps a name to an expression that must be positive for the branch to be valid.
+    ``validity`` maps a name to an expression that must be positive for the branch to be valid;
+    names ending in "reachable" mark workspace limits (UnreachablePoseError), the others serial
+    singularities (SingularConfigurationError).
     """
 
     steps: list[tuple[sp.Symbol, sp.Expr]]

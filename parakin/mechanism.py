@@ -142,8 +142,10 @@ class Mechanism:
                 index = tuple(int(i) for i in np.argwhere(none)[0])
                 failed = [name for name, mask in failures.items() if mask[index].all()]
                 at = f" at batch index {index}" if index else ""
-                if failed == ["limits"] or "limits" in failed and len(failed) == 1:
-                    raise UnreachablePoseError(f"pose{at} is outside the joint limits {self.limits} on every branch")
+                if failed and all(name == "limits" or name.endswith("reachable") for name in failed):
+                    raise UnreachablePoseError(
+                        f"pose{at} is unreachable on every branch: {', '.join(failed)} (joint limits {self.limits})"
+                    )
                 raise SingularConfigurationError(
                     f"pose{at} has no valid inverse branch: {', '.join(failed) or 'mixed failures'} "
                     "(serial singularity: the leg joints cannot be resolved)"
