@@ -1,4 +1,4 @@
-"""Command line: ``parakin list | inspect NAME | demo [NAME] | ik NAME | fk NAME``.
+"""Command line: ``parakin list | inspect NAME | demo [NAME] | ik NAME | fk NAME | plot NAME``.
 
 Flags ending in ``-deg`` take degrees; everything else is SI (metres, radians).
 """
@@ -14,6 +14,7 @@ import numpy as np
 import parakin
 from parakin.demos import DEMOS
 from parakin.errors import ParakinError
+from parakin.plots import PLOTS
 
 
 def _inspect(name: str, fmt: str) -> None:
@@ -24,16 +25,25 @@ def _inspect(name: str, fmt: str) -> None:
     if fmt == "json":
         print(json.dumps({"metadata": info, "objects": {k: str(v) for k, v in objects.items()}}, indent=1))
         return
-    show = sympy.latex if fmt == "latex" else sympy.pretty
+
+    def show(expr: object) -> str:
+        if fmt == "latex":
+            return str(sympy.latex(expr))
+        # pretty-printing is unreadable for long expressions: plain text there
+        return str(sympy.pretty(expr)) if sympy.count_ops(expr) < 60 else str(expr)
+
     print(f"{info['title']}\nreference: {info['reference']}\n")
     print(f"parameters: {info['parameters']}\nactuated: {info['actuated']}\npassive: {info['passive']}\n")
     sections = [
-        ("Loop-closure equations (position difference; rotation error vee(R_0^T R_k))", "loop_closure"),
+        ("Loop-closure equations (residual = 0)", "loop_closure"),
         *[
             (f"Leg Jacobian, {leg['name']} (eq 9; columns {leg['joints']})", f"leg_jacobian_{leg['name']}")
             for leg in info["legs"]
         ],
     ]
+    if "rates" in info:
+        twist = info["rates"]["twist"]
+        sections += [(f"A of A twist = B theta_dot (twist {twist} in {{B}})", "rate_matrix_A"), ("B", "rate_matrix_B")]
     for title, key in sections:
         print(f"== {title}\n{show(objects[key])}\n")
     print("== Determinants, factored")
@@ -72,6 +82,10 @@ def main(argv: list[str] | None = None) -> int:
     fk = commands.add_parser("fk", help="every assembly mode for actuator angles")
     fk.add_argument("name")
     fk.add_argument("--actuated-deg", nargs="+", type=float, required=True, metavar="DEG")
+    plot = commands.add_parser("plot", help="write a figure of the mechanism's solutions (PNG)")
+    plot.add_argument("name", choices=sorted(PLOTS))
+    plot.add_argument("--output", default=None, help="PNG path (default NAME.png)")
+    plot.add_argument("--actuated-deg", nargs="+", type=float, default=None, metavar="DEG")
     args = parser.parse_args(argv)
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:
@@ -89,6 +103,10 @@ def main(argv: list[str] | None = None) -> int:
                 print(
                     f"branch {k:2d} {result.branches[k]} valid={bool(result.valid[k])} actuated(deg)={np.rad2deg(result.actuated[k])} passive={result.passive[k]}"
                 )
+        elif args.command == "plot":
+            path = args.output or f"{args.name}.png"
+            PLOTS[args.name](path, args.actuated_deg)
+            print(f"wrote {path}")
         elif args.command == "fk":
             m = parakin.load(args.name)
             modes = m.forward_pose_all(_vector(args.actuated_deg, degrees=True))

@@ -94,4 +94,43 @@ def sam() -> None:
     print(f"  passive rates     {rates.passive}")
 
 
-DEMOS: dict[str, Callable[[], None]] = {"sam": sam}
+#: section 3.2.3 of the SPM report: inputs (deg)
+SPM_EXAMPLE_DEG = [105.0, 60.0, 105.0]
+
+
+def spm() -> None:
+    m = parakin.load("spm")
+    np.set_printoptions(precision=5, suppress=True, linewidth=120)
+    degree = m.metadata["forward"]["degree"]
+    print(f"\n{m!r}")
+    print("section 3.2.3 example, read as proximal alpha1 = 45 deg, distal alpha2 = 90 deg (the printed")
+    print(f"labels swap them), beta = 60, gamma = 45 deg; theta = {SPM_EXAMPLE_DEG} deg")
+    theta = np.deg2rad(SPM_EXAMPLE_DEG)
+    modes = m.forward_pose_all(theta)
+    print(f"  forward polynomial degree {degree}: {int(modes.count)} real assembly modes (report: 8)")
+    for number, k in enumerate(np.nonzero(modes.valid)[0]):
+        rotation = modes.poses[k, :3, :3]
+        angle = np.rad2deg(np.arccos(np.clip((np.trace(rotation) - 1) / 2, -1, 1)))
+        axis = np.array(
+            [rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0], rotation[1, 0] - rotation[0, 1]]
+        )
+        axis = axis / max(np.linalg.norm(axis), 1e-300)
+        print(
+            f"  mode {number + 1}: x = tan(phi1/2) = {modes.root[k]: .5f}  rotation {angle:7.3f} deg about {axis}"
+            f"  passive (deg) {np.rad2deg(modes.passive[k])}  residual {modes.residual[k]:.1e}"
+        )
+    printed = parakin.load("spm", alpha1=np.pi / 2, alpha2=np.pi / 4)
+    print(
+        f"  with the labels as printed (alpha1 = 90, alpha2 = 45 deg): {int(printed.forward_pose_all(theta).count)} modes"
+    )
+    eye = parakin.load(
+        "spm", alpha1=np.pi / 2, alpha2=np.pi / 2, beta=np.arctan(np.sqrt(2)), gamma=np.arctan(np.sqrt(2))
+    )
+    agile = eye.forward_pose_all(np.deg2rad([10.0, 20.0, -15.0]))
+    print(
+        f"  Agile Eye at theta = (10, 20, -15) deg: {int(agile.count)} genuine modes, "
+        f"{int(agile.input_independent.sum())} input-independent (folded) solutions flagged"
+    )
+
+
+DEMOS: dict[str, Callable[[], None]] = {"sam": sam, "spm": spm}

@@ -355,10 +355,11 @@ class Mechanism:
         # a double root (or two branches reaching one pose) is one mode: keep the first
         distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
         earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)
-        duplicate = (valid[..., None, :] & earlier & (distance < 1e-7)).any(-1)
-        valid &= ~duplicate & ~independent
+        valid &= ~(valid[..., None, :] & earlier & (distance < 1e-7)).any(-1)
+        flagged = valid & independent
+        valid &= ~independent
         return AssemblyModes(
-            theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1), independent & real_grid
+            theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1), flagged
         )
 
     # ------------------------------------------------------------------ rates
