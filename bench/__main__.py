@@ -52,14 +52,15 @@ def best_time(function: Callable[[], object], budget: float = 0.5) -> float:
 class Baseline:
     """sympy.lambdify of parakin's own symbolic equations, solved by scipy.optimize.root."""
 
-    def __init__(self) -> None:
-        objects = parakin.symbolic("sam")
-        info = parakin.metadata("sam")
+    def __init__(self, name: str = "sam") -> None:
+        objects = parakin.symbolic(name)
+        info = parakin.metadata(name)
         symbols = {s.name: s for obj in objects.values() if isinstance(obj, sp.Basic) for s in obj.free_symbols}
         actuated = [symbols[n] for n in info["actuated"]]
         passive = [symbols[n] for n in info["passive"]]
         params = [symbols[n] for n in info["parameters"]]
         self.params = list(info["parameters"].values())
+        self._passive_count = len(passive)
         self.residual = sp.lambdify([actuated, passive, params], list(objects["loop_closure"]), "numpy")
         jacobian = objects["loop_closure"].jacobian(passive)
         self.jacobian = sp.lambdify([actuated, passive, params], jacobian, "numpy")
@@ -68,9 +69,23 @@ class Baseline:
         for target, value in steps:
             substituted[target] = value.subs(substituted)
         pose_symbols = sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33 px py pz", real=True)
-        branches = sp.symbols("epsilon_left delta_left epsilon_right delta_right", real=True)
+        branches = [symbols.get(b, sp.Symbol(b, real=True)) for b in info["inverse"]["branches"]]
+        self.combinations = np.array(info["inverse"]["combinations"], dtype=float)
         outputs = [substituted[symbols[n]] for n in info["actuated"] + info["passive"]]
         self.inverse = sp.lambdify([pose_symbols, branches, params], outputs, "numpy")
+
+    def forward_all(self, actuated: np.ndarray, starts: int, rng: np.random.Generator) -> None:
+        """The baseline for every mode: scipy.optimize.root from ``starts`` random starts per input
+        (what a user without the closed form would do; it does not guarantee every mode)."""
+        for i in range(actuated.shape[0]):
+            for _ in range(starts):
+                guess = rng.uniform(-np.pi, np.pi, self._passive_count)
+                scipy.optimize.root(
+                    lambda q, a=actuated[i]: self.residual(a, q, self.params),
+                    guess,
+                    jac=lambda q, a=actuated[i]: self.jacobian(a, q, self.params),
+                    tol=1e-12,
+                )
 
     def forward(self, actuated: np.ndarray, guess: np.ndarray) -> np.ndarray:
         out = np.empty_like(guess)
@@ -86,7 +101,56 @@ class Baseline:
 
     def inverse_all(self, poses: np.ndarray) -> list:
         flat = np.concatenate([poses[:, :3, :3].reshape(-1, 9), poses[:, :3, 3]], axis=1).T
-        return [self.inverse(flat, signs, self.params) for signs in np.array(list(np.ndindex(2, 2, 2, 2))) * -2 + 1]
+        return [self.inverse(flat, signs, self.params) for signs in self.combinations]
+
+
+def spm_rows() -> list:
+    """3-RRR SPM: inverse pose (8 branches) and every assembly mode (degree-8 polynomial)."""
+    rng = np.random.default_rng(2027)
+    baseline = Baseline("spm")
+    out: list = []
+    m_any = parakin.load("spm", backend="numpy")
+    rotations = parakin.pose_from_xyz_euler(
+        np.column_stack([np.zeros((10_000, 3)), rng.uniform(-0.6, 0.6, (10_000, 3))])
+    )
+    branches = m_any.inverse_pose(rotations, strict=False)
+    keep = branches.valid.any(-1)
+    first = np.argmax(branches.valid, axis=-1)
+    actuated = np.take_along_axis(branches.actuated, first[:, None, None], axis=1)[:, 0][keep]
+    rotations = rotations[keep]
+    n = 50
+    base_inverse = best_time(lambda: baseline.inverse_all(rotations[:n])) / n
+    base_all = best_time(lambda: baseline.forward_all(actuated[:5], 16, rng), budget=1.0) / 5
+    for backend in ["numpy", "compiled"]:
+        m = parakin.load("spm", backend=backend)
+        for batch in [1, 1000, 10_000]:
+            batch = min(batch, actuated.shape[0])
+            p, a = (rotations[0], actuated[0]) if batch == 1 else (rotations[:batch], actuated[:batch])
+            t = best_time(lambda m=m, p=p: m.inverse_pose(p, strict=False))
+            out.append(
+                (
+                    "spm inverse_pose (8 branches)",
+                    backend,
+                    batch,
+                    t * 1e6,
+                    t / batch * 1e6,
+                    base_inverse * 1e6,
+                    base_inverse * batch / t,
+                )
+            )
+            t = best_time(lambda m=m, a=a: m.forward_pose_all(a), budget=0.2)
+            out.append(
+                (
+                    "spm forward_pose_all (deg 8)",
+                    backend,
+                    batch,
+                    t * 1e6,
+                    t / batch * 1e6,
+                    base_all * 1e6,
+                    base_all * batch / t,
+                )
+            )
+    return out
 
 
 def main() -> None:
@@ -159,7 +223,12 @@ def main() -> None:
 
         record("tracker.solve (1 kHz step)", "compiled", batch, best_time(solve), base_forward)
 
-    print(f"SAM benchmark (baseline: sympy.lambdify + scipy.optimize.root, set-up {setup:.1f} s, timed on {n} poses)\n")
+    rows += spm_rows()
+
+    print(
+        "benchmark (baseline: sympy.lambdify of the same equations + scipy.optimize.root; for all modes,\n"
+        f"root from 16 random starts per input for SPM, 4 for SAM; SAM baseline set-up {setup:.1f} s, timed on {n} poses)\n"
+    )
     header = f"{'operation':28s} {'backend':9s} {'batch':>7s} {'us/call':>11s} {'us/pose':>9s} {'baseline us/pose':>17s} {'ratio':>8s}"
     print(header)
     print("-" * len(header))
