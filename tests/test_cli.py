@@ -37,3 +37,12 @@ def test_ik_fk_and_errors():
 def test_demo_prints_the_paper_numbers():
     out = run("demo", "sam").stdout
     assert "eq (15)" in out and "Table II" in out and "step 10" in out and "theta_dot" in out
+
+
+def test_spm_inspect_degree_and_plot(tmp_path):
+    out = run("inspect", "spm").stdout
+    assert "degree 8" in out and "det_B" in out and "leg1_axes_coplanar" in out
+    target = tmp_path / "spm.png"
+    done = run("plot", "spm", "--output", str(target))
+    assert done.returncode == 0 and target.stat().st_size > 10_000
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -215,3 +215,28 @@ def test_mode_counts_agree_with_the_quaternion_route_on_random_geometries():
         m = parakin.load("spm", backend="numpy", **geometry)
         theta = rng.uniform(-np.pi, np.pi, (5, 3))
         _compare_with_quaternion_route(m, theta, geometry, seed=case)
+
+
+def test_near_double_roots_are_not_dropped():
+    """Walk theta3 from the example towards a fold where two real modes merge, bisect the fold to
+    1e-11 rad, and check that just inside it both nearly coincident modes are still reported."""
+    m = parakin.load("spm", backend="numpy")
+    start = EXAMPLE_THETA.copy()
+    count0 = int(m.forward_pose_all(start).count)
+    inside = outside = None
+    for step in np.deg2rad(np.arange(0.5, 90, 0.5)):
+        probe = start + [0.0, 0.0, step]
+        if int(m.forward_pose_all(probe, strict=False).count) < count0:
+            inside, outside = probe - [0.0, 0.0, np.deg2rad(0.5)], probe
+            break
+    assert inside is not None
+    for _ in range(60):
+        middle = (inside + outside) / 2
+        if int(m.forward_pose_all(middle, strict=False).count) >= count0:
+            inside = middle
+        else:
+            outside = middle
+    assert abs(outside[2] - inside[2]) < 1e-11
+    modes = m.forward_pose_all(inside)
+    assert int(modes.count) == count0
+    assert reproduces_inputs(m, modes, inside).max() < 1e-9
