@@ -2,7 +2,8 @@
 # with template numpy_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 82
-#   loop_closure: 832
+#   loop_closure: 399
+#   loop_closure_actuated: 607
 #   leg_jacobians: 217
 #   singularity_factors: 261
 #   inverse_pose: 214
@@ -165,9 +166,9 @@ def platform_pose(actuated, passive, params):
 
 
 def loop_closure(actuated, passive, params):
-    """Loop-closure residual, its Jacobians with respect to the passive and the actuated variables, and the alignment measures (positive at a true closure).
+    """Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.
 
-    Operations: 832.
+    Operations: 399.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -188,414 +189,531 @@ def loop_closure(actuated, passive, params):
     phi6 = passive[..., 5]
     L1 = params[..., 0]
     L4 = params[..., 1]
-    _t0 = numpy.sin(phi3)
-    _t1 = numpy.cos(theta1)
-    _t2 = numpy.cos(theta3)
-    _t3 = numpy.sin(theta2)
-    _t4 = numpy.sin(theta1)
-    _t5 = numpy.sin(theta3)
+    _t0 = numpy.sin(theta6)
+    _t1 = numpy.cos(theta4)
+    _t2 = _t0 * _t1
+    _t3 = numpy.sin(theta5)
+    _t4 = numpy.sin(theta4)
+    _t5 = numpy.cos(theta6)
     _t6 = _t4 * _t5
-    _t7 = _t1 * _t2 - _t3 * _t6
-    _t8 = _t0 * _t7
-    _t9 = numpy.cos(phi3)
-    _t10 = numpy.cos(phi2)
-    _t11 = numpy.cos(theta2)
-    _t12 = numpy.sin(phi2)
-    _t13 = _t1 * _t5
-    _t14 = _t2 * _t4
-    _t15 = _t13 + _t14 * _t3
-    _t16 = _t10 * _t11 * _t4 - _t12 * _t15
-    _t17 = _t16 * _t9 + _t8
-    _t18 = L4 * _t17
-    _t19 = numpy.sin(theta6)
-    _t20 = numpy.cos(theta4)
-    _t21 = _t19 * _t20
-    _t22 = numpy.sin(theta5)
-    _t23 = numpy.sin(theta4)
-    _t24 = numpy.cos(theta6)
-    _t25 = _t23 * _t24
-    _t26 = _t21 + _t22 * _t25
-    _t27 = numpy.sin(phi6)
-    _t28 = _t19 * _t23
-    _t29 = _t20 * _t24 - _t22 * _t28
-    _t30 = _t27 * _t29
-    _t31 = numpy.cos(phi6)
-    _t32 = numpy.cos(phi5)
-    _t33 = numpy.cos(theta5)
-    _t34 = numpy.sin(phi5)
-    _t35 = _t23 * _t32 * _t33 - _t26 * _t34
-    _t36 = _t30 + _t31 * _t35
-    _t37 = L3 * _t26 + L4 * _t36
-    _t38 = _t20 * _t24
-    _t39 = -_t22 * _t38 + _t28
-    _t40 = _t1 * _t2
-    _t41 = -_t3 * _t40 + _t6
-    _t42 = _t13 * _t3 + _t14
-    _t43 = _t0 * _t42
-    _t44 = _t10 * _t11
-    _t45 = _t1 * _t44
-    _t46 = -_t12 * _t41 - _t45
-    _t47 = _t43 + _t46 * _t9
-    _t48 = _t21 * _t22 + _t25
-    _t49 = _t27 * _t48
-    _t50 = _t32 * _t33
-    _t51 = _t20 * _t50
-    _t52 = -_t34 * _t39 - _t51
-    _t53 = _t31 * _t52 + _t49
-    _t54 = _t24 * _t33
-    _t55 = _t11 * _t5
-    _t56 = _t10 * _t3
-    _t57 = _t11 * _t2
-    _t58 = -_t12 * _t57 - _t56
-    _t59 = -_t0 * _t55 + _t58 * _t9
-    _t60 = _t19 * _t33
-    _t61 = _t22 * _t32
-    _t62 = -_t34 * _t54 - _t61
-    _t63 = -_t27 * _t60 + _t31 * _t62
-    _t64 = -_t36
-    _t65 = _t11 * _t12
-    _t66 = _t10 * _t15 + _t4 * _t65
+    _t7 = _t2 + _t3 * _t6
+    _t8 = numpy.sin(theta3)
+    _t9 = numpy.cos(theta1)
+    _t10 = _t8 * _t9
+    _t11 = numpy.sin(theta2)
+    _t12 = numpy.sin(theta1)
+    _t13 = numpy.cos(theta3)
+    _t14 = _t12 * _t13
+    _t15 = _t10 + _t11 * _t14
+    _t16 = numpy.sin(phi3)
+    _t17 = _t12 * _t8
+    _t18 = -_t11 * _t17 + _t13 * _t9
+    _t19 = numpy.cos(phi3)
+    _t20 = numpy.cos(phi2)
+    _t21 = numpy.cos(theta2)
+    _t22 = numpy.sin(phi2)
+    _t23 = _t12 * _t20 * _t21 - _t15 * _t22
+    _t24 = _t16 * _t18 + _t19 * _t23
+    _t25 = numpy.sin(phi6)
+    _t26 = _t0 * _t4
+    _t27 = _t1 * _t5 - _t26 * _t3
+    _t28 = numpy.cos(phi6)
+    _t29 = numpy.cos(phi5)
+    _t30 = numpy.cos(theta5)
+    _t31 = numpy.sin(phi5)
+    _t32 = _t29 * _t30 * _t4 - _t31 * _t7
+    _t33 = _t25 * _t27 + _t28 * _t32
+    _t34 = -_t1 * _t3 * _t5 + _t26
+    _t35 = -_t11 * _t13 * _t9 + _t17
+    _t36 = _t10 * _t11 + _t14
+    _t37 = -_t20 * _t21 * _t9 - _t22 * _t35
+    _t38 = _t16 * _t36 + _t19 * _t37
+    _t39 = _t2 * _t3 + _t6
+    _t40 = -_t1 * _t29 * _t30 - _t31 * _t34
+    _t41 = _t25 * _t39 + _t28 * _t40
+    _t42 = _t30 * _t5
+    _t43 = _t21 * _t8
+    _t44 = _t13 * _t21
+    _t45 = -_t11 * _t20 - _t22 * _t44
+    _t46 = -_t16 * _t43 + _t19 * _t45
+    _t47 = _t0 * _t30
+    _t48 = -_t29 * _t3 - _t31 * _t42
+    _t49 = -_t25 * _t47 + _t28 * _t48
+    _t50 = -_t33
+    _t51 = _t21 * _t22
+    _t52 = _t12 * _t51 + _t15 * _t20
+    _t53 = (1 / 2) * _t52
+    _t54 = _t50 * _t53
+    _t55 = -_t41
+    _t56 = _t20 * _t35 - _t51 * _t9
+    _t57 = (1 / 2) * _t56
+    _t58 = _t55 * _t57
+    _t59 = -_t49
+    _t60 = _t11 * _t22 - _t13 * _t20 * _t21
+    _t61 = -_t60
+    _t62 = (1 / 2) * _t61
+    _t63 = _t59 * _t62
+    _t64 = -_t46
+    _t65 = -_t29 * _t30 * _t5 + _t3 * _t31
+    _t66 = -_t65
     _t67 = (1 / 2) * _t66
-    _t68 = _t64 * _t67
-    _t69 = -_t53
-    _t70 = _t1 * _t65
-    _t71 = _t10 * _t41 - _t70
-    _t72 = (1 / 2) * _t71
-    _t73 = _t69 * _t72
-    _t74 = -_t63
-    _t75 = _t12 * _t3
-    _t76 = -_t10 * _t11 * _t2 + _t75
+    _t68 = -_t24
+    _t69 = _t30 * _t31
+    _t70 = _t29 * _t7 + _t4 * _t69
+    _t71 = (1 / 2) * _t70
+    _t72 = -_t38
+    _t73 = -_t1 * _t69 + _t29 * _t34
+    _t74 = (1 / 2) * _t73
+    _t75 = _t64 * _t67 + _t68 * _t71 + _t72 * _t74
+    _t76 = _t16 * _t45 + _t19 * _t43
     _t77 = -_t76
-    _t78 = (1 / 2) * _t77
-    _t79 = _t74 * _t78
-    _t80 = -_t59
-    _t81 = _t22 * _t34
-    _t82 = -_t24 * _t32 * _t33 + _t81
+    _t78 = _t25 * _t48 + _t28 * _t47
+    _t79 = -_t78
+    _t80 = _t16 * _t23 - _t18 * _t19
+    _t81 = -_t80
+    _t82 = _t25 * _t32 - _t27 * _t28
     _t83 = -_t82
-    _t84 = (1 / 2) * _t83
-    _t85 = -_t17
-    _t86 = _t33 * _t34
-    _t87 = _t23 * _t86 + _t26 * _t32
-    _t88 = (1 / 2) * _t87
-    _t89 = -_t47
-    _t90 = _t20 * _t86
-    _t91 = _t32 * _t39 - _t90
-    _t92 = (1 / 2) * _t91
-    _t93 = _t80 * _t84 + _t85 * _t88 + _t89 * _t92
-    _t94 = _t0 * _t58 + _t55 * _t9
-    _t95 = -_t94
-    _t96 = _t27 * _t62 + _t31 * _t60
-    _t97 = -_t96
-    _t98 = _t0 * _t16 - _t7 * _t9
-    _t99 = -_t98
-    _t100 = _t27 * _t35 - _t29 * _t31
-    _t101 = -_t100
-    _t102 = _t0 * _t46 - _t42 * _t9
-    _t103 = -_t102
-    _t104 = _t27 * _t52 - _t31 * _t48
-    _t105 = -_t104
-    _t106 = (1 / 2) * _t74
-    _t107 = (1 / 2) * _t64
-    _t108 = (1 / 2) * _t69
-    _t109 = -_t66
-    _t110 = L4 * _t9
-    _t111 = -_t26
-    _t112 = -_t87
-    _t113 = L4 * _t31
-    _t114 = -_t71
-    _t115 = -_t39
-    _t116 = -_t91
-    _t117 = _t76 * _t84
-    _t118 = _t109 * _t88
-    _t119 = _t114 * _t92
-    _t120 = _t78 * _t82
-    _t121 = (1 / 2) * _t80
-    _t122 = _t112 * _t67
-    _t123 = _t116 * _t72
-    _t124 = (1 / 2) * _t85
-    _t125 = (1 / 2) * _t89
-    _t126 = (1 / 2) * _t97
-    _t127 = (1 / 2) * _t101
-    _t128 = (1 / 2) * _t105
-    _t129 = (1 / 2) * _t95
-    _t130 = (1 / 2) * _t99
-    _t131 = (1 / 2) * _t103
-    _t132 = _t64 * _t85
-    _t133 = _t69 * _t89
-    _t134 = _t74 * _t80
-    _t135 = -1 / 2 * _t132 - 1 / 2 * _t133 - 1 / 2 * _t134
-    _t136 = -_t41
-    _t137 = -_t42
-    _t138 = -_t12 * _t136 + _t45
-    _t139 = _t0 * _t137 + _t138 * _t9
-    _t140 = L2 * _t11
-    _t141 = _t0 * _t11
-    _t142 = -_t14 * _t65 - _t4 * _t56
-    _t143 = -_t141 * _t6 + _t142 * _t9
-    _t144 = -_t15
-    _t145 = -_t0 * _t144 + _t12 * _t7 * _t9
-    _t146 = -_t48
-    _t147 = -_t115 * _t34 + _t51
-    _t148 = _t146 * _t27 + _t147 * _t31
-    _t149 = L3 * _t33
-    _t150 = _t27 * _t33
-    _t151 = -_t23 * _t61 - _t25 * _t86
-    _t152 = -_t150 * _t28 + _t151 * _t31
-    _t153 = -_t111 * _t27 + _t29 * _t31 * _t34
-    _t154 = _t1 * _t56 + _t40 * _t65
-    _t155 = _t13 * _t141 + _t154 * _t9
-    _t156 = _t0 * _t136 - _t12 * _t42 * _t9
-    _t157 = _t20 * _t61 + _t38 * _t86
-    _t158 = _t150 * _t21 + _t157 * _t31
-    _t159 = _t115 * _t27 - _t31 * _t34 * _t48
-    _t160 = _t2 * _t75 - _t44
-    _t161 = _t0 * _t3 * _t5 + _t160 * _t9
-    _t162 = _t5 * _t65
-    _t163 = -_t0 * _t57 + _t162 * _t9
-    _t164 = _t24 * _t81 - _t50
-    _t165 = _t164 * _t31 + _t19 * _t22 * _t27
-    _t166 = _t19 * _t86
-    _t167 = _t166 * _t31 - _t27 * _t54
-    _t168 = _t10 * _t136 + _t70
-    _t169 = -_t139
-    _t170 = -_t161
-    _t171 = -_t2 * _t56 - _t65
-    _t172 = -_t143
-    _t173 = -_t155
-    _t174 = _t10 * _t11 * _t2 * _t4 - _t4 * _t75
-    _t175 = _t1 * _t75 - _t40 * _t44
-    _t176 = -_t163
-    _t177 = _t44 * _t5
-    _t178 = -_t156
-    _t179 = _t115 * _t32 + _t90
-    _t180 = -_t148
-    _t181 = -_t165
-    _t182 = -_t24 * _t61 - _t86
-    _t183 = -_t152
-    _t184 = -_t158
-    _t185 = _t23 * _t24 * _t32 * _t33 - _t23 * _t81
-    _t186 = _t20 * _t81 - _t38 * _t50
-    _t187 = -_t167
-    _t188 = _t19 * _t50
-    _t189 = -_t159
-    _t190 = -_t0 * _t138 + _t137 * _t9
-    _t191 = -_t0 * _t160 + _t3 * _t5 * _t9
-    _t192 = -_t0 * _t154 + _t1 * _t11 * _t5 * _t9
-    _t193 = -_t0 * _t142 - _t11 * _t6 * _t9
-    _t194 = -_t0 * _t162 - _t57 * _t9
-    _t195 = _t12 * _t43 + _t136 * _t9
-    _t196 = _t12 * _t8 + _t144 * _t9
-    _t197 = _t146 * _t31 - _t147 * _t27
-    _t198 = -_t164 * _t27 + _t19 * _t22 * _t31
-    _t199 = -_t157 * _t27 + _t19 * _t20 * _t31 * _t33
-    _t200 = -_t151 * _t27 - _t28 * _t31 * _t33
-    _t201 = -_t166 * _t27 - _t31 * _t54
-    _t202 = _t115 * _t31 + _t34 * _t49
-    _t203 = _t111 * _t31 + _t30 * _t34
+    _t84 = _t16 * _t37 - _t19 * _t36
+    _t85 = -_t84
+    _t86 = _t25 * _t40 - _t28 * _t39
+    _t87 = -_t86
+    _t88 = (1 / 2) * _t59
+    _t89 = (1 / 2) * _t50
+    _t90 = (1 / 2) * _t55
+    _t91 = -_t52
+    _t92 = L4 * _t19
+    _t93 = -_t70
+    _t94 = L4 * _t28
+    _t95 = -_t56
+    _t96 = -_t73
+    _t97 = _t60 * _t67
+    _t98 = _t71 * _t91
+    _t99 = _t74 * _t95
+    _t100 = _t62 * _t65
+    _t101 = (1 / 2) * _t64
+    _t102 = _t53 * _t93
+    _t103 = _t57 * _t96
+    _t104 = (1 / 2) * _t68
+    _t105 = (1 / 2) * _t72
+    _t106 = (1 / 2) * _t79
+    _t107 = (1 / 2) * _t83
+    _t108 = (1 / 2) * _t87
+    _t109 = (1 / 2) * _t77
+    _t110 = (1 / 2) * _t81
+    _t111 = (1 / 2) * _t85
+    _t112 = _t50 * _t68
+    _t113 = _t55 * _t72
+    _t114 = _t59 * _t64
+    _t115 = -1 / 2 * _t112 - 1 / 2 * _t113 - 1 / 2 * _t114
     residual = numpy.zeros(shape + (6,))
-    residual[..., 0] = L2 * _t15 - _t18 - _t37
-    residual[..., 1] = -2 * L1 + L2 * _t41 - L3 * _t39 - L4 * _t47 - L4 * _t53
-    residual[..., 2] = L2 * _t11 * _t2 - L3 * _t54 - L4 * _t59 - L4 * _t63
-    residual[..., 3] = _t68 + _t73 + _t79 - _t93
+    residual[..., 0] = L2 * _t15 - L3 * _t7 - L4 * _t24 - L4 * _t33
+    residual[..., 1] = -2 * L1 + L2 * _t35 - L3 * _t34 - L4 * _t38 - L4 * _t41
+    residual[..., 2] = L2 * _t13 * _t21 - L3 * _t42 - L4 * _t46 - L4 * _t49
+    residual[..., 3] = _t54 + _t58 + _t63 - _t75
     residual[..., 4] = (
-        -_t101 * _t67 + _t103 * _t92 - _t105 * _t72 - _t78 * _t97 + _t84 * _t95 + _t88 * _t99
+        -_t53 * _t83 - _t57 * _t87 - _t62 * _t79 + _t67 * _t77 + _t71 * _t81 + _t74 * _t85
     )
     residual[..., 5] = (
-        (1 / 2) * _t101 * _t85
-        - _t103 * _t108
-        + (1 / 2) * _t105 * _t89
-        - _t106 * _t95
-        - _t107 * _t99
-        + (1 / 2) * _t80 * _t97
+        (1 / 2) * _t64 * _t79
+        + (1 / 2) * _t68 * _t83
+        + (1 / 2) * _t72 * _t87
+        - _t77 * _t88
+        - _t81 * _t89
+        - _t85 * _t90
     )
     jacobian = numpy.zeros(shape + (6, 6))
     jacobian[..., 0, 0] = _t15
-    jacobian[..., 0, 1] = -_t109 * _t110
-    jacobian[..., 0, 2] = -L4 * _t99
-    jacobian[..., 0, 3] = _t111
-    jacobian[..., 0, 4] = -_t112 * _t113
-    jacobian[..., 0, 5] = -L4 * _t101
-    jacobian[..., 1, 0] = _t41
-    jacobian[..., 1, 1] = -_t110 * _t114
-    jacobian[..., 1, 2] = -L4 * _t103
-    jacobian[..., 1, 3] = _t115
-    jacobian[..., 1, 4] = -_t113 * _t116
-    jacobian[..., 1, 5] = -L4 * _t105
-    jacobian[..., 2, 0] = _t57
-    jacobian[..., 2, 1] = -_t110 * _t76
-    jacobian[..., 2, 2] = -L4 * _t95
-    jacobian[..., 2, 3] = -_t54
-    jacobian[..., 2, 4] = -_t113 * _t82
-    jacobian[..., 2, 5] = -L4 * _t97
+    jacobian[..., 0, 1] = -_t91 * _t92
+    jacobian[..., 0, 2] = -L4 * _t81
+    jacobian[..., 0, 3] = -_t7
+    jacobian[..., 0, 4] = -_t93 * _t94
+    jacobian[..., 0, 5] = -L4 * _t83
+    jacobian[..., 1, 0] = _t35
+    jacobian[..., 1, 1] = -_t92 * _t95
+    jacobian[..., 1, 2] = -L4 * _t85
+    jacobian[..., 1, 3] = -_t34
+    jacobian[..., 1, 4] = -_t94 * _t96
+    jacobian[..., 1, 5] = -L4 * _t87
+    jacobian[..., 2, 0] = _t44
+    jacobian[..., 2, 1] = -_t60 * _t92
+    jacobian[..., 2, 2] = -L4 * _t77
+    jacobian[..., 2, 3] = -_t42
+    jacobian[..., 2, 4] = -_t65 * _t94
+    jacobian[..., 2, 5] = -L4 * _t79
     jacobian[..., 3, 1] = (
-        _t106 * _t58 + _t107 * _t16 + _t108 * _t46 + _t117 * _t9 + _t118 * _t9 + _t119 * _t9
+        _t19 * _t97 + _t19 * _t98 + _t19 * _t99 + _t23 * _t89 + _t37 * _t90 + _t45 * _t88
     )
-    jacobian[..., 3, 2] = -_t102 * _t92 - _t84 * _t94 - _t88 * _t98
+    jacobian[..., 3, 2] = -_t67 * _t76 - _t71 * _t80 - _t74 * _t84
     jacobian[..., 3, 4] = (
-        -_t120 * _t31 - _t121 * _t62 - _t122 * _t31 - _t123 * _t31 - _t124 * _t35 - _t125 * _t52
+        -_t100 * _t28 - _t101 * _t48 - _t102 * _t28 - _t103 * _t28 - _t104 * _t32 - _t105 * _t40
     )
-    jacobian[..., 3, 5] = _t100 * _t67 + _t104 * _t72 + _t78 * _t96
+    jacobian[..., 3, 5] = _t53 * _t82 + _t57 * _t86 + _t62 * _t78
     jacobian[..., 4, 1] = (
-        -_t0 * _t117 - _t0 * _t118 - _t0 * _t119 - _t126 * _t58 - _t127 * _t16 - _t128 * _t46
+        -_t106 * _t45 - _t107 * _t23 - _t108 * _t37 - _t16 * _t97 - _t16 * _t98 - _t16 * _t99
     )
-    jacobian[..., 4, 2] = _t93
+    jacobian[..., 4, 2] = _t75
     jacobian[..., 4, 4] = (
-        _t120 * _t27 + _t122 * _t27 + _t123 * _t27 + _t129 * _t62 + _t130 * _t35 + _t131 * _t52
+        _t100 * _t25 + _t102 * _t25 + _t103 * _t25 + _t109 * _t48 + _t110 * _t32 + _t111 * _t40
     )
-    jacobian[..., 4, 5] = -_t68 - _t73 - _t79
+    jacobian[..., 4, 5] = -_t54 - _t58 - _t63
     jacobian[..., 5, 1] = (
-        (1 / 2) * _t0 * _t109 * _t64
-        + (1 / 2) * _t0 * _t114 * _t69
-        + (1 / 2) * _t0 * _t74 * _t76
-        - _t109 * _t127 * _t9
-        - _t114 * _t128 * _t9
-        - _t126 * _t76 * _t9
+        -_t106 * _t19 * _t60
+        - _t107 * _t19 * _t91
+        - _t108 * _t19 * _t95
+        + (1 / 2) * _t16 * _t50 * _t91
+        + (1 / 2) * _t16 * _t55 * _t95
+        + (1 / 2) * _t16 * _t59 * _t60
     )
-    jacobian[..., 5, 2] = _t102 * _t128 + _t126 * _t94 + _t127 * _t98 + _t135
+    jacobian[..., 5, 2] = _t106 * _t76 + _t107 * _t80 + _t108 * _t84 + _t115
     jacobian[..., 5, 4] = (
-        -_t112 * _t124 * _t27
-        + _t112 * _t130 * _t31
-        - _t116 * _t125 * _t27
-        + _t116 * _t131 * _t31
-        - _t121 * _t27 * _t82
-        + _t129 * _t31 * _t82
+        -_t101 * _t25 * _t65
+        - _t104 * _t25 * _t93
+        - _t105 * _t25 * _t96
+        + _t109 * _t28 * _t65
+        + _t110 * _t28 * _t93
+        + _t111 * _t28 * _t96
     )
-    jacobian[..., 5, 5] = -_t100 * _t130 - _t104 * _t131 - _t129 * _t96 - _t135
-    jacobian_actuated = numpy.zeros(shape + (6, 6))
-    jacobian_actuated[..., 0, 0] = L2 * _t136 - L4 * _t139
-    jacobian_actuated[..., 0, 1] = -L4 * _t143 + _t14 * _t140
-    jacobian_actuated[..., 0, 2] = L2 * _t7 + L4 * _t145
-    jacobian_actuated[..., 0, 3] = -L3 * _t115 - L4 * _t148
-    jacobian_actuated[..., 0, 4] = -L4 * _t152 - _t149 * _t25
-    jacobian_actuated[..., 0, 5] = -L3 * _t29 + L4 * _t153
-    jacobian_actuated[..., 1, 0] = L2 * _t15 - _t18
-    jacobian_actuated[..., 1, 1] = -L4 * _t155 - _t140 * _t40
-    jacobian_actuated[..., 1, 2] = L2 * _t42 - L4 * _t156
-    jacobian_actuated[..., 1, 3] = -_t37
-    jacobian_actuated[..., 1, 4] = -L4 * _t158 + _t149 * _t38
-    jacobian_actuated[..., 1, 5] = -L3 * _t48 - L4 * _t159
-    jacobian_actuated[..., 2, 1] = -L2 * _t2 * _t3 - L4 * _t161
-    jacobian_actuated[..., 2, 2] = -L2 * _t55 - L4 * _t163
-    jacobian_actuated[..., 2, 4] = L3 * _t22 * _t24 - L4 * _t165
-    jacobian_actuated[..., 2, 5] = L3 * _t60 - L4 * _t167
-    jacobian_actuated[..., 3, 0] = (
-        (1 / 2) * _t168 * _t64 - _t169 * _t88 + (1 / 2) * _t66 * _t69 - _t85 * _t92
-    )
-    jacobian_actuated[..., 3, 1] = (
-        _t106 * _t171 + _t107 * _t174 + _t108 * _t175 - _t170 * _t84 - _t172 * _t88 - _t173 * _t92
-    )
-    jacobian_actuated[..., 3, 2] = (
-        (1 / 2) * _t10 * _t42 * _t69
-        + (1 / 2) * _t10 * _t64 * _t7
-        - _t106 * _t177
-        - _t145 * _t88
-        - _t176 * _t84
-        - _t178 * _t92
-    )
-    jacobian_actuated[..., 3, 3] = (
-        -_t124 * _t179 + (1 / 2) * _t180 * _t66 + (1 / 2) * _t64 * _t71 - _t88 * _t89
-    )
-    jacobian_actuated[..., 3, 4] = (
-        -_t121 * _t182
-        - _t124 * _t185
-        - _t125 * _t186
-        + (1 / 2) * _t181 * _t77
-        + (1 / 2) * _t183 * _t66
-        + (1 / 2) * _t184 * _t71
-    )
-    jacobian_actuated[..., 3, 5] = (
-        _t121 * _t188
-        - _t124 * _t29 * _t32
-        - _t125 * _t32 * _t48
-        + _t153 * _t67
-        + _t187 * _t78
-        + _t189 * _t72
-    )
-    jacobian_actuated[..., 4, 0] = -_t105 * _t67 - _t127 * _t168 + _t190 * _t88 + _t92 * _t99
-    jacobian_actuated[..., 4, 1] = (
-        -_t126 * _t171
-        - _t127 * _t174
-        - _t128 * _t175
-        + (1 / 2) * _t191 * _t83
-        + (1 / 2) * _t192 * _t91
-        + (1 / 2) * _t193 * _t87
-    )
-    jacobian_actuated[..., 4, 2] = (
-        -_t10 * _t127 * _t7
-        - _t10 * _t128 * _t42
-        + _t126 * _t177
-        + _t194 * _t84
-        + _t195 * _t92
-        + _t196 * _t88
-    )
-    jacobian_actuated[..., 4, 3] = -_t101 * _t72 + _t103 * _t88 + _t130 * _t179 - _t197 * _t67
-    jacobian_actuated[..., 4, 4] = (
-        _t129 * _t182 + _t130 * _t185 + _t131 * _t186 - _t198 * _t78 - _t199 * _t72 - _t200 * _t67
-    )
-    jacobian_actuated[..., 4, 5] = (
-        (1 / 2) * _t103 * _t32 * _t48
-        - _t129 * _t188
-        - _t201 * _t78
-        - _t202 * _t72
-        - _t203 * _t67
-        + (1 / 2) * _t29 * _t32 * _t99
-    )
-    jacobian_actuated[..., 5, 0] = (
-        (1 / 2) * _t101 * _t169 + (1 / 2) * _t105 * _t85 - _t107 * _t190 - _t108 * _t99
-    )
-    jacobian_actuated[..., 5, 1] = (
-        -_t106 * _t191
-        - _t107 * _t193
-        - _t108 * _t192
-        + _t126 * _t170
-        + _t127 * _t172
-        + _t128 * _t173
-    )
-    jacobian_actuated[..., 5, 2] = (
-        -_t106 * _t194
-        - _t107 * _t196
-        - _t108 * _t195
-        + _t126 * _t176
-        + _t127 * _t145
-        + _t128 * _t178
-    )
-    jacobian_actuated[..., 5, 3] = (
-        (1 / 2) * _t101 * _t89 - _t103 * _t107 - _t130 * _t180 + (1 / 2) * _t197 * _t85
-    )
-    jacobian_actuated[..., 5, 4] = (
-        -_t129 * _t181
-        - _t130 * _t183
-        - _t131 * _t184
-        + (1 / 2) * _t198 * _t80
-        + (1 / 2) * _t199 * _t89
-        + (1 / 2) * _t200 * _t85
-    )
-    jacobian_actuated[..., 5, 5] = (
-        -_t129 * _t187
-        - _t130 * _t153
-        - _t131 * _t189
-        + (1 / 2) * _t201 * _t80
-        + (1 / 2) * _t202 * _t89
-        + (1 / 2) * _t203 * _t85
-    )
+    jacobian[..., 5, 5] = -_t109 * _t78 - _t110 * _t82 - _t111 * _t86 - _t115
     alignment = numpy.zeros(shape + (1,))
     alignment[..., 0] = (
-        _t101 * _t99
-        + _t103 * _t105
-        + _t132
-        + _t133
-        + _t134
-        + _t66 * _t87
-        + _t71 * _t91
-        + _t77 * _t83
-        + _t95 * _t97
+        _t112
+        + _t113
+        + _t114
+        + _t52 * _t70
+        + _t56 * _t73
+        + _t61 * _t66
+        + _t77 * _t79
+        + _t81 * _t83
+        + _t85 * _t87
         - 1
     )
     return {
         "residual": residual,
         "jacobian": jacobian,
-        "jacobian_actuated": jacobian_actuated,
         "alignment": alignment,
+    }
+
+
+def loop_closure_actuated(actuated, passive, params):
+    """Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).
+
+    Operations: 607.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    theta4 = actuated[..., 3]
+    theta5 = actuated[..., 4]
+    theta6 = actuated[..., 5]
+    L2 = passive[..., 0]
+    phi2 = passive[..., 1]
+    phi3 = passive[..., 2]
+    L3 = passive[..., 3]
+    phi5 = passive[..., 4]
+    phi6 = passive[..., 5]
+    L4 = params[..., 1]
+    _t0 = numpy.sin(theta1)
+    _t1 = numpy.sin(theta3)
+    _t2 = _t0 * _t1
+    _t3 = numpy.sin(theta2)
+    _t4 = numpy.cos(theta1)
+    _t5 = numpy.cos(theta3)
+    _t6 = _t2 - _t3 * _t4 * _t5
+    _t7 = -_t6
+    _t8 = numpy.sin(phi3)
+    _t9 = _t0 * _t5
+    _t10 = _t1 * _t4
+    _t11 = _t10 * _t3 + _t9
+    _t12 = -_t11
+    _t13 = numpy.cos(phi3)
+    _t14 = numpy.cos(phi2)
+    _t15 = numpy.cos(theta2)
+    _t16 = _t14 * _t15
+    _t17 = _t16 * _t4
+    _t18 = numpy.sin(phi2)
+    _t19 = _t17 - _t18 * _t7
+    _t20 = _t12 * _t8 + _t13 * _t19
+    _t21 = L2 * _t15
+    _t22 = _t15 * _t8
+    _t23 = _t14 * _t3
+    _t24 = _t15 * _t18
+    _t25 = -_t0 * _t23 - _t24 * _t9
+    _t26 = _t13 * _t25 - _t2 * _t22
+    _t27 = -_t2 * _t3 + _t4 * _t5
+    _t28 = _t10 + _t3 * _t9
+    _t29 = -_t28
+    _t30 = _t13 * _t18 * _t27 - _t29 * _t8
+    _t31 = numpy.sin(theta4)
+    _t32 = numpy.sin(theta6)
+    _t33 = _t31 * _t32
+    _t34 = numpy.sin(theta5)
+    _t35 = numpy.cos(theta4)
+    _t36 = numpy.cos(theta6)
+    _t37 = _t33 - _t34 * _t35 * _t36
+    _t38 = -_t37
+    _t39 = numpy.sin(phi6)
+    _t40 = _t31 * _t36
+    _t41 = _t32 * _t35
+    _t42 = _t34 * _t41 + _t40
+    _t43 = -_t42
+    _t44 = numpy.cos(phi6)
+    _t45 = numpy.cos(phi5)
+    _t46 = numpy.cos(theta5)
+    _t47 = _t45 * _t46
+    _t48 = _t35 * _t47
+    _t49 = numpy.sin(phi5)
+    _t50 = -_t38 * _t49 + _t48
+    _t51 = _t39 * _t43 + _t44 * _t50
+    _t52 = L3 * _t46
+    _t53 = _t39 * _t46
+    _t54 = _t34 * _t45
+    _t55 = _t46 * _t49
+    _t56 = -_t31 * _t54 - _t40 * _t55
+    _t57 = -_t33 * _t53 + _t44 * _t56
+    _t58 = -_t33 * _t34 + _t35 * _t36
+    _t59 = _t34 * _t40 + _t41
+    _t60 = -_t59
+    _t61 = -_t39 * _t60 + _t44 * _t49 * _t58
+    _t62 = _t27 * _t8
+    _t63 = _t0 * _t14 * _t15 - _t18 * _t28
+    _t64 = _t13 * _t63 + _t62
+    _t65 = _t4 * _t5
+    _t66 = _t23 * _t4 + _t24 * _t65
+    _t67 = _t10 * _t22 + _t13 * _t66
+    _t68 = -_t11 * _t13 * _t18 + _t7 * _t8
+    _t69 = _t39 * _t58
+    _t70 = _t31 * _t45 * _t46 - _t49 * _t59
+    _t71 = _t44 * _t70 + _t69
+    _t72 = _t35 * _t36
+    _t73 = _t35 * _t54 + _t55 * _t72
+    _t74 = _t41 * _t53 + _t44 * _t73
+    _t75 = _t38 * _t39 - _t42 * _t44 * _t49
+    _t76 = _t1 * _t8
+    _t77 = _t18 * _t3
+    _t78 = -_t16 + _t5 * _t77
+    _t79 = _t13 * _t78 + _t3 * _t76
+    _t80 = _t1 * _t15
+    _t81 = _t15 * _t5
+    _t82 = _t1 * _t13 * _t24 - _t8 * _t81
+    _t83 = _t32 * _t39
+    _t84 = _t34 * _t49
+    _t85 = _t36 * _t84 - _t47
+    _t86 = _t34 * _t83 + _t44 * _t85
+    _t87 = _t32 * _t46
+    _t88 = _t36 * _t46
+    _t89 = _t32 * _t44 * _t55 - _t39 * _t88
+    _t90 = _t0 * _t24 + _t14 * _t28
+    _t91 = _t39 * _t42
+    _t92 = -_t37 * _t49 - _t48
+    _t93 = -_t44 * _t92 - _t91
+    _t94 = _t24 * _t4
+    _t95 = _t14 * _t7 + _t94
+    _t96 = -_t71
+    _t97 = -_t20
+    _t98 = _t31 * _t55 + _t45 * _t59
+    _t99 = (1 / 2) * _t98
+    _t100 = -_t64
+    _t101 = _t35 * _t55
+    _t102 = -_t101 + _t37 * _t45
+    _t103 = (1 / 2) * _t102
+    _t104 = -_t79
+    _t105 = _t36 * _t45 * _t46 - _t84
+    _t106 = (1 / 2) * _t105
+    _t107 = -_t36 * _t55 - _t54
+    _t108 = -_t107 * _t44 + _t32 * _t39 * _t46
+    _t109 = -1 / 2 * _t23 * _t5 - 1 / 2 * _t24
+    _t110 = -_t26
+    _t111 = -_t67
+    _t112 = _t0 * _t14 * _t15 * _t5 - _t0 * _t77
+    _t113 = (1 / 2) * _t96
+    _t114 = -_t16 * _t65 + _t4 * _t77
+    _t115 = (1 / 2) * _t93
+    _t116 = -_t82
+    _t117 = (1 / 2) * _t108
+    _t118 = _t1 * _t16
+    _t119 = -_t68
+    _t120 = _t11 * _t8
+    _t121 = -_t17 - _t18 * _t6
+    _t122 = -_t120 - _t121 * _t13
+    _t123 = _t101 + _t38 * _t45
+    _t124 = (1 / 2) * _t100
+    _t125 = -_t51
+    _t126 = _t14 * _t6 - _t94
+    _t127 = _t14 * _t15 * _t5 - _t77
+    _t128 = -_t86
+    _t129 = -_t23 - _t24 * _t5
+    _t130 = _t1 * _t15 * _t8 - _t129 * _t13
+    _t131 = -1 / 2 * _t36 * _t54 - 1 / 2 * _t55
+    _t132 = -_t57
+    _t133 = -_t74
+    _t134 = _t31 * _t36 * _t45 * _t46 - _t31 * _t84
+    _t135 = (1 / 2) * _t35 * _t84 - 1 / 2 * _t47 * _t72
+    _t136 = -_t89
+    _t137 = (1 / 2) * _t127
+    _t138 = _t32 * _t47
+    _t139 = -_t75
+    _t140 = (1 / 2) * _t126
+    _t141 = (1 / 2) * _t90
+    _t142 = -_t39 * _t92 + _t42 * _t44
+    _t143 = -_t39 * _t70 + _t44 * _t58
+    _t144 = (1 / 2) * _t143
+    _t145 = _t12 * _t13 - _t19 * _t8
+    _t146 = _t13 * _t27 - _t63 * _t8
+    _t147 = _t1 * _t13 * _t3 - _t78 * _t8
+    _t148 = -_t107 * _t39 - _t44 * _t87
+    _t149 = _t1 * _t13 * _t15 * _t4 - _t66 * _t8
+    _t150 = -_t13 * _t15 * _t2 - _t25 * _t8
+    _t151 = (1 / 2) * _t142
+    _t152 = -_t13 * _t81 - _t24 * _t76
+    _t153 = (1 / 2) * _t148
+    _t154 = _t120 * _t18 + _t13 * _t7
+    _t155 = _t13 * _t29 + _t18 * _t62
+    _t156 = _t11 * _t13 - _t121 * _t8
+    _t157 = (1 / 2) * _t146
+    _t158 = -_t39 * _t50 + _t43 * _t44
+    _t159 = _t32 * _t34 * _t44 - _t39 * _t85
+    _t160 = -_t129 * _t8 - _t13 * _t80
+    _t161 = _t32 * _t35 * _t44 * _t46 - _t39 * _t73
+    _t162 = -_t33 * _t44 * _t46 - _t39 * _t56
+    _t163 = -_t44 * _t88 - _t55 * _t83
+    _t164 = (1 / 2) * _t160
+    _t165 = _t38 * _t44 + _t49 * _t91
+    _t166 = _t44 * _t60 + _t49 * _t69
+    _t167 = (1 / 2) * _t156
+    jacobian_actuated = numpy.zeros(shape + (6, 6))
+    jacobian_actuated[..., 0, 0] = L2 * _t7 - L4 * _t20
+    jacobian_actuated[..., 0, 1] = -L4 * _t26 + _t21 * _t9
+    jacobian_actuated[..., 0, 2] = L2 * _t27 + L4 * _t30
+    jacobian_actuated[..., 0, 3] = -L3 * _t38 - L4 * _t51
+    jacobian_actuated[..., 0, 4] = -L4 * _t57 - _t40 * _t52
+    jacobian_actuated[..., 0, 5] = -L3 * _t58 + L4 * _t61
+    jacobian_actuated[..., 1, 0] = L2 * _t28 - L4 * _t64
+    jacobian_actuated[..., 1, 1] = -L4 * _t67 - _t21 * _t65
+    jacobian_actuated[..., 1, 2] = L2 * _t11 - L4 * _t68
+    jacobian_actuated[..., 1, 3] = -L3 * _t59 - L4 * _t71
+    jacobian_actuated[..., 1, 4] = -L4 * _t74 + _t52 * _t72
+    jacobian_actuated[..., 1, 5] = -L3 * _t42 - L4 * _t75
+    jacobian_actuated[..., 2, 1] = -L2 * _t3 * _t5 - L4 * _t79
+    jacobian_actuated[..., 2, 2] = -L2 * _t80 - L4 * _t82
+    jacobian_actuated[..., 2, 4] = L3 * _t34 * _t36 - L4 * _t86
+    jacobian_actuated[..., 2, 5] = L3 * _t87 - L4 * _t89
+    jacobian_actuated[..., 3, 0] = (
+        -_t100 * _t103 + (1 / 2) * _t90 * _t93 + (1 / 2) * _t95 * _t96 - _t97 * _t99
+    )
+    jacobian_actuated[..., 3, 1] = (
+        -_t103 * _t111
+        - _t104 * _t106
+        + _t108 * _t109
+        - _t110 * _t99
+        + _t112 * _t113
+        + _t114 * _t115
+    )
+    jacobian_actuated[..., 3, 2] = (
+        -_t103 * _t119
+        - _t106 * _t116
+        + (1 / 2) * _t11 * _t14 * _t93
+        - _t117 * _t118
+        + (1 / 2) * _t14 * _t27 * _t96
+        - _t30 * _t99
+    )
+    jacobian_actuated[..., 3, 3] = (
+        -_t122 * _t99 - _t123 * _t124 + (1 / 2) * _t125 * _t90 + (1 / 2) * _t126 * _t96
+    )
+    jacobian_actuated[..., 3, 4] = (
+        -_t122 * _t135
+        - _t124 * _t134
+        + (1 / 2) * _t126 * _t133
+        + (1 / 2) * _t127 * _t128
+        - _t130 * _t131
+        + (1 / 2) * _t132 * _t90
+    )
+    jacobian_actuated[..., 3, 5] = (
+        -1 / 2 * _t122 * _t42 * _t45
+        - _t124 * _t45 * _t58
+        + (1 / 2) * _t130 * _t138
+        + _t136 * _t137
+        + _t139 * _t140
+        + _t141 * _t61
+    )
+    jacobian_actuated[..., 4, 0] = _t103 * _t146 - _t141 * _t142 - _t144 * _t95 + _t145 * _t99
+    jacobian_actuated[..., 4, 1] = (
+        (1 / 2) * _t102 * _t149
+        + (1 / 2) * _t105 * _t147
+        - _t109 * _t148
+        - _t112 * _t144
+        - _t114 * _t151
+        + (1 / 2) * _t150 * _t98
+    )
+    jacobian_actuated[..., 4, 2] = (
+        _t103 * _t154
+        + _t106 * _t152
+        - _t11 * _t14 * _t151
+        + _t118 * _t153
+        - _t14 * _t144 * _t27
+        + _t155 * _t99
+    )
+    jacobian_actuated[..., 4, 3] = _t123 * _t157 - _t140 * _t143 - _t141 * _t158 + _t156 * _t99
+    jacobian_actuated[..., 4, 4] = (
+        _t131 * _t160
+        + _t134 * _t157
+        + _t135 * _t156
+        - _t137 * _t159
+        - _t140 * _t161
+        - _t141 * _t162
+    )
+    jacobian_actuated[..., 4, 5] = (
+        -_t137 * _t163
+        - _t138 * _t164
+        - _t140 * _t165
+        - _t141 * _t166
+        + (1 / 2) * _t146 * _t45 * _t58
+        + (1 / 2) * _t156 * _t42 * _t45
+    )
+    jacobian_actuated[..., 5, 0] = (
+        (1 / 2) * _t100 * _t142 - _t113 * _t145 - _t115 * _t146 + (1 / 2) * _t143 * _t97
+    )
+    jacobian_actuated[..., 5, 1] = (
+        _t104 * _t153
+        + _t110 * _t144
+        + _t111 * _t151
+        - _t113 * _t150
+        - _t115 * _t149
+        - _t117 * _t147
+    )
+    jacobian_actuated[..., 5, 2] = (
+        -_t113 * _t155
+        - _t115 * _t154
+        + _t116 * _t153
+        - _t117 * _t152
+        + _t119 * _t151
+        + _t144 * _t30
+    )
+    jacobian_actuated[..., 5, 3] = (
+        (1 / 2) * _t100 * _t158 - _t113 * _t156 + (1 / 2) * _t122 * _t143 - _t125 * _t157
+    )
+    jacobian_actuated[..., 5, 4] = (
+        (1 / 2) * _t100 * _t162
+        + (1 / 2) * _t122 * _t161
+        - _t128 * _t164
+        + (1 / 2) * _t130 * _t159
+        - _t132 * _t157
+        - _t133 * _t167
+    )
+    jacobian_actuated[..., 5, 5] = (
+        (1 / 2) * _t100 * _t166
+        + (1 / 2) * _t122 * _t165
+        + (1 / 2) * _t130 * _t163
+        - _t136 * _t164
+        - _t139 * _t167
+        - _t157 * _t61
+    )
+    return {
+        "jacobian_actuated": jacobian_actuated,
     }
 
 
@@ -1400,6 +1518,7 @@ def forward_back_substitution(actuated, root, branch, params):
 KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
+    "loop_closure_actuated": loop_closure_actuated,
     "leg_jacobians": leg_jacobians,
     "singularity_factors": singularity_factors,
     "inverse_pose": inverse_pose,

@@ -2,7 +2,8 @@
 // with template casadi.CodeGenerator. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 204
-//   loop_closure: 379
+//   loop_closure: 267
+//   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
 //   inverse_pose: 420
@@ -46,6 +47,7 @@ extern "C" {
 #define casadi_f4 CASADI_PREFIX(f4)
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
+#define casadi_f7 CASADI_PREFIX(f7)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_fmin CASADI_PREFIX(fmin)
 #define casadi_s0 CASADI_PREFIX(s0)
@@ -429,14 +431,12 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],jacobian_actuated[3x3],alignment) */
+/* loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
-  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
-  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57, a58, a59;
-  casadi_real a60, a61, a62, a63, a64, a65, a66;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45;
   a00=arg[0]? arg[0][0] : 0;
   a01=sin(a00);
   a02=arg[2]? arg[2][3] : 0;
@@ -444,7 +444,7 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a04=(a01*a03);
   a05=arg[2]? arg[2][0] : 0;
   a06=cos(a05);
-  a07=(a06*a03);
+  a07=(a03*a06);
   a05=sin(a05);
   a02=cos(a02);
   a08=(a05*a02);
@@ -452,394 +452,276 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a09=(a08*a00);
   a07=(a07-a09);
   a04=(a04*a07);
-  a10=(a06*a02);
-  a11=(a05*a03);
-  a12=(a11*a00);
-  a13=(a10+a12);
-  a14=(a01*a13);
-  a15=(a14*a02);
-  a04=(a04+a15);
-  a15=arg[2]? arg[2][1] : 0;
-  a16=sin(a15);
-  a17=(a04*a16);
-  a18=arg[1]? arg[1][0] : 0;
-  a19=sin(a18);
-  a17=(a17*a19);
-  a15=cos(a15);
-  a20=(a05*a15);
-  a21=(a01*a20);
-  a17=(a17-a21);
-  a18=cos(a18);
-  a18=(a16*a18);
-  a21=(a00*a18);
-  a17=(a17-a21);
-  a22=5.0000000000000000e-01;
-  a23=arg[0]? arg[0][1] : 0;
-  a24=sin(a23);
-  a25=(a22*a24);
-  a26=8.6602540378443860e-01;
-  a23=cos(a23);
-  a27=(a26*a23);
-  a28=(a27*a02);
-  a28=(a25+a28);
-  a29=(a05*a28);
-  a30=1.7320508075688772e+00;
-  a06=(a22*a06);
-  a06=(a06*a03);
-  a31=(a30*a06);
-  a29=(a29-a31);
-  a32=(a15*a29);
-  a33=(a22*a23);
-  a25=(a25*a02);
-  a34=(a30*a25);
-  a33=(a33-a34);
-  a34=arg[1]? arg[1][1] : 0;
-  a35=cos(a34);
-  a36=(a35*a16);
-  a37=(a33*a36);
-  a32=(a32+a37);
-  a37=-5.0000000000000000e-01;
-  a37=(a37*a23);
-  a37=(a37*a02);
-  a38=(a26*a24);
-  a37=(a37+a38);
-  a38=(a05*a37);
-  a38=(a38+a06);
-  a39=(a03*a24);
-  a40=(a38*a39);
-  a25=(a25+a27);
-  a27=(a11*a23);
-  a27=(a10+a27);
-  a41=(a25*a27);
-  a40=(a40+a41);
-  a34=sin(a34);
-  a34=(a16*a34);
-  a41=(a40*a34);
-  a32=(a32-a41);
-  a41=(a17*a32);
-  a42=(a07*a15);
-  a43=(a01*a18);
-  a44=(a43*a02);
-  a42=(a42+a44);
-  a44=(a05*a03);
-  a45=casadi_sq(a01);
-  a44=(a44*a45);
-  a46=(a13*a00);
-  a44=(a44+a46);
-  a19=(a16*a19);
-  a47=(a44*a19);
-  a42=(a42+a47);
-  a47=(a15*a38);
-  a48=(a36*a25);
-  a47=(a47+a48);
-  a48=(a33*a27);
-  a49=(a29*a39);
-  a48=(a48+a49);
-  a49=(a34*a48);
-  a47=(a47+a49);
-  a49=(a42*a47);
-  a41=(a41-a49);
-  a49=(a03*a43);
-  a13=(a13*a15);
-  a49=(a49-a13);
-  a13=(a07*a00);
-  a45=(a08*a45);
-  a13=(a13-a45);
-  a45=(a19*a13);
-  a49=(a49+a45);
-  a45=(a36*a39);
-  a50=(a15*a27);
-  a45=(a45-a50);
-  a50=(a33*a38);
-  a51=(a29*a25);
-  a50=(a50-a51);
-  a51=(a34*a50);
-  a45=(a45+a51);
-  a51=(a49*a45);
-  a41=(a41+a51);
-  a51=arg[2]? arg[2][2] : 0;
-  a52=sin(a51);
-  a52=casadi_sq(a52);
-  a53=(a22*a52);
-  a51=cos(a51);
-  a54=casadi_sq(a51);
-  a53=(a53-a54);
-  a41=(a41+a53);
-  if (res[0]!=0) res[0][0]=a41;
-  a41=-8.6602540378443860e-01;
-  a54=arg[0]? arg[0][2] : 0;
-  a55=cos(a54);
-  a41=(a41*a55);
-  a41=(a41*a02);
-  a54=sin(a54);
-  a56=(a22*a54);
-  a41=(a41+a56);
-  a57=(a05*a41);
-  a57=(a57+a31);
-  a31=(a15*a57);
-  a56=(a56*a02);
-  a30=(a30*a56);
-  a22=(a22*a55);
-  a30=(a30+a22);
-  a58=arg[1]? arg[1][2] : 0;
-  a59=cos(a58);
-  a60=(a16*a59);
-  a61=(a30*a60);
-  a31=(a31+a61);
-  a61=(a26*a54);
-  a22=(a22*a02);
-  a61=(a61+a22);
-  a05=(a05*a61);
-  a05=(a05-a06);
-  a06=(a03*a54);
-  a22=(a05*a06);
-  a26=(a26*a55);
-  a26=(a26-a56);
-  a56=(a11*a55);
-  a10=(a10+a56);
-  a56=(a26*a10);
-  a22=(a22+a56);
-  a58=sin(a58);
-  a58=(a16*a58);
-  a56=(a22*a58);
-  a31=(a31+a56);
-  a56=(a32*a31);
-  a62=(a15*a05);
-  a63=(a60*a26);
-  a62=(a62+a63);
-  a63=(a30*a10);
-  a64=(a57*a06);
-  a63=(a63+a64);
-  a64=(a58*a63);
-  a62=(a62-a64);
-  a64=(a47*a62);
-  a56=(a56-a64);
-  a64=(a60*a06);
-  a65=(a15*a10);
-  a64=(a64-a65);
-  a65=(a57*a26);
-  a66=(a30*a05);
-  a65=(a65-a66);
-  a66=(a58*a65);
-  a64=(a64+a66);
-  a66=(a45*a64);
-  a56=(a56+a66);
-  a56=(a56+a53);
-  if (res[0]!=0) res[0][1]=a56;
-  a56=(a17*a31);
-  a66=(a42*a62);
-  a56=(a56+a66);
-  a66=(a49*a64);
-  a56=(a56+a66);
-  a56=(a56+a53);
-  if (res[0]!=0) res[0][2]=a56;
-  a04=(a04*a18);
-  a56=(a00*a19);
-  a04=(a04+a56);
-  a56=(a32*a04);
-  a44=(a44*a18);
-  a53=(a01*a19);
-  a66=(a53*a02);
-  a44=(a44-a66);
-  a66=(a47*a44);
-  a56=(a56-a66);
-  a13=(a13*a18);
-  a53=(a03*a53);
-  a13=(a13-a53);
-  a53=(a45*a13);
-  a56=(a56+a53);
-  if (res[1]!=0) res[1][0]=a56;
-  a56=0.;
-  if (res[1]!=0) res[1][1]=a56;
-  a04=(a31*a04);
-  a44=(a62*a44);
-  a04=(a04+a44);
-  a13=(a64*a13);
+  a09=(a05*a03);
+  a10=(a09*a00);
+  a11=(a06*a02);
+  a10=(a10+a11);
+  a12=(a01*a02);
+  a13=(a10*a12);
   a04=(a04+a13);
-  if (res[1]!=0) res[1][2]=a04;
-  a04=(a25*a34);
-  a13=(a35*a16);
-  a13=(a13*a48);
-  a04=(a04-a13);
-  a13=(a42*a04);
-  a48=(a33*a34);
-  a35=(a35*a40);
+  a13=arg[2]? arg[2][1] : 0;
+  a14=sin(a13);
+  a15=(a04*a14);
+  a16=arg[1]? arg[1][0] : 0;
+  a17=sin(a16);
+  a15=(a15*a17);
+  a18=(a05*a01);
+  a13=cos(a13);
+  a18=(a18*a13);
+  a15=(a15-a18);
+  a16=cos(a16);
+  a16=(a14*a16);
+  a18=(a00*a16);
+  a15=(a15-a18);
+  a18=5.0000000000000000e-01;
+  a19=arg[0]? arg[0][1] : 0;
+  a20=sin(a19);
+  a21=(a18*a20);
+  a22=8.6602540378443860e-01;
+  a19=cos(a19);
+  a23=(a22*a19);
+  a24=(a23*a02);
+  a24=(a21+a24);
+  a24=(a05*a24);
+  a25=1.7320508075688772e+00;
+  a26=(a18*a03);
+  a26=(a26*a06);
+  a06=(a25*a26);
+  a24=(a24-a06);
+  a27=(a13*a24);
+  a28=(a18*a19);
+  a21=(a21*a02);
+  a29=(a25*a21);
+  a28=(a28-a29);
+  a29=arg[1]? arg[1][1] : 0;
+  a30=cos(a29);
+  a31=(a30*a14);
+  a32=(a28*a31);
+  a27=(a27+a32);
+  a32=(a18*a19);
+  a32=(a32*a02);
+  a33=(a22*a20);
+  a32=(a32-a33);
+  a32=(a05*a32);
+  a32=(a32-a26);
+  a20=(a03*a20);
+  a33=(a32*a20);
+  a21=(a21+a23);
+  a19=(a09*a19);
+  a19=(a19+a11);
+  a23=(a21*a19);
+  a33=(a33-a23);
+  a29=sin(a29);
+  a29=(a14*a29);
+  a23=(a33*a29);
+  a27=(a27+a23);
+  a23=(a15*a27);
+  a34=(a12*a16);
+  a35=(a07*a13);
+  a34=(a34+a35);
+  a35=(a05*a03);
+  a36=casadi_sq(a01);
+  a35=(a35*a36);
+  a37=(a10*a00);
+  a35=(a35+a37);
+  a17=(a14*a17);
+  a37=(a35*a17);
+  a34=(a34+a37);
+  a37=(a13*a32);
+  a38=(a31*a21);
+  a37=(a37-a38);
+  a38=(a28*a19);
+  a39=(a24*a20);
+  a38=(a38+a39);
+  a39=(a29*a38);
+  a37=(a37-a39);
+  a39=(a34*a37);
+  a23=(a23+a39);
+  a07=(a07*a00);
+  a08=(a08*a36);
+  a07=(a07-a08);
+  a08=(a17*a07);
+  a10=(a10*a13);
+  a08=(a08-a10);
+  a01=(a01*a03);
+  a10=(a01*a16);
+  a08=(a08+a10);
+  a10=(a31*a20);
+  a19=(a13*a19);
+  a10=(a10-a19);
+  a32=(a28*a32);
+  a24=(a24*a21);
+  a32=(a32+a24);
+  a24=(a29*a32);
+  a10=(a10-a24);
+  a24=(a08*a10);
+  a23=(a23+a24);
+  a24=arg[2]? arg[2][2] : 0;
+  a19=sin(a24);
+  a19=casadi_sq(a19);
+  a36=(a18*a19);
+  a24=cos(a24);
+  a39=casadi_sq(a24);
+  a36=(a36-a39);
+  a23=(a23+a36);
+  if (res[0]!=0) res[0][0]=a23;
+  a23=-8.6602540378443860e-01;
+  a39=arg[0]? arg[0][2] : 0;
+  a40=cos(a39);
+  a23=(a23*a40);
+  a23=(a23*a02);
+  a39=sin(a39);
+  a41=(a18*a39);
+  a23=(a23+a41);
+  a23=(a05*a23);
+  a23=(a23+a06);
+  a06=(a13*a23);
+  a41=(a41*a02);
+  a25=(a25*a41);
+  a18=(a18*a40);
+  a25=(a25+a18);
+  a42=arg[1]? arg[1][2] : 0;
+  a43=cos(a42);
+  a44=(a14*a43);
+  a45=(a25*a44);
+  a06=(a06+a45);
+  a45=(a22*a39);
+  a18=(a18*a02);
+  a45=(a45+a18);
+  a05=(a05*a45);
+  a05=(a05-a26);
+  a03=(a03*a39);
+  a39=(a05*a03);
+  a22=(a22*a40);
+  a22=(a22-a41);
+  a09=(a09*a40);
+  a09=(a09+a11);
+  a11=(a22*a09);
+  a39=(a39+a11);
+  a42=sin(a42);
+  a42=(a14*a42);
+  a11=(a39*a42);
+  a06=(a06+a11);
+  a11=(a27*a06);
+  a40=(a13*a05);
+  a41=(a44*a22);
+  a40=(a40+a41);
+  a41=(a25*a09);
+  a26=(a23*a03);
+  a41=(a41+a26);
+  a26=(a42*a41);
+  a40=(a40-a26);
+  a26=(a37*a40);
+  a11=(a11+a26);
+  a26=(a44*a03);
+  a13=(a13*a09);
+  a26=(a26-a13);
+  a23=(a23*a22);
+  a05=(a25*a05);
+  a23=(a23-a05);
+  a05=(a42*a23);
+  a26=(a26+a05);
+  a05=(a10*a26);
+  a11=(a11+a05);
+  a11=(a11+a36);
+  if (res[0]!=0) res[0][1]=a11;
+  a11=(a15*a06);
+  a05=(a34*a40);
+  a11=(a11+a05);
+  a05=(a08*a26);
+  a11=(a11+a05);
+  a11=(a11+a36);
+  if (res[0]!=0) res[0][2]=a11;
+  a04=(a04*a16);
+  a00=(a00*a17);
+  a04=(a04+a00);
+  a00=(a27*a04);
   a35=(a35*a16);
-  a48=(a48+a35);
-  a35=(a17*a48);
-  a13=(a13-a35);
-  a50=(a36*a50);
-  a39=(a39*a34);
-  a50=(a50-a39);
-  a39=(a49*a50);
-  a13=(a13+a39);
-  if (res[1]!=0) res[1][3]=a13;
-  a04=(a62*a04);
-  a48=(a31*a48);
-  a04=(a04-a48);
-  a50=(a64*a50);
-  a04=(a04+a50);
-  if (res[1]!=0) res[1][4]=a04;
-  if (res[1]!=0) res[1][5]=a56;
-  if (res[1]!=0) res[1][6]=a56;
-  a04=(a16*a59);
-  a04=(a04*a22);
-  a22=(a30*a58);
-  a04=(a04-a22);
-  a22=(a32*a04);
-  a16=(a16*a59);
-  a16=(a16*a63);
-  a63=(a26*a58);
-  a16=(a16+a63);
-  a63=(a47*a16);
-  a22=(a22+a63);
-  a65=(a60*a65);
-  a06=(a06*a58);
-  a65=(a65-a06);
-  a06=(a45*a65);
-  a22=(a22+a06);
-  if (res[1]!=0) res[1][7]=a22;
-  a04=(a17*a04);
-  a16=(a42*a16);
-  a04=(a04-a16);
-  a65=(a49*a65);
-  a04=(a04+a65);
-  if (res[1]!=0) res[1][8]=a04;
-  a04=(a20*a00);
-  a43=(a43-a04);
-  a04=(a03*a07);
-  a04=(a04*a00);
-  a46=(a46*a02);
-  a04=(a04+a46);
-  a04=(a19*a04);
-  a43=(a43+a04);
-  a04=(a32*a43);
-  a46=(a01*a15);
-  a08=(a08*a46);
-  a12=(a01*a12);
-  a12=(a12-a14);
-  a12=(a19*a12);
-  a08=(a08+a12);
-  a02=(a21*a02);
-  a08=(a08+a02);
-  a02=(a47*a08);
-  a04=(a04-a02);
-  a21=(a03*a21);
-  a46=(a11*a46);
-  a21=(a21+a46);
-  a09=(a01*a09);
-  a01=(a01*a07);
-  a09=(a09+a01);
-  a19=(a19*a09);
-  a21=(a21-a19);
-  a19=(a45*a21);
-  a04=(a04+a19);
-  if (res[2]!=0) res[2][0]=a04;
-  if (res[2]!=0) res[2][1]=a56;
-  a43=(a31*a43);
-  a08=(a62*a08);
-  a43=(a43+a08);
-  a21=(a64*a21);
-  a43=(a43+a21);
-  if (res[2]!=0) res[2][2]=a43;
-  a43=(a36*a37);
-  a25=(a20*a25);
-  a43=(a43-a25);
-  a25=(a27*a28);
-  a21=(a03*a23);
-  a08=(a29*a21);
-  a25=(a25-a08);
-  a25=(a34*a25);
-  a43=(a43+a25);
-  a25=(a43*a42);
-  a33=(a33*a20);
-  a08=(a36*a28);
-  a33=(a33-a08);
-  a27=(a37*a27);
-  a23=(a03*a23);
-  a23=(a23*a38);
-  a27=(a27-a23);
-  a27=(a34*a27);
-  a33=(a33+a27);
-  a27=(a17*a33);
-  a25=(a25+a27);
-  a11=(a11*a15);
-  a24=(a24*a11);
-  a36=(a36*a21);
-  a24=(a24+a36);
-  a29=(a29*a37);
-  a38=(a38*a28);
-  a29=(a29-a38);
-  a34=(a34*a29);
-  a24=(a24+a34);
-  a34=(a49*a24);
-  a25=(a25+a34);
-  if (res[2]!=0) res[2][3]=a25;
-  a43=(a43*a62);
-  a33=(a31*a33);
-  a43=(a43+a33);
-  a24=(a64*a24);
-  a43=(a43+a24);
-  if (res[2]!=0) res[2][4]=a43;
-  if (res[2]!=0) res[2][5]=a56;
-  if (res[2]!=0) res[2][6]=a56;
-  a30=(a20*a30);
-  a56=(a41*a60);
-  a30=(a30-a56);
-  a56=(a03*a55);
-  a56=(a56*a05);
-  a43=(a61*a10);
-  a56=(a56-a43);
-  a56=(a58*a56);
-  a30=(a30+a56);
-  a56=(a30*a32);
-  a03=(a03*a55);
-  a55=(a03*a60);
-  a54=(a54*a11);
-  a55=(a55+a54);
-  a05=(a41*a05);
-  a54=(a61*a57);
-  a05=(a05-a54);
-  a05=(a58*a05);
-  a55=(a55+a05);
-  a05=(a55*a45);
-  a56=(a56+a05);
-  a20=(a20*a26);
-  a61=(a61*a60);
-  a20=(a20-a61);
-  a41=(a41*a10);
-  a03=(a03*a57);
-  a41=(a41-a03);
-  a58=(a58*a41);
-  a20=(a20+a58);
-  a58=(a20*a47);
-  a56=(a56-a58);
-  if (res[2]!=0) res[2][7]=a56;
-  a30=(a30*a17);
-  a55=(a55*a49);
-  a30=(a30+a55);
-  a20=(a20*a42);
-  a30=(a30+a20);
-  if (res[2]!=0) res[2][8]=a30;
-  a30=3.8490017945975047e-01;
-  a20=(a45*a31);
-  a55=(a32*a64);
-  a20=(a20-a55);
-  a42=(a42*a20);
-  a64=(a47*a64);
-  a45=(a45*a62);
-  a64=(a64+a45);
-  a17=(a17*a64);
-  a42=(a42-a17);
-  a32=(a32*a62);
-  a47=(a47*a31);
-  a32=(a32+a47);
-  a49=(a49*a32);
-  a42=(a42+a49);
-  a30=(a30*a42);
-  a52=(a52*a51);
-  a30=(a30/a52);
-  if (res[3]!=0) res[3][0]=a30;
+  a12=(a12*a17);
+  a35=(a35-a12);
+  a12=(a37*a35);
+  a00=(a00+a12);
+  a07=(a07*a16);
+  a17=(a17*a01);
+  a07=(a07-a17);
+  a17=(a10*a07);
+  a00=(a00+a17);
+  if (res[1]!=0) res[1][0]=a00;
+  a00=0.;
+  if (res[1]!=0) res[1][1]=a00;
+  a04=(a06*a04);
+  a35=(a40*a35);
+  a04=(a04+a35);
+  a07=(a26*a07);
+  a04=(a04+a07);
+  if (res[1]!=0) res[1][2]=a04;
+  a33=(a30*a33);
+  a33=(a33*a14);
+  a28=(a28*a29);
+  a33=(a33-a28);
+  a28=(a15*a33);
+  a21=(a21*a29);
+  a30=(a30*a14);
+  a30=(a30*a38);
+  a21=(a21-a30);
+  a30=(a34*a21);
+  a28=(a28+a30);
+  a31=(a31*a32);
+  a20=(a20*a29);
+  a31=(a31+a20);
+  a20=(a08*a31);
+  a28=(a28-a20);
+  if (res[1]!=0) res[1][3]=a28;
+  a33=(a06*a33);
+  a21=(a40*a21);
+  a33=(a33+a21);
+  a31=(a26*a31);
+  a33=(a33-a31);
+  if (res[1]!=0) res[1][4]=a33;
+  if (res[1]!=0) res[1][5]=a00;
+  if (res[1]!=0) res[1][6]=a00;
+  a00=(a14*a43);
+  a00=(a00*a39);
+  a25=(a25*a42);
+  a00=(a00-a25);
+  a25=(a27*a00);
+  a14=(a14*a43);
+  a14=(a14*a41);
+  a22=(a22*a42);
+  a14=(a14+a22);
+  a22=(a37*a14);
+  a25=(a25-a22);
+  a44=(a44*a23);
+  a03=(a03*a42);
+  a44=(a44-a03);
+  a03=(a10*a44);
+  a25=(a25+a03);
+  if (res[1]!=0) res[1][7]=a25;
+  a00=(a15*a00);
+  a14=(a34*a14);
+  a00=(a00-a14);
+  a44=(a08*a44);
+  a00=(a00+a44);
+  if (res[1]!=0) res[1][8]=a00;
+  a00=3.8490017945975047e-01;
+  a44=(a37*a26);
+  a14=(a10*a40);
+  a44=(a44-a14);
+  a15=(a15*a44);
+  a10=(a10*a06);
+  a26=(a27*a26);
+  a10=(a10-a26);
+  a34=(a34*a10);
+  a15=(a15+a34);
+  a27=(a27*a40);
+  a37=(a37*a06);
+  a27=(a27-a37);
+  a08=(a08*a27);
+  a15=(a15+a08);
+  a00=(a00*a15);
+  a19=(a19*a24);
+  a00=(a00/a19);
+  if (res[2]!=0) res[2][0]=a00;
   return 0;
 }
 
@@ -862,7 +744,7 @@ CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
 
 CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
 
 CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
   switch (i) {
@@ -883,8 +765,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
-    case 2: return "jacobian_actuated";
-    case 3: return "alignment";
+    case 2: return "alignment";
     default: return 0;
   }
 }
@@ -902,15 +783,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
-    case 2: return casadi_s3;
-    case 3: return casadi_s4;
+    case 2: return casadi_s4;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
-  if (sz_res) *sz_res = 4;
+  if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
   if (sz_w) *sz_w = 0;
   return 0;
@@ -918,14 +798,383 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
 
 CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
-  if (sz_res) *sz_res = 4*sizeof(casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* loop_closure_actuated:(actuated[3],passive[3],params[4])->(jacobian_actuated[3x3]) */
+static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51;
+  a00=arg[0]? arg[0][0] : 0;
+  a01=sin(a00);
+  a02=arg[2]? arg[2][3] : 0;
+  a03=sin(a02);
+  a04=arg[2]? arg[2][0] : 0;
+  a05=sin(a04);
+  a06=(a03*a05);
+  a07=arg[2]? arg[2][1] : 0;
+  a08=cos(a07);
+  a09=(a06*a08);
+  a10=(a01*a09);
+  a00=cos(a00);
+  a07=sin(a07);
+  a11=arg[1]? arg[1][0] : 0;
+  a12=cos(a11);
+  a12=(a07*a12);
+  a13=(a00*a12);
+  a14=(a03*a13);
+  a10=(a10+a14);
+  a11=sin(a11);
+  a14=(a11*a07);
+  a02=cos(a02);
+  a15=(a05*a00);
+  a16=(a02*a15);
+  a17=(a01*a16);
+  a04=cos(a04);
+  a18=(a03*a04);
+  a18=(a18-a16);
+  a16=(a01*a18);
+  a17=(a17+a16);
+  a17=(a14*a17);
+  a10=(a10-a17);
+  a17=arg[1]? arg[1][1] : 0;
+  a16=cos(a17);
+  a16=(a07*a16);
+  a19=arg[0]? arg[0][1] : 0;
+  a20=sin(a19);
+  a21=(a03*a20);
+  a22=(a16*a21);
+  a19=cos(a19);
+  a23=(a06*a19);
+  a24=(a02*a04);
+  a23=(a23+a24);
+  a25=(a08*a23);
+  a22=(a22-a25);
+  a17=sin(a17);
+  a17=(a07*a17);
+  a25=-5.0000000000000000e-01;
+  a25=(a25*a02);
+  a25=(a25*a19);
+  a26=8.6602540378443860e-01;
+  a27=(a26*a20);
+  a25=(a25+a27);
+  a27=(a05*a25);
+  a28=5.0000000000000000e-01;
+  a29=(a28*a03);
+  a29=(a29*a04);
+  a27=(a27+a29);
+  a04=(a28*a19);
+  a30=1.7320508075688772e+00;
+  a31=(a28*a20);
+  a32=(a02*a31);
+  a33=(a30*a32);
+  a04=(a04-a33);
+  a33=(a27*a04);
+  a34=(a26*a19);
+  a32=(a32+a34);
+  a34=(a02*a34);
+  a34=(a34+a31);
+  a31=(a05*a34);
+  a35=(a30*a29);
+  a31=(a31-a35);
+  a36=(a32*a31);
+  a33=(a33-a36);
+  a33=(a17*a33);
+  a22=(a22+a33);
+  a33=(a10*a22);
+  a36=(a05*a08);
+  a37=(a01*a36);
+  a38=(a02*a37);
+  a39=(a02*a13);
+  a38=(a38+a39);
+  a39=(a06*a00);
+  a40=(a01*a39);
+  a39=(a39+a24);
+  a41=(a01*a39);
+  a40=(a40-a41);
+  a40=(a14*a40);
+  a38=(a38+a40);
+  a40=(a32*a16);
+  a42=(a08*a27);
+  a40=(a40+a42);
+  a42=(a04*a23);
+  a43=(a31*a21);
+  a42=(a42+a43);
+  a42=(a17*a42);
+  a40=(a40+a42);
+  a42=(a38*a40);
+  a33=(a33-a42);
+  a42=(a39*a00);
+  a43=(a02*a42);
+  a44=(a03*a18);
+  a44=(a44*a00);
+  a43=(a43+a44);
+  a43=(a14*a43);
+  a15=(a08*a15);
+  a43=(a43-a15);
+  a12=(a01*a12);
+  a43=(a43+a12);
+  a15=(a16*a04);
+  a44=(a08*a31);
+  a15=(a15+a44);
+  a44=(a32*a23);
+  a21=(a27*a21);
+  a44=(a44+a21);
+  a44=(a17*a44);
+  a15=(a15-a44);
+  a44=(a43*a15);
+  a33=(a33+a44);
+  if (res[0]!=0) res[0][0]=a33;
+  a33=0.;
+  if (res[0]!=0) res[0][1]=a33;
+  a44=arg[0]? arg[0][2] : 0;
+  a21=cos(a44);
+  a45=(a28*a21);
+  a46=(a02*a45);
+  a44=sin(a44);
+  a47=(a26*a44);
+  a46=(a46+a47);
+  a47=(a05*a46);
+  a47=(a47-a29);
+  a29=(a08*a47);
+  a48=arg[1]? arg[1][2] : 0;
+  a49=cos(a48);
+  a49=(a07*a49);
+  a26=(a26*a21);
+  a28=(a28*a44);
+  a50=(a02*a28);
+  a26=(a26-a50);
+  a51=(a49*a26);
+  a29=(a29+a51);
+  a48=sin(a48);
+  a48=(a07*a48);
+  a50=(a30*a50);
+  a50=(a50+a45);
+  a06=(a06*a21);
+  a06=(a06+a24);
+  a24=(a50*a06);
+  a30=(a30*a02);
+  a30=(a30*a45);
+  a28=(a28-a30);
+  a30=(a05*a28);
+  a30=(a30+a35);
+  a35=(a03*a44);
+  a45=(a30*a35);
+  a24=(a24+a45);
+  a24=(a48*a24);
+  a29=(a29-a24);
+  a38=(a38*a29);
+  a24=(a49*a35);
+  a45=(a08*a06);
+  a24=(a24-a45);
+  a45=(a30*a26);
+  a51=(a50*a47);
+  a45=(a45-a51);
+  a45=(a48*a45);
+  a24=(a24+a45);
+  a10=(a10*a24);
+  a38=(a38+a10);
+  a10=(a08*a30);
+  a45=(a50*a49);
+  a10=(a10+a45);
+  a35=(a47*a35);
+  a45=(a26*a06);
+  a35=(a35+a45);
+  a35=(a48*a35);
+  a10=(a10+a35);
+  a43=(a43*a10);
+  a38=(a38+a43);
+  if (res[0]!=0) res[0][2]=a38;
+  a38=(a03*a12);
+  a39=(a39*a08);
+  a38=(a38-a39);
+  a00=(a18*a00);
+  a39=(a02*a05);
+  a43=casadi_sq(a01);
+  a39=(a39*a43);
+  a00=(a00-a39);
+  a00=(a14*a00);
+  a38=(a38+a00);
+  a20=(a20*a09);
+  a00=(a03*a19);
+  a39=(a16*a00);
+  a20=(a20+a39);
+  a39=(a25*a31);
+  a35=(a27*a34);
+  a39=(a39-a35);
+  a39=(a17*a39);
+  a20=(a20+a39);
+  a39=(a38*a20);
+  a11=(a11*a07);
+  a41=(a02*a41);
+  a01=(a01*a03);
+  a01=(a01*a18);
+  a41=(a41+a01);
+  a11=(a11*a41);
+  a11=(a11-a37);
+  a11=(a11-a13);
+  a04=(a04*a36);
+  a13=(a16*a34);
+  a04=(a04-a13);
+  a13=(a25*a23);
+  a19=(a03*a19);
+  a19=(a19*a27);
+  a13=(a13-a19);
+  a13=(a17*a13);
+  a04=(a04+a13);
+  a13=(a11*a04);
+  a39=(a39+a13);
+  a02=(a02*a12);
+  a05=(a03*a05);
+  a05=(a05*a43);
+  a05=(a05+a42);
+  a14=(a14*a05);
+  a02=(a02+a14);
+  a08=(a08*a18);
+  a02=(a02+a08);
+  a16=(a16*a25);
+  a32=(a32*a36);
+  a16=(a16-a32);
+  a23=(a23*a34);
+  a31=(a31*a00);
+  a23=(a23-a31);
+  a17=(a17*a23);
+  a16=(a16+a17);
+  a17=(a02*a16);
+  a39=(a39+a17);
+  if (res[0]!=0) res[0][3]=a39;
+  a20=(a20*a24);
+  a04=(a04*a10);
+  a20=(a20+a04);
+  a16=(a16*a29);
+  a20=(a20+a16);
+  if (res[0]!=0) res[0][4]=a20;
+  if (res[0]!=0) res[0][5]=a33;
+  if (res[0]!=0) res[0][6]=a33;
+  a09=(a09*a44);
+  a44=(a03*a21);
+  a33=(a49*a44);
+  a09=(a09+a33);
+  a33=(a47*a28);
+  a20=(a30*a46);
+  a33=(a33-a20);
+  a33=(a48*a33);
+  a09=(a09+a33);
+  a22=(a22*a09);
+  a26=(a36*a26);
+  a33=(a49*a46);
+  a26=(a26-a33);
+  a33=(a06*a28);
+  a30=(a30*a44);
+  a33=(a33-a30);
+  a33=(a48*a33);
+  a26=(a26+a33);
+  a40=(a40*a26);
+  a22=(a22-a40);
+  a36=(a36*a50);
+  a49=(a49*a28);
+  a36=(a36-a49);
+  a03=(a03*a21);
+  a03=(a03*a47);
+  a06=(a06*a46);
+  a03=(a03-a06);
+  a48=(a48*a03);
+  a36=(a36+a48);
+  a15=(a15*a36);
+  a22=(a22+a15);
+  if (res[0]!=0) res[0][7]=a22;
+  a38=(a38*a09);
+  a11=(a11*a36);
+  a38=(a38+a11);
+  a02=(a02*a26);
+  a38=(a38+a02);
+  if (res[0]!=0) res[0][8]=a38;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f2(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "jacobian_actuated";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s3;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 1;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);
   return 0;
 }
 
 /* rate_jacobians:(actuated[3],passive[3],params[4])->(a[3x3],b[3x3]) */
-static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1194,7 +1443,7 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f2(arg, res, iw, w, mem);
+  return casadi_f3(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int rate_jacobians_checkout(void) {
@@ -1271,7 +1520,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_in
 }
 
 /* singularity_factors:(actuated[3],passive[3],params[4])->(factors[7],determinants[2]) */
-static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1515,7 +1764,7 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f3(arg, res, iw, w, mem);
+  return casadi_f4(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
@@ -1592,7 +1841,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
 }
 
 /* inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
-static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2000,7 +2249,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
@@ -2079,7 +2328,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* forward_polynomial:(actuated[3],params[4])->(coefficients[9]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -5454,7 +5703,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
@@ -5527,7 +5776,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* forward_back_substitution:(actuated[3],root,branch,params[4])->(pose[4x4]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -6545,7 +6794,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {

@@ -2,7 +2,8 @@
 // with template casadi.CodeGenerator. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 204
-//   loop_closure: 379
+//   loop_closure: 267
+//   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
 //   inverse_pose: 420
@@ -60,9 +61,27 @@ const casadi_int* loop_closure_sparsity_out(casadi_int i);
 int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
 int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
 #define loop_closure_SZ_ARG 3
-#define loop_closure_SZ_RES 4
+#define loop_closure_SZ_RES 3
 #define loop_closure_SZ_IW 0
 #define loop_closure_SZ_W 0
+int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int loop_closure_actuated_checkout(void);
+void loop_closure_actuated_release(int mem);
+void loop_closure_actuated_incref(void);
+void loop_closure_actuated_decref(void);
+casadi_int loop_closure_actuated_n_in(void);
+casadi_int loop_closure_actuated_n_out(void);
+casadi_real loop_closure_actuated_default_in(casadi_int i);
+const char* loop_closure_actuated_name_in(casadi_int i);
+const char* loop_closure_actuated_name_out(casadi_int i);
+const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i);
+const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i);
+int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define loop_closure_actuated_SZ_ARG 3
+#define loop_closure_actuated_SZ_RES 1
+#define loop_closure_actuated_SZ_IW 0
+#define loop_closure_actuated_SZ_W 0
 int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int rate_jacobians_checkout(void);
 void rate_jacobians_release(int mem);

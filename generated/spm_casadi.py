@@ -2,7 +2,8 @@
 # with template casadi_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 204
-#   loop_closure: 379
+#   loop_closure: 267
+#   loop_closure_actuated: 274
 #   rate_jacobians: 236
 #   singularity_factors: 223
 #   inverse_pose: 420
@@ -125,9 +126,9 @@ def platform_pose() -> casadi.Function:
 
 
 def loop_closure() -> casadi.Function:
-    """Loop-closure residual, its Jacobians with respect to the passive and the actuated variables, and the alignment measures (positive at a true closure).
+    """Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.
 
-    Operations: 379.
+    Operations: 267.
     """
     actuated = casadi.SX.sym("actuated", 3)
     passive = casadi.SX.sym("passive", 3)
@@ -142,141 +143,108 @@ def loop_closure() -> casadi.Function:
     alpha2 = params[1]
     beta = params[2]
     gamma = params[3]
-    _t0 = casadi.sin(theta1)
-    _t1 = casadi.sin(alpha1)
+    _t0 = casadi.sin(alpha1)
+    _t1 = casadi.sin(theta1)
     _t2 = casadi.cos(alpha2)
-    _t3 = _t1 * _t2
-    _t4 = casadi.cos(theta1)
-    _t5 = casadi.sin(alpha2)
-    _t6 = _t5 * casadi.cos(phi1)
-    _t7 = _t4 * _t6
-    _t8 = casadi.sin(phi1)
-    _t9 = casadi.cos(gamma)
-    _t10 = casadi.cos(alpha1)
-    _t11 = _t10 * _t9
-    _t12 = casadi.sin(gamma)
-    _t13 = _t1 * _t12
-    _t14 = _t13 * _t4
-    _t15 = -_t11 - _t14
-    _t16 = _t0 * _t15
-    _t17 = _t1 * _t9
-    _t18 = _t17 * _t4
-    _t19 = _t10 * _t12 - _t18
-    _t20 = _t0 * _t12 * _t19 - _t16 * _t9
-    _t21 = -_t0 * _t3 + _t20 * _t5 * _t8 - _t7
-    _t22 = casadi.cos(theta2)
-    _t23 = casadi.sqrt(3)
-    _t24 = casadi.sin(theta2)
-    _t25 = (1 / 2) * _t24
-    _t26 = _t25 * _t9
-    _t27 = (1 / 2) * _t22 - _t23 * _t26
-    _t28 = casadi.cos(phi2)
-    _t29 = _t28 * _t5
-    _t30 = (1 / 2) * _t10 * _t12
-    _t31 = _t23 * _t30
-    _t32 = (1 / 2) * _t22 * _t23
-    _t33 = _t25 + _t32 * _t9
-    _t34 = _t1 * _t33 - _t31
-    _t35 = -_t30
-    _t36 = -1 / 2 * _t22 * _t9 + _t23 * _t25
-    _t37 = -_t1 * _t36 + _t35
-    _t38 = _t12 * _t24
-    _t39 = -_t26 - _t32
-    _t40 = -_t11 - _t13 * _t22
-    _t41 = _t37 * _t38 - _t39 * _t40
-    _t42 = _t5 * casadi.sin(phi2)
-    _t43 = _t2 * _t34 + _t27 * _t29 + _t41 * _t42
-    _t44 = _t0 * _t6
-    _t45 = _t0**2
-    _t46 = _t15 * _t4
-    _t47 = _t1 * _t12 * _t45 - _t46
-    _t48 = _t5 * _t8
-    _t49 = _t19 * _t2 + _t44 * _t9 + _t47 * _t48
-    _t50 = _t27 * _t40 - _t34 * _t38
-    _t51 = _t2 * _t37 + _t29 * _t39 + _t42 * _t50
-    _t52 = -_t17 * _t45 + _t19 * _t4
-    _t53 = _t12 * _t44 + _t15 * _t2 + _t48 * _t52
-    _t54 = -_t27 * _t37 + _t34 * _t39
-    _t55 = _t2 * _t40 + _t29 * _t38 + _t42 * _t54
-    _t56 = casadi.sin(beta) ** 2
-    _t57 = casadi.cos(beta)
-    _t58 = (1 / 2) * _t56 - _t57**2
-    _t59 = casadi.cos(theta3)
-    _t60 = (1 / 2) * _t59
-    _t61 = casadi.sin(theta3)
-    _t62 = (1 / 2) * _t61
-    _t63 = _t62 * _t9
-    _t64 = _t23 * _t63 + _t60
-    _t65 = casadi.cos(phi3)
-    _t66 = _t5 * _t65
-    _t67 = -_t23 * _t60 * _t9 + _t62
-    _t68 = _t1 * _t67 + _t31
-    _t69 = _t23 * _t62 + _t60 * _t9
-    _t70 = _t1 * _t69 + _t35
-    _t71 = _t12 * _t61
-    _t72 = (1 / 2) * _t23 * _t59 - _t63
-    _t73 = -_t11 - _t13 * _t59
-    _t74 = _t70 * _t71 - _t72 * _t73
-    _t75 = _t5 * casadi.sin(phi3)
-    _t76 = _t2 * _t68 + _t64 * _t66 + _t74 * _t75
-    _t77 = _t64 * _t73 - _t68 * _t71
-    _t78 = _t2 * _t70 + _t66 * _t72 + _t75 * _t77
-    _t79 = -_t64 * _t70 + _t68 * _t72
-    _t80 = _t2 * _t73 + _t66 * _t71 + _t75 * _t79
-    _t81 = _t0 * _t48
-    _t82 = -_t12 * _t81 + _t52 * _t6
-    _t83 = _t47 * _t6 - _t81 * _t9
-    _t84 = _t20 * _t6 + _t4 * _t48
-    _t85 = -_t27 * _t42 + _t28 * _t41 * _t5
-    _t86 = _t28 * _t5 * _t50 - _t39 * _t42
-    _t87 = _t29 * _t54 - _t38 * _t42
-    _t88 = _t5 * _t65 * _t74 - _t64 * _t75
-    _t89 = _t5 * _t65 * _t77 - _t72 * _t75
-    _t90 = _t66 * _t79 - _t71 * _t75
-    _t91 = _t0 * _t2
-    _t92 = _t17 * _t91 + _t48 * (_t0 * _t14 + _t16) + _t7 * _t9
-    _t93 = _t12 * _t7 + _t13 * _t91 + _t48 * (-_t0 * _t18 - _t0 * _t19)
-    _t94 = -_t3 * _t4 + _t44 + _t48 * (_t12 * _t19 * _t4 - _t46 * _t9)
-    _t95 = _t13 * _t2
-    _t96 = _t12 * _t22
-    _t97 = -_t33
-    _t98 = _t24 * _t95 + _t29 * _t96 + _t42 * (_t34 * _t36 - _t37 * _t97)
-    _t99 = _t27 * _t3 + _t29 * _t97 + _t42 * (_t12 * _t22 * _t37 - _t36 * _t40)
-    _t100 = _t29 * _t36 + _t3 * _t39 + _t42 * (-_t34 * _t96 + _t40 * _t97)
-    _t101 = -_t67
-    _t102 = -_t69
-    _t103 = _t101 * _t66 + _t3 * _t64 + _t75 * (-_t102 * _t73 + _t12 * _t59 * _t70)
-    _t104 = _t12 * _t59
-    _t105 = _t104 * _t66 + _t61 * _t95 + _t75 * (-_t101 * _t70 + _t102 * _t68)
-    _t106 = _t102 * _t66 + _t3 * _t72 + _t75 * (_t101 * _t73 - _t104 * _t68)
+    _t3 = casadi.cos(theta1)
+    _t4 = casadi.sin(alpha2)
+    _t5 = _t4 * casadi.cos(phi1)
+    _t6 = casadi.sin(phi1)
+    _t7 = casadi.cos(alpha1)
+    _t8 = casadi.cos(gamma)
+    _t9 = _t7 * _t8
+    _t10 = casadi.sin(gamma)
+    _t11 = _t0 * _t10
+    _t12 = -_t11 * _t3 - _t9
+    _t13 = _t1 * _t8
+    _t14 = _t0 * _t8
+    _t15 = _t10 * _t7 - _t14 * _t3
+    _t16 = _t1 * _t10 * _t15 - _t12 * _t13
+    _t17 = -_t0 * _t1 * _t2 + _t16 * _t4 * _t6 - _t3 * _t5
+    _t18 = casadi.cos(theta2)
+    _t19 = casadi.sqrt(3)
+    _t20 = casadi.sin(theta2)
+    _t21 = (1 / 2) * _t20
+    _t22 = _t21 * _t8
+    _t23 = (1 / 2) * _t18 - _t19 * _t22
+    _t24 = casadi.cos(phi2)
+    _t25 = _t24 * _t4
+    _t26 = (1 / 2) * _t10 * _t7
+    _t27 = _t19 * _t26
+    _t28 = (1 / 2) * _t18 * _t19
+    _t29 = _t0 * (_t21 + _t28 * _t8) - _t27
+    _t30 = -_t26
+    _t31 = _t0 * ((1 / 2) * _t18 * _t8 - _t19 * _t21) + _t30
+    _t32 = _t10 * _t20
+    _t33 = -_t22 - _t28
+    _t34 = -_t11 * _t18 - _t9
+    _t35 = _t31 * _t32 - _t33 * _t34
+    _t36 = _t4 * casadi.sin(phi2)
+    _t37 = _t2 * _t29 + _t23 * _t25 + _t35 * _t36
+    _t38 = _t1**2
+    _t39 = _t0 * _t10 * _t38 - _t12 * _t3
+    _t40 = _t4 * _t6
+    _t41 = _t13 * _t5 + _t15 * _t2 + _t39 * _t40
+    _t42 = _t23 * _t34 - _t29 * _t32
+    _t43 = _t2 * _t31 + _t25 * _t33 + _t36 * _t42
+    _t44 = _t1 * _t10
+    _t45 = -_t14 * _t38 + _t15 * _t3
+    _t46 = _t12 * _t2 + _t40 * _t45 + _t44 * _t5
+    _t47 = -_t23 * _t31 + _t29 * _t33
+    _t48 = _t2 * _t34 + _t25 * _t32 + _t36 * _t47
+    _t49 = casadi.sin(beta) ** 2
+    _t50 = casadi.cos(beta)
+    _t51 = (1 / 2) * _t49 - _t50**2
+    _t52 = casadi.cos(theta3)
+    _t53 = (1 / 2) * _t52
+    _t54 = casadi.sin(theta3)
+    _t55 = (1 / 2) * _t54
+    _t56 = _t55 * _t8
+    _t57 = _t19 * _t56 + _t53
+    _t58 = casadi.cos(phi3)
+    _t59 = _t4 * _t58
+    _t60 = _t0 * (-_t19 * _t53 * _t8 + _t55) + _t27
+    _t61 = _t0 * (_t19 * _t55 + _t53 * _t8) + _t30
+    _t62 = _t10 * _t54
+    _t63 = (1 / 2) * _t19 * _t52 - _t56
+    _t64 = -_t11 * _t52 - _t9
+    _t65 = _t61 * _t62 - _t63 * _t64
+    _t66 = _t4 * casadi.sin(phi3)
+    _t67 = _t2 * _t60 + _t57 * _t59 + _t65 * _t66
+    _t68 = _t57 * _t64 - _t60 * _t62
+    _t69 = _t2 * _t61 + _t59 * _t63 + _t66 * _t68
+    _t70 = -_t57 * _t61 + _t60 * _t63
+    _t71 = _t2 * _t64 + _t59 * _t62 + _t66 * _t70
+    _t72 = -_t40 * _t44 + _t45 * _t5
+    _t73 = -_t13 * _t40 + _t39 * _t5
+    _t74 = _t16 * _t5 + _t3 * _t40
+    _t75 = -_t23 * _t36 + _t24 * _t35 * _t4
+    _t76 = _t24 * _t4 * _t42 - _t33 * _t36
+    _t77 = _t25 * _t47 - _t32 * _t36
+    _t78 = _t4 * _t58 * _t65 - _t57 * _t66
+    _t79 = _t4 * _t58 * _t68 - _t63 * _t66
+    _t80 = _t59 * _t70 - _t62 * _t66
     residual = casadi.SX.zeros(3)
-    residual[0] = _t21 * _t43 + _t49 * _t51 + _t53 * _t55 + _t58
-    residual[1] = _t43 * _t76 + _t51 * _t78 + _t55 * _t80 + _t58
-    residual[2] = _t21 * _t76 + _t49 * _t78 + _t53 * _t80 + _t58
+    residual[0] = _t17 * _t37 + _t41 * _t43 + _t46 * _t48 + _t51
+    residual[1] = _t37 * _t67 + _t43 * _t69 + _t48 * _t71 + _t51
+    residual[2] = _t17 * _t67 + _t41 * _t69 + _t46 * _t71 + _t51
     jacobian = casadi.SX.zeros(3, 3)
-    jacobian[0, 0] = _t43 * _t84 + _t51 * _t83 + _t55 * _t82
-    jacobian[0, 1] = _t21 * _t85 + _t49 * _t86 + _t53 * _t87
-    jacobian[1, 1] = _t76 * _t85 + _t78 * _t86 + _t80 * _t87
-    jacobian[1, 2] = _t43 * _t88 + _t51 * _t89 + _t55 * _t90
-    jacobian[2, 0] = _t76 * _t84 + _t78 * _t83 + _t80 * _t82
-    jacobian[2, 2] = _t21 * _t88 + _t49 * _t89 + _t53 * _t90
-    jacobian_actuated = casadi.SX.zeros(3, 3)
-    jacobian_actuated[0, 0] = _t43 * _t94 + _t51 * _t92 + _t55 * _t93
-    jacobian_actuated[0, 1] = _t100 * _t49 + _t21 * _t99 + _t53 * _t98
-    jacobian_actuated[1, 1] = _t100 * _t78 + _t76 * _t99 + _t80 * _t98
-    jacobian_actuated[1, 2] = _t103 * _t43 + _t105 * _t55 + _t106 * _t51
-    jacobian_actuated[2, 0] = _t76 * _t94 + _t78 * _t92 + _t80 * _t93
-    jacobian_actuated[2, 2] = _t103 * _t21 + _t105 * _t53 + _t106 * _t49
+    jacobian[0, 0] = _t37 * _t74 + _t43 * _t73 + _t48 * _t72
+    jacobian[0, 1] = _t17 * _t75 + _t41 * _t76 + _t46 * _t77
+    jacobian[1, 1] = _t67 * _t75 + _t69 * _t76 + _t71 * _t77
+    jacobian[1, 2] = _t37 * _t78 + _t43 * _t79 + _t48 * _t80
+    jacobian[2, 0] = _t67 * _t74 + _t69 * _t73 + _t71 * _t72
+    jacobian[2, 2] = _t17 * _t78 + _t41 * _t79 + _t46 * _t80
     alignment = casadi.SX.zeros(1)
     alignment[0] = (
         (2 / 9)
-        * _t23
+        * _t19
         * (
-            _t21 * (_t51 * _t80 - _t55 * _t78)
-            + _t49 * (-_t43 * _t80 + _t55 * _t76)
-            + _t53 * (_t43 * _t78 - _t51 * _t76)
+            _t17 * (_t43 * _t71 - _t48 * _t69)
+            + _t41 * (-_t37 * _t71 + _t48 * _t67)
+            + _t46 * (_t37 * _t69 - _t43 * _t67)
         )
-        / (_t56 * _t57)
+        / (_t49 * _t50)
     )
     return casadi.Function(
         "loop_closure",
@@ -288,7 +256,6 @@ def loop_closure() -> casadi.Function:
         [
             residual,
             jacobian,
-            jacobian_actuated,
             alignment,
         ],
         [
@@ -299,8 +266,135 @@ def loop_closure() -> casadi.Function:
         [
             "residual",
             "jacobian",
-            "jacobian_actuated",
             "alignment",
+        ],
+    )
+
+
+def loop_closure_actuated() -> casadi.Function:
+    """Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).
+
+    Operations: 274.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 4)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    phi1 = passive[0]
+    phi2 = passive[1]
+    phi3 = passive[2]
+    alpha1 = params[0]
+    alpha2 = params[1]
+    gamma = params[3]
+    _t0 = casadi.cos(gamma)
+    _t1 = casadi.sin(theta1)
+    _t2 = casadi.sin(alpha1)
+    _t3 = casadi.cos(alpha2)
+    _t4 = _t2 * _t3
+    _t5 = _t1 * _t4
+    _t6 = casadi.cos(theta1)
+    _t7 = casadi.sin(alpha2)
+    _t8 = _t7 * casadi.cos(phi1)
+    _t9 = _t6 * _t8
+    _t10 = casadi.sin(gamma)
+    _t11 = _t10 * _t2
+    _t12 = _t11 * _t6
+    _t13 = casadi.cos(alpha1)
+    _t14 = _t0 * _t13
+    _t15 = -_t12 - _t14
+    _t16 = _t1 * _t15
+    _t17 = casadi.sin(phi1)
+    _t18 = _t17 * _t7
+    _t19 = _t0 * _t5 + _t0 * _t9 + _t18 * (_t1 * _t12 + _t16)
+    _t20 = casadi.sin(theta2)
+    _t21 = (1 / 2) * _t20
+    _t22 = _t0 * _t21
+    _t23 = casadi.sqrt(3)
+    _t24 = casadi.cos(theta2)
+    _t25 = (1 / 2) * _t23 * _t24
+    _t26 = -_t22 - _t25
+    _t27 = _t7 * casadi.cos(phi2)
+    _t28 = (1 / 2) * _t10 * _t13
+    _t29 = -_t28
+    _t30 = -1 / 2 * _t0 * _t24 + _t21 * _t23
+    _t31 = -_t2 * _t30 + _t29
+    _t32 = -_t22 * _t23 + (1 / 2) * _t24
+    _t33 = -_t11 * _t24 - _t14
+    _t34 = _t23 * _t28
+    _t35 = _t0 * _t25 + _t21
+    _t36 = _t2 * _t35 - _t34
+    _t37 = _t10 * _t20
+    _t38 = _t7 * casadi.sin(phi2)
+    _t39 = _t26 * _t27 + _t3 * _t31 + _t38 * (_t32 * _t33 - _t36 * _t37)
+    _t40 = _t11 * _t3
+    _t41 = _t2 * _t6
+    _t42 = _t0 * _t41
+    _t43 = _t10 * _t13 - _t42
+    _t44 = _t1 * _t40 + _t10 * _t9 + _t18 * (-_t1 * _t42 - _t1 * _t43)
+    _t45 = _t27 * _t37 + _t3 * _t33 + _t38 * (_t26 * _t36 - _t31 * _t32)
+    _t46 = _t1 * _t8
+    _t47 = _t15 * _t6
+    _t48 = _t18 * (-_t0 * _t47 + _t10 * _t43 * _t6) - _t3 * _t41 + _t46
+    _t49 = _t27 * _t32 + _t3 * _t36 + _t38 * (-_t26 * _t33 + _t31 * _t37)
+    _t50 = _t1**2
+    _t51 = _t10 * _t46 + _t15 * _t3 + _t18 * (-_t0 * _t2 * _t50 + _t43 * _t6)
+    _t52 = _t10 * _t24
+    _t53 = -_t35
+    _t54 = _t20 * _t40 + _t27 * _t52 + _t38 * (_t30 * _t36 - _t31 * _t53)
+    _t55 = _t17 * _t7 * (-_t0 * _t16 + _t1 * _t10 * _t43) - _t5 - _t9
+    _t56 = _t27 * _t53 + _t32 * _t4 + _t38 * (_t10 * _t24 * _t31 - _t30 * _t33)
+    _t57 = _t0 * _t46 + _t18 * (_t10 * _t2 * _t50 - _t47) + _t3 * _t43
+    _t58 = _t26 * _t4 + _t27 * _t30 + _t38 * (_t33 * _t53 - _t36 * _t52)
+    _t59 = casadi.cos(theta3)
+    _t60 = (1 / 2) * _t59
+    _t61 = casadi.sin(theta3)
+    _t62 = (1 / 2) * _t61
+    _t63 = _t0 * _t62
+    _t64 = _t23 * _t63 + _t60
+    _t65 = _t7 * casadi.cos(phi3)
+    _t66 = -_t0 * _t23 * _t60 + _t62
+    _t67 = _t2 * _t66 + _t34
+    _t68 = _t0 * _t60 + _t23 * _t62
+    _t69 = _t2 * _t68 + _t29
+    _t70 = _t10 * _t61
+    _t71 = (1 / 2) * _t23 * _t59 - _t63
+    _t72 = -_t11 * _t59 - _t14
+    _t73 = _t7 * casadi.sin(phi3)
+    _t74 = _t3 * _t67 + _t64 * _t65 + _t73 * (_t69 * _t70 - _t71 * _t72)
+    _t75 = _t3 * _t72 + _t65 * _t70 + _t73 * (-_t64 * _t69 + _t67 * _t71)
+    _t76 = _t3 * _t69 + _t65 * _t71 + _t73 * (_t64 * _t72 - _t67 * _t70)
+    _t77 = -_t66
+    _t78 = -_t68
+    _t79 = _t4 * _t64 + _t65 * _t77 + _t73 * (_t10 * _t59 * _t69 - _t72 * _t78)
+    _t80 = _t10 * _t59
+    _t81 = _t40 * _t61 + _t65 * _t80 + _t73 * (_t67 * _t78 - _t69 * _t77)
+    _t82 = _t4 * _t71 + _t65 * _t78 + _t73 * (-_t67 * _t80 + _t72 * _t77)
+    jacobian_actuated = casadi.SX.zeros(3, 3)
+    jacobian_actuated[0, 0] = _t19 * _t39 + _t44 * _t45 + _t48 * _t49
+    jacobian_actuated[0, 1] = _t51 * _t54 + _t55 * _t56 + _t57 * _t58
+    jacobian_actuated[1, 1] = _t54 * _t75 + _t56 * _t74 + _t58 * _t76
+    jacobian_actuated[1, 2] = _t39 * _t82 + _t45 * _t81 + _t49 * _t79
+    jacobian_actuated[2, 0] = _t19 * _t76 + _t44 * _t75 + _t48 * _t74
+    jacobian_actuated[2, 2] = _t51 * _t81 + _t55 * _t79 + _t57 * _t82
+    return casadi.Function(
+        "loop_closure_actuated",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            jacobian_actuated,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "jacobian_actuated",
         ],
     )
 
@@ -3397,6 +3491,7 @@ def forward_back_substitution() -> casadi.Function:
 BUILDERS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
+    "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
     "inverse_pose": inverse_pose,

@@ -2,7 +2,8 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 204
-//   loop_closure: 379
+//   loop_closure: 267
+//   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
 //   inverse_pose: 420
@@ -39,12 +40,11 @@ int platform_pose_batch(long long n, const double** inputs, const long long* str
 
 int loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
-    casadi_real* res[4];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[67 + 1];
+    casadi_real w[46 + 1];
     casadi_real out_residual[3];
     casadi_real out_jacobian[9];
-    casadi_real out_jacobian_actuated[9];
     casadi_real out_alignment[1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -52,8 +52,7 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_residual;
         res[1] = out_jacobian;
-        res[2] = out_jacobian_actuated;
-        res[3] = out_alignment;
+        res[2] = out_alignment;
         if (loop_closure(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
@@ -61,12 +60,28 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[1][i * 9 + r * 3 + c] = out_jacobian[c * 3 + r];
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c)
-                outputs[2][i * 9 + r * 3 + c] = out_jacobian_actuated[c * 3 + r];
         for (int r = 0; r < 1; ++r)
             for (int c = 0; c < 1; ++c)
-                outputs[3][i * 1 + r * 1 + c] = out_alignment[c * 1 + r];
+                outputs[2][i * 1 + r * 1 + c] = out_alignment[c * 1 + r];
+    }
+    return 0;
+}
+
+int loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[1];
+    casadi_int iw[0 + 1];
+    casadi_real w[52 + 1];
+    casadi_real out_jacobian_actuated[9];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_jacobian_actuated;
+        if (loop_closure_actuated(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                outputs[0][i * 9 + r * 3 + c] = out_jacobian_actuated[c * 3 + r];
     }
     return 0;
 }
@@ -225,9 +240,9 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
                          double* passive, double* pose, double* residual_norm, int* iterations,
                          int* status) {
     const casadi_real* arg[3];
-    casadi_real* res[4];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[67 + 1];
+    casadi_real w[46 + 1];
     double residual[NQ], jacobian_cm[NQ * NQ], jacobian[NQ * NQ], pose_cm[16], alignment[1];
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
@@ -242,10 +257,10 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
         if (!finite) continue;
         arg[0] = theta; arg[1] = q; arg[2] = params;
         // outputs not needed here stay NULL: CasADi then skips computing them
-        for (int k = 0; k < 4; ++k) res[k] = 0;
+        for (int k = 0; k < 3; ++k) res[k] = 0;
         res[0] = residual;
         res[1] = jacobian_cm;
-        res[3] = alignment;
+        res[2] = alignment;
         for (int it = 0; it <= max_iterations; ++it) {
             loop_closure(arg, res, iw, w, 0);
             double norm = 0.0;

@@ -261,14 +261,15 @@ def derive(mechanism: Mechanism) -> Derivation:
         ),
         Program(
             "loop_closure",
-            "Loop-closure residual, its Jacobians with respect to the passive and the actuated variables, and the alignment measures (positive at a true closure).",
+            "Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.",
             state,
-            [
-                ("residual", residual),
-                ("jacobian", jacobian_passive),
-                ("jacobian_actuated", jacobian_actuated),
-                ("alignment", closed.alignment),
-            ],
+            [("residual", residual), ("jacobian", jacobian_passive), ("alignment", closed.alignment)],
+        ),
+        Program(
+            "loop_closure_actuated",
+            "Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).",
+            state,
+            [("jacobian_actuated", jacobian_actuated)],
         ),
         closed.rate_program,
         Program(

@@ -373,8 +373,9 @@ class Mechanism:
         theta, passive = self._state(state)
         rates = np.asarray(actuated_rates, dtype=float)
         out = self.backend.call("loop_closure", theta, passive, self.params)
+        actuated_jacobian = self.backend.call("loop_closure_actuated", theta, passive, self.params)["jacobian_actuated"]
         self._check_conditioning(out["jacobian"], "loop-closure Jacobian", "a type II (parallel) singularity")
-        right = -(out["jacobian_actuated"] @ rates[..., None])
+        right = -(actuated_jacobian @ rates[..., None])
         return np.asarray(np.linalg.solve(out["jacobian"], right)[..., 0], dtype=np.float64)
 
     def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
