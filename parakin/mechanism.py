@@ -208,9 +208,10 @@ class Mechanism:
         SingularConfigurationError.
         """
         theta = self._actuated(actuated)
-        start = np.broadcast_to(self._passive_guess(theta, guess), theta.shape[:-1] + self.home_passive.shape)
-        start = np.broadcast_to(start, np.broadcast_shapes(start.shape, theta.shape[:-1] + (start.shape[-1],)))
-        theta = np.broadcast_to(theta, start.shape[:-1] + theta.shape[-1:])
+        guess_passive = self._passive_guess(theta, guess)
+        batch = np.broadcast_shapes(theta.shape[:-1], guess_passive.shape[:-1])
+        start = np.broadcast_to(guess_passive, batch + guess_passive.shape[-1:])
+        theta = np.broadcast_to(theta, batch + theta.shape[-1:])
         if self.backend.name == "compiled":
             passive, pose, residual, iterations, status = self._newton_compiled(
                 theta, start, tolerance, max_iterations, max_step

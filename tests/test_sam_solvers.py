@@ -204,3 +204,12 @@ def test_xyz_euler_round_trip():
         np.abs(parakin.pose_from_xyz_euler_deg([0, 0, 0, 90, 0, 0])[:3, :3] - [[0, -1, 0], [1, 0, 0], [0, 0, 1]]).max()
         < 1e-15
     )
+
+
+def test_one_actuated_set_with_a_batch_of_guesses(sam):
+    """Broadcasting between actuated values and guesses: one input, several starts."""
+    config = sam.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])).branch(2)
+    guesses = config.passive + np.random.default_rng(13).normal(0, 0.01, (4, 6))
+    result = sam.forward_pose(config.actuated, guess=guesses)
+    assert result.pose.shape == (4, 4, 4)
+    assert np.abs(result.pose - config.pose).max() < 1e-10
