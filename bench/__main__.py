@@ -17,6 +17,7 @@ import scipy.optimize
 import sympy as sp
 
 import parakin
+from bench import gough
 from generator.build import generate
 
 BATCHES = [1, 1000, 100_000]
@@ -224,6 +225,7 @@ def main() -> None:
         record("tracker.solve (1 kHz step)", "compiled", batch, best_time(solve), base_forward)
 
     rows += spm_rows()
+    gough.rows(record)
 
     print(
         "benchmark (baseline: sympy.lambdify of the same equations + scipy.optimize.root; for all modes,\n"

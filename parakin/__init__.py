@@ -79,7 +79,14 @@ def load(
         if key not in info["passive"]:
             raise UnknownMechanismError(f"unknown limit {key!r} for {name!r}; valid: {info['passive']}")
         bounds[key] = (float(bound[0]), float(bound[1]))
-    return Mechanism(info, make_backend(name, backend), values, bounds)
+    mechanism = Mechanism(info, make_backend(name, backend), values, bounds)
+    if name in LOAD_CHECKS:
+        LOAD_CHECKS[name](mechanism)  # e.g. warn about an architecturally singular geometry
+    return mechanism
+
+
+#: checks run on every load of a mechanism: a warning for a geometry that is unusable as a whole
+LOAD_CHECKS: dict[str, Any] = {"gough": lambda m: importlib.import_module("parakin.architecture").warn_if_singular(m)}
 
 
 def symbolic(name: str) -> dict[str, Any]:

@@ -46,4 +46,11 @@ def spm_modes_on_sphere(path: str, actuated_deg: list[float] | None = None) -> N
     plt.close(figure)
 
 
-PLOTS: dict[str, Callable[..., None]] = {"spm": spm_modes_on_sphere}
+def gough_self_motion(path: str, actuated_deg: list[float] | None = None) -> None:
+    """Kong & Gosselin Fig. 2 (section 5.4 self-motion); the inputs are the paper's lengths."""
+    from parakin import plots_gough
+
+    plots_gough.plot(path)
+
+
+PLOTS: dict[str, Callable[..., None]] = {"spm": spm_modes_on_sphere, "gough": gough_self_motion}

@@ -1,0 +1,259 @@
+"""6-SPS (Gough-Stewart) platform with linearly related planar base and platform (PMlpp), after
+Kong & Gosselin, "Generation of architecturally singular 6-SPS parallel manipulators with linearly
+related planar platforms" (``shared/papers/004_407e258733e8e5c8.txt``).
+
+Frames and conventions (paper section 2; SI, radians):
+* {B}: origin O = A1, base plane z = 0, A_i = (xA_i, yA_i, 0), i = 2..6. The paper also puts X
+  through A2 (yA2 = 0), but its own section 5.4 example has yA2 = -5; nothing below needs it.
+* {P}: origin O_P = B1, platform plane z_P = 0. Eq (1): B_i^(P) = (t11 xA_i + t12 yA_i,
+  t22 yA_i, 0), t11 t22 != 0 (also true for i = 1: both points at the origin).
+* Pose ^B_P T: position p = O_P = B1 = (x, y, z) and R = [i_P j_P k_P] (columns: the platform
+  axes in {B}); B_i = p + R B_i^(P). Leg i joins A_i to B_i; the actuated variables are the leg
+  lengths l1..l6.
+* Passive variables (the Newton unknowns): x, y, z and the Z-Y-X Euler angles alpha, beta, gamma
+  of R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), as everywhere in parakin. The parametrisation is
+  singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
+  platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
+* Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
+* Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
+  d_i), d_i = B_i - A_i (moment about the origin of {P}, since the twist is (v of O_P, w) in {B}),
+  and B = diag(l_i). det A = prod(l_i) det J, J the unit-line Pluecker matrix (rows s_i, moments
+  about O_P; the same determinant as with moments about O). det A = 0: type II singularity.
+* Forward pose (paper section 3 with the procedure of sections 5.1-5.3, u3 known): the linear
+  system (8) M u = L in u1..u5 (Cramer: adj(M) L / det M), i_x = -u3 / t11, j_x and j_y affine in
+  i_y (eqs 19-22), the quartic (23) in i_y, then i_z = sigma sqrt(1 - i_x^2 - i_y^2) (24) and j_z
+  with i_z j_z = -(i_x j_x + i_y j_y) (25, written without the division by i_z), and the position
+  from (9), (10), (5) as a line-sphere intersection p = p0 + tau h d (the same equations as (26),
+  (27) without Q^-1, which fails when the solution line is parallel to the base). 4 roots x 2 x 2
+  = 16 complex candidates; real ones come in mirror pairs through the base plane (at most 8).
+* Architecture: det M (eq 14) is a polynomial of degree 8 in the base coordinates, equal to the
+  6-point conic determinant with A1 = O; it vanishes iff A1..A6 lie on a conic (eq 15). Then
+  M u = L has a one-parameter family of solutions and the platform has a self-motion
+  (``parakin.architecture``); ``forward_pose_all`` reports the degeneracy ``base_points_on_a_conic``.
+* Defaults: section 5.4, xA2..xA6 = 5, 9, 10, 9, 5, yA2..yA6 = -5, -3, 0, 3, 5, t11 = t12 = t22 = 1
+  (the paper gives no unit: read as metres). This example is architecturally singular (base on
+  (x - 5)^2 + y^2 = 25): load a non-conic base for a usable manipulator.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from generator.frames import euler_zyx_rotation, homogeneous
+from generator.model import (
+    POSE_POSITION,
+    POSE_ROTATION,
+    ClosureModel,
+    ForwardElimination,
+    InverseSolution,
+    Mechanism,
+    RateModel,
+)
+
+XA = sp.symbols("xA2:7", real=True)
+YA = sp.symbols("yA2:7", real=True)
+t11, t12, t22 = sp.symbols("t11 t12 t22", real=True)
+lengths = sp.symbols("l1:7", positive=True)
+x, y, z = sp.symbols("x y z", real=True)
+alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
+u = sp.symbols("u1:6", real=True)
+
+#: section 5.4 (A2..A6, then t11, t12, t22)
+SECTION_54_BASE = [(5.0, -5.0), (9.0, -3.0), (10.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
+SECTION_54_T = (1.0, 1.0, 1.0)
+#: section 5.4: the locked inputs, printed to two decimals
+SECTION_54_LENGTHS = [33.17, 32.02, 35.12, 37.57, 39.01, 38.32]
+
+
+def base_points() -> list[sp.Matrix]:
+    """A_1..A_6 in {B} (A_1 = O)."""
+    return [sp.zeros(3, 1)] + [sp.Matrix([XA[k], YA[k], 0]) for k in range(5)]
+
+
+def platform_points() -> list[sp.Matrix]:
+    """B_1^(P)..B_6^(P) in {P}, eq (1)."""
+    return [sp.zeros(3, 1)] + [sp.Matrix([t11 * XA[k] + t12 * YA[k], t22 * YA[k], 0]) for k in range(5)]
+
+
+def system8_matrix() -> sp.Matrix:
+    """The 5x5 coefficient matrix of eq (8): rows [x, y, x^2, y^2, x y] of A_2..A_6."""
+    return sp.Matrix([[XA[k], YA[k], XA[k] ** 2, YA[k] ** 2, XA[k] * YA[k]] for k in range(5)])
+
+
+def system8_rhs() -> sp.Matrix:
+    """L_i of eq (7), i = 2..6."""
+    rows = []
+    for k, b in enumerate(platform_points()[1:]):
+        rows.append((lengths[k + 1] ** 2 - b[0] ** 2 - b[1] ** 2 - XA[k] ** 2 - YA[k] ** 2 - lengths[0] ** 2) / 2)
+    return sp.Matrix(rows)
+
+
+def conic_matrix() -> sp.Matrix:
+    """Rows [1, x, y, x^2, y^2, x y] of A_1..A_6: det = 0 iff the six base points lie on a conic."""
+    points = [(0, 0)] + list(zip(XA, YA, strict=True))
+    return sp.Matrix([[1, px, py, px**2, py**2, px * py] for px, py in points])
+
+
+def _determinant(matrix: sp.Matrix) -> sp.Expr:
+    """det of a 6x6 matrix by the generalised Laplace expansion over its first three columns:
+    20 products of 3x3 minors, compact enough to emit without expansion."""
+    import itertools
+
+    total = sp.Integer(0)
+    rows = range(matrix.rows)
+    for chosen in itertools.combinations(rows, 3):
+        rest = [r for r in rows if r not in chosen]
+        sign = (-1) ** (sum(chosen) + 0 + 1 + 2)
+        total += sign * _det3(matrix.extract(list(chosen), [0, 1, 2])) * _det3(matrix.extract(rest, [3, 4, 5]))
+    return total
+
+
+def _det3(m: sp.Matrix) -> sp.Expr:
+    """3x3 determinant as written (no simplification)."""
+    return (
+        m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1])
+        - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+        + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0])
+    )
+
+
+def leg_vectors(rotation: sp.Matrix, position: sp.Matrix) -> list[sp.Matrix]:
+    """d_i = B_i - A_i = p + R B_i^(P) - A_i."""
+    return [position + rotation * b - a for a, b in zip(base_points(), platform_points(), strict=True)]
+
+
+def inverse() -> InverseSolution:
+    """l_i = |p + R B_i^(P) - A_i|; the passive pose coordinates read off ^B_P T."""
+    steps: list[tuple[sp.Symbol, sp.Expr]] = []
+    for k, d in enumerate(leg_vectors(POSE_ROTATION, POSE_POSITION)):
+        steps.append((lengths[k], sp.sqrt(d.dot(d))))
+    r = POSE_ROTATION
+    steps += [
+        (x, POSE_POSITION[0]),
+        (y, POSE_POSITION[1]),
+        (z, POSE_POSITION[2]),
+        (alpha, sp.atan2(r[1, 0], r[0, 0])),
+        (beta, sp.atan2(-r[2, 0], sp.sqrt(r[0, 0] ** 2 + r[1, 0] ** 2))),
+        (gamma, sp.atan2(r[2, 1], r[2, 2])),
+    ]
+    return InverseSolution(steps, [], {f"leg{k + 1}_length": lengths[k] for k in range(6)})
+
+
+def forward() -> ForwardElimination:
+    matrix, rhs = system8_matrix(), system8_rhs()
+    det_m, scale2 = sp.symbols("det_M scale2", real=True)
+    big_l = sp.symbols("L2:7", real=True)
+    ix, iy, e1, e2, a1, a2 = sp.symbols("i_x i_y e1 e2 a1 a2", real=True)
+    adjugate = matrix.adjugate()
+    auxiliary: list[tuple[sp.Symbol, sp.Expr]] = [(big_l[k], rhs[k]) for k in range(5)]
+    auxiliary.append((det_m, sp.expand(matrix.det(method="berkowitz"))))
+    # eq (8) by Cramer's rule
+    auxiliary += [(u[j], sum(sp.expand(adjugate[j, k]) * big_l[k] for k in range(5)) / det_m) for j in range(5)]
+    auxiliary += [
+        (ix, -u[2] / t11),  # eq (11)
+        (e1, -t11 / t22),
+        (e2, -t12 / t22),
+        (a1, -(u[4] + t12 * ix) / t22),  # eq (20): j_x = e1 i_y + a1
+        (a2, -u[3] / t22),  # eq (19): j_y = e2 i_y + a2
+    ]
+    jx, jy = e1 * iy + a1, e2 * iy + a2
+    quartic = sp.Poly(sp.expand((1 - ix**2 - iy**2) * (1 - jx**2 - jy**2) - (ix * jx + iy * jy) ** 2), iy)
+    coefficients = [quartic.coeff_monomial(iy**k) for k in range(5)]  # eq (23), ascending
+
+    sigma, tau = sp.symbols("sigma tau", real=True)
+    names = "j_x j_y w_i w_j i_dot_j s_dot i_z j_z g11 g12 g22 det_G c1 c2 h2"
+    jx_s, jy_s, wi, wj, dot, sdot, iz, jz, g11, g12, g22, det_g, c1, c2, h2 = sp.symbols(names, real=True)
+    i_p = sp.Matrix([ix, iy, iz])
+    j_p = sp.Matrix([jx_s, jy_s, jz])
+    n1 = t11 * i_p - sp.Matrix([1, 0, 0])  # eq (9): n1 . p = u1
+    n2 = t12 * i_p + t22 * j_p - sp.Matrix([0, 1, 0])  # eq (10): n2 . p = u2
+    back = [
+        (jx_s, jx),
+        (jy_s, jy),
+        (wi, 1 - ix**2 - iy**2),
+        (wj, 1 - jx_s**2 - jy_s**2),
+        (dot, ix * jx_s + iy * jy_s),
+        (sdot, dot / sp.Max(sp.Abs(dot), 1e-300)),  # sign(dot); exactly 0 only at i_z = 0 = i.j
+        (iz, sigma * sp.sqrt(sp.Max(0, wi))),  # eq (24)
+        (jz, -sigma * sdot * sp.sqrt(sp.Max(0, wj))),  # eq (25): i_z j_z = -(i_x j_x + i_y j_y)
+        (g11, n1.dot(n1)),
+        (g12, n1.dot(n2)),
+        (g22, n2.dot(n2)),
+        (det_g, sp.Max(g11 * g22 - g12**2, 1e-300)),  # |n1 x n2|^2
+        (c1, (g22 * u[0] - g12 * u[1]) / det_g),
+        (c2, (g11 * u[1] - g12 * u[0]) / det_g),
+    ]
+    p0 = c1 * n1 + c2 * n2
+    back.append((h2, lengths[0] ** 2 - p0.dot(p0)))  # eq (5) on the line p0 + s (n1 x n2)
+    position = p0 + tau * sp.sqrt(sp.Max(0, h2) / det_g) * n1.cross(n2)
+    # at a root i_P, j_P are orthonormal; Gram-Schmidt keeps the pose of a near-double root (or of
+    # a candidate that is no mode, rejected downstream by its leg residual) a rigid transform
+    i_n, j_t, j_n = sp.symbols("i_norm j_tangent j_norm", real=True)
+    back += [(i_n, sp.sqrt(sp.Max(i_p.dot(i_p), 1e-300))), (j_t, j_p.dot(i_p) / i_n)]
+    j_perp = j_p - j_t * i_p / i_n
+    back.append((j_n, sp.sqrt(sp.Max(j_perp.dot(j_perp), 1e-300))))
+    i_unit, j_unit = i_p / i_n, j_perp / j_n
+    pose = homogeneous(sp.Matrix.hstack(i_unit, j_unit, i_unit.cross(j_unit)), position)
+    # normalised det M (base coordinates over their RMS radius, then row norms): 0 on a conic
+    rows = [(XA[k] ** 2 + YA[k] ** 2) / scale2 + (XA[k] ** 2 + YA[k] ** 2) ** 2 / scale2**2 for k in range(5)]
+    auxiliary.insert(0, (scale2, sum(XA[k] ** 2 + YA[k] ** 2 for k in range(5)) / 5))
+    degeneracies = {
+        "base_points_on_a_conic": det_m / scale2**4 / sp.sqrt(sp.Mul(*rows)),
+        "platform_map_singular": t11 * t22,
+    }
+    return ForwardElimination(iy, coefficients, [sigma, tau], auxiliary, back, pose, degeneracies)
+
+
+def closure() -> ClosureModel:
+    rotation = euler_zyx_rotation(alpha, beta, gamma)
+    position = sp.Matrix([x, y, z])
+    residual = sp.Matrix([sp.sqrt(d.dot(d)) - lengths[k] for k, d in enumerate(leg_vectors(rotation, position))])
+    return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), homogeneous(rotation, position))
+
+
+def rate_matrix() -> sp.Matrix:
+    """A: rows (d_i ; (A_i - p) x d_i), the Pluecker coordinates of leg line i (unnormalised)."""
+    rotation = euler_zyx_rotation(alpha, beta, gamma)
+    position = sp.Matrix([x, y, z])
+    rows = []
+    for a, d in zip(base_points(), leg_vectors(rotation, position), strict=True):
+        rows.append(sp.Matrix.hstack(d.T, ((a - position).cross(d)).T))
+    return sp.Matrix.vstack(*rows)
+
+
+def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
+    """l_i l_dot_i = d_i . (v + w x (B_i - p)) = d_i . v + ((A_i - p) x d_i) . w."""
+    a = rate_matrix()
+    serial = {f"leg{k + 1}_length": lengths[k] for k in range(6)}
+    model = RateModel(twist=["vx", "vy", "vz", "wx", "wy", "wz"], a=a, b=sp.diag(*lengths), serial_factors=serial)
+    return model, {"leg_lines_dependent": _determinant(a)}
+
+
+def defaults() -> dict[sp.Symbol, float]:
+    values: dict[sp.Symbol, float] = {}
+    values.update({XA[k]: SECTION_54_BASE[k][0] for k in range(5)})
+    values.update({YA[k]: SECTION_54_BASE[k][1] for k in range(5)})
+    values.update(dict(zip((t11, t12, t22), SECTION_54_T, strict=True)))
+    return values
+
+
+def build() -> Mechanism:
+    rate_model, parallel = rates()
+    return Mechanism(
+        name="gough",
+        title="6-SPS platform with linearly related planar platforms (Kong & Gosselin)",
+        reference="shared/papers/004_407e258733e8e5c8.txt",
+        parameters=defaults(),
+        actuated=list(lengths),
+        passive=[x, y, z, alpha, beta, gamma],
+        legs=[],
+        inverse=inverse(),
+        forward=forward(),
+        home={**dict(zip(lengths, SECTION_54_LENGTHS, strict=True)), x: 0.0, y: 0.0, z: 30.0}
+        | {alpha: 0.0, beta: 0.0, gamma: 0.0},
+        angular=[alpha, beta, gamma],
+        parallel_factors=parallel,
+        closure=closure(),
+        rates=rate_model,
+        pose_kind="transform",
+    )
