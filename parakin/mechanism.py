@@ -462,6 +462,16 @@ class Mechanism:
             raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
 
     # ------------------------------------------------------------------ singularities
+    def is_architecturally_singular(self) -> bool:
+        """Whether this geometry is singular at every pose (a useless design), for mechanisms
+        that have such a test (the 6-SPS with linearly related platforms: base on a conic,
+        ``parakin.architecture``); False for the others, whose singularities depend on the pose."""
+        if self.name != "gough":
+            return False
+        from parakin import architecture
+
+        return architecture.is_architecturally_singular(self)
+
     def singularities(self, state: Configuration) -> dict[str, Array]:
         """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
         closed-loop matrix), then the determinants themselves; zero means singular."""

@@ -294,3 +294,15 @@ def test_pluecker_determinant_flags_architecture_and_type2(backend):
     a = usable.rate_jacobians(state)["a"]
     hadamard = np.prod(np.linalg.norm(a, axis=-1))
     assert abs(float(usable.singularities(state)["leg_lines_dependent"])) < 1e-12 * hadamard
+
+
+def test_mechanism_method_reports_architecture_singularity():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        singular = parakin.load("gough", backend="numpy")
+    assert singular.is_architecturally_singular()
+    usable = parakin.load("gough", backend="numpy", yA4=1.0)
+    assert not usable.is_architecturally_singular()
+    assert not parakin.load("sam", backend="numpy").is_architecturally_singular()
