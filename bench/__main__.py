@@ -17,7 +17,7 @@ import scipy.optimize
 import sympy as sp
 
 import parakin
-from bench import gough
+from bench import gough, sps
 from generator.build import generate
 
 BATCHES = [1, 1000, 100_000]
@@ -226,6 +226,7 @@ def main() -> None:
 
     rows += spm_rows()
     gough.rows(record)
+    sps.rows(record)
 
     print(
         "benchmark (baseline: sympy.lambdify of the same equations + scipy.optimize.root; for all modes,\n"

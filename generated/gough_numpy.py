@@ -83,6 +83,7 @@ MECHANISM = {
         "branches": ["sigma", "tau"],
         "combinations": [[1, 1], [1, -1], [-1, 1], [-1, -1]],
         "degeneracies": ["base_points_on_a_conic", "platform_map_singular"],
+        "imaginary_tolerance": 1e-07,
     },
 }
 

@@ -99,6 +99,7 @@ MECHANISM = {
         "branches": ["sigma"],
         "combinations": [[1], [-1]],
         "degeneracies": ["u_joint_axes_parallel", "legs_parallel_to_platform"],
+        "imaginary_tolerance": 1e-07,
     },
 }
 

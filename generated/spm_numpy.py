@@ -73,6 +73,7 @@ MECHANISM = {
         "branches": ["tau"],
         "combinations": [[1], [-1]],
         "degeneracies": [],
+        "imaginary_tolerance": 1e-07,
     },
 }
 

@@ -6,8 +6,10 @@ SymPy objects for inspection. Conventions: Jacobians give (v, w) of the origin o
 
 from __future__ import annotations
 
+import functools
 import itertools
 import random
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mpmath
@@ -166,9 +168,17 @@ def _random_pose(rng: random.Random) -> list:
     return [c for row in rotation for c in row] + position
 
 
+@functools.cache
+def _compiled(expr: sp.Expr) -> tuple[tuple[sp.Symbol, ...], Callable]:
+    """lambdify once per expression: the random-pose checks evaluate the same inverse steps for
+    every sample (and a mechanism with narrow validity, e.g. actuator strokes, draws hundreds)."""
+    symbols = tuple(sorted(expr.free_symbols, key=sp.default_sort_key))
+    return symbols, sp.lambdify(symbols, expr, modules="mpmath")
+
+
 def _evaluate(expr: sp.Expr, values: dict) -> mpmath.mpf:
-    symbols = sorted(expr.free_symbols, key=sp.default_sort_key)
-    return sp.lambdify(symbols, expr, modules="mpmath")(*[values[s] for s in symbols])
+    symbols, function = _compiled(expr)
+    return function(*[values[s] for s in symbols])
 
 
 def _inverse_function(mechanism: Mechanism, parameters: dict | None = None):
@@ -365,6 +375,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             "branches": [str(b) for b in forward.branches],
             "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(forward.branches))],
             "degeneracies": list(forward.degeneracies),
+            "imaginary_tolerance": forward.imaginary_tolerance,
         }
         symbolic["forward_polynomial"] = sp.Add(*(c * forward.unknown**k for k, c in enumerate(forward.coefficients)))
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))

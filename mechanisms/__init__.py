@@ -1,3 +1,3 @@
 """Mechanism definitions: one module per mechanism, each exposing ``build() -> Mechanism``."""
 
-MECHANISMS = ["sam", "spm", "gough"]
+MECHANISMS = ["sam", "spm", "sps", "gough"]

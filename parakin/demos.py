@@ -7,7 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 import parakin
-from parakin import demos_gough
+from parakin import demos_gough, demos_sps
 from parakin.errors import SingularConfigurationError
 from parakin.pose import pose_from_xyz_euler, xyz_euler_from_pose
 from parakin.results import Configuration
@@ -134,4 +134,4 @@ def spm() -> None:
     )
 
 
-DEMOS: dict[str, Callable[[], None]] = {"sam": sam, "spm": spm, "gough": demos_gough.demo}
+DEMOS: dict[str, Callable[[], None]] = {"sam": sam, "spm": spm, "sps": demos_sps.demo, "gough": demos_gough.demo}

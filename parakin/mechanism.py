@@ -318,7 +318,7 @@ class Mechanism:
                 f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
                 "the platform is not determined by the actuators here"
             )
-        roots, real = real_roots(out["coefficients"])
+        roots, real = real_roots(out["coefficients"], info.get("imaginary_tolerance", 1e-7))
         combinations = np.array(info["combinations"], dtype=float)
         n_roots, n_branches = roots.shape[-1], combinations.shape[0]
         root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]

@@ -53,4 +53,15 @@ def gough_self_motion(path: str, actuated_deg: list[float] | None = None) -> Non
     plots_gough.plot(path)
 
 
-PLOTS: dict[str, Callable[..., None]] = {"spm": spm_modes_on_sphere, "gough": gough_self_motion}
+def sps_closure_function(path: str, actuated_deg: list[float] | None = None) -> None:
+    """Knapczyk & Tora section 5: F(v) over [-1, 1] with its roots, and the configurations."""
+    from parakin import plots_sps
+
+    plots_sps.plot(path)
+
+
+PLOTS: dict[str, Callable[..., None]] = {
+    "spm": spm_modes_on_sphere,
+    "sps": sps_closure_function,
+    "gough": gough_self_motion,
+}

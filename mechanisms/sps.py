@@ -1,0 +1,370 @@
+"""The 3(SPS)-S spherical platform of Knapczyk and Tora (``shared/papers/002_91f1e7509f31240b.txt``):
+an orienting platform on a central spherical joint Q, driven by three linear actuators A_i B_i.
+
+Frames and conventions (SI, radians), as in section 2 of the paper:
+* {B} and {P} both have their origin at Q (pose_kind 'rotation': ^B_P T has zero translation).
+  x_b points from Q to A1 and y_b lies in the plane Q A1 A2 (A2 on the +y side); x_p points from Q
+  to B1 and y_p lies in the plane Q B1 B2 (B2 on the +y side). So a1 = (a1x, 0, 0),
+  a2 = (a2x, a2y, 0) with a2y > 0, a3 = (a3x, a3y, a3z), and the platform points are fixed by
+  |QB_i| = b_i and |B_i B_j| = b_ij: b1p = b1 (1, 0, 0), b2p = b2 (q12, sqrt(1 - q12^2), 0),
+  b3p = b3 (q13, (q23 - q12 q13) / s, chi sqrt(D3) / s) with s = sqrt(1 - q12^2), q_ij the cosines
+  of eq (1c) and D3 their Gram determinant (eq 5). The distances do not fix the handedness chi of
+  the platform (the sign of det[b1p b2p b3p]); chi = -1 reproduces the paper's printed b_3.
+* Orientation: b_i = R b_ip (eq 8) with the Euler set of eq (9), R = Rx(alpha) Ry(beta) Rx(gamma)
+  (Craig's X'-Y'-X' set; the paper's text calls it "R_{y',y',y'}", a typo). The passive
+  variables are (alpha, beta, gamma). Inverse branch sigma = sign(sin beta): the two Euler triples
+  of one rotation; both give the same leg lengths. sin beta = 0 is a singularity of the Euler set
+  only (validity ``euler_angles_regular``).
+* Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7). Their strokes d_i_min < d_i < d_i_max
+  (section 5) are the validity conditions ``leg{i}_stroke_reachable`` of the inverse pose.
+  k1..k3 (N/m, section 5) are the actuator stiffnesses, delta f_i = k_i delta d_i with f_i > 0
+  a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i); the kinematics do
+  not use them (statics: ``parakin.demos_sps``).
+* Loop closure: g_i = a_i^2 + b_i^2 - 2 a_i . R b_ip - d_i^2 = 0 (eq 7), square in (alpha, beta,
+  gamma). Its passive Jacobian is U_omega (eq 11a) and its actuated Jacobian W = -2 diag(d) (eq
+  12), so the closure's passive rates are J_omega^-1 = -U_omega^-1 W (eq 17 lacks the minus sign).
+  R(alpha, beta, gamma) is always a proper rotation, so every zero of g is a true closure: the
+  alignment output is the constant 1 (there is no mirror or half-turn to reject).
+* Rates (A omega = B d_dot, omega in {B}): d_i d_i_dot = (a_i x b_i) . omega, so A has rows
+  (a_i x b_i)^T and B = diag(d_i). det A = det[a_i x b_i] vanishes at the type II singularities
+  (the three leg moment vectors about Q coplanar); det U_omega = 8 sin(beta) det[b_i x a_i].
+* Forward pose (eqs 2-6): v = a2o . b1o (eq 2). Eq (3) gives b1o and eq (4) b2o with the roots
+  r1 = s1 sqrt(D1), r2 = s2 sqrt(D2) (the printed "1/2 sqrt(D1)", "1/2 sqrt(D2)" read +-sqrt);
+  the sign in eq (5) is not a branch: sqrt(D3) enters as chi sqrt(D3), a platform constant.
+  G = s12^2 (1 - v^2)(1 - q12^2) F(v) = A + B r1 + C r2 + E r1 r2 with A, B, C, E of degree
+  3, 2, 2, 1 in v; the product over the four sign pairs, N = X^2 - 4 D1 Y^2 (X = A^2 + B^2 D1 -
+  C^2 D2 - E^2 D1 D2, Y = A B - C E D2), has degree 12 and the factor (v^2 - 1)^2; the quotient is
+  the degree-8 forward polynomial (8 = the Bezout number of the quaternion formulation). For each
+  root and sign pair (s1, s2) the back substitution builds b1o, b2o and R, then takes six gated
+  Cayley-Newton steps on the leg equations, which makes roots near a branch point (D1 or D2 ~ 0,
+  where v is ill-conditioned) accurate; extraneous sign pairs mostly do not close and are dropped
+  by the runtime, but one within reach of another configuration is polished into it (a duplicate,
+  dropped), so a mode's (root, branch) slot does not label it: ``parakin.demos_sps.paper_labels``
+  computes (v, s1, s2) from the configuration. Paper order v1..v4 = branches (+, +), (+, -),
+  (-, +), (-, -). Limitation: configurations that nearly coincide in v (within ~1e-4, at a fold
+  D1 or D2 ~ 0, or next to v = +-1) make clustered, ill-conditioned roots and can be missed
+  (tests/test_sps.py counts them against the quaternion route).
+* Defaults: section 5 (Baukema SHM4-120A), with a3x = +2.720 m (printed -2.720: with it no
+  configuration exists, and the printed b_3 is 5.07 m from A3 instead of d3 = 1.32 m; see
+  tests/test_sps.py), chi = -1, strokes and stiffnesses as printed.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from generator.frames import homogeneous, rot_x, rot_y
+from generator.model import (
+    POSE_ROTATION,
+    ClosureModel,
+    ForwardElimination,
+    InverseSolution,
+    Mechanism,
+    RateModel,
+)
+
+# parameters (section 5)
+a1x, a2x, a2y, a3x, a3y, a3z = sp.symbols("a1x a2x a2y a3x a3y a3z", real=True)
+b1, b2, b3, b12, b23, b13 = sp.symbols("b1 b2 b3 b12 b23 b13", positive=True)
+chi = sp.Symbol("chi", real=True)
+stroke = [sp.symbols(f"d{i}_min d{i}_max", positive=True) for i in (1, 2, 3)]
+stiffness = sp.symbols("k1:4", real=True)
+# variables
+d = sp.symbols("d1:4", positive=True)
+alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
+NEWTON_STEPS = 6  # Cayley-Newton steps of the back substitution
+NEWTON_REACH = sp.Rational(1, 5)  # rad: how far from a closure those steps reach (see _cayley_newton)
+
+
+def base_points() -> list[sp.Matrix]:
+    return [sp.Matrix([a1x, 0, 0]), sp.Matrix([a2x, a2y, 0]), sp.Matrix([a3x, a3y, a3z])]
+
+
+def platform_cosines() -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
+    """q12, q13, q23 (eq 1c) and D3 (eq 5), from the distances."""
+    q12 = (b1**2 + b2**2 - b12**2) / (2 * b1 * b2)
+    q13 = (b1**2 + b3**2 - b13**2) / (2 * b1 * b3)
+    q23 = (b2**2 + b3**2 - b23**2) / (2 * b2 * b3)
+    return q12, q13, q23, 1 - q12**2 - q13**2 - q23**2 + 2 * q12 * q13 * q23
+
+
+def platform_points() -> list[sp.Matrix]:
+    """b_ip in {P} (module docstring)."""
+    q12, q13, q23, d3 = platform_cosines()
+    s = sp.sqrt(1 - q12**2)
+    return [
+        sp.Matrix([b1, 0, 0]),
+        b2 * sp.Matrix([q12, s, 0]),
+        b3 * sp.Matrix([q13, (q23 - q12 * q13) / s, chi * sp.sqrt(sp.Max(0, d3)) / s]),
+    ]
+
+
+def euler_rotation(a: sp.Expr, b: sp.Expr, c: sp.Expr) -> sp.Matrix:
+    """Eq (9): R = Rx(alpha) Ry(beta) Rx(gamma)."""
+    return rot_x(a) * rot_y(b) * rot_x(c)
+
+
+def leg_equations(rotation: sp.Matrix) -> sp.Matrix:
+    """g_i of eq (7)."""
+    rows = []
+    for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True)):
+        rows.append(a.dot(a) + bp.dot(bp) - 2 * a.dot(rotation * bp) - d[i] ** 2)
+    return sp.Matrix(rows)
+
+
+def inverse() -> InverseSolution:
+    """d_i = |a_i - R b_ip| (eq 7); the XYX Euler angles of R (eq 9) on branch sigma = sign(sin beta)."""
+    sigma = sp.Symbol("sigma", real=True)
+    r = POSE_ROTATION
+    steps: list[tuple[sp.Symbol, sp.Expr]] = []
+    validity: dict[str, sp.Expr] = {}
+    for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True)):
+        point = sp.Matrix(sp.symbols(f"B{i + 1}_x B{i + 1}_y B{i + 1}_z", real=True))
+        steps += [(point[k], (r * bp)[k]) for k in range(3)]
+        steps.append((d[i], sp.sqrt((a - point).dot(a - point))))
+        low, high = stroke[i]
+        validity[f"leg{i + 1}_stroke_reachable"] = (d[i] - low) * (high - d[i])
+    sin_beta = sp.Symbol("sin_beta", real=True)
+    steps += [
+        (sin_beta, sp.sqrt(r[0, 1] ** 2 + r[0, 2] ** 2)),
+        (beta, sp.atan2(sigma * sin_beta, r[0, 0])),
+        (alpha, sp.atan2(sigma * r[1, 0], -sigma * r[2, 0])),
+        (gamma, sp.atan2(sigma * r[0, 1], sigma * r[0, 2])),
+    ]
+    validity["euler_angles_regular"] = sin_beta**2
+    return InverseSolution(steps, [sigma], validity)
+
+
+# ---------------------------------------------------------------------------- forward pose
+V = sp.Symbol("v", real=True)
+R1, R2 = sp.symbols("r1 r2", real=True)
+COSINES = sp.symbols("c12 s12 p1 p2 p3 q12 q13 q23 s3 e1 e2 e3", real=True)
+
+
+def closure_numerator() -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
+    """A, B, C, E (polynomials in v) of G = s12^2 (1 - v^2)(1 - q12^2) F(v) = A + B r1 + C r2 +
+    E r1 r2, in the canonical base frame a1o = (1, 0, 0), a2o = (c12, s12, 0), a3o = (e1, e2, e3)."""
+    c12, s12, p1, p2, p3, q12, q13, q23, s3, e1, e2, e3 = COSINES
+    d1 = 1 - p1**2 - c12**2 - V**2 + 2 * p1 * c12 * V
+    d2 = 1 - p2**2 - q12**2 - V**2 + 2 * p2 * q12 * V
+    a2o = sp.Matrix([c12, s12, 0])
+    a3o = sp.Matrix([e1, e2, e3])
+    b1o = sp.Matrix([p1 * s12, V - c12 * p1, R1]) / s12  # eq (3)
+    b2n = (p2 - q12 * V) * a2o + (q12 - V * p2) * b1o + R2 * a2o.cross(b1o)  # eq (4) times (1 - v^2)
+    b3n = (q13 - q12 * q23) * (1 - V**2) * b1o + (q23 - q12 * q13) * b2n + s3 * b1o.cross(b2n)  # eq (5)
+    g = sp.expand(s12**2 * (a3o.dot(b3n) - p3 * (1 - V**2) * (1 - q12**2)))  # eq (6)
+    g = sp.expand(g.subs(R1**3, R1 * d1).subs(R1**2, d1).subs(R2**2, d2))
+    poly = sp.Poly(g, R1, R2)
+    if any(m[0] > 1 or m[1] > 1 for m in poly.monoms()):
+        raise ValueError("closure numerator not reduced in r1, r2")
+    return tuple(sp.expand(poly.coeff_monomial(m)) for m in (1, R1, R2, R1 * R2))  # type: ignore[return-value]
+
+
+def norm_quotient() -> tuple[list[list[sp.Symbol]], list[sp.Symbol], list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
+    """Generic symbols for the coefficients of A, B, C, E, D1 and D2, and the coefficients of
+    N / (v^2 - 1)^2 in them (division from the top; the remainder is zero for consistent data)."""
+    degrees = {"A": 3, "B": 2, "C": 2, "E": 1}
+    generic = [[sp.Symbol(f"{k}{j}", real=True) for j in range(n + 1)] for k, n in degrees.items()]
+    big_a, big_b, big_c, big_e = (sp.Poly(sum(c * V**j for j, c in enumerate(row)), V) for row in generic)
+    d1c = list(sp.symbols("D1_0 D1_1", real=True))
+    d2c = list(sp.symbols("D2_0 D2_1", real=True))
+    d1 = sp.Poly(d1c[0] + d1c[1] * V - V**2, V)
+    d2 = sp.Poly(d2c[0] + d2c[1] * V - V**2, V)
+    x = big_a**2 + big_b**2 * d1 - big_c**2 * d2 - big_e**2 * d1 * d2
+    y = big_a * big_b - big_c * big_e * d2
+    norm = x**2 - 4 * d1 * y**2
+    n = [sp.Symbol(f"N{k}", real=True) for k in range(13)]
+    if norm.degree() != 12:
+        raise ValueError("norm polynomial is not of degree 12")
+    quotient, _ = sp.div(sum(c * V**k for k, c in enumerate(n)), (V**2 - 1) ** 2, V)
+    q = sp.Poly(quotient, V)
+    coefficients = [q.coeff_monomial(V**k) for k in range(9)]
+    auxiliary_norm = [(n[k], norm.coeff_monomial(V**k)) for k in range(13)]
+    return generic, d1c + d2c, auxiliary_norm, coefficients
+
+
+def _cayley_newton(rotation: sp.Matrix, step: int) -> tuple[list[tuple[sp.Symbol, sp.Expr]], sp.Matrix]:
+    """One Newton step on a_i . R b_ip = |a_i| b_i p_i (the leg equations), R <- Cay(w) R.
+
+    The step is gated, w / (1 + (|w| / NEWTON_REACH)^4): a candidate within a few hundredths of
+    a radian of a closure (a root near a branch point) converges, one further away (an extraneous
+    sign pair) stays put and is rejected by the runtime, instead of drifting into another mode.
+    It is regularised where the Jacobian (rows R b_ip x a_i) is singular. Platform points come
+    from the symbols ``PLATFORM`` (assigned in the auxiliaries)."""
+    assignments: list[tuple[sp.Symbol, sp.Expr]] = []
+    c12, s12, p1, p2, p3, *_ = COSINES
+    targets = [p1, p2, p3]
+    jacobian = sp.Matrix(3, 3, sp.symbols(f"newton{step}_J1:10", real=True))
+    residual = sp.Matrix(sp.symbols(f"newton{step}_g1:4", real=True))
+    for i, (a, bp) in enumerate(zip(base_points(), PLATFORM, strict=True)):
+        point = rotation * bp
+        value = a.dot(point) - sp.sqrt(a.dot(a)) * [b1, b2, b3][i] * targets[i]
+        row = point.cross(a)
+        assignments.append((residual[i], value))
+        assignments += [(jacobian[i, k], row[k]) for k in range(3)]
+    det = sp.Symbol(f"newton{step}_det", real=True)
+    w = sp.Matrix(sp.symbols(f"newton{step}_w1:4", real=True))
+    gate = sp.Symbol(f"newton{step}_gate", real=True)
+    raw = -(jacobian.adjugate() * residual)
+    assignments.append((det, jacobian.det()))
+    assignments += [(w[k], raw[k] * det / (det**2 + sp.Float(1e-24))) for k in range(3)]
+    assignments.append((gate, 1 / (1 + (w.dot(w) / NEWTON_REACH**2) ** 2)))
+    u = w * gate / 2
+    skew = sp.Matrix([[0, -u[2], u[1]], [u[2], 0, -u[0]], [-u[1], u[0], 0]])
+    cayley = sp.eye(3) + 2 / (1 + u.dot(u)) * (skew + skew * skew)
+    names = " ".join(f"R{step}_{j}{k}" for j in (1, 2, 3) for k in (1, 2, 3))
+    updated = sp.Matrix(3, 3, sp.symbols(names, real=True))
+    product = cayley * rotation
+    assignments += [(updated[j, k], product[j, k]) for j in range(3) for k in range(3)]
+    return assignments, updated
+
+
+PLATFORM = [sp.Matrix(sp.symbols(f"b{i}p_x b{i}p_y b{i}p_z", real=True)) for i in (1, 2, 3)]
+
+
+def forward() -> ForwardElimination:
+    c12, s12, p1, p2, p3, q12, q13, q23, s3, e1, e2, e3 = COSINES
+    a = base_points()
+    q12e, q13e, q23e, d3e = platform_cosines()
+    a2n, a3n = sp.sqrt(a[1].dot(a[1])), sp.sqrt(a[2].dot(a[2]))
+    auxiliary: list[tuple[sp.Symbol, sp.Expr]] = [
+        (c12, a2x / a2n),
+        (s12, a2y / a2n),
+        (e1, a3x / a3n),
+        (e2, a3y / a3n),
+        (e3, a3z / a3n),
+        (q12, q12e),
+        (q13, q13e),
+        (q23, q23e),
+        (s3, chi * sp.sqrt(sp.Max(0, d3e))),
+    ]
+    for symbols, point in zip(PLATFORM, platform_points(), strict=True):
+        auxiliary += [(symbols[k], point[k]) for k in range(3)]
+    for i, (p, bi) in enumerate(zip((p1, p2, p3), (b1, b2, b3), strict=True)):
+        norm = sp.sqrt(a[i].dot(a[i]))
+        auxiliary.append((p, (norm**2 + bi**2 - d[i] ** 2) / (2 * norm * bi)))  # eq (1b)
+    generic, d_coefficients, norm_assignments, coefficients = norm_quotient()
+    for row, expr in zip(generic, closure_numerator(), strict=True):
+        poly = sp.Poly(expr, V)
+        auxiliary += [(symbol, poly.coeff_monomial(V**j)) for j, symbol in enumerate(row)]
+    auxiliary += list(
+        zip(d_coefficients, [1 - p1**2 - c12**2, 2 * p1 * c12, 1 - p2**2 - q12**2, 2 * p2 * q12], strict=True)
+    )
+    auxiliary += norm_assignments
+
+    # back substitution: eqs (3), (4) for a root v and signs (s1, s2), R from b1o, b2o, Newton polish
+    s1, s2 = sp.symbols("s1 s2", real=True)
+    root1, root2 = sp.symbols("root_D1 root_D2", real=True)
+    b1o = sp.Matrix(sp.symbols("b1o_x b1o_y b1o_z", real=True))
+    b2o = sp.Matrix(sp.symbols("b2o_x b2o_y b2o_z", real=True))
+    d1v = d_coefficients[0] + d_coefficients[1] * V - V**2
+    d2v = d_coefficients[2] + d_coefficients[3] * V - V**2
+    a2o = sp.Matrix([c12, s12, 0])
+    b1_value = sp.Matrix([p1, (V - c12 * p1) / s12, root1 / s12])
+    # eq (4) times (1 - v^2) > 0 (a real configuration has |v| < 1): only its direction is used
+    b2_value = (p2 - q12 * V) * a2o + (q12 - V * p2) * b1o + root2 * a2o.cross(b1o)
+    back: list[tuple[sp.Symbol, sp.Expr]] = [
+        (root1, s1 * sp.sqrt(sp.Abs(d1v))),
+        (root2, s2 * sp.sqrt(sp.Abs(d2v))),
+        *((b1o[k], b1_value[k]) for k in range(3)),
+        *((b2o[k], b2_value[k]) for k in range(3)),
+    ]
+    # R = [x y z]: x along b1o, y along the part of b2o normal to it, z = x cross y (the platform
+    # frame is canonical); normalised, so that R is a rotation for every real root, even one
+    # that is not a configuration (D1 < 0 or D2 < 0, clamped above); such roots do not close
+    x_axis = sp.Matrix(sp.symbols("x_axis1:4", real=True))
+    y_axis = sp.Matrix(sp.symbols("y_axis1:4", real=True))
+    x_norm, y_norm = sp.symbols("x_axis_norm y_axis_norm", real=True)
+    back += [(x_norm, sp.sqrt(b1o.dot(b1o)))]
+    back += [(x_axis[k], b1o[k] / x_norm) for k in range(3)]
+    y_raw = b2o - x_axis.dot(b2o) * x_axis
+    back += [(y_norm, sp.sqrt(y_raw.dot(y_raw)))]
+    back += [(y_axis[k], y_raw[k] / y_norm) for k in range(3)]
+    rotation = sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis))
+    start = sp.Matrix(3, 3, sp.symbols("R0_11 R0_12 R0_13 R0_21 R0_22 R0_23 R0_31 R0_32 R0_33", real=True))
+    back += [(start[j, k], rotation[j, k]) for j in range(3) for k in range(3)]
+    current = start
+    for step in range(1, NEWTON_STEPS + 1):
+        assignments, current = _cayley_newton(current, step)
+        back += assignments
+    return ForwardElimination(
+        unknown=V,
+        coefficients=coefficients,
+        branches=[s1, s2],
+        auxiliary=auxiliary,
+        back_substitution=back,
+        pose=homogeneous(current, [0, 0, 0]),
+        degeneracies={},
+        # roots within 1e-4 of each other in v (folds of eqs 3, 4) split into complex pairs with
+        # imaginary parts up to ~1e-3: try them; the runtime keeps only candidates that close
+        imaginary_tolerance=3e-3,
+    )
+
+
+# ---------------------------------------------------------------------------- closure and rates
+def closure() -> ClosureModel:
+    rotation = euler_rotation(alpha, beta, gamma)
+    return ClosureModel(leg_equations(rotation), sp.Matrix([sp.Integer(1)]), homogeneous(rotation, [0, 0, 0]))
+
+
+def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
+    """d_i d_i_dot = (a_i x b_i) . omega (module docstring)."""
+    rotation = euler_rotation(alpha, beta, gamma)
+    rows = [a.cross(rotation * bp).T for a, bp in zip(base_points(), platform_points(), strict=True)]
+    matrix = sp.Matrix.vstack(*rows)
+    model = RateModel(
+        twist=["wx", "wy", "wz"],
+        a=matrix,
+        b=sp.diag(*d),
+        serial_factors={f"leg{i + 1}_length": d[i] for i in range(3)},
+    )
+    triple = matrix.row(0).dot(matrix.row(1).cross(matrix.row(2)))
+    return model, {"leg_moments_coplanar": triple}
+
+
+# section 5: the machine's configuration (root v3, branch (s1, s2) = (-, +)), XYX Euler angles
+HOME_EULER = (0.3862343, 0.32043814, -0.21992225)
+
+
+def build() -> Mechanism:
+    rate_model, parallel = rates()
+    strokes = [(0.530, 1.780), (0.530, 1.780), (0.810, 2.060)]
+    parameters: dict[sp.Symbol, float] = {
+        a1x: 2.470,
+        a2x: 2.250,
+        a2y: 1.020,
+        a3x: 2.720,  # printed -2.720 (typo)
+        a3y: 0.130,
+        a3z: -0.460,
+        b1: 2.400,
+        b2: 2.400,
+        b3: 2.635,
+        b12: 1.030,
+        b23: 0.240,
+        b13: 1.070,
+        chi: -1.0,
+    }
+    for (low, high), (low_value, high_value) in zip(stroke, strokes, strict=True):
+        parameters[low] = low_value
+        parameters[high] = high_value
+    parameters.update(zip(stiffness, (-7.7292e6, -2.30083e8, -1.0165e7), strict=True))
+    return Mechanism(
+        name="sps",
+        title="3(SPS)-S spherical platform with three linear actuators (Knapczyk & Tora)",
+        reference="shared/papers/002_91f1e7509f31240b.txt",
+        parameters=parameters,
+        actuated=list(d),
+        passive=[alpha, beta, gamma],
+        legs=[],
+        inverse=inverse(),
+        forward=forward(),
+        home={
+            **dict(zip(d, (0.780, 0.570, 1.320), strict=True)),
+            **dict(zip((alpha, beta, gamma), HOME_EULER, strict=True)),
+        },
+        angular=[alpha, beta, gamma],
+        parallel_factors=parallel,
+        closure=closure(),
+        rates=rate_model,
+        pose_kind="rotation",
+    )
