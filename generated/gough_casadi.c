@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
 //   singularity_factors: 433
+//   architecture: 389
 //   inverse_pose: 141
 //   forward_polynomial: 2579
 //   forward_back_substitution: 2709
@@ -48,6 +49,7 @@ extern "C" {
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_f7 CASADI_PREFIX(f7)
+#define casadi_f8 CASADI_PREFIX(f8)
 #define casadi_fabs CASADI_PREFIX(fabs)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
@@ -1781,8 +1783,491 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[0],params[13])->(actuated[6],passive[6],validity[6]) */
+/* architecture:(params[13])->(measures) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57, a58, a59;
+  casadi_real a60, a61, a62, a63, a64, a65, a66, a67, a68, a69, a70, a71;
+  casadi_real a72, a73, a74, a75, a76, a77, a78, a79;
+  a00=arg[0]? arg[0][0] : 0;
+  a01=arg[0]? arg[0][5] : 0;
+  a02=(a00*a01);
+  a03=arg[0]? arg[0][1] : 0;
+  a04=(a02*a03);
+  a05=arg[0]? arg[0][7] : 0;
+  a06=casadi_sq(a05);
+  a07=arg[0]? arg[0][4] : 0;
+  a08=casadi_sq(a07);
+  a09=arg[0]? arg[0][8] : 0;
+  a10=(a08*a09);
+  a11=(a06*a10);
+  a12=(a04*a11);
+  a13=(a03*a05);
+  a14=casadi_sq(a09);
+  a15=(a08*a14);
+  a16=(a13*a15);
+  a17=(a02*a16);
+  a18=arg[0]? arg[0][6] : 0;
+  a19=casadi_sq(a18);
+  a20=(a02*a19);
+  a21=arg[0]? arg[0][2] : 0;
+  a22=casadi_sq(a21);
+  a23=arg[0]? arg[0][3] : 0;
+  a24=(a22*a23);
+  a25=arg[0]? arg[0][9] : 0;
+  a26=(a24*a25);
+  a20=(a20*a26);
+  a17=(a17+a20);
+  a20=casadi_sq(a23);
+  a27=(a20*a25);
+  a28=(a06*a27);
+  a29=(a04*a28);
+  a17=(a17+a29);
+  a12=(a12-a17);
+  a17=(a14*a25);
+  a29=(a22*a17);
+  a04=(a04*a29);
+  a12=(a12+a04);
+  a04=casadi_sq(a25);
+  a30=(a04*a09);
+  a31=(a22*a30);
+  a32=(a00*a18);
+  a33=(a32*a23);
+  a34=(a31*a33);
+  a12=(a12-a34);
+  a34=(a32*a03);
+  a35=(a31*a34);
+  a12=(a12+a35);
+  a35=(a23*a01);
+  a36=(a35*a03);
+  a31=(a31*a36);
+  a12=(a12+a31);
+  a31=(a07*a09);
+  a37=casadi_sq(a01);
+  a38=(a31*a37);
+  a39=casadi_sq(a03);
+  a40=(a39*a21);
+  a41=(a38*a40);
+  a41=(a41*a25);
+  a12=(a12-a41);
+  a41=(a38*a24);
+  a41=(a41*a18);
+  a12=(a12+a41);
+  a41=(a40*a05);
+  a38=(a38*a41);
+  a12=(a12+a38);
+  a38=(a06*a31);
+  a42=(a38*a39);
+  a42=(a42*a35);
+  a12=(a12+a42);
+  a42=casadi_sq(a00);
+  a43=(a42*a18);
+  a38=(a38*a43);
+  a38=(a38*a23);
+  a12=(a12-a38);
+  a38=(a39*a05);
+  a44=(a38*a23);
+  a45=(a02*a04);
+  a46=(a44*a45);
+  a12=(a12-a46);
+  a46=(a37*a07);
+  a47=(a46*a25);
+  a44=(a44*a47);
+  a12=(a12+a44);
+  a44=(a10*a19);
+  a48=(a02*a21);
+  a49=(a44*a48);
+  a12=(a12-a49);
+  a49=(a21*a01);
+  a44=(a44*a49);
+  a44=(a44*a23);
+  a12=(a12+a44);
+  a44=(a08*a18);
+  a50=(a21*a05);
+  a51=(a44*a50);
+  a52=(a37*a23);
+  a51=(a51*a52);
+  a12=(a12+a51);
+  a51=(a13*a23);
+  a53=(a51*a37);
+  a44=(a44*a53);
+  a12=(a12-a44);
+  a44=(a07*a01);
+  a54=(a19*a44);
+  a55=(a20*a50);
+  a56=(a54*a55);
+  a12=(a12+a56);
+  a54=(a54*a26);
+  a12=(a12+a54);
+  a54=(a37*a21);
+  a56=(a27*a54);
+  a57=(a07*a18);
+  a58=(a56*a57);
+  a12=(a12+a58);
+  a58=(a03*a18);
+  a56=(a56*a58);
+  a12=(a12-a56);
+  a37=(a26*a37);
+  a57=(a57*a37);
+  a12=(a12-a57);
+  a57=(a23*a09);
+  a56=(a06*a25);
+  a59=(a39*a56);
+  a60=(a59*a00);
+  a61=(a57*a60);
+  a12=(a12-a61);
+  a61=(a42*a21);
+  a62=(a19*a25);
+  a63=(a61*a62);
+  a57=(a57*a63);
+  a12=(a12-a57);
+  a57=(a07*a25);
+  a64=(a57*a22);
+  a65=(a19*a00);
+  a66=(a65*a09);
+  a64=(a64*a66);
+  a12=(a12-a64);
+  a64=(a19*a05);
+  a67=(a42*a23);
+  a68=(a64*a67);
+  a57=(a57*a68);
+  a12=(a12-a57);
+  a57=(a20*a13);
+  a69=(a45*a57);
+  a12=(a12+a69);
+  a69=(a19*a50);
+  a70=(a31*a42);
+  a71=(a69*a70);
+  a12=(a12-a71);
+  a71=(a08*a35);
+  a69=(a69*a71);
+  a12=(a12-a69);
+  a69=(a24*a01);
+  a72=(a69*a31);
+  a72=(a72*a19);
+  a12=(a12-a72);
+  a69=(a69*a58);
+  a69=(a69*a04);
+  a12=(a12-a69);
+  a69=(a02*a07);
+  a72=(a20*a69);
+  a72=(a72*a64);
+  a12=(a12-a72);
+  a72=(a45*a18);
+  a73=(a20*a72);
+  a73=(a73*a21);
+  a12=(a12-a73);
+  a73=(a43*a07);
+  a21=(a14*a73);
+  a74=(a13*a21);
+  a12=(a12-a74);
+  a74=(a10*a54);
+  a75=(a13*a74);
+  a12=(a12-a75);
+  a75=(a32*a04);
+  a76=(a57*a75);
+  a12=(a12-a76);
+  a76=(a57*a04);
+  a76=(a76*a49);
+  a12=(a12-a76);
+  a76=(a46*a18);
+  a77=(a57*a76);
+  a12=(a12+a77);
+  a02=(a02*a23);
+  a08=(a08*a02);
+  a77=(a06*a08);
+  a77=(a77*a18);
+  a12=(a12-a77);
+  a20=(a20*a18);
+  a77=(a06*a20);
+  a78=(a44*a03);
+  a77=(a77*a78);
+  a12=(a12-a77);
+  a77=(a32*a07);
+  a79=(a28*a77);
+  a12=(a12-a79);
+  a79=(a28*a34);
+  a12=(a12+a79);
+  a28=(a28*a78);
+  a12=(a12+a28);
+  a53=(a10*a53);
+  a12=(a12+a53);
+  a45=(a45*a09);
+  a53=(a22*a45);
+  a53=(a53*a03);
+  a12=(a12-a53);
+  a53=(a14*a69);
+  a28=(a22*a53);
+  a28=(a28*a18);
+  a12=(a12-a28);
+  a28=(a22*a58);
+  a14=(a14*a44);
+  a28=(a28*a14);
+  a12=(a12+a28);
+  a33=(a11*a33);
+  a12=(a12+a33);
+  a33=(a11*a34);
+  a12=(a12-a33);
+  a11=(a11*a36);
+  a12=(a12-a11);
+  a11=(a15*a50);
+  a11=(a11*a32);
+  a12=(a12-a11);
+  a32=(a16*a32);
+  a12=(a12+a32);
+  a16=(a16*a49);
+  a12=(a12+a16);
+  a16=(a39*a48);
+  a16=(a16*a17);
+  a12=(a12-a16);
+  a16=(a06*a69);
+  a32=(a39*a16);
+  a32=(a32*a09);
+  a12=(a12-a32);
+  a45=(a40*a45);
+  a12=(a12+a45);
+  a45=(a00*a05);
+  a32=(a40*a45);
+  a32=(a32*a30);
+  a12=(a12-a32);
+  a32=(a30*a23);
+  a11=(a40*a32);
+  a11=(a11*a01);
+  a12=(a12-a11);
+  a11=(a52*a25);
+  a01=(a40*a11);
+  a01=(a01*a09);
+  a12=(a12+a01);
+  a40=(a40*a17);
+  a01=(a45*a40);
+  a12=(a12+a01);
+  a27=(a27*a19);
+  a01=(a27*a07);
+  a36=(a45*a01);
+  a12=(a12+a36);
+  a40=(a40*a44);
+  a12=(a12+a40);
+  a02=(a02*a59);
+  a12=(a12+a02);
+  a02=(a56*a70);
+  a02=(a02*a03);
+  a12=(a12-a02);
+  a73=(a56*a73);
+  a73=(a73*a23);
+  a12=(a12+a73);
+  a59=(a59*a35);
+  a59=(a59*a07);
+  a12=(a12-a59);
+  a39=(a39*a45);
+  a45=(a32*a39);
+  a12=(a12+a45);
+  a42=(a13*a42);
+  a45=(a32*a42);
+  a12=(a12-a45);
+  a45=(a61*a18);
+  a32=(a32*a45);
+  a12=(a12+a32);
+  a07=(a17*a07);
+  a39=(a39*a07);
+  a12=(a12-a39);
+  a53=(a38*a53);
+  a12=(a12+a53);
+  a38=(a38*a31);
+  a38=(a38*a52);
+  a12=(a12-a38);
+  a69=(a69*a19);
+  a22=(a22*a09);
+  a69=(a69*a22);
+  a12=(a12+a69);
+  a60=(a31*a60);
+  a12=(a12+a60);
+  a63=(a31*a63);
+  a12=(a12+a63);
+  a31=(a31*a68);
+  a12=(a12+a31);
+  a31=(a48*a27);
+  a12=(a12+a31);
+  a15=(a15*a18);
+  a48=(a48*a15);
+  a12=(a12+a48);
+  a48=(a58*a61);
+  a31=(a17*a48);
+  a12=(a12+a31);
+  a13=(a13*a61);
+  a17=(a17*a13);
+  a12=(a12-a17);
+  a27=(a27*a50);
+  a27=(a27*a00);
+  a12=(a12-a27);
+  a75=(a75*a55);
+  a12=(a12+a75);
+  a10=(a10*a65);
+  a65=(a50*a10);
+  a12=(a12+a65);
+  a43=(a43*a04);
+  a65=(a50*a43);
+  a65=(a65*a23);
+  a12=(a12-a65);
+  a65=(a50*a67);
+  a65=(a65*a62);
+  a12=(a12+a65);
+  a50=(a50*a21);
+  a12=(a12+a50);
+  a55=(a55*a76);
+  a12=(a12-a55);
+  a55=(a49*a03);
+  a15=(a15*a55);
+  a12=(a12-a15);
+  a10=(a10*a23);
+  a10=(a10*a05);
+  a12=(a12-a10);
+  a24=(a24*a72);
+  a12=(a12+a24);
+  a26=(a26*a66);
+  a12=(a12+a26);
+  a77=(a29*a77);
+  a12=(a12+a77);
+  a34=(a29*a34);
+  a12=(a12-a34);
+  a29=(a29*a78);
+  a12=(a12-a29);
+  a29=(a22*a58);
+  a29=(a29*a46);
+  a12=(a12-a29);
+  a22=(a22*a47);
+  a22=(a22*a03);
+  a12=(a12+a22);
+  a64=(a64*a08);
+  a12=(a12+a64);
+  a16=(a20*a16);
+  a12=(a12+a16);
+  a20=(a20*a04);
+  a20=(a20*a55);
+  a12=(a12+a20);
+  a01=(a01*a49);
+  a12=(a12-a01);
+  a56=(a56*a67);
+  a67=(a58*a56);
+  a12=(a12-a67);
+  a67=(a58*a74);
+  a12=(a12+a67);
+  a67=(a58*a37);
+  a12=(a12+a67);
+  a48=(a48*a30);
+  a12=(a12-a48);
+  a13=(a13*a30);
+  a12=(a12+a13);
+  a51=(a51*a43);
+  a12=(a12+a51);
+  a03=(a03*a09);
+  a56=(a03*a56);
+  a12=(a12+a56);
+  a03=(a03*a37);
+  a12=(a12-a03);
+  a06=(a06*a58);
+  a70=(a06*a70);
+  a12=(a12+a70);
+  a06=(a06*a71);
+  a12=(a12+a06);
+  a42=(a07*a42);
+  a12=(a12+a42);
+  a07=(a07*a45);
+  a12=(a12-a07);
+  a04=(a04*a35);
+  a04=(a04*a41);
+  a12=(a12+a04);
+  a57=(a57*a25);
+  a54=(a54*a57);
+  a12=(a12+a54);
+  a57=(a57*a46);
+  a12=(a12-a57);
+  a74=(a74*a23);
+  a74=(a74*a18);
+  a12=(a12-a74);
+  a14=(a14*a41);
+  a12=(a12-a14);
+  a41=(a41*a11);
+  a12=(a12-a41);
+  if (res[0]!=0) res[0][0]=a12;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f5(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int architecture_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void architecture_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void architecture_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void architecture_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int architecture_n_in(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_int architecture_n_out(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_real architecture_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* architecture_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* architecture_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "measures";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* architecture_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* architecture_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s4;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 1;
+  if (sz_res) *sz_res = 1;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 1*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* inverse_pose:(pose[12],branch[0],params[13])->(actuated[6],passive[6],validity[6]) */
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=arg[0]? arg[0][9] : 0;
@@ -1964,7 +2449,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
@@ -2043,7 +2528,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* forward_polynomial:(actuated[6],params[13])->(coefficients[5],degeneracies[2]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3871,7 +4356,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
@@ -3946,7 +4431,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* forward_back_substitution:(actuated[6],root,branch[2],params[13])->(pose[4x4]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -6666,7 +7151,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {

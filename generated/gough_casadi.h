@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
 //   singularity_factors: 433
+//   architecture: 389
 //   inverse_pose: 141
 //   forward_polynomial: 2579
 //   forward_back_substitution: 2709
@@ -118,6 +119,24 @@ int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casad
 #define singularity_factors_SZ_RES 2
 #define singularity_factors_SZ_IW 0
 #define singularity_factors_SZ_W 0
+int architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int architecture_checkout(void);
+void architecture_release(int mem);
+void architecture_incref(void);
+void architecture_decref(void);
+casadi_int architecture_n_in(void);
+casadi_int architecture_n_out(void);
+casadi_real architecture_default_in(casadi_int i);
+const char* architecture_name_in(casadi_int i);
+const char* architecture_name_out(casadi_int i);
+const casadi_int* architecture_sparsity_in(casadi_int i);
+const casadi_int* architecture_sparsity_out(casadi_int i);
+int architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define architecture_SZ_ARG 1
+#define architecture_SZ_RES 1
+#define architecture_SZ_IW 0
+#define architecture_SZ_W 0
 int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int inverse_pose_checkout(void);
 void inverse_pose_release(int mem);

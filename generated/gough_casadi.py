@@ -6,6 +6,7 @@
 #   loop_closure_actuated: 6
 #   rate_jacobians: 170
 #   singularity_factors: 433
+#   architecture: 389
 #   inverse_pose: 141
 #   forward_polynomial: 2579
 #   forward_back_substitution: 2709
@@ -702,6 +703,274 @@ def singularity_factors() -> casadi.Function:
         [
             "factors",
             "determinants",
+        ],
+    )
+
+
+def architecture() -> casadi.Function:
+    """Architecture-singularity measures (parameters only): zero means singular at every pose.
+
+    Operations: 389.
+    """
+    params = casadi.SX.sym("params", 13)
+    xA2 = params[0]
+    xA3 = params[1]
+    xA4 = params[2]
+    xA5 = params[3]
+    xA6 = params[4]
+    yA2 = params[5]
+    yA3 = params[6]
+    yA4 = params[7]
+    yA5 = params[8]
+    yA6 = params[9]
+    _t0 = xA2 * yA2
+    _t1 = _t0 * xA3
+    _t2 = xA4**2
+    _t3 = yA5**2
+    _t4 = _t3 * yA6
+    _t5 = _t2 * _t4
+    _t6 = xA2 * yA3
+    _t7 = _t6 * xA3
+    _t8 = yA6**2
+    _t9 = _t8 * yA5
+    _t10 = _t2 * _t9
+    _t11 = _t0 * _t8
+    _t12 = xA5**2
+    _t13 = xA3 * yA4
+    _t14 = _t12 * _t13
+    _t15 = yA4**2
+    _t16 = _t12 * yA6
+    _t17 = _t15 * _t16
+    _t18 = xA6**2
+    _t19 = _t18 * yA5
+    _t20 = _t15 * _t19
+    _t21 = _t18 * _t3
+    _t22 = _t13 * _t21
+    _t23 = xA3**2
+    _t24 = _t23 * xA4
+    _t25 = _t11 * yA5
+    _t26 = xA2 * yA4
+    _t27 = _t24 * _t4
+    _t28 = _t0 * xA5
+    _t29 = _t15 * yA6
+    _t30 = _t23 * _t29
+    _t31 = _t9 * xA5
+    _t32 = _t23 * _t26
+    _t33 = _t23 * yA4
+    _t34 = _t0 * xA6
+    _t35 = _t3 * _t34
+    _t36 = xA6 * yA5
+    _t37 = _t30 * xA2
+    _t38 = _t0 * xA4
+    _t39 = yA3**2
+    _t40 = _t16 * _t39
+    _t41 = _t6 * _t8
+    _t42 = xA4 * yA4
+    _t43 = _t12 * _t42
+    _t44 = _t21 * yA3
+    _t45 = _t39 * xA2
+    _t46 = _t19 * _t45
+    _t47 = _t2 * xA5
+    _t48 = _t11 * yA3
+    _t49 = _t47 * yA6
+    _t50 = _t45 * yA5
+    _t51 = _t2 * yA5
+    _t52 = _t6 * xA6
+    _t53 = _t39 * yA4
+    _t54 = _t18 * _t28
+    _t55 = _t6 * xA5
+    _t56 = _t12 * yA3
+    _t57 = _t15 * _t34
+    _t58 = _t40 * xA6
+    _t59 = xA3 * yA3
+    _t60 = xA2**2
+    _t61 = _t60 * xA4
+    _t62 = _t59 * _t61
+    _t63 = _t13 * _t61
+    _t64 = _t13 * xA5
+    _t65 = _t60 * yA3
+    _t66 = _t65 * _t8
+    _t67 = xA3 * yA5
+    _t68 = _t60 * xA5
+    _t69 = _t29 * _t68
+    _t70 = _t15 * _t59
+    _t71 = _t36 * _t60
+    _t72 = _t4 * xA6
+    _t73 = _t13 * _t60
+    _t74 = _t61 * yA3
+    _t75 = _t39 * yA6
+    _t76 = _t65 * xA6
+    _t77 = _t3 * _t76
+    _t78 = _t61 * _t75
+    _t79 = _t53 * _t68
+    _t80 = xA4 * yA2
+    _t81 = _t80 * xA3
+    _t82 = yA2**2
+    _t83 = _t82 * xA4
+    _t84 = _t14 * yA6
+    _t85 = _t19 * _t83
+    _t86 = xA5 * yA2
+    _t87 = _t86 * xA3
+    _t88 = _t49 * _t82
+    _t89 = xA6 * yA2
+    _t90 = _t3 * _t89
+    _t91 = _t82 * xA6
+    _t92 = _t91 * yA6
+    _t93 = _t18 * _t86
+    _t94 = _t64 * _t82
+    _t95 = _t89 * xA3
+    _t96 = _t91 * yA3
+    _t97 = _t24 * yA4
+    _t98 = _t82 * xA5
+    _t99 = _t98 * yA6
+    _t100 = _t36 * _t82
+    _t101 = _t15 * _t36
+    _t102 = _t33 * xA5
+    _t103 = _t19 * _t39
+    _t104 = _t18 * yA3
+    _t105 = _t39 * _t89
+    _t106 = _t16 * _t83
+    _t107 = xA6 * yA3
+    _t108 = xA5 * yA5
+    _t109 = xA6 * yA6
+    _t110 = _t39 * _t42
+    _t111 = _t47 * yA2
+    measures = casadi.SX.zeros(1)
+    measures[0] = (
+        -_t0 * _t22
+        - _t0 * _t39 * _t49
+        - _t1 * _t17
+        + _t1 * _t20
+        + _t1 * _t5
+        - _t10 * _t55
+        + _t10 * _t7
+        + _t10 * _t87
+        - _t100 * _t24 * yA6
+        + _t100 * _t47 * yA3
+        + _t100 * _t97
+        + _t101 * _t23 * _t86
+        - _t101 * _t65 * xA5
+        - _t102 * _t11
+        + _t102 * _t92
+        - _t103 * _t38
+        + _t103 * _t80 * xA5
+        + _t104 * _t42 * _t98
+        - _t104 * _t94
+        + _t105 * _t43
+        + _t105 * _t49
+        + _t106 * _t107
+        - _t106 * _t59
+        - _t107 * _t88
+        - _t108 * _t37
+        - _t108 * _t78
+        - _t109 * _t2 * _t50
+        - _t109 * _t79
+        + _t11 * _t14
+        - _t110 * _t71
+        - _t110 * _t93
+        - _t111 * _t36 * _t39
+        - _t111 * _t59 * _t8
+        - _t12 * _t34 * _t53
+        - _t12 * _t48 * xA4
+        - _t13 * _t77
+        - _t13 * _t85
+        - _t14 * _t41
+        - _t14 * _t8 * _t80
+        + _t14 * _t96
+        - _t15 * _t54 * yA3
+        - _t15 * _t56 * _t95
+        - _t17 * _t52
+        + _t17 * _t7
+        + _t17 * _t95
+        + _t19 * _t94
+        - _t2 * _t25 * xA3
+        - _t2 * _t35 * yA3
+        + _t2 * _t59 * _t90
+        + _t20 * _t55
+        - _t20 * _t7
+        - _t20 * _t87
+        - _t21 * _t42 * _t6
+        + _t22 * _t6
+        + _t22 * _t80
+        - _t23 * _t38 * _t4
+        - _t23 * _t57 * yA5
+        + _t24 * _t25
+        - _t24 * _t26 * _t9
+        - _t24 * _t31 * yA2
+        + _t24 * _t99 * yA5
+        + _t26 * _t27
+        + _t26 * _t58
+        + _t27 * _t89
+        + _t28 * _t30
+        - _t29 * _t71 * xA3
+        + _t29 * _t76 * xA5
+        - _t30 * _t86 * xA6
+        + _t31 * _t32
+        - _t31 * _t73
+        + _t31 * _t74
+        - _t32 * _t72
+        + _t33 * _t35
+        - _t33 * _t36 * _t98
+        + _t34 * _t39 * _t51
+        + _t36 * _t37
+        + _t36 * _t78
+        + _t36 * _t79
+        + _t38 * _t40
+        + _t38 * _t44
+        + _t4 * _t62
+        - _t4 * _t63
+        - _t40 * _t42 * xA2
+        + _t41 * _t43
+        + _t42 * _t46
+        - _t42 * _t66 * xA5
+        + _t42 * _t68 * _t75
+        + _t42 * _t77
+        - _t43 * _t96
+        - _t44 * _t81
+        - _t46 * xA5 * yA4
+        + _t47 * _t48
+        + _t49 * _t50
+        + _t5 * _t52
+        - _t5 * _t7
+        - _t5 * _t95
+        - _t51 * _t59 * _t91
+        + _t51 * _t92 * xA3
+        + _t53 * _t54
+        + _t56 * _t57
+        + _t56 * _t8 * _t81
+        - _t58 * _t80
+        - _t59 * _t69
+        + _t59 * _t85
+        + _t59 * _t88
+        - _t62 * _t9
+        + _t63 * _t9
+        + _t64 * _t66
+        + _t67 * _t69
+        - _t67 * _t88
+        + _t70 * _t71
+        + _t70 * _t93
+        + _t72 * _t73
+        - _t72 * _t74
+        + _t8 * _t86 * _t97
+        + _t83 * _t84
+        - _t84 * _t91
+        - _t85 * xA5 * yA3
+        - _t90 * _t97
+        - _t97 * _t99
+    )
+    return casadi.Function(
+        "architecture",
+        [
+            params,
+        ],
+        [
+            measures,
+        ],
+        [
+            "params",
+        ],
+        [
+            "measures",
         ],
     )
 
@@ -3600,6 +3869,7 @@ BUILDERS = {
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
+    "architecture": architecture,
     "inverse_pose": inverse_pose,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,

@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
 //   singularity_factors: 433
+//   architecture: 389
 //   inverse_pose: 141
 //   forward_polynomial: 2579
 //   forward_back_substitution: 2709
@@ -130,6 +131,23 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
         for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[1][i * 2 + r * 1 + c] = out_determinants[c * 2 + r];
+    }
+    return 0;
+}
+
+int architecture_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[1];
+    casadi_real* res[1];
+    casadi_int iw[0 + 1];
+    casadi_real w[80 + 1];
+    casadi_real out_measures[1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        res[0] = out_measures;
+        if (architecture(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 1; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 1 + r * 1 + c] = out_measures[c * 1 + r];
     }
     return 0;
 }

@@ -326,6 +326,18 @@ def derive(mechanism: Mechanism) -> Derivation:
         **{f"factor_{name}": value for name, value in zip(factor_names, factor_values, strict=True)},
     }
 
+    if mechanism.architecture:
+        programs.append(
+            Program(
+                "architecture",
+                "Architecture-singularity measures (parameters only): zero means singular at every pose.",
+                [params],
+                [("measures", sp.Matrix(list(mechanism.architecture.values())))],
+            )
+        )
+        metadata["architecture"] = list(mechanism.architecture)
+        symbolic.update({f"architecture_{name}": value for name, value in mechanism.architecture.items()})
+
     if mechanism.inverse is not None:
         inverse = mechanism.inverse
         programs.append(

@@ -200,3 +200,6 @@ class Mechanism:
     rates: RateModel | None = None
     #: "transform": ^B_P T is a general rigid pose; "rotation": an orienting platform (p = 0)
     pose_kind: str = "transform"
+    #: named expressions of the parameters only whose zeros make the design singular at every
+    #: pose (architecture singularities); shown by ``parakin inspect``, evaluated by the runtime
+    architecture: dict[str, sp.Expr] = field(default_factory=dict)

@@ -256,4 +256,15 @@ def build() -> Mechanism:
         closure=closure(),
         rates=rate_model,
         pose_kind="transform",
+        architecture=architecture(),
     )
+
+
+def architecture() -> dict[str, sp.Expr]:
+    """Eq (14): det M of system (8). It is checked here to be, term by term, the six-point conic
+    determinant det[1, x, y, x^2, y^2, x y] of A1..A6 (A1 = O): it vanishes exactly when the base
+    points lie on a conic, eq (15)."""
+    det_m = sp.expand(system8_matrix().det(method="berkowitz"))
+    if sp.expand(det_m - conic_matrix().det(method="berkowitz")) != 0:
+        raise ValueError("det M of system (8) is not the six-point conic determinant")
+    return {"det_M_eq14_equals_six_point_conic_determinant_eq15": det_m}

@@ -49,6 +49,10 @@ def _inspect(name: str, fmt: str) -> None:
     print("== Determinants, factored")
     for key in info["determinants"]:
         print(f"{key} = {show(objects[key])}")
+    if "architecture" in info:
+        print("\n== Architecture singularities (parameters only; zero: singular at every pose)")
+        for key in info["architecture"]:
+            print(f"{key} = {show(objects['architecture_' + key])}")
     print("\n== Singular conditions (each named factor = 0)")
     for key in info["singularity_factors"]:
         print(f"{key}: {show(objects['factor_' + key])} = 0")

@@ -472,6 +472,15 @@ class Mechanism:
 
         return architecture.is_architecturally_singular(self)
 
+    def architecture(self) -> dict[str, float]:
+        """The mechanism's architecture-singularity measures at its parameters (``parakin inspect``
+        shows them symbolically); empty for mechanisms without such conditions."""
+        names = self.metadata.get("architecture", [])
+        if not names:
+            return {}
+        values = self.backend.call("architecture", self.params)["measures"]
+        return {name: float(values[k]) for k, name in enumerate(names)}
+
     def singularities(self, state: Configuration) -> dict[str, Array]:
         """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
         closed-loop matrix), then the determinants themselves; zero means singular."""

@@ -306,3 +306,21 @@ def test_mechanism_method_reports_architecture_singularity():
     usable = parakin.load("gough", backend="numpy", yA4=1.0)
     assert not usable.is_architecturally_singular()
     assert not parakin.load("sam", backend="numpy").is_architecturally_singular()
+
+
+def test_inspect_shows_the_architecture_condition_and_runtime_evaluates_it():
+    import subprocess
+    import sys
+    import warnings
+
+    out = subprocess.run(
+        [sys.executable, "-m", "parakin.cli", "inspect", "gough"], capture_output=True, text=True
+    ).stdout
+    assert "Architecture singularities" in out and "six_point_conic" in out
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        singular = parakin.load("gough", backend="numpy")
+    usable = parakin.load("gough", backend="numpy", yA4=1.0)
+    name = "det_M_eq14_equals_six_point_conic_determinant_eq15"
+    assert abs(singular.architecture()[name]) < 1e-9
+    assert abs(usable.architecture()[name]) > 1.0
