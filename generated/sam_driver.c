@@ -209,6 +209,7 @@ int forward_back_substitution_batch(long long n, const double** inputs, const lo
 enum { PARAKIN_OK = 0, PARAKIN_NONFINITE = 1, PARAKIN_NO_CONVERGENCE = 2, PARAKIN_SINGULAR = 3 };
 
 #define NQ 6
+#define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
 
 // Solves a x = b in place (a is NQ x NQ row-major, destroyed); returns 0 if a pivot vanishes.
 static int solve_in_place(double* a, double* b, double pivot_floor) {
@@ -248,7 +249,8 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[52 + 1];
-    double residual[NQ], jacobian_cm[NQ * NQ], jacobian[NQ * NQ], pose_cm[16], alignment[1];
+    double residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC], pose_cm[16];
+    double alignment[1];
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
         double* q = passive + i * NQ;

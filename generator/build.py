@@ -120,7 +120,8 @@ def _format(directory: Path) -> None:
 
 
 def generate(names: list[str], destination: Path = GENERATED) -> dict[str, dict[str, float]]:
-    """Regenerate ``destination`` for ``names``; atomic: all mechanisms or nothing."""
+    """Regenerate ``destination`` for ``names`` (other mechanisms' files are kept); atomic: all
+    mechanisms or nothing."""
     destination.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".generated-", dir=destination.parent))
     staging.chmod(0o755)
@@ -130,6 +131,10 @@ def generate(names: list[str], destination: Path = GENERATED) -> dict[str, dict[
         )
         report = {name: generate_mechanism(name, staging) for name in names}
         _format(staging)
+        if destination.exists():  # a partial rebuild keeps the other mechanisms' files
+            for path in destination.iterdir():
+                if path.is_file() and not (staging / path.name).exists() and path.name.split("_")[0] not in names:
+                    shutil.copy2(path, staging / path.name)
         if destination.exists():
             retired = destination.with_name(destination.name + ".old")
             shutil.rmtree(retired, ignore_errors=True)

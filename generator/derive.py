@@ -205,7 +205,7 @@ class _Closure:
     platform: sp.Matrix
     residual: sp.Matrix
     alignment: sp.Matrix
-    rate_program: Program
+    rate_program: Program | None
     factors: dict[str, sp.Expr]
     determinants: dict[str, sp.Expr]
     symbolic: dict[str, object]
@@ -249,7 +249,11 @@ def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
 
 def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
     closure, rates = mechanism.closure, mechanism.rates
-    assert closure is not None and rates is not None
+    assert closure is not None
+    if rates is None:  # a serial chain: no closed loop, only its own named factors
+        return _Closure(
+            closure.pose, closure.residual, closure.alignment, None, dict(mechanism.factors), {}, {}, {"legs": []}
+        )
     sign_a = check_parallel_factors(mechanism, rates.a)
     serial_product = sp.Mul(*rates.serial_factors.values())
     sign_b = check_parallel_factors(mechanism, rates.b, {"det B": serial_product})
@@ -280,8 +284,12 @@ def derive(mechanism: Mechanism) -> Derivation:
     state = [actuated, passive, params]
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
-    jacobian_passive = residual.jacobian(mechanism.passive)
-    jacobian_actuated = residual.jacobian(mechanism.actuated)
+    if mechanism.passive:
+        jacobian_passive = residual.jacobian(mechanism.passive)
+        jacobian_actuated = residual.jacobian(mechanism.actuated)
+    else:  # nothing to solve for: a serial chain
+        jacobian_passive = sp.zeros(residual.rows, 0)
+        jacobian_actuated = sp.zeros(residual.rows, len(mechanism.actuated))
     factor_names, factor_values = list(closed.factors), list(closed.factors.values())
     determinants = closed.determinants
 
@@ -304,12 +312,15 @@ def derive(mechanism: Mechanism) -> Derivation:
             state,
             [("jacobian_actuated", jacobian_actuated)],
         ),
-        closed.rate_program,
+        *([closed.rate_program] if closed.rate_program is not None else []),
         Program(
             "singularity_factors",
             "Every named singularity factor, then the determinants.",
             state,
-            [("factors", sp.Matrix(factor_values)), ("determinants", sp.Matrix(list(determinants.values())))],
+            [
+                ("factors", sp.Matrix(len(factor_values), 1, factor_values)),
+                ("determinants", sp.Matrix(len(determinants), 1, list(determinants.values()))),
+            ],
         ),
     ]
     metadata: dict[str, object] = {
@@ -346,8 +357,8 @@ def derive(mechanism: Mechanism) -> Derivation:
                 "Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.",
                 [("pose", POSE_SYMBOLS), ("branch", inverse.branches), params],
                 [
-                    ("actuated", sp.Matrix(mechanism.actuated)),
-                    ("passive", sp.Matrix(mechanism.passive)),
+                    ("actuated", sp.Matrix(len(mechanism.actuated), 1, mechanism.actuated)),
+                    ("passive", sp.Matrix(len(mechanism.passive), 1, mechanism.passive)),
                     ("validity", sp.Matrix(list(inverse.validity.values()))),
                 ],
                 steps=inverse.steps,

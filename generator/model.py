@@ -203,3 +203,5 @@ class Mechanism:
     #: named expressions of the parameters only whose zeros make the design singular at every
     #: pose (architecture singularities); shown by ``parakin inspect``, evaluated by the runtime
     architecture: dict[str, sp.Expr] = field(default_factory=dict)
+    #: further named singularity factors (e.g. of a serial chain's pointing map), already factored
+    factors: dict[str, sp.Expr] = field(default_factory=dict)

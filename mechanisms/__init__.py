@@ -1,3 +1,3 @@
 """Mechanism definitions: one module per mechanism, each exposing ``build() -> Mechanism``."""
 
-MECHANISMS = ["sam", "spm", "sps", "gough"]
+MECHANISMS = ["sam", "spm", "sphere2r", "sps", "gough"]

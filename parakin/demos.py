@@ -134,4 +134,25 @@ def spm() -> None:
     )
 
 
-DEMOS: dict[str, Callable[[], None]] = {"sam": sam, "spm": spm, "sps": demos_sps.demo, "gough": demos_gough.demo}
+def sphere2r() -> None:
+    m = parakin.load("sphere2r")
+    np.set_printoptions(precision=5, suppress=True, linewidth=120)
+    print(f"\n{m!r}")
+    theta = np.deg2rad([30.0, 50.0])
+    w = m.forward_pose(theta).rotation[:, 2]
+    print(f"2R spherical chain (section 2): theta = (30, 50) deg -> w = {w}")
+    branches = m.inverse_pose(m.forward_pose(theta).pose)
+    for k in range(branches.actuated.shape[0]):
+        reached = m.forward_pose(branches.actuated[k]).rotation[:, 2]
+        print(
+            f"  inverse branch {k}: theta (deg) {np.rad2deg(branches.actuated[k])}  |w error| {np.abs(reached - w).max():.1e}"
+        )
+
+
+DEMOS: dict[str, Callable[[], None]] = {
+    "sphere2r": sphere2r,
+    "sam": sam,
+    "spm": spm,
+    "sps": demos_sps.demo,
+    "gough": demos_gough.demo,
+}

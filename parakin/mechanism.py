@@ -15,6 +15,7 @@ from parakin.backends import Backend
 from parakin.errors import (
     BadInputError,
     ConvergenceError,
+    ParakinError,
     SingularConfigurationError,
     UnreachablePoseError,
 )
@@ -208,6 +209,13 @@ class Mechanism:
         SingularConfigurationError.
         """
         theta = self._actuated(actuated)
+        if not self.passive_names:  # a serial chain: the forward pose is the chain itself
+            pose = self.platform_pose(theta, np.zeros(theta.shape[:-1] + (0,)))
+            batch = theta.shape[:-1]
+            done = np.ones(batch, dtype=bool)
+            return ForwardPose(
+                theta, np.zeros(batch + (0,)), pose, np.zeros(batch), np.zeros(batch, np.int32), done, done
+            )
         guess_passive = self._passive_guess(theta, guess)
         batch = np.broadcast_shapes(theta.shape[:-1], guess_passive.shape[:-1])
         start = np.broadcast_to(guess_passive, batch + guess_passive.shape[-1:])
@@ -306,6 +314,15 @@ class Mechanism:
         the platform has a self-motion) raises SingularConfigurationError.
         """
         theta = self._actuated(actuated)
+        if "forward" not in self.metadata:
+            if self.passive_names:
+                raise ParakinError(f"{self.name} has no closed-form forward elimination; use forward_pose")
+            single = self.forward_pose(theta)  # a serial chain has exactly one forward pose
+            one = np.ones(theta.shape[:-1] + (1,), dtype=bool)
+            return AssemblyModes(
+                theta, single.pose[..., None, :, :], single.passive[..., None, :], single.residual[..., None],
+                np.zeros(one.shape), one, one, one.sum(-1), ~one,
+            )  # fmt: skip
         info = self.metadata["forward"]
         with np.errstate(divide="ignore", invalid="ignore"):  # degenerate inputs: reported below
             out = self.backend.call("forward_polynomial", theta, self.params)
