@@ -124,7 +124,7 @@ class Mechanism:
         transform = self._as_transform(pose)
         info = self.metadata["inverse"]
         combinations = np.array(info["combinations"], dtype=np.int8)
-        with np.errstate(divide="ignore", invalid="ignore"):  # singular branches: masked below
+        with np.errstate(all="ignore"):  # singular or unreachable branches: masked below
             out = self.backend.call(
                 "inverse_pose", pose_vector(transform)[..., None, :], combinations.astype(float), self.params
             )
