@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import tempfile
 import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +17,7 @@ import sympy as sp
 
 import parakin
 from bench import gough, sps
+from bench.timing import best_time
 from generator.build import generate
 
 BATCHES = [1, 1000, 100_000]
@@ -34,20 +34,6 @@ def random_reachable(rng: np.random.Generator, count: int) -> np.ndarray:
         ]
     )
     return parakin.pose_from_xyz_euler(values)
-
-
-def best_time(function: Callable[[], object], budget: float = 0.5) -> float:
-    """Best of repeated runs within a time budget (at least 3), in seconds."""
-    function()
-    best, spent, runs = float("inf"), 0.0, 0
-    while runs < 3 or spent < budget:
-        start = time.perf_counter()
-        function()
-        elapsed = time.perf_counter() - start
-        best, spent, runs = min(best, elapsed), spent + elapsed, runs + 1
-        if runs >= 200:
-            break
-    return best
 
 
 class Baseline:

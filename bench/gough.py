@@ -13,21 +13,11 @@ import numpy as np
 import scipy.optimize
 
 import parakin
+from bench.timing import best_time
 from parakin import architecture
 
 #: a usable geometry near section 5.4's (A4 moved off the conic), metres
 GEOMETRY: dict[str, float] = {"yA4": 1.0}
-
-
-def _best(function: Callable[[], object], budget: float = 0.3) -> float:
-    function()
-    best, spent, runs = float("inf"), 0.0, 0
-    while runs < 3 or (spent < budget and runs < 200):
-        start = time.perf_counter()
-        function()
-        elapsed = time.perf_counter() - start
-        best, spent, runs = min(best, elapsed), spent + elapsed, runs + 1
-    return best
 
 
 def _poses(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -59,7 +49,7 @@ def rows(record: Callable[[str, str, int, float, float], None]) -> None:
         scipy.optimize.root(residual, guesses[k], args=(lengths[k],), tol=1e-12)
     base_forward = (time.perf_counter() - start) / n
     base_all = 8 * base_forward
-    base_inverse = _best(lambda: geometry.leg_lengths(poses[:1000])) / 1000
+    base_inverse = best_time(lambda: geometry.leg_lengths(poses[:1000])) / 1000
 
     for backend in ["numpy", "compiled"]:
         try:
@@ -72,12 +62,12 @@ def rows(record: Callable[[str, str, int, float, float], None]) -> None:
             g: np.ndarray = guesses[:batch]
             if batch == 1:
                 p, a, g = p[0], a[0], g[0]
-            record("gough inverse_pose", backend, batch, _best(partial(m.inverse_pose, p)), base_inverse)
+            record("gough inverse_pose", backend, batch, best_time(partial(m.inverse_pose, p)), base_inverse)
             record(
                 "gough forward_pose (Newton)",
                 backend,
                 batch,
-                _best(partial(m.forward_pose, a, g, strict=False)),
+                best_time(partial(m.forward_pose, a, g, strict=False)),
                 base_forward,
             )
             if batch <= 1000:
@@ -85,6 +75,6 @@ def rows(record: Callable[[str, str, int, float, float], None]) -> None:
                     "gough forward_pose_all (quartic)",
                     backend,
                     batch,
-                    _best(partial(m.forward_pose_all, a)),
+                    best_time(partial(m.forward_pose_all, a)),
                     base_all,
                 )

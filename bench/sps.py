@@ -10,7 +10,6 @@ baseline_seconds_per_pose)`` is bench/__main__.py's.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from functools import partial
 
@@ -18,21 +17,11 @@ import numpy as np
 import scipy.optimize
 
 import parakin
+from bench.timing import best_time
 from parakin import demos_sps as s5
 
 BATCHES = [1, 1000, 10_000]  # forward_pose_all tries 32 candidates per input
 BASELINE_POSES = 200
-
-
-def _best_time(function: Callable[[], object], budget: float = 0.5) -> float:
-    function()
-    best, spent, runs = float("inf"), 0.0, 0
-    while (runs < 3 or spent < budget) and runs < 200:
-        start = time.perf_counter()
-        function()
-        elapsed = time.perf_counter() - start
-        best, spent, runs = min(best, elapsed), spent + elapsed, runs + 1
-    return best
 
 
 def _euler(angles: np.ndarray) -> np.ndarray:
@@ -84,8 +73,8 @@ def rows(record: Callable[[str, str, int, float, float], None]) -> None:
         for i in range(n):
             scipy.optimize.root(residual, guess[i], args=(lengths[i],), tol=1e-12)
 
-    base_inverse = _best_time(baseline_inverse) / n
-    base_forward = _best_time(baseline_forward, budget=1.0) / n
+    base_inverse = best_time(baseline_inverse) / n
+    base_forward = best_time(baseline_forward, budget=1.0) / n
     for backend in ["numpy", "casadi", "compiled"]:
         m = parakin.load("sps", backend=backend)
         for batch in BATCHES:
@@ -99,20 +88,20 @@ def rows(record: Callable[[str, str, int, float, float], None]) -> None:
                 label + "inverse_pose (2 branches)",
                 backend,
                 batch,
-                _best_time(partial(m.inverse_pose, r)),
+                best_time(partial(m.inverse_pose, r)),
                 base_inverse,
             )
             record(
                 label + "forward_pose (Newton)",
                 backend,
                 batch,
-                _best_time(partial(m.forward_pose, d, g)),
+                best_time(partial(m.forward_pose, d, g)),
                 base_forward,
             )
             record(
                 label + "forward_pose_all",
                 backend,
                 batch,
-                _best_time(partial(m.forward_pose_all, d)),
+                best_time(partial(m.forward_pose_all, d)),
                 8 * base_forward,
             )
