@@ -20,7 +20,7 @@ import parakin
 from bench.timing import best_time
 from parakin import demos_sps as s5
 
-BATCHES = [1, 1000, 10_000]  # forward_pose_all tries 32 candidates per input
+BATCHES = [1, 1000, 10_000]  # forward_pose_all tries 16 candidates per input
 BASELINE_POSES = 200
 
 

@@ -7,8 +7,8 @@
 //   rate_jacobians: 126
 //   singularity_factors: 136
 //   inverse_pose: 291
-//   forward_polynomial: 11138
-//   forward_back_substitution: 14125
+//   forward_polynomial: 1838
+//   forward_back_substitution: 3637
 
 // Batched entry points over the CasADi-generated kernels of sps, and the forward
 // pose Newton loop, so that one call from Python does a whole batch with no per-call conversion.
@@ -167,7 +167,7 @@ int forward_polynomial_batch(long long n, const double** inputs, const long long
     const casadi_real* arg[2];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[138 + 1];
+    casadi_real w[49 + 1];
     casadi_real out_coefficients[9];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -185,7 +185,7 @@ int forward_back_substitution_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[4];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[53 + 1];
+    casadi_real w[54 + 1];
     casadi_real out_pose[16];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];

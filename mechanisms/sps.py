@@ -28,22 +28,32 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
 * Rates (A omega = B d_dot, omega in {B}): d_i d_i_dot = (a_i x b_i) . omega, so A has rows
   (a_i x b_i)^T and B = diag(d_i). det A = det[a_i x b_i] vanishes at the type II singularities
   (the three leg moment vectors about Q coplanar); det U_omega = 8 sin(beta) det[b_i x a_i].
-* Forward pose (eqs 2-6): v = a2o . b1o (eq 2). Eq (3) gives b1o and eq (4) b2o with the roots
-  r1 = s1 sqrt(D1), r2 = s2 sqrt(D2) (the printed "1/2 sqrt(D1)", "1/2 sqrt(D2)" read +-sqrt);
-  the sign in eq (5) is not a branch: sqrt(D3) enters as chi sqrt(D3), a platform constant.
-  G = s12^2 (1 - v^2)(1 - q12^2) F(v) = A + B r1 + C r2 + E r1 r2 with A, B, C, E of degree
-  3, 2, 2, 1 in v; the product over the four sign pairs, N = X^2 - 4 D1 Y^2 (X = A^2 + B^2 D1 -
-  C^2 D2 - E^2 D1 D2, Y = A B - C E D2), has degree 12 and the factor (v^2 - 1)^2; the quotient is
-  the degree-8 forward polynomial (8 = the Bezout number of the quaternion formulation). For each
-  root and sign pair (s1, s2) the back substitution builds b1o, b2o and R, then takes six gated
-  Cayley-Newton steps on the leg equations, which makes roots near a branch point (D1 or D2 ~ 0,
-  where v is ill-conditioned) accurate; extraneous sign pairs mostly do not close and are dropped
-  by the runtime, but one within reach of another configuration is polished into it (a duplicate,
-  dropped), so a mode's (root, branch) slot does not label it: ``parakin.demos_sps.paper_labels``
-  computes (v, s1, s2) from the configuration. Paper order v1..v4 = branches (+, +), (+, -),
-  (-, +), (-, -). Limitation: configurations that nearly coincide in v (within ~1e-4, at a fold
-  D1 or D2 ~ 0, or next to v = +-1) make clustered, ill-conditioned roots and can be missed
-  (tests/test_sps.py counts them against the quaternion route).
+* Forward pose (eqs 2-6): the paper's unknown is v = a2o . b1o (eq 2); eq (3) gives b1o and eq
+  (4) b2o with the roots r1 = s1 sqrt(D1), r2 = s2 sqrt(D2) (the printed "1/2 sqrt(D1)", "1/2
+  sqrt(D2)" read +-sqrt); the sign in eq (5) is not a branch: sqrt(D3) enters as chi sqrt(D3), a
+  platform constant. Rationalising F(v) (squaring out r1, r2) gives a degree-12 polynomial with
+  the spurious factor (v^2 - 1)^2, and v folds the two configurations s1 = +-1 onto one value, so
+  that at D1 ~ 0 or near v = 1 distinct configurations make clustered, ill-conditioned roots in v.
+  The generated code therefore eliminates in angles instead: b1o = p1 a1o + rho1 (cos phi y_b +
+  sin phi z_b) on the cone of leg 1 and b2o = p2 a2o + rho2 (cos psi (z_b x a2o) + sin psi z_b)
+  on that of leg 2 (rho_i = sqrt(1 - p_i^2)); eq (4)'s condition E1 = b1o . b2o - q12 = 0 and
+  eq (6)'s E2 = a3o . b3o - p3 = 0 with b3o = k1 b1o + k2 b2o + k3 b1o x b2o (eq 5) are bilinear
+  in (1, cos, sin) of phi and psi, so biquadratic in x = tan(phi / 2), y = tan(psi / 2); their
+  resultant in y (generator.elimination) is the degree-8 forward polynomial in t = x, without
+  square roots or spurious factors (8 = the Bezout number of the quaternion formulation; at the
+  real roots, v = c12 p1 + s12 rho1 cos phi gives the paper's roots). Distinct real roots t are
+  distinct b1o, so D1's fold and v = 1 are gone. For each root t and branch tau = +-1 the back
+  substitution takes a zero psi of E = |E1| E1 + |E2| E2 (each E_n = alpha_n + beta_n cos psi +
+  gamma_n sin psi at that t, |E_n| its coefficient norm, so that neither degenerate case, E1 = 0
+  at b1o = +-a2o or E2 = 0, loses the root), builds b1o, b2o and R, then takes six gated
+  Cayley-Newton steps on the leg equations. At a (near-)double root t (two configurations with
+  nearly the same b1o), rounding may split the pair into complex roots with imaginary parts
+  ~ sqrt(eps): their real parts are tried (imaginary tolerance 1e-3), and the two branches tau
+  give the two configurations. Candidates that do not close are dropped by the runtime, and
+  duplicates merged, so a mode's (root, branch) slot does not label it:
+  ``parakin.demos_sps.paper_labels`` computes (v, s1, s2) from the configuration (paper order
+  v1..v4 = branches (s1, s2) = (+, +), (+, -), (-, +), (-, -)), and
+  ``parakin.demos_sps.polynomial_roots`` maps the roots t to v.
 * Defaults: section 5 (Baukema SHM4-120A), with a3x = +2.720 m (printed -2.720: with it no
   configuration exists, and the printed b_3 is 5.07 m from A3 instead of d3 = 1.32 m; see
   tests/test_sps.py), chi = -1, strokes and stiffnesses as printed.
@@ -53,6 +63,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from generator.elimination import biquadratic_resultant
 from generator.frames import homogeneous, rot_x, rot_y
 from generator.model import (
     POSE_ROTATION,
@@ -136,59 +147,45 @@ def inverse() -> InverseSolution:
 
 
 # ---------------------------------------------------------------------------- forward pose
-V = sp.Symbol("v", real=True)
-R1, R2 = sp.symbols("r1 r2", real=True)
-COSINES = sp.symbols("c12 s12 p1 p2 p3 q12 q13 q23 s3 e1 e2 e3", real=True)
+T_HALF = sp.Symbol("t", real=True)
+Q12 = sp.Symbol("q12", real=True)
+COSINES = sp.symbols("c12 s12 p1 p2 p3 rho1 rho2 e1 e2 e3 k1 k2 k3", real=True)
+# tangent half angles: (1 + x^2) (1, cos, sin) = (1 + x^2, 1 - x^2, 2 x) = HALF_ANGLE^T (1, x, x^2)
+HALF_ANGLE = sp.Matrix([[1, 1, 0], [0, 0, 2], [1, -1, 0]])
 
 
-def closure_numerator() -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
-    """A, B, C, E (polynomials in v) of G = s12^2 (1 - v^2)(1 - q12^2) F(v) = A + B r1 + C r2 +
-    E r1 r2, in the canonical base frame a1o = (1, 0, 0), a2o = (c12, s12, 0), a3o = (e1, e2, e3)."""
-    c12, s12, p1, p2, p3, q12, q13, q23, s3, e1, e2, e3 = COSINES
-    d1 = 1 - p1**2 - c12**2 - V**2 + 2 * p1 * c12 * V
-    d2 = 1 - p2**2 - q12**2 - V**2 + 2 * p2 * q12 * V
-    a2o = sp.Matrix([c12, s12, 0])
-    a3o = sp.Matrix([e1, e2, e3])
-    b1o = sp.Matrix([p1 * s12, V - c12 * p1, R1]) / s12  # eq (3)
-    b2n = (p2 - q12 * V) * a2o + (q12 - V * p2) * b1o + R2 * a2o.cross(b1o)  # eq (4) times (1 - v^2)
-    b3n = (q13 - q12 * q23) * (1 - V**2) * b1o + (q23 - q12 * q13) * b2n + s3 * b1o.cross(b2n)  # eq (5)
-    g = sp.expand(s12**2 * (a3o.dot(b3n) - p3 * (1 - V**2) * (1 - q12**2)))  # eq (6)
-    g = sp.expand(g.subs(R1**3, R1 * d1).subs(R1**2, d1).subs(R2**2, d2))
-    poly = sp.Poly(g, R1, R2)
-    if any(m[0] > 1 or m[1] > 1 for m in poly.monoms()):
-        raise ValueError("closure numerator not reduced in r1, r2")
-    return tuple(sp.expand(poly.coeff_monomial(m)) for m in (1, R1, R2, R1 * R2))  # type: ignore[return-value]
-
-
-def norm_quotient() -> tuple[list[list[sp.Symbol]], list[sp.Symbol], list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
-    """Generic symbols for the coefficients of A, B, C, E, D1 and D2, and the coefficients of
-    N / (v^2 - 1)^2 in them (division from the top; the remainder is zero for consistent data)."""
-    degrees = {"A": 3, "B": 2, "C": 2, "E": 1}
-    generic = [[sp.Symbol(f"{k}{j}", real=True) for j in range(n + 1)] for k, n in degrees.items()]
-    big_a, big_b, big_c, big_e = (sp.Poly(sum(c * V**j for j, c in enumerate(row)), V) for row in generic)
-    d1c = list(sp.symbols("D1_0 D1_1", real=True))
-    d2c = list(sp.symbols("D2_0 D2_1", real=True))
-    d1 = sp.Poly(d1c[0] + d1c[1] * V - V**2, V)
-    d2 = sp.Poly(d2c[0] + d2c[1] * V - V**2, V)
-    x = big_a**2 + big_b**2 * d1 - big_c**2 * d2 - big_e**2 * d1 * d2
-    y = big_a * big_b - big_c * big_e * d2
-    norm = x**2 - 4 * d1 * y**2
-    n = [sp.Symbol(f"N{k}", real=True) for k in range(13)]
-    if norm.degree() != 12:
-        raise ValueError("norm polynomial is not of degree 12")
-    quotient, _ = sp.div(sum(c * V**k for k, c in enumerate(n)), (V**2 - 1) ** 2, V)
-    q = sp.Poly(quotient, V)
-    coefficients = [q.coeff_monomial(V**k) for k in range(9)]
-    auxiliary_norm = [(n[k], norm.coeff_monomial(V**k)) for k in range(13)]
-    return generic, d1c + d2c, auxiliary_norm, coefficients
+def cone_grids() -> tuple[sp.Matrix, sp.Matrix]:
+    """The closure as two equations bilinear in f(phi) = (1, cos phi, sin phi) and f(psi), in the
+    canonical base frame a1o = (1, 0, 0), a2o = (c12, s12, 0), a3o = (e1, e2, e3): b1o = p1 a1o +
+    rho1 (cos phi y_b + sin phi z_b) on the cone of leg 1 (eq 1b), b2o = p2 a2o + rho2 (cos psi n2 +
+    sin psi z_b) on the cone of leg 2 (n2 = z_b x a2o), rho_i = sqrt(1 - p_i^2); E1 = b1o . b2o -
+    q12 (eq 4) and E2 = a3o . b3o - p3 (eq 6) with b3o = k1 b1o + k2 b2o + k3 b1o x b2o (eq 5; k1,
+    k2, k3 are platform constants). Entry [j, k] multiplies f_j(phi) f_k(psi)."""
+    c12, s12, p1, p2, p3, rho1, rho2, e1, e2, e3, k1, k2, k3 = COSINES
+    a1o, a2o, a3o = sp.Matrix([1, 0, 0]), sp.Matrix([c12, s12, 0]), sp.Matrix([e1, e2, e3])
+    z = sp.Matrix([0, 0, 1])
+    leg1 = [p1 * a1o, rho1 * sp.Matrix([0, 1, 0]), rho1 * z]
+    leg2 = [p2 * a2o, rho2 * z.cross(a2o), rho2 * z]
+    first, second = sp.zeros(3, 3), sp.zeros(3, 3)
+    for j in range(3):
+        for k in range(3):
+            first[j, k] = leg1[j].dot(leg2[k])
+            second[j, k] = k3 * a3o.dot(leg1[j].cross(leg2[k]))
+            if k == 0:
+                second[j, k] += k1 * a3o.dot(leg1[j])
+            if j == 0:
+                second[j, k] += k2 * a3o.dot(leg2[k])
+    first[0, 0] -= Q12
+    second[0, 0] -= p3
+    return first.applyfunc(sp.expand), second.applyfunc(sp.expand)
 
 
 def _cayley_newton(rotation: sp.Matrix, step: int) -> tuple[list[tuple[sp.Symbol, sp.Expr]], sp.Matrix]:
     """One Newton step on a_i . R b_ip = |a_i| b_i p_i (the leg equations), R <- Cay(w) R.
 
     The step is gated, w / (1 + (|w| / NEWTON_REACH)^4): a candidate within a few hundredths of
-    a radian of a closure (a root near a branch point) converges, one further away (an extraneous
-    sign pair) stays put and is rejected by the runtime, instead of drifting into another mode.
+    a radian of a closure (a root near a branch point) converges, one further away (the wrong
+    branch tau) stays put and is rejected by the runtime, instead of drifting into another mode.
     It is regularised where the Jacobian (rows R b_ip x a_i) is singular. Platform points come
     from the symbols ``PLATFORM`` (assigned in the auxiliaries)."""
     assignments: list[tuple[sp.Symbol, sp.Expr]] = []
@@ -223,55 +220,88 @@ PLATFORM = [sp.Matrix(sp.symbols(f"b{i}p_x b{i}p_y b{i}p_z", real=True)) for i i
 
 
 def forward() -> ForwardElimination:
-    c12, s12, p1, p2, p3, q12, q13, q23, s3, e1, e2, e3 = COSINES
+    c12, s12, p1, p2, p3, rho1, rho2, e1, e2, e3, k1, k2, k3 = COSINES
     a = base_points()
     q12e, q13e, q23e, d3e = platform_cosines()
     a2n, a3n = sp.sqrt(a[1].dot(a[1])), sp.sqrt(a[2].dot(a[2]))
+    q13, q23, s3 = sp.symbols("q13 q23 s3", real=True)
     auxiliary: list[tuple[sp.Symbol, sp.Expr]] = [
         (c12, a2x / a2n),
         (s12, a2y / a2n),
         (e1, a3x / a3n),
         (e2, a3y / a3n),
         (e3, a3z / a3n),
-        (q12, q12e),
+        (Q12, q12e),
         (q13, q13e),
         (q23, q23e),
         (s3, chi * sp.sqrt(sp.Max(0, d3e))),
+        # b3o = k1 b1o + k2 b2o + k3 b1o x b2o (eq 5)
+        (k1, (q13 - Q12 * q23) / (1 - Q12**2)),
+        (k2, (q23 - Q12 * q13) / (1 - Q12**2)),
+        (k3, s3 / (1 - Q12**2)),
     ]
     for symbols, point in zip(PLATFORM, platform_points(), strict=True):
         auxiliary += [(symbols[k], point[k]) for k in range(3)]
     for i, (p, bi) in enumerate(zip((p1, p2, p3), (b1, b2, b3), strict=True)):
         norm = sp.sqrt(a[i].dot(a[i]))
         auxiliary.append((p, (norm**2 + bi**2 - d[i] ** 2) / (2 * norm * bi)))  # eq (1b)
-    generic, d_coefficients, norm_assignments, coefficients = norm_quotient()
-    for row, expr in zip(generic, closure_numerator(), strict=True):
-        poly = sp.Poly(expr, V)
-        auxiliary += [(symbol, poly.coeff_monomial(V**j)) for j, symbol in enumerate(row)]
-    auxiliary += list(
-        zip(d_coefficients, [1 - p1**2 - c12**2, 2 * p1 * c12, 1 - p2**2 - q12**2, 2 * p2 * q12], strict=True)
-    )
-    auxiliary += norm_assignments
+    # |p_i| > 1: leg i cannot reach; rho_i = 0 then, and the roots found do not close
+    auxiliary += [(rho1, sp.sqrt(sp.Max(0, 1 - p1**2))), (rho2, sp.sqrt(sp.Max(0, 1 - p2**2)))]
+    # E1, E2 biquadratic in the tangent half angles x = tan(phi / 2), y = tan(psi / 2);
+    # the resultant in y is the degree-8 forward polynomial in x = t
+    first, second = cone_grids()
+    elimination = biquadratic_resultant(T_HALF)
+    for symbols, grid in zip((elimination.first, elimination.second), (first, second), strict=True):
+        full = HALF_ANGLE * grid * HALF_ANGLE.T  # [p, q]: coefficient of x^p y^q
+        auxiliary += [(symbols[k][j], sp.expand(full[j, k])) for k in range(3) for j in range(3)]
+    # the grids themselves, for the back substitution on the unit circle
+    grid_symbols = [sp.Matrix(3, 3, sp.symbols(f"E{n}_0:3(0:3)", real=True)) for n in (1, 2)]
+    for symbols, grid in zip(grid_symbols, (first, second), strict=True):
+        auxiliary += [(symbols[j, k], grid[j, k]) for j in range(3) for k in range(3)]
 
-    # back substitution: eqs (3), (4) for a root v and signs (s1, s2), R from b1o, b2o, Newton polish
-    s1, s2 = sp.symbols("s1 s2", real=True)
-    root1, root2 = sp.symbols("root_D1 root_D2", real=True)
+    # back substitution: phi from t; at a root, E1 and E2 are alpha + beta cos psi + gamma sin psi
+    # with a common zero psi; it is taken from E = |E1| E1 + |E2| E2 (|.| the coefficient norm:
+    # E1 alone vanishes identically where b1o = +-a2o, E2 alone where a3o is normal to b3o's
+    # circle), on branch tau (its other zero is not a configuration and does not close, except at
+    # a double root t, where both are configurations); then b1o, b2o, R and Newton polish
+    tau = sp.Symbol("tau", real=True)
+    cos_phi, sin_phi = sp.symbols("cos_phi sin_phi", real=True)
+    f_phi = sp.Matrix([1, cos_phi, sin_phi])
+    back: list[tuple[sp.Symbol, sp.Expr]] = [
+        (cos_phi, (1 - T_HALF**2) / (1 + T_HALF**2)),
+        (sin_phi, 2 * T_HALF / (1 + T_HALF**2)),
+    ]
+    lines, weights = [], []
+    for n, symbols in enumerate(grid_symbols, start=1):
+        line = sp.Matrix(sp.symbols(f"E{n}_alpha E{n}_beta E{n}_gamma", real=True))
+        weight = sp.Symbol(f"E{n}_weight", real=True)
+        row = f_phi.T * symbols
+        back += [*((line[k], row[k]) for k in range(3)), (weight, sp.sqrt(line.dot(line)))]
+        lines.append(line)
+        weights.append(weight)
+    lin = sp.Matrix(sp.symbols("E_alpha E_beta E_gamma", real=True))
+    norm2, disc, root = sp.symbols("E_norm2 E_discriminant E_root", real=True)
+    cos_psi, sin_psi = sp.symbols("cos_psi sin_psi", real=True)
+    combined = weights[0] * lines[0] + weights[1] * lines[1]
+    back += [
+        *((lin[k], combined[k]) for k in range(3)),
+        (norm2, lin[1] ** 2 + lin[2] ** 2),
+        (disc, norm2 - lin[0] ** 2),
+        # a slightly negative discriminant (where the two zeros meet) is clamped
+        (root, tau * sp.sqrt(sp.Max(0, disc))),
+        (cos_psi, (-lin[0] * lin[1] - root * lin[2]) / norm2),
+        (sin_psi, (-lin[0] * lin[2] + root * lin[1]) / norm2),
+    ]
     b1o = sp.Matrix(sp.symbols("b1o_x b1o_y b1o_z", real=True))
     b2o = sp.Matrix(sp.symbols("b2o_x b2o_y b2o_z", real=True))
-    d1v = d_coefficients[0] + d_coefficients[1] * V - V**2
-    d2v = d_coefficients[2] + d_coefficients[3] * V - V**2
     a2o = sp.Matrix([c12, s12, 0])
-    b1_value = sp.Matrix([p1, (V - c12 * p1) / s12, root1 / s12])
-    # eq (4) times (1 - v^2) > 0 (a real configuration has |v| < 1): only its direction is used
-    b2_value = (p2 - q12 * V) * a2o + (q12 - V * p2) * b1o + root2 * a2o.cross(b1o)
-    back: list[tuple[sp.Symbol, sp.Expr]] = [
-        (root1, s1 * sp.sqrt(sp.Abs(d1v))),
-        (root2, s2 * sp.sqrt(sp.Abs(d2v))),
-        *((b1o[k], b1_value[k]) for k in range(3)),
-        *((b2o[k], b2_value[k]) for k in range(3)),
-    ]
+    z = sp.Matrix([0, 0, 1])
+    b1_value = sp.Matrix([p1, rho1 * cos_phi, rho1 * sin_phi])
+    b2_value = p2 * a2o + rho2 * (cos_psi * z.cross(a2o) + sin_psi * z)
+    back += [*((b1o[k], b1_value[k]) for k in range(3)), *((b2o[k], b2_value[k]) for k in range(3))]
     # R = [x y z]: x along b1o, y along the part of b2o normal to it, z = x cross y (the platform
-    # frame is canonical); normalised, so that R is a rotation for every real root, even one
-    # that is not a configuration (D1 < 0 or D2 < 0, clamped above); such roots do not close
+    # frame is canonical); normalised, so that R is a rotation for every real root, even one that
+    # is not a configuration; such roots do not close
     x_axis = sp.Matrix(sp.symbols("x_axis1:4", real=True))
     y_axis = sp.Matrix(sp.symbols("y_axis1:4", real=True))
     x_norm, y_norm = sp.symbols("x_axis_norm y_axis_norm", real=True)
@@ -288,16 +318,17 @@ def forward() -> ForwardElimination:
         assignments, current = _cayley_newton(current, step)
         back += assignments
     return ForwardElimination(
-        unknown=V,
-        coefficients=coefficients,
-        branches=[s1, s2],
+        unknown=T_HALF,
+        coefficients=elimination.coefficients,
+        branches=[tau],
         auxiliary=auxiliary,
         back_substitution=back,
         pose=homogeneous(current, [0, 0, 0]),
         degeneracies={},
-        # roots within 1e-4 of each other in v (folds of eqs 3, 4) split into complex pairs with
-        # imaginary parts up to ~1e-3: try them; the runtime keeps only candidates that close
-        imaginary_tolerance=3e-3,
+        # two configurations with (nearly) the same b1o make a (near-)double root t, which
+        # rounding splits into a complex pair (imaginary parts ~ sqrt(eps)): try its real part;
+        # both branches tau then give the two configurations, and non-closing candidates are dropped
+        imaginary_tolerance=1e-3,
     )
 
 

@@ -99,6 +99,19 @@ def closure_function(m: parakin.Mechanism, lengths: np.ndarray, v: np.ndarray, s
     return np.asarray(b3o @ ao[2] - p[2])  # eq (6)
 
 
+def polynomial_roots(m: parakin.Mechanism, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """All 8 complex roots t = tan(phi / 2) of the forward polynomial (phi: the angle of b1o about a1o
+    from the plane z_b = 0, mechanisms/sps.py) and the paper's v = a2o . b1o at each (eq 2):
+    v = c12 p1 + s12 sqrt(1 - p1^2) cos(phi), cos(phi) = (1 - t^2) / (1 + t^2)."""
+    coefficients = m.backend.call("forward_polynomial", np.asarray(lengths, dtype=float), m.params)["coefficients"]
+    t = np.roots(np.asarray(coefficients)[::-1])
+    base, platform = geometry(m)
+    a, b = np.linalg.norm(base, axis=1), np.linalg.norm(platform, axis=1)
+    p1 = (a[0] ** 2 + b[0] ** 2 - lengths[0] ** 2) / (2 * a[0] * b[0])
+    c12, s12 = base[1, :2] / a[1]
+    return t, c12 * p1 + s12 * np.sqrt(1 - p1**2) * (1 - t**2) / (1 + t**2)
+
+
 def paper_labels(m: parakin.Mechanism, rotation: np.ndarray) -> tuple[float, int, int]:
     """(v, s1, s2) of a configuration: v = a2o . b1o (eq 2), s1 the sign of (a1o x a2o) . b1o
     (the root in eq 3) and s2 that of (a2o x b1o) . b2o (eq 4)."""
@@ -281,9 +294,9 @@ def demo(backend: str = "auto") -> None:
     printed = parakin.load("sps", backend=m.backend.name, a3x=float(A3_PRINTED[0]))
     count = int(printed.forward_pose_all(LENGTHS).count)
     print(f"  with the printed a3x = -2.720 the lengths d = {LENGTHS} m have {count} configurations")
-    coefficients = m.backend.call("forward_polynomial", LENGTHS, m.params)["coefficients"]
-    roots = np.roots(coefficients[::-1])
-    print(f"  degree-8 forward polynomial in v: roots {np.sort_complex(roots)}")
+    t_roots, v_roots = polynomial_roots(m, LENGTHS)
+    print(f"  degree-8 forward polynomial in t = tan(phi / 2): roots {np.sort_complex(t_roots)}")
+    print(f"    v = a2o . b1o at those roots (eq 2): {np.sort_complex(v_roots)}")
     found = configurations(m, LENGTHS)
     print(f"  {len(found)} configurations (paper: four real roots), in the paper's order:")
     for n, (v, s1, s2, config) in enumerate(found):

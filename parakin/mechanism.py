@@ -345,6 +345,8 @@ class Mechanism:
             poses = self.backend.call(
                 "forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params
             )["pose"]
+        # a back substitution undefined at a root (0 / 0 where the elimination degenerates) gives no candidate
+        real_grid &= np.isfinite(poses).all(axis=(-2, -1))
         poses = np.where(real_grid[..., None, None], poses, np.eye(4))
         theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
         passive = self.passive_from_pose(theta_grid, poses)
