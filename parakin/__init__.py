@@ -26,6 +26,7 @@ from parakin.errors import (
     UnknownMechanismError,
     UnreachablePoseError,
 )
+from parakin.extensions import extension
 from parakin.mechanism import Mechanism
 from parakin.pose import (
     euler_zyx_to_rotation,
@@ -80,13 +81,10 @@ def load(
             raise UnknownMechanismError(f"unknown limit {key!r} for {name!r}; valid: {info['passive']}")
         bounds[key] = (float(bound[0]), float(bound[1]))
     mechanism = Mechanism(info, make_backend(name, backend), values, bounds)
-    if name in LOAD_CHECKS:
-        LOAD_CHECKS[name](mechanism)  # e.g. warn about an architecturally singular geometry
+    module = extension(name)
+    if module is not None and hasattr(module, "on_load"):
+        module.on_load(mechanism)  # e.g. warn about an architecturally singular geometry
     return mechanism
-
-
-#: checks run on every load of a mechanism: a warning for a geometry that is unusable as a whole
-LOAD_CHECKS: dict[str, Any] = {"gough": lambda m: importlib.import_module("parakin.architecture").warn_if_singular(m)}
 
 
 def symbolic(name: str) -> dict[str, Any]:

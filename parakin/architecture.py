@@ -145,16 +145,21 @@ def is_architecturally_singular(m: Any, tolerance: float = CONIC_TOLERANCE) -> b
     return conic_fit(m, tolerance).singular
 
 
-def warn_if_singular(m: Any, tolerance: float = CONIC_TOLERANCE) -> ConicFit:
+def warn_if_singular(m: Any, tolerance: float = CONIC_TOLERANCE, stacklevel: int = 2) -> ConicFit:
     """Warn (ArchitectureSingularityWarning) when the geometry is architecturally singular."""
     fit = conic_fit(m, tolerance)
     if fit.singular:
         warnings.warn(
             f"6-SPS geometry is architecturally singular (unusable): {fit.describe()}",
             ArchitectureSingularityWarning,
-            stacklevel=2,
+            stacklevel=stacklevel,
         )
     return fit
+
+
+def on_load(m: Any) -> None:
+    """Run by ``parakin.load``: warn about an unusable geometry, at the caller of ``load``."""
+    warn_if_singular(m, stacklevel=4)
 
 
 # ---------------------------------------------------------------------------------- compatibility

@@ -485,11 +485,12 @@ class Mechanism:
         """Whether this geometry is singular at every pose (a useless design), for mechanisms
         that have such a test (the 6-SPS with linearly related platforms: base on a conic,
         ``parakin.architecture``); False for the others, whose singularities depend on the pose."""
-        if self.name != "gough":
-            return False
-        from parakin import architecture
+        from parakin.extensions import extension  # extensions import this module's results
 
-        return architecture.is_architecturally_singular(self)
+        module = extension(self.name)
+        if module is None or not hasattr(module, "is_architecturally_singular"):
+            return False
+        return bool(module.is_architecturally_singular(self))
 
     def architecture(self) -> dict[str, float]:
         """The mechanism's architecture-singularity measures at its parameters (``parakin inspect``
