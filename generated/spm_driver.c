@@ -201,7 +201,8 @@ int forward_back_substitution_batch(long long n, const double** inputs, const lo
     return 0;
 }
 
-enum { PARAKIN_OK = 0, PARAKIN_NONFINITE = 1, PARAKIN_NO_CONVERGENCE = 2, PARAKIN_SINGULAR = 3 };
+// status codes, shared with parakin.errors.raise_for_newton_status
+enum { PARAKIN_OK = 0, PARAKIN_NONFINITE = 1, PARAKIN_NO_CONVERGENCE = 2, PARAKIN_SINGULAR = 3, PARAKIN_WRONG_BASIN = 4 };
 
 #define NQ 3
 #define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
@@ -248,15 +249,22 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
     double alignment[1];
     for (long long i = 0; i < n; ++i) {
         const double* theta = actuated + i * actuated_stride;
-        double* q = passive + i * NQ;
-        memmove(q, guess + i * guess_stride, sizeof(double) * NQ);  // guess may alias passive
+        // iterate on a copy: on failure the output keeps the guess (a tracker's last good
+        // solution, since its guess aliases its output), never a diverged iterate
+        double q[NQ_ALLOC];
+        double* out = passive + i * NQ;
+        memcpy(q, guess + i * guess_stride, sizeof(double) * NQ);
         int finite = 1;
         for (int k = 0; k < 3; ++k) finite &= isfinite(theta[k]);
         for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
         status[i] = finite ? PARAKIN_NO_CONVERGENCE : PARAKIN_NONFINITE;
         iterations[i] = 0;
         residual_norm[i] = NAN;
-        if (!finite) continue;
+        if (!finite) {
+            memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
+            for (int k = 0; k < 16; ++k) pose[i * 16 + k] = NAN;
+            continue;
+        }
         arg[0] = theta; arg[1] = q; arg[2] = params;
         // outputs not needed here stay NULL: CasADi then skips computing them
         for (int k = 0; k < 3; ++k) res[k] = 0;
@@ -280,7 +288,7 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
                 // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
                 int aligned = 1;
                 for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 0.0;
-                if (aligned) status[i] = PARAKIN_OK;
+                status[i] = aligned ? PARAKIN_OK : PARAKIN_WRONG_BASIN;
                 break;
             }
             double step = 0.0;
@@ -288,9 +296,11 @@ int parakin_forward_pose(long long n, const double* actuated, long long actuated
             double scale = step > max_step ? max_step / step : 1.0;
             for (int k = 0; k < NQ; ++k) q[k] -= scale * residual[k];
         }
+        if (status[i] == PARAKIN_OK) memcpy(out, q, sizeof(double) * NQ);
+        else memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
         const casadi_real* pose_arg[3];
         casadi_real* pose_res[1];
-        pose_arg[0] = theta; pose_arg[1] = q; pose_arg[2] = params;
+        pose_arg[0] = theta; pose_arg[1] = out; pose_arg[2] = params;
         pose_res[0] = pose_cm;
         platform_pose(pose_arg, pose_res, iw, w, 0);
         for (int r = 0; r < 4; ++r)

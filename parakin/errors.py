@@ -36,3 +36,41 @@ class ConvergenceError(ParakinError):
 
 class InconsistentInputError(ParakinError):
     """Inputs that no configuration satisfies (for example incompatible locked leg lengths)."""
+
+
+#: status codes of the Newton loops (the generated C driver uses the same numbers)
+NEWTON_OK, NEWTON_NONFINITE, NEWTON_NO_CONVERGENCE, NEWTON_SINGULAR, NEWTON_WRONG_BASIN = 0, 1, 2, 3, 4
+
+
+def raise_for_newton_status(
+    status: object, residual: object, iterations: object, what: str, tolerance: float, max_iterations: int
+) -> None:
+    """Raise the error of the first failed entry of a Newton batch (arrays of equal shape)."""
+    import numpy as np
+
+    failed = np.asarray(status) != NEWTON_OK
+    if not failed.any():
+        return
+    index = tuple(int(i) for i in np.argwhere(failed)[0]) if failed.ndim else ()
+    at = f" at batch index {index}" if index else ""
+    code = int(np.asarray(status)[index])
+    reached = float(np.asarray(residual)[index])
+    steps = int(np.asarray(iterations)[index])
+    if code == NEWTON_NONFINITE:
+        raise BadInputError(f"{what}{at}: non-finite actuated input or guess")
+    if code == NEWTON_SINGULAR:
+        raise SingularConfigurationError(
+            f"{what}{at}: the loop-closure Jacobian is singular (a type II singularity) after {steps} "
+            f"iterations, residual {reached:.3g}"
+        )
+    if code == NEWTON_WRONG_BASIN:
+        raise ConvergenceError(
+            f"{what}{at}: the residual vanished ({reached:.3g}) at a false closure (alignment <= 0: "
+            "legs a half-turn apart, or a mirror platform); try another guess",
+            residual=reached,
+        )
+    raise ConvergenceError(
+        f"{what}{at} did not converge in {max_iterations} iterations: residual {reached:.3g} > "
+        f"tolerance {tolerance:g}; try a closer guess",
+        residual=reached,
+    )

@@ -13,18 +13,27 @@ from numpy.typing import ArrayLike
 
 from parakin.backends import Backend
 from parakin.errors import (
+    NEWTON_NO_CONVERGENCE,
+    NEWTON_OK,
+    NEWTON_SINGULAR,
+    NEWTON_WRONG_BASIN,
     BadInputError,
-    ConvergenceError,
     ParakinError,
     SingularConfigurationError,
     UnreachablePoseError,
+    raise_for_newton_status,
 )
 from parakin.polynomial import real_roots
 from parakin.pose import as_array, as_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
 from parakin.tracker import ForwardPoseTracker
 
-STATUS_OK, STATUS_NONFINITE, STATUS_NO_CONVERGENCE, STATUS_SINGULAR = 0, 1, 2, 3
+STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
+    NEWTON_OK,
+    NEWTON_NO_CONVERGENCE,
+    NEWTON_SINGULAR,
+    NEWTON_WRONG_BASIN,
+)
 
 
 def pose_vector(pose: Array) -> Array:
@@ -172,6 +181,7 @@ class Mechanism:
         difference = modes.passive - self.home_passive
         difference = np.where(self._angular_passive, wrap_angle(difference), difference)
         distance = np.abs(difference).max(-1) + np.where(modes.valid | modes.real, 0.0, 1e6)
+        distance = np.where(np.isfinite(distance), distance, np.inf)  # argmin would pick a NaN
         best = np.argmin(distance, axis=-1)
         fallback = np.broadcast_to(self.home_passive, modes.passive.shape[:-2] + self.home_passive.shape)
         chosen = np.take_along_axis(modes.passive, best[..., None, None], axis=-2)[..., 0, :]
@@ -187,6 +197,7 @@ class Mechanism:
             branches.actuated - theta[..., None, :],
         )
         mismatch = np.abs(difference).max(-1) + np.where(branches.valid, 0.0, 1e3)
+        mismatch = np.where(np.isfinite(mismatch), mismatch, np.inf)  # argmin would pick a NaN
         best = np.argmin(mismatch, axis=-1)
         return np.take_along_axis(branches.passive, best[..., None, None], axis=-2)[..., 0, :]
 
@@ -230,20 +241,8 @@ class Mechanism:
             )
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
         converged = status == STATUS_OK
-        if strict and not converged.all():
-            index = tuple(int(i) for i in np.argwhere(~converged)[0])
-            at = f" at batch index {index}" if index else ""
-            code = int(status[index])
-            if code == STATUS_SINGULAR:
-                raise SingularConfigurationError(
-                    f"forward pose{at}: the loop-closure Jacobian is singular (a type II singularity) "
-                    f"after {int(iterations[index])} iterations, residual {float(residual[index]):.3g}"
-                )
-            raise ConvergenceError(
-                f"forward pose{at} did not converge in {max_iterations} iterations: residual "
-                f"{float(residual[index]):.3g} > tolerance {tolerance:g}; try a closer guess",
-                residual=float(residual[index]),
-            )
+        if strict:
+            raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations)
         return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))
 
     def _newton_python(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
@@ -261,7 +260,9 @@ class Mechanism:
             active &= np.isfinite(norm)
             # a half-turn between legs zeroes the rotation error too: a wrong basin, not a closure
             done = active & (norm < tolerance)
-            active &= ~(done & ~(out["alignment"] > 0.0).all(-1))
+            wrong = done & ~(out["alignment"] > 0.0).all(-1)
+            status[wrong] = STATUS_WRONG_BASIN
+            active &= ~wrong
             done &= active
             if iteration == max_iterations:
                 active &= done
@@ -279,6 +280,8 @@ class Mechanism:
             size = np.abs(step).max(-1, keepdims=True)
             scale = np.where(size > max_step, max_step / np.maximum(size, 1e-300), 1.0)
             q = np.where(active[..., None], q - scale * step, q)
+        # as in the C driver: a failed entry keeps its guess, never a diverged iterate
+        q = np.where((status == STATUS_OK)[..., None], q, start)
         pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
         return q, pose, residual_norm, iterations, status
 
@@ -368,10 +371,9 @@ class Mechanism:
         # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
         independent = np.zeros_like(valid)
         names = self.metadata.get("rates", {}).get("input_independent", [])
-        if names:
+        if names:  # all of them at once: one folded leg alone is an ordinary serial singularity
             factors = self.singularities(Configuration(theta_grid, passive, poses))
-            for name in names:
-                independent |= np.abs(factors[name]) < 1e-9
+            independent = np.logical_and.reduce([np.abs(factors[name]) < 1e-9 for name in names])
         # a double root (or two branches reaching one pose) is one mode: keep the first
         distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
         earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)
@@ -391,7 +393,7 @@ class Mechanism:
     def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
         theta, passive = self._state(state)
-        rates = np.asarray(actuated_rates, dtype=float)
+        rates = self._actuated(actuated_rates)
         out = self.backend.call("loop_closure", theta, passive, self.params)
         actuated_jacobian = self.backend.call("loop_closure_actuated", theta, passive, self.params)["jacobian_actuated"]
         self._check_conditioning(out["jacobian"], "loop-closure Jacobian", "a type II (parallel) singularity")

@@ -8,10 +8,8 @@ import ctypes
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError
+from parakin.errors import BadInputError, raise_for_newton_status
 from parakin.results import Array, Configuration
-
-_STATUS_MESSAGES = {1: "non-finite actuated input", 2: "no convergence", 3: "singular loop-closure Jacobian (type II)"}
 
 
 class _NewtonJob(ctypes.Structure):
@@ -44,7 +42,7 @@ class ForwardPoseTracker:
     """
 
     def __init__(self, mechanism, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> None:
-        passive = np.atleast_2d(np.array(start.passive, dtype=float))
+        passive = np.array(start.passive, dtype=float).reshape(-1, len(mechanism.passive_names))
         self.mechanism = mechanism
         self.count = passive.shape[0]
         shape = (self.count, len(mechanism.actuated_names))
@@ -55,7 +53,7 @@ class ForwardPoseTracker:
         self.iterations = np.zeros(self.count, dtype=np.int32)
         self.status = np.zeros(self.count, dtype=np.int32)
         self._params = np.ascontiguousarray(mechanism.params)
-        self.tolerance, self.max_iterations = tolerance, max_iterations
+        self._tolerance, self._max_iterations = tolerance, max_iterations
         backend = mechanism.backend
         self._compiled = backend.name == "compiled"
         if self._compiled:
@@ -69,6 +67,16 @@ class ForwardPoseTracker:
             self._solve.argtypes = [ctypes.c_void_p]
             self._job_address = ctypes.addressof(self._job)
 
+    @property
+    def tolerance(self) -> float:
+        """Newton tolerance (max-norm of the residual), fixed at construction."""
+        return self._tolerance
+
+    @property
+    def max_iterations(self) -> int:
+        """Newton iteration limit, fixed at construction."""
+        return self._max_iterations
+
     def solve(self, actuated: ArrayLike) -> tuple[Array, Array]:
         """Newton from the previous solution for new actuated values (n, n_a) or (n_a,)."""
         try:
@@ -78,27 +86,13 @@ class ForwardPoseTracker:
         if self._compiled:
             self._solve(self._job_address)
         else:
-            result = self.mechanism.forward_pose(
-                self.actuated, self.passive, self.tolerance, self.max_iterations, strict=False
+            passive, pose, residual, iterations, status = self.mechanism._newton_python(
+                self.actuated, self.passive, self._tolerance, self._max_iterations, 0.5
             )
-            self.passive[...] = result.passive
-            self.pose[...] = result.pose
-            self.residual[...] = result.residual
-            self.iterations[...] = result.iterations
-            self.status[...] = np.where(result.converged, 0, 2)
-        if self.status.any():
-            self._raise()
+            self.passive[...], self.pose[...] = passive, pose
+            self.residual[...], self.iterations[...], self.status[...] = residual, iterations, status
+        if self.status.any():  # failed entries kept their previous (good) solution
+            raise_for_newton_status(
+                self.status, self.residual, self.iterations, "tracker", self._tolerance, self._max_iterations
+            )
         return self.passive, self.pose
-
-    def _raise(self) -> None:
-        index = int(np.argmax(self.status != 0))
-        code = int(self.status[index])
-        message = (
-            f"tracker element {index}: {_STATUS_MESSAGES.get(code, code)} after {int(self.iterations[index])} "
-            f"iterations, residual {float(self.residual[index]):.3g}"
-        )
-        if code == 3:
-            raise SingularConfigurationError(message)
-        if code == 1:
-            raise BadInputError(message)
-        raise ConvergenceError(message, residual=float(self.residual[index]))

@@ -213,3 +213,25 @@ def test_one_actuated_set_with_a_batch_of_guesses(sam):
     result = sam.forward_pose(config.actuated, guess=guesses)
     assert result.pose.shape == (4, 4, 4)
     assert np.abs(result.pose - config.pose).max() < 1e-10
+
+
+@pytest.mark.parametrize("backend", ["numpy", "compiled"])
+def test_tracker_keeps_its_last_good_solution_after_a_failure(backend):
+    """A failed solve must not leave a diverged iterate as the next start (review finding)."""
+    m = parakin.load("sam", backend=backend)
+    config = m.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])).branch(2)
+    tracker = m.tracker(config, max_iterations=3)
+    good = tracker.passive.copy()
+    with pytest.raises((parakin.ConvergenceError, parakin.SingularConfigurationError)):
+        tracker.solve(config.actuated + 1.5)  # a jump far beyond a tracking step
+    assert np.array_equal(tracker.passive, good)
+    passive, pose = tracker.solve(config.actuated)
+    assert np.abs(pose[0] - config.pose).max() < 1e-10
+
+
+def test_failed_forward_pose_entries_keep_the_guess(sam_numpy):
+    config = sam_numpy.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])).branch(2)
+    guess = config.passive + 0.7
+    result = sam_numpy.forward_pose(config.actuated, guess=guess, max_iterations=1, strict=False)
+    assert not result.converged
+    assert np.abs(parakin.pose.wrap_angle(result.passive - guess)).max() < 1e-12
