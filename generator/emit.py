@@ -66,6 +66,10 @@ class ModulePrinter(PythonCodePrinter):
     def _print_Pi(self, expr: sp.Expr) -> str:
         return f"{self.module}.pi"
 
+    def _print_sign(self, expr: sp.Expr) -> str:
+        # the base printer emits a Python conditional, which neither arrays nor CasADi accept
+        return f"{self.module}.sign({self._print(expr.args[0])})"
+
 
 def _environment() -> jinja2.Environment:
     environment = jinja2.Environment(

@@ -43,6 +43,8 @@ alpha1, alpha2, beta, gamma = sp.symbols("alpha1 alpha2 beta gamma", positive=Tr
 theta = sp.symbols("theta1:4", real=True)
 phi = sp.symbols("phi1:4", real=True)
 ETA = [2 * sp.pi * i / 3 for i in range(3)]
+#: origin of the elimination's half-angle tangents (radians; any value away from 0 and pi)
+OFFSET = sp.Rational(1, 2)
 
 
 def base_axes(i: int) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
@@ -140,24 +142,33 @@ def forward() -> ForwardElimination:
                 second[j, k] += k_syms[2] * w3.dot(legs[1][k])
     first[0, 0] -= k_syms[0]
     second[0, 0] -= sp.cos(alpha2)
-    # tangent half angles: (1 + x^2) f(phi) = (1 + x^2, 1 - x^2, 2 x) = G^T (1, x, x^2)
+    # tangent half angles of phi_i - OFFSET: x = tan((phi1 - OFFSET) / 2). Without the offset a
+    # mode with phi1 = pi (a natural pose) sits at x = infinity and the degree-8 polynomial loses
+    # it; the offset moves that case to the unremarkable phi1 = pi + OFFSET.
+    # f(OFFSET + p) = T f(p), and (1 + x^2) f(p) = (1 + x^2, 1 - x^2, 2 x) = G^T (1, x, x^2)
+    c, s = sp.cos(OFFSET), sp.sin(OFFSET)
+    turn = sp.Matrix([[1, 0, 0], [0, c, -s], [0, s, c]])
     g = sp.Matrix([[1, 1, 0], [0, 0, 2], [1, -1, 0]])
-    grids = [g * first * g.T, g * second * g.T]  # [p, q]: coefficient of x^p y^q
+    grids = [g * turn.T * m * turn * g.T for m in (first, second)]  # [p, q]: coefficient of x^p y^q
     elimination = biquadratic_resultant(x)
     auxiliary = list(zip(k_syms, (cos_psi, ka, kb, kc), strict=True))
     for symbols, grid in zip((elimination.first, elimination.second), grids, strict=True):
         auxiliary += [(symbols[k][j], grid[j, k]) for k in range(3) for j in range(3)]
     # back substitution: y from E1 (both roots, branch tau; the Bezout kernel fails at the Agile
-    # Eye's double roots), then phi1, phi2, v1, v2 and R
+    # Eye's double roots), then phi1, phi2, v1, v2 and R. The roots of A2 y^2 + A1 y + A0 are
+    # q / A2 and A0 / q with q = -(A1 + sign(A1) sqrt(D)) / 2 (no cancellation); as angles,
+    # 2 atan2(numerator, denominator), so that y = infinity (A2 = 0) is just phi2 = OFFSET + pi.
     tau = sp.Symbol("tau", real=True)
     big_a = [sum(elimination.first[k][j] * x**j for j in range(3)) for k in range(3)]
-    discriminant = sp.Symbol("discriminant_y", real=True)
+    discriminant, stable = sp.symbols("discriminant_y q_y", real=True)
     phi1_sym, phi2_sym = sp.symbols("phi1_root phi2_root", real=True)
+    sign_a1 = sp.sign(big_a[1]) + 1 - sp.Abs(sp.sign(big_a[1]))  # sign with sign(0) = +1
+    plus, minus = (1 + tau) / 2, (1 - tau) / 2  # tau = +-1 selects one root, with no division
     back = [
         (discriminant, big_a[1] ** 2 - 4 * big_a[2] * big_a[0]),
-        (y, (-big_a[1] + tau * sp.sqrt(sp.Max(0, discriminant))) / (2 * big_a[2])),
-        (phi1_sym, 2 * sp.atan(x)),
-        (phi2_sym, 2 * sp.atan(y)),
+        (stable, -(big_a[1] + sign_a1 * sp.sqrt(sp.Max(0, discriminant))) / 2),
+        (phi1_sym, OFFSET + 2 * sp.atan(x)),
+        (phi2_sym, OFFSET + 2 * sp.atan2(plus * stable + minus * big_a[0], plus * big_a[2] + minus * stable)),
     ]
     v1 = distal_axis(0).subs(phi[0], phi1_sym)
     v2 = distal_axis(1).subs(phi[1], phi2_sym)

@@ -240,3 +240,43 @@ def test_near_double_roots_are_not_dropped():
     modes = m.forward_pose_all(inside)
     assert int(modes.count) == count0
     assert reproduces_inputs(m, modes, inside).max() < 1e-9
+
+
+def test_modes_with_phi1_equal_pi_are_found():
+    """x = tan(phi1/2) is infinite at phi1 = pi, a natural pose (review finding: such modes were
+    dropped with the degree). The elimination measures phi1 from an offset, so they are found."""
+    m = parakin.load("spm", backend="numpy")
+    a1, a2 = m.parameters["alpha1"], m.parameters["alpha2"]
+    gamma, beta = m.parameters["gamma"], m.parameters["beta"]
+    rng = np.random.default_rng(26)
+    u1 = np.array([0.0, np.sin(gamma), -np.cos(gamma)])
+    e1 = np.array([0.0, -np.cos(gamma), -np.sin(gamma)])
+    e2 = np.cross(u1, e1)
+    v10 = np.array([0.0, np.sin(beta), np.cos(beta)])
+
+    def rotation(axis, angle):
+        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+    found = 0
+    for _ in range(400):
+        theta1 = rng.uniform(-np.pi, np.pi)
+        w1 = np.cos(a1) * u1 + np.sin(a1) * (np.cos(theta1) * e1 + np.sin(theta1) * e2)
+        n1 = np.cos(theta1) * e2 - np.sin(theta1) * e1
+        v1 = np.cos(a2) * w1 - np.sin(a2) * n1  # phi1 = pi
+        axis = np.cross(v10, v1)
+        align = rotation(axis / np.linalg.norm(axis), np.arccos(np.clip(v10 @ v1, -1, 1)))
+        target = rotation(v1, rng.uniform(-np.pi, np.pi)) @ align
+        branches = m.inverse_pose(target, strict=False)
+        matching = branches.valid & (np.abs(wrap_angle(branches.actuated[:, 0] - theta1)) < 1e-9)
+        if not matching.any():
+            continue
+        k = int(np.argmax(matching))
+        assert abs(abs(branches.passive[k, 0]) - np.pi) < 1e-9
+        modes = m.forward_pose_all(branches.actuated[k])
+        distance = np.abs(modes.poses[:, :3, :3] - target).max(axis=(-2, -1))
+        assert distance[modes.valid].min() < 1e-9
+        found += 1
+        if found == 30:
+            break
+    assert found == 30
