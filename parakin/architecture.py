@@ -517,6 +517,11 @@ def least_squares_pose(m: Any, lengths: ArrayLike, start: ArrayLike, iterations:
 
 
 # ---------------------------------------------------------------------------------- dispatch
+def solution_set(m: Any, lengths: ArrayLike) -> SelfMotion:
+    """Run by ``m.forward_pose_all`` on a degenerate elimination: the self-motion of the locked legs."""
+    return self_motion(m, lengths)
+
+
 def forward_all(m: Any, lengths: ArrayLike, samples: int = 600) -> Any:
     """Every solution of the forward pose for a loaded gough mechanism: ``m.forward_pose_all``
     (isolated modes, at most 8) on a usable geometry; on an architecturally singular one, the

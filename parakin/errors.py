@@ -26,6 +26,16 @@ class SingularConfigurationError(ParakinError):
     """The configuration is (numerically) singular for the requested operation."""
 
 
+class SelfMotionError(SingularConfigurationError):
+    """The inputs leave a positive-dimensional set of poses (e.g. an architecturally singular
+    design with locked legs); ``solution_set`` describes it (mechanism-specific, e.g. the
+    circuits of a self-motion)."""
+
+    def __init__(self, message: str, solution_set: object) -> None:
+        super().__init__(message)
+        self.solution_set = solution_set
+
+
 class ConvergenceError(ParakinError):
     """An iterative solver stopped before reaching its tolerance; carries the residual reached."""
 

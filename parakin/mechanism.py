@@ -19,6 +19,7 @@ from parakin.errors import (
     NEWTON_WRONG_BASIN,
     BadInputError,
     ParakinError,
+    SelfMotionError,
     SingularConfigurationError,
     UnreachablePoseError,
     raise_for_newton_status,
@@ -334,10 +335,18 @@ class Mechanism:
         if strict and degenerate.any():
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
             names = [n for k, n in enumerate(info["degeneracies"]) if abs(measures[index][k]) < 1e-9]
-            raise SingularConfigurationError(
+            message = (
                 f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
                 "the platform is not determined by the actuators here"
             )
+            from parakin.extensions import extension
+
+            module = extension(self.name)
+            if module is not None and hasattr(module, "solution_set"):
+                # a positive-dimensional solution set (a self-motion): report it, not a random point
+                solution_set = module.solution_set(self, theta[index])
+                raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", solution_set)
+            raise SingularConfigurationError(message)
         roots, real = real_roots(out["coefficients"], info.get("imaginary_tolerance", 1e-7))
         combinations = np.array(info["combinations"], dtype=float)
         n_roots, n_branches = roots.shape[-1], combinations.shape[0]

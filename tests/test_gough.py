@@ -324,3 +324,20 @@ def test_inspect_shows_the_architecture_condition_and_runtime_evaluates_it():
     name = "det_M_eq14_equals_six_point_conic_determinant_eq15"
     assert abs(singular.architecture()[name]) < 1e-9
     assert abs(usable.architecture()[name]) > 1.0
+
+
+def test_forward_pose_all_reports_the_self_motion_set():
+    """On an architecturally singular design, forward pose neither fails silently nor returns a
+    random point: it raises SelfMotionError carrying the self-motion (circuits of poses)."""
+    import warnings
+
+    from parakin.demos_gough import PRINTED_LENGTHS
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = parakin.load("gough", backend="numpy")
+    with pytest.raises(parakin.SelfMotionError, match="solution set") as error:
+        m.forward_pose_all(PRINTED_LENGTHS)
+    motion = error.value.solution_set
+    assert len(motion.circuits) == 2
+    assert isinstance(error.value, parakin.SingularConfigurationError)
