@@ -7,8 +7,8 @@
 //   rate_jacobians: 236
 //   singularity_factors: 223
 //   inverse_pose: 420
-//   forward_polynomial: 5075
-//   forward_back_substitution: 4091
+//   forward_polynomial: 5082
+//   forward_back_substitution: 4098
 
 // Batched entry points over the CasADi-generated kernels of spm, and the forward
 // pose Newton loop, so that one call from Python does a whole batch with no per-call conversion.
@@ -167,7 +167,7 @@ int forward_polynomial_batch(long long n, const double** inputs, const long long
     const casadi_real* arg[2];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[107 + 1];
+    casadi_real w[103 + 1];
     casadi_real out_coefficients[9];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -185,7 +185,7 @@ int forward_back_substitution_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[4];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[90 + 1];
+    casadi_real w[88 + 1];
     casadi_real out_pose[16];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];

@@ -50,3 +50,14 @@ def coefficient_grid(expr: sp.Expr, x: sp.Symbol, y: sp.Symbol) -> list[list[sp.
     """c[k][j] = coefficient of y^k x^j of a polynomial of degree <= 2 in each of x and y."""
     polynomial = sp.Poly(sp.expand(expr), x, y)
     return [[polynomial.coeff_monomial(x**j * y**k) for j in range(3)] for k in range(3)]
+
+
+#: (1 + x^2) (1, cos phi, sin phi) = (1 + x^2, 1 - x^2, 2 x) = HALF_ANGLE^T (1, x, x^2), x = tan(phi/2)
+HALF_ANGLE = sp.Matrix([[1, 1, 0], [0, 0, 2], [1, -1, 0]])
+
+
+def half_angle_grid(bilinear: sp.Matrix) -> sp.Matrix:
+    """A bilinear form f(phi1)^T M f(phi2) in f = (1, cos, sin), times (1 + x^2)(1 + y^2), as the
+    coefficient grid [p, q] of x^p y^q with x, y the half-angle tangents of phi1, phi2."""
+    return HALF_ANGLE * bilinear * HALF_ANGLE.T
+

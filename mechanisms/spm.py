@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from generator.elimination import biquadratic_resultant
+from generator.elimination import biquadratic_resultant, half_angle_grid
 from generator.frames import homogeneous, rot_z
 from generator.model import (
     POSE_ROTATION,
@@ -145,11 +145,10 @@ def forward() -> ForwardElimination:
     # tangent half angles of phi_i - OFFSET: x = tan((phi1 - OFFSET) / 2). Without the offset a
     # mode with phi1 = pi (a natural pose) sits at x = infinity and the degree-8 polynomial loses
     # it; the offset moves that case to the unremarkable phi1 = pi + OFFSET.
-    # f(OFFSET + p) = T f(p), and (1 + x^2) f(p) = (1 + x^2, 1 - x^2, 2 x) = G^T (1, x, x^2)
+    # f(OFFSET + p) = T f(p) with f = (1, cos, sin)
     c, s = sp.cos(OFFSET), sp.sin(OFFSET)
     turn = sp.Matrix([[1, 0, 0], [0, c, -s], [0, s, c]])
-    g = sp.Matrix([[1, 1, 0], [0, 0, 2], [1, -1, 0]])
-    grids = [g * turn.T * m * turn * g.T for m in (first, second)]  # [p, q]: coefficient of x^p y^q
+    grids = [half_angle_grid(turn.T * m * turn) for m in (first, second)]
     elimination = biquadratic_resultant(x)
     auxiliary = list(zip(k_syms, (cos_psi, ka, kb, kc), strict=True))
     for symbols, grid in zip((elimination.first, elimination.second), grids, strict=True):

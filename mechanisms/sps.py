@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from generator.elimination import biquadratic_resultant
+from generator.elimination import biquadratic_resultant, half_angle_grid
 from generator.frames import homogeneous, rot_x, rot_y
 from generator.model import (
     POSE_ROTATION,
@@ -150,8 +150,6 @@ def inverse() -> InverseSolution:
 T_HALF = sp.Symbol("t", real=True)
 Q12 = sp.Symbol("q12", real=True)
 COSINES = sp.symbols("c12 s12 p1 p2 p3 rho1 rho2 e1 e2 e3 k1 k2 k3", real=True)
-# tangent half angles: (1 + x^2) (1, cos, sin) = (1 + x^2, 1 - x^2, 2 x) = HALF_ANGLE^T (1, x, x^2)
-HALF_ANGLE = sp.Matrix([[1, 1, 0], [0, 0, 2], [1, -1, 0]])
 
 
 def cone_grids() -> tuple[sp.Matrix, sp.Matrix]:
@@ -252,7 +250,7 @@ def forward() -> ForwardElimination:
     first, second = cone_grids()
     elimination = biquadratic_resultant(T_HALF)
     for symbols, grid in zip((elimination.first, elimination.second), (first, second), strict=True):
-        full = HALF_ANGLE * grid * HALF_ANGLE.T  # [p, q]: coefficient of x^p y^q
+        full = half_angle_grid(grid)  # [p, q]: coefficient of x^p y^q
         auxiliary += [(symbols[k][j], sp.expand(full[j, k])) for k in range(3) for j in range(3)]
     # the grids themselves, for the back substitution on the unit circle
     grid_symbols = [sp.Matrix(3, 3, sp.symbols(f"E{n}_0:3(0:3)", real=True)) for n in (1, 2)]
