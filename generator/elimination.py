@@ -60,4 +60,3 @@ def half_angle_grid(bilinear: sp.Matrix) -> sp.Matrix:
     """A bilinear form f(phi1)^T M f(phi2) in f = (1, cos, sin), times (1 + x^2)(1 + y^2), as the
     coefficient grid [p, q] of x^p y^q with x, y the half-angle tangents of phi1, phi2."""
     return HALF_ANGLE * bilinear * HALF_ANGLE.T
-
