@@ -6,6 +6,7 @@ backend, and return named results. Conventions are those of the mechanism's gene
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 import numpy as np
@@ -65,6 +66,12 @@ class Mechanism:
         self.actuated_names: list[str] = list(metadata["actuated"])
         self.passive_names: list[str] = list(metadata["passive"])
         self.limits = limits
+        self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
+        self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
+        self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
+        # the compiled Newton call for one input, built on first use, one per thread: ctypes
+        # releases the GIL during the call, so threads must not share its buffers
+        self._single_jobs = threading.local()
         self._angular_passive = np.array([n in metadata["angular"] for n in self.passive_names])
         self._angular_actuated = np.array([n in metadata["angular"] for n in self.actuated_names])
         home = metadata["home"]
@@ -99,11 +106,8 @@ class Mechanism:
 
     def within_limits(self, passive: Array) -> np.ndarray:
         """Whether passive values lie inside ``limits`` (open interval), elementwise over the batch."""
-        inside = np.ones(passive.shape[:-1], dtype=bool)
-        for name, (low, high) in self.limits.items():
-            value = passive[..., self.passive_names.index(name)]
-            inside &= (value > low) & (value < high)
-        return inside
+        values = passive[..., self._limit_index]
+        return np.asarray(((values > self._limit_low) & (values < self._limit_high)).all(-1))
 
     # ------------------------------------------------------------------ pose kernels
     def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
@@ -288,6 +292,8 @@ class Mechanism:
 
     def _newton_compiled(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
         batch = theta.shape[:-1]
+        if batch == ():
+            return self._newton_compiled_single(theta, start, tolerance, max_iterations, max_step)
         count = int(np.prod(batch, dtype=np.int64))
         theta_c = np.ascontiguousarray(theta, dtype=float)
         start_c = np.ascontiguousarray(start, dtype=float)
@@ -302,6 +308,29 @@ class Mechanism:
             passive.ctypes.data, pose.ctypes.data, residual.ctypes.data, iterations.ctypes.data, status.ctypes.data,
         )  # fmt: skip
         return passive, pose, residual, iterations, status
+
+    def _newton_compiled_single(
+        self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float
+    ):
+        """One input: a preallocated job, so the foreign call takes one argument (the tracker's
+        path), then copies of the outputs."""
+        job = getattr(self._single_jobs, "job", None)
+        if job is None:
+            job = ForwardPoseTracker(
+                self, Configuration(self.home_actuated, self.home_passive, np.eye(4)), tolerance, max_iterations
+            )
+            self._single_jobs.job = job
+        job.configure(tolerance, max_iterations, max_step)
+        job.actuated[0] = theta
+        job.passive[0] = start
+        job.call()
+        return (
+            job.passive[0].copy(),
+            job.pose[0].copy(),
+            job.residual[0].copy(),
+            job.iterations[0].copy(),
+            job.status[0].copy(),
+        )
 
     def tracker(self, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> ForwardPoseTracker:
         """A ForwardPoseTracker from ``start`` (a solved configuration, batch allowed): Newton from

@@ -67,6 +67,16 @@ class ForwardPoseTracker:
             self._solve.argtypes = [ctypes.c_void_p]
             self._job_address = ctypes.addressof(self._job)
 
+    def configure(self, tolerance: float, max_iterations: int, max_step: float) -> None:
+        """Change the Newton settings (used by ``Mechanism.forward_pose``'s single-input path)."""
+        self._tolerance, self._max_iterations = tolerance, max_iterations
+        if self._compiled:
+            self._job.tolerance, self._job.max_iterations, self._job.max_step = tolerance, max_iterations, max_step
+
+    def call(self) -> None:
+        """One compiled Newton solve on the buffers as they are (no checks)."""
+        self._solve(self._job_address)
+
     @property
     def tolerance(self) -> float:
         """Newton tolerance (max-norm of the residual), fixed at construction."""
