@@ -15,7 +15,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 generate: $(STAMP)
-	$(BIN)/python -m generator
+	$(BIN)/python -m parakin.generator
 
 demo: generate
 	$(BIN)/parakin demo

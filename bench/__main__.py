@@ -18,7 +18,7 @@ import sympy as sp
 import parakin
 from bench import gough, sps
 from bench.timing import best_time
-from generator.build import generate
+from parakin.generator.build import generate
 
 BATCHES = [1, 1000, 100_000]
 BASELINE_POSES = 200  # the scipy baseline loops in Python: timed on this many, reported per pose

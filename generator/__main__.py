@@ -1,25 +1,28 @@
-"""``python -m generator [names...]``: regenerate ``generated/`` (all mechanisms by default)."""
+"""``python -m parakin.generator [names...]``: regenerate ``generated/`` from ``mechanisms/``
+(every mechanism file by default)."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
-from generator.build import generate
-from mechanisms import MECHANISMS
+from .build import GenerationError, generate
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(prog="python -m generator", description=__doc__)
-    parser.add_argument("names", nargs="*", help=f"mechanisms to build (default: all of {MECHANISMS})")
-    args = parser.parse_args()
-    names = args.names or MECHANISMS
-    unknown = sorted(set(names) - set(MECHANISMS))
-    if unknown:
-        parser.error(f"unknown mechanism(s) {unknown}; valid: {MECHANISMS}")
-    report = generate(MECHANISMS if not args.names else names)
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m parakin.generator", description=__doc__)
+    parser.add_argument("names", nargs="*", help="mechanisms to build (default: every file in mechanisms/)")
+    parser.add_argument("--workers", type=int, default=None, help="parallel processes (default: one per core)")
+    args = parser.parse_args(argv)
+    try:
+        report = generate(args.names or None, workers=args.workers)
+    except GenerationError as error:
+        print(f"parakin generator: {error}", file=sys.stderr)
+        return 2
     for name, stats in report.items():
         print(f"generated {name} in {stats['seconds']:.2f} s")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

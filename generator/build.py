@@ -1,140 +1,170 @@
 """``make generate``: rebuild ``generated/`` from ``mechanisms/``, deterministically and atomically.
 
-Everything is written to a temporary directory next to ``generated/`` and swapped in only when
-every mechanism succeeded, so a failure leaves the previous tree intact.
+Every mechanism is one file; its name is the file's stem (a Python identifier, underscores
+welcome) and its generated package is the folder ``generated/<name>/``. Mechanisms are found by
+listing ``mechanisms/`` (no registry) and built in parallel processes. Everything is written to
+a staging directory next to the destination and swapped in only when every mechanism succeeded,
+so a failure (or an interrupt) leaves the previous tree intact.
 """
 
 from __future__ import annotations
 
-import importlib
-import math
+import importlib.util
+import json
+import os
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import casadi
 
-from generator import emit
-from generator.derive import derive
-from generator.model import Mechanism
-from generator.program import LoweredProgram
+from . import emit
+from .derive import derive
+from .manifest import build_manifest
+from .model import Mechanism
+from .program import LoweredProgram
 
-ROOT = Path(__file__).resolve().parent.parent
-GENERATED = ROOT / "generated"
-
-
-def _metadata(mechanism: Mechanism, derived: dict[str, Any]) -> dict[str, Any]:
-    def bound(value: float) -> float | None:
-        return None if math.isinf(value) else value
-
-    return {
-        "name": mechanism.name,
-        "title": mechanism.title,
-        "reference": mechanism.reference,
-        "parameters": {str(k): v for k, v in mechanism.parameters.items()},
-        "actuated": [str(s) for s in mechanism.actuated],
-        "passive": [str(s) for s in mechanism.passive],
-        "angular": [str(s) for s in mechanism.angular],
-        "home": {str(k): v for k, v in mechanism.home.items()},
-        "limits": {str(k): [bound(lo), bound(hi)] for k, (lo, hi) in mechanism.limits.items()},
-        **derived,
-    }
+MECHANISMS = Path(__file__).resolve().parent.parent / "mechanisms"
+GENERATED = Path(__file__).resolve().parent.parent / "generated"
+GENERATED_INIT = '"""Generated code only: written by `make generate`, never edited by hand."""\n'
 
 
-def _c_sources(name: str, casadi_source: str, programs: list[LoweredProgram]) -> tuple[str, str, str]:
-    """CasADi C code generation of every function, plus the batched driver."""
+class GenerationError(RuntimeError):
+    """A mechanism file could not be turned into a generated package (the message says why)."""
+
+
+def discover(directory: Path = MECHANISMS) -> dict[str, Path]:
+    """Every mechanism file in ``directory``: name (the file stem) -> path, sorted by name."""
+    found = {}
+    for path in sorted(directory.glob("*.py")):
+        if path.stem.startswith("_"):
+            continue
+        found[validate_name(path.stem)] = path
+    return found
+
+
+def validate_name(name: str) -> str:
+    """Mechanism names are lower-case Python identifiers (they name folders and C symbols)."""
+    if not (name.isidentifier() and name == name.lower() and name.isascii()):
+        raise GenerationError(f"mechanism name {name!r} must be a lower-case Python identifier")
+    return name
+
+
+def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, ModuleType]:
+    """Import a mechanism file and call its ``build()``; the mechanism takes the file's name."""
+    name = validate_name(name or path.stem)
+    spec = importlib.util.spec_from_file_location(f"parakin_mechanism_{name}", path)
+    if spec is None or spec.loader is None:
+        raise GenerationError(f"{path}: not a Python file")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    if not callable(getattr(module, "build", None)):
+        raise GenerationError(f"{path}: a mechanism file defines build() -> parakin.generator.Mechanism")
+    mechanism = module.build()
+    if not isinstance(mechanism, Mechanism):
+        raise GenerationError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
+    mechanism.name = name
+    return mechanism, module
+
+
+def _c_sources(casadi_source: str, programs: list[LoweredProgram]) -> tuple[str, str, dict[str, dict[str, int]]]:
+    """CasADi C code generation of every function, and each function's work sizes."""
     namespace: dict[str, Any] = {}
-    exec(compile(casadi_source, f"{name}_casadi.py", "exec"), namespace)  # noqa: S102
+    exec(compile(casadi_source, "casadi_functions.py", "exec"), namespace)  # noqa: S102
     functions = namespace["build_functions"]()
     with tempfile.TemporaryDirectory() as scratch:
-        generator = casadi.CodeGenerator(f"{name}_casadi", {"with_header": True})
+        generator = casadi.CodeGenerator("kernels", {"with_header": True})
         for function in functions.values():
             generator.add(function)
         generator.generate(scratch + "/")
-        c_text = Path(scratch, f"{name}_casadi.c").read_text()
-        h_text = Path(scratch, f"{name}_casadi.h").read_text()
-
-    def sizes(*names: str) -> dict[str, int]:
-        fs = [functions[n] for n in names]
-        return {
-            "arg": max(f.sz_arg() for f in fs),
-            "res": max(f.sz_res() for f in fs),
-            "iw": max(f.sz_iw() for f in fs),
-            "w": max(f.sz_w() for f in fs),
+        c_text = Path(scratch, "kernels.c").read_text()
+        h_text = Path(scratch, "kernels.h").read_text()
+    sizes = {
+        p.name: {
+            "arg": functions[p.name].sz_arg(),
+            "res": functions[p.name].sz_res(),
+            "iw": functions[p.name].sz_iw(),
+            "w": functions[p.name].sz_w(),
         }
-
-    described = []
-    for p in programs:
-        described.append(
-            {
-                "name": p.name,
-                "inputs": [(group, len(symbols)) for group, symbols in p.source.inputs],
-                "outputs": [(o.name, o.shape[0], o.shape[1] if len(o.shape) == 2 else 1) for o in p.outputs],
-                "sizes": sizes(p.name),
-            }
-        )
-    loop = next(p for p in programs if p.name == "loop_closure")
-    newton = {
-        "unknowns": len(loop.source.inputs[1][1]),
-        "pairs": next(o.shape[0] for o in loop.outputs if o.name == "alignment"),
-        "outputs": {o.name: index for index, o in enumerate(loop.outputs)},
-        "actuated": len(loop.source.inputs[0][1]),
-        "residual": "loop_closure",
-        "pose": "platform_pose",
-        "sizes": sizes("loop_closure", "platform_pose"),
-        "pose_sizes": sizes("platform_pose"),
+        for p in programs
     }
-    driver = emit.render_c_driver(name, programs, described, newton)
-    header = emit.banner(name, "casadi.CodeGenerator", programs, "//")
-    return header + c_text, header + h_text, driver
+    return c_text, h_text, sizes
 
 
-def generate_mechanism(name: str, target: Path) -> dict[str, float]:
+def generate_package(path: Path, package: Path, name: str | None = None) -> dict[str, Any]:
+    """Write the generated package of the mechanism file ``path`` into the folder ``package``."""
     started = time.perf_counter()
-    module = importlib.import_module(f"mechanisms.{name}")
-    mechanism: Mechanism = module.build()
+    mechanism, module = load_definition(path, name)
     derivation = derive(mechanism)
     lowered = [program.lower() for program in derivation.programs]
-    metadata = _metadata(mechanism, derivation.metadata)
-    numpy_source = emit.render_numpy(name, lowered, metadata)
-    casadi_source = emit.render_casadi(name, lowered)
-    c_source, h_source, driver_source = _c_sources(name, casadi_source, lowered)
-    (target / f"{name}_numpy.py").write_text(numpy_source)
-    (target / f"{name}_casadi.py").write_text(casadi_source)
-    (target / f"{name}_symbolic.py").write_text(emit.render_symbolic(name, derivation.symbolic))
-    (target / f"{name}_casadi.c").write_text(c_source)
-    (target / f"{name}_casadi.h").write_text(h_source)
-    (target / f"{name}_driver.c").write_text(driver_source)
+    casadi_source = emit.render_casadi(mechanism.name, lowered)
+    c_source, h_source, sizes = _c_sources(casadi_source, lowered)
+    manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
+    package.mkdir(parents=True, exist_ok=True)
+    header = emit.banner(mechanism.name, "casadi.CodeGenerator", lowered, "//")
+    files = {
+        "manifest.json": json.dumps(manifest, indent=1, sort_keys=False) + "\n",
+        "numpy_kernels.py": emit.render_numpy(mechanism.name, lowered),
+        "casadi_functions.py": casadi_source,
+        "symbolic.py": emit.render_symbolic(mechanism.name, derivation.symbolic),
+        "kernels.c": header + c_source,
+        "kernels.h": header + h_source,
+        "driver.c": emit.render_c_driver(mechanism.name, lowered, manifest),
+    }
+    for filename, text in files.items():
+        (package / filename).write_text(text)
     return {"seconds": time.perf_counter() - started}
 
 
 def _format(directory: Path) -> None:
-    python_files = sorted(str(p) for p in directory.glob("*.py"))
+    python_files = sorted(str(p) for p in directory.rglob("*.py"))
     subprocess.run(
         [sys.executable, "-m", "ruff", "format", "--quiet", "--line-length", "100", *python_files], check=True
     )
 
 
-def generate(names: list[str], destination: Path = GENERATED) -> dict[str, dict[str, float]]:
-    """Regenerate ``destination`` for ``names`` (other mechanisms' files are kept); atomic: all
-    mechanisms or nothing."""
+def _build_one(job: tuple[str, str, str]) -> tuple[str, dict[str, Any]]:
+    name, source, package = job
+    return name, generate_package(Path(source), Path(package), name)
+
+
+def generate(
+    names: list[str] | None = None,
+    destination: Path = GENERATED,
+    sources: dict[str, Path] | None = None,
+    workers: int | None = None,
+) -> dict[str, dict[str, Any]]:
+    """Regenerate ``destination`` (default ``generated/``) for ``names`` (default: every file in
+    ``mechanisms/``; with names given, the other packages are kept). Atomic: all or nothing."""
+    sources = discover() if sources is None else sources
+    names = sorted(sources) if names is None else names
+    unknown = sorted(set(names) - set(sources))
+    if unknown:
+        raise GenerationError(f"unknown mechanism(s) {unknown}; found in mechanisms/: {sorted(sources)}")
     destination.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".generated-", dir=destination.parent))
     staging.chmod(0o755)
     try:
-        (staging / "__init__.py").write_text(
-            '"""Generated code only: written by `make generate`, never edited by hand."""\n'
-        )
-        report = {name: generate_mechanism(name, staging) for name in names}
+        (staging / "__init__.py").write_text(GENERATED_INIT)
+        jobs = [(name, str(sources[name]), str(staging / name)) for name in names]
+        workers = workers or min(len(jobs), os.cpu_count() or 1)
+        if workers > 1:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                report = dict(pool.map(_build_one, jobs))
+        else:
+            report = dict(map(_build_one, jobs))
         _format(staging)
-        if destination.exists():  # a partial rebuild keeps the other mechanisms' files
+        partial = set(names) != set(sources)
+        if destination.exists() and partial:  # a partial rebuild keeps the other packages
             for path in destination.iterdir():
-                if path.is_file() and not (staging / path.name).exists() and path.name.split("_")[0] not in names:
-                    shutil.copy2(path, staging / path.name)
+                if path.is_dir() and path.name in sources and path.name not in names:
+                    shutil.copytree(path, staging / path.name)
         if destination.exists():
             retired = destination.with_name(destination.name + ".old")
             shutil.rmtree(retired, ignore_errors=True)
@@ -143,6 +173,31 @@ def generate(names: list[str], destination: Path = GENERATED) -> dict[str, dict[
             shutil.rmtree(retired)
         else:
             staging.rename(destination)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return dict(sorted(report.items()))
+
+
+def generate_file(path: Path, package: Path) -> dict[str, Any]:
+    """``parakin generate FILE.py --out DIR``: one user mechanism file into the package folder
+    ``DIR`` (atomic: written next to it, then renamed)."""
+    path, package = Path(path).resolve(), Path(package).resolve()
+    name = validate_name(path.stem)
+    package.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{package.name}-", dir=package.parent))
+    try:
+        report = generate_package(path, staging, name)
+        _format(staging)
+        staging.chmod(0o755)
+        if package.exists():
+            retired = package.with_name(f".{package.name}.old")
+            shutil.rmtree(retired, ignore_errors=True)
+            package.rename(retired)
+            staging.rename(package)
+            shutil.rmtree(retired)
+        else:
+            staging.rename(package)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise

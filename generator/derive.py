@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 import mpmath
 import sympy as sp
 
-from generator.frames import vee
-from generator.model import POSE_SYMBOLS, Mechanism
-from generator.program import Program
-from generator.trigpoly import factor_list
+from .frames import vee
+from .model import POSE_SYMBOLS, Mechanism
+from .program import Program
+from .trigpoly import factor_list
 
 
 @dataclass
@@ -348,6 +348,21 @@ def derive(mechanism: Mechanism) -> Derivation:
         )
         metadata["architecture"] = list(mechanism.architecture)
         symbolic.update({f"architecture_{name}": value for name, value in mechanism.architecture.items()})
+
+    if mechanism.drawing is not None:
+        drawing = mechanism.drawing
+        programs.append(
+            Program(
+                "drawing",
+                "Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.",
+                state,
+                list(drawing.points.items()),
+            )
+        )
+        metadata["drawing"] = {
+            "points": {name: matrix.cols for name, matrix in drawing.points.items()},
+            "polylines": {name: [[s, int(c)] for s, c in line] for name, line in drawing.polylines.items()},
+        }
 
     if mechanism.inverse is not None:
         inverse = mechanism.inverse

@@ -13,8 +13,8 @@ import jinja2
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from generator import GENERATOR_VERSION
-from generator.program import LoweredProgram
+from . import GENERATOR_VERSION
+from .program import LoweredProgram
 
 TEMPLATES = Path(__file__).parent / "templates"
 
@@ -120,7 +120,7 @@ def banner(mechanism: str, template: str, programs: list[LoweredProgram], commen
     )
 
 
-def render_numpy(mechanism: str, programs: list[LoweredProgram], metadata: dict[str, Any]) -> str:
+def render_numpy(mechanism: str, programs: list[LoweredProgram]) -> str:
     printer = ModulePrinter("numpy")
     return (
         _environment()
@@ -128,7 +128,6 @@ def render_numpy(mechanism: str, programs: list[LoweredProgram], metadata: dict[
         .render(
             banner=banner(mechanism, "numpy_module.py.j2", programs, "#"),
             programs=[_printed_program(p, printer) for p in programs],
-            metadata=metadata,
         )
     )
 
@@ -145,10 +144,22 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     )
 
 
-def render_c_driver(
-    mechanism: str, programs: list[LoweredProgram], described: list[dict[str, Any]], newton: dict[str, Any]
-) -> str:
-    """The batched C entry points; ``described`` gives each program's CasADi work sizes."""
+def render_c_driver(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> str:
+    """The batched C entry points and the Newton loop, laid out as the manifest describes them."""
+    kernels = {k["name"]: k for k in manifest["kernels"]}
+    described = [
+        {
+            "name": p.name,
+            "inputs": [(group, len(symbols)) for group, symbols in p.source.inputs],
+            "outputs": [(o.name, o.shape[0], o.shape[1] if len(o.shape) == 2 else 1) for o in p.outputs],
+            "sizes": kernels[p.name]["work"],
+        }
+        for p in programs
+    ]
+    newton = dict(manifest["c"]["newton"])
+    pair = [kernels[newton["residual"]]["work"], kernels[newton["pose"]]["work"]]
+    newton["sizes"] = {key: max(w[key] for w in pair) for key in pair[0]}
+    newton["pose_sizes"] = kernels[newton["pose"]]["work"]
     return (
         _environment()
         .get_template("c_driver.c.j2")

@@ -20,7 +20,7 @@ from functools import cached_property
 
 import sympy as sp
 
-from generator.frames import ModifiedDHLink
+from .frames import ModifiedDHLink
 
 POSE_ROTATION = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33", real=True))
 POSE_POSITION = sp.Matrix(sp.symbols("px py pz", real=True))
@@ -170,13 +170,68 @@ class RateModel:
     input_independent: list[str] = field(default_factory=list)
 
 
+@dataclass(frozen=True)
+class Citation:
+    """Where a mechanism comes from: printed in ``parakin list`` / ``inspect`` and the manifest."""
+
+    authors: tuple[str, ...]
+    title: str
+    year: int | None = None
+    venue: str | None = None
+    doi: str | None = None
+
+    def text(self) -> str:
+        year = f" ({self.year})" if self.year else ""
+        venue = f", {self.venue}" if self.venue else ""
+        doi = f", doi:{self.doi}" if self.doi else ""
+        return f"{', '.join(self.authors)}{year}: {self.title}{venue}{doi}"
+
+
+@dataclass(frozen=True)
+class ParameterInfo:
+    """Unit and meaning of one parameter (``Mechanism.parameter_info``)."""
+
+    unit: str
+    description: str = ""
+
+
+@dataclass
+class Example:
+    """A named configuration from the paper, reproduced by ``parakin demo`` and the contract tests.
+
+    Either ``pose`` (^B_P T as a 4x4 nested list, or a 3x3 rotation for an orienting platform) is
+    solved by ``inverse_pose`` and ``expected`` compares the branch ``branch`` (or the valid branch
+    nearest the printed values), or ``actuated`` is solved by ``forward_pose_all`` and ``expected``
+    may hold the printed ``mode_count`` and printed modes. Expected keys: ``actuated``, ``passive``
+    (printed joint values, SI), ``mode_count``, ``poses`` (printed 4x4 poses of modes), each
+    reproduced to ``tolerance`` (absolute, the printed precision)."""
+
+    name: str
+    description: str
+    pose: list | None = None
+    actuated: list[float] | None = None
+    branch: int | None = None
+    parameters: dict[str, float] = field(default_factory=dict)
+    expected: dict[str, object] = field(default_factory=dict)
+    tolerance: float = 1e-9
+
+
+@dataclass
+class Drawing:
+    """What ``m.plot`` draws: named point sets (3 x n matrices in {B}, functions of the state and
+    parameters) and polylines through them, each a list of (point set, column) pairs."""
+
+    points: dict[str, sp.Matrix]
+    polylines: dict[str, list[tuple[str, int]]]
+
+
 @dataclass
 class Mechanism:
     """A parallel mechanism: legs sharing the platform frame {P}, as in its paper."""
 
     name: str
     title: str
-    reference: str
+    citation: Citation
     #: parameter symbol -> default value (SI units), with the paper's values
     parameters: dict[sp.Symbol, float]
     actuated: list[sp.Symbol]
@@ -205,3 +260,16 @@ class Mechanism:
     architecture: dict[str, sp.Expr] = field(default_factory=dict)
     #: further named singularity factors (e.g. of a serial chain's pointing map), already factored
     factors: dict[str, sp.Expr] = field(default_factory=dict)
+    #: unit and description of each parameter (missing: unit "m" for lengths is NOT assumed)
+    parameter_info: dict[sp.Symbol, ParameterInfo] = field(default_factory=dict)
+    #: vector parameters: a name -> matrix of parameter symbols (e.g. a point list, one row a point)
+    parameter_groups: dict[str, sp.Matrix] = field(default_factory=dict)
+    #: the paper's named configurations
+    examples: list[Example] = field(default_factory=list)
+    #: the drawing kernel (base, platform, legs)
+    drawing: Drawing | None = None
+    #: actuator stiffness parameters, in actuated order (statics with compliant actuators)
+    actuator_stiffness: list[sp.Symbol] = field(default_factory=list)
+    #: names of architecture measures normalised to [0, 1]-like scale: below ``architecture_tolerance``
+    #: the design is singular at every pose (``load`` warns)
+    architecture_tolerance: float = 1e-9

@@ -1,3 +1,5 @@
-"""Mechanism definitions: one module per mechanism, each exposing ``build() -> Mechanism``."""
+"""Mechanism definitions: one file per mechanism, each defining ``build() -> Mechanism``.
 
-MECHANISMS = ["sam", "spm", "sphere2r", "sps", "gough"]
+The generator finds them by listing this folder (``parakin.generator.build.discover``); a new
+file here is a new mechanism, its name the file's stem. Nothing else needs editing.
+"""

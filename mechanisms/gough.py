@@ -38,11 +38,11 @@ Frames and conventions (paper section 2; SI, radians):
 from __future__ import annotations
 
 import sympy as sp
-
-from generator.frames import euler_zyx_rotation, homogeneous
-from generator.model import (
+from parakin.generator.frames import euler_zyx_rotation, homogeneous
+from parakin.generator.model import (
     POSE_POSITION,
     POSE_ROTATION,
+    Citation,
     ClosureModel,
     ForwardElimination,
     InverseSolution,
@@ -242,7 +242,12 @@ def build() -> Mechanism:
     return Mechanism(
         name="gough",
         title="6-SPS platform with linearly related planar platforms (Kong & Gosselin)",
-        reference="shared/papers/004_407e258733e8e5c8.txt",
+        citation=Citation(
+            ("X. Kong", "C. M. Gosselin"),
+            "Generation of architecturally singular 6-SPS parallel manipulators with linearly related planar platforms",
+            2002,
+            "Electronic Journal of Computational Kinematics",
+        ),
         parameters=defaults(),
         actuated=list(lengths),
         passive=[x, y, z, alpha, beta, gamma],

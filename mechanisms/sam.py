@@ -22,10 +22,10 @@ Conventions, as in the paper:
 from __future__ import annotations
 
 import sympy as sp
-
-from generator.frames import ModifiedDHLink, homogeneous, inverse_transform, translation
-from generator.model import (
+from parakin.generator.frames import ModifiedDHLink, homogeneous, inverse_transform, translation
+from parakin.generator.model import (
     POSE_POSITION,
+    Citation,
     ForwardElimination,
     InverseSolution,
     Mechanism,
@@ -190,7 +190,12 @@ def build() -> Mechanism:
     return Mechanism(
         name="sam",
         title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
-        reference="shared/papers/000_0fd26f24943f9b56.txt",
+        citation=Citation(
+            ("R. L. Williams II", "D. B. Poling"),
+            "Spherically-actuated platform manipulator",
+            2000,
+            "Journal of Robotic Systems (final manuscript, December 2000)",
+        ),
         parameters={L1: 0.5334, L4: 0.3556},  # section 4.1, metres
         actuated=list(theta),
         passive=[L2, phi2, phi3, L3, phi5, phi6],

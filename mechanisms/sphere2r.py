@@ -20,10 +20,9 @@ SPM example's link angles.
 from __future__ import annotations
 
 import sympy as sp
-
-from generator.frames import homogeneous
-from generator.model import POSE_ROTATION, ClosureModel, InverseSolution, Mechanism
-from generator.trigpoly import trig_factor
+from parakin.generator.frames import homogeneous
+from parakin.generator.model import POSE_ROTATION, Citation, ClosureModel, InverseSolution, Mechanism
+from parakin.generator.trigpoly import trig_factor
 
 alpha1, alpha2 = sp.symbols("alpha1 alpha2", positive=True)
 theta1, theta2 = sp.symbols("theta1 theta2", real=True)
@@ -79,7 +78,12 @@ def build() -> Mechanism:
     return Mechanism(
         name="sphere2r",
         title="2R spherical serial chain (ED5314 report, section 2)",
-        reference="shared/papers/001_cec8c69b51cbfe6d.txt",
+        citation=Citation(
+            ("V. R. Ashtekar",),
+            "Forward and inverse kinematics of three degrees of freedom spherical parallel manipulators",
+            None,
+            "ED5314 course project report",
+        ),
         parameters={alpha1: float(45 * deg), alpha2: float(90 * deg)},
         actuated=[theta1, theta2],
         passive=[],

@@ -27,11 +27,11 @@ Frames and conventions (SI, radians):
 from __future__ import annotations
 
 import sympy as sp
-
-from generator.elimination import biquadratic_resultant, half_angle_grid
-from generator.frames import homogeneous, rot_z
-from generator.model import (
+from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
+from parakin.generator.frames import homogeneous, rot_z
+from parakin.generator.model import (
     POSE_ROTATION,
+    Citation,
     ClosureModel,
     ForwardElimination,
     InverseSolution,
@@ -225,7 +225,12 @@ def build() -> Mechanism:
     return Mechanism(
         name="spm",
         title="3-RRR spherical parallel manipulator (Bai, Hansen & Angeles 2009 parametrisation)",
-        reference="shared/papers/001_cec8c69b51cbfe6d.txt",
+        citation=Citation(
+            ("V. R. Ashtekar",),
+            "Forward and inverse kinematics of three degrees of freedom spherical parallel manipulators",
+            None,
+            "ED5314 course project report",
+        ),
         parameters={
             alpha1: float(45 * deg),
             alpha2: float(90 * deg),

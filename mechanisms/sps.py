@@ -62,11 +62,11 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
 from __future__ import annotations
 
 import sympy as sp
-
-from generator.elimination import biquadratic_resultant, half_angle_grid
-from generator.frames import homogeneous, rot_x, rot_y
-from generator.model import (
+from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
+from parakin.generator.frames import homogeneous, rot_x, rot_y
+from parakin.generator.model import (
     POSE_ROTATION,
+    Citation,
     ClosureModel,
     ForwardElimination,
     InverseSolution,
@@ -380,7 +380,10 @@ def build() -> Mechanism:
     return Mechanism(
         name="sps",
         title="3(SPS)-S spherical platform with three linear actuators (Knapczyk & Tora)",
-        reference="shared/papers/002_91f1e7509f31240b.txt",
+        citation=Citation(
+            ("J. Knapczyk", "G. Tora"),
+            "Displacement and force analysis of the spherical platform mechanism 3(SPS)-S with compliancies of linear actuators taken into account",
+        ),
         parameters=parameters,
         actuated=list(d),
         passive=[alpha, beta, gamma],

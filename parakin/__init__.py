@@ -11,13 +11,15 @@ Units are SI and radians; poses are ^B_P T (..., 4, 4); see each mechanism's doc
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-from typing import Any
+import math
+import os
+import warnings
 
-import generated
+import numpy as np
+
 from parakin.backends import make_backend
 from parakin.errors import (
+    ArchitectureSingularityWarning,
     BadInputError,
     ConvergenceError,
     InconsistentInputError,
@@ -26,9 +28,11 @@ from parakin.errors import (
     SingularConfigurationError,
     UnknownMechanismError,
     UnreachablePoseError,
+    UnsupportedOperationError,
 )
-from parakin.extensions import extension
+from parakin.manifest import Manifest
 from parakin.mechanism import Mechanism
+from parakin.package import GeneratedPackage, discover
 from parakin.pose import (
     euler_zyx_to_rotation,
     pose_from_xyz_euler,
@@ -38,64 +42,87 @@ from parakin.pose import (
 )
 from parakin.results import AssemblyModes, Configuration, ForwardPose, InversePose, Rates
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 
 def available() -> list[str]:
-    """Names of the mechanisms present in ``generated/``."""
-    return sorted(
-        info.name.removesuffix("_numpy")
-        for info in pkgutil.iter_modules(generated.__path__)
-        if info.name.endswith("_numpy")
-    )
+    """Names of the generated packages found (shipped ones, then ``$PARAKIN_PATH``)."""
+    return list(discover())
 
 
-def metadata(name: str) -> dict[str, Any]:
-    """The generated metadata of ``name`` (variables, parameters, branches, factor names)."""
-    if name not in available():
-        raise UnknownMechanismError(f"unknown mechanism {name!r}; available: {available()}")
-    return importlib.import_module(f"generated.{name}_numpy").MECHANISM
+def metadata(name: str | os.PathLike[str]) -> Manifest:
+    """The typed manifest of a mechanism (by name or package folder): variables with units and
+    limits, parameters, kernels, capabilities, examples."""
+    return GeneratedPackage.find(name).manifest
+
+
+def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str, float]:
+    values = manifest.parameter_defaults
+    groups = {g.name: g for g in manifest.parameter_groups}
+    for key, value in given.items():
+        if key in groups:
+            group = groups[key]
+            array = np.asarray(value, dtype=float)
+            if array.shape != group.shape:
+                raise BadInputError(f"parameter {key!r} must have shape {group.shape}, got {array.shape}")
+            values.update(zip(group.symbols, (float(v) for v in array.ravel()), strict=True))
+        elif key in values:
+            number = float(value)  # type: ignore[arg-type]
+            if not math.isfinite(number):
+                raise BadInputError(f"parameter {key!r} must be finite, got {number}")
+            values[key] = number
+        else:
+            valid = sorted([*values, *groups])
+            raise UnknownMechanismError(f"unknown parameter {key!r} for {manifest.name!r}; valid: {valid}")
+    return values
 
 
 def load(
-    name: str,
+    name: str | os.PathLike[str],
     backend: str = "auto",
     limits: dict[str, tuple[float, float]] | None = None,
-    **parameters: float,
+    **parameters: object,
 ) -> Mechanism:
-    """Load a mechanism with its paper's default parameters, overridden by ``parameters``.
+    """Load a mechanism, by name or generated-package folder, with its paper's default
+    parameters overridden by ``parameters`` (scalars by name, vector parameters such as point
+    lists by their group name).
 
     ``backend``: 'auto' (compiled C if a compiler works, else NumPy), 'compiled', 'numpy' or
-    'casadi'. ``limits`` overrides the passive joint ranges (name -> (low, high)).
+    'casadi'. ``limits`` overrides passive joint ranges (name -> (low, high), SI units).
+    Warns (ArchitectureSingularityWarning) when the geometry is singular at every pose.
     """
-    info = metadata(name)
-    unknown = sorted(set(parameters) - set(info["parameters"]))
-    if unknown:
-        raise UnknownMechanismError(f"unknown parameter(s) {unknown} for {name!r}; valid: {sorted(info['parameters'])}")
-    values = {**info["parameters"], **{k: float(v) for k, v in parameters.items()}}
-    bounds = {
-        k: (-float("inf") if lo is None else lo, float("inf") if hi is None else hi)
-        for k, (lo, hi) in info["limits"].items()
-    }
+    package = GeneratedPackage.find(name)
+    manifest = package.manifest
+    values = _parameter_values(manifest, parameters)
+    bounds = {v.name: v.limits for v in manifest.passive if v.limits != (-math.inf, math.inf)}
     for key, bound in (limits or {}).items():
-        if key not in info["passive"]:
-            raise UnknownMechanismError(f"unknown limit {key!r} for {name!r}; valid: {info['passive']}")
+        if key not in manifest.passive_names:
+            raise UnknownMechanismError(f"unknown limit {key!r} for {manifest.name!r}; valid: {manifest.passive_names}")
         bounds[key] = (float(bound[0]), float(bound[1]))
-    mechanism = Mechanism(info, make_backend(name, backend), values, bounds)
-    module = extension(name)
-    if module is not None and hasattr(module, "on_load"):
-        module.on_load(mechanism)  # e.g. warn about an architecturally singular geometry
+    mechanism = Mechanism(package, make_backend(package, backend), values, bounds)
+    if mechanism.is_architecturally_singular():
+        measures = ", ".join(f"{k} = {v:.3g}" for k, v in mechanism.architecture().items())
+        warnings.warn(
+            f"{manifest.name} geometry is architecturally singular (singular at every pose): {measures}",
+            ArchitectureSingularityWarning,
+            stacklevel=2,
+        )
     return mechanism
 
 
-def symbolic(name: str) -> dict[str, Any]:
-    """The derived SymPy objects of ``name`` (needs SymPy): loop closure, leg Jacobians,
-    determinants, named singularity factors, inverse steps, forward polynomial."""
-    metadata(name)
-    return importlib.import_module(f"generated.{name}_symbolic").load()
+def symbolic(name: str | os.PathLike[str]) -> dict[str, object]:
+    """The derived SymPy objects of a mechanism (needs SymPy, the ``generator`` extra): loop
+    closure, leg Jacobians, determinants, named singularity factors, inverse steps, forward
+    polynomial."""
+    try:
+        import sympy  # noqa: F401
+    except ImportError as error:
+        raise UnsupportedOperationError("symbolic expressions need SymPy: pip install 'parakin[generator]'") from error
+    return GeneratedPackage.find(name).symbolic()
 
 
 __all__ = [
+    "ArchitectureSingularityWarning",
     "AssemblyModes",
     "BadInputError",
     "Configuration",
@@ -103,6 +130,7 @@ __all__ = [
     "ForwardPose",
     "InconsistentInputError",
     "InversePose",
+    "Manifest",
     "Mechanism",
     "ParakinError",
     "Rates",
@@ -110,6 +138,7 @@ __all__ = [
     "SingularConfigurationError",
     "UnknownMechanismError",
     "UnreachablePoseError",
+    "UnsupportedOperationError",
     "available",
     "euler_zyx_to_rotation",
     "load",

@@ -6,13 +6,13 @@ array whose last axis indexes its group and whose leading axes broadcast.
 
 from __future__ import annotations
 
-import importlib
 from functools import lru_cache
 from typing import Any, Protocol
 
 import numpy as np
 
-from parakin.errors import BadInputError
+from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.package import GeneratedPackage
 from parakin.results import Array
 
 
@@ -41,11 +41,11 @@ class NumpyBackend:
 
     name = "numpy"
 
-    def __init__(self, mechanism: str) -> None:
-        self.module = importlib.import_module(f"generated.{mechanism}_numpy")
+    def __init__(self, package: GeneratedPackage) -> None:
+        self.kernels = package.numpy_kernels
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
-        return self.module.KERNELS[kernel](*inputs)
+        return self.kernels[kernel](*inputs)
 
 
 class CasadiBackend:
@@ -53,9 +53,12 @@ class CasadiBackend:
 
     name = "casadi"
 
-    def __init__(self, mechanism: str) -> None:
-        module = importlib.import_module(f"generated.{mechanism}_casadi")
-        self.functions: dict[str, Any] = module.build_functions()
+    def __init__(self, package: GeneratedPackage) -> None:
+        try:
+            builders = package.casadi_builders
+        except ImportError as error:
+            raise UnsupportedOperationError(f"backend 'casadi' needs the casadi module: {error}") from error
+        self.functions: dict[str, Any] = {name: build() for name, build in builders.items()}
 
     @lru_cache(maxsize=64)  # noqa: B019  (the backend lives as long as its mechanism)
     def _mapped(self, kernel: str, count: int) -> Any:
@@ -76,7 +79,7 @@ class CasadiBackend:
         return result
 
 
-def make_backend(mechanism: str, backend: str) -> Backend:
+def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:
     """'numpy', 'casadi', 'compiled' (CasADi C code built with the system C compiler), or
     'auto': compiled when a C compiler works, NumPy otherwise."""
     if backend == "numpy":

@@ -20,9 +20,9 @@ import numpy as np
 
 from parakin.backends import broadcast_batch
 from parakin.errors import ParakinError
+from parakin.package import GeneratedPackage
 from parakin.results import Array
 
-GENERATED = Path(__file__).resolve().parent.parent / "generated"
 FLAGS = ["-O2", "-shared", "-fPIC", "-std=c99"]
 
 
@@ -34,23 +34,24 @@ def cache_directory() -> Path:
     return Path(os.environ.get("PARAKIN_CACHE", Path.home() / ".cache" / "parakin"))
 
 
-def build_library(mechanism: str) -> Path:
-    """Compile (or find in the cache) the shared library of ``mechanism``."""
-    sources = [GENERATED / f"{mechanism}_casadi.c", GENERATED / f"{mechanism}_driver.c"]
+def build_library(package: GeneratedPackage) -> Path:
+    """Compile (or find in the cache) the shared library of a generated package."""
+    sources = package.c_sources()
+    header = package.c_header()
     compiler = shutil.which(os.environ.get("CC", "cc"))
     if compiler is None:
         raise CompilerUnavailableError("no C compiler found (looked for $CC or 'cc')")
     digest = hashlib.sha256()
-    for path in [*sources, GENERATED / f"{mechanism}_casadi.h"]:
+    for path in [*sources, header]:
         digest.update(path.read_bytes())
     digest.update(" ".join([compiler, *FLAGS]).encode())
-    target = cache_directory() / f"{mechanism}-{digest.hexdigest()[:16]}.so"
+    target = cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
     if target.exists():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     handle, scratch = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(handle)
-    command = [compiler, *FLAGS, "-I", str(GENERATED), *map(str, sources), "-o", scratch, "-lm"]
+    command = [compiler, *FLAGS, "-I", str(header.parent), *map(str, sources), "-o", scratch, "-lm"]
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
         os.unlink(scratch)
@@ -68,16 +69,12 @@ class CompiledBackend:
 
     name = "compiled"
 
-    def __init__(self, mechanism: str) -> None:
-        self.mechanism = mechanism
-        self.path = build_library(mechanism)
+    def __init__(self, package: GeneratedPackage) -> None:
+        self.manifest = package.manifest
+        self.path = build_library(package)
         self.library = ctypes.CDLL(str(self.path))
-        casadi_module = __import__(f"generated.{mechanism}_casadi", fromlist=["BUILDERS"])
-        self.kernels = list(casadi_module.BUILDERS)
-        self._shapes: dict[str, list[tuple[str, tuple[int, ...]]]] = {}
-        numpy_module = __import__(f"generated.{mechanism}_numpy", fromlist=["KERNELS"])
-        self._numpy = numpy_module.KERNELS
-        self.newton = self.library.parakin_forward_pose
+        self.kernels = list(self.manifest.kernels)
+        self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
         self.newton.argtypes = [
             _INT64, _POINTER, _INT64, _POINTER, _INT64, _POINTER,
@@ -91,21 +88,15 @@ class CompiledBackend:
 
         return casadi.external(kernel, str(self.path))
 
-    def _output_shapes(self, kernel: str, inputs: tuple[Array, ...]) -> list[tuple[str, tuple[int, ...]]]:
-        if kernel not in self._shapes:
-            with np.errstate(all="ignore"):  # only the shapes of a probe at zero are wanted
-                probe = self._numpy[kernel](*(np.zeros(np.shape(x)[-1]) for x in inputs))
-            self._shapes[kernel] = [(name, value.shape) for name, value in probe.items()]
-        return self._shapes[kernel]
-
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
         shape, flat = broadcast_batch(inputs)
         count = int(np.prod(shape, dtype=np.int64))
-        outputs = {name: np.empty((count, *out_shape)) for name, out_shape in self._output_shapes(kernel, inputs)}
+        description = self.manifest.kernels[kernel]
+        outputs = {output.name: np.empty((count, *output.shape)) for output in description.outputs}
         input_pointers = (_POINTER * len(flat))(*(x.ctypes.data for x in flat))
         strides = (_INT64 * len(flat))(*(x.shape[1] if x.shape[0] == count and count > 1 else 0 for x in flat))
         output_pointers = (_POINTER * len(outputs))(*(o.ctypes.data for o in outputs.values()))
-        function = getattr(self.library, f"{kernel}_batch")
+        function = getattr(self.library, description.c_symbol)
         if function(_INT64(count), input_pointers, strides, output_pointers) != 0:
             raise ParakinError(f"compiled kernel {kernel} failed")
         return {name: value.reshape(shape + value.shape[1:]) for name, value in outputs.items()}

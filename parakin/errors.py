@@ -18,6 +18,15 @@ class UnknownMechanismError(BadInputError, KeyError):
         return str(self.args[0])
 
 
+class ArchitectureSingularityWarning(UserWarning):
+    """The loaded geometry is singular at every pose (an architecture singularity): unusable."""
+
+
+class UnsupportedOperationError(ParakinError, NotImplementedError):
+    """The mechanism does not have what an operation needs (no closed-form inverse, no forward
+    elimination, no rate model, no drawing kernel, ...); its manifest's capabilities say what it has."""
+
+
 class UnreachablePoseError(ParakinError):
     """No inverse-pose branch reaches the pose within the joint limits."""
 

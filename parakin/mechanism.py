@@ -1,6 +1,6 @@
 """The runtime mechanism: thin wrappers that validate input, call generated kernels through a
-backend, and return named results. Conventions are those of the mechanism's generated metadata
-(``m.metadata``) and its module docstring in ``mechanisms/``: SI units, radians, poses as
+backend, and return named results. Conventions are those of the mechanism's generated manifest
+(``m.manifest``, its ``conventions`` text is the mechanism file's docstring): SI units, radians, poses as
 ^B_P T (..., 4, 4), twists as (v of the origin of {P}, w), both in {B}.
 """
 
@@ -13,18 +13,21 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.backends import Backend
+from parakin.continuation import SelfMotion, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
     NEWTON_OK,
     NEWTON_SINGULAR,
     NEWTON_WRONG_BASIN,
     BadInputError,
-    ParakinError,
     SelfMotionError,
     SingularConfigurationError,
     UnreachablePoseError,
+    UnsupportedOperationError,
     raise_for_newton_status,
 )
+from parakin.manifest import Capabilities, Manifest, Variable
+from parakin.package import GeneratedPackage
 from parakin.polynomial import real_roots
 from parakin.pose import as_array, as_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
@@ -38,6 +41,10 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 )
 
 
+def _home(variable: Variable) -> float:
+    return 0.0 if variable.home is None else variable.home
+
+
 def pose_vector(pose: Array) -> Array:
     """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
     return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
@@ -47,24 +54,27 @@ class Mechanism:
     """A loaded mechanism. Build with ``parakin.load(name, **parameters)``.
 
     Every method accepts a leading batch shape. Branch numbering of ``inverse_pose``: branch k
-    has the signs ``InversePose.branches[k]`` of ``metadata['inverse']['branches']`` (branch 0:
+    has the signs ``InversePose.branches[k]`` of ``m.capabilities.inverse.branches`` (branch 0:
     all +1, then binary counting with -1 as the set bit, most significant first).
     """
 
     def __init__(
         self,
-        metadata: dict[str, Any],
+        package: GeneratedPackage,
         backend: Backend,
         parameters: dict[str, float],
         limits: dict[str, tuple[float, float]],
     ) -> None:
-        self.metadata = metadata
-        self.name: str = metadata["name"]
+        self.package = package
+        self.manifest: Manifest = package.manifest
+        manifest = self.manifest
+        self.name: str = manifest.name
         self.backend = backend
         self.parameters = dict(parameters)
-        self.params = np.array([parameters[k] for k in metadata["parameters"]], dtype=float)
-        self.actuated_names: list[str] = list(metadata["actuated"])
-        self.passive_names: list[str] = list(metadata["passive"])
+        self.params = np.array([parameters[p.name] for p in manifest.parameters], dtype=float)
+        self.actuated_names: list[str] = manifest.actuated_names
+        self.passive_names: list[str] = manifest.passive_names
+        self.tolerances = manifest.tolerances
         self.limits = limits
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
@@ -72,21 +82,29 @@ class Mechanism:
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
         self._single_jobs = threading.local()
-        self._angular_passive = np.array([n in metadata["angular"] for n in self.passive_names])
-        self._angular_actuated = np.array([n in metadata["angular"] for n in self.actuated_names])
-        home = metadata["home"]
-        self.home_actuated = np.array([home[n] for n in self.actuated_names], dtype=float)
-        self.home_passive = np.array([home[n] for n in self.passive_names], dtype=float)
+        self._angular_passive = np.array([v.revolute for v in manifest.passive], dtype=bool)
+        self._angular_actuated = np.array([v.revolute for v in manifest.actuated], dtype=bool)
+        self.home_actuated = np.array([_home(v) for v in manifest.actuated], dtype=float)
+        self.home_passive = np.array([_home(v) for v in manifest.passive], dtype=float)
         # each leg's joints as (is_actuated, index into actuated or passive)
         self._leg_columns = {
-            leg["name"]: [
+            leg.name: [
                 (True, self.actuated_names.index(j))
                 if j in self.actuated_names
                 else (False, self.passive_names.index(j))
-                for j in leg["joints"]
+                for j in leg.joints
             ]
-            for leg in metadata["legs"]
+            for leg in manifest.capabilities.legs or ()
         }
+
+    @property
+    def capabilities(self) -> Capabilities:
+        """What this mechanism supports (closed-form inverse, forward elimination, rates, ...)."""
+        return self.manifest.capabilities
+
+    def _require(self, capability: object, operation: str, what: str) -> None:
+        if capability is None:
+            raise UnsupportedOperationError(f"{self.name} has no {what}: {operation} is not available")
 
     def __repr__(self) -> str:
         values = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
@@ -121,7 +139,7 @@ class Mechanism:
     def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
         """^B_P T (..., 4, 4); an orienting platform (pose_kind 'rotation') also takes R (..., 3, 3)."""
         array = np.asarray(pose, dtype=float)
-        if self.metadata.get("pose_kind") == "rotation" and array.shape[-2:] == (3, 3):
+        if self.manifest.pose_kind == "rotation" and array.shape[-2:] == (3, 3):
             full = np.zeros(array.shape[:-2] + (4, 4))
             full[..., :3, :3] = array
             full[..., 3, 3] = 1.0
@@ -135,9 +153,11 @@ class Mechanism:
         With ``strict``, a pose with no valid branch raises UnreachablePoseError (limits) or
         SingularConfigurationError (every branch at a serial singularity), naming the pose index.
         """
+        info = self.capabilities.inverse
+        self._require(info, "inverse_pose", "closed-form inverse")
+        assert info is not None
         transform = self._as_transform(pose)
-        info = self.metadata["inverse"]
-        combinations = np.array(info["combinations"], dtype=np.int8)
+        combinations = np.array(info.combinations, dtype=np.int8)
         with np.errstate(all="ignore"):  # singular or unreachable branches: masked below
             out = self.backend.call(
                 "inverse_pose", pose_vector(transform)[..., None, :], combinations.astype(float), self.params
@@ -145,12 +165,13 @@ class Mechanism:
         actuated = np.where(self._angular_actuated, wrap_angle(out["actuated"]), out["actuated"])
         passive = np.where(self._angular_passive, wrap_angle(out["passive"]), out["passive"])
         failures: dict[str, np.ndarray] = {
-            name: np.asarray(~(out["validity"][..., k] > 1e-9)) for k, name in enumerate(info["validity"])
+            name: np.asarray(~(out["validity"][..., k] > self.tolerances["validity"]))
+            for k, name in enumerate(info.validity)
         }
         failures["limits"] = np.asarray(~self.within_limits(passive))
         failures["finite"] = np.asarray(~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1)))
         valid = ~np.logical_or.reduce(list(failures.values()))
-        result = InversePose(actuated, passive, valid, combinations, tuple(info["branches"]), failures, transform)
+        result = InversePose(actuated, passive, valid, combinations, info.branches, failures, transform)
         if strict:
             none = ~valid.any(-1)
             if none.any():
@@ -169,7 +190,7 @@ class Mechanism:
 
     # ------------------------------------------------------------------ forward pose (Newton)
     def _passive_guess(self, actuated: Array, guess: Any) -> Array:
-        if guess is None and "forward" in self.metadata:
+        if guess is None and self.capabilities.forward is not None:
             return self._closest_mode_to_home(actuated)
         if guess is None:
             return np.broadcast_to(self.home_passive, actuated.shape[:-1] + self.home_passive.shape)
@@ -347,37 +368,38 @@ class Mechanism:
         the platform has a self-motion) raises SingularConfigurationError.
         """
         theta = self._actuated(actuated)
-        if "forward" not in self.metadata:
+        info = self.capabilities.forward
+        if info is None:
             if self.passive_names:
-                raise ParakinError(f"{self.name} has no closed-form forward elimination; use forward_pose")
+                raise UnsupportedOperationError(
+                    f"{self.name} has no closed-form forward elimination: forward_pose_all is not available; "
+                    "use forward_pose (Newton from a guess)"
+                )
             single = self.forward_pose(theta)  # a serial chain has exactly one forward pose
             one = np.ones(theta.shape[:-1] + (1,), dtype=bool)
             return AssemblyModes(
                 theta, single.pose[..., None, :, :], single.passive[..., None, :], single.residual[..., None],
                 np.zeros(one.shape), one, one, one.sum(-1), ~one,
             )  # fmt: skip
-        info = self.metadata["forward"]
+        tol = self.tolerances
         with np.errstate(divide="ignore", invalid="ignore"):  # degenerate inputs: reported below
             out = self.backend.call("forward_polynomial", theta, self.params)
         measures = out.get("degeneracies", np.zeros(theta.shape[:-1] + (0,)))
-        degenerate = np.asarray((np.abs(measures) < 1e-9).any(-1))
+        degenerate = np.asarray((np.abs(measures) < tol["degenerate"]).any(-1))
         if strict and degenerate.any():
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
-            names = [n for k, n in enumerate(info["degeneracies"]) if abs(measures[index][k]) < 1e-9]
+            names = [n for k, n in enumerate(info.degeneracies) if abs(measures[index][k]) < tol["degenerate"]]
             message = (
                 f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
                 "the platform is not determined by the actuators here"
             )
-            from parakin.extensions import extension
-
-            module = extension(self.name)
-            if module is not None and hasattr(module, "solution_set"):
-                # a positive-dimensional solution set (a self-motion): report it, not a random point
-                solution_set = module.solution_set(self, theta[index])
-                raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", solution_set)
-            raise SingularConfigurationError(message)
-        roots, real = real_roots(out["coefficients"], info.get("imaginary_tolerance", 1e-7))
-        combinations = np.array(info["combinations"], dtype=float)
+            # a positive-dimensional solution set (a self-motion): report it, not a random point
+            motion = self.self_motion(theta[index])
+            if motion.count:
+                raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
+            raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
+        roots, real = real_roots(out["coefficients"], tol["imaginary"])
+        combinations = np.array(info.combinations, dtype=float)
         n_roots, n_branches = roots.shape[-1], combinations.shape[0]
         root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]
         branch_grid = np.tile(combinations, (n_roots, 1))
@@ -396,8 +418,8 @@ class Mechanism:
         # a candidate is a mode if it nearly closes (a loose bound keeps near-double roots, whose
         # back-substitution is less accurate); Newton then must converge, so that a wrong
         # candidate is never polished into some other mode
-        candidate = real_grid & (residual < 1e-4) & (closure["alignment"] > 0).all(-1)
-        closed = candidate & (residual < 1e-9)
+        candidate = real_grid & (residual < tol["candidate"]) & (closure["alignment"] > 0).all(-1)
+        closed = candidate & (residual < tol["closure"])
         if polish:
             polished = self.forward_pose(theta_grid, passive, tolerance=1e-13, max_iterations=8, strict=False)
             accept = candidate & polished.converged
@@ -408,23 +430,34 @@ class Mechanism:
         valid = closed & self.within_limits(passive)
         # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
         independent = np.zeros_like(valid)
-        names = self.metadata.get("rates", {}).get("input_independent", [])
+        names = self.capabilities.rates.input_independent if self.capabilities.rates else ()
         if names:  # all of them at once: one folded leg alone is an ordinary serial singularity
             factors = self.singularities(Configuration(theta_grid, passive, poses))
-            independent = np.logical_and.reduce([np.abs(factors[name]) < 1e-9 for name in names])
+            independent = np.logical_and.reduce([np.abs(factors[name]) < tol["factor_zero"] for name in names])
         # a double root (or two branches reaching one pose) is one mode: keep the first
         distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
         earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)
-        valid &= ~(valid[..., None, :] & earlier & (distance < 1e-7)).any(-1)
+        valid &= ~(valid[..., None, :] & earlier & (distance < tol["duplicate"])).any(-1)
         flagged = valid & independent
         valid &= ~independent
         return AssemblyModes(
             theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1), flagged
         )
 
+    def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
+        """The solution set of the loop closure for one locked input where it is a curve (a
+        self-motion), traced by continuation from ``starts`` (k, n_p) or from the home
+        configuration and random perturbations of it (see ``parakin.continuation``)."""
+        theta = self._actuated(actuated)
+        if theta.ndim != 1:
+            raise BadInputError(f"self_motion takes one input (n_a,), got shape {theta.shape}")
+        start = None if starts is None else np.atleast_2d(self._passive(starts))
+        return trace_self_motion(self, theta, start, step)
+
     # ------------------------------------------------------------------ rates
     def rate_jacobians(self, state: Configuration) -> dict[str, Array]:
         """A and B of A twist = B actuated_rates (mechanisms with a rate model, e.g. the SPM)."""
+        self._require(self.capabilities.rates, "rate_jacobians", "A/B rate model")
         theta, passive = self._state(state)
         return self.backend.call("rate_jacobians", theta, passive, self.params)
 
@@ -440,7 +473,8 @@ class Mechanism:
 
     def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
         """Each leg's 6x6 Jacobian (eq 9): twist (v of the origin of {P}, w; in {B}) per joint
-        rate, columns in the leg's joint order (``metadata['legs']``)."""
+        rate, columns in the leg's joint order (``m.capabilities.legs``)."""
+        self._require(self.capabilities.legs, "leg_jacobians", "serial legs")
         theta, passive = self._state(state)
         return self.backend.call("leg_jacobians", theta, passive, self.params)
 
@@ -451,7 +485,7 @@ class Mechanism:
         a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1, the
         paper's recommendation near a singular leg (the motion is then not exactly as commanded).
         """
-        if "rates" in self.metadata:
+        if self.capabilities.rates is not None:
             return self._inverse_rate_ab(state, twist)
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
@@ -477,7 +511,7 @@ class Mechanism:
         return Rates(actuated_rates, passive_rates)
 
     def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike) -> Rates:
-        omega = as_array(twist, "twist", (len(self.metadata["rates"]["twist"]),))
+        omega = as_array(twist, "twist", (self.manifest.twist_size,))
         jacobians = self.rate_jacobians(state)
         self._check_conditioning(jacobians["b"], "B (inverse Jacobian)", "a serial (type I) singularity")
         right = jacobians["a"] @ omega[..., None]
@@ -500,7 +534,7 @@ class Mechanism:
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
         rates = self._actuated(actuated_rates)
-        if "rates" in self.metadata:
+        if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
             self._check_conditioning(jacobians["a"], "A (direct Jacobian)", "a type II (parallel) singularity")
             twist = np.linalg.solve(jacobians["a"], (jacobians["b"] @ rates[..., None]))[..., 0]
@@ -522,31 +556,30 @@ class Mechanism:
 
     # ------------------------------------------------------------------ singularities
     def is_architecturally_singular(self) -> bool:
-        """Whether this geometry is singular at every pose (a useless design), for mechanisms
-        that have such a test (the 6-SPS with linearly related platforms: base on a conic,
-        ``parakin.architecture``); False for the others, whose singularities depend on the pose."""
-        from parakin.extensions import extension  # extensions import this module's results
-
-        module = extension(self.name)
-        if module is None or not hasattr(module, "is_architecturally_singular"):
+        """Whether this geometry is singular at every pose (a useless design): one of the
+        mechanism's normalised architecture measures (``architecture()``) is below its declared
+        tolerance. False for mechanisms without such conditions."""
+        info = self.capabilities.architecture
+        if info is None:
             return False
-        return bool(module.is_architecturally_singular(self))
+        return any(abs(value) < info.tolerance for value in self.architecture().values())
 
     def architecture(self) -> dict[str, float]:
         """The mechanism's architecture-singularity measures at its parameters (``parakin inspect``
-        shows them symbolically); empty for mechanisms without such conditions."""
-        names = self.metadata.get("architecture", [])
-        if not names:
+        shows them symbolically; zero means singular at every pose); empty for mechanisms
+        without such conditions."""
+        info = self.capabilities.architecture
+        if info is None:
             return {}
         values = self.backend.call("architecture", self.params)["measures"]
-        return {name: float(values[k]) for k, name in enumerate(names)}
+        return {name: float(values[k]) for k, name in enumerate(info.measures)}
 
     def singularities(self, state: Configuration) -> dict[str, Array]:
         """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
         closed-loop matrix), then the determinants themselves; zero means singular."""
         theta, passive = self._state(state)
         out = self.backend.call("singularity_factors", theta, passive, self.params)
-        names = self.metadata["singularity_factors"] + self.metadata["determinants"]
+        names = self.manifest.singularity_factors + self.manifest.determinants
         values = np.concatenate([out["factors"], out["determinants"]], axis=-1)
         return {name: values[..., k] for k, name in enumerate(names)}
 

@@ -63,7 +63,7 @@ class ForwardPoseTracker:
                 max_iterations, tolerance, 0.5, 1e-10, self.passive.ctypes.data, self.pose.ctypes.data,
                 self.residual.ctypes.data, self.iterations.ctypes.data, self.status.ctypes.data,
             )  # fmt: skip
-            self._solve = backend.library.parakin_forward_pose_job
+            self._solve = getattr(backend.library, mechanism.manifest.newton.job_symbol)
             self._solve.argtypes = [ctypes.c_void_p]
             self._job_address = ctypes.addressof(self._job)
 

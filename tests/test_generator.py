@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from generator.build import GENERATED, generate
-from generator.trigpoly import factor_list, reduce_pythagorean
-from mechanisms import MECHANISMS
+from parakin.generator.build import GENERATED, generate
+from parakin.generator.trigpoly import factor_list, reduce_pythagorean
+from parakin.mechanisms import MECHANISMS
 
 ROOT = Path(__file__).resolve().parent.parent
 

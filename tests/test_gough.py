@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 import parakin
-from mechanisms import gough
+from parakin.mechanisms import gough
 from parakin import architecture as arch
 from parakin.errors import SingularConfigurationError
 
