@@ -29,7 +29,7 @@ from parakin.errors import (
 from parakin.manifest import Capabilities, Manifest, Variable
 from parakin.package import GeneratedPackage
 from parakin.polynomial import real_roots
-from parakin.pose import as_array, as_pose, wrap_angle
+from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
 from parakin.tracker import ForwardPoseTracker
 
@@ -137,14 +137,8 @@ class Mechanism:
         return self.backend.call("loop_closure", self._actuated(actuated), self._passive(passive), self.params)
 
     def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
-        """^B_P T (..., 4, 4); an orienting platform (pose_kind 'rotation') also takes R (..., 3, 3)."""
-        array = np.asarray(pose, dtype=float)
-        if self.manifest.pose_kind == "rotation" and array.shape[-2:] == (3, 3):
-            full = np.zeros(array.shape[:-2] + (4, 4))
-            full[..., :3, :3] = array
-            full[..., 3, 3] = 1.0
-            array = full
-        return as_pose(array, name)
+        """^B_P T (..., 4, 4), or the short form of the pose kind (``parakin.pose.POSE_KINDS``)."""
+        return transform_from_pose(pose, self.manifest.pose_kind, name)
 
     def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
         """Every closed-form inverse branch for ^B_P T (..., 4, 4) (or R (..., 3, 3) for an
@@ -553,6 +547,20 @@ class Mechanism:
             index = tuple(int(i) for i in np.argwhere(bad)[0])
             at = f" at batch index {index}" if index else ""
             raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
+
+    # ------------------------------------------------------------------ drawing
+    def drawing(self, state: Configuration) -> dict[str, Array]:
+        """The named point sets (..., 3, n) in {B} (metres) of the drawing kernel."""
+        self._require(self.capabilities.drawing, "drawing", "drawing kernel")
+        theta, passive = self._state(state)
+        return self.backend.call("drawing", theta, passive, self.params)
+
+    def plot(self, state: Configuration | AssemblyModes, path: str | None = None, ax: Any = None) -> Any:
+        """Draw the mechanism (3-D, metres) in a configuration or every valid assembly mode;
+        a PNG is written to ``path`` when given. Needs matplotlib (extra 'plot')."""
+        from parakin.plot import plot
+
+        return plot(self, state, path, ax)
 
     # ------------------------------------------------------------------ singularities
     def is_architecturally_singular(self) -> bool:

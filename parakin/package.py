@@ -57,7 +57,7 @@ class GeneratedPackage:
         packages = discover()
         if str(name_or_path) not in packages:
             raise UnknownMechanismError(
-                f"unknown mechanism {str(name_or_path)!r}: not a package folder, and not among {sorted(packages)}"
+                f"unknown mechanism {str(name_or_path)!r}: not a package folder; available: {sorted(packages)}"
             )
         return cls(packages[str(name_or_path)])
 

@@ -102,3 +102,43 @@ def wrap_angle(angle: ArrayLike) -> Array:
     """Angles mapped to (-pi, pi]."""
     wrapped = np.mod(np.asarray(angle, dtype=float) + np.pi, 2 * np.pi) - np.pi
     return np.where(wrapped == -np.pi, np.pi, wrapped)
+
+
+#: pose kinds of the manifest and the short forms ``transform_from_pose`` accepts besides ^B_P T
+POSE_KINDS = {
+    "transform": "^B_P T (..., 4, 4)",
+    "rotation": "^B_P T (..., 4, 4) or R (..., 3, 3)",
+    "planar": "^B_P T (..., 4, 4) or (x, y, phi) (..., 3): rotation phi about z, in the plane z = 0",
+    "translation": "^B_P T (..., 4, 4) or the position (x, y, z) (..., 3), with R = I",
+}
+
+
+def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array:
+    """^B_P T (..., 4, 4) from any pose form of a mechanism's pose kind (``POSE_KINDS``)."""
+    array = as_array_any(pose, name)
+    if kind in ("rotation",) and array.shape[-2:] == (3, 3):
+        full = np.zeros(array.shape[:-2] + (4, 4))
+        full[..., :3, :3] = array
+        full[..., 3, 3] = 1.0
+        array = full
+    elif kind in ("planar", "translation") and array.ndim >= 1 and array.shape[-1] == 3 and array.shape[-2:] != (3, 3):
+        full = np.broadcast_to(np.eye(4), array.shape[:-1] + (4, 4)).copy()
+        if kind == "planar":
+            c, s = np.cos(array[..., 2]), np.sin(array[..., 2])
+            full[..., 0, 0], full[..., 0, 1], full[..., 1, 0], full[..., 1, 1] = c, -s, s, c
+            full[..., 0, 3], full[..., 1, 3] = array[..., 0], array[..., 1]
+        else:
+            full[..., :3, 3] = array
+        array = full
+    return as_pose(array, name)
+
+
+def as_array_any(value: ArrayLike, name: str) -> Array:
+    """A real float array of any shape, or BadInputError (complex, strings, objects, ragged)."""
+    try:
+        array = np.asarray(value)
+    except ValueError as error:
+        raise BadInputError(f"{name}: not an array ({error})") from error
+    if array.dtype.kind not in "biuf":
+        raise BadInputError(f"{name} must be real numbers, got dtype {array.dtype}")
+    return np.asarray(array, dtype=float)

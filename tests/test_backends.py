@@ -47,9 +47,9 @@ def test_exact_sympy_evaluation_agrees(backends, state):
     symbolic = parakin.symbolic("sam")
     info = parakin.metadata("sam")
     actuated, passive = state
-    names = info["actuated"] + info["passive"] + list(info["parameters"])
+    names = info.actuated_names + info.passive_names + [p.name for p in info.parameters]
     symbols = {s.name: s for obj in symbolic.values() if isinstance(obj, sp.Basic) for s in obj.free_symbols}
-    values = np.concatenate([actuated[0], passive[0], list(info["parameters"].values())])
+    values = np.concatenate([actuated[0], passive[0], [p.default for p in info.parameters]])
     substitution = {symbols[n]: sp.Float(v, 30) for n, v in zip(names, values, strict=True) if n in symbols}
     exact_pose = np.array(symbolic["platform_pose"].evalf(30, subs=substitution), dtype=float)
     exact_left = np.array(symbolic["leg_jacobian_left"].evalf(30, subs=substitution), dtype=float)

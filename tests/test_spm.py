@@ -56,7 +56,7 @@ def test_section323_example_as_printed_has_two_modes(spm):
 
 
 def test_forward_polynomial_degree_is_eight():
-    assert parakin.metadata("spm")["forward"]["degree"] == 8
+    assert parakin.metadata("spm").capabilities.forward.degree == 8
 
 
 def test_inverse_pose_eight_branches_reproduce_the_rotation(spm):

@@ -1,0 +1,156 @@
+"""``parakin demo NAME``: every named example of a mechanism's manifest, reproduced.
+
+An example gives a pose (solved by ``inverse_pose``) or actuated inputs (solved by
+``forward_pose_all``) and the values printed in the paper; each comparison reports our value,
+the printed one, the digits of agreement and whether it holds to the example's tolerance.
+Generic over mechanisms: longer paper walkthroughs are scripts in ``examples/``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from parakin.errors import ParakinError
+from parakin.manifest import Example
+from parakin.results import Array
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One printed quantity: ``ours`` against ``printed``, agreeing to ``error`` (max abs)."""
+
+    quantity: str
+    ours: Array
+    printed: Array
+    error: float
+    tolerance: float
+
+    @property
+    def holds(self) -> bool:
+        return bool(self.error <= self.tolerance)
+
+    @property
+    def digits(self) -> float:
+        """Significant digits of agreement (relative to the largest printed magnitude)."""
+        scale = max(float(np.abs(self.printed).max(initial=0.0)), 1e-300)
+        return math.inf if self.error == 0 else max(0.0, -math.log10(self.error / scale))
+
+
+@dataclass(frozen=True)
+class ExampleResult:
+    example: Example
+    comparisons: tuple[Comparison, ...]
+    error: str | None = None  # a ParakinError raised while solving, by name and message
+
+    @property
+    def holds(self) -> bool:
+        return self.error is None and all(c.holds for c in self.comparisons)
+
+
+def _compare(
+    quantity: str, ours: object, printed: object, tolerance: float, revolute: Array | None = None
+) -> Comparison:
+    a, b = np.asarray(ours, dtype=float), np.asarray(printed, dtype=float)
+    difference = a - b
+    if revolute is not None:  # angles compare modulo 2 pi
+        difference = np.where(revolute, (difference + np.pi) % (2 * np.pi) - np.pi, difference)
+    return Comparison(quantity, a, b, float(np.abs(difference).max(initial=0.0)), tolerance)
+
+
+def _inverse_example(m: object, example: Example) -> list[Comparison]:
+    from parakin.mechanism import Mechanism
+
+    assert isinstance(m, Mechanism)
+    branches = m.inverse_pose(example.pose, strict=False)
+    expected = example.expected
+    revolute_a = np.array([v.revolute for v in m.manifest.actuated])
+    revolute_p = np.array([v.revolute for v in m.manifest.passive])
+    if example.branch is not None:
+        k = example.branch
+    else:  # the valid branch nearest the printed values
+        distance = np.zeros(branches.actuated.shape[0])
+        if "actuated" in expected:
+            distance += np.abs(branches.actuated - np.asarray(expected["actuated"], dtype=float)).max(-1)
+        if "passive" in expected:
+            distance += np.abs(branches.passive - np.asarray(expected["passive"], dtype=float)).max(-1)
+        distance = np.where(branches.valid, np.nan_to_num(distance, nan=np.inf), np.inf)
+        k = int(np.argmin(distance))
+    comparisons = [_compare("branch valid", float(branches.valid[k]), 1.0, 0.0)]
+    if "actuated" in expected:
+        comparisons.append(
+            _compare(
+                f"actuated (branch {k})", branches.actuated[k], expected["actuated"], example.tolerance, revolute_a
+            )
+        )
+    if "passive" in expected:
+        comparisons.append(
+            _compare(f"passive (branch {k})", branches.passive[k], expected["passive"], example.tolerance, revolute_p)
+        )
+    return comparisons
+
+
+def _forward_example(m: object, example: Example) -> list[Comparison]:
+    from parakin.mechanism import Mechanism
+
+    assert isinstance(m, Mechanism)
+    modes = m.forward_pose_all(np.asarray(example.actuated, dtype=float))
+    expected = example.expected
+    comparisons = []
+    if "mode_count" in expected:
+        comparisons.append(_compare("mode count", float(modes.count), float(expected["mode_count"]), 0.0))  # type: ignore[arg-type]
+    for index, pose in enumerate(expected.get("poses", [])):  # type: ignore[arg-type]
+        printed = np.asarray(pose, dtype=float)
+        distance = np.abs(modes.poses - printed).max(axis=(-2, -1))
+        distance = np.where(modes.valid, distance, np.inf)
+        best = int(np.argmin(distance))
+        comparisons.append(
+            _compare(f"printed pose {index + 1} (mode {best})", modes.poses[best], printed, example.tolerance)
+        )
+    return comparisons
+
+
+def run_examples(name: str | os.PathLike[str], backend: str = "auto") -> list[ExampleResult]:
+    """Solve every example of a mechanism's manifest and compare with the printed values."""
+    import parakin
+
+    manifest = parakin.metadata(name)
+    results = []
+    for example in manifest.examples:
+        try:
+            m = parakin.load(name, backend=backend, **example.parameters)
+            solve = _inverse_example if example.pose is not None else _forward_example
+            results.append(ExampleResult(example, tuple(solve(m, example))))
+        except ParakinError as error:
+            results.append(ExampleResult(example, (), f"{type(error).__name__}: {error}"))
+    return results
+
+
+def format_results(name: str, results: list[ExampleResult]) -> str:
+    """The table ``parakin demo`` prints."""
+    import parakin
+
+    manifest = parakin.metadata(name)
+    lines = [f"{manifest.title}", f"  {manifest.citation}", ""]
+    if not results:
+        lines.append("  (no named examples in this mechanism's manifest)")
+    with np.printoptions(precision=6, suppress=True, linewidth=150):
+        for result in results:
+            e = result.example
+            lines.append(f"example {e.name}: {e.description}")
+            if result.error:
+                lines.append(f"  raised {result.error}")
+            for c in result.comparisons:
+                mark = "ok " if c.holds else "FAIL"
+                lines.append(
+                    f"  [{mark}] {c.quantity}: ours {c.ours}  printed {c.printed}  "
+                    f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
+                )
+            lines.append("")
+    return "\n".join(lines)
+
+
+__all__ = ["Comparison", "ExampleResult", "format_results", "run_examples"]
