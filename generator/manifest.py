@@ -104,7 +104,8 @@ def build_manifest(
     sizes: dict[str, dict[str, int]],
 ) -> dict[str, Any]:
     """The manifest dictionary (schema ``SCHEMA``) of one generated package."""
-    meta = dict(derivation.metadata)
+    meta: dict[str, Any] = dict(derivation.metadata)
+    forward_meta: dict[str, Any] = meta.get("forward") or {}
     citation = mechanism.citation
     loop = next(p for p in lowered if p.name == "loop_closure")
     capabilities: dict[str, Any] = {
@@ -145,7 +146,7 @@ def build_manifest(
         "determinants": meta["determinants"],
         "capabilities": capabilities,
         "examples": [_example(e) for e in mechanism.examples],
-        "tolerances": {**DEFAULT_TOLERANCES, "imaginary": (meta.get("forward") or {}).get("imaginary_tolerance", 1e-7)},
+        "tolerances": {**DEFAULT_TOLERANCES, "imaginary": forward_meta.get("imaginary_tolerance", 1e-7)},
         "kernels": _kernels(lowered, sizes),
         "c": {
             "sources": ["kernels.c", "driver.c"],

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -81,7 +82,7 @@ def load(
     name: str | os.PathLike[str],
     backend: str = "auto",
     limits: dict[str, tuple[float, float]] | None = None,
-    **parameters: object,
+    **parameters: Any,
 ) -> Mechanism:
     """Load a mechanism, by name or generated-package folder, with its paper's default
     parameters overridden by ``parameters`` (scalars by name, vector parameters such as point

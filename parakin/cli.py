@@ -28,8 +28,8 @@ POSE_ARGUMENTS = {
 }
 
 
-def _parameters(values: list[str]) -> dict[str, object]:
-    result: dict[str, object] = {}
+def _parameters(values: list[str]) -> dict[str, Any]:
+    result: dict[str, Any] = {}
     for item in values:
         name, sep, text = item.partition("=")
         if not sep:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -121,7 +122,8 @@ def run_examples(name: str | os.PathLike[str], backend: str = "auto") -> list[Ex
     results = []
     for example in manifest.examples:
         try:
-            m = parakin.load(name, backend=backend, **example.parameters)
+            overrides: dict[str, Any] = dict(example.parameters)
+            m = parakin.load(name, backend=backend, **overrides)
             solve = _inverse_example if example.pose is not None else _forward_example
             results.append(ExampleResult(example, tuple(solve(m, example))))
         except ParakinError as error:

@@ -424,10 +424,10 @@ class Mechanism:
         valid = closed & self.within_limits(passive)
         # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
         independent = np.zeros_like(valid)
-        names = self.capabilities.rates.input_independent if self.capabilities.rates else ()
-        if names:  # all of them at once: one folded leg alone is an ordinary serial singularity
+        folded = self.capabilities.rates.input_independent if self.capabilities.rates else ()
+        if folded:  # all of them at once: one folded leg alone is an ordinary serial singularity
             factors = self.singularities(Configuration(theta_grid, passive, poses))
-            independent = np.logical_and.reduce([np.abs(factors[name]) < tol["factor_zero"] for name in names])
+            independent = np.logical_and.reduce([np.abs(factors[name]) < tol["factor_zero"] for name in folded])
         # a double root (or two branches reaching one pose) is one mode: keep the first
         distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
         earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)

@@ -44,7 +44,9 @@ def test_regeneration_is_byte_identical(tmp_path):
     """Golden test: regenerating everything into a scratch directory reproduces the committed tree."""
     target = tmp_path / "generated"
     generate(None, target)
-    committed = sorted(str(p.relative_to(GENERATED)) for p in GENERATED.rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+    committed = sorted(
+        str(p.relative_to(GENERATED)) for p in GENERATED.rglob("*") if p.is_file() and "__pycache__" not in p.parts
+    )
     fresh = sorted(str(p.relative_to(target)) for p in target.rglob("*") if p.is_file())
     assert fresh == committed
     for name in committed:

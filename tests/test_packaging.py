@@ -15,7 +15,18 @@ ROOT = Path(__file__).resolve().parent.parent
 @pytest.mark.slow
 def test_wheel_generates_and_loads_a_user_mechanism_outside_the_checkout(tmp_path):
     subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(tmp_path), str(ROOT)],
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--no-build-isolation",
+            "-q",
+            "-w",
+            str(tmp_path),
+            str(ROOT),
+        ],
         check=True,
     )
     wheel = next(tmp_path.glob("parakin-*.whl"))
@@ -28,12 +39,18 @@ def test_wheel_generates_and_loads_a_user_mechanism_outside_the_checkout(tmp_pat
     subprocess.run([str(python), "-m", "pip", "install", "--no-deps", "-q", str(wheel)], check=True)
     # the dependencies (numpy, casadi, sympy, jinja2, ruff) come from the test's environment, as
     # a plain path entry: its editable finder of the checkout is not run
-    site = Path(subprocess.check_output([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], text=True).strip())
+    site = Path(
+        subprocess.check_output(
+            [str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], text=True
+        ).strip()
+    )
     (site / "deps.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
     user = tmp_path / "user"
     user.mkdir()
     (user / "my_chain.py").write_text((ROOT / "mechanisms" / "sphere2r.py").read_text())
-    subprocess.run([str(venv / "bin" / "parakin"), "generate", "my_chain.py", "--out", "pkgs/my_chain"], check=True, cwd=user)
+    subprocess.run(
+        [str(venv / "bin" / "parakin"), "generate", "my_chain.py", "--out", "pkgs/my_chain"], check=True, cwd=user
+    )
     code = (
         "import parakin, numpy as np\n"
         f"assert {str(ROOT)!r} not in parakin.__file__, parakin.__file__\n"
