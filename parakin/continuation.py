@@ -1,9 +1,14 @@
-"""Self-motions: the one-dimensional solution set of the loop closure with locked actuators.
+"""Where Newton's square solve does not apply: self-motions and incompatible inputs.
+
+Self-motions: the one-dimensional solution set of the loop closure with locked actuators.
 
 Where a forward elimination degenerates (an architecturally singular design, or inputs on a
 self-motion), the platform is not determined by its actuators. ``trace_self_motion`` finds
 closed configurations by minimum-norm Gauss-Newton and follows each curve by pseudo-arclength
 continuation (tangent = null vector of the passive Jacobian), generically for any mechanism.
+Incompatible inputs (locked actuators that no configuration satisfies exactly, e.g. rounded
+printed values on a self-motion): ``least_squares_configuration`` minimises the loop-closure
+residual by Levenberg-Marquardt; its residual is the distance from compatible inputs.
 """
 
 from __future__ import annotations
@@ -43,14 +48,18 @@ def _closure(m: Mechanism, theta: Array, q: Array) -> tuple[Array, Array]:
 
 
 def _correct(m: Mechanism, theta: Array, q: Array, tolerance: float, iterations: int = 12) -> tuple[Array, float]:
-    """Minimum-norm Gauss-Newton onto the solution set (the Jacobian is rank deficient there)."""
+    """Minimum-norm Gauss-Newton onto the solution set (the Jacobian is rank deficient there);
+    a false closure (an alignment measure not positive: a half-turn, a mirror) counts as none."""
     residual = np.inf
     for _ in range(iterations):
-        r, jacobian = _closure(m, theta, q)
+        out = m.backend.call("loop_closure", theta, q, m.params)
+        r, jacobian = out["residual"], out["jacobian"]
         residual = float(np.abs(r).max())
         if not np.isfinite(residual):
             return q, np.inf
         if residual < tolerance:
+            if not (out["alignment"] > 0).all():
+                return q, np.inf
             break
         step = np.linalg.lstsq(jacobian, -r, rcond=1e-10)[0]
         q = q + step
@@ -70,11 +79,12 @@ def trace_self_motion(
     actuated: Array,
     starts: Array | None = None,
     step: float = 0.02,
-    max_points: int = 4000,
+    max_points: int = 400,
     seed: int = 0,
 ) -> SelfMotion:
     """Trace every curve of the solution set reached from ``starts`` (k, n_p) (default: the home
-    configuration and 32 random perturbations of it). Steps are ``step`` (passive units)."""
+    configuration and 32 random perturbations of it), in steps of ``step`` (passive units), at
+    most ``max_points`` points per curve, stopping where a curve leaves the joint limits."""
     tolerance = m.tolerances["closure"]
     theta = np.asarray(actuated, dtype=float)
     if starts is None:
@@ -103,6 +113,8 @@ def trace_self_motion(
                 if residual >= tolerance or np.abs(candidate - q).max() > 4 * h:
                     h /= 2
                     continue
+                if not m.within_limits(candidate):
+                    break  # the curve leaves the joint ranges: the rest is not a configuration
                 q, previous = candidate, tangent
                 path.append(q)
                 if len(path) > 8 and np.abs(q - q0).max() < h:
@@ -120,4 +132,44 @@ def trace_self_motion(
     return SelfMotion(theta, passive, poses, residual_values, np.array(curves, dtype=int), tuple(closed))
 
 
-__all__ = ["SelfMotion", "trace_self_motion"]
+@dataclass(frozen=True)
+class LeastSquares:
+    """The passive values minimising |residual|_2 for locked actuated values, the pose, the
+    residual vector at the optimum, its norm and the iterations used."""
+
+    passive: Array
+    pose: Array
+    residual: Array
+    norm: float
+    iterations: int
+
+
+def least_squares_configuration(m: Mechanism, actuated: Array, start: Array, iterations: int = 200) -> LeastSquares:
+    """Levenberg-Marquardt on the loop closure from ``start`` (n_p,); converges to a local
+    minimum (zero residual where the inputs are compatible)."""
+    theta, q = np.asarray(actuated, dtype=float), np.array(start, dtype=float)
+    damping = 1e-3
+    r, jacobian = _closure(m, theta, q)
+    cost = float(r @ r)
+    used = 0
+    while used < iterations:
+        used += 1
+        gram = jacobian.T @ jacobian
+        step = np.linalg.solve(gram + damping * np.diag(np.diag(gram) + 1e-12), -jacobian.T @ r)
+        r_new, jacobian_new = _closure(m, theta, q + step)
+        cost_new = float(r_new @ r_new)
+        if np.isfinite(cost_new) and cost_new < cost:
+            q, r, jacobian, damping = q + step, r_new, jacobian_new, max(damping / 3, 1e-12)
+            converged = cost - cost_new < 1e-15 * max(cost, 1e-300) or np.abs(step).max() < 1e-13
+            cost = cost_new
+            if converged:
+                break
+        else:
+            damping *= 4
+            if damping > 1e12:
+                break
+    pose = m.platform_pose(theta, q)
+    return LeastSquares(q, pose, r, float(np.sqrt(cost)), used)
+
+
+__all__ = ["LeastSquares", "SelfMotion", "least_squares_configuration", "trace_self_motion"]

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.backends import Backend
-from parakin.continuation import SelfMotion, trace_self_motion
+from parakin.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
     NEWTON_OK,
@@ -447,6 +447,16 @@ class Mechanism:
             raise BadInputError(f"self_motion takes one input (n_a,), got shape {theta.shape}")
         start = None if starts is None else np.atleast_2d(self._passive(starts))
         return trace_self_motion(self, theta, start, step)
+
+    def least_squares(self, actuated: ArrayLike, start: Configuration | ArrayLike) -> LeastSquares:
+        """For locked inputs that no configuration satisfies exactly: the passive values that
+        minimise the loop-closure residual (Levenberg-Marquardt from ``start``); its ``norm`` is
+        the distance from compatible inputs (0 where they are compatible)."""
+        theta = self._actuated(actuated)
+        if theta.ndim != 1:
+            raise BadInputError(f"least_squares takes one input (n_a,), got shape {theta.shape}")
+        guess = start.passive if isinstance(start, Configuration) else start
+        return least_squares_configuration(self, theta, self._passive(guess))
 
     # ------------------------------------------------------------------ rates
     def rate_jacobians(self, state: Configuration) -> dict[str, Array]:
