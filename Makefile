@@ -27,8 +27,8 @@ bench: $(STAMP)
 	$(BIN)/python -m bench
 
 lint: $(STAMP)
-	$(BIN)/ruff check parakin generator mechanisms tests bench
-	$(BIN)/ruff format --check parakin generator mechanisms tests bench
+	$(BIN)/ruff check parakin generator mechanisms tests bench examples
+	$(BIN)/ruff format --check parakin generator mechanisms tests bench examples
 	$(BIN)/mypy
 
 clean:

@@ -62,8 +62,8 @@ def mechanism_rows(name: str, record) -> str | None:
     rng = np.random.default_rng(7)
     guess = sample.passive + rng.normal(0, 0.01, sample.passive.shape)  # a tracking-quality guess
     n = BASELINE_POSES
-    baseline = Baseline(name)
     if reference.passive_names:
+        baseline = Baseline(name)
         base_forward = best_time(lambda: baseline.forward(sample.actuated[:n], guess[:n]), budget=0.5) / n
     else:
         base_forward = float("nan")

@@ -27,9 +27,11 @@ Frames and conventions (paper section 2; SI, radians):
   (27) without Q^-1, which fails when the solution line is parallel to the base). 4 roots x 2 x 2
   = 16 complex candidates; real ones come in mirror pairs through the base plane (at most 8).
 * Architecture: det M (eq 14) is a polynomial of degree 8 in the base coordinates, equal to the
-  6-point conic determinant with A1 = O; it vanishes iff A1..A6 lie on a conic (eq 15). Then
+  6-point conic determinant with A1 = O; it vanishes iff A1..A6 lie on a conic (eq 15). The
+  declared measure is det M normalised (scale-free, |measure| <= 1), singular below the
+  architecture tolerance 1e-9 (``parakin.load`` warns). Then
   M u = L has a one-parameter family of solutions and the platform has a self-motion
-  (``parakin.architecture``); ``forward_pose_all`` reports the degeneracy ``base_points_on_a_conic``.
+  (traced generically by ``m.self_motion``; the paper's own analysis is ``examples/gough_architecture.py``); ``forward_pose_all`` reports the degeneracy ``base_points_on_a_conic``.
 * Defaults: section 5.4, xA2..xA6 = 5, 9, 10, 9, 5, yA2..yA6 = -5, -3, 0, 3, 5, t11 = t12 = t22 = 1
   (the paper gives no unit: read as metres). This example is architecturally singular (base on
   (x - 5)^2 + y^2 = 25): load a non-conic base for a usable manipulator.
@@ -44,9 +46,11 @@ from parakin.generator.model import (
     POSE_ROTATION,
     Citation,
     ClosureModel,
+    Drawing,
     ForwardElimination,
     InverseSolution,
     Mechanism,
+    ParameterInfo,
     RateModel,
 )
 
@@ -78,6 +82,22 @@ def platform_points() -> list[sp.Matrix]:
 def system8_matrix() -> sp.Matrix:
     """The 5x5 coefficient matrix of eq (8): rows [x, y, x^2, y^2, x y] of A_2..A_6."""
     return sp.Matrix([[XA[k], YA[k], XA[k] ** 2, YA[k] ** 2, XA[k] * YA[k]] for k in range(5)])
+
+
+def base_scale2() -> sp.Expr:
+    """The mean square distance of A2..A6 from A1 = O (m^2), the scale of the base (kept positive
+    when every point sits at O)."""
+    return sp.Max(sum(XA[k] ** 2 + YA[k] ** 2 for k in range(5)) / 5, 1e-300)
+
+
+def normalised_conic_determinant(det_m: sp.Expr, scale2: sp.Expr) -> sp.Expr:
+    """det M (eq 14) made scale-free: with the base coordinates divided by s = sqrt(scale2) (the
+    columns x, y of M scale by 1/s, x^2, y^2, xy by 1/s^2: det by 1/s^8 = 1/scale2^4), divided by
+    an upper bound of its row norms, sqrt(r^2 / s^2 + r^4 / s^4) >= |row| (r^2 = x^2 + y^2), so that
+    |measure| <= 1 (Hadamard), invariant under scaling and rotating the base. Coincident points
+    (a zero row) give 0, not 0 / 0."""
+    rows = [(XA[k] ** 2 + YA[k] ** 2) / scale2 + (XA[k] ** 2 + YA[k] ** 2) ** 2 / scale2**2 for k in range(5)]
+    return det_m / sp.Max(scale2**4 * sp.sqrt(sp.Mul(*rows)), 1e-300)
 
 
 def system8_rhs() -> sp.Matrix:
@@ -194,11 +214,10 @@ def forward() -> ForwardElimination:
     back.append((j_n, sp.sqrt(sp.Max(j_perp.dot(j_perp), 1e-300))))
     i_unit, j_unit = i_p / i_n, j_perp / j_n
     pose = homogeneous(sp.Matrix.hstack(i_unit, j_unit, i_unit.cross(j_unit)), position)
-    # normalised det M (base coordinates over their RMS radius, then row norms): 0 on a conic
-    rows = [(XA[k] ** 2 + YA[k] ** 2) / scale2 + (XA[k] ** 2 + YA[k] ** 2) ** 2 / scale2**2 for k in range(5)]
-    auxiliary.insert(0, (scale2, sum(XA[k] ** 2 + YA[k] ** 2 for k in range(5)) / 5))
+    # normalised det M (the architecture measure, here on the auxiliaries): 0 on a conic
+    auxiliary.insert(0, (scale2, base_scale2()))
     degeneracies = {
-        "base_points_on_a_conic": det_m / scale2**4 / sp.sqrt(sp.Mul(*rows)),
+        "base_points_on_a_conic": normalised_conic_determinant(det_m, scale2),
         "platform_map_singular": t11 * t22,
     }
     return ForwardElimination(iy, coefficients, [sigma, tau], auxiliary, back, pose, degeneracies)
@@ -237,6 +256,40 @@ def defaults() -> dict[sp.Symbol, float]:
     return values
 
 
+def drawing() -> Drawing:
+    """Base joints A_i, platform joints B_i = p + R B_i^(P) in {B}; the base and platform
+    hexagons A1..A6 and B1..B6 (in the order of the points, around the section 5.4 conic) and
+    the legs A_i -> B_i."""
+    rotation = euler_zyx_rotation(alpha, beta, gamma)
+    position = sp.Matrix([x, y, z])
+    platform = [position + rotation * b for b in platform_points()]
+    return Drawing(
+        points={"base": sp.Matrix.hstack(*base_points()), "platform": sp.Matrix.hstack(*platform)},
+        polylines={
+            "base": [("base", i % 6) for i in range(7)],
+            "platform": [("platform", i % 6) for i in range(7)],
+            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(6)},
+        },
+    )
+
+
+def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
+    """Section 5.4 prints the base without a unit: read as metres."""
+    info = {}
+    for k in range(5):
+        info[XA[k]] = ParameterInfo("m", f"x of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
+        info[YA[k]] = ParameterInfo("m", f"y of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
+    info[t11] = ParameterInfo("", "platform map, eq (1): x_B = t11 x_A + t12 y_A (t11 t22 != 0)")
+    info[t12] = ParameterInfo("", "platform map, eq (1): shear term of x_B = t11 x_A + t12 y_A")
+    info[t22] = ParameterInfo("", "platform map, eq (1): y_B = t22 y_A (t11 t22 != 0)")
+    return info
+
+
+# No named example: section 5.4 prints the base and the locked lengths l1..l6 only (no pose), and
+# its geometry is architecturally singular (the base lies on a conic): its "eight assembly modes
+# for a specified value of i_x" lie on a self-motion (examples/gough_architecture.py), forward_pose_all
+# raises there (SelfMotionError on compatible lengths; the printed ones are compatible only within
+# their rounding, tests/test_gough.py), and without a printed pose there is no inverse example.
 def build() -> Mechanism:
     rate_model, parallel = rates()
     return Mechanism(
@@ -262,14 +315,20 @@ def build() -> Mechanism:
         rates=rate_model,
         pose_kind="transform",
         architecture=architecture(),
+        # a normalised measure (|.| <= 1): below this the base lies on a conic (load warns)
+        architecture_tolerance=1e-9,
+        parameter_info=parameter_info(),
+        parameter_groups={"base": sp.Matrix([[XA[k], YA[k]] for k in range(5)])},
+        drawing=drawing(),
     )
 
 
 def architecture() -> dict[str, sp.Expr]:
     """Eq (14): det M of system (8). It is checked here to be, term by term, the six-point conic
     determinant det[1, x, y, x^2, y^2, x y] of A1..A6 (A1 = O): it vanishes exactly when the base
-    points lie on a conic, eq (15)."""
+    points lie on a conic, eq (15). The measure is det M normalised (``normalised_conic_
+    determinant``: scale-free, |measure| <= 1), so that ``architecture_tolerance`` decides."""
     det_m = sp.expand(system8_matrix().det(method="berkowitz"))
     if sp.expand(det_m - conic_matrix().det(method="berkowitz")) != 0:
         raise ValueError("det M of system (8) is not the six-point conic determinant")
-    return {"det_M_eq14_equals_six_point_conic_determinant_eq15": det_m}
+    return {"normalised_six_point_conic_determinant": normalised_conic_determinant(det_m, base_scale2())}

@@ -21,14 +21,19 @@ Conventions, as in the paper:
 
 from __future__ import annotations
 
+import math
+
 import sympy as sp
 from parakin.generator.frames import ModifiedDHLink, homogeneous, inverse_transform, translation
 from parakin.generator.model import (
     POSE_POSITION,
     Citation,
+    Drawing,
+    Example,
     ForwardElimination,
     InverseSolution,
     Mechanism,
+    ParameterInfo,
     SerialChain,
     pose_matrix,
 )
@@ -170,6 +175,73 @@ def forward_elimination(left: SerialChain, right: SerialChain) -> ForwardElimina
     )
 
 
+def drawing(left: SerialChain, right: SerialChain) -> Drawing:
+    """The S-joint centres on the base, each leg's U-joint centre as reached by its own chain
+    (S + L x3, the passive prismatic along the leg line), and the platform from the left leg's
+    ^B_P T: both U joints at y = -+L4 on Y_P and a marker at L4 along X_P (the platform itself
+    is the bar between the U joints; the marker shows its roll about Y_P)."""
+    platform = left.end_transform()
+    on_platform = sp.Matrix([[0, 0, L4], [-L4, L4, 0], [0, 0, 0], [1, 1, 1]])
+    return Drawing(
+        points={
+            "base": sp.Matrix.hstack(left.base[:3, 3], right.base[:3, 3]),
+            "u_joints": sp.Matrix.hstack(left.frames()[4][:3, 3], right.frames()[4][:3, 3]),
+            "platform": (platform * on_platform)[:3, :],
+        },
+        polylines={
+            "base": [("base", 0), ("base", 1)],
+            "left_leg": [("base", 0), ("u_joints", 0)],
+            "right_leg": [("base", 1), ("u_joints", 1)],
+            "platform": [("platform", 0), ("platform", 2), ("platform", 1), ("platform", 0)],
+        },
+    )
+
+
+def table2(row: int, t1: float, t2: float, t3: float, length: float, p2: float, p3: float) -> list[float]:
+    """Table II: row ``row`` of one leg's four inverse solutions, from the first row (eqs 5, 8).
+    Row r is leg branch r - 1 of the module docstring (signs of sin(phi2), cos(theta2))."""
+    pi = math.pi
+    return [
+        [t1, t2, t3, length, p2, p3],
+        [t1 + pi, pi - t2, t3 + pi, length, p2, p3],
+        [t1 + pi, -t2, -t3, length, -p2, p3 + pi],
+        [t1, pi + t2, pi - t3, length, -p2, p3 + pi],
+    ][row - 1]
+
+
+def examples() -> list[Example]:
+    """Eq (15), the nominal configuration, printed to 3 decimals (m) and whole degrees, and the
+    other Table II solutions of its left leg. The printed pose z = 0.664 is itself rounded:
+    theta2 = -15 deg exactly gives z = 0.6636, and at z = 0.664 theta2 = -14.99 deg, L2 =
+    0.6874 m (tests/test_sam_paper.py). Tolerance 5e-4 (m and rad): half a unit in the last
+    printed digit of the lengths, well within the whole degrees of the angles (0.5 deg)."""
+    deg = math.pi / 180
+    pose = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.664], [0.0, 0.0, 0.0, 1.0]]
+    left = [0.0, -15 * deg, 0.0, 0.687, 15 * deg, 0.0]  # theta1..3, L2, phi2, phi3 of eq (15)
+    right = [0.0, 15 * deg, 0.0, 0.687, -15 * deg, 0.0]  # theta4..6, L3, phi5, phi6
+    result = []
+    for row in (1, 2, 3, 4):
+        joints = table2(row, *left)
+        if row == 1:
+            name, what = "eq15_nominal", "eq (15) nominal configuration"
+        else:
+            name, what = f"table2_row{row}", f"Table II row {row} applied to the left leg of eq (15)"
+        result.append(
+            Example(
+                name=name,
+                description=f"{what}: {{x y z alpha beta gamma}} = {{0 0 0.664 0 0 0}} (m, deg), inverse "
+                f"branch {4 * (row - 1) + 2} (left leg branch {row - 1}, right leg (-, +)); the printed "
+                "z = 0.664 is rounded (theta2 = -15 deg gives z = 0.6636), so tolerance 5e-4 m / rad, "
+                "half a unit in the last printed digit of L2 = 0.687",
+                pose=pose,
+                branch=4 * (row - 1) + 2,
+                expected={"actuated": joints[:3] + right[:3], "passive": joints[3:] + right[3:]},
+                tolerance=5e-4,
+            )
+        )
+    return result
+
+
 def build() -> Mechanism:
     left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
     right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
@@ -224,6 +296,12 @@ def build() -> Mechanism:
         },
         parallel_factors=parallel,
         angular=[*theta, phi2, phi3, phi5, phi6],
+        parameter_info={
+            L1: ParameterInfo("m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)"),
+            L4: ParameterInfo("m", "U-joint centres at y = -L4 (left), +L4 (right) on the platform's Y_P axis, eq (3)"),
+        },
+        examples=examples(),
+        drawing=drawing(left, right),
     )
 
 

@@ -21,7 +21,15 @@ from __future__ import annotations
 
 import sympy as sp
 from parakin.generator.frames import homogeneous
-from parakin.generator.model import POSE_ROTATION, Citation, ClosureModel, InverseSolution, Mechanism
+from parakin.generator.model import (
+    POSE_ROTATION,
+    Citation,
+    ClosureModel,
+    Drawing,
+    InverseSolution,
+    Mechanism,
+    ParameterInfo,
+)
 from parakin.generator.trigpoly import trig_factor
 
 alpha1, alpha2 = sp.symbols("alpha1 alpha2", positive=True)
@@ -71,6 +79,19 @@ def inverse() -> InverseSolution:
     return InverseSolution(steps, [sigma], {"reachable": r2, "w_off_the_base_axis": gram})
 
 
+def drawing(v: sp.Matrix, w: sp.Matrix) -> Drawing:
+    """The joint axes as points on the unit sphere: the fixed layer (axis u and the angle
+    reference k, theta1 = 0) and the moving layer (intermediate axis v, end axis w); the arm is the
+    path u -> v -> w (link 1 spans alpha1, link 2 alpha2)."""
+    return Drawing(
+        points={"base_axes": sp.Matrix.hstack(U, K), "moving_axes": sp.Matrix.hstack(v, w)},
+        polylines={
+            "arm": [("base_axes", 0), ("moving_axes", 0), ("moving_axes", 1)],
+            "reference": [("base_axes", 0), ("base_axes", 1)],
+        },
+    )
+
+
 def build() -> Mechanism:
     _, v, n, w = forward_chain()
     pose = homogeneous(sp.Matrix.hstack(n, w.cross(n), w), [0, 0, 0])
@@ -95,4 +116,10 @@ def build() -> Mechanism:
         factors={"links_coplanar": trig_factor(U.dot(v.cross(w)))},
         closure=ClosureModel(sp.zeros(0, 1), sp.Matrix([1]), pose),
         pose_kind="rotation",
+        parameter_info={
+            alpha1: ParameterInfo("rad", "link 1 angle at O, between the fixed axis u and the intermediate axis v"),
+            alpha2: ParameterInfo("rad", "link 2 angle at O, between the intermediate axis v and the end axis w"),
+        },
+        # section 2 prints no numbers (no link angles, no joint values): no named example
+        drawing=drawing(v, w),
     )

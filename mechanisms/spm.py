@@ -26,6 +26,8 @@ Frames and conventions (SI, radians):
 
 from __future__ import annotations
 
+import math
+
 import sympy as sp
 from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
 from parakin.generator.frames import homogeneous, rot_z
@@ -33,9 +35,12 @@ from parakin.generator.model import (
     POSE_ROTATION,
     Citation,
     ClosureModel,
+    Drawing,
+    Example,
     ForwardElimination,
     InverseSolution,
     Mechanism,
+    ParameterInfo,
     RateModel,
 )
 
@@ -219,6 +224,40 @@ def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
     return model, parallel
 
 
+def drawing() -> Drawing:
+    """The joint axes as points on the unit sphere, one set per layer: actuated axes u_i (base),
+    intermediate axes w_i (theta_i) and platform axes v_i (theta_i, phi_i) as each leg reaches
+    them (at a closure, v_i = R v0_i); each leg is the path u_i -> w_i -> v_i (proximal, then
+    distal link), the base and the platform are the triangles of their axes."""
+    return Drawing(
+        points={
+            "base_axes": sp.Matrix.hstack(*(base_axes(i)[0] for i in range(3))),
+            "intermediate_axes": sp.Matrix.hstack(*(leg_vectors(i, theta[i])[0] for i in range(3))),
+            "platform_axes": sp.Matrix.hstack(*(distal_axis(i) for i in range(3))),
+        },
+        polylines={
+            "base": [("base_axes", i % 3) for i in range(4)],
+            "platform": [("platform_axes", i % 3) for i in range(4)],
+            **{f"leg{i + 1}": [("base_axes", i), ("intermediate_axes", i), ("platform_axes", i)] for i in range(3)},
+        },
+    )
+
+
+#: The report prints no numbers for the Agile Eye (alpha1 = alpha2 = 90 deg, beta = gamma =
+#: atan(sqrt 2)); its input-independent modes are checked in tests/test_spm.py, not as an example.
+EXAMPLES = [
+    Example(
+        name="section323",
+        description="section 3.2.3: theta = (105, 60, 105) deg, the report's 'eight independent "
+        "solutions' (section 3.2.1, Fig. 3); with the printed link labels swapped (alpha1 = 45 "
+        "proximal, alpha2 = 90 deg distal, the defaults), the only reading with 8 real modes",
+        actuated=[math.radians(105.0), math.radians(60.0), math.radians(105.0)],
+        expected={"mode_count": 8},
+        tolerance=0.0,
+    )
+]
+
+
 def build() -> Mechanism:
     deg = sp.pi / 180
     rate_model, parallel = rates()
@@ -248,4 +287,16 @@ def build() -> Mechanism:
         closure=closure(),
         rates=rate_model,
         pose_kind="rotation",
+        parameter_info={
+            alpha1: ParameterInfo(
+                "rad", "proximal link angle, between the actuated axis u_i and the intermediate axis w_i"
+            ),
+            alpha2: ParameterInfo(
+                "rad", "distal link angle, between the intermediate axis w_i and the platform axis v_i"
+            ),
+            beta: ParameterInfo("rad", "platform pyramid half-angle, between Z_P and each platform axis v0_i"),
+            gamma: ParameterInfo("rad", "base pyramid half-angle, between -Z_B and each actuated axis u_i"),
+        },
+        examples=EXAMPLES,
+        drawing=drawing(),
     )

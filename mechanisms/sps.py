@@ -18,8 +18,9 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
 * Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7). Their strokes d_i_min < d_i < d_i_max
   (section 5) are the validity conditions ``leg{i}_stroke_reachable`` of the inverse pose.
   k1..k3 (N/m, section 5) are the actuator stiffnesses, delta f_i = k_i delta d_i with f_i > 0
-  a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i); the kinematics do
-  not use them (statics: ``parakin.demos_sps``).
+  a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i), declared as the
+  mechanism's ``actuator_stiffness``; the kinematics do not use them (statics, section 4:
+  ``examples/sps_section5.py``).
 * Loop closure: g_i = a_i^2 + b_i^2 - 2 a_i . R b_ip - d_i^2 = 0 (eq 7), square in (alpha, beta,
   gamma). Its passive Jacobian is U_omega (eq 11a) and its actuated Jacobian W = -2 diag(d) (eq
   12), so the closure's passive rates are J_omega^-1 = -U_omega^-1 W (eq 17 lacks the minus sign).
@@ -51,9 +52,9 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
   ~ sqrt(eps): their real parts are tried (imaginary tolerance 1e-3), and the two branches tau
   give the two configurations. Candidates that do not close are dropped by the runtime, and
   duplicates merged, so a mode's (root, branch) slot does not label it:
-  ``parakin.demos_sps.paper_labels`` computes (v, s1, s2) from the configuration (paper order
+  ``paper_labels`` of ``examples/sps_section5.py`` computes (v, s1, s2) from the configuration (paper order
   v1..v4 = branches (s1, s2) = (+, +), (+, -), (-, +), (-, -)), and
-  ``parakin.demos_sps.polynomial_roots`` maps the roots t to v.
+  ``polynomial_roots`` of ``examples/sps_section5.py`` maps the roots t to v.
 * Defaults: section 5 (Baukema SHM4-120A), with a3x = +2.720 m (printed -2.720: with it no
   configuration exists, and the printed b_3 is 5.07 m from A3 instead of d3 = 1.32 m; see
   tests/test_sps.py), chi = -1, strokes and stiffnesses as printed.
@@ -68,9 +69,12 @@ from parakin.generator.model import (
     POSE_ROTATION,
     Citation,
     ClosureModel,
+    Drawing,
+    Example,
     ForwardElimination,
     InverseSolution,
     Mechanism,
+    ParameterInfo,
     RateModel,
 )
 
@@ -355,6 +359,87 @@ def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
 HOME_EULER = (0.3862343, 0.32043814, -0.21992225)
 
 
+def drawing() -> Drawing:
+    """The base points A_i and the centre Q (fixed), the platform points B_i = R b_ip and Q on the
+    platform (R 0 = 0): legs A_i -> B_i (the linear actuators), the base and platform triangles,
+    and the spokes from Q to the points of each body (the central spherical joint)."""
+    rotation = euler_rotation(alpha, beta, gamma)
+    centre = sp.zeros(3, 1)
+    platform = [rotation * point for point in platform_points()]
+    spokes = [0, 3, 1, 3, 2]  # A1 (B1) -> Q -> A2 (B2) -> Q -> A3 (B3)
+    return Drawing(
+        points={
+            "base": sp.Matrix.hstack(*base_points(), centre),
+            "platform": sp.Matrix.hstack(*platform, centre),
+        },
+        polylines={
+            "base": [("base", i % 3) for i in range(4)],
+            "platform": [("platform", i % 3) for i in range(4)],
+            "base_spokes": [("base", i) for i in spokes],
+            "platform_spokes": [("platform", i) for i in spokes],
+            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(3)},
+        },
+    )
+
+
+def platform_frame(b1_printed: list[float], b2_printed: list[float]) -> list[list[float]]:
+    """^B_P T from the printed b_1, b_2 (in {B}): x_p points from Q to B1 and y_p lies in the
+    plane Q B1 B2 on B2's side (module docstring), so R = [x y z] is their Gram-Schmidt frame."""
+    x_axis = sp.Matrix(b1_printed).normalized()
+    y_raw = sp.Matrix(b2_printed) - x_axis.dot(sp.Matrix(b2_printed)) * x_axis
+    y_axis = y_raw.normalized()
+    pose = homogeneous(sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis)), [0, 0, 0])
+    return [[float(pose[i, j]) for j in range(4)] for i in range(4)]
+
+
+def examples() -> list[Example]:
+    """Section 5: the starting point d = (0.780, 0.570, 1.320) m, with 'four real roots' v1..v4 =
+    0.98004, 0.83904, 0.91463, 0.96707 of eq (6), and the machine's configuration (v3) printed as
+    b_1 = (2.278, 0.290, -0.698), b_2 = (2.000, 1.250, -0.454) m. Corrections (tests/test_sps.py):
+    a3x = +2.720 (the printed -2.720 admits no configuration). The printed points agree with the
+    configurations to 5.2e-3 m only: the paper's roots are off at the 1e-3 level (F(v3) = -1.2e-3
+    on the printed data), so the pose built from b_1, b_2 holds to 5e-3, not to the 1e-3 digits."""
+    return [
+        Example(
+            name="section5_starting_point",
+            description="section 5 starting point d = (0.780, 0.570, 1.320) m (a3x = +2.720, the "
+            "printed -2.720 is a typo): four real roots v1..v4 = 0.98004, 0.83904, 0.91463, 0.96707 "
+            "(four assembly modes); the machine's configuration (v3) as the frame of the printed "
+            "b_1 = (2.278, 0.290, -0.698), b_2 = (2.000, 1.250, -0.454) m, to 5e-3: the printed "
+            "points are 5e-3 m off the data's configuration (the printed roots are off at 1e-3)",
+            actuated=[0.780, 0.570, 1.320],
+            expected={
+                "mode_count": 4,
+                "poses": [platform_frame([2.278, 0.290, -0.698], [2.000, 1.250, -0.454])],
+            },
+            tolerance=5e-3,
+        )
+    ]
+
+
+def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
+    info = {
+        a1x: ParameterInfo("m", "x of the base point A1 (on the x_b axis), section 5"),
+        a2x: ParameterInfo("m", "x of the base point A2 (in the x_b y_b plane)"),
+        a2y: ParameterInfo("m", "y of the base point A2 (> 0)"),
+        a3x: ParameterInfo("m", "x of the base point A3 (printed -2.720: a typo for +2.720)"),
+        a3y: ParameterInfo("m", "y of the base point A3"),
+        a3z: ParameterInfo("m", "z of the base point A3"),
+        b12: ParameterInfo("m", "distance between the platform points B1 and B2"),
+        b23: ParameterInfo("m", "distance between the platform points B2 and B3"),
+        b13: ParameterInfo("m", "distance between the platform points B1 and B3"),
+        chi: ParameterInfo("", "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)"),
+    }
+    for i in range(3):
+        info[(b1, b2, b3)[i]] = ParameterInfo("m", f"distance |Q B{i + 1}| from the centre Q to the platform point")
+        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)")
+        info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)")
+        info[stiffness[i]] = ParameterInfo(
+            "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)"
+        )
+    return info
+
+
 def build() -> Mechanism:
     rate_model, parallel = rates()
     strokes = [(0.530, 1.780), (0.530, 1.780), (0.810, 2.060)]
@@ -399,4 +484,8 @@ def build() -> Mechanism:
         closure=closure(),
         rates=rate_model,
         pose_kind="rotation",
+        parameter_info=parameter_info(),
+        examples=examples(),
+        drawing=drawing(),
+        actuator_stiffness=list(stiffness),
     )

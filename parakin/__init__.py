@@ -1,12 +1,13 @@
 """parakin: kinematics of parallel manipulators from generated symbolic models.
 
     >>> import parakin
-    >>> m = parakin.load("sam")                      # paper defaults, fastest available backend
-    >>> ik = m.inverse_pose(parakin.pose_from_xyz_euler([0, 0, 0.664, 0, 0, 0]))
-    >>> fk = m.forward_pose(ik.actuated[0], guess=ik.branch(0))
+    >>> parakin.available()                          # the generated packages found
+    >>> m = parakin.load(name)                       # paper defaults, fastest available backend
+    >>> modes = m.forward_pose_all(m.home_actuated)  # every assembly mode, closed form
+    >>> ik = m.inverse_pose(modes.poses[0])          # every inverse branch
 
-Units are SI and radians; poses are ^B_P T (..., 4, 4); see each mechanism's docstring in
-``mechanisms/`` (also ``parakin inspect NAME``) for frames and branch numbering.
+Units are SI and radians; poses are ^B_P T (..., 4, 4); ``m.manifest.conventions`` (the
+mechanism file's docstring, also ``parakin inspect NAME``) gives frames and branch numbering.
 """
 
 from __future__ import annotations
@@ -80,6 +81,7 @@ def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str,
 
 def load(
     name: str | os.PathLike[str],
+    *,
     backend: str = "auto",
     limits: dict[str, tuple[float, float]] | None = None,
     **parameters: Any,

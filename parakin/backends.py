@@ -22,17 +22,31 @@ class Backend(Protocol):
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]: ...
 
 
+def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
+    """``np.broadcast_shapes`` with the one batch rule of parakin: BadInputError naming them."""
+    try:
+        return tuple(np.broadcast_shapes(*shapes))
+    except ValueError as error:
+        raise BadInputError(f"batch shapes do not broadcast: {', '.join(map(str, shapes))}") from error
+
+
+def batch_shape(inputs: tuple[Array, ...]) -> tuple[int, ...]:
+    """The broadcast of the inputs' leading (batch) shapes, or BadInputError naming them."""
+    return broadcast_shapes(*(np.shape(x)[:-1] for x in inputs))
+
+
 def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Array]]:
     """The common batch shape and each input reshaped to (n, size) (or (1, size) to share)."""
-    shape = np.broadcast_shapes(*(np.shape(x)[:-1] for x in inputs))
+    shape = batch_shape(inputs)
     count = int(np.prod(shape, dtype=np.int64))
     flat = []
     for x in inputs:
         array = np.asarray(x, dtype=float)
+        size = array.shape[-1]
         if array.shape[:-1] == ():
-            flat.append(np.ascontiguousarray(array.reshape(1, -1)))
-        else:
-            flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + array.shape[-1:]).reshape(count, -1)))
+            flat.append(np.ascontiguousarray(array.reshape(1, size)))
+        else:  # the size is explicit: an empty batch has no -1 to infer
+            flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + (size,)).reshape(count, size)))
     return shape, flat
 
 
@@ -45,6 +59,7 @@ class NumpyBackend:
         self.kernels = package.numpy_kernels
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
+        batch_shape(inputs)  # the same broadcasting rule (and error) as the other backends
         return self.kernels[kernel](*inputs)
 
 
@@ -68,6 +83,11 @@ class CasadiBackend:
         shape, flat = broadcast_batch(inputs)
         count = int(np.prod(shape, dtype=np.int64))
         function = self.functions[kernel]
+        if count == 0:  # CasADi cannot map over nothing
+            return {
+                name: np.zeros(shape + _shape(function.size_out(index)))
+                for index, name in enumerate(function.name_out())
+            }
         mapped = self._mapped(kernel, count) if count > 1 else function
         arguments = [x.T if x.shape[0] == count else np.repeat(x.T, count, axis=1) for x in flat]
         outputs = mapped.call(arguments)
@@ -77,6 +97,11 @@ class CasadiBackend:
             value = np.asarray(outputs[index], dtype=float).reshape(rows, count, cols).transpose(1, 0, 2)
             result[name] = value.reshape(shape + ((rows,) if cols == 1 else (rows, cols)))
         return result
+
+
+def _shape(size: tuple[int, int]) -> tuple[int, ...]:
+    rows, cols = size
+    return (rows,) if cols == 1 else (rows, cols)
 
 
 def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:

@@ -12,10 +12,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.backends import Backend
+from parakin.backends import Backend, broadcast_shapes
 from parakin.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
+    NEWTON_NONFINITE,
     NEWTON_OK,
     NEWTON_SINGULAR,
     NEWTON_WRONG_BASIN,
@@ -240,6 +241,8 @@ class Mechanism:
         SingularConfigurationError.
         """
         theta = self._actuated(actuated)
+        if not self.passive_names and guess is not None and not isinstance(guess, Configuration):
+            self._passive(guess)  # a serial chain: only an empty guess (..., 0) is consistent
         if not self.passive_names:  # a serial chain: the forward pose is the chain itself
             pose = self.platform_pose(theta, np.zeros(theta.shape[:-1] + (0,)))
             batch = theta.shape[:-1]
@@ -248,7 +251,7 @@ class Mechanism:
                 theta, np.zeros(batch + (0,)), pose, np.zeros(batch), np.zeros(batch, np.int32), done, done
             )
         guess_passive = self._passive_guess(theta, guess)
-        batch = np.broadcast_shapes(theta.shape[:-1], guess_passive.shape[:-1])
+        batch = broadcast_shapes(theta.shape[:-1], guess_passive.shape[:-1])
         start = np.broadcast_to(guess_passive, batch + guess_passive.shape[-1:])
         theta = np.broadcast_to(theta, batch + theta.shape[-1:])
         if self.backend.name == "compiled":
@@ -271,9 +274,14 @@ class Mechanism:
         status = np.full(batch, STATUS_NO_CONVERGENCE, dtype=np.int32)
         iterations = np.zeros(batch, dtype=np.int32)
         residual_norm = np.full(batch, np.nan)
-        active = np.ones(batch, dtype=bool)
+        # as in the C driver: non-finite inputs are reported, not iterated
+        finite_input = np.isfinite(np.broadcast_to(theta, batch + theta.shape[-1:])).all(-1) & np.isfinite(q).all(-1)
+        status[~finite_input] = NEWTON_NONFINITE
+        active = finite_input.copy()
+        q = np.where(finite_input[..., None], q, 0.0)
         for iteration in range(max_iterations + 1):
-            out = self.backend.call("loop_closure", theta, q, self.params)
+            with np.errstate(all="ignore"):  # entries where the closure is undefined: flagged below
+                out = self.backend.call("loop_closure", theta, q, self.params)
             norm = np.abs(out["residual"]).max(-1)
             residual_norm = np.where(active, norm, residual_norm)
             iterations = np.where(active, iteration, iterations)
@@ -287,7 +295,9 @@ class Mechanism:
             if iteration == max_iterations:
                 active &= done
             # checked at convergence too: a zero residual does not reveal a type II singularity
-            jacobian = out["jacobian"]
+            # a Jacobian that is not finite (e.g. a zero-length leg) is a singularity of the closure
+            defined = np.asarray(np.isfinite(out["jacobian"]).all(axis=(-2, -1)))
+            jacobian = np.where(defined[..., None, None], out["jacobian"], 0.0)
             singular_values = np.linalg.svd(jacobian, compute_uv=False)
             singular = active & ~(singular_values[..., -1] > 1e-10 * np.maximum(singular_values[..., 0], 1.0))
             status[singular] = STATUS_SINGULAR
@@ -302,6 +312,7 @@ class Mechanism:
             q = np.where(active[..., None], q - scale * step, q)
         # as in the C driver: a failed entry keeps its guess, never a diverged iterate
         q = np.where((status == STATUS_OK)[..., None], q, start)
+        status = np.where((status == STATUS_NO_CONVERGENCE) & ~np.isfinite(residual_norm), NEWTON_NONFINITE, status)
         pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
         return q, pose, residual_norm, iterations, status
 
@@ -414,12 +425,16 @@ class Mechanism:
         # candidate is never polished into some other mode
         candidate = real_grid & (residual < tol["candidate"]) & (closure["alignment"] > 0).all(-1)
         closed = candidate & (residual < tol["closure"])
-        if polish:
-            polished = self.forward_pose(theta_grid, passive, tolerance=1e-13, max_iterations=8, strict=False)
-            accept = candidate & polished.converged
-            passive = np.where(accept[..., None], polished.passive, passive)
-            poses = np.where(accept[..., None, None], polished.pose, poses)
-            residual = np.where(accept, polished.residual, residual)
+        if polish and candidate.any():  # only real, nearly closed candidates: the rest are no modes
+            where = np.nonzero(candidate)
+            start = Configuration(theta_grid[where], passive[where], poses[where])  # an unambiguous guess
+            polished = self.forward_pose(theta_grid[where], start, tolerance=1e-13, max_iterations=8, strict=False)
+            accept = np.zeros_like(candidate)
+            accept[where] = polished.converged
+            passive, poses, residual = passive.copy(), poses.copy(), residual.copy()
+            passive[where] = np.where(polished.converged[..., None], polished.passive, passive[where])
+            poses[where] = np.where(polished.converged[..., None, None], polished.pose, poses[where])
+            residual[where] = np.where(polished.converged, polished.residual, residual[where])
             closed = accept | closed
         valid = closed & self.within_limits(passive)
         # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
@@ -494,7 +509,7 @@ class Mechanism:
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
         actuated_rates = np.zeros(
-            np.broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),)
+            broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),)
         )
         passive_rates = np.zeros(actuated_rates.shape[:-1] + (len(self.passive_names),))
         for leg, jacobian in jacobians.items():
@@ -563,7 +578,13 @@ class Mechanism:
         """The named point sets (..., 3, n) in {B} (metres) of the drawing kernel."""
         self._require(self.capabilities.drawing, "drawing", "drawing kernel")
         theta, passive = self._state(state)
-        return self.backend.call("drawing", theta, passive, self.params)
+        points = self.backend.call("drawing", theta, passive, self.params)
+        counts = self.capabilities.drawing.points  # type: ignore[union-attr]
+        # a one-point set comes back as a vector (3,): restore its point axis
+        return {
+            name: value.reshape(value.shape[: value.ndim - (1 if counts[name] == 1 else 2)] + (3, counts[name]))
+            for name, value in points.items()
+        }
 
     def plot(self, state: Configuration | AssemblyModes, path: str | None = None, ax: Any = None) -> Any:
         """Draw the mechanism (3-D, metres) in a configuration or every valid assembly mode;

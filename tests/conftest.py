@@ -1,7 +1,15 @@
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import parakin
+
+# the paper walkthroughs in examples/ are importable modules: `import gough_architecture`
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+if str(EXAMPLES) not in sys.path:
+    sys.path.insert(0, str(EXAMPLES))
 
 BACKENDS = ["numpy", "casadi", "compiled"]
 

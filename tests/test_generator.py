@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
-
 from parakin.generator.build import GENERATED, GenerationError, discover, generate, generate_file, validate_name
 from parakin.generator.trigpoly import factor_list, reduce_pythagorean
 

@@ -3,36 +3,36 @@
 import numpy as np
 import pytest
 import reference
+from sam_walkthrough import (
+    NOMINAL_ACTUATED_DEG,
+    NOMINAL_PASSIVE,
+    NOMINAL_POSE,
+    PAPER_BRANCH,
+    RATE_TWIST,
+    nearest_branch,
+    trajectory_poses,
+)
 
 import parakin
-from parakin.demos import (
-    SAM_NOMINAL_ACTUATED_DEG,
-    SAM_NOMINAL_PASSIVE,
-    SAM_NOMINAL_POSE,
-    SAM_PAPER_BRANCH,
-    SAM_RATE_TWIST,
-    nearest_branch,
-    sam_trajectory_poses,
-)
 from parakin.pose import pose_from_xyz_euler
 
 
 def test_eq15_nominal_inverse_pose_matches_printed_values(sam):
     """eq (15): printed to 3 digits; z = 0.664 is itself rounded (theta2 = -15 exactly gives
     z = 0.6636), so the tolerance is the printing precision."""
-    config = sam.inverse_pose(pose_from_xyz_euler(SAM_NOMINAL_POSE)).branch(SAM_PAPER_BRANCH)
-    assert np.rad2deg(config.actuated) == pytest.approx(SAM_NOMINAL_ACTUATED_DEG, abs=0.01)
+    config = sam.inverse_pose(pose_from_xyz_euler(NOMINAL_POSE)).branch(PAPER_BRANCH)
+    assert np.rad2deg(config.actuated) == pytest.approx(NOMINAL_ACTUATED_DEG, abs=0.01)
     passive = config.passive.copy()
     passive[[1, 2, 4, 5]] = np.rad2deg(passive[[1, 2, 4, 5]])
-    assert passive == pytest.approx(SAM_NOMINAL_PASSIVE, abs=0.01)
+    assert passive == pytest.approx(NOMINAL_PASSIVE, abs=0.01)
 
 
 def test_eq15_printed_joints_reach_printed_pose_in_independent_model():
-    actuated = np.deg2rad(SAM_NOMINAL_ACTUATED_DEG)
-    passive = np.array(SAM_NOMINAL_PASSIVE, dtype=float)
+    actuated = np.deg2rad(NOMINAL_ACTUATED_DEG)
+    passive = np.array(NOMINAL_PASSIVE, dtype=float)
     passive[[1, 2, 4, 5]] = np.deg2rad(passive[[1, 2, 4, 5]])
     left, right = reference.sam_poses(actuated, passive)
-    target = pose_from_xyz_euler(SAM_NOMINAL_POSE)
+    target = pose_from_xyz_euler(NOMINAL_POSE)
     assert np.abs(left - target).max() < 5e-4  # printed to 3 decimals
     assert np.abs(right - target).max() < 5e-4
 
@@ -78,8 +78,8 @@ def test_section42_trajectory_inverse_then_forward(sam):
     """Ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg}: inverse pose, then Newton forward pose
     tracked from the previous step recovers the commanded pose. Step 0 is the nominal pose,
     which is a type II singularity (see test_nominal_pose_is_type2_singular)."""
-    poses = sam_trajectory_poses()
-    previous = sam.inverse_pose(poses[0]).branch(SAM_PAPER_BRANCH)
+    poses = trajectory_poses()
+    previous = sam.inverse_pose(poses[0]).branch(PAPER_BRANCH)
     for pose in poses[1:]:
         branch = nearest_branch(sam.inverse_pose(pose), previous.actuated)
         forward = sam.forward_pose(branch.actuated, guess=previous)
@@ -96,8 +96,8 @@ def test_section42_trajectory_rotation_is_about_x_not_z(sam_numpy):
     the same way. About Z, joints 3 and 6 would not move at all."""
 
     def changes(angle_index):
-        start = sam_numpy.inverse_pose(pose_from_xyz_euler(SAM_NOMINAL_POSE)).branch(SAM_PAPER_BRANCH).actuated
-        end = np.array(SAM_NOMINAL_POSE) + 10 * np.array([0.005, 0.005, 0.005, 0, 0, 0])
+        start = sam_numpy.inverse_pose(pose_from_xyz_euler(NOMINAL_POSE)).branch(PAPER_BRANCH).actuated
+        end = np.array(NOMINAL_POSE) + 10 * np.array([0.005, 0.005, 0.005, 0, 0, 0])
         end[angle_index] += np.deg2rad(5.0)
         return nearest_branch(sam_numpy.inverse_pose(pose_from_xyz_euler(end)), start).actuated - start
 
@@ -116,8 +116,8 @@ def test_section42_inverse_rate_claims(sam_numpy):
     rates non-zero; joints 1 and 4 largest, opposite directions; over the motion joints 2 and
     3 switch direction while 5 and 6 stay positive. The paper prints no duration; this holds
     for 2 s of resolved-rate motion (200 steps of 10 ms)."""
-    twist = np.array(SAM_RATE_TWIST)
-    config = sam_numpy.inverse_pose(pose_from_xyz_euler(SAM_NOMINAL_POSE)).branch(SAM_PAPER_BRANCH)
+    twist = np.array(RATE_TWIST)
+    config = sam_numpy.inverse_pose(pose_from_xyz_euler(NOMINAL_POSE)).branch(PAPER_BRANCH)
     pose, history = config.pose.copy(), []
     for _ in range(201):
         config = nearest_branch(sam_numpy.inverse_pose(pose), config.actuated)
@@ -153,7 +153,7 @@ def test_eq13_leg_determinants(sam_numpy):
 
 
 def test_eq13_generated_factors_are_the_papers(sam_numpy):
-    names = sam_numpy.metadata["singularity_factors"]
+    names = sam_numpy.manifest.singularity_factors
     assert {"left_leg_length", "left_s_joint_gimbal_lock", "left_u_joint_aligned"} <= set(names)
     symbolic = parakin.symbolic("sam")
     import sympy as sp
@@ -168,7 +168,7 @@ def test_nominal_pose_is_type2_singular_with_a_self_motion(sam_numpy):
     determinant vanishes, and with the actuators locked the platform keeps moving: pitching it
     about X by psi while the passive legs slide reaches poses whose inverse pose returns the
     very same actuator angles."""
-    nominal = sam_numpy.inverse_pose(pose_from_xyz_euler(SAM_NOMINAL_POSE)).branch(SAM_PAPER_BRANCH)
+    nominal = sam_numpy.inverse_pose(pose_from_xyz_euler(NOMINAL_POSE)).branch(PAPER_BRANCH)
     factors = sam_numpy.singularities(nominal)
     assert abs(factors["u_joint_axes_parallel"]) < 1e-12
     assert abs(factors["closed_loop_determinant"]) < 1e-12

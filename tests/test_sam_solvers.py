@@ -180,9 +180,9 @@ def test_batch_shapes(sam):
 
 
 def test_tracker_follows_the_trajectory(sam):
-    from parakin.demos import nearest_branch, sam_trajectory_poses
+    from sam_walkthrough import nearest_branch, trajectory_poses
 
-    poses = sam_trajectory_poses()
+    poses = trajectory_poses()
     start = sam.inverse_pose(poses[1]).branch(2)
     tracker = sam.tracker(sam.forward_pose(start.actuated, guess=start))
     previous = start

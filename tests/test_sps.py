@@ -8,9 +8,10 @@ roots (or data) differ from the printed data at the 1e-3 level (see FINDINGS in 
 
 import numpy as np
 import pytest
+import sps_section5 as s5
 
 import parakin
-from parakin import demos_sps as s5
+from parakin import statics
 
 BACKENDS = ["numpy", "compiled"]
 
@@ -72,7 +73,7 @@ def test_section5_polynomial_has_four_real_roots_in_the_unit_interval(sps):
     the four configurations; at them v = a2o . b1o (eq 2) takes the paper's four values. The other
     four roots are complex, with v = 2.196 +- 5.807i, 49.65 +- 75.08i: the roots of the degree-8
     polynomial in v that rationalising F(v) gives (its extra factor (v^2 - 1)^2 divided out)."""
-    assert parakin.metadata("sps")["forward"]["degree"] == 8
+    assert parakin.metadata("sps").capabilities.forward.degree == 8
     t, v = s5.polynomial_roots(sps, s5.LENGTHS)
     real = np.abs(t.imag) < 1e-9
     assert real.sum() == 4
@@ -109,9 +110,9 @@ def test_printed_b_vectors_follow_from_the_printed_v3_which_is_not_a_root(sps):
     p = (a**2 + b**2 - s5.LENGTHS**2) / (2 * a * b)
     bo = platform / b[:, None]
     v = s5.V_PRINTED[2]
-    b1o = s5._three_unit(ao[0], ao[1], float(ao[0] @ ao[1]), p[0], np.array([v]), s1)[0]
-    b2o = s5._three_unit(ao[1], b1o, v, p[1], np.array([bo[0] @ bo[1]]), s2)[0]
-    b3o = s5._three_unit(b1o, b2o, bo[0] @ bo[1], bo[0] @ bo[2], np.array([bo[1] @ bo[2]]), -1)[0]
+    b1o = s5.three_unit(ao[0], ao[1], float(ao[0] @ ao[1]), p[0], np.array([v]), s1)[0]
+    b2o = s5.three_unit(ao[1], b1o, v, p[1], np.array([bo[0] @ bo[1]]), s2)[0]
+    b3o = s5.three_unit(b1o, b2o, bo[0] @ bo[1], bo[0] @ bo[2], np.array([bo[1] @ bo[2]]), -1)[0]
     at_printed = np.array([b1o, b2o, b3o]) * b[:, None] - s5.B_PRINTED
     assert np.abs(at_printed).max() < 3.8e-3
     at_root = s5.configurations(sps, s5.LENGTHS)[s5.MACHINE_ROOT][3].rotation @ platform.T
@@ -245,6 +246,30 @@ def test_stiffness_matrices(sps, section5):
     loaded = s5.equilibrium(sps, machine, force, s5.LOAD_POINT)
     moved = loaded.config.rotation @ s5.LOAD_POINT - p_b
     assert np.abs(moved - stiff.compliance_point @ force).max() < 1e-3 * np.abs(moved).max()
+
+
+def test_generic_statics_agree_with_the_papers_moment_arm_formulas(sps, section5):
+    """parakin.statics' G = B^-1 A of the generated rate model is the paper's M_T^T (columns b_i x u_i,
+    d_dot = M_T^T omega), so its stiffness G^T K_q G with K_q = -diag(k) is the paper's
+    -M_T diag(k) M_T^T, its efforts for the moment p_b x F are the moment balance about Q
+    solved with M_T, and the point compliance -[p_b]x S^-1 [p_b]x is the paper's -H K^-1 H^T with
+    H = -[p_b]x M_T^-T (= J_p^-1)."""
+    for *_, config in section5:
+        jac = s5.jacobians(sps, config)
+        g = statics.actuation_matrix(sps, config)
+        assert np.abs(g - jac.moment_arms.T).max() < 1e-12 * np.abs(g).max()
+        generic = statics.stiffness(sps, config, -s5.stiffnesses(sps))
+        paper = s5.paper_rotational_stiffness(sps, config)
+        assert np.abs(generic - paper).max() < 1e-9 * np.abs(paper).max()
+        assert np.abs(generic - generic.T).max() < 1e-9 * np.abs(generic).max()
+        assert np.linalg.eigvalsh(generic).min() > 0
+        moment = np.cross(config.rotation @ s5.LOAD_POINT, s5.LOAD)
+        paper_forces = np.linalg.solve(jac.moment_arms, -moment)
+        assert np.abs(statics.actuator_forces(sps, config, moment) - paper_forces).max() < 1e-9 * 1e4
+        h = -s5.skew(jac.point) @ np.linalg.inv(jac.moment_arms.T)
+        compliance = -h @ np.diag(1 / s5.stiffnesses(sps)) @ h.T
+        ours = s5.stiffness(sps, config).compliance_point
+        assert np.abs(ours - compliance).max() < 1e-9 * np.abs(compliance).max()
 
 
 # ---------------------------------------------------------------------------- Jacobians

@@ -6,10 +6,11 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
 //   singularity_factors: 433
-//   architecture: 389
+//   architecture: 455
+//   drawing: 95
 //   inverse_pose: 141
-//   forward_polynomial: 2579
-//   forward_back_substitution: 2709
+//   forward_polynomial: 2581
+//   forward_back_substitution: 2710
 
 // Batched entry points over the CasADi-generated kernels of gough, and the forward
 // pose Newton loop, so that one call from Python does a whole batch with no per-call conversion.
@@ -139,7 +140,7 @@ int architecture_batch(long long n, const double** inputs, const long long* stri
     const casadi_real* arg[1];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[80 + 1];
+    casadi_real w[78 + 1];
     casadi_real out_measures[1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -148,6 +149,30 @@ int architecture_batch(long long n, const double** inputs, const long long* stri
         for (int r = 0; r < 1; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 1 + r * 1 + c] = out_measures[c * 1 + r];
+    }
+    return 0;
+}
+
+int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[26 + 1];
+    casadi_real out_base[18];
+    casadi_real out_platform[18];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_base;
+        res[1] = out_platform;
+        if (drawing(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c)
+                outputs[0][i * 18 + r * 6 + c] = out_base[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c)
+                outputs[1][i * 18 + r * 6 + c] = out_platform[c * 3 + r];
     }
     return 0;
 }

@@ -6,10 +6,11 @@
 #   loop_closure_actuated: 6
 #   rate_jacobians: 170
 #   singularity_factors: 433
-#   architecture: 389
+#   architecture: 455
+#   drawing: 95
 #   inverse_pose: 141
-#   forward_polynomial: 2579
-#   forward_back_substitution: 2709
+#   forward_polynomial: 2581
+#   forward_back_substitution: 2710
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
 axes broadcast, so any batch shape goes through. Outputs come back in a dict by name."""
@@ -636,7 +637,7 @@ def singularity_factors(actuated, passive, params):
 def architecture(params):
     """Architecture-singularity measures (parameters only): zero means singular at every pose.
 
-    Operations: 389.
+    Operations: 455.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(params)[:-1],
@@ -651,243 +652,352 @@ def architecture(params):
     yA4 = params[..., 7]
     yA5 = params[..., 8]
     yA6 = params[..., 9]
-    _t0 = xA2 * yA2
-    _t1 = _t0 * xA3
+    _t0 = xA2**2
+    _t1 = xA3**2
     _t2 = xA4**2
-    _t3 = yA5**2
-    _t4 = _t3 * yA6
-    _t5 = _t2 * _t4
-    _t6 = xA2 * yA3
-    _t7 = _t6 * xA3
-    _t8 = yA6**2
-    _t9 = _t8 * yA5
-    _t10 = _t2 * _t9
-    _t11 = _t0 * _t8
-    _t12 = xA5**2
-    _t13 = xA3 * yA4
-    _t14 = _t12 * _t13
-    _t15 = yA4**2
-    _t16 = _t12 * yA6
-    _t17 = _t15 * _t16
-    _t18 = xA6**2
-    _t19 = _t18 * yA5
-    _t20 = _t15 * _t19
-    _t21 = _t18 * _t3
-    _t22 = _t13 * _t21
-    _t23 = xA3**2
-    _t24 = _t23 * xA4
-    _t25 = _t11 * yA5
-    _t26 = xA2 * yA4
-    _t27 = _t24 * _t4
-    _t28 = _t0 * xA5
-    _t29 = _t15 * yA6
-    _t30 = _t23 * _t29
-    _t31 = _t9 * xA5
-    _t32 = _t23 * _t26
-    _t33 = _t23 * yA4
-    _t34 = _t0 * xA6
-    _t35 = _t3 * _t34
-    _t36 = xA6 * yA5
-    _t37 = _t30 * xA2
-    _t38 = _t0 * xA4
-    _t39 = yA3**2
-    _t40 = _t16 * _t39
-    _t41 = _t6 * _t8
-    _t42 = xA4 * yA4
-    _t43 = _t12 * _t42
-    _t44 = _t21 * yA3
-    _t45 = _t39 * xA2
-    _t46 = _t19 * _t45
-    _t47 = _t2 * xA5
-    _t48 = _t11 * yA3
-    _t49 = _t47 * yA6
-    _t50 = _t45 * yA5
-    _t51 = _t2 * yA5
-    _t52 = _t6 * xA6
-    _t53 = _t39 * yA4
-    _t54 = _t18 * _t28
-    _t55 = _t6 * xA5
-    _t56 = _t12 * yA3
-    _t57 = _t15 * _t34
-    _t58 = _t40 * xA6
-    _t59 = xA3 * yA3
-    _t60 = xA2**2
-    _t61 = _t60 * xA4
-    _t62 = _t59 * _t61
-    _t63 = _t13 * _t61
-    _t64 = _t13 * xA5
-    _t65 = _t60 * yA3
-    _t66 = _t65 * _t8
-    _t67 = xA3 * yA5
-    _t68 = _t60 * xA5
-    _t69 = _t29 * _t68
-    _t70 = _t15 * _t59
-    _t71 = _t36 * _t60
-    _t72 = _t4 * xA6
-    _t73 = _t13 * _t60
-    _t74 = _t61 * yA3
-    _t75 = _t39 * yA6
-    _t76 = _t65 * xA6
-    _t77 = _t3 * _t76
-    _t78 = _t61 * _t75
-    _t79 = _t53 * _t68
-    _t80 = xA4 * yA2
-    _t81 = _t80 * xA3
-    _t82 = yA2**2
-    _t83 = _t82 * xA4
-    _t84 = _t14 * yA6
-    _t85 = _t19 * _t83
-    _t86 = xA5 * yA2
-    _t87 = _t86 * xA3
-    _t88 = _t49 * _t82
-    _t89 = xA6 * yA2
-    _t90 = _t3 * _t89
-    _t91 = _t82 * xA6
-    _t92 = _t91 * yA6
-    _t93 = _t18 * _t86
-    _t94 = _t64 * _t82
-    _t95 = _t89 * xA3
-    _t96 = _t91 * yA3
-    _t97 = _t24 * yA4
-    _t98 = _t82 * xA5
-    _t99 = _t98 * yA6
-    _t100 = _t36 * _t82
-    _t101 = _t15 * _t36
-    _t102 = _t33 * xA5
-    _t103 = _t19 * _t39
-    _t104 = _t18 * yA3
-    _t105 = _t39 * _t89
-    _t106 = _t16 * _t83
-    _t107 = xA6 * yA3
-    _t108 = xA5 * yA5
-    _t109 = xA6 * yA6
-    _t110 = _t39 * _t42
-    _t111 = _t47 * yA2
+    _t3 = xA5**2
+    _t4 = xA6**2
+    _t5 = yA2**2
+    _t6 = yA3**2
+    _t7 = yA4**2
+    _t8 = yA5**2
+    _t9 = yA6**2
+    _t10 = numpy.fmax(
+        1.0e-300,
+        (1 / 5) * _t0
+        + (1 / 5) * _t1
+        + (1 / 5) * _t2
+        + (1 / 5) * _t3
+        + (1 / 5) * _t4
+        + (1 / 5) * _t5
+        + (1 / 5) * _t6
+        + (1 / 5) * _t7
+        + (1 / 5) * _t8
+        + (1 / 5) * _t9,
+    )
+    _t11 = _t0 + _t5
+    _t12 = 1 / _t10
+    _t13 = _t10 ** (-2)
+    _t14 = _t1 + _t6
+    _t15 = _t2 + _t7
+    _t16 = _t3 + _t8
+    _t17 = _t4 + _t9
+    _t18 = xA2 * yA2
+    _t19 = _t18 * xA3
+    _t20 = _t8 * yA6
+    _t21 = _t2 * _t20
+    _t22 = xA2 * yA3
+    _t23 = _t22 * xA3
+    _t24 = _t9 * yA5
+    _t25 = _t2 * _t24
+    _t26 = _t18 * _t9
+    _t27 = xA3 * yA4
+    _t28 = _t27 * _t3
+    _t29 = _t3 * yA6
+    _t30 = _t29 * _t7
+    _t31 = _t4 * yA5
+    _t32 = _t31 * _t7
+    _t33 = _t4 * _t8
+    _t34 = _t27 * _t33
+    _t35 = _t1 * xA4
+    _t36 = _t26 * yA5
+    _t37 = xA2 * yA4
+    _t38 = _t20 * _t35
+    _t39 = _t18 * xA5
+    _t40 = _t7 * yA6
+    _t41 = _t1 * _t40
+    _t42 = _t24 * xA5
+    _t43 = _t1 * _t37
+    _t44 = _t1 * yA4
+    _t45 = _t18 * xA6
+    _t46 = _t45 * _t8
+    _t47 = xA6 * yA5
+    _t48 = _t41 * xA2
+    _t49 = _t18 * xA4
+    _t50 = _t29 * _t6
+    _t51 = _t22 * _t9
+    _t52 = xA4 * yA4
+    _t53 = _t3 * _t52
+    _t54 = _t33 * yA3
+    _t55 = _t6 * xA2
+    _t56 = _t31 * _t55
+    _t57 = _t2 * xA5
+    _t58 = _t26 * yA3
+    _t59 = _t57 * yA6
+    _t60 = _t55 * yA5
+    _t61 = _t2 * yA5
+    _t62 = _t22 * xA6
+    _t63 = _t6 * yA4
+    _t64 = _t39 * _t4
+    _t65 = _t22 * xA5
+    _t66 = _t3 * yA3
+    _t67 = _t45 * _t7
+    _t68 = _t50 * xA6
+    _t69 = xA3 * yA3
+    _t70 = _t0 * xA4
+    _t71 = _t69 * _t70
+    _t72 = _t27 * _t70
+    _t73 = _t27 * xA5
+    _t74 = _t0 * yA3
+    _t75 = _t74 * _t9
+    _t76 = xA3 * yA5
+    _t77 = _t0 * xA5
+    _t78 = _t40 * _t77
+    _t79 = _t69 * _t7
+    _t80 = _t0 * _t47
+    _t81 = _t20 * xA6
+    _t82 = _t0 * _t27
+    _t83 = _t70 * yA3
+    _t84 = _t6 * yA6
+    _t85 = _t74 * xA6
+    _t86 = _t8 * _t85
+    _t87 = _t70 * _t84
+    _t88 = _t63 * _t77
+    _t89 = xA4 * yA2
+    _t90 = _t89 * xA3
+    _t91 = _t5 * xA4
+    _t92 = _t28 * yA6
+    _t93 = _t31 * _t91
+    _t94 = xA5 * yA2
+    _t95 = _t94 * xA3
+    _t96 = _t5 * _t59
+    _t97 = xA6 * yA2
+    _t98 = _t8 * _t97
+    _t99 = _t5 * xA6
+    _t100 = _t99 * yA6
+    _t101 = _t4 * _t94
+    _t102 = _t5 * _t73
+    _t103 = _t97 * xA3
+    _t104 = _t99 * yA3
+    _t105 = _t35 * yA4
+    _t106 = _t5 * xA5
+    _t107 = _t106 * yA6
+    _t108 = _t47 * _t5
+    _t109 = _t47 * _t7
+    _t110 = _t44 * xA5
+    _t111 = _t31 * _t6
+    _t112 = _t4 * yA3
+    _t113 = _t6 * _t97
+    _t114 = _t29 * _t91
+    _t115 = xA6 * yA3
+    _t116 = xA5 * yA5
+    _t117 = xA6 * yA6
+    _t118 = _t52 * _t6
+    _t119 = _t57 * yA2
     measures = numpy.zeros(shape + (1,))
     measures[..., 0] = (
-        -_t0 * _t22
-        - _t0 * _t39 * _t49
-        - _t1 * _t17
-        + _t1 * _t20
-        + _t1 * _t5
-        - _t10 * _t55
-        + _t10 * _t7
-        + _t10 * _t87
-        - _t100 * _t24 * yA6
-        + _t100 * _t47 * yA3
-        + _t100 * _t97
-        + _t101 * _t23 * _t86
-        - _t101 * _t65 * xA5
-        - _t102 * _t11
-        + _t102 * _t92
-        - _t103 * _t38
-        + _t103 * _t80 * xA5
-        + _t104 * _t42 * _t98
-        - _t104 * _t94
-        + _t105 * _t43
-        + _t105 * _t49
-        + _t106 * _t107
-        - _t106 * _t59
-        - _t107 * _t88
-        - _t108 * _t37
-        - _t108 * _t78
-        - _t109 * _t2 * _t50
-        - _t109 * _t79
-        + _t11 * _t14
-        - _t110 * _t71
-        - _t110 * _t93
-        - _t111 * _t36 * _t39
-        - _t111 * _t59 * _t8
-        - _t12 * _t34 * _t53
-        - _t12 * _t48 * xA4
-        - _t13 * _t77
-        - _t13 * _t85
-        - _t14 * _t41
-        - _t14 * _t8 * _t80
-        + _t14 * _t96
-        - _t15 * _t54 * yA3
-        - _t15 * _t56 * _t95
-        - _t17 * _t52
-        + _t17 * _t7
-        + _t17 * _t95
-        + _t19 * _t94
-        - _t2 * _t25 * xA3
-        - _t2 * _t35 * yA3
-        + _t2 * _t59 * _t90
-        + _t20 * _t55
-        - _t20 * _t7
-        - _t20 * _t87
-        - _t21 * _t42 * _t6
-        + _t22 * _t6
-        + _t22 * _t80
-        - _t23 * _t38 * _t4
-        - _t23 * _t57 * yA5
-        + _t24 * _t25
-        - _t24 * _t26 * _t9
-        - _t24 * _t31 * yA2
-        + _t24 * _t99 * yA5
-        + _t26 * _t27
-        + _t26 * _t58
-        + _t27 * _t89
-        + _t28 * _t30
-        - _t29 * _t71 * xA3
-        + _t29 * _t76 * xA5
-        - _t30 * _t86 * xA6
-        + _t31 * _t32
-        - _t31 * _t73
-        + _t31 * _t74
-        - _t32 * _t72
-        + _t33 * _t35
-        - _t33 * _t36 * _t98
-        + _t34 * _t39 * _t51
-        + _t36 * _t37
-        + _t36 * _t78
-        + _t36 * _t79
-        + _t38 * _t40
-        + _t38 * _t44
-        + _t4 * _t62
-        - _t4 * _t63
-        - _t40 * _t42 * xA2
-        + _t41 * _t43
-        + _t42 * _t46
-        - _t42 * _t66 * xA5
-        + _t42 * _t68 * _t75
-        + _t42 * _t77
-        - _t43 * _t96
-        - _t44 * _t81
-        - _t46 * xA5 * yA4
+        _t1 * _t109 * _t94
+        - _t1 * _t20 * _t49
+        - _t1 * _t67 * yA5
+        + _t100 * _t110
+        + _t100 * _t61 * xA3
+        - _t101 * _t118
+        + _t101 * _t79
+        - _t102 * _t112
+        + _t102 * _t31
+        - _t103 * _t21
+        + _t103 * _t30
+        - _t103 * _t66 * _t7
+        + _t104 * _t28
+        - _t104 * _t53
+        - _t105 * _t107
+        + _t105 * _t108
+        + _t105 * _t9 * _t94
+        - _t105 * _t98
+        + _t106 * _t112 * _t52
+        - _t106 * _t44 * _t47
+        + _t107 * _t35 * yA5
+        - _t108 * _t35 * yA6
+        + _t108 * _t57 * yA3
+        - _t109 * _t74 * xA5
+        - _t110 * _t26
+        - _t111 * _t49
+        + _t111 * _t89 * xA5
+        + _t113 * _t53
+        + _t113 * _t59
+        + _t114 * _t115
+        - _t114 * _t69
+        - _t115 * _t96
+        - _t116 * _t48
+        - _t116 * _t87
+        - _t117 * _t2 * _t60
+        - _t117 * _t88
+        - _t118 * _t80
+        - _t119 * _t47 * _t6
+        - _t119 * _t69 * _t9
+        - _t18 * _t34
+        - _t18 * _t59 * _t6
+        + _t19 * _t21
+        - _t19 * _t30
+        + _t19 * _t32
+        - _t2 * _t36 * xA3
+        - _t2 * _t46 * yA3
+        + _t2 * _t69 * _t98
+        + _t20 * _t71
+        - _t20 * _t72
+        - _t21 * _t23
+        + _t21 * _t62
+        - _t22 * _t33 * _t52
+        + _t22 * _t34
+        + _t23 * _t25
+        + _t23 * _t30
+        - _t23 * _t32
+        - _t24 * _t35 * _t37
+        - _t24 * _t71
+        + _t24 * _t72
+        - _t25 * _t65
+        + _t25 * _t95
+        + _t26 * _t28
+        - _t27 * _t86
+        - _t27 * _t93
+        - _t28 * _t51
+        - _t28 * _t89 * _t9
+        - _t3 * _t45 * _t63
+        - _t3 * _t58 * xA4
+        - _t30 * _t62
+        + _t32 * _t65
+        - _t32 * _t95
+        + _t34 * _t89
+        + _t35 * _t36
+        - _t35 * _t42 * yA2
+        + _t37 * _t38
+        + _t37 * _t68
+        + _t38 * _t97
+        + _t39 * _t41
+        - _t40 * _t80 * xA3
+        + _t40 * _t85 * xA5
+        - _t41 * _t94 * xA6
+        + _t42 * _t43
+        - _t42 * _t82
+        + _t42 * _t83
+        - _t43 * _t81
+        + _t44 * _t46
+        + _t45 * _t6 * _t61
         + _t47 * _t48
+        + _t47 * _t87
+        + _t47 * _t88
         + _t49 * _t50
-        + _t5 * _t52
-        - _t5 * _t7
-        - _t5 * _t95
-        - _t51 * _t59 * _t91
-        + _t51 * _t92 * xA3
-        + _t53 * _t54
-        + _t56 * _t57
-        + _t56 * _t8 * _t81
-        - _t58 * _t80
-        - _t59 * _t69
-        + _t59 * _t85
-        + _t59 * _t88
-        - _t62 * _t9
-        + _t63 * _t9
-        + _t64 * _t66
-        + _t67 * _t69
-        - _t67 * _t88
-        + _t70 * _t71
-        + _t70 * _t93
-        + _t72 * _t73
-        - _t72 * _t74
-        + _t8 * _t86 * _t97
-        + _t83 * _t84
-        - _t84 * _t91
-        - _t85 * xA5 * yA3
-        - _t90 * _t97
-        - _t97 * _t99
+        + _t49 * _t54
+        - _t50 * _t52 * xA2
+        + _t51 * _t53
+        + _t52 * _t56
+        - _t52 * _t75 * xA5
+        + _t52 * _t77 * _t84
+        + _t52 * _t86
+        - _t54 * _t90
+        - _t56 * xA5 * yA4
+        + _t57 * _t58
+        + _t59 * _t60
+        - _t61 * _t69 * _t99
+        + _t63 * _t64
+        - _t64 * _t7 * yA3
+        + _t66 * _t67
+        + _t66 * _t9 * _t90
+        - _t68 * _t89
+        - _t69 * _t78
+        + _t69 * _t93
+        + _t69 * _t96
+        + _t73 * _t75
+        + _t76 * _t78
+        - _t76 * _t96
+        + _t79 * _t80
+        + _t81 * _t82
+        - _t81 * _t83
+        + _t91 * _t92
+        - _t92 * _t99
+        - _t93 * xA5 * yA3
+    ) / numpy.fmax(
+        1.0e-300,
+        _t10**4
+        * numpy.sqrt(_t11**2 * _t13 + _t11 * _t12)
+        * numpy.sqrt(_t12 * _t14 + _t13 * _t14**2)
+        * numpy.sqrt(_t12 * _t15 + _t13 * _t15**2)
+        * numpy.sqrt(_t12 * _t16 + _t13 * _t16**2)
+        * numpy.sqrt(_t12 * _t17 + _t13 * _t17**2),
     )
     return {
         "measures": measures,
+    }
+
+
+def drawing(actuated, passive, params):
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 95.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    x = passive[..., 0]
+    y = passive[..., 1]
+    z = passive[..., 2]
+    alpha = passive[..., 3]
+    beta = passive[..., 4]
+    gamma = passive[..., 5]
+    xA2 = params[..., 0]
+    xA3 = params[..., 1]
+    xA4 = params[..., 2]
+    xA5 = params[..., 3]
+    xA6 = params[..., 4]
+    yA2 = params[..., 5]
+    yA3 = params[..., 6]
+    yA4 = params[..., 7]
+    yA5 = params[..., 8]
+    yA6 = params[..., 9]
+    t11 = params[..., 10]
+    t12 = params[..., 11]
+    t22 = params[..., 12]
+    _t0 = t11 * xA2 + t12 * yA2
+    _t1 = numpy.cos(alpha)
+    _t2 = numpy.cos(beta)
+    _t3 = _t1 * _t2
+    _t4 = numpy.sin(alpha)
+    _t5 = numpy.cos(gamma)
+    _t6 = numpy.sin(beta)
+    _t7 = numpy.sin(gamma)
+    _t8 = t22 * (_t1 * _t6 * _t7 - _t4 * _t5)
+    _t9 = t11 * xA3 + t12 * yA3
+    _t10 = t11 * xA4 + t12 * yA4
+    _t11 = t11 * xA5 + t12 * yA5
+    _t12 = t11 * xA6 + t12 * yA6
+    _t13 = _t2 * _t4
+    _t14 = t22 * (_t1 * _t5 + _t4 * _t6 * _t7)
+    _t15 = _t2 * _t7 * t22
+    base = numpy.zeros(shape + (3, 6))
+    base[..., 0, 1] = xA2
+    base[..., 0, 2] = xA3
+    base[..., 0, 3] = xA4
+    base[..., 0, 4] = xA5
+    base[..., 0, 5] = xA6
+    base[..., 1, 1] = yA2
+    base[..., 1, 2] = yA3
+    base[..., 1, 3] = yA4
+    base[..., 1, 4] = yA5
+    base[..., 1, 5] = yA6
+    platform = numpy.zeros(shape + (3, 6))
+    platform[..., 0, 0] = x
+    platform[..., 0, 1] = _t0 * _t3 + _t8 * yA2 + x
+    platform[..., 0, 2] = _t3 * _t9 + _t8 * yA3 + x
+    platform[..., 0, 3] = _t10 * _t3 + _t8 * yA4 + x
+    platform[..., 0, 4] = _t11 * _t3 + _t8 * yA5 + x
+    platform[..., 0, 5] = _t12 * _t3 + _t8 * yA6 + x
+    platform[..., 1, 0] = y
+    platform[..., 1, 1] = _t0 * _t13 + _t14 * yA2 + y
+    platform[..., 1, 2] = _t13 * _t9 + _t14 * yA3 + y
+    platform[..., 1, 3] = _t10 * _t13 + _t14 * yA4 + y
+    platform[..., 1, 4] = _t11 * _t13 + _t14 * yA5 + y
+    platform[..., 1, 5] = _t12 * _t13 + _t14 * yA6 + y
+    platform[..., 2, 0] = z
+    platform[..., 2, 1] = -_t0 * _t6 + _t15 * yA2 + z
+    platform[..., 2, 2] = _t15 * yA3 - _t6 * _t9 + z
+    platform[..., 2, 3] = -_t10 * _t6 + _t15 * yA4 + z
+    platform[..., 2, 4] = -_t11 * _t6 + _t15 * yA5 + z
+    platform[..., 2, 5] = -_t12 * _t6 + _t15 * yA6 + z
+    return {
+        "base": base,
+        "platform": platform,
     }
 
 
@@ -997,7 +1107,7 @@ def inverse_pose(pose, branch, params):
 def forward_polynomial(actuated, params):
     """Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 
-    Operations: 2579.
+    Operations: 2581.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -1022,7 +1132,8 @@ def forward_polynomial(actuated, params):
     t11 = params[..., 10]
     t12 = params[..., 11]
     t22 = params[..., 12]
-    scale2 = (
+    scale2 = numpy.fmax(
+        1.0e-300,
         (1 / 5) * xA2**2
         + (1 / 5) * xA3**2
         + (1 / 5) * xA4**2
@@ -1032,7 +1143,7 @@ def forward_polynomial(actuated, params):
         + (1 / 5) * yA3**2
         + (1 / 5) * yA4**2
         + (1 / 5) * yA5**2
-        + (1 / 5) * yA6**2
+        + (1 / 5) * yA6**2,
     )
     _t0 = (1 / 2) * yA2**2
     L2 = (
@@ -2328,7 +2439,8 @@ def forward_polynomial(actuated, params):
     coefficients[..., 3] = _t422 - 2 * _t427 * e2
     coefficients[..., 4] = _t425
     degeneracies = numpy.zeros(shape + (2,))
-    degeneracies[..., 0] = det_M / (
+    degeneracies[..., 0] = det_M / numpy.fmax(
+        1.0e-300,
         scale2**4
         * numpy.sqrt(
             (_t428 * _t429 + _t429**2 * _t430)
@@ -2336,7 +2448,7 @@ def forward_polynomial(actuated, params):
             * (_t428 * _t432 + _t430 * _t432**2)
             * (_t428 * _t433 + _t430 * _t433**2)
             * (_t428 * _t434 + _t430 * _t434**2)
-        )
+        ),
     )
     degeneracies[..., 1] = t11 * t22
     return {
@@ -2348,7 +2460,7 @@ def forward_polynomial(actuated, params):
 def forward_back_substitution(actuated, root, branch, params):
     """Platform pose ^B_P T from one root of the forward polynomial and one branch-sign combination.
 
-    Operations: 2709.
+    Operations: 2710.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -2378,7 +2490,8 @@ def forward_back_substitution(actuated, root, branch, params):
     t11 = params[..., 10]
     t12 = params[..., 11]
     t22 = params[..., 12]
-    scale2 = (
+    scale2 = numpy.fmax(
+        1.0e-300,
         (1 / 5) * xA2**2
         + (1 / 5) * xA3**2
         + (1 / 5) * xA4**2
@@ -2388,7 +2501,7 @@ def forward_back_substitution(actuated, root, branch, params):
         + (1 / 5) * yA3**2
         + (1 / 5) * yA4**2
         + (1 / 5) * yA5**2
-        + (1 / 5) * yA6**2
+        + (1 / 5) * yA6**2,
     )
     _t0 = (1 / 2) * yA2**2
     L2 = (
@@ -3741,6 +3854,7 @@ KERNELS = {
     "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
     "architecture": architecture,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,

@@ -6,6 +6,7 @@
 #   loop_closure_actuated: 607
 #   leg_jacobians: 217
 #   singularity_factors: 261
+#   drawing: 111
 #   inverse_pose: 214
 #   forward_polynomial: 462
 #   forward_back_substitution: 242
@@ -1022,6 +1023,112 @@ def singularity_factors() -> casadi.Function:
     )
 
 
+def drawing() -> casadi.Function:
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 111.
+    """
+    actuated = casadi.SX.sym("actuated", 6)
+    passive = casadi.SX.sym("passive", 6)
+    params = casadi.SX.sym("params", 2)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    theta4 = actuated[3]
+    theta5 = actuated[4]
+    theta6 = actuated[5]
+    L2 = passive[0]
+    phi2 = passive[1]
+    phi3 = passive[2]
+    L3 = passive[3]
+    L1 = params[0]
+    L4 = params[1]
+    _t0 = casadi.sin(theta3)
+    _t1 = casadi.cos(theta1)
+    _t2 = _t0 * _t1
+    _t3 = casadi.sin(theta2)
+    _t4 = casadi.sin(theta1)
+    _t5 = casadi.cos(theta3)
+    _t6 = _t4 * _t5
+    _t7 = _t2 + _t3 * _t6
+    _t8 = L2 * _t7
+    _t9 = casadi.sin(theta6)
+    _t10 = casadi.cos(theta4)
+    _t11 = casadi.sin(theta4)
+    _t12 = casadi.cos(theta6)
+    _t13 = _t12 * casadi.sin(theta5)
+    _t14 = _t0 * _t4
+    _t15 = -_t1 * _t3 * _t5 + _t14
+    _t16 = L1 - L2 * _t15
+    _t17 = casadi.cos(theta2)
+    _t18 = _t17 * _t5
+    _t19 = L2 * _t18
+    _t20 = casadi.sin(phi3)
+    _t21 = _t1 * _t5 - _t14 * _t3
+    _t22 = casadi.cos(phi3)
+    _t23 = casadi.cos(phi2)
+    _t24 = casadi.sin(phi2)
+    _t25 = _t17 * _t23 * _t4 - _t24 * _t7
+    _t26 = _t20 * _t21 + _t22 * _t25
+    _t27 = L4 * _t26
+    _t28 = -L4 * _t26
+    _t29 = -_t27 + _t8
+    _t30 = _t2 * _t3 + _t6
+    _t31 = -_t1 * _t17 * _t23 - _t15 * _t24
+    _t32 = _t20 * _t30 + _t22 * _t31
+    _t33 = -L4 * _t32
+    _t34 = L4 * _t32 + _t16
+    _t35 = _t0 * _t17
+    _t36 = -_t18 * _t24 - _t23 * _t3
+    _t37 = -_t20 * _t35 + _t22 * _t36
+    _t38 = -L4 * _t37
+    _t39 = L4 * _t37
+    _t40 = _t19 - _t39
+    base = casadi.SX.zeros(3, 2)
+    base[1, 0] = -L1
+    base[1, 1] = L1
+    u_joints = casadi.SX.zeros(3, 2)
+    u_joints[0, 0] = _t8
+    u_joints[0, 1] = L3 * (_t10 * _t9 + _t11 * _t13)
+    u_joints[1, 0] = -_t16
+    u_joints[1, 1] = L1 + L3 * (-_t10 * _t13 + _t11 * _t9)
+    u_joints[2, 0] = _t19
+    u_joints[2, 1] = L3 * _t12 * casadi.cos(theta5)
+    platform = casadi.SX.zeros(3, 3)
+    platform[0, 0] = L2 * _t7 - _t27 - _t28
+    platform[0, 1] = _t28 + _t29
+    platform[0, 2] = L4 * (-_t20 * _t25 + _t21 * _t22) + _t29
+    platform[1, 0] = -_t33 - _t34
+    platform[1, 1] = _t33 - _t34
+    platform[1, 2] = L4 * (-_t20 * _t31 + _t22 * _t30) - _t34
+    platform[2, 0] = L2 * _t17 * _t5 - _t38 - _t39
+    platform[2, 1] = _t38 + _t40
+    platform[2, 2] = L4 * (-_t20 * _t36 - _t22 * _t35) + _t40
+    return casadi.Function(
+        "drawing",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            base,
+            u_joints,
+            platform,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "base",
+            "u_joints",
+            "platform",
+        ],
+    )
+
+
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
@@ -1551,6 +1658,7 @@ BUILDERS = {
     "loop_closure_actuated": loop_closure_actuated,
     "leg_jacobians": leg_jacobians,
     "singularity_factors": singularity_factors,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,

@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
 //   singularity_factors: 261
+//   drawing: 111
 //   inverse_pose: 214
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
@@ -48,8 +49,10 @@ extern "C" {
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_f7 CASADI_PREFIX(f7)
+#define casadi_f8 CASADI_PREFIX(f8)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
+#define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -57,6 +60,7 @@ extern "C" {
 #define casadi_s6 CASADI_PREFIX(s6)
 #define casadi_s7 CASADI_PREFIX(s7)
 #define casadi_s8 CASADI_PREFIX(s8)
+#define casadi_s9 CASADI_PREFIX(s9)
 #define casadi_sq CASADI_PREFIX(sq)
 
 /* Symbol visibility in DLLs */
@@ -92,8 +96,10 @@ static const casadi_int casadi_s3[3] = {6, 6, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 static const casadi_int casadi_s6[3] = {3, 1, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {4, 1, 1};
+static const casadi_int casadi_s7[3] = {3, 2, 1};
+static const casadi_int casadi_s8[3] = {3, 3, 1};
+static const casadi_int casadi_s9[3] = {12, 1, 1};
+static const casadi_int casadi_s10[3] = {4, 1, 1};
 
 /* platform_pose:(actuated[6],passive[6],params[2])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -2261,8 +2267,230 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[4],params[2])->(actuated[6],passive[6],validity[4]) */
+/* drawing:(actuated[6],passive[6],params[2])->(base[3x2],u_joints[3x2],platform[3x3]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25;
+  a00=0.;
+  if (res[0]!=0) res[0][0]=a00;
+  a01=arg[2]? arg[2][0] : 0;
+  a02=(-a01);
+  if (res[0]!=0) res[0][1]=a02;
+  if (res[0]!=0) res[0][2]=a00;
+  if (res[0]!=0) res[0][3]=a00;
+  if (res[0]!=0) res[0][4]=a01;
+  if (res[0]!=0) res[0][5]=a00;
+  a00=arg[1]? arg[1][0] : 0;
+  a02=arg[0]? arg[0][2] : 0;
+  a03=sin(a02);
+  a04=arg[0]? arg[0][0] : 0;
+  a05=cos(a04);
+  a06=(a03*a05);
+  a07=arg[0]? arg[0][1] : 0;
+  a08=sin(a07);
+  a04=sin(a04);
+  a02=cos(a02);
+  a09=(a04*a02);
+  a10=(a08*a09);
+  a10=(a06+a10);
+  a11=(a00*a10);
+  if (res[1]!=0) res[1][0]=a11;
+  a12=(a03*a04);
+  a13=(a05*a08);
+  a13=(a13*a02);
+  a13=(a12-a13);
+  a14=(a00*a13);
+  a14=(a01-a14);
+  a15=(-a14);
+  if (res[1]!=0) res[1][1]=a15;
+  a07=cos(a07);
+  a15=(a07*a02);
+  a16=(a00*a15);
+  if (res[1]!=0) res[1][2]=a16;
+  a17=arg[1]? arg[1][3] : 0;
+  a18=arg[0]? arg[0][3] : 0;
+  a19=cos(a18);
+  a20=arg[0]? arg[0][5] : 0;
+  a21=sin(a20);
+  a22=(a19*a21);
+  a18=sin(a18);
+  a20=cos(a20);
+  a23=arg[0]? arg[0][4] : 0;
+  a24=sin(a23);
+  a24=(a20*a24);
+  a25=(a18*a24);
+  a22=(a22+a25);
+  a22=(a17*a22);
+  if (res[1]!=0) res[1][3]=a22;
+  a18=(a18*a21);
+  a19=(a19*a24);
+  a18=(a18-a19);
+  a18=(a17*a18);
+  a01=(a01+a18);
+  if (res[1]!=0) res[1][4]=a01;
+  a17=(a17*a20);
+  a23=cos(a23);
+  a17=(a17*a23);
+  if (res[1]!=0) res[1][5]=a17;
+  a17=(a00*a10);
+  if (res[2]!=0) res[2][0]=a17;
+  a17=(-a14);
+  if (res[2]!=0) res[2][1]=a17;
+  a00=(a00*a07);
+  a00=(a00*a02);
+  if (res[2]!=0) res[2][2]=a00;
+  a00=arg[2]? arg[2][1] : 0;
+  a17=arg[1]? arg[1][2] : 0;
+  a23=sin(a17);
+  a02=(a05*a02);
+  a12=(a12*a08);
+  a02=(a02-a12);
+  a12=(a23*a02);
+  a17=cos(a17);
+  a20=arg[1]? arg[1][1] : 0;
+  a01=cos(a20);
+  a18=(a07*a01);
+  a18=(a18*a04);
+  a20=sin(a20);
+  a10=(a20*a10);
+  a18=(a18-a10);
+  a10=(a17*a18);
+  a12=(a12+a10);
+  a10=(a00*a12);
+  a11=(a11-a10);
+  a12=(a00*a12);
+  a12=(a11-a12);
+  if (res[2]!=0) res[2][3]=a12;
+  a06=(a06*a08);
+  a06=(a06+a09);
+  a09=(a23*a06);
+  a05=(a05*a07);
+  a05=(a05*a01);
+  a13=(a13*a20);
+  a05=(a05+a13);
+  a13=(a17*a05);
+  a09=(a09-a13);
+  a13=(a00*a09);
+  a09=(a00*a09);
+  a09=(a09+a14);
+  a13=(a13+a09);
+  a13=(-a13);
+  if (res[2]!=0) res[2][4]=a13;
+  a03=(a03*a07);
+  a07=(a23*a03);
+  a15=(a15*a20);
+  a01=(a01*a08);
+  a15=(a15+a01);
+  a01=(a17*a15);
+  a07=(a07+a01);
+  a01=(a00*a07);
+  a07=(a00*a07);
+  a16=(a16+a07);
+  a01=(a01+a16);
+  if (res[2]!=0) res[2][5]=a01;
+  a02=(a02*a17);
+  a18=(a23*a18);
+  a02=(a02-a18);
+  a02=(a00*a02);
+  a02=(a02+a11);
+  if (res[2]!=0) res[2][6]=a02;
+  a05=(a23*a05);
+  a06=(a17*a06);
+  a05=(a05+a06);
+  a05=(a00*a05);
+  a05=(a05-a09);
+  if (res[2]!=0) res[2][7]=a05;
+  a23=(a23*a15);
+  a17=(a17*a03);
+  a23=(a23-a17);
+  a00=(a00*a23);
+  a00=(a00+a16);
+  if (res[2]!=0) res[2][8]=a00;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f5(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "base";
+    case 1: return "u_joints";
+    case 2: return "platform";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s7;
+    case 1: return casadi_s7;
+    case 2: return casadi_s8;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 3;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* inverse_pose:(pose[12],branch[4],params[2])->(actuated[6],passive[6],validity[4]) */
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -2504,7 +2732,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
@@ -2550,8 +2778,8 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
-    case 1: return casadi_s8;
+    case 0: return casadi_s9;
+    case 1: return casadi_s10;
     case 2: return casadi_s1;
     default: return 0;
   }
@@ -2561,7 +2789,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
-    case 2: return casadi_s8;
+    case 2: return casadi_s10;
     default: return 0;
   }
 }
@@ -2583,7 +2811,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* forward_polynomial:(actuated[6],params[2])->(coefficients[3],degeneracies[2]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3065,7 +3293,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
@@ -3140,7 +3368,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* forward_back_substitution:(actuated[6],root,branch,params[2])->(pose[4x4]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=5.0000000000000000e-01;
@@ -3412,7 +3640,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {

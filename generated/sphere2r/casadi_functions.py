@@ -5,6 +5,7 @@
 #   loop_closure: 0
 #   loop_closure_actuated: 0
 #   singularity_factors: 5
+#   drawing: 56
 #   inverse_pose: 81
 
 """Generated CasADi builders: each returns a ``casadi.Function`` with named inputs and outputs
@@ -181,6 +182,67 @@ def singularity_factors() -> casadi.Function:
     )
 
 
+def drawing() -> casadi.Function:
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 56.
+    """
+    actuated = casadi.SX.sym("actuated", 2)
+    passive = casadi.SX.sym("passive", 0)
+    params = casadi.SX.sym("params", 2)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    alpha1 = params[0]
+    alpha2 = params[1]
+    _t0 = casadi.sin(alpha1)
+    _t1 = casadi.sin(theta1)
+    _t2 = _t0 * _t1
+    _t3 = casadi.cos(alpha2)
+    _t4 = casadi.sin(alpha2)
+    _t5 = casadi.cos(alpha1)
+    _t6 = casadi.cos(theta2)
+    _t7 = casadi.cos(theta1)
+    _t8 = casadi.sin(theta2)
+    _t9 = _t5 * _t8
+    _t10 = _t1 * _t6 + _t7 * _t9
+    _t11 = _t0 * _t7
+    _t12 = _t0 * _t1**2 + _t0 * _t7**2
+    _t13 = _t12 * _t8
+    _t14 = -_t1 * _t9 + _t6 * _t7
+    _t15 = (1 - _t3) * (-_t10 * _t11 + _t12 * _t9 + _t14 * _t2)
+    base_axes = casadi.SX.zeros(3, 2)
+    base_axes[0, 1] = 1
+    base_axes[2, 0] = 1
+    moving_axes = casadi.SX.zeros(3, 2)
+    moving_axes[0, 0] = _t2
+    moving_axes[0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
+    moving_axes[1, 0] = -_t11
+    moving_axes[1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
+    moving_axes[2, 0] = _t5
+    moving_axes[2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
+    return casadi.Function(
+        "drawing",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            base_axes,
+            moving_axes,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "base_axes",
+            "moving_axes",
+        ],
+    )
+
+
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
@@ -253,6 +315,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "singularity_factors": singularity_factors,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
 }
 

@@ -5,6 +5,7 @@
 //   loop_closure: 0
 //   loop_closure_actuated: 0
 //   singularity_factors: 5
+//   drawing: 56
 //   inverse_pose: 81
 
 // Batched entry points over the CasADi-generated kernels of sphere2r, and the forward
@@ -103,6 +104,30 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
         for (int r = 0; r < 0; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[1][i * 0 + r * 1 + c] = out_determinants[c * 0 + r];
+    }
+    return 0;
+}
+
+int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[14 + 1];
+    casadi_real out_base_axes[6];
+    casadi_real out_moving_axes[6];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_base_axes;
+        res[1] = out_moving_axes;
+        if (drawing(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[0][i * 6 + r * 2 + c] = out_base_axes[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[1][i * 6 + r * 2 + c] = out_moving_axes[c * 3 + r];
     }
     return 0;
 }

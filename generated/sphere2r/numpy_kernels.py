@@ -5,6 +5,7 @@
 #   loop_closure: 0
 #   loop_closure_actuated: 0
 #   singularity_factors: 5
+#   drawing: 56
 #   inverse_pose: 81
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
@@ -122,6 +123,52 @@ def singularity_factors(actuated, passive, params):
     }
 
 
+def drawing(actuated, passive, params):
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 56.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    alpha1 = params[..., 0]
+    alpha2 = params[..., 1]
+    _t0 = numpy.sin(alpha1)
+    _t1 = numpy.sin(theta1)
+    _t2 = _t0 * _t1
+    _t3 = numpy.cos(alpha2)
+    _t4 = numpy.sin(alpha2)
+    _t5 = numpy.cos(alpha1)
+    _t6 = numpy.cos(theta2)
+    _t7 = numpy.cos(theta1)
+    _t8 = numpy.sin(theta2)
+    _t9 = _t5 * _t8
+    _t10 = _t1 * _t6 + _t7 * _t9
+    _t11 = _t0 * _t7
+    _t12 = _t0 * _t1**2 + _t0 * _t7**2
+    _t13 = _t12 * _t8
+    _t14 = -_t1 * _t9 + _t6 * _t7
+    _t15 = (1 - _t3) * (-_t10 * _t11 + _t12 * _t9 + _t14 * _t2)
+    base_axes = numpy.zeros(shape + (3, 2))
+    base_axes[..., 0, 1] = 1
+    base_axes[..., 2, 0] = 1
+    moving_axes = numpy.zeros(shape + (3, 2))
+    moving_axes[..., 0, 0] = _t2
+    moving_axes[..., 0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
+    moving_axes[..., 1, 0] = -_t11
+    moving_axes[..., 1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
+    moving_axes[..., 2, 0] = _t5
+    moving_axes[..., 2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
+    return {
+        "base_axes": base_axes,
+        "moving_axes": moving_axes,
+    }
+
+
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
@@ -178,5 +225,6 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "singularity_factors": singularity_factors,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
 }

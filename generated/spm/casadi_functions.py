@@ -6,6 +6,7 @@
 #   loop_closure_actuated: 274
 #   rate_jacobians: 236
 #   singularity_factors: 223
+#   drawing: 169
 #   inverse_pose: 420
 #   forward_polynomial: 5082
 #   forward_back_substitution: 4098
@@ -648,6 +649,130 @@ def singularity_factors() -> casadi.Function:
         [
             "factors",
             "determinants",
+        ],
+    )
+
+
+def drawing() -> casadi.Function:
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 169.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 4)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    phi1 = passive[0]
+    phi2 = passive[1]
+    phi3 = passive[2]
+    alpha1 = params[0]
+    alpha2 = params[1]
+    gamma = params[3]
+    _t0 = casadi.sqrt(3)
+    _t1 = casadi.sin(gamma)
+    _t2 = (1 / 2) * _t1
+    _t3 = _t0 * _t2
+    _t4 = -_t2
+    _t5 = casadi.cos(gamma)
+    _t6 = -_t5
+    _t7 = casadi.sin(alpha1)
+    _t8 = casadi.sin(theta1)
+    _t9 = _t7 * _t8
+    _t10 = casadi.cos(alpha1)
+    _t11 = _t10 * _t3
+    _t12 = casadi.sin(theta2)
+    _t13 = (1 / 2) * _t12
+    _t14 = casadi.cos(theta2)
+    _t15 = (1 / 2) * _t14
+    _t16 = -_t11 + _t7 * (_t0 * _t15 * _t5 + _t13)
+    _t17 = casadi.sin(theta3)
+    _t18 = (1 / 2) * _t17
+    _t19 = casadi.cos(theta3)
+    _t20 = (1 / 2) * _t19
+    _t21 = _t20 * _t5
+    _t22 = _t11 + _t7 * (-_t0 * _t21 + _t18)
+    _t23 = casadi.cos(theta1)
+    _t24 = _t23 * _t7
+    _t25 = _t1 * _t10 - _t24 * _t5
+    _t26 = -_t10 * _t2
+    _t27 = _t0 * _t13
+    _t28 = _t26 + _t7 * ((1 / 2) * _t14 * _t5 - _t27)
+    _t29 = _t0 * _t18
+    _t30 = _t26 + _t7 * (_t21 + _t29)
+    _t31 = _t10 * _t5
+    _t32 = -_t1 * _t24 - _t31
+    _t33 = _t1 * _t7
+    _t34 = -_t14 * _t33 - _t31
+    _t35 = -_t19 * _t33 - _t31
+    _t36 = casadi.cos(alpha2)
+    _t37 = casadi.sin(alpha2)
+    _t38 = _t37 * casadi.cos(phi1)
+    _t39 = casadi.sin(phi1)
+    _t40 = _t5 * _t8
+    _t41 = (1 / 2) * _t14 - _t27 * _t5
+    _t42 = _t37 * casadi.cos(phi2)
+    _t43 = _t1 * _t12
+    _t44 = -_t0 * _t15 - _t13 * _t5
+    _t45 = _t37 * casadi.sin(phi2)
+    _t46 = _t20 + _t29 * _t5
+    _t47 = _t37 * casadi.cos(phi3)
+    _t48 = _t1 * _t17
+    _t49 = (1 / 2) * _t0 * _t19 - _t18 * _t5
+    _t50 = _t37 * casadi.sin(phi3)
+    _t51 = _t8**2
+    _t52 = _t37 * _t39
+    base_axes = casadi.SX.zeros(3, 3)
+    base_axes[0, 1] = -_t3
+    base_axes[0, 2] = _t3
+    base_axes[1, 0] = _t1
+    base_axes[1, 1] = _t4
+    base_axes[1, 2] = _t4
+    base_axes[2, 0] = _t6
+    base_axes[2, 1] = _t6
+    base_axes[2, 2] = _t6
+    intermediate_axes = casadi.SX.zeros(3, 3)
+    intermediate_axes[0, 0] = -_t9
+    intermediate_axes[0, 1] = _t16
+    intermediate_axes[0, 2] = _t22
+    intermediate_axes[1, 0] = _t25
+    intermediate_axes[1, 1] = _t28
+    intermediate_axes[1, 2] = _t30
+    intermediate_axes[2, 0] = _t32
+    intermediate_axes[2, 1] = _t34
+    intermediate_axes[2, 2] = _t35
+    platform_axes = casadi.SX.zeros(3, 3)
+    platform_axes[0, 0] = -_t23 * _t38 - _t36 * _t9 + _t37 * _t39 * (_t1 * _t25 * _t8 - _t32 * _t40)
+    platform_axes[0, 1] = _t16 * _t36 + _t41 * _t42 + _t45 * (_t28 * _t43 - _t34 * _t44)
+    platform_axes[0, 2] = _t22 * _t36 + _t46 * _t47 + _t50 * (_t30 * _t48 - _t35 * _t49)
+    platform_axes[1, 0] = _t25 * _t36 + _t38 * _t40 + _t52 * (_t1 * _t51 * _t7 - _t23 * _t32)
+    platform_axes[1, 1] = _t28 * _t36 + _t42 * _t44 + _t45 * (-_t16 * _t43 + _t34 * _t41)
+    platform_axes[1, 2] = _t30 * _t36 + _t47 * _t49 + _t50 * (-_t22 * _t48 + _t35 * _t46)
+    platform_axes[2, 0] = _t1 * _t38 * _t8 + _t32 * _t36 + _t52 * (_t23 * _t25 - _t5 * _t51 * _t7)
+    platform_axes[2, 1] = _t34 * _t36 + _t42 * _t43 + _t45 * (_t16 * _t44 - _t28 * _t41)
+    platform_axes[2, 2] = _t35 * _t36 + _t47 * _t48 + _t50 * (_t22 * _t49 - _t30 * _t46)
+    return casadi.Function(
+        "drawing",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            base_axes,
+            intermediate_axes,
+            platform_axes,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "base_axes",
+            "intermediate_axes",
+            "platform_axes",
         ],
     )
 
@@ -5048,6 +5173,7 @@ BUILDERS = {
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,

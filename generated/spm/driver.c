@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
+//   drawing: 169
 //   inverse_pose: 420
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
@@ -130,6 +131,35 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
         for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[1][i * 2 + r * 1 + c] = out_determinants[c * 2 + r];
+    }
+    return 0;
+}
+
+int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[3];
+    casadi_int iw[0 + 1];
+    casadi_real w[33 + 1];
+    casadi_real out_base_axes[9];
+    casadi_real out_intermediate_axes[9];
+    casadi_real out_platform_axes[9];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_base_axes;
+        res[1] = out_intermediate_axes;
+        res[2] = out_platform_axes;
+        if (drawing(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                outputs[0][i * 9 + r * 3 + c] = out_base_axes[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                outputs[1][i * 9 + r * 3 + c] = out_intermediate_axes[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                outputs[2][i * 9 + r * 3 + c] = out_platform_axes[c * 3 + r];
     }
     return 0;
 }

@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
+//   drawing: 169
 //   inverse_pose: 420
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
@@ -48,6 +49,7 @@ extern "C" {
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_f7 CASADI_PREFIX(f7)
+#define casadi_f8 CASADI_PREFIX(f8)
 #define casadi_fabs CASADI_PREFIX(fabs)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_fmin CASADI_PREFIX(fmin)
@@ -1853,8 +1855,299 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
+/* drawing:(actuated[3],passive[3],params[4])->(base_axes[3x3],intermediate_axes[3x3],platform_axes[3x3]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32;
+  a00=0.;
+  if (res[0]!=0) res[0][0]=a00;
+  a00=arg[2]? arg[2][3] : 0;
+  a01=sin(a00);
+  if (res[0]!=0) res[0][1]=a01;
+  a00=cos(a00);
+  a02=(-a00);
+  if (res[0]!=0) res[0][2]=a02;
+  a03=8.6602540378443860e-01;
+  a04=(a03*a01);
+  a05=(-a04);
+  if (res[0]!=0) res[0][3]=a05;
+  a05=5.0000000000000000e-01;
+  a06=(a05*a01);
+  a07=(-a06);
+  if (res[0]!=0) res[0][4]=a07;
+  if (res[0]!=0) res[0][5]=a02;
+  if (res[0]!=0) res[0][6]=a04;
+  if (res[0]!=0) res[0][7]=a07;
+  if (res[0]!=0) res[0][8]=a02;
+  a02=arg[2]? arg[2][0] : 0;
+  a07=sin(a02);
+  a08=arg[0]? arg[0][0] : 0;
+  a09=sin(a08);
+  a10=(a07*a09);
+  a11=(-a10);
+  if (res[1]!=0) res[1][0]=a11;
+  a02=cos(a02);
+  a11=(a01*a02);
+  a08=cos(a08);
+  a12=(a08*a07);
+  a13=(a12*a00);
+  a11=(a11-a13);
+  if (res[1]!=0) res[1][1]=a11;
+  a12=(a01*a12);
+  a13=(a02*a00);
+  a12=(a12+a13);
+  a14=(-a12);
+  if (res[1]!=0) res[1][2]=a14;
+  a14=arg[0]? arg[0][1] : 0;
+  a15=cos(a14);
+  a16=(a03*a15);
+  a16=(a16*a00);
+  a14=sin(a14);
+  a17=(a05*a14);
+  a16=(a16+a17);
+  a16=(a07*a16);
+  a04=(a02*a04);
+  a16=(a16-a04);
+  if (res[1]!=0) res[1][3]=a16;
+  a18=(a05*a15);
+  a18=(a18*a00);
+  a19=(a03*a14);
+  a18=(a18-a19);
+  a18=(a07*a18);
+  a02=(a02*a06);
+  a18=(a18-a02);
+  if (res[1]!=0) res[1][4]=a18;
+  a06=(a01*a07);
+  a20=(a15*a06);
+  a20=(a20+a13);
+  a21=(-a20);
+  if (res[1]!=0) res[1][5]=a21;
+  a21=-1.7320508075688772e+00;
+  a22=arg[0]? arg[0][2] : 0;
+  a23=cos(a22);
+  a24=(a05*a23);
+  a25=(a24*a00);
+  a21=(a21*a25);
+  a22=sin(a22);
+  a26=(a05*a22);
+  a21=(a21+a26);
+  a21=(a07*a21);
+  a04=(a04+a21);
+  if (res[1]!=0) res[1][6]=a04;
+  a21=(a03*a22);
+  a25=(a25+a21);
+  a25=(a07*a25);
+  a25=(a25-a02);
+  if (res[1]!=0) res[1][7]=a25;
+  a06=(a23*a06);
+  a06=(a06+a13);
+  a13=(-a06);
+  if (res[1]!=0) res[1][8]=a13;
+  a13=arg[2]? arg[2][1] : 0;
+  a02=sin(a13);
+  a27=arg[1]? arg[1][0] : 0;
+  a28=sin(a27);
+  a29=(a02*a28);
+  a30=(a01*a11);
+  a30=(a30*a09);
+  a31=(a00*a09);
+  a32=(a12*a31);
+  a30=(a30+a32);
+  a29=(a29*a30);
+  a27=cos(a27);
+  a27=(a02*a27);
+  a30=(a08*a27);
+  a13=cos(a13);
+  a10=(a13*a10);
+  a30=(a30+a10);
+  a29=(a29-a30);
+  if (res[2]!=0) res[2][0]=a29;
+  a29=(a11*a13);
+  a31=(a27*a31);
+  a29=(a29+a31);
+  a28=(a02*a28);
+  a31=casadi_sq(a09);
+  a30=(a01*a31);
+  a30=(a30*a07);
+  a10=(a08*a12);
+  a30=(a30+a10);
+  a30=(a28*a30);
+  a29=(a29+a30);
+  if (res[2]!=0) res[2][1]=a29;
+  a27=(a01*a27);
+  a27=(a27*a09);
+  a12=(a12*a13);
+  a27=(a27-a12);
+  a08=(a08*a11);
+  a31=(a00*a31);
+  a31=(a31*a07);
+  a08=(a08-a31);
+  a28=(a28*a08);
+  a27=(a27+a28);
+  if (res[2]!=0) res[2][2]=a27;
+  a27=(a16*a13);
+  a05=(a05*a15);
+  a19=(a19*a00);
+  a05=(a05-a19);
+  a19=arg[1]? arg[1][1] : 0;
+  a28=cos(a19);
+  a28=(a02*a28);
+  a08=(a05*a28);
+  a27=(a27+a08);
+  a19=sin(a19);
+  a19=(a02*a19);
+  a14=(a01*a14);
+  a08=(a18*a14);
+  a31=-8.6602540378443860e-01;
+  a31=(a31*a15);
+  a17=(a17*a00);
+  a31=(a31-a17);
+  a17=(a20*a31);
+  a08=(a08+a17);
+  a08=(a19*a08);
+  a27=(a27+a08);
+  if (res[2]!=0) res[2][3]=a27;
+  a27=(a18*a13);
+  a08=(a28*a31);
+  a27=(a27+a08);
+  a08=(a16*a14);
+  a17=(a20*a05);
+  a08=(a08+a17);
+  a08=(a19*a08);
+  a27=(a27-a08);
+  if (res[2]!=0) res[2][4]=a27;
+  a28=(a28*a14);
+  a20=(a20*a13);
+  a28=(a28-a20);
+  a16=(a16*a31);
+  a18=(a18*a05);
+  a16=(a16-a18);
+  a19=(a19*a16);
+  a28=(a28+a19);
+  if (res[2]!=0) res[2][5]=a28;
+  a28=(a04*a13);
+  a21=(a21*a00);
+  a24=(a24+a21);
+  a21=arg[1]? arg[1][2] : 0;
+  a19=cos(a21);
+  a19=(a02*a19);
+  a16=(a24*a19);
+  a28=(a28+a16);
+  a21=sin(a21);
+  a02=(a02*a21);
+  a01=(a01*a22);
+  a22=(a25*a01);
+  a03=(a03*a23);
+  a26=(a26*a00);
+  a03=(a03-a26);
+  a26=(a06*a03);
+  a22=(a22+a26);
+  a22=(a02*a22);
+  a28=(a28+a22);
+  if (res[2]!=0) res[2][6]=a28;
+  a28=(a25*a13);
+  a22=(a19*a03);
+  a28=(a28+a22);
+  a22=(a04*a01);
+  a26=(a06*a24);
+  a22=(a22+a26);
+  a22=(a02*a22);
+  a28=(a28-a22);
+  if (res[2]!=0) res[2][7]=a28;
+  a19=(a19*a01);
+  a06=(a06*a13);
+  a19=(a19-a06);
+  a04=(a04*a03);
+  a25=(a25*a24);
+  a04=(a04-a25);
+  a02=(a02*a04);
+  a19=(a19+a02);
+  if (res[2]!=0) res[2][8]=a19;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f5(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "base_axes";
+    case 1: return "intermediate_axes";
+    case 2: return "platform_axes";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s3;
+    case 1: return casadi_s3;
+    case 2: return casadi_s3;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 3;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2262,7 +2555,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
@@ -2341,7 +2634,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* forward_polynomial:(actuated[3],params[4])->(coefficients[9]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -7208,7 +7501,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
@@ -7281,7 +7574,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* forward_back_substitution:(actuated[3],root,branch,params[4])->(pose[4x4]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -8801,7 +9094,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {

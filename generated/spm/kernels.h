@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 274
 //   rate_jacobians: 236
 //   singularity_factors: 223
+//   drawing: 169
 //   inverse_pose: 420
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
@@ -118,6 +119,24 @@ int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casad
 #define singularity_factors_SZ_RES 2
 #define singularity_factors_SZ_IW 0
 #define singularity_factors_SZ_W 0
+int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int drawing_checkout(void);
+void drawing_release(int mem);
+void drawing_incref(void);
+void drawing_decref(void);
+casadi_int drawing_n_in(void);
+casadi_int drawing_n_out(void);
+casadi_real drawing_default_in(casadi_int i);
+const char* drawing_name_in(casadi_int i);
+const char* drawing_name_out(casadi_int i);
+const casadi_int* drawing_sparsity_in(casadi_int i);
+const casadi_int* drawing_sparsity_out(casadi_int i);
+int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define drawing_SZ_ARG 3
+#define drawing_SZ_RES 3
+#define drawing_SZ_IW 0
+#define drawing_SZ_W 0
 int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int inverse_pose_checkout(void);
 void inverse_pose_release(int mem);

@@ -6,6 +6,7 @@
 #   loop_closure_actuated: 6
 #   rate_jacobians: 126
 #   singularity_factors: 136
+#   drawing: 112
 #   inverse_pose: 291
 #   forward_polynomial: 1838
 #   forward_back_substitution: 3637
@@ -492,6 +493,118 @@ def singularity_factors() -> casadi.Function:
         [
             "factors",
             "determinants",
+        ],
+    )
+
+
+def drawing() -> casadi.Function:
+    """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
+
+    Operations: 112.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 22)
+    alpha = passive[0]
+    beta = passive[1]
+    gamma = passive[2]
+    a1x = params[0]
+    a2x = params[1]
+    a2y = params[2]
+    a3x = params[3]
+    a3y = params[4]
+    a3z = params[5]
+    b1 = params[6]
+    b2 = params[7]
+    b3 = params[8]
+    b12 = params[9]
+    b23 = params[10]
+    b13 = params[11]
+    chi = params[12]
+    _t0 = casadi.cos(beta)
+    _t1 = b1**2
+    _t2 = b2**2
+    _t3 = _t1 + _t2 - b12**2
+    _t4 = (1 / 2) / b1
+    _t5 = _t0 * _t4
+    _t6 = 1 / _t2
+    _t7 = 1 / _t1
+    _t8 = (1 / 4) * _t7
+    _t9 = _t3**2 * _t6 * _t8
+    _t10 = casadi.sqrt(1 - _t9)
+    _t11 = _t10 * b2
+    _t12 = casadi.sin(gamma)
+    _t13 = casadi.sin(beta)
+    _t14 = _t12 * _t13
+    _t15 = b3**2
+    _t16 = _t1 + _t15 - b13**2
+    _t17 = _t15 + _t2 - b23**2
+    _t18 = 1 / (b2 * b3)
+    _t19 = b3 / _t10
+    _t20 = _t19 * (-_t16 * _t18 * _t3 * _t8 + (1 / 2) * _t17 * _t18)
+    _t21 = casadi.cos(gamma)
+    _t22 = 1 / _t15
+    _t23 = (
+        _t19
+        * chi
+        * casadi.sqrt(
+            casadi.fmax(
+                0,
+                -(_t16**2) * _t22 * _t8
+                + (1 / 4) * _t16 * _t17 * _t22 * _t3 * _t6 * _t7
+                - 1 / 4 * _t17**2 * _t22 * _t6
+                - _t9
+                + 1,
+            )
+        )
+    )
+    _t24 = casadi.sin(alpha)
+    _t25 = _t13 * b1
+    _t26 = _t13 * _t4
+    _t27 = _t24 * _t26
+    _t28 = casadi.cos(alpha)
+    _t29 = _t12 * _t24
+    _t30 = -_t0 * _t29 + _t21 * _t28
+    _t31 = _t12 * _t28
+    _t32 = _t21 * _t24
+    _t33 = _t26 * _t28
+    _t34 = _t0 * _t31 + _t32
+    base = casadi.SX.zeros(3, 4)
+    base[0, 0] = a1x
+    base[0, 1] = a2x
+    base[0, 2] = a3x
+    base[1, 1] = a2y
+    base[1, 2] = a3y
+    base[2, 2] = a3z
+    platform = casadi.SX.zeros(3, 4)
+    platform[0, 0] = _t0 * b1
+    platform[0, 1] = _t11 * _t14 + _t3 * _t5
+    platform[0, 2] = _t13 * _t21 * _t23 + _t14 * _t20 + _t16 * _t5
+    platform[1, 0] = _t24 * _t25
+    platform[1, 1] = _t11 * _t30 + _t27 * _t3
+    platform[1, 2] = _t16 * _t27 + _t20 * _t30 + _t23 * (-_t0 * _t32 - _t31)
+    platform[2, 0] = -_t25 * _t28
+    platform[2, 1] = _t11 * _t34 - _t3 * _t33
+    platform[2, 2] = -_t16 * _t33 + _t20 * _t34 + _t23 * (_t0 * _t21 * _t28 - _t29)
+    return casadi.Function(
+        "drawing",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            base,
+            platform,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "base",
+            "platform",
         ],
     )
 
@@ -2721,6 +2834,7 @@ BUILDERS = {
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
+    "drawing": drawing,
     "inverse_pose": inverse_pose,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,

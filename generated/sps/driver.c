@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 126
 //   singularity_factors: 136
+//   drawing: 112
 //   inverse_pose: 291
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
@@ -130,6 +131,30 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
         for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[1][i * 2 + r * 1 + c] = out_determinants[c * 2 + r];
+    }
+    return 0;
+}
+
+int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[31 + 1];
+    casadi_real out_base[12];
+    casadi_real out_platform[12];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_base;
+        res[1] = out_platform;
+        if (drawing(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                outputs[0][i * 12 + r * 4 + c] = out_base[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                outputs[1][i * 12 + r * 4 + c] = out_platform[c * 3 + r];
     }
     return 0;
 }

@@ -6,6 +6,7 @@
 //   loop_closure_actuated: 6
 //   rate_jacobians: 126
 //   singularity_factors: 136
+//   drawing: 112
 //   inverse_pose: 291
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
@@ -48,6 +49,7 @@ extern "C" {
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_f7 CASADI_PREFIX(f7)
+#define casadi_f8 CASADI_PREFIX(f8)
 #define casadi_fabs CASADI_PREFIX(fabs)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
@@ -59,6 +61,7 @@ extern "C" {
 #define casadi_s6 CASADI_PREFIX(s6)
 #define casadi_s7 CASADI_PREFIX(s7)
 #define casadi_s8 CASADI_PREFIX(s8)
+#define casadi_s9 CASADI_PREFIX(s9)
 #define casadi_sq CASADI_PREFIX(sq)
 
 /* Symbol visibility in DLLs */
@@ -112,8 +115,9 @@ static const casadi_int casadi_s3[3] = {3, 3, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {4, 1, 1};
 static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {9, 1, 1};
+static const casadi_int casadi_s7[3] = {3, 4, 1};
+static const casadi_int casadi_s8[3] = {12, 1, 1};
+static const casadi_int casadi_s9[3] = {9, 1, 1};
 
 /* platform_pose:(actuated[3],passive[3],params[22])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1164,8 +1168,241 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch,params[22])->(actuated[3],passive[3],validity[4]) */
+/* drawing:(actuated[3],passive[3],params[22])->(base[3x4],platform[3x4]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30;
+  a00=arg[2]? arg[2][0] : 0;
+  if (res[0]!=0) res[0][0]=a00;
+  a00=0.;
+  if (res[0]!=0) res[0][1]=a00;
+  if (res[0]!=0) res[0][2]=a00;
+  a01=arg[2]? arg[2][1] : 0;
+  if (res[0]!=0) res[0][3]=a01;
+  a01=arg[2]? arg[2][2] : 0;
+  if (res[0]!=0) res[0][4]=a01;
+  if (res[0]!=0) res[0][5]=a00;
+  a01=arg[2]? arg[2][3] : 0;
+  if (res[0]!=0) res[0][6]=a01;
+  a01=arg[2]? arg[2][4] : 0;
+  if (res[0]!=0) res[0][7]=a01;
+  a01=arg[2]? arg[2][5] : 0;
+  if (res[0]!=0) res[0][8]=a01;
+  if (res[0]!=0) res[0][9]=a00;
+  if (res[0]!=0) res[0][10]=a00;
+  if (res[0]!=0) res[0][11]=a00;
+  a01=arg[1]? arg[1][1] : 0;
+  a02=cos(a01);
+  a03=arg[2]? arg[2][6] : 0;
+  a04=(a02*a03);
+  if (res[1]!=0) res[1][0]=a04;
+  a04=arg[1]? arg[1][0] : 0;
+  a05=sin(a04);
+  a01=sin(a01);
+  a06=(a01*a03);
+  a07=(a05*a06);
+  if (res[1]!=0) res[1][1]=a07;
+  a04=cos(a04);
+  a06=(a06*a04);
+  a06=(-a06);
+  if (res[1]!=0) res[1][2]=a06;
+  a06=1.;
+  a07=casadi_sq(a03);
+  a08=arg[2]? arg[2][7] : 0;
+  a09=casadi_sq(a08);
+  a10=(a07+a09);
+  a11=arg[2]? arg[2][9] : 0;
+  a11=casadi_sq(a11);
+  a10=(a10-a11);
+  a11=casadi_sq(a10);
+  a11=(a11/a09);
+  a12=2.5000000000000000e-01;
+  a13=(a12/a07);
+  a11=(a11*a13);
+  a14=(a06-a11);
+  a14=sqrt(a14);
+  a15=(a14*a08);
+  a16=arg[1]? arg[1][2] : 0;
+  a17=sin(a16);
+  a18=(a17*a01);
+  a19=(a15*a18);
+  a20=5.0000000000000000e-01;
+  a03=(a20/a03);
+  a21=(a02*a03);
+  a22=(a10*a21);
+  a19=(a19+a22);
+  if (res[1]!=0) res[1][3]=a19;
+  a16=cos(a16);
+  a19=(a16*a04);
+  a22=(a17*a05);
+  a23=(a02*a22);
+  a19=(a19-a23);
+  a23=(a15*a19);
+  a03=(a01*a03);
+  a24=(a05*a03);
+  a25=(a24*a10);
+  a23=(a23+a25);
+  if (res[1]!=0) res[1][4]=a23;
+  a17=(a17*a04);
+  a23=(a02*a17);
+  a05=(a16*a05);
+  a23=(a23+a05);
+  a15=(a15*a23);
+  a03=(a03*a04);
+  a25=(a10*a03);
+  a15=(a15-a25);
+  if (res[1]!=0) res[1][5]=a15;
+  a01=(a01*a16);
+  a15=arg[2]? arg[2][8] : 0;
+  a14=(a15/a14);
+  a25=arg[2]? arg[2][12] : 0;
+  a25=(a14*a25);
+  a26=casadi_sq(a15);
+  a27=(a07+a26);
+  a28=arg[2]? arg[2][11] : 0;
+  a28=casadi_sq(a28);
+  a27=(a27-a28);
+  a28=(a12*a27);
+  a29=(a26+a09);
+  a30=arg[2]? arg[2][10] : 0;
+  a30=casadi_sq(a30);
+  a29=(a29-a30);
+  a28=(a28*a29);
+  a28=(a28/a26);
+  a28=(a28*a10);
+  a28=(a28/a09);
+  a28=(a28/a07);
+  a07=casadi_sq(a27);
+  a07=(a07/a26);
+  a07=(a07*a13);
+  a28=(a28-a07);
+  a07=casadi_sq(a29);
+  a12=(a12*a07);
+  a12=(a12/a26);
+  a12=(a12/a09);
+  a28=(a28-a12);
+  a28=(a28-a11);
+  a28=(a28+a06);
+  a28=casadi_fmax(a00,a28);
+  a28=sqrt(a28);
+  a25=(a25*a28);
+  a01=(a01*a25);
+  a20=(a20*a29);
+  a08=(a08*a15);
+  a20=(a20/a08);
+  a08=(a27/a08);
+  a08=(a08*a10);
+  a08=(a08*a13);
+  a20=(a20-a08);
+  a14=(a14*a20);
+  a18=(a18*a14);
+  a01=(a01+a18);
+  a21=(a27*a21);
+  a01=(a01+a21);
+  if (res[1]!=0) res[1][6]=a01;
+  a24=(a27*a24);
+  a19=(a14*a19);
+  a24=(a24+a19);
+  a05=(a02*a05);
+  a05=(a05+a17);
+  a05=(a25*a05);
+  a24=(a24-a05);
+  if (res[1]!=0) res[1][7]=a24;
+  a14=(a14*a23);
+  a27=(a27*a03);
+  a14=(a14-a27);
+  a02=(a02*a16);
+  a02=(a02*a04);
+  a02=(a02-a22);
+  a25=(a25*a02);
+  a14=(a14+a25);
+  if (res[1]!=0) res[1][8]=a14;
+  if (res[1]!=0) res[1][9]=a00;
+  if (res[1]!=0) res[1][10]=a00;
+  if (res[1]!=0) res[1][11]=a00;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f5(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "base";
+    case 1: return "platform";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s7;
+    case 1: return casadi_s7;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* inverse_pose:(pose[12],branch,params[22])->(actuated[3],passive[3],validity[4]) */
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34;
@@ -1481,7 +1718,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
@@ -1527,7 +1764,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s4;
     case 2: return casadi_s1;
     default: return 0;
@@ -1560,7 +1797,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* forward_polynomial:(actuated[3],params[22])->(coefficients[9]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2347,7 +2584,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
@@ -2398,7 +2635,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
 
 CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s9;
     default: return 0;
   }
 }
@@ -2420,7 +2657,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* forward_back_substitution:(actuated[3],root,branch,params[22])->(pose[4x4]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -5552,7 +5789,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {

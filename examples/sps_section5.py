@@ -1,22 +1,33 @@
-"""Section 5 of Knapczyk & Tora (3(SPS)-S spherical platform): statics and the printed example.
+"""Knapczyk & Tora, section 5: the 3(SPS)-S spherical platform's printed example, on parakin's
+public API (``parakin.load("sps")`` and ``parakin.statics``).
 
-Conventions (mechanisms/sps.py): {B} and {P} at the centre Q of the spherical joint; leg force f_i > 0
-is a compression, acting on the platform at B_i along u_i = (B_i - A_i) / d_i; actuator compliance
-delta f_i = k_i delta d_i (the paper's k_i < 0: the compression drops when the leg extends). The
-external force F (in {B}) acts at the platform point P, p_p in {P}, p_b = R p_p in {B}.
+    python examples/sps_section5.py [figure.png]
 
-Statics used instead of the paper's eqs (19c)-(23), which cannot hold as printed (J_p^-1 is singular,
-see ``point_jacobians``): moment balance about Q, sum_i b_i x (f_i u_i) + p_b x F = 0, i.e.
-f = -(J_p^-1)^T F (virtual work), and the joint Q carries R_Q = -(F + sum_i f_i u_i).
+prints the walkthrough (the four configurations, the machine's, its Jacobians, the equilibrium
+under load and the stiffness) and, given a path, draws the closure function F(v) of eq (6) with its
+roots and the four configurations.
+
+Conventions (``mechanisms/sps.py``): {B} and {P} at the centre Q of the spherical joint; leg force
+f_i > 0 is a compression, acting on the platform at B_i along u_i = (B_i - A_i) / d_i; actuator
+compliance delta f_i = k_i delta d_i (the paper's k_i < 0: the compression drops when the leg
+extends), i.e. parakin's actuator stiffness K_q = -diag(k). The external force F (in {B}) acts at
+the platform point P, p_p in {P}, p_b = R p_p in {B}.
+
+Statics used instead of the paper's eqs (19c)-(23), which cannot hold as printed (J_p^-1 is
+singular, see ``jacobians``): the generic virtual-work statics of ``parakin.statics`` with the
+moment p_b x F about Q as the wrench, f = -(J_p^-1)^T F, and the joint Q carries
+R_Q = -(F + sum_i f_i u_i).
 """
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 import numpy as np
 
 import parakin
+from parakin import statics
 from parakin.results import Configuration
 
 # ---------------------------------------------------------------------------- section 5, as printed
@@ -34,6 +45,7 @@ STIFFNESS_PRINTED = np.array(
 )  # N/m; S31 = -6.401e7 is a typo for -6.401e6 (then S is symmetric)
 #: the paper's order of the roots v1..v4 is the branch order (s1, s2) of eqs (3), (4)
 PAPER_BRANCHES = [(1, 1), (1, -1), (-1, 1), (-1, -1)]
+COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red"]
 
 
 # ---------------------------------------------------------------------------- geometry
@@ -58,6 +70,7 @@ def geometry(m: parakin.Mechanism) -> tuple[np.ndarray, np.ndarray]:
 
 
 def stiffnesses(m: parakin.Mechanism) -> np.ndarray:
+    """The paper's k_i (N/m, negative: delta f_i = k_i delta d_i with f_i a compression)."""
     return np.array([m.parameters[f"k{i}"] for i in (1, 2, 3)])
 
 
@@ -71,8 +84,14 @@ def platform_points(m: parakin.Mechanism, rotation: np.ndarray) -> np.ndarray:
     return np.einsum("...jk,ik->...ij", rotation, geometry(m)[1])
 
 
+def leg_units(m: parakin.Mechanism, config: Configuration) -> np.ndarray:
+    """u_i = (B_i - A_i) / d_i (rows, {B})."""
+    base, _ = geometry(m)
+    return (platform_points(m, config.rotation) - base) / np.asarray(config.actuated)[:, None]
+
+
 # ---------------------------------------------------------------------------- the vector method, eqs (1)-(6)
-def _three_unit(
+def three_unit(
     u: np.ndarray, w: np.ndarray, cuw: float | np.ndarray, p: float, q: np.ndarray, sign: float
 ) -> np.ndarray:
     """x with x.u = p, x.w = q (u, w unit, u.w = cuw): eqs (3)-(5) with +-sqrt(D); nan where D < 0."""
@@ -93,17 +112,21 @@ def closure_function(m: parakin.Mechanism, lengths: np.ndarray, v: np.ndarray, s
     q12, q13, q23 = bo[0] @ bo[1], bo[0] @ bo[2], bo[1] @ bo[2]  # eq (1c)
     chi = np.sign(np.linalg.det(platform))
     v = np.asarray(v, dtype=float)
-    b1o = _three_unit(ao[0], ao[1], float(ao[0] @ ao[1]), p[0], v, s1)  # eq (3)
-    b2o = _three_unit(ao[1], b1o, v, p[1], np.full_like(v, q12), s2)  # eq (4)
-    b3o = _three_unit(b1o, b2o, q12, q13, np.full_like(v, q23), chi)  # eq (5): the sign is chi
+    b1o = three_unit(ao[0], ao[1], float(ao[0] @ ao[1]), p[0], v, s1)  # eq (3)
+    b2o = three_unit(ao[1], b1o, v, p[1], np.full_like(v, q12), s2)  # eq (4)
+    b3o = three_unit(b1o, b2o, q12, q13, np.full_like(v, q23), chi)  # eq (5): the sign is chi
     return np.asarray(b3o @ ao[2] - p[2])  # eq (6)
 
 
 def polynomial_roots(m: parakin.Mechanism, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """All 8 complex roots t = tan(phi / 2) of the forward polynomial (phi: the angle of b1o about a1o
     from the plane z_b = 0, mechanisms/sps.py) and the paper's v = a2o . b1o at each (eq 2):
-    v = c12 p1 + s12 sqrt(1 - p1^2) cos(phi), cos(phi) = (1 - t^2) / (1 + t^2)."""
-    coefficients = m.backend.call("forward_polynomial", np.asarray(lengths, dtype=float), m.params)["coefficients"]
+    v = c12 p1 + s12 sqrt(1 - p1^2) cos(phi), cos(phi) = (1 - t^2) / (1 + t^2).
+
+    The complex roots are not part of ``forward_pose_all``'s answer (it keeps the real ones), so
+    the coefficients come from the generated kernel through the backend."""
+    lengths = np.asarray(lengths, dtype=float)
+    coefficients = m.backend.call("forward_polynomial", lengths, m.params)["coefficients"]
     t = np.roots(np.asarray(coefficients)[::-1])
     base, platform = geometry(m)
     a, b = np.linalg.norm(base, axis=1), np.linalg.norm(platform, axis=1)
@@ -136,6 +159,11 @@ def configurations(m: parakin.Mechanism, lengths: np.ndarray) -> list[tuple[floa
     return sorted(found, key=lambda item: (order.get((item[1], item[2]), 4), item[0]))
 
 
+def machine_configuration(m: parakin.Mechanism) -> Configuration:
+    """v3 of section 5: the machine's configuration at the starting point d."""
+    return configurations(m, LENGTHS)[MACHINE_ROOT][3]
+
+
 # ---------------------------------------------------------------------------- Jacobians (eqs 10-19)
 def euler_rate_matrix(alpha: float, beta: float) -> np.ndarray:
     """E of eq (15): omega = E (alpha_dot, beta_dot, gamma_dot)."""
@@ -149,12 +177,12 @@ def skew(p: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Jacobians:
-    """U_omega (eq 11a), W (eq 12), J_omega^-1 = -U_omega^-1 W (eqs 16, 17 with the sign fixed),
-    E (eq 15), J_p^-1 (eq 19a, b; rank 2: p_b^T J_p^-1 = 0, so J_p does not exist) and M_T, whose
-    columns b_i x u_i give d_dot = M_T^T omega."""
+    """U_omega (eq 11a), J_omega^-1 = -U_omega^-1 W (eqs 16, 17 with the sign fixed; the closure's
+    passive rates per leg rate), E (eq 15), J_p^-1 (eq 19a, b; rank 2: p_b^T J_p^-1 = 0, so J_p
+    does not exist) and M_T, whose columns b_i x u_i give d_dot = M_T^T omega (the paper's form of
+    parakin's G = B^-1 A)."""
 
     u_omega: np.ndarray
-    w: np.ndarray
     j_omega_inv: np.ndarray
     e: np.ndarray
     j_p_inv: np.ndarray
@@ -164,43 +192,42 @@ class Jacobians:
 
 def jacobians(m: parakin.Mechanism, config: Configuration, point: np.ndarray = LOAD_POINT) -> Jacobians:
     u_omega = m.loop_closure(config.actuated, config.passive)["jacobian"]
-    w = m.backend.call("loop_closure_actuated", config.actuated, config.passive, m.params)["jacobian_actuated"]
-    j_omega_inv = -np.linalg.solve(u_omega, w)
+    j_omega_inv = m.passive_rates(config, np.eye(3)).T
     e = euler_rate_matrix(config.passive[0], config.passive[1])
     p_b = config.rotation @ point
-    base, _ = geometry(m)
-    points = platform_points(m, config.rotation)
-    units = (points - base) / config.actuated[:, None]
-    arms = np.cross(points, units).T
-    return Jacobians(u_omega, w, j_omega_inv, e, -skew(p_b) @ e @ j_omega_inv, arms, p_b)
+    arms = np.cross(platform_points(m, config.rotation), leg_units(m, config)).T
+    return Jacobians(u_omega, j_omega_inv, e, -skew(p_b) @ e @ j_omega_inv, arms, p_b)
 
 
 # ---------------------------------------------------------------------------- statics (section 4)
+def load_wrench(m: parakin.Mechanism, force: np.ndarray = LOAD, point: np.ndarray = LOAD_POINT):
+    """The wrench of F at P as a function of the configuration (the moment p_b x F about Q)."""
+    return lambda config: statics.point_force_wrench(m, config, force, point)
+
+
 def leg_forces(
     m: parakin.Mechanism, config: Configuration, force: np.ndarray = LOAD, point: np.ndarray = LOAD_POINT
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Leg forces f (compression > 0) balancing F at P about Q, and the reaction R_Q at Q (N)."""
-    base, _ = geometry(m)
-    points = platform_points(m, config.rotation)
-    units = (points - base) / config.actuated[:, None]
-    p_b = config.rotation @ point
-    forces = np.linalg.solve(np.cross(points, units).T, -np.cross(p_b, force))
-    return forces, -(force + units.T @ forces)
+    """Leg forces f (compression > 0) balancing F at P about Q (``parakin.statics``), and the
+    reaction R_Q at Q (N)."""
+    forces = statics.actuator_forces(m, config, statics.point_force_wrench(m, config, force, point))
+    return forces, -(force + leg_units(m, config).T @ forces)
 
 
 @dataclass(frozen=True)
 class Equilibrium:
     """The platform's equilibrium with compliant actuators: ``config`` (loaded leg lengths d, the
-    rotation), leg ``forces`` f, ``reaction`` at Q, and the update sizes |d_k+1 - d_k| (m)."""
+    rotation), leg ``forces`` f, ``reaction`` at Q, and the generic result (``solution``: update
+    sizes, iterations, residual)."""
 
     config: Configuration
     forces: np.ndarray
     reaction: np.ndarray
-    history: list[float]
+    solution: statics.Equilibrium
 
     @property
     def iterations(self) -> int:
-        return len(self.history)
+        return self.solution.iterations
 
 
 def equilibrium(
@@ -210,57 +237,36 @@ def equilibrium(
     point: np.ndarray = LOAD_POINT,
     method: str = "successive",
     tolerance: float = 1e-13,
-    max_iterations: int = 50,
 ) -> Equilibrium:
     """Static equilibrium under F at P with compliant actuators, d = d0 + f(d) / k (section 4):
-    the lengths d0 of ``unloaded`` are the commanded (unloaded) ones, the assembly mode is tracked
-    by Newton from it. ``method`` 'successive' is the paper's successive approximation (re-solve
-    the forward pose, recompute f); 'newton' is Newton on d - d0 - f(d) / k with a central
-    finite-difference Jacobian."""
-    if method not in ("successive", "newton"):
+    the lengths d0 of ``unloaded`` are commanded, the assembly mode is tracked from it.
+    ``method`` 'successive' is the paper's successive approximation (``parakin.statics``'
+    'fixed_point'), 'newton' Newton with a finite-difference Jacobian."""
+    generic = {"successive": "fixed_point", "newton": "newton"}.get(method)
+    if generic is None:
         raise parakin.BadInputError(f"method must be 'successive' or 'newton', got {method!r}")
-    k = stiffnesses(m)
-    d0 = np.asarray(unloaded.actuated, dtype=float)
-
-    def update(lengths: np.ndarray, guess: Configuration) -> tuple[np.ndarray, Configuration]:
-        config = m.forward_pose(lengths, guess=guess)
-        forces, _ = leg_forces(m, config, force, point)
-        return lengths - d0 - forces / k, config
-
-    lengths, config, history = d0.copy(), unloaded, []
-    for _ in range(max_iterations):
-        gap, config = update(lengths, config)
-        if method == "successive":
-            step = -gap
-        else:
-            h = 1e-7
-            columns = [
-                (update(lengths + h * e, config)[0] - update(lengths - h * e, config)[0]) / (2 * h) for e in np.eye(3)
-            ]
-            step = -np.linalg.solve(np.column_stack(columns), gap)
-        lengths = lengths + step
-        history.append(float(np.abs(step).max()))
-        if history[-1] < tolerance:
-            break
-    else:
-        raise parakin.ConvergenceError(
-            f"equilibrium did not converge in {max_iterations} iterations (last update {history[-1]:.3g} m)",
-            residual=history[-1],
-        )
-    config = m.forward_pose(lengths, guess=config)
-    forces, reaction = leg_forces(m, config, force, point)
-    return Equilibrium(Configuration(config.actuated, config.passive, config.pose), forces, reaction, history)
+    solution = statics.equilibrium(
+        m,
+        unloaded.actuated,
+        load_wrench(m, force, point),
+        -stiffnesses(m),  # K_q = -k: parakin's efforts pull back toward the command
+        guess=unloaded,
+        method=generic,
+        tolerance=tolerance,
+    )
+    config = solution.configuration
+    _, reaction = leg_forces(m, config, force, point)
+    return Equilibrium(Configuration(config.actuated, config.passive, config.pose), solution.forces, reaction, solution)
 
 
 @dataclass(frozen=True)
 class Stiffness:
     """Stiffness of the platform held by compliant actuators (the legs' geometric stiffness under
-    preload is neglected). With f_i > 0 a compression and delta f_i = k_i delta d_i (k_i < 0), a
-    small rotation delta phi changes the legs' moment about Q by M_T K M_T^T delta phi, so
-    ``rotational`` S_omega = -M_T K M_T^T (N m/rad: the applied moment per rotation, positive
-    definite); ``compliance_point`` C = -H K^-1 H^T (m/N: delta p = C delta F) of P, with
-    H = J_p^-1 = -[p_b]x M_T^-T, rank 2 (P moves on a sphere about Q); ``point`` = pinv(C) (N/m),
-    the stiffness of P across p_b."""
+    preload is neglected): ``rotational`` S_omega = G^T K_q G = -M_T K M_T^T (N m/rad: the applied
+    moment per rotation, positive definite; ``parakin.statics.stiffness``); ``compliance_point``
+    C = -[p_b]x S_omega^-1 [p_b]x (m/N: delta p = C delta F) of P, rank 2 (P moves on a sphere
+    about Q; the paper's -H K^-1 H^T with H = J_p^-1); ``point`` = pinv(C) (N/m), the stiffness
+    of P across p_b."""
 
     rotational: np.ndarray
     compliance_point: np.ndarray
@@ -268,12 +274,16 @@ class Stiffness:
 
 
 def stiffness(m: parakin.Mechanism, config: Configuration, point: np.ndarray = LOAD_POINT) -> Stiffness:
-    jac = jacobians(m, config, point)
-    k = stiffnesses(m)
-    arms = jac.moment_arms
-    mapping = -skew(jac.point) @ np.linalg.inv(arms.T)
-    compliance = -mapping @ np.diag(1 / k) @ mapping.T
-    return Stiffness(-arms @ np.diag(k) @ arms.T, compliance, np.linalg.pinv(compliance, rcond=1e-10))
+    rotational = statics.stiffness(m, config, -stiffnesses(m))
+    arm = skew(config.rotation @ point)
+    compliance = -arm @ np.linalg.solve(rotational, arm)
+    return Stiffness(rotational, compliance, np.linalg.pinv(compliance, rcond=1e-10))
+
+
+def paper_rotational_stiffness(m: parakin.Mechanism, config: Configuration) -> np.ndarray:
+    """S_omega from the paper's moment arms: -M_T diag(k) M_T^T (M_T's columns b_i x u_i)."""
+    arms = jacobians(m, config).moment_arms
+    return -arms @ np.diag(stiffnesses(m)) @ arms.T
 
 
 def significant_digits(value: float, printed: float) -> int:
@@ -284,9 +294,9 @@ def significant_digits(value: float, printed: float) -> int:
     return 0
 
 
-# ---------------------------------------------------------------------------- the demo
+# ---------------------------------------------------------------------------- the walkthrough
 def demo(backend: str = "auto") -> None:
-    """Print section 5's results (``parakin demo sps``, ``make demo``)."""
+    """Print section 5's results."""
     m = parakin.load("sps", backend=backend)
     np.set_printoptions(precision=5, suppress=True, linewidth=120)
     print(f"{m!r}\n")
@@ -326,12 +336,10 @@ def demo(backend: str = "auto") -> None:
     rigid, _ = leg_forces(m, machine)
     loaded = equilibrium(m, machine)
     newton = equilibrium(m, machine, method="newton")
-    print(f"\n  load F = {LOAD} N at p_p = {LOAD_POINT} m; k = {stiffnesses(m)} N/m")
+    print(f"\n  load F = {LOAD} N at p_p = {LOAD_POINT} m; k = {stiffnesses(m)} N/m (parakin.statics)")
     print(f"  rigid legs (unloaded pose): f = {rigid} N")
-    print(
-        f"  compliant equilibrium, successive approximation ({loaded.iterations} iterations,"
-        f" updates {', '.join(f'{h:.1e}' for h in loaded.history)}):"
-    )
+    updates = ", ".join(f"{h:.1e}" for h in loaded.solution.history)
+    print(f"  compliant equilibrium, successive approximation ({loaded.iterations} iterations, updates {updates}):")
     print(f"    d = {loaded.config.actuated} m, f = {loaded.forces} N, R_Q = {loaded.reaction} N")
     print(
         f"    Newton: {newton.iterations} iterations, |f - f_successive| = {np.abs(newton.forces - loaded.forces).max():.1e} N"
@@ -339,8 +347,82 @@ def demo(backend: str = "auto") -> None:
     digits = [significant_digits(x, y) for x, y in zip(loaded.forces, FORCES_PRINTED, strict=True)]
     print(f"    printed f = {FORCES_PRINTED} N: digits reproduced {digits}")
     stiff = stiffness(m, loaded.config)
+    print("  rotational stiffness S_omega = G^T K_q G (N m/rad):")
+    print("   ", str(stiff.rotational).replace("\n", "\n    "))
     print("  stiffness of P (N/m, rank 2; the printed S is not reproduced: eq (23) needs J_p, which does not exist):")
     print("   ", str(stiff.point).replace("\n", "\n    "))
     corrected = STIFFNESS_PRINTED.copy()
     corrected[2, 0] = -6.401e6
     print(f"  printed S with S31 = -6.401e6 (symmetric): singular values {np.linalg.svd(corrected, compute_uv=False)}")
+
+
+# ---------------------------------------------------------------------------- the figure
+def plot(path: str, lengths: np.ndarray = LENGTHS, backend: str = "auto") -> None:
+    """F(v) over [-1, 1] on the four branches of eqs (3), (4), with the roots found by the forward
+    polynomial, and the configurations (platform B1 B2 B3, legs, Q). Needs matplotlib."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    m = parakin.load("sps", backend=backend)
+    found = configurations(m, lengths)
+    figure = plt.figure(figsize=(13, 5.5))
+    left = figure.add_subplot(1, 2, 1)
+    v = np.linspace(-1, 1, 20001)[1:-1]
+    for colour, (s1, s2) in zip(COLOURS, PAPER_BRANCHES, strict=True):
+        left.plot(v, closure_function(m, lengths, v, s1, s2), color=colour, label=f"(s1, s2) = ({s1:+d}, {s2:+d})")
+    for n, (root, s1, s2, _) in enumerate(found):
+        colour = COLOURS[PAPER_BRANCHES.index((s1, s2))]
+        left.plot([root], [0.0], "o", color=colour, markeredgecolor="black", label=f"v{n + 1} = {root:.6f}")
+    left.axhline(0.0, color="black", linewidth=0.6)
+    left.set_xlim(-1, 1)
+    left.set_xlabel("v = a2o . b1o (eq 2)")
+    left.set_ylabel("F(v) (eq 6)")
+    left.set_title(f"closure function, d = {np.round(lengths, 4)} m")
+    left.legend(loc="lower left", fontsize=8, title="F is real where D1, D2 >= 0", title_fontsize=8)
+    inset = left.inset_axes((0.08, 0.55, 0.42, 0.4))
+    if found:
+        roots = np.array([root for root, *_ in found])
+        zoom = np.linspace(max(roots.min() - 0.02, -1 + 1e-9), min(roots.max() + 0.02, 1 - 1e-9), 4001)
+        for colour, (s1, s2) in zip(COLOURS, PAPER_BRANCHES, strict=True):
+            inset.plot(zoom, closure_function(m, lengths, zoom, s1, s2), color=colour)
+        inset.plot(roots, np.zeros_like(roots), "ko", markersize=3)
+        inset.axhline(0.0, color="black", linewidth=0.6)
+        inset.set_ylim(-0.05, 0.05)
+        inset.tick_params(labelsize=7)
+
+    right = figure.add_subplot(1, 2, 2, projection="3d")
+    base, _ = geometry(m)
+    right.scatter(*base.T, color="black", marker="s")
+    right.scatter([0], [0], [0], color="black", marker="*", s=80)
+    for i, point in enumerate(base):
+        right.text(*point, f"A{i + 1}")
+    for n, (_, s1, s2, config) in enumerate(found):
+        colour = COLOURS[PAPER_BRANCHES.index((s1, s2))]
+        points = platform_points(m, config.rotation)
+        triangle = np.vstack([points, points[:1]])
+        right.plot(*triangle.T, color=colour, linewidth=2, label=f"v{n + 1}")
+        for a, b in zip(base, points, strict=True):
+            right.plot(*np.array([a, b]).T, color=colour, linestyle="--", linewidth=1)
+        for point in points:
+            right.plot(*np.array([np.zeros(3), point]).T, color=colour, linewidth=0.5, alpha=0.5)
+    right.set_xlabel("x_b (m)")
+    right.set_ylabel("y_b (m)")
+    right.set_zlabel("z_b (m)")
+    right.set_title("configurations: platform B1 B2 B3 (solid), legs (dashed), Q at the origin")
+    right.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+def main(argv: list[str]) -> None:
+    demo()
+    if argv:
+        plot(argv[0])
+        print(f"\nwrote {argv[0]}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,27 +1,33 @@
-"""Architecture singularity and self-motion of the 6-SPS platform with linearly related planar
-platforms (``mechanisms/gough.py``; Kong & Gosselin, ``shared/papers/004_407e258733e8e5c8.txt``).
+"""Kong & Gosselin: the architecture singularity and self-motion of the 6-SPS platform with
+linearly related planar platforms (``mechanisms/gough.py``), section 5.4's example, on parakin's
+public API.
 
-NumPy only. Frames are those of the mechanism: A1 = O, A_i = (xA_i, yA_i, 0), B_i^(P) =
-(t11 xA_i + t12 yA_i, t22 yA_i, 0) (eq 1), pose ^B_P T with O_P = B1, lengths in metres.
+    python examples/gough_architecture.py [figure.png]
 
-* ``conic_fit``: the conic through the six base points (eq 15, with A1 = O), fitted by the SVD of
-  the scaled 6-point conic matrix [1, x, y, x^2, y^2, xy]; the geometry is architecturally
-  singular (det of system (8) = 0, eq 14) iff the smallest singular value vanishes.
-* ``compatibility``: on a singular geometry M u = L (8) is solvable iff lambda . L(l) = 0 (lambda
-  the left null vector of M); the nearest compatible lengths (least squares) and, for each leg,
-  the length the other five imply.
-* ``self_motion_modes`` / ``self_motion``: section 5, with i_x as the free coordinate: four
-  equations of (8) solved for u1, u2, u4, u5 = i_x C + D (eqs 16-18), then the quartic (23) and
-  the back-substitution of the forward pose; every assembly mode for one i_x, and the circuits
-  traced as i_x varies (numerical continuation, folds joined by nearest pose).
-* ``least_squares_pose``: Levenberg-Marquardt on the six leg residuals, the answer for locked
-  lengths that are not exactly compatible (its residual is the distance to compatible lengths).
-* ``forward_all``: the closed form (``m.forward_pose_all``) on a usable geometry, the self-motion
-  (a positive-dimensional solution set) on an architecturally singular one.
+prints the walkthrough and, given a path, draws Fig. 2 (the self-motion circuits).
+
+Frames are those of the mechanism: A1 = O, A_i = (xA_i, yA_i, 0), B_i^(P) = (t11 xA_i + t12 yA_i,
+t22 yA_i, 0) (eq 1), pose ^B_P T with O_P = B1, lengths in metres. NumPy only.
+
+* parakin itself, generically: ``parakin.load`` warns (ArchitectureSingularityWarning) when the
+  mechanism's declared architecture measure vanishes, ``m.forward_pose_all`` reports the
+  degenerate elimination and, where the locked legs leave a curve of poses, raises SelfMotionError
+  with the curve traced by continuation (``parakin.continuation.SelfMotion``).
+* This module, the paper's section 5: ``conic_fit``, the conic through the six base points (eq 15,
+  with A1 = O), fitted by the SVD of the scaled 6-point conic matrix [1, x, y, x^2, y^2, xy];
+  ``compatibility``: on a singular geometry M u = L (8) is solvable iff lambda . L(l) = 0 (lambda
+  the left null vector of M), the nearest compatible lengths and, for each leg, the length the
+  other five imply; ``self_motion_modes`` / ``self_motion``: with i_x as the free coordinate, four
+  equations of (8) solved for u1, u2, u4, u5 = i_x C + D (eqs 16-18), then the quartic (23) and the
+  back-substitution of the forward pose, every assembly mode for one i_x and the circuits traced
+  as i_x varies; ``least_squares_pose``: Levenberg-Marquardt on the six leg residuals, the answer
+  for locked lengths that are not exactly compatible; ``forward_all``: the closed form on a usable
+  geometry, the self-motion on an architecturally singular one.
 """
 
 from __future__ import annotations
 
+import sys
 import warnings
 from dataclasses import dataclass, field
 from typing import Any
@@ -29,16 +35,25 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.errors import BadInputError
+import parakin
 
 Array = NDArray[np.float64]
 
+#: section 5.4: the locked inputs l1..l6 as printed (two decimals), metres
+PRINTED_LENGTHS = [33.17, 32.02, 35.12, 37.57, 39.01, 38.32]
+#: section 5.4: the base lies on (x - 5)^2 + y^2 = 25, i.e. x - 0.1 x^2 - 0.1 y^2 = 0
+PRINTED_CONIC = [0.0, 1.0, 0.0, -0.1, -0.1, 0.0]
+#: the i_x at which the walkthrough and the figure list the eight assembly modes
+SAMPLE_IX = 0.044
 #: relative smallest singular value below which a base counts as lying on a conic
 CONIC_TOLERANCE = 1e-9
 
 
-class ArchitectureSingularityWarning(UserWarning):
-    """The loaded geometry is architecturally singular (its base points lie on a conic)."""
+def load_example(backend: str = "numpy", **parameters: float) -> parakin.Mechanism:
+    """``parakin.load("gough")`` with section 5.4's (singular) geometry, its warning silenced."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
+        return parakin.load("gough", backend=backend, **parameters)
 
 
 # ---------------------------------------------------------------------------------- geometry
@@ -57,9 +72,11 @@ class Geometry:
             ya = np.array([0.0] + [parameters[f"yA{i}"] for i in range(2, 7)])
             t11, t12, t22 = (float(parameters[k]) for k in ("t11", "t12", "t22"))
         except KeyError as error:
-            raise BadInputError(f"not a linearly-related-platform geometry: missing parameter {error}") from error
+            raise parakin.BadInputError(
+                f"not a linearly-related-platform geometry: missing parameter {error}"
+            ) from error
         if t11 * t22 == 0:
-            raise BadInputError(f"t11 t22 must not vanish (eq 1), got t11={t11}, t22={t22}")
+            raise parakin.BadInputError(f"t11 t22 must not vanish (eq 1), got t11={t11}, t22={t22}")
         base = np.column_stack([xa, ya, np.zeros(6)])
         platform = np.column_stack([t11 * xa + t12 * ya, t22 * ya, np.zeros(6)])
         return cls(base, platform, (t11, t12, t22))
@@ -88,7 +105,7 @@ class Geometry:
         return matrix, rhs
 
 
-def _geometry(m: Any) -> Geometry:
+def geometry(m: Any) -> Geometry:
     """A Geometry from a loaded mechanism, a parameter dict or a Geometry."""
     if isinstance(m, Geometry):
         return m
@@ -124,7 +141,7 @@ class ConicFit:
 
 def conic_fit(m: Any, tolerance: float = CONIC_TOLERANCE) -> ConicFit:
     """Fit the conic through A1..A6 (eq 15 with A1 = O) and test the architecture singularity."""
-    g = _geometry(m)
+    g = geometry(m)
     scale = max(float(np.abs(g.base[:, :2]).max()), 1e-300)
     xs, ys = g.x / scale, g.y / scale
     conic = np.column_stack([np.ones(6), xs, ys, xs * xs, ys * ys, xs * ys])
@@ -145,30 +162,13 @@ def is_architecturally_singular(m: Any, tolerance: float = CONIC_TOLERANCE) -> b
     return conic_fit(m, tolerance).singular
 
 
-def warn_if_singular(m: Any, tolerance: float = CONIC_TOLERANCE, stacklevel: int = 2) -> ConicFit:
-    """Warn (ArchitectureSingularityWarning) when the geometry is architecturally singular."""
-    fit = conic_fit(m, tolerance)
-    if fit.singular:
-        warnings.warn(
-            f"6-SPS geometry is architecturally singular (unusable): {fit.describe()}",
-            ArchitectureSingularityWarning,
-            stacklevel=stacklevel,
-        )
-    return fit
-
-
-def on_load(m: Any) -> None:
-    """Run by ``parakin.load``: warn about an unusable geometry, at the caller of ``load``."""
-    warn_if_singular(m, stacklevel=4)
-
-
 # ---------------------------------------------------------------------------------- compatibility
 @dataclass(frozen=True)
 class Compatibility:
     """Locked lengths on a singular geometry: ``value`` = lambda . L(l) (0 when compatible), with
     lambda the unit left null vector of M; ``implied[k]`` = the length of leg k + 1 that the
-    other five imply (nan for leg 1, which enters every equation, or a leg with lambda_k = 0);
-    ``nearest``: the compatible lengths nearest in the 2-norm, ``distance`` = |nearest - l|."""
+    other five imply (nan for a leg whose square does not enter lambda . L); ``nearest``: the
+    compatible lengths nearest in the 2-norm, ``distance`` = |nearest - l|."""
 
     value: float
     null_vector: Array
@@ -188,7 +188,7 @@ def _compatibility_value(g: Geometry, null: Array, lengths: Array) -> tuple[floa
 
 def compatibility(m: Any, lengths: ArrayLike) -> Compatibility:
     """How far locked lengths are from a self-motion of a singular geometry (section 5)."""
-    g = _geometry(m)
+    g = geometry(m)
     lengths = np.asarray(lengths, dtype=float)
     matrix, _ = g.system8(lengths)
     u, _, _ = np.linalg.svd(matrix)
@@ -302,7 +302,7 @@ def poses_from_u(g: Geometry, u: Array, l1: float, ix: float, tolerance: float =
 def dependent_leg(m: Any) -> int:
     """The leg (1-based) whose length section 5 treats as dependent: 6 as in the paper, unless
     equation 6 of (8) does not enter the dependency (then the leg with the largest |lambda|)."""
-    g = _geometry(m)
+    g = geometry(m)
     u, _, _ = np.linalg.svd(g.system8(np.zeros(6))[0])
     null = np.abs(u[:, -1])
     return 6 if null[4] > 1e-6 * null.max() else int(np.argmax(null)) + 2
@@ -330,7 +330,7 @@ class SelfMotionModes:
 
 def self_motion_modes(m: Any, lengths: ArrayLike, ix: float, dependent: int | None = None) -> SelfMotionModes:
     """Section 5.1-5.3 for one value of i_x, the five independent legs imposed."""
-    g = _geometry(m)
+    g = geometry(m)
     lengths = np.asarray(lengths, dtype=float)
     dependent = dependent_leg(g) if dependent is None else dependent
     c, d = _self_motion_cd(g, lengths, dependent)
@@ -340,6 +340,18 @@ def self_motion_modes(m: Any, lengths: ArrayLike, ix: float, dependent: int | No
     stacked = np.array(poses) if poses else np.zeros((0, 4, 4))
     residual = g.leg_lengths(stacked) - lengths if poses else np.zeros((0, 6))
     return SelfMotionModes(ix, stacked, residual, dependent)
+
+
+def distance_to_self_motion(m: Any, lengths: ArrayLike, poses: ArrayLike) -> Array:
+    """For poses (k, 4, 4) on a self-motion: the max-norm distance of each to the nearest of the
+    section 5 modes at its own i_x (= R[0, 0]); inf where there is none."""
+    poses = np.asarray(poses, dtype=float).reshape(-1, 4, 4)
+    distances = np.full(poses.shape[0], np.inf)
+    for n, pose in enumerate(poses):
+        modes = self_motion_modes(m, lengths, float(pose[0, 0])).poses
+        if modes.shape[0]:
+            distances[n] = float(np.abs(modes - pose).max(axis=(-2, -1)).min())
+    return distances
 
 
 @dataclass
@@ -399,7 +411,7 @@ def self_motion(
     """Trace every circuit of the self-motion: i_x on a cosine-spaced grid in each interval
     (dense at the folds), modes matched between neighbouring samples by nearest pose, the ends of
     the pieces paired at each fold by nearest pose, and pieces joined into circuits."""
-    g = _geometry(m)
+    g = geometry(m)
     lengths = np.asarray(lengths, dtype=float)
     dependent = dependent_leg(g) if dependent is None else dependent
     intervals = _intervals(g, lengths, dependent, grid)
@@ -468,7 +480,9 @@ class LeastSquaresPose:
         return float(np.linalg.norm(self.residual))
 
 
-def _rotation(w: Array) -> Array:
+def rotation_from_vector(w: ArrayLike) -> Array:
+    """exp([w]x): the rotation by |w| about w (Rodrigues)."""
+    w = np.asarray(w, dtype=float)
     angle = float(np.linalg.norm(w))
     if angle < 1e-300:
         return np.eye(3)
@@ -479,7 +493,7 @@ def _rotation(w: Array) -> Array:
 def least_squares_pose(m: Any, lengths: ArrayLike, start: ArrayLike, iterations: int = 200) -> LeastSquaresPose:
     """Levenberg-Marquardt from ``start`` (4x4) on the leg residuals, in the twist (v of O_P, w)
     of the platform (R updated as exp(w) R): handles the rank-deficient Jacobian of a self-motion."""
-    g = _geometry(m)
+    g = geometry(m)
     lengths = np.asarray(lengths, dtype=float)
     pose = np.array(start, dtype=float)
     damping = 1e-3
@@ -502,7 +516,7 @@ def least_squares_pose(m: Any, lengths: ArrayLike, start: ArrayLike, iterations:
         step = np.asarray(-np.linalg.solve(normal + damping * np.diag(np.diag(normal) + 1e-12), gradient))
         trial = pose.copy()
         trial[:3, 3] += step[:3]
-        trial[:3, :3] = _rotation(step[3:]) @ pose[:3, :3]
+        trial[:3, :3] = rotation_from_vector(step[3:]) @ pose[:3, :3]
         trial_residual, trial_jacobian = residual_and_jacobian(trial)
         if trial_residual @ trial_residual < residual @ residual:
             pose, residual, jacobian = trial, trial_residual, trial_jacobian
@@ -517,38 +531,124 @@ def least_squares_pose(m: Any, lengths: ArrayLike, start: ArrayLike, iterations:
 
 
 # ---------------------------------------------------------------------------------- dispatch
-def solution_set(m: Any, lengths: ArrayLike) -> SelfMotion:
-    """Run by ``m.forward_pose_all`` on a degenerate elimination: the self-motion of the locked legs."""
-    return self_motion(m, lengths)
-
-
-def forward_all(m: Any, lengths: ArrayLike, samples: int = 600) -> Any:
+def forward_all(m: parakin.Mechanism, lengths: ArrayLike, samples: int = 600) -> Any:
     """Every solution of the forward pose for a loaded gough mechanism: ``m.forward_pose_all``
     (isolated modes, at most 8) on a usable geometry; on an architecturally singular one, the
-    SelfMotion (a one-parameter family) for compatible lengths, or, for incompatible lengths,
-    the SelfMotion of the five independent legs (the dependent leg then has a constant error)."""
+    SelfMotion of section 5 (a one-parameter family) for compatible lengths, or, for incompatible
+    lengths, the SelfMotion of the five independent legs (the dependent leg then has a constant
+    error)."""
     if not is_architecturally_singular(m):
         return m.forward_pose_all(lengths)
     return self_motion(m, lengths, samples)
 
 
-__all__ = [
-    "ArchitectureSingularityWarning",
-    "Compatibility",
-    "ConicFit",
-    "Geometry",
-    "LeastSquaresPose",
-    "SelfMotion",
-    "SelfMotionModes",
-    "compatibility",
-    "conic_fit",
-    "dependent_leg",
-    "forward_all",
-    "is_architecturally_singular",
-    "least_squares_pose",
-    "poses_from_u",
-    "quartic",
-    "self_motion",
-    "self_motion_modes",
-    "warn_if_singular",
-]
+# ---------------------------------------------------------------------------------- the walkthrough
+def demo() -> None:
+    np.set_printoptions(precision=5, suppress=True, linewidth=120)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", parakin.ArchitectureSingularityWarning)
+        m = parakin.load("gough", backend="numpy")
+    print(f"{m!r}\n")
+    for warning in caught:
+        print(f"parakin.load warns: {warning.category.__name__}: {warning.message}\n")
+    print("section 5.4: base A2..A6 = (5,-5) (9,-3) (10,0) (9,3) (5,5), t11 = t12 = t22 = 1")
+    fit = conic_fit(m)
+    print(f"  architecture (eq 14-15): {fit.describe()}")
+    print("  paper: on (x - 5)^2 + y^2 - 25 = 0, i.e. x - 0.1 x^2 - 0.1 y^2 = 0")
+    lengths = np.array(PRINTED_LENGTHS)
+    try:
+        m.forward_pose_all(lengths)
+    except parakin.SingularConfigurationError as error:
+        print(f"  forward_pose_all: {type(error).__name__}: {error}")
+
+    check = compatibility(m, lengths)
+    print(f"\nprinted inputs l1..l6 = {PRINTED_LENGTHS}")
+    scale = check.null_vector[0]
+    print(f"  compatibility lambda . L(l) = {check.value / scale:.5f} (lambda = {check.null_vector / scale})")
+    bound = 0.005 * np.abs(check.gradient / scale).sum()
+    print(f"  rounding to 0.005 can move it by up to {bound:.3f}: consistent with rounding")
+    print(f"  each leg implied by the other five: {check.implied}")
+    print(f"  nearest compatible lengths {check.nearest}, 2-norm change {check.distance:.5f}")
+
+    motion = self_motion(m, lengths, samples=300)
+    low, high = motion.intervals[0]
+    print(f"\nself-motion (section 5, legs 1-5 imposed, leg {motion.dependent} dependent):")
+    print(f"  {motion.modes_per_ix[0]} assembly modes for every i_x in ({low:.5f}, {high:.5f}), none outside")
+    print(f"  {len(motion.circuits)} circuits, each joined from {[len(c) for c in motion.circuits]} i_x-branches")
+    print(f"  max leg residual along the motion (l_i(pose) - l_i): {motion.residual}")
+    print("  (leg 6 keeps the constant length the other five imply: the printed l6 is 0.0338 short)")
+    modes = self_motion_modes(m, lengths, SAMPLE_IX)
+    print(
+        f"\nthe {modes.poses.shape[0]} assembly modes at i_x = {SAMPLE_IX} ({{x y z alpha beta gamma}}, leg residuals):"
+    )
+    for pose, residual in zip(modes.poses, modes.residual, strict=True):
+        print(f"  {parakin.xyz_euler_from_pose(pose)}  {np.abs(residual[:5]).max():.1e} / leg 6 {residual[5]:+.6f}")
+
+    compatible = self_motion(m, check.nearest, samples=300)
+    print(
+        f"\nwith the nearest compatible lengths: {compatible.modes_per_ix[0]} modes per i_x on "
+        f"({compatible.intervals[0][0]:.5f}, {compatible.intervals[0][1]:.5f}), {len(compatible.circuits)} circuits, "
+        f"all six legs within {compatible.residual.max():.1e}"
+    )
+    fit_ls = least_squares_pose(m, lengths, modes.poses[0])
+    print(
+        f"least-squares pose for the printed (incompatible) lengths: residuals {fit_ls.residual}, "
+        f"2-norm {fit_ls.norm:.5f} (= the distance to compatible lengths)"
+    )
+
+
+# ---------------------------------------------------------------------------------- Fig. 2
+def plot(path: str) -> None:
+    """O_P along the two circuits of the self-motion (printed l1..l5, leg 6 dependent), with the
+    eight assembly modes at one i_x drawn as platform triangles B1 B2 B6; right: z of O_P vs i_x.
+    Needs matplotlib."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    m = load_example()
+    g = geometry(m)
+    motion = self_motion(m, PRINTED_LENGTHS, samples=500)
+    figure = plt.figure(figsize=(12, 5.5))
+    ax = figure.add_subplot(1, 2, 1, projection="3d")
+    side = figure.add_subplot(1, 2, 2)
+    colours = ["tab:blue", "tab:red", "tab:green", "tab:orange"]
+    for number, circuit in enumerate(motion.circuits):
+        colour = colours[number % len(colours)]
+        for piece, (branch, mode) in enumerate(circuit):
+            ixs, poses = motion.branches[branch]
+            positions = poses[:, mode, :3, 3]
+            label = f"circuit {number + 1}" if piece == 0 else None
+            ax.plot(*positions.T, color=colour, linewidth=1.2, label=label)
+            side.plot(ixs, positions[:, 2], color=colour, linewidth=1.2, label=label)
+    modes = self_motion_modes(m, PRINTED_LENGTHS, SAMPLE_IX)
+    for pose in modes.poses:
+        corners = pose[:3, 3] + g.platform[[0, 1, 5, 0]] @ pose[:3, :3].T
+        ax.plot(*corners.T, color="k", linewidth=0.8)
+        ax.scatter(*pose[:3, 3], color="k", s=10)
+    ax.scatter(*g.base.T, color="k", marker="^", s=30, label="base joints A_i")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    ax.set_title(f"O_P on {len(motion.circuits)} circuits; {modes.poses.shape[0]} modes at i_x = {SAMPLE_IX}")
+    ax.legend(loc="upper left", fontsize=8)
+    side.axvline(SAMPLE_IX, color="0.6", linewidth=0.8)
+    side.set_xlabel("i_x")
+    side.set_ylabel("z of O_P")
+    side.set_title("Kong & Gosselin 5.4: self-motion, leg 6 dependent")
+    side.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+def main(argv: list[str]) -> None:
+    demo()
+    if argv:
+        plot(argv[0])
+        print(f"\nwrote {argv[0]}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

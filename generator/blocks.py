@@ -1,0 +1,305 @@
+"""Reusable modelling blocks, so that a mechanism file reads like its paper's section.
+
+* ``point_parameters``: a point list as parameters (a ``count x dims`` matrix of real symbols
+  ``name_x1, name_y1, ...``) to register in ``Mechanism.parameter_groups[name]``, with
+  ``point_defaults`` / ``point_info`` for its default values and units, ``as_points`` for the
+  points as 3-vectors (planar lists get z = 0).
+* ``planar_pose``: ^B_P T of a planar platform, Rot_z(phi) and (x, y, 0); ``planar_coordinates``
+  reads (x, y, phi) back from the pose symbols of an inverse program.
+* ``PrismaticLegs``: legs of variable length between a base point A_i (in {B}) and a platform
+  point b_i (in {P}), the SPS / UPS / RPR leg: leg vectors d_i = p + R b_i - A_i, the closed-form
+  inverse l_i = |d_i|, the residual |d_i| - l_i, and the Pluecker rows (d_i ; (A_i - p) x d_i) of
+  A in A twist = diag(l) l_dot (twist = (v of the origin of {P}, w), both in {B}).
+* ``half_angle_solution``: the two roots of E cos(theta) + F sin(theta) + G = 0 through the
+  tan-half-angle quadratic, one per sign, as a single atan2 (finite everywhere).
+* ``half_angle_forms`` and ``remove_spurious_factors``: build a univariate elimination polynomial
+  in t = tan(phi / 2) with exact polynomial arithmetic and strip what the elimination introduced
+  (numeric or symbolic content, powers of (1 + t^2) or other known factors, powers of t).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .frames import homogeneous, rot_z
+from .model import POSE_POSITION, POSE_ROTATION, ParameterInfo, RateModel
+
+AXES = "xyz"
+#: twist components of a rigid body, in the order of a Pluecker row (v of the origin of {P}, w)
+TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
+
+
+# ------------------------------------------------------------------ point-list parameters
+def point_parameters(name: str, count: int, dims: int = 3) -> sp.Matrix:
+    """A ``count x dims`` matrix of real symbols, row k the point k + 1: ``name_x1, name_y1,
+    (name_z1), name_x2, ...``. Register it as ``Mechanism.parameter_groups[name]``; a user then
+    passes the whole list, ``parakin.load(mechanism, name=[[x1, y1], ...])``."""
+    if not 1 <= dims <= 3:
+        raise ValueError(f"point_parameters: dims must be 1, 2 or 3, got {dims}")
+    return sp.Matrix(count, dims, lambda k, j: sp.Symbol(f"{name}_{AXES[j]}{k + 1}", real=True))
+
+
+def point_defaults(points: sp.Matrix, values: Sequence[Sequence[float]]) -> dict[sp.Symbol, float]:
+    """Default values of a point list, one row of ``values`` per point."""
+    if len(values) != points.rows or any(len(row) != points.cols for row in values):
+        raise ValueError(f"point_defaults: expected {points.rows} rows of {points.cols} values")
+    return {points[k, j]: float(values[k][j]) for k in range(points.rows) for j in range(points.cols)}
+
+
+def point_info(points: sp.Matrix, description: str, unit: str = "m") -> dict[sp.Symbol, ParameterInfo]:
+    """``ParameterInfo`` of every coordinate: '<axis> of <description>' with ``{k}`` in
+    ``description`` replaced by the point's number (e.g. 'base joint A{k}, in {B}' gives
+    'x of base joint A2, in {B}'; other braces are left alone)."""
+    return {
+        points[k, j]: ParameterInfo(unit, f"{AXES[j]} of {description.replace('{k}', str(k + 1))}")
+        for k in range(points.rows)
+        for j in range(points.cols)
+    }
+
+
+def as_points(points: sp.Matrix) -> list[sp.Matrix]:
+    """The rows of a point list as 3x1 column vectors (missing coordinates are 0)."""
+    return [sp.Matrix([points[k, j] if j < points.cols else 0 for j in range(3)]) for k in range(points.rows)]
+
+
+# ------------------------------------------------------------------ planar poses
+def planar_pose(x: sp.Expr, y: sp.Expr, phi: sp.Expr) -> sp.Matrix:
+    """^B_P T of a platform moving in the plane z = 0: Rot_z(phi), origin of {P} at (x, y, 0)."""
+    return homogeneous(rot_z(phi), [x, y, 0])
+
+
+def planar_coordinates() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """(x, y, phi) read from the pose symbols of an inverse program: px, py and
+    atan2(r21, r11). The other entries of ^B_P T are not read (the pose is planar)."""
+    return POSE_POSITION[0], POSE_POSITION[1], sp.atan2(POSE_ROTATION[1, 0], POSE_ROTATION[0, 0])
+
+
+# ------------------------------------------------------------------ prismatic legs
+@dataclass(frozen=True)
+class PrismaticLegs:
+    """Legs of variable length l_i from a base point A_i (in {B}) to a platform point b_i (in
+    {P}), for the platform pose (R, p) = ^B_P T: the SPS, UPS and (planar) RPR leg."""
+
+    base: tuple[sp.Matrix, ...]
+    platform: tuple[sp.Matrix, ...]
+    rotation: sp.Matrix
+    position: sp.Matrix
+
+    def vectors(self) -> list[sp.Matrix]:
+        """d_i = p + R b_i - A_i, from the base point to the platform point, in {B}."""
+        return [self.position + self.rotation * b - a for a, b in zip(self.base, self.platform, strict=True)]
+
+    def platform_points(self) -> list[sp.Matrix]:
+        """B_i = p + R b_i in {B}."""
+        return [self.position + self.rotation * b for b in self.platform]
+
+    def lengths(self) -> list[sp.Expr]:
+        """The closed-form inverse: l_i = |d_i|."""
+        return [sp.sqrt(d.dot(d)) for d in self.vectors()]
+
+    def inverse_steps(self, lengths: Sequence[sp.Symbol]) -> list[tuple[sp.Symbol, sp.Expr]]:
+        """Inverse-program assignments l_i = |d_i|."""
+        return list(zip(lengths, self.lengths(), strict=True))
+
+    def residual(self, lengths: Sequence[sp.Expr], squared: bool = False) -> sp.Matrix:
+        """One row per leg, zero at a closed configuration, in metres: |d_i| - l_i, or with
+        ``squared`` (d_i . d_i - l_i^2) / (2 l_i), equal to |d_i| - l_i to first order. The
+        squared form is a polynomial: its Jacobian d_i^T (dd_i / dq) / l_i stays finite where a
+        leg has zero length (where that of |d_i| is 0 / 0), e.g. at a trial configuration."""
+        if squared:
+            return sp.Matrix([(d.dot(d) - n**2) / (2 * n) for d, n in zip(self.vectors(), lengths, strict=True)])
+        return sp.Matrix([length - target for length, target in zip(self.lengths(), lengths, strict=True)])
+
+    def pluecker_rows(self, twist: Sequence[str] = TWIST) -> sp.Matrix:
+        """Rows (d_i ; (A_i - p) x d_i), the unnormalised Pluecker coordinates of leg line i with
+        the moment about the origin of {P}: l_i l_dot_i = d_i . v + ((A_i - p) x d_i) . w, because
+        R b_i = d_i + A_i - p. ``twist`` picks and orders the columns (e.g. vx, vy, wz for a
+        planar platform)."""
+        columns = [TWIST.index(name) for name in twist]
+        rows = []
+        for a, d in zip(self.base, self.vectors(), strict=True):
+            full = list(d) + list((a - self.position).cross(d))
+            rows.append([full[c] for c in columns])
+        return sp.Matrix(rows)
+
+    def rate_model(self, lengths: Sequence[sp.Symbol], twist: Sequence[str] = TWIST) -> RateModel:
+        """A twist = B l_dot with A the Pluecker rows and B = diag(l_i); det B = prod l_i, one
+        serial factor ``leg<i>_length`` per leg (a leg of zero length has no direction)."""
+        serial = {f"leg{k + 1}_length": length for k, length in enumerate(lengths)}
+        return RateModel(twist=list(twist), a=self.pluecker_rows(twist), b=sp.diag(*lengths), serial_factors=serial)
+
+
+def prismatic_legs(
+    base: sp.Matrix | Iterable[sp.Matrix],
+    platform: sp.Matrix | Iterable[sp.Matrix],
+    rotation: sp.Matrix,
+    position: sp.Matrix,
+) -> PrismaticLegs:
+    """Prismatic legs from point lists: each a ``n x dims`` matrix (one row a point, e.g. from
+    ``point_parameters``) or an iterable of 3x1 vectors; base points in {B}, platform points in {P}."""
+
+    def points(value: sp.Matrix | Iterable[sp.Matrix]) -> tuple[sp.Matrix, ...]:
+        if isinstance(value, sp.MatrixBase):
+            return tuple(as_points(sp.Matrix(value)))
+        return tuple(sp.Matrix(v) for v in value)
+
+    legs = PrismaticLegs(points(base), points(platform), sp.Matrix(rotation), sp.Matrix(position))
+    if len(legs.base) != len(legs.platform):
+        raise ValueError(f"prismatic_legs: {len(legs.base)} base points but {len(legs.platform)} platform points")
+    return legs
+
+
+# ------------------------------------------------------------------ small determinants
+def laplace_det(matrix: sp.Matrix) -> sp.Expr:
+    """det of a small square matrix by cofactor expansion along the first row, as written (no
+    expansion or simplification): for the 2x2 and 3x3 rate matrices of planar and translational
+    mechanisms far smaller than ``Matrix.det`` (Berkowitz), which multiplies entries out."""
+    if matrix.rows != matrix.cols:
+        raise ValueError(f"laplace_det: {matrix.rows}x{matrix.cols} is not square")
+    if matrix.rows == 1:
+        return matrix[0, 0]
+    total = sp.Integer(0)
+    for j in range(matrix.cols):
+        minor = matrix.extract(list(range(1, matrix.rows)), [c for c in range(matrix.cols) if c != j])
+        total += (-1) ** j * matrix[0, j] * laplace_det(minor)
+    return total
+
+
+# ------------------------------------------------------------------ one angle from one equation
+def half_angle_solution(
+    cos_coefficient: sp.Expr, sin_coefficient: sp.Expr, constant: sp.Expr, sign: sp.Expr
+) -> tuple[sp.Expr, sp.Expr]:
+    """theta with E cos(theta) + F sin(theta) + G = 0, and the discriminant E^2 + F^2 - G^2.
+
+    With tau = tan(theta / 2): (G - E) tau^2 + 2 F tau + (G + E) = 0, tau = (-F + sign sqrt(disc))
+    / (G - E); written theta = 2 atan2(-F + sign sqrt(disc), G - E), which stays finite where
+    G = E (theta = pi) and equals atan2(F, E) - sign acos(-G / sqrt(E^2 + F^2)) (mod 2 pi). The
+    discriminant is clamped at 0 so that an unreachable branch stays finite: report ``disc`` as
+    the branch's validity."""
+    e, f, g = cos_coefficient, sin_coefficient, constant
+    discriminant = e**2 + f**2 - g**2
+    angle = 2 * sp.atan2(-f + sign * sp.sqrt(sp.Max(0, discriminant)), g - e)
+    return angle, discriminant
+
+
+# ------------------------------------------------------------------ univariate elimination
+def half_angle_forms(unknown: sp.Symbol, domain: sp.polys.domains.Domain) -> tuple[sp.Poly, sp.Poly, sp.Poly]:
+    """(1 + t^2) (cos phi, sin phi, 1) = (1 - t^2, 2 t, 1 + t^2) as ``Poly`` in t = tan(phi / 2)
+    over ``domain`` (e.g. ``sp.QQ[symbols]``). A form a0 + a1 cos + a2 sin becomes a quadratic in
+    t by a0 W + a1 C + a2 S; products of k such forms are (1 + t^2)^k times the trigonometric
+    expression. Poly arithmetic over an explicit domain is orders of magnitude faster than
+    ``expand`` followed by ``Poly``."""
+
+    def poly(expr: sp.Expr) -> sp.Poly:
+        return sp.Poly(expr, unknown, domain=domain)
+
+    return poly(1 - unknown**2), poly(2 * unknown), poly(1 + unknown**2)
+
+
+@dataclass(frozen=True)
+class CleanPolynomial:
+    """A univariate polynomial with its spurious factors removed.
+
+    ``coefficients`` are ascending in ``unknown``; the input was ``content * unknown**zero_roots *
+    prod(factor**multiplicity for factor, multiplicity in removed) * sum(c_k unknown^k)``.
+    ``content`` is a number or an expression in the other symbols: where it vanishes the input
+    vanished identically (report it as a degeneracy when it can vanish)."""
+
+    unknown: sp.Symbol
+    coefficients: list[sp.Expr]
+    content: sp.Expr
+    removed: list[tuple[sp.Expr, int]]
+    zero_roots: int
+
+    @property
+    def degree(self) -> int:
+        return len(self.coefficients) - 1
+
+    def as_expr(self) -> sp.Expr:
+        return sp.Add(*(c * self.unknown**k for k, c in enumerate(self.coefficients)))
+
+
+def remove_spurious_factors(
+    polynomial: sp.Poly | sp.Expr,
+    unknown: sp.Symbol,
+    spurious: Iterable[sp.Expr] = (),
+    zero_is_root: bool = True,
+    content: bool = True,
+) -> CleanPolynomial:
+    """Strip from a univariate elimination polynomial what the elimination introduced.
+
+    ``polynomial``: a ``Poly`` in ``unknown`` (its coefficients may hold other symbols) or an
+    expression (expanded and converted; build large ones as ``Poly``, see ``half_angle_forms``).
+    In order:
+    * ``content``: the gcd of the coefficients (a number, or a polynomial in the other symbols);
+    * every factor of ``spurious`` (e.g. 1 + t^2, whose roots t = +-i are no half-angle tangent of
+      a real angle), divided out as often as it divides, each irreducible factor on its own: the
+      gcd with the polynomial, so a product of candidate factors may be given as one;
+    * unless ``zero_is_root``, the power of ``unknown`` that divides the polynomial (a root t = 0
+      that is known to be no solution).
+    Raises ValueError on a polynomial that is identically zero.
+    """
+    poly = polynomial if isinstance(polynomial, sp.Poly) else sp.Poly(sp.expand(polynomial), unknown)
+    if poly.gens != (unknown,):
+        poly = sp.Poly(poly.as_expr(), unknown)
+    if poly.is_zero:
+        raise ValueError("remove_spurious_factors: the polynomial is identically zero")
+    factor_content: sp.Expr = sp.Integer(1)
+    if content:
+        common, poly = poly.primitive()
+        factor_content = poly.domain.to_sympy(common) if not isinstance(common, sp.Basic) else common
+    removed: list[tuple[sp.Expr, int]] = []
+    for factor in spurious:
+        poly, found = _divide_out(poly, sp.Poly(factor, unknown, domain=poly.domain))
+        removed += found
+    zero_roots = 0
+    if not zero_is_root:
+        zero_roots = min(monomial[0] for monomial in poly.monoms())
+        if zero_roots:
+            poly = poly.exquo(sp.Poly(unknown**zero_roots, unknown, domain=poly.domain))
+    coefficients = [poly.coeff_monomial(unknown**k) for k in range(poly.degree() + 1)]
+    return CleanPolynomial(unknown, coefficients, factor_content, removed, zero_roots)
+
+
+def _divide_out(poly: sp.Poly, factor: sp.Poly) -> tuple[sp.Poly, list[tuple[sp.Expr, int]]]:
+    """``poly`` with every power of ``factor`` divided out, irreducible factor by irreducible
+    factor: the part of ``factor`` that ``poly`` shares (their gcd) is a product of those, and
+    exact division by each (small, often monic) factor is far cheaper than a multivariate gcd."""
+    if factor.degree() < 1:
+        return poly, []
+    found = []
+    _, irreducible = sp.factor_list(factor.as_expr(), factor.gens[0])
+    for part, _ in irreducible:
+        divisor = sp.Poly(part, factor.gens[0], domain=poly.domain)
+        if divisor.degree() < 1:
+            continue
+        count = 0
+        while poly.degree() >= divisor.degree():
+            quotient, remainder = poly.div(divisor)
+            if not remainder.is_zero:
+                break
+            poly, count = quotient, count + 1
+        if count:
+            found.append((divisor.as_expr(), count))
+    return poly, found
+
+
+__all__ = [
+    "CleanPolynomial",
+    "PrismaticLegs",
+    "TWIST",
+    "as_points",
+    "half_angle_forms",
+    "half_angle_solution",
+    "laplace_det",
+    "planar_coordinates",
+    "planar_pose",
+    "point_defaults",
+    "point_info",
+    "point_parameters",
+    "prismatic_legs",
+    "remove_spurious_factors",
+]

@@ -1,0 +1,246 @@
+"""Statics from a mechanism's rate model, for every mechanism that has one: the actuator efforts
+that hold a platform wrench, the stiffness of the platform on compliant actuators, and the
+equilibrium those actuators reach under load.
+
+Conventions (the same for every mechanism):
+
+* Twist: the components ``m.manifest.capabilities.rates.twist`` of an A/B rate model (e.g.
+  (vx, vy, vz, wx, wy, wz) = (v of the origin of {P}, w), both in {B}, or (wx, wy, wz) for an
+  orienting platform); (v, w) in {B} for a leg-based model (``m.rate_matrix``).
+* G, the map twist -> actuated rates: actuated_rates = G twist, G = B^-1 A from
+  ``m.rate_jacobians`` (A twist = B actuated_rates) or G = M from ``m.rate_matrix``.
+* Wrench: the dual of the twist, component by component, so that its power is w . twist: a force
+  f acting at the origin of {P} and a moment n, both in {B}; for an orienting platform only the
+  moment about its centre (the origin of {P}; the force goes into the central joint). A force F at
+  a platform point p (in {P}) is (F, (R p) x F): ``point_force_wrench``.
+* Actuator efforts tau (a force for a prismatic actuator, a torque for a revolute one) are
+  positive along increasing actuated values. ``actuator_forces`` returns the efforts that hold
+  the platform in static equilibrium against an external wrench w applied to it (massless,
+  frictionless): tau . dq + w . twist dt = 0 for every virtual motion, i.e. G^T tau = -w.
+* Compliant actuators: tau = K_q (q_cmd - q), K_q (n_a, n_a) positive (a diagonal given as its
+  (n_a,) diagonal): an actuator pushed beyond its command pulls back.
+
+NumPy only; every function uses the mechanism's generated rate Jacobians, never its name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
+from parakin.pose import as_array
+from parakin.results import Array, Configuration, ForwardPose
+
+if TYPE_CHECKING:
+    from parakin.mechanism import Mechanism
+
+#: twist components of a leg-based model (no A/B rate model): (v of the origin of {P}, w) in {B}
+LEG_TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
+#: 1 / condition number below which a matrix counts as singular
+SINGULAR_RATIO = 1e-10
+
+Wrench = ArrayLike | Callable[[Configuration], ArrayLike]
+
+
+def twist_names(m: Mechanism) -> tuple[str, ...]:
+    """The twist (and wrench) components of ``m``; UnsupportedOperationError without a rate model."""
+    rates = m.manifest.capabilities.rates
+    if rates is not None:
+        return rates.twist
+    if m.manifest.capabilities.legs:
+        return LEG_TWIST
+    raise UnsupportedOperationError(
+        f"{m.name} has no rate model (neither A/B rate Jacobians nor serial legs): statics is not available"
+    )
+
+
+def _check(matrix: Array, what: str, hint: str) -> None:
+    singular_values = np.linalg.svd(matrix, compute_uv=False)
+    ratio = singular_values[..., -1] / np.maximum(singular_values[..., 0], 1e-300)
+    bad = ~(ratio > SINGULAR_RATIO)
+    if bad.any():
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        at = f" at batch index {index}" if index else ""
+        raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
+
+
+def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None]:
+    """(A, B) with A twist = B actuated_rates; B is None for a leg model (A = M, B = I)."""
+    twist_names(m)
+    if m.manifest.capabilities.rates is not None:
+        jacobians = m.rate_jacobians(state)
+        return np.asarray(jacobians["a"], dtype=float), np.asarray(jacobians["b"], dtype=float)
+    return np.asarray(m.rate_matrix(state), dtype=float), None
+
+
+def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
+    """G (..., n_a, n_twist): actuated_rates = G twist (B^-1 A, or M of ``m.rate_matrix``)."""
+    a, b = _rate_model(m, state)
+    if b is None:
+        return a
+    _check(b, "B (inverse Jacobian)", "a serial (type I) singularity: an actuator rate is not defined")
+    return np.asarray(np.linalg.solve(b, a), dtype=np.float64)
+
+
+def _wrench(m: Mechanism, wrench: ArrayLike) -> Array:
+    return as_array(wrench, "wrench", (len(twist_names(m)),))
+
+
+def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Array:
+    """Actuator efforts tau (..., n_a) that hold the platform against the external ``wrench``
+    (..., n_twist) applied to it (see the module docstring): G^T tau = -wrench, solved as
+    tau = -B^T A^-T wrench (or -M^-T wrench). Positive along increasing actuated values (for a
+    linear actuator: a compression, the leg pushing the platform away from its base).
+
+    Raises SingularConfigurationError at a type II (parallel) singularity, where A (or M) is
+    singular and some wrench cannot be held."""
+    w = _wrench(m, wrench)
+    a, b = _rate_model(m, state)
+    _check(a, "A (direct Jacobian)" if b is not None else "rate matrix M", "a type II (parallel) singularity")
+    transposed = np.swapaxes(a, -1, -2)
+    w = np.broadcast_to(w, np.broadcast_shapes(w.shape[:-1], a.shape[:-2]) + w.shape[-1:])
+    y = np.linalg.solve(transposed, w[..., None])
+    tau = -y if b is None else -(np.swapaxes(b, -1, -2) @ y)
+    return np.asarray(tau[..., 0], dtype=np.float64)
+
+
+def _actuator_stiffness(m: Mechanism, actuator_stiffness: ArrayLike) -> Array:
+    n = len(m.actuated_names)
+    k = np.asarray(actuator_stiffness, dtype=float)
+    if k.shape == (n,):
+        k = np.diag(k)
+    if k.shape != (n, n):
+        raise BadInputError(f"actuator_stiffness must have shape ({n},) or ({n}, {n}), got {k.shape}")
+    if not np.isfinite(k).all():
+        raise BadInputError("actuator_stiffness must be finite")
+    return k
+
+
+def stiffness(m: Mechanism, state: Configuration, actuator_stiffness: ArrayLike) -> Array:
+    """K = G^T K_q G (..., n_twist, n_twist): the extra external wrench that holds the platform
+    displaced by a small motion twist dt, dw = K twist dt, with actuators of stiffness K_q
+    ((n_a,) diagonal or (n_a, n_a)). Symmetric, and positive definite when K_q is and G has full
+    rank. The geometric stiffness of preloaded actuators (dG/dx^T tau) is neglected."""
+    k = _actuator_stiffness(m, actuator_stiffness)
+    g = actuation_matrix(m, state)
+    return np.asarray(np.swapaxes(g, -1, -2) @ k @ g, dtype=np.float64)
+
+
+def point_force_wrench(m: Mechanism, state: Configuration, force: ArrayLike, point: ArrayLike) -> Array:
+    """The wrench of a force (3,) in {B} applied at a platform point (3,) given in {P}: the force
+    and its moment (R p) x F about the origin of {P}, in the mechanism's twist components (an
+    orienting platform keeps the moment only)."""
+    f = as_array(force, "force", (3,))
+    p = as_array(point, "point", (3,))
+    arm = np.einsum("...ij,...j->...i", state.rotation, p)
+    moment = np.cross(arm, f)
+    full = np.concatenate(np.broadcast_arrays(f, moment), axis=-1)
+    index = []
+    for name in twist_names(m):
+        if name not in LEG_TWIST:
+            raise UnsupportedOperationError(f"{m.name}: twist component {name!r} is not one of {LEG_TWIST}")
+        index.append(LEG_TWIST.index(name))
+    return np.asarray(full[..., index], dtype=np.float64)
+
+
+# ---------------------------------------------------------------------------------- equilibrium
+@dataclass(frozen=True)
+class Equilibrium:
+    """The platform on compliant actuators under load: ``configuration`` is the pose reached
+    with the loaded actuated values q (``configuration.actuated``), ``forces`` the actuator
+    efforts tau = K_q (q_cmd - q) that hold the wrench there, ``residual`` the max-norm of
+    K_q (q_cmd - q) - actuator_forces(q) (effort units), ``history`` the size of each update of
+    q (max-norm, actuated units) and ``iterations`` their number."""
+
+    configuration: ForwardPose
+    forces: Array
+    residual: float
+    iterations: int
+    history: tuple[float, ...]
+
+
+def equilibrium(
+    m: Mechanism,
+    commanded_actuated: ArrayLike,
+    wrench: Wrench,
+    actuator_stiffness: ArrayLike,
+    guess: Configuration | ArrayLike | None = None,
+    method: str = "newton",
+    tolerance: float = 1e-12,
+    max_iterations: int = 50,
+    step: float = 1e-7,
+) -> Equilibrium:
+    """Static equilibrium of compliant actuators commanded to ``commanded_actuated`` (n_a,) under
+    an external ``wrench``: the actuated values q with K_q (q_cmd - q) = actuator_forces(m, state(q),
+    wrench), state(q) = ``m.forward_pose(q)`` tracked from ``guess`` (a configuration, passive
+    values or a pose; None: ``forward_pose``'s default assembly mode).
+
+    ``wrench``: (n_twist,), or a function of the configuration for a load that moves with the
+    platform (e.g. ``lambda c: point_force_wrench(m, c, force, point)``).
+    ``method``: 'newton' (Newton on q - q_cmd + K_q^-1 tau(q), central differences of step
+    ``step`` x (1 + |q_j|) through the forward pose) or 'fixed_point' (successive approximation
+    q <- q_cmd - K_q^-1 tau(q): converges when the actuators are stiff enough). Stops when an
+    update of q is below ``tolerance``; raises ConvergenceError (with the residual) otherwise."""
+    if method not in ("newton", "fixed_point"):
+        raise BadInputError(f"method must be 'newton' or 'fixed_point', got {method!r}")
+    command = as_array(commanded_actuated, "commanded_actuated", (len(m.actuated_names),))
+    if command.ndim != 1:
+        raise BadInputError(f"equilibrium takes one commanded input (n_a,), got shape {command.shape}")
+    k = _actuator_stiffness(m, actuator_stiffness)
+    compliance = np.linalg.inv(k)
+    load: Callable[[Configuration], Any] = wrench if callable(wrench) else (lambda _state: wrench)
+
+    def forces(q: Array, start: Any) -> tuple[Array, ForwardPose]:
+        state = m.forward_pose(q, guess=start)
+        return actuator_forces(m, state, load(state)), state
+
+    def gap(q: Array, start: Any) -> tuple[Array, Array, ForwardPose]:
+        tau, state = forces(q, start)
+        return q - command + compliance @ tau, tau, state
+
+    q = command.copy()
+    start: Any = guess
+    history: list[float] = []
+    for _ in range(max_iterations):
+        value, _, state = gap(q, start)
+        start = state
+        if method == "fixed_point":
+            update = -value
+        else:
+            columns = []
+            for j in range(q.size):
+                h = step * (1.0 + abs(q[j]))
+                e = np.zeros(q.size)
+                e[j] = h
+                columns.append((gap(q + e, state)[0] - gap(q - e, state)[0]) / (2 * h))
+            update = -np.linalg.solve(np.column_stack(columns), value)
+        q = q + update
+        history.append(float(np.abs(update).max()))
+        if not np.isfinite(history[-1]) or history[-1] < tolerance:
+            break
+    tau, state = forces(q, start)
+    residual = float(np.abs(k @ (command - q) - tau).max())
+    if not history or not history[-1] < tolerance:
+        last = history[-1] if history else float("nan")
+        raise ConvergenceError(
+            f"equilibrium ({method}) did not converge in {max_iterations} iterations: last update {last:.3g} "
+            f"> tolerance {tolerance:g}, residual {residual:.3g}",
+            residual=residual,
+        )
+    return Equilibrium(state, tau, residual, len(history), tuple(history))
+
+
+__all__ = [
+    "Equilibrium",
+    "actuation_matrix",
+    "actuator_forces",
+    "equilibrium",
+    "point_force_wrench",
+    "stiffness",
+    "twist_names",
+]
