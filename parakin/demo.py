@@ -147,8 +147,9 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
                 lines.append(f"  raised {result.error}")
             for c in result.comparisons:
                 mark = "ok " if c.holds else "FAIL"
+                values = f"ours {c.ours}  printed {c.printed}  " if c.ours.ndim < 2 else ""  # poses: error only
                 lines.append(
-                    f"  [{mark}] {c.quantity}: ours {c.ours}  printed {c.printed}  "
+                    f"  [{mark}] {c.quantity}: {values}"
                     f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
                 )
             lines.append("")

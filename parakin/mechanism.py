@@ -573,6 +573,26 @@ class Mechanism:
             at = f" at batch index {index}" if index else ""
             raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
 
+    # ------------------------------------------------------------------ statics
+    def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
+        """Actuator efforts that hold the platform against an external wrench (virtual work; see
+        ``parakin.statics.actuator_forces`` for the wrench convention)."""
+        from parakin.statics import actuator_forces
+
+        return actuator_forces(self, state, wrench)
+
+    def stiffness(self, state: Configuration, actuator_stiffness: ArrayLike | None = None) -> Array:
+        """Platform stiffness K = G^T K_q G from actuator stiffnesses (default: the ones the
+        mechanism declares as parameters, ``m.capabilities.statics``)."""
+        from parakin.statics import stiffness
+
+        if actuator_stiffness is None:
+            statics = self.capabilities.statics
+            self._require(statics, "stiffness without actuator stiffnesses", "declared actuator stiffness")
+            assert statics is not None
+            actuator_stiffness = [self.parameters[name] for name in statics.stiffness]
+        return stiffness(self, state, actuator_stiffness)
+
     # ------------------------------------------------------------------ drawing
     def drawing(self, state: Configuration) -> dict[str, Array]:
         """The named point sets (..., 3, n) in {B} (metres) of the drawing kernel."""
