@@ -129,6 +129,18 @@ def _format(directory: Path) -> None:
     )
 
 
+def _swap_in(staging: Path, destination: Path) -> None:
+    """Replace ``destination`` by the finished ``staging`` folder: two renames, no partial state."""
+    if destination.exists():
+        retired = destination.with_name(f".{destination.name}.old")
+        shutil.rmtree(retired, ignore_errors=True)
+        destination.rename(retired)
+        staging.rename(destination)
+        shutil.rmtree(retired)
+    else:
+        staging.rename(destination)
+
+
 def _build_one(job: tuple[str, str, str]) -> tuple[str, dict[str, Any]]:
     name, source, package = job
     return name, generate_package(Path(source), Path(package), name)
@@ -165,14 +177,7 @@ def generate(
             for path in destination.iterdir():
                 if path.is_dir() and path.name in sources and path.name not in names:
                     shutil.copytree(path, staging / path.name)
-        if destination.exists():
-            retired = destination.with_name(destination.name + ".old")
-            shutil.rmtree(retired, ignore_errors=True)
-            destination.rename(retired)
-            staging.rename(destination)
-            shutil.rmtree(retired)
-        else:
-            staging.rename(destination)
+        _swap_in(staging, destination)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
@@ -190,14 +195,7 @@ def generate_file(path: Path, package: Path) -> dict[str, Any]:
         report = generate_package(path, staging, name)
         _format(staging)
         staging.chmod(0o755)
-        if package.exists():
-            retired = package.with_name(f".{package.name}.old")
-            shutil.rmtree(retired, ignore_errors=True)
-            package.rename(retired)
-            staging.rename(package)
-            shutil.rmtree(retired)
-        else:
-            staging.rename(package)
+        _swap_in(staging, package)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
