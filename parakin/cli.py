@@ -17,8 +17,10 @@ from typing import Any
 import numpy as np
 
 import parakin
-from parakin.errors import BadInputError, ParakinError
+from parakin.continuation import SelfMotion
+from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.manifest import Manifest, Variable
+from parakin.results import Configuration
 
 POSE_ARGUMENTS = {
     "transform": ("x y z (m) alpha beta gamma (Z-Y-X Euler)", 6),
@@ -193,8 +195,17 @@ def _plot(args: argparse.Namespace) -> int:
     given = args.actuated_deg if degrees else args.actuated
     actuated = m.home_actuated if given is None else _from_cli_units(m.manifest.actuated, given, degrees)
     if m.capabilities.forward is not None:
-        state: Any = m.forward_pose_all(actuated)
-        if int(state.count) == 0:
+        try:
+            state: Any = m.forward_pose_all(actuated)
+        except SelfMotionError as error:  # draw the self-motion instead: a few points along it
+            motion = error.solution_set
+            assert isinstance(motion, SelfMotion)
+            pick = np.linspace(0, motion.count - 1, min(6, motion.count)).astype(int)
+            state = Configuration(
+                np.broadcast_to(actuated, (pick.size, actuated.size)), motion.passive[pick], motion.poses[pick]
+            )
+            print(f"{m.name}: the actuators leave a self-motion here; drawing {pick.size} points along it")
+        if int(getattr(state, "count", 1)) == 0:
             print(f"parakin: no real assembly mode of {m.name} to draw", file=sys.stderr)
             return 1
     else:

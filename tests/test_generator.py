@@ -146,3 +146,10 @@ def test_a_copied_mechanism_file_gets_everything(tmp_path):
         "assert np.abs(modes.poses[modes.valid] - ik.pose).max(axis=(-2, -1)).min() < 1e-9\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, cwd=tmp_path)
+    cli = [sys.executable, "-m", "parakin"]
+    for command in (["demo", str(package)], ["inspect", str(package)], ["plot", str(package), "--output", "p.png"]):
+        done = subprocess.run(cli + command, cwd=tmp_path, capture_output=True, text=True)
+        assert done.returncode == 0, (command, done.stderr)
+        if command[0] == "demo":  # the copied paper examples reproduce, under the new name
+            assert "[ok ]" in done.stdout and "[FAIL" not in done.stdout
+    assert (tmp_path / "p.png").stat().st_size > 10_000

@@ -1,0 +1,8 @@
+"""``python -m parakin``: the same command line as the ``parakin`` script."""
+
+import sys
+
+from parakin.cli import main
+
+if __name__ == "__main__":
+    sys.exit(main())
