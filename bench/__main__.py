@@ -103,6 +103,69 @@ def mechanism_rows(name: str, record) -> str | None:
     return None
 
 
+MODES_BATCH = 2000
+MULTISTART_INPUTS = 5  # the scipy multi-start baseline is slow: timed on this many inputs
+MULTISTART_STARTS = 40
+
+
+def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[float, list[int]]:
+    """Baseline: scipy.optimize.root on the lambdified closure from random passive starts;
+    returns seconds per input and the distinct closed solutions found per input."""
+    baseline = Baseline(name)
+    m = parakin.load(name, backend="numpy")
+    rng = np.random.default_rng(seed)
+    scale = np.where([v.revolute for v in m.manifest.passive], np.pi, np.maximum(np.abs(m.home_passive), 0.1))
+    found = []
+    start = time.perf_counter()
+    for a in actuated:
+        solutions: list[np.ndarray] = []
+        for _ in range(MULTISTART_STARTS):
+            guess = m.home_passive + scale * rng.uniform(-1, 1, m.home_passive.shape)
+            result = scipy.optimize.root(
+                lambda q, a=a: baseline.residual(a, q, baseline.params),
+                guess,
+                jac=lambda q, a=a: baseline.jacobian(a, q, baseline.params),
+                tol=1e-12,
+            )
+            residual = np.abs(baseline.residual(a, result.x, baseline.params)).max()
+            if result.success and residual < 1e-9:
+                pose = m.platform_pose(a, result.x)
+                if all(np.abs(pose - other).max() > 1e-6 for other in solutions):
+                    solutions.append(pose)
+        found.append(len(solutions))
+    return (time.perf_counter() - start) / len(actuated), found
+
+
+def modes_rows(name: str) -> str | None:
+    """forward_pose_all: the generated C pipeline (batched and single), the same algorithm
+    orchestrated in Python over the NumPy kernels, one batched tracker step, scipy multi-start."""
+    compiled = parakin.load(name, backend="compiled")
+    if compiled.capabilities.forward is None:
+        return None
+    sample = sample_configurations(compiled, MODES_BATCH, seed=11)
+    if sample.actuated.shape[0] < MODES_BATCH // 2:
+        return None
+    a = sample.actuated
+    n = a.shape[0]
+    batched = best_time(lambda: compiled.forward_pose_all(a, strict=False), budget=1.0) / n
+    single = best_time(lambda: compiled.forward_pose_all(a[0], strict=False), budget=0.3)
+    numpy_m = parakin.load(name, backend="numpy")
+    orchestrated = best_time(lambda: numpy_m.forward_pose_all(a[:200], strict=False), budget=1.0) / 200
+    tracker = compiled.tracker(parakin.Configuration(a, sample.passive, sample.pose))
+    step = np.where([v.revolute for v in compiled.manifest.actuated], np.radians(0.1), 1e-3)
+    targets = [a + step, a]
+    flip = iter(range(10**9))
+    tracked = best_time(lambda: tracker.solve(targets[next(flip) % 2])) / n
+    counts = compiled.forward_pose_all(a, strict=False).count
+    multistart, found = multistart_modes(name, a[:MULTISTART_INPUTS])
+    ours = [int(c) for c in counts[:MULTISTART_INPUTS]]
+    return (
+        f"{name:12s} {compiled.capabilities.forward.degree:4d} {batched * 1e6:10.2f} {single * 1e6:10.1f} "
+        f"{orchestrated * 1e6:12.1f} {orchestrated / batched:7.1f} {tracked * 1e6:9.2f} {batched / tracked:8.1f} "
+        f"{multistart * 1e6:12.0f} {multistart / batched:9.0f}   ours {ours} multi-start {found}"
+    )
+
+
 def main() -> None:
     warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
     rows: list[tuple] = []
@@ -129,6 +192,21 @@ def main() -> None:
         )
     for note in notes:
         print(f"note: {note}")
+    print(
+        f"\nforward_pose_all, every assembly mode (batch {MODES_BATCH} sampled near home; compiled = the generated C "
+        "pipeline; python = the same algorithm orchestrated over the NumPy kernels; tracker = one batched Newton step "
+        f"of 1 mm / 0.1 deg; multi-start = scipy.optimize.root from {MULTISTART_STARTS} random starts)\n"
+    )
+    header = (
+        f"{'mechanism':12s} {'deg':>4s} {'us/input':>10s} {'single us':>10s} {'python us/in':>12s} {'ratio':>7s} "
+        f"{'tracker us':>9s} {'fpa/trk':>8s} {'multi-st us':>12s} {'ratio':>9s}   modes found (first inputs)"
+    )
+    print(header)
+    print("-" * len(header))
+    for name in parakin.available():
+        line = modes_rows(name)
+        if line:
+            print(line)
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as scratch:
         generate(None, Path(scratch) / "generated")

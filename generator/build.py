@@ -73,18 +73,22 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
     return mechanism, module
 
 
-def _c_sources(casadi_source: str, programs: list[LoweredProgram]) -> tuple[str, str, dict[str, dict[str, int]]]:
+def _c_sources(
+    name: str, casadi_source: str, programs: list[LoweredProgram]
+) -> tuple[str, str, dict[str, dict[str, int]]]:
     """CasADi C code generation of every function, and each function's work sizes."""
     namespace: dict[str, Any] = {}
     exec(compile(casadi_source, "casadi_functions.py", "exec"), namespace)  # noqa: S102
     functions = namespace["build_functions"]()
     with tempfile.TemporaryDirectory() as scratch:
-        generator = casadi.CodeGenerator("kernels", {"with_header": True})
+        # CasADi prefixes its exported helpers with this name: per mechanism, so that the C of
+        # two mechanisms links into one program; the files are then named kernels.c/.h
+        generator = casadi.CodeGenerator(f"{name}_kernels", {"with_header": True})
         for function in functions.values():
             generator.add(function)
         generator.generate(scratch + "/")
-        c_text = Path(scratch, "kernels.c").read_text()
-        h_text = Path(scratch, "kernels.h").read_text()
+        c_text = Path(scratch, f"{name}_kernels.c").read_text()
+        h_text = Path(scratch, f"{name}_kernels.h").read_text()
     sizes = {
         p.name: {
             "arg": functions[p.name].sz_arg(),
@@ -104,7 +108,7 @@ def generate_package(path: Path, package: Path, name: str | None = None) -> dict
     derivation = derive(mechanism)
     lowered = [program.lower() for program in derivation.programs]
     casadi_source = emit.render_casadi(mechanism.name, lowered)
-    c_source, h_source, sizes = _c_sources(casadi_source, lowered)
+    c_source, h_source, sizes = _c_sources(mechanism.name, casadi_source, lowered)
     manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
     package.mkdir(parents=True, exist_ok=True)
     header = emit.banner(mechanism.name, "casadi.CodeGenerator", lowered, "//")
@@ -116,6 +120,10 @@ def generate_package(path: Path, package: Path, name: str | None = None) -> dict
         "kernels.c": header + c_source,
         "kernels.h": header + h_source,
         "driver.c": emit.render_c_driver(mechanism.name, lowered, manifest),
+        f"{mechanism.name}.h": emit.render_c_header(mechanism.name, lowered, manifest),
+        "real_roots.h": emit.banner(mechanism.name, "real_roots.h", [], "//")
+        + (emit.TEMPLATES / "real_roots.h").read_text(),
+        **emit.render_c_example(mechanism.name, lowered, manifest),
     }
     for filename, text in files.items():
         (package / filename).write_text(text)

@@ -181,6 +181,50 @@ def _evaluate(expr: sp.Expr, values: dict) -> mpmath.mpf:
     return function(*[values[s] for s in symbols])
 
 
+def _branch_groups(mechanism: Mechanism) -> dict[str, list]:
+    """Which inverse branch symbols each output depends on, merged into independent groups (one
+    per leg, typically). Recovering the passive joints of a pose then costs 2^(largest group)
+    inverse evaluations, each group choosing its signs alone, instead of 2^(all symbols)."""
+    inverse = mechanism.inverse
+    assert inverse is not None
+    index = {b: k for k, b in enumerate(inverse.branches)}
+    depends: dict[sp.Symbol, set[int]] = {b: {k} for b, k in index.items()}
+    for target, value in inverse.steps:
+        depends[target] = set().union(*(depends.get(s, set()) for s in value.free_symbols))
+
+    def of(expr: sp.Expr) -> set[int]:
+        return set().union(*(depends.get(s, set()) for s in sp.sympify(expr).free_symbols))
+
+    outputs = {
+        "actuated": [of(v) for v in mechanism.actuated],
+        "passive": [of(v) for v in mechanism.passive],
+        "validity": [of(v) for v in inverse.validity.values()],
+    }
+    owner = list(range(len(inverse.branches)))  # union-find over symbols sharing an output
+
+    def root(k: int) -> int:
+        while owner[k] != k:
+            k = owner[k]
+        return k
+
+    for sets in outputs.values():
+        for symbols in sets:
+            ordered = sorted(symbols)
+            for other in ordered[1:]:
+                owner[root(other)] = root(ordered[0])
+    roots = sorted({root(k) for k in range(len(owner))})
+    groups = [[k for k in range(len(owner)) if root(k) == r] for r in roots]
+    group_of = {k: g for g, members in enumerate(groups) for k in members}
+
+    def group(symbols: set[int]) -> int:
+        return group_of[min(symbols)] if symbols else -1
+
+    return {
+        "groups": groups,
+        **{f"{name}_groups": [group(symbols) for symbols in sets] for name, sets in outputs.items()},
+    }
+
+
 def _inverse_function(mechanism: Mechanism, parameters: dict | None = None):
     inverse = mechanism.inverse
     assert inverse is not None
@@ -383,6 +427,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             "branches": [str(b) for b in inverse.branches],
             "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(inverse.branches))],
             "validity": list(inverse.validity),
+            **_branch_groups(mechanism),
         }
         symbolic["inverse_steps"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in inverse.steps))
 

@@ -133,42 +133,160 @@ def render_numpy(mechanism: str, programs: list[LoweredProgram]) -> str:
 
 
 def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
+    """CasADi builders; each Function is named ``<mechanism>_<kernel>`` so that the C of two
+    mechanisms links into one program."""
     printer = ModulePrinter("casadi")
     return (
         _environment()
         .get_template("casadi_module.py.j2")
         .render(
+            prefix=f"{mechanism}_",
             banner=banner(mechanism, "casadi_module.py.j2", programs, "#"),
             programs=[_printed_program(p, printer) for p in programs],
         )
     )
 
 
-def render_c_driver(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> str:
-    """The batched C entry points and the Newton loop, laid out as the manifest describes them."""
+def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> dict[str, Any]:
+    """What the C driver and the public header print: sizes, branch tables, the ABI."""
+    from .abi import C_TYPES, describe
+
     kernels = {k["name"]: k for k in manifest["kernels"]}
-    described = [
-        {
-            "name": p.name,
-            "inputs": [(group, len(symbols)) for group, symbols in p.source.inputs],
-            "outputs": [(o.name, o.shape[0], o.shape[1] if len(o.shape) == 2 else 1) for o in p.outputs],
-            "sizes": kernels[p.name]["work"],
-        }
-        for p in programs
-    ]
+    caps = manifest["capabilities"]
     newton = dict(manifest["c"]["newton"])
-    pair = [kernels[newton["residual"]]["work"], kernels[newton["pose"]]["work"]]
-    newton["sizes"] = {key: max(w[key] for w in pair) for key in pair[0]}
-    newton["pose_sizes"] = kernels[newton["pose"]]["work"]
+    work = {key: max(k["work"][key] for k in kernels.values()) for key in ("arg", "res", "iw", "w")}
+    forward = inverse = None
+    if caps["forward"] is not None:
+        if caps["inverse"] is None:
+            raise ValueError(f"{mechanism}: a forward elimination needs a closed-form inverse (passive joints)")
+        forward = {
+            "degree": caps["forward"]["degree"],
+            "combinations": caps["forward"]["combinations"],
+            "branch_size": len(caps["forward"]["branches"]),
+            "degeneracies": len(caps["forward"]["degeneracies"]),
+        }
+        groups = caps["inverse"]["groups"]
+        inverse = {
+            "combinations": caps["inverse"]["combinations"],
+            "branch_size": len(caps["inverse"]["branches"]),
+            "validity": len(caps["inverse"]["validity"]),
+            "groups": groups,
+            "patterns": 2 ** max((len(g) for g in groups), default=0),
+            "symbol_position": [
+                next(m.index(k) for m in groups if k in m) for k in range(len(caps["inverse"]["branches"]))
+            ],
+            "actuated_groups": caps["inverse"]["actuated_groups"],
+            "passive_groups": caps["inverse"]["passive_groups"],
+            "validity_groups": caps["inverse"]["validity_groups"],
+        }
+    folded = (caps["rates"] or {}).get("input_independent") or []
+    names = manifest["singularity_factors"]
+    return {
+        "P": mechanism,
+        "title": manifest["title"],
+        "citation": ", ".join(manifest["citation"]["authors"]) + f" ({manifest['citation']['year']})",
+        "conventions": manifest["conventions"].splitlines(),
+        "NA": len(manifest["actuated"]),
+        "NQ": len(manifest["passive"]),
+        "actuated": [v["name"] for v in manifest["actuated"]],
+        "passive": [v["name"] for v in manifest["passive"]],
+        "parameters": manifest["parameters"],
+        "pairs": newton["pairs"],
+        "newton": newton,
+        "work": work,
+        "forward": forward,
+        "inverse": inverse,
+        "factors": {
+            "count": len(names),
+            "determinants": len(manifest["determinants"]),
+            "input_independent": [int(name in folded) for name in names] if folded else [],
+        },
+        "actuated_revolute": [int(v["kind"] == "revolute") for v in manifest["actuated"]],
+        "passive_revolute": [int(v["kind"] == "revolute") for v in manifest["passive"]] or [0],
+        "abi": describe(),
+        "c_types": C_TYPES,
+        "version": manifest["generator"]["version"],
+        "source": manifest["generator"]["source"],
+        "home_actuated": [_c_number(v["home"] or 0.0) for v in manifest["actuated"]],
+        "home_passive": [_c_number(v["home"] or 0.0) for v in manifest["passive"]],
+        "actuated_units": [f"{v['name']} [{v['unit']}]" for v in manifest["actuated"]],
+        "passive_units": [f"{v['name']} [{v['unit']}]" for v in manifest["passive"]],
+        "lower": [_c_number(v["limits"][0], "-INFINITY") for v in manifest["passive"]],
+        "upper": [_c_number(v["limits"][1], "INFINITY") for v in manifest["passive"]],
+        "modes_settings": _example_job(manifest, "modes"),
+        "newton_settings": _example_job(manifest, "newton"),
+        "kernels": manifest["kernels"],
+        "programs": [
+            {
+                "name": p.name,
+                "inputs": [(group, len(symbols)) for group, symbols in p.source.inputs],
+                "outputs": [(o.name, o.shape[0], o.shape[1] if len(o.shape) == 2 else 1) for o in p.outputs],
+                "sizes": kernels[p.name]["work"],
+            }
+            for p in programs
+        ],
+    }
+
+
+def _c_number(value: float | None, missing: str = "0.0") -> str:
+    return missing if value is None else repr(float(value))
+
+
+def _example_job(manifest: dict[str, Any], which: str) -> list[tuple[str, str]]:
+    """Designated initialisers of the example program's job structures: every field named."""
+    from .abi import MODES_JOB, NEWTON_JOB
+
+    tol = manifest["tolerances"]
+    common = {"n": "1", "actuated": "actuated", "actuated_stride": "0", "params": "(const double*)&params"}
+    if which == "newton":
+        values = {
+            **common, "guess": "guess", "guess_stride": "0", "max_iterations": "30", "tolerance": "1e-12",
+            "max_step": "0.5", "singular_ratio": repr(tol["singular_ratio"]), "passive": "solved", "pose": "pose",
+            "residual": "&norm", "conditioning": "&ratio", "iterations": "&iterations", "status": "&newton_status",
+        }  # fmt: skip
+        return [(name, values[name]) for name, _ in NEWTON_JOB]
+    values = {
+        **common, "lower": "lower", "upper": "upper", "polish_iterations": str(int(tol["polish_iterations"])),
+        "tolerance": repr(tol["polish"]), "leading_tolerance": repr(tol["leading"]),
+        "near_tolerance": repr(tol["near_real"]),
+        **{k: repr(tol[k]) for k in ("closure", "candidate", "duplicate", "factor_zero", "singular_ratio",
+                                     "validity", "degenerate")},
+        "poses": "poses", "passive": "passive", "residual": "residual", "conditioning": "conditioning",
+        "roots": "roots", "outcome": "outcome", "root_kind": "root_kind", "count": "&count",
+        "real_roots": "&real_roots", "near_roots": "&near_roots", "at_infinity": "&at_infinity", "status": "&status",
+    }  # fmt: skip
+    return [(name, values[name]) for name, _ in MODES_JOB]
+
+
+def render_c_example(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> dict[str, str]:
+    """``example_main.c`` and ``README_C.md`` of the exported C library."""
+    context = _c_context(mechanism, programs, manifest)
+    environment = _environment()
+    return {
+        "example_main.c": environment.get_template("c_example.c.j2").render(
+            banner=banner(mechanism, "c_example.c.j2", programs, "//"), **context
+        ),
+        "README_C.md": environment.get_template("c_readme.md.j2").render(**context),
+    }
+
+
+def render_c_driver(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> str:
+    """The batched C entry points, the Newton loop and the all-modes pipeline (``c_driver.c.j2``)."""
+    context = _c_context(mechanism, programs, manifest)
     return (
         _environment()
         .get_template("c_driver.c.j2")
-        .render(
-            banner=banner(mechanism, "c_driver.c.j2", programs, "//"),
-            mechanism=mechanism,
-            programs=described,
-            newton=newton,
-        )
+        .render(banner=banner(mechanism, "c_driver.c.j2", programs, "//"), **context)
+    )
+
+
+def render_c_header(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> str:
+    """The public header ``<mechanism>.h``: parameters, status codes, job structures, prototypes."""
+    context = _c_context(mechanism, programs, manifest)
+    return (
+        _environment()
+        .get_template("c_header.h.j2")
+        .render(banner=banner(mechanism, "c_header.h.j2", programs, "//"), **context)
     )
 
 

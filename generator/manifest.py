@@ -12,12 +12,12 @@ from typing import Any
 
 import sympy as sp
 
-from . import GENERATOR_VERSION
+from . import GENERATOR_VERSION, abi
 from .derive import Derivation
 from .model import Mechanism
 from .program import LoweredProgram
 
-SCHEMA = 1
+SCHEMA = 2
 
 #: numerical thresholds of the runtime, per mechanism (a mechanism file may override them)
 DEFAULT_TOLERANCES = {
@@ -28,6 +28,10 @@ DEFAULT_TOLERANCES = {
     "degenerate": 1e-9,  # an elimination degeneracy measure below this: no isolated solutions
     "singular_ratio": 1e-10,  # 1/cond of a Jacobian below this: singular
     "factor_zero": 1e-9,  # an input-independence factor below this vanishes
+    "polish": 1e-13,  # Newton tolerance of the polish of every forward_pose_all mode
+    "polish_iterations": 30,  # converges in 1-3 steps; near double roots only linearly
+    "leading": 1e-13,  # leading coefficients below this (relative) are roots at infinity
+    "near_real": 1e-9,  # a local extremum of the polynomial this close to 0: a near-real pair
 }
 
 
@@ -67,7 +71,7 @@ def _parameters(mechanism: Mechanism) -> list[dict[str, Any]]:
     return result
 
 
-def _kernels(lowered: list[LoweredProgram], sizes: dict[str, dict[str, int]]) -> list[dict[str, Any]]:
+def _kernels(name: str, lowered: list[LoweredProgram], sizes: dict[str, dict[str, int]]) -> list[dict[str, Any]]:
     return [
         {
             "name": p.name,
@@ -76,7 +80,7 @@ def _kernels(lowered: list[LoweredProgram], sizes: dict[str, dict[str, int]]) ->
             "inputs": [{"name": group, "size": len(symbols)} for group, symbols in p.source.inputs],
             "outputs": [{"name": o.name, "shape": list(o.shape)} for o in p.outputs],
             "work": sizes[p.name],
-            "c_symbol": f"{p.name}_batch",
+            "c_symbol": f"{name}_{p.name}_batch",
         }
         for p in lowered
     ]
@@ -147,13 +151,14 @@ def build_manifest(
         "capabilities": capabilities,
         "examples": [_example(e) for e in mechanism.examples],
         "tolerances": {**DEFAULT_TOLERANCES, "imaginary": forward_meta.get("imaginary_tolerance", 1e-7)},
-        "kernels": _kernels(lowered, sizes),
+        "kernels": _kernels(mechanism.name, lowered, sizes),
         "c": {
             "sources": ["kernels.c", "driver.c"],
-            "header": "kernels.h",
+            "header": f"{mechanism.name}.h",
+            "headers": ["kernels.h", "real_roots.h", f"{mechanism.name}.h"],
+            "abi": abi.describe(),
             "newton": {
-                "symbol": "parakin_forward_pose",
-                "job_symbol": "parakin_forward_pose_job",
+                "symbol": f"{mechanism.name}_forward_pose",
                 "unknowns": len(loop.source.inputs[1][1]),
                 "actuated": len(loop.source.inputs[0][1]),
                 "pairs": next(o.shape[0] for o in loop.outputs if o.name == "alignment"),
@@ -161,5 +166,6 @@ def build_manifest(
                 "residual": "loop_closure",
                 "pose": "platform_pose",
             },
+            "modes": {"symbol": f"{mechanism.name}_forward_pose_all"} if meta.get("forward") else None,
         },
     }

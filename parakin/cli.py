@@ -1,4 +1,4 @@
-"""Command line: ``parakin list | inspect | demo | ik | fk | plot | generate``.
+"""Command line: ``parakin list | inspect | demo | ik | fk | plot | generate | export``.
 
 Values are SI (metres, radians) unless a flag ends in ``-deg``: those convert revolute
 variables (and Euler angles) from degrees and leave prismatic ones in metres. Exit status: 0 on
@@ -216,6 +216,16 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _export(args: argparse.Namespace) -> int:
+    from parakin.package import GeneratedPackage
+
+    package = GeneratedPackage.find(args.name)
+    written = package.export_c(args.out)
+    print(f"wrote {len(written)} files to {args.out}: {', '.join(p.name for p in written)}")
+    print(f"see {args.out}/README_C.md; try: cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm")
+    return 0
+
+
 def _generate(args: argparse.Namespace) -> int:
     try:
         from parakin.generator.build import GenerationError, generate_file
@@ -281,6 +291,9 @@ def _parser() -> argparse.ArgumentParser:
     generate = commands.add_parser("generate", help="turn a mechanism file into a generated package folder")
     generate.add_argument("file", help="a mechanism file (defines build() -> parakin.generator.Mechanism)")
     generate.add_argument("--out", required=True, help="the package folder to write (load it with parakin.load(DIR))")
+    export = commands.add_parser("export", help="write the mechanism's C library (sources, header, example)")
+    export.add_argument("name", help="mechanism name (parakin list) or generated package folder")
+    export.add_argument("--out", required=True, help="folder to write the C files into")
     return parser
 
 
@@ -292,6 +305,7 @@ COMMANDS = {
     "fk": _fk,
     "plot": _plot,
     "generate": _generate,
+    "export": _export,
 }
 
 

@@ -23,7 +23,7 @@ from parakin.errors import ParakinError
 from parakin.package import GeneratedPackage
 from parakin.results import Array
 
-FLAGS = ["-O2", "-shared", "-fPIC", "-std=c99"]
+FLAGS = ["-O2", "-shared", "-fPIC", "-std=c99", "-ffp-contract=off"]  # no FMA: bit-equal to NumPy
 
 
 class CompilerUnavailableError(ParakinError):
@@ -37,12 +37,12 @@ def cache_directory() -> Path:
 def build_library(package: GeneratedPackage) -> Path:
     """Compile (or find in the cache) the shared library of a generated package."""
     sources = package.c_sources()
-    header = package.c_header()
+    headers = package.c_headers()
     compiler = shutil.which(os.environ.get("CC", "cc"))
     if compiler is None:
         raise CompilerUnavailableError("no C compiler found (looked for $CC or 'cc')")
     digest = hashlib.sha256()
-    for path in [*sources, header]:
+    for path in [*sources, *headers]:
         digest.update(path.read_bytes())
     digest.update(" ".join([compiler, *FLAGS]).encode())
     target = cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
@@ -51,7 +51,7 @@ def build_library(package: GeneratedPackage) -> Path:
     target.parent.mkdir(parents=True, exist_ok=True)
     handle, scratch = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(handle)
-    command = [compiler, *FLAGS, "-I", str(header.parent), *map(str, sources), "-o", scratch, "-lm"]
+    command = [compiler, *FLAGS, "-I", str(package.path), *map(str, sources), "-o", scratch, "-lm"]
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
         os.unlink(scratch)
@@ -62,10 +62,17 @@ def build_library(package: GeneratedPackage) -> Path:
 
 _POINTER = ctypes.c_void_p
 _INT64 = ctypes.c_longlong
+_CTYPES = {"int64": ctypes.c_longlong, "double": ctypes.c_double}
+
+
+def job_structure(name: str, fields: tuple[tuple[str, str], ...]) -> type[ctypes.Structure]:
+    """A ctypes structure with the manifest's field list (pointers as void*): the C header is
+    printed from the same list, so the two layouts cannot drift apart."""
+    return type(name, (ctypes.Structure,), {"_fields_": [(n, _CTYPES.get(t, _POINTER)) for n, t in fields]})
 
 
 class CompiledBackend:
-    """Batched kernels and the forward-pose Newton loop in compiled C (no DM conversion)."""
+    """Batched kernels, the forward-pose Newton loop and the all-modes pipeline in compiled C."""
 
     name = "compiled"
 
@@ -74,19 +81,31 @@ class CompiledBackend:
         self.path = build_library(package)
         self.library = ctypes.CDLL(str(self.path))
         self.kernels = list(self.manifest.kernels)
+        abi = self.manifest.abi
+        self.NewtonJob = job_structure("NewtonJob", abi.newton_job)
         self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
-        self.newton.argtypes = [
-            _INT64, _POINTER, _INT64, _POINTER, _INT64, _POINTER,
-            ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
-            _POINTER, _POINTER, _POINTER, _POINTER, _POINTER,
-        ]  # fmt: skip
+        self.newton.argtypes = [_POINTER]
+        self.ModesJob = job_structure("ModesJob", abi.modes_job)
+        self.forward_pose_all = None
+        if abi.modes_symbol is not None:
+            self.forward_pose_all = getattr(self.library, abi.modes_symbol)
+            self.forward_pose_all.restype = ctypes.c_int
+            self.forward_pose_all.argtypes = [_POINTER]
+
+    def job(self, structure: type[ctypes.Structure], values: dict[str, Any]) -> ctypes.Structure:
+        """Fill a job structure: arrays become their data pointers (the caller keeps them alive)."""
+        job = structure()
+        for field, _ in structure._fields_:  # type: ignore[misc]
+            value = values[field]
+            setattr(job, field, value.ctypes.data if isinstance(value, np.ndarray) else value)
+        return job
 
     def external(self, kernel: str) -> Any:
         """The compiled kernel as a ``casadi.Function`` (``casadi.external``)."""
         import casadi
 
-        return casadi.external(kernel, str(self.path))
+        return casadi.external(f"{self.manifest.name}_{kernel}", str(self.path))
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
         shape, flat = broadcast_batch(inputs)

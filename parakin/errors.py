@@ -59,6 +59,8 @@ class InconsistentInputError(ParakinError):
 
 #: status codes of the Newton loops (the generated C driver uses the same numbers)
 NEWTON_OK, NEWTON_NONFINITE, NEWTON_NO_CONVERGENCE, NEWTON_SINGULAR, NEWTON_WRONG_BASIN = 0, 1, 2, 3, 4
+#: their names in the manifest's ABI (checked when a package is read: the codes are the C enum's)
+NEWTON_STATUS_NAMES = ("ok", "nonfinite", "no_convergence", "singular", "wrong_basin")
 
 
 def raise_for_newton_status(

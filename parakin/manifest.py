@@ -13,9 +13,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from parakin.errors import BadInputError
+from parakin.errors import NEWTON_STATUS_NAMES, BadInputError
 
-SUPPORTED_SCHEMA = 1
+SUPPORTED_SCHEMA = 2
 
 
 @dataclass(frozen=True)
@@ -164,9 +164,26 @@ class Newton:
     """The C Newton driver's layout (shared with ``parakin.compiled``)."""
 
     symbol: str
-    job_symbol: str
     unknowns: int
     actuated: int
+
+
+@dataclass(frozen=True)
+class Abi:
+    """The C ABI as the generator wrote it: status code names (their index is the code) and
+    the fields (name, type) of the job structures that ``parakin.compiled`` binds."""
+
+    newton_status: tuple[str, ...]
+    mode_outcomes: tuple[str, ...]
+    input_status: tuple[str, ...]
+    root_kinds: tuple[str, ...]
+    newton_job: tuple[tuple[str, str], ...]
+    modes_job: tuple[tuple[str, str], ...]
+    modes_symbol: str | None
+
+    def code(self, table: str, name: str) -> int:
+        """The integer code of ``name`` in one of the status tables."""
+        return getattr(self, table).index(name)
 
 
 @dataclass(frozen=True)
@@ -191,7 +208,9 @@ class Manifest:
     kernels: dict[str, Kernel]
     c_sources: tuple[str, ...]
     c_header: str
+    c_headers: tuple[str, ...]
     newton: Newton
+    abi: Abi
 
     @property
     def actuated_names(self) -> list[str]:
@@ -300,10 +319,24 @@ class Manifest:
             },
             c_sources=tuple(c["sources"]),
             c_header=c["header"],
-            newton=Newton(
-                c["newton"]["symbol"], c["newton"]["job_symbol"], c["newton"]["unknowns"], c["newton"]["actuated"]
+            c_headers=tuple(c["headers"]),
+            newton=Newton(c["newton"]["symbol"], c["newton"]["unknowns"], c["newton"]["actuated"]),
+            abi=Abi(
+                _newton_status(c["abi"]["newton_status"]),
+                tuple(c["abi"]["mode_outcomes"]),
+                tuple(c["abi"]["input_status"]),
+                tuple(c["abi"]["root_kinds"]),
+                tuple((str(n), str(t)) for n, t in c["abi"]["newton_job"]),
+                tuple((str(n), str(t)) for n, t in c["abi"]["modes_job"]),
+                (c.get("modes") or {}).get("symbol"),
             ),
         )
+
+
+def _newton_status(names: list[str]) -> tuple[str, ...]:
+    if tuple(names) != NEWTON_STATUS_NAMES:
+        raise BadInputError(f"the package's Newton status codes {names} differ from this parakin's; regenerate it")
+    return tuple(names)
 
 
 def _limit(value: float | None, default: float) -> float:

@@ -6,6 +6,7 @@ backend, and return named results. Conventions are those of the mechanism's gene
 
 from __future__ import annotations
 
+import ctypes
 import threading
 from typing import Any
 
@@ -27,9 +28,10 @@ from parakin.errors import (
     UnsupportedOperationError,
     raise_for_newton_status,
 )
+from parakin.linalg import pivoted_solve
 from parakin.manifest import Capabilities, Manifest, Variable
+from parakin.modes import assemble, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
-from parakin.polynomial import real_roots
 from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
 from parakin.tracker import ForwardPoseTracker
@@ -198,7 +200,7 @@ class Mechanism:
 
     def _closest_mode_to_home(self, actuated: Array) -> Array:
         """Without a guess: the closed-form assembly mode nearest the home configuration."""
-        modes = self.forward_pose_all(actuated, polish=False, strict=False)
+        modes = self.forward_pose_all(actuated, strict=False)
         difference = modes.passive - self.home_passive
         difference = np.where(self._angular_passive, wrap_angle(difference), difference)
         distance = np.abs(difference).max(-1) + np.where(modes.valid | modes.real, 0.0, 1e6)
@@ -259,7 +261,7 @@ class Mechanism:
                 theta, start, tolerance, max_iterations, max_step
             )
         else:
-            passive, pose, residual, iterations, status = self._newton_python(
+            passive, pose, residual, iterations, status, _ = self._newton_python(
                 theta, start, tolerance, max_iterations, max_step
             )
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
@@ -268,12 +270,23 @@ class Mechanism:
             raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations)
         return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))
 
-    def _newton_python(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
+    def _newton_python(
+        self,
+        theta: Array,
+        start: Array,
+        tolerance: float,
+        max_iterations: int,
+        max_step: float,
+        keep_last: bool = False,
+    ):
+        """The NumPy Newton loop (same steps and statuses as the C driver's ``newton``); a failed
+        entry returns its guess, or with ``keep_last`` its last iterate."""
         q = np.array(start, dtype=float)
         batch = q.shape[:-1]
         status = np.full(batch, STATUS_NO_CONVERGENCE, dtype=np.int32)
         iterations = np.zeros(batch, dtype=np.int32)
         residual_norm = np.full(batch, np.nan)
+        conditioning = np.full(batch, np.nan)
         # as in the C driver: non-finite inputs are reported, not iterated
         finite_input = np.isfinite(np.broadcast_to(theta, batch + theta.shape[-1:])).all(-1) & np.isfinite(q).all(-1)
         status[~finite_input] = NEWTON_NONFINITE
@@ -298,23 +311,23 @@ class Mechanism:
             # a Jacobian that is not finite (e.g. a zero-length leg) is a singularity of the closure
             defined = np.asarray(np.isfinite(out["jacobian"]).all(axis=(-2, -1)))
             jacobian = np.where(defined[..., None, None], out["jacobian"], 0.0)
-            singular_values = np.linalg.svd(jacobian, compute_uv=False)
-            singular = active & ~(singular_values[..., -1] > 1e-10 * np.maximum(singular_values[..., 0], 1.0))
+            step, ratio = pivoted_solve(jacobian, np.where(np.isfinite(out["residual"]), out["residual"], 0.0))
+            conditioning = np.where(active, ratio, conditioning)
+            singular = active & ~(ratio > self.tolerances["singular_ratio"])
             status[singular] = STATUS_SINGULAR
             status[done & ~singular] = STATUS_OK
             active &= ~singular & ~done
             if not active.any():
                 break
-            safe = np.where(active[..., None, None], jacobian, np.eye(jacobian.shape[-1]))
-            step = np.linalg.solve(safe, out["residual"][..., None])[..., 0]
+            step = np.where(active[..., None], step, 0.0)
             size = np.abs(step).max(-1, keepdims=True)
             scale = np.where(size > max_step, max_step / np.maximum(size, 1e-300), 1.0)
             q = np.where(active[..., None], q - scale * step, q)
         # as in the C driver: a failed entry keeps its guess, never a diverged iterate
-        q = np.where((status == STATUS_OK)[..., None], q, start)
+        q = np.where(((status == STATUS_OK) | keep_last)[..., None], q, start)
         status = np.where((status == STATUS_NO_CONVERGENCE) & ~np.isfinite(residual_norm), NEWTON_NONFINITE, status)
         pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
-        return q, pose, residual_norm, iterations, status
+        return q, pose, residual_norm, iterations, status, conditioning
 
     def _newton_compiled(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
         batch = theta.shape[:-1]
@@ -323,17 +336,26 @@ class Mechanism:
         count = int(np.prod(batch, dtype=np.int64))
         theta_c = np.ascontiguousarray(theta, dtype=float)
         start_c = np.ascontiguousarray(start, dtype=float)
-        passive = np.empty(batch + start.shape[-1:])
-        pose = np.empty(batch + (4, 4))
-        residual = np.empty(batch)
-        iterations = np.empty(batch, dtype=np.int32)
-        status = np.empty(batch, dtype=np.int32)
-        self.backend.newton(  # type: ignore[attr-defined]
-            count, theta_c.ctypes.data, theta.shape[-1], start_c.ctypes.data, start.shape[-1],
-            self.params.ctypes.data, max_iterations, tolerance, max_step, 1e-10,
-            passive.ctypes.data, pose.ctypes.data, residual.ctypes.data, iterations.ctypes.data, status.ctypes.data,
+        out = {
+            "passive": np.empty(batch + start.shape[-1:]),
+            "pose": np.empty(batch + (4, 4)),
+            "residual": np.empty(batch),
+            "conditioning": np.empty(batch),
+            "iterations": np.empty(batch, dtype=np.int32),
+            "status": np.empty(batch, dtype=np.int32),
+        }
+        backend = self.backend
+        job = backend.job(  # type: ignore[attr-defined]
+            backend.NewtonJob,  # type: ignore[attr-defined]
+            {
+                "n": count, "actuated": theta_c, "actuated_stride": theta.shape[-1], "guess": start_c,
+                "guess_stride": start.shape[-1], "params": self.params, "max_iterations": max_iterations,
+                "tolerance": tolerance, "max_step": max_step, "singular_ratio": self.tolerances["singular_ratio"],
+                **out,
+            },
         )  # fmt: skip
-        return passive, pose, residual, iterations, status
+        backend.newton(ctypes.byref(job))  # type: ignore[attr-defined]
+        return out["passive"], out["pose"], out["residual"], out["iterations"], out["status"]
 
     def _newton_compiled_single(
         self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float
@@ -364,13 +386,18 @@ class Mechanism:
         return ForwardPoseTracker(self, start, tolerance, max_iterations)
 
     # ------------------------------------------------------------------ forward pose, all modes
-    def forward_pose_all(self, actuated: ArrayLike, polish: bool = True, strict: bool = True) -> AssemblyModes:
+    def forward_pose_all(self, actuated: ArrayLike, strict: bool = True) -> AssemblyModes:
         """Every real assembly mode from the generated univariate polynomial (closed form).
 
-        Modes are padded to M = degree x branch combinations; ``valid`` marks real, polished
-        (residual below 1e-9) modes within joint limits. With ``strict``, a degenerate
-        elimination (a degeneracy measure below 1e-9, e.g. parallel U-joint axes for SAM, where
-        the platform has a self-motion) raises SingularConfigurationError.
+        Every real root of the polynomial is isolated (none is lost: roots are separated by the
+        roots of the derivative; near-double roots and roots at infinity are reported), back
+        substituted for every branch, completed with the passive joints, polished by Newton to
+        1e-13 and checked (closure, alignment, joint limits, input independence, repeats).
+        Slots: M = degree x branch combinations; ``valid`` marks modes, ``outcome`` says what
+        became of every other slot and ``certificate()`` accounts for every root. A mode at a
+        type II singularity is kept with its ``conditioning`` near 0 (``ill_conditioned()``).
+        With ``strict``, a degenerate elimination with no isolated mode (e.g. SAM with parallel
+        U-joint axes: a self-motion) raises SelfMotionError or SingularConfigurationError.
         """
         theta = self._actuated(actuated)
         info = self.capabilities.forward
@@ -382,20 +409,26 @@ class Mechanism:
                 )
             single = self.forward_pose(theta)  # a serial chain has exactly one forward pose
             one = np.ones(theta.shape[:-1] + (1,), dtype=bool)
+            zero = np.zeros(theta.shape[:-1], dtype=np.int32)
             return AssemblyModes(
                 theta, single.pose[..., None, :, :], single.passive[..., None, :], single.residual[..., None],
-                np.zeros(one.shape), one, one, one.sum(-1), ~one,
+                np.full(one.shape, np.nan), one, one, one.sum(-1), ~one,
+                outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.full(one.shape, -1, dtype=np.int32),
+                conditioning=np.ones(one.shape), real_roots=zero, near_roots=zero, at_infinity=zero, status=zero,
+                outcomes=self.manifest.abi.mode_outcomes,
             )  # fmt: skip
-        tol = self.tolerances
-        with np.errstate(divide="ignore", invalid="ignore"):  # degenerate inputs: reported below
-            out = self.backend.call("forward_polynomial", theta, self.params)
-        measures = out.get("degeneracies", np.zeros(theta.shape[:-1] + (0,)))
-        degenerate = np.asarray((np.abs(measures) < tol["degenerate"]).any(-1))
-        if strict and degenerate.any():
+        flat = theta.reshape(-1, theta.shape[-1])
+        if self.backend.name == "compiled":
+            out = compiled_modes(self, flat)
+        else:
+            out = numpy_modes(self, flat)
+        modes = assemble(self, theta, out)
+        degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
+        if strict and np.any(degenerate):
             index = tuple(int(i) for i in np.argwhere(degenerate)[0])
-            names = [n for k, n in enumerate(info.degeneracies) if abs(measures[index][k]) < tol["degenerate"]]
             message = (
-                f"forward pose at batch index {index}: degenerate elimination ({', '.join(names)}); "
+                f"forward pose at batch index {index}: degenerate elimination "
+                f"({', '.join(info.degeneracies) or 'the polynomial vanishes'}) and no isolated mode; "
                 "the platform is not determined by the actuators here"
             )
             # a positive-dimensional solution set (a self-motion): report it, not a random point
@@ -403,55 +436,34 @@ class Mechanism:
             if motion.count:
                 raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
             raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
-        roots, real = real_roots(out["coefficients"], tol["imaginary"])
-        combinations = np.array(info.combinations, dtype=float)
-        n_roots, n_branches = roots.shape[-1], combinations.shape[0]
-        root_grid = np.repeat(roots, n_branches, axis=-1)[..., None]
-        branch_grid = np.tile(combinations, (n_roots, 1))
-        real_grid = np.repeat(real, n_branches, axis=-1) & ~degenerate[..., None]
-        with np.errstate(divide="ignore", invalid="ignore"):  # non-real roots: masked next
-            poses = self.backend.call(
-                "forward_back_substitution", theta[..., None, :], root_grid, branch_grid, self.params
-            )["pose"]
-        # a back substitution undefined at a root (0 / 0 where the elimination degenerates) gives no candidate
-        real_grid &= np.isfinite(poses).all(axis=(-2, -1))
-        poses = np.where(real_grid[..., None, None], poses, np.eye(4))
-        theta_grid = np.broadcast_to(theta[..., None, :], poses.shape[:-2] + theta.shape[-1:])
-        passive = self.passive_from_pose(theta_grid, poses)
-        closure = self.loop_closure(theta_grid, passive)
-        residual = np.abs(closure["residual"]).max(-1)
-        # a candidate is a mode if it nearly closes (a loose bound keeps near-double roots, whose
-        # back-substitution is less accurate); Newton then must converge, so that a wrong
-        # candidate is never polished into some other mode
-        candidate = real_grid & (residual < tol["candidate"]) & (closure["alignment"] > 0).all(-1)
-        closed = candidate & (residual < tol["closure"])
-        if polish and candidate.any():  # only real, nearly closed candidates: the rest are no modes
-            where = np.nonzero(candidate)
-            start = Configuration(theta_grid[where], passive[where], poses[where])  # an unambiguous guess
-            polished = self.forward_pose(theta_grid[where], start, tolerance=1e-13, max_iterations=8, strict=False)
-            accept = np.zeros_like(candidate)
-            accept[where] = polished.converged
-            passive, poses, residual = passive.copy(), poses.copy(), residual.copy()
-            passive[where] = np.where(polished.converged[..., None], polished.passive, passive[where])
-            poses[where] = np.where(polished.converged[..., None, None], polished.pose, poses[where])
-            residual[where] = np.where(polished.converged, polished.residual, residual[where])
-            closed = accept | closed
-        valid = closed & self.within_limits(passive)
-        # modes whose pose does not depend on the inputs (a vanishing input-independent factor)
-        independent = np.zeros_like(valid)
-        folded = self.capabilities.rates.input_independent if self.capabilities.rates else ()
-        if folded:  # all of them at once: one folded leg alone is an ordinary serial singularity
-            factors = self.singularities(Configuration(theta_grid, passive, poses))
-            independent = np.logical_and.reduce([np.abs(factors[name]) < tol["factor_zero"] for name in folded])
-        # a double root (or two branches reaching one pose) is one mode: keep the first
-        distance = np.abs(poses[..., :, None, :, :] - poses[..., None, :, :, :]).max(axis=(-2, -1))
-        earlier = np.tril(np.ones((poses.shape[-3],) * 2, dtype=bool), k=-1)
-        valid &= ~(valid[..., None, :] & earlier & (distance < tol["duplicate"])).any(-1)
-        flagged = valid & independent
-        valid &= ~independent
-        return AssemblyModes(
-            theta, poses, passive, residual, root_grid[..., 0], real_grid, valid, valid.sum(-1), flagged
-        )
+        return modes
+
+    def forward_pose_all_chunks(self, actuated: ArrayLike, chunk: int = 65536, strict: bool = True):
+        """``forward_pose_all`` over a flat batch (N, n_a), one ``(start, AssemblyModes)`` per
+        chunk of at most ``chunk`` inputs: memory bounded by the chunk whatever N."""
+        theta = self._actuated(actuated).reshape(-1, len(self.actuated_names))
+        if not (isinstance(chunk, int | np.integer) and chunk > 0):
+            raise BadInputError(f"chunk must be a positive integer, got {chunk!r}")
+        for start in range(0, theta.shape[0], chunk):
+            yield start, self.forward_pose_all(theta[start : start + chunk], strict=strict)
+
+    def count_modes(self, actuated: ArrayLike, chunk: int = 65536) -> dict[str, Array]:
+        """Per input (batch shape of ``actuated``): ``count`` of assembly modes, ``real_roots``,
+        ``near_roots``, ``at_infinity``, ``status`` and ``min_conditioning`` over the modes,
+        computed chunk by chunk (peak memory set by ``chunk``, not by the batch)."""
+        theta = self._actuated(actuated)
+        shape = theta.shape[:-1]
+        keys = ("count", "real_roots", "near_roots", "at_infinity", "status")
+        total = int(np.prod(shape, dtype=np.int64))
+        result: dict[str, Array] = {key: np.zeros(total, dtype=np.int32) for key in keys}
+        result["min_conditioning"] = np.full(total, np.nan)
+        for start, modes in self.forward_pose_all_chunks(theta, chunk, strict=False):
+            stop = start + modes.count.shape[0]
+            for key in keys:
+                result[key][start:stop] = getattr(modes, key)
+            conditioning = np.where(modes.valid, modes.conditioning, np.inf).min(-1)
+            result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
+        return {key: value.reshape(shape) for key, value in result.items()}
 
     def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
         """The solution set of the loop closure for one locked input where it is a curve (a

@@ -12,6 +12,7 @@ import hashlib
 import importlib
 import importlib.util
 import os
+import shutil
 from functools import cached_property
 from pathlib import Path
 from types import ModuleType
@@ -87,7 +88,24 @@ class GeneratedPackage:
         return [self.path / name for name in self.manifest.c_sources]
 
     def c_header(self) -> Path:
+        """The public header ``<name>.h``."""
         return self.path / self.manifest.c_header
+
+    def export_c(self, folder: str | os.PathLike[str]) -> list[Path]:
+        """Copy the embeddable C library (sources, headers, example program, README) to ``folder``."""
+        target = Path(folder)
+        target.mkdir(parents=True, exist_ok=True)
+        names = [*self.manifest.c_sources, *self.manifest.c_headers, "example_main.c", "README_C.md"]
+        written = []
+        for name in names:
+            destination = target / name
+            shutil.copyfile(self.path / name, destination)
+            written.append(destination)
+        return written
+
+    def c_headers(self) -> list[Path]:
+        """Every header the C sources include (CasADi kernels, root isolation, public)."""
+        return [self.path / name for name in self.manifest.c_headers]
 
 
 __all__ = ["GeneratedPackage", "discover", "search_path"]

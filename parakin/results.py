@@ -57,12 +57,16 @@ class InversePose:
 
 @dataclass(frozen=True)
 class AssemblyModes:
-    """Every forward-pose solution, padded to a fixed count M: arrays (..., M, ...).
+    """Every forward-pose solution, in M = degree x branch-combination slots: arrays (..., M, ...).
 
-    ``real``: the polynomial root was real; ``valid``: real, polished to tolerance, within joint
-    limits, not a repeat of an earlier mode (double roots) and not input-independent;
-    ``input_independent``: real modes at a factor that makes the pose independent of the inputs
-    (e.g. the Agile Eye's folded poses), flagged and not counted; ``count`` = valid modes per input."""
+    Slot r * B + b holds root r (ascending, then roots at infinity) with branch combination b.
+    ``valid``: a mode (real root, closed and polished, within joint limits, not a repeat of an
+    earlier mode, not input-independent); ``count`` = valid modes per input.
+    ``outcome`` (..., M) says what became of every slot (codes: ``OUTCOMES``); ``root_kind`` is
+    the kind of the slot's root (0 simple, 1 cluster of numerically multiple roots, 2 complex
+    pair near the real axis, -1 no root). ``conditioning``: pivot ratio of the closure Jacobian
+    (1 well conditioned, 0 at a type II singularity). Per input: ``real_roots`` (distinct finite
+    real roots), ``near_roots``, ``at_infinity`` and ``status`` (``INPUT_STATUS``)."""
 
     actuated: Array
     poses: Array
@@ -73,10 +77,37 @@ class AssemblyModes:
     valid: Mask
     count: NDArray[np.int64]
     input_independent: Mask
+    outcome: NDArray[np.int32]
+    root_kind: NDArray[np.int32]
+    conditioning: Array
+    real_roots: NDArray[np.int32]
+    near_roots: NDArray[np.int32]
+    at_infinity: NDArray[np.int32]
+    status: NDArray[np.int32]
+    outcomes: tuple[str, ...] = ()
+    branch_count: int = 1
 
     def mode(self, index: int) -> Configuration:
         """Mode ``index`` as a configuration."""
         return Configuration(self.actuated, self.passive[..., index, :], self.poses[..., index, :, :])
+
+    def ill_conditioned(self, singular_ratio: float = 1e-10) -> Mask:
+        """Valid modes whose closure Jacobian is singular to ``singular_ratio`` (a type II
+        singularity: the mode is reported, but its pose is sensitive to the inputs)."""
+        return self.valid & ~(self.conditioning > singular_ratio)
+
+    def certificate(self) -> dict[str, NDArray[np.int64]]:
+        """Per input: every isolated root accounted for. ``roots`` = real + near-real + at
+        infinity; ``with_modes`` roots gave at least one mode; ``rejected[reason]`` counts the
+        others by the furthest stage any of their branches reached. roots == with_modes +
+        sum(rejected) holds for every input."""
+        slots = self.outcome.shape[-1]
+        per_root = self.outcome.reshape(self.outcome.shape[:-1] + (slots // self.branch_count, self.branch_count))
+        has_root = self.root_kind.reshape(per_root.shape)[..., 0] >= 0
+        with_mode = has_root & (per_root == 0).any(-1)
+        reason = np.where(has_root & ~with_mode, per_root.max(-1), -1)
+        rejected = {name: (reason == code).sum(-1) for code, name in enumerate(self.outcomes) if code > 1}
+        return {"roots": has_root.sum(-1), "with_modes": with_mode.sum(-1), "rejected": rejected}  # type: ignore[dict-item]
 
 
 @dataclass(frozen=True)

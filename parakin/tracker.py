@@ -12,26 +12,6 @@ from parakin.errors import BadInputError, raise_for_newton_status
 from parakin.results import Array, Configuration
 
 
-class _NewtonJob(ctypes.Structure):
-    _fields_ = [
-        ("n", ctypes.c_longlong),
-        ("actuated", ctypes.c_void_p),
-        ("actuated_stride", ctypes.c_longlong),
-        ("guess", ctypes.c_void_p),
-        ("guess_stride", ctypes.c_longlong),
-        ("params", ctypes.c_void_p),
-        ("max_iterations", ctypes.c_int),
-        ("tolerance", ctypes.c_double),
-        ("max_step", ctypes.c_double),
-        ("pivot_floor", ctypes.c_double),
-        ("passive", ctypes.c_void_p),
-        ("pose", ctypes.c_void_p),
-        ("residual_norm", ctypes.c_void_p),
-        ("iterations", ctypes.c_void_p),
-        ("status", ctypes.c_void_p),
-    ]
-
-
 class ForwardPoseTracker:
     """Tracks the forward pose of a batch of n mechanisms (n = 1 for one robot).
 
@@ -56,15 +36,21 @@ class ForwardPoseTracker:
         self._tolerance, self._max_iterations = tolerance, max_iterations
         backend = mechanism.backend
         self._compiled = backend.name == "compiled"
+        self.conditioning = np.zeros(self.count)
         if self._compiled:
             n_a, n_p = self.actuated.shape[1], self.passive.shape[1]
-            self._job = _NewtonJob(
-                self.count, self.actuated.ctypes.data, n_a, self.passive.ctypes.data, n_p, self._params.ctypes.data,
-                max_iterations, tolerance, 0.5, 1e-10, self.passive.ctypes.data, self.pose.ctypes.data,
-                self.residual.ctypes.data, self.iterations.ctypes.data, self.status.ctypes.data,
+            self._job = backend.job(
+                backend.NewtonJob,
+                {
+                    "n": self.count, "actuated": self.actuated, "actuated_stride": n_a, "guess": self.passive,
+                    "guess_stride": n_p, "params": self._params, "max_iterations": max_iterations,
+                    "tolerance": tolerance, "max_step": 0.5,
+                    "singular_ratio": mechanism.tolerances["singular_ratio"], "passive": self.passive,
+                    "pose": self.pose, "residual": self.residual, "conditioning": self.conditioning,
+                    "iterations": self.iterations, "status": self.status,
+                },
             )  # fmt: skip
-            self._solve = getattr(backend.library, mechanism.manifest.newton.job_symbol)
-            self._solve.argtypes = [ctypes.c_void_p]
+            self._solve = backend.newton
             self._job_address = ctypes.addressof(self._job)
 
     def configure(self, tolerance: float, max_iterations: int, max_step: float) -> None:
@@ -96,11 +82,12 @@ class ForwardPoseTracker:
         if self._compiled:
             self._solve(self._job_address)
         else:
-            passive, pose, residual, iterations, status = self.mechanism._newton_python(
+            passive, pose, residual, iterations, status, conditioning = self.mechanism._newton_python(
                 self.actuated, self.passive, self._tolerance, self._max_iterations, 0.5
             )
             self.passive[...], self.pose[...] = passive, pose
             self.residual[...], self.iterations[...], self.status[...] = residual, iterations, status
+            self.conditioning[...] = conditioning
         if self.status.any():  # failed entries kept their previous (good) solution
             raise_for_newton_status(
                 self.status, self.residual, self.iterations, "tracker", self._tolerance, self._max_iterations

@@ -80,7 +80,7 @@ def test_generation_is_atomic(tmp_path):
 
 def test_manifest_describes_every_kernel_and_variable():
     manifest = json.loads((GENERATED / "sam" / "manifest.json").read_text())
-    assert manifest["schema"] == 1 and manifest["name"] == "sam"
+    assert manifest["schema"] == 2 and manifest["name"] == "sam"
     assert manifest["citation"]["authors"] and "shared/papers" not in json.dumps(manifest["citation"])
     kinds = {v["name"]: (v["kind"], v["unit"]) for v in manifest["actuated"] + manifest["passive"]}
     assert kinds["theta1"] == ("revolute", "rad") and kinds["L2"] == ("prismatic", "m")

@@ -101,7 +101,8 @@ def test_every_mode_reproduces_the_inputs_on_random_inputs(spm):
 
 
 def _row(modes, i):
-    return parakin.AssemblyModes(*(getattr(modes, f)[i] for f in modes.__dataclass_fields__))
+    fields = {f: getattr(modes, f) for f in modes.__dataclass_fields__}
+    return parakin.AssemblyModes(**{f: v[i] if isinstance(v, np.ndarray) else v for f, v in fields.items()})
 
 
 def test_agile_eye_reports_four_genuine_modes_and_flags_the_input_independent_ones():

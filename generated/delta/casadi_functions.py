@@ -37,7 +37,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 3] = z
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "delta_platform_pose",
         [
             actuated,
             passive,
@@ -114,7 +114,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "delta_loop_closure",
         [
             actuated,
             passive,
@@ -187,7 +187,7 @@ def loop_closure_actuated() -> casadi.Function:
         _t17**2 + _t20**2 + _t21**2
     )
     return casadi.Function(
-        "loop_closure_actuated",
+        "delta_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -262,7 +262,7 @@ def rate_jacobians() -> casadi.Function:
     b[1, 1] = L * ((1 / 2) * _t10 * _t14 - 1 / 2 * _t11 * _t13 * _t14 - _t15 * _t4)
     b[2, 2] = L * (_t11 * _t19 * _t22 - _t16 * _t21 + _t18 * _t22)
     return casadi.Function(
-        "rate_jacobians",
+        "delta_rate_jacobians",
         [
             actuated,
             passive,
@@ -343,7 +343,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t28
     determinants[1] = L**3 * _t18 * _t26 * _t4
     return casadi.Function(
-        "singularity_factors",
+        "delta_singularity_factors",
         [
             actuated,
             passive,
@@ -421,7 +421,7 @@ def drawing() -> casadi.Function:
     platform[2, 2] = z
     platform[2, 3] = z
     return casadi.Function(
-        "drawing",
+        "delta_drawing",
         [
             actuated,
             passive,
@@ -515,7 +515,7 @@ def inverse_pose() -> casadi.Function:
     validity[1] = E2**2 + F2**2 - G2**2
     validity[2] = E3**2 + F3**2 - G3**2
     return casadi.Function(
-        "inverse_pose",
+        "delta_inverse_pose",
         [
             pose,
             branch,
@@ -607,7 +607,7 @@ def forward_polynomial() -> casadi.Function:
     degeneracies = casadi.SX.zeros(1)
     degeneracies[0] = n_norm / _t2
     return casadi.Function(
-        "forward_polynomial",
+        "delta_forward_polynomial",
         [
             actuated,
             params,
@@ -700,7 +700,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 3] = _t2 * n_z + c1_z + v0_z
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "delta_forward_back_substitution",
         [
             actuated,
             root,

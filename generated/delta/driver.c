@@ -11,27 +11,39 @@
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 
-// Batched entry points over the CasADi-generated kernels of delta, and the forward
-// pose Newton loop, so that one call from Python does a whole batch with no per-call conversion.
-// Arrays are row-major; input k of pose i starts at inputs[k] + i * strides[k] (stride 0 shares
-// one value across the batch). CasADi stores matrices column-major, hence the transposes.
+// Batched entry points over the CasADi-generated kernels of delta, the forward-pose Newton loop
+// and the whole every-assembly-mode pipeline, so that one call does a whole batch. Arrays are
+// row-major; input k of pose i starts at inputs[k] + i * strides[k] (stride 0 shares one value).
+// CasADi stores matrices column-major, hence the transposes. Nothing here allocates: every work
+// array is on the stack with a size fixed at generation time, and every loop is bounded.
 #include <math.h>
 #include <string.h>
 
 #include "kernels.h"
+#include "delta.h"
+#include "real_roots.h"
 
-int platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+#define NA 3
+#define NQ 3
+#define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
+#define NPAIRS 1
+#define SZ_ARG 4
+#define SZ_RES 3
+#define SZ_IW (0 + 1)
+#define SZ_W (23 + 1)
+
+int delta_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
     casadi_real w[2 + 1];
-    casadi_real out_pose[16];
+    casadi_real out_pose[16 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_pose;
-        if (platform_pose(arg, res, iw, w, 0)) return 1;
+        if (delta_platform_pose(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
@@ -39,14 +51,14 @@ int platform_pose_batch(long long n, const double** inputs, const long long* str
     return 0;
 }
 
-int loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[18 + 1];
-    casadi_real out_residual[3];
-    casadi_real out_jacobian[9];
-    casadi_real out_alignment[1];
+    casadi_real out_residual[3 + 1];
+    casadi_real out_jacobian[9 + 1];
+    casadi_real out_alignment[1 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -54,7 +66,7 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         res[0] = out_residual;
         res[1] = out_jacobian;
         res[2] = out_alignment;
-        if (loop_closure(arg, res, iw, w, 0)) return 1;
+        if (delta_loop_closure(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 3 + r * 1 + c] = out_residual[c * 3 + r];
@@ -68,18 +80,18 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
     return 0;
 }
 
-int loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
     casadi_real w[15 + 1];
-    casadi_real out_jacobian_actuated[9];
+    casadi_real out_jacobian_actuated[9 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_jacobian_actuated;
-        if (loop_closure_actuated(arg, res, iw, w, 0)) return 1;
+        if (delta_loop_closure_actuated(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[0][i * 9 + r * 3 + c] = out_jacobian_actuated[c * 3 + r];
@@ -87,20 +99,20 @@ int loop_closure_actuated_batch(long long n, const double** inputs, const long l
     return 0;
 }
 
-int rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
     casadi_real w[19 + 1];
-    casadi_real out_a[9];
-    casadi_real out_b[9];
+    casadi_real out_a[9 + 1];
+    casadi_real out_b[9 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_a;
         res[1] = out_b;
-        if (rate_jacobians(arg, res, iw, w, 0)) return 1;
+        if (delta_rate_jacobians(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[0][i * 9 + r * 3 + c] = out_a[c * 3 + r];
@@ -111,20 +123,20 @@ int rate_jacobians_batch(long long n, const double** inputs, const long long* st
     return 0;
 }
 
-int singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
     casadi_real w[18 + 1];
-    casadi_real out_factors[4];
-    casadi_real out_determinants[2];
+    casadi_real out_factors[4 + 1];
+    casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_factors;
         res[1] = out_determinants;
-        if (singularity_factors(arg, res, iw, w, 0)) return 1;
+        if (delta_singularity_factors(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 4 + r * 1 + c] = out_factors[c * 4 + r];
@@ -135,14 +147,14 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
     return 0;
 }
 
-int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[9 + 1];
-    casadi_real out_base[9];
-    casadi_real out_elbow[9];
-    casadi_real out_platform[12];
+    casadi_real out_base[9 + 1];
+    casadi_real out_elbow[9 + 1];
+    casadi_real out_platform[12 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -150,7 +162,7 @@ int drawing_batch(long long n, const double** inputs, const long long* strides, 
         res[0] = out_base;
         res[1] = out_elbow;
         res[2] = out_platform;
-        if (drawing(arg, res, iw, w, 0)) return 1;
+        if (delta_drawing(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[0][i * 9 + r * 3 + c] = out_base[c * 3 + r];
@@ -164,14 +176,14 @@ int drawing_batch(long long n, const double** inputs, const long long* strides, 
     return 0;
 }
 
-int inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[23 + 1];
-    casadi_real out_actuated[3];
-    casadi_real out_passive[3];
-    casadi_real out_validity[3];
+    casadi_real out_actuated[3 + 1];
+    casadi_real out_passive[3 + 1];
+    casadi_real out_validity[3 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -179,7 +191,7 @@ int inverse_pose_batch(long long n, const double** inputs, const long long* stri
         res[0] = out_actuated;
         res[1] = out_passive;
         res[2] = out_validity;
-        if (inverse_pose(arg, res, iw, w, 0)) return 1;
+        if (delta_inverse_pose(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 3 + r * 1 + c] = out_actuated[c * 3 + r];
@@ -193,19 +205,19 @@ int inverse_pose_batch(long long n, const double** inputs, const long long* stri
     return 0;
 }
 
-int forward_polynomial_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_forward_polynomial_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[2];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
     casadi_real w[16 + 1];
-    casadi_real out_coefficients[3];
-    casadi_real out_degeneracies[1];
+    casadi_real out_coefficients[3 + 1];
+    casadi_real out_degeneracies[1 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         res[0] = out_coefficients;
         res[1] = out_degeneracies;
-        if (forward_polynomial(arg, res, iw, w, 0)) return 1;
+        if (delta_forward_polynomial(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 3 + r * 1 + c] = out_coefficients[c * 3 + r];
@@ -216,19 +228,19 @@ int forward_polynomial_batch(long long n, const double** inputs, const long long
     return 0;
 }
 
-int forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int delta_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[4];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
     casadi_real w[20 + 1];
-    casadi_real out_pose[16];
+    casadi_real out_pose[16 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         arg[3] = inputs[3] + i * strides[3];
         res[0] = out_pose;
-        if (forward_back_substitution(arg, res, iw, w, 0)) return 1;
+        if (delta_forward_back_substitution(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
@@ -236,25 +248,43 @@ int forward_back_substitution_batch(long long n, const double** inputs, const lo
     return 0;
 }
 
-// status codes, shared with parakin.errors.raise_for_newton_status
-enum { PARAKIN_OK = 0, PARAKIN_NONFINITE = 1, PARAKIN_NO_CONVERGENCE = 2, PARAKIN_SINGULAR = 3, PARAKIN_WRONG_BASIN = 4 };
+typedef struct {
+    const casadi_real* arg[SZ_ARG];
+    casadi_real* res[SZ_RES];
+    casadi_int iw[SZ_IW];
+    casadi_real w[SZ_W];
+} workspace;
 
-#define NQ 3
-#define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
+#define PI 3.14159265358979323846
 
-// Solves a x = b in place (a is NQ x NQ row-major, destroyed); returns 0 if a pivot vanishes.
-static int solve_in_place(double* a, double* b, double pivot_floor) {
+// (-pi, pi], as parakin.pose.wrap_angle
+static double wrap_angle(double a) {
+    double w = (a + PI) - 2.0 * PI * floor((a + PI) / (2.0 * PI)) - PI;
+    return w <= -PI ? PI : w;
+}
+
+static const int passive_revolute[NQ_ALLOC] = { 0, 0, 0 };
+
+// Gaussian elimination with partial pivoting on a (NQ x NQ row-major, destroyed), solving a x = b
+// in place. Returns the pivot ratio min |u_kk| / max |u_kk|: a scale-free reciprocal-condition
+// estimate, and the one singularity criterion of every backend (parakin.linalg does the same).
+static double solve_in_place(double* a, double* b) {
+    double smallest = INFINITY, largest = 0.0;
     for (int k = 0; k < NQ; ++k) {
         int best = k;
         for (int r = k + 1; r < NQ; ++r)
             if (fabs(a[r * NQ + k]) > fabs(a[best * NQ + k])) best = r;
-        if (!(fabs(a[best * NQ + k]) > pivot_floor)) return 0;
         if (best != k) {
             for (int c = 0; c < NQ; ++c) {
                 double t = a[k * NQ + c]; a[k * NQ + c] = a[best * NQ + c]; a[best * NQ + c] = t;
             }
             double t = b[k]; b[k] = b[best]; b[best] = t;
         }
+        double pivot = fabs(a[k * NQ + k]);
+        if (!isfinite(pivot)) return 0.0;
+        smallest = fmin(smallest, pivot);
+        largest = fmax(largest, pivot);
+        if (pivot == 0.0) return 0.0;
         for (int r = k + 1; r < NQ; ++r) {
             double f = a[r * NQ + k] / a[k * NQ + k];
             for (int c = k; c < NQ; ++c) a[r * NQ + c] -= f * a[k * NQ + c];
@@ -266,107 +296,291 @@ static int solve_in_place(double* a, double* b, double pivot_floor) {
         for (int c = k + 1; c < NQ; ++c) s -= a[k * NQ + c] * b[c];
         b[k] = s / a[k * NQ + k];
     }
-    return 1;
+    return NQ > 0 ? smallest / largest : 1.0;
 }
 
-// Newton on loop_closure(actuated, passive, params) = 0 for the passive variables, from
-// the guess; then the platform pose from platform_pose. Step lengths are capped at max_step.
-int parakin_forward_pose(long long n, const double* actuated, long long actuated_stride,
-                         const double* guess, long long guess_stride, const double* params,
-                         int max_iterations, double tolerance, double max_step, double pivot_floor,
-                         double* passive, double* pose, double* residual_norm, int* iterations,
-                         int* status) {
-    const casadi_real* arg[3];
-    casadi_real* res[3];
-    casadi_int iw[0 + 1];
-    casadi_real w[18 + 1];
-    double residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC], pose_cm[16];
-    double alignment[1];
-    for (long long i = 0; i < n; ++i) {
-        const double* theta = actuated + i * actuated_stride;
-        // iterate on a copy: on failure the output keeps the guess (a tracker's last good
-        // solution, since its guess aliases its output), never a diverged iterate
-        double q[NQ_ALLOC];
-        double* out = passive + i * NQ;
-        memcpy(q, guess + i * guess_stride, sizeof(double) * NQ);
+// Newton on the loop closure for the passive variables, from q (overwritten with the solution
+// only on success). Writes the residual norm reached, the iterations and the pivot ratio of the
+// closure Jacobian at the last iterate; returns a delta Newton status.
+// give_up: an initial residual at or above it stops at once (a candidate that does not close);
+// *initial is that residual and *aligned the alignment of the last iterate. q_io receives the
+// solution on success; on failure it keeps the guess and last (if not NULL) the last iterate.
+static int newton(workspace* ws, const double* theta, double* q_io, double* last, const double* params, long long max_iterations,
+                  double tolerance, double max_step, double singular_ratio, double give_up, double* residual_norm,
+                  double* initial, int* iterations, double* conditioning, int* aligned_out) {
+    double q[NQ_ALLOC], residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC];
+    double alignment[NPAIRS];
+    int status = DELTA_NO_CONVERGENCE;
+    memcpy(q, q_io, sizeof(double) * NQ);
+    *iterations = 0;
+    *residual_norm = NAN;
+    *initial = NAN;
+    *conditioning = NAN;
+    *aligned_out = 0;
+    int finite = 1;
+    for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
+    for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
+    if (!finite) return DELTA_NONFINITE;
+    ws->arg[0] = theta; ws->arg[1] = q; ws->arg[2] = params;
+    // outputs not needed here stay NULL: CasADi then skips computing them
+    for (int k = 0; k < SZ_RES; ++k) ws->res[k] = 0;
+    ws->res[0] = residual;
+    ws->res[1] = jacobian_cm;
+    ws->res[2] = alignment;
+    for (long long it = 0; it <= max_iterations; ++it) {
+        delta_loop_closure(ws->arg, ws->res, ws->iw, ws->w, 0);
+        double norm = 0.0;
+        for (int k = 0; k < NQ; ++k) norm = fmax(norm, fabs(residual[k]));
+        *residual_norm = norm;
+        *iterations = (int)it;
+        int aligned = 1;
+        for (int k = 0; k < NPAIRS; ++k) aligned &= alignment[k] > 0.0;
+        *aligned_out = aligned;
+        if (it == 0) *initial = norm;
+        if (isnan(norm) || isinf(norm)) { status = DELTA_NONFINITE; break; }
+        if (it == 0 && !(norm < give_up)) break;
+        // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
+        if (norm < tolerance && !aligned) { status = DELTA_WRONG_BASIN; break; }
+        if (norm >= tolerance && it == max_iterations) break;
+        for (int r = 0; r < NQ; ++r)
+            for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
+        // also at convergence: a singular closed-loop Jacobian means the pose is not
+        // determined by the actuators (type II), which a zero residual does not reveal
+        double ratio = solve_in_place(jacobian, residual);
+        *conditioning = ratio;
+        if (!(ratio > singular_ratio)) { status = DELTA_SINGULAR; break; }
+        if (norm < tolerance) { status = DELTA_OK; break; }
+        double step = 0.0;
+        for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
+        double scale = step > max_step ? max_step / step : 1.0;
+        for (int k = 0; k < NQ; ++k) q[k] -= scale * residual[k];
+    }
+    if (status == DELTA_OK) memcpy(q_io, q, sizeof(double) * NQ);
+    if (last) memcpy(last, q, sizeof(double) * NQ);
+    return status;
+}
+
+static void platform_pose(workspace* ws, const double* theta, const double* q, const double* params, double* pose) {
+    double pose_cm[16];
+    ws->arg[0] = theta; ws->arg[1] = q; ws->arg[2] = params;
+    ws->res[0] = pose_cm;
+    delta_platform_pose(ws->arg, ws->res, ws->iw, ws->w, 0);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) pose[r * 4 + c] = pose_cm[c * 4 + r];
+}
+
+int delta_forward_pose(const delta_newton_job* job) {
+    workspace ws;
+    for (long long i = 0; i < job->n; ++i) {
+        const double* theta = job->actuated + i * job->actuated_stride;
+        double* out = job->passive + i * NQ;
+        // the output keeps the guess on failure (a tracker's last good solution, since its
+        // guess aliases its output), never a diverged iterate
+        memmove(out, job->guess + i * job->guess_stride, sizeof(double) * NQ);
+        double initial;
+        int aligned;
+        job->status[i] = newton(&ws, theta, out, NULL, job->params, job->max_iterations, job->tolerance, job->max_step,
+                                job->singular_ratio, INFINITY, job->residual + i, &initial, job->iterations + i,
+                                job->conditioning + i, &aligned);
         int finite = 1;
-        for (int k = 0; k < 3; ++k) finite &= isfinite(theta[k]);
-        for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
-        status[i] = finite ? PARAKIN_NO_CONVERGENCE : PARAKIN_NONFINITE;
-        iterations[i] = 0;
-        residual_norm[i] = NAN;
+        for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
+        for (int k = 0; k < NQ; ++k) finite &= isfinite(out[k]);
         if (!finite) {
-            memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
-            for (int k = 0; k < 16; ++k) pose[i * 16 + k] = NAN;
+            for (int k = 0; k < 16; ++k) job->pose[i * 16 + k] = NAN;
             continue;
         }
-        arg[0] = theta; arg[1] = q; arg[2] = params;
-        // outputs not needed here stay NULL: CasADi then skips computing them
-        for (int k = 0; k < 3; ++k) res[k] = 0;
-        res[0] = residual;
-        res[1] = jacobian_cm;
-        res[2] = alignment;
-        for (int it = 0; it <= max_iterations; ++it) {
-            loop_closure(arg, res, iw, w, 0);
-            double norm = 0.0;
-            for (int k = 0; k < NQ; ++k) norm = fmax(norm, fabs(residual[k]));
-            residual_norm[i] = norm;
-            iterations[i] = it;
-            if (!isfinite(norm)) break;
-            if (norm >= tolerance && it == max_iterations) break;
-            for (int r = 0; r < NQ; ++r)
-                for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
-            // also at convergence: a singular closed-loop Jacobian means the pose is not
-            // determined by the actuators (type II), which a zero residual does not reveal
-            if (!solve_in_place(jacobian, residual, pivot_floor)) { status[i] = PARAKIN_SINGULAR; break; }
-            if (norm < tolerance) {
-                // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
-                int aligned = 1;
-                for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 0.0;
-                status[i] = aligned ? PARAKIN_OK : PARAKIN_WRONG_BASIN;
-                break;
-            }
-            double step = 0.0;
-            for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
-            double scale = step > max_step ? max_step / step : 1.0;
-            for (int k = 0; k < NQ; ++k) q[k] -= scale * residual[k];
-        }
-        if (status[i] == PARAKIN_OK) memcpy(out, q, sizeof(double) * NQ);
-        else memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
-        const casadi_real* pose_arg[3];
-        casadi_real* pose_res[1];
-        pose_arg[0] = theta; pose_arg[1] = out; pose_arg[2] = params;
-        pose_res[0] = pose_cm;
-        platform_pose(pose_arg, pose_res, iw, w, 0);
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) pose[i * 16 + r * 4 + c] = pose_cm[c * 4 + r];
+        for (int k = 0; k < NQ; ++k)
+            if (passive_revolute[k]) out[k] = wrap_angle(out[k]);
+        platform_pose(&ws, theta, out, job->params, job->pose + i * 16);
     }
     return 0;
 }
 
-// One argument instead of fifteen: a caller that keeps this struct alive (a tracker) pays the
-// foreign-call overhead once per solve, not per argument.
-typedef struct {
-    long long n;
-    const double* actuated;
-    long long actuated_stride;
-    const double* guess;
-    long long guess_stride;
-    const double* params;
-    int max_iterations;
-    double tolerance;
-    double max_step;
-    double pivot_floor;
-    double* passive;
-    double* pose;
-    double* residual_norm;
-    int* iterations;
-    int* status;
-} parakin_newton_job;
+// ---------------------------------------------------------------------------------------------
+// Every assembly mode: isolate every real root of the generated univariate polynomial, back
+// substitute each root x branch, recover the passive joints from the inverse kernels, polish by
+// Newton, then check closure, limits, input independence and repeats. Each slot says what
+// became of it (DELTA_OUTCOME_...), so that every isolated root is accounted for.
+#define DEGREE 2
+#define NB 1
+#define NBS 0
+#define NDEG 1
+#define NIS 3
+#define NV 3
+#define NF 4
+#define NDET 2
+#define M (DEGREE * NB)
+// a root at infinity of a tangent half-angle is the half-turn: back substitution there
+#define AT_INFINITY 1e8
 
-int parakin_forward_pose_job(const parakin_newton_job* job) {
-    return parakin_forward_pose(job->n, job->actuated, job->actuated_stride, job->guess, job->guess_stride,
-                                job->params, job->max_iterations, job->tolerance, job->max_step,
-                                job->pivot_floor, job->passive, job->pose, job->residual_norm,
-                                job->iterations, job->status);
+static const double forward_branches[NB][NBS > 0 ? NBS : 1] = { { 0 },  };
+static const int actuated_revolute[NA] = { 1, 1, 1 };
+
+// The passive values of the inverse branch whose actuated values match theta (pose row-major).
+// Branch symbols fall into independent groups (one per leg, typically: see the manifest's
+// inverse groups), so 2^(largest group) evaluations try every sign pattern of every group at
+// once, and each group keeps its own best pattern.
+#define NG 3
+#define NPATTERNS 2
+static const int symbol_position[NIS > 0 ? NIS : 1] = { 0, 0, 0 };
+static const int actuated_group[NA] = { 0, 1, 2 };
+static const int passive_group[NQ_ALLOC] = { -1, -1, -1 };
+static const int validity_group[NV > 0 ? NV : 1] = { -1, -1, -1 };
+
+static int passive_from_pose(workspace* ws, const double* theta, const double* pose, const double* params,
+                             double validity_floor, double* q) {
+    double vector[12], actuated[NA], passive[NQ_ALLOC], validity[NV > 0 ? NV : 1], signs[NIS > 0 ? NIS : 1];
+    double best[NG + 1];  // per group; the last entry collects outputs that no branch changes
+    for (int g = 0; g <= NG; ++g) best[g] = INFINITY;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) vector[r * 3 + c] = pose[r * 4 + c];
+    for (int r = 0; r < 3; ++r) vector[9 + r] = pose[r * 4 + 3];
+    for (int pattern = 0; pattern < NPATTERNS; ++pattern) {
+        for (int j = 0; j < NIS; ++j) signs[j] = ((pattern >> symbol_position[j]) & 1) ? -1.0 : 1.0;
+        ws->arg[0] = vector; ws->arg[1] = signs; ws->arg[2] = params;
+        ws->res[0] = actuated; ws->res[1] = passive; ws->res[2] = validity;
+        delta_inverse_pose(ws->arg, ws->res, ws->iw, ws->w, 0);
+        double mismatch[NG + 1];
+        for (int g = 0; g <= NG; ++g) mismatch[g] = 0.0;
+        for (int k = 0; k < NA; ++k) {
+            double d = actuated[k] - theta[k];
+            int g = actuated_group[k] < 0 ? NG : actuated_group[k];
+            mismatch[g] = fmax(mismatch[g], fabs(actuated_revolute[k] ? wrap_angle(d) : d));
+        }
+        for (int k = 0; k < NV; ++k)
+            if (!(validity[k] > validity_floor)) mismatch[validity_group[k] < 0 ? NG : validity_group[k]] += 1e3;
+        for (int k = 0; k < NQ; ++k)
+            if (!isfinite(passive[k])) mismatch[passive_group[k] < 0 ? NG : passive_group[k]] = INFINITY;
+        for (int g = 0; g <= NG; ++g) {
+            if (!(mismatch[g] < best[g])) continue;
+            best[g] = mismatch[g];
+            for (int k = 0; k < NQ; ++k)
+                if ((passive_group[k] < 0 ? NG : passive_group[k]) == g)
+                    q[k] = passive_revolute[k] ? wrap_angle(passive[k]) : passive[k];
+        }
+    }
+    double total = 0.0;
+    for (int g = 0; g <= NG; ++g) total = fmax(total, best[g]);
+    return isfinite(total);
+}
+
+static void modes_one(workspace* ws, const delta_modes_job* job, long long i) {
+    const double* theta = job->actuated + i * job->actuated_stride;
+    const double* params = job->params;
+    double* poses = job->poses + i * M * 16;
+    double* passive = job->passive + i * M * NQ;
+    double* residual = job->residual + i * M;
+    double* conditioning = job->conditioning + i * M;
+    double* slot_root = job->roots + i * M;
+    int* outcome = job->outcome + i * M;
+    int* slot_kind = job->root_kind + i * M;
+    for (int s = 0; s < M; ++s) {
+        outcome[s] = DELTA_OUTCOME_NO_ROOT;
+        slot_kind[s] = -1;
+        slot_root[s] = NAN;
+        residual[s] = NAN;
+        conditioning[s] = NAN;
+        for (int k = 0; k < 16; ++k) poses[s * 16 + k] = (k % 5 == 0) ? 1.0 : 0.0;
+        for (int k = 0; k < NQ; ++k) passive[s * NQ + k] = 0.0;
+    }
+    job->count[i] = 0; job->real_roots[i] = 0; job->near_roots[i] = 0; job->at_infinity[i] = 0;
+    job->status[i] = DELTA_INPUT_OK;
+    int finite = 1;
+    for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
+    if (!finite) { job->status[i] = DELTA_INPUT_NONFINITE; return; }
+
+    double coefficients[DEGREE + 1], degeneracies[NDEG > 0 ? NDEG : 1];
+    ws->arg[0] = theta; ws->arg[1] = params;
+    ws->res[0] = coefficients; ws->res[1] = degeneracies;
+    delta_forward_polynomial(ws->arg, ws->res, ws->iw, ws->w, 0);
+    int degenerate = 0;
+    for (int k = 0; k < NDEG; ++k) degenerate |= !(fabs(degeneracies[k]) >= job->degenerate);
+    for (int k = 0; k <= DEGREE; ++k) degenerate |= !isfinite(coefficients[k]);
+    double roots[DEGREE > 0 ? DEGREE : 1];
+    int kind[DEGREE > 0 ? DEGREE : 1], at_infinity = 0, count = -1;
+    int usable = 1;
+    for (int k = 0; k <= DEGREE; ++k) usable &= isfinite(coefficients[k]);
+    if (usable)
+        count = pk_real_roots(coefficients, DEGREE, job->leading_tolerance, job->near_tolerance, roots, kind, &at_infinity);
+    if (count < 0) { job->status[i] = DELTA_INPUT_DEGENERATE; return; }
+    for (int r = 0; r < count; ++r) {
+        if (kind[r] == PK_ROOT_NEAR) job->near_roots[i] += 1;
+        else job->real_roots[i] += 1;
+    }
+    job->at_infinity[i] = at_infinity;
+    int total = count + at_infinity;
+    if (total > DEGREE) total = DEGREE;
+    for (int r = 0; r < total; ++r) {
+        int infinite = r >= count;
+        double t = infinite ? AT_INFINITY : roots[r];
+        for (int b = 0; b < NB; ++b) {
+            int s = r * NB + b;
+            double* pose = poses + s * 16;
+            double* q = passive + s * NQ;
+            slot_root[s] = infinite ? INFINITY : t;
+            slot_kind[s] = infinite ? PK_ROOT_SIMPLE : kind[r];
+            double pose_cm[16], root_value[1] = {t};
+            ws->arg[0] = theta; ws->arg[1] = root_value; ws->arg[2] = forward_branches[b]; ws->arg[3] = params;
+            ws->res[0] = pose_cm;
+            delta_forward_back_substitution(ws->arg, ws->res, ws->iw, ws->w, 0);
+            int defined = 1;
+            for (int k = 0; k < 16; ++k) defined &= isfinite(pose_cm[k]);
+            if (!defined) { outcome[s] = DELTA_OUTCOME_BACK_SUBSTITUTION_UNDEFINED; continue; }
+            for (int rr = 0; rr < 4; ++rr)
+                for (int c = 0; c < 4; ++c) pose[rr * 4 + c] = pose_cm[c * 4 + rr];
+            if (!passive_from_pose(ws, theta, pose, params, job->validity, q)) {
+                outcome[s] = DELTA_OUTCOME_NOT_CLOSED;
+                continue;
+            }
+            // polish; near a type II singularity Newton may stop on a singular matrix while the
+            // candidate already closes: that is still the mode (its conditioning says how close)
+            double polished_norm, norm, ratio;
+            int iterations, aligned;
+            double last[NQ_ALLOC];
+            int status = newton(ws, theta, q, last, params, job->polish_iterations, job->tolerance, 0.5,
+                                job->singular_ratio, job->candidate, &polished_norm, &norm, &iterations, &ratio, &aligned);
+            residual[s] = norm;
+            if (!(norm < job->candidate)) { outcome[s] = DELTA_OUTCOME_NOT_CLOSED; continue; }
+            conditioning[s] = ratio;
+            // near a double root Newton converges only linearly: a last iterate that closes to
+            // the closure tolerance is the mode, polished as far as the conditioning allows
+            if (status == DELTA_NO_CONVERGENCE && polished_norm < job->closure && aligned) {
+                memcpy(q, last, sizeof(double) * NQ);
+                status = DELTA_OK;
+            }
+            if (status == DELTA_OK) {
+                residual[s] = polished_norm;
+            } else if (status == DELTA_WRONG_BASIN || !aligned) {
+                outcome[s] = DELTA_OUTCOME_FALSE_CLOSURE;
+                continue;
+            } else if (status != DELTA_SINGULAR) {
+                outcome[s] = DELTA_OUTCOME_NOT_CONVERGED;
+                continue;
+            }
+            for (int k = 0; k < NQ; ++k)
+                if (passive_revolute[k]) q[k] = wrap_angle(q[k]);
+            if (status == DELTA_OK && iterations > 0) platform_pose(ws, theta, q, params, pose);
+            int inside = 1;
+            for (int k = 0; k < NQ; ++k) inside &= q[k] > job->lower[k] && q[k] < job->upper[k];
+            if (!inside) { outcome[s] = DELTA_OUTCOME_OUTSIDE_LIMITS; continue; }
+            int repeat = 0;
+            for (int e = 0; e < s && !repeat; ++e) {
+                if (outcome[e] != DELTA_OUTCOME_MODE) continue;
+                double distance = 0.0;
+                for (int k = 0; k < 16; ++k) distance = fmax(distance, fabs(poses[e * 16 + k] - pose[k]));
+                repeat = distance < job->duplicate;
+            }
+            if (repeat) { outcome[s] = DELTA_OUTCOME_DUPLICATE; continue; }
+            outcome[s] = DELTA_OUTCOME_MODE;
+            job->count[i] += 1;
+        }
+    }
+    // a degenerate elimination with no isolated mode: the actuators do not determine the platform
+    if (degenerate && job->count[i] == 0) job->status[i] = DELTA_INPUT_DEGENERATE;
+}
+
+int delta_forward_pose_all(const delta_modes_job* job) {
+    workspace ws;
+    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i);
+    return 0;
 }

@@ -27,7 +27,7 @@ extern "C" {
   #define _CASADI_NAMESPACE_CONCAT(NS, ID) NS ## ID
   #define CASADI_PREFIX(ID) CASADI_NAMESPACE_CONCAT(CODEGEN_PREFIX, ID)
 #else
-  #define CASADI_PREFIX(ID) kernels_ ## ID
+  #define CASADI_PREFIX(ID) delta_kernels_ ## ID
 #endif
 
 #include <math.h>
@@ -89,13 +89,13 @@ casadi_real casadi_fmax(casadi_real x, casadi_real y) {
 }
 
 /* Configuration this file was compiled with */
-CASADI_SYMBOL_EXPORT void kernels_casadi_version(int* major, int* minor, int* patch) {
+CASADI_SYMBOL_EXPORT void delta_kernels_casadi_version(int* major, int* minor, int* patch) {
   *major = 3;
   *minor = 8;
   *patch = 2;
 }
-CASADI_SYMBOL_EXPORT int kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
-CASADI_SYMBOL_EXPORT int kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
+CASADI_SYMBOL_EXPORT int delta_kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
+CASADI_SYMBOL_EXPORT int delta_kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
 static const casadi_int casadi_s1[3] = {4, 1, 1};
@@ -107,7 +107,7 @@ static const casadi_int casadi_s6[3] = {3, 4, 1};
 static const casadi_int casadi_s7[3] = {12, 1, 1};
 static const casadi_int casadi_s8[3] = {0, 1, 1};
 
-/* platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
+/* delta_platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=1.;
@@ -134,34 +134,34 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f0(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_platform_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_platform_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_platform_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_platform_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_platform_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int delta_platform_pose_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real platform_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_platform_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_platform_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -170,14 +170,14 @@ CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_platform_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_platform_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -186,14 +186,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_platform_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -201,7 +201,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -209,7 +209,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],alignment) */
+/* delta_loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17;
@@ -308,34 +308,34 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f1(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_loop_closure_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_loop_closure_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_loop_closure_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -344,7 +344,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
@@ -353,7 +353,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_loop_closure_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -362,7 +362,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
@@ -371,7 +371,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -379,7 +379,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -387,7 +387,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* loop_closure_actuated:(actuated[3],passive[3],params[4])->(jacobian_actuated[3x3]) */
+/* delta_loop_closure_actuated:(actuated[3],passive[3],params[4])->(jacobian_actuated[3x3]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14;
@@ -491,34 +491,34 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f2(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_actuated_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_actuated_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_actuated_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_loop_closure_actuated_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_loop_closure_actuated_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int delta_loop_closure_actuated_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_loop_closure_actuated_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_loop_closure_actuated_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -527,14 +527,14 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_loop_closure_actuated_name_out(casadi_int i) {
   switch (i) {
     case 0: return "jacobian_actuated";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_loop_closure_actuated_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -543,14 +543,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_loop_closure_actuated_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -558,7 +558,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_i
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -566,7 +566,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, ca
   return 0;
 }
 
-/* rate_jacobians:(actuated[3],passive[3],params[4])->(a[3x3],b[3x3]) */
+/* delta_rate_jacobians:(actuated[3],passive[3],params[4])->(a[3x3],b[3x3]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18;
@@ -660,34 +660,34 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f3(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_rate_jacobians_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_rate_jacobians_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_rate_jacobians_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_rate_jacobians_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_rate_jacobians_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int delta_rate_jacobians_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real rate_jacobians_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_rate_jacobians_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_rate_jacobians_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -696,7 +696,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_rate_jacobians_name_out(casadi_int i) {
   switch (i) {
     case 0: return "a";
     case 1: return "b";
@@ -704,7 +704,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_rate_jacobians_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -713,7 +713,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) 
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_rate_jacobians_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -721,7 +721,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -729,7 +729,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -737,7 +737,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_in
   return 0;
 }
 
-/* singularity_factors:(actuated[3],passive[3],params[4])->(factors[4],determinants[2]) */
+/* delta_singularity_factors:(actuated[3],passive[3],params[4])->(factors[4],determinants[2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17;
@@ -837,34 +837,34 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f4(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_singularity_factors_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_singularity_factors_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_singularity_factors_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_singularity_factors_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_singularity_factors_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int delta_singularity_factors_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real singularity_factors_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_singularity_factors_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_singularity_factors_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -873,7 +873,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_singularity_factors_name_out(casadi_int i) {
   switch (i) {
     case 0: return "factors";
     case 1: return "determinants";
@@ -881,7 +881,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_singularity_factors_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -890,7 +890,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
     case 1: return casadi_s5;
@@ -898,7 +898,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_i
   }
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -906,7 +906,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -914,7 +914,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* drawing:(actuated[3],passive[3],params[4])->(base[3x3],elbow[3x3],platform[3x4]) */
+/* delta_drawing:(actuated[3],passive[3],params[4])->(base[3x3],elbow[3x3],platform[3x4]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
   a0=arg[2]? arg[2][0] : 0;
@@ -999,34 +999,34 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f5(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_drawing_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_drawing_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_drawing_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_drawing_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_drawing_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_drawing_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_drawing_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1035,7 +1035,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
     case 1: return "elbow";
@@ -1044,7 +1044,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_drawing_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1053,7 +1053,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -1062,7 +1062,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -1070,7 +1070,7 @@ CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, ca
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1078,7 +1078,7 @@ CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
+/* delta_inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
 static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
@@ -1242,34 +1242,34 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f6(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_inverse_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_inverse_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_inverse_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_inverse_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_inverse_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int delta_inverse_pose_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real inverse_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_inverse_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_inverse_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     case 1: return "branch";
@@ -1278,7 +1278,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_inverse_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1287,7 +1287,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s7;
     case 1: return casadi_s0;
@@ -1296,7 +1296,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1305,7 +1305,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -1313,7 +1313,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1321,7 +1321,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* forward_polynomial:(actuated[3],params[4])->(coefficients[3],degeneracies) */
+/* delta_forward_polynomial:(actuated[3],params[4])->(coefficients[3],degeneracies) */
 static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15;
@@ -1474,34 +1474,34 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f7(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_forward_polynomial_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_forward_polynomial_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_forward_polynomial_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_forward_polynomial_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_in(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int delta_forward_polynomial_n_in(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int delta_forward_polynomial_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_polynomial_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_forward_polynomial_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_forward_polynomial_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "params";
@@ -1509,7 +1509,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_forward_polynomial_name_out(casadi_int i) {
   switch (i) {
     case 0: return "coefficients";
     case 1: return "degeneracies";
@@ -1517,7 +1517,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_forward_polynomial_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s1;
@@ -1525,7 +1525,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -1533,7 +1533,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1541,7 +1541,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1549,7 +1549,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* forward_back_substitution:(actuated[3],root,branch[0],params[4])->(pose[4x4]) */
+/* delta_forward_back_substitution:(actuated[3],root,branch[0],params[4])->(pose[4x4]) */
 static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19;
@@ -1716,34 +1716,34 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int delta_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f8(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {
+CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_release(int mem) {
+CASADI_SYMBOL_EXPORT void delta_forward_back_substitution_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_incref(void) {
+CASADI_SYMBOL_EXPORT void delta_forward_back_substitution_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_decref(void) {
+CASADI_SYMBOL_EXPORT void delta_forward_back_substitution_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_in(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int delta_forward_back_substitution_n_in(void) { return 4;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int delta_forward_back_substitution_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_back_substitution_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real delta_forward_back_substitution_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_forward_back_substitution_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "root";
@@ -1753,14 +1753,14 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* delta_forward_back_substitution_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -1770,14 +1770,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(cas
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* delta_forward_back_substitution_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -1785,7 +1785,7 @@ CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casa
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);

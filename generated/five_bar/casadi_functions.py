@@ -35,7 +35,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 2] = 1
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "five_bar_platform_pose",
         [
             actuated,
             passive,
@@ -92,7 +92,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "five_bar_loop_closure",
         [
             actuated,
             passive,
@@ -144,7 +144,7 @@ def loop_closure_actuated() -> casadi.Function:
     jacobian_actuated[0, 0] = (_t1 * _t4 * a1 - _t2 * _t3) / casadi.sqrt(_t2**2 + _t4**2)
     jacobian_actuated[1, 1] = (_t5 * _t8 * a2 - _t6 * _t7) / casadi.sqrt(_t6**2 + _t8**2)
     return casadi.Function(
-        "loop_closure_actuated",
+        "five_bar_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -197,7 +197,7 @@ def rate_jacobians() -> casadi.Function:
     b[0, 0] = a1 * (_t0 * _t4 - _t1 * _t3)
     b[1, 1] = a2 * (_t5 * _t8 - _t6 * _t7)
     return casadi.Function(
-        "rate_jacobians",
+        "five_bar_rate_jacobians",
         [
             actuated,
             passive,
@@ -254,7 +254,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t11
     determinants[1] = _t10 * _t5
     return casadi.Function(
-        "singularity_factors",
+        "five_bar_singularity_factors",
         [
             actuated,
             passive,
@@ -303,7 +303,7 @@ def drawing() -> casadi.Function:
     moving[1, 1] = a2 * casadi.sin(theta2)
     moving[1, 2] = y
     return casadi.Function(
-        "drawing",
+        "five_bar_drawing",
         [
             actuated,
             passive,
@@ -366,7 +366,7 @@ def inverse_pose() -> casadi.Function:
     validity[0] = E1**2 + F1**2 - G1**2
     validity[1] = E2**2 + F2**2 - G2**2
     return casadi.Function(
-        "inverse_pose",
+        "five_bar_inverse_pose",
         [
             pose,
             branch,
@@ -417,7 +417,7 @@ def forward_polynomial() -> casadi.Function:
     degeneracies = casadi.SX.zeros(1)
     degeneracies[0] = e_norm / (b1 + b2)
     return casadi.Function(
-        "forward_polynomial",
+        "five_bar_forward_polynomial",
         [
             actuated,
             params,
@@ -470,7 +470,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 2] = 1
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "five_bar_forward_back_substitution",
         [
             actuated,
             root,

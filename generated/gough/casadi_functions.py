@@ -56,7 +56,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 3] = z
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "gough_platform_pose",
         [
             actuated,
             passive,
@@ -276,7 +276,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "gough_loop_closure",
         [
             actuated,
             passive,
@@ -316,7 +316,7 @@ def loop_closure_actuated() -> casadi.Function:
     jacobian_actuated[4, 4] = -1
     jacobian_actuated[5, 5] = -1
     return casadi.Function(
-        "loop_closure_actuated",
+        "gough_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -470,7 +470,7 @@ def rate_jacobians() -> casadi.Function:
     b[4, 4] = l5
     b[5, 5] = l6
     return casadi.Function(
-        "rate_jacobians",
+        "gough_rate_jacobians",
         [
             actuated,
             passive,
@@ -686,7 +686,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t75
     determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
     return casadi.Function(
-        "singularity_factors",
+        "gough_singularity_factors",
         [
             actuated,
             passive,
@@ -988,7 +988,7 @@ def architecture() -> casadi.Function:
         * casadi.sqrt(_t12 * _t17 + _t13 * _t17**2),
     )
     return casadi.Function(
-        "architecture",
+        "gough_architecture",
         [
             params,
         ],
@@ -1078,7 +1078,7 @@ def drawing() -> casadi.Function:
     platform[2, 4] = -_t11 * _t6 + _t15 * yA5 + z
     platform[2, 5] = -_t12 * _t6 + _t15 * yA6 + z
     return casadi.Function(
-        "drawing",
+        "gough_drawing",
         [
             actuated,
             passive,
@@ -1195,7 +1195,7 @@ def inverse_pose() -> casadi.Function:
     validity[4] = l5
     validity[5] = l6
     return casadi.Function(
-        "inverse_pose",
+        "gough_inverse_pose",
         [
             pose,
             branch,
@@ -2565,7 +2565,7 @@ def forward_polynomial() -> casadi.Function:
     )
     degeneracies[1] = t11 * t22
     return casadi.Function(
-        "forward_polynomial",
+        "gough_forward_polynomial",
         [
             actuated,
             params,
@@ -3969,7 +3969,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 3] = _t432 * c2 + _t435 * c1 + _t436 * (_t430 * _t434 - _t431 * _t433)
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "gough_forward_back_substitution",
         [
             actuated,
             root,

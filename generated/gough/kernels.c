@@ -28,7 +28,7 @@ extern "C" {
   #define _CASADI_NAMESPACE_CONCAT(NS, ID) NS ## ID
   #define CASADI_PREFIX(ID) CASADI_NAMESPACE_CONCAT(CODEGEN_PREFIX, ID)
 #else
-  #define CASADI_PREFIX(ID) kernels_ ## ID
+  #define CASADI_PREFIX(ID) gough_kernels_ ## ID
 #endif
 
 #include <math.h>
@@ -103,13 +103,13 @@ casadi_real casadi_fabs(casadi_real x) {
 }
 
 /* Configuration this file was compiled with */
-CASADI_SYMBOL_EXPORT void kernels_casadi_version(int* major, int* minor, int* patch) {
+CASADI_SYMBOL_EXPORT void gough_kernels_casadi_version(int* major, int* minor, int* patch) {
   *major = 3;
   *minor = 8;
   *patch = 2;
 }
-CASADI_SYMBOL_EXPORT int kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
-CASADI_SYMBOL_EXPORT int kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
+CASADI_SYMBOL_EXPORT int gough_kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
+CASADI_SYMBOL_EXPORT int gough_kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {6, 1, 1};
 static const casadi_int casadi_s1[3] = {13, 1, 1};
@@ -123,7 +123,7 @@ static const casadi_int casadi_s8[3] = {12, 1, 1};
 static const casadi_int casadi_s9[3] = {0, 1, 1};
 static const casadi_int casadi_s10[3] = {5, 1, 1};
 
-/* platform_pose:(actuated[6],passive[6],params[13])->(pose[4x4]) */
+/* gough_platform_pose:(actuated[6],passive[6],params[13])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8, a9;
   a0=arg[1]? arg[1][3] : 0;
@@ -177,34 +177,34 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f0(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_platform_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_platform_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_platform_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_platform_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_platform_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int gough_platform_pose_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real platform_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_platform_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_platform_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -213,14 +213,14 @@ CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_platform_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_platform_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -229,14 +229,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_platform_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -244,7 +244,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -252,7 +252,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[6],passive[6],params[13])->(residual[6],jacobian[6x6],alignment) */
+/* gough_loop_closure:(actuated[6],passive[6],params[13])->(residual[6],jacobian[6x6],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -711,34 +711,34 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f1(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_loop_closure_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_loop_closure_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_loop_closure_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -747,7 +747,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
@@ -756,7 +756,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_loop_closure_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -765,7 +765,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
@@ -774,7 +774,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -782,7 +782,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -790,7 +790,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* loop_closure_actuated:(actuated[6],passive[6],params[13])->(jacobian_actuated[6x6]) */
+/* gough_loop_closure_actuated:(actuated[6],passive[6],params[13])->(jacobian_actuated[6x6]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=-1.;
@@ -834,34 +834,34 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f2(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_actuated_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_actuated_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_actuated_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_loop_closure_actuated_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_loop_closure_actuated_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int gough_loop_closure_actuated_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_loop_closure_actuated_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_loop_closure_actuated_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -870,14 +870,14 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_loop_closure_actuated_name_out(casadi_int i) {
   switch (i) {
     case 0: return "jacobian_actuated";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_loop_closure_actuated_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -886,14 +886,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_loop_closure_actuated_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -901,7 +901,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_i
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -909,7 +909,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, ca
   return 0;
 }
 
-/* rate_jacobians:(actuated[6],passive[6],params[13])->(a[6x6],b[6x6]) */
+/* gough_rate_jacobians:(actuated[6],passive[6],params[13])->(a[6x6],b[6x6]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1171,34 +1171,34 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f3(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_rate_jacobians_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_rate_jacobians_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_rate_jacobians_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_rate_jacobians_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_rate_jacobians_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int gough_rate_jacobians_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real rate_jacobians_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_rate_jacobians_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_rate_jacobians_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1207,7 +1207,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_rate_jacobians_name_out(casadi_int i) {
   switch (i) {
     case 0: return "a";
     case 1: return "b";
@@ -1215,7 +1215,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_rate_jacobians_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1224,7 +1224,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) 
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_rate_jacobians_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -1232,7 +1232,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1240,7 +1240,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1248,7 +1248,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_in
   return 0;
 }
 
-/* singularity_factors:(actuated[6],passive[6],params[13])->(factors[7],determinants[2]) */
+/* gough_singularity_factors:(actuated[6],passive[6],params[13])->(factors[7],determinants[2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1710,34 +1710,34 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f4(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_singularity_factors_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_singularity_factors_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_singularity_factors_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_singularity_factors_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_singularity_factors_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int gough_singularity_factors_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real singularity_factors_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_singularity_factors_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_singularity_factors_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1746,7 +1746,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_singularity_factors_name_out(casadi_int i) {
   switch (i) {
     case 0: return "factors";
     case 1: return "determinants";
@@ -1754,7 +1754,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_singularity_factors_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1763,7 +1763,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s5;
     case 1: return casadi_s6;
@@ -1771,7 +1771,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_i
   }
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1779,7 +1779,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1787,7 +1787,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* architecture:(params[13])->(measures) */
+/* gough_architecture:(params[13])->(measures) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2261,62 +2261,62 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f5(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int architecture_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_architecture_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void architecture_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_architecture_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void architecture_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_architecture_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void architecture_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_architecture_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int architecture_n_in(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int gough_architecture_n_in(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_int architecture_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int gough_architecture_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real architecture_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_architecture_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* architecture_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_architecture_name_in(casadi_int i) {
   switch (i) {
     case 0: return "params";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* architecture_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_architecture_name_out(casadi_int i) {
   switch (i) {
     case 0: return "measures";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* architecture_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_architecture_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* architecture_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_architecture_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s4;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 1;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -2324,7 +2324,7 @@ CASADI_SYMBOL_EXPORT int architecture_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 1*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2332,7 +2332,7 @@ CASADI_SYMBOL_EXPORT int architecture_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* drawing:(actuated[6],passive[6],params[13])->(base[3x6],platform[3x6]) */
+/* gough_drawing:(actuated[6],passive[6],params[13])->(base[3x6],platform[3x6]) */
 static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2491,34 +2491,34 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f6(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_drawing_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_drawing_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_drawing_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_drawing_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int gough_drawing_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_drawing_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_drawing_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2527,7 +2527,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
     case 1: return "platform";
@@ -2535,7 +2535,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_drawing_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2544,7 +2544,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s7;
     case 1: return casadi_s7;
@@ -2552,7 +2552,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -2560,7 +2560,7 @@ CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, ca
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2568,7 +2568,7 @@ CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[0],params[13])->(actuated[6],passive[6],validity[6]) */
+/* gough_inverse_pose:(pose[12],branch[0],params[13])->(actuated[6],passive[6],validity[6]) */
 static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
@@ -2750,34 +2750,34 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f7(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_inverse_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_inverse_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_inverse_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_inverse_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_inverse_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int gough_inverse_pose_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real inverse_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_inverse_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_inverse_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     case 1: return "branch";
@@ -2786,7 +2786,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_inverse_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2795,7 +2795,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s8;
     case 1: return casadi_s9;
@@ -2804,7 +2804,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2813,7 +2813,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -2821,7 +2821,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2829,7 +2829,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* forward_polynomial:(actuated[6],params[13])->(coefficients[5],degeneracies[2]) */
+/* gough_forward_polynomial:(actuated[6],params[13])->(coefficients[5],degeneracies[2]) */
 static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -4660,34 +4660,34 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f8(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_forward_polynomial_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_forward_polynomial_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_forward_polynomial_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_forward_polynomial_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_in(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int gough_forward_polynomial_n_in(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int gough_forward_polynomial_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_polynomial_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_forward_polynomial_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_forward_polynomial_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "params";
@@ -4695,7 +4695,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_forward_polynomial_name_out(casadi_int i) {
   switch (i) {
     case 0: return "coefficients";
     case 1: return "degeneracies";
@@ -4703,7 +4703,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_polynomial_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s1;
@@ -4711,7 +4711,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s10;
     case 1: return casadi_s6;
@@ -4719,7 +4719,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -4727,7 +4727,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -4735,7 +4735,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* forward_back_substitution:(actuated[6],root,branch[2],params[13])->(pose[4x4]) */
+/* gough_forward_back_substitution:(actuated[6],root,branch[2],params[13])->(pose[4x4]) */
 static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -7455,34 +7455,34 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int gough_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f9(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {
+CASADI_SYMBOL_EXPORT int gough_forward_back_substitution_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_release(int mem) {
+CASADI_SYMBOL_EXPORT void gough_forward_back_substitution_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_incref(void) {
+CASADI_SYMBOL_EXPORT void gough_forward_back_substitution_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_decref(void) {
+CASADI_SYMBOL_EXPORT void gough_forward_back_substitution_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_in(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int gough_forward_back_substitution_n_in(void) { return 4;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int gough_forward_back_substitution_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_back_substitution_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real gough_forward_back_substitution_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_forward_back_substitution_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "root";
@@ -7492,14 +7492,14 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* gough_forward_back_substitution_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -7509,14 +7509,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(cas
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_back_substitution_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -7524,7 +7524,7 @@ CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casa
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int gough_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);

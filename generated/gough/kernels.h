@@ -30,189 +30,189 @@ extern "C" {
 #define casadi_int long long int
 #endif
 
-int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int platform_pose_checkout(void);
-void platform_pose_release(int mem);
-void platform_pose_incref(void);
-void platform_pose_decref(void);
-casadi_int platform_pose_n_in(void);
-casadi_int platform_pose_n_out(void);
-casadi_real platform_pose_default_in(casadi_int i);
-const char* platform_pose_name_in(casadi_int i);
-const char* platform_pose_name_out(casadi_int i);
-const casadi_int* platform_pose_sparsity_in(casadi_int i);
-const casadi_int* platform_pose_sparsity_out(casadi_int i);
-int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define platform_pose_SZ_ARG 3
-#define platform_pose_SZ_RES 1
-#define platform_pose_SZ_IW 0
-#define platform_pose_SZ_W 0
-int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_checkout(void);
-void loop_closure_release(int mem);
-void loop_closure_incref(void);
-void loop_closure_decref(void);
-casadi_int loop_closure_n_in(void);
-casadi_int loop_closure_n_out(void);
-casadi_real loop_closure_default_in(casadi_int i);
-const char* loop_closure_name_in(casadi_int i);
-const char* loop_closure_name_out(casadi_int i);
-const casadi_int* loop_closure_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_sparsity_out(casadi_int i);
-int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_SZ_ARG 3
-#define loop_closure_SZ_RES 3
-#define loop_closure_SZ_IW 0
-#define loop_closure_SZ_W 0
-int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_actuated_checkout(void);
-void loop_closure_actuated_release(int mem);
-void loop_closure_actuated_incref(void);
-void loop_closure_actuated_decref(void);
-casadi_int loop_closure_actuated_n_in(void);
-casadi_int loop_closure_actuated_n_out(void);
-casadi_real loop_closure_actuated_default_in(casadi_int i);
-const char* loop_closure_actuated_name_in(casadi_int i);
-const char* loop_closure_actuated_name_out(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i);
-int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_actuated_SZ_ARG 3
-#define loop_closure_actuated_SZ_RES 1
-#define loop_closure_actuated_SZ_IW 0
-#define loop_closure_actuated_SZ_W 0
-int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int rate_jacobians_checkout(void);
-void rate_jacobians_release(int mem);
-void rate_jacobians_incref(void);
-void rate_jacobians_decref(void);
-casadi_int rate_jacobians_n_in(void);
-casadi_int rate_jacobians_n_out(void);
-casadi_real rate_jacobians_default_in(casadi_int i);
-const char* rate_jacobians_name_in(casadi_int i);
-const char* rate_jacobians_name_out(casadi_int i);
-const casadi_int* rate_jacobians_sparsity_in(casadi_int i);
-const casadi_int* rate_jacobians_sparsity_out(casadi_int i);
-int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define rate_jacobians_SZ_ARG 3
-#define rate_jacobians_SZ_RES 2
-#define rate_jacobians_SZ_IW 0
-#define rate_jacobians_SZ_W 0
-int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int singularity_factors_checkout(void);
-void singularity_factors_release(int mem);
-void singularity_factors_incref(void);
-void singularity_factors_decref(void);
-casadi_int singularity_factors_n_in(void);
-casadi_int singularity_factors_n_out(void);
-casadi_real singularity_factors_default_in(casadi_int i);
-const char* singularity_factors_name_in(casadi_int i);
-const char* singularity_factors_name_out(casadi_int i);
-const casadi_int* singularity_factors_sparsity_in(casadi_int i);
-const casadi_int* singularity_factors_sparsity_out(casadi_int i);
-int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define singularity_factors_SZ_ARG 3
-#define singularity_factors_SZ_RES 2
-#define singularity_factors_SZ_IW 0
-#define singularity_factors_SZ_W 0
-int architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int architecture_checkout(void);
-void architecture_release(int mem);
-void architecture_incref(void);
-void architecture_decref(void);
-casadi_int architecture_n_in(void);
-casadi_int architecture_n_out(void);
-casadi_real architecture_default_in(casadi_int i);
-const char* architecture_name_in(casadi_int i);
-const char* architecture_name_out(casadi_int i);
-const casadi_int* architecture_sparsity_in(casadi_int i);
-const casadi_int* architecture_sparsity_out(casadi_int i);
-int architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define architecture_SZ_ARG 1
-#define architecture_SZ_RES 1
-#define architecture_SZ_IW 0
-#define architecture_SZ_W 0
-int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int drawing_checkout(void);
-void drawing_release(int mem);
-void drawing_incref(void);
-void drawing_decref(void);
-casadi_int drawing_n_in(void);
-casadi_int drawing_n_out(void);
-casadi_real drawing_default_in(casadi_int i);
-const char* drawing_name_in(casadi_int i);
-const char* drawing_name_out(casadi_int i);
-const casadi_int* drawing_sparsity_in(casadi_int i);
-const casadi_int* drawing_sparsity_out(casadi_int i);
-int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define drawing_SZ_ARG 3
-#define drawing_SZ_RES 2
-#define drawing_SZ_IW 0
-#define drawing_SZ_W 0
-int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int inverse_pose_checkout(void);
-void inverse_pose_release(int mem);
-void inverse_pose_incref(void);
-void inverse_pose_decref(void);
-casadi_int inverse_pose_n_in(void);
-casadi_int inverse_pose_n_out(void);
-casadi_real inverse_pose_default_in(casadi_int i);
-const char* inverse_pose_name_in(casadi_int i);
-const char* inverse_pose_name_out(casadi_int i);
-const casadi_int* inverse_pose_sparsity_in(casadi_int i);
-const casadi_int* inverse_pose_sparsity_out(casadi_int i);
-int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define inverse_pose_SZ_ARG 3
-#define inverse_pose_SZ_RES 3
-#define inverse_pose_SZ_IW 0
-#define inverse_pose_SZ_W 0
-int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int forward_polynomial_checkout(void);
-void forward_polynomial_release(int mem);
-void forward_polynomial_incref(void);
-void forward_polynomial_decref(void);
-casadi_int forward_polynomial_n_in(void);
-casadi_int forward_polynomial_n_out(void);
-casadi_real forward_polynomial_default_in(casadi_int i);
-const char* forward_polynomial_name_in(casadi_int i);
-const char* forward_polynomial_name_out(casadi_int i);
-const casadi_int* forward_polynomial_sparsity_in(casadi_int i);
-const casadi_int* forward_polynomial_sparsity_out(casadi_int i);
-int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define forward_polynomial_SZ_ARG 2
-#define forward_polynomial_SZ_RES 2
-#define forward_polynomial_SZ_IW 0
-#define forward_polynomial_SZ_W 0
-int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int forward_back_substitution_checkout(void);
-void forward_back_substitution_release(int mem);
-void forward_back_substitution_incref(void);
-void forward_back_substitution_decref(void);
-casadi_int forward_back_substitution_n_in(void);
-casadi_int forward_back_substitution_n_out(void);
-casadi_real forward_back_substitution_default_in(casadi_int i);
-const char* forward_back_substitution_name_in(casadi_int i);
-const char* forward_back_substitution_name_out(casadi_int i);
-const casadi_int* forward_back_substitution_sparsity_in(casadi_int i);
-const casadi_int* forward_back_substitution_sparsity_out(casadi_int i);
-int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define forward_back_substitution_SZ_ARG 4
-#define forward_back_substitution_SZ_RES 1
-#define forward_back_substitution_SZ_IW 0
-#define forward_back_substitution_SZ_W 0
-void kernels_casadi_version(int* major, int* minor, int* patch);
-int kernels_casadi_int_size(void);
-int kernels_casadi_real_size(void);
+int gough_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_platform_pose_checkout(void);
+void gough_platform_pose_release(int mem);
+void gough_platform_pose_incref(void);
+void gough_platform_pose_decref(void);
+casadi_int gough_platform_pose_n_in(void);
+casadi_int gough_platform_pose_n_out(void);
+casadi_real gough_platform_pose_default_in(casadi_int i);
+const char* gough_platform_pose_name_in(casadi_int i);
+const char* gough_platform_pose_name_out(casadi_int i);
+const casadi_int* gough_platform_pose_sparsity_in(casadi_int i);
+const casadi_int* gough_platform_pose_sparsity_out(casadi_int i);
+int gough_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_platform_pose_SZ_ARG 3
+#define gough_platform_pose_SZ_RES 1
+#define gough_platform_pose_SZ_IW 0
+#define gough_platform_pose_SZ_W 0
+int gough_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_loop_closure_checkout(void);
+void gough_loop_closure_release(int mem);
+void gough_loop_closure_incref(void);
+void gough_loop_closure_decref(void);
+casadi_int gough_loop_closure_n_in(void);
+casadi_int gough_loop_closure_n_out(void);
+casadi_real gough_loop_closure_default_in(casadi_int i);
+const char* gough_loop_closure_name_in(casadi_int i);
+const char* gough_loop_closure_name_out(casadi_int i);
+const casadi_int* gough_loop_closure_sparsity_in(casadi_int i);
+const casadi_int* gough_loop_closure_sparsity_out(casadi_int i);
+int gough_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_loop_closure_SZ_ARG 3
+#define gough_loop_closure_SZ_RES 3
+#define gough_loop_closure_SZ_IW 0
+#define gough_loop_closure_SZ_W 0
+int gough_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_loop_closure_actuated_checkout(void);
+void gough_loop_closure_actuated_release(int mem);
+void gough_loop_closure_actuated_incref(void);
+void gough_loop_closure_actuated_decref(void);
+casadi_int gough_loop_closure_actuated_n_in(void);
+casadi_int gough_loop_closure_actuated_n_out(void);
+casadi_real gough_loop_closure_actuated_default_in(casadi_int i);
+const char* gough_loop_closure_actuated_name_in(casadi_int i);
+const char* gough_loop_closure_actuated_name_out(casadi_int i);
+const casadi_int* gough_loop_closure_actuated_sparsity_in(casadi_int i);
+const casadi_int* gough_loop_closure_actuated_sparsity_out(casadi_int i);
+int gough_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_loop_closure_actuated_SZ_ARG 3
+#define gough_loop_closure_actuated_SZ_RES 1
+#define gough_loop_closure_actuated_SZ_IW 0
+#define gough_loop_closure_actuated_SZ_W 0
+int gough_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_rate_jacobians_checkout(void);
+void gough_rate_jacobians_release(int mem);
+void gough_rate_jacobians_incref(void);
+void gough_rate_jacobians_decref(void);
+casadi_int gough_rate_jacobians_n_in(void);
+casadi_int gough_rate_jacobians_n_out(void);
+casadi_real gough_rate_jacobians_default_in(casadi_int i);
+const char* gough_rate_jacobians_name_in(casadi_int i);
+const char* gough_rate_jacobians_name_out(casadi_int i);
+const casadi_int* gough_rate_jacobians_sparsity_in(casadi_int i);
+const casadi_int* gough_rate_jacobians_sparsity_out(casadi_int i);
+int gough_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_rate_jacobians_SZ_ARG 3
+#define gough_rate_jacobians_SZ_RES 2
+#define gough_rate_jacobians_SZ_IW 0
+#define gough_rate_jacobians_SZ_W 0
+int gough_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_singularity_factors_checkout(void);
+void gough_singularity_factors_release(int mem);
+void gough_singularity_factors_incref(void);
+void gough_singularity_factors_decref(void);
+casadi_int gough_singularity_factors_n_in(void);
+casadi_int gough_singularity_factors_n_out(void);
+casadi_real gough_singularity_factors_default_in(casadi_int i);
+const char* gough_singularity_factors_name_in(casadi_int i);
+const char* gough_singularity_factors_name_out(casadi_int i);
+const casadi_int* gough_singularity_factors_sparsity_in(casadi_int i);
+const casadi_int* gough_singularity_factors_sparsity_out(casadi_int i);
+int gough_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_singularity_factors_SZ_ARG 3
+#define gough_singularity_factors_SZ_RES 2
+#define gough_singularity_factors_SZ_IW 0
+#define gough_singularity_factors_SZ_W 0
+int gough_architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_architecture_checkout(void);
+void gough_architecture_release(int mem);
+void gough_architecture_incref(void);
+void gough_architecture_decref(void);
+casadi_int gough_architecture_n_in(void);
+casadi_int gough_architecture_n_out(void);
+casadi_real gough_architecture_default_in(casadi_int i);
+const char* gough_architecture_name_in(casadi_int i);
+const char* gough_architecture_name_out(casadi_int i);
+const casadi_int* gough_architecture_sparsity_in(casadi_int i);
+const casadi_int* gough_architecture_sparsity_out(casadi_int i);
+int gough_architecture_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_architecture_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_architecture_SZ_ARG 1
+#define gough_architecture_SZ_RES 1
+#define gough_architecture_SZ_IW 0
+#define gough_architecture_SZ_W 0
+int gough_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_drawing_checkout(void);
+void gough_drawing_release(int mem);
+void gough_drawing_incref(void);
+void gough_drawing_decref(void);
+casadi_int gough_drawing_n_in(void);
+casadi_int gough_drawing_n_out(void);
+casadi_real gough_drawing_default_in(casadi_int i);
+const char* gough_drawing_name_in(casadi_int i);
+const char* gough_drawing_name_out(casadi_int i);
+const casadi_int* gough_drawing_sparsity_in(casadi_int i);
+const casadi_int* gough_drawing_sparsity_out(casadi_int i);
+int gough_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_drawing_SZ_ARG 3
+#define gough_drawing_SZ_RES 2
+#define gough_drawing_SZ_IW 0
+#define gough_drawing_SZ_W 0
+int gough_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_inverse_pose_checkout(void);
+void gough_inverse_pose_release(int mem);
+void gough_inverse_pose_incref(void);
+void gough_inverse_pose_decref(void);
+casadi_int gough_inverse_pose_n_in(void);
+casadi_int gough_inverse_pose_n_out(void);
+casadi_real gough_inverse_pose_default_in(casadi_int i);
+const char* gough_inverse_pose_name_in(casadi_int i);
+const char* gough_inverse_pose_name_out(casadi_int i);
+const casadi_int* gough_inverse_pose_sparsity_in(casadi_int i);
+const casadi_int* gough_inverse_pose_sparsity_out(casadi_int i);
+int gough_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_inverse_pose_SZ_ARG 3
+#define gough_inverse_pose_SZ_RES 3
+#define gough_inverse_pose_SZ_IW 0
+#define gough_inverse_pose_SZ_W 0
+int gough_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_forward_polynomial_checkout(void);
+void gough_forward_polynomial_release(int mem);
+void gough_forward_polynomial_incref(void);
+void gough_forward_polynomial_decref(void);
+casadi_int gough_forward_polynomial_n_in(void);
+casadi_int gough_forward_polynomial_n_out(void);
+casadi_real gough_forward_polynomial_default_in(casadi_int i);
+const char* gough_forward_polynomial_name_in(casadi_int i);
+const char* gough_forward_polynomial_name_out(casadi_int i);
+const casadi_int* gough_forward_polynomial_sparsity_in(casadi_int i);
+const casadi_int* gough_forward_polynomial_sparsity_out(casadi_int i);
+int gough_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_forward_polynomial_SZ_ARG 2
+#define gough_forward_polynomial_SZ_RES 2
+#define gough_forward_polynomial_SZ_IW 0
+#define gough_forward_polynomial_SZ_W 0
+int gough_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_forward_back_substitution_checkout(void);
+void gough_forward_back_substitution_release(int mem);
+void gough_forward_back_substitution_incref(void);
+void gough_forward_back_substitution_decref(void);
+casadi_int gough_forward_back_substitution_n_in(void);
+casadi_int gough_forward_back_substitution_n_out(void);
+casadi_real gough_forward_back_substitution_default_in(casadi_int i);
+const char* gough_forward_back_substitution_name_in(casadi_int i);
+const char* gough_forward_back_substitution_name_out(casadi_int i);
+const casadi_int* gough_forward_back_substitution_sparsity_in(casadi_int i);
+const casadi_int* gough_forward_back_substitution_sparsity_out(casadi_int i);
+int gough_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_forward_back_substitution_SZ_ARG 4
+#define gough_forward_back_substitution_SZ_RES 1
+#define gough_forward_back_substitution_SZ_IW 0
+#define gough_forward_back_substitution_SZ_W 0
+void gough_kernels_casadi_version(int* major, int* minor, int* patch);
+int gough_kernels_casadi_int_size(void);
+int gough_kernels_casadi_real_size(void);
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -40,7 +40,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 2] = 1
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "planar_3rpr_platform_pose",
         [
             actuated,
             passive,
@@ -132,7 +132,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "planar_3rpr_loop_closure",
         [
             actuated,
             passive,
@@ -223,7 +223,7 @@ def loop_closure_actuated() -> casadi.Function:
         / _t5
     )
     return casadi.Function(
-        "loop_closure_actuated",
+        "planar_3rpr_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -297,7 +297,7 @@ def rate_jacobians() -> casadi.Function:
     b[1, 1] = rho2
     b[2, 2] = rho3
     return casadi.Function(
-        "rate_jacobians",
+        "planar_3rpr_rate_jacobians",
         [
             actuated,
             passive,
@@ -368,7 +368,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t11
     determinants[1] = rho1 * rho2 * rho3
     return casadi.Function(
-        "singularity_factors",
+        "planar_3rpr_singularity_factors",
         [
             actuated,
             passive,
@@ -430,7 +430,7 @@ def drawing() -> casadi.Function:
     platform[1, 1] = _t0 * platform_y2 + _t1 * platform_x2 + y
     platform[1, 2] = _t0 * platform_y3 + _t1 * platform_x3 + y
     return casadi.Function(
-        "drawing",
+        "planar_3rpr_drawing",
         [
             actuated,
             passive,
@@ -510,7 +510,7 @@ def inverse_pose() -> casadi.Function:
     validity[1] = rho2
     validity[2] = rho3
     return casadi.Function(
-        "inverse_pose",
+        "planar_3rpr_inverse_pose",
         [
             pose,
             branch,
@@ -1396,7 +1396,7 @@ def forward_polynomial() -> casadi.Function:
         / length_scale2**3
     )
     return casadi.Function(
-        "forward_polynomial",
+        "planar_3rpr_forward_polynomial",
         [
             actuated,
             params,
@@ -1510,7 +1510,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 2] = 1
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "planar_3rpr_forward_back_substitution",
         [
             actuated,
             root,

@@ -73,7 +73,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 3] = L2 * _t22 - L4 * _t24
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "sam_platform_pose",
         [
             actuated,
             passive,
@@ -312,7 +312,7 @@ def loop_closure() -> casadi.Function:
         - 1
     )
     return casadi.Function(
-        "loop_closure",
+        "sam_loop_closure",
         [
             actuated,
             passive,
@@ -653,7 +653,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t157 * _t61
     )
     return casadi.Function(
-        "loop_closure_actuated",
+        "sam_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -821,7 +821,7 @@ def leg_jacobians() -> casadi.Function:
     right[5, 4] = -_t53
     right[5, 5] = _t60
     return casadi.Function(
-        "leg_jacobians",
+        "sam_leg_jacobians",
         [
             actuated,
             passive,
@@ -1001,7 +1001,7 @@ def singularity_factors() -> casadi.Function:
     determinants[1] = L3**2 * _t2 * _t3
     determinants[2] = _t55 * _t67 * _t68
     return casadi.Function(
-        "singularity_factors",
+        "sam_singularity_factors",
         [
             actuated,
             passive,
@@ -1105,7 +1105,7 @@ def drawing() -> casadi.Function:
     platform[2, 1] = _t38 + _t40
     platform[2, 2] = L4 * (-_t20 * _t36 - _t22 * _t35) + _t40
     return casadi.Function(
-        "drawing",
+        "sam_drawing",
         [
             actuated,
             passive,
@@ -1215,7 +1215,7 @@ def inverse_pose() -> casadi.Function:
     validity[2] = rho_theta4
     validity[3] = abs_c_theta5
     return casadi.Function(
-        "inverse_pose",
+        "sam_inverse_pose",
         [
             pose,
             branch,
@@ -1473,7 +1473,7 @@ def forward_polynomial() -> casadi.Function:
     degeneracies[0] = normal_norm
     degeneracies[1] = line_norm2
     return casadi.Function(
-        "forward_polynomial",
+        "sam_forward_polynomial",
         [
             actuated,
             params,
@@ -1630,7 +1630,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 3] = L4 * yP_z + UL_z
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "sam_forward_back_substitution",
         [
             actuated,
             root,

@@ -27,7 +27,7 @@ extern "C" {
   #define _CASADI_NAMESPACE_CONCAT(NS, ID) NS ## ID
   #define CASADI_PREFIX(ID) CASADI_NAMESPACE_CONCAT(CODEGEN_PREFIX, ID)
 #else
-  #define CASADI_PREFIX(ID) kernels_ ## ID
+  #define CASADI_PREFIX(ID) sam_kernels_ ## ID
 #endif
 
 #include <math.h>
@@ -81,13 +81,13 @@ extern "C" {
 casadi_real casadi_sq(casadi_real x) { return x*x;}
 
 /* Configuration this file was compiled with */
-CASADI_SYMBOL_EXPORT void kernels_casadi_version(int* major, int* minor, int* patch) {
+CASADI_SYMBOL_EXPORT void sam_kernels_casadi_version(int* major, int* minor, int* patch) {
   *major = 3;
   *minor = 8;
   *patch = 2;
 }
-CASADI_SYMBOL_EXPORT int kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
-CASADI_SYMBOL_EXPORT int kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
+CASADI_SYMBOL_EXPORT int sam_kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
+CASADI_SYMBOL_EXPORT int sam_kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {6, 1, 1};
 static const casadi_int casadi_s1[3] = {2, 1, 1};
@@ -101,7 +101,7 @@ static const casadi_int casadi_s8[3] = {3, 3, 1};
 static const casadi_int casadi_s9[3] = {12, 1, 1};
 static const casadi_int casadi_s10[3] = {4, 1, 1};
 
-/* platform_pose:(actuated[6],passive[6],params[2])->(pose[4x4]) */
+/* sam_platform_pose:(actuated[6],passive[6],params[2])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19;
@@ -212,34 +212,34 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f0(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_platform_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_platform_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_platform_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_platform_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_platform_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sam_platform_pose_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real platform_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_platform_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_platform_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -248,14 +248,14 @@ CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_platform_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_platform_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -264,14 +264,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_platform_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -279,7 +279,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -287,7 +287,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[6],passive[6],params[2])->(residual[6],jacobian[6x6],alignment) */
+/* sam_loop_closure:(actuated[6],passive[6],params[2])->(residual[6],jacobian[6x6],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -723,34 +723,34 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f1(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_loop_closure_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_loop_closure_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_loop_closure_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -759,7 +759,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
@@ -768,7 +768,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_loop_closure_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -777,7 +777,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
@@ -786,7 +786,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -794,7 +794,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -802,7 +802,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* loop_closure_actuated:(actuated[6],passive[6],params[2])->(jacobian_actuated[6x6]) */
+/* sam_loop_closure_actuated:(actuated[6],passive[6],params[2])->(jacobian_actuated[6x6]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1436,34 +1436,34 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f2(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_actuated_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_actuated_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_actuated_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_loop_closure_actuated_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_loop_closure_actuated_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sam_loop_closure_actuated_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_loop_closure_actuated_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_loop_closure_actuated_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1472,14 +1472,14 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_loop_closure_actuated_name_out(casadi_int i) {
   switch (i) {
     case 0: return "jacobian_actuated";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_loop_closure_actuated_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1488,14 +1488,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_loop_closure_actuated_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -1503,7 +1503,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_i
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1511,7 +1511,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, ca
   return 0;
 }
 
-/* leg_jacobians:(actuated[6],passive[6],params[2])->(left[6x6],right[6x6]) */
+/* sam_leg_jacobians:(actuated[6],passive[6],params[2])->(left[6x6],right[6x6]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1819,34 +1819,34 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int leg_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_leg_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f3(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int leg_jacobians_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_leg_jacobians_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void leg_jacobians_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_leg_jacobians_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void leg_jacobians_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_leg_jacobians_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void leg_jacobians_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_leg_jacobians_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int leg_jacobians_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_leg_jacobians_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int leg_jacobians_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sam_leg_jacobians_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real leg_jacobians_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_leg_jacobians_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* leg_jacobians_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_leg_jacobians_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1855,7 +1855,7 @@ CASADI_SYMBOL_EXPORT const char* leg_jacobians_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* leg_jacobians_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_leg_jacobians_name_out(casadi_int i) {
   switch (i) {
     case 0: return "left";
     case 1: return "right";
@@ -1863,7 +1863,7 @@ CASADI_SYMBOL_EXPORT const char* leg_jacobians_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* leg_jacobians_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_leg_jacobians_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1872,7 +1872,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* leg_jacobians_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* leg_jacobians_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_leg_jacobians_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -1880,7 +1880,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* leg_jacobians_sparsity_out(casadi_int i) 
   }
 }
 
-CASADI_SYMBOL_EXPORT int leg_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_leg_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1888,7 +1888,7 @@ CASADI_SYMBOL_EXPORT int leg_jacobians_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int leg_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_leg_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1896,7 +1896,7 @@ CASADI_SYMBOL_EXPORT int leg_jacobians_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* singularity_factors:(actuated[6],passive[6],params[2])->(factors[9],determinants[3]) */
+/* sam_singularity_factors:(actuated[6],passive[6],params[2])->(factors[9],determinants[3]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2190,34 +2190,34 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f4(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_singularity_factors_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_singularity_factors_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_singularity_factors_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_singularity_factors_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_singularity_factors_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sam_singularity_factors_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real singularity_factors_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_singularity_factors_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_singularity_factors_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2226,7 +2226,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_singularity_factors_name_out(casadi_int i) {
   switch (i) {
     case 0: return "factors";
     case 1: return "determinants";
@@ -2234,7 +2234,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_singularity_factors_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2243,7 +2243,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s5;
     case 1: return casadi_s6;
@@ -2251,7 +2251,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_i
   }
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -2259,7 +2259,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2267,7 +2267,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* drawing:(actuated[6],passive[6],params[2])->(base[3x2],u_joints[3x2],platform[3x3]) */
+/* sam_drawing:(actuated[6],passive[6],params[2])->(base[3x2],u_joints[3x2],platform[3x3]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2410,34 +2410,34 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f5(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_drawing_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_drawing_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_drawing_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_drawing_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_drawing_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_drawing_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_drawing_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2446,7 +2446,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
     case 1: return "u_joints";
@@ -2455,7 +2455,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_drawing_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2464,7 +2464,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s7;
     case 1: return casadi_s7;
@@ -2473,7 +2473,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -2481,7 +2481,7 @@ CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, ca
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2489,7 +2489,7 @@ CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[4],params[2])->(actuated[6],passive[6],validity[4]) */
+/* sam_inverse_pose:(pose[12],branch[4],params[2])->(actuated[6],passive[6],validity[4]) */
 static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2731,34 +2731,34 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f6(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_inverse_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_inverse_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_inverse_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_inverse_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_inverse_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sam_inverse_pose_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real inverse_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_inverse_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_inverse_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     case 1: return "branch";
@@ -2767,7 +2767,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_inverse_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2776,7 +2776,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s9;
     case 1: return casadi_s10;
@@ -2785,7 +2785,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2794,7 +2794,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -2802,7 +2802,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2810,7 +2810,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* forward_polynomial:(actuated[6],params[2])->(coefficients[3],degeneracies[2]) */
+/* sam_forward_polynomial:(actuated[6],params[2])->(coefficients[3],degeneracies[2]) */
 static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -3292,34 +3292,34 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f7(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_forward_polynomial_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_forward_polynomial_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_forward_polynomial_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_forward_polynomial_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_in(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sam_forward_polynomial_n_in(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sam_forward_polynomial_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_polynomial_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_forward_polynomial_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_forward_polynomial_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "params";
@@ -3327,7 +3327,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_forward_polynomial_name_out(casadi_int i) {
   switch (i) {
     case 0: return "coefficients";
     case 1: return "degeneracies";
@@ -3335,7 +3335,7 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_polynomial_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s1;
@@ -3343,7 +3343,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s6;
     case 1: return casadi_s1;
@@ -3351,7 +3351,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -3359,7 +3359,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -3367,7 +3367,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* forward_back_substitution:(actuated[6],root,branch,params[2])->(pose[4x4]) */
+/* sam_forward_back_substitution:(actuated[6],root,branch,params[2])->(pose[4x4]) */
 static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
@@ -3639,34 +3639,34 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sam_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f8(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {
+CASADI_SYMBOL_EXPORT int sam_forward_back_substitution_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_release(int mem) {
+CASADI_SYMBOL_EXPORT void sam_forward_back_substitution_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_incref(void) {
+CASADI_SYMBOL_EXPORT void sam_forward_back_substitution_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_decref(void) {
+CASADI_SYMBOL_EXPORT void sam_forward_back_substitution_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_in(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int sam_forward_back_substitution_n_in(void) { return 4;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sam_forward_back_substitution_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_back_substitution_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sam_forward_back_substitution_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_forward_back_substitution_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "root";
@@ -3676,14 +3676,14 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sam_forward_back_substitution_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -3693,14 +3693,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(cas
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_back_substitution_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -3708,7 +3708,7 @@ CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casa
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sam_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);

@@ -58,7 +58,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 2] = _t15
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "sphere2r_platform_pose",
         [
             actuated,
             passive,
@@ -91,7 +91,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "sphere2r_loop_closure",
         [
             actuated,
             passive,
@@ -125,7 +125,7 @@ def loop_closure_actuated() -> casadi.Function:
     params = casadi.SX.sym("params", 2)
     jacobian_actuated = casadi.SX.zeros(0, 2)
     return casadi.Function(
-        "loop_closure_actuated",
+        "sphere2r_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -160,7 +160,7 @@ def singularity_factors() -> casadi.Function:
     factors[0] = casadi.sin(alpha1) * casadi.sin(alpha2) * casadi.sin(theta2)
     determinants = casadi.SX.zeros(0)
     return casadi.Function(
-        "singularity_factors",
+        "sphere2r_singularity_factors",
         [
             actuated,
             passive,
@@ -221,7 +221,7 @@ def drawing() -> casadi.Function:
     moving_axes[2, 0] = _t5
     moving_axes[2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
     return casadi.Function(
-        "drawing",
+        "sphere2r_drawing",
         [
             actuated,
             passive,
@@ -286,7 +286,7 @@ def inverse_pose() -> casadi.Function:
     validity[0] = r_squared
     validity[1] = gram
     return casadi.Function(
-        "inverse_pose",
+        "sphere2r_inverse_pose",
         [
             pose,
             branch,

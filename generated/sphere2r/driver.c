@@ -8,27 +8,38 @@
 //   drawing: 56
 //   inverse_pose: 81
 
-// Batched entry points over the CasADi-generated kernels of sphere2r, and the forward
-// pose Newton loop, so that one call from Python does a whole batch with no per-call conversion.
-// Arrays are row-major; input k of pose i starts at inputs[k] + i * strides[k] (stride 0 shares
-// one value across the batch). CasADi stores matrices column-major, hence the transposes.
+// Batched entry points over the CasADi-generated kernels of sphere2r, the forward-pose Newton loop
+// and the whole every-assembly-mode pipeline, so that one call does a whole batch. Arrays are
+// row-major; input k of pose i starts at inputs[k] + i * strides[k] (stride 0 shares one value).
+// CasADi stores matrices column-major, hence the transposes. Nothing here allocates: every work
+// array is on the stack with a size fixed at generation time, and every loop is bounded.
 #include <math.h>
 #include <string.h>
 
 #include "kernels.h"
+#include "sphere2r.h"
 
-int platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+#define NA 2
+#define NQ 0
+#define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
+#define NPAIRS 1
+#define SZ_ARG 3
+#define SZ_RES 3
+#define SZ_IW (0 + 1)
+#define SZ_W (18 + 1)
+
+int sphere2r_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
     casadi_real w[18 + 1];
-    casadi_real out_pose[16];
+    casadi_real out_pose[16 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_pose;
-        if (platform_pose(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_platform_pose(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
@@ -36,14 +47,14 @@ int platform_pose_batch(long long n, const double** inputs, const long long* str
     return 0;
 }
 
-int loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int sphere2r_loop_closure_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[1 + 1];
-    casadi_real out_residual[0];
-    casadi_real out_jacobian[0];
-    casadi_real out_alignment[1];
+    casadi_real out_residual[0 + 1];
+    casadi_real out_jacobian[0 + 1];
+    casadi_real out_alignment[1 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -51,7 +62,7 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
         res[0] = out_residual;
         res[1] = out_jacobian;
         res[2] = out_alignment;
-        if (loop_closure(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_loop_closure(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 0; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 0 + r * 1 + c] = out_residual[c * 0 + r];
@@ -65,18 +76,18 @@ int loop_closure_batch(long long n, const double** inputs, const long long* stri
     return 0;
 }
 
-int loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int sphere2r_loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
     casadi_real w[0 + 1];
-    casadi_real out_jacobian_actuated[0];
+    casadi_real out_jacobian_actuated[0 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_jacobian_actuated;
-        if (loop_closure_actuated(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_loop_closure_actuated(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 0; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[0][i * 0 + r * 2 + c] = out_jacobian_actuated[c * 0 + r];
@@ -84,20 +95,20 @@ int loop_closure_actuated_batch(long long n, const double** inputs, const long l
     return 0;
 }
 
-int singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int sphere2r_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
     casadi_real w[2 + 1];
-    casadi_real out_factors[1];
-    casadi_real out_determinants[0];
+    casadi_real out_factors[1 + 1];
+    casadi_real out_determinants[0 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_factors;
         res[1] = out_determinants;
-        if (singularity_factors(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_singularity_factors(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 1; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 1 + r * 1 + c] = out_factors[c * 1 + r];
@@ -108,20 +119,20 @@ int singularity_factors_batch(long long n, const double** inputs, const long lon
     return 0;
 }
 
-int drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int sphere2r_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
     casadi_real w[14 + 1];
-    casadi_real out_base_axes[6];
-    casadi_real out_moving_axes[6];
+    casadi_real out_base_axes[6 + 1];
+    casadi_real out_moving_axes[6 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_base_axes;
         res[1] = out_moving_axes;
-        if (drawing(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_drawing(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[0][i * 6 + r * 2 + c] = out_base_axes[c * 3 + r];
@@ -132,14 +143,14 @@ int drawing_batch(long long n, const double** inputs, const long long* strides, 
     return 0;
 }
 
-int inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+int sphere2r_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[16 + 1];
-    casadi_real out_actuated[2];
-    casadi_real out_passive[0];
-    casadi_real out_validity[2];
+    casadi_real out_actuated[2 + 1];
+    casadi_real out_passive[0 + 1];
+    casadi_real out_validity[2 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -147,7 +158,7 @@ int inverse_pose_batch(long long n, const double** inputs, const long long* stri
         res[0] = out_actuated;
         res[1] = out_passive;
         res[2] = out_validity;
-        if (inverse_pose(arg, res, iw, w, 0)) return 1;
+        if (sphere2r_inverse_pose(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 2 + r * 1 + c] = out_actuated[c * 2 + r];
@@ -161,25 +172,43 @@ int inverse_pose_batch(long long n, const double** inputs, const long long* stri
     return 0;
 }
 
-// status codes, shared with parakin.errors.raise_for_newton_status
-enum { PARAKIN_OK = 0, PARAKIN_NONFINITE = 1, PARAKIN_NO_CONVERGENCE = 2, PARAKIN_SINGULAR = 3, PARAKIN_WRONG_BASIN = 4 };
+typedef struct {
+    const casadi_real* arg[SZ_ARG];
+    casadi_real* res[SZ_RES];
+    casadi_int iw[SZ_IW];
+    casadi_real w[SZ_W];
+} workspace;
 
-#define NQ 0
-#define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
+#define PI 3.14159265358979323846
 
-// Solves a x = b in place (a is NQ x NQ row-major, destroyed); returns 0 if a pivot vanishes.
-static int solve_in_place(double* a, double* b, double pivot_floor) {
+// (-pi, pi], as parakin.pose.wrap_angle
+static double wrap_angle(double a) {
+    double w = (a + PI) - 2.0 * PI * floor((a + PI) / (2.0 * PI)) - PI;
+    return w <= -PI ? PI : w;
+}
+
+static const int passive_revolute[NQ_ALLOC] = { 0 };
+
+// Gaussian elimination with partial pivoting on a (NQ x NQ row-major, destroyed), solving a x = b
+// in place. Returns the pivot ratio min |u_kk| / max |u_kk|: a scale-free reciprocal-condition
+// estimate, and the one singularity criterion of every backend (parakin.linalg does the same).
+static double solve_in_place(double* a, double* b) {
+    double smallest = INFINITY, largest = 0.0;
     for (int k = 0; k < NQ; ++k) {
         int best = k;
         for (int r = k + 1; r < NQ; ++r)
             if (fabs(a[r * NQ + k]) > fabs(a[best * NQ + k])) best = r;
-        if (!(fabs(a[best * NQ + k]) > pivot_floor)) return 0;
         if (best != k) {
             for (int c = 0; c < NQ; ++c) {
                 double t = a[k * NQ + c]; a[k * NQ + c] = a[best * NQ + c]; a[best * NQ + c] = t;
             }
             double t = b[k]; b[k] = b[best]; b[best] = t;
         }
+        double pivot = fabs(a[k * NQ + k]);
+        if (!isfinite(pivot)) return 0.0;
+        smallest = fmin(smallest, pivot);
+        largest = fmax(largest, pivot);
+        if (pivot == 0.0) return 0.0;
         for (int r = k + 1; r < NQ; ++r) {
             double f = a[r * NQ + k] / a[k * NQ + k];
             for (int c = k; c < NQ; ++c) a[r * NQ + c] -= f * a[k * NQ + c];
@@ -191,107 +220,102 @@ static int solve_in_place(double* a, double* b, double pivot_floor) {
         for (int c = k + 1; c < NQ; ++c) s -= a[k * NQ + c] * b[c];
         b[k] = s / a[k * NQ + k];
     }
-    return 1;
+    return NQ > 0 ? smallest / largest : 1.0;
 }
 
-// Newton on loop_closure(actuated, passive, params) = 0 for the passive variables, from
-// the guess; then the platform pose from platform_pose. Step lengths are capped at max_step.
-int parakin_forward_pose(long long n, const double* actuated, long long actuated_stride,
-                         const double* guess, long long guess_stride, const double* params,
-                         int max_iterations, double tolerance, double max_step, double pivot_floor,
-                         double* passive, double* pose, double* residual_norm, int* iterations,
-                         int* status) {
-    const casadi_real* arg[3];
-    casadi_real* res[3];
-    casadi_int iw[0 + 1];
-    casadi_real w[18 + 1];
-    double residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC], pose_cm[16];
-    double alignment[1];
-    for (long long i = 0; i < n; ++i) {
-        const double* theta = actuated + i * actuated_stride;
-        // iterate on a copy: on failure the output keeps the guess (a tracker's last good
-        // solution, since its guess aliases its output), never a diverged iterate
-        double q[NQ_ALLOC];
-        double* out = passive + i * NQ;
-        memcpy(q, guess + i * guess_stride, sizeof(double) * NQ);
+// Newton on the loop closure for the passive variables, from q (overwritten with the solution
+// only on success). Writes the residual norm reached, the iterations and the pivot ratio of the
+// closure Jacobian at the last iterate; returns a sphere2r Newton status.
+// give_up: an initial residual at or above it stops at once (a candidate that does not close);
+// *initial is that residual and *aligned the alignment of the last iterate. q_io receives the
+// solution on success; on failure it keeps the guess and last (if not NULL) the last iterate.
+static int newton(workspace* ws, const double* theta, double* q_io, double* last, const double* params, long long max_iterations,
+                  double tolerance, double max_step, double singular_ratio, double give_up, double* residual_norm,
+                  double* initial, int* iterations, double* conditioning, int* aligned_out) {
+    double q[NQ_ALLOC], residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC];
+    double alignment[NPAIRS];
+    int status = SPHERE2R_NO_CONVERGENCE;
+    memcpy(q, q_io, sizeof(double) * NQ);
+    *iterations = 0;
+    *residual_norm = NAN;
+    *initial = NAN;
+    *conditioning = NAN;
+    *aligned_out = 0;
+    int finite = 1;
+    for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
+    for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
+    if (!finite) return SPHERE2R_NONFINITE;
+    ws->arg[0] = theta; ws->arg[1] = q; ws->arg[2] = params;
+    // outputs not needed here stay NULL: CasADi then skips computing them
+    for (int k = 0; k < SZ_RES; ++k) ws->res[k] = 0;
+    ws->res[0] = residual;
+    ws->res[1] = jacobian_cm;
+    ws->res[2] = alignment;
+    for (long long it = 0; it <= max_iterations; ++it) {
+        sphere2r_loop_closure(ws->arg, ws->res, ws->iw, ws->w, 0);
+        double norm = 0.0;
+        for (int k = 0; k < NQ; ++k) norm = fmax(norm, fabs(residual[k]));
+        *residual_norm = norm;
+        *iterations = (int)it;
+        int aligned = 1;
+        for (int k = 0; k < NPAIRS; ++k) aligned &= alignment[k] > 0.0;
+        *aligned_out = aligned;
+        if (it == 0) *initial = norm;
+        if (isnan(norm) || isinf(norm)) { status = SPHERE2R_NONFINITE; break; }
+        if (it == 0 && !(norm < give_up)) break;
+        // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
+        if (norm < tolerance && !aligned) { status = SPHERE2R_WRONG_BASIN; break; }
+        if (norm >= tolerance && it == max_iterations) break;
+        for (int r = 0; r < NQ; ++r)
+            for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
+        // also at convergence: a singular closed-loop Jacobian means the pose is not
+        // determined by the actuators (type II), which a zero residual does not reveal
+        double ratio = solve_in_place(jacobian, residual);
+        *conditioning = ratio;
+        if (!(ratio > singular_ratio)) { status = SPHERE2R_SINGULAR; break; }
+        if (norm < tolerance) { status = SPHERE2R_OK; break; }
+        double step = 0.0;
+        for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
+        double scale = step > max_step ? max_step / step : 1.0;
+        for (int k = 0; k < NQ; ++k) q[k] -= scale * residual[k];
+    }
+    if (status == SPHERE2R_OK) memcpy(q_io, q, sizeof(double) * NQ);
+    if (last) memcpy(last, q, sizeof(double) * NQ);
+    return status;
+}
+
+static void platform_pose(workspace* ws, const double* theta, const double* q, const double* params, double* pose) {
+    double pose_cm[16];
+    ws->arg[0] = theta; ws->arg[1] = q; ws->arg[2] = params;
+    ws->res[0] = pose_cm;
+    sphere2r_platform_pose(ws->arg, ws->res, ws->iw, ws->w, 0);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) pose[r * 4 + c] = pose_cm[c * 4 + r];
+}
+
+int sphere2r_forward_pose(const sphere2r_newton_job* job) {
+    workspace ws;
+    for (long long i = 0; i < job->n; ++i) {
+        const double* theta = job->actuated + i * job->actuated_stride;
+        double* out = job->passive + i * NQ;
+        // the output keeps the guess on failure (a tracker's last good solution, since its
+        // guess aliases its output), never a diverged iterate
+        memmove(out, job->guess + i * job->guess_stride, sizeof(double) * NQ);
+        double initial;
+        int aligned;
+        job->status[i] = newton(&ws, theta, out, NULL, job->params, job->max_iterations, job->tolerance, job->max_step,
+                                job->singular_ratio, INFINITY, job->residual + i, &initial, job->iterations + i,
+                                job->conditioning + i, &aligned);
         int finite = 1;
-        for (int k = 0; k < 2; ++k) finite &= isfinite(theta[k]);
-        for (int k = 0; k < NQ; ++k) finite &= isfinite(q[k]);
-        status[i] = finite ? PARAKIN_NO_CONVERGENCE : PARAKIN_NONFINITE;
-        iterations[i] = 0;
-        residual_norm[i] = NAN;
+        for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
+        for (int k = 0; k < NQ; ++k) finite &= isfinite(out[k]);
         if (!finite) {
-            memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
-            for (int k = 0; k < 16; ++k) pose[i * 16 + k] = NAN;
+            for (int k = 0; k < 16; ++k) job->pose[i * 16 + k] = NAN;
             continue;
         }
-        arg[0] = theta; arg[1] = q; arg[2] = params;
-        // outputs not needed here stay NULL: CasADi then skips computing them
-        for (int k = 0; k < 3; ++k) res[k] = 0;
-        res[0] = residual;
-        res[1] = jacobian_cm;
-        res[2] = alignment;
-        for (int it = 0; it <= max_iterations; ++it) {
-            loop_closure(arg, res, iw, w, 0);
-            double norm = 0.0;
-            for (int k = 0; k < NQ; ++k) norm = fmax(norm, fabs(residual[k]));
-            residual_norm[i] = norm;
-            iterations[i] = it;
-            if (!isfinite(norm)) break;
-            if (norm >= tolerance && it == max_iterations) break;
-            for (int r = 0; r < NQ; ++r)
-                for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
-            // also at convergence: a singular closed-loop Jacobian means the pose is not
-            // determined by the actuators (type II), which a zero residual does not reveal
-            if (!solve_in_place(jacobian, residual, pivot_floor)) { status[i] = PARAKIN_SINGULAR; break; }
-            if (norm < tolerance) {
-                // a half-turn between legs zeroes vee() too: that is a wrong basin, not a closure
-                int aligned = 1;
-                for (int k = 0; k < 1; ++k) aligned &= alignment[k] > 0.0;
-                status[i] = aligned ? PARAKIN_OK : PARAKIN_WRONG_BASIN;
-                break;
-            }
-            double step = 0.0;
-            for (int k = 0; k < NQ; ++k) step = fmax(step, fabs(residual[k]));
-            double scale = step > max_step ? max_step / step : 1.0;
-            for (int k = 0; k < NQ; ++k) q[k] -= scale * residual[k];
-        }
-        if (status[i] == PARAKIN_OK) memcpy(out, q, sizeof(double) * NQ);
-        else memmove(out, guess + i * guess_stride, sizeof(double) * NQ);
-        const casadi_real* pose_arg[3];
-        casadi_real* pose_res[1];
-        pose_arg[0] = theta; pose_arg[1] = out; pose_arg[2] = params;
-        pose_res[0] = pose_cm;
-        platform_pose(pose_arg, pose_res, iw, w, 0);
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) pose[i * 16 + r * 4 + c] = pose_cm[c * 4 + r];
+        for (int k = 0; k < NQ; ++k)
+            if (passive_revolute[k]) out[k] = wrap_angle(out[k]);
+        platform_pose(&ws, theta, out, job->params, job->pose + i * 16);
     }
     return 0;
-}
-
-// One argument instead of fifteen: a caller that keeps this struct alive (a tracker) pays the
-// foreign-call overhead once per solve, not per argument.
-typedef struct {
-    long long n;
-    const double* actuated;
-    long long actuated_stride;
-    const double* guess;
-    long long guess_stride;
-    const double* params;
-    int max_iterations;
-    double tolerance;
-    double max_step;
-    double pivot_floor;
-    double* passive;
-    double* pose;
-    double* residual_norm;
-    int* iterations;
-    int* status;
-} parakin_newton_job;
-
-int parakin_forward_pose_job(const parakin_newton_job* job) {
-    return parakin_forward_pose(job->n, job->actuated, job->actuated_stride, job->guess, job->guess_stride,
-                                job->params, job->max_iterations, job->tolerance, job->max_step,
-                                job->pivot_floor, job->passive, job->pose, job->residual_norm,
-                                job->iterations, job->status);
 }

@@ -26,117 +26,117 @@ extern "C" {
 #define casadi_int long long int
 #endif
 
-int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int platform_pose_checkout(void);
-void platform_pose_release(int mem);
-void platform_pose_incref(void);
-void platform_pose_decref(void);
-casadi_int platform_pose_n_in(void);
-casadi_int platform_pose_n_out(void);
-casadi_real platform_pose_default_in(casadi_int i);
-const char* platform_pose_name_in(casadi_int i);
-const char* platform_pose_name_out(casadi_int i);
-const casadi_int* platform_pose_sparsity_in(casadi_int i);
-const casadi_int* platform_pose_sparsity_out(casadi_int i);
-int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define platform_pose_SZ_ARG 3
-#define platform_pose_SZ_RES 1
-#define platform_pose_SZ_IW 0
-#define platform_pose_SZ_W 0
-int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_checkout(void);
-void loop_closure_release(int mem);
-void loop_closure_incref(void);
-void loop_closure_decref(void);
-casadi_int loop_closure_n_in(void);
-casadi_int loop_closure_n_out(void);
-casadi_real loop_closure_default_in(casadi_int i);
-const char* loop_closure_name_in(casadi_int i);
-const char* loop_closure_name_out(casadi_int i);
-const casadi_int* loop_closure_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_sparsity_out(casadi_int i);
-int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_SZ_ARG 3
-#define loop_closure_SZ_RES 3
-#define loop_closure_SZ_IW 0
-#define loop_closure_SZ_W 0
-int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_actuated_checkout(void);
-void loop_closure_actuated_release(int mem);
-void loop_closure_actuated_incref(void);
-void loop_closure_actuated_decref(void);
-casadi_int loop_closure_actuated_n_in(void);
-casadi_int loop_closure_actuated_n_out(void);
-casadi_real loop_closure_actuated_default_in(casadi_int i);
-const char* loop_closure_actuated_name_in(casadi_int i);
-const char* loop_closure_actuated_name_out(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i);
-int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_actuated_SZ_ARG 3
-#define loop_closure_actuated_SZ_RES 1
-#define loop_closure_actuated_SZ_IW 0
-#define loop_closure_actuated_SZ_W 0
-int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int singularity_factors_checkout(void);
-void singularity_factors_release(int mem);
-void singularity_factors_incref(void);
-void singularity_factors_decref(void);
-casadi_int singularity_factors_n_in(void);
-casadi_int singularity_factors_n_out(void);
-casadi_real singularity_factors_default_in(casadi_int i);
-const char* singularity_factors_name_in(casadi_int i);
-const char* singularity_factors_name_out(casadi_int i);
-const casadi_int* singularity_factors_sparsity_in(casadi_int i);
-const casadi_int* singularity_factors_sparsity_out(casadi_int i);
-int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define singularity_factors_SZ_ARG 3
-#define singularity_factors_SZ_RES 2
-#define singularity_factors_SZ_IW 0
-#define singularity_factors_SZ_W 0
-int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int drawing_checkout(void);
-void drawing_release(int mem);
-void drawing_incref(void);
-void drawing_decref(void);
-casadi_int drawing_n_in(void);
-casadi_int drawing_n_out(void);
-casadi_real drawing_default_in(casadi_int i);
-const char* drawing_name_in(casadi_int i);
-const char* drawing_name_out(casadi_int i);
-const casadi_int* drawing_sparsity_in(casadi_int i);
-const casadi_int* drawing_sparsity_out(casadi_int i);
-int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define drawing_SZ_ARG 3
-#define drawing_SZ_RES 2
-#define drawing_SZ_IW 0
-#define drawing_SZ_W 0
-int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int inverse_pose_checkout(void);
-void inverse_pose_release(int mem);
-void inverse_pose_incref(void);
-void inverse_pose_decref(void);
-casadi_int inverse_pose_n_in(void);
-casadi_int inverse_pose_n_out(void);
-casadi_real inverse_pose_default_in(casadi_int i);
-const char* inverse_pose_name_in(casadi_int i);
-const char* inverse_pose_name_out(casadi_int i);
-const casadi_int* inverse_pose_sparsity_in(casadi_int i);
-const casadi_int* inverse_pose_sparsity_out(casadi_int i);
-int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define inverse_pose_SZ_ARG 3
-#define inverse_pose_SZ_RES 3
-#define inverse_pose_SZ_IW 0
-#define inverse_pose_SZ_W 0
-void kernels_casadi_version(int* major, int* minor, int* patch);
-int kernels_casadi_int_size(void);
-int kernels_casadi_real_size(void);
+int sphere2r_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_platform_pose_checkout(void);
+void sphere2r_platform_pose_release(int mem);
+void sphere2r_platform_pose_incref(void);
+void sphere2r_platform_pose_decref(void);
+casadi_int sphere2r_platform_pose_n_in(void);
+casadi_int sphere2r_platform_pose_n_out(void);
+casadi_real sphere2r_platform_pose_default_in(casadi_int i);
+const char* sphere2r_platform_pose_name_in(casadi_int i);
+const char* sphere2r_platform_pose_name_out(casadi_int i);
+const casadi_int* sphere2r_platform_pose_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_platform_pose_sparsity_out(casadi_int i);
+int sphere2r_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_platform_pose_SZ_ARG 3
+#define sphere2r_platform_pose_SZ_RES 1
+#define sphere2r_platform_pose_SZ_IW 0
+#define sphere2r_platform_pose_SZ_W 0
+int sphere2r_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_loop_closure_checkout(void);
+void sphere2r_loop_closure_release(int mem);
+void sphere2r_loop_closure_incref(void);
+void sphere2r_loop_closure_decref(void);
+casadi_int sphere2r_loop_closure_n_in(void);
+casadi_int sphere2r_loop_closure_n_out(void);
+casadi_real sphere2r_loop_closure_default_in(casadi_int i);
+const char* sphere2r_loop_closure_name_in(casadi_int i);
+const char* sphere2r_loop_closure_name_out(casadi_int i);
+const casadi_int* sphere2r_loop_closure_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_loop_closure_sparsity_out(casadi_int i);
+int sphere2r_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_loop_closure_SZ_ARG 3
+#define sphere2r_loop_closure_SZ_RES 3
+#define sphere2r_loop_closure_SZ_IW 0
+#define sphere2r_loop_closure_SZ_W 0
+int sphere2r_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_loop_closure_actuated_checkout(void);
+void sphere2r_loop_closure_actuated_release(int mem);
+void sphere2r_loop_closure_actuated_incref(void);
+void sphere2r_loop_closure_actuated_decref(void);
+casadi_int sphere2r_loop_closure_actuated_n_in(void);
+casadi_int sphere2r_loop_closure_actuated_n_out(void);
+casadi_real sphere2r_loop_closure_actuated_default_in(casadi_int i);
+const char* sphere2r_loop_closure_actuated_name_in(casadi_int i);
+const char* sphere2r_loop_closure_actuated_name_out(casadi_int i);
+const casadi_int* sphere2r_loop_closure_actuated_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_loop_closure_actuated_sparsity_out(casadi_int i);
+int sphere2r_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_loop_closure_actuated_SZ_ARG 3
+#define sphere2r_loop_closure_actuated_SZ_RES 1
+#define sphere2r_loop_closure_actuated_SZ_IW 0
+#define sphere2r_loop_closure_actuated_SZ_W 0
+int sphere2r_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_singularity_factors_checkout(void);
+void sphere2r_singularity_factors_release(int mem);
+void sphere2r_singularity_factors_incref(void);
+void sphere2r_singularity_factors_decref(void);
+casadi_int sphere2r_singularity_factors_n_in(void);
+casadi_int sphere2r_singularity_factors_n_out(void);
+casadi_real sphere2r_singularity_factors_default_in(casadi_int i);
+const char* sphere2r_singularity_factors_name_in(casadi_int i);
+const char* sphere2r_singularity_factors_name_out(casadi_int i);
+const casadi_int* sphere2r_singularity_factors_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_singularity_factors_sparsity_out(casadi_int i);
+int sphere2r_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_singularity_factors_SZ_ARG 3
+#define sphere2r_singularity_factors_SZ_RES 2
+#define sphere2r_singularity_factors_SZ_IW 0
+#define sphere2r_singularity_factors_SZ_W 0
+int sphere2r_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_drawing_checkout(void);
+void sphere2r_drawing_release(int mem);
+void sphere2r_drawing_incref(void);
+void sphere2r_drawing_decref(void);
+casadi_int sphere2r_drawing_n_in(void);
+casadi_int sphere2r_drawing_n_out(void);
+casadi_real sphere2r_drawing_default_in(casadi_int i);
+const char* sphere2r_drawing_name_in(casadi_int i);
+const char* sphere2r_drawing_name_out(casadi_int i);
+const casadi_int* sphere2r_drawing_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_drawing_sparsity_out(casadi_int i);
+int sphere2r_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_drawing_SZ_ARG 3
+#define sphere2r_drawing_SZ_RES 2
+#define sphere2r_drawing_SZ_IW 0
+#define sphere2r_drawing_SZ_W 0
+int sphere2r_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_inverse_pose_checkout(void);
+void sphere2r_inverse_pose_release(int mem);
+void sphere2r_inverse_pose_incref(void);
+void sphere2r_inverse_pose_decref(void);
+casadi_int sphere2r_inverse_pose_n_in(void);
+casadi_int sphere2r_inverse_pose_n_out(void);
+casadi_real sphere2r_inverse_pose_default_in(casadi_int i);
+const char* sphere2r_inverse_pose_name_in(casadi_int i);
+const char* sphere2r_inverse_pose_name_out(casadi_int i);
+const casadi_int* sphere2r_inverse_pose_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_inverse_pose_sparsity_out(casadi_int i);
+int sphere2r_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_inverse_pose_SZ_ARG 3
+#define sphere2r_inverse_pose_SZ_RES 3
+#define sphere2r_inverse_pose_SZ_IW 0
+#define sphere2r_inverse_pose_SZ_W 0
+void sphere2r_kernels_casadi_version(int* major, int* minor, int* patch);
+int sphere2r_kernels_casadi_int_size(void);
+int sphere2r_kernels_casadi_real_size(void);
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -106,7 +106,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 2] = _t43 * _t55 + _t46 * _t55 + _t56 * _t60
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "spm_platform_pose",
         [
             actuated,
             passive,
@@ -248,7 +248,7 @@ def loop_closure() -> casadi.Function:
         / (_t49 * _t50)
     )
     return casadi.Function(
-        "loop_closure",
+        "spm_loop_closure",
         [
             actuated,
             passive,
@@ -380,7 +380,7 @@ def loop_closure_actuated() -> casadi.Function:
     jacobian_actuated[2, 0] = _t19 * _t76 + _t44 * _t75 + _t48 * _t74
     jacobian_actuated[2, 2] = _t51 * _t81 + _t55 * _t79 + _t57 * _t82
     return casadi.Function(
-        "loop_closure_actuated",
+        "spm_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -503,7 +503,7 @@ def rate_jacobians() -> casadi.Function:
         + _t59 * (_t1 * _t52 - _t62)
     )
     return casadi.Function(
-        "rate_jacobians",
+        "spm_rate_jacobians",
         [
             actuated,
             passive,
@@ -631,7 +631,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t6 * _t72
     determinants[1] = _t0 * _t1 * _t2 * _t4 * _t6
     return casadi.Function(
-        "singularity_factors",
+        "spm_singularity_factors",
         [
             actuated,
             passive,
@@ -753,7 +753,7 @@ def drawing() -> casadi.Function:
     platform_axes[2, 1] = _t34 * _t36 + _t42 * _t43 + _t45 * (_t16 * _t44 - _t28 * _t41)
     platform_axes[2, 2] = _t35 * _t36 + _t47 * _t48 + _t50 * (_t22 * _t49 - _t30 * _t46)
     return casadi.Function(
-        "drawing",
+        "spm_drawing",
         [
             actuated,
             passive,
@@ -948,7 +948,7 @@ def inverse_pose() -> casadi.Function:
     validity[1] = reach2
     validity[2] = reach3
     return casadi.Function(
-        "inverse_pose",
+        "spm_inverse_pose",
         [
             pose,
             branch,
@@ -3252,7 +3252,7 @@ def forward_polynomial() -> casadi.Function:
         + _t1102 * _t1103
     )
     return casadi.Function(
-        "forward_polynomial",
+        "spm_forward_polynomial",
         [
             actuated,
             params,
@@ -5145,7 +5145,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 2] = _t1083 * _t1095 + _t1086 * _t1095 + _t1096 * _t1100
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "spm_forward_back_substitution",
         [
             actuated,
             root,

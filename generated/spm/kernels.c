@@ -27,7 +27,7 @@ extern "C" {
   #define _CASADI_NAMESPACE_CONCAT(NS, ID) NS ## ID
   #define CASADI_PREFIX(ID) CASADI_NAMESPACE_CONCAT(CODEGEN_PREFIX, ID)
 #else
-  #define CASADI_PREFIX(ID) kernels_ ## ID
+  #define CASADI_PREFIX(ID) spm_kernels_ ## ID
 #endif
 
 #include <math.h>
@@ -112,13 +112,13 @@ casadi_real casadi_fabs(casadi_real x) {
 }
 
 /* Configuration this file was compiled with */
-CASADI_SYMBOL_EXPORT void kernels_casadi_version(int* major, int* minor, int* patch) {
+CASADI_SYMBOL_EXPORT void spm_kernels_casadi_version(int* major, int* minor, int* patch) {
   *major = 3;
   *minor = 8;
   *patch = 2;
 }
-CASADI_SYMBOL_EXPORT int kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
-CASADI_SYMBOL_EXPORT int kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
+CASADI_SYMBOL_EXPORT int spm_kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
+CASADI_SYMBOL_EXPORT int spm_kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
 static const casadi_int casadi_s1[3] = {4, 1, 1};
@@ -130,7 +130,7 @@ static const casadi_int casadi_s6[3] = {2, 1, 1};
 static const casadi_int casadi_s7[3] = {12, 1, 1};
 static const casadi_int casadi_s8[3] = {9, 1, 1};
 
-/* platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
+/* spm_platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -371,34 +371,34 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f0(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_platform_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_platform_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_platform_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_platform_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_platform_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int spm_platform_pose_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real platform_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_platform_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_platform_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -407,14 +407,14 @@ CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_platform_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_platform_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -423,14 +423,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_platform_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -438,7 +438,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -446,7 +446,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],alignment) */
+/* spm_loop_closure:(actuated[3],passive[3],params[4])->(residual[3],jacobian[3x3],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -740,34 +740,34 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f1(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_loop_closure_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_loop_closure_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_loop_closure_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -776,7 +776,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
@@ -785,7 +785,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_loop_closure_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -794,7 +794,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
@@ -803,7 +803,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -811,7 +811,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -819,7 +819,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* loop_closure_actuated:(actuated[3],passive[3],params[4])->(jacobian_actuated[3x3]) */
+/* spm_loop_closure_actuated:(actuated[3],passive[3],params[4])->(jacobian_actuated[3x3]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1113,34 +1113,34 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f2(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_actuated_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_actuated_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_actuated_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_loop_closure_actuated_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_loop_closure_actuated_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int spm_loop_closure_actuated_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_loop_closure_actuated_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_loop_closure_actuated_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1149,14 +1149,14 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_loop_closure_actuated_name_out(casadi_int i) {
   switch (i) {
     case 0: return "jacobian_actuated";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_loop_closure_actuated_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1165,14 +1165,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_loop_closure_actuated_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -1180,7 +1180,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_i
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1188,7 +1188,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, ca
   return 0;
 }
 
-/* rate_jacobians:(actuated[3],passive[3],params[4])->(a[3x3],b[3x3]) */
+/* spm_rate_jacobians:(actuated[3],passive[3],params[4])->(a[3x3],b[3x3]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1457,34 +1457,34 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f3(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_rate_jacobians_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_rate_jacobians_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_rate_jacobians_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_rate_jacobians_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_rate_jacobians_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int spm_rate_jacobians_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real rate_jacobians_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_rate_jacobians_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_rate_jacobians_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1493,7 +1493,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_rate_jacobians_name_out(casadi_int i) {
   switch (i) {
     case 0: return "a";
     case 1: return "b";
@@ -1501,7 +1501,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_rate_jacobians_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1510,7 +1510,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) 
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_rate_jacobians_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -1518,7 +1518,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1526,7 +1526,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1534,7 +1534,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_in
   return 0;
 }
 
-/* singularity_factors:(actuated[3],passive[3],params[4])->(factors[7],determinants[2]) */
+/* spm_singularity_factors:(actuated[3],passive[3],params[4])->(factors[7],determinants[2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1778,34 +1778,34 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f4(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_singularity_factors_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_singularity_factors_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_singularity_factors_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_singularity_factors_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_singularity_factors_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int spm_singularity_factors_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real singularity_factors_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_singularity_factors_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_singularity_factors_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1814,7 +1814,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_singularity_factors_name_out(casadi_int i) {
   switch (i) {
     case 0: return "factors";
     case 1: return "determinants";
@@ -1822,7 +1822,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_singularity_factors_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1831,7 +1831,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s5;
     case 1: return casadi_s6;
@@ -1839,7 +1839,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_i
   }
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1847,7 +1847,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1855,7 +1855,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* drawing:(actuated[3],passive[3],params[4])->(base_axes[3x3],intermediate_axes[3x3],platform_axes[3x3]) */
+/* spm_drawing:(actuated[3],passive[3],params[4])->(base_axes[3x3],intermediate_axes[3x3],platform_axes[3x3]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2067,34 +2067,34 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f5(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_drawing_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_drawing_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_drawing_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_drawing_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_drawing_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_drawing_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_drawing_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2103,7 +2103,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base_axes";
     case 1: return "intermediate_axes";
@@ -2112,7 +2112,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_drawing_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2121,7 +2121,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -2130,7 +2130,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -2138,7 +2138,7 @@ CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, ca
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2146,7 +2146,7 @@ CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
+/* spm_inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
 static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2554,34 +2554,34 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f6(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_inverse_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_inverse_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_inverse_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_inverse_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_inverse_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int spm_inverse_pose_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real inverse_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_inverse_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_inverse_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     case 1: return "branch";
@@ -2590,7 +2590,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_inverse_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -2599,7 +2599,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s7;
     case 1: return casadi_s0;
@@ -2608,7 +2608,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -2617,7 +2617,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -2625,7 +2625,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2633,7 +2633,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* forward_polynomial:(actuated[3],params[4])->(coefficients[9]) */
+/* spm_forward_polynomial:(actuated[3],params[4])->(coefficients[9]) */
 static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
@@ -7500,34 +7500,34 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f7(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_forward_polynomial_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_forward_polynomial_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_forward_polynomial_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_forward_polynomial_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_in(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int spm_forward_polynomial_n_in(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int spm_forward_polynomial_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_polynomial_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_forward_polynomial_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_forward_polynomial_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "params";
@@ -7535,14 +7535,14 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_forward_polynomial_name_out(casadi_int i) {
   switch (i) {
     case 0: return "coefficients";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_polynomial_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s1;
@@ -7550,14 +7550,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s8;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -7565,7 +7565,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -7573,7 +7573,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* forward_back_substitution:(actuated[3],root,branch,params[4])->(pose[4x4]) */
+/* spm_forward_back_substitution:(actuated[3],root,branch,params[4])->(pose[4x4]) */
 static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -9093,34 +9093,34 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int spm_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f8(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {
+CASADI_SYMBOL_EXPORT int spm_forward_back_substitution_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_release(int mem) {
+CASADI_SYMBOL_EXPORT void spm_forward_back_substitution_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_incref(void) {
+CASADI_SYMBOL_EXPORT void spm_forward_back_substitution_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_decref(void) {
+CASADI_SYMBOL_EXPORT void spm_forward_back_substitution_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_in(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int spm_forward_back_substitution_n_in(void) { return 4;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int spm_forward_back_substitution_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_back_substitution_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real spm_forward_back_substitution_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_forward_back_substitution_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "root";
@@ -9130,14 +9130,14 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* spm_forward_back_substitution_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -9147,14 +9147,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(cas
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_back_substitution_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -9162,7 +9162,7 @@ CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casa
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int spm_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);

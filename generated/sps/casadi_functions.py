@@ -49,7 +49,7 @@ def platform_pose() -> casadi.Function:
     pose[2, 2] = _t0 * _t3 * _t5 - _t6
     pose[3, 3] = 1
     return casadi.Function(
-        "platform_pose",
+        "sps_platform_pose",
         [
             actuated,
             passive,
@@ -205,7 +205,7 @@ def loop_closure() -> casadi.Function:
     alignment = casadi.SX.zeros(1)
     alignment[0] = 1
     return casadi.Function(
-        "loop_closure",
+        "sps_loop_closure",
         [
             actuated,
             passive,
@@ -245,7 +245,7 @@ def loop_closure_actuated() -> casadi.Function:
     jacobian_actuated[1, 1] = -2 * d2
     jacobian_actuated[2, 2] = -2 * d3
     return casadi.Function(
-        "loop_closure_actuated",
+        "sps_loop_closure_actuated",
         [
             actuated,
             passive,
@@ -359,7 +359,7 @@ def rate_jacobians() -> casadi.Function:
     b[1, 1] = d2
     b[2, 2] = d3
     return casadi.Function(
-        "rate_jacobians",
+        "sps_rate_jacobians",
         [
             actuated,
             passive,
@@ -475,7 +475,7 @@ def singularity_factors() -> casadi.Function:
     determinants[0] = _t41
     determinants[1] = d1 * d2 * d3
     return casadi.Function(
-        "singularity_factors",
+        "sps_singularity_factors",
         [
             actuated,
             passive,
@@ -587,7 +587,7 @@ def drawing() -> casadi.Function:
     platform[2, 1] = _t11 * _t34 - _t3 * _t33
     platform[2, 2] = -_t16 * _t33 + _t20 * _t34 + _t23 * (_t0 * _t21 * _t28 - _t29)
     return casadi.Function(
-        "drawing",
+        "sps_drawing",
         [
             actuated,
             passive,
@@ -772,7 +772,7 @@ def inverse_pose() -> casadi.Function:
     validity[2] = (-d3 + d3_max) * (d3 - d3_min)
     validity[3] = sin_beta**2
     return casadi.Function(
-        "inverse_pose",
+        "sps_inverse_pose",
         [
             pose,
             branch,
@@ -1551,7 +1551,7 @@ def forward_polynomial() -> casadi.Function:
         + _t139 * _t140
     )
     return casadi.Function(
-        "forward_polynomial",
+        "sps_forward_polynomial",
         [
             actuated,
             params,
@@ -2806,7 +2806,7 @@ def forward_back_substitution() -> casadi.Function:
     pose[2, 2] = R6_33
     pose[3, 3] = 1
     return casadi.Function(
-        "forward_back_substitution",
+        "sps_forward_back_substitution",
         [
             actuated,
             root,

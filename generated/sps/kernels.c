@@ -27,7 +27,7 @@ extern "C" {
   #define _CASADI_NAMESPACE_CONCAT(NS, ID) NS ## ID
   #define CASADI_PREFIX(ID) CASADI_NAMESPACE_CONCAT(CODEGEN_PREFIX, ID)
 #else
-  #define CASADI_PREFIX(ID) kernels_ ## ID
+  #define CASADI_PREFIX(ID) sps_kernels_ ## ID
 #endif
 
 #include <math.h>
@@ -100,13 +100,13 @@ casadi_real casadi_fabs(casadi_real x) {
 }
 
 /* Configuration this file was compiled with */
-CASADI_SYMBOL_EXPORT void kernels_casadi_version(int* major, int* minor, int* patch) {
+CASADI_SYMBOL_EXPORT void sps_kernels_casadi_version(int* major, int* minor, int* patch) {
   *major = 3;
   *minor = 8;
   *patch = 2;
 }
-CASADI_SYMBOL_EXPORT int kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
-CASADI_SYMBOL_EXPORT int kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
+CASADI_SYMBOL_EXPORT int sps_kernels_casadi_int_size(void) { return (int) sizeof(casadi_int); }
+CASADI_SYMBOL_EXPORT int sps_kernels_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
 static const casadi_int casadi_s1[3] = {22, 1, 1};
@@ -119,7 +119,7 @@ static const casadi_int casadi_s7[3] = {3, 4, 1};
 static const casadi_int casadi_s8[3] = {12, 1, 1};
 static const casadi_int casadi_s9[3] = {9, 1, 1};
 
-/* platform_pose:(actuated[3],passive[3],params[22])->(pose[4x4]) */
+/* sps_platform_pose:(actuated[3],passive[3],params[22])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8, a9;
   a0=arg[1]? arg[1][1] : 0;
@@ -171,34 +171,34 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f0(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_platform_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_platform_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_platform_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void platform_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_platform_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_platform_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int platform_pose_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sps_platform_pose_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real platform_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_platform_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_platform_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -207,14 +207,14 @@ CASADI_SYMBOL_EXPORT const char* platform_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* platform_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_platform_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_platform_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -223,14 +223,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* platform_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_platform_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -238,7 +238,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -246,7 +246,7 @@ CASADI_SYMBOL_EXPORT int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-/* loop_closure:(actuated[3],passive[3],params[22])->(residual[3],jacobian[3x3],alignment) */
+/* sps_loop_closure:(actuated[3],passive[3],params[22])->(residual[3],jacobian[3x3],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -504,34 +504,34 @@ static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f1(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_loop_closure_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_loop_closure_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_loop_closure_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_loop_closure_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -540,7 +540,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_loop_closure_name_out(casadi_int i) {
   switch (i) {
     case 0: return "residual";
     case 1: return "jacobian";
@@ -549,7 +549,7 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_loop_closure_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -558,7 +558,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_loop_closure_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s3;
@@ -567,7 +567,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -575,7 +575,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -583,7 +583,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* loop_closure_actuated:(actuated[3],passive[3],params[22])->(jacobian_actuated[3x3]) */
+/* sps_loop_closure_actuated:(actuated[3],passive[3],params[22])->(jacobian_actuated[3x3]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2;
   a0=-2.;
@@ -606,34 +606,34 @@ static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f2(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_actuated_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_actuated_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_actuated_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void loop_closure_actuated_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_loop_closure_actuated_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_loop_closure_actuated_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int loop_closure_actuated_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sps_loop_closure_actuated_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real loop_closure_actuated_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_loop_closure_actuated_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_loop_closure_actuated_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -642,14 +642,14 @@ CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* loop_closure_actuated_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_loop_closure_actuated_name_out(casadi_int i) {
   switch (i) {
     case 0: return "jacobian_actuated";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_loop_closure_actuated_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -658,14 +658,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_in(casadi_
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_loop_closure_actuated_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -673,7 +673,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work(casadi_int *sz_arg, casadi_i
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -681,7 +681,7 @@ CASADI_SYMBOL_EXPORT int loop_closure_actuated_work_bytes(casadi_int *sz_arg, ca
   return 0;
 }
 
-/* rate_jacobians:(actuated[3],passive[3],params[22])->(a[3x3],b[3x3]) */
+/* sps_rate_jacobians:(actuated[3],passive[3],params[22])->(a[3x3],b[3x3]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -848,34 +848,34 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f3(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_rate_jacobians_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_rate_jacobians_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_rate_jacobians_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void rate_jacobians_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_rate_jacobians_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_rate_jacobians_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int rate_jacobians_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sps_rate_jacobians_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real rate_jacobians_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_rate_jacobians_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_rate_jacobians_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -884,7 +884,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_rate_jacobians_name_out(casadi_int i) {
   switch (i) {
     case 0: return "a";
     case 1: return "b";
@@ -892,7 +892,7 @@ CASADI_SYMBOL_EXPORT const char* rate_jacobians_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_rate_jacobians_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -901,7 +901,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_in(casadi_int i) 
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_rate_jacobians_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
@@ -909,7 +909,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* rate_jacobians_sparsity_out(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -917,7 +917,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -925,7 +925,7 @@ CASADI_SYMBOL_EXPORT int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_in
   return 0;
 }
 
-/* singularity_factors:(actuated[3],passive[3],params[22])->(factors[4],determinants[2]) */
+/* sps_singularity_factors:(actuated[3],passive[3],params[22])->(factors[4],determinants[2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1091,34 +1091,34 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f4(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_singularity_factors_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_singularity_factors_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_singularity_factors_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void singularity_factors_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_singularity_factors_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_singularity_factors_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int singularity_factors_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sps_singularity_factors_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real singularity_factors_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_singularity_factors_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_singularity_factors_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1127,7 +1127,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_singularity_factors_name_out(casadi_int i) {
   switch (i) {
     case 0: return "factors";
     case 1: return "determinants";
@@ -1135,7 +1135,7 @@ CASADI_SYMBOL_EXPORT const char* singularity_factors_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_singularity_factors_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1144,7 +1144,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_in(casadi_in
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s5;
     case 1: return casadi_s6;
@@ -1152,7 +1152,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* singularity_factors_sparsity_out(casadi_i
   }
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1160,7 +1160,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work(casadi_int *sz_arg, casadi_int
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1168,7 +1168,7 @@ CASADI_SYMBOL_EXPORT int singularity_factors_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* drawing:(actuated[3],passive[3],params[22])->(base[3x4],platform[3x4]) */
+/* sps_drawing:(actuated[3],passive[3],params[22])->(base[3x4],platform[3x4]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1324,34 +1324,34 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f5(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int drawing_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_drawing_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void drawing_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_drawing_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_drawing_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void drawing_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_drawing_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int drawing_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sps_drawing_n_out(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_real drawing_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_drawing_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_drawing_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1360,7 +1360,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
     case 1: return "platform";
@@ -1368,7 +1368,7 @@ CASADI_SYMBOL_EXPORT const char* drawing_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_drawing_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1377,7 +1377,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s7;
     case 1: return casadi_s7;
@@ -1385,7 +1385,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* drawing_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
@@ -1393,7 +1393,7 @@ CASADI_SYMBOL_EXPORT int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, ca
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1401,7 +1401,7 @@ CASADI_SYMBOL_EXPORT int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
   return 0;
 }
 
-/* inverse_pose:(pose[12],branch,params[22])->(actuated[3],passive[3],validity[4]) */
+/* sps_inverse_pose:(pose[12],branch,params[22])->(actuated[3],passive[3],validity[4]) */
 static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -1717,34 +1717,34 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f6(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_inverse_pose_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_inverse_pose_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_inverse_pose_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void inverse_pose_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_inverse_pose_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_in(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_inverse_pose_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int inverse_pose_n_out(void) { return 3;}
+CASADI_SYMBOL_EXPORT casadi_int sps_inverse_pose_n_out(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_real inverse_pose_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_inverse_pose_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_inverse_pose_name_in(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     case 1: return "branch";
@@ -1753,7 +1753,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_inverse_pose_name_out(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "passive";
@@ -1762,7 +1762,7 @@ CASADI_SYMBOL_EXPORT const char* inverse_pose_name_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s8;
     case 1: return casadi_s4;
@@ -1771,7 +1771,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
@@ -1780,7 +1780,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* inverse_pose_sparsity_out(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
   if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
@@ -1788,7 +1788,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -1796,7 +1796,7 @@ CASADI_SYMBOL_EXPORT int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-/* forward_polynomial:(actuated[3],params[22])->(coefficients[9]) */
+/* sps_forward_polynomial:(actuated[3],params[22])->(coefficients[9]) */
 static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -2583,34 +2583,34 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f7(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_forward_polynomial_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_forward_polynomial_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_forward_polynomial_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_polynomial_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_forward_polynomial_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_in(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int sps_forward_polynomial_n_in(void) { return 2;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_polynomial_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sps_forward_polynomial_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_polynomial_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_forward_polynomial_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_forward_polynomial_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "params";
@@ -2618,14 +2618,14 @@ CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_in(casadi_int i) {
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_polynomial_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_forward_polynomial_name_out(casadi_int i) {
   switch (i) {
     case 0: return "coefficients";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_polynomial_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s1;
@@ -2633,14 +2633,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_in(casadi_int
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_polynomial_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s9;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -2648,7 +2648,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work(casadi_int *sz_arg, casadi_int*
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
@@ -2656,7 +2656,7 @@ CASADI_SYMBOL_EXPORT int forward_polynomial_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* forward_back_substitution:(actuated[3],root,branch,params[22])->(pose[4x4]) */
+/* sps_forward_back_substitution:(actuated[3],root,branch,params[22])->(pose[4x4]) */
 static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -5788,34 +5788,34 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+CASADI_SYMBOL_EXPORT int sps_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
   return casadi_f8(arg, res, iw, w, mem);
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_checkout(void) {
+CASADI_SYMBOL_EXPORT int sps_forward_back_substitution_checkout(void) {
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_release(int mem) {
+CASADI_SYMBOL_EXPORT void sps_forward_back_substitution_release(int mem) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_incref(void) {
+CASADI_SYMBOL_EXPORT void sps_forward_back_substitution_incref(void) {
 }
 
-CASADI_SYMBOL_EXPORT void forward_back_substitution_decref(void) {
+CASADI_SYMBOL_EXPORT void sps_forward_back_substitution_decref(void) {
 }
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_in(void) { return 4;}
+CASADI_SYMBOL_EXPORT casadi_int sps_forward_back_substitution_n_in(void) { return 4;}
 
-CASADI_SYMBOL_EXPORT casadi_int forward_back_substitution_n_out(void) { return 1;}
+CASADI_SYMBOL_EXPORT casadi_int sps_forward_back_substitution_n_out(void) { return 1;}
 
-CASADI_SYMBOL_EXPORT casadi_real forward_back_substitution_default_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT casadi_real sps_forward_back_substitution_default_in(casadi_int i) {
   switch (i) {
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_forward_back_substitution_name_in(casadi_int i) {
   switch (i) {
     case 0: return "actuated";
     case 1: return "root";
@@ -5825,14 +5825,14 @@ CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_in(casadi_int i)
   }
 }
 
-CASADI_SYMBOL_EXPORT const char* forward_back_substitution_name_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const char* sps_forward_back_substitution_name_out(casadi_int i) {
   switch (i) {
     case 0: return "pose";
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_back_substitution_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
@@ -5842,14 +5842,14 @@ CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_in(cas
   }
 }
 
-CASADI_SYMBOL_EXPORT const casadi_int* forward_back_substitution_sparsity_out(casadi_int i) {
+CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_back_substitution_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s2;
     default: return 0;
   }
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4;
   if (sz_res) *sz_res = 1;
   if (sz_iw) *sz_iw = 0;
@@ -5857,7 +5857,7 @@ CASADI_SYMBOL_EXPORT int forward_back_substitution_work(casadi_int *sz_arg, casa
   return 0;
 }
 
-CASADI_SYMBOL_EXPORT int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+CASADI_SYMBOL_EXPORT int sps_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);

@@ -29,171 +29,171 @@ extern "C" {
 #define casadi_int long long int
 #endif
 
-int platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int platform_pose_checkout(void);
-void platform_pose_release(int mem);
-void platform_pose_incref(void);
-void platform_pose_decref(void);
-casadi_int platform_pose_n_in(void);
-casadi_int platform_pose_n_out(void);
-casadi_real platform_pose_default_in(casadi_int i);
-const char* platform_pose_name_in(casadi_int i);
-const char* platform_pose_name_out(casadi_int i);
-const casadi_int* platform_pose_sparsity_in(casadi_int i);
-const casadi_int* platform_pose_sparsity_out(casadi_int i);
-int platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define platform_pose_SZ_ARG 3
-#define platform_pose_SZ_RES 1
-#define platform_pose_SZ_IW 0
-#define platform_pose_SZ_W 0
-int loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_checkout(void);
-void loop_closure_release(int mem);
-void loop_closure_incref(void);
-void loop_closure_decref(void);
-casadi_int loop_closure_n_in(void);
-casadi_int loop_closure_n_out(void);
-casadi_real loop_closure_default_in(casadi_int i);
-const char* loop_closure_name_in(casadi_int i);
-const char* loop_closure_name_out(casadi_int i);
-const casadi_int* loop_closure_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_sparsity_out(casadi_int i);
-int loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_SZ_ARG 3
-#define loop_closure_SZ_RES 3
-#define loop_closure_SZ_IW 0
-#define loop_closure_SZ_W 0
-int loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int loop_closure_actuated_checkout(void);
-void loop_closure_actuated_release(int mem);
-void loop_closure_actuated_incref(void);
-void loop_closure_actuated_decref(void);
-casadi_int loop_closure_actuated_n_in(void);
-casadi_int loop_closure_actuated_n_out(void);
-casadi_real loop_closure_actuated_default_in(casadi_int i);
-const char* loop_closure_actuated_name_in(casadi_int i);
-const char* loop_closure_actuated_name_out(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_in(casadi_int i);
-const casadi_int* loop_closure_actuated_sparsity_out(casadi_int i);
-int loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define loop_closure_actuated_SZ_ARG 3
-#define loop_closure_actuated_SZ_RES 1
-#define loop_closure_actuated_SZ_IW 0
-#define loop_closure_actuated_SZ_W 0
-int rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int rate_jacobians_checkout(void);
-void rate_jacobians_release(int mem);
-void rate_jacobians_incref(void);
-void rate_jacobians_decref(void);
-casadi_int rate_jacobians_n_in(void);
-casadi_int rate_jacobians_n_out(void);
-casadi_real rate_jacobians_default_in(casadi_int i);
-const char* rate_jacobians_name_in(casadi_int i);
-const char* rate_jacobians_name_out(casadi_int i);
-const casadi_int* rate_jacobians_sparsity_in(casadi_int i);
-const casadi_int* rate_jacobians_sparsity_out(casadi_int i);
-int rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define rate_jacobians_SZ_ARG 3
-#define rate_jacobians_SZ_RES 2
-#define rate_jacobians_SZ_IW 0
-#define rate_jacobians_SZ_W 0
-int singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int singularity_factors_checkout(void);
-void singularity_factors_release(int mem);
-void singularity_factors_incref(void);
-void singularity_factors_decref(void);
-casadi_int singularity_factors_n_in(void);
-casadi_int singularity_factors_n_out(void);
-casadi_real singularity_factors_default_in(casadi_int i);
-const char* singularity_factors_name_in(casadi_int i);
-const char* singularity_factors_name_out(casadi_int i);
-const casadi_int* singularity_factors_sparsity_in(casadi_int i);
-const casadi_int* singularity_factors_sparsity_out(casadi_int i);
-int singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define singularity_factors_SZ_ARG 3
-#define singularity_factors_SZ_RES 2
-#define singularity_factors_SZ_IW 0
-#define singularity_factors_SZ_W 0
-int drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int drawing_checkout(void);
-void drawing_release(int mem);
-void drawing_incref(void);
-void drawing_decref(void);
-casadi_int drawing_n_in(void);
-casadi_int drawing_n_out(void);
-casadi_real drawing_default_in(casadi_int i);
-const char* drawing_name_in(casadi_int i);
-const char* drawing_name_out(casadi_int i);
-const casadi_int* drawing_sparsity_in(casadi_int i);
-const casadi_int* drawing_sparsity_out(casadi_int i);
-int drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define drawing_SZ_ARG 3
-#define drawing_SZ_RES 2
-#define drawing_SZ_IW 0
-#define drawing_SZ_W 0
-int inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int inverse_pose_checkout(void);
-void inverse_pose_release(int mem);
-void inverse_pose_incref(void);
-void inverse_pose_decref(void);
-casadi_int inverse_pose_n_in(void);
-casadi_int inverse_pose_n_out(void);
-casadi_real inverse_pose_default_in(casadi_int i);
-const char* inverse_pose_name_in(casadi_int i);
-const char* inverse_pose_name_out(casadi_int i);
-const casadi_int* inverse_pose_sparsity_in(casadi_int i);
-const casadi_int* inverse_pose_sparsity_out(casadi_int i);
-int inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define inverse_pose_SZ_ARG 3
-#define inverse_pose_SZ_RES 3
-#define inverse_pose_SZ_IW 0
-#define inverse_pose_SZ_W 0
-int forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int forward_polynomial_checkout(void);
-void forward_polynomial_release(int mem);
-void forward_polynomial_incref(void);
-void forward_polynomial_decref(void);
-casadi_int forward_polynomial_n_in(void);
-casadi_int forward_polynomial_n_out(void);
-casadi_real forward_polynomial_default_in(casadi_int i);
-const char* forward_polynomial_name_in(casadi_int i);
-const char* forward_polynomial_name_out(casadi_int i);
-const casadi_int* forward_polynomial_sparsity_in(casadi_int i);
-const casadi_int* forward_polynomial_sparsity_out(casadi_int i);
-int forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define forward_polynomial_SZ_ARG 2
-#define forward_polynomial_SZ_RES 1
-#define forward_polynomial_SZ_IW 0
-#define forward_polynomial_SZ_W 0
-int forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int forward_back_substitution_checkout(void);
-void forward_back_substitution_release(int mem);
-void forward_back_substitution_incref(void);
-void forward_back_substitution_decref(void);
-casadi_int forward_back_substitution_n_in(void);
-casadi_int forward_back_substitution_n_out(void);
-casadi_real forward_back_substitution_default_in(casadi_int i);
-const char* forward_back_substitution_name_in(casadi_int i);
-const char* forward_back_substitution_name_out(casadi_int i);
-const casadi_int* forward_back_substitution_sparsity_in(casadi_int i);
-const casadi_int* forward_back_substitution_sparsity_out(casadi_int i);
-int forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define forward_back_substitution_SZ_ARG 4
-#define forward_back_substitution_SZ_RES 1
-#define forward_back_substitution_SZ_IW 0
-#define forward_back_substitution_SZ_W 0
-void kernels_casadi_version(int* major, int* minor, int* patch);
-int kernels_casadi_int_size(void);
-int kernels_casadi_real_size(void);
+int sps_platform_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_platform_pose_checkout(void);
+void sps_platform_pose_release(int mem);
+void sps_platform_pose_incref(void);
+void sps_platform_pose_decref(void);
+casadi_int sps_platform_pose_n_in(void);
+casadi_int sps_platform_pose_n_out(void);
+casadi_real sps_platform_pose_default_in(casadi_int i);
+const char* sps_platform_pose_name_in(casadi_int i);
+const char* sps_platform_pose_name_out(casadi_int i);
+const casadi_int* sps_platform_pose_sparsity_in(casadi_int i);
+const casadi_int* sps_platform_pose_sparsity_out(casadi_int i);
+int sps_platform_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_platform_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_platform_pose_SZ_ARG 3
+#define sps_platform_pose_SZ_RES 1
+#define sps_platform_pose_SZ_IW 0
+#define sps_platform_pose_SZ_W 0
+int sps_loop_closure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_loop_closure_checkout(void);
+void sps_loop_closure_release(int mem);
+void sps_loop_closure_incref(void);
+void sps_loop_closure_decref(void);
+casadi_int sps_loop_closure_n_in(void);
+casadi_int sps_loop_closure_n_out(void);
+casadi_real sps_loop_closure_default_in(casadi_int i);
+const char* sps_loop_closure_name_in(casadi_int i);
+const char* sps_loop_closure_name_out(casadi_int i);
+const casadi_int* sps_loop_closure_sparsity_in(casadi_int i);
+const casadi_int* sps_loop_closure_sparsity_out(casadi_int i);
+int sps_loop_closure_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_loop_closure_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_loop_closure_SZ_ARG 3
+#define sps_loop_closure_SZ_RES 3
+#define sps_loop_closure_SZ_IW 0
+#define sps_loop_closure_SZ_W 0
+int sps_loop_closure_actuated(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_loop_closure_actuated_checkout(void);
+void sps_loop_closure_actuated_release(int mem);
+void sps_loop_closure_actuated_incref(void);
+void sps_loop_closure_actuated_decref(void);
+casadi_int sps_loop_closure_actuated_n_in(void);
+casadi_int sps_loop_closure_actuated_n_out(void);
+casadi_real sps_loop_closure_actuated_default_in(casadi_int i);
+const char* sps_loop_closure_actuated_name_in(casadi_int i);
+const char* sps_loop_closure_actuated_name_out(casadi_int i);
+const casadi_int* sps_loop_closure_actuated_sparsity_in(casadi_int i);
+const casadi_int* sps_loop_closure_actuated_sparsity_out(casadi_int i);
+int sps_loop_closure_actuated_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_loop_closure_actuated_SZ_ARG 3
+#define sps_loop_closure_actuated_SZ_RES 1
+#define sps_loop_closure_actuated_SZ_IW 0
+#define sps_loop_closure_actuated_SZ_W 0
+int sps_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_rate_jacobians_checkout(void);
+void sps_rate_jacobians_release(int mem);
+void sps_rate_jacobians_incref(void);
+void sps_rate_jacobians_decref(void);
+casadi_int sps_rate_jacobians_n_in(void);
+casadi_int sps_rate_jacobians_n_out(void);
+casadi_real sps_rate_jacobians_default_in(casadi_int i);
+const char* sps_rate_jacobians_name_in(casadi_int i);
+const char* sps_rate_jacobians_name_out(casadi_int i);
+const casadi_int* sps_rate_jacobians_sparsity_in(casadi_int i);
+const casadi_int* sps_rate_jacobians_sparsity_out(casadi_int i);
+int sps_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_rate_jacobians_SZ_ARG 3
+#define sps_rate_jacobians_SZ_RES 2
+#define sps_rate_jacobians_SZ_IW 0
+#define sps_rate_jacobians_SZ_W 0
+int sps_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_singularity_factors_checkout(void);
+void sps_singularity_factors_release(int mem);
+void sps_singularity_factors_incref(void);
+void sps_singularity_factors_decref(void);
+casadi_int sps_singularity_factors_n_in(void);
+casadi_int sps_singularity_factors_n_out(void);
+casadi_real sps_singularity_factors_default_in(casadi_int i);
+const char* sps_singularity_factors_name_in(casadi_int i);
+const char* sps_singularity_factors_name_out(casadi_int i);
+const casadi_int* sps_singularity_factors_sparsity_in(casadi_int i);
+const casadi_int* sps_singularity_factors_sparsity_out(casadi_int i);
+int sps_singularity_factors_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_singularity_factors_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_singularity_factors_SZ_ARG 3
+#define sps_singularity_factors_SZ_RES 2
+#define sps_singularity_factors_SZ_IW 0
+#define sps_singularity_factors_SZ_W 0
+int sps_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_drawing_checkout(void);
+void sps_drawing_release(int mem);
+void sps_drawing_incref(void);
+void sps_drawing_decref(void);
+casadi_int sps_drawing_n_in(void);
+casadi_int sps_drawing_n_out(void);
+casadi_real sps_drawing_default_in(casadi_int i);
+const char* sps_drawing_name_in(casadi_int i);
+const char* sps_drawing_name_out(casadi_int i);
+const casadi_int* sps_drawing_sparsity_in(casadi_int i);
+const casadi_int* sps_drawing_sparsity_out(casadi_int i);
+int sps_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_drawing_SZ_ARG 3
+#define sps_drawing_SZ_RES 2
+#define sps_drawing_SZ_IW 0
+#define sps_drawing_SZ_W 0
+int sps_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_inverse_pose_checkout(void);
+void sps_inverse_pose_release(int mem);
+void sps_inverse_pose_incref(void);
+void sps_inverse_pose_decref(void);
+casadi_int sps_inverse_pose_n_in(void);
+casadi_int sps_inverse_pose_n_out(void);
+casadi_real sps_inverse_pose_default_in(casadi_int i);
+const char* sps_inverse_pose_name_in(casadi_int i);
+const char* sps_inverse_pose_name_out(casadi_int i);
+const casadi_int* sps_inverse_pose_sparsity_in(casadi_int i);
+const casadi_int* sps_inverse_pose_sparsity_out(casadi_int i);
+int sps_inverse_pose_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_inverse_pose_SZ_ARG 3
+#define sps_inverse_pose_SZ_RES 3
+#define sps_inverse_pose_SZ_IW 0
+#define sps_inverse_pose_SZ_W 0
+int sps_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_forward_polynomial_checkout(void);
+void sps_forward_polynomial_release(int mem);
+void sps_forward_polynomial_incref(void);
+void sps_forward_polynomial_decref(void);
+casadi_int sps_forward_polynomial_n_in(void);
+casadi_int sps_forward_polynomial_n_out(void);
+casadi_real sps_forward_polynomial_default_in(casadi_int i);
+const char* sps_forward_polynomial_name_in(casadi_int i);
+const char* sps_forward_polynomial_name_out(casadi_int i);
+const casadi_int* sps_forward_polynomial_sparsity_in(casadi_int i);
+const casadi_int* sps_forward_polynomial_sparsity_out(casadi_int i);
+int sps_forward_polynomial_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_forward_polynomial_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_forward_polynomial_SZ_ARG 2
+#define sps_forward_polynomial_SZ_RES 1
+#define sps_forward_polynomial_SZ_IW 0
+#define sps_forward_polynomial_SZ_W 0
+int sps_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_forward_back_substitution_checkout(void);
+void sps_forward_back_substitution_release(int mem);
+void sps_forward_back_substitution_incref(void);
+void sps_forward_back_substitution_decref(void);
+casadi_int sps_forward_back_substitution_n_in(void);
+casadi_int sps_forward_back_substitution_n_out(void);
+casadi_real sps_forward_back_substitution_default_in(casadi_int i);
+const char* sps_forward_back_substitution_name_in(casadi_int i);
+const char* sps_forward_back_substitution_name_out(casadi_int i);
+const casadi_int* sps_forward_back_substitution_sparsity_in(casadi_int i);
+const casadi_int* sps_forward_back_substitution_sparsity_out(casadi_int i);
+int sps_forward_back_substitution_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_forward_back_substitution_SZ_ARG 4
+#define sps_forward_back_substitution_SZ_RES 1
+#define sps_forward_back_substitution_SZ_IW 0
+#define sps_forward_back_substitution_SZ_W 0
+void sps_kernels_casadi_version(int* major, int* minor, int* patch);
+int sps_kernels_casadi_int_size(void);
+int sps_kernels_casadi_real_size(void);
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

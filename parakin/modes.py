@@ -1,0 +1,299 @@
+"""Every assembly mode of a batch of inputs: the generated C pipeline, or the same algorithm
+vectorised in NumPy for the Python backends.
+
+Steps per input (both versions, ``generator/templates/c_driver.c.j2`` for C): the generated
+univariate polynomial; every real root isolated (``parakin.polynomial.isolate_real_roots``,
+complete: roots are separated by the roots of the derivative); for each root x branch the
+generated back substitution; the passive joints from the inverse kernels (the branch whose
+actuated values match); closure and alignment; a Newton polish; wrapping, joint limits, input
+independence and repeats. Each slot ends with an outcome, so every root is accounted for.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
+from parakin.polynomial import isolate_real_roots
+from parakin.pose import wrap_angle
+from parakin.results import Array, AssemblyModes
+
+if TYPE_CHECKING:
+    from parakin.mechanism import Mechanism
+
+#: back substitution point for a root at infinity: a tangent half-angle there is the half-turn,
+#: which the polish then reaches exactly (other unknowns give a far pose, rejected as not closed)
+AT_INFINITY = 1e8
+#: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
+CHUNK = 4096
+
+
+def _codes(m: Mechanism) -> dict[str, int]:
+    return {name: code for code, name in enumerate(m.manifest.abi.mode_outcomes)}
+
+
+def _allocate(m: Mechanism, count: int) -> dict[str, np.ndarray]:
+    info = m.capabilities.forward
+    assert info is not None
+    slots = info.degree * len(info.combinations)
+    n_p = len(m.passive_names)
+    return {
+        "poses": np.empty((count, slots, 4, 4)),
+        "passive": np.empty((count, slots, n_p)),
+        "residual": np.empty((count, slots)),
+        "conditioning": np.empty((count, slots)),
+        "roots": np.empty((count, slots)),
+        "outcome": np.empty((count, slots), dtype=np.int32),
+        "root_kind": np.empty((count, slots), dtype=np.int32),
+        "count": np.empty(count, dtype=np.int32),
+        "real_roots": np.empty(count, dtype=np.int32),
+        "near_roots": np.empty(count, dtype=np.int32),
+        "at_infinity": np.empty(count, dtype=np.int32),
+        "status": np.empty(count, dtype=np.int32),
+    }
+
+
+def _settings(m: Mechanism) -> dict[str, float | int]:
+    tol = m.tolerances
+    return {
+        "polish_iterations": int(tol["polish_iterations"]),
+        "tolerance": tol["polish"],
+        "closure": tol["closure"],
+        "candidate": tol["candidate"],
+        "duplicate": tol["duplicate"],
+        "factor_zero": tol["factor_zero"],
+        "singular_ratio": tol["singular_ratio"],
+        "validity": tol["validity"],
+        "degenerate": tol["degenerate"],
+        "leading_tolerance": tol["leading"],
+        "near_tolerance": tol["near_real"],
+    }
+
+
+def _limits(m: Mechanism) -> tuple[Array, Array]:
+    lower = np.array([v.limits[0] for v in m.manifest.passive], dtype=float)
+    upper = np.array([v.limits[1] for v in m.manifest.passive], dtype=float)
+    for name, (low, high) in m.limits.items():
+        k = m.passive_names.index(name)
+        lower[k], upper[k] = low, high
+    return lower, upper
+
+
+def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    """The generated C pipeline over a flat batch (n, n_a): one foreign call."""
+    backend = m.backend
+    count = theta.shape[0]
+    out = _allocate(m, count)
+    lower, upper = _limits(m)
+    theta_c = np.ascontiguousarray(theta, dtype=float)
+    values = {
+        "n": count,
+        "actuated": theta_c,
+        "actuated_stride": theta.shape[-1],
+        "params": m.params,
+        "lower": lower,
+        "upper": upper,
+        **_settings(m),
+        **out,
+    }
+    job = backend.job(backend.ModesJob, values)  # type: ignore[attr-defined]
+    backend.forward_pose_all(ctypes.byref(job))  # type: ignore[attr-defined]
+    return out
+
+
+def numpy_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    """The same pipeline, vectorised over the batch, in chunks of ``CHUNK`` inputs."""
+    count = theta.shape[0]
+    out = _allocate(m, count)
+    for start in range(0, count, CHUNK):
+        part = _numpy_chunk(m, theta[start : start + CHUNK])
+        for key, value in part.items():
+            out[key][start : start + CHUNK] = value
+    return out
+
+
+def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    info = m.capabilities.forward
+    inverse = m.capabilities.inverse
+    assert info is not None and inverse is not None
+    codes = _codes(m)
+    settings = _settings(m)
+    n = theta.shape[0]
+    degree, combos = info.degree, np.array(info.combinations, dtype=float).reshape(len(info.combinations), -1)
+    n_b = combos.shape[0]
+    slots = degree * n_b
+    finite_input = np.asarray(np.isfinite(theta).all(-1))
+    theta = np.where(finite_input[:, None], theta, 0.0)
+    with np.errstate(all="ignore"):
+        poly = m.backend.call("forward_polynomial", theta, m.params)
+    coefficients = poly["coefficients"]
+    degeneracies = poly.get("degeneracies", np.zeros((n, 0)))
+    usable = np.asarray(np.isfinite(coefficients).all(-1))
+    degenerate = ~(np.abs(degeneracies) >= settings["degenerate"]).all(-1) | ~usable
+    roots = isolate_real_roots(
+        np.where(usable[:, None], coefficients, 0.0), settings["leading_tolerance"], settings["near_tolerance"]
+    )
+    found = np.where(usable & ~roots.vanishing & finite_input, roots.count, 0)
+    at_infinity = np.where(usable & ~roots.vanishing & finite_input, roots.at_infinity, 0)
+    total = np.minimum(found + at_infinity, degree)
+    index = np.arange(degree)
+    infinite = (index >= found[:, None]) & (index < total[:, None])
+    has_root = index < total[:, None]
+    finite_roots = np.where(index < found[:, None], np.nan_to_num(roots.roots[:, :degree]), 0.0)
+    evaluate = np.where(infinite, AT_INFINITY, finite_roots)
+    kind = np.where(index < found[:, None], roots.kind[:, :degree], np.where(infinite, 0, -1))
+
+    # slots: root r, branch b at r * n_b + b
+    slot_root = np.repeat(np.where(infinite, np.inf, np.where(has_root, finite_roots, np.nan)), n_b, axis=1)
+    slot_kind = np.repeat(kind, n_b, axis=1).astype(np.int32)
+    slot_has = np.repeat(has_root, n_b, axis=1)
+    t = np.repeat(evaluate, n_b, axis=1)[..., None]
+    branch = np.tile(combos, (degree, 1))
+    outcome = np.where(slot_has, -1, codes["no_root"]).astype(np.int32)
+    with np.errstate(all="ignore"):
+        pose = m.backend.call("forward_back_substitution", theta[:, None, :], t, branch, m.params)["pose"]
+    defined = np.asarray(np.isfinite(pose).all(axis=(-2, -1)))
+    outcome = np.where((outcome < 0) & ~defined, codes["back_substitution_undefined"], outcome)
+    pose = np.where(defined[..., None, None] & slot_has[..., None, None], pose, np.eye(4))
+
+    theta_slots = np.broadcast_to(theta[:, None, :], (n, slots, theta.shape[-1]))
+    q = _passive_from_pose(m, theta_slots, pose, settings["validity"])
+    located = np.asarray(np.isfinite(q).all(-1))
+    outcome = np.where((outcome < 0) & ~located, codes["not_closed"], outcome)
+    q = np.where(located[..., None], q, 0.0)
+    with np.errstate(all="ignore"):
+        closure = m.backend.call("loop_closure", theta_slots, q, m.params)
+    norm = np.fmax.reduce(np.abs(closure["residual"]), axis=-1, initial=0.0)
+    norm = np.where(np.isnan(norm), np.inf, norm)
+    aligned = (closure["alignment"] > 0).all(-1)
+    residual = np.where(outcome < 0, norm, np.nan)
+    outcome = np.where((outcome < 0) & ~(norm < settings["candidate"]), codes["not_closed"], outcome)
+    outcome = np.where((outcome < 0) & ~aligned, codes["false_closure"], outcome)
+
+    conditioning = np.full((n, slots), np.nan)
+    pending = outcome < 0
+    if pending.any():
+        where = np.nonzero(pending)
+        polished_q, polished_pose, polished_norm, _, status, ratio = m._newton_python(
+            theta_slots[where], q[where], settings["tolerance"], int(settings["polish_iterations"]), 0.5, keep_last=True
+        )
+        conditioning[where] = ratio
+        # near a double root Newton converges only linearly: a last iterate that closes to the
+        # closure tolerance (and is aligned) is the mode, polished as far as its conditioning allows
+        slow = (status == NEWTON_NO_CONVERGENCE) & (polished_norm < settings["closure"])
+        if slow.any():
+            with np.errstate(all="ignore"):
+                check = m.backend.call("loop_closure", theta_slots[where][slow], polished_q[slow], m.params)
+            status[np.nonzero(slow)[0][(check["alignment"] > 0).all(-1)]] = NEWTON_OK
+        ok = status == NEWTON_OK
+        keep = (status == NEWTON_SINGULAR) & (norm[where] < settings["candidate"])
+        result = np.full(status.shape, -1, dtype=np.int32)
+        result[status == NEWTON_WRONG_BASIN] = codes["false_closure"]
+        result[~ok & ~keep & (status != NEWTON_WRONG_BASIN)] = codes["not_converged"]
+        outcome[where] = result
+        residual[where] = np.where(ok, polished_norm, residual[where])
+        q[where] = np.where(ok[:, None], polished_q, q[where])
+        pose[where] = np.where(ok[:, None, None], polished_pose, pose[where])
+    q = np.where(m._angular_passive, wrap_angle(q), q)
+    lower, upper = _limits(m)
+    inside = ((q > lower) & (q < upper)).all(-1)
+    outcome = np.where((outcome < 0) & ~inside, codes["outside_limits"], outcome)
+    folded = m.capabilities.rates.input_independent if m.capabilities.rates else ()
+    if folded and (outcome < 0).any():
+        with np.errstate(all="ignore"):
+            factors = m.backend.call("singularity_factors", theta_slots, q, m.params)["factors"]
+        names = list(m.manifest.singularity_factors)
+        picked = np.array([names.index(name) for name in folded])
+        independent = (np.abs(factors[..., picked]) < settings["factor_zero"]).all(-1)
+        outcome = np.where((outcome < 0) & independent, codes["input_independent"], outcome)
+    # repeats: slot by slot, so that the first of two equal modes is the one kept (as in C)
+    for s in range(slots):
+        pending_s = outcome[:, s] < 0
+        if not pending_s.any():
+            continue
+        earlier = outcome[:, :s] == codes["mode"]
+        distance = np.abs(pose[:, :s] - pose[:, s, None]).max(axis=(-2, -1)) if s else np.zeros((n, 0))
+        repeat = (earlier & (distance < settings["duplicate"])).any(-1)
+        outcome[:, s] = np.where(pending_s, np.where(repeat, codes["duplicate"], codes["mode"]), outcome[:, s])
+    count = (outcome == codes["mode"]).sum(-1).astype(np.int32)
+    status_codes = m.manifest.abi.input_status
+    status = np.where(
+        ~finite_input,
+        status_codes.index("nonfinite"),
+        np.where((degenerate | roots.vanishing) & (count == 0), status_codes.index("degenerate"), 0),
+    ).astype(np.int32)
+    near = np.where(index < found[:, None], kind == 2, False).sum(-1)
+    return {
+        "poses": pose,
+        "passive": np.where(slot_has[..., None], q, 0.0),
+        "residual": residual,
+        "conditioning": conditioning,
+        "roots": slot_root,
+        "outcome": outcome,
+        "root_kind": slot_kind,
+        "count": count,
+        "real_roots": (found - near).astype(np.int32),
+        "near_roots": near.astype(np.int32),
+        "at_infinity": at_infinity.astype(np.int32),
+        "status": status,
+    }
+
+
+def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: float) -> Array:
+    """The passive values of the inverse branch whose actuated values match ``theta`` (NaN when
+    no branch is finite); the same rule as the C driver's ``passive_from_pose``."""
+    from parakin.mechanism import pose_vector
+
+    inverse = m.capabilities.inverse
+    assert inverse is not None
+    combos = np.array(inverse.combinations, dtype=float).reshape(len(inverse.combinations), -1)
+    with np.errstate(all="ignore"):
+        out = m.backend.call("inverse_pose", pose_vector(pose)[..., None, :], combos, m.params)
+    difference = out["actuated"] - theta[..., None, :]
+    difference = np.where(m._angular_actuated, wrap_angle(difference), difference)
+    mismatch = np.fmax.reduce(np.abs(difference), axis=-1, initial=0.0)
+    mismatch = mismatch + 1e3 * (~(out["validity"] > validity_floor)).sum(-1)
+    mismatch = np.where(np.isfinite(out["passive"]).all(-1), mismatch, np.inf)
+    best = np.argmin(mismatch, axis=-1)
+    passive = np.take_along_axis(out["passive"], best[..., None, None], axis=-2)[..., 0, :]
+    passive = np.where(m._angular_passive, wrap_angle(passive), passive)
+    chosen = np.take_along_axis(mismatch, best[..., None], axis=-1)[..., 0]
+    return np.where(np.isfinite(chosen)[..., None], passive, np.nan)
+
+
+def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> AssemblyModes:
+    """The result object over the caller's batch shape."""
+    shape = theta.shape[:-1]
+    codes = _codes(m)
+    info = m.capabilities.forward
+    assert info is not None
+
+    def shaped(key: str) -> np.ndarray:
+        value = out[key]
+        return value.reshape(shape + value.shape[1:])
+
+    outcome = shaped("outcome")
+    valid = outcome == codes["mode"]
+    return AssemblyModes(
+        actuated=theta,
+        poses=shaped("poses"),
+        passive=shaped("passive"),
+        residual=shaped("residual"),
+        root=shaped("roots"),
+        real=shaped("root_kind") >= 0,
+        valid=valid,
+        count=valid.sum(-1),
+        input_independent=outcome == codes["input_independent"],
+        outcome=outcome,
+        root_kind=shaped("root_kind"),
+        conditioning=shaped("conditioning"),
+        real_roots=shaped("real_roots"),
+        near_roots=shaped("near_roots"),
+        at_infinity=shaped("at_infinity"),
+        status=shaped("status"),
+        outcomes=m.manifest.abi.mode_outcomes,
+        branch_count=len(info.combinations),
+    )

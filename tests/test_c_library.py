@@ -1,0 +1,116 @@
+"""The exported C library: two mechanisms compiled into one program with gcc -std=c99 -Wall
+-Werror (parakin's own files), run, and compared with the Python results; the example program
+of every mechanism builds and runs."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.sampling import sample_configurations
+
+COMPILER = shutil.which("gcc") or shutil.which("cc")
+pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
+STRICT = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2"]
+PAIR = ("sam", "spm")
+
+PROGRAM = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include "sam/sam.h"
+#include "spm/spm.h"
+
+#define RUN(P, UP, NA, NQ)                                                                          \
+    do {                                                                                            \
+        P##_params params = UP##_PARAMS_DEFAULT;                                                    \
+        enum { M = UP##_MAX_MODES };                                                                \
+        double actuated[NA], poses[M * 16], passive[M * NQ], residual[M], conditioning[M], roots[M]; \
+        int outcome[M], kind[M], count, real_roots, near_roots, at_infinity, status;                \
+        double lower[NQ], upper[NQ];                                                                \
+        for (int k = 0; k < NQ; ++k) { lower[k] = -1e300; upper[k] = 1e300; }                       \
+        for (int k = 0; k < NA; ++k) actuated[k] = atof(*argv++);                                   \
+        P##_modes_job job = {1, actuated, 0, (const double*)&params, lower, upper, 8, 1e-13, 1e-9, \
+            1e-4, 1e-7, 1e-9, 1e-10, 1e-9, 1e-9, 1e-13, 1e-9, poses, passive, residual,             \
+            conditioning, roots, outcome, kind, &count, &real_roots, &near_roots, &at_infinity,     \
+            &status};                                                                               \
+        P##_forward_pose_all(&job);                                                                 \
+        printf("%s %d\n", #P, count);                                                               \
+        for (int s = 0; s < M; ++s)                                                                 \
+            if (outcome[s] == UP##_OUTCOME_MODE)                                                    \
+                printf("%.17g %.17g %.17g %.17g\n", poses[s * 16 + 0], poses[s * 16 + 3],           \
+                       poses[s * 16 + 7], poses[s * 16 + 11]);                                      \
+    } while (0)
+
+int main(int argc, char** argv) {
+    (void)argc;
+    ++argv;
+    RUN(sam, SAM, SAM_NUM_ACTUATED, SAM_NUM_PASSIVE);
+    RUN(spm, SPM, SPM_NUM_ACTUATED, SPM_NUM_PASSIVE);
+    return 0;
+}
+"""
+
+
+def _build(tmp_path):
+    objects = []
+    for name in PAIR:
+        folder = tmp_path / name
+        parakin.load(name).package.export_c(folder)  # type: ignore[attr-defined]
+        for source, flags in (("driver.c", STRICT), ("kernels.c", ["-std=c99", "-O2"])):  # CasADi's own file
+            target = tmp_path / f"{name}_{source}.o"
+            subprocess.run(
+                [COMPILER, *flags, "-I", str(folder), "-c", str(folder / source), "-o", str(target)], check=True
+            )
+            objects.append(str(target))
+    program = tmp_path / "two.c"
+    program.write_text(PROGRAM)
+    binary = tmp_path / "two"
+    subprocess.run(
+        [COMPILER, *STRICT, "-I", str(tmp_path), str(program), *objects, "-lm", "-o", str(binary)], check=True
+    )
+    return binary
+
+
+def test_two_mechanisms_link_into_one_program_and_agree_with_python(tmp_path):
+    binary = _build(tmp_path)
+    checked = 0
+    for seed in range(3):
+        inputs = {}
+        for name in PAIR:
+            m = parakin.load(name)
+            sample = sample_configurations(m, 1, seed=seed)
+            inputs[name] = sample.actuated[0]
+        arguments = [repr(float(v)) for name in PAIR for v in inputs[name]]
+        lines = subprocess.run([str(binary), *arguments], check=True, capture_output=True, text=True).stdout.split("\n")
+        cursor = 0
+        for name in PAIR:
+            label, count = lines[cursor].split()
+            assert label == name
+            count = int(count)
+            c_poses = np.array([[float(x) for x in lines[cursor + 1 + k].split()] for k in range(count)])
+            cursor += 1 + count
+            for backend in ("compiled", "numpy"):
+                modes = parakin.load(name, backend=backend).forward_pose_all(inputs[name])
+                assert int(modes.count) == count, (name, backend)
+                python = modes.poses[modes.valid][:, [0, 0, 1, 2], [0, 3, 3, 3]]
+                assert np.abs(python - c_poses).max() < 1e-9
+                checked += 1
+            assert count > 0
+    assert checked == 12
+
+
+@pytest.mark.parametrize("name", [n for n in parakin.available()])
+def test_exported_example_program_runs(tmp_path, name):
+    folder = tmp_path / name
+    parakin.load(name).package.export_c(folder)  # type: ignore[attr-defined]
+    subprocess.run([COMPILER, *STRICT, "-I", ".", "-c", "example_main.c", "driver.c"], cwd=folder, check=True)
+    subprocess.run([COMPILER, "-std=c99", "-O2", "-I", ".", "-c", "kernels.c"], cwd=folder, check=True)
+    subprocess.run(
+        [COMPILER, "example_main.o", "driver.o", "kernels.o", "-lm", "-o", "example"], cwd=folder, check=True
+    )
+    run = subprocess.run(["./example"], cwd=folder, capture_output=True, text=True)
+    assert "forward_pose from home" in run.stdout, run.stdout + run.stderr
