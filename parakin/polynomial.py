@@ -371,7 +371,12 @@ def _level(
         with np.errstate(invalid="ignore"):
             lower_left = True if i == 0 else here < magnitude[:, i - 1]
             lower_right = last_point | (here < magnitude[:, i + 1] if i + 1 < width else True)
-            small = here <= near_tolerance * size[:, i]
+            # norm-wise too (absolute rounding errors of the coefficients), as in C
+            top = np.fmax(largest, np.abs(lead))
+            powers = np.zeros(p_rows)
+            for k in range(q.shape[1] - 1, -1, -1):
+                powers = powers * np.abs(z[:, i]) + (k <= level)
+            small = here <= near_tolerance * np.fmax(size[:, i], top * powers)
         near[:, i] = (s[:, i] != 0) & (left == s[:, i]) & (right == s[:, i]) & lower_left & lower_right & small
 
     values = np.full((p_rows, 2 * width + 1), np.nan)

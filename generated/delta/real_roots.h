@@ -212,8 +212,12 @@ static int pk_level(const double* q, int n, const double* z, int r, double near_
             int left = i == 0 ? s_minus : s[i - 1], right = i == r - 1 ? s_plus : s[i + 1];
             int lower_left = i == 0 || fabs(v[i]) < fabs(v[i - 1]);
             int lower_right = i == r - 1 || fabs(v[i]) < fabs(v[i + 1]);
+            /* the coefficients carry absolute rounding errors (differences of O(1) terms), so
+               the near test also scales norm-wise: max|q_k| sum |z|^k, not only sum |q_k||z|^k */
+            double top = fmax(largest, fabs(q[n])), powers = 0.0;
+            for (k = n; k >= 0; --k) powers = powers * fabs(z[i]) + 1.0;
             if (left == s[i] && right == s[i] && lower_left && lower_right &&
-                fabs(v[i]) <= near_tolerance * size[i]) {
+                fabs(v[i]) <= near_tolerance * fmax(size[i], top * powers)) {
                 out[count] = z[i];
                 out_kind[count++] = PK_ROOT_NEAR;
             }

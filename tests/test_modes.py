@@ -1,0 +1,115 @@
+"""forward_pose_all: the generated C pipeline against the same algorithm in NumPy, the
+certificate, near-singular inputs with no silent loss, and bounded memory."""
+
+from __future__ import annotations
+
+import tracemalloc
+import warnings
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.sampling import near_singular_configurations, sample_configurations
+
+WITH_MODES = [n for n in parakin.available() if parakin.metadata(n).capabilities.forward is not None]
+LEVELS = (1e-4, 1e-6, 1e-8, 1e-10)
+
+
+def _load(name: str, backend: str) -> parakin.Mechanism:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
+        return parakin.load(name, backend=backend)
+
+
+def _inputs(m: parakin.Mechanism, count: int, seed: int) -> np.ndarray:
+    """Closed configurations near home and wide random inputs (many with fewer or no modes)."""
+    rng = np.random.default_rng(seed)
+    near = sample_configurations(m, count // 2, spread=0.3, seed=seed).actuated
+    revolute = np.array([v.revolute for v in m.manifest.actuated])
+    scale = np.where(revolute, 1.0, np.abs(m.home_actuated) + 1e-3)
+    wide = m.home_actuated + 0.5 * scale * rng.standard_normal((count - near.shape[0], revolute.size))
+    return np.concatenate([near, wide])
+
+
+def _check_backends_agree(name: str, count: int) -> None:
+    compiled, numpy_m = _load(name, "compiled"), _load(name, "numpy")
+    actuated = _inputs(compiled, count, seed=17)
+    a = compiled.forward_pose_all(actuated, strict=False)
+    b = numpy_m.forward_pose_all(actuated, strict=False)
+    assert actuated.shape[0] == count
+    np.testing.assert_array_equal(a.count, b.count)
+    np.testing.assert_array_equal(a.status, b.status)
+    both = a.valid & b.valid
+    assert np.abs(a.poses[both] - b.poses[both]).max(initial=0.0) < 1e-8
+    # every isolated root is accounted for: a mode or a rejection with its reason
+    for modes in (a, b):
+        certificate = modes.certificate()
+        rejected = sum(certificate["rejected"].values())
+        np.testing.assert_array_equal(certificate["roots"], certificate["with_modes"] + rejected)
+        expected = np.minimum(modes.real_roots + modes.near_roots + modes.at_infinity, modes.outcome.shape[-1])
+        np.testing.assert_array_equal(certificate["roots"][modes.status != 1], expected[modes.status != 1])
+
+
+@pytest.mark.parametrize("name", WITH_MODES)
+def test_compiled_and_numpy_pipelines_agree_and_account_for_every_root(name):
+    _check_backends_agree(name, 1000)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", WITH_MODES)
+def test_pipelines_agree_on_ten_thousand_inputs(name):
+    _check_backends_agree(name, 10_000)
+
+
+@pytest.mark.parametrize("backend", ["compiled", "numpy"])
+def test_the_issue_example_near_a_type_ii_singularity_returns_its_mode(backend):
+    """sps, default parameters: these inputs, made by inverse_pose from R, used to give 0 modes."""
+    rotation = np.array(
+        [
+            [0.9499792976117337, -0.26892405960108123, 0.1588054919604204],
+            [0.31007873517291756, 0.8728613308892044, -0.37678146853566263],
+            [-0.03728957096401976, 0.40717680091822644, 0.912587826289239],
+        ]
+    )
+    m = _load("sps", backend)
+    actuated = m.inverse_pose(rotation).actuated[m.inverse_pose(rotation).valid][0]
+    np.testing.assert_allclose(actuated, [0.7732693240490566, 0.7718322457078688, 1.889221935461398], atol=1e-12)
+    modes = m.forward_pose_all(actuated)
+    error = np.abs(modes.poses[..., :3, :3] - rotation).max(axis=(-2, -1))
+    # a near-double root: the pose is determined to about sqrt(closure tolerance), and says so
+    best = int(np.argmin(np.where(modes.valid, error, np.inf)))
+    assert error[best] < 1e-6
+    assert modes.conditioning[best] < 1e-6
+
+
+@pytest.mark.parametrize("name", WITH_MODES)
+def test_near_singular_inputs_lose_no_mode_silently(name):
+    """Inputs made by inverse pose at poses where the closure Jacobian's normalised determinant is
+    1e-4 ... 1e-10: the generating pose is among the modes, or the input is flagged (an
+    ill-conditioned mode, a near-real root candidate, or a degenerate status)."""
+    m = _load(name, "compiled")
+    if m.capabilities.inverse is None:
+        pytest.skip("no closed-form inverse to make inputs from poses")
+    states, measures = near_singular_configurations(m, LEVELS, 8, seed=5, spread=1.5)
+    if states.actuated.shape[0] == 0:
+        pytest.skip(f"{name}: no type II crossing between sampled poses (spread 1.5)")
+    modes = m.forward_pose_all(states.actuated, strict=False)
+    distance = np.abs(modes.poses - states.pose[:, None]).max(axis=(-2, -1))
+    found = (np.where(modes.valid, distance, np.inf).min(-1) < 1e-5) & (np.abs(measures) > 0)
+    flagged = modes.ill_conditioned(1e-6).any(-1) | (modes.near_roots > 0) | (modes.status != 0)
+    lost = ~found & ~flagged
+    assert not lost.any(), (measures[lost], states.actuated[lost])
+    assert states.actuated.shape[0] >= 4
+
+
+@pytest.mark.slow
+def test_a_million_inputs_stay_under_a_gigabyte():
+    m = _load("spm", "compiled")
+    home = m.home_actuated + 0.05 * np.random.default_rng(0).standard_normal((1_000_000, 3))
+    tracemalloc.start()
+    counts = m.count_modes(home, chunk=50_000)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert peak < 1e9, peak
+    assert counts["count"].shape == (1_000_000,) and (counts["count"] > 0).mean() > 0.9
