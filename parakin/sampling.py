@@ -56,7 +56,7 @@ def near_singular_configurations(
     found: list[Configuration] = []
     measures: list[float] = []
 
-    def along(start: Array, end: Array, branch: int, s: Array) -> tuple[Configuration, Array, Array]:
+    def along(start: Array, end: Array, branch: int, s: Array) -> tuple[Configuration, Array, np.ndarray]:
         poses = pose_from_xyz_euler(start + s[:, None] * (end - start))
         inverse = m.inverse_pose(poses, strict=False)
         state = inverse.branch(branch)
