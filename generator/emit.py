@@ -206,6 +206,7 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "abi": describe(),
         "c_types": C_TYPES,
         "version": manifest["generator"]["version"],
+        "at_infinity": repr(float(manifest["tolerances"]["at_infinity"])),
         "source": manifest["generator"]["source"],
         "home_actuated": [_c_number(v["home"] or 0.0) for v in manifest["actuated"]],
         "home_passive": [_c_number(v["home"] or 0.0) for v in manifest["passive"]],

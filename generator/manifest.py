@@ -32,6 +32,9 @@ DEFAULT_TOLERANCES = {
     "polish_iterations": 30,  # converges in 1-3 steps; near double roots only linearly
     "leading": 1e-13,  # leading coefficients below this (relative) are roots at infinity
     "near_real": 1e-9,  # a local extremum of the polynomial this close to 0: a near-real pair
+    # back substitution point of a root at infinity: a tangent half-angle there is the half-turn,
+    # which the polish reaches exactly (other unknowns give a far pose, rejected as not closed)
+    "at_infinity": 1e8,
 }
 
 

@@ -24,9 +24,6 @@ from parakin.results import Array, AssemblyModes
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
 
-#: back substitution point for a root at infinity: a tangent half-angle there is the half-turn,
-#: which the polish then reaches exactly (other unknowns give a far pose, rejected as not closed)
-AT_INFINITY = 1e8
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096
 
@@ -117,8 +114,7 @@ def numpy_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
 
 def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     info = m.capabilities.forward
-    inverse = m.capabilities.inverse
-    assert info is not None and inverse is not None
+    assert info is not None
     codes = _codes(m)
     settings = _settings(m)
     n = theta.shape[0]
@@ -143,7 +139,7 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     infinite = (index >= found[:, None]) & (index < total[:, None])
     has_root = index < total[:, None]
     finite_roots = np.where(index < found[:, None], np.nan_to_num(roots.roots[:, :degree]), 0.0)
-    evaluate = np.where(infinite, AT_INFINITY, finite_roots)
+    evaluate = np.where(infinite, m.tolerances["at_infinity"], finite_roots)
     kind = np.where(index < found[:, None], roots.kind[:, :degree], np.where(infinite, 0, -1))
 
     # slots: root r, branch b at r * n_b + b

@@ -410,8 +410,8 @@ int delta_forward_pose(const delta_newton_job* job) {
 #define NF 4
 #define NDET 2
 #define M (DEGREE * NB)
-// a root at infinity of a tangent half-angle is the half-turn: back substitution there
-#define AT_INFINITY 1e8
+// a root at infinity (manifest tolerances): for a tangent half-angle, the half-turn
+#define AT_INFINITY 100000000.0
 
 static const double forward_branches[NB][NBS > 0 ? NBS : 1] = { { 0 },  };
 static const int actuated_revolute[NA] = { 1, 1, 1 };
