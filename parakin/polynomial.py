@@ -16,6 +16,7 @@ ROOT_SIMPLE, ROOT_CLUSTER, ROOT_NEAR = 0, 1, 2
 _EPS = float(np.finfo(np.float64).eps)
 _CLUSTER_TOLERANCE = 1.0 * _EPS  # one ulp of backward error: see PK_CLUSTER_TOLERANCE
 _TINY = 1e-300
+_NOISE = 64.0 * _EPS  # absolute rounding noise of computed coefficients: PK_NOISE
 _MAX_ITERATIONS = 200
 
 Signs = NDArray[np.int8]
@@ -310,12 +311,12 @@ def _level(
         with np.errstate(invalid="ignore"):
             lower_left = True if i == 0 else here < magnitude[:, i - 1]
             lower_right = last_point | (here < magnitude[:, i + 1] if i + 1 < width else True)
-            # norm-wise too (absolute rounding errors of the coefficients), as in C
+            # within the coefficients' absolute rounding noise is near-real too, as in C
             top = np.fmax(largest, np.abs(lead))
             powers = np.zeros(p_rows)
             for k in range(q.shape[1] - 1, -1, -1):
                 powers = powers * np.abs(z[:, i]) + (k <= level)
-            small = here <= near_tolerance * np.fmax(size[:, i], top * powers)
+            small = here <= np.fmax(near_tolerance * size[:, i], _NOISE * top * powers)
         near[:, i] = (s[:, i] != 0) & (left == s[:, i]) & (right == s[:, i]) & lower_left & lower_right & small
 
     values = np.full((p_rows, 2 * width + 1), np.nan)

@@ -29,6 +29,8 @@
 #define PK_ROOT_SIMPLE 0
 #define PK_ROOT_CLUSTER 1
 #define PK_ROOT_NEAR 2
+/* absolute rounding noise of computed coefficients, relative to the largest one */
+#define PK_NOISE (64.0 * 2.220446049250313e-16)
 
 #define PK_EPS 2.220446049250313e-16
 /* One ulp of backward error. Measured on the Wilkinson polynomial prod_{k=1..20} (x - k), whose
@@ -212,12 +214,13 @@ static int pk_level(const double* q, int n, const double* z, int r, double near_
             int left = i == 0 ? s_minus : s[i - 1], right = i == r - 1 ? s_plus : s[i + 1];
             int lower_left = i == 0 || fabs(v[i]) < fabs(v[i - 1]);
             int lower_right = i == r - 1 || fabs(v[i]) < fabs(v[i + 1]);
-            /* the coefficients carry absolute rounding errors (differences of O(1) terms), so
-               the near test also scales norm-wise: max|q_k| sum |z|^k, not only sum |q_k||z|^k */
+            /* the coefficients carry absolute rounding errors (differences of O(1) terms): a
+               value within that noise, PK_NOISE max|q_k| sum |z|^k, is near-real too, even where
+               sum |q_k||z|^k is tiny (a double root at 0 with c0 of 1e-17) */
             double top = fmax(largest, fabs(q[n])), powers = 0.0;
             for (k = n; k >= 0; --k) powers = powers * fabs(z[i]) + 1.0;
             if (left == s[i] && right == s[i] && lower_left && lower_right &&
-                fabs(v[i]) <= near_tolerance * fmax(size[i], top * powers)) {
+                fabs(v[i]) <= fmax(near_tolerance * size[i], PK_NOISE * top * powers)) {
                 out[count] = z[i];
                 out_kind[count++] = PK_ROOT_NEAR;
             }
