@@ -110,7 +110,7 @@ MULTISTART_STARTS = 40
 
 def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[float, list[int]]:
     """Baseline: scipy.optimize.root on the lambdified closure from random passive starts;
-    returns seconds per input and the distinct closed solutions found per input."""
+    returns seconds per input and the distinct genuine modes found per input."""
     baseline = Baseline(name)
     m = parakin.load(name, backend="numpy")
     rng = np.random.default_rng(seed)
@@ -128,7 +128,10 @@ def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[fl
                 tol=1e-12,
             )
             residual = np.abs(baseline.residual(a, result.x, baseline.params)).max()
-            if result.success and residual < 1e-9:
+            # a genuine mode, as forward_pose_all counts one: closed, aligned (no half-turn
+            # between legs), within the joint limits
+            aligned = bool((m.loop_closure(a, result.x)["alignment"] > 0).all())
+            if result.success and residual < 1e-9 and aligned and m.within_limits(result.x):
                 pose = m.platform_pose(a, result.x)
                 if all(np.abs(pose - other).max() > 1e-6 for other in solutions):
                     solutions.append(pose)

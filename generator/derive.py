@@ -225,6 +225,51 @@ def _branch_groups(mechanism: Mechanism) -> dict[str, list]:
     }
 
 
+def _pattern_signs(groups: list[list[int]], count: int) -> list[list[int]]:
+    """Branch signs of each evaluation pattern: symbol k takes bit (its position in its group) of
+    the pattern, so one pattern sets every group at once (the C driver's numbering)."""
+    position = {k: group.index(k) for group in groups for k in group}
+    patterns = 2 ** max((len(g) for g in groups), default=0)
+    return [[-1 if (p >> position[k]) & 1 else 1 for k in range(count)] for p in range(patterns)]
+
+
+def _inverse_patterns(mechanism: Mechanism, params: tuple[str, list], groups: list[list[int]]) -> Program:
+    """The inverse pose for every sign pattern in one function: the steps that no branch symbol
+    reaches are computed once (what makes recovering passive joints cheaper than one inverse
+    call per pattern)."""
+    inverse = mechanism.inverse
+    assert inverse is not None
+    signs = _pattern_signs(groups, len(inverse.branches))
+    branched = set(inverse.branches)
+    steps: list[tuple[sp.Symbol, sp.Expr]] = []
+    renamed: list[dict] = [dict(zip(inverse.branches, pattern, strict=True)) for pattern in signs]
+    for target, value in inverse.steps:
+        if value.free_symbols & branched:
+            branched.add(target)
+            for p, mapping in enumerate(renamed):
+                symbol = sp.Symbol(f"{target.name}_pattern{p}", real=True)
+                steps.append((symbol, value.xreplace(mapping)))
+                mapping[target] = symbol
+        else:
+            steps.append((target, value))
+
+    def stacked(values: list) -> sp.Matrix:
+        return sp.Matrix([[sp.sympify(v).xreplace(mapping) for mapping in renamed] for v in values])
+
+    return Program(
+        "inverse_pose_patterns",
+        "Closed-form inverse pose for every sign pattern of the independent branch groups (column p: "
+        "symbol k of a group takes sign -1 where bit (its place in the group) of p is set).",
+        [("pose", POSE_SYMBOLS), params],
+        [
+            ("actuated", stacked(list(mechanism.actuated))),
+            ("passive", stacked(list(mechanism.passive))),
+            ("validity", stacked(list(inverse.validity.values()))),
+        ],
+        steps=steps,
+    )
+
+
 def _inverse_function(mechanism: Mechanism, parameters: dict | None = None):
     inverse = mechanism.inverse
     assert inverse is not None
@@ -423,12 +468,16 @@ def derive(mechanism: Mechanism) -> Derivation:
                 steps=inverse.steps,
             )
         )
+        groups = _branch_groups(mechanism)
         metadata["inverse"] = {
             "branches": [str(b) for b in inverse.branches],
             "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(inverse.branches))],
             "validity": list(inverse.validity),
-            **_branch_groups(mechanism),
+            **groups,
+            "patterns": _pattern_signs(groups["groups"], len(inverse.branches)),
         }
+        if mechanism.forward is not None:
+            programs.append(_inverse_patterns(mechanism, params, groups["groups"]))
         symbolic["inverse_steps"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in inverse.steps))
 
     if mechanism.forward is not None:
@@ -458,7 +507,6 @@ def derive(mechanism: Mechanism) -> Derivation:
             "branches": [str(b) for b in forward.branches],
             "combinations": [list(c) for c in itertools.product((1, -1), repeat=len(forward.branches))],
             "degeneracies": list(forward.degeneracies),
-            "imaginary_tolerance": forward.imaginary_tolerance,
         }
         symbolic["forward_polynomial"] = sp.Add(*(c * forward.unknown**k for k, c in enumerate(forward.coefficients)))
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))

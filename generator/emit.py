@@ -171,10 +171,7 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
             "branch_size": len(caps["inverse"]["branches"]),
             "validity": len(caps["inverse"]["validity"]),
             "groups": groups,
-            "patterns": 2 ** max((len(g) for g in groups), default=0),
-            "symbol_position": [
-                next(m.index(k) for m in groups if k in m) for k in range(len(caps["inverse"]["branches"]))
-            ],
+            "patterns": len(caps["inverse"]["patterns"]),
             "actuated_groups": caps["inverse"]["actuated_groups"],
             "passive_groups": caps["inverse"]["passive_groups"],
             "validity_groups": caps["inverse"]["validity_groups"],

@@ -112,7 +112,6 @@ def build_manifest(
 ) -> dict[str, Any]:
     """The manifest dictionary (schema ``SCHEMA``) of one generated package."""
     meta: dict[str, Any] = dict(derivation.metadata)
-    forward_meta: dict[str, Any] = meta.get("forward") or {}
     citation = mechanism.citation
     loop = next(p for p in lowered if p.name == "loop_closure")
     capabilities: dict[str, Any] = {
@@ -153,7 +152,7 @@ def build_manifest(
         "determinants": meta["determinants"],
         "capabilities": capabilities,
         "examples": [_example(e) for e in mechanism.examples],
-        "tolerances": {**DEFAULT_TOLERANCES, "imaginary": forward_meta.get("imaginary_tolerance", 1e-7)},
+        "tolerances": DEFAULT_TOLERANCES,
         "kernels": _kernels(mechanism.name, lowered, sizes),
         "c": {
             "sources": ["kernels.c", "driver.c"],

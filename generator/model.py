@@ -133,9 +133,6 @@ class ForwardElimination:
     pose: sp.Matrix
     #: names and expressions that vanish where the elimination itself degenerates
     degeneracies: dict[str, sp.Expr] = field(default_factory=dict)
-    #: roots with |imag| below this times (1 + |root|) are tried as real candidates (each is then
-    #: checked by the loop closure and Newton): raise it when clustered roots are ill-conditioned
-    imaginary_tolerance: float = 1e-7
 
 
 @dataclass

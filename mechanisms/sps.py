@@ -48,9 +48,9 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
   gamma_n sin psi at that t, |E_n| its coefficient norm, so that neither degenerate case, E1 = 0
   at b1o = +-a2o or E2 = 0, loses the root), builds b1o, b2o and R, then takes six gated
   Cayley-Newton steps on the leg equations. At a (near-)double root t (two configurations with
-  nearly the same b1o), rounding may split the pair into complex roots with imaginary parts
-  ~ sqrt(eps): their real parts are tried (imaginary tolerance 1e-3), and the two branches tau
-  give the two configurations. Candidates that do not close are dropped by the runtime, and
+  nearly the same b1o), rounding may split the pair into a complex pair close to the real axis:
+  the root isolation reports it as a near-real root (a local minimum of |p| within the near-real
+  tolerance), and the two branches tau give the two configurations. Candidates that do not close are dropped by the runtime, and
   duplicates merged, so a mode's (root, branch) slot does not label it:
   ``paper_labels`` of ``examples/sps_section5.py`` computes (v, s1, s2) from the configuration (paper order
   v1..v4 = branches (s1, s2) = (+, +), (+, -), (-, +), (-, -)), and
@@ -327,10 +327,6 @@ def forward() -> ForwardElimination:
         back_substitution=back,
         pose=homogeneous(current, [0, 0, 0]),
         degeneracies={},
-        # two configurations with (nearly) the same b1o make a (near-)double root t, which
-        # rounding splits into a complex pair (imaginary parts ~ sqrt(eps)): try its real part;
-        # both branches tau then give the two configurations, and non-closing candidates are dropped
-        imaginary_tolerance=1e-3,
     )
 
 

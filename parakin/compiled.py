@@ -23,7 +23,15 @@ from parakin.errors import ParakinError
 from parakin.package import GeneratedPackage
 from parakin.results import Array
 
-FLAGS = ["-O2", "-shared", "-fPIC", "-std=c99", "-ffp-contract=off"]  # no FMA: bit-equal to NumPy
+FLAGS = [
+    "-O2",
+    "-shared",
+    "-fPIC",
+    "-std=c99",
+    "-ffp-contract=off",
+    "-fno-semantic-interposition",
+    "-fno-math-errno",
+]  # no FMA: bit-equal to NumPy
 
 
 class CompilerUnavailableError(ParakinError):

@@ -85,11 +85,20 @@ class Kernel:
 
 @dataclass(frozen=True)
 class Inverse:
-    """Closed-form inverse: branch k has the signs ``combinations[k]`` of ``branches``."""
+    """Closed-form inverse: branch k has the signs ``combinations[k]`` of ``branches``.
+
+    Branch symbols fall into independent ``groups`` (one per leg, typically); ``*_groups`` give
+    the group of each actuated, passive and validity output (-1: no branch symbol changes it), and
+    ``patterns[p]`` the signs of the ``inverse_pose_patterns`` kernel's column p."""
 
     branches: tuple[str, ...]
     combinations: tuple[tuple[int, ...], ...]
     validity: tuple[str, ...]
+    groups: tuple[tuple[int, ...], ...] = ()
+    actuated_groups: tuple[int, ...] = ()
+    passive_groups: tuple[int, ...] = ()
+    validity_groups: tuple[int, ...] = ()
+    patterns: tuple[tuple[int, ...], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -353,7 +362,16 @@ def _variable(data: dict[str, Any]) -> Variable:
 def _inverse(data: dict[str, Any] | None) -> Inverse | None:
     if not data:
         return None
-    return Inverse(tuple(data["branches"]), tuple(tuple(c) for c in data["combinations"]), tuple(data["validity"]))
+    return Inverse(
+        tuple(data["branches"]),
+        tuple(tuple(c) for c in data["combinations"]),
+        tuple(data["validity"]),
+        tuple(tuple(g) for g in data.get("groups", ())),
+        tuple(data.get("actuated_groups", ())),
+        tuple(data.get("passive_groups", ())),
+        tuple(data.get("validity_groups", ())),
+        tuple(tuple(s) for s in data.get("patterns", ())),
+    )
 
 
 def _forward(data: dict[str, Any] | None) -> Forward | None:

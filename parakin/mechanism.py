@@ -82,6 +82,7 @@ class Mechanism:
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
+        self._single_input = threading.local()  # forward_pose_all's reusable one-input job
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
         self._single_jobs = threading.local()

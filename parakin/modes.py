@@ -12,6 +12,7 @@ independence and repeats. Each slot ends with an outcome, so every root is accou
 from __future__ import annotations
 
 import ctypes
+import functools
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -29,7 +30,12 @@ CHUNK = 4096
 
 
 def _codes(m: Mechanism) -> dict[str, int]:
-    return {name: code for code, name in enumerate(m.manifest.abi.mode_outcomes)}
+    return _outcome_codes(m.manifest.abi.mode_outcomes)
+
+
+@functools.cache
+def _outcome_codes(outcomes: tuple[str, ...]) -> dict[str, int]:
+    return {name: code for code, name in enumerate(outcomes)}
 
 
 def _allocate(m: Mechanism, count: int) -> dict[str, np.ndarray]:
@@ -79,16 +85,11 @@ def _limits(m: Mechanism) -> tuple[Array, Array]:
     return lower, upper
 
 
-def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
-    """The generated C pipeline over a flat batch (n, n_a): one foreign call."""
+def _modes_job(m: Mechanism, theta: Array, out: dict[str, np.ndarray], lower: Array, upper: Array) -> ctypes.Structure:
     backend = m.backend
-    count = theta.shape[0]
-    out = _allocate(m, count)
-    lower, upper = _limits(m)
-    theta_c = np.ascontiguousarray(theta, dtype=float)
     values = {
-        "n": count,
-        "actuated": theta_c,
+        "n": theta.shape[0],
+        "actuated": theta,
         "actuated_stride": theta.shape[-1],
         "params": m.params,
         "lower": lower,
@@ -96,8 +97,41 @@ def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
         **_settings(m),
         **out,
     }
-    job = backend.job(backend.ModesJob, values)  # type: ignore[attr-defined]
-    backend.forward_pose_all(ctypes.byref(job))  # type: ignore[attr-defined]
+    return backend.job(backend.ModesJob, values)  # type: ignore[attr-defined]
+
+
+class _SingleInput:
+    """A job for one input over buffers allocated once: a single call then costs the C pipeline
+    and one copy of each result array, not the building of a job structure."""
+
+    def __init__(self, m: Mechanism) -> None:
+        self.limits = m.limits
+        self.params = m.params
+        self.theta = np.zeros((1, len(m.manifest.actuated)))
+        self.out = _allocate(m, 1)
+        self.bounds = _limits(m)
+        self.job = _modes_job(m, self.theta, self.out, *self.bounds)
+        self.pointer = ctypes.byref(self.job)
+
+    def run(self, m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+        self.theta[...] = theta
+        m.backend.forward_pose_all(self.pointer)  # type: ignore[attr-defined]
+        return {key: value.copy() for key, value in self.out.items()}
+
+
+def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    """The generated C pipeline over a flat batch (n, n_a): one foreign call."""
+    if theta.shape[0] == 1:
+        # one job per thread (the buffers are reused); rebuilt if the parameters or limits were
+        # replaced, since the job points at their arrays
+        single = getattr(m._single_input, "job", None)
+        if single is None or single.params is not m.params or single.limits is not m.limits:
+            single = m._single_input.job = _SingleInput(m)
+        return single.run(m, theta)
+    out = _allocate(m, theta.shape[0])
+    theta_c = np.ascontiguousarray(theta, dtype=float)
+    job = _modes_job(m, theta_c, out, *_limits(m))
+    m.backend.forward_pose_all(ctypes.byref(job))  # type: ignore[attr-defined]
     return out
 
 
@@ -239,25 +273,42 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
 
 
 def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: float) -> Array:
-    """The passive values of the inverse branch whose actuated values match ``theta`` (NaN when
-    no branch is finite); the same rule as the C driver's ``passive_from_pose``."""
+    """The passive values of the inverse branch whose actuated values match ``theta`` and how far
+    they miss it; the same rule as the C driver's ``passive_from_pose``: every sign pattern in one
+    ``inverse_pose_patterns`` call, each independent branch group choosing its own pattern (ranked
+    by actuated mismatch, +1e3 per invalid validity measure; NaN where no pattern is finite)."""
     from parakin.mechanism import pose_vector
 
     inverse = m.capabilities.inverse
     assert inverse is not None
-    combos = np.array(inverse.combinations, dtype=float).reshape(len(inverse.combinations), -1)
+    n_groups = len(inverse.groups)
+
+    def group_of(groups: tuple[int, ...]) -> np.ndarray:
+        # outputs that no branch symbol changes form one more group, the last
+        return np.where(np.array(groups, dtype=np.intp) < 0, n_groups, np.array(groups, dtype=np.intp))
+
     with np.errstate(all="ignore"):
-        out = m.backend.call("inverse_pose", pose_vector(pose)[..., None, :], combos, m.params)
-    difference = out["actuated"] - theta[..., None, :]
-    difference = np.where(m._angular_actuated, wrap_angle(difference), difference)
-    mismatch = np.fmax.reduce(np.abs(difference), axis=-1, initial=0.0)
-    mismatch = mismatch + 1e3 * (~(out["validity"] > validity_floor)).sum(-1)
-    mismatch = np.where(np.isfinite(out["passive"]).all(-1), mismatch, np.inf)
-    best = np.argmin(mismatch, axis=-1)
-    passive = np.take_along_axis(out["passive"], best[..., None, None], axis=-2)[..., 0, :]
-    passive = np.where(m._angular_passive, wrap_angle(passive), passive)
-    chosen = np.take_along_axis(mismatch, best[..., None], axis=-1)[..., 0]
-    return np.where(np.isfinite(chosen)[..., None], passive, np.nan)
+        out = m.backend.call("inverse_pose_patterns", pose_vector(pose), m.params)
+    batch, count = pose.shape[:-2], len(inverse.patterns)
+    sizes = {"actuated": len(m.manifest.actuated), "passive": len(m.passive_names), "validity": len(inverse.validity)}
+    # (..., patterns, size); a single pattern's outputs arrive as vectors
+    actuated, passive, validity = (np.moveaxis(out[k].reshape(batch + (n, count)), -1, -2) for k, n in sizes.items())
+    members = np.arange(n_groups + 1)[:, None]
+    difference = actuated - theta[..., None, :]
+    difference = np.abs(np.where(m._angular_actuated, wrap_angle(difference), difference))
+    in_group = group_of(inverse.actuated_groups) == members  # (groups, NA)
+    missed = np.fmax.reduce(np.where(in_group, difference[..., None, :], 0.0), axis=-1, initial=0.0)
+    invalid = ~(validity > validity_floor)
+    penalty = (invalid[..., None, :] & (group_of(inverse.validity_groups) == members)).sum(-1)
+    passive_group = group_of(inverse.passive_groups)
+    unusable = (~np.isfinite(passive)[..., None, :] & (passive_group == members)).any(-1)
+    ranked = np.where(unusable, np.inf, missed + 1e3 * penalty)  # (..., patterns, groups)
+    best = np.argmin(ranked, axis=-2)  # (..., groups): first best pattern, as in C
+    chosen = np.take_along_axis(ranked, best[..., None, :], axis=-2)[..., 0, :]
+    pattern = np.take_along_axis(best, np.broadcast_to(passive_group, best.shape[:-1] + passive_group.shape), axis=-1)
+    q = np.take_along_axis(passive, pattern[..., None, :], axis=-2)[..., 0, :]
+    q = np.where(m._angular_passive, wrap_angle(q), q)
+    return np.where(np.isfinite(chosen).all(-1)[..., None], q, np.nan)
 
 
 def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> AssemblyModes:
@@ -281,7 +332,7 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> Assembly
         root=shaped("roots"),
         real=shaped("root_kind") >= 0,
         valid=valid,
-        count=valid.sum(-1),
+        count=shaped("count"),
         input_independent=outcome == codes["input_independent"],
         outcome=outcome,
         root_kind=shaped("root_kind"),

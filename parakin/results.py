@@ -75,7 +75,7 @@ class AssemblyModes:
     root: Array
     real: Mask
     valid: Mask
-    count: NDArray[np.int64]
+    count: NDArray[np.integer]
     input_independent: Mask
     outcome: NDArray[np.int32]
     root_kind: NDArray[np.int32]

@@ -8,6 +8,7 @@
 //   singularity_factors: 78
 //   drawing: 38
 //   inverse_pose: 150
+//   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 
@@ -208,6 +209,10 @@ int delta_drawing_batch(long long n, const double** inputs, const long long* str
 //   inputs: pose[12], branch[3], params[4]
 //   outputs: actuated[3], passive[3], validity[3]
 int delta_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[4]
+//   outputs: actuated[3 x 2], passive[3 x 2], validity[3 x 2]
+int delta_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[3], params[4]
 //   outputs: coefficients[3], degeneracies[1]

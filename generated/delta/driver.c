@@ -8,6 +8,7 @@
 //   singularity_factors: 78
 //   drawing: 38
 //   inverse_pose: 150
+//   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 
@@ -201,6 +202,34 @@ int delta_inverse_pose_batch(long long n, const double** inputs, const long long
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[2][i * 3 + r * 1 + c] = out_validity[c * 3 + r];
+    }
+    return 0;
+}
+
+int delta_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[3];
+    casadi_int iw[0 + 1];
+    casadi_real w[22 + 1];
+    casadi_real out_actuated[6 + 1];
+    casadi_real out_passive[6 + 1];
+    casadi_real out_validity[6 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_actuated;
+        res[1] = out_passive;
+        res[2] = out_validity;
+        if (delta_inverse_pose_patterns(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[0][i * 6 + r * 2 + c] = out_actuated[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[1][i * 6 + r * 2 + c] = out_passive[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[2][i * 6 + r * 2 + c] = out_validity[c * 3 + r];
     }
     return 0;
 }
@@ -405,7 +434,6 @@ int delta_forward_pose(const delta_newton_job* job) {
 #define NB 1
 #define NBS 0
 #define NDEG 1
-#define NIS 3
 #define NV 3
 #define NF 4
 #define NDET 2
@@ -418,45 +446,51 @@ static const int actuated_revolute[NA] = { 1, 1, 1 };
 
 // The passive values of the inverse branch whose actuated values match theta (pose row-major).
 // Branch symbols fall into independent groups (one per leg, typically: see the manifest's
-// inverse groups), so 2^(largest group) evaluations try every sign pattern of every group at
-// once, and each group keeps its own best pattern.
+// inverse groups), so 2^(largest group) sign patterns try every sign of every group at once, and
+// each group keeps its own best pattern. One generated call evaluates every pattern, sharing what
+// no branch sign changes.
 #define NG 3
 #define NPATTERNS 2
-static const int symbol_position[NIS > 0 ? NIS : 1] = { 0, 0, 0 };
 static const int actuated_group[NA] = { 0, 1, 2 };
 static const int passive_group[NQ_ALLOC] = { -1, -1, -1 };
 static const int validity_group[NV > 0 ? NV : 1] = { -1, -1, -1 };
 
+// Returns 0 when some group has no finite passive values. The actuated mismatch only ranks
+// patterns: where the inverse is singular (a folded leg of an input-independent mode) the
+// actuated value it returns is arbitrary, so only the loop closure decides what closes.
 static int passive_from_pose(workspace* ws, const double* theta, const double* pose, const double* params,
                              double validity_floor, double* q) {
-    double vector[12], actuated[NA], passive[NQ_ALLOC], validity[NV > 0 ? NV : 1], signs[NIS > 0 ? NIS : 1];
-    double best[NG + 1];  // per group; the last entry collects outputs that no branch changes
+    // column-major outputs of the patterns kernel: pattern p's values are contiguous
+    double vector[12], actuated[NA * NPATTERNS], passive[NQ_ALLOC * NPATTERNS], validity[(NV > 0 ? NV : 1) * NPATTERNS];
+    double best[NG + 1];  // per group; the last one: outputs no branch changes
     for (int g = 0; g <= NG; ++g) best[g] = INFINITY;
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) vector[r * 3 + c] = pose[r * 4 + c];
     for (int r = 0; r < 3; ++r) vector[9 + r] = pose[r * 4 + 3];
+    ws->arg[0] = vector; ws->arg[1] = params;
+    ws->res[0] = actuated; ws->res[1] = passive; ws->res[2] = validity;
+    delta_inverse_pose_patterns(ws->arg, ws->res, ws->iw, ws->w, 0);
     for (int pattern = 0; pattern < NPATTERNS; ++pattern) {
-        for (int j = 0; j < NIS; ++j) signs[j] = ((pattern >> symbol_position[j]) & 1) ? -1.0 : 1.0;
-        ws->arg[0] = vector; ws->arg[1] = signs; ws->arg[2] = params;
-        ws->res[0] = actuated; ws->res[1] = passive; ws->res[2] = validity;
-        delta_inverse_pose(ws->arg, ws->res, ws->iw, ws->w, 0);
+        const double* a = actuated + pattern * NA;
+        const double* x = passive + pattern * NQ;
+        const double* v = validity + pattern * NV;
         double mismatch[NG + 1];
         for (int g = 0; g <= NG; ++g) mismatch[g] = 0.0;
         for (int k = 0; k < NA; ++k) {
-            double d = actuated[k] - theta[k];
+            double d = a[k] - theta[k];
             int g = actuated_group[k] < 0 ? NG : actuated_group[k];
             mismatch[g] = fmax(mismatch[g], fabs(actuated_revolute[k] ? wrap_angle(d) : d));
         }
         for (int k = 0; k < NV; ++k)
-            if (!(validity[k] > validity_floor)) mismatch[validity_group[k] < 0 ? NG : validity_group[k]] += 1e3;
+            if (!(v[k] > validity_floor)) mismatch[validity_group[k] < 0 ? NG : validity_group[k]] += 1e3;
         for (int k = 0; k < NQ; ++k)
-            if (!isfinite(passive[k])) mismatch[passive_group[k] < 0 ? NG : passive_group[k]] = INFINITY;
+            if (!isfinite(x[k])) mismatch[passive_group[k] < 0 ? NG : passive_group[k]] = INFINITY;
         for (int g = 0; g <= NG; ++g) {
             if (!(mismatch[g] < best[g])) continue;
             best[g] = mismatch[g];
             for (int k = 0; k < NQ; ++k)
                 if ((passive_group[k] < 0 ? NG : passive_group[k]) == g)
-                    q[k] = passive_revolute[k] ? wrap_angle(passive[k]) : passive[k];
+                    q[k] = passive_revolute[k] ? wrap_angle(x[k]) : x[k];
         }
     }
     double total = 0.0;

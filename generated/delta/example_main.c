@@ -8,6 +8,7 @@
 //   singularity_factors: 78
 //   drawing: 38
 //   inverse_pose: 150
+//   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 

@@ -8,6 +8,7 @@
 #   singularity_factors: 78
 #   drawing: 38
 #   inverse_pose: 150
+#   inverse_pose_patterns: 183
 #   forward_polynomial: 142
 #   forward_back_substitution: 150
 
@@ -433,6 +434,101 @@ def inverse_pose(pose, branch, params):
     }
 
 
+def inverse_pose_patterns(pose, params):
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 183.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(pose)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    px = pose[..., 9]
+    py = pose[..., 10]
+    pz = pose[..., 11]
+    R = params[..., 0]
+    r = params[..., 1]
+    L = params[..., 2]
+    l = params[..., 3]
+    x = px
+    y = py
+    z = pz
+    E1 = -2 * L * (-R + r + x)
+    F1 = 2 * L * z
+    G1 = L**2 - l**2 + y**2 + z**2 + (-R + r + x) ** 2
+    theta1_pattern0 = 2 * numpy.arctan2(
+        -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    theta1_pattern1 = 2 * numpy.arctan2(
+        -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    _t0 = numpy.sqrt(3)
+    E2 = (
+        -2
+        * L
+        * (-1 / 4 * R + (1 / 2) * _t0 * ((1 / 2) * _t0 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
+    )
+    F2 = 2 * L * z
+    G2 = (
+        L**2
+        - l**2
+        + z**2
+        + (y + (1 / 2) * numpy.sqrt(3) * (-R + r)) ** 2
+        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
+    )
+    theta2_pattern0 = 2 * numpy.arctan2(
+        -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    theta2_pattern1 = 2 * numpy.arctan2(
+        -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    _t1 = (1 / 2) * numpy.sqrt(3)
+    E3 = -2 * L * (-1 / 4 * R - _t1 * (-_t1 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
+    F3 = 2 * L * z
+    G3 = (
+        L**2
+        - l**2
+        + z**2
+        + (y - 1 / 2 * numpy.sqrt(3) * (-R + r)) ** 2
+        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
+    )
+    theta3_pattern0 = 2 * numpy.arctan2(
+        -F3 - numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
+    )
+    theta3_pattern1 = 2 * numpy.arctan2(
+        -F3 + numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
+    )
+    _t2 = E1**2 + F1**2 - G1**2
+    _t3 = E2**2 + F2**2 - G2**2
+    _t4 = E3**2 + F3**2 - G3**2
+    actuated = numpy.zeros(shape + (3, 2))
+    actuated[..., 0, 0] = theta1_pattern0
+    actuated[..., 0, 1] = theta1_pattern1
+    actuated[..., 1, 0] = theta2_pattern0
+    actuated[..., 1, 1] = theta2_pattern1
+    actuated[..., 2, 0] = theta3_pattern0
+    actuated[..., 2, 1] = theta3_pattern1
+    passive = numpy.zeros(shape + (3, 2))
+    passive[..., 0, 0] = x
+    passive[..., 0, 1] = x
+    passive[..., 1, 0] = y
+    passive[..., 1, 1] = y
+    passive[..., 2, 0] = z
+    passive[..., 2, 1] = z
+    validity = numpy.zeros(shape + (3, 2))
+    validity[..., 0, 0] = _t2
+    validity[..., 0, 1] = _t2
+    validity[..., 1, 0] = _t3
+    validity[..., 1, 1] = _t3
+    validity[..., 2, 0] = _t4
+    validity[..., 2, 1] = _t4
+    return {
+        "actuated": actuated,
+        "passive": passive,
+        "validity": validity,
+    }
+
+
 def forward_polynomial(actuated, params):
     """Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 
@@ -595,6 +691,7 @@ KERNELS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -8,6 +8,7 @@
 #   singularity_factors: 29
 #   drawing: 11
 #   inverse_pose: 67
+#   inverse_pose_patterns: 90
 #   forward_polynomial: 30
 #   forward_back_substitution: 34
 
@@ -390,6 +391,80 @@ def inverse_pose() -> casadi.Function:
     )
 
 
+def inverse_pose_patterns() -> casadi.Function:
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 90.
+    """
+    pose = casadi.SX.sym("pose", 12)
+    params = casadi.SX.sym("params", 5)
+    px = pose[9]
+    py = pose[10]
+    d = params[0]
+    a1 = params[1]
+    a2 = params[2]
+    b1 = params[3]
+    b2 = params[4]
+    x = px
+    y = py
+    E1 = -2 * a1 * (d + x)
+    F1 = -2 * a1 * y
+    G1 = a1**2 - b1**2 + y**2 + (d + x) ** 2
+    theta1_pattern0 = 2 * casadi.atan2(
+        -F1 + casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    theta1_pattern1 = 2 * casadi.atan2(
+        -F1 - casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    E2 = -2 * a2 * (-d + x)
+    F2 = -2 * a2 * y
+    G2 = a2**2 - b2**2 + y**2 + (-d + x) ** 2
+    theta2_pattern0 = 2 * casadi.atan2(
+        -F2 - casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    theta2_pattern1 = 2 * casadi.atan2(
+        -F2 + casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    _t0 = E1**2 + F1**2 - G1**2
+    _t1 = E2**2 + F2**2 - G2**2
+    actuated = casadi.SX.zeros(2, 2)
+    actuated[0, 0] = theta1_pattern0
+    actuated[0, 1] = theta1_pattern1
+    actuated[1, 0] = theta2_pattern0
+    actuated[1, 1] = theta2_pattern1
+    passive = casadi.SX.zeros(2, 2)
+    passive[0, 0] = x
+    passive[0, 1] = x
+    passive[1, 0] = y
+    passive[1, 1] = y
+    validity = casadi.SX.zeros(2, 2)
+    validity[0, 0] = _t0
+    validity[0, 1] = _t0
+    validity[1, 0] = _t1
+    validity[1, 1] = _t1
+    return casadi.Function(
+        "five_bar_inverse_pose_patterns",
+        [
+            pose,
+            params,
+        ],
+        [
+            actuated,
+            passive,
+            validity,
+        ],
+        [
+            "pose",
+            "params",
+        ],
+        [
+            "actuated",
+            "passive",
+            "validity",
+        ],
+    )
+
+
 def forward_polynomial() -> casadi.Function:
     """Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 
@@ -500,6 +575,7 @@ BUILDERS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

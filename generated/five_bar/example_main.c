@@ -8,6 +8,7 @@
 //   singularity_factors: 29
 //   drawing: 11
 //   inverse_pose: 67
+//   inverse_pose_patterns: 90
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 

@@ -8,6 +8,7 @@
 //   singularity_factors: 29
 //   drawing: 11
 //   inverse_pose: 67
+//   inverse_pose_patterns: 90
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 
@@ -202,6 +203,10 @@ int five_bar_drawing_batch(long long n, const double** inputs, const long long* 
 //   inputs: pose[12], branch[2], params[5]
 //   outputs: actuated[2], passive[2], validity[2]
 int five_bar_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[5]
+//   outputs: actuated[2 x 2], passive[2 x 2], validity[2 x 2]
+int five_bar_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[2], params[5]
 //   outputs: coefficients[3], degeneracies[1]

@@ -8,6 +8,7 @@
 #   singularity_factors: 29
 #   drawing: 11
 #   inverse_pose: 67
+#   inverse_pose_patterns: 90
 #   forward_polynomial: 30
 #   forward_back_substitution: 34
 
@@ -285,6 +286,66 @@ def inverse_pose(pose, branch, params):
     }
 
 
+def inverse_pose_patterns(pose, params):
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 90.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(pose)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    px = pose[..., 9]
+    py = pose[..., 10]
+    d = params[..., 0]
+    a1 = params[..., 1]
+    a2 = params[..., 2]
+    b1 = params[..., 3]
+    b2 = params[..., 4]
+    x = px
+    y = py
+    E1 = -2 * a1 * (d + x)
+    F1 = -2 * a1 * y
+    G1 = a1**2 - b1**2 + y**2 + (d + x) ** 2
+    theta1_pattern0 = 2 * numpy.arctan2(
+        -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    theta1_pattern1 = 2 * numpy.arctan2(
+        -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
+    )
+    E2 = -2 * a2 * (-d + x)
+    F2 = -2 * a2 * y
+    G2 = a2**2 - b2**2 + y**2 + (-d + x) ** 2
+    theta2_pattern0 = 2 * numpy.arctan2(
+        -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    theta2_pattern1 = 2 * numpy.arctan2(
+        -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
+    )
+    _t0 = E1**2 + F1**2 - G1**2
+    _t1 = E2**2 + F2**2 - G2**2
+    actuated = numpy.zeros(shape + (2, 2))
+    actuated[..., 0, 0] = theta1_pattern0
+    actuated[..., 0, 1] = theta1_pattern1
+    actuated[..., 1, 0] = theta2_pattern0
+    actuated[..., 1, 1] = theta2_pattern1
+    passive = numpy.zeros(shape + (2, 2))
+    passive[..., 0, 0] = x
+    passive[..., 0, 1] = x
+    passive[..., 1, 0] = y
+    passive[..., 1, 1] = y
+    validity = numpy.zeros(shape + (2, 2))
+    validity[..., 0, 0] = _t0
+    validity[..., 0, 1] = _t0
+    validity[..., 1, 0] = _t1
+    validity[..., 1, 1] = _t1
+    return {
+        "actuated": actuated,
+        "passive": passive,
+        "validity": validity,
+    }
+
+
 def forward_polynomial(actuated, params):
     """Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 
@@ -366,6 +427,7 @@ KERNELS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -9,6 +9,7 @@
 #   architecture: 455
 #   drawing: 95
 #   inverse_pose: 141
+#   inverse_pose_patterns: 141
 #   forward_polynomial: 2581
 #   forward_back_substitution: 2710
 
@@ -1209,6 +1210,122 @@ def inverse_pose() -> casadi.Function:
         [
             "pose",
             "branch",
+            "params",
+        ],
+        [
+            "actuated",
+            "passive",
+            "validity",
+        ],
+    )
+
+
+def inverse_pose_patterns() -> casadi.Function:
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 141.
+    """
+    pose = casadi.SX.sym("pose", 12)
+    params = casadi.SX.sym("params", 13)
+    r11 = pose[0]
+    r12 = pose[1]
+    r21 = pose[3]
+    r22 = pose[4]
+    r31 = pose[6]
+    r32 = pose[7]
+    r33 = pose[8]
+    px = pose[9]
+    py = pose[10]
+    pz = pose[11]
+    xA2 = params[0]
+    xA3 = params[1]
+    xA4 = params[2]
+    xA5 = params[3]
+    xA6 = params[4]
+    yA2 = params[5]
+    yA3 = params[6]
+    yA4 = params[7]
+    yA5 = params[8]
+    yA6 = params[9]
+    t11 = params[10]
+    t12 = params[11]
+    t22 = params[12]
+    l1 = casadi.sqrt(px**2 + py**2 + pz**2)
+    _t0 = t22 * yA2
+    _t1 = t11 * xA2 + t12 * yA2
+    l2 = casadi.sqrt(
+        (_t0 * r32 + _t1 * r31 + pz) ** 2
+        + (_t0 * r12 + _t1 * r11 + px - xA2) ** 2
+        + (_t0 * r22 + _t1 * r21 + py - yA2) ** 2
+    )
+    _t2 = t22 * yA3
+    _t3 = t11 * xA3 + t12 * yA3
+    l3 = casadi.sqrt(
+        (_t2 * r32 + _t3 * r31 + pz) ** 2
+        + (_t2 * r12 + _t3 * r11 + px - xA3) ** 2
+        + (_t2 * r22 + _t3 * r21 + py - yA3) ** 2
+    )
+    _t4 = t22 * yA4
+    _t5 = t11 * xA4 + t12 * yA4
+    l4 = casadi.sqrt(
+        (_t4 * r32 + _t5 * r31 + pz) ** 2
+        + (_t4 * r12 + _t5 * r11 + px - xA4) ** 2
+        + (_t4 * r22 + _t5 * r21 + py - yA4) ** 2
+    )
+    _t6 = t22 * yA5
+    _t7 = t11 * xA5 + t12 * yA5
+    l5 = casadi.sqrt(
+        (_t6 * r32 + _t7 * r31 + pz) ** 2
+        + (_t6 * r12 + _t7 * r11 + px - xA5) ** 2
+        + (_t6 * r22 + _t7 * r21 + py - yA5) ** 2
+    )
+    _t8 = t22 * yA6
+    _t9 = t11 * xA6 + t12 * yA6
+    l6 = casadi.sqrt(
+        (_t8 * r32 + _t9 * r31 + pz) ** 2
+        + (_t8 * r12 + _t9 * r11 + px - xA6) ** 2
+        + (_t8 * r22 + _t9 * r21 + py - yA6) ** 2
+    )
+    x = px
+    y = py
+    z = pz
+    alpha = casadi.atan2(r21, r11)
+    beta = casadi.atan2(-r31, casadi.sqrt(r11**2 + r21**2))
+    gamma = casadi.atan2(r32, r33)
+    actuated = casadi.SX.zeros(6)
+    actuated[0] = l1
+    actuated[1] = l2
+    actuated[2] = l3
+    actuated[3] = l4
+    actuated[4] = l5
+    actuated[5] = l6
+    passive = casadi.SX.zeros(6)
+    passive[0] = x
+    passive[1] = y
+    passive[2] = z
+    passive[3] = alpha
+    passive[4] = beta
+    passive[5] = gamma
+    validity = casadi.SX.zeros(6)
+    validity[0] = l1
+    validity[1] = l2
+    validity[2] = l3
+    validity[3] = l4
+    validity[4] = l5
+    validity[5] = l6
+    return casadi.Function(
+        "gough_inverse_pose_patterns",
+        [
+            pose,
+            params,
+        ],
+        [
+            actuated,
+            passive,
+            validity,
+        ],
+        [
+            "pose",
             "params",
         ],
         [
@@ -4000,6 +4117,7 @@ BUILDERS = {
     "architecture": architecture,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -9,6 +9,7 @@
 //   architecture: 455
 //   drawing: 95
 //   inverse_pose: 141
+//   inverse_pose_patterns: 141
 //   forward_polynomial: 2581
 //   forward_back_substitution: 2710
 

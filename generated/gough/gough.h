@@ -9,6 +9,7 @@
 //   architecture: 455
 //   drawing: 95
 //   inverse_pose: 141
+//   inverse_pose_patterns: 141
 //   forward_polynomial: 2581
 //   forward_back_substitution: 2710
 
@@ -216,6 +217,10 @@ int gough_drawing_batch(long long n, const double** inputs, const long long* str
 //   inputs: pose[12], branch[0], params[13]
 //   outputs: actuated[6], passive[6], validity[6]
 int gough_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[13]
+//   outputs: actuated[6], passive[6], validity[6]
+int gough_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[6], params[13]
 //   outputs: coefficients[5], degeneracies[2]

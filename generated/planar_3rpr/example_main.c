@@ -8,6 +8,7 @@
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
+//   inverse_pose_patterns: 52
 //   forward_polynomial: 1413
 //   forward_back_substitution: 169
 

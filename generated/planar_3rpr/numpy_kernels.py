@@ -8,6 +8,7 @@
 #   singularity_factors: 58
 #   drawing: 26
 #   inverse_pose: 52
+#   inverse_pose_patterns: 52
 #   forward_polynomial: 1413
 #   forward_back_substitution: 169
 
@@ -371,6 +372,71 @@ def inverse_pose(pose, branch, params):
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
         numpy.shape(branch)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    r11 = pose[..., 0]
+    r21 = pose[..., 3]
+    px = pose[..., 9]
+    py = pose[..., 10]
+    base_x1 = params[..., 0]
+    base_y1 = params[..., 1]
+    base_x2 = params[..., 2]
+    base_y2 = params[..., 3]
+    base_x3 = params[..., 4]
+    base_y3 = params[..., 5]
+    platform_x1 = params[..., 6]
+    platform_y1 = params[..., 7]
+    platform_x2 = params[..., 8]
+    platform_y2 = params[..., 9]
+    platform_x3 = params[..., 10]
+    platform_y3 = params[..., 11]
+    x = px
+    y = py
+    phi = numpy.arctan2(r21, r11)
+    _t0 = numpy.sin(phi)
+    _t1 = numpy.cos(phi)
+    rho1 = numpy.sqrt(
+        (_t0 * platform_x1 + _t1 * platform_y1 - base_y1 + y) ** 2
+        + (-_t0 * platform_y1 + _t1 * platform_x1 - base_x1 + x) ** 2
+    )
+    _t2 = numpy.sin(phi)
+    _t3 = numpy.cos(phi)
+    rho2 = numpy.sqrt(
+        (_t2 * platform_x2 + _t3 * platform_y2 - base_y2 + y) ** 2
+        + (-_t2 * platform_y2 + _t3 * platform_x2 - base_x2 + x) ** 2
+    )
+    _t4 = numpy.sin(phi)
+    _t5 = numpy.cos(phi)
+    rho3 = numpy.sqrt(
+        (_t4 * platform_x3 + _t5 * platform_y3 - base_y3 + y) ** 2
+        + (-_t4 * platform_y3 + _t5 * platform_x3 - base_x3 + x) ** 2
+    )
+    actuated = numpy.zeros(shape + (3,))
+    actuated[..., 0] = rho1
+    actuated[..., 1] = rho2
+    actuated[..., 2] = rho3
+    passive = numpy.zeros(shape + (3,))
+    passive[..., 0] = x
+    passive[..., 1] = y
+    passive[..., 2] = phi
+    validity = numpy.zeros(shape + (3,))
+    validity[..., 0] = rho1
+    validity[..., 1] = rho2
+    validity[..., 2] = rho3
+    return {
+        "actuated": actuated,
+        "passive": passive,
+        "validity": validity,
+    }
+
+
+def inverse_pose_patterns(pose, params):
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 52.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(pose)[:-1],
         numpy.shape(params)[:-1],
     )
     r11 = pose[..., 0]
@@ -1406,6 +1472,7 @@ KERNELS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -8,6 +8,7 @@
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
+//   inverse_pose_patterns: 52
 //   forward_polynomial: 1413
 //   forward_back_substitution: 169
 
@@ -217,6 +218,10 @@ int planar_3rpr_drawing_batch(long long n, const double** inputs, const long lon
 //   inputs: pose[12], branch[0], params[12]
 //   outputs: actuated[3], passive[3], validity[3]
 int planar_3rpr_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[12]
+//   outputs: actuated[3], passive[3], validity[3]
+int planar_3rpr_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[3], params[12]
 //   outputs: coefficients[7], degeneracies[2]

@@ -8,6 +8,7 @@
 #   singularity_factors: 261
 #   drawing: 111
 #   inverse_pose: 214
+#   inverse_pose_patterns: 488
 #   forward_polynomial: 462
 #   forward_back_substitution: 242
 
@@ -1239,6 +1240,321 @@ def inverse_pose() -> casadi.Function:
     )
 
 
+def inverse_pose_patterns() -> casadi.Function:
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 488.
+    """
+    pose = casadi.SX.sym("pose", 12)
+    params = casadi.SX.sym("params", 2)
+    r11 = pose[0]
+    r12 = pose[1]
+    r13 = pose[2]
+    r21 = pose[3]
+    r22 = pose[4]
+    r23 = pose[5]
+    r31 = pose[6]
+    r32 = pose[7]
+    r33 = pose[8]
+    px = pose[9]
+    py = pose[10]
+    pz = pose[11]
+    L1 = params[0]
+    L4 = params[1]
+    X_theta1 = r12 * (-L4 * r12 + px) + r22 * (L1 - L4 * r22 + py) + r32 * (-L4 * r32 + pz)
+    Y_theta1 = -r11 * (-L4 * r12 + px) - r21 * (L1 - L4 * r22 + py) - r31 * (-L4 * r32 + pz)
+    Z_theta1 = -r13 * (-L4 * r12 + px) - r23 * (L1 - L4 * r22 + py) - r33 * (-L4 * r32 + pz)
+    rho_theta1 = casadi.sqrt(X_theta1**2 + Y_theta1**2)
+    L2 = casadi.sqrt(X_theta1**2 + Y_theta1**2 + Z_theta1**2)
+    c_phi2 = -Z_theta1 / L2
+    s_phi2_pattern0 = rho_theta1 / L2
+    s_phi2_pattern1 = -rho_theta1 / L2
+    s_phi2_pattern2 = rho_theta1 / L2
+    s_phi2_pattern3 = -rho_theta1 / L2
+    c_phi3_pattern0 = X_theta1 / rho_theta1
+    c_phi3_pattern1 = -X_theta1 / rho_theta1
+    c_phi3_pattern2 = X_theta1 / rho_theta1
+    c_phi3_pattern3 = -X_theta1 / rho_theta1
+    s_phi3_pattern0 = -Y_theta1 / rho_theta1
+    s_phi3_pattern1 = Y_theta1 / rho_theta1
+    s_phi3_pattern2 = -Y_theta1 / rho_theta1
+    s_phi3_pattern3 = Y_theta1 / rho_theta1
+    phi2_pattern0 = casadi.atan2(s_phi2_pattern0, c_phi2)
+    phi2_pattern1 = casadi.atan2(s_phi2_pattern1, c_phi2)
+    phi2_pattern2 = casadi.atan2(s_phi2_pattern2, c_phi2)
+    phi2_pattern3 = casadi.atan2(s_phi2_pattern3, c_phi2)
+    phi3_pattern0 = casadi.atan2(s_phi3_pattern0, c_phi3_pattern0)
+    phi3_pattern1 = casadi.atan2(s_phi3_pattern1, c_phi3_pattern1)
+    phi3_pattern2 = casadi.atan2(s_phi3_pattern2, c_phi3_pattern2)
+    phi3_pattern3 = casadi.atan2(s_phi3_pattern3, c_phi3_pattern3)
+    r13_theta1_pattern0 = (
+        c_phi2 * c_phi3_pattern0 * r12 + c_phi2 * r11 * s_phi3_pattern0 - r13 * s_phi2_pattern0
+    )
+    r13_theta1_pattern1 = (
+        c_phi2 * c_phi3_pattern1 * r12 + c_phi2 * r11 * s_phi3_pattern1 - r13 * s_phi2_pattern1
+    )
+    r13_theta1_pattern2 = (
+        c_phi2 * c_phi3_pattern2 * r12 + c_phi2 * r11 * s_phi3_pattern2 - r13 * s_phi2_pattern2
+    )
+    r13_theta1_pattern3 = (
+        c_phi2 * c_phi3_pattern3 * r12 + c_phi2 * r11 * s_phi3_pattern3 - r13 * s_phi2_pattern3
+    )
+    r23_theta1_pattern0 = (
+        c_phi2 * c_phi3_pattern0 * r22 + c_phi2 * r21 * s_phi3_pattern0 - r23 * s_phi2_pattern0
+    )
+    r23_theta1_pattern1 = (
+        c_phi2 * c_phi3_pattern1 * r22 + c_phi2 * r21 * s_phi3_pattern1 - r23 * s_phi2_pattern1
+    )
+    r23_theta1_pattern2 = (
+        c_phi2 * c_phi3_pattern2 * r22 + c_phi2 * r21 * s_phi3_pattern2 - r23 * s_phi2_pattern2
+    )
+    r23_theta1_pattern3 = (
+        c_phi2 * c_phi3_pattern3 * r22 + c_phi2 * r21 * s_phi3_pattern3 - r23 * s_phi2_pattern3
+    )
+    r33_theta1_pattern0 = (
+        c_phi2 * c_phi3_pattern0 * r32 + c_phi2 * r31 * s_phi3_pattern0 - r33 * s_phi2_pattern0
+    )
+    r33_theta1_pattern1 = (
+        c_phi2 * c_phi3_pattern1 * r32 + c_phi2 * r31 * s_phi3_pattern1 - r33 * s_phi2_pattern1
+    )
+    r33_theta1_pattern2 = (
+        c_phi2 * c_phi3_pattern2 * r32 + c_phi2 * r31 * s_phi3_pattern2 - r33 * s_phi2_pattern2
+    )
+    r33_theta1_pattern3 = (
+        c_phi2 * c_phi3_pattern3 * r32 + c_phi2 * r31 * s_phi3_pattern3 - r33 * s_phi2_pattern3
+    )
+    r31_theta1_pattern0 = (
+        c_phi2 * r33
+        + c_phi3_pattern0 * r32 * s_phi2_pattern0
+        + r31 * s_phi2_pattern0 * s_phi3_pattern0
+    )
+    r31_theta1_pattern1 = (
+        c_phi2 * r33
+        + c_phi3_pattern1 * r32 * s_phi2_pattern1
+        + r31 * s_phi2_pattern1 * s_phi3_pattern1
+    )
+    r31_theta1_pattern2 = (
+        c_phi2 * r33
+        + c_phi3_pattern2 * r32 * s_phi2_pattern2
+        + r31 * s_phi2_pattern2 * s_phi3_pattern2
+    )
+    r31_theta1_pattern3 = (
+        c_phi2 * r33
+        + c_phi3_pattern3 * r32 * s_phi2_pattern3
+        + r31 * s_phi2_pattern3 * s_phi3_pattern3
+    )
+    r32_theta1_pattern0 = c_phi3_pattern0 * r31 - r32 * s_phi3_pattern0
+    r32_theta1_pattern1 = c_phi3_pattern1 * r31 - r32 * s_phi3_pattern1
+    r32_theta1_pattern2 = c_phi3_pattern2 * r31 - r32 * s_phi3_pattern2
+    r32_theta1_pattern3 = c_phi3_pattern3 * r31 - r32 * s_phi3_pattern3
+    abs_c_theta2_pattern0 = casadi.sqrt(r13_theta1_pattern0**2 + r23_theta1_pattern0**2)
+    abs_c_theta2_pattern1 = casadi.sqrt(r13_theta1_pattern1**2 + r23_theta1_pattern1**2)
+    abs_c_theta2_pattern2 = casadi.sqrt(r13_theta1_pattern2**2 + r23_theta1_pattern2**2)
+    abs_c_theta2_pattern3 = casadi.sqrt(r13_theta1_pattern3**2 + r23_theta1_pattern3**2)
+    theta1_pattern0 = casadi.atan2(-r13_theta1_pattern0, r23_theta1_pattern0)
+    theta1_pattern1 = casadi.atan2(-r13_theta1_pattern1, r23_theta1_pattern1)
+    theta1_pattern2 = casadi.atan2(r13_theta1_pattern2, -r23_theta1_pattern2)
+    theta1_pattern3 = casadi.atan2(r13_theta1_pattern3, -r23_theta1_pattern3)
+    theta2_pattern0 = casadi.atan2(r33_theta1_pattern0, abs_c_theta2_pattern0)
+    theta2_pattern1 = casadi.atan2(r33_theta1_pattern1, abs_c_theta2_pattern1)
+    theta2_pattern2 = casadi.atan2(r33_theta1_pattern2, -abs_c_theta2_pattern2)
+    theta2_pattern3 = casadi.atan2(r33_theta1_pattern3, -abs_c_theta2_pattern3)
+    theta3_pattern0 = casadi.atan2(-r32_theta1_pattern0, r31_theta1_pattern0)
+    theta3_pattern1 = casadi.atan2(-r32_theta1_pattern1, r31_theta1_pattern1)
+    theta3_pattern2 = casadi.atan2(r32_theta1_pattern2, -r31_theta1_pattern2)
+    theta3_pattern3 = casadi.atan2(r32_theta1_pattern3, -r31_theta1_pattern3)
+    X_theta4 = r12 * (L4 * r12 + px) + r22 * (-L1 + L4 * r22 + py) + r32 * (L4 * r32 + pz)
+    Y_theta4 = -r11 * (L4 * r12 + px) - r21 * (-L1 + L4 * r22 + py) - r31 * (L4 * r32 + pz)
+    Z_theta4 = -r13 * (L4 * r12 + px) - r23 * (-L1 + L4 * r22 + py) - r33 * (L4 * r32 + pz)
+    rho_theta4 = casadi.sqrt(X_theta4**2 + Y_theta4**2)
+    L3 = casadi.sqrt(X_theta4**2 + Y_theta4**2 + Z_theta4**2)
+    c_phi5 = -Z_theta4 / L3
+    s_phi5_pattern0 = rho_theta4 / L3
+    s_phi5_pattern1 = -rho_theta4 / L3
+    s_phi5_pattern2 = rho_theta4 / L3
+    s_phi5_pattern3 = -rho_theta4 / L3
+    c_phi6_pattern0 = X_theta4 / rho_theta4
+    c_phi6_pattern1 = -X_theta4 / rho_theta4
+    c_phi6_pattern2 = X_theta4 / rho_theta4
+    c_phi6_pattern3 = -X_theta4 / rho_theta4
+    s_phi6_pattern0 = -Y_theta4 / rho_theta4
+    s_phi6_pattern1 = Y_theta4 / rho_theta4
+    s_phi6_pattern2 = -Y_theta4 / rho_theta4
+    s_phi6_pattern3 = Y_theta4 / rho_theta4
+    phi5_pattern0 = casadi.atan2(s_phi5_pattern0, c_phi5)
+    phi5_pattern1 = casadi.atan2(s_phi5_pattern1, c_phi5)
+    phi5_pattern2 = casadi.atan2(s_phi5_pattern2, c_phi5)
+    phi5_pattern3 = casadi.atan2(s_phi5_pattern3, c_phi5)
+    phi6_pattern0 = casadi.atan2(s_phi6_pattern0, c_phi6_pattern0)
+    phi6_pattern1 = casadi.atan2(s_phi6_pattern1, c_phi6_pattern1)
+    phi6_pattern2 = casadi.atan2(s_phi6_pattern2, c_phi6_pattern2)
+    phi6_pattern3 = casadi.atan2(s_phi6_pattern3, c_phi6_pattern3)
+    r13_theta4_pattern0 = (
+        c_phi5 * c_phi6_pattern0 * r12 + c_phi5 * r11 * s_phi6_pattern0 - r13 * s_phi5_pattern0
+    )
+    r13_theta4_pattern1 = (
+        c_phi5 * c_phi6_pattern1 * r12 + c_phi5 * r11 * s_phi6_pattern1 - r13 * s_phi5_pattern1
+    )
+    r13_theta4_pattern2 = (
+        c_phi5 * c_phi6_pattern2 * r12 + c_phi5 * r11 * s_phi6_pattern2 - r13 * s_phi5_pattern2
+    )
+    r13_theta4_pattern3 = (
+        c_phi5 * c_phi6_pattern3 * r12 + c_phi5 * r11 * s_phi6_pattern3 - r13 * s_phi5_pattern3
+    )
+    r23_theta4_pattern0 = (
+        c_phi5 * c_phi6_pattern0 * r22 + c_phi5 * r21 * s_phi6_pattern0 - r23 * s_phi5_pattern0
+    )
+    r23_theta4_pattern1 = (
+        c_phi5 * c_phi6_pattern1 * r22 + c_phi5 * r21 * s_phi6_pattern1 - r23 * s_phi5_pattern1
+    )
+    r23_theta4_pattern2 = (
+        c_phi5 * c_phi6_pattern2 * r22 + c_phi5 * r21 * s_phi6_pattern2 - r23 * s_phi5_pattern2
+    )
+    r23_theta4_pattern3 = (
+        c_phi5 * c_phi6_pattern3 * r22 + c_phi5 * r21 * s_phi6_pattern3 - r23 * s_phi5_pattern3
+    )
+    r33_theta4_pattern0 = (
+        c_phi5 * c_phi6_pattern0 * r32 + c_phi5 * r31 * s_phi6_pattern0 - r33 * s_phi5_pattern0
+    )
+    r33_theta4_pattern1 = (
+        c_phi5 * c_phi6_pattern1 * r32 + c_phi5 * r31 * s_phi6_pattern1 - r33 * s_phi5_pattern1
+    )
+    r33_theta4_pattern2 = (
+        c_phi5 * c_phi6_pattern2 * r32 + c_phi5 * r31 * s_phi6_pattern2 - r33 * s_phi5_pattern2
+    )
+    r33_theta4_pattern3 = (
+        c_phi5 * c_phi6_pattern3 * r32 + c_phi5 * r31 * s_phi6_pattern3 - r33 * s_phi5_pattern3
+    )
+    r31_theta4_pattern0 = (
+        c_phi5 * r33
+        + c_phi6_pattern0 * r32 * s_phi5_pattern0
+        + r31 * s_phi5_pattern0 * s_phi6_pattern0
+    )
+    r31_theta4_pattern1 = (
+        c_phi5 * r33
+        + c_phi6_pattern1 * r32 * s_phi5_pattern1
+        + r31 * s_phi5_pattern1 * s_phi6_pattern1
+    )
+    r31_theta4_pattern2 = (
+        c_phi5 * r33
+        + c_phi6_pattern2 * r32 * s_phi5_pattern2
+        + r31 * s_phi5_pattern2 * s_phi6_pattern2
+    )
+    r31_theta4_pattern3 = (
+        c_phi5 * r33
+        + c_phi6_pattern3 * r32 * s_phi5_pattern3
+        + r31 * s_phi5_pattern3 * s_phi6_pattern3
+    )
+    r32_theta4_pattern0 = c_phi6_pattern0 * r31 - r32 * s_phi6_pattern0
+    r32_theta4_pattern1 = c_phi6_pattern1 * r31 - r32 * s_phi6_pattern1
+    r32_theta4_pattern2 = c_phi6_pattern2 * r31 - r32 * s_phi6_pattern2
+    r32_theta4_pattern3 = c_phi6_pattern3 * r31 - r32 * s_phi6_pattern3
+    abs_c_theta5_pattern0 = casadi.sqrt(r13_theta4_pattern0**2 + r23_theta4_pattern0**2)
+    abs_c_theta5_pattern1 = casadi.sqrt(r13_theta4_pattern1**2 + r23_theta4_pattern1**2)
+    abs_c_theta5_pattern2 = casadi.sqrt(r13_theta4_pattern2**2 + r23_theta4_pattern2**2)
+    abs_c_theta5_pattern3 = casadi.sqrt(r13_theta4_pattern3**2 + r23_theta4_pattern3**2)
+    theta4_pattern0 = casadi.atan2(-r13_theta4_pattern0, r23_theta4_pattern0)
+    theta4_pattern1 = casadi.atan2(-r13_theta4_pattern1, r23_theta4_pattern1)
+    theta4_pattern2 = casadi.atan2(r13_theta4_pattern2, -r23_theta4_pattern2)
+    theta4_pattern3 = casadi.atan2(r13_theta4_pattern3, -r23_theta4_pattern3)
+    theta5_pattern0 = casadi.atan2(r33_theta4_pattern0, abs_c_theta5_pattern0)
+    theta5_pattern1 = casadi.atan2(r33_theta4_pattern1, abs_c_theta5_pattern1)
+    theta5_pattern2 = casadi.atan2(r33_theta4_pattern2, -abs_c_theta5_pattern2)
+    theta5_pattern3 = casadi.atan2(r33_theta4_pattern3, -abs_c_theta5_pattern3)
+    theta6_pattern0 = casadi.atan2(-r32_theta4_pattern0, r31_theta4_pattern0)
+    theta6_pattern1 = casadi.atan2(-r32_theta4_pattern1, r31_theta4_pattern1)
+    theta6_pattern2 = casadi.atan2(r32_theta4_pattern2, -r31_theta4_pattern2)
+    theta6_pattern3 = casadi.atan2(r32_theta4_pattern3, -r31_theta4_pattern3)
+    actuated = casadi.SX.zeros(6, 4)
+    actuated[0, 0] = theta1_pattern0
+    actuated[0, 1] = theta1_pattern1
+    actuated[0, 2] = theta1_pattern2
+    actuated[0, 3] = theta1_pattern3
+    actuated[1, 0] = theta2_pattern0
+    actuated[1, 1] = theta2_pattern1
+    actuated[1, 2] = theta2_pattern2
+    actuated[1, 3] = theta2_pattern3
+    actuated[2, 0] = theta3_pattern0
+    actuated[2, 1] = theta3_pattern1
+    actuated[2, 2] = theta3_pattern2
+    actuated[2, 3] = theta3_pattern3
+    actuated[3, 0] = theta4_pattern0
+    actuated[3, 1] = theta4_pattern1
+    actuated[3, 2] = theta4_pattern2
+    actuated[3, 3] = theta4_pattern3
+    actuated[4, 0] = theta5_pattern0
+    actuated[4, 1] = theta5_pattern1
+    actuated[4, 2] = theta5_pattern2
+    actuated[4, 3] = theta5_pattern3
+    actuated[5, 0] = theta6_pattern0
+    actuated[5, 1] = theta6_pattern1
+    actuated[5, 2] = theta6_pattern2
+    actuated[5, 3] = theta6_pattern3
+    passive = casadi.SX.zeros(6, 4)
+    passive[0, 0] = L2
+    passive[0, 1] = L2
+    passive[0, 2] = L2
+    passive[0, 3] = L2
+    passive[1, 0] = phi2_pattern0
+    passive[1, 1] = phi2_pattern1
+    passive[1, 2] = phi2_pattern2
+    passive[1, 3] = phi2_pattern3
+    passive[2, 0] = phi3_pattern0
+    passive[2, 1] = phi3_pattern1
+    passive[2, 2] = phi3_pattern2
+    passive[2, 3] = phi3_pattern3
+    passive[3, 0] = L3
+    passive[3, 1] = L3
+    passive[3, 2] = L3
+    passive[3, 3] = L3
+    passive[4, 0] = phi5_pattern0
+    passive[4, 1] = phi5_pattern1
+    passive[4, 2] = phi5_pattern2
+    passive[4, 3] = phi5_pattern3
+    passive[5, 0] = phi6_pattern0
+    passive[5, 1] = phi6_pattern1
+    passive[5, 2] = phi6_pattern2
+    passive[5, 3] = phi6_pattern3
+    validity = casadi.SX.zeros(4, 4)
+    validity[0, 0] = rho_theta1
+    validity[0, 1] = rho_theta1
+    validity[0, 2] = rho_theta1
+    validity[0, 3] = rho_theta1
+    validity[1, 0] = abs_c_theta2_pattern0
+    validity[1, 1] = abs_c_theta2_pattern1
+    validity[1, 2] = abs_c_theta2_pattern2
+    validity[1, 3] = abs_c_theta2_pattern3
+    validity[2, 0] = rho_theta4
+    validity[2, 1] = rho_theta4
+    validity[2, 2] = rho_theta4
+    validity[2, 3] = rho_theta4
+    validity[3, 0] = abs_c_theta5_pattern0
+    validity[3, 1] = abs_c_theta5_pattern1
+    validity[3, 2] = abs_c_theta5_pattern2
+    validity[3, 3] = abs_c_theta5_pattern3
+    return casadi.Function(
+        "sam_inverse_pose_patterns",
+        [
+            pose,
+            params,
+        ],
+        [
+            actuated,
+            passive,
+            validity,
+        ],
+        [
+            "pose",
+            "params",
+        ],
+        [
+            "actuated",
+            "passive",
+            "validity",
+        ],
+    )
+
+
 def forward_polynomial() -> casadi.Function:
     """Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 
@@ -1660,6 +1976,7 @@ BUILDERS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

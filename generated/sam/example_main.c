@@ -8,6 +8,7 @@
 //   singularity_factors: 261
 //   drawing: 111
 //   inverse_pose: 214
+//   inverse_pose_patterns: 488
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
 

@@ -8,6 +8,7 @@
 //   singularity_factors: 261
 //   drawing: 111
 //   inverse_pose: 214
+//   inverse_pose_patterns: 488
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
 
@@ -182,6 +183,10 @@ int sam_drawing_batch(long long n, const double** inputs, const long long* strid
 //   inputs: pose[12], branch[4], params[2]
 //   outputs: actuated[6], passive[6], validity[4]
 int sam_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[2]
+//   outputs: actuated[6 x 4], passive[6 x 4], validity[4 x 4]
+int sam_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[6], params[2]
 //   outputs: coefficients[3], degeneracies[2]

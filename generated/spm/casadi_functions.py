@@ -8,6 +8,7 @@
 #   singularity_factors: 223
 #   drawing: 169
 #   inverse_pose: 420
+#   inverse_pose_patterns: 643
 #   forward_polynomial: 5082
 #   forward_back_substitution: 4098
 
@@ -962,6 +963,301 @@ def inverse_pose() -> casadi.Function:
         [
             "pose",
             "branch",
+            "params",
+        ],
+        [
+            "actuated",
+            "passive",
+            "validity",
+        ],
+    )
+
+
+def inverse_pose_patterns() -> casadi.Function:
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 643.
+    """
+    pose = casadi.SX.sym("pose", 12)
+    params = casadi.SX.sym("params", 4)
+    r11 = pose[0]
+    r12 = pose[1]
+    r13 = pose[2]
+    r21 = pose[3]
+    r22 = pose[4]
+    r23 = pose[5]
+    r31 = pose[6]
+    r32 = pose[7]
+    r33 = pose[8]
+    alpha1 = params[0]
+    alpha2 = params[1]
+    beta = params[2]
+    gamma = params[3]
+    v1_x = r12 * casadi.sin(beta) + r13 * casadi.cos(beta)
+    v1_y = r22 * casadi.sin(beta) + r23 * casadi.cos(beta)
+    v1_z = r32 * casadi.sin(beta) + r33 * casadi.cos(beta)
+    A1 = (-v1_y * casadi.cos(gamma) - v1_z * casadi.sin(gamma)) * casadi.sin(alpha1)
+    B1 = -v1_x * casadi.sin(alpha1)
+    C1 = (v1_y * casadi.sin(gamma) - v1_z * casadi.cos(gamma)) * casadi.cos(alpha1) - casadi.cos(
+        alpha2
+    )
+    reach1 = A1**2 + B1**2 - C1**2
+    theta1_pattern0 = casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C1 / casadi.sqrt(A1**2 + B1**2)))
+    ) + casadi.atan2(B1, A1)
+    theta1_pattern1 = -casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C1 / casadi.sqrt(A1**2 + B1**2)))
+    ) + casadi.atan2(B1, A1)
+    _t0 = casadi.sin(theta1_pattern0)
+    cos_phi1_pattern0 = (
+        _t0 * v1_y * casadi.cos(gamma)
+        + _t0 * v1_z * casadi.sin(gamma)
+        - v1_x * casadi.cos(theta1_pattern0)
+    )
+    _t1 = casadi.sin(theta1_pattern1)
+    cos_phi1_pattern1 = (
+        _t1 * v1_y * casadi.cos(gamma)
+        + _t1 * v1_z * casadi.sin(gamma)
+        - v1_x * casadi.cos(theta1_pattern1)
+    )
+    _t2 = casadi.cos(gamma)
+    _t3 = casadi.sin(alpha1)
+    _t4 = casadi.sin(theta1_pattern0)
+    _t5 = _t4**2
+    _t6 = casadi.cos(theta1_pattern0)
+    _t7 = casadi.sin(gamma)
+    _t8 = casadi.cos(alpha1)
+    _t9 = _t3 * _t6
+    _t10 = -_t2 * _t9 + _t7 * _t8
+    _t11 = -_t2 * _t8 - _t7 * _t9
+    sin_phi1_pattern0 = (
+        v1_x * (_t10 * _t4 * _t7 - _t11 * _t2 * _t4)
+        + v1_y * (-_t11 * _t6 + _t3 * _t5 * _t7)
+        + v1_z * (_t10 * _t6 - _t2 * _t3 * _t5)
+    )
+    _t12 = casadi.cos(gamma)
+    _t13 = casadi.sin(alpha1)
+    _t14 = casadi.sin(theta1_pattern1)
+    _t15 = _t14**2
+    _t16 = casadi.cos(theta1_pattern1)
+    _t17 = casadi.sin(gamma)
+    _t18 = casadi.cos(alpha1)
+    _t19 = _t13 * _t16
+    _t20 = -_t12 * _t19 + _t17 * _t18
+    _t21 = -_t12 * _t18 - _t17 * _t19
+    sin_phi1_pattern1 = (
+        v1_x * (-_t12 * _t14 * _t21 + _t14 * _t17 * _t20)
+        + v1_y * (_t13 * _t15 * _t17 - _t16 * _t21)
+        + v1_z * (-_t12 * _t13 * _t15 + _t16 * _t20)
+    )
+    phi1_pattern0 = casadi.atan2(sin_phi1_pattern0, cos_phi1_pattern0)
+    phi1_pattern1 = casadi.atan2(sin_phi1_pattern1, cos_phi1_pattern1)
+    _t22 = (1 / 2) * casadi.sin(beta)
+    v2_x = -casadi.sqrt(3) * _t22 * r11 - _t22 * r12 + r13 * casadi.cos(beta)
+    _t23 = (1 / 2) * casadi.sin(beta)
+    v2_y = -casadi.sqrt(3) * _t23 * r21 - _t23 * r22 + r23 * casadi.cos(beta)
+    _t24 = (1 / 2) * casadi.sin(beta)
+    v2_z = -casadi.sqrt(3) * _t24 * r31 - _t24 * r32 + r33 * casadi.cos(beta)
+    _t25 = (1 / 2) * casadi.cos(gamma)
+    A2 = (casadi.sqrt(3) * _t25 * v2_x + _t25 * v2_y - v2_z * casadi.sin(gamma)) * casadi.sin(
+        alpha1
+    )
+    B2 = ((1 / 2) * v2_x - 1 / 2 * casadi.sqrt(3) * v2_y) * casadi.sin(alpha1)
+    _t26 = (1 / 2) * casadi.sin(gamma)
+    C2 = (-casadi.sqrt(3) * _t26 * v2_x - _t26 * v2_y - v2_z * casadi.cos(gamma)) * casadi.cos(
+        alpha1
+    ) - casadi.cos(alpha2)
+    reach2 = A2**2 + B2**2 - C2**2
+    theta2_pattern0 = casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C2 / casadi.sqrt(A2**2 + B2**2)))
+    ) + casadi.atan2(B2, A2)
+    theta2_pattern1 = -casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C2 / casadi.sqrt(A2**2 + B2**2)))
+    ) + casadi.atan2(B2, A2)
+    _t27 = casadi.sin(theta2_pattern0)
+    _t28 = casadi.cos(theta2_pattern0)
+    _t29 = casadi.sqrt(3)
+    _t30 = (1 / 2) * _t27 * casadi.cos(gamma)
+    cos_phi2_pattern0 = (
+        _t27 * v2_z * casadi.sin(gamma)
+        + v2_x * ((1 / 2) * _t28 - _t29 * _t30)
+        + v2_y * (-1 / 2 * _t28 * _t29 - _t30)
+    )
+    _t31 = casadi.sin(theta2_pattern1)
+    _t32 = casadi.cos(theta2_pattern1)
+    _t33 = casadi.sqrt(3)
+    _t34 = (1 / 2) * _t31 * casadi.cos(gamma)
+    cos_phi2_pattern1 = (
+        _t31 * v2_z * casadi.sin(gamma)
+        + v2_x * ((1 / 2) * _t32 - _t33 * _t34)
+        + v2_y * (-1 / 2 * _t32 * _t33 - _t34)
+    )
+    _t35 = casadi.sin(gamma)
+    _t36 = casadi.cos(alpha1)
+    _t37 = (1 / 2) * _t35 * _t36
+    _t38 = casadi.sin(alpha1)
+    _t39 = casadi.cos(gamma)
+    _t40 = casadi.cos(theta2_pattern0)
+    _t41 = casadi.sqrt(3)
+    _t42 = casadi.sin(theta2_pattern0)
+    _t43 = (1 / 2) * _t42
+    _t44 = -_t37 + _t38 * ((1 / 2) * _t39 * _t40 - _t41 * _t43)
+    _t45 = _t35 * _t42
+    _t46 = _t39 * _t43
+    _t47 = (1 / 2) * _t40 * _t41
+    _t48 = -_t46 - _t47
+    _t49 = -_t35 * _t38 * _t40 - _t36 * _t39
+    _t50 = (1 / 2) * _t40 - _t41 * _t46
+    _t51 = -_t37 * _t41 + _t38 * (_t39 * _t47 + _t43)
+    sin_phi2_pattern0 = (
+        v2_x * (_t44 * _t45 - _t48 * _t49)
+        + v2_y * (-_t45 * _t51 + _t49 * _t50)
+        + v2_z * (-_t44 * _t50 + _t48 * _t51)
+    )
+    _t52 = casadi.sin(gamma)
+    _t53 = casadi.cos(alpha1)
+    _t54 = (1 / 2) * _t52 * _t53
+    _t55 = casadi.sin(alpha1)
+    _t56 = casadi.cos(gamma)
+    _t57 = casadi.cos(theta2_pattern1)
+    _t58 = casadi.sqrt(3)
+    _t59 = casadi.sin(theta2_pattern1)
+    _t60 = (1 / 2) * _t59
+    _t61 = -_t54 + _t55 * ((1 / 2) * _t56 * _t57 - _t58 * _t60)
+    _t62 = _t52 * _t59
+    _t63 = _t56 * _t60
+    _t64 = (1 / 2) * _t57 * _t58
+    _t65 = -_t63 - _t64
+    _t66 = -_t52 * _t55 * _t57 - _t53 * _t56
+    _t67 = (1 / 2) * _t57 - _t58 * _t63
+    _t68 = -_t54 * _t58 + _t55 * (_t56 * _t64 + _t60)
+    sin_phi2_pattern1 = (
+        v2_x * (_t61 * _t62 - _t65 * _t66)
+        + v2_y * (-_t62 * _t68 + _t66 * _t67)
+        + v2_z * (-_t61 * _t67 + _t65 * _t68)
+    )
+    phi2_pattern0 = casadi.atan2(sin_phi2_pattern0, cos_phi2_pattern0)
+    phi2_pattern1 = casadi.atan2(sin_phi2_pattern1, cos_phi2_pattern1)
+    _t69 = (1 / 2) * casadi.sin(beta)
+    v3_x = casadi.sqrt(3) * _t69 * r11 - _t69 * r12 + r13 * casadi.cos(beta)
+    _t70 = (1 / 2) * casadi.sin(beta)
+    v3_y = casadi.sqrt(3) * _t70 * r21 - _t70 * r22 + r23 * casadi.cos(beta)
+    _t71 = (1 / 2) * casadi.sin(beta)
+    v3_z = casadi.sqrt(3) * _t71 * r31 - _t71 * r32 + r33 * casadi.cos(beta)
+    _t72 = casadi.cos(gamma)
+    A3 = (
+        -1 / 2 * casadi.sqrt(3) * _t72 * v3_x + (1 / 2) * _t72 * v3_y - v3_z * casadi.sin(gamma)
+    ) * casadi.sin(alpha1)
+    B3 = ((1 / 2) * v3_x + (1 / 2) * casadi.sqrt(3) * v3_y) * casadi.sin(alpha1)
+    _t73 = casadi.sin(gamma)
+    C3 = (
+        (1 / 2) * casadi.sqrt(3) * _t73 * v3_x - 1 / 2 * _t73 * v3_y - v3_z * casadi.cos(gamma)
+    ) * casadi.cos(alpha1) - casadi.cos(alpha2)
+    reach3 = A3**2 + B3**2 - C3**2
+    theta3_pattern0 = casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C3 / casadi.sqrt(A3**2 + B3**2)))
+    ) + casadi.atan2(B3, A3)
+    theta3_pattern1 = -casadi.acos(
+        casadi.fmax(-1, casadi.fmin(1, -C3 / casadi.sqrt(A3**2 + B3**2)))
+    ) + casadi.atan2(B3, A3)
+    _t74 = casadi.sin(theta3_pattern0)
+    _t75 = casadi.cos(theta3_pattern0)
+    _t76 = casadi.sqrt(3)
+    _t77 = (1 / 2) * _t74 * casadi.cos(gamma)
+    cos_phi3_pattern0 = (
+        _t74 * v3_z * casadi.sin(gamma)
+        + v3_x * ((1 / 2) * _t75 + _t76 * _t77)
+        + v3_y * ((1 / 2) * _t75 * _t76 - _t77)
+    )
+    _t78 = casadi.sin(theta3_pattern1)
+    _t79 = casadi.cos(theta3_pattern1)
+    _t80 = casadi.sqrt(3)
+    _t81 = (1 / 2) * _t78 * casadi.cos(gamma)
+    cos_phi3_pattern1 = (
+        _t78 * v3_z * casadi.sin(gamma)
+        + v3_x * ((1 / 2) * _t79 + _t80 * _t81)
+        + v3_y * ((1 / 2) * _t79 * _t80 - _t81)
+    )
+    _t82 = casadi.sin(gamma)
+    _t83 = casadi.cos(alpha1)
+    _t84 = (1 / 2) * _t82 * _t83
+    _t85 = casadi.sin(alpha1)
+    _t86 = casadi.cos(gamma)
+    _t87 = casadi.cos(theta3_pattern0)
+    _t88 = (1 / 2) * _t87
+    _t89 = casadi.sqrt(3)
+    _t90 = casadi.sin(theta3_pattern0)
+    _t91 = (1 / 2) * _t90
+    _t92 = -_t84 + _t85 * (_t86 * _t88 + _t89 * _t91)
+    _t93 = _t82 * _t90
+    _t94 = _t86 * _t91
+    _t95 = (1 / 2) * _t87 * _t89 - _t94
+    _t96 = -_t82 * _t85 * _t87 - _t83 * _t86
+    _t97 = _t88 + _t89 * _t94
+    _t98 = _t84 * _t89 + _t85 * (-_t86 * _t88 * _t89 + _t91)
+    sin_phi3_pattern0 = (
+        v3_x * (_t92 * _t93 - _t95 * _t96)
+        + v3_y * (-_t93 * _t98 + _t96 * _t97)
+        + v3_z * (-_t92 * _t97 + _t95 * _t98)
+    )
+    _t99 = casadi.sin(gamma)
+    _t100 = casadi.cos(alpha1)
+    _t101 = (1 / 2) * _t100 * _t99
+    _t102 = casadi.sin(alpha1)
+    _t103 = casadi.cos(gamma)
+    _t104 = casadi.cos(theta3_pattern1)
+    _t105 = (1 / 2) * _t104
+    _t106 = casadi.sqrt(3)
+    _t107 = casadi.sin(theta3_pattern1)
+    _t108 = (1 / 2) * _t107
+    _t109 = -_t101 + _t102 * (_t103 * _t105 + _t106 * _t108)
+    _t110 = _t107 * _t99
+    _t111 = _t103 * _t108
+    _t112 = (1 / 2) * _t104 * _t106 - _t111
+    _t113 = -_t100 * _t103 - _t102 * _t104 * _t99
+    _t114 = _t105 + _t106 * _t111
+    _t115 = _t101 * _t106 + _t102 * (-_t103 * _t105 * _t106 + _t108)
+    sin_phi3_pattern1 = (
+        v3_x * (_t109 * _t110 - _t112 * _t113)
+        + v3_y * (-_t110 * _t115 + _t113 * _t114)
+        + v3_z * (-_t109 * _t114 + _t112 * _t115)
+    )
+    phi3_pattern0 = casadi.atan2(sin_phi3_pattern0, cos_phi3_pattern0)
+    phi3_pattern1 = casadi.atan2(sin_phi3_pattern1, cos_phi3_pattern1)
+    actuated = casadi.SX.zeros(3, 2)
+    actuated[0, 0] = theta1_pattern0
+    actuated[0, 1] = theta1_pattern1
+    actuated[1, 0] = theta2_pattern0
+    actuated[1, 1] = theta2_pattern1
+    actuated[2, 0] = theta3_pattern0
+    actuated[2, 1] = theta3_pattern1
+    passive = casadi.SX.zeros(3, 2)
+    passive[0, 0] = phi1_pattern0
+    passive[0, 1] = phi1_pattern1
+    passive[1, 0] = phi2_pattern0
+    passive[1, 1] = phi2_pattern1
+    passive[2, 0] = phi3_pattern0
+    passive[2, 1] = phi3_pattern1
+    validity = casadi.SX.zeros(3, 2)
+    validity[0, 0] = reach1
+    validity[0, 1] = reach1
+    validity[1, 0] = reach2
+    validity[1, 1] = reach2
+    validity[2, 0] = reach3
+    validity[2, 1] = reach3
+    return casadi.Function(
+        "spm_inverse_pose_patterns",
+        [
+            pose,
+            params,
+        ],
+        [
+            actuated,
+            passive,
+            validity,
+        ],
+        [
+            "pose",
             "params",
         ],
         [
@@ -5175,6 +5471,7 @@ BUILDERS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -8,6 +8,7 @@
 //   singularity_factors: 223
 //   drawing: 169
 //   inverse_pose: 420
+//   inverse_pose_patterns: 643
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 

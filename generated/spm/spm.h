@@ -8,6 +8,7 @@
 //   singularity_factors: 223
 //   drawing: 169
 //   inverse_pose: 420
+//   inverse_pose_patterns: 643
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 
@@ -189,6 +190,10 @@ int spm_drawing_batch(long long n, const double** inputs, const long long* strid
 //   inputs: pose[12], branch[3], params[4]
 //   outputs: actuated[3], passive[3], validity[3]
 int spm_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[4]
+//   outputs: actuated[3 x 2], passive[3 x 2], validity[3 x 2]
+int spm_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[3], params[4]
 //   outputs: coefficients[9]

@@ -8,6 +8,7 @@
 //   singularity_factors: 136
 //   drawing: 112
 //   inverse_pose: 291
+//   inverse_pose_patterns: 293
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
 

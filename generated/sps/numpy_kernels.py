@@ -8,6 +8,7 @@
 #   singularity_factors: 136
 #   drawing: 112
 #   inverse_pose: 291
+#   inverse_pose_patterns: 293
 #   forward_polynomial: 1838
 #   forward_back_substitution: 3637
 
@@ -684,6 +685,192 @@ def inverse_pose(pose, branch, params):
     validity[..., 1] = (-d2 + d2_max) * (d2 - d2_min)
     validity[..., 2] = (-d3 + d3_max) * (d3 - d3_min)
     validity[..., 3] = sin_beta**2
+    return {
+        "actuated": actuated,
+        "passive": passive,
+        "validity": validity,
+    }
+
+
+def inverse_pose_patterns(pose, params):
+    """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+
+    Operations: 293.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(pose)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    r11 = pose[..., 0]
+    r12 = pose[..., 1]
+    r13 = pose[..., 2]
+    r21 = pose[..., 3]
+    r22 = pose[..., 4]
+    r23 = pose[..., 5]
+    r31 = pose[..., 6]
+    r32 = pose[..., 7]
+    r33 = pose[..., 8]
+    a1x = params[..., 0]
+    a2x = params[..., 1]
+    a2y = params[..., 2]
+    a3x = params[..., 3]
+    a3y = params[..., 4]
+    a3z = params[..., 5]
+    b1 = params[..., 6]
+    b2 = params[..., 7]
+    b3 = params[..., 8]
+    b12 = params[..., 9]
+    b23 = params[..., 10]
+    b13 = params[..., 11]
+    chi = params[..., 12]
+    d1_min = params[..., 13]
+    d1_max = params[..., 14]
+    d2_min = params[..., 15]
+    d2_max = params[..., 16]
+    d3_min = params[..., 17]
+    d3_max = params[..., 18]
+    B1_x = b1 * r11
+    B1_y = b1 * r21
+    B1_z = b1 * r31
+    d1 = numpy.sqrt(B1_y**2 + B1_z**2 + (-B1_x + a1x) ** 2)
+    _t0 = b1**2
+    _t1 = b2**2
+    _t2 = _t0 + _t1 - b12**2
+    B2_x = (1 / 2) * _t2 * r11 / b1 + b2 * r12 * numpy.sqrt(1 - 1 / 4 * _t2**2 / (_t0 * _t1))
+    _t3 = b1**2
+    _t4 = b2**2
+    _t5 = _t3 + _t4 - b12**2
+    B2_y = (1 / 2) * _t5 * r21 / b1 + b2 * r22 * numpy.sqrt(1 - 1 / 4 * _t5**2 / (_t3 * _t4))
+    _t6 = b1**2
+    _t7 = b2**2
+    _t8 = _t6 + _t7 - b12**2
+    B2_z = (1 / 2) * _t8 * r31 / b1 + b2 * r32 * numpy.sqrt(1 - 1 / 4 * _t8**2 / (_t6 * _t7))
+    d2 = numpy.sqrt(B2_z**2 + (-B2_x + a2x) ** 2 + (-B2_y + a2y) ** 2)
+    _t9 = b1**2
+    _t10 = b3**2
+    _t11 = _t10 + _t9 - b13**2
+    _t12 = b2**2
+    _t13 = _t10 + _t12 - b23**2
+    _t14 = 1 / (b2 * b3)
+    _t15 = 1 / _t9
+    _t16 = (1 / 4) * _t15
+    _t17 = _t12 + _t9 - b12**2
+    _t18 = 1 / _t12
+    _t19 = _t16 * _t17**2 * _t18
+    _t20 = b3 / numpy.sqrt(1 - _t19)
+    _t21 = 1 / _t10
+    B3_x = (
+        (1 / 2) * _t11 * r11 / b1
+        + _t20
+        * chi
+        * r13
+        * numpy.sqrt(
+            numpy.fmax(
+                0,
+                -(_t11**2) * _t16 * _t21
+                + (1 / 4) * _t11 * _t13 * _t15 * _t17 * _t18 * _t21
+                - 1 / 4 * _t13**2 * _t18 * _t21
+                - _t19
+                + 1,
+            )
+        )
+        + _t20 * r12 * (-_t11 * _t14 * _t16 * _t17 + (1 / 2) * _t13 * _t14)
+    )
+    _t22 = b1**2
+    _t23 = b3**2
+    _t24 = _t22 + _t23 - b13**2
+    _t25 = b2**2
+    _t26 = _t23 + _t25 - b23**2
+    _t27 = 1 / (b2 * b3)
+    _t28 = 1 / _t22
+    _t29 = (1 / 4) * _t28
+    _t30 = _t22 + _t25 - b12**2
+    _t31 = 1 / _t25
+    _t32 = _t29 * _t30**2 * _t31
+    _t33 = b3 / numpy.sqrt(1 - _t32)
+    _t34 = 1 / _t23
+    B3_y = (
+        (1 / 2) * _t24 * r21 / b1
+        + _t33
+        * chi
+        * r23
+        * numpy.sqrt(
+            numpy.fmax(
+                0,
+                -(_t24**2) * _t29 * _t34
+                + (1 / 4) * _t24 * _t26 * _t28 * _t30 * _t31 * _t34
+                - 1 / 4 * _t26**2 * _t31 * _t34
+                - _t32
+                + 1,
+            )
+        )
+        + _t33 * r22 * (-_t24 * _t27 * _t29 * _t30 + (1 / 2) * _t26 * _t27)
+    )
+    _t35 = b1**2
+    _t36 = b3**2
+    _t37 = _t35 + _t36 - b13**2
+    _t38 = b2**2
+    _t39 = _t36 + _t38 - b23**2
+    _t40 = 1 / (b2 * b3)
+    _t41 = 1 / _t35
+    _t42 = (1 / 4) * _t41
+    _t43 = _t35 + _t38 - b12**2
+    _t44 = 1 / _t38
+    _t45 = _t42 * _t43**2 * _t44
+    _t46 = b3 / numpy.sqrt(1 - _t45)
+    _t47 = 1 / _t36
+    B3_z = (
+        (1 / 2) * _t37 * r31 / b1
+        + _t46
+        * chi
+        * r33
+        * numpy.sqrt(
+            numpy.fmax(
+                0,
+                -(_t37**2) * _t42 * _t47
+                + (1 / 4) * _t37 * _t39 * _t41 * _t43 * _t44 * _t47
+                - 1 / 4 * _t39**2 * _t44 * _t47
+                - _t45
+                + 1,
+            )
+        )
+        + _t46 * r32 * (-_t37 * _t40 * _t42 * _t43 + (1 / 2) * _t39 * _t40)
+    )
+    d3 = numpy.sqrt((-B3_x + a3x) ** 2 + (-B3_y + a3y) ** 2 + (-B3_z + a3z) ** 2)
+    sin_beta = numpy.sqrt(r12**2 + r13**2)
+    beta_pattern0 = numpy.arctan2(sin_beta, r11)
+    beta_pattern1 = numpy.arctan2(-sin_beta, r11)
+    alpha_pattern0 = numpy.arctan2(r21, -r31)
+    alpha_pattern1 = numpy.arctan2(-r21, r31)
+    gamma_pattern0 = numpy.arctan2(r12, r13)
+    gamma_pattern1 = numpy.arctan2(-r12, -r13)
+    _t48 = (-d1 + d1_max) * (d1 - d1_min)
+    _t49 = (-d2 + d2_max) * (d2 - d2_min)
+    _t50 = (-d3 + d3_max) * (d3 - d3_min)
+    _t51 = sin_beta**2
+    actuated = numpy.zeros(shape + (3, 2))
+    actuated[..., 0, 0] = d1
+    actuated[..., 0, 1] = d1
+    actuated[..., 1, 0] = d2
+    actuated[..., 1, 1] = d2
+    actuated[..., 2, 0] = d3
+    actuated[..., 2, 1] = d3
+    passive = numpy.zeros(shape + (3, 2))
+    passive[..., 0, 0] = alpha_pattern0
+    passive[..., 0, 1] = alpha_pattern1
+    passive[..., 1, 0] = beta_pattern0
+    passive[..., 1, 1] = beta_pattern1
+    passive[..., 2, 0] = gamma_pattern0
+    passive[..., 2, 1] = gamma_pattern1
+    validity = numpy.zeros(shape + (4, 2))
+    validity[..., 0, 0] = _t48
+    validity[..., 0, 1] = _t48
+    validity[..., 1, 0] = _t49
+    validity[..., 1, 1] = _t49
+    validity[..., 2, 0] = _t50
+    validity[..., 2, 1] = _t50
+    validity[..., 3, 0] = _t51
+    validity[..., 3, 1] = _t51
     return {
         "actuated": actuated,
         "passive": passive,
@@ -2703,6 +2890,7 @@ KERNELS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
 }

@@ -8,6 +8,7 @@
 //   singularity_factors: 136
 //   drawing: 112
 //   inverse_pose: 291
+//   inverse_pose_patterns: 293
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
 
@@ -64,9 +65,9 @@
 //   gamma_n sin psi at that t, |E_n| its coefficient norm, so that neither degenerate case, E1 = 0
 //   at b1o = +-a2o or E2 = 0, loses the root), builds b1o, b2o and R, then takes six gated
 //   Cayley-Newton steps on the leg equations. At a (near-)double root t (two configurations with
-//   nearly the same b1o), rounding may split the pair into complex roots with imaginary parts
-//   ~ sqrt(eps): their real parts are tried (imaginary tolerance 1e-3), and the two branches tau
-//   give the two configurations. Candidates that do not close are dropped by the runtime, and
+//   nearly the same b1o), rounding may split the pair into a complex pair close to the real axis:
+//   the root isolation reports it as a near-real root (a local minimum of |p| within the near-real
+//   tolerance), and the two branches tau give the two configurations. Candidates that do not close are dropped by the runtime, and
 //   duplicates merged, so a mode's (root, branch) slot does not label it:
 //   ``paper_labels`` of ``examples/sps_section5.py`` computes (v, s1, s2) from the configuration (paper order
 //   v1..v4 = branches (s1, s2) = (+, +), (+, -), (-, +), (-, -)), and
@@ -243,6 +244,10 @@ int sps_drawing_batch(long long n, const double** inputs, const long long* strid
 //   inputs: pose[12], branch[1], params[22]
 //   outputs: actuated[3], passive[3], validity[4]
 int sps_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
+//   inputs: pose[12], params[22]
+//   outputs: actuated[3 x 2], passive[3 x 2], validity[4 x 2]
+int sps_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[3], params[22]
 //   outputs: coefficients[9]
