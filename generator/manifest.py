@@ -69,6 +69,7 @@ def _parameters(mechanism: Mechanism) -> list[dict[str, Any]]:
                 "default": float(default),
                 "unit": info.unit if info else "",
                 "description": info.description if info else "",
+                "domain": info.domain if info else "real",
             }
         )
     return result

@@ -184,12 +184,23 @@ class Citation:
         return f"{', '.join(self.authors)}{year}: {self.title}{venue}{doi}"
 
 
+#: parameter domains: any finite value, > 0, >= 0, != 0, or exactly +1 / -1
+DOMAINS = ("real", "positive", "nonnegative", "nonzero", "sign")
+
+
 @dataclass(frozen=True)
 class ParameterInfo:
     """Unit and meaning of one parameter (``Mechanism.parameter_info``)."""
 
     unit: str
     description: str = ""
+    #: the values the parameter may take, checked by ``parakin.load``: one of ``DOMAINS``
+    domain: str = "real"
+
+
+    def __post_init__(self) -> None:
+        if self.domain not in DOMAINS:
+            raise ValueError(f"parameter domain {self.domain!r} is not one of {DOMAINS}")
 
 
 @dataclass

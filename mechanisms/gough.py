@@ -279,9 +279,9 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
     for k in range(5):
         info[XA[k]] = ParameterInfo("m", f"x of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
         info[YA[k]] = ParameterInfo("m", f"y of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
-    info[t11] = ParameterInfo("", "platform map, eq (1): x_B = t11 x_A + t12 y_A (t11 t22 != 0)")
+    info[t11] = ParameterInfo("", "platform map, eq (1): x_B = t11 x_A + t12 y_A (t11 t22 != 0)", "nonzero")
     info[t12] = ParameterInfo("", "platform map, eq (1): shear term of x_B = t11 x_A + t12 y_A")
-    info[t22] = ParameterInfo("", "platform map, eq (1): y_B = t22 y_A (t11 t22 != 0)")
+    info[t22] = ParameterInfo("", "platform map, eq (1): y_B = t22 y_A (t11 t22 != 0)", "nonzero")
     return info
 
 
@@ -310,6 +310,7 @@ def build() -> Mechanism:
         home={**dict(zip(lengths, SECTION_54_LENGTHS, strict=True)), x: 0.0, y: 0.0, z: 30.0}
         | {alpha: 0.0, beta: 0.0, gamma: 0.0},
         angular=[alpha, beta, gamma],
+        limits={length: (0.0, float("inf")) for length in lengths},  # leg lengths
         parallel_factors=parallel,
         closure=closure(),
         rates=rate_model,

@@ -289,13 +289,13 @@ def build() -> Mechanism:
         pose_kind="rotation",
         parameter_info={
             alpha1: ParameterInfo(
-                "rad", "proximal link angle, between the actuated axis u_i and the intermediate axis w_i"
+                "rad", "proximal link angle, between the actuated axis u_i and the intermediate axis w_i", "positive"
             ),
             alpha2: ParameterInfo(
-                "rad", "distal link angle, between the intermediate axis w_i and the platform axis v_i"
+                "rad", "distal link angle, between the intermediate axis w_i and the platform axis v_i", "positive"
             ),
-            beta: ParameterInfo("rad", "platform pyramid half-angle, between Z_P and each platform axis v0_i"),
-            gamma: ParameterInfo("rad", "base pyramid half-angle, between -Z_B and each actuated axis u_i"),
+            beta: ParameterInfo("rad", "platform pyramid half-angle, between Z_P and each platform axis v0_i", "nonnegative"),
+            gamma: ParameterInfo("rad", "base pyramid half-angle, between -Z_B and each actuated axis u_i", "nonnegative"),
         },
         examples=EXAMPLES,
         drawing=drawing(),

@@ -417,21 +417,21 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
     info = {
         a1x: ParameterInfo("m", "x of the base point A1 (on the x_b axis), section 5"),
         a2x: ParameterInfo("m", "x of the base point A2 (in the x_b y_b plane)"),
-        a2y: ParameterInfo("m", "y of the base point A2 (> 0)"),
+        a2y: ParameterInfo("m", "y of the base point A2 (> 0)", "positive"),
         a3x: ParameterInfo("m", "x of the base point A3 (printed -2.720: a typo for +2.720)"),
         a3y: ParameterInfo("m", "y of the base point A3"),
         a3z: ParameterInfo("m", "z of the base point A3"),
-        b12: ParameterInfo("m", "distance between the platform points B1 and B2"),
-        b23: ParameterInfo("m", "distance between the platform points B2 and B3"),
-        b13: ParameterInfo("m", "distance between the platform points B1 and B3"),
-        chi: ParameterInfo("", "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)"),
+        b12: ParameterInfo("m", "distance between the platform points B1 and B2", "positive"),
+        b23: ParameterInfo("m", "distance between the platform points B2 and B3", "positive"),
+        b13: ParameterInfo("m", "distance between the platform points B1 and B3", "positive"),
+        chi: ParameterInfo("", "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)", "sign"),
     }
     for i in range(3):
-        info[(b1, b2, b3)[i]] = ParameterInfo("m", f"distance |Q B{i + 1}| from the centre Q to the platform point")
-        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)")
-        info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)")
+        info[(b1, b2, b3)[i]] = ParameterInfo("m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive")
+        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "positive")
+        info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)", "positive")
         info[stiffness[i]] = ParameterInfo(
-            "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)"
+            "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "positive"
         )
     return info
 
@@ -476,6 +476,7 @@ def build() -> Mechanism:
             **dict(zip((alpha, beta, gamma), HOME_EULER, strict=True)),
         },
         angular=[alpha, beta, gamma],
+        limits={length: (0.0, float("inf")) for length in d},  # leg lengths
         parallel_factors=parallel,
         closure=closure(),
         rates=rate_model,

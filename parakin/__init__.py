@@ -17,8 +17,6 @@ import os
 import warnings
 from typing import Any
 
-import numpy as np
-
 from parakin.backends import make_backend
 from parakin.errors import (
     ArchitectureSingularityWarning,
@@ -43,6 +41,7 @@ from parakin.pose import (
     xyz_euler_from_pose,
 )
 from parakin.results import AssemblyModes, Configuration, ForwardPose, InversePose, Rates
+from parakin.validation import as_array, in_domain, real_number
 
 __version__ = "0.2.0"
 
@@ -59,24 +58,31 @@ def metadata(name: str | os.PathLike[str]) -> Manifest:
 
 
 def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str, float]:
+    """Defaults overridden by ``given``: finite reals, each in its manifest domain."""
     values = manifest.parameter_defaults
     groups = {g.name: g for g in manifest.parameter_groups}
     for key, value in given.items():
         if key in groups:
             group = groups[key]
-            array = np.asarray(value, dtype=float)
+            array = as_array(value, f"parameter {key!r}", group.shape)  # type: ignore[arg-type]
             if array.shape != group.shape:
                 raise BadInputError(f"parameter {key!r} must have shape {group.shape}, got {array.shape}")
             values.update(zip(group.symbols, (float(v) for v in array.ravel()), strict=True))
         elif key in values:
-            number = float(value)  # type: ignore[arg-type]
-            if not math.isfinite(number):
-                raise BadInputError(f"parameter {key!r} must be finite, got {number}")
-            values[key] = number
+            values[key] = real_number(value, f"parameter {key!r}")
         else:
             valid = sorted([*values, *groups])
             raise UnknownMechanismError(f"unknown parameter {key!r} for {manifest.name!r}; valid: {valid}")
+    for parameter in manifest.parameters:
+        in_domain(values[parameter.name], parameter.name, parameter.domain)
     return values
+
+
+def _bound(value: object, key: str) -> float:
+    """One side of a joint range: a finite real, or -inf / inf for an open side."""
+    if isinstance(value, float) and math.isinf(value):
+        return value
+    return real_number(value, f"limits[{key!r}]")
 
 
 def load(
@@ -101,7 +107,12 @@ def load(
     for key, bound in (limits or {}).items():
         if key not in manifest.passive_names:
             raise UnknownMechanismError(f"unknown limit {key!r} for {manifest.name!r}; valid: {manifest.passive_names}")
-        bounds[key] = (float(bound[0]), float(bound[1]))
+        if not isinstance(bound, tuple | list) or len(bound) != 2:
+            raise BadInputError(f"limits[{key!r}] must be a (low, high) pair, got {bound!r}")
+        low, high = (_bound(value, key) for value in bound)
+        if not low < high:
+            raise BadInputError(f"limits[{key!r}] must be (low, high) with low < high, got {bound!r}")
+        bounds[key] = (float(low), float(high))
     mechanism = Mechanism(package, make_backend(package, backend), values, bounds)
     if mechanism.is_architecturally_singular():
         measures = ", ".join(f"{k} = {v:.3g}" for k, v in mechanism.architecture().items())

@@ -35,10 +35,13 @@ class Citation:
 
 @dataclass(frozen=True)
 class Parameter:
+    """A scalar parameter; ``domain``: real, positive, nonnegative, nonzero or sign (+1 / -1)."""
+
     name: str
     default: float
     unit: str
     description: str
+    domain: str = "real"
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,7 @@ from parakin.package import GeneratedPackage
 from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
 from parakin.tracker import ForwardPoseTracker
+from parakin.validation import within_ranges
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -82,6 +83,8 @@ class Mechanism:
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
+        self._actuated_low = np.array([v.limits[0] for v in manifest.actuated], dtype=float)
+        self._actuated_high = np.array([v.limits[1] for v in manifest.actuated], dtype=float)
         self._single_input = threading.local()  # forward_pose_all's reusable one-input job
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
@@ -116,7 +119,10 @@ class Mechanism:
 
     # ------------------------------------------------------------------ input checks
     def _actuated(self, value: ArrayLike) -> Array:
-        return as_array(value, "actuated", (len(self.actuated_names),))
+        """Actuated values (..., n_a): finite reals inside each actuator's declared range."""
+        theta = as_array(value, "actuated", (len(self.actuated_names),))
+        within_ranges(theta, self.actuated_names, self._actuated_low, self._actuated_high, "actuated")
+        return theta
 
     def _passive(self, value: ArrayLike) -> Array:
         return as_array(value, "passive", (len(self.passive_names),))

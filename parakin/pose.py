@@ -11,23 +11,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from parakin.errors import BadInputError
+from parakin.validation import as_array
 
 Array = NDArray[np.float64]
-
-
-def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...]) -> Array:
-    """``value`` as a float array whose last axes are ``trailing``; finite, or BadInputError."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as error:
-        raise BadInputError(f"{name} must be numeric, got {type(value).__name__}") from error
-    if array.ndim < len(trailing) or array.shape[array.ndim - len(trailing) :] != trailing:
-        expected = "(..., " + ", ".join(str(n) for n in trailing) + ")"
-        raise BadInputError(f"{name} must have shape {expected}, got {array.shape}")
-    if not np.isfinite(array).all():
-        bad = np.argwhere(~np.isfinite(array))[0]
-        raise BadInputError(f"{name} has a non-finite value at index {tuple(int(i) for i in bad)}")
-    return array
 
 
 def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Array:
@@ -46,7 +32,9 @@ def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Ar
 
 def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> Array:
     """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), eq (2) of Williams & Poling; radians."""
-    a, b, g = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (alpha, beta, gamma)))
+    a, b, g = np.broadcast_arrays(
+        *(as_array(x, n, ()) for x, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma")))
+    )
     ca, sa, cb, sb, cg, sg = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(g), np.sin(g)
     return np.stack(
         [
@@ -86,7 +74,7 @@ def xyz_euler_from_pose(pose: ArrayLike) -> Array:
 
 def pose_from_xyz_euler_deg(xyz_euler_deg: ArrayLike) -> Array:
     """As ``pose_from_xyz_euler`` with the three angles in degrees (lengths still in metres)."""
-    values = np.array(xyz_euler_deg, dtype=float)
+    values = as_array(xyz_euler_deg, "xyz_euler_deg", (6,)).copy()
     values[..., 3:] = np.deg2rad(values[..., 3:])
     return pose_from_xyz_euler(values)
 
@@ -134,11 +122,5 @@ def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array
 
 
 def as_array_any(value: ArrayLike, name: str) -> Array:
-    """A real float array of any shape, or BadInputError (complex, strings, objects, ragged)."""
-    try:
-        array = np.asarray(value)
-    except ValueError as error:
-        raise BadInputError(f"{name}: not an array ({error})") from error
-    if array.dtype.kind not in "biuf":
-        raise BadInputError(f"{name} must be real numbers, got dtype {array.dtype}")
-    return np.asarray(array, dtype=float)
+    """A finite real float array of any shape, or BadInputError."""
+    return as_array(value, name, ())

@@ -1,0 +1,99 @@
+"""Input validation shared by every public entry point: one place that turns a user value into a
+float array of the right shape, or into a ``BadInputError`` naming the value and what is wrong.
+
+Accepted numbers: integers and reals (Python, NumPy). Rejected: complex values (their imaginary
+part would be dropped), booleans, strings, bytes, None and object arrays, even when NumPy could
+convert them, so that a typo never becomes a number.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from parakin.errors import BadInputError
+
+Array = NDArray[np.float64]
+
+#: the largest iteration count an option accepts (the C driver counts in 64 bits; this bounds time)
+MAX_ITERATIONS = 1_000_000
+
+
+def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...]) -> Array:
+    """``value`` as a float array whose last axes are ``trailing``; finite, or BadInputError."""
+    if isinstance(value, str | bytes) or value is None:
+        raise BadInputError(f"{name} must be numeric, got {type(value).__name__}")
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError) as error:  # ragged nested sequences
+        raise BadInputError(f"{name} must be a numeric array of one shape, got {type(value).__name__}") from error
+    if raw.dtype.kind not in "iuf":
+        what = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "object"}.get(raw.dtype.kind)
+        raise BadInputError(f"{name} must be real numbers, got {what or raw.dtype} values")
+    array = raw.astype(float)
+    if array.ndim < len(trailing) or array.shape[array.ndim - len(trailing) :] != trailing:
+        expected = "(..., " + ", ".join(str(n) for n in trailing) + ")"
+        raise BadInputError(f"{name} must have shape {expected}, got {array.shape}")
+    if not np.isfinite(array).all():
+        bad = np.argwhere(~np.isfinite(array))[0]
+        raise BadInputError(f"{name} has a non-finite value at index {tuple(int(i) for i in bad)}")
+    return array
+
+
+def real_number(value: object, name: str) -> float:
+    """A finite real scalar (int or float, not bool/complex/str), or BadInputError."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise BadInputError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise BadInputError(f"{name} must be finite, got {number}")
+    return number
+
+
+def positive_number(value: object, name: str, allow_zero: bool = False) -> float:
+    """A finite number > 0 (>= 0 with ``allow_zero``), or BadInputError."""
+    number = real_number(value, name)
+    if number < 0 or (number == 0 and not allow_zero):
+        raise BadInputError(f"{name} must be {'>= 0' if allow_zero else '> 0'}, got {number}")
+    return number
+
+
+def count(value: object, name: str, minimum: int = 0, maximum: int = MAX_ITERATIONS) -> int:
+    """An integer in [minimum, maximum] (no bool, no float), or BadInputError."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
+        raise BadInputError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+    number = int(value)
+    if not minimum <= number <= maximum:
+        raise BadInputError(f"{name} must be in [{minimum}, {maximum}], got {number}")
+    return number
+
+
+def in_domain(value: float, name: str, domain: str) -> None:
+    """Check a parameter against its manifest domain (real, positive, nonnegative, nonzero, sign)."""
+    allowed = {
+        "real": True,
+        "positive": value > 0,
+        "nonnegative": value >= 0,
+        "nonzero": value != 0,
+        "sign": value in (1.0, -1.0),
+    }
+    if domain not in allowed:
+        raise BadInputError(f"parameter {name!r} has an unknown domain {domain!r} in its manifest")
+    if not allowed[domain]:
+        wanted = {"positive": "> 0", "nonnegative": ">= 0", "nonzero": "!= 0", "sign": "+1 or -1"}[domain]
+        raise BadInputError(f"parameter {name!r} must be {wanted}, got {value}")
+
+
+def within_ranges(values: Array, names: Sequence[str], low: Array, high: Array, what: str) -> None:
+    """Every entry of ``values`` (..., n) inside its closed range [low, high], or BadInputError
+    naming the variable, its value, its range and the batch index."""
+    outside = (values < low) | (values > high)
+    if outside.any():
+        where = tuple(int(i) for i in np.argwhere(outside)[0])
+        k = where[-1]
+        at = f" at batch index {where[:-1]}" if where[:-1] else ""
+        raise BadInputError(f"{what} {names[k]} = {values[where]:g}{at} is outside its range [{low[k]:g}, {high[k]:g}]")
