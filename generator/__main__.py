@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 
 from .build import GenerationError, generate
@@ -14,6 +15,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("names", nargs="*", help="mechanisms to build (default: every file in mechanisms/)")
     parser.add_argument("--workers", type=int, default=None, help="parallel processes (default: one per core)")
     args = parser.parse_args(argv)
+    # a terminated build unwinds like an interrupted one: its staging folder is removed
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     try:
         report = generate(args.names or None, workers=args.workers)
     except GenerationError as error:

@@ -49,6 +49,8 @@ NEWTON_JOB = [
     ("pose", "double*"),
     ("residual", "double*"),
     ("conditioning", "double*"),
+    ("orientation", "int32*"),
+    ("first_step", "double*"),
     ("iterations", "int32*"),
     ("status", "int32*"),
 ]

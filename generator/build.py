@@ -25,7 +25,9 @@ from typing import Any
 import casadi
 
 from . import emit
+from .checks import check_inverse, check_variables
 from .derive import derive
+from .errors import GenerationError
 from .manifest import build_manifest
 from .model import Mechanism
 from .program import LoweredProgram
@@ -33,10 +35,6 @@ from .program import LoweredProgram
 MECHANISMS = Path(__file__).resolve().parent.parent / "mechanisms"
 GENERATED = Path(__file__).resolve().parent.parent / "generated"
 GENERATED_INIT = '"""Generated code only: written by `make generate`, never edited by hand."""\n'
-
-
-class GenerationError(RuntimeError):
-    """A mechanism file could not be turned into a generated package (the message says why)."""
 
 
 def discover(directory: Path = MECHANISMS) -> dict[str, Path]:
@@ -63,10 +61,15 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
     if spec is None or spec.loader is None:
         raise GenerationError(f"{path}: not a Python file")
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    if not callable(getattr(module, "build", None)):
-        raise GenerationError(f"{path}: a mechanism file defines build() -> parakin.generator.Mechanism")
-    mechanism = module.build()
+    try:
+        spec.loader.exec_module(module)
+        if not callable(getattr(module, "build", None)):
+            raise GenerationError(f"{path}: a mechanism file defines build() -> parakin.generator.Mechanism")
+        mechanism = module.build()
+    except GenerationError:
+        raise
+    except Exception as error:  # the file's own error, in one line with where it happened
+        raise GenerationError(f"{path}: {type(error).__name__}: {error}") from error
     if not isinstance(mechanism, Mechanism):
         raise GenerationError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
     mechanism.name = name
@@ -105,6 +108,19 @@ def generate_package(path: Path, package: Path, name: str | None = None) -> dict
     """Write the generated package of the mechanism file ``path`` into the folder ``package``."""
     started = time.perf_counter()
     mechanism, module = load_definition(path, name)
+    try:
+        check_variables(mechanism)
+        check_inverse(mechanism)
+        return _write_package(path, package, mechanism, module, started)
+    except GenerationError:
+        raise
+    except Exception as error:  # a model the checks did not foresee: one line, not a traceback
+        raise GenerationError(f"{mechanism.name}: {type(error).__name__}: {error}") from error
+
+
+def _write_package(
+    path: Path, package: Path, mechanism: Mechanism, module: ModuleType, started: float
+) -> dict[str, Any]:
     derivation = derive(mechanism)
     lowered = [program.lower() for program in derivation.programs]
     casadi_source = emit.render_casadi(mechanism.name, lowered)
@@ -149,6 +165,22 @@ def _swap_in(staging: Path, destination: Path) -> None:
         staging.rename(destination)
 
 
+def _remove_abandoned(parent: Path) -> None:
+    """Staging folders of builds that were killed (SIGKILL leaves no chance to clean up): their
+    name carries the builder's process id, so a folder whose process is gone is removed."""
+    for folder in parent.glob(".generated-*-*"):
+        try:
+            pid = int(folder.name.split("-")[1])
+        except (IndexError, ValueError):
+            continue
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except PermissionError:  # alive, someone else's
+            continue
+
+
 def _build_one(job: tuple[str, str, str]) -> tuple[str, dict[str, Any]]:
     name, source, package = job
     return name, generate_package(Path(source), Path(package), name)
@@ -168,7 +200,8 @@ def generate(
     if unknown:
         raise GenerationError(f"unknown mechanism(s) {unknown}; found in mechanisms/: {sorted(sources)}")
     destination.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".generated-", dir=destination.parent))
+    _remove_abandoned(destination.parent)
+    staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=destination.parent))
     staging.chmod(0o755)
     try:
         (staging / "__init__.py").write_text(GENERATED_INIT)
@@ -198,7 +231,8 @@ def generate_file(path: Path, package: Path) -> dict[str, Any]:
     path, package = Path(path).resolve(), Path(package).resolve()
     name = validate_name(path.stem)
     package.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{package.name}-", dir=package.parent))
+    _remove_abandoned(package.parent)
+    staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=package.parent))
     try:
         report = generate_package(path, staging, name)
         _format(staging)

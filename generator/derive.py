@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import mpmath
 import sympy as sp
 
+from .checks import check_closure, check_program_symbols
 from .frames import vee
 from .model import POSE_SYMBOLS, Mechanism
 from .program import Program
@@ -373,6 +374,7 @@ def derive(mechanism: Mechanism) -> Derivation:
     state = [actuated, passive, params]
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
+    check_closure(mechanism, residual)
     if mechanism.passive:
         jacobian_passive = residual.jacobian(mechanism.passive)
         jacobian_actuated = residual.jacobian(mechanism.actuated)
@@ -510,4 +512,7 @@ def derive(mechanism: Mechanism) -> Derivation:
         }
         symbolic["forward_polynomial"] = sp.Add(*(c * forward.unknown**k for k, c in enumerate(forward.coefficients)))
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))
+    for program in programs:
+        inputs = [symbol for _, group in program.inputs for symbol in group]
+        check_program_symbols(mechanism, program.name, inputs, program.steps, [m for _, m in program.outputs])
     return Derivation(programs, symbolic, metadata)

@@ -240,7 +240,8 @@ def _example_job(manifest: dict[str, Any], which: str) -> list[tuple[str, str]]:
         values = {
             **common, "guess": "guess", "guess_stride": "0", "max_iterations": "30", "tolerance": "1e-12",
             "max_step": "0.5", "singular_ratio": repr(tol["singular_ratio"]), "passive": "solved", "pose": "pose",
-            "residual": "&norm", "conditioning": "&ratio", "iterations": "&iterations", "status": "&newton_status",
+            "residual": "&norm", "conditioning": "&ratio", "orientation": "&orientation", "first_step": "&first_step",
+            "iterations": "&iterations", "status": "&newton_status",
         }  # fmt: skip
         return [(name, values[name]) for name, _ in NEWTON_JOB]
     values = {

@@ -197,7 +197,6 @@ class ParameterInfo:
     #: the values the parameter may take, checked by ``parakin.load``: one of ``DOMAINS``
     domain: str = "real"
 
-
     def __post_init__(self) -> None:
         if self.domain not in DOMAINS:
             raise ValueError(f"parameter domain {self.domain!r} is not one of {DOMAINS}")

@@ -431,7 +431,7 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
         info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "positive")
         info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)", "positive")
         info[stiffness[i]] = ParameterInfo(
-            "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "positive"
+            "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "nonzero"
         )
     return info
 

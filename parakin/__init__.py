@@ -20,6 +20,7 @@ from typing import Any
 from parakin.backends import make_backend
 from parakin.errors import (
     ArchitectureSingularityWarning,
+    AssemblyModeChangeError,
     BadInputError,
     ConvergenceError,
     InconsistentInputError,
@@ -137,6 +138,7 @@ def symbolic(name: str | os.PathLike[str]) -> dict[str, object]:
 
 __all__ = [
     "ArchitectureSingularityWarning",
+    "AssemblyModeChangeError",
     "AssemblyModes",
     "BadInputError",
     "Configuration",

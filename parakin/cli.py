@@ -233,6 +233,10 @@ def _generate(args: argparse.Namespace) -> int:
         raise ParakinError(
             f"generating needs the generator extra: pip install 'parakin[generator]' ({error})"
         ) from error
+    import signal
+
+    # a terminated build unwinds like an interrupted one: its staging folder is removed
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     try:
         report = generate_file(args.file, args.out)
     except GenerationError as error:

@@ -61,6 +61,8 @@ def _correct(m: Mechanism, theta: Array, q: Array, tolerance: float, iterations:
             if not (out["alignment"] > 0).all():
                 return q, np.inf
             break
+        if not np.isfinite(jacobian).all():
+            return q, np.inf
         step = np.linalg.lstsq(jacobian, -r, rcond=1e-10)[0]
         q = q + step
     return q, residual

@@ -53,6 +53,17 @@ class ConvergenceError(ParakinError):
         self.residual = residual
 
 
+class AssemblyModeChangeError(ParakinError):
+    """A tracked solution left its assembly mode: it crossed a type II singularity (the closure
+    Jacobian's determinant changed sign) or jumped to another branch. ``index`` is the batch entry
+    and ``change`` the kind ('crossed_singularity' or 'jumped_branch')."""
+
+    def __init__(self, message: str, index: int, change: str) -> None:
+        super().__init__(message)
+        self.index = index
+        self.change = change
+
+
 class InconsistentInputError(ParakinError):
     """Inputs that no configuration satisfies (for example incompatible locked leg lengths)."""
 

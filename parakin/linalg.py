@@ -13,8 +13,9 @@ import numpy as np
 from parakin.results import Array
 
 
-def pivoted_solve(matrix: Array, rhs: Array) -> tuple[Array, Array]:
-    """Solve ``matrix @ x = rhs`` for (..., n, n) and (..., n); returns (x, pivot ratio (...)).
+def pivoted_solve(matrix: Array, rhs: Array) -> tuple[Array, Array, Array]:
+    """Solve ``matrix @ x = rhs`` for (..., n, n) and (..., n); returns (x, pivot ratio (...),
+    sign of det matrix (...), int32, 0 where singular).
 
     Entries whose ratio is 0 (a zero or non-finite pivot) get x = NaN."""
     a = np.array(matrix, dtype=float)
@@ -22,19 +23,22 @@ def pivoted_solve(matrix: Array, rhs: Array) -> tuple[Array, Array]:
     n = a.shape[-1]
     batch = a.shape[:-2]
     if n == 0:
-        return b, np.ones(batch)
+        return b, np.ones(batch), np.ones(batch, dtype=np.int32)
+    sign = np.ones(batch, dtype=np.int32)
     smallest = np.full(batch, np.inf)
     largest = np.zeros(batch)
     index = np.indices(batch) if batch else ()
     with np.errstate(all="ignore"):
         for k in range(n):
             best = k + np.argmax(np.abs(a[..., k:, k]), axis=-1)
+            sign = np.where(best != k, -sign, sign)
             # swap rows k and best (a no-op where best == k)
             row_k, row_best = a[..., k, :].copy(), a[(*index, best)].copy()
             a[..., k, :], a[(*index, best)] = row_best, row_k
             b_k, b_best = b[..., k].copy(), b[(*index, best)].copy()
             b[..., k], b[(*index, best)] = b_best, b_k
             pivot = np.abs(a[..., k, k])
+            sign = np.where(a[..., k, k] < 0, -sign, sign)
             smallest = np.where(np.isfinite(pivot), np.fmin(smallest, pivot), 0.0)
             largest = np.fmax(largest, np.where(np.isfinite(pivot), pivot, 0.0))
             factor = a[..., k + 1 :, k] / a[..., k, k, None]
@@ -46,4 +50,4 @@ def pivoted_solve(matrix: Array, rhs: Array) -> tuple[Array, Array]:
         ratio = np.where(largest > 0, smallest / largest, 0.0)
     ratio = np.where(np.isfinite(ratio), ratio, 0.0)
     x = np.where((ratio > 0)[..., None], x, np.nan)
-    return x, ratio
+    return x, ratio, np.where(ratio > 0, sign, 0).astype(np.int32)

@@ -33,9 +33,9 @@ from parakin.manifest import Capabilities, Manifest, Variable
 from parakin.modes import assemble, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
 from parakin.pose import as_array, transform_from_pose, wrap_angle
-from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, Rates
+from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
-from parakin.validation import within_ranges
+from parakin.validation import positive_number, within_ranges
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -264,13 +264,10 @@ class Mechanism:
         start = np.broadcast_to(guess_passive, batch + guess_passive.shape[-1:])
         theta = np.broadcast_to(theta, batch + theta.shape[-1:])
         if self.backend.name == "compiled":
-            passive, pose, residual, iterations, status = self._newton_compiled(
-                theta, start, tolerance, max_iterations, max_step
-            )
+            solved = self._newton_compiled(theta, start, tolerance, max_iterations, max_step)
         else:
-            passive, pose, residual, iterations, status, _ = self._newton_python(
-                theta, start, tolerance, max_iterations, max_step
-            )
+            solved = self._newton_python(theta, start, tolerance, max_iterations, max_step)
+        passive, pose, residual, iterations, status = solved[:5]
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
         converged = status == STATUS_OK
         if strict:
@@ -285,7 +282,7 @@ class Mechanism:
         max_iterations: int,
         max_step: float,
         keep_last: bool = False,
-    ):
+    ) -> NewtonOutcome:
         """The NumPy Newton loop (same steps and statuses as the C driver's ``newton``); a failed
         entry returns its guess, or with ``keep_last`` its last iterate."""
         q = np.array(start, dtype=float)
@@ -294,6 +291,8 @@ class Mechanism:
         iterations = np.zeros(batch, dtype=np.int32)
         residual_norm = np.full(batch, np.nan)
         conditioning = np.full(batch, np.nan)
+        orientation = np.zeros(batch, dtype=np.int32)
+        first_step = np.full(batch, np.nan)
         # as in the C driver: non-finite inputs are reported, not iterated
         finite_input = np.isfinite(np.broadcast_to(theta, batch + theta.shape[-1:])).all(-1) & np.isfinite(q).all(-1)
         status[~finite_input] = NEWTON_NONFINITE
@@ -318,8 +317,11 @@ class Mechanism:
             # a Jacobian that is not finite (e.g. a zero-length leg) is a singularity of the closure
             defined = np.asarray(np.isfinite(out["jacobian"]).all(axis=(-2, -1)))
             jacobian = np.where(defined[..., None, None], out["jacobian"], 0.0)
-            step, ratio = pivoted_solve(jacobian, np.where(np.isfinite(out["residual"]), out["residual"], 0.0))
+            step, ratio, sign = pivoted_solve(jacobian, np.where(np.isfinite(out["residual"]), out["residual"], 0.0))
             conditioning = np.where(active, ratio, conditioning)
+            orientation = np.where(active, sign, orientation)
+            if iteration == 0:
+                first_step = np.where(active, np.abs(step).max(-1, initial=0.0), first_step)
             singular = active & ~(ratio > self.tolerances["singular_ratio"])
             status[singular] = STATUS_SINGULAR
             status[done & ~singular] = STATUS_OK
@@ -334,20 +336,24 @@ class Mechanism:
         q = np.where(((status == STATUS_OK) | keep_last)[..., None], q, start)
         status = np.where((status == STATUS_NO_CONVERGENCE) & ~np.isfinite(residual_norm), NEWTON_NONFINITE, status)
         pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
-        return q, pose, residual_norm, iterations, status, conditioning
+        return NewtonOutcome(q, pose, residual_norm, iterations, status, conditioning, orientation, first_step)
 
-    def _newton_compiled(self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float):
+    def _newton_compiled(
+        self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float
+    ) -> NewtonOutcome:
         batch = theta.shape[:-1]
         if batch == ():
             return self._newton_compiled_single(theta, start, tolerance, max_iterations, max_step)
         count = int(np.prod(batch, dtype=np.int64))
         theta_c = np.ascontiguousarray(theta, dtype=float)
         start_c = np.ascontiguousarray(start, dtype=float)
-        out = {
+        out: dict[str, Any] = {
             "passive": np.empty(batch + start.shape[-1:]),
             "pose": np.empty(batch + (4, 4)),
             "residual": np.empty(batch),
             "conditioning": np.empty(batch),
+            "orientation": np.empty(batch, dtype=np.int32),
+            "first_step": np.empty(batch),
             "iterations": np.empty(batch, dtype=np.int32),
             "status": np.empty(batch, dtype=np.int32),
         }
@@ -362,11 +368,14 @@ class Mechanism:
             },
         )  # fmt: skip
         backend.newton(ctypes.byref(job))  # type: ignore[attr-defined]
-        return out["passive"], out["pose"], out["residual"], out["iterations"], out["status"]
+        return NewtonOutcome(
+            out["passive"], out["pose"], out["residual"], out["iterations"], out["status"],
+            out["conditioning"], out["orientation"], out["first_step"],
+        )  # fmt: skip
 
     def _newton_compiled_single(
         self, theta: Array, start: Array, tolerance: float, max_iterations: int, max_step: float
-    ):
+    ) -> NewtonOutcome:
         """One input: a preallocated job, so the foreign call takes one argument (the tracker's
         path), then copies of the outputs."""
         job = getattr(self._single_jobs, "job", None)
@@ -379,18 +388,27 @@ class Mechanism:
         job.actuated[0] = theta
         job.passive[0] = start
         job.call()
-        return (
-            job.passive[0].copy(),
-            job.pose[0].copy(),
-            job.residual[0].copy(),
-            job.iterations[0].copy(),
-            job.status[0].copy(),
-        )
+        # 0-d arrays, as the NumPy loop returns for one input
+        return NewtonOutcome(
+            job.passive[0].copy(), job.pose[0].copy(), np.array(job.residual[0]), np.array(job.iterations[0]),
+            np.array(job.status[0]), np.array(job.conditioning[0]), np.array(job.orientation[0]),
+            np.array(job.first_step[0]),
+        )  # fmt: skip
 
-    def tracker(self, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> ForwardPoseTracker:
+    def tracker(
+        self,
+        start: Configuration,
+        tolerance: float = 1e-12,
+        max_iterations: int = 30,
+        strict: bool = True,
+        jump_ratio: float = 4.0,
+        trust_step: float = 0.25,
+    ) -> ForwardPoseTracker:
         """A ForwardPoseTracker from ``start`` (a solved configuration, batch allowed): Newton from
-        the previous solution with preallocated buffers; the fast path of a control loop."""
-        return ForwardPoseTracker(self, start, tolerance, max_iterations)
+        the previous solution with preallocated buffers; the fast path of a control loop. It
+        reports every change of assembly mode (a crossed type II singularity, a jump to another
+        branch) in ``mode_change``, and with ``strict`` raises AssemblyModeChangeError."""
+        return ForwardPoseTracker(self, start, tolerance, max_iterations, strict, jump_ratio, trust_step)
 
     # ------------------------------------------------------------------ forward pose, all modes
     def forward_pose_all(self, actuated: ArrayLike, strict: bool = True) -> AssemblyModes:
@@ -505,9 +523,8 @@ class Mechanism:
         rates = self._actuated(actuated_rates)
         out = self.backend.call("loop_closure", theta, passive, self.params)
         actuated_jacobian = self.backend.call("loop_closure_actuated", theta, passive, self.params)["jacobian_actuated"]
-        self._check_conditioning(out["jacobian"], "loop-closure Jacobian", "a type II (parallel) singularity")
-        right = -(actuated_jacobian @ rates[..., None])
-        return np.asarray(np.linalg.solve(out["jacobian"], right)[..., 0], dtype=np.float64)
+        right = -(actuated_jacobian @ rates[..., None])[..., 0]
+        return self._solve(out["jacobian"], right, "loop-closure Jacobian", "a type II (parallel) singularity")
 
     def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
         """Each leg's 6x6 Jacobian (eq 9): twist (v of the origin of {P}, w; in {B}) per joint
@@ -519,42 +536,51 @@ class Mechanism:
     def inverse_rate(self, state: Configuration, twist: ArrayLike, damping: float | None = None) -> Rates:
         """Joint rates for a platform twist (..., 6) = (v, w) in {B} (eq 10), leg by leg.
 
-        ``damping``: None solves exactly and raises SingularConfigurationError at a singular leg;
-        a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1, the
-        paper's recommendation near a singular leg (the motion is then not exactly as commanded).
+        ``damping``: None solves exactly and raises SingularConfigurationError at a singular
+        Jacobian; a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1 of
+        the matrix that maps joint rates to the twist (each leg's J, or B of A twist = B rates),
+        the paper's recommendation near a serial singularity (the motion is then not exactly as
+        commanded). A single state broadcasts against a batch of twists and the reverse.
         """
+        if damping is not None:
+            damping = positive_number(damping, "damping")
         if self.capabilities.rates is not None:
-            return self._inverse_rate_ab(state, twist)
+            return self._inverse_rate_ab(state, twist, damping)
+        self._require(self.capabilities.legs, "inverse_rate", "rate model (A/B Jacobians or serial legs)")
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
-        actuated_rates = np.zeros(
-            broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1]) + (len(self.actuated_names),)
-        )
-        passive_rates = np.zeros(actuated_rates.shape[:-1] + (len(self.passive_names),))
+        batch = broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1])
+        actuated_rates = np.zeros(batch + (len(self.actuated_names),))
+        passive_rates = np.zeros(batch + (len(self.passive_names),))
         for leg, jacobian in jacobians.items():
+            jacobian = np.broadcast_to(jacobian, batch + jacobian.shape[-2:])
+            target_twist = np.broadcast_to(xdot, batch + (6,))
             if damping is None:
-                self._check_conditioning(
-                    jacobian, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse"
+                joint_rates = self._solve(
+                    jacobian, target_twist, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse"
                 )
-                joint_rates = np.linalg.solve(jacobian, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None])[..., 0]
             else:
-                gram = jacobian @ np.swapaxes(jacobian, -1, -2) + damping**2 * np.eye(6)
-                joint_rates = (
-                    np.swapaxes(jacobian, -1, -2)
-                    @ np.linalg.solve(gram, np.broadcast_to(xdot, jacobian.shape[:-1])[..., None])
-                )[..., 0]
+                joint_rates = self._damped(jacobian, target_twist, damping, f"{leg} leg Jacobian")
             for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
                 target = actuated_rates if is_actuated else passive_rates
                 target[..., index] = joint_rates[..., column]
         return Rates(actuated_rates, passive_rates)
 
-    def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike) -> Rates:
+    def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike, damping: float | None) -> Rates:
         omega = as_array(twist, "twist", (self.manifest.twist_size,))
         jacobians = self.rate_jacobians(state)
-        self._check_conditioning(jacobians["b"], "B (inverse Jacobian)", "a serial (type I) singularity")
-        right = jacobians["a"] @ omega[..., None]
-        rates = np.linalg.solve(jacobians["b"], right)[..., 0]
-        return Rates(np.asarray(rates, dtype=np.float64), self.passive_rates(state, rates))
+        right = (jacobians["a"] @ omega[..., None])[..., 0]
+        b = np.broadcast_to(jacobians["b"], right.shape[:-1] + jacobians["b"].shape[-2:])
+        if damping is None:
+            rates = self._solve(b, right, "B (inverse Jacobian)", "a serial (type I) singularity; pass damping=...")
+        else:
+            rates = self._damped(b, right, damping, "B (inverse Jacobian)")
+        state_b = Configuration(
+            np.broadcast_to(state.actuated, rates.shape),
+            np.broadcast_to(state.passive, rates.shape[:-1] + state.passive.shape[-1:]),
+            np.broadcast_to(state.pose, rates.shape[:-1] + (4, 4)),
+        )
+        return Rates(rates, self.passive_rates(state_b, rates))
 
     def rate_matrix(self, state: Configuration) -> Array:
         """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
@@ -562,8 +588,10 @@ class Mechanism:
         jacobians = self.leg_jacobians(state)
         rows: list[np.ndarray] = [np.zeros(0)] * len(self.actuated_names)
         for leg, jacobian in jacobians.items():
-            self._check_conditioning(jacobian, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible")
-            inverse = np.linalg.inv(jacobian)
+            identity = np.broadcast_to(np.eye(6), jacobian.shape)
+            inverse = self._solve(
+                jacobian, identity, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible"
+            )
             for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
                 if is_actuated:
                     rows[index] = inverse[..., column, :]
@@ -574,23 +602,49 @@ class Mechanism:
         rates = self._actuated(actuated_rates)
         if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
-            self._check_conditioning(jacobians["a"], "A (direct Jacobian)", "a type II (parallel) singularity")
-            twist = np.linalg.solve(jacobians["a"], (jacobians["b"] @ rates[..., None]))[..., 0]
-            return np.asarray(twist, dtype=np.float64)
+            right = (jacobians["b"] @ rates[..., None])[..., 0]
+            a = np.broadcast_to(jacobians["a"], right.shape[:-1] + jacobians["a"].shape[-2:])
+            return self._solve(a, right, "A (direct Jacobian)", "a type II (parallel) singularity")
         matrix = self.rate_matrix(state)
-        self._check_conditioning(matrix, "rate matrix M (eq 12)", "a type II (parallel) singularity")
-        twist = np.linalg.solve(matrix, np.broadcast_to(rates, matrix.shape[:-1])[..., None])[..., 0]
-        return np.asarray(twist, dtype=np.float64)
+        batch = broadcast_shapes(matrix.shape[:-2], rates.shape[:-1])
+        return self._solve(
+            np.broadcast_to(matrix, batch + matrix.shape[-2:]),
+            np.broadcast_to(rates, batch + rates.shape[-1:]),
+            "rate matrix M (eq 12)",
+            "a type II (parallel) singularity",
+        )
 
-    @staticmethod
-    def _check_conditioning(matrix: Array, what: str, hint: str) -> None:
-        singular_values = np.linalg.svd(matrix, compute_uv=False)
-        ratio = singular_values[..., -1] / np.maximum(singular_values[..., 0], 1e-300)
-        bad = ~(ratio > 1e-10)
+    def _solve(self, matrix: Array, rhs: Array, what: str, hint: str) -> Array:
+        """matrix @ x = rhs by the one pivoted solve and singularity criterion of every backend
+        (pivot ratio above the manifest's singular_ratio), or SingularConfigurationError. ``rhs``
+        (..., n) or, with as many axes as ``matrix``, (..., n, k) columns."""
+        if rhs.ndim == matrix.ndim:
+            columns = np.swapaxes(rhs, -1, -2)
+            shape = np.broadcast_shapes(matrix.shape[:-2], rhs.shape[:-2])
+            solved = self._solve(
+                np.broadcast_to(matrix[..., None, :, :], shape + (columns.shape[-2],) + matrix.shape[-2:]),
+                np.broadcast_to(columns, shape + columns.shape[-2:]),
+                what,
+                hint,
+            )
+            return np.swapaxes(solved, -1, -2)
+        x, ratio, _ = pivoted_solve(matrix, rhs)
+        bad = ~(ratio > self.tolerances["singular_ratio"])
         if bad.any():
             index = tuple(int(i) for i in np.argwhere(bad)[0])
             at = f" at batch index {index}" if index else ""
-            raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
+            raise SingularConfigurationError(
+                f"{what} is singular{at} (pivot ratio {float(ratio[index]):.3g} <= "
+                f"{self.tolerances['singular_ratio']:g}); {hint}"
+            )
+        return np.asarray(x, dtype=np.float64)
+
+    def _damped(self, matrix: Array, rhs: Array, damping: float, what: str) -> Array:
+        """x = J^T (J J^T + damping^2 I)^-1 rhs: finite for any J when damping > 0."""
+        transposed = np.swapaxes(matrix, -1, -2)
+        gram = matrix @ transposed + damping**2 * np.eye(matrix.shape[-1])
+        y = self._solve(gram, rhs, f"damped {what}", "increase damping")
+        return np.asarray((transposed @ y[..., None])[..., 0], dtype=np.float64)
 
     # ------------------------------------------------------------------ statics
     def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:

@@ -207,7 +207,7 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     pending = outcome < 0
     if pending.any():
         where = np.nonzero(pending)
-        polished_q, polished_pose, polished_norm, _, status, ratio = m._newton_python(
+        polished_q, polished_pose, polished_norm, _, status, ratio, _, _ = m._newton_python(
             theta_slots[where], q[where], settings["tolerance"], int(settings["polish_iterations"]), 0.5, keep_last=True
         )
         conditioning[where] = ratio

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -108,6 +109,21 @@ class AssemblyModes:
         reason = np.where(has_root & ~with_mode, per_root.max(-1), -1)
         rejected = {name: (reason == code).sum(-1) for code, name in enumerate(self.outcomes) if code > 1}
         return {"roots": has_root.sum(-1), "with_modes": with_mode.sum(-1), "rejected": rejected}  # type: ignore[dict-item]
+
+
+class NewtonOutcome(NamedTuple):
+    """What a Newton loop returns per entry (both backends): the solution (or the guess where it
+    failed), its pose, the residual reached, iterations, status (``errors.NEWTON_*``), pivot ratio
+    and determinant sign of the closure Jacobian, and the size of the first step."""
+
+    passive: Array
+    pose: Array
+    residual: Array
+    iterations: NDArray[np.int32]
+    status: NDArray[np.int32]
+    conditioning: Array
+    orientation: NDArray[np.int32]
+    first_step: Array
 
 
 @dataclass(frozen=True)

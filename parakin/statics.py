@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
+from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
 from parakin.pose import as_array
 from parakin.results import Array, Configuration, ForwardPose
 
@@ -41,8 +41,6 @@ if TYPE_CHECKING:
 
 #: twist components of a leg-based model (no A/B rate model): (v of the origin of {P}, w) in {B}
 LEG_TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
-#: 1 / condition number below which a matrix counts as singular
-SINGULAR_RATIO = 1e-10
 
 Wrench = ArrayLike | Callable[[Configuration], ArrayLike]
 
@@ -59,16 +57,6 @@ def twist_names(m: Mechanism) -> tuple[str, ...]:
     )
 
 
-def _check(matrix: Array, what: str, hint: str) -> None:
-    singular_values = np.linalg.svd(matrix, compute_uv=False)
-    ratio = singular_values[..., -1] / np.maximum(singular_values[..., 0], 1e-300)
-    bad = ~(ratio > SINGULAR_RATIO)
-    if bad.any():
-        index = tuple(int(i) for i in np.argwhere(bad)[0])
-        at = f" at batch index {index}" if index else ""
-        raise SingularConfigurationError(f"{what} is singular{at} (1/cond = {float(ratio[index]):.3g}); {hint}")
-
-
 def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None]:
     """(A, B) with A twist = B actuated_rates; B is None for a leg model (A = M, B = I)."""
     twist_names(m)
@@ -83,8 +71,7 @@ def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
     a, b = _rate_model(m, state)
     if b is None:
         return a
-    _check(b, "B (inverse Jacobian)", "a serial (type I) singularity: an actuator rate is not defined")
-    return np.asarray(np.linalg.solve(b, a), dtype=np.float64)
+    return m._solve(b, a, "B (inverse Jacobian)", "a serial (type I) singularity: an actuator rate is not defined")
 
 
 def _wrench(m: Mechanism, wrench: ArrayLike) -> Array:
@@ -101,12 +88,16 @@ def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Ar
     singular and some wrench cannot be held."""
     w = _wrench(m, wrench)
     a, b = _rate_model(m, state)
-    _check(a, "A (direct Jacobian)" if b is not None else "rate matrix M", "a type II (parallel) singularity")
     transposed = np.swapaxes(a, -1, -2)
-    w = np.broadcast_to(w, np.broadcast_shapes(w.shape[:-1], a.shape[:-2]) + w.shape[-1:])
-    y = np.linalg.solve(transposed, w[..., None])
-    tau = -y if b is None else -(np.swapaxes(b, -1, -2) @ y)
-    return np.asarray(tau[..., 0], dtype=np.float64)
+    batch = np.broadcast_shapes(w.shape[:-1], a.shape[:-2])
+    y = m._solve(
+        np.broadcast_to(transposed, batch + transposed.shape[-2:]),
+        np.broadcast_to(w, batch + w.shape[-1:]),
+        "A (direct Jacobian)" if b is not None else "rate matrix M",
+        "a type II (parallel) singularity",
+    )
+    tau = -y if b is None else -(np.swapaxes(b, -1, -2) @ y[..., None])[..., 0]
+    return np.asarray(tau, dtype=np.float64)
 
 
 def _actuator_stiffness(m: Mechanism, actuator_stiffness: ArrayLike) -> Array:
@@ -192,7 +183,7 @@ def equilibrium(
     if command.ndim != 1:
         raise BadInputError(f"equilibrium takes one commanded input (n_a,), got shape {command.shape}")
     k = _actuator_stiffness(m, actuator_stiffness)
-    compliance = np.linalg.inv(k)
+    compliance = m._solve(k, np.eye(k.shape[-1]), "actuator stiffness matrix", "every actuator needs a stiffness")
     load: Callable[[Configuration], Any] = wrench if callable(wrench) else (lambda _state: wrench)
 
     def forces(q: Array, start: Any) -> tuple[Array, ForwardPose]:
@@ -218,7 +209,9 @@ def equilibrium(
                 e = np.zeros(q.size)
                 e[j] = h
                 columns.append((gap(q + e, state)[0] - gap(q - e, state)[0]) / (2 * h))
-            update = -np.linalg.solve(np.column_stack(columns), value)
+            update = -m._solve(
+                np.column_stack(columns), value, "equilibrium Jacobian", "the compliant equilibrium is not isolated"
+            )
         q = q + update
         history.append(float(np.abs(update).max()))
         if not np.isfinite(history[-1]) or history[-1] < tolerance:

@@ -1,5 +1,19 @@
 """A forward-pose tracker for control loops: Newton from the previous solution, with every
-buffer allocated once, so a solve costs one foreign call on the compiled backend."""
+buffer allocated once, so a solve costs one foreign call on the compiled backend.
+
+Tracking never changes assembly mode silently. After each solve, every entry is checked for
+- a crossing: the sign of det(d closure / d passive) at the new solution differs from the previous
+  one, so a type II singularity lies between them (the mode on the far side is another one), and
+- a suspect step: the solution moved more than ``jump_ratio`` times the first Newton step (the
+  change the linearisation at the previous solution predicts), or that first step exceeds
+  ``trust_step`` (beyond the linearisation's reach Newton finds *a* solution, not necessarily the
+  one on this branch: 8 of 10 such coarse SPM steps landed on another branch). A suspect entry is
+  re-solved by continuation in ``SUBSTEPS`` steps from its previous solution, which keeps the
+  branch; what even that cannot follow (a crossing, a fold where the branch ends, a step still
+  too coarse) is flagged.
+``mode_change`` says what happened (``MODE_CHANGES``); with ``strict`` a flagged step raises
+``AssemblyModeChangeError`` and the entries keep their previous solution.
+"""
 
 from __future__ import annotations
 
@@ -8,8 +22,16 @@ import ctypes
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, raise_for_newton_status
+from parakin.errors import AssemblyModeChangeError, BadInputError, raise_for_newton_status
+from parakin.linalg import pivoted_solve
+from parakin.pose import wrap_angle
 from parakin.results import Array, Configuration
+from parakin.validation import count, positive_number
+
+#: ``ForwardPoseTracker.mode_change`` codes
+MODE_CHANGES = ("none", "crossed_singularity", "left_branch", "step_too_coarse")
+#: substeps of the continuation that re-solves a suspect step
+SUBSTEPS = 32
 
 
 class ForwardPoseTracker:
@@ -17,26 +39,53 @@ class ForwardPoseTracker:
 
     ``solve(actuated)`` runs Newton from the previous solution and returns the passive values
     (n, n_p) and poses (n, 4, 4) as views of internal buffers (copy them to keep them); the
-    last ``residual``, ``iterations`` and ``status`` stay readable. Raises ConvergenceError or
-    SingularConfigurationError like ``Mechanism.forward_pose``.
+    last ``residual``, ``iterations``, ``status``, ``conditioning`` (pivot ratio of the closure
+    Jacobian), ``orientation`` (sign of its determinant) and ``mode_change`` stay readable.
+    Raises ConvergenceError or SingularConfigurationError like ``Mechanism.forward_pose``, and
+    with ``strict`` AssemblyModeChangeError (see the module docstring).
     """
 
-    def __init__(self, mechanism, start: Configuration, tolerance: float = 1e-12, max_iterations: int = 30) -> None:
-        passive = np.array(start.passive, dtype=float).reshape(-1, len(mechanism.passive_names))
+    def __init__(
+        self,
+        mechanism,
+        start: Configuration,
+        tolerance: float = 1e-12,
+        max_iterations: int = 30,
+        strict: bool = True,
+        jump_ratio: float = 4.0,
+        trust_step: float = 0.25,
+    ) -> None:
+        if not isinstance(start, Configuration):
+            raise BadInputError(f"start must be a Configuration (from a solver), got {type(start).__name__}")
+        theta, passive = mechanism._state(start)
+        tolerance = positive_number(tolerance, "tolerance")
+        max_iterations = count(max_iterations, "max_iterations")
+        self.jump_ratio = positive_number(jump_ratio, "jump_ratio")
+        self.trust_step = positive_number(trust_step, "trust_step")
+        self.strict = bool(strict)
+        passive = passive.reshape(-1, len(mechanism.passive_names))
         self.mechanism = mechanism
         self.count = passive.shape[0]
         shape = (self.count, len(mechanism.actuated_names))
-        self.actuated = np.array(np.broadcast_to(np.atleast_2d(start.actuated), shape), dtype=float, order="C")
+        try:
+            self.actuated = np.array(np.broadcast_to(np.atleast_2d(theta), shape), dtype=float, order="C")
+        except ValueError as error:
+            raise BadInputError(f"start: actuated {theta.shape} does not match passive {passive.shape}") from error
         self.passive = np.ascontiguousarray(passive)
         self.pose = np.zeros((self.count, 4, 4))
         self.residual = np.zeros(self.count)
         self.iterations = np.zeros(self.count, dtype=np.int32)
         self.status = np.zeros(self.count, dtype=np.int32)
+        self.conditioning = np.zeros(self.count)
+        self.orientation = np.zeros(self.count, dtype=np.int32)
+        self.first_step = np.zeros(self.count)
+        self.mode_change = np.zeros(self.count, dtype=np.int32)
+        self._previous = self.passive.copy()
+        self._previous_orientation = self._orientation_at(self.actuated, self.passive)
         self._params = np.ascontiguousarray(mechanism.params)
         self._tolerance, self._max_iterations = tolerance, max_iterations
         backend = mechanism.backend
         self._compiled = backend.name == "compiled"
-        self.conditioning = np.zeros(self.count)
         if self._compiled:
             n_a, n_p = self.actuated.shape[1], self.passive.shape[1]
             self._job = backend.job(
@@ -47,11 +96,16 @@ class ForwardPoseTracker:
                     "tolerance": tolerance, "max_step": 0.5,
                     "singular_ratio": mechanism.tolerances["singular_ratio"], "passive": self.passive,
                     "pose": self.pose, "residual": self.residual, "conditioning": self.conditioning,
+                    "orientation": self.orientation, "first_step": self.first_step,
                     "iterations": self.iterations, "status": self.status,
                 },
             )  # fmt: skip
             self._solve = backend.newton
             self._job_address = ctypes.addressof(self._job)
+
+    def _orientation_at(self, actuated: Array, passive: Array) -> Array:
+        jacobian = self.mechanism.backend.call("loop_closure", actuated, passive, self.mechanism.params)["jacobian"]
+        return pivoted_solve(jacobian, np.zeros(passive.shape))[2]
 
     def configure(self, tolerance: float, max_iterations: int, max_step: float) -> None:
         """Change the Newton settings (used by ``Mechanism.forward_pose``'s single-input path)."""
@@ -75,21 +129,89 @@ class ForwardPoseTracker:
 
     def solve(self, actuated: ArrayLike) -> tuple[Array, Array]:
         """Newton from the previous solution for new actuated values (n, n_a) or (n_a,)."""
+        theta = self.mechanism._actuated(actuated)
+        self._previous[...] = self.passive
+        previous_theta = self.actuated.copy()
         try:
-            self.actuated[...] = actuated
+            self.actuated[...] = theta
         except ValueError as error:
             raise BadInputError(f"actuated must broadcast to {self.actuated.shape}: {error}") from error
         if self._compiled:
             self._solve(self._job_address)
         else:
-            passive, pose, residual, iterations, status, conditioning = self.mechanism._newton_python(
+            solved = self.mechanism._newton_python(
                 self.actuated, self.passive, self._tolerance, self._max_iterations, 0.5
             )
-            self.passive[...], self.pose[...] = passive, pose
-            self.residual[...], self.iterations[...], self.status[...] = residual, iterations, status
-            self.conditioning[...] = conditioning
+            self.passive[...], self.pose[...] = solved.passive, solved.pose
+            self.residual[...], self.iterations[...], self.status[...] = (
+                solved.residual,
+                solved.iterations,
+                solved.status,
+            )
+            self.conditioning[...], self.orientation[...] = solved.conditioning, solved.orientation
+            self.first_step[...] = solved.first_step
         if self.status.any():  # failed entries kept their previous (good) solution
+            self.actuated[...] = previous_theta
             raise_for_newton_status(
                 self.status, self.residual, self.iterations, "tracker", self._tolerance, self._max_iterations
             )
+        self._check_mode(previous_theta)
         return self.passive, self.pose
+
+    def _moved(self, passive: Array, reference: Array) -> Array:
+        change = passive - reference
+        return np.abs(np.where(self.mechanism._angular_passive, wrap_angle(change), change)).max(-1, initial=0.0)
+
+    def _check_mode(self, previous_theta: Array) -> None:
+        crossed = self.orientation * self._previous_orientation < 0
+        # the first step is the linearised prediction: a quadratically converging Newton moves
+        # within a small multiple of it, a jump to another branch moves much further; a first
+        # step beyond trust_step leaves the linearisation's reach, where Newton finds *a* solution
+        jumped = self._moved(self.passive, self._previous) > self.jump_ratio * self.first_step + 100 * self._tolerance
+        coarse = ~(self.first_step <= self.trust_step)
+        suspect = ~crossed & (jumped | coarse)
+        self.mode_change[...] = np.where(crossed, 1, 0)
+        if suspect.any():
+            self._follow_branch(np.nonzero(suspect)[0], previous_theta)
+        changed = self.mode_change != 0
+        if self.strict and changed.any():
+            self.passive[changed] = self._previous[changed]
+            self.pose[changed] = self.mechanism.platform_pose(self.actuated[changed], self.passive[changed])
+            i = int(np.argmax(changed))
+            what = {
+                1: "the closure Jacobian's determinant changed sign: a type II singularity was crossed",
+                2: "the path leaves its branch (a fold or a crossing between the two inputs)",
+                3: f"the step is too coarse to stay on the branch (first Newton step {self.first_step[i]:.3g} > "
+                f"trust_step {self.trust_step:g} even in {SUBSTEPS} substeps)",
+            }[int(self.mode_change[i])]
+            raise AssemblyModeChangeError(
+                f"tracker at batch index {i}: {what}; the previous solution is kept (a smaller step, or "
+                "strict=False to accept the new mode)",
+                index=i,
+                change=MODE_CHANGES[int(self.mode_change[i])],
+            )
+        self._previous_orientation = np.where(self.orientation != 0, self.orientation, self._previous_orientation)
+
+    def _follow_branch(self, index: np.ndarray, previous_theta: Array) -> None:
+        """Re-solve the suspect entries along the input segment in ``SUBSTEPS`` steps from their
+        previous solution (continuation), keeping the branch; flag what even that cannot follow."""
+        m = self.mechanism
+        q = self._previous[index].copy()
+        start, end = previous_theta[index], self.actuated[index]
+        orientation = self._previous_orientation[index].copy()
+        lost = np.zeros(index.size, dtype=np.int32)
+        newton = m._newton_compiled if self._compiled else m._newton_python
+        for fraction in np.linspace(0.0, 1.0, SUBSTEPS + 1)[1:]:
+            solved = newton(start + fraction * (end - start), q, self._tolerance, self._max_iterations, 0.5)
+            failed = solved.status != 0
+            flipped = solved.orientation * orientation < 0
+            lost = np.where(lost != 0, lost, np.where(flipped, 1, np.where(failed, 2, 0)))
+            lost = np.where((lost == 0) & ~(solved.first_step <= self.trust_step), 3, lost)
+            q = np.where((lost == 0)[:, None], solved.passive, q)
+            orientation = np.where(solved.orientation != 0, solved.orientation, orientation)
+        followed = lost == 0
+        keep = index[followed]
+        self.passive[keep] = q[followed]
+        self.pose[keep] = m.platform_pose(self.actuated[keep], self.passive[keep])
+        self.orientation[keep] = orientation[followed]
+        self.mode_change[index] = lost

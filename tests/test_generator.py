@@ -153,3 +153,66 @@ def test_a_copied_mechanism_file_gets_everything(tmp_path):
         if command[0] == "demo":  # the copied paper examples reproduce, under the new name
             assert "[ok ]" in done.stdout and "[FAIL" not in done.stdout
     assert (tmp_path / "p.png").stat().st_size > 10_000
+
+
+MUTATIONS = {
+    "non_square": (
+        "m.closure = dataclasses.replace(m.closure, residual=m.closure.residual.col_join(sp.Matrix([0])))",
+        "3 equations for 2 passive unknowns",
+    ),
+    "inverse_incomplete": (
+        "m.passive = m.passive + [sp.Symbol('extra', real=True)]",
+        r"the closed-form inverse does not define \['extra'\]",
+    ),
+    "free_symbol": (
+        "m.closure = dataclasses.replace(m.closure, residual=m.closure.residual + sp.Matrix([sp.Symbol('mystery'), 0]))",
+        r"uses \['mystery'\], which are neither variables nor parameters",
+    ),
+    "stray_home": ("m.home[sp.Symbol('ghost')] = 0.0", r"home names \['ghost'\]"),
+    "duplicate": ("m.actuated = m.actuated + [m.passive[0]]", "listed twice"),
+    "name_error": ("undefined_name + 1", "NameError: name 'undefined_name' is not defined"),
+}
+
+
+@pytest.mark.parametrize("mutation", sorted(MUTATIONS))
+def test_ill_posed_models_are_refused_in_one_line(tmp_path, mutation):
+    """The five-bar file with one defect: a GenerationError naming the file or mechanism and the
+    problem, nothing written, no staging folder left."""
+    change, message = MUTATIONS[mutation]
+    source = tmp_path / "bad_bar.py"
+    source.write_text(
+        (ROOT / "mechanisms" / "five_bar.py").read_text()
+        + f"\n\nimport dataclasses\n_original = build\n\n\ndef build():\n    m = _original()\n    {change}\n    return m\n"
+    )
+    with pytest.raises(GenerationError, match=message) as raised:
+        generate_file(source, tmp_path / "out" / "bad_bar")
+    assert "bad_bar" in str(raised.value) and "\n" not in str(raised.value)
+    assert not (tmp_path / "out" / "bad_bar").exists()
+    assert not list((tmp_path / "out").glob(".generated-*"))
+    cli = subprocess.run(
+        [sys.executable, "-m", "parakin", "generate", str(source), "--out", str(tmp_path / "cli")],
+        capture_output=True,
+        text=True,
+    )
+    assert cli.returncode == 2 and "Traceback" not in cli.stderr and "bad_bar" in cli.stderr
+
+
+def test_a_terminated_build_leaves_no_staging_folder(tmp_path):
+    import signal
+    import time
+
+    out = tmp_path / "out"
+    out.mkdir()
+    abandoned = out / ".generated-999999999-left"  # a killed build's (no such process)
+    abandoned.mkdir()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "parakin", "generate", str(ROOT / "mechanisms" / "spm.py"), "--out", str(out / "spm")]
+    )
+    deadline = time.monotonic() + 60
+    while not [p for p in out.glob(".generated-*") if p != abandoned] and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not abandoned.exists()  # removed when the new build started
+    assert list(out.glob(".generated-*")), "the build never started staging"
+    process.send_signal(signal.SIGTERM)
+    assert process.wait(timeout=60) != 0
+    assert not list(out.glob(".generated-*")) and not (out / "spm").exists()

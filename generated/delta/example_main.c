@@ -69,8 +69,8 @@ int main(void) {
                residual[s], conditioning[s], poses[s * 16 + 3], poses[s * 16 + 7], poses[s * 16 + 11]);
     }
     // Newton from a guess (a tracker would pass its last solution and alias guess and passive)
-    double solved[3], pose[16], norm, ratio;
-    int iterations, newton_status;
+    double solved[3], pose[16], norm, ratio, first_step;
+    int iterations, newton_status, orientation;
     delta_newton_job newton = {
         .n = 1,
         .actuated = actuated,
@@ -86,6 +86,8 @@ int main(void) {
         .pose = pose,
         .residual = &norm,
         .conditioning = &ratio,
+        .orientation = &orientation,
+        .first_step = &first_step,
         .iterations = &iterations,
         .status = &newton_status,
     };
@@ -93,5 +95,7 @@ int main(void) {
     printf("forward_pose from home: status %d after %d iterations, residual %.1e, position (%.6f, %.6f, %.6f)\n",
            newton_status, iterations, norm, pose[3], pose[7], pose[11]);
     (void)ratio;
+    (void)orientation;
+    (void)first_step;
     return newton_status == DELTA_OK ? 0 : 1;
 }

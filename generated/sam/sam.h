@@ -90,7 +90,10 @@ enum {
 
 // Newton on the loop closure from a guess: passive (n x NUM_PASSIVE) and pose (n x 4 x 4) out;
 // residual = max |closure residual| reached; conditioning = pivot ratio min|u_kk|/max|u_kk| of
-// the closure Jacobian (a status SINGULAR when it is not above singular_ratio). Strides are the
+// the closure Jacobian (a status SINGULAR when it is not above singular_ratio); orientation = sign
+// of its determinant at the solution (a change between two solves of a path: a type II singularity
+// was crossed); first_step = max-norm of the first Newton step (the change the linearisation at
+// the guess predicts; a solution much further away jumped to another branch). Strides are the
 // row lengths, or 0 to share one row across the batch. guess may alias passive (tracking).
 typedef struct {
     long long n;
@@ -107,6 +110,8 @@ typedef struct {
     double* pose;
     double* residual;
     double* conditioning;
+    int* orientation;
+    double* first_step;
     int* iterations;
     int* status;
 } sam_newton_job;

@@ -191,14 +191,18 @@ static const int passive_revolute[NQ_ALLOC] = { 0 };
 
 // Gaussian elimination with partial pivoting on a (NQ x NQ row-major, destroyed), solving a x = b
 // in place. Returns the pivot ratio min |u_kk| / max |u_kk|: a scale-free reciprocal-condition
-// estimate, and the one singularity criterion of every backend (parakin.linalg does the same).
-static double solve_in_place(double* a, double* b) {
+// estimate, and the one singularity criterion of every backend (parakin.linalg does the same);
+// *sign receives the sign of det a (0 when singular): a sign change along a path crosses det = 0.
+static double solve_in_place(double* a, double* b, int* sign) {
     double smallest = INFINITY, largest = 0.0;
+    *sign = 0;
+    int parity = 1;
     for (int k = 0; k < NQ; ++k) {
         int best = k;
         for (int r = k + 1; r < NQ; ++r)
             if (fabs(a[r * NQ + k]) > fabs(a[best * NQ + k])) best = r;
         if (best != k) {
+            parity = -parity;
             for (int c = 0; c < NQ; ++c) {
                 double t = a[k * NQ + c]; a[k * NQ + c] = a[best * NQ + c]; a[best * NQ + c] = t;
             }
@@ -209,6 +213,7 @@ static double solve_in_place(double* a, double* b) {
         smallest = fmin(smallest, pivot);
         largest = fmax(largest, pivot);
         if (pivot == 0.0) return 0.0;
+        if (a[k * NQ + k] < 0.0) parity = -parity;
         for (int r = k + 1; r < NQ; ++r) {
             double f = a[r * NQ + k] / a[k * NQ + k];
             for (int c = k; c < NQ; ++c) a[r * NQ + c] -= f * a[k * NQ + c];
@@ -220,6 +225,7 @@ static double solve_in_place(double* a, double* b) {
         for (int c = k + 1; c < NQ; ++c) s -= a[k * NQ + c] * b[c];
         b[k] = s / a[k * NQ + k];
     }
+    *sign = parity;
     return NQ > 0 ? smallest / largest : 1.0;
 }
 
@@ -229,9 +235,12 @@ static double solve_in_place(double* a, double* b) {
 // give_up: an initial residual at or above it stops at once (a candidate that does not close);
 // *initial is that residual and *aligned the alignment of the last iterate. q_io receives the
 // solution on success; on failure it keeps the guess and last (if not NULL) the last iterate.
+// *orientation: sign of det of the closure Jacobian at the last iterate; *first_step: max-norm of
+// the first (unclamped) Newton step, the change the linearisation at the guess predicts.
 static int newton(workspace* ws, const double* theta, double* q_io, double* last, const double* params, long long max_iterations,
                   double tolerance, double max_step, double singular_ratio, double give_up, double* residual_norm,
-                  double* initial, int* iterations, double* conditioning, int* aligned_out) {
+                  double* initial, int* iterations, double* conditioning, int* orientation, double* first_step,
+                  int* aligned_out) {
     double q[NQ_ALLOC], residual[NQ_ALLOC], jacobian_cm[NQ_ALLOC * NQ_ALLOC], jacobian[NQ_ALLOC * NQ_ALLOC];
     double alignment[NPAIRS];
     int status = SPHERE2R_NO_CONVERGENCE;
@@ -240,6 +249,8 @@ static int newton(workspace* ws, const double* theta, double* q_io, double* last
     *residual_norm = NAN;
     *initial = NAN;
     *conditioning = NAN;
+    *orientation = 0;
+    *first_step = NAN;
     *aligned_out = 0;
     int finite = 1;
     for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
@@ -270,8 +281,13 @@ static int newton(workspace* ws, const double* theta, double* q_io, double* last
             for (int c = 0; c < NQ; ++c) jacobian[r * NQ + c] = jacobian_cm[c * NQ + r];
         // also at convergence: a singular closed-loop Jacobian means the pose is not
         // determined by the actuators (type II), which a zero residual does not reveal
-        double ratio = solve_in_place(jacobian, residual);
+        double ratio = solve_in_place(jacobian, residual, orientation);
         *conditioning = ratio;
+        if (it == 0) {
+            double size = 0.0;
+            for (int k = 0; k < NQ; ++k) size = fmax(size, fabs(residual[k]));
+            *first_step = size;
+        }
         if (!(ratio > singular_ratio)) { status = SPHERE2R_SINGULAR; break; }
         if (norm < tolerance) { status = SPHERE2R_OK; break; }
         double step = 0.0;
@@ -305,7 +321,7 @@ int sphere2r_forward_pose(const sphere2r_newton_job* job) {
         int aligned;
         job->status[i] = newton(&ws, theta, out, NULL, job->params, job->max_iterations, job->tolerance, job->max_step,
                                 job->singular_ratio, INFINITY, job->residual + i, &initial, job->iterations + i,
-                                job->conditioning + i, &aligned);
+                                job->conditioning + i, job->orientation + i, job->first_step + i, &aligned);
         int finite = 1;
         for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
         for (int k = 0; k < NQ; ++k) finite &= isfinite(out[k]);

@@ -21,8 +21,8 @@ int main(void) {
     double actuated[SPHERE2R_NUM_ACTUATED] = { 0.0, 0.0 };
     double guess[1] = { 0 };
     // Newton from a guess (a tracker would pass its last solution and alias guess and passive)
-    double solved[1], pose[16], norm, ratio;
-    int iterations, newton_status;
+    double solved[1], pose[16], norm, ratio, first_step;
+    int iterations, newton_status, orientation;
     sphere2r_newton_job newton = {
         .n = 1,
         .actuated = actuated,
@@ -38,6 +38,8 @@ int main(void) {
         .pose = pose,
         .residual = &norm,
         .conditioning = &ratio,
+        .orientation = &orientation,
+        .first_step = &first_step,
         .iterations = &iterations,
         .status = &newton_status,
     };
@@ -45,5 +47,7 @@ int main(void) {
     printf("forward_pose from home: status %d after %d iterations, residual %.1e, position (%.6f, %.6f, %.6f)\n",
            newton_status, iterations, norm, pose[3], pose[7], pose[11]);
     (void)ratio;
+    (void)orientation;
+    (void)first_step;
     return newton_status == SPHERE2R_OK ? 0 : 1;
 }

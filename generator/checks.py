@@ -1,0 +1,76 @@
+"""Checks of a mechanism model before anything is derived from it: every problem found here would
+otherwise surface later as a wrong kernel, a NameError in generated code or a C driver reading
+past what CasADi wrote. Each raises a GenerationError naming the mechanism and the problem."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .errors import GenerationError
+from .model import POSE_SYMBOLS, Mechanism
+
+
+def _names(symbols: list[sp.Symbol]) -> list[str]:
+    return [str(s) for s in symbols]
+
+
+def check_variables(m: Mechanism) -> None:
+    """Distinct actuated, passive and parameter symbols; home and limits name variables."""
+    groups = {"actuated": m.actuated, "passive": m.passive, "parameters": list(m.parameters)}
+    seen: dict[sp.Symbol, str] = {}
+    for group, symbols in groups.items():
+        for symbol in symbols:
+            if not isinstance(symbol, sp.Symbol):
+                raise GenerationError(f"{m.name}: {group} entry {symbol!r} is not a SymPy symbol")
+            if symbol in seen:
+                raise GenerationError(f"{m.name}: {symbol} is listed twice (in {seen[symbol]} and in {group})")
+            seen[symbol] = group
+    variables = set(m.actuated) | set(m.passive)
+    for what, keys in (("home", m.home), ("limits", m.limits), ("angular", m.angular)):
+        stray = sorted(str(k) for k in keys if k not in variables)
+        if stray:
+            raise GenerationError(f"{m.name}: {what} names {stray}, which are not actuated or passive variables")
+    for symbol, (low, high) in m.limits.items():
+        if not low < high:
+            raise GenerationError(f"{m.name}: limits of {symbol} must satisfy low < high, got ({low}, {high})")
+
+
+def check_inverse(m: Mechanism) -> None:
+    """A closed-form inverse defines every actuated and passive variable."""
+    if m.inverse is None:
+        return
+    defined = {target for target, _ in m.inverse.steps}
+    missing = [str(v) for v in m.actuated + m.passive if v not in defined]
+    if missing:
+        raise GenerationError(f"{m.name}: the closed-form inverse does not define {missing} (add a step for each)")
+
+
+def check_closure(m: Mechanism, residual: sp.Matrix, extra: set[sp.Symbol] | None = None) -> None:
+    """A square loop closure (one equation per passive unknown) whose free symbols are variables
+    and parameters only."""
+    if m.passive and residual.rows != len(m.passive):
+        raise GenerationError(
+            f"{m.name}: the loop closure has {residual.rows} equations for {len(m.passive)} passive unknowns "
+            f"{_names(m.passive)}; it must be square (one equation per unknown)"
+        )
+    allowed = set(m.actuated) | set(m.passive) | set(m.parameters) | (extra or set())
+    free = sorted(str(s) for s in residual.free_symbols - allowed)
+    if free:
+        raise GenerationError(
+            f"{m.name}: the loop closure uses {free}, which are neither variables nor parameters "
+            "(declare them as parameters with defaults)"
+        )
+
+
+def check_program_symbols(m: Mechanism, name: str, inputs: list[sp.Symbol], steps, outputs) -> None:
+    """Every symbol a generated function reads is an input or an earlier step's target."""
+    known = set(inputs) | set(POSE_SYMBOLS)
+    for target, value in steps:
+        free = sorted(str(s) for s in sp.sympify(value).free_symbols - known)
+        if free:
+            raise GenerationError(f"{m.name}: {name} step {target} uses undefined symbols {free}")
+        known.add(target)
+    for matrix in outputs:
+        free = sorted(str(s) for s in sp.Matrix(matrix).free_symbols - known)
+        if free:
+            raise GenerationError(f"{m.name}: {name} uses undefined symbols {free}")
