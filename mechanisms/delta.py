@@ -246,7 +246,9 @@ def build() -> Mechanism:
         pose_kind="translation",
         parameter_info={
             R: ParameterInfo("m", "base radius: distance from the base centre to each motor joint b_i", "positive"),
-            r: ParameterInfo("m", "platform radius: distance from the tool point to each platform joint P_i", "positive"),
+            r: ParameterInfo(
+                "m", "platform radius: distance from the tool point to each platform joint P_i", "positive"
+            ),
             L: ParameterInfo("m", "upper arm length |c_i - b_i| (the actuated link)", "positive"),
             ell: ParameterInfo("m", "forearm (parallelogram) length |P_i - c_i|", "positive"),
         },

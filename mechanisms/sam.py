@@ -297,8 +297,12 @@ def build() -> Mechanism:
         parallel_factors=parallel,
         angular=[*theta, phi2, phi3, phi5, phi6],
         parameter_info={
-            L1: ParameterInfo("m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)", "positive"),
-            L4: ParameterInfo("m", "U-joint centres at y = -L4 (left), +L4 (right) on the platform's Y_P axis, eq (3)", "positive"),
+            L1: ParameterInfo(
+                "m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)", "positive"
+            ),
+            L4: ParameterInfo(
+                "m", "U-joint centres at y = -L4 (left), +L4 (right) on the platform's Y_P axis, eq (3)", "positive"
+            ),
         },
         examples=examples(),
         drawing=drawing(left, right),

@@ -117,8 +117,12 @@ def build() -> Mechanism:
         closure=ClosureModel(sp.zeros(0, 1), sp.Matrix([1]), pose),
         pose_kind="rotation",
         parameter_info={
-            alpha1: ParameterInfo("rad", "link 1 angle at O, between the fixed axis u and the intermediate axis v", "positive"),
-            alpha2: ParameterInfo("rad", "link 2 angle at O, between the intermediate axis v and the end axis w", "positive"),
+            alpha1: ParameterInfo(
+                "rad", "link 1 angle at O, between the fixed axis u and the intermediate axis v", "positive"
+            ),
+            alpha2: ParameterInfo(
+                "rad", "link 2 angle at O, between the intermediate axis v and the end axis w", "positive"
+            ),
         },
         # section 2 prints no numbers (no link angles, no joint values): no named example
         drawing=drawing(v, w),

@@ -294,8 +294,12 @@ def build() -> Mechanism:
             alpha2: ParameterInfo(
                 "rad", "distal link angle, between the intermediate axis w_i and the platform axis v_i", "positive"
             ),
-            beta: ParameterInfo("rad", "platform pyramid half-angle, between Z_P and each platform axis v0_i", "nonnegative"),
-            gamma: ParameterInfo("rad", "base pyramid half-angle, between -Z_B and each actuated axis u_i", "nonnegative"),
+            beta: ParameterInfo(
+                "rad", "platform pyramid half-angle, between Z_P and each platform axis v0_i", "nonnegative"
+            ),
+            gamma: ParameterInfo(
+                "rad", "base pyramid half-angle, between -Z_B and each actuated axis u_i", "nonnegative"
+            ),
         },
         examples=EXAMPLES,
         drawing=drawing(),

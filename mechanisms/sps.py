@@ -427,7 +427,9 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
         chi: ParameterInfo("", "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)", "sign"),
     }
     for i in range(3):
-        info[(b1, b2, b3)[i]] = ParameterInfo("m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive")
+        info[(b1, b2, b3)[i]] = ParameterInfo(
+            "m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive"
+        )
         info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "positive")
         info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)", "positive")
         info[stiffness[i]] = ParameterInfo(

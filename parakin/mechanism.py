@@ -35,7 +35,7 @@ from parakin.package import GeneratedPackage
 from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
-from parakin.validation import positive_number, within_ranges
+from parakin.validation import integer_in_range, positive_number, within_ranges
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -250,6 +250,9 @@ class Mechanism:
         SingularConfigurationError.
         """
         theta = self._actuated(actuated)
+        tolerance = positive_number(tolerance, "tolerance")
+        max_iterations = integer_in_range(max_iterations, "max_iterations")
+        max_step = positive_number(max_step, "max_step")
         if not self.passive_names and guess is not None and not isinstance(guess, Configuration):
             self._passive(guess)  # a serial chain: only an empty guess (..., 0) is consistent
         if not self.passive_names:  # a serial chain: the forward pose is the chain itself
@@ -520,7 +523,7 @@ class Mechanism:
     def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
         theta, passive = self._state(state)
-        rates = self._actuated(actuated_rates)
+        rates = as_array(actuated_rates, "actuated_rates", (len(self.actuated_names),))
         out = self.backend.call("loop_closure", theta, passive, self.params)
         actuated_jacobian = self.backend.call("loop_closure_actuated", theta, passive, self.params)["jacobian_actuated"]
         right = -(actuated_jacobian @ rates[..., None])[..., 0]
@@ -599,7 +602,7 @@ class Mechanism:
 
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
-        rates = self._actuated(actuated_rates)
+        rates = as_array(actuated_rates, "actuated_rates", (len(self.actuated_names),))
         if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
             right = (jacobians["b"] @ rates[..., None])[..., 0]

@@ -62,7 +62,7 @@ def positive_number(value: object, name: str, allow_zero: bool = False) -> float
     return number
 
 
-def count(value: object, name: str, minimum: int = 0, maximum: int = MAX_ITERATIONS) -> int:
+def integer_in_range(value: object, name: str, minimum: int = 0, maximum: int = MAX_ITERATIONS) -> int:
     """An integer in [minimum, maximum] (no bool, no float), or BadInputError."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
         raise BadInputError(f"{name} must be an integer, got {type(value).__name__} {value!r}")

@@ -189,9 +189,12 @@ def perturb_pose(m: Mechanism, pose: np.ndarray, rng: np.random.Generator, size:
 
 
 def perturb_actuated(m: Mechanism, actuated: np.ndarray, rng: np.random.Generator, size: float = 1.0) -> np.ndarray:
-    """Actuated values near ``actuated``: 0.1 size rad, 0.03 size length scales."""
+    """Actuated values near ``actuated``: 0.1 size rad, 0.03 size length scales, reflected into
+    each actuator's declared range (a leg length stays >= 0: outside it is no input at all)."""
     scale = variable_scale(m, m.manifest.actuated) * np.where(revolute_actuated(m), 0.1, 0.03)
-    return actuated + size * rng.normal(size=actuated.shape) * scale
+    values = actuated + size * rng.normal(size=actuated.shape) * scale
+    low = np.array([v.limits[0] for v in m.manifest.actuated])
+    return np.where(values < low, 2 * low - values, values)
 
 
 def sample_poses(m: Mechanism, rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray | None]:
