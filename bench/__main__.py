@@ -108,9 +108,9 @@ MULTISTART_INPUTS = 5  # the scipy multi-start baseline is slow: timed on this m
 MULTISTART_STARTS = 40
 
 
-def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[float, list[int]]:
+def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[float, list[list[np.ndarray]]]:
     """Baseline: scipy.optimize.root on the lambdified closure from random passive starts;
-    returns seconds per input and the distinct genuine modes found per input."""
+    returns seconds per input and the poses of the distinct genuine modes found per input."""
     baseline = Baseline(name)
     m = parakin.load(name, backend="numpy")
     rng = np.random.default_rng(seed)
@@ -135,7 +135,7 @@ def multistart_modes(name: str, actuated: np.ndarray, seed: int = 3) -> tuple[fl
                 pose = m.platform_pose(a, result.x)
                 if all(np.abs(pose - other).max() > 1e-6 for other in solutions):
                     solutions.append(pose)
-        found.append(len(solutions))
+        found.append(solutions)
     return (time.perf_counter() - start) / len(actuated), found
 
 
@@ -160,12 +160,54 @@ def modes_rows(name: str) -> str | None:
     flip = iter(range(10**9))
     tracked = best_time(lambda: tracker.solve(targets[next(flip) % 2])) / n
     counts = compiled.forward_pose_all(a, strict=False).count
-    multistart, found = multistart_modes(name, a[:MULTISTART_INPUTS])
+    multistart, poses = multistart_modes(name, a[:MULTISTART_INPUTS])
+    found = [len(p) for p in poses]
     ours = [int(c) for c in counts[:MULTISTART_INPUTS]]
     return (
         f"{name:12s} {compiled.capabilities.forward.degree:4d} {batched * 1e6:10.2f} {single * 1e6:10.1f} "
         f"{orchestrated * 1e6:12.1f} {orchestrated / batched:7.1f} {tracked * 1e6:9.2f} {batched / tracked:8.1f} "
         f"{multistart * 1e6:12.0f} {multistart / batched:9.0f}   ours {ours} multi-start {found}"
+    )
+
+
+STATISTICS_INPUTS = 10_000
+STATISTICS_ORACLE = 20  # inputs checked against the multi-start search (slow)
+
+
+def solver_statistics_row(name: str) -> str | None:
+    """ikfast-style statistics of forward_pose_all on inputs made by inverse pose from sampled
+    configurations: success = the generating pose is among the modes; wrong = a mode that does
+    not close the loop (checked here with the loop-closure kernel); missing = modes the multi-start
+    search finds that we do not (on the first inputs); time per input and its spread."""
+    m = parakin.load(name, backend="compiled")
+    if m.capabilities.forward is None:
+        return None
+    sample = sample_configurations(m, STATISTICS_INPUTS, spread=0.3, seed=21)
+    inside = m.within_limits(sample.passive)  # a generating pose outside the joint limits is no mode
+    sample = parakin.Configuration(sample.actuated[inside], sample.passive[inside], sample.pose[inside])
+    n = sample.actuated.shape[0]
+    if n < STATISTICS_INPUTS // 4:
+        return f"{name:12s} {n:7d} (too few closed configurations sampled near home with default parameters)"
+    times = []
+    for start in range(0, n, 1000):
+        began = time.perf_counter()
+        modes = m.forward_pose_all(sample.actuated[start : start + 1000], strict=False)
+        times.append((time.perf_counter() - began) / modes.count.shape[0])
+    modes = m.forward_pose_all(sample.actuated, strict=False)
+    distance = np.abs(modes.poses - sample.pose[:, None]).max(axis=(-2, -1))
+    success = (np.where(modes.valid, distance, np.inf).min(-1) < 1e-6).sum()
+    theta = np.broadcast_to(sample.actuated[:, None], modes.passive.shape[:-1] + sample.actuated.shape[-1:])
+    closure = m.loop_closure(theta[modes.valid], modes.passive[modes.valid])
+    wrong = int(((np.abs(closure["residual"]).max(-1) > 1e-9) | ~(closure["alignment"] > 0).all(-1)).sum())
+    _, oracle = multistart_modes(name, sample.actuated[:STATISTICS_ORACLE])
+    missing = 0
+    for k, found in enumerate(oracle):
+        ours = modes.poses[k][modes.valid[k]]
+        missing += sum(1 for pose in found if not (np.abs(ours - pose).max(axis=(-2, -1), initial=0.0) < 1e-6).any())
+    times_us = np.array(times) * 1e6
+    return (
+        f"{name:12s} {n:7d} {success / n:9.4%} {wrong:6d} {missing:4d}/{sum(len(f) for f in oracle):<4d} "
+        f"{modes.count.mean():6.2f} {np.median(times_us):9.2f} {times_us.min():7.2f} {times_us.max():7.2f}"
     )
 
 
@@ -208,6 +250,21 @@ def main() -> None:
     print("-" * len(header))
     for name in parakin.available():
         line = modes_rows(name)
+        if line:
+            print(line)
+    print(
+        f"\nsolver statistics (ikfast-style): forward_pose_all on {STATISTICS_INPUTS} inputs made by inverse pose "
+        f"from sampled configurations; missing = modes a {MULTISTART_STARTS}-start scipy search finds on the first "
+        f"{STATISTICS_ORACLE} inputs that we do not; time per input over chunks of 1000\n"
+    )
+    header = (
+        f"{'mechanism':12s} {'inputs':>7s} {'success':>9s} {'wrong':>6s} {'missing':>9s} {'modes':>6s} "
+        f"{'median us':>9s} {'min us':>7s} {'max us':>7s}"
+    )
+    print(header)
+    print("-" * len(header))
+    for name in parakin.available():
+        line = solver_statistics_row(name)
         if line:
             print(line)
     start = time.perf_counter()

@@ -430,7 +430,7 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
         info[(b1, b2, b3)[i]] = ParameterInfo(
             "m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive"
         )
-        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "positive")
+        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "nonnegative")
         info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)", "positive")
         info[stiffness[i]] = ParameterInfo(
             "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "nonzero"

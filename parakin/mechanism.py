@@ -200,7 +200,7 @@ class Mechanism:
             return np.broadcast_to(self.home_passive, actuated.shape[:-1] + self.home_passive.shape)
         if isinstance(guess, Configuration):
             return self._passive(guess.passive)
-        array = np.asarray(guess, dtype=float)
+        array = as_array(guess, "guess", ())
         if array.shape[-2:] in ((4, 4), (3, 3)):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
@@ -229,7 +229,9 @@ class Mechanism:
         mismatch = np.abs(difference).max(-1) + np.where(branches.valid, 0.0, 1e3)
         mismatch = np.where(np.isfinite(mismatch), mismatch, np.inf)  # argmin would pick a NaN
         best = np.argmin(mismatch, axis=-1)
-        return np.take_along_axis(branches.passive, best[..., None, None], axis=-2)[..., 0, :]
+        # one pose for a batch of inputs (or the reverse) broadcasts like every other argument
+        passive = np.broadcast_to(branches.passive, mismatch.shape + branches.passive.shape[-1:])
+        return np.take_along_axis(passive, best[..., None, None], axis=-2)[..., 0, :]
 
     def forward_pose(
         self,
@@ -593,7 +595,7 @@ class Mechanism:
         for leg, jacobian in jacobians.items():
             identity = np.broadcast_to(np.eye(6), jacobian.shape)
             inverse = self._solve(
-                jacobian, identity, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible"
+                jacobian, identity, f"{leg} leg Jacobian", "the rate matrix M needs every leg invertible", columns=True
             )
             for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
                 if is_actuated:
@@ -617,21 +619,20 @@ class Mechanism:
             "a type II (parallel) singularity",
         )
 
-    def _solve(self, matrix: Array, rhs: Array, what: str, hint: str) -> Array:
+    def _solve(self, matrix: Array, rhs: Array, what: str, hint: str, columns: bool = False) -> Array:
         """matrix @ x = rhs by the one pivoted solve and singularity criterion of every backend
         (pivot ratio above the manifest's singular_ratio), or SingularConfigurationError. ``rhs``
-        (..., n) or, with as many axes as ``matrix``, (..., n, k) columns."""
-        if rhs.ndim == matrix.ndim:
-            columns = np.swapaxes(rhs, -1, -2)
+        (..., n) vectors, or with ``columns`` (..., n, k) matrices; batch axes broadcast."""
+        if columns:
+            vectors = np.swapaxes(rhs, -1, -2)  # (..., k, n): one right-hand side per column
             shape = np.broadcast_shapes(matrix.shape[:-2], rhs.shape[:-2])
             solved = self._solve(
-                np.broadcast_to(matrix[..., None, :, :], shape + (columns.shape[-2],) + matrix.shape[-2:]),
-                np.broadcast_to(columns, shape + columns.shape[-2:]),
-                what,
-                hint,
+                matrix[..., None, :, :], np.broadcast_to(vectors, shape + vectors.shape[-2:]), what, hint
             )
             return np.swapaxes(solved, -1, -2)
-        x, ratio, _ = pivoted_solve(matrix, rhs)
+        batch = np.broadcast_shapes(matrix.shape[:-2], rhs.shape[:-1])
+        matrix = np.broadcast_to(matrix, batch + matrix.shape[-2:])
+        x, ratio, _ = pivoted_solve(matrix, np.broadcast_to(rhs, batch + rhs.shape[-1:]))
         bad = ~(ratio > self.tolerances["singular_ratio"])
         if bad.any():
             index = tuple(int(i) for i in np.argwhere(bad)[0])

@@ -18,12 +18,15 @@ if TYPE_CHECKING:
 
 
 def sample_configurations(m: Mechanism, count: int, spread: float = 0.05, seed: int = 0) -> Configuration:
-    """Up to ``count`` closed configurations near home (a batch; fewer where Newton failed)."""
+    """Up to ``count`` closed configurations near home (a batch; fewer where Newton failed or
+    an actuated value fell outside its declared range)."""
     rng = np.random.default_rng(seed)
     revolute = np.array([v.revolute for v in m.manifest.actuated])
     scale = np.where(revolute, 1.0, np.maximum(np.abs(m.home_actuated), 1e-3))
     actuated = m.home_actuated + spread * scale * rng.standard_normal((count, m.home_actuated.size))
-    guess = np.broadcast_to(m.home_passive, (count, m.home_passive.size))
+    low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+    actuated = actuated[((actuated >= low) & (actuated <= high)).all(-1)]
+    guess = np.broadcast_to(m.home_passive, (actuated.shape[0], m.home_passive.size))
     solved = m.forward_pose(actuated, guess, strict=False)
     keep = np.asarray(solved.converged)
     return Configuration(actuated[keep], solved.passive[keep], solved.pose[keep])
@@ -32,7 +35,8 @@ def sample_configurations(m: Mechanism, count: int, spread: float = 0.05, seed: 
 def closure_singularity(m: Mechanism, state: Configuration) -> Array:
     """Signed, scale-free distance to a type II singularity: det of the closure Jacobian (in the
     passive variables) divided by the product of its row norms; 0 at the singularity, |.| <= 1."""
-    jacobian = m.loop_closure(state.actuated, state.passive)["jacobian"]
+    # the raw kernel: invalid inverse branches (NaN, negative lengths) are masked by the caller
+    jacobian = m.backend.call("loop_closure", state.actuated, state.passive, m.params)["jacobian"]
     rows = np.linalg.norm(jacobian, axis=-1).prod(-1)
     return np.linalg.det(jacobian) / np.where(rows > 0, rows, 1.0)
 

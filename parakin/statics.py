@@ -71,7 +71,9 @@ def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
     a, b = _rate_model(m, state)
     if b is None:
         return a
-    return m._solve(b, a, "B (inverse Jacobian)", "a serial (type I) singularity: an actuator rate is not defined")
+    return m._solve(
+        b, a, "B (inverse Jacobian)", "a serial (type I) singularity: an actuator rate is not defined", columns=True
+    )
 
 
 def _wrench(m: Mechanism, wrench: ArrayLike) -> Array:
@@ -183,7 +185,9 @@ def equilibrium(
     if command.ndim != 1:
         raise BadInputError(f"equilibrium takes one commanded input (n_a,), got shape {command.shape}")
     k = _actuator_stiffness(m, actuator_stiffness)
-    compliance = m._solve(k, np.eye(k.shape[-1]), "actuator stiffness matrix", "every actuator needs a stiffness")
+    compliance = m._solve(
+        k, np.eye(k.shape[-1]), "actuator stiffness matrix", "every actuator needs a stiffness", columns=True
+    )
     load: Callable[[Configuration], Any] = wrench if callable(wrench) else (lambda _state: wrench)
 
     def forces(q: Array, start: Any) -> tuple[Array, ForwardPose]:

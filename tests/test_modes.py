@@ -29,6 +29,8 @@ def _inputs(m: parakin.Mechanism, count: int, seed: int) -> np.ndarray:
     revolute = np.array([v.revolute for v in m.manifest.actuated])
     scale = np.where(revolute, 1.0, np.abs(m.home_actuated) + 1e-3)
     wide = m.home_actuated + 0.5 * scale * rng.standard_normal((count - near.shape[0], revolute.size))
+    low = np.array([v.limits[0] for v in m.manifest.actuated])
+    wide = np.where(wide < low, 2 * low - wide, wide)  # reflected into the actuator ranges
     return np.concatenate([near, wide])
 
 

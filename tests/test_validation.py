@@ -168,3 +168,12 @@ def test_missing_capabilities_raise_one_named_error():
     sam = _load("sam")
     with pytest.raises(parakin.UnsupportedOperationError, match="rate_jacobians"):
         sam.rate_jacobians(sample_configurations(sam, 1, seed=4))
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_one_pose_guess_broadcasts_against_a_batch_of_inputs(backend):
+    m = _load("sam", backend)
+    sample = sample_configurations(m, 4, seed=4)
+    solved = m.forward_pose(sample.actuated, guess=sample.pose[0], strict=False)
+    assert solved.passive.shape == sample.passive.shape
+    np.testing.assert_allclose(solved.passive[0], sample.passive[0], atol=1e-9)
