@@ -366,21 +366,29 @@ def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool) -> 
 def _compute_into(
     dataset: xarray.Dataset, store: Path, rows: tuple[int, ...], scheduler: str | None, progress: bool, xr: Any
 ) -> xarray.Dataset:
-    """Write the sweep chunk by chunk into a zarr store, skipping chunks a previous run finished."""
-    import zarr
+    """Write the sweep chunk by chunk into a zarr store, skipping chunks a previous run finished
+    (recorded in ``finished.json`` inside the store, replaced atomically after each write)."""
+    import dask
 
     first = next(iter(dataset.dims))
     bounds = np.cumsum((0, *rows))
+    record = store / "finished.json"
     if store.exists():
-        existing = zarr.open_group(str(store), mode="r")
-        if existing.attrs.get("spec") != dataset.attrs["spec"]:
+        saved = json.loads(record.read_text()) if record.exists() else {}
+        if saved.get("spec") != dataset.attrs["spec"]:
             raise BadInputError(f"{store} holds another sweep; remove it or choose another store")
+        finished = set(saved.get("chunks", []))
     else:
         dataset.to_zarr(str(store), compute=False, mode="w")
-        zarr.open_group(str(store), mode="a").create_array("finished", shape=(len(rows),), dtype=bool, fill_value=False)
-    group = zarr.open_group(str(store), mode="a")
-    finished = group["finished"]
-    pending = [k for k in range(len(rows)) if not finished[k]]
+        finished = set()
+
+    def save() -> None:
+        scratch = record.with_suffix(".tmp")
+        scratch.write_text(json.dumps({"spec": dataset.attrs["spec"], "chunks": sorted(finished)}))
+        scratch.replace(record)
+
+    save()
+    pending = [k for k in range(len(rows)) if k not in finished]
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
     workers = max(1, len(client.scheduler_info()["workers"])) if client is not None else 2
@@ -388,20 +396,20 @@ def _compute_into(
         for start in range(0, len(pending), workers):
             batch = pending[start : start + workers]
             parts = [dataset.isel({first: slice(int(bounds[k]), int(bounds[k + 1]))}) for k in batch]
-            import dask
-
             computed = dask.compute(*parts, scheduler=client or local)
             for k, part in zip(batch, computed, strict=True):
                 region = {first: slice(int(bounds[k]), int(bounds[k + 1]))}
                 part.drop_vars(list(part.coords)).to_zarr(str(store), region=region)
-                finished[k] = True
+                finished.add(k)
+            save()
             if progress:
-                done = len(pending) - len(pending[start + workers :])
-                print(f"sweep: {done + len(rows) - len(pending)}/{len(rows)} chunks written to {store}", flush=True)
+                print(f"sweep: {len(finished)}/{len(rows)} chunks written to {store}", flush=True)
     finally:
         if client is not None:
             client.close()
-    return xr.open_zarr(str(store))
+    result = xr.open_zarr(str(store))
+    result.attrs["chunks_computed"] = len(pending)  # this run's work (0: everything was done before)
+    return result
 
 
 __all__ = ["POSE_COORDINATES", "QUANTITIES", "sweep"]
