@@ -252,6 +252,47 @@ def _inspect(args: argparse.Namespace) -> int:
     return 0
 
 
+def _axis(text: str) -> tuple[str, np.ndarray]:
+    """NAME=START:STOP:COUNT (a linspace) or NAME=V1,V2,... (values)."""
+    name, _, spec = text.partition("=")
+    try:
+        if ":" in spec:
+            start, stop, count = spec.split(":")
+            return name, np.linspace(float(start), float(stop), int(count))
+        return name, np.array([float(v) for v in spec.split(",")])
+    except ValueError as error:
+        raise BadInputError(f"axis {text!r}: write NAME=START:STOP:COUNT or NAME=V1,V2,...") from error
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from parakin.sweep import sweep
+
+    m = _load(args)
+    axes = dict(_axis(a) for a in args.axis)
+    fixed = {name: float(values[0]) for name, values in map(_axis, args.fixed)}
+    workspace = dict(_axis(a) for a in args.workspace) or None
+    result = sweep(
+        m, args.quantities, axes, fixed=fixed, workspace=workspace, branch=args.branch, chunk=args.chunk,
+        scheduler=args.scheduler, store=args.store, progress=args.progress,
+    )  # fmt: skip
+    if args.netcdf:
+        result.to_netcdf(args.netcdf)
+    for name, values in result.data_vars.items():
+        array = np.asarray(values.values, dtype=float)
+        finite = array[np.isfinite(array)]
+        summary = (
+            f"min {finite.min():.6g}  mean {finite.mean():.6g}  max {finite.max():.6g}" if finite.size else "all NaN"
+        )
+        print(f"{name:24s} {dict(values.sizes)}  {summary}  ({finite.size}/{array.size} defined)")
+    if args.plot:
+        from parakin.atlas import plot_sweep
+
+        quantity = args.plot_quantity or str(next(iter(result.data_vars)))
+        plot_sweep(result, quantity, args.plot)
+        print(f"wrote {args.plot}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
@@ -295,6 +336,23 @@ def _parser() -> argparse.ArgumentParser:
     generate = commands.add_parser("generate", help="turn a mechanism file into a generated package folder")
     generate.add_argument("file", help="a mechanism file (defines build() -> parakin.generator.Mechanism)")
     generate.add_argument("--out", required=True, help="the package folder to write (load it with parakin.load(DIR))")
+    sweeping = commands.add_parser(
+        "sweep", parents=[mechanism], help="quantities over grids of poses, inputs or parameters (dask)"
+    )
+    sweeping.add_argument("quantities", nargs="+", help="reachable, branches, type_i_distance, type_ii_distance, ...")
+    sweeping.add_argument(
+        "--axis", action="append", default=[], required=True, metavar="NAME=START:STOP:COUNT", help="a swept axis (SI)"
+    )
+    sweeping.add_argument("--fixed", action="append", default=[], metavar="NAME=VALUE", help="a fixed pose coordinate")
+    sweeping.add_argument("--workspace", action="append", default=[], metavar="NAME=START:STOP:COUNT")
+    sweeping.add_argument("--branch", type=int, default=None, help="inverse branch of the configurations")
+    sweeping.add_argument("--chunk", type=int, default=65536, help="points per chunk (memory bound)")
+    sweeping.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local)")
+    sweeping.add_argument("--store", default=None, help="zarr folder: written chunk by chunk, resumable")
+    sweeping.add_argument("--netcdf", default=None, help="also write the result as netCDF")
+    sweeping.add_argument("--plot", default=None, help="PNG of one quantity")
+    sweeping.add_argument("--plot-quantity", default=None, help="the quantity to plot (default: the first)")
+    sweeping.add_argument("--progress", action="store_true")
     export = commands.add_parser("export", help="write the mechanism's C library (sources, header, example)")
     export.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     export.add_argument("--out", required=True, help="folder to write the C files into")
@@ -310,6 +368,7 @@ COMMANDS = {
     "plot": _plot,
     "generate": _generate,
     "export": _export,
+    "sweep": _sweep,
 }
 
 

@@ -76,7 +76,8 @@ def _mechanism(source: str, backend: str, parameters: tuple[tuple[str, float], .
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
-        return parakin.load(source, backend=backend, **dict(parameters))
+        values: dict[str, Any] = dict(parameters)
+        return parakin.load(source, backend=backend, **values)
 
 
 def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
@@ -109,7 +110,7 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
     with np.errstate(invalid="ignore"):
         ranged = ((inverse.actuated >= low) & (inverse.actuated <= high)).all(-1)
     valid = inverse.valid & ranged
-    out: dict[str, np.ndarray] = {"reachable": valid.any(-1), "branches": valid.sum(-1)}
+    out: dict[str, np.ndarray] = {"reachable": np.asarray(valid.any(-1)), "branches": np.asarray(valid.sum(-1))}
     if not {"type_i_distance", "type_ii_distance"} & set(wanted):
         return out
     chosen = np.full(valid.shape[0], branch) if branch is not None else np.argmax(valid, axis=-1)

@@ -127,3 +127,22 @@ def test_memory_is_bounded_by_the_chunk_not_the_grid(tmp_path):
     tracemalloc.stop()
     assert result.reachable.shape == (2000, 2000)
     assert peak < 100e6, f"peak {peak / 1e6:.0f} MB"
+
+
+def test_cli_sweep_writes_netcdf_and_a_map(tmp_path):
+    import subprocess
+    import sys
+
+    pytest.importorskip("matplotlib")
+    out = subprocess.run(
+        [
+            sys.executable, "-m", "parakin", "sweep", "five_bar", "reachable", "type_ii_distance",
+            "--axis", "x=-0.5:0.5:41", "--axis", "y=-0.3:0.7:31", "--netcdf", str(tmp_path / "s.nc"),
+            "--plot", str(tmp_path / "s.png"), "--plot-quantity", "type_ii_distance",
+        ],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    assert "reachable" in out.stdout and (tmp_path / "s.png").stat().st_size > 10_000
+    saved = xr.load_dataset(tmp_path / "s.nc")
+    direct = sweep("five_bar", ["reachable"], {"x": np.linspace(-0.5, 0.5, 41), "y": np.linspace(-0.3, 0.7, 31)})
+    np.testing.assert_array_equal(saved.reachable.values.astype(bool), direct.reachable.values)
