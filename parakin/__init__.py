@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from collections.abc import Mapping
 from typing import Any
 
 from parakin.backends import make_backend
@@ -105,6 +106,8 @@ def load(
     manifest = package.manifest
     values = _parameter_values(manifest, parameters)
     bounds = {v.name: v.limits for v in manifest.passive if v.limits != (-math.inf, math.inf)}
+    if limits is not None and not isinstance(limits, Mapping):
+        raise BadInputError(f"limits must be a mapping name -> (low, high), got {type(limits).__name__}")
     for key, bound in (limits or {}).items():
         if key not in manifest.passive_names:
             raise UnknownMechanismError(f"unknown limit {key!r} for {manifest.name!r}; valid: {manifest.passive_names}")

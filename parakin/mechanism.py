@@ -49,6 +49,10 @@ def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
 
 
+#: the largest actuated magnitude accepted (m or rad)
+MAX_INPUT = 1e9
+
+
 def pose_vector(pose: Array) -> Array:
     """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
     return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
@@ -83,8 +87,9 @@ class Mechanism:
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
-        self._actuated_low = np.array([v.limits[0] for v in manifest.actuated], dtype=float)
-        self._actuated_high = np.array([v.limits[1] for v in manifest.actuated], dtype=float)
+        # beyond 1e9 (m or rad) double-precision kinematics means nothing: such inputs are refused
+        self._actuated_low = np.maximum([v.limits[0] for v in manifest.actuated], -MAX_INPUT)
+        self._actuated_high = np.minimum([v.limits[1] for v in manifest.actuated], MAX_INPUT)
         self._single_input = threading.local()  # forward_pose_all's reusable one-input job
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
@@ -132,10 +137,29 @@ class Mechanism:
             raise BadInputError(f"state must be a Configuration (from a solver), got {type(state).__name__}")
         return self._actuated(state.actuated), self._passive(state.passive)
 
-    def within_limits(self, passive: Array) -> np.ndarray:
-        """Whether passive values lie inside ``limits`` (open interval), elementwise over the batch."""
-        values = passive[..., self._limit_index]
-        return np.asarray(((values > self._limit_low) & (values < self._limit_high)).all(-1))
+    def _finite(self, kernel: str, theta: Array, passive: Array) -> dict[str, Array]:
+        """A kernel of the state whose every output is finite, or BadInputError at the first batch
+        index where it is not (values too large for doubles, or a model undefined there)."""
+        with np.errstate(all="ignore"):
+            out = self.backend.call(kernel, theta, passive, self.params)
+        shapes = {output.name: output.shape for output in self.manifest.kernels[kernel].outputs}
+        for name, value in out.items():
+            bad = ~np.isfinite(value)
+            if bad.any():
+                where = tuple(int(i) for i in np.argwhere(bad)[0])[: value.ndim - len(shapes[name])]
+                raise BadInputError(
+                    f"{kernel}: {name} is not finite at batch index {where} (the state is too large for "
+                    "double precision, or the model is undefined there)"
+                )
+        return out
+
+    def within_limits(self, passive: ArrayLike) -> np.ndarray:
+        """Whether passive values (..., n_p) lie inside ``limits`` (open interval), over the batch;
+        a NaN or infinite entry is never within them."""
+        checked = as_array(passive, "passive", (len(self.passive_names),), finite=False)
+        values = checked[..., self._limit_index]
+        finite = np.isfinite(checked).all(-1)
+        return np.asarray(((values > self._limit_low) & (values < self._limit_high)).all(-1) & finite)
 
     # ------------------------------------------------------------------ pose kernels
     def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
@@ -201,7 +225,9 @@ class Mechanism:
         if isinstance(guess, Configuration):
             return self._passive(guess.passive)
         array = as_array(guess, "guess", ())
-        if array.shape[-2:] in ((4, 4), (3, 3)):
+        # (..., 4, 4) is a pose (^B_P T); anything else is passive values (..., n_p): a (3, 3)
+        # array is three passive vectors, never a rotation (pass a 4x4 or a Configuration)
+        if array.shape[-2:] == (4, 4):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
 
@@ -256,7 +282,9 @@ class Mechanism:
         max_iterations = integer_in_range(max_iterations, "max_iterations")
         max_step = positive_number(max_step, "max_step")
         if not self.passive_names and guess is not None and not isinstance(guess, Configuration):
-            self._passive(guess)  # a serial chain: only an empty guess (..., 0) is consistent
+            # a serial chain: only an empty guess (..., 0) is consistent; its batch broadcasts
+            empty = self._passive(guess)
+            theta = np.broadcast_to(theta, broadcast_shapes(theta.shape[:-1], empty.shape[:-1]) + theta.shape[-1:])
         if not self.passive_names:  # a serial chain: the forward pose is the chain itself
             pose = self.platform_pose(theta, np.zeros(theta.shape[:-1] + (0,)))
             batch = theta.shape[:-1]
@@ -520,7 +548,7 @@ class Mechanism:
         """A and B of A twist = B actuated_rates (mechanisms with a rate model, e.g. the SPM)."""
         self._require(self.capabilities.rates, "rate_jacobians", "A/B rate model")
         theta, passive = self._state(state)
-        return self.backend.call("rate_jacobians", theta, passive, self.params)
+        return self._finite("rate_jacobians", theta, passive)
 
     def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
@@ -536,7 +564,7 @@ class Mechanism:
         rate, columns in the leg's joint order (``m.capabilities.legs``)."""
         self._require(self.capabilities.legs, "leg_jacobians", "serial legs")
         theta, passive = self._state(state)
-        return self.backend.call("leg_jacobians", theta, passive, self.params)
+        return self._finite("leg_jacobians", theta, passive)
 
     def inverse_rate(self, state: Configuration, twist: ArrayLike, damping: float | None = None) -> Rates:
         """Joint rates for a platform twist (..., 6) = (v, w) in {B} (eq 10), leg by leg.
@@ -554,7 +582,7 @@ class Mechanism:
         self._require(self.capabilities.legs, "inverse_rate", "rate model (A/B Jacobians or serial legs)")
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
-        batch = broadcast_shapes(xdot.shape[:-1], state.actuated.shape[:-1])
+        batch = broadcast_shapes(xdot.shape[:-1], self._state(state)[0].shape[:-1])
         actuated_rates = np.zeros(batch + (len(self.actuated_names),))
         passive_rates = np.zeros(batch + (len(self.passive_names),))
         for leg, jacobian in jacobians.items():
@@ -573,6 +601,7 @@ class Mechanism:
 
     def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike, damping: float | None) -> Rates:
         omega = as_array(twist, "twist", (self.manifest.twist_size,))
+        theta, passive = self._state(state)
         jacobians = self.rate_jacobians(state)
         right = (jacobians["a"] @ omega[..., None])[..., 0]
         b = np.broadcast_to(jacobians["b"], right.shape[:-1] + jacobians["b"].shape[-2:])
@@ -581,9 +610,9 @@ class Mechanism:
         else:
             rates = self._damped(b, right, damping, "B (inverse Jacobian)")
         state_b = Configuration(
-            np.broadcast_to(state.actuated, rates.shape),
-            np.broadcast_to(state.passive, rates.shape[:-1] + state.passive.shape[-1:]),
-            np.broadcast_to(state.pose, rates.shape[:-1] + (4, 4)),
+            np.broadcast_to(theta, rates.shape),
+            np.broadcast_to(passive, rates.shape[:-1] + passive.shape[-1:]),
+            np.broadcast_to(np.eye(4), rates.shape[:-1] + (4, 4)),  # not read by passive_rates
         )
         return Rates(rates, self.passive_rates(state_b, rates))
 
@@ -714,7 +743,7 @@ class Mechanism:
         """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
         closed-loop matrix), then the determinants themselves; zero means singular."""
         theta, passive = self._state(state)
-        out = self.backend.call("singularity_factors", theta, passive, self.params)
+        out = self._finite("singularity_factors", theta, passive)
         names = self.manifest.singularity_factors + self.manifest.determinants
         values = np.concatenate([out["factors"], out["determinants"]], axis=-1)
         return {name: values[..., k] for k, name in enumerate(names)}

@@ -32,9 +32,11 @@ def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Ar
 
 def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> Array:
     """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), eq (2) of Williams & Poling; radians."""
-    a, b, g = np.broadcast_arrays(
-        *(as_array(x, n, ()) for x, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma")))
-    )
+    angles = [as_array(x, n, ()) for x, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma"))]
+    try:
+        a, b, g = np.broadcast_arrays(*angles)
+    except ValueError as error:
+        raise BadInputError(f"alpha, beta, gamma do not broadcast: shapes {[x.shape for x in angles]}") from error
     ca, sa, cb, sb, cg, sg = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(g), np.sin(g)
     return np.stack(
         [
@@ -118,7 +120,34 @@ def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array
         else:
             full[..., :3, 3] = array
         array = full
-    return as_pose(array, name)
+    pose = as_pose(array, name)
+    _check_kind(pose, kind, name)
+    return pose
+
+
+def _check_kind(pose: Array, kind: str, name: str, tolerance: float = 1e-6) -> None:
+    """A pose a mechanism of this kind can take: an orienting platform has no translation, a
+    translating one no rotation, a planar one moves in z = 0 about z."""
+    rotation, translation = pose[..., :3, :3], pose[..., :3, 3]
+    problems = {
+        "rotation": (np.abs(translation).max(-1, initial=0.0), "a translation (an orienting platform has none)"),
+        "translation": (
+            np.abs(rotation - np.eye(3)).max(axis=(-2, -1)),
+            "a rotation (a translating platform has none)",
+        ),
+        "planar": (
+            np.maximum(np.abs(translation[..., 2]), np.abs(rotation[..., 2, :] - [0, 0, 1]).max(-1)),
+            "motion out of the plane z = 0 (a planar platform translates in x, y and turns about z)",
+        ),
+    }
+    if kind not in problems:
+        return
+    measure, what = problems[kind]
+    bad = ~(measure <= tolerance)
+    if np.any(bad):
+        index = tuple(int(i) for i in np.argwhere(np.asarray(bad))[0]) if np.ndim(bad) else ()
+        at = f" at batch index {index}" if index else ""
+        raise BadInputError(f"{name}{at} has {what}: off by {float(np.asarray(measure)[index]):.3g}")
 
 
 def as_array_any(value: ArrayLike, name: str) -> Array:

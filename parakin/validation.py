@@ -23,8 +23,9 @@ Array = NDArray[np.float64]
 MAX_ITERATIONS = 1_000_000
 
 
-def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...]) -> Array:
-    """``value`` as a float array whose last axes are ``trailing``; finite, or BadInputError."""
+def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...], finite: bool = True) -> Array:
+    """``value`` as a float array whose last axes are ``trailing``; finite (unless ``finite`` is
+    False: then NaN and inf pass, for functions that flag them), or BadInputError."""
     if isinstance(value, str | bytes) or value is None:
         raise BadInputError(f"{name} must be numeric, got {type(value).__name__}")
     try:
@@ -38,7 +39,7 @@ def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...]) -> Array:
     if array.ndim < len(trailing) or array.shape[array.ndim - len(trailing) :] != trailing:
         expected = "(..., " + ", ".join(str(n) for n in trailing) + ")"
         raise BadInputError(f"{name} must have shape {expected}, got {array.shape}")
-    if not np.isfinite(array).all():
+    if finite and not np.isfinite(array).all():
         bad = np.argwhere(~np.isfinite(array))[0]
         raise BadInputError(f"{name} has a non-finite value at index {tuple(int(i) for i in bad)}")
     return array
@@ -54,11 +55,13 @@ def real_number(value: object, name: str) -> float:
     return number
 
 
-def positive_number(value: object, name: str, allow_zero: bool = False) -> float:
-    """A finite number > 0 (>= 0 with ``allow_zero``), or BadInputError."""
+def positive_number(value: object, name: str, allow_zero: bool = False, maximum: float = 1e100) -> float:
+    """A finite number > 0 (>= 0 with ``allow_zero``) and at most ``maximum`` (squares and
+    products of it must not overflow), or BadInputError."""
     number = real_number(value, name)
-    if number < 0 or (number == 0 and not allow_zero):
-        raise BadInputError(f"{name} must be {'>= 0' if allow_zero else '> 0'}, got {number}")
+    if number < 0 or (number == 0 and not allow_zero) or number > maximum:
+        low = ">= 0" if allow_zero else "> 0"
+        raise BadInputError(f"{name} must be {low} and <= {maximum:g}, got {number}")
     return number
 
 
