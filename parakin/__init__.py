@@ -43,7 +43,7 @@ from parakin.pose import (
     xyz_euler_from_pose,
 )
 from parakin.results import AssemblyModes, Configuration, ForwardPose, InversePose, Rates
-from parakin.validation import as_array, in_domain, real_number
+from parakin.validation import as_array, in_domain, in_magnitude, real_number
 
 __version__ = "0.2.0"
 
@@ -77,6 +77,7 @@ def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str,
             raise UnknownMechanismError(f"unknown parameter {key!r} for {manifest.name!r}; valid: {valid}")
     for parameter in manifest.parameters:
         in_domain(values[parameter.name], parameter.name, parameter.domain)
+        in_magnitude(values[parameter.name], parameter.name)
     return values
 
 

@@ -35,7 +35,7 @@ from parakin.package import GeneratedPackage
 from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
-from parakin.validation import integer_in_range, positive_number, within_ranges
+from parakin.validation import integer_in_range, newton_tolerance, positive_number, within_ranges
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -130,7 +130,11 @@ class Mechanism:
         return theta
 
     def _passive(self, value: ArrayLike) -> Array:
-        return as_array(value, "passive", (len(self.passive_names),))
+        """Passive values (..., n_p): finite reals of magnitude at most MAX_INPUT (m or rad)."""
+        q = as_array(value, "passive", (len(self.passive_names),))
+        bound = np.full(len(self.passive_names), MAX_INPUT)
+        within_ranges(q, self.passive_names, -bound, bound, "passive")
+        return q
 
     def _state(self, state: Configuration) -> tuple[Array, Array]:
         if not isinstance(state, Configuration):
@@ -164,15 +168,19 @@ class Mechanism:
     # ------------------------------------------------------------------ pose kernels
     def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
         """^B_P T reached by the first leg from joint values (the forward chain, eq 2-3)."""
-        return self.backend.call("platform_pose", self._actuated(actuated), self._passive(passive), self.params)["pose"]
+        return self._finite("platform_pose", self._actuated(actuated), self._passive(passive))["pose"]
 
     def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]:
         """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
-        return self.backend.call("loop_closure", self._actuated(actuated), self._passive(passive), self.params)
+        return self._finite("loop_closure", self._actuated(actuated), self._passive(passive))
 
     def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
-        """^B_P T (..., 4, 4), or the short form of the pose kind (``parakin.pose.POSE_KINDS``)."""
-        return transform_from_pose(pose, self.manifest.pose_kind, name)
+        """^B_P T (..., 4, 4), or the short form of the pose kind (``parakin.pose.POSE_KINDS``);
+        positions of magnitude above MAX_INPUT are refused, like every other input."""
+        transform = transform_from_pose(pose, self.manifest.pose_kind, name)
+        bound = np.full(3, MAX_INPUT)
+        within_ranges(transform[..., :3, 3], ["x", "y", "z"], -bound, bound, f"{name} position")
+        return transform
 
     def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
         """Every closed-form inverse branch for ^B_P T (..., 4, 4) (or R (..., 3, 3) for an
@@ -197,6 +205,10 @@ class Mechanism:
             for k, name in enumerate(info.validity)
         }
         failures["limits"] = np.asarray(~self.within_limits(passive))
+        with np.errstate(invalid="ignore"):
+            failures["actuator_range"] = np.asarray(
+                ~((actuated >= self._actuated_low) & (actuated <= self._actuated_high)).all(-1)
+            )
         failures["finite"] = np.asarray(~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1)))
         valid = ~np.logical_or.reduce(list(failures.values()))
         result = InversePose(actuated, passive, valid, combinations, info.branches, failures, transform)
@@ -278,7 +290,7 @@ class Mechanism:
         SingularConfigurationError.
         """
         theta = self._actuated(actuated)
-        tolerance = positive_number(tolerance, "tolerance")
+        tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
         max_step = positive_number(max_step, "max_step")
         if not self.passive_names and guess is not None and not isinstance(guess, Configuration):

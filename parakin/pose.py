@@ -17,7 +17,9 @@ Array = NDArray[np.float64]
 
 
 def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Array:
-    """A (..., 4, 4) rigid transform: checked for a proper rotation block and a [0 0 0 1] row."""
+    """A (..., 4, 4) rigid transform: checked for a proper rotation block and a [0 0 0 1] row
+    (to ``tolerance``); a rotation block that is off by more than rounding is replaced by the
+    nearest rotation (polar factor), so that solvers see an exact pose."""
     pose = as_array(value, name, (4, 4))
     rotation = pose[..., :3, :3]
     gram = np.einsum("...ji,...jk->...ik", rotation, rotation)
@@ -27,6 +29,12 @@ def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Ar
         raise BadInputError(f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)")
     if (np.linalg.det(rotation) < 0).any():
         raise BadInputError(f"{name} has a reflection (det R < 0), not a rotation")
+    inexact = orthogonality > 4 * np.finfo(float).eps
+    if np.any(inexact):
+        u, _, vt = np.linalg.svd(rotation)
+        pose = pose.copy()
+        pose[..., :3, :3] = np.where(np.asarray(inexact)[..., None, None], u @ vt, rotation)
+        pose[..., 3, :] = [0.0, 0.0, 0.0, 1.0]
     return pose
 
 

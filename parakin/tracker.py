@@ -26,7 +26,7 @@ from parakin.errors import AssemblyModeChangeError, BadInputError, raise_for_new
 from parakin.linalg import pivoted_solve
 from parakin.pose import wrap_angle
 from parakin.results import Array, Configuration
-from parakin.validation import integer_in_range, positive_number
+from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
 #: ``ForwardPoseTracker.mode_change`` codes
 MODE_CHANGES = ("none", "crossed_singularity", "left_branch", "step_too_coarse")
@@ -58,7 +58,7 @@ class ForwardPoseTracker:
         if not isinstance(start, Configuration):
             raise BadInputError(f"start must be a Configuration (from a solver), got {type(start).__name__}")
         theta, passive = mechanism._state(start)
-        tolerance = positive_number(tolerance, "tolerance")
+        tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
         self.jump_ratio = positive_number(jump_ratio, "jump_ratio")
         self.trust_step = positive_number(trust_step, "trust_step")

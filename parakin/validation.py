@@ -65,6 +65,22 @@ def positive_number(value: object, name: str, allow_zero: bool = False, maximum:
     return number
 
 
+def newton_tolerance(value: object) -> float:
+    """A residual tolerance: between 1e-16 (below it doubles cannot tell convergence apart, and
+    backends would disagree on rounding) and 1."""
+    number = positive_number(value, "tolerance")
+    if not 1e-16 <= number <= 1.0:
+        raise BadInputError(f"tolerance must be in [1e-16, 1], got {number:g}")
+    return number
+
+
+def in_magnitude(value: float, name: str, bound: float = 1e9) -> float:
+    """A parameter of magnitude at most ``bound`` (SI): beyond it the kinematics overflows."""
+    if abs(value) > bound:
+        raise BadInputError(f"parameter {name!r} = {value:g} exceeds {bound:g} in magnitude")
+    return value
+
+
 def integer_in_range(value: object, name: str, minimum: int = 0, maximum: int = MAX_ITERATIONS) -> int:
     """An integer in [minimum, maximum] (no bool, no float), or BadInputError."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):

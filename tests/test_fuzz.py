@@ -237,6 +237,13 @@ class Op:
     fixed_batch: tuple[int, ...] | None = None  # the result's batch whatever the input's (a tracker's)
 
 
+def _size(m, *arrays) -> float:
+    """1 + the largest length among the arrays, in length scales: closure and pose errors of
+    huge (finite) inputs are judged relative to it (rounding grows with the values)."""
+    largest = max((float(np.abs(np.asarray(a)).max(initial=0.0)) for a in arrays), default=0.0)
+    return 1.0 + largest / h.length_scale(m)
+
+
 def _closure(m, actuated, passive) -> float:
     if not m.passive_names or np.size(passive) == 0:
         return 0.0
@@ -251,13 +258,14 @@ def verify_inverse(m):
             return None
         actuated, passive = result.actuated[valid], result.passive[valid]
         target = np.broadcast_to(result.pose[..., None, :, :], valid.shape + (4, 4))[valid]
+        size = _size(m, actuated, passive, target[..., :3, 3])
         closure = _closure(m, actuated, passive)
-        if not closure < CLOSURE:
-            return f"a valid branch does not close the loop (residual {closure:.3g})"
+        if not closure < CLOSURE * size:
+            return f"a valid branch does not close the loop (residual {closure:.3g}, size {size:.3g})"
         if h.full_dof(m):
             error = float(h.pose_tolerance(m, m.platform_pose(actuated, passive), target).max())
-            if not error < CLOSURE:
-                return f"a valid branch misses the pose by {error:.3g}"
+            if not error < CLOSURE * size:
+                return f"a valid branch misses the pose by {error:.3g} (size {size:.3g})"
         return None
 
     return check
@@ -269,7 +277,7 @@ def verify_forward(m, tolerance: float = 1e-12):
         if not converged.any() or tolerance > CLOSURE:
             return None
         actuated, passive = np.asarray(result.actuated)[converged], np.asarray(result.passive)[converged]
-        closure = _closure(m, actuated, passive)
+        closure = _closure(m, actuated, passive) / _size(m, actuated, passive)
         if not closure <= CLOSURE:
             return f"a converged Newton result does not close the loop (residual {closure:.3g})"
         error = float(h.pose_tolerance(m, m.platform_pose(actuated, passive), np.asarray(result.pose)[converged]).max())
@@ -286,8 +294,8 @@ def verify_modes(m):
         if not valid.any() or not m.passive_names:
             return None
         grid = np.broadcast_to(result.actuated[..., None, :], result.passive.shape[:-1] + result.actuated.shape[-1:])
-        closure = _closure(m, grid[valid], result.passive[valid])
-        return None if closure < CLOSURE else f"a valid mode does not close the loop (residual {closure:.3g})"
+        closure = _closure(m, grid[valid], result.passive[valid]) / _size(m, grid[valid], result.passive[valid])
+        return None if closure < CLOSURE else f"a valid mode does not close the loop (relative residual {closure:.3g})"
 
     return check
 
@@ -1567,21 +1575,21 @@ def test_malformed_inputs_raise_named_errors(name):
     """Complex values, strings, None, object arrays, ragged lists, dicts, wrong last axes, 0-d
     values, states that are not Configurations, poses that are not rigid: a ParakinError, on
     every operation and backend."""
-    contract_property(name, ("raise",), ARRAY_ROLES, 40, 25)
+    contract_property(name, ("raise",), ARRAY_ROLES, 60, 40)
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_non_finite_inputs_raise_or_are_flagged(name):
     """NaN / inf entries (single inputs and one bad element of a batch): a ParakinError, or a
     result that flags that element invalid (results without flags must raise)."""
-    contract_property(name, ("flag",), ARRAY_ROLES, 25, 15)
+    contract_property(name, ("flag",), ARRAY_ROLES, 40, 25)
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_extreme_values_give_finite_results_or_named_errors(name):
     """Huge, tiny and negative-length values, object arrays of floats, complex arrays with a zero
     imaginary part, integer values: a ParakinError or a finite, correct result."""
-    contract_property(name, ("either",), ARRAY_ROLES, 25, 15)
+    contract_property(name, ("either",), ARRAY_ROLES, 40, 25)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -1590,7 +1598,7 @@ def test_valid_inputs_of_every_layout_give_results_equal_to_single_calls(name):
     Fortran-ordered and read-only arrays, float32 values, one unbatched guess / state / twist
     against a batch: a result of the batch shape equal to the single calls (empty batches give
     empty results, never an error), finite and correct."""
-    contract_property(name, ("ok",), ARRAY_ROLES, 30, 20)
+    contract_property(name, ("ok",), ARRAY_ROLES, 40, 25)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -1600,14 +1608,25 @@ def test_solver_options_are_validated(name):
     non-integer or negative max_iterations, max_step <= 0, damping < 0 or NaN, strings, None)
     raise a ParakinError; extreme ones (2**32 + 3 iterations, inf tolerance, damping 1e300)
     answer either way."""
-    contract_property(name, ("ok", "raise", "either"), OPTION_ROLES, 25, 15)
+    contract_property(name, ("ok", "raise", "either"), OPTION_ROLES, 30, 20)
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_unknown_keyword_arguments_raise_named_errors(name):
-    """A misspelt or unknown keyword argument (tol=, foo=, damping= where there is none): a
-    ParakinError naming it, not Python's TypeError."""
-    contract_property(name, ("raise", "ok"), ("kwargs",), 10, 5)
+def test_unknown_keyword_arguments_are_refused_naming_the_keyword(name):
+    """A misspelt or unknown keyword argument (tol=, foo=, damping= where there is none) is a
+    call the method's signature does not allow: Python's TypeError naming the keyword, as every
+    Python library answers it (a ParakinError is for values, not for the call's shape); the
+    keywords ``load`` collects as parameters raise UnknownMechanismError."""
+    checked = 0
+    for backend in ("numpy", "compiled"):
+        for op in (op for op in ops_of(name, backend) if op.role == "kwargs"):
+            for keyword in ("tol", "foo", "dampening"):
+                with pytest.raises(TypeError, match=keyword):
+                    op.call({keyword: 1.0})
+                checked += 1
+    assert checked >= 6
+    with pytest.raises(parakin.UnknownMechanismError, match="no_such_parameter"):
+        parakin.load(name, no_such_parameter=1.0)
 
 
 @pytest.mark.parametrize(("name", "backend"), CASES)
