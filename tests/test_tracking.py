@@ -82,8 +82,10 @@ def test_coarse_steps_never_change_mode_silently(name, backend):
     m = _load(name, backend)
     if m.is_architecturally_singular():
         pytest.skip(f"{name}'s default geometry is architecturally singular: no isolated configurations to track")
-    coarse = _census(m, 12, 3, 2.0)
-    smooth = _census(m, 6, 12, 0.6)
+    # the NumPy loop is ~10x slower per step than the compiled one: fewer paths, same checks
+    paths = 12 if backend == "compiled" else 8
+    coarse = _census(m, paths, 3, 2.0)
+    smooth = _census(m, paths // 2, 12, 0.6)
     assert coarse["steps"] + smooth["steps"] >= 20, (coarse, smooth)
     assert coarse["silent"] == 0 and smooth["silent"] == 0, (coarse, smooth)
     # smooth paths sampled at 12 steps are followed without a flag (almost always)
