@@ -271,9 +271,15 @@ def sweep(
         raise UnsupportedOperationError(f"{m.name} has no closed-form inverse: pose-space quantities need one")
     if "modes" in quantities and m.capabilities.forward is None:
         raise UnsupportedOperationError(f"{m.name} has no forward elimination: 'modes' is not available")
-    try:  # the home configuration's pose, where it closes; else the identity
+    try:  # the home configuration's pose where it closes, else a closed configuration near it
+        from parakin.sampling import sample_configurations
+
         solved = m.forward_pose(m.home_actuated, strict=False)
-        home = xyz_euler_from_pose(solved.pose) if bool(solved.converged) else np.zeros(6)
+        if bool(solved.converged):
+            home = xyz_euler_from_pose(solved.pose)
+        else:
+            near = sample_configurations(m, 16, seed=0)
+            home = xyz_euler_from_pose(near.pose[0]) if near.pose.shape[0] else np.zeros(6)
     except ParakinError:
         home = np.zeros(6)
     home_values = dict(zip(POSE_COORDINATES["transform"], home, strict=True))
