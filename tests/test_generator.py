@@ -147,11 +147,19 @@ def test_a_copied_mechanism_file_gets_everything(tmp_path):
     )
     subprocess.run([sys.executable, "-c", code], check=True, cwd=tmp_path)
     cli = [sys.executable, "-m", "parakin"]
-    for command in (["demo", str(package)], ["inspect", str(package)], ["plot", str(package), "--output", "p.png"]):
+    sweep = ["sweep", str(package), "reachable", "type_ii_distance", "--axis", "x=-0.2:0.2:7", "--axis", "y=-0.2:0.2:5"]
+    for command in (
+        ["demo", str(package)],
+        ["inspect", str(package)],
+        ["plot", str(package), "--output", "p.png"],
+        sweep,
+    ):
         done = subprocess.run(cli + command, cwd=tmp_path, capture_output=True, text=True)
         assert done.returncode == 0, (command, done.stderr)
         if command[0] == "demo":  # the copied paper examples reproduce, under the new name
             assert "[ok ]" in done.stdout and "[FAIL" not in done.stdout
+        if command[0] == "sweep":  # a design study of the copy, from its manifest alone
+            assert "reachable" in done.stdout and "(35/35 defined)" in done.stdout
     assert (tmp_path / "p.png").stat().st_size > 10_000
 
 
