@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import parakin
+from parakin.polynomial import isolate_real_roots
 
 Array = NDArray[np.float64]
 
@@ -218,24 +219,11 @@ def compatibility(m: Any, lengths: ArrayLike) -> Compatibility:
 
 
 # ---------------------------------------------------------------------------------- back-substitution
-def _real_roots(coefficients: Array, imaginary_tolerance: float = 1e-7) -> list[float]:
-    """Real roots of a polynomial (highest power first), Newton-polished."""
-    derivative = np.polyder(coefficients)
-    found = []
-    for root in np.roots(coefficients):
-        if abs(root.imag) > imaginary_tolerance * (1 + abs(root)):
-            continue
-        value = float(root.real)
-        for _ in range(3):
-            slope = np.polyval(derivative, value)
-            if slope == 0:
-                break
-            step = np.polyval(coefficients, value) / slope
-            if not np.isfinite(step) or abs(step) > 1e-3 * (1 + abs(value)):
-                break
-            value -= float(step)
-        found.append(value)
-    return found
+def _real_roots(coefficients: Array) -> list[float]:
+    """Real roots of a polynomial (highest power first) by parakin's one root finder (near-real
+    candidates included: the checks below decide what closes)."""
+    isolated = isolate_real_roots(np.asarray(coefficients, dtype=float)[::-1])
+    return [float(x) for x in isolated.roots[: int(isolated.count)]]
 
 
 def quartic(ix: float, e1: float, e2: float, a1: float, a2: float) -> Array:
