@@ -7,7 +7,7 @@
   colour per count; a parameter grid is a design-space map;
 - three pose axes of a boolean quantity (a reachable workspace): a 3-D point cloud of the true
   points.
-Axis labels carry the units (m for x, y, z; rad for angles and parameters in rad).
+Pose axes are labelled with their units (m for x, y, z; rad for the angles).
 """
 
 from __future__ import annotations
@@ -25,8 +25,13 @@ if TYPE_CHECKING:
 LENGTH_AXES = ("x", "y", "z")
 
 
+ANGLE_AXES = ("alpha", "beta", "gamma", "phi")
+
+
 def _label(name: str) -> str:
-    return f"{name} [m]" if name in LENGTH_AXES else name
+    if name in LENGTH_AXES:
+        return f"{name} [m]"
+    return f"{name} [rad]" if name in ANGLE_AXES else name
 
 
 def plot_sweep(dataset: xarray.Dataset, quantity: str, path: str | None = None, ax: Any = None) -> Any:
