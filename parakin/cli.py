@@ -380,6 +380,9 @@ def main(argv: list[str] | None = None) -> int:
     except ParakinError as error:
         print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2
+    except OSError as error:  # an output path that cannot be written, a missing folder
+        print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
+        return 2
     except BrokenPipeError:  # `parakin ... | head`: the reader left; no traceback
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

@@ -540,6 +540,7 @@ class Mechanism:
         self-motion), traced by continuation from ``starts`` (k, n_p) or from the home
         configuration and random perturbations of it (see ``parakin.continuation``)."""
         theta = self._actuated(actuated)
+        step = positive_number(step, "step")
         if theta.ndim != 1:
             raise BadInputError(f"self_motion takes one input (n_a,), got shape {theta.shape}")
         start = None if starts is None else np.atleast_2d(self._passive(starts))

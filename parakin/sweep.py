@@ -32,6 +32,7 @@ finished chunk is written at once and recorded, so an interrupted sweep resumes 
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -240,6 +241,8 @@ def sweep(
     m = mechanism if isinstance(mechanism, MechanismClass) else _mechanism(str(mechanism), backend, ())
     source = str(m.package.path)
     backend_name = m.backend.name
+    if isinstance(quantities, str):
+        quantities = [quantities]
     unknown = [q for q in quantities if q not in QUANTITIES]
     if unknown or not quantities:
         raise BadInputError(f"unknown quantities {unknown}; choose from {QUANTITIES}")
@@ -297,7 +300,14 @@ def sweep(
         for name, values in workspace.items():
             if name not in pose_names:
                 raise BadInputError(f"workspace axis {name!r} is not a pose coordinate {pose_names}")
-            workspace_grid[name] = as_array(values, f"workspace {name!r}", ())
+            array = as_array(values, f"workspace {name!r}", ())
+            steps = np.diff(array) if array.ndim == 1 else np.zeros(0)
+            if array.ndim != 1 or array.size < 2 or not (steps > 0).all() or np.ptp(steps) > 1e-9 * abs(steps[0]):
+                raise BadInputError(
+                    f"workspace axis {name!r} must be evenly spaced ascending values (at least 2): its cells "
+                    "give the volume"
+                )
+            workspace_grid[name] = array
     names = _output_names(m, quantities)
     spec = {
         "source": source,
@@ -333,7 +343,13 @@ def sweep(
         elif name in ("branches", "modes"):
             array = array.astype(np.int32)
         data[name] = (dims, array)
-    fingerprint = json.dumps({k: v for k, v in spec.items() if k != "workspace"}, sort_keys=True, default=str)
+    # everything that determines the values: a store of any other sweep is refused, not reused
+    digest = hashlib.sha256()
+    for name, values in [*grid.items(), *(("workspace " + k, v) for k, v in workspace_grid.items())]:
+        digest.update(name.encode())
+        digest.update(np.ascontiguousarray(values, dtype=float).tobytes())
+    described = {k: v for k, v in spec.items() if k != "workspace"}
+    fingerprint = json.dumps({**described, "grids": digest.hexdigest()}, sort_keys=True, default=str)
     attributes = {
         "mechanism": m.name,
         "pose_kind": kind,
@@ -352,7 +368,10 @@ def _client(scheduler: str | None) -> Any:
         return None
     from distributed import Client
 
-    return Client(scheduler)
+    try:
+        return Client(scheduler, timeout=30)
+    except (OSError, ValueError, TimeoutError) as error:
+        raise BadInputError(f"no dask scheduler at {scheduler!r}: {error}") from error
 
 
 def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool) -> xarray.Dataset:

@@ -22,7 +22,12 @@ import ctypes
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import AssemblyModeChangeError, BadInputError, raise_for_newton_status
+from parakin.errors import (
+    AssemblyModeChangeError,
+    BadInputError,
+    UnsupportedOperationError,
+    raise_for_newton_status,
+)
 from parakin.linalg import pivoted_solve
 from parakin.pose import wrap_angle
 from parakin.results import Array, Configuration
@@ -57,6 +62,10 @@ class ForwardPoseTracker:
     ) -> None:
         if not isinstance(start, Configuration):
             raise BadInputError(f"start must be a Configuration (from a solver), got {type(start).__name__}")
+        if not mechanism.passive_names:
+            raise UnsupportedOperationError(
+                f"{mechanism.name} is a serial chain: no passive joints to track (forward_pose is closed form)"
+            )
         theta, passive = mechanism._state(start)
         tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
@@ -80,7 +89,9 @@ class ForwardPoseTracker:
         self.orientation = np.zeros(self.count, dtype=np.int32)
         self.first_step = np.zeros(self.count)
         self.mode_change = np.zeros(self.count, dtype=np.int32)
+        self.pose[...] = mechanism.platform_pose(self.actuated, self.passive)
         self._previous = self.passive.copy()
+        self._previous_pose = self.pose.copy()
         self._previous_orientation = self._orientation_at(self.actuated, self.passive)
         self._params = np.ascontiguousarray(mechanism.params)
         self._tolerance, self._max_iterations = tolerance, max_iterations
@@ -131,6 +142,7 @@ class ForwardPoseTracker:
         """Newton from the previous solution for new actuated values (n, n_a) or (n_a,)."""
         theta = self.mechanism._actuated(actuated)
         self._previous[...] = self.passive
+        self._previous_pose[...] = self.pose
         previous_theta = self.actuated.copy()
         try:
             self.actuated[...] = theta
@@ -150,13 +162,19 @@ class ForwardPoseTracker:
             )
             self.conditioning[...], self.orientation[...] = solved.conditioning, solved.orientation
             self.first_step[...] = solved.first_step
-        if self.status.any():  # failed entries kept their previous (good) solution
-            self.actuated[...] = previous_theta
+        if self.status.any():  # the whole batch goes back to its previous, consistent state
+            self._restore(np.ones(self.count, dtype=bool), previous_theta)
             raise_for_newton_status(
                 self.status, self.residual, self.iterations, "tracker", self._tolerance, self._max_iterations
             )
         self._check_mode(previous_theta)
         return self.passive, self.pose
+
+    def _restore(self, entries: np.ndarray, previous_theta: Array) -> None:
+        """Entries back to the state before this solve: inputs, solution and pose together."""
+        self.actuated[entries] = previous_theta[entries]
+        self.passive[entries] = self._previous[entries]
+        self.pose[entries] = self._previous_pose[entries]
 
     def _moved(self, passive: Array, reference: Array) -> Array:
         change = passive - reference
@@ -175,8 +193,7 @@ class ForwardPoseTracker:
             self._follow_branch(np.nonzero(suspect)[0], previous_theta)
         changed = self.mode_change != 0
         if self.strict and changed.any():
-            self.passive[changed] = self._previous[changed]
-            self.pose[changed] = self.mechanism.platform_pose(self.actuated[changed], self.passive[changed])
+            self._restore(changed, previous_theta)
             i = int(np.argmax(changed))
             what = {
                 1: "the closure Jacobian's determinant changed sign: a type II singularity was crossed",

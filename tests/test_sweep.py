@@ -146,3 +146,14 @@ def test_cli_sweep_writes_netcdf_and_a_map(tmp_path):
     saved = xr.load_dataset(tmp_path / "s.nc")
     direct = sweep("five_bar", ["reachable"], {"x": np.linspace(-0.5, 0.5, 41), "y": np.linspace(-0.3, 0.7, 31)})
     np.testing.assert_array_equal(saved.reachable.values.astype(bool), direct.reachable.values)
+
+
+def test_a_store_of_another_grid_is_refused_not_reused(tmp_path):
+    store = tmp_path / "s.zarr"
+    sweep("five_bar", ["reachable"], {"x": np.linspace(-0.5, 0.5, 11), "y": np.linspace(-0.3, 0.6, 7)}, store=store)
+    with pytest.raises(parakin.BadInputError, match="another sweep"):
+        sweep("five_bar", ["reachable"], {"x": np.linspace(-0.1, 0.1, 11), "y": np.linspace(-0.3, 0.6, 7)}, store=store)
+    with pytest.raises(parakin.BadInputError, match="evenly spaced ascending"):
+        sweep("spm", ["workspace_volume"], {"alpha1": [1.0]}, workspace={"alpha": np.linspace(1, -1, 5)})
+    with pytest.raises(parakin.BadInputError, match="no dask scheduler"):
+        sweep("five_bar", ["reachable"], {"x": [0.0]}, scheduler="tcp://127.0.0.1:1")

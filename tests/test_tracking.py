@@ -116,3 +116,26 @@ def test_strict_tracker_raises_and_keeps_its_solution(backend):
             except parakin.ParakinError:
                 break
     assert raised >= 3
+
+
+@pytest.mark.parametrize("backend", ["compiled", "numpy"])
+def test_a_refused_step_leaves_the_whole_tracker_consistent(backend):
+    """A strict refusal and a failed entry in a batch both put every entry back: inputs, solution
+    and pose still close the loop, and the advised smaller step then works."""
+    m = _load("planar_3rpr", backend)
+    start = m.forward_pose(m.home_actuated)
+    direction = np.array([1.0, -0.5, 0.3])
+    tracker = m.tracker(start)
+    with pytest.raises(parakin.AssemblyModeChangeError):
+        tracker.solve(m.home_actuated + 1.6 * direction)
+    np.testing.assert_array_equal(tracker.actuated[0], m.home_actuated)
+    assert np.abs(m.loop_closure(tracker.actuated, tracker.passive)["residual"]).max() < 1e-12
+    np.testing.assert_allclose(tracker.pose[0], start.pose, atol=1e-12)
+    tracker.solve(m.home_actuated + 0.2 * direction)
+    assert tracker.mode_change[0] == 0
+    bar = _load("five_bar", backend)
+    home = bar.home_actuated
+    batch = bar.tracker(bar.forward_pose(np.stack([home, home])))
+    with pytest.raises(parakin.ConvergenceError):
+        batch.solve(np.stack([home + [0.05, 0.0], home + [1.5, 0.0]]))
+    assert np.abs(bar.loop_closure(batch.actuated, batch.passive)["residual"]).max() < 1e-12
