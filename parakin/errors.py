@@ -74,6 +74,19 @@ NEWTON_OK, NEWTON_NONFINITE, NEWTON_NO_CONVERGENCE, NEWTON_SINGULAR, NEWTON_WRON
 NEWTON_STATUS_NAMES = ("ok", "nonfinite", "no_convergence", "singular", "wrong_basin")
 
 
+def first_index(mask: object) -> tuple[int, ...]:
+    """The index of the first True entry of a boolean mask (() for a 0-d mask)."""
+    import numpy as np
+
+    array = np.asarray(mask)
+    return tuple(int(i) for i in np.argwhere(array)[0]) if array.ndim else ()
+
+
+def at_index(index: tuple[int, ...]) -> str:
+    """' at batch index (i, ...)' for messages, or '' for an unbatched input."""
+    return f" at batch index {index}" if index else ""
+
+
 def raise_for_newton_status(
     status: object, residual: object, iterations: object, what: str, tolerance: float, max_iterations: int
 ) -> None:
@@ -83,8 +96,8 @@ def raise_for_newton_status(
     failed = np.asarray(status) != NEWTON_OK
     if not failed.any():
         return
-    index = tuple(int(i) for i in np.argwhere(failed)[0]) if failed.ndim else ()
-    at = f" at batch index {index}" if index else ""
+    index = first_index(failed)
+    at = at_index(index)
     code = int(np.asarray(status)[index])
     reached = float(np.asarray(residual)[index])
     steps = int(np.asarray(iterations)[index])

@@ -26,6 +26,8 @@ from parakin.errors import (
     SingularConfigurationError,
     UnreachablePoseError,
     UnsupportedOperationError,
+    at_index,
+    first_index,
     raise_for_newton_status,
 )
 from parakin.linalg import pivoted_solve
@@ -35,7 +37,7 @@ from parakin.package import GeneratedPackage
 from parakin.pose import as_array, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
-from parakin.validation import integer_in_range, newton_tolerance, positive_number, within_ranges
+from parakin.validation import MAX_MAGNITUDE, integer_in_range, newton_tolerance, positive_number, within_ranges
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -47,10 +49,6 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 
 def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
-
-
-#: the largest actuated magnitude accepted (m or rad)
-MAX_INPUT = 1e9
 
 
 def pose_vector(pose: Array) -> Array:
@@ -87,9 +85,8 @@ class Mechanism:
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
-        # beyond 1e9 (m or rad) double-precision kinematics means nothing: such inputs are refused
-        self._actuated_low = np.maximum([v.limits[0] for v in manifest.actuated], -MAX_INPUT)
-        self._actuated_high = np.minimum([v.limits[1] for v in manifest.actuated], MAX_INPUT)
+        self._actuated_low = np.maximum([v.limits[0] for v in manifest.actuated], -MAX_MAGNITUDE)
+        self._actuated_high = np.minimum([v.limits[1] for v in manifest.actuated], MAX_MAGNITUDE)
         self._single_input = threading.local()  # forward_pose_all's reusable one-input job
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
@@ -130,9 +127,9 @@ class Mechanism:
         return theta
 
     def _passive(self, value: ArrayLike) -> Array:
-        """Passive values (..., n_p): finite reals of magnitude at most MAX_INPUT (m or rad)."""
+        """Passive values (..., n_p): finite reals of magnitude at most MAX_MAGNITUDE (m or rad)."""
         q = as_array(value, "passive", (len(self.passive_names),))
-        bound = np.full(len(self.passive_names), MAX_INPUT)
+        bound = np.full(len(self.passive_names), MAX_MAGNITUDE)
         within_ranges(q, self.passive_names, -bound, bound, "passive")
         return q
 
@@ -150,7 +147,7 @@ class Mechanism:
         for name, value in out.items():
             bad = ~np.isfinite(value)
             if bad.any():
-                where = tuple(int(i) for i in np.argwhere(bad)[0])[: value.ndim - len(shapes[name])]
+                where = first_index(bad)[: value.ndim - len(shapes[name])]
                 raise BadInputError(
                     f"{kernel}: {name} is not finite at batch index {where} (the state is too large for "
                     "double precision, or the model is undefined there)"
@@ -176,9 +173,9 @@ class Mechanism:
 
     def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
         """^B_P T (..., 4, 4), or the short form of the pose kind (``parakin.pose.POSE_KINDS``);
-        positions of magnitude above MAX_INPUT are refused, like every other input."""
+        positions of magnitude above MAX_MAGNITUDE are refused, like every other input."""
         transform = transform_from_pose(pose, self.manifest.pose_kind, name)
-        bound = np.full(3, MAX_INPUT)
+        bound = np.full(3, MAX_MAGNITUDE)
         within_ranges(transform[..., :3, 3], ["x", "y", "z"], -bound, bound, f"{name} position")
         return transform
 
@@ -215,9 +212,9 @@ class Mechanism:
         if strict:
             none = ~valid.any(-1)
             if none.any():
-                index = tuple(int(i) for i in np.argwhere(none)[0])
+                index = first_index(none)
                 failed = [name for name, mask in failures.items() if mask[index].all()]
-                at = f" at batch index {index}" if index else ""
+                at = at_index(index)
                 if failed and all(name == "limits" or name.endswith("reachable") for name in failed):
                     raise UnreachablePoseError(
                         f"pose{at} is unreachable on every branch: {', '.join(failed)} (joint limits {self.limits})"
@@ -495,7 +492,7 @@ class Mechanism:
         modes = assemble(self, theta, out)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
-            index = tuple(int(i) for i in np.argwhere(degenerate)[0])
+            index = first_index(degenerate)
             message = (
                 f"forward pose at batch index {index}: degenerate elimination "
                 f"({', '.join(info.degeneracies) or 'the polynomial vanishes'}) and no isolated mode; "
@@ -595,18 +592,16 @@ class Mechanism:
         self._require(self.capabilities.legs, "inverse_rate", "rate model (A/B Jacobians or serial legs)")
         xdot = as_array(twist, "twist", (6,))
         jacobians = self.leg_jacobians(state)
-        batch = broadcast_shapes(xdot.shape[:-1], self._state(state)[0].shape[:-1])
+        batch = broadcast_shapes(xdot.shape[:-1], next(iter(jacobians.values())).shape[:-2])
         actuated_rates = np.zeros(batch + (len(self.actuated_names),))
         passive_rates = np.zeros(batch + (len(self.passive_names),))
         for leg, jacobian in jacobians.items():
-            jacobian = np.broadcast_to(jacobian, batch + jacobian.shape[-2:])
-            target_twist = np.broadcast_to(xdot, batch + (6,))
-            if damping is None:
+            if damping is None:  # _solve broadcasts a single state against a batch of twists
                 joint_rates = self._solve(
-                    jacobian, target_twist, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse"
+                    jacobian, xdot, f"{leg} leg Jacobian", "pass damping=... for the damped pseudo-inverse"
                 )
             else:
-                joint_rates = self._damped(jacobian, target_twist, damping, f"{leg} leg Jacobian")
+                joint_rates = self._damped(jacobian, xdot, damping, f"{leg} leg Jacobian")
             for column, (is_actuated, index) in enumerate(self._leg_columns[leg]):
                 target = actuated_rates if is_actuated else passive_rates
                 target[..., index] = joint_rates[..., column]
@@ -617,11 +612,12 @@ class Mechanism:
         theta, passive = self._state(state)
         jacobians = self.rate_jacobians(state)
         right = (jacobians["a"] @ omega[..., None])[..., 0]
-        b = np.broadcast_to(jacobians["b"], right.shape[:-1] + jacobians["b"].shape[-2:])
         if damping is None:
-            rates = self._solve(b, right, "B (inverse Jacobian)", "a serial (type I) singularity; pass damping=...")
+            rates = self._solve(
+                jacobians["b"], right, "B (inverse Jacobian)", "a serial (type I) singularity; pass damping=..."
+            )
         else:
-            rates = self._damped(b, right, damping, "B (inverse Jacobian)")
+            rates = self._damped(jacobians["b"], right, damping, "B (inverse Jacobian)")
         state_b = Configuration(
             np.broadcast_to(theta, rates.shape),
             np.broadcast_to(passive, rates.shape[:-1] + passive.shape[-1:]),
@@ -650,16 +646,9 @@ class Mechanism:
         if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
             right = (jacobians["b"] @ rates[..., None])[..., 0]
-            a = np.broadcast_to(jacobians["a"], right.shape[:-1] + jacobians["a"].shape[-2:])
-            return self._solve(a, right, "A (direct Jacobian)", "a type II (parallel) singularity")
+            return self._solve(jacobians["a"], right, "A (direct Jacobian)", "a type II (parallel) singularity")
         matrix = self.rate_matrix(state)
-        batch = broadcast_shapes(matrix.shape[:-2], rates.shape[:-1])
-        return self._solve(
-            np.broadcast_to(matrix, batch + matrix.shape[-2:]),
-            np.broadcast_to(rates, batch + rates.shape[-1:]),
-            "rate matrix M (eq 12)",
-            "a type II (parallel) singularity",
-        )
+        return self._solve(matrix, rates, "rate matrix M (eq 12)", "a type II (parallel) singularity")
 
     def _solve(self, matrix: Array, rhs: Array, what: str, hint: str, columns: bool = False) -> Array:
         """matrix @ x = rhs by the one pivoted solve and singularity criterion of every backend
@@ -677,10 +666,9 @@ class Mechanism:
         x, ratio, _ = pivoted_solve(matrix, np.broadcast_to(rhs, batch + rhs.shape[-1:]))
         bad = ~(ratio > self.tolerances["singular_ratio"])
         if bad.any():
-            index = tuple(int(i) for i in np.argwhere(bad)[0])
-            at = f" at batch index {index}" if index else ""
+            index = first_index(bad)
             raise SingularConfigurationError(
-                f"{what} is singular{at} (pivot ratio {float(ratio[index]):.3g} <= "
+                f"{what} is singular{at_index(index)} (pivot ratio {float(ratio[index]):.3g} <= "
                 f"{self.tolerances['singular_ratio']:g}); {hint}"
             )
         return np.asarray(x, dtype=np.float64)

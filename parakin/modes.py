@@ -77,11 +77,9 @@ def _settings(m: Mechanism) -> dict[str, float | int]:
 
 
 def _limits(m: Mechanism) -> tuple[Array, Array]:
-    lower = np.array([v.limits[0] for v in m.manifest.passive], dtype=float)
-    upper = np.array([v.limits[1] for v in m.manifest.passive], dtype=float)
-    for name, (low, high) in m.limits.items():
-        k = m.passive_names.index(name)
-        lower[k], upper[k] = low, high
+    """Per passive variable (low, high), from the mechanism's limits (manifest and overrides)."""
+    lower, upper = np.full(len(m.passive_names), -np.inf), np.full(len(m.passive_names), np.inf)
+    lower[m._limit_index], upper[m._limit_index] = m._limit_low, m._limit_high
     return lower, upper
 
 

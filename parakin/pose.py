@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.errors import BadInputError
+from parakin.errors import BadInputError, at_index, first_index
 from parakin.validation import as_array
 
 Array = NDArray[np.float64]
@@ -153,9 +153,8 @@ def _check_kind(pose: Array, kind: str, name: str, tolerance: float = 1e-6) -> N
     measure, what = problems[kind]
     bad = ~(measure <= tolerance)
     if np.any(bad):
-        index = tuple(int(i) for i in np.argwhere(np.asarray(bad))[0]) if np.ndim(bad) else ()
-        at = f" at batch index {index}" if index else ""
-        raise BadInputError(f"{name}{at} has {what}: off by {float(np.asarray(measure)[index]):.3g}")
+        index = first_index(bad)
+        raise BadInputError(f"{name}{at_index(index)} has {what}: off by {float(np.asarray(measure)[index]):.3g}")
 
 
 def as_array_any(value: ArrayLike, name: str) -> Array:

@@ -90,11 +90,9 @@ def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Ar
     singular and some wrench cannot be held."""
     w = _wrench(m, wrench)
     a, b = _rate_model(m, state)
-    transposed = np.swapaxes(a, -1, -2)
-    batch = np.broadcast_shapes(w.shape[:-1], a.shape[:-2])
     y = m._solve(
-        np.broadcast_to(transposed, batch + transposed.shape[-2:]),
-        np.broadcast_to(w, batch + w.shape[-1:]),
+        np.swapaxes(a, -1, -2),
+        w,
         "A (direct Jacobian)" if b is not None else "rate matrix M",
         "a type II (parallel) singularity",
     )

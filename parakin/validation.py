@@ -15,10 +15,13 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.errors import BadInputError
+from parakin.errors import BadInputError, at_index, first_index
 
 Array = NDArray[np.float64]
 
+#: the largest magnitude of a length or angle input or parameter (m, rad): beyond it
+#: double-precision kinematics means nothing (squares and products overflow or lose every digit)
+MAX_MAGNITUDE = 1e9
 #: the largest iteration count an option accepts (the C driver counts in 64 bits; this bounds time)
 MAX_ITERATIONS = 1_000_000
 
@@ -40,8 +43,7 @@ def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...], finite: boo
         expected = "(..., " + ", ".join(str(n) for n in trailing) + ")"
         raise BadInputError(f"{name} must have shape {expected}, got {array.shape}")
     if finite and not np.isfinite(array).all():
-        bad = np.argwhere(~np.isfinite(array))[0]
-        raise BadInputError(f"{name} has a non-finite value at index {tuple(int(i) for i in bad)}")
+        raise BadInputError(f"{name} has a non-finite value at index {first_index(~np.isfinite(array))}")
     return array
 
 
@@ -74,7 +76,7 @@ def newton_tolerance(value: object) -> float:
     return number
 
 
-def in_magnitude(value: float, name: str, bound: float = 1e9) -> float:
+def in_magnitude(value: float, name: str, bound: float = MAX_MAGNITUDE) -> float:
     """A parameter of magnitude at most ``bound`` (SI): beyond it the kinematics overflows."""
     if abs(value) > bound:
         raise BadInputError(f"parameter {name!r} = {value:g} exceeds {bound:g} in magnitude")
@@ -112,7 +114,7 @@ def within_ranges(values: Array, names: Sequence[str], low: Array, high: Array, 
     naming the variable, its value, its range and the batch index."""
     outside = (values < low) | (values > high)
     if outside.any():
-        where = tuple(int(i) for i in np.argwhere(outside)[0])
+        where = first_index(outside)
         k = where[-1]
-        at = f" at batch index {where[:-1]}" if where[:-1] else ""
+        at = at_index(where[:-1])
         raise BadInputError(f"{what} {names[k]} = {values[where]:g}{at} is outside its range [{low[k]:g}, {high[k]:g}]")
