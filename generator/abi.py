@@ -21,6 +21,9 @@ MODE_OUTCOMES = [
     "outside_limits",  # closed, but a passive joint is outside its limits
     "duplicate",  # the same pose as an earlier mode (a double root or two branches)
     "input_independent",  # a pose that does not depend on the inputs (flagged, not counted)
+    "complex",  # a homotopy path ends at a complex solution (no real pose)
+    "at_infinity",  # a homotopy path diverges: the solution went to infinity for these inputs
+    "path_failed",  # the homotopy tracker could not follow the path to the end (step too small)
 ]
 
 #: per input of forward_pose_all
@@ -32,7 +35,7 @@ INPUT_STATUS = [
 ]
 
 #: real-root kinds of the isolation (templates/real_roots.h)
-ROOT_KINDS = ["simple", "cluster", "near_real"]
+ROOT_KINDS = ["simple", "cluster", "near_real", "complex", "at_infinity", "failed"]
 
 NEWTON_JOB = [
     ("n", "int64"),
@@ -73,6 +76,9 @@ MODES_JOB = [
     ("degenerate", "double"),
     ("leading_tolerance", "double"),
     ("near_tolerance", "double"),
+    ("path_tolerance", "double"),  # homotopy: corrector tolerance of the path tracker
+    ("real_endpoint", "double"),  # homotopy: relative imaginary part of a real endpoint
+    ("near_real_endpoint", "double"),  # homotopy: ... of a near-real candidate
     ("poses", "double*"),  # n x M x 4 x 4
     ("passive", "double*"),  # n x M x n_p
     ("residual", "double*"),  # n x M

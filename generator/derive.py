@@ -15,9 +15,10 @@ from dataclasses import dataclass, field
 import mpmath
 import sympy as sp
 
+from . import homotopy
 from .checks import check_closure, check_program_symbols
 from .frames import vee
-from .model import POSE_SYMBOLS, Mechanism
+from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
 from .program import Program
 from .trigpoly import factor_list
 
@@ -482,7 +483,12 @@ def derive(mechanism: Mechanism) -> Derivation:
             programs.append(_inverse_patterns(mechanism, params, groups["groups"]))
         symbolic["inverse_steps"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in inverse.steps))
 
-    if mechanism.forward is not None:
+    if isinstance(mechanism.forward, ForwardHomotopy):
+        setup = homotopy.build(mechanism, actuated, params)
+        programs += setup.programs
+        metadata["forward"] = setup.metadata
+        symbolic.update(setup.symbolic)
+    elif mechanism.forward is not None:
         forward = mechanism.forward
         programs.append(
             Program(

@@ -164,7 +164,16 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
             "combinations": caps["forward"]["combinations"],
             "branch_size": len(caps["forward"]["branches"]),
             "degeneracies": len(caps["forward"]["degeneracies"]),
+            "method": caps["forward"].get("method", "polynomial"),
         }
+        if forward["method"] == "homotopy":
+            start = caps["forward"]["start"]
+            forward |= {
+                "unknowns": len(caps["forward"]["unknowns"]),
+                "homogeneous": caps["forward"]["homogeneous"],
+                "start_real": [[repr(float(v)) for v in row] for row in start["real"]],
+                "start_imag": [[repr(float(v)) for v in row] for row in start["imag"]],
+            }
         groups = caps["inverse"]["groups"]
         inverse = {
             "combinations": caps["inverse"]["combinations"],
@@ -248,6 +257,7 @@ def _example_job(manifest: dict[str, Any], which: str) -> list[tuple[str, str]]:
         **common, "lower": "lower", "upper": "upper", "polish_iterations": str(int(tol["polish_iterations"])),
         "tolerance": repr(tol["polish"]), "leading_tolerance": repr(tol["leading"]),
         "near_tolerance": repr(tol["near_real"]),
+        **{k: repr(tol[k]) for k in ("path_tolerance", "real_endpoint", "near_real_endpoint")},
         **{k: repr(tol[k]) for k in ("closure", "candidate", "duplicate", "factor_zero", "singular_ratio",
                                      "validity", "degenerate")},
         "poses": "poses", "passive": "passive", "residual": "residual", "conditioning": "conditioning",

@@ -63,6 +63,74 @@ def vee(skew: sp.Matrix) -> sp.Matrix:
     )
 
 
+# ------------------------------------------------------------------ quaternions
+# q = (q0, q1, q2, q3) = q0 + q1 i + q2 j + q3 k, scalar first (Hamilton); a vector v is the pure
+# quaternion (0, v); R(q) v = q v q* / |q|^2, so q and any non-zero multiple of it (-q included)
+# give the same rotation.
+def quaternion_product(a: sp.Matrix | list, b: sp.Matrix | list) -> sp.Matrix:
+    """The Hamilton product a b of two quaternions (4-vectors, scalar first)."""
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    return sp.Matrix(
+        [
+            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+        ]
+    )
+
+
+def quaternion_conjugate(q: sp.Matrix | list) -> sp.Matrix:
+    """q* = (q0, -q1, -q2, -q3)."""
+    return sp.Matrix([q[0], -q[1], -q[2], -q[3]])
+
+
+def pure_quaternion(v: sp.Matrix | list) -> sp.Matrix:
+    """The vector v as the quaternion (0, v)."""
+    return sp.Matrix([0, v[0], v[1], v[2]])
+
+
+def quaternion_rotation_unnormalised(q: sp.Matrix | list) -> sp.Matrix:
+    """|q|^2 R(q): the columns are q e_k q* (a quadratic form in q, exact for any scale)."""
+    columns = [
+        quaternion_product(quaternion_product(q, pure_quaternion(axis)), quaternion_conjugate(q))[1:, 0]
+        for axis in sp.eye(3).columnspace()
+    ]
+    return sp.Matrix.hstack(*columns)
+
+
+def quaternion_rotation(q: sp.Matrix | list) -> sp.Matrix:
+    """R(q) = (q v q*) / |q|^2: a rotation for every non-zero q, singular nowhere else."""
+    norm = sum(c**2 for c in q)
+    return quaternion_rotation_unnormalised(q) / norm
+
+
+def _sign_or_plus(value: sp.Expr) -> sp.Expr:
+    """sign(value) with sign(0) = +1."""
+    return sp.sign(value) + 1 - sp.Abs(sp.sign(value))
+
+
+def quaternion_from_rotation(rotation: sp.Matrix) -> sp.Matrix:
+    """The unit quaternion of R with q0 >= 0 (q0 = 0: the half-turns, either sign), without
+    branches: the columns of K = 4 q q^T (entries linear in R) are 4 q_k q; they are added with
+    the sign that makes each agree with the sum so far (a sign error only ever affects a column of
+    vanishing length), so the sum is 4 (|q0| + |q1| + |q2| + |q3|) q, of length >= 2."""
+    r = rotation
+    k = sp.Matrix(
+        [
+            [1 + r[0, 0] + r[1, 1] + r[2, 2], r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]],
+            [r[2, 1] - r[1, 2], 1 + r[0, 0] - r[1, 1] - r[2, 2], r[0, 1] + r[1, 0], r[0, 2] + r[2, 0]],
+            [r[0, 2] - r[2, 0], r[0, 1] + r[1, 0], 1 - r[0, 0] + r[1, 1] - r[2, 2], r[1, 2] + r[2, 1]],
+            [r[1, 0] - r[0, 1], r[0, 2] + r[2, 0], r[1, 2] + r[2, 1], 1 - r[0, 0] - r[1, 1] + r[2, 2]],
+        ]
+    )
+    total = k[:, 0]
+    for column in range(1, 4):
+        total = total + _sign_or_plus(total.dot(k[:, column])) * k[:, column]
+    return total / sp.sqrt(total.dot(total))
+
+
 @dataclass(frozen=True)
 class ModifiedDHLink:
     """One row of a modified-DH table (Craig): alpha_{i-1}, a_{i-1}, d_i, theta_i.

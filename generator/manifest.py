@@ -35,6 +35,13 @@ DEFAULT_TOLERANCES = {
     # back substitution point of a root at infinity: a tangent half-angle there is the half-turn,
     # which the polish reaches exactly (other unknowns give a far pose, rejected as not closed)
     "at_infinity": 1e8,
+    # homotopy endpoints: relative imaginary part (after the phase of the homogeneous unknowns is
+    # removed) below "real_endpoint": a real solution; below "near_real_endpoint": a candidate
+    # that the real Newton polish confirms or rejects (a near-double real root); above: complex
+    "real_endpoint": 1e-8,
+    "near_real_endpoint": 1e-4,
+    # corrector tolerance of the path tracker (relative Newton update accepted at each step)
+    "path_tolerance": 1e-7,
 }
 
 

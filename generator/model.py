@@ -136,6 +136,34 @@ class ForwardElimination:
 
 
 @dataclass
+class ForwardHomotopy:
+    """Forward pose by a parameter homotopy: a square polynomial system in ``unknowns`` whose
+    coefficients are polynomials in the actuated variables and parameters.
+
+    The generator picks a random complex instance of every actuated variable and parameter, finds
+    all of its isolated solutions by monodromy (loops in the complex parameter space until no new
+    solution appears) and stores them with the generated package; at run time each is followed
+    along the straight segment from that instance to the caller's (real) values. The number of
+    paths is the generic root count of the family, so every isolated solution of every instance
+    is the end of some path (Morgan and Sommese's parameter homotopy theorem).
+
+    ``homogeneous`` unknowns (a subset, or empty) appear in every equation so that the system is
+    invariant under scaling them (with the other unknowns) jointly: the generator adds one random
+    complex linear equation sum a_k z_k = 1 over them (a projective patch), and the runtime
+    rotates the complex phase of an endpoint before reading it as a real solution. ``passive``
+    gives the passive variables of a real solution, in the unknowns (invariant under that
+    scaling).
+    """
+
+    unknowns: list[sp.Symbol]
+    equations: list[sp.Expr]
+    homogeneous: list[sp.Symbol]
+    passive: list[sp.Expr]
+    #: the seed of the random start instance and patch (a different seed, the same solutions)
+    seed: int = 2026
+
+
+@dataclass
 class ClosureModel:
     """A loop closure written directly, for mechanisms whose legs are not modified-DH chains.
 
@@ -245,7 +273,7 @@ class Mechanism:
     passive: list[sp.Symbol]
     legs: list[SerialChain]
     inverse: InverseSolution | None = None
-    forward: ForwardElimination | None = None
+    forward: ForwardElimination | ForwardHomotopy | None = None
     #: a configuration used as the default Newton guess: variable -> value
     home: dict[sp.Symbol, float] = field(default_factory=dict)
     #: variable -> (lower, upper) physical range; outside it a branch or mode is flagged invalid

@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from parakin.errors import NEWTON_STATUS_NAMES, BadInputError
 
@@ -105,14 +107,27 @@ class Inverse:
 
 
 @dataclass(frozen=True)
+class Homotopy:
+    """A generated parameter homotopy: its unknowns, which of them are homogeneous (one random
+    complex patch fixes their scale), and the start solutions (paths, unknowns), complex."""
+
+    unknowns: tuple[str, ...]
+    homogeneous: tuple[int, ...]
+    start: np.ndarray = field(compare=False)
+
+
+@dataclass(frozen=True)
 class Forward:
-    """Forward elimination: a univariate polynomial in ``unknown`` of ``degree``."""
+    """Every assembly mode: a univariate polynomial in ``unknown`` of ``degree`` (method
+    "polynomial"), or a parameter homotopy with ``degree`` paths (method "homotopy")."""
 
     unknown: str
     degree: int
     branches: tuple[str, ...]
     combinations: tuple[tuple[int, ...], ...]
     degeneracies: tuple[str, ...]
+    method: str = "polynomial"
+    homotopy: Homotopy | None = None
 
 
 @dataclass(frozen=True)
@@ -380,12 +395,18 @@ def _inverse(data: dict[str, Any] | None) -> Inverse | None:
 def _forward(data: dict[str, Any] | None) -> Forward | None:
     if not data:
         return None
+    homotopy = None
+    if data.get("method") == "homotopy":
+        start = np.array(data["start"]["real"], dtype=float) + 1j * np.array(data["start"]["imag"], dtype=float)
+        homotopy = Homotopy(tuple(data["unknowns"]), tuple(data["homogeneous"]), start)
     return Forward(
-        data["unknown"],
+        data.get("unknown", ""),
         int(data["degree"]),
         tuple(data["branches"]),
         tuple(tuple(c) for c in data["combinations"]),
         tuple(data["degeneracies"]),
+        data.get("method", "polynomial"),
+        homotopy,
     )
 
 

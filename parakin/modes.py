@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
+from parakin.homotopy import PATH_DIVERGED, PATH_FAILED, PATH_REACHED, phase_normalised, track
 from parakin.polynomial import isolate_real_roots
 from parakin.pose import wrap_angle
 from parakin.results import Array, AssemblyModes
@@ -73,6 +74,9 @@ def _settings(m: Mechanism) -> dict[str, float | int]:
         "degenerate": tol["degenerate"],
         "leading_tolerance": tol["leading"],
         "near_tolerance": tol["near_real"],
+        "path_tolerance": tol["path_tolerance"],
+        "real_endpoint": tol["real_endpoint"],
+        "near_real_endpoint": tol["near_real_endpoint"],
     }
 
 
@@ -147,14 +151,89 @@ def numpy_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
 def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     info = m.capabilities.forward
     assert info is not None
+    finite_input = np.asarray(np.isfinite(theta).all(-1))
+    theta = np.where(finite_input[:, None], theta, 0.0)
+    if info.method == "homotopy":
+        found = _homotopy_candidates(m, theta)
+    else:
+        found = _polynomial_candidates(m, theta)
+    return _settle(m, theta, finite_input, found)
+
+
+def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    """Every path of the generated homotopy followed to the inputs (``parakin.homotopy``); real
+    and near-real endpoints become candidates (passive values from the generated kernel), the
+    others are accounted for as complex, at infinity or failed."""
+    info = m.capabilities.forward
+    assert info is not None and info.homotopy is not None
+    codes = _codes(m)
+    tol = _settings(m)
+    start = info.homotopy.start
+    paths, size = start.shape
+    n = theta.shape[0]
+    theta_paths = np.repeat(theta, paths, axis=0)
+
+    def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        out = m.backend.call(
+            "homotopy_system", np.concatenate([z.real, z.imag], -1), s[:, None], theta_paths[index], m.params
+        )
+        value, matrix, rate = out["residual"], out["jacobian"], out["derivative"]
+        return (
+            value[..., :size] + 1j * value[..., size:],
+            matrix[..., :size, :] + 1j * matrix[..., size:, :],
+            rate[..., :size] + 1j * rate[..., size:],
+        )
+
+    ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"])
+    z, imaginary = phase_normalised(ended.z, list(info.homotopy.homogeneous))
+    reached = ended.status == PATH_REACHED
+    real = reached & (imaginary < tol["real_endpoint"])
+    near = reached & ~real & (imaginary < tol["near_real_endpoint"])
+    kinds = m.manifest.abi.root_kinds
+    kind = np.select(
+        [real, near, reached, ended.status == PATH_DIVERGED],
+        [kinds.index("simple"), kinds.index("near_real"), kinds.index("complex"), kinds.index("at_infinity")],
+        kinds.index("failed"),
+    )
+    outcome = np.select(
+        [real | near, reached, ended.status == PATH_DIVERGED],
+        [-1, codes["complex"], codes["at_infinity"]],
+        codes["path_failed"],
+    )
+    candidate = real | near
+    q = np.full((n * paths, len(m.passive_names)), np.nan)
+    if candidate.any():
+        with np.errstate(all="ignore"):
+            q[candidate] = m.backend.call("homotopy_passive", z[candidate].real, m.params)["passive"]
+    shape = (n, paths)
+    q = q.reshape(shape + (-1,))
+    with np.errstate(all="ignore"):
+        pose = m.backend.call("platform_pose", theta[:, None, :], np.nan_to_num(q), m.params)["pose"]
+    failed = (ended.status == PATH_FAILED).reshape(shape)
+    return {
+        "pose": np.where(candidate.reshape(shape)[..., None, None], pose, np.eye(4)),
+        "q": q,
+        "outcome": outcome.reshape(shape).astype(np.int32),
+        "root": imaginary.reshape(shape),
+        "kind": kind.reshape(shape).astype(np.int32),
+        "has_root": np.ones(shape, bool),
+        # the paths of an input whose solution set is not isolated end singular or fail
+        "degenerate": failed.any(-1),
+        "real_roots": real.reshape(shape).sum(-1),
+        "near_roots": near.reshape(shape).sum(-1),
+        "at_infinity": (ended.status == PATH_DIVERGED).reshape(shape).sum(-1),
+    }
+
+
+def _polynomial_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+    """Every real root of the generated univariate polynomial x every branch, back substituted."""
+    info = m.capabilities.forward
+    assert info is not None
     codes = _codes(m)
     settings = _settings(m)
     n = theta.shape[0]
     degree, combos = info.degree, np.array(info.combinations, dtype=float).reshape(len(info.combinations), -1)
     n_b = combos.shape[0]
-    slots = degree * n_b
-    finite_input = np.asarray(np.isfinite(theta).all(-1))
-    theta = np.where(finite_input[:, None], theta, 0.0)
     with np.errstate(all="ignore"):
         poly = m.backend.call("forward_polynomial", theta, m.params)
     coefficients = poly["coefficients"]
@@ -164,8 +243,8 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     roots = isolate_real_roots(
         np.where(usable[:, None], coefficients, 0.0), settings["leading_tolerance"], settings["near_tolerance"]
     )
-    found = np.where(usable & ~roots.vanishing & finite_input, roots.count, 0)
-    at_infinity = np.where(usable & ~roots.vanishing & finite_input, roots.at_infinity, 0)
+    found = np.where(usable & ~roots.vanishing, roots.count, 0)
+    at_infinity = np.where(usable & ~roots.vanishing, roots.at_infinity, 0)
     total = np.minimum(found + at_infinity, degree)
     index = np.arange(degree)
     infinite = (index >= found[:, None]) & (index < total[:, None])
@@ -175,8 +254,6 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     kind = np.where(index < found[:, None], roots.kind[:, :degree], np.where(infinite, 0, -1))
 
     # slots: root r, branch b at r * n_b + b
-    slot_root = np.repeat(np.where(infinite, np.inf, np.where(has_root, finite_roots, np.nan)), n_b, axis=1)
-    slot_kind = np.repeat(kind, n_b, axis=1).astype(np.int32)
     slot_has = np.repeat(has_root, n_b, axis=1)
     t = np.repeat(evaluate, n_b, axis=1)[..., None]
     branch = np.tile(combos, (degree, 1))
@@ -186,9 +263,34 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     defined = np.asarray(np.isfinite(pose).all(axis=(-2, -1)))
     outcome = np.where((outcome < 0) & ~defined, codes["back_substitution_undefined"], outcome)
     pose = np.where(defined[..., None, None] & slot_has[..., None, None], pose, np.eye(4))
+    theta_slots = np.broadcast_to(theta[:, None, :], (n, degree * n_b, theta.shape[-1]))
+    near = np.where(index < found[:, None], kind == 2, False).sum(-1)
+    return {
+        "pose": pose,
+        "q": _passive_from_pose(m, theta_slots, pose, settings["validity"]),
+        "outcome": outcome,
+        "root": np.repeat(np.where(infinite, np.inf, np.where(has_root, finite_roots, np.nan)), n_b, axis=1),
+        "kind": np.repeat(kind, n_b, axis=1).astype(np.int32),
+        "has_root": slot_has,
+        "degenerate": degenerate | roots.vanishing,
+        "real_roots": found - near,
+        "near_roots": near,
+        "at_infinity": at_infinity,
+    }
 
+
+def _settle(
+    m: Mechanism, theta: Array, finite_input: np.ndarray, found: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    """Candidates to modes: closure and alignment, Newton polish, wrapping, joint limits, input
+    independence and repeats; every slot ends with an outcome."""
+    codes = _codes(m)
+    settings = _settings(m)
+    pose, q = found["pose"], found["q"]
+    slot_has = found["has_root"] & finite_input[:, None]
+    outcome = np.where(slot_has, found["outcome"], codes["no_root"]).astype(np.int32)
+    n, slots = outcome.shape
     theta_slots = np.broadcast_to(theta[:, None, :], (n, slots, theta.shape[-1]))
-    q = _passive_from_pose(m, theta_slots, pose, settings["validity"])
     located = np.asarray(np.isfinite(q).all(-1))
     outcome = np.where((outcome < 0) & ~located, codes["not_closed"], outcome)
     q = np.where(located[..., None], q, 0.0)
@@ -251,21 +353,24 @@ def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     status = np.where(
         ~finite_input,
         status_codes.index("nonfinite"),
-        np.where((degenerate | roots.vanishing) & (count == 0), status_codes.index("degenerate"), 0),
+        np.where(found["degenerate"] & (count == 0), status_codes.index("degenerate"), 0),
     ).astype(np.int32)
-    near = np.where(index < found[:, None], kind == 2, False).sum(-1)
+
+    def per_input(key: str) -> np.ndarray:
+        return np.where(finite_input, found[key], 0).astype(np.int32)
+
     return {
         "poses": pose,
-        "passive": np.where(slot_has[..., None], q, 0.0),
+        "passive": np.where(slot_has[..., None], np.nan_to_num(q), 0.0),
         "residual": residual,
         "conditioning": conditioning,
-        "roots": slot_root,
+        "roots": np.where(finite_input[:, None], found["root"], np.nan),
         "outcome": outcome,
-        "root_kind": slot_kind,
+        "root_kind": np.where(finite_input[:, None], found["kind"], -1).astype(np.int32),
         "count": count,
-        "real_roots": (found - near).astype(np.int32),
-        "near_roots": near.astype(np.int32),
-        "at_infinity": at_infinity.astype(np.int32),
+        "real_roots": per_input("real_roots"),
+        "near_roots": per_input("near_roots"),
+        "at_infinity": per_input("at_infinity"),
         "status": status,
     }
 

@@ -105,6 +105,9 @@ enum {
     DELTA_OUTCOME_OUTSIDE_LIMITS = 6,
     DELTA_OUTCOME_DUPLICATE = 7,
     DELTA_OUTCOME_INPUT_INDEPENDENT = 8,
+    DELTA_OUTCOME_COMPLEX = 9,
+    DELTA_OUTCOME_AT_INFINITY = 10,
+    DELTA_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -168,6 +171,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

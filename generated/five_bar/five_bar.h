@@ -99,6 +99,9 @@ enum {
     FIVE_BAR_OUTCOME_OUTSIDE_LIMITS = 6,
     FIVE_BAR_OUTCOME_DUPLICATE = 7,
     FIVE_BAR_OUTCOME_INPUT_INDEPENDENT = 8,
+    FIVE_BAR_OUTCOME_COMPLEX = 9,
+    FIVE_BAR_OUTCOME_AT_INFINITY = 10,
+    FIVE_BAR_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -162,6 +165,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

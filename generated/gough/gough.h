@@ -109,6 +109,9 @@ enum {
     GOUGH_OUTCOME_OUTSIDE_LIMITS = 6,
     GOUGH_OUTCOME_DUPLICATE = 7,
     GOUGH_OUTCOME_INPUT_INDEPENDENT = 8,
+    GOUGH_OUTCOME_COMPLEX = 9,
+    GOUGH_OUTCOME_AT_INFINITY = 10,
+    GOUGH_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -172,6 +175,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

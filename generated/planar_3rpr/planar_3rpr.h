@@ -114,6 +114,9 @@ enum {
     PLANAR_3RPR_OUTCOME_OUTSIDE_LIMITS = 6,
     PLANAR_3RPR_OUTCOME_DUPLICATE = 7,
     PLANAR_3RPR_OUTCOME_INPUT_INDEPENDENT = 8,
+    PLANAR_3RPR_OUTCOME_COMPLEX = 9,
+    PLANAR_3RPR_OUTCOME_AT_INFINITY = 10,
+    PLANAR_3RPR_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -177,6 +180,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

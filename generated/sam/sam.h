@@ -79,6 +79,9 @@ enum {
     SAM_OUTCOME_OUTSIDE_LIMITS = 6,
     SAM_OUTCOME_DUPLICATE = 7,
     SAM_OUTCOME_INPUT_INDEPENDENT = 8,
+    SAM_OUTCOME_COMPLEX = 9,
+    SAM_OUTCOME_AT_INFINITY = 10,
+    SAM_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -142,6 +145,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

@@ -86,6 +86,9 @@ enum {
     SPM_OUTCOME_OUTSIDE_LIMITS = 6,
     SPM_OUTCOME_DUPLICATE = 7,
     SPM_OUTCOME_INPUT_INDEPENDENT = 8,
+    SPM_OUTCOME_COMPLEX = 9,
+    SPM_OUTCOME_AT_INFINITY = 10,
+    SPM_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -149,6 +152,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

@@ -504,27 +504,80 @@ static int passive_from_pose(workspace* ws, const double* theta, const double* p
     return isfinite(total);
 }
 
+// The slots of input i before anything is found: no root, identity pose.
+static void clear_slots(const sps_modes_job* job, long long i) {
+    for (int s = 0; s < M; ++s) {
+        job->outcome[i * M + s] = SPS_OUTCOME_NO_ROOT;
+        job->root_kind[i * M + s] = -1;
+        job->roots[i * M + s] = NAN;
+        job->residual[i * M + s] = NAN;
+        job->conditioning[i * M + s] = NAN;
+        for (int k = 0; k < 16; ++k) job->poses[(i * M + s) * 16 + k] = (k % 5 == 0) ? 1.0 : 0.0;
+        for (int k = 0; k < NQ; ++k) job->passive[(i * M + s) * NQ + k] = 0.0;
+    }
+    job->count[i] = 0; job->real_roots[i] = 0; job->near_roots[i] = 0; job->at_infinity[i] = 0;
+    job->status[i] = SPS_INPUT_OK;
+}
+
+// A candidate (passive values q of slot s, its pose) to a mode or a named rejection: closure,
+// Newton polish, wrapping, joint limits, input independence and repeats.
+static void settle(workspace* ws, const sps_modes_job* job, long long i, int s, const double* theta) {
+    const double* params = job->params;
+    double* poses = job->poses + i * M * 16;
+    double* pose = poses + s * 16;
+    double* q = job->passive + (i * M + s) * NQ;
+    int* outcome = job->outcome + i * M;
+    // polish; near a type II singularity Newton may stop on a singular matrix while the
+    // candidate already closes: that is still the mode (its conditioning says how close)
+    double polished_norm, norm, ratio, first_step;
+    int iterations, aligned, orientation;
+    double last[NQ_ALLOC];
+    int status = newton(ws, theta, q, last, params, job->polish_iterations, job->tolerance, 0.5,
+                        job->singular_ratio, job->candidate, &polished_norm, &norm, &iterations, &ratio,
+                        &orientation, &first_step, &aligned);
+    job->residual[i * M + s] = norm;
+    if (!(norm < job->candidate)) { outcome[s] = SPS_OUTCOME_NOT_CLOSED; return; }
+    job->conditioning[i * M + s] = ratio;
+    // near a double root Newton converges only linearly: a last iterate that closes to
+    // the closure tolerance is the mode, polished as far as the conditioning allows
+    if (status == SPS_NO_CONVERGENCE && polished_norm < job->closure && aligned) {
+        memcpy(q, last, sizeof(double) * NQ);
+        status = SPS_OK;
+    }
+    if (status == SPS_OK) {
+        job->residual[i * M + s] = polished_norm;
+    } else if (status == SPS_WRONG_BASIN || !aligned) {
+        outcome[s] = SPS_OUTCOME_FALSE_CLOSURE;
+        return;
+    } else if (status != SPS_SINGULAR) {
+        outcome[s] = SPS_OUTCOME_NOT_CONVERGED;
+        return;
+    }
+    for (int k = 0; k < NQ; ++k)
+        if (passive_revolute[k]) q[k] = wrap_angle(q[k]);
+    if (status == SPS_OK && iterations > 0) platform_pose(ws, theta, q, params, pose);
+    int inside = 1;
+    for (int k = 0; k < NQ; ++k) inside &= q[k] > job->lower[k] && q[k] < job->upper[k];
+    if (!inside) { outcome[s] = SPS_OUTCOME_OUTSIDE_LIMITS; return; }
+    for (int e = 0; e < s; ++e) {
+        if (outcome[e] != SPS_OUTCOME_MODE) continue;
+        double distance = 0.0;
+        for (int k = 0; k < 16; ++k) distance = fmax(distance, fabs(poses[e * 16 + k] - pose[k]));
+        if (distance < job->duplicate) { outcome[s] = SPS_OUTCOME_DUPLICATE; return; }
+    }
+    outcome[s] = SPS_OUTCOME_MODE;
+    job->count[i] += 1;
+}
+
 static void modes_one(workspace* ws, const sps_modes_job* job, long long i) {
     const double* theta = job->actuated + i * job->actuated_stride;
     const double* params = job->params;
     double* poses = job->poses + i * M * 16;
     double* passive = job->passive + i * M * NQ;
-    double* residual = job->residual + i * M;
-    double* conditioning = job->conditioning + i * M;
     double* slot_root = job->roots + i * M;
     int* outcome = job->outcome + i * M;
     int* slot_kind = job->root_kind + i * M;
-    for (int s = 0; s < M; ++s) {
-        outcome[s] = SPS_OUTCOME_NO_ROOT;
-        slot_kind[s] = -1;
-        slot_root[s] = NAN;
-        residual[s] = NAN;
-        conditioning[s] = NAN;
-        for (int k = 0; k < 16; ++k) poses[s * 16 + k] = (k % 5 == 0) ? 1.0 : 0.0;
-        for (int k = 0; k < NQ; ++k) passive[s * NQ + k] = 0.0;
-    }
-    job->count[i] = 0; job->real_roots[i] = 0; job->near_roots[i] = 0; job->at_infinity[i] = 0;
-    job->status[i] = SPS_INPUT_OK;
+    clear_slots(job, i);
     int finite = 1;
     for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
     if (!finite) { job->status[i] = SPS_INPUT_NONFINITE; return; }
@@ -572,48 +625,7 @@ static void modes_one(workspace* ws, const sps_modes_job* job, long long i) {
                 outcome[s] = SPS_OUTCOME_NOT_CLOSED;
                 continue;
             }
-            // polish; near a type II singularity Newton may stop on a singular matrix while the
-            // candidate already closes: that is still the mode (its conditioning says how close)
-            double polished_norm, norm, ratio, first_step;
-            int iterations, aligned, orientation;
-            double last[NQ_ALLOC];
-            int status = newton(ws, theta, q, last, params, job->polish_iterations, job->tolerance, 0.5,
-                                job->singular_ratio, job->candidate, &polished_norm, &norm, &iterations, &ratio,
-                                &orientation, &first_step, &aligned);
-            residual[s] = norm;
-            if (!(norm < job->candidate)) { outcome[s] = SPS_OUTCOME_NOT_CLOSED; continue; }
-            conditioning[s] = ratio;
-            // near a double root Newton converges only linearly: a last iterate that closes to
-            // the closure tolerance is the mode, polished as far as the conditioning allows
-            if (status == SPS_NO_CONVERGENCE && polished_norm < job->closure && aligned) {
-                memcpy(q, last, sizeof(double) * NQ);
-                status = SPS_OK;
-            }
-            if (status == SPS_OK) {
-                residual[s] = polished_norm;
-            } else if (status == SPS_WRONG_BASIN || !aligned) {
-                outcome[s] = SPS_OUTCOME_FALSE_CLOSURE;
-                continue;
-            } else if (status != SPS_SINGULAR) {
-                outcome[s] = SPS_OUTCOME_NOT_CONVERGED;
-                continue;
-            }
-            for (int k = 0; k < NQ; ++k)
-                if (passive_revolute[k]) q[k] = wrap_angle(q[k]);
-            if (status == SPS_OK && iterations > 0) platform_pose(ws, theta, q, params, pose);
-            int inside = 1;
-            for (int k = 0; k < NQ; ++k) inside &= q[k] > job->lower[k] && q[k] < job->upper[k];
-            if (!inside) { outcome[s] = SPS_OUTCOME_OUTSIDE_LIMITS; continue; }
-            int repeat = 0;
-            for (int e = 0; e < s && !repeat; ++e) {
-                if (outcome[e] != SPS_OUTCOME_MODE) continue;
-                double distance = 0.0;
-                for (int k = 0; k < 16; ++k) distance = fmax(distance, fabs(poses[e * 16 + k] - pose[k]));
-                repeat = distance < job->duplicate;
-            }
-            if (repeat) { outcome[s] = SPS_OUTCOME_DUPLICATE; continue; }
-            outcome[s] = SPS_OUTCOME_MODE;
-            job->count[i] += 1;
+            settle(ws, job, i, s, theta);
         }
     }
     // a degenerate elimination with no isolated mode: the actuators do not determine the platform

@@ -140,6 +140,9 @@ enum {
     SPS_OUTCOME_OUTSIDE_LIMITS = 6,
     SPS_OUTCOME_DUPLICATE = 7,
     SPS_OUTCOME_INPUT_INDEPENDENT = 8,
+    SPS_OUTCOME_COMPLEX = 9,
+    SPS_OUTCOME_AT_INFINITY = 10,
+    SPS_OUTCOME_PATH_FAILED = 11,
 };
 
 // Status of each input of forward_pose_all
@@ -203,6 +206,9 @@ typedef struct {
     double degenerate;
     double leading_tolerance;
     double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
     double* poses;
     double* passive;
     double* residual;

@@ -1,0 +1,164 @@
+"""Path tracking for parameter homotopies, vectorised over paths (NumPy, complex).
+
+A path is a solution z(s) of H(z, s) = 0 followed from s = 1 (a start solution) to s = 0 (the
+target). Each step predicts with the classical Runge-Kutta rule on dz/ds = -H_z^-1 H_s and
+corrects with at most ``CORRECTIONS`` Newton iterations at the new s; a step is accepted when the
+corrections contract and the last one is below ``tolerance`` (relative to |z|), otherwise it is
+halved (doubled again after ``GROW_AFTER`` accepted steps in a row). Contraction keeps a path on
+its own branch: a corrector that converges slowly is the sign of a step large enough to jump to
+another path. At s = 0 the endpoint is refined by Newton to rounding. The generated C driver
+(``generator/templates/c_driver.c.j2``) runs the same algorithm with the same constants; the
+generator uses this module to find the start solutions (monodromy).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: what a path ends as
+PATH_REACHED, PATH_FAILED, PATH_DIVERGED = 0, 1, 2
+CORRECTIONS = 3
+GROW_AFTER = 2
+INITIAL_STEP = 0.05
+MIN_STEP = 1e-12
+#: |z| beyond this: the path goes to infinity (a solution at infinity of the target)
+ESCAPE = 1e8
+MAX_STEPS = 2000
+REFINE = 8
+END_GAP = 1e-13
+
+#: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
+System = Callable[
+    [NDArray[np.intp], NDArray[np.complex128], NDArray[np.float64]], tuple[np.ndarray, np.ndarray, np.ndarray]
+]
+
+
+class Paths(NamedTuple):
+    """Endpoints (P, n), how each path ended (PATH_*), accepted + rejected steps, and the size
+    of the last Newton update at s = 0 relative to |z| (how well the endpoint is determined)."""
+
+    z: NDArray[np.complex128]
+    status: NDArray[np.int32]
+    steps: NDArray[np.int32]
+    update: NDArray[np.float64]
+
+
+def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Batched complex solve; a singular matrix gives inf (the step is then rejected)."""
+    try:
+        return np.linalg.solve(matrix, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        out = np.full(rhs.shape, np.inf + 0j)
+        for k in range(matrix.shape[0]):
+            try:
+                out[k] = np.linalg.solve(matrix[k], rhs[k])
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
+def _size(z: np.ndarray) -> np.ndarray:
+    return 1.0 + np.abs(z).max(-1)
+
+
+def track(system: System, start: np.ndarray, tolerance: float = 1e-7) -> Paths:
+    """Follow every start solution (P, n) from s = 1 to s = 0 (module docstring)."""
+    z = np.array(start, dtype=complex)
+    count = z.shape[0]
+    s = np.ones(count)
+    h = np.full(count, INITIAL_STEP)
+    streak = np.zeros(count, dtype=np.int32)
+    steps = np.zeros(count, dtype=np.int32)
+    status = np.full(count, -1, dtype=np.int32)
+    with np.errstate(all="ignore"):
+        while (status < 0).any():
+            active = np.nonzero(status < 0)[0]
+            za, sa = z[active], s[active]
+            ha = np.minimum(h[active], sa)
+
+            def velocity(point: np.ndarray, at: np.ndarray, active: np.ndarray = active) -> np.ndarray:
+                _, jacobian, derivative = system(active, point, at)
+                return -_solve(jacobian, derivative)
+
+            # s decreases: z(s - h) = z - h dz/ds
+            k1 = velocity(za, sa)
+            k2 = velocity(za - 0.5 * ha[:, None] * k1, sa - 0.5 * ha)
+            k3 = velocity(za - 0.5 * ha[:, None] * k2, sa - 0.5 * ha)
+            k4 = velocity(za - ha[:, None] * k3, sa - ha)
+            predicted = za - ha[:, None] / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            # a remainder below END_GAP is rounding: finish at s = 0 exactly
+            target = np.where(sa - ha < END_GAP, 0.0, sa - ha)
+            corrected, update = predicted, np.full(active.size, np.inf)
+            contracting, live = np.ones(active.size, bool), np.ones(active.size, bool)
+            for iteration in range(CORRECTIONS):
+                rows = np.nonzero(live)[0]
+                residual, jacobian, _ = system(active[rows], corrected[rows], target[rows])
+                delta = _solve(jacobian, residual)
+                corrected[rows] = corrected[rows] - delta
+                size = np.abs(delta).max(-1) / _size(corrected[rows])
+                # converged iterates stop: at an ill-conditioned solution further updates are
+                # rounding noise, which need not contract
+                if iteration:
+                    contracting[rows] &= size <= 0.5 * update[rows]
+                update[rows] = size
+                live[rows] = ~(size < tolerance) & contracting[rows]
+                if not live.any():
+                    break
+            accepted = contracting & (update < tolerance) & np.isfinite(update)
+            steps[active] += 1
+            good, bad = active[accepted], active[~accepted]
+            z[good], s[good] = corrected[accepted], target[accepted]
+            streak[good] += 1
+            grow = streak[good] >= GROW_AFTER
+            h[good] = np.where(grow, 2.0 * h[good], h[good])
+            streak[good] = np.where(grow, 0, streak[good])
+            h[bad] *= 0.5
+            streak[bad] = 0
+            status[good[s[good] <= 0.0]] = PATH_REACHED
+            status[bad[h[bad] < MIN_STEP]] = PATH_FAILED
+            status[active[~(np.abs(z[active]).max(-1) < ESCAPE)]] = PATH_DIVERGED
+            status[active[(steps[active] >= MAX_STEPS) & (status[active] < 0)]] = PATH_FAILED
+        update = np.full(count, np.nan)
+        reached = np.nonzero(status == PATH_REACHED)[0]
+        if reached.size:
+            z[reached], update[reached] = refine(system, reached, z[reached])
+    return Paths(z, status, steps, update)
+
+
+def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = REFINE) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on H(z, 0) until the update stops shrinking or reaches rounding; returns the
+    points and the last update relative to |z|."""
+    zero = np.zeros(index.size)
+    update = np.full(index.size, np.inf)
+    live = np.ones(index.size, bool)
+    with np.errstate(all="ignore"):
+        for _ in range(iterations):
+            if not live.any():
+                break
+            rows = np.nonzero(live)[0]
+            residual, jacobian, _ = system(index[rows], z[rows], zero[rows])
+            delta = _solve(jacobian, residual)
+            size = np.abs(delta).max(-1) / _size(z[rows])
+            improving = np.isfinite(size) & (size < update[rows])
+            z[rows[improving]] -= delta[improving]
+            update[rows] = np.where(improving, size, update[rows])
+            live[rows] = improving & (size > 1e-15)
+    return z, update
+
+
+def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """An endpoint of a homogeneous system is a complex multiple of a real solution when one
+    exists: scale it so that its largest homogeneous entry is real and positive, and return it
+    with the size of its imaginary part relative to |z| (0 for a real solution)."""
+    if homogeneous:
+        block = z[..., homogeneous]
+        largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
+        with np.errstate(all="ignore"):
+            z = z * (np.abs(largest) / largest)
+    with np.errstate(all="ignore"):
+        imaginary = np.abs(z.imag).max(-1) / np.abs(z).max(-1)
+    return z, imaginary
