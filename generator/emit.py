@@ -170,6 +170,7 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
             start = caps["forward"]["start"]
             forward |= {
                 "unknowns": len(caps["forward"]["unknowns"]),
+                "powers": caps["forward"]["powers"],
                 "homogeneous": caps["forward"]["homogeneous"],
                 "start_real": [[repr(float(v)) for v in row] for row in start["real"]],
                 "start_imag": [[repr(float(v)) for v in row] for row in start["imag"]],

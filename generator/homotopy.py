@@ -154,42 +154,16 @@ def build(
             partial.write_text(json.dumps(record))
             partial.replace(cached)
 
-    # the generated kernels, in real arithmetic
-    s = sp.Symbol("s_homotopy", real=True)
-    z_re = sp.symbols(f"z_re0:{n}", real=True)
-    z_im = sp.symbols(f"z_im0:{n}", real=True)
-    table: dict[sp.Symbol, Pair] = {v: (z_re[k], z_im[k]) for k, v in enumerate(unknowns)}
-    slope: list[Pair] = []
-    for v, value in zip(varying, start_values, strict=True):
-        re, im = _exact(value.real), _exact(value.imag)
-        table[v] = ((1 - s) * v + s * re, s * im)
-        slope.append((re - v, im))
-    cache: dict[sp.Expr, Pair] = {}
-    residual = [split_complex(e, table, cache) for e in equations]
-    entries = [[split_complex(jacobian[r, c], table, cache) for c in range(n)] for r in range(n)]
-    derivative = []
-    for e in equations:
-        total: Pair = (sp.Integer(0), sp.Integer(0))
-        for v, (dre, dim) in zip(varying, slope, strict=True):
-            d = sp.diff(e, v)
-            if d == 0:
-                continue
-            re, im = split_complex(d, table, cache)
-            total = (total[0] + re * dre - im * dim, total[1] + re * dim + im * dre)
-        derivative.append(total)
-    stack = lambda pairs: sp.Matrix([p[0] for p in pairs] + [p[1] for p in pairs])  # noqa: E731
+    # the generated kernel: the coefficients of every equation as polynomials in s
+    coefficients, powers = _quadric_coefficients(equations, unknowns, varying, start_values)
     system = Program(
-        "homotopy_system",
-        "The homotopy H(z, s) (real parts, then imaginary parts), its Jacobian dH/dz (rows: real parts, then imaginary parts) and dH/ds, at s along the segment from the generated start instance (s = 1) to the actuated values and parameters given (s = 0).",
-        [("z", list(z_re) + list(z_im)), ("s", [s]), actuated, params],
-        [
-            ("residual", stack(residual)),
-            (
-                "jacobian",
-                sp.Matrix([[p[0] for p in row] for row in entries] + [[p[1] for p in row] for row in entries]),
-            ),
-            ("derivative", stack(derivative)),
-        ],
+        "homotopy_coefficients",
+        "Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: "
+        "flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), "
+        "the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the "
+        "quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n).",
+        [actuated, params],
+        [("coefficients", sp.Matrix(coefficients))],
     )
     z_real = sp.symbols(f"z0:{n}", real=True)
     passive = sp.Matrix(forward.passive).subs(dict(zip(unknowns, z_real, strict=True)), simultaneous=True)
@@ -205,6 +179,7 @@ def build(
         "homogeneous": [unknowns.index(h) for h in forward.homogeneous],
         "degree": len(solutions),
         "paths": len(solutions),
+        "powers": powers,
         "branches": [],
         "combinations": [[]],
         "degeneracies": [],
@@ -218,6 +193,45 @@ def build(
     }
     symbolic = {"forward_equations": sp.Matrix(equations)}
     return HomotopySetup([system, recover], metadata, symbolic)
+
+
+def _quadric_coefficients(
+    equations: list[sp.Expr], unknowns: list[sp.Symbol], varying: list[sp.Symbol], start: list[complex]
+) -> tuple[list[sp.Expr], int]:
+    """The coefficients (real and imaginary parts, flat, see the kernel's doc) of every equation,
+    of degree <= 2 in the unknowns, along p(s) = (1 - s) p + s p_start, by powers of s."""
+    s = sp.Symbol("s_homotopy", real=True)
+    n = len(unknowns)
+    terms = n * n + n + 1
+    along = {v: (1 - s) * v + s * (_exact(c.real) + sp.I * _exact(c.imag)) for v, c in zip(varying, start, strict=True)}
+    tables = []  # per equation: term -> expression in s
+    for equation in equations:
+        polynomial = sp.Poly(sp.expand(equation.subs(along, simultaneous=True)), *unknowns)
+        if polynomial.total_degree() > 2:
+            raise GenerationError("homotopy equations must be of degree <= 2 in the unknowns")
+        table: dict[int, sp.Expr] = {}
+        for exponents, coefficient in polynomial.terms():
+            used = [k for k, e in enumerate(exponents) for _ in range(e)]
+            if len(used) == 2:
+                i, j = used
+                if i == j:
+                    table[i * n + i] = coefficient
+                else:
+                    table[i * n + j] = table[j * n + i] = coefficient / 2
+            elif len(used) == 1:
+                table[n * n + used[0]] = coefficient
+            else:
+                table[n * n + n] = coefficient
+        tables.append({t: sp.Poly(sp.expand(c), s) for t, c in table.items()})
+    powers = 1 + max(p.degree() for table in tables for p in table.values())
+    flat: list[sp.Expr] = [sp.Integer(0)] * (2 * powers * len(equations) * terms)
+    for k, table in enumerate(tables):
+        for t, polynomial in table.items():
+            for (d,), coefficient in polynomial.terms():
+                re, im = split_complex(sp.expand(coefficient), {})
+                flat[((0 * powers + d) * len(equations) + k) * terms + t] = re
+                flat[((1 * powers + d) * len(equations) + k) * terms + t] = im
+    return flat, powers
 
 
 def _cache_path(key: str) -> Path | None:

@@ -150,6 +150,35 @@ def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = R
     return z, update
 
 
+def quadric_system(coefficients: np.ndarray, size: int, paths: int) -> System:
+    """The system of a generated homotopy from its ``homotopy_coefficients`` (inputs, flat; see
+    the kernel's doc): quadrics z^T M z + b . z + c whose M, b, c are polynomials in s. Path p
+    belongs to input p // ``paths``."""
+    count = coefficients.shape[0]
+    terms = size * size + size + 1
+    flat = coefficients.reshape(count, 2, -1, size, terms)
+    table = flat[:, 0] + 1j * flat[:, 1]  # (inputs, powers, equations, terms)
+    powers = table.shape[1]
+    quadratic = table[..., : size * size].reshape(count, powers, size, size, size)
+    linear, constant = table[..., size * size : size * size + size], table[..., -1]
+    exponents = np.arange(powers)
+
+    def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        inputs = index // paths
+        weights = s[:, None] ** exponents  # s^d
+        rates = exponents * s[:, None] ** np.maximum(exponents - 1, 0)  # d s^(d - 1)
+        products = np.einsum("pdkij,pj->pdki", quadratic[inputs], z)  # M_d z per power
+        b, c = linear[inputs], constant[inputs]
+        at = np.einsum("pd,pdki->pki", weights, products)
+        moving = np.einsum("pd,pdki->pki", rates, products)
+        b_at, b_moving = np.einsum("pd,pdki->pki", weights, b), np.einsum("pd,pdki->pki", rates, b)
+        value = np.einsum("pi,pki->pk", z, at + b_at) + np.einsum("pd,pdk->pk", weights, c)
+        rate = np.einsum("pi,pki->pk", z, moving + b_moving) + np.einsum("pd,pdk->pk", rates, c)
+        return value, 2 * at + b_at, rate
+
+    return system
+
+
 def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray, np.ndarray]:
     """An endpoint of a homogeneous system is a complex multiple of a real solution when one
     exists: scale it so that its largest homogeneous entry is real and positive, and return it

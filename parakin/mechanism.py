@@ -493,9 +493,13 @@ class Mechanism:
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
             index = first_index(degenerate)
+            cause = (
+                "homotopy paths that end nowhere (no isolated solution to reach)"
+                if info.method == "homotopy"
+                else f"degenerate elimination ({', '.join(info.degeneracies) or 'the polynomial vanishes'})"
+            )
             message = (
-                f"forward pose at batch index {index}: degenerate elimination "
-                f"({', '.join(info.degeneracies) or 'the polynomial vanishes'}) and no isolated mode; "
+                f"forward pose at batch index {index}: {cause} and no isolated mode; "
                 "the platform is not determined by the actuators here"
             )
             # a positive-dimensional solution set (a self-motion): report it, not a random point

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
-from parakin.homotopy import PATH_DIVERGED, PATH_FAILED, PATH_REACHED, phase_normalised, track
+from parakin.homotopy import PATH_DIVERGED, PATH_FAILED, PATH_REACHED, phase_normalised, quadric_system, track
 from parakin.polynomial import isolate_real_roots
 from parakin.pose import wrap_angle
 from parakin.results import Array, AssemblyModes
@@ -171,19 +171,7 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     start = info.homotopy.start
     paths, size = start.shape
     n = theta.shape[0]
-    theta_paths = np.repeat(theta, paths, axis=0)
-
-    def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        out = m.backend.call(
-            "homotopy_system", np.concatenate([z.real, z.imag], -1), s[:, None], theta_paths[index], m.params
-        )
-        value, matrix, rate = out["residual"], out["jacobian"], out["derivative"]
-        return (
-            value[..., :size] + 1j * value[..., size:],
-            matrix[..., :size, :] + 1j * matrix[..., size:, :],
-            rate[..., :size] + 1j * rate[..., size:],
-        )
-
+    system = quadric_system(m.backend.call("homotopy_coefficients", theta, m.params)["coefficients"], size, paths)
     ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"])
     z, imaginary = phase_normalised(ended.z, list(info.homotopy.homogeneous))
     reached = ended.status == PATH_REACHED

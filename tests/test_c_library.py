@@ -34,7 +34,7 @@ PROGRAM = r"""
         for (int k = 0; k < NQ; ++k) { lower[k] = -1e300; upper[k] = 1e300; }                       \
         for (int k = 0; k < NA; ++k) actuated[k] = atof(*argv++);                                   \
         P##_modes_job job = {1, actuated, 0, (const double*)&params, lower, upper, 8, 1e-13, 1e-9, \
-            1e-4, 1e-7, 1e-9, 1e-10, 1e-9, 1e-9, 1e-13, 1e-9, poses, passive, residual,             \
+            1e-4, 1e-7, 1e-9, 1e-10, 1e-9, 1e-9, 1e-13, 1e-9, 1e-7, 1e-8, 1e-4, poses, passive, residual, \
             conditioning, roots, outcome, kind, &count, &real_roots, &near_roots, &at_infinity,     \
             &status};                                                                               \
         P##_forward_pose_all(&job);                                                                 \

@@ -9,7 +9,7 @@
 //   drawing: 155
 //   inverse_pose: 708
 //   inverse_pose_patterns: 708
-//   homotopy_system: 17055
+//   homotopy_coefficients: 2612
 //   homotopy_passive: 45
 
 // Batched entry points over the CasADi-generated kernels of stewart, the forward-pose Newton loop
@@ -27,10 +27,10 @@
 #define NQ 7
 #define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
 #define NPAIRS 1
-#define SZ_ARG 4
+#define SZ_ARG 3
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (1217 + 1)
+#define SZ_W (243 + 1)
 
 int stewart_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -228,32 +228,20 @@ int stewart_inverse_pose_patterns_batch(long long n, const double** inputs, cons
     return 0;
 }
 
-int stewart_homotopy_system_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
-    const casadi_real* arg[4];
-    casadi_real* res[3];
+int stewart_homotopy_coefficients_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[1217 + 1];
-    casadi_real out_residual[16 + 1];
-    casadi_real out_jacobian[128 + 1];
-    casadi_real out_derivative[16 + 1];
+    casadi_real w[243 + 1];
+    casadi_real out_coefficients[3504 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
-        arg[2] = inputs[2] + i * strides[2];
-        arg[3] = inputs[3] + i * strides[3];
-        res[0] = out_residual;
-        res[1] = out_jacobian;
-        res[2] = out_derivative;
-        if (stewart_homotopy_system(arg, res, iw, w, 0)) return 1;
-        for (int r = 0; r < 16; ++r)
+        res[0] = out_coefficients;
+        if (stewart_homotopy_coefficients(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3504; ++r)
             for (int c = 0; c < 1; ++c)
-                outputs[0][i * 16 + r * 1 + c] = out_residual[c * 16 + r];
-        for (int r = 0; r < 16; ++r)
-            for (int c = 0; c < 8; ++c)
-                outputs[1][i * 128 + r * 8 + c] = out_jacobian[c * 16 + r];
-        for (int r = 0; r < 16; ++r)
-            for (int c = 0; c < 1; ++c)
-                outputs[2][i * 16 + r * 1 + c] = out_derivative[c * 16 + r];
+                outputs[0][i * 3504 + r * 1 + c] = out_coefficients[c * 3504 + r];
     }
     return 0;
 }
@@ -637,30 +625,83 @@ typedef struct { double re, im; } cplx;
 static inline cplx c_mul(cplx a, cplx b) { return (cplx){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
 static inline cplx c_sub(cplx a, cplx b) { return (cplx){a.re - b.re, a.im - b.im}; }
 static inline double c_abs(cplx a) { return hypot(a.re, a.im); }
+// |re| + |im|: within a factor sqrt(2) of |a|, enough to choose pivots and far cheaper than hypot
+static inline double c_norm1(cplx a) { return fabs(a.re) + fabs(a.im); }
 static inline cplx c_inv(cplx a) {
     double d = a.re * a.re + a.im * a.im;
     return (cplx){a.re / d, -a.im / d};
 }
 
-// H, dH/dz (row-major, NULL: not wanted) and dH/ds at (z, s); returns 0 when not finite
-static int homotopy_eval(workspace* ws, const double* theta, const double* params, const cplx* z, double s,
-                         cplx* value, cplx* jacobian, cplx* rate) {
-    double in[2 * NZ], at[1] = {s}, out_value[2 * NZ], out_jacobian[2 * NZ * NZ], out_rate[2 * NZ];
-    for (int k = 0; k < NZ; ++k) { in[k] = z[k].re; in[NZ + k] = z[k].im; }
-    ws->arg[0] = in; ws->arg[1] = at; ws->arg[2] = theta; ws->arg[3] = params;
-    ws->res[0] = value ? out_value : 0;
-    ws->res[1] = out_jacobian;
-    ws->res[2] = rate ? out_rate : 0;
-    stewart_homotopy_system(ws->arg, ws->res, ws->iw, ws->w, 0);
+// The homotopy of one input: quadrics z^T M z + b . z + c (M symmetric), each coefficient a
+// polynomial in s (power d: term[d][equation][...]: M row-major, then b, then c)
+#define POWERS 3
+#define TERMS (NZ * NZ + NZ + 1)
+typedef struct { cplx term[POWERS][NZ][TERMS]; } quadrics;
+
+static int load_quadrics(workspace* ws, const double* theta, const double* params, quadrics* system) {
+    double local[2 * POWERS * NZ * TERMS];
+    ws->arg[0] = theta; ws->arg[1] = params;
+    ws->res[0] = local;
+    stewart_homotopy_coefficients(ws->arg, ws->res, ws->iw, ws->w, 0);
     int finite = 1;
-    for (int r = 0; r < NZ; ++r) {
-        if (value) { value[r] = (cplx){out_value[r], out_value[NZ + r]}; finite &= isfinite(out_value[r]) && isfinite(out_value[NZ + r]); }
-        if (rate) { rate[r] = (cplx){out_rate[r], out_rate[NZ + r]}; finite &= isfinite(out_rate[r]) && isfinite(out_rate[NZ + r]); }
-        for (int c = 0; c < NZ; ++c) {
-            // column-major (2 NZ) x NZ: real rows, then imaginary rows
-            jacobian[r * NZ + c] = (cplx){out_jacobian[c * 2 * NZ + r], out_jacobian[c * 2 * NZ + NZ + r]};
-            finite &= isfinite(jacobian[r * NZ + c].re) && isfinite(jacobian[r * NZ + c].im);
+    for (int d = 0; d < POWERS; ++d)
+        for (int k = 0; k < NZ; ++k)
+            for (int t = 0; t < TERMS; ++t) {
+                double re = local[((0 * POWERS + d) * NZ + k) * TERMS + t];
+                double im = local[((1 * POWERS + d) * NZ + k) * TERMS + t];
+                system->term[d][k][t] = (cplx){re, im};
+                finite &= isfinite(re) && isfinite(im);
+            }
+    return finite;
+}
+
+// H, dH/dz (row-major) and dH/ds (NULL: not wanted) at (z, s); returns 0 when not finite
+static int homotopy_eval(const quadrics* system, const cplx* z, double s, cplx* value, cplx* jacobian, cplx* rate) {
+    double weight[POWERS], slope[POWERS];
+    weight[0] = 1.0; slope[0] = 0.0;
+    for (int d = 1; d < POWERS; ++d) { weight[d] = weight[d - 1] * s; slope[d] = d * weight[d - 1]; }
+    int finite = 1;
+    for (int k = 0; k < NZ; ++k) {
+        cplx at[NZ], moving[NZ], constant = {0.0, 0.0}, constant_rate = {0.0, 0.0};
+        for (int i = 0; i < NZ; ++i) { at[i] = (cplx){0.0, 0.0}; moving[i] = (cplx){0.0, 0.0}; }
+        for (int d = 0; d < POWERS; ++d) {
+            const cplx* term = system->term[d][k];
+            for (int i = 0; i < NZ; ++i) {
+                // (M_d z + b_d)_i: row i of the quadratic part, then the linear term
+                double re = term[NZ * NZ + i].re, im = term[NZ * NZ + i].im;
+                for (int j = 0; j < NZ; ++j) {
+                    cplx m = term[i * NZ + j];
+                    re += m.re * z[j].re - m.im * z[j].im;
+                    im += m.re * z[j].im + m.im * z[j].re;
+                }
+                at[i].re += weight[d] * re; at[i].im += weight[d] * im;
+                moving[i].re += slope[d] * re; moving[i].im += slope[d] * im;
+            }
+            cplx c = term[NZ * NZ + NZ];
+            constant.re += weight[d] * c.re; constant.im += weight[d] * c.im;
+            constant_rate.re += slope[d] * c.re; constant_rate.im += slope[d] * c.im;
         }
+        // at = M z + b (at s), so H = z . (M z + b) + c with z^T M z counted once; J = 2 M z + b
+        // = 2 at - b
+        cplx h = constant, hs = constant_rate;
+        for (int i = 0; i < NZ; ++i) {
+            h.re += z[i].re * at[i].re - z[i].im * at[i].im;
+            h.im += z[i].re * at[i].im + z[i].im * at[i].re;
+            hs.re += z[i].re * moving[i].re - z[i].im * moving[i].im;
+            hs.im += z[i].re * moving[i].im + z[i].im * moving[i].re;
+        }
+        for (int i = 0; i < NZ; ++i) {
+            cplx b = {0.0, 0.0};
+            for (int d = 0; d < POWERS; ++d) {
+                b.re += weight[d] * system->term[d][k][NZ * NZ + i].re;
+                b.im += weight[d] * system->term[d][k][NZ * NZ + i].im;
+            }
+            jacobian[k * NZ + i] = (cplx){2.0 * at[i].re - b.re, 2.0 * at[i].im - b.im};
+            finite &= isfinite(jacobian[k * NZ + i].re) && isfinite(jacobian[k * NZ + i].im);
+        }
+        if (value) value[k] = h;
+        if (rate) rate[k] = hs;
+        finite &= isfinite(h.re) && isfinite(h.im) && isfinite(hs.re) && isfinite(hs.im);
     }
     return finite;
 }
@@ -669,9 +710,10 @@ static int homotopy_eval(workspace* ws, const double* theta, const double* param
 static int c_solve(cplx* a, cplx* b) {
     for (int k = 0; k < NZ; ++k) {
         int best = k;
+        double largest = c_norm1(a[k * NZ + k]);
         for (int r = k + 1; r < NZ; ++r)
-            if (c_abs(a[r * NZ + k]) > c_abs(a[best * NZ + k])) best = r;
-        if (!(c_abs(a[best * NZ + k]) > 0.0)) return 0;
+            if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
+        if (!(largest > 0.0)) return 0;
         if (best != k) {
             for (int c = 0; c < NZ; ++c) { cplx t = a[k * NZ + c]; a[k * NZ + c] = a[best * NZ + c]; a[best * NZ + c] = t; }
             cplx t = b[k]; b[k] = b[best]; b[best] = t;
@@ -698,36 +740,36 @@ static double c_size(const cplx* z) {
 }
 
 // dz/ds = -H_z^-1 H_s; 0 when singular or not finite
-static int velocity(workspace* ws, const double* theta, const double* params, const cplx* z, double s, cplx* out) {
+static int velocity(const quadrics* system, const cplx* z, double s, cplx* out) {
     cplx jacobian[NZ * NZ];
-    if (!homotopy_eval(ws, theta, params, z, s, NULL, jacobian, out)) return 0;
+    if (!homotopy_eval(system, z, s, NULL, jacobian, out)) return 0;
     for (int k = 0; k < NZ; ++k) out[k] = (cplx){-out[k].re, -out[k].im};
     return c_solve(jacobian, out);
 }
 
 // One Newton step at (z, s) in place; returns the update relative to |z| (inf when singular).
-static double newton_step(workspace* ws, const double* theta, const double* params, cplx* z, double s) {
+static double newton_step(const quadrics* system, cplx* z, double s) {
     cplx value[NZ], jacobian[NZ * NZ];
-    if (!homotopy_eval(ws, theta, params, z, s, value, jacobian, NULL) || !c_solve(jacobian, value)) return INFINITY;
+    if (!homotopy_eval(system, z, s, value, jacobian, NULL) || !c_solve(jacobian, value)) return INFINITY;
     for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
     double size = 0.0;
     for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(value[k]));
     return size / c_size(z);
 }
 
-static int track_path(workspace* ws, const double* theta, const double* params, double tolerance, cplx* z) {
+static int track_path(const quadrics* system, double tolerance, cplx* z) {
     double s = 1.0, h = INITIAL_STEP;
     int streak = 0;
     for (int steps = 0; steps < MAX_STEPS; ++steps) {
         double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
         cplx k1[NZ], k2[NZ], k3[NZ], k4[NZ], probe[NZ], corrected[NZ];
-        int ok = velocity(ws, theta, params, z, s, k1);
+        int ok = velocity(system, z, s, k1);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k1[k].re, z[k].im - 0.5 * step * k1[k].im};
-        ok = ok && velocity(ws, theta, params, probe, s - 0.5 * step, k2);
+        ok = ok && velocity(system, probe, s - 0.5 * step, k2);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k2[k].re, z[k].im - 0.5 * step * k2[k].im};
-        ok = ok && velocity(ws, theta, params, probe, s - 0.5 * step, k3);
+        ok = ok && velocity(system, probe, s - 0.5 * step, k3);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - step * k3[k].re, z[k].im - step * k3[k].im};
-        ok = ok && velocity(ws, theta, params, probe, s - step, k4);
+        ok = ok && velocity(system, probe, s - step, k4);
         int accepted = 0;
         if (ok) {
             for (int k = 0; k < NZ; ++k) {
@@ -738,7 +780,7 @@ static int track_path(workspace* ws, const double* theta, const double* params, 
             double update = INFINITY;
             int contracting = 1;
             for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
-                double size = newton_step(ws, theta, params, corrected, target);
+                double size = newton_step(system, corrected, target);
                 // converged iterates stop: at an ill-conditioned solution further updates are
                 // rounding noise, which need not contract
                 if (iteration) contracting &= size <= 0.5 * update;
@@ -766,7 +808,7 @@ static int track_path(workspace* ws, const double* theta, const double* params, 
     for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
         cplx trial[NZ];
         memcpy(trial, z, sizeof(trial));
-        double size = newton_step(ws, theta, params, trial, 0.0);
+        double size = newton_step(system, trial, 0.0);
         if (!(size < update)) break;
         memcpy(z, trial, sizeof(trial));
         update = size;
@@ -797,11 +839,13 @@ static void modes_one(workspace* ws, const stewart_modes_job* job, long long i) 
     int finite = 1;
     for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
     if (!finite) { job->status[i] = STEWART_INPUT_NONFINITE; return; }
+    quadrics system;
+    if (!load_quadrics(ws, theta, params, &system)) { job->status[i] = STEWART_INPUT_DEGENERATE; return; }
     int failed = 0;
     for (int p = 0; p < DEGREE; ++p) {
         cplx z[NZ];
         for (int k = 0; k < NZ; ++k) z[k] = (cplx){start_real[p][k], start_imag[p][k]};
-        int ended = track_path(ws, theta, params, job->path_tolerance, z);
+        int ended = track_path(&system, job->path_tolerance, z);
         if (ended == PATH_DIVERGED) {
             outcome[p] = STEWART_OUTCOME_AT_INFINITY; kind[p] = PK_ROOT_AT_INFINITY; job->at_infinity[i] += 1;
             continue;
