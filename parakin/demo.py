@@ -17,7 +17,8 @@ import numpy as np
 
 from parakin.errors import ParakinError
 from parakin.manifest import Example
-from parakin.results import Array
+from parakin.pose import xyz_euler_from_pose
+from parakin.results import Array, AssemblyModes
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,8 @@ class ExampleResult:
     example: Example
     comparisons: tuple[Comparison, ...]
     error: str | None = None  # a ParakinError raised while solving, by name and message
+    #: for actuated inputs: one line per assembly mode found (pose, residual, conditioning)
+    modes: tuple[str, ...] = ()
 
     @property
     def holds(self) -> bool:
@@ -94,11 +97,25 @@ def _inverse_example(m: object, example: Example) -> list[Comparison]:
     return comparisons
 
 
-def _forward_example(m: object, example: Example) -> list[Comparison]:
-    from parakin.mechanism import Mechanism
+def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
+    """Every valid mode of one input: position (m), Z-Y-X Euler angles (deg), the closure residual
+    and the conditioning (pivot ratio of the closure Jacobian: near 0 close to a type II singularity)."""
+    header = (
+        f"  {'mode':>4s} {'x [m]':>10s} {'y [m]':>10s} {'z [m]':>10s} {'alpha':>9s} {'beta':>9s} {'gamma [deg]':>11s}"
+        f" {'residual':>9s} {'conditioning':>12s}"
+    )
+    lines = [header]
+    for index in np.nonzero(modes.valid)[0]:
+        x, y, z, *angles = xyz_euler_from_pose(modes.poses[index])
+        alpha, beta, gamma = np.degrees(angles)
+        lines.append(
+            f"  {index:4d} {x:10.6f} {y:10.6f} {z:10.6f} {alpha:9.3f} {beta:9.3f} {gamma:11.3f}"
+            f" {modes.residual[index]:9.1e} {modes.conditioning[index]:12.2e}"
+        )
+    return tuple(lines)
 
-    assert isinstance(m, Mechanism)
-    modes = m.forward_pose_all(np.asarray(example.actuated, dtype=float))
+
+def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]:
     expected = example.expected
     comparisons = []
     if "mode_count" in expected:
@@ -124,8 +141,11 @@ def run_examples(name: str | os.PathLike[str], backend: str = "auto") -> list[Ex
         try:
             overrides: dict[str, Any] = dict(example.parameters)
             m = parakin.load(name, backend=backend, **overrides)
-            solve = _inverse_example if example.pose is not None else _forward_example
-            results.append(ExampleResult(example, tuple(solve(m, example))))
+            if example.pose is not None:
+                results.append(ExampleResult(example, tuple(_inverse_example(m, example))))
+            else:
+                modes = m.forward_pose_all(np.asarray(example.actuated, dtype=float))
+                results.append(ExampleResult(example, tuple(_forward_example(modes, example)), modes=mode_table(modes)))
         except ParakinError as error:
             results.append(ExampleResult(example, (), f"{type(error).__name__}: {error}"))
     return results
@@ -152,6 +172,9 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
                     f"  [{mark}] {c.quantity}: {values}"
                     f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
                 )
+            if result.modes:
+                lines.append(f"  {len(result.modes) - 1} assembly modes:")
+                lines += result.modes
             lines.append("")
     return "\n".join(lines)
 
