@@ -160,7 +160,7 @@ def modes_rows(name: str) -> str | None:
     numpy_m = parakin.load(name, backend="numpy")
     few = max(1, 200 // scale)
     orchestrated = best_time(lambda: numpy_m.forward_pose_all(a[:few], strict=False), budget=1.0) / few
-    tracker = compiled.tracker(parakin.Configuration(a, sample.passive, sample.pose))
+    tracker = compiled.tracker(parakin.Configuration(a, sample.passive[:n], sample.pose[:n]))
     step = np.where([v.revolute for v in compiled.manifest.actuated], np.radians(0.1), 1e-3)
     targets = [a + step, a]
     flip = iter(range(10**9))
@@ -189,7 +189,7 @@ def example_rows() -> list[str]:
         m = parakin.load(name, backend="compiled")
         if m.capabilities.forward is None:
             continue
-        for example in m.examples:
+        for example in m.manifest.examples:
             if example.actuated is None:
                 continue
             actuated = np.array(example.actuated)

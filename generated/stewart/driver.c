@@ -636,7 +636,11 @@ static inline cplx c_inv(cplx a) {
 // polynomial in s (power d: term[d][equation][...]: M row-major, then b, then c)
 #define POWERS 3
 #define TERMS (NZ * NZ + NZ + 1)
-typedef struct { cplx term[POWERS][NZ][TERMS]; } quadrics;
+// real and imaginary parts apart, so that the inner loops run over contiguous doubles
+typedef struct {
+    double re[POWERS][NZ][TERMS];
+    double im[POWERS][NZ][TERMS];
+} quadrics;
 
 static int load_quadrics(workspace* ws, const double* theta, const double* params, quadrics* system) {
     double local[2 * POWERS * NZ * TERMS];
@@ -647,61 +651,62 @@ static int load_quadrics(workspace* ws, const double* theta, const double* param
     for (int d = 0; d < POWERS; ++d)
         for (int k = 0; k < NZ; ++k)
             for (int t = 0; t < TERMS; ++t) {
-                double re = local[((0 * POWERS + d) * NZ + k) * TERMS + t];
-                double im = local[((1 * POWERS + d) * NZ + k) * TERMS + t];
-                system->term[d][k][t] = (cplx){re, im};
-                finite &= isfinite(re) && isfinite(im);
+                system->re[d][k][t] = local[((0 * POWERS + d) * NZ + k) * TERMS + t];
+                system->im[d][k][t] = local[((1 * POWERS + d) * NZ + k) * TERMS + t];
+                finite &= isfinite(system->re[d][k][t]) && isfinite(system->im[d][k][t]);
             }
     return finite;
 }
 
-// H, dH/dz (row-major) and dH/ds (NULL: not wanted) at (z, s); returns 0 when not finite
+// H, dH/dz (row-major) and dH/ds at (z, s) (value, rate: NULL when not wanted); 0 when not finite
 static int homotopy_eval(const quadrics* system, const cplx* z, double s, cplx* value, cplx* jacobian, cplx* rate) {
-    double weight[POWERS], slope[POWERS];
+    double weight[POWERS], slope[POWERS], zr[NZ], zi[NZ];
     weight[0] = 1.0; slope[0] = 0.0;
     for (int d = 1; d < POWERS; ++d) { weight[d] = weight[d - 1] * s; slope[d] = d * weight[d - 1]; }
+    for (int j = 0; j < NZ; ++j) { zr[j] = z[j].re; zi[j] = z[j].im; }
     int finite = 1;
     for (int k = 0; k < NZ; ++k) {
-        cplx at[NZ], moving[NZ], constant = {0.0, 0.0}, constant_rate = {0.0, 0.0};
-        for (int i = 0; i < NZ; ++i) { at[i] = (cplx){0.0, 0.0}; moving[i] = (cplx){0.0, 0.0}; }
+        // at = M(s) z + b(s), moving = M'(s) z + b'(s), b = b(s), c = c(s), cs = c'(s)
+        double at_re[NZ], at_im[NZ], mv_re[NZ], mv_im[NZ], b_re[NZ], b_im[NZ];
+        double c_re = 0.0, c_im = 0.0, cs_re = 0.0, cs_im = 0.0;
+        for (int i = 0; i < NZ; ++i) at_re[i] = at_im[i] = mv_re[i] = mv_im[i] = b_re[i] = b_im[i] = 0.0;
         for (int d = 0; d < POWERS; ++d) {
-            const cplx* term = system->term[d][k];
-            for (int i = 0; i < NZ; ++i) {
-                // (M_d z + b_d)_i: row i of the quadratic part, then the linear term
-                double re = term[NZ * NZ + i].re, im = term[NZ * NZ + i].im;
-                for (int j = 0; j < NZ; ++j) {
-                    cplx m = term[i * NZ + j];
-                    re += m.re * z[j].re - m.im * z[j].im;
-                    im += m.re * z[j].im + m.im * z[j].re;
+            const double* mr = system->re[d][k];
+            const double* mi = system->im[d][k];
+            double u_re[NZ], u_im[NZ];
+            for (int i = 0; i < NZ; ++i) { u_re[i] = mr[NZ * NZ + i]; u_im[i] = mi[NZ * NZ + i]; }
+            for (int j = 0; j < NZ; ++j) {
+                // M is symmetric: row j is column j, contiguous
+                const double* rr = mr + j * NZ;
+                const double* ri = mi + j * NZ;
+                double xr = zr[j], xi = zi[j];
+                for (int i = 0; i < NZ; ++i) {
+                    u_re[i] += rr[i] * xr - ri[i] * xi;
+                    u_im[i] += rr[i] * xi + ri[i] * xr;
                 }
-                at[i].re += weight[d] * re; at[i].im += weight[d] * im;
-                moving[i].re += slope[d] * re; moving[i].im += slope[d] * im;
             }
-            cplx c = term[NZ * NZ + NZ];
-            constant.re += weight[d] * c.re; constant.im += weight[d] * c.im;
-            constant_rate.re += slope[d] * c.re; constant_rate.im += slope[d] * c.im;
-        }
-        // at = M z + b (at s), so H = z . (M z + b) + c with z^T M z counted once; J = 2 M z + b
-        // = 2 at - b
-        cplx h = constant, hs = constant_rate;
-        for (int i = 0; i < NZ; ++i) {
-            h.re += z[i].re * at[i].re - z[i].im * at[i].im;
-            h.im += z[i].re * at[i].im + z[i].im * at[i].re;
-            hs.re += z[i].re * moving[i].re - z[i].im * moving[i].im;
-            hs.im += z[i].re * moving[i].im + z[i].im * moving[i].re;
-        }
-        for (int i = 0; i < NZ; ++i) {
-            cplx b = {0.0, 0.0};
-            for (int d = 0; d < POWERS; ++d) {
-                b.re += weight[d] * system->term[d][k][NZ * NZ + i].re;
-                b.im += weight[d] * system->term[d][k][NZ * NZ + i].im;
+            double w = weight[d], sl = slope[d];
+            for (int i = 0; i < NZ; ++i) {
+                at_re[i] += w * u_re[i]; at_im[i] += w * u_im[i];
+                mv_re[i] += sl * u_re[i]; mv_im[i] += sl * u_im[i];
+                b_re[i] += w * mr[NZ * NZ + i]; b_im[i] += w * mi[NZ * NZ + i];
             }
-            jacobian[k * NZ + i] = (cplx){2.0 * at[i].re - b.re, 2.0 * at[i].im - b.im};
+            c_re += w * mr[NZ * NZ + NZ]; c_im += w * mi[NZ * NZ + NZ];
+            cs_re += sl * mr[NZ * NZ + NZ]; cs_im += sl * mi[NZ * NZ + NZ];
+        }
+        // H = z . (M z + b) + c (z^T M z once); J = 2 M z + b = 2 at - b; H_s = z . (M' z + b') + c'
+        double h_re = c_re, h_im = c_im, hs_re = cs_re, hs_im = cs_im;
+        for (int i = 0; i < NZ; ++i) {
+            h_re += zr[i] * at_re[i] - zi[i] * at_im[i];
+            h_im += zr[i] * at_im[i] + zi[i] * at_re[i];
+            hs_re += zr[i] * mv_re[i] - zi[i] * mv_im[i];
+            hs_im += zr[i] * mv_im[i] + zi[i] * mv_re[i];
+            jacobian[k * NZ + i] = (cplx){2.0 * at_re[i] - b_re[i], 2.0 * at_im[i] - b_im[i]};
             finite &= isfinite(jacobian[k * NZ + i].re) && isfinite(jacobian[k * NZ + i].im);
         }
-        if (value) value[k] = h;
-        if (rate) rate[k] = hs;
-        finite &= isfinite(h.re) && isfinite(h.im) && isfinite(hs.re) && isfinite(hs.im);
+        if (value) value[k] = (cplx){h_re, h_im};
+        if (rate) rate[k] = (cplx){hs_re, hs_im};
+        finite &= isfinite(h_re) && isfinite(h_im) && isfinite(hs_re) && isfinite(hs_im);
     }
     return finite;
 }
