@@ -26,7 +26,12 @@ def check_variables(m: Mechanism) -> None:
                 raise GenerationError(f"{m.name}: {symbol} is listed twice (in {seen[symbol]} and in {group})")
             seen[symbol] = group
     variables = set(m.actuated) | set(m.passive)
-    for what, keys in (("home", m.home), ("limits", m.limits), ("angular", m.angular)):
+    for what, keys in (
+        ("home", m.home),
+        ("limits", m.limits),
+        ("angular", m.angular),
+        ("dimensionless", m.dimensionless),
+    ):
         stray = sorted(str(k) for k in keys if k not in variables)
         if stray:
             raise GenerationError(f"{m.name}: {what} names {stray}, which are not actuated or passive variables")

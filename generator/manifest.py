@@ -52,13 +52,14 @@ def _bound(value: float) -> float | None:
 def _variables(mechanism: Mechanism, symbols: list[sp.Symbol]) -> list[dict[str, Any]]:
     result = []
     for symbol in symbols:
-        revolute = symbol in mechanism.angular
+        kind = "revolute" if symbol in mechanism.angular else "prismatic"
+        kind = "dimensionless" if symbol in mechanism.dimensionless else kind
         low, high = mechanism.limits.get(symbol, (-math.inf, math.inf))
         result.append(
             {
                 "name": str(symbol),
-                "kind": "revolute" if revolute else "prismatic",
-                "unit": "rad" if revolute else "m",
+                "kind": kind,
+                "unit": {"revolute": "rad", "prismatic": "m", "dimensionless": ""}[kind],
                 "home": float(mechanism.home[symbol]) if symbol in mechanism.home else None,
                 "limits": [_bound(low), _bound(high)],
             }

@@ -284,6 +284,8 @@ class Mechanism:
     parallel_factors: dict[str, sp.Expr] = field(default_factory=dict)
     #: angles (variables) that the runtime compares modulo 2 pi
     angular: list[sp.Symbol] = field(default_factory=list)
+    #: variables without a unit (e.g. quaternion components); the others are lengths in metres
+    dimensionless: list[sp.Symbol] = field(default_factory=list)
     #: the loop closure when it is not derived from ``legs``
     closure: ClosureModel | None = None
     #: input-output Jacobians when rates are not derived from ``legs``

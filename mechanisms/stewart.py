@@ -188,6 +188,7 @@ def build() -> Mechanism:
             **{q: float(v) for q, v in zip(quaternion, home_quaternion.evalf(17), strict=True)},
         },
         limits={length: (0.0, float("inf")) for length in lengths},
+        dimensionless=list(quaternion),
         parallel_factors={"leg_lines_dependent": laplace_det(rate_model.a)},
         closure=closure(),
         rates=rate_model,

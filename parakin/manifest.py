@@ -57,7 +57,8 @@ class ParameterGroup:
 
 @dataclass(frozen=True)
 class Variable:
-    """A joint variable: revolute (rad) or prismatic (m), with its home value and limits."""
+    """A variable: revolute (rad), prismatic (m) or dimensionless (a quaternion component), with
+    its home value and limits."""
 
     name: str
     kind: str

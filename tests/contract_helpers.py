@@ -139,9 +139,10 @@ def length_scale(m: Mechanism) -> float:
 
 
 def variable_scale(m: Mechanism, variables) -> np.ndarray:
-    """Per variable: 1 rad for revolute joints, the length scale for prismatic ones."""
+    """Per variable: 1 rad for revolute joints, 1 for dimensionless ones (quaternion components),
+    the length scale for prismatic ones."""
     scale = length_scale(m)
-    return np.array([1.0 if v.revolute else scale for v in variables], dtype=float)
+    return np.array([scale if v.kind == "prismatic" else 1.0 for v in variables], dtype=float)
 
 
 def pose_tolerance(m: Mechanism, pose_a: np.ndarray, pose_b: np.ndarray) -> np.ndarray:
