@@ -174,6 +174,8 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
                 "homogeneous": caps["forward"]["homogeneous"],
                 "start_real": [[repr(float(v)) for v in row] for row in start["real"]],
                 "start_imag": [[repr(float(v)) for v in row] for row in start["imag"]],
+                "alternative_real": [[repr(float(v)) for v in row] for row in caps["forward"]["alternative"]["real"]],
+                "alternative_imag": [[repr(float(v)) for v in row] for row in caps["forward"]["alternative"]["imag"]],
             }
         groups = caps["inverse"]["groups"]
         inverse = {

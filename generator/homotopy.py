@@ -133,21 +133,39 @@ def build(
         _vectorised(list(jacobian), args),
         _vectorised(directional, args + list(direction)),
     )
-    key = hashlib.sha256(repr((forward.seed, [sp.srepr(e) for e in equations], [str(v) for v in varying])).encode())
+    key = hashlib.sha256(repr((2, forward.seed, [sp.srepr(e) for e in equations], [str(v) for v in varying])).encode())
     cached = _cache_path(key.hexdigest())
     if cached is not None and cached.exists():
         stored = json.loads(cached.read_text())
         start_values = [complex(*v) for v in stored["instance"]]
         solutions = [[complex(*c) for c in row] for row in stored["solutions"]]
+        second_values = [complex(*v) for v in stored["second_instance"]]
+        second_solutions = [[complex(*c) for c in row] for row in stored["second_solutions"]]
     else:
         instance, point = _start_instance(mechanism, varying, numeric, np.array(start_values), rng, n)
         start_values = [complex(v) for v in instance]
         found = _monodromy(mechanism, numeric, instance, point, rng, n)
         solutions = _refine_exact(equations, jacobian, unknowns, varying, instance, found)
+        # a second start system, for inputs where a path of the first fails: its own random
+        # instance, its solutions followed from the first (a path failing from both is unlikely)
+        second = np.array(_random_complex(np.random.default_rng(forward.seed + 1), len(varying)))
+        second_values = [complex(v) for v in second]
+        from parakin.homotopy import PATH_REACHED, track
+
+        moved = track(_segment(numeric, instance, second, n), np.array(solutions))
+        if not (moved.status == PATH_REACHED).all():
+            raise GenerationError(f"{mechanism.name}: the second start system could not be reached from the first")
+        second_solutions = _refine_exact(equations, jacobian, unknowns, varying, second, moved.z)
+        spread = np.array(second_solutions)
+        gaps = np.abs(spread[:, None] - spread[None]).max(-1) + np.eye(len(spread))
+        if not gaps.min() > 1e-6:
+            raise GenerationError(f"{mechanism.name}: two paths to the second start system met")
         if cached is not None:
             record = {
                 "instance": [[v.real, v.imag] for v in start_values],
                 "solutions": [[[c.real, c.imag] for c in row] for row in solutions],
+                "second_instance": [[v.real, v.imag] for v in second_values],
+                "second_solutions": [[[c.real, c.imag] for c in row] for row in second_solutions],
             }
             cached.parent.mkdir(parents=True, exist_ok=True)
             partial = cached.with_suffix(f".{os.getpid()}.tmp")
@@ -156,14 +174,18 @@ def build(
 
     # the generated kernel: the coefficients of every equation as polynomials in s
     coefficients, powers = _quadric_coefficients(equations, unknowns, varying, start_values)
+    alternative, powers_second = _quadric_coefficients(equations, unknowns, varying, second_values)
+    if powers_second != powers:
+        raise GenerationError(f"{mechanism.name}: the two start systems give coefficients of different degrees in s")
     system = Program(
         "homotopy_coefficients",
         "Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: "
         "flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), "
         "the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the "
-        "quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n).",
+        "quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n). "
+        "'alternative': the same from the second start instance.",
         [actuated, params],
-        [("coefficients", sp.Matrix(coefficients))],
+        [("coefficients", sp.Matrix(coefficients)), ("alternative", sp.Matrix(alternative))],
     )
     z_real = sp.symbols(f"z0:{n}", real=True)
     passive = sp.Matrix(forward.passive).subs(dict(zip(unknowns, z_real, strict=True)), simultaneous=True)
@@ -186,6 +208,10 @@ def build(
         "start": {
             "real": [[float(c.real) for c in row] for row in solutions],
             "imag": [[float(c.imag) for c in row] for row in solutions],
+        },
+        "alternative": {
+            "real": [[float(c.real) for c in row] for row in second_solutions],
+            "imag": [[float(c.imag) for c in row] for row in second_solutions],
         },
         "start_instance": {
             str(v): [float(value.real), float(value.imag)] for v, value in zip(varying, start_values, strict=True)
@@ -284,18 +310,10 @@ def _monodromy(mechanism: Mechanism, numeric, instance: np.ndarray, point: np.nd
     """Every solution of the instance reached by monodromy loops from ``point``."""
     from parakin.homotopy import PATH_REACHED, track
 
-    residual, jacobian, directional = numeric
+    residual = numeric[0]
 
     def segment(p_from: np.ndarray, p_to: np.ndarray):
-        step = p_from - p_to
-
-        def system(index, z, s):
-            p = p_to[None, :] + s[:, None] * step[None, :]
-            columns = [z[:, k] for k in range(n)] + [p[:, k] for k in range(p.shape[1])]
-            rate = directional(*columns, *[np.full(z.shape[0], d) for d in step])
-            return residual(*columns), jacobian(*columns).reshape(z.shape[0], n, n), rate
-
-        return system
+        return _segment(numeric, p_from, p_to, n)
 
     known = point[None, :]
     stable = 0
@@ -317,6 +335,20 @@ def _monodromy(mechanism: Mechanism, numeric, instance: np.ndarray, point: np.nd
         if stable >= STABLE_LOOPS:
             return known
     raise GenerationError(f"{mechanism.name}: monodromy did not settle in {MAX_LOOPS} loops ({len(known)} solutions)")
+
+
+def _segment(numeric, p_from: np.ndarray, p_to: np.ndarray, n: int):
+    """The tracker's system along the straight segment from p_from (s = 1) to p_to (s = 0)."""
+    residual, jacobian, directional = numeric
+    step = p_from - p_to
+
+    def system(index, z, s):
+        p = p_to[None, :] + s[:, None] * step[None, :]
+        columns = [z[:, k] for k in range(n)] + [p[:, k] for k in range(p.shape[1])]
+        rate = directional(*columns, *[np.full(z.shape[0], d) for d in step])
+        return residual(*columns), jacobian(*columns).reshape(z.shape[0], n, n), rate
+
+    return system
 
 
 def _refine_exact(

@@ -115,6 +115,8 @@ class Homotopy:
     unknowns: tuple[str, ...]
     homogeneous: tuple[int, ...]
     start: np.ndarray = field(compare=False)
+    #: the solutions of the second start instance (retried where a path of the first fails)
+    alternative: np.ndarray = field(compare=False)
 
 
 @dataclass(frozen=True)
@@ -398,8 +400,11 @@ def _forward(data: dict[str, Any] | None) -> Forward | None:
         return None
     homotopy = None
     if data.get("method") == "homotopy":
-        start = np.array(data["start"]["real"], dtype=float) + 1j * np.array(data["start"]["imag"], dtype=float)
-        homotopy = Homotopy(tuple(data["unknowns"]), tuple(data["homogeneous"]), start)
+        start, alternative = (
+            np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
+            for key in ("start", "alternative")
+        )
+        homotopy = Homotopy(tuple(data["unknowns"]), tuple(data["homogeneous"]), start, alternative)
     return Forward(
         data.get("unknown", ""),
         int(data["degree"]),

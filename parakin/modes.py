@@ -18,7 +18,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
-from parakin.homotopy import PATH_DIVERGED, PATH_FAILED, PATH_REACHED, phase_normalised, quadric_system, track
+from parakin.homotopy import (
+    PATH_DIVERGED,
+    PATH_FAILED,
+    PATH_REACHED,
+    Paths,
+    phase_normalised,
+    quadric_system,
+    track,
+)
 from parakin.polynomial import isolate_real_roots
 from parakin.pose import wrap_angle
 from parakin.results import Array, AssemblyModes
@@ -173,6 +181,8 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     n = theta.shape[0]
     system = quadric_system(m.backend.call("homotopy_coefficients", theta, m.params)["coefficients"], size, paths)
     ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"])
+    if (ended.status == PATH_FAILED).any():
+        ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]))
     z, imaginary = phase_normalised(ended.z, list(info.homotopy.homogeneous))
     reached = ended.status == PATH_REACHED
     real = reached & (imaginary < tol["real_endpoint"])
@@ -211,6 +221,37 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
         "near_roots": near.reshape(shape).sum(-1),
         "at_infinity": (ended.status == PATH_DIVERGED).reshape(shape).sum(-1),
     }
+
+
+def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float) -> Paths:
+    """Inputs where a path failed (it came too close to another: the corrector could not converge
+    at any step size) are tracked again from the second generated start system, along another
+    segment; each failed slot takes an endpoint of that run that the first run did not reach (the
+    same solution has the same coordinates in both: one patch)."""
+    info = m.capabilities.forward
+    assert info is not None and info.homotopy is not None
+    alternative = info.homotopy.alternative
+    paths, size = alternative.shape
+    rows = np.unique(np.nonzero(ended.status == PATH_FAILED)[0] // paths)
+    coefficients = m.backend.call("homotopy_coefficients", theta[rows], m.params)["alternative"]
+    second = track(quadric_system(coefficients, size, paths), np.tile(alternative, (rows.size, 1)), tolerance)
+    z, status = ended.z.copy(), ended.status.copy()
+    for j, i in enumerate(rows):
+        mine, theirs = slice(i * paths, (i + 1) * paths), slice(j * paths, (j + 1) * paths)
+        known = z[mine][status[mine] == PATH_REACHED]
+        fresh = second.z[theirs][second.status[theirs] == PATH_REACHED]
+        for slot in np.nonzero(status[mine] == PATH_FAILED)[0]:
+            for candidate in fresh:
+                if not _seen(known, candidate):
+                    z[i * paths + slot], status[i * paths + slot] = candidate, PATH_REACHED
+                    known = np.vstack([known, candidate])
+                    break
+    return Paths(z, status, ended.steps, ended.update)
+
+
+def _seen(known: np.ndarray, candidate: np.ndarray) -> bool:
+    """Whether ``candidate`` is one of the ``known`` endpoints (relative distance 1e-6)."""
+    return bool(known.size) and bool(np.abs(known - candidate).max(-1).min() <= 1e-6 * (1 + np.abs(candidate).max()))
 
 
 def _polynomial_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:

@@ -260,3 +260,46 @@ def test_newton_has_no_parametrisation_singularity(backend):
     solved = m.forward_pose(lengths, guess=guess)
     assert np.abs(solved.pose - pose).max() < 1e-10
     assert abs(np.linalg.norm(solved.passive[3:]) - 1) < 1e-12
+
+
+#: a random design (from a 10^4-input run) where one path from the first start system fails
+#: (it passes too close to another) and that path led to the generating pose
+RETRY_BASE = [
+    [0.3189328944592347, -0.9917640447622387, -0.12598230756944884],
+    [0.3778243172794582, -0.6932828095540053, 0.6574105077861447],
+    [-0.08224856651227008, -0.14008650804802159, 0.8224340999123212],
+    [0.2953504325512857, -0.890366257737589, -0.786013850851208],
+    [-0.9876627315564048, -0.7663007261631012, -0.15113626549875891],
+    [0.9639778259681415, -0.18156707852749654, -0.3798301962510704],
+]
+RETRY_PLATFORM = [
+    [0.07361472916691147, -0.1959300942260389, 0.011166120237766974],
+    [-0.19658840693064594, 0.5708121759488808, -0.20984086392954465],
+    [0.5780119369089, -0.09028052064418124, -0.22464255922299303],
+    [-0.11200457979314543, 0.49443683941454164, 0.060933545448675686],
+    [-0.2649859993333678, 0.5853036163206605, 0.5183993751111672],
+    [-0.003909924066180515, -0.031062398029702454, 0.4796216086237378],
+]
+RETRY_POSE = [
+    [0.4000300375630557, -0.36686486886798125, 0.8398726909703513, -0.053722421968423806],
+    [-0.19981130769172925, 0.8594357859973223, 0.4705800368329344, 0.4512814033711289],
+    [-0.8944559298063943, -0.3560622104880604, 0.27049638056087705, 1.226413989452997],
+    [0.0, 0.0, 0.0, 1.0],
+]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_failed_path_is_recovered_from_the_second_start_system(backend):
+    """The first start system alone loses one path here (and with it the generating pose); the
+    second start system, along another segment, recovers it: no failed path is left."""
+    from parakin.homotopy import PATH_FAILED, quadric_system, track
+
+    m = parakin.load("stewart", backend=backend, base=RETRY_BASE, platform=RETRY_PLATFORM)
+    lengths = m.inverse_pose(np.array(RETRY_POSE)).actuated[0]
+    homotopy = m.capabilities.forward.homotopy
+    coefficients = m.backend.call("homotopy_coefficients", lengths[None], m.params)["coefficients"]
+    first = track(quadric_system(coefficients, homotopy.start.shape[1], 40), homotopy.start)
+    assert (first.status == PATH_FAILED).sum() == 1  # what the retry is for
+    modes = m.forward_pose_all(lengths)
+    assert modes.certificate()["rejected"]["path_failed"] == 0
+    assert np.abs(modes.poses[modes.valid] - np.array(RETRY_POSE)).max(axis=(-2, -1)).min() < 1e-8

@@ -9,7 +9,7 @@
 //   drawing: 155
 //   inverse_pose: 708
 //   inverse_pose_patterns: 708
-//   homotopy_coefficients: 2612
+//   homotopy_coefficients: 4535
 //   homotopy_passive: 45
 
 // Example: the stewart solvers from C. Build (from this folder):

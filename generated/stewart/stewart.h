@@ -9,7 +9,7 @@
 //   drawing: 155
 //   inverse_pose: 708
 //   inverse_pose_patterns: 708
-//   homotopy_coefficients: 2612
+//   homotopy_coefficients: 4535
 //   homotopy_passive: 45
 
 // Public C interface of the generated stewart solvers: General 6-6 Gough-Stewart platform (6-SPS), every assembly mode by homotopy.
@@ -239,9 +239,9 @@ int stewart_inverse_pose_batch(long long n, const double** inputs, const long lo
 //   inputs: pose[12], params[36]
 //   outputs: actuated[6], passive[7], validity[6]
 int stewart_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
-// Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n).
+// Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n). 'alternative': the same from the second start instance.
 //   inputs: actuated[6], params[36]
-//   outputs: coefficients[3504]
+//   outputs: coefficients[3504], alternative[3504]
 int stewart_homotopy_coefficients_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
 //   inputs: z[8], params[36]
