@@ -97,9 +97,9 @@ def track(system: System, start: np.ndarray, tolerance: float = 1e-7) -> Paths:
             for iteration in range(CORRECTIONS):
                 rows = np.nonzero(live)[0]
                 residual, jacobian, _ = system(active[rows], corrected[rows], target[rows])
-                delta = _solve(jacobian, residual)
-                corrected[rows] = corrected[rows] - delta
-                size = np.abs(delta).max(-1) / _size(corrected[rows])
+                correction = _solve(jacobian, residual)
+                corrected[rows] = corrected[rows] - correction
+                size = np.abs(correction).max(-1) / _size(corrected[rows])
                 # converged iterates stop: at an ill-conditioned solution further updates are
                 # rounding noise, which need not contract
                 if iteration:
@@ -141,10 +141,10 @@ def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = R
                 break
             rows = np.nonzero(live)[0]
             residual, jacobian, _ = system(index[rows], z[rows], zero[rows])
-            delta = _solve(jacobian, residual)
-            size = np.abs(delta).max(-1) / _size(z[rows])
+            correction = _solve(jacobian, residual)
+            size = np.abs(correction).max(-1) / _size(z[rows])
             improving = np.isfinite(size) & (size < update[rows])
-            z[rows[improving]] -= delta[improving]
+            z[rows[improving]] -= correction[improving]
             update[rows] = np.where(improving, size, update[rows])
             live[rows] = improving & (size > 1e-15)
     return z, update

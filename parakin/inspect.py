@@ -49,7 +49,9 @@ def _sections(manifest: Any, objects: dict[str, Any]) -> list[tuple[str, str]]:
         (f"Singularity factor {name} (= 0 at the singularity)", f"factor_{name}")
         for name in manifest.singularity_factors
     ]
-    if caps.forward is not None:
+    if caps.forward is not None and caps.forward.method == "homotopy":
+        sections.append((f"Forward homotopy: {caps.forward.degree} paths through the equations", "forward_equations"))
+    elif caps.forward is not None:
         sections.append(
             (f"Forward polynomial in {caps.forward.unknown}, degree {caps.forward.degree}", "forward_polynomial")
         )

@@ -1,3 +1,4 @@
+import os
 import sys
 from pathlib import Path
 
@@ -12,6 +13,27 @@ if str(EXAMPLES) not in sys.path:
     sys.path.insert(0, str(EXAMPLES))
 
 BACKENDS = ["numpy", "casadi", "compiled"]
+
+
+def pytest_addoption(parser):
+    parser.addoption(
+        "--run-slow",
+        action="store_true",
+        help="also run the tests marked slow (full-size versions of sampled checks, a full regeneration, "
+        "a million inputs); PARAKIN_SLOW=1 or any -m expression does the same",
+    )
+
+
+def pytest_collection_modifyitems(config, items):
+    """Tests marked slow are skipped (with a reason) unless asked for: --run-slow, PARAKIN_SLOW=1,
+    or a -m expression (then that expression alone selects, e.g. -m slow). Every feature they check
+    also has a smaller default test."""
+    if config.getoption("--run-slow") or os.environ.get("PARAKIN_SLOW") == "1" or config.getoption("markexpr"):
+        return
+    skip = pytest.mark.skip(reason="slow: run with --run-slow, PARAKIN_SLOW=1 or -m slow")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip)
 
 
 @pytest.fixture(scope="session", params=BACKENDS)

@@ -321,7 +321,12 @@ def test_rate_model_matches_finite_differences_of_the_pose_solvers(name, backend
     left_out = np.delete(np.arange(6), components)
     assert len(components) == m.manifest.twist_size
     rng = np.random.default_rng(h.seed(name, "rates"))
-    configurations = closed_configurations(name, backend, 8)
+    # finite differences need room to a type II singularity: the curvature of the solution
+    # branch grows there faster than the step can shrink (a Stewart sample at condition 4e3), so
+    # the best-conditioned 8 of 16 samples
+    sampled = closed_configurations(name, backend, 16)
+    order = np.argsort([float(h.condition(m, c.actuated, c.passive)) for c in sampled], kind="stable")
+    configurations = [sampled[k] for k in order[:8]]
     assert len(configurations) == 8
     actuated_scale = h.variable_scale(m, m.manifest.actuated)
     passive_scale = h.variable_scale(m, m.manifest.passive)

@@ -13,7 +13,7 @@ def m():
 
 def test_unknown_mechanism_lists_the_valid_ones():
     with pytest.raises(parakin.UnknownMechanismError, match="available: .*sam"):
-        parakin.load("stewart")
+        parakin.load("no_such_robot")
 
 
 def test_unknown_parameter_lists_the_valid_ones():

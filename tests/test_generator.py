@@ -38,16 +38,28 @@ def test_names_are_validated_identifiers():
             validate_name(bad)
 
 
-@pytest.mark.slow
-def test_regeneration_is_byte_identical(tmp_path):
-    """Golden test: regenerating everything into a scratch directory reproduces the committed tree."""
+def _files(root: Path, names: list[str] | None) -> list[str]:
+    """The files under root: all of them, or the top level's and those of the packages `names`."""
+    paths = list(root.rglob("*")) if names is None else [root / "__init__.py"]
+    for name in names or []:
+        paths += (root / name).rglob("*")
+    return sorted(str(p.relative_to(root)) for p in paths if p.is_file() and "__pycache__" not in p.parts)
+
+
+@pytest.mark.parametrize(
+    "names",
+    [
+        pytest.param(["five_bar", "planar_3rpr", "sphere2r"], id="three-small-mechanisms"),
+        pytest.param(None, id="everything", marks=pytest.mark.slow),
+    ],
+)
+def test_regeneration_is_byte_identical(tmp_path, names):
+    """Golden test: regenerating into a scratch directory reproduces the committed tree (every
+    mechanism: about a minute; by default three that generate in seconds)."""
     target = tmp_path / "generated"
-    generate(None, target)
-    committed = sorted(
-        str(p.relative_to(GENERATED)) for p in GENERATED.rglob("*") if p.is_file() and "__pycache__" not in p.parts
-    )
-    fresh = sorted(str(p.relative_to(target)) for p in target.rglob("*") if p.is_file())
-    assert fresh == committed
+    generate(names, target)
+    committed = _files(GENERATED, names)
+    assert _files(target, None) == committed
     for name in committed:
         assert (target / name).read_bytes() == (GENERATED / name).read_bytes(), name
 
@@ -129,20 +141,30 @@ def test_runtime_names_no_mechanism():
     assert hits == "", hits
 
 
-@pytest.mark.slow
-def test_a_copied_mechanism_file_gets_everything(tmp_path):
+#: per copied file: a pose, its inverse branch to take, and its forward modes must contain the pose
+ROUND_TRIP = {
+    "sam": ("parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])", 2),
+    "five_bar": ("[0.03, 0.3, 0.0]", 1),
+}
+
+
+@pytest.mark.parametrize("original", ["five_bar", pytest.param("sam", marks=pytest.mark.slow)])
+def test_a_copied_mechanism_file_gets_everything(tmp_path, original):
     """A mechanism file under a new name (with an underscore) generates, loads and solves with no
-    other file edited; here into a package folder outside generated/."""
-    source = tmp_path / "sam_copy.py"
-    shutil.copy(ROOT / "mechanisms" / "sam.py", source)
-    package = tmp_path / "out" / "sam_copy"
+    other file edited; here into a package folder outside generated/. (The five-bar generates in
+    a second, the SAM in about fifteen.)"""
+    copy = f"{original}_copy"
+    source = tmp_path / f"{copy}.py"
+    shutil.copy(ROOT / "mechanisms" / f"{original}.py", source)
+    package = tmp_path / "out" / copy
     generate_file(source, package)
+    pose, branch = ROUND_TRIP[original]
     code = (
         "import parakin, numpy as np\n"
         f"m = parakin.load({str(package)!r}, backend='compiled')\n"
-        "assert m.name == 'sam_copy'\n"
-        "ik = m.inverse_pose(parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08]))\n"
-        "modes = m.forward_pose_all(ik.actuated[2])\n"
+        f"assert m.name == {copy!r}\n"
+        f"ik = m.inverse_pose({pose})\n"
+        f"modes = m.forward_pose_all(ik.actuated[{branch}])\n"
         "assert np.abs(modes.poses[modes.valid] - ik.pose).max(axis=(-2, -1)).min() < 1e-9\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True, cwd=tmp_path)

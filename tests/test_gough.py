@@ -130,13 +130,13 @@ def test_architecture_check_and_warning():
 
 
 # ------------------------------------------------------------------ section 3: forward pose
-def test_random_geometries_at_most_eight_solutions_containing_the_pose(backend):
-    """1000 random usable geometries and poses: every case has at most 8 real modes (mirror
+def _random_geometries(backend: str, cases: int) -> None:
+    """`cases` random usable geometries and poses: every case has at most 8 real modes (mirror
     pairs), each reproducing the six leg lengths to 1e-9, and the pose that made the lengths is
     always among them (pose difference below 1e-8 x scale)."""
     rng = np.random.default_rng(20261121)
     counts, worst_leg, worst_pose, missing = [], 0.0, 0.0, 0
-    for _ in range(1000):
+    for _ in range(cases):
         m = parakin.load("gough", backend=backend, **random_geometry(rng))
         pose = random_pose(rng)
         lengths = m.inverse_pose(pose).actuated[0]
@@ -148,9 +148,20 @@ def test_random_geometries_at_most_eight_solutions_containing_the_pose(backend):
         distance = np.abs(poses - pose).max(axis=(-2, -1)).min() / (1 + np.abs(pose[:3, 3]).max())
         worst_pose = max(worst_pose, float(distance))
         missing += int(distance > 1e-8)
-    assert max(counts) <= 8 and min(counts) >= 1, f"counts {np.bincount(counts)}"
+    assert len(counts) == cases and max(counts) <= 8 and min(counts) >= 1, f"counts {np.bincount(counts)}"
     assert worst_leg < 1e-9, f"worst leg residual {worst_leg:.3g} m > 1e-9"
-    assert missing == 0, f"{missing} of 1000 generating poses missing (worst distance {worst_pose:.3g})"
+    assert missing == 0, f"{missing} of {cases} generating poses missing (worst distance {worst_pose:.3g})"
+
+
+def test_random_geometries_at_most_eight_solutions_containing_the_pose(backend):
+    """1000 random geometries compiled; with NumPy (a load costs ~40 ms there) the first 250 of
+    them, all 1000 in the next test."""
+    _random_geometries(backend, 1000 if backend == "compiled" else 250)
+
+
+@pytest.mark.slow
+def test_random_geometries_at_most_eight_solutions_containing_the_pose_numpy_1000():
+    _random_geometries("numpy", 1000)
 
 
 def test_real_solutions_come_in_mirror_pairs(backend):
@@ -177,11 +188,19 @@ def test_newton_forward_pose_tracks_a_nearby_guess(backend):
     assert fk.residual < 1e-12 and np.abs(fk.pose - pose).max() < 1e-9
 
 
-def test_singular_geometry_forward_pose_all_reports_the_degeneracy(example):
+@pytest.fixture(scope="module")
+def printed_motion():
+    """The example's forward_all with the printed lengths (section 5.4's geometry, as every
+    backend's example has): the self-motion of the five independent legs, 300 samples. Shared:
+    tracing it takes ~10 s."""
+    return arch.forward_all(arch.load_example(), PRINTED, samples=300)
+
+
+def test_singular_geometry_forward_pose_all_reports_the_degeneracy(example, printed_motion):
     with pytest.raises(SingularConfigurationError, match="base_points_on_a_conic"):
         example.forward_pose_all(PRINTED)
-    answer = arch.forward_all(example, PRINTED, samples=100)
-    assert isinstance(answer, arch.SelfMotion) and answer.modes_per_ix == [8]
+    assert arch.is_architecturally_singular(example)  # so forward_all traces the self-motion
+    assert isinstance(printed_motion, arch.SelfMotion) and printed_motion.modes_per_ix == [8]
 
 
 # ------------------------------------------------------------------ section 5: self-motion
@@ -202,12 +221,12 @@ def test_section54_self_motion_eight_modes_two_circuits_all_legs():
     assert min(h.min() for h in heights) == pytest.approx(-max(h.max() for h in heights), rel=1e-6)
 
 
-def test_section54_printed_lengths_five_legs_exact_sixth_constant_offset():
+def test_section54_printed_lengths_five_legs_exact_sixth_constant_offset(printed_motion):
     """The paper's procedure with the printed l1..l5 (leg 6 dependent): 8 modes for i_x in
     (-0.53603, 0.62301); legs 1-5 to 1e-12, leg 6 off by a constant +0.033847 (its implied length
     38.3538 against the printed 38.32)."""
     example = arch.Geometry.from_parameters({str(k): v for k, v in gough.defaults().items()})
-    motion = arch.self_motion(example, PRINTED, samples=300)
+    motion = printed_motion  # arch.self_motion(example, PRINTED, samples=300) through forward_all
     assert motion.dependent == 6 and motion.modes_per_ix == [8] and len(motion.circuits) == 2
     assert motion.intervals[0][0] == pytest.approx(-0.53603, abs=1e-5)
     assert motion.intervals[0][1] == pytest.approx(0.62301, abs=1e-5)
@@ -331,14 +350,18 @@ def test_symbolic_architecture_condition_is_what_the_runtime_evaluates():
     assert min(abs(v) for v in usable.architecture().values()) > 1e3 * tolerance
 
 
-def test_forward_pose_all_reports_the_self_motion_set():
+@pytest.mark.parametrize(
+    "stride", [10, pytest.param(1, marks=pytest.mark.slow)], ids=["every-10th-point", "every-point"]
+)
+def test_forward_pose_all_reports_the_self_motion_set(stride):
     """On an architecturally singular design with compatible locked legs (section 5.4's printed
     lengths moved by 0.006 m to the nearest compatible ones), forward pose neither fails silently
     nor returns a random point: it raises SelfMotionError carrying parakin's generic self-motion
     (continuation of the loop closure). Every traced point closes the loop (residual below 1e-9),
     its leg lengths are the locked ones, and it lies on the paper's self-motion: one of the
     section 5 modes at its own i_x, with i_x inside the interval (-0.55488, 0.59098) of
-    test_section54_self_motion_eight_modes_two_circuits_all_legs."""
+    test_section54_self_motion_eight_modes_two_circuits_all_legs. The section 5 modes are found
+    point by point (~7 ms each): every `stride`-th traced point of 8000 is compared."""
     m = arch.load_example()
     locked = arch.compatibility(m, PRINTED).nearest
     with pytest.raises(parakin.SelfMotionError, match="solution set") as error:
@@ -352,7 +375,8 @@ def test_forward_pose_all_reports_the_self_motion_set():
     assert np.abs(legs - locked).max() < 2e-9
     # 1e-5 (poses ~30 m): at the folds the quartic (23) has a double root, so the section 5 modes
     # themselves are only sqrt(eps)-accurate there; away from them the distance is ~1e-11
-    distance = arch.distance_to_self_motion(m, locked, motion.poses)
+    distance = arch.distance_to_self_motion(m, locked, motion.poses[::stride])
+    assert distance.size >= 5000 // stride, distance.size
     assert distance.max() < 1e-5, f"largest distance to the section 5 modes {distance.max():.3g}"
     assert np.median(distance) < 1e-9
     ix = motion.poses[:, 0, 0]

@@ -7,12 +7,10 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.mark.slow
+# not marked slow (~12 s): the only test of the wheel, so it stays in the default run
 def test_wheel_generates_and_loads_a_user_mechanism_outside_the_checkout(tmp_path):
     subprocess.run(
         [

@@ -142,7 +142,8 @@ def test_real_roots_match_mpmath_polyroots(c_batch, count):
         flagged_total += flagged.size
         checked += 1
     assert checked >= 0.9 * count and conditioned <= 0.01 * checked, (checked, conditioned)
-    assert count < 1000 or flagged_total >= 100, flagged_total
+    # flagged roots: 21 on the 150 polynomials, 47 on 300, 109 on 600; at least 1 per 24 polynomials
+    assert flagged_total >= count // 24, flagged_total  # 6 of 150; 100 of 2400, as before
 
 
 @pytest.mark.parametrize(

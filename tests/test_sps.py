@@ -394,15 +394,16 @@ def test_polynomial_route_agrees_with_the_quaternion_route_on_1000_inputs(sps, s
     assert missing == []
 
 
-def test_polynomial_route_agrees_with_the_quaternion_route_on_random_geometries():
+@pytest.mark.parametrize("cases", [100, pytest.param(300, marks=pytest.mark.slow)])
+def test_polynomial_route_agrees_with_the_quaternion_route_on_random_geometries(cases):
     """Random base and platform points (canonical frames), lengths from a random rotation: every mode
     we return closes and is one of the oracle's, and none is missed. (The former unknown v = a2o . b1o
     missed 9 of the modes of 3000 such inputs, in pairs nearly coinciding in v: at D1 ~ 0, where v
     folds b1o's two positions s1 = +-1 onto one value, or next to v = 1; t = tan(phi / 2) does not
-    fold b1o.)"""
+    fold b1o.) ~0.14 s a case (a NumPy load and the homotopy): the first 100 cases by default."""
     rng = np.random.default_rng(33)
     total = missing_all = 0
-    for case in range(300):
+    for case in range(cases):
         a2 = rng.normal(size=2)
         a2[1] = abs(a2[1])
         a2 *= rng.uniform(0.5, 3) / np.linalg.norm(a2)
@@ -423,4 +424,4 @@ def test_polynomial_route_agrees_with_the_quaternion_route_on_random_geometries(
         assert extra == 0
         total += 1
         missing_all += len(missing)
-    assert total == 300 and missing_all == 0
+    assert total == cases and missing_all == 0
