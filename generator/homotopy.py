@@ -135,7 +135,7 @@ def build(
     )
     key = hashlib.sha256(repr((2, forward.seed, [sp.srepr(e) for e in equations], [str(v) for v in varying])).encode())
     cached = _cache_path(key.hexdigest())
-    if cached is not None and cached.exists():
+    if cached.exists():
         stored = json.loads(cached.read_text())
         start_values = [complex(*v) for v in stored["instance"]]
         solutions = [[complex(*c) for c in row] for row in stored["solutions"]]
@@ -160,17 +160,16 @@ def build(
         gaps = np.abs(spread[:, None] - spread[None]).max(-1) + np.eye(len(spread))
         if not gaps.min() > 1e-6:
             raise GenerationError(f"{mechanism.name}: two paths to the second start system met")
-        if cached is not None:
-            record = {
-                "instance": [[v.real, v.imag] for v in start_values],
-                "solutions": [[[c.real, c.imag] for c in row] for row in solutions],
-                "second_instance": [[v.real, v.imag] for v in second_values],
-                "second_solutions": [[[c.real, c.imag] for c in row] for row in second_solutions],
-            }
-            cached.parent.mkdir(parents=True, exist_ok=True)
-            partial = cached.with_suffix(f".{os.getpid()}.tmp")
-            partial.write_text(json.dumps(record))
-            partial.replace(cached)
+        record = {
+            "instance": [[v.real, v.imag] for v in start_values],
+            "solutions": [[[c.real, c.imag] for c in row] for row in solutions],
+            "second_instance": [[v.real, v.imag] for v in second_values],
+            "second_solutions": [[[c.real, c.imag] for c in row] for row in second_solutions],
+        }
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = cached.with_suffix(f".{os.getpid()}.tmp")
+        partial.write_text(json.dumps(record))
+        partial.replace(cached)
 
     # the generated kernel: the coefficients of every equation as polynomials in s
     coefficients, powers = _quadric_coefficients(equations, unknowns, varying, start_values)
@@ -260,12 +259,12 @@ def _quadric_coefficients(
     return flat, powers
 
 
-def _cache_path(key: str) -> Path | None:
-    """Where the start system of these equations is kept between builds (the computation is
-    deterministic, the cache only saves its minutes): $PARAKIN_CACHE, else ~/.cache/parakin;
-    PARAKIN_CACHE=off disables it."""
+def _cache_path(key: str) -> Path:
+    """Where the start systems of these equations are kept between builds (the computation is
+    deterministic, the cache only saves its minutes): $PARAKIN_CACHE/homotopy, else
+    ~/.cache/parakin/homotopy (the compiled backend's cache root); an empty folder recomputes."""
     root = os.environ.get("PARAKIN_CACHE", str(Path.home() / ".cache" / "parakin"))
-    return None if root == "off" else Path(root) / "homotopy" / f"{key}.json"
+    return Path(root) / "homotopy" / f"{key}.json"
 
 
 def _start_instance(mechanism: Mechanism, varying: list[sp.Symbol], numeric, values: np.ndarray, rng, n: int):
