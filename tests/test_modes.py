@@ -73,8 +73,9 @@ def test_homotopy_pipelines_agree_on_a_thousand_inputs(name):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", WITH_MODES)
+@pytest.mark.parametrize("name", [n for n in WITH_MODES if n not in HOMOTOPY])
 def test_pipelines_agree_on_ten_thousand_inputs(name):
+    """(a homotopy mechanism: the previous test; 10^4 NumPy homotopy inputs take most of an hour)"""
     _check_backends_agree(name, 10_000)
 
 
