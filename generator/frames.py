@@ -106,7 +106,7 @@ def quaternion_rotation(q: sp.Matrix | list) -> sp.Matrix:
     return quaternion_rotation_unnormalised(q) / norm
 
 
-def _sign_or_plus(value: sp.Expr) -> sp.Expr:
+def sign_or_plus(value: sp.Expr) -> sp.Expr:
     """sign(value) with sign(0) = +1."""
     return sp.sign(value) + 1 - sp.Abs(sp.sign(value))
 
@@ -127,7 +127,7 @@ def quaternion_from_rotation(rotation: sp.Matrix) -> sp.Matrix:
     )
     total = k[:, 0]
     for column in range(1, 4):
-        total = total + _sign_or_plus(total.dot(k[:, column])) * k[:, column]
+        total = total + sign_or_plus(total.dot(k[:, column])) * k[:, column]
     return total / sp.sqrt(total.dot(total))
 
 

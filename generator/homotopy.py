@@ -123,16 +123,6 @@ def build(
         raise GenerationError(f"{mechanism.name}: homotopy equations use {sorted(map(str, stray))}")
     start_values = _random_complex(rng, len(varying))
 
-    # numeric system for the monodromy: F, F_z and the directional derivative in p
-    direction = sp.symbols(f"dp0:{len(varying)}")
-    jacobian = sp.Matrix(equations).jacobian(unknowns)
-    directional = [sp.Add(*(sp.diff(e, v) * d for v, d in zip(varying, direction, strict=True))) for e in equations]
-    args = unknowns + varying
-    numeric = (
-        _vectorised(equations, args),
-        _vectorised(list(jacobian), args),
-        _vectorised(directional, args + list(direction)),
-    )
     key = hashlib.sha256(repr((2, forward.seed, [sp.srepr(e) for e in equations], [str(v) for v in varying])).encode())
     cached = _cache_path(key.hexdigest())
     if cached.exists():
@@ -142,6 +132,16 @@ def build(
         second_values = [complex(*v) for v in stored["second_instance"]]
         second_solutions = [[complex(*c) for c in row] for row in stored["second_solutions"]]
     else:
+        # numeric system for the monodromy: F, F_z and the directional derivative in p
+        direction = sp.symbols(f"dp0:{len(varying)}")
+        jacobian = sp.Matrix(equations).jacobian(unknowns)
+        directional = [sp.Add(*(sp.diff(e, v) * d for v, d in zip(varying, direction, strict=True))) for e in equations]
+        args = unknowns + varying
+        numeric = (
+            _vectorised(equations, args),
+            _vectorised(list(jacobian), args),
+            _vectorised(directional, args + list(direction)),
+        )
         instance, point = _start_instance(mechanism, varying, numeric, np.array(start_values), rng, n)
         start_values = [complex(v) for v in instance]
         found = _monodromy(mechanism, numeric, instance, point, rng, n)
@@ -307,27 +307,23 @@ def _with(values: np.ndarray, index: int, value: complex) -> np.ndarray:
 
 def _monodromy(mechanism: Mechanism, numeric, instance: np.ndarray, point: np.ndarray, rng, n: int) -> np.ndarray:
     """Every solution of the instance reached by monodromy loops from ``point``."""
-    from parakin.homotopy import PATH_REACHED, track
+    from parakin.homotopy import PATH_REACHED, is_known, track
 
     residual = numeric[0]
-
-    def segment(p_from: np.ndarray, p_to: np.ndarray):
-        return _segment(numeric, p_from, p_to, n)
-
     known = point[None, :]
     stable = 0
     for _ in range(MAX_LOOPS):
         first, second = (np.array(_random_complex(rng, instance.size)) for _ in range(2))
         z, ok = known, np.ones(known.shape[0], bool)
         for p_from, p_to in ((instance, first), (first, second), (second, instance)):
-            paths = track(segment(p_from, p_to), z)
+            paths = track(_segment(numeric, p_from, p_to, n), z)
             ok &= paths.status == PATH_REACHED
             z = paths.z
         added = 0
         for candidate in z[ok]:
             if not np.abs(residual(*candidate, *instance)).max() < 1e-8:
                 continue
-            if np.abs(known - candidate).max(-1).min() > 1e-6 * (1 + np.abs(candidate).max()):
+            if not is_known(known, candidate):
                 known = np.vstack([known, candidate])
                 added += 1
         stable = 0 if added else stable + 1

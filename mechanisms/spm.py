@@ -30,7 +30,7 @@ import math
 
 import sympy as sp
 from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
-from parakin.generator.frames import homogeneous, rot_z
+from parakin.generator.frames import homogeneous, rot_z, sign_or_plus
 from parakin.generator.model import (
     POSE_ROTATION,
     Citation,
@@ -166,7 +166,7 @@ def forward() -> ForwardElimination:
     big_a = [sum(elimination.first[k][j] * x**j for j in range(3)) for k in range(3)]
     discriminant, stable = sp.symbols("discriminant_y q_y", real=True)
     phi1_sym, phi2_sym = sp.symbols("phi1_root phi2_root", real=True)
-    sign_a1 = sp.sign(big_a[1]) + 1 - sp.Abs(sp.sign(big_a[1]))  # sign with sign(0) = +1
+    sign_a1 = sign_or_plus(big_a[1])
     plus, minus = (1 + tau) / 2, (1 - tau) / 2  # tau = +-1 selects one root, with no division
     back = [
         (discriminant, big_a[1] ** 2 - 4 * big_a[2] * big_a[0]),

@@ -179,6 +179,12 @@ def quadric_system(coefficients: np.ndarray, size: int, paths: int) -> System:
     return system
 
 
+def is_known(known: np.ndarray, candidate: np.ndarray) -> bool:
+    """Whether ``candidate`` is one of the ``known`` endpoints (max-norm distance at most 1e-6
+    relative to 1 + |candidate|): the one test of 'the same solution' for endpoints."""
+    return bool(known.size) and bool(np.abs(known - candidate).max(-1).min() <= 1e-6 * (1 + np.abs(candidate).max()))
+
+
 def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray, np.ndarray]:
     """An endpoint of a homogeneous system is a complex multiple of a real solution when one
     exists: scale it so that its largest homogeneous entry is real and positive, and return it

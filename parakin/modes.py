@@ -23,6 +23,7 @@ from parakin.homotopy import (
     PATH_FAILED,
     PATH_REACHED,
     Paths,
+    is_known,
     phase_normalised,
     quadric_system,
     track,
@@ -203,14 +204,18 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     if candidate.any():
         with np.errstate(all="ignore"):
             q[candidate] = m.backend.call("homotopy_passive", z[candidate].real, m.params)["passive"]
+    pose = np.tile(np.eye(4), (n * paths, 1, 1))
+    if candidate.any():
+        theta_paths = np.repeat(theta, paths, axis=0)[candidate]
+        with np.errstate(all="ignore"):
+            pose[candidate] = m.backend.call("platform_pose", theta_paths, np.nan_to_num(q[candidate]), m.params)[
+                "pose"
+            ]
     shape = (n, paths)
-    q = q.reshape(shape + (-1,))
-    with np.errstate(all="ignore"):
-        pose = m.backend.call("platform_pose", theta[:, None, :], np.nan_to_num(q), m.params)["pose"]
     failed = (ended.status == PATH_FAILED).reshape(shape)
     return {
-        "pose": np.where(candidate.reshape(shape)[..., None, None], pose, np.eye(4)),
-        "q": q,
+        "pose": pose.reshape(shape + (4, 4)),
+        "q": q.reshape(shape + (-1,)),
         "outcome": outcome.reshape(shape).astype(np.int32),
         "root": imaginary.reshape(shape),
         "kind": kind.reshape(shape).astype(np.int32),
@@ -242,16 +247,11 @@ def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float) ->
         fresh = second.z[theirs][second.status[theirs] == PATH_REACHED]
         for slot in np.nonzero(status[mine] == PATH_FAILED)[0]:
             for candidate in fresh:
-                if not _seen(known, candidate):
+                if not is_known(known, candidate):
                     z[i * paths + slot], status[i * paths + slot] = candidate, PATH_REACHED
                     known = np.vstack([known, candidate])
                     break
     return Paths(z, status, ended.steps, ended.update)
-
-
-def _seen(known: np.ndarray, candidate: np.ndarray) -> bool:
-    """Whether ``candidate`` is one of the ``known`` endpoints (relative distance 1e-6)."""
-    return bool(known.size) and bool(np.abs(known - candidate).max(-1).min() <= 1e-6 * (1 + np.abs(candidate).max()))
 
 
 def _polynomial_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
