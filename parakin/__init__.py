@@ -8,6 +8,9 @@
 
 Units are SI and radians; poses are ^B_P T (..., 4, 4); ``m.manifest.conventions`` (the
 mechanism file's docstring, also ``parakin inspect NAME``) gives frames and branch numbering.
+
+Loading a package runs its code (its Python modules, and the C it compiles): load only
+packages you trust.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import warnings
 from collections.abc import Mapping
 from typing import Any
 
-from parakin.backends import make_backend
+from parakin.backends import BackendFallbackWarning, make_backend
 from parakin.errors import (
     ArchitectureSingularityWarning,
     AssemblyModeChangeError,
@@ -32,9 +35,9 @@ from parakin.errors import (
     UnreachablePoseError,
     UnsupportedOperationError,
 )
-from parakin.manifest import Manifest
+from parakin.manifest import Manifest, unknown_name
 from parakin.mechanism import Mechanism
-from parakin.package import GeneratedPackage, discover
+from parakin.package import BrokenPackageWarning, GeneratedPackage, readable_names
 from parakin.pose import (
     euler_zyx_to_rotation,
     pose_from_xyz_euler,
@@ -49,8 +52,9 @@ __version__ = "0.2.0"
 
 
 def available() -> list[str]:
-    """Names of the generated packages found (shipped ones, then ``$PARAKIN_PATH``)."""
-    return list(discover())
+    """Names of the generated packages found (shipped ones, then ``$PARAKIN_PATH``); a package
+    whose manifest cannot be read is skipped with a BrokenPackageWarning naming it."""
+    return readable_names()
 
 
 def metadata(name: str | os.PathLike[str]) -> Manifest:
@@ -73,8 +77,7 @@ def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str,
         elif key in values:
             values[key] = real_number(value, f"parameter {key!r}")
         else:
-            valid = sorted([*values, *groups])
-            raise UnknownMechanismError(f"unknown parameter {key!r} for {manifest.name!r}; valid: {valid}")
+            raise unknown_name("parameter", key, manifest.parameter_names, manifest.name)
     for parameter in manifest.parameters:
         in_domain(values[parameter.name], parameter.name, parameter.domain)
         in_magnitude(values[parameter.name], parameter.name)
@@ -99,9 +102,14 @@ def load(
     parameters overridden by ``parameters`` (scalars by name, vector parameters such as point
     lists by their group name).
 
-    ``backend``: 'auto' (compiled C if a compiler works, else NumPy), 'compiled', 'numpy' or
-    'casadi'. ``limits`` overrides passive joint ranges (name -> (low, high), SI units).
-    Warns (ArchitectureSingularityWarning) when the geometry is singular at every pose.
+    ``backend``: 'auto' (compiled C if a compiler and the cache work, else NumPy with a
+    BackendFallbackWarning naming the cause), 'compiled', 'numpy' or 'casadi'. ``limits``
+    overrides passive joint ranges (name -> (low, high), SI units). An unknown parameter or limit
+    is a BadInputError suggesting the closest names. Warns (ArchitectureSingularityWarning) when
+    the geometry is singular at every pose.
+
+    Loading a package runs its code: its generated Python modules are imported and, on the
+    compiled backend, its C sources are compiled and loaded. Load only packages you trust.
     """
     package = GeneratedPackage.find(name)
     manifest = package.manifest
@@ -111,7 +119,7 @@ def load(
         raise BadInputError(f"limits must be a mapping name -> (low, high), got {type(limits).__name__}")
     for key, bound in (limits or {}).items():
         if key not in manifest.passive_names:
-            raise UnknownMechanismError(f"unknown limit {key!r} for {manifest.name!r}; valid: {manifest.passive_names}")
+            raise unknown_name("limit", key, manifest.passive_names, manifest.name)
         if not isinstance(bound, tuple | list) or len(bound) != 2:
             raise BadInputError(f"limits[{key!r}] must be a (low, high) pair, got {bound!r}")
         low, high = (_bound(value, key) for value in bound)
@@ -144,7 +152,9 @@ __all__ = [
     "ArchitectureSingularityWarning",
     "AssemblyModeChangeError",
     "AssemblyModes",
+    "BackendFallbackWarning",
     "BadInputError",
+    "BrokenPackageWarning",
     "Configuration",
     "ConvergenceError",
     "ForwardPose",

@@ -6,6 +6,7 @@ array whose last axis indexes its group and whose leading axes broadcast.
 
 from __future__ import annotations
 
+import warnings
 from functools import lru_cache
 from typing import Any, Protocol
 
@@ -14,6 +15,11 @@ import numpy as np
 from parakin.errors import BadInputError, UnsupportedOperationError
 from parakin.package import GeneratedPackage
 from parakin.results import Array
+
+
+class BackendFallbackWarning(UserWarning):
+    """Backend 'auto' could not use compiled C (no compiler, a failed build, a cache that cannot
+    be written) and runs on NumPy instead; the message names the cause."""
 
 
 class Backend(Protocol):
@@ -106,18 +112,25 @@ def _shape(size: tuple[int, int]) -> tuple[int, ...]:
 
 def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:
     """'numpy', 'casadi', 'compiled' (CasADi C code built with the system C compiler), or
-    'auto': compiled when a C compiler works, NumPy otherwise."""
+    'auto': compiled when a C compiler and the library cache work, otherwise NumPy with a
+    BackendFallbackWarning naming the cause ('compiled' raises that cause instead)."""
     if backend == "numpy":
         return NumpyBackend(mechanism)
     if backend == "casadi":
         return CasadiBackend(mechanism)
     if backend in ("compiled", "auto"):
-        from parakin.compiled import CompiledBackend, CompilerUnavailableError
+        from parakin.compiled import CompiledBackend, CompiledUnavailableError
 
         try:
             return CompiledBackend(mechanism)
-        except CompilerUnavailableError:
+        except CompiledUnavailableError as error:
             if backend == "compiled":
                 raise
+            warnings.warn(
+                f"backend 'auto' runs {mechanism.manifest.name} on NumPy: compiled C is unavailable "
+                f"({type(error).__name__}: {error})",
+                BackendFallbackWarning,
+                stacklevel=3,
+            )
             return NumpyBackend(mechanism)
     raise BadInputError(f"unknown backend {backend!r}; valid: 'auto', 'numpy', 'casadi', 'compiled'")

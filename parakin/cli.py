@@ -2,8 +2,10 @@
 
 Values are SI (metres, radians) unless a flag ends in ``-deg``: those convert revolute
 variables (and Euler angles) from degrees and leave prismatic ones in metres. Exit status: 0 on
-success, 1 when there is no solution (no valid branch, no assembly mode, an example that does
-not reproduce), 2 on an error (bad input, unknown mechanism, unsupported operation).
+success (also when the reader of the output leaves early, as ``| head`` does), 1 when there is
+no solution (no valid branch, no assembly mode, an example that does not reproduce), 2 on an
+error (bad input, unknown mechanism, unsupported operation, a file that cannot be written), 3 on
+an internal error (an exception parakin did not expect: a bug, please report it).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import numpy as np
 import parakin
 from parakin.continuation import SelfMotion
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
-from parakin.manifest import Manifest, Variable
+from parakin.manifest import Manifest, Variable, unknown_name
 from parakin.results import Configuration
 
 POSE_ARGUMENTS = {
@@ -27,7 +29,12 @@ POSE_ARGUMENTS = {
     "rotation": ("alpha beta gamma (Z-Y-X Euler)", 3),
     "planar": ("x y (m) phi (about z)", 3),
     "translation": ("x y z (m)", 3),
+    "planar_translation": ("x y (m) (in the plane z = 0, no rotation)", 2),
 }
+
+#: exit status of an exception parakin did not expect (a bug): distinct from 1 (no solution)
+#: and 2 (an error in the input or the environment)
+INTERNAL_ERROR = 3
 
 
 def _parameters(values: list[str]) -> dict[str, Any]:
@@ -44,7 +51,14 @@ def _parameters(values: list[str]) -> dict[str, Any]:
 
 
 def _load(args: argparse.Namespace) -> parakin.Mechanism:
-    return parakin.load(args.name, backend=args.backend, **_parameters(args.param))
+    """The mechanism with ``--param`` overrides: mechanism parameters only (a name such as
+    ``limits`` or ``backend`` is no parameter, though ``load`` has a keyword of that name)."""
+    parameters = _parameters(args.param)
+    valid = parakin.metadata(args.name).parameter_names
+    for key in parameters:
+        if key not in valid:
+            raise unknown_name("parameter", key, valid, str(args.name))
+    return parakin.load(args.name, backend=args.backend, **parameters)
 
 
 def _from_cli_units(variables: tuple[Variable, ...], values: list[float], degrees: bool) -> np.ndarray:
@@ -82,6 +96,10 @@ def _pose_from_cli(manifest: Manifest, values: list[float], degrees: bool) -> np
         return parakin.euler_zyx_to_rotation(*angles)
     if kind == "planar":
         return np.array([array[0], array[1], np.deg2rad(array[2]) if degrees else array[2]])
+    if kind == "planar_translation":  # ^B_P T = [I, (x, y, 0)]
+        pose = np.eye(4)
+        pose[:2, 3] = array
+        return pose
     return array
 
 
@@ -97,6 +115,8 @@ def _describe_pose(manifest: Manifest, pose: np.ndarray, degrees: bool) -> dict[
         return {"x [m]": float(pose[0, 3]), "y [m]": float(pose[1, 3]), f"phi [{unit}]": float(convert(xyz_euler[3]))}
     if manifest.pose_kind == "translation":
         return {f"{k} [m]": float(v) for k, v in zip("xyz", pose[:3, 3], strict=True)}
+    if manifest.pose_kind == "planar_translation":
+        return {f"{k} [m]": float(v) for k, v in zip("xy", pose[:2, 3], strict=True)}
     names = ("x [m]", "y [m]", "z [m]", f"alpha [{unit}]", f"beta [{unit}]", f"gamma [{unit}]")
     values = np.concatenate([xyz_euler[:3], convert(xyz_euler[3:])])
     return {k: float(v) for k, v in zip(names, values, strict=True)}
@@ -111,8 +131,12 @@ def _print(record: dict[str, Any], as_json: bool) -> None:
 
 
 def _list(args: argparse.Namespace) -> int:
-    for name in parakin.available():
-        manifest = parakin.metadata(name)
+    from parakin.package import survey
+
+    readable, broken = survey()
+    for name, reason in broken.items():  # reported and skipped: the others are still listed
+        print(f"parakin: skipped the package {name!r}: {reason}", file=sys.stderr)
+    for name, manifest in readable.items():
         caps = manifest.capabilities
         flags = [
             flag
@@ -238,7 +262,7 @@ def _generate(args: argparse.Namespace) -> int:
     # a terminated build unwinds like an interrupted one: its staging folder is removed
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     try:
-        report = generate_file(args.file, args.out)
+        report = generate_file(args.file, args.out, force=args.force)
     except GenerationError as error:
         raise BadInputError(str(error)) from error
     print(f"generated {args.out} in {report['seconds']:.1f} s; load it with parakin.load({str(args.out)!r})")
@@ -336,6 +360,9 @@ def _parser() -> argparse.ArgumentParser:
     generate = commands.add_parser("generate", help="turn a mechanism file into a generated package folder")
     generate.add_argument("file", help="a mechanism file (defines build() -> parakin.generator.Mechanism)")
     generate.add_argument("--out", required=True, help="the package folder to write (load it with parakin.load(DIR))")
+    generate.add_argument(
+        "--force", action="store_true", help="write into a non-empty --out folder that is not a parakin package"
+    )
     sweeping = commands.add_parser(
         "sweep", parents=[mechanism], help="quantities over grids of poses, inputs or parameters (dask)"
     )
@@ -343,7 +370,13 @@ def _parser() -> argparse.ArgumentParser:
     sweeping.add_argument(
         "--axis", action="append", default=[], required=True, metavar="NAME=START:STOP:COUNT", help="a swept axis (SI)"
     )
-    sweeping.add_argument("--fixed", action="append", default=[], metavar="NAME=VALUE", help="a fixed pose coordinate")
+    sweeping.add_argument(
+        "--fixed",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a fixed coordinate: pose, actuated input or parameter",
+    )
     sweeping.add_argument("--workspace", action="append", default=[], metavar="NAME=START:STOP:COUNT")
     sweeping.add_argument("--branch", type=int, default=None, help="inverse branch of the configurations")
     sweeping.add_argument("--chunk", type=int, default=65536, help="points per chunk (memory bound)")
@@ -373,20 +406,32 @@ COMMANDS = {
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; the exit status (see the module docstring) is returned, never raised."""
     args = _parser().parse_args(argv)
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:
-        return COMMANDS[args.command](args)
+        status = COMMANDS[args.command](args)
+        sys.stdout.flush()  # inside the try: a reader that left makes this flush fail
+        return status
+    except BrokenPipeError:  # `parakin ... | head`: the reader left; first, as it is an OSError
+        # the interpreter flushes stdout once more at exit: point it at /dev/null so that this
+        # flush cannot fail again and print "Exception ignored"
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     except ParakinError as error:
         print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2
     except OSError as error:  # an output path that cannot be written, a missing folder
         print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2
-    except BrokenPipeError:  # `parakin ... | head`: the reader left; no traceback
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
+    except Exception as error:  # a bug: one line, not a traceback, and not 1 ("no solution")
+        message = " ".join(str(error).split())
+        print(
+            f"parakin: internal error: {type(error).__name__}: {message}; please report it with the command line",
+            file=sys.stderr,
+        )
+        return INTERNAL_ERROR
 
 
 if __name__ == "__main__":

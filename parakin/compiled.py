@@ -2,7 +2,10 @@
 system C compiler into a cache outside the repository and called through ctypes.
 
 Cache: ``$PARAKIN_CACHE`` or ``~/.cache/parakin``; one shared library per source hash, built in a
-temporary file and renamed, so concurrent builds cannot leave a broken library behind.
+temporary file and renamed, so concurrent builds cannot leave a broken library behind. The
+library's file name is the manifest's checked name (an identifier), so it stays in the cache.
+A cache that cannot be written (no permission, a file in its place) is a CacheUnavailableError:
+backend 'auto' falls back to NumPy and says why.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from parakin.backends import broadcast_batch
-from parakin.errors import ParakinError
+from parakin.errors import BadInputError, ParakinError
 from parakin.package import GeneratedPackage
 from parakin.results import Array
 
@@ -34,12 +37,27 @@ FLAGS = [
 ]  # no FMA: bit-equal to NumPy
 
 
-class CompilerUnavailableError(ParakinError):
+class CompiledUnavailableError(ParakinError):
+    """The compiled backend cannot be built or loaded here (backend 'auto' falls back to NumPy)."""
+
+
+class CompilerUnavailableError(CompiledUnavailableError):
     """No working C compiler for the compiled backend (set CC, or use backend='numpy')."""
+
+
+class CacheUnavailableError(CompiledUnavailableError):
+    """The library cache (``$PARAKIN_CACHE``) cannot be written or its library not loaded."""
 
 
 def cache_directory() -> Path:
     return Path(os.environ.get("PARAKIN_CACHE", Path.home() / ".cache" / "parakin"))
+
+
+def _cache_error(error: OSError, what: str) -> CacheUnavailableError:
+    return CacheUnavailableError(
+        f"the compiled-library cache {cache_directory()} cannot be used ({what}: {type(error).__name__}: "
+        f"{error}); set PARAKIN_CACHE to a writable folder, or use backend='numpy'"
+    )
 
 
 def build_library(package: GeneratedPackage) -> Path:
@@ -51,20 +69,34 @@ def build_library(package: GeneratedPackage) -> Path:
         raise CompilerUnavailableError("no C compiler found (looked for $CC or 'cc')")
     digest = hashlib.sha256()
     for path in [*sources, *headers]:
-        digest.update(path.read_bytes())
+        try:
+            digest.update(path.read_bytes())
+        except OSError as error:
+            raise BadInputError(f"package {package.path}: cannot read its C file {path.name} ({error})") from error
     digest.update(" ".join([compiler, *FLAGS]).encode())
-    target = cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
-    if target.exists():
-        return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    handle, scratch = tempfile.mkstemp(suffix=".so", dir=target.parent)
+    cache = cache_directory()
+    target = cache / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
+    if target.resolve().parent != cache.resolve():  # the manifest check makes this unreachable
+        raise CacheUnavailableError(f"the library path {target} leads outside the cache {cache}")
+    try:
+        if target.is_file():
+            return target
+        cache.mkdir(parents=True, exist_ok=True)
+        handle, scratch = tempfile.mkstemp(suffix=".so", dir=cache)
+    except OSError as error:
+        raise _cache_error(error, "creating the library") from error
     os.close(handle)
     command = [compiler, *FLAGS, "-I", str(package.path), *map(str, sources), "-o", scratch, "-lm"]
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        os.unlink(scratch)
-        raise CompilerUnavailableError(f"C compilation failed: {' '.join(command)}\n{result.stderr[-2000:]}")
-    os.replace(scratch, target)
+    try:
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode != 0:
+            raise CompilerUnavailableError(f"C compilation failed: {' '.join(command)}\n{result.stderr[-2000:]}")
+        os.replace(scratch, target)
+    except OSError as error:
+        raise _cache_error(error, "storing the library") from error
+    finally:
+        if os.path.exists(scratch):
+            os.unlink(scratch)
     return target
 
 
@@ -87,7 +119,10 @@ class CompiledBackend:
     def __init__(self, package: GeneratedPackage) -> None:
         self.manifest = package.manifest
         self.path = build_library(package)
-        self.library = ctypes.CDLL(str(self.path))
+        try:
+            self.library = ctypes.CDLL(str(self.path))
+        except OSError as error:  # a damaged library in the cache
+            raise _cache_error(error, f"loading {self.path.name}; delete it to rebuild") from error
         self.kernels = list(self.manifest.kernels)
         abi = self.manifest.abi
         self.NewtonJob = job_structure("NewtonJob", abi.newton_job)

@@ -1,14 +1,21 @@
-"""Typed view of a generated package's ``manifest.json`` (schema 1).
+"""Typed view of a generated package's ``manifest.json`` (schema 2).
 
 The runtime reads mechanisms only through these objects: which kernels exist and their shapes,
 which capabilities a mechanism has, its variables with units and limits, its examples. A feature
 that a mechanism lacks is a ``None`` capability here, never a test of its name.
+
+A manifest is untrusted text until read: every name in it (mechanism, parameters, variables,
+kernels, C symbols, ...) must be a Python identifier, because names become file names, module
+names and C symbols; every file entry (``c.sources``, ``c.headers``, ``c.header``) must be a plain
+file name inside the package folder. Anything else is a BadInputError naming the field.
 """
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -16,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from parakin.errors import NEWTON_STATUS_NAMES, BadInputError
+from parakin.pose import POSE_KINDS
 
 SUPPORTED_SCHEMA = 2
 
@@ -263,28 +271,65 @@ class Manifest:
     def has_kernel(self, name: str) -> bool:
         return name in self.kernels
 
-    @classmethod
-    def read(cls, path: Path) -> Manifest:
-        """Read and check ``path`` (a manifest.json)."""
-        try:
-            data = json.loads(Path(path).read_text())
-        except (OSError, ValueError) as error:
-            raise BadInputError(f"cannot read the manifest {path}: {error}") from error
-        return cls.from_dict(data)
+    @property
+    def parameter_names(self) -> list[str]:
+        """What ``parakin.load`` takes as parameters: scalar names, then vector group names."""
+        return [*(p.name for p in self.parameters), *(g.name for g in self.parameter_groups)]
+
+    @property
+    def files(self) -> tuple[str, ...]:
+        """Every file the manifest names (C sources and headers), relative to its folder."""
+        return tuple(dict.fromkeys([*self.c_sources, *self.c_headers, self.c_header]))
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> Manifest:
+    def read(cls, path: Path) -> Manifest:
+        """Read and check ``path`` (a manifest.json): every name an identifier, every file
+        entry a plain file name that resolves inside the package folder."""
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text())
+        except (OSError, ValueError) as error:
+            raise BadInputError(f"cannot read the manifest {path}: {error}") from error
+        try:
+            manifest = cls.from_dict(data)
+        except BadInputError as error:
+            raise BadInputError(f"manifest {path}: {error}") from error
+        folder = path.parent.resolve()
+        for name in manifest.files:
+            if not (folder / name).resolve().is_relative_to(folder):  # a symbolic link out of the folder
+                raise BadInputError(f"manifest {path}: file {name!r} resolves outside the package folder {folder}")
+        return manifest
+
+    @classmethod
+    def from_dict(cls, data: object) -> Manifest:
+        """The typed manifest of a parsed manifest.json, or BadInputError naming the field that
+        is missing, of the wrong type, or not a valid name or file name."""
+        if not isinstance(data, dict):
+            raise BadInputError(f"a manifest is a JSON object, got {type(data).__name__}")
         schema = data.get("schema")
         if schema != SUPPORTED_SCHEMA:
             raise BadInputError(
                 f"manifest schema {schema!r} is not supported by this parakin (schema {SUPPORTED_SCHEMA}); regenerate"
             )
+        try:
+            return cls._from_dict(data)
+        except BadInputError:
+            raise
+        except KeyError as error:
+            raise BadInputError(f"malformed manifest: field {error} is missing; regenerate the package") from error
+        except (TypeError, ValueError, AttributeError, IndexError) as error:
+            raise BadInputError(
+                f"malformed manifest ({type(error).__name__}: {error}); regenerate the package"
+            ) from error
+
+    @classmethod
+    def _from_dict(cls, data: dict[str, Any]) -> Manifest:
         caps = data["capabilities"]
         c = data["c"]
         return cls(
-            schema=schema,
-            name=data["name"],
-            title=data["title"],
+            schema=data["schema"],
+            name=_name(data["name"], "name"),
+            title=str(data["title"]),
             citation=Citation(
                 tuple(data["citation"]["authors"]),
                 data["citation"]["title"],
@@ -295,36 +340,49 @@ class Manifest:
             conventions=data["conventions"],
             generator_version=data["generator"]["version"],
             source=data["generator"]["source"],
-            pose_kind=data["pose_kind"],
-            parameters=tuple(Parameter(**p) for p in data["parameters"]),
+            pose_kind=_pose_kind(data["pose_kind"]),
+            parameters=tuple(_parameter(p) for p in data["parameters"]),
             parameter_groups=tuple(
-                ParameterGroup(g["name"], tuple(g["shape"]), tuple(g["symbols"])) for g in data["parameter_groups"]
+                ParameterGroup(
+                    _name(g["name"], "parameter_groups.name"),
+                    tuple(int(n) for n in g["shape"]),
+                    _names(g["symbols"], "parameter_groups.symbols"),
+                )
+                for g in data["parameter_groups"]
             ),
-            actuated=tuple(_variable(v) for v in data["actuated"]),
-            passive=tuple(_variable(v) for v in data["passive"]),
-            singularity_factors=tuple(data["singularity_factors"]),
-            determinants=tuple(data["determinants"]),
+            actuated=tuple(_variable(v, "actuated") for v in data["actuated"]),
+            passive=tuple(_variable(v, "passive") for v in data["passive"]),
+            singularity_factors=_names(data["singularity_factors"], "singularity_factors"),
+            determinants=_names(data["determinants"], "determinants"),
             capabilities=Capabilities(
                 inverse=_inverse(caps["inverse"]),
                 forward=_forward(caps["forward"]),
-                legs=tuple(Leg(g["name"], tuple(g["joints"])) for g in caps["legs"]) if caps["legs"] else None,
-                rates=RateModel(tuple(caps["rates"]["twist"]), tuple(caps["rates"]["input_independent"]))
+                legs=tuple(
+                    Leg(_name(g["name"], "capabilities.legs.name"), _names(g["joints"], "capabilities.legs.joints"))
+                    for g in caps["legs"]
+                )
+                if caps["legs"]
+                else None,
+                rates=RateModel(
+                    _names(caps["rates"]["twist"], "capabilities.rates.twist"),
+                    _names(caps["rates"]["input_independent"], "capabilities.rates.input_independent"),
+                )
                 if caps["rates"]
                 else None,
-                architecture=Architecture(tuple(caps["architecture"]["measures"]), caps["architecture"]["tolerance"])
+                architecture=Architecture(
+                    _names(caps["architecture"]["measures"], "capabilities.architecture.measures"),
+                    float(caps["architecture"]["tolerance"]),
+                )
                 if caps["architecture"]
                 else None,
-                drawing=Drawing(
-                    dict(caps["drawing"]["points"]),
-                    {k: tuple((s, int(i)) for s, i in v) for k, v in caps["drawing"]["polylines"].items()},
-                )
-                if caps["drawing"]
+                drawing=_drawing(caps["drawing"]) if caps["drawing"] else None,
+                statics=Statics(_names(caps["statics"]["stiffness"], "capabilities.statics.stiffness"))
+                if caps["statics"]
                 else None,
-                statics=Statics(tuple(caps["statics"]["stiffness"])) if caps["statics"] else None,
             ),
             examples=tuple(
                 Example(
-                    e["name"],
+                    _name(e["name"], "examples.name"),
                     e["description"],
                     e["pose"],
                     tuple(e["actuated"]) if e["actuated"] is not None else None,
@@ -335,32 +393,106 @@ class Manifest:
                 )
                 for e in data["examples"]
             ),
-            tolerances=dict(data["tolerances"]),
+            tolerances={_name(k, "tolerances"): v for k, v in dict(data["tolerances"]).items()},
             kernels={
                 k["name"]: Kernel(
-                    k["name"],
+                    _name(k["name"], "kernels.name"),
                     k["doc"],
                     int(k["operations"]),
-                    tuple(KernelIO(i["name"], (int(i["size"]),)) for i in k["inputs"]),
-                    tuple(KernelIO(o["name"], tuple(o["shape"])) for o in k["outputs"]),
-                    k["c_symbol"],
+                    tuple(KernelIO(_name(i["name"], "kernels.inputs.name"), (int(i["size"]),)) for i in k["inputs"]),
+                    tuple(KernelIO(_name(o["name"], "kernels.outputs.name"), tuple(o["shape"])) for o in k["outputs"]),
+                    _name(k["c_symbol"], "kernels.c_symbol"),
                 )
                 for k in data["kernels"]
             },
-            c_sources=tuple(c["sources"]),
-            c_header=c["header"],
-            c_headers=tuple(c["headers"]),
-            newton=Newton(c["newton"]["symbol"], c["newton"]["unknowns"], c["newton"]["actuated"]),
+            c_sources=tuple(_file_name(f, "c.sources") for f in c["sources"]),
+            c_header=_file_name(c["header"], "c.header"),
+            c_headers=tuple(_file_name(f, "c.headers") for f in c["headers"]),
+            newton=Newton(
+                _name(c["newton"]["symbol"], "c.newton.symbol"), c["newton"]["unknowns"], c["newton"]["actuated"]
+            ),
             abi=Abi(
                 _newton_status(c["abi"]["newton_status"]),
-                tuple(c["abi"]["mode_outcomes"]),
-                tuple(c["abi"]["input_status"]),
-                tuple(c["abi"]["root_kinds"]),
-                tuple((str(n), str(t)) for n, t in c["abi"]["newton_job"]),
-                tuple((str(n), str(t)) for n, t in c["abi"]["modes_job"]),
-                (c.get("modes") or {}).get("symbol"),
+                _names(c["abi"]["mode_outcomes"], "c.abi.mode_outcomes"),
+                _names(c["abi"]["input_status"], "c.abi.input_status"),
+                _names(c["abi"]["root_kinds"], "c.abi.root_kinds"),
+                tuple((_name(n, "c.abi.newton_job"), str(t)) for n, t in c["abi"]["newton_job"]),
+                tuple((_name(n, "c.abi.modes_job"), str(t)) for n, t in c["abi"]["modes_job"]),
+                _optional_name((c.get("modes") or {}).get("symbol"), "c.modes.symbol"),
             ),
         )
+
+
+def unknown_name(kind: str, key: object, valid: Iterable[str], owner: str) -> BadInputError:
+    """The error for a name that is not one of ``valid`` (a parameter, a limit): it names the
+    key, suggests the closest valid names (a case-insensitive match first, then the closest
+    spellings) and lists them all."""
+    valid = list(valid)
+    text = str(key)
+    same_case = [v for v in valid if v.lower() == text.lower()]
+    close = same_case or difflib.get_close_matches(text, valid, n=3, cutoff=0.6)
+    hint = f"did you mean {' or '.join(map(repr, close))}? " if close else ""
+    return BadInputError(f"unknown {kind} {key!r} for {owner!r}; {hint}valid: {valid}")
+
+
+def _name(value: object, field: str) -> str:
+    """A name from the manifest: a Python identifier (names become module names, file names
+    and C symbols, so nothing else may pass)."""
+    if not (isinstance(value, str) and value.isidentifier() and value.isascii()):
+        raise BadInputError(f"field {field}: {value!r} is not a name (an ASCII Python identifier)")
+    return value
+
+
+def _names(values: Iterable[object], field: str) -> tuple[str, ...]:
+    if isinstance(values, str | bytes):
+        raise BadInputError(f"field {field}: {values!r} is not a list of names")
+    return tuple(_name(v, field) for v in values)
+
+
+def _optional_name(value: object, field: str) -> str | None:
+    return None if value is None else _name(value, field)
+
+
+def _file_name(value: object, field: str) -> str:
+    """A file entry: a plain file name in the package folder (no folder part, no '..', not
+    absolute), so that building and exporting touch nothing outside the folders they are given."""
+    if not (
+        isinstance(value, str)
+        and value not in ("", ".", "..")
+        and "/" not in value
+        and "\\" not in value
+        and "\0" not in value
+        and Path(value).name == value
+    ):
+        raise BadInputError(f"field {field}: {value!r} is not a plain file name inside the package folder")
+    return value
+
+
+def _pose_kind(value: object) -> str:
+    if value not in POSE_KINDS:
+        raise BadInputError(f"field pose_kind: {value!r} is not a pose kind of this parakin ({sorted(POSE_KINDS)})")
+    return str(value)
+
+
+def _parameter(data: dict[str, Any]) -> Parameter:
+    return Parameter(
+        _name(data["name"], "parameters.name"),
+        float(data["default"]),
+        str(data["unit"]),
+        str(data["description"]),
+        str(data.get("domain", "real")),
+    )
+
+
+def _drawing(data: dict[str, Any]) -> Drawing:
+    points = {_name(k, "capabilities.drawing.points"): int(v) for k, v in dict(data["points"]).items()}
+    polylines = {
+        _name(k, "capabilities.drawing.polylines"): tuple(
+            (_name(s, "capabilities.drawing.polylines"), int(i)) for s, i in v
+        )
+        for k, v in dict(data["polylines"]).items()
+    }
+    return Drawing(points, polylines)
 
 
 def _newton_status(names: list[str]) -> tuple[str, ...]:
@@ -373,10 +505,14 @@ def _limit(value: float | None, default: float) -> float:
     return default if value is None else float(value)
 
 
-def _variable(data: dict[str, Any]) -> Variable:
+def _variable(data: dict[str, Any], field: str) -> Variable:
     low, high = data["limits"]
     return Variable(
-        data["name"], data["kind"], data["unit"], data["home"], (_limit(low, -math.inf), _limit(high, math.inf))
+        _name(data["name"], f"{field}.name"),
+        str(data["kind"]),
+        str(data["unit"]),
+        data["home"],
+        (_limit(low, -math.inf), _limit(high, math.inf)),
     )
 
 
@@ -384,9 +520,9 @@ def _inverse(data: dict[str, Any] | None) -> Inverse | None:
     if not data:
         return None
     return Inverse(
-        tuple(data["branches"]),
+        _names(data["branches"], "capabilities.inverse.branches"),
         tuple(tuple(c) for c in data["combinations"]),
-        tuple(data["validity"]),
+        _names(data["validity"], "capabilities.inverse.validity"),
         tuple(tuple(g) for g in data.get("groups", ())),
         tuple(data.get("actuated_groups", ())),
         tuple(data.get("passive_groups", ())),
@@ -404,16 +540,19 @@ def _forward(data: dict[str, Any] | None) -> Forward | None:
             np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
             for key in ("start", "alternative")
         )
-        homotopy = Homotopy(tuple(data["unknowns"]), tuple(data["homogeneous"]), start, alternative)
+        homotopy = Homotopy(
+            _names(data["unknowns"], "capabilities.forward.unknowns"), tuple(data["homogeneous"]), start, alternative
+        )
+    unknown = data.get("unknown", "")
     return Forward(
-        data.get("unknown", ""),
+        unknown and _name(unknown, "capabilities.forward.unknown"),
         int(data["degree"]),
-        tuple(data["branches"]),
+        _names(data["branches"], "capabilities.forward.branches"),
         tuple(tuple(c) for c in data["combinations"]),
-        tuple(data["degeneracies"]),
+        _names(data["degeneracies"], "capabilities.forward.degeneracies"),
         data.get("method", "polynomial"),
         homotopy,
     )
 
 
-__all__ = ["Manifest", "Variable", "Kernel", "Example", "Capabilities", "Citation", "Parameter"]
+__all__ = ["Manifest", "Variable", "Kernel", "Example", "Capabilities", "Citation", "Parameter", "unknown_name"]

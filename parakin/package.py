@@ -4,6 +4,10 @@ The packages shipped with parakin live in ``parakin.generated`` (the repository'
 ``generated/``); more are found in the folders of ``$PARAKIN_PATH`` (``os.pathsep``-separated),
 and any package folder can be loaded by its path. Modules are imported from their files, so a
 package needs no installation and two packages never share a module name.
+
+Loading a package runs its code: its Python modules are imported and its C sources compiled and
+loaded by the compiled backend. Load only packages you trust. What the manifest names is checked
+when it is read (``parakin.manifest``): names are identifiers and files stay inside the folder.
 """
 
 from __future__ import annotations
@@ -13,15 +17,21 @@ import importlib
 import importlib.util
 import os
 import shutil
+import warnings
 from functools import cached_property
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from parakin.errors import UnknownMechanismError
+from parakin.errors import BadInputError, UnknownMechanismError
 from parakin.manifest import Manifest
 
 MANIFEST = "manifest.json"
+
+
+class BrokenPackageWarning(UserWarning):
+    """A package on the search path whose manifest cannot be read: it is skipped by
+    ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
 
 
 def search_path() -> list[Path]:
@@ -42,6 +52,28 @@ def discover() -> dict[str, Path]:
     return dict(sorted(found.items()))
 
 
+def survey() -> tuple[dict[str, Manifest], dict[str, str]]:
+    """Every package on the search path, read: name -> manifest for the readable ones, and
+    name -> the reason (folder and error) for those whose manifest is broken."""
+    readable: dict[str, Manifest] = {}
+    broken: dict[str, str] = {}
+    for name, folder in discover().items():
+        try:
+            readable[name] = Manifest.read(folder / MANIFEST)
+        except BadInputError as error:
+            broken[name] = str(error)
+    return readable, broken
+
+
+def readable_names() -> list[str]:
+    """The names of the packages whose manifest reads; each broken one is skipped with a
+    BrokenPackageWarning that names it and says why."""
+    readable, broken = survey()
+    for name, reason in broken.items():
+        warnings.warn(f"skipped the package {name!r}: {reason}", BrokenPackageWarning, stacklevel=3)
+    return list(readable)
+
+
 class GeneratedPackage:
     """One generated package folder: its manifest and its modules, imported on first use."""
 
@@ -52,13 +84,23 @@ class GeneratedPackage:
     @classmethod
     def find(cls, name_or_path: str | os.PathLike[str]) -> GeneratedPackage:
         """A package by name (on the search path) or by folder path."""
-        candidate = Path(name_or_path)
-        if (candidate / MANIFEST).is_file():
+        if not isinstance(name_or_path, str | os.PathLike):
+            raise BadInputError(
+                f"a mechanism is a name (parakin.available()) or a package folder path, got "
+                f"{type(name_or_path).__name__} {name_or_path!r}"
+            )
+        try:
+            candidate = Path(name_or_path)
+            is_package = (candidate / MANIFEST).is_file()
+        except (OSError, ValueError):  # a name too long for a path, a NUL byte: not a folder
+            is_package = False
+        if is_package:
             return cls(candidate)
         packages = discover()
         if str(name_or_path) not in packages:
+            shown = str(name_or_path) if len(str(name_or_path)) <= 80 else f"{str(name_or_path)[:77]}..."
             raise UnknownMechanismError(
-                f"unknown mechanism {str(name_or_path)!r}: not a package folder; available: {sorted(packages)}"
+                f"unknown mechanism {shown!r}: not a package folder; available: {sorted(packages)}"
             )
         return cls(packages[str(name_or_path)])
 
@@ -92,12 +134,23 @@ class GeneratedPackage:
         return self.path / self.manifest.c_header
 
     def export_c(self, folder: str | os.PathLike[str]) -> list[Path]:
-        """Copy the embeddable C library (sources, headers, example program, README) to ``folder``."""
+        """Copy the embeddable C library (sources, headers, example program, README) to ``folder``.
+
+        Writes only inside ``folder``: the file names are the manifest's checked plain names, and
+        a destination that is a symbolic link (it could point anywhere) is refused, not followed."""
         target = Path(folder)
         target.mkdir(parents=True, exist_ok=True)
+        inside = target.resolve()
         names = [*self.manifest.c_sources, *self.manifest.c_headers, "example_main.c", "README_C.md"]
-        written = []
         for name in names:
+            destination = target / name
+            if destination.is_symlink() or destination.resolve().parent != inside:
+                raise BadInputError(
+                    f"export to {target}: {destination} is a symbolic link or leads outside the folder; "
+                    "remove it or export to a new folder"
+                )
+        written = []
+        for name in dict.fromkeys(names):
             destination = target / name
             shutil.copyfile(self.path / name, destination)
             written.append(destination)
@@ -108,4 +161,4 @@ class GeneratedPackage:
         return [self.path / name for name in self.manifest.c_headers]
 
 
-__all__ = ["GeneratedPackage", "discover", "search_path"]
+__all__ = ["BrokenPackageWarning", "GeneratedPackage", "discover", "readable_names", "search_path", "survey"]

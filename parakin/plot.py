@@ -2,7 +2,9 @@
 
 The kernel returns named point sets (3 x n, in {B}, metres) for a configuration; the manifest
 lists the polylines through them (legs, base and platform outlines). ``plot`` draws one
-configuration or every mode of an ``AssemblyModes`` in 3-D, with labelled axes in metres.
+configuration or every mode of an ``AssemblyModes`` in 3-D, with labelled axes in metres; on
+given 2-D axes it draws the x-y plane, which is exact only for a drawing that lies in one plane
+z = const (a planar mechanism), so any other drawing on 2-D axes is refused.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from parakin.errors import UnsupportedOperationError
+from parakin.errors import BadInputError, UnsupportedOperationError
 from parakin.results import Array, AssemblyModes, Configuration
 
 if TYPE_CHECKING:
@@ -51,34 +53,45 @@ def plot(
     title: str | None = None,
 ) -> Any:
     """Draw the mechanism in one configuration, a batch, or every valid mode of ``AssemblyModes``;
-    write a PNG to ``path`` when given. Returns the matplotlib axes."""
+    write a PNG to ``path`` when given. ``ax``: axes to draw into, 3-D, or 2-D for a drawing that
+    lies in one plane z = const (BadInputError for any other). Returns the matplotlib axes."""
     drawing = m.capabilities.drawing
     if drawing is None:
         raise UnsupportedOperationError(f"{m.name} has no drawing kernel: plot is not available")
     plt = _pyplot()
+    configurations, labels = _states(state)
+    lines: list[tuple[int, str | None, Array]] = []  # (configuration number, legend, 3 x n vertices)
+    for number, (config, label) in enumerate(zip(configurations, labels, strict=True)):
+        points = m.drawing(config)
+        for line_number, vertices in enumerate(drawing.polylines.values()):
+            legend = label if line_number == 0 and label else None
+            lines.append((number, legend, np.stack([points[s][:, i] for s, i in vertices], axis=-1)))
+    cloud = np.concatenate([xyz for _, _, xyz in lines], axis=-1) if lines else np.zeros((3, 0))
     figure = None
     if ax is None:
         figure = plt.figure(figsize=(7, 7))
         ax = figure.add_subplot(projection="3d")
+    planar_axes = not hasattr(ax, "set_zlim")  # matplotlib's 2-D Axes (3-D ones are Axes3D)
+    if planar_axes and cloud.size:
+        height = float(np.ptp(cloud[2]))
+        if height > 1e-9 * max(1.0, float(np.abs(cloud).max())):
+            raise BadInputError(
+                f"the drawing of {m.name} spans {height:.3g} m in z: it needs 3-D axes "
+                "(figure.add_subplot(projection='3d'), or ax=None); 2-D axes draw planar drawings only"
+            )
     colours = plt.cm.tab10(np.linspace(0, 1, 10))
-    configurations, labels = _states(state)
-    everything: list[Array] = []
-    for number, (config, label) in enumerate(zip(configurations, labels, strict=True)):
-        points = m.drawing(config)
-        colour = colours[number % 10]
-        for line_number, vertices in enumerate(drawing.polylines.values()):
-            xyz = np.stack([points[s][:, i] for s, i in vertices], axis=-1)
-            everything.append(xyz)
-            legend = f"{label}" if line_number == 0 and label else None
-            ax.plot(*xyz, color=colour, marker="o", markersize=3, linewidth=1.5, label=legend)
-    for axis, name in zip(("x", "y", "z"), ("x", "y", "z"), strict=True):
-        getattr(ax, f"set_{axis}label")(f"{name} [m]")
-    if everything:
-        cloud = np.concatenate(everything, axis=-1)
+    for number, legend, xyz in lines:
+        shown = xyz[:2] if planar_axes else xyz
+        ax.plot(*shown, color=colours[number % 10], marker="o", markersize=3, linewidth=1.5, label=legend)
+    names = ("x", "y") if planar_axes else ("x", "y", "z")
+    for name in names:
+        getattr(ax, f"set_{name}label")(f"{name} [m]")
+    if cloud.size:
         centre, half = cloud.mean(-1), max(float(np.ptp(cloud, axis=-1).max()) / 2, 1e-9)
-        ax.set_xlim(centre[0] - half, centre[0] + half)
-        ax.set_ylim(centre[1] - half, centre[1] + half)
-        ax.set_zlim(centre[2] - half, centre[2] + half)
+        for index, name in enumerate(names):
+            getattr(ax, f"set_{name}lim")(centre[index] - half, centre[index] + half)
+    if planar_axes:
+        ax.set_aspect("equal")
     ax.set_title(title or m.manifest.title, fontsize=9)
     if any(labels):
         ax.legend(loc="upper left", fontsize=8)

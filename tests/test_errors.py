@@ -17,8 +17,22 @@ def test_unknown_mechanism_lists_the_valid_ones():
 
 
 def test_unknown_parameter_lists_the_valid_ones():
-    with pytest.raises(parakin.UnknownMechanismError, match="valid: .*L1.*L4"):
+    with pytest.raises(parakin.BadInputError, match=r"unknown parameter 'L9' for 'sam'; valid: \['L1', 'L4'\]"):
         parakin.load("sam", L9=1.0)
+
+
+@pytest.mark.parametrize(
+    ("given", "suggested"),
+    [("l1", "'L1'"), ("L1x", "'L1'"), ("l4", "'L4'")],
+)
+def test_unknown_parameter_is_a_parameter_error_suggesting_the_closest_name(given, suggested):
+    """`load("sam", l1=0.5)` once raised UnknownMechanismError ("unknown mechanism" is the wrong
+    claim): a misspelt parameter is a BadInputError suggesting the case-insensitive match first,
+    then the closest spelling (difflib)."""
+    with pytest.raises(parakin.BadInputError, match=f"unknown parameter '{given}'.*did you mean {suggested}") as error:
+        parakin.load("sam", backend="numpy", **{given: 0.5})
+    assert not isinstance(error.value, parakin.UnknownMechanismError)
+    assert "valid: ['L1', 'L4']" in str(error.value)
 
 
 def test_parameters_override_defaults():
@@ -33,7 +47,7 @@ def test_nan_and_shape_errors(m):
         m.forward_pose([0, np.nan, 0, 0, 0, 0])
     with pytest.raises(parakin.BadInputError, match=r"shape \(\.\.\., 6\)"):
         m.forward_pose([0, 0, 0])
-    with pytest.raises(parakin.BadInputError, match=r"shape \(\.\.\., 4, 4\)"):
+    with pytest.raises(parakin.BadInputError, match=r"\(\.\.\., 4, 4\)"):
         m.inverse_pose(np.eye(3))
     with pytest.raises(parakin.BadInputError, match="not a rigid transform"):
         m.inverse_pose(2 * np.eye(4))
@@ -46,8 +60,27 @@ def test_nan_and_shape_errors(m):
 def test_unknown_backend_and_limit():
     with pytest.raises(parakin.BadInputError, match="unknown backend"):
         parakin.load("sam", backend="gpu")
-    with pytest.raises(parakin.UnknownMechanismError, match="unknown limit"):
-        parakin.load("sam", limits={"L9": (0, 1)})
+    with pytest.raises(parakin.BadInputError, match="unknown limit 'l2'.*did you mean 'L2'") as error:
+        parakin.load("sam", limits={"l2": (0, 1)})
+    assert not isinstance(error.value, parakin.UnknownMechanismError)
+
+
+@pytest.mark.parametrize("name", [5, None, b"sam", 2.5, ["sam"]])
+def test_load_of_something_that_is_no_name_is_a_bad_input_error(name):
+    """`parakin.load(5)` and `load(None)` once raised Python's TypeError from pathlib."""
+    with pytest.raises(parakin.BadInputError, match="a mechanism is a name .* or a package folder path, got"):
+        parakin.load(name)
+    with pytest.raises(parakin.BadInputError):
+        parakin.metadata(name)
+
+
+def test_a_name_too_long_for_a_path_is_an_unknown_mechanism():
+    """A 5,000-character name once raised OSError (file name too long) from the folder test."""
+    with pytest.raises(
+        parakin.UnknownMechanismError, match=r"unknown mechanism 'xxxx.*\.\.\.': not a package"
+    ) as error:
+        parakin.load("x" * 5000)
+    assert len(str(error.value)) < 1000  # the message shows the start of the name, not all of it
 
 
 def test_unreachable_pose_outside_stroke():
