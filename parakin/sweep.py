@@ -4,8 +4,12 @@ mechanism, from its manifest alone, evaluated chunk by chunk on dask.
 A sweep is a regular grid: ``axes`` maps each swept name to its 1-D values, in order; a name is a
 pose coordinate of the mechanism's pose kind (``POSE_COORDINATES``; metres and radians, Z-Y-X
 Euler angles as ``parakin.pose``), an actuated variable or a parameter (a parameter whose name is
-also a pose coordinate or actuated variable, like the SPM's ``beta``, is written ``param_beta``). Pose coordinates that are
-not swept take ``fixed`` values (default: the home pose). Quantities (``QUANTITIES``):
+also a pose coordinate or actuated variable, like the SPM's ``beta``, is written ``param_beta``).
+Every name that is not swept can be set in ``fixed`` (one finite real number each); unset, pose
+coordinates take the home pose, actuated variables the home input and parameters the loaded
+mechanism's values. A fixed value for a swept name, an unknown name, or a name that none of the
+requested quantities reads is refused (BadInputError naming it), as is an axis that none reads.
+Quantities (``QUANTITIES``):
 
 pose space (one configuration per inverse branch; ``branch`` picks one, default the first valid):
 - ``reachable``: some inverse branch is valid (validity measures, joint limits, actuator ranges);
@@ -15,8 +19,10 @@ pose space (one configuration per inverse branch; ``branch`` picks one, default 
 - ``type_ii_distance``: 1/cond of the closure Jacobian d closure / d passive: 0 at a parallel
   (type II) singularity (both NaN where the pose is unreachable);
 actuated space:
-- ``modes``: the number of real assembly modes (``forward_pose_all``; -1 where the elimination
-  degenerates);
+- ``modes``: the number of real assembly modes (``forward_pose_all``), NaN where it is not
+  defined, with ``modes_status`` saying why (codes of the manifest's ``abi.input_status``, named in
+  the variable's CF attributes ``flag_values`` / ``flag_meanings``: 0 'ok', 'degenerate' where the
+  elimination degenerates, e.g. parallel joint axes); a missing count is never a number;
 parameter space:
 - ``architecture``: the manifest's architecture measure(s) (0: singular at every pose);
 - ``workspace_volume``: the volume (product of the axis units) of the reachable part of the pose
@@ -26,7 +32,12 @@ Results are an ``xarray.Dataset`` with one dimension per axis. The grid is cut i
 whole slabs of the first axis (about ``chunk`` points each): memory is bounded by the chunk, not
 the grid. ``scheduler``: None (dask's local threads), 'synchronous', or a ``dask.distributed``
 scheduler address (the same call then runs on a cluster). With ``store`` (a zarr folder) every
-finished chunk is written at once and recorded, so an interrupted sweep resumes where it stopped.
+finished chunk is written at once and recorded with the sha256 of each variable's values in it
+(``finished.json``), so an interrupted sweep resumes where it stopped. Resuming verifies every
+recorded chunk against its checksum and recomputes any that does not verify (a deleted or damaged
+chunk file, a record that lists a chunk never written); the returned dataset verifies each chunk
+again when it is read and raises BadInputError for one that changed since, never returning it.
+A store killed before its first record resumes as an unfinished store of the same sweep.
 """
 
 from __future__ import annotations
@@ -34,6 +45,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -54,7 +66,13 @@ POSE_COORDINATES = {
     "rotation": ("alpha", "beta", "gamma"),
     "planar": ("x", "y", "phi"),
     "translation": ("x", "y", "z"),
+    "planar_translation": ("x", "y"),
 }
+#: a pose coordinate named otherwise than its x-y-z-Z-Y-X-Euler value: the planar turn phi about z
+#: is the Euler alpha; every other coordinate of a kind is absent from the pose (zero)
+EULER_NAME = {"phi": "alpha"}
+#: the sweep's store: its record of finished chunks (format 2: per chunk the sha256 of each variable)
+RECORD, RECORD_FORMAT = "finished.json", 2
 POSE_QUANTITIES = ("reachable", "branches", "type_i_distance", "type_ii_distance")
 QUANTITIES = (*POSE_QUANTITIES, "modes", "architecture", "workspace_volume")
 
@@ -71,8 +89,6 @@ def _needs_dask() -> tuple[Any, Any]:
 @functools.lru_cache(maxsize=64)
 def _mechanism(source: str, backend: str, parameters: tuple[tuple[str, float], ...]) -> Mechanism:
     """One loaded mechanism per design and process (workers load their own)."""
-    import warnings
-
     import parakin
 
     with warnings.catch_warnings():
@@ -85,12 +101,10 @@ def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
     from parakin.pose import pose_from_xyz_euler
 
     n = next(iter(values.values())).shape[0]
-    zero = np.zeros(n)
-    if kind == "planar":
-        six = [values["x"], values["y"], zero, values["phi"], zero, zero]
-    else:
-        six = [values.get(name, zero) for name in POSE_COORDINATES["transform"]]
-    return pose_from_xyz_euler(np.stack(six, axis=-1))
+    six = np.zeros((n, 6))
+    for name in POSE_COORDINATES[kind]:
+        six[:, POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))] = values[name]
+    return pose_from_xyz_euler(six)
 
 
 def _inverse_condition(matrix: np.ndarray) -> np.ndarray:
@@ -166,17 +180,22 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
     out: dict[str, np.ndarray] = {}
     pose_wanted = [q for q in wanted if q in POSE_QUANTITIES]
     if pose_wanted:
-        pose_values = {**spec["fixed"], **{k: v for k, v in coordinates.items() if k in spec["pose_names"]}}
-        pose_values = {k: np.broadcast_to(v, (n,)) for k, v in pose_values.items()}
+        pose_values = {**spec["fixed"], **coordinates}
+        pose_values = {k: np.broadcast_to(v, (n,)) for k, v in pose_values.items() if k in spec["pose_names"]}
         computed = _pose_quantities(m, pose_values, pose_wanted, spec["branch"])
         out.update({q: computed[q] for q in pose_wanted})
     if "modes" in wanted:
         theta = np.stack(
-            [np.broadcast_to(coordinates.get(a, m.home_actuated[k]), (n,)) for k, a in enumerate(m.actuated_names)],
+            [
+                np.broadcast_to(coordinates.get(a, spec["fixed"].get(a, m.home_actuated[k])), (n,))
+                for k, a in enumerate(m.actuated_names)
+            ],
             axis=-1,
         )
         counts = m.count_modes(theta)
-        out["modes"] = np.where(counts["status"] == 0, counts["count"], -1)
+        defined = counts["status"] == m.manifest.abi.input_status.index("ok")
+        out["modes"] = np.where(defined, counts["count"], np.nan)  # a missing count is no number
+        out["modes_status"] = counts["status"]
     if "architecture" in wanted:
         for name, value in m.architecture().items():
             out[f"architecture_{name}"] = np.full(n, value)
@@ -184,7 +203,7 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
         grid = spec["workspace"]
         mesh = np.meshgrid(*grid.values(), indexing="ij")
         points = {k: v.ravel() for k, v in zip(grid, mesh, strict=True)}
-        pose_values = {**spec["fixed"], **points}
+        pose_values = {k: v for k, v in {**spec["fixed"], **points}.items() if k in spec["pose_names"]}
         total = mesh[0].size
         reachable = 0
         for start in range(0, total, spec["chunk"]):
@@ -211,9 +230,94 @@ def _output_names(m: Mechanism, quantities: Sequence[str]) -> list[str]:
             if m.capabilities.architecture is None:
                 raise UnsupportedOperationError(f"{m.name} declares no architecture measure")
             names += [f"architecture_{name}" for name in m.capabilities.architecture.measures]
+        elif q == "modes":
+            names += ["modes", "modes_status"]
         else:
             names.append(q)
     return names
+
+
+def _variable_kinds(
+    pose_names: Sequence[str], actuated_names: Sequence[str], parameter_axes: Mapping[str, str]
+) -> dict[str, str]:
+    """Each name a sweep takes (axis or fixed) -> its kind."""
+    kinds = dict.fromkeys(pose_names, "pose coordinate")
+    kinds.update(dict.fromkeys(actuated_names, "actuated variable"))
+    kinds.update(dict.fromkeys(parameter_axes, "parameter"))
+    return kinds
+
+
+def _readers(quantities: Sequence[str]) -> dict[str, list[str]]:
+    """Kind of variable -> the requested quantities that read it (a parameter: every quantity;
+    workspace_volume reads the pose coordinates outside its workspace grid as fixed values)."""
+    return {
+        "pose coordinate": [q for q in quantities if q in (*POSE_QUANTITIES, "workspace_volume")],
+        "actuated variable": [q for q in quantities if q == "modes"],
+        "parameter": list(quantities),
+    }
+
+
+def _unread(name: str, kind: str, quantities: Sequence[str]) -> str:
+    """Why a name is refused: no requested quantity reads it."""
+    return (
+        f"a {kind}, which none of the quantities {list(quantities)} reads (pose coordinates: "
+        f"{', '.join(POSE_QUANTITIES)}, workspace_volume (fixed only); actuated variables: modes; parameters: "
+        "every quantity); remove it"
+    )
+
+
+def _fixed_values(
+    fixed: object,
+    kinds: Mapping[str, str],
+    readers: Mapping[str, list[str]],
+    grid: Mapping[str, np.ndarray],
+    workspace: Mapping[str, np.ndarray],
+    quantities: Sequence[str],
+) -> dict[str, float]:
+    """The user's ``fixed`` values, checked: a known name that is neither swept nor a workspace
+    axis and that some requested quantity reads, and one finite real number (SI)."""
+    from parakin.validation import in_magnitude
+
+    if fixed is None:
+        return {}
+    if not isinstance(fixed, Mapping):
+        raise BadInputError(f"fixed must be a mapping {{name: value}}, got {type(fixed).__name__}")
+    values: dict[str, float] = {}
+    for name, value in fixed.items():
+        if name not in kinds:
+            raise BadInputError(f"fixed {name!r} is not a name of this sweep; choose from {sorted(kinds)}")
+        if name in grid:
+            raise BadInputError(
+                f"fixed {name!r} is swept (an axis): it takes the axis values; remove it from fixed or from the axes"
+            )
+        if name in workspace:
+            raise BadInputError(f"fixed {name!r} is a workspace axis: remove it from fixed or from workspace")
+        if not readers[kinds[name]]:
+            raise BadInputError(f"fixed {name!r}: {_unread(name, kinds[name], quantities)}")
+        array = as_array(value, f"fixed {name!r}", (), finite=False)
+        if array.ndim != 0:
+            raise BadInputError(f"fixed {name!r} must be one number, got shape {array.shape}; sweep it as an axis")
+        if not np.isfinite(array):
+            raise BadInputError(f"fixed {name!r} must be finite, got {float(array)}")
+        values[name] = in_magnitude(float(array), f"fixed {name!r}")
+    return values
+
+
+def _home_pose(m: Mechanism) -> np.ndarray:
+    """(6,) x, y, z, alpha, beta, gamma of the home configuration where it closes, else of a closed
+    configuration near it (zeros when none is found)."""
+    from parakin.errors import ParakinError
+    from parakin.pose import xyz_euler_from_pose
+    from parakin.sampling import sample_configurations
+
+    try:
+        solved = m.forward_pose(m.home_actuated, strict=False)
+        if bool(solved.converged):
+            return xyz_euler_from_pose(solved.pose)
+        near = sample_configurations(m, 16, seed=0)
+        return xyz_euler_from_pose(near.pose[0]) if near.pose.shape[0] else np.zeros(6)
+    except ParakinError:
+        return np.zeros(6)
 
 
 def sweep(
@@ -232,9 +336,7 @@ def sweep(
 ) -> xarray.Dataset:
     """Evaluate ``quantities`` over the grid ``axes`` (see the module docstring); returns a labelled
     ``xarray.Dataset`` (lazy, over the zarr ``store`` when one is given)."""
-    from parakin.errors import ParakinError
     from parakin.mechanism import Mechanism as MechanismClass
-    from parakin.pose import xyz_euler_from_pose
     from parakin.validation import integer_in_range
 
     da, xr = _needs_dask()
@@ -251,19 +353,28 @@ def sweep(
         n_branches = len(m.capabilities.inverse.combinations) if m.capabilities.inverse else 0
         branch = integer_in_range(branch, "branch", 0, max(n_branches - 1, 0))
     kind = m.manifest.pose_kind
+    if kind not in POSE_COORDINATES:
+        raise UnsupportedOperationError(
+            f"{m.name}: pose kind {kind!r} has no sweep coordinates {sorted(POSE_COORDINATES)}"
+        )
     pose_names = POSE_COORDINATES[kind]
     parameter_axes = {}
     for p in m.manifest.parameters:
         shadowed = p.name in pose_names or p.name in m.actuated_names
         parameter_axes[f"param_{p.name}" if shadowed else p.name] = p.name
-    allowed = {*pose_names, *m.actuated_names, *parameter_axes}
+    if not isinstance(axes, Mapping):
+        raise BadInputError(f"axes must be a mapping {{name: 1-D values}}, got {type(axes).__name__}")
+    kinds = _variable_kinds(pose_names, m.actuated_names, parameter_axes)
+    readers = _readers(quantities)
     grid = {}
     for name, values in axes.items():
-        if name not in allowed:
+        if name not in kinds:
             raise BadInputError(
                 f"axis {name!r} is not a pose coordinate {pose_names}, an actuated variable "
                 f"{m.actuated_names} or a parameter {sorted(parameter_axes)}"
             )
+        if not readers[kinds[name]]:
+            raise BadInputError(f"axis {name!r}: {_unread(name, kinds[name], quantities)}")
         array = as_array(values, f"axis {name!r}", ())
         if array.ndim != 1 or array.size == 0:
             raise BadInputError(f"axis {name!r} must be a non-empty 1-D array, got shape {array.shape}")
@@ -274,29 +385,16 @@ def sweep(
         raise UnsupportedOperationError(f"{m.name} has no closed-form inverse: pose-space quantities need one")
     if "modes" in quantities and m.capabilities.forward is None:
         raise UnsupportedOperationError(f"{m.name} has no forward elimination: 'modes' is not available")
-    try:  # the home configuration's pose where it closes, else a closed configuration near it
-        from parakin.sampling import sample_configurations
-
-        solved = m.forward_pose(m.home_actuated, strict=False)
-        if bool(solved.converged):
-            home = xyz_euler_from_pose(solved.pose)
-        else:
-            near = sample_configurations(m, 16, seed=0)
-            home = xyz_euler_from_pose(near.pose[0]) if near.pose.shape[0] else np.zeros(6)
-    except ParakinError:
-        home = np.zeros(6)
-    home_values = dict(zip(POSE_COORDINATES["transform"], home, strict=True))
-    if kind == "planar":
-        home_values["phi"] = home_values["alpha"]
-    fixed_values = {name: float(home_values[name]) for name in pose_names}
-    for name, value in (fixed or {}).items():
-        if name not in pose_names:
-            raise BadInputError(f"fixed {name!r} is not a pose coordinate {pose_names}")
-        fixed_values[name] = float(as_array(value, f"fixed {name!r}", ()))
     workspace_grid = {}
     if "workspace_volume" in quantities:
-        if not workspace:
+        if not workspace or not isinstance(workspace, Mapping):
             raise BadInputError("workspace_volume needs workspace={coordinate: values} (the pose grid per design)")
+        swept_pose = [name for name in grid if kinds[name] == "pose coordinate"]
+        if swept_pose:
+            raise BadInputError(
+                f"axis {swept_pose[0]!r}: workspace_volume integrates over the workspace grid with the other "
+                "pose coordinates fixed; put it in workspace= or in fixed=, or sweep the pose in a separate sweep"
+            )
         for name, values in workspace.items():
             if name not in pose_names:
                 raise BadInputError(f"workspace axis {name!r} is not a pose coordinate {pose_names}")
@@ -308,11 +406,21 @@ def sweep(
                     "give the volume"
                 )
             workspace_grid[name] = array
+    given = _fixed_values(fixed, kinds, readers, grid, workspace_grid, quantities)
+    fixed_parameters = {parameter_axes[k]: v for k, v in given.items() if kinds[k] == "parameter"}
+    if fixed_parameters:  # the design of the unswept parameters (load validates their domains)
+        m = _mechanism(source, backend_name, tuple(sorted({**m.parameters, **fixed_parameters}.items())))
+    fixed_values = {k: v for k, v in given.items() if kinds[k] != "parameter"}
+    unset = [n for n in pose_names if readers["pose coordinate"] and n not in {*grid, *workspace_grid, *given}]
+    if unset:  # the home configuration's pose where it closes, else a closed configuration near it
+        home = _home_pose(m)
+        for name in unset:
+            fixed_values[name] = float(home[POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))])
     names = _output_names(m, quantities)
     spec = {
         "source": source,
         "backend": backend_name,
-        "parameters": dict(m.parameters),
+        "parameters": dict(m.parameters),  # with the fixed ones
         "parameter_axes": parameter_axes,
         "pose_names": pose_names,
         "fixed": fixed_values,
@@ -336,13 +444,21 @@ def sweep(
     values = template.map_blocks(compute_block, new_axis=len(shape), chunks=(*chunks, (len(names),)), dtype=float)
     dims = list(grid)
     data = {}
+    status_names = m.manifest.abi.input_status
     for k, name in enumerate(names):
-        array = values[..., k]
+        array, attributes = values[..., k], {}
         if name == "reachable":
             array = array.astype(bool)
-        elif name in ("branches", "modes"):
+        elif name == "branches":
             array = array.astype(np.int32)
-        data[name] = (dims, array)
+        elif name == "modes_status":  # CF flag attributes: the codes are named where they are stored
+            array = array.astype(np.int32)
+            attributes = {
+                "long_name": "why modes is missing (0: it is defined)",
+                "flag_values": list(range(len(status_names))),
+                "flag_meanings": " ".join(status_names),
+            }
+        data[name] = (dims, array, attributes)
     # everything that determines the values: a store of any other sweep is refused, not reused
     digest = hashlib.sha256()
     for name, values in [*grid.items(), *(("workspace " + k, v) for k, v in workspace_grid.items())]:
@@ -350,17 +466,17 @@ def sweep(
         digest.update(np.ascontiguousarray(values, dtype=float).tobytes())
     described = {k: v for k, v in spec.items() if k != "workspace"}
     fingerprint = json.dumps({**described, "grids": digest.hexdigest()}, sort_keys=True, default=str)
-    attributes = {
+    described_attributes = {
         "mechanism": m.name,
         "pose_kind": kind,
         "fixed": json.dumps(fixed_values),
         "spec": fingerprint,
         "workspace": json.dumps({k: [float(v[0]), float(v[-1]), int(v.size)] for k, v in workspace_grid.items()}),
     }
-    dataset = xr.Dataset(data, coords={name: values for name, values in grid.items()}, attrs=attributes)
+    dataset = xr.Dataset(data, coords={name: values for name, values in grid.items()}, attrs=described_attributes)
     if store is None:
         return _compute(dataset, scheduler, progress)
-    return _compute_into(dataset, Path(store), chunks[0], scheduler, progress, xr)
+    return _compute_into(dataset, Path(store), chunks[0], scheduler, progress)
 
 
 def _client(scheduler: str | None) -> Any:
@@ -389,31 +505,143 @@ def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool) -> 
             client.close()
 
 
+def _checksum(values: np.ndarray) -> str:
+    """sha256 of one variable's values in one chunk: dtype, shape and little-endian bytes, every
+    NaN as the canonical NaN (its payload bits are not data, and a store may not keep them)."""
+    array = np.asarray(values)
+    if array.dtype.kind == "f":
+        array = np.where(np.isnan(array), np.nan, array)
+    array = np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<"))
+    digest = hashlib.sha256(f"{array.dtype.str} {array.shape}".encode())
+    digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
+def _read_chunk(store: Path, name: str, k: int, region: slice, expected: str | None) -> np.ndarray:
+    """Chunk ``k`` (rows ``region`` of the first axis) of variable ``name`` read from the zarr
+    store, verified against its recorded checksum ``expected``; BadInputError when it cannot be
+    read or does not match (it is then never returned)."""
+    import zarr
+
+    try:
+        values = np.asarray(zarr.open_array(str(store / name), mode="r")[region])
+    # any failure to read (a damaged compressed stream, missing metadata, a codec error) is the
+    # same verdict: the chunk is not the one recorded
+    except Exception as error:
+        raise BadInputError(
+            f"sweep store {store}: chunk {k} of {name!r} cannot be read ({type(error).__name__}: {error}); "
+            "run the same sweep with this store again to recompute it"
+        ) from error
+    if expected is None or _checksum(values) != expected:
+        raise BadInputError(
+            f"sweep store {store}: chunk {k} of {name!r} does not match the checksum recorded when it was "
+            "written (changed or never written); run the same sweep with this store again to recompute it"
+        )
+    return values
+
+
+def _read_record(store: Path) -> dict[str, Any] | None:
+    """The store's record, or None where it is missing or unreadable (a kill, a damaged file)."""
+    try:
+        record = json.loads((store / RECORD).read_text())
+    except (OSError, ValueError):
+        return None
+    return record if isinstance(record, dict) else None
+
+
+def _write_record(store: Path, spec: str, finished: Mapping[int, Mapping[str, str]]) -> None:
+    """Replace the record atomically (a scratch file renamed over it): a kill leaves the old or
+    the new record, never a partial one."""
+    scratch = store / (RECORD + ".tmp")
+    chunks = {str(k): dict(sums) for k, sums in sorted(finished.items())}
+    scratch.write_text(json.dumps({"format": RECORD_FORMAT, "spec": spec, "chunks": chunks}))
+    scratch.replace(store / RECORD)
+
+
+def _store_spec(store: Path) -> str | None:
+    """The spec a zarr store's own attributes name (written before any record), or None."""
+    try:
+        metadata = json.loads((store / "zarr.json").read_text())
+        spec = metadata.get("attributes", {}).get("spec")
+    except (OSError, ValueError, AttributeError):
+        return None
+    return spec if isinstance(spec, str) else None
+
+
+def _recorded(record: Mapping[str, Any] | None, names: Sequence[str]) -> dict[int, dict[str, str]]:
+    """Chunk -> {variable: checksum} of a record; entries without a checksum for every variable
+    (an older record, an edited one) are left out: such a chunk is recomputed."""
+    if record is None or record.get("format") != RECORD_FORMAT or not isinstance(record.get("chunks"), dict):
+        return {}
+    recorded = {}
+    for key, sums in record["chunks"].items():
+        if isinstance(sums, dict) and str(key).isdigit() and all(isinstance(sums.get(n), str) for n in names):
+            recorded[int(key)] = {n: sums[n] for n in names}
+    return recorded
+
+
+def _scratch(store: Path) -> Path:
+    """The folder a store is built in before it is renamed into place, emptied: parakin's own (a
+    left-over one is what a kill during initialisation leaves)."""
+    import shutil
+
+    scratch = store.with_name(f".{store.name}.initialising")
+    if scratch.exists():
+        shutil.rmtree(scratch)
+    return scratch
+
+
+def _initialise(dataset: xarray.Dataset, store: Path) -> None:
+    """Create the store's metadata and an empty record in a scratch folder next to it, then rename
+    it into place: the store appears complete with its record, or not at all (a kill leaves only
+    the scratch folder, which the next run replaces)."""
+    scratch = _scratch(store)
+    dataset.to_zarr(str(scratch), compute=False, mode="w", consolidated=False)
+    _write_record(scratch, dataset.attrs["spec"], {})
+    scratch.rename(store)
+
+
 def _compute_into(
-    dataset: xarray.Dataset, store: Path, rows: tuple[int, ...], scheduler: str | None, progress: bool, xr: Any
+    dataset: xarray.Dataset, store: Path, rows: tuple[int, ...], scheduler: str | None, progress: bool
 ) -> xarray.Dataset:
-    """Write the sweep chunk by chunk into a zarr store, skipping chunks a previous run finished
-    (recorded in ``finished.json`` inside the store, replaced atomically after each write)."""
+    """Write the sweep chunk by chunk into a zarr store, skipping the chunks a previous run
+    finished and that still verify against the checksums in the record (``RECORD``, replaced
+    atomically after each batch of writes); returns the dataset read back chunk by chunk, verified."""
     import dask
 
     first = next(iter(dataset.dims))
     bounds = np.cumsum((0, *rows))
-    record = store / "finished.json"
-    if store.exists():
-        saved = json.loads(record.read_text()) if record.exists() else {}
-        if saved.get("spec") != dataset.attrs["spec"]:
-            raise BadInputError(f"{store} holds another sweep; remove it or choose another store")
-        finished = set(saved.get("chunks", []))
+    names = [str(name) for name in dataset.data_vars]
+    spec = dataset.attrs["spec"]
+    if store.exists() and store.is_dir() and not any(store.iterdir()):
+        store.rmdir()  # an empty folder: nothing of anyone's to keep
+    if not store.exists():
+        _initialise(dataset, store)
+        recorded: dict[int, dict[str, str]] = {}
     else:
-        dataset.to_zarr(str(store), compute=False, mode="w")
-        finished = set()
-
-    def save() -> None:
-        scratch = record.with_suffix(".tmp")
-        scratch.write_text(json.dumps({"spec": dataset.attrs["spec"], "chunks": sorted(finished)}))
-        scratch.replace(record)
-
-    save()
+        record = _read_record(store)
+        # without a (readable) record, the store's own attributes say whose it is: a store killed
+        # before its first record resumes as an unfinished store of this sweep
+        owner = record.get("spec") if record is not None else _store_spec(store)
+        if owner != spec:
+            raise BadInputError(f"{store} holds another sweep; remove it or choose another store")
+        if record is None:  # nothing verified to keep; metadata perhaps partial: initialise it anew
+            store.rename(_scratch(store))
+            _initialise(dataset, store)
+        recorded = _recorded(record, names)
+    finished: dict[int, dict[str, str]] = {}
+    for k, sums in recorded.items():
+        if k >= len(rows):
+            continue
+        region = slice(int(bounds[k]), int(bounds[k + 1]))
+        try:
+            for name in names:
+                _read_chunk(store, name, k, region, sums[name])
+        except BadInputError:
+            continue  # recomputed below
+        finished[k] = sums
+    unverified = len(recorded) - len(finished)
+    _write_record(store, spec, finished)
     pending = [k for k in range(len(rows)) if k not in finished]
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
@@ -424,18 +652,50 @@ def _compute_into(
             parts = [dataset.isel({first: slice(int(bounds[k]), int(bounds[k + 1]))}) for k in batch]
             computed = dask.compute(*parts, scheduler=client or local)
             for k, part in zip(batch, computed, strict=True):
-                region = {first: slice(int(bounds[k]), int(bounds[k + 1]))}
-                part.drop_vars(list(part.coords)).to_zarr(str(store), region=region)
-                finished.add(k)
-            save()
+                rows_k = {first: slice(int(bounds[k]), int(bounds[k + 1]))}
+                with warnings.catch_warnings():  # zarr lists the record among the group's members
+                    warnings.filterwarnings("ignore", message=f"Object at {RECORD} is not recognized")
+                    part.drop_vars(list(part.coords)).to_zarr(str(store), region=rows_k, consolidated=False)
+                # the checksums of the arrays written, recorded only after the write returned
+                finished[k] = {name: _checksum(part[name].values) for name in names}
+            _write_record(store, spec, finished)
             if progress:
                 print(f"sweep: {len(finished)}/{len(rows)} chunks written to {store}", flush=True)
     finally:
         if client is not None:
             client.close()
-    result = xr.open_zarr(str(store))
+    result = _verified_view(dataset, store, bounds, finished)
     result.attrs["chunks_computed"] = len(pending)  # this run's work (0: everything was done before)
+    result.attrs["chunks_unverified"] = unverified  # recorded chunks that failed verification (recomputed)
     return result
+
+
+def _verified_view(
+    dataset: xarray.Dataset, store: Path, bounds: np.ndarray, finished: Mapping[int, Mapping[str, str]]
+) -> xarray.Dataset:
+    """``dataset`` with every variable read lazily from the store, one chunk per task, each chunk
+    verified against its recorded checksum when it is read (coordinates and attributes are the
+    sweep's own, not read back)."""
+    import dask.array as da
+    import xarray as xr
+
+    data = {}
+    for name, variable in dataset.data_vars.items():
+        sums = {k: finished[k][str(name)] for k in finished}
+        read = functools.partial(_read_block, str(store), str(name), tuple(int(b) for b in bounds), sums)
+        meta = np.empty((0,) * variable.ndim, dtype=variable.dtype)
+        array = da.map_blocks(read, chunks=variable.data.chunks, dtype=variable.dtype, meta=meta)
+        data[name] = (variable.dims, array, variable.attrs)
+    return xr.Dataset(data, coords=dataset.coords, attrs=dict(dataset.attrs))
+
+
+def _read_block(
+    store: str, name: str, bounds: tuple[int, ...], sums: Mapping[int, str], block_info: dict | None = None
+) -> np.ndarray:
+    """One verified chunk of ``name`` (a dask block of the first axis)."""
+    assert block_info is not None
+    k = int(block_info[None]["chunk-location"][0])
+    return _read_chunk(Path(store), name, k, slice(bounds[k], bounds[k + 1]), sums.get(k))
 
 
 __all__ = ["POSE_COORDINATES", "QUANTITIES", "sweep"]

@@ -81,7 +81,7 @@ def test_an_interrupted_store_resumes_and_recomputes_only_what_is_missing(tmp_pa
     assert first.attrs["chunks_computed"] == 4
     reference = first.load()
     record = json.loads((store / "finished.json").read_text())
-    record["chunks"].remove(2)  # as if the run had died before chunk 2 was recorded
+    del record["chunks"]["2"]  # as if the run had died before chunk 2 was recorded
     (store / "finished.json").write_text(json.dumps(record))
     zarr.open_group(str(store), mode="a")["reachable"][20:30] = False
     again = sweep("five_bar", ["reachable", "type_ii_distance"], axes, chunk=300, store=store)
