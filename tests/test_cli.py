@@ -4,6 +4,14 @@ generate; exit codes and closed pipes."""
 import json
 import subprocess
 import sys
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin import cli
+from parakin.errors import BadInputError
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -73,3 +81,98 @@ def test_plot_draws_every_mode(tmp_path):
     done = run("plot", "spm", "--output", str(target))
     assert done.returncode == 0, done.stderr
     assert target.stat().st_size > 10_000 and target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_reader_that_leaves_early_is_a_quiet_exit_0():
+    """`parakin demo sam | head -1` once ended with "BrokenPipeError", exit 2 (the OSError
+    branch caught it first), or "Exception ignored" at the final flush. A real pipe: the
+    reading end is closed before parakin writes, so every write fails with EPIPE."""
+    process = subprocess.Popen(
+        [sys.executable, "-W", "ignore", "-m", "parakin.cli", "demo", "sam"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    process.stdout.close()
+    stderr = process.stderr.read().decode()
+    assert process.wait(timeout=120) == 0, stderr
+    assert stderr == ""
+    shell = subprocess.run(
+        ["bash", "-c", f"{sys.executable} -W ignore -m parakin.cli demo sam | head -1; exit ${{PIPESTATUS[0]}}"],
+        capture_output=True,
+        text=True,
+    )
+    assert shell.returncode == 0 and shell.stderr == "" and shell.stdout.count("\n") == 1
+
+
+def test_an_unexpected_exception_is_one_line_and_exit_3(monkeypatch, capsys):
+    """A bug once printed a traceback and exited 1, which the README documents as "no
+    solution"; now one line saying "please report" and the distinct status 3."""
+
+    def broken(args):
+        raise RuntimeError("an invariant\nthat broke")
+
+    monkeypatch.setitem(cli.COMMANDS, "list", broken)
+    assert cli.main(["list"]) == cli.INTERNAL_ERROR == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "RuntimeError: an invariant that broke" in err and "please report" in err
+
+
+def test_param_sets_mechanism_parameters_only():
+    """`--param limits=...` was once passed to load as its `limits` keyword; a --param is a
+    mechanism parameter (named in the manifest), anything else is refused naming the valid ones."""
+    pose = ["--pose", "0", "0", "0.664", "0", "0", "0", "--backend", "numpy"]
+    for name, value in (("limits", '{"L2": [0, 0.1]}'), ("backend", '"numpy"')):
+        done = run("ik", "sam", *pose, "--param", f"{name}={value}")
+        assert done.returncode == 2, done.stdout
+        assert f"unknown parameter '{name}' for 'sam'; valid: ['L1', 'L4']" in done.stderr
+    done = run("ik", "sam", *pose, "--param", "l1=0.5")
+    assert done.returncode == 2 and "did you mean 'L1'?" in done.stderr
+
+
+def test_generate_passes_force(monkeypatch, tmp_path):
+    """`parakin generate FILE --out DIR --force` hands force=True to generate_file (False without)."""
+    import parakin.generator.build as build
+
+    calls = []
+
+    def fake(path, package, force=False):
+        calls.append((str(path), str(package), force))
+        return {"seconds": 0.0}
+
+    monkeypatch.setattr(build, "generate_file", fake)
+    out = str(tmp_path / "pkg")
+    assert cli.main(["generate", "robot.py", "--out", out, "--force"]) == 0
+    assert cli.main(["generate", "robot.py", "--out", out]) == 0
+    assert calls == [("robot.py", out, True), ("robot.py", out, False)]
+
+
+def test_sweep_fixed_help_names_every_kind_of_coordinate():
+    assert "a fixed coordinate: pose, actuated input or parameter" in " ".join(run("sweep", "--help").stdout.split())
+
+
+def test_planar_translation_poses_take_x_y():
+    """A planar_translation pose is two values x y (m): ^B_P T = [I, (x, y, 0)]; three values
+    are refused with the expected count."""
+    manifest = SimpleNamespace(name="planar_robot", pose_kind="planar_translation")
+    pose = cli._pose_from_cli(manifest, [0.1, 0.4], degrees=False)
+    expected = np.eye(4)
+    expected[:3, 3] = [0.1, 0.4, 0.0]
+    np.testing.assert_array_equal(pose, expected)
+    assert cli._describe_pose(manifest, pose, degrees=True) == {"x [m]": 0.1, "y [m]": 0.4}
+    with pytest.raises(BadInputError, match=r"planar_robot poses \(planar_translation\) take 2 values: x y.*got 3"):
+        cli._pose_from_cli(manifest, [0.0, 0.4, 0.1], degrees=False)
+
+
+def test_planar_translation_mechanisms_on_the_command_line():
+    """Every shipped mechanism of pose kind planar_translation: `ik NAME --pose x y` at its home
+    position works (a valid branch, exit 0) and three values exit 2 naming the count."""
+    names = [n for n in parakin.available() if parakin.metadata(n).pose_kind == "planar_translation"]
+    if not names:
+        pytest.skip("no shipped mechanism has the pose kind planar_translation yet")
+    for name in names:
+        m = parakin.load(name, backend="numpy")
+        x, y = m.forward_pose(m.home_actuated).pose[:2, 3]
+        done = run("ik", name, "--pose", repr(float(x)), repr(float(y)), "--json")
+        assert done.returncode == 0 and '"valid": true' in done.stdout, done.stderr
+        refused = run("ik", name, "--pose", repr(float(x)), repr(float(y)), "0.1")
+        assert refused.returncode == 2 and "take 2 values" in refused.stderr

@@ -1,5 +1,7 @@
 """Bad input gets a clear exception naming the problem, never a silent NaN."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -122,3 +124,58 @@ def test_tracker_errors():
         tracker.solve([np.nan] * 6)
     with pytest.raises(parakin.BadInputError):
         tracker.solve([0.0] * 4)
+
+
+def unusable_caches(tmp_path):
+    """A file where the cache folder should be, and a cache folder below a file."""
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("a file in the cache's place\n")
+    return [(blocker, "FileExistsError"), (blocker / "cache", "NotADirectoryError")]
+
+
+def test_unusable_cache_auto_falls_back_to_numpy_and_says_why(tmp_path, monkeypatch):
+    """An unwritable C cache, or a file in its place, once raised a raw FileExistsError /
+    PermissionError even with backend 'auto'. Now 'auto' runs on NumPy with a
+    BackendFallbackWarning naming the cause, and 'compiled' raises CacheUnavailableError."""
+    from parakin.compiled import CacheUnavailableError
+
+    reference = parakin.load("sphere2r", backend="numpy")
+    inputs = np.deg2rad([30.0, 50.0])
+    for cache, cause in unusable_caches(tmp_path):
+        monkeypatch.setenv("PARAKIN_CACHE", str(cache))
+        with pytest.warns(parakin.BackendFallbackWarning, match=f"on NumPy.*CacheUnavailableError.*{cause}"):
+            m = parakin.load("sphere2r", backend="auto")
+        assert m.backend.name == "numpy"
+        np.testing.assert_array_equal(m.forward_pose(inputs).pose, reference.forward_pose(inputs).pose)
+        with pytest.raises(CacheUnavailableError, match=f"cache {cache} cannot be used.*{cause}.*PARAKIN_CACHE"):
+            parakin.load("sphere2r", backend="compiled")
+        assert issubclass(CacheUnavailableError, parakin.ParakinError)
+    assert (tmp_path / "not_a_folder").read_text() == "a file in the cache's place\n"  # untouched
+
+
+def test_unwritable_cache_is_a_named_error(tmp_path, monkeypatch):
+    """No permission to write the cache: a PermissionError from the file system (injected where
+    the process runs as root, which may write anywhere) becomes CacheUnavailableError."""
+    import tempfile
+
+    from parakin.compiled import CacheUnavailableError
+
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    monkeypatch.setenv("PARAKIN_CACHE", str(cache))
+    if os.geteuid() == 0:
+
+        def refuse(*args, **kwargs):
+            raise PermissionError(13, "Permission denied", str(cache))
+
+        monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    else:
+        cache.chmod(0o500)
+    try:
+        with pytest.raises(CacheUnavailableError, match="PermissionError"):
+            parakin.load("sphere2r", backend="compiled")
+        with pytest.warns(parakin.BackendFallbackWarning, match="PermissionError"):
+            assert parakin.load("sphere2r", backend="auto").backend.name == "numpy"
+    finally:
+        cache.chmod(0o700)
+    assert list(cache.iterdir()) == []
