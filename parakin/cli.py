@@ -320,31 +320,33 @@ def _sweep(args: argparse.Namespace) -> int:
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
-    common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--backend", default="auto", choices=["auto", "compiled", "numpy", "casadi"])
-    common.add_argument("--json", action="store_true", help="one JSON object per line")
-    mechanism = argparse.ArgumentParser(add_help=False, parents=[common])
+    # each flag only on the commands that use it (the README's command table says which)
+    backend = argparse.ArgumentParser(add_help=False)
+    backend.add_argument("--backend", default="auto", choices=["auto", "compiled", "numpy", "casadi"])
+    as_json = argparse.ArgumentParser(add_help=False)
+    as_json.add_argument("--json", action="store_true", help="one JSON object per line")
+    mechanism = argparse.ArgumentParser(add_help=False, parents=[backend])
     mechanism.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     mechanism.add_argument(
         "--param", action="append", default=[], metavar="NAME=VALUE", help="override a parameter (SI; JSON lists too)"
     )
 
-    commands.add_parser("list", parents=[common], help="available mechanisms with titles")
+    commands.add_parser("list", parents=[as_json], help="available mechanisms with titles")
     inspect = commands.add_parser("inspect", help="symbolic closure, Jacobians, factored singularity conditions")
     inspect.add_argument("name")
     inspect.add_argument("--format", choices=["text", "latex", "json"], default="text")
     inspect.add_argument("--width", type=int, default=100, help="line width of text expressions")
     inspect.add_argument("--lines", type=int, default=12, help="lines shown per expression (text)")
-    demo = commands.add_parser("demo", parents=[common], help="reproduce the named examples of the papers")
+    demo = commands.add_parser("demo", parents=[backend], help="reproduce the named examples of the papers")
     demo.add_argument("name", nargs="?")
 
-    ik = commands.add_parser("ik", parents=[mechanism], help="every inverse branch of a pose")
+    ik = commands.add_parser("ik", parents=[mechanism, as_json], help="every inverse branch of a pose")
     group = ik.add_mutually_exclusive_group(required=True)
     group.add_argument("--pose", nargs="+", type=float, metavar="V", help="pose values, SI and radians (see list)")
     group.add_argument("--pose-deg", nargs="+", type=float, metavar="V", help="the same with angles in degrees")
     ik.epilog = "pose values per pose kind: " + "; ".join(f"{k}: {v[0]}" for k, v in POSE_ARGUMENTS.items())
 
-    fk = commands.add_parser("fk", parents=[mechanism], help="every assembly mode for actuated values")
+    fk = commands.add_parser("fk", parents=[mechanism, as_json], help="every assembly mode for actuated values")
     group = fk.add_mutually_exclusive_group(required=True)
     group.add_argument("--actuated", nargs="+", type=float, metavar="V", help="actuated values (m, rad)")
     group.add_argument(
