@@ -176,3 +176,25 @@ def test_planar_translation_mechanisms_on_the_command_line():
         assert done.returncode == 0 and '"valid": true' in done.stdout, done.stderr
         refused = run("ik", name, "--pose", repr(float(x)), repr(float(y)), "0.1")
         assert refused.returncode == 2 and "take 2 values" in refused.stderr
+
+
+@pytest.mark.slow
+def test_generate_force_on_the_command_line(tmp_path):
+    """`--out userdir` (a folder with the user's notes) exits 2 naming --force and writes
+    nothing; with --force the package is written next to the notes (one generation, ~10 s)."""
+    from pathlib import Path
+
+    user = tmp_path / "userdir"
+    user.mkdir()
+    (user / "notes.txt").write_text("mine\n")
+    (tmp_path / "my_robot.py").write_text(
+        (Path(__file__).resolve().parent.parent / "mechanisms" / "sphere2r.py").read_text()
+    )
+    command = [sys.executable, "-W", "ignore", "-m", "parakin", "generate", "my_robot.py", "--out", "userdir"]
+    refused = subprocess.run(command, cwd=tmp_path, capture_output=True, text=True)
+    assert refused.returncode == 2 and "--force" in refused.stderr
+    assert sorted(p.name for p in user.iterdir()) == ["notes.txt"]
+    forced = subprocess.run([*command, "--force"], cwd=tmp_path, capture_output=True, text=True)
+    assert forced.returncode == 0, forced.stderr
+    assert (user / "notes.txt").read_text() == "mine\n"
+    assert parakin.load(user, backend="numpy").name == "my_robot"
