@@ -4,7 +4,9 @@
 
 - SAM: a constant-orientation workspace slice (x, y at z = 0.68 m, level platform) coloured by the
   distance to a type II singularity, and its assembly-mode count over two actuated angles
-  (theta1, theta4; -1 on the diagonal where the elimination degenerates: parallel U-joint axes);
+  (theta1, theta4; the other inputs at home): on the diagonal the elimination degenerates
+  (parallel U-joint axes), the count is missing there and ``modes_status`` says 'degenerate',
+  drawn as a hatched region;
 - SPM: the orientation workspace (alpha, beta at gamma = 0) with the type II distance, and the
   design space: workspace volume over the two link angles alpha1, alpha2;
 - five-bar: the reachable region (the analytic workspace of the test) and its singularity map.
@@ -16,6 +18,7 @@ from __future__ import annotations
 import argparse
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -30,7 +33,8 @@ def main() -> None:
     args = parser.parse_args()
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    figures = [
+    # name, mechanism, quantities, axes, options of sweep, the quantity drawn
+    figures: list[tuple[str, str, list[str], dict[str, Any], dict[str, Any], str]] = [
         (
             "sam_workspace_type_ii",
             "sam",
@@ -84,10 +88,17 @@ def main() -> None:
         path = out / f"{name}.png"
         plot_sweep(result, shown, str(path))
         points = int(np.prod([len(v) for v in axes.values()]))
-        summary = ", ".join(
-            f"{q} {float(np.nanmean(np.asarray(result[q].values, dtype=float))):.3g}" for q in result.data_vars
-        )
+        summary = ", ".join(f"{q} {_mean(result[q].values)}" for q in result.data_vars)
         print(f"{path}: {points} points in {time.perf_counter() - began:.1f} s; means: {summary}")
+
+
+def _mean(values: np.ndarray) -> str:
+    """The mean over the defined (finite) values, and how many there are."""
+    array = np.asarray(values, dtype=float)
+    finite = array[np.isfinite(array)]
+    return (
+        f"{finite.mean():.3g} ({finite.size}/{array.size} defined)" if finite.size else f"none of {array.size} defined"
+    )
 
 
 if __name__ == "__main__":
