@@ -288,12 +288,23 @@ def _axis(text: str) -> tuple[str, np.ndarray]:
         raise BadInputError(f"axis {text!r}: write NAME=START:STOP:COUNT or NAME=V1,V2,...") from error
 
 
+def _fixed(text: str) -> tuple[str, float]:
+    """NAME=VALUE: one number (a fixed coordinate is not an axis)."""
+    name, sep, value = text.partition("=")
+    try:
+        if not sep or not name.strip():
+            raise ValueError(text)
+        return name.strip(), float(value)
+    except ValueError as error:
+        raise BadInputError(f"--fixed {text!r}: write NAME=VALUE with one number (SI)") from error
+
+
 def _sweep(args: argparse.Namespace) -> int:
     from parakin.sweep import sweep
 
     m = _load(args)
     axes = dict(_axis(a) for a in args.axis)
-    fixed = {name: float(values[0]) for name, values in map(_axis, args.fixed)}
+    fixed = dict(map(_fixed, args.fixed))
     workspace = dict(_axis(a) for a in args.workspace) or None
     result = sweep(
         m, args.quantities, axes, fixed=fixed, workspace=workspace, branch=args.branch, chunk=args.chunk,

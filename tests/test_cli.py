@@ -198,3 +198,23 @@ def test_generate_force_on_the_command_line(tmp_path):
     assert forced.returncode == 0, forced.stderr
     assert (user / "notes.txt").read_text() == "mine\n"
     assert parakin.load(user, backend="numpy").name == "my_robot"
+
+
+def test_sweep_fixed_passes_actuated_inputs_through(tmp_path):
+    """`--fixed theta1=...` (an actuated input not swept) reaches sweep(): the CLI's grid equals
+    sweep(..., fixed={"theta1": value}) and differs from the default theta1; more than one
+    number is refused."""
+    from parakin.sweep import sweep
+
+    xr = pytest.importorskip("xarray")
+    axes = {"theta2": np.linspace(-0.3, 0.3, 3), "theta5": np.linspace(-0.3, 0.3, 3)}
+    command = ["sweep", "sam", "modes", "--axis", "theta2=-0.3:0.3:3", "--axis", "theta5=-0.3:0.3:3"]
+    done = run(*command, "--fixed", "theta1=0.5", "--backend", "numpy", "--netcdf", str(tmp_path / "s.nc"))
+    assert done.returncode == 0, done.stderr
+    saved = xr.load_dataset(tmp_path / "s.nc").modes.values
+    fixed = sweep("sam", ["modes"], axes, fixed={"theta1": 0.5}, backend="numpy").modes.values
+    default = sweep("sam", ["modes"], axes, backend="numpy").modes.values
+    np.testing.assert_array_equal(saved, fixed)
+    assert not np.array_equal(np.nan_to_num(fixed, nan=-1), np.nan_to_num(default, nan=-1))
+    refused = run(*command, "--fixed", "theta1=0.1,0.2")
+    assert refused.returncode == 2 and "one number" in refused.stderr
