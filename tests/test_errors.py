@@ -179,3 +179,13 @@ def test_unwritable_cache_is_a_named_error(tmp_path, monkeypatch):
     finally:
         cache.chmod(0o700)
     assert list(cache.iterdir()) == []
+
+
+def test_no_compiler_auto_says_it_runs_on_numpy(monkeypatch):
+    from parakin.compiled import CompilerUnavailableError
+
+    monkeypatch.setenv("CC", "no-such-compiler-for-parakin")
+    with pytest.warns(parakin.BackendFallbackWarning, match="on NumPy.*CompilerUnavailableError: no C compiler"):
+        assert parakin.load("sphere2r").backend.name == "numpy"
+    with pytest.raises(CompilerUnavailableError, match="no C compiler"):
+        parakin.load("sphere2r", backend="compiled")
