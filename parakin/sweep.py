@@ -257,7 +257,7 @@ def _readers(quantities: Sequence[str]) -> dict[str, list[str]]:
     }
 
 
-def _unread(name: str, kind: str, quantities: Sequence[str]) -> str:
+def _unread(kind: str, quantities: Sequence[str]) -> str:
     """Why a name is refused: no requested quantity reads it."""
     return (
         f"a {kind}, which none of the quantities {list(quantities)} reads (pose coordinates: "
@@ -276,7 +276,7 @@ def _fixed_values(
 ) -> dict[str, float]:
     """The user's ``fixed`` values, checked: a known name that is neither swept nor a workspace
     axis and that some requested quantity reads, and one finite real number (SI)."""
-    from parakin.validation import in_magnitude
+    from parakin.validation import MAX_MAGNITUDE
 
     if fixed is None:
         return {}
@@ -293,13 +293,15 @@ def _fixed_values(
         if name in workspace:
             raise BadInputError(f"fixed {name!r} is a workspace axis: remove it from fixed or from workspace")
         if not readers[kinds[name]]:
-            raise BadInputError(f"fixed {name!r}: {_unread(name, kinds[name], quantities)}")
+            raise BadInputError(f"fixed {name!r}: {_unread(kinds[name], quantities)}")
         array = as_array(value, f"fixed {name!r}", (), finite=False)
         if array.ndim != 0:
             raise BadInputError(f"fixed {name!r} must be one number, got shape {array.shape}; sweep it as an axis")
         if not np.isfinite(array):
             raise BadInputError(f"fixed {name!r} must be finite, got {float(array)}")
-        values[name] = in_magnitude(float(array), f"fixed {name!r}")
+        if abs(float(array)) > MAX_MAGNITUDE:
+            raise BadInputError(f"fixed {name!r} = {float(array):g} exceeds {MAX_MAGNITUDE:g} in magnitude (SI units)")
+        values[name] = float(array)
     return values
 
 
@@ -374,7 +376,7 @@ def sweep(
                 f"{m.actuated_names} or a parameter {sorted(parameter_axes)}"
             )
         if not readers[kinds[name]]:
-            raise BadInputError(f"axis {name!r}: {_unread(name, kinds[name], quantities)}")
+            raise BadInputError(f"axis {name!r}: {_unread(kinds[name], quantities)}")
         array = as_array(values, f"axis {name!r}", ())
         if array.ndim != 1 or array.size == 0:
             raise BadInputError(f"axis {name!r} must be a non-empty 1-D array, got shape {array.shape}")
@@ -613,7 +615,9 @@ def _compute_into(
     bounds = np.cumsum((0, *rows))
     names = [str(name) for name in dataset.data_vars]
     spec = dataset.attrs["spec"]
-    if store.exists() and store.is_dir() and not any(store.iterdir()):
+    if store.exists() and not store.is_dir():
+        raise BadInputError(f"store {store} is a file, not a sweep store (a folder); choose another path")
+    if store.exists() and not any(store.iterdir()):
         store.rmdir()  # an empty folder: nothing of anyone's to keep
     if not store.exists():
         _initialise(dataset, store)
