@@ -20,8 +20,13 @@ minute); the tests marked slow check ten times as many inputs (``--run-slow``).
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import io
+import json
+import shutil
 import warnings
+from pathlib import Path
 
 import contract_helpers as h
 import numpy as np
@@ -31,7 +36,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 import parakin
-from parakin.errors import BadInputError, InconsistentInputError, ParakinError
+from parakin.errors import BadInputError, InconsistentInputError, ParakinError, UnknownMechanismError
 
 NAMES, BACKENDS, CASES = fz.NAMES, fz.BACKENDS, fz.CASES
 #: a reproduced pose / a closed loop, relative to the input sizes (looser than the contract's 1e-9:
@@ -538,3 +543,399 @@ def test_forward_refuses_what_the_inverse_refuses(name, backend):
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_forward_refuses_what_the_inverse_refuses_many_poses(name, backend):
     _forward_agrees_with_inverse(name, backend, 120)
+
+
+# ---------------------------------------------------------------------------- item 10: sweeps
+def sweep_of(m, quantities, axes, fixed=None):
+    from parakin.sweep import sweep
+
+    return sweep(m, quantities, axes, fixed=fixed, scheduler="synchronous")
+
+
+def pose_coordinates(m) -> tuple[str, ...]:
+    from parakin.sweep import POSE_COORDINATES
+
+    return POSE_COORDINATES[m.manifest.pose_kind]
+
+
+def coordinate_values(m) -> dict[str, float]:
+    """The sweep coordinates of the fixture's pose (Z-Y-X Euler angles as parakin.pose; phi the
+    angle about z)."""
+    fx = fz.fixture(m.name)
+    pose = m.platform_pose(fx.state.actuated, fx.state.passive)
+    six = parakin.xyz_euler_from_pose(pose)
+    values = dict(zip(("x", "y", "z", "alpha", "beta", "gamma"), map(float, six), strict=True))
+    values["phi"] = values["alpha"]
+    return values
+
+
+def sweep_parameter_names(m) -> dict[str, str]:
+    """Sweep name -> parameter name (``param_`` where a parameter shadows a pose coordinate or an
+    actuated variable)."""
+    taken = {*pose_coordinates(m), *m.actuated_names}
+    return {(f"param_{p.name}" if p.name in taken else p.name): p.name for p in m.manifest.parameters}
+
+
+def sweep_mechanism(name: str):
+    """The compiled backend where a compiler works (sweeps of every mode are many solves)."""
+    return fz.mechanism(name, "compiled")
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_sweep_modes_are_counts_or_missing(name):
+    """Issue 18 item 10: a 'modes' sweep holds the count of forward_pose_all's modes where the
+    elimination is defined and NaN where it is not (never a sentinel such as -1), with another
+    variable flagging those points; checked against count_modes on the same inputs."""
+    m = sweep_mechanism(name)
+    if m.capabilities.forward is None:
+        pytest.skip(f"{name} has no forward elimination: no 'modes' sweep")
+    fx = fz.fixture(name)
+    first = m.actuated_names[0]
+    scale = h.variable_scale(m, m.manifest.actuated)[0]
+    values = fx.state.actuated[0] + scale * np.array([-0.5, -0.1, 0.0, 0.1, 0.5])
+    values = np.unique(np.append(values, m.home_actuated[0]))
+    others = dict(zip(m.actuated_names[1:], map(float, fx.state.actuated[1:]), strict=True))
+    result = sweep_of(m, ["modes"], {first: values}, fixed=others)
+    theta = np.tile(fx.state.actuated, (values.size, 1))
+    theta[:, 0] = values
+    counts = m.count_modes(theta)
+    defined = np.asarray(counts["status"]) == 0
+    got = np.asarray(result["modes"].values, dtype=float)
+    assert not (got < 0).any(), f"sentinel values in 'modes': {got}"
+    expected = np.where(defined, np.asarray(counts["count"], dtype=float), np.nan)
+    np.testing.assert_array_equal(got, expected, err_msg="sweep 'modes' vs count_modes on the same inputs")
+    flags = [key for key in result.data_vars if key != "modes"]
+    if not defined.all():
+        flagged = [key for key in flags if (np.asarray(result[key].values != 0) == ~defined).all()]
+        assert flagged, f"no variable flags the undefined points {np.flatnonzero(~defined)}: {flags}"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_sweep_refuses_bad_fixed_values(name):
+    """Issue 18 item 10: a fixed value for a swept coordinate, or one that is not a finite real
+    number (a list, an array, a string, None, complex, a mapping, NaN), is BadInputError."""
+    m = sweep_mechanism(name)
+    coordinates = pose_coordinates(m)
+    swept, other = coordinates[0], coordinates[1]
+    base = coordinate_values(m)
+    axes = {swept: base[swept] + 0.01 * np.arange(3)}
+    cases = {
+        "swept": {swept: base[swept]}, "list": {other: [0.1, 0.2]}, "array": {other: np.array([0.1, 0.2])},
+        "nested": {other: [[0.1]]}, "string": {other: "abc"}, "numeric-string": {other: "0.1"}, "none": {other: None},
+        "complex": {other: 0.1j}, "mapping": {other: {"a": 1.0}}, "nan": {other: np.nan}, "inf": {other: np.inf},
+        "unknown-name": {"no_such_name": 0.1}, "not-a-mapping": [(other, 0.1)],
+    }  # fmt: skip
+    checked = []
+
+    @fz.fuzz_settings(6)
+    @given(key=st.sampled_from(sorted(cases)))
+    def property_holds(key):
+        got = fz.answer(lambda: sweep_of(m, ["reachable"], axes, fixed=cases[key]))
+        assert isinstance(got.error, BadInputError), f"sweep(fixed={fz.lit(cases[key])}) gave {got.error!r}"
+        checked.append(key)
+
+    for key in sorted(cases):
+        property_holds = example(key=key)(property_holds)
+    property_holds()
+    assert len(checked) >= len(cases)
+
+
+def fixable(m) -> list[tuple[str, str, float, str, str, np.ndarray, dict[str, float]]]:
+    """Every name a sweep can fix, with a value, the quantity that reads it, a swept axis and the
+    other fixed values: (kind, name, value, quantity, axis, axis values, others). A parameter's
+    case fixes the other pose coordinates too (their default, the home pose, is the design's)."""
+    fx = fz.fixture(m.name)
+    base = coordinate_values(m)
+    coordinates = pose_coordinates(m)
+    cases = []
+    for name in coordinates:
+        axis = next(c for c in coordinates if c != name)
+        cases.append(("pose", name, base[name] + 0.01, "reachable", axis, base[axis] + 0.02 * np.arange(3), {}))
+    if m.capabilities.forward is not None and len(m.actuated_names) > 1:
+        scale = h.variable_scale(m, m.manifest.actuated)
+        for k, name in enumerate(m.actuated_names):
+            j = 1 if k == 0 else 0
+            axis_values = fx.state.actuated[j] + 0.01 * scale[j] * np.arange(3)
+            cases.append(("actuated", name, float(fx.state.actuated[k]), "modes", m.actuated_names[j], axis_values, {}))
+    for sweep_name, parameter in sweep_parameter_names(m).items():
+        value = m.parameters[parameter] * 1.001 if m.parameters[parameter] else 1e-3
+        axis = coordinates[0]
+        others = {c: base[c] for c in coordinates[1:]}
+        cases.append(("parameter", sweep_name, value, "reachable", axis, base[axis] + 0.02 * np.arange(3), others))
+    return cases
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_sweep_every_unswept_variable_can_be_fixed(name):
+    """Issue 18 item 10: every pose coordinate, actuated variable and parameter that is not swept
+    can be fixed, and fixing it at v gives the same values as sweeping it over the one value v."""
+    m = sweep_mechanism(name)
+    cases = fixable(m)
+    kinds = sorted({case[0] for case in cases})
+    checked = []
+
+    @fz.fuzz_settings(6)
+    @given(index=st.integers(0, len(cases) - 1))
+    def property_holds(index):
+        kind, fixed_name, value, quantity, axis, axis_values, others = cases[index]
+        given_fixed = {**others, fixed_name: value}
+        fixed = fz.answer(lambda: sweep_of(m, [quantity], {axis: axis_values}, fixed=given_fixed))
+        code = f"sweep(m, [{quantity!r}], {{{axis!r}: {fz.lit(axis_values)}}}, fixed={fz.lit(given_fixed)})"
+        assert fixed.error is None, f"{kind} {fixed_name!r} cannot be fixed: {code} raised {fixed.error!r}"
+        swept = sweep_of(m, [quantity], {axis: axis_values, fixed_name: np.array([value])}, fixed=others or None)
+        for key in fixed.result.data_vars:
+            np.testing.assert_array_equal(
+                np.asarray(fixed.result[key].values),
+                np.asarray(swept[key].values).reshape(np.shape(fixed.result[key].values)),
+                err_msg=f"{code}: {key} differs from the sweep over {fixed_name} = [{value!r}]",
+            )
+        checked.append(kind)
+
+    for kind in kinds:  # one of each kind at least
+        property_holds = example(index=next(i for i, c in enumerate(cases) if c[0] == kind))(property_holds)
+    property_holds()
+    assert set(checked) == set(kinds) and len(checked) >= len(kinds) + 3
+
+
+# ---------------------------------------------------------------------------- item 12: load and the CLI
+NON_NAMES = st.one_of(
+    st.integers(-10, 10),
+    st.none(),
+    st.floats(allow_nan=True),
+    st.binary(max_size=8),
+    st.lists(st.sampled_from(NAMES), max_size=2),
+    st.builds(lambda n: "x" * n, st.integers(256, 6000)),
+    st.sampled_from(
+        [
+            "no/such/mechanism",
+            "no\\such",
+            "../nowhere",
+            "/nonexistent/folder",
+            "",
+            "\x00",
+            ".",
+            "..",
+            "a" * 5000,
+            "sps\x00",
+            "~/nowhere",
+        ]
+    ),  # fmt: skip
+    st.text(alphabet=st.sampled_from("ab/\\.~:\x00 _"), max_size=12),
+)
+
+
+def test_load_answers_named_errors_for_any_name():
+    """Issue 18 item 12: parakin.load of something that is no mechanism name (an int, None, bytes,
+    a list, a 5,000-character string, a path that does not exist, a name with separators) raises
+    a ParakinError (BadInputError / UnknownMechanismError), never a raw TypeError or OSError."""
+    checked = []
+
+    @fz.fuzz_settings(40)
+    @given(value=NON_NAMES)
+    def property_holds(value):
+        got = fz.answer(lambda: parakin.load(value, backend="numpy"))
+        if got.error is None:  # a string that names a package after all
+            assert isinstance(got.result, parakin.Mechanism)
+        else:
+            assert isinstance(got.error, ParakinError), f"parakin.load({value!r}) raised {got.error!r}"
+        checked.append(value)
+
+    for value in (5, None, "x" * 5000, "no/such/mechanism", b"sps", 3.5):
+        property_holds = example(value=value)(property_holds)
+    property_holds()
+    assert len(checked) >= 30
+
+
+def wrong_cases(name: str, taken: set[str]) -> list[str]:
+    return sorted({v for v in (name.lower(), name.upper(), name.swapcase(), name.capitalize()) if v not in taken})
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_load_wrong_case_parameter_names_the_parameter(name):
+    """Issue 18 item 12: a parameter (or parameter group) spelt in another case is a BadInputError
+    that is not UnknownMechanismError (the mechanism exists) and names the right parameter."""
+    info = parakin.metadata(name)
+    names = [p.name for p in info.parameters] + [g.name for g in info.parameter_groups]
+    cases = [(right, wrong) for right in names for wrong in wrong_cases(right, set(names))]
+    if not cases:
+        pytest.skip(f"{name}: every case variant of its parameters is another parameter")
+    checked = []
+
+    @fz.fuzz_settings(10)
+    @given(pick=st.integers(0, len(cases) - 1))
+    def property_holds(pick):
+        right, wrong = cases[pick]
+        value = np.asarray(info.parameter_defaults.get(right, 0.0))
+        got = fz.answer(lambda: parakin.load(name, backend="numpy", **{wrong: value}))
+        assert isinstance(got.error, BadInputError) and not isinstance(got.error, UnknownMechanismError), (
+            f"parakin.load({name!r}, {wrong}=...) raised {got.error!r}"
+        )
+        assert right in str(got.error), f"the message does not name {right!r}: {got.error}"
+        checked.append(pick)
+
+    property_holds = example(pick=0)(property_holds)
+    property_holds()
+    assert len(checked) >= min(len(cases), 5)
+
+
+def cli_arguments(draw_name, values, tmp: Path) -> st.SearchStrategy[list[str]]:
+    """Command lines of every subcommand: mechanism names (and bad ones), pose / actuated values
+    of any count (NaN, inf, huge), parameters (right, wrong-case, unknown, malformed, 'limits'),
+    sweep axes and fixed values, backends and flags."""
+    numbers = st.lists(values, min_size=0, max_size=8).map(lambda xs: [repr(float(x)) for x in xs])
+    params = st.lists(
+        st.one_of(
+            st.builds(lambda n, v: f"{n}={v}", st.sampled_from(["L1", "l1", "limits", "beta", "zzz", "", "a b"]),
+                      st.sampled_from(["0.5", "nan", "[1, 2]", "abc", "1e400", "-1", "{}"])),
+            st.sampled_from(["noequals", "=1"]),
+        ),
+        max_size=2,
+    ).map(lambda items: [x for item in items for x in ("--param", item)])  # fmt: skip
+    common = st.lists(st.sampled_from(["--json", "--backend=numpy", "--backend=casadi", "--backend=auto"]), max_size=2)
+
+    def line(command, name, xs, ps, flags, axis, fixed):
+        out = str(tmp / "out")
+        if command == "list":
+            return ["list", *flags]
+        if command == "inspect":
+            return ["inspect", name, "--lines", "2"]
+        if command == "demo":
+            return ["demo", name]
+        if command == "export":
+            return ["export", name, "--out", out]
+        if command == "generate":
+            return ["generate", str(tmp / "missing.py"), "--out", out]
+        head = [command, name, *ps]
+        if command == "ik":
+            return [*head, "--pose", *xs] if xs else [*head, "--pose-deg"]
+        if command == "fk":
+            return [*head, "--actuated", *xs] if xs else [*head, "--actuated"]
+        if command == "plot":
+            return [*head, "--output", str(tmp / "plot.png"), *(["--actuated", *xs] if xs else [])]
+        return [*head, "reachable", "modes", "--axis", axis, *(["--fixed", fixed] if fixed else [])]
+
+    return st.builds(
+        line,
+        st.sampled_from(["list", "inspect", "ik", "fk", "plot", "export", "sweep", "generate", "demo"]),
+        draw_name,
+        numbers,
+        params,
+        common,
+        st.sampled_from(["x=0:0.1:3", "theta1=0:0.5:2", "z=1", "x=a:b:c", "nosuch=0:1:2", "x=0:1:-1"]),
+        st.sampled_from(["", "y=0.1", "x=0.1", "theta2=0.1", "y=nan", "y=[1,2]", "y=abc"]),
+    )
+
+
+def run_cli(argv: list[str]) -> tuple[int, str, str]:
+    from parakin.cli import main
+
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            code = main(argv)
+        except SystemExit as exit_:  # argparse: usage errors exit 2, --help 0
+            code = exit_.code if isinstance(exit_.code, int) else 2
+    return code, stdout.getvalue(), stderr.getvalue()
+
+
+def test_cli_exits_0_1_or_2_and_1_only_for_no_solution(tmp_path):
+    """Issue 18 item 12: any command line of any subcommand exits 0 (done), 1 (no solution: the
+    message says so) or 2 (a named error, usage); never an exception out of main, never 1 (or the
+    'internal error' status) with a traceback."""
+    names = st.sampled_from([*NAMES, "no_such_mechanism", "x" * 300, "../nowhere"])
+    values = st.one_of(st.floats(-2, 2), st.sampled_from([np.nan, np.inf, 1e300, 0.0]))
+    checked = []
+
+    @fz.fuzz_settings(40)
+    @given(argv=cli_arguments(names, values, tmp_path))
+    def property_holds(argv):
+        got = fz.answer(lambda: run_cli(argv))
+        assert got.error is None, f"parakin {' '.join(argv)} raised {got.error!r}"
+        code, _, err = got.result
+        assert code in (0, 1, 2), f"parakin {' '.join(argv)} exited {code}:\n{err[-2000:]}"
+        assert "Traceback" not in err, f"parakin {' '.join(argv)} printed a traceback:\n{err[-2000:]}"
+        if code == 1:
+            assert "no " in err.lower(), f"parakin {' '.join(argv)} exited 1 without 'no solution':\n{err[-2000:]}"
+        checked.append(code)
+
+    first = NAMES[0]
+    for argv in (["ik", first, "--param", "limits=[1, 2]", "--pose", "0", "0", "0"], ["fk", first, "--actuated"],
+                 ["list"], ["sweep", first, "reachable", "--axis", "x=0:0.1:3", "--fixed", "x=0.1"]):  # fmt: skip
+        property_holds = example(argv=argv)(property_holds)
+    property_holds()
+    assert len(checked) >= 30
+
+
+# ---------------------------------------------------------------------------- item 13: manifest paths
+ESCAPES = ("../x.h", "../../x.h", "sub/../../x.h", "..", "a/../../../x.h", "~/x.h", "")
+
+
+def smallest_package() -> Path:
+    """The generated package with the fewest bytes (copied for each manifest case)."""
+    from parakin.package import discover
+
+    sizes = {path: sum(f.stat().st_size for f in path.iterdir() if f.is_file()) for path in discover().values()}
+    return min(sizes, key=sizes.get)
+
+
+def files_under(root: Path) -> set[Path]:
+    return {p for p in root.rglob("*") if p.is_file()}
+
+
+def test_manifest_names_and_files_outside_the_package_are_refused(tmp_path):
+    """Issue 18 item 13: a manifest whose name or C file lists (sources, headers, header) point
+    outside the package folder (``..``, absolute paths, separators in the name) is refused when
+    read, by a ParakinError, and nothing is written outside the folders asked for."""
+    source = smallest_package()
+    manifest = json.loads((source / "manifest.json").read_text())
+    fields = ["name", "c.sources", "c.headers", "c.header"]
+    checked = []
+
+    @fz.fuzz_settings(20)
+    @given(field=st.sampled_from(fields), value=st.sampled_from(ESCAPES + ("absolute", "a/b", "a\\b")))
+    def property_holds(field, value):
+        root = tmp_path / f"case{len(checked)}"
+        package = root / "one" / "two" / "package"
+        shutil.copytree(source, package)
+        (root / "one" / "x.h").write_text("/* outside */\n")
+        path = str(root / "one" / "x.h") if value == "absolute" else value
+        data = json.loads(json.dumps(manifest))
+        if field == "name":
+            data["name"] = path
+        elif field == "c.header":
+            data["c"]["header"] = path
+        else:
+            key = field.split(".")[1]
+            data["c"][key] = [*data["c"][key], path]
+        (package / "manifest.json").write_text(json.dumps(data))
+        before = files_under(root)
+        out = root / "one" / "two" / "out"
+        for label, call in (
+            ("parakin.load", lambda: parakin.load(package, backend="numpy")),
+            ("parakin.metadata", lambda: parakin.metadata(package)),
+            ("export_c", lambda: __import__("parakin.package").package.GeneratedPackage(package).export_c(out)),
+        ):
+            got = fz.answer(call)
+            assert isinstance(got.error, ParakinError), f"{label} of a manifest with {field} = {path!r}: {got.error!r}"
+        assert files_under(root) == before, f"files written: {sorted(files_under(root) - before)}"
+        checked.append(field)
+
+    property_holds = example(field="name", value="../../x.h")(property_holds)
+    property_holds = example(field="c.headers", value="../../x.h")(property_holds)
+    property_holds()
+    assert len(checked) >= 15
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_export_c_writes_only_inside_its_folder(name, tmp_path):
+    """Issue 18 item 13: export_c writes the package's C files into its folder and nowhere else."""
+    from parakin.package import GeneratedPackage
+
+    out = tmp_path / "deep" / "out"
+    before = files_under(tmp_path)
+    written = GeneratedPackage.find(name).export_c(out)
+    assert written, "nothing exported"
+    for path in written:
+        assert Path(path).resolve().is_relative_to(out.resolve()), f"{path} is outside {out}"
+    assert files_under(tmp_path) - before == {Path(p) for p in written}
