@@ -582,6 +582,21 @@ def _recorded(record: Mapping[str, Any] | None, names: Sequence[str]) -> dict[in
     return recorded
 
 
+def _structure_matches(store: Path, dataset: xarray.Dataset, rows: tuple[int, ...]) -> bool:
+    """Every variable of the sweep is an array of the store with its shape, dtype and chunk rows."""
+    import zarr
+
+    try:
+        for name, variable in dataset.data_vars.items():
+            array = zarr.open_array(str(store / str(name)), mode="r")
+            if array.shape != variable.shape or array.dtype != variable.dtype or array.chunks[0] != rows[0]:
+                return False
+    # an array whose metadata is missing or unreadable: the structure is not the sweep's
+    except Exception:
+        return False
+    return True
+
+
 def _scratch(store: Path) -> Path:
     """The folder a store is built in before it is renamed into place, emptied: parakin's own (a
     left-over one is what a kill during initialisation leaves)."""
@@ -629,9 +644,11 @@ def _compute_into(
         owner = record.get("spec") if record is not None else _store_spec(store)
         if owner != spec:
             raise BadInputError(f"{store} holds another sweep; remove it or choose another store")
-        if record is None:  # nothing verified to keep; metadata perhaps partial: initialise it anew
+        if record is None or not _structure_matches(store, dataset, rows):
+            # nothing verified to keep, or metadata a kill or an edit left partial: initialise anew
             store.rename(_scratch(store))
             _initialise(dataset, store)
+            record = None
         recorded = _recorded(record, names)
     finished: dict[int, dict[str, str]] = {}
     for k, sums in recorded.items():

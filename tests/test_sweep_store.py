@@ -200,3 +200,18 @@ def test_an_empty_folder_is_an_empty_store_and_a_foreign_folder_is_refused(tmp_p
     with pytest.raises(parakin.BadInputError, match="holds another sweep"):
         _stored(foreign)
     assert (foreign / "notes.txt").read_text() == "mine"
+
+
+def test_damaged_metadata_or_record_rebuilds_the_store(tmp_path, fresh):
+    """A variable's zarr metadata deleted, or a record that is not JSON: the store is still this
+    sweep's (its own attributes say so), rebuilt and recomputed, not read."""
+    store = tmp_path / "s.zarr"
+    _stored(store)
+    (store / "type_ii_distance" / "zarr.json").unlink()
+    again = _stored(store)
+    assert again.attrs["chunks_computed"] == 4
+    _assert_equal_to(again, fresh)
+    (store / "finished.json").write_text('{"spec": "trunc')
+    again = _stored(store)
+    assert again.attrs["chunks_computed"] == 4
+    _assert_equal_to(again, fresh)
