@@ -76,6 +76,10 @@ def test_a_plot_marks_the_flag_as_its_own_region(tmp_path):
     status_ax = plot_sweep(result, "modes_status")
     labels = [t.get_text() for t in status_ax.figure.axes[-1].get_yticklabels()]
     assert labels == ["ok", "nonfinite", "degenerate"]
+    line = sweep("sam", ["modes"], {"theta1": np.linspace(-0.3, 0.3, 7)}, fixed={**SAM_OTHERS, "theta4": 0.0})
+    assert int(np.isnan(line.modes.values).sum()) == 1  # theta1 = theta4 = 0
+    curve_ax = plot_sweep(line, "modes")
+    assert [c.get_gid() for c in curve_ax.collections] == ["flag degenerate"]
 
 
 def test_actuated_inputs_not_swept_can_be_fixed():
