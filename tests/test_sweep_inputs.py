@@ -185,3 +185,32 @@ def test_a_planar_translation_mechanism_sweeps_over_x_and_y():
     np.testing.assert_array_equal(result.reachable.values[clear], expected[clear])
     with pytest.raises(parakin.BadInputError, match="axis 'z' is not a pose coordinate"):
         sweep(m, ["reachable"], {"x": xs, "z": [0.0]})
+
+
+def test_a_planar_translation_package_sweeps_over_x_and_y(tmp_path):
+    """The five-bar's package with its manifest's pose kind set to 'planar_translation' (what the
+    regenerated five-bar declares; its kernels do not change): the sweep takes (x, y), no z, and
+    gives the same map as the five-bar swept over x, y at z = 0."""
+    import shutil
+
+    source = parakin.load("five_bar").package.path
+    package = tmp_path / "five_bar"
+    shutil.copytree(source, package, ignore=shutil.ignore_patterns("__pycache__"))
+    manifest = json.loads((package / "manifest.json").read_text())
+    manifest["pose_kind"] = "planar_translation"
+    (package / "manifest.json").write_text(json.dumps(manifest))
+    m = parakin.load(str(package), backend="numpy")
+    assert m.manifest.pose_kind == "planar_translation"
+    axes = {"x": np.linspace(-0.5, 0.5, 21), "y": np.linspace(-0.3, 0.6, 19)}
+    quantities = ["reachable", "type_ii_distance", "type_i_distance"]
+    planar = sweep(m, quantities, axes)
+    reference = sweep("five_bar", quantities, axes, backend="numpy")
+    for name in quantities:
+        np.testing.assert_array_equal(planar[name].values, reference[name].values, err_msg=name)
+    assert json.loads(planar.attrs["fixed"]) == {}  # nothing left to fix: (x, y) is the whole pose
+    with pytest.raises(parakin.BadInputError, match="axis 'z' is not a pose coordinate"):
+        sweep(m, ["reachable"], {"x": axes["x"], "z": [0.0]})
+    line = sweep(m, ["reachable"], {"x": axes["x"]}, fixed={"y": 0.3})
+    expected, margin = _five_bar_reachable(axes["x"], np.full(21, 0.3), m.parameters)
+    assert (margin > 1e-9).all() and expected.any() and (~expected).any()
+    np.testing.assert_array_equal(line.reachable.values, expected)
