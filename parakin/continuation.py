@@ -136,8 +136,9 @@ def trace_self_motion(
 
 @dataclass(frozen=True)
 class LeastSquares:
-    """The passive values minimising |residual|_2 for locked actuated values, the pose, the
-    residual vector at the optimum, its norm and the iterations used."""
+    """The passive values minimising |residual|_2 for locked actuated values, the pose (NaN
+    where those values give no rigid pose: see ``Mechanism.platform_pose``), the residual vector
+    at the optimum, its norm and the iterations used."""
 
     passive: Array
     pose: Array
@@ -170,8 +171,11 @@ def least_squares_configuration(m: Mechanism, actuated: Array, start: Array, ite
             damping *= 4
             if damping > 1e12:
                 break
-    pose = m.platform_pose(theta, q)
-    return LeastSquares(q, pose, r, float(np.sqrt(cost)), used)
+    # inputs that no configuration satisfies leave q open: its pose is NaN where the pose
+    # kernel then gives no rigid transform (``Mechanism.platform_pose`` would refuse it)
+    kernel = m.backend.call("platform_pose", theta, q, m.params)["pose"]
+    pose, rigid = m._rigid_pose(theta, q, kernel)
+    return LeastSquares(q, np.where(rigid[..., None, None], pose, np.nan), r, float(np.sqrt(cost)), used)
 
 
 __all__ = ["LeastSquares", "SelfMotion", "least_squares_configuration", "trace_self_motion"]

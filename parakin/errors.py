@@ -18,6 +18,10 @@ class UnknownMechanismError(BadInputError, KeyError):
         return str(self.args[0])
 
 
+class NoSuchModeError(BadInputError, IndexError):
+    """An assembly mode (or slot) index outside the result: the message names the count."""
+
+
 class ArchitectureSingularityWarning(UserWarning):
     """The loaded geometry is singular at every pose (an architecture singularity): unusable."""
 
@@ -88,9 +92,17 @@ def at_index(index: tuple[int, ...]) -> str:
 
 
 def raise_for_newton_status(
-    status: object, residual: object, iterations: object, what: str, tolerance: float, max_iterations: int
+    status: object,
+    residual: object,
+    iterations: object,
+    what: str,
+    tolerance: float,
+    max_iterations: int,
+    guess: object = None,
 ) -> None:
-    """Raise the error of the first failed entry of a Newton batch (arrays of equal shape)."""
+    """Raise the error of the first failed entry of a Newton batch (arrays of equal shape).
+    Callers validate inputs first, so a non-finite status means the loop closure is not defined
+    at an iterate: at the guess (``guess`` (..., n_p), named in the message) or later."""
     import numpy as np
 
     failed = np.asarray(status) != NEWTON_OK
@@ -102,7 +114,15 @@ def raise_for_newton_status(
     reached = float(np.asarray(residual)[index])
     steps = int(np.asarray(iterations)[index])
     if code == NEWTON_NONFINITE:
-        raise BadInputError(f"{what}{at}: non-finite actuated input or guess")
+        where = "the guess" if steps == 0 else f"iterate {steps} (from the guess)"
+        if guess is not None:
+            start = np.asarray(guess)
+            values = np.broadcast_to(start, np.shape(np.asarray(status)) + start.shape[-1:])[index]
+            where += f" {np.array2string(values, precision=6, separator=', ')}"
+        raise BadInputError(
+            f"{what}{at}: the loop closure is undefined (NaN) at {where}: the model has no value there "
+            "(e.g. a zero quaternion); pass another guess"
+        )
     if code == NEWTON_SINGULAR:
         raise SingularConfigurationError(
             f"{what}{at}: the loop-closure Jacobian is singular (a type II singularity) after {steps} "

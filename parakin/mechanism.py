@@ -22,6 +22,7 @@ from parakin.errors import (
     NEWTON_SINGULAR,
     NEWTON_WRONG_BASIN,
     BadInputError,
+    InconsistentInputError,
     SelfMotionError,
     SingularConfigurationError,
     UnreachablePoseError,
@@ -34,7 +35,7 @@ from parakin.linalg import pivoted_solve
 from parakin.manifest import Capabilities, Manifest, Variable
 from parakin.modes import assemble, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
-from parakin.pose import as_array, transform_from_pose, wrap_angle
+from parakin.pose import RIGID_TOLERANCE, as_array, nearest_rigid, rigidity_error, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
 from parakin.validation import MAX_MAGNITUDE, integer_in_range, newton_tolerance, positive_number, within_ranges
@@ -164,8 +165,36 @@ class Mechanism:
 
     # ------------------------------------------------------------------ pose kernels
     def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
-        """^B_P T reached by the first leg from joint values (the forward chain, eq 2-3)."""
-        return self._finite("platform_pose", self._actuated(actuated), self._passive(passive))["pose"]
+        """^B_P T from joint values through the mechanism's pose kernel (e.g. the first leg's
+        forward chain, eq 2-3): always a rigid transform (rotation orthonormal to rounding).
+        A kernel that reads the platform from several legs gives a rigid pose only where the
+        joint values close the loop: elsewhere (rotation off orthonormal by more than 1e-6, the
+        tolerance of a pose input) InconsistentInputError names the batch index and the
+        loop-closure residual."""
+        theta, q = self._actuated(actuated), self._passive(passive)
+        pose, rigid = self._rigid_pose(theta, q, self._finite("platform_pose", theta, q)["pose"])
+        if not rigid.all():
+            index = first_index(~rigid)
+            with np.errstate(all="ignore"):
+                closure = self.backend.call("loop_closure", theta, q, self.params)["residual"]
+            shape = np.broadcast_shapes(theta.shape[:-1], q.shape[:-1])
+            residual = np.abs(np.broadcast_to(closure, shape + closure.shape[-1:])[index]).max(initial=0.0)
+            rotation = np.broadcast_to(pose, shape + (4, 4))[index][:3, :3]
+            raise InconsistentInputError(
+                f"platform_pose{at_index(index)}: the joint values do not close the loop (closure residual "
+                f"{residual:.3g}, tolerance {self.tolerances['closure']:g}) and give no rigid pose "
+                f"(|R^T R - I| = {float(rigidity_error(pose[index])):.3g}, det R = {np.linalg.det(rotation):.4g}); "
+                "pass joint values that close (from forward_pose, forward_pose_all or inverse_pose)"
+            )
+        return pose
+
+    def _rigid_pose(self, theta: Array, q: Array, pose: Array) -> tuple[Array, np.ndarray]:
+        """The pose kernel's output made rigid to rounding, and where it was rigid to the pose
+        input tolerance (1e-6) with det R > 0 (elsewhere the value is returned unchanged)."""
+        error = rigidity_error(pose)
+        with np.errstate(invalid="ignore"):
+            rigid = np.asarray((error <= RIGID_TOLERANCE) & (np.linalg.det(np.nan_to_num(pose[..., :3, :3])) > 0))
+        return nearest_rigid(pose, np.where(rigid, error, 0.0)), rigid
 
     def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]:
         """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
@@ -241,16 +270,18 @@ class Mechanism:
         return self._passive(array)
 
     def _closest_mode_to_home(self, actuated: Array) -> Array:
-        """Without a guess: the closed-form assembly mode nearest the home configuration."""
+        """Without a guess: the assembly mode nearest the home configuration, or home itself
+        where the input has no mode. Only valid modes seed Newton: a slot that is not a mode
+        (a complex endpoint, a candidate that did not close) can hold any value."""
         modes = self.forward_pose_all(actuated, strict=False)
         difference = modes.passive - self.home_passive
         difference = np.where(self._angular_passive, wrap_angle(difference), difference)
-        distance = np.abs(difference).max(-1) + np.where(modes.valid | modes.real, 0.0, 1e6)
+        distance = np.where(modes.valid, np.abs(difference).max(-1), np.inf)
         distance = np.where(np.isfinite(distance), distance, np.inf)  # argmin would pick a NaN
         best = np.argmin(distance, axis=-1)
         fallback = np.broadcast_to(self.home_passive, modes.passive.shape[:-2] + self.home_passive.shape)
         chosen = np.take_along_axis(modes.passive, best[..., None, None], axis=-2)[..., 0, :]
-        return np.where(np.asarray(modes.real.any(-1))[..., None], chosen, fallback)
+        return np.where(np.asarray(modes.valid.any(-1))[..., None], chosen, fallback)
 
     def passive_from_pose(self, actuated: ArrayLike, pose: ArrayLike) -> Array:
         """The passive values of the inverse branch whose actuated values match ``actuated``."""
@@ -280,11 +311,14 @@ class Mechanism:
         """Forward pose by Newton on the loop closure in the passive variables.
 
         ``guess``: a previous result (tracking), passive values (..., n_p), a pose (..., 4, 4), or
-        None: then the closed-form assembly mode nearest the home configuration (eq 15 for SAM)
-        seeds Newton, or the home configuration itself when there is no closed form. The residual is the position difference and rotation
-        error between the legs (max-norm, metres and radians). With ``strict``, non-convergence
-        raises ConvergenceError (with the residual reached) and a singular Newton matrix raises
-        SingularConfigurationError.
+        None: then the valid assembly mode nearest the home configuration (eq 15 for SAM) seeds
+        Newton, or the home configuration itself when there is no closed form or no mode. The
+        residual is the position difference and rotation error between the legs (max-norm,
+        metres and radians). With ``strict``, non-convergence raises ConvergenceError (with the
+        residual reached), a singular Newton matrix SingularConfigurationError, and a loop
+        closure that is not defined at the guess (e.g. a zero quaternion) BadInputError naming
+        it, the same on every backend. An entry that did not converge (``strict=False``) keeps
+        its guess as ``passive``; its ``pose`` is NaN unless that guess gives a rigid pose.
         """
         theta = self._actuated(actuated)
         tolerance = newton_tolerance(tolerance)
@@ -312,8 +346,12 @@ class Mechanism:
         passive, pose, residual, iterations, status = solved[:5]
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
         converged = status == STATUS_OK
+        # an entry that did not converge keeps its guess, whose pose is NaN where that guess
+        # does not close into a rigid pose (a kernel reading several legs); converged ones are
+        pose, rigid = self._rigid_pose(theta, passive, pose)
+        pose = np.where(rigid[..., None, None], pose, np.nan)
         if strict:
-            raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations)
+            raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations, start)
         return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))
 
     def _newton_python(

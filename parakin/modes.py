@@ -325,7 +325,8 @@ def _settle(
     q = np.where(located[..., None], q, 0.0)
     with np.errstate(all="ignore"):
         closure = m.backend.call("loop_closure", theta_slots, q, m.params)
-    norm = np.fmax.reduce(np.abs(closure["residual"]), axis=-1, initial=0.0)
+    # a NaN entry makes the whole closure undefined (np.fmax would drop it)
+    norm = np.abs(closure["residual"]).max(-1, initial=0.0)
     norm = np.where(np.isnan(norm), np.inf, norm)
     aligned = (closure["alignment"] > 0).all(-1)
     residual = np.where(outcome < 0, norm, np.nan)
@@ -456,18 +457,21 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> Assembly
 
     outcome = shaped("outcome")
     valid = outcome == codes["mode"]
+    kind, kinds = shaped("root_kind"), m.manifest.abi.root_kinds
     return AssemblyModes(
         actuated=theta,
         poses=shaped("poses"),
         passive=shaped("passive"),
         residual=shaped("residual"),
         root=shaped("roots"),
-        real=shaped("root_kind") >= 0,
+        # real: a root kind that is real (a simple root or a cluster of real roots), or a slot
+        # polished into a mode; near-real pairs, complex endpoints and failed paths are not
+        real=np.isin(kind, [kinds.index("simple"), kinds.index("cluster")]) | valid,
         valid=valid,
         count=shaped("count"),
         input_independent=outcome == codes["input_independent"],
         outcome=outcome,
-        root_kind=shaped("root_kind"),
+        root_kind=kind,
         conditioning=shaped("conditioning"),
         real_roots=shaped("real_roots"),
         near_roots=shaped("near_roots"),

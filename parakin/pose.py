@@ -16,25 +16,44 @@ from parakin.validation import as_array
 Array = NDArray[np.float64]
 
 
-def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = 1e-6) -> Array:
+#: how far from rigid (``rigidity_error``) a pose may be and still be read as rigid (then made exact)
+RIGID_TOLERANCE = 1e-6
+
+
+def as_pose(value: ArrayLike, name: str = "pose", tolerance: float = RIGID_TOLERANCE) -> Array:
     """A (..., 4, 4) rigid transform: checked for a proper rotation block and a [0 0 0 1] row
     (to ``tolerance``); a rotation block that is off by more than rounding is replaced by the
     nearest rotation (polar factor), so that solvers see an exact pose."""
     pose = as_array(value, name, (4, 4))
+    orthogonality = rigidity_error(pose)
+    if (orthogonality > tolerance).any():
+        worst = float(orthogonality.max())
+        raise BadInputError(f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)")
+    if (np.linalg.det(pose[..., :3, :3]) < 0).any():
+        raise BadInputError(f"{name} has a reflection (det R < 0), not a rotation")
+    return nearest_rigid(pose, orthogonality)
+
+
+def rigidity_error(pose: Array) -> Array:
+    """How far (..., 4, 4) matrices are from rigid transforms: max-norm of R^T R - I and of the
+    last row minus [0 0 0 1] (NaN propagates). A reflection (det R < 0) is not measured here."""
     rotation = pose[..., :3, :3]
     gram = np.einsum("...ji,...jk->...ik", rotation, rotation)
     orthogonality = np.abs(gram - np.eye(3)).max(axis=(-2, -1))
-    if (orthogonality > tolerance).any() or (np.abs(pose[..., 3, :] - [0, 0, 0, 1]) > tolerance).any():
-        worst = float(orthogonality.max())
-        raise BadInputError(f"{name} is not a rigid transform (|R^T R - I| = {worst:.3g}, last row must be 0 0 0 1)")
-    if (np.linalg.det(rotation) < 0).any():
-        raise BadInputError(f"{name} has a reflection (det R < 0), not a rotation")
-    inexact = orthogonality > 4 * np.finfo(float).eps
-    if np.any(inexact):
-        u, _, vt = np.linalg.svd(rotation)
-        pose = pose.copy()
-        pose[..., :3, :3] = np.where(np.asarray(inexact)[..., None, None], u @ vt, rotation)
-        pose[..., 3, :] = [0.0, 0.0, 0.0, 1.0]
+    return np.maximum(orthogonality, np.abs(pose[..., 3, :] - [0, 0, 0, 1]).max(-1))
+
+
+def nearest_rigid(pose: Array, error: Array) -> Array:
+    """``pose`` with the rotation block of every entry whose ``rigidity_error`` exceeds rounding
+    replaced by the nearest rotation (polar factor) and its last row set to [0 0 0 1]."""
+    inexact = np.asarray(error > 4 * np.finfo(float).eps)
+    if not inexact.any():
+        return pose
+    rotation = pose[..., :3, :3]
+    u, _, vt = np.linalg.svd(np.where(np.isfinite(rotation), rotation, 0.0))
+    pose = pose.copy()
+    pose[..., :3, :3] = np.where(inexact[..., None, None], u @ vt, rotation)
+    pose[..., 3, :] = np.where(inexact[..., None], [0.0, 0.0, 0.0, 1.0], pose[..., 3, :])
     return pose
 
 
@@ -108,11 +127,15 @@ POSE_KINDS = {
     "rotation": "^B_P T (..., 4, 4) or R (..., 3, 3)",
     "planar": "^B_P T (..., 4, 4) or (x, y, phi) (..., 3): rotation phi about z, in the plane z = 0",
     "translation": "^B_P T (..., 4, 4) or the position (x, y, z) (..., 3), with R = I",
+    "planar_translation": "^B_P T (..., 4, 4) or the position (x, y) (..., 2) in the plane z = 0, with R = I",
 }
 
 
 def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array:
-    """^B_P T (..., 4, 4) from any pose form of a mechanism's pose kind (``POSE_KINDS``)."""
+    """^B_P T (..., 4, 4) from any pose form of a mechanism's pose kind (``POSE_KINDS``), checked
+    to be a pose of that kind (BadInputError naming how far it is off)."""
+    if kind not in POSE_KINDS:
+        raise BadInputError(f"unknown pose kind {kind!r}; known: {sorted(POSE_KINDS)}")
     array = as_array_any(pose, name)
     if kind in ("rotation",) and array.shape[-2:] == (3, 3):
         full = np.zeros(array.shape[:-2] + (4, 4))
@@ -128,6 +151,12 @@ def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array
         else:
             full[..., :3, 3] = array
         array = full
+    elif kind == "planar_translation" and array.ndim >= 1 and array.shape[-1] == 2:
+        full = np.broadcast_to(np.eye(4), array.shape[:-1] + (4, 4)).copy()
+        full[..., :2, 3] = array
+        array = full
+    if array.shape[-2:] != (4, 4):
+        raise BadInputError(f"{name} must be {POSE_KINDS[kind]}, got shape {array.shape}")
     pose = as_pose(array, name)
     _check_kind(pose, kind, name)
     return pose
@@ -135,7 +164,9 @@ def transform_from_pose(pose: ArrayLike, kind: str, name: str = "pose") -> Array
 
 def _check_kind(pose: Array, kind: str, name: str, tolerance: float = 1e-6) -> None:
     """A pose a mechanism of this kind can take: an orienting platform has no translation, a
-    translating one no rotation, a planar one moves in z = 0 about z."""
+    translating one no rotation, a planar one moves in z = 0 about z, a planar translating one
+    moves in z = 0 without rotation. ``measure`` in the message: max-norm of the offending part
+    (metres for a translation, rotation-matrix entries for a rotation)."""
     rotation, translation = pose[..., :3, :3], pose[..., :3, 3]
     problems = {
         "rotation": (np.abs(translation).max(-1, initial=0.0), "a translation (an orienting platform has none)"),
@@ -147,9 +178,13 @@ def _check_kind(pose: Array, kind: str, name: str, tolerance: float = 1e-6) -> N
             np.maximum(np.abs(translation[..., 2]), np.abs(rotation[..., 2, :] - [0, 0, 1]).max(-1)),
             "motion out of the plane z = 0 (a planar platform translates in x, y and turns about z)",
         ),
+        "planar_translation": (
+            np.maximum(np.abs(translation[..., 2]), np.abs(rotation - np.eye(3)).max(axis=(-2, -1))),
+            "a z offset or a rotation (a planar translating platform moves in x, y in the plane z = 0)",
+        ),
+        # a full rigid transform: as_pose has checked everything it can be
+        "transform": (np.zeros(pose.shape[:-2]), ""),
     }
-    if kind not in problems:
-        return
     measure, what = problems[kind]
     bad = ~(measure <= tolerance)
     if np.any(bad):

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from parakin.errors import NoSuchModeError, at_index, first_index
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -62,7 +65,16 @@ class AssemblyModes:
 
     Slot r * B + b holds root r (ascending, then roots at infinity) with branch combination b.
     ``valid``: a mode (real root, closed and polished, within joint limits, not a repeat of an
-    earlier mode, not input-independent); ``count`` = valid modes per input.
+    earlier mode, not input-independent); ``count`` = valid modes per input. ``real``: the slot's
+    root is real (root kind simple or cluster) or its candidate was polished into a mode; complex,
+    near-real pairs, failed paths and empty slots are not real.
+
+    Modes are indexed as modes: ``mode(k)`` is the k-th valid slot (slot order), 0 <= k < count;
+    for one input ``len(modes)`` is ``count`` and iterating gives each mode as a Configuration.
+    For a batch, ``mode(k)`` is mode k of every input (each must have more than k modes, else
+    NoSuchModeError naming the input), and ``len``/iteration refuse the batch (the counts differ:
+    index ``valid`` or call ``mode``). ``slot(s)`` is slot s whatever it holds (its ``outcome``
+    says whether it is a mode).
     ``outcome`` (..., M) says what became of every slot (codes: ``OUTCOMES``); ``root_kind`` is
     the kind of the slot's root (0 simple, 1 cluster of numerically multiple roots, 2 complex
     pair near the real axis, -1 no root). ``conditioning``: pivot ratio of the closure Jacobian
@@ -88,9 +100,52 @@ class AssemblyModes:
     outcomes: tuple[str, ...] = ()
     branch_count: int = 1
 
-    def mode(self, index: int) -> Configuration:
-        """Mode ``index`` as a configuration."""
+    def slot(self, index: int) -> Configuration:
+        """Slot ``index`` (0 <= index < M) as a configuration, whether or not it holds a mode
+        (``outcome[..., index]`` says; a slot that is not a mode need not close the loop)."""
+        slots = self.valid.shape[-1]
+        if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not 0 <= index < slots:
+            raise NoSuchModeError(f"slot index must be an integer in [0, {slots}), got {index!r}")
         return Configuration(self.actuated, self.passive[..., index, :], self.poses[..., index, :, :])
+
+    def mode(self, index: int) -> Configuration:
+        """Mode ``index`` (0 <= index < count): the index-th valid slot, in slot order. For a batch,
+        mode ``index`` of every input. NoSuchModeError (naming count) when an input has fewer."""
+        count = np.asarray(self.count)
+        if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer):
+            raise NoSuchModeError(f"mode index must be an integer, got {type(index).__name__} {index!r}")
+        short = ~(count > index) | (index < 0)
+        if np.any(short):
+            where = first_index(short)
+            raise NoSuchModeError(
+                f"no mode {index}{at_index(where)}: there are {int(count[where])} modes (count), "
+                f"indexed 0 to {int(count[where]) - 1}; slots are reachable by slot(s)"
+            )
+        # position of the index-th True of valid along the slot axis
+        rank = np.cumsum(self.valid, axis=-1) - 1
+        slot = np.argmax(self.valid & (rank == index), axis=-1)
+        passive = np.take_along_axis(self.passive, slot[..., None, None], axis=-2)[..., 0, :]
+        poses = np.take_along_axis(self.poses, slot[..., None, None, None], axis=-3)[..., 0, :, :]
+        return Configuration(self.actuated, passive, poses)
+
+    def __len__(self) -> int:
+        """The number of modes of a single input (``count``); a batch has one count per input."""
+        count = np.asarray(self.count)
+        if count.ndim:
+            raise NoSuchModeError(
+                f"len() needs a single input; this result holds a batch {count.shape} with counts per "
+                "input in .count (use mode(k) for mode k of every input, or index .valid)"
+            )
+        return int(count)
+
+    def __bool__(self) -> bool:
+        """Always true, as a result object (not ``count > 0``: a batch has no single count)."""
+        return True
+
+    def __iter__(self) -> Iterator[Configuration]:
+        """Each mode of a single input, in slot order (as ``mode(0)``, ``mode(1)``, ...)."""
+        for k in range(len(self)):
+            yield self.mode(k)
 
     def ill_conditioned(self, singular_ratio: float = 1e-10) -> Mask:
         """Valid modes whose closure Jacobian is singular to ``singular_ratio`` (a type II

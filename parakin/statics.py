@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike
 from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
 from parakin.pose import as_array
 from parakin.results import Array, Configuration, ForwardPose
+from parakin.validation import stiffness_matrix
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
@@ -101,15 +102,9 @@ def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Ar
 
 
 def _actuator_stiffness(m: Mechanism, actuator_stiffness: ArrayLike) -> Array:
-    n = len(m.actuated_names)
-    k = np.asarray(actuator_stiffness, dtype=float)
-    if k.shape == (n,):
-        k = np.diag(k)
-    if k.shape != (n, n):
-        raise BadInputError(f"actuator_stiffness must have shape ({n},) or ({n}, {n}), got {k.shape}")
-    if not np.isfinite(k).all():
-        raise BadInputError("actuator_stiffness must be finite")
-    return k
+    """K_q (n_a, n_a), validated (``validation.stiffness_matrix``: positive diagonal, or symmetric
+    positive definite)."""
+    return stiffness_matrix(actuator_stiffness, "actuator_stiffness", len(m.actuated_names))
 
 
 def stiffness(m: Mechanism, state: Configuration, actuator_stiffness: ArrayLike) -> Array:

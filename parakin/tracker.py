@@ -89,7 +89,12 @@ class ForwardPoseTracker:
         self.orientation = np.zeros(self.count, dtype=np.int32)
         self.first_step = np.zeros(self.count)
         self.mode_change = np.zeros(self.count, dtype=np.int32)
-        self.pose[...] = mechanism.platform_pose(self.actuated, self.passive)
+        # the start's pose; NaN where its joint values give no rigid pose (a start that does not
+        # close, e.g. the home configuration of the internal one-input job): never a non-rigid one
+        with np.errstate(all="ignore"):
+            kernel = mechanism.backend.call("platform_pose", self.actuated, self.passive, mechanism.params)["pose"]
+        pose, rigid = mechanism._rigid_pose(self.actuated, self.passive, kernel)
+        self.pose[...] = np.where(rigid[..., None, None], pose, np.nan)
         self._previous = self.passive.copy()
         self._previous_pose = self.pose.copy()
         self._previous_orientation = self._orientation_at(self.actuated, self.passive)
@@ -165,7 +170,13 @@ class ForwardPoseTracker:
         if self.status.any():  # the whole batch goes back to its previous, consistent state
             self._restore(np.ones(self.count, dtype=bool), previous_theta)
             raise_for_newton_status(
-                self.status, self.residual, self.iterations, "tracker", self._tolerance, self._max_iterations
+                self.status,
+                self.residual,
+                self.iterations,
+                "tracker",
+                self._tolerance,
+                self._max_iterations,
+                self._previous,
             )
         self._check_mode(previous_theta)
         return self.passive, self.pose

@@ -67,12 +67,21 @@ def positive_number(value: object, name: str, allow_zero: bool = False, maximum:
     return number
 
 
+#: the smallest Newton residual tolerance (m, rad): the closure's rounding floor reaches ~5e-15 on
+#: the shipped mechanisms (planar_3rpr, sps) and differs between the NumPy, CasADi and C kernels,
+#: so a smaller tolerance would converge on one backend and not another; 1e-13 is met by all
+MIN_TOLERANCE = 1e-13
+
+
 def newton_tolerance(value: object) -> float:
-    """A residual tolerance: between 1e-16 (below it doubles cannot tell convergence apart, and
-    backends would disagree on rounding) and 1."""
+    """A residual tolerance in [MIN_TOLERANCE, 1] (``MIN_TOLERANCE`` = 1e-13: below it rounding,
+    not the tolerance, decides convergence, and backends would disagree), or BadInputError."""
     number = positive_number(value, "tolerance")
-    if not 1e-16 <= number <= 1.0:
-        raise BadInputError(f"tolerance must be in [1e-16, 1], got {number:g}")
+    if not MIN_TOLERANCE <= number <= 1.0:
+        raise BadInputError(
+            f"tolerance must be in [{MIN_TOLERANCE:g}, 1], got {number:g} (below {MIN_TOLERANCE:g} the "
+            "closure's rounding decides, differently on each backend)"
+        )
     return number
 
 
@@ -118,3 +127,29 @@ def within_ranges(values: Array, names: Sequence[str], low: Array, high: Array, 
         k = where[-1]
         at = at_index(where[:-1])
         raise BadInputError(f"{what} {names[k]} = {values[where]:g}{at} is outside its range [{low[k]:g}, {high[k]:g}]")
+
+
+def stiffness_matrix(value: ArrayLike, name: str, size: int) -> Array:
+    """A stiffness (size, size): given as its positive diagonal (size,) (every entry > 0) or as a
+    full matrix, symmetric (to 1e-10 relative) and positive definite; real finite numbers only
+    (``as_array``). BadInputError naming the entry, the asymmetry or the smallest eigenvalue."""
+    k = as_array(value, name, ())
+    if k.shape == (size,):
+        bad = ~(k > 0)
+        if bad.any():
+            index = first_index(bad)
+            raise BadInputError(f"{name}[{index[0]}] = {k[index]:g}: every actuator stiffness must be > 0")
+        return np.diag(k)
+    if k.shape != (size, size):
+        raise BadInputError(f"{name} must have shape ({size},) or ({size}, {size}), got {k.shape}")
+    scale = np.abs(k).max(initial=0.0)
+    asymmetry = np.abs(k - k.T).max(initial=0.0)
+    if asymmetry > 1e-10 * scale:
+        where = first_index(np.abs(k - k.T) == asymmetry)
+        raise BadInputError(
+            f"{name} is not symmetric: entry {where} = {k[where]:g} but its transpose entry is {k[where[::-1]]:g}"
+        )
+    smallest = float(np.linalg.eigvalsh(k).min()) if size else 1.0
+    if not smallest > 0:
+        raise BadInputError(f"{name} is not positive definite: smallest eigenvalue {smallest:g} (must be > 0)")
+    return k

@@ -72,12 +72,12 @@ def configurations(m: parakin.Mechanism, rng: np.random.Generator, count: int = 
             if not solved.converged:
                 continue
             pose = solved.pose
-        else:
-            pose = m.platform_pose(actuated, passive)
         try:
+            if attempt % 2:
+                pose = m.platform_pose(actuated, passive)
             branches = m.inverse_pose(pose, strict=False)
-        except parakin.BadInputError:
-            continue  # the first leg's chain alone need not reach a rigid pose
+        except parakin.InconsistentInputError:
+            continue  # joint values that do not close need not give a rigid pose: refused
         for k in np.nonzero(branches.valid)[0]:
             state = branches.branch(int(k))
             if well_conditioned(m, state):
