@@ -4,11 +4,19 @@ Every mechanism is one file; its name is the file's stem (a Python identifier, u
 welcome) and its generated package is the folder ``generated/<name>/``. Mechanisms are found by
 listing ``mechanisms/`` (no registry) and built in parallel processes. Everything is written to
 a staging directory next to the destination and swapped in only when every mechanism succeeded,
-so a failure (or an interrupt) leaves the previous tree intact.
+so a failure (or an interrupt) leaves the previous tree intact. The swap is one atomic exchange
+of the two directories where the system has one (Linux ``renameat2``), else two renames whose
+half-done state (destination missing, the previous tree retired next to it) the next run
+restores before anything else; a kill at any instant therefore leaves the previous or the new
+complete tree. Nothing the generator did not write is deleted, moved or overwritten: a
+destination that holds other files is refused (``generate_file`` can write next to them with
+``force``).
 """
 
 from __future__ import annotations
 
+import ctypes
+import errno
 import importlib.util
 import json
 import os
@@ -17,9 +25,10 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
-from types import ModuleType
+from types import ModuleType, TracebackType
 from typing import Any
 
 import casadi
@@ -35,6 +44,32 @@ from .program import LoweredProgram
 MECHANISMS = Path(__file__).resolve().parent.parent / "mechanisms"
 GENERATED = Path(__file__).resolve().parent.parent / "generated"
 GENERATED_INIT = '"""Generated code only: written by `make generate`, never edited by hand."""\n'
+#: every file of a generated package, in the order written; ``{name}`` is the mechanism's name.
+#: Telling a package folder from a user's folder, and what ``force`` may overwrite, go by this list.
+PACKAGE_FILES = (
+    "manifest.json",
+    "numpy_kernels.py",
+    "casadi_functions.py",
+    "symbolic.py",
+    "kernels.c",
+    "kernels.h",
+    "driver.c",
+    "{name}.h",
+    "real_roots.h",
+    "example_main.c",
+    "README_C.md",
+)
+#: CasADi's generated C keeps every function's full ABI signature (``iw``, ``w``, ``mem``...)
+#: whether it uses the argument or not: the unused-parameter warning is silenced around its code
+#: (and only there), so that kernels.c compiles under -Wall -Wextra -Werror
+C_WARNINGS_OFF = (
+    '#if defined(__GNUC__)\n#pragma GCC diagnostic push\n#pragma GCC diagnostic ignored "-Wunused-parameter"\n#endif\n'
+)
+C_WARNINGS_ON = "#if defined(__GNUC__)\n#pragma GCC diagnostic pop\n#endif\n"
+#: test hook (never set in use): ``SECONDS`` to wait at each step of the swap, or ``STEP:SECONDS``
+#: to wait at that step only; every step is announced on stderr as ``parakin-test-pause STEP``,
+#: so that a test can kill a real build inside the window
+PAUSE_SWAP = "PARAKIN_TEST_PAUSE_SWAP"
 
 
 def discover(directory: Path = MECHANISMS) -> dict[str, Path]:
@@ -55,7 +90,8 @@ def validate_name(name: str) -> str:
 
 
 def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, ModuleType]:
-    """Import a mechanism file and call its ``build()``; the mechanism takes the file's name."""
+    """Import a mechanism file and call its ``build()``; the mechanism takes the file's name. An
+    error in the file is a GenerationError naming the file and the line where it happened."""
     name = validate_name(name or path.stem)
     spec = importlib.util.spec_from_file_location(f"parakin_mechanism_{name}", path)
     if spec is None or spec.loader is None:
@@ -68,12 +104,35 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
         mechanism = module.build()
     except GenerationError:
         raise
+    except SyntaxError as error:  # the line is the error's own, not a frame's
+        where = f", line {error.lineno}" if error.lineno and _same_file(error.filename, path) else ""
+        raise GenerationError(f"{path}{where}: SyntaxError: {error.msg}") from error
     except Exception as error:  # the file's own error, in one line with where it happened
-        raise GenerationError(f"{path}: {type(error).__name__}: {error}") from error
+        line = _last_line_in(error.__traceback__, path)
+        where = f", line {line}" if line is not None else ""
+        raise GenerationError(f"{path}{where}: {type(error).__name__}: {error}") from error
     if not isinstance(mechanism, Mechanism):
         raise GenerationError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
     mechanism.name = name
     return mechanism, module
+
+
+def _same_file(filename: str | None, path: Path) -> bool:
+    try:
+        return filename is not None and Path(filename).resolve() == path.resolve()
+    except OSError:
+        return False
+
+
+def _last_line_in(trace: TracebackType | None, path: Path) -> int | None:
+    """The line of the innermost frame of ``trace`` that runs the file ``path`` (the user's own
+    line, even when the error was raised deeper, inside SymPy or parakin), or None."""
+    line = None
+    while trace is not None:
+        if _same_file(trace.tb_frame.f_code.co_filename, path):
+            line = trace.tb_lineno
+        trace = trace.tb_next
+    return line
 
 
 def _c_sources(
@@ -133,7 +192,7 @@ def _write_package(
         "numpy_kernels.py": emit.render_numpy(mechanism.name, lowered),
         "casadi_functions.py": casadi_source,
         "symbolic.py": emit.render_symbolic(mechanism.name, derivation.symbolic),
-        "kernels.c": header + c_source,
+        "kernels.c": header + C_WARNINGS_OFF + c_source + C_WARNINGS_ON,
         "kernels.h": header + h_source,
         "driver.c": emit.render_c_driver(mechanism.name, lowered, manifest),
         f"{mechanism.name}.h": emit.render_c_header(mechanism.name, lowered, manifest),
@@ -141,28 +200,157 @@ def _write_package(
         + (emit.TEMPLATES / "real_roots.h").read_text(),
         **emit.render_c_example(mechanism.name, lowered, manifest),
     }
+    if list(files) != package_files(mechanism.name):  # the list that tells packages from user folders
+        raise GenerationError(
+            f"{mechanism.name}: PACKAGE_FILES {package_files(mechanism.name)} != written {list(files)}"
+        )
     for filename, text in files.items():
         (package / filename).write_text(text)
     return {"seconds": time.perf_counter() - started}
 
 
 def _format(directory: Path) -> None:
+    """Format the generated Python with fixed settings: no configuration file of the user's (or of
+    this repository's) can change the output, and no cache is written anywhere."""
     python_files = sorted(str(p) for p in directory.rglob("*.py"))
-    subprocess.run(
-        [sys.executable, "-m", "ruff", "format", "--quiet", "--line-length", "100", *python_files], check=True
-    )
+    command = [sys.executable, "-m", "ruff", "format", "--quiet", "--isolated", "--no-cache"]
+    command += ["--line-length", "100", "--target-version", "py311", *python_files]
+    subprocess.run(command, check=True, cwd=directory)
+
+
+def package_files(name: str) -> list[str]:
+    """The files a generated package of the mechanism ``name`` consists of (``PACKAGE_FILES``)."""
+    return [filename.format(name=name) for filename in PACKAGE_FILES]
+
+
+def _only_bytecode(folder: Path) -> bool:
+    """A ``__pycache__`` that Python wrote when the package was imported: nothing but .pyc files."""
+    return folder.is_dir() and not folder.is_symlink() and all(p.suffix == ".pyc" for p in folder.iterdir())
+
+
+def package_name(folder: Path) -> str | None:
+    """The mechanism name of ``folder`` if it is a generated package and holds nothing else: a
+    ``manifest.json`` the generator wrote (schema, name, the ``generator`` record) and only the
+    files of that package, plus Python's ``__pycache__``. None for anything else."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text())
+        entries = list(folder.iterdir())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(manifest, dict) or not isinstance(manifest.get("schema"), int):
+        return None
+    name, generator = manifest.get("name"), manifest.get("generator")
+    if not (isinstance(name, str) and name.isidentifier() and isinstance(generator, dict) and "source" in generator):
+        return None
+    allowed = set(package_files(name))
+    for entry in entries:
+        if entry.name == "__pycache__" and _only_bytecode(entry):
+            continue
+        if entry.name not in allowed or entry.is_symlink() or not entry.is_file():
+            return None
+    return name
+
+
+def _foreign(folder: Path) -> list[str]:
+    """The entries of the generated tree ``folder`` (``generated/``) that the generator did not
+    write: anything but its ``__init__.py``, ``__pycache__`` and generated packages."""
+    foreign = []
+    for entry in sorted(folder.iterdir()):
+        if entry.name == "__init__.py" and entry.is_file() and entry.read_text() == GENERATED_INIT:
+            continue
+        if entry.name == "__pycache__" and _only_bytecode(entry):
+            continue
+        if entry.is_dir() and not entry.is_symlink() and package_name(entry) is not None:
+            continue
+        foreign.append(entry.name)
+    return foreign
+
+
+def _retired(destination: Path) -> Path:
+    """Where the two-rename swap parks the previous tree (a name the generator owns)."""
+    return destination.with_name(f".{destination.name}.parakin-old")
+
+
+def _ours(folder: Path) -> bool:
+    """``folder`` is a tree the generator wrote (a package, or a generated tree of packages)."""
+    if not folder.is_dir() or folder.is_symlink():
+        return False
+    return package_name(folder) is not None or ((folder / "__init__.py").is_file() and not _foreign(folder))
+
+
+def _recover(destination: Path) -> None:
+    """Finish a two-rename swap that a kill interrupted, before anything else is decided: the
+    previous tree retired next to a missing ``destination`` is put back; one retired next to a
+    complete new tree is removed. A retired name that holds anything else is left alone."""
+    retired = _retired(destination)
+    if not retired.exists() or not _ours(retired):
+        return
+    if destination.exists() or destination.is_symlink():
+        shutil.rmtree(retired)
+    else:
+        retired.rename(destination)
+
+
+def _pause(step: str) -> None:
+    """The swap's test hook (``PARAKIN_TEST_PAUSE_SWAP``); does nothing unless it is set."""
+    value = os.environ.get(PAUSE_SWAP)
+    if value:
+        print(f"parakin-test-pause {step}", file=sys.stderr, flush=True)
+        only, _, seconds = value.rpartition(":")
+        if only in ("", step):
+            time.sleep(float(seconds))
+
+
+def _load_renameat2() -> Callable[..., int] | None:
+    """libc's ``renameat2`` (Linux, glibc 2.28+), or None where there is none."""
+    try:
+        function = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError, TypeError):
+        return None
+    function.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    function.restype = ctypes.c_int
+    return function  # type: ignore[no-any-return]
+
+
+_renameat2 = _load_renameat2()
+_AT_FDCWD = -100
+_RENAME_EXCHANGE = 2
+
+
+def _exchange(first: Path, second: Path) -> bool:
+    """Swap two existing directory entries in one atomic step; False where the system or the file
+    system cannot (then nothing happened)."""
+    if _renameat2 is None:
+        return False
+    if _renameat2(_AT_FDCWD, os.fsencode(first), _AT_FDCWD, os.fsencode(second), _RENAME_EXCHANGE) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP):
+        return False
+    raise OSError(code, os.strerror(code), str(first), None, str(second))
 
 
 def _swap_in(staging: Path, destination: Path) -> None:
-    """Replace ``destination`` by the finished ``staging`` folder: two renames, no partial state."""
-    if destination.exists():
-        retired = destination.with_name(f".{destination.name}.old")
-        shutil.rmtree(retired, ignore_errors=True)
-        destination.rename(retired)
+    """Replace ``destination`` by the finished ``staging`` folder so that a kill at any instant
+    leaves the previous or the new complete tree: one atomic exchange where the system has one
+    (the previous tree then sits under the staging name, which ``_remove_abandoned`` clears after
+    a kill), else two renames whose half-done state ``_recover`` restores."""
+    _pause("staged")
+    if not (destination.exists() or destination.is_symlink()):
         staging.rename(destination)
-        shutil.rmtree(retired)
-    else:
-        staging.rename(destination)
+        return
+    if _exchange(staging, destination):
+        _pause("exchanged")
+        shutil.rmtree(staging)
+        return
+    retired = _retired(destination)
+    if retired.exists():  # _recover ran first: anything still there is not ours
+        raise GenerationError(f"{retired} is in the way of the swap; move it away and run again")
+    destination.rename(retired)
+    _pause("retired")
+    staging.rename(destination)
+    _pause("renamed")
+    shutil.rmtree(retired)
 
 
 def _remove_abandoned(parent: Path) -> None:
@@ -193,12 +381,23 @@ def generate(
     workers: int | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Regenerate ``destination`` (default ``generated/``) for ``names`` (default: every file in
-    ``mechanisms/``; with names given, the other packages are kept). Atomic: all or nothing."""
+    ``mechanisms/``; with names given, the other packages are kept). Atomic: all or nothing. A
+    destination holding anything but a generated tree is refused before anything is written."""
     sources = discover() if sources is None else sources
     names = sorted(sources) if names is None else names
     unknown = sorted(set(names) - set(sources))
     if unknown:
         raise GenerationError(f"unknown mechanism(s) {unknown}; found in mechanisms/: {sorted(sources)}")
+    _recover(destination)
+    if destination.exists() or destination.is_symlink():
+        if not destination.is_dir():
+            raise GenerationError(f"{destination} is not a folder; pass a new folder to generate into")
+        foreign = _foreign(destination)
+        if foreign:
+            raise GenerationError(
+                f"{destination} holds files the generator did not write ({', '.join(foreign[:5])}"
+                f"{', ...' if len(foreign) > 5 else ''}); pass an empty or new folder"
+            )
     destination.parent.mkdir(parents=True, exist_ok=True)
     _remove_abandoned(destination.parent)
     staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=destination.parent))
@@ -217,7 +416,7 @@ def generate(
         if destination.exists() and partial:  # a partial rebuild keeps the other packages
             for path in destination.iterdir():
                 if path.is_dir() and path.name in sources and path.name not in names:
-                    shutil.copytree(path, staging / path.name)
+                    shutil.copytree(path, staging / path.name, ignore=shutil.ignore_patterns("__pycache__"))
         _swap_in(staging, destination)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
@@ -225,19 +424,48 @@ def generate(
     return dict(sorted(report.items()))
 
 
-def generate_file(path: Path, package: Path) -> dict[str, Any]:
+def generate_file(path: Path, package: Path, force: bool = False) -> dict[str, Any]:
     """``parakin generate FILE.py --out DIR``: one user mechanism file into the package folder
-    ``DIR`` (atomic: written next to it, then renamed)."""
+    ``DIR``. A new or empty folder, or a generated package (nothing but its files), is replaced
+    atomically (written next to it, then swapped in). A non-empty folder that holds anything
+    else is refused before anything is written, unless ``force``: then the package's files
+    (``package_files``: manifest.json, numpy_kernels.py, casadi_functions.py, symbolic.py,
+    kernels.c, kernels.h, driver.c, NAME.h, real_roots.h, example_main.c, README_C.md) are
+    written into it, each replaced atomically, overwriting files of those names and nothing else;
+    every other file stays. A file in place of ``DIR`` is refused, with or without ``force``."""
     path, package = Path(path).resolve(), Path(package).resolve()
     name = validate_name(path.stem)
-    package.parent.mkdir(parents=True, exist_ok=True)
+    _recover(package)
+    into_folder = False  # True: write next to the user's files (force), not swap the folder
+    if package.exists() or package.is_symlink():
+        if not package.is_dir():
+            raise GenerationError(f"--out {package} is a file, not a folder; pass a new folder to generate into")
+        if any(package.iterdir()) and package_name(package) is None:
+            if not force:
+                raise GenerationError(
+                    f"--out {package} is a non-empty folder that is not a generated package; pass a new"
+                    f" folder, or --force to write the package's files into it (other files are kept)"
+                )
+            in_the_way = [f for f in package_files(name) if (package / f).is_dir()]
+            if in_the_way:
+                raise GenerationError(f"--out {package}: {in_the_way} are folders where the package writes files")
+            into_folder = True
+    try:
+        package.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise GenerationError(f"--out {package}: cannot create its parent folder ({error})") from error
     _remove_abandoned(package.parent)
     staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=package.parent))
     try:
         report = generate_package(path, staging, name)
         _format(staging)
         staging.chmod(0o755)
-        _swap_in(staging, package)
+        if into_folder:
+            for filename in package_files(name):
+                os.replace(staging / filename, package / filename)
+            shutil.rmtree(staging)
+        else:
+            _swap_in(staging, package)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise

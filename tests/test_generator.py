@@ -10,7 +10,15 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
-from parakin.generator.build import GENERATED, GenerationError, discover, generate, generate_file, validate_name
+from parakin.generator.build import (
+    GENERATED,
+    GENERATED_INIT,
+    GenerationError,
+    discover,
+    generate,
+    generate_file,
+    validate_name,
+)
 from parakin.generator.trigpoly import factor_list, reduce_pythagorean
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -78,13 +86,14 @@ def test_partial_rebuild_keeps_a_mechanism_whose_name_extends_another(tmp_path):
 def test_generation_is_atomic(tmp_path):
     target = tmp_path / "generated"
     target.mkdir()
-    (target / "keep.txt").write_text("previous tree")
+    (target / "__init__.py").write_text(GENERATED_INIT)  # a previous (empty) generated tree
     broken = tmp_path / "broken.py"
     broken.write_text("def build():\n    raise RuntimeError('a mistake in the model')\n")
     sources = {"sphere2r": ROOT / "mechanisms" / "sphere2r.py", "broken": broken}
     with pytest.raises(RuntimeError, match="a mistake in the model"):
         generate(None, target, sources=sources, workers=1)
-    assert [p.name for p in target.iterdir()] == ["keep.txt"]
+    assert [p.name for p in target.iterdir()] == ["__init__.py"]
+    assert (target / "__init__.py").read_text() == GENERATED_INIT
     assert not list(tmp_path.glob(".generated-*"))
     with pytest.raises(GenerationError, match="unknown mechanism"):
         generate(["no_such_mechanism"], target, sources=sources)
@@ -144,7 +153,7 @@ def test_runtime_names_no_mechanism():
 #: per copied file: a pose, its inverse branch to take, and its forward modes must contain the pose
 ROUND_TRIP = {
     "sam": ("parakin.pose_from_xyz_euler([0.02, 0.03, 0.68, 0.1, 0.05, 0.08])", 2),
-    "five_bar": ("[0.03, 0.3, 0.0]", 1),
+    "five_bar": ("parakin.pose_from_xyz_euler([0.03, 0.3, 0.0, 0.0, 0.0, 0.0])", 1),  # the point, as a transform
 }
 
 
