@@ -7,7 +7,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .errors import GenerationError
-from .model import POSE_SYMBOLS, Mechanism
+from .model import POSE_KINDS, POSE_SYMBOLS, Mechanism
 
 
 def _names(symbols: list[sp.Symbol]) -> list[str]:
@@ -38,6 +38,19 @@ def check_variables(m: Mechanism) -> None:
     for symbol, (low, high) in m.limits.items():
         if not low < high:
             raise GenerationError(f"{m.name}: limits of {symbol} must satisfy low < high, got ({low}, {high})")
+
+
+def check_pose_kind(m: Mechanism) -> None:
+    """A known pose kind, and rate equations whose twist has that kind's components (a planar
+    translation has (vx, vy): a third component would be a motion the platform cannot make)."""
+    kind = POSE_KINDS.get(m.pose_kind)
+    if kind is None:
+        raise GenerationError(f"{m.name}: pose_kind {m.pose_kind!r} is not one of {sorted(POSE_KINDS)}")
+    if m.rates is not None and tuple(m.rates.twist) != kind.twist:
+        raise GenerationError(
+            f"{m.name}: the rate model's twist {list(m.rates.twist)} does not match pose_kind {m.pose_kind!r}, "
+            f"whose twist is {list(kind.twist)} (write the rates in those components, or change pose_kind)"
+        )
 
 
 def check_inverse(m: Mechanism) -> None:

@@ -6,17 +6,16 @@ SymPy objects for inspection. Conventions: Jacobians give (v, w) of the origin o
 
 from __future__ import annotations
 
-import functools
 import itertools
 import random
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mpmath
 import sympy as sp
 
-from . import homotopy
-from .checks import check_closure, check_program_symbols
+from . import configurations, homotopy
+from .checks import check_closure, check_pose_kind, check_program_symbols
+from .errors import GenerationError
 from .frames import vee
 from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
 from .program import Program
@@ -86,23 +85,32 @@ def type2_matrix(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> sp.Ma
 
 
 def check_parallel_factors(
-    mechanism: Mechanism, matrix: sp.Matrix, factors: dict[str, sp.Expr] | None = None, samples: int = 12
+    mechanism: Mechanism,
+    matrix: sp.Matrix,
+    found: configurations.Anchors,
+    factors: dict[str, sp.Expr] | None = None,
+    what: str = "det of the closed-loop matrix = product of parallel_factors",
+    samples: int = 12,
 ) -> int:
-    """Prove numerically (30 digits, random closed configurations made by the inverse program) that
-    det(matrix) = sign * product(factors) (default: the parallel factors); return the sign.
-    Raise if it does not hold."""
+    """Prove numerically (40 digits, closed configurations made by the inverse program from poses
+    sampled around ``found``) that det(matrix) = sign * product(factors) (default: the parallel
+    factors); return the sign. Raise if it does not hold, or if fewer than ``samples`` sampled
+    poses are reachable (naming the check ``what``)."""
     factors = mechanism.parallel_factors if factors is None else factors
     if mechanism.inverse is None or not factors:
         return 1
     try:
-        return _check_factors(mechanism, matrix, factors, samples, dict(mechanism.parameters))
+        with mpmath.workdps(40):  # local: a worker process builds several mechanisms
+            return _check_factors(mechanism, matrix, factors, samples, dict(mechanism.parameters), found, what)
     except _VanishingDeterminant:
         # architecturally singular defaults (det = 0 at every pose, e.g. a Gough platform with its
         # base on a conic): the factorisation is an identity in the parameters, so verify it at a
-        # nearby generic geometry instead
+        # nearby generic geometry instead (10 % relative; a zero parameter moves by 10 % of the
+        # mechanism's size if it is a length)
         rng = random.Random(20261122)
-        nearby = {k: v + 0.1 * (1 + abs(v)) * rng.uniform(-1, 1) for k, v in mechanism.parameters.items()}
-        return _check_factors(mechanism, matrix, factors, samples, nearby)
+        nearby = {k: v + 0.1 * rng.uniform(-1, 1) * (abs(v) or found.length) for k, v in mechanism.parameters.items()}
+        with mpmath.workdps(40):
+            return _check_factors(mechanism, matrix, factors, samples, nearby, found, what)
 
 
 class _VanishingDeterminant(ValueError):
@@ -110,77 +118,70 @@ class _VanishingDeterminant(ValueError):
 
 
 def _check_factors(
-    mechanism: Mechanism, matrix: sp.Matrix, factors: dict[str, sp.Expr], samples: int, parameters: dict
+    mechanism: Mechanism,
+    matrix: sp.Matrix,
+    factors: dict[str, sp.Expr],
+    samples: int,
+    parameters: dict,
+    found: configurations.Anchors,
+    what: str,
 ) -> int:
     assert mechanism.inverse is not None
-    mpmath.mp.dps = 30
+    if not found.poses:
+        raise GenerationError(
+            f"{mechanism.name}: cannot check {what} {list(factors)}: no pose to sample around (the home "
+            f"{found.home}, and no named example has a pose); give a home configuration that closes, or "
+            "named examples with poses in the workspace"
+        )
     variables = [*mechanism.actuated, *mechanism.passive, *mechanism.parameters]
     product = sp.Mul(*factors.values())
     det_fn = sp.lambdify(variables, matrix, modules="mpmath", cse=True)
     product_fn = sp.lambdify(variables, product, modules="mpmath", cse=True)
-    inverse_fn = _inverse_function(mechanism, parameters)
+    inverse_fn = configurations.inverse_function(mechanism, parameters)
+    branches = configurations.branch_signs(mechanism)
     rng = random.Random(20261121)
     signs = set()
-    checked = 0
-    for _ in range(50 * samples):
-        if checked == samples:
-            break
-        pose = _random_pose(rng)
-        branch = [1] * len(mechanism.inverse.branches)
-        values = inverse_fn(pose, branch)
-        joints = [values[v] for v in mechanism.actuated + mechanism.passive]
-        if any(not isinstance(a, mpmath.mpf) for a in joints) or not all(
-            _evaluate(condition, values) > 0 for condition in mechanism.inverse.validity.values()
-        ):
-            continue  # unreachable pose for this mechanism: draw another
+    checked = tried = near = 0
+    while checked < samples and tried < 50 * samples:
+        pose = configurations.sample_pose(rng, mechanism, found, tried)
+        tried += 1
+        for branch in branches:  # the first branch that reaches the pose
+            values = inverse_fn(pose, branch)
+            joints = [values[v] for v in mechanism.actuated + mechanism.passive]
+            if all(isinstance(a, mpmath.mpf) for a in joints) and all(
+                configurations.evaluate(condition, values) > 0 for condition in mechanism.inverse.validity.values()
+            ):
+                break
+        else:
+            continue  # out of reach for every branch: draw another
         args = joints + [mpmath.mpf(v) for v in parameters.values()]  # floats would evaluate in double
-        checked += 1
         numeric = mpmath.matrix(det_fn(*args).tolist())
         determinant = mpmath.det(numeric)
         rows = [mpmath.sqrt(sum(numeric[i, j] ** 2 for j in range(numeric.cols))) for i in range(numeric.rows)]
-        if abs(determinant) <= mpmath.mpf(10) ** -20 * mpmath.fprod(rows):
+        relative = abs(determinant) / mpmath.fprod(rows)
+        if relative <= mpmath.mpf(10) ** -20:
             raise _VanishingDeterminant(f"{mechanism.name}: det vanishes at the parameters {parameters}")
+        if relative < mpmath.mpf(10) ** -10:  # near a singularity: cancellation leaves too few digits
+            near += 1
+            continue
+        checked += 1
         expected = product_fn(*args)
         ratio = determinant / expected
         if abs(abs(ratio) - 1) > mpmath.mpf(10) ** -20:
             raise ValueError(f"{mechanism.name}: named factors {list(factors)} do not multiply to det (ratio {ratio})")
         signs.add(int(mpmath.sign(ratio)))
+    if checked < samples:
+        raise GenerationError(
+            f"{mechanism.name}: cannot check {what} {list(factors)}: only {checked} of {tried} poses sampled "
+            f"{found.describe()} are reachable and regular (the closed-form inverse has no valid branch at "
+            f"{tried - checked - near}, {near} are next to a singularity), {samples} are needed; give a home "
+            "configuration that closes and is not singular, or named examples with poses in the workspace"
+        )
     if len(signs) != 1:
         raise ValueError(
             f"{mechanism.name}: sign of det / product({list(factors)}) is not constant ({checked} samples)"
         )
     return signs.pop()
-
-
-def _random_pose(rng: random.Random) -> list:
-    """A random rigid pose: rotation from a unit quaternion, position in a 1 m cube above {B}."""
-    q = [mpmath.mpf(rng.gauss(0, 1)) for _ in range(4)]
-    norm = mpmath.sqrt(sum(x * x for x in q))
-    w, x, y, z = (c / norm for c in q)
-    rotation = [
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ]
-    position = [
-        mpmath.mpf(rng.uniform(-0.3, 0.3)),
-        mpmath.mpf(rng.uniform(-0.3, 0.3)),
-        mpmath.mpf(rng.uniform(0.4, 1.0)),
-    ]
-    return [c for row in rotation for c in row] + position
-
-
-@functools.cache
-def _compiled(expr: sp.Expr) -> tuple[tuple[sp.Symbol, ...], Callable]:
-    """lambdify once per expression: the random-pose checks evaluate the same inverse steps for
-    every sample (and a mechanism with narrow validity, e.g. actuator strokes, draws hundreds)."""
-    symbols = tuple(sorted(expr.free_symbols, key=sp.default_sort_key))
-    return symbols, sp.lambdify(symbols, expr, modules="mpmath")
-
-
-def _evaluate(expr: sp.Expr, values: dict) -> mpmath.mpf:
-    symbols, function = _compiled(expr)
-    return function(*[values[s] for s in symbols])
 
 
 def _branch_groups(mechanism: Mechanism) -> dict[str, list]:
@@ -272,23 +273,6 @@ def _inverse_patterns(mechanism: Mechanism, params: tuple[str, list], groups: li
     )
 
 
-def _inverse_function(mechanism: Mechanism, parameters: dict | None = None):
-    inverse = mechanism.inverse
-    assert inverse is not None
-    steps = inverse.steps
-    parameters = dict(mechanism.parameters if parameters is None else parameters)
-
-    def evaluate(pose: list, branch: list) -> dict:
-        values: dict = dict(zip(POSE_SYMBOLS, pose, strict=True))
-        values.update(zip(inverse.branches, branch, strict=True))
-        values.update({k: mpmath.mpf(v) for k, v in parameters.items()})
-        for target, expr in steps:
-            values[target] = _evaluate(expr, values)
-        return values
-
-    return evaluate
-
-
 @dataclass
 class _Closure:
     """What the two model styles (DH legs, or a written closure with A/B rates) both provide."""
@@ -305,9 +289,11 @@ class _Closure:
 
 def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
     residual, alignment = loop_closure(mechanism)
+    platform = mechanism.legs[0].end_transform()
     jacobians = {leg.name: leg.geometric_jacobian() for leg in mechanism.legs}
     serial = serial_factors(mechanism, jacobians)
-    sign = check_parallel_factors(mechanism, type2_matrix(mechanism, jacobians))
+    found = configurations.anchors(mechanism, platform, residual)
+    sign = check_parallel_factors(mechanism, type2_matrix(mechanism, jacobians), found)
     factors = {name: factor for leg in mechanism.legs for name, factor, _ in serial[leg.name]["factors"]}
     factors.update(mechanism.parallel_factors)
     determinants = {
@@ -323,7 +309,7 @@ def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
         [(f"{leg.name}", jacobians[leg.name]) for leg in mechanism.legs],
     )
     return _Closure(
-        mechanism.legs[0].end_transform(),
+        platform,
         residual,
         alignment,
         program,
@@ -345,9 +331,12 @@ def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
         return _Closure(
             closure.pose, closure.residual, closure.alignment, None, dict(mechanism.factors), {}, {}, {"legs": []}
         )
-    sign_a = check_parallel_factors(mechanism, rates.a)
+    found = configurations.anchors(mechanism, closure.pose, closure.residual)
+    sign_a = check_parallel_factors(mechanism, rates.a, found, what="det A = product of parallel_factors")
     serial_product = sp.Mul(*rates.serial_factors.values())
-    sign_b = check_parallel_factors(mechanism, rates.b, {"det B": serial_product})
+    sign_b = check_parallel_factors(
+        mechanism, rates.b, found, {"det B": serial_product}, "det B = product of the rate model's serial_factors"
+    )
     factors = {**rates.serial_factors, **mechanism.parallel_factors}
     determinants = {"det_A": sign_a * sp.Mul(*mechanism.parallel_factors.values()), "det_B": sign_b * serial_product}
     program = Program(
@@ -373,6 +362,7 @@ def derive(mechanism: Mechanism) -> Derivation:
     passive = ("passive", mechanism.passive)
     params = ("params", list(mechanism.parameters))
     state = [actuated, passive, params]
+    check_pose_kind(mechanism)
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
     check_closure(mechanism, residual)
@@ -416,6 +406,9 @@ def derive(mechanism: Mechanism) -> Derivation:
         ),
     ]
     metadata: dict[str, object] = {
+        "example": configurations.example_configuration(
+            mechanism, closed.platform, residual, closed.alignment, jacobian_passive
+        ),
         "singularity_factors": factor_names,
         "determinants": list(determinants),
         "pose_kind": mechanism.pose_kind,

@@ -6,6 +6,9 @@ Each backend has its own template; this module only prepares the values the temp
 
 from __future__ import annotations
 
+import functools
+import importlib.metadata
+import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -13,10 +16,23 @@ import jinja2
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import GENERATOR_VERSION
 from .program import LoweredProgram
 
 TEMPLATES = Path(__file__).parent / "templates"
+PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
+
+
+@functools.cache
+def package_version() -> str:
+    """parakin's version, printed in every banner and the manifest: ``[project] version`` of the
+    source tree's pyproject.toml (the one place it is written), or the installed distribution's
+    when the generator runs from an installed parakin."""
+    if PYPROJECT.is_file():
+        project = tomllib.loads(PYPROJECT.read_text()).get("project", {})
+        if project.get("name") == "parakin":
+            return str(project["version"])
+    return importlib.metadata.version("parakin")
+
 
 _FUNCTIONS = {
     "numpy": {
@@ -113,7 +129,7 @@ def banner(mechanism: str, template: str, programs: list[LoweredProgram], commen
         .render(
             mechanism=mechanism,
             template=template,
-            version=GENERATOR_VERSION,
+            version=package_version(),
             programs=[(p.name, p.operations) for p in programs],
             comment=comment,
         )
@@ -217,8 +233,11 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "version": manifest["generator"]["version"],
         "at_infinity": repr(float(manifest["tolerances"]["at_infinity"])),
         "source": manifest["generator"]["source"],
-        "home_actuated": [_c_number(v["home"] or 0.0) for v in manifest["actuated"]],
-        "home_passive": [_c_number(v["home"] or 0.0) for v in manifest["passive"]],
+        "example": {
+            "source": manifest["c"]["example"]["source"],
+            "actuated": [_c_number(v) for v in manifest["c"]["example"]["actuated"]],
+            "guess": [_c_number(v) for v in manifest["c"]["example"]["guess"]],
+        },
         "actuated_units": [f"{v['name']} [{v['unit']}]" for v in manifest["actuated"]],
         "passive_units": [f"{v['name']} [{v['unit']}]" for v in manifest["passive"]],
         "lower": [_c_number(v["limits"][0], "-INFINITY") for v in manifest["passive"]],

@@ -12,8 +12,9 @@ from typing import Any
 
 import sympy as sp
 
-from . import GENERATOR_VERSION, abi
+from . import abi
 from .derive import Derivation
+from .emit import package_version
 from .model import Mechanism
 from .program import LoweredProgram
 
@@ -148,7 +149,7 @@ def build_manifest(
             "doi": citation.doi,
         },
         "conventions": inspect.cleandoc(conventions),
-        "generator": {"version": GENERATOR_VERSION, "source": source},
+        "generator": {"version": package_version(), "source": source},
         "pose_kind": mechanism.pose_kind,
         "parameters": _parameters(mechanism),
         "parameter_groups": [
@@ -178,5 +179,7 @@ def build_manifest(
                 "pose": "platform_pose",
             },
             "modes": {"symbol": f"{mechanism.name}_forward_pose_all"} if meta.get("forward") else None,
+            # the configuration example_main.c solves (chosen regular at generation time)
+            "example": meta["example"],
         },
     }

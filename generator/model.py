@@ -27,6 +27,31 @@ POSE_POSITION = sp.Matrix(sp.symbols("px py pz", real=True))
 POSE_SYMBOLS: list[sp.Symbol] = list(POSE_ROTATION) + list(POSE_POSITION)
 
 
+@dataclass(frozen=True)
+class PoseKind:
+    """The poses ^B_P T a platform can take: which axes of {B} it translates along and turns
+    about (0, 1, 2 = x, y, z). Its twist components are v<axis> then w<axis> of those axes, in
+    {B} (the order of ``RateModel.twist``)."""
+
+    description: str
+    translation_axes: tuple[int, ...]
+    rotation_axes: tuple[int, ...]
+
+    @property
+    def twist(self) -> tuple[str, ...]:
+        return tuple(f"v{'xyz'[k]}" for k in self.translation_axes) + tuple(f"w{'xyz'[k]}" for k in self.rotation_axes)
+
+
+#: every ``Mechanism.pose_kind`` (the runtime's ``parakin.pose.POSE_KINDS`` reads the same names)
+POSE_KINDS = {
+    "transform": PoseKind("a general rigid pose [R, p]", (0, 1, 2), (0, 1, 2)),
+    "rotation": PoseKind("an orienting platform [R, 0]", (), (0, 1, 2)),
+    "planar": PoseKind("planar motion [Rot_z(phi), (x, y, 0)]", (0, 1), (2,)),
+    "translation": PoseKind("a translating platform [I, (x, y, z)]", (0, 1, 2), ()),
+    "planar_translation": PoseKind("translation in the plane z = 0: [I, (x, y, 0)]", (0, 1), ()),
+}
+
+
 def pose_matrix() -> sp.Matrix:
     """^B_P T written with the pose symbols."""
     transform = sp.eye(4)
@@ -290,7 +315,8 @@ class Mechanism:
     closure: ClosureModel | None = None
     #: input-output Jacobians when rates are not derived from ``legs``
     rates: RateModel | None = None
-    #: "transform": ^B_P T is a general rigid pose; "rotation": an orienting platform (p = 0)
+    #: the poses the platform takes, a key of ``POSE_KINDS`` ("transform": a general rigid pose,
+    #: "rotation": an orienting platform, "planar_translation": x, y in the plane z = 0, ...)
     pose_kind: str = "transform"
     #: named expressions of the parameters only whose zeros make the design singular at every
     #: pose (architecture singularities); shown by ``parakin inspect``, evaluated by the runtime

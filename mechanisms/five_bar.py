@@ -8,8 +8,8 @@ Frames and conventions (SI, radians):
 * Leg i: proximal (actuated) link of length a_i at the angle theta_i from the x axis (counter-
   clockwise, right-handed about z), elbow C_i = A_i + a_i (cos theta_i, sin theta_i, 0); distal
   link of length b_i from C_i to the output point P = (x, y, 0).
-* {P}: origin at P, R = I (pose_kind 'translation': ^B_P T = [I, (x, y, 0)]; ``inverse_pose``
-  reads px, py only and also takes (x, y, z); z is not read).
+* {P}: origin at P, R = I (pose_kind 'planar_translation': ^B_P T = [I, (x, y, 0)]);
+  ``inverse_pose`` also takes (x, y) and refuses a pose off the plane z = 0 or with a rotation.
 * Passive variables (the Newton unknowns): x, y. Residual: |P - C_i| - b_i (metres), two rows;
   no false closure (alignment 1).
 * Inverse: with v = P - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i v_x,
@@ -18,8 +18,9 @@ Frames and conventions (SI, radians):
   the angle at A_i, with s_1 = +1 and s_2 = -1: sigma_i = +1 puts elbow i outside (leg 1 turned
   counter-clockwise from A1 -> P, leg 2 clockwise from A2 -> P). With P above the base line,
   branch 0 (+, +) is the usual '+-' working mode with both elbows out; branch k has the signs
-  ``InversePose.branches[k]`` of (sigma1, sigma2). Validity ``leg<i>_reachable`` = E^2 + F^2 -
-  G^2 = (2 a_i |v|)^2 - G^2 (|a_i - b_i| < |v| < a_i + b_i).
+  ``InversePose.branches[k]`` of (sigma1, sigma2). Validity ``leg<i>_reachable`` = (E^2 + F^2 -
+  G^2) / (E^2 + F^2 + G^2), the discriminant (2 a_i |v|)^2 - G^2 made unitless (positive where
+  |a_i - b_i| < |v| < a_i + b_i; the same tolerance at any size).
 * Forward (two circles): with e = C2 - C1, w = |e|^2 and alpha = (w + b1^2 - b2^2) / (2 w),
   P = C1 + alpha e + mu J e / |e| (J: a quarter turn counter-clockwise) with mu^2 + alpha^2 w -
   b1^2 = 0: the forward polynomial is this quadratic in mu (degree 2; mu > 0: P to the left of
@@ -94,7 +95,9 @@ def inverse() -> InverseSolution:
         # half_angle_solution's sign +1 turns the arm counter-clockwise from A_i -> P
         angle, discriminant = half_angle_solution(e, f, g, OUTSIDE[i] * sigma[i])
         steps.append((theta[i], angle))
-        validity[f"leg{i + 1}_reachable"] = discriminant
+        # relative to E^2 + F^2 + G^2 (a length^4, as the discriminant): a measure without unit, so
+        # that the validity tolerance means the same for a five-bar of millimetres or of metres
+        validity[f"leg{i + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
     return InverseSolution(steps, sigma, validity)
 
 
@@ -241,7 +244,7 @@ def build() -> Mechanism:
         parallel_factors=parallel,
         closure=closure(),
         rates=rate_model,
-        pose_kind="translation",
+        pose_kind="planar_translation",
         parameter_info={
             d: ParameterInfo("m", "half the base length: the base joints are A1 = (-d, 0), A2 = (d, 0)", "positive"),
             a[0]: ParameterInfo("m", "proximal (actuated) link 1 length |C1 - A1|", "positive"),

@@ -1,0 +1,364 @@
+"""Configurations the generator evaluates numerically: the poses that the singularity-factor
+checks sample around, and the regular configuration that the exported C example runs.
+
+Both come from the mechanism's own data, never from a fixed box: the platform pose of the home
+configuration (when it closes) and the named examples' poses (``Example.pose`` and the printed
+assembly modes ``expected["poses"]``). Spreads are relative to ``length_scale``, so a mechanism
+of any size, or with a thin workspace, is sampled where it can be assembled. Poses are lists of
+the 12 values of ``POSE_SYMBOLS`` (r11..r33, px, py, pz of ^B_P T).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+import random
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from .model import POSE_KINDS, POSE_SYMBOLS, Example, Mechanism
+
+#: position spread of the samples around an anchor, in length scales, and the rotation spread
+#: (radians), taken in turn: near samples are reachable, far ones cover more of the workspace
+SPREADS = (0.05, 0.15, 0.4)
+#: a home whose loop-closure residual is below this (times 1 + the length scale) closes
+HOME_CLOSES = 1e-6
+#: the C example's configuration: closure to this (times 1 + the length scale), and a closure
+#: Jacobian whose 1/condition exceeds REGULAR (far above the runtime's singular_ratio)
+CLOSED = 1e-11
+REGULAR = 1e-6
+#: an inverse validity measure must exceed this for the mode to be recovered (the runtime's)
+VALIDITY = 1e-9
+
+
+def length_scale(mechanism: Mechanism) -> float:
+    """The mechanism's size in metres: the median magnitude of its nonzero length parameters
+    (``ParameterInfo`` unit "m"), or 1 m when it declares none."""
+    lengths = sorted(
+        abs(float(value))
+        for symbol, value in mechanism.parameters.items()
+        if (info := mechanism.parameter_info.get(symbol)) is not None and info.unit == "m" and value != 0
+    )
+    return lengths[len(lengths) // 2] if lengths else 1.0
+
+
+@functools.cache
+def _compiled(expr: sp.Expr) -> tuple[tuple[sp.Symbol, ...], Callable]:
+    """lambdify once per expression: the random-pose checks evaluate the same inverse steps for
+    every sample (and a mechanism with narrow validity, e.g. actuator strokes, draws hundreds)."""
+    symbols = tuple(sorted(expr.free_symbols, key=sp.default_sort_key))
+    return symbols, sp.lambdify(symbols, expr, modules="mpmath")
+
+
+def evaluate(expr: sp.Expr, values: dict) -> mpmath.mpf:
+    """``expr`` at ``values`` (symbol -> number) in mpmath arithmetic."""
+    symbols, function = _compiled(expr)
+    return function(*[values[s] for s in symbols])
+
+
+def inverse_function(mechanism: Mechanism, parameters: dict | None = None) -> Callable[[list, list], dict]:
+    """(pose values, branch signs) -> every symbol of the closed-form inverse, in mpmath (a
+    complex value where the pose is out of reach for that branch)."""
+    inverse = mechanism.inverse
+    assert inverse is not None
+    parameters = dict(mechanism.parameters if parameters is None else parameters)
+
+    def run(pose: list, branch: list) -> dict:
+        values: dict = dict(zip(POSE_SYMBOLS, pose, strict=True))
+        values.update(zip(inverse.branches, branch, strict=True))
+        values.update({k: mpmath.mpf(v) for k, v in parameters.items()})
+        for target, expr in inverse.steps:
+            values[target] = evaluate(expr, values)
+        return values
+
+    return run
+
+
+def branch_signs(mechanism: Mechanism, limit: int = 64) -> list[list[int]]:
+    """Branch sign combinations of the inverse, all +1 first (at most ``limit``)."""
+    count = len(mechanism.inverse.branches) if mechanism.inverse is not None else 0
+    return [list(c) for c in itertools.islice(itertools.product((1, -1), repeat=count), limit)]
+
+
+def _pose_values(matrix: Sequence[Sequence[float]] | sp.Matrix) -> list[float]:
+    """12 pose values of a 4 x 4 ^B_P T, or of a 3 x 3 rotation (an orienting platform, p = 0)."""
+    rows = [[float(v) for v in row] for row in (matrix.tolist() if isinstance(matrix, sp.Matrix) else matrix)]
+    position = [rows[i][3] for i in range(3)] if len(rows) == 4 else [0.0, 0.0, 0.0]
+    return [rows[i][j] for i in range(3) for j in range(3)] + position
+
+
+def _printed_modes(example: Example) -> list:
+    """The 4 x 4 poses of the assembly modes an example prints (``expected["poses"]``), if any."""
+    modes = example.expected.get("poses")
+    return list(modes) if isinstance(modes, list) else []
+
+
+def close(numeric: _Numeric, actuated: list[float], guess: list[float], tolerance: float) -> list[float] | None:
+    """Newton on the loop closure (``numeric`` returns the residual and its passive Jacobian
+    first) from ``guess``, steps limited to 0.5 as the runtime's: the passive values where every
+    residual is within ``tolerance``, or None."""
+    passive = np.array(guess, dtype=float)
+    for _ in range(40):
+        values, matrix = numeric(actuated, list(passive))[:2]
+        if not np.all(np.isfinite(values)):
+            return None
+        if np.abs(values).max(initial=0.0) <= tolerance:
+            return [float(v) for v in passive]
+        step = np.linalg.lstsq(matrix.reshape(values.size, passive.size), -values, rcond=None)[0]
+        passive = passive + step * min(1.0, 0.5 / max(np.abs(step).max(initial=0.0), 1e-300))
+    return None
+
+
+class _Numeric:
+    """Float evaluation of matrices of the actuated, passive and parameter symbols (each
+    returned flat, row-major)."""
+
+    def __init__(self, mechanism: Mechanism, matrices: Sequence[sp.Matrix]) -> None:
+        self.mechanism = mechanism
+        symbols = [*mechanism.actuated, *mechanism.passive, *mechanism.parameters]
+        self.function = sp.lambdify(symbols, list(matrices), modules="numpy", cse=True)
+        self.parameters = [float(v) for v in mechanism.parameters.values()]
+
+    def __call__(self, actuated: Sequence[float], passive: Sequence[float]) -> list[np.ndarray]:
+        values = self.function(*actuated, *passive, *self.parameters)
+        return [np.asarray(v, dtype=float).ravel() for v in values]
+
+
+@dataclass
+class Anchors:
+    """Poses to sample around, each with what it is ("home", "example 'x'"), the mechanism's
+    length scale, and what became of the home (for the message when too few samples reach)."""
+
+    poses: list[tuple[str, list[float]]]
+    length: float
+    home: str
+
+    def describe(self) -> str:
+        where = ", ".join(name for name, _ in self.poses) or "nothing"
+        return f"around {where} (length scale {self.length:.3g} m; the home {self.home})"
+
+
+def anchors(mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix) -> Anchors:
+    """The home's platform pose when the home closes (after Newton on its passive values, if
+    needed), then every named example's pose (examples at other parameters are skipped: their
+    poses belong to another geometry)."""
+    length = length_scale(mechanism)
+    poses: list[tuple[str, list[float]]] = []
+    variables = [*mechanism.actuated, *mechanism.passive]
+    missing = [str(v) for v in variables if v not in mechanism.home]
+    if missing:
+        home = f"does not give {missing}"
+    else:
+        numeric = _Numeric(mechanism, [residual, residual.jacobian(mechanism.passive), platform])
+        actuated = [float(mechanism.home[v]) for v in mechanism.actuated]
+        passive = [float(mechanism.home[v]) for v in mechanism.passive]
+        values, _, pose = numeric(actuated, passive)
+        worst = float(np.abs(values).max(initial=0.0))
+        closed = close(numeric, actuated, passive, HOME_CLOSES * (1 + length)) if mechanism.passive else passive
+        if closed is None:
+            home = f"does not close (loop-closure residual {worst:.3g}; Newton from it does not converge)"
+        else:
+            home = "closes" if closed == passive else f"closes after Newton (its residual is {worst:.3g})"
+            pose = numeric(actuated, closed)[2]
+            poses.append(("the home", _pose_values(pose.reshape(4, 4).tolist())))
+    for example in mechanism.examples:
+        if example.parameters:
+            continue
+        if example.pose is not None:
+            poses.append((f"example {example.name!r}", _pose_values(example.pose)))
+        for k, mode in enumerate(_printed_modes(example)):
+            poses.append((f"example {example.name!r} mode {k}", _pose_values(mode)))
+    return Anchors(poses, length, home)
+
+
+def _quaternion(rotation: list[list[float]]) -> list[float]:
+    """A unit quaternion (w, x, y, z) of a 3 x 3 rotation (Shepperd: from its largest component)."""
+    (a, b, c), (d, e, f), (g, h, i) = rotation
+    candidates = [1 + a + e + i, 1 + a - e - i, 1 - a + e - i, 1 - a - e + i]
+    k = max(range(4), key=lambda j: candidates[j])
+    s = 2 * math.sqrt(max(candidates[k], 1e-300))
+    if k == 0:
+        return [s / 4, (h - f) / s, (c - g) / s, (d - b) / s]
+    if k == 1:
+        return [(h - f) / s, s / 4, (b + d) / s, (c + g) / s]
+    if k == 2:
+        return [(c - g) / s, (b + d) / s, s / 4, (f + h) / s]
+    return [(d - b) / s, (c + g) / s, (f + h) / s, s / 4]
+
+
+def _rotation_matrix(q: list) -> list[list]:
+    """The rotation of the quaternion q, normalised in mpmath: orthogonal to the working
+    precision (a rotation rounded to doubles would break the closure identities at 1e-16)."""
+    norm = mpmath.sqrt(sum(v * v for v in q))
+    w, x, y, z = (v / norm for v in q)
+    return [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ]
+
+
+def sample_pose(rng: random.Random, mechanism: Mechanism, found: Anchors, index: int) -> list:
+    """Sample ``index``: anchor ``index`` (in turn) moved along and turned about the axes its
+    pose kind moves in, by up to SPREADS[...] length scales and radians; mpmath values."""
+    _, anchor = found.poses[index % len(found.poses)]
+    spread = SPREADS[(index // len(found.poses)) % len(SPREADS)]
+    kind = POSE_KINDS[mechanism.pose_kind]
+    turn = [mpmath.mpf(spread * rng.uniform(-1, 1)) if k in kind.rotation_axes else mpmath.mpf(0) for k in range(3)]
+    half = mpmath.sqrt(sum(v * v for v in turn)) / 2
+    sinc = mpmath.sin(half) / (2 * half) if half else mpmath.mpf(1) / 2
+    w0, x0, y0, z0 = (mpmath.mpf(v) for v in _quaternion([anchor[3 * i : 3 * i + 3] for i in range(3)]))
+    w1, x1, y1, z1 = mpmath.cos(half), *(v * sinc for v in turn)
+    rotation = _rotation_matrix(  # anchor * turn (the turn about axes of {P})
+        [
+            w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
+            w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
+            w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1,
+            w0 * z1 + x0 * y1 - y0 * x1 + z0 * w1,
+        ]
+    )
+    position = [
+        anchor[9 + k] + (spread * found.length * rng.uniform(-1, 1) if k in kind.translation_axes else 0.0)
+        for k in range(3)
+    ]
+    return [v for row in rotation for v in row] + [mpmath.mpf(v) for v in position]
+
+
+def _same_angle(a: float, b: float, angular: bool, tolerance: float) -> bool:
+    difference = a - b
+    if angular:
+        difference = math.remainder(difference, 2 * math.pi)
+    return abs(difference) <= tolerance
+
+
+@dataclass
+class _Candidate:
+    source: str
+    actuated: list[float]
+    guess: list[float]
+
+
+def example_configuration(
+    mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix, alignment: sp.Matrix, jacobian: sp.Matrix
+) -> dict[str, object]:
+    """See ``_example_configuration``; the inverse is evaluated to 30 digits whatever the global
+    mpmath precision (the output must not depend on what a worker process built before)."""
+    with mpmath.workdps(30):
+        return _example_configuration(mechanism, platform, residual, alignment, jacobian)
+
+
+def _example_configuration(
+    mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix, alignment: sp.Matrix, jacobian: sp.Matrix
+) -> dict[str, object]:
+    """The configuration the exported C example solves: the first candidate that closes and is
+    regular (well-conditioned closure Jacobian, positive alignment, within limits, and recovered
+    by the closed-form inverse with every validity measure positive). Candidates, in order: each
+    named example with actuated inputs (Newton from the passive values of its printed modes, or
+    from the home's), the home, the inverse of the home's pose (each branch), each named example
+    pose (each branch). Returns its ``source`` (what it is), ``actuated``, the ``passive`` values
+    and the Newton ``guess`` (the passive values rounded to 4 digits, from which Newton is checked
+    to come back), or the home with ``verified`` False when no candidate is regular."""
+    length = length_scale(mechanism)
+    numeric = _Numeric(mechanism, [residual, jacobian, alignment, platform])
+    home_actuated = [float(mechanism.home.get(v, 0.0)) for v in mechanism.actuated]
+    home_passive = [float(mechanism.home.get(v, 0.0)) for v in mechanism.passive]
+    inverse = inverse_function(mechanism) if mechanism.inverse is not None else None
+
+    def inverted(pose: list[float]) -> list[tuple[int, list[float], list[float]]]:
+        """(branch, actuated, passive) of every branch that reaches ``pose``."""
+        if inverse is None:
+            return []
+        result = []
+        for k, signs in enumerate(branch_signs(mechanism)):
+            values = inverse([mpmath.mpf(v) for v in pose], signs)
+            joints = [values[v] for v in [*mechanism.actuated, *mechanism.passive]]
+            if all(isinstance(v, mpmath.mpf) for v in joints):
+                count = len(mechanism.actuated)
+                result.append((k, [float(v) for v in joints[:count]], [float(v) for v in joints[count:]]))
+        return result
+
+    def candidates():
+        for example in mechanism.examples:
+            if example.parameters or example.actuated is None:
+                continue
+            guesses = [
+                passive
+                for mode in _printed_modes(example)
+                for _, actuated, passive in inverted(_pose_values(mode))
+                if all(
+                    _same_angle(a, b, v in mechanism.angular, 1e-3 * (1 + length))
+                    for a, b, v in zip(actuated, example.actuated, mechanism.actuated, strict=True)
+                )
+            ]
+            for guess in [*guesses, home_passive]:
+                yield _Candidate(f"example {example.name!r}", [float(v) for v in example.actuated], guess)
+        yield _Candidate("the home configuration", home_actuated, home_passive)
+        home_pose = numeric(home_actuated, home_passive)[3]
+        for branch, actuated, passive in inverted(_pose_values(home_pose.reshape(4, 4).tolist())):
+            yield _Candidate(f"the inverse of the home pose, branch {branch}", actuated, passive)
+        for example in mechanism.examples:
+            if example.parameters or example.pose is None:
+                continue
+            for branch, actuated, passive in inverted(_pose_values(example.pose)):
+                yield _Candidate(f"the inverse of example {example.name!r}, branch {branch}", actuated, passive)
+
+    def newton(actuated: list[float], guess: list[float]) -> list[float] | None:
+        return close(numeric, actuated, guess, CLOSED * (1 + length))
+
+    def regular(actuated: list[float], passive: list[float]) -> bool:
+        _, matrix, align, pose = numeric(actuated, passive)
+        if passive:
+            singular = np.linalg.svd(matrix.reshape(len(passive), len(passive)), compute_uv=False)
+            if not singular[-1] > REGULAR * singular[0]:
+                return False
+        if not np.all(align > 0):
+            return False
+        for symbol, value in zip([*mechanism.actuated, *mechanism.passive], [*actuated, *passive], strict=True):
+            low, high = mechanism.limits.get(symbol, (-math.inf, math.inf))
+            if not low <= value <= high:
+                return False
+        if inverse is None or mechanism.forward is None:  # nothing recovers passive values from a pose
+            return True
+        pose_values = [mpmath.mpf(v) for v in _pose_values(pose.reshape(4, 4).tolist())]
+        for signs in branch_signs(mechanism):
+            values = inverse(pose_values, signs)
+            joints = [values[v] for v in mechanism.actuated]
+            if all(isinstance(v, mpmath.mpf) for v in joints) and all(
+                _same_angle(float(a), b, v in mechanism.angular, 1e-7 * (1 + length))
+                for a, b, v in zip(joints, actuated, mechanism.actuated, strict=True)
+            ):
+                measures = [evaluate(m, values) for m in mechanism.inverse.validity.values()]  # type: ignore[union-attr]
+                if all(isinstance(m, mpmath.mpf) and m > VALIDITY for m in measures):
+                    return True
+        return False
+
+    tried = 0
+    for candidate in candidates():
+        tried += 1
+        solved = newton(candidate.actuated, candidate.guess)
+        passive = None if solved is None else [float(v) for v in solved]
+        if passive is None or not regular(candidate.actuated, passive):
+            continue
+        guess = [float(f"{v:.4g}") for v in passive]
+        back = newton(candidate.actuated, guess)
+        if back is None or np.abs(np.subtract(back, passive)).max(initial=0.0) > 1e-8 * (1 + length):
+            guess = passive
+        return {
+            "source": candidate.source,
+            "actuated": candidate.actuated,
+            "passive": passive,
+            "guess": guess,
+            "verified": True,
+        }
+    return {
+        "source": f"the home configuration (none of {tried} candidates is regular)",
+        "actuated": home_actuated,
+        "passive": home_passive,
+        "guess": home_passive,
+        "verified": False,
+    }
