@@ -317,8 +317,10 @@ class Mechanism:
         metres and radians). With ``strict``, non-convergence raises ConvergenceError (with the
         residual reached), a singular Newton matrix SingularConfigurationError, and a loop
         closure that is not defined at the guess (e.g. a zero quaternion) BadInputError naming
-        it, the same on every backend. An entry that did not converge (``strict=False``) keeps
-        its guess as ``passive``; its ``pose`` is NaN unless that guess gives a rigid pose.
+        it, the same on every backend. Poses are rigid: a converged entry whose pose kernel is
+        not rigid at the tolerance asked for gets the nearest rotation; an entry that did not
+        converge (``strict=False``) keeps its guess as ``passive``, and its ``pose`` is NaN
+        unless that guess gives a rigid pose.
         """
         theta = self._actuated(actuated)
         tolerance = newton_tolerance(tolerance)
@@ -346,10 +348,12 @@ class Mechanism:
         passive, pose, residual, iterations, status = solved[:5]
         passive = np.where(self._angular_passive, wrap_angle(passive), passive)
         converged = status == STATUS_OK
-        # an entry that did not converge keeps its guess, whose pose is NaN where that guess
-        # does not close into a rigid pose (a kernel reading several legs); converged ones are
-        pose, rigid = self._rigid_pose(theta, passive, pose)
-        pose = np.where(rigid[..., None, None], pose, np.nan)
+        # poses are rigid: a converged entry that closes only to a loose tolerance gets the
+        # nearest rotation; one that did not converge keeps its guess, whose pose is NaN where
+        # the guess gives no rigid pose (a kernel reading several legs)
+        rigid_pose, rigid = self._rigid_pose(theta, passive, pose)
+        nearest = nearest_rigid(pose, rigidity_error(pose))
+        pose = np.where(rigid[..., None, None], rigid_pose, np.where(converged[..., None, None], nearest, np.nan))
         if strict:
             raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations, start)
         return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))
@@ -415,7 +419,8 @@ class Mechanism:
         # as in the C driver: a failed entry keeps its guess, never a diverged iterate
         q = np.where(((status == STATUS_OK) | keep_last)[..., None], q, start)
         status = np.where((status == STATUS_NO_CONVERGENCE) & ~np.isfinite(residual_norm), NEWTON_NONFINITE, status)
-        pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
+        with np.errstate(all="ignore"):  # a guess where the model is undefined: NaN, flagged by status
+            pose = self.backend.call("platform_pose", theta, q, self.params)["pose"]
         return NewtonOutcome(q, pose, residual_norm, iterations, status, conditioning, orientation, first_step)
 
     def _newton_compiled(

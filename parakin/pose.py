@@ -45,12 +45,15 @@ def rigidity_error(pose: Array) -> Array:
 
 def nearest_rigid(pose: Array, error: Array) -> Array:
     """``pose`` with the rotation block of every entry whose ``rigidity_error`` exceeds rounding
-    replaced by the nearest rotation (polar factor) and its last row set to [0 0 0 1]."""
+    replaced by the nearest proper rotation (polar factor, det +1) and its last row set to
+    [0 0 0 1]."""
     inexact = np.asarray(error > 4 * np.finfo(float).eps)
     if not inexact.any():
         return pose
     rotation = pose[..., :3, :3]
     u, _, vt = np.linalg.svd(np.where(np.isfinite(rotation), rotation, 0.0))
+    # a proper rotation (det +1) even where the block is far from one: flip the last singular axis
+    u[..., :, 2] *= np.where(np.linalg.det(u @ vt) < 0, -1.0, 1.0)[..., None]
     pose = pose.copy()
     pose[..., :3, :3] = np.where(inexact[..., None, None], u @ vt, rotation)
     pose[..., 3, :] = np.where(inexact[..., None], [0.0, 0.0, 0.0, 1.0], pose[..., 3, :])

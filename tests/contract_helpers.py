@@ -161,8 +161,11 @@ def home_pose(m: Mechanism) -> np.ndarray:
     values are only a Newton seed that does not close the loop (so the chain formula is not a
     rigid pose there), the pose Newton closes from them."""
     if m not in _HOME_POSES:
-        pose = m.platform_pose(m.home_actuated, m.home_passive)
-        if not is_rigid(pose):
+        try:
+            pose = m.platform_pose(m.home_actuated, m.home_passive)
+        except parakin.InconsistentInputError:  # not closed and not rigid: refused (issue 18 item 6)
+            pose = None
+        if pose is None or not is_rigid(pose):
             closed = m.forward_pose(m.home_actuated, guess=m.home_passive, strict=False)
             assert closed.converged, f"{m.name}: the home configuration is no rigid pose and Newton does not close it"
             pose = closed.pose

@@ -331,3 +331,22 @@ def test_a_tolerance_below_what_doubles_resolve_is_refused_alike():
         assert solved.residual <= MIN_TOLERANCE
     assert len(set(outcomes.values())) == 1, outcomes
     assert outcomes["numpy"][0] == "BadInputError" and "tolerance" in outcomes["numpy"][1]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_planar_translating_mechanism_refuses_a_point_off_its_plane(backend):
+    """Every mechanism of kind planar_translation (the five-bar): a point 0.1 m off the plane
+    (4 valid branches at 6bfa97b) is refused naming the offset; (x, y) gives the in-plane pose."""
+    names = [n for n in parakin.available() if parakin.metadata(n).pose_kind == "planar_translation"]
+    assert names, "no mechanism of pose kind planar_translation"
+    for name in names:
+        m = _load(name, backend)
+        inside = m.inverse_pose(m.forward_pose(m.home_actuated).pose)
+        point = inside.pose[:2, 3]
+        lifted = inside.pose.copy()
+        lifted[2, 3] = 0.1
+        with pytest.raises(BadInputError, match="off by 0.1"):
+            m.inverse_pose(lifted)
+        again = m.inverse_pose(point)
+        assert np.array_equal(again.valid, inside.valid)
+        assert np.abs(again.actuated[again.valid] - inside.actuated[inside.valid]).max() < 1e-12
