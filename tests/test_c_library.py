@@ -4,6 +4,8 @@ of every mechanism builds and runs."""
 
 from __future__ import annotations
 
+import json
+import re
 import shutil
 import subprocess
 
@@ -103,14 +105,54 @@ def test_two_mechanisms_link_into_one_program_and_agree_with_python(tmp_path):
     assert checked == 12
 
 
+SANITIZED = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g", "-fsanitize=address,undefined"]
+NUMBER = r"[-+]?(?:\d+\.?\d*(?:e[-+]?\d+)?|nan|inf)"
+POSE = re.compile(rf"position \(({NUMBER}), ({NUMBER}), ({NUMBER})\), z axis \(({NUMBER}), ({NUMBER}), ({NUMBER})\)")
+
+
+def _printed_pose(line: str) -> np.ndarray:
+    """(position, z axis of {P}) as example_main.c prints them (9 decimals)."""
+    match = POSE.search(line)
+    assert match, line
+    return np.array([float(v) for v in match.groups()])
+
+
+def _python_pose(pose: np.ndarray) -> np.ndarray:
+    return np.concatenate([pose[..., :3, 3], pose[..., :3, 2]], axis=-1)
+
+
 @pytest.mark.parametrize("name", [n for n in parakin.available()])
 def test_exported_example_program_runs(tmp_path, name):
+    """Every export compiles with -Wall -Wextra -Werror under AddressSanitizer and UBSan (every
+    file: kernels.c too), runs the configuration chosen at generation time, exits 0, and prints
+    what the Python solvers (NumPy backend) find for the same input: the same number of assembly
+    modes at the same poses, and Newton from the same guess to the same pose (9 printed decimals)."""
     folder = tmp_path / name
-    parakin.load(name).package.export_c(folder)  # type: ignore[attr-defined]
-    subprocess.run([COMPILER, *STRICT, "-I", ".", "-c", "example_main.c", "driver.c"], cwd=folder, check=True)
-    subprocess.run([COMPILER, "-std=c99", "-O2", "-I", ".", "-c", "kernels.c"], cwd=folder, check=True)
-    subprocess.run(
-        [COMPILER, "example_main.o", "driver.o", "kernels.o", "-lm", "-o", "example"], cwd=folder, check=True
-    )
-    run = subprocess.run(["./example"], cwd=folder, capture_output=True, text=True)
-    assert "forward_pose from home" in run.stdout, run.stdout + run.stderr
+    m = parakin.load(name, backend="numpy")
+    m.package.export_c(folder)  # type: ignore[attr-defined]
+    sources = ["example_main.c", "driver.c", "kernels.c"]
+    subprocess.run([COMPILER, *SANITIZED, "-I", ".", *sources, "-lm", "-o", "example"], cwd=folder, check=True)
+    environment = {"ASAN_OPTIONS": "detect_leaks=0", "UBSAN_OPTIONS": "halt_on_error=1"}
+    run = subprocess.run(["./example"], cwd=folder, capture_output=True, text=True, env=environment, timeout=120)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "runtime error" not in run.stderr and "Sanitizer" not in run.stderr, run.stderr
+    lines = run.stdout.splitlines()
+    label, actuated_text = lines[0].split(": actuated ")
+    assert label == name
+    actuated = np.array([float(v) for v in actuated_text.split()])
+    chosen = json.loads((m.package.path / "manifest.json").read_text())["c"]["example"]  # type: ignore[attr-defined]
+    assert chosen["verified"] and np.array_equal(actuated, chosen["actuated"])
+    if m.manifest.capabilities.forward is not None:
+        count = int(re.match(rf"{name}: (\d+) assembly modes", lines[1]).group(1))  # type: ignore[union-attr]
+        assert count > 0 and "input status 0" in lines[1]
+        printed = np.array([_printed_pose(line) for line in lines[2 : 2 + count]])
+        modes = m.forward_pose_all(actuated)
+        assert int(modes.count) == count
+        python = _python_pose(modes.poses[modes.valid])
+        # every printed mode is a Python mode and the reverse (printed to 9 decimals)
+        distance = np.abs(printed[:, None, :] - python[None, :, :]).max(axis=-1)
+        assert distance.min(axis=1).max() < 2e-9 and distance.min(axis=0).max() < 2e-9
+    newton = lines[-1]
+    assert newton.startswith("forward_pose from the guess: status 0"), newton
+    solved = m.forward_pose(actuated, np.array(chosen["guess"]) if chosen["guess"] else None)
+    assert np.abs(_printed_pose(newton) - _python_pose(solved.pose)).max() < 2e-9

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 import parakin
+from parakin.cli import main
 from parakin.demo import run_examples
-from parakin.errors import SingularConfigurationError, UnreachablePoseError
+from parakin.errors import BadInputError, SingularConfigurationError, UnreachablePoseError
 from parakin.pose import wrap_angle
 
 D, A, B = 0.15, np.array([0.2, 0.2]), np.array([0.25, 0.25])
@@ -84,7 +85,7 @@ def test_inverse_branches_match_the_independent_elbows(m):
         reference = elbow_solutions(p)
         if reference is None:
             continue
-        ik = m.inverse_pose([p[0], p[1], 0.0])
+        ik = m.inverse_pose([p[0], p[1]])
         assert ik.valid.all()
         for k, signs in enumerate(ik.branches):
             expected = [reference[i][0 if s > 0 else 1] for i, s in enumerate(signs)]
@@ -100,7 +101,7 @@ def test_forward_modes_match_the_independent_points_and_round_trip(m):
     rng = np.random.default_rng(22)
     checked = 0
     for p in random_points(rng, 50):
-        ik = m.inverse_pose([p[0], p[1], 0.0], strict=False)
+        ik = m.inverse_pose([p[0], p[1]], strict=False)
         for k in np.nonzero(ik.valid)[0]:
             theta = ik.actuated[k]
             modes = m.forward_pose_all(theta)
@@ -112,7 +113,7 @@ def test_forward_modes_match_the_independent_points_and_round_trip(m):
             assert np.abs(found - p).max(-1).min() < 1e-12
             assert not modes.poses[modes.valid][:, 2, 3].any()  # z = 0
             for point in found:
-                back = m.inverse_pose([point[0], point[1], 0.0])
+                back = m.inverse_pose([point[0], point[1]])
                 assert np.abs(wrap_angle(back.actuated - theta)).max(-1)[back.valid].min() < 1e-10
             checked += 1
     assert checked >= 120
@@ -128,7 +129,7 @@ def test_unequal_links():
         reference = elbow_solutions(p, lengths)
         if reference is None:
             continue
-        ik = g.inverse_pose([p[0], p[1], 0.0])
+        ik = g.inverse_pose([p[0], p[1]])
         assert np.abs(wrap_angle(ik.actuated[0] - [reference[0][0], reference[1][0]])).max() < 1e-12
         modes = g.forward_pose_all(ik.actuated[0])
         points = output_points(ik.actuated[0], lengths)
@@ -140,7 +141,23 @@ def test_unequal_links():
 def test_unreachable_point():
     m = parakin.load("five_bar", backend="numpy")
     with pytest.raises(UnreachablePoseError, match="leg1_reachable"):
-        m.inverse_pose([-0.8, 0.1, 0.0])
+        m.inverse_pose([-0.8, 0.1])
+
+
+def test_a_point_off_the_plane_is_refused():
+    """The five-bar moves in the plane z = 0 (pose kind planar_translation): P = (0, 0.4, 0.1)
+    is 0.1 m off it and has no branch, where the same point in the plane has four."""
+    m = parakin.load("five_bar", backend="numpy")
+    assert m.manifest.pose_kind == "planar_translation"
+    assert int(m.inverse_pose([0.0, 0.4]).valid.sum()) == 4
+    off_plane = np.eye(4)
+    off_plane[:3, 3] = [0.0, 0.4, 0.1]
+    with pytest.raises(BadInputError, match=r"z offset.*off by 0\.1\b"):
+        m.inverse_pose(off_plane)
+    with pytest.raises(BadInputError):
+        m.inverse_pose([0.0, 0.4, 0.1])
+    assert main(["ik", "five_bar", "--pose", "0", "0.4", "0.1"]) == 2
+    assert main(["ik", "five_bar", "--pose", "0", "0.4"]) == 0
 
 
 # ------------------------------------------------------------------ rates and singularities
@@ -155,7 +172,7 @@ def test_rates_against_finite_differences(m):
         plus, minus = elbow_solutions(p + h * velocity), elbow_solutions(p - h * velocity)
         if plus is None or minus is None:
             continue
-        state = m.inverse_pose([p[0], p[1], 0.0]).branch(0)
+        state = m.inverse_pose([p[0], p[1]]).branch(0)
         numeric = wrap_angle(np.array([s[0] for s in plus]) - np.array([s[0] for s in minus])) / (2 * h)
         rates = m.inverse_rate(state, velocity)
         np.testing.assert_allclose(rates.actuated, numeric, rtol=1e-6, atol=1e-6)
@@ -167,7 +184,7 @@ def test_rates_against_finite_differences(m):
 
 def test_rate_matrices_against_numpy(m):
     p = np.array([0.05, 0.3])
-    state = m.inverse_pose([p[0], p[1], 0.0]).branch(0)
+    state = m.inverse_pose([p[0], p[1]]).branch(0)
     theta = state.actuated
     elbows = BASE + A[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
     distal = p - elbows
@@ -189,7 +206,7 @@ def test_type2_singularity_with_aligned_distal_links():
     theta = np.array([2 * np.pi / 3, np.pi / 3])
     p = np.array([0.0, h])
     assert np.abs(m.loop_closure(theta, p)["residual"]).max() < 1e-15
-    state = parakin.Configuration(theta, p, parakin.pose.transform_from_pose([0.0, h, 0.0], "translation"))
+    state = parakin.Configuration(theta, p, parakin.pose.transform_from_pose([0.0, h], "planar_translation"))
     factors = m.singularities(state)
     assert abs(factors["distal_links_aligned"]) < 1e-15
     assert min(abs(factors["leg1_links_aligned"]), abs(factors["leg2_links_aligned"])) > 1e-2
@@ -208,7 +225,7 @@ def test_type1_singularity_with_a_stretched_leg():
     leg2 = circle_angles(BASE[1], A[1], p, B[1])
     theta = np.array([angle, leg2[0]])
     assert np.abs(m.loop_closure(theta, p)["residual"]).max() < 1e-15
-    state = parakin.Configuration(theta, p, parakin.pose.transform_from_pose([*p, 0.0], "translation"))
+    state = parakin.Configuration(theta, p, parakin.pose.transform_from_pose(p, "planar_translation"))
     factors = m.singularities(state)
     assert abs(factors["leg1_links_aligned"]) < 1e-15 and abs(factors["leg2_links_aligned"]) > 1e-3
     with pytest.raises(SingularConfigurationError):
@@ -225,7 +242,7 @@ def test_backends_agree():
 
 def test_drawing_points(m):
     p = np.array([-0.05, 0.35])
-    state = m.inverse_pose([p[0], p[1], 0.0]).branch(0)
+    state = m.inverse_pose([p[0], p[1]]).branch(0)
     points = m.drawing(state)
     theta = state.actuated
     elbows = BASE + A[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
