@@ -67,6 +67,9 @@ def configurations(m: parakin.Mechanism, rng: np.random.Generator, count: int = 
     for attempt in range(200):
         actuated = m.home_actuated + 0.1 * actuated_scale * rng.normal(size=m.home_actuated.shape)
         passive = m.home_passive + 0.1 * passive_scale * rng.normal(size=m.home_passive.shape)
+        low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+        if not ((actuated >= low) & (actuated <= high)).all():
+            continue  # outside an actuator's stroke: refused by every solver
         if attempt % 2 == 0:
             solved = m.forward_pose(actuated, m.home_passive, strict=False)
             if not solved.converged:
