@@ -9,6 +9,8 @@ prints the walkthrough and, given a path, draws Fig. 2 (the self-motion circuits
 Frames are those of the mechanism: A1 = O, A_i = (xA_i, yA_i, 0), B_i^(P) = (t11 xA_i + t12 yA_i,
 t22 yA_i, 0) (eq 1), pose ^B_P T with O_P = B1, lengths in metres. NumPy only.
 
+* The mechanism's defaults are a usable geometry (section 5.4's base with A4 moved off the conic);
+  section 5.4's own geometry is its named example ``section54_self_motion`` (``SECTION_54``).
 * parakin itself, generically: ``parakin.load`` warns (ArchitectureSingularityWarning) when the
   mechanism's declared architecture measure vanishes, ``m.forward_pose_all`` reports the
   degenerate elimination and, where the locked legs leave a curve of poses, raises SelfMotionError
@@ -50,11 +52,29 @@ SAMPLE_IX = 0.044
 CONIC_TOLERANCE = 1e-9
 
 
+#: the named example of the mechanism's manifest that holds section 5.4's geometry
+EXAMPLE = "section54_self_motion"
+
+
+def section54_parameters() -> dict[str, float]:
+    """Section 5.4's (architecturally singular) geometry, the parameters of the manifest's named
+    example ``EXAMPLE`` (the mechanism's defaults are a usable, non-conic geometry)."""
+    for example in parakin.metadata("gough").examples:
+        if example.name == EXAMPLE:
+            return dict(example.parameters)
+    raise parakin.UnknownMechanismError(f"gough has no named example {EXAMPLE!r}; regenerate it")
+
+
+#: section 5.4: A2..A6 = (5,-5) (9,-3) (10,0) (9,3) (5,5), t11 = t12 = t22 = 1 (names -> values)
+SECTION_54 = section54_parameters()
+
+
 def load_example(backend: str = "numpy", **parameters: float) -> parakin.Mechanism:
-    """``parakin.load("gough")`` with section 5.4's (singular) geometry, its warning silenced."""
+    """``parakin.load("gough")`` with section 5.4's (singular) geometry, overridden by
+    ``parameters``, its warning silenced."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
-        return parakin.load("gough", backend=backend, **parameters)
+        return parakin.load("gough", backend=backend, **(SECTION_54 | parameters))
 
 
 # ---------------------------------------------------------------------------------- geometry
@@ -533,10 +553,15 @@ def forward_all(m: parakin.Mechanism, lengths: ArrayLike, samples: int = 600) ->
 # ---------------------------------------------------------------------------------- the walkthrough
 def demo() -> None:
     np.set_printoptions(precision=5, suppress=True, linewidth=120)
+    usable = parakin.load("gough", backend="numpy")
+    home = usable.forward_pose(usable.home_actuated)
+    print(f"the defaults, a base off the conic: {usable!r}")
+    print(f"  architecture measure {usable.architecture()}, home pose {parakin.xyz_euler_from_pose(home.pose)}")
+    print(f"  {usable.forward_pose_all(usable.home_actuated).count} assembly modes at the home lengths\n")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", parakin.ArchitectureSingularityWarning)
-        m = parakin.load("gough", backend="numpy")
-    print(f"{m!r}\n")
+        m = parakin.load("gough", backend="numpy", **SECTION_54)
+    print(f"section 5.4, the named example {EXAMPLE!r}: {m!r}\n")
     for warning in caught:
         print(f"parakin.load warns: {warning.category.__name__}: {warning.message}\n")
     print("section 5.4: base A2..A6 = (5,-5) (9,-3) (10,0) (9,3) (5,5), t11 = t12 = t22 = 1")

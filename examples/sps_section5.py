@@ -75,8 +75,9 @@ def stiffnesses(m: parakin.Mechanism) -> np.ndarray:
 
 
 def strokes(m: parakin.Mechanism) -> np.ndarray:
-    """(3, 2): d_i_min, d_i_max."""
-    return np.array([[m.parameters[f"d{i}_min"], m.parameters[f"d{i}_max"]] for i in (1, 2, 3)])
+    """(3, 2): d_i_min, d_i_max, the actuated ranges of the manifest (every solver refuses
+    lengths outside them)."""
+    return np.array([m.manifest.actuated[i].limits for i in range(3)])
 
 
 def platform_points(m: parakin.Mechanism, rotation: np.ndarray) -> np.ndarray:
@@ -151,8 +152,8 @@ def configurations(m: parakin.Mechanism, lengths: np.ndarray) -> list[tuple[floa
     """Every configuration for the leg lengths, in the paper's order (branch (s1, s2) as v1..v4)."""
     modes = m.forward_pose_all(lengths)
     found = []
-    for k in np.nonzero(modes.valid)[0]:
-        config = modes.mode(int(k))
+    for k in np.nonzero(modes.valid)[0]:  # the valid slots, each one mode
+        config = Configuration(modes.actuated, modes.passive[k], modes.poses[k])
         v, s1, s2 = paper_labels(m, config.rotation)
         found.append((v, s1, s2, config))
     order = {branch: n for n, branch in enumerate(PAPER_BRANCHES)}

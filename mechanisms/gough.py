@@ -32,9 +32,18 @@ Frames and conventions (paper section 2; SI, radians):
   architecture tolerance 1e-9 (``parakin.load`` warns). Then
   M u = L has a one-parameter family of solutions and the platform has a self-motion
   (traced generically by ``m.self_motion``; the paper's own analysis is ``examples/gough_architecture.py``); ``forward_pose_all`` reports the degeneracy ``base_points_on_a_conic``.
-* Defaults: section 5.4, xA2..xA6 = 5, 9, 10, 9, 5, yA2..yA6 = -5, -3, 0, 3, 5, t11 = t12 = t22 = 1
-  (the paper gives no unit: read as metres). This example is architecturally singular (base on
-  (x - 5)^2 + y^2 = 25): load a non-conic base for a usable manipulator.
+* Defaults: a usable (not architecturally singular) PMlpp, the general case of section 3 (det M
+  != 0, M u = L has one solution): section 5.4's base and platform map with one base joint moved
+  off the conic, A4 = (13, 0) instead of (10, 0) (the base hexagon stays convex; the normalised
+  conic measure is -6.4e-3, far from the 1e-9 tolerance), i.e. xA2..xA6 = 5, 9, 13, 9, 5,
+  yA2..yA6 = -5, -3, 0, 3, 5, t11 = t12 = t22 = 1 (the paper gives no unit: read as metres).
+  Home: {x y z alpha beta gamma} = {5, 2, 5, -0.3, -0.5, 0.3} (m, rad, ``HOME_POSE``), the
+  platform tilted over the base (every B_i at z > 3.7 m), a regular configuration: closure
+  Jacobian pivot ratio 0.14, eight real assembly modes. Level poses (platform parallel to the
+  base) are type II singular for linearly related platforms, so the home is tilted about all
+  three axes. Section 5.4's own geometry (base on the conic (x - 5)^2 + y^2 = 25: singular at
+  every pose, ``parakin.load`` warns) is the named example ``section54_self_motion``
+  (``SECTION_54_PARAMETERS``); its walkthrough is ``examples/gough_architecture.py``.
 """
 
 from __future__ import annotations
@@ -47,6 +56,7 @@ from parakin.generator.model import (
     Citation,
     ClosureModel,
     Drawing,
+    Example,
     ForwardElimination,
     InverseSolution,
     Mechanism,
@@ -62,11 +72,25 @@ x, y, z = sp.symbols("x y z", real=True)
 alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
 u = sp.symbols("u1:6", real=True)
 
-#: section 5.4 (A2..A6, then t11, t12, t22)
+#: section 5.4 (A2..A6, then t11, t12, t22): on the conic (x - 5)^2 + y^2 = 25, singular
 SECTION_54_BASE = [(5.0, -5.0), (9.0, -3.0), (10.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
 SECTION_54_T = (1.0, 1.0, 1.0)
 #: section 5.4: the locked inputs, printed to two decimals
 SECTION_54_LENGTHS = [33.17, 32.02, 35.12, 37.57, 39.01, 38.32]
+#: section 5.4 as parameter names -> values (the named example's parameters)
+SECTION_54_PARAMETERS = {
+    **{f"xA{k + 2}": SECTION_54_BASE[k][0] for k in range(5)},
+    **{f"yA{k + 2}": SECTION_54_BASE[k][1] for k in range(5)},
+    **dict(zip(("t11", "t12", "t22"), SECTION_54_T, strict=True)),
+}
+#: a point of section 5.4's self-motion: {x y z alpha beta gamma} (m, rad) of the mode at i_x =
+#: 0.044 (the first of its eight, ``examples/gough_architecture.py``) for the compatible lengths
+#: nearest the printed ones; its leg lengths are the printed l1..l6 to 4.2e-3 (printed to 0.01)
+SECTION_54_POSE = (11.100315736401, 24.869206220077, 18.934814882557, -1.110996974574, -1.471482307985, 0.496304779502)
+#: the default geometry (module docstring): section 5.4 with A4 moved off the conic to (13, 0)
+DEFAULT_BASE = [(5.0, -5.0), (9.0, -3.0), (13.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
+#: home {x y z alpha beta gamma} (m, rad) on the default geometry: regular (module docstring)
+HOME_POSE = (5.0, 2.0, 5.0, -0.3, -0.5, 0.3)
 
 
 def base_points() -> list[sp.Matrix]:
@@ -249,16 +273,56 @@ def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
 
 
 def defaults() -> dict[sp.Symbol, float]:
+    """The default geometry: ``DEFAULT_BASE`` and section 5.4's platform map (module docstring)."""
     values: dict[sp.Symbol, float] = {}
-    values.update({XA[k]: SECTION_54_BASE[k][0] for k in range(5)})
-    values.update({YA[k]: SECTION_54_BASE[k][1] for k in range(5)})
+    values.update({XA[k]: DEFAULT_BASE[k][0] for k in range(5)})
+    values.update({YA[k]: DEFAULT_BASE[k][1] for k in range(5)})
     values.update(dict(zip((t11, t12, t22), SECTION_54_T, strict=True)))
     return values
 
 
+def xyz_euler_transform(values: tuple[float, ...]) -> sp.Matrix:
+    """^B_P T of {x y z alpha beta gamma} (Z-Y-X Euler angles), numerically."""
+    rotation = euler_zyx_rotation(*(sp.Float(v, 17) for v in values[3:]))
+    return homogeneous(rotation, [sp.Float(v, 17) for v in values[:3]]).evalf(17)
+
+
+def home() -> dict[sp.Symbol, float]:
+    """``HOME_POSE`` with its leg lengths l_i = |p + R B_i^(P) - A_i| on the default geometry."""
+    pose = xyz_euler_transform(HOME_POSE)
+    legs = leg_vectors(pose[:3, :3], pose[:3, 3])
+    values = {lengths[k]: float(sp.sqrt(d.dot(d)).xreplace(defaults())) for k, d in enumerate(legs)}
+    values.update(zip((x, y, z, alpha, beta, gamma), HOME_POSE, strict=True))
+    return values
+
+
+def examples() -> list[Example]:
+    """Section 5.4: the paper prints the base, the platform map and the locked lengths, and no
+    pose. Its geometry is architecturally singular (base on a conic; load warns), and the lengths
+    lock a self-motion, not a pose: forward_pose_all raises there (SelfMotionError on compatible
+    lengths; the printed ones are compatible only within their rounding, tests/test_gough.py). So
+    the example is a pose of the self-motion (``SECTION_54_POSE``) whose inverse pose gives the
+    printed l1..l6 to their rounding (tolerance 5e-3 m, half a unit in the last printed digit)."""
+    pose = xyz_euler_transform(SECTION_54_POSE)
+    return [
+        Example(
+            name="section54_self_motion",
+            description="section 5.4's architecturally singular geometry (base A2..A6 = (5,-5) (9,-3) (10,0) "
+            "(9,3) (5,5) on the conic (x - 5)^2 + y^2 = 25, t11 = t12 = t22 = 1; load warns): a pose on the "
+            "self-motion of its locked inputs has the printed lengths l1..l6 = 33.17, 32.02, 35.12, 37.57, "
+            "39.01, 38.32 to their rounding (5e-3 m); forward_pose_all at these lengths raises (a self-motion, "
+            "not isolated modes: examples/gough_architecture.py)",
+            pose=[[float(pose[i, j]) for j in range(4)] for i in range(4)],
+            parameters=dict(SECTION_54_PARAMETERS),
+            expected={"actuated": list(SECTION_54_LENGTHS)},
+            tolerance=5e-3,
+        )
+    ]
+
+
 def drawing() -> Drawing:
     """Base joints A_i, platform joints B_i = p + R B_i^(P) in {B}; the base and platform
-    hexagons A1..A6 and B1..B6 (in the order of the points, around the section 5.4 conic) and
+    hexagons A1..A6 and B1..B6 (in the order of the points, around the base) and
     the legs A_i -> B_i."""
     rotation = euler_zyx_rotation(alpha, beta, gamma)
     position = sp.Matrix([x, y, z])
@@ -274,22 +338,17 @@ def drawing() -> Drawing:
 
 
 def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
-    """Section 5.4 prints the base without a unit: read as metres."""
+    """Section 5.4 prints the base without a unit: read as metres (module docstring)."""
     info = {}
     for k in range(5):
-        info[XA[k]] = ParameterInfo("m", f"x of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
-        info[YA[k]] = ParameterInfo("m", f"y of the base joint A{k + 2} in {{B}} (A1 = O), section 5.4")
+        info[XA[k]] = ParameterInfo("m", f"x of the base joint A{k + 2} in {{B}} (A1 = O), eq (1)")
+        info[YA[k]] = ParameterInfo("m", f"y of the base joint A{k + 2} in {{B}} (A1 = O), eq (1)")
     info[t11] = ParameterInfo("", "platform map, eq (1): x_B = t11 x_A + t12 y_A (t11 t22 != 0)", "nonzero")
     info[t12] = ParameterInfo("", "platform map, eq (1): shear term of x_B = t11 x_A + t12 y_A")
     info[t22] = ParameterInfo("", "platform map, eq (1): y_B = t22 y_A (t11 t22 != 0)", "nonzero")
     return info
 
 
-# No named example: section 5.4 prints the base and the locked lengths l1..l6 only (no pose), and
-# its geometry is architecturally singular (the base lies on a conic): its "eight assembly modes
-# for a specified value of i_x" lie on a self-motion (examples/gough_architecture.py), forward_pose_all
-# raises there (SelfMotionError on compatible lengths; the printed ones are compatible only within
-# their rounding, tests/test_gough.py), and without a printed pose there is no inverse example.
 def build() -> Mechanism:
     rate_model, parallel = rates()
     return Mechanism(
@@ -307,8 +366,7 @@ def build() -> Mechanism:
         legs=[],
         inverse=inverse(),
         forward=forward(),
-        home={**dict(zip(lengths, SECTION_54_LENGTHS, strict=True)), x: 0.0, y: 0.0, z: 30.0}
-        | {alpha: 0.0, beta: 0.0, gamma: 0.0},
+        home=home(),
         angular=[alpha, beta, gamma],
         limits={length: (0.0, float("inf")) for length in lengths},  # leg lengths
         parallel_factors=parallel,
@@ -320,6 +378,7 @@ def build() -> Mechanism:
         architecture_tolerance=1e-9,
         parameter_info=parameter_info(),
         parameter_groups={"base": sp.Matrix([[XA[k], YA[k]] for k in range(5)])},
+        examples=examples(),
         drawing=drawing(),
     )
 

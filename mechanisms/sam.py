@@ -17,6 +17,13 @@ Conventions, as in the paper:
   sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
   (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
 * Lengths in metres, angles in radians.
+* Home (the default Newton guess, ``parakin plot sam``, exported C examples): the last pose of
+  section 4.2's inverse-pose trajectory, {x y z alpha beta gamma} = {0.05 0.05 0.714 0 0 5 deg}
+  (ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} from eq (15), ``SECTION42_HOME``), on the
+  paper's branch 2 (``PAPER_BRANCH``): a regular configuration (closure Jacobian pivot ratio 0.50,
+  four assembly modes). The paper's nominal pose eq (15) itself is a type II singularity (both
+  U-joint axes z4 parallel to X_B, a self-motion; tests/test_sam_paper.py): it stays the named
+  example ``eq15_nominal``, never the home.
 """
 
 from __future__ import annotations
@@ -24,9 +31,10 @@ from __future__ import annotations
 import math
 
 import sympy as sp
-from parakin.generator.frames import ModifiedDHLink, homogeneous, inverse_transform, translation
+from parakin.generator.frames import ModifiedDHLink, euler_zyx_rotation, homogeneous, inverse_transform, translation
 from parakin.generator.model import (
     POSE_POSITION,
+    POSE_ROTATION,
     Citation,
     Drawing,
     Example,
@@ -44,6 +52,10 @@ L2, L3 = sp.symbols("L2 L3", real=True)
 phi2, phi3, phi5, phi6 = sp.symbols("phi2 phi3 phi5 phi6", real=True)
 
 HALF_PI = sp.pi / 2
+#: the inverse branch of eq (15): left leg (+, +), right leg (-, +) (module docstring)
+PAPER_BRANCH = 2
+#: section 4.2: the nominal pose plus ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} (m, rad)
+SECTION42_HOME = (0.05, 0.05, 0.714, 0.0, 0.0, math.radians(5.0))
 
 
 def spu_leg(name: str, thetas, length, phis, base_offset, platform_offset) -> SerialChain:
@@ -214,7 +226,9 @@ def examples() -> list[Example]:
     other Table II solutions of its left leg. The printed pose z = 0.664 is itself rounded:
     theta2 = -15 deg exactly gives z = 0.6636, and at z = 0.664 theta2 = -14.99 deg, L2 =
     0.6874 m (tests/test_sam_paper.py). Tolerance 5e-4 (m and rad): half a unit in the last
-    printed digit of the lengths, well within the whole degrees of the angles (0.5 deg)."""
+    printed digit of the lengths, well within the whole degrees of the angles (0.5 deg). The pose
+    is a type II singularity (module docstring): forward_pose_all at its joint values raises
+    SelfMotionError with the curve of poses (tests/test_self_motion.py)."""
     deg = math.pi / 180
     pose = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.664], [0.0, 0.0, 0.0, 1.0]]
     left = [0.0, -15 * deg, 0.0, 0.687, 15 * deg, 0.0]  # theta1..3, L2, phi2, phi3 of eq (15)
@@ -223,23 +237,41 @@ def examples() -> list[Example]:
     for row in (1, 2, 3, 4):
         joints = table2(row, *left)
         if row == 1:
-            name, what = "eq15_nominal", "eq (15) nominal configuration"
+            name, what = "eq15_nominal", "eq (15) nominal configuration (a type II singularity: a self-motion)"
         else:
             name, what = f"table2_row{row}", f"Table II row {row} applied to the left leg of eq (15)"
         result.append(
             Example(
                 name=name,
                 description=f"{what}: {{x y z alpha beta gamma}} = {{0 0 0.664 0 0 0}} (m, deg), inverse "
-                f"branch {4 * (row - 1) + 2} (left leg branch {row - 1}, right leg (-, +)); the printed "
+                f"branch {4 * (row - 1) + PAPER_BRANCH} (left leg branch {row - 1}, right leg (-, +)); the printed "
                 "z = 0.664 is rounded (theta2 = -15 deg gives z = 0.6636), so tolerance 5e-4 m / rad, "
                 "half a unit in the last printed digit of L2 = 0.687",
                 pose=pose,
-                branch=4 * (row - 1) + 2,
+                branch=4 * (row - 1) + PAPER_BRANCH,
                 expected={"actuated": joints[:3] + right[:3], "passive": joints[3:] + right[3:]},
                 tolerance=5e-4,
             )
         )
     return result
+
+
+def inverse_at(
+    inverse: InverseSolution, pose: tuple[float, ...], branch: int, parameters: dict[sp.Symbol, float]
+) -> dict[sp.Symbol, float]:
+    """Every variable of the closed-form inverse at the pose {x y z alpha beta gamma} (Z-Y-X
+    Euler angles, eq 2) on branch ``branch`` (numbering of ``InverseSolution``), evaluated step
+    by step: the home configuration is the inverse pose itself, not a printed copy of it."""
+    x, y, z, alpha, beta, gamma = pose
+    rotation = euler_zyx_rotation(alpha, beta, gamma)
+    values: dict[sp.Symbol, sp.Expr] = dict(parameters)
+    values.update({POSE_ROTATION[i, j]: rotation[i, j] for i in range(3) for j in range(3)})
+    values.update(zip(POSE_POSITION, (x, y, z), strict=True))
+    count = len(inverse.branches)
+    values.update({b: -1 if (branch >> (count - 1 - k)) & 1 else 1 for k, b in enumerate(inverse.branches)})
+    for target, expression in inverse.steps:
+        values[target] = sp.N(expression.xreplace(values), 17)
+    return {symbol: float(value) for symbol, value in values.items() if isinstance(symbol, sp.Symbol)}
 
 
 def build() -> Mechanism:
@@ -258,7 +290,9 @@ def build() -> Mechanism:
         ).det(),
         "platform_span": 2 * L4,
     }
-    deg = sp.pi / 180
+    parameters = {L1: 0.5334, L4: 0.3556}  # section 4.1, metres
+    inverse = InverseSolution(steps_left + steps_right, list(branches), valid_left | valid_right)
+    home = inverse_at(inverse, SECTION42_HOME, PAPER_BRANCH, parameters)
     return Mechanism(
         name="sam",
         title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
@@ -268,23 +302,14 @@ def build() -> Mechanism:
             2000,
             "Journal of Robotic Systems (final manuscript, December 2000)",
         ),
-        parameters={L1: 0.5334, L4: 0.3556},  # section 4.1, metres
+        parameters=parameters,
         actuated=list(theta),
         passive=[L2, phi2, phi3, L3, phi5, phi6],
         legs=[left, right],
-        inverse=InverseSolution(steps_left + steps_right, list(branches), valid_left | valid_right),
+        inverse=inverse,
         forward=forward_elimination(left, right),
-        # eq (15): the nominal configuration
-        home={
-            **dict(zip(theta, [0, float(-15 * deg), 0, 0, float(15 * deg), 0], strict=True)),
-            **dict(
-                zip(
-                    [L2, phi2, phi3, L3, phi5, phi6],
-                    [0.687, float(15 * deg), 0, 0.687, float(-15 * deg), 0],
-                    strict=True,
-                )
-            ),
-        },
+        # section 4.2's last trajectory pose (module docstring), not eq (15): that is singular
+        home={v: home[v] for v in [*theta, L2, phi2, phi3, L3, phi5, phi6]},
         limits={L2: (0.0, float("inf")), L3: (0.0, float("inf"))},
         serial_factor_names={
             L2: "left_leg_length",

@@ -15,9 +15,11 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
   variables are (alpha, beta, gamma). Inverse branch sigma = sign(sin beta): the two Euler triples
   of one rotation; both give the same leg lengths. sin beta = 0 is a singularity of the Euler set
   only (validity ``euler_angles_regular``).
-* Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7). Their strokes d_i_min < d_i < d_i_max
-  (section 5) are the validity conditions ``leg{i}_stroke_reachable`` of the inverse pose.
-  k1..k3 (N/m, section 5) are the actuator stiffnesses, delta f_i = k_i delta d_i with f_i > 0
+* Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7). Their strokes d_i_min <= d_i <= d_i_max
+  (section 5, ``STROKES``) are the actuated ranges (``limits``): every solver refuses lengths
+  outside them (BadInputError) and the inverse pose flags the branches whose lengths leave them
+  (failure ``actuator_range``), one check in one place for forward_pose, forward_pose_all, the
+  tracker and the inverse. k1..k3 (N/m, section 5) are the actuator stiffnesses, delta f_i = k_i delta d_i with f_i > 0
   a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i), declared as the
   mechanism's ``actuator_stiffness``; the kinematics do not use them (statics, section 4:
   ``examples/sps_section5.py``).
@@ -82,11 +84,12 @@ from parakin.generator.model import (
 a1x, a2x, a2y, a3x, a3y, a3z = sp.symbols("a1x a2x a2y a3x a3y a3z", real=True)
 b1, b2, b3, b12, b23, b13 = sp.symbols("b1 b2 b3 b12 b23 b13", positive=True)
 chi = sp.Symbol("chi", real=True)
-stroke = [sp.symbols(f"d{i}_min d{i}_max", positive=True) for i in (1, 2, 3)]
 stiffness = sp.symbols("k1:4", real=True)
 # variables
 d = sp.symbols("d1:4", positive=True)
 alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
+#: section 5 (Baukema SHM4-120A): (d_i_min, d_i_max) of legs 1..3, metres; the actuated ranges
+STROKES = ((0.530, 1.780), (0.530, 1.780), (0.810, 2.060))
 NEWTON_STEPS = 6  # Cayley-Newton steps of the back substitution
 NEWTON_REACH = sp.Rational(1, 5)  # rad: how far from a closure those steps reach (see _cayley_newton)
 
@@ -128,7 +131,8 @@ def leg_equations(rotation: sp.Matrix) -> sp.Matrix:
 
 
 def inverse() -> InverseSolution:
-    """d_i = |a_i - R b_ip| (eq 7); the XYX Euler angles of R (eq 9) on branch sigma = sign(sin beta)."""
+    """d_i = |a_i - R b_ip| (eq 7); the XYX Euler angles of R (eq 9) on branch sigma = sign(sin beta).
+    The strokes are not validity conditions here: they are the actuated ranges (``STROKES``)."""
     sigma = sp.Symbol("sigma", real=True)
     r = POSE_ROTATION
     steps: list[tuple[sp.Symbol, sp.Expr]] = []
@@ -137,8 +141,6 @@ def inverse() -> InverseSolution:
         point = sp.Matrix(sp.symbols(f"B{i + 1}_x B{i + 1}_y B{i + 1}_z", real=True))
         steps += [(point[k], (r * bp)[k]) for k in range(3)]
         steps.append((d[i], sp.sqrt((a - point).dot(a - point))))
-        low, high = stroke[i]
-        validity[f"leg{i + 1}_stroke_reachable"] = (d[i] - low) * (high - d[i])
     sin_beta = sp.Symbol("sin_beta", real=True)
     steps += [
         (sin_beta, sp.sqrt(r[0, 1] ** 2 + r[0, 2] ** 2)),
@@ -351,8 +353,9 @@ def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
     return model, {"leg_moments_coplanar": triple}
 
 
-# section 5: the machine's configuration (root v3, branch (s1, s2) = (-, +)), XYX Euler angles
-HOME_EULER = (0.3862343, 0.32043814, -0.21992225)
+# section 5: the machine's configuration (root v3, branch (s1, s2) = (-, +)), XYX Euler angles,
+# to full precision so that the home closes the loop (residual 4e-16; 8 digits left 7e-9)
+HOME_EULER = (0.38623430068232256, 0.32043813812493704, -0.2199222510816914)
 
 
 def drawing() -> Drawing:
@@ -430,8 +433,6 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
         info[(b1, b2, b3)[i]] = ParameterInfo(
             "m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive"
         )
-        info[stroke[i][0]] = ParameterInfo("m", f"shortest length of leg {i + 1} (actuator stroke)", "nonnegative")
-        info[stroke[i][1]] = ParameterInfo("m", f"longest length of leg {i + 1} (actuator stroke)", "positive")
         info[stiffness[i]] = ParameterInfo(
             "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "nonzero"
         )
@@ -440,7 +441,6 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
 
 def build() -> Mechanism:
     rate_model, parallel = rates()
-    strokes = [(0.530, 1.780), (0.530, 1.780), (0.810, 2.060)]
     parameters: dict[sp.Symbol, float] = {
         a1x: 2.470,
         a2x: 2.250,
@@ -456,9 +456,6 @@ def build() -> Mechanism:
         b13: 1.070,
         chi: -1.0,
     }
-    for (low, high), (low_value, high_value) in zip(stroke, strokes, strict=True):
-        parameters[low] = low_value
-        parameters[high] = high_value
     parameters.update(zip(stiffness, (-7.7292e6, -2.30083e8, -1.0165e7), strict=True))
     return Mechanism(
         name="sps",
@@ -478,7 +475,7 @@ def build() -> Mechanism:
             **dict(zip((alpha, beta, gamma), HOME_EULER, strict=True)),
         },
         angular=[alpha, beta, gamma],
-        limits={length: (0.0, float("inf")) for length in d},  # leg lengths
+        limits=dict(zip(d, STROKES, strict=True)),  # the actuator strokes (section 5)
         parallel_factors=parallel,
         closure=closure(),
         rates=rate_model,

@@ -1,8 +1,10 @@
 """6-SPS with linearly related planar platforms: claims of Kong & Gosselin and checks.
 
-Geometry defaults are section 5.4's (architecturally singular); usable geometries are drawn at
-random: xA, yA in [-1, 1] m, |t11|, |t22| in [0.2, 2], t12 in [-1.5, 1.5], bases within 1e-4
-(relative singular value) of a conic rejected.
+Section 5.4's geometry (architecturally singular) is the named example ``section54_self_motion``
+(``arch.SECTION_54``), passed explicitly; the defaults are a usable geometry (its A4 moved off the
+conic, tests/test_gough.py::test_defaults_are_section54_with_a4_off_the_conic). Other usable
+geometries are drawn at random: xA, yA in [-1, 1] m, |t11|, |t22| in [0.2, 2], t12 in [-1.5, 1.5],
+bases within 1e-4 (relative singular value) of a conic rejected.
 """
 
 import warnings
@@ -29,7 +31,7 @@ def backend(request):
 def example(backend):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return parakin.load("gough", backend=backend)
+        return parakin.load("gough", backend=backend, **arch.SECTION_54)
 
 
 def random_geometry(rng: np.random.Generator) -> dict[str, float]:
@@ -100,7 +102,7 @@ def test_section54_base_lies_on_the_printed_conic():
     exact = sp.Matrix([[sp.Integer(int(a)), int(b), int(a) ** 2, int(b) ** 2, int(a * b)] for a, b in base])
     assert exact.det() == 0
     assert list(exact.nullspace()[0]) == [-10, 0, 1, 1, 0]  # -10 x + x^2 + y^2 = 0
-    fit = arch.conic_fit({str(k): v for k, v in gough.defaults().items()})
+    fit = arch.conic_fit(arch.SECTION_54)
     assert fit.singular and fit.measure < 1e-15
     np.testing.assert_allclose(fit.coefficients, arch.PRINTED_CONIC, atol=1e-12)
 
@@ -110,11 +112,11 @@ def test_architecture_check_and_warning():
     the section 5.4 geometry and not on a base off the conic; the example's conic fit decides the
     same for any geometry: 50 random usable bases, and the same bases moved onto an ellipse."""
     with pytest.warns(parakin.ArchitectureSingularityWarning, match="architecturally singular"):
-        example = parakin.load("gough", backend="numpy")
+        example = parakin.load("gough", backend="numpy", **arch.SECTION_54)
     assert arch.is_architecturally_singular(example) and example.is_architecturally_singular()
     with warnings.catch_warnings():
         warnings.simplefilter("error", parakin.ArchitectureSingularityWarning)
-        usable = parakin.load("gough", backend="numpy", yA4=1.0)  # A4 moved off the circle
+        usable = parakin.load("gough", backend="numpy", **arch.SECTION_54 | {"yA4": 1.0})  # A4 off the circle
     assert not arch.is_architecturally_singular(usable) and not usable.is_architecturally_singular()
     rng = np.random.default_rng(5)
     for _ in range(50):
@@ -203,12 +205,57 @@ def test_singular_geometry_forward_pose_all_reports_the_degeneracy(example, prin
     assert isinstance(printed_motion, arch.SelfMotion) and printed_motion.modes_per_ix == [8]
 
 
+# ------------------------------------------------------------------ usable defaults
+def test_defaults_are_section54_with_a4_off_the_conic(backend):
+    """The defaults (mechanisms/gough.py docstring) are section 5.4's geometry with A4 moved from
+    (10, 0) to (13, 0), off the conic: load does not warn, the conic fit of the example module
+    calls the base regular, and the home pose {5, 2, 5, -0.3, -0.5, 0.3} is a regular
+    configuration: its leg lengths are those of direct substitution, forward_pose_all there finds
+    eight real modes (mirror pairs through the base plane) with the home among them, and
+    forward_pose from the home lengths lands on the home."""
+    defaults = parakin.metadata("gough").parameter_defaults
+    assert defaults == arch.SECTION_54 | {"xA4": 13.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", parakin.ArchitectureSingularityWarning)
+        m = parakin.load("gough", backend=backend)
+    assert arch.conic_fit(defaults).measure > 1e-3 and not m.is_architecturally_singular()
+    home = parakin.pose_from_xyz_euler(gough.HOME_POSE)
+    geometry = arch.Geometry.from_parameters(defaults)
+    np.testing.assert_allclose(m.home_actuated, geometry.leg_lengths(home), rtol=1e-14)
+    assert np.abs(m.home_passive - np.array(gough.HOME_POSE)).max() == 0.0
+    modes = m.forward_pose_all(m.home_actuated)
+    assert modes.count == 8
+    poses = modes.poses[modes.valid]
+    assert np.abs(poses - home).max(axis=(-2, -1)).min() < 1e-10
+    heights = np.sort(poses[:, 2, 3])
+    np.testing.assert_allclose(heights, -heights[::-1], atol=1e-9)  # mirror pairs
+    assert np.abs(geometry.leg_lengths(poses) - m.home_actuated).max() < 1e-9
+    forward = m.forward_pose(m.home_actuated)
+    assert forward.converged and np.abs(forward.pose - home).max() < 1e-10
+
+
+def test_section54_example_pose_lies_on_the_self_motion_with_the_printed_lengths():
+    """The named example ``section54_self_motion``: its pose is one of section 5's modes (at its
+    own i_x = 0.044) of the compatible lengths nearest the printed ones, and its inverse pose gives
+    the printed l1..l6 to 4.2e-3 m (printed to 0.01 m: within 5e-3)."""
+    (example,) = [e for e in parakin.metadata("gough").examples if e.name == arch.EXAMPLE]
+    assert example.parameters == arch.SECTION_54 and example.expected["actuated"] == arch.PRINTED_LENGTHS
+    m = arch.load_example()
+    nearest = arch.compatibility(m, PRINTED).nearest
+    pose = np.array(example.pose)
+    assert pose[0, 0] == pytest.approx(0.044, abs=1e-12)
+    assert arch.distance_to_self_motion(m, nearest, pose)[0] < 1e-9
+    lengths = m.inverse_pose(pose).actuated[0]
+    assert np.abs(lengths - PRINTED).max() == pytest.approx(0.00419, abs=1e-5)
+    assert np.abs(lengths - PRINTED).max() < example.tolerance
+
+
 # ------------------------------------------------------------------ section 5: self-motion
 def test_section54_self_motion_eight_modes_two_circuits_all_legs():
     """With the nearest compatible lengths, the self-motion has 8 modes for every i_x in one
     interval, on 2 circuits (mirror images in the base plane), and every traced mode satisfies
     all six legs to 1e-9."""
-    example = arch.Geometry.from_parameters({str(k): v for k, v in gough.defaults().items()})
+    example = arch.Geometry.from_parameters(arch.SECTION_54)
     compatible = arch.compatibility(example, PRINTED).nearest
     motion = arch.self_motion(example, compatible, samples=400)
     assert len(motion.intervals) == 1 and motion.modes_per_ix == [8]
@@ -225,7 +272,7 @@ def test_section54_printed_lengths_five_legs_exact_sixth_constant_offset(printed
     """The paper's procedure with the printed l1..l5 (leg 6 dependent): 8 modes for i_x in
     (-0.53603, 0.62301); legs 1-5 to 1e-12, leg 6 off by a constant +0.033847 (its implied length
     38.3538 against the printed 38.32)."""
-    example = arch.Geometry.from_parameters({str(k): v for k, v in gough.defaults().items()})
+    example = arch.Geometry.from_parameters(arch.SECTION_54)
     motion = printed_motion  # arch.self_motion(example, PRINTED, samples=300) through forward_all
     assert motion.dependent == 6 and motion.modes_per_ix == [8] and len(motion.circuits) == 2
     assert motion.intervals[0][0] == pytest.approx(-0.53603, abs=1e-5)
@@ -241,7 +288,7 @@ def test_section54_printed_inputs_consistent_only_within_rounding():
     """lambda . L(l) = 0 is the compatibility condition; the printed value is within what
     rounding to 0.005 can produce, but the lengths are not 'five inputs and the dependent sixth':
     l6 implied by l1..l5 is 38.3538 (printed 38.32). Nearest compatible lengths: 0.006014 away."""
-    example = arch.Geometry.from_parameters({str(k): v for k, v in gough.defaults().items()})
+    example = arch.Geometry.from_parameters(arch.SECTION_54)
     check = arch.compatibility(example, PRINTED)
     np.testing.assert_allclose(check.null_vector / check.null_vector[0], [1, -25 / 9, 4, -25 / 9, 1], rtol=1e-12)
     assert abs(check.value) <= 0.005 * np.abs(check.gradient).sum()
@@ -253,7 +300,7 @@ def test_section54_printed_inputs_consistent_only_within_rounding():
 def test_incompatible_locked_lengths_least_squares_residual():
     """Locked lengths that no pose reaches: the least-squares pose leaves a residual whose norm is
     the distance to the nearest compatible lengths (0.006014; largest leg error 0.0042, leg 4)."""
-    example = arch.Geometry.from_parameters({str(k): v for k, v in gough.defaults().items()})
+    example = arch.Geometry.from_parameters(arch.SECTION_54)
     start = arch.self_motion_modes(example, PRINTED, 0.044).poses[0]
     fit = arch.least_squares_pose(example, PRINTED, start)
     assert fit.norm == pytest.approx(arch.compatibility(example, PRINTED).distance, rel=1e-6)
@@ -293,7 +340,7 @@ def test_pluecker_determinant_flags_architecture_and_type2(backend):
     rng = np.random.default_rng(23)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        example = parakin.load("gough", backend=backend)
+        example = parakin.load("gough", backend=backend, **arch.SECTION_54)
     usable = parakin.load("gough", backend=backend, **random_geometry(rng))
     for m, singular in ((example, True), (usable, False)):
         poses = np.stack([random_pose(rng) for _ in range(50)])
@@ -324,9 +371,9 @@ def test_mechanism_method_reports_architecture_singularity():
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        singular = parakin.load("gough", backend="numpy")
+        singular = parakin.load("gough", backend="numpy", **arch.SECTION_54)
     assert singular.is_architecturally_singular()
-    usable = parakin.load("gough", backend="numpy", yA4=1.0)
+    usable = parakin.load("gough", backend="numpy", **arch.SECTION_54 | {"yA4": 1.0})
     assert not usable.is_architecturally_singular()
     assert not parakin.load("sam", backend="numpy").is_architecturally_singular()
 
@@ -337,7 +384,7 @@ def test_symbolic_architecture_condition_is_what_the_runtime_evaluates():
     ``m.architecture()`` is its value at the loaded parameters."""
     objects = parakin.symbolic("gough")
     singular = arch.load_example()
-    usable = parakin.load("gough", backend="numpy", yA4=1.0)
+    usable = parakin.load("gough", backend="numpy", **arch.SECTION_54 | {"yA4": 1.0})
     names = list(singular.architecture())
     assert names and names == list(usable.architecture())
     for name in names:

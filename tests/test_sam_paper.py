@@ -191,3 +191,22 @@ def test_nominal_pose_is_type2_singular_with_a_self_motion(sam_numpy):
         pose[:3, 3] = origin
         branches = sam_numpy.inverse_pose(pose)
         assert np.abs(branches.actuated - nominal.actuated).max(-1).min() < 1e-12
+
+
+def test_home_is_the_last_section42_trajectory_pose_and_regular(sam):
+    """The home (default Newton guess, plot, C example) is the last pose of section 4.2's
+    trajectory on the paper's branch, not eq (15): there the closed-loop determinant is 0 (a type
+    II singularity) and forward_pose fails; at the home it is -0.250, forward_pose_all finds four
+    modes with the home among them, and forward_pose without a guess lands on the home."""
+    last = sam.inverse_pose(trajectory_poses(10)[-1]).branch(PAPER_BRANCH)
+    np.testing.assert_allclose(sam.home_actuated, last.actuated, atol=1e-14)
+    np.testing.assert_allclose(sam.home_passive, last.passive, atol=1e-14)
+    home = parakin.Configuration(sam.home_actuated, sam.home_passive, last.pose)
+    assert float(sam.singularities(home)["closed_loop_determinant"]) == pytest.approx(-0.250, abs=5e-4)
+    nominal = sam.inverse_pose(pose_from_xyz_euler(NOMINAL_POSE)).branch(PAPER_BRANCH)
+    assert abs(float(sam.singularities(nominal)["closed_loop_determinant"])) < 1e-12
+    modes = sam.forward_pose_all(sam.home_actuated)
+    assert modes.count == 4
+    assert np.abs(modes.poses[modes.valid] - last.pose).max(axis=(-2, -1)).min() < 1e-12
+    forward = sam.forward_pose(sam.home_actuated)
+    assert forward.converged and np.abs(forward.pose - last.pose).max() < 1e-12
