@@ -289,6 +289,7 @@ class _Closure:
 
 def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
     residual, alignment = loop_closure(mechanism)
+    check_closure(mechanism, residual)  # before anything evaluates it
     platform = mechanism.legs[0].end_transform()
     jacobians = {leg.name: leg.geometric_jacobian() for leg in mechanism.legs}
     serial = serial_factors(mechanism, jacobians)
@@ -327,6 +328,7 @@ def _from_legs(mechanism: Mechanism, state: list) -> _Closure:
 def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
     closure, rates = mechanism.closure, mechanism.rates
     assert closure is not None
+    check_closure(mechanism, closure.residual)  # before anything evaluates it
     if rates is None:  # a serial chain: no closed loop, only its own named factors
         return _Closure(
             closure.pose, closure.residual, closure.alignment, None, dict(mechanism.factors), {}, {}, {"legs": []}
@@ -365,7 +367,6 @@ def derive(mechanism: Mechanism) -> Derivation:
     check_pose_kind(mechanism)
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
-    check_closure(mechanism, residual)
     if mechanism.passive:
         jacobian_passive = residual.jacobian(mechanism.passive)
         jacobian_actuated = residual.jacobian(mechanism.actuated)
