@@ -20,7 +20,7 @@ from parakin.mechanism import Mechanism, pose_vector
 BACKENDS = ("numpy", "casadi", "compiled")
 
 #: dimension of the platform's pose space per manifest pose kind
-POSE_DIMENSIONS = {"transform": 6, "rotation": 3, "planar": 3, "translation": 3}
+POSE_DIMENSIONS = {"transform": 6, "rotation": 3, "planar": 3, "translation": 3, "planar_translation": 2}
 
 #: twist components a rate model may name (capabilities.rates.twist), in the (v, w) order
 TWIST_COMPONENTS = ("vx", "vy", "vz", "wx", "wy", "wz")
@@ -185,7 +185,7 @@ def perturb_pose(m: Mechanism, pose: np.ndarray, rng: np.random.Generator, size:
         out[:3, :3] = exp_so3(np.array([0.0, 0.0, rng.normal(scale=angle)])) @ pose[:3, :3]
     if kind in ("transform", "translation"):
         out[:3, 3] += rng.normal(scale=shift / np.sqrt(3), size=3)
-    elif kind == "planar":
+    elif kind in ("planar", "planar_translation"):
         out[:2, 3] += rng.normal(scale=shift / np.sqrt(2), size=2)
     elif kind != "rotation":
         raise AssertionError(f"{m.name}: unknown pose kind {kind!r}")

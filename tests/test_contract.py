@@ -187,7 +187,7 @@ def test_forward_pose_all_contains_the_pose_and_every_mode_reproduces_the_input(
 
 def assert_pose_kind(m, poses: np.ndarray, what: str) -> None:
     """Rigid transforms of the manifest's pose kind: 'rotation' has p = 0, 'translation' R = I,
-    'planar' a rotation about z and z = 0."""
+    'planar' a rotation about z and z = 0, 'planar_translation' R = I and z = 0."""
     poses = np.asarray(poses).reshape(-1, 4, 4)
     rotation, position = poses[:, :3, :3], poses[:, :3, 3]
     assert np.isfinite(poses).all(), f"{m.name} {what}: not finite"
@@ -198,8 +198,10 @@ def assert_pose_kind(m, poses: np.ndarray, what: str) -> None:
     kind, scale = m.manifest.pose_kind, h.length_scale(m)
     if kind == "rotation":
         assert np.abs(position).max(initial=0.0) < 1e-12 * scale, f"{m.name} {what}: a rotation pose translates"
-    elif kind == "translation":
+    elif kind in ("translation", "planar_translation"):
         assert np.abs(rotation - np.eye(3)).max(initial=0.0) < 1e-12, f"{m.name} {what}: a translation pose rotates"
+        if kind == "planar_translation":
+            assert np.abs(position[:, 2]).max(initial=0.0) < 1e-12 * scale, f"{m.name} {what}: z != 0"
     elif kind == "planar":
         off_plane = np.abs(rotation[:, 2, :2]).max(initial=0.0) + np.abs(rotation[:, :2, 2]).max(initial=0.0)
         assert off_plane < 1e-12 and np.abs(position[:, 2]).max(initial=0.0) < 1e-12 * scale, (
@@ -531,9 +533,11 @@ def test_wrong_shapes_raise_bad_input(name, backend):
             ),
         ]
     if m.capabilities.inverse is not None:
-        # (..., 3, 3) is a rotation's short form, (..., 3) a planar or translation one
+        # (..., 3, 3) is a rotation's short form, (..., 3) a planar or translation one, (..., 2)
+        # a planar translation's
         kind = m.manifest.pose_kind
-        shapes = [(3, 4), (4, 5), (2, 2), (4,), (2,), (16,)]
+        shapes = [(3, 4), (4, 5), (4,), (16,)]
+        shapes += [(3,), (2, 3)] if kind == "planar_translation" else [(2,), (2, 2)]
         shapes += [(4, 3)] if kind in ("transform", "rotation") else []
         shapes += [(3, 3)] if kind != "rotation" else []
         for shape in shapes:
