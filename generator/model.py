@@ -140,6 +140,22 @@ class InverseSolution:
     branches: list[sp.Symbol]
     validity: dict[str, sp.Expr] = field(default_factory=dict)
 
+    def at(
+        self, rotation: sp.Matrix, position: sp.Matrix | None, branch: int, parameters: dict[sp.Symbol, float]
+    ) -> dict[sp.Symbol, float]:
+        """Every symbol of the inverse at the pose (^B_P R, position; None for an orienting
+        platform) on branch ``branch`` (numbering above), evaluated step by step at 17 digits: a
+        mechanism's home is its inverse pose itself, not a printed copy of it."""
+        values: dict[sp.Symbol, sp.Expr] = dict(parameters)
+        values.update({POSE_ROTATION[i, j]: rotation[i, j] for i in range(3) for j in range(3)})
+        if position is not None:
+            values.update(zip(POSE_POSITION, position, strict=True))
+        count = len(self.branches)
+        values.update({b: -1 if (branch >> (count - 1 - k)) & 1 else 1 for k, b in enumerate(self.branches)})
+        for target, expression in self.steps:
+            values[target] = sp.N(expression.xreplace(values), 17)
+        return {symbol: float(value) for symbol, value in values.items() if isinstance(symbol, sp.Symbol)}
+
 
 @dataclass
 class ForwardElimination:

@@ -34,7 +34,6 @@ import sympy as sp
 from parakin.generator.frames import ModifiedDHLink, euler_zyx_rotation, homogeneous, inverse_transform, translation
 from parakin.generator.model import (
     POSE_POSITION,
-    POSE_ROTATION,
     Citation,
     Drawing,
     Example,
@@ -256,24 +255,6 @@ def examples() -> list[Example]:
     return result
 
 
-def inverse_at(
-    inverse: InverseSolution, pose: tuple[float, ...], branch: int, parameters: dict[sp.Symbol, float]
-) -> dict[sp.Symbol, float]:
-    """Every variable of the closed-form inverse at the pose {x y z alpha beta gamma} (Z-Y-X
-    Euler angles, eq 2) on branch ``branch`` (numbering of ``InverseSolution``), evaluated step
-    by step: the home configuration is the inverse pose itself, not a printed copy of it."""
-    x, y, z, alpha, beta, gamma = pose
-    rotation = euler_zyx_rotation(alpha, beta, gamma)
-    values: dict[sp.Symbol, sp.Expr] = dict(parameters)
-    values.update({POSE_ROTATION[i, j]: rotation[i, j] for i in range(3) for j in range(3)})
-    values.update(zip(POSE_POSITION, (x, y, z), strict=True))
-    count = len(inverse.branches)
-    values.update({b: -1 if (branch >> (count - 1 - k)) & 1 else 1 for k, b in enumerate(inverse.branches)})
-    for target, expression in inverse.steps:
-        values[target] = sp.N(expression.xreplace(values), 17)
-    return {symbol: float(value) for symbol, value in values.items() if isinstance(symbol, sp.Symbol)}
-
-
 def build() -> Mechanism:
     left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
     right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
@@ -292,7 +273,8 @@ def build() -> Mechanism:
     }
     parameters = {L1: 0.5334, L4: 0.3556}  # section 4.1, metres
     inverse = InverseSolution(steps_left + steps_right, list(branches), valid_left | valid_right)
-    home = inverse_at(inverse, SECTION42_HOME, PAPER_BRANCH, parameters)
+    x, y, z, alpha, beta, gamma = SECTION42_HOME
+    home = inverse.at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters)
     return Mechanism(
         name="sam",
         title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",

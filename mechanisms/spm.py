@@ -17,7 +17,8 @@ Frames and conventions (SI, radians):
   8 combinations numbered as in ``parakin.Mechanism`` (branch 0 = all +).
 * Defaults: the report's example (section 3.2.3) read with alpha1 and alpha2 swapped, the only
   reading that reproduces its "8 independent solutions": alpha1 = 45 deg (proximal), alpha2 =
-  90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py).
+  90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py). Home: R = I on inverse
+  branch 0 (theta_i = -74.46 deg, phi_i = 158.53 deg), a regular, symmetric configuration.
 * Forward pose: x = tan(phi1 / 2). Two equations in (x, y = tan(phi2 / 2)), E1 = v1.v2 - cos(psi)
   and E2 = w3 . v3(v1, v2) - cos(alpha2) with leg 3 imposed on the rigid platform (which fixes its
   handedness, so the report's mirror solutions never enter), are biquadratic; their resultant in y
@@ -261,6 +262,11 @@ EXAMPLES = [
 def build() -> Mechanism:
     deg = sp.pi / 180
     rate_model, parallel = rates()
+    parameters = {alpha1: float(45 * deg), alpha2: float(90 * deg), beta: float(60 * deg), gamma: float(45 * deg)}
+    solution = inverse()
+    # home: the platform at R = I on inverse branch 0 (all sigma_i = +1), symmetric and far from
+    # both singularity kinds (|det A| = 0.999, |det B| = 0.285 with the defaults)
+    at_identity = solution.at(sp.eye(3), None, 0, parameters)
     return Mechanism(
         name="spm",
         title="3-RRR spherical parallel manipulator (Bai, Hansen & Angeles 2009 parametrisation)",
@@ -270,18 +276,13 @@ def build() -> Mechanism:
             None,
             "ED5314 course project report",
         ),
-        parameters={
-            alpha1: float(45 * deg),
-            alpha2: float(90 * deg),
-            beta: float(60 * deg),
-            gamma: float(45 * deg),
-        },
+        parameters=parameters,
         actuated=list(theta),
         passive=list(phi),
         legs=[],
-        inverse=inverse(),
+        inverse=solution,
         forward=forward(),
-        home={**{t: float(v * deg) for t, v in zip(theta, [105, 60, 105], strict=True)}, **dict.fromkeys(phi, 0.0)},
+        home={symbol: math.remainder(at_identity[symbol], 2 * math.pi) for symbol in (*theta, *phi)},
         angular=[*theta, *phi],
         parallel_factors=parallel,
         closure=closure(),

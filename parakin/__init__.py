@@ -21,13 +21,19 @@ import warnings
 from collections.abc import Mapping
 from typing import Any
 
-from parakin.backends import BackendFallbackWarning, make_backend
+from parakin.backends import make_backend
 from parakin.errors import (
     ArchitectureSingularityWarning,
     AssemblyModeChangeError,
+    BackendFallbackWarning,
     BadInputError,
+    BrokenPackageWarning,
+    CacheUnavailableError,
+    CompiledUnavailableError,
+    CompilerUnavailableError,
     ConvergenceError,
     InconsistentInputError,
+    NoSuchModeError,
     ParakinError,
     SelfMotionError,
     SingularConfigurationError,
@@ -37,7 +43,7 @@ from parakin.errors import (
 )
 from parakin.manifest import Manifest, unknown_name
 from parakin.mechanism import Mechanism
-from parakin.package import BrokenPackageWarning, GeneratedPackage, readable_names
+from parakin.package import GeneratedPackage, readable_names
 from parakin.pose import (
     euler_zyx_to_rotation,
     pose_from_xyz_euler,
@@ -155,6 +161,9 @@ __all__ = [
     "BackendFallbackWarning",
     "BadInputError",
     "BrokenPackageWarning",
+    "CacheUnavailableError",
+    "CompiledUnavailableError",
+    "CompilerUnavailableError",
     "Configuration",
     "ConvergenceError",
     "ForwardPose",
@@ -162,6 +171,7 @@ __all__ = [
     "InversePose",
     "Manifest",
     "Mechanism",
+    "NoSuchModeError",
     "ParakinError",
     "Rates",
     "SelfMotionError",

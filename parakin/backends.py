@@ -12,14 +12,9 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.errors import BackendFallbackWarning, BadInputError, CompiledUnavailableError, UnsupportedOperationError
 from parakin.package import GeneratedPackage
 from parakin.results import Array
-
-
-class BackendFallbackWarning(UserWarning):
-    """Backend 'auto' could not use compiled C (no compiler, a failed build, a cache that cannot
-    be written) and runs on NumPy instead; the message names the cause."""
 
 
 class Backend(Protocol):
@@ -119,7 +114,7 @@ def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:
     if backend == "casadi":
         return CasadiBackend(mechanism)
     if backend in ("compiled", "auto"):
-        from parakin.compiled import CompiledBackend, CompiledUnavailableError
+        from parakin.compiled import CompiledBackend
 
         try:
             return CompiledBackend(mechanism)

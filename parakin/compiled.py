@@ -22,7 +22,12 @@ from typing import Any
 import numpy as np
 
 from parakin.backends import broadcast_batch
-from parakin.errors import BadInputError, ParakinError
+from parakin.errors import (
+    BadInputError,
+    CacheUnavailableError,
+    CompilerUnavailableError,
+    ParakinError,
+)
 from parakin.package import GeneratedPackage
 from parakin.results import Array
 
@@ -35,18 +40,6 @@ FLAGS = [
     "-fno-semantic-interposition",
     "-fno-math-errno",
 ]  # no FMA: bit-equal to NumPy
-
-
-class CompiledUnavailableError(ParakinError):
-    """The compiled backend cannot be built or loaded here (backend 'auto' falls back to NumPy)."""
-
-
-class CompilerUnavailableError(CompiledUnavailableError):
-    """No working C compiler for the compiled backend (set CC, or use backend='numpy')."""
-
-
-class CacheUnavailableError(CompiledUnavailableError):
-    """The library cache (``$PARAKIN_CACHE``) cannot be written or its library not loaded."""
 
 
 def cache_directory() -> Path:

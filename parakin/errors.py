@@ -12,7 +12,8 @@ class BadInputError(ParakinError, ValueError):
 
 
 class UnknownMechanismError(BadInputError, KeyError):
-    """``parakin.load`` got a name or parameter it does not know; the message lists the valid ones."""
+    """``parakin.load`` got a mechanism name (or package folder) it does not know; the message lists
+    the valid ones. Unknown parameters and limits are plain BadInputErrors that suggest the closest names."""
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0])
@@ -26,9 +27,31 @@ class ArchitectureSingularityWarning(UserWarning):
     """The loaded geometry is singular at every pose (an architecture singularity): unusable."""
 
 
+class BrokenPackageWarning(UserWarning):
+    """A package on the search path whose manifest cannot be read: it is skipped by
+    ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
+
+
+class BackendFallbackWarning(UserWarning):
+    """Backend 'auto' could not use compiled C (no compiler, a failed build, a cache that cannot
+    be written) and runs on NumPy instead; the message names the cause."""
+
+
 class UnsupportedOperationError(ParakinError, NotImplementedError):
     """The mechanism does not have what an operation needs (no closed-form inverse, no forward
     elimination, no rate model, no drawing kernel, ...); its manifest's capabilities say what it has."""
+
+
+class CompiledUnavailableError(ParakinError):
+    """The compiled backend cannot be built or loaded here (backend 'auto' falls back to NumPy)."""
+
+
+class CompilerUnavailableError(CompiledUnavailableError):
+    """No working C compiler for the compiled backend (set CC, or use backend='numpy')."""
+
+
+class CacheUnavailableError(CompiledUnavailableError):
+    """The library cache (``$PARAKIN_CACHE``) cannot be written or its library not loaded."""
 
 
 class UnreachablePoseError(ParakinError):

@@ -244,7 +244,11 @@ class Mechanism:
                 index = first_index(none)
                 failed = [name for name, mask in failures.items() if mask[index].all()]
                 at = at_index(index)
-                if failed and all(name == "limits" or name.endswith("reachable") for name in failed):
+                # joint limits, actuator ranges and reach conditions bound the workspace; anything
+                # else failing on every branch is a leg that cannot be resolved
+                if failed and all(
+                    name in ("limits", "actuator_range") or name.endswith("reachable") for name in failed
+                ):
                     raise UnreachablePoseError(
                         f"pose{at} is unreachable on every branch: {', '.join(failed)} (joint limits {self.limits})"
                     )

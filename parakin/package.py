@@ -23,15 +23,10 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from parakin.errors import BadInputError, UnknownMechanismError
+from parakin.errors import BadInputError, BrokenPackageWarning, UnknownMechanismError
 from parakin.manifest import Manifest
 
 MANIFEST = "manifest.json"
-
-
-class BrokenPackageWarning(UserWarning):
-    """A package on the search path whose manifest cannot be read: it is skipped by
-    ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
 
 
 def search_path() -> list[Path]:

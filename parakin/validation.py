@@ -68,7 +68,7 @@ def positive_number(value: object, name: str, allow_zero: bool = False, maximum:
 
 
 #: the smallest Newton residual tolerance (m, rad): the closure's rounding floor reaches ~5e-15 on
-#: the shipped mechanisms (planar_3rpr, sps) and differs between the NumPy, CasADi and C kernels,
+#: some shipped mechanisms (measured: a planar and a spherical one) and differs between the NumPy, CasADi and C kernels,
 #: so a smaller tolerance would converge on one backend and not another; 1e-13 is met by all
 MIN_TOLERANCE = 1e-13
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.compiled import CompilerUnavailableError
+from parakin.errors import CompiledUnavailableError
 from parakin.mechanism import Mechanism, pose_vector
 
 BACKENDS = ("numpy", "casadi", "compiled")
@@ -61,7 +61,7 @@ def load(name: str, backend: str) -> Mechanism:
     compiled backend has no working C compiler."""
     try:
         return _load(name, backend)
-    except CompilerUnavailableError as error:
+    except CompiledUnavailableError as error:
         pytest.skip(f"backend 'compiled' unavailable: {error}")
 
 

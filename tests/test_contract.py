@@ -747,20 +747,9 @@ def test_architecturally_singular_geometries_warn_and_forward_pose_all_says_so(n
 #: the least pivot ratio (min |u_kk| / max |u_kk| of the closure Jacobian's elimination) of a
 #: regular home: far above the runtime's singular_ratio (1e-10), so that the home is no near miss
 REGULAR_HOME = 1e-6
-#: mechanisms whose home is known not to be regular, with the reason (strict: a fix fails here)
-IRREGULAR_HOMES = {
-    "spm": "home passive (0, 0, 0) does not close the loop at the home actuated values "
-    "(residual 0.83; mechanisms/spm.py: give the closed phi1..3)",
-}
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=IRREGULAR_HOMES[n])) if n in IRREGULAR_HOMES else n
-        for n in NAMES
-    ],
-)
+@pytest.mark.parametrize("name", NAMES)
 def test_default_home_is_a_regular_configuration(name):
     """Usable defaults: with its default parameters a mechanism loads without
     ArchitectureSingularityWarning, and its home is a regular configuration: it closes the loop

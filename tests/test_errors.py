@@ -137,7 +137,7 @@ def test_unusable_cache_auto_falls_back_to_numpy_and_says_why(tmp_path, monkeypa
     """An unwritable C cache, or a file in its place, once raised a raw FileExistsError /
     PermissionError even with backend 'auto'. Now 'auto' runs on NumPy with a
     BackendFallbackWarning naming the cause, and 'compiled' raises CacheUnavailableError."""
-    from parakin.compiled import CacheUnavailableError
+    from parakin.errors import CacheUnavailableError
 
     reference = parakin.load("sphere2r", backend="numpy")
     inputs = np.deg2rad([30.0, 50.0])
@@ -158,7 +158,7 @@ def test_unwritable_cache_is_a_named_error(tmp_path, monkeypatch):
     the process runs as root, which may write anywhere) becomes CacheUnavailableError."""
     import tempfile
 
-    from parakin.compiled import CacheUnavailableError
+    from parakin.errors import CacheUnavailableError
 
     cache = tmp_path / "cache"
     cache.mkdir()
@@ -182,7 +182,7 @@ def test_unwritable_cache_is_a_named_error(tmp_path, monkeypatch):
 
 
 def test_no_compiler_auto_says_it_runs_on_numpy(monkeypatch):
-    from parakin.compiled import CompilerUnavailableError
+    from parakin.errors import CompilerUnavailableError
 
     monkeypatch.setenv("CC", "no-such-compiler-for-parakin")
     with pytest.warns(parakin.BackendFallbackWarning, match="on NumPy.*CompilerUnavailableError: no C compiler"):

@@ -55,6 +55,7 @@ from hypothesis import strategies as st
 import parakin
 from parakin import Configuration
 from parakin.errors import ParakinError
+from parakin.validation import MIN_TOLERANCE
 
 NAMES = parakin.available()
 BACKENDS = h.BACKENDS
@@ -659,7 +660,8 @@ DEGENERATE_GUESSES = ("guess-zeros", "guess-huge-all", "guess-zero-quaternion")
 OPTION_CLASSES = {
     "tolerance": {
         "valid": ("ok", 1e-10), "zero": ("either", 0.0), "tiny": ("either", 1e-300), "inf": ("either", np.inf),
-        "smallest-documented": ("either", 1e-16), "largest-documented": ("either", 1.0),
+        "smallest-documented": ("either", MIN_TOLERANCE), "largest-documented": ("either", 1.0),
+        "below-documented": ("raise", MIN_TOLERANCE / 1000),
         "negative": ("raise", -1.0), "nan": ("raise", np.nan), "string": ("raise", "1e-9"),
         "none": ("raise", None), "complex": ("raise", 1e-9j), "array": ("raise", np.array([1e-9, 1e-9])),
     },
@@ -1748,12 +1750,13 @@ def _backends_agree(name: str, examples: int, minimum: int) -> None:
 
 
 #: degenerate solver inputs per operation (issue 18 item 11): guesses at the origin, far away or
-#: with a zero quaternion, tolerances at both ends of the documented range [1e-16, 1], no iterations
+#: with a zero quaternion, tolerances at both ends of the documented range [MIN_TOLERANCE, 1] and
+#: below it, no iterations
 DEGENERATE_SOLVER_INPUTS = {
     "forward_pose(guess)": (*DEGENERATE_GUESSES, "huge", "tiny"),
-    "forward_pose(tolerance=)": ("smallest-documented", "largest-documented"),
+    "forward_pose(tolerance=)": ("smallest-documented", "largest-documented", "below-documented"),
     "forward_pose(max_iterations=)": ("zero",),
-    "tracker(tolerance=).solve": ("smallest-documented", "largest-documented"),
+    "tracker(tolerance=).solve": ("smallest-documented", "largest-documented", "below-documented"),
     "tracker(max_iterations=).solve": ("zero",),
 }
 
@@ -1764,7 +1767,6 @@ def _claims_non_finite(error: BaseException | None) -> bool:
     return isinstance(error, parakin.BadInputError) and ("non-finite" in text or "not finite" in text)
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 11: waiting for the runtime fix")
 @pytest.mark.parametrize("name", NAMES)
 def test_backends_agree_on_degenerate_solver_inputs(name):
     """Every degenerate guess, both ends of the tolerance range and max_iterations=0, on every

@@ -189,7 +189,6 @@ def _modes_indexed(name: str, backend: str, inputs: int, examples: int) -> None:
     assert len(checked) >= min(examples, len(actuated)) // 2, f"only {len(checked)} inputs checked"
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 4: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_modes_are_indexed_as_modes(name, backend):
     """Issue 18 item 4: ``mode(k)`` for 0 <= k < count is the k-th valid mode (closed, and its
@@ -198,7 +197,6 @@ def test_modes_are_indexed_as_modes(name, backend):
     _modes_indexed(name, backend, 6, 3)
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 4: waiting for the runtime fix")
 @pytest.mark.slow
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_modes_are_indexed_as_modes_many_inputs(name, backend):
@@ -257,7 +255,6 @@ def _real_means_real(name: str, backend: str, inputs: int) -> None:
     assert not problems, f"{len(problems)} inputs; first:\n" + "\n".join(problems[:3])
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 5: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_real_slots_are_real(name, backend):
     """Issue 18 item 5: ``AssemblyModes.real`` is True only for real roots / endpoints."""
@@ -265,7 +262,6 @@ def test_real_slots_are_real(name, backend):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="issue 18 item 5: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_real_slots_are_real_many_inputs(name, backend):
     _real_means_real(name, backend, 60)
@@ -314,7 +310,6 @@ def _answers(m, actuated) -> bool:
     return True
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 5: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_forward_pose_without_guess_converges_where_modes_exist(name, backend):
     """Issue 18 item 5: forward_pose without a guess never fails where forward_pose_all finds
@@ -323,14 +318,12 @@ def test_forward_pose_without_guess_converges_where_modes_exist(name, backend):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="issue 18 item 5: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_forward_pose_without_guess_converges_where_modes_exist_many_inputs(name, backend):
     _unguided_forward(name, backend, 200)
 
 
 # ---------------------------------------------------------------------------- item 6: rigid platform poses
-@pytest.mark.xfail(strict=False, reason="issue 18 item 6: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_platform_pose_is_rigid_or_inconsistent(name, backend):
     """Issue 18 item 6: platform_pose of joint values near a closed configuration (closed or not,
@@ -386,7 +379,6 @@ def stiffness_cases(n: int) -> dict[str, tuple[str, object]]:
     }  # fmt: skip
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 7: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_stiffness_refuses_malformed_stiffnesses(name, backend):
     """Issue 18 item 7: ``stiffness(state, actuator_stiffness)`` refuses strings, complex values,
@@ -450,7 +442,6 @@ def off_motion_poses(name: str, pose: np.ndarray, size: float, rng: np.random.Ge
     return out
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 8: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_poses_off_the_mechanisms_motion_are_refused(name, backend):
     """Issue 18 item 8: a pose moved along a direction the mechanism never moves in (read from
@@ -529,7 +520,6 @@ def _forward_agrees_with_inverse(name: str, backend: str, count: int) -> None:
     assert not problems, f"{len(problems)} of {checked} branches; first:\n" + "\n".join(problems[:3])
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18 item 9: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_forward_refuses_what_the_inverse_refuses(name, backend):
     """Issue 18 item 9: actuated values of an inverse branch that inverse_pose marks invalid (an
@@ -539,7 +529,6 @@ def test_forward_refuses_what_the_inverse_refuses(name, backend):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="issue 18 item 9: waiting for the runtime fix")
 @pytest.mark.parametrize(("name", "backend"), CASES)
 def test_forward_refuses_what_the_inverse_refuses_many_poses(name, backend):
     _forward_agrees_with_inverse(name, backend, 120)

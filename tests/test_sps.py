@@ -372,11 +372,6 @@ def test_lengths_beyond_the_strokes_are_refused_by_every_solver(sps, section5):
     assert sps.forward_pose_all(machine.actuated).count == 4
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="parakin/mechanism.py inverse_pose(strict=True) counts the failure 'actuator_range' as a serial "
-    "singularity (SingularConfigurationError); it is a workspace limit like 'limits' (report of issue 18 item 9)",
-)
 def test_a_pose_beyond_every_stroke_is_unreachable(sps, section5):
     with pytest.raises(parakin.UnreachablePoseError, match="actuator_range"):
         sps.inverse_pose(half_turn(section5))

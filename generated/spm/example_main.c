@@ -14,7 +14,7 @@
 
 // Example: the spm solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
-// It solves example 'section323', a configuration the generator checked to be regular (closed,
+// It solves the home configuration, a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>
 #include <stdio.h>
@@ -30,9 +30,9 @@ static void print_pose(const double* pose) {
 int main(void) {
     spm_params params = SPM_PARAMS_DEFAULT;
     // the actuated inputs [theta1 [rad], theta2 [rad], theta3 [rad]]
-    double actuated[SPM_NUM_ACTUATED] = { 1.8325957145940461, 1.0471975511965976, 1.8325957145940461 };
+    double actuated[SPM_NUM_ACTUATED] = { -1.2995325730688752, -1.2995325730688752, -1.2995325730688758 };
     // a guess of the passive values [phi1 [rad], phi2 [rad], phi3 [rad]]
-    double guess[3] = { -0.2578, 0.9945, 0.406 };
+    double guess[3] = { 2.767, 2.767, 2.767 };
     int failed = 0;
     printf("spm: actuated");
     for (int k = 0; k < SPM_NUM_ACTUATED; ++k) printf(" %.17g", actuated[k]);

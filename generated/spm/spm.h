@@ -34,7 +34,8 @@
 //   8 combinations numbered as in ``parakin.Mechanism`` (branch 0 = all +).
 // * Defaults: the report's example (section 3.2.3) read with alpha1 and alpha2 swapped, the only
 //   reading that reproduces its "8 independent solutions": alpha1 = 45 deg (proximal), alpha2 =
-//   90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py).
+//   90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py). Home: R = I on inverse
+//   branch 0 (theta_i = -74.46 deg, phi_i = 158.53 deg), a regular, symmetric configuration.
 // * Forward pose: x = tan(phi1 / 2). Two equations in (x, y = tan(phi2 / 2)), E1 = v1.v2 - cos(psi)
 //   and E2 = w3 . v3(v1, v2) - cos(alpha2) with leg 3 imposed on the rigid platform (which fixes its
 //   handedness, so the report's mirror solutions never enter), are biquadratic; their resultant in y
