@@ -187,8 +187,9 @@ def _fk(args: argparse.Namespace) -> int:
     degrees = args.actuated_deg is not None
     actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
     modes = m.forward_pose_all(actuated)
-    for k in np.nonzero(modes.valid)[0]:
-        record: dict[str, Any] = {"mode": int(k), **_describe_pose(m.manifest, modes.poses[k], degrees)}
+    # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
+    for n, k in enumerate(np.nonzero(modes.valid)[0]):
+        record: dict[str, Any] = {"mode": n, "slot": int(k), **_describe_pose(m.manifest, modes.poses[k], degrees)}
         record.update(_labelled(m.manifest.passive, modes.passive[k], degrees))
         record["residual"] = float(modes.residual[k])
         _print(record, args.json)

@@ -105,11 +105,11 @@ def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
         f" {'residual':>9s} {'conditioning':>12s}"
     )
     lines = [header]
-    for index in np.nonzero(modes.valid)[0]:
+    for number, index in enumerate(np.nonzero(modes.valid)[0]):  # numbered as modes.mode(number)
         x, y, z, *angles = xyz_euler_from_pose(modes.poses[index])
         alpha, beta, gamma = np.degrees(angles)
         lines.append(
-            f"  {index:4d} {x:10.6f} {y:10.6f} {z:10.6f} {alpha:9.3f} {beta:9.3f} {gamma:11.3f}"
+            f"  {number:4d} {x:10.6f} {y:10.6f} {z:10.6f} {alpha:9.3f} {beta:9.3f} {gamma:11.3f}"
             f" {modes.residual[index]:9.1e} {modes.conditioning[index]:12.2e}"
         )
     return tuple(lines)

@@ -36,7 +36,8 @@ def _states(state: Configuration | AssemblyModes) -> tuple[list[Configuration], 
     if isinstance(state, AssemblyModes):
         indices = np.nonzero(np.asarray(state.valid))[0]
         configurations = [Configuration(state.actuated, state.passive[k], state.poses[k]) for k in indices]
-        return configurations, [f"mode {k}" for k in indices]
+        # modes numbered as AssemblyModes.mode(k) numbers them: 0 .. count - 1, not by slot
+        return configurations, [f"mode {n}" for n in range(len(indices))]
     actuated = np.asarray(state.actuated)
     if actuated.ndim > 1:  # a batch: one drawing per entry
         passive, pose = np.asarray(state.passive), np.asarray(state.pose)
