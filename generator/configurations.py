@@ -21,6 +21,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .frames import quaternion_from_rotation, quaternion_product, quaternion_rotation
 from .model import POSE_KINDS, POSE_SYMBOLS, Example, Mechanism
 
 #: position spread of the samples around an anchor, in length scales, and the rotation spread
@@ -176,33 +177,6 @@ def anchors(mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix) -> A
     return Anchors(poses, length, home)
 
 
-def _quaternion(rotation: list[list[float]]) -> list[float]:
-    """A unit quaternion (w, x, y, z) of a 3 x 3 rotation (Shepperd: from its largest component)."""
-    (a, b, c), (d, e, f), (g, h, i) = rotation
-    candidates = [1 + a + e + i, 1 + a - e - i, 1 - a + e - i, 1 - a - e + i]
-    k = max(range(4), key=lambda j: candidates[j])
-    s = 2 * math.sqrt(max(candidates[k], 1e-300))
-    if k == 0:
-        return [s / 4, (h - f) / s, (c - g) / s, (d - b) / s]
-    if k == 1:
-        return [(h - f) / s, s / 4, (b + d) / s, (c + g) / s]
-    if k == 2:
-        return [(c - g) / s, (b + d) / s, s / 4, (f + h) / s]
-    return [(d - b) / s, (c + g) / s, (f + h) / s, s / 4]
-
-
-def _rotation_matrix(q: list) -> list[list]:
-    """The rotation of the quaternion q, normalised in mpmath: orthogonal to the working
-    precision (a rotation rounded to doubles would break the closure identities at 1e-16)."""
-    norm = mpmath.sqrt(sum(v * v for v in q))
-    w, x, y, z = (v / norm for v in q)
-    return [
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ]
-
-
 def sample_pose(rng: random.Random, mechanism: Mechanism, found: Anchors, index: int) -> list:
     """Sample ``index``: anchor ``index`` (in turn) moved along and turned about the axes its
     pose kind moves in, by up to SPREADS[...] length scales and radians; mpmath values."""
@@ -212,21 +186,19 @@ def sample_pose(rng: random.Random, mechanism: Mechanism, found: Anchors, index:
     turn = [mpmath.mpf(spread * rng.uniform(-1, 1)) if k in kind.rotation_axes else mpmath.mpf(0) for k in range(3)]
     half = mpmath.sqrt(sum(v * v for v in turn)) / 2
     sinc = mpmath.sin(half) / (2 * half) if half else mpmath.mpf(1) / 2
-    w0, x0, y0, z0 = (mpmath.mpf(v) for v in _quaternion([anchor[3 * i : 3 * i + 3] for i in range(3)]))
-    w1, x1, y1, z1 = mpmath.cos(half), *(v * sinc for v in turn)
-    rotation = _rotation_matrix(  # anchor * turn (the turn about axes of {P})
-        [
-            w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
-            w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
-            w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1,
-            w0 * z1 + x0 * y1 - y0 * x1 + z0 * w1,
-        ]
-    )
+    # anchor * turn (the turn about axes of {P}), in quaternions at the working precision, so
+    # that the sampled rotation is orthogonal to it (one rounded to doubles breaks the closure
+    # identities at 1e-16); frames holds the one set of rotation helpers
+    digits = mpmath.mp.dps
+    anchor_rotation = sp.Matrix(3, 3, [sp.Float(v, digits) for v in anchor[:9]])
+    turn_quaternion = [sp.Float(mpmath.cos(half), digits), *(sp.Float(v * sinc, digits) for v in turn)]
+    quaternion = quaternion_product(quaternion_from_rotation(anchor_rotation), turn_quaternion)
+    rotation = quaternion_rotation(quaternion).evalf(digits).tolist()
     position = [
         anchor[9 + k] + (spread * found.length * rng.uniform(-1, 1) if k in kind.translation_axes else 0.0)
         for k in range(3)
     ]
-    return [v for row in rotation for v in row] + [mpmath.mpf(v) for v in position]
+    return [mpmath.mpf(v) for row in rotation for v in row] + [mpmath.mpf(v) for v in position]
 
 
 def _same_angle(a: float, b: float, angular: bool, tolerance: float) -> bool:
