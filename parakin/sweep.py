@@ -22,7 +22,11 @@ actuated space:
 - ``modes``: the number of real assembly modes (``forward_pose_all``), NaN where it is not
   defined, with ``modes_status`` saying why (codes of the manifest's ``abi.input_status``, named in
   the variable's CF attributes ``flag_values`` / ``flag_meanings``: 0 'ok', 'degenerate' where the
-  elimination degenerates, e.g. parallel joint axes); a missing count is never a number;
+  elimination degenerates, e.g. parallel joint axes); a missing count is never a number. An axis
+  may leave an actuator's range (the manifest's limits, which every solver refuses): its points
+  outside are missing with the code 'outside_range' (after the manifest's codes, declared where the
+  grid leaves a range), the rest of the grid is computed; a fixed actuated value outside its range
+  (every point missing) is refused;
 parameter space:
 - ``architecture``: the manifest's architecture measure(s) (0: singular at every pose);
 - ``workspace_volume``: the volume (product of the axis units) of the reachable part of the pose
@@ -71,6 +75,8 @@ POSE_COORDINATES = {
 #: a pose coordinate named otherwise than its x-y-z-Z-Y-X-Euler value: the planar turn phi about z
 #: is the Euler alpha; every other coordinate of a kind is absent from the pose (zero)
 EULER_NAME = {"phi": "alpha"}
+#: the ``modes_status`` code of an actuated input outside its range (no solver takes it)
+OUTSIDE_RANGE = "outside_range"
 #: the sweep's store: its record of finished chunks (format 2: per chunk the sha256 of each variable)
 RECORD, RECORD_FORMAT = "finished.json", 2
 POSE_QUANTITIES = ("reachable", "branches", "type_i_distance", "type_ii_distance")
@@ -150,6 +156,16 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
     return out
 
 
+def _actuated_ranges(m: Mechanism) -> tuple[np.ndarray, np.ndarray]:
+    """(low, high) of every actuated variable: its manifest limits, within the largest magnitude
+    an input may have (the ranges the solvers check)."""
+    from parakin.validation import MAX_MAGNITUDE
+
+    low = np.array([max(v.limits[0], -MAX_MAGNITUDE) for v in m.manifest.actuated])
+    high = np.array([min(v.limits[1], MAX_MAGNITUDE) for v in m.manifest.actuated])
+    return low, high
+
+
 def _grid_volume(workspace: Mapping[str, np.ndarray]) -> float:
     """Volume of one cell of a regular grid (product of the spacings)."""
     return float(np.prod([(v[-1] - v[0]) / (len(v) - 1) if len(v) > 1 else 1.0 for v in workspace.values()]))
@@ -192,10 +208,17 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
             ],
             axis=-1,
         )
-        counts = m.count_modes(theta)
+        low, high = _actuated_ranges(m)
+        inside = ((theta >= low) & (theta <= high)).all(-1)  # outside: no input of any solver
+        counts = m.count_modes(theta[inside])
         defined = counts["status"] == m.manifest.abi.input_status.index("ok")
-        out["modes"] = np.where(defined, counts["count"], np.nan)  # a missing count is no number
-        out["modes_status"] = counts["status"]
+        modes = np.full(n, np.nan)
+        status = np.zeros(n, dtype=np.int32)
+        if not inside.all():  # only a grid that leaves a range declares (and can hold) the code
+            status[~inside] = spec["status_names"].index(OUTSIDE_RANGE)
+        modes[inside] = np.where(defined, counts["count"], np.nan)  # a missing count is no number
+        status[inside] = counts["status"]
+        out["modes"], out["modes_status"] = modes, status
     if "architecture" in wanted:
         for name, value in m.architecture().items():
             out[f"architecture_{name}"] = np.full(n, value)
@@ -418,8 +441,24 @@ def sweep(
         home = _home_pose(m)
         for name in unset:
             fixed_values[name] = float(home[POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))])
+    status_names = tuple(m.manifest.abi.input_status)
+    if "modes" in quantities:
+        low, high = _actuated_ranges(m)
+        leaves = False
+        for k, name in enumerate(m.actuated_names):
+            taken = grid.get(name, np.array([fixed_values.get(name, m.home_actuated[k])]))
+            outside = (taken < low[k]) | (taken > high[k])
+            if name in fixed_values and outside.any():
+                raise BadInputError(
+                    f"fixed {name!r} = {fixed_values[name]:g} is outside its actuated range [{low[k]:g}, {high[k]:g}] "
+                    "(no solver takes it: every point of the sweep would be missing); choose a value inside"
+                )
+            leaves = leaves or bool(outside.any())
+        if leaves and OUTSIDE_RANGE not in status_names:
+            status_names = (*status_names, OUTSIDE_RANGE)
     names = _output_names(m, quantities)
     spec = {
+        "status_names": status_names,
         "source": source,
         "backend": backend_name,
         "parameters": dict(m.parameters),  # with the fixed ones
@@ -446,7 +485,6 @@ def sweep(
     values = template.map_blocks(compute_block, new_axis=len(shape), chunks=(*chunks, (len(names),)), dtype=float)
     dims = list(grid)
     data = {}
-    status_names = m.manifest.abi.input_status
     for k, name in enumerate(names):
         array, attributes = values[..., k], {}
         if name == "reachable":

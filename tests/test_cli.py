@@ -202,19 +202,36 @@ def test_generate_force_on_the_command_line(tmp_path):
 
 def test_sweep_fixed_passes_actuated_inputs_through(tmp_path):
     """`--fixed theta1=...` (an actuated input not swept) reaches sweep(): the CLI's grid equals
-    sweep(..., fixed={"theta1": value}) and differs from the default theta1; more than one
-    number is refused."""
+    sweep(..., fixed={"theta1": value}) and count_modes at that value, and differs from the
+    default theta1 (the home input); more than one number is refused. The value is one whose
+    mode counts on the grid differ from the home's (found by count_modes, not by the sweep: the
+    counts near home do not change with theta1, so a value that gives the home's counts would
+    not show that the value arrived)."""
     from parakin.sweep import sweep
 
     xr = pytest.importorskip("xarray")
+    m = parakin.load("sam", backend="numpy")
     axes = {"theta2": np.linspace(-0.3, 0.3, 3), "theta5": np.linspace(-0.3, 0.3, 3)}
+    mesh = np.meshgrid(*axes.values(), indexing="ij")
+
+    def counts(theta1: float) -> np.ndarray:
+        theta = np.tile(m.home_actuated, (*mesh[0].shape, 1))
+        theta[..., 0], theta[..., 1], theta[..., 4] = theta1, *mesh
+        counted = m.count_modes(theta)
+        return np.where(counted["status"] == 0, counted["count"], np.nan)  # the sweep's missing values
+
+    home = counts(m.home_actuated[0])
+    value = next((v for v in (0.5, 1.0, -1.0, 1.5, -1.5) if not np.array_equal(counts(v), home, equal_nan=True)), None)
+    assert value is not None, f"theta1 changes no mode count on the grid: {home.tolist()}"
     command = ["sweep", "sam", "modes", "--axis", "theta2=-0.3:0.3:3", "--axis", "theta5=-0.3:0.3:3"]
-    done = run(*command, "--fixed", "theta1=0.5", "--backend", "numpy", "--netcdf", str(tmp_path / "s.nc"))
+    done = run(*command, "--fixed", f"theta1={value!r}", "--backend", "numpy", "--netcdf", str(tmp_path / "s.nc"))
     assert done.returncode == 0, done.stderr
     saved = xr.load_dataset(tmp_path / "s.nc").modes.values
-    fixed = sweep("sam", ["modes"], axes, fixed={"theta1": 0.5}, backend="numpy").modes.values
+    fixed = sweep("sam", ["modes"], axes, fixed={"theta1": value}, backend="numpy").modes.values
     default = sweep("sam", ["modes"], axes, backend="numpy").modes.values
     np.testing.assert_array_equal(saved, fixed)
-    assert not np.array_equal(np.nan_to_num(fixed, nan=-1), np.nan_to_num(default, nan=-1))
+    np.testing.assert_array_equal(fixed, counts(value))
+    np.testing.assert_array_equal(default, home)
+    assert not np.array_equal(fixed, default, equal_nan=True)
     refused = run(*command, "--fixed", "theta1=0.1,0.2")
     assert refused.returncode == 2 and "one number" in refused.stderr

@@ -574,7 +574,9 @@ def sweep_mechanism(name: str):
 def test_sweep_modes_are_counts_or_missing(name):
     """Issue 18 item 10: a 'modes' sweep holds the count of forward_pose_all's modes where the
     elimination is defined and NaN where it is not (never a sentinel such as -1), with another
-    variable flagging those points; checked against count_modes on the same inputs."""
+    variable flagging those points; checked against count_modes on the same inputs. A point of
+    the axis outside its actuator's range (the manifest's limits: count_modes refuses it) is
+    missing too, flagged by a code of its own, and the rest of the sweep is computed."""
     m = sweep_mechanism(name)
     if m.capabilities.forward is None:
         pytest.skip(f"{name} has no forward elimination: no 'modes' sweep")
@@ -587,16 +589,53 @@ def test_sweep_modes_are_counts_or_missing(name):
     result = sweep_of(m, ["modes"], {first: values}, fixed=others)
     theta = np.tile(fx.state.actuated, (values.size, 1))
     theta[:, 0] = values
-    counts = m.count_modes(theta)
-    defined = np.asarray(counts["status"]) == 0
+    low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+    inside = ((theta >= low) & (theta <= high)).all(-1)
+    assert inside.sum() >= 3, f"only {inside.sum()} of the axis values {values} inside the actuated ranges"
+    counts = m.count_modes(theta[inside])
+    defined = np.zeros(values.size, dtype=bool)
+    defined[inside] = np.asarray(counts["status"]) == 0
     got = np.asarray(result["modes"].values, dtype=float)
     assert not (got < 0).any(), f"sentinel values in 'modes': {got}"
-    expected = np.where(defined, np.asarray(counts["count"], dtype=float), np.nan)
+    expected = np.full(values.size, np.nan)
+    expected[inside] = np.where(defined[inside], np.asarray(counts["count"], dtype=float), np.nan)
     np.testing.assert_array_equal(got, expected, err_msg="sweep 'modes' vs count_modes on the same inputs")
     flags = [key for key in result.data_vars if key != "modes"]
     if not defined.all():
         flagged = [key for key in flags if (np.asarray(result[key].values != 0) == ~defined).all()]
         assert flagged, f"no variable flags the undefined points {np.flatnonzero(~defined)}: {flags}"
+    if not inside.all():  # the outside points: a flag of their own, named, none of count_modes' codes
+        codes = {}
+        for key in flags:
+            attributes = result[key].attrs
+            named = dict(
+                zip(attributes.get("flag_values", []), str(attributes.get("flag_meanings", "")).split(), strict=True)
+            )
+            held = {int(c) for c in np.asarray(result[key].values)[~inside]}
+            if len(held) == 1 and not held & {int(c) for c in np.asarray(result[key].values)[inside]}:
+                codes[key] = named.get(held.pop())
+        own = {key: meaning for key, meaning in codes.items() if meaning and meaning not in m.manifest.abi.input_status}
+        assert own, f"no flag of their own for the points outside the actuated ranges {values[~inside]}: {codes}"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_sweep_refuses_a_fixed_actuated_value_outside_its_range(name):
+    """A fixed actuated value beyond its actuator's range (every point would be missing: no solver
+    takes it) is BadInputError naming it; the same value inside the range is computed."""
+    m = sweep_mechanism(name)
+    bounded = [k for k, v in enumerate(m.manifest.actuated) if np.isfinite(v.limits[1])]
+    if m.capabilities.forward is None or len(m.actuated_names) < 2 or not bounded:
+        pytest.skip(f"{name}: no 'modes' sweep with a bounded actuator to fix")
+    fx = fz.fixture(name)
+    k = bounded[0]
+    j = 1 if k == 0 else 0
+    scale = h.variable_scale(m, m.manifest.actuated)
+    axes = {m.actuated_names[j]: fx.state.actuated[j] + 0.01 * scale[j] * np.arange(3)}
+    beyond = m.manifest.actuated[k].limits[1] + 0.1 * scale[k]
+    got = fz.answer(lambda: sweep_of(m, ["modes"], axes, fixed={m.actuated_names[k]: beyond}))
+    assert isinstance(got.error, BadInputError) and m.actuated_names[k] in str(got.error), got.error
+    inside = sweep_of(m, ["modes"], axes, fixed={m.actuated_names[k]: float(fx.state.actuated[k])})
+    assert (np.asarray(inside["modes_status"].values) == 0).all()
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -646,8 +685,11 @@ def fixable(m) -> list[tuple[str, str, float, str, str, np.ndarray, dict[str, fl
             j = 1 if k == 0 else 0
             axis_values = fx.state.actuated[j] + 0.01 * scale[j] * np.arange(3)
             cases.append(("actuated", name, float(fx.state.actuated[k]), "modes", m.actuated_names[j], axis_values, {}))
+    domains = {p.name: p.domain for p in m.manifest.parameters}
     for sweep_name, parameter in sweep_parameter_names(m).items():
         value = m.parameters[parameter] * 1.001 if m.parameters[parameter] else 1e-3
+        if domains[parameter] == "sign":  # +1 or -1: the other sign (x 1.001 is no sign)
+            value = -m.parameters[parameter]
         axis = coordinates[0]
         others = {c: base[c] for c in coordinates[1:]}
         cases.append(("parameter", sweep_name, value, "reachable", axis, base[axis] + 0.02 * np.arange(3), others))

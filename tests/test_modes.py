@@ -25,15 +25,26 @@ def _load(name: str, backend: str) -> parakin.Mechanism:
 
 
 def _inputs(m: parakin.Mechanism, count: int, seed: int) -> np.ndarray:
-    """Closed configurations near home and wide random inputs (many with fewer or no modes)."""
+    """``count`` inputs inside the actuated ranges (the manifest's limits: every solver refuses
+    values outside them): closed configurations near home and wide random inputs (many with fewer
+    or no modes). A wide draw below a range is reflected into it, one beyond it is drawn again."""
     rng = np.random.default_rng(seed)
     near = sample_configurations(m, count // 2, spread=0.3, seed=seed).actuated
     revolute = np.array([v.revolute for v in m.manifest.actuated])
     scale = np.where(revolute, 1.0, np.abs(m.home_actuated) + 1e-3)
-    wide = m.home_actuated + 0.5 * scale * rng.standard_normal((count - near.shape[0], revolute.size))
-    low = np.array([v.limits[0] for v in m.manifest.actuated])
-    wide = np.where(wide < low, 2 * low - wide, wide)  # reflected into the actuator ranges
-    return np.concatenate([near, wide])
+    low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+    wide = np.zeros((0, revolute.size))
+    for _ in range(100):
+        missing = count - near.shape[0] - wide.shape[0]
+        if missing == 0:
+            break
+        draw = m.home_actuated + 0.5 * scale * rng.standard_normal((missing, revolute.size))
+        draw = np.where(draw < low, 2 * low - draw, draw)  # reflected into the actuator ranges
+        wide = np.concatenate([wide, draw[((draw >= low) & (draw <= high)).all(-1)]])
+    inputs = np.concatenate([near, wide])
+    assert inputs.shape[0] == count, f"{m.name}: only {inputs.shape[0]} of {count} inputs inside the ranges"
+    assert ((inputs >= low) & (inputs <= high)).all()
+    return inputs
 
 
 def _check_backends_agree(name: str, count: int) -> None:
