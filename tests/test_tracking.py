@@ -1,6 +1,8 @@
 """The tracker never changes assembly mode silently: coarse steps along random smooth input paths
 are compared with a fine continuation of the same path (40 substeps); wherever the coarse step
-ends elsewhere, the tracker has flagged it, and in strict mode it raises and keeps its solution."""
+ends elsewhere, the tracker has flagged it, and in strict mode it raises and keeps its solution.
+Path amplitudes are in units of each mechanism's reach (``_reach``: how far its inputs go from home
+and still assemble), so that coarse steps stay inside the workspace on every mechanism."""
 
 from __future__ import annotations
 
@@ -22,12 +24,38 @@ def _load(name: str, backend: str) -> parakin.Mechanism:
         return parakin.load(name, backend=backend)
 
 
-def _paths(m: parakin.Mechanism, count: int, steps: int, amplitude: float, seed: int):
-    """Smooth input paths from sampled configurations (inside the actuator ranges)."""
-    rng = np.random.default_rng(seed)
-    starts = sample_configurations(m, count, seed=seed)
+def _scale(m: parakin.Mechanism) -> np.ndarray:
+    """The unit of an input path's amplitude: 1 rad, or 0.2 x the actuator's home value."""
     revolute = np.array([v.revolute for v in m.manifest.actuated])
-    scale = np.where(revolute, 1.0, np.abs(m.home_actuated) * 0.2 + 1e-3)
+    return np.where(revolute, 1.0, np.abs(m.home_actuated) * 0.2 + 1e-3)
+
+
+def _reach(m: parakin.Mechanism) -> float:
+    """The workspace's extent in the inputs, in units of ``_scale``: the largest of 2, 1, 0.5, ...
+    at which 3/4 of 32 random input offsets from home (within the actuator ranges) still assemble
+    (forward pose from home). A path amplitude beyond it leaves the workspace at its first step
+    (gough, legs of 4-14 m: 0 of 12 coarse paths at 2.0, where delta still assembles 61 of 64)."""
+    rng = np.random.default_rng(0)
+    offsets = rng.standard_normal((32, m.home_actuated.size)) * _scale(m)
+    low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+    reach = 2.0
+    while reach > 2.0**-6:
+        actuated = m.home_actuated + reach * offsets
+        inside = ((actuated >= low) & (actuated <= high)).all(-1)
+        guess = np.broadcast_to(m.home_passive, (int(inside.sum()), m.home_passive.size))
+        assembled = np.asarray(m.forward_pose(actuated[inside], guess, strict=False).converged).sum()
+        if assembled >= 0.75 * offsets.shape[0]:
+            break
+        reach /= 2
+    return reach
+
+
+def _paths(m: parakin.Mechanism, count: int, steps: int, amplitude: float, seed: int, reach: float = 2.0):
+    """Smooth input paths from sampled configurations (inside the actuator ranges); starts spread
+    0.05 (sampling's unit), less in proportion where the reach is under 0.5."""
+    rng = np.random.default_rng(seed)
+    starts = sample_configurations(m, count, spread=0.05 * min(1.0, reach / 0.5), seed=seed)
+    scale = _scale(m)
     low = np.array([v.limits[0] for v in m.manifest.actuated])
     for j in range(starts.actuated.shape[0]):
         a0 = starts.actuated[j]
@@ -52,12 +80,17 @@ def _fine(m: parakin.Mechanism, start: parakin.Configuration, a0: np.ndarray, a1
 
 
 def _census(
-    m: parakin.Mechanism, count: int, steps: int, amplitude: float, oracle: parakin.Mechanism | None = None
+    m: parakin.Mechanism,
+    count: int,
+    steps: int,
+    amplitude: float,
+    oracle: parakin.Mechanism | None = None,
+    reach: float = 2.0,
 ) -> dict[str, int]:
     """Coarse steps of m's tracker against the fine continuation of `oracle` (default: m itself;
     the same mechanism on another backend gives the same reference, to 1e-12)."""
     stats = {"steps": 0, "silent": 0, "flagged_changes": 0, "flags": 0}
-    for start, path in _paths(m, count, steps, amplitude, seed=5):
+    for start, path in _paths(m, count, steps, amplitude, seed=5, reach=reach):
         current = start
         for k in range(1, steps + 1):
             reference = _fine(m if oracle is None else oracle, current, path[k - 1], path[k])
@@ -89,9 +122,11 @@ def test_coarse_steps_never_change_mode_silently(name, backend):
     # the reference (40 substeps for each coarse step) comes from the compiled tracker on both
     # backends: the NumPy loop is ~10x slower per step, and only its coarse steps are under test
     oracle = _load(name, "compiled")
-    coarse = _census(m, 12, 3, 2.0, oracle)
-    smooth = _census(m, 6, 12, 0.6, oracle)
-    assert coarse["steps"] + smooth["steps"] >= 20, (coarse, smooth)
+    # amplitudes in units of the mechanism's own reach (2.0 and 0.6 where the workspace allows)
+    reach = _reach(oracle)
+    coarse = _census(m, 12, 3, reach, oracle, reach)
+    smooth = _census(m, 6, 12, 0.3 * reach, oracle, reach)
+    assert coarse["steps"] >= 6 and coarse["steps"] + smooth["steps"] >= 20, (reach, coarse, smooth)
     assert coarse["silent"] == 0 and smooth["silent"] == 0, (coarse, smooth)
     # smooth paths sampled at 12 steps are followed without a flag (almost always)
     assert smooth["flags"] <= max(1, smooth["steps"] // 20), smooth
