@@ -110,7 +110,8 @@ def load(
 
     ``backend``: 'auto' (compiled C if a compiler and the cache work, else NumPy with a
     BackendFallbackWarning naming the cause), 'compiled', 'numpy' or 'casadi'. ``limits``
-    overrides passive joint ranges (name -> (low, high), SI units). An unknown parameter or limit
+    overrides joint ranges (name -> (low, high), SI units): passive joint limits, and actuated
+    ranges (actuator strokes), which every solver then checks instead of the declared ones. An unknown parameter or limit
     is a BadInputError suggesting the closest names. Warns (ArchitectureSingularityWarning) when
     the geometry is singular at every pose.
 
@@ -123,16 +124,17 @@ def load(
     bounds = {v.name: v.limits for v in manifest.passive if v.limits != (-math.inf, math.inf)}
     if limits is not None and not isinstance(limits, Mapping):
         raise BadInputError(f"limits must be a mapping name -> (low, high), got {type(limits).__name__}")
+    ranges: dict[str, tuple[float, float]] = {}
     for key, bound in (limits or {}).items():
-        if key not in manifest.passive_names:
-            raise unknown_name("limit", key, manifest.passive_names, manifest.name)
+        if key not in manifest.passive_names and key not in manifest.actuated_names:
+            raise unknown_name("limit", key, [*manifest.actuated_names, *manifest.passive_names], manifest.name)
         if not isinstance(bound, tuple | list) or len(bound) != 2:
             raise BadInputError(f"limits[{key!r}] must be a (low, high) pair, got {bound!r}")
         low, high = (_bound(value, key) for value in bound)
         if not low < high:
             raise BadInputError(f"limits[{key!r}] must be (low, high) with low < high, got {bound!r}")
-        bounds[key] = (float(low), float(high))
-    mechanism = Mechanism(package, make_backend(package, backend), values, bounds)
+        (bounds if key in manifest.passive_names else ranges)[key] = (float(low), float(high))
+    mechanism = Mechanism(package, make_backend(package, backend), values, bounds, ranges)
     if mechanism.is_architecturally_singular():
         measures = ", ".join(f"{k} = {v:.3g}" for k, v in mechanism.architecture().items())
         warnings.warn(

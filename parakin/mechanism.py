@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ctypes
 import threading
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -71,6 +72,7 @@ class Mechanism:
         backend: Backend,
         parameters: dict[str, float],
         limits: dict[str, tuple[float, float]],
+        actuated_ranges: Mapping[str, tuple[float, float]] | None = None,
     ) -> None:
         self.package = package
         self.manifest: Manifest = package.manifest
@@ -86,8 +88,14 @@ class Mechanism:
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
-        self._actuated_low = np.maximum([v.limits[0] for v in manifest.actuated], -MAX_MAGNITUDE)
-        self._actuated_high = np.minimum([v.limits[1] for v in manifest.actuated], MAX_MAGNITUDE)
+        #: per actuated variable (low, high): the manifest's declared range (actuator strokes, leg
+        #: lengths >= 0) unless ``load(limits=...)`` overrides it; every solver checks these
+        self.actuated_ranges: dict[str, tuple[float, float]] = {
+            v.name: (actuated_ranges or {}).get(v.name, v.limits) for v in manifest.actuated
+        }
+        bounds = np.array(list(self.actuated_ranges.values()), dtype=float).reshape(-1, 2)
+        self._actuated_low = np.maximum(bounds[:, 0], -MAX_MAGNITUDE)
+        self._actuated_high = np.minimum(bounds[:, 1], MAX_MAGNITUDE)
         self._single_input = threading.local()  # forward_pose_all's reusable one-input job
         # the compiled Newton call for one input, built on first use, one per thread: ctypes
         # releases the GIL during the call, so threads must not share its buffers
@@ -154,6 +162,12 @@ class Mechanism:
                     "double precision, or the model is undefined there)"
                 )
         return out
+
+    @property
+    def actuated_bounds(self) -> tuple[Array, Array]:
+        """(low, high), each (n_a,): the actuated ranges every solver checks (``actuated_ranges``,
+        within the largest accepted magnitude)."""
+        return self._actuated_low, self._actuated_high
 
     def within_limits(self, passive: ArrayLike) -> np.ndarray:
         """Whether passive values (..., n_p) lie inside ``limits`` (open interval), over the batch;

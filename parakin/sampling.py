@@ -24,7 +24,7 @@ def sample_configurations(m: Mechanism, count: int, spread: float = 0.05, seed: 
     revolute = np.array([v.revolute for v in m.manifest.actuated])
     scale = np.where(revolute, 1.0, np.maximum(np.abs(m.home_actuated), 1e-3))
     actuated = m.home_actuated + spread * scale * rng.standard_normal((count, m.home_actuated.size))
-    low, high = (np.array([v.limits[k] for v in m.manifest.actuated]) for k in (0, 1))
+    low, high = m.actuated_bounds
     actuated = actuated[((actuated >= low) & (actuated <= high)).all(-1)]
     guess = np.broadcast_to(m.home_passive, (actuated.shape[0], m.home_passive.size))
     solved = m.forward_pose(actuated, guess, strict=False)

@@ -93,14 +93,24 @@ def _needs_dask() -> tuple[Any, Any]:
 
 
 @functools.lru_cache(maxsize=64)
-def _mechanism(source: str, backend: str, parameters: tuple[tuple[str, float], ...]) -> Mechanism:
-    """One loaded mechanism per design and process (workers load their own)."""
+def _mechanism(source: str, backend: str, parameters: tuple[tuple[str, float], ...], limits: Limits = ()) -> Mechanism:
+    """One loaded mechanism per design, joint limits and process (workers load their own)."""
     import parakin
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
         values: dict[str, Any] = dict(parameters)
-        return parakin.load(source, backend=backend, **values)
+        return parakin.load(source, backend=backend, limits=dict(limits) or None, **values)
+
+
+#: joint limits and actuated ranges as a hashable key: ((name, (low, high)), ...)
+Limits = tuple[tuple[str, tuple[float, float]], ...]
+
+
+def _limits_of(m: Mechanism) -> Limits:
+    """The mechanism's passive joint limits and actuated ranges, overrides included: a worker
+    loads the mechanism the caller passed, not the package's defaults."""
+    return tuple(sorted((k, (float(lo), float(hi))) for k, (lo, hi) in {**m.limits, **m.actuated_ranges}.items()))
 
 
 def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
@@ -126,8 +136,7 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
 
     pose = _pose_from(m.manifest.pose_kind, coordinates)
     inverse = m.inverse_pose(pose, strict=False)
-    low = np.array([v.limits[0] for v in m.manifest.actuated])
-    high = np.array([v.limits[1] for v in m.manifest.actuated])
+    low, high = m.actuated_bounds
     with np.errstate(invalid="ignore"):
         ranged = ((inverse.actuated >= low) & (inverse.actuated <= high)).all(-1)
     valid = inverse.valid & ranged
@@ -156,16 +165,6 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
     return out
 
 
-def _actuated_ranges(m: Mechanism) -> tuple[np.ndarray, np.ndarray]:
-    """(low, high) of every actuated variable: its manifest limits, within the largest magnitude
-    an input may have (the ranges the solvers check)."""
-    from parakin.validation import MAX_MAGNITUDE
-
-    low = np.array([max(v.limits[0], -MAX_MAGNITUDE) for v in m.manifest.actuated])
-    high = np.array([min(v.limits[1], MAX_MAGNITUDE) for v in m.manifest.actuated])
-    return low, high
-
-
 def _grid_volume(workspace: Mapping[str, np.ndarray]) -> float:
     """Volume of one cell of a regular grid (product of the spacings)."""
     return float(np.prod([(v[-1] - v[0]) / (len(v) - 1) if len(v) > 1 else 1.0 for v in workspace.values()]))
@@ -183,7 +182,8 @@ def _evaluate(spec: dict[str, Any], coordinates: dict[str, np.ndarray]) -> dict[
     for d, design in enumerate(unique):
         members = np.flatnonzero(group == d)
         parameters = {**spec["parameters"], **dict(zip(parameter_names, map(float, design), strict=True))}
-        m = _mechanism(spec["source"], spec["backend"], tuple(sorted(parameters.items())))
+        limits = tuple((name, (low, high)) for name, low, high in spec["limits"])
+        m = _mechanism(spec["source"], spec["backend"], tuple(sorted(parameters.items())), limits)
         local = {name: values[members] for name, values in coordinates.items()}
         part = _evaluate_design(m, spec, local, members.size)
         for key, value in part.items():
@@ -208,7 +208,7 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
             ],
             axis=-1,
         )
-        low, high = _actuated_ranges(m)
+        low, high = m.actuated_bounds
         inside = ((theta >= low) & (theta <= high)).all(-1)  # outside: no input of any solver
         counts = m.count_modes(theta[inside])
         defined = counts["status"] == m.manifest.abi.input_status.index("ok")
@@ -434,7 +434,7 @@ def sweep(
     given = _fixed_values(fixed, kinds, readers, grid, workspace_grid, quantities)
     fixed_parameters = {parameter_axes[k]: v for k, v in given.items() if kinds[k] == "parameter"}
     if fixed_parameters:  # the design of the unswept parameters (load validates their domains)
-        m = _mechanism(source, backend_name, tuple(sorted({**m.parameters, **fixed_parameters}.items())))
+        m = _mechanism(source, backend_name, tuple(sorted({**m.parameters, **fixed_parameters}.items())), _limits_of(m))
     fixed_values = {k: v for k, v in given.items() if kinds[k] != "parameter"}
     unset = [n for n in pose_names if readers["pose coordinate"] and n not in {*grid, *workspace_grid, *given}]
     if unset:  # the home configuration's pose where it closes, else a closed configuration near it
@@ -443,7 +443,7 @@ def sweep(
             fixed_values[name] = float(home[POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))])
     status_names = tuple(m.manifest.abi.input_status)
     if "modes" in quantities:
-        low, high = _actuated_ranges(m)
+        low, high = m.actuated_bounds
         leaves = False
         for k, name in enumerate(m.actuated_names):
             taken = grid.get(name, np.array([fixed_values.get(name, m.home_actuated[k])]))
@@ -462,6 +462,7 @@ def sweep(
         "source": source,
         "backend": backend_name,
         "parameters": dict(m.parameters),  # with the fixed ones
+        "limits": [[name, low, high] for name, (low, high) in _limits_of(m)],  # with load(limits=...)
         "parameter_axes": parameter_axes,
         "pose_names": pose_names,
         "fixed": fixed_values,
