@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from parakin.pose import rigid_or_nan
 from parakin.results import Array
 
 if TYPE_CHECKING:
@@ -174,8 +175,7 @@ def least_squares_configuration(m: Mechanism, actuated: Array, start: Array, ite
     # inputs that no configuration satisfies leave q open: its pose is NaN where the pose
     # kernel then gives no rigid transform (``Mechanism.platform_pose`` would refuse it)
     kernel = m.backend.call("platform_pose", theta, q, m.params)["pose"]
-    pose, rigid = m._rigid_pose(theta, q, kernel)
-    return LeastSquares(q, np.where(rigid[..., None, None], pose, np.nan), r, float(np.sqrt(cost)), used)
+    return LeastSquares(q, rigid_or_nan(kernel)[0], r, float(np.sqrt(cost)), used)
 
 
 __all__ = ["LeastSquares", "SelfMotion", "least_squares_configuration", "trace_self_motion"]

@@ -36,7 +36,7 @@ from parakin.linalg import pivoted_solve
 from parakin.manifest import Capabilities, Manifest, Variable
 from parakin.modes import assemble, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
-from parakin.pose import RIGID_TOLERANCE, as_array, nearest_rigid, rigidity_error, transform_from_pose, wrap_angle
+from parakin.pose import as_array, rigid_or_nan, rigidity_error, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
 from parakin.validation import MAX_MAGNITUDE, integer_in_range, newton_tolerance, positive_number, within_ranges
@@ -186,29 +186,22 @@ class Mechanism:
         tolerance of a pose input) InconsistentInputError names the batch index and the
         loop-closure residual."""
         theta, q = self._actuated(actuated), self._passive(passive)
-        pose, rigid = self._rigid_pose(theta, q, self._finite("platform_pose", theta, q)["pose"])
+        kernel = self._finite("platform_pose", theta, q)["pose"]
+        pose, rigid = rigid_or_nan(kernel)
         if not rigid.all():
             index = first_index(~rigid)
             with np.errstate(all="ignore"):
                 closure = self.backend.call("loop_closure", theta, q, self.params)["residual"]
             shape = np.broadcast_shapes(theta.shape[:-1], q.shape[:-1])
             residual = np.abs(np.broadcast_to(closure, shape + closure.shape[-1:])[index]).max(initial=0.0)
-            rotation = np.broadcast_to(pose, shape + (4, 4))[index][:3, :3]
+            rotation = np.broadcast_to(kernel, shape + (4, 4))[index][:3, :3]
             raise InconsistentInputError(
                 f"platform_pose{at_index(index)}: the joint values do not close the loop (closure residual "
                 f"{residual:.3g}, tolerance {self.tolerances['closure']:g}) and give no rigid pose "
-                f"(|R^T R - I| = {float(rigidity_error(pose[index])):.3g}, det R = {np.linalg.det(rotation):.4g}); "
+                f"(|R^T R - I| = {float(rigidity_error(kernel[index])):.3g}, det R = {np.linalg.det(rotation):.4g}); "
                 "pass joint values that close (from forward_pose, forward_pose_all or inverse_pose)"
             )
         return pose
-
-    def _rigid_pose(self, theta: Array, q: Array, pose: Array) -> tuple[Array, np.ndarray]:
-        """The pose kernel's output made rigid to rounding, and where it was rigid to the pose
-        input tolerance (1e-6) with det R > 0 (elsewhere the value is returned unchanged)."""
-        error = rigidity_error(pose)
-        with np.errstate(invalid="ignore"):
-            rigid = np.asarray((error <= RIGID_TOLERANCE) & (np.linalg.det(np.nan_to_num(pose[..., :3, :3])) > 0))
-        return nearest_rigid(pose, np.where(rigid, error, 0.0)), rigid
 
     def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]:
         """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
@@ -369,9 +362,7 @@ class Mechanism:
         # poses are rigid: a converged entry that closes only to a loose tolerance gets the
         # nearest rotation; one that did not converge keeps its guess, whose pose is NaN where
         # the guess gives no rigid pose (a kernel reading several legs)
-        rigid_pose, rigid = self._rigid_pose(theta, passive, pose)
-        nearest = nearest_rigid(pose, rigidity_error(pose))
-        pose = np.where(rigid[..., None, None], rigid_pose, np.where(converged[..., None, None], nearest, np.nan))
+        pose = rigid_or_nan(pose, keep=converged)[0]
         if strict:
             raise_for_newton_status(status, residual, iterations, "forward pose", tolerance, max_iterations, start)
         return ForwardPose(np.array(theta), passive, pose, residual, iterations, converged, self.within_limits(passive))

@@ -60,6 +60,18 @@ def nearest_rigid(pose: Array, error: Array) -> Array:
     return pose
 
 
+def rigid_or_nan(pose: Array, keep: ArrayLike = False) -> tuple[Array, NDArray[np.bool_]]:
+    """``(poses, rigid)`` of a pose kernel's output (..., 4, 4): ``rigid`` marks the entries that
+    are rigid transforms to the pose-input tolerance (``RIGID_TOLERANCE``) with det R > 0. Those,
+    and the entries marked in ``keep`` however far off they are, get the nearest rigid transform
+    (``nearest_rigid``); every other entry is NaN, never a non-rigid matrix."""
+    error = rigidity_error(pose)
+    with np.errstate(invalid="ignore"):
+        rigid = np.asarray((error <= RIGID_TOLERANCE) & (np.linalg.det(np.nan_to_num(pose[..., :3, :3])) > 0))
+    made = rigid | np.asarray(keep)
+    return np.where(made[..., None, None], nearest_rigid(pose, np.where(made, error, 0.0)), np.nan), rigid
+
+
 def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> Array:
     """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), eq (2) of Williams & Poling; radians."""
     angles = [as_array(x, n, ()) for x, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma"))]

@@ -29,7 +29,7 @@ from parakin.errors import (
     raise_for_newton_status,
 )
 from parakin.linalg import pivoted_solve
-from parakin.pose import wrap_angle
+from parakin.pose import rigid_or_nan, wrap_angle
 from parakin.results import Array, Configuration
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
@@ -93,8 +93,7 @@ class ForwardPoseTracker:
         # close, e.g. the home configuration of the internal one-input job): never a non-rigid one
         with np.errstate(all="ignore"):
             kernel = mechanism.backend.call("platform_pose", self.actuated, self.passive, mechanism.params)["pose"]
-        pose, rigid = mechanism._rigid_pose(self.actuated, self.passive, kernel)
-        self.pose[...] = np.where(rigid[..., None, None], pose, np.nan)
+        self.pose[...] = rigid_or_nan(kernel)[0]
         self._previous = self.passive.copy()
         self._previous_pose = self.pose.copy()
         self._previous_orientation = self._orientation_at(self.actuated, self.passive)
