@@ -86,7 +86,7 @@ def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str,
             raise unknown_name("parameter", key, manifest.parameter_names, manifest.name)
     for parameter in manifest.parameters:
         in_domain(values[parameter.name], parameter.name, parameter.domain)
-        in_magnitude(values[parameter.name], parameter.name)
+        in_magnitude(values[parameter.name], f"parameter {parameter.name!r}")
     return values
 
 

@@ -299,7 +299,7 @@ def _fixed_values(
 ) -> dict[str, float]:
     """The user's ``fixed`` values, checked: a known name that is neither swept nor a workspace
     axis and that some requested quantity reads, and one finite real number (SI)."""
-    from parakin.validation import MAX_MAGNITUDE
+    from parakin.validation import in_magnitude, real_number
 
     if fixed is None:
         return {}
@@ -317,14 +317,11 @@ def _fixed_values(
             raise BadInputError(f"fixed {name!r} is a workspace axis: remove it from fixed or from workspace")
         if not readers[kinds[name]]:
             raise BadInputError(f"fixed {name!r}: {_unread(kinds[name], quantities)}")
-        array = as_array(value, f"fixed {name!r}", (), finite=False)
+        label = f"fixed {name!r}"
+        array = as_array(value, label, (), finite=False)
         if array.ndim != 0:
-            raise BadInputError(f"fixed {name!r} must be one number, got shape {array.shape}; sweep it as an axis")
-        if not np.isfinite(array):
-            raise BadInputError(f"fixed {name!r} must be finite, got {float(array)}")
-        if abs(float(array)) > MAX_MAGNITUDE:
-            raise BadInputError(f"fixed {name!r} = {float(array):g} exceeds {MAX_MAGNITUDE:g} in magnitude (SI units)")
-        values[name] = float(array)
+            raise BadInputError(f"{label} must be one number, got shape {array.shape}; sweep it as an axis")
+        values[name] = in_magnitude(real_number(float(array), label), label)
     return values
 
 

@@ -86,9 +86,10 @@ def newton_tolerance(value: object) -> float:
 
 
 def in_magnitude(value: float, name: str, bound: float = MAX_MAGNITUDE) -> float:
-    """A parameter of magnitude at most ``bound`` (SI): beyond it the kinematics overflows."""
+    """A value (a parameter, a fixed sweep value, named ``name`` in the message) of magnitude at
+    most ``bound`` (SI): beyond it the kinematics overflows."""
     if abs(value) > bound:
-        raise BadInputError(f"parameter {name!r} = {value:g} exceeds {bound:g} in magnitude")
+        raise BadInputError(f"{name} = {value:g} exceeds {bound:g} in magnitude (SI units)")
     return value
 
 
