@@ -113,13 +113,18 @@ def _limits_of(m: Mechanism) -> Limits:
     return tuple(sorted((k, (float(lo), float(hi))) for k, (lo, hi) in {**m.limits, **m.actuated_ranges}.items()))
 
 
+def _six_index(name: str) -> int:
+    """Where the pose coordinate ``name`` stands in x, y, z, alpha, beta, gamma (``EULER_NAME``)."""
+    return POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))
+
+
 def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
     from parakin.pose import pose_from_xyz_euler
 
     n = next(iter(values.values())).shape[0]
     six = np.zeros((n, 6))
     for name in POSE_COORDINATES[kind]:
-        six[:, POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))] = values[name]
+        six[:, _six_index(name)] = values[name]
     return pose_from_xyz_euler(six)
 
 
@@ -437,7 +442,7 @@ def sweep(
     if unset:  # the home configuration's pose where it closes, else a closed configuration near it
         home = _home_pose(m)
         for name in unset:
-            fixed_values[name] = float(home[POSE_COORDINATES["transform"].index(EULER_NAME.get(name, name))])
+            fixed_values[name] = float(home[_six_index(name)])
     status_names = tuple(m.manifest.abi.input_status)
     if "modes" in quantities:
         low, high = m.actuated_bounds
