@@ -36,10 +36,17 @@ from parakin.linalg import pivoted_solve
 from parakin.manifest import Capabilities, Manifest, Variable
 from parakin.modes import assemble, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
-from parakin.pose import as_array, rigid_or_nan, rigidity_error, transform_from_pose, wrap_angle
+from parakin.pose import LEG_TWIST, as_array, rigid_or_nan, rigidity_error, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
-from parakin.validation import MAX_MAGNITUDE, integer_in_range, newton_tolerance, positive_number, within_ranges
+from parakin.validation import (
+    MAX_MAGNITUDE,
+    bounded_vector,
+    integer_in_range,
+    newton_tolerance,
+    positive_number,
+    within_ranges,
+)
 
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_OK,
@@ -137,10 +144,7 @@ class Mechanism:
 
     def _passive(self, value: ArrayLike) -> Array:
         """Passive values (..., n_p): finite reals of magnitude at most MAX_MAGNITUDE (m or rad)."""
-        q = as_array(value, "passive", (len(self.passive_names),))
-        bound = np.full(len(self.passive_names), MAX_MAGNITUDE)
-        within_ranges(q, self.passive_names, -bound, bound, "passive")
-        return q
+        return bounded_vector(value, "passive", self.passive_names)
 
     def _state(self, state: Configuration) -> tuple[Array, Array]:
         if not isinstance(state, Configuration):
@@ -619,7 +623,7 @@ class Mechanism:
     def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
         theta, passive = self._state(state)
-        rates = as_array(actuated_rates, "actuated_rates", (len(self.actuated_names),))
+        rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         out = self.backend.call("loop_closure", theta, passive, self.params)
         actuated_jacobian = self.backend.call("loop_closure_actuated", theta, passive, self.params)["jacobian_actuated"]
         right = -(actuated_jacobian @ rates[..., None])[..., 0]
@@ -646,7 +650,7 @@ class Mechanism:
         if self.capabilities.rates is not None:
             return self._inverse_rate_ab(state, twist, damping)
         self._require(self.capabilities.legs, "inverse_rate", "rate model (A/B Jacobians or serial legs)")
-        xdot = as_array(twist, "twist", (6,))
+        xdot = bounded_vector(twist, "twist", LEG_TWIST)
         jacobians = self.leg_jacobians(state)
         batch = broadcast_shapes(xdot.shape[:-1], next(iter(jacobians.values())).shape[:-2])
         actuated_rates = np.zeros(batch + (len(self.actuated_names),))
@@ -664,7 +668,9 @@ class Mechanism:
         return Rates(actuated_rates, passive_rates)
 
     def _inverse_rate_ab(self, state: Configuration, twist: ArrayLike, damping: float | None) -> Rates:
-        omega = as_array(twist, "twist", (self.manifest.twist_size,))
+        rates_model = self.capabilities.rates
+        assert rates_model is not None
+        omega = bounded_vector(twist, "twist", rates_model.twist)
         theta, passive = self._state(state)
         jacobians = self.rate_jacobians(state)
         right = (jacobians["a"] @ omega[..., None])[..., 0]
@@ -698,7 +704,7 @@ class Mechanism:
 
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
         """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
-        rates = as_array(actuated_rates, "actuated_rates", (len(self.actuated_names),))
+        rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
             right = (jacobians["b"] @ rates[..., None])[..., 0]

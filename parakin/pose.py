@@ -136,6 +136,9 @@ def wrap_angle(angle: ArrayLike) -> Array:
     return np.where(wrapped == -np.pi, np.pi, wrapped)
 
 
+#: twist components of a leg-based model (no A/B rate model): (v of the origin of {P}, w) in {B}
+LEG_TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
+
 #: pose kinds of the manifest and the short forms ``transform_from_pose`` accepts besides ^B_P T
 POSE_KINDS = {
     "transform": "^B_P T (..., 4, 4)",

@@ -33,15 +33,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
-from parakin.pose import as_array
+from parakin.pose import LEG_TWIST, as_array
 from parakin.results import Array, Configuration, ForwardPose
-from parakin.validation import stiffness_matrix
+from parakin.validation import bounded_vector, stiffness_matrix
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
 
-#: twist components of a leg-based model (no A/B rate model): (v of the origin of {P}, w) in {B}
-LEG_TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
 
 Wrench = ArrayLike | Callable[[Configuration], ArrayLike]
 
@@ -78,7 +76,7 @@ def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
 
 
 def _wrench(m: Mechanism, wrench: ArrayLike) -> Array:
-    return as_array(wrench, "wrench", (len(twist_names(m)),))
+    return bounded_vector(wrench, "wrench", twist_names(m))
 
 
 def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Array:
@@ -121,8 +119,8 @@ def point_force_wrench(m: Mechanism, state: Configuration, force: ArrayLike, poi
     """The wrench of a force (3,) in {B} applied at a platform point (3,) given in {P}: the force
     and its moment (R p) x F about the origin of {P}, in the mechanism's twist components (an
     orienting platform keeps the moment only)."""
-    f = as_array(force, "force", (3,))
-    p = as_array(point, "point", (3,))
+    f = bounded_vector(force, "force", ("fx", "fy", "fz"))
+    p = bounded_vector(point, "point", ("x", "y", "z"))
     arm = np.einsum("...ij,...j->...i", state.rotation, p)
     moment = np.cross(arm, f)
     full = np.concatenate(np.broadcast_arrays(f, moment), axis=-1)

@@ -130,6 +130,16 @@ def within_ranges(values: Array, names: Sequence[str], low: Array, high: Array, 
         raise BadInputError(f"{what} {names[k]} = {values[where]:g}{at} is outside its range [{low[k]:g}, {high[k]:g}]")
 
 
+def bounded_vector(value: ArrayLike, name: str, components: Sequence[str], bound: float = MAX_MAGNITUDE) -> Array:
+    """``value`` as (..., len(components)): finite reals of magnitude at most ``bound`` (SI), the
+    bound every input has (beyond it, products with the kinematics overflow to inf and NaN), or
+    BadInputError naming the component and the batch index."""
+    array = as_array(value, name, (len(components),))
+    limit = np.full(len(components), bound)
+    within_ranges(array, components, -limit, limit, name)
+    return array
+
+
 def stiffness_matrix(value: ArrayLike, name: str, size: int) -> Array:
     """A stiffness (size, size): given as its positive diagonal (size,) (every entry > 0) or as a
     full matrix, symmetric (to 1e-10 relative) and positive definite; real finite numbers only

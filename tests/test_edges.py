@@ -350,3 +350,37 @@ def test_a_planar_translating_mechanism_refuses_a_point_off_its_plane(backend):
         again = m.inverse_pose(point)
         assert np.array_equal(again.valid, inside.valid)
         assert np.abs(again.actuated[again.valid] - inside.actuated[inside.valid]).max() < 1e-12
+
+
+def _with_rates() -> list[str]:
+    return [
+        n
+        for n in parakin.available()
+        if (parakin.metadata(n).capabilities.rates or parakin.metadata(n).capabilities.legs)
+        and parakin.metadata(n).passive
+    ]
+
+
+@pytest.mark.parametrize("name", _with_rates())
+def test_rates_twists_and_wrenches_beyond_the_magnitude_bound_are_refused(name):
+    """A thorough fuzz run found spm's inverse_rate taking a twist of 9.2e307: its joint rates
+    were finite, but forward_rate of them overflowed to NaN. Rates, twists and wrenches are
+    bounded like every other input (1e9 SI), refused naming the component; below the bound the
+    round trip holds."""
+    from parakin.validation import MAX_MAGNITUDE
+
+    m = parakin.load(name, backend="numpy")
+    state = m.forward_pose(m.home_actuated)
+    rates_model = m.capabilities.rates
+    size = len(rates_model.twist) if rates_model is not None else 6
+    huge = np.zeros(size)
+    huge[-1] = -9.183085953863693e307
+    with pytest.raises(BadInputError, match="twist .* is outside its range"):
+        m.inverse_rate(state, huge)
+    with pytest.raises(BadInputError, match="actuated_rates .* is outside its range"):
+        m.forward_rate(state, np.full(len(m.actuated_names), 2 * MAX_MAGNITUDE))
+    with pytest.raises(BadInputError, match="wrench .* is outside its range"):
+        m.actuator_forces(state, huge)
+    twist = np.linspace(0.1, 0.3, size)
+    back = m.forward_rate(state, m.inverse_rate(state, twist).actuated)
+    assert np.allclose(back, twist, rtol=1e-8, atol=1e-10)
