@@ -90,10 +90,10 @@ def demo() -> None:
     modes = m.forward_pose_all(previous.actuated)
     degree = m.manifest.capabilities.forward.degree if m.manifest.capabilities.forward else None
     print(f"\nforward_pose_all at step 10 (closed form, degree {degree} polynomial): {int(modes.count)} modes")
-    for mode in np.nonzero(modes.valid)[0]:
+    for number, slot in enumerate(np.nonzero(modes.valid)[0]):  # numbered as modes.mode(number)
         print(
-            f"  mode {mode}: {{x y z alpha beta gamma}} = {parakin.xyz_euler_from_pose(modes.poses[mode])}"
-            f"  residual {modes.residual[mode]:.1e}"
+            f"  mode {number}: {{x y z alpha beta gamma}} = {parakin.xyz_euler_from_pose(modes.poses[slot])}"
+            f"  residual {modes.residual[slot]:.1e}"
         )
 
     print(f"\nsection 4.2 inverse rate at the nominal pose, twist {RATE_TWIST} (m/s, rad/s):")

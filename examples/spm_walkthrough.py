@@ -66,7 +66,7 @@ def demo() -> None:
     for number, k in enumerate(np.nonzero(modes.valid)[0]):
         angle, axis = axis_angle(modes.poses[k, :3, :3])
         print(
-            f"  mode {number + 1}: x = tan(phi1/2) = {modes.root[k]: .5f}  rotation {angle:7.3f} deg about {axis}"
+            f"  mode {number}: x = tan(phi1/2) = {modes.root[k]: .5f}  rotation {angle:7.3f} deg about {axis}"
             f"  passive (deg) {np.rad2deg(modes.passive[k])}  residual {modes.residual[k]:.1e}"
         )
     printed = parakin.load("spm", **PRINTED_LINKS)
@@ -104,7 +104,7 @@ def modes_on_sphere(path: str, actuated_deg: list[float] | None = None) -> None:
     for number, k in enumerate(np.nonzero(modes.valid)[0]):
         axes = (modes.poses[k, :3, :3] @ platform.T).T
         loop = np.vstack([axes, axes[:1]])
-        ax.plot(*loop.T, color=colours[number % 10], marker="o", label=f"mode {number + 1}")
+        ax.plot(*loop.T, color=colours[number % 10], marker="o", label=f"mode {number}")
     ax.set_box_aspect((1, 1, 1))
     ax.set_title(f"3-RRR SPM: {int(modes.count)} assembly modes at theta = {np.rad2deg(theta).round(2)} deg")
     ax.legend(loc="upper left", fontsize=8)
