@@ -4,7 +4,8 @@
 
 - SAM: a constant-orientation workspace slice (x, y at z = 0.68 m, level platform) coloured by the
   distance to a type II singularity, and its assembly-mode count over two actuated angles
-  (theta1, theta4; the other inputs at home): on the diagonal the elimination degenerates
+  (theta1, theta4; the other inputs as in eq (15), the paper's symmetric nominal configuration,
+  which is a type II singularity): on the diagonal the elimination degenerates
   (parallel U-joint axes), the count is missing there and ``modes_status`` says 'degenerate',
   drawn as a hatched region;
 - SPM: the orientation workspace (alpha, beta at gamma = 0) with the type II distance, and the
@@ -48,7 +49,7 @@ def main() -> None:
             "sam",
             ["modes"],
             {"theta1": np.linspace(-0.6, 0.6, 61), "theta4": np.linspace(-0.6, 0.6, 61)},
-            {},
+            {"fixed": {"theta2": -np.pi / 12, "theta3": 0.0, "theta5": np.pi / 12, "theta6": 0.0}},  # eq (15)
             "modes",
         ),
         (
