@@ -22,15 +22,21 @@ import parakin
 from parakin.continuation import SelfMotion
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.manifest import Manifest, Variable, unknown_name
+from parakin.pose import POSE_KINDS
 from parakin.results import Configuration
 
-POSE_ARGUMENTS = {
-    "transform": ("x y z (m) alpha beta gamma (Z-Y-X Euler)", 6),
-    "rotation": ("alpha beta gamma (Z-Y-X Euler)", 3),
-    "planar": ("x y (m) phi (about z)", 3),
-    "translation": ("x y z (m)", 3),
-    "planar_translation": ("x y (m) (in the plane z = 0, no rotation)", 2),
-}
+
+def _pose_arguments(coordinates: tuple[str, ...]) -> tuple[str, int]:
+    """How a pose kind's values are given on the command line, and how many."""
+    lengths = [c for c in coordinates if c in ("x", "y", "z")]
+    angles = [c for c in coordinates if c not in lengths]
+    words = [" ".join(lengths) + " (m)"] if lengths else []
+    if angles:
+        words.append(" ".join(angles) + (" (about z)" if angles == ["phi"] else " (Z-Y-X Euler)"))
+    return " ".join(words), len(coordinates)
+
+
+POSE_ARGUMENTS = {kind: _pose_arguments(info.coordinates) for kind, info in POSE_KINDS.items()}
 
 #: exit status of an exception parakin did not expect (a bug): distinct from 1 (no solution)
 #: and 2 (an error in the input or the environment)

@@ -7,6 +7,8 @@ leading batch axes.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -139,13 +141,31 @@ def wrap_angle(angle: ArrayLike) -> Array:
 #: twist components of a leg-based model (no A/B rate model): (v of the origin of {P}, w) in {B}
 LEG_TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
 
+
 #: pose kinds of the manifest and the short forms ``transform_from_pose`` accepts besides ^B_P T
+@dataclass(frozen=True)
+class PoseKind:
+    """A manifest pose kind: the forms ``transform_from_pose`` accepts, and the coordinates a pose
+    of the kind has (metres x y z; radians: Z-Y-X Euler alpha beta gamma, or the planar turn phi
+    about z). The CLI's pose arguments and the sweep's pose axes are these coordinates."""
+
+    forms: str
+    coordinates: tuple[str, ...]
+
+    def __str__(self) -> str:
+        return self.forms
+
+
 POSE_KINDS = {
-    "transform": "^B_P T (..., 4, 4)",
-    "rotation": "^B_P T (..., 4, 4) or R (..., 3, 3)",
-    "planar": "^B_P T (..., 4, 4) or (x, y, phi) (..., 3): rotation phi about z, in the plane z = 0",
-    "translation": "^B_P T (..., 4, 4) or the position (x, y, z) (..., 3), with R = I",
-    "planar_translation": "^B_P T (..., 4, 4) or the position (x, y) (..., 2) in the plane z = 0, with R = I",
+    "transform": PoseKind("^B_P T (..., 4, 4)", ("x", "y", "z", "alpha", "beta", "gamma")),
+    "rotation": PoseKind("^B_P T (..., 4, 4) or R (..., 3, 3)", ("alpha", "beta", "gamma")),
+    "planar": PoseKind(
+        "^B_P T (..., 4, 4) or (x, y, phi) (..., 3): rotation phi about z, in the plane z = 0", ("x", "y", "phi")
+    ),
+    "translation": PoseKind("^B_P T (..., 4, 4) or the position (x, y, z) (..., 3), with R = I", ("x", "y", "z")),
+    "planar_translation": PoseKind(
+        "^B_P T (..., 4, 4) or the position (x, y) (..., 2) in the plane z = 0, with R = I", ("x", "y")
+    ),
 }
 
 

@@ -57,6 +57,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.pose import POSE_KINDS
 from parakin.validation import as_array
 
 if TYPE_CHECKING:
@@ -65,13 +66,7 @@ if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
 
 #: pose coordinates of each pose kind, in ``parakin.pose`` order
-POSE_COORDINATES = {
-    "transform": ("x", "y", "z", "alpha", "beta", "gamma"),
-    "rotation": ("alpha", "beta", "gamma"),
-    "planar": ("x", "y", "phi"),
-    "translation": ("x", "y", "z"),
-    "planar_translation": ("x", "y"),
-}
+POSE_COORDINATES = {kind: info.coordinates for kind, info in POSE_KINDS.items()}
 #: a pose coordinate named otherwise than its x-y-z-Z-Y-X-Euler value: the planar turn phi about z
 #: is the Euler alpha; every other coordinate of a kind is absent from the pose (zero)
 EULER_NAME = {"phi": "alpha"}
