@@ -255,6 +255,17 @@ def solver_statistics_row(name: str) -> str | None:
 SWEEP_POINTS = (400, 500)  # a 200,000-pose reachability and singularity map per mechanism
 
 
+def sweep_cases(count: int = 3) -> list[str]:
+    """Mechanisms for the sweep table, picked from the manifests: one per pose kind (the first by
+    name with an inverse and passive joints, so that both quantities are defined), ``count`` kinds."""
+    chosen: dict[str, str] = {}
+    for name in parakin.available():
+        manifest = parakin.metadata(name)
+        if manifest.capabilities.inverse and manifest.passive and manifest.pose_kind not in chosen:
+            chosen[manifest.pose_kind] = name
+    return list(chosen.values())[:count]
+
+
 def sweep_rows() -> list[str]:
     """Throughput of ``parakin.sweep`` (reachable + type II distance over a pose grid): in one
     process without dask (the chunk function called directly), on dask's local threads, and on a
@@ -265,11 +276,18 @@ def sweep_rows() -> list[str]:
 
     rows = []
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        for name in ("five_bar", "spm", "sam"):
+        for name in sweep_cases():
             m = parakin.load(name, backend="compiled")
             first, second = POSE_COORDINATES[m.manifest.pose_kind][:2]
             span = 0.3 if first == "x" else 0.8
-            axes = {first: np.linspace(-span, span, SWEEP_POINTS[0]), second: np.linspace(-span, span, SWEEP_POINTS[1])}
+            # a grid centred on the home pose (x y z, Z-Y-X Euler; a planar turn phi is alpha)
+            pose = parakin.xyz_euler_from_pose(m.forward_pose(m.home_actuated).pose)
+            home = dict(zip(("x", "y", "z", "alpha", "beta", "gamma"), pose, strict=True))
+            home["phi"] = home["alpha"]
+            axes = {
+                axis: home[axis] + np.linspace(-span, span, points)
+                for axis, points in zip((first, second), SWEEP_POINTS, strict=True)
+            }
             count = SWEEP_POINTS[0] * SWEEP_POINTS[1]
             quantities = ["reachable", "type_ii_distance"]
             timings = {}
