@@ -75,6 +75,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     sam_forward_pose_all(&all);
     printf("sam: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

@@ -167,6 +167,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } sam_modes_job;
 
 int sam_forward_pose_all(const sam_modes_job* job);
