@@ -14,7 +14,9 @@ from parakin.sampling import sample_configurations
 WITH_LOOPS = [name for name in parakin.available() if parakin.metadata(name).passive]
 #: the mechanisms whose derived form got a start system (sam's has no regular start point: it keeps
 #: its closed form, and the build says why)
-AUTOMATIC = [name for name in WITH_LOOPS if "automatic" in parakin.load(name, backend="numpy").capabilities.forward_methods]
+AUTOMATIC = [
+    name for name in WITH_LOOPS if "automatic" in parakin.load(name, backend="numpy").capabilities.forward_methods
+]
 
 
 def test_every_mechanism_with_a_loop_has_forward_pose_all() -> None:
