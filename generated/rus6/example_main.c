@@ -8,6 +8,9 @@
 //   singularity_factors: 1080
 //   drawing: 311
 //   inverse_pose: 1025
+//   automatic_family: 0
+//   automatic_monomials: 11401
+//   automatic_passive: 0
 
 // Example: the rus6 solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -34,6 +37,59 @@ int main(void) {
     printf("rus6: actuated");
     for (int k = 0; k < RUS6_NUM_ACTUATED; ++k) printf(" %.17g", actuated[k]);
     printf("\n");
+    enum { M = RUS6_MAX_MODES };
+    double poses[M * 16], passive[M * 7], residual[M], conditioning[M], roots[M];
+    int outcome[M], root_kind[M], count, real_roots, near_roots, at_infinity, status;
+    double lower[7] = { -INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY };
+    double upper[7] = { INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY };
+    rus6_modes_job all = {
+        .n = 1,
+        .actuated = actuated,
+        .actuated_stride = 0,
+        .params = (const double*)&params,
+        .lower = lower,
+        .upper = upper,
+        .polish_iterations = 30,
+        .tolerance = 1e-13,
+        .closure = 1e-09,
+        .candidate = 0.0001,
+        .duplicate = 1e-07,
+        .factor_zero = 1e-09,
+        .singular_ratio = 1e-10,
+        .validity = 1e-09,
+        .degenerate = 1e-09,
+        .leading_tolerance = 1e-13,
+        .near_tolerance = 1e-09,
+        .path_tolerance = 1e-07,
+        .real_endpoint = 1e-08,
+        .near_real_endpoint = 0.0001,
+        .poses = poses,
+        .passive = passive,
+        .residual = residual,
+        .conditioning = conditioning,
+        .roots = roots,
+        .outcome = outcome,
+        .root_kind = root_kind,
+        .count = &count,
+        .real_roots = &real_roots,
+        .near_roots = &near_roots,
+        .at_infinity = &at_infinity,
+        .status = &status,
+        .endpoints = (double*)0,
+    };
+    rus6_forward_pose_all(&all);
+    printf("rus6: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,
+           real_roots, near_roots, at_infinity, status);
+    for (int s = 0; s < M; ++s) {
+        if (outcome[s] != RUS6_OUTCOME_MODE) continue;
+        printf("  slot %2d: root %+.6f, residual %.1e, conditioning %.2e, ", s, roots[s], residual[s],
+               conditioning[s]);
+        print_pose(poses + s * 16);
+        printf("\n");
+    }
+    (void)root_kind;
+    (void)passive;
+    failed |= status != RUS6_INPUT_OK || count == 0;
     // Newton from a guess (a tracker would pass its last solution and alias guess and passive)
     double solved[7], pose[16], norm, ratio, first_step;
     int iterations, newton_status, orientation;

@@ -8,6 +8,9 @@
 #   singularity_factors: 1080
 #   drawing: 311
 #   inverse_pose: 1025
+#   automatic_family: 0
+#   automatic_monomials: 11401
+#   automatic_passive: 0
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
 axes broadcast, so any batch shape goes through. Outputs come back in a dict by name."""
@@ -2714,6 +2717,6482 @@ def inverse_pose(pose, branch, params):
     }
 
 
+def automatic_family(actuated, params):
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    theta4 = actuated[..., 3]
+    theta5 = actuated[..., 4]
+    theta6 = actuated[..., 5]
+    base_x1 = params[..., 0]
+    base_y1 = params[..., 1]
+    base_z1 = params[..., 2]
+    base_x2 = params[..., 3]
+    base_y2 = params[..., 4]
+    base_z2 = params[..., 5]
+    base_x3 = params[..., 6]
+    base_y3 = params[..., 7]
+    base_z3 = params[..., 8]
+    base_x4 = params[..., 9]
+    base_y4 = params[..., 10]
+    base_z4 = params[..., 11]
+    base_x5 = params[..., 12]
+    base_y5 = params[..., 13]
+    base_z5 = params[..., 14]
+    base_x6 = params[..., 15]
+    base_y6 = params[..., 16]
+    base_z6 = params[..., 17]
+    axis_x1 = params[..., 18]
+    axis_y1 = params[..., 19]
+    axis_z1 = params[..., 20]
+    axis_x2 = params[..., 21]
+    axis_y2 = params[..., 22]
+    axis_z2 = params[..., 23]
+    axis_x3 = params[..., 24]
+    axis_y3 = params[..., 25]
+    axis_z3 = params[..., 26]
+    axis_x4 = params[..., 27]
+    axis_y4 = params[..., 28]
+    axis_z4 = params[..., 29]
+    axis_x5 = params[..., 30]
+    axis_y5 = params[..., 31]
+    axis_z5 = params[..., 32]
+    axis_x6 = params[..., 33]
+    axis_y6 = params[..., 34]
+    axis_z6 = params[..., 35]
+    crank_zero_x1 = params[..., 36]
+    crank_zero_y1 = params[..., 37]
+    crank_zero_z1 = params[..., 38]
+    crank_zero_x2 = params[..., 39]
+    crank_zero_y2 = params[..., 40]
+    crank_zero_z2 = params[..., 41]
+    crank_zero_x3 = params[..., 42]
+    crank_zero_y3 = params[..., 43]
+    crank_zero_z3 = params[..., 44]
+    crank_zero_x4 = params[..., 45]
+    crank_zero_y4 = params[..., 46]
+    crank_zero_z4 = params[..., 47]
+    crank_zero_x5 = params[..., 48]
+    crank_zero_y5 = params[..., 49]
+    crank_zero_z5 = params[..., 50]
+    crank_zero_x6 = params[..., 51]
+    crank_zero_y6 = params[..., 52]
+    crank_zero_z6 = params[..., 53]
+    a1 = params[..., 54]
+    a2 = params[..., 55]
+    a3 = params[..., 56]
+    a4 = params[..., 57]
+    a5 = params[..., 58]
+    a6 = params[..., 59]
+    b1 = params[..., 60]
+    b2 = params[..., 61]
+    b3 = params[..., 62]
+    b4 = params[..., 63]
+    b5 = params[..., 64]
+    b6 = params[..., 65]
+    platform_x1 = params[..., 66]
+    platform_y1 = params[..., 67]
+    platform_z1 = params[..., 68]
+    platform_x2 = params[..., 69]
+    platform_y2 = params[..., 70]
+    platform_z2 = params[..., 71]
+    platform_x3 = params[..., 72]
+    platform_y3 = params[..., 73]
+    platform_z3 = params[..., 74]
+    platform_x4 = params[..., 75]
+    platform_y4 = params[..., 76]
+    platform_z4 = params[..., 77]
+    platform_x5 = params[..., 78]
+    platform_y5 = params[..., 79]
+    platform_z5 = params[..., 80]
+    platform_x6 = params[..., 81]
+    platform_y6 = params[..., 82]
+    platform_z6 = params[..., 83]
+    free = numpy.zeros(shape + (84,))
+    free[..., 0] = base_x1
+    free[..., 1] = base_y1
+    free[..., 2] = base_z1
+    free[..., 3] = base_x2
+    free[..., 4] = base_y2
+    free[..., 5] = base_z2
+    free[..., 6] = base_x3
+    free[..., 7] = base_y3
+    free[..., 8] = base_z3
+    free[..., 9] = base_x4
+    free[..., 10] = base_y4
+    free[..., 11] = base_z4
+    free[..., 12] = base_x5
+    free[..., 13] = base_y5
+    free[..., 14] = base_z5
+    free[..., 15] = base_x6
+    free[..., 16] = base_y6
+    free[..., 17] = base_z6
+    free[..., 18] = axis_x1
+    free[..., 19] = axis_y1
+    free[..., 20] = axis_z1
+    free[..., 21] = axis_x2
+    free[..., 22] = axis_y2
+    free[..., 23] = axis_z2
+    free[..., 24] = axis_x3
+    free[..., 25] = axis_y3
+    free[..., 26] = axis_z3
+    free[..., 27] = axis_x4
+    free[..., 28] = axis_y4
+    free[..., 29] = axis_z4
+    free[..., 30] = axis_x5
+    free[..., 31] = axis_y5
+    free[..., 32] = axis_z5
+    free[..., 33] = axis_x6
+    free[..., 34] = axis_y6
+    free[..., 35] = axis_z6
+    free[..., 36] = crank_zero_x1
+    free[..., 37] = crank_zero_y1
+    free[..., 38] = crank_zero_z1
+    free[..., 39] = crank_zero_x2
+    free[..., 40] = crank_zero_y2
+    free[..., 41] = crank_zero_z2
+    free[..., 42] = crank_zero_x3
+    free[..., 43] = crank_zero_y3
+    free[..., 44] = crank_zero_z3
+    free[..., 45] = crank_zero_x4
+    free[..., 46] = crank_zero_y4
+    free[..., 47] = crank_zero_z4
+    free[..., 48] = crank_zero_x5
+    free[..., 49] = crank_zero_y5
+    free[..., 50] = crank_zero_z5
+    free[..., 51] = crank_zero_x6
+    free[..., 52] = crank_zero_y6
+    free[..., 53] = crank_zero_z6
+    free[..., 54] = a1
+    free[..., 55] = a2
+    free[..., 56] = a3
+    free[..., 57] = a4
+    free[..., 58] = a5
+    free[..., 59] = a6
+    free[..., 60] = b1
+    free[..., 61] = b2
+    free[..., 62] = b3
+    free[..., 63] = b4
+    free[..., 64] = b5
+    free[..., 65] = b6
+    free[..., 66] = platform_x1
+    free[..., 67] = platform_y1
+    free[..., 68] = platform_z1
+    free[..., 69] = platform_x2
+    free[..., 70] = platform_y2
+    free[..., 71] = platform_z2
+    free[..., 72] = platform_x3
+    free[..., 73] = platform_y3
+    free[..., 74] = platform_z3
+    free[..., 75] = platform_x4
+    free[..., 76] = platform_y4
+    free[..., 77] = platform_z4
+    free[..., 78] = platform_x5
+    free[..., 79] = platform_y5
+    free[..., 80] = platform_z5
+    free[..., 81] = platform_x6
+    free[..., 82] = platform_y6
+    free[..., 83] = platform_z6
+    angles = numpy.zeros(shape + (6,))
+    angles[..., 0] = theta1
+    angles[..., 1] = theta2
+    angles[..., 2] = theta3
+    angles[..., 3] = theta4
+    angles[..., 4] = theta5
+    angles[..., 5] = theta6
+    return {
+        "free": free,
+        "angles": angles,
+    }
+
+
+def automatic_monomials(family_re, family_im):
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 11401.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(family_re)[:-1],
+        numpy.shape(family_im)[:-1],
+    )
+    base_x1_re = family_re[..., 0]
+    base_y1_re = family_re[..., 1]
+    base_z1_re = family_re[..., 2]
+    base_x2_re = family_re[..., 3]
+    base_y2_re = family_re[..., 4]
+    base_z2_re = family_re[..., 5]
+    base_x3_re = family_re[..., 6]
+    base_y3_re = family_re[..., 7]
+    base_z3_re = family_re[..., 8]
+    base_x4_re = family_re[..., 9]
+    base_y4_re = family_re[..., 10]
+    base_z4_re = family_re[..., 11]
+    base_x5_re = family_re[..., 12]
+    base_y5_re = family_re[..., 13]
+    base_z5_re = family_re[..., 14]
+    base_x6_re = family_re[..., 15]
+    base_y6_re = family_re[..., 16]
+    base_z6_re = family_re[..., 17]
+    axis_x1_re = family_re[..., 18]
+    axis_y1_re = family_re[..., 19]
+    axis_z1_re = family_re[..., 20]
+    axis_x2_re = family_re[..., 21]
+    axis_y2_re = family_re[..., 22]
+    axis_z2_re = family_re[..., 23]
+    axis_x3_re = family_re[..., 24]
+    axis_y3_re = family_re[..., 25]
+    axis_z3_re = family_re[..., 26]
+    axis_x4_re = family_re[..., 27]
+    axis_y4_re = family_re[..., 28]
+    axis_z4_re = family_re[..., 29]
+    axis_x5_re = family_re[..., 30]
+    axis_y5_re = family_re[..., 31]
+    axis_z5_re = family_re[..., 32]
+    axis_x6_re = family_re[..., 33]
+    axis_y6_re = family_re[..., 34]
+    axis_z6_re = family_re[..., 35]
+    crank_zero_x1_re = family_re[..., 36]
+    crank_zero_y1_re = family_re[..., 37]
+    crank_zero_z1_re = family_re[..., 38]
+    crank_zero_x2_re = family_re[..., 39]
+    crank_zero_y2_re = family_re[..., 40]
+    crank_zero_z2_re = family_re[..., 41]
+    crank_zero_x3_re = family_re[..., 42]
+    crank_zero_y3_re = family_re[..., 43]
+    crank_zero_z3_re = family_re[..., 44]
+    crank_zero_x4_re = family_re[..., 45]
+    crank_zero_y4_re = family_re[..., 46]
+    crank_zero_z4_re = family_re[..., 47]
+    crank_zero_x5_re = family_re[..., 48]
+    crank_zero_y5_re = family_re[..., 49]
+    crank_zero_z5_re = family_re[..., 50]
+    crank_zero_x6_re = family_re[..., 51]
+    crank_zero_y6_re = family_re[..., 52]
+    crank_zero_z6_re = family_re[..., 53]
+    a1_re = family_re[..., 54]
+    a2_re = family_re[..., 55]
+    a3_re = family_re[..., 56]
+    a4_re = family_re[..., 57]
+    a5_re = family_re[..., 58]
+    a6_re = family_re[..., 59]
+    b1_re = family_re[..., 60]
+    b2_re = family_re[..., 61]
+    b3_re = family_re[..., 62]
+    b4_re = family_re[..., 63]
+    b5_re = family_re[..., 64]
+    b6_re = family_re[..., 65]
+    platform_x1_re = family_re[..., 66]
+    platform_y1_re = family_re[..., 67]
+    platform_z1_re = family_re[..., 68]
+    platform_x2_re = family_re[..., 69]
+    platform_y2_re = family_re[..., 70]
+    platform_z2_re = family_re[..., 71]
+    platform_x3_re = family_re[..., 72]
+    platform_y3_re = family_re[..., 73]
+    platform_z3_re = family_re[..., 74]
+    platform_x4_re = family_re[..., 75]
+    platform_y4_re = family_re[..., 76]
+    platform_z4_re = family_re[..., 77]
+    platform_x5_re = family_re[..., 78]
+    platform_y5_re = family_re[..., 79]
+    platform_z5_re = family_re[..., 80]
+    platform_x6_re = family_re[..., 81]
+    platform_y6_re = family_re[..., 82]
+    platform_z6_re = family_re[..., 83]
+    C_u_0_re = family_re[..., 84]
+    S_u_0_re = family_re[..., 85]
+    D_u_0_re = family_re[..., 86]
+    C_u_1_re = family_re[..., 87]
+    S_u_1_re = family_re[..., 88]
+    D_u_1_re = family_re[..., 89]
+    C_u_2_re = family_re[..., 90]
+    S_u_2_re = family_re[..., 91]
+    D_u_2_re = family_re[..., 92]
+    C_u_3_re = family_re[..., 93]
+    S_u_3_re = family_re[..., 94]
+    D_u_3_re = family_re[..., 95]
+    C_u_4_re = family_re[..., 96]
+    S_u_4_re = family_re[..., 97]
+    D_u_4_re = family_re[..., 98]
+    C_u_5_re = family_re[..., 99]
+    S_u_5_re = family_re[..., 100]
+    D_u_5_re = family_re[..., 101]
+    base_x1_im = family_im[..., 0]
+    base_y1_im = family_im[..., 1]
+    base_z1_im = family_im[..., 2]
+    base_x2_im = family_im[..., 3]
+    base_y2_im = family_im[..., 4]
+    base_z2_im = family_im[..., 5]
+    base_x3_im = family_im[..., 6]
+    base_y3_im = family_im[..., 7]
+    base_z3_im = family_im[..., 8]
+    base_x4_im = family_im[..., 9]
+    base_y4_im = family_im[..., 10]
+    base_z4_im = family_im[..., 11]
+    base_x5_im = family_im[..., 12]
+    base_y5_im = family_im[..., 13]
+    base_z5_im = family_im[..., 14]
+    base_x6_im = family_im[..., 15]
+    base_y6_im = family_im[..., 16]
+    base_z6_im = family_im[..., 17]
+    axis_x1_im = family_im[..., 18]
+    axis_y1_im = family_im[..., 19]
+    axis_z1_im = family_im[..., 20]
+    axis_x2_im = family_im[..., 21]
+    axis_y2_im = family_im[..., 22]
+    axis_z2_im = family_im[..., 23]
+    axis_x3_im = family_im[..., 24]
+    axis_y3_im = family_im[..., 25]
+    axis_z3_im = family_im[..., 26]
+    axis_x4_im = family_im[..., 27]
+    axis_y4_im = family_im[..., 28]
+    axis_z4_im = family_im[..., 29]
+    axis_x5_im = family_im[..., 30]
+    axis_y5_im = family_im[..., 31]
+    axis_z5_im = family_im[..., 32]
+    axis_x6_im = family_im[..., 33]
+    axis_y6_im = family_im[..., 34]
+    axis_z6_im = family_im[..., 35]
+    crank_zero_x1_im = family_im[..., 36]
+    crank_zero_y1_im = family_im[..., 37]
+    crank_zero_z1_im = family_im[..., 38]
+    crank_zero_x2_im = family_im[..., 39]
+    crank_zero_y2_im = family_im[..., 40]
+    crank_zero_z2_im = family_im[..., 41]
+    crank_zero_x3_im = family_im[..., 42]
+    crank_zero_y3_im = family_im[..., 43]
+    crank_zero_z3_im = family_im[..., 44]
+    crank_zero_x4_im = family_im[..., 45]
+    crank_zero_y4_im = family_im[..., 46]
+    crank_zero_z4_im = family_im[..., 47]
+    crank_zero_x5_im = family_im[..., 48]
+    crank_zero_y5_im = family_im[..., 49]
+    crank_zero_z5_im = family_im[..., 50]
+    crank_zero_x6_im = family_im[..., 51]
+    crank_zero_y6_im = family_im[..., 52]
+    crank_zero_z6_im = family_im[..., 53]
+    a1_im = family_im[..., 54]
+    a2_im = family_im[..., 55]
+    a3_im = family_im[..., 56]
+    a4_im = family_im[..., 57]
+    a5_im = family_im[..., 58]
+    a6_im = family_im[..., 59]
+    b1_im = family_im[..., 60]
+    b2_im = family_im[..., 61]
+    b3_im = family_im[..., 62]
+    b4_im = family_im[..., 63]
+    b5_im = family_im[..., 64]
+    b6_im = family_im[..., 65]
+    platform_x1_im = family_im[..., 66]
+    platform_y1_im = family_im[..., 67]
+    platform_z1_im = family_im[..., 68]
+    platform_x2_im = family_im[..., 69]
+    platform_y2_im = family_im[..., 70]
+    platform_z2_im = family_im[..., 71]
+    platform_x3_im = family_im[..., 72]
+    platform_y3_im = family_im[..., 73]
+    platform_z3_im = family_im[..., 74]
+    platform_x4_im = family_im[..., 75]
+    platform_y4_im = family_im[..., 76]
+    platform_z4_im = family_im[..., 77]
+    platform_x5_im = family_im[..., 78]
+    platform_y5_im = family_im[..., 79]
+    platform_z5_im = family_im[..., 80]
+    platform_x6_im = family_im[..., 81]
+    platform_y6_im = family_im[..., 82]
+    platform_z6_im = family_im[..., 83]
+    C_u_0_im = family_im[..., 84]
+    S_u_0_im = family_im[..., 85]
+    D_u_0_im = family_im[..., 86]
+    C_u_1_im = family_im[..., 87]
+    S_u_1_im = family_im[..., 88]
+    D_u_1_im = family_im[..., 89]
+    C_u_2_im = family_im[..., 90]
+    S_u_2_im = family_im[..., 91]
+    D_u_2_im = family_im[..., 92]
+    C_u_3_im = family_im[..., 93]
+    S_u_3_im = family_im[..., 94]
+    D_u_3_im = family_im[..., 95]
+    C_u_4_im = family_im[..., 96]
+    S_u_4_im = family_im[..., 97]
+    D_u_4_im = family_im[..., 98]
+    C_u_5_im = family_im[..., 99]
+    S_u_5_im = family_im[..., 100]
+    D_u_5_im = family_im[..., 101]
+    _t0 = D_u_0_im**2
+    _t1 = D_u_0_re**2
+    _t2 = _t0 - _t1
+    _t3 = -_t2
+    _t4 = 4 * D_u_0_im
+    _t5 = D_u_0_re * _t4
+    _t6 = _t5 * platform_x1_im
+    _t7 = -2 * _t3 * platform_x1_re + _t6
+    _t8 = -_t7
+    _t9 = 8 * D_u_0_im * D_u_0_re
+    _t10 = _t9 * platform_z1_im
+    _t11 = _t10 - 4 * _t3 * platform_z1_re
+    _t12 = -_t11
+    _t13 = _t9 * platform_y1_im
+    _t14 = 4 * _t3
+    _t15 = _t13 - _t14 * platform_y1_re
+    _t16 = -_t15
+    _t17 = _t5 * base_x1_im
+    _t18 = 2 * _t3
+    _t19 = _t18 * base_x1_re
+    _t20 = 2 * D_u_0_im
+    _t21 = 2 * D_u_0_re
+    _t22 = C_u_0_im * _t20 - C_u_0_re * _t21
+    _t23 = C_u_0_im * _t21 + C_u_0_re * _t20
+    _t24 = -_t23
+    _t25 = _t22 * crank_zero_x1_im + _t24 * crank_zero_x1_re
+    _t26 = _t22 * crank_zero_x1_re - _t24 * crank_zero_x1_im
+    _t27 = -2 * D_u_0_re * S_u_0_re + S_u_0_im * _t20
+    _t28 = -_t27
+    _t29 = S_u_0_im * _t21 + S_u_0_re * _t20
+    _t30 = _t28 * axis_z1_im + _t29 * axis_z1_re
+    _t31 = _t28 * axis_z1_re - _t29 * axis_z1_im
+    _t32 = _t30 * crank_zero_y1_re + _t31 * crank_zero_y1_im
+    _t33 = -_t29
+    _t34 = _t27 * axis_y1_im + _t33 * axis_y1_re
+    _t35 = _t27 * axis_y1_re - _t33 * axis_y1_im
+    _t36 = _t34 * crank_zero_z1_re + _t35 * crank_zero_z1_im
+    _t37 = -_t30 * crank_zero_y1_im + _t31 * crank_zero_y1_re
+    _t38 = -_t34 * crank_zero_z1_im + _t35 * crank_zero_z1_re
+    _t39 = _t5 * platform_y1_im
+    _t40 = -2 * _t3 * platform_y1_re + _t39
+    _t41 = -_t40
+    _t42 = _t9 * platform_x1_im
+    _t43 = -4 * _t3 * platform_x1_re + _t42
+    _t44 = -_t43
+    _t45 = _t5 * base_y1_im
+    _t46 = _t18 * base_y1_re
+    _t47 = _t22 * crank_zero_y1_im + _t24 * crank_zero_y1_re
+    _t48 = _t22 * crank_zero_y1_re - _t24 * crank_zero_y1_im
+    _t49 = _t27 * axis_z1_im + _t33 * axis_z1_re
+    _t50 = _t27 * axis_z1_re - _t33 * axis_z1_im
+    _t51 = _t49 * crank_zero_x1_re + _t50 * crank_zero_x1_im
+    _t52 = _t28 * axis_x1_im + _t29 * axis_x1_re
+    _t53 = _t28 * axis_x1_re - _t29 * axis_x1_im
+    _t54 = _t52 * crank_zero_z1_re + _t53 * crank_zero_z1_im
+    _t55 = -_t49 * crank_zero_x1_im + _t50 * crank_zero_x1_re
+    _t56 = -_t52 * crank_zero_z1_im + _t53 * crank_zero_z1_re
+    _t57 = _t5 * platform_z1_im
+    _t58 = -2 * _t3 * platform_z1_re + _t57
+    _t59 = -_t58
+    _t60 = _t5 * base_z1_im
+    _t61 = _t18 * base_z1_re
+    _t62 = _t22 * crank_zero_z1_im + _t24 * crank_zero_z1_re
+    _t63 = _t22 * crank_zero_z1_re - _t24 * crank_zero_z1_im
+    _t64 = _t28 * axis_y1_im + _t29 * axis_y1_re
+    _t65 = _t28 * axis_y1_re - _t29 * axis_y1_im
+    _t66 = _t64 * crank_zero_x1_re + _t65 * crank_zero_x1_im
+    _t67 = _t27 * axis_x1_im + _t33 * axis_x1_re
+    _t68 = _t27 * axis_x1_re - _t33 * axis_x1_im
+    _t69 = _t67 * crank_zero_y1_re + _t68 * crank_zero_y1_im
+    _t70 = -_t64 * crank_zero_x1_im + _t65 * crank_zero_x1_re
+    _t71 = -_t67 * crank_zero_y1_im + _t68 * crank_zero_y1_re
+    _t72 = -(platform_x1_im**2) + platform_x1_re**2
+    _t73 = -(platform_y1_im**2) + platform_y1_re**2
+    _t74 = -(platform_z1_im**2) + platform_z1_re**2
+    _t75 = (
+        _t3 * _t72
+        + _t3 * _t73
+        + _t3 * _t74
+        - _t39 * platform_y1_re
+        - _t57 * platform_z1_re
+        - _t6 * platform_x1_re
+    )
+    _t76 = -2 * _t0 + 2 * _t1
+    _t77 = (
+        -_t10 * platform_z1_re
+        - _t13 * platform_y1_re
+        - _t42 * platform_x1_re
+        + _t72 * _t76
+        + _t73 * _t76
+        + _t74 * _t76
+    )
+    _t78 = _t25 * platform_x1_re + _t26 * platform_x1_im
+    _t79 = _t32 * platform_x1_re + _t37 * platform_x1_im
+    _t80 = _t36 * platform_x1_re + _t38 * platform_x1_im
+    _t81 = -_t25 * platform_x1_im + _t26 * platform_x1_re
+    _t82 = -_t32 * platform_x1_im + _t37 * platform_x1_re
+    _t83 = -_t36 * platform_x1_im + _t38 * platform_x1_re
+    _t84 = 2 * platform_x1_im
+    _t85 = 2 * platform_x1_re
+    _t86 = _t84 * base_x1_im - _t85 * base_x1_re
+    _t87 = _t84 * base_x1_re + _t85 * base_x1_im
+    _t88 = -_t87
+    _t89 = D_u_0_im * _t21
+    _t90 = (
+        -_t3 * _t86
+        + _t78 * a1_im
+        + _t79 * a1_im
+        + _t80 * a1_im
+        - _t81 * a1_re
+        - _t82 * a1_re
+        - _t83 * a1_re
+        + _t88 * _t89
+    )
+    _t91 = _t51 * platform_y1_re + _t55 * platform_y1_im
+    _t92 = _t47 * platform_y1_re + _t48 * platform_y1_im
+    _t93 = _t54 * platform_y1_re + _t56 * platform_y1_im
+    _t94 = -_t51 * platform_y1_im + _t55 * platform_y1_re
+    _t95 = -_t47 * platform_y1_im + _t48 * platform_y1_re
+    _t96 = -_t54 * platform_y1_im + _t56 * platform_y1_re
+    _t97 = 2 * platform_y1_im
+    _t98 = 2 * platform_y1_re
+    _t99 = _t97 * base_y1_im - _t98 * base_y1_re
+    _t100 = _t97 * base_y1_re + _t98 * base_y1_im
+    _t101 = -_t100
+    _t102 = (
+        _t101 * _t89
+        - _t3 * _t99
+        + _t91 * a1_im
+        + _t92 * a1_im
+        + _t93 * a1_im
+        - _t94 * a1_re
+        - _t95 * a1_re
+        - _t96 * a1_re
+    )
+    _t103 = _t66 * platform_z1_re + _t70 * platform_z1_im
+    _t104 = _t69 * platform_z1_re + _t71 * platform_z1_im
+    _t105 = _t62 * platform_z1_re + _t63 * platform_z1_im
+    _t106 = -_t66 * platform_z1_im + _t70 * platform_z1_re
+    _t107 = -_t69 * platform_z1_im + _t71 * platform_z1_re
+    _t108 = -_t62 * platform_z1_im + _t63 * platform_z1_re
+    _t109 = 2 * platform_z1_im
+    _t110 = 2 * platform_z1_re
+    _t111 = _t109 * base_z1_im - _t110 * base_z1_re
+    _t112 = _t109 * base_z1_re + _t110 * base_z1_im
+    _t113 = -_t112
+    _t114 = (
+        _t103 * a1_im
+        + _t104 * a1_im
+        + _t105 * a1_im
+        - _t106 * a1_re
+        - _t107 * a1_re
+        - _t108 * a1_re
+        - _t111 * _t3
+        + _t113 * _t89
+    )
+    _t115 = -4 * D_u_0_re * S_u_0_re + S_u_0_im * _t4
+    _t116 = -_t115
+    _t117 = 4 * D_u_0_re
+    _t118 = S_u_0_im * _t117 + S_u_0_re * _t4
+    _t119 = _t116 * axis_z1_im + _t118 * axis_z1_re
+    _t120 = _t116 * axis_z1_re - _t118 * axis_z1_im
+    _t121 = _t119 * crank_zero_x1_re + _t120 * crank_zero_x1_im
+    _t122 = -_t119 * crank_zero_x1_im + _t120 * crank_zero_x1_re
+    _t123 = _t121 * platform_z1_re + _t122 * platform_z1_im
+    _t124 = C_u_0_im * _t4 - C_u_0_re * _t117
+    _t125 = -_t124
+    _t126 = C_u_0_im * _t117 + C_u_0_re * _t4
+    _t127 = _t125 * crank_zero_y1_im + _t126 * crank_zero_y1_re
+    _t128 = _t125 * crank_zero_y1_re - _t126 * crank_zero_y1_im
+    _t129 = _t127 * platform_z1_re + _t128 * platform_z1_im
+    _t130 = -_t118
+    _t131 = _t115 * axis_x1_im + _t130 * axis_x1_re
+    _t132 = _t115 * axis_x1_re - _t130 * axis_x1_im
+    _t133 = _t131 * crank_zero_z1_re + _t132 * crank_zero_z1_im
+    _t134 = -_t131 * crank_zero_z1_im + _t132 * crank_zero_z1_re
+    _t135 = _t133 * platform_z1_re + _t134 * platform_z1_im
+    _t136 = -_t121 * platform_z1_im + _t122 * platform_z1_re
+    _t137 = -_t127 * platform_z1_im + _t128 * platform_z1_re
+    _t138 = -_t133 * platform_z1_im + _t134 * platform_z1_re
+    _t139 = 4 * base_y1_im
+    _t140 = _t139 * platform_z1_im - 4 * base_y1_re * platform_z1_re
+    _t141 = -_t140
+    _t142 = 4 * base_y1_re
+    _t143 = _t139 * platform_z1_re + _t142 * platform_z1_im
+    _t144 = _t116 * axis_y1_im + _t118 * axis_y1_re
+    _t145 = _t116 * axis_y1_re - _t118 * axis_y1_im
+    _t146 = _t144 * crank_zero_x1_re + _t145 * crank_zero_x1_im
+    _t147 = -_t144 * crank_zero_x1_im + _t145 * crank_zero_x1_re
+    _t148 = _t146 * platform_y1_re + _t147 * platform_y1_im
+    _t149 = _t131 * crank_zero_y1_re + _t132 * crank_zero_y1_im
+    _t150 = -_t131 * crank_zero_y1_im + _t132 * crank_zero_y1_re
+    _t151 = _t149 * platform_y1_re + _t150 * platform_y1_im
+    _t152 = -_t126
+    _t153 = _t124 * crank_zero_z1_im + _t152 * crank_zero_z1_re
+    _t154 = _t124 * crank_zero_z1_re - _t152 * crank_zero_z1_im
+    _t155 = _t153 * platform_y1_re + _t154 * platform_y1_im
+    _t156 = -_t146 * platform_y1_im + _t147 * platform_y1_re
+    _t157 = -_t149 * platform_y1_im + _t150 * platform_y1_re
+    _t158 = -_t153 * platform_y1_im + _t154 * platform_y1_re
+    _t159 = 4 * platform_y1_im
+    _t160 = 4 * platform_y1_re
+    _t161 = _t159 * base_z1_im - _t160 * base_z1_re
+    _t162 = -_t159 * base_z1_re - _t160 * base_z1_im
+    _t163 = (
+        _t148 * a1_im
+        + _t151 * a1_im
+        + _t155 * a1_im
+        - _t156 * a1_re
+        - _t157 * a1_re
+        - _t158 * a1_re
+        - _t161 * _t3
+        + _t162 * _t89
+    )
+    _t164 = _t115 * axis_y1_im + _t130 * axis_y1_re
+    _t165 = _t115 * axis_y1_re - _t130 * axis_y1_im
+    _t166 = _t164 * crank_zero_x1_re + _t165 * crank_zero_x1_im
+    _t167 = -_t164 * crank_zero_x1_im + _t165 * crank_zero_x1_re
+    _t168 = _t166 * platform_x1_re + _t167 * platform_x1_im
+    _t169 = _t116 * axis_x1_im + _t118 * axis_x1_re
+    _t170 = _t116 * axis_x1_re - _t118 * axis_x1_im
+    _t171 = _t169 * crank_zero_y1_re + _t170 * crank_zero_y1_im
+    _t172 = -_t169 * crank_zero_y1_im + _t170 * crank_zero_y1_re
+    _t173 = _t171 * platform_x1_re + _t172 * platform_x1_im
+    _t174 = _t125 * crank_zero_z1_im + _t126 * crank_zero_z1_re
+    _t175 = _t125 * crank_zero_z1_re - _t126 * crank_zero_z1_im
+    _t176 = _t174 * platform_x1_re + _t175 * platform_x1_im
+    _t177 = -_t166 * platform_x1_im + _t167 * platform_x1_re
+    _t178 = -_t171 * platform_x1_im + _t172 * platform_x1_re
+    _t179 = -_t174 * platform_x1_im + _t175 * platform_x1_re
+    _t180 = 4 * base_z1_im
+    _t181 = _t180 * platform_x1_im - 4 * base_z1_re * platform_x1_re
+    _t182 = -_t181
+    _t183 = _t180 * platform_x1_re + 4 * base_z1_re * platform_x1_im
+    _t184 = _t124 * crank_zero_x1_im + _t152 * crank_zero_x1_re
+    _t185 = _t124 * crank_zero_x1_re - _t152 * crank_zero_x1_im
+    _t186 = _t184 * platform_z1_re + _t185 * platform_z1_im
+    _t187 = _t119 * crank_zero_y1_re + _t120 * crank_zero_y1_im
+    _t188 = -_t119 * crank_zero_y1_im + _t120 * crank_zero_y1_re
+    _t189 = _t187 * platform_z1_re + _t188 * platform_z1_im
+    _t190 = _t164 * crank_zero_z1_re + _t165 * crank_zero_z1_im
+    _t191 = -_t164 * crank_zero_z1_im + _t165 * crank_zero_z1_re
+    _t192 = _t190 * platform_z1_re + _t191 * platform_z1_im
+    _t193 = -_t184 * platform_z1_im + _t185 * platform_z1_re
+    _t194 = -_t187 * platform_z1_im + _t188 * platform_z1_re
+    _t195 = -_t190 * platform_z1_im + _t191 * platform_z1_re
+    _t196 = 4 * platform_z1_im
+    _t197 = 4 * platform_z1_re
+    _t198 = _t196 * base_x1_im - _t197 * base_x1_re
+    _t199 = -_t196 * base_x1_re - _t197 * base_x1_im
+    _t200 = (
+        _t186 * a1_im
+        + _t189 * a1_im
+        + _t192 * a1_im
+        - _t193 * a1_re
+        - _t194 * a1_re
+        - _t195 * a1_re
+        - _t198 * _t3
+        + _t199 * _t89
+    )
+    _t201 = _t125 * crank_zero_x1_im + _t126 * crank_zero_x1_re
+    _t202 = _t125 * crank_zero_x1_re - _t126 * crank_zero_x1_im
+    _t203 = _t201 * platform_y1_re + _t202 * platform_y1_im
+    _t204 = _t115 * axis_z1_im + _t130 * axis_z1_re
+    _t205 = _t115 * axis_z1_re - _t130 * axis_z1_im
+    _t206 = _t204 * crank_zero_y1_re + _t205 * crank_zero_y1_im
+    _t207 = -_t204 * crank_zero_y1_im + _t205 * crank_zero_y1_re
+    _t208 = _t206 * platform_y1_re + _t207 * platform_y1_im
+    _t209 = _t144 * crank_zero_z1_re + _t145 * crank_zero_z1_im
+    _t210 = -_t144 * crank_zero_z1_im + _t145 * crank_zero_z1_re
+    _t211 = _t209 * platform_y1_re + _t210 * platform_y1_im
+    _t212 = -_t201 * platform_y1_im + _t202 * platform_y1_re
+    _t213 = -_t206 * platform_y1_im + _t207 * platform_y1_re
+    _t214 = -_t209 * platform_y1_im + _t210 * platform_y1_re
+    _t215 = _t159 * base_x1_im - 4 * base_x1_re * platform_y1_re
+    _t216 = -_t215
+    _t217 = _t159 * base_x1_re + _t160 * base_x1_im
+    _t218 = _t204 * crank_zero_x1_re + _t205 * crank_zero_x1_im
+    _t219 = -_t204 * crank_zero_x1_im + _t205 * crank_zero_x1_re
+    _t220 = _t218 * platform_x1_re + _t219 * platform_x1_im
+    _t221 = _t124 * crank_zero_y1_im + _t152 * crank_zero_y1_re
+    _t222 = _t124 * crank_zero_y1_re - _t152 * crank_zero_y1_im
+    _t223 = _t221 * platform_x1_re + _t222 * platform_x1_im
+    _t224 = _t169 * crank_zero_z1_re + _t170 * crank_zero_z1_im
+    _t225 = -_t169 * crank_zero_z1_im + _t170 * crank_zero_z1_re
+    _t226 = _t224 * platform_x1_re + _t225 * platform_x1_im
+    _t227 = -_t218 * platform_x1_im + _t219 * platform_x1_re
+    _t228 = -_t221 * platform_x1_im + _t222 * platform_x1_re
+    _t229 = -_t224 * platform_x1_im + _t225 * platform_x1_re
+    _t230 = _t139 * platform_x1_im - _t142 * platform_x1_re
+    _t231 = -_t139 * platform_x1_re - _t142 * platform_x1_im
+    _t232 = (
+        _t220 * a1_im
+        + _t223 * a1_im
+        + _t226 * a1_im
+        - _t227 * a1_re
+        - _t228 * a1_re
+        - _t229 * a1_re
+        - _t230 * _t3
+        + _t231 * _t89
+    )
+    _t233 = _t34 * crank_zero_x1_re + _t35 * crank_zero_x1_im
+    _t234 = -_t34 * crank_zero_x1_im + _t35 * crank_zero_x1_re
+    _t235 = _t233 * platform_z1_re + _t234 * platform_z1_im
+    _t236 = _t52 * crank_zero_y1_re + _t53 * crank_zero_y1_im
+    _t237 = -_t52 * crank_zero_y1_im + _t53 * crank_zero_y1_re
+    _t238 = _t236 * platform_z1_re + _t237 * platform_z1_im
+    _t239 = -_t22
+    _t240 = _t23 * crank_zero_z1_re + _t239 * crank_zero_z1_im
+    _t241 = -_t23 * crank_zero_z1_im + _t239 * crank_zero_z1_re
+    _t242 = _t240 * platform_z1_re + _t241 * platform_z1_im
+    _t243 = -_t233 * platform_z1_im + _t234 * platform_z1_re
+    _t244 = -_t236 * platform_z1_im + _t237 * platform_z1_re
+    _t245 = -_t240 * platform_z1_im + _t241 * platform_z1_re
+    _t246 = -_t111
+    _t247 = (
+        _t112 * _t89
+        + _t235 * a1_im
+        + _t238 * a1_im
+        + _t242 * a1_im
+        - _t243 * a1_re
+        - _t244 * a1_re
+        - _t245 * a1_re
+        - _t246 * _t3
+    )
+    _t248 = _t30 * crank_zero_x1_re + _t31 * crank_zero_x1_im
+    _t249 = -_t30 * crank_zero_x1_im + _t31 * crank_zero_x1_re
+    _t250 = _t248 * platform_y1_re + _t249 * platform_y1_im
+    _t251 = _t23 * crank_zero_y1_re + _t239 * crank_zero_y1_im
+    _t252 = -_t23 * crank_zero_y1_im + _t239 * crank_zero_y1_re
+    _t253 = _t251 * platform_y1_re + _t252 * platform_y1_im
+    _t254 = _t67 * crank_zero_z1_re + _t68 * crank_zero_z1_im
+    _t255 = -_t67 * crank_zero_z1_im + _t68 * crank_zero_z1_re
+    _t256 = _t254 * platform_y1_re + _t255 * platform_y1_im
+    _t257 = -_t248 * platform_y1_im + _t249 * platform_y1_re
+    _t258 = -_t251 * platform_y1_im + _t252 * platform_y1_re
+    _t259 = -_t254 * platform_y1_im + _t255 * platform_y1_re
+    _t260 = -_t99
+    _t261 = (
+        _t100 * _t89
+        + _t250 * a1_im
+        + _t253 * a1_im
+        + _t256 * a1_im
+        - _t257 * a1_re
+        - _t258 * a1_re
+        - _t259 * a1_re
+        - _t260 * _t3
+    )
+    _t262 = _t184 * platform_y1_re + _t185 * platform_y1_im
+    _t263 = _t187 * platform_y1_re + _t188 * platform_y1_im
+    _t264 = _t190 * platform_y1_re + _t191 * platform_y1_im
+    _t265 = -_t184 * platform_y1_im + _t185 * platform_y1_re
+    _t266 = -_t187 * platform_y1_im + _t188 * platform_y1_re
+    _t267 = -_t190 * platform_y1_im + _t191 * platform_y1_re
+    _t268 = -_t217
+    _t269 = _t146 * platform_x1_re + _t147 * platform_x1_im
+    _t270 = _t149 * platform_x1_re + _t150 * platform_x1_im
+    _t271 = _t153 * platform_x1_re + _t154 * platform_x1_im
+    _t272 = -_t146 * platform_x1_im + _t147 * platform_x1_re
+    _t273 = -_t149 * platform_x1_im + _t150 * platform_x1_re
+    _t274 = -_t153 * platform_x1_im + _t154 * platform_x1_re
+    _t275 = -_t183
+    _t276 = _t23 * crank_zero_x1_re + _t239 * crank_zero_x1_im
+    _t277 = -_t23 * crank_zero_x1_im + _t239 * crank_zero_x1_re
+    _t278 = _t276 * platform_x1_re + _t277 * platform_x1_im
+    _t279 = _t49 * crank_zero_y1_re + _t50 * crank_zero_y1_im
+    _t280 = -_t49 * crank_zero_y1_im + _t50 * crank_zero_y1_re
+    _t281 = _t279 * platform_x1_re + _t280 * platform_x1_im
+    _t282 = _t64 * crank_zero_z1_re + _t65 * crank_zero_z1_im
+    _t283 = -_t64 * crank_zero_z1_im + _t65 * crank_zero_z1_re
+    _t284 = _t282 * platform_x1_re + _t283 * platform_x1_im
+    _t285 = -_t276 * platform_x1_im + _t277 * platform_x1_re
+    _t286 = -_t279 * platform_x1_im + _t280 * platform_x1_re
+    _t287 = -_t282 * platform_x1_im + _t283 * platform_x1_re
+    _t288 = -_t86
+    _t289 = (
+        _t278 * a1_im
+        + _t281 * a1_im
+        + _t284 * a1_im
+        - _t285 * a1_re
+        - _t286 * a1_re
+        - _t287 * a1_re
+        - _t288 * _t3
+        + _t87 * _t89
+    )
+    _t290 = _t218 * platform_z1_re + _t219 * platform_z1_im
+    _t291 = _t221 * platform_z1_re + _t222 * platform_z1_im
+    _t292 = _t224 * platform_z1_re + _t225 * platform_z1_im
+    _t293 = -_t218 * platform_z1_im + _t219 * platform_z1_re
+    _t294 = -_t221 * platform_z1_im + _t222 * platform_z1_re
+    _t295 = -_t224 * platform_z1_im + _t225 * platform_z1_re
+    _t296 = -_t143
+    _t297 = b1_im * b1_re
+    _t298 = -(base_x1_im**2) + base_x1_re**2
+    _t299 = -(base_y1_im**2) + base_y1_re**2
+    _t300 = -(base_z1_im**2) + base_z1_re**2
+    _t301 = -(b1_im**2) + b1_re**2
+    _t302 = -(crank_zero_x1_im**2) + crank_zero_x1_re**2
+    _t303 = C_u_0_im * C_u_0_re
+    _t304 = 2 * _t303
+    _t305 = -(C_u_0_im**2) + C_u_0_re**2
+    _t306 = crank_zero_x1_im * crank_zero_x1_re
+    _t307 = 2 * _t306
+    _t308 = _t302 * _t304 + _t305 * _t307
+    _t309 = 2 * a1_im * a1_re
+    _t310 = -(crank_zero_y1_im**2) + crank_zero_y1_re**2
+    _t311 = crank_zero_y1_im * crank_zero_y1_re
+    _t312 = 2 * _t311
+    _t313 = _t304 * _t310 + _t305 * _t312
+    _t314 = -(crank_zero_z1_im**2) + crank_zero_z1_re**2
+    _t315 = crank_zero_z1_im * crank_zero_z1_re
+    _t316 = 2 * _t315
+    _t317 = _t304 * _t314 + _t305 * _t316
+    _t318 = -(a1_im**2) + a1_re**2
+    _t319 = 4 * _t303
+    _t320 = _t302 * _t305 - _t306 * _t319
+    _t321 = _t305 * _t310 - _t311 * _t319
+    _t322 = _t305 * _t314 - _t315 * _t319
+    _t323 = _t23 * base_x1_re + _t239 * base_x1_im
+    _t324 = -_t23 * base_x1_im + _t239 * base_x1_re
+    _t325 = _t323 * crank_zero_x1_re + _t324 * crank_zero_x1_im
+    _t326 = _t23 * base_y1_re + _t239 * base_y1_im
+    _t327 = -_t23 * base_y1_im + _t239 * base_y1_re
+    _t328 = _t326 * crank_zero_y1_re + _t327 * crank_zero_y1_im
+    _t329 = _t23 * base_z1_re + _t239 * base_z1_im
+    _t330 = -_t23 * base_z1_im + _t239 * base_z1_re
+    _t331 = _t329 * crank_zero_z1_re + _t330 * crank_zero_z1_im
+    _t332 = -_t323 * crank_zero_x1_im + _t324 * crank_zero_x1_re
+    _t333 = -_t326 * crank_zero_y1_im + _t327 * crank_zero_y1_re
+    _t334 = -_t329 * crank_zero_z1_im + _t330 * crank_zero_z1_re
+    _t335 = S_u_0_im * S_u_0_re
+    _t336 = 4 * _t335
+    _t337 = -(S_u_0_im**2) + S_u_0_re**2
+    _t338 = -(axis_y1_im**2) + axis_y1_re**2
+    _t339 = -_t336 * axis_y1_im * axis_y1_re + _t337 * _t338
+    _t340 = 2 * _t335
+    _t341 = 2 * axis_y1_re
+    _t342 = _t337 * _t341 * axis_y1_im + _t338 * _t340
+    _t343 = _t302 * _t342 + _t307 * _t339
+    _t344 = -(axis_z1_im**2) + axis_z1_re**2
+    _t345 = -_t336 * axis_z1_im * axis_z1_re + _t337 * _t344
+    _t346 = 2 * axis_z1_re
+    _t347 = _t337 * _t346 * axis_z1_im + _t340 * _t344
+    _t348 = _t302 * _t347 + _t307 * _t345
+    _t349 = axis_x1_im * axis_x1_re
+    _t350 = -(axis_x1_im**2) + axis_x1_re**2
+    _t351 = -_t336 * _t349 + _t337 * _t350
+    _t352 = 2 * _t337 * _t349 + _t340 * _t350
+    _t353 = _t310 * _t352 + _t312 * _t351
+    _t354 = _t310 * _t347 + _t312 * _t345
+    _t355 = _t314 * _t352 + _t316 * _t351
+    _t356 = _t314 * _t342 + _t316 * _t339
+    _t357 = 2 * _t342
+    _t358 = _t302 * _t339 - _t306 * _t357
+    _t359 = 2 * _t347
+    _t360 = _t302 * _t345 - _t306 * _t359
+    _t361 = 2 * _t352
+    _t362 = _t310 * _t351 - _t311 * _t361
+    _t363 = _t310 * _t345 - _t311 * _t359
+    _t364 = _t314 * _t351 - _t315 * _t361
+    _t365 = _t314 * _t339 - _t315 * _t357
+    _t366 = _t30 * base_y1_re + _t31 * base_y1_im
+    _t367 = -_t30 * base_y1_im + _t31 * base_y1_re
+    _t368 = _t366 * crank_zero_x1_re + _t367 * crank_zero_x1_im
+    _t369 = _t34 * base_z1_re + _t35 * base_z1_im
+    _t370 = -_t34 * base_z1_im + _t35 * base_z1_re
+    _t371 = _t369 * crank_zero_x1_re + _t370 * crank_zero_x1_im
+    _t372 = _t49 * base_x1_re + _t50 * base_x1_im
+    _t373 = -_t49 * base_x1_im + _t50 * base_x1_re
+    _t374 = _t372 * crank_zero_y1_re + _t373 * crank_zero_y1_im
+    _t375 = _t52 * base_z1_re + _t53 * base_z1_im
+    _t376 = -_t52 * base_z1_im + _t53 * base_z1_re
+    _t377 = _t375 * crank_zero_y1_re + _t376 * crank_zero_y1_im
+    _t378 = _t64 * base_x1_re + _t65 * base_x1_im
+    _t379 = -_t64 * base_x1_im + _t65 * base_x1_re
+    _t380 = _t378 * crank_zero_z1_re + _t379 * crank_zero_z1_im
+    _t381 = _t67 * base_y1_re + _t68 * base_y1_im
+    _t382 = -_t67 * base_y1_im + _t68 * base_y1_re
+    _t383 = _t381 * crank_zero_z1_re + _t382 * crank_zero_z1_im
+    _t384 = -_t366 * crank_zero_x1_im + _t367 * crank_zero_x1_re
+    _t385 = -_t369 * crank_zero_x1_im + _t370 * crank_zero_x1_re
+    _t386 = -_t372 * crank_zero_y1_im + _t373 * crank_zero_y1_re
+    _t387 = -_t375 * crank_zero_y1_im + _t376 * crank_zero_y1_re
+    _t388 = -_t378 * crank_zero_z1_im + _t379 * crank_zero_z1_re
+    _t389 = -_t381 * crank_zero_z1_im + _t382 * crank_zero_z1_re
+    _t390 = 2 * axis_y1_im
+    _t391 = -_t341 * axis_x1_re + _t390 * axis_x1_im
+    _t392 = -_t341 * axis_x1_im - _t390 * axis_x1_re
+    _t393 = _t391 * crank_zero_x1_im + _t392 * crank_zero_x1_re
+    _t394 = _t391 * crank_zero_x1_re - _t392 * crank_zero_x1_im
+    _t395 = -_t393 * crank_zero_y1_im + _t394 * crank_zero_y1_re
+    _t396 = _t393 * crank_zero_y1_re + _t394 * crank_zero_y1_im
+    _t397 = _t337 * _t396 + _t340 * _t395
+    _t398 = 2 * axis_z1_im
+    _t399 = -_t346 * axis_x1_re + _t398 * axis_x1_im
+    _t400 = -_t346 * axis_x1_im - _t398 * axis_x1_re
+    _t401 = _t399 * crank_zero_x1_im + _t400 * crank_zero_x1_re
+    _t402 = _t399 * crank_zero_x1_re - _t400 * crank_zero_x1_im
+    _t403 = -_t401 * crank_zero_z1_im + _t402 * crank_zero_z1_re
+    _t404 = _t401 * crank_zero_z1_re + _t402 * crank_zero_z1_im
+    _t405 = _t337 * _t404 + _t340 * _t403
+    _t406 = -_t341 * axis_z1_re + _t390 * axis_z1_im
+    _t407 = -_t341 * axis_z1_im - _t390 * axis_z1_re
+    _t408 = _t406 * crank_zero_y1_im + _t407 * crank_zero_y1_re
+    _t409 = _t406 * crank_zero_y1_re - _t407 * crank_zero_y1_im
+    _t410 = -_t408 * crank_zero_z1_im + _t409 * crank_zero_z1_re
+    _t411 = _t408 * crank_zero_z1_re + _t409 * crank_zero_z1_im
+    _t412 = _t337 * _t411 + _t340 * _t410
+    _t413 = _t337 * _t395 - _t340 * _t396
+    _t414 = _t337 * _t403 - _t340 * _t404
+    _t415 = _t337 * _t410 - _t340 * _t411
+    _t416 = D_u_1_im**2
+    _t417 = D_u_1_re**2
+    _t418 = _t416 - _t417
+    _t419 = -_t418
+    _t420 = 4 * D_u_1_im
+    _t421 = D_u_1_re * _t420
+    _t422 = _t421 * platform_x2_im
+    _t423 = -2 * _t419 * platform_x2_re + _t422
+    _t424 = -_t423
+    _t425 = 8 * D_u_1_im * D_u_1_re
+    _t426 = _t425 * platform_z2_im
+    _t427 = -4 * _t419 * platform_z2_re + _t426
+    _t428 = -_t427
+    _t429 = _t425 * platform_y2_im
+    _t430 = 4 * _t419
+    _t431 = _t429 - _t430 * platform_y2_re
+    _t432 = -_t431
+    _t433 = _t421 * base_x2_im
+    _t434 = 2 * _t419
+    _t435 = _t434 * base_x2_re
+    _t436 = 2 * D_u_1_im
+    _t437 = 2 * D_u_1_re
+    _t438 = C_u_1_im * _t436 - C_u_1_re * _t437
+    _t439 = C_u_1_im * _t437 + C_u_1_re * _t436
+    _t440 = -_t439
+    _t441 = _t438 * crank_zero_x2_im + _t440 * crank_zero_x2_re
+    _t442 = _t438 * crank_zero_x2_re - _t440 * crank_zero_x2_im
+    _t443 = -2 * D_u_1_re * S_u_1_re + S_u_1_im * _t436
+    _t444 = -_t443
+    _t445 = S_u_1_im * _t437 + S_u_1_re * _t436
+    _t446 = _t444 * axis_z2_im + _t445 * axis_z2_re
+    _t447 = _t444 * axis_z2_re - _t445 * axis_z2_im
+    _t448 = _t446 * crank_zero_y2_re + _t447 * crank_zero_y2_im
+    _t449 = -_t445
+    _t450 = _t443 * axis_y2_im + _t449 * axis_y2_re
+    _t451 = _t443 * axis_y2_re - _t449 * axis_y2_im
+    _t452 = _t450 * crank_zero_z2_re + _t451 * crank_zero_z2_im
+    _t453 = -_t446 * crank_zero_y2_im + _t447 * crank_zero_y2_re
+    _t454 = -_t450 * crank_zero_z2_im + _t451 * crank_zero_z2_re
+    _t455 = _t421 * platform_y2_im
+    _t456 = -2 * _t419 * platform_y2_re + _t455
+    _t457 = -_t456
+    _t458 = _t425 * platform_x2_im
+    _t459 = -4 * _t419 * platform_x2_re + _t458
+    _t460 = -_t459
+    _t461 = _t421 * base_y2_im
+    _t462 = _t434 * base_y2_re
+    _t463 = _t438 * crank_zero_y2_im + _t440 * crank_zero_y2_re
+    _t464 = _t438 * crank_zero_y2_re - _t440 * crank_zero_y2_im
+    _t465 = _t443 * axis_z2_im + _t449 * axis_z2_re
+    _t466 = _t443 * axis_z2_re - _t449 * axis_z2_im
+    _t467 = _t465 * crank_zero_x2_re + _t466 * crank_zero_x2_im
+    _t468 = _t444 * axis_x2_im + _t445 * axis_x2_re
+    _t469 = _t444 * axis_x2_re - _t445 * axis_x2_im
+    _t470 = _t468 * crank_zero_z2_re + _t469 * crank_zero_z2_im
+    _t471 = -_t465 * crank_zero_x2_im + _t466 * crank_zero_x2_re
+    _t472 = -_t468 * crank_zero_z2_im + _t469 * crank_zero_z2_re
+    _t473 = _t421 * platform_z2_im
+    _t474 = -2 * _t419 * platform_z2_re + _t473
+    _t475 = -_t474
+    _t476 = _t421 * base_z2_im
+    _t477 = _t434 * base_z2_re
+    _t478 = _t438 * crank_zero_z2_im + _t440 * crank_zero_z2_re
+    _t479 = _t438 * crank_zero_z2_re - _t440 * crank_zero_z2_im
+    _t480 = _t444 * axis_y2_im + _t445 * axis_y2_re
+    _t481 = _t444 * axis_y2_re - _t445 * axis_y2_im
+    _t482 = _t480 * crank_zero_x2_re + _t481 * crank_zero_x2_im
+    _t483 = _t443 * axis_x2_im + _t449 * axis_x2_re
+    _t484 = _t443 * axis_x2_re - _t449 * axis_x2_im
+    _t485 = _t483 * crank_zero_y2_re + _t484 * crank_zero_y2_im
+    _t486 = -_t480 * crank_zero_x2_im + _t481 * crank_zero_x2_re
+    _t487 = -_t483 * crank_zero_y2_im + _t484 * crank_zero_y2_re
+    _t488 = -(platform_x2_im**2) + platform_x2_re**2
+    _t489 = -(platform_y2_im**2) + platform_y2_re**2
+    _t490 = -(platform_z2_im**2) + platform_z2_re**2
+    _t491 = (
+        _t419 * _t488
+        + _t419 * _t489
+        + _t419 * _t490
+        - _t422 * platform_x2_re
+        - _t455 * platform_y2_re
+        - _t473 * platform_z2_re
+    )
+    _t492 = -2 * _t416 + 2 * _t417
+    _t493 = (
+        -_t426 * platform_z2_re
+        - _t429 * platform_y2_re
+        - _t458 * platform_x2_re
+        + _t488 * _t492
+        + _t489 * _t492
+        + _t490 * _t492
+    )
+    _t494 = _t441 * platform_x2_re + _t442 * platform_x2_im
+    _t495 = _t448 * platform_x2_re + _t453 * platform_x2_im
+    _t496 = _t452 * platform_x2_re + _t454 * platform_x2_im
+    _t497 = -_t441 * platform_x2_im + _t442 * platform_x2_re
+    _t498 = -_t448 * platform_x2_im + _t453 * platform_x2_re
+    _t499 = -_t452 * platform_x2_im + _t454 * platform_x2_re
+    _t500 = 2 * platform_x2_im
+    _t501 = 2 * platform_x2_re
+    _t502 = _t500 * base_x2_im - _t501 * base_x2_re
+    _t503 = _t500 * base_x2_re + _t501 * base_x2_im
+    _t504 = -_t503
+    _t505 = D_u_1_im * _t437
+    _t506 = (
+        -_t419 * _t502
+        + _t494 * a2_im
+        + _t495 * a2_im
+        + _t496 * a2_im
+        - _t497 * a2_re
+        - _t498 * a2_re
+        - _t499 * a2_re
+        + _t504 * _t505
+    )
+    _t507 = _t467 * platform_y2_re + _t471 * platform_y2_im
+    _t508 = _t463 * platform_y2_re + _t464 * platform_y2_im
+    _t509 = _t470 * platform_y2_re + _t472 * platform_y2_im
+    _t510 = -_t467 * platform_y2_im + _t471 * platform_y2_re
+    _t511 = -_t463 * platform_y2_im + _t464 * platform_y2_re
+    _t512 = -_t470 * platform_y2_im + _t472 * platform_y2_re
+    _t513 = 2 * platform_y2_im
+    _t514 = 2 * platform_y2_re
+    _t515 = _t513 * base_y2_im - _t514 * base_y2_re
+    _t516 = _t513 * base_y2_re + _t514 * base_y2_im
+    _t517 = -_t516
+    _t518 = (
+        -_t419 * _t515
+        + _t505 * _t517
+        + _t507 * a2_im
+        + _t508 * a2_im
+        + _t509 * a2_im
+        - _t510 * a2_re
+        - _t511 * a2_re
+        - _t512 * a2_re
+    )
+    _t519 = _t482 * platform_z2_re + _t486 * platform_z2_im
+    _t520 = _t485 * platform_z2_re + _t487 * platform_z2_im
+    _t521 = _t478 * platform_z2_re + _t479 * platform_z2_im
+    _t522 = -_t482 * platform_z2_im + _t486 * platform_z2_re
+    _t523 = -_t485 * platform_z2_im + _t487 * platform_z2_re
+    _t524 = -_t478 * platform_z2_im + _t479 * platform_z2_re
+    _t525 = 2 * platform_z2_im
+    _t526 = 2 * platform_z2_re
+    _t527 = _t525 * base_z2_im - _t526 * base_z2_re
+    _t528 = _t525 * base_z2_re + _t526 * base_z2_im
+    _t529 = -_t528
+    _t530 = (
+        -_t419 * _t527
+        + _t505 * _t529
+        + _t519 * a2_im
+        + _t520 * a2_im
+        + _t521 * a2_im
+        - _t522 * a2_re
+        - _t523 * a2_re
+        - _t524 * a2_re
+    )
+    _t531 = -4 * D_u_1_re * S_u_1_re + S_u_1_im * _t420
+    _t532 = -_t531
+    _t533 = 4 * D_u_1_re
+    _t534 = S_u_1_im * _t533 + S_u_1_re * _t420
+    _t535 = _t532 * axis_z2_im + _t534 * axis_z2_re
+    _t536 = _t532 * axis_z2_re - _t534 * axis_z2_im
+    _t537 = _t535 * crank_zero_x2_re + _t536 * crank_zero_x2_im
+    _t538 = -_t535 * crank_zero_x2_im + _t536 * crank_zero_x2_re
+    _t539 = _t537 * platform_z2_re + _t538 * platform_z2_im
+    _t540 = C_u_1_im * _t420 - C_u_1_re * _t533
+    _t541 = -_t540
+    _t542 = C_u_1_im * _t533 + C_u_1_re * _t420
+    _t543 = _t541 * crank_zero_y2_im + _t542 * crank_zero_y2_re
+    _t544 = _t541 * crank_zero_y2_re - _t542 * crank_zero_y2_im
+    _t545 = _t543 * platform_z2_re + _t544 * platform_z2_im
+    _t546 = -_t534
+    _t547 = _t531 * axis_x2_im + _t546 * axis_x2_re
+    _t548 = _t531 * axis_x2_re - _t546 * axis_x2_im
+    _t549 = _t547 * crank_zero_z2_re + _t548 * crank_zero_z2_im
+    _t550 = -_t547 * crank_zero_z2_im + _t548 * crank_zero_z2_re
+    _t551 = _t549 * platform_z2_re + _t550 * platform_z2_im
+    _t552 = -_t537 * platform_z2_im + _t538 * platform_z2_re
+    _t553 = -_t543 * platform_z2_im + _t544 * platform_z2_re
+    _t554 = -_t549 * platform_z2_im + _t550 * platform_z2_re
+    _t555 = 4 * base_y2_im
+    _t556 = _t555 * platform_z2_im - 4 * base_y2_re * platform_z2_re
+    _t557 = -_t556
+    _t558 = 4 * base_y2_re
+    _t559 = _t555 * platform_z2_re + _t558 * platform_z2_im
+    _t560 = _t532 * axis_y2_im + _t534 * axis_y2_re
+    _t561 = _t532 * axis_y2_re - _t534 * axis_y2_im
+    _t562 = _t560 * crank_zero_x2_re + _t561 * crank_zero_x2_im
+    _t563 = -_t560 * crank_zero_x2_im + _t561 * crank_zero_x2_re
+    _t564 = _t562 * platform_y2_re + _t563 * platform_y2_im
+    _t565 = _t547 * crank_zero_y2_re + _t548 * crank_zero_y2_im
+    _t566 = -_t547 * crank_zero_y2_im + _t548 * crank_zero_y2_re
+    _t567 = _t565 * platform_y2_re + _t566 * platform_y2_im
+    _t568 = -_t542
+    _t569 = _t540 * crank_zero_z2_im + _t568 * crank_zero_z2_re
+    _t570 = _t540 * crank_zero_z2_re - _t568 * crank_zero_z2_im
+    _t571 = _t569 * platform_y2_re + _t570 * platform_y2_im
+    _t572 = -_t562 * platform_y2_im + _t563 * platform_y2_re
+    _t573 = -_t565 * platform_y2_im + _t566 * platform_y2_re
+    _t574 = -_t569 * platform_y2_im + _t570 * platform_y2_re
+    _t575 = 4 * platform_y2_im
+    _t576 = 4 * platform_y2_re
+    _t577 = _t575 * base_z2_im - _t576 * base_z2_re
+    _t578 = -_t575 * base_z2_re - _t576 * base_z2_im
+    _t579 = (
+        -_t419 * _t577
+        + _t505 * _t578
+        + _t564 * a2_im
+        + _t567 * a2_im
+        + _t571 * a2_im
+        - _t572 * a2_re
+        - _t573 * a2_re
+        - _t574 * a2_re
+    )
+    _t580 = _t531 * axis_y2_im + _t546 * axis_y2_re
+    _t581 = _t531 * axis_y2_re - _t546 * axis_y2_im
+    _t582 = _t580 * crank_zero_x2_re + _t581 * crank_zero_x2_im
+    _t583 = -_t580 * crank_zero_x2_im + _t581 * crank_zero_x2_re
+    _t584 = _t582 * platform_x2_re + _t583 * platform_x2_im
+    _t585 = _t532 * axis_x2_im + _t534 * axis_x2_re
+    _t586 = _t532 * axis_x2_re - _t534 * axis_x2_im
+    _t587 = _t585 * crank_zero_y2_re + _t586 * crank_zero_y2_im
+    _t588 = -_t585 * crank_zero_y2_im + _t586 * crank_zero_y2_re
+    _t589 = _t587 * platform_x2_re + _t588 * platform_x2_im
+    _t590 = _t541 * crank_zero_z2_im + _t542 * crank_zero_z2_re
+    _t591 = _t541 * crank_zero_z2_re - _t542 * crank_zero_z2_im
+    _t592 = _t590 * platform_x2_re + _t591 * platform_x2_im
+    _t593 = -_t582 * platform_x2_im + _t583 * platform_x2_re
+    _t594 = -_t587 * platform_x2_im + _t588 * platform_x2_re
+    _t595 = -_t590 * platform_x2_im + _t591 * platform_x2_re
+    _t596 = 4 * base_z2_im
+    _t597 = _t596 * platform_x2_im - 4 * base_z2_re * platform_x2_re
+    _t598 = -_t597
+    _t599 = _t596 * platform_x2_re + 4 * base_z2_re * platform_x2_im
+    _t600 = _t540 * crank_zero_x2_im + _t568 * crank_zero_x2_re
+    _t601 = _t540 * crank_zero_x2_re - _t568 * crank_zero_x2_im
+    _t602 = _t600 * platform_z2_re + _t601 * platform_z2_im
+    _t603 = _t535 * crank_zero_y2_re + _t536 * crank_zero_y2_im
+    _t604 = -_t535 * crank_zero_y2_im + _t536 * crank_zero_y2_re
+    _t605 = _t603 * platform_z2_re + _t604 * platform_z2_im
+    _t606 = _t580 * crank_zero_z2_re + _t581 * crank_zero_z2_im
+    _t607 = -_t580 * crank_zero_z2_im + _t581 * crank_zero_z2_re
+    _t608 = _t606 * platform_z2_re + _t607 * platform_z2_im
+    _t609 = -_t600 * platform_z2_im + _t601 * platform_z2_re
+    _t610 = -_t603 * platform_z2_im + _t604 * platform_z2_re
+    _t611 = -_t606 * platform_z2_im + _t607 * platform_z2_re
+    _t612 = 4 * platform_z2_im
+    _t613 = 4 * platform_z2_re
+    _t614 = _t612 * base_x2_im - _t613 * base_x2_re
+    _t615 = -_t612 * base_x2_re - _t613 * base_x2_im
+    _t616 = (
+        -_t419 * _t614
+        + _t505 * _t615
+        + _t602 * a2_im
+        + _t605 * a2_im
+        + _t608 * a2_im
+        - _t609 * a2_re
+        - _t610 * a2_re
+        - _t611 * a2_re
+    )
+    _t617 = _t541 * crank_zero_x2_im + _t542 * crank_zero_x2_re
+    _t618 = _t541 * crank_zero_x2_re - _t542 * crank_zero_x2_im
+    _t619 = _t617 * platform_y2_re + _t618 * platform_y2_im
+    _t620 = _t531 * axis_z2_im + _t546 * axis_z2_re
+    _t621 = _t531 * axis_z2_re - _t546 * axis_z2_im
+    _t622 = _t620 * crank_zero_y2_re + _t621 * crank_zero_y2_im
+    _t623 = -_t620 * crank_zero_y2_im + _t621 * crank_zero_y2_re
+    _t624 = _t622 * platform_y2_re + _t623 * platform_y2_im
+    _t625 = _t560 * crank_zero_z2_re + _t561 * crank_zero_z2_im
+    _t626 = -_t560 * crank_zero_z2_im + _t561 * crank_zero_z2_re
+    _t627 = _t625 * platform_y2_re + _t626 * platform_y2_im
+    _t628 = -_t617 * platform_y2_im + _t618 * platform_y2_re
+    _t629 = -_t622 * platform_y2_im + _t623 * platform_y2_re
+    _t630 = -_t625 * platform_y2_im + _t626 * platform_y2_re
+    _t631 = _t575 * base_x2_im - 4 * base_x2_re * platform_y2_re
+    _t632 = -_t631
+    _t633 = _t575 * base_x2_re + _t576 * base_x2_im
+    _t634 = _t620 * crank_zero_x2_re + _t621 * crank_zero_x2_im
+    _t635 = -_t620 * crank_zero_x2_im + _t621 * crank_zero_x2_re
+    _t636 = _t634 * platform_x2_re + _t635 * platform_x2_im
+    _t637 = _t540 * crank_zero_y2_im + _t568 * crank_zero_y2_re
+    _t638 = _t540 * crank_zero_y2_re - _t568 * crank_zero_y2_im
+    _t639 = _t637 * platform_x2_re + _t638 * platform_x2_im
+    _t640 = _t585 * crank_zero_z2_re + _t586 * crank_zero_z2_im
+    _t641 = -_t585 * crank_zero_z2_im + _t586 * crank_zero_z2_re
+    _t642 = _t640 * platform_x2_re + _t641 * platform_x2_im
+    _t643 = -_t634 * platform_x2_im + _t635 * platform_x2_re
+    _t644 = -_t637 * platform_x2_im + _t638 * platform_x2_re
+    _t645 = -_t640 * platform_x2_im + _t641 * platform_x2_re
+    _t646 = _t555 * platform_x2_im - _t558 * platform_x2_re
+    _t647 = -_t555 * platform_x2_re - _t558 * platform_x2_im
+    _t648 = (
+        -_t419 * _t646
+        + _t505 * _t647
+        + _t636 * a2_im
+        + _t639 * a2_im
+        + _t642 * a2_im
+        - _t643 * a2_re
+        - _t644 * a2_re
+        - _t645 * a2_re
+    )
+    _t649 = _t450 * crank_zero_x2_re + _t451 * crank_zero_x2_im
+    _t650 = -_t450 * crank_zero_x2_im + _t451 * crank_zero_x2_re
+    _t651 = _t649 * platform_z2_re + _t650 * platform_z2_im
+    _t652 = _t468 * crank_zero_y2_re + _t469 * crank_zero_y2_im
+    _t653 = -_t468 * crank_zero_y2_im + _t469 * crank_zero_y2_re
+    _t654 = _t652 * platform_z2_re + _t653 * platform_z2_im
+    _t655 = -_t438
+    _t656 = _t439 * crank_zero_z2_re + _t655 * crank_zero_z2_im
+    _t657 = -_t439 * crank_zero_z2_im + _t655 * crank_zero_z2_re
+    _t658 = _t656 * platform_z2_re + _t657 * platform_z2_im
+    _t659 = -_t649 * platform_z2_im + _t650 * platform_z2_re
+    _t660 = -_t652 * platform_z2_im + _t653 * platform_z2_re
+    _t661 = -_t656 * platform_z2_im + _t657 * platform_z2_re
+    _t662 = -_t527
+    _t663 = (
+        -_t419 * _t662
+        + _t505 * _t528
+        + _t651 * a2_im
+        + _t654 * a2_im
+        + _t658 * a2_im
+        - _t659 * a2_re
+        - _t660 * a2_re
+        - _t661 * a2_re
+    )
+    _t664 = _t446 * crank_zero_x2_re + _t447 * crank_zero_x2_im
+    _t665 = -_t446 * crank_zero_x2_im + _t447 * crank_zero_x2_re
+    _t666 = _t664 * platform_y2_re + _t665 * platform_y2_im
+    _t667 = _t439 * crank_zero_y2_re + _t655 * crank_zero_y2_im
+    _t668 = -_t439 * crank_zero_y2_im + _t655 * crank_zero_y2_re
+    _t669 = _t667 * platform_y2_re + _t668 * platform_y2_im
+    _t670 = _t483 * crank_zero_z2_re + _t484 * crank_zero_z2_im
+    _t671 = -_t483 * crank_zero_z2_im + _t484 * crank_zero_z2_re
+    _t672 = _t670 * platform_y2_re + _t671 * platform_y2_im
+    _t673 = -_t664 * platform_y2_im + _t665 * platform_y2_re
+    _t674 = -_t667 * platform_y2_im + _t668 * platform_y2_re
+    _t675 = -_t670 * platform_y2_im + _t671 * platform_y2_re
+    _t676 = -_t515
+    _t677 = (
+        -_t419 * _t676
+        + _t505 * _t516
+        + _t666 * a2_im
+        + _t669 * a2_im
+        + _t672 * a2_im
+        - _t673 * a2_re
+        - _t674 * a2_re
+        - _t675 * a2_re
+    )
+    _t678 = _t600 * platform_y2_re + _t601 * platform_y2_im
+    _t679 = _t603 * platform_y2_re + _t604 * platform_y2_im
+    _t680 = _t606 * platform_y2_re + _t607 * platform_y2_im
+    _t681 = -_t600 * platform_y2_im + _t601 * platform_y2_re
+    _t682 = -_t603 * platform_y2_im + _t604 * platform_y2_re
+    _t683 = -_t606 * platform_y2_im + _t607 * platform_y2_re
+    _t684 = -_t633
+    _t685 = _t562 * platform_x2_re + _t563 * platform_x2_im
+    _t686 = _t565 * platform_x2_re + _t566 * platform_x2_im
+    _t687 = _t569 * platform_x2_re + _t570 * platform_x2_im
+    _t688 = -_t562 * platform_x2_im + _t563 * platform_x2_re
+    _t689 = -_t565 * platform_x2_im + _t566 * platform_x2_re
+    _t690 = -_t569 * platform_x2_im + _t570 * platform_x2_re
+    _t691 = -_t599
+    _t692 = _t439 * crank_zero_x2_re + _t655 * crank_zero_x2_im
+    _t693 = -_t439 * crank_zero_x2_im + _t655 * crank_zero_x2_re
+    _t694 = _t692 * platform_x2_re + _t693 * platform_x2_im
+    _t695 = _t465 * crank_zero_y2_re + _t466 * crank_zero_y2_im
+    _t696 = -_t465 * crank_zero_y2_im + _t466 * crank_zero_y2_re
+    _t697 = _t695 * platform_x2_re + _t696 * platform_x2_im
+    _t698 = _t480 * crank_zero_z2_re + _t481 * crank_zero_z2_im
+    _t699 = -_t480 * crank_zero_z2_im + _t481 * crank_zero_z2_re
+    _t700 = _t698 * platform_x2_re + _t699 * platform_x2_im
+    _t701 = -_t692 * platform_x2_im + _t693 * platform_x2_re
+    _t702 = -_t695 * platform_x2_im + _t696 * platform_x2_re
+    _t703 = -_t698 * platform_x2_im + _t699 * platform_x2_re
+    _t704 = -_t502
+    _t705 = (
+        -_t419 * _t704
+        + _t503 * _t505
+        + _t694 * a2_im
+        + _t697 * a2_im
+        + _t700 * a2_im
+        - _t701 * a2_re
+        - _t702 * a2_re
+        - _t703 * a2_re
+    )
+    _t706 = _t634 * platform_z2_re + _t635 * platform_z2_im
+    _t707 = _t637 * platform_z2_re + _t638 * platform_z2_im
+    _t708 = _t640 * platform_z2_re + _t641 * platform_z2_im
+    _t709 = -_t634 * platform_z2_im + _t635 * platform_z2_re
+    _t710 = -_t637 * platform_z2_im + _t638 * platform_z2_re
+    _t711 = -_t640 * platform_z2_im + _t641 * platform_z2_re
+    _t712 = -_t559
+    _t713 = b2_im * b2_re
+    _t714 = -(base_x2_im**2) + base_x2_re**2
+    _t715 = -(base_y2_im**2) + base_y2_re**2
+    _t716 = -(base_z2_im**2) + base_z2_re**2
+    _t717 = -(b2_im**2) + b2_re**2
+    _t718 = -(crank_zero_x2_im**2) + crank_zero_x2_re**2
+    _t719 = C_u_1_im * C_u_1_re
+    _t720 = 2 * _t719
+    _t721 = -(C_u_1_im**2) + C_u_1_re**2
+    _t722 = crank_zero_x2_im * crank_zero_x2_re
+    _t723 = 2 * _t722
+    _t724 = _t718 * _t720 + _t721 * _t723
+    _t725 = 2 * a2_im * a2_re
+    _t726 = -(crank_zero_y2_im**2) + crank_zero_y2_re**2
+    _t727 = crank_zero_y2_im * crank_zero_y2_re
+    _t728 = 2 * _t727
+    _t729 = _t720 * _t726 + _t721 * _t728
+    _t730 = -(crank_zero_z2_im**2) + crank_zero_z2_re**2
+    _t731 = crank_zero_z2_im * crank_zero_z2_re
+    _t732 = 2 * _t731
+    _t733 = _t720 * _t730 + _t721 * _t732
+    _t734 = -(a2_im**2) + a2_re**2
+    _t735 = 4 * _t719
+    _t736 = _t718 * _t721 - _t722 * _t735
+    _t737 = _t721 * _t726 - _t727 * _t735
+    _t738 = _t721 * _t730 - _t731 * _t735
+    _t739 = _t439 * base_x2_re + _t655 * base_x2_im
+    _t740 = -_t439 * base_x2_im + _t655 * base_x2_re
+    _t741 = _t739 * crank_zero_x2_re + _t740 * crank_zero_x2_im
+    _t742 = _t439 * base_y2_re + _t655 * base_y2_im
+    _t743 = -_t439 * base_y2_im + _t655 * base_y2_re
+    _t744 = _t742 * crank_zero_y2_re + _t743 * crank_zero_y2_im
+    _t745 = _t439 * base_z2_re + _t655 * base_z2_im
+    _t746 = -_t439 * base_z2_im + _t655 * base_z2_re
+    _t747 = _t745 * crank_zero_z2_re + _t746 * crank_zero_z2_im
+    _t748 = -_t739 * crank_zero_x2_im + _t740 * crank_zero_x2_re
+    _t749 = -_t742 * crank_zero_y2_im + _t743 * crank_zero_y2_re
+    _t750 = -_t745 * crank_zero_z2_im + _t746 * crank_zero_z2_re
+    _t751 = S_u_1_im * S_u_1_re
+    _t752 = 4 * _t751
+    _t753 = -(S_u_1_im**2) + S_u_1_re**2
+    _t754 = -(axis_y2_im**2) + axis_y2_re**2
+    _t755 = -_t752 * axis_y2_im * axis_y2_re + _t753 * _t754
+    _t756 = 2 * _t751
+    _t757 = 2 * axis_y2_re
+    _t758 = _t753 * _t757 * axis_y2_im + _t754 * _t756
+    _t759 = _t718 * _t758 + _t723 * _t755
+    _t760 = -(axis_z2_im**2) + axis_z2_re**2
+    _t761 = -_t752 * axis_z2_im * axis_z2_re + _t753 * _t760
+    _t762 = 2 * axis_z2_re
+    _t763 = _t753 * _t762 * axis_z2_im + _t756 * _t760
+    _t764 = _t718 * _t763 + _t723 * _t761
+    _t765 = axis_x2_im * axis_x2_re
+    _t766 = -(axis_x2_im**2) + axis_x2_re**2
+    _t767 = -_t752 * _t765 + _t753 * _t766
+    _t768 = 2 * _t753 * _t765 + _t756 * _t766
+    _t769 = _t726 * _t768 + _t728 * _t767
+    _t770 = _t726 * _t763 + _t728 * _t761
+    _t771 = _t730 * _t768 + _t732 * _t767
+    _t772 = _t730 * _t758 + _t732 * _t755
+    _t773 = 2 * _t758
+    _t774 = _t718 * _t755 - _t722 * _t773
+    _t775 = 2 * _t763
+    _t776 = _t718 * _t761 - _t722 * _t775
+    _t777 = 2 * _t768
+    _t778 = _t726 * _t767 - _t727 * _t777
+    _t779 = _t726 * _t761 - _t727 * _t775
+    _t780 = _t730 * _t767 - _t731 * _t777
+    _t781 = _t730 * _t755 - _t731 * _t773
+    _t782 = _t446 * base_y2_re + _t447 * base_y2_im
+    _t783 = -_t446 * base_y2_im + _t447 * base_y2_re
+    _t784 = _t782 * crank_zero_x2_re + _t783 * crank_zero_x2_im
+    _t785 = _t450 * base_z2_re + _t451 * base_z2_im
+    _t786 = -_t450 * base_z2_im + _t451 * base_z2_re
+    _t787 = _t785 * crank_zero_x2_re + _t786 * crank_zero_x2_im
+    _t788 = _t465 * base_x2_re + _t466 * base_x2_im
+    _t789 = -_t465 * base_x2_im + _t466 * base_x2_re
+    _t790 = _t788 * crank_zero_y2_re + _t789 * crank_zero_y2_im
+    _t791 = _t468 * base_z2_re + _t469 * base_z2_im
+    _t792 = -_t468 * base_z2_im + _t469 * base_z2_re
+    _t793 = _t791 * crank_zero_y2_re + _t792 * crank_zero_y2_im
+    _t794 = _t480 * base_x2_re + _t481 * base_x2_im
+    _t795 = -_t480 * base_x2_im + _t481 * base_x2_re
+    _t796 = _t794 * crank_zero_z2_re + _t795 * crank_zero_z2_im
+    _t797 = _t483 * base_y2_re + _t484 * base_y2_im
+    _t798 = -_t483 * base_y2_im + _t484 * base_y2_re
+    _t799 = _t797 * crank_zero_z2_re + _t798 * crank_zero_z2_im
+    _t800 = -_t782 * crank_zero_x2_im + _t783 * crank_zero_x2_re
+    _t801 = -_t785 * crank_zero_x2_im + _t786 * crank_zero_x2_re
+    _t802 = -_t788 * crank_zero_y2_im + _t789 * crank_zero_y2_re
+    _t803 = -_t791 * crank_zero_y2_im + _t792 * crank_zero_y2_re
+    _t804 = -_t794 * crank_zero_z2_im + _t795 * crank_zero_z2_re
+    _t805 = -_t797 * crank_zero_z2_im + _t798 * crank_zero_z2_re
+    _t806 = 2 * axis_y2_im
+    _t807 = -_t757 * axis_x2_re + _t806 * axis_x2_im
+    _t808 = -_t757 * axis_x2_im - _t806 * axis_x2_re
+    _t809 = _t807 * crank_zero_x2_im + _t808 * crank_zero_x2_re
+    _t810 = _t807 * crank_zero_x2_re - _t808 * crank_zero_x2_im
+    _t811 = -_t809 * crank_zero_y2_im + _t810 * crank_zero_y2_re
+    _t812 = _t809 * crank_zero_y2_re + _t810 * crank_zero_y2_im
+    _t813 = _t753 * _t812 + _t756 * _t811
+    _t814 = 2 * axis_z2_im
+    _t815 = -_t762 * axis_x2_re + _t814 * axis_x2_im
+    _t816 = -_t762 * axis_x2_im - _t814 * axis_x2_re
+    _t817 = _t815 * crank_zero_x2_im + _t816 * crank_zero_x2_re
+    _t818 = _t815 * crank_zero_x2_re - _t816 * crank_zero_x2_im
+    _t819 = -_t817 * crank_zero_z2_im + _t818 * crank_zero_z2_re
+    _t820 = _t817 * crank_zero_z2_re + _t818 * crank_zero_z2_im
+    _t821 = _t753 * _t820 + _t756 * _t819
+    _t822 = -_t757 * axis_z2_re + _t806 * axis_z2_im
+    _t823 = -_t757 * axis_z2_im - _t806 * axis_z2_re
+    _t824 = _t822 * crank_zero_y2_im + _t823 * crank_zero_y2_re
+    _t825 = _t822 * crank_zero_y2_re - _t823 * crank_zero_y2_im
+    _t826 = -_t824 * crank_zero_z2_im + _t825 * crank_zero_z2_re
+    _t827 = _t824 * crank_zero_z2_re + _t825 * crank_zero_z2_im
+    _t828 = _t753 * _t827 + _t756 * _t826
+    _t829 = _t753 * _t811 - _t756 * _t812
+    _t830 = _t753 * _t819 - _t756 * _t820
+    _t831 = _t753 * _t826 - _t756 * _t827
+    _t832 = D_u_2_im**2
+    _t833 = D_u_2_re**2
+    _t834 = _t832 - _t833
+    _t835 = -_t834
+    _t836 = 4 * D_u_2_im
+    _t837 = D_u_2_re * _t836
+    _t838 = _t837 * platform_x3_im
+    _t839 = -2 * _t835 * platform_x3_re + _t838
+    _t840 = -_t839
+    _t841 = 8 * D_u_2_im * D_u_2_re
+    _t842 = _t841 * platform_z3_im
+    _t843 = -4 * _t835 * platform_z3_re + _t842
+    _t844 = -_t843
+    _t845 = _t841 * platform_y3_im
+    _t846 = 4 * _t835
+    _t847 = _t845 - _t846 * platform_y3_re
+    _t848 = -_t847
+    _t849 = _t837 * base_x3_im
+    _t850 = 2 * _t835
+    _t851 = _t850 * base_x3_re
+    _t852 = 2 * D_u_2_im
+    _t853 = 2 * D_u_2_re
+    _t854 = C_u_2_im * _t852 - C_u_2_re * _t853
+    _t855 = C_u_2_im * _t853 + C_u_2_re * _t852
+    _t856 = -_t855
+    _t857 = _t854 * crank_zero_x3_im + _t856 * crank_zero_x3_re
+    _t858 = _t854 * crank_zero_x3_re - _t856 * crank_zero_x3_im
+    _t859 = -2 * D_u_2_re * S_u_2_re + S_u_2_im * _t852
+    _t860 = -_t859
+    _t861 = S_u_2_im * _t853 + S_u_2_re * _t852
+    _t862 = _t860 * axis_z3_im + _t861 * axis_z3_re
+    _t863 = _t860 * axis_z3_re - _t861 * axis_z3_im
+    _t864 = _t862 * crank_zero_y3_re + _t863 * crank_zero_y3_im
+    _t865 = -_t861
+    _t866 = _t859 * axis_y3_im + _t865 * axis_y3_re
+    _t867 = _t859 * axis_y3_re - _t865 * axis_y3_im
+    _t868 = _t866 * crank_zero_z3_re + _t867 * crank_zero_z3_im
+    _t869 = -_t862 * crank_zero_y3_im + _t863 * crank_zero_y3_re
+    _t870 = -_t866 * crank_zero_z3_im + _t867 * crank_zero_z3_re
+    _t871 = _t837 * platform_y3_im
+    _t872 = -2 * _t835 * platform_y3_re + _t871
+    _t873 = -_t872
+    _t874 = _t841 * platform_x3_im
+    _t875 = -4 * _t835 * platform_x3_re + _t874
+    _t876 = -_t875
+    _t877 = _t837 * base_y3_im
+    _t878 = _t850 * base_y3_re
+    _t879 = _t854 * crank_zero_y3_im + _t856 * crank_zero_y3_re
+    _t880 = _t854 * crank_zero_y3_re - _t856 * crank_zero_y3_im
+    _t881 = _t859 * axis_z3_im + _t865 * axis_z3_re
+    _t882 = _t859 * axis_z3_re - _t865 * axis_z3_im
+    _t883 = _t881 * crank_zero_x3_re + _t882 * crank_zero_x3_im
+    _t884 = _t860 * axis_x3_im + _t861 * axis_x3_re
+    _t885 = _t860 * axis_x3_re - _t861 * axis_x3_im
+    _t886 = _t884 * crank_zero_z3_re + _t885 * crank_zero_z3_im
+    _t887 = -_t881 * crank_zero_x3_im + _t882 * crank_zero_x3_re
+    _t888 = -_t884 * crank_zero_z3_im + _t885 * crank_zero_z3_re
+    _t889 = _t837 * platform_z3_im
+    _t890 = -2 * _t835 * platform_z3_re + _t889
+    _t891 = -_t890
+    _t892 = _t837 * base_z3_im
+    _t893 = _t850 * base_z3_re
+    _t894 = _t854 * crank_zero_z3_im + _t856 * crank_zero_z3_re
+    _t895 = _t854 * crank_zero_z3_re - _t856 * crank_zero_z3_im
+    _t896 = _t860 * axis_y3_im + _t861 * axis_y3_re
+    _t897 = _t860 * axis_y3_re - _t861 * axis_y3_im
+    _t898 = _t896 * crank_zero_x3_re + _t897 * crank_zero_x3_im
+    _t899 = _t859 * axis_x3_im + _t865 * axis_x3_re
+    _t900 = _t859 * axis_x3_re - _t865 * axis_x3_im
+    _t901 = _t899 * crank_zero_y3_re + _t900 * crank_zero_y3_im
+    _t902 = -_t896 * crank_zero_x3_im + _t897 * crank_zero_x3_re
+    _t903 = -_t899 * crank_zero_y3_im + _t900 * crank_zero_y3_re
+    _t904 = -(platform_x3_im**2) + platform_x3_re**2
+    _t905 = -(platform_y3_im**2) + platform_y3_re**2
+    _t906 = -(platform_z3_im**2) + platform_z3_re**2
+    _t907 = (
+        _t835 * _t904
+        + _t835 * _t905
+        + _t835 * _t906
+        - _t838 * platform_x3_re
+        - _t871 * platform_y3_re
+        - _t889 * platform_z3_re
+    )
+    _t908 = -2 * _t832 + 2 * _t833
+    _t909 = (
+        -_t842 * platform_z3_re
+        - _t845 * platform_y3_re
+        - _t874 * platform_x3_re
+        + _t904 * _t908
+        + _t905 * _t908
+        + _t906 * _t908
+    )
+    _t910 = _t857 * platform_x3_re + _t858 * platform_x3_im
+    _t911 = _t864 * platform_x3_re + _t869 * platform_x3_im
+    _t912 = _t868 * platform_x3_re + _t870 * platform_x3_im
+    _t913 = -_t857 * platform_x3_im + _t858 * platform_x3_re
+    _t914 = -_t864 * platform_x3_im + _t869 * platform_x3_re
+    _t915 = -_t868 * platform_x3_im + _t870 * platform_x3_re
+    _t916 = 2 * platform_x3_im
+    _t917 = 2 * platform_x3_re
+    _t918 = _t916 * base_x3_im - _t917 * base_x3_re
+    _t919 = _t916 * base_x3_re + _t917 * base_x3_im
+    _t920 = -_t919
+    _t921 = D_u_2_im * _t853
+    _t922 = (
+        -_t835 * _t918
+        + _t910 * a3_im
+        + _t911 * a3_im
+        + _t912 * a3_im
+        - _t913 * a3_re
+        - _t914 * a3_re
+        - _t915 * a3_re
+        + _t920 * _t921
+    )
+    _t923 = _t883 * platform_y3_re + _t887 * platform_y3_im
+    _t924 = _t879 * platform_y3_re + _t880 * platform_y3_im
+    _t925 = _t886 * platform_y3_re + _t888 * platform_y3_im
+    _t926 = -_t883 * platform_y3_im + _t887 * platform_y3_re
+    _t927 = -_t879 * platform_y3_im + _t880 * platform_y3_re
+    _t928 = -_t886 * platform_y3_im + _t888 * platform_y3_re
+    _t929 = 2 * platform_y3_im
+    _t930 = 2 * platform_y3_re
+    _t931 = _t929 * base_y3_im - _t930 * base_y3_re
+    _t932 = _t929 * base_y3_re + _t930 * base_y3_im
+    _t933 = -_t932
+    _t934 = (
+        -_t835 * _t931
+        + _t921 * _t933
+        + _t923 * a3_im
+        + _t924 * a3_im
+        + _t925 * a3_im
+        - _t926 * a3_re
+        - _t927 * a3_re
+        - _t928 * a3_re
+    )
+    _t935 = _t898 * platform_z3_re + _t902 * platform_z3_im
+    _t936 = _t901 * platform_z3_re + _t903 * platform_z3_im
+    _t937 = _t894 * platform_z3_re + _t895 * platform_z3_im
+    _t938 = -_t898 * platform_z3_im + _t902 * platform_z3_re
+    _t939 = -_t901 * platform_z3_im + _t903 * platform_z3_re
+    _t940 = -_t894 * platform_z3_im + _t895 * platform_z3_re
+    _t941 = 2 * platform_z3_im
+    _t942 = 2 * platform_z3_re
+    _t943 = _t941 * base_z3_im - _t942 * base_z3_re
+    _t944 = _t941 * base_z3_re + _t942 * base_z3_im
+    _t945 = -_t944
+    _t946 = (
+        -_t835 * _t943
+        + _t921 * _t945
+        + _t935 * a3_im
+        + _t936 * a3_im
+        + _t937 * a3_im
+        - _t938 * a3_re
+        - _t939 * a3_re
+        - _t940 * a3_re
+    )
+    _t947 = -4 * D_u_2_re * S_u_2_re + S_u_2_im * _t836
+    _t948 = -_t947
+    _t949 = 4 * D_u_2_re
+    _t950 = S_u_2_im * _t949 + S_u_2_re * _t836
+    _t951 = _t948 * axis_z3_im + _t950 * axis_z3_re
+    _t952 = _t948 * axis_z3_re - _t950 * axis_z3_im
+    _t953 = _t951 * crank_zero_x3_re + _t952 * crank_zero_x3_im
+    _t954 = -_t951 * crank_zero_x3_im + _t952 * crank_zero_x3_re
+    _t955 = _t953 * platform_z3_re + _t954 * platform_z3_im
+    _t956 = C_u_2_im * _t836 - C_u_2_re * _t949
+    _t957 = -_t956
+    _t958 = C_u_2_im * _t949 + C_u_2_re * _t836
+    _t959 = _t957 * crank_zero_y3_im + _t958 * crank_zero_y3_re
+    _t960 = _t957 * crank_zero_y3_re - _t958 * crank_zero_y3_im
+    _t961 = _t959 * platform_z3_re + _t960 * platform_z3_im
+    _t962 = -_t950
+    _t963 = _t947 * axis_x3_im + _t962 * axis_x3_re
+    _t964 = _t947 * axis_x3_re - _t962 * axis_x3_im
+    _t965 = _t963 * crank_zero_z3_re + _t964 * crank_zero_z3_im
+    _t966 = -_t963 * crank_zero_z3_im + _t964 * crank_zero_z3_re
+    _t967 = _t965 * platform_z3_re + _t966 * platform_z3_im
+    _t968 = -_t953 * platform_z3_im + _t954 * platform_z3_re
+    _t969 = -_t959 * platform_z3_im + _t960 * platform_z3_re
+    _t970 = -_t965 * platform_z3_im + _t966 * platform_z3_re
+    _t971 = 4 * base_y3_im
+    _t972 = _t971 * platform_z3_im - 4 * base_y3_re * platform_z3_re
+    _t973 = -_t972
+    _t974 = 4 * base_y3_re
+    _t975 = _t971 * platform_z3_re + _t974 * platform_z3_im
+    _t976 = _t948 * axis_y3_im + _t950 * axis_y3_re
+    _t977 = _t948 * axis_y3_re - _t950 * axis_y3_im
+    _t978 = _t976 * crank_zero_x3_re + _t977 * crank_zero_x3_im
+    _t979 = -_t976 * crank_zero_x3_im + _t977 * crank_zero_x3_re
+    _t980 = _t978 * platform_y3_re + _t979 * platform_y3_im
+    _t981 = _t963 * crank_zero_y3_re + _t964 * crank_zero_y3_im
+    _t982 = -_t963 * crank_zero_y3_im + _t964 * crank_zero_y3_re
+    _t983 = _t981 * platform_y3_re + _t982 * platform_y3_im
+    _t984 = -_t958
+    _t985 = _t956 * crank_zero_z3_im + _t984 * crank_zero_z3_re
+    _t986 = _t956 * crank_zero_z3_re - _t984 * crank_zero_z3_im
+    _t987 = _t985 * platform_y3_re + _t986 * platform_y3_im
+    _t988 = -_t978 * platform_y3_im + _t979 * platform_y3_re
+    _t989 = -_t981 * platform_y3_im + _t982 * platform_y3_re
+    _t990 = -_t985 * platform_y3_im + _t986 * platform_y3_re
+    _t991 = 4 * platform_y3_im
+    _t992 = 4 * platform_y3_re
+    _t993 = _t991 * base_z3_im - _t992 * base_z3_re
+    _t994 = -_t991 * base_z3_re - _t992 * base_z3_im
+    _t995 = (
+        -_t835 * _t993
+        + _t921 * _t994
+        + _t980 * a3_im
+        + _t983 * a3_im
+        + _t987 * a3_im
+        - _t988 * a3_re
+        - _t989 * a3_re
+        - _t990 * a3_re
+    )
+    _t996 = _t947 * axis_y3_im + _t962 * axis_y3_re
+    _t997 = _t947 * axis_y3_re - _t962 * axis_y3_im
+    _t998 = _t996 * crank_zero_x3_re + _t997 * crank_zero_x3_im
+    _t999 = -_t996 * crank_zero_x3_im + _t997 * crank_zero_x3_re
+    _t1000 = _t998 * platform_x3_re + _t999 * platform_x3_im
+    _t1001 = _t948 * axis_x3_im + _t950 * axis_x3_re
+    _t1002 = _t948 * axis_x3_re - _t950 * axis_x3_im
+    _t1003 = _t1001 * crank_zero_y3_re + _t1002 * crank_zero_y3_im
+    _t1004 = -_t1001 * crank_zero_y3_im + _t1002 * crank_zero_y3_re
+    _t1005 = _t1003 * platform_x3_re + _t1004 * platform_x3_im
+    _t1006 = _t957 * crank_zero_z3_im + _t958 * crank_zero_z3_re
+    _t1007 = _t957 * crank_zero_z3_re - _t958 * crank_zero_z3_im
+    _t1008 = _t1006 * platform_x3_re + _t1007 * platform_x3_im
+    _t1009 = -_t998 * platform_x3_im + _t999 * platform_x3_re
+    _t1010 = -_t1003 * platform_x3_im + _t1004 * platform_x3_re
+    _t1011 = -_t1006 * platform_x3_im + _t1007 * platform_x3_re
+    _t1012 = 4 * base_z3_im
+    _t1013 = _t1012 * platform_x3_im - 4 * base_z3_re * platform_x3_re
+    _t1014 = -_t1013
+    _t1015 = _t1012 * platform_x3_re + 4 * base_z3_re * platform_x3_im
+    _t1016 = _t956 * crank_zero_x3_im + _t984 * crank_zero_x3_re
+    _t1017 = _t956 * crank_zero_x3_re - _t984 * crank_zero_x3_im
+    _t1018 = _t1016 * platform_z3_re + _t1017 * platform_z3_im
+    _t1019 = _t951 * crank_zero_y3_re + _t952 * crank_zero_y3_im
+    _t1020 = -_t951 * crank_zero_y3_im + _t952 * crank_zero_y3_re
+    _t1021 = _t1019 * platform_z3_re + _t1020 * platform_z3_im
+    _t1022 = _t996 * crank_zero_z3_re + _t997 * crank_zero_z3_im
+    _t1023 = -_t996 * crank_zero_z3_im + _t997 * crank_zero_z3_re
+    _t1024 = _t1022 * platform_z3_re + _t1023 * platform_z3_im
+    _t1025 = -_t1016 * platform_z3_im + _t1017 * platform_z3_re
+    _t1026 = -_t1019 * platform_z3_im + _t1020 * platform_z3_re
+    _t1027 = -_t1022 * platform_z3_im + _t1023 * platform_z3_re
+    _t1028 = 4 * platform_z3_im
+    _t1029 = 4 * platform_z3_re
+    _t1030 = _t1028 * base_x3_im - _t1029 * base_x3_re
+    _t1031 = -_t1028 * base_x3_re - _t1029 * base_x3_im
+    _t1032 = (
+        _t1018 * a3_im
+        + _t1021 * a3_im
+        + _t1024 * a3_im
+        - _t1025 * a3_re
+        - _t1026 * a3_re
+        - _t1027 * a3_re
+        - _t1030 * _t835
+        + _t1031 * _t921
+    )
+    _t1033 = _t957 * crank_zero_x3_im + _t958 * crank_zero_x3_re
+    _t1034 = _t957 * crank_zero_x3_re - _t958 * crank_zero_x3_im
+    _t1035 = _t1033 * platform_y3_re + _t1034 * platform_y3_im
+    _t1036 = _t947 * axis_z3_im + _t962 * axis_z3_re
+    _t1037 = _t947 * axis_z3_re - _t962 * axis_z3_im
+    _t1038 = _t1036 * crank_zero_y3_re + _t1037 * crank_zero_y3_im
+    _t1039 = -_t1036 * crank_zero_y3_im + _t1037 * crank_zero_y3_re
+    _t1040 = _t1038 * platform_y3_re + _t1039 * platform_y3_im
+    _t1041 = _t976 * crank_zero_z3_re + _t977 * crank_zero_z3_im
+    _t1042 = -_t976 * crank_zero_z3_im + _t977 * crank_zero_z3_re
+    _t1043 = _t1041 * platform_y3_re + _t1042 * platform_y3_im
+    _t1044 = -_t1033 * platform_y3_im + _t1034 * platform_y3_re
+    _t1045 = -_t1038 * platform_y3_im + _t1039 * platform_y3_re
+    _t1046 = -_t1041 * platform_y3_im + _t1042 * platform_y3_re
+    _t1047 = _t991 * base_x3_im - 4 * base_x3_re * platform_y3_re
+    _t1048 = -_t1047
+    _t1049 = _t991 * base_x3_re + _t992 * base_x3_im
+    _t1050 = _t1036 * crank_zero_x3_re + _t1037 * crank_zero_x3_im
+    _t1051 = -_t1036 * crank_zero_x3_im + _t1037 * crank_zero_x3_re
+    _t1052 = _t1050 * platform_x3_re + _t1051 * platform_x3_im
+    _t1053 = _t956 * crank_zero_y3_im + _t984 * crank_zero_y3_re
+    _t1054 = _t956 * crank_zero_y3_re - _t984 * crank_zero_y3_im
+    _t1055 = _t1053 * platform_x3_re + _t1054 * platform_x3_im
+    _t1056 = _t1001 * crank_zero_z3_re + _t1002 * crank_zero_z3_im
+    _t1057 = -_t1001 * crank_zero_z3_im + _t1002 * crank_zero_z3_re
+    _t1058 = _t1056 * platform_x3_re + _t1057 * platform_x3_im
+    _t1059 = -_t1050 * platform_x3_im + _t1051 * platform_x3_re
+    _t1060 = -_t1053 * platform_x3_im + _t1054 * platform_x3_re
+    _t1061 = -_t1056 * platform_x3_im + _t1057 * platform_x3_re
+    _t1062 = _t971 * platform_x3_im - _t974 * platform_x3_re
+    _t1063 = -_t971 * platform_x3_re - _t974 * platform_x3_im
+    _t1064 = (
+        _t1052 * a3_im
+        + _t1055 * a3_im
+        + _t1058 * a3_im
+        - _t1059 * a3_re
+        - _t1060 * a3_re
+        - _t1061 * a3_re
+        - _t1062 * _t835
+        + _t1063 * _t921
+    )
+    _t1065 = _t866 * crank_zero_x3_re + _t867 * crank_zero_x3_im
+    _t1066 = -_t866 * crank_zero_x3_im + _t867 * crank_zero_x3_re
+    _t1067 = _t1065 * platform_z3_re + _t1066 * platform_z3_im
+    _t1068 = _t884 * crank_zero_y3_re + _t885 * crank_zero_y3_im
+    _t1069 = -_t884 * crank_zero_y3_im + _t885 * crank_zero_y3_re
+    _t1070 = _t1068 * platform_z3_re + _t1069 * platform_z3_im
+    _t1071 = -_t854
+    _t1072 = _t1071 * crank_zero_z3_im + _t855 * crank_zero_z3_re
+    _t1073 = _t1071 * crank_zero_z3_re - _t855 * crank_zero_z3_im
+    _t1074 = _t1072 * platform_z3_re + _t1073 * platform_z3_im
+    _t1075 = -_t1065 * platform_z3_im + _t1066 * platform_z3_re
+    _t1076 = -_t1068 * platform_z3_im + _t1069 * platform_z3_re
+    _t1077 = -_t1072 * platform_z3_im + _t1073 * platform_z3_re
+    _t1078 = -_t943
+    _t1079 = (
+        _t1067 * a3_im
+        + _t1070 * a3_im
+        + _t1074 * a3_im
+        - _t1075 * a3_re
+        - _t1076 * a3_re
+        - _t1077 * a3_re
+        - _t1078 * _t835
+        + _t921 * _t944
+    )
+    _t1080 = _t862 * crank_zero_x3_re + _t863 * crank_zero_x3_im
+    _t1081 = -_t862 * crank_zero_x3_im + _t863 * crank_zero_x3_re
+    _t1082 = _t1080 * platform_y3_re + _t1081 * platform_y3_im
+    _t1083 = _t1071 * crank_zero_y3_im + _t855 * crank_zero_y3_re
+    _t1084 = _t1071 * crank_zero_y3_re - _t855 * crank_zero_y3_im
+    _t1085 = _t1083 * platform_y3_re + _t1084 * platform_y3_im
+    _t1086 = _t899 * crank_zero_z3_re + _t900 * crank_zero_z3_im
+    _t1087 = -_t899 * crank_zero_z3_im + _t900 * crank_zero_z3_re
+    _t1088 = _t1086 * platform_y3_re + _t1087 * platform_y3_im
+    _t1089 = -_t1080 * platform_y3_im + _t1081 * platform_y3_re
+    _t1090 = -_t1083 * platform_y3_im + _t1084 * platform_y3_re
+    _t1091 = -_t1086 * platform_y3_im + _t1087 * platform_y3_re
+    _t1092 = -_t931
+    _t1093 = (
+        _t1082 * a3_im
+        + _t1085 * a3_im
+        + _t1088 * a3_im
+        - _t1089 * a3_re
+        - _t1090 * a3_re
+        - _t1091 * a3_re
+        - _t1092 * _t835
+        + _t921 * _t932
+    )
+    _t1094 = _t1016 * platform_y3_re + _t1017 * platform_y3_im
+    _t1095 = _t1019 * platform_y3_re + _t1020 * platform_y3_im
+    _t1096 = _t1022 * platform_y3_re + _t1023 * platform_y3_im
+    _t1097 = -_t1016 * platform_y3_im + _t1017 * platform_y3_re
+    _t1098 = -_t1019 * platform_y3_im + _t1020 * platform_y3_re
+    _t1099 = -_t1022 * platform_y3_im + _t1023 * platform_y3_re
+    _t1100 = -_t1049
+    _t1101 = _t978 * platform_x3_re + _t979 * platform_x3_im
+    _t1102 = _t981 * platform_x3_re + _t982 * platform_x3_im
+    _t1103 = _t985 * platform_x3_re + _t986 * platform_x3_im
+    _t1104 = -_t978 * platform_x3_im + _t979 * platform_x3_re
+    _t1105 = -_t981 * platform_x3_im + _t982 * platform_x3_re
+    _t1106 = -_t985 * platform_x3_im + _t986 * platform_x3_re
+    _t1107 = -_t1015
+    _t1108 = _t1071 * crank_zero_x3_im + _t855 * crank_zero_x3_re
+    _t1109 = _t1071 * crank_zero_x3_re - _t855 * crank_zero_x3_im
+    _t1110 = _t1108 * platform_x3_re + _t1109 * platform_x3_im
+    _t1111 = _t881 * crank_zero_y3_re + _t882 * crank_zero_y3_im
+    _t1112 = -_t881 * crank_zero_y3_im + _t882 * crank_zero_y3_re
+    _t1113 = _t1111 * platform_x3_re + _t1112 * platform_x3_im
+    _t1114 = _t896 * crank_zero_z3_re + _t897 * crank_zero_z3_im
+    _t1115 = -_t896 * crank_zero_z3_im + _t897 * crank_zero_z3_re
+    _t1116 = _t1114 * platform_x3_re + _t1115 * platform_x3_im
+    _t1117 = -_t1108 * platform_x3_im + _t1109 * platform_x3_re
+    _t1118 = -_t1111 * platform_x3_im + _t1112 * platform_x3_re
+    _t1119 = -_t1114 * platform_x3_im + _t1115 * platform_x3_re
+    _t1120 = -_t918
+    _t1121 = (
+        _t1110 * a3_im
+        + _t1113 * a3_im
+        + _t1116 * a3_im
+        - _t1117 * a3_re
+        - _t1118 * a3_re
+        - _t1119 * a3_re
+        - _t1120 * _t835
+        + _t919 * _t921
+    )
+    _t1122 = _t1050 * platform_z3_re + _t1051 * platform_z3_im
+    _t1123 = _t1053 * platform_z3_re + _t1054 * platform_z3_im
+    _t1124 = _t1056 * platform_z3_re + _t1057 * platform_z3_im
+    _t1125 = -_t1050 * platform_z3_im + _t1051 * platform_z3_re
+    _t1126 = -_t1053 * platform_z3_im + _t1054 * platform_z3_re
+    _t1127 = -_t1056 * platform_z3_im + _t1057 * platform_z3_re
+    _t1128 = -_t975
+    _t1129 = b3_im * b3_re
+    _t1130 = -(base_x3_im**2) + base_x3_re**2
+    _t1131 = -(base_y3_im**2) + base_y3_re**2
+    _t1132 = -(base_z3_im**2) + base_z3_re**2
+    _t1133 = -(b3_im**2) + b3_re**2
+    _t1134 = -(crank_zero_x3_im**2) + crank_zero_x3_re**2
+    _t1135 = C_u_2_im * C_u_2_re
+    _t1136 = 2 * _t1135
+    _t1137 = -(C_u_2_im**2) + C_u_2_re**2
+    _t1138 = crank_zero_x3_im * crank_zero_x3_re
+    _t1139 = 2 * _t1138
+    _t1140 = _t1134 * _t1136 + _t1137 * _t1139
+    _t1141 = 2 * a3_im * a3_re
+    _t1142 = -(crank_zero_y3_im**2) + crank_zero_y3_re**2
+    _t1143 = crank_zero_y3_im * crank_zero_y3_re
+    _t1144 = 2 * _t1143
+    _t1145 = _t1136 * _t1142 + _t1137 * _t1144
+    _t1146 = -(crank_zero_z3_im**2) + crank_zero_z3_re**2
+    _t1147 = crank_zero_z3_im * crank_zero_z3_re
+    _t1148 = 2 * _t1147
+    _t1149 = _t1136 * _t1146 + _t1137 * _t1148
+    _t1150 = -(a3_im**2) + a3_re**2
+    _t1151 = 4 * _t1135
+    _t1152 = _t1134 * _t1137 - _t1138 * _t1151
+    _t1153 = _t1137 * _t1142 - _t1143 * _t1151
+    _t1154 = _t1137 * _t1146 - _t1147 * _t1151
+    _t1155 = _t1071 * base_x3_im + _t855 * base_x3_re
+    _t1156 = _t1071 * base_x3_re - _t855 * base_x3_im
+    _t1157 = _t1155 * crank_zero_x3_re + _t1156 * crank_zero_x3_im
+    _t1158 = _t1071 * base_y3_im + _t855 * base_y3_re
+    _t1159 = _t1071 * base_y3_re - _t855 * base_y3_im
+    _t1160 = _t1158 * crank_zero_y3_re + _t1159 * crank_zero_y3_im
+    _t1161 = _t1071 * base_z3_im + _t855 * base_z3_re
+    _t1162 = _t1071 * base_z3_re - _t855 * base_z3_im
+    _t1163 = _t1161 * crank_zero_z3_re + _t1162 * crank_zero_z3_im
+    _t1164 = -_t1155 * crank_zero_x3_im + _t1156 * crank_zero_x3_re
+    _t1165 = -_t1158 * crank_zero_y3_im + _t1159 * crank_zero_y3_re
+    _t1166 = -_t1161 * crank_zero_z3_im + _t1162 * crank_zero_z3_re
+    _t1167 = S_u_2_im * S_u_2_re
+    _t1168 = 4 * _t1167
+    _t1169 = -(S_u_2_im**2) + S_u_2_re**2
+    _t1170 = -(axis_y3_im**2) + axis_y3_re**2
+    _t1171 = -_t1168 * axis_y3_im * axis_y3_re + _t1169 * _t1170
+    _t1172 = 2 * _t1167
+    _t1173 = 2 * axis_y3_re
+    _t1174 = _t1169 * _t1173 * axis_y3_im + _t1170 * _t1172
+    _t1175 = _t1134 * _t1174 + _t1139 * _t1171
+    _t1176 = -(axis_z3_im**2) + axis_z3_re**2
+    _t1177 = -_t1168 * axis_z3_im * axis_z3_re + _t1169 * _t1176
+    _t1178 = 2 * axis_z3_re
+    _t1179 = _t1169 * _t1178 * axis_z3_im + _t1172 * _t1176
+    _t1180 = _t1134 * _t1179 + _t1139 * _t1177
+    _t1181 = axis_x3_im * axis_x3_re
+    _t1182 = -(axis_x3_im**2) + axis_x3_re**2
+    _t1183 = -_t1168 * _t1181 + _t1169 * _t1182
+    _t1184 = 2 * _t1169 * _t1181 + _t1172 * _t1182
+    _t1185 = _t1142 * _t1184 + _t1144 * _t1183
+    _t1186 = _t1142 * _t1179 + _t1144 * _t1177
+    _t1187 = _t1146 * _t1184 + _t1148 * _t1183
+    _t1188 = _t1146 * _t1174 + _t1148 * _t1171
+    _t1189 = 2 * _t1174
+    _t1190 = _t1134 * _t1171 - _t1138 * _t1189
+    _t1191 = 2 * _t1179
+    _t1192 = _t1134 * _t1177 - _t1138 * _t1191
+    _t1193 = 2 * _t1184
+    _t1194 = _t1142 * _t1183 - _t1143 * _t1193
+    _t1195 = _t1142 * _t1177 - _t1143 * _t1191
+    _t1196 = _t1146 * _t1183 - _t1147 * _t1193
+    _t1197 = _t1146 * _t1171 - _t1147 * _t1189
+    _t1198 = _t862 * base_y3_re + _t863 * base_y3_im
+    _t1199 = -_t862 * base_y3_im + _t863 * base_y3_re
+    _t1200 = _t1198 * crank_zero_x3_re + _t1199 * crank_zero_x3_im
+    _t1201 = _t866 * base_z3_re + _t867 * base_z3_im
+    _t1202 = -_t866 * base_z3_im + _t867 * base_z3_re
+    _t1203 = _t1201 * crank_zero_x3_re + _t1202 * crank_zero_x3_im
+    _t1204 = _t881 * base_x3_re + _t882 * base_x3_im
+    _t1205 = -_t881 * base_x3_im + _t882 * base_x3_re
+    _t1206 = _t1204 * crank_zero_y3_re + _t1205 * crank_zero_y3_im
+    _t1207 = _t884 * base_z3_re + _t885 * base_z3_im
+    _t1208 = -_t884 * base_z3_im + _t885 * base_z3_re
+    _t1209 = _t1207 * crank_zero_y3_re + _t1208 * crank_zero_y3_im
+    _t1210 = _t896 * base_x3_re + _t897 * base_x3_im
+    _t1211 = -_t896 * base_x3_im + _t897 * base_x3_re
+    _t1212 = _t1210 * crank_zero_z3_re + _t1211 * crank_zero_z3_im
+    _t1213 = _t899 * base_y3_re + _t900 * base_y3_im
+    _t1214 = -_t899 * base_y3_im + _t900 * base_y3_re
+    _t1215 = _t1213 * crank_zero_z3_re + _t1214 * crank_zero_z3_im
+    _t1216 = -_t1198 * crank_zero_x3_im + _t1199 * crank_zero_x3_re
+    _t1217 = -_t1201 * crank_zero_x3_im + _t1202 * crank_zero_x3_re
+    _t1218 = -_t1204 * crank_zero_y3_im + _t1205 * crank_zero_y3_re
+    _t1219 = -_t1207 * crank_zero_y3_im + _t1208 * crank_zero_y3_re
+    _t1220 = -_t1210 * crank_zero_z3_im + _t1211 * crank_zero_z3_re
+    _t1221 = -_t1213 * crank_zero_z3_im + _t1214 * crank_zero_z3_re
+    _t1222 = 2 * axis_y3_im
+    _t1223 = -_t1173 * axis_x3_re + _t1222 * axis_x3_im
+    _t1224 = -_t1173 * axis_x3_im - _t1222 * axis_x3_re
+    _t1225 = _t1223 * crank_zero_x3_im + _t1224 * crank_zero_x3_re
+    _t1226 = _t1223 * crank_zero_x3_re - _t1224 * crank_zero_x3_im
+    _t1227 = -_t1225 * crank_zero_y3_im + _t1226 * crank_zero_y3_re
+    _t1228 = _t1225 * crank_zero_y3_re + _t1226 * crank_zero_y3_im
+    _t1229 = _t1169 * _t1228 + _t1172 * _t1227
+    _t1230 = 2 * axis_z3_im
+    _t1231 = -_t1178 * axis_x3_re + _t1230 * axis_x3_im
+    _t1232 = -_t1178 * axis_x3_im - _t1230 * axis_x3_re
+    _t1233 = _t1231 * crank_zero_x3_im + _t1232 * crank_zero_x3_re
+    _t1234 = _t1231 * crank_zero_x3_re - _t1232 * crank_zero_x3_im
+    _t1235 = -_t1233 * crank_zero_z3_im + _t1234 * crank_zero_z3_re
+    _t1236 = _t1233 * crank_zero_z3_re + _t1234 * crank_zero_z3_im
+    _t1237 = _t1169 * _t1236 + _t1172 * _t1235
+    _t1238 = -_t1173 * axis_z3_re + _t1222 * axis_z3_im
+    _t1239 = -_t1173 * axis_z3_im - _t1222 * axis_z3_re
+    _t1240 = _t1238 * crank_zero_y3_im + _t1239 * crank_zero_y3_re
+    _t1241 = _t1238 * crank_zero_y3_re - _t1239 * crank_zero_y3_im
+    _t1242 = -_t1240 * crank_zero_z3_im + _t1241 * crank_zero_z3_re
+    _t1243 = _t1240 * crank_zero_z3_re + _t1241 * crank_zero_z3_im
+    _t1244 = _t1169 * _t1243 + _t1172 * _t1242
+    _t1245 = _t1169 * _t1227 - _t1172 * _t1228
+    _t1246 = _t1169 * _t1235 - _t1172 * _t1236
+    _t1247 = _t1169 * _t1242 - _t1172 * _t1243
+    _t1248 = D_u_3_im**2
+    _t1249 = D_u_3_re**2
+    _t1250 = _t1248 - _t1249
+    _t1251 = -_t1250
+    _t1252 = 4 * D_u_3_im
+    _t1253 = D_u_3_re * _t1252
+    _t1254 = _t1253 * platform_x4_im
+    _t1255 = -2 * _t1251 * platform_x4_re + _t1254
+    _t1256 = -_t1255
+    _t1257 = 8 * D_u_3_im * D_u_3_re
+    _t1258 = _t1257 * platform_z4_im
+    _t1259 = -4 * _t1251 * platform_z4_re + _t1258
+    _t1260 = -_t1259
+    _t1261 = _t1257 * platform_y4_im
+    _t1262 = 4 * _t1251
+    _t1263 = _t1261 - _t1262 * platform_y4_re
+    _t1264 = -_t1263
+    _t1265 = _t1253 * base_x4_im
+    _t1266 = 2 * _t1251
+    _t1267 = _t1266 * base_x4_re
+    _t1268 = 2 * D_u_3_im
+    _t1269 = 2 * D_u_3_re
+    _t1270 = C_u_3_im * _t1268 - C_u_3_re * _t1269
+    _t1271 = C_u_3_im * _t1269 + C_u_3_re * _t1268
+    _t1272 = -_t1271
+    _t1273 = _t1270 * crank_zero_x4_im + _t1272 * crank_zero_x4_re
+    _t1274 = _t1270 * crank_zero_x4_re - _t1272 * crank_zero_x4_im
+    _t1275 = -2 * D_u_3_re * S_u_3_re + S_u_3_im * _t1268
+    _t1276 = -_t1275
+    _t1277 = S_u_3_im * _t1269 + S_u_3_re * _t1268
+    _t1278 = _t1276 * axis_z4_im + _t1277 * axis_z4_re
+    _t1279 = _t1276 * axis_z4_re - _t1277 * axis_z4_im
+    _t1280 = _t1278 * crank_zero_y4_re + _t1279 * crank_zero_y4_im
+    _t1281 = -_t1277
+    _t1282 = _t1275 * axis_y4_im + _t1281 * axis_y4_re
+    _t1283 = _t1275 * axis_y4_re - _t1281 * axis_y4_im
+    _t1284 = _t1282 * crank_zero_z4_re + _t1283 * crank_zero_z4_im
+    _t1285 = -_t1278 * crank_zero_y4_im + _t1279 * crank_zero_y4_re
+    _t1286 = -_t1282 * crank_zero_z4_im + _t1283 * crank_zero_z4_re
+    _t1287 = _t1253 * platform_y4_im
+    _t1288 = -2 * _t1251 * platform_y4_re + _t1287
+    _t1289 = -_t1288
+    _t1290 = _t1257 * platform_x4_im
+    _t1291 = -4 * _t1251 * platform_x4_re + _t1290
+    _t1292 = -_t1291
+    _t1293 = _t1253 * base_y4_im
+    _t1294 = _t1266 * base_y4_re
+    _t1295 = _t1270 * crank_zero_y4_im + _t1272 * crank_zero_y4_re
+    _t1296 = _t1270 * crank_zero_y4_re - _t1272 * crank_zero_y4_im
+    _t1297 = _t1275 * axis_z4_im + _t1281 * axis_z4_re
+    _t1298 = _t1275 * axis_z4_re - _t1281 * axis_z4_im
+    _t1299 = _t1297 * crank_zero_x4_re + _t1298 * crank_zero_x4_im
+    _t1300 = _t1276 * axis_x4_im + _t1277 * axis_x4_re
+    _t1301 = _t1276 * axis_x4_re - _t1277 * axis_x4_im
+    _t1302 = _t1300 * crank_zero_z4_re + _t1301 * crank_zero_z4_im
+    _t1303 = -_t1297 * crank_zero_x4_im + _t1298 * crank_zero_x4_re
+    _t1304 = -_t1300 * crank_zero_z4_im + _t1301 * crank_zero_z4_re
+    _t1305 = _t1253 * platform_z4_im
+    _t1306 = -2 * _t1251 * platform_z4_re + _t1305
+    _t1307 = -_t1306
+    _t1308 = _t1253 * base_z4_im
+    _t1309 = _t1266 * base_z4_re
+    _t1310 = _t1270 * crank_zero_z4_im + _t1272 * crank_zero_z4_re
+    _t1311 = _t1270 * crank_zero_z4_re - _t1272 * crank_zero_z4_im
+    _t1312 = _t1276 * axis_y4_im + _t1277 * axis_y4_re
+    _t1313 = _t1276 * axis_y4_re - _t1277 * axis_y4_im
+    _t1314 = _t1312 * crank_zero_x4_re + _t1313 * crank_zero_x4_im
+    _t1315 = _t1275 * axis_x4_im + _t1281 * axis_x4_re
+    _t1316 = _t1275 * axis_x4_re - _t1281 * axis_x4_im
+    _t1317 = _t1315 * crank_zero_y4_re + _t1316 * crank_zero_y4_im
+    _t1318 = -_t1312 * crank_zero_x4_im + _t1313 * crank_zero_x4_re
+    _t1319 = -_t1315 * crank_zero_y4_im + _t1316 * crank_zero_y4_re
+    _t1320 = -(platform_x4_im**2) + platform_x4_re**2
+    _t1321 = -(platform_y4_im**2) + platform_y4_re**2
+    _t1322 = -(platform_z4_im**2) + platform_z4_re**2
+    _t1323 = (
+        _t1251 * _t1320
+        + _t1251 * _t1321
+        + _t1251 * _t1322
+        - _t1254 * platform_x4_re
+        - _t1287 * platform_y4_re
+        - _t1305 * platform_z4_re
+    )
+    _t1324 = -2 * _t1248 + 2 * _t1249
+    _t1325 = (
+        -_t1258 * platform_z4_re
+        - _t1261 * platform_y4_re
+        - _t1290 * platform_x4_re
+        + _t1320 * _t1324
+        + _t1321 * _t1324
+        + _t1322 * _t1324
+    )
+    _t1326 = _t1273 * platform_x4_re + _t1274 * platform_x4_im
+    _t1327 = _t1280 * platform_x4_re + _t1285 * platform_x4_im
+    _t1328 = _t1284 * platform_x4_re + _t1286 * platform_x4_im
+    _t1329 = -_t1273 * platform_x4_im + _t1274 * platform_x4_re
+    _t1330 = -_t1280 * platform_x4_im + _t1285 * platform_x4_re
+    _t1331 = -_t1284 * platform_x4_im + _t1286 * platform_x4_re
+    _t1332 = 2 * platform_x4_im
+    _t1333 = 2 * platform_x4_re
+    _t1334 = _t1332 * base_x4_im - _t1333 * base_x4_re
+    _t1335 = _t1332 * base_x4_re + _t1333 * base_x4_im
+    _t1336 = -_t1335
+    _t1337 = D_u_3_im * _t1269
+    _t1338 = (
+        -_t1251 * _t1334
+        + _t1326 * a4_im
+        + _t1327 * a4_im
+        + _t1328 * a4_im
+        - _t1329 * a4_re
+        - _t1330 * a4_re
+        - _t1331 * a4_re
+        + _t1336 * _t1337
+    )
+    _t1339 = _t1299 * platform_y4_re + _t1303 * platform_y4_im
+    _t1340 = _t1295 * platform_y4_re + _t1296 * platform_y4_im
+    _t1341 = _t1302 * platform_y4_re + _t1304 * platform_y4_im
+    _t1342 = -_t1299 * platform_y4_im + _t1303 * platform_y4_re
+    _t1343 = -_t1295 * platform_y4_im + _t1296 * platform_y4_re
+    _t1344 = -_t1302 * platform_y4_im + _t1304 * platform_y4_re
+    _t1345 = 2 * platform_y4_im
+    _t1346 = 2 * platform_y4_re
+    _t1347 = _t1345 * base_y4_im - _t1346 * base_y4_re
+    _t1348 = _t1345 * base_y4_re + _t1346 * base_y4_im
+    _t1349 = -_t1348
+    _t1350 = (
+        -_t1251 * _t1347
+        + _t1337 * _t1349
+        + _t1339 * a4_im
+        + _t1340 * a4_im
+        + _t1341 * a4_im
+        - _t1342 * a4_re
+        - _t1343 * a4_re
+        - _t1344 * a4_re
+    )
+    _t1351 = _t1314 * platform_z4_re + _t1318 * platform_z4_im
+    _t1352 = _t1317 * platform_z4_re + _t1319 * platform_z4_im
+    _t1353 = _t1310 * platform_z4_re + _t1311 * platform_z4_im
+    _t1354 = -_t1314 * platform_z4_im + _t1318 * platform_z4_re
+    _t1355 = -_t1317 * platform_z4_im + _t1319 * platform_z4_re
+    _t1356 = -_t1310 * platform_z4_im + _t1311 * platform_z4_re
+    _t1357 = 2 * platform_z4_im
+    _t1358 = 2 * platform_z4_re
+    _t1359 = _t1357 * base_z4_im - _t1358 * base_z4_re
+    _t1360 = _t1357 * base_z4_re + _t1358 * base_z4_im
+    _t1361 = -_t1360
+    _t1362 = (
+        -_t1251 * _t1359
+        + _t1337 * _t1361
+        + _t1351 * a4_im
+        + _t1352 * a4_im
+        + _t1353 * a4_im
+        - _t1354 * a4_re
+        - _t1355 * a4_re
+        - _t1356 * a4_re
+    )
+    _t1363 = -4 * D_u_3_re * S_u_3_re + S_u_3_im * _t1252
+    _t1364 = -_t1363
+    _t1365 = 4 * D_u_3_re
+    _t1366 = S_u_3_im * _t1365 + S_u_3_re * _t1252
+    _t1367 = _t1364 * axis_z4_im + _t1366 * axis_z4_re
+    _t1368 = _t1364 * axis_z4_re - _t1366 * axis_z4_im
+    _t1369 = _t1367 * crank_zero_x4_re + _t1368 * crank_zero_x4_im
+    _t1370 = -_t1367 * crank_zero_x4_im + _t1368 * crank_zero_x4_re
+    _t1371 = _t1369 * platform_z4_re + _t1370 * platform_z4_im
+    _t1372 = C_u_3_im * _t1252 - C_u_3_re * _t1365
+    _t1373 = -_t1372
+    _t1374 = C_u_3_im * _t1365 + C_u_3_re * _t1252
+    _t1375 = _t1373 * crank_zero_y4_im + _t1374 * crank_zero_y4_re
+    _t1376 = _t1373 * crank_zero_y4_re - _t1374 * crank_zero_y4_im
+    _t1377 = _t1375 * platform_z4_re + _t1376 * platform_z4_im
+    _t1378 = -_t1366
+    _t1379 = _t1363 * axis_x4_im + _t1378 * axis_x4_re
+    _t1380 = _t1363 * axis_x4_re - _t1378 * axis_x4_im
+    _t1381 = _t1379 * crank_zero_z4_re + _t1380 * crank_zero_z4_im
+    _t1382 = -_t1379 * crank_zero_z4_im + _t1380 * crank_zero_z4_re
+    _t1383 = _t1381 * platform_z4_re + _t1382 * platform_z4_im
+    _t1384 = -_t1369 * platform_z4_im + _t1370 * platform_z4_re
+    _t1385 = -_t1375 * platform_z4_im + _t1376 * platform_z4_re
+    _t1386 = -_t1381 * platform_z4_im + _t1382 * platform_z4_re
+    _t1387 = 4 * base_y4_im
+    _t1388 = _t1387 * platform_z4_im - 4 * base_y4_re * platform_z4_re
+    _t1389 = -_t1388
+    _t1390 = 4 * base_y4_re
+    _t1391 = _t1387 * platform_z4_re + _t1390 * platform_z4_im
+    _t1392 = _t1364 * axis_y4_im + _t1366 * axis_y4_re
+    _t1393 = _t1364 * axis_y4_re - _t1366 * axis_y4_im
+    _t1394 = _t1392 * crank_zero_x4_re + _t1393 * crank_zero_x4_im
+    _t1395 = -_t1392 * crank_zero_x4_im + _t1393 * crank_zero_x4_re
+    _t1396 = _t1394 * platform_y4_re + _t1395 * platform_y4_im
+    _t1397 = _t1379 * crank_zero_y4_re + _t1380 * crank_zero_y4_im
+    _t1398 = -_t1379 * crank_zero_y4_im + _t1380 * crank_zero_y4_re
+    _t1399 = _t1397 * platform_y4_re + _t1398 * platform_y4_im
+    _t1400 = -_t1374
+    _t1401 = _t1372 * crank_zero_z4_im + _t1400 * crank_zero_z4_re
+    _t1402 = _t1372 * crank_zero_z4_re - _t1400 * crank_zero_z4_im
+    _t1403 = _t1401 * platform_y4_re + _t1402 * platform_y4_im
+    _t1404 = -_t1394 * platform_y4_im + _t1395 * platform_y4_re
+    _t1405 = -_t1397 * platform_y4_im + _t1398 * platform_y4_re
+    _t1406 = -_t1401 * platform_y4_im + _t1402 * platform_y4_re
+    _t1407 = 4 * platform_y4_im
+    _t1408 = 4 * platform_y4_re
+    _t1409 = _t1407 * base_z4_im - _t1408 * base_z4_re
+    _t1410 = -_t1407 * base_z4_re - _t1408 * base_z4_im
+    _t1411 = (
+        -_t1251 * _t1409
+        + _t1337 * _t1410
+        + _t1396 * a4_im
+        + _t1399 * a4_im
+        + _t1403 * a4_im
+        - _t1404 * a4_re
+        - _t1405 * a4_re
+        - _t1406 * a4_re
+    )
+    _t1412 = _t1363 * axis_y4_im + _t1378 * axis_y4_re
+    _t1413 = _t1363 * axis_y4_re - _t1378 * axis_y4_im
+    _t1414 = _t1412 * crank_zero_x4_re + _t1413 * crank_zero_x4_im
+    _t1415 = -_t1412 * crank_zero_x4_im + _t1413 * crank_zero_x4_re
+    _t1416 = _t1414 * platform_x4_re + _t1415 * platform_x4_im
+    _t1417 = _t1364 * axis_x4_im + _t1366 * axis_x4_re
+    _t1418 = _t1364 * axis_x4_re - _t1366 * axis_x4_im
+    _t1419 = _t1417 * crank_zero_y4_re + _t1418 * crank_zero_y4_im
+    _t1420 = -_t1417 * crank_zero_y4_im + _t1418 * crank_zero_y4_re
+    _t1421 = _t1419 * platform_x4_re + _t1420 * platform_x4_im
+    _t1422 = _t1373 * crank_zero_z4_im + _t1374 * crank_zero_z4_re
+    _t1423 = _t1373 * crank_zero_z4_re - _t1374 * crank_zero_z4_im
+    _t1424 = _t1422 * platform_x4_re + _t1423 * platform_x4_im
+    _t1425 = -_t1414 * platform_x4_im + _t1415 * platform_x4_re
+    _t1426 = -_t1419 * platform_x4_im + _t1420 * platform_x4_re
+    _t1427 = -_t1422 * platform_x4_im + _t1423 * platform_x4_re
+    _t1428 = 4 * base_z4_im
+    _t1429 = _t1428 * platform_x4_im - 4 * base_z4_re * platform_x4_re
+    _t1430 = -_t1429
+    _t1431 = _t1428 * platform_x4_re + 4 * base_z4_re * platform_x4_im
+    _t1432 = _t1372 * crank_zero_x4_im + _t1400 * crank_zero_x4_re
+    _t1433 = _t1372 * crank_zero_x4_re - _t1400 * crank_zero_x4_im
+    _t1434 = _t1432 * platform_z4_re + _t1433 * platform_z4_im
+    _t1435 = _t1367 * crank_zero_y4_re + _t1368 * crank_zero_y4_im
+    _t1436 = -_t1367 * crank_zero_y4_im + _t1368 * crank_zero_y4_re
+    _t1437 = _t1435 * platform_z4_re + _t1436 * platform_z4_im
+    _t1438 = _t1412 * crank_zero_z4_re + _t1413 * crank_zero_z4_im
+    _t1439 = -_t1412 * crank_zero_z4_im + _t1413 * crank_zero_z4_re
+    _t1440 = _t1438 * platform_z4_re + _t1439 * platform_z4_im
+    _t1441 = -_t1432 * platform_z4_im + _t1433 * platform_z4_re
+    _t1442 = -_t1435 * platform_z4_im + _t1436 * platform_z4_re
+    _t1443 = -_t1438 * platform_z4_im + _t1439 * platform_z4_re
+    _t1444 = 4 * platform_z4_im
+    _t1445 = 4 * platform_z4_re
+    _t1446 = _t1444 * base_x4_im - _t1445 * base_x4_re
+    _t1447 = -_t1444 * base_x4_re - _t1445 * base_x4_im
+    _t1448 = (
+        -_t1251 * _t1446
+        + _t1337 * _t1447
+        + _t1434 * a4_im
+        + _t1437 * a4_im
+        + _t1440 * a4_im
+        - _t1441 * a4_re
+        - _t1442 * a4_re
+        - _t1443 * a4_re
+    )
+    _t1449 = _t1373 * crank_zero_x4_im + _t1374 * crank_zero_x4_re
+    _t1450 = _t1373 * crank_zero_x4_re - _t1374 * crank_zero_x4_im
+    _t1451 = _t1449 * platform_y4_re + _t1450 * platform_y4_im
+    _t1452 = _t1363 * axis_z4_im + _t1378 * axis_z4_re
+    _t1453 = _t1363 * axis_z4_re - _t1378 * axis_z4_im
+    _t1454 = _t1452 * crank_zero_y4_re + _t1453 * crank_zero_y4_im
+    _t1455 = -_t1452 * crank_zero_y4_im + _t1453 * crank_zero_y4_re
+    _t1456 = _t1454 * platform_y4_re + _t1455 * platform_y4_im
+    _t1457 = _t1392 * crank_zero_z4_re + _t1393 * crank_zero_z4_im
+    _t1458 = -_t1392 * crank_zero_z4_im + _t1393 * crank_zero_z4_re
+    _t1459 = _t1457 * platform_y4_re + _t1458 * platform_y4_im
+    _t1460 = -_t1449 * platform_y4_im + _t1450 * platform_y4_re
+    _t1461 = -_t1454 * platform_y4_im + _t1455 * platform_y4_re
+    _t1462 = -_t1457 * platform_y4_im + _t1458 * platform_y4_re
+    _t1463 = _t1407 * base_x4_im - 4 * base_x4_re * platform_y4_re
+    _t1464 = -_t1463
+    _t1465 = _t1407 * base_x4_re + _t1408 * base_x4_im
+    _t1466 = _t1452 * crank_zero_x4_re + _t1453 * crank_zero_x4_im
+    _t1467 = -_t1452 * crank_zero_x4_im + _t1453 * crank_zero_x4_re
+    _t1468 = _t1466 * platform_x4_re + _t1467 * platform_x4_im
+    _t1469 = _t1372 * crank_zero_y4_im + _t1400 * crank_zero_y4_re
+    _t1470 = _t1372 * crank_zero_y4_re - _t1400 * crank_zero_y4_im
+    _t1471 = _t1469 * platform_x4_re + _t1470 * platform_x4_im
+    _t1472 = _t1417 * crank_zero_z4_re + _t1418 * crank_zero_z4_im
+    _t1473 = -_t1417 * crank_zero_z4_im + _t1418 * crank_zero_z4_re
+    _t1474 = _t1472 * platform_x4_re + _t1473 * platform_x4_im
+    _t1475 = -_t1466 * platform_x4_im + _t1467 * platform_x4_re
+    _t1476 = -_t1469 * platform_x4_im + _t1470 * platform_x4_re
+    _t1477 = -_t1472 * platform_x4_im + _t1473 * platform_x4_re
+    _t1478 = _t1387 * platform_x4_im - _t1390 * platform_x4_re
+    _t1479 = -_t1387 * platform_x4_re - _t1390 * platform_x4_im
+    _t1480 = (
+        -_t1251 * _t1478
+        + _t1337 * _t1479
+        + _t1468 * a4_im
+        + _t1471 * a4_im
+        + _t1474 * a4_im
+        - _t1475 * a4_re
+        - _t1476 * a4_re
+        - _t1477 * a4_re
+    )
+    _t1481 = _t1282 * crank_zero_x4_re + _t1283 * crank_zero_x4_im
+    _t1482 = -_t1282 * crank_zero_x4_im + _t1283 * crank_zero_x4_re
+    _t1483 = _t1481 * platform_z4_re + _t1482 * platform_z4_im
+    _t1484 = _t1300 * crank_zero_y4_re + _t1301 * crank_zero_y4_im
+    _t1485 = -_t1300 * crank_zero_y4_im + _t1301 * crank_zero_y4_re
+    _t1486 = _t1484 * platform_z4_re + _t1485 * platform_z4_im
+    _t1487 = -_t1270
+    _t1488 = _t1271 * crank_zero_z4_re + _t1487 * crank_zero_z4_im
+    _t1489 = -_t1271 * crank_zero_z4_im + _t1487 * crank_zero_z4_re
+    _t1490 = _t1488 * platform_z4_re + _t1489 * platform_z4_im
+    _t1491 = -_t1481 * platform_z4_im + _t1482 * platform_z4_re
+    _t1492 = -_t1484 * platform_z4_im + _t1485 * platform_z4_re
+    _t1493 = -_t1488 * platform_z4_im + _t1489 * platform_z4_re
+    _t1494 = -_t1359
+    _t1495 = (
+        -_t1251 * _t1494
+        + _t1337 * _t1360
+        + _t1483 * a4_im
+        + _t1486 * a4_im
+        + _t1490 * a4_im
+        - _t1491 * a4_re
+        - _t1492 * a4_re
+        - _t1493 * a4_re
+    )
+    _t1496 = _t1278 * crank_zero_x4_re + _t1279 * crank_zero_x4_im
+    _t1497 = -_t1278 * crank_zero_x4_im + _t1279 * crank_zero_x4_re
+    _t1498 = _t1496 * platform_y4_re + _t1497 * platform_y4_im
+    _t1499 = _t1271 * crank_zero_y4_re + _t1487 * crank_zero_y4_im
+    _t1500 = -_t1271 * crank_zero_y4_im + _t1487 * crank_zero_y4_re
+    _t1501 = _t1499 * platform_y4_re + _t1500 * platform_y4_im
+    _t1502 = _t1315 * crank_zero_z4_re + _t1316 * crank_zero_z4_im
+    _t1503 = -_t1315 * crank_zero_z4_im + _t1316 * crank_zero_z4_re
+    _t1504 = _t1502 * platform_y4_re + _t1503 * platform_y4_im
+    _t1505 = -_t1496 * platform_y4_im + _t1497 * platform_y4_re
+    _t1506 = -_t1499 * platform_y4_im + _t1500 * platform_y4_re
+    _t1507 = -_t1502 * platform_y4_im + _t1503 * platform_y4_re
+    _t1508 = -_t1347
+    _t1509 = (
+        -_t1251 * _t1508
+        + _t1337 * _t1348
+        + _t1498 * a4_im
+        + _t1501 * a4_im
+        + _t1504 * a4_im
+        - _t1505 * a4_re
+        - _t1506 * a4_re
+        - _t1507 * a4_re
+    )
+    _t1510 = _t1432 * platform_y4_re + _t1433 * platform_y4_im
+    _t1511 = _t1435 * platform_y4_re + _t1436 * platform_y4_im
+    _t1512 = _t1438 * platform_y4_re + _t1439 * platform_y4_im
+    _t1513 = -_t1432 * platform_y4_im + _t1433 * platform_y4_re
+    _t1514 = -_t1435 * platform_y4_im + _t1436 * platform_y4_re
+    _t1515 = -_t1438 * platform_y4_im + _t1439 * platform_y4_re
+    _t1516 = -_t1465
+    _t1517 = _t1394 * platform_x4_re + _t1395 * platform_x4_im
+    _t1518 = _t1397 * platform_x4_re + _t1398 * platform_x4_im
+    _t1519 = _t1401 * platform_x4_re + _t1402 * platform_x4_im
+    _t1520 = -_t1394 * platform_x4_im + _t1395 * platform_x4_re
+    _t1521 = -_t1397 * platform_x4_im + _t1398 * platform_x4_re
+    _t1522 = -_t1401 * platform_x4_im + _t1402 * platform_x4_re
+    _t1523 = -_t1431
+    _t1524 = _t1271 * crank_zero_x4_re + _t1487 * crank_zero_x4_im
+    _t1525 = -_t1271 * crank_zero_x4_im + _t1487 * crank_zero_x4_re
+    _t1526 = _t1524 * platform_x4_re + _t1525 * platform_x4_im
+    _t1527 = _t1297 * crank_zero_y4_re + _t1298 * crank_zero_y4_im
+    _t1528 = -_t1297 * crank_zero_y4_im + _t1298 * crank_zero_y4_re
+    _t1529 = _t1527 * platform_x4_re + _t1528 * platform_x4_im
+    _t1530 = _t1312 * crank_zero_z4_re + _t1313 * crank_zero_z4_im
+    _t1531 = -_t1312 * crank_zero_z4_im + _t1313 * crank_zero_z4_re
+    _t1532 = _t1530 * platform_x4_re + _t1531 * platform_x4_im
+    _t1533 = -_t1524 * platform_x4_im + _t1525 * platform_x4_re
+    _t1534 = -_t1527 * platform_x4_im + _t1528 * platform_x4_re
+    _t1535 = -_t1530 * platform_x4_im + _t1531 * platform_x4_re
+    _t1536 = -_t1334
+    _t1537 = (
+        -_t1251 * _t1536
+        + _t1335 * _t1337
+        + _t1526 * a4_im
+        + _t1529 * a4_im
+        + _t1532 * a4_im
+        - _t1533 * a4_re
+        - _t1534 * a4_re
+        - _t1535 * a4_re
+    )
+    _t1538 = _t1466 * platform_z4_re + _t1467 * platform_z4_im
+    _t1539 = _t1469 * platform_z4_re + _t1470 * platform_z4_im
+    _t1540 = _t1472 * platform_z4_re + _t1473 * platform_z4_im
+    _t1541 = -_t1466 * platform_z4_im + _t1467 * platform_z4_re
+    _t1542 = -_t1469 * platform_z4_im + _t1470 * platform_z4_re
+    _t1543 = -_t1472 * platform_z4_im + _t1473 * platform_z4_re
+    _t1544 = -_t1391
+    _t1545 = b4_im * b4_re
+    _t1546 = -(base_x4_im**2) + base_x4_re**2
+    _t1547 = -(base_y4_im**2) + base_y4_re**2
+    _t1548 = -(base_z4_im**2) + base_z4_re**2
+    _t1549 = -(b4_im**2) + b4_re**2
+    _t1550 = -(crank_zero_x4_im**2) + crank_zero_x4_re**2
+    _t1551 = C_u_3_im * C_u_3_re
+    _t1552 = 2 * _t1551
+    _t1553 = -(C_u_3_im**2) + C_u_3_re**2
+    _t1554 = crank_zero_x4_im * crank_zero_x4_re
+    _t1555 = 2 * _t1554
+    _t1556 = _t1550 * _t1552 + _t1553 * _t1555
+    _t1557 = 2 * a4_im * a4_re
+    _t1558 = -(crank_zero_y4_im**2) + crank_zero_y4_re**2
+    _t1559 = crank_zero_y4_im * crank_zero_y4_re
+    _t1560 = 2 * _t1559
+    _t1561 = _t1552 * _t1558 + _t1553 * _t1560
+    _t1562 = -(crank_zero_z4_im**2) + crank_zero_z4_re**2
+    _t1563 = crank_zero_z4_im * crank_zero_z4_re
+    _t1564 = 2 * _t1563
+    _t1565 = _t1552 * _t1562 + _t1553 * _t1564
+    _t1566 = -(a4_im**2) + a4_re**2
+    _t1567 = 4 * _t1551
+    _t1568 = _t1550 * _t1553 - _t1554 * _t1567
+    _t1569 = _t1553 * _t1558 - _t1559 * _t1567
+    _t1570 = _t1553 * _t1562 - _t1563 * _t1567
+    _t1571 = _t1271 * base_x4_re + _t1487 * base_x4_im
+    _t1572 = -_t1271 * base_x4_im + _t1487 * base_x4_re
+    _t1573 = _t1571 * crank_zero_x4_re + _t1572 * crank_zero_x4_im
+    _t1574 = _t1271 * base_y4_re + _t1487 * base_y4_im
+    _t1575 = -_t1271 * base_y4_im + _t1487 * base_y4_re
+    _t1576 = _t1574 * crank_zero_y4_re + _t1575 * crank_zero_y4_im
+    _t1577 = _t1271 * base_z4_re + _t1487 * base_z4_im
+    _t1578 = -_t1271 * base_z4_im + _t1487 * base_z4_re
+    _t1579 = _t1577 * crank_zero_z4_re + _t1578 * crank_zero_z4_im
+    _t1580 = -_t1571 * crank_zero_x4_im + _t1572 * crank_zero_x4_re
+    _t1581 = -_t1574 * crank_zero_y4_im + _t1575 * crank_zero_y4_re
+    _t1582 = -_t1577 * crank_zero_z4_im + _t1578 * crank_zero_z4_re
+    _t1583 = S_u_3_im * S_u_3_re
+    _t1584 = 4 * _t1583
+    _t1585 = -(S_u_3_im**2) + S_u_3_re**2
+    _t1586 = -(axis_y4_im**2) + axis_y4_re**2
+    _t1587 = -_t1584 * axis_y4_im * axis_y4_re + _t1585 * _t1586
+    _t1588 = 2 * _t1583
+    _t1589 = 2 * axis_y4_re
+    _t1590 = _t1585 * _t1589 * axis_y4_im + _t1586 * _t1588
+    _t1591 = _t1550 * _t1590 + _t1555 * _t1587
+    _t1592 = -(axis_z4_im**2) + axis_z4_re**2
+    _t1593 = -_t1584 * axis_z4_im * axis_z4_re + _t1585 * _t1592
+    _t1594 = 2 * axis_z4_re
+    _t1595 = _t1585 * _t1594 * axis_z4_im + _t1588 * _t1592
+    _t1596 = _t1550 * _t1595 + _t1555 * _t1593
+    _t1597 = axis_x4_im * axis_x4_re
+    _t1598 = -(axis_x4_im**2) + axis_x4_re**2
+    _t1599 = -_t1584 * _t1597 + _t1585 * _t1598
+    _t1600 = 2 * _t1585 * _t1597 + _t1588 * _t1598
+    _t1601 = _t1558 * _t1600 + _t1560 * _t1599
+    _t1602 = _t1558 * _t1595 + _t1560 * _t1593
+    _t1603 = _t1562 * _t1600 + _t1564 * _t1599
+    _t1604 = _t1562 * _t1590 + _t1564 * _t1587
+    _t1605 = 2 * _t1590
+    _t1606 = _t1550 * _t1587 - _t1554 * _t1605
+    _t1607 = 2 * _t1595
+    _t1608 = _t1550 * _t1593 - _t1554 * _t1607
+    _t1609 = 2 * _t1600
+    _t1610 = _t1558 * _t1599 - _t1559 * _t1609
+    _t1611 = _t1558 * _t1593 - _t1559 * _t1607
+    _t1612 = _t1562 * _t1599 - _t1563 * _t1609
+    _t1613 = _t1562 * _t1587 - _t1563 * _t1605
+    _t1614 = _t1278 * base_y4_re + _t1279 * base_y4_im
+    _t1615 = -_t1278 * base_y4_im + _t1279 * base_y4_re
+    _t1616 = _t1614 * crank_zero_x4_re + _t1615 * crank_zero_x4_im
+    _t1617 = _t1282 * base_z4_re + _t1283 * base_z4_im
+    _t1618 = -_t1282 * base_z4_im + _t1283 * base_z4_re
+    _t1619 = _t1617 * crank_zero_x4_re + _t1618 * crank_zero_x4_im
+    _t1620 = _t1297 * base_x4_re + _t1298 * base_x4_im
+    _t1621 = -_t1297 * base_x4_im + _t1298 * base_x4_re
+    _t1622 = _t1620 * crank_zero_y4_re + _t1621 * crank_zero_y4_im
+    _t1623 = _t1300 * base_z4_re + _t1301 * base_z4_im
+    _t1624 = -_t1300 * base_z4_im + _t1301 * base_z4_re
+    _t1625 = _t1623 * crank_zero_y4_re + _t1624 * crank_zero_y4_im
+    _t1626 = _t1312 * base_x4_re + _t1313 * base_x4_im
+    _t1627 = -_t1312 * base_x4_im + _t1313 * base_x4_re
+    _t1628 = _t1626 * crank_zero_z4_re + _t1627 * crank_zero_z4_im
+    _t1629 = _t1315 * base_y4_re + _t1316 * base_y4_im
+    _t1630 = -_t1315 * base_y4_im + _t1316 * base_y4_re
+    _t1631 = _t1629 * crank_zero_z4_re + _t1630 * crank_zero_z4_im
+    _t1632 = -_t1614 * crank_zero_x4_im + _t1615 * crank_zero_x4_re
+    _t1633 = -_t1617 * crank_zero_x4_im + _t1618 * crank_zero_x4_re
+    _t1634 = -_t1620 * crank_zero_y4_im + _t1621 * crank_zero_y4_re
+    _t1635 = -_t1623 * crank_zero_y4_im + _t1624 * crank_zero_y4_re
+    _t1636 = -_t1626 * crank_zero_z4_im + _t1627 * crank_zero_z4_re
+    _t1637 = -_t1629 * crank_zero_z4_im + _t1630 * crank_zero_z4_re
+    _t1638 = 2 * axis_y4_im
+    _t1639 = -_t1589 * axis_x4_re + _t1638 * axis_x4_im
+    _t1640 = -_t1589 * axis_x4_im - _t1638 * axis_x4_re
+    _t1641 = _t1639 * crank_zero_x4_im + _t1640 * crank_zero_x4_re
+    _t1642 = _t1639 * crank_zero_x4_re - _t1640 * crank_zero_x4_im
+    _t1643 = -_t1641 * crank_zero_y4_im + _t1642 * crank_zero_y4_re
+    _t1644 = _t1641 * crank_zero_y4_re + _t1642 * crank_zero_y4_im
+    _t1645 = _t1585 * _t1644 + _t1588 * _t1643
+    _t1646 = 2 * axis_z4_im
+    _t1647 = -_t1594 * axis_x4_re + _t1646 * axis_x4_im
+    _t1648 = -_t1594 * axis_x4_im - _t1646 * axis_x4_re
+    _t1649 = _t1647 * crank_zero_x4_im + _t1648 * crank_zero_x4_re
+    _t1650 = _t1647 * crank_zero_x4_re - _t1648 * crank_zero_x4_im
+    _t1651 = -_t1649 * crank_zero_z4_im + _t1650 * crank_zero_z4_re
+    _t1652 = _t1649 * crank_zero_z4_re + _t1650 * crank_zero_z4_im
+    _t1653 = _t1585 * _t1652 + _t1588 * _t1651
+    _t1654 = -_t1589 * axis_z4_re + _t1638 * axis_z4_im
+    _t1655 = -_t1589 * axis_z4_im - _t1638 * axis_z4_re
+    _t1656 = _t1654 * crank_zero_y4_im + _t1655 * crank_zero_y4_re
+    _t1657 = _t1654 * crank_zero_y4_re - _t1655 * crank_zero_y4_im
+    _t1658 = -_t1656 * crank_zero_z4_im + _t1657 * crank_zero_z4_re
+    _t1659 = _t1656 * crank_zero_z4_re + _t1657 * crank_zero_z4_im
+    _t1660 = _t1585 * _t1659 + _t1588 * _t1658
+    _t1661 = _t1585 * _t1643 - _t1588 * _t1644
+    _t1662 = _t1585 * _t1651 - _t1588 * _t1652
+    _t1663 = _t1585 * _t1658 - _t1588 * _t1659
+    _t1664 = D_u_4_im**2
+    _t1665 = D_u_4_re**2
+    _t1666 = _t1664 - _t1665
+    _t1667 = -_t1666
+    _t1668 = 4 * D_u_4_im
+    _t1669 = D_u_4_re * _t1668
+    _t1670 = _t1669 * platform_x5_im
+    _t1671 = -2 * _t1667 * platform_x5_re + _t1670
+    _t1672 = -_t1671
+    _t1673 = 8 * D_u_4_im * D_u_4_re
+    _t1674 = _t1673 * platform_z5_im
+    _t1675 = -4 * _t1667 * platform_z5_re + _t1674
+    _t1676 = -_t1675
+    _t1677 = _t1673 * platform_y5_im
+    _t1678 = 4 * _t1667
+    _t1679 = _t1677 - _t1678 * platform_y5_re
+    _t1680 = -_t1679
+    _t1681 = _t1669 * base_x5_im
+    _t1682 = 2 * _t1667
+    _t1683 = _t1682 * base_x5_re
+    _t1684 = 2 * D_u_4_im
+    _t1685 = 2 * D_u_4_re
+    _t1686 = C_u_4_im * _t1684 - C_u_4_re * _t1685
+    _t1687 = C_u_4_im * _t1685 + C_u_4_re * _t1684
+    _t1688 = -_t1687
+    _t1689 = _t1686 * crank_zero_x5_im + _t1688 * crank_zero_x5_re
+    _t1690 = _t1686 * crank_zero_x5_re - _t1688 * crank_zero_x5_im
+    _t1691 = -2 * D_u_4_re * S_u_4_re + S_u_4_im * _t1684
+    _t1692 = -_t1691
+    _t1693 = S_u_4_im * _t1685 + S_u_4_re * _t1684
+    _t1694 = _t1692 * axis_z5_im + _t1693 * axis_z5_re
+    _t1695 = _t1692 * axis_z5_re - _t1693 * axis_z5_im
+    _t1696 = _t1694 * crank_zero_y5_re + _t1695 * crank_zero_y5_im
+    _t1697 = -_t1693
+    _t1698 = _t1691 * axis_y5_im + _t1697 * axis_y5_re
+    _t1699 = _t1691 * axis_y5_re - _t1697 * axis_y5_im
+    _t1700 = _t1698 * crank_zero_z5_re + _t1699 * crank_zero_z5_im
+    _t1701 = -_t1694 * crank_zero_y5_im + _t1695 * crank_zero_y5_re
+    _t1702 = -_t1698 * crank_zero_z5_im + _t1699 * crank_zero_z5_re
+    _t1703 = _t1669 * platform_y5_im
+    _t1704 = -2 * _t1667 * platform_y5_re + _t1703
+    _t1705 = -_t1704
+    _t1706 = _t1673 * platform_x5_im
+    _t1707 = -4 * _t1667 * platform_x5_re + _t1706
+    _t1708 = -_t1707
+    _t1709 = _t1669 * base_y5_im
+    _t1710 = _t1682 * base_y5_re
+    _t1711 = _t1686 * crank_zero_y5_im + _t1688 * crank_zero_y5_re
+    _t1712 = _t1686 * crank_zero_y5_re - _t1688 * crank_zero_y5_im
+    _t1713 = _t1691 * axis_z5_im + _t1697 * axis_z5_re
+    _t1714 = _t1691 * axis_z5_re - _t1697 * axis_z5_im
+    _t1715 = _t1713 * crank_zero_x5_re + _t1714 * crank_zero_x5_im
+    _t1716 = _t1692 * axis_x5_im + _t1693 * axis_x5_re
+    _t1717 = _t1692 * axis_x5_re - _t1693 * axis_x5_im
+    _t1718 = _t1716 * crank_zero_z5_re + _t1717 * crank_zero_z5_im
+    _t1719 = -_t1713 * crank_zero_x5_im + _t1714 * crank_zero_x5_re
+    _t1720 = -_t1716 * crank_zero_z5_im + _t1717 * crank_zero_z5_re
+    _t1721 = _t1669 * platform_z5_im
+    _t1722 = -2 * _t1667 * platform_z5_re + _t1721
+    _t1723 = -_t1722
+    _t1724 = _t1669 * base_z5_im
+    _t1725 = _t1682 * base_z5_re
+    _t1726 = _t1686 * crank_zero_z5_im + _t1688 * crank_zero_z5_re
+    _t1727 = _t1686 * crank_zero_z5_re - _t1688 * crank_zero_z5_im
+    _t1728 = _t1692 * axis_y5_im + _t1693 * axis_y5_re
+    _t1729 = _t1692 * axis_y5_re - _t1693 * axis_y5_im
+    _t1730 = _t1728 * crank_zero_x5_re + _t1729 * crank_zero_x5_im
+    _t1731 = _t1691 * axis_x5_im + _t1697 * axis_x5_re
+    _t1732 = _t1691 * axis_x5_re - _t1697 * axis_x5_im
+    _t1733 = _t1731 * crank_zero_y5_re + _t1732 * crank_zero_y5_im
+    _t1734 = -_t1728 * crank_zero_x5_im + _t1729 * crank_zero_x5_re
+    _t1735 = -_t1731 * crank_zero_y5_im + _t1732 * crank_zero_y5_re
+    _t1736 = -(platform_x5_im**2) + platform_x5_re**2
+    _t1737 = -(platform_y5_im**2) + platform_y5_re**2
+    _t1738 = -(platform_z5_im**2) + platform_z5_re**2
+    _t1739 = (
+        _t1667 * _t1736
+        + _t1667 * _t1737
+        + _t1667 * _t1738
+        - _t1670 * platform_x5_re
+        - _t1703 * platform_y5_re
+        - _t1721 * platform_z5_re
+    )
+    _t1740 = -2 * _t1664 + 2 * _t1665
+    _t1741 = (
+        -_t1674 * platform_z5_re
+        - _t1677 * platform_y5_re
+        - _t1706 * platform_x5_re
+        + _t1736 * _t1740
+        + _t1737 * _t1740
+        + _t1738 * _t1740
+    )
+    _t1742 = _t1689 * platform_x5_re + _t1690 * platform_x5_im
+    _t1743 = _t1696 * platform_x5_re + _t1701 * platform_x5_im
+    _t1744 = _t1700 * platform_x5_re + _t1702 * platform_x5_im
+    _t1745 = -_t1689 * platform_x5_im + _t1690 * platform_x5_re
+    _t1746 = -_t1696 * platform_x5_im + _t1701 * platform_x5_re
+    _t1747 = -_t1700 * platform_x5_im + _t1702 * platform_x5_re
+    _t1748 = 2 * platform_x5_im
+    _t1749 = 2 * platform_x5_re
+    _t1750 = _t1748 * base_x5_im - _t1749 * base_x5_re
+    _t1751 = _t1748 * base_x5_re + _t1749 * base_x5_im
+    _t1752 = -_t1751
+    _t1753 = D_u_4_im * _t1685
+    _t1754 = (
+        -_t1667 * _t1750
+        + _t1742 * a5_im
+        + _t1743 * a5_im
+        + _t1744 * a5_im
+        - _t1745 * a5_re
+        - _t1746 * a5_re
+        - _t1747 * a5_re
+        + _t1752 * _t1753
+    )
+    _t1755 = _t1715 * platform_y5_re + _t1719 * platform_y5_im
+    _t1756 = _t1711 * platform_y5_re + _t1712 * platform_y5_im
+    _t1757 = _t1718 * platform_y5_re + _t1720 * platform_y5_im
+    _t1758 = -_t1715 * platform_y5_im + _t1719 * platform_y5_re
+    _t1759 = -_t1711 * platform_y5_im + _t1712 * platform_y5_re
+    _t1760 = -_t1718 * platform_y5_im + _t1720 * platform_y5_re
+    _t1761 = 2 * platform_y5_im
+    _t1762 = 2 * platform_y5_re
+    _t1763 = _t1761 * base_y5_im - _t1762 * base_y5_re
+    _t1764 = _t1761 * base_y5_re + _t1762 * base_y5_im
+    _t1765 = -_t1764
+    _t1766 = (
+        -_t1667 * _t1763
+        + _t1753 * _t1765
+        + _t1755 * a5_im
+        + _t1756 * a5_im
+        + _t1757 * a5_im
+        - _t1758 * a5_re
+        - _t1759 * a5_re
+        - _t1760 * a5_re
+    )
+    _t1767 = _t1730 * platform_z5_re + _t1734 * platform_z5_im
+    _t1768 = _t1733 * platform_z5_re + _t1735 * platform_z5_im
+    _t1769 = _t1726 * platform_z5_re + _t1727 * platform_z5_im
+    _t1770 = -_t1730 * platform_z5_im + _t1734 * platform_z5_re
+    _t1771 = -_t1733 * platform_z5_im + _t1735 * platform_z5_re
+    _t1772 = -_t1726 * platform_z5_im + _t1727 * platform_z5_re
+    _t1773 = 2 * platform_z5_im
+    _t1774 = 2 * platform_z5_re
+    _t1775 = _t1773 * base_z5_im - _t1774 * base_z5_re
+    _t1776 = _t1773 * base_z5_re + _t1774 * base_z5_im
+    _t1777 = -_t1776
+    _t1778 = (
+        -_t1667 * _t1775
+        + _t1753 * _t1777
+        + _t1767 * a5_im
+        + _t1768 * a5_im
+        + _t1769 * a5_im
+        - _t1770 * a5_re
+        - _t1771 * a5_re
+        - _t1772 * a5_re
+    )
+    _t1779 = -4 * D_u_4_re * S_u_4_re + S_u_4_im * _t1668
+    _t1780 = -_t1779
+    _t1781 = 4 * D_u_4_re
+    _t1782 = S_u_4_im * _t1781 + S_u_4_re * _t1668
+    _t1783 = _t1780 * axis_z5_im + _t1782 * axis_z5_re
+    _t1784 = _t1780 * axis_z5_re - _t1782 * axis_z5_im
+    _t1785 = _t1783 * crank_zero_x5_re + _t1784 * crank_zero_x5_im
+    _t1786 = -_t1783 * crank_zero_x5_im + _t1784 * crank_zero_x5_re
+    _t1787 = _t1785 * platform_z5_re + _t1786 * platform_z5_im
+    _t1788 = C_u_4_im * _t1668 - C_u_4_re * _t1781
+    _t1789 = -_t1788
+    _t1790 = C_u_4_im * _t1781 + C_u_4_re * _t1668
+    _t1791 = _t1789 * crank_zero_y5_im + _t1790 * crank_zero_y5_re
+    _t1792 = _t1789 * crank_zero_y5_re - _t1790 * crank_zero_y5_im
+    _t1793 = _t1791 * platform_z5_re + _t1792 * platform_z5_im
+    _t1794 = -_t1782
+    _t1795 = _t1779 * axis_x5_im + _t1794 * axis_x5_re
+    _t1796 = _t1779 * axis_x5_re - _t1794 * axis_x5_im
+    _t1797 = _t1795 * crank_zero_z5_re + _t1796 * crank_zero_z5_im
+    _t1798 = -_t1795 * crank_zero_z5_im + _t1796 * crank_zero_z5_re
+    _t1799 = _t1797 * platform_z5_re + _t1798 * platform_z5_im
+    _t1800 = -_t1785 * platform_z5_im + _t1786 * platform_z5_re
+    _t1801 = -_t1791 * platform_z5_im + _t1792 * platform_z5_re
+    _t1802 = -_t1797 * platform_z5_im + _t1798 * platform_z5_re
+    _t1803 = 4 * base_y5_im
+    _t1804 = _t1803 * platform_z5_im - 4 * base_y5_re * platform_z5_re
+    _t1805 = -_t1804
+    _t1806 = 4 * base_y5_re
+    _t1807 = _t1803 * platform_z5_re + _t1806 * platform_z5_im
+    _t1808 = _t1780 * axis_y5_im + _t1782 * axis_y5_re
+    _t1809 = _t1780 * axis_y5_re - _t1782 * axis_y5_im
+    _t1810 = _t1808 * crank_zero_x5_re + _t1809 * crank_zero_x5_im
+    _t1811 = -_t1808 * crank_zero_x5_im + _t1809 * crank_zero_x5_re
+    _t1812 = _t1810 * platform_y5_re + _t1811 * platform_y5_im
+    _t1813 = _t1795 * crank_zero_y5_re + _t1796 * crank_zero_y5_im
+    _t1814 = -_t1795 * crank_zero_y5_im + _t1796 * crank_zero_y5_re
+    _t1815 = _t1813 * platform_y5_re + _t1814 * platform_y5_im
+    _t1816 = -_t1790
+    _t1817 = _t1788 * crank_zero_z5_im + _t1816 * crank_zero_z5_re
+    _t1818 = _t1788 * crank_zero_z5_re - _t1816 * crank_zero_z5_im
+    _t1819 = _t1817 * platform_y5_re + _t1818 * platform_y5_im
+    _t1820 = -_t1810 * platform_y5_im + _t1811 * platform_y5_re
+    _t1821 = -_t1813 * platform_y5_im + _t1814 * platform_y5_re
+    _t1822 = -_t1817 * platform_y5_im + _t1818 * platform_y5_re
+    _t1823 = 4 * platform_y5_im
+    _t1824 = 4 * platform_y5_re
+    _t1825 = _t1823 * base_z5_im - _t1824 * base_z5_re
+    _t1826 = -_t1823 * base_z5_re - _t1824 * base_z5_im
+    _t1827 = (
+        -_t1667 * _t1825
+        + _t1753 * _t1826
+        + _t1812 * a5_im
+        + _t1815 * a5_im
+        + _t1819 * a5_im
+        - _t1820 * a5_re
+        - _t1821 * a5_re
+        - _t1822 * a5_re
+    )
+    _t1828 = _t1779 * axis_y5_im + _t1794 * axis_y5_re
+    _t1829 = _t1779 * axis_y5_re - _t1794 * axis_y5_im
+    _t1830 = _t1828 * crank_zero_x5_re + _t1829 * crank_zero_x5_im
+    _t1831 = -_t1828 * crank_zero_x5_im + _t1829 * crank_zero_x5_re
+    _t1832 = _t1830 * platform_x5_re + _t1831 * platform_x5_im
+    _t1833 = _t1780 * axis_x5_im + _t1782 * axis_x5_re
+    _t1834 = _t1780 * axis_x5_re - _t1782 * axis_x5_im
+    _t1835 = _t1833 * crank_zero_y5_re + _t1834 * crank_zero_y5_im
+    _t1836 = -_t1833 * crank_zero_y5_im + _t1834 * crank_zero_y5_re
+    _t1837 = _t1835 * platform_x5_re + _t1836 * platform_x5_im
+    _t1838 = _t1789 * crank_zero_z5_im + _t1790 * crank_zero_z5_re
+    _t1839 = _t1789 * crank_zero_z5_re - _t1790 * crank_zero_z5_im
+    _t1840 = _t1838 * platform_x5_re + _t1839 * platform_x5_im
+    _t1841 = -_t1830 * platform_x5_im + _t1831 * platform_x5_re
+    _t1842 = -_t1835 * platform_x5_im + _t1836 * platform_x5_re
+    _t1843 = -_t1838 * platform_x5_im + _t1839 * platform_x5_re
+    _t1844 = 4 * base_z5_im
+    _t1845 = _t1844 * platform_x5_im - 4 * base_z5_re * platform_x5_re
+    _t1846 = -_t1845
+    _t1847 = _t1844 * platform_x5_re + 4 * base_z5_re * platform_x5_im
+    _t1848 = _t1788 * crank_zero_x5_im + _t1816 * crank_zero_x5_re
+    _t1849 = _t1788 * crank_zero_x5_re - _t1816 * crank_zero_x5_im
+    _t1850 = _t1848 * platform_z5_re + _t1849 * platform_z5_im
+    _t1851 = _t1783 * crank_zero_y5_re + _t1784 * crank_zero_y5_im
+    _t1852 = -_t1783 * crank_zero_y5_im + _t1784 * crank_zero_y5_re
+    _t1853 = _t1851 * platform_z5_re + _t1852 * platform_z5_im
+    _t1854 = _t1828 * crank_zero_z5_re + _t1829 * crank_zero_z5_im
+    _t1855 = -_t1828 * crank_zero_z5_im + _t1829 * crank_zero_z5_re
+    _t1856 = _t1854 * platform_z5_re + _t1855 * platform_z5_im
+    _t1857 = -_t1848 * platform_z5_im + _t1849 * platform_z5_re
+    _t1858 = -_t1851 * platform_z5_im + _t1852 * platform_z5_re
+    _t1859 = -_t1854 * platform_z5_im + _t1855 * platform_z5_re
+    _t1860 = 4 * platform_z5_im
+    _t1861 = 4 * platform_z5_re
+    _t1862 = _t1860 * base_x5_im - _t1861 * base_x5_re
+    _t1863 = -_t1860 * base_x5_re - _t1861 * base_x5_im
+    _t1864 = (
+        -_t1667 * _t1862
+        + _t1753 * _t1863
+        + _t1850 * a5_im
+        + _t1853 * a5_im
+        + _t1856 * a5_im
+        - _t1857 * a5_re
+        - _t1858 * a5_re
+        - _t1859 * a5_re
+    )
+    _t1865 = _t1789 * crank_zero_x5_im + _t1790 * crank_zero_x5_re
+    _t1866 = _t1789 * crank_zero_x5_re - _t1790 * crank_zero_x5_im
+    _t1867 = _t1865 * platform_y5_re + _t1866 * platform_y5_im
+    _t1868 = _t1779 * axis_z5_im + _t1794 * axis_z5_re
+    _t1869 = _t1779 * axis_z5_re - _t1794 * axis_z5_im
+    _t1870 = _t1868 * crank_zero_y5_re + _t1869 * crank_zero_y5_im
+    _t1871 = -_t1868 * crank_zero_y5_im + _t1869 * crank_zero_y5_re
+    _t1872 = _t1870 * platform_y5_re + _t1871 * platform_y5_im
+    _t1873 = _t1808 * crank_zero_z5_re + _t1809 * crank_zero_z5_im
+    _t1874 = -_t1808 * crank_zero_z5_im + _t1809 * crank_zero_z5_re
+    _t1875 = _t1873 * platform_y5_re + _t1874 * platform_y5_im
+    _t1876 = -_t1865 * platform_y5_im + _t1866 * platform_y5_re
+    _t1877 = -_t1870 * platform_y5_im + _t1871 * platform_y5_re
+    _t1878 = -_t1873 * platform_y5_im + _t1874 * platform_y5_re
+    _t1879 = _t1823 * base_x5_im - 4 * base_x5_re * platform_y5_re
+    _t1880 = -_t1879
+    _t1881 = _t1823 * base_x5_re + _t1824 * base_x5_im
+    _t1882 = _t1868 * crank_zero_x5_re + _t1869 * crank_zero_x5_im
+    _t1883 = -_t1868 * crank_zero_x5_im + _t1869 * crank_zero_x5_re
+    _t1884 = _t1882 * platform_x5_re + _t1883 * platform_x5_im
+    _t1885 = _t1788 * crank_zero_y5_im + _t1816 * crank_zero_y5_re
+    _t1886 = _t1788 * crank_zero_y5_re - _t1816 * crank_zero_y5_im
+    _t1887 = _t1885 * platform_x5_re + _t1886 * platform_x5_im
+    _t1888 = _t1833 * crank_zero_z5_re + _t1834 * crank_zero_z5_im
+    _t1889 = -_t1833 * crank_zero_z5_im + _t1834 * crank_zero_z5_re
+    _t1890 = _t1888 * platform_x5_re + _t1889 * platform_x5_im
+    _t1891 = -_t1882 * platform_x5_im + _t1883 * platform_x5_re
+    _t1892 = -_t1885 * platform_x5_im + _t1886 * platform_x5_re
+    _t1893 = -_t1888 * platform_x5_im + _t1889 * platform_x5_re
+    _t1894 = _t1803 * platform_x5_im - _t1806 * platform_x5_re
+    _t1895 = -_t1803 * platform_x5_re - _t1806 * platform_x5_im
+    _t1896 = (
+        -_t1667 * _t1894
+        + _t1753 * _t1895
+        + _t1884 * a5_im
+        + _t1887 * a5_im
+        + _t1890 * a5_im
+        - _t1891 * a5_re
+        - _t1892 * a5_re
+        - _t1893 * a5_re
+    )
+    _t1897 = _t1698 * crank_zero_x5_re + _t1699 * crank_zero_x5_im
+    _t1898 = -_t1698 * crank_zero_x5_im + _t1699 * crank_zero_x5_re
+    _t1899 = _t1897 * platform_z5_re + _t1898 * platform_z5_im
+    _t1900 = _t1716 * crank_zero_y5_re + _t1717 * crank_zero_y5_im
+    _t1901 = -_t1716 * crank_zero_y5_im + _t1717 * crank_zero_y5_re
+    _t1902 = _t1900 * platform_z5_re + _t1901 * platform_z5_im
+    _t1903 = -_t1686
+    _t1904 = _t1687 * crank_zero_z5_re + _t1903 * crank_zero_z5_im
+    _t1905 = -_t1687 * crank_zero_z5_im + _t1903 * crank_zero_z5_re
+    _t1906 = _t1904 * platform_z5_re + _t1905 * platform_z5_im
+    _t1907 = -_t1897 * platform_z5_im + _t1898 * platform_z5_re
+    _t1908 = -_t1900 * platform_z5_im + _t1901 * platform_z5_re
+    _t1909 = -_t1904 * platform_z5_im + _t1905 * platform_z5_re
+    _t1910 = -_t1775
+    _t1911 = (
+        -_t1667 * _t1910
+        + _t1753 * _t1776
+        + _t1899 * a5_im
+        + _t1902 * a5_im
+        + _t1906 * a5_im
+        - _t1907 * a5_re
+        - _t1908 * a5_re
+        - _t1909 * a5_re
+    )
+    _t1912 = _t1694 * crank_zero_x5_re + _t1695 * crank_zero_x5_im
+    _t1913 = -_t1694 * crank_zero_x5_im + _t1695 * crank_zero_x5_re
+    _t1914 = _t1912 * platform_y5_re + _t1913 * platform_y5_im
+    _t1915 = _t1687 * crank_zero_y5_re + _t1903 * crank_zero_y5_im
+    _t1916 = -_t1687 * crank_zero_y5_im + _t1903 * crank_zero_y5_re
+    _t1917 = _t1915 * platform_y5_re + _t1916 * platform_y5_im
+    _t1918 = _t1731 * crank_zero_z5_re + _t1732 * crank_zero_z5_im
+    _t1919 = -_t1731 * crank_zero_z5_im + _t1732 * crank_zero_z5_re
+    _t1920 = _t1918 * platform_y5_re + _t1919 * platform_y5_im
+    _t1921 = -_t1912 * platform_y5_im + _t1913 * platform_y5_re
+    _t1922 = -_t1915 * platform_y5_im + _t1916 * platform_y5_re
+    _t1923 = -_t1918 * platform_y5_im + _t1919 * platform_y5_re
+    _t1924 = -_t1763
+    _t1925 = (
+        -_t1667 * _t1924
+        + _t1753 * _t1764
+        + _t1914 * a5_im
+        + _t1917 * a5_im
+        + _t1920 * a5_im
+        - _t1921 * a5_re
+        - _t1922 * a5_re
+        - _t1923 * a5_re
+    )
+    _t1926 = _t1848 * platform_y5_re + _t1849 * platform_y5_im
+    _t1927 = _t1851 * platform_y5_re + _t1852 * platform_y5_im
+    _t1928 = _t1854 * platform_y5_re + _t1855 * platform_y5_im
+    _t1929 = -_t1848 * platform_y5_im + _t1849 * platform_y5_re
+    _t1930 = -_t1851 * platform_y5_im + _t1852 * platform_y5_re
+    _t1931 = -_t1854 * platform_y5_im + _t1855 * platform_y5_re
+    _t1932 = -_t1881
+    _t1933 = _t1810 * platform_x5_re + _t1811 * platform_x5_im
+    _t1934 = _t1813 * platform_x5_re + _t1814 * platform_x5_im
+    _t1935 = _t1817 * platform_x5_re + _t1818 * platform_x5_im
+    _t1936 = -_t1810 * platform_x5_im + _t1811 * platform_x5_re
+    _t1937 = -_t1813 * platform_x5_im + _t1814 * platform_x5_re
+    _t1938 = -_t1817 * platform_x5_im + _t1818 * platform_x5_re
+    _t1939 = -_t1847
+    _t1940 = _t1687 * crank_zero_x5_re + _t1903 * crank_zero_x5_im
+    _t1941 = -_t1687 * crank_zero_x5_im + _t1903 * crank_zero_x5_re
+    _t1942 = _t1940 * platform_x5_re + _t1941 * platform_x5_im
+    _t1943 = _t1713 * crank_zero_y5_re + _t1714 * crank_zero_y5_im
+    _t1944 = -_t1713 * crank_zero_y5_im + _t1714 * crank_zero_y5_re
+    _t1945 = _t1943 * platform_x5_re + _t1944 * platform_x5_im
+    _t1946 = _t1728 * crank_zero_z5_re + _t1729 * crank_zero_z5_im
+    _t1947 = -_t1728 * crank_zero_z5_im + _t1729 * crank_zero_z5_re
+    _t1948 = _t1946 * platform_x5_re + _t1947 * platform_x5_im
+    _t1949 = -_t1940 * platform_x5_im + _t1941 * platform_x5_re
+    _t1950 = -_t1943 * platform_x5_im + _t1944 * platform_x5_re
+    _t1951 = -_t1946 * platform_x5_im + _t1947 * platform_x5_re
+    _t1952 = -_t1750
+    _t1953 = (
+        -_t1667 * _t1952
+        + _t1751 * _t1753
+        + _t1942 * a5_im
+        + _t1945 * a5_im
+        + _t1948 * a5_im
+        - _t1949 * a5_re
+        - _t1950 * a5_re
+        - _t1951 * a5_re
+    )
+    _t1954 = _t1882 * platform_z5_re + _t1883 * platform_z5_im
+    _t1955 = _t1885 * platform_z5_re + _t1886 * platform_z5_im
+    _t1956 = _t1888 * platform_z5_re + _t1889 * platform_z5_im
+    _t1957 = -_t1882 * platform_z5_im + _t1883 * platform_z5_re
+    _t1958 = -_t1885 * platform_z5_im + _t1886 * platform_z5_re
+    _t1959 = -_t1888 * platform_z5_im + _t1889 * platform_z5_re
+    _t1960 = -_t1807
+    _t1961 = b5_im * b5_re
+    _t1962 = -(base_x5_im**2) + base_x5_re**2
+    _t1963 = -(base_y5_im**2) + base_y5_re**2
+    _t1964 = -(base_z5_im**2) + base_z5_re**2
+    _t1965 = -(b5_im**2) + b5_re**2
+    _t1966 = -(crank_zero_x5_im**2) + crank_zero_x5_re**2
+    _t1967 = C_u_4_im * C_u_4_re
+    _t1968 = 2 * _t1967
+    _t1969 = -(C_u_4_im**2) + C_u_4_re**2
+    _t1970 = crank_zero_x5_im * crank_zero_x5_re
+    _t1971 = 2 * _t1970
+    _t1972 = _t1966 * _t1968 + _t1969 * _t1971
+    _t1973 = 2 * a5_im * a5_re
+    _t1974 = -(crank_zero_y5_im**2) + crank_zero_y5_re**2
+    _t1975 = crank_zero_y5_im * crank_zero_y5_re
+    _t1976 = 2 * _t1975
+    _t1977 = _t1968 * _t1974 + _t1969 * _t1976
+    _t1978 = -(crank_zero_z5_im**2) + crank_zero_z5_re**2
+    _t1979 = crank_zero_z5_im * crank_zero_z5_re
+    _t1980 = 2 * _t1979
+    _t1981 = _t1968 * _t1978 + _t1969 * _t1980
+    _t1982 = -(a5_im**2) + a5_re**2
+    _t1983 = 4 * _t1967
+    _t1984 = _t1966 * _t1969 - _t1970 * _t1983
+    _t1985 = _t1969 * _t1974 - _t1975 * _t1983
+    _t1986 = _t1969 * _t1978 - _t1979 * _t1983
+    _t1987 = _t1687 * base_x5_re + _t1903 * base_x5_im
+    _t1988 = -_t1687 * base_x5_im + _t1903 * base_x5_re
+    _t1989 = _t1987 * crank_zero_x5_re + _t1988 * crank_zero_x5_im
+    _t1990 = _t1687 * base_y5_re + _t1903 * base_y5_im
+    _t1991 = -_t1687 * base_y5_im + _t1903 * base_y5_re
+    _t1992 = _t1990 * crank_zero_y5_re + _t1991 * crank_zero_y5_im
+    _t1993 = _t1687 * base_z5_re + _t1903 * base_z5_im
+    _t1994 = -_t1687 * base_z5_im + _t1903 * base_z5_re
+    _t1995 = _t1993 * crank_zero_z5_re + _t1994 * crank_zero_z5_im
+    _t1996 = -_t1987 * crank_zero_x5_im + _t1988 * crank_zero_x5_re
+    _t1997 = -_t1990 * crank_zero_y5_im + _t1991 * crank_zero_y5_re
+    _t1998 = -_t1993 * crank_zero_z5_im + _t1994 * crank_zero_z5_re
+    _t1999 = S_u_4_im * S_u_4_re
+    _t2000 = 4 * _t1999
+    _t2001 = -(S_u_4_im**2) + S_u_4_re**2
+    _t2002 = -(axis_y5_im**2) + axis_y5_re**2
+    _t2003 = -_t2000 * axis_y5_im * axis_y5_re + _t2001 * _t2002
+    _t2004 = 2 * _t1999
+    _t2005 = 2 * axis_y5_re
+    _t2006 = _t2001 * _t2005 * axis_y5_im + _t2002 * _t2004
+    _t2007 = _t1966 * _t2006 + _t1971 * _t2003
+    _t2008 = -(axis_z5_im**2) + axis_z5_re**2
+    _t2009 = -_t2000 * axis_z5_im * axis_z5_re + _t2001 * _t2008
+    _t2010 = 2 * axis_z5_re
+    _t2011 = _t2001 * _t2010 * axis_z5_im + _t2004 * _t2008
+    _t2012 = _t1966 * _t2011 + _t1971 * _t2009
+    _t2013 = axis_x5_im * axis_x5_re
+    _t2014 = -(axis_x5_im**2) + axis_x5_re**2
+    _t2015 = -_t2000 * _t2013 + _t2001 * _t2014
+    _t2016 = 2 * _t2001 * _t2013 + _t2004 * _t2014
+    _t2017 = _t1974 * _t2016 + _t1976 * _t2015
+    _t2018 = _t1974 * _t2011 + _t1976 * _t2009
+    _t2019 = _t1978 * _t2016 + _t1980 * _t2015
+    _t2020 = _t1978 * _t2006 + _t1980 * _t2003
+    _t2021 = 2 * _t2006
+    _t2022 = _t1966 * _t2003 - _t1970 * _t2021
+    _t2023 = 2 * _t2011
+    _t2024 = _t1966 * _t2009 - _t1970 * _t2023
+    _t2025 = 2 * _t2016
+    _t2026 = _t1974 * _t2015 - _t1975 * _t2025
+    _t2027 = _t1974 * _t2009 - _t1975 * _t2023
+    _t2028 = _t1978 * _t2015 - _t1979 * _t2025
+    _t2029 = _t1978 * _t2003 - _t1979 * _t2021
+    _t2030 = _t1694 * base_y5_re + _t1695 * base_y5_im
+    _t2031 = -_t1694 * base_y5_im + _t1695 * base_y5_re
+    _t2032 = _t2030 * crank_zero_x5_re + _t2031 * crank_zero_x5_im
+    _t2033 = _t1698 * base_z5_re + _t1699 * base_z5_im
+    _t2034 = -_t1698 * base_z5_im + _t1699 * base_z5_re
+    _t2035 = _t2033 * crank_zero_x5_re + _t2034 * crank_zero_x5_im
+    _t2036 = _t1713 * base_x5_re + _t1714 * base_x5_im
+    _t2037 = -_t1713 * base_x5_im + _t1714 * base_x5_re
+    _t2038 = _t2036 * crank_zero_y5_re + _t2037 * crank_zero_y5_im
+    _t2039 = _t1716 * base_z5_re + _t1717 * base_z5_im
+    _t2040 = -_t1716 * base_z5_im + _t1717 * base_z5_re
+    _t2041 = _t2039 * crank_zero_y5_re + _t2040 * crank_zero_y5_im
+    _t2042 = _t1728 * base_x5_re + _t1729 * base_x5_im
+    _t2043 = -_t1728 * base_x5_im + _t1729 * base_x5_re
+    _t2044 = _t2042 * crank_zero_z5_re + _t2043 * crank_zero_z5_im
+    _t2045 = _t1731 * base_y5_re + _t1732 * base_y5_im
+    _t2046 = -_t1731 * base_y5_im + _t1732 * base_y5_re
+    _t2047 = _t2045 * crank_zero_z5_re + _t2046 * crank_zero_z5_im
+    _t2048 = -_t2030 * crank_zero_x5_im + _t2031 * crank_zero_x5_re
+    _t2049 = -_t2033 * crank_zero_x5_im + _t2034 * crank_zero_x5_re
+    _t2050 = -_t2036 * crank_zero_y5_im + _t2037 * crank_zero_y5_re
+    _t2051 = -_t2039 * crank_zero_y5_im + _t2040 * crank_zero_y5_re
+    _t2052 = -_t2042 * crank_zero_z5_im + _t2043 * crank_zero_z5_re
+    _t2053 = -_t2045 * crank_zero_z5_im + _t2046 * crank_zero_z5_re
+    _t2054 = 2 * axis_y5_im
+    _t2055 = -_t2005 * axis_x5_re + _t2054 * axis_x5_im
+    _t2056 = -_t2005 * axis_x5_im - _t2054 * axis_x5_re
+    _t2057 = _t2055 * crank_zero_x5_im + _t2056 * crank_zero_x5_re
+    _t2058 = _t2055 * crank_zero_x5_re - _t2056 * crank_zero_x5_im
+    _t2059 = -_t2057 * crank_zero_y5_im + _t2058 * crank_zero_y5_re
+    _t2060 = _t2057 * crank_zero_y5_re + _t2058 * crank_zero_y5_im
+    _t2061 = _t2001 * _t2060 + _t2004 * _t2059
+    _t2062 = 2 * axis_z5_im
+    _t2063 = -_t2010 * axis_x5_re + _t2062 * axis_x5_im
+    _t2064 = -_t2010 * axis_x5_im - _t2062 * axis_x5_re
+    _t2065 = _t2063 * crank_zero_x5_im + _t2064 * crank_zero_x5_re
+    _t2066 = _t2063 * crank_zero_x5_re - _t2064 * crank_zero_x5_im
+    _t2067 = -_t2065 * crank_zero_z5_im + _t2066 * crank_zero_z5_re
+    _t2068 = _t2065 * crank_zero_z5_re + _t2066 * crank_zero_z5_im
+    _t2069 = _t2001 * _t2068 + _t2004 * _t2067
+    _t2070 = -_t2005 * axis_z5_re + _t2054 * axis_z5_im
+    _t2071 = -_t2005 * axis_z5_im - _t2054 * axis_z5_re
+    _t2072 = _t2070 * crank_zero_y5_im + _t2071 * crank_zero_y5_re
+    _t2073 = _t2070 * crank_zero_y5_re - _t2071 * crank_zero_y5_im
+    _t2074 = -_t2072 * crank_zero_z5_im + _t2073 * crank_zero_z5_re
+    _t2075 = _t2072 * crank_zero_z5_re + _t2073 * crank_zero_z5_im
+    _t2076 = _t2001 * _t2075 + _t2004 * _t2074
+    _t2077 = _t2001 * _t2059 - _t2004 * _t2060
+    _t2078 = _t2001 * _t2067 - _t2004 * _t2068
+    _t2079 = _t2001 * _t2074 - _t2004 * _t2075
+    _t2080 = D_u_5_im**2
+    _t2081 = D_u_5_re**2
+    _t2082 = _t2080 - _t2081
+    _t2083 = -_t2082
+    _t2084 = 4 * D_u_5_im
+    _t2085 = D_u_5_re * _t2084
+    _t2086 = _t2085 * platform_x6_im
+    _t2087 = -2 * _t2083 * platform_x6_re + _t2086
+    _t2088 = -_t2087
+    _t2089 = 8 * D_u_5_im * D_u_5_re
+    _t2090 = _t2089 * platform_z6_im
+    _t2091 = -4 * _t2083 * platform_z6_re + _t2090
+    _t2092 = -_t2091
+    _t2093 = _t2089 * platform_y6_im
+    _t2094 = 4 * _t2083
+    _t2095 = _t2093 - _t2094 * platform_y6_re
+    _t2096 = -_t2095
+    _t2097 = _t2085 * base_x6_im
+    _t2098 = 2 * _t2083
+    _t2099 = _t2098 * base_x6_re
+    _t2100 = 2 * D_u_5_im
+    _t2101 = 2 * D_u_5_re
+    _t2102 = C_u_5_im * _t2100 - C_u_5_re * _t2101
+    _t2103 = C_u_5_im * _t2101 + C_u_5_re * _t2100
+    _t2104 = -_t2103
+    _t2105 = _t2102 * crank_zero_x6_im + _t2104 * crank_zero_x6_re
+    _t2106 = _t2102 * crank_zero_x6_re - _t2104 * crank_zero_x6_im
+    _t2107 = -2 * D_u_5_re * S_u_5_re + S_u_5_im * _t2100
+    _t2108 = -_t2107
+    _t2109 = S_u_5_im * _t2101 + S_u_5_re * _t2100
+    _t2110 = _t2108 * axis_z6_im + _t2109 * axis_z6_re
+    _t2111 = _t2108 * axis_z6_re - _t2109 * axis_z6_im
+    _t2112 = _t2110 * crank_zero_y6_re + _t2111 * crank_zero_y6_im
+    _t2113 = -_t2109
+    _t2114 = _t2107 * axis_y6_im + _t2113 * axis_y6_re
+    _t2115 = _t2107 * axis_y6_re - _t2113 * axis_y6_im
+    _t2116 = _t2114 * crank_zero_z6_re + _t2115 * crank_zero_z6_im
+    _t2117 = -_t2110 * crank_zero_y6_im + _t2111 * crank_zero_y6_re
+    _t2118 = -_t2114 * crank_zero_z6_im + _t2115 * crank_zero_z6_re
+    _t2119 = _t2085 * platform_y6_im
+    _t2120 = -2 * _t2083 * platform_y6_re + _t2119
+    _t2121 = -_t2120
+    _t2122 = _t2089 * platform_x6_im
+    _t2123 = -4 * _t2083 * platform_x6_re + _t2122
+    _t2124 = -_t2123
+    _t2125 = _t2085 * base_y6_im
+    _t2126 = _t2098 * base_y6_re
+    _t2127 = _t2102 * crank_zero_y6_im + _t2104 * crank_zero_y6_re
+    _t2128 = _t2102 * crank_zero_y6_re - _t2104 * crank_zero_y6_im
+    _t2129 = _t2107 * axis_z6_im + _t2113 * axis_z6_re
+    _t2130 = _t2107 * axis_z6_re - _t2113 * axis_z6_im
+    _t2131 = _t2129 * crank_zero_x6_re + _t2130 * crank_zero_x6_im
+    _t2132 = _t2108 * axis_x6_im + _t2109 * axis_x6_re
+    _t2133 = _t2108 * axis_x6_re - _t2109 * axis_x6_im
+    _t2134 = _t2132 * crank_zero_z6_re + _t2133 * crank_zero_z6_im
+    _t2135 = -_t2129 * crank_zero_x6_im + _t2130 * crank_zero_x6_re
+    _t2136 = -_t2132 * crank_zero_z6_im + _t2133 * crank_zero_z6_re
+    _t2137 = _t2085 * platform_z6_im
+    _t2138 = -2 * _t2083 * platform_z6_re + _t2137
+    _t2139 = -_t2138
+    _t2140 = _t2085 * base_z6_im
+    _t2141 = _t2098 * base_z6_re
+    _t2142 = _t2102 * crank_zero_z6_im + _t2104 * crank_zero_z6_re
+    _t2143 = _t2102 * crank_zero_z6_re - _t2104 * crank_zero_z6_im
+    _t2144 = _t2108 * axis_y6_im + _t2109 * axis_y6_re
+    _t2145 = _t2108 * axis_y6_re - _t2109 * axis_y6_im
+    _t2146 = _t2144 * crank_zero_x6_re + _t2145 * crank_zero_x6_im
+    _t2147 = _t2107 * axis_x6_im + _t2113 * axis_x6_re
+    _t2148 = _t2107 * axis_x6_re - _t2113 * axis_x6_im
+    _t2149 = _t2147 * crank_zero_y6_re + _t2148 * crank_zero_y6_im
+    _t2150 = -_t2144 * crank_zero_x6_im + _t2145 * crank_zero_x6_re
+    _t2151 = -_t2147 * crank_zero_y6_im + _t2148 * crank_zero_y6_re
+    _t2152 = -(platform_x6_im**2) + platform_x6_re**2
+    _t2153 = -(platform_y6_im**2) + platform_y6_re**2
+    _t2154 = -(platform_z6_im**2) + platform_z6_re**2
+    _t2155 = (
+        _t2083 * _t2152
+        + _t2083 * _t2153
+        + _t2083 * _t2154
+        - _t2086 * platform_x6_re
+        - _t2119 * platform_y6_re
+        - _t2137 * platform_z6_re
+    )
+    _t2156 = -2 * _t2080 + 2 * _t2081
+    _t2157 = (
+        -_t2090 * platform_z6_re
+        - _t2093 * platform_y6_re
+        - _t2122 * platform_x6_re
+        + _t2152 * _t2156
+        + _t2153 * _t2156
+        + _t2154 * _t2156
+    )
+    _t2158 = _t2105 * platform_x6_re + _t2106 * platform_x6_im
+    _t2159 = _t2112 * platform_x6_re + _t2117 * platform_x6_im
+    _t2160 = _t2116 * platform_x6_re + _t2118 * platform_x6_im
+    _t2161 = -_t2105 * platform_x6_im + _t2106 * platform_x6_re
+    _t2162 = -_t2112 * platform_x6_im + _t2117 * platform_x6_re
+    _t2163 = -_t2116 * platform_x6_im + _t2118 * platform_x6_re
+    _t2164 = 2 * platform_x6_im
+    _t2165 = 2 * platform_x6_re
+    _t2166 = _t2164 * base_x6_im - _t2165 * base_x6_re
+    _t2167 = _t2164 * base_x6_re + _t2165 * base_x6_im
+    _t2168 = -_t2167
+    _t2169 = D_u_5_im * _t2101
+    _t2170 = (
+        -_t2083 * _t2166
+        + _t2158 * a6_im
+        + _t2159 * a6_im
+        + _t2160 * a6_im
+        - _t2161 * a6_re
+        - _t2162 * a6_re
+        - _t2163 * a6_re
+        + _t2168 * _t2169
+    )
+    _t2171 = _t2131 * platform_y6_re + _t2135 * platform_y6_im
+    _t2172 = _t2127 * platform_y6_re + _t2128 * platform_y6_im
+    _t2173 = _t2134 * platform_y6_re + _t2136 * platform_y6_im
+    _t2174 = -_t2131 * platform_y6_im + _t2135 * platform_y6_re
+    _t2175 = -_t2127 * platform_y6_im + _t2128 * platform_y6_re
+    _t2176 = -_t2134 * platform_y6_im + _t2136 * platform_y6_re
+    _t2177 = 2 * platform_y6_im
+    _t2178 = 2 * platform_y6_re
+    _t2179 = _t2177 * base_y6_im - _t2178 * base_y6_re
+    _t2180 = _t2177 * base_y6_re + _t2178 * base_y6_im
+    _t2181 = -_t2180
+    _t2182 = (
+        -_t2083 * _t2179
+        + _t2169 * _t2181
+        + _t2171 * a6_im
+        + _t2172 * a6_im
+        + _t2173 * a6_im
+        - _t2174 * a6_re
+        - _t2175 * a6_re
+        - _t2176 * a6_re
+    )
+    _t2183 = _t2146 * platform_z6_re + _t2150 * platform_z6_im
+    _t2184 = _t2149 * platform_z6_re + _t2151 * platform_z6_im
+    _t2185 = _t2142 * platform_z6_re + _t2143 * platform_z6_im
+    _t2186 = -_t2146 * platform_z6_im + _t2150 * platform_z6_re
+    _t2187 = -_t2149 * platform_z6_im + _t2151 * platform_z6_re
+    _t2188 = -_t2142 * platform_z6_im + _t2143 * platform_z6_re
+    _t2189 = 2 * platform_z6_im
+    _t2190 = 2 * platform_z6_re
+    _t2191 = _t2189 * base_z6_im - _t2190 * base_z6_re
+    _t2192 = _t2189 * base_z6_re + _t2190 * base_z6_im
+    _t2193 = -_t2192
+    _t2194 = (
+        -_t2083 * _t2191
+        + _t2169 * _t2193
+        + _t2183 * a6_im
+        + _t2184 * a6_im
+        + _t2185 * a6_im
+        - _t2186 * a6_re
+        - _t2187 * a6_re
+        - _t2188 * a6_re
+    )
+    _t2195 = -4 * D_u_5_re * S_u_5_re + S_u_5_im * _t2084
+    _t2196 = -_t2195
+    _t2197 = 4 * D_u_5_re
+    _t2198 = S_u_5_im * _t2197 + S_u_5_re * _t2084
+    _t2199 = _t2196 * axis_z6_im + _t2198 * axis_z6_re
+    _t2200 = _t2196 * axis_z6_re - _t2198 * axis_z6_im
+    _t2201 = _t2199 * crank_zero_x6_re + _t2200 * crank_zero_x6_im
+    _t2202 = -_t2199 * crank_zero_x6_im + _t2200 * crank_zero_x6_re
+    _t2203 = _t2201 * platform_z6_re + _t2202 * platform_z6_im
+    _t2204 = C_u_5_im * _t2084 - C_u_5_re * _t2197
+    _t2205 = -_t2204
+    _t2206 = C_u_5_im * _t2197 + C_u_5_re * _t2084
+    _t2207 = _t2205 * crank_zero_y6_im + _t2206 * crank_zero_y6_re
+    _t2208 = _t2205 * crank_zero_y6_re - _t2206 * crank_zero_y6_im
+    _t2209 = _t2207 * platform_z6_re + _t2208 * platform_z6_im
+    _t2210 = -_t2198
+    _t2211 = _t2195 * axis_x6_im + _t2210 * axis_x6_re
+    _t2212 = _t2195 * axis_x6_re - _t2210 * axis_x6_im
+    _t2213 = _t2211 * crank_zero_z6_re + _t2212 * crank_zero_z6_im
+    _t2214 = -_t2211 * crank_zero_z6_im + _t2212 * crank_zero_z6_re
+    _t2215 = _t2213 * platform_z6_re + _t2214 * platform_z6_im
+    _t2216 = -_t2201 * platform_z6_im + _t2202 * platform_z6_re
+    _t2217 = -_t2207 * platform_z6_im + _t2208 * platform_z6_re
+    _t2218 = -_t2213 * platform_z6_im + _t2214 * platform_z6_re
+    _t2219 = 4 * base_y6_im
+    _t2220 = _t2219 * platform_z6_im - 4 * base_y6_re * platform_z6_re
+    _t2221 = -_t2220
+    _t2222 = 4 * base_y6_re
+    _t2223 = _t2219 * platform_z6_re + _t2222 * platform_z6_im
+    _t2224 = _t2196 * axis_y6_im + _t2198 * axis_y6_re
+    _t2225 = _t2196 * axis_y6_re - _t2198 * axis_y6_im
+    _t2226 = _t2224 * crank_zero_x6_re + _t2225 * crank_zero_x6_im
+    _t2227 = -_t2224 * crank_zero_x6_im + _t2225 * crank_zero_x6_re
+    _t2228 = _t2226 * platform_y6_re + _t2227 * platform_y6_im
+    _t2229 = _t2211 * crank_zero_y6_re + _t2212 * crank_zero_y6_im
+    _t2230 = -_t2211 * crank_zero_y6_im + _t2212 * crank_zero_y6_re
+    _t2231 = _t2229 * platform_y6_re + _t2230 * platform_y6_im
+    _t2232 = -_t2206
+    _t2233 = _t2204 * crank_zero_z6_im + _t2232 * crank_zero_z6_re
+    _t2234 = _t2204 * crank_zero_z6_re - _t2232 * crank_zero_z6_im
+    _t2235 = _t2233 * platform_y6_re + _t2234 * platform_y6_im
+    _t2236 = -_t2226 * platform_y6_im + _t2227 * platform_y6_re
+    _t2237 = -_t2229 * platform_y6_im + _t2230 * platform_y6_re
+    _t2238 = -_t2233 * platform_y6_im + _t2234 * platform_y6_re
+    _t2239 = 4 * platform_y6_im
+    _t2240 = 4 * platform_y6_re
+    _t2241 = _t2239 * base_z6_im - _t2240 * base_z6_re
+    _t2242 = -_t2239 * base_z6_re - _t2240 * base_z6_im
+    _t2243 = (
+        -_t2083 * _t2241
+        + _t2169 * _t2242
+        + _t2228 * a6_im
+        + _t2231 * a6_im
+        + _t2235 * a6_im
+        - _t2236 * a6_re
+        - _t2237 * a6_re
+        - _t2238 * a6_re
+    )
+    _t2244 = _t2195 * axis_y6_im + _t2210 * axis_y6_re
+    _t2245 = _t2195 * axis_y6_re - _t2210 * axis_y6_im
+    _t2246 = _t2244 * crank_zero_x6_re + _t2245 * crank_zero_x6_im
+    _t2247 = -_t2244 * crank_zero_x6_im + _t2245 * crank_zero_x6_re
+    _t2248 = _t2246 * platform_x6_re + _t2247 * platform_x6_im
+    _t2249 = _t2196 * axis_x6_im + _t2198 * axis_x6_re
+    _t2250 = _t2196 * axis_x6_re - _t2198 * axis_x6_im
+    _t2251 = _t2249 * crank_zero_y6_re + _t2250 * crank_zero_y6_im
+    _t2252 = -_t2249 * crank_zero_y6_im + _t2250 * crank_zero_y6_re
+    _t2253 = _t2251 * platform_x6_re + _t2252 * platform_x6_im
+    _t2254 = _t2205 * crank_zero_z6_im + _t2206 * crank_zero_z6_re
+    _t2255 = _t2205 * crank_zero_z6_re - _t2206 * crank_zero_z6_im
+    _t2256 = _t2254 * platform_x6_re + _t2255 * platform_x6_im
+    _t2257 = -_t2246 * platform_x6_im + _t2247 * platform_x6_re
+    _t2258 = -_t2251 * platform_x6_im + _t2252 * platform_x6_re
+    _t2259 = -_t2254 * platform_x6_im + _t2255 * platform_x6_re
+    _t2260 = 4 * base_z6_im
+    _t2261 = _t2260 * platform_x6_im - 4 * base_z6_re * platform_x6_re
+    _t2262 = -_t2261
+    _t2263 = _t2260 * platform_x6_re + 4 * base_z6_re * platform_x6_im
+    _t2264 = _t2204 * crank_zero_x6_im + _t2232 * crank_zero_x6_re
+    _t2265 = _t2204 * crank_zero_x6_re - _t2232 * crank_zero_x6_im
+    _t2266 = _t2264 * platform_z6_re + _t2265 * platform_z6_im
+    _t2267 = _t2199 * crank_zero_y6_re + _t2200 * crank_zero_y6_im
+    _t2268 = -_t2199 * crank_zero_y6_im + _t2200 * crank_zero_y6_re
+    _t2269 = _t2267 * platform_z6_re + _t2268 * platform_z6_im
+    _t2270 = _t2244 * crank_zero_z6_re + _t2245 * crank_zero_z6_im
+    _t2271 = -_t2244 * crank_zero_z6_im + _t2245 * crank_zero_z6_re
+    _t2272 = _t2270 * platform_z6_re + _t2271 * platform_z6_im
+    _t2273 = -_t2264 * platform_z6_im + _t2265 * platform_z6_re
+    _t2274 = -_t2267 * platform_z6_im + _t2268 * platform_z6_re
+    _t2275 = -_t2270 * platform_z6_im + _t2271 * platform_z6_re
+    _t2276 = 4 * platform_z6_im
+    _t2277 = 4 * platform_z6_re
+    _t2278 = _t2276 * base_x6_im - _t2277 * base_x6_re
+    _t2279 = -_t2276 * base_x6_re - _t2277 * base_x6_im
+    _t2280 = (
+        -_t2083 * _t2278
+        + _t2169 * _t2279
+        + _t2266 * a6_im
+        + _t2269 * a6_im
+        + _t2272 * a6_im
+        - _t2273 * a6_re
+        - _t2274 * a6_re
+        - _t2275 * a6_re
+    )
+    _t2281 = _t2205 * crank_zero_x6_im + _t2206 * crank_zero_x6_re
+    _t2282 = _t2205 * crank_zero_x6_re - _t2206 * crank_zero_x6_im
+    _t2283 = _t2281 * platform_y6_re + _t2282 * platform_y6_im
+    _t2284 = _t2195 * axis_z6_im + _t2210 * axis_z6_re
+    _t2285 = _t2195 * axis_z6_re - _t2210 * axis_z6_im
+    _t2286 = _t2284 * crank_zero_y6_re + _t2285 * crank_zero_y6_im
+    _t2287 = -_t2284 * crank_zero_y6_im + _t2285 * crank_zero_y6_re
+    _t2288 = _t2286 * platform_y6_re + _t2287 * platform_y6_im
+    _t2289 = _t2224 * crank_zero_z6_re + _t2225 * crank_zero_z6_im
+    _t2290 = -_t2224 * crank_zero_z6_im + _t2225 * crank_zero_z6_re
+    _t2291 = _t2289 * platform_y6_re + _t2290 * platform_y6_im
+    _t2292 = -_t2281 * platform_y6_im + _t2282 * platform_y6_re
+    _t2293 = -_t2286 * platform_y6_im + _t2287 * platform_y6_re
+    _t2294 = -_t2289 * platform_y6_im + _t2290 * platform_y6_re
+    _t2295 = _t2239 * base_x6_im - 4 * base_x6_re * platform_y6_re
+    _t2296 = -_t2295
+    _t2297 = _t2239 * base_x6_re + _t2240 * base_x6_im
+    _t2298 = _t2284 * crank_zero_x6_re + _t2285 * crank_zero_x6_im
+    _t2299 = -_t2284 * crank_zero_x6_im + _t2285 * crank_zero_x6_re
+    _t2300 = _t2298 * platform_x6_re + _t2299 * platform_x6_im
+    _t2301 = _t2204 * crank_zero_y6_im + _t2232 * crank_zero_y6_re
+    _t2302 = _t2204 * crank_zero_y6_re - _t2232 * crank_zero_y6_im
+    _t2303 = _t2301 * platform_x6_re + _t2302 * platform_x6_im
+    _t2304 = _t2249 * crank_zero_z6_re + _t2250 * crank_zero_z6_im
+    _t2305 = -_t2249 * crank_zero_z6_im + _t2250 * crank_zero_z6_re
+    _t2306 = _t2304 * platform_x6_re + _t2305 * platform_x6_im
+    _t2307 = -_t2298 * platform_x6_im + _t2299 * platform_x6_re
+    _t2308 = -_t2301 * platform_x6_im + _t2302 * platform_x6_re
+    _t2309 = -_t2304 * platform_x6_im + _t2305 * platform_x6_re
+    _t2310 = _t2219 * platform_x6_im - _t2222 * platform_x6_re
+    _t2311 = -_t2219 * platform_x6_re - _t2222 * platform_x6_im
+    _t2312 = (
+        -_t2083 * _t2310
+        + _t2169 * _t2311
+        + _t2300 * a6_im
+        + _t2303 * a6_im
+        + _t2306 * a6_im
+        - _t2307 * a6_re
+        - _t2308 * a6_re
+        - _t2309 * a6_re
+    )
+    _t2313 = _t2114 * crank_zero_x6_re + _t2115 * crank_zero_x6_im
+    _t2314 = -_t2114 * crank_zero_x6_im + _t2115 * crank_zero_x6_re
+    _t2315 = _t2313 * platform_z6_re + _t2314 * platform_z6_im
+    _t2316 = _t2132 * crank_zero_y6_re + _t2133 * crank_zero_y6_im
+    _t2317 = -_t2132 * crank_zero_y6_im + _t2133 * crank_zero_y6_re
+    _t2318 = _t2316 * platform_z6_re + _t2317 * platform_z6_im
+    _t2319 = -_t2102
+    _t2320 = _t2103 * crank_zero_z6_re + _t2319 * crank_zero_z6_im
+    _t2321 = -_t2103 * crank_zero_z6_im + _t2319 * crank_zero_z6_re
+    _t2322 = _t2320 * platform_z6_re + _t2321 * platform_z6_im
+    _t2323 = -_t2313 * platform_z6_im + _t2314 * platform_z6_re
+    _t2324 = -_t2316 * platform_z6_im + _t2317 * platform_z6_re
+    _t2325 = -_t2320 * platform_z6_im + _t2321 * platform_z6_re
+    _t2326 = -_t2191
+    _t2327 = (
+        -_t2083 * _t2326
+        + _t2169 * _t2192
+        + _t2315 * a6_im
+        + _t2318 * a6_im
+        + _t2322 * a6_im
+        - _t2323 * a6_re
+        - _t2324 * a6_re
+        - _t2325 * a6_re
+    )
+    _t2328 = _t2110 * crank_zero_x6_re + _t2111 * crank_zero_x6_im
+    _t2329 = -_t2110 * crank_zero_x6_im + _t2111 * crank_zero_x6_re
+    _t2330 = _t2328 * platform_y6_re + _t2329 * platform_y6_im
+    _t2331 = _t2103 * crank_zero_y6_re + _t2319 * crank_zero_y6_im
+    _t2332 = -_t2103 * crank_zero_y6_im + _t2319 * crank_zero_y6_re
+    _t2333 = _t2331 * platform_y6_re + _t2332 * platform_y6_im
+    _t2334 = _t2147 * crank_zero_z6_re + _t2148 * crank_zero_z6_im
+    _t2335 = -_t2147 * crank_zero_z6_im + _t2148 * crank_zero_z6_re
+    _t2336 = _t2334 * platform_y6_re + _t2335 * platform_y6_im
+    _t2337 = -_t2328 * platform_y6_im + _t2329 * platform_y6_re
+    _t2338 = -_t2331 * platform_y6_im + _t2332 * platform_y6_re
+    _t2339 = -_t2334 * platform_y6_im + _t2335 * platform_y6_re
+    _t2340 = -_t2179
+    _t2341 = (
+        -_t2083 * _t2340
+        + _t2169 * _t2180
+        + _t2330 * a6_im
+        + _t2333 * a6_im
+        + _t2336 * a6_im
+        - _t2337 * a6_re
+        - _t2338 * a6_re
+        - _t2339 * a6_re
+    )
+    _t2342 = _t2264 * platform_y6_re + _t2265 * platform_y6_im
+    _t2343 = _t2267 * platform_y6_re + _t2268 * platform_y6_im
+    _t2344 = _t2270 * platform_y6_re + _t2271 * platform_y6_im
+    _t2345 = -_t2264 * platform_y6_im + _t2265 * platform_y6_re
+    _t2346 = -_t2267 * platform_y6_im + _t2268 * platform_y6_re
+    _t2347 = -_t2270 * platform_y6_im + _t2271 * platform_y6_re
+    _t2348 = -_t2297
+    _t2349 = _t2226 * platform_x6_re + _t2227 * platform_x6_im
+    _t2350 = _t2229 * platform_x6_re + _t2230 * platform_x6_im
+    _t2351 = _t2233 * platform_x6_re + _t2234 * platform_x6_im
+    _t2352 = -_t2226 * platform_x6_im + _t2227 * platform_x6_re
+    _t2353 = -_t2229 * platform_x6_im + _t2230 * platform_x6_re
+    _t2354 = -_t2233 * platform_x6_im + _t2234 * platform_x6_re
+    _t2355 = -_t2263
+    _t2356 = _t2103 * crank_zero_x6_re + _t2319 * crank_zero_x6_im
+    _t2357 = -_t2103 * crank_zero_x6_im + _t2319 * crank_zero_x6_re
+    _t2358 = _t2356 * platform_x6_re + _t2357 * platform_x6_im
+    _t2359 = _t2129 * crank_zero_y6_re + _t2130 * crank_zero_y6_im
+    _t2360 = -_t2129 * crank_zero_y6_im + _t2130 * crank_zero_y6_re
+    _t2361 = _t2359 * platform_x6_re + _t2360 * platform_x6_im
+    _t2362 = _t2144 * crank_zero_z6_re + _t2145 * crank_zero_z6_im
+    _t2363 = -_t2144 * crank_zero_z6_im + _t2145 * crank_zero_z6_re
+    _t2364 = _t2362 * platform_x6_re + _t2363 * platform_x6_im
+    _t2365 = -_t2356 * platform_x6_im + _t2357 * platform_x6_re
+    _t2366 = -_t2359 * platform_x6_im + _t2360 * platform_x6_re
+    _t2367 = -_t2362 * platform_x6_im + _t2363 * platform_x6_re
+    _t2368 = -_t2166
+    _t2369 = (
+        -_t2083 * _t2368
+        + _t2167 * _t2169
+        + _t2358 * a6_im
+        + _t2361 * a6_im
+        + _t2364 * a6_im
+        - _t2365 * a6_re
+        - _t2366 * a6_re
+        - _t2367 * a6_re
+    )
+    _t2370 = _t2298 * platform_z6_re + _t2299 * platform_z6_im
+    _t2371 = _t2301 * platform_z6_re + _t2302 * platform_z6_im
+    _t2372 = _t2304 * platform_z6_re + _t2305 * platform_z6_im
+    _t2373 = -_t2298 * platform_z6_im + _t2299 * platform_z6_re
+    _t2374 = -_t2301 * platform_z6_im + _t2302 * platform_z6_re
+    _t2375 = -_t2304 * platform_z6_im + _t2305 * platform_z6_re
+    _t2376 = -_t2223
+    _t2377 = b6_im * b6_re
+    _t2378 = -(base_x6_im**2) + base_x6_re**2
+    _t2379 = -(base_y6_im**2) + base_y6_re**2
+    _t2380 = -(base_z6_im**2) + base_z6_re**2
+    _t2381 = -(b6_im**2) + b6_re**2
+    _t2382 = -(crank_zero_x6_im**2) + crank_zero_x6_re**2
+    _t2383 = C_u_5_im * C_u_5_re
+    _t2384 = 2 * _t2383
+    _t2385 = -(C_u_5_im**2) + C_u_5_re**2
+    _t2386 = crank_zero_x6_im * crank_zero_x6_re
+    _t2387 = 2 * _t2386
+    _t2388 = _t2382 * _t2384 + _t2385 * _t2387
+    _t2389 = 2 * a6_im * a6_re
+    _t2390 = -(crank_zero_y6_im**2) + crank_zero_y6_re**2
+    _t2391 = crank_zero_y6_im * crank_zero_y6_re
+    _t2392 = 2 * _t2391
+    _t2393 = _t2384 * _t2390 + _t2385 * _t2392
+    _t2394 = -(crank_zero_z6_im**2) + crank_zero_z6_re**2
+    _t2395 = crank_zero_z6_im * crank_zero_z6_re
+    _t2396 = 2 * _t2395
+    _t2397 = _t2384 * _t2394 + _t2385 * _t2396
+    _t2398 = -(a6_im**2) + a6_re**2
+    _t2399 = 4 * _t2383
+    _t2400 = _t2382 * _t2385 - _t2386 * _t2399
+    _t2401 = _t2385 * _t2390 - _t2391 * _t2399
+    _t2402 = _t2385 * _t2394 - _t2395 * _t2399
+    _t2403 = _t2103 * base_x6_re + _t2319 * base_x6_im
+    _t2404 = -_t2103 * base_x6_im + _t2319 * base_x6_re
+    _t2405 = _t2403 * crank_zero_x6_re + _t2404 * crank_zero_x6_im
+    _t2406 = _t2103 * base_y6_re + _t2319 * base_y6_im
+    _t2407 = -_t2103 * base_y6_im + _t2319 * base_y6_re
+    _t2408 = _t2406 * crank_zero_y6_re + _t2407 * crank_zero_y6_im
+    _t2409 = _t2103 * base_z6_re + _t2319 * base_z6_im
+    _t2410 = -_t2103 * base_z6_im + _t2319 * base_z6_re
+    _t2411 = _t2409 * crank_zero_z6_re + _t2410 * crank_zero_z6_im
+    _t2412 = -_t2403 * crank_zero_x6_im + _t2404 * crank_zero_x6_re
+    _t2413 = -_t2406 * crank_zero_y6_im + _t2407 * crank_zero_y6_re
+    _t2414 = -_t2409 * crank_zero_z6_im + _t2410 * crank_zero_z6_re
+    _t2415 = S_u_5_im * S_u_5_re
+    _t2416 = 4 * _t2415
+    _t2417 = -(S_u_5_im**2) + S_u_5_re**2
+    _t2418 = -(axis_y6_im**2) + axis_y6_re**2
+    _t2419 = -_t2416 * axis_y6_im * axis_y6_re + _t2417 * _t2418
+    _t2420 = 2 * _t2415
+    _t2421 = 2 * axis_y6_re
+    _t2422 = _t2417 * _t2421 * axis_y6_im + _t2418 * _t2420
+    _t2423 = _t2382 * _t2422 + _t2387 * _t2419
+    _t2424 = -(axis_z6_im**2) + axis_z6_re**2
+    _t2425 = -_t2416 * axis_z6_im * axis_z6_re + _t2417 * _t2424
+    _t2426 = 2 * axis_z6_re
+    _t2427 = _t2417 * _t2426 * axis_z6_im + _t2420 * _t2424
+    _t2428 = _t2382 * _t2427 + _t2387 * _t2425
+    _t2429 = axis_x6_im * axis_x6_re
+    _t2430 = -(axis_x6_im**2) + axis_x6_re**2
+    _t2431 = -_t2416 * _t2429 + _t2417 * _t2430
+    _t2432 = 2 * _t2417 * _t2429 + _t2420 * _t2430
+    _t2433 = _t2390 * _t2432 + _t2392 * _t2431
+    _t2434 = _t2390 * _t2427 + _t2392 * _t2425
+    _t2435 = _t2394 * _t2432 + _t2396 * _t2431
+    _t2436 = _t2394 * _t2422 + _t2396 * _t2419
+    _t2437 = 2 * _t2422
+    _t2438 = _t2382 * _t2419 - _t2386 * _t2437
+    _t2439 = 2 * _t2427
+    _t2440 = _t2382 * _t2425 - _t2386 * _t2439
+    _t2441 = 2 * _t2432
+    _t2442 = _t2390 * _t2431 - _t2391 * _t2441
+    _t2443 = _t2390 * _t2425 - _t2391 * _t2439
+    _t2444 = _t2394 * _t2431 - _t2395 * _t2441
+    _t2445 = _t2394 * _t2419 - _t2395 * _t2437
+    _t2446 = _t2110 * base_y6_re + _t2111 * base_y6_im
+    _t2447 = -_t2110 * base_y6_im + _t2111 * base_y6_re
+    _t2448 = _t2446 * crank_zero_x6_re + _t2447 * crank_zero_x6_im
+    _t2449 = _t2114 * base_z6_re + _t2115 * base_z6_im
+    _t2450 = -_t2114 * base_z6_im + _t2115 * base_z6_re
+    _t2451 = _t2449 * crank_zero_x6_re + _t2450 * crank_zero_x6_im
+    _t2452 = _t2129 * base_x6_re + _t2130 * base_x6_im
+    _t2453 = -_t2129 * base_x6_im + _t2130 * base_x6_re
+    _t2454 = _t2452 * crank_zero_y6_re + _t2453 * crank_zero_y6_im
+    _t2455 = _t2132 * base_z6_re + _t2133 * base_z6_im
+    _t2456 = -_t2132 * base_z6_im + _t2133 * base_z6_re
+    _t2457 = _t2455 * crank_zero_y6_re + _t2456 * crank_zero_y6_im
+    _t2458 = _t2144 * base_x6_re + _t2145 * base_x6_im
+    _t2459 = -_t2144 * base_x6_im + _t2145 * base_x6_re
+    _t2460 = _t2458 * crank_zero_z6_re + _t2459 * crank_zero_z6_im
+    _t2461 = _t2147 * base_y6_re + _t2148 * base_y6_im
+    _t2462 = -_t2147 * base_y6_im + _t2148 * base_y6_re
+    _t2463 = _t2461 * crank_zero_z6_re + _t2462 * crank_zero_z6_im
+    _t2464 = -_t2446 * crank_zero_x6_im + _t2447 * crank_zero_x6_re
+    _t2465 = -_t2449 * crank_zero_x6_im + _t2450 * crank_zero_x6_re
+    _t2466 = -_t2452 * crank_zero_y6_im + _t2453 * crank_zero_y6_re
+    _t2467 = -_t2455 * crank_zero_y6_im + _t2456 * crank_zero_y6_re
+    _t2468 = -_t2458 * crank_zero_z6_im + _t2459 * crank_zero_z6_re
+    _t2469 = -_t2461 * crank_zero_z6_im + _t2462 * crank_zero_z6_re
+    _t2470 = 2 * axis_y6_im
+    _t2471 = -_t2421 * axis_x6_re + _t2470 * axis_x6_im
+    _t2472 = -_t2421 * axis_x6_im - _t2470 * axis_x6_re
+    _t2473 = _t2471 * crank_zero_x6_im + _t2472 * crank_zero_x6_re
+    _t2474 = _t2471 * crank_zero_x6_re - _t2472 * crank_zero_x6_im
+    _t2475 = -_t2473 * crank_zero_y6_im + _t2474 * crank_zero_y6_re
+    _t2476 = _t2473 * crank_zero_y6_re + _t2474 * crank_zero_y6_im
+    _t2477 = _t2417 * _t2476 + _t2420 * _t2475
+    _t2478 = 2 * axis_z6_im
+    _t2479 = -_t2426 * axis_x6_re + _t2478 * axis_x6_im
+    _t2480 = -_t2426 * axis_x6_im - _t2478 * axis_x6_re
+    _t2481 = _t2479 * crank_zero_x6_im + _t2480 * crank_zero_x6_re
+    _t2482 = _t2479 * crank_zero_x6_re - _t2480 * crank_zero_x6_im
+    _t2483 = -_t2481 * crank_zero_z6_im + _t2482 * crank_zero_z6_re
+    _t2484 = _t2481 * crank_zero_z6_re + _t2482 * crank_zero_z6_im
+    _t2485 = _t2417 * _t2484 + _t2420 * _t2483
+    _t2486 = -_t2421 * axis_z6_re + _t2470 * axis_z6_im
+    _t2487 = -_t2421 * axis_z6_im - _t2470 * axis_z6_re
+    _t2488 = _t2486 * crank_zero_y6_im + _t2487 * crank_zero_y6_re
+    _t2489 = _t2486 * crank_zero_y6_re - _t2487 * crank_zero_y6_im
+    _t2490 = -_t2488 * crank_zero_z6_im + _t2489 * crank_zero_z6_re
+    _t2491 = _t2488 * crank_zero_z6_re + _t2489 * crank_zero_z6_im
+    _t2492 = _t2417 * _t2491 + _t2420 * _t2490
+    _t2493 = _t2417 * _t2475 - _t2420 * _t2476
+    _t2494 = _t2417 * _t2483 - _t2420 * _t2484
+    _t2495 = _t2417 * _t2490 - _t2420 * _t2491
+    _t2496 = _t18 * platform_x1_im + _t5 * platform_x1_re
+    _t2497 = _t14 * platform_z1_im + _t9 * platform_z1_re
+    _t2498 = _t14 * platform_y1_im + _t9 * platform_y1_re
+    _t2499 = -_t2496
+    _t2500 = _t18 * platform_y1_im + _t5 * platform_y1_re
+    _t2501 = _t14 * platform_x1_im + _t9 * platform_x1_re
+    _t2502 = -_t2500
+    _t2503 = _t18 * platform_z1_im + _t5 * platform_z1_re
+    _t2504 = -_t2503
+    _t2505 = (
+        _t18 * platform_x1_im * platform_x1_re
+        + _t18 * platform_y1_im * platform_y1_re
+        + _t18 * platform_z1_im * platform_z1_re
+        + _t72 * _t89
+        + _t73 * _t89
+        + _t74 * _t89
+    )
+    _t2506 = (
+        _t110 * _t76 * platform_z1_im
+        + _t5 * _t72
+        + _t5 * _t73
+        + _t5 * _t74
+        + _t76 * _t85 * platform_x1_im
+        + _t76 * _t98 * platform_y1_im
+    )
+    _t2507 = (
+        _t3 * _t88
+        + _t78 * a1_re
+        + _t79 * a1_re
+        + _t80 * a1_re
+        + _t81 * a1_im
+        + _t82 * a1_im
+        + _t83 * a1_im
+        + _t86 * _t89
+    )
+    _t2508 = (
+        _t101 * _t3
+        + _t89 * _t99
+        + _t91 * a1_re
+        + _t92 * a1_re
+        + _t93 * a1_re
+        + _t94 * a1_im
+        + _t95 * a1_im
+        + _t96 * a1_im
+    )
+    _t2509 = (
+        _t103 * a1_re
+        + _t104 * a1_re
+        + _t105 * a1_re
+        + _t106 * a1_im
+        + _t107 * a1_im
+        + _t108 * a1_im
+        + _t111 * _t89
+        + _t113 * _t3
+    )
+    _t2510 = (
+        _t148 * a1_re
+        + _t151 * a1_re
+        + _t155 * a1_re
+        + _t156 * a1_im
+        + _t157 * a1_im
+        + _t158 * a1_im
+        + _t161 * _t89
+        + _t162 * _t3
+    )
+    _t2511 = (
+        _t186 * a1_re
+        + _t189 * a1_re
+        + _t192 * a1_re
+        + _t193 * a1_im
+        + _t194 * a1_im
+        + _t195 * a1_im
+        + _t198 * _t89
+        + _t199 * _t3
+    )
+    _t2512 = (
+        _t220 * a1_re
+        + _t223 * a1_re
+        + _t226 * a1_re
+        + _t227 * a1_im
+        + _t228 * a1_im
+        + _t229 * a1_im
+        + _t230 * _t89
+        + _t231 * _t3
+    )
+    _t2513 = (
+        _t112 * _t3
+        + _t235 * a1_re
+        + _t238 * a1_re
+        + _t242 * a1_re
+        + _t243 * a1_im
+        + _t244 * a1_im
+        + _t245 * a1_im
+        + _t246 * _t89
+    )
+    _t2514 = (
+        _t100 * _t3
+        + _t250 * a1_re
+        + _t253 * a1_re
+        + _t256 * a1_re
+        + _t257 * a1_im
+        + _t258 * a1_im
+        + _t259 * a1_im
+        + _t260 * _t89
+    )
+    _t2515 = (
+        _t278 * a1_re
+        + _t281 * a1_re
+        + _t284 * a1_re
+        + _t285 * a1_im
+        + _t286 * a1_im
+        + _t287 * a1_im
+        + _t288 * _t89
+        + _t3 * _t87
+    )
+    _t2516 = _t421 * platform_x2_re + _t434 * platform_x2_im
+    _t2517 = _t425 * platform_z2_re + _t430 * platform_z2_im
+    _t2518 = _t425 * platform_y2_re + _t430 * platform_y2_im
+    _t2519 = -_t2516
+    _t2520 = _t421 * platform_y2_re + _t434 * platform_y2_im
+    _t2521 = _t425 * platform_x2_re + _t430 * platform_x2_im
+    _t2522 = -_t2520
+    _t2523 = _t421 * platform_z2_re + _t434 * platform_z2_im
+    _t2524 = -_t2523
+    _t2525 = (
+        _t434 * platform_x2_im * platform_x2_re
+        + _t434 * platform_y2_im * platform_y2_re
+        + _t434 * platform_z2_im * platform_z2_re
+        + _t488 * _t505
+        + _t489 * _t505
+        + _t490 * _t505
+    )
+    _t2526 = (
+        _t421 * _t488
+        + _t421 * _t489
+        + _t421 * _t490
+        + _t492 * _t501 * platform_x2_im
+        + _t492 * _t514 * platform_y2_im
+        + _t492 * _t526 * platform_z2_im
+    )
+    _t2527 = (
+        _t419 * _t504
+        + _t494 * a2_re
+        + _t495 * a2_re
+        + _t496 * a2_re
+        + _t497 * a2_im
+        + _t498 * a2_im
+        + _t499 * a2_im
+        + _t502 * _t505
+    )
+    _t2528 = (
+        _t419 * _t517
+        + _t505 * _t515
+        + _t507 * a2_re
+        + _t508 * a2_re
+        + _t509 * a2_re
+        + _t510 * a2_im
+        + _t511 * a2_im
+        + _t512 * a2_im
+    )
+    _t2529 = (
+        _t419 * _t529
+        + _t505 * _t527
+        + _t519 * a2_re
+        + _t520 * a2_re
+        + _t521 * a2_re
+        + _t522 * a2_im
+        + _t523 * a2_im
+        + _t524 * a2_im
+    )
+    _t2530 = (
+        _t419 * _t578
+        + _t505 * _t577
+        + _t564 * a2_re
+        + _t567 * a2_re
+        + _t571 * a2_re
+        + _t572 * a2_im
+        + _t573 * a2_im
+        + _t574 * a2_im
+    )
+    _t2531 = (
+        _t419 * _t615
+        + _t505 * _t614
+        + _t602 * a2_re
+        + _t605 * a2_re
+        + _t608 * a2_re
+        + _t609 * a2_im
+        + _t610 * a2_im
+        + _t611 * a2_im
+    )
+    _t2532 = (
+        _t419 * _t647
+        + _t505 * _t646
+        + _t636 * a2_re
+        + _t639 * a2_re
+        + _t642 * a2_re
+        + _t643 * a2_im
+        + _t644 * a2_im
+        + _t645 * a2_im
+    )
+    _t2533 = (
+        _t419 * _t528
+        + _t505 * _t662
+        + _t651 * a2_re
+        + _t654 * a2_re
+        + _t658 * a2_re
+        + _t659 * a2_im
+        + _t660 * a2_im
+        + _t661 * a2_im
+    )
+    _t2534 = (
+        _t419 * _t516
+        + _t505 * _t676
+        + _t666 * a2_re
+        + _t669 * a2_re
+        + _t672 * a2_re
+        + _t673 * a2_im
+        + _t674 * a2_im
+        + _t675 * a2_im
+    )
+    _t2535 = (
+        _t419 * _t503
+        + _t505 * _t704
+        + _t694 * a2_re
+        + _t697 * a2_re
+        + _t700 * a2_re
+        + _t701 * a2_im
+        + _t702 * a2_im
+        + _t703 * a2_im
+    )
+    _t2536 = _t837 * platform_x3_re + _t850 * platform_x3_im
+    _t2537 = _t841 * platform_z3_re + _t846 * platform_z3_im
+    _t2538 = _t841 * platform_y3_re + _t846 * platform_y3_im
+    _t2539 = -_t2536
+    _t2540 = _t837 * platform_y3_re + _t850 * platform_y3_im
+    _t2541 = _t841 * platform_x3_re + _t846 * platform_x3_im
+    _t2542 = -_t2540
+    _t2543 = _t837 * platform_z3_re + _t850 * platform_z3_im
+    _t2544 = -_t2543
+    _t2545 = (
+        _t850 * platform_x3_im * platform_x3_re
+        + _t850 * platform_y3_im * platform_y3_re
+        + _t850 * platform_z3_im * platform_z3_re
+        + _t904 * _t921
+        + _t905 * _t921
+        + _t906 * _t921
+    )
+    _t2546 = (
+        _t837 * _t904
+        + _t837 * _t905
+        + _t837 * _t906
+        + _t908 * _t917 * platform_x3_im
+        + _t908 * _t930 * platform_y3_im
+        + _t908 * _t942 * platform_z3_im
+    )
+    _t2547 = (
+        _t835 * _t920
+        + _t910 * a3_re
+        + _t911 * a3_re
+        + _t912 * a3_re
+        + _t913 * a3_im
+        + _t914 * a3_im
+        + _t915 * a3_im
+        + _t918 * _t921
+    )
+    _t2548 = (
+        _t835 * _t933
+        + _t921 * _t931
+        + _t923 * a3_re
+        + _t924 * a3_re
+        + _t925 * a3_re
+        + _t926 * a3_im
+        + _t927 * a3_im
+        + _t928 * a3_im
+    )
+    _t2549 = (
+        _t835 * _t945
+        + _t921 * _t943
+        + _t935 * a3_re
+        + _t936 * a3_re
+        + _t937 * a3_re
+        + _t938 * a3_im
+        + _t939 * a3_im
+        + _t940 * a3_im
+    )
+    _t2550 = (
+        _t835 * _t994
+        + _t921 * _t993
+        + _t980 * a3_re
+        + _t983 * a3_re
+        + _t987 * a3_re
+        + _t988 * a3_im
+        + _t989 * a3_im
+        + _t990 * a3_im
+    )
+    _t2551 = (
+        _t1018 * a3_re
+        + _t1021 * a3_re
+        + _t1024 * a3_re
+        + _t1025 * a3_im
+        + _t1026 * a3_im
+        + _t1027 * a3_im
+        + _t1030 * _t921
+        + _t1031 * _t835
+    )
+    _t2552 = (
+        _t1052 * a3_re
+        + _t1055 * a3_re
+        + _t1058 * a3_re
+        + _t1059 * a3_im
+        + _t1060 * a3_im
+        + _t1061 * a3_im
+        + _t1062 * _t921
+        + _t1063 * _t835
+    )
+    _t2553 = (
+        _t1067 * a3_re
+        + _t1070 * a3_re
+        + _t1074 * a3_re
+        + _t1075 * a3_im
+        + _t1076 * a3_im
+        + _t1077 * a3_im
+        + _t1078 * _t921
+        + _t835 * _t944
+    )
+    _t2554 = (
+        _t1082 * a3_re
+        + _t1085 * a3_re
+        + _t1088 * a3_re
+        + _t1089 * a3_im
+        + _t1090 * a3_im
+        + _t1091 * a3_im
+        + _t1092 * _t921
+        + _t835 * _t932
+    )
+    _t2555 = (
+        _t1110 * a3_re
+        + _t1113 * a3_re
+        + _t1116 * a3_re
+        + _t1117 * a3_im
+        + _t1118 * a3_im
+        + _t1119 * a3_im
+        + _t1120 * _t921
+        + _t835 * _t919
+    )
+    _t2556 = _t1253 * platform_x4_re + _t1266 * platform_x4_im
+    _t2557 = _t1257 * platform_z4_re + _t1262 * platform_z4_im
+    _t2558 = _t1257 * platform_y4_re + _t1262 * platform_y4_im
+    _t2559 = -_t2556
+    _t2560 = _t1253 * platform_y4_re + _t1266 * platform_y4_im
+    _t2561 = _t1257 * platform_x4_re + _t1262 * platform_x4_im
+    _t2562 = -_t2560
+    _t2563 = _t1253 * platform_z4_re + _t1266 * platform_z4_im
+    _t2564 = -_t2563
+    _t2565 = (
+        _t1266 * platform_x4_im * platform_x4_re
+        + _t1266 * platform_y4_im * platform_y4_re
+        + _t1266 * platform_z4_im * platform_z4_re
+        + _t1320 * _t1337
+        + _t1321 * _t1337
+        + _t1322 * _t1337
+    )
+    _t2566 = (
+        _t1253 * _t1320
+        + _t1253 * _t1321
+        + _t1253 * _t1322
+        + _t1324 * _t1333 * platform_x4_im
+        + _t1324 * _t1346 * platform_y4_im
+        + _t1324 * _t1358 * platform_z4_im
+    )
+    _t2567 = (
+        _t1251 * _t1336
+        + _t1326 * a4_re
+        + _t1327 * a4_re
+        + _t1328 * a4_re
+        + _t1329 * a4_im
+        + _t1330 * a4_im
+        + _t1331 * a4_im
+        + _t1334 * _t1337
+    )
+    _t2568 = (
+        _t1251 * _t1349
+        + _t1337 * _t1347
+        + _t1339 * a4_re
+        + _t1340 * a4_re
+        + _t1341 * a4_re
+        + _t1342 * a4_im
+        + _t1343 * a4_im
+        + _t1344 * a4_im
+    )
+    _t2569 = (
+        _t1251 * _t1361
+        + _t1337 * _t1359
+        + _t1351 * a4_re
+        + _t1352 * a4_re
+        + _t1353 * a4_re
+        + _t1354 * a4_im
+        + _t1355 * a4_im
+        + _t1356 * a4_im
+    )
+    _t2570 = (
+        _t1251 * _t1410
+        + _t1337 * _t1409
+        + _t1396 * a4_re
+        + _t1399 * a4_re
+        + _t1403 * a4_re
+        + _t1404 * a4_im
+        + _t1405 * a4_im
+        + _t1406 * a4_im
+    )
+    _t2571 = (
+        _t1251 * _t1447
+        + _t1337 * _t1446
+        + _t1434 * a4_re
+        + _t1437 * a4_re
+        + _t1440 * a4_re
+        + _t1441 * a4_im
+        + _t1442 * a4_im
+        + _t1443 * a4_im
+    )
+    _t2572 = (
+        _t1251 * _t1479
+        + _t1337 * _t1478
+        + _t1468 * a4_re
+        + _t1471 * a4_re
+        + _t1474 * a4_re
+        + _t1475 * a4_im
+        + _t1476 * a4_im
+        + _t1477 * a4_im
+    )
+    _t2573 = (
+        _t1251 * _t1360
+        + _t1337 * _t1494
+        + _t1483 * a4_re
+        + _t1486 * a4_re
+        + _t1490 * a4_re
+        + _t1491 * a4_im
+        + _t1492 * a4_im
+        + _t1493 * a4_im
+    )
+    _t2574 = (
+        _t1251 * _t1348
+        + _t1337 * _t1508
+        + _t1498 * a4_re
+        + _t1501 * a4_re
+        + _t1504 * a4_re
+        + _t1505 * a4_im
+        + _t1506 * a4_im
+        + _t1507 * a4_im
+    )
+    _t2575 = (
+        _t1251 * _t1335
+        + _t1337 * _t1536
+        + _t1526 * a4_re
+        + _t1529 * a4_re
+        + _t1532 * a4_re
+        + _t1533 * a4_im
+        + _t1534 * a4_im
+        + _t1535 * a4_im
+    )
+    _t2576 = _t1669 * platform_x5_re + _t1682 * platform_x5_im
+    _t2577 = _t1673 * platform_z5_re + _t1678 * platform_z5_im
+    _t2578 = _t1673 * platform_y5_re + _t1678 * platform_y5_im
+    _t2579 = -_t2576
+    _t2580 = _t1669 * platform_y5_re + _t1682 * platform_y5_im
+    _t2581 = _t1673 * platform_x5_re + _t1678 * platform_x5_im
+    _t2582 = -_t2580
+    _t2583 = _t1669 * platform_z5_re + _t1682 * platform_z5_im
+    _t2584 = -_t2583
+    _t2585 = (
+        _t1682 * platform_x5_im * platform_x5_re
+        + _t1682 * platform_y5_im * platform_y5_re
+        + _t1682 * platform_z5_im * platform_z5_re
+        + _t1736 * _t1753
+        + _t1737 * _t1753
+        + _t1738 * _t1753
+    )
+    _t2586 = (
+        _t1669 * _t1736
+        + _t1669 * _t1737
+        + _t1669 * _t1738
+        + _t1740 * _t1749 * platform_x5_im
+        + _t1740 * _t1762 * platform_y5_im
+        + _t1740 * _t1774 * platform_z5_im
+    )
+    _t2587 = (
+        _t1667 * _t1752
+        + _t1742 * a5_re
+        + _t1743 * a5_re
+        + _t1744 * a5_re
+        + _t1745 * a5_im
+        + _t1746 * a5_im
+        + _t1747 * a5_im
+        + _t1750 * _t1753
+    )
+    _t2588 = (
+        _t1667 * _t1765
+        + _t1753 * _t1763
+        + _t1755 * a5_re
+        + _t1756 * a5_re
+        + _t1757 * a5_re
+        + _t1758 * a5_im
+        + _t1759 * a5_im
+        + _t1760 * a5_im
+    )
+    _t2589 = (
+        _t1667 * _t1777
+        + _t1753 * _t1775
+        + _t1767 * a5_re
+        + _t1768 * a5_re
+        + _t1769 * a5_re
+        + _t1770 * a5_im
+        + _t1771 * a5_im
+        + _t1772 * a5_im
+    )
+    _t2590 = (
+        _t1667 * _t1826
+        + _t1753 * _t1825
+        + _t1812 * a5_re
+        + _t1815 * a5_re
+        + _t1819 * a5_re
+        + _t1820 * a5_im
+        + _t1821 * a5_im
+        + _t1822 * a5_im
+    )
+    _t2591 = (
+        _t1667 * _t1863
+        + _t1753 * _t1862
+        + _t1850 * a5_re
+        + _t1853 * a5_re
+        + _t1856 * a5_re
+        + _t1857 * a5_im
+        + _t1858 * a5_im
+        + _t1859 * a5_im
+    )
+    _t2592 = (
+        _t1667 * _t1895
+        + _t1753 * _t1894
+        + _t1884 * a5_re
+        + _t1887 * a5_re
+        + _t1890 * a5_re
+        + _t1891 * a5_im
+        + _t1892 * a5_im
+        + _t1893 * a5_im
+    )
+    _t2593 = (
+        _t1667 * _t1776
+        + _t1753 * _t1910
+        + _t1899 * a5_re
+        + _t1902 * a5_re
+        + _t1906 * a5_re
+        + _t1907 * a5_im
+        + _t1908 * a5_im
+        + _t1909 * a5_im
+    )
+    _t2594 = (
+        _t1667 * _t1764
+        + _t1753 * _t1924
+        + _t1914 * a5_re
+        + _t1917 * a5_re
+        + _t1920 * a5_re
+        + _t1921 * a5_im
+        + _t1922 * a5_im
+        + _t1923 * a5_im
+    )
+    _t2595 = (
+        _t1667 * _t1751
+        + _t1753 * _t1952
+        + _t1942 * a5_re
+        + _t1945 * a5_re
+        + _t1948 * a5_re
+        + _t1949 * a5_im
+        + _t1950 * a5_im
+        + _t1951 * a5_im
+    )
+    _t2596 = _t2085 * platform_x6_re + _t2098 * platform_x6_im
+    _t2597 = _t2089 * platform_z6_re + _t2094 * platform_z6_im
+    _t2598 = _t2089 * platform_y6_re + _t2094 * platform_y6_im
+    _t2599 = -_t2596
+    _t2600 = _t2085 * platform_y6_re + _t2098 * platform_y6_im
+    _t2601 = _t2089 * platform_x6_re + _t2094 * platform_x6_im
+    _t2602 = -_t2600
+    _t2603 = _t2085 * platform_z6_re + _t2098 * platform_z6_im
+    _t2604 = -_t2603
+    _t2605 = (
+        _t2098 * platform_x6_im * platform_x6_re
+        + _t2098 * platform_y6_im * platform_y6_re
+        + _t2098 * platform_z6_im * platform_z6_re
+        + _t2152 * _t2169
+        + _t2153 * _t2169
+        + _t2154 * _t2169
+    )
+    _t2606 = (
+        _t2085 * _t2152
+        + _t2085 * _t2153
+        + _t2085 * _t2154
+        + _t2156 * _t2165 * platform_x6_im
+        + _t2156 * _t2178 * platform_y6_im
+        + _t2156 * _t2190 * platform_z6_im
+    )
+    _t2607 = (
+        _t2083 * _t2168
+        + _t2158 * a6_re
+        + _t2159 * a6_re
+        + _t2160 * a6_re
+        + _t2161 * a6_im
+        + _t2162 * a6_im
+        + _t2163 * a6_im
+        + _t2166 * _t2169
+    )
+    _t2608 = (
+        _t2083 * _t2181
+        + _t2169 * _t2179
+        + _t2171 * a6_re
+        + _t2172 * a6_re
+        + _t2173 * a6_re
+        + _t2174 * a6_im
+        + _t2175 * a6_im
+        + _t2176 * a6_im
+    )
+    _t2609 = (
+        _t2083 * _t2193
+        + _t2169 * _t2191
+        + _t2183 * a6_re
+        + _t2184 * a6_re
+        + _t2185 * a6_re
+        + _t2186 * a6_im
+        + _t2187 * a6_im
+        + _t2188 * a6_im
+    )
+    _t2610 = (
+        _t2083 * _t2242
+        + _t2169 * _t2241
+        + _t2228 * a6_re
+        + _t2231 * a6_re
+        + _t2235 * a6_re
+        + _t2236 * a6_im
+        + _t2237 * a6_im
+        + _t2238 * a6_im
+    )
+    _t2611 = (
+        _t2083 * _t2279
+        + _t2169 * _t2278
+        + _t2266 * a6_re
+        + _t2269 * a6_re
+        + _t2272 * a6_re
+        + _t2273 * a6_im
+        + _t2274 * a6_im
+        + _t2275 * a6_im
+    )
+    _t2612 = (
+        _t2083 * _t2311
+        + _t2169 * _t2310
+        + _t2300 * a6_re
+        + _t2303 * a6_re
+        + _t2306 * a6_re
+        + _t2307 * a6_im
+        + _t2308 * a6_im
+        + _t2309 * a6_im
+    )
+    _t2613 = (
+        _t2083 * _t2192
+        + _t2169 * _t2326
+        + _t2315 * a6_re
+        + _t2318 * a6_re
+        + _t2322 * a6_re
+        + _t2323 * a6_im
+        + _t2324 * a6_im
+        + _t2325 * a6_im
+    )
+    _t2614 = (
+        _t2083 * _t2180
+        + _t2169 * _t2340
+        + _t2330 * a6_re
+        + _t2333 * a6_re
+        + _t2336 * a6_re
+        + _t2337 * a6_im
+        + _t2338 * a6_im
+        + _t2339 * a6_im
+    )
+    _t2615 = (
+        _t2083 * _t2167
+        + _t2169 * _t2368
+        + _t2358 * a6_re
+        + _t2361 * a6_re
+        + _t2364 * a6_re
+        + _t2365 * a6_im
+        + _t2366 * a6_im
+        + _t2367 * a6_im
+    )
+    re = numpy.zeros(shape + (311,))
+    re[..., 0] = _t3
+    re[..., 1] = _t8
+    re[..., 2] = _t12
+    re[..., 3] = _t15
+    re[..., 4] = _t8
+    re[..., 5] = _t16
+    re[..., 6] = _t12
+    re[..., 7] = _t7
+    re[..., 8] = _t7
+    re[..., 9] = (
+        _t17
+        - _t19
+        - _t25 * a1_im
+        + _t26 * a1_re
+        - _t32 * a1_im
+        - _t36 * a1_im
+        + _t37 * a1_re
+        + _t38 * a1_re
+    )
+    re[..., 10] = _t3
+    re[..., 11] = _t41
+    re[..., 12] = _t11
+    re[..., 13] = _t44
+    re[..., 14] = _t40
+    re[..., 15] = _t44
+    re[..., 16] = _t41
+    re[..., 17] = _t12
+    re[..., 18] = _t40
+    re[..., 19] = (
+        _t45
+        - _t46
+        - _t47 * a1_im
+        + _t48 * a1_re
+        - _t51 * a1_im
+        - _t54 * a1_im
+        + _t55 * a1_re
+        + _t56 * a1_re
+    )
+    re[..., 20] = _t3
+    re[..., 21] = _t59
+    re[..., 22] = _t16
+    re[..., 23] = _t43
+    re[..., 24] = _t58
+    re[..., 25] = _t44
+    re[..., 26] = _t58
+    re[..., 27] = _t16
+    re[..., 28] = _t59
+    re[..., 29] = (
+        _t60
+        - _t61
+        - _t62 * a1_im
+        + _t63 * a1_re
+        - _t66 * a1_im
+        - _t69 * a1_im
+        + _t70 * a1_re
+        + _t71 * a1_re
+    )
+    re[..., 30] = _t75
+    re[..., 31] = _t77
+    re[..., 32] = _t77
+    re[..., 33] = _t77
+    re[..., 34] = -_t102 - _t114 - _t90
+    re[..., 35] = (
+        -_t123 * a1_im
+        - _t129 * a1_im
+        - _t135 * a1_im
+        + _t136 * a1_re
+        + _t137 * a1_re
+        + _t138 * a1_re
+        + _t141 * _t3
+        - _t143 * _t89
+        - _t163
+    )
+    re[..., 36] = (
+        -_t168 * a1_im
+        - _t173 * a1_im
+        - _t176 * a1_im
+        + _t177 * a1_re
+        + _t178 * a1_re
+        + _t179 * a1_re
+        + _t182 * _t3
+        - _t183 * _t89
+        - _t200
+    )
+    re[..., 37] = (
+        -_t203 * a1_im
+        - _t208 * a1_im
+        - _t211 * a1_im
+        + _t212 * a1_re
+        + _t213 * a1_re
+        + _t214 * a1_re
+        + _t216 * _t3
+        - _t217 * _t89
+        - _t232
+    )
+    re[..., 38] = _t75
+    re[..., 39] = _t77
+    re[..., 40] = _t77
+    re[..., 41] = -_t247 - _t261 - _t90
+    re[..., 42] = (
+        _t215 * _t3
+        - _t232
+        - _t262 * a1_im
+        - _t263 * a1_im
+        - _t264 * a1_im
+        + _t265 * a1_re
+        + _t266 * a1_re
+        + _t267 * a1_re
+        - _t268 * _t89
+    )
+    re[..., 43] = (
+        _t181 * _t3
+        - _t200
+        - _t269 * a1_im
+        - _t270 * a1_im
+        - _t271 * a1_im
+        + _t272 * a1_re
+        + _t273 * a1_re
+        + _t274 * a1_re
+        - _t275 * _t89
+    )
+    re[..., 44] = _t75
+    re[..., 45] = _t77
+    re[..., 46] = -_t102 - _t247 - _t289
+    re[..., 47] = (
+        _t140 * _t3
+        - _t163
+        - _t290 * a1_im
+        - _t291 * a1_im
+        - _t292 * a1_im
+        + _t293 * a1_re
+        + _t294 * a1_re
+        + _t295 * a1_re
+        - _t296 * _t89
+    )
+    re[..., 48] = _t75
+    re[..., 49] = -_t114 - _t261 - _t289
+    re[..., 50] = (
+        -_t17 * base_x1_re
+        + _t2 * _t301
+        + _t297 * _t5
+        + _t298 * _t3
+        + _t299 * _t3
+        + _t3 * _t300
+        - _t308 * _t309
+        - _t309 * _t313
+        - _t309 * _t317
+        - _t309 * _t343
+        - _t309 * _t348
+        - _t309 * _t353
+        - _t309 * _t354
+        - _t309 * _t355
+        - _t309 * _t356
+        - _t309 * _t397
+        - _t309 * _t405
+        - _t309 * _t412
+        + _t318 * _t320
+        + _t318 * _t321
+        + _t318 * _t322
+        + _t318 * _t358
+        + _t318 * _t360
+        + _t318 * _t362
+        + _t318 * _t363
+        + _t318 * _t364
+        + _t318 * _t365
+        + _t318 * _t413
+        + _t318 * _t414
+        + _t318 * _t415
+        - _t325 * a1_im
+        - _t328 * a1_im
+        - _t331 * a1_im
+        + _t332 * a1_re
+        + _t333 * a1_re
+        + _t334 * a1_re
+        - _t368 * a1_im
+        - _t371 * a1_im
+        - _t374 * a1_im
+        - _t377 * a1_im
+        - _t380 * a1_im
+        - _t383 * a1_im
+        + _t384 * a1_re
+        + _t385 * a1_re
+        + _t386 * a1_re
+        + _t387 * a1_re
+        + _t388 * a1_re
+        + _t389 * a1_re
+        - _t45 * base_y1_re
+        - _t60 * base_z1_re
+    )
+    re[..., 51] = _t419
+    re[..., 52] = _t424
+    re[..., 53] = _t428
+    re[..., 54] = _t431
+    re[..., 55] = _t424
+    re[..., 56] = _t432
+    re[..., 57] = _t428
+    re[..., 58] = _t423
+    re[..., 59] = _t423
+    re[..., 60] = (
+        _t433
+        - _t435
+        - _t441 * a2_im
+        + _t442 * a2_re
+        - _t448 * a2_im
+        - _t452 * a2_im
+        + _t453 * a2_re
+        + _t454 * a2_re
+    )
+    re[..., 61] = _t419
+    re[..., 62] = _t457
+    re[..., 63] = _t427
+    re[..., 64] = _t460
+    re[..., 65] = _t456
+    re[..., 66] = _t460
+    re[..., 67] = _t457
+    re[..., 68] = _t428
+    re[..., 69] = _t456
+    re[..., 70] = (
+        _t461
+        - _t462
+        - _t463 * a2_im
+        + _t464 * a2_re
+        - _t467 * a2_im
+        - _t470 * a2_im
+        + _t471 * a2_re
+        + _t472 * a2_re
+    )
+    re[..., 71] = _t419
+    re[..., 72] = _t475
+    re[..., 73] = _t432
+    re[..., 74] = _t459
+    re[..., 75] = _t474
+    re[..., 76] = _t460
+    re[..., 77] = _t474
+    re[..., 78] = _t432
+    re[..., 79] = _t475
+    re[..., 80] = (
+        _t476
+        - _t477
+        - _t478 * a2_im
+        + _t479 * a2_re
+        - _t482 * a2_im
+        - _t485 * a2_im
+        + _t486 * a2_re
+        + _t487 * a2_re
+    )
+    re[..., 81] = _t491
+    re[..., 82] = _t493
+    re[..., 83] = _t493
+    re[..., 84] = _t493
+    re[..., 85] = -_t506 - _t518 - _t530
+    re[..., 86] = (
+        _t419 * _t557
+        - _t505 * _t559
+        - _t539 * a2_im
+        - _t545 * a2_im
+        - _t551 * a2_im
+        + _t552 * a2_re
+        + _t553 * a2_re
+        + _t554 * a2_re
+        - _t579
+    )
+    re[..., 87] = (
+        _t419 * _t598
+        - _t505 * _t599
+        - _t584 * a2_im
+        - _t589 * a2_im
+        - _t592 * a2_im
+        + _t593 * a2_re
+        + _t594 * a2_re
+        + _t595 * a2_re
+        - _t616
+    )
+    re[..., 88] = (
+        _t419 * _t632
+        - _t505 * _t633
+        - _t619 * a2_im
+        - _t624 * a2_im
+        - _t627 * a2_im
+        + _t628 * a2_re
+        + _t629 * a2_re
+        + _t630 * a2_re
+        - _t648
+    )
+    re[..., 89] = _t491
+    re[..., 90] = _t493
+    re[..., 91] = _t493
+    re[..., 92] = -_t506 - _t663 - _t677
+    re[..., 93] = (
+        _t419 * _t631
+        - _t505 * _t684
+        - _t648
+        - _t678 * a2_im
+        - _t679 * a2_im
+        - _t680 * a2_im
+        + _t681 * a2_re
+        + _t682 * a2_re
+        + _t683 * a2_re
+    )
+    re[..., 94] = (
+        _t419 * _t597
+        - _t505 * _t691
+        - _t616
+        - _t685 * a2_im
+        - _t686 * a2_im
+        - _t687 * a2_im
+        + _t688 * a2_re
+        + _t689 * a2_re
+        + _t690 * a2_re
+    )
+    re[..., 95] = _t491
+    re[..., 96] = _t493
+    re[..., 97] = -_t518 - _t663 - _t705
+    re[..., 98] = (
+        _t419 * _t556
+        - _t505 * _t712
+        - _t579
+        - _t706 * a2_im
+        - _t707 * a2_im
+        - _t708 * a2_im
+        + _t709 * a2_re
+        + _t710 * a2_re
+        + _t711 * a2_re
+    )
+    re[..., 99] = _t491
+    re[..., 100] = -_t530 - _t677 - _t705
+    re[..., 101] = (
+        _t418 * _t717
+        + _t419 * _t714
+        + _t419 * _t715
+        + _t419 * _t716
+        + _t421 * _t713
+        - _t433 * base_x2_re
+        - _t461 * base_y2_re
+        - _t476 * base_z2_re
+        - _t724 * _t725
+        - _t725 * _t729
+        - _t725 * _t733
+        - _t725 * _t759
+        - _t725 * _t764
+        - _t725 * _t769
+        - _t725 * _t770
+        - _t725 * _t771
+        - _t725 * _t772
+        - _t725 * _t813
+        - _t725 * _t821
+        - _t725 * _t828
+        + _t734 * _t736
+        + _t734 * _t737
+        + _t734 * _t738
+        + _t734 * _t774
+        + _t734 * _t776
+        + _t734 * _t778
+        + _t734 * _t779
+        + _t734 * _t780
+        + _t734 * _t781
+        + _t734 * _t829
+        + _t734 * _t830
+        + _t734 * _t831
+        - _t741 * a2_im
+        - _t744 * a2_im
+        - _t747 * a2_im
+        + _t748 * a2_re
+        + _t749 * a2_re
+        + _t750 * a2_re
+        - _t784 * a2_im
+        - _t787 * a2_im
+        - _t790 * a2_im
+        - _t793 * a2_im
+        - _t796 * a2_im
+        - _t799 * a2_im
+        + _t800 * a2_re
+        + _t801 * a2_re
+        + _t802 * a2_re
+        + _t803 * a2_re
+        + _t804 * a2_re
+        + _t805 * a2_re
+    )
+    re[..., 102] = _t835
+    re[..., 103] = _t840
+    re[..., 104] = _t844
+    re[..., 105] = _t847
+    re[..., 106] = _t840
+    re[..., 107] = _t848
+    re[..., 108] = _t844
+    re[..., 109] = _t839
+    re[..., 110] = _t839
+    re[..., 111] = (
+        _t849
+        - _t851
+        - _t857 * a3_im
+        + _t858 * a3_re
+        - _t864 * a3_im
+        - _t868 * a3_im
+        + _t869 * a3_re
+        + _t870 * a3_re
+    )
+    re[..., 112] = _t835
+    re[..., 113] = _t873
+    re[..., 114] = _t843
+    re[..., 115] = _t876
+    re[..., 116] = _t872
+    re[..., 117] = _t876
+    re[..., 118] = _t873
+    re[..., 119] = _t844
+    re[..., 120] = _t872
+    re[..., 121] = (
+        _t877
+        - _t878
+        - _t879 * a3_im
+        + _t880 * a3_re
+        - _t883 * a3_im
+        - _t886 * a3_im
+        + _t887 * a3_re
+        + _t888 * a3_re
+    )
+    re[..., 122] = _t835
+    re[..., 123] = _t891
+    re[..., 124] = _t848
+    re[..., 125] = _t875
+    re[..., 126] = _t890
+    re[..., 127] = _t876
+    re[..., 128] = _t890
+    re[..., 129] = _t848
+    re[..., 130] = _t891
+    re[..., 131] = (
+        _t892
+        - _t893
+        - _t894 * a3_im
+        + _t895 * a3_re
+        - _t898 * a3_im
+        - _t901 * a3_im
+        + _t902 * a3_re
+        + _t903 * a3_re
+    )
+    re[..., 132] = _t907
+    re[..., 133] = _t909
+    re[..., 134] = _t909
+    re[..., 135] = _t909
+    re[..., 136] = -_t922 - _t934 - _t946
+    re[..., 137] = (
+        _t835 * _t973
+        - _t921 * _t975
+        - _t955 * a3_im
+        - _t961 * a3_im
+        - _t967 * a3_im
+        + _t968 * a3_re
+        + _t969 * a3_re
+        + _t970 * a3_re
+        - _t995
+    )
+    re[..., 138] = (
+        -_t1000 * a3_im
+        - _t1005 * a3_im
+        - _t1008 * a3_im
+        + _t1009 * a3_re
+        + _t1010 * a3_re
+        + _t1011 * a3_re
+        + _t1014 * _t835
+        - _t1015 * _t921
+        - _t1032
+    )
+    re[..., 139] = (
+        -_t1035 * a3_im
+        - _t1040 * a3_im
+        - _t1043 * a3_im
+        + _t1044 * a3_re
+        + _t1045 * a3_re
+        + _t1046 * a3_re
+        + _t1048 * _t835
+        - _t1049 * _t921
+        - _t1064
+    )
+    re[..., 140] = _t907
+    re[..., 141] = _t909
+    re[..., 142] = _t909
+    re[..., 143] = -_t1079 - _t1093 - _t922
+    re[..., 144] = (
+        _t1047 * _t835
+        - _t1064
+        - _t1094 * a3_im
+        - _t1095 * a3_im
+        - _t1096 * a3_im
+        + _t1097 * a3_re
+        + _t1098 * a3_re
+        + _t1099 * a3_re
+        - _t1100 * _t921
+    )
+    re[..., 145] = (
+        _t1013 * _t835
+        - _t1032
+        - _t1101 * a3_im
+        - _t1102 * a3_im
+        - _t1103 * a3_im
+        + _t1104 * a3_re
+        + _t1105 * a3_re
+        + _t1106 * a3_re
+        - _t1107 * _t921
+    )
+    re[..., 146] = _t907
+    re[..., 147] = _t909
+    re[..., 148] = -_t1079 - _t1121 - _t934
+    re[..., 149] = (
+        -_t1122 * a3_im
+        - _t1123 * a3_im
+        - _t1124 * a3_im
+        + _t1125 * a3_re
+        + _t1126 * a3_re
+        + _t1127 * a3_re
+        - _t1128 * _t921
+        + _t835 * _t972
+        - _t995
+    )
+    re[..., 150] = _t907
+    re[..., 151] = -_t1093 - _t1121 - _t946
+    re[..., 152] = (
+        _t1129 * _t837
+        + _t1130 * _t835
+        + _t1131 * _t835
+        + _t1132 * _t835
+        + _t1133 * _t834
+        - _t1140 * _t1141
+        - _t1141 * _t1145
+        - _t1141 * _t1149
+        - _t1141 * _t1175
+        - _t1141 * _t1180
+        - _t1141 * _t1185
+        - _t1141 * _t1186
+        - _t1141 * _t1187
+        - _t1141 * _t1188
+        - _t1141 * _t1229
+        - _t1141 * _t1237
+        - _t1141 * _t1244
+        + _t1150 * _t1152
+        + _t1150 * _t1153
+        + _t1150 * _t1154
+        + _t1150 * _t1190
+        + _t1150 * _t1192
+        + _t1150 * _t1194
+        + _t1150 * _t1195
+        + _t1150 * _t1196
+        + _t1150 * _t1197
+        + _t1150 * _t1245
+        + _t1150 * _t1246
+        + _t1150 * _t1247
+        - _t1157 * a3_im
+        - _t1160 * a3_im
+        - _t1163 * a3_im
+        + _t1164 * a3_re
+        + _t1165 * a3_re
+        + _t1166 * a3_re
+        - _t1200 * a3_im
+        - _t1203 * a3_im
+        - _t1206 * a3_im
+        - _t1209 * a3_im
+        - _t1212 * a3_im
+        - _t1215 * a3_im
+        + _t1216 * a3_re
+        + _t1217 * a3_re
+        + _t1218 * a3_re
+        + _t1219 * a3_re
+        + _t1220 * a3_re
+        + _t1221 * a3_re
+        - _t849 * base_x3_re
+        - _t877 * base_y3_re
+        - _t892 * base_z3_re
+    )
+    re[..., 153] = _t1251
+    re[..., 154] = _t1256
+    re[..., 155] = _t1260
+    re[..., 156] = _t1263
+    re[..., 157] = _t1256
+    re[..., 158] = _t1264
+    re[..., 159] = _t1260
+    re[..., 160] = _t1255
+    re[..., 161] = _t1255
+    re[..., 162] = (
+        _t1265
+        - _t1267
+        - _t1273 * a4_im
+        + _t1274 * a4_re
+        - _t1280 * a4_im
+        - _t1284 * a4_im
+        + _t1285 * a4_re
+        + _t1286 * a4_re
+    )
+    re[..., 163] = _t1251
+    re[..., 164] = _t1289
+    re[..., 165] = _t1259
+    re[..., 166] = _t1292
+    re[..., 167] = _t1288
+    re[..., 168] = _t1292
+    re[..., 169] = _t1289
+    re[..., 170] = _t1260
+    re[..., 171] = _t1288
+    re[..., 172] = (
+        _t1293
+        - _t1294
+        - _t1295 * a4_im
+        + _t1296 * a4_re
+        - _t1299 * a4_im
+        - _t1302 * a4_im
+        + _t1303 * a4_re
+        + _t1304 * a4_re
+    )
+    re[..., 173] = _t1251
+    re[..., 174] = _t1307
+    re[..., 175] = _t1264
+    re[..., 176] = _t1291
+    re[..., 177] = _t1306
+    re[..., 178] = _t1292
+    re[..., 179] = _t1306
+    re[..., 180] = _t1264
+    re[..., 181] = _t1307
+    re[..., 182] = (
+        _t1308
+        - _t1309
+        - _t1310 * a4_im
+        + _t1311 * a4_re
+        - _t1314 * a4_im
+        - _t1317 * a4_im
+        + _t1318 * a4_re
+        + _t1319 * a4_re
+    )
+    re[..., 183] = _t1323
+    re[..., 184] = _t1325
+    re[..., 185] = _t1325
+    re[..., 186] = _t1325
+    re[..., 187] = -_t1338 - _t1350 - _t1362
+    re[..., 188] = (
+        _t1251 * _t1389
+        - _t1337 * _t1391
+        - _t1371 * a4_im
+        - _t1377 * a4_im
+        - _t1383 * a4_im
+        + _t1384 * a4_re
+        + _t1385 * a4_re
+        + _t1386 * a4_re
+        - _t1411
+    )
+    re[..., 189] = (
+        _t1251 * _t1430
+        - _t1337 * _t1431
+        - _t1416 * a4_im
+        - _t1421 * a4_im
+        - _t1424 * a4_im
+        + _t1425 * a4_re
+        + _t1426 * a4_re
+        + _t1427 * a4_re
+        - _t1448
+    )
+    re[..., 190] = (
+        _t1251 * _t1464
+        - _t1337 * _t1465
+        - _t1451 * a4_im
+        - _t1456 * a4_im
+        - _t1459 * a4_im
+        + _t1460 * a4_re
+        + _t1461 * a4_re
+        + _t1462 * a4_re
+        - _t1480
+    )
+    re[..., 191] = _t1323
+    re[..., 192] = _t1325
+    re[..., 193] = _t1325
+    re[..., 194] = -_t1338 - _t1495 - _t1509
+    re[..., 195] = (
+        _t1251 * _t1463
+        - _t1337 * _t1516
+        - _t1480
+        - _t1510 * a4_im
+        - _t1511 * a4_im
+        - _t1512 * a4_im
+        + _t1513 * a4_re
+        + _t1514 * a4_re
+        + _t1515 * a4_re
+    )
+    re[..., 196] = (
+        _t1251 * _t1429
+        - _t1337 * _t1523
+        - _t1448
+        - _t1517 * a4_im
+        - _t1518 * a4_im
+        - _t1519 * a4_im
+        + _t1520 * a4_re
+        + _t1521 * a4_re
+        + _t1522 * a4_re
+    )
+    re[..., 197] = _t1323
+    re[..., 198] = _t1325
+    re[..., 199] = -_t1350 - _t1495 - _t1537
+    re[..., 200] = (
+        _t1251 * _t1388
+        - _t1337 * _t1544
+        - _t1411
+        - _t1538 * a4_im
+        - _t1539 * a4_im
+        - _t1540 * a4_im
+        + _t1541 * a4_re
+        + _t1542 * a4_re
+        + _t1543 * a4_re
+    )
+    re[..., 201] = _t1323
+    re[..., 202] = -_t1362 - _t1509 - _t1537
+    re[..., 203] = (
+        _t1250 * _t1549
+        + _t1251 * _t1546
+        + _t1251 * _t1547
+        + _t1251 * _t1548
+        + _t1253 * _t1545
+        - _t1265 * base_x4_re
+        - _t1293 * base_y4_re
+        - _t1308 * base_z4_re
+        - _t1556 * _t1557
+        - _t1557 * _t1561
+        - _t1557 * _t1565
+        - _t1557 * _t1591
+        - _t1557 * _t1596
+        - _t1557 * _t1601
+        - _t1557 * _t1602
+        - _t1557 * _t1603
+        - _t1557 * _t1604
+        - _t1557 * _t1645
+        - _t1557 * _t1653
+        - _t1557 * _t1660
+        + _t1566 * _t1568
+        + _t1566 * _t1569
+        + _t1566 * _t1570
+        + _t1566 * _t1606
+        + _t1566 * _t1608
+        + _t1566 * _t1610
+        + _t1566 * _t1611
+        + _t1566 * _t1612
+        + _t1566 * _t1613
+        + _t1566 * _t1661
+        + _t1566 * _t1662
+        + _t1566 * _t1663
+        - _t1573 * a4_im
+        - _t1576 * a4_im
+        - _t1579 * a4_im
+        + _t1580 * a4_re
+        + _t1581 * a4_re
+        + _t1582 * a4_re
+        - _t1616 * a4_im
+        - _t1619 * a4_im
+        - _t1622 * a4_im
+        - _t1625 * a4_im
+        - _t1628 * a4_im
+        - _t1631 * a4_im
+        + _t1632 * a4_re
+        + _t1633 * a4_re
+        + _t1634 * a4_re
+        + _t1635 * a4_re
+        + _t1636 * a4_re
+        + _t1637 * a4_re
+    )
+    re[..., 204] = _t1667
+    re[..., 205] = _t1672
+    re[..., 206] = _t1676
+    re[..., 207] = _t1679
+    re[..., 208] = _t1672
+    re[..., 209] = _t1680
+    re[..., 210] = _t1676
+    re[..., 211] = _t1671
+    re[..., 212] = _t1671
+    re[..., 213] = (
+        _t1681
+        - _t1683
+        - _t1689 * a5_im
+        + _t1690 * a5_re
+        - _t1696 * a5_im
+        - _t1700 * a5_im
+        + _t1701 * a5_re
+        + _t1702 * a5_re
+    )
+    re[..., 214] = _t1667
+    re[..., 215] = _t1705
+    re[..., 216] = _t1675
+    re[..., 217] = _t1708
+    re[..., 218] = _t1704
+    re[..., 219] = _t1708
+    re[..., 220] = _t1705
+    re[..., 221] = _t1676
+    re[..., 222] = _t1704
+    re[..., 223] = (
+        _t1709
+        - _t1710
+        - _t1711 * a5_im
+        + _t1712 * a5_re
+        - _t1715 * a5_im
+        - _t1718 * a5_im
+        + _t1719 * a5_re
+        + _t1720 * a5_re
+    )
+    re[..., 224] = _t1667
+    re[..., 225] = _t1723
+    re[..., 226] = _t1680
+    re[..., 227] = _t1707
+    re[..., 228] = _t1722
+    re[..., 229] = _t1708
+    re[..., 230] = _t1722
+    re[..., 231] = _t1680
+    re[..., 232] = _t1723
+    re[..., 233] = (
+        _t1724
+        - _t1725
+        - _t1726 * a5_im
+        + _t1727 * a5_re
+        - _t1730 * a5_im
+        - _t1733 * a5_im
+        + _t1734 * a5_re
+        + _t1735 * a5_re
+    )
+    re[..., 234] = _t1739
+    re[..., 235] = _t1741
+    re[..., 236] = _t1741
+    re[..., 237] = _t1741
+    re[..., 238] = -_t1754 - _t1766 - _t1778
+    re[..., 239] = (
+        _t1667 * _t1805
+        - _t1753 * _t1807
+        - _t1787 * a5_im
+        - _t1793 * a5_im
+        - _t1799 * a5_im
+        + _t1800 * a5_re
+        + _t1801 * a5_re
+        + _t1802 * a5_re
+        - _t1827
+    )
+    re[..., 240] = (
+        _t1667 * _t1846
+        - _t1753 * _t1847
+        - _t1832 * a5_im
+        - _t1837 * a5_im
+        - _t1840 * a5_im
+        + _t1841 * a5_re
+        + _t1842 * a5_re
+        + _t1843 * a5_re
+        - _t1864
+    )
+    re[..., 241] = (
+        _t1667 * _t1880
+        - _t1753 * _t1881
+        - _t1867 * a5_im
+        - _t1872 * a5_im
+        - _t1875 * a5_im
+        + _t1876 * a5_re
+        + _t1877 * a5_re
+        + _t1878 * a5_re
+        - _t1896
+    )
+    re[..., 242] = _t1739
+    re[..., 243] = _t1741
+    re[..., 244] = _t1741
+    re[..., 245] = -_t1754 - _t1911 - _t1925
+    re[..., 246] = (
+        _t1667 * _t1879
+        - _t1753 * _t1932
+        - _t1896
+        - _t1926 * a5_im
+        - _t1927 * a5_im
+        - _t1928 * a5_im
+        + _t1929 * a5_re
+        + _t1930 * a5_re
+        + _t1931 * a5_re
+    )
+    re[..., 247] = (
+        _t1667 * _t1845
+        - _t1753 * _t1939
+        - _t1864
+        - _t1933 * a5_im
+        - _t1934 * a5_im
+        - _t1935 * a5_im
+        + _t1936 * a5_re
+        + _t1937 * a5_re
+        + _t1938 * a5_re
+    )
+    re[..., 248] = _t1739
+    re[..., 249] = _t1741
+    re[..., 250] = -_t1766 - _t1911 - _t1953
+    re[..., 251] = (
+        _t1667 * _t1804
+        - _t1753 * _t1960
+        - _t1827
+        - _t1954 * a5_im
+        - _t1955 * a5_im
+        - _t1956 * a5_im
+        + _t1957 * a5_re
+        + _t1958 * a5_re
+        + _t1959 * a5_re
+    )
+    re[..., 252] = _t1739
+    re[..., 253] = -_t1778 - _t1925 - _t1953
+    re[..., 254] = (
+        _t1666 * _t1965
+        + _t1667 * _t1962
+        + _t1667 * _t1963
+        + _t1667 * _t1964
+        + _t1669 * _t1961
+        - _t1681 * base_x5_re
+        - _t1709 * base_y5_re
+        - _t1724 * base_z5_re
+        - _t1972 * _t1973
+        - _t1973 * _t1977
+        - _t1973 * _t1981
+        - _t1973 * _t2007
+        - _t1973 * _t2012
+        - _t1973 * _t2017
+        - _t1973 * _t2018
+        - _t1973 * _t2019
+        - _t1973 * _t2020
+        - _t1973 * _t2061
+        - _t1973 * _t2069
+        - _t1973 * _t2076
+        + _t1982 * _t1984
+        + _t1982 * _t1985
+        + _t1982 * _t1986
+        + _t1982 * _t2022
+        + _t1982 * _t2024
+        + _t1982 * _t2026
+        + _t1982 * _t2027
+        + _t1982 * _t2028
+        + _t1982 * _t2029
+        + _t1982 * _t2077
+        + _t1982 * _t2078
+        + _t1982 * _t2079
+        - _t1989 * a5_im
+        - _t1992 * a5_im
+        - _t1995 * a5_im
+        + _t1996 * a5_re
+        + _t1997 * a5_re
+        + _t1998 * a5_re
+        - _t2032 * a5_im
+        - _t2035 * a5_im
+        - _t2038 * a5_im
+        - _t2041 * a5_im
+        - _t2044 * a5_im
+        - _t2047 * a5_im
+        + _t2048 * a5_re
+        + _t2049 * a5_re
+        + _t2050 * a5_re
+        + _t2051 * a5_re
+        + _t2052 * a5_re
+        + _t2053 * a5_re
+    )
+    re[..., 255] = _t2083
+    re[..., 256] = _t2088
+    re[..., 257] = _t2092
+    re[..., 258] = _t2095
+    re[..., 259] = _t2088
+    re[..., 260] = _t2096
+    re[..., 261] = _t2092
+    re[..., 262] = _t2087
+    re[..., 263] = _t2087
+    re[..., 264] = (
+        _t2097
+        - _t2099
+        - _t2105 * a6_im
+        + _t2106 * a6_re
+        - _t2112 * a6_im
+        - _t2116 * a6_im
+        + _t2117 * a6_re
+        + _t2118 * a6_re
+    )
+    re[..., 265] = _t2083
+    re[..., 266] = _t2121
+    re[..., 267] = _t2091
+    re[..., 268] = _t2124
+    re[..., 269] = _t2120
+    re[..., 270] = _t2124
+    re[..., 271] = _t2121
+    re[..., 272] = _t2092
+    re[..., 273] = _t2120
+    re[..., 274] = (
+        _t2125
+        - _t2126
+        - _t2127 * a6_im
+        + _t2128 * a6_re
+        - _t2131 * a6_im
+        - _t2134 * a6_im
+        + _t2135 * a6_re
+        + _t2136 * a6_re
+    )
+    re[..., 275] = _t2083
+    re[..., 276] = _t2139
+    re[..., 277] = _t2096
+    re[..., 278] = _t2123
+    re[..., 279] = _t2138
+    re[..., 280] = _t2124
+    re[..., 281] = _t2138
+    re[..., 282] = _t2096
+    re[..., 283] = _t2139
+    re[..., 284] = (
+        _t2140
+        - _t2141
+        - _t2142 * a6_im
+        + _t2143 * a6_re
+        - _t2146 * a6_im
+        - _t2149 * a6_im
+        + _t2150 * a6_re
+        + _t2151 * a6_re
+    )
+    re[..., 285] = _t2155
+    re[..., 286] = _t2157
+    re[..., 287] = _t2157
+    re[..., 288] = _t2157
+    re[..., 289] = -_t2170 - _t2182 - _t2194
+    re[..., 290] = (
+        _t2083 * _t2221
+        - _t2169 * _t2223
+        - _t2203 * a6_im
+        - _t2209 * a6_im
+        - _t2215 * a6_im
+        + _t2216 * a6_re
+        + _t2217 * a6_re
+        + _t2218 * a6_re
+        - _t2243
+    )
+    re[..., 291] = (
+        _t2083 * _t2262
+        - _t2169 * _t2263
+        - _t2248 * a6_im
+        - _t2253 * a6_im
+        - _t2256 * a6_im
+        + _t2257 * a6_re
+        + _t2258 * a6_re
+        + _t2259 * a6_re
+        - _t2280
+    )
+    re[..., 292] = (
+        _t2083 * _t2296
+        - _t2169 * _t2297
+        - _t2283 * a6_im
+        - _t2288 * a6_im
+        - _t2291 * a6_im
+        + _t2292 * a6_re
+        + _t2293 * a6_re
+        + _t2294 * a6_re
+        - _t2312
+    )
+    re[..., 293] = _t2155
+    re[..., 294] = _t2157
+    re[..., 295] = _t2157
+    re[..., 296] = -_t2170 - _t2327 - _t2341
+    re[..., 297] = (
+        _t2083 * _t2295
+        - _t2169 * _t2348
+        - _t2312
+        - _t2342 * a6_im
+        - _t2343 * a6_im
+        - _t2344 * a6_im
+        + _t2345 * a6_re
+        + _t2346 * a6_re
+        + _t2347 * a6_re
+    )
+    re[..., 298] = (
+        _t2083 * _t2261
+        - _t2169 * _t2355
+        - _t2280
+        - _t2349 * a6_im
+        - _t2350 * a6_im
+        - _t2351 * a6_im
+        + _t2352 * a6_re
+        + _t2353 * a6_re
+        + _t2354 * a6_re
+    )
+    re[..., 299] = _t2155
+    re[..., 300] = _t2157
+    re[..., 301] = -_t2182 - _t2327 - _t2369
+    re[..., 302] = (
+        _t2083 * _t2220
+        - _t2169 * _t2376
+        - _t2243
+        - _t2370 * a6_im
+        - _t2371 * a6_im
+        - _t2372 * a6_im
+        + _t2373 * a6_re
+        + _t2374 * a6_re
+        + _t2375 * a6_re
+    )
+    re[..., 303] = _t2155
+    re[..., 304] = -_t2194 - _t2341 - _t2369
+    re[..., 305] = (
+        _t2082 * _t2381
+        + _t2083 * _t2378
+        + _t2083 * _t2379
+        + _t2083 * _t2380
+        + _t2085 * _t2377
+        - _t2097 * base_x6_re
+        - _t2125 * base_y6_re
+        - _t2140 * base_z6_re
+        - _t2388 * _t2389
+        - _t2389 * _t2393
+        - _t2389 * _t2397
+        - _t2389 * _t2423
+        - _t2389 * _t2428
+        - _t2389 * _t2433
+        - _t2389 * _t2434
+        - _t2389 * _t2435
+        - _t2389 * _t2436
+        - _t2389 * _t2477
+        - _t2389 * _t2485
+        - _t2389 * _t2492
+        + _t2398 * _t2400
+        + _t2398 * _t2401
+        + _t2398 * _t2402
+        + _t2398 * _t2438
+        + _t2398 * _t2440
+        + _t2398 * _t2442
+        + _t2398 * _t2443
+        + _t2398 * _t2444
+        + _t2398 * _t2445
+        + _t2398 * _t2493
+        + _t2398 * _t2494
+        + _t2398 * _t2495
+        - _t2405 * a6_im
+        - _t2408 * a6_im
+        - _t2411 * a6_im
+        + _t2412 * a6_re
+        + _t2413 * a6_re
+        + _t2414 * a6_re
+        - _t2448 * a6_im
+        - _t2451 * a6_im
+        - _t2454 * a6_im
+        - _t2457 * a6_im
+        - _t2460 * a6_im
+        - _t2463 * a6_im
+        + _t2464 * a6_re
+        + _t2465 * a6_re
+        + _t2466 * a6_re
+        + _t2467 * a6_re
+        + _t2468 * a6_re
+        + _t2469 * a6_re
+    )
+    re[..., 306] = 1
+    re[..., 307] = 1
+    re[..., 308] = 1
+    re[..., 309] = 1
+    re[..., 310] = -1
+    im = numpy.zeros(shape + (311,))
+    im[..., 0] = _t89
+    im[..., 1] = _t2496
+    im[..., 2] = _t2497
+    im[..., 3] = -_t2498
+    im[..., 4] = _t2496
+    im[..., 5] = _t2498
+    im[..., 6] = _t2497
+    im[..., 7] = _t2499
+    im[..., 8] = _t2499
+    im[..., 9] = (
+        -_t18 * base_x1_im
+        + _t25 * a1_re
+        + _t26 * a1_im
+        + _t32 * a1_re
+        + _t36 * a1_re
+        + _t37 * a1_im
+        + _t38 * a1_im
+        - _t5 * base_x1_re
+    )
+    im[..., 10] = _t89
+    im[..., 11] = _t2500
+    im[..., 12] = -_t2497
+    im[..., 13] = _t2501
+    im[..., 14] = _t2502
+    im[..., 15] = _t2501
+    im[..., 16] = _t2500
+    im[..., 17] = _t2497
+    im[..., 18] = _t2502
+    im[..., 19] = (
+        -_t18 * base_y1_im
+        + _t47 * a1_re
+        + _t48 * a1_im
+        - _t5 * base_y1_re
+        + _t51 * a1_re
+        + _t54 * a1_re
+        + _t55 * a1_im
+        + _t56 * a1_im
+    )
+    im[..., 20] = _t89
+    im[..., 21] = _t2503
+    im[..., 22] = _t2498
+    im[..., 23] = -_t2501
+    im[..., 24] = _t2504
+    im[..., 25] = _t2501
+    im[..., 26] = _t2504
+    im[..., 27] = _t2498
+    im[..., 28] = _t2503
+    im[..., 29] = (
+        -_t18 * base_z1_im
+        - _t5 * base_z1_re
+        + _t62 * a1_re
+        + _t63 * a1_im
+        + _t66 * a1_re
+        + _t69 * a1_re
+        + _t70 * a1_im
+        + _t71 * a1_im
+    )
+    im[..., 30] = _t2505
+    im[..., 31] = _t2506
+    im[..., 32] = _t2506
+    im[..., 33] = _t2506
+    im[..., 34] = _t2507 + _t2508 + _t2509
+    im[..., 35] = (
+        _t123 * a1_re
+        + _t129 * a1_re
+        + _t135 * a1_re
+        + _t136 * a1_im
+        + _t137 * a1_im
+        + _t138 * a1_im
+        + _t141 * _t89
+        + _t143 * _t3
+        + _t2510
+    )
+    im[..., 36] = (
+        _t168 * a1_re
+        + _t173 * a1_re
+        + _t176 * a1_re
+        + _t177 * a1_im
+        + _t178 * a1_im
+        + _t179 * a1_im
+        + _t182 * _t89
+        + _t183 * _t3
+        + _t2511
+    )
+    im[..., 37] = (
+        _t203 * a1_re
+        + _t208 * a1_re
+        + _t211 * a1_re
+        + _t212 * a1_im
+        + _t213 * a1_im
+        + _t214 * a1_im
+        + _t216 * _t89
+        + _t217 * _t3
+        + _t2512
+    )
+    im[..., 38] = _t2505
+    im[..., 39] = _t2506
+    im[..., 40] = _t2506
+    im[..., 41] = _t2507 + _t2513 + _t2514
+    im[..., 42] = (
+        _t215 * _t89
+        + _t2512
+        + _t262 * a1_re
+        + _t263 * a1_re
+        + _t264 * a1_re
+        + _t265 * a1_im
+        + _t266 * a1_im
+        + _t267 * a1_im
+        + _t268 * _t3
+    )
+    im[..., 43] = (
+        _t181 * _t89
+        + _t2511
+        + _t269 * a1_re
+        + _t270 * a1_re
+        + _t271 * a1_re
+        + _t272 * a1_im
+        + _t273 * a1_im
+        + _t274 * a1_im
+        + _t275 * _t3
+    )
+    im[..., 44] = _t2505
+    im[..., 45] = _t2506
+    im[..., 46] = _t2508 + _t2513 + _t2515
+    im[..., 47] = (
+        _t140 * _t89
+        + _t2510
+        + _t290 * a1_re
+        + _t291 * a1_re
+        + _t292 * a1_re
+        + _t293 * a1_im
+        + _t294 * a1_im
+        + _t295 * a1_im
+        + _t296 * _t3
+    )
+    im[..., 48] = _t2505
+    im[..., 49] = _t2509 + _t2514 + _t2515
+    im[..., 50] = (
+        _t19 * base_x1_im
+        + 2 * _t2 * _t297
+        + _t298 * _t89
+        + _t299 * _t89
+        + _t300 * _t89
+        - _t301 * _t89
+        + _t308 * _t318
+        + _t309 * _t320
+        + _t309 * _t321
+        + _t309 * _t322
+        + _t309 * _t358
+        + _t309 * _t360
+        + _t309 * _t362
+        + _t309 * _t363
+        + _t309 * _t364
+        + _t309 * _t365
+        + _t309 * _t413
+        + _t309 * _t414
+        + _t309 * _t415
+        + _t313 * _t318
+        + _t317 * _t318
+        + _t318 * _t343
+        + _t318 * _t348
+        + _t318 * _t353
+        + _t318 * _t354
+        + _t318 * _t355
+        + _t318 * _t356
+        + _t318 * _t397
+        + _t318 * _t405
+        + _t318 * _t412
+        + _t325 * a1_re
+        + _t328 * a1_re
+        + _t331 * a1_re
+        + _t332 * a1_im
+        + _t333 * a1_im
+        + _t334 * a1_im
+        + _t368 * a1_re
+        + _t371 * a1_re
+        + _t374 * a1_re
+        + _t377 * a1_re
+        + _t380 * a1_re
+        + _t383 * a1_re
+        + _t384 * a1_im
+        + _t385 * a1_im
+        + _t386 * a1_im
+        + _t387 * a1_im
+        + _t388 * a1_im
+        + _t389 * a1_im
+        + _t46 * base_y1_im
+        + _t61 * base_z1_im
+    )
+    im[..., 51] = _t505
+    im[..., 52] = _t2516
+    im[..., 53] = _t2517
+    im[..., 54] = -_t2518
+    im[..., 55] = _t2516
+    im[..., 56] = _t2518
+    im[..., 57] = _t2517
+    im[..., 58] = _t2519
+    im[..., 59] = _t2519
+    im[..., 60] = (
+        -_t421 * base_x2_re
+        - _t434 * base_x2_im
+        + _t441 * a2_re
+        + _t442 * a2_im
+        + _t448 * a2_re
+        + _t452 * a2_re
+        + _t453 * a2_im
+        + _t454 * a2_im
+    )
+    im[..., 61] = _t505
+    im[..., 62] = _t2520
+    im[..., 63] = -_t2517
+    im[..., 64] = _t2521
+    im[..., 65] = _t2522
+    im[..., 66] = _t2521
+    im[..., 67] = _t2520
+    im[..., 68] = _t2517
+    im[..., 69] = _t2522
+    im[..., 70] = (
+        -_t421 * base_y2_re
+        - _t434 * base_y2_im
+        + _t463 * a2_re
+        + _t464 * a2_im
+        + _t467 * a2_re
+        + _t470 * a2_re
+        + _t471 * a2_im
+        + _t472 * a2_im
+    )
+    im[..., 71] = _t505
+    im[..., 72] = _t2523
+    im[..., 73] = _t2518
+    im[..., 74] = -_t2521
+    im[..., 75] = _t2524
+    im[..., 76] = _t2521
+    im[..., 77] = _t2524
+    im[..., 78] = _t2518
+    im[..., 79] = _t2523
+    im[..., 80] = (
+        -_t421 * base_z2_re
+        - _t434 * base_z2_im
+        + _t478 * a2_re
+        + _t479 * a2_im
+        + _t482 * a2_re
+        + _t485 * a2_re
+        + _t486 * a2_im
+        + _t487 * a2_im
+    )
+    im[..., 81] = _t2525
+    im[..., 82] = _t2526
+    im[..., 83] = _t2526
+    im[..., 84] = _t2526
+    im[..., 85] = _t2527 + _t2528 + _t2529
+    im[..., 86] = (
+        _t2530
+        + _t419 * _t559
+        + _t505 * _t557
+        + _t539 * a2_re
+        + _t545 * a2_re
+        + _t551 * a2_re
+        + _t552 * a2_im
+        + _t553 * a2_im
+        + _t554 * a2_im
+    )
+    im[..., 87] = (
+        _t2531
+        + _t419 * _t599
+        + _t505 * _t598
+        + _t584 * a2_re
+        + _t589 * a2_re
+        + _t592 * a2_re
+        + _t593 * a2_im
+        + _t594 * a2_im
+        + _t595 * a2_im
+    )
+    im[..., 88] = (
+        _t2532
+        + _t419 * _t633
+        + _t505 * _t632
+        + _t619 * a2_re
+        + _t624 * a2_re
+        + _t627 * a2_re
+        + _t628 * a2_im
+        + _t629 * a2_im
+        + _t630 * a2_im
+    )
+    im[..., 89] = _t2525
+    im[..., 90] = _t2526
+    im[..., 91] = _t2526
+    im[..., 92] = _t2527 + _t2533 + _t2534
+    im[..., 93] = (
+        _t2532
+        + _t419 * _t684
+        + _t505 * _t631
+        + _t678 * a2_re
+        + _t679 * a2_re
+        + _t680 * a2_re
+        + _t681 * a2_im
+        + _t682 * a2_im
+        + _t683 * a2_im
+    )
+    im[..., 94] = (
+        _t2531
+        + _t419 * _t691
+        + _t505 * _t597
+        + _t685 * a2_re
+        + _t686 * a2_re
+        + _t687 * a2_re
+        + _t688 * a2_im
+        + _t689 * a2_im
+        + _t690 * a2_im
+    )
+    im[..., 95] = _t2525
+    im[..., 96] = _t2526
+    im[..., 97] = _t2528 + _t2533 + _t2535
+    im[..., 98] = (
+        _t2530
+        + _t419 * _t712
+        + _t505 * _t556
+        + _t706 * a2_re
+        + _t707 * a2_re
+        + _t708 * a2_re
+        + _t709 * a2_im
+        + _t710 * a2_im
+        + _t711 * a2_im
+    )
+    im[..., 99] = _t2525
+    im[..., 100] = _t2529 + _t2534 + _t2535
+    im[..., 101] = (
+        2 * _t418 * _t713
+        + _t435 * base_x2_im
+        + _t462 * base_y2_im
+        + _t477 * base_z2_im
+        + _t505 * _t714
+        + _t505 * _t715
+        + _t505 * _t716
+        - _t505 * _t717
+        + _t724 * _t734
+        + _t725 * _t736
+        + _t725 * _t737
+        + _t725 * _t738
+        + _t725 * _t774
+        + _t725 * _t776
+        + _t725 * _t778
+        + _t725 * _t779
+        + _t725 * _t780
+        + _t725 * _t781
+        + _t725 * _t829
+        + _t725 * _t830
+        + _t725 * _t831
+        + _t729 * _t734
+        + _t733 * _t734
+        + _t734 * _t759
+        + _t734 * _t764
+        + _t734 * _t769
+        + _t734 * _t770
+        + _t734 * _t771
+        + _t734 * _t772
+        + _t734 * _t813
+        + _t734 * _t821
+        + _t734 * _t828
+        + _t741 * a2_re
+        + _t744 * a2_re
+        + _t747 * a2_re
+        + _t748 * a2_im
+        + _t749 * a2_im
+        + _t750 * a2_im
+        + _t784 * a2_re
+        + _t787 * a2_re
+        + _t790 * a2_re
+        + _t793 * a2_re
+        + _t796 * a2_re
+        + _t799 * a2_re
+        + _t800 * a2_im
+        + _t801 * a2_im
+        + _t802 * a2_im
+        + _t803 * a2_im
+        + _t804 * a2_im
+        + _t805 * a2_im
+    )
+    im[..., 102] = _t921
+    im[..., 103] = _t2536
+    im[..., 104] = _t2537
+    im[..., 105] = -_t2538
+    im[..., 106] = _t2536
+    im[..., 107] = _t2538
+    im[..., 108] = _t2537
+    im[..., 109] = _t2539
+    im[..., 110] = _t2539
+    im[..., 111] = (
+        -_t837 * base_x3_re
+        - _t850 * base_x3_im
+        + _t857 * a3_re
+        + _t858 * a3_im
+        + _t864 * a3_re
+        + _t868 * a3_re
+        + _t869 * a3_im
+        + _t870 * a3_im
+    )
+    im[..., 112] = _t921
+    im[..., 113] = _t2540
+    im[..., 114] = -_t2537
+    im[..., 115] = _t2541
+    im[..., 116] = _t2542
+    im[..., 117] = _t2541
+    im[..., 118] = _t2540
+    im[..., 119] = _t2537
+    im[..., 120] = _t2542
+    im[..., 121] = (
+        -_t837 * base_y3_re
+        - _t850 * base_y3_im
+        + _t879 * a3_re
+        + _t880 * a3_im
+        + _t883 * a3_re
+        + _t886 * a3_re
+        + _t887 * a3_im
+        + _t888 * a3_im
+    )
+    im[..., 122] = _t921
+    im[..., 123] = _t2543
+    im[..., 124] = _t2538
+    im[..., 125] = -_t2541
+    im[..., 126] = _t2544
+    im[..., 127] = _t2541
+    im[..., 128] = _t2544
+    im[..., 129] = _t2538
+    im[..., 130] = _t2543
+    im[..., 131] = (
+        -_t837 * base_z3_re
+        - _t850 * base_z3_im
+        + _t894 * a3_re
+        + _t895 * a3_im
+        + _t898 * a3_re
+        + _t901 * a3_re
+        + _t902 * a3_im
+        + _t903 * a3_im
+    )
+    im[..., 132] = _t2545
+    im[..., 133] = _t2546
+    im[..., 134] = _t2546
+    im[..., 135] = _t2546
+    im[..., 136] = _t2547 + _t2548 + _t2549
+    im[..., 137] = (
+        _t2550
+        + _t835 * _t975
+        + _t921 * _t973
+        + _t955 * a3_re
+        + _t961 * a3_re
+        + _t967 * a3_re
+        + _t968 * a3_im
+        + _t969 * a3_im
+        + _t970 * a3_im
+    )
+    im[..., 138] = (
+        _t1000 * a3_re
+        + _t1005 * a3_re
+        + _t1008 * a3_re
+        + _t1009 * a3_im
+        + _t1010 * a3_im
+        + _t1011 * a3_im
+        + _t1014 * _t921
+        + _t1015 * _t835
+        + _t2551
+    )
+    im[..., 139] = (
+        _t1035 * a3_re
+        + _t1040 * a3_re
+        + _t1043 * a3_re
+        + _t1044 * a3_im
+        + _t1045 * a3_im
+        + _t1046 * a3_im
+        + _t1048 * _t921
+        + _t1049 * _t835
+        + _t2552
+    )
+    im[..., 140] = _t2545
+    im[..., 141] = _t2546
+    im[..., 142] = _t2546
+    im[..., 143] = _t2547 + _t2553 + _t2554
+    im[..., 144] = (
+        _t1047 * _t921
+        + _t1094 * a3_re
+        + _t1095 * a3_re
+        + _t1096 * a3_re
+        + _t1097 * a3_im
+        + _t1098 * a3_im
+        + _t1099 * a3_im
+        + _t1100 * _t835
+        + _t2552
+    )
+    im[..., 145] = (
+        _t1013 * _t921
+        + _t1101 * a3_re
+        + _t1102 * a3_re
+        + _t1103 * a3_re
+        + _t1104 * a3_im
+        + _t1105 * a3_im
+        + _t1106 * a3_im
+        + _t1107 * _t835
+        + _t2551
+    )
+    im[..., 146] = _t2545
+    im[..., 147] = _t2546
+    im[..., 148] = _t2548 + _t2553 + _t2555
+    im[..., 149] = (
+        _t1122 * a3_re
+        + _t1123 * a3_re
+        + _t1124 * a3_re
+        + _t1125 * a3_im
+        + _t1126 * a3_im
+        + _t1127 * a3_im
+        + _t1128 * _t835
+        + _t2550
+        + _t921 * _t972
+    )
+    im[..., 150] = _t2545
+    im[..., 151] = _t2549 + _t2554 + _t2555
+    im[..., 152] = (
+        2 * _t1129 * _t834
+        + _t1130 * _t921
+        + _t1131 * _t921
+        + _t1132 * _t921
+        - _t1133 * _t921
+        + _t1140 * _t1150
+        + _t1141 * _t1152
+        + _t1141 * _t1153
+        + _t1141 * _t1154
+        + _t1141 * _t1190
+        + _t1141 * _t1192
+        + _t1141 * _t1194
+        + _t1141 * _t1195
+        + _t1141 * _t1196
+        + _t1141 * _t1197
+        + _t1141 * _t1245
+        + _t1141 * _t1246
+        + _t1141 * _t1247
+        + _t1145 * _t1150
+        + _t1149 * _t1150
+        + _t1150 * _t1175
+        + _t1150 * _t1180
+        + _t1150 * _t1185
+        + _t1150 * _t1186
+        + _t1150 * _t1187
+        + _t1150 * _t1188
+        + _t1150 * _t1229
+        + _t1150 * _t1237
+        + _t1150 * _t1244
+        + _t1157 * a3_re
+        + _t1160 * a3_re
+        + _t1163 * a3_re
+        + _t1164 * a3_im
+        + _t1165 * a3_im
+        + _t1166 * a3_im
+        + _t1200 * a3_re
+        + _t1203 * a3_re
+        + _t1206 * a3_re
+        + _t1209 * a3_re
+        + _t1212 * a3_re
+        + _t1215 * a3_re
+        + _t1216 * a3_im
+        + _t1217 * a3_im
+        + _t1218 * a3_im
+        + _t1219 * a3_im
+        + _t1220 * a3_im
+        + _t1221 * a3_im
+        + _t851 * base_x3_im
+        + _t878 * base_y3_im
+        + _t893 * base_z3_im
+    )
+    im[..., 153] = _t1337
+    im[..., 154] = _t2556
+    im[..., 155] = _t2557
+    im[..., 156] = -_t2558
+    im[..., 157] = _t2556
+    im[..., 158] = _t2558
+    im[..., 159] = _t2557
+    im[..., 160] = _t2559
+    im[..., 161] = _t2559
+    im[..., 162] = (
+        -_t1253 * base_x4_re
+        - _t1266 * base_x4_im
+        + _t1273 * a4_re
+        + _t1274 * a4_im
+        + _t1280 * a4_re
+        + _t1284 * a4_re
+        + _t1285 * a4_im
+        + _t1286 * a4_im
+    )
+    im[..., 163] = _t1337
+    im[..., 164] = _t2560
+    im[..., 165] = -_t2557
+    im[..., 166] = _t2561
+    im[..., 167] = _t2562
+    im[..., 168] = _t2561
+    im[..., 169] = _t2560
+    im[..., 170] = _t2557
+    im[..., 171] = _t2562
+    im[..., 172] = (
+        -_t1253 * base_y4_re
+        - _t1266 * base_y4_im
+        + _t1295 * a4_re
+        + _t1296 * a4_im
+        + _t1299 * a4_re
+        + _t1302 * a4_re
+        + _t1303 * a4_im
+        + _t1304 * a4_im
+    )
+    im[..., 173] = _t1337
+    im[..., 174] = _t2563
+    im[..., 175] = _t2558
+    im[..., 176] = -_t2561
+    im[..., 177] = _t2564
+    im[..., 178] = _t2561
+    im[..., 179] = _t2564
+    im[..., 180] = _t2558
+    im[..., 181] = _t2563
+    im[..., 182] = (
+        -_t1253 * base_z4_re
+        - _t1266 * base_z4_im
+        + _t1310 * a4_re
+        + _t1311 * a4_im
+        + _t1314 * a4_re
+        + _t1317 * a4_re
+        + _t1318 * a4_im
+        + _t1319 * a4_im
+    )
+    im[..., 183] = _t2565
+    im[..., 184] = _t2566
+    im[..., 185] = _t2566
+    im[..., 186] = _t2566
+    im[..., 187] = _t2567 + _t2568 + _t2569
+    im[..., 188] = (
+        _t1251 * _t1391
+        + _t1337 * _t1389
+        + _t1371 * a4_re
+        + _t1377 * a4_re
+        + _t1383 * a4_re
+        + _t1384 * a4_im
+        + _t1385 * a4_im
+        + _t1386 * a4_im
+        + _t2570
+    )
+    im[..., 189] = (
+        _t1251 * _t1431
+        + _t1337 * _t1430
+        + _t1416 * a4_re
+        + _t1421 * a4_re
+        + _t1424 * a4_re
+        + _t1425 * a4_im
+        + _t1426 * a4_im
+        + _t1427 * a4_im
+        + _t2571
+    )
+    im[..., 190] = (
+        _t1251 * _t1465
+        + _t1337 * _t1464
+        + _t1451 * a4_re
+        + _t1456 * a4_re
+        + _t1459 * a4_re
+        + _t1460 * a4_im
+        + _t1461 * a4_im
+        + _t1462 * a4_im
+        + _t2572
+    )
+    im[..., 191] = _t2565
+    im[..., 192] = _t2566
+    im[..., 193] = _t2566
+    im[..., 194] = _t2567 + _t2573 + _t2574
+    im[..., 195] = (
+        _t1251 * _t1516
+        + _t1337 * _t1463
+        + _t1510 * a4_re
+        + _t1511 * a4_re
+        + _t1512 * a4_re
+        + _t1513 * a4_im
+        + _t1514 * a4_im
+        + _t1515 * a4_im
+        + _t2572
+    )
+    im[..., 196] = (
+        _t1251 * _t1523
+        + _t1337 * _t1429
+        + _t1517 * a4_re
+        + _t1518 * a4_re
+        + _t1519 * a4_re
+        + _t1520 * a4_im
+        + _t1521 * a4_im
+        + _t1522 * a4_im
+        + _t2571
+    )
+    im[..., 197] = _t2565
+    im[..., 198] = _t2566
+    im[..., 199] = _t2568 + _t2573 + _t2575
+    im[..., 200] = (
+        _t1251 * _t1544
+        + _t1337 * _t1388
+        + _t1538 * a4_re
+        + _t1539 * a4_re
+        + _t1540 * a4_re
+        + _t1541 * a4_im
+        + _t1542 * a4_im
+        + _t1543 * a4_im
+        + _t2570
+    )
+    im[..., 201] = _t2565
+    im[..., 202] = _t2569 + _t2574 + _t2575
+    im[..., 203] = (
+        2 * _t1250 * _t1545
+        + _t1267 * base_x4_im
+        + _t1294 * base_y4_im
+        + _t1309 * base_z4_im
+        + _t1337 * _t1546
+        + _t1337 * _t1547
+        + _t1337 * _t1548
+        - _t1337 * _t1549
+        + _t1556 * _t1566
+        + _t1557 * _t1568
+        + _t1557 * _t1569
+        + _t1557 * _t1570
+        + _t1557 * _t1606
+        + _t1557 * _t1608
+        + _t1557 * _t1610
+        + _t1557 * _t1611
+        + _t1557 * _t1612
+        + _t1557 * _t1613
+        + _t1557 * _t1661
+        + _t1557 * _t1662
+        + _t1557 * _t1663
+        + _t1561 * _t1566
+        + _t1565 * _t1566
+        + _t1566 * _t1591
+        + _t1566 * _t1596
+        + _t1566 * _t1601
+        + _t1566 * _t1602
+        + _t1566 * _t1603
+        + _t1566 * _t1604
+        + _t1566 * _t1645
+        + _t1566 * _t1653
+        + _t1566 * _t1660
+        + _t1573 * a4_re
+        + _t1576 * a4_re
+        + _t1579 * a4_re
+        + _t1580 * a4_im
+        + _t1581 * a4_im
+        + _t1582 * a4_im
+        + _t1616 * a4_re
+        + _t1619 * a4_re
+        + _t1622 * a4_re
+        + _t1625 * a4_re
+        + _t1628 * a4_re
+        + _t1631 * a4_re
+        + _t1632 * a4_im
+        + _t1633 * a4_im
+        + _t1634 * a4_im
+        + _t1635 * a4_im
+        + _t1636 * a4_im
+        + _t1637 * a4_im
+    )
+    im[..., 204] = _t1753
+    im[..., 205] = _t2576
+    im[..., 206] = _t2577
+    im[..., 207] = -_t2578
+    im[..., 208] = _t2576
+    im[..., 209] = _t2578
+    im[..., 210] = _t2577
+    im[..., 211] = _t2579
+    im[..., 212] = _t2579
+    im[..., 213] = (
+        -_t1669 * base_x5_re
+        - _t1682 * base_x5_im
+        + _t1689 * a5_re
+        + _t1690 * a5_im
+        + _t1696 * a5_re
+        + _t1700 * a5_re
+        + _t1701 * a5_im
+        + _t1702 * a5_im
+    )
+    im[..., 214] = _t1753
+    im[..., 215] = _t2580
+    im[..., 216] = -_t2577
+    im[..., 217] = _t2581
+    im[..., 218] = _t2582
+    im[..., 219] = _t2581
+    im[..., 220] = _t2580
+    im[..., 221] = _t2577
+    im[..., 222] = _t2582
+    im[..., 223] = (
+        -_t1669 * base_y5_re
+        - _t1682 * base_y5_im
+        + _t1711 * a5_re
+        + _t1712 * a5_im
+        + _t1715 * a5_re
+        + _t1718 * a5_re
+        + _t1719 * a5_im
+        + _t1720 * a5_im
+    )
+    im[..., 224] = _t1753
+    im[..., 225] = _t2583
+    im[..., 226] = _t2578
+    im[..., 227] = -_t2581
+    im[..., 228] = _t2584
+    im[..., 229] = _t2581
+    im[..., 230] = _t2584
+    im[..., 231] = _t2578
+    im[..., 232] = _t2583
+    im[..., 233] = (
+        -_t1669 * base_z5_re
+        - _t1682 * base_z5_im
+        + _t1726 * a5_re
+        + _t1727 * a5_im
+        + _t1730 * a5_re
+        + _t1733 * a5_re
+        + _t1734 * a5_im
+        + _t1735 * a5_im
+    )
+    im[..., 234] = _t2585
+    im[..., 235] = _t2586
+    im[..., 236] = _t2586
+    im[..., 237] = _t2586
+    im[..., 238] = _t2587 + _t2588 + _t2589
+    im[..., 239] = (
+        _t1667 * _t1807
+        + _t1753 * _t1805
+        + _t1787 * a5_re
+        + _t1793 * a5_re
+        + _t1799 * a5_re
+        + _t1800 * a5_im
+        + _t1801 * a5_im
+        + _t1802 * a5_im
+        + _t2590
+    )
+    im[..., 240] = (
+        _t1667 * _t1847
+        + _t1753 * _t1846
+        + _t1832 * a5_re
+        + _t1837 * a5_re
+        + _t1840 * a5_re
+        + _t1841 * a5_im
+        + _t1842 * a5_im
+        + _t1843 * a5_im
+        + _t2591
+    )
+    im[..., 241] = (
+        _t1667 * _t1881
+        + _t1753 * _t1880
+        + _t1867 * a5_re
+        + _t1872 * a5_re
+        + _t1875 * a5_re
+        + _t1876 * a5_im
+        + _t1877 * a5_im
+        + _t1878 * a5_im
+        + _t2592
+    )
+    im[..., 242] = _t2585
+    im[..., 243] = _t2586
+    im[..., 244] = _t2586
+    im[..., 245] = _t2587 + _t2593 + _t2594
+    im[..., 246] = (
+        _t1667 * _t1932
+        + _t1753 * _t1879
+        + _t1926 * a5_re
+        + _t1927 * a5_re
+        + _t1928 * a5_re
+        + _t1929 * a5_im
+        + _t1930 * a5_im
+        + _t1931 * a5_im
+        + _t2592
+    )
+    im[..., 247] = (
+        _t1667 * _t1939
+        + _t1753 * _t1845
+        + _t1933 * a5_re
+        + _t1934 * a5_re
+        + _t1935 * a5_re
+        + _t1936 * a5_im
+        + _t1937 * a5_im
+        + _t1938 * a5_im
+        + _t2591
+    )
+    im[..., 248] = _t2585
+    im[..., 249] = _t2586
+    im[..., 250] = _t2588 + _t2593 + _t2595
+    im[..., 251] = (
+        _t1667 * _t1960
+        + _t1753 * _t1804
+        + _t1954 * a5_re
+        + _t1955 * a5_re
+        + _t1956 * a5_re
+        + _t1957 * a5_im
+        + _t1958 * a5_im
+        + _t1959 * a5_im
+        + _t2590
+    )
+    im[..., 252] = _t2585
+    im[..., 253] = _t2589 + _t2594 + _t2595
+    im[..., 254] = (
+        2 * _t1666 * _t1961
+        + _t1683 * base_x5_im
+        + _t1710 * base_y5_im
+        + _t1725 * base_z5_im
+        + _t1753 * _t1962
+        + _t1753 * _t1963
+        + _t1753 * _t1964
+        - _t1753 * _t1965
+        + _t1972 * _t1982
+        + _t1973 * _t1984
+        + _t1973 * _t1985
+        + _t1973 * _t1986
+        + _t1973 * _t2022
+        + _t1973 * _t2024
+        + _t1973 * _t2026
+        + _t1973 * _t2027
+        + _t1973 * _t2028
+        + _t1973 * _t2029
+        + _t1973 * _t2077
+        + _t1973 * _t2078
+        + _t1973 * _t2079
+        + _t1977 * _t1982
+        + _t1981 * _t1982
+        + _t1982 * _t2007
+        + _t1982 * _t2012
+        + _t1982 * _t2017
+        + _t1982 * _t2018
+        + _t1982 * _t2019
+        + _t1982 * _t2020
+        + _t1982 * _t2061
+        + _t1982 * _t2069
+        + _t1982 * _t2076
+        + _t1989 * a5_re
+        + _t1992 * a5_re
+        + _t1995 * a5_re
+        + _t1996 * a5_im
+        + _t1997 * a5_im
+        + _t1998 * a5_im
+        + _t2032 * a5_re
+        + _t2035 * a5_re
+        + _t2038 * a5_re
+        + _t2041 * a5_re
+        + _t2044 * a5_re
+        + _t2047 * a5_re
+        + _t2048 * a5_im
+        + _t2049 * a5_im
+        + _t2050 * a5_im
+        + _t2051 * a5_im
+        + _t2052 * a5_im
+        + _t2053 * a5_im
+    )
+    im[..., 255] = _t2169
+    im[..., 256] = _t2596
+    im[..., 257] = _t2597
+    im[..., 258] = -_t2598
+    im[..., 259] = _t2596
+    im[..., 260] = _t2598
+    im[..., 261] = _t2597
+    im[..., 262] = _t2599
+    im[..., 263] = _t2599
+    im[..., 264] = (
+        -_t2085 * base_x6_re
+        - _t2098 * base_x6_im
+        + _t2105 * a6_re
+        + _t2106 * a6_im
+        + _t2112 * a6_re
+        + _t2116 * a6_re
+        + _t2117 * a6_im
+        + _t2118 * a6_im
+    )
+    im[..., 265] = _t2169
+    im[..., 266] = _t2600
+    im[..., 267] = -_t2597
+    im[..., 268] = _t2601
+    im[..., 269] = _t2602
+    im[..., 270] = _t2601
+    im[..., 271] = _t2600
+    im[..., 272] = _t2597
+    im[..., 273] = _t2602
+    im[..., 274] = (
+        -_t2085 * base_y6_re
+        - _t2098 * base_y6_im
+        + _t2127 * a6_re
+        + _t2128 * a6_im
+        + _t2131 * a6_re
+        + _t2134 * a6_re
+        + _t2135 * a6_im
+        + _t2136 * a6_im
+    )
+    im[..., 275] = _t2169
+    im[..., 276] = _t2603
+    im[..., 277] = _t2598
+    im[..., 278] = -_t2601
+    im[..., 279] = _t2604
+    im[..., 280] = _t2601
+    im[..., 281] = _t2604
+    im[..., 282] = _t2598
+    im[..., 283] = _t2603
+    im[..., 284] = (
+        -_t2085 * base_z6_re
+        - _t2098 * base_z6_im
+        + _t2142 * a6_re
+        + _t2143 * a6_im
+        + _t2146 * a6_re
+        + _t2149 * a6_re
+        + _t2150 * a6_im
+        + _t2151 * a6_im
+    )
+    im[..., 285] = _t2605
+    im[..., 286] = _t2606
+    im[..., 287] = _t2606
+    im[..., 288] = _t2606
+    im[..., 289] = _t2607 + _t2608 + _t2609
+    im[..., 290] = (
+        _t2083 * _t2223
+        + _t2169 * _t2221
+        + _t2203 * a6_re
+        + _t2209 * a6_re
+        + _t2215 * a6_re
+        + _t2216 * a6_im
+        + _t2217 * a6_im
+        + _t2218 * a6_im
+        + _t2610
+    )
+    im[..., 291] = (
+        _t2083 * _t2263
+        + _t2169 * _t2262
+        + _t2248 * a6_re
+        + _t2253 * a6_re
+        + _t2256 * a6_re
+        + _t2257 * a6_im
+        + _t2258 * a6_im
+        + _t2259 * a6_im
+        + _t2611
+    )
+    im[..., 292] = (
+        _t2083 * _t2297
+        + _t2169 * _t2296
+        + _t2283 * a6_re
+        + _t2288 * a6_re
+        + _t2291 * a6_re
+        + _t2292 * a6_im
+        + _t2293 * a6_im
+        + _t2294 * a6_im
+        + _t2612
+    )
+    im[..., 293] = _t2605
+    im[..., 294] = _t2606
+    im[..., 295] = _t2606
+    im[..., 296] = _t2607 + _t2613 + _t2614
+    im[..., 297] = (
+        _t2083 * _t2348
+        + _t2169 * _t2295
+        + _t2342 * a6_re
+        + _t2343 * a6_re
+        + _t2344 * a6_re
+        + _t2345 * a6_im
+        + _t2346 * a6_im
+        + _t2347 * a6_im
+        + _t2612
+    )
+    im[..., 298] = (
+        _t2083 * _t2355
+        + _t2169 * _t2261
+        + _t2349 * a6_re
+        + _t2350 * a6_re
+        + _t2351 * a6_re
+        + _t2352 * a6_im
+        + _t2353 * a6_im
+        + _t2354 * a6_im
+        + _t2611
+    )
+    im[..., 299] = _t2605
+    im[..., 300] = _t2606
+    im[..., 301] = _t2608 + _t2613 + _t2615
+    im[..., 302] = (
+        _t2083 * _t2376
+        + _t2169 * _t2220
+        + _t2370 * a6_re
+        + _t2371 * a6_re
+        + _t2372 * a6_re
+        + _t2373 * a6_im
+        + _t2374 * a6_im
+        + _t2375 * a6_im
+        + _t2610
+    )
+    im[..., 303] = _t2605
+    im[..., 304] = _t2609 + _t2614 + _t2615
+    im[..., 305] = (
+        2 * _t2082 * _t2377
+        + _t2099 * base_x6_im
+        + _t2126 * base_y6_im
+        + _t2141 * base_z6_im
+        + _t2169 * _t2378
+        + _t2169 * _t2379
+        + _t2169 * _t2380
+        - _t2169 * _t2381
+        + _t2388 * _t2398
+        + _t2389 * _t2400
+        + _t2389 * _t2401
+        + _t2389 * _t2402
+        + _t2389 * _t2438
+        + _t2389 * _t2440
+        + _t2389 * _t2442
+        + _t2389 * _t2443
+        + _t2389 * _t2444
+        + _t2389 * _t2445
+        + _t2389 * _t2493
+        + _t2389 * _t2494
+        + _t2389 * _t2495
+        + _t2393 * _t2398
+        + _t2397 * _t2398
+        + _t2398 * _t2423
+        + _t2398 * _t2428
+        + _t2398 * _t2433
+        + _t2398 * _t2434
+        + _t2398 * _t2435
+        + _t2398 * _t2436
+        + _t2398 * _t2477
+        + _t2398 * _t2485
+        + _t2398 * _t2492
+        + _t2405 * a6_re
+        + _t2408 * a6_re
+        + _t2411 * a6_re
+        + _t2412 * a6_im
+        + _t2413 * a6_im
+        + _t2414 * a6_im
+        + _t2448 * a6_re
+        + _t2451 * a6_re
+        + _t2454 * a6_re
+        + _t2457 * a6_re
+        + _t2460 * a6_re
+        + _t2463 * a6_re
+        + _t2464 * a6_im
+        + _t2465 * a6_im
+        + _t2466 * a6_im
+        + _t2467 * a6_im
+        + _t2468 * a6_im
+        + _t2469 * a6_im
+    )
+    return {
+        "re": re,
+        "im": im,
+    }
+
+
+def automatic_passive(z, params):
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(z)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    z0 = z[..., 0]
+    z1 = z[..., 1]
+    z2 = z[..., 2]
+    z3 = z[..., 3]
+    z4 = z[..., 4]
+    z5 = z[..., 5]
+    z6 = z[..., 6]
+    passive = numpy.zeros(shape + (7,))
+    passive[..., 0] = z0
+    passive[..., 1] = z1
+    passive[..., 2] = z2
+    passive[..., 3] = z3
+    passive[..., 4] = z4
+    passive[..., 5] = z5
+    passive[..., 6] = z6
+    return {
+        "passive": passive,
+    }
+
+
 KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -2722,4 +9201,7 @@ KERNELS = {
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }

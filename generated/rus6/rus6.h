@@ -8,6 +8,9 @@
 //   singularity_factors: 1080
 //   drawing: 311
 //   inverse_pose: 1025
+//   automatic_family: 0
+//   automatic_monomials: 11401
+//   automatic_passive: 0
 
 // Public C interface of the generated rus6 solvers: 6-RUS rotary hexapod (Hunt 1983): six actuated cranks with rods to a spherical-jointed platform.
 // K. H. Hunt (1983)
@@ -81,6 +84,7 @@ extern "C" {
 #define RUS6_NUM_ACTUATED 6  // theta1, theta2, theta3, theta4, theta5, theta6
 #define RUS6_NUM_PASSIVE 7  // x, y, z, q0, q1, q2, q3
 #define RUS6_NUM_PARAMS 84
+#define RUS6_MAX_MODES 80  // slots of forward_pose_all per input
 
 // Geometry, in the order of the kernels' params input (a pointer to this struct is that array).
 typedef struct {
@@ -235,6 +239,50 @@ typedef struct {
 
 int rus6_forward_pose(const rus6_newton_job* job);
 
+// Every real assembly mode of n inputs. Per input, MAX_MODES slots (root r, branch b at slot
+// r * 1 + b, roots ascending, roots at infinity last): poses, passive, residual,
+// conditioning, root, outcome (OUTCOME_MODE for a valid mode) and root_kind (0 simple, 1 cluster
+// of numerically multiple roots, 2 complex pair near the real axis, -1 no root). count = valid
+// modes; real_roots + near_roots + at_infinity roots are each accounted for by the outcomes of
+// their slots. lower/upper: passive joint limits (+-inf for none).
+typedef struct {
+    long long n;
+    const double* actuated;
+    long long actuated_stride;
+    const double* params;
+    const double* lower;
+    const double* upper;
+    long long polish_iterations;
+    double tolerance;
+    double closure;
+    double candidate;
+    double duplicate;
+    double factor_zero;
+    double singular_ratio;
+    double validity;
+    double degenerate;
+    double leading_tolerance;
+    double near_tolerance;
+    double path_tolerance;
+    double real_endpoint;
+    double near_real_endpoint;
+    double* poses;
+    double* passive;
+    double* residual;
+    double* conditioning;
+    double* roots;
+    int* outcome;
+    int* root_kind;
+    int* count;
+    int* real_roots;
+    int* near_roots;
+    int* at_infinity;
+    int* status;
+    double* endpoints;
+} rus6_modes_job;
+
+int rus6_forward_pose_all(const rus6_modes_job* job);
+
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.
 // ^B_P T (4x4) from actuated and passive values.
@@ -265,6 +313,18 @@ int rus6_drawing_batch(long long n, const double** inputs, const long long* stri
 //   inputs: pose[12], branch[6], params[84]
 //   outputs: actuated[6], passive[7], validity[6]
 int rus6_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[6], params[84]
+//   outputs: free[84], angles[6]
+int rus6_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[102], family_im[102]
+//   outputs: re[311], im[311]
+int rus6_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[7], params[84]
+//   outputs: passive[7]
+int rus6_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }
