@@ -64,6 +64,8 @@ WITNESS_LOOPS = 3
 #: random Newton starts in a row that find nothing new before every component is believed found
 COMPONENT_PROBES = 48
 CACHE_VERSION = 3
+#: the proof's fields in the manifest, in this order
+PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation")
 
 
 @dataclass
@@ -592,7 +594,7 @@ def _from_package(name: str, method: str, key: str) -> dict | None:
             "second_instance": pairs(entry["alternative_instance"]),
             "second_solutions": rows(entry["alternative"]),
             "proof": {
-                k: proof[k] for k in ("method", "witnesses", "trace_deviation", "proven", "stable_rule") if k in proof
+                k: proof[k] for k in PROOF_KEYS if k in proof
             },
         }
     except (OSError, ValueError, KeyError, TypeError):
@@ -718,7 +720,12 @@ def build(
         "branches": [],
         "combinations": [[]],
         "degeneracies": [],
-        "root_count": {"count": len(start), **record["proof"], "tolerance": TRACE_TOLERANCE},
+        # one key order whether the record was computed or read back from the package
+        "root_count": {
+            "count": len(start),
+            **{key: record["proof"][key] for key in PROOF_KEYS if key in record["proof"]},
+            "tolerance": TRACE_TOLERANCE,
+        },
         # sha256 of the equations, seed and parameters: a later build of the same family reuses
         # (after verifying them) the start systems recorded here
         "family_key": record["key"],

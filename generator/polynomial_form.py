@@ -68,8 +68,11 @@ def circle_parameter(angle: sp.Expr) -> sp.Expr:
     return (half_sin - MOEBIUS_A * half_cos) / (half_sin - MOEBIUS_B * half_cos)
 
 
-def _trig_atoms(expr: sp.Expr) -> set[sp.Expr]:
-    return {a for a in sp.preorder_traversal(expr) if isinstance(a, (sp.sin, sp.cos, sp.tan))}
+def _trig_atoms(expr: sp.Expr) -> list[sp.Expr]:
+    """The sines, cosines and tangents in ``expr``, in SymPy's canonical order: the family's
+    symbols are named in this order, which must not depend on the process's hash seed."""
+    found = {a for a in sp.preorder_traversal(expr) if isinstance(a, (sp.sin, sp.cos, sp.tan))}
+    return sorted(found, key=sp.default_sort_key)
 
 
 def derive(
