@@ -5,6 +5,9 @@ the trace test's record in the manifest, and the trace test itself failing on an
 
 from __future__ import annotations
 
+import os
+import sys
+
 import numpy as np
 import pytest
 
@@ -27,10 +30,20 @@ def test_every_mechanism_with_a_loop_has_forward_pose_all() -> None:
         assert methods, f"{name}: no forward_pose_all method"
 
 
-def _inputs(m: parakin.Mechanism, count: int, seed: int) -> parakin.Configuration:
-    state = sample_configurations(m, 3 * count, spread=0.08, seed=seed)
-    assert state.actuated.shape[0] >= count, f"{m.name}: only {state.actuated.shape[0]} closed samples"
-    return parakin.Configuration(state.actuated[:count], state.passive[:count], state.pose[:count])
+#: families with more paths than this are checked on fewer inputs by default (each input tracks
+#: every path in NumPy orchestration); ``--run-slow`` checks them on as many as the others
+LARGE_FAMILY = 40
+RUN_SLOW = "--run-slow" in sys.argv or os.environ.get("PARAKIN_SLOW") == "1"
+
+
+def _inputs(m: parakin.Mechanism, count: int, seed: int, method: str = "automatic") -> parakin.Configuration:
+    """Up to ``count`` closed configurations sampled around the home (at least half of them)."""
+    if m.capabilities.forward_methods[method].degree > LARGE_FAMILY and not RUN_SLOW:
+        count = max(3, count // 6)
+    state = sample_configurations(m, 6 * count, spread=0.08, seed=seed)
+    available = min(count, state.actuated.shape[0])
+    assert available >= max(count // 2, 3), f"{m.name}: only {state.actuated.shape[0]} closed samples"
+    return parakin.Configuration(state.actuated[:available], state.passive[:available], state.pose[:available])
 
 
 def _pose_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -62,7 +75,7 @@ def test_the_small_families_are_proven() -> None:
 
 @pytest.mark.parametrize("name", AUTOMATIC)
 def test_the_generating_pose_is_always_among_the_automatic_modes(name: str) -> None:
-    m = parakin.load(name, backend="numpy")
+    m = parakin.load(name, backend="compiled")
     state = _inputs(m, 24, seed=19)
     modes = m.forward_pose_all(state.actuated, strict=False, method="automatic")
     checked = 0
@@ -71,7 +84,7 @@ def test_the_generating_pose_is_always_among_the_automatic_modes(name: str) -> N
         assert found.shape[0] >= 1, f"{name}: input {i} has no mode"
         assert _pose_distance(state.pose[i][None], found).min() < 1e-8, f"{name}: input {i} lost its own pose"
         checked += 1
-    assert checked >= 12
+    assert checked >= min(12, state.actuated.shape[0])
 
 
 #: the mechanisms with a hand-derived method beside the automatic one (stewart's 40 modes: its own test)
@@ -85,7 +98,7 @@ WITH_CLOSED_FORM = [
 
 @pytest.mark.parametrize("name", WITH_CLOSED_FORM)
 def test_automatic_and_closed_form_modes_agree(name: str) -> None:
-    m = parakin.load(name, backend="numpy")
+    m = parakin.load(name, backend="compiled")
     closed = next(method for method in ("elimination", "homotopy") if method in m.capabilities.forward_methods)
     state = _inputs(m, 40, seed=7)
     first = m.forward_pose_all(state.actuated, strict=False, method=closed)
@@ -98,7 +111,7 @@ def test_automatic_and_closed_form_modes_agree(name: str) -> None:
             distance = _pose_distance(a, b)
             assert distance.min(1).max() < 1e-9 and distance.min(0).max() < 1e-9
         compared += 1
-    assert compared >= 20
+    assert compared >= min(20, state.actuated.shape[0])
 
 
 def test_the_trace_test_rejects_an_incomplete_solution_set() -> None:
@@ -128,7 +141,7 @@ def test_the_trace_test_rejects_an_incomplete_solution_set() -> None:
 def test_generic_inputs_are_certified_complete(name: str) -> None:
     """Every path's endpoint is in a Krawczyk box holding exactly one root, the boxes are
     distinct, and they number the proven root count: no mode can be missing."""
-    m = parakin.load(name, backend="numpy")
+    m = parakin.load(name, backend="compiled")
     state = _inputs(m, 12, seed=5)
     modes = m.forward_pose_all(state.actuated, strict=False, method="automatic")
     certificate = modes.certificate()

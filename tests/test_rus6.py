@@ -312,12 +312,20 @@ def test_named_examples_hold():
         assert result.holds, (result.example.name, result.error, result.comparisons)
 
 
-def test_no_forward_model_yet():
-    """forward_pose_all needs a forward model that this file does not give (module docstring)."""
-    m = parakin.load("rus6", backend="numpy")
-    assert m.capabilities.forward is None
-    with pytest.raises(parakin.UnsupportedOperationError):
-        m.forward_pose_all(m.home_actuated)
+def test_dietmaiers_forty_modes_from_the_derived_polynomial_form(dietmaier):
+    """No forward model is written in the mechanism file: forward_pose_all at theta = pi/6 (the
+    generator's polynomial form of the closure, the crank angles entering through the circle
+    parametrisation) gives the 40 modes stewart's own homotopy finds for Dietmaier's lengths
+    (1e-9, a bijection); each of the 80 endpoints (q and -q) is in a certified box, distinct."""
+    assert set(dietmaier.capabilities.forward_methods) == {"automatic"}
+    modes = dietmaier.forward_pose_all(np.full(6, DIETMAIER_THETA))
+    assert int(modes.count) == 40
+    reference = parakin.load("stewart", backend="numpy").forward_pose_all(DIETMAIER_LENGTHS)
+    a, b = modes.poses[modes.valid], reference.poses[reference.valid]
+    apart = np.abs(a[:, None] - b[None]).max(axis=(-2, -1))
+    assert apart.min(1).max() < 1e-9 and apart.min(0).max() < 1e-9
+    certificate = modes.certificate()
+    assert int(certificate["root_count"]) == 80 and int(certificate["certified_roots"]) == 80
 
 
 def test_module_constants_agree_with_the_reference():
