@@ -12,7 +12,7 @@
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 //   automatic_family: 0
-//   automatic_monomials: 14822
+//   automatic_monomials: 14496
 //   automatic_passive: 3
 
 // Batched entry points over the CasADi-generated kernels of spm, the forward-pose Newton loop
@@ -34,7 +34,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (764 + 1)
+#define SZ_W (734 + 1)
 
 int spm_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -302,7 +302,7 @@ int spm_automatic_monomials_batch(long long n, const double** inputs, const long
     const casadi_real* arg[2];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[764 + 1];
+    casadi_real w[734 + 1];
     casadi_real out_re[36 + 1];
     casadi_real out_im[36 + 1];
     for (long long i = 0; i < n; ++i) {

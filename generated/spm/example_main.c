@@ -12,7 +12,7 @@
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 //   automatic_family: 0
-//   automatic_monomials: 14822
+//   automatic_monomials: 14496
 //   automatic_passive: 3
 
 // Example: the spm solvers from C. Build (from this folder):
