@@ -458,7 +458,9 @@ def _refine_exact(family: Family, q: np.ndarray, found: np.ndarray) -> list[list
                 value = mpmath.matrix(residual(*z, *parameters))
                 step = mpmath.lu_solve(mpmath.matrix(matrix(*z, *parameters)), value)
                 z = [a - b for a, b in zip(z, step, strict=True)]
-            if mpmath.norm(mpmath.matrix(residual(*z, *parameters))) > mpmath.mpf(10) ** -30:
+            # converged: the last Newton step is at 40-digit rounding relative to |z| (a residual
+            # threshold would depend on how the equations are scaled)
+            if not mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z))):
                 # no regular isolated solution (a singular point monodromy brushed): not a start
                 continue
             refined.append([complex(float(c.real), float(c.imag)) for c in z])
@@ -499,8 +501,20 @@ def start_systems(
     cached = _cache_path(key.hexdigest())
     flips = sign_symmetries(family, np.random.default_rng(seed + 2))
     for stored in (_from_cache(cached), _from_package(name, method, key.hexdigest())):
-        if stored is not None and _verified(family, stored, flips) is not None:
+        if stored is None:
+            continue
+        if _verified(family, stored, flips) is not None:
             return family, {**stored, "key": key.hexdigest()}
+        if _verified(family, stored, flips, second=False) is not None:
+            # the first start system and its proof hold, the second does not (a record written
+            # before its solutions were counted): only the second is computed again
+            q = np.array([complex(*v) for v in stored["instance"]])
+            solutions = np.array([[complex(*c) for c in row] for row in stored["solutions"]])
+            second, second_solutions = _second_start(name, family, q, solutions, seed)
+            record = {**stored, "second_instance": _pairs(second)}
+            record["second_solutions"] = [_pairs(row) for row in second_solutions]
+            _store(cached, record)
+            return family, {**record, "key": key.hexdigest()}
     rng = np.random.default_rng(seed)
     q, point = _start_instance(name, family, rng)
     found = point[None, :]
@@ -529,15 +543,7 @@ def start_systems(
         )
         # the count is monodromy's, and the manifest says so
         print(f"parakin generator: {name} ({method}): {len(solutions)} solutions, {method_text}", file=sys.stderr)
-    # a second start system, for inputs where a path of the first fails: its own random
-    # instance, its solutions followed from the first
-    second = _random_complex(np.random.default_rng(seed + 1), family.m)
-    moved, reached = _track(_segment(family, q, second), solutions)
-    if not reached.all():
-        raise GenerationError(f"{name}: the second start system could not be reached from the first")
-    second_solutions = np.array(_refine_exact(family, second, moved))
-    if not _smallest_gap(second_solutions) > 1e-6:
-        raise GenerationError(f"{name}: two paths to the second start system met")
+    second, second_solutions = _second_start(name, family, q, solutions, seed)
     record = {
         "instance": _pairs(q),
         "solutions": [_pairs(row) for row in solutions],
@@ -552,11 +558,35 @@ def start_systems(
             "tolerance": TRACE_TOLERANCE,
         },
     }
+    _store(cached, record)
+    return family, {**record, "key": key.hexdigest()}
+
+
+def _store(cached: Path, record: dict) -> None:
     cached.parent.mkdir(parents=True, exist_ok=True)
     partial = cached.with_suffix(f".{os.getpid()}.tmp")
     partial.write_text(json.dumps(record))
     partial.replace(cached)
-    return family, {**record, "key": key.hexdigest()}
+
+
+def _second_start(
+    name: str, family: Family, q: np.ndarray, solutions: np.ndarray, seed: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """A second start system, for inputs where a path of the first fails: its own random
+    instance, every solution of the first followed to it and refined; all of them or an error."""
+    second = _random_complex(np.random.default_rng(seed + 1), family.m)
+    moved, reached = _track(_segment(family, q, second), solutions)
+    if not reached.all():
+        raise GenerationError(f"{name}: the second start system could not be reached from the first")
+    second_solutions = np.array(_refine_exact(family, second, moved))
+    if len(second_solutions) != len(solutions):
+        raise GenerationError(
+            f"{name}: of {len(solutions)} paths to the second start system, {len(second_solutions)} end at "
+            "regular solutions"
+        )
+    if not _smallest_gap(second_solutions) > 1e-6:
+        raise GenerationError(f"{name}: two paths to the second start system met")
+    return second, second_solutions
 
 
 def _from_cache(path: Path) -> dict | None:
@@ -593,23 +623,24 @@ def _from_package(name: str, method: str, key: str) -> dict | None:
             "solutions": rows(entry["start"]),
             "second_instance": pairs(entry["alternative_instance"]),
             "second_solutions": rows(entry["alternative"]),
-            "proof": {
-                k: proof[k] for k in PROOF_KEYS if k in proof
-            },
+            "proof": {k: proof[k] for k in PROOF_KEYS if k in proof},
         }
     except (OSError, ValueError, KeyError, TypeError):
         return None
 
 
-def _verified(family: Family, record: dict, flips: list[np.ndarray]) -> dict | None:
-    """A stored record, if it still proves what it claims: its solutions solve their instances
-    to 1e-10, are distinct and closed under the sign symmetries, its trace test closed within
-    today's tolerance."""
+def _verified(family: Family, record: dict, flips: list[np.ndarray], second: bool = True) -> dict | None:
+    """A stored record, if it still proves what it claims: its solutions (as many in both start
+    systems; the first one only where ``second`` is False) solve their instances to 1e-10, are
+    distinct and closed under the sign symmetries, its trace test closed within today's
+    tolerance."""
     try:
-        for instance, solutions in (("instance", "solutions"), ("second_instance", "second_solutions")):
+        count = len(record["solutions"])
+        parts = [("instance", "solutions")] + ([("second_instance", "second_solutions")] if second else [])
+        for instance, solutions in parts:
             q = np.array([complex(*v) for v in record[instance]])
             z = np.array([[complex(*c) for c in row] for row in record[solutions]])
-            if not newton_size(family, z, q).max() < 1e-10:
+            if not (count and len(z) == count and newton_size(family, z, q).max() < 1e-10):
                 return None
             if not _smallest_gap(z) > 1e-6 or len(_closed(z, flips)) != len(z):
                 return None
