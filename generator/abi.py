@@ -91,6 +91,7 @@ MODES_JOB = [
     ("near_roots", "int32*"),  # n: near-real candidates (complex pairs close to the axis)
     ("at_infinity", "int32*"),  # n: roots at infinity (vanishing leading coefficients)
     ("status", "int32*"),  # n: INPUT_STATUS
+    ("endpoints", "double*"),  # n x M x NZ x 2: a homotopy path's complex endpoint (NULL: not wanted)
 ]
 
 #: C spelling of the field types (ctypes names are derived from the same strings at run time)

@@ -8,16 +8,18 @@ from __future__ import annotations
 
 import itertools
 import random
+import sys
 from dataclasses import dataclass, field
 
 import mpmath
 import sympy as sp
 
-from . import configurations, homotopy
+from . import configurations, homotopy, polynomial_form
 from .checks import check_closure, check_pose_kind, check_program_symbols
 from .errors import GenerationError
 from .frames import vee
 from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
+from .polynomial_form import PolynomialForm
 from .program import Program
 from .trigpoly import factor_list
 
@@ -477,10 +479,20 @@ def derive(mechanism: Mechanism) -> Derivation:
             programs.append(_inverse_patterns(mechanism, params, groups["groups"]))
         symbolic["inverse_steps"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in inverse.steps))
 
+    methods: dict[str, dict] = {}
     if isinstance(mechanism.forward, ForwardHomotopy):
-        setup = homotopy.build(mechanism, actuated, params)
+        forward_homotopy = mechanism.forward
+        form = PolynomialForm(
+            list(forward_homotopy.unknowns),
+            [sp.expand(e) for e in forward_homotopy.equations],
+            [(v, v) for v in list(mechanism.actuated) + list(mechanism.parameters)],
+            list(forward_homotopy.passive),
+            list(forward_homotopy.homogeneous),
+            ["the mechanism's own polynomial system (ForwardHomotopy)"],
+        )
+        setup = homotopy.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
         programs += setup.programs
-        metadata["forward"] = setup.metadata
+        methods["homotopy"] = setup.metadata
         symbolic.update(setup.symbolic)
     elif mechanism.forward is not None:
         forward = mechanism.forward
@@ -503,7 +515,8 @@ def derive(mechanism: Mechanism) -> Derivation:
                 steps=forward.auxiliary + forward.back_substitution,
             )
         )
-        metadata["forward"] = {
+        methods["elimination"] = {
+            "method": "elimination",
             "unknown": str(forward.unknown),
             "degree": len(forward.coefficients) - 1,
             "branches": [str(b) for b in forward.branches],
@@ -512,6 +525,27 @@ def derive(mechanism: Mechanism) -> Derivation:
         }
         symbolic["forward_polynomial"] = sp.Add(*(c * forward.unknown**k for k, c in enumerate(forward.coefficients)))
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))
+    if mechanism.passive:
+        # every mechanism with a loop to close: its modes by the homotopy of the derived polynomial form
+        form = polynomial_form.derive(
+            list(residual), mechanism.passive, mechanism.actuated, list(mechanism.parameters), mechanism.angular
+        )
+        try:
+            setup = homotopy.build(mechanism.name, form, actuated, params, "automatic")
+        except GenerationError as error:
+            if not methods:
+                raise
+            # the mechanism has its own method: it keeps it, and the build says what failed
+            print(f"parakin generator: {mechanism.name}: no automatic method ({error})", file=sys.stderr)
+        else:
+            programs += setup.programs
+            methods["automatic"] = setup.metadata
+            symbolic.update(setup.symbolic)
+    if methods:
+        # the default: a closed form where one was written (exact root isolation, fastest), else the
+        # mechanism's own homotopy, else the derived one
+        default = next(m for m in ("elimination", "homotopy", "automatic") if m in methods)
+        metadata["forward"] = {"default": default, "methods": methods}
     for program in programs:
         inputs = [symbol for _, group in program.inputs for symbol in group]
         check_program_symbols(mechanism, program.name, inputs, program.steps, [m for _, m in program.outputs])

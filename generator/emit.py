@@ -163,6 +163,14 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     )
 
 
+def _term(equation: int, exponents: list[int]) -> dict[str, Any]:
+    """A monomial for the unrolled C evaluation: its variables with their powers, and for each
+    the partial derivative's other factors."""
+    support = [(v, e) for v, e in enumerate(exponents) if e]
+    partials = [(v, e, [(w, f) for w, f in support if w != v]) for v, e in support]
+    return {"equation": equation, "support": support, "partials": partials}
+
+
 def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> dict[str, Any]:
     """What the C driver and the public header print: sizes, branch tables, the ABI."""
     from .abi import C_TYPES, describe
@@ -173,26 +181,41 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
     work = {key: max(k["work"][key] for k in kernels.values()) for key in ("arg", "res", "iw", "w")}
     forward = inverse = None
     if caps["forward"] is not None:
-        if caps["inverse"] is None:
+        default = caps["forward"]["default"]
+        chosen = caps["forward"]["methods"][default]
+        homotopy = "start" in chosen
+        if caps["inverse"] is None and not homotopy:
             raise ValueError(f"{mechanism}: a forward elimination needs a closed-form inverse (passive joints)")
         forward = {
-            "degree": caps["forward"]["degree"],
-            "combinations": caps["forward"]["combinations"],
-            "branch_size": len(caps["forward"]["branches"]),
-            "degeneracies": len(caps["forward"]["degeneracies"]),
-            "method": caps["forward"].get("method", "polynomial"),
+            "degree": chosen["degree"],
+            "combinations": chosen["combinations"],
+            "branch_size": len(chosen["branches"]),
+            "degeneracies": len(chosen["degeneracies"]),
+            "method": default,
+            "homotopy": homotopy,
         }
-        if forward["method"] == "homotopy":
-            start = caps["forward"]["start"]
+        if homotopy:
+            start, alternative = chosen["start"], chosen["alternative"]
             forward |= {
-                "unknowns": len(caps["forward"]["unknowns"]),
-                "powers": caps["forward"]["powers"],
-                "homogeneous": caps["forward"]["homogeneous"],
+                "unknowns": len(chosen["unknowns"]),
+                "powers": chosen["powers"],
+                "homogeneous": chosen["homogeneous"],
+                "terms": [_term(k, exponents) for k, exponents in chosen["terms"]],
+                "max_degree": max(max(e, default=0) for _, e in chosen["terms"]) or 1,
                 "start_real": [[repr(float(v)) for v in row] for row in start["real"]],
                 "start_imag": [[repr(float(v)) for v in row] for row in start["imag"]],
-                "alternative_real": [[repr(float(v)) for v in row] for row in caps["forward"]["alternative"]["real"]],
-                "alternative_imag": [[repr(float(v)) for v in row] for row in caps["forward"]["alternative"]["imag"]],
+                "alternative_real": [[repr(float(v)) for v in row] for row in alternative["real"]],
+                "alternative_imag": [[repr(float(v)) for v in row] for row in alternative["imag"]],
+                "free": len(chosen["free"]),
+                "circles": len(chosen["circles"]),
+                "instances": [
+                    [[repr(float(re)), repr(float(im))] for re, im in zip(i["real"], i["imag"], strict=True)]
+                    for i in (chosen["start_instance"], chosen["alternative_instance"])
+                ],
+                "circle_a": [repr(float(v)) for v in chosen["circle_constants"][0]],
+                "circle_b": [repr(float(v)) for v in chosen["circle_constants"][1]],
             }
+    if caps["forward"] is not None and caps["inverse"] is not None:
         groups = caps["inverse"]["groups"]
         inverse = {
             "combinations": caps["inverse"]["combinations"],
@@ -285,6 +308,7 @@ def _example_job(manifest: dict[str, Any], which: str) -> list[tuple[str, str]]:
         "poses": "poses", "passive": "passive", "residual": "residual", "conditioning": "conditioning",
         "roots": "roots", "outcome": "outcome", "root_kind": "root_kind", "count": "&count",
         "real_roots": "&real_roots", "near_roots": "&near_roots", "at_infinity": "&at_infinity", "status": "&status",
+        "endpoints": "(double*)0",
     }  # fmt: skip
     return [(name, values[name]) for name, _ in MODES_JOB]
 

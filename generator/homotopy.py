@@ -1,20 +1,29 @@
-"""The generated parameter homotopy of a ``ForwardHomotopy``: its kernels, written in real
-arithmetic (every complex quantity as a real and an imaginary part, so that every backend and
-CasADi can print them), and its start solutions, found once here by monodromy.
+"""The generated parameter homotopy of a polynomial family (a mechanism's hand-written
+``ForwardHomotopy`` or the polynomial form the generator derives from its closure,
+``generator/polynomial_form.py``): its kernels, written in real arithmetic (every complex
+quantity as a real and an imaginary part, so that every backend and CasADi can print them), its
+start solutions, found once here by monodromy, and the proof that they are all of them.
 
-H(z, s) = F(z; p(s)), p(s) = (1 - s) p_target + s p_start, with p the actuated variables and
-parameters, p_start a random complex instance (seeded, 3 decimals: exactly representable in every
-printer), and F the mechanism's equations plus, for homogeneous unknowns, the random complex patch
-a . z_h = 1. A straight segment from a generic complex p_start to any real target misses the
-discriminant (complex codimension 1) with probability one, so each path is smooth until s = 0.
+H(z, s) = F(z; q(s)), q(s) = (1 - s) q_target + s q_start, with q the family's parameters and
+q_start a random complex instance (seeded, 3 decimals: exactly representable in every printer).
+A straight segment from a generic complex q_start to any target misses the discriminant
+(complex codimension 1) with probability one, so each path is smooth until s = 0, and every
+isolated solution of the target ends some path (Morgan and Sommese).
 
-Start solutions: one solution of a random instance is made by choosing z and then the actuated
-values that fit it (when the equations are linear in the squares of the actuated values: leg
-lengths); monodromy loops p_start -> p1 -> p2 -> p_start with random complex p1, p2 permute the
-solutions; a loop's endpoints are added until ``STABLE_LOOPS`` loops in a row bring nothing new
-(the trace test is not attempted: the count is compared with the known generic root count by the
-tests). The solutions are refined by Newton in 40-digit mpmath arithmetic and sorted, so the
-stored doubles do not depend on the machine's floating point.
+Start solutions, for any family: a random complex point (z, q) is pulled onto the incidence
+variety F(z; q) = 0 by Gauss-Newton in z and q together (minimum-norm steps), the parameters are
+rounded and z corrected; monodromy loops q_start -> q1 -> q2 -> q_start with random complex q1,
+q2 permute the solutions; a loop's endpoints are added until ``STABLE_LOOPS`` loops bring nothing
+new. The count is then *proven* by the trace test (Leykin, Rodriguez and Sottile, "Trace test",
+2018, in the form of HomotopyContinuation.jl's verify_solution_completeness): on the curve
+{(z, l): F(z; q_start + l v) = 0} the witness points of the pencil (a . z - 1) l + t = 0 are the
+fibre's solutions (l = 0) and the curve's points on the hyperplane a . z = 1 (found by their own
+monodromy); their sum moves on a line as t moves iff the set is complete. Generation fails, saying
+why, when the test does not close. Solutions are refined in 40-digit mpmath arithmetic and sorted,
+so the stored doubles do not depend on the machine.
+
+The runtime form is sparse: a table of monomials (equation, exponents) and, per input, each
+monomial's coefficient as a polynomial in s.
 """
 
 from __future__ import annotations
@@ -22,7 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from collections.abc import Callable
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,12 +40,32 @@ import numpy as np
 import sympy as sp
 
 from .errors import GenerationError
-from .model import ForwardHomotopy, Mechanism
+from .polynomial_form import MOEBIUS_A, MOEBIUS_B, PolynomialForm, circle_parametrisation
 from .program import Program
 
-STABLE_LOOPS = 8
-MAX_LOOPS = 80
+STABLE_LOOPS = 6
+START_ATTEMPTS = 8
+#: version of monodromy's stopping rule (STABLE_LOOPS + solutions // 8 quiet loops, then
+#: COMPONENT_PROBES fruitless random fibre Newton starts)
+STABLE_RULE = 3
+MAX_LOOPS = 120
 DIGITS = 3
+#: the trace test's tolerance: relative third singular value of the traces at three t
+TRACE_TOLERANCE = 1e-8
+#: rounds of witness monodromy before the trace test is given up
+TRACE_ROUNDS = 2
+#: points of the parameter line whose fibres seed the trace test's witnesses
+SEED_LINES = 6
+#: the trace test's budget: rounds of witness monodromy loops, a trace computed after each
+WITNESS_ROUNDS = 8
+#: the largest start system whose count the trace test proves (see start_systems)
+TRACE_MAX_SOLUTIONS = 24
+WITNESS_LOOPS = 3
+#: random Newton starts in a row that find nothing new before every component is believed found
+COMPONENT_PROBES = 48
+CACHE_VERSION = 3
+#: the proof's fields in the manifest, in this order
+PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation")
 
 
 @dataclass
@@ -51,7 +80,7 @@ Pair = tuple[sp.Expr, sp.Expr]
 
 def split_complex(expr: sp.Expr, table: dict[sp.Symbol, Pair], cache: dict[sp.Expr, Pair] | None = None) -> Pair:
     """(Re, Im) of a polynomial expression whose symbols in ``table`` are complex (given as their
-    real and imaginary parts); other symbols are real. Products are not expanded."""
+    real and imaginary parts); other symbols and numbers are real. Products are not expanded."""
     cache = {} if cache is None else cache
     if expr in cache:
         return cache[expr]
@@ -59,7 +88,10 @@ def split_complex(expr: sp.Expr, table: dict[sp.Symbol, Pair], cache: dict[sp.Ex
         result = table[expr]
     elif expr == sp.I:
         result = (sp.Integer(0), sp.Integer(1))
-    elif expr.is_Number or expr.is_Symbol:
+    elif expr.is_number:
+        re, im = expr.as_real_imag()
+        result = (re, im)
+    elif expr.is_Symbol:
         result = (expr, sp.Integer(0))
     elif isinstance(expr, sp.Add):
         parts = [split_complex(a, table, cache) for a in expr.args]
@@ -74,189 +106,366 @@ def split_complex(expr: sp.Expr, table: dict[sp.Symbol, Pair], cache: dict[sp.Ex
         result = (sp.Integer(1), sp.Integer(0))
         for _ in range(int(expr.exp)):
             result = (result[0] * base[0] - result[1] * base[1], result[0] * base[1] + result[1] * base[0])
+    elif not (expr.free_symbols & set(table)):
+        result = (expr, sp.Integer(0))  # a real expression of real symbols (a family parameter's value)
     else:
         raise GenerationError(f"homotopy equations must be polynomials; cannot split {expr}")
     cache[expr] = result
     return result
 
 
-def _random_complex(rng: np.random.Generator, count: int) -> list[complex]:
+def _random_complex(rng: np.random.Generator, count: int) -> np.ndarray:
     values = np.round(rng.normal(size=(count, 2)), DIGITS)
-    return [complex(a, b) for a, b in values]
+    return values[:, 0] + 1j * values[:, 1]
 
 
-def _exact(value: float) -> sp.Rational:
-    return sp.Rational(repr(float(value)))
+def _exact(value: complex) -> sp.Expr:
+    return sp.Rational(repr(float(value.real))) + sp.I * sp.Rational(repr(float(value.imag)))
 
 
-def _vectorised(expressions: list[sp.Expr], arguments: list[sp.Symbol]) -> Callable[..., np.ndarray]:
-    """numpy function of arrays (broadcasting) returning (..., len(expressions))."""
-    function = sp.lambdify(arguments, expressions, modules="numpy", cse=True)
+class Family:
+    """The numeric family F(z; q) of a polynomial form: q = the free parameters, then one circle
+    parameter u per angle (C, S, D replaced by their polynomials in u)."""
 
-    def evaluate(*values: np.ndarray) -> np.ndarray:
-        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
-        out = function(*values)
-        return np.stack([np.broadcast_to(np.asarray(o, dtype=complex), shape) for o in out], axis=-1)
+    def __init__(self, form: PolynomialForm, equations: list[sp.Expr]) -> None:
+        self.unknowns = list(form.unknowns)
+        self.free = [symbol for symbol, _ in form.family if any(e.has(symbol) for e in equations)]
+        self.circles = [u for u, _, _ in form.circles]
+        self.parameters = self.free + self.circles
+        circle_values: dict[sp.Symbol, sp.Expr] = {}
+        chain: dict[sp.Symbol, list[tuple[sp.Symbol, sp.Expr]]] = {}
+        for u, _, symbols in form.circles:
+            polynomials = circle_parametrisation(u)
+            circle_values.update(zip(symbols, polynomials, strict=True))
+            chain[u] = [(c, sp.diff(p, u)) for c, p in zip(symbols, polynomials, strict=True)]
+        # derivatives taken in (C, S, D) before the circle polynomials go in (chain rule for u):
+        # far cheaper than differentiating the substituted products
+        matrix = sp.Matrix(equations)
 
-    return evaluate
+        def substituted(entries: sp.Matrix) -> list[sp.Expr]:
+            return [e.xreplace(circle_values) for e in entries]
 
+        by_u = [[sp.Add(*(sp.diff(e, c) * dc for c, dc in chain[u])) for u in self.circles] for e in equations]
+        self.equations = substituted(matrix)
+        self.n, self.m = len(self.unknowns), len(self.parameters)
+        args = self.unknowns + self.parameters
+        jacobian_z = matrix.jacobian(self.unknowns)
+        jacobian_free = matrix.jacobian(self.free) if self.free else sp.zeros(len(equations), 0)
+        jacobian_q = sp.Matrix.hstack(jacobian_free, sp.Matrix(by_u)) if self.circles else jacobian_free
+        self._value = sp.lambdify(args, self.equations, modules="numpy", cse=True)
+        self._jz = sp.lambdify(args, substituted(jacobian_z), modules="numpy", cse=True)
+        self._jq = sp.lambdify(args, substituted(jacobian_q), modules="numpy", cse=True)
+        self.jacobian_z = sp.Matrix(jacobian_z.rows, jacobian_z.cols, substituted(jacobian_z))
 
-def build(
-    mechanism: Mechanism, actuated: tuple[str, list[sp.Symbol]], params: tuple[str, list[sp.Symbol]]
-) -> HomotopySetup:
-    forward = mechanism.forward
-    assert isinstance(forward, ForwardHomotopy)
-    rng = np.random.default_rng(forward.seed)
-    unknowns = list(forward.unknowns)
-    n = len(unknowns)
-    equations = [sp.expand(e) for e in forward.equations]
-    if forward.homogeneous:
-        patch = _random_complex(rng, len(forward.homogeneous))
-        terms = ((_exact(a.real) + sp.I * _exact(a.imag)) * v for a, v in zip(patch, forward.homogeneous, strict=True))
-        equations.append(sp.Add(*terms) - 1)
-    if len(equations) != n:
-        raise GenerationError(f"{mechanism.name}: the homotopy has {len(equations)} equations for {n} unknowns")
-    free = set().union(*(e.free_symbols for e in equations)) - set(unknowns) - {sp.I}
-    varying = [v for v in list(mechanism.actuated) + list(mechanism.parameters) if v in free]
-    stray = free - set(varying)
-    if stray:
-        raise GenerationError(f"{mechanism.name}: homotopy equations use {sorted(map(str, stray))}")
-    start_values = _random_complex(rng, len(varying))
-
-    key = hashlib.sha256(repr((2, forward.seed, [sp.srepr(e) for e in equations], [str(v) for v in varying])).encode())
-    cached = _cache_path(key.hexdigest())
-    if cached.exists():
-        stored = json.loads(cached.read_text())
-        start_values = [complex(*v) for v in stored["instance"]]
-        solutions = [[complex(*c) for c in row] for row in stored["solutions"]]
-        second_values = [complex(*v) for v in stored["second_instance"]]
-        second_solutions = [[complex(*c) for c in row] for row in stored["second_solutions"]]
-    else:
-        # numeric system for the monodromy: F, F_z and the directional derivative in p
-        direction = sp.symbols(f"dp0:{len(varying)}")
-        jacobian = sp.Matrix(equations).jacobian(unknowns)
-        directional = [sp.Add(*(sp.diff(e, v) * d for v, d in zip(varying, direction, strict=True))) for e in equations]
-        args = unknowns + varying
-        numeric = (
-            _vectorised(equations, args),
-            _vectorised(list(jacobian), args),
-            _vectorised(directional, args + list(direction)),
+    def _call(self, function, z: np.ndarray, q: np.ndarray, width: int) -> np.ndarray:
+        shape = np.broadcast_shapes(z.shape[:-1], q.shape[:-1])
+        columns = [z[..., k] for k in range(self.n)] + [q[..., k] for k in range(self.m)]
+        out = function(*columns)
+        return np.stack([np.broadcast_to(np.asarray(o, dtype=complex), shape) for o in out], axis=-1).reshape(
+            shape + ((len(out) // width, width) if width > 1 else (len(out),))
         )
-        instance, point = _start_instance(mechanism, varying, numeric, np.array(start_values), rng, n)
-        start_values = [complex(v) for v in instance]
-        found = _monodromy(mechanism, numeric, instance, point, rng, n)
-        solutions = _refine_exact(equations, jacobian, unknowns, varying, instance, found)
-        # a second start system, for inputs where a path of the first fails: its own random
-        # instance, its solutions followed from the first (a path failing from both is unlikely)
-        second = np.array(_random_complex(np.random.default_rng(forward.seed + 1), len(varying)))
-        second_values = [complex(v) for v in second]
-        from parakin.homotopy import PATH_REACHED, track
 
-        moved = track(_segment(numeric, instance, second, n), np.array(solutions))
-        if not (moved.status == PATH_REACHED).all():
-            raise GenerationError(f"{mechanism.name}: the second start system could not be reached from the first")
-        second_solutions = _refine_exact(equations, jacobian, unknowns, varying, second, moved.z)
-        spread = np.array(second_solutions)
-        gaps = np.abs(spread[:, None] - spread[None]).max(-1) + np.eye(len(spread))
-        if not gaps.min() > 1e-6:
-            raise GenerationError(f"{mechanism.name}: two paths to the second start system met")
-        record = {
-            "instance": [[v.real, v.imag] for v in start_values],
-            "solutions": [[[c.real, c.imag] for c in row] for row in solutions],
-            "second_instance": [[v.real, v.imag] for v in second_values],
-            "second_solutions": [[[c.real, c.imag] for c in row] for row in second_solutions],
-        }
-        cached.parent.mkdir(parents=True, exist_ok=True)
-        partial = cached.with_suffix(f".{os.getpid()}.tmp")
-        partial.write_text(json.dumps(record))
-        partial.replace(cached)
+    def value(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
+        return self._call(self._value, z, q, 1)
 
-    # the generated kernel: the coefficients of every equation as polynomials in s
-    coefficients, powers = _quadric_coefficients(equations, unknowns, varying, start_values)
-    alternative, powers_second = _quadric_coefficients(equations, unknowns, varying, second_values)
-    if powers_second != powers:
-        raise GenerationError(f"{mechanism.name}: the two start systems give coefficients of different degrees in s")
-    system = Program(
-        "homotopy_coefficients",
-        "Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: "
-        "flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), "
-        "the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the "
-        "quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n). "
-        "'alternative': the same from the second start instance.",
-        [actuated, params],
-        [("coefficients", sp.Matrix(coefficients)), ("alternative", sp.Matrix(alternative))],
-    )
-    z_real = sp.symbols(f"z0:{n}", real=True)
-    passive = sp.Matrix(forward.passive).subs(dict(zip(unknowns, z_real, strict=True)), simultaneous=True)
-    recover = Program(
-        "homotopy_passive",
-        "Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).",
-        [("z", list(z_real)), params],
-        [("passive", passive)],
-    )
-    metadata = {
-        "method": "homotopy",
-        "unknowns": [str(u) for u in unknowns],
-        "homogeneous": [unknowns.index(h) for h in forward.homogeneous],
-        "degree": len(solutions),
-        "paths": len(solutions),
-        "powers": powers,
-        "branches": [],
-        "combinations": [[]],
-        "degeneracies": [],
-        "start": {
-            "real": [[float(c.real) for c in row] for row in solutions],
-            "imag": [[float(c.imag) for c in row] for row in solutions],
-        },
-        "alternative": {
-            "real": [[float(c.real) for c in row] for row in second_solutions],
-            "imag": [[float(c.imag) for c in row] for row in second_solutions],
-        },
-        "start_instance": {
-            str(v): [float(value.real), float(value.imag)] for v, value in zip(varying, start_values, strict=True)
-        },
-    }
-    symbolic = {"forward_equations": sp.Matrix(equations)}
-    return HomotopySetup([system, recover], metadata, symbolic)
+    def jacobian(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
+        return self._call(self._jz, z, q, self.n)
+
+    def parameter_jacobian(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
+        return self._call(self._jq, z, q, self.m)
 
 
-def _quadric_coefficients(
-    equations: list[sp.Expr], unknowns: list[sp.Symbol], varying: list[sp.Symbol], start: list[complex]
-) -> tuple[list[sp.Expr], int]:
-    """The coefficients (real and imaginary parts, flat, see the kernel's doc) of every equation,
-    of degree <= 2 in the unknowns, along p(s) = (1 - s) p + s p_start, by powers of s."""
-    s = sp.Symbol("s_homotopy", real=True)
-    n = len(unknowns)
-    terms = n * n + n + 1
-    along = {v: (1 - s) * v + s * (_exact(c.real) + sp.I * _exact(c.imag)) for v, c in zip(varying, start, strict=True)}
-    tables = []  # per equation: term -> expression in s
-    for equation in equations:
-        polynomial = sp.Poly(sp.expand(equation.subs(along, simultaneous=True)), *unknowns)
-        if polynomial.total_degree() > 2:
-            raise GenerationError("homotopy equations must be of degree <= 2 in the unknowns")
-        table: dict[int, sp.Expr] = {}
-        for exponents, coefficient in polynomial.terms():
-            used = [k for k, e in enumerate(exponents) for _ in range(e)]
-            if len(used) == 2:
-                i, j = used
-                if i == j:
-                    table[i * n + i] = coefficient
-                else:
-                    table[i * n + j] = table[j * n + i] = coefficient / 2
-            elif len(used) == 1:
-                table[n * n + used[0]] = coefficient
-            else:
-                table[n * n + n] = coefficient
-        tables.append({t: sp.Poly(sp.expand(c), s) for t, c in table.items()})
-    powers = 1 + max(p.degree() for table in tables for p in table.values())
-    flat: list[sp.Expr] = [sp.Integer(0)] * (2 * powers * len(equations) * terms)
-    for k, table in enumerate(tables):
-        for t, polynomial in table.items():
-            for (d,), coefficient in polynomial.terms():
-                re, im = split_complex(sp.expand(coefficient), {})
-                flat[((0 * powers + d) * len(equations) + k) * terms + t] = re
-                flat[((1 * powers + d) * len(equations) + k) * terms + t] = im
-    return flat, powers
+def _segment(family: Family, q_from: np.ndarray, q_to: np.ndarray):
+    """The tracker's system along the straight segment from q_from (s = 1) to q_to (s = 0)."""
+    step = q_from - q_to
+
+    def system(index, z, s):
+        q = q_to[None, :] + s[:, None] * step[None, :]
+        return family.value(z, q), family.jacobian(z, q), family.parameter_jacobian(z, q) @ step
+
+    return system
+
+
+def _slice_system(family: Family, base: np.ndarray, target: np.ndarray):
+    """The curve's points on a hyperplane, in (z, l): F(z; q + l v) = 0, a . z - 1 = 0, with
+    (q, v, a) moving on the segment from ``base`` (s = 1; one row per path, or one for all) to
+    ``target`` (s = 0)."""
+    n, m = family.n, family.m
+    steps = np.atleast_2d(base - target)
+
+    def system(index, w, s):
+        step = steps[index] if steps.shape[0] > 1 else np.broadcast_to(steps, (len(s), steps.shape[1]))
+        b = target[None, :] + s[:, None] * step
+        q, v, a = b[:, :m], b[:, m : 2 * m], b[:, 2 * m :]
+        z, lam = w[:, :n], w[:, n]
+        at = q + lam[:, None] * v
+        jq = family.parameter_jacobian(z, at)
+        value = np.concatenate([family.value(z, at), ((a * z).sum(-1) - 1)[:, None]], axis=1)
+        top = np.concatenate([family.jacobian(z, at), (jq @ v[..., None])], axis=2)
+        bottom = np.concatenate([a, np.zeros((len(s), 1))], axis=1)[:, None, :]
+        dq, dv, da = step[:, :m], step[:, m : 2 * m], step[:, 2 * m :]
+        moving = jq @ (dq + lam[:, None] * dv)[..., None]
+        rate = np.concatenate([moving, (z * da).sum(-1)[:, None, None]], 1)
+        return value, np.concatenate([top, bottom], axis=1), rate[..., 0]
+
+    return system
+
+
+def _pencil_system(family: Family, q: np.ndarray, v: np.ndarray, a: np.ndarray, t_from: complex, t_to: complex):
+    """The trace test's pencil in (z, l): F(z; q + l v) = 0, (a . z - 1) l + t = 0, t on a segment."""
+    n = family.n
+    step = t_from - t_to
+
+    def system(index, w, s):
+        z, lam = w[:, :n], w[:, n]
+        at = q[None, :] + lam[:, None] * v[None, :]
+        t = t_to + s * step
+        linear = (a[None, :] * z).sum(-1) - 1
+        value = np.concatenate([family.value(z, at), (linear * lam + t)[:, None]], axis=1)
+        top = np.concatenate([family.jacobian(z, at), family.parameter_jacobian(z, at) @ v[:, None]], axis=2)
+        bottom = np.concatenate([lam[:, None] * a[None, :], linear[:, None]], axis=1)[:, None, :]
+        rate = np.zeros((len(s), n + 1), dtype=complex)
+        rate[:, n] = step
+        return value, np.concatenate([top, bottom], axis=1), rate
+
+    return system
+
+
+def _track(system, start: np.ndarray):
+    from parakin.homotopy import PATH_REACHED, track
+
+    paths = track(system, start)
+    return paths.z, paths.status == PATH_REACHED
+
+
+def _add_new(known: np.ndarray, candidates: np.ndarray) -> tuple[np.ndarray, int]:
+    from parakin.homotopy import is_known
+
+    added = 0
+    for candidate in candidates:
+        if not is_known(known, candidate):
+            known = np.vstack([known, candidate])
+            added += 1
+    return known, added
+
+
+def _loop(make_system, base: np.ndarray, found: np.ndarray, check, rng) -> tuple[np.ndarray, int]:
+    """One monodromy loop base -> b1 -> b2 -> base (random complex b1, b2): every new endpoint
+    that passes ``check`` joins ``found``; returns them and how many were new."""
+    first = base + _random_complex(rng, base.size)
+    second = base + _random_complex(rng, base.size)
+    z, ok = found, np.ones(len(found), bool)
+    for b_from, b_to in ((base, first), (first, second), (second, base)):
+        z, reached = _track(make_system(b_from, b_to), z)
+        ok &= reached
+    z = z[ok]
+    return _add_new(found, z[check(z)])
+
+
+def _loops(make_system, base: np.ndarray, found: np.ndarray, check, rng, loops: int) -> np.ndarray:
+    """``loops`` monodromy loops (``_loop``), whatever they find."""
+    for _ in range(loops):
+        found, _ = _loop(make_system, base, found, check, rng)
+    return found
+
+
+def _monodromy(name: str, make_system, base: np.ndarray, found: np.ndarray, check, rng, loops: int = MAX_LOOPS):
+    """Every solution reached by monodromy loops, until enough loops in a row find nothing new."""
+    stable = 0
+    for _ in range(loops):
+        found, added = _loop(make_system, base, found, check, rng)
+        stable = 0 if added else stable + 1
+        # a larger set needs more quiet loops before it is believed (an unproven count rests on it)
+        if stable >= STABLE_LOOPS + len(found) // 8:
+            return found
+    raise GenerationError(f"{name}: monodromy did not settle in {loops} loops ({len(found)} solutions)")
+
+
+def _other_components(name: str, family: Family, q: np.ndarray, found: np.ndarray, flips, rng) -> np.ndarray:
+    """Monodromy stays on one irreducible component of the incidence variety; a family can have
+    several (spm's closure v_i . v_j = cos psi holds for a triad and its mirror, det V = +-k with
+    k polynomial in the parameters). Newton from random points of the fibre lands on any of them:
+    each solution it finds that monodromy did not is the seed of another orbit. The trace test
+    judges the union afterwards."""
+    check = _solves(family, q)
+    quiet = 0
+    while quiet < COMPONENT_PROBES:
+        z = _random_complex(rng, family.n) * 2
+        with np.errstate(all="ignore"):
+            for _ in range(60):
+                try:
+                    z = z - np.linalg.solve(family.jacobian(z[None], q[None])[0], family.value(z[None], q[None])[0])
+                except np.linalg.LinAlgError:
+                    break
+        if not (np.isfinite(z).all() and np.abs(z).max() < 1e6 and check(z[None])[0]):
+            quiet += 1
+            continue
+        _, added = _add_new(found, z[None])
+        if not added:
+            quiet += 1
+            continue
+        orbit = _monodromy(name, lambda a, b: _segment(family, a, b), q, z[None], check, rng)
+        found = _closed(_add_new(found, orbit)[0], flips)
+        quiet = 0
+    return found
+
+
+def _start_instance(name: str, family: Family, rng) -> tuple[np.ndarray, np.ndarray]:
+    """A random complex instance and one of its solutions (module docstring); a few random points
+    are tried where Newton does not settle (a point near a singular one)."""
+    for _ in range(START_ATTEMPTS):
+        z = _random_complex(rng, family.n)
+        q = _random_complex(rng, family.m)
+        for _ in range(60):
+            value = family.value(z, q)
+            matrix = np.concatenate([family.jacobian(z, q), family.parameter_jacobian(z, q)], axis=1)
+            step = np.linalg.lstsq(matrix, value, rcond=None)[0]
+            z, q = z - step[: family.n], q - step[family.n :]
+            if np.abs(step).max() < 1e-14 * (1 + np.abs(np.concatenate([z, q])).max()):
+                break
+        q = np.round(q.real, DIGITS) + 1j * np.round(q.imag, DIGITS)
+        with np.errstate(all="ignore"):
+            for _ in range(40):
+                z = z - np.linalg.lstsq(family.jacobian(z, q), family.value(z, q), rcond=None)[0]
+        if newton_size(family, z[None, :], q).max() < 1e-10 and np.abs(z).max() < 1e6:
+            return q, z
+    raise GenerationError(f"{name}: could not make a start solution for the homotopy in {START_ATTEMPTS} attempts")
+
+
+def sign_symmetries(family: Family, rng) -> list[np.ndarray]:
+    """Sign flips of unknowns under which every equation is even or odd (q -> -q of a quaternion,
+    the other Euler-angle triple): the solution set is closed under them, so a solution
+    monodromy missed is its twin's image. Found by evaluation at a random point."""
+    if family.n > 12:
+        return []
+    z, q = _random_complex(rng, family.n), _random_complex(rng, family.m)
+    value = family.value(z, q)
+    flips = []
+    for mask in range(1, 2**family.n):
+        sign = np.array([-1.0 if mask >> k & 1 else 1.0 for k in range(family.n)])
+        flipped = family.value(sign * z, q)
+        if np.all(
+            (np.abs(flipped - value) < 1e-9 * (1 + np.abs(value)))
+            | (np.abs(flipped + value) < 1e-9 * (1 + np.abs(value)))
+        ):
+            flips.append(sign)
+    return flips
+
+
+def _closed(found: np.ndarray, flips: list[np.ndarray]) -> np.ndarray:
+    """``found`` with the images of its solutions under the sign symmetries."""
+    for sign in flips:
+        found, _ = _add_new(found, found * sign)
+    return found
+
+
+def newton_size(family: Family, z: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The size of a Newton step at solutions z (P, n) of F(.; q), relative to 1 + |z|: how far
+    each is from a solution, whatever the scale of the equations' coefficients."""
+    with np.errstate(all="ignore"):
+        jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
+        value = family.value(z, np.broadcast_to(q, (len(z), q.size)))
+        try:
+            step = np.linalg.solve(jacobian, value[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            return np.full(len(z), np.inf)
+        size = np.abs(step).max(-1) / (1 + np.abs(z).max(-1))
+    return np.where(np.isfinite(size), size, np.inf)
+
+
+def _solves(family: Family, q: np.ndarray):
+    def check(z: np.ndarray) -> np.ndarray:
+        if not len(z):
+            return np.zeros(0, bool)
+        return newton_size(family, z, q) < 1e-8
+
+    return check
+
+
+def trace_test(name: str, family: Family, q: np.ndarray, solutions: np.ndarray, rng) -> dict[str, object]:
+    """Prove that ``solutions`` are every isolated solution of F(z; q) = 0 (module docstring):
+    returns the witnesses found on the curve, the trace's deviation from a line and the verdict."""
+    n, m = family.n, family.m
+    v = _random_complex(rng, m)
+    # a point of the curve off the fibre: a solution carried to q + v, and a hyperplane through it
+    moved, reached = _track(_segment(family, q, q + v), solutions[:1])
+    if not reached.all():
+        raise GenerationError(f"{name}: trace test: could not leave the start fibre")
+    point = moved[0]
+    a = _random_complex(rng, n)
+    a = a + (1 - a @ point) * np.conj(point) / (np.abs(point) ** 2).sum()
+    base = np.concatenate([q, v, a])
+    start = np.concatenate([point, [1.0]])[None, :]
+
+    def on_slice(w: np.ndarray) -> np.ndarray:
+        if not len(w):
+            return np.zeros(0, bool)
+        at = q[None, :] + w[:, n : n + 1] * v[None, :]
+        value = np.abs(family.value(w[:, :n], at)).max(-1)
+        size = np.abs(w).max(-1)
+        return (value < 1e-8) & (np.abs(w[:, :n] @ a - 1) < 1e-8) & (np.abs(w[:, n]) > 1e-8) & (size < 1e6)
+
+    # many witnesses at once: fibre solutions carried to a few points q + l v of the line lie on
+    # the curve, each on its own hyperplane a . z = c; moving c to 1 takes each to a witness
+    seeds, bases = [start], [base[None, :]]
+    for lam in _random_complex(rng, SEED_LINES):
+        moved, reached = _track(_segment(family, q, q + lam * v), solutions)
+        for z in moved[reached]:
+            c = a @ z
+            if abs(c) > 1e-8:
+                seeds.append(np.concatenate([z, [lam]])[None, :])
+                bases.append(np.concatenate([q, v, a / c])[None, :])
+    ended, reached = _track(_slice_system(family, np.concatenate(bases), base), np.concatenate(seeds))
+    candidates = ended[reached]
+    witnesses, _ = _add_new(start, candidates[on_slice(candidates)])
+    deviation = np.inf
+    for _ in range(WITNESS_ROUNDS):
+        # a few more loops between trace computations: the trace test itself says when the
+        # witnesses are complete (a missing one shows as a deviation too)
+        witnesses = _loops(lambda b0, b1: _slice_system(family, b0, b1), base, witnesses, on_slice, rng, WITNESS_LOOPS)
+        points = np.concatenate([np.concatenate([solutions, np.zeros((len(solutions), 1))], axis=1), witnesses])
+        traces = [points.sum(0)]
+        for _ in range(8):
+            if len(traces) == 3:
+                break
+            t = complex(_random_complex(rng, 1)[0]) * 0.3
+            ended, reached = _track(_pencil_system(family, q, v, a, 0.0, t), points)
+            # a path that failed or met another (a jump) spoils the sum: another t
+            if reached.all() and _smallest_gap(ended) > 1e-8:
+                traces.append(ended.sum(0))
+        if len(traces) < 3:
+            raise GenerationError(f"{name}: trace test: the pencil's paths failed or met at every t tried")
+        matrix = np.concatenate([np.ones((3, 1)), np.array(traces)], axis=1)
+        singular = np.linalg.svd(matrix, compute_uv=False)
+        deviation = float(singular[2] / singular[0])
+        if deviation < TRACE_TOLERANCE:
+            break
+    return {"witnesses": len(witnesses), "deviation": deviation, "complete": deviation < TRACE_TOLERANCE}
+
+
+def _refine_exact(family: Family, q: np.ndarray, found: np.ndarray) -> list[list[complex]]:
+    """Newton in 40-digit arithmetic from each double-precision solution, then rounded to the
+    nearest double and sorted: the stored start system is the same on every machine."""
+    arguments = family.unknowns + family.parameters
+    residual = sp.lambdify(arguments, family.equations, modules="mpmath")
+    matrix = sp.lambdify(arguments, family.jacobian_z, modules="mpmath")
+    refined = []
+    with mpmath.workdps(40):
+        parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in q]
+        for row in found:
+            z = [mpmath.mpc(complex(c)) for c in row]
+            for _ in range(8):
+                value = mpmath.matrix(residual(*z, *parameters))
+                step = mpmath.lu_solve(mpmath.matrix(matrix(*z, *parameters)), value)
+                z = [a - b for a, b in zip(z, step, strict=True)]
+            # converged: the last Newton step is at 40-digit rounding relative to |z| (a residual
+            # threshold would depend on how the equations are scaled)
+            if not mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z))):
+                # no regular isolated solution (a singular point monodromy brushed): not a start
+                continue
+            refined.append([complex(float(c.real), float(c.imag)) for c in z])
+    refined.sort(key=lambda row: tuple(x for c in row for x in (round(c.real, 9), round(c.imag, 9))))
+    return refined
 
 
 def _cache_path(key: str) -> Path:
@@ -267,104 +476,299 @@ def _cache_path(key: str) -> Path:
     return Path(root) / "homotopy" / f"{key}.json"
 
 
-def _start_instance(mechanism: Mechanism, varying: list[sp.Symbol], numeric, values: np.ndarray, rng, n: int):
-    """A random complex instance and one of its solutions: a random z is first put on the
-    equations free of actuated variables (Study quadric, patch: least-squares Newton), then each
-    actuated variable is fitted to it (the equations are affine in its square, as leg equations
-    are in l_i^2) and rounded like every other value, and z is corrected to the rounded instance."""
-    residual, jacobian, _ = numeric
-    actuated = [k for k, v in enumerate(varying) if v in mechanism.actuated]
-    instance = values.copy()
-    instance[actuated] = 0.0
-    point = np.array(_random_complex(rng, n))
-    baseline = residual(*point, *instance)
-    free_rows = [
-        r for r in range(n) if all(residual(*point, *_with(instance, k, 1.0))[r] == baseline[r] for k in actuated)
+def _smallest_gap(z: np.ndarray) -> float:
+    """The smallest max-norm distance between two of the points z (P, n); inf for fewer than two."""
+    if len(z) < 2:
+        return np.inf
+    gaps = np.abs(z[:, None] - z[None]).max(-1)
+    return float(np.where(np.eye(len(z), dtype=bool), np.inf, gaps).min())
+
+
+def _pairs(values) -> list[list[float]]:
+    return [[float(v.real), float(v.imag)] for v in values]
+
+
+def start_systems(
+    name: str, form: PolynomialForm, equations: list[sp.Expr], seed: int, method: str
+) -> tuple[Family, dict]:
+    """The two start instances with their solutions and the trace test's record (cached)."""
+    family = Family(form, equations)
+    key = hashlib.sha256(
+        repr(
+            (CACHE_VERSION, seed, [sp.srepr(e) for e in family.equations], [str(v) for v in family.parameters])
+        ).encode()
+    )
+    cached = _cache_path(key.hexdigest())
+    flips = sign_symmetries(family, np.random.default_rng(seed + 2))
+    for stored in (_from_cache(cached), _from_package(name, method, key.hexdigest())):
+        if stored is None:
+            continue
+        if _verified(family, stored, flips) is not None:
+            return family, {**stored, "key": key.hexdigest()}
+        if _verified(family, stored, flips, second=False) is not None:
+            # the first start system and its proof hold, the second does not (a record written
+            # before its solutions were counted): only the second is computed again
+            q = np.array([complex(*v) for v in stored["instance"]])
+            solutions = np.array([[complex(*c) for c in row] for row in stored["solutions"]])
+            second, second_solutions = _second_start(name, family, q, solutions, seed)
+            record = {**stored, "second_instance": _pairs(second)}
+            record["second_solutions"] = [_pairs(row) for row in second_solutions]
+            _store(cached, record)
+            return family, {**record, "key": key.hexdigest()}
+    rng = np.random.default_rng(seed)
+    q, point = _start_instance(name, family, rng)
+    found = point[None, :]
+    proof: dict[str, object] = {}
+    for _ in range(TRACE_ROUNDS):
+        # loops until the trace test proves the set complete: a missed solution shows there
+        found = _closed(_monodromy(name, lambda a, b: _segment(family, a, b), q, found, _solves(family, q), rng), flips)
+        found = _other_components(name, family, q, found, flips, rng)
+        solutions = np.array(_refine_exact(family, q, found))
+        if len(solutions) > TRACE_MAX_SOLUTIONS:
+            # the witness monodromy grows with the curve's degree: past this size it takes far
+            # longer than a build may; the count stays monodromy's and the manifest says so
+            proof = {"witnesses": 0, "deviation": np.inf, "complete": False, "attempted": False}
+            break
+        proof = trace_test(name, family, q, solutions, rng)
+        if proof["complete"]:
+            break
+    deviation = float(proof["deviation"])  # type: ignore[arg-type]
+    if proof["complete"]:
+        method_text = "trace test (Leykin, Rodriguez, Sottile 2018) after monodromy"
+    else:
+        method_text = f"monodromy ({STABLE_LOOPS} loops in a row found nothing new); NOT proven: " + (
+            "the trace test did not close within its budget"
+            if proof.get("attempted", True)
+            else f"the trace test is not attempted above {TRACE_MAX_SOLUTIONS} solutions"
+        )
+        # the count is monodromy's, and the manifest says so
+        print(f"parakin generator: {name} ({method}): {len(solutions)} solutions, {method_text}", file=sys.stderr)
+    second, second_solutions = _second_start(name, family, q, solutions, seed)
+    record = {
+        "instance": _pairs(q),
+        "solutions": [_pairs(row) for row in solutions],
+        "second_instance": _pairs(second),
+        "second_solutions": [_pairs(row) for row in second_solutions],
+        "proof": {
+            "method": method_text,
+            "proven": bool(proof["complete"]),
+            "stable_rule": STABLE_RULE,
+            "witnesses": proof["witnesses"],
+            "trace_deviation": float(f"{deviation:.2e}") if np.isfinite(deviation) else 1.0,
+            "tolerance": TRACE_TOLERANCE,
+        },
+    }
+    _store(cached, record)
+    return family, {**record, "key": key.hexdigest()}
+
+
+def _store(cached: Path, record: dict) -> None:
+    cached.parent.mkdir(parents=True, exist_ok=True)
+    partial = cached.with_suffix(f".{os.getpid()}.tmp")
+    partial.write_text(json.dumps(record))
+    partial.replace(cached)
+
+
+def _second_start(
+    name: str, family: Family, q: np.ndarray, solutions: np.ndarray, seed: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """A second start system, for inputs where a path of the first fails: its own random
+    instance, every solution of the first followed to it and refined; all of them or an error."""
+    second = _random_complex(np.random.default_rng(seed + 1), family.m)
+    moved, reached = _track(_segment(family, q, second), solutions)
+    if not reached.all():
+        raise GenerationError(f"{name}: the second start system could not be reached from the first")
+    second_solutions = np.array(_refine_exact(family, second, moved))
+    if len(second_solutions) != len(solutions):
+        raise GenerationError(
+            f"{name}: of {len(solutions)} paths to the second start system, {len(second_solutions)} end at "
+            "regular solutions"
+        )
+    if not _smallest_gap(second_solutions) > 1e-6:
+        raise GenerationError(f"{name}: two paths to the second start system met")
+    return second, second_solutions
+
+
+def _from_cache(path: Path) -> dict | None:
+    try:
+        return dict(json.loads(path.read_text()))
+    except (OSError, ValueError):
+        return None
+
+
+def _from_package(name: str, method: str, key: str) -> dict | None:
+    """The start systems recorded in the committed package of the same equations (the manifest's
+    ``family_key``): a fresh clone regenerates without redoing minutes of monodromy. Verified
+    like a cached record before it is used."""
+    from .build import GENERATED
+
+    try:
+        manifest = json.loads((GENERATED / name / "manifest.json").read_text())
+        entry = manifest["capabilities"]["forward"]["methods"][method]
+        if entry.get("family_key") != key:
+            return None
+
+        def pairs(block: dict) -> list:
+            return [[re, im] for re, im in zip(block["real"], block["imag"], strict=True)]
+
+        def rows(block: dict) -> list:
+            return [
+                [[re, im] for re, im in zip(r, i, strict=True)]
+                for r, i in zip(block["real"], block["imag"], strict=True)
+            ]
+
+        proof = entry["root_count"]
+        return {
+            "instance": pairs(entry["start_instance"]),
+            "solutions": rows(entry["start"]),
+            "second_instance": pairs(entry["alternative_instance"]),
+            "second_solutions": rows(entry["alternative"]),
+            "proof": {k: proof[k] for k in PROOF_KEYS if k in proof},
+        }
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _verified(family: Family, record: dict, flips: list[np.ndarray], second: bool = True) -> dict | None:
+    """A stored record, if it still proves what it claims: its solutions (as many in both start
+    systems; the first one only where ``second`` is False) solve their instances to 1e-10, are
+    distinct and closed under the sign symmetries, its trace test closed within today's
+    tolerance."""
+    try:
+        count = len(record["solutions"])
+        parts = [("instance", "solutions")] + ([("second_instance", "second_solutions")] if second else [])
+        for instance, solutions in parts:
+            q = np.array([complex(*v) for v in record[instance]])
+            z = np.array([[complex(*c) for c in row] for row in record[solutions]])
+            if not (count and len(z) == count and newton_size(family, z, q).max() < 1e-10):
+                return None
+            if not _smallest_gap(z) > 1e-6 or len(_closed(z, flips)) != len(z):
+                return None
+        proof = record["proof"]
+        if proof.get("proven", True) and not float(proof["trace_deviation"]) < TRACE_TOLERANCE:
+            return None
+        if not proof.get("proven", True) and proof.get("stable_rule") != STABLE_RULE:
+            return None  # an unproven count rests on the monodromy's stopping rule: only today's
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return record
+
+
+def build(
+    name: str,
+    form: PolynomialForm,
+    actuated: tuple[str, list[sp.Symbol]],
+    params: tuple[str, list[sp.Symbol]],
+    prefix: str,
+    seed: int = 2026,
+) -> HomotopySetup:
+    """Kernels ``{prefix}_family``, ``{prefix}_monomials`` and ``{prefix}_passive`` and the
+    manifest's record. Along H(z, s) each coefficient is a polynomial of degree < ``powers`` in s;
+    the runtime gets its coefficients by evaluating the monomials kernel at the ``powers``-th roots
+    of unity of the s-plane and one discrete Fourier transform (exact for a polynomial of that
+    degree, and perfectly conditioned), so that no expansion in s is generated."""
+    rng = np.random.default_rng(seed)
+    equations = list(form.equations)
+    patch_index = None
+    if form.homogeneous:
+        patch = _random_complex(rng, len(form.homogeneous))
+        equations.append(sp.Add(*(_exact(a) * v for a, v in zip(patch, form.homogeneous, strict=True))) - 1)
+        patch_index = len(equations) - 1
+    n = len(form.unknowns)
+    if len(equations) != n:
+        raise GenerationError(f"{name}: the homotopy has {len(equations)} equations for {n} unknowns")
+    family, record = start_systems(name, form, equations, seed, prefix)
+
+    # the monomials of every equation, with (C, S, D) and the free parameters as coefficients
+    terms: list[tuple[int, tuple[int, ...]]] = []
+    coefficients: list[sp.Expr] = []
+    for k, equation in enumerate(equations):
+        for exponents, coefficient in sp.Poly(equation, *form.unknowns).terms():
+            terms.append((k, tuple(int(e) for e in exponents)))
+            coefficients.append(coefficient)
+
+    # kernel 1: the family's values at the inputs: the free parameters (real), and the angles
+    inputs = set(actuated[1]) | set(params[1])
+    steps = [
+        (symbol, expression) for symbol, expression in form.family if symbol not in inputs and symbol in family.free
     ]
-    for _ in range(30):
-        value = residual(*point, *instance)[free_rows]
-        matrix = jacobian(*point, *instance).reshape(n, n)[free_rows]
-        point = point - np.linalg.lstsq(matrix, value, rcond=None)[0]
-    at_zero = residual(*point, *instance)
-    for k in actuated:
-        slope = residual(*point, *_with(instance, k, 1.0)) - at_zero
-        row = int(np.argmax(np.abs(slope)))
-        root = np.sqrt(-at_zero[row] / slope[row])
-        instance[k] = complex(round(root.real, DIGITS), round(root.imag, DIGITS))
-    for _ in range(30):
-        value = residual(*point, *instance)
-        point = point - np.linalg.solve(jacobian(*point, *instance).reshape(n, n), value)
-    if not np.abs(residual(*point, *instance)).max() < 1e-10:
-        raise GenerationError(f"{mechanism.name}: could not make a start solution for the homotopy")
-    return instance, point
+    angles = [angle for _, angle, _ in form.circles]
+    values = Program(
+        f"{prefix}_family",
+        "The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles "
+        "that enter through the circle parametrisation (the manifest's 'circles').",
+        [actuated, params],
+        [("free", sp.Matrix(list(family.free) or [sp.Integer(0)])), ("angles", sp.Matrix(angles or [sp.Integer(0)]))],
+        steps=steps,
+    )
+    # kernel 2: every monomial's coefficient at complex family values, (C, S, D) given per angle
+    complex_inputs: list[sp.Symbol] = list(family.free) + [c for _, _, symbols in form.circles for c in symbols]
+    real_parts = [sp.Symbol(f"{v}_re", real=True) for v in complex_inputs]
+    imag_parts = [sp.Symbol(f"{v}_im", real=True) for v in complex_inputs]
+    table = {v: (re, im) for v, re, im in zip(complex_inputs, real_parts, imag_parts, strict=True)}
+    cache: dict[sp.Expr, Pair] = {}
+    split = [split_complex(c, table, cache) for c in coefficients]
+    monomials = Program(
+        f"{prefix}_monomials",
+        "Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, "
+        "then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); "
+        "real parts, imaginary parts.",
+        [("family_re", real_parts or [sp.Symbol("unused_re")]), ("family_im", imag_parts or [sp.Symbol("unused_im")])],
+        [("re", sp.Matrix([re for re, _ in split])), ("im", sp.Matrix([im for _, im in split]))],
+    )
+    # the degree in s along the path: free parameters move linearly, (C, S, D) quadratically
+    weights = {v: 1 for v in family.free} | {c: 2 for _, _, symbols in form.circles for c in symbols}
 
+    def degree_in_s(coefficient: sp.Expr) -> int:
+        if not weights:
+            return 0
+        poly = sp.Poly(coefficient, *weights)
+        return max(sum(weights[g] * e for g, e in zip(poly.gens, m, strict=True)) for m in poly.monoms())
 
-def _with(values: np.ndarray, index: int, value: complex) -> np.ndarray:
-    out = values.copy()
-    out[index] = value
-    return out
-
-
-def _monodromy(mechanism: Mechanism, numeric, instance: np.ndarray, point: np.ndarray, rng, n: int) -> np.ndarray:
-    """Every solution of the instance reached by monodromy loops from ``point``."""
-    from parakin.homotopy import PATH_REACHED, is_known, track
-
-    residual = numeric[0]
-    known = point[None, :]
-    stable = 0
-    for _ in range(MAX_LOOPS):
-        first, second = (np.array(_random_complex(rng, instance.size)) for _ in range(2))
-        z, ok = known, np.ones(known.shape[0], bool)
-        for p_from, p_to in ((instance, first), (first, second), (second, instance)):
-            paths = track(_segment(numeric, p_from, p_to, n), z)
-            ok &= paths.status == PATH_REACHED
-            z = paths.z
-        added = 0
-        for candidate in z[ok]:
-            if not np.abs(residual(*candidate, *instance)).max() < 1e-8:
-                continue
-            if not is_known(known, candidate):
-                known = np.vstack([known, candidate])
-                added += 1
-        stable = 0 if added else stable + 1
-        if stable >= STABLE_LOOPS:
-            return known
-    raise GenerationError(f"{mechanism.name}: monodromy did not settle in {MAX_LOOPS} loops ({len(known)} solutions)")
-
-
-def _segment(numeric, p_from: np.ndarray, p_to: np.ndarray, n: int):
-    """The tracker's system along the straight segment from p_from (s = 1) to p_to (s = 0)."""
-    residual, jacobian, directional = numeric
-    step = p_from - p_to
-
-    def system(index, z, s):
-        p = p_to[None, :] + s[:, None] * step[None, :]
-        columns = [z[:, k] for k in range(n)] + [p[:, k] for k in range(p.shape[1])]
-        rate = directional(*columns, *[np.full(z.shape[0], d) for d in step])
-        return residual(*columns), jacobian(*columns).reshape(z.shape[0], n, n), rate
-
-    return system
-
-
-def _refine_exact(
-    equations, jacobian, unknowns, varying, instance: np.ndarray, found: np.ndarray
-) -> list[list[complex]]:
-    """Newton in 40-digit arithmetic from each double-precision solution, then rounded to the
-    nearest double and sorted: the stored start system is the same on every machine."""
-    arguments = list(unknowns) + list(varying)
-    residual = sp.lambdify(arguments, equations, modules="mpmath")
-    matrix = sp.lambdify(arguments, jacobian, modules="mpmath")
-    refined = []
-    with mpmath.workdps(40):
-        parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in instance]
-        for row in found:
-            z = [mpmath.mpc(complex(c)) for c in row]
-            for _ in range(8):
-                value = mpmath.matrix(residual(*z, *parameters))
-                step = mpmath.lu_solve(mpmath.matrix(matrix(*z, *parameters)), value)
-                z = [a - b for a, b in zip(z, step, strict=True)]
-            if mpmath.norm(mpmath.matrix(residual(*z, *parameters))) > mpmath.mpf(10) ** -30:
-                raise GenerationError("a start solution did not refine to 30 digits")
-            refined.append([complex(float(c.real), float(c.imag)) for c in z])
-    refined.sort(key=lambda row: tuple(x for c in row for x in (round(c.real, 9), round(c.imag, 9))))
-    return refined
+    powers = 1 + max(degree_in_s(c) for c in coefficients)
+    z_real = sp.symbols(f"z0:{n}", real=True)
+    passive = sp.Matrix(form.passive).xreplace(dict(zip(form.unknowns, z_real, strict=True)))
+    recover = Program(
+        f"{prefix}_passive",
+        "Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).",
+        [("z", list(z_real)), params],
+        [("passive", passive)],
+    )
+    start = np.array([[complex(*c) for c in row] for row in record["solutions"]])
+    alternative = np.array([[complex(*c) for c in row] for row in record["second_solutions"]])
+    metadata: dict[str, object] = {
+        "method": prefix,
+        "unknowns": [str(u) for u in form.unknowns],
+        "homogeneous": [form.unknowns.index(h) for h in form.homogeneous],
+        "patch_equation": patch_index,
+        "degree": len(start),
+        "paths": len(start),
+        "powers": powers,
+        "terms": [[k, list(e)] for k, e in terms],
+        "free": [str(v) for v in family.free],
+        "circles": [str(angle) for angle in angles],
+        "circle_constants": [[float(sp.re(c)), float(sp.im(c))] for c in (MOEBIUS_A, MOEBIUS_B)],
+        "branches": [],
+        "combinations": [[]],
+        "degeneracies": [],
+        # one key order whether the record was computed or read back from the package
+        "root_count": {
+            "count": len(start),
+            **{key: record["proof"][key] for key in PROOF_KEYS if key in record["proof"]},
+            "tolerance": TRACE_TOLERANCE,
+        },
+        # sha256 of the equations, seed and parameters: a later build of the same family reuses
+        # (after verifying them) the start systems recorded here
+        "family_key": record["key"],
+        "start": {"real": start.real.tolist(), "imag": start.imag.tolist()},
+        "alternative": {"real": alternative.real.tolist(), "imag": alternative.imag.tolist()},
+        # the two start instances: free parameters then circle parameters u (complex)
+        "start_instance": {"real": [v[0] for v in record["instance"]], "imag": [v[1] for v in record["instance"]]},
+        "alternative_instance": {
+            "real": [v[0] for v in record["second_instance"]],
+            "imag": [v[1] for v in record["second_instance"]],
+        },
+        "notes": list(form.notes),
+    }
+    symbolic = {f"{prefix}_equations": sp.Matrix(form.equations)}
+    return HomotopySetup([values, monomials, recover], metadata, symbolic)

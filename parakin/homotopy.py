@@ -150,31 +150,84 @@ def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = R
     return z, update
 
 
-def quadric_system(coefficients: np.ndarray, size: int, paths: int) -> System:
-    """The system of a generated homotopy from its ``homotopy_coefficients`` (inputs, flat; see
-    the kernel's doc): quadrics z^T M z + b . z + c whose M, b, c are polynomials in s. Path p
-    belongs to input p // ``paths``."""
-    count = coefficients.shape[0]
-    terms = size * size + size + 1
-    flat = coefficients.reshape(count, 2, -1, size, terms)
-    table = flat[:, 0] + 1j * flat[:, 1]  # (inputs, powers, equations, terms)
+def circle_point(u: np.ndarray, a: complex, b: complex) -> np.ndarray:
+    """(C, S, D) of the circle parametrisation (``generator/polynomial_form.py``) at u, last axis."""
+    one_minus, a_minus = 1 - u, a - b * u
+    return np.stack([one_minus**2 - a_minus**2, 2 * a_minus * one_minus, one_minus**2 + a_minus**2], axis=-1)
+
+
+def circle_parameter(angle: np.ndarray, a: complex, b: complex) -> np.ndarray:
+    """u of real angles: (sin(x/2) - a cos(x/2)) / (sin(x/2) - b cos(x/2)), finite for real x."""
+    half_sin, half_cos = np.sin(angle / 2), np.cos(angle / 2)
+    return (half_sin - a * half_cos) / (half_sin - b * half_cos)
+
+
+def path_coefficients(
+    monomials: Callable[[np.ndarray], np.ndarray],
+    free: np.ndarray,
+    angles: np.ndarray,
+    start: np.ndarray,
+    powers: int,
+    constants: tuple[complex, complex],
+) -> np.ndarray:
+    """The coefficients (inputs, powers, terms) in s of every monomial along the segment from the
+    start instance (s = 1) to the inputs (s = 0): the family moves linearly in its free values and
+    in the circle parameters u; ``monomials`` (complex family values (..., F + 3 A) -> (..., T))
+    is evaluated at the ``powers``-th roots of unity and one DFT gives the coefficients (exact for
+    polynomials of degree < powers, and unitary)."""
+    a, b = constants
+    nodes = np.exp(2j * np.pi * np.arange(powers) / powers)[None, :, None]
+    f = free.shape[-1]
+    target_u = circle_parameter(angles, a, b)
+    free_at = (1 - nodes) * free[:, None, :] + nodes * start[None, None, :f]
+    u_at = (1 - nodes) * target_u[:, None, :] + nodes * start[None, None, f:]
+    circle = circle_point(u_at, a, b).reshape(u_at.shape[:-1] + (-1,))
+    values = monomials(np.concatenate([free_at, circle], axis=-1))  # (inputs, nodes, terms)
+    return np.fft.fft(values, axis=1) / powers
+
+
+def target_coefficients(
+    monomials: Callable[[np.ndarray], np.ndarray], free: np.ndarray, angles: np.ndarray
+) -> np.ndarray:
+    """The coefficients (inputs, terms) of the system at the inputs themselves, angles as
+    (cos, sin, 1): real but for a patch of homogeneous unknowns."""
+    circle = np.stack([np.cos(angles), np.sin(angles), np.ones_like(angles)], axis=-1)
+    return monomials(np.concatenate([free + 0j, circle.reshape(angles.shape[:-1] + (-1,)) + 0j], axis=-1))
+
+
+def sparse_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray, paths: int) -> System:
+    """The system of a generated homotopy from its coefficients in s (inputs, powers, terms):
+    equation k is the sum over the monomials t with ``equation[t] == k`` of
+    c_t(s) prod_i z_i^exponents[t, i]. Path p belongs to input p // ``paths``."""
+    terms, size = exponents.shape
     powers = table.shape[1]
-    quadratic = table[..., : size * size].reshape(count, powers, size, size, size)
-    linear, constant = table[..., size * size : size * size + size], table[..., -1]
-    exponents = np.arange(powers)
+    degrees = np.arange(powers)
+    top = int(exponents.max(initial=0))
+    scatter = np.zeros((terms, size), dtype=float)
+    scatter[np.arange(terms), equation] = 1.0  # term -> equation, summed by a product
 
     def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         inputs = index // paths
-        weights = s[:, None] ** exponents  # s^d
-        rates = exponents * s[:, None] ** np.maximum(exponents - 1, 0)  # d s^(d - 1)
-        products = np.einsum("pdkij,pj->pdki", quadratic[inputs], z)  # M_d z per power
-        b, c = linear[inputs], constant[inputs]
-        at = np.einsum("pd,pdki->pki", weights, products)
-        moving = np.einsum("pd,pdki->pki", rates, products)
-        b_at, b_moving = np.einsum("pd,pdki->pki", weights, b), np.einsum("pd,pdki->pki", rates, b)
-        value = np.einsum("pi,pki->pk", z, at + b_at) + np.einsum("pd,pdk->pk", weights, c)
-        rate = np.einsum("pi,pki->pk", z, moving + b_moving) + np.einsum("pd,pdk->pk", rates, c)
-        return value, 2 * at + b_at, rate
+        weights = s[:, None] ** degrees
+        rates = degrees * s[:, None] ** np.maximum(degrees - 1, 0)
+        at = np.einsum("pd,pdt->pt", weights, table[inputs])
+        moving = np.einsum("pd,pdt->pt", rates, table[inputs])
+        # powers[p, i, e] = z_i^e; factor[p, t, i] = z_i^a_ti
+        power = np.ones((z.shape[0], size, top + 1), dtype=complex)
+        for e in range(1, top + 1):
+            power[..., e] = power[..., e - 1] * z
+        rows = np.arange(size)[None, :]
+        factor = power[:, rows, exponents]  # (p, t, i)
+        monomial = factor.prod(-1)
+        derivative = exponents * power[:, rows, np.maximum(exponents - 1, 0)]
+        # product over j != i, without dividing by z_i (which may be 0)
+        before = np.cumprod(np.concatenate([np.ones_like(factor[..., :1]), factor[..., :-1]], -1), -1)
+        after = np.cumprod(np.concatenate([np.ones_like(factor[..., :1]), factor[..., :0:-1]], -1), -1)[..., ::-1]
+        partial = derivative * before * after  # (p, t, i)
+        value = (at * monomial) @ scatter
+        rate = (moving * monomial) @ scatter
+        jacobian = np.einsum("pt,tk,pti->pki", at, scatter, partial)
+        return value, jacobian, rate
 
     return system
 

@@ -49,12 +49,18 @@ def _sections(manifest: Any, objects: dict[str, Any]) -> list[tuple[str, str]]:
         (f"Singularity factor {name} (= 0 at the singularity)", f"factor_{name}")
         for name in manifest.singularity_factors
     ]
-    if caps.forward is not None and caps.forward.method == "homotopy":
-        sections.append((f"Forward homotopy: {caps.forward.degree} paths through the equations", "forward_equations"))
-    elif caps.forward is not None:
-        sections.append(
-            (f"Forward polynomial in {caps.forward.unknown}, degree {caps.forward.degree}", "forward_polynomial")
-        )
+    for method, info in caps.forward_methods.items():
+        if info.homotopy is not None:
+            proof = info.homotopy.root_count
+            proven = f", {proof.count} solutions proven by the {proof.method}" if proof else ""
+            sections.append(
+                (
+                    f"Forward homotopy '{method}': {info.degree} paths through the equations{proven}",
+                    f"{method}_equations",
+                )
+            )
+        else:
+            sections.append((f"Forward polynomial in {info.unknown}, degree {info.degree}", "forward_polynomial"))
     return [(title, key) for title, key in sections if key in objects]
 
 

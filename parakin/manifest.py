@@ -125,19 +125,54 @@ class Homotopy:
     start: np.ndarray = field(compare=False)
     #: the solutions of the second start instance (retried where a path of the first fails)
     alternative: np.ndarray = field(compare=False)
+    #: the monomials: term t is prod_i z_i^exponents[t, i] in equation ``equation[t]``
+    exponents: np.ndarray = field(compare=False, default_factory=lambda: np.zeros((0, 0), dtype=np.int64))
+    equation: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
+    #: the equation that is the random patch of the homogeneous unknowns (None: no patch)
+    patch_equation: int | None = None
+    #: the generic root count and how it was proven at generation time
+    root_count: RootCount | None = None
+    #: coefficients are polynomials of degree < powers in s
+    powers: int = 1
+    #: the family's free parameters and angles (kernel ``{method}_family``), and the constants
+    #: a, b of the circle parametrisation u of each angle
+    free: tuple[str, ...] = ()
+    circles: tuple[str, ...] = ()
+    circle_constants: tuple[complex, complex] = (0j, 0j)
+    #: the start instances (free parameters, then one u per angle), complex
+    start_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
+    alternative_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
+
+
+@dataclass(frozen=True)
+class RootCount:
+    """The family's generic number of isolated solutions (the paths), proven at generation time:
+    ``method`` names the proof, ``deviation`` is the trace test's measure (0 for a complete set)
+    against ``tolerance``, ``witnesses`` the auxiliary points it used."""
+
+    count: int
+    method: str
+    deviation: float
+    tolerance: float
+    witnesses: int
+    #: False: the trace test did not close within its budget at generation; the count is
+    #: monodromy's (every found solution is real, but more may exist)
+    proven: bool = True
 
 
 @dataclass(frozen=True)
 class Forward:
-    """Every assembly mode: a univariate polynomial in ``unknown`` of ``degree`` (method
-    "polynomial"), or a parameter homotopy with ``degree`` paths (method "homotopy")."""
+    """Every assembly mode by one method: a univariate polynomial in ``unknown`` of ``degree``
+    (method "elimination", written with the mechanism), or a parameter homotopy with ``degree``
+    paths (method "homotopy": the mechanism's own polynomial system; "automatic": the polynomial
+    form the generator derives from the loop closure)."""
 
     unknown: str
     degree: int
     branches: tuple[str, ...]
     combinations: tuple[tuple[int, ...], ...]
     degeneracies: tuple[str, ...]
-    method: str = "polynomial"
+    method: str = "elimination"
     homotopy: Homotopy | None = None
 
 
@@ -195,6 +230,9 @@ class Capabilities:
     architecture: Architecture | None
     drawing: Drawing | None
     statics: Statics | None
+    #: every method of forward_pose_all by name ("elimination", "homotopy", "automatic"); the
+    #: default, ``forward``, is the fastest one with a complete answer
+    forward_methods: dict[str, Forward] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -325,6 +363,7 @@ class Manifest:
     @classmethod
     def _from_dict(cls, data: dict[str, Any]) -> Manifest:
         caps = data["capabilities"]
+        forward, forward_methods = _forward_methods(caps["forward"])
         c = data["c"]
         return cls(
             schema=data["schema"],
@@ -356,7 +395,8 @@ class Manifest:
             determinants=_names(data["determinants"], "determinants"),
             capabilities=Capabilities(
                 inverse=_inverse(caps["inverse"]),
-                forward=_forward(caps["forward"]),
+                forward=forward,
+                forward_methods=forward_methods,
                 legs=tuple(
                     Leg(_name(g["name"], "capabilities.legs.name"), _names(g["joints"], "capabilities.legs.joints"))
                     for g in caps["legs"]
@@ -531,17 +571,48 @@ def _inverse(data: dict[str, Any] | None) -> Inverse | None:
     )
 
 
-def _forward(data: dict[str, Any] | None) -> Forward | None:
+def _forward_methods(data: dict[str, Any] | None) -> tuple[Forward | None, dict[str, Forward]]:
+    """The default method and every method, by name."""
     if not data:
-        return None
+        return None, {}
+    methods = {name: _forward(name, entry) for name, entry in dict(data["methods"]).items()}
+    return methods[str(data["default"])], methods
+
+
+def _forward(method: str, data: dict[str, Any]) -> Forward:
     homotopy = None
-    if data.get("method") == "homotopy":
+    if "start" in data:
         start, alternative = (
             np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
             for key in ("start", "alternative")
         )
+        terms = data["terms"]
+        proof = data["root_count"]
+        instances = (
+            np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
+            for key in ("start_instance", "alternative_instance")
+        )
         homotopy = Homotopy(
-            _names(data["unknowns"], "capabilities.forward.unknowns"), tuple(data["homogeneous"]), start, alternative
+            _names(data["unknowns"], "capabilities.forward.unknowns"),
+            tuple(data["homogeneous"]),
+            start,
+            alternative,
+            np.array([e for _, e in terms], dtype=np.int64).reshape(len(terms), -1),
+            np.array([k for k, _ in terms], dtype=np.int64),
+            data.get("patch_equation"),
+            RootCount(
+                int(proof["count"]),
+                str(proof["method"]),
+                float(proof["trace_deviation"]),
+                float(proof["tolerance"]),
+                int(proof["witnesses"]),
+                bool(proof.get("proven", True)),
+            ),
+            int(data["powers"]),
+            tuple(str(v) for v in data["free"]),
+            tuple(str(v) for v in data["circles"]),
+            (complex(*data["circle_constants"][0]), complex(*data["circle_constants"][1])),
+            *instances,
         )
     unknown = data.get("unknown", "")
     return Forward(
@@ -550,7 +621,7 @@ def _forward(data: dict[str, Any] | None) -> Forward | None:
         _names(data["branches"], "capabilities.forward.branches"),
         tuple(tuple(c) for c in data["combinations"]),
         _names(data["degeneracies"], "capabilities.forward.degeneracies"),
-        data.get("method", "polynomial"),
+        method,
         homotopy,
     )
 

@@ -33,8 +33,8 @@ from parakin.errors import (
     raise_for_newton_status,
 )
 from parakin.linalg import pivoted_solve
-from parakin.manifest import Capabilities, Manifest, Variable
-from parakin.modes import assemble, compiled_modes, numpy_modes
+from parakin.manifest import Capabilities, Forward, Manifest, Variable
+from parakin.modes import assemble, certify, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
 from parakin.pose import LEG_TWIST, as_array, rigid_or_nan, rigidity_error, transform_from_pose, wrap_angle
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
@@ -509,8 +509,13 @@ class Mechanism:
         return ForwardPoseTracker(self, start, tolerance, max_iterations, strict, jump_ratio, trust_step)
 
     # ------------------------------------------------------------------ forward pose, all modes
-    def forward_pose_all(self, actuated: ArrayLike, strict: bool = True) -> AssemblyModes:
-        """Every real assembly mode from the generated univariate polynomial (closed form).
+    def forward_pose_all(self, actuated: ArrayLike, strict: bool = True, method: str | None = None) -> AssemblyModes:
+        """Every real assembly mode, by ``method`` (``capabilities.forward_methods``; None: the
+        default, the fastest complete one): "elimination", the generated univariate polynomial of
+        a closed form written with the mechanism; "homotopy", the mechanism's own polynomial
+        system; "automatic", the polynomial form the generator derives from the loop closure,
+        whose generic root count is proven at generation time (the trace test). A homotopy
+        follows one path per solution of its generated start system (``root_count`` paths).
 
         Every real root of the polynomial is isolated (none is lost: roots are separated by the
         roots of the derivative; near-double roots and roots at infinity are reported), back
@@ -523,7 +528,7 @@ class Mechanism:
         U-joint axes: a self-motion) raises SelfMotionError or SingularConfigurationError.
         """
         theta = self._actuated(actuated)
-        info = self.capabilities.forward
+        info = self._forward_method(method)
         if info is None:
             if self.passive_names:
                 raise UnsupportedOperationError(
@@ -541,17 +546,19 @@ class Mechanism:
                 outcomes=self.manifest.abi.mode_outcomes,
             )  # fmt: skip
         flat = theta.reshape(-1, theta.shape[-1])
-        if self.backend.name == "compiled":
+        if self.backend.name == "compiled" and info is self.capabilities.forward:
             out = compiled_modes(self, flat)
-        else:
-            out = numpy_modes(self, flat)
-        modes = assemble(self, theta, out)
+        else:  # the same pipeline in NumPy, over this backend's kernels
+            out = numpy_modes(self, flat, info)
+        if info.homotopy is not None:
+            out = self._certified(info, flat, out)
+        modes = assemble(self, theta, out, info)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
             index = first_index(degenerate)
             cause = (
                 "homotopy paths that end nowhere (no isolated solution to reach)"
-                if info.method == "homotopy"
+                if info.homotopy is not None
                 else f"degenerate elimination ({', '.join(info.degeneracies) or 'the polynomial vanishes'})"
             )
             message = (
@@ -564,6 +571,36 @@ class Mechanism:
                 raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
             raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
         return modes
+
+    def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Certify every input's endpoints; an input whose certified roots fall short of the
+        root count is tracked again (second start instance, tighter steps) and keeps the run
+        with more certified roots: never a silent loss, the certificate says what remains."""
+        certified, unique = certify(self, info, flat, out["endpoints"])
+        assert info.homotopy is not None and info.homotopy.root_count is not None
+        short = np.nonzero((certified < info.homotopy.root_count.count) & np.isfinite(flat).all(-1))[0]
+        if short.size:
+            again = numpy_modes(self, flat[short], info, retrack=True)
+            second, second_unique = certify(self, info, flat[short], again["endpoints"])
+            better = second > certified[short]
+            rows = short[better]
+            for key, value in again.items():
+                out[key][rows] = value[better]
+            certified[rows], unique[rows] = second[better], second_unique[better]
+        retracked = np.zeros(flat.shape[0], dtype=bool)
+        retracked[short] = True
+        return out | {"certified": certified, "path_certified": unique, "retracked": retracked}
+
+    def _forward_method(self, method: str | None) -> Forward | None:
+        if method is None:
+            return self.capabilities.forward
+        methods = self.capabilities.forward_methods
+        if method not in methods:
+            known = ", ".join(repr(name) for name in methods) or "none"
+            raise UnsupportedOperationError(
+                f"{self.name} has no forward_pose_all method {method!r}; its methods: {known}"
+            )
+        return methods[method]
 
     def forward_pose_all_chunks(self, actuated: ArrayLike, chunk: int = 65536, strict: bool = True):
         """``forward_pose_all`` over a flat batch (N, n_a), one ``(start, AssemblyModes)`` per

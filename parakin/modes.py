@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from parakin.certify import certify_roots
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
 from parakin.homotopy import (
     PATH_DIVERGED,
@@ -24,8 +25,10 @@ from parakin.homotopy import (
     PATH_REACHED,
     Paths,
     is_known,
+    path_coefficients,
     phase_normalised,
-    quadric_system,
+    sparse_system,
+    target_coefficients,
     track,
 )
 from parakin.polynomial import isolate_real_roots
@@ -33,6 +36,7 @@ from parakin.pose import wrap_angle
 from parakin.results import Array, AssemblyModes
 
 if TYPE_CHECKING:
+    from parakin.manifest import Forward
     from parakin.mechanism import Mechanism
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
@@ -48,9 +52,7 @@ def _outcome_codes(outcomes: tuple[str, ...]) -> dict[str, int]:
     return {name: code for code, name in enumerate(outcomes)}
 
 
-def _allocate(m: Mechanism, count: int) -> dict[str, np.ndarray]:
-    info = m.capabilities.forward
-    assert info is not None
+def _allocate(info: Forward, m: Mechanism, count: int) -> dict[str, np.ndarray]:
     slots = info.degree * len(info.combinations)
     n_p = len(m.passive_names)
     return {
@@ -66,6 +68,8 @@ def _allocate(m: Mechanism, count: int) -> dict[str, np.ndarray]:
         "near_roots": np.empty(count, dtype=np.int32),
         "at_infinity": np.empty(count, dtype=np.int32),
         "status": np.empty(count, dtype=np.int32),
+        # a homotopy's complex endpoints (re, im) per path, for the certificate
+        "endpoints": np.full((count, slots, info.homotopy.start.shape[1] if info.homotopy else 0, 2), np.nan),
     }
 
 
@@ -119,7 +123,7 @@ class _SingleInput:
         self.limits = m.limits
         self.params = m.params
         self.theta = np.zeros((1, len(m.manifest.actuated)))
-        self.out = _allocate(m, 1)
+        self.out = _allocate(m.capabilities.forward, m, 1)  # type: ignore[arg-type]
         self.bounds = _limits(m)
         self.job = _modes_job(m, self.theta, self.out, *self.bounds)
         self.pointer = ctypes.byref(self.job)
@@ -139,52 +143,54 @@ def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
         if single is None or single.params is not m.params or single.limits is not m.limits:
             single = m._single_input.job = _SingleInput(m)
         return single.run(m, theta)
-    out = _allocate(m, theta.shape[0])
+    out = _allocate(m.capabilities.forward, m, theta.shape[0])  # type: ignore[arg-type]
     theta_c = np.ascontiguousarray(theta, dtype=float)
     job = _modes_job(m, theta_c, out, *_limits(m))
     m.backend.forward_pose_all(ctypes.byref(job))  # type: ignore[attr-defined]
     return out
 
 
-def numpy_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
-    """The same pipeline, vectorised over the batch, in chunks of ``CHUNK`` inputs."""
+def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
+    """The same pipeline by the method ``info``, vectorised over the batch, in chunks of
+    ``CHUNK`` inputs; kernels from the mechanism's backend. ``retrack``: a homotopy's paths from
+    its second start instance, with a tolerance 100 times tighter (for inputs whose first answer
+    was not certified complete)."""
     count = theta.shape[0]
-    out = _allocate(m, count)
+    out = _allocate(info, m, count)
     for start in range(0, count, CHUNK):
-        part = _numpy_chunk(m, theta[start : start + CHUNK])
+        part = _numpy_chunk(m, theta[start : start + CHUNK], info, retrack)
         for key, value in part.items():
             out[key][start : start + CHUNK] = value
     return out
 
 
-def _numpy_chunk(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
-    info = m.capabilities.forward
-    assert info is not None
+def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
     finite_input = np.asarray(np.isfinite(theta).all(-1))
     theta = np.where(finite_input[:, None], theta, 0.0)
-    if info.method == "homotopy":
-        found = _homotopy_candidates(m, theta)
+    if info.homotopy is not None:
+        found = _homotopy_candidates(m, theta, info, retrack)
     else:
-        found = _polynomial_candidates(m, theta)
+        found = _polynomial_candidates(m, theta, info)
     return _settle(m, theta, finite_input, found)
 
 
-def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
     """Every path of the generated homotopy followed to the inputs (``parakin.homotopy``); real
     and near-real endpoints become candidates (passive values from the generated kernel), the
     others are accounted for as complex, at infinity or failed."""
-    info = m.capabilities.forward
-    assert info is not None and info.homotopy is not None
+    homotopy = info.homotopy
+    assert homotopy is not None
     codes = _codes(m)
     tol = _settings(m)
-    start = info.homotopy.start
-    paths, size = start.shape
+    start = homotopy.alternative if retrack else homotopy.start
+    paths = start.shape[0]
     n = theta.shape[0]
-    system = quadric_system(m.backend.call("homotopy_coefficients", theta, m.params)["coefficients"], size, paths)
-    ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"])
-    if (ended.status == PATH_FAILED).any():
-        ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]))
-    z, imaginary = phase_normalised(ended.z, list(info.homotopy.homogeneous))
+    table = _path_table(m, info, theta, int(retrack))
+    system = sparse_system(table, homotopy.exponents, homotopy.equation, paths)
+    ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"] * (1e-2 if retrack else 1.0))
+    if not retrack and (ended.status == PATH_FAILED).any():
+        ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
+    z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous))
     reached = ended.status == PATH_REACHED
     real = reached & (imaginary < tol["real_endpoint"])
     near = reached & ~real & (imaginary < tol["near_real_endpoint"])
@@ -203,7 +209,7 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     q = np.full((n * paths, len(m.passive_names)), np.nan)
     if candidate.any():
         with np.errstate(all="ignore"):
-            q[candidate] = m.backend.call("homotopy_passive", z[candidate].real, m.params)["passive"]
+            q[candidate] = m.backend.call(f"{info.method}_passive", z[candidate].real, m.params)["passive"]
     pose = np.tile(np.eye(4), (n * paths, 1, 1))
     if candidate.any():
         theta_paths = np.repeat(theta, paths, axis=0)[candidate]
@@ -213,7 +219,9 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
             ]
     shape = (n, paths)
     failed = (ended.status == PATH_FAILED).reshape(shape)
+    endpoints = np.where((ended.status == PATH_REACHED)[:, None], ended.z, np.nan)
     return {
+        "endpoints": np.stack([endpoints.real, endpoints.imag], axis=-1).reshape(shape + (-1, 2)),
         "pose": pose.reshape(shape + (4, 4)),
         "q": q.reshape(shape + (-1,)),
         "outcome": outcome.reshape(shape).astype(np.int32),
@@ -228,18 +236,67 @@ def _homotopy_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
     }
 
 
-def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float) -> Paths:
+def _monomials(m: Mechanism, info: Forward):
+    def evaluate(values: np.ndarray) -> np.ndarray:
+        out = m.backend.call(
+            f"{info.method}_monomials", np.ascontiguousarray(values.real), np.ascontiguousarray(values.imag)
+        )
+        return out["re"] + 1j * out["im"]
+
+    return evaluate
+
+
+def _family(m: Mechanism, info: Forward, theta: Array) -> tuple[np.ndarray, np.ndarray]:
+    """The family's free values and angles at the inputs (the generated ``*_family`` kernel)."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    values = m.backend.call(f"{info.method}_family", theta, m.params)
+    return values["free"][:, : len(homotopy.free)], values["angles"][:, : len(homotopy.circles)]
+
+
+def _path_table(m: Mechanism, info: Forward, theta: Array, which: int) -> np.ndarray:
+    """Coefficients in s (inputs, powers, terms) from the first (0) or second (1) start instance."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    free, angles = _family(m, info, theta)
+    start = homotopy.alternative_instance if which else homotopy.start_instance
+    with np.errstate(all="ignore"):
+        return path_coefficients(_monomials(m, info), free, angles, start, homotopy.powers, homotopy.circle_constants)
+
+
+def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per input (flat batch): how many distinct roots of the system at the inputs are certified
+    by Krawczyk boxes around the paths' endpoints, and per path whether its box holds exactly one
+    root (``parakin.certify``); the answer is complete where the first equals the root count."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    free, angles = _family(m, info, theta)
+    with np.errstate(all="ignore"):
+        coefficients = target_coefficients(_monomials(m, info), free, angles)
+    roots = endpoints[..., 0] + 1j * endpoints[..., 1]
+    result = certify_roots(
+        coefficients,
+        homotopy.exponents,
+        homotopy.equation,
+        roots,
+        homogeneous=list(homotopy.homogeneous) or None,
+        patch_equation=homotopy.patch_equation,
+    )
+    return result.certified_distinct, result.unique
+
+
+def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, info: Forward) -> Paths:
     """Inputs where a path failed (it came too close to another: the corrector could not converge
     at any step size) are tracked again from the second generated start system, along another
     segment; each failed slot takes an endpoint of that run that the first run did not reach (the
     same solution has the same coordinates in both: one patch)."""
-    info = m.capabilities.forward
-    assert info is not None and info.homotopy is not None
-    alternative = info.homotopy.alternative
-    paths, size = alternative.shape
+    homotopy = info.homotopy
+    assert homotopy is not None
+    alternative = homotopy.alternative
+    paths = alternative.shape[0]
     rows = np.unique(np.nonzero(ended.status == PATH_FAILED)[0] // paths)
-    coefficients = m.backend.call("homotopy_coefficients", theta[rows], m.params)["alternative"]
-    second = track(quadric_system(coefficients, size, paths), np.tile(alternative, (rows.size, 1)), tolerance)
+    system = sparse_system(_path_table(m, info, theta[rows], 1), homotopy.exponents, homotopy.equation, paths)
+    second = track(system, np.tile(alternative, (rows.size, 1)), tolerance)
     z, status = ended.z.copy(), ended.status.copy()
     for j, i in enumerate(rows):
         mine, theirs = slice(i * paths, (i + 1) * paths), slice(j * paths, (j + 1) * paths)
@@ -254,10 +311,8 @@ def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float) ->
     return Paths(z, status, ended.steps, ended.update)
 
 
-def _polynomial_candidates(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
+def _polynomial_candidates(m: Mechanism, theta: Array, info: Forward) -> dict[str, np.ndarray]:
     """Every real root of the generated univariate polynomial x every branch, back substituted."""
-    info = m.capabilities.forward
-    assert info is not None
     codes = _codes(m)
     settings = _settings(m)
     n = theta.shape[0]
@@ -402,6 +457,11 @@ def _settle(
         "near_roots": per_input("near_roots"),
         "at_infinity": per_input("at_infinity"),
         "status": status,
+        **(
+            {"endpoints": np.where(finite_input[:, None, None, None], found["endpoints"], np.nan)}
+            if "endpoints" in found
+            else {}
+        ),
     }
 
 
@@ -444,12 +504,10 @@ def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: 
     return np.where(np.isfinite(chosen).all(-1)[..., None], q, np.nan)
 
 
-def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> AssemblyModes:
+def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forward) -> AssemblyModes:
     """The result object over the caller's batch shape."""
     shape = theta.shape[:-1]
     codes = _codes(m)
-    info = m.capabilities.forward
-    assert info is not None
 
     def shaped(key: str) -> np.ndarray:
         value = out[key]
@@ -479,4 +537,12 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray]) -> Assembly
         status=shaped("status"),
         outcomes=m.manifest.abi.mode_outcomes,
         branch_count=len(info.combinations),
+        method=info.method,
+        root_count=info.homotopy.root_count.count if info.homotopy and info.homotopy.root_count else None,
+        root_count_proven=bool(info.homotopy.root_count.proven)
+        if info.homotopy and info.homotopy.root_count
+        else False,
+        certified_roots=shaped("certified") if "certified" in out else None,
+        path_certified=shaped("path_certified") if "path_certified" in out else None,
+        retracked=shaped("retracked") if "retracked" in out else None,
     )

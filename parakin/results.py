@@ -99,6 +99,16 @@ class AssemblyModes:
     status: NDArray[np.int32]
     outcomes: tuple[str, ...] = ()
     branch_count: int = 1
+    #: the method that found the modes (``Mechanism.forward_pose_all``)
+    method: str = ""
+    #: homotopy methods: the proven generic root count, and per input the distinct certified roots
+    #: and per path whether its endpoint is certified (``certificate()``)
+    root_count: int | None = None
+    root_count_proven: bool = False
+    certified_roots: NDArray[np.int64] | None = None
+    path_certified: Mask | None = None
+    #: per input: its paths were tracked a second time (first answer not certified complete)
+    retracked: Mask | None = None
 
     def slot(self, index: int) -> Configuration:
         """Slot ``index`` (0 <= index < M) as a configuration, whether or not it holds a mode
@@ -156,14 +166,34 @@ class AssemblyModes:
         """Per input: every isolated root accounted for. ``roots`` = real + near-real + at
         infinity; ``with_modes`` roots gave at least one mode; ``rejected[reason]`` counts the
         others by the furthest stage any of their branches reached. roots == with_modes +
-        sum(rejected) holds for every input."""
+        sum(rejected) holds for every input.
+
+        A homotopy method adds ``root_count`` (the family's generic number of solutions, proven
+        at generation time by the trace test where ``root_count_proven``), ``certified_roots``
+        (distinct roots of the system at the input, each in a Krawczyk box holding exactly one
+        root: ``parakin.certify``), ``complete`` (the two are equal and the count is proven: no
+        solution can be missing, so the modes returned are all of them), ``uncertified_paths``
+        (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run was not complete: tracked again from the second start
+        instance with tighter steps, the better run kept)."""
+        extra: dict[str, object] = {}
+        if self.certified_roots is not None and self.root_count is not None and self.path_certified is not None:
+            extra = {
+                "root_count": np.full(self.certified_roots.shape, self.root_count),
+                "certified_roots": self.certified_roots,
+                "complete": (self.certified_roots == self.root_count) & self.root_count_proven,
+                "root_count_proven": np.full(self.certified_roots.shape, self.root_count_proven),
+                "uncertified_paths": (~self.path_certified).sum(-1),
+                "retracked": self.retracked
+                if self.retracked is not None
+                else np.zeros(self.certified_roots.shape, bool),
+            }
         slots = self.outcome.shape[-1]
         per_root = self.outcome.reshape(self.outcome.shape[:-1] + (slots // self.branch_count, self.branch_count))
         has_root = self.root_kind.reshape(per_root.shape)[..., 0] >= 0
         with_mode = has_root & (per_root == 0).any(-1)
         reason = np.where(has_root & ~with_mode, per_root.max(-1), -1)
         rejected = {name: (reason == code).sum(-1) for code, name in enumerate(self.outcomes) if code > 1}
-        return {"roots": has_root.sum(-1), "with_modes": with_mode.sum(-1), "rejected": rejected}  # type: ignore[dict-item]
+        return {"roots": has_root.sum(-1), "with_modes": with_mode.sum(-1), "rejected": rejected, **extra}  # type: ignore[dict-item]
 
 
 class NewtonOutcome(NamedTuple):

@@ -194,11 +194,18 @@ def perturb_pose(m: Mechanism, pose: np.ndarray, rng: np.random.Generator, size:
 
 def perturb_actuated(m: Mechanism, actuated: np.ndarray, rng: np.random.Generator, size: float = 1.0) -> np.ndarray:
     """Actuated values near ``actuated``: 0.1 size rad, 0.03 size length scales, reflected into
-    each actuator's declared range (a leg length stays >= 0: outside it is no input at all)."""
+    each actuator's declared range (a leg length stays >= 0, a crank inside its range: outside it
+    is no input at all). A range bounded on both sides folds the values back and forth into it."""
     scale = variable_scale(m, m.manifest.actuated) * np.where(revolute_actuated(m), 0.1, 0.03)
     values = actuated + size * rng.normal(size=actuated.shape) * scale
     low = np.array([v.limits[0] for v in m.manifest.actuated])
-    return np.where(values < low, 2 * low - values, values)
+    high = np.array([v.limits[1] for v in m.manifest.actuated])
+    values = np.where(values < low, 2 * low - values, values)
+    bounded = np.isfinite(low) & np.isfinite(high)
+    width = np.where(bounded, high - low, 1.0)
+    above = np.where(bounded, values, 0.0) - np.where(bounded, low, 0.0)
+    folded = np.abs((above + width) % (2 * width) - width)  # distance from low, folded
+    return np.where(bounded, low + folded, values)
 
 
 def sample_poses(m: Mechanism, rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray | None]:

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
+//   automatic_family: 0
+//   automatic_monomials: 540
+//   automatic_passive: 0
 
 // Public C interface of the generated delta solvers: Delta robot (3-RUU, Clavel 1988): translational platform, three-sphere forward pose.
 // R. Clavel (1988)
@@ -186,6 +189,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } delta_modes_job;
 
 int delta_forward_pose_all(const delta_modes_job* job);
@@ -232,6 +236,18 @@ int delta_forward_polynomial_batch(long long n, const double** inputs, const lon
 //   inputs: actuated[3], root[1], branch[0], params[4]
 //   outputs: pose[4 x 4]
 int delta_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[3], params[4]
+//   outputs: free[4], angles[3]
+int delta_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[13], family_im[13]
+//   outputs: re[20], im[20]
+int delta_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[3], params[4]
+//   outputs: passive[3]
+int delta_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
+//   automatic_family: 0
+//   automatic_monomials: 540
+//   automatic_passive: 0
 
 // Example: the delta solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -75,6 +78,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     delta_forward_pose_all(&all);
     printf("delta: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

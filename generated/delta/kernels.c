@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 183
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
+//   automatic_family: 0
+//   automatic_monomials: 540
+//   automatic_passive: 0
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -48,6 +51,9 @@ extern "C" {
 /* Add prefix to internal symbols */
 #define casadi_f0 CASADI_PREFIX(f0)
 #define casadi_f1 CASADI_PREFIX(f1)
+#define casadi_f10 CASADI_PREFIX(f10)
+#define casadi_f11 CASADI_PREFIX(f11)
+#define casadi_f12 CASADI_PREFIX(f12)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -59,6 +65,8 @@ extern "C" {
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
+#define casadi_s10 CASADI_PREFIX(s10)
+#define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -114,6 +122,8 @@ static const casadi_int casadi_s6[3] = {3, 4, 1};
 static const casadi_int casadi_s7[3] = {12, 1, 1};
 static const casadi_int casadi_s8[3] = {3, 2, 1};
 static const casadi_int casadi_s9[3] = {0, 1, 1};
+static const casadi_int casadi_s10[3] = {13, 1, 1};
+static const casadi_int casadi_s11[3] = {20, 1, 1};
 
 /* delta_platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -2072,6 +2082,867 @@ CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_work(casadi_int *sz_arg
 
 CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* delta_automatic_family:(actuated[3],params[4])->(free[4],angles[3]) */
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0;
+  a0=arg[1]? arg[1][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[1]? arg[1][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  a0=arg[1]? arg[1][2] : 0;
+  if (res[0]!=0) res[0][2]=a0;
+  a0=arg[1]? arg[1][3] : 0;
+  if (res[0]!=0) res[0][3]=a0;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[1]!=0) res[1][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[1]!=0) res[1][1]=a0;
+  a0=arg[0]? arg[0][2] : 0;
+  if (res[1]!=0) res[1][2]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f10(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_family_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_family_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_family_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_family_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_family_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_family_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real delta_automatic_family_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_family_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_family_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "free";
+    case 1: return "angles";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_family_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_family_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s1;
+    case 1: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_family_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_family_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* delta_automatic_monomials:(family_re[13],family_im[13])->(re[20],im[20]) */
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57, a58, a59;
+  casadi_real a60, a61, a62, a63, a64, a65, a66, a67, a68, a69, a70, a71;
+  casadi_real a72, a73, a74, a75, a76, a77, a78, a79;
+  a00=arg[1]? arg[1][6] : 0;
+  a01=casadi_sq(a00);
+  a02=arg[0]? arg[0][6] : 0;
+  a03=casadi_sq(a02);
+  a01=(a01-a03);
+  if (res[0]!=0) res[0][0]=a01;
+  a03=4.;
+  a04=(a03*a00);
+  a04=(a04*a02);
+  a05=arg[1]? arg[1][1] : 0;
+  a04=(a04*a05);
+  a06=arg[0]? arg[0][0] : 0;
+  a07=(2.*a06);
+  a07=(a07*a01);
+  a04=(a04-a07);
+  a07=arg[1]? arg[1][2] : 0;
+  a08=arg[0]? arg[0][4] : 0;
+  a09=(2.*a08);
+  a09=(a09*a00);
+  a10=arg[1]? arg[1][4] : 0;
+  a11=(2.*a10);
+  a12=(a02*a11);
+  a09=(a09+a12);
+  a12=(a07*a09);
+  a13=arg[0]? arg[0][2] : 0;
+  a14=-2.;
+  a14=(a14*a08);
+  a14=(a14*a02);
+  a15=(a00*a11);
+  a14=(a14+a15);
+  a15=(a13*a14);
+  a12=(a12+a15);
+  a04=(a04-a12);
+  a15=(-a01);
+  a15=(2.*a15);
+  a16=arg[0]? arg[0][1] : 0;
+  a17=(a15*a16);
+  a04=(a04-a17);
+  a17=arg[1]? arg[1][0] : 0;
+  a18=(a00*a02);
+  a19=(a03*a18);
+  a20=(a17*a19);
+  a04=(a04-a20);
+  if (res[0]!=0) res[0][1]=a04;
+  if (res[0]!=0) res[0][2]=a01;
+  if (res[0]!=0) res[0][3]=a01;
+  a04=arg[0]? arg[0][5] : 0;
+  a21=(2.*a04);
+  a22=(a00*a21);
+  a23=arg[1]? arg[1][5] : 0;
+  a24=(2.*a23);
+  a25=(a02*a24);
+  a22=(a22+a25);
+  a25=(a07*a22);
+  a00=(a00*a24);
+  a02=(a02*a21);
+  a00=(a00-a02);
+  a02=(a13*a00);
+  a25=(a25+a02);
+  if (res[0]!=0) res[0][4]=a25;
+  a25=(a10*a08);
+  a02=(a07*a13);
+  a24=(a03*a02);
+  a25=(a25*a24);
+  a26=(a07*a14);
+  a27=(a13*a09);
+  a26=(a26-a27);
+  a27=(a17*a26);
+  a25=(a25-a27);
+  a27=(a07*a09);
+  a28=(a13*a14);
+  a27=(a27+a28);
+  a28=(a06*a27);
+  a25=(a25+a28);
+  a20=(a06*a20);
+  a25=(a25+a20);
+  a20=(a23*a04);
+  a20=(a20*a24);
+  a25=(a25+a20);
+  a20=casadi_sq(a06);
+  a24=casadi_sq(a17);
+  a20=(a20-a24);
+  a24=(a01*a20);
+  a25=(a25+a24);
+  a24=casadi_sq(a16);
+  a28=casadi_sq(a05);
+  a24=(a24-a28);
+  a28=(a01*a24);
+  a25=(a25+a28);
+  a28=arg[0]? arg[0][3] : 0;
+  a29=casadi_sq(a28);
+  a30=arg[1]? arg[1][3] : 0;
+  a31=casadi_sq(a30);
+  a29=(a29-a31);
+  a31=(a01*a29);
+  a25=(a25-a31);
+  a31=(2.*a06);
+  a31=(a31*a16);
+  a32=(2.*a17);
+  a33=(a32*a05);
+  a31=(a31-a33);
+  a33=(a01*a31);
+  a25=(a25-a33);
+  a30=(a30*a28);
+  a28=(a30*a19);
+  a25=(a25-a28);
+  a28=(2.*a06);
+  a28=(a28*a05);
+  a33=(a32*a16);
+  a28=(a28+a33);
+  a18=(2.*a18);
+  a33=(a28*a18);
+  a25=(a25-a33);
+  a10=casadi_sq(a10);
+  a33=casadi_sq(a08);
+  a10=(a10-a33);
+  a33=casadi_sq(a13);
+  a34=casadi_sq(a07);
+  a33=(a33-a34);
+  a34=(a10*a33);
+  a25=(a25+a34);
+  a34=casadi_sq(a23);
+  a04=casadi_sq(a04);
+  a34=(a34-a04);
+  a04=(a33*a34);
+  a25=(a25+a04);
+  a09=(a13*a09);
+  a14=(a07*a14);
+  a09=(a09-a14);
+  a14=(a09*a05);
+  a25=(a25-a14);
+  a14=(a12*a16);
+  a25=(a25-a14);
+  a14=(a19*a05);
+  a14=(a14*a16);
+  a25=(a25+a14);
+  if (res[0]!=0) res[0][5]=a25;
+  a25=arg[1]? arg[1][9] : 0;
+  a14=casadi_sq(a25);
+  a04=(a03*a14);
+  a35=arg[0]? arg[0][9] : 0;
+  a36=casadi_sq(a35);
+  a37=(a03*a36);
+  a04=(a04-a37);
+  if (res[0]!=0) res[0][6]=a04;
+  a37=arg[1]? arg[1][7] : 0;
+  a38=(a03*a35);
+  a39=(a37*a38);
+  a40=arg[0]? arg[0][7] : 0;
+  a41=(a03*a25);
+  a42=(a40*a41);
+  a39=(a39+a42);
+  a42=(a07*a39);
+  a41=(a37*a41);
+  a38=(a40*a38);
+  a41=(a41-a38);
+  a38=(a13*a41);
+  a42=(a42+a38);
+  a38=8.;
+  a43=(a38*a35);
+  a44=(a25*a43);
+  a45=(a17*a44);
+  a42=(a42+a45);
+  a46=(a44*a05);
+  a42=(a42-a46);
+  a36=(a36-a14);
+  a14=(a03*a36);
+  a47=(a06*a14);
+  a42=(a42-a47);
+  a48=(a14*a16);
+  a42=(a42+a48);
+  if (res[0]!=0) res[0][7]=a42;
+  if (res[0]!=0) res[0][8]=a04;
+  a42=1.7320508075688772e+00;
+  a46=(a42*a46);
+  a45=(a42*a45);
+  a46=(a46-a45);
+  a47=(a42*a47);
+  a46=(a46+a47);
+  a48=(a42*a48);
+  a46=(a46-a48);
+  a48=(a07*a39);
+  a47=(a13*a41);
+  a48=(a48+a47);
+  a48=(a42*a48);
+  a46=(a46-a48);
+  if (res[0]!=0) res[0][9]=a46;
+  if (res[0]!=0) res[0][10]=a04;
+  a46=arg[0]? arg[0][8] : 0;
+  a48=(a38*a46);
+  a47=(a25*a48);
+  a45=arg[1]? arg[1][8] : 0;
+  a49=(a38*a45);
+  a50=(a35*a49);
+  a47=(a47+a50);
+  a50=(a07*a47);
+  a49=(a25*a49);
+  a51=(a35*a48);
+  a49=(a49-a51);
+  a51=(a13*a49);
+  a50=(a50+a51);
+  if (res[0]!=0) res[0][11]=a50;
+  a50=(a37*a43);
+  a51=(a38*a25);
+  a52=(a40*a51);
+  a50=(a50+a52);
+  a52=(a07*a50);
+  a51=(a37*a51);
+  a43=(a40*a43);
+  a51=(a51-a43);
+  a43=(a13*a51);
+  a52=(a52+a43);
+  a43=(a06*a52);
+  a53=(a07*a51);
+  a54=(a13*a50);
+  a53=(a53-a54);
+  a54=(a17*a53);
+  a43=(a43-a54);
+  a54=(a45*a46);
+  a55=16.;
+  a56=(a55*a02);
+  a54=(a54*a56);
+  a43=(a43+a54);
+  a25=(a25*a35);
+  a35=(a55*a25);
+  a54=(a30*a35);
+  a43=(a43-a54);
+  a54=casadi_sq(a37);
+  a54=(a03*a54);
+  a57=casadi_sq(a40);
+  a57=(a03*a57);
+  a54=(a54-a57);
+  a57=(a33*a54);
+  a43=(a43+a57);
+  a57=casadi_sq(a45);
+  a57=(a03*a57);
+  a46=casadi_sq(a46);
+  a46=(a03*a46);
+  a57=(a57-a46);
+  a46=(a33*a57);
+  a43=(a43+a46);
+  a46=(a29*a04);
+  a43=(a43-a46);
+  a46=(a20*a04);
+  a43=(a43+a46);
+  a46=(a24*a04);
+  a43=(a43+a46);
+  a46=(a38*a06);
+  a46=(a46*a16);
+  a58=(a38*a17);
+  a59=(a58*a05);
+  a46=(a46-a59);
+  a59=(a36*a46);
+  a43=(a43+a59);
+  a37=(a37*a40);
+  a40=(a37*a56);
+  a43=(a43+a40);
+  a40=(a58*a16);
+  a59=(a38*a06);
+  a60=(a59*a05);
+  a40=(a40+a60);
+  a60=(2.*a40);
+  a61=(a25*a60);
+  a43=(a43-a61);
+  a61=(a17*a06);
+  a62=(a35*a61);
+  a43=(a43+a62);
+  a62=(a05*a16);
+  a35=(a35*a62);
+  a43=(a43+a35);
+  a35=(a13*a50);
+  a63=(a07*a51);
+  a35=(a35-a63);
+  a63=(a35*a05);
+  a43=(a43-a63);
+  a50=(a07*a50);
+  a51=(a13*a51);
+  a50=(a50+a51);
+  a51=(a50*a16);
+  a43=(a43-a51);
+  if (res[0]!=0) res[0][12]=a43;
+  a43=arg[1]? arg[1][12] : 0;
+  a51=casadi_sq(a43);
+  a63=(a03*a51);
+  a64=arg[0]? arg[0][12] : 0;
+  a65=casadi_sq(a64);
+  a66=(a03*a65);
+  a63=(a63-a66);
+  if (res[0]!=0) res[0][13]=a63;
+  a66=arg[1]? arg[1][10] : 0;
+  a67=(a03*a43);
+  a68=(a66*a67);
+  a69=arg[0]? arg[0][10] : 0;
+  a70=(a03*a64);
+  a71=(a69*a70);
+  a68=(a68-a71);
+  a71=(a13*a68);
+  a72=(a43*a64);
+  a58=(a58*a72);
+  a71=(a71+a58);
+  a73=(a38*a64);
+  a74=(a43*a73);
+  a75=(a74*a05);
+  a71=(a71-a75);
+  a70=(a66*a70);
+  a67=(a69*a67);
+  a70=(a70+a67);
+  a67=(a07*a70);
+  a71=(a71+a67);
+  a65=(a65-a51);
+  a51=(a03*a65);
+  a76=(a06*a51);
+  a71=(a71-a76);
+  a77=(a51*a16);
+  a71=(a71+a77);
+  if (res[0]!=0) res[0][14]=a71;
+  if (res[0]!=0) res[0][15]=a63;
+  a58=(a42*a58);
+  a75=(a42*a75);
+  a58=(a58-a75);
+  a76=(a42*a76);
+  a58=(a58-a76);
+  a77=(a42*a77);
+  a58=(a58+a77);
+  a77=(a13*a68);
+  a77=(a77+a67);
+  a77=(a42*a77);
+  a58=(a58+a77);
+  if (res[0]!=0) res[0][16]=a58;
+  if (res[0]!=0) res[0][17]=a63;
+  a58=arg[0]? arg[0][11] : 0;
+  a77=(a38*a58);
+  a67=(a43*a77);
+  a76=arg[1]? arg[1][11] : 0;
+  a75=(a38*a76);
+  a71=(a64*a75);
+  a67=(a67+a71);
+  a71=(a07*a67);
+  a75=(a43*a75);
+  a64=(a64*a77);
+  a75=(a75-a64);
+  a64=(a13*a75);
+  a71=(a71+a64);
+  if (res[0]!=0) res[0][18]=a71;
+  a71=(a66*a73);
+  a43=(a38*a43);
+  a64=(a69*a43);
+  a71=(a71+a64);
+  a64=(a07*a71);
+  a43=(a66*a43);
+  a73=(a69*a73);
+  a43=(a43-a73);
+  a73=(a13*a43);
+  a64=(a64+a73);
+  a73=(a06*a64);
+  a78=(a07*a43);
+  a79=(a13*a71);
+  a78=(a78-a79);
+  a79=(a17*a78);
+  a73=(a73-a79);
+  a79=(a76*a58);
+  a79=(a79*a56);
+  a73=(a73+a79);
+  a55=(a55*a72);
+  a79=(a55*a30);
+  a73=(a73-a79);
+  a61=(a55*a61);
+  a73=(a73+a61);
+  a55=(a55*a62);
+  a73=(a73+a55);
+  a55=casadi_sq(a66);
+  a55=(a03*a55);
+  a61=casadi_sq(a69);
+  a61=(a03*a61);
+  a55=(a55-a61);
+  a61=(a55*a33);
+  a73=(a73+a61);
+  a61=(a63*a29);
+  a73=(a73-a61);
+  a61=casadi_sq(a76);
+  a61=(a03*a61);
+  a58=casadi_sq(a58);
+  a03=(a03*a58);
+  a61=(a61-a03);
+  a03=(a61*a33);
+  a73=(a73+a03);
+  a03=(a13*a71);
+  a58=(a07*a43);
+  a03=(a03-a58);
+  a58=(a03*a05);
+  a73=(a73-a58);
+  a71=(a07*a71);
+  a43=(a13*a43);
+  a71=(a71+a43);
+  a43=(a71*a16);
+  a73=(a73-a43);
+  a43=(a20*a63);
+  a73=(a73+a43);
+  a43=(a24*a63);
+  a73=(a73+a43);
+  a66=(a66*a69);
+  a56=(a56*a66);
+  a73=(a73+a56);
+  a60=(a60*a72);
+  a73=(a73-a60);
+  a60=(a46*a65);
+  a73=(a73+a60);
+  if (res[0]!=0) res[0][19]=a73;
+  a73=(-a18);
+  if (res[1]!=0) res[1][0]=a73;
+  a60=(a17*a15);
+  a56=(a06*a19);
+  a60=(a60+a56);
+  a56=(a15*a05);
+  a60=(a60-a56);
+  a60=(a60+a09);
+  a19=(a19*a16);
+  a60=(a60-a19);
+  if (res[1]!=0) res[1][1]=a60;
+  if (res[1]!=0) res[1][2]=a73;
+  if (res[1]!=0) res[1][3]=a73;
+  a00=(a07*a00);
+  a22=(a13*a22);
+  a00=(a00-a22);
+  if (res[1]!=0) res[1][4]=a00;
+  a27=(a17*a27);
+  a08=(a08*a33);
+  a08=(a08*a11);
+  a27=(a27-a08);
+  a26=(a06*a26);
+  a27=(a27+a26);
+  a23=(a23*a21);
+  a23=(a23*a33);
+  a27=(a27-a23);
+  a32=(a06*a32);
+  a23=(a01*a32);
+  a27=(a27+a23);
+  a62=(2.*a62);
+  a23=(a01*a62);
+  a27=(a27+a23);
+  a01=(a01*a28);
+  a27=(a27-a01);
+  a02=(2.*a02);
+  a10=(a02*a10);
+  a27=(a27+a10);
+  a34=(a02*a34);
+  a27=(a27+a34);
+  a15=(a30*a15);
+  a27=(a27+a15);
+  a15=(a18*a29);
+  a27=(a27+a15);
+  a31=(a18*a31);
+  a27=(a27+a31);
+  a31=(a18*a20);
+  a27=(a27-a31);
+  a18=(a18*a24);
+  a27=(a27-a18);
+  a09=(a09*a16);
+  a27=(a27+a09);
+  a12=(a12*a05);
+  a27=(a27-a12);
+  if (res[1]!=0) res[1][5]=a27;
+  a27=(-a44);
+  if (res[1]!=0) res[1][6]=a27;
+  a12=(a07*a41);
+  a09=(a13*a39);
+  a12=(a12-a09);
+  a09=(a06*a44);
+  a12=(a12-a09);
+  a18=(a44*a16);
+  a12=(a12+a18);
+  a31=(a17*a14);
+  a12=(a12-a31);
+  a14=(a14*a05);
+  a12=(a12+a14);
+  if (res[1]!=0) res[1][7]=a12;
+  if (res[1]!=0) res[1][8]=a27;
+  a09=(a42*a09);
+  a18=(a42*a18);
+  a09=(a09-a18);
+  a31=(a42*a31);
+  a09=(a09+a31);
+  a14=(a42*a14);
+  a09=(a09-a14);
+  a39=(a13*a39);
+  a41=(a07*a41);
+  a39=(a39-a41);
+  a39=(a42*a39);
+  a09=(a09+a39);
+  if (res[1]!=0) res[1][9]=a09;
+  if (res[1]!=0) res[1][10]=a27;
+  a49=(a07*a49);
+  a47=(a13*a47);
+  a49=(a49-a47);
+  if (res[1]!=0) res[1][11]=a49;
+  a52=(a17*a52);
+  a53=(a06*a53);
+  a52=(a52+a53);
+  a45=(a45*a33);
+  a45=(a45*a48);
+  a52=(a52-a45);
+  a54=(a02*a54);
+  a52=(a52+a54);
+  a57=(a02*a57);
+  a52=(a52+a57);
+  a57=(a32*a04);
+  a52=(a52+a57);
+  a57=(a62*a04);
+  a52=(a52+a57);
+  a38=(a38*a33);
+  a37=(a38*a37);
+  a52=(a52-a37);
+  a46=(2.*a46);
+  a25=(a46*a25);
+  a52=(a52+a25);
+  a30=(2.*a30);
+  a04=(a30*a04);
+  a52=(a52-a04);
+  a04=(a29*a44);
+  a52=(a52+a04);
+  a04=(a20*a44);
+  a52=(a52-a04);
+  a44=(a24*a44);
+  a52=(a52-a44);
+  a36=(a36*a40);
+  a52=(a52+a36);
+  a35=(a35*a16);
+  a52=(a52+a35);
+  a50=(a50*a05);
+  a52=(a52-a50);
+  if (res[1]!=0) res[1][12]=a52;
+  a52=(-a74);
+  if (res[1]!=0) res[1][13]=a52;
+  a50=(a51*a05);
+  a51=(a17*a51);
+  a35=(a50-a51);
+  a59=(a59*a72);
+  a35=(a35-a59);
+  a36=(a74*a16);
+  a35=(a35+a36);
+  a68=(a07*a68);
+  a70=(a13*a70);
+  a68=(a68-a70);
+  a35=(a35+a68);
+  if (res[1]!=0) res[1][14]=a35;
+  if (res[1]!=0) res[1][15]=a52;
+  a50=(a42*a50);
+  a51=(a42*a51);
+  a50=(a50-a51);
+  a59=(a42*a59);
+  a50=(a50-a59);
+  a36=(a42*a36);
+  a50=(a50+a36);
+  a42=(a42*a68);
+  a50=(a50+a42);
+  if (res[1]!=0) res[1][16]=a50;
+  if (res[1]!=0) res[1][17]=a52;
+  a07=(a07*a75);
+  a13=(a13*a67);
+  a07=(a07-a13);
+  if (res[1]!=0) res[1][18]=a07;
+  a17=(a17*a64);
+  a06=(a06*a78);
+  a17=(a17+a06);
+  a76=(a76*a33);
+  a76=(a76*a77);
+  a17=(a17-a76);
+  a55=(a55*a02);
+  a17=(a17+a55);
+  a30=(a63*a30);
+  a17=(a17-a30);
+  a61=(a61*a02);
+  a17=(a17+a61);
+  a03=(a03*a16);
+  a17=(a17+a03);
+  a71=(a71*a05);
+  a17=(a17-a71);
+  a32=(a32*a63);
+  a17=(a17+a32);
+  a62=(a62*a63);
+  a17=(a17+a62);
+  a38=(a38*a66);
+  a17=(a17-a38);
+  a46=(a46*a72);
+  a17=(a17+a46);
+  a29=(a29*a74);
+  a17=(a17+a29);
+  a20=(a20*a74);
+  a17=(a17-a20);
+  a24=(a24*a74);
+  a17=(a17-a24);
+  a40=(a40*a65);
+  a17=(a17+a40);
+  if (res[1]!=0) res[1][19]=a17;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f11(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_monomials_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_monomials_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_monomials_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_monomials_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_monomials_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_monomials_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real delta_automatic_monomials_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_monomials_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "family_re";
+    case 1: return "family_im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_monomials_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "re";
+    case 1: return "im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_monomials_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s10;
+    case 1: return casadi_s10;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_monomials_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_monomials_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_monomials_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* delta_automatic_passive:(z[3],params[4])->(passive[3]) */
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  a0=arg[0]? arg[0][2] : 0;
+  if (res[0]!=0) res[0][2]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f12(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_passive_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_passive_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_passive_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_automatic_passive_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_passive_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_automatic_passive_n_out(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_real delta_automatic_passive_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_passive_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "z";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_automatic_passive_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "passive";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_passive_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_passive_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_passive_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 1;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_automatic_passive_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);

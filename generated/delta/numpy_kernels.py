@@ -11,6 +11,9 @@
 #   inverse_pose_patterns: 183
 #   forward_polynomial: 142
 #   forward_back_substitution: 150
+#   automatic_family: 0
+#   automatic_monomials: 540
+#   automatic_passive: 0
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
 axes broadcast, so any batch shape goes through. Outputs come back in a dict by name."""
@@ -683,6 +686,384 @@ def forward_back_substitution(actuated, root, branch, params):
     }
 
 
+def automatic_family(actuated, params):
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    R = params[..., 0]
+    r = params[..., 1]
+    L = params[..., 2]
+    l = params[..., 3]
+    free = numpy.zeros(shape + (4,))
+    free[..., 0] = R
+    free[..., 1] = r
+    free[..., 2] = L
+    free[..., 3] = l
+    angles = numpy.zeros(shape + (3,))
+    angles[..., 0] = theta1
+    angles[..., 1] = theta2
+    angles[..., 2] = theta3
+    return {
+        "free": free,
+        "angles": angles,
+    }
+
+
+def automatic_monomials(family_re, family_im):
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 540.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(family_re)[:-1],
+        numpy.shape(family_im)[:-1],
+    )
+    R_re = family_re[..., 0]
+    r_re = family_re[..., 1]
+    L_re = family_re[..., 2]
+    l_re = family_re[..., 3]
+    C_u_0_re = family_re[..., 4]
+    S_u_0_re = family_re[..., 5]
+    D_u_0_re = family_re[..., 6]
+    C_u_1_re = family_re[..., 7]
+    S_u_1_re = family_re[..., 8]
+    D_u_1_re = family_re[..., 9]
+    C_u_2_re = family_re[..., 10]
+    S_u_2_re = family_re[..., 11]
+    D_u_2_re = family_re[..., 12]
+    R_im = family_im[..., 0]
+    r_im = family_im[..., 1]
+    L_im = family_im[..., 2]
+    l_im = family_im[..., 3]
+    C_u_0_im = family_im[..., 4]
+    S_u_0_im = family_im[..., 5]
+    D_u_0_im = family_im[..., 6]
+    C_u_1_im = family_im[..., 7]
+    S_u_1_im = family_im[..., 8]
+    D_u_1_im = family_im[..., 9]
+    C_u_2_im = family_im[..., 10]
+    S_u_2_im = family_im[..., 11]
+    D_u_2_im = family_im[..., 12]
+    _t0 = D_u_0_im**2 - D_u_0_re**2
+    _t1 = -_t0
+    _t2 = 2 * _t1
+    _t3 = D_u_0_im * D_u_0_re
+    _t4 = 4 * _t3
+    _t5 = R_im * _t4
+    _t6 = 2 * C_u_0_im
+    _t7 = 2 * C_u_0_re * D_u_0_im + D_u_0_re * _t6
+    _t8 = -2 * C_u_0_re * D_u_0_re + D_u_0_im * _t6
+    _t9 = -_t8
+    _t10 = L_im * _t7 - L_re * _t9
+    _t11 = 2 * S_u_0_re
+    _t12 = 2 * S_u_0_im
+    _t13 = -D_u_0_im * _t11 - D_u_0_re * _t12
+    _t14 = D_u_0_im * _t12 - D_u_0_re * _t11
+    _t15 = L_im * L_re
+    _t16 = 4 * _t15
+    _t17 = l_im * l_re
+    _t18 = 2 * R_im
+    _t19 = 2 * R_re * r_im + _t18 * r_re
+    _t20 = 2 * _t3
+    _t21 = C_u_0_im**2 - C_u_0_re**2
+    _t22 = -(L_im**2) + L_re**2
+    _t23 = -(l_im**2) + l_re**2
+    _t24 = 2 * R_re * r_re - _t18 * r_im
+    _t25 = -(R_im**2) + R_re**2
+    _t26 = -(r_im**2) + r_re**2
+    _t27 = S_u_0_im**2 - S_u_0_re**2
+    _t28 = -_t7
+    _t29 = L_im * _t8 + L_re * _t28
+    _t30 = -L_im * _t28 + L_re * _t8
+    _t31 = L_im * _t9 + L_re * _t7
+    _t32 = -_t10
+    _t33 = D_u_1_im**2
+    _t34 = D_u_1_re**2
+    _t35 = 4 * _t33 - 4 * _t34
+    _t36 = 8 * D_u_1_re
+    _t37 = D_u_1_im * _t36
+    _t38 = R_im * _t37
+    _t39 = _t37 * r_im
+    _t40 = 4 * D_u_1_im
+    _t41 = 4 * D_u_1_re
+    _t42 = C_u_1_im * _t40 - C_u_1_re * _t41
+    _t43 = C_u_1_im * _t41 + C_u_1_re * _t40
+    _t44 = -_t43
+    _t45 = -_t33 + _t34
+    _t46 = 4 * _t45
+    _t47 = R_re * _t46
+    _t48 = _t46 * r_re
+    _t49 = numpy.sqrt(3)
+    _t50 = -_t42
+    _t51 = 8 * S_u_1_re
+    _t52 = 8 * S_u_1_im
+    _t53 = -D_u_1_im * _t51 - D_u_1_re * _t52
+    _t54 = D_u_1_im * _t52 - D_u_1_re * _t51
+    _t55 = C_u_1_im * C_u_1_re
+    _t56 = 16 * _t15
+    _t57 = D_u_1_im * D_u_1_re
+    _t58 = 16 * _t57
+    _t59 = R_im * R_re
+    _t60 = r_im * r_re
+    _t61 = 8 * R_im
+    _t62 = 8 * R_re
+    _t63 = _t61 * r_re + _t62 * r_im
+    _t64 = 2 * _t63
+    _t65 = 8 * R_re * r_re - _t61 * r_im
+    _t66 = 4 * C_u_1_im**2 - 4 * C_u_1_re**2
+    _t67 = -_t35
+    _t68 = 4 * S_u_1_im**2 - 4 * S_u_1_re**2
+    _t69 = 8 * D_u_1_im
+    _t70 = C_u_1_im * _t69 - C_u_1_re * _t36
+    _t71 = C_u_1_im * _t36 + C_u_1_re * _t69
+    _t72 = -_t71
+    _t73 = L_im * _t70 + L_re * _t72
+    _t74 = -L_im * _t72 + L_re * _t70
+    _t75 = -_t70
+    _t76 = L_im * _t75 + L_re * _t71
+    _t77 = -L_im * _t71 + L_re * _t75
+    _t78 = D_u_2_im**2
+    _t79 = D_u_2_re**2
+    _t80 = 4 * _t78 - 4 * _t79
+    _t81 = D_u_2_im * D_u_2_re
+    _t82 = _t61 * _t81
+    _t83 = 8 * D_u_2_re
+    _t84 = D_u_2_im * _t83
+    _t85 = _t84 * r_im
+    _t86 = 4 * D_u_2_im
+    _t87 = 4 * D_u_2_re
+    _t88 = C_u_2_im * _t86 - C_u_2_re * _t87
+    _t89 = -C_u_2_im * _t87 - C_u_2_re * _t86
+    _t90 = L_im * _t89
+    _t91 = -_t78 + _t79
+    _t92 = 4 * _t91
+    _t93 = R_re * _t92
+    _t94 = _t92 * r_re
+    _t95 = 8 * S_u_2_re
+    _t96 = 8 * S_u_2_im
+    _t97 = -D_u_2_im * _t95 - D_u_2_re * _t96
+    _t98 = D_u_2_im * _t96 - D_u_2_re * _t95
+    _t99 = C_u_2_im * C_u_2_re
+    _t100 = 16 * _t81
+    _t101 = 4 * C_u_2_im**2 - 4 * C_u_2_re**2
+    _t102 = -_t80
+    _t103 = 4 * S_u_2_im**2 - 4 * S_u_2_re**2
+    _t104 = 8 * D_u_2_im
+    _t105 = C_u_2_im * _t104 - C_u_2_re * _t83
+    _t106 = C_u_2_im * _t83 + C_u_2_re * _t104
+    _t107 = -_t106
+    _t108 = L_im * _t105 + L_re * _t107
+    _t109 = -L_im * _t107 + L_re * _t105
+    _t110 = -_t105
+    _t111 = L_im * _t110 + L_re * _t106
+    _t112 = -L_im * _t106 + L_re * _t110
+    _t113 = -_t20
+    _t114 = 2 * _t15
+    _t115 = R_re * _t18
+    _t116 = 2 * _t60
+    _t117 = -_t37
+    _t118 = R_re * _t37
+    _t119 = _t37 * r_re
+    _t120 = R_im * _t46
+    _t121 = _t46 * r_im
+    _t122 = 8 * _t22
+    _t123 = 2 * _t65
+    _t124 = 2 * _t17
+    _t125 = -_t84
+    _t126 = R_im * _t92
+    _t127 = _t92 * r_im
+    _t128 = _t62 * _t81
+    _t129 = _t84 * r_re
+    _t130 = L_im * _t88 + L_re * _t89
+    re = numpy.zeros(shape + (20,))
+    re[..., 0] = _t0
+    re[..., 1] = 4 * D_u_0_im * D_u_0_re * r_im + 2 * R_re * _t1 - _t10 - _t2 * r_re - _t5
+    re[..., 2] = _t0
+    re[..., 3] = _t0
+    re[..., 4] = -L_im * _t13 + L_re * _t14
+    re[..., 5] = (
+        C_u_0_im * C_u_0_re * _t16
+        - R_im * _t29
+        + R_re * _t30
+        + R_re * _t5
+        + S_u_0_im * S_u_0_re * _t16
+        + _t0 * _t25
+        + _t0 * _t26
+        + _t1 * _t23
+        + _t1 * _t24
+        - _t17 * _t4
+        - _t19 * _t20
+        + _t21 * _t22
+        + _t22 * _t27
+        - _t31 * r_im
+        + _t32 * r_re
+        + _t4 * r_im * r_re
+    )
+    re[..., 6] = _t35
+    re[..., 7] = -L_im * _t44 + L_re * _t42 + _t38 - _t39 - _t47 + _t48
+    re[..., 8] = _t35
+    re[..., 9] = (
+        -_t38 * _t49 + _t39 * _t49 + _t47 * _t49 - _t48 * _t49 + _t49 * (-L_im * _t43 + L_re * _t50)
+    )
+    re[..., 10] = _t35
+    re[..., 11] = -L_im * _t53 + L_re * _t54
+    re[..., 12] = (
+        -R_im * _t73
+        + R_re * _t74
+        + S_u_1_im * S_u_1_re * _t56
+        - _t17 * _t58
+        + _t22 * _t66
+        + _t22 * _t68
+        + _t23 * _t67
+        + _t25 * _t35
+        + _t26 * _t35
+        + _t45 * _t65
+        + _t55 * _t56
+        - _t57 * _t64
+        + _t58 * _t59
+        + _t58 * _t60
+        - _t76 * r_im
+        + _t77 * r_re
+    )
+    re[..., 13] = _t80
+    re[..., 14] = L_re * _t88 + _t82 - _t85 - _t90 - _t93 + _t94
+    re[..., 15] = _t80
+    re[..., 16] = (
+        _t49 * _t82 - _t49 * _t85 - _t49 * _t93 + _t49 * _t94 + _t49 * (L_re * _t88 - _t90)
+    )
+    re[..., 17] = _t80
+    re[..., 18] = -L_im * _t97 + L_re * _t98
+    re[..., 19] = (
+        -R_im * _t108
+        + R_re * _t109
+        + S_u_2_im * S_u_2_re * _t56
+        - _t100 * _t17
+        + _t100 * _t59
+        + _t100 * _t60
+        + _t101 * _t22
+        + _t102 * _t23
+        + _t103 * _t22
+        - _t111 * r_im
+        + _t112 * r_re
+        + _t25 * _t80
+        + _t26 * _t80
+        + _t56 * _t99
+        - _t64 * _t81
+        + _t65 * _t91
+    )
+    im = numpy.zeros(shape + (20,))
+    im[..., 0] = _t113
+    im[..., 1] = R_im * _t2 + R_re * _t4 - _t2 * r_im + _t31 - _t4 * r_re
+    im[..., 2] = _t113
+    im[..., 3] = _t113
+    im[..., 4] = L_im * _t14 + L_re * _t13
+    im[..., 5] = (
+        -C_u_0_re * _t22 * _t6
+        + R_im * _t30
+        + R_re * _t29
+        - S_u_0_im * _t11 * _t22
+        + _t0 * _t115
+        + _t0 * _t116
+        + _t1 * _t19
+        + _t114 * _t21
+        + _t114 * _t27
+        + _t17 * _t2
+        + _t20 * _t23
+        + _t20 * _t24
+        - _t20 * _t25
+        - _t20 * _t26
+        + _t31 * r_re
+        + _t32 * r_im
+    )
+    im[..., 6] = _t117
+    im[..., 7] = L_im * _t42 + L_re * _t44 - _t118 + _t119 - _t120 + _t121
+    im[..., 8] = _t117
+    im[..., 9] = (
+        _t118 * _t49
+        - _t119 * _t49
+        + _t120 * _t49
+        - _t121 * _t49
+        + _t49 * (L_im * _t50 + L_re * _t43)
+    )
+    im[..., 10] = _t117
+    im[..., 11] = L_im * _t54 + L_re * _t53
+    im[..., 12] = (
+        R_im * _t74
+        + R_re * _t73
+        - S_u_1_im * _t22 * _t51
+        + _t114 * _t66
+        + _t114 * _t68
+        + _t115 * _t35
+        + _t116 * _t35
+        - _t122 * _t55
+        + _t123 * _t57
+        + _t124 * _t67
+        + _t23 * _t37
+        - _t25 * _t37
+        - _t26 * _t37
+        + _t45 * _t63
+        + _t76 * r_re
+        + _t77 * r_im
+    )
+    im[..., 13] = _t125
+    im[..., 14] = -_t126 + _t127 - _t128 + _t129 + _t130
+    im[..., 15] = _t125
+    im[..., 16] = -_t126 * _t49 + _t127 * _t49 - _t128 * _t49 + _t129 * _t49 + _t130 * _t49
+    im[..., 17] = _t125
+    im[..., 18] = L_im * _t98 + L_re * _t97
+    im[..., 19] = (
+        R_im * _t109
+        + R_re * _t108
+        - S_u_2_im * _t22 * _t95
+        + _t101 * _t114
+        + _t102 * _t124
+        + _t103 * _t114
+        + _t111 * r_re
+        + _t112 * r_im
+        + _t115 * _t80
+        + _t116 * _t80
+        - _t122 * _t99
+        + _t123 * _t81
+        + _t23 * _t84
+        - _t25 * _t84
+        - _t26 * _t84
+        + _t63 * _t91
+    )
+    return {
+        "re": re,
+        "im": im,
+    }
+
+
+def automatic_passive(z, params):
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(z)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    z0 = z[..., 0]
+    z1 = z[..., 1]
+    z2 = z[..., 2]
+    passive = numpy.zeros(shape + (3,))
+    passive[..., 0] = z0
+    passive[..., 1] = z1
+    passive[..., 2] = z2
+    return {
+        "passive": passive,
+    }
+
+
 KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -694,4 +1075,7 @@ KERNELS = {
     "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }

@@ -11,6 +11,9 @@
 #   inverse_pose_patterns: 94
 #   forward_polynomial: 30
 #   forward_back_substitution: 34
+#   automatic_family: 0
+#   automatic_monomials: 232
+#   automatic_passive: 0
 
 """Generated CasADi builders: each returns a ``casadi.Function`` with named inputs and outputs
 (inputs are column vectors, one per group; matrix outputs keep their shape)."""
@@ -575,6 +578,252 @@ def forward_back_substitution() -> casadi.Function:
     )
 
 
+def automatic_family() -> casadi.Function:
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    actuated = casadi.SX.sym("actuated", 2)
+    params = casadi.SX.sym("params", 5)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    d = params[0]
+    a1 = params[1]
+    a2 = params[2]
+    b1 = params[3]
+    b2 = params[4]
+    free = casadi.SX.zeros(5)
+    free[0] = d
+    free[1] = a1
+    free[2] = a2
+    free[3] = b1
+    free[4] = b2
+    angles = casadi.SX.zeros(2)
+    angles[0] = theta1
+    angles[1] = theta2
+    return casadi.Function(
+        "five_bar_automatic_family",
+        [
+            actuated,
+            params,
+        ],
+        [
+            free,
+            angles,
+        ],
+        [
+            "actuated",
+            "params",
+        ],
+        [
+            "free",
+            "angles",
+        ],
+    )
+
+
+def automatic_monomials() -> casadi.Function:
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 232.
+    """
+    family_re = casadi.SX.sym("family_re", 11)
+    family_im = casadi.SX.sym("family_im", 11)
+    d_re = family_re[0]
+    a1_re = family_re[1]
+    a2_re = family_re[2]
+    b1_re = family_re[3]
+    b2_re = family_re[4]
+    C_u_0_re = family_re[5]
+    S_u_0_re = family_re[6]
+    D_u_0_re = family_re[7]
+    C_u_1_re = family_re[8]
+    S_u_1_re = family_re[9]
+    D_u_1_re = family_re[10]
+    d_im = family_im[0]
+    a1_im = family_im[1]
+    a2_im = family_im[2]
+    b1_im = family_im[3]
+    b2_im = family_im[4]
+    C_u_0_im = family_im[5]
+    S_u_0_im = family_im[6]
+    D_u_0_im = family_im[7]
+    C_u_1_im = family_im[8]
+    S_u_1_im = family_im[9]
+    D_u_1_im = family_im[10]
+    _t0 = D_u_0_im**2 - D_u_0_re**2
+    _t1 = 4 * d_im
+    _t2 = D_u_0_im * D_u_0_re
+    _t3 = _t1 * _t2
+    _t4 = 2 * C_u_0_im
+    _t5 = 2 * C_u_0_re * D_u_0_re - D_u_0_im * _t4
+    _t6 = 2 * C_u_0_re * D_u_0_im + D_u_0_re * _t4
+    _t7 = _t6 * a1_im
+    _t8 = -_t0
+    _t9 = 2 * d_re
+    _t10 = 2 * D_u_0_im
+    _t11 = 2 * D_u_0_re * S_u_0_im + S_u_0_re * _t10
+    _t12 = 2 * D_u_0_re * S_u_0_re - S_u_0_im * _t10
+    _t13 = a1_im * a1_re
+    _t14 = 4 * _t13
+    _t15 = b1_im * b1_re
+    _t16 = S_u_0_im * S_u_0_re
+    _t17 = C_u_0_im**2 - C_u_0_re**2
+    _t18 = -(a1_im**2) + a1_re**2
+    _t19 = -(b1_im**2) + b1_re**2
+    _t20 = -(d_im**2) + d_re**2
+    _t21 = S_u_0_im**2 - S_u_0_re**2
+    _t22 = _t5 * a1_im + _t6 * a1_re
+    _t23 = _t5 * a1_re - _t7
+    _t24 = D_u_1_im**2 - D_u_1_re**2
+    _t25 = D_u_1_im * D_u_1_re
+    _t26 = _t1 * _t25
+    _t27 = 2 * C_u_1_im
+    _t28 = 2 * C_u_1_re * D_u_1_im + D_u_1_re * _t27
+    _t29 = -2 * C_u_1_re * D_u_1_re + D_u_1_im * _t27
+    _t30 = -_t29
+    _t31 = -_t24
+    _t32 = 2 * D_u_1_im
+    _t33 = 2 * D_u_1_re * S_u_1_im + S_u_1_re * _t32
+    _t34 = 2 * D_u_1_re * S_u_1_re - S_u_1_im * _t32
+    _t35 = a2_im * a2_re
+    _t36 = 4 * _t35
+    _t37 = b2_im * b2_re
+    _t38 = S_u_1_im * S_u_1_re
+    _t39 = C_u_1_im**2 - C_u_1_re**2
+    _t40 = -(a2_im**2) + a2_re**2
+    _t41 = -(b2_im**2) + b2_re**2
+    _t42 = S_u_1_im**2 - S_u_1_re**2
+    _t43 = -_t28
+    _t44 = _t29 * a2_im + _t43 * a2_re
+    _t45 = _t29 * a2_re - _t43 * a2_im
+    _t46 = D_u_0_re * _t10
+    _t47 = -_t46
+    _t48 = 4 * d_re
+    _t49 = 2 * d_im
+    _t50 = 2 * _t13
+    _t51 = _t9 * d_im
+    _t52 = D_u_1_re * _t32
+    _t53 = -_t52
+    _t54 = 2 * _t35
+    re = casadi.SX.zeros(10)
+    re[0] = _t0
+    re[1] = _t3 + _t5 * a1_re - _t7 - _t8 * _t9
+    re[2] = _t0
+    re[3] = -_t11 * a1_im + _t12 * a1_re
+    re[4] = (
+        C_u_0_im * C_u_0_re * _t14
+        + _t0 * _t20
+        + _t14 * _t16
+        - 4 * _t15 * _t2
+        + _t17 * _t18
+        + _t18 * _t21
+        + _t19 * _t8
+        - _t22 * d_im
+        + _t23 * d_re
+        + _t3 * d_re
+    )
+    re[5] = _t24
+    re[6] = -_t26 - _t28 * a2_im + _t30 * a2_re + 2 * _t31 * d_re
+    re[7] = _t24
+    re[8] = -_t33 * a2_im + _t34 * a2_re
+    re[9] = (
+        C_u_1_im * C_u_1_re * _t36
+        + _t20 * _t24
+        - 4 * _t25 * _t37
+        + _t26 * d_re
+        + _t31 * _t41
+        + _t36 * _t38
+        + _t39 * _t40
+        + _t40 * _t42
+        - _t44 * d_im
+        + _t45 * d_re
+    )
+    im = casadi.SX.zeros(10)
+    im[0] = _t47
+    im[1] = -_t2 * _t48 - _t49 * _t8 + _t5 * a1_im + _t6 * a1_re
+    im[2] = _t47
+    im[3] = _t11 * a1_re + _t12 * a1_im
+    im[4] = (
+        -C_u_0_re * _t18 * _t4
+        + _t0 * _t51
+        + 2 * _t15 * _t8
+        - 2 * _t16 * _t18
+        + _t17 * _t50
+        + _t19 * _t46
+        - _t20 * _t46
+        + _t21 * _t50
+        + _t22 * d_re
+        + _t23 * d_im
+    )
+    im[5] = _t53
+    im[6] = _t25 * _t48 + _t28 * a2_re + _t30 * a2_im + _t31 * _t49
+    im[7] = _t53
+    im[8] = _t33 * a2_re + _t34 * a2_im
+    im[9] = (
+        -C_u_1_re * _t27 * _t40
+        - _t20 * _t52
+        + _t24 * _t51
+        + 2 * _t31 * _t37
+        - 2 * _t38 * _t40
+        + _t39 * _t54
+        + _t41 * _t52
+        + _t42 * _t54
+        + _t44 * d_re
+        + _t45 * d_im
+    )
+    return casadi.Function(
+        "five_bar_automatic_monomials",
+        [
+            family_re,
+            family_im,
+        ],
+        [
+            re,
+            im,
+        ],
+        [
+            "family_re",
+            "family_im",
+        ],
+        [
+            "re",
+            "im",
+        ],
+    )
+
+
+def automatic_passive() -> casadi.Function:
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 0.
+    """
+    z = casadi.SX.sym("z", 2)
+    params = casadi.SX.sym("params", 5)
+    z0 = z[0]
+    z1 = z[1]
+    passive = casadi.SX.zeros(2)
+    passive[0] = z0
+    passive[1] = z1
+    return casadi.Function(
+        "five_bar_automatic_passive",
+        [
+            z,
+            params,
+        ],
+        [
+            passive,
+        ],
+        [
+            "z",
+            "params",
+        ],
+        [
+            "passive",
+        ],
+    )
+
+
 BUILDERS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -586,6 +835,9 @@ BUILDERS = {
     "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }
 
 

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
+//   automatic_family: 0
+//   automatic_monomials: 232
+//   automatic_passive: 0
 
 // Batched entry points over the CasADi-generated kernels of five_bar, the forward-pose Newton loop
 // and the whole every-assembly-mode pipeline, so that one call does a whole batch. Arrays are
@@ -31,7 +34,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (13 + 1)
+#define SZ_W (50 + 1)
 
 int five_bar_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -268,6 +271,70 @@ int five_bar_forward_back_substitution_batch(long long n, const double** inputs,
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
+    }
+    return 0;
+}
+
+int five_bar_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[1 + 1];
+    casadi_real out_free[5 + 1];
+    casadi_real out_angles[2 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_free;
+        res[1] = out_angles;
+        if (five_bar_automatic_family(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 5; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 5 + r * 1 + c] = out_free[c * 5 + r];
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 2 + r * 1 + c] = out_angles[c * 2 + r];
+    }
+    return 0;
+}
+
+int five_bar_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[50 + 1];
+    casadi_real out_re[10 + 1];
+    casadi_real out_im[10 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_re;
+        res[1] = out_im;
+        if (five_bar_automatic_monomials(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 10; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 10 + r * 1 + c] = out_re[c * 10 + r];
+        for (int r = 0; r < 10; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 10 + r * 1 + c] = out_im[c * 10 + r];
+    }
+    return 0;
+}
+
+int five_bar_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[1];
+    casadi_int iw[0 + 1];
+    casadi_real w[1 + 1];
+    casadi_real out_passive[2 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_passive;
+        if (five_bar_automatic_passive(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 2 + r * 1 + c] = out_passive[c * 2 + r];
     }
     return 0;
 }

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
+//   automatic_family: 0
+//   automatic_monomials: 232
+//   automatic_passive: 0
 
 // Public C interface of the generated five_bar solvers: Planar five-bar linkage (RRRRR), two actuated base joints (Gosselin & Angeles 1990).
 // C. Gosselin, J. Angeles (1990)
@@ -181,6 +184,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } five_bar_modes_job;
 
 int five_bar_forward_pose_all(const five_bar_modes_job* job);
@@ -227,6 +231,18 @@ int five_bar_forward_polynomial_batch(long long n, const double** inputs, const 
 //   inputs: actuated[2], root[1], branch[0], params[5]
 //   outputs: pose[4 x 4]
 int five_bar_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[2], params[5]
+//   outputs: free[5], angles[2]
+int five_bar_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[11], family_im[11]
+//   outputs: re[10], im[10]
+int five_bar_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[2], params[5]
+//   outputs: passive[2]
+int five_bar_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
+//   automatic_family: 0
+//   automatic_monomials: 232
+//   automatic_passive: 0
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -48,6 +51,9 @@ extern "C" {
 /* Add prefix to internal symbols */
 #define casadi_f0 CASADI_PREFIX(f0)
 #define casadi_f1 CASADI_PREFIX(f1)
+#define casadi_f10 CASADI_PREFIX(f10)
+#define casadi_f11 CASADI_PREFIX(f11)
+#define casadi_f12 CASADI_PREFIX(f12)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -59,6 +65,8 @@ extern "C" {
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
+#define casadi_s10 CASADI_PREFIX(s10)
+#define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -114,6 +122,8 @@ static const casadi_int casadi_s6[3] = {3, 2, 1};
 static const casadi_int casadi_s7[3] = {3, 3, 1};
 static const casadi_int casadi_s8[3] = {12, 1, 1};
 static const casadi_int casadi_s9[3] = {0, 1, 1};
+static const casadi_int casadi_s10[3] = {11, 1, 1};
+static const casadi_int casadi_s11[3] = {10, 1, 1};
 
 /* five_bar_platform_pose:(actuated[2],passive[2],params[5])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1453,6 +1463,542 @@ CASADI_SYMBOL_EXPORT int five_bar_forward_back_substitution_work(casadi_int *sz_
 
 CASADI_SYMBOL_EXPORT int five_bar_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* five_bar_automatic_family:(actuated[2],params[5])->(free[5],angles[2]) */
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0;
+  a0=arg[1]? arg[1][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[1]? arg[1][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  a0=arg[1]? arg[1][2] : 0;
+  if (res[0]!=0) res[0][2]=a0;
+  a0=arg[1]? arg[1][3] : 0;
+  if (res[0]!=0) res[0][3]=a0;
+  a0=arg[1]? arg[1][4] : 0;
+  if (res[0]!=0) res[0][4]=a0;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[1]!=0) res[1][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[1]!=0) res[1][1]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f10(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_family_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_family_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_family_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_family_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_family_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_family_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real five_bar_automatic_family_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_family_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_family_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "free";
+    case 1: return "angles";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_family_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_family_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s1;
+    case 1: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_family_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_family_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* five_bar_automatic_monomials:(family_re[11],family_im[11])->(re[10],im[10]) */
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49;
+  a00=arg[1]? arg[1][7] : 0;
+  a01=casadi_sq(a00);
+  a02=arg[0]? arg[0][7] : 0;
+  a03=casadi_sq(a02);
+  a01=(a01-a03);
+  if (res[0]!=0) res[0][0]=a01;
+  a03=4.;
+  a04=arg[1]? arg[1][0] : 0;
+  a05=(a03*a04);
+  a06=(a00*a02);
+  a07=(a05*a06);
+  a08=arg[0]? arg[0][5] : 0;
+  a09=(2.*a08);
+  a09=(a09*a02);
+  a10=arg[1]? arg[1][5] : 0;
+  a11=(2.*a10);
+  a12=(a00*a11);
+  a09=(a09-a12);
+  a12=arg[0]? arg[0][1] : 0;
+  a13=(a09*a12);
+  a13=(a07+a13);
+  a14=(2.*a08);
+  a14=(a14*a00);
+  a15=(a02*a11);
+  a14=(a14+a15);
+  a15=arg[1]? arg[1][1] : 0;
+  a16=(a14*a15);
+  a13=(a13-a16);
+  a17=arg[0]? arg[0][0] : 0;
+  a18=(2.*a17);
+  a19=(a01*a18);
+  a13=(a13+a19);
+  if (res[0]!=0) res[0][1]=a13;
+  if (res[0]!=0) res[0][2]=a01;
+  a13=(2.*a02);
+  a19=arg[0]? arg[0][6] : 0;
+  a13=(a13*a19);
+  a20=arg[1]? arg[1][6] : 0;
+  a00=(2.*a00);
+  a21=(a20*a00);
+  a13=(a13-a21);
+  a21=(a13*a12);
+  a22=(2.*a02);
+  a22=(a22*a20);
+  a23=(a19*a00);
+  a22=(a22+a23);
+  a23=(a22*a15);
+  a21=(a21-a23);
+  if (res[0]!=0) res[0][3]=a21;
+  a21=(a10*a08);
+  a23=(a15*a12);
+  a24=(a03*a23);
+  a21=(a21*a24);
+  a25=casadi_sq(a17);
+  a26=casadi_sq(a04);
+  a25=(a25-a26);
+  a26=(a01*a25);
+  a21=(a21+a26);
+  a26=(a20*a19);
+  a24=(a24*a26);
+  a21=(a21+a24);
+  a24=arg[1]? arg[1][3] : 0;
+  a27=arg[0]? arg[0][3] : 0;
+  a28=(a24*a27);
+  a29=(a03*a28);
+  a29=(a29*a06);
+  a21=(a21-a29);
+  a10=casadi_sq(a10);
+  a29=casadi_sq(a08);
+  a10=(a10-a29);
+  a29=casadi_sq(a12);
+  a30=casadi_sq(a15);
+  a29=(a29-a30);
+  a30=(a10*a29);
+  a21=(a21+a30);
+  a20=casadi_sq(a20);
+  a19=casadi_sq(a19);
+  a20=(a20-a19);
+  a19=(a29*a20);
+  a21=(a21+a19);
+  a27=casadi_sq(a27);
+  a24=casadi_sq(a24);
+  a27=(a27-a24);
+  a24=(a27*a01);
+  a21=(a21-a24);
+  a24=(a09*a15);
+  a19=(a14*a12);
+  a24=(a24+a19);
+  a19=(a24*a04);
+  a21=(a21-a19);
+  a19=(a09*a12);
+  a19=(a19-a16);
+  a16=(a19*a17);
+  a21=(a21+a16);
+  a07=(a07*a17);
+  a21=(a21+a07);
+  if (res[0]!=0) res[0][4]=a21;
+  a21=arg[1]? arg[1][10] : 0;
+  a07=casadi_sq(a21);
+  a16=arg[0]? arg[0][10] : 0;
+  a30=casadi_sq(a16);
+  a07=(a07-a30);
+  if (res[0]!=0) res[0][5]=a07;
+  a30=(-a07);
+  a31=(2.*a30);
+  a31=(a31*a17);
+  a32=(a21*a16);
+  a05=(a05*a32);
+  a33=arg[0]? arg[0][8] : 0;
+  a34=(2.*a33);
+  a34=(a34*a21);
+  a35=arg[1]? arg[1][8] : 0;
+  a36=(2.*a35);
+  a37=(a16*a36);
+  a34=(a34+a37);
+  a37=arg[1]? arg[1][2] : 0;
+  a38=(a34*a37);
+  a38=(a05+a38);
+  a39=-2.;
+  a39=(a39*a33);
+  a39=(a39*a16);
+  a40=(a21*a36);
+  a39=(a39+a40);
+  a40=arg[0]? arg[0][2] : 0;
+  a41=(a39*a40);
+  a38=(a38+a41);
+  a31=(a31-a38);
+  if (res[0]!=0) res[0][6]=a31;
+  if (res[0]!=0) res[0][7]=a07;
+  a31=(2.*a16);
+  a38=arg[0]? arg[0][9] : 0;
+  a31=(a31*a38);
+  a41=arg[1]? arg[1][9] : 0;
+  a21=(2.*a21);
+  a42=(a41*a21);
+  a31=(a31-a42);
+  a42=(a31*a40);
+  a43=(2.*a16);
+  a43=(a43*a41);
+  a44=(a38*a21);
+  a43=(a43+a44);
+  a44=(a43*a37);
+  a42=(a42-a44);
+  if (res[0]!=0) res[0][8]=a42;
+  a42=(a35*a33);
+  a44=(a37*a40);
+  a45=(a03*a44);
+  a42=(a42*a45);
+  a46=(a25*a07);
+  a42=(a42+a46);
+  a46=(a03*a32);
+  a47=arg[1]? arg[1][4] : 0;
+  a48=arg[0]? arg[0][4] : 0;
+  a49=(a47*a48);
+  a46=(a46*a49);
+  a42=(a42-a46);
+  a05=(a05*a17);
+  a42=(a42+a05);
+  a48=casadi_sq(a48);
+  a47=casadi_sq(a47);
+  a48=(a48-a47);
+  a47=(a07*a48);
+  a42=(a42-a47);
+  a47=(a41*a38);
+  a45=(a45*a47);
+  a42=(a42+a45);
+  a35=casadi_sq(a35);
+  a45=casadi_sq(a33);
+  a35=(a35-a45);
+  a45=casadi_sq(a40);
+  a05=casadi_sq(a37);
+  a45=(a45-a05);
+  a05=(a35*a45);
+  a42=(a42+a05);
+  a41=casadi_sq(a41);
+  a38=casadi_sq(a38);
+  a41=(a41-a38);
+  a38=(a45*a41);
+  a42=(a42+a38);
+  a38=(a39*a37);
+  a05=(a34*a40);
+  a38=(a38-a05);
+  a05=(a38*a04);
+  a42=(a42-a05);
+  a05=(a39*a40);
+  a46=(a34*a37);
+  a05=(a05+a46);
+  a46=(a05*a17);
+  a42=(a42+a46);
+  if (res[0]!=0) res[0][9]=a42;
+  a02=(a02*a00);
+  a00=(-a02);
+  if (res[1]!=0) res[1][0]=a00;
+  a42=(2.*a04);
+  a46=(a42*a01);
+  a03=(a03*a17);
+  a06=(a06*a03);
+  a46=(a46-a06);
+  a09=(a09*a15);
+  a46=(a46+a09);
+  a14=(a14*a12);
+  a46=(a46+a14);
+  if (res[1]!=0) res[1][1]=a46;
+  if (res[1]!=0) res[1][2]=a00;
+  a22=(a22*a12);
+  a13=(a13*a15);
+  a22=(a22+a13);
+  if (res[1]!=0) res[1][3]=a22;
+  a18=(a18*a04);
+  a22=(a01*a18);
+  a08=(a08*a29);
+  a08=(a08*a11);
+  a22=(a22-a08);
+  a28=(2.*a28);
+  a28=(a28*a01);
+  a22=(a22-a28);
+  a26=(2.*a26);
+  a26=(a26*a29);
+  a22=(a22-a26);
+  a23=(2.*a23);
+  a10=(a10*a23);
+  a22=(a22+a10);
+  a27=(a27*a02);
+  a22=(a22+a27);
+  a02=(a25*a02);
+  a22=(a22-a02);
+  a20=(a20*a23);
+  a22=(a22+a20);
+  a24=(a24*a17);
+  a22=(a22+a24);
+  a19=(a19*a04);
+  a22=(a22+a19);
+  if (res[1]!=0) res[1][4]=a22;
+  a16=(a16*a21);
+  a21=(-a16);
+  if (res[1]!=0) res[1][5]=a21;
+  a32=(a32*a03);
+  a34=(a34*a40);
+  a32=(a32+a34);
+  a39=(a39*a37);
+  a32=(a32-a39);
+  a42=(a07*a42);
+  a32=(a32-a42);
+  if (res[1]!=0) res[1][6]=a32;
+  if (res[1]!=0) res[1][7]=a21;
+  a43=(a43*a40);
+  a31=(a31*a37);
+  a43=(a43+a31);
+  if (res[1]!=0) res[1][8]=a43;
+  a07=(a07*a18);
+  a33=(a33*a36);
+  a33=(a33*a45);
+  a25=(a25*a16);
+  a33=(a33+a25);
+  a07=(a07-a33);
+  a30=(2.*a30);
+  a30=(a30*a49);
+  a07=(a07+a30);
+  a47=(2.*a47);
+  a47=(a47*a45);
+  a07=(a07-a47);
+  a44=(2.*a44);
+  a35=(a35*a44);
+  a07=(a07+a35);
+  a48=(a48*a16);
+  a07=(a07+a48);
+  a41=(a41*a44);
+  a07=(a07+a41);
+  a38=(a38*a17);
+  a07=(a07+a38);
+  a05=(a05*a04);
+  a07=(a07+a05);
+  if (res[1]!=0) res[1][9]=a07;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f11(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_monomials_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_monomials_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_monomials_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_monomials_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_monomials_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real five_bar_automatic_monomials_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_monomials_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "family_re";
+    case 1: return "family_im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_monomials_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "re";
+    case 1: return "im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s10;
+    case 1: return casadi_s10;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* five_bar_automatic_passive:(z[2],params[5])->(passive[2]) */
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f12(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_passive_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_passive_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_passive_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_automatic_passive_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_passive_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_automatic_passive_n_out(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_real five_bar_automatic_passive_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_passive_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "z";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_automatic_passive_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "passive";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_passive_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_passive_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_passive_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 1;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_automatic_passive_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);

@@ -12,6 +12,9 @@
 //   inverse_pose_patterns: 141
 //   forward_polynomial: 2581
 //   forward_back_substitution: 2710
+//   automatic_family: 0
+//   automatic_monomials: 1043
+//   automatic_passive: 3
 
 // Batched entry points over the CasADi-generated kernels of gough, the forward-pose Newton loop
 // and the whole every-assembly-mode pipeline, so that one call does a whole batch. Arrays are
@@ -32,7 +35,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (91 + 1)
+#define SZ_W (158 + 1)
 
 int gough_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -286,6 +289,70 @@ int gough_forward_back_substitution_batch(long long n, const double** inputs, co
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
+    }
+    return 0;
+}
+
+int gough_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[1 + 1];
+    casadi_real out_free[19 + 1];
+    casadi_real out_angles[1 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_free;
+        res[1] = out_angles;
+        if (gough_automatic_family(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 19; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 19 + r * 1 + c] = out_free[c * 19 + r];
+        for (int r = 0; r < 1; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 1 + r * 1 + c] = out_angles[c * 1 + r];
+    }
+    return 0;
+}
+
+int gough_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[158 + 1];
+    casadi_real out_re[168 + 1];
+    casadi_real out_im[168 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_re;
+        res[1] = out_im;
+        if (gough_automatic_monomials(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 168; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 168 + r * 1 + c] = out_re[c * 168 + r];
+        for (int r = 0; r < 168; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 168 + r * 1 + c] = out_im[c * 168 + r];
+    }
+    return 0;
+}
+
+int gough_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[1];
+    casadi_int iw[0 + 1];
+    casadi_real w[2 + 1];
+    casadi_real out_passive[6 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_passive;
+        if (gough_automatic_passive(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 6 + r * 1 + c] = out_passive[c * 6 + r];
     }
     return 0;
 }

@@ -12,6 +12,9 @@
 //   inverse_pose_patterns: 141
 //   forward_polynomial: 2581
 //   forward_back_substitution: 2710
+//   automatic_family: 0
+//   automatic_monomials: 1043
+//   automatic_passive: 3
 
 // Example: the gough solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -76,6 +79,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     gough_forward_pose_all(&all);
     printf("gough: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

@@ -12,6 +12,9 @@
 //   inverse_pose_patterns: 141
 //   forward_polynomial: 2581
 //   forward_back_substitution: 2710
+//   automatic_family: 0
+//   automatic_monomials: 1043
+//   automatic_passive: 3
 
 // Public C interface of the generated gough solvers: 6-SPS platform with linearly related planar platforms (Kong & Gosselin).
 // X. Kong, C. M. Gosselin (2002)
@@ -199,6 +202,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } gough_modes_job;
 
 int gough_forward_pose_all(const gough_modes_job* job);
@@ -249,6 +253,18 @@ int gough_forward_polynomial_batch(long long n, const double** inputs, const lon
 //   inputs: actuated[6], root[1], branch[2], params[13]
 //   outputs: pose[4 x 4]
 int gough_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[6], params[13]
+//   outputs: free[19], angles[1]
+int gough_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[19], family_im[19]
+//   outputs: re[168], im[168]
+int gough_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[9], params[13]
+//   outputs: passive[6]
+int gough_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

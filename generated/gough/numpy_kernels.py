@@ -12,6 +12,9 @@
 #   inverse_pose_patterns: 141
 #   forward_polynomial: 2581
 #   forward_back_substitution: 2710
+#   automatic_family: 0
+#   automatic_monomials: 1043
+#   automatic_passive: 3
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
 axes broadcast, so any batch shape goes through. Outputs come back in a dict by name."""
@@ -3950,6 +3953,769 @@ def forward_back_substitution(actuated, root, branch, params):
     }
 
 
+def automatic_family(actuated, params):
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    l1 = actuated[..., 0]
+    l2 = actuated[..., 1]
+    l3 = actuated[..., 2]
+    l4 = actuated[..., 3]
+    l5 = actuated[..., 4]
+    l6 = actuated[..., 5]
+    xA2 = params[..., 0]
+    xA3 = params[..., 1]
+    xA4 = params[..., 2]
+    xA5 = params[..., 3]
+    xA6 = params[..., 4]
+    yA2 = params[..., 5]
+    yA3 = params[..., 6]
+    yA4 = params[..., 7]
+    yA5 = params[..., 8]
+    yA6 = params[..., 9]
+    t11 = params[..., 10]
+    t12 = params[..., 11]
+    t22 = params[..., 12]
+    free = numpy.zeros(shape + (19,))
+    free[..., 0] = l1
+    free[..., 1] = l2
+    free[..., 2] = l3
+    free[..., 3] = l4
+    free[..., 4] = l5
+    free[..., 5] = l6
+    free[..., 6] = xA2
+    free[..., 7] = xA3
+    free[..., 8] = xA4
+    free[..., 9] = xA5
+    free[..., 10] = xA6
+    free[..., 11] = yA2
+    free[..., 12] = yA3
+    free[..., 13] = yA4
+    free[..., 14] = yA5
+    free[..., 15] = yA6
+    free[..., 16] = t11
+    free[..., 17] = t12
+    free[..., 18] = t22
+    angles = numpy.zeros(shape + (1,))
+    return {
+        "free": free,
+        "angles": angles,
+    }
+
+
+def automatic_monomials(family_re, family_im):
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 1043.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(family_re)[:-1],
+        numpy.shape(family_im)[:-1],
+    )
+    l1_re = family_re[..., 0]
+    l2_re = family_re[..., 1]
+    l3_re = family_re[..., 2]
+    l4_re = family_re[..., 3]
+    l5_re = family_re[..., 4]
+    l6_re = family_re[..., 5]
+    xA2_re = family_re[..., 6]
+    xA3_re = family_re[..., 7]
+    xA4_re = family_re[..., 8]
+    xA5_re = family_re[..., 9]
+    xA6_re = family_re[..., 10]
+    yA2_re = family_re[..., 11]
+    yA3_re = family_re[..., 12]
+    yA4_re = family_re[..., 13]
+    yA5_re = family_re[..., 14]
+    yA6_re = family_re[..., 15]
+    t11_re = family_re[..., 16]
+    t12_re = family_re[..., 17]
+    t22_re = family_re[..., 18]
+    l1_im = family_im[..., 0]
+    l2_im = family_im[..., 1]
+    l3_im = family_im[..., 2]
+    l4_im = family_im[..., 3]
+    l5_im = family_im[..., 4]
+    l6_im = family_im[..., 5]
+    xA2_im = family_im[..., 6]
+    xA3_im = family_im[..., 7]
+    xA4_im = family_im[..., 8]
+    xA5_im = family_im[..., 9]
+    xA6_im = family_im[..., 10]
+    yA2_im = family_im[..., 11]
+    yA3_im = family_im[..., 12]
+    yA4_im = family_im[..., 13]
+    yA5_im = family_im[..., 14]
+    yA6_im = family_im[..., 15]
+    t11_im = family_im[..., 16]
+    t12_im = family_im[..., 17]
+    t22_im = family_im[..., 18]
+    _t0 = 2 * yA2_re
+    _t1 = 2 * yA2_im
+    _t2 = 2 * xA2_im
+    _t3 = 2 * xA2_re
+    _t4 = _t2 * t11_im - _t3 * t11_re
+    _t5 = -_t0 * t12_re + _t1 * t12_im + _t4
+    _t6 = -_t0 * t22_re + _t1 * t22_im
+    _t7 = 4 * t11_im
+    _t8 = xA2_im * xA2_re
+    _t9 = _t7 * _t8
+    _t10 = yA2_im * yA2_re
+    _t11 = 4 * t12_im
+    _t12 = _t10 * _t11
+    _t13 = t11_im**2 - t11_re**2
+    _t14 = xA2_im**2
+    _t15 = xA2_re**2
+    _t16 = -_t14 + _t15
+    _t17 = t12_im**2 - t12_re**2
+    _t18 = yA2_im**2
+    _t19 = yA2_re**2
+    _t20 = -_t18 + _t19
+    _t21 = 2 * t12_im
+    _t22 = 2 * t12_re
+    _t23 = _t21 * t11_im - _t22 * t11_re
+    _t24 = -_t21 * t11_re - _t22 * t11_im
+    _t25 = _t23 * xA2_im + _t24 * xA2_re
+    _t26 = _t23 * xA2_re - _t24 * xA2_im
+    _t27 = _t12 * t12_re + _t13 * _t16 + _t17 * _t20 - _t25 * yA2_im + _t26 * yA2_re + _t9 * t11_re
+    _t28 = _t21 * t22_re + _t22 * t22_im
+    _t29 = -_t28
+    _t30 = _t0 * yA2_im
+    _t31 = _t21 * t22_im - _t22 * t22_re
+    _t32 = 2 * t22_im
+    _t33 = 2 * t22_re
+    _t34 = _t32 * t11_im - _t33 * t11_re
+    _t35 = _t32 * t11_re + _t33 * t11_im
+    _t36 = -_t35
+    _t37 = _t34 * xA2_im + _t36 * xA2_re
+    _t38 = _t34 * xA2_re - _t36 * xA2_im
+    _t39 = _t20 * _t31 - _t29 * _t30 - _t37 * yA2_im + _t38 * yA2_re
+    _t40 = 4 * t22_im
+    _t41 = _t10 * _t40
+    _t42 = t22_im**2 - t22_re**2
+    _t43 = _t20 * _t42 + _t41 * t22_re
+    _t44 = _t2 * t12_re + _t3 * t12_im
+    _t45 = -_t2 * t12_im + 2 * t12_re * xA2_re
+    _t46 = _t2 * t22_re + _t3 * t22_im
+    _t47 = _t2 * t22_im - 2 * t22_re * xA2_re
+    _t48 = -_t47
+    _t49 = 2 * _t20 * t22_re - _t41
+    _t50 = _t2 * t11_re + _t3 * t11_im
+    _t51 = -_t4
+    _t52 = -_t46
+    _t53 = -_t31
+    _t54 = -_t34
+    _t55 = _t35 * xA2_re + _t54 * xA2_im
+    _t56 = -_t35 * xA2_im + _t54 * xA2_re
+    _t57 = 2 * yA3_re
+    _t58 = 2 * yA3_im
+    _t59 = 2 * xA3_im
+    _t60 = 2 * xA3_re
+    _t61 = _t59 * t11_im - _t60 * t11_re
+    _t62 = -_t57 * t12_re + _t58 * t12_im + _t61
+    _t63 = -_t57 * t22_re + _t58 * t22_im
+    _t64 = xA3_im * xA3_re
+    _t65 = _t64 * _t7
+    _t66 = yA3_im * yA3_re
+    _t67 = _t11 * _t66
+    _t68 = xA3_im**2
+    _t69 = xA3_re**2
+    _t70 = -_t68 + _t69
+    _t71 = yA3_im**2
+    _t72 = yA3_re**2
+    _t73 = -_t71 + _t72
+    _t74 = _t23 * xA3_im + _t24 * xA3_re
+    _t75 = _t23 * xA3_re - _t24 * xA3_im
+    _t76 = _t13 * _t70 + _t17 * _t73 + _t65 * t11_re + _t67 * t12_re - _t74 * yA3_im + _t75 * yA3_re
+    _t77 = _t57 * yA3_im
+    _t78 = _t34 * xA3_im + _t36 * xA3_re
+    _t79 = _t34 * xA3_re - _t36 * xA3_im
+    _t80 = -_t29 * _t77 + _t31 * _t73 - _t78 * yA3_im + _t79 * yA3_re
+    _t81 = _t40 * _t66
+    _t82 = _t42 * _t73 + _t81 * t22_re
+    _t83 = _t59 * t12_re + _t60 * t12_im
+    _t84 = -_t59 * t12_im + 2 * t12_re * xA3_re
+    _t85 = _t59 * t22_re + _t60 * t22_im
+    _t86 = _t59 * t22_im - 2 * t22_re * xA3_re
+    _t87 = -_t86
+    _t88 = 2 * _t73 * t22_re - _t81
+    _t89 = _t59 * t11_re + _t60 * t11_im
+    _t90 = -_t61
+    _t91 = -_t85
+    _t92 = _t35 * xA3_re + _t54 * xA3_im
+    _t93 = -_t35 * xA3_im + _t54 * xA3_re
+    _t94 = 2 * yA4_re
+    _t95 = 2 * yA4_im
+    _t96 = 2 * xA4_im
+    _t97 = 2 * xA4_re
+    _t98 = _t96 * t11_im - _t97 * t11_re
+    _t99 = -_t94 * t12_re + _t95 * t12_im + _t98
+    _t100 = -_t94 * t22_re + _t95 * t22_im
+    _t101 = xA4_im * xA4_re
+    _t102 = _t101 * _t7
+    _t103 = yA4_im * yA4_re
+    _t104 = _t103 * _t11
+    _t105 = xA4_im**2
+    _t106 = xA4_re**2
+    _t107 = -_t105 + _t106
+    _t108 = yA4_im**2
+    _t109 = yA4_re**2
+    _t110 = -_t108 + _t109
+    _t111 = _t23 * xA4_im + _t24 * xA4_re
+    _t112 = _t23 * xA4_re - _t24 * xA4_im
+    _t113 = (
+        _t102 * t11_re
+        + _t104 * t12_re
+        + _t107 * _t13
+        + _t110 * _t17
+        - _t111 * yA4_im
+        + _t112 * yA4_re
+    )
+    _t114 = _t94 * yA4_im
+    _t115 = _t34 * xA4_im + _t36 * xA4_re
+    _t116 = _t34 * xA4_re - _t36 * xA4_im
+    _t117 = _t110 * _t31 - _t114 * _t29 - _t115 * yA4_im + _t116 * yA4_re
+    _t118 = _t103 * _t40
+    _t119 = _t110 * _t42 + _t118 * t22_re
+    _t120 = _t96 * t12_re + _t97 * t12_im
+    _t121 = -_t96 * t12_im + 2 * t12_re * xA4_re
+    _t122 = _t96 * t22_re + _t97 * t22_im
+    _t123 = _t96 * t22_im - 2 * t22_re * xA4_re
+    _t124 = -_t123
+    _t125 = 2 * _t110 * t22_re - _t118
+    _t126 = _t96 * t11_re + _t97 * t11_im
+    _t127 = -_t98
+    _t128 = -_t122
+    _t129 = _t35 * xA4_re + _t54 * xA4_im
+    _t130 = -_t35 * xA4_im + _t54 * xA4_re
+    _t131 = 2 * yA5_re
+    _t132 = 2 * yA5_im
+    _t133 = 2 * xA5_im
+    _t134 = 2 * xA5_re
+    _t135 = _t133 * t11_im - _t134 * t11_re
+    _t136 = -_t131 * t12_re + _t132 * t12_im + _t135
+    _t137 = -_t131 * t22_re + _t132 * t22_im
+    _t138 = xA5_im * xA5_re
+    _t139 = _t138 * _t7
+    _t140 = yA5_im * yA5_re
+    _t141 = _t11 * _t140
+    _t142 = xA5_im**2
+    _t143 = xA5_re**2
+    _t144 = -_t142 + _t143
+    _t145 = yA5_im**2
+    _t146 = yA5_re**2
+    _t147 = -_t145 + _t146
+    _t148 = _t23 * xA5_im + _t24 * xA5_re
+    _t149 = _t23 * xA5_re - _t24 * xA5_im
+    _t150 = (
+        _t13 * _t144
+        + _t139 * t11_re
+        + _t141 * t12_re
+        + _t147 * _t17
+        - _t148 * yA5_im
+        + _t149 * yA5_re
+    )
+    _t151 = _t131 * yA5_im
+    _t152 = _t34 * xA5_im + _t36 * xA5_re
+    _t153 = _t34 * xA5_re - _t36 * xA5_im
+    _t154 = _t147 * _t31 - _t151 * _t29 - _t152 * yA5_im + _t153 * yA5_re
+    _t155 = _t140 * _t40
+    _t156 = _t147 * _t42 + _t155 * t22_re
+    _t157 = _t133 * t12_re + _t134 * t12_im
+    _t158 = -_t133 * t12_im + 2 * t12_re * xA5_re
+    _t159 = _t133 * t22_re + _t134 * t22_im
+    _t160 = _t133 * t22_im - 2 * t22_re * xA5_re
+    _t161 = -_t160
+    _t162 = 2 * _t147 * t22_re - _t155
+    _t163 = _t133 * t11_re + _t134 * t11_im
+    _t164 = -_t135
+    _t165 = -_t159
+    _t166 = _t35 * xA5_re + _t54 * xA5_im
+    _t167 = -_t35 * xA5_im + _t54 * xA5_re
+    _t168 = 2 * yA6_re
+    _t169 = 2 * yA6_im
+    _t170 = 2 * xA6_im
+    _t171 = 2 * xA6_re
+    _t172 = _t170 * t11_im - _t171 * t11_re
+    _t173 = -_t168 * t12_re + _t169 * t12_im + _t172
+    _t174 = -_t168 * t22_re + _t169 * t22_im
+    _t175 = xA6_im * xA6_re
+    _t176 = _t175 * _t7
+    _t177 = yA6_im * yA6_re
+    _t178 = _t11 * _t177
+    _t179 = xA6_im**2
+    _t180 = xA6_re**2
+    _t181 = -_t179 + _t180
+    _t182 = yA6_im**2
+    _t183 = yA6_re**2
+    _t184 = -_t182 + _t183
+    _t185 = _t23 * xA6_im + _t24 * xA6_re
+    _t186 = _t23 * xA6_re - _t24 * xA6_im
+    _t187 = (
+        _t13 * _t181
+        + _t17 * _t184
+        + _t176 * t11_re
+        + _t178 * t12_re
+        - _t185 * yA6_im
+        + _t186 * yA6_re
+    )
+    _t188 = _t168 * yA6_im
+    _t189 = _t34 * xA6_im + _t36 * xA6_re
+    _t190 = _t34 * xA6_re - _t36 * xA6_im
+    _t191 = _t184 * _t31 - _t188 * _t29 - _t189 * yA6_im + _t190 * yA6_re
+    _t192 = _t177 * _t40
+    _t193 = _t184 * _t42 + _t192 * t22_re
+    _t194 = _t170 * t12_re + _t171 * t12_im
+    _t195 = -_t170 * t12_im + 2 * t12_re * xA6_re
+    _t196 = _t170 * t22_re + _t171 * t22_im
+    _t197 = _t170 * t22_im - 2 * t22_re * xA6_re
+    _t198 = -_t197
+    _t199 = 2 * _t184 * t22_re - _t192
+    _t200 = _t170 * t11_re + _t171 * t11_im
+    _t201 = -_t172
+    _t202 = -_t196
+    _t203 = _t35 * xA6_re + _t54 * xA6_im
+    _t204 = -_t35 * xA6_im + _t54 * xA6_re
+    _t205 = _t0 * t12_im + _t1 * t12_re + _t50
+    _t206 = -_t205
+    _t207 = _t0 * t22_im + _t1 * t22_re
+    _t208 = -_t207
+    _t209 = 2 * t11_re
+    _t210 = _t3 * xA2_im
+    _t211 = (
+        _t13 * _t210
+        - _t16 * _t209 * t11_im
+        + _t17 * _t30
+        - _t20 * _t22 * t12_im
+        + _t25 * yA2_re
+        + _t26 * yA2_im
+    )
+    _t212 = _t20 * _t29 + _t30 * _t31 + _t37 * yA2_re + _t38 * yA2_im
+    _t213 = -_t20 * _t33 * t22_im + 2 * _t42 * yA2_im * yA2_re
+    _t214 = 4 * t11_re
+    _t215 = 2 * t11_im
+    _t216 = 4 * _t10
+    _t217 = _t20 * _t32 + _t216 * t22_re
+    _t218 = _t57 * t12_im + _t58 * t12_re + _t89
+    _t219 = -_t218
+    _t220 = _t57 * t22_im + _t58 * t22_re
+    _t221 = -_t220
+    _t222 = _t60 * xA3_im
+    _t223 = (
+        _t13 * _t222
+        + _t17 * _t77
+        - _t209 * _t70 * t11_im
+        - _t22 * _t73 * t12_im
+        + _t74 * yA3_re
+        + _t75 * yA3_im
+    )
+    _t224 = _t29 * _t73 + _t31 * _t77 + _t78 * yA3_re + _t79 * yA3_im
+    _t225 = -_t33 * _t73 * t22_im + 2 * _t42 * yA3_im * yA3_re
+    _t226 = 4 * _t66
+    _t227 = _t226 * t22_re + _t32 * _t73
+    _t228 = _t126 + _t94 * t12_im + _t95 * t12_re
+    _t229 = -_t228
+    _t230 = _t94 * t22_im + _t95 * t22_re
+    _t231 = -_t230
+    _t232 = _t97 * xA4_im
+    _t233 = (
+        -_t107 * _t209 * t11_im
+        - _t110 * _t22 * t12_im
+        + _t111 * yA4_re
+        + _t112 * yA4_im
+        + _t114 * _t17
+        + _t13 * _t232
+    )
+    _t234 = _t110 * _t29 + _t114 * _t31 + _t115 * yA4_re + _t116 * yA4_im
+    _t235 = -_t110 * _t33 * t22_im + 2 * _t42 * yA4_im * yA4_re
+    _t236 = 4 * _t103
+    _t237 = _t110 * _t32 + _t236 * t22_re
+    _t238 = _t131 * t12_im + _t132 * t12_re + _t163
+    _t239 = -_t238
+    _t240 = _t131 * t22_im + _t132 * t22_re
+    _t241 = -_t240
+    _t242 = _t134 * xA5_im
+    _t243 = (
+        _t13 * _t242
+        - _t144 * _t209 * t11_im
+        - _t147 * _t22 * t12_im
+        + _t148 * yA5_re
+        + _t149 * yA5_im
+        + _t151 * _t17
+    )
+    _t244 = _t147 * _t29 + _t151 * _t31 + _t152 * yA5_re + _t153 * yA5_im
+    _t245 = -_t147 * _t33 * t22_im + 2 * _t42 * yA5_im * yA5_re
+    _t246 = 4 * _t140
+    _t247 = _t147 * _t32 + _t246 * t22_re
+    _t248 = _t168 * t12_im + _t169 * t12_re + _t200
+    _t249 = -_t248
+    _t250 = _t168 * t22_im + _t169 * t22_re
+    _t251 = -_t250
+    _t252 = _t171 * xA6_im
+    _t253 = (
+        _t13 * _t252
+        + _t17 * _t188
+        - _t181 * _t209 * t11_im
+        - _t184 * _t22 * t12_im
+        + _t185 * yA6_re
+        + _t186 * yA6_im
+    )
+    _t254 = _t184 * _t29 + _t188 * _t31 + _t189 * yA6_re + _t190 * yA6_im
+    _t255 = -_t184 * _t33 * t22_im + 2 * _t42 * yA6_im * yA6_re
+    _t256 = 4 * _t177
+    _t257 = _t184 * _t32 + _t256 * t22_re
+    re = numpy.zeros(shape + (168,))
+    re[..., 0] = -1
+    re[..., 1] = -1
+    re[..., 2] = -1
+    re[..., 3] = -(l1_im**2) + l1_re**2
+    re[..., 4] = -1
+    re[..., 5] = _t5
+    re[..., 6] = _t6
+    re[..., 7] = -_t6
+    re[..., 8] = _t3
+    re[..., 9] = -1
+    re[..., 10] = _t6
+    re[..., 11] = _t5
+    re[..., 12] = _t6
+    re[..., 13] = _t0
+    re[..., 14] = -1
+    re[..., 15] = _t6
+    re[..., 16] = -_t5
+    re[..., 17] = _t27
+    re[..., 18] = _t39
+    re[..., 19] = _t43
+    re[..., 20] = _t43
+    re[..., 21] = 2 * _t16 * t11_re - _t44 * yA2_im + _t45 * yA2_re - _t9
+    re[..., 22] = -_t46 * yA2_im + _t48 * yA2_re
+    re[..., 23] = _t49
+    re[..., 24] = _t27
+    re[..., 25] = _t39
+    re[..., 26] = _t43
+    re[..., 27] = _t43
+    re[..., 28] = -_t12 + 2 * _t20 * t12_re - _t50 * yA2_im + _t51 * yA2_re
+    re[..., 29] = _t49
+    re[..., 30] = _t47 * yA2_re - _t52 * yA2_im
+    re[..., 31] = _t43
+    re[..., 32] = _t20 * _t53 - _t28 * _t30 - _t55 * yA2_im + _t56 * yA2_re
+    re[..., 33] = _t27
+    re[..., 34] = _t14 - _t15 + _t18 - _t19 - l2_im**2 + l2_re**2
+    re[..., 35] = -1
+    re[..., 36] = _t62
+    re[..., 37] = _t63
+    re[..., 38] = -_t63
+    re[..., 39] = _t60
+    re[..., 40] = -1
+    re[..., 41] = _t63
+    re[..., 42] = _t62
+    re[..., 43] = _t63
+    re[..., 44] = _t57
+    re[..., 45] = -1
+    re[..., 46] = _t63
+    re[..., 47] = -_t62
+    re[..., 48] = _t76
+    re[..., 49] = _t80
+    re[..., 50] = _t82
+    re[..., 51] = _t82
+    re[..., 52] = -_t65 + 2 * _t70 * t11_re - _t83 * yA3_im + _t84 * yA3_re
+    re[..., 53] = -_t85 * yA3_im + _t87 * yA3_re
+    re[..., 54] = _t88
+    re[..., 55] = _t76
+    re[..., 56] = _t80
+    re[..., 57] = _t82
+    re[..., 58] = _t82
+    re[..., 59] = -_t67 + 2 * _t73 * t12_re - _t89 * yA3_im + _t90 * yA3_re
+    re[..., 60] = _t88
+    re[..., 61] = _t86 * yA3_re - _t91 * yA3_im
+    re[..., 62] = _t82
+    re[..., 63] = -_t28 * _t77 + _t53 * _t73 - _t92 * yA3_im + _t93 * yA3_re
+    re[..., 64] = _t76
+    re[..., 65] = _t68 - _t69 + _t71 - _t72 - l3_im**2 + l3_re**2
+    re[..., 66] = -1
+    re[..., 67] = _t99
+    re[..., 68] = _t100
+    re[..., 69] = -_t100
+    re[..., 70] = _t97
+    re[..., 71] = -1
+    re[..., 72] = _t100
+    re[..., 73] = _t99
+    re[..., 74] = _t100
+    re[..., 75] = _t94
+    re[..., 76] = -1
+    re[..., 77] = _t100
+    re[..., 78] = -_t99
+    re[..., 79] = _t113
+    re[..., 80] = _t117
+    re[..., 81] = _t119
+    re[..., 82] = _t119
+    re[..., 83] = -_t102 + 2 * _t107 * t11_re - _t120 * yA4_im + _t121 * yA4_re
+    re[..., 84] = -_t122 * yA4_im + _t124 * yA4_re
+    re[..., 85] = _t125
+    re[..., 86] = _t113
+    re[..., 87] = _t117
+    re[..., 88] = _t119
+    re[..., 89] = _t119
+    re[..., 90] = -_t104 + 2 * _t110 * t12_re - _t126 * yA4_im + _t127 * yA4_re
+    re[..., 91] = _t125
+    re[..., 92] = _t123 * yA4_re - _t128 * yA4_im
+    re[..., 93] = _t119
+    re[..., 94] = _t110 * _t53 - _t114 * _t28 - _t129 * yA4_im + _t130 * yA4_re
+    re[..., 95] = _t113
+    re[..., 96] = _t105 - _t106 + _t108 - _t109 - l4_im**2 + l4_re**2
+    re[..., 97] = -1
+    re[..., 98] = _t136
+    re[..., 99] = _t137
+    re[..., 100] = -_t137
+    re[..., 101] = _t134
+    re[..., 102] = -1
+    re[..., 103] = _t137
+    re[..., 104] = _t136
+    re[..., 105] = _t137
+    re[..., 106] = _t131
+    re[..., 107] = -1
+    re[..., 108] = _t137
+    re[..., 109] = -_t136
+    re[..., 110] = _t150
+    re[..., 111] = _t154
+    re[..., 112] = _t156
+    re[..., 113] = _t156
+    re[..., 114] = -_t139 + 2 * _t144 * t11_re - _t157 * yA5_im + _t158 * yA5_re
+    re[..., 115] = -_t159 * yA5_im + _t161 * yA5_re
+    re[..., 116] = _t162
+    re[..., 117] = _t150
+    re[..., 118] = _t154
+    re[..., 119] = _t156
+    re[..., 120] = _t156
+    re[..., 121] = -_t141 + 2 * _t147 * t12_re - _t163 * yA5_im + _t164 * yA5_re
+    re[..., 122] = _t162
+    re[..., 123] = _t160 * yA5_re - _t165 * yA5_im
+    re[..., 124] = _t156
+    re[..., 125] = _t147 * _t53 - _t151 * _t28 - _t166 * yA5_im + _t167 * yA5_re
+    re[..., 126] = _t150
+    re[..., 127] = _t142 - _t143 + _t145 - _t146 - l5_im**2 + l5_re**2
+    re[..., 128] = -1
+    re[..., 129] = _t173
+    re[..., 130] = _t174
+    re[..., 131] = -_t174
+    re[..., 132] = _t171
+    re[..., 133] = -1
+    re[..., 134] = _t174
+    re[..., 135] = _t173
+    re[..., 136] = _t174
+    re[..., 137] = _t168
+    re[..., 138] = -1
+    re[..., 139] = _t174
+    re[..., 140] = -_t173
+    re[..., 141] = _t187
+    re[..., 142] = _t191
+    re[..., 143] = _t193
+    re[..., 144] = _t193
+    re[..., 145] = -_t176 + 2 * _t181 * t11_re - _t194 * yA6_im + _t195 * yA6_re
+    re[..., 146] = -_t196 * yA6_im + _t198 * yA6_re
+    re[..., 147] = _t199
+    re[..., 148] = _t187
+    re[..., 149] = _t191
+    re[..., 150] = _t193
+    re[..., 151] = _t193
+    re[..., 152] = -_t178 + 2 * _t184 * t12_re - _t200 * yA6_im + _t201 * yA6_re
+    re[..., 153] = _t199
+    re[..., 154] = _t197 * yA6_re - _t202 * yA6_im
+    re[..., 155] = _t193
+    re[..., 156] = _t184 * _t53 - _t188 * _t28 - _t203 * yA6_im + _t204 * yA6_re
+    re[..., 157] = _t187
+    re[..., 158] = _t179 - _t180 + _t182 - _t183 - l6_im**2 + l6_re**2
+    re[..., 159] = 1
+    re[..., 160] = 1
+    re[..., 161] = -1
+    re[..., 162] = 1
+    re[..., 163] = 1
+    re[..., 164] = -1
+    re[..., 165] = 1
+    re[..., 166] = 1
+    re[..., 167] = -1
+    im = numpy.zeros(shape + (168,))
+    im[..., 3] = 2 * l1_im * l1_re
+    im[..., 5] = _t206
+    im[..., 6] = _t208
+    im[..., 7] = _t207
+    im[..., 8] = _t2
+    im[..., 10] = _t208
+    im[..., 11] = _t206
+    im[..., 12] = _t208
+    im[..., 13] = _t1
+    im[..., 15] = _t208
+    im[..., 16] = _t205
+    im[..., 17] = _t211
+    im[..., 18] = _t212
+    im[..., 19] = _t213
+    im[..., 20] = _t213
+    im[..., 21] = _t16 * _t215 + _t214 * _t8 + _t44 * yA2_re + _t45 * yA2_im
+    im[..., 22] = _t46 * yA2_re + _t48 * yA2_im
+    im[..., 23] = _t217
+    im[..., 24] = _t211
+    im[..., 25] = _t212
+    im[..., 26] = _t213
+    im[..., 27] = _t213
+    im[..., 28] = _t20 * _t21 + _t216 * t12_re + _t50 * yA2_re + _t51 * yA2_im
+    im[..., 29] = _t217
+    im[..., 30] = _t47 * yA2_im + _t52 * yA2_re
+    im[..., 31] = _t213
+    im[..., 32] = _t20 * _t28 + _t30 * _t53 + _t55 * yA2_re + _t56 * yA2_im
+    im[..., 33] = _t211
+    im[..., 34] = -_t210 - _t30 + 2 * l2_im * l2_re
+    im[..., 36] = _t219
+    im[..., 37] = _t221
+    im[..., 38] = _t220
+    im[..., 39] = _t59
+    im[..., 41] = _t221
+    im[..., 42] = _t219
+    im[..., 43] = _t221
+    im[..., 44] = _t58
+    im[..., 46] = _t221
+    im[..., 47] = _t218
+    im[..., 48] = _t223
+    im[..., 49] = _t224
+    im[..., 50] = _t225
+    im[..., 51] = _t225
+    im[..., 52] = _t214 * _t64 + _t215 * _t70 + _t83 * yA3_re + _t84 * yA3_im
+    im[..., 53] = _t85 * yA3_re + _t87 * yA3_im
+    im[..., 54] = _t227
+    im[..., 55] = _t223
+    im[..., 56] = _t224
+    im[..., 57] = _t225
+    im[..., 58] = _t225
+    im[..., 59] = _t21 * _t73 + _t226 * t12_re + _t89 * yA3_re + _t90 * yA3_im
+    im[..., 60] = _t227
+    im[..., 61] = _t86 * yA3_im + _t91 * yA3_re
+    im[..., 62] = _t225
+    im[..., 63] = _t28 * _t73 + _t53 * _t77 + _t92 * yA3_re + _t93 * yA3_im
+    im[..., 64] = _t223
+    im[..., 65] = -_t222 - _t77 + 2 * l3_im * l3_re
+    im[..., 67] = _t229
+    im[..., 68] = _t231
+    im[..., 69] = _t230
+    im[..., 70] = _t96
+    im[..., 72] = _t231
+    im[..., 73] = _t229
+    im[..., 74] = _t231
+    im[..., 75] = _t95
+    im[..., 77] = _t231
+    im[..., 78] = _t228
+    im[..., 79] = _t233
+    im[..., 80] = _t234
+    im[..., 81] = _t235
+    im[..., 82] = _t235
+    im[..., 83] = _t101 * _t214 + _t107 * _t215 + _t120 * yA4_re + _t121 * yA4_im
+    im[..., 84] = _t122 * yA4_re + _t124 * yA4_im
+    im[..., 85] = _t237
+    im[..., 86] = _t233
+    im[..., 87] = _t234
+    im[..., 88] = _t235
+    im[..., 89] = _t235
+    im[..., 90] = _t110 * _t21 + _t126 * yA4_re + _t127 * yA4_im + _t236 * t12_re
+    im[..., 91] = _t237
+    im[..., 92] = _t123 * yA4_im + _t128 * yA4_re
+    im[..., 93] = _t235
+    im[..., 94] = _t110 * _t28 + _t114 * _t53 + _t129 * yA4_re + _t130 * yA4_im
+    im[..., 95] = _t233
+    im[..., 96] = -_t114 - _t232 + 2 * l4_im * l4_re
+    im[..., 98] = _t239
+    im[..., 99] = _t241
+    im[..., 100] = _t240
+    im[..., 101] = _t133
+    im[..., 103] = _t241
+    im[..., 104] = _t239
+    im[..., 105] = _t241
+    im[..., 106] = _t132
+    im[..., 108] = _t241
+    im[..., 109] = _t238
+    im[..., 110] = _t243
+    im[..., 111] = _t244
+    im[..., 112] = _t245
+    im[..., 113] = _t245
+    im[..., 114] = _t138 * _t214 + _t144 * _t215 + _t157 * yA5_re + _t158 * yA5_im
+    im[..., 115] = _t159 * yA5_re + _t161 * yA5_im
+    im[..., 116] = _t247
+    im[..., 117] = _t243
+    im[..., 118] = _t244
+    im[..., 119] = _t245
+    im[..., 120] = _t245
+    im[..., 121] = _t147 * _t21 + _t163 * yA5_re + _t164 * yA5_im + _t246 * t12_re
+    im[..., 122] = _t247
+    im[..., 123] = _t160 * yA5_im + _t165 * yA5_re
+    im[..., 124] = _t245
+    im[..., 125] = _t147 * _t28 + _t151 * _t53 + _t166 * yA5_re + _t167 * yA5_im
+    im[..., 126] = _t243
+    im[..., 127] = -_t151 - _t242 + 2 * l5_im * l5_re
+    im[..., 129] = _t249
+    im[..., 130] = _t251
+    im[..., 131] = _t250
+    im[..., 132] = _t170
+    im[..., 134] = _t251
+    im[..., 135] = _t249
+    im[..., 136] = _t251
+    im[..., 137] = _t169
+    im[..., 139] = _t251
+    im[..., 140] = _t248
+    im[..., 141] = _t253
+    im[..., 142] = _t254
+    im[..., 143] = _t255
+    im[..., 144] = _t255
+    im[..., 145] = _t175 * _t214 + _t181 * _t215 + _t194 * yA6_re + _t195 * yA6_im
+    im[..., 146] = _t196 * yA6_re + _t198 * yA6_im
+    im[..., 147] = _t257
+    im[..., 148] = _t253
+    im[..., 149] = _t254
+    im[..., 150] = _t255
+    im[..., 151] = _t255
+    im[..., 152] = _t184 * _t21 + _t200 * yA6_re + _t201 * yA6_im + _t256 * t12_re
+    im[..., 153] = _t257
+    im[..., 154] = _t197 * yA6_im + _t202 * yA6_re
+    im[..., 155] = _t255
+    im[..., 156] = _t184 * _t28 + _t188 * _t53 + _t203 * yA6_re + _t204 * yA6_im
+    im[..., 157] = _t253
+    im[..., 158] = -_t188 - _t252 + 2 * l6_im * l6_re
+    return {
+        "re": re,
+        "im": im,
+    }
+
+
+def automatic_passive(z, params):
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 3.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(z)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    z0 = z[..., 0]
+    z1 = z[..., 1]
+    z2 = z[..., 2]
+    z3 = z[..., 3]
+    z4 = z[..., 4]
+    z5 = z[..., 5]
+    z6 = z[..., 6]
+    z7 = z[..., 7]
+    z8 = z[..., 8]
+    passive = numpy.zeros(shape + (6,))
+    passive[..., 0] = z0
+    passive[..., 1] = z1
+    passive[..., 2] = z2
+    passive[..., 3] = numpy.arctan2(z4, z3)
+    passive[..., 4] = numpy.arctan2(z6, z5)
+    passive[..., 5] = numpy.arctan2(z8, z7)
+    return {
+        "passive": passive,
+    }
+
+
 KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -3962,4 +4728,7 @@ KERNELS = {
     "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }

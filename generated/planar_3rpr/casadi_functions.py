@@ -11,6 +11,9 @@
 #   inverse_pose_patterns: 52
 #   forward_polynomial: 1413
 #   forward_back_substitution: 169
+#   automatic_family: 0
+#   automatic_monomials: 217
+#   automatic_passive: 1
 
 """Generated CasADi builders: each returns a ``casadi.Function`` with named inputs and outputs
 (inputs are column vectors, one per group; matrix outputs keep their shape)."""
@@ -1612,6 +1615,280 @@ def forward_back_substitution() -> casadi.Function:
     )
 
 
+def automatic_family() -> casadi.Function:
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    params = casadi.SX.sym("params", 12)
+    rho1 = actuated[0]
+    rho2 = actuated[1]
+    rho3 = actuated[2]
+    base_x1 = params[0]
+    base_y1 = params[1]
+    base_x2 = params[2]
+    base_y2 = params[3]
+    base_x3 = params[4]
+    base_y3 = params[5]
+    platform_x1 = params[6]
+    platform_y1 = params[7]
+    platform_x2 = params[8]
+    platform_y2 = params[9]
+    platform_x3 = params[10]
+    platform_y3 = params[11]
+    free = casadi.SX.zeros(15)
+    free[0] = rho1
+    free[1] = rho2
+    free[2] = rho3
+    free[3] = base_x1
+    free[4] = base_y1
+    free[5] = base_x2
+    free[6] = base_y2
+    free[7] = base_x3
+    free[8] = base_y3
+    free[9] = platform_x1
+    free[10] = platform_y1
+    free[11] = platform_x2
+    free[12] = platform_y2
+    free[13] = platform_x3
+    free[14] = platform_y3
+    angles = casadi.SX.zeros(1)
+    return casadi.Function(
+        "planar_3rpr_automatic_family",
+        [
+            actuated,
+            params,
+        ],
+        [
+            free,
+            angles,
+        ],
+        [
+            "actuated",
+            "params",
+        ],
+        [
+            "free",
+            "angles",
+        ],
+    )
+
+
+def automatic_monomials() -> casadi.Function:
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 217.
+    """
+    family_re = casadi.SX.sym("family_re", 15)
+    family_im = casadi.SX.sym("family_im", 15)
+    rho1_re = family_re[0]
+    rho2_re = family_re[1]
+    rho3_re = family_re[2]
+    base_x1_re = family_re[3]
+    base_y1_re = family_re[4]
+    base_x2_re = family_re[5]
+    base_y2_re = family_re[6]
+    base_x3_re = family_re[7]
+    base_y3_re = family_re[8]
+    platform_x1_re = family_re[9]
+    platform_y1_re = family_re[10]
+    platform_x2_re = family_re[11]
+    platform_y2_re = family_re[12]
+    platform_x3_re = family_re[13]
+    platform_y3_re = family_re[14]
+    rho1_im = family_im[0]
+    rho2_im = family_im[1]
+    rho3_im = family_im[2]
+    base_x1_im = family_im[3]
+    base_y1_im = family_im[4]
+    base_x2_im = family_im[5]
+    base_y2_im = family_im[6]
+    base_x3_im = family_im[7]
+    base_y3_im = family_im[8]
+    platform_x1_im = family_im[9]
+    platform_y1_im = family_im[10]
+    platform_x2_im = family_im[11]
+    platform_y2_im = family_im[12]
+    platform_x3_im = family_im[13]
+    platform_y3_im = family_im[14]
+    _t0 = 2 * platform_x1_re
+    _t1 = 2 * platform_y1_re
+    _t2 = 2 * base_x1_re
+    _t3 = 2 * base_y1_re
+    _t4 = -(platform_x1_im**2) + platform_x1_re**2 - platform_y1_im**2 + platform_y1_re**2
+    _t5 = 2 * platform_x1_im
+    _t6 = 2 * platform_y1_im
+    _t7 = 2 * platform_x2_re
+    _t8 = 2 * platform_y2_re
+    _t9 = 2 * base_x2_re
+    _t10 = 2 * base_y2_re
+    _t11 = -(platform_x2_im**2) + platform_x2_re**2 - platform_y2_im**2 + platform_y2_re**2
+    _t12 = 2 * platform_x2_im
+    _t13 = 2 * platform_y2_im
+    _t14 = 2 * platform_x3_re
+    _t15 = 2 * platform_y3_re
+    _t16 = 2 * base_x3_re
+    _t17 = 2 * base_y3_re
+    _t18 = -(platform_x3_im**2) + platform_x3_re**2 - platform_y3_im**2 + platform_y3_re**2
+    _t19 = 2 * platform_x3_im
+    _t20 = 2 * platform_y3_im
+    _t21 = _t0 * platform_x1_im + _t1 * platform_y1_im
+    _t22 = _t7 * platform_x2_im + _t8 * platform_y2_im
+    _t23 = _t14 * platform_x3_im + _t15 * platform_y3_im
+    re = casadi.SX.zeros(42)
+    re[0] = 1
+    re[1] = _t0
+    re[2] = -_t1
+    re[3] = -_t2
+    re[4] = 1
+    re[5] = _t1
+    re[6] = _t0
+    re[7] = -_t3
+    re[8] = _t4
+    re[9] = -_t0 * base_x1_re - _t1 * base_y1_re + _t5 * base_x1_im + _t6 * base_y1_im
+    re[10] = _t4
+    re[11] = (
+        -_t0 * base_y1_re
+        - _t6 * base_x1_im
+        + 2 * base_x1_re * platform_y1_re
+        + 2 * base_y1_im * platform_x1_im
+    )
+    re[12] = (
+        -(base_x1_im**2) + base_x1_re**2 - base_y1_im**2 + base_y1_re**2 + rho1_im**2 - rho1_re**2
+    )
+    re[13] = 1
+    re[14] = _t7
+    re[15] = -_t8
+    re[16] = -_t9
+    re[17] = 1
+    re[18] = _t8
+    re[19] = _t7
+    re[20] = -_t10
+    re[21] = _t11
+    re[22] = _t12 * base_x2_im + _t13 * base_y2_im - _t7 * base_x2_re - _t8 * base_y2_re
+    re[23] = _t11
+    re[24] = (
+        -_t13 * base_x2_im
+        - _t7 * base_y2_re
+        + 2 * base_x2_re * platform_y2_re
+        + 2 * base_y2_im * platform_x2_im
+    )
+    re[25] = (
+        -(base_x2_im**2) + base_x2_re**2 - base_y2_im**2 + base_y2_re**2 + rho2_im**2 - rho2_re**2
+    )
+    re[26] = 1
+    re[27] = _t14
+    re[28] = -_t15
+    re[29] = -_t16
+    re[30] = 1
+    re[31] = _t15
+    re[32] = _t14
+    re[33] = -_t17
+    re[34] = _t18
+    re[35] = -_t14 * base_x3_re - _t15 * base_y3_re + _t19 * base_x3_im + _t20 * base_y3_im
+    re[36] = _t18
+    re[37] = (
+        -_t14 * base_y3_re
+        - _t20 * base_x3_im
+        + 2 * base_x3_re * platform_y3_re
+        + 2 * base_y3_im * platform_x3_im
+    )
+    re[38] = (
+        -(base_x3_im**2) + base_x3_re**2 - base_y3_im**2 + base_y3_re**2 + rho3_im**2 - rho3_re**2
+    )
+    re[39] = 1
+    re[40] = 1
+    re[41] = -1
+    im = casadi.SX.zeros(42)
+    im[1] = _t5
+    im[2] = -_t6
+    im[3] = -2 * base_x1_im
+    im[5] = _t6
+    im[6] = _t5
+    im[7] = -2 * base_y1_im
+    im[8] = _t21
+    im[9] = -_t0 * base_x1_im - _t1 * base_y1_im - _t2 * platform_x1_im - _t3 * platform_y1_im
+    im[10] = _t21
+    im[11] = -_t0 * base_y1_im + _t1 * base_x1_im + _t2 * platform_y1_im - _t3 * platform_x1_im
+    im[12] = _t2 * base_x1_im + _t3 * base_y1_im - 2 * rho1_im * rho1_re
+    im[14] = _t12
+    im[15] = -_t13
+    im[16] = -2 * base_x2_im
+    im[18] = _t13
+    im[19] = _t12
+    im[20] = -2 * base_y2_im
+    im[21] = _t22
+    im[22] = -_t10 * platform_y2_im - _t7 * base_x2_im - _t8 * base_y2_im - _t9 * platform_x2_im
+    im[23] = _t22
+    im[24] = -_t10 * platform_x2_im - _t7 * base_y2_im + _t8 * base_x2_im + _t9 * platform_y2_im
+    im[25] = _t10 * base_y2_im + _t9 * base_x2_im - 2 * rho2_im * rho2_re
+    im[27] = _t19
+    im[28] = -_t20
+    im[29] = -2 * base_x3_im
+    im[31] = _t20
+    im[32] = _t19
+    im[33] = -2 * base_y3_im
+    im[34] = _t23
+    im[35] = -_t14 * base_x3_im - _t15 * base_y3_im - _t16 * platform_x3_im - _t17 * platform_y3_im
+    im[36] = _t23
+    im[37] = -_t14 * base_y3_im + _t15 * base_x3_im + _t16 * platform_y3_im - _t17 * platform_x3_im
+    im[38] = _t16 * base_x3_im + _t17 * base_y3_im - 2 * rho3_im * rho3_re
+    return casadi.Function(
+        "planar_3rpr_automatic_monomials",
+        [
+            family_re,
+            family_im,
+        ],
+        [
+            re,
+            im,
+        ],
+        [
+            "family_re",
+            "family_im",
+        ],
+        [
+            "re",
+            "im",
+        ],
+    )
+
+
+def automatic_passive() -> casadi.Function:
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 1.
+    """
+    z = casadi.SX.sym("z", 4)
+    params = casadi.SX.sym("params", 12)
+    z0 = z[0]
+    z1 = z[1]
+    z2 = z[2]
+    z3 = z[3]
+    passive = casadi.SX.zeros(3)
+    passive[0] = z0
+    passive[1] = z1
+    passive[2] = casadi.atan2(z3, z2)
+    return casadi.Function(
+        "planar_3rpr_automatic_passive",
+        [
+            z,
+            params,
+        ],
+        [
+            passive,
+        ],
+        [
+            "z",
+            "params",
+        ],
+        [
+            "passive",
+        ],
+    )
+
+
 BUILDERS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -1623,6 +1900,9 @@ BUILDERS = {
     "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }
 
 

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 52
 //   forward_polynomial: 1413
 //   forward_back_substitution: 169
+//   automatic_family: 0
+//   automatic_monomials: 217
+//   automatic_passive: 1
 
 // Example: the planar_3rpr solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -75,6 +78,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     planar_3rpr_forward_pose_all(&all);
     printf("planar_3rpr: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 52
 //   forward_polynomial: 1413
 //   forward_back_substitution: 169
+//   automatic_family: 0
+//   automatic_monomials: 217
+//   automatic_passive: 1
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -48,6 +51,9 @@ extern "C" {
 /* Add prefix to internal symbols */
 #define casadi_f0 CASADI_PREFIX(f0)
 #define casadi_f1 CASADI_PREFIX(f1)
+#define casadi_f10 CASADI_PREFIX(f10)
+#define casadi_f11 CASADI_PREFIX(f11)
+#define casadi_f12 CASADI_PREFIX(f12)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -59,6 +65,7 @@ extern "C" {
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
+#define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -66,6 +73,7 @@ extern "C" {
 #define casadi_s6 CASADI_PREFIX(s6)
 #define casadi_s7 CASADI_PREFIX(s7)
 #define casadi_s8 CASADI_PREFIX(s8)
+#define casadi_s9 CASADI_PREFIX(s9)
 #define casadi_sq CASADI_PREFIX(sq)
 
 /* Symbol visibility in DLLs */
@@ -112,6 +120,8 @@ static const casadi_int casadi_s5[3] = {4, 1, 1};
 static const casadi_int casadi_s6[3] = {2, 1, 1};
 static const casadi_int casadi_s7[3] = {0, 1, 1};
 static const casadi_int casadi_s8[3] = {7, 1, 1};
+static const casadi_int casadi_s9[3] = {15, 1, 1};
+static const casadi_int casadi_s10[3] = {42, 1, 1};
 
 /* planar_3rpr_platform_pose:(actuated[3],passive[3],params[12])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -3207,6 +3217,618 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_forward_back_substitution_work(casadi_int *
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_forward_back_substitution_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* planar_3rpr_automatic_family:(actuated[3],params[12])->(free[15],angles) */
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  a0=arg[0]? arg[0][2] : 0;
+  if (res[0]!=0) res[0][2]=a0;
+  a0=arg[1]? arg[1][0] : 0;
+  if (res[0]!=0) res[0][3]=a0;
+  a0=arg[1]? arg[1][1] : 0;
+  if (res[0]!=0) res[0][4]=a0;
+  a0=arg[1]? arg[1][2] : 0;
+  if (res[0]!=0) res[0][5]=a0;
+  a0=arg[1]? arg[1][3] : 0;
+  if (res[0]!=0) res[0][6]=a0;
+  a0=arg[1]? arg[1][4] : 0;
+  if (res[0]!=0) res[0][7]=a0;
+  a0=arg[1]? arg[1][5] : 0;
+  if (res[0]!=0) res[0][8]=a0;
+  a0=arg[1]? arg[1][6] : 0;
+  if (res[0]!=0) res[0][9]=a0;
+  a0=arg[1]? arg[1][7] : 0;
+  if (res[0]!=0) res[0][10]=a0;
+  a0=arg[1]? arg[1][8] : 0;
+  if (res[0]!=0) res[0][11]=a0;
+  a0=arg[1]? arg[1][9] : 0;
+  if (res[0]!=0) res[0][12]=a0;
+  a0=arg[1]? arg[1][10] : 0;
+  if (res[0]!=0) res[0][13]=a0;
+  a0=arg[1]? arg[1][11] : 0;
+  if (res[0]!=0) res[0][14]=a0;
+  a0=0.;
+  if (res[1]!=0) res[1][0]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f10(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_family_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_family_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_family_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_family_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_family_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real planar_3rpr_automatic_family_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_family_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_family_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "free";
+    case 1: return "angles";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_family_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_family_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s9;
+    case 1: return casadi_s4;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* planar_3rpr_automatic_monomials:(family_re[15],family_im[15])->(re[42],im[42]) */
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40;
+  a00=1.;
+  if (res[0]!=0) res[0][0]=a00;
+  a01=arg[0]? arg[0][9] : 0;
+  a02=(2.*a01);
+  if (res[0]!=0) res[0][1]=a02;
+  a03=arg[0]? arg[0][10] : 0;
+  a04=(2.*a03);
+  a05=(-a04);
+  if (res[0]!=0) res[0][2]=a05;
+  a05=arg[0]? arg[0][3] : 0;
+  a06=(2.*a05);
+  a07=(-a06);
+  if (res[0]!=0) res[0][3]=a07;
+  if (res[0]!=0) res[0][4]=a00;
+  if (res[0]!=0) res[0][5]=a04;
+  if (res[0]!=0) res[0][6]=a02;
+  a07=arg[0]? arg[0][4] : 0;
+  a08=(2.*a07);
+  a09=(-a08);
+  if (res[0]!=0) res[0][7]=a09;
+  a01=casadi_sq(a01);
+  a09=arg[1]? arg[1][9] : 0;
+  a10=casadi_sq(a09);
+  a01=(a01-a10);
+  a10=arg[1]? arg[1][10] : 0;
+  a11=casadi_sq(a10);
+  a01=(a01-a11);
+  a11=casadi_sq(a03);
+  a01=(a01+a11);
+  if (res[0]!=0) res[0][8]=a01;
+  a11=(2.*a09);
+  a12=arg[1]? arg[1][3] : 0;
+  a13=(a11*a12);
+  a14=(a02*a05);
+  a15=(a04*a07);
+  a14=(a14+a15);
+  a13=(a13-a14);
+  a14=(2.*a10);
+  a15=arg[1]? arg[1][4] : 0;
+  a16=(a14*a15);
+  a13=(a13+a16);
+  if (res[0]!=0) res[0][9]=a13;
+  if (res[0]!=0) res[0][10]=a01;
+  a01=(2.*a05);
+  a01=(a01*a03);
+  a03=(a02*a07);
+  a13=(a14*a12);
+  a03=(a03+a13);
+  a01=(a01-a03);
+  a03=(2.*a15);
+  a03=(a03*a09);
+  a01=(a01+a03);
+  if (res[0]!=0) res[0][11]=a01;
+  a05=casadi_sq(a05);
+  a01=casadi_sq(a12);
+  a05=(a05-a01);
+  a01=casadi_sq(a15);
+  a05=(a05-a01);
+  a07=casadi_sq(a07);
+  a05=(a05+a07);
+  a07=arg[1]? arg[1][0] : 0;
+  a01=casadi_sq(a07);
+  a05=(a05+a01);
+  a01=arg[0]? arg[0][0] : 0;
+  a03=casadi_sq(a01);
+  a05=(a05-a03);
+  if (res[0]!=0) res[0][12]=a05;
+  if (res[0]!=0) res[0][13]=a00;
+  a05=arg[0]? arg[0][11] : 0;
+  a03=(2.*a05);
+  if (res[0]!=0) res[0][14]=a03;
+  a13=arg[0]? arg[0][12] : 0;
+  a16=(2.*a13);
+  a17=(-a16);
+  if (res[0]!=0) res[0][15]=a17;
+  a17=arg[0]? arg[0][5] : 0;
+  a18=(2.*a17);
+  a19=(-a18);
+  if (res[0]!=0) res[0][16]=a19;
+  if (res[0]!=0) res[0][17]=a00;
+  if (res[0]!=0) res[0][18]=a16;
+  if (res[0]!=0) res[0][19]=a03;
+  a19=arg[0]? arg[0][6] : 0;
+  a20=(2.*a19);
+  a21=(-a20);
+  if (res[0]!=0) res[0][20]=a21;
+  a05=casadi_sq(a05);
+  a21=arg[1]? arg[1][11] : 0;
+  a22=casadi_sq(a21);
+  a05=(a05-a22);
+  a22=arg[1]? arg[1][12] : 0;
+  a23=casadi_sq(a22);
+  a05=(a05-a23);
+  a23=casadi_sq(a13);
+  a05=(a05+a23);
+  if (res[0]!=0) res[0][21]=a05;
+  a23=(2.*a21);
+  a24=arg[1]? arg[1][5] : 0;
+  a25=(a23*a24);
+  a26=(2.*a22);
+  a27=arg[1]? arg[1][6] : 0;
+  a28=(a26*a27);
+  a25=(a25+a28);
+  a28=(a03*a17);
+  a25=(a25-a28);
+  a28=(a16*a19);
+  a25=(a25-a28);
+  if (res[0]!=0) res[0][22]=a25;
+  if (res[0]!=0) res[0][23]=a05;
+  a05=(2.*a17);
+  a05=(a05*a13);
+  a13=(a26*a24);
+  a25=(a03*a19);
+  a13=(a13+a25);
+  a05=(a05-a13);
+  a13=(2.*a27);
+  a13=(a13*a21);
+  a05=(a05+a13);
+  if (res[0]!=0) res[0][24]=a05;
+  a17=casadi_sq(a17);
+  a05=casadi_sq(a24);
+  a17=(a17-a05);
+  a05=casadi_sq(a27);
+  a17=(a17-a05);
+  a19=casadi_sq(a19);
+  a17=(a17+a19);
+  a19=arg[1]? arg[1][1] : 0;
+  a05=casadi_sq(a19);
+  a17=(a17+a05);
+  a05=arg[0]? arg[0][1] : 0;
+  a13=casadi_sq(a05);
+  a17=(a17-a13);
+  if (res[0]!=0) res[0][25]=a17;
+  if (res[0]!=0) res[0][26]=a00;
+  a17=arg[0]? arg[0][13] : 0;
+  a13=(2.*a17);
+  if (res[0]!=0) res[0][27]=a13;
+  a25=arg[0]? arg[0][14] : 0;
+  a28=(2.*a25);
+  a29=(-a28);
+  if (res[0]!=0) res[0][28]=a29;
+  a29=arg[0]? arg[0][7] : 0;
+  a30=(2.*a29);
+  a31=(-a30);
+  if (res[0]!=0) res[0][29]=a31;
+  if (res[0]!=0) res[0][30]=a00;
+  if (res[0]!=0) res[0][31]=a28;
+  if (res[0]!=0) res[0][32]=a13;
+  a31=arg[0]? arg[0][8] : 0;
+  a32=(2.*a31);
+  a33=(-a32);
+  if (res[0]!=0) res[0][33]=a33;
+  a17=casadi_sq(a17);
+  a33=arg[1]? arg[1][13] : 0;
+  a34=casadi_sq(a33);
+  a17=(a17-a34);
+  a34=arg[1]? arg[1][14] : 0;
+  a35=casadi_sq(a34);
+  a17=(a17-a35);
+  a35=casadi_sq(a25);
+  a17=(a17+a35);
+  if (res[0]!=0) res[0][34]=a17;
+  a35=(2.*a33);
+  a36=arg[1]? arg[1][7] : 0;
+  a37=(a35*a36);
+  a38=(a13*a29);
+  a39=(a28*a31);
+  a38=(a38+a39);
+  a37=(a37-a38);
+  a38=(2.*a34);
+  a39=arg[1]? arg[1][8] : 0;
+  a40=(a38*a39);
+  a37=(a37+a40);
+  if (res[0]!=0) res[0][35]=a37;
+  if (res[0]!=0) res[0][36]=a17;
+  a17=(2.*a29);
+  a17=(a17*a25);
+  a25=(a13*a31);
+  a37=(a38*a36);
+  a25=(a25+a37);
+  a17=(a17-a25);
+  a25=(2.*a39);
+  a25=(a25*a33);
+  a17=(a17+a25);
+  if (res[0]!=0) res[0][37]=a17;
+  a29=casadi_sq(a29);
+  a17=casadi_sq(a36);
+  a29=(a29-a17);
+  a17=casadi_sq(a39);
+  a29=(a29-a17);
+  a31=casadi_sq(a31);
+  a29=(a29+a31);
+  a31=arg[1]? arg[1][2] : 0;
+  a17=casadi_sq(a31);
+  a29=(a29+a17);
+  a17=arg[0]? arg[0][2] : 0;
+  a25=casadi_sq(a17);
+  a29=(a29-a25);
+  if (res[0]!=0) res[0][38]=a29;
+  if (res[0]!=0) res[0][39]=a00;
+  if (res[0]!=0) res[0][40]=a00;
+  a00=-1.;
+  if (res[0]!=0) res[0][41]=a00;
+  a00=0.;
+  if (res[1]!=0) res[1][0]=a00;
+  if (res[1]!=0) res[1][1]=a11;
+  a29=(-a14);
+  if (res[1]!=0) res[1][2]=a29;
+  a29=-2.;
+  a25=(a29*a12);
+  if (res[1]!=0) res[1][3]=a25;
+  if (res[1]!=0) res[1][4]=a00;
+  if (res[1]!=0) res[1][5]=a14;
+  if (res[1]!=0) res[1][6]=a11;
+  a11=(a29*a15);
+  if (res[1]!=0) res[1][7]=a11;
+  a11=(a02*a09);
+  a14=(a04*a10);
+  a11=(a11+a14);
+  if (res[1]!=0) res[1][8]=a11;
+  a14=(a02*a12);
+  a25=(a04*a15);
+  a14=(a14+a25);
+  a25=(a06*a09);
+  a14=(a14+a25);
+  a25=(a08*a10);
+  a14=(a14+a25);
+  a14=(-a14);
+  if (res[1]!=0) res[1][9]=a14;
+  if (res[1]!=0) res[1][10]=a11;
+  a04=(a04*a12);
+  a02=(a02*a15);
+  a04=(a04-a02);
+  a10=(a06*a10);
+  a04=(a04+a10);
+  a09=(a08*a09);
+  a04=(a04-a09);
+  if (res[1]!=0) res[1][11]=a04;
+  a06=(a06*a12);
+  a08=(a08*a15);
+  a06=(a06+a08);
+  a07=(2.*a07);
+  a07=(a07*a01);
+  a06=(a06-a07);
+  if (res[1]!=0) res[1][12]=a06;
+  if (res[1]!=0) res[1][13]=a00;
+  if (res[1]!=0) res[1][14]=a23;
+  a06=(-a26);
+  if (res[1]!=0) res[1][15]=a06;
+  a06=(a29*a24);
+  if (res[1]!=0) res[1][16]=a06;
+  if (res[1]!=0) res[1][17]=a00;
+  if (res[1]!=0) res[1][18]=a26;
+  if (res[1]!=0) res[1][19]=a23;
+  a23=(a29*a27);
+  if (res[1]!=0) res[1][20]=a23;
+  a23=(a03*a21);
+  a26=(a16*a22);
+  a23=(a23+a26);
+  if (res[1]!=0) res[1][21]=a23;
+  a26=(a20*a22);
+  a06=(a03*a24);
+  a26=(a26+a06);
+  a06=(a16*a27);
+  a26=(a26+a06);
+  a06=(a18*a21);
+  a26=(a26+a06);
+  a26=(-a26);
+  if (res[1]!=0) res[1][22]=a26;
+  if (res[1]!=0) res[1][23]=a23;
+  a16=(a16*a24);
+  a21=(a20*a21);
+  a03=(a03*a27);
+  a21=(a21+a03);
+  a16=(a16-a21);
+  a22=(a18*a22);
+  a16=(a16+a22);
+  if (res[1]!=0) res[1][24]=a16;
+  a20=(a20*a27);
+  a18=(a18*a24);
+  a20=(a20+a18);
+  a19=(2.*a19);
+  a19=(a19*a05);
+  a20=(a20-a19);
+  if (res[1]!=0) res[1][25]=a20;
+  if (res[1]!=0) res[1][26]=a00;
+  if (res[1]!=0) res[1][27]=a35;
+  a20=(-a38);
+  if (res[1]!=0) res[1][28]=a20;
+  a20=(a29*a36);
+  if (res[1]!=0) res[1][29]=a20;
+  if (res[1]!=0) res[1][30]=a00;
+  if (res[1]!=0) res[1][31]=a38;
+  if (res[1]!=0) res[1][32]=a35;
+  a29=(a29*a39);
+  if (res[1]!=0) res[1][33]=a29;
+  a29=(a13*a33);
+  a35=(a28*a34);
+  a29=(a29+a35);
+  if (res[1]!=0) res[1][34]=a29;
+  a35=(a13*a36);
+  a38=(a28*a39);
+  a35=(a35+a38);
+  a38=(a30*a33);
+  a35=(a35+a38);
+  a38=(a32*a34);
+  a35=(a35+a38);
+  a35=(-a35);
+  if (res[1]!=0) res[1][35]=a35;
+  if (res[1]!=0) res[1][36]=a29;
+  a28=(a28*a36);
+  a13=(a13*a39);
+  a28=(a28-a13);
+  a34=(a30*a34);
+  a28=(a28+a34);
+  a33=(a32*a33);
+  a28=(a28-a33);
+  if (res[1]!=0) res[1][37]=a28;
+  a30=(a30*a36);
+  a32=(a32*a39);
+  a30=(a30+a32);
+  a31=(2.*a31);
+  a31=(a31*a17);
+  a30=(a30-a31);
+  if (res[1]!=0) res[1][38]=a30;
+  if (res[1]!=0) res[1][39]=a00;
+  if (res[1]!=0) res[1][40]=a00;
+  if (res[1]!=0) res[1][41]=a00;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f11(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_monomials_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_monomials_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_monomials_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_monomials_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_monomials_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real planar_3rpr_automatic_monomials_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_monomials_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "family_re";
+    case 1: return "family_im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_monomials_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "re";
+    case 1: return "im";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_monomials_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_monomials_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s10;
+    case 1: return casadi_s10;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* planar_3rpr_automatic_passive:(z[4],params[12])->(passive[3]) */
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a0, a1;
+  a0=arg[0]? arg[0][0] : 0;
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[0]? arg[0][1] : 0;
+  if (res[0]!=0) res[0][1]=a0;
+  a0=arg[0]? arg[0][3] : 0;
+  a1=arg[0]? arg[0][2] : 0;
+  a0=atan2(a0,a1);
+  if (res[0]!=0) res[0][2]=a0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f12(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_passive_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_passive_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_automatic_passive_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_passive_n_in(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_automatic_passive_n_out(void) { return 1;}
+
+CASADI_SYMBOL_EXPORT casadi_real planar_3rpr_automatic_passive_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_passive_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "z";
+    case 1: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_passive_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "passive";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_passive_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_passive_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2;
+  if (sz_res) *sz_res = 1;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 2*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 1*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 52
 //   forward_polynomial: 1413
 //   forward_back_substitution: 169
+//   automatic_family: 0
+//   automatic_monomials: 217
+//   automatic_passive: 1
 
 // Public C interface of the generated planar_3rpr solvers: Planar 3-RPR parallel manipulator (Gosselin, Sefrioui & Richard 1992: degree-6 forward polynomial).
 // C. M. Gosselin, J. Sefrioui, M. J. Richard (1992)
@@ -195,6 +198,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } planar_3rpr_modes_job;
 
 int planar_3rpr_forward_pose_all(const planar_3rpr_modes_job* job);
@@ -241,6 +245,18 @@ int planar_3rpr_forward_polynomial_batch(long long n, const double** inputs, con
 //   inputs: actuated[3], root[1], branch[0], params[12]
 //   outputs: pose[4 x 4]
 int planar_3rpr_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[3], params[12]
+//   outputs: free[15], angles[1]
+int planar_3rpr_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[15], family_im[15]
+//   outputs: re[42], im[42]
+int planar_3rpr_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[4], params[12]
+//   outputs: passive[3]
+int planar_3rpr_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,9 @@
 #   inverse_pose_patterns: 488
 #   forward_polynomial: 462
 #   forward_back_substitution: 242
+#   automatic_family: 0
+#   automatic_monomials: 3787
+#   automatic_passive: 4
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
 axes broadcast, so any batch shape goes through. Outputs come back in a dict by name."""
@@ -1821,6 +1824,1720 @@ def forward_back_substitution(actuated, root, branch, params):
     }
 
 
+def automatic_family(actuated, params):
+    """The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+
+    Operations: 0.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    theta4 = actuated[..., 3]
+    theta5 = actuated[..., 4]
+    theta6 = actuated[..., 5]
+    L1 = params[..., 0]
+    L4 = params[..., 1]
+    free = numpy.zeros(shape + (2,))
+    free[..., 0] = L1
+    free[..., 1] = L4
+    angles = numpy.zeros(shape + (6,))
+    angles[..., 0] = theta1
+    angles[..., 1] = theta2
+    angles[..., 2] = theta3
+    angles[..., 3] = theta4
+    angles[..., 4] = theta5
+    angles[..., 5] = theta6
+    return {
+        "free": free,
+        "angles": angles,
+    }
+
+
+def automatic_monomials(family_re, family_im):
+    """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+
+    Operations: 3787.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(family_re)[:-1],
+        numpy.shape(family_im)[:-1],
+    )
+    L1_re = family_re[..., 0]
+    L4_re = family_re[..., 1]
+    C_u_0_re = family_re[..., 2]
+    S_u_0_re = family_re[..., 3]
+    D_u_0_re = family_re[..., 4]
+    C_u_1_re = family_re[..., 5]
+    S_u_1_re = family_re[..., 6]
+    D_u_1_re = family_re[..., 7]
+    C_u_2_re = family_re[..., 8]
+    S_u_2_re = family_re[..., 9]
+    D_u_2_re = family_re[..., 10]
+    C_u_3_re = family_re[..., 11]
+    S_u_3_re = family_re[..., 12]
+    D_u_3_re = family_re[..., 13]
+    C_u_4_re = family_re[..., 14]
+    S_u_4_re = family_re[..., 15]
+    D_u_4_re = family_re[..., 16]
+    C_u_5_re = family_re[..., 17]
+    S_u_5_re = family_re[..., 18]
+    D_u_5_re = family_re[..., 19]
+    L1_im = family_im[..., 0]
+    L4_im = family_im[..., 1]
+    C_u_0_im = family_im[..., 2]
+    S_u_0_im = family_im[..., 3]
+    D_u_0_im = family_im[..., 4]
+    C_u_1_im = family_im[..., 5]
+    S_u_1_im = family_im[..., 6]
+    D_u_1_im = family_im[..., 7]
+    C_u_2_im = family_im[..., 8]
+    S_u_2_im = family_im[..., 9]
+    D_u_2_im = family_im[..., 10]
+    C_u_3_im = family_im[..., 11]
+    S_u_3_im = family_im[..., 12]
+    D_u_3_im = family_im[..., 13]
+    C_u_4_im = family_im[..., 14]
+    S_u_4_im = family_im[..., 15]
+    D_u_4_im = family_im[..., 16]
+    C_u_5_im = family_im[..., 17]
+    S_u_5_im = family_im[..., 18]
+    D_u_5_im = family_im[..., 19]
+    _t0 = C_u_2_im * D_u_3_re + C_u_2_re * D_u_3_im
+    _t1 = -C_u_2_im * D_u_3_im + C_u_2_re * D_u_3_re
+    _t2 = D_u_4_im * _t1 + D_u_4_re * _t0
+    _t3 = -D_u_4_im * _t0 + D_u_4_re * _t1
+    _t4 = D_u_5_im * _t3 + D_u_5_re * _t2
+    _t5 = -D_u_5_im * _t2 + D_u_5_re * _t3
+    _t6 = S_u_0_im * _t5 + S_u_0_re * _t4
+    _t7 = -S_u_0_im * _t4 + S_u_0_re * _t5
+    _t8 = S_u_1_im * _t6 - S_u_1_re * _t7
+    _t9 = C_u_0_im * D_u_1_re + C_u_0_re * D_u_1_im
+    _t10 = C_u_0_im * D_u_1_im - C_u_0_re * D_u_1_re
+    _t11 = -_t10
+    _t12 = D_u_3_im * _t11 + D_u_3_re * _t9
+    _t13 = -D_u_3_im * _t9 + D_u_3_re * _t11
+    _t14 = D_u_4_im * _t13 + D_u_4_re * _t12
+    _t15 = -D_u_4_im * _t12 + D_u_4_re * _t13
+    _t16 = D_u_5_im * _t15 + D_u_5_re * _t14
+    _t17 = -D_u_5_im * _t14 + D_u_5_re * _t15
+    _t18 = S_u_2_im * _t16 - S_u_2_re * _t17
+    _t19 = C_u_1_im * D_u_2_im - C_u_1_re * D_u_2_re
+    _t20 = C_u_1_im * D_u_2_re + C_u_1_re * D_u_2_im
+    _t21 = -_t20
+    _t22 = D_u_3_im * _t19 + D_u_3_re * _t21
+    _t23 = -D_u_3_im * _t21 + D_u_3_re * _t19
+    _t24 = D_u_4_im * _t23 + D_u_4_re * _t22
+    _t25 = -D_u_4_im * _t22 + D_u_4_re * _t23
+    _t26 = D_u_5_im * _t25 + D_u_5_re * _t24
+    _t27 = -D_u_5_im * _t24 + D_u_5_re * _t25
+    _t28 = S_u_0_im * _t27 + S_u_0_re * _t26
+    _t29 = -S_u_0_im * _t26 + S_u_0_re * _t27
+    _t30 = S_u_1_im * _t7 + S_u_1_re * _t6
+    _t31 = S_u_2_im * _t17 + S_u_2_re * _t16
+    _t32 = -_t8
+    _t33 = -_t18
+    _t34 = D_u_3_im * D_u_4_re + D_u_3_re * D_u_4_im
+    _t35 = -D_u_3_im * D_u_4_im + D_u_3_re * D_u_4_re
+    _t36 = D_u_5_im * _t35 + D_u_5_re * _t34
+    _t37 = -D_u_5_im * _t34 + D_u_5_re * _t35
+    _t38 = S_u_0_im * _t37 + S_u_0_re * _t36
+    _t39 = -S_u_0_im * _t36 + S_u_0_re * _t37
+    _t40 = S_u_1_im * _t39 + S_u_1_re * _t38
+    _t41 = -S_u_1_im * _t38 + S_u_1_re * _t39
+    _t42 = S_u_2_im * _t41 + S_u_2_re * _t40
+    _t43 = -S_u_2_im * _t40 + S_u_2_re * _t41
+    _t44 = C_u_0_im * C_u_2_im - C_u_0_re * C_u_2_re
+    _t45 = C_u_0_im * C_u_2_re + C_u_0_re * C_u_2_im
+    _t46 = -_t45
+    _t47 = D_u_1_im * _t44 + D_u_1_re * _t46
+    _t48 = -D_u_1_im * _t46 + D_u_1_re * _t44
+    _t49 = D_u_3_im * _t48 + D_u_3_re * _t47
+    _t50 = -D_u_3_im * _t47 + D_u_3_re * _t48
+    _t51 = D_u_4_im * _t50 + D_u_4_re * _t49
+    _t52 = -D_u_4_im * _t49 + D_u_4_re * _t50
+    _t53 = D_u_5_im * _t52 + D_u_5_re * _t51
+    _t54 = -D_u_5_im * _t51 + D_u_5_re * _t52
+    _t55 = C_u_5_im * D_u_0_im - C_u_5_re * D_u_0_re
+    _t56 = C_u_5_im * D_u_0_re + C_u_5_re * D_u_0_im
+    _t57 = -_t56
+    _t58 = D_u_1_im * _t55 + D_u_1_re * _t57
+    _t59 = -D_u_1_im * _t57 + D_u_1_re * _t55
+    _t60 = D_u_2_im * _t59 + D_u_2_re * _t58
+    _t61 = -D_u_2_im * _t58 + D_u_2_re * _t59
+    _t62 = S_u_3_im * _t61 + S_u_3_re * _t60
+    _t63 = C_u_3_im * D_u_0_im - C_u_3_re * D_u_0_re
+    _t64 = C_u_3_im * D_u_0_re + C_u_3_re * D_u_0_im
+    _t65 = -_t64
+    _t66 = D_u_1_im * _t63 + D_u_1_re * _t65
+    _t67 = -D_u_1_im * _t65 + D_u_1_re * _t63
+    _t68 = D_u_2_im * _t67 + D_u_2_re * _t66
+    _t69 = -D_u_2_im * _t66 + D_u_2_re * _t67
+    _t70 = D_u_4_im * _t69 + D_u_4_re * _t68
+    _t71 = -S_u_3_im * _t60 + S_u_3_re * _t61
+    _t72 = -D_u_4_im * _t68 + D_u_4_re * _t69
+    _t73 = C_u_4_im * D_u_0_im - C_u_4_re * D_u_0_re
+    _t74 = -C_u_4_im * D_u_0_re - C_u_4_re * D_u_0_im
+    _t75 = D_u_1_im * _t73 + D_u_1_re * _t74
+    _t76 = -D_u_1_im * _t74 + D_u_1_re * _t73
+    _t77 = D_u_2_im * _t76 + D_u_2_re * _t75
+    _t78 = -D_u_2_im * _t75 + D_u_2_re * _t76
+    _t79 = D_u_5_im * _t78 + D_u_5_re * _t77
+    _t80 = -D_u_5_im * _t77 + D_u_5_re * _t78
+    _t81 = S_u_3_im * _t80 + S_u_3_re * _t79
+    _t82 = -S_u_3_im * _t79 + S_u_3_re * _t80
+    _t83 = -_t55
+    _t84 = D_u_1_im * _t83 + D_u_1_re * _t56
+    _t85 = -D_u_1_im * _t56 + D_u_1_re * _t83
+    _t86 = D_u_2_im * _t85 + D_u_2_re * _t84
+    _t87 = -D_u_2_im * _t84 + D_u_2_re * _t85
+    _t88 = S_u_3_im * _t87 + S_u_3_re * _t86
+    _t89 = -S_u_3_im * _t86 + S_u_3_re * _t87
+    _t90 = S_u_4_im * _t89 + S_u_4_re * _t88
+    _t91 = -_t63
+    _t92 = D_u_1_im * _t91 + D_u_1_re * _t64
+    _t93 = -D_u_1_im * _t64 + D_u_1_re * _t91
+    _t94 = D_u_2_im * _t93 + D_u_2_re * _t92
+    _t95 = -D_u_2_im * _t92 + D_u_2_re * _t93
+    _t96 = D_u_4_im * _t95 + D_u_4_re * _t94
+    _t97 = -D_u_4_im * _t94 + D_u_4_re * _t95
+    _t98 = S_u_5_im * _t97 + S_u_5_re * _t96
+    _t99 = -S_u_4_im * _t88 + S_u_4_re * _t89
+    _t100 = -S_u_5_im * _t96 + S_u_5_re * _t97
+    _t101 = D_u_0_im * D_u_1_re
+    _t102 = D_u_0_re * D_u_1_im
+    _t103 = _t101 + _t102
+    _t104 = D_u_0_im * D_u_1_im
+    _t105 = -D_u_0_re * D_u_1_re + _t104
+    _t106 = -_t105
+    _t107 = D_u_2_im * _t106 + D_u_2_re * _t103
+    _t108 = -D_u_2_im * _t103 + D_u_2_re * _t106
+    _t109 = S_u_3_im * _t108 + S_u_3_re * _t107
+    _t110 = -S_u_3_im * _t107 + S_u_3_re * _t108
+    _t111 = S_u_4_im * _t110 + S_u_4_re * _t109
+    _t112 = -S_u_4_im * _t109 + S_u_4_re * _t110
+    _t113 = S_u_5_im * _t112 + S_u_5_re * _t111
+    _t114 = -S_u_5_im * _t111 + S_u_5_re * _t112
+    _t115 = C_u_3_im * C_u_5_im - C_u_3_re * C_u_5_re
+    _t116 = C_u_3_im * C_u_5_re + C_u_3_re * C_u_5_im
+    _t117 = -_t116
+    _t118 = D_u_0_im * _t115 + D_u_0_re * _t117
+    _t119 = -D_u_0_im * _t117 + D_u_0_re * _t115
+    _t120 = D_u_1_im * _t119 + D_u_1_re * _t118
+    _t121 = -D_u_1_im * _t118 + D_u_1_re * _t119
+    _t122 = D_u_2_im * _t121 + D_u_2_re * _t120
+    _t123 = -D_u_2_im * _t120 + D_u_2_re * _t121
+    _t124 = D_u_4_im * _t123 + D_u_4_re * _t122
+    _t125 = -D_u_4_im * _t122 + D_u_4_re * _t123
+    _t126 = D_u_3_im * _t44 + D_u_3_re * _t46
+    _t127 = -D_u_3_im * _t46 + D_u_3_re * _t44
+    _t128 = D_u_4_im * _t127 + D_u_4_re * _t126
+    _t129 = -D_u_4_im * _t126 + D_u_4_re * _t127
+    _t130 = D_u_5_im * _t129 + D_u_5_re * _t128
+    _t131 = -D_u_5_im * _t128 + D_u_5_re * _t129
+    _t132 = S_u_1_im * _t130 - S_u_1_re * _t131
+    _t133 = D_u_1_im * D_u_3_re + D_u_1_re * D_u_3_im
+    _t134 = -D_u_1_im * D_u_3_im + D_u_1_re * D_u_3_re
+    _t135 = D_u_4_im * _t134 + D_u_4_re * _t133
+    _t136 = -D_u_4_im * _t133 + D_u_4_re * _t134
+    _t137 = D_u_5_im * _t136 + D_u_5_re * _t135
+    _t138 = -D_u_5_im * _t135 + D_u_5_re * _t136
+    _t139 = S_u_0_im * _t138 + S_u_0_re * _t137
+    _t140 = -S_u_0_im * _t137 + S_u_0_re * _t138
+    _t141 = S_u_2_im * _t139 - S_u_2_re * _t140
+    _t142 = C_u_0_im * C_u_1_re + C_u_0_re * C_u_1_im
+    _t143 = C_u_0_im * C_u_1_im - C_u_0_re * C_u_1_re
+    _t144 = -_t143
+    _t145 = D_u_2_im * _t144 + D_u_2_re * _t142
+    _t146 = -D_u_2_im * _t142 + D_u_2_re * _t144
+    _t147 = D_u_3_im * _t146 + D_u_3_re * _t145
+    _t148 = -D_u_3_im * _t145 + D_u_3_re * _t146
+    _t149 = D_u_4_im * _t148 + D_u_4_re * _t147
+    _t150 = -D_u_4_im * _t147 + D_u_4_re * _t148
+    _t151 = D_u_5_im * _t150 + D_u_5_re * _t149
+    _t152 = -D_u_5_im * _t149 + D_u_5_re * _t150
+    _t153 = S_u_2_im * _t140 + S_u_2_re * _t139
+    _t154 = -_t141
+    _t155 = S_u_1_im * _t131 + S_u_1_re * _t130
+    _t156 = -_t132
+    _t157 = C_u_2_im * D_u_1_im - C_u_2_re * D_u_1_re
+    _t158 = C_u_2_im * D_u_1_re + C_u_2_re * D_u_1_im
+    _t159 = -_t158
+    _t160 = D_u_3_im * _t157 + D_u_3_re * _t159
+    _t161 = -D_u_3_im * _t159 + D_u_3_re * _t157
+    _t162 = D_u_4_im * _t161 + D_u_4_re * _t160
+    _t163 = -D_u_4_im * _t160 + D_u_4_re * _t161
+    _t164 = D_u_5_im * _t163 + D_u_5_re * _t162
+    _t165 = -D_u_5_im * _t162 + D_u_5_re * _t163
+    _t166 = S_u_0_im * _t165 + S_u_0_re * _t164
+    _t167 = C_u_0_im * D_u_3_im - C_u_0_re * D_u_3_re
+    _t168 = -C_u_0_im * D_u_3_re - C_u_0_re * D_u_3_im
+    _t169 = D_u_4_im * _t167 + D_u_4_re * _t168
+    _t170 = -D_u_4_im * _t168 + D_u_4_re * _t167
+    _t171 = D_u_5_im * _t170 + D_u_5_re * _t169
+    _t172 = -D_u_5_im * _t169 + D_u_5_re * _t170
+    _t173 = S_u_1_im * _t172 + S_u_1_re * _t171
+    _t174 = -S_u_1_im * _t171 + S_u_1_re * _t172
+    _t175 = S_u_2_im * _t174 + S_u_2_re * _t173
+    _t176 = -S_u_0_im * _t164 + S_u_0_re * _t165
+    _t177 = -S_u_2_im * _t173 + S_u_2_re * _t174
+    _t178 = -_t115
+    _t179 = D_u_0_im * _t178 + D_u_0_re * _t116
+    _t180 = -D_u_0_im * _t116 + D_u_0_re * _t178
+    _t181 = D_u_1_im * _t180 + D_u_1_re * _t179
+    _t182 = -D_u_1_im * _t179 + D_u_1_re * _t180
+    _t183 = D_u_2_im * _t182 + D_u_2_re * _t181
+    _t184 = -D_u_2_im * _t181 + D_u_2_re * _t182
+    _t185 = -_t103
+    _t186 = D_u_2_im * _t105 + D_u_2_re * _t185
+    _t187 = -D_u_2_im * _t185 + D_u_2_re * _t105
+    _t188 = D_u_4_im * _t187 + D_u_4_re * _t186
+    _t189 = -D_u_4_im * _t186 + D_u_4_re * _t187
+    _t190 = S_u_3_im * _t189 + S_u_3_re * _t188
+    _t191 = -S_u_3_im * _t188 + S_u_3_re * _t189
+    _t192 = C_u_3_im * C_u_4_re + C_u_3_re * C_u_4_im
+    _t193 = C_u_3_im * C_u_4_im - C_u_3_re * C_u_4_re
+    _t194 = -_t193
+    _t195 = D_u_0_im * _t194 + D_u_0_re * _t192
+    _t196 = -D_u_0_im * _t192 + D_u_0_re * _t194
+    _t197 = D_u_1_im * _t196 + D_u_1_re * _t195
+    _t198 = -D_u_1_im * _t195 + D_u_1_re * _t196
+    _t199 = D_u_2_im * _t198 + D_u_2_re * _t197
+    _t200 = -D_u_2_im * _t197 + D_u_2_re * _t198
+    _t201 = D_u_5_im * _t200 + D_u_5_re * _t199
+    _t202 = -D_u_5_im * _t199 + D_u_5_re * _t200
+    _t203 = D_u_4_im * _t108 + D_u_4_re * _t107
+    _t204 = -D_u_4_im * _t107 + D_u_4_re * _t108
+    _t205 = S_u_3_im * _t204 + S_u_3_re * _t203
+    _t206 = -S_u_3_im * _t203 + S_u_3_re * _t204
+    _t207 = S_u_5_im * _t206 + S_u_5_re * _t205
+    _t208 = -S_u_5_im * _t205 + S_u_5_re * _t206
+    _t209 = S_u_4_im * _t123 + S_u_4_re * _t122
+    _t210 = -S_u_4_im * _t122 + S_u_4_re * _t123
+    _t211 = D_u_4_im * _t61 + D_u_4_re * _t60
+    _t212 = -D_u_4_im * _t60 + D_u_4_re * _t61
+    _t213 = S_u_3_im * _t212 + S_u_3_re * _t211
+    _t214 = S_u_4_im * _t69 + S_u_4_re * _t68
+    _t215 = -S_u_4_im * _t68 + S_u_4_re * _t69
+    _t216 = S_u_5_im * _t215 + S_u_5_re * _t214
+    _t217 = -S_u_3_im * _t211 + S_u_3_re * _t212
+    _t218 = -S_u_5_im * _t214 + S_u_5_re * _t215
+    _t219 = -2 * D_u_0_re * D_u_1_re + 2 * _t104
+    _t220 = -2 * _t101 - 2 * _t102
+    _t221 = D_u_2_im * _t219 + D_u_2_re * _t220
+    _t222 = -D_u_2_im * _t220 + D_u_2_re * _t219
+    _t223 = D_u_3_im * _t222 + D_u_3_re * _t221
+    _t224 = -D_u_3_im * _t221 + D_u_3_re * _t222
+    _t225 = D_u_4_im * _t224 + D_u_4_re * _t223
+    _t226 = -D_u_4_im * _t223 + D_u_4_re * _t224
+    _t227 = D_u_5_im * _t226 + D_u_5_re * _t225
+    _t228 = -D_u_5_im * _t225 + D_u_5_re * _t226
+    _t229 = C_u_1_im * C_u_2_re + C_u_1_re * C_u_2_im
+    _t230 = C_u_1_im * C_u_2_im - C_u_1_re * C_u_2_re
+    _t231 = -_t230
+    _t232 = D_u_4_im * _t231 + D_u_4_re * _t229
+    _t233 = -D_u_4_im * _t229 + D_u_4_re * _t231
+    _t234 = -D_u_5_im * _t232 + D_u_5_re * _t233
+    _t235 = D_u_2_im * D_u_4_re + D_u_2_re * D_u_4_im
+    _t236 = -D_u_2_im * D_u_4_im + D_u_2_re * D_u_4_re
+    _t237 = D_u_5_im * _t236 + D_u_5_re * _t235
+    _t238 = -D_u_5_im * _t235 + D_u_5_re * _t236
+    _t239 = S_u_1_im * _t238 + S_u_1_re * _t237
+    _t240 = -S_u_1_im * _t237 + S_u_1_re * _t238
+    _t241 = D_u_5_im * _t233 + D_u_5_re * _t232
+    _t242 = C_u_1_im * D_u_4_re + C_u_1_re * D_u_4_im
+    _t243 = -C_u_1_im * D_u_4_im + C_u_1_re * D_u_4_re
+    _t244 = D_u_5_im * _t243 + D_u_5_re * _t242
+    _t245 = -D_u_5_im * _t242 + D_u_5_re * _t243
+    _t246 = S_u_2_im * _t245 + S_u_2_re * _t244
+    _t247 = -S_u_2_im * _t244 + S_u_2_re * _t245
+    _t248 = C_u_4_im * C_u_5_im - C_u_4_re * C_u_5_re
+    _t249 = C_u_4_im * C_u_5_re + C_u_4_re * C_u_5_im
+    _t250 = -_t249
+    _t251 = D_u_1_im * _t248 + D_u_1_re * _t250
+    _t252 = -D_u_1_im * _t250 + D_u_1_re * _t248
+    _t253 = D_u_1_im * D_u_2_re + D_u_1_re * D_u_2_im
+    _t254 = -D_u_1_im * D_u_2_im + D_u_1_re * D_u_2_re
+    _t255 = D_u_5_im * _t254 + D_u_5_re * _t253
+    _t256 = -D_u_5_im * _t253 + D_u_5_re * _t254
+    _t257 = S_u_4_im * _t256 + S_u_4_re * _t255
+    _t258 = -S_u_4_im * _t255 + S_u_4_re * _t256
+    _t259 = -_t248
+    _t260 = D_u_1_im * _t259 + D_u_1_re * _t249
+    _t261 = -D_u_1_im * _t249 + D_u_1_re * _t259
+    _t262 = D_u_2_im * _t261 + D_u_2_re * _t260
+    _t263 = -D_u_2_im * _t260 + D_u_2_re * _t261
+    _t264 = C_u_4_im * D_u_1_re + C_u_4_re * D_u_1_im
+    _t265 = -C_u_4_im * D_u_1_im + C_u_4_re * D_u_1_re
+    _t266 = D_u_2_im * _t265 + D_u_2_re * _t264
+    _t267 = -D_u_2_im * _t264 + D_u_2_re * _t265
+    _t268 = S_u_5_im * _t267 + S_u_5_re * _t266
+    _t269 = -S_u_5_im * _t266 + S_u_5_re * _t267
+    _t270 = C_u_3_im * _t144 + C_u_3_re * _t142
+    _t271 = -C_u_3_im * _t142 + C_u_3_re * _t144
+    _t272 = C_u_5_im * _t271 + C_u_5_re * _t270
+    _t273 = -C_u_5_im * _t270 + C_u_5_re * _t271
+    _t274 = D_u_2_im * _t273 + D_u_2_re * _t272
+    _t275 = C_u_1_im * C_u_5_re + C_u_1_re * C_u_5_im
+    _t276 = C_u_1_im * C_u_5_im - C_u_1_re * C_u_5_re
+    _t277 = -_t276
+    _t278 = D_u_2_im * _t277 + D_u_2_re * _t275
+    _t279 = -D_u_2_im * _t275 + D_u_2_re * _t277
+    _t280 = S_u_0_im * _t279 + S_u_0_re * _t278
+    _t281 = -S_u_0_im * _t278 + S_u_0_re * _t279
+    _t282 = S_u_3_im * _t281 + S_u_3_re * _t280
+    _t283 = C_u_1_im * C_u_3_re + C_u_1_re * C_u_3_im
+    _t284 = C_u_1_im * C_u_3_im - C_u_1_re * C_u_3_re
+    _t285 = -_t284
+    _t286 = D_u_2_im * _t285 + D_u_2_re * _t283
+    _t287 = -D_u_2_im * _t283 + D_u_2_re * _t285
+    _t288 = D_u_4_im * _t287 + D_u_4_re * _t286
+    _t289 = -D_u_4_im * _t286 + D_u_4_re * _t287
+    _t290 = S_u_0_im * _t289 + S_u_0_re * _t288
+    _t291 = -D_u_2_im * _t272 + D_u_2_re * _t273
+    _t292 = -S_u_3_im * _t280 + S_u_3_re * _t281
+    _t293 = -S_u_0_im * _t288 + S_u_0_re * _t289
+    _t294 = D_u_0_im * _t248 + D_u_0_re * _t250
+    _t295 = -D_u_0_im * _t250 + D_u_0_re * _t248
+    _t296 = D_u_2_im * _t295 + D_u_2_re * _t294
+    _t297 = -D_u_2_im * _t294 + D_u_2_re * _t295
+    _t298 = D_u_3_im * _t297 + D_u_3_re * _t296
+    _t299 = -_t142
+    _t300 = D_u_2_im * _t143 + D_u_2_re * _t299
+    _t301 = -D_u_2_im * _t299 + D_u_2_re * _t143
+    _t302 = D_u_4_im * _t301 + D_u_4_re * _t300
+    _t303 = -D_u_4_im * _t300 + D_u_4_re * _t301
+    _t304 = S_u_3_im * _t303 + S_u_3_re * _t302
+    _t305 = -D_u_3_im * _t296 + D_u_3_re * _t297
+    _t306 = -S_u_3_im * _t302 + S_u_3_re * _t303
+    _t307 = (
+        -S_u_1_im * _t298
+        + S_u_1_re * _t305
+        - S_u_4_im * _t274
+        - S_u_4_im * _t282
+        + S_u_4_re * _t291
+        + S_u_4_re * _t292
+        - S_u_5_im * _t290
+        - S_u_5_im * _t304
+        + S_u_5_re * _t293
+        + S_u_5_re * _t306
+    )
+    _t308 = C_u_4_im * _t271 + C_u_4_re * _t270
+    _t309 = -C_u_4_im * _t270 + C_u_4_re * _t271
+    _t310 = D_u_2_im * _t309 + D_u_2_re * _t308
+    _t311 = C_u_1_im * C_u_4_re + C_u_1_re * C_u_4_im
+    _t312 = C_u_1_im * C_u_4_im - C_u_1_re * C_u_4_re
+    _t313 = -_t312
+    _t314 = D_u_2_im * _t313 + D_u_2_re * _t311
+    _t315 = -D_u_2_im * _t311 + D_u_2_re * _t313
+    _t316 = D_u_5_im * _t315 + D_u_5_re * _t314
+    _t317 = -D_u_5_im * _t314 + D_u_5_re * _t315
+    _t318 = S_u_0_im * _t317 + S_u_0_re * _t316
+    _t319 = D_u_0_im * D_u_2_re + D_u_0_re * D_u_2_im
+    _t320 = D_u_0_im * D_u_2_im - D_u_0_re * D_u_2_re
+    _t321 = -_t320
+    _t322 = D_u_3_im * _t321 + D_u_3_re * _t319
+    _t323 = -D_u_3_im * _t319 + D_u_3_re * _t321
+    _t324 = D_u_5_im * _t323 + D_u_5_re * _t322
+    _t325 = -D_u_5_im * _t322 + D_u_5_re * _t323
+    _t326 = S_u_1_im * _t325 + S_u_1_re * _t324
+    _t327 = -D_u_2_im * _t308 + D_u_2_re * _t309
+    _t328 = -S_u_0_im * _t316 + S_u_0_re * _t317
+    _t329 = -S_u_1_im * _t324 + S_u_1_re * _t325
+    _t330 = (
+        -D_u_5_im * _t310
+        + D_u_5_re * _t327
+        - S_u_3_im * _t318
+        + S_u_3_re * _t328
+        - S_u_4_im * _t326
+        + S_u_4_re * _t329
+    )
+    _t331 = D_u_1_im * _t194 + D_u_1_re * _t192
+    _t332 = -D_u_1_im * _t192 + D_u_1_re * _t194
+    _t333 = D_u_5_im * _t332 + D_u_5_re * _t331
+    _t334 = -D_u_5_im * _t331 + D_u_5_re * _t332
+    _t335 = S_u_0_im * _t334 + S_u_0_re * _t333
+    _t336 = D_u_0_im * _t231 + D_u_0_re * _t229
+    _t337 = -D_u_0_im * _t229 + D_u_0_re * _t231
+    _t338 = D_u_3_im * _t337 + D_u_3_re * _t336
+    _t339 = -D_u_3_im * _t336 + D_u_3_re * _t337
+    _t340 = D_u_5_im * _t339 + D_u_5_re * _t338
+    _t341 = -S_u_0_im * _t333 + S_u_0_re * _t334
+    _t342 = -D_u_5_im * _t338 + D_u_5_re * _t339
+    _t343 = C_u_3_im * _t44 + C_u_3_re * _t46
+    _t344 = -C_u_3_im * _t46 + C_u_3_re * _t44
+    _t345 = C_u_4_im * _t344 + C_u_4_re * _t343
+    _t346 = -C_u_4_im * _t343 + C_u_4_re * _t344
+    _t347 = D_u_5_im * _t346 + D_u_5_re * _t345
+    _t348 = C_u_2_im * C_u_4_im - C_u_2_re * C_u_4_re
+    _t349 = C_u_2_im * C_u_4_re + C_u_2_re * C_u_4_im
+    _t350 = -_t349
+    _t351 = D_u_5_im * _t348 + D_u_5_re * _t350
+    _t352 = -D_u_5_im * _t350 + D_u_5_re * _t348
+    _t353 = S_u_0_im * _t352 + S_u_0_re * _t351
+    _t354 = -S_u_0_im * _t351 + S_u_0_re * _t352
+    _t355 = S_u_1_im * _t354 + S_u_1_re * _t353
+    _t356 = C_u_0_im * C_u_4_im - C_u_0_re * C_u_4_re
+    _t357 = C_u_0_im * C_u_4_re + C_u_0_re * C_u_4_im
+    _t358 = -_t357
+    _t359 = D_u_1_im * _t356 + D_u_1_re * _t358
+    _t360 = -D_u_1_im * _t358 + D_u_1_re * _t356
+    _t361 = D_u_5_im * _t360 + D_u_5_re * _t359
+    _t362 = -D_u_5_im * _t359 + D_u_5_re * _t360
+    _t363 = S_u_2_im * _t362 + S_u_2_re * _t361
+    _t364 = -D_u_5_im * _t345 + D_u_5_re * _t346
+    _t365 = -S_u_1_im * _t353 + S_u_1_re * _t354
+    _t366 = -S_u_2_im * _t361 + S_u_2_re * _t362
+    _t367 = (
+        -S_u_1_im * _t347
+        + S_u_1_re * _t364
+        - S_u_2_im * _t335
+        + S_u_2_re * _t341
+        - S_u_3_im * _t355
+        - S_u_3_im * _t363
+        + S_u_3_re * _t365
+        + S_u_3_re * _t366
+        - S_u_4_im * _t340
+        + S_u_4_re * _t342
+    )
+    _t368 = C_u_4_im * _t231 + C_u_4_re * _t229
+    _t369 = -C_u_4_im * _t229 + C_u_4_re * _t231
+    _t370 = C_u_5_im * _t369 + C_u_5_re * _t368
+    _t371 = -C_u_5_im * _t368 + C_u_5_re * _t369
+    _t372 = D_u_0_im * _t371 + D_u_0_re * _t370
+    _t373 = -_t44
+    _t374 = C_u_3_im * _t373 + C_u_3_re * _t45
+    _t375 = -C_u_3_im * _t45 + C_u_3_re * _t373
+    _t376 = C_u_5_im * _t375 + C_u_5_re * _t374
+    _t377 = -C_u_5_im * _t374 + C_u_5_re * _t375
+    _t378 = S_u_1_im * _t377 + S_u_1_re * _t376
+    _t379 = C_u_2_im * C_u_5_re + C_u_2_re * C_u_5_im
+    _t380 = C_u_2_im * C_u_5_im - C_u_2_re * C_u_5_re
+    _t381 = -_t380
+    _t382 = S_u_0_im * _t381 + S_u_0_re * _t379
+    _t383 = -S_u_0_im * _t379 + S_u_0_re * _t381
+    _t384 = S_u_1_im * _t383 + S_u_1_re * _t382
+    _t385 = -S_u_1_im * _t382 + S_u_1_re * _t383
+    _t386 = S_u_3_im * _t385 + S_u_3_re * _t384
+    _t387 = C_u_0_im * C_u_5_re + C_u_0_re * C_u_5_im
+    _t388 = C_u_0_im * C_u_5_im - C_u_0_re * C_u_5_re
+    _t389 = -_t388
+    _t390 = D_u_1_im * _t389 + D_u_1_re * _t387
+    _t391 = -D_u_1_im * _t387 + D_u_1_re * _t389
+    _t392 = S_u_2_im * _t391 + S_u_2_re * _t390
+    _t393 = -S_u_2_im * _t390 + S_u_2_re * _t391
+    _t394 = S_u_3_im * _t393 + S_u_3_re * _t392
+    _t395 = C_u_2_im * C_u_3_re + C_u_2_re * C_u_3_im
+    _t396 = C_u_2_im * C_u_3_im - C_u_2_re * C_u_3_re
+    _t397 = -_t396
+    _t398 = D_u_4_im * _t397 + D_u_4_re * _t395
+    _t399 = -D_u_4_im * _t395 + D_u_4_re * _t397
+    _t400 = S_u_0_im * _t399 + S_u_0_re * _t398
+    _t401 = -S_u_0_im * _t398 + S_u_0_re * _t399
+    _t402 = S_u_1_im * _t401 + S_u_1_re * _t400
+    _t403 = C_u_0_im * C_u_3_re + C_u_0_re * C_u_3_im
+    _t404 = C_u_0_im * C_u_3_im - C_u_0_re * C_u_3_re
+    _t405 = -_t404
+    _t406 = D_u_1_im * _t405 + D_u_1_re * _t403
+    _t407 = -D_u_1_im * _t403 + D_u_1_re * _t405
+    _t408 = D_u_4_im * _t407 + D_u_4_re * _t406
+    _t409 = -D_u_4_im * _t406 + D_u_4_re * _t407
+    _t410 = S_u_2_im * _t409 + S_u_2_re * _t408
+    _t411 = D_u_1_im * D_u_4_re + D_u_1_re * D_u_4_im
+    _t412 = D_u_1_im * D_u_4_im - D_u_1_re * D_u_4_re
+    _t413 = -_t412
+    _t414 = S_u_0_im * _t413 + S_u_0_re * _t411
+    _t415 = -S_u_0_im * _t411 + S_u_0_re * _t413
+    _t416 = S_u_2_im * _t415 + S_u_2_re * _t414
+    _t417 = -S_u_2_im * _t414 + S_u_2_re * _t415
+    _t418 = S_u_3_im * _t417 + S_u_3_re * _t416
+    _t419 = -D_u_0_im * _t370 + D_u_0_re * _t371
+    _t420 = -S_u_1_im * _t376 + S_u_1_re * _t377
+    _t421 = -S_u_3_im * _t384 + S_u_3_re * _t385
+    _t422 = -S_u_3_im * _t392 + S_u_3_re * _t393
+    _t423 = -S_u_1_im * _t400 + S_u_1_re * _t401
+    _t424 = -S_u_2_im * _t408 + S_u_2_re * _t409
+    _t425 = -S_u_3_im * _t416 + S_u_3_re * _t417
+    _t426 = D_u_1_im * _t115 + D_u_1_re * _t117
+    _t427 = -D_u_1_im * _t117 + D_u_1_re * _t115
+    _t428 = S_u_0_im * _t427 + S_u_0_re * _t426
+    _t429 = -S_u_0_im * _t426 + S_u_0_re * _t427
+    _t430 = S_u_2_im * _t429 + S_u_2_re * _t428
+    _t431 = D_u_4_im * _t44 + D_u_4_re * _t46
+    _t432 = -D_u_4_im * _t46 + D_u_4_re * _t44
+    _t433 = S_u_1_im * _t432 + S_u_1_re * _t431
+    _t434 = -S_u_1_im * _t431 + S_u_1_re * _t432
+    _t435 = S_u_3_im * _t434 + S_u_3_re * _t433
+    _t436 = -S_u_2_im * _t428 + S_u_2_re * _t429
+    _t437 = -S_u_3_im * _t433 + S_u_3_re * _t434
+    _t438 = (
+        -D_u_3_im * _t372
+        + D_u_3_re * _t419
+        - S_u_4_im * _t378
+        - S_u_4_im * _t386
+        - S_u_4_im * _t394
+        - S_u_4_im * _t430
+        + S_u_4_re * _t420
+        + S_u_4_re * _t421
+        + S_u_4_re * _t422
+        + S_u_4_re * _t436
+        - S_u_5_im * _t402
+        - S_u_5_im * _t410
+        - S_u_5_im * _t418
+        - S_u_5_im * _t435
+        + S_u_5_re * _t423
+        + S_u_5_re * _t424
+        + S_u_5_re * _t425
+        + S_u_5_re * _t437
+    )
+    _t439 = C_u_5_im * _t373 + C_u_5_re * _t45
+    _t440 = -C_u_5_im * _t45 + C_u_5_re * _t373
+    _t441 = D_u_4_im * _t440 + D_u_4_re * _t439
+    _t442 = -D_u_4_im * _t439 + D_u_4_re * _t440
+    _t443 = S_u_1_im * _t442 + S_u_1_re * _t441
+    _t444 = D_u_0_im * _t369 + D_u_0_re * _t368
+    _t445 = -D_u_0_im * _t368 + D_u_0_re * _t369
+    _t446 = D_u_3_im * _t445 + D_u_3_re * _t444
+    _t447 = S_u_1_im * _t375 + S_u_1_re * _t374
+    _t448 = -S_u_1_im * _t374 + S_u_1_re * _t375
+    _t449 = S_u_4_im * _t448 + S_u_4_re * _t447
+    _t450 = C_u_2_im * S_u_0_re + C_u_2_re * S_u_0_im
+    _t451 = C_u_2_im * S_u_0_im - C_u_2_re * S_u_0_re
+    _t452 = -_t451
+    _t453 = S_u_1_im * _t452 + S_u_1_re * _t450
+    _t454 = -S_u_1_im * _t450 + S_u_1_re * _t452
+    _t455 = S_u_3_im * _t454 + S_u_3_re * _t453
+    _t456 = -S_u_3_im * _t453 + S_u_3_re * _t454
+    _t457 = S_u_4_im * _t456 + S_u_4_re * _t455
+    _t458 = S_u_2_im * _t11 + S_u_2_re * _t9
+    _t459 = -S_u_2_im * _t9 + S_u_2_re * _t11
+    _t460 = S_u_3_im * _t459 + S_u_3_re * _t458
+    _t461 = -S_u_3_im * _t458 + S_u_3_re * _t459
+    _t462 = S_u_4_im * _t461 + S_u_4_re * _t460
+    _t463 = -S_u_1_im * _t441 + S_u_1_re * _t442
+    _t464 = -D_u_3_im * _t444 + D_u_3_re * _t445
+    _t465 = -S_u_4_im * _t447 + S_u_4_re * _t448
+    _t466 = -S_u_4_im * _t455 + S_u_4_re * _t456
+    _t467 = -S_u_4_im * _t460 + S_u_4_re * _t461
+    _t468 = -_t395
+    _t469 = C_u_5_im * _t396 + C_u_5_re * _t468
+    _t470 = -C_u_5_im * _t468 + C_u_5_re * _t396
+    _t471 = D_u_4_im * _t470 + D_u_4_re * _t469
+    _t472 = -D_u_4_im * _t469 + D_u_4_re * _t470
+    _t473 = S_u_0_im * _t472 + S_u_0_re * _t471
+    _t474 = -_t403
+    _t475 = C_u_5_im * _t404 + C_u_5_re * _t474
+    _t476 = -C_u_5_im * _t474 + C_u_5_re * _t404
+    _t477 = D_u_1_im * _t476 + D_u_1_re * _t475
+    _t478 = -D_u_1_im * _t475 + D_u_1_re * _t476
+    _t479 = D_u_4_im * _t478 + D_u_4_re * _t477
+    _t480 = C_u_5_im * D_u_1_im - C_u_5_re * D_u_1_re
+    _t481 = C_u_5_im * D_u_1_re + C_u_5_re * D_u_1_im
+    _t482 = -_t481
+    _t483 = D_u_4_im * _t480 + D_u_4_re * _t482
+    _t484 = -D_u_4_im * _t482 + D_u_4_re * _t480
+    _t485 = S_u_0_im * _t484 + S_u_0_re * _t483
+    _t486 = -S_u_0_im * _t483 + S_u_0_re * _t484
+    _t487 = S_u_2_im * _t486 + S_u_2_re * _t485
+    _t488 = C_u_3_im * D_u_1_im - C_u_3_re * D_u_1_re
+    _t489 = C_u_3_im * D_u_1_re + C_u_3_re * D_u_1_im
+    _t490 = -_t489
+    _t491 = S_u_0_im * _t488 + S_u_0_re * _t490
+    _t492 = -S_u_0_im * _t490 + S_u_0_re * _t488
+    _t493 = S_u_2_im * _t492 + S_u_2_re * _t491
+    _t494 = -S_u_2_im * _t491 + S_u_2_re * _t492
+    _t495 = S_u_4_im * _t494 + S_u_4_re * _t493
+    _t496 = -S_u_0_im * _t471 + S_u_0_re * _t472
+    _t497 = -D_u_4_im * _t477 + D_u_4_re * _t478
+    _t498 = -S_u_2_im * _t485 + S_u_2_re * _t486
+    _t499 = -S_u_4_im * _t493 + S_u_4_re * _t494
+    _t500 = (
+        -S_u_1_im * _t473
+        + S_u_1_re * _t496
+        - S_u_2_im * _t479
+        + S_u_2_re * _t497
+        - S_u_3_im * _t443
+        - S_u_3_im * _t487
+        + S_u_3_re * _t463
+        + S_u_3_re * _t498
+        - S_u_5_im * _t446
+        - S_u_5_im * _t449
+        - S_u_5_im * _t457
+        - S_u_5_im * _t462
+        - S_u_5_im * _t495
+        + S_u_5_re * _t464
+        + S_u_5_re * _t465
+        + S_u_5_re * _t466
+        + S_u_5_re * _t467
+        + S_u_5_re * _t499
+    )
+    _t501 = D_u_1_im * _t178 + D_u_1_re * _t116
+    _t502 = -D_u_1_im * _t116 + D_u_1_re * _t178
+    _t503 = S_u_0_im * _t502 + S_u_0_re * _t501
+    _t504 = -S_u_0_im * _t501 + S_u_0_re * _t502
+    _t505 = S_u_2_im * _t504 + S_u_2_re * _t503
+    _t506 = D_u_4_im * _t373 + D_u_4_re * _t45
+    _t507 = -D_u_4_im * _t45 + D_u_4_re * _t373
+    _t508 = S_u_1_im * _t507 + S_u_1_re * _t506
+    _t509 = -S_u_1_im * _t506 + S_u_1_re * _t507
+    _t510 = S_u_3_im * _t509 + S_u_3_re * _t508
+    _t511 = -S_u_2_im * _t503 + S_u_2_re * _t504
+    _t512 = -S_u_3_im * _t508 + S_u_3_re * _t509
+    _t513 = -_t229
+    _t514 = C_u_4_im * _t230 + C_u_4_re * _t513
+    _t515 = -C_u_4_im * _t513 + C_u_4_re * _t230
+    _t516 = C_u_5_im * _t515 + C_u_5_re * _t514
+    _t517 = -C_u_5_im * _t514 + C_u_5_re * _t515
+    _t518 = D_u_0_im * _t517 + D_u_0_re * _t516
+    _t519 = C_u_5_im * _t344 + C_u_5_re * _t343
+    _t520 = -C_u_5_im * _t343 + C_u_5_re * _t344
+    _t521 = S_u_1_im * _t520 + S_u_1_re * _t519
+    _t522 = -_t379
+    _t523 = S_u_0_im * _t380 + S_u_0_re * _t522
+    _t524 = -S_u_0_im * _t522 + S_u_0_re * _t380
+    _t525 = S_u_1_im * _t524 + S_u_1_re * _t523
+    _t526 = -S_u_1_im * _t523 + S_u_1_re * _t524
+    _t527 = S_u_3_im * _t526 + S_u_3_re * _t525
+    _t528 = -_t387
+    _t529 = D_u_1_im * _t388 + D_u_1_re * _t528
+    _t530 = -D_u_1_im * _t528 + D_u_1_re * _t388
+    _t531 = S_u_2_im * _t530 + S_u_2_re * _t529
+    _t532 = -S_u_2_im * _t529 + S_u_2_re * _t530
+    _t533 = S_u_3_im * _t532 + S_u_3_re * _t531
+    _t534 = D_u_4_im * _t396 + D_u_4_re * _t468
+    _t535 = -D_u_4_im * _t468 + D_u_4_re * _t396
+    _t536 = S_u_0_im * _t535 + S_u_0_re * _t534
+    _t537 = -S_u_0_im * _t534 + S_u_0_re * _t535
+    _t538 = S_u_1_im * _t537 + S_u_1_re * _t536
+    _t539 = D_u_1_im * _t404 + D_u_1_re * _t474
+    _t540 = -D_u_1_im * _t474 + D_u_1_re * _t404
+    _t541 = D_u_4_im * _t540 + D_u_4_re * _t539
+    _t542 = -D_u_4_im * _t539 + D_u_4_re * _t540
+    _t543 = S_u_2_im * _t542 + S_u_2_re * _t541
+    _t544 = -_t411
+    _t545 = S_u_0_im * _t412 + S_u_0_re * _t544
+    _t546 = -S_u_0_im * _t544 + S_u_0_re * _t412
+    _t547 = S_u_2_im * _t546 + S_u_2_re * _t545
+    _t548 = -S_u_2_im * _t545 + S_u_2_re * _t546
+    _t549 = S_u_3_im * _t548 + S_u_3_re * _t547
+    _t550 = -D_u_0_im * _t516 + D_u_0_re * _t517
+    _t551 = -S_u_1_im * _t519 + S_u_1_re * _t520
+    _t552 = -S_u_3_im * _t525 + S_u_3_re * _t526
+    _t553 = -S_u_3_im * _t531 + S_u_3_re * _t532
+    _t554 = -S_u_1_im * _t536 + S_u_1_re * _t537
+    _t555 = -S_u_2_im * _t541 + S_u_2_re * _t542
+    _t556 = -S_u_3_im * _t547 + S_u_3_re * _t548
+    _t557 = (
+        -D_u_3_im * _t518
+        + D_u_3_re * _t550
+        - S_u_4_im * _t505
+        - S_u_4_im * _t521
+        - S_u_4_im * _t527
+        - S_u_4_im * _t533
+        + S_u_4_re * _t511
+        + S_u_4_re * _t551
+        + S_u_4_re * _t552
+        + S_u_4_re * _t553
+        - S_u_5_im * _t510
+        - S_u_5_im * _t538
+        - S_u_5_im * _t543
+        - S_u_5_im * _t549
+        + S_u_5_re * _t512
+        + S_u_5_re * _t554
+        + S_u_5_re * _t555
+        + S_u_5_re * _t556
+    )
+    _t558 = C_u_3_im * _t143 + C_u_3_re * _t299
+    _t559 = -C_u_3_im * _t299 + C_u_3_re * _t143
+    _t560 = C_u_4_im * _t559 + C_u_4_re * _t558
+    _t561 = -C_u_4_im * _t558 + C_u_4_re * _t559
+    _t562 = D_u_2_im * _t561 + D_u_2_re * _t560
+    _t563 = -_t311
+    _t564 = D_u_2_im * _t312 + D_u_2_re * _t563
+    _t565 = -D_u_2_im * _t563 + D_u_2_re * _t312
+    _t566 = D_u_5_im * _t565 + D_u_5_re * _t564
+    _t567 = -D_u_5_im * _t564 + D_u_5_re * _t565
+    _t568 = S_u_0_im * _t567 + S_u_0_re * _t566
+    _t569 = -_t319
+    _t570 = D_u_3_im * _t320 + D_u_3_re * _t569
+    _t571 = -D_u_3_im * _t569 + D_u_3_re * _t320
+    _t572 = D_u_5_im * _t571 + D_u_5_re * _t570
+    _t573 = -D_u_5_im * _t570 + D_u_5_re * _t571
+    _t574 = S_u_1_im * _t573 + S_u_1_re * _t572
+    _t575 = -D_u_2_im * _t560 + D_u_2_re * _t561
+    _t576 = -S_u_0_im * _t566 + S_u_0_re * _t567
+    _t577 = -S_u_1_im * _t572 + S_u_1_re * _t573
+    _t578 = (
+        -D_u_5_im * _t562
+        + D_u_5_re * _t575
+        - S_u_3_im * _t568
+        + S_u_3_re * _t576
+        - S_u_4_im * _t574
+        + S_u_4_re * _t577
+    )
+    _t579 = C_u_5_im * _t144 + C_u_5_re * _t142
+    _t580 = -C_u_5_im * _t142 + C_u_5_re * _t144
+    _t581 = D_u_2_im * _t580 + D_u_2_re * _t579
+    _t582 = -D_u_2_im * _t579 + D_u_2_re * _t580
+    _t583 = D_u_4_im * _t582 + D_u_4_re * _t581
+    _t584 = D_u_2_im * _t271 + D_u_2_re * _t270
+    _t585 = -D_u_2_im * _t270 + D_u_2_re * _t271
+    _t586 = S_u_4_im * _t585 + S_u_4_re * _t584
+    _t587 = -_t19
+    _t588 = S_u_0_im * _t587 + S_u_0_re * _t20
+    _t589 = -S_u_0_im * _t20 + S_u_0_re * _t587
+    _t590 = S_u_3_im * _t589 + S_u_3_re * _t588
+    _t591 = -S_u_3_im * _t588 + S_u_3_re * _t589
+    _t592 = S_u_4_im * _t591 + S_u_4_re * _t590
+    _t593 = -D_u_4_im * _t581 + D_u_4_re * _t582
+    _t594 = -S_u_4_im * _t584 + S_u_4_re * _t585
+    _t595 = -S_u_4_im * _t590 + S_u_4_re * _t591
+    _t596 = -_t283
+    _t597 = C_u_5_im * _t284 + C_u_5_re * _t596
+    _t598 = -C_u_5_im * _t596 + C_u_5_re * _t284
+    _t599 = D_u_2_im * _t598 + D_u_2_re * _t597
+    _t600 = -D_u_2_im * _t597 + D_u_2_re * _t598
+    _t601 = D_u_4_im * _t600 + D_u_4_re * _t599
+    _t602 = D_u_2_im * _t73 + D_u_2_re * _t74
+    _t603 = -D_u_2_im * _t74 + D_u_2_re * _t73
+    _t604 = D_u_3_im * _t603 + D_u_3_re * _t602
+    _t605 = -D_u_3_im * _t602 + D_u_3_re * _t603
+    _t606 = S_u_1_im * _t605 + S_u_1_re * _t604
+    _t607 = -D_u_4_im * _t599 + D_u_4_re * _t600
+    _t608 = -S_u_1_im * _t604 + S_u_1_re * _t605
+    _t609 = (
+        -S_u_0_im * _t601
+        + S_u_0_re * _t607
+        - S_u_3_im * _t583
+        + S_u_3_re * _t593
+        - S_u_5_im * _t586
+        - S_u_5_im * _t592
+        - S_u_5_im * _t606
+        + S_u_5_re * _t594
+        + S_u_5_re * _t595
+        + S_u_5_re * _t608
+    )
+    _t610 = D_u_1_im * _t440 + D_u_1_re * _t439
+    _t611 = -D_u_1_im * _t439 + D_u_1_re * _t440
+    _t612 = S_u_3_im * _t611 + S_u_3_re * _t610
+    _t613 = D_u_1_im * _t375 + D_u_1_re * _t374
+    _t614 = -D_u_1_im * _t374 + D_u_1_re * _t375
+    _t615 = D_u_4_im * _t614 + D_u_4_re * _t613
+    _t616 = -_t157
+    _t617 = D_u_4_im * _t616 + D_u_4_re * _t158
+    _t618 = -D_u_4_im * _t158 + D_u_4_re * _t616
+    _t619 = S_u_0_im * _t618 + S_u_0_re * _t617
+    _t620 = -S_u_0_im * _t617 + S_u_0_re * _t618
+    _t621 = S_u_3_im * _t620 + S_u_3_re * _t619
+    _t622 = C_u_0_im * D_u_4_re + C_u_0_re * D_u_4_im
+    _t623 = C_u_0_im * D_u_4_im - C_u_0_re * D_u_4_re
+    _t624 = -_t623
+    _t625 = S_u_1_im * _t624 + S_u_1_re * _t622
+    _t626 = -S_u_1_im * _t622 + S_u_1_re * _t624
+    _t627 = S_u_2_im * _t626 + S_u_2_re * _t625
+    _t628 = -S_u_2_im * _t625 + S_u_2_re * _t626
+    _t629 = S_u_3_im * _t628 + S_u_3_re * _t627
+    _t630 = -S_u_3_im * _t610 + S_u_3_re * _t611
+    _t631 = -D_u_4_im * _t613 + D_u_4_re * _t614
+    _t632 = -S_u_3_im * _t619 + S_u_3_re * _t620
+    _t633 = -S_u_3_im * _t627 + S_u_3_re * _t628
+    _t634 = C_u_5_im * _t312 + C_u_5_re * _t563
+    _t635 = -C_u_5_im * _t563 + C_u_5_re * _t312
+    _t636 = D_u_0_im * _t635 + D_u_0_re * _t634
+    _t637 = -D_u_0_im * _t634 + D_u_0_re * _t635
+    _t638 = D_u_3_im * _t637 + D_u_3_re * _t636
+    _t639 = D_u_1_im * _t470 + D_u_1_re * _t469
+    _t640 = -D_u_1_im * _t469 + D_u_1_re * _t470
+    _t641 = S_u_0_im * _t640 + S_u_0_re * _t639
+    _t642 = S_u_1_im * _t476 + S_u_1_re * _t475
+    _t643 = -S_u_1_im * _t475 + S_u_1_re * _t476
+    _t644 = S_u_2_im * _t643 + S_u_2_re * _t642
+    _t645 = C_u_5_im * S_u_0_im - C_u_5_re * S_u_0_re
+    _t646 = C_u_5_im * S_u_0_re + C_u_5_re * S_u_0_im
+    _t647 = -_t646
+    _t648 = S_u_1_im * _t645 + S_u_1_re * _t647
+    _t649 = -S_u_1_im * _t647 + S_u_1_re * _t645
+    _t650 = S_u_2_im * _t649 + S_u_2_re * _t648
+    _t651 = -S_u_2_im * _t648 + S_u_2_re * _t649
+    _t652 = S_u_3_im * _t651 + S_u_3_re * _t650
+    _t653 = C_u_3_im * D_u_4_im - C_u_3_re * D_u_4_re
+    _t654 = C_u_3_im * D_u_4_re + C_u_3_re * D_u_4_im
+    _t655 = -_t654
+    _t656 = S_u_0_im * _t653 + S_u_0_re * _t655
+    _t657 = -S_u_0_im * _t655 + S_u_0_re * _t653
+    _t658 = S_u_1_im * _t657 + S_u_1_re * _t656
+    _t659 = -S_u_1_im * _t656 + S_u_1_re * _t657
+    _t660 = S_u_2_im * _t659 + S_u_2_re * _t658
+    _t661 = -D_u_3_im * _t636 + D_u_3_re * _t637
+    _t662 = -S_u_0_im * _t639 + S_u_0_re * _t640
+    _t663 = -S_u_2_im * _t642 + S_u_2_re * _t643
+    _t664 = -S_u_3_im * _t650 + S_u_3_re * _t651
+    _t665 = -S_u_2_im * _t658 + S_u_2_re * _t659
+    _t666 = (
+        -S_u_2_im * _t638
+        + S_u_2_re * _t661
+        - S_u_4_im * _t612
+        - S_u_4_im * _t641
+        - S_u_4_im * _t644
+        - S_u_4_im * _t652
+        + S_u_4_re * _t630
+        + S_u_4_re * _t662
+        + S_u_4_re * _t663
+        + S_u_4_re * _t664
+        - S_u_5_im * _t615
+        - S_u_5_im * _t621
+        - S_u_5_im * _t629
+        - S_u_5_im * _t660
+        + S_u_5_re * _t631
+        + S_u_5_re * _t632
+        + S_u_5_re * _t633
+        + S_u_5_re * _t665
+    )
+    _t667 = C_u_4_im * _t373 + C_u_4_re * _t45
+    _t668 = -C_u_4_im * _t45 + C_u_4_re * _t373
+    _t669 = D_u_1_im * _t668 + D_u_1_re * _t667
+    _t670 = -D_u_1_im * _t667 + D_u_1_re * _t668
+    _t671 = D_u_5_im * _t670 + D_u_5_re * _t669
+    _t672 = C_u_1_im * D_u_0_re + C_u_1_re * D_u_0_im
+    _t673 = -C_u_1_im * D_u_0_im + C_u_1_re * D_u_0_re
+    _t674 = D_u_3_im * _t673 + D_u_3_re * _t672
+    _t675 = -D_u_3_im * _t672 + D_u_3_re * _t673
+    _t676 = D_u_5_im * _t675 + D_u_5_re * _t674
+    _t677 = -D_u_5_im * _t674 + D_u_5_re * _t675
+    _t678 = S_u_2_im * _t677 + S_u_2_re * _t676
+    _t679 = -D_u_5_im * _t669 + D_u_5_re * _t670
+    _t680 = -S_u_2_im * _t676 + S_u_2_re * _t677
+    _t681 = C_u_4_im * _t396 + C_u_4_re * _t468
+    _t682 = -C_u_4_im * _t468 + C_u_4_re * _t396
+    _t683 = D_u_1_im * _t682 + D_u_1_re * _t681
+    _t684 = -D_u_1_im * _t681 + D_u_1_re * _t682
+    _t685 = D_u_5_im * _t684 + D_u_5_re * _t683
+    _t686 = C_u_4_im * _t404 + C_u_4_re * _t474
+    _t687 = -C_u_4_im * _t474 + C_u_4_re * _t404
+    _t688 = D_u_5_im * _t687 + D_u_5_re * _t686
+    _t689 = -D_u_5_im * _t686 + D_u_5_re * _t687
+    _t690 = S_u_1_im * _t689 + S_u_1_re * _t688
+    _t691 = C_u_4_im * D_u_5_im - C_u_4_re * D_u_5_re
+    _t692 = -C_u_4_im * D_u_5_re - C_u_4_re * D_u_5_im
+    _t693 = S_u_0_im * _t691 + S_u_0_re * _t692
+    _t694 = -S_u_0_im * _t692 + S_u_0_re * _t691
+    _t695 = S_u_1_im * _t694 + S_u_1_re * _t693
+    _t696 = -S_u_1_im * _t693 + S_u_1_re * _t694
+    _t697 = S_u_2_im * _t696 + S_u_2_re * _t695
+    _t698 = -D_u_5_im * _t683 + D_u_5_re * _t684
+    _t699 = -S_u_1_im * _t688 + S_u_1_re * _t689
+    _t700 = -S_u_2_im * _t695 + S_u_2_re * _t696
+    _t701 = (
+        -S_u_0_im * _t685
+        + S_u_0_re * _t698
+        - S_u_2_im * _t690
+        + S_u_2_re * _t699
+        - S_u_3_im * _t671
+        - S_u_3_im * _t697
+        + S_u_3_re * _t679
+        + S_u_3_re * _t700
+        - S_u_4_im * _t678
+        + S_u_4_re * _t680
+    )
+    _t702 = D_u_0_im * _t259 + D_u_0_re * _t249
+    _t703 = -D_u_0_im * _t249 + D_u_0_re * _t259
+    _t704 = D_u_2_im * _t703 + D_u_2_re * _t702
+    _t705 = -D_u_2_im * _t702 + D_u_2_re * _t703
+    _t706 = D_u_3_im * _t705 + D_u_3_re * _t704
+    _t707 = D_u_4_im * _t146 + D_u_4_re * _t145
+    _t708 = -D_u_4_im * _t145 + D_u_4_re * _t146
+    _t709 = S_u_3_im * _t708 + S_u_3_re * _t707
+    _t710 = -D_u_3_im * _t704 + D_u_3_re * _t705
+    _t711 = -S_u_3_im * _t707 + S_u_3_re * _t708
+    _t712 = C_u_5_im * _t559 + C_u_5_re * _t558
+    _t713 = -C_u_5_im * _t558 + C_u_5_re * _t559
+    _t714 = D_u_2_im * _t713 + D_u_2_re * _t712
+    _t715 = -_t275
+    _t716 = D_u_2_im * _t276 + D_u_2_re * _t715
+    _t717 = -D_u_2_im * _t715 + D_u_2_re * _t276
+    _t718 = S_u_0_im * _t717 + S_u_0_re * _t716
+    _t719 = -S_u_0_im * _t716 + S_u_0_re * _t717
+    _t720 = S_u_3_im * _t719 + S_u_3_re * _t718
+    _t721 = D_u_2_im * _t284 + D_u_2_re * _t596
+    _t722 = -D_u_2_im * _t596 + D_u_2_re * _t284
+    _t723 = D_u_4_im * _t722 + D_u_4_re * _t721
+    _t724 = -D_u_4_im * _t721 + D_u_4_re * _t722
+    _t725 = S_u_0_im * _t724 + S_u_0_re * _t723
+    _t726 = -D_u_2_im * _t712 + D_u_2_re * _t713
+    _t727 = -S_u_3_im * _t718 + S_u_3_re * _t719
+    _t728 = -S_u_0_im * _t723 + S_u_0_re * _t724
+    _t729 = (
+        -S_u_1_im * _t706
+        + S_u_1_re * _t710
+        - S_u_4_im * _t714
+        - S_u_4_im * _t720
+        + S_u_4_re * _t726
+        + S_u_4_re * _t727
+        - S_u_5_im * _t709
+        - S_u_5_im * _t725
+        + S_u_5_re * _t711
+        + S_u_5_re * _t728
+    )
+    _t730 = C_u_4_im * _t375 + C_u_4_re * _t374
+    _t731 = -C_u_4_im * _t374 + C_u_4_re * _t375
+    _t732 = D_u_5_im * _t731 + D_u_5_re * _t730
+    _t733 = -_t348
+    _t734 = D_u_5_im * _t733 + D_u_5_re * _t349
+    _t735 = -D_u_5_im * _t349 + D_u_5_re * _t733
+    _t736 = S_u_0_im * _t735 + S_u_0_re * _t734
+    _t737 = -S_u_0_im * _t734 + S_u_0_re * _t735
+    _t738 = S_u_1_im * _t737 + S_u_1_re * _t736
+    _t739 = -_t356
+    _t740 = D_u_1_im * _t739 + D_u_1_re * _t357
+    _t741 = -D_u_1_im * _t357 + D_u_1_re * _t739
+    _t742 = D_u_5_im * _t741 + D_u_5_re * _t740
+    _t743 = -D_u_5_im * _t740 + D_u_5_re * _t741
+    _t744 = S_u_2_im * _t743 + S_u_2_re * _t742
+    _t745 = -D_u_5_im * _t730 + D_u_5_re * _t731
+    _t746 = -S_u_1_im * _t736 + S_u_1_re * _t737
+    _t747 = -S_u_2_im * _t742 + S_u_2_re * _t743
+    _t748 = -_t192
+    _t749 = D_u_1_im * _t193 + D_u_1_re * _t748
+    _t750 = -D_u_1_im * _t748 + D_u_1_re * _t193
+    _t751 = D_u_5_im * _t750 + D_u_5_re * _t749
+    _t752 = -D_u_5_im * _t749 + D_u_5_re * _t750
+    _t753 = S_u_0_im * _t752 + S_u_0_re * _t751
+    _t754 = D_u_0_im * _t230 + D_u_0_re * _t513
+    _t755 = -D_u_0_im * _t513 + D_u_0_re * _t230
+    _t756 = D_u_3_im * _t755 + D_u_3_re * _t754
+    _t757 = -D_u_3_im * _t754 + D_u_3_re * _t755
+    _t758 = D_u_5_im * _t757 + D_u_5_re * _t756
+    _t759 = -S_u_0_im * _t751 + S_u_0_re * _t752
+    _t760 = -D_u_5_im * _t756 + D_u_5_re * _t757
+    _t761 = (
+        -S_u_1_im * _t732
+        + S_u_1_re * _t745
+        - S_u_2_im * _t753
+        + S_u_2_re * _t759
+        - S_u_3_im * _t738
+        - S_u_3_im * _t744
+        + S_u_3_re * _t746
+        + S_u_3_re * _t747
+        - S_u_4_im * _t758
+        + S_u_4_re * _t760
+    )
+    _t762 = C_u_5_im * _t397 + C_u_5_re * _t395
+    _t763 = -C_u_5_im * _t395 + C_u_5_re * _t397
+    _t764 = D_u_4_im * _t763 + D_u_4_re * _t762
+    _t765 = -D_u_4_im * _t762 + D_u_4_re * _t763
+    _t766 = S_u_0_im * _t765 + S_u_0_re * _t764
+    _t767 = C_u_5_im * _t405 + C_u_5_re * _t403
+    _t768 = -C_u_5_im * _t403 + C_u_5_re * _t405
+    _t769 = D_u_1_im * _t768 + D_u_1_re * _t767
+    _t770 = -D_u_1_im * _t767 + D_u_1_re * _t768
+    _t771 = D_u_4_im * _t770 + D_u_4_re * _t769
+    _t772 = -_t480
+    _t773 = D_u_4_im * _t772 + D_u_4_re * _t481
+    _t774 = -D_u_4_im * _t481 + D_u_4_re * _t772
+    _t775 = S_u_0_im * _t774 + S_u_0_re * _t773
+    _t776 = -S_u_0_im * _t773 + S_u_0_re * _t774
+    _t777 = S_u_2_im * _t776 + S_u_2_re * _t775
+    _t778 = -_t488
+    _t779 = S_u_0_im * _t778 + S_u_0_re * _t489
+    _t780 = -S_u_0_im * _t489 + S_u_0_re * _t778
+    _t781 = S_u_2_im * _t780 + S_u_2_re * _t779
+    _t782 = -S_u_2_im * _t779 + S_u_2_re * _t780
+    _t783 = S_u_4_im * _t782 + S_u_4_re * _t781
+    _t784 = -S_u_0_im * _t764 + S_u_0_re * _t765
+    _t785 = -D_u_4_im * _t769 + D_u_4_re * _t770
+    _t786 = -S_u_2_im * _t775 + S_u_2_re * _t776
+    _t787 = -S_u_4_im * _t781 + S_u_4_re * _t782
+    _t788 = C_u_5_im * _t44 + C_u_5_re * _t46
+    _t789 = -C_u_5_im * _t46 + C_u_5_re * _t44
+    _t790 = D_u_4_im * _t789 + D_u_4_re * _t788
+    _t791 = -D_u_4_im * _t788 + D_u_4_re * _t789
+    _t792 = S_u_1_im * _t791 + S_u_1_re * _t790
+    _t793 = D_u_0_im * _t515 + D_u_0_re * _t514
+    _t794 = -D_u_0_im * _t514 + D_u_0_re * _t515
+    _t795 = D_u_3_im * _t794 + D_u_3_re * _t793
+    _t796 = S_u_1_im * _t344 + S_u_1_re * _t343
+    _t797 = -S_u_1_im * _t343 + S_u_1_re * _t344
+    _t798 = S_u_4_im * _t797 + S_u_4_re * _t796
+    _t799 = -_t450
+    _t800 = S_u_1_im * _t451 + S_u_1_re * _t799
+    _t801 = -S_u_1_im * _t799 + S_u_1_re * _t451
+    _t802 = S_u_3_im * _t801 + S_u_3_re * _t800
+    _t803 = -S_u_3_im * _t800 + S_u_3_re * _t801
+    _t804 = S_u_4_im * _t803 + S_u_4_re * _t802
+    _t805 = -_t9
+    _t806 = S_u_2_im * _t10 + S_u_2_re * _t805
+    _t807 = -S_u_2_im * _t805 + S_u_2_re * _t10
+    _t808 = S_u_3_im * _t807 + S_u_3_re * _t806
+    _t809 = -S_u_3_im * _t806 + S_u_3_re * _t807
+    _t810 = S_u_4_im * _t809 + S_u_4_re * _t808
+    _t811 = -S_u_1_im * _t790 + S_u_1_re * _t791
+    _t812 = -D_u_3_im * _t793 + D_u_3_re * _t794
+    _t813 = -S_u_4_im * _t796 + S_u_4_re * _t797
+    _t814 = -S_u_4_im * _t802 + S_u_4_re * _t803
+    _t815 = -S_u_4_im * _t808 + S_u_4_re * _t809
+    _t816 = (
+        -S_u_1_im * _t766
+        + S_u_1_re * _t784
+        - S_u_2_im * _t771
+        + S_u_2_re * _t785
+        - S_u_3_im * _t777
+        - S_u_3_im * _t792
+        + S_u_3_re * _t786
+        + S_u_3_re * _t811
+        - S_u_5_im * _t783
+        - S_u_5_im * _t795
+        - S_u_5_im * _t798
+        - S_u_5_im * _t804
+        - S_u_5_im * _t810
+        + S_u_5_re * _t787
+        + S_u_5_re * _t812
+        + S_u_5_re * _t813
+        + S_u_5_re * _t814
+        + S_u_5_re * _t815
+    )
+    _t817 = C_u_5_im * _t313 + C_u_5_re * _t311
+    _t818 = -C_u_5_im * _t311 + C_u_5_re * _t313
+    _t819 = D_u_0_im * _t818 + D_u_0_re * _t817
+    _t820 = -D_u_0_im * _t817 + D_u_0_re * _t818
+    _t821 = D_u_3_im * _t820 + D_u_3_re * _t819
+    _t822 = D_u_1_im * _t763 + D_u_1_re * _t762
+    _t823 = -D_u_1_im * _t762 + D_u_1_re * _t763
+    _t824 = S_u_0_im * _t823 + S_u_0_re * _t822
+    _t825 = S_u_1_im * _t768 + S_u_1_re * _t767
+    _t826 = -S_u_1_im * _t767 + S_u_1_re * _t768
+    _t827 = S_u_2_im * _t826 + S_u_2_re * _t825
+    _t828 = -_t645
+    _t829 = S_u_1_im * _t828 + S_u_1_re * _t646
+    _t830 = -S_u_1_im * _t646 + S_u_1_re * _t828
+    _t831 = S_u_2_im * _t830 + S_u_2_re * _t829
+    _t832 = -S_u_2_im * _t829 + S_u_2_re * _t830
+    _t833 = S_u_3_im * _t832 + S_u_3_re * _t831
+    _t834 = -_t653
+    _t835 = S_u_0_im * _t834 + S_u_0_re * _t654
+    _t836 = -S_u_0_im * _t654 + S_u_0_re * _t834
+    _t837 = S_u_1_im * _t836 + S_u_1_re * _t835
+    _t838 = -S_u_1_im * _t835 + S_u_1_re * _t836
+    _t839 = S_u_2_im * _t838 + S_u_2_re * _t837
+    _t840 = -D_u_3_im * _t819 + D_u_3_re * _t820
+    _t841 = -S_u_0_im * _t822 + S_u_0_re * _t823
+    _t842 = -S_u_2_im * _t825 + S_u_2_re * _t826
+    _t843 = -S_u_3_im * _t831 + S_u_3_re * _t832
+    _t844 = -S_u_2_im * _t837 + S_u_2_re * _t838
+    _t845 = D_u_1_im * _t789 + D_u_1_re * _t788
+    _t846 = -D_u_1_im * _t788 + D_u_1_re * _t789
+    _t847 = S_u_3_im * _t846 + S_u_3_re * _t845
+    _t848 = D_u_1_im * _t344 + D_u_1_re * _t343
+    _t849 = -D_u_1_im * _t343 + D_u_1_re * _t344
+    _t850 = D_u_4_im * _t849 + D_u_4_re * _t848
+    _t851 = D_u_4_im * _t157 + D_u_4_re * _t159
+    _t852 = -D_u_4_im * _t159 + D_u_4_re * _t157
+    _t853 = S_u_0_im * _t852 + S_u_0_re * _t851
+    _t854 = -S_u_0_im * _t851 + S_u_0_re * _t852
+    _t855 = S_u_3_im * _t854 + S_u_3_re * _t853
+    _t856 = -_t622
+    _t857 = S_u_1_im * _t623 + S_u_1_re * _t856
+    _t858 = -S_u_1_im * _t856 + S_u_1_re * _t623
+    _t859 = S_u_2_im * _t858 + S_u_2_re * _t857
+    _t860 = -S_u_2_im * _t857 + S_u_2_re * _t858
+    _t861 = S_u_3_im * _t860 + S_u_3_re * _t859
+    _t862 = -S_u_3_im * _t845 + S_u_3_re * _t846
+    _t863 = -D_u_4_im * _t848 + D_u_4_re * _t849
+    _t864 = -S_u_3_im * _t853 + S_u_3_re * _t854
+    _t865 = -S_u_3_im * _t859 + S_u_3_re * _t860
+    _t866 = (
+        -S_u_2_im * _t821
+        + S_u_2_re * _t840
+        - S_u_4_im * _t824
+        - S_u_4_im * _t827
+        - S_u_4_im * _t833
+        - S_u_4_im * _t847
+        + S_u_4_re * _t841
+        + S_u_4_re * _t842
+        + S_u_4_re * _t843
+        + S_u_4_re * _t862
+        - S_u_5_im * _t839
+        - S_u_5_im * _t850
+        - S_u_5_im * _t855
+        - S_u_5_im * _t861
+        + S_u_5_re * _t844
+        + S_u_5_re * _t863
+        + S_u_5_re * _t864
+        + S_u_5_re * _t865
+    )
+    _t867 = D_u_1_im * _t377 + D_u_1_re * _t376
+    _t868 = D_u_1_im * _t381 + D_u_1_re * _t379
+    _t869 = -D_u_1_im * _t379 + D_u_1_re * _t381
+    _t870 = D_u_4_im * _t869 + D_u_4_re * _t868
+    _t871 = -D_u_4_im * _t868 + D_u_4_re * _t869
+    _t872 = S_u_0_im * _t871 + S_u_0_re * _t870
+    _t873 = D_u_4_im * _t389 + D_u_4_re * _t387
+    _t874 = -D_u_4_im * _t387 + D_u_4_re * _t389
+    _t875 = S_u_1_im * _t874 + S_u_1_re * _t873
+    _t876 = -S_u_1_im * _t873 + S_u_1_re * _t874
+    _t877 = S_u_2_im * _t876 + S_u_2_re * _t875
+    _t878 = D_u_0_im * _t313 + D_u_0_re * _t311
+    _t879 = -D_u_0_im * _t311 + D_u_0_re * _t313
+    _t880 = D_u_3_im * _t879 + D_u_3_re * _t878
+    _t881 = -D_u_3_im * _t878 + D_u_3_re * _t879
+    _t882 = S_u_2_im * _t881 + S_u_2_re * _t880
+    _t883 = D_u_1_im * _t397 + D_u_1_re * _t395
+    _t884 = -D_u_1_im * _t395 + D_u_1_re * _t397
+    _t885 = S_u_0_im * _t884 + S_u_0_re * _t883
+    _t886 = -S_u_0_im * _t883 + S_u_0_re * _t884
+    _t887 = S_u_4_im * _t886 + S_u_4_re * _t885
+    _t888 = S_u_1_im * _t405 + S_u_1_re * _t403
+    _t889 = -S_u_1_im * _t403 + S_u_1_re * _t405
+    _t890 = S_u_2_im * _t889 + S_u_2_re * _t888
+    _t891 = -S_u_2_im * _t888 + S_u_2_re * _t889
+    _t892 = S_u_4_im * _t891 + S_u_4_re * _t890
+    _t893 = S_u_0_im * S_u_1_re + S_u_0_re * S_u_1_im
+    _t894 = S_u_0_im * S_u_1_im - S_u_0_re * S_u_1_re
+    _t895 = -_t894
+    _t896 = S_u_2_im * _t895 + S_u_2_re * _t893
+    _t897 = -S_u_2_im * _t893 + S_u_2_re * _t895
+    _t898 = S_u_3_im * _t897 + S_u_3_re * _t896
+    _t899 = -S_u_3_im * _t896 + S_u_3_re * _t897
+    _t900 = S_u_4_im * _t899 + S_u_4_re * _t898
+    _t901 = -D_u_1_im * _t376 + D_u_1_re * _t377
+    _t902 = -S_u_0_im * _t870 + S_u_0_re * _t871
+    _t903 = -S_u_2_im * _t875 + S_u_2_re * _t876
+    _t904 = -S_u_2_im * _t880 + S_u_2_re * _t881
+    _t905 = -S_u_4_im * _t885 + S_u_4_re * _t886
+    _t906 = -S_u_4_im * _t890 + S_u_4_re * _t891
+    _t907 = -S_u_4_im * _t898 + S_u_4_re * _t899
+    _t908 = D_u_4_im * _t115 + D_u_4_re * _t117
+    _t909 = -D_u_4_im * _t117 + D_u_4_re * _t115
+    _t910 = S_u_0_im * _t909 + S_u_0_re * _t908
+    _t911 = -S_u_0_im * _t908 + S_u_0_re * _t909
+    _t912 = S_u_1_im * _t911 + S_u_1_re * _t910
+    _t913 = S_u_3_im * _t48 + S_u_3_re * _t47
+    _t914 = -S_u_3_im * _t47 + S_u_3_re * _t48
+    _t915 = S_u_4_im * _t914 + S_u_4_re * _t913
+    _t916 = -S_u_1_im * _t910 + S_u_1_re * _t911
+    _t917 = -S_u_4_im * _t913 + S_u_4_re * _t914
+    _t918 = D_u_4_im * _t178 + D_u_4_re * _t116
+    _t919 = -D_u_4_im * _t116 + D_u_4_re * _t178
+    _t920 = S_u_0_im * _t919 + S_u_0_re * _t918
+    _t921 = -S_u_0_im * _t918 + S_u_0_re * _t919
+    _t922 = S_u_1_im * _t921 + S_u_1_re * _t920
+    _t923 = D_u_1_im * _t373 + D_u_1_re * _t45
+    _t924 = -D_u_1_im * _t45 + D_u_1_re * _t373
+    _t925 = S_u_3_im * _t924 + S_u_3_re * _t923
+    _t926 = -S_u_3_im * _t923 + S_u_3_re * _t924
+    _t927 = S_u_4_im * _t926 + S_u_4_re * _t925
+    _t928 = -S_u_1_im * _t920 + S_u_1_re * _t921
+    _t929 = -S_u_4_im * _t925 + S_u_4_re * _t926
+    _t930 = D_u_1_im * _t520 + D_u_1_re * _t519
+    _t931 = D_u_1_im * _t380 + D_u_1_re * _t522
+    _t932 = -D_u_1_im * _t522 + D_u_1_re * _t380
+    _t933 = D_u_4_im * _t932 + D_u_4_re * _t931
+    _t934 = -D_u_4_im * _t931 + D_u_4_re * _t932
+    _t935 = S_u_0_im * _t934 + S_u_0_re * _t933
+    _t936 = D_u_4_im * _t388 + D_u_4_re * _t528
+    _t937 = -D_u_4_im * _t528 + D_u_4_re * _t388
+    _t938 = S_u_1_im * _t937 + S_u_1_re * _t936
+    _t939 = -S_u_1_im * _t936 + S_u_1_re * _t937
+    _t940 = S_u_2_im * _t939 + S_u_2_re * _t938
+    _t941 = D_u_0_im * _t312 + D_u_0_re * _t563
+    _t942 = -D_u_0_im * _t563 + D_u_0_re * _t312
+    _t943 = D_u_3_im * _t942 + D_u_3_re * _t941
+    _t944 = -D_u_3_im * _t941 + D_u_3_re * _t942
+    _t945 = S_u_2_im * _t944 + S_u_2_re * _t943
+    _t946 = D_u_1_im * _t396 + D_u_1_re * _t468
+    _t947 = -D_u_1_im * _t468 + D_u_1_re * _t396
+    _t948 = S_u_0_im * _t947 + S_u_0_re * _t946
+    _t949 = -S_u_0_im * _t946 + S_u_0_re * _t947
+    _t950 = S_u_4_im * _t949 + S_u_4_re * _t948
+    _t951 = S_u_1_im * _t404 + S_u_1_re * _t474
+    _t952 = -S_u_1_im * _t474 + S_u_1_re * _t404
+    _t953 = S_u_2_im * _t952 + S_u_2_re * _t951
+    _t954 = -S_u_2_im * _t951 + S_u_2_re * _t952
+    _t955 = S_u_4_im * _t954 + S_u_4_re * _t953
+    _t956 = -_t893
+    _t957 = S_u_2_im * _t894 + S_u_2_re * _t956
+    _t958 = -S_u_2_im * _t956 + S_u_2_re * _t894
+    _t959 = S_u_3_im * _t958 + S_u_3_re * _t957
+    _t960 = -S_u_3_im * _t957 + S_u_3_re * _t958
+    _t961 = S_u_4_im * _t960 + S_u_4_re * _t959
+    _t962 = -D_u_1_im * _t519 + D_u_1_re * _t520
+    _t963 = -S_u_0_im * _t933 + S_u_0_re * _t934
+    _t964 = -S_u_2_im * _t938 + S_u_2_re * _t939
+    _t965 = -S_u_2_im * _t943 + S_u_2_re * _t944
+    _t966 = -S_u_4_im * _t948 + S_u_4_re * _t949
+    _t967 = -S_u_4_im * _t953 + S_u_4_re * _t954
+    _t968 = -S_u_4_im * _t959 + S_u_4_re * _t960
+    _t969 = (
+        S_u_1_im * _t305
+        + S_u_1_re * _t298
+        + S_u_4_im * _t291
+        + S_u_4_im * _t292
+        + S_u_4_re * _t274
+        + S_u_4_re * _t282
+        + S_u_5_im * _t293
+        + S_u_5_im * _t306
+        + S_u_5_re * _t290
+        + S_u_5_re * _t304
+    )
+    _t970 = (
+        D_u_5_im * _t327
+        + D_u_5_re * _t310
+        + S_u_3_im * _t328
+        + S_u_3_re * _t318
+        + S_u_4_im * _t329
+        + S_u_4_re * _t326
+    )
+    _t971 = (
+        S_u_1_im * _t364
+        + S_u_1_re * _t347
+        + S_u_2_im * _t341
+        + S_u_2_re * _t335
+        + S_u_3_im * _t365
+        + S_u_3_im * _t366
+        + S_u_3_re * _t355
+        + S_u_3_re * _t363
+        + S_u_4_im * _t342
+        + S_u_4_re * _t340
+    )
+    _t972 = (
+        D_u_3_im * _t419
+        + D_u_3_re * _t372
+        + S_u_4_im * _t420
+        + S_u_4_im * _t421
+        + S_u_4_im * _t422
+        + S_u_4_im * _t436
+        + S_u_4_re * _t378
+        + S_u_4_re * _t386
+        + S_u_4_re * _t394
+        + S_u_4_re * _t430
+        + S_u_5_im * _t423
+        + S_u_5_im * _t424
+        + S_u_5_im * _t425
+        + S_u_5_im * _t437
+        + S_u_5_re * _t402
+        + S_u_5_re * _t410
+        + S_u_5_re * _t418
+        + S_u_5_re * _t435
+    )
+    _t973 = (
+        S_u_1_im * _t496
+        + S_u_1_re * _t473
+        + S_u_2_im * _t497
+        + S_u_2_re * _t479
+        + S_u_3_im * _t463
+        + S_u_3_im * _t498
+        + S_u_3_re * _t443
+        + S_u_3_re * _t487
+        + S_u_5_im * _t464
+        + S_u_5_im * _t465
+        + S_u_5_im * _t466
+        + S_u_5_im * _t467
+        + S_u_5_im * _t499
+        + S_u_5_re * _t446
+        + S_u_5_re * _t449
+        + S_u_5_re * _t457
+        + S_u_5_re * _t462
+        + S_u_5_re * _t495
+    )
+    _t974 = (
+        D_u_3_im * _t550
+        + D_u_3_re * _t518
+        + S_u_4_im * _t511
+        + S_u_4_im * _t551
+        + S_u_4_im * _t552
+        + S_u_4_im * _t553
+        + S_u_4_re * _t505
+        + S_u_4_re * _t521
+        + S_u_4_re * _t527
+        + S_u_4_re * _t533
+        + S_u_5_im * _t512
+        + S_u_5_im * _t554
+        + S_u_5_im * _t555
+        + S_u_5_im * _t556
+        + S_u_5_re * _t510
+        + S_u_5_re * _t538
+        + S_u_5_re * _t543
+        + S_u_5_re * _t549
+    )
+    _t975 = (
+        D_u_5_im * _t575
+        + D_u_5_re * _t562
+        + S_u_3_im * _t576
+        + S_u_3_re * _t568
+        + S_u_4_im * _t577
+        + S_u_4_re * _t574
+    )
+    _t976 = (
+        S_u_0_im * _t607
+        + S_u_0_re * _t601
+        + S_u_3_im * _t593
+        + S_u_3_re * _t583
+        + S_u_5_im * _t594
+        + S_u_5_im * _t595
+        + S_u_5_im * _t608
+        + S_u_5_re * _t586
+        + S_u_5_re * _t592
+        + S_u_5_re * _t606
+    )
+    _t977 = (
+        S_u_2_im * _t661
+        + S_u_2_re * _t638
+        + S_u_4_im * _t630
+        + S_u_4_im * _t662
+        + S_u_4_im * _t663
+        + S_u_4_im * _t664
+        + S_u_4_re * _t612
+        + S_u_4_re * _t641
+        + S_u_4_re * _t644
+        + S_u_4_re * _t652
+        + S_u_5_im * _t631
+        + S_u_5_im * _t632
+        + S_u_5_im * _t633
+        + S_u_5_im * _t665
+        + S_u_5_re * _t615
+        + S_u_5_re * _t621
+        + S_u_5_re * _t629
+        + S_u_5_re * _t660
+    )
+    _t978 = (
+        S_u_0_im * _t698
+        + S_u_0_re * _t685
+        + S_u_2_im * _t699
+        + S_u_2_re * _t690
+        + S_u_3_im * _t679
+        + S_u_3_im * _t700
+        + S_u_3_re * _t671
+        + S_u_3_re * _t697
+        + S_u_4_im * _t680
+        + S_u_4_re * _t678
+    )
+    _t979 = (
+        S_u_1_im * _t710
+        + S_u_1_re * _t706
+        + S_u_4_im * _t726
+        + S_u_4_im * _t727
+        + S_u_4_re * _t714
+        + S_u_4_re * _t720
+        + S_u_5_im * _t711
+        + S_u_5_im * _t728
+        + S_u_5_re * _t709
+        + S_u_5_re * _t725
+    )
+    _t980 = (
+        S_u_1_im * _t745
+        + S_u_1_re * _t732
+        + S_u_2_im * _t759
+        + S_u_2_re * _t753
+        + S_u_3_im * _t746
+        + S_u_3_im * _t747
+        + S_u_3_re * _t738
+        + S_u_3_re * _t744
+        + S_u_4_im * _t760
+        + S_u_4_re * _t758
+    )
+    _t981 = (
+        S_u_1_im * _t784
+        + S_u_1_re * _t766
+        + S_u_2_im * _t785
+        + S_u_2_re * _t771
+        + S_u_3_im * _t786
+        + S_u_3_im * _t811
+        + S_u_3_re * _t777
+        + S_u_3_re * _t792
+        + S_u_5_im * _t787
+        + S_u_5_im * _t812
+        + S_u_5_im * _t813
+        + S_u_5_im * _t814
+        + S_u_5_im * _t815
+        + S_u_5_re * _t783
+        + S_u_5_re * _t795
+        + S_u_5_re * _t798
+        + S_u_5_re * _t804
+        + S_u_5_re * _t810
+    )
+    _t982 = (
+        S_u_2_im * _t840
+        + S_u_2_re * _t821
+        + S_u_4_im * _t841
+        + S_u_4_im * _t842
+        + S_u_4_im * _t843
+        + S_u_4_im * _t862
+        + S_u_4_re * _t824
+        + S_u_4_re * _t827
+        + S_u_4_re * _t833
+        + S_u_4_re * _t847
+        + S_u_5_im * _t844
+        + S_u_5_im * _t863
+        + S_u_5_im * _t864
+        + S_u_5_im * _t865
+        + S_u_5_re * _t839
+        + S_u_5_re * _t850
+        + S_u_5_re * _t855
+        + S_u_5_re * _t861
+    )
+    re = numpy.zeros(shape + (79,))
+    re[..., 0] = -_t18 - _t8
+    re[..., 1] = -L4_im * _t28 + L4_re * _t29
+    re[..., 2] = -L4_im * _t30 - L4_im * _t31 + L4_re * _t32 + L4_re * _t33
+    re[..., 3] = -L4_im * _t42 - L4_im * _t53 + L4_re * _t43 + L4_re * _t54
+    re[..., 4] = -S_u_4_im * _t62 + S_u_4_re * _t71 - S_u_5_im * _t70 + S_u_5_re * _t72
+    re[..., 5] = -L4_im * _t81 + L4_re * _t82
+    re[..., 6] = -L4_im * _t90 - L4_im * _t98 + L4_re * _t100 + L4_re * _t99
+    re[..., 7] = -L4_im * _t113 - L4_im * _t124 + L4_re * _t114 + L4_re * _t125
+    re[..., 8] = -_t132 - _t141
+    re[..., 9] = -L4_im * _t151 + L4_re * _t152
+    re[..., 10] = -L4_im * _t153 - L4_im * _t155 + L4_re * _t154 + L4_re * _t156
+    re[..., 11] = -L4_im * _t166 - L4_im * _t175 + L4_re * _t176 + L4_re * _t177
+    re[..., 12] = -S_u_4_im * _t183 + S_u_4_re * _t184 - S_u_5_im * _t190 + S_u_5_re * _t191
+    re[..., 13] = -L4_im * _t201 + L4_re * _t202
+    re[..., 14] = -L4_im * _t207 - L4_im * _t209 + L4_re * _t208 + L4_re * _t210
+    re[..., 15] = -L4_im * _t213 - L4_im * _t216 + L4_re * _t217 + L4_re * _t218
+    re[..., 16] = -L1_im * _t227 + L1_re * _t228
+    re[..., 17] = _t234
+    re[..., 18] = -L4_im * _t239 + L4_re * _t240
+    re[..., 19] = -L4_im * _t241 + L4_re * _t234
+    re[..., 20] = -L4_im * _t246 + L4_re * _t247
+    re[..., 21] = -D_u_2_im * _t251 + D_u_2_re * _t252
+    re[..., 22] = -L4_im * _t257 + L4_re * _t258
+    re[..., 23] = -L4_im * _t262 + L4_re * _t263
+    re[..., 24] = -L4_im * _t268 + L4_re * _t269
+    re[..., 25] = _t307
+    re[..., 26] = _t330
+    re[..., 27] = _t367
+    re[..., 28] = _t438
+    re[..., 29] = _t500
+    re[..., 30] = _t557
+    re[..., 31] = _t367
+    re[..., 32] = _t578
+    re[..., 33] = _t307
+    re[..., 34] = _t609
+    re[..., 35] = _t666
+    re[..., 36] = _t701
+    re[..., 37] = _t729
+    re[..., 38] = _t578
+    re[..., 39] = _t761
+    re[..., 40] = _t557
+    re[..., 41] = _t500
+    re[..., 42] = _t438
+    re[..., 43] = _t761
+    re[..., 44] = _t330
+    re[..., 45] = _t729
+    re[..., 46] = _t609
+    re[..., 47] = _t666
+    re[..., 48] = _t701
+    re[..., 49] = _t330
+    re[..., 50] = _t729
+    re[..., 51] = _t609
+    re[..., 52] = _t578
+    re[..., 53] = _t307
+    re[..., 54] = _t609
+    re[..., 55] = _t367
+    re[..., 56] = _t438
+    re[..., 57] = _t816
+    re[..., 58] = _t761
+    re[..., 59] = _t557
+    re[..., 60] = _t816
+    re[..., 61] = _t701
+    re[..., 62] = _t866
+    re[..., 63] = (
+        -D_u_4_im * _t867
+        + D_u_4_re * _t901
+        - S_u_2_im * _t912
+        + S_u_2_re * _t916
+        - S_u_3_im * _t872
+        - S_u_3_im * _t877
+        + S_u_3_re * _t902
+        + S_u_3_re * _t903
+        - S_u_5_im * _t882
+        - S_u_5_im * _t887
+        - S_u_5_im * _t892
+        - S_u_5_im * _t900
+        - S_u_5_im * _t915
+        + S_u_5_re * _t904
+        + S_u_5_re * _t905
+        + S_u_5_re * _t906
+        + S_u_5_re * _t907
+        + S_u_5_re * _t917
+    )
+    re[..., 64] = _t701
+    re[..., 65] = _t866
+    re[..., 66] = (
+        -D_u_4_im * _t930
+        + D_u_4_re * _t962
+        - S_u_2_im * _t922
+        + S_u_2_re * _t928
+        - S_u_3_im * _t935
+        - S_u_3_im * _t940
+        + S_u_3_re * _t963
+        + S_u_3_re * _t964
+        - S_u_5_im * _t927
+        - S_u_5_im * _t945
+        - S_u_5_im * _t950
+        - S_u_5_im * _t955
+        - S_u_5_im * _t961
+        + S_u_5_re * _t929
+        + S_u_5_re * _t965
+        + S_u_5_re * _t966
+        + S_u_5_re * _t967
+        + S_u_5_re * _t968
+    )
+    re[..., 67] = 1
+    re[..., 68] = 1
+    re[..., 69] = -1
+    re[..., 70] = 1
+    re[..., 71] = 1
+    re[..., 72] = -1
+    re[..., 73] = 1
+    re[..., 74] = 1
+    re[..., 75] = -1
+    re[..., 76] = 1
+    re[..., 77] = 1
+    re[..., 78] = -1
+    im = numpy.zeros(shape + (79,))
+    im[..., 0] = _t30 + _t31
+    im[..., 1] = L4_im * _t29 + L4_re * _t28
+    im[..., 2] = L4_im * _t32 + L4_im * _t33 + L4_re * _t30 + L4_re * _t31
+    im[..., 3] = L4_im * _t43 + L4_im * _t54 + L4_re * _t42 + L4_re * _t53
+    im[..., 4] = S_u_4_im * _t71 + S_u_4_re * _t62 + S_u_5_im * _t72 + S_u_5_re * _t70
+    im[..., 5] = L4_im * _t82 + L4_re * _t81
+    im[..., 6] = L4_im * _t100 + L4_im * _t99 + L4_re * _t90 + L4_re * _t98
+    im[..., 7] = L4_im * _t114 + L4_im * _t125 + L4_re * _t113 + L4_re * _t124
+    im[..., 8] = _t153 + _t155
+    im[..., 9] = L4_im * _t152 + L4_re * _t151
+    im[..., 10] = L4_im * _t154 + L4_im * _t156 + L4_re * _t153 + L4_re * _t155
+    im[..., 11] = L4_im * _t176 + L4_im * _t177 + L4_re * _t166 + L4_re * _t175
+    im[..., 12] = S_u_4_im * _t184 + S_u_4_re * _t183 + S_u_5_im * _t191 + S_u_5_re * _t190
+    im[..., 13] = L4_im * _t202 + L4_re * _t201
+    im[..., 14] = L4_im * _t208 + L4_im * _t210 + L4_re * _t207 + L4_re * _t209
+    im[..., 15] = L4_im * _t217 + L4_im * _t218 + L4_re * _t213 + L4_re * _t216
+    im[..., 16] = L1_im * _t228 + L1_re * _t227
+    im[..., 17] = _t241
+    im[..., 18] = L4_im * _t240 + L4_re * _t239
+    im[..., 19] = L4_im * _t234 + L4_re * _t241
+    im[..., 20] = L4_im * _t247 + L4_re * _t246
+    im[..., 21] = D_u_2_im * _t252 + D_u_2_re * _t251
+    im[..., 22] = L4_im * _t258 + L4_re * _t257
+    im[..., 23] = L4_im * _t263 + L4_re * _t262
+    im[..., 24] = L4_im * _t269 + L4_re * _t268
+    im[..., 25] = _t969
+    im[..., 26] = _t970
+    im[..., 27] = _t971
+    im[..., 28] = _t972
+    im[..., 29] = _t973
+    im[..., 30] = _t974
+    im[..., 31] = _t971
+    im[..., 32] = _t975
+    im[..., 33] = _t969
+    im[..., 34] = _t976
+    im[..., 35] = _t977
+    im[..., 36] = _t978
+    im[..., 37] = _t979
+    im[..., 38] = _t975
+    im[..., 39] = _t980
+    im[..., 40] = _t974
+    im[..., 41] = _t973
+    im[..., 42] = _t972
+    im[..., 43] = _t980
+    im[..., 44] = _t970
+    im[..., 45] = _t979
+    im[..., 46] = _t976
+    im[..., 47] = _t977
+    im[..., 48] = _t978
+    im[..., 49] = _t970
+    im[..., 50] = _t979
+    im[..., 51] = _t976
+    im[..., 52] = _t975
+    im[..., 53] = _t969
+    im[..., 54] = _t976
+    im[..., 55] = _t971
+    im[..., 56] = _t972
+    im[..., 57] = _t981
+    im[..., 58] = _t980
+    im[..., 59] = _t974
+    im[..., 60] = _t981
+    im[..., 61] = _t978
+    im[..., 62] = _t982
+    im[..., 63] = (
+        D_u_4_im * _t901
+        + D_u_4_re * _t867
+        + S_u_2_im * _t916
+        + S_u_2_re * _t912
+        + S_u_3_im * _t902
+        + S_u_3_im * _t903
+        + S_u_3_re * _t872
+        + S_u_3_re * _t877
+        + S_u_5_im * _t904
+        + S_u_5_im * _t905
+        + S_u_5_im * _t906
+        + S_u_5_im * _t907
+        + S_u_5_im * _t917
+        + S_u_5_re * _t882
+        + S_u_5_re * _t887
+        + S_u_5_re * _t892
+        + S_u_5_re * _t900
+        + S_u_5_re * _t915
+    )
+    im[..., 64] = _t978
+    im[..., 65] = _t982
+    im[..., 66] = (
+        D_u_4_im * _t962
+        + D_u_4_re * _t930
+        + S_u_2_im * _t928
+        + S_u_2_re * _t922
+        + S_u_3_im * _t963
+        + S_u_3_im * _t964
+        + S_u_3_re * _t935
+        + S_u_3_re * _t940
+        + S_u_5_im * _t929
+        + S_u_5_im * _t965
+        + S_u_5_im * _t966
+        + S_u_5_im * _t967
+        + S_u_5_im * _t968
+        + S_u_5_re * _t927
+        + S_u_5_re * _t945
+        + S_u_5_re * _t950
+        + S_u_5_re * _t955
+        + S_u_5_re * _t961
+    )
+    return {
+        "re": re,
+        "im": im,
+    }
+
+
+def automatic_passive(z, params):
+    """Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+
+    Operations: 4.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(z)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    z0 = z[..., 0]
+    z1 = z[..., 1]
+    z2 = z[..., 2]
+    z3 = z[..., 3]
+    z4 = z[..., 4]
+    z5 = z[..., 5]
+    z6 = z[..., 6]
+    z7 = z[..., 7]
+    z8 = z[..., 8]
+    z9 = z[..., 9]
+    passive = numpy.zeros(shape + (6,))
+    passive[..., 0] = z0
+    passive[..., 1] = numpy.arctan2(z2, z1)
+    passive[..., 2] = numpy.arctan2(z4, z3)
+    passive[..., 3] = z5
+    passive[..., 4] = numpy.arctan2(z7, z6)
+    passive[..., 5] = numpy.arctan2(z9, z8)
+    return {
+        "passive": passive,
+    }
+
+
 KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
@@ -1832,4 +3549,7 @@ KERNELS = {
     "inverse_pose_patterns": inverse_pose_patterns,
     "forward_polynomial": forward_polynomial,
     "forward_back_substitution": forward_back_substitution,
+    "automatic_family": automatic_family,
+    "automatic_monomials": automatic_monomials,
+    "automatic_passive": automatic_passive,
 }

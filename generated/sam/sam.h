@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 488
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
+//   automatic_family: 0
+//   automatic_monomials: 3787
+//   automatic_passive: 4
 
 // Public C interface of the generated sam solvers: Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000).
 // R. L. Williams II, D. B. Poling (2000)
@@ -167,6 +170,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } sam_modes_job;
 
 int sam_forward_pose_all(const sam_modes_job* job);
@@ -213,6 +217,18 @@ int sam_forward_polynomial_batch(long long n, const double** inputs, const long 
 //   inputs: actuated[6], root[1], branch[1], params[2]
 //   outputs: pose[4 x 4]
 int sam_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[6], params[2]
+//   outputs: free[2], angles[6]
+int sam_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[20], family_im[20]
+//   outputs: re[79], im[79]
+int sam_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[10], params[2]
+//   outputs: passive[6]
+int sam_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 643
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
+//   automatic_family: 0
+//   automatic_monomials: 14496
+//   automatic_passive: 3
 
 // Batched entry points over the CasADi-generated kernels of spm, the forward-pose Newton loop
 // and the whole every-assembly-mode pipeline, so that one call does a whole batch. Arrays are
@@ -31,7 +34,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (103 + 1)
+#define SZ_W (734 + 1)
 
 int spm_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -268,6 +271,70 @@ int spm_forward_back_substitution_batch(long long n, const double** inputs, cons
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
                 outputs[0][i * 16 + r * 4 + c] = out_pose[c * 4 + r];
+    }
+    return 0;
+}
+
+int spm_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[1 + 1];
+    casadi_real out_free[1 + 1];
+    casadi_real out_angles[7 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_free;
+        res[1] = out_angles;
+        if (spm_automatic_family(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 1; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 1 + r * 1 + c] = out_free[c * 1 + r];
+        for (int r = 0; r < 7; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 7 + r * 1 + c] = out_angles[c * 7 + r];
+    }
+    return 0;
+}
+
+int spm_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[734 + 1];
+    casadi_real out_re[36 + 1];
+    casadi_real out_im[36 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_re;
+        res[1] = out_im;
+        if (spm_automatic_monomials(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 36; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 36 + r * 1 + c] = out_re[c * 36 + r];
+        for (int r = 0; r < 36; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[1][i * 36 + r * 1 + c] = out_im[c * 36 + r];
+    }
+    return 0;
+}
+
+int spm_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[2];
+    casadi_real* res[1];
+    casadi_int iw[0 + 1];
+    casadi_real w[2 + 1];
+    casadi_real out_passive[3 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        res[0] = out_passive;
+        if (spm_automatic_passive(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 1; ++c)
+                outputs[0][i * 3 + r * 1 + c] = out_passive[c * 3 + r];
     }
     return 0;
 }

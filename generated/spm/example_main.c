@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 643
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
+//   automatic_family: 0
+//   automatic_monomials: 14496
+//   automatic_passive: 3
 
 // Example: the spm solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -75,6 +78,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     spm_forward_pose_all(&all);
     printf("spm: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

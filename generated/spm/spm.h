@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 643
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
+//   automatic_family: 0
+//   automatic_monomials: 14496
+//   automatic_passive: 3
 
 // Public C interface of the generated spm solvers: 3-RRR spherical parallel manipulator (Bai, Hansen & Angeles 2009 parametrisation).
 // V. R. Ashtekar (None)
@@ -168,6 +171,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } spm_modes_job;
 
 int spm_forward_pose_all(const spm_modes_job* job);
@@ -214,6 +218,18 @@ int spm_forward_polynomial_batch(long long n, const double** inputs, const long 
 //   inputs: actuated[3], root[1], branch[1], params[4]
 //   outputs: pose[4 x 4]
 int spm_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[3], params[4]
+//   outputs: free[1], angles[7]
+int spm_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[21], family_im[21]
+//   outputs: re[36], im[36]
+int spm_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[6], params[4]
+//   outputs: passive[3]
+int spm_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

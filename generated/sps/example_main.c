@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 284
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
+//   automatic_family: 106
+//   automatic_monomials: 5086
+//   automatic_passive: 3
 
 // Example: the sps solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -75,6 +78,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     sps_forward_pose_all(&all);
     printf("sps: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

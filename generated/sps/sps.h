@@ -11,6 +11,9 @@
 //   inverse_pose_patterns: 284
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
+//   automatic_family: 106
+//   automatic_monomials: 5086
+//   automatic_passive: 3
 
 // Public C interface of the generated sps solvers: 3(SPS)-S spherical platform with three linear actuators (Knapczyk & Tora).
 // J. Knapczyk, G. Tora (None)
@@ -217,6 +220,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } sps_modes_job;
 
 int sps_forward_pose_all(const sps_modes_job* job);
@@ -263,6 +267,18 @@ int sps_forward_polynomial_batch(long long n, const double** inputs, const long 
 //   inputs: actuated[3], root[1], branch[1], params[16]
 //   outputs: pose[4 x 4]
 int sps_forward_back_substitution_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[3], params[16]
+//   outputs: free[20], angles[1]
+int sps_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[20], family_im[20]
+//   outputs: re[31], im[31]
+int sps_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[6], params[16]
+//   outputs: passive[3]
+int sps_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

@@ -9,8 +9,12 @@
 //   drawing: 155
 //   inverse_pose: 708
 //   inverse_pose_patterns: 708
-//   homotopy_coefficients: 4535
+//   homotopy_family: 0
+//   homotopy_monomials: 1423
 //   homotopy_passive: 45
+//   automatic_family: 0
+//   automatic_monomials: 1159
+//   automatic_passive: 0
 
 // Example: the stewart solvers from C. Build (from this folder):
 //   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
@@ -75,6 +79,7 @@ int main(void) {
         .near_roots = &near_roots,
         .at_infinity = &at_infinity,
         .status = &status,
+        .endpoints = (double*)0,
     };
     stewart_forward_pose_all(&all);
     printf("stewart: %d assembly modes (%d real roots, %d near-real, %d at infinity), input status %d\n", count,

@@ -9,8 +9,12 @@
 //   drawing: 155
 //   inverse_pose: 708
 //   inverse_pose_patterns: 708
-//   homotopy_coefficients: 4535
+//   homotopy_family: 0
+//   homotopy_monomials: 1423
 //   homotopy_passive: 45
+//   automatic_family: 0
+//   automatic_monomials: 1159
+//   automatic_passive: 0
 
 // Public C interface of the generated stewart solvers: General 6-6 Gough-Stewart platform (6-SPS), every assembly mode by homotopy.
 // P. Dietmaier (1998)
@@ -201,6 +205,7 @@ typedef struct {
     int* near_roots;
     int* at_infinity;
     int* status;
+    double* endpoints;
 } stewart_modes_job;
 
 int stewart_forward_pose_all(const stewart_modes_job* job);
@@ -239,14 +244,30 @@ int stewart_inverse_pose_batch(long long n, const double** inputs, const long lo
 //   inputs: pose[12], params[36]
 //   outputs: actuated[6], passive[7], validity[6]
 int stewart_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
-// Coefficients of the homotopy H(z, s) = F(z; (1 - s) p + s p_start) as polynomials in s: flat index ((part * POWERS + d) * EQUATIONS + k) * TERMS + t for part 0 (real) / 1 (imaginary), the coefficient of s^d, equation k and term t: the symmetric matrix M (t = i * n + j) of the quadratic part z^T M z, then the linear part (t = n * n + i), then the constant (t = n * n + n). 'alternative': the same from the second start instance.
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
 //   inputs: actuated[6], params[36]
-//   outputs: coefficients[3504], alternative[3504]
-int stewart_homotopy_coefficients_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+//   outputs: free[42], angles[1]
+int stewart_homotopy_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[42], family_im[42]
+//   outputs: re[165], im[165]
+int stewart_homotopy_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
 //   inputs: z[8], params[36]
 //   outputs: passive[7]
 int stewart_homotopy_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// The family's parameters at the inputs: the free ones (the manifest's homotopy 'free'), then the angles that enter through the circle parametrisation (the manifest's 'circles').
+//   inputs: actuated[6], params[36]
+//   outputs: free[42], angles[1]
+int stewart_automatic_family_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
+//   inputs: family_re[42], family_im[42]
+//   outputs: re[311], im[311]
+int stewart_automatic_monomials_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Passive variables of a real endpoint z of the homotopy (homogeneous unknowns scaled real).
+//   inputs: z[7], params[36]
+//   outputs: passive[7]
+int stewart_automatic_passive_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 
 #ifdef __cplusplus
 }

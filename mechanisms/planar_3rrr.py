@@ -1,0 +1,257 @@
+"""Planar 3-RRR parallel manipulator: three legs, each an actuated revolute joint on the base
+driving a crank, a passive revolute elbow, a link and a passive revolute joint on the platform
+(Gosselin & Angeles 1988; Merlet, "Parallel Robots", 2006). With the cranks locked the elbows are
+fixed points and the links rigid bars: the forward pose is that of a 3-RPR on the elbows
+(Gosselin, Sefrioui & Richard 1992), a polynomial of degree 6, so at most 6 assembly modes.
+
+Frames and conventions (SI, radians):
+* {B}: the plane of motion is z = 0; base joints A_i = (base_x<i>, base_y<i>, 0) in {B}.
+* Leg i: crank of length a_i at the angle theta_i from the x axis of {B} (counter-clockwise,
+  right-handed about z), elbow E_i = A_i + a_i (cos theta_i, sin theta_i, 0); link of length b_i
+  from E_i to the platform joint B_i.
+* {P}: platform joints c_i = (platform_x<i>, platform_y<i>, 0) in {P}. The pose is planar
+  (pose_kind 'planar'): ^B_P T = [Rot_z(phi), (x, y, 0)]; ``inverse_pose`` also takes (x, y, phi).
+  It reads x = px, y = py, phi = atan2(r21, r11) and nothing else of ^B_P T. B_i = p + R c_i.
+* Actuated variables: theta1..theta3 (revolute). Passive variables (the Newton unknowns): x, y,
+  phi. Residual: (|d_i|^2 - b_i^2) / (2 b_i) with the link d_i = B_i - E_i (metres; |d_i| - b_i
+  to first order), one per leg: a polynomial in (x, y, cos phi, sin phi, cos theta_i, sin
+  theta_i); no false closure (alignment 1).
+* Inverse: with v_i = B_i - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i
+  v_x, F = -2 a_i v_y, G = |v_i|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic
+  (``half_angle_solution``): theta_i = angle(v_i) + sigma_i gamma_i, gamma_i = acos(G / (2 a_i
+  |v_i|)) the angle of the triangle A_i E_i B_i at A_i. sigma_i = +1 turns the crank
+  counter-clockwise from the line A_i -> B_i (the elbow to the left of A_i -> B_i), -1 clockwise.
+  Branch k: signs (sigma1, sigma2, sigma3) of ``InversePose.branches[k]``, branch 0 = all +1.
+  Validity ``leg<i>_reachable`` = (E^2 + F^2 - G^2) / (E^2 + F^2 + G^2), the discriminant made
+  unitless (positive where |a_i - b_i| < |v_i| < a_i + b_i).
+* Rates: A (vx, vy, wz) = B theta_dot with (vx, vy) the velocity of the origin of {P} and wz the
+  angular rate, in {B}, from d_i . d_i = b_i^2: row i of A = (d_x, d_y, ((E_i - p) x d_i) . z)
+  (the planar Pluecker coordinates of link line i, moment about the origin of {P}), B =
+  diag(((E_i - A_i) x d_i) . z). Type I (serial, det B = 0): ``leg<i>_links_aligned``, crank and
+  link i aligned (stretched or folded: the workspace boundary). Type II (det A = 0): the three
+  link lines meet in one point or are parallel (``link_lines_concurrent_or_parallel``, written
+  with the moments about E_1: the same determinant in smaller expressions).
+* Forward pose: none in closed form here (``forward=None``): Newton on the closure from a guess
+  (``forward_pose``), or the generic all-modes stage built from the closure residual.
+* Defaults (illustrative, not from a paper): a symmetric design, base joints on a circle of radius
+  0.5 m and platform joints on a circle of radius 0.3 m, both at 210, 330 and 90 degrees; cranks
+  a_i = 0.3 m, links b_i = 0.35 m. Home: the platform centred, p = 0, phi = 0, on branch 0 (every
+  elbow to the left of A_i -> B_i; closure Jacobian well conditioned, pivot ratio about 0.36).
+* Six real assembly modes: at the defaults the cranks theta = (-54, 174, -105) degrees
+  (``SIX_MODES_INPUT``) admit 6 real assembly modes (``SIX_MODES``, the most a 3-RRR can have),
+  found by a numerical search over whole-degree inputs for the best-conditioned modes, and
+  checked by an independent sign-change scan over phi in tests/test_planar_3rrr.py. It is no
+  actuated ``Example`` yet: the contract test of actuated examples needs ``forward_pose_all``,
+  which a mechanism without a forward model does not have; the example ``six_modes_pose`` checks
+  one of the six poses through the inverse instead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+from parakin.generator.blocks import (
+    as_points,
+    half_angle_solution,
+    laplace_det,
+    planar_coordinates,
+    planar_pose,
+    point_defaults,
+    point_info,
+    point_parameters,
+)
+from parakin.generator.frames import homogeneous, rot_z
+from parakin.generator.model import (
+    Citation,
+    ClosureModel,
+    Drawing,
+    Example,
+    InverseSolution,
+    Mechanism,
+    ParameterInfo,
+    RateModel,
+)
+
+base = point_parameters("base", 3, dims=2)
+platform = point_parameters("platform", 3, dims=2)
+a = sp.symbols("a1:4", positive=True)
+b = sp.symbols("b1:4", positive=True)
+theta = sp.symbols("theta1:4", real=True)
+x, y, phi = sp.symbols("x y phi", real=True)
+PLANAR_TWIST = ["vx", "vy", "wz"]
+Z = sp.Matrix([0, 0, 1])
+
+#: the default geometry (module docstring): joints at 210, 330 and 90 degrees on two circles
+JOINT_ANGLES = (210.0, 330.0, 90.0)
+BASE_RADIUS, PLATFORM_RADIUS, CRANK, LINK = 0.5, 0.3, 0.3, 0.35
+DEFAULT_BASE = [
+    (BASE_RADIUS * math.cos(math.radians(t)), BASE_RADIUS * math.sin(math.radians(t))) for t in JOINT_ANGLES
+]
+DEFAULT_PLATFORM = [
+    (PLATFORM_RADIUS * math.cos(math.radians(t)), PLATFORM_RADIUS * math.sin(math.radians(t))) for t in JOINT_ANGLES
+]
+#: the home pose (x, y, phi) and its branch (module docstring)
+HOME_POSE = (0.0, 0.0, 0.0)
+HOME_BRANCH = 0
+#: crank angles with 6 real assembly modes at the defaults, and those modes (x, y, phi), found
+#: by a scan over phi polished by Newton (tests/test_planar_3rrr.py repeats it independently)
+SIX_MODES_INPUT = [math.radians(-54.0), math.radians(174.0), math.radians(-105.0)]
+SIX_MODES = [
+    (-0.0633914913184828, -0.247787436524072, -0.837992137130137),
+    (0.238213420821159, -0.100651144776091, -0.113264983674809),
+    (-0.341310190669869, -0.330965073705309, -0.0340015587181958),
+    (-0.229881224647207, 0.108128382939028, 0.58075102844872),
+    (0.169458684891306, -0.370815903618212, 0.661504482043328),
+    (-0.0244549608248963, -0.0982334363585854, 1.38545159861974),
+]
+
+
+def elbow(i: int, angle: sp.Expr) -> sp.Matrix:
+    """E_i = A_i + a_i (cos theta_i, sin theta_i, 0)."""
+    return as_points(base)[i] + a[i] * sp.Matrix([sp.cos(angle), sp.sin(angle), 0])
+
+
+def platform_joint(i: int, position_x: sp.Expr, position_y: sp.Expr, angle: sp.Expr) -> sp.Matrix:
+    """B_i = p + Rot_z(phi) c_i."""
+    return sp.Matrix([position_x, position_y, 0]) + rot_z(angle) * as_points(platform)[i]
+
+
+def link(i: int) -> sp.Matrix:
+    """d_i = B_i - E_i(theta_i), in {B}."""
+    return platform_joint(i, x, y, phi) - elbow(i, theta[i])
+
+
+def inverse() -> InverseSolution:
+    """Per leg the tan-half-angle quadratic of E cos + F sin + G = 0 (module docstring)."""
+    sigma = list(sp.symbols("sigma1:4", real=True))
+    steps: list[tuple[sp.Symbol, sp.Expr]] = list(zip((x, y, phi), planar_coordinates(), strict=True))
+    validity = {}
+    for i in range(3):
+        e, f, g = sp.symbols(f"E{i + 1} F{i + 1} G{i + 1}", real=True)
+        v = platform_joint(i, x, y, phi) - as_points(base)[i]
+        steps += [(e, -2 * a[i] * v[0]), (f, -2 * a[i] * v[1]), (g, v.dot(v) + a[i] ** 2 - b[i] ** 2)]
+        # half_angle_solution's sign +1 turns the crank counter-clockwise from A_i -> B_i
+        angle, discriminant = half_angle_solution(e, f, g, sigma[i])
+        steps.append((theta[i], angle))
+        # relative to E^2 + F^2 + G^2 (a length^4, as the discriminant): the same tolerance at any size
+        validity[f"leg{i + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
+    return InverseSolution(steps, sigma, validity)
+
+
+def residual() -> sp.Matrix:
+    """(|d_i|^2 - b_i^2) / (2 b_i), one row per leg (module docstring)."""
+    return sp.Matrix([(d.dot(d) - b[i] ** 2) / (2 * b[i]) for i, d in enumerate(link(i) for i in range(3))])
+
+
+def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
+    """d_i . (v + w x (B_i - p)) = d_i . dE_i/dtheta_i theta_dot_i, with (B_i - p) x d_i =
+    (E_i - p) x d_i and dE_i/dtheta_i = z x (E_i - A_i)."""
+    position = sp.Matrix([x, y, 0])
+    links = [link(i) for i in range(3)]
+    elbows = [elbow(i, theta[i]) for i in range(3)]
+    rows = [[d[0], d[1], (e - position).cross(d)[2]] for e, d in zip(elbows, links, strict=True)]
+    diagonal = [(elbows[i] - as_points(base)[i]).cross(links[i])[2] for i in range(3)]
+    model = RateModel(
+        twist=PLANAR_TWIST,
+        a=sp.Matrix(rows),
+        b=sp.diag(*diagonal),
+        serial_factors={f"leg{i + 1}_links_aligned": diagonal[i] for i in range(3)},
+    )
+    # the moments about E_1 instead of p: column 3 minus a combination of columns 1 and 2 with
+    # the same coefficients in every row, so the same determinant
+    about_first = [[d[0], d[1], (e - elbows[0]).cross(d)[2]] for e, d in zip(elbows, links, strict=True)]
+    return model, {"link_lines_concurrent_or_parallel": laplace_det(sp.Matrix(about_first))}
+
+
+def drawing() -> Drawing:
+    """Base joints A_i, elbows E_i and platform joints B_i (in {B}, z = 0): each leg A_i -> E_i
+    -> B_i, the base and the platform triangles."""
+    return Drawing(
+        points={
+            "base": sp.Matrix.hstack(*as_points(base)),
+            "elbow": sp.Matrix.hstack(*(elbow(i, theta[i]) for i in range(3))),
+            "platform": sp.Matrix.hstack(*(platform_joint(i, x, y, phi) for i in range(3))),
+        },
+        polylines={
+            **{f"leg{i + 1}": [("base", i), ("elbow", i), ("platform", i)] for i in range(3)},
+            "base": [("base", i % 3) for i in range(4)],
+            "platform": [("platform", i % 3) for i in range(4)],
+        },
+    )
+
+
+def defaults() -> dict[sp.Symbol, float]:
+    return (
+        point_defaults(base, DEFAULT_BASE)
+        | point_defaults(platform, DEFAULT_PLATFORM)
+        | dict.fromkeys(a, CRANK)
+        | dict.fromkeys(b, LINK)
+    )
+
+
+def pose_list(px: float, py: float, angle: float) -> list[list[float]]:
+    transform = homogeneous(rot_z(sp.Float(angle, 17)), [px, py, 0])
+    return [[float(transform[i, j]) for j in range(4)] for i in range(4)]
+
+
+def home() -> dict[sp.Symbol, float]:
+    """The inverse of HOME_POSE on HOME_BRANCH at the default geometry."""
+    pose = sp.Matrix(pose_list(*HOME_POSE))
+    values = inverse().at(pose[:3, :3], pose[:3, 3], HOME_BRANCH, defaults())
+    return {v: values[v] for v in (*theta, x, y, phi)}
+
+
+EXAMPLES = [
+    Example(
+        name="six_modes_pose",
+        description="Mode 3 of the six real assembly modes of theta = (-54, 174, -105) deg at the "
+        "defaults (SIX_MODES: found by a numerical search, confirmed by an independent scan over phi "
+        "in tests/test_planar_3rrr.py): its inverse has a valid branch with these crank angles",
+        pose=pose_list(*SIX_MODES[3]),
+        expected={"actuated": SIX_MODES_INPUT, "passive": list(SIX_MODES[3])},
+        tolerance=1e-9,
+    ),
+    Example(
+        name="six_real_modes",
+        description="theta = (-54, 174, -105) deg at the defaults has 6 real assembly modes (the most a "
+        "3-RRR can have; an independent scan over phi in tests/test_planar_3rrr.py), all of them found from "
+        "the polynomial form the generator derives from the closure",
+        actuated=SIX_MODES_INPUT,
+        expected={"mode_count": 6, "poses": [pose_list(*mode) for mode in SIX_MODES]},
+        tolerance=1e-9,
+    ),
+]
+
+
+def build() -> Mechanism:
+    rate_model, parallel = rates()
+    return Mechanism(
+        name="planar_3rrr",
+        title="Planar 3-RRR parallel manipulator (Gosselin & Angeles 1988): three actuated cranks",
+        citation=Citation(
+            ("C. Gosselin", "J. Angeles"),
+            "The optimum kinematic design of a planar three-degree-of-freedom parallel manipulator",
+            1988,
+            "ASME Journal of Mechanisms, Transmissions, and Automation in Design 110(1), pp. 35-41",
+        ),
+        parameters=defaults(),
+        actuated=list(theta),
+        passive=[x, y, phi],
+        legs=[],
+        inverse=inverse(),
+        forward=None,
+        home=home(),
+        angular=[*theta, phi],
+        parallel_factors=parallel,
+        closure=ClosureModel(residual(), sp.Matrix([sp.Integer(1)]), planar_pose(x, y, phi)),
+        rates=rate_model,
+        pose_kind="planar",
+        parameter_info=point_info(base, "base joint A{k} (crank axis), in {B}")
+        | point_info(platform, "platform joint c{k}, in {P}")
+        | {a[i]: ParameterInfo("m", f"crank {i + 1} length |E{i + 1} - A{i + 1}|", "positive") for i in range(3)}
+        | {b[i]: ParameterInfo("m", f"link {i + 1} length |B{i + 1} - E{i + 1}|", "positive") for i in range(3)},
+        parameter_groups={"base": base, "platform": platform},
+        examples=EXAMPLES,
+        drawing=drawing(),
+    )

@@ -1,0 +1,275 @@
+"""Certified roots of square polynomial systems: Krawczyk's test in norm form, NumPy only.
+
+A system of n equations in n complex unknowns z is sparse: term t is ``coefficients[..., t] *
+prod_i z_i ** exponents[t, i]`` in equation ``equation[t]``; leading axes of ``coefficients`` are a
+batch of systems. :func:`certify_roots` proves per candidate that a box (max-norm ball, a polydisk)
+around it holds exactly one root, decides whether that root is real, and whether the boxes of an
+input are disjoint: certified, distinct real endpoints of a homotopy are then provably distinct roots.
+
+The test (Krawczyk 1969; Rump, Acta Numerica 2010; Breiding, Rose, Timme, ACM TOMS 2023): for a
+centre x, any matrix Y and B = B(x, r), if
+    ||Y F(x)|| + (||I - Y J(x)|| + ||Y|| L(r)) r < r,   L(r) >= max_{z in B} ||J(z) - J(x)||
+(max-norm, operator infinity norm), then z -> z - Y F(z) maps B into itself with Lipschitz constant
+< 1 and Y is invertible, so B holds exactly one root. We take L(r) = r max_k H_k(rho), rho = |x| + r,
+    H_k(rho) = sum_{t in equation k} |c_t| sum_{i,j} a_ti (a_tj - [i = j]) rho^(a_t - e_i - e_j):
+for |h_j| <= r, |(x + h)^b - x^b| <= rho^b - |x|^b (expand the product, triangle inequality)
+<= r sum_j b_j rho^(b - e_j) (mean value theorem on s -> (|x| + s)^b, whose derivative grows with s);
+with b = a_t - e_i for entry (k, i) of J, summed over the row.
+
+Rounding model: the standard model without underflow (Higham, Accuracy and Stability, 2.2):
+fl(a op b) = (a op b)(1 + d), |d| <= u = 2^-53; a complex product counts as 3 roundings (its error is
+below sqrt(5) u), |z| as 2; matrix products use a conventional algorithm (any summation order).
+K = 4 (d + n) + 2 T + U + V + 32 (degree d, T terms, U distinct monomials of F and J, V of the second
+derivatives; ``_System.count``) bounds the roundings on any evaluation path and g = 4 K u >= 2 gamma_K,
+gamma_K = K u / (1 - K u). Then |F(x) - F~| <= g S~ and |J(x) - J~| <= g SJ~ (S~, SJ~: the computed
+absolute-value polynomials sum |c_t| |x^a_t| and their Jacobian analogue) and |Y J~ - fl(Y J~)| <=
+g |Y| SJ~, so ||Y F(x)|| <= || |Y| (|F~| + g S~) || and ||I - Y J(x)|| <= || |fl(I - Y J~)| + 2 g |Y| SJ~ ||.
+The rest are sums of products of non-negative numbers (at most K roundings), so the computed left
+side times (1 + g) bounds the exact one: no box passes that the exact test with these bounds
+rejects. Overflow gives inf or NaN, which fails the test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from parakin.errors import BadInputError
+
+UNIT = 2.0**-53
+#: Newton may move a candidate at most this times its max-norm, and a box is at most that wide: a
+#: candidate far from a root is not certified even where Newton would find one
+NEAR = 1e-6
+#: radii tried, times the bound on the Newton step (the smallest passing one is kept)
+MULTIPLIERS = np.array([2.0, 8.0, 64.0, 1024.0, 65536.0])
+#: Newton steps that sharpen each candidate before the test
+NEWTON_STEPS = 2
+#: absolute radius floor (an exact root has a zero Newton step)
+FLOOR = 2.0**-600
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """Per root p of each input: ``unique`` (..., P) the box of centre ``center[..., p, :]`` (the
+    candidate after Newton sharpening) and max-norm radius ``radius`` (NaN if not certified) holds
+    exactly one root of F; ``real`` +1 that root is certified real (in the real chart for
+    homogeneous unknowns), -1 certified non-real, 0 undecided; per input, ``distinct`` no two
+    certified boxes overlap, ``certified_distinct`` the number of clusters of overlapping certified
+    boxes (a lower bound on the number of distinct roots)."""
+
+    unique: NDArray[np.bool_]
+    radius: NDArray[np.float64]
+    real: NDArray[np.int8]
+    distinct: NDArray[np.bool_]
+    certified_distinct: NDArray[np.int64]
+    center: NDArray[np.complex128]
+
+
+def _scatter(values: np.ndarray, index: np.ndarray, size: int) -> np.ndarray:
+    """Sums values (..., Q) into (..., size) at index (Q,), sequentially (counted in K)."""
+    out = np.zeros((size,) + values.shape[:-1], values.dtype)
+    np.add.at(out, index, np.moveaxis(values, -1, 0))
+    return np.moveaxis(out, 0, -1)
+
+
+def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
+    """x (..., m, n) -> x^e (..., m, U) for the rows e of table_rows, by repeated products."""
+    powers = np.empty(x.shape + (int(table_rows.max(initial=0)) + 1,), x.dtype)
+    powers[..., 0] = 1
+    for k in range(1, powers.shape[-1]):
+        powers[..., k] = powers[..., k - 1] * x
+    out = powers[..., 0, table_rows[:, 0]]
+    for i in range(1, x.shape[-1]):
+        out = out * powers[..., i, table_rows[:, i]]
+    return out
+
+
+class _System:
+    """F regrouped by distinct monomial: F = M C, J = M CJ (M the monomials at x), with the
+    coefficient sums A = |c| regrouped the same way for the absolute-value polynomials, and the
+    weights W of H_k (module docstring)."""
+
+    def __init__(self, c: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
+        terms, n = exponents.shape
+        self.n, eye = n, np.eye(n, dtype=np.int64)
+        tj, ij = np.nonzero(exponents > 0)  # Jacobian terms: d/dz_i of term t
+        rows = np.concatenate([exponents, exponents[tj] - eye[ij]])
+        self.rows, where = np.unique(rows, axis=0, return_inverse=True)
+        where = where.reshape(-1)
+        size, here = self.rows.shape[0] * n, where[:terms] * n + equation
+        there = (where[terms:] * n + equation[tj]) * n + ij
+        weight = exponents[tj, ij].astype(float)
+        self.C, self.A = (_scatter(v, here, size).reshape(v.shape[:-1] + (-1, n)) for v in (c, abs(c)))
+        self.CJ = _scatter(c[..., tj] * weight, there, size * n).reshape(c.shape[:-1] + (-1, n * n))
+        self.AJ = _scatter(abs(c[..., tj]) * weight, there, size * n).reshape(c.shape[:-1] + (-1, n * n))
+        pair = exponents[:, :, None] * (exponents[:, None, :] - eye)  # a_ti (a_tj - [i = j])
+        th, ih, jh = np.nonzero(pair > 0)
+        self.second, at = np.unique(exponents[th] - eye[ih] - eye[jh], axis=0, return_inverse=True)
+        values = abs(c[..., th]) * pair[th, ih, jh]
+        self.W = _scatter(values, at.reshape(-1) * n + equation[th], self.second.shape[0] * n).reshape(
+            c.shape[:-1] + (-1, n)
+        )
+        degree = int(exponents.sum(1).max(initial=0))
+        # roundings on any path (module docstring): F~, J~: 3 (degree + n + 1) + terms + monomials;
+        # L: 4 degree + n (rho's error raised to the degree) + 2 terms (2 pairs (i, j) per term) + the
+        # second-derivative monomials; the Y products 2 n; the assembly of the test a constant
+        self.count = 4 * (degree + n) + 2 * terms + self.rows.shape[0] + self.second.shape[0] + 32
+        self.gain = 4.0 * self.count * UNIT
+
+    def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
+        """F~, J~ (k, i), S~, SJ~ at x (..., m, n)."""
+        m = _monomials(x, self.rows)
+        size = abs(m)
+        shape = x.shape[:-1] + (self.n, self.n)
+        return m @ self.C, (m @ self.CJ).reshape(shape), size @ self.A, (size @ self.AJ).reshape(shape)
+
+    def bounds(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Bounds on ||Y F(x)||, ||I - Y J(x)||, ||Y|| and the Newton step Y F~ at x."""
+        f, jac, s, sj = self.evaluate(x)
+        finite = np.isfinite(jac).all((-2, -1))
+        y = _inverse(np.where(finite[..., None, None], jac, np.eye(self.n)))
+        absolute = abs(y)
+        step = (absolute @ (abs(f) + self.gain * s)[..., None])[..., 0].max(-1)
+        residual = np.eye(self.n) - y @ jac
+        contraction = (abs(residual) + absolute @ (2 * self.gain * sj)).sum(-1).max(-1)
+        return np.where(finite, step, np.nan), contraction, absolute.sum(-1).max(-1), (y @ f[..., None])[..., 0]
+
+    def passes(self, x: np.ndarray, r: np.ndarray, bounds: tuple[np.ndarray, ...]) -> np.ndarray:
+        """The test on B(x, r) for radii r (..., m, R)."""
+        a, b, c = (v[..., None] for v in bounds[:3])
+        rho = abs(x)[..., None, :] + r[..., None]
+        flat = rho.reshape(rho.shape[:-3] + (-1, self.n))
+        hessian = (_monomials(flat, self.second) @ self.W).max(-1).reshape(r.shape)
+        return np.asarray((a + (b + c * r * hessian) * r) * (1 + self.gain) < r)
+
+    def contains(self, x: np.ndarray, need: np.ndarray, floor: np.ndarray) -> np.ndarray:
+        """A box of radius >= need around x passes the test (Newton-free: x is kept as given)."""
+        bounds = self.bounds(x)
+        r = MULTIPLIERS * np.fmax(need, bounds[0])[..., None] + floor[..., None]
+        return np.asarray(self.passes(x, r, bounds).any(-1))
+
+
+def _inverse(jac: np.ndarray) -> np.ndarray:
+    """Approximate inverses; any matrix keeps the test sound, so singular ones get a pseudo-inverse."""
+    try:
+        return np.linalg.inv(jac)
+    except np.linalg.LinAlgError:
+        try:
+            return np.linalg.pinv(jac)
+        except np.linalg.LinAlgError:
+            return np.full_like(jac, np.nan)
+
+
+@np.errstate(all="ignore")  # NaN rows and overflow are handled: never a warning
+def certify_roots(
+    coefficients: ArrayLike,
+    exponents: ArrayLike,
+    equation: ArrayLike,
+    roots: ArrayLike,
+    real_coefficients: bool = True,
+    homogeneous: list[int] | None = None,
+    patch_equation: int | None = None,
+) -> Certificate:
+    """Certificate of each candidate ``roots`` (..., P, n) (NaN rows: no candidate) of the systems
+    ``coefficients`` (..., T), ``exponents`` (T, n), ``equation`` (T,) (module docstring).
+
+    Realness (+1) needs ``real_coefficients`` and, per input, coefficients whose imaginary parts are
+    exactly 0 (the patch's excepted). With ``homogeneous`` unknowns and the complex linear
+    ``patch_equation`` sum a_i z_i - 1 over them (every other equation homogeneous in them),
+    realness is decided in the real chart z_j = 1, j the homogeneous unknown of largest |z_j|."""
+    exponents = np.asarray(exponents, dtype=np.int64)
+    equation = np.asarray(equation, dtype=np.int64)
+    c = np.asarray(coefficients, dtype=np.complex128)
+    z = np.asarray(roots, dtype=np.complex128)
+    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
+        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    terms, n = exponents.shape
+    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
+        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
+    if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
+        raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
+    try:
+        batch = np.broadcast_shapes(c.shape[:-1], z.shape[:-2])
+    except ValueError as error:
+        raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
+    c, z = np.broadcast_to(c, batch + (terms,)), np.broadcast_to(z, batch + z.shape[-2:])
+    group, patch = np.zeros(n, bool), np.zeros(terms, bool)
+    if homogeneous is not None:
+        if not all(0 <= int(i) < n for i in homogeneous) or patch_equation not in range(n):
+            raise BadInputError(f"homogeneous {homogeneous} and patch_equation {patch_equation}: indices in [0, {n})")
+        group[list(homogeneous)] = True
+        patch = equation == patch_equation
+        linear = (exponents[patch] * ~group).sum(1) + np.maximum(exponents[patch].sum(1) - 1, 0)
+        degree = (exponents * group).sum(1)
+        if not group.any() or linear.any() or not patch.any():
+            raise BadInputError(
+                f"homogeneous {homogeneous} needs a linear patch_equation in them, got {patch_equation}"
+            )
+        if any(np.ptp(degree[equation == k]) for k in set(equation[~patch].tolist())):
+            raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {homogeneous}")
+    system = _System(c, exponents, equation)
+    given = np.asarray(np.isfinite(z).all(-1))
+    valid = given.copy()
+    x = np.where(given[..., None], z, 1.0)
+    for _ in range(NEWTON_STEPS):  # sharpen; a step that leaves the finite numbers is dropped
+        new = x - system.bounds(x)[3]
+        x = np.where(np.isfinite(new).all(-1)[..., None], new, x)
+    bounds = system.bounds(x)
+    scale = NEAR * np.fmax(abs(z).max(-1), 1e-150)
+    valid &= abs(x - z).max(-1) <= scale
+    floor = 4 * UNIT * abs(x).max(-1) + FLOOR
+    radii = MULTIPLIERS * bounds[0][..., None] + floor[..., None]
+    ok = system.passes(x, radii, bounds) & (radii <= scale[..., None]) & valid[..., None]
+    unique = ok.any(-1)
+    radius = np.where(unique, np.take_along_axis(radii, ok.argmax(-1)[..., None], -1)[..., 0], np.nan)
+    r = np.where(unique, radius, 0.0)[..., None]
+    # the realness argument needs F (but the patch) to have exactly real coefficients
+    candidates = unique & (c.imag[..., ~patch] == 0).all(-1)[..., None] & bool(real_coefficients)
+    # a root whose box misses the real space is non-real
+    nonreal = (abs(x.imag) > r)[..., ~group].any(-1)
+    if homogeneous is None:  # B(x, r) lies in the conjugation-symmetric B(Re x, need)
+        need = (abs(x.imag).max(-1) + r[..., 0]) * (1 + 4 * UNIT)
+        real = candidates & system.contains(x.real + 0j, need, floor)
+    else:
+        jmax = np.asarray(homogeneous)[abs(x[..., homogeneous]).argmax(-1)]
+        xj = np.take_along_axis(x, jmax[..., None], -1)
+        mi, mj = abs(x), abs(xj)
+        # a real projective point has Im(z_i conj z_j) = 0; over B(x, r) it moves <= r (|x_i| + |x_j| + r)
+        cross = abs(x.imag * xj.real - x.real * xj.imag)
+        slack = (r * (mi + mj + r) + 8 * UNIT * mi * mj) * (1 + 16 * UNIT)
+        nonreal |= (cross > slack)[..., group].any(-1)
+        real = np.zeros(unique.shape, bool)
+        keep = ~patch
+        chart_exponents = np.concatenate([exponents[keep], np.zeros((2, n), np.int64)])
+        chart_equation = np.r_[equation[keep], [patch_equation, patch_equation]]
+        ones = np.broadcast_to(np.array([1.0, -1.0]), c.shape[:-1] + (2,))
+        for j in homogeneous:  # the real chart: z_j - 1 = 0 replaces the patch
+            chart_exponents[-2] = np.eye(n, dtype=np.int64)[j]
+            chart = _System(np.concatenate([c[..., keep], ones], -1), chart_exponents, chart_equation)
+            w = x.real.copy()
+            w[..., group] = (x / x[..., j : j + 1]).real[..., group]
+            w[..., j] = 1.0
+            # the chart image of B(x, r) (4 r <= |x_j|) lies in B(w, need): for i homogeneous,
+            # |z_i/z_j - x_i/x_j| <= 2 r (|x_i| + |x_j|) / |x_j|^2 and |x_i/x_j - w_i| = |x_i - w_i x_j| / |x_j|
+            gap = (abs(x - w * xj) + 2 * UNIT * abs(w) * mj + 2 * r * (mi + mj) / mj) / mj
+            need = np.where(group, gap, abs(x.imag) + r).max(-1) * (1 + 16 * UNIT)
+            pick = candidates & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
+            real |= pick & chart.contains(w + 0j, need, floor)
+    code = np.where(real, 1, np.where(unique & nonreal, -1, 0)).astype(np.int8)
+    return Certificate(unique, radius, code, *_clusters(x, r[..., 0], unique), np.where(given[..., None], x, np.nan))
+
+
+def _clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Disjointness of the certified boxes and the number of connected clusters of overlapping ones."""
+    gap = abs(x[..., :, None, :] - x[..., None, :, :]) * (1 - 8 * UNIT)
+    apart = (gap > ((r[..., :, None] + r[..., None, :]) * (1 + 8 * UNIT))[..., None]).any(-1)
+    touch = unique[..., :, None] & unique[..., None, :] & ~apart
+    count = touch.shape[-1]
+    distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))
+    reach = touch.astype(float)
+    for _ in range(int(np.ceil(np.log2(max(count, 2))))):  # transitive closure by squaring
+        reach = np.minimum(reach + reach @ reach, 1.0)
+    first = unique & ~((reach > 0) & np.tri(count, k=-1, dtype=bool).T).any(-2)
+    return distinct, first.sum(-1)
