@@ -65,7 +65,15 @@ WITNESS_LOOPS = 3
 COMPONENT_PROBES = 48
 CACHE_VERSION = 3
 #: the proof's fields in the manifest, in this order
-PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation")
+PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation", "bezout_paths", "regular_endpoints")
+#: families with a Bezout number up to this get the total-degree bound (see ``total_degree_roots``)
+TOTAL_DEGREE_MAX = 10000
+#: the total-degree homotopy's independent runs (another gamma and patch each) that must agree
+TOTAL_DEGREE_RUNS = 2
+TOTAL_DEGREE_METHOD = "total-degree homotopy"
+#: the total-degree paths stop at this t (the endgame boundary) and Newton on F finishes: a path
+#: to a regular root is then within its basin, one to a singular endpoint costs no step halving
+ENDGAME_T = 1e-6
 
 
 @dataclass
@@ -443,6 +451,112 @@ def trace_test(name: str, family: Family, q: np.ndarray, solutions: np.ndarray, 
     return {"witnesses": len(witnesses), "deviation": deviation, "complete": deviation < TRACE_TOLERANCE}
 
 
+def _total_degree_system(family: Family, q: np.ndarray, degrees: np.ndarray, gamma: complex, patch: np.ndarray):
+    """H(w, t) = (1 - t) F^h(w; q) + t gamma G(w), t = ENDGAME_T + (1 - ENDGAME_T) s, with the
+    random patch p . w = 1, w = (z0, z): F^h_k = z0^d_k F_k(z / z0) (values and derivatives by the
+    chain rule from F's), G_k = z_k^d_k - z0^d_k. In projective coordinates a path to a solution
+    at infinity ends at z0 = 0 instead of leaving every bound."""
+    n = family.n
+    qq = q[None, :]
+
+    def system(index, w, s):
+        z0, z = w[:, 0], w[:, 1:]
+        x = z / z0[:, None]
+        f = family.value(x, np.broadcast_to(qq, (len(w), q.size)))
+        jx = family.jacobian(x, np.broadcast_to(qq, (len(w), q.size)))
+        lift = z0[:, None] ** (degrees[None, :] - 1)
+        fh = lift * z0[:, None] * f
+        jz = lift[:, :, None] * jx
+        j0 = lift * (degrees[None, :] * f - (jx * x[:, None, :]).sum(-1))
+        g = z ** degrees[None, :] - z0[:, None] ** degrees[None, :]
+        gz = degrees[None, :] * z ** (degrees[None, :] - 1)
+        g0 = -degrees[None, :] * z0[:, None] ** (degrees[None, :] - 1)
+        t = ENDGAME_T + (1 - ENDGAME_T) * s[:, None]
+        value = np.concatenate([(1 - t) * fh + t * gamma * g, (w @ patch - 1)[:, None]], axis=1)
+        top = np.concatenate([((1 - t) * j0 + t * gamma * g0)[:, :, None], (1 - t)[..., None] * jz], axis=2)
+        top[:, np.arange(n), 1 + np.arange(n)] += t * gamma * gz
+        matrix = np.concatenate([top, np.broadcast_to(patch, (len(w), 1, n + 1))], axis=1)
+        rate = np.concatenate([(1 - ENDGAME_T) * (gamma * g - fh), np.zeros((len(w), 1))], axis=1)
+        return value, matrix, rate
+
+    return system
+
+
+def total_degree_roots(family: Family, q: np.ndarray, degrees: list[int], rng) -> list[np.ndarray]:
+    """Every regular isolated solution of F(z; q) = 0, by ``TOTAL_DEGREE_RUNS`` independent
+    total-degree homotopies of prod(degrees) paths each (Morgan and Sommese; Bates, Hauenstein,
+    Sommese and Wampler, "Numerically solving polynomial systems with Bertini", 2013, ch. 2):
+    with a random gamma every regular isolated solution ends exactly one path, with probability
+    one. Endpoints, and the last points of failed paths, are kept where Newton on F takes them
+    to a regular solution (``newton_size`` < 1e-10): per run, the distinct ones found."""
+    from parakin.homotopy import _solve, track
+
+    n = family.n
+    d = np.asarray(degrees, dtype=np.int64)
+    # start solutions: z_k = omega_k z0 over the d_k-th roots of unity, z0 from the patch
+    grids = np.meshgrid(*[np.exp(2j * np.pi * np.arange(k) / k) for k in d], indexing="ij")
+    omega = np.stack([g.ravel() for g in grids], axis=-1)
+    runs = []
+    for _ in range(TOTAL_DEGREE_RUNS):
+        gamma = complex(_random_complex(rng, 1)[0])
+        patch = _random_complex(rng, n + 1)
+        z0 = 1.0 / (patch[0] + omega @ patch[1:])
+        start = np.concatenate([z0[:, None], omega * z0[:, None]], axis=1)
+        ended = track(_total_degree_system(family, q, d, gamma, patch), start)
+        with np.errstate(all="ignore"):
+            x = ended.z[:, 1:] / ended.z[:, :1]
+            keep = np.isfinite(x).all(-1) & (np.abs(x).max(-1) < 1e8)
+            x = x[keep]
+            at = np.broadcast_to(q, (len(x), q.size))
+            for _ in range(8):
+                step = _solve(family.jacobian(x, at), family.value(x, at))
+                x = np.where(np.isfinite(step), x - step, x)
+        runs.append(_add_new(np.zeros((0, n), complex), x[_regular(family, q, x)])[0])
+    return runs
+
+
+def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Which points z (P, n) are regular solutions of F(.; q): a Newton step below 1e-10 of 1 + |z|
+    and a Jacobian far from singular (a point of a positive-dimensional component is neither)."""
+    if not len(z):
+        return np.zeros(0, bool)
+    with np.errstate(all="ignore"):
+        condition = np.linalg.cond(family.jacobian(z, np.broadcast_to(q, (len(z), q.size))))
+    return (newton_size(family, z, q) < 1e-10) & (condition < 1e10)
+
+
+def _total_degree_bound(
+    name: str, family: Family, q: np.ndarray, solutions: np.ndarray, degrees: list[int], flips, seed: int
+) -> tuple[np.ndarray, dict[str, object]]:
+    """``solutions`` joined with every regular solution the total-degree runs find, and the proof:
+    complete when every run found exactly the joined set (no run lost one, and monodromy missed
+    none that a run could not also see)."""
+    runs = total_degree_roots(family, q, degrees, np.random.default_rng(seed + 3))
+    joined = solutions
+    for found in runs:
+        joined = _add_new(joined, found)[0]
+    joined = _closed(joined, flips)
+    complete = all(len(found) == len(joined) for found in runs)
+    paths = int(np.prod(degrees))
+    counts = ", ".join(str(len(found)) for found in runs)
+    method = f"{TOTAL_DEGREE_METHOD} ({len(runs)} independent runs of {paths} paths, regular endpoints {counts})"
+    if not complete:
+        print(
+            f"parakin generator: {name}: the total-degree runs found {counts} regular solutions, monodromy "
+            f"{len(solutions)}, together {len(joined)}: the count is NOT proven",
+            file=sys.stderr,
+        )
+    return joined, {
+        "method": method if complete else method + "; NOT proven: the runs disagree",
+        "proven": complete,
+        "stable_rule": STABLE_RULE,
+        "witnesses": 0,
+        "trace_deviation": 1.0,
+        "bezout_paths": paths,
+        "regular_endpoints": [len(found) for found in runs],
+    }
+
+
 def _refine_exact(family: Family, q: np.ndarray, found: np.ndarray) -> list[list[complex]]:
     """Newton in 40-digit arithmetic from each double-precision solution, then rounded to the
     nearest double and sorted: the stored start system is the same on every machine."""
@@ -500,10 +614,26 @@ def start_systems(
     )
     cached = _cache_path(key.hexdigest())
     flips = sign_symmetries(family, np.random.default_rng(seed + 2))
+    degrees = [int(sp.Poly(e, *form.unknowns).total_degree()) for e in equations]
+    bounded = int(np.prod(degrees)) <= TOTAL_DEGREE_MAX
     for stored in (_from_cache(cached), _from_package(name, method, key.hexdigest())):
         if stored is None:
             continue
         if _verified(family, stored, flips) is not None:
+            if bounded and not _total_degree_proof(stored["proof"]):
+                # a record proven (or counted) another way gets the total-degree bound on its own
+                # instance: seconds, where a new monodromy takes minutes
+                q = np.array([complex(*v) for v in stored["instance"]])
+                solutions = np.array([[complex(*c) for c in row] for row in stored["solutions"]])
+                joined, bound = _total_degree_bound(name, family, q, solutions, degrees, flips, seed)
+                record = {**stored, "proof": bound}
+                if len(joined) > len(solutions):
+                    refined = np.array(_refine_exact(family, q, joined))
+                    second, second_solutions = _second_start(name, family, q, refined, seed)
+                    record |= {"solutions": [_pairs(row) for row in refined], "second_instance": _pairs(second)}
+                    record["second_solutions"] = [_pairs(row) for row in second_solutions]
+                _store(cached, record)
+                return family, {**record, "key": key.hexdigest()}
             return family, {**stored, "key": key.hexdigest()}
         if _verified(family, stored, flips, second=False) is not None:
             # the first start system and its proof hold, the second does not (a record written
@@ -519,6 +649,22 @@ def start_systems(
     q, point = _start_instance(name, family, rng)
     found = point[None, :]
     proof: dict[str, object] = {}
+    if bounded:
+        # monodromy finds the start solutions fast; the total-degree runs prove the count (and
+        # catch a component monodromy cannot reach)
+        found = _closed(_monodromy(name, lambda a, b: _segment(family, a, b), q, found, _solves(family, q), rng), flips)
+        joined, proof = _total_degree_bound(name, family, q, found, degrees, flips, seed)
+        solutions = np.array(_refine_exact(family, q, joined))
+        second, second_solutions = _second_start(name, family, q, solutions, seed)
+        record = {
+            "instance": _pairs(q),
+            "solutions": [_pairs(row) for row in solutions],
+            "second_instance": _pairs(second),
+            "second_solutions": [_pairs(row) for row in second_solutions],
+            "proof": proof,
+        }
+        _store(cached, record)
+        return family, {**record, "key": key.hexdigest()}
     for _ in range(TRACE_ROUNDS):
         # loops until the trace test proves the set complete: a missed solution shows there
         found = _closed(_monodromy(name, lambda a, b: _segment(family, a, b), q, found, _solves(family, q), rng), flips)
@@ -629,6 +775,10 @@ def _from_package(name: str, method: str, key: str) -> dict | None:
         return None
 
 
+def _total_degree_proof(proof: dict) -> bool:
+    return str(proof.get("method", "")).startswith(TOTAL_DEGREE_METHOD) and "regular_endpoints" in proof
+
+
 def _verified(family: Family, record: dict, flips: list[np.ndarray], second: bool = True) -> dict | None:
     """A stored record, if it still proves what it claims: its solutions (as many in both start
     systems; the first one only where ``second`` is False) solve their instances to 1e-10, are
@@ -645,7 +795,10 @@ def _verified(family: Family, record: dict, flips: list[np.ndarray], second: boo
             if not _smallest_gap(z) > 1e-6 or len(_closed(z, flips)) != len(z):
                 return None
         proof = record["proof"]
-        if proof.get("proven", True) and not float(proof["trace_deviation"]) < TRACE_TOLERANCE:
+        if _total_degree_proof(proof):
+            if proof["proven"] and any(int(k) != count for k in proof["regular_endpoints"]):
+                return None
+        elif proof.get("proven", True) and not float(proof["trace_deviation"]) < TRACE_TOLERANCE:
             return None
         if not proof.get("proven", True) and proof.get("stable_rule") != STABLE_RULE:
             return None  # an unproven count rests on the monodromy's stopping rule: only today's

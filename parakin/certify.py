@@ -162,6 +162,24 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
             return np.full_like(jac, np.nan)
 
 
+def homogeneous_group(
+    exponents: ArrayLike, equation: ArrayLike, patch_equation: int, declared: list[int]
+) -> list[int]:
+    """The unknowns in which every equation but the patch is homogeneous: ``declared`` where they
+    suffice, else every unknown (Study coordinates: the quadrics are homogeneous in (e, g) jointly
+    while the patch normalises e alone). Raises BadInputError when neither is."""
+    exponents = np.asarray(exponents, dtype=np.int64)
+    equation = np.asarray(equation, dtype=np.int64)
+    others = equation != patch_equation
+    for group in (sorted(int(i) for i in declared), list(range(exponents.shape[1]))):
+        degree = exponents[:, group].sum(1)
+        if all(np.ptp(degree[others & (equation == k)]) == 0 for k in set(equation[others].tolist())):
+            return group
+    raise BadInputError(
+        f"the equations but the patch {patch_equation} are homogeneous neither in {declared} nor in all unknowns"
+    )
+
+
 @np.errstate(all="ignore")  # NaN rows and overflow are handled: never a warning
 def certify_roots(
     coefficients: ArrayLike,

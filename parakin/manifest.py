@@ -147,17 +147,21 @@ class Homotopy:
 @dataclass(frozen=True)
 class RootCount:
     """The family's generic number of isolated solutions (the paths), proven at generation time:
-    ``method`` names the proof, ``deviation`` is the trace test's measure (0 for a complete set)
-    against ``tolerance``, ``witnesses`` the auxiliary points it used."""
+    ``method`` names the proof. The trace test: ``deviation`` its measure (0 for a complete set)
+    against ``tolerance``, ``witnesses`` the auxiliary points it used. The total-degree bound:
+    ``bezout_paths`` paths per run and the regular solutions each independent run found
+    (``regular_endpoints``, all equal to ``count`` when proven)."""
 
     count: int
     method: str
     deviation: float
     tolerance: float
     witnesses: int
-    #: False: the trace test did not close within its budget at generation; the count is
-    #: monodromy's (every found solution is real, but more may exist)
+    #: False: neither proof closed at generation; the count is monodromy's (every found
+    #: solution is a solution, but more may exist)
     proven: bool = True
+    bezout_paths: int = 0
+    regular_endpoints: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -607,6 +611,8 @@ def _forward(method: str, data: dict[str, Any]) -> Forward:
                 float(proof["tolerance"]),
                 int(proof["witnesses"]),
                 bool(proof.get("proven", True)),
+                int(proof.get("bezout_paths", 0)),
+                tuple(int(k) for k in proof.get("regular_endpoints", ())),
             ),
             int(data["powers"]),
             tuple(str(v) for v in data["free"]),

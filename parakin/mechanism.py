@@ -514,7 +514,7 @@ class Mechanism:
         default, the fastest complete one): "elimination", the generated univariate polynomial of
         a closed form written with the mechanism; "homotopy", the mechanism's own polynomial
         system; "automatic", the polynomial form the generator derives from the loop closure,
-        whose generic root count is proven at generation time (the trace test). A homotopy
+        whose generic root count is proven at generation time (total-degree bound or trace test). A homotopy
         follows one path per solution of its generated start system (``root_count`` paths).
 
         Every real root of the polynomial is isolated (none is lost: roots are separated by the

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from parakin.certify import certify_roots
+from parakin.certify import certify_roots, homogeneous_group
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
 from parakin.homotopy import (
     PATH_DIVERGED,
@@ -36,7 +36,7 @@ from parakin.pose import wrap_angle
 from parakin.results import Array, AssemblyModes
 
 if TYPE_CHECKING:
-    from parakin.manifest import Forward
+    from parakin.manifest import Forward, Homotopy
     from parakin.mechanism import Mechanism
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
@@ -264,6 +264,13 @@ def _path_table(m: Mechanism, info: Forward, theta: Array, which: int) -> np.nda
         return path_coefficients(_monomials(m, info), free, angles, start, homotopy.powers, homotopy.circle_constants)
 
 
+def _certified_group(homotopy: Homotopy) -> list[int] | None:
+    """The unknowns the certificate treats as one projective group (``certify.homogeneous_group``)."""
+    if not homotopy.homogeneous or homotopy.patch_equation is None:
+        return None
+    return homogeneous_group(homotopy.exponents, homotopy.equation, homotopy.patch_equation, list(homotopy.homogeneous))
+
+
 def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per input (flat batch): how many distinct roots of the system at the inputs are certified
     by Krawczyk boxes around the paths' endpoints, and per path whether its box holds exactly one
@@ -279,7 +286,7 @@ def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray) ->
         homotopy.exponents,
         homotopy.equation,
         roots,
-        homogeneous=list(homotopy.homogeneous) or None,
+        homogeneous=_certified_group(homotopy),
         patch_equation=homotopy.patch_equation,
     )
     return result.certified_distinct, result.unique

@@ -169,12 +169,14 @@ class AssemblyModes:
         sum(rejected) holds for every input.
 
         A homotopy method adds ``root_count`` (the family's generic number of solutions, proven
-        at generation time by the trace test where ``root_count_proven``), ``certified_roots``
+        at generation time, by the total-degree bound or the trace test, where
+        ``root_count_proven``), ``certified_roots``
         (distinct roots of the system at the input, each in a Krawczyk box holding exactly one
         root: ``parakin.certify``), ``complete`` (the two are equal and the count is proven: no
         solution can be missing, so the modes returned are all of them), ``uncertified_paths``
-        (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run was not complete: tracked again from the second start
-        instance with tighter steps, the better run kept)."""
+        (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run
+        was not complete: tracked again from the second start instance with tighter steps, the
+        better run kept)."""
         extra: dict[str, object] = {}
         if self.certified_roots is not None and self.root_count is not None and self.path_certified is not None:
             extra = {

@@ -290,16 +290,30 @@ RETRY_POSE = [
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_failed_path_is_recovered_from_the_second_start_system(backend):
-    """The first start system alone loses one path here (and with it the generating pose); the
-    second start system, along another segment, recovers it: no failed path is left."""
-    from parakin.homotopy import PATH_FAILED, quadric_system, track
+    """A path of the first start system that fails (here: marked failed after the run, the way
+    the tracker marks a path it cannot follow) is recovered from the second start system, along
+    another segment: its slot gets the very root the first run had reached, and no other."""
+    from parakin.homotopy import PATH_FAILED, PATH_REACHED, Paths, sparse_system, track
+    from parakin.modes import _path_table, _retry_failed
 
     m = parakin.load("stewart", backend=backend, base=RETRY_BASE, platform=RETRY_PLATFORM)
     lengths = m.inverse_pose(np.array(RETRY_POSE)).actuated[0]
-    homotopy = m.capabilities.forward.homotopy
-    coefficients = m.backend.call("homotopy_coefficients", lengths[None], m.params)["coefficients"]
-    first = track(quadric_system(coefficients, homotopy.start.shape[1], 40), homotopy.start)
-    assert (first.status == PATH_FAILED).sum() == 1  # what the retry is for
+    info = m.capabilities.forward
+    homotopy = info.homotopy
+    table = _path_table(m, info, lengths[None], 0)
+    system = sparse_system(table, homotopy.exponents, homotopy.equation, homotopy.start.shape[0])
+    first = track(system, homotopy.start)
+    assert (first.status == PATH_REACHED).all()
+    lost = [3, 17]
+    status = first.status.copy()
+    status[lost] = PATH_FAILED
+    z = first.z.copy()
+    z[lost] = np.nan
+    retried = _retry_failed(m, lengths[None], Paths(z, status, first.steps, first.update), 1e-7, info)
+    assert (retried.status == PATH_REACHED).all()
+    # the lost roots come back, in some order, to tracking accuracy
+    for k in lost:
+        assert np.abs(retried.z[lost] - first.z[k]).max(-1).min() < 1e-7
     modes = m.forward_pose_all(lengths)
     assert modes.certificate()["rejected"]["path_failed"] == 0
     assert np.abs(modes.poses[modes.valid] - np.array(RETRY_POSE)).max(axis=(-2, -1)).min() < 1e-8
