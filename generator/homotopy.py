@@ -521,8 +521,12 @@ def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
     if not len(z):
         return np.zeros(0, bool)
     with np.errstate(all="ignore"):
-        condition = np.linalg.cond(family.jacobian(z, np.broadcast_to(q, (len(z), q.size))))
-    return (newton_size(family, z, q) < 1e-10) & (condition < 1e10)
+        jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
+        finite = np.isfinite(jacobian).all((-2, -1)) & np.isfinite(z).all(-1)
+        condition = np.full(len(z), np.inf)
+        if finite.any():
+            condition[finite] = np.linalg.cond(jacobian[finite])
+    return finite & (newton_size(family, z, q) < 1e-10) & (condition < 1e10)
 
 
 def _total_degree_bound(

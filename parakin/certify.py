@@ -53,9 +53,10 @@ FLOOR = 2.0**-600
 @dataclass(frozen=True)
 class Certificate:
     """Per root p of each input: ``unique`` (..., P) the box of centre ``center[..., p, :]`` (the
-    candidate after Newton sharpening) and max-norm radius ``radius`` (NaN if not certified) holds
-    exactly one root of F; ``real`` +1 that root is certified real (in the real chart for
-    homogeneous unknowns), -1 certified non-real, 0 undecided; per input, ``distinct`` no two
+    candidate after Newton sharpening) and half-widths ``radii[..., p, :]`` per coordinate (NaN
+    if not certified) holds exactly one root of F; ``radius`` the max-norm radius of the ball
+    about the centre inside that box; ``real`` +1 that root is certified real (in the real chart
+    for homogeneous unknowns), -1 certified non-real, 0 undecided; per input, ``distinct`` no two
     certified boxes overlap, ``certified_distinct`` the number of clusters of overlapping certified
     boxes (a lower bound on the number of distinct roots)."""
 
@@ -65,6 +66,7 @@ class Certificate:
     distinct: NDArray[np.bool_]
     certified_distinct: NDArray[np.int64]
     center: NDArray[np.complex128]
+    radii: NDArray[np.float64]
 
 
 def _scatter(values: np.ndarray, index: np.ndarray, size: int) -> np.ndarray:
@@ -213,6 +215,38 @@ def certify_roots(
     except ValueError as error:
         raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
     c, z = np.broadcast_to(c, batch + (terms,)), np.broadcast_to(z, batch + z.shape[-2:])
+    if homogeneous is None:
+        # each candidate in its own coordinates w = z / D, D = diag of powers of two >= |z_i|:
+        # the test's max-norm box becomes a box of radius r D_i per coordinate, fitting roots of
+        # very different sizes (a root near infinity); the scaling is exact in floating point
+        k = np.where(np.isfinite(z), np.ceil(np.log2(np.fmax(abs(z), 1.0))), 0.0).astype(np.int64)
+        shift = k @ exponents.T  # (..., P, T): c_t prod_i D_i^a_ti
+        scaled = np.ldexp(c.real[..., None, :], shift) + 1j * np.ldexp(c.imag[..., None, :], shift)
+        w = (z / np.ldexp(1.0, k))[..., None, :]
+        unique, radius, code, x = _certify(scaled, exponents, equation, w, real_coefficients, None, None)
+        scale = np.ldexp(1.0, k)
+        centre, radii = x[..., 0, :] * scale, radius[..., 0, None] * scale
+        distinct, count = _clusters(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
+        inner = radius[..., 0] * scale.min(-1)
+        return Certificate(unique[..., 0], inner, code[..., 0], distinct, count, centre, radii)
+    unique, radius, code, x = _certify(c, exponents, equation, z, real_coefficients, homogeneous, patch_equation)
+    radii = radius[..., None] * np.ones(n)
+    distinct, count = _clusters(x, np.where(unique[..., None], radii, 0.0), unique)
+    return Certificate(unique, radius, code, distinct, count, x, radii)
+
+
+def _certify(
+    c: np.ndarray,
+    exponents: np.ndarray,
+    equation: np.ndarray,
+    z: np.ndarray,
+    real_coefficients: bool,
+    homogeneous: list[int] | None,
+    patch_equation: int | None,
+) -> tuple[np.ndarray, ...]:
+    """The test on each candidate (``certify_roots``, validated and broadcast): unique, radius,
+    realness code and the sharpened centres (NaN where no candidate was given)."""
+    terms, n = exponents.shape
     group, patch = np.zeros(n, bool), np.zeros(terms, bool)
     if homogeneous is not None:
         if not all(0 <= int(i) < n for i in homogeneous) or patch_equation not in range(n):
@@ -276,13 +310,14 @@ def certify_roots(
             pick = candidates & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
             real |= pick & chart.contains(w + 0j, need, floor)
     code = np.where(real, 1, np.where(unique & nonreal, -1, 0)).astype(np.int8)
-    return Certificate(unique, radius, code, *_clusters(x, r[..., 0], unique), np.where(given[..., None], x, np.nan))
+    return unique, radius, code, np.where(given[..., None], x, np.nan)
 
 
 def _clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Disjointness of the certified boxes and the number of connected clusters of overlapping ones."""
+    """Disjointness of the certified boxes (centres x (..., P, n), radii r (..., P, n) per
+    coordinate) and the number of connected clusters of overlapping ones."""
     gap = abs(x[..., :, None, :] - x[..., None, :, :]) * (1 - 8 * UNIT)
-    apart = (gap > ((r[..., :, None] + r[..., None, :]) * (1 + 8 * UNIT))[..., None]).any(-1)
+    apart = (gap > (r[..., :, None, :] + r[..., None, :, :]) * (1 + 8 * UNIT)).any(-1)
     touch = unique[..., :, None] & unique[..., None, :] & ~apart
     count = touch.shape[-1]
     distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))

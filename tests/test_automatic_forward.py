@@ -151,6 +151,42 @@ def test_the_trace_test_rejects_an_incomplete_solution_set() -> None:
     assert not incomplete["complete"] and incomplete["deviation"] > 1e-6
 
 
+def test_the_total_degree_bound_completes_and_proves_a_partial_set() -> None:
+    """Two total-degree runs at the stored start instance find the solutions withheld from it
+    (as a component monodromy never reaches would be) and prove the count; a run that lost a
+    solution would disagree with the joined set and leave it unproven."""
+    pytest.importorskip("sympy")
+    from parakin.generator import homotopy
+    from parakin.generator.polynomial_form import derive
+    from parakin.mechanisms import planar_3rpr
+
+    mechanism = planar_3rpr.build()
+    assert mechanism.closure is not None
+    form = derive(
+        list(mechanism.closure.residual), mechanism.passive, mechanism.actuated, list(mechanism.parameters),
+        mechanism.angular,
+    )  # fmt: skip
+    family = homotopy.Family(form, list(form.equations))
+    automatic = parakin.load("planar_3rpr", backend="numpy").capabilities.forward_methods["automatic"].homotopy
+    q, found = automatic.start_instance, automatic.start
+    degrees = [2, 2, 2, 2]
+    joined, proof = homotopy._total_degree_bound("planar_3rpr", family, q, found[:2], degrees, [], 2026)
+    assert proof["proven"] and proof["regular_endpoints"] == [6, 6] and proof["bezout_paths"] == 16
+    assert len(joined) == 6
+    # every stored solution is among the joined ones, and the joined ones solve the system
+    assert all(np.abs(joined - z).max(-1).min() < 1e-8 for z in found)
+    assert np.abs(family.value(joined, q[None, :])).max() < 1e-10
+    # a run that lost a solution (as a failed path would) disagrees with the joined set: no proof
+    complete_runs = homotopy.total_degree_roots
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(
+            homotopy, "total_degree_roots", lambda *a: [r[1:] if k else r for k, r in enumerate(complete_runs(*a))]
+        )
+        joined, proof = homotopy._total_degree_bound("planar_3rpr", family, q, found[:2], degrees, [], 2026)
+    assert len(joined) == 6 and not proof["proven"] and proof["regular_endpoints"] == [6, 5]
+    assert "NOT proven" in str(proof["method"])
+
+
 #: families whose generic inputs are known to certify fewer roots than the count (open in issue
 #: 19): the test runs and must fail (strict), so that a fix shows
 SHORT_CERTIFICATES = {

@@ -348,3 +348,21 @@ def test_certified_boxes_hold_exactly_one_root_triangular():
         assert (held == 1).all()  # exact roots listed twice (repeated x or equal lines) are double
         checked += int(cert.unique.sum())
     assert checked >= 150
+
+
+def test_roots_of_very_different_sizes_are_certified_in_their_own_scale():
+    """(x - 2^20)(x - 3) = 0, (y - 2^-10 x)(y + 1) = 0: roots with coordinates from 1 to 2^20.
+    Each candidate is tested in coordinates scaled by powers of two to its size, so the large
+    ones certify with boxes as wide, per coordinate, as that size allows; every box holds its
+    root and no other, and the four roots are distinct."""
+    n, big = 2, 2.0**20
+    polys = [mul(lin(0, big, n), lin(0, 3, n)), mul(add(var(1, n), {(1, 0): -(2.0**-10)}), lin(1, -1, n))]
+    exact = np.array([[big, 2.0**10], [big, -1], [3, 3 * 2.0**-10], [3, -1]], dtype=complex)
+    c, e, q = sparse(polys)
+    cert = certify_roots(c, e, q, exact * (1 + 1e-9))
+    assert cert.unique.all() and cert.distinct and cert.certified_distinct == 4
+    assert (cert.real == 1).all()
+    # per-coordinate half-widths: the box around (2^20, 2^10) is wider in x than in y
+    assert cert.radii[0, 0] > cert.radii[0, 1] > 0
+    held = (abs(cert.center[:, None, :] - exact[None]) <= cert.radii[:, None, :]).all(-1)
+    assert (held == np.eye(4, dtype=bool)).all()
