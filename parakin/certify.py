@@ -164,9 +164,7 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
             return np.full_like(jac, np.nan)
 
 
-def homogeneous_group(
-    exponents: ArrayLike, equation: ArrayLike, patch_equation: int, declared: list[int]
-) -> list[int]:
+def homogeneous_group(exponents: ArrayLike, equation: ArrayLike, patch_equation: int, declared: list[int]) -> list[int]:
     """The unknowns in which every equation but the patch is homogeneous: ``declared`` where they
     suffice, else every unknown (Study coordinates: the quadrics are homogeneous in (e, g) jointly
     while the patch normalises e alone). Raises BadInputError when neither is."""
