@@ -66,10 +66,12 @@ COMPONENT_PROBES = 48
 CACHE_VERSION = 3
 #: the proof's fields in the manifest, in this order
 PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation", "bezout_paths", "regular_endpoints")
-#: families with a Bezout number up to this get the total-degree bound (see ``total_degree_roots``)
+#: families with a Bezout number up to this get the total-degree bound (see ``total_degree_run``)
 TOTAL_DEGREE_MAX = 10000
-#: the total-degree homotopy's independent runs (another gamma and patch each) that must agree
+#: the total-degree homotopy's independent runs (another gamma and patch each) that must each
+#: find the whole joined set, and how many are tried at most while fewer do
 TOTAL_DEGREE_RUNS = 2
+TOTAL_DEGREE_MAX_RUNS = 4
 TOTAL_DEGREE_METHOD = "total-degree homotopy"
 #: the total-degree paths stop at this t (the endgame boundary) and Newton on F finishes: a path
 #: to a regular root is then within its basin, one to a singular endpoint costs no step halving
@@ -482,37 +484,40 @@ def _total_degree_system(family: Family, q: np.ndarray, degrees: np.ndarray, gam
     return system
 
 
-def total_degree_roots(family: Family, q: np.ndarray, degrees: list[int], rng) -> list[np.ndarray]:
-    """Every regular isolated solution of F(z; q) = 0, by ``TOTAL_DEGREE_RUNS`` independent
-    total-degree homotopies of prod(degrees) paths each (Morgan and Sommese; Bates, Hauenstein,
-    Sommese and Wampler, "Numerically solving polynomial systems with Bertini", 2013, ch. 2):
-    with a random gamma every regular isolated solution ends exactly one path, with probability
-    one. Endpoints, and the last points of failed paths, are kept where Newton on F takes them
-    to a regular solution (``newton_size`` < 1e-10): per run, the distinct ones found."""
-    from parakin.homotopy import _solve, track
+def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng) -> np.ndarray:
+    """Every regular isolated solution of F(z; q) = 0 that one total-degree homotopy of
+    prod(degrees) paths reaches (Morgan and Sommese; Bates, Hauenstein, Sommese and Wampler,
+    "Numerically solving polynomial systems with Bertini", 2013, ch. 2): with a random gamma
+    every regular isolated solution ends exactly one path, with probability one. A path that
+    fails is tracked again with 100 times tighter steps; endpoints, and the last points of paths
+    that fail again, are kept where Newton on F takes them to a regular solution (``_regular``).
+    Returns the distinct ones."""
+    from parakin.homotopy import PATH_REACHED, _solve, track
 
     n = family.n
     d = np.asarray(degrees, dtype=np.int64)
     # start solutions: z_k = omega_k z0 over the d_k-th roots of unity, z0 from the patch
     grids = np.meshgrid(*[np.exp(2j * np.pi * np.arange(k) / k) for k in d], indexing="ij")
     omega = np.stack([g.ravel() for g in grids], axis=-1)
-    runs = []
-    for _ in range(TOTAL_DEGREE_RUNS):
-        gamma = complex(_random_complex(rng, 1)[0])
-        patch = _random_complex(rng, n + 1)
-        z0 = 1.0 / (patch[0] + omega @ patch[1:])
-        start = np.concatenate([z0[:, None], omega * z0[:, None]], axis=1)
-        ended = track(_total_degree_system(family, q, d, gamma, patch), start)
-        with np.errstate(all="ignore"):
-            x = ended.z[:, 1:] / ended.z[:, :1]
-            keep = np.isfinite(x).all(-1) & (np.abs(x).max(-1) < 1e8)
-            x = x[keep]
-            at = np.broadcast_to(q, (len(x), q.size))
-            for _ in range(8):
-                step = _solve(family.jacobian(x, at), family.value(x, at))
-                x = np.where(np.isfinite(step), x - step, x)
-        runs.append(_add_new(np.zeros((0, n), complex), x[_regular(family, q, x)])[0])
-    return runs
+    gamma = complex(_random_complex(rng, 1)[0])
+    patch = _random_complex(rng, n + 1)
+    z0 = 1.0 / (patch[0] + omega @ patch[1:])
+    start = np.concatenate([z0[:, None], omega * z0[:, None]], axis=1)
+    system = _total_degree_system(family, q, d, gamma, patch)
+    ended = track(system, start)
+    z = ended.z.copy()
+    again = np.nonzero(ended.status != PATH_REACHED)[0]
+    if again.size:
+        retracked = track(system, start[again], 1e-9)
+        z[again] = np.where((retracked.status == PATH_REACHED)[:, None], retracked.z, z[again])
+    with np.errstate(all="ignore"):
+        x = z[:, 1:] / z[:, :1]
+        x = x[np.isfinite(x).all(-1) & (np.abs(x).max(-1) < 1e8)]
+        at = np.broadcast_to(q, (len(x), q.size))
+        for _ in range(8):
+            step = _solve(family.jacobian(x, at), family.value(x, at))
+            x = np.where(np.isfinite(step), x - step, x)
+    return _add_new(np.zeros((0, n), complex), x[_regular(family, q, x)])[0]
 
 
 def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -520,27 +525,40 @@ def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
     and a Jacobian far from singular (a point of a positive-dimensional component is neither)."""
     if not len(z):
         return np.zeros(0, bool)
+    from parakin.homotopy import _solve
+
     with np.errstate(all="ignore"):
-        jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
-        finite = np.isfinite(jacobian).all((-2, -1)) & np.isfinite(z).all(-1)
+        at = np.broadcast_to(q, (len(z), q.size))
+        jacobian, value = family.jacobian(z, at), family.value(z, at)
+        finite = np.isfinite(jacobian).all((-2, -1)) & np.isfinite(value).all(-1) & np.isfinite(z).all(-1)
         condition = np.full(len(z), np.inf)
+        step = np.full(len(z), np.inf)
         if finite.any():
+            # row by row where one matrix is singular: one singular point spoils no other
             condition[finite] = np.linalg.cond(jacobian[finite])
-    return finite & (newton_size(family, z, q) < 1e-10) & (condition < 1e10)
+            size = np.abs(_solve(jacobian[finite], value[finite])).max(-1) / (1 + np.abs(z[finite]).max(-1))
+            step[finite] = np.where(np.isfinite(size), size, np.inf)
+    return finite & (step < 1e-10) & (condition < 1e10)
 
 
 def _total_degree_bound(
     name: str, family: Family, q: np.ndarray, solutions: np.ndarray, degrees: list[int], flips, seed: int
 ) -> tuple[np.ndarray, dict[str, object]]:
     """``solutions`` joined with every regular solution the total-degree runs find, and the proof:
-    complete when every run found exactly the joined set (no run lost one, and monodromy missed
-    none that a run could not also see)."""
-    runs = total_degree_roots(family, q, degrees, np.random.default_rng(seed + 3))
+    complete when ``TOTAL_DEGREE_RUNS`` independent runs each found exactly the joined set (no
+    solution that one run reached was lost by the others, and monodromy missed none that the runs
+    could not also see). Runs are added, up to ``TOTAL_DEGREE_MAX_RUNS``, while too few agree."""
+    rng = np.random.default_rng(seed + 3)
+    runs: list[np.ndarray] = []
     joined = solutions
-    for found in runs:
-        joined = _add_new(joined, found)[0]
-    joined = _closed(joined, flips)
-    complete = all(len(found) == len(joined) for found in runs)
+
+    def agreeing() -> int:
+        return sum(len(found) == len(joined) for found in runs)
+
+    while len(runs) < TOTAL_DEGREE_MAX_RUNS and (len(runs) < TOTAL_DEGREE_RUNS or agreeing() < TOTAL_DEGREE_RUNS):
+        runs.append(total_degree_run(family, q, degrees, rng))
+        joined = _closed(_add_new(joined, runs[-1])[0], flips)
+    complete = agreeing() >= TOTAL_DEGREE_RUNS
     paths = int(np.prod(degrees))
     counts = ", ".join(str(len(found)) for found in runs)
     method = f"{TOTAL_DEGREE_METHOD} ({len(runs)} independent runs of {paths} paths, regular endpoints {counts})"
@@ -551,7 +569,7 @@ def _total_degree_bound(
             file=sys.stderr,
         )
     return joined, {
-        "method": method if complete else method + "; NOT proven: the runs disagree",
+        "method": method if complete else method + f"; NOT proven: fewer than {TOTAL_DEGREE_RUNS} runs found them all",
         "proven": complete,
         "stable_rule": STABLE_RULE,
         "witnesses": 0,
@@ -624,7 +642,7 @@ def start_systems(
         if stored is None:
             continue
         if _verified(family, stored, flips) is not None:
-            if bounded and not _total_degree_proof(stored["proof"]):
+            if bounded and not _total_degree_settled(stored["proof"]):
                 # a record proven (or counted) another way gets the total-degree bound on its own
                 # instance: seconds, where a new monodromy takes minutes
                 q = np.array([complex(*v) for v in stored["instance"]])
@@ -783,6 +801,13 @@ def _total_degree_proof(proof: dict) -> bool:
     return str(proof.get("method", "")).startswith(TOTAL_DEGREE_METHOD) and "regular_endpoints" in proof
 
 
+def _total_degree_settled(proof: dict) -> bool:
+    """A total-degree proof that today's rule would not extend: proven, or every run tried."""
+    return _total_degree_proof(proof) and (
+        bool(proof["proven"]) or len(proof["regular_endpoints"]) >= TOTAL_DEGREE_MAX_RUNS
+    )
+
+
 def _verified(family: Family, record: dict, flips: list[np.ndarray], second: bool = True) -> dict | None:
     """A stored record, if it still proves what it claims: its solutions (as many in both start
     systems; the first one only where ``second`` is False) solve their instances to 1e-10, are
@@ -800,7 +825,8 @@ def _verified(family: Family, record: dict, flips: list[np.ndarray], second: boo
                 return None
         proof = record["proof"]
         if _total_degree_proof(proof):
-            if proof["proven"] and any(int(k) != count for k in proof["regular_endpoints"]):
+            endpoints = [int(k) for k in proof["regular_endpoints"]]
+            if proof["proven"] and (sum(k == count for k in endpoints) < TOTAL_DEGREE_RUNS or max(endpoints) > count):
                 return None
         elif proof.get("proven", True) and not float(proof["trace_deviation"]) < TRACE_TOLERANCE:
             return None

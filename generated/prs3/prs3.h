@@ -106,7 +106,7 @@ extern "C" {
 #define PRS3_NUM_ACTUATED 3  // d1, d2, d3
 #define PRS3_NUM_PASSIVE 7  // x, y, z, q0, q1, q2, q3
 #define PRS3_NUM_PARAMS 3
-#define PRS3_MAX_MODES 16  // slots of forward_pose_all per input
+#define PRS3_MAX_MODES 32  // slots of forward_pose_all per input
 
 // Geometry, in the order of the kernels' params input (a pointer to this struct is that array).
 typedef struct {
