@@ -203,15 +203,16 @@ def sparse_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray
     powers = table.shape[1]
     degrees = np.arange(powers)
     top = int(exponents.max(initial=0))
-    scatter = np.zeros((terms, size), dtype=float)
-    scatter[np.arange(terms), equation] = 1.0  # term -> equation, summed by a product
+    scatter = np.zeros((terms, size), dtype=complex)
+    scatter[np.arange(terms), equation] = 1.0  # term -> equation, summed by a product (BLAS)
 
     def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         inputs = index // paths
         weights = s[:, None] ** degrees
         rates = degrees * s[:, None] ** np.maximum(degrees - 1, 0)
-        at = np.einsum("pd,pdt->pt", weights, table[inputs])
-        moving = np.einsum("pd,pdt->pt", rates, table[inputs])
+        coefficients = table[inputs]
+        at = np.matmul(weights[:, None, :].astype(complex), coefficients)[:, 0]
+        moving = np.matmul(rates[:, None, :].astype(complex), coefficients)[:, 0]
         # powers[p, i, e] = z_i^e; factor[p, t, i] = z_i^a_ti
         power = np.ones((z.shape[0], size, top + 1), dtype=complex)
         for e in range(1, top + 1):
@@ -220,13 +221,21 @@ def sparse_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray
         factor = power[:, rows, exponents]  # (p, t, i)
         monomial = factor.prod(-1)
         derivative = exponents * power[:, rows, np.maximum(exponents - 1, 0)]
-        # product over j != i, without dividing by z_i (which may be 0)
-        before = np.cumprod(np.concatenate([np.ones_like(factor[..., :1]), factor[..., :-1]], -1), -1)
-        after = np.cumprod(np.concatenate([np.ones_like(factor[..., :1]), factor[..., :0:-1]], -1), -1)[..., ::-1]
-        partial = derivative * before * after  # (p, t, i)
+        # product over j != i: the monomial over z_i^a_ti, or where that is 0 (z_i = 0, rare)
+        # the product of the others
+        with np.errstate(all="ignore"):
+            others = monomial[..., None] / factor
+        zero = factor == 0
+        if zero.any():
+            rows_zero = np.nonzero(zero.any((-2, -1)))[0]
+            f = factor[rows_zero]
+            before = np.cumprod(np.concatenate([np.ones_like(f[..., :1]), f[..., :-1]], -1), -1)
+            after = np.cumprod(np.concatenate([np.ones_like(f[..., :1]), f[..., :0:-1]], -1), -1)[..., ::-1]
+            others[rows_zero] = before * after
+        partial = derivative * others  # (p, t, i)
         value = (at * monomial) @ scatter
         rate = (moving * monomial) @ scatter
-        jacobian = np.einsum("pt,tk,pti->pki", at, scatter, partial)
+        jacobian = np.swapaxes(np.swapaxes(at[:, :, None] * partial, 1, 2) @ scatter, 1, 2)
         return value, jacobian, rate
 
     return system
