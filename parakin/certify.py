@@ -224,12 +224,12 @@ def certify_roots(
         unique, radius, code, x = _certify(scaled, exponents, equation, w, real_coefficients, None, None)
         scale = np.ldexp(1.0, k)
         centre, radii = x[..., 0, :] * scale, radius[..., 0, None] * scale
-        distinct, count = _clusters(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
+        distinct, count = distinct_clusters(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
         inner = radius[..., 0] * scale.min(-1)
         return Certificate(unique[..., 0], inner, code[..., 0], distinct, count, centre, radii)
     unique, radius, code, x = _certify(c, exponents, equation, z, real_coefficients, homogeneous, patch_equation)
     radii = radius[..., None] * np.ones(n)
-    distinct, count = _clusters(x, np.where(unique[..., None], radii, 0.0), unique)
+    distinct, count = distinct_clusters(x, np.where(unique[..., None], radii, 0.0), unique)
     return Certificate(unique, radius, code, distinct, count, x, radii)
 
 
@@ -311,7 +311,7 @@ def _certify(
     return unique, radius, code, np.where(given[..., None], x, np.nan)
 
 
-def _clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Disjointness of the certified boxes (centres x (..., P, n), radii r (..., P, n) per
     coordinate) and the number of connected clusters of overlapping ones."""
     gap = abs(x[..., :, None, :] - x[..., None, :, :]) * (1 - 8 * UNIT)

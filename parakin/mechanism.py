@@ -509,7 +509,9 @@ class Mechanism:
         return ForwardPoseTracker(self, start, tolerance, max_iterations, strict, jump_ratio, trust_step)
 
     # ------------------------------------------------------------------ forward pose, all modes
-    def forward_pose_all(self, actuated: ArrayLike, strict: bool = True, method: str | None = None) -> AssemblyModes:
+    def forward_pose_all(
+        self, actuated: ArrayLike, strict: bool = True, method: str | None = None, certify: str = "exact"
+    ) -> AssemblyModes:
         """Every real assembly mode, by ``method`` (``capabilities.forward_methods``; None: the
         default, the fastest complete one): "elimination", the generated univariate polynomial of
         a closed form written with the mechanism; "homotopy", the mechanism's own polynomial
@@ -526,7 +528,15 @@ class Mechanism:
         type II singularity is kept with its ``conditioning`` near 0 (``ill_conditioned()``).
         With ``strict``, a degenerate elimination with no isolated mode (e.g. SAM with parallel
         U-joint axes: a self-motion) raises SelfMotionError or SingularConfigurationError.
+
+        ``certify`` (homotopy methods): "exact" (default) tests every endpoint that the
+        double-precision Krawczyk test cannot certify again in exact dyadic arithmetic
+        (``parakin.exact_certify``: milliseconds per such root; ill-conditioned roots near
+        infinity need it), "double" only in double precision (faster; such roots stay
+        uncertified and the input incomplete).
         """
+        if certify not in ("exact", "double"):
+            raise BadInputError(f"certify must be 'exact' or 'double', got {certify!r}")
         theta = self._actuated(actuated)
         info = self._forward_method(method)
         if info is None:
@@ -551,7 +561,7 @@ class Mechanism:
         else:  # the same pipeline in NumPy, over this backend's kernels
             out = numpy_modes(self, flat, info)
         if info.homotopy is not None:
-            out = self._certified(info, flat, out)
+            out = self._certified(info, flat, out, exact=certify == "exact")
         modes = assemble(self, theta, out, info)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
@@ -572,16 +582,17 @@ class Mechanism:
             raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
         return modes
 
-    def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        """Certify every input's endpoints; an input whose certified roots fall short of the
-        root count is tracked again (second start instance, tighter steps) and keeps the run
-        with more certified roots: never a silent loss, the certificate says what remains."""
-        certified, unique = certify(self, info, flat, out["endpoints"])
+    def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray], exact: bool) -> dict[str, np.ndarray]:
+        """Certify every input's endpoints (``exact``: what double precision cannot certify is
+        tested in exact arithmetic); an input whose certified roots fall short of the root count
+        is tracked again (second start instance, tighter steps) and keeps the run with more
+        certified roots: never a silent loss, the certificate says what remains."""
+        certified, unique = certify(self, info, flat, out["endpoints"], exact)
         assert info.homotopy is not None and info.homotopy.root_count is not None
         short = np.nonzero((certified < info.homotopy.root_count.count) & np.isfinite(flat).all(-1))[0]
         if short.size:
             again = numpy_modes(self, flat[short], info, retrack=True)
-            second, second_unique = certify(self, info, flat[short], again["endpoints"])
+            second, second_unique = certify(self, info, flat[short], again["endpoints"], exact)
             better = second > certified[short]
             rows = short[better]
             for key, value in again.items():

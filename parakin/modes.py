@@ -17,8 +17,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from parakin.certify import certify_roots, homogeneous_group
+from parakin.certify import certify_roots, distinct_clusters, homogeneous_group
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
+from parakin.exact_certify import certify_root_exactly
 from parakin.homotopy import (
     PATH_DIVERGED,
     PATH_FAILED,
@@ -271,10 +272,14 @@ def _certified_group(homotopy: Homotopy) -> list[int] | None:
     return homogeneous_group(homotopy.exponents, homotopy.equation, homotopy.patch_equation, list(homotopy.homogeneous))
 
 
-def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def certify(
+    m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """Per input (flat batch): how many distinct roots of the system at the inputs are certified
     by Krawczyk boxes around the paths' endpoints, and per path whether its box holds exactly one
-    root (``parakin.certify``); the answer is complete where the first equals the root count."""
+    root (``parakin.certify``); the answer is complete where the first equals the root count.
+    With ``exact``, the finite endpoints of incomplete inputs that double precision cannot
+    certify are tested again in exact dyadic arithmetic (``parakin.exact_certify``)."""
     homotopy = info.homotopy
     assert homotopy is not None
     free, angles = _family(m, info, theta)
@@ -289,7 +294,20 @@ def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray) ->
         homogeneous=_certified_group(homotopy),
         patch_equation=homotopy.patch_equation,
     )
-    return result.certified_distinct, result.unique
+    counts, unique = result.certified_distinct.copy(), result.unique.copy()
+    if not exact or homotopy.root_count is None:
+        return counts, unique
+    centre, radii = result.center.copy(), result.radii.copy()
+    finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
+    for i in np.nonzero(counts < homotopy.root_count.count)[0]:
+        for p in np.nonzero(~unique[i] & finite[i])[0]:
+            exact_box = certify_root_exactly(
+                coefficients[i], homotopy.exponents, homotopy.equation, roots[i, p], homotopy.patch_equation is None
+            )
+            if exact_box.unique:
+                unique[i, p], centre[i, p], radii[i, p] = True, exact_box.center, exact_box.radius
+        counts[i] = distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1]
+    return counts, unique
 
 
 def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, info: Forward) -> Paths:

@@ -1,0 +1,289 @@
+"""Krawczyk certificates in exact dyadic arithmetic, for roots that double precision cannot
+certify (ill-conditioned ones, e.g. near a singular set at infinity, where the rounding of F
+alone exceeds the width of any box the double-precision test could pass).
+
+Same test and notation as ``parakin.certify`` (module docstring there): for a centre x, any matrix
+Y and B = B(x, r) (max-norm polydisc), if ||Y F(x)|| + (||I - Y J(x)|| + ||Y|| L(r)) r < r then B
+holds exactly one root. Here every number is a dyadic rational m 2^e (every double is one) held as
+Python integers: x, the coefficients and Y are dyadic, and F(x), J(x), Y F(x), I - Y J(x) and the
+Hessian bound H_k(rho) are computed exactly (sums and products of dyadics are dyadic); each
+modulus |a + bi| is bounded above by |a| + |b|. The inequality is decided exactly on upper bounds
+of its terms, so no rounding model is needed. The centre is first refined by Newton steps
+x <- x - Y F(x) with F exact, rounded to ``BITS`` fractional bits between steps.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: fractional bits of the refined centre
+BITS = 160
+#: Newton refinements at most (each gains about -log10(||I - Y J||) digits)
+REFINEMENTS = 12
+#: radii tried, as powers of two times the exact bound on the Newton step (2, 8, 64, 1024)
+MULTIPLIER_SHIFTS = (1, 3, 6, 10)
+
+#: a real dyadic (m, e) = m 2^e and a complex one (re, im, e)
+Real = tuple[int, int]
+Complex = tuple[int, int, int]
+ZERO: Complex = (0, 0, 0)
+ONE: Complex = (1, 0, 0)
+
+
+@dataclass(frozen=True)
+class ExactCertificate:
+    """``unique``: the polydisc of max-norm ``radius`` about ``center`` (doubles: the radius is
+    rounded up and covers the rounding of the exact centre) holds exactly one root; ``real`` +1
+    that root is real (real coefficients only), -1 it is not, 0 undecided."""
+
+    unique: bool
+    center: np.ndarray
+    radius: float
+    real: int
+
+
+def _real(value: float) -> Real:
+    mantissa, exponent = math.frexp(value)
+    return int(mantissa * (1 << 53)), exponent - 53
+
+
+def _complex(value: complex) -> Complex:
+    (a, ea), (b, eb) = _real(value.real), _real(value.imag)
+    e = min(ea, eb)
+    return a << (ea - e), b << (eb - e), e
+
+
+def _mul(a: Complex, b: Complex) -> Complex:
+    return a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0], a[2] + b[2]
+
+
+def _add(a: Complex, b: Complex) -> Complex:
+    if a[2] >= b[2]:
+        shift = a[2] - b[2]
+        return (a[0] << shift) + b[0], (a[1] << shift) + b[1], b[2]
+    shift = b[2] - a[2]
+    return a[0] + (b[0] << shift), a[1] + (b[1] << shift), a[2]
+
+
+def _scale(a: Complex, k: int) -> Complex:
+    return a[0] * k, a[1] * k, a[2]
+
+
+def _rmul(a: Real, b: Real) -> Real:
+    return a[0] * b[0], a[1] + b[1]
+
+
+def _radd(a: Real, b: Real) -> Real:
+    if a[1] >= b[1]:
+        return (a[0] << (a[1] - b[1])) + b[0], b[1]
+    return a[0] + (b[0] << (b[1] - a[1])), a[1]
+
+
+def _less(a: Real, b: Real) -> bool:
+    e = min(a[1], b[1])
+    return a[0] << (a[1] - e) < b[0] << (b[1] - e)
+
+
+def _rmax(a: Real, b: Real) -> Real:
+    return b if _less(a, b) else a
+
+
+def _modulus_bound(a: Complex) -> Real:
+    return abs(a[0]) + abs(a[1]), a[2]
+
+
+def _to_complex(a: Complex) -> complex:
+    return complex(math.ldexp(a[0], a[2]) if a[0] else 0.0, math.ldexp(a[1], a[2]) if a[1] else 0.0)
+
+
+def _float_of(a: Complex) -> complex:
+    """The double nearest each part (ints of any size, exponents far below the double range)."""
+
+    def part(m: int) -> float:
+        if m == 0:
+            return 0.0
+        shift = max(m.bit_length() - 60, 0)
+        return math.ldexp(m >> shift if m > 0 else -((-m) >> shift), a[2] + shift)
+
+    return complex(part(a[0]), part(a[1]))
+
+
+def _round(a: Complex, bits: int) -> Complex:
+    """a rounded to ``bits`` fractional bits (a Newton iterate: no exactness needed)."""
+    if a[2] >= -bits:
+        return a
+    shift = -bits - a[2]
+    half = 1 << (shift - 1)
+    return (a[0] + half) >> shift, (a[1] + half) >> shift, -bits
+
+
+class _ExactSystem:
+    """F and J of a sparse system (``parakin.certify`` layout) with exact dyadic coefficients."""
+
+    def __init__(self, coefficients: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
+        self.exponents = [tuple(int(e) for e in row) for row in exponents]
+        self.equation = [int(k) for k in equation]
+        self.c = [_complex(complex(v)) for v in np.asarray(coefficients, dtype=complex)]
+        self.real_coefficients = all(c[1] == 0 for c in self.c)
+        self.n = len(self.exponents[0])
+        self.top = max(max(row) for row in self.exponents)
+        # H_k's terms: (equation, |c_t|, weight a_ti (a_tj - [i = j]), exponents a_t - e_i - e_j)
+        self.second: list[tuple[int, Real, int, tuple[int, ...]]] = []
+        for c, a, k in zip(self.c, self.exponents, self.equation, strict=True):
+            for i in range(self.n):
+                for j in range(self.n):
+                    weight = a[i] * (a[j] - (i == j))
+                    if weight > 0:
+                        b = list(a)
+                        b[i] -= 1
+                        b[j] -= 1
+                        self.second.append((k, _modulus_bound(c), weight, tuple(b)))
+
+    def evaluate(self, x: list[Complex]) -> tuple[list[Complex], list[list[Complex]]]:
+        n = self.n
+        powers = []
+        for xi in x:
+            row = [ONE]
+            for _ in range(self.top):
+                row.append(_mul(row[-1], xi))
+            powers.append(row)
+        f = [ZERO] * n
+        jac = [[ZERO] * n for _ in range(n)]
+        for c, a, k in zip(self.c, self.exponents, self.equation, strict=True):
+            factors = [powers[i][a[i]] for i in range(n)]
+            # products of the factors before and after each i: 2 n products per term, not n^2
+            before = [ONE]
+            for factor in factors[:-1]:
+                before.append(_mul(before[-1], factor))
+            after = [ONE]
+            for factor in factors[:0:-1]:
+                after.append(_mul(after[-1], factor))
+            after.reverse()
+            f[k] = _add(f[k], _mul(c, _mul(before[-1], factors[-1])))
+            for i in range(n):
+                if a[i]:
+                    term = _mul(_mul(_scale(c, a[i]), powers[i][a[i] - 1]), _mul(before[i], after[i]))
+                    jac[k][i] = _add(jac[k][i], term)
+        return f, jac
+
+    def hessian_bound(self, rho: list[Real]) -> Real:
+        """max_k H_k(rho) (``parakin.certify``), with |c_t| bounded by |Re| + |Im|."""
+        powers = []
+        for value in rho:
+            row = [(1, 0)]
+            for _ in range(self.top):
+                row.append(_rmul(row[-1], value))
+            powers.append(row)
+        totals: list[Real] = [(0, 0)] * self.n
+        for k, size, weight, b in self.second:
+            value = (size[0] * weight, size[1])
+            for m, e in enumerate(b):
+                if e:
+                    value = _rmul(value, powers[m][e])
+            totals[k] = _radd(totals[k], value)
+        largest = totals[0]
+        for total in totals[1:]:
+            largest = _rmax(largest, total)
+        return largest
+
+
+def _inverse(jac: list[list[Complex]]) -> list[list[Complex]] | None:
+    matrix = np.array([[_float_of(e) for e in row] for row in jac])
+    try:
+        inverse = np.linalg.inv(matrix)
+    except np.linalg.LinAlgError:
+        return None
+    if not np.isfinite(inverse).all():
+        return None
+    return [[_complex(complex(v)) for v in row] for row in inverse]
+
+
+def _test(system: _ExactSystem, x: list[Complex], least: Real) -> Real | None:
+    """The smallest radius tried (at least ``least``, else 2^k times the exact bound on the
+    Newton step) whose polydisc about x passes the test, or None."""
+    n = system.n
+    f, jac = system.evaluate(x)
+    y = _inverse(jac)
+    if y is None:
+        return None
+    step: Real = (0, 0)
+    contraction: Real = (0, 0)
+    norm_y: Real = (0, 0)
+    for i in range(n):
+        yf = ZERO
+        row: Real = (0, 0)
+        size: Real = (0, 0)
+        for j in range(n):
+            yf = _add(yf, _mul(y[i][j], f[j]))
+            entry = ZERO
+            for m in range(n):
+                entry = _add(entry, _mul(y[i][m], jac[m][j]))
+            if i == j:
+                entry = _add(entry, (-1, 0, 0))
+            row = _radd(row, _modulus_bound(entry))
+            size = _radd(size, _modulus_bound(y[i][j]))
+        step = _rmax(step, _modulus_bound(yf))
+        contraction = _rmax(contraction, row)
+        norm_y = _rmax(norm_y, size)
+    magnitude = [_modulus_bound(v) for v in x]
+    for shift in MULTIPLIER_SHIFTS:
+        r = _rmax(least, (step[0], step[1] + shift))
+        hessian = system.hessian_bound([_radd(s, r) for s in magnitude])
+        inner = _radd(contraction, _rmul(_rmul(norm_y, hessian), r))
+        if _less(_radd(step, _rmul(inner, r)), r):
+            return r
+    return None
+
+
+def _newton(system: _ExactSystem, x: list[Complex], scale: float) -> list[Complex]:
+    for _ in range(REFINEMENTS):
+        f, jac = system.evaluate(x)
+        try:
+            delta = np.linalg.solve(
+                np.array([[_float_of(e) for e in row] for row in jac]), np.array([_float_of(v) for v in f])
+            )
+        except np.linalg.LinAlgError:
+            return x
+        if not np.isfinite(delta).all():
+            return x
+        x = [_round(_add(xi, _complex(-complex(d))), BITS) for xi, d in zip(x, delta, strict=True)]
+        if np.abs(delta).max() <= scale * 2.0 ** (16 - BITS):
+            break
+    return x
+
+
+def certify_root_exactly(
+    coefficients: np.ndarray, exponents: np.ndarray, equation: np.ndarray, root: np.ndarray, real_coefficients: bool
+) -> ExactCertificate:
+    """Certify one candidate ``root`` (n,) of the system ``coefficients`` (T,) (module docstring)."""
+    system = _ExactSystem(coefficients, exponents, equation)
+    start = np.asarray(root, dtype=complex)
+    scale = max(1.0, float(np.abs(start).max()))
+    x = _newton(system, [_complex(complex(v)) for v in start], scale)
+    least = _real(scale)
+    least = (least[0], least[1] - (BITS - 8))
+    radius = _test(system, x, least)
+    center = np.array([_float_of(v) for v in x])
+    if radius is None:
+        return ExactCertificate(False, center, math.nan, 0)
+    # the reported double centre is within its rounding of the exact one: the radius covers it
+    rounding: Real = (0, 0)
+    for v, c in zip(x, center, strict=True):
+        rounding = _rmax(rounding, _modulus_bound(_add(v, _complex(-c))))
+    total = _radd(radius, rounding)
+    reported = math.nextafter(math.ldexp(total[0], total[1]), math.inf)
+    real = 0
+    if real_coefficients and system.real_coefficients:
+        if any(_less(radius, (abs(v[1]), v[2])) for v in x):
+            real = -1  # the polydisc misses the real space
+        else:
+            # a unique root in a conjugation-symmetric polydisc about Re x holding B(x, r) is real
+            need: Real = (0, 0)
+            for v in x:
+                need = _rmax(need, (abs(v[1]), v[2]))
+            if _test(system, [(v[0], 0, v[2]) for v in x], _radd(need, radius)) is not None:
+                real = 1
+    return ExactCertificate(True, center, reported, real)
