@@ -197,8 +197,9 @@ def test_the_total_degree_bound_completes_and_proves_a_partial_set() -> None:
 #: families whose generic inputs are known to certify fewer roots than the count (open in issue
 #: 19): the test runs and must fail (strict), so that a fix shows
 SHORT_CERTIFICATES = {
-    "rus6": "56-60 of 80 endpoints certified at sampled inputs near the default home (74 at Dietmaier's): "
-    "the Krawczyk boxes fail on the 80-root family, whose count monodromy found but the trace test did not prove",
+    "rus6": "78-80 of 80 roots certified at sampled inputs near the default home (56-60 in double "
+    "precision alone): clusters of complex roots near infinity, 2e-5 apart relative to their size, whose "
+    "double-precision endpoints are not accurate enough for exact Newton to tell them apart",
 }
 
 
