@@ -587,6 +587,10 @@ class Mechanism:
         tested in exact arithmetic); an input whose certified roots fall short of the root count
         is tracked again (second start instance, tighter steps) and keeps the run with more
         certified roots: never a silent loss, the certificate says what remains."""
+        if flat.shape[0] == 0:  # an empty batch: nothing to certify
+            paths = out["endpoints"].shape[1]
+            empty = {"certified": np.zeros(0, np.int64), "path_certified": np.zeros((0, paths), bool)}
+            return out | empty | {"retracked": np.zeros(0, bool)}
         certified, unique = certify(self, info, flat, out["endpoints"], exact)
         assert info.homotopy is not None and info.homotopy.root_count is not None
         short = np.nonzero((certified < info.homotopy.root_count.count) & np.isfinite(flat).all(-1))[0]

@@ -1,3 +1,4 @@
+import functools
 import os
 import sys
 from pathlib import Path
@@ -31,9 +32,32 @@ def pytest_collection_modifyitems(config, items):
     if config.getoption("--run-slow") or os.environ.get("PARAKIN_SLOW") == "1" or config.getoption("markexpr"):
         return
     skip = pytest.mark.skip(reason="slow: run with --run-slow, PARAKIN_SLOW=1 or -m slow")
+    heavy = pytest.mark.skip(
+        reason=f"slow: the all-modes solver of {', '.join(sorted(_heavy_families()))} tracks more than "
+        f"{HEAVY_PATHS} paths in NumPy orchestration off the compiled backend; run with --run-slow"
+    )
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)
+            continue
+        params = getattr(getattr(item, "callspec", None), "params", {})
+        if params.get("name") in _heavy_families() and params.get("backend") in ("numpy", "casadi"):
+            item.add_marker(heavy)
+
+
+#: a default all-modes homotopy with more paths than this is checked on the NumPy and CasADi
+#: backends only with --run-slow (the compiled backend runs it in C in every test run)
+HEAVY_PATHS = 40
+
+
+@functools.cache
+def _heavy_families() -> frozenset[str]:
+    heavy = set()
+    for name in parakin.available():
+        forward = parakin.load(name, backend="numpy").capabilities.forward
+        if forward is not None and forward.homotopy is not None and forward.homotopy.start.shape[0] > HEAVY_PATHS:
+            heavy.add(name)
+    return frozenset(heavy)
 
 
 @pytest.fixture(scope="session", params=BACKENDS)
