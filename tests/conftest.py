@@ -41,7 +41,8 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(skip)
             continue
         params = getattr(getattr(item, "callspec", None), "params", {})
-        if params.get("name") in _heavy_families() and params.get("backend") in ("numpy", "casadi"):
+        name, backend = params.get("name"), params.get("backend")
+        if isinstance(name, str) and name in _heavy_families() and backend in ("numpy", "casadi"):
             item.add_marker(heavy)
 
 
