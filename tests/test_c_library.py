@@ -38,7 +38,7 @@ PROGRAM = r"""
         P##_modes_job job = {1, actuated, 0, (const double*)&params, lower, upper, 8, 1e-13, 1e-9, \
             1e-4, 1e-7, 1e-9, 1e-10, 1e-9, 1e-9, 1e-13, 1e-9, 1e-7, 1e-8, 1e-4, poses, passive, residual, \
             conditioning, roots, outcome, kind, &count, &real_roots, &near_roots, &at_infinity,     \
-            &status};                                                                               \
+            &status, NULL};                                                                         \
         P##_forward_pose_all(&job);                                                                 \
         printf("%s %d\n", #P, count);                                                               \
         for (int s = 0; s < M; ++s)                                                                 \
