@@ -1203,6 +1203,8 @@ def parts(result: Any) -> dict[str, np.ndarray]:
             if f.name in IGNORED_FIELDS:
                 continue
             value = getattr(result, f.name)
+            if value is None:  # a field this kind of result does not have (e.g. an elimination's certificate)
+                continue
             if isinstance(value, dict):
                 out.update({f"{f.name}.{key}": np.asarray(v) for key, v in value.items()})
             else:
