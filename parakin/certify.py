@@ -70,10 +70,15 @@ class Certificate:
 
 
 def _scatter(values: np.ndarray, index: np.ndarray, size: int) -> np.ndarray:
-    """Sums values (..., Q) into (..., size) at index (Q,), sequentially (counted in K)."""
-    out = np.zeros((size,) + values.shape[:-1], values.dtype)
-    np.add.at(out, index, np.moveaxis(values, -1, 0))
-    return np.moveaxis(out, 0, -1)
+    """Sums values (..., Q) into (..., size) at index (Q,), sequentially per target (counted in K)."""
+    out = np.zeros(values.shape[:-1] + (size,), values.dtype)
+    if index.size == 0:
+        return out
+    order = np.argsort(index, kind="stable")
+    ordered = index[order]
+    starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1]
+    out[..., ordered[starts]] = np.add.reduceat(values[..., order], starts, axis=-1)
+    return out
 
 
 def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
