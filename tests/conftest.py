@@ -34,20 +34,21 @@ def pytest_collection_modifyitems(config, items):
     skip = pytest.mark.skip(reason="slow: run with --run-slow, PARAKIN_SLOW=1 or -m slow")
     heavy = pytest.mark.skip(
         reason=f"slow: the all-modes solver of {', '.join(sorted(_heavy_families()))} tracks more than "
-        f"{HEAVY_PATHS} paths in NumPy orchestration off the compiled backend; run with --run-slow"
+        f"{HEAVY_PATHS} paths, in NumPy orchestration off the compiled backend and in the second run its "
+        "certificate asks for; its own test file runs every time, the generic cases with --run-slow"
     )
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)
             continue
         params = getattr(getattr(item, "callspec", None), "params", {})
-        name, backend = params.get("name"), params.get("backend")
-        if isinstance(name, str) and name in _heavy_families() and backend in ("numpy", "casadi"):
+        name = params.get("name")
+        if isinstance(name, str) and name in _heavy_families():
             item.add_marker(heavy)
 
 
-#: a default all-modes homotopy with more paths than this is checked on the NumPy and CasADi
-#: backends only with --run-slow (the compiled backend runs it in C in every test run)
+#: a mechanism whose default all-modes homotopy has more paths than this is checked by the generic
+#: tests parametrised by name only with --run-slow; its own test file runs every time
 HEAVY_PATHS = 40
 
 
