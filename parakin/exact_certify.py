@@ -242,15 +242,15 @@ def _newton(system: _ExactSystem, x: list[Complex], scale: float) -> list[Comple
     for _ in range(REFINEMENTS):
         f, jac = system.evaluate(x)
         try:
-            delta = np.linalg.solve(
+            newton_step = np.linalg.solve(
                 np.array([[_float_of(e) for e in row] for row in jac]), np.array([_float_of(v) for v in f])
             )
         except np.linalg.LinAlgError:
             return x
-        if not np.isfinite(delta).all():
+        if not np.isfinite(newton_step).all():
             return x
-        x = [_round(_add(xi, _complex(-complex(d))), BITS) for xi, d in zip(x, delta, strict=True)]
-        if np.abs(delta).max() <= scale * 2.0 ** (16 - BITS):
+        x = [_round(_add(xi, _complex(-complex(d))), BITS) for xi, d in zip(x, newton_step, strict=True)]
+        if np.abs(newton_step).max() <= scale * 2.0 ** (16 - BITS):
             break
     return x
 
