@@ -327,12 +327,14 @@ def test_dietmaiers_forty_modes_from_the_derived_polynomial_form(dietmaier):
     assert int(modes.certificate()["root_count"]) == 80
 
 
-@pytest.mark.xfail(
-    strict=True, reason="74 of the 80 endpoints get a Krawczyk box at Dietmaier's input: open in issue 19"
-)
 def test_every_endpoint_at_dietmaiers_input_is_certified(dietmaier):
+    """74 of the 80 endpoints certify in double precision; the rest in exact arithmetic
+    (``parakin.exact_certify``): complete, with the count proven."""
     certificate = dietmaier.forward_pose_all(np.full(6, DIETMAIER_THETA)).certificate()
     assert int(certificate["certified_roots"]) == int(certificate["root_count"]) == 80
+    assert bool(certificate["complete"])
+    double = dietmaier.forward_pose_all(np.full(6, DIETMAIER_THETA), certify="double").certificate()
+    assert int(double["certified_roots"]) < 80 and not bool(double["complete"])
 
 
 def test_module_constants_agree_with_the_reference():
