@@ -32,7 +32,7 @@ def test_every_mechanism_with_a_loop_has_forward_pose_all() -> None:
 
 #: families with more paths than this are checked on fewer inputs by default (each input tracks
 #: every path in NumPy orchestration); ``--run-slow`` checks them on as many as the others
-LARGE_FAMILY = 40
+LARGE_FAMILY = 16
 RUN_SLOW = "--run-slow" in sys.argv or os.environ.get("PARAKIN_SLOW") == "1"
 
 
