@@ -372,14 +372,13 @@ def _closed(found: np.ndarray, flips: list[np.ndarray]) -> np.ndarray:
 def newton_size(family: Family, z: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The size of a Newton step at solutions z (P, n) of F(.; q), relative to 1 + |z|: how far
     each is from a solution, whatever the scale of the equations' coefficients."""
+    from parakin.homotopy import _solve
+
     with np.errstate(all="ignore"):
         jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
         value = family.value(z, np.broadcast_to(q, (len(z), q.size)))
-        try:
-            step = np.linalg.solve(jacobian, value[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            return np.full(len(z), np.inf)
-        size = np.abs(step).max(-1) / (1 + np.abs(z).max(-1))
+        # row by row where one matrix is singular: one singular point spoils no other
+        size = np.abs(_solve(jacobian, value)).max(-1) / (1 + np.abs(z).max(-1))
     return np.where(np.isfinite(size), size, np.inf)
 
 
@@ -525,20 +524,13 @@ def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
     and a Jacobian far from singular (a point of a positive-dimensional component is neither)."""
     if not len(z):
         return np.zeros(0, bool)
-    from parakin.homotopy import _solve
-
     with np.errstate(all="ignore"):
-        at = np.broadcast_to(q, (len(z), q.size))
-        jacobian, value = family.jacobian(z, at), family.value(z, at)
-        finite = np.isfinite(jacobian).all((-2, -1)) & np.isfinite(value).all(-1) & np.isfinite(z).all(-1)
+        jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
+        finite = np.isfinite(jacobian).all((-2, -1))
         condition = np.full(len(z), np.inf)
-        step = np.full(len(z), np.inf)
         if finite.any():
-            # row by row where one matrix is singular: one singular point spoils no other
             condition[finite] = np.linalg.cond(jacobian[finite])
-            size = np.abs(_solve(jacobian[finite], value[finite])).max(-1) / (1 + np.abs(z[finite]).max(-1))
-            step[finite] = np.where(np.isfinite(size), size, np.inf)
-    return finite & (step < 1e-10) & (condition < 1e10)
+    return (newton_size(family, z, q) < 1e-10) & (condition < 1e10)
 
 
 def _total_degree_bound(
