@@ -95,10 +95,6 @@ def _modulus_bound(a: Complex) -> Real:
     return abs(a[0]) + abs(a[1]), a[2]
 
 
-def _to_complex(a: Complex) -> complex:
-    return complex(math.ldexp(a[0], a[2]) if a[0] else 0.0, math.ldexp(a[1], a[2]) if a[1] else 0.0)
-
-
 def _float_of(a: Complex) -> complex:
     """The double nearest each part (ints of any size, exponents far below the double range)."""
 
