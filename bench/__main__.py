@@ -7,6 +7,7 @@ Ratios are baseline time / parakin time (higher is faster than the baseline).
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
 import warnings
@@ -203,6 +204,13 @@ def method_rows(name: str) -> list[str]:
             lambda few=few, method=method: compiled.forward_pose_all(few, strict=False, method=method), budget=0.5
         )
         timings[method] = seconds / few.shape[0]
+        threaded = float("nan")
+        if info is default:  # the same batch spread over every core (the generated C pipeline)
+            os.environ["PARAKIN_THREADS"] = str(os.cpu_count() or 1)
+            try:
+                threaded = best_time(lambda few=few: compiled.forward_pose_all(few, strict=False), budget=0.5)
+            finally:
+                os.environ["PARAKIN_THREADS"] = "1"
         modes = compiled.forward_pose_all(few, strict=False, method=method)
         certificate = modes.certificate()
         complete = (
@@ -212,7 +220,7 @@ def method_rows(name: str) -> list[str]:
         rows.append(
             f"{name:12s} {method + (' *' if info is default else ''):13s} {info.degree:6d} "
             f"{timings[method] * 1e6:12.1f} {timings[method] / timings.get(default.method, timings[method]):9.2f} "
-            f"{complete} {proof.witnesses if proof else 0:10d}"
+            f"{complete} {proof.witnesses if proof else 0:10d} {seconds / threaded:9.2f}"
         )
     return rows
 
@@ -348,6 +356,7 @@ def sweep_rows() -> list[str]:
 
 def main() -> None:
     warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
+    os.environ["PARAKIN_THREADS"] = "1"  # every row single-threaded unless it says otherwise
     rows: list[tuple] = []
 
     def record(name: str, operation: str, backend: str, batch: int, seconds: float, baseline: float | None) -> None:
@@ -418,11 +427,14 @@ def main() -> None:
     print(
         "\nforward_pose_all by method (* the default): elimination = a closed form written with the mechanism, "
         "homotopy = its own polynomial system, automatic = the polynomial form derived from the loop closure "
-        "(root count proven by the trace test at generation); us/input single-threaded on the same inputs, "
-        "x default = time / the default's time, certified = inputs whose distinct certified roots number the "
-        "root count\n"
+        "(root count proven at generation: total-degree homotopies or the trace test); us/input single-threaded on "
+        "the same inputs, x default = time / the default's time, certified = inputs whose distinct certified roots "
+        f"number the root count, threads x = one thread / {os.cpu_count()} threads on the same batch (default method)\n"
     )
-    header = f"{'mechanism':12s} {'method':13s} {'paths':>6s} {'us/input':>12s} {'x default':>9s} {'certified':>10s} {'witnesses':>10s}"
+    header = (
+        f"{'mechanism':12s} {'method':13s} {'paths':>6s} {'us/input':>12s} {'x default':>9s} {'certified':>10s} "
+        f"{'witnesses':>10s} {'threads x':>9s}"
+    )
     print(header)
     print("-" * len(header))
     for name in parakin.available():

@@ -163,12 +163,29 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     )
 
 
+def _product(factors: list[tuple[int, int]]) -> str | None:
+    """The C expression of a product of powers pw[v][e] (None for the empty product, 1)."""
+    expression = None
+    for v, e in factors:
+        factor = f"pw[{v}][{e}]"
+        expression = factor if expression is None else f"c_mul({expression}, {factor})"
+    return expression
+
+
 def _term(equation: int, exponents: list[int]) -> dict[str, Any]:
-    """A monomial for the unrolled C evaluation: its variables with their powers, and for each
-    the partial derivative's other factors."""
+    """A monomial for the unrolled C evaluation: its value's expression, and per variable the
+    expression of the partial derivative over the coefficient (None: the partial is 1). No
+    product by 1: the unrolled code multiplies only what the monomial holds."""
     support = [(v, e) for v, e in enumerate(exponents) if e]
-    partials = [(v, e, [(w, f) for w, f in support if w != v]) for v, e in support]
-    return {"equation": equation, "support": support, "partials": partials}
+    partials = []
+    for v, e in support:
+        others = _product([(w, f) for w, f in support if w != v])
+        if e == 1:
+            partials.append((v, others))
+            continue
+        power = f"c_scale({e}.0, pw[{v}][{e - 1}])"
+        partials.append((v, power if others is None else f"c_mul({power}, {others})"))
+    return {"equation": equation, "monomial": _product(support) or "(cplx){1.0, 0.0}", "partials": partials}
 
 
 def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[str, Any]) -> dict[str, Any]:

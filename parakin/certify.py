@@ -163,10 +163,16 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
     try:
         return np.linalg.inv(jac)
     except np.linalg.LinAlgError:
-        try:
-            return np.linalg.pinv(jac)
-        except np.linalg.LinAlgError:
-            return np.full_like(jac, np.nan)
+        pass
+    # only the singular ones (an exactly zero pivot) get the costly SVD-based pseudo-inverse
+    singular = ~(np.linalg.det(jac) != 0)
+    out = np.empty_like(jac)
+    out[~singular] = np.linalg.inv(jac[~singular])
+    try:
+        out[singular] = np.linalg.pinv(jac[singular])
+    except np.linalg.LinAlgError:
+        out[singular] = np.nan
+    return out
 
 
 def homogeneous_group(exponents: ArrayLike, equation: ArrayLike, patch_equation: int, declared: list[int]) -> list[int]:

@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import os
+from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from parakin.certify import certify_roots, distinct_clusters, homogeneous_group
-from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN
+from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN, BadInputError
 from parakin.exact_certify import certify_root_exactly
 from parakin.homotopy import (
     PATH_DIVERGED,
@@ -42,6 +44,9 @@ if TYPE_CHECKING:
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096
+#: the least work a thread of a compiled batch gets: homotopy paths, or closed-form inputs
+THREAD_PATHS = 64
+THREAD_INPUTS = 512
 
 
 def _codes(m: Mechanism) -> dict[str, int]:
@@ -146,9 +151,36 @@ def compiled_modes(m: Mechanism, theta: Array) -> dict[str, np.ndarray]:
         return single.run(m, theta)
     out = _allocate(m.capabilities.forward, m, theta.shape[0])  # type: ignore[arg-type]
     theta_c = np.ascontiguousarray(theta, dtype=float)
-    job = _modes_job(m, theta_c, out, *_limits(m))
-    m.backend.forward_pose_all(ctypes.byref(job))  # type: ignore[attr-defined]
+    limits = _limits(m)
+    parts = _thread_parts(m, theta.shape[0])
+    # one job per contiguous slice of the batch; the foreign call releases the GIL, so the
+    # slices run in parallel (the C pipeline keeps its state on its own stack)
+    jobs = [_modes_job(m, theta_c[a:b], {k: v[a:b] for k, v in out.items()}, *limits) for a, b in parts]
+    if len(jobs) == 1:
+        m.backend.forward_pose_all(ctypes.byref(jobs[0]))  # type: ignore[attr-defined]
+    else:
+        with ThreadPoolExecutor(len(jobs)) as pool:
+            list(pool.map(lambda job: m.backend.forward_pose_all(ctypes.byref(job)), jobs))  # type: ignore[attr-defined]
     return out
+
+
+def threads() -> int:
+    """Threads a compiled batch spreads over: ``$PARAKIN_THREADS``, else every core."""
+    setting = os.environ.get("PARAKIN_THREADS", "")
+    try:
+        return max(1, int(setting)) if setting else max(1, os.cpu_count() or 1)
+    except ValueError:
+        raise BadInputError(f"PARAKIN_THREADS must be a positive integer, got {setting!r}") from None
+
+
+def _thread_parts(m: Mechanism, count: int) -> list[tuple[int, int]]:
+    """Contiguous slices of a batch, one per thread, each worth the cost of starting a thread:
+    THREAD_PATHS homotopy paths, or THREAD_INPUTS inputs of a closed form."""
+    homotopy = m.capabilities.forward.homotopy  # type: ignore[union-attr]
+    least = max(1, THREAD_PATHS // homotopy.start.shape[0]) if homotopy is not None else THREAD_INPUTS
+    parts = max(1, min(threads(), count // least))
+    edges = np.linspace(0, count, parts + 1).round().astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
 def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:

@@ -169,3 +169,30 @@ def test_a_hundred_thousand_inputs_in_chunks_stay_under_100_megabytes():
 @pytest.mark.slow
 def test_a_million_inputs_stay_under_a_gigabyte():
     _count_modes_peak(1_000_000, 50_000)
+
+
+@pytest.mark.parametrize("name", [HOMOTOPY[0], next(n for n in WITH_MODES if n not in HOMOTOPY)])
+def test_a_batch_split_over_threads_equals_one_thread(name, monkeypatch):
+    """The compiled batch spreads over PARAKIN_THREADS threads (slices of the same buffers):
+    bit-equal to one thread, and a bad setting is a named error."""
+    from parakin import modes as modes_module
+
+    m = _load(name, "compiled")
+    actuated = _inputs(m, 64, seed=5)
+    monkeypatch.setattr(modes_module, "THREAD_PATHS", 1)
+    monkeypatch.setattr(modes_module, "THREAD_INPUTS", 1)
+    monkeypatch.setenv("PARAKIN_THREADS", "1")
+    assert len(modes_module._thread_parts(m, 64)) == 1
+    one = m.forward_pose_all(actuated, strict=False)
+    monkeypatch.setenv("PARAKIN_THREADS", "3")
+    parts = modes_module._thread_parts(m, 64)
+    assert len(parts) == 3 and parts[0][0] == 0 and parts[-1][1] == 64
+    assert all(a[1] == b[0] for a, b in zip(parts[:-1], parts[1:], strict=True))
+    three = m.forward_pose_all(actuated, strict=False)
+    for field in ("count", "status", "valid", "outcome", "root_kind"):
+        np.testing.assert_array_equal(getattr(one, field), getattr(three, field))
+    np.testing.assert_array_equal(np.nan_to_num(one.poses), np.nan_to_num(three.poses))
+    assert one.valid.sum() >= 16  # the near-home half has its generating modes
+    monkeypatch.setenv("PARAKIN_THREADS", "many")
+    with pytest.raises(parakin.errors.BadInputError, match="PARAKIN_THREADS"):
+        m.forward_pose_all(actuated, strict=False)

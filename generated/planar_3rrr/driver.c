@@ -669,21 +669,32 @@ static int load_system(workspace* ws, const double* theta, const double* params,
     return finite;
 }
 
-// H, dH/dz (row-major) and dH/ds at (z, s) (value, rate: NULL when not wanted); 0 when not
-// finite. The monomials are unrolled from the term table: each touches only its own variables.
-static int homotopy_eval(const sparse_system* system, const cplx* z, double s, cplx* value, cplx* jacobian, cplx* rate) {
+// The term coefficients c_t(s) and their s-derivatives at one s: a step evaluates the homotopy
+// at three values of s only (its start, midpoint and end), so each set is computed once and
+// shared by the evaluations at that s.
+typedef struct {
+    double re[TERMS], im[TERMS], rate_re[TERMS], rate_im[TERMS];
+} coefficients_at;
+
+static void coefficients(const sparse_system* system, double s, coefficients_at* at) {
     double weight[POWERS], slope[POWERS];
     weight[0] = 1.0; slope[0] = 0.0;
     for (int d = 1; d < POWERS; ++d) { weight[d] = weight[d - 1] * s; slope[d] = d * weight[d - 1]; }
-    double c_re[TERMS], c_im[TERMS], cs_re[TERMS], cs_im[TERMS];
-    for (int t = 0; t < TERMS; ++t) { c_re[t] = c_im[t] = cs_re[t] = cs_im[t] = 0.0; }
+    for (int t = 0; t < TERMS; ++t) { at->re[t] = at->im[t] = at->rate_re[t] = at->rate_im[t] = 0.0; }
     for (int d = 0; d < POWERS; ++d) {
         double w = weight[d], sl = slope[d];
         for (int t = 0; t < TERMS; ++t) {
-            c_re[t] += w * system->re[d][t]; c_im[t] += w * system->im[d][t];
-            cs_re[t] += sl * system->re[d][t]; cs_im[t] += sl * system->im[d][t];
+            at->re[t] += w * system->re[d][t]; at->im[t] += w * system->im[d][t];
+            at->rate_re[t] += sl * system->re[d][t]; at->rate_im[t] += sl * system->im[d][t];
         }
     }
+}
+
+// H, dH/dz (row-major) and dH/ds at (z, s) from the coefficients at s (value, rate: NULL when not
+// wanted); 0 when not finite. The monomials are unrolled from the term table: each touches only
+// its own variables.
+static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, cplx* jacobian, cplx* rate) {
+    const double *c_re = at->re, *c_im = at->im, *cs_re = at->rate_re, *cs_im = at->rate_im;
     cplx pw[NZ][MAXDEG + 1];
     for (int j = 0; j < NZ; ++j) {
         pw[j][0] = (cplx){1.0, 0.0};
@@ -692,350 +703,225 @@ static int homotopy_eval(const sparse_system* system, const cplx* z, double s, c
     cplx h[NZ], hs[NZ];
     for (int k = 0; k < NZ; ++k) { h[k] = hs[k] = (cplx){0.0, 0.0}; }
     for (int k = 0; k < NZ * NZ; ++k) jacobian[k] = (cplx){0.0, 0.0};
-    cplx c, m, d;
+    cplx c, m;
     c = (cplx){c_re[0], c_im[0]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][2]);
+    m = pw[0][2];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[0], cs_im[0]}, m));
-    d = c_scale(2.0, pw[0][1]);
-    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, d));
+    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, c_scale(2.0, pw[0][1])));
     c = (cplx){c_re[1], c_im[1]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[0][1], pw[2][1]);
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[1], cs_im[1]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, d));
+    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, pw[2][1]));
+    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, pw[0][1]));
     c = (cplx){c_re[2], c_im[2]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[0][1], pw[3][1]);
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[2], cs_im[2]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, d));
+    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, pw[3][1]));
+    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, pw[0][1]));
     c = (cplx){c_re[3], c_im[3]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
+    m = pw[0][1];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[3], cs_im[3]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c_mul(c, d));
+    jacobian[0 * NZ + 0] = c_add(jacobian[0 * NZ + 0], c);
     c = (cplx){c_re[4], c_im[4]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][2]);
+    m = pw[1][2];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[4], cs_im[4]}, m));
-    d = c_scale(2.0, pw[1][1]);
-    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, d));
+    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, c_scale(2.0, pw[1][1])));
     c = (cplx){c_re[5], c_im[5]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[1][1], pw[2][1]);
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[5], cs_im[5]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, d));
+    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, pw[2][1]));
+    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, pw[1][1]));
     c = (cplx){c_re[6], c_im[6]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[1][1], pw[3][1]);
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[6], cs_im[6]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, d));
+    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, pw[3][1]));
+    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, pw[1][1]));
     c = (cplx){c_re[7], c_im[7]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
+    m = pw[1][1];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[7], cs_im[7]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c_mul(c, d));
+    jacobian[0 * NZ + 1] = c_add(jacobian[0 * NZ + 1], c);
     c = (cplx){c_re[8], c_im[8]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][2]);
+    m = pw[2][2];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[8], cs_im[8]}, m));
-    d = c_scale(2.0, pw[2][1]);
-    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, d));
+    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, c_scale(2.0, pw[2][1])));
     c = (cplx){c_re[9], c_im[9]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][1]);
+    m = pw[2][1];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[9], cs_im[9]}, m));
-    d = c_scale(1.0, pw[2][0]);
-    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c_mul(c, d));
+    jacobian[0 * NZ + 2] = c_add(jacobian[0 * NZ + 2], c);
     c = (cplx){c_re[10], c_im[10]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][2]);
+    m = pw[3][2];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[10], cs_im[10]}, m));
-    d = c_scale(2.0, pw[3][1]);
-    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, d));
+    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, c_scale(2.0, pw[3][1])));
     c = (cplx){c_re[11], c_im[11]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][1]);
+    m = pw[3][1];
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[11], cs_im[11]}, m));
-    d = c_scale(1.0, pw[3][0]);
-    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c_mul(c, d));
+    jacobian[0 * NZ + 3] = c_add(jacobian[0 * NZ + 3], c);
     c = (cplx){c_re[12], c_im[12]};
     m = (cplx){1.0, 0.0};
     h[0] = c_add(h[0], c_mul(c, m));
     hs[0] = c_add(hs[0], c_mul((cplx){cs_re[12], cs_im[12]}, m));
     c = (cplx){c_re[13], c_im[13]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][2]);
+    m = pw[0][2];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[13], cs_im[13]}, m));
-    d = c_scale(2.0, pw[0][1]);
-    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, d));
+    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, c_scale(2.0, pw[0][1])));
     c = (cplx){c_re[14], c_im[14]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[0][1], pw[2][1]);
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[14], cs_im[14]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, d));
+    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, pw[2][1]));
+    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, pw[0][1]));
     c = (cplx){c_re[15], c_im[15]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[0][1], pw[3][1]);
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[15], cs_im[15]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, d));
+    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, pw[3][1]));
+    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, pw[0][1]));
     c = (cplx){c_re[16], c_im[16]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
+    m = pw[0][1];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[16], cs_im[16]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c_mul(c, d));
+    jacobian[1 * NZ + 0] = c_add(jacobian[1 * NZ + 0], c);
     c = (cplx){c_re[17], c_im[17]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][2]);
+    m = pw[1][2];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[17], cs_im[17]}, m));
-    d = c_scale(2.0, pw[1][1]);
-    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, d));
+    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, c_scale(2.0, pw[1][1])));
     c = (cplx){c_re[18], c_im[18]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[1][1], pw[2][1]);
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[18], cs_im[18]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, d));
+    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, pw[2][1]));
+    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, pw[1][1]));
     c = (cplx){c_re[19], c_im[19]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[1][1], pw[3][1]);
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[19], cs_im[19]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, d));
+    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, pw[3][1]));
+    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, pw[1][1]));
     c = (cplx){c_re[20], c_im[20]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
+    m = pw[1][1];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[20], cs_im[20]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c_mul(c, d));
+    jacobian[1 * NZ + 1] = c_add(jacobian[1 * NZ + 1], c);
     c = (cplx){c_re[21], c_im[21]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][2]);
+    m = pw[2][2];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[21], cs_im[21]}, m));
-    d = c_scale(2.0, pw[2][1]);
-    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, d));
+    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, c_scale(2.0, pw[2][1])));
     c = (cplx){c_re[22], c_im[22]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][1]);
+    m = pw[2][1];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[22], cs_im[22]}, m));
-    d = c_scale(1.0, pw[2][0]);
-    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c_mul(c, d));
+    jacobian[1 * NZ + 2] = c_add(jacobian[1 * NZ + 2], c);
     c = (cplx){c_re[23], c_im[23]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][2]);
+    m = pw[3][2];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[23], cs_im[23]}, m));
-    d = c_scale(2.0, pw[3][1]);
-    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, d));
+    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, c_scale(2.0, pw[3][1])));
     c = (cplx){c_re[24], c_im[24]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][1]);
+    m = pw[3][1];
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[24], cs_im[24]}, m));
-    d = c_scale(1.0, pw[3][0]);
-    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c_mul(c, d));
+    jacobian[1 * NZ + 3] = c_add(jacobian[1 * NZ + 3], c);
     c = (cplx){c_re[25], c_im[25]};
     m = (cplx){1.0, 0.0};
     h[1] = c_add(h[1], c_mul(c, m));
     hs[1] = c_add(hs[1], c_mul((cplx){cs_re[25], cs_im[25]}, m));
     c = (cplx){c_re[26], c_im[26]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][2]);
+    m = pw[0][2];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[26], cs_im[26]}, m));
-    d = c_scale(2.0, pw[0][1]);
-    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, d));
+    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, c_scale(2.0, pw[0][1])));
     c = (cplx){c_re[27], c_im[27]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[0][1], pw[2][1]);
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[27], cs_im[27]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, d));
+    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, pw[2][1]));
+    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, pw[0][1]));
     c = (cplx){c_re[28], c_im[28]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[0][1], pw[3][1]);
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[28], cs_im[28]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[0][1]);
-    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, d));
+    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, pw[3][1]));
+    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, pw[0][1]));
     c = (cplx){c_re[29], c_im[29]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[0][1]);
+    m = pw[0][1];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[29], cs_im[29]}, m));
-    d = c_scale(1.0, pw[0][0]);
-    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c_mul(c, d));
+    jacobian[2 * NZ + 0] = c_add(jacobian[2 * NZ + 0], c);
     c = (cplx){c_re[30], c_im[30]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][2]);
+    m = pw[1][2];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[30], cs_im[30]}, m));
-    d = c_scale(2.0, pw[1][1]);
-    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, d));
+    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, c_scale(2.0, pw[1][1])));
     c = (cplx){c_re[31], c_im[31]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[2][1]);
+    m = c_mul(pw[1][1], pw[2][1]);
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[31], cs_im[31]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[2][1]);
-    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[2][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, d));
+    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, pw[2][1]));
+    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, pw[1][1]));
     c = (cplx){c_re[32], c_im[32]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
-    m = c_mul(m, pw[3][1]);
+    m = c_mul(pw[1][1], pw[3][1]);
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[32], cs_im[32]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    d = c_mul(d, pw[3][1]);
-    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, d));
-    d = c_scale(1.0, pw[3][0]);
-    d = c_mul(d, pw[1][1]);
-    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, d));
+    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, pw[3][1]));
+    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, pw[1][1]));
     c = (cplx){c_re[33], c_im[33]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[1][1]);
+    m = pw[1][1];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[33], cs_im[33]}, m));
-    d = c_scale(1.0, pw[1][0]);
-    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c_mul(c, d));
+    jacobian[2 * NZ + 1] = c_add(jacobian[2 * NZ + 1], c);
     c = (cplx){c_re[34], c_im[34]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][2]);
+    m = pw[2][2];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[34], cs_im[34]}, m));
-    d = c_scale(2.0, pw[2][1]);
-    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, d));
+    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, c_scale(2.0, pw[2][1])));
     c = (cplx){c_re[35], c_im[35]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][1]);
+    m = pw[2][1];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[35], cs_im[35]}, m));
-    d = c_scale(1.0, pw[2][0]);
-    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c_mul(c, d));
+    jacobian[2 * NZ + 2] = c_add(jacobian[2 * NZ + 2], c);
     c = (cplx){c_re[36], c_im[36]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][2]);
+    m = pw[3][2];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[36], cs_im[36]}, m));
-    d = c_scale(2.0, pw[3][1]);
-    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, d));
+    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, c_scale(2.0, pw[3][1])));
     c = (cplx){c_re[37], c_im[37]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][1]);
+    m = pw[3][1];
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[37], cs_im[37]}, m));
-    d = c_scale(1.0, pw[3][0]);
-    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c_mul(c, d));
+    jacobian[2 * NZ + 3] = c_add(jacobian[2 * NZ + 3], c);
     c = (cplx){c_re[38], c_im[38]};
     m = (cplx){1.0, 0.0};
     h[2] = c_add(h[2], c_mul(c, m));
     hs[2] = c_add(hs[2], c_mul((cplx){cs_re[38], cs_im[38]}, m));
     c = (cplx){c_re[39], c_im[39]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[2][2]);
+    m = pw[2][2];
     h[3] = c_add(h[3], c_mul(c, m));
     hs[3] = c_add(hs[3], c_mul((cplx){cs_re[39], cs_im[39]}, m));
-    d = c_scale(2.0, pw[2][1]);
-    jacobian[3 * NZ + 2] = c_add(jacobian[3 * NZ + 2], c_mul(c, d));
+    jacobian[3 * NZ + 2] = c_add(jacobian[3 * NZ + 2], c_mul(c, c_scale(2.0, pw[2][1])));
     c = (cplx){c_re[40], c_im[40]};
-    m = (cplx){1.0, 0.0};
-    m = c_mul(m, pw[3][2]);
+    m = pw[3][2];
     h[3] = c_add(h[3], c_mul(c, m));
     hs[3] = c_add(hs[3], c_mul((cplx){cs_re[40], cs_im[40]}, m));
-    d = c_scale(2.0, pw[3][1]);
-    jacobian[3 * NZ + 3] = c_add(jacobian[3 * NZ + 3], c_mul(c, d));
+    jacobian[3 * NZ + 3] = c_add(jacobian[3 * NZ + 3], c_mul(c, c_scale(2.0, pw[3][1])));
     c = (cplx){c_re[41], c_im[41]};
     m = (cplx){1.0, 0.0};
     h[3] = c_add(h[3], c_mul(c, m));
     hs[3] = c_add(hs[3], c_mul((cplx){cs_re[41], cs_im[41]}, m));
-    (void)d;
     int finite = 1;
     for (int k = 0; k < NZ; ++k) {
         if (value) value[k] = h[k];
@@ -1080,36 +966,48 @@ static double c_size(const cplx* z) {
 }
 
 // dz/ds = -H_z^-1 H_s; 0 when singular or not finite
-static int velocity(const sparse_system* system, const cplx* z, double s, cplx* out) {
+static int velocity(const coefficients_at* at, const cplx* z, cplx* out) {
     cplx jacobian[NZ * NZ];
-    if (!homotopy_eval(system, z, s, NULL, jacobian, out)) return 0;
+    if (!homotopy_eval(at, z, NULL, jacobian, out)) return 0;
     for (int k = 0; k < NZ; ++k) out[k] = (cplx){-out[k].re, -out[k].im};
     return c_solve(jacobian, out);
 }
 
 // One Newton step at (z, s) in place; returns the update relative to |z| (inf when singular).
-static double newton_step(const sparse_system* system, cplx* z, double s) {
+static double newton_step(const coefficients_at* at, cplx* z) {
     cplx value[NZ], jacobian[NZ * NZ];
-    if (!homotopy_eval(system, z, s, value, jacobian, NULL) || !c_solve(jacobian, value)) return INFINITY;
+    if (!homotopy_eval(at, z, value, jacobian, NULL) || !c_solve(jacobian, value)) return INFINITY;
     for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
     double size = 0.0;
     for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(value[k]));
     return size / c_size(z);
 }
 
-static int track_path(const sparse_system* system, double tolerance, cplx* z) {
+// The coefficient sets of one step: in the caller's storage, as with hundreds of terms they are
+// too large for a small thread stack
+typedef struct { coefficients_at here, middle, end, target; } step_coefficients;
+
+static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at) {
     double s = 1.0, h = INITIAL_STEP;
-    int streak = 0;
+    int streak = 0, slope_known = 0, slope_ok = 0;
+    cplx k1[NZ];
+    coefficients(system, s, &at->here);
     for (int steps = 0; steps < MAX_STEPS; ++steps) {
         double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
-        cplx k1[NZ], k2[NZ], k3[NZ], k4[NZ], probe[NZ], corrected[NZ];
-        int ok = velocity(system, z, s, k1);
+        cplx k2[NZ], k3[NZ], k4[NZ], probe[NZ], corrected[NZ];
+        // a rejected step is retried from the same point, whose slope is still valid
+        if (!slope_known) { slope_ok = velocity(&at->here, z, k1); slope_known = 1; }
+        coefficients(system, s - 0.5 * step, &at->middle);
+        coefficients(system, s - step, &at->end);
+        const coefficients_at* at_target = &at->end;
+        if (target != s - step) { coefficients(system, target, &at->target); at_target = &at->target; }
+        int ok = slope_ok;
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k1[k].re, z[k].im - 0.5 * step * k1[k].im};
-        ok = ok && velocity(system, probe, s - 0.5 * step, k2);
+        ok = ok && velocity(&at->middle, probe, k2);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k2[k].re, z[k].im - 0.5 * step * k2[k].im};
-        ok = ok && velocity(system, probe, s - 0.5 * step, k3);
+        ok = ok && velocity(&at->middle, probe, k3);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - step * k3[k].re, z[k].im - step * k3[k].im};
-        ok = ok && velocity(system, probe, s - step, k4);
+        ok = ok && velocity(&at->end, probe, k4);
         int accepted = 0;
         if (ok) {
             for (int k = 0; k < NZ; ++k) {
@@ -1120,7 +1018,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z) {
             double update = INFINITY;
             int contracting = 1;
             for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
-                double size = newton_step(system, corrected, target);
+                double size = newton_step(at_target, corrected);
                 // converged iterates stop: at an ill-conditioned solution further updates are
                 // rounding noise, which need not contract
                 if (iteration) contracting &= size <= 0.5 * update;
@@ -1132,6 +1030,8 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z) {
         if (accepted) {
             memcpy(z, corrected, sizeof(corrected));
             s = target;
+            memcpy(&at->here, at_target, sizeof(coefficients_at));
+            slope_known = 0;
             if (++streak >= GROW_AFTER) { h *= 2.0; streak = 0; }
             if (s <= 0.0) break;
         } else {
@@ -1144,11 +1044,12 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z) {
     }
     if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
     // refine at s = 0 while the update shrinks
+    coefficients(system, 0.0, &at->target);
     double update = INFINITY;
     for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
         cplx trial[NZ];
         memcpy(trial, z, sizeof(trial));
-        double size = newton_step(system, trial, 0.0);
+        double size = newton_step(&at->target, trial);
         if (!(size < update)) break;
         memcpy(z, trial, sizeof(trial));
         update = size;
@@ -1174,12 +1075,13 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
     for (int k = 0; k < NA; ++k) finite &= isfinite(theta[k]);
     if (!finite) { job->status[i] = PLANAR_3RRR_INPUT_NONFINITE; return; }
     sparse_system system;
+    step_coefficients at;
     if (!load_system(ws, theta, params, 0, &system)) { job->status[i] = PLANAR_3RRR_INPUT_DEGENERATE; return; }
     cplx ends[DEGREE][NZ];
     int ended[DEGREE], failures = 0;
     for (int p = 0; p < DEGREE; ++p) {
         for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){start_real[p][k], start_imag[p][k]};
-        ended[p] = track_path(&system, job->path_tolerance, ends[p]);
+        ended[p] = track_path(&system, job->path_tolerance, ends[p], &at);
         failures += ended[p] == PATH_FAILED;
     }
     // a failed path came too close to another: track again from the second start system, along
@@ -1189,7 +1091,7 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
         for (int p = 0; p < DEGREE && failures; ++p) {
             cplx z[NZ];
             for (int k = 0; k < NZ; ++k) z[k] = (cplx){alternative_real[p][k], alternative_imag[p][k]};
-            if (track_path(&system, job->path_tolerance, z) != PATH_REACHED) continue;
+            if (track_path(&system, job->path_tolerance, z, &at) != PATH_REACHED) continue;
             double size = 0.0;
             for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(z[k]));
             int seen = 0;
