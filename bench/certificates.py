@@ -20,17 +20,18 @@ import parakin
 from parakin.sampling import sample_configurations
 
 
-def statistics(name: str, inputs: int, seed: int = 19) -> list[dict[str, object]]:
-    """One record per homotopy method of ``name`` (an empty list where there is none)."""
+def statistics(name: str, inputs: int, seed: int = 19, others: int | None = None) -> list[dict[str, object]]:
+    """One record per homotopy method of ``name`` (an empty list where there is none); methods
+    other than the default (orchestrated in NumPy, slower) on the first ``others`` inputs."""
     m = parakin.load(name, backend="compiled")
     rows: list[dict[str, object]] = []
     homotopies = {k: v for k, v in m.capabilities.forward_methods.items() if v.homotopy is not None}
     if not homotopies:
         return rows
     sample = sample_configurations(m, 2 * inputs, spread=0.08, seed=seed)
-    theta = sample.actuated[:inputs]
     for method, info in homotopies.items():
         assert info.homotopy is not None and info.homotopy.root_count is not None
+        theta = sample.actuated[: inputs if info is m.capabilities.forward or others is None else others]
         began = time.perf_counter()
         modes = m.forward_pose_all(theta, strict=False, method=method)
         seconds = time.perf_counter() - began
@@ -61,6 +62,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench.certificates", description=__doc__)
     parser.add_argument("names", nargs="*", help="mechanisms (default: every available one)")
     parser.add_argument("--inputs", type=int, default=1000, help="random inputs per mechanism")
+    parser.add_argument("--others", type=int, help="inputs for the methods other than the default (default: --inputs)")
     args = parser.parse_args(argv)
     header = (
         f"{'mechanism':12s} {'method':10s} {'roots':>6s} {'proven':>6s} {'inputs':>7s} {'complete':>9s} "
@@ -69,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     print(header)
     print("-" * len(header))
     for name in args.names or parakin.available():
-        for row in statistics(name, args.inputs):
+        for row in statistics(name, args.inputs, others=args.others):
             print(
                 f"{row['mechanism']:12s} {row['method']:10s} {row['root_count']:6d} {('yes' if row['proven'] else 'no'):>6s} "
                 f"{row['inputs']:7d} {row['complete']:9d} {row['first_run_complete']:8d} {row['retracked']:9d} "

@@ -65,6 +65,10 @@ def near_singular_configurations(
         inverse = m.inverse_pose(poses, strict=False)
         state = inverse.branch(branch)
         with np.errstate(all="ignore"):
+            # the configuration's own pose: an inverse that reads only what the actuators control
+            # (a lower-mobility platform) returns the reachable pose nearest the line's
+            reached = m.backend.call("platform_pose", state.actuated, state.passive, m.params)["pose"]
+            state = Configuration(state.actuated, state.passive, reached)
             return state, closure_singularity(m, state), inverse.valid[:, branch]
 
     pairs = rng.permutation(len(coordinates))
