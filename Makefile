@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: setup generate test bench lint demo clean
+.PHONY: setup generate regenerate test bench lint demo clean
 
 setup: $(STAMP)
 
@@ -14,8 +14,12 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e ".[dev,plot]"
 	touch $(STAMP)
 
+# the packages that are out of date (a changed mechanism file or generator); regenerate: all
 generate: $(STAMP)
 	$(BIN)/python -m parakin.generator
+
+regenerate: $(STAMP)
+	$(BIN)/python -m parakin.generator --force
 
 demo: generate
 	$(BIN)/parakin demo

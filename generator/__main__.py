@@ -1,5 +1,6 @@
-"""``python -m parakin.generator [names...]``: regenerate ``generated/`` from ``mechanisms/``
-(every mechanism file by default)."""
+"""``python -m parakin.generator [names...] [--force]``: regenerate ``generated/`` from
+``mechanisms/`` (every mechanism file by default; of those only the packages that are out of
+date, unless ``--force``)."""
 
 from __future__ import annotations
 
@@ -14,16 +15,23 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m parakin.generator", description=__doc__)
     parser.add_argument("names", nargs="*", help="mechanisms to build (default: every file in mechanisms/)")
     parser.add_argument("--workers", type=int, default=None, help="parallel processes (default: one per core)")
+    parser.add_argument(
+        "--force", action="store_true", help="rebuild every package, also those up to date (CI's reproducibility check)"
+    )
     args = parser.parse_args(argv)
     # a terminated build unwinds like an interrupted one: its staging folder is removed
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     try:
-        report = generate(args.names or None, workers=args.workers)
+        report = generate(args.names or None, workers=args.workers, force=args.force)
     except GenerationError as error:
         print(f"parakin generator: {error}", file=sys.stderr)
         return 2
+    kept = [name for name, stats in report.items() if stats.get("up_to_date")]
     for name, stats in report.items():
-        print(f"generated {name} in {stats['seconds']:.2f} s")
+        if not stats.get("up_to_date"):
+            print(f"generated {name} in {stats['seconds']:.2f} s")
+    if kept:
+        print(f"up to date (kept): {', '.join(kept)}")
     return 0
 
 

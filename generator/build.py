@@ -15,8 +15,12 @@ destination that holds other files is refused (``generate_file`` can write next 
 
 from __future__ import annotations
 
+import ast
 import ctypes
 import errno
+import functools
+import hashlib
+import importlib.metadata
 import importlib.util
 import json
 import os
@@ -223,6 +227,95 @@ def package_files(name: str) -> list[str]:
     return [filename.format(name=name) for filename in PACKAGE_FILES]
 
 
+#: the tools whose versions shape a package (the generator's pins in pyproject.toml)
+TOOLS = ("sympy", "mpmath", "casadi", "jinja2", "ruff")
+
+
+def _mechanism_sources(path: Path) -> list[Path]:
+    """The mechanism file and every sibling mechanism module it imports (``from
+    parakin.mechanisms.stewart import ...``), transitively, found by reading the imports."""
+    found: list[Path] = []
+    pending = [path.resolve()]
+    while pending:
+        current = pending.pop()
+        if current in found or not current.is_file():
+            continue
+        found.append(current)
+        try:
+            tree = ast.parse(current.read_bytes())
+        except SyntaxError:  # reported by the build itself
+            continue
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.ImportFrom) or node.module is None:
+                continue
+            parts = node.module.split(".")
+            if parts[-1] == "mechanisms" and parts[:-1] in ([], ["parakin"]):
+                pending += [current.parent / f"{alias.name}.py" for alias in node.names]
+            elif len(parts) >= 2 and parts[-2] == "mechanisms" and parts[:-2] in ([], ["parakin"]):
+                pending.append(current.parent / f"{parts[-1]}.py")
+    return [found[0], *sorted(found[1:])]
+
+
+@functools.cache
+def _generator_digest() -> bytes:
+    """The generator's own code and templates, the runtime module it tracks paths with, and the
+    versions of the tools: what every package is generated from besides its mechanism."""
+    import parakin.homotopy
+
+    digest = hashlib.sha256()
+    here = Path(__file__).resolve().parent
+    files = sorted([*here.glob("*.py"), *(p for p in (here / "templates").iterdir() if p.is_file())])
+    for source in [*files, Path(parakin.homotopy.__file__).resolve()]:
+        label = source.relative_to(here).as_posix() if source.is_relative_to(here) else f"parakin/{source.name}"
+        digest.update(f"{label}\0{source.stat().st_size}\0".encode() + source.read_bytes())
+    for tool in TOOLS:
+        digest.update(f"{tool}=={importlib.metadata.version(tool)}\0".encode())
+    return digest.digest()
+
+
+def input_digest(name: str, path: Path) -> str:
+    """The SHA-256 of everything the package ``name`` is generated from: its name, its mechanism
+    file with the mechanism modules that file imports, and the generator (``_generator_digest``)."""
+    digest = hashlib.sha256(_generator_digest())
+    digest.update(f"name\0{name}\0".encode())
+    for source in _mechanism_sources(path):
+        digest.update(f"{source.name}\0{source.stat().st_size}\0".encode() + source.read_bytes())
+    return digest.hexdigest()
+
+
+def _file_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _seal(package: Path, name: str, source: Path) -> None:
+    """Record in the manifest what the package was generated from (``input_digest``) and the
+    digest of each of its other files, as written and formatted: ``up_to_date`` reads both."""
+    path = package / "manifest.json"
+    manifest = json.loads(path.read_text())
+    manifest["generator"]["inputs"] = input_digest(name, source)
+    manifest["generator"]["files"] = {
+        filename: _file_digest(package / filename) for filename in package_files(name) if filename != "manifest.json"
+    }
+    path.write_text(json.dumps(manifest, indent=1, sort_keys=False) + "\n")
+
+
+def up_to_date(name: str, source: Path, package: Path) -> bool:
+    """Whether the package folder holds exactly what generating ``name`` from ``source`` would
+    write: it is a generated package of that name, it was generated from the same inputs, and
+    every file is as written (a file edited since is caught by its digest)."""
+    if package_name(package) != name:
+        return False
+    try:
+        record = json.loads((package / "manifest.json").read_text())["generator"]
+        files = record.get("files")
+        if record.get("inputs") != input_digest(name, source) or not isinstance(files, dict):
+            return False
+        wanted = [f for f in package_files(name) if f != "manifest.json"]
+        return sorted(files) == sorted(wanted) and all(_file_digest(package / f) == files[f] for f in wanted)
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
 def _only_bytecode(folder: Path) -> bool:
     """A ``__pycache__`` that Python wrote when the package was imported: nothing but .pyc files."""
     return folder.is_dir() and not folder.is_symlink() and all(p.suffix == ".pyc" for p in folder.iterdir())
@@ -379,11 +472,18 @@ def generate(
     destination: Path = GENERATED,
     sources: dict[str, Path] | None = None,
     workers: int | None = None,
+    force: bool = False,
 ) -> dict[str, dict[str, Any]]:
     """Regenerate ``destination`` (default ``generated/``) for ``names`` (default: every file in
     ``mechanisms/``; with names given, the other packages are kept). Atomic: all or nothing. A
-    destination holding anything but a generated tree is refused before anything is written."""
+    destination holding anything but a generated tree is refused before anything is written.
+
+    Without names, only the packages that are not ``up_to_date`` are built (a changed mechanism
+    file or generator, a package file edited since); ``force`` builds every one (CI, to check
+    that the output is reproducible). Named mechanisms are always built. The report marks the
+    packages kept as they were with ``up_to_date``."""
     sources = discover() if sources is None else sources
+    everything = names is None
     names = sorted(sources) if names is None else names
     unknown = sorted(set(names) - set(sources))
     if unknown:
@@ -398,6 +498,13 @@ def generate(
                 f"{destination} holds files the generator did not write ({', '.join(foreign[:5])}"
                 f"{', ...' if len(foreign) > 5 else ''}); pass an empty or new folder"
             )
+    current: dict[str, dict[str, Any]] = {}
+    if everything and not force and destination.is_dir():
+        current = {n: {"seconds": 0.0, "up_to_date": True} for n in names if up_to_date(n, sources[n], destination / n)}
+        packages = {p.name for p in destination.iterdir() if p.is_dir() and package_name(p) is not None}
+        if len(current) == len(names) and packages == set(names):
+            return current  # nothing to write: the tree is not touched
+        names = [n for n in names if n not in current]
     destination.parent.mkdir(parents=True, exist_ok=True)
     _remove_abandoned(destination.parent)
     staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=destination.parent))
@@ -412,6 +519,8 @@ def generate(
         else:
             report = dict(map(_build_one, jobs))
         _format(staging)
+        for name in names:
+            _seal(staging / name, name, sources[name])
         partial = set(names) != set(sources)
         if destination.exists() and partial:  # a partial rebuild keeps the other packages
             for path in destination.iterdir():
@@ -421,7 +530,7 @@ def generate(
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
-    return dict(sorted(report.items()))
+    return dict(sorted((report | current).items()))
 
 
 def generate_file(path: Path, package: Path, force: bool = False) -> dict[str, Any]:
@@ -459,6 +568,7 @@ def generate_file(path: Path, package: Path, force: bool = False) -> dict[str, A
     try:
         report = generate_package(path, staging, name)
         _format(staging)
+        _seal(staging, name, path)
         staging.chmod(0o755)
         if into_folder:
             for filename in package_files(name):
