@@ -51,27 +51,10 @@ from __future__ import annotations
 import math
 
 import sympy as sp
-from parakin.generator.blocks import (
-    as_points,
-    half_angle_solution,
-    laplace_det,
-    planar_coordinates,
-    planar_pose,
-    point_defaults,
-    point_info,
-    point_parameters,
-)
+from parakin.generator import joints
+from parakin.generator.blocks import as_points, point_defaults, point_info, point_parameters
 from parakin.generator.frames import homogeneous, rot_z
-from parakin.generator.model import (
-    Citation,
-    ClosureModel,
-    Drawing,
-    Example,
-    InverseSolution,
-    Mechanism,
-    ParameterInfo,
-    RateModel,
-)
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 
 base = point_parameters("base", 3, dims=2)
 platform = point_parameters("platform", 3, dims=2)
@@ -79,8 +62,7 @@ a = sp.symbols("a1:4", positive=True)
 b = sp.symbols("b1:4", positive=True)
 theta = sp.symbols("theta1:4", real=True)
 x, y, phi = sp.symbols("x y phi", real=True)
-PLANAR_TWIST = ["vx", "vy", "wz"]
-Z = sp.Matrix([0, 0, 1])
+X, Z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
 
 #: the default geometry (module docstring): joints at 210, 330 and 90 degrees on two circles
 JOINT_ANGLES = (210.0, 330.0, 90.0)
@@ -107,78 +89,13 @@ SIX_MODES = [
 ]
 
 
-def elbow(i: int, angle: sp.Expr) -> sp.Matrix:
-    """E_i = A_i + a_i (cos theta_i, sin theta_i, 0)."""
-    return as_points(base)[i] + a[i] * sp.Matrix([sp.cos(angle), sp.sin(angle), 0])
-
-
-def platform_joint(i: int, position_x: sp.Expr, position_y: sp.Expr, angle: sp.Expr) -> sp.Matrix:
-    """B_i = p + Rot_z(phi) c_i."""
-    return sp.Matrix([position_x, position_y, 0]) + rot_z(angle) * as_points(platform)[i]
-
-
-def link(i: int) -> sp.Matrix:
-    """d_i = B_i - E_i(theta_i), in {B}."""
-    return platform_joint(i, x, y, phi) - elbow(i, theta[i])
-
-
-def inverse() -> InverseSolution:
-    """Per leg the tan-half-angle quadratic of E cos + F sin + G = 0 (module docstring)."""
-    sigma = list(sp.symbols("sigma1:4", real=True))
-    steps: list[tuple[sp.Symbol, sp.Expr]] = list(zip((x, y, phi), planar_coordinates(), strict=True))
-    validity = {}
-    for i in range(3):
-        e, f, g = sp.symbols(f"E{i + 1} F{i + 1} G{i + 1}", real=True)
-        v = platform_joint(i, x, y, phi) - as_points(base)[i]
-        steps += [(e, -2 * a[i] * v[0]), (f, -2 * a[i] * v[1]), (g, v.dot(v) + a[i] ** 2 - b[i] ** 2)]
-        # half_angle_solution's sign +1 turns the crank counter-clockwise from A_i -> B_i
-        angle, discriminant = half_angle_solution(e, f, g, sigma[i])
-        steps.append((theta[i], angle))
-        # relative to E^2 + F^2 + G^2 (a length^4, as the discriminant): the same tolerance at any size
-        validity[f"leg{i + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
-    return InverseSolution(steps, sigma, validity)
-
-
-def residual() -> sp.Matrix:
-    """(|d_i|^2 - b_i^2) / (2 b_i), one row per leg (module docstring)."""
-    return sp.Matrix([(d.dot(d) - b[i] ** 2) / (2 * b[i]) for i, d in enumerate(link(i) for i in range(3))])
-
-
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """d_i . (v + w x (B_i - p)) = d_i . dE_i/dtheta_i theta_dot_i, with (B_i - p) x d_i =
-    (E_i - p) x d_i and dE_i/dtheta_i = z x (E_i - A_i)."""
-    position = sp.Matrix([x, y, 0])
-    links = [link(i) for i in range(3)]
-    elbows = [elbow(i, theta[i]) for i in range(3)]
-    rows = [[d[0], d[1], (e - position).cross(d)[2]] for e, d in zip(elbows, links, strict=True)]
-    diagonal = [(elbows[i] - as_points(base)[i]).cross(links[i])[2] for i in range(3)]
-    model = RateModel(
-        twist=PLANAR_TWIST,
-        a=sp.Matrix(rows),
-        b=sp.diag(*diagonal),
-        serial_factors={f"leg{i + 1}_links_aligned": diagonal[i] for i in range(3)},
-    )
-    # the moments about E_1 instead of p: column 3 minus a combination of columns 1 and 2 with
-    # the same coefficients in every row, so the same determinant
-    about_first = [[d[0], d[1], (e - elbows[0]).cross(d)[2]] for e, d in zip(elbows, links, strict=True)]
-    return model, {"link_lines_concurrent_or_parallel": laplace_det(sp.Matrix(about_first))}
-
-
-def drawing() -> Drawing:
-    """Base joints A_i, elbows E_i and platform joints B_i (in {B}, z = 0): each leg A_i -> E_i
-    -> B_i, the base and the platform triangles."""
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*as_points(base)),
-            "elbow": sp.Matrix.hstack(*(elbow(i, theta[i]) for i in range(3))),
-            "platform": sp.Matrix.hstack(*(platform_joint(i, x, y, phi) for i in range(3))),
-        },
-        polylines={
-            **{f"leg{i + 1}": [("base", i), ("elbow", i), ("platform", i)] for i in range(3)},
-            "base": [("base", i % 3) for i in range(4)],
-            "platform": [("platform", i % 3) for i in range(4)],
-        },
-    )
+#: the model: three R-R-R legs (an actuated crank about z from the x axis, a link) on a planar
+#: platform; closure, rates, singularity factors, inverse and drawing are derived from it
+MODEL = joints.DistanceMechanism(
+    joints.platform("planar"),
+    [joints.crank_leg(as_points(base)[i], Z, X, a[i], b[i], as_points(platform)[i], theta[i]) for i in range(3)],
+    parallel_name="link_lines_concurrent_or_parallel",
+)
 
 
 def defaults() -> dict[sp.Symbol, float]:
@@ -198,7 +115,7 @@ def pose_list(px: float, py: float, angle: float) -> list[list[float]]:
 def home() -> dict[sp.Symbol, float]:
     """The inverse of HOME_POSE on HOME_BRANCH at the default geometry."""
     pose = sp.Matrix(pose_list(*HOME_POSE))
-    values = inverse().at(pose[:3, :3], pose[:3, 3], HOME_BRANCH, defaults())
+    values = MODEL.inverse().at(pose[:3, :3], pose[:3, 3], HOME_BRANCH, defaults())
     return {v: values[v] for v in (*theta, x, y, phi)}
 
 
@@ -225,7 +142,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
     return Mechanism(
         name="planar_3rrr",
         title="Planar 3-RRR parallel manipulator (Gosselin & Angeles 1988): three actuated cranks",
@@ -236,22 +152,13 @@ def build() -> Mechanism:
             "ASME Journal of Mechanisms, Transmissions, and Automation in Design 110(1), pp. 35-41",
         ),
         parameters=defaults(),
-        actuated=list(theta),
-        passive=[x, y, phi],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=None,
         home=home(),
-        angular=[*theta, phi],
-        parallel_factors=parallel,
-        closure=ClosureModel(residual(), sp.Matrix([sp.Integer(1)]), planar_pose(x, y, phi)),
-        rates=rate_model,
-        pose_kind="planar",
         parameter_info=point_info(base, "base joint A{k} (crank axis), in {B}")
         | point_info(platform, "platform joint c{k}, in {P}")
         | {a[i]: ParameterInfo("m", f"crank {i + 1} length |E{i + 1} - A{i + 1}|", "positive") for i in range(3)}
         | {b[i]: ParameterInfo("m", f"link {i + 1} length |B{i + 1} - E{i + 1}|", "positive") for i in range(3)},
         parameter_groups={"base": base, "platform": platform},
         examples=EXAMPLES,
-        drawing=drawing(),
     )

@@ -29,25 +29,19 @@ Frames and conventions (SI, radians):
 from __future__ import annotations
 
 import sympy as sp
-from parakin.generator.blocks import laplace_det, point_defaults, point_info, point_parameters, prismatic_legs
+from parakin.generator import joints
+from parakin.generator.blocks import point_defaults, point_info, point_parameters
 from parakin.generator.frames import (
-    homogeneous,
     pure_quaternion,
     quaternion_conjugate,
     quaternion_from_rotation,
     quaternion_product,
-    quaternion_rotation,
     quaternion_rotation_unnormalised,
 )
 from parakin.generator.model import (
-    POSE_POSITION,
-    POSE_ROTATION,
     Citation,
-    ClosureModel,
-    Drawing,
     Example,
     ForwardHomotopy,
-    InverseSolution,
     Mechanism,
 )
 
@@ -86,27 +80,12 @@ DIETMAIER_ROTATION = [
 DIETMAIER_POSITION = [0.955868038233880, -0.046995628998516, -0.290013283037649]
 
 
-def legs(rotation: sp.Matrix, position: sp.Matrix):
-    return prismatic_legs(BASE, PLATFORM, rotation, position)
-
-
-def state_pose() -> tuple[sp.Matrix, sp.Matrix]:
-    return quaternion_rotation(quaternion), sp.Matrix([x, y, z])
-
-
-def inverse() -> InverseSolution:
-    """l_i = |R b_i + p - A_i|; p read off, q from R (q0 >= 0, branch-free)."""
-    steps = legs(POSE_ROTATION, POSE_POSITION).inverse_steps(lengths)
-    steps += [(x, POSE_POSITION[0]), (y, POSE_POSITION[1]), (z, POSE_POSITION[2])]
-    steps += list(zip(quaternion, quaternion_from_rotation(POSE_ROTATION), strict=True))
-    return InverseSolution(steps, [], {f"leg{k + 1}_length": lengths[k] for k in range(6)})
-
-
-def closure() -> ClosureModel:
-    rotation, position = state_pose()
-    residual = legs(rotation, position).residual(lengths, squared=True)
-    norm = (sum(c**2 for c in quaternion) - 1) / 2
-    return ClosureModel(sp.Matrix.vstack(residual, sp.Matrix([norm])), sp.Matrix([1]), homogeneous(rotation, position))
+#: the model: six S-P-S legs on a spatial platform (x, y, z, unit quaternion q0..q3); closure,
+#: rates, singularity factor, inverse and drawing are derived from it
+MODEL = joints.DistanceMechanism(
+    joints.platform("transform"),
+    [joints.prismatic_leg(BASE.row(k).T, PLATFORM.row(k).T, lengths[k]) for k in range(6)],
+)
 
 
 def study_leg_equation(base: sp.Matrix, platform: sp.Matrix, length: sp.Expr) -> sp.Expr:
@@ -130,19 +109,6 @@ def forward() -> ForwardHomotopy:
     return ForwardHomotopy(list(study_e) + list(study_g), equations, list(study_e), passive)
 
 
-def drawing() -> Drawing:
-    rotation, position = state_pose()
-    chain = legs(rotation, position)
-    return Drawing(
-        points={"base": sp.Matrix.hstack(*chain.base), "platform": sp.Matrix.hstack(*chain.platform_points())},
-        polylines={
-            "base": [("base", i % 6) for i in range(7)],
-            "platform": [("platform", i % 6) for i in range(7)],
-            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(6)},
-        },
-    )
-
-
 def examples() -> list[Example]:
     pose = [row + [t] for row, t in zip(DIETMAIER_ROTATION, DIETMAIER_POSITION, strict=True)] + [[0, 0, 0, 1]]
     return [
@@ -164,8 +130,6 @@ def examples() -> list[Example]:
 
 
 def build() -> Mechanism:
-    rotation, position = state_pose()
-    rate_model = legs(rotation, position).rate_model(lengths)
     home_quaternion = quaternion_from_rotation(sp.Matrix(DIETMAIER_ROTATION))
     return Mechanism(
         name="stewart",
@@ -177,10 +141,7 @@ def build() -> Mechanism:
             "Advances in Robot Kinematics: Analysis and Control",
         ),
         parameters={**point_defaults(BASE, DIETMAIER_BASE), **point_defaults(PLATFORM, DIETMAIER_PLATFORM)},
-        actuated=list(lengths),
-        passive=[x, y, z, *quaternion],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=forward(),
         home={
             **dict(zip(lengths, DIETMAIER_LENGTHS, strict=True)),
@@ -188,16 +149,10 @@ def build() -> Mechanism:
             **{q: float(v) for q, v in zip(quaternion, home_quaternion.evalf(17), strict=True)},
         },
         limits={length: (0.0, float("inf")) for length in lengths},
-        dimensionless=list(quaternion),
-        parallel_factors={"leg_lines_dependent": laplace_det(rate_model.a)},
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="transform",
         parameter_info={
             **point_info(BASE, "base joint A{k}, in {B}"),
             **point_info(PLATFORM, "platform joint b{k}, in {P}"),
         },
         parameter_groups={"base": BASE, "platform": PLATFORM},
         examples=examples(),
-        drawing=drawing(),
     )

@@ -44,6 +44,7 @@ if TYPE_CHECKING:
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096
+CERTIFY_CHUNK = 256
 #: the least work a thread of a compiled batch gets: homotopy paths, or closed-form inputs
 THREAD_PATHS = 64
 THREAD_INPUTS = 512
@@ -305,6 +306,20 @@ def _certified_group(homotopy: Homotopy) -> list[int] | None:
 
 
 def certify(
+    m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """``certify_inputs`` in chunks of ``CERTIFY_CHUNK`` inputs: the Krawczyk tables take
+    about a megabyte per input of a chunk, so memory stays bounded whatever the batch."""
+    parts = [
+        certify_inputs(m, info, theta[a : a + CERTIFY_CHUNK], endpoints[a : a + CERTIFY_CHUNK], exact)
+        for a in range(0, theta.shape[0], CERTIFY_CHUNK)
+    ]
+    if not parts:
+        return certify_inputs(m, info, theta, endpoints, exact)
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def certify_inputs(
     m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per input (flat batch): how many distinct roots of the system at the inputs are certified

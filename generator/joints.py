@@ -1,0 +1,323 @@
+"""Mechanisms described by their joints: a platform motion and legs, everything else derived.
+
+A leg is a chain from the base to a platform joint whose closure is one distance: a point E on
+the base side, placed by the leg's actuated joint, and the platform joint C = p + R c (c in {P})
+are a fixed or actuated distance L apart, |C - E| = L. The kinds of leg (the joints of a chain,
+base to platform; S a spherical joint, U a universal joint, the underlined one actuated):
+
+* ``prismatic_leg``: S-P-S, U-P-S, R-P-R (planar): E = A fixed, L = the actuated length l;
+* ``crank_leg``: R-S-S, R-U-S, R-R-R (planar): an actuated crank of length r turns about the unit
+  axis u through A, E = A + r (cos theta e0 + sin theta (u x e0)), e0 its zero direction (a unit
+  vector normal to u); a link of fixed length L from E to C;
+* ``slider_leg``: P-S-S, P-U-S: a slider moves along the unit axis k through A, E = A + s k;
+  a link of fixed length L.
+
+A U at either end of a fixed-length link constrains nothing a distance does not (the link's spin
+about its own line is not a coordinate of the model), so U and S legs share one model. The
+platform's motion is declared (``Platform``: the pose kind and its coordinates, the Newton
+unknowns), and the generator derives from the legs:
+
+* the loop closure: (|C - E|^2 - L^2) / (2 L) per leg, in metres (|C - E| - L to first order; a
+  polynomial, finite at a leg of zero length), with the unit-quaternion row of a rotating
+  platform;
+* the rate model A twist = B actuated_rates, from d/dt |d|^2 = d/dt L^2 with d = C - E:
+  row i of A is (d, (E - p) x d) over the pose kind's twist (the Pluecker coordinates of the leg
+  line, moment about the origin of {P}); B is diagonal with d . dE/dtheta + L dL/dtheta (l for a
+  prismatic leg, u . ((E - A) x d) for a crank, d . k for a slider); one serial factor per leg;
+  the parallel factor det A (written with moments about E_1, the same determinant in smaller
+  expressions, for a planar or spherical-free platform);
+* the inverse per leg in closed form: l = |C - A|; a crank's E cos + F sin + G = 0 by its
+  tangent-half-angle quadratic with branch sign sigma_i; a slider's quadratic
+  s = (C - A) . k - sigma_i sqrt(L^2 - |h|^2); with the validity of each (the discriminant made
+  unitless);
+* the drawing: base joints, elbows (crank tips, sliders), platform joints, each leg as a
+  polyline, the base and platform polygons.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .blocks import half_angle_solution, laplace_det, planar_coordinates
+from .frames import homogeneous, quaternion_from_rotation, quaternion_rotation, rot_z
+from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
+
+ZERO = sp.Matrix([0, 0, 0])
+#: the twist components of a spatial twist, in order (``RateModel.twist`` picks from these)
+TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
+
+
+@dataclass(frozen=True)
+class Platform:
+    """How the platform moves: a pose kind (``model.POSE_KINDS``) and its coordinates, the
+    passive variables. ``rotation`` and ``position`` are ^B_P T in the coordinates; ``read`` the
+    inverse's assignments of the coordinates from a pose; ``pose`` the rotation and position that
+    the inverse uses for the platform joints (the pose symbols themselves where every entry is a
+    coordinate, the coordinates' pose where the kind reads only some: a planar pose)."""
+
+    kind: str
+    coordinates: tuple[sp.Symbol, ...]
+    rotation: sp.Matrix
+    position: sp.Matrix
+    read: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    pose: tuple[sp.Matrix, sp.Matrix]
+    extra_residual: tuple[sp.Expr, ...] = ()
+    angular: tuple[sp.Symbol, ...] = ()
+    dimensionless: tuple[sp.Symbol, ...] = ()
+
+    @property
+    def twist(self) -> list[str]:
+        return list(POSE_KINDS[self.kind].twist)
+
+
+def platform(kind: str) -> Platform:
+    """The platform of a pose kind with its standard coordinates: 'transform' (x, y, z and a unit
+    quaternion q0..q3, q0 >= 0 from the inverse), 'rotation' (q0..q3), 'planar' (x, y, phi),
+    'translation' (x, y, z), 'planar_translation' (x, y)."""
+    x, y, z, phi = sp.symbols("x y z phi", real=True)
+    q = sp.symbols("q0:4", real=True)
+    read: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    if kind == "transform":
+        norm = (sum(c**2 for c in q) - 1) / 2
+        read = ((x, POSE_POSITION[0]), (y, POSE_POSITION[1]), (z, POSE_POSITION[2]))
+        read += tuple(zip(q, quaternion_from_rotation(POSE_ROTATION), strict=True))
+        return Platform(
+            kind, (x, y, z, *q), quaternion_rotation(q), sp.Matrix([x, y, z]), read,
+            (POSE_ROTATION, POSE_POSITION), (norm,), dimensionless=q,
+        )  # fmt: skip
+    if kind == "rotation":
+        norm = (sum(c**2 for c in q) - 1) / 2
+        read = tuple(zip(q, quaternion_from_rotation(POSE_ROTATION), strict=True))
+        return Platform(kind, q, quaternion_rotation(q), ZERO, read, (POSE_ROTATION, ZERO), (norm,), dimensionless=q)
+    if kind == "planar":
+        read = tuple(zip((x, y, phi), planar_coordinates(), strict=True))
+        position = sp.Matrix([x, y, 0])
+        return Platform(kind, (x, y, phi), rot_z(phi), position, read, (rot_z(phi), position), angular=(phi,))
+    if kind == "translation":
+        read = ((x, POSE_POSITION[0]), (y, POSE_POSITION[1]), (z, POSE_POSITION[2]))
+        position = sp.Matrix([x, y, z])
+        return Platform(kind, (x, y, z), sp.eye(3), position, read, (sp.eye(3), position))
+    if kind == "planar_translation":
+        position = sp.Matrix([x, y, 0])
+        read = ((x, POSE_POSITION[0]), (y, POSE_POSITION[1]))
+        return Platform(kind, (x, y), sp.eye(3), position, read, (sp.eye(3), position))
+    raise ValueError(f"platform: unknown pose kind {kind!r}; one of {sorted(POSE_KINDS)}")
+
+
+@dataclass(frozen=True)
+class Leg:
+    """One distance leg (module docstring). ``joint`` is the actuated variable; ``base`` the point A
+    (the fixed base joint, the crank's centre, the slider's origin) in {B}; ``platform_joint`` c
+    in {P}; ``link`` the fixed length L (None: the actuated length itself, a prismatic leg);
+    ``axis`` the crank axis u or the slider axis k; ``zero`` the crank's zero direction e0."""
+
+    kind: str  # "prismatic", "crank" or "slider"
+    joint: sp.Symbol
+    base: sp.Matrix
+    platform_joint: sp.Matrix
+    link: sp.Expr | None = None
+    axis: sp.Matrix | None = None
+    zero: sp.Matrix | None = None
+    crank: sp.Expr | None = None
+
+    def elbow(self, value: sp.Expr | None = None) -> sp.Matrix:
+        """E, the base-side end of the distance, at the joint value (default: the joint)."""
+        t = self.joint if value is None else value
+        if self.kind == "prismatic":
+            return self.base
+        assert self.axis is not None
+        if self.kind == "slider":
+            return self.base + t * self.axis
+        assert self.zero is not None and self.crank is not None
+        return self.base + self.crank * (sp.cos(t) * self.zero + sp.sin(t) * self.axis.cross(self.zero))
+
+    def length(self) -> sp.Expr:
+        """L: the link, or the actuated length."""
+        return self.joint if self.link is None else self.link
+
+
+def _vector(value: Sequence[sp.Expr] | sp.Matrix) -> sp.Matrix:
+    v = sp.Matrix(value)
+    return sp.Matrix([v[k] if k < v.rows else 0 for k in range(3)])
+
+
+def prismatic_leg(
+    base: Sequence[sp.Expr] | sp.Matrix, platform_joint: Sequence[sp.Expr] | sp.Matrix, length: sp.Symbol
+) -> Leg:
+    """S-P-S, U-P-S or planar R-P-R: the actuated length ``length`` from A (in {B}) to c (in {P})."""
+    return Leg("prismatic", length, _vector(base), _vector(platform_joint))
+
+
+def crank_leg(
+    base: Sequence[sp.Expr] | sp.Matrix,
+    axis: Sequence[sp.Expr] | sp.Matrix,
+    zero: Sequence[sp.Expr] | sp.Matrix,
+    crank: sp.Expr,
+    link: sp.Expr,
+    platform_joint: Sequence[sp.Expr] | sp.Matrix,
+    angle: sp.Symbol,
+) -> Leg:
+    """R-S-S, R-U-S or planar R-R-R: an actuated crank of length ``crank`` turning by ``angle``
+    about the unit ``axis`` through A from the unit direction ``zero`` (normal to the axis;
+    counter-clockwise about the axis), then a link of length ``link`` to c (in {P})."""
+    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, _vector(axis), _vector(zero), crank)
+
+
+def slider_leg(
+    base: Sequence[sp.Expr] | sp.Matrix,
+    axis: Sequence[sp.Expr] | sp.Matrix,
+    link: sp.Expr,
+    platform_joint: Sequence[sp.Expr] | sp.Matrix,
+    stroke: sp.Symbol,
+) -> Leg:
+    """P-S-S or P-U-S: an actuated slider at A + stroke k along the unit ``axis`` k, then a link
+    of length ``link`` to c (in {P})."""
+    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, _vector(axis))
+
+
+SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}
+
+
+@dataclass
+class DistanceMechanism:
+    """A platform and its distance legs: the derivations of the module docstring. Pass the
+    fields to ``model.Mechanism`` (``fields()``), with the file's parameters, examples and
+    citation."""
+
+    motion: Platform
+    legs: list[Leg]
+    #: the name of the parallel (type II) factor det A
+    parallel_name: str = "leg_lines_dependent"
+    branch_names: list[sp.Symbol] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not self.legs:
+            raise ValueError("DistanceMechanism: no legs")
+        if len(self.legs) != len(self.motion.twist):
+            raise ValueError(
+                f"DistanceMechanism: {len(self.legs)} legs for the {len(self.motion.twist)} twist components of "
+                f"pose kind {self.motion.kind!r} ({', '.join(self.motion.twist)}): one leg per degree of freedom"
+            )
+        signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
+        self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed]
+
+    @property
+    def actuated(self) -> list[sp.Symbol]:
+        return [leg.joint for leg in self.legs]
+
+    def platform_joints(self, rotation: sp.Matrix | None = None, position: sp.Matrix | None = None) -> list[sp.Matrix]:
+        """C_i = p + R c_i in {B} (default: the platform's coordinates)."""
+        rotation = self.motion.rotation if rotation is None else rotation
+        position = self.motion.position if position is None else position
+        return [position + rotation * leg.platform_joint for leg in self.legs]
+
+    def links(self) -> list[sp.Matrix]:
+        """d_i = C_i - E_i, in {B}."""
+        return [c - leg.elbow() for c, leg in zip(self.platform_joints(), self.legs, strict=True)]
+
+    def closure(self) -> ClosureModel:
+        rows = [
+            (d.dot(d) - leg.length() ** 2) / (2 * leg.length()) for d, leg in zip(self.links(), self.legs, strict=True)
+        ]
+        residual = sp.Matrix([*rows, *self.motion.extra_residual])
+        pose = homogeneous(self.motion.rotation, self.motion.position)
+        return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), pose)
+
+    def _rows(self, points: list[sp.Matrix], origin: sp.Matrix) -> sp.Matrix:
+        """Rows (d_i, (point_i - origin) x d_i) over the platform's twist components."""
+        columns = [TWIST.index(name) for name in self.motion.twist]
+        rows = []
+        for point, d in zip(points, self.links(), strict=True):
+            full = list(d) + list((point - origin).cross(d))
+            rows.append([full[c] for c in columns])
+        return sp.Matrix(rows)
+
+    def rates(self) -> RateModel:
+        elbows = [leg.elbow() for leg in self.legs]
+        diagonal = []
+        for leg, d, e in zip(self.legs, self.links(), elbows, strict=True):
+            if leg.kind == "prismatic":
+                diagonal.append(leg.joint)
+            elif leg.kind == "crank":
+                assert leg.axis is not None
+                diagonal.append(leg.axis.dot((e - leg.base).cross(d)))
+            else:
+                assert leg.axis is not None
+                diagonal.append(d.dot(leg.axis))
+        serial = {SERIAL_NAMES[leg.kind].format(k=k + 1): diagonal[k] for k, leg in enumerate(self.legs)}
+        return RateModel(self.motion.twist, self._rows(elbows, self.motion.position), sp.diag(*diagonal), serial)
+
+    def parallel_factors(self) -> dict[str, sp.Expr]:
+        """det A. A platform that does not turn about all three axes writes its moments about E_1
+        (a column operation: the same determinant in smaller expressions)."""
+        elbows = [leg.elbow() for leg in self.legs]
+        spatial = len(POSE_KINDS[self.motion.kind].rotation_axes) == 3
+        origin = self.motion.position if spatial else elbows[0]
+        return {self.parallel_name: laplace_det(self._rows(elbows, origin))}
+
+    def inverse(self) -> InverseSolution:
+        """Each leg in closed form and the platform's coordinates read from the pose (the
+        coordinates first where the legs' platform joints are written in them: a planar pose)."""
+        steps: list[tuple[sp.Symbol, sp.Expr]] = []
+        validity: dict[str, sp.Expr] = {}
+        rotation, position = self.motion.pose
+        joints = self.platform_joints(rotation, position)
+        signs = iter(self.branch_names)
+        for k, (leg, c) in enumerate(zip(self.legs, joints, strict=True)):
+            v = c - leg.base
+            if leg.kind == "prismatic":
+                steps.append((leg.joint, sp.sqrt(v.dot(v))))
+                validity[f"leg{k + 1}_length"] = leg.joint
+            elif leg.kind == "crank":
+                assert leg.axis is not None and leg.zero is not None and leg.crank is not None and leg.link is not None
+                e, f, g = sp.symbols(f"E{k + 1} F{k + 1} G{k + 1}", real=True)
+                r, side = leg.crank, leg.axis.cross(leg.zero)
+                steps += [(e, -2 * r * v.dot(leg.zero)), (f, -2 * r * v.dot(side)), (g, v.dot(v) + r**2 - leg.link**2)]
+                # sign +1 turns the crank counter-clockwise (about its axis) from the line A -> C
+                angle, discriminant = half_angle_solution(e, f, g, next(signs))
+                steps.append((leg.joint, angle))
+                validity[f"leg{k + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
+            else:
+                assert leg.axis is not None and leg.link is not None
+                along, disc = sp.symbols(f"along{k + 1} disc{k + 1}", real=True)
+                steps += [(along, v.dot(leg.axis)), (disc, leg.link**2 - v.dot(v) + along**2)]
+                # sign +1 puts the slider below the platform joint along the axis
+                steps.append((leg.joint, along - next(signs) * sp.sqrt(sp.Max(0, disc))))
+                validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
+        read = list(self.motion.read)
+        uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
+        steps = read + steps if uses_coordinates else steps + read
+        return InverseSolution(steps, self.branch_names, validity)
+
+    def drawing(self) -> Drawing:
+        """Base joints, elbows (where a leg has one), platform joints; each leg as a polyline."""
+        count = len(self.legs)
+        points = {"base": sp.Matrix.hstack(*(leg.base for leg in self.legs))}
+        with_elbow = all(leg.kind != "prismatic" for leg in self.legs)
+        if with_elbow:
+            points["elbow"] = sp.Matrix.hstack(*(leg.elbow() for leg in self.legs))
+        points["platform"] = sp.Matrix.hstack(*self.platform_joints())
+        middle = [("elbow",)] if with_elbow else []
+        polylines = {f"leg{i + 1}": [("base", i), *((m[0], i) for m in middle), ("platform", i)] for i in range(count)}
+        polylines["base"] = [("base", i % count) for i in range(count + 1)]
+        polylines["platform"] = [("platform", i % count) for i in range(count + 1)]
+        return Drawing(points=points, polylines=polylines)
+
+    def fields(self) -> dict[str, object]:
+        """The ``model.Mechanism`` fields the legs determine."""
+        return {
+            "actuated": self.actuated,
+            "passive": list(self.motion.coordinates),
+            "legs": [],
+            "inverse": self.inverse(),
+            "closure": self.closure(),
+            "rates": self.rates(),
+            "parallel_factors": self.parallel_factors(),
+            "pose_kind": self.motion.kind,
+            "angular": [leg.joint for leg in self.legs if leg.kind == "crank"] + list(self.motion.angular),
+            "dimensionless": list(self.motion.dimensionless),
+            "drawing": self.drawing(),
+        }
