@@ -122,6 +122,10 @@ class Leg:
     axis: sp.Matrix | None = None
     zero: sp.Matrix | None = None
     crank: sp.Expr | None = None
+    #: which root the leg's branch sign +1 takes: +1 as documented per kind, -1 the other
+    sign: int = 1
+    #: the name of the leg's serial (type I) factor; None: the kind's (``SERIAL_NAMES``)
+    serial_name: str | None = None
 
     def elbow(self, value: sp.Expr | None = None) -> sp.Matrix:
         """E, the base-side end of the distance, at the joint value (default: the joint)."""
@@ -159,11 +163,17 @@ def crank_leg(
     link: sp.Expr,
     platform_joint: Sequence[sp.Expr] | sp.Matrix,
     angle: sp.Symbol,
+    sign: int = 1,
+    serial_name: str | None = None,
 ) -> Leg:
     """R-S-S, R-U-S or planar R-R-R: an actuated crank of length ``crank`` turning by ``angle``
     about the unit ``axis`` through A from the unit direction ``zero`` (normal to the axis;
-    counter-clockwise about the axis), then a link of length ``link`` to c (in {P})."""
-    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, _vector(axis), _vector(zero), crank)
+    counter-clockwise about the axis), then a link of length ``link`` to c (in {P}). Branch sign
+    +1 turns the crank counter-clockwise from the line A -> C (``sign`` = -1: clockwise)."""
+    return Leg(
+        "crank", angle, _vector(base), _vector(platform_joint), link, _vector(axis), _vector(zero), crank, sign,
+        serial_name,
+    )  # fmt: skip
 
 
 def slider_leg(
@@ -172,10 +182,15 @@ def slider_leg(
     link: sp.Expr,
     platform_joint: Sequence[sp.Expr] | sp.Matrix,
     stroke: sp.Symbol,
+    sign: int = 1,
+    serial_name: str | None = None,
 ) -> Leg:
     """P-S-S or P-U-S: an actuated slider at A + stroke k along the unit ``axis`` k, then a link
-    of length ``link`` to c (in {P})."""
-    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, _vector(axis))
+    of length ``link`` to c (in {P}). Branch sign +1 puts the slider behind the platform joint
+    along k (the link rising along k; ``sign`` = -1: ahead of it)."""
+    return Leg(
+        "slider", stroke, _vector(base), _vector(platform_joint), link, _vector(axis), None, None, sign, serial_name
+    )
 
 
 SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}
@@ -247,7 +262,9 @@ class DistanceMechanism:
             else:
                 assert leg.axis is not None
                 diagonal.append(d.dot(leg.axis))
-        serial = {SERIAL_NAMES[leg.kind].format(k=k + 1): diagonal[k] for k, leg in enumerate(self.legs)}
+        serial = {
+            (leg.serial_name or SERIAL_NAMES[leg.kind]).format(k=k + 1): diagonal[k] for k, leg in enumerate(self.legs)
+        }
         return RateModel(self.motion.twist, self._rows(elbows, self.motion.position), sp.diag(*diagonal), serial)
 
     def parallel_factors(self) -> dict[str, sp.Expr]:
@@ -277,7 +294,7 @@ class DistanceMechanism:
                 r, side = leg.crank, leg.axis.cross(leg.zero)
                 steps += [(e, -2 * r * v.dot(leg.zero)), (f, -2 * r * v.dot(side)), (g, v.dot(v) + r**2 - leg.link**2)]
                 # sign +1 turns the crank counter-clockwise (about its axis) from the line A -> C
-                angle, discriminant = half_angle_solution(e, f, g, next(signs))
+                angle, discriminant = half_angle_solution(e, f, g, leg.sign * next(signs))
                 steps.append((leg.joint, angle))
                 validity[f"leg{k + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
             else:
@@ -285,7 +302,7 @@ class DistanceMechanism:
                 along, disc = sp.symbols(f"along{k + 1} disc{k + 1}", real=True)
                 steps += [(along, v.dot(leg.axis)), (disc, leg.link**2 - v.dot(v) + along**2)]
                 # sign +1 puts the slider below the platform joint along the axis
-                steps.append((leg.joint, along - next(signs) * sp.sqrt(sp.Max(0, disc))))
+                steps.append((leg.joint, along - leg.sign * next(signs) * sp.sqrt(sp.Max(0, disc))))
                 validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
         read = list(self.motion.read)
         uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
@@ -293,7 +310,8 @@ class DistanceMechanism:
         return InverseSolution(steps, self.branch_names, validity)
 
     def drawing(self) -> Drawing:
-        """Base joints, elbows (where a leg has one), platform joints; each leg as a polyline."""
+        """Base joints, elbows (where a leg has one), platform joints; each leg as a polyline, the
+        base and platform polygons (no platform polygon where the legs meet in one point)."""
         count = len(self.legs)
         points = {"base": sp.Matrix.hstack(*(leg.base for leg in self.legs))}
         with_elbow = all(leg.kind != "prismatic" for leg in self.legs)
@@ -303,7 +321,8 @@ class DistanceMechanism:
         middle = [("elbow",)] if with_elbow else []
         polylines = {f"leg{i + 1}": [("base", i), *((m[0], i) for m in middle), ("platform", i)] for i in range(count)}
         polylines["base"] = [("base", i % count) for i in range(count + 1)]
-        polylines["platform"] = [("platform", i % count) for i in range(count + 1)]
+        if any(leg.platform_joint != self.legs[0].platform_joint for leg in self.legs):  # not a point
+            polylines["platform"] = [("platform", i % count) for i in range(count + 1)]
         return Drawing(points=points, polylines=polylines)
 
     def fields(self) -> dict[str, object]:

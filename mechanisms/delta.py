@@ -15,14 +15,16 @@ Frames and conventions (SI, radians), textbook notation R, r, L, l:
   'translation': ^B_P T = [I, p], p = (x, y, z); ``inverse_pose`` reads p and ignores R, and also
   takes p itself). Platform joints P_i = p + r e_i (r: platform radius). The forearm (length l)
   joins c_i to P_i; its parallelogram is drawn as one bar.
-* Passive variables (the Newton unknowns): x, y, z. Residual: |d_i| - l (metres) with the forearm
-  d_i = p + r e_i - c_i; no false closure (alignment 1).
+* Passive variables (the Newton unknowns): x, y, z. Residual: (|d_i|^2 - l^2) / (2 l) (metres;
+  |d_i| - l to first order) with the forearm d_i = p + r e_i - c_i; no false closure (alignment
+  1).
 * Inverse: with a_i = p + (r - R) e_i (the platform joint seen from the motor joint), leg i is
   E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 L a_i . e_i, F = 2 L a_i . z,
   G = |a_i|^2 + L^2 - l^2; with tau = tan(theta_i / 2) the quadratic (G - E) tau^2 + 2 F tau +
   (G + E) = 0, theta_i = 2 atan2(-F - sigma_i sqrt(E^2 + F^2 - G^2), G - E). sigma_i = +1 turns
   the arm from the line b_i -> P_i towards smaller theta_i: the elbow outside, the usual working
-  mode with the platform below the base. Validity ``leg<i>_reachable`` = E^2 + F^2 - G^2.
+  mode with the platform below the base. Validity ``leg<i>_reachable`` = (E^2 + F^2 - G^2) /
+  (E^2 + F^2 + G^2), the discriminant made unitless.
   Branch k: signs (sigma1, sigma2, sigma3) of ``InversePose.branches[k]``, branch 0 = all +1
   (every elbow out), branch 7 = all -1.
 * Forward (three spheres): p is at distance l from the shifted elbows c'_i = c_i - r e_i =
@@ -33,11 +35,14 @@ Frames and conventions (SI, radians), textbook notation R, r, L, l:
   them is the working one). No branch signs. Degeneracy ``elbow_centres_collinear``: |n| / l^2
   (then the spheres meet in a circle or not at all).
 * Rates: A p_dot = B theta_dot (twist vx, vy, vz of the platform, in {B}) from d_i . d_i = l^2:
-  rows of A are d_i^T, B = diag(L d_i . du_i/dtheta_i), du_i/dtheta_i = -sin(theta_i) e_i -
-  cos(theta_i) z. Serial (type I): ``leg<i>_forearm_in_arm_plane``, L d_i . du_i/dtheta_i = 0,
+  rows of A are d_i^T, B = diag(L d_i . du_i/dtheta_i) = diag(t_i . ((c_i - b_i) x d_i)),
+  du_i/dtheta_i = -sin(theta_i) e_i - cos(theta_i) z. Serial (type I): ``leg<i>_forearm_in_arm_plane``, L d_i . du_i/dtheta_i = 0,
   the forearm in the plane of the arm and the motor axis (arm and forearm stretched or folded as
   seen along the axis, the workspace boundary). Type II: ``forearms_coplanar``, det[d_1 d_2 d_3]
   = 0 (the three forearms parallel to one plane: the platform gains a motion).
+* Model: three R-U-U legs (``parakin.generator.joints.crank_leg``: the crank about t_i from e_i,
+  the forearm a distance) on a translating platform; closure, rates, factors, inverse and drawing
+  are derived from them, the forward three-sphere elimination is written here.
 * Defaults (illustrative, of the size of a picking Delta): R = 0.2, r = 0.05, L = 0.35, l = 1.3 m.
   Then R - r + L = 0.5 and (0.5, 1.2, 1.3) is a 5-12-13 triangle: at p = (0, 0, -1.2) every arm
   is horizontal (theta = 0, the home configuration).
@@ -48,19 +53,15 @@ from __future__ import annotations
 import math
 
 import sympy as sp
-from parakin.generator.blocks import half_angle_solution, laplace_det
+from parakin.generator import joints
 from parakin.generator.frames import homogeneous, rot_z, translation
 from parakin.generator.model import (
-    POSE_POSITION,
     Citation,
-    ClosureModel,
     Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
     ParameterInfo,
-    RateModel,
 )
 
 R, r, L, ell = sp.symbols("R r L l", positive=True)  # ell: the forearm length, named l
@@ -80,31 +81,24 @@ def arm(i: int, angle: sp.Expr) -> sp.Matrix:
     return sp.cos(angle) * radial(i) - sp.sin(angle) * Z
 
 
-def elbow(i: int, angle: sp.Expr) -> sp.Matrix:
-    """c_i = R e_i + L u_i."""
-    return R * radial(i) + L * arm(i, angle)
-
-
-def forearm(i: int, position: sp.Matrix) -> sp.Matrix:
-    """d_i = p + r e_i - c_i(theta_i)."""
-    return position + r * radial(i) - elbow(i, theta[i])
-
-
-def inverse() -> InverseSolution:
-    """Per leg the tan-half-angle quadratic of E cos + F sin + G = 0 (module docstring)."""
-    sigma = list(sp.symbols("sigma1:4", real=True))
-    steps: list[tuple[sp.Symbol, sp.Expr]] = [(x, POSE_POSITION[0]), (y, POSE_POSITION[1]), (z, POSE_POSITION[2])]
-    validity = {}
-    position = sp.Matrix([x, y, z])
-    for i in range(3):
-        e, f, g = sp.symbols(f"E{i + 1} F{i + 1} G{i + 1}", real=True)
-        a = position + (r - R) * radial(i)
-        steps += [(e, -2 * L * a.dot(radial(i))), (f, 2 * L * a.dot(Z)), (g, a.dot(a) + L**2 - ell**2)]
-        # sigma = +1 takes the root -F - sqrt(disc): the elbow outside (module docstring)
-        angle, discriminant = half_angle_solution(e, f, g, -sigma[i])
-        steps.append((theta[i], angle))
-        validity[f"leg{i + 1}_reachable"] = discriminant
-    return InverseSolution(steps, sigma, validity)
+MODEL = joints.DistanceMechanism(
+    joints.platform("translation"),
+    [
+        joints.crank_leg(
+            R * radial(i),
+            Z.cross(radial(i)),
+            radial(i),
+            L,
+            ell,
+            r * radial(i),
+            theta[i],
+            sign=-1,
+            serial_name="leg{k}_forearm_in_arm_plane",
+        )
+        for i in range(3)
+    ],
+    parallel_name="forearms_coplanar",
+)
 
 
 def forward() -> ForwardElimination:
@@ -139,44 +133,14 @@ def forward() -> ForwardElimination:
     )
 
 
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """d_i . p_dot = L (d_i . du_i/dtheta_i) theta_dot_i (module docstring)."""
-    position = sp.Matrix([x, y, z])
-    forearms = [forearm(i, position) for i in range(3)]
-    diagonal = [L * forearms[i].dot(sp.diff(arm(i, theta[i]), theta[i])) for i in range(3)]
-    a = sp.Matrix.vstack(*(d.T for d in forearms))
-    model = RateModel(
-        twist=["vx", "vy", "vz"],
-        a=a,
-        b=sp.diag(*diagonal),
-        serial_factors={f"leg{i + 1}_forearm_in_arm_plane": diagonal[i] for i in range(3)},
-    )
-    return model, {"forearms_coplanar": laplace_det(a)}
-
-
-def closure() -> ClosureModel:
-    position = sp.Matrix([x, y, z])
-    residual = sp.Matrix([sp.sqrt(d.dot(d)) - ell for d in (forearm(i, position) for i in range(3))])
-    return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), translation(x, y, z))
-
-
 def drawing() -> Drawing:
-    """Motor joints b_i, elbows c_i and platform joints P_i (in {B}), with the tool point p:
-    each leg b_i -> c_i -> P_i, the base and platform triangles and the platform spokes."""
+    """The model's parts (motor joints b_i, elbows c_i, platform joints P_i; each leg b_i -> c_i
+    -> P_i, the base and platform triangles) with the tool point p and the platform spokes."""
+    parts = MODEL.drawing()
     position = sp.Matrix([x, y, z])
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*(R * radial(i) for i in range(3))),
-            "elbow": sp.Matrix.hstack(*(elbow(i, theta[i]) for i in range(3))),
-            "platform": sp.Matrix.hstack(*(position + r * radial(i) for i in range(3)), position),
-        },
-        polylines={
-            **{f"leg{i + 1}": [("base", i), ("elbow", i), ("platform", i)] for i in range(3)},
-            "base": [("base", i % 3) for i in range(4)],
-            "platform": [("platform", i % 3) for i in range(4)],
-            "tool": [("platform", 0), ("platform", 3), ("platform", 1), ("platform", 3), ("platform", 2)],
-        },
-    )
+    points = parts.points | {"platform": sp.Matrix.hstack(parts.points["platform"], position)}
+    spokes = [("platform", 0), ("platform", 3), ("platform", 1), ("platform", 3), ("platform", 2)]
+    return Drawing(points=points, polylines=parts.polylines | {"tool": spokes})
 
 
 #: the home pose: arms horizontal, (R - r + L, -z, l) = (0.5, 1.2, 1.3), a 5-12-13 triangle
@@ -222,7 +186,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
     return Mechanism(
         name="delta",
         title="Delta robot (3-RUU, Clavel 1988): translational platform, three-sphere forward pose",
@@ -233,17 +196,9 @@ def build() -> Mechanism:
             "Proceedings of the 18th International Symposium on Industrial Robots, Lausanne, pp. 91-100",
         ),
         parameters={R: 0.2, r: 0.05, L: 0.35, ell: 1.3},
-        actuated=list(theta),
-        passive=[x, y, z],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields() | {"drawing": drawing()},
         forward=forward(),
         home={**dict.fromkeys(theta, 0.0), x: 0.0, y: 0.0, z: HOME_Z},
-        angular=list(theta),
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="translation",
         parameter_info={
             R: ParameterInfo("m", "base radius: distance from the base centre to each motor joint b_i", "positive"),
             r: ParameterInfo(
@@ -253,5 +208,4 @@ def build() -> Mechanism:
             ell: ParameterInfo("m", "forearm (parallelogram) length |P_i - c_i|", "positive"),
         },
         examples=EXAMPLES,
-        drawing=drawing(),
     )

@@ -10,8 +10,10 @@ Frames and conventions (SI, radians):
   link of length b_i from C_i to the output point P = (x, y, 0).
 * {P}: origin at P, R = I (pose_kind 'planar_translation': ^B_P T = [I, (x, y, 0)]);
   ``inverse_pose`` also takes (x, y) and refuses a pose off the plane z = 0 or with a rotation.
-* Passive variables (the Newton unknowns): x, y. Residual: |P - C_i| - b_i (metres), two rows;
-  no false closure (alignment 1).
+* Passive variables (the Newton unknowns): x, y. Residual: (|P - C_i|^2 - b_i^2) / (2 b_i)
+  (metres; |P - C_i| - b_i to first order), two rows; no false closure (alignment 1).
+* Model: two R-R-R legs (``parakin.generator.joints.crank_leg``) meeting at P; closure, rates,
+  factors, inverse and drawing (base joints, elbows C_i, P) are derived from them.
 * Inverse: with v = P - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i v_x,
   F = -2 a_i v_y, G = |v|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic:
   theta_i = angle(v) + s_i sigma_i gamma_i, gamma_i = acos((|v|^2 + a_i^2 - b_i^2) / (2 a_i |v|))
@@ -42,19 +44,14 @@ from __future__ import annotations
 import math
 
 import sympy as sp
-from parakin.generator.blocks import half_angle_solution, laplace_det
+from parakin.generator import joints
 from parakin.generator.frames import homogeneous, translation
 from parakin.generator.model import (
-    POSE_POSITION,
     Citation,
-    ClosureModel,
-    Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
     ParameterInfo,
-    RateModel,
 )
 
 d = sp.Symbol("d", positive=True)
@@ -79,26 +76,17 @@ def elbow(i: int, angle: sp.Expr) -> sp.Matrix:
     return base_point(i) + a[i] * direction(angle)
 
 
-def distal(i: int) -> sp.Matrix:
-    """d_i = P - C_i(theta_i), in the plane."""
-    return sp.Matrix([x, y]) - elbow(i, theta[i])
-
-
-def inverse() -> InverseSolution:
-    sigma = list(sp.symbols("sigma1 sigma2", real=True))
-    steps: list[tuple[sp.Symbol, sp.Expr]] = [(x, POSE_POSITION[0]), (y, POSE_POSITION[1])]
-    validity = {}
-    for i in range(2):
-        e, f, g = sp.symbols(f"E{i + 1} F{i + 1} G{i + 1}", real=True)
-        v = sp.Matrix([x, y]) - base_point(i)
-        steps += [(e, -2 * a[i] * v[0]), (f, -2 * a[i] * v[1]), (g, v.dot(v) + a[i] ** 2 - b[i] ** 2)]
-        # half_angle_solution's sign +1 turns the arm counter-clockwise from A_i -> P
-        angle, discriminant = half_angle_solution(e, f, g, OUTSIDE[i] * sigma[i])
-        steps.append((theta[i], angle))
-        # relative to E^2 + F^2 + G^2 (a length^4, as the discriminant): a measure without unit, so
-        # that the validity tolerance means the same for a five-bar of millimetres or of metres
-        validity[f"leg{i + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
-    return InverseSolution(steps, sigma, validity)
+#: the model: two R-R-R legs (cranks about z from the x axis, distal links) meeting at the output
+#: point P, a platform that only translates in the plane; closure, rates, factors, inverse and
+#: drawing are derived from it (the forward elimination below is written by hand)
+MODEL = joints.DistanceMechanism(
+    joints.platform("planar_translation"),
+    [
+        joints.crank_leg([(-d, d)[i], 0, 0], [0, 0, 1], [1, 0, 0], a[i], b[i], [0, 0, 0], theta[i], sign=OUTSIDE[i])
+        for i in range(2)
+    ],
+    parallel_name="distal_links_aligned",
+)
 
 
 def forward() -> ForwardElimination:
@@ -124,44 +112,6 @@ def forward() -> ForwardElimination:
         back_substitution=[],
         pose=translation(point[0], point[1], 0),
         degeneracies={"elbows_coincide": norm / (b[0] + b[1])},
-    )
-
-
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """d_i . P_dot = a_i (d_i . (-sin theta_i, cos theta_i)) theta_dot_i."""
-    distals = [distal(i) for i in range(2)]
-    diagonal = [a[i] * distals[i].dot(sp.diff(direction(theta[i]), theta[i])) for i in range(2)]
-    matrix = sp.Matrix.vstack(*(v.T for v in distals))
-    model = RateModel(
-        twist=["vx", "vy"],
-        a=matrix,
-        b=sp.diag(*diagonal),
-        serial_factors={f"leg{i + 1}_links_aligned": diagonal[i] for i in range(2)},
-    )
-    return model, {"distal_links_aligned": laplace_det(matrix)}
-
-
-def closure() -> ClosureModel:
-    residual = sp.Matrix([sp.sqrt(v.dot(v)) - b[i] for i, v in enumerate(distal(i) for i in range(2))])
-    return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), translation(x, y, 0))
-
-
-def drawing() -> Drawing:
-    """Base joints A_i, and the moving joints C1, C2 and P (in {B}, z = 0): each leg A_i -> C_i
-    -> P and the base A1 -> A2. (A point set of one column would come out one-dimensional.)"""
-
-    def lift(vector: sp.Matrix) -> sp.Matrix:
-        return sp.Matrix([vector[0], vector[1], 0])
-
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*(lift(base_point(i)) for i in range(2))),
-            "moving": sp.Matrix.hstack(*(lift(elbow(i, theta[i])) for i in range(2)), sp.Matrix([x, y, 0])),
-        },
-        polylines={
-            "base": [("base", 0), ("base", 1)],
-            **{f"leg{i + 1}": [("base", i), ("moving", i), ("moving", 2)] for i in range(2)},
-        },
     )
 
 
@@ -223,7 +173,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
     return Mechanism(
         name="five_bar",
         title="Planar five-bar linkage (RRRRR), two actuated base joints (Gosselin & Angeles 1990)",
@@ -234,17 +183,9 @@ def build() -> Mechanism:
             "IEEE Transactions on Robotics and Automation 6(3), pp. 281-290",
         ),
         parameters={d: 0.15, a[0]: 0.2, a[1]: 0.2, b[0]: 0.25, b[1]: 0.25},
-        actuated=list(theta),
-        passive=[x, y],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=forward(),
         home=home(),
-        angular=list(theta),
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="planar_translation",
         parameter_info={
             d: ParameterInfo("m", "half the base length: the base joints are A1 = (-d, 0), A2 = (d, 0)", "positive"),
             a[0]: ParameterInfo("m", "proximal (actuated) link 1 length |C1 - A1|", "positive"),
@@ -253,5 +194,4 @@ def build() -> Mechanism:
             b[1]: ParameterInfo("m", "distal link 2 length |P - C2|", "positive"),
         },
         examples=EXAMPLES,
-        drawing=drawing(),
     )

@@ -49,28 +49,21 @@ from __future__ import annotations
 import math
 
 import sympy as sp
+from parakin.generator import joints
 from parakin.generator.blocks import (
     as_points,
     half_angle_forms,
-    laplace_det,
-    planar_coordinates,
     planar_pose,
     point_defaults,
     point_info,
     point_parameters,
-    prismatic_legs,
     remove_spurious_factors,
 )
-from parakin.generator.frames import rot_z
 from parakin.generator.model import (
     Citation,
-    ClosureModel,
-    Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
-    RateModel,
 )
 
 base = point_parameters("base", 3, dims=2)
@@ -87,16 +80,13 @@ GSR_LENGTHS = [14.98, 15.38, 12.0]
 HOME_POSE = (-14.9, 1.6, 0.245)
 
 
-def legs(position_x: sp.Expr, position_y: sp.Expr, angle: sp.Expr):
-    """The three RPR legs for the platform pose (x, y, phi)."""
-    return prismatic_legs(base, platform, rot_z(angle), sp.Matrix([position_x, position_y, 0]))
-
-
-def inverse() -> InverseSolution:
-    """rho_i = |p + R b_i - A_i| after reading (x, y, phi) off ^B_P T."""
-    steps = list(zip((x, y, phi), planar_coordinates(), strict=True))
-    steps += legs(x, y, phi).inverse_steps(rho)
-    return InverseSolution(steps, [], {f"leg{i + 1}_length": rho[i] for i in range(3)})
+#: the model: three R-P-R legs on a planar platform; closure, rates, singularity factors,
+#: inverse and drawing are derived from it (the forward elimination below is written by hand)
+MODEL = joints.DistanceMechanism(
+    joints.platform("planar"),
+    [joints.prismatic_leg(as_points(base)[i], as_points(platform)[i], rho[i]) for i in range(3)],
+    parallel_name="leg_lines_concurrent_or_parallel",
+)
 
 
 def _linear_form(expr: sp.Expr, c: sp.Symbol, s: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -186,37 +176,12 @@ def forward() -> ForwardElimination:
     )
 
 
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """rho_i rho_dot_i = d_i . v + ((A_i - p) x d_i) . w, planar rows (vx, vy, wz). det A is
-    written with the moments about A1 instead of p (adding multiples of the first two columns to
-    the third: the same determinant, in smaller expressions): zero iff the leg lines meet in one
-    point or are parallel."""
-    model = legs(x, y, phi)
-    rate_model = model.rate_model(rho, PLANAR_TWIST)
-    a1 = model.base[0]
-    rows = [[d[0], d[1], (a - a1).cross(d)[2]] for a, d in zip(model.base, model.vectors(), strict=True)]
-    return rate_model, {"leg_lines_concurrent_or_parallel": laplace_det(sp.Matrix(rows))}
-
-
-def drawing() -> Drawing:
-    """Base joints A_i and platform joints B_i (in {B}, z = 0): the legs A_i -> B_i, the base and
-    the platform triangles."""
-    model = legs(x, y, phi)
-    return Drawing(
-        points={"base": sp.Matrix.hstack(*model.base), "platform": sp.Matrix.hstack(*model.platform_points())},
-        polylines={
-            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(3)},
-            "base": [("base", i % 3) for i in range(4)],
-            "platform": [("platform", i % 3) for i in range(4)],
-        },
-    )
-
-
 def home() -> dict[sp.Symbol, float]:
     """HOME_POSE and its leg lengths at the default geometry."""
     values = point_defaults(base, GSR_BASE) | point_defaults(platform, GSR_PLATFORM)
     pose = dict(zip((x, y, phi), HOME_POSE, strict=True))
-    lengths = [float(length.subs(values).subs(pose)) for length in legs(x, y, phi).lengths()]
+    steps = dict(MODEL.inverse().steps)
+    lengths = [float(steps[r].subs(values).subs(pose)) for r in rho]
     return dict(zip(rho, lengths, strict=True)) | pose
 
 
@@ -235,8 +200,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
-    residual = legs(x, y, phi).residual(rho, squared=True)
     return Mechanism(
         name="planar_3rpr",
         title="Planar 3-RPR parallel manipulator (Gosselin, Sefrioui & Richard 1992: degree-6 forward polynomial)",
@@ -248,21 +211,12 @@ def build() -> Mechanism:
             "Mechanism and Machine Theory 27(2)",
         ),
         parameters=point_defaults(base, GSR_BASE) | point_defaults(platform, GSR_PLATFORM),
-        actuated=list(rho),
-        passive=[x, y, phi],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=forward(),
         home=home(),
         limits={r: (0.0, math.inf) for r in rho},
-        angular=[phi],
-        parallel_factors=parallel,
-        closure=ClosureModel(residual, sp.Matrix([sp.Integer(1)]), planar_pose(x, y, phi)),
-        rates=rate_model,
-        pose_kind="planar",
         parameter_info=point_info(base, "base joint A{k}, in {B}")
         | point_info(platform, "platform joint b{k}, in {P}"),
         parameter_groups={"base": base, "platform": platform},
         examples=EXAMPLES,
-        drawing=drawing(),
     )

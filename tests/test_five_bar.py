@@ -247,5 +247,6 @@ def test_drawing_points(m):
     theta = state.actuated
     elbows = BASE + A[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
     np.testing.assert_allclose(points["base"][:2].T, BASE, atol=0)
-    np.testing.assert_allclose(points["moving"][:2].T, np.vstack([elbows, p]), atol=1e-15)
-    assert not points["base"][2].any() and not points["moving"][2].any()
+    np.testing.assert_allclose(points["elbow"][:2].T, elbows, atol=1e-15)
+    np.testing.assert_allclose(points["platform"][:2].T, np.vstack([p, p]), atol=1e-15)  # both legs end at P
+    assert not points["base"][2].any() and not points["elbow"][2].any() and not points["platform"][2].any()

@@ -2,17 +2,17 @@
 // with template c_header.h.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 0
-//   loop_closure: 72
-//   loop_closure_actuated: 79
-//   rate_jacobians: 58
-//   singularity_factors: 78
+//   loop_closure: 100
+//   loop_closure_actuated: 62
+//   rate_jacobians: 64
+//   singularity_factors: 83
 //   drawing: 38
-//   inverse_pose: 150
-//   inverse_pose_patterns: 183
+//   inverse_pose: 158
+//   inverse_pose_patterns: 191
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 //   automatic_family: 0
-//   automatic_monomials: 540
+//   automatic_monomials: 535
 //   automatic_passive: 0
 
 // Public C interface of the generated delta solvers: Delta robot (3-RUU, Clavel 1988): translational platform, three-sphere forward pose.
@@ -35,14 +35,16 @@
 //   'translation': ^B_P T = [I, p], p = (x, y, z); ``inverse_pose`` reads p and ignores R, and also
 //   takes p itself). Platform joints P_i = p + r e_i (r: platform radius). The forearm (length l)
 //   joins c_i to P_i; its parallelogram is drawn as one bar.
-// * Passive variables (the Newton unknowns): x, y, z. Residual: |d_i| - l (metres) with the forearm
-//   d_i = p + r e_i - c_i; no false closure (alignment 1).
+// * Passive variables (the Newton unknowns): x, y, z. Residual: (|d_i|^2 - l^2) / (2 l) (metres;
+//   |d_i| - l to first order) with the forearm d_i = p + r e_i - c_i; no false closure (alignment
+//   1).
 // * Inverse: with a_i = p + (r - R) e_i (the platform joint seen from the motor joint), leg i is
 //   E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 L a_i . e_i, F = 2 L a_i . z,
 //   G = |a_i|^2 + L^2 - l^2; with tau = tan(theta_i / 2) the quadratic (G - E) tau^2 + 2 F tau +
 //   (G + E) = 0, theta_i = 2 atan2(-F - sigma_i sqrt(E^2 + F^2 - G^2), G - E). sigma_i = +1 turns
 //   the arm from the line b_i -> P_i towards smaller theta_i: the elbow outside, the usual working
-//   mode with the platform below the base. Validity ``leg<i>_reachable`` = E^2 + F^2 - G^2.
+//   mode with the platform below the base. Validity ``leg<i>_reachable`` = (E^2 + F^2 - G^2) /
+//   (E^2 + F^2 + G^2), the discriminant made unitless.
 //   Branch k: signs (sigma1, sigma2, sigma3) of ``InversePose.branches[k]``, branch 0 = all +1
 //   (every elbow out), branch 7 = all -1.
 // * Forward (three spheres): p is at distance l from the shifted elbows c'_i = c_i - r e_i =
@@ -53,11 +55,14 @@
 //   them is the working one). No branch signs. Degeneracy ``elbow_centres_collinear``: |n| / l^2
 //   (then the spheres meet in a circle or not at all).
 // * Rates: A p_dot = B theta_dot (twist vx, vy, vz of the platform, in {B}) from d_i . d_i = l^2:
-//   rows of A are d_i^T, B = diag(L d_i . du_i/dtheta_i), du_i/dtheta_i = -sin(theta_i) e_i -
-//   cos(theta_i) z. Serial (type I): ``leg<i>_forearm_in_arm_plane``, L d_i . du_i/dtheta_i = 0,
+//   rows of A are d_i^T, B = diag(L d_i . du_i/dtheta_i) = diag(t_i . ((c_i - b_i) x d_i)),
+//   du_i/dtheta_i = -sin(theta_i) e_i - cos(theta_i) z. Serial (type I): ``leg<i>_forearm_in_arm_plane``, L d_i . du_i/dtheta_i = 0,
 //   the forearm in the plane of the arm and the motor axis (arm and forearm stretched or folded as
 //   seen along the axis, the workspace boundary). Type II: ``forearms_coplanar``, det[d_1 d_2 d_3]
 //   = 0 (the three forearms parallel to one plane: the platform gains a motion).
+// * Model: three R-U-U legs (``parakin.generator.joints.crank_leg``: the crank about t_i from e_i,
+//   the forearm a distance) on a translating platform; closure, rates, factors, inverse and drawing
+//   are derived from them, the forward three-sphere elimination is written here.
 // * Defaults (illustrative, of the size of a picking Delta): R = 0.2, r = 0.05, L = 0.35, l = 1.3 m.
 //   Then R - r + L = 0.5 and (0.5, 1.2, 1.3) is a 5-12-13 triangle: at p = (0, 0, -1.2) every arm
 //   is horizontal (theta = 0, the home configuration).

@@ -2,17 +2,17 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 0
-//   loop_closure: 72
-//   loop_closure_actuated: 79
-//   rate_jacobians: 58
-//   singularity_factors: 78
+//   loop_closure: 100
+//   loop_closure_actuated: 62
+//   rate_jacobians: 64
+//   singularity_factors: 83
 //   drawing: 38
-//   inverse_pose: 150
-//   inverse_pose_patterns: 183
+//   inverse_pose: 158
+//   inverse_pose_patterns: 191
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 //   automatic_family: 0
-//   automatic_monomials: 540
+//   automatic_monomials: 535
 //   automatic_passive: 0
 
 // Batched entry points over the CasADi-generated kernels of delta, the forward-pose Newton loop
@@ -34,7 +34,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (80 + 1)
+#define SZ_W (81 + 1)
 
 int delta_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -59,7 +59,7 @@ int delta_loop_closure_batch(long long n, const double** inputs, const long long
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[18 + 1];
+    casadi_real w[21 + 1];
     casadi_real out_residual[3 + 1];
     casadi_real out_jacobian[9 + 1];
     casadi_real out_alignment[1 + 1];
@@ -88,7 +88,7 @@ int delta_loop_closure_actuated_batch(long long n, const double** inputs, const 
     const casadi_real* arg[3];
     casadi_real* res[1];
     casadi_int iw[0 + 1];
-    casadi_real w[15 + 1];
+    casadi_real w[17 + 1];
     casadi_real out_jacobian_actuated[9 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
@@ -107,7 +107,7 @@ int delta_rate_jacobians_batch(long long n, const double** inputs, const long lo
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[19 + 1];
+    casadi_real w[21 + 1];
     casadi_real out_a[9 + 1];
     casadi_real out_b[9 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -131,7 +131,7 @@ int delta_singularity_factors_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[18 + 1];
+    casadi_real w[21 + 1];
     casadi_real out_factors[4 + 1];
     casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -307,7 +307,7 @@ int delta_automatic_monomials_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[2];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[80 + 1];
+    casadi_real w[81 + 1];
     casadi_real out_re[20 + 1];
     casadi_real out_im[20 + 1];
     for (long long i = 0; i < n; ++i) {

@@ -2,17 +2,17 @@
 # with template numpy_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 0
-#   loop_closure: 72
-#   loop_closure_actuated: 79
-#   rate_jacobians: 58
-#   singularity_factors: 78
+#   loop_closure: 100
+#   loop_closure_actuated: 62
+#   rate_jacobians: 64
+#   singularity_factors: 83
 #   drawing: 38
-#   inverse_pose: 150
-#   inverse_pose_patterns: 183
+#   inverse_pose: 158
+#   inverse_pose_patterns: 191
 #   forward_polynomial: 142
 #   forward_back_substitution: 150
 #   automatic_family: 0
-#   automatic_monomials: 540
+#   automatic_monomials: 535
 #   automatic_passive: 0
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
@@ -50,7 +50,7 @@ def platform_pose(actuated, passive, params):
 def loop_closure(actuated, passive, params):
     """Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.
 
-    Operations: 72.
+    Operations: 100.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -67,42 +67,44 @@ def loop_closure(actuated, passive, params):
     r = params[..., 1]
     L = params[..., 2]
     l = params[..., 3]
-    _t0 = L * numpy.sin(theta1) + z
-    _t1 = -L * numpy.cos(theta1) - R + r + x
-    _t2 = numpy.sqrt(_t0**2 + _t1**2 + y**2)
-    _t3 = L * numpy.sin(theta2) + z
-    _t4 = (1 / 2) * L
-    _t5 = _t4 * numpy.cos(theta2)
-    _t6 = (1 / 2) * R
-    _t7 = (1 / 2) * r
-    _t8 = _t6 - _t7 + x
-    _t9 = _t5 + _t8
-    _t10 = numpy.sqrt(3)
-    _t11 = _t10 * _t6 - _t10 * _t7
-    _t12 = -_t10 * _t5 - _t11 + y
-    _t13 = numpy.sqrt(_t12**2 + _t3**2 + _t9**2)
-    _t14 = L * numpy.sin(theta3) + z
-    _t15 = _t4 * numpy.cos(theta3)
-    _t16 = _t15 + _t8
-    _t17 = _t10 * _t15 + _t11 + y
-    _t18 = numpy.sqrt(_t14**2 + _t16**2 + _t17**2)
-    _t19 = 1 / _t2
-    _t20 = 1 / _t13
-    _t21 = 1 / _t18
+    _t0 = -(l**2)
+    _t1 = L * numpy.sin(theta1)
+    _t2 = L * numpy.cos(theta1)
+    _t3 = R - r
+    _t4 = 1 / l
+    _t5 = (1 / 2) * _t4
+    _t6 = L * numpy.sin(theta2)
+    _t7 = L * numpy.cos(theta2)
+    _t8 = (1 / 2) * _t7
+    _t9 = (1 / 2) * R
+    _t10 = (1 / 2) * r
+    _t11 = -_t10 + _t9 + x
+    _t12 = numpy.sqrt(3)
+    _t13 = -_t10 * _t12 + _t12 * _t9
+    _t14 = L * numpy.sin(theta3)
+    _t15 = L * numpy.cos(theta3)
+    _t16 = (1 / 2) * _t15
+    _t17 = 2 * z
+    _t18 = _t3 + 2 * x
+    _t19 = R * _t12 - _t12 * r
     residual = numpy.zeros(shape + (3,))
-    residual[..., 0] = _t2 - l
-    residual[..., 1] = _t13 - l
-    residual[..., 2] = _t18 - l
+    residual[..., 0] = _t5 * (_t0 + y**2 + (_t1 + z) ** 2 + (-_t2 - _t3 + x) ** 2)
+    residual[..., 1] = _t5 * (
+        _t0 + (_t11 + _t8) ** 2 + (_t6 + z) ** 2 + (-_t12 * _t8 - _t13 + y) ** 2
+    )
+    residual[..., 2] = _t5 * (
+        _t0 + (_t11 + _t16) ** 2 + (_t14 + z) ** 2 + (_t12 * _t16 + _t13 + y) ** 2
+    )
     jacobian = numpy.zeros(shape + (3, 3))
-    jacobian[..., 0, 0] = _t1 * _t19
-    jacobian[..., 0, 1] = _t19 * y
-    jacobian[..., 0, 2] = _t0 * _t19
-    jacobian[..., 1, 0] = _t20 * _t9
-    jacobian[..., 1, 1] = _t12 * _t20
-    jacobian[..., 1, 2] = _t20 * _t3
-    jacobian[..., 2, 0] = _t16 * _t21
-    jacobian[..., 2, 1] = _t17 * _t21
-    jacobian[..., 2, 2] = _t14 * _t21
+    jacobian[..., 0, 0] = _t5 * (-2 * R - 2 * _t2 + 2 * r + 2 * x)
+    jacobian[..., 0, 1] = _t4 * y
+    jacobian[..., 0, 2] = _t5 * (2 * _t1 + _t17)
+    jacobian[..., 1, 0] = _t5 * (_t18 + _t7)
+    jacobian[..., 1, 1] = _t5 * (-_t12 * _t7 - _t19 + 2 * y)
+    jacobian[..., 1, 2] = _t5 * (_t17 + 2 * _t6)
+    jacobian[..., 2, 0] = _t5 * (_t15 + _t18)
+    jacobian[..., 2, 1] = _t5 * (_t12 * _t15 + _t19 + 2 * y)
+    jacobian[..., 2, 2] = _t5 * (2 * _t14 + _t17)
     alignment = numpy.zeros(shape + (1,))
     alignment[..., 0] = 1
     return {
@@ -115,7 +117,126 @@ def loop_closure(actuated, passive, params):
 def loop_closure_actuated(actuated, passive, params):
     """Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).
 
-    Operations: 79.
+    Operations: 62.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    z = passive[..., 2]
+    R = params[..., 0]
+    r = params[..., 1]
+    L = params[..., 2]
+    l = params[..., 3]
+    _t0 = L * numpy.sin(theta1)
+    _t1 = L * numpy.cos(theta1)
+    _t2 = (1 / 2) / l
+    _t3 = numpy.cos(theta2)
+    _t4 = L * numpy.sin(theta2)
+    _t5 = (1 / 2) * L
+    _t6 = _t3 * _t5
+    _t7 = (1 / 2) * R
+    _t8 = (1 / 2) * r
+    _t9 = _t7 - _t8 + x
+    _t10 = numpy.sqrt(3)
+    _t11 = _t10 * _t7 - _t10 * _t8
+    _t12 = numpy.cos(theta3)
+    _t13 = L * numpy.sin(theta3)
+    _t14 = _t12 * _t5
+    jacobian_actuated = numpy.zeros(shape + (3, 3))
+    jacobian_actuated[..., 0, 0] = _t2 * (2 * _t0 * (-R - _t1 + r + x) + 2 * _t1 * (_t0 + z))
+    jacobian_actuated[..., 1, 1] = _t2 * (
+        2 * L * _t3 * (_t4 + z) + _t10 * _t4 * (-_t10 * _t6 - _t11 + y) - _t4 * (_t6 + _t9)
+    )
+    jacobian_actuated[..., 2, 2] = _t2 * (
+        2 * L * _t12 * (_t13 + z) - _t10 * _t13 * (_t10 * _t14 + _t11 + y) - _t13 * (_t14 + _t9)
+    )
+    return {
+        "jacobian_actuated": jacobian_actuated,
+    }
+
+
+def rate_jacobians(actuated, passive, params):
+    """Input-output Jacobians of A twist = B actuated_rates.
+
+    Operations: 64.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    z = passive[..., 2]
+    R = params[..., 0]
+    r = params[..., 1]
+    L = params[..., 2]
+    _t0 = L * numpy.cos(theta1)
+    _t1 = -R - _t0 + r + x
+    _t2 = L * numpy.sin(theta1)
+    _t3 = _t2 + z
+    _t4 = numpy.cos(theta2)
+    _t5 = (1 / 2) * L
+    _t6 = _t4 * _t5
+    _t7 = (1 / 2) * R
+    _t8 = (1 / 2) * r
+    _t9 = _t7 - _t8 + x
+    _t10 = _t6 + _t9
+    _t11 = numpy.sqrt(3)
+    _t12 = _t11 * _t6
+    _t13 = _t11 * _t7 - _t11 * _t8
+    _t14 = -_t12 - _t13 + y
+    _t15 = numpy.sin(theta2)
+    _t16 = L * _t15
+    _t17 = _t16 + z
+    _t18 = numpy.cos(theta3)
+    _t19 = _t18 * _t5
+    _t20 = _t19 + _t9
+    _t21 = _t11 * _t19
+    _t22 = _t13 + _t21 + y
+    _t23 = numpy.sin(theta3)
+    _t24 = L * _t23
+    _t25 = _t24 + z
+    _t26 = (1 / 4) * L
+    _t27 = (1 / 2) * _t11
+    a = numpy.zeros(shape + (3, 3))
+    a[..., 0, 0] = _t1
+    a[..., 0, 1] = y
+    a[..., 0, 2] = _t3
+    a[..., 1, 0] = _t10
+    a[..., 1, 1] = _t14
+    a[..., 1, 2] = _t17
+    a[..., 2, 0] = _t20
+    a[..., 2, 1] = _t22
+    a[..., 2, 2] = _t25
+    b = numpy.zeros(shape + (3, 3))
+    b[..., 0, 0] = -_t0 * _t3 - _t1 * _t2
+    b[..., 1, 1] = (
+        (1 / 2) * L * _t10 * _t15 - _t17 * _t26 * _t4 - _t27 * (_t12 * _t17 + _t14 * _t16)
+    )
+    b[..., 2, 2] = (
+        -_t18 * _t25 * _t26 + (1 / 2) * _t20 * _t24 + _t27 * (L * _t22 * _t23 - _t21 * _t25)
+    )
+    return {
+        "a": a,
+        "b": b,
+    }
+
+
+def singularity_factors(actuated, passive, params):
+    """Every named singularity factor, then the determinants.
+
+    Operations: 83.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -135,160 +256,47 @@ def loop_closure_actuated(actuated, passive, params):
     _t1 = _t0 + z
     _t2 = L * numpy.cos(theta1)
     _t3 = -R - _t2 + r + x
-    _t4 = L * numpy.sin(theta2)
-    _t5 = _t4 + z
-    _t6 = L * numpy.cos(theta2)
-    _t7 = (1 / 2) * _t6
-    _t8 = (1 / 2) * R
-    _t9 = (1 / 2) * r
-    _t10 = _t8 - _t9 + x
-    _t11 = _t10 + _t7
-    _t12 = numpy.sqrt(3)
-    _t13 = _t12 * _t8 - _t12 * _t9
-    _t14 = -_t12 * _t7 - _t13 + y
-    _t15 = (1 / 2) * _t4
-    _t16 = L * numpy.sin(theta3)
-    _t17 = _t16 + z
-    _t18 = numpy.cos(theta3)
-    _t19 = (1 / 2) * L * _t18
-    _t20 = _t10 + _t19
-    _t21 = _t12 * _t19 + _t13 + y
-    _t22 = (1 / 2) * _t16
-    jacobian_actuated = numpy.zeros(shape + (3, 3))
-    jacobian_actuated[..., 0, 0] = (_t0 * _t3 + _t1 * _t2) / numpy.sqrt(_t1**2 + _t3**2 + y**2)
-    jacobian_actuated[..., 1, 1] = (-_t11 * _t15 + _t12 * _t14 * _t15 + _t5 * _t6) / numpy.sqrt(
-        _t11**2 + _t14**2 + _t5**2
-    )
-    jacobian_actuated[..., 2, 2] = (
-        L * _t17 * _t18 - _t12 * _t21 * _t22 - _t20 * _t22
-    ) / numpy.sqrt(_t17**2 + _t20**2 + _t21**2)
-    return {
-        "jacobian_actuated": jacobian_actuated,
-    }
-
-
-def rate_jacobians(actuated, passive, params):
-    """Input-output Jacobians of A twist = B actuated_rates.
-
-    Operations: 58.
-    """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
-    )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    _t0 = numpy.cos(theta1)
-    _t1 = -L * _t0 - R + r + x
-    _t2 = numpy.sin(theta1)
-    _t3 = L * _t2 + z
-    _t4 = numpy.cos(theta2)
-    _t5 = (1 / 2) * L
-    _t6 = _t4 * _t5
-    _t7 = (1 / 2) * R
-    _t8 = (1 / 2) * r
-    _t9 = _t7 - _t8 + x
-    _t10 = _t6 + _t9
-    _t11 = numpy.sqrt(3)
-    _t12 = _t11 * _t7 - _t11 * _t8
-    _t13 = -_t11 * _t6 - _t12 + y
-    _t14 = numpy.sin(theta2)
-    _t15 = L * _t14 + z
-    _t16 = numpy.cos(theta3)
-    _t17 = _t16 * _t5
-    _t18 = _t17 + _t9
-    _t19 = _t11 * _t17 + _t12 + y
-    _t20 = numpy.sin(theta3)
-    _t21 = L * _t20 + z
-    _t22 = (1 / 2) * _t20
-    a = numpy.zeros(shape + (3, 3))
-    a[..., 0, 0] = _t1
-    a[..., 0, 1] = y
-    a[..., 0, 2] = _t3
-    a[..., 1, 0] = _t10
-    a[..., 1, 1] = _t13
-    a[..., 1, 2] = _t15
-    a[..., 2, 0] = _t18
-    a[..., 2, 1] = _t19
-    a[..., 2, 2] = _t21
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = L * (-_t0 * _t3 - _t1 * _t2)
-    b[..., 1, 1] = L * ((1 / 2) * _t10 * _t14 - 1 / 2 * _t11 * _t13 * _t14 - _t15 * _t4)
-    b[..., 2, 2] = L * (_t11 * _t19 * _t22 - _t16 * _t21 + _t18 * _t22)
-    return {
-        "a": a,
-        "b": b,
-    }
-
-
-def singularity_factors(actuated, passive, params):
-    """Every named singularity factor, then the determinants.
-
-    Operations: 78.
-    """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
-    )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    _t0 = numpy.cos(theta1)
-    _t1 = numpy.sin(theta1)
-    _t2 = L * _t1 + z
-    _t3 = -L * _t0 - R + r + x
-    _t4 = -_t0 * _t2 - _t1 * _t3
-    _t5 = numpy.cos(theta2)
-    _t6 = numpy.sin(theta2)
-    _t7 = L * _t6 + z
-    _t8 = (1 / 2) * L
-    _t9 = _t5 * _t8
-    _t10 = (1 / 2) * R
-    _t11 = (1 / 2) * r
-    _t12 = _t10 - _t11 + x
-    _t13 = _t12 + _t9
-    _t14 = numpy.sqrt(3)
-    _t15 = _t10 * _t14 - _t11 * _t14
-    _t16 = _t14 * _t9 + _t15 - y
-    _t17 = -_t16
-    _t18 = (1 / 2) * _t13 * _t6 - 1 / 2 * _t14 * _t17 * _t6 - _t5 * _t7
-    _t19 = numpy.cos(theta3)
-    _t20 = numpy.sin(theta3)
-    _t21 = L * _t20 + z
-    _t22 = _t19 * _t8
-    _t23 = _t12 + _t22
-    _t24 = (1 / 2) * _t20
-    _t25 = _t14 * _t22 + _t15 + y
-    _t26 = _t14 * _t24 * _t25 - _t19 * _t21 + _t23 * _t24
-    _t27 = -_t7
-    _t28 = (
-        _t2 * (_t13 * _t25 + _t16 * _t23)
-        + _t3 * (_t17 * _t21 + _t25 * _t27)
-        - y * (_t13 * _t21 + _t23 * _t27)
+    _t4 = -_t0 * _t3 - _t1 * _t2
+    _t5 = numpy.sin(theta2)
+    _t6 = L * _t5
+    _t7 = _t6 + z
+    _t8 = numpy.cos(theta2)
+    _t9 = L * _t8
+    _t10 = (1 / 2) * L
+    _t11 = (1 / 2) * R
+    _t12 = (1 / 2) * r
+    _t13 = _t11 - _t12 + x
+    _t14 = _t10 * _t8 + _t13
+    _t15 = numpy.sqrt(3)
+    _t16 = (1 / 2) * _t15
+    _t17 = _t16 * _t9
+    _t18 = _t11 * _t15 - _t12 * _t15
+    _t19 = _t17 + _t18 - y
+    _t20 = -_t19
+    _t21 = (1 / 2) * L * _t14 * _t5 - _t16 * (_t17 * _t7 + _t20 * _t6) - 1 / 4 * _t7 * _t9
+    _t22 = numpy.sin(theta3)
+    _t23 = L * _t22
+    _t24 = _t23 + z
+    _t25 = numpy.cos(theta3)
+    _t26 = L * _t25
+    _t27 = _t10 * _t25 + _t13
+    _t28 = _t16 * _t26
+    _t29 = _t18 + _t28 + y
+    _t30 = _t16 * (L * _t22 * _t29 - _t24 * _t28) + (1 / 2) * _t23 * _t27 - 1 / 4 * _t24 * _t26
+    _t31 = -_t7
+    _t32 = (
+        _t1 * (_t14 * _t29 + _t19 * _t27)
+        + _t3 * (_t20 * _t24 + _t29 * _t31)
+        - y * (_t14 * _t24 + _t27 * _t31)
     )
     factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = L * _t4
-    factors[..., 1] = L * _t18
-    factors[..., 2] = L * _t26
-    factors[..., 3] = _t28
+    factors[..., 0] = _t4
+    factors[..., 1] = _t21
+    factors[..., 2] = _t30
+    factors[..., 3] = _t32
     determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t28
-    determinants[..., 1] = L**3 * _t18 * _t26 * _t4
+    determinants[..., 0] = _t32
+    determinants[..., 1] = _t21 * _t30 * _t4
     return {
         "factors": factors,
         "determinants": determinants,
@@ -362,7 +370,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 150.
+    Operations: 158.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -389,35 +397,32 @@ def inverse_pose(pose, branch, params):
         -F1 - sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
     )
     _t0 = numpy.sqrt(3)
-    E2 = (
-        -2
-        * L
-        * (-1 / 4 * R + (1 / 2) * _t0 * ((1 / 2) * _t0 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
-    )
+    _t1 = (1 / 2) * _t0
+    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t0 * (-R * _t1 + _t1 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F2 = 2 * L * z
-    G2 = (
-        L**2
-        - l**2
-        + z**2
-        + (y + (1 / 2) * numpy.sqrt(3) * (-R + r)) ** 2
-        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
-    )
+    _t2 = (1 / 2) * R
+    _t3 = (1 / 2) * r
+    _t4 = numpy.sqrt(3)
+    G2 = L**2 - l**2 + z**2 + (_t2 - _t3 + x) ** 2 + (-_t2 * _t4 + _t3 * _t4 + y) ** 2
     theta2 = 2 * numpy.arctan2(
         -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
     )
-    _t1 = (1 / 2) * numpy.sqrt(3)
-    E3 = -2 * L * (-1 / 4 * R - _t1 * (-_t1 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
+    _t5 = (1 / 2) * numpy.sqrt(3)
+    E3 = -2 * L * (-1 / 4 * R - _t5 * (R * _t5 - _t5 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F3 = 2 * L * z
-    G3 = (
-        L**2
-        - l**2
-        + z**2
-        + (y - 1 / 2 * numpy.sqrt(3) * (-R + r)) ** 2
-        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
-    )
+    _t6 = (1 / 2) * R
+    _t7 = (1 / 2) * r
+    _t8 = numpy.sqrt(3)
+    G3 = L**2 - l**2 + z**2 + (_t6 - _t7 + x) ** 2 + (_t6 * _t8 - _t7 * _t8 + y) ** 2
     theta3 = 2 * numpy.arctan2(
         -F3 - sigma3 * numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
     )
+    _t9 = G1**2
+    _t10 = E1**2 + F1**2
+    _t11 = G2**2
+    _t12 = E2**2 + F2**2
+    _t13 = G3**2
+    _t14 = E3**2 + F3**2
     actuated = numpy.zeros(shape + (3,))
     actuated[..., 0] = theta1
     actuated[..., 1] = theta2
@@ -427,9 +432,9 @@ def inverse_pose(pose, branch, params):
     passive[..., 1] = y
     passive[..., 2] = z
     validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = E1**2 + F1**2 - G1**2
-    validity[..., 1] = E2**2 + F2**2 - G2**2
-    validity[..., 2] = E3**2 + F3**2 - G3**2
+    validity[..., 0] = (_t10 - _t9) / (_t10 + _t9)
+    validity[..., 1] = (-_t11 + _t12) / (_t11 + _t12)
+    validity[..., 2] = (-_t13 + _t14) / (_t13 + _t14)
     return {
         "actuated": actuated,
         "passive": passive,
@@ -440,7 +445,7 @@ def inverse_pose(pose, branch, params):
 def inverse_pose_patterns(pose, params):
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 183.
+    Operations: 191.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -466,44 +471,41 @@ def inverse_pose_patterns(pose, params):
         -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
     )
     _t0 = numpy.sqrt(3)
-    E2 = (
-        -2
-        * L
-        * (-1 / 4 * R + (1 / 2) * _t0 * ((1 / 2) * _t0 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
-    )
+    _t1 = (1 / 2) * _t0
+    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t0 * (-R * _t1 + _t1 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F2 = 2 * L * z
-    G2 = (
-        L**2
-        - l**2
-        + z**2
-        + (y + (1 / 2) * numpy.sqrt(3) * (-R + r)) ** 2
-        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
-    )
+    _t2 = (1 / 2) * R
+    _t3 = (1 / 2) * r
+    _t4 = numpy.sqrt(3)
+    G2 = L**2 - l**2 + z**2 + (_t2 - _t3 + x) ** 2 + (-_t2 * _t4 + _t3 * _t4 + y) ** 2
     theta2_pattern0 = 2 * numpy.arctan2(
         -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
     )
     theta2_pattern1 = 2 * numpy.arctan2(
         -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
     )
-    _t1 = (1 / 2) * numpy.sqrt(3)
-    E3 = -2 * L * (-1 / 4 * R - _t1 * (-_t1 * (-R + r) + y) + (1 / 4) * r - 1 / 2 * x)
+    _t5 = (1 / 2) * numpy.sqrt(3)
+    E3 = -2 * L * (-1 / 4 * R - _t5 * (R * _t5 - _t5 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F3 = 2 * L * z
-    G3 = (
-        L**2
-        - l**2
-        + z**2
-        + (y - 1 / 2 * numpy.sqrt(3) * (-R + r)) ** 2
-        + ((1 / 2) * R - 1 / 2 * r + x) ** 2
-    )
+    _t6 = (1 / 2) * R
+    _t7 = (1 / 2) * r
+    _t8 = numpy.sqrt(3)
+    G3 = L**2 - l**2 + z**2 + (_t6 - _t7 + x) ** 2 + (_t6 * _t8 - _t7 * _t8 + y) ** 2
     theta3_pattern0 = 2 * numpy.arctan2(
         -F3 - numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
     )
     theta3_pattern1 = 2 * numpy.arctan2(
         -F3 + numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
     )
-    _t2 = E1**2 + F1**2 - G1**2
-    _t3 = E2**2 + F2**2 - G2**2
-    _t4 = E3**2 + F3**2 - G3**2
+    _t9 = G1**2
+    _t10 = E1**2 + F1**2
+    _t11 = (_t10 - _t9) / (_t10 + _t9)
+    _t12 = G2**2
+    _t13 = E2**2 + F2**2
+    _t14 = (-_t12 + _t13) / (_t12 + _t13)
+    _t15 = G3**2
+    _t16 = E3**2 + F3**2
+    _t17 = (-_t15 + _t16) / (_t15 + _t16)
     actuated = numpy.zeros(shape + (3, 2))
     actuated[..., 0, 0] = theta1_pattern0
     actuated[..., 0, 1] = theta1_pattern1
@@ -519,12 +521,12 @@ def inverse_pose_patterns(pose, params):
     passive[..., 2, 0] = z
     passive[..., 2, 1] = z
     validity = numpy.zeros(shape + (3, 2))
-    validity[..., 0, 0] = _t2
-    validity[..., 0, 1] = _t2
-    validity[..., 1, 0] = _t3
-    validity[..., 1, 1] = _t3
-    validity[..., 2, 0] = _t4
-    validity[..., 2, 1] = _t4
+    validity[..., 0, 0] = _t11
+    validity[..., 0, 1] = _t11
+    validity[..., 1, 0] = _t14
+    validity[..., 1, 1] = _t14
+    validity[..., 2, 0] = _t17
+    validity[..., 2, 1] = _t17
     return {
         "actuated": actuated,
         "passive": passive,
@@ -720,7 +722,7 @@ def automatic_family(actuated, params):
 def automatic_monomials(family_re, family_im):
     """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
 
-    Operations: 540.
+    Operations: 535.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(family_re)[:-1],
@@ -754,288 +756,286 @@ def automatic_monomials(family_re, family_im):
     D_u_2_im = family_im[..., 12]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
-    _t2 = 2 * _t1
-    _t3 = D_u_0_im * D_u_0_re
-    _t4 = 4 * _t3
-    _t5 = R_im * _t4
-    _t6 = 2 * C_u_0_im
-    _t7 = 2 * C_u_0_re * D_u_0_im + D_u_0_re * _t6
-    _t8 = -2 * C_u_0_re * D_u_0_re + D_u_0_im * _t6
+    _t2 = 4 * D_u_0_im * D_u_0_re
+    _t3 = R_im * _t2
+    _t4 = _t2 * r_im
+    _t5 = 2 * D_u_0_im
+    _t6 = 2 * D_u_0_re
+    _t7 = C_u_0_im * _t5 - C_u_0_re * _t6
+    _t8 = C_u_0_im * _t6 + C_u_0_re * _t5
     _t9 = -_t8
-    _t10 = L_im * _t7 - L_re * _t9
-    _t11 = 2 * S_u_0_re
-    _t12 = 2 * S_u_0_im
-    _t13 = -D_u_0_im * _t11 - D_u_0_re * _t12
-    _t14 = D_u_0_im * _t12 - D_u_0_re * _t11
-    _t15 = L_im * L_re
-    _t16 = 4 * _t15
-    _t17 = l_im * l_re
-    _t18 = 2 * R_im
-    _t19 = 2 * R_re * r_im + _t18 * r_re
-    _t20 = 2 * _t3
-    _t21 = C_u_0_im**2 - C_u_0_re**2
-    _t22 = -(L_im**2) + L_re**2
-    _t23 = -(l_im**2) + l_re**2
-    _t24 = 2 * R_re * r_re - _t18 * r_im
-    _t25 = -(R_im**2) + R_re**2
-    _t26 = -(r_im**2) + r_re**2
-    _t27 = S_u_0_im**2 - S_u_0_re**2
-    _t28 = -_t7
-    _t29 = L_im * _t8 + L_re * _t28
-    _t30 = -L_im * _t28 + L_re * _t8
-    _t31 = L_im * _t9 + L_re * _t7
-    _t32 = -_t10
-    _t33 = D_u_1_im**2
-    _t34 = D_u_1_re**2
-    _t35 = 4 * _t33 - 4 * _t34
-    _t36 = 8 * D_u_1_re
-    _t37 = D_u_1_im * _t36
-    _t38 = R_im * _t37
-    _t39 = _t37 * r_im
-    _t40 = 4 * D_u_1_im
-    _t41 = 4 * D_u_1_re
-    _t42 = C_u_1_im * _t40 - C_u_1_re * _t41
-    _t43 = C_u_1_im * _t41 + C_u_1_re * _t40
-    _t44 = -_t43
-    _t45 = -_t33 + _t34
-    _t46 = 4 * _t45
-    _t47 = R_re * _t46
-    _t48 = _t46 * r_re
-    _t49 = numpy.sqrt(3)
-    _t50 = -_t42
-    _t51 = 8 * S_u_1_re
-    _t52 = 8 * S_u_1_im
-    _t53 = -D_u_1_im * _t51 - D_u_1_re * _t52
-    _t54 = D_u_1_im * _t52 - D_u_1_re * _t51
-    _t55 = C_u_1_im * C_u_1_re
-    _t56 = 16 * _t15
-    _t57 = D_u_1_im * D_u_1_re
-    _t58 = 16 * _t57
-    _t59 = R_im * R_re
-    _t60 = r_im * r_re
-    _t61 = 8 * R_im
-    _t62 = 8 * R_re
-    _t63 = _t61 * r_re + _t62 * r_im
-    _t64 = 2 * _t63
-    _t65 = 8 * R_re * r_re - _t61 * r_im
-    _t66 = 4 * C_u_1_im**2 - 4 * C_u_1_re**2
-    _t67 = -_t35
-    _t68 = 4 * S_u_1_im**2 - 4 * S_u_1_re**2
-    _t69 = 8 * D_u_1_im
-    _t70 = C_u_1_im * _t69 - C_u_1_re * _t36
-    _t71 = C_u_1_im * _t36 + C_u_1_re * _t69
-    _t72 = -_t71
-    _t73 = L_im * _t70 + L_re * _t72
-    _t74 = -L_im * _t72 + L_re * _t70
-    _t75 = -_t70
-    _t76 = L_im * _t75 + L_re * _t71
-    _t77 = -L_im * _t71 + L_re * _t75
+    _t10 = L_im * _t9
+    _t11 = 2 * _t1
+    _t12 = R_re * _t11
+    _t13 = _t11 * r_re
+    _t14 = S_u_0_im * _t6 + S_u_0_re * _t5
+    _t15 = 2 * D_u_0_re * S_u_0_re - S_u_0_im * _t5
+    _t16 = C_u_0_im * C_u_0_re
+    _t17 = L_im * L_re
+    _t18 = 4 * _t17
+    _t19 = l_im * l_re
+    _t20 = S_u_0_im * S_u_0_re
+    _t21 = 2 * r_re
+    _t22 = 2 * r_im
+    _t23 = -R_im * _t21 - R_re * _t22
+    _t24 = D_u_0_im * _t6
+    _t25 = -(C_u_0_im**2) + C_u_0_re**2
+    _t26 = -(L_im**2) + L_re**2
+    _t27 = -(R_im**2) + R_re**2
+    _t28 = -(r_im**2) + r_re**2
+    _t29 = R_im * _t22 - R_re * _t21
+    _t30 = -(l_im**2) + l_re**2
+    _t31 = -(S_u_0_im**2) + S_u_0_re**2
+    _t32 = -_t7
+    _t33 = L_im * _t32 + L_re * _t8
+    _t34 = -L_im * _t8 + L_re * _t32
+    _t35 = L_im * _t7 + L_re * _t9
+    _t36 = L_re * _t7 - _t10
+    _t37 = D_u_1_im**2
+    _t38 = D_u_1_re**2
+    _t39 = 4 * _t37 - 4 * _t38
+    _t40 = -_t39
+    _t41 = 8 * D_u_1_im
+    _t42 = D_u_1_re * _t41
+    _t43 = R_im * _t42
+    _t44 = 4 * C_u_1_im
+    _t45 = 4 * C_u_1_re * D_u_1_im + D_u_1_re * _t44
+    _t46 = -4 * C_u_1_re * D_u_1_re + D_u_1_im * _t44
+    _t47 = -_t46
+    _t48 = -_t37 + _t38
+    _t49 = 4 * _t48
+    _t50 = _t49 * r_re
+    _t51 = numpy.sqrt(3)
+    _t52 = -_t45
+    _t53 = 8 * D_u_1_re
+    _t54 = S_u_1_im * _t53 + S_u_1_re * _t41
+    _t55 = 8 * D_u_1_re * S_u_1_re - S_u_1_im * _t41
+    _t56 = C_u_1_im * C_u_1_re
+    _t57 = 16 * _t17
+    _t58 = R_im * R_re
+    _t59 = D_u_1_im * D_u_1_re
+    _t60 = 16 * _t59
+    _t61 = r_im * r_re
+    _t62 = S_u_1_im * S_u_1_re
+    _t63 = 8 * r_re
+    _t64 = 8 * r_im
+    _t65 = -R_im * _t63 - R_re * _t64
+    _t66 = 2 * _t65
+    _t67 = R_im * _t64 - R_re * _t63
+    _t68 = -4 * C_u_1_im**2 + 4 * C_u_1_re**2
+    _t69 = -4 * S_u_1_im**2 + 4 * S_u_1_re**2
+    _t70 = C_u_1_im * _t41 - 8 * C_u_1_re * D_u_1_re
+    _t71 = -_t70
+    _t72 = C_u_1_im * _t53 + C_u_1_re * _t41
+    _t73 = L_im * _t71 + L_re * _t72
+    _t74 = -L_im * _t72 + L_re * _t71
+    _t75 = -_t72
+    _t76 = L_im * _t70 + L_re * _t75
+    _t77 = -L_im * _t75 + L_re * _t70
     _t78 = D_u_2_im**2
     _t79 = D_u_2_re**2
     _t80 = 4 * _t78 - 4 * _t79
-    _t81 = D_u_2_im * D_u_2_re
-    _t82 = _t61 * _t81
-    _t83 = 8 * D_u_2_re
-    _t84 = D_u_2_im * _t83
-    _t85 = _t84 * r_im
-    _t86 = 4 * D_u_2_im
-    _t87 = 4 * D_u_2_re
-    _t88 = C_u_2_im * _t86 - C_u_2_re * _t87
-    _t89 = -C_u_2_im * _t87 - C_u_2_re * _t86
-    _t90 = L_im * _t89
-    _t91 = -_t78 + _t79
-    _t92 = 4 * _t91
-    _t93 = R_re * _t92
-    _t94 = _t92 * r_re
-    _t95 = 8 * S_u_2_re
-    _t96 = 8 * S_u_2_im
-    _t97 = -D_u_2_im * _t95 - D_u_2_re * _t96
-    _t98 = D_u_2_im * _t96 - D_u_2_re * _t95
-    _t99 = C_u_2_im * C_u_2_re
-    _t100 = 16 * _t81
-    _t101 = 4 * C_u_2_im**2 - 4 * C_u_2_re**2
-    _t102 = -_t80
-    _t103 = 4 * S_u_2_im**2 - 4 * S_u_2_re**2
-    _t104 = 8 * D_u_2_im
-    _t105 = C_u_2_im * _t104 - C_u_2_re * _t83
-    _t106 = C_u_2_im * _t83 + C_u_2_re * _t104
-    _t107 = -_t106
-    _t108 = L_im * _t105 + L_re * _t107
-    _t109 = -L_im * _t107 + L_re * _t105
-    _t110 = -_t105
-    _t111 = L_im * _t110 + L_re * _t106
-    _t112 = -L_im * _t106 + L_re * _t110
-    _t113 = -_t20
-    _t114 = 2 * _t15
-    _t115 = R_re * _t18
-    _t116 = 2 * _t60
-    _t117 = -_t37
-    _t118 = R_re * _t37
-    _t119 = _t37 * r_re
-    _t120 = R_im * _t46
-    _t121 = _t46 * r_im
-    _t122 = 8 * _t22
-    _t123 = 2 * _t65
-    _t124 = 2 * _t17
-    _t125 = -_t84
-    _t126 = R_im * _t92
-    _t127 = _t92 * r_im
-    _t128 = _t62 * _t81
-    _t129 = _t84 * r_re
-    _t130 = L_im * _t88 + L_re * _t89
+    _t81 = -_t80
+    _t82 = -_t78 + _t79
+    _t83 = 4 * _t82
+    _t84 = _t83 * r_re
+    _t85 = 8 * D_u_2_im
+    _t86 = D_u_2_re * _t85
+    _t87 = R_im * _t86
+    _t88 = 4 * C_u_2_im
+    _t89 = 4 * C_u_2_re * D_u_2_im + D_u_2_re * _t88
+    _t90 = 4 * C_u_2_re * D_u_2_re - D_u_2_im * _t88
+    _t91 = L_im * _t89 - L_re * _t90
+    _t92 = D_u_2_im * D_u_2_re
+    _t93 = 8 * D_u_2_re
+    _t94 = S_u_2_im * _t93 + S_u_2_re * _t85
+    _t95 = 8 * D_u_2_re * S_u_2_re - S_u_2_im * _t85
+    _t96 = C_u_2_im * C_u_2_re
+    _t97 = 16 * _t92
+    _t98 = S_u_2_im * S_u_2_re
+    _t99 = -4 * C_u_2_im**2 + 4 * C_u_2_re**2
+    _t100 = -4 * S_u_2_im**2 + 4 * S_u_2_re**2
+    _t101 = C_u_2_im * _t85 - 8 * C_u_2_re * D_u_2_re
+    _t102 = -_t101
+    _t103 = C_u_2_im * _t93 + C_u_2_re * _t85
+    _t104 = L_im * _t102 + L_re * _t103
+    _t105 = -L_im * _t103 + L_re * _t102
+    _t106 = -_t103
+    _t107 = L_im * _t101 + L_re * _t106
+    _t108 = -L_im * _t106 + L_re * _t101
+    _t109 = 2 * _t26
+    _t110 = 2 * _t17
+    _t111 = 2 * _t19
+    _t112 = R_re * _t42
+    _t113 = _t42 * r_re
+    _t114 = R_im * _t49
+    _t115 = _t49 * r_im
+    _t116 = 8 * _t26
+    _t117 = 2 * _t67
+    _t118 = 2 * _t58
+    _t119 = _t21 * r_im
+    _t120 = _t83 * r_im
+    _t121 = R_im * _t83
+    _t122 = _t63 * _t92
+    _t123 = R_re * _t86
+    _t124 = L_im * _t90 + L_re * _t89
     re = numpy.zeros(shape + (20,))
-    re[..., 0] = _t0
-    re[..., 1] = 4 * D_u_0_im * D_u_0_re * r_im + 2 * R_re * _t1 - _t10 - _t2 * r_re - _t5
-    re[..., 2] = _t0
-    re[..., 3] = _t0
-    re[..., 4] = -L_im * _t13 + L_re * _t14
+    re[..., 0] = _t1
+    re[..., 1] = L_re * _t7 - _t10 - _t12 + _t13 + _t3 - _t4
+    re[..., 2] = _t1
+    re[..., 3] = _t1
+    re[..., 4] = -L_im * _t14 + L_re * _t15
     re[..., 5] = (
-        C_u_0_im * C_u_0_re * _t16
-        - R_im * _t29
-        + R_re * _t30
-        + R_re * _t5
-        + S_u_0_im * S_u_0_re * _t16
-        + _t0 * _t25
-        + _t0 * _t26
-        + _t1 * _t23
-        + _t1 * _t24
-        - _t17 * _t4
-        - _t19 * _t20
-        + _t21 * _t22
-        + _t22 * _t27
-        - _t31 * r_im
-        + _t32 * r_re
-        + _t4 * r_im * r_re
+        -R_im * _t33
+        - R_re * _t3
+        + R_re * _t34
+        + _t0 * _t30
+        + _t1 * _t27
+        + _t1 * _t28
+        + _t1 * _t29
+        - _t16 * _t18
+        - _t18 * _t20
+        + _t19 * _t2
+        - _t23 * _t24
+        + _t25 * _t26
+        + _t26 * _t31
+        - _t35 * r_im
+        + _t36 * r_re
+        - _t4 * r_re
     )
-    re[..., 6] = _t35
-    re[..., 7] = -L_im * _t44 + L_re * _t42 + _t38 - _t39 - _t47 + _t48
-    re[..., 8] = _t35
+    re[..., 6] = _t40
+    re[..., 7] = (
+        8 * D_u_1_im * D_u_1_re * r_im - L_im * _t45 + L_re * _t47 + 4 * R_re * _t48 - _t43 - _t50
+    )
+    re[..., 8] = _t40
     re[..., 9] = (
-        -_t38 * _t49 + _t39 * _t49 + _t47 * _t49 - _t48 * _t49 + _t49 * (-L_im * _t43 + L_re * _t50)
+        -R_re * _t49 * _t51
+        - _t42 * _t51 * r_im
+        + _t43 * _t51
+        + _t50 * _t51
+        + _t51 * (-L_im * _t52 + L_re * _t46)
     )
-    re[..., 10] = _t35
-    re[..., 11] = -L_im * _t53 + L_re * _t54
+    re[..., 10] = _t40
+    re[..., 11] = -L_im * _t54 + L_re * _t55
     re[..., 12] = (
         -R_im * _t73
         + R_re * _t74
-        + S_u_1_im * S_u_1_re * _t56
-        - _t17 * _t58
-        + _t22 * _t66
-        + _t22 * _t68
-        + _t23 * _t67
-        + _t25 * _t35
-        + _t26 * _t35
-        + _t45 * _t65
-        + _t55 * _t56
-        - _t57 * _t64
-        + _t58 * _t59
-        + _t58 * _t60
+        + _t19 * _t60
+        + _t26 * _t68
+        + _t26 * _t69
+        + _t27 * _t40
+        + _t28 * _t40
+        + _t30 * _t39
+        + _t48 * _t67
+        - _t56 * _t57
+        - _t57 * _t62
+        - _t58 * _t60
+        - _t59 * _t66
+        - _t60 * _t61
         - _t76 * r_im
         + _t77 * r_re
     )
-    re[..., 13] = _t80
-    re[..., 14] = L_re * _t88 + _t82 - _t85 - _t90 - _t93 + _t94
-    re[..., 15] = _t80
-    re[..., 16] = (
-        _t49 * _t82 - _t49 * _t85 - _t49 * _t93 + _t49 * _t94 + _t49 * (L_re * _t88 - _t90)
-    )
-    re[..., 17] = _t80
-    re[..., 18] = -L_im * _t97 + L_re * _t98
+    re[..., 13] = _t81
+    re[..., 14] = 8 * D_u_2_im * D_u_2_re * r_im + 4 * R_re * _t82 - _t84 - _t87 - _t91
+    re[..., 15] = _t81
+    re[..., 16] = R_re * _t51 * _t83 + _t51 * _t64 * _t92 - _t51 * _t84 - _t51 * _t87 - _t51 * _t91
+    re[..., 17] = _t81
+    re[..., 18] = -L_im * _t94 + L_re * _t95
     re[..., 19] = (
-        -R_im * _t108
-        + R_re * _t109
-        + S_u_2_im * S_u_2_re * _t56
-        - _t100 * _t17
-        + _t100 * _t59
-        + _t100 * _t60
-        + _t101 * _t22
-        + _t102 * _t23
-        + _t103 * _t22
-        - _t111 * r_im
-        + _t112 * r_re
-        + _t25 * _t80
-        + _t26 * _t80
-        + _t56 * _t99
-        - _t64 * _t81
-        + _t65 * _t91
+        -R_im * _t104
+        + R_re * _t105
+        + _t100 * _t26
+        - _t107 * r_im
+        + _t108 * r_re
+        + _t19 * _t97
+        + _t26 * _t99
+        + _t27 * _t81
+        + _t28 * _t81
+        + _t30 * _t80
+        - _t57 * _t96
+        - _t57 * _t98
+        - _t58 * _t97
+        - _t61 * _t97
+        - _t66 * _t92
+        + _t67 * _t82
     )
     im = numpy.zeros(shape + (20,))
-    im[..., 0] = _t113
-    im[..., 1] = R_im * _t2 + R_re * _t4 - _t2 * r_im + _t31 - _t4 * r_re
-    im[..., 2] = _t113
-    im[..., 3] = _t113
-    im[..., 4] = L_im * _t14 + L_re * _t13
+    im[..., 0] = _t24
+    im[..., 1] = -R_im * _t11 - R_re * _t2 + _t11 * r_im + _t2 * r_re + _t35
+    im[..., 2] = _t24
+    im[..., 3] = _t24
+    im[..., 4] = L_im * _t15 + L_re * _t14
     im[..., 5] = (
-        -C_u_0_re * _t22 * _t6
-        + R_im * _t30
-        + R_re * _t29
-        - S_u_0_im * _t11 * _t22
-        + _t0 * _t115
-        + _t0 * _t116
-        + _t1 * _t19
-        + _t114 * _t21
-        + _t114 * _t27
-        + _t17 * _t2
-        + _t20 * _t23
-        + _t20 * _t24
-        - _t20 * _t25
-        - _t20 * _t26
-        + _t31 * r_re
-        + _t32 * r_im
+        R_im * _t12
+        + R_im * _t34
+        + R_re * _t33
+        + _t0 * _t111
+        + _t1 * _t23
+        + _t109 * _t16
+        + _t109 * _t20
+        + _t110 * _t25
+        + _t110 * _t31
+        + _t13 * r_im
+        + _t24 * _t27
+        + _t24 * _t28
+        + _t24 * _t29
+        - _t24 * _t30
+        + _t35 * r_re
+        + _t36 * r_im
     )
-    im[..., 6] = _t117
-    im[..., 7] = L_im * _t42 + L_re * _t44 - _t118 + _t119 - _t120 + _t121
-    im[..., 8] = _t117
+    im[..., 6] = _t42
+    im[..., 7] = L_im * _t47 + L_re * _t45 + _t112 - _t113 + _t114 - _t115
+    im[..., 8] = _t42
     im[..., 9] = (
-        _t118 * _t49
-        - _t119 * _t49
-        + _t120 * _t49
-        - _t121 * _t49
-        + _t49 * (L_im * _t50 + L_re * _t43)
+        -_t112 * _t51
+        + _t113 * _t51
+        - _t114 * _t51
+        + _t115 * _t51
+        + _t51 * (L_im * _t46 + L_re * _t52)
     )
-    im[..., 10] = _t117
-    im[..., 11] = L_im * _t54 + L_re * _t53
+    im[..., 10] = _t42
+    im[..., 11] = L_im * _t55 + L_re * _t54
     im[..., 12] = (
         R_im * _t74
         + R_re * _t73
-        - S_u_1_im * _t22 * _t51
-        + _t114 * _t66
-        + _t114 * _t68
-        + _t115 * _t35
-        + _t116 * _t35
-        - _t122 * _t55
-        + _t123 * _t57
-        + _t124 * _t67
-        + _t23 * _t37
-        - _t25 * _t37
-        - _t26 * _t37
-        + _t45 * _t63
+        + _t110 * _t68
+        + _t110 * _t69
+        + _t111 * _t39
+        + _t116 * _t56
+        + _t116 * _t62
+        + _t117 * _t59
+        + _t118 * _t40
+        + _t119 * _t40
+        + _t27 * _t42
+        + _t28 * _t42
+        - _t30 * _t42
+        + _t48 * _t65
         + _t76 * r_re
         + _t77 * r_im
     )
-    im[..., 13] = _t125
-    im[..., 14] = -_t126 + _t127 - _t128 + _t129 + _t130
-    im[..., 15] = _t125
-    im[..., 16] = -_t126 * _t49 + _t127 * _t49 - _t128 * _t49 + _t129 * _t49 + _t130 * _t49
-    im[..., 17] = _t125
-    im[..., 18] = L_im * _t98 + L_re * _t97
+    im[..., 13] = _t86
+    im[..., 14] = -_t120 + _t121 - _t122 + _t123 + _t124
+    im[..., 15] = _t86
+    im[..., 16] = -_t120 * _t51 + _t121 * _t51 - _t122 * _t51 + _t123 * _t51 + _t124 * _t51
+    im[..., 17] = _t86
+    im[..., 18] = L_im * _t95 + L_re * _t94
     im[..., 19] = (
-        R_im * _t109
-        + R_re * _t108
-        - S_u_2_im * _t22 * _t95
-        + _t101 * _t114
-        + _t102 * _t124
-        + _t103 * _t114
-        + _t111 * r_re
-        + _t112 * r_im
-        + _t115 * _t80
-        + _t116 * _t80
-        - _t122 * _t99
-        + _t123 * _t81
-        + _t23 * _t84
-        - _t25 * _t84
-        - _t26 * _t84
-        + _t63 * _t91
+        R_im * _t105
+        + R_re * _t104
+        + _t100 * _t110
+        + _t107 * r_re
+        + _t108 * r_im
+        + _t110 * _t99
+        + _t111 * _t80
+        + _t116 * _t96
+        + _t116 * _t98
+        + _t117 * _t92
+        + _t118 * _t81
+        + _t119 * _t81
+        + _t27 * _t86
+        + _t28 * _t86
+        - _t30 * _t86
+        + _t65 * _t82
     )
     return {
         "re": re,

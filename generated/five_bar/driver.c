@@ -2,17 +2,17 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 0
-//   loop_closure: 35
-//   loop_closure_actuated: 37
-//   rate_jacobians: 25
-//   singularity_factors: 29
+//   loop_closure: 54
+//   loop_closure_actuated: 33
+//   rate_jacobians: 23
+//   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 71
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0
-//   automatic_monomials: 232
+//   automatic_monomials: 219
 //   automatic_passive: 0
 
 // Batched entry points over the CasADi-generated kernels of five_bar, the forward-pose Newton loop
@@ -34,7 +34,7 @@
 #define SZ_ARG 4
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (50 + 1)
+#define SZ_W (46 + 1)
 
 int five_bar_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -59,7 +59,7 @@ int five_bar_loop_closure_batch(long long n, const double** inputs, const long l
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[9 + 1];
+    casadi_real w[12 + 1];
     casadi_real out_residual[2 + 1];
     casadi_real out_jacobian[4 + 1];
     casadi_real out_alignment[1 + 1];
@@ -107,7 +107,7 @@ int five_bar_rate_jacobians_batch(long long n, const double** inputs, const long
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[11 + 1];
+    casadi_real w[9 + 1];
     casadi_real out_a[4 + 1];
     casadi_real out_b[4 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -131,7 +131,7 @@ int five_bar_singularity_factors_batch(long long n, const double** inputs, const
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[10 + 1];
+    casadi_real w[9 + 1];
     casadi_real out_factors[3 + 1];
     casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -153,24 +153,29 @@ int five_bar_singularity_factors_batch(long long n, const double** inputs, const
 
 int five_bar_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
-    casadi_real* res[2];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[5 + 1];
     casadi_real out_base[6 + 1];
-    casadi_real out_moving[9 + 1];
+    casadi_real out_elbow[6 + 1];
+    casadi_real out_platform[6 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_base;
-        res[1] = out_moving;
+        res[1] = out_elbow;
+        res[2] = out_platform;
         if (five_bar_drawing(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[0][i * 6 + r * 2 + c] = out_base[c * 3 + r];
         for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c)
-                outputs[1][i * 9 + r * 3 + c] = out_moving[c * 3 + r];
+            for (int c = 0; c < 2; ++c)
+                outputs[1][i * 6 + r * 2 + c] = out_elbow[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[2][i * 6 + r * 2 + c] = out_platform[c * 3 + r];
     }
     return 0;
 }
@@ -302,7 +307,7 @@ int five_bar_automatic_monomials_batch(long long n, const double** inputs, const
     const casadi_real* arg[2];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[50 + 1];
+    casadi_real w[46 + 1];
     casadi_real out_re[10 + 1];
     casadi_real out_im[10 + 1];
     for (long long i = 0; i < n; ++i) {

@@ -2,17 +2,17 @@
 // with template c_header.h.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 0
-//   loop_closure: 35
-//   loop_closure_actuated: 37
-//   rate_jacobians: 25
-//   singularity_factors: 29
+//   loop_closure: 54
+//   loop_closure_actuated: 33
+//   rate_jacobians: 23
+//   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 71
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0
-//   automatic_monomials: 232
+//   automatic_monomials: 219
 //   automatic_passive: 0
 
 // Public C interface of the generated five_bar solvers: Planar five-bar linkage (RRRRR), two actuated base joints (Gosselin & Angeles 1990).
@@ -30,8 +30,10 @@
 //   link of length b_i from C_i to the output point P = (x, y, 0).
 // * {P}: origin at P, R = I (pose_kind 'planar_translation': ^B_P T = [I, (x, y, 0)]);
 //   ``inverse_pose`` also takes (x, y) and refuses a pose off the plane z = 0 or with a rotation.
-// * Passive variables (the Newton unknowns): x, y. Residual: |P - C_i| - b_i (metres), two rows;
-//   no false closure (alignment 1).
+// * Passive variables (the Newton unknowns): x, y. Residual: (|P - C_i|^2 - b_i^2) / (2 b_i)
+//   (metres; |P - C_i| - b_i to first order), two rows; no false closure (alignment 1).
+// * Model: two R-R-R legs (``parakin.generator.joints.crank_leg``) meeting at P; closure, rates,
+//   factors, inverse and drawing (base joints, elbows C_i, P) are derived from them.
 // * Inverse: with v = P - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i v_x,
 //   F = -2 a_i v_y, G = |v|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic:
 //   theta_i = angle(v) + s_i sigma_i gamma_i, gamma_i = acos((|v|^2 + a_i^2 - b_i^2) / (2 a_i |v|))
@@ -213,7 +215,7 @@ int five_bar_rate_jacobians_batch(long long n, const double** inputs, const long
 int five_bar_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
 //   inputs: actuated[2], passive[2], params[5]
-//   outputs: base[3 x 2], moving[3 x 3]
+//   outputs: base[3 x 2], elbow[3 x 2], platform[3 x 2]
 int five_bar_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 //   inputs: pose[12], branch[2], params[5]

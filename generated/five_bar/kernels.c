@@ -2,17 +2,17 @@
 // with template casadi.CodeGenerator. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 0
-//   loop_closure: 35
-//   loop_closure_actuated: 37
-//   rate_jacobians: 25
-//   singularity_factors: 29
+//   loop_closure: 54
+//   loop_closure_actuated: 33
+//   rate_jacobians: 23
+//   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 71
 //   inverse_pose_patterns: 94
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0
-//   automatic_monomials: 232
+//   automatic_monomials: 219
 //   automatic_passive: 0
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
@@ -66,7 +66,6 @@ extern "C" {
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
 #define casadi_s10 CASADI_PREFIX(s10)
-#define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -119,11 +118,10 @@ static const casadi_int casadi_s3[3] = {2, 2, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {3, 1, 1};
 static const casadi_int casadi_s6[3] = {3, 2, 1};
-static const casadi_int casadi_s7[3] = {3, 3, 1};
-static const casadi_int casadi_s8[3] = {12, 1, 1};
-static const casadi_int casadi_s9[3] = {0, 1, 1};
-static const casadi_int casadi_s10[3] = {11, 1, 1};
-static const casadi_int casadi_s11[3] = {10, 1, 1};
+static const casadi_int casadi_s7[3] = {12, 1, 1};
+static const casadi_int casadi_s8[3] = {0, 1, 1};
+static const casadi_int casadi_s9[3] = {11, 1, 1};
+static const casadi_int casadi_s10[3] = {10, 1, 1};
 
 /* five_bar_platform_pose:(actuated[2],passive[2],params[5])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -228,52 +226,72 @@ CASADI_SYMBOL_EXPORT int five_bar_platform_pose_work_bytes(casadi_int *sz_arg, c
 
 /* five_bar_loop_closure:(actuated[2],passive[2],params[5])->(residual[2],jacobian[2x2],alignment) */
 static int casadi_f1(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
-  casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
-  a0=arg[1]? arg[1][1] : 0;
-  a1=arg[2]? arg[2][1] : 0;
-  a2=arg[0]? arg[0][0] : 0;
-  a3=sin(a2);
-  a3=(a1*a3);
-  a3=(a0-a3);
-  a4=casadi_sq(a3);
-  a5=arg[2]? arg[2][0] : 0;
-  a2=cos(a2);
-  a1=(a1*a2);
-  a1=(a5-a1);
-  a2=arg[1]? arg[1][0] : 0;
-  a1=(a1+a2);
-  a6=casadi_sq(a1);
-  a4=(a4+a6);
-  a4=sqrt(a4);
-  a6=arg[2]? arg[2][3] : 0;
-  a6=(a4-a6);
-  if (res[0]!=0) res[0][0]=a6;
-  a6=arg[2]? arg[2][2] : 0;
-  a7=arg[0]? arg[0][1] : 0;
-  a8=sin(a7);
-  a8=(a6*a8);
-  a0=(a0-a8);
-  a8=casadi_sq(a0);
-  a7=cos(a7);
-  a6=(a6*a7);
-  a6=(a6+a5);
-  a2=(a2-a6);
-  a6=casadi_sq(a2);
-  a8=(a8+a6);
-  a8=sqrt(a8);
-  a6=arg[2]? arg[2][4] : 0;
-  a6=(a8-a6);
-  if (res[0]!=0) res[0][1]=a6;
-  a1=(a1/a4);
-  if (res[1]!=0) res[1][0]=a1;
-  a2=(a2/a8);
-  if (res[1]!=0) res[1][1]=a2;
-  a3=(a3/a4);
-  if (res[1]!=0) res[1][2]=a3;
-  a0=(a0/a8);
-  if (res[1]!=0) res[1][3]=a0;
-  a0=1.;
-  if (res[2]!=0) res[2][0]=a0;
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  a00=5.0000000000000000e-01;
+  a01=arg[2]? arg[2][3] : 0;
+  a02=(a00/a01);
+  a03=arg[1]? arg[1][1] : 0;
+  a04=arg[2]? arg[2][1] : 0;
+  a05=arg[0]? arg[0][0] : 0;
+  a06=sin(a05);
+  a06=(a04*a06);
+  a07=(a03-a06);
+  a07=casadi_sq(a07);
+  a01=casadi_sq(a01);
+  a07=(a07-a01);
+  a01=arg[2]? arg[2][0] : 0;
+  a05=cos(a05);
+  a04=(a04*a05);
+  a05=(a01-a04);
+  a08=arg[1]? arg[1][0] : 0;
+  a05=(a05+a08);
+  a05=casadi_sq(a05);
+  a07=(a07+a05);
+  a07=(a02*a07);
+  if (res[0]!=0) res[0][0]=a07;
+  a07=arg[2]? arg[2][4] : 0;
+  a00=(a00/a07);
+  a05=arg[2]? arg[2][2] : 0;
+  a09=arg[0]? arg[0][1] : 0;
+  a10=sin(a09);
+  a10=(a05*a10);
+  a11=(a03-a10);
+  a11=casadi_sq(a11);
+  a07=casadi_sq(a07);
+  a11=(a11-a07);
+  a09=cos(a09);
+  a05=(a05*a09);
+  a09=(a05+a01);
+  a09=(a08-a09);
+  a09=casadi_sq(a09);
+  a11=(a11+a09);
+  a11=(a00*a11);
+  if (res[0]!=0) res[0][1]=a11;
+  a11=-2.;
+  a04=(a11*a04);
+  a01=(2.*a01);
+  a04=(a04+a01);
+  a09=(2.*a08);
+  a04=(a04+a09);
+  a04=(a02*a04);
+  if (res[1]!=0) res[1][0]=a04;
+  a05=(a11*a05);
+  a05=(a05-a01);
+  a08=(2.*a08);
+  a05=(a05+a08);
+  a05=(a00*a05);
+  if (res[1]!=0) res[1][1]=a05;
+  a06=(a11*a06);
+  a03=(a11*a03);
+  a06=(a06-a03);
+  a02=(a02*a06);
+  if (res[1]!=0) res[1][2]=a02;
+  a11=(a11*a10);
+  a11=(a11-a03);
+  a00=(a00*a11);
+  if (res[1]!=0) res[1][3]=a00;
+  a00=1.;
+  if (res[2]!=0) res[2][0]=a00;
   return 0;
 }
 
@@ -359,50 +377,51 @@ CASADI_SYMBOL_EXPORT int five_bar_loop_closure_work_bytes(casadi_int *sz_arg, ca
 /* five_bar_loop_closure_actuated:(actuated[2],passive[2],params[5])->(jacobian_actuated[2x2]) */
 static int casadi_f2(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7;
-  a0=arg[0]? arg[0][0] : 0;
-  a1=sin(a0);
-  a2=arg[2]? arg[2][0] : 0;
-  a3=arg[2]? arg[2][1] : 0;
-  a0=cos(a0);
-  a0=(a3*a0);
-  a4=(a2-a0);
-  a5=arg[1]? arg[1][0] : 0;
-  a4=(a4+a5);
-  a6=(a1*a4);
-  a6=(a6*a3);
-  a7=arg[1]? arg[1][1] : 0;
-  a1=(a1*a3);
-  a1=(a7-a1);
-  a0=(a1*a0);
-  a6=(a6-a0);
-  a1=casadi_sq(a1);
-  a4=casadi_sq(a4);
-  a1=(a1+a4);
-  a1=sqrt(a1);
-  a6=(a6/a1);
-  if (res[0]!=0) res[0][0]=a6;
-  a6=0.;
-  if (res[0]!=0) res[0][1]=a6;
-  if (res[0]!=0) res[0][2]=a6;
-  a6=arg[0]? arg[0][1] : 0;
-  a1=sin(a6);
-  a4=arg[2]? arg[2][2] : 0;
-  a6=cos(a6);
-  a6=(a4*a6);
-  a2=(a6+a2);
-  a5=(a5-a2);
-  a2=(a1*a5);
+  a0=5.0000000000000000e-01;
+  a1=arg[0]? arg[0][0] : 0;
+  a2=sin(a1);
+  a3=(2.*a2);
+  a4=arg[2]? arg[2][1] : 0;
+  a3=(a3*a4);
+  a5=arg[2]? arg[2][0] : 0;
+  a1=cos(a1);
+  a1=(a4*a1);
+  a6=(a5-a1);
+  a7=arg[1]? arg[1][0] : 0;
+  a6=(a6+a7);
+  a3=(a3*a6);
+  a1=(2.*a1);
+  a6=arg[1]? arg[1][1] : 0;
   a2=(a2*a4);
+  a2=(a6-a2);
+  a1=(a1*a2);
+  a3=(a3-a1);
+  a3=(a0*a3);
+  a1=arg[2]? arg[2][3] : 0;
+  a3=(a3/a1);
+  if (res[0]!=0) res[0][0]=a3;
+  a3=0.;
+  if (res[0]!=0) res[0][1]=a3;
+  if (res[0]!=0) res[0][2]=a3;
+  a3=arg[0]? arg[0][1] : 0;
+  a1=sin(a3);
+  a2=(2.*a1);
+  a4=arg[2]? arg[2][2] : 0;
+  a2=(a2*a4);
+  a3=cos(a3);
+  a3=(a4*a3);
+  a5=(a3+a5);
+  a7=(a7-a5);
+  a2=(a2*a7);
+  a3=(2.*a3);
   a1=(a1*a4);
-  a7=(a7-a1);
-  a6=(a7*a6);
-  a2=(a2-a6);
-  a7=casadi_sq(a7);
-  a5=casadi_sq(a5);
-  a7=(a7+a5);
-  a7=sqrt(a7);
-  a2=(a2/a7);
-  if (res[0]!=0) res[0][3]=a2;
+  a6=(a6-a1);
+  a3=(a3*a6);
+  a2=(a2-a3);
+  a0=(a0*a2);
+  a2=arg[2]? arg[2][4] : 0;
+  a0=(a0/a2);
+  if (res[0]!=0) res[0][3]=a0;
   return 0;
 }
 
@@ -483,45 +502,43 @@ CASADI_SYMBOL_EXPORT int five_bar_loop_closure_actuated_work_bytes(casadi_int *s
 
 /* five_bar_rate_jacobians:(actuated[2],passive[2],params[5])->(a[2x2],b[2x2]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
-  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10;
-  a00=arg[2]? arg[2][0] : 0;
-  a01=arg[0]? arg[0][0] : 0;
-  a02=cos(a01);
-  a03=arg[2]? arg[2][1] : 0;
-  a04=(a02*a03);
-  a04=(a00-a04);
-  a05=arg[1]? arg[1][0] : 0;
-  a04=(a04+a05);
-  if (res[0]!=0) res[0][0]=a04;
-  a06=arg[0]? arg[0][1] : 0;
-  a07=cos(a06);
-  a08=arg[2]? arg[2][2] : 0;
-  a09=(a07*a08);
-  a09=(a09+a00);
-  a05=(a05-a09);
-  if (res[0]!=0) res[0][1]=a05;
-  a09=arg[1]? arg[1][1] : 0;
-  a01=sin(a01);
-  a00=(a01*a03);
-  a00=(a09-a00);
-  if (res[0]!=0) res[0][2]=a00;
-  a06=sin(a06);
-  a10=(a06*a08);
-  a09=(a09-a10);
-  if (res[0]!=0) res[0][3]=a09;
-  a02=(a02*a00);
-  a04=(a04*a01);
-  a02=(a02-a04);
-  a03=(a03*a02);
-  if (res[1]!=0) res[1][0]=a03;
-  a03=0.;
-  if (res[1]!=0) res[1][1]=a03;
-  if (res[1]!=0) res[1][2]=a03;
-  a07=(a07*a09);
-  a05=(a05*a06);
-  a07=(a07-a05);
-  a08=(a08*a07);
-  if (res[1]!=0) res[1][3]=a08;
+  casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
+  a0=arg[2]? arg[2][0] : 0;
+  a1=arg[2]? arg[2][1] : 0;
+  a2=arg[0]? arg[0][0] : 0;
+  a3=cos(a2);
+  a3=(a1*a3);
+  a4=(a0-a3);
+  a5=arg[1]? arg[1][0] : 0;
+  a4=(a4+a5);
+  if (res[0]!=0) res[0][0]=a4;
+  a6=arg[2]? arg[2][2] : 0;
+  a7=arg[0]? arg[0][1] : 0;
+  a8=cos(a7);
+  a8=(a6*a8);
+  a0=(a8+a0);
+  a5=(a5-a0);
+  if (res[0]!=0) res[0][1]=a5;
+  a0=arg[1]? arg[1][1] : 0;
+  a2=sin(a2);
+  a1=(a1*a2);
+  a2=(a0-a1);
+  if (res[0]!=0) res[0][2]=a2;
+  a7=sin(a7);
+  a6=(a6*a7);
+  a0=(a0-a6);
+  if (res[0]!=0) res[0][3]=a0;
+  a3=(a3*a2);
+  a4=(a4*a1);
+  a3=(a3-a4);
+  if (res[1]!=0) res[1][0]=a3;
+  a3=0.;
+  if (res[1]!=0) res[1][1]=a3;
+  if (res[1]!=0) res[1][2]=a3;
+  a8=(a8*a0);
+  a5=(a5*a6);
+  a8=(a8-a5);
+  if (res[1]!=0) res[1][3]=a8;
   return 0;
 }
 
@@ -604,47 +621,45 @@ CASADI_SYMBOL_EXPORT int five_bar_rate_jacobians_work_bytes(casadi_int *sz_arg, 
 
 /* five_bar_singularity_factors:(actuated[2],passive[2],params[5])->(factors[3],determinants[2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
-  casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8, a9;
+  casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
   a0=arg[2]? arg[2][1] : 0;
   a1=arg[0]? arg[0][0] : 0;
-  a2=cos(a1);
-  a1=sin(a1);
-  a3=(a1*a0);
-  a4=arg[1]? arg[1][1] : 0;
-  a3=(a3-a4);
-  a5=(a2*a3);
-  a6=arg[2]? arg[2][0] : 0;
-  a2=(a2*a0);
-  a2=(a6-a2);
-  a7=arg[1]? arg[1][0] : 0;
-  a2=(a2+a7);
-  a1=(a1*a2);
-  a5=(a5+a1);
-  a0=(a0*a5);
-  a5=(-a0);
-  if (res[0]!=0) res[0][0]=a5;
-  a5=arg[2]? arg[2][2] : 0;
-  a1=arg[0]? arg[0][1] : 0;
-  a8=cos(a1);
-  a1=sin(a1);
-  a9=(a1*a5);
-  a4=(a4-a9);
-  a9=(a8*a4);
-  a8=(a8*a5);
-  a8=(a8+a6);
+  a2=sin(a1);
+  a2=(a0*a2);
+  a3=arg[2]? arg[2][0] : 0;
+  a1=cos(a1);
+  a0=(a0*a1);
+  a1=(a3-a0);
+  a4=arg[1]? arg[1][0] : 0;
+  a1=(a1+a4);
+  a5=(a2*a1);
+  a6=arg[1]? arg[1][1] : 0;
+  a2=(a2-a6);
+  a0=(a2*a0);
+  a5=(a5+a0);
+  a0=(-a5);
+  if (res[0]!=0) res[0][0]=a0;
+  a0=arg[2]? arg[2][2] : 0;
+  a7=arg[0]? arg[0][1] : 0;
+  a8=sin(a7);
+  a8=(a0*a8);
+  a6=(a6-a8);
+  a7=cos(a7);
+  a0=(a0*a7);
+  a7=(a6*a0);
+  a0=(a0+a3);
+  a4=(a4-a0);
+  a8=(a8*a4);
   a7=(a7-a8);
-  a1=(a1*a7);
-  a9=(a9-a1);
-  a5=(a5*a9);
-  if (res[0]!=0) res[0][1]=a5;
-  a3=(a3*a7);
+  if (res[0]!=0) res[0][1]=a7;
   a2=(a2*a4);
-  a3=(a3+a2);
-  if (res[0]!=0) res[0][2]=a3;
-  if (res[1]!=0) res[1][0]=a3;
-  a5=(a5*a0);
-  a5=(-a5);
-  if (res[1]!=0) res[1][1]=a5;
+  a1=(a1*a6);
+  a2=(a2+a1);
+  if (res[0]!=0) res[0][2]=a2;
+  if (res[1]!=0) res[1][0]=a2;
+  a7=(a7*a5);
+  a7=(-a7);
+  if (res[1]!=0) res[1][1]=a7;
   return 0;
 }
 
@@ -725,7 +740,7 @@ CASADI_SYMBOL_EXPORT int five_bar_singularity_factors_work_bytes(casadi_int *sz_
   return 0;
 }
 
-/* five_bar_drawing:(actuated[2],passive[2],params[5])->(base[3x2],moving[3x3]) */
+/* five_bar_drawing:(actuated[2],passive[2],params[5])->(base[3x2],elbow[3x2],platform[3x2]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4;
   a0=arg[2]? arg[2][0] : 0;
@@ -758,10 +773,13 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[1]!=0) res[1][4]=a2;
   if (res[1]!=0) res[1][5]=a1;
   a2=arg[1]? arg[1][0] : 0;
-  if (res[1]!=0) res[1][6]=a2;
-  a2=arg[1]? arg[1][1] : 0;
-  if (res[1]!=0) res[1][7]=a2;
-  if (res[1]!=0) res[1][8]=a1;
+  if (res[2]!=0) res[2][0]=a2;
+  a3=arg[1]? arg[1][1] : 0;
+  if (res[2]!=0) res[2][1]=a3;
+  if (res[2]!=0) res[2][2]=a1;
+  if (res[2]!=0) res[2][3]=a2;
+  if (res[2]!=0) res[2][4]=a3;
+  if (res[2]!=0) res[2][5]=a1;
   return 0;
 }
 
@@ -784,7 +802,7 @@ CASADI_SYMBOL_EXPORT void five_bar_drawing_decref(void) {
 
 CASADI_SYMBOL_EXPORT casadi_int five_bar_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int five_bar_drawing_n_out(void) { return 2;}
+CASADI_SYMBOL_EXPORT casadi_int five_bar_drawing_n_out(void) { return 3;}
 
 CASADI_SYMBOL_EXPORT casadi_real five_bar_drawing_default_in(casadi_int i) {
   switch (i) {
@@ -804,7 +822,8 @@ CASADI_SYMBOL_EXPORT const char* five_bar_drawing_name_in(casadi_int i) {
 CASADI_SYMBOL_EXPORT const char* five_bar_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
-    case 1: return "moving";
+    case 1: return "elbow";
+    case 2: return "platform";
     default: return 0;
   }
 }
@@ -821,14 +840,15 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_drawing_sparsity_in(casadi_int i
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_drawing_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s6;
-    case 1: return casadi_s7;
+    case 1: return casadi_s6;
+    case 2: return casadi_s6;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
-  if (sz_res) *sz_res = 2;
+  if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
   if (sz_w) *sz_w = 0;
   return 0;
@@ -836,7 +856,7 @@ CASADI_SYMBOL_EXPORT int five_bar_drawing_work(casadi_int *sz_arg, casadi_int* s
 
 CASADI_SYMBOL_EXPORT int five_bar_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
-  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);
   return 0;
@@ -978,7 +998,7 @@ CASADI_SYMBOL_EXPORT const char* five_bar_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s7;
     case 1: return casadi_s0;
     case 2: return casadi_s1;
     default: return 0;
@@ -1169,7 +1189,7 @@ CASADI_SYMBOL_EXPORT const char* five_bar_inverse_pose_patterns_name_out(casadi_
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s7;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -1440,7 +1460,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_forward_back_substitution_sparsi
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
-    case 2: return casadi_s9;
+    case 2: return casadi_s8;
     case 3: return casadi_s1;
     default: return 0;
   }
@@ -1569,281 +1589,263 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
-  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
-  casadi_real a48, a49;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45;
   a00=arg[1]? arg[1][7] : 0;
   a01=casadi_sq(a00);
   a02=arg[0]? arg[0][7] : 0;
   a03=casadi_sq(a02);
   a01=(a01-a03);
-  if (res[0]!=0) res[0][0]=a01;
-  a03=4.;
-  a04=arg[1]? arg[1][0] : 0;
-  a05=(a03*a04);
-  a06=(a00*a02);
-  a07=(a05*a06);
-  a08=arg[0]? arg[0][5] : 0;
-  a09=(2.*a08);
-  a09=(a09*a02);
-  a10=arg[1]? arg[1][5] : 0;
-  a11=(2.*a10);
-  a12=(a00*a11);
-  a09=(a09-a12);
-  a12=arg[0]? arg[0][1] : 0;
-  a13=(a09*a12);
-  a13=(a07+a13);
-  a14=(2.*a08);
-  a14=(a14*a00);
-  a15=(a02*a11);
-  a14=(a14+a15);
+  a03=(-a01);
+  if (res[0]!=0) res[0][0]=a03;
+  a04=(2.*a03);
+  a05=arg[0]? arg[0][0] : 0;
+  a04=(a04*a05);
+  a06=4.;
+  a07=arg[1]? arg[1][0] : 0;
+  a08=(a06*a07);
+  a09=(a00*a02);
+  a10=(a08*a09);
+  a04=(a04-a10);
+  a11=arg[1]? arg[1][5] : 0;
+  a02=(2.*a02);
+  a12=(a11*a02);
+  a13=arg[0]? arg[0][5] : 0;
+  a14=(2.*a00);
+  a15=(a13*a14);
+  a12=(a12+a15);
   a15=arg[1]? arg[1][1] : 0;
-  a16=(a14*a15);
-  a13=(a13-a16);
-  a17=arg[0]? arg[0][0] : 0;
-  a18=(2.*a17);
-  a19=(a01*a18);
-  a13=(a13+a19);
-  if (res[0]!=0) res[0][1]=a13;
-  if (res[0]!=0) res[0][2]=a01;
-  a13=(2.*a02);
+  a16=(a12*a15);
+  a17=(a11*a14);
+  a18=(a13*a02);
+  a17=(a17-a18);
+  a18=arg[0]? arg[0][1] : 0;
+  a19=(a17*a18);
+  a16=(a16+a19);
+  a04=(a04+a16);
+  if (res[0]!=0) res[0][1]=a04;
+  if (res[0]!=0) res[0][2]=a03;
+  a03=arg[1]? arg[1][6] : 0;
+  a04=(a03*a02);
   a19=arg[0]? arg[0][6] : 0;
-  a13=(a13*a19);
-  a20=arg[1]? arg[1][6] : 0;
-  a00=(2.*a00);
-  a21=(a20*a00);
-  a13=(a13-a21);
-  a21=(a13*a12);
-  a22=(2.*a02);
-  a22=(a22*a20);
-  a23=(a19*a00);
-  a22=(a22+a23);
-  a23=(a22*a15);
+  a20=(a19*a14);
+  a04=(a04+a20);
+  a20=(a04*a15);
+  a14=(a03*a14);
+  a21=(a19*a02);
+  a14=(a14-a21);
+  a21=(a14*a18);
+  a20=(a20+a21);
+  if (res[0]!=0) res[0][3]=a20;
+  a20=arg[0]? arg[0][3] : 0;
+  a21=casadi_sq(a20);
+  a22=arg[1]? arg[1][3] : 0;
+  a23=casadi_sq(a22);
   a21=(a21-a23);
-  if (res[0]!=0) res[0][3]=a21;
-  a21=(a10*a08);
-  a23=(a15*a12);
-  a24=(a03*a23);
-  a21=(a21*a24);
-  a25=casadi_sq(a17);
-  a26=casadi_sq(a04);
-  a25=(a25-a26);
-  a26=(a01*a25);
-  a21=(a21+a26);
-  a26=(a20*a19);
-  a24=(a24*a26);
-  a21=(a21+a24);
-  a24=arg[1]? arg[1][3] : 0;
-  a27=arg[0]? arg[0][3] : 0;
-  a28=(a24*a27);
-  a29=(a03*a28);
-  a29=(a29*a06);
-  a21=(a21-a29);
-  a10=casadi_sq(a10);
-  a29=casadi_sq(a08);
-  a10=(a10-a29);
-  a29=casadi_sq(a12);
-  a30=casadi_sq(a15);
-  a29=(a29-a30);
-  a30=(a10*a29);
-  a21=(a21+a30);
-  a20=casadi_sq(a20);
+  a23=(a01*a21);
+  a24=casadi_sq(a05);
+  a25=casadi_sq(a07);
+  a24=(a24-a25);
+  a25=(a01*a24);
+  a23=(a23-a25);
+  a25=(a11*a13);
+  a26=(a15*a18);
+  a27=(a06*a26);
+  a28=(a25*a27);
+  a23=(a23-a28);
+  a28=(a03*a19);
+  a27=(a27*a28);
+  a23=(a23-a27);
+  a22=(a22*a20);
+  a20=(a06*a22);
+  a20=(a20*a09);
+  a23=(a23+a20);
+  a13=casadi_sq(a13);
+  a11=casadi_sq(a11);
+  a13=(a13-a11);
+  a11=casadi_sq(a18);
+  a20=casadi_sq(a15);
+  a11=(a11-a20);
+  a20=(a13*a11);
+  a23=(a23+a20);
   a19=casadi_sq(a19);
-  a20=(a20-a19);
-  a19=(a29*a20);
-  a21=(a21+a19);
-  a27=casadi_sq(a27);
-  a24=casadi_sq(a24);
-  a27=(a27-a24);
-  a24=(a27*a01);
-  a21=(a21-a24);
-  a24=(a09*a15);
-  a19=(a14*a12);
-  a24=(a24+a19);
-  a19=(a24*a04);
-  a21=(a21-a19);
-  a19=(a09*a12);
-  a19=(a19-a16);
-  a16=(a19*a17);
-  a21=(a21+a16);
-  a07=(a07*a17);
-  a21=(a21+a07);
-  if (res[0]!=0) res[0][4]=a21;
-  a21=arg[1]? arg[1][10] : 0;
-  a07=casadi_sq(a21);
-  a16=arg[0]? arg[0][10] : 0;
-  a30=casadi_sq(a16);
-  a07=(a07-a30);
-  if (res[0]!=0) res[0][5]=a07;
-  a30=(-a07);
-  a31=(2.*a30);
-  a31=(a31*a17);
-  a32=(a21*a16);
-  a05=(a05*a32);
-  a33=arg[0]? arg[0][8] : 0;
-  a34=(2.*a33);
-  a34=(a34*a21);
-  a35=arg[1]? arg[1][8] : 0;
-  a36=(2.*a35);
-  a37=(a16*a36);
-  a34=(a34+a37);
-  a37=arg[1]? arg[1][2] : 0;
-  a38=(a34*a37);
-  a38=(a05+a38);
-  a39=-2.;
-  a39=(a39*a33);
-  a39=(a39*a16);
-  a40=(a21*a36);
-  a39=(a39+a40);
-  a40=arg[0]? arg[0][2] : 0;
-  a41=(a39*a40);
-  a38=(a38+a41);
-  a31=(a31-a38);
-  if (res[0]!=0) res[0][6]=a31;
-  if (res[0]!=0) res[0][7]=a07;
-  a31=(2.*a16);
+  a03=casadi_sq(a03);
+  a19=(a19-a03);
+  a03=(a11*a19);
+  a23=(a23+a03);
+  a17=(a17*a15);
+  a12=(a12*a18);
+  a17=(a17-a12);
+  a12=(a17*a07);
+  a23=(a23-a12);
+  a12=(a16*a05);
+  a23=(a23+a12);
+  a10=(a10*a05);
+  a23=(a23-a10);
+  if (res[0]!=0) res[0][4]=a23;
+  a23=arg[1]? arg[1][10] : 0;
+  a10=casadi_sq(a23);
+  a12=arg[0]? arg[0][10] : 0;
+  a03=casadi_sq(a12);
+  a10=(a10-a03);
+  a03=(-a10);
+  if (res[0]!=0) res[0][5]=a03;
+  a20=(a23*a12);
+  a08=(a08*a20);
+  a27=arg[1]? arg[1][8] : 0;
+  a29=(2.*a23);
+  a30=(a27*a29);
+  a31=arg[0]? arg[0][8] : 0;
+  a12=(2.*a12);
+  a32=(a31*a12);
+  a30=(a30-a32);
+  a32=arg[0]? arg[0][2] : 0;
+  a33=(a30*a32);
+  a33=(a08+a33);
+  a34=(a27*a12);
+  a35=(a31*a29);
+  a34=(a34+a35);
+  a35=arg[1]? arg[1][2] : 0;
+  a36=(a34*a35);
+  a33=(a33+a36);
+  a36=(2.*a05);
+  a37=(a10*a36);
+  a33=(a33+a37);
+  if (res[0]!=0) res[0][6]=a33;
+  if (res[0]!=0) res[0][7]=a03;
+  a03=arg[1]? arg[1][9] : 0;
+  a33=(a03*a12);
   a38=arg[0]? arg[0][9] : 0;
-  a31=(a31*a38);
-  a41=arg[1]? arg[1][9] : 0;
-  a21=(2.*a21);
-  a42=(a41*a21);
-  a31=(a31-a42);
-  a42=(a31*a40);
-  a43=(2.*a16);
+  a39=(a38*a29);
+  a33=(a33+a39);
+  a39=(a33*a35);
+  a29=(a03*a29);
+  a40=(a38*a12);
+  a29=(a29-a40);
+  a40=(a29*a32);
+  a39=(a39+a40);
+  if (res[0]!=0) res[0][8]=a39;
+  a39=arg[0]? arg[0][4] : 0;
+  a40=casadi_sq(a39);
+  a41=arg[1]? arg[1][4] : 0;
+  a42=casadi_sq(a41);
+  a40=(a40-a42);
+  a42=(a10*a40);
+  a43=(a24*a10);
+  a42=(a42-a43);
+  a43=(a06*a20);
+  a41=(a41*a39);
   a43=(a43*a41);
-  a44=(a38*a21);
-  a43=(a43+a44);
-  a44=(a43*a37);
+  a42=(a42+a43);
+  a08=(a08*a05);
+  a42=(a42-a08);
+  a08=(a27*a31);
+  a43=(a35*a32);
+  a39=(a06*a43);
+  a44=(a08*a39);
   a42=(a42-a44);
-  if (res[0]!=0) res[0][8]=a42;
-  a42=(a35*a33);
-  a44=(a37*a40);
-  a45=(a03*a44);
-  a42=(a42*a45);
-  a46=(a25*a07);
-  a42=(a42+a46);
-  a46=(a03*a32);
-  a47=arg[1]? arg[1][4] : 0;
-  a48=arg[0]? arg[0][4] : 0;
-  a49=(a47*a48);
-  a46=(a46*a49);
-  a42=(a42-a46);
-  a05=(a05*a17);
-  a42=(a42+a05);
-  a48=casadi_sq(a48);
-  a47=casadi_sq(a47);
-  a48=(a48-a47);
-  a47=(a07*a48);
-  a42=(a42-a47);
-  a47=(a41*a38);
-  a45=(a45*a47);
-  a42=(a42+a45);
-  a35=casadi_sq(a35);
-  a45=casadi_sq(a33);
-  a35=(a35-a45);
-  a45=casadi_sq(a40);
-  a05=casadi_sq(a37);
-  a45=(a45-a05);
-  a05=(a35*a45);
-  a42=(a42+a05);
-  a41=casadi_sq(a41);
+  a44=(a03*a38);
+  a39=(a39*a44);
+  a42=(a42-a39);
+  a31=casadi_sq(a31);
+  a27=casadi_sq(a27);
+  a31=(a31-a27);
+  a27=casadi_sq(a32);
+  a39=casadi_sq(a35);
+  a27=(a27-a39);
+  a39=(a31*a27);
+  a42=(a42+a39);
   a38=casadi_sq(a38);
-  a41=(a41-a38);
-  a38=(a45*a41);
-  a42=(a42+a38);
-  a38=(a39*a37);
-  a05=(a34*a40);
-  a38=(a38-a05);
-  a05=(a38*a04);
-  a42=(a42-a05);
-  a05=(a39*a40);
-  a46=(a34*a37);
-  a05=(a05+a46);
-  a46=(a05*a17);
-  a42=(a42+a46);
+  a03=casadi_sq(a03);
+  a38=(a38-a03);
+  a03=(a27*a38);
+  a42=(a42+a03);
+  a03=(a34*a32);
+  a39=(a30*a35);
+  a03=(a03-a39);
+  a39=(a03*a07);
+  a42=(a42-a39);
+  a39=(a34*a35);
+  a45=(a30*a32);
+  a39=(a39+a45);
+  a45=(a39*a05);
+  a42=(a42-a45);
   if (res[0]!=0) res[0][9]=a42;
-  a02=(a02*a00);
-  a00=(-a02);
+  a00=(a00*a02);
   if (res[1]!=0) res[1][0]=a00;
-  a42=(2.*a04);
-  a46=(a42*a01);
-  a03=(a03*a17);
-  a06=(a06*a03);
-  a46=(a46-a06);
-  a09=(a09*a15);
-  a46=(a46+a09);
-  a14=(a14*a12);
-  a46=(a46+a14);
-  if (res[1]!=0) res[1][1]=a46;
+  a02=(2.*a07);
+  a42=(a01*a02);
+  a42=(a17-a42);
+  a06=(a06*a05);
+  a09=(a09*a06);
+  a42=(a42+a09);
+  if (res[1]!=0) res[1][1]=a42;
   if (res[1]!=0) res[1][2]=a00;
-  a22=(a22*a12);
-  a13=(a13*a15);
-  a22=(a22+a13);
-  if (res[1]!=0) res[1][3]=a22;
-  a18=(a18*a04);
-  a22=(a01*a18);
-  a08=(a08*a29);
-  a08=(a08*a11);
-  a22=(a22-a08);
-  a28=(2.*a28);
-  a28=(a28*a01);
-  a22=(a22-a28);
+  a14=(a14*a15);
+  a04=(a04*a18);
+  a14=(a14-a04);
+  if (res[1]!=0) res[1][3]=a14;
+  a14=(2.*a01);
+  a14=(a14*a22);
+  a01=(a01*a36);
+  a01=(a01*a07);
+  a14=(a14-a01);
+  a11=(2.*a11);
+  a25=(a25*a11);
+  a14=(a14+a25);
+  a28=(a28*a11);
+  a14=(a14+a28);
   a26=(2.*a26);
-  a26=(a26*a29);
-  a22=(a22-a26);
-  a23=(2.*a23);
-  a10=(a10*a23);
-  a22=(a22+a10);
-  a27=(a27*a02);
-  a22=(a22+a27);
-  a02=(a25*a02);
-  a22=(a22-a02);
-  a20=(a20*a23);
-  a22=(a22+a20);
-  a24=(a24*a17);
-  a22=(a22+a24);
-  a19=(a19*a04);
-  a22=(a22+a19);
-  if (res[1]!=0) res[1][4]=a22;
-  a16=(a16*a21);
-  a21=(-a16);
-  if (res[1]!=0) res[1][5]=a21;
-  a32=(a32*a03);
-  a34=(a34*a40);
-  a32=(a32+a34);
-  a39=(a39*a37);
-  a32=(a32-a39);
-  a42=(a07*a42);
-  a32=(a32-a42);
-  if (res[1]!=0) res[1][6]=a32;
-  if (res[1]!=0) res[1][7]=a21;
-  a43=(a43*a40);
-  a31=(a31*a37);
-  a43=(a43+a31);
-  if (res[1]!=0) res[1][8]=a43;
-  a07=(a07*a18);
-  a33=(a33*a36);
-  a33=(a33*a45);
-  a25=(a25*a16);
-  a33=(a33+a25);
-  a07=(a07-a33);
-  a30=(2.*a30);
-  a30=(a30*a49);
-  a07=(a07+a30);
-  a47=(2.*a47);
-  a47=(a47*a45);
-  a07=(a07-a47);
-  a44=(2.*a44);
-  a35=(a35*a44);
-  a07=(a07+a35);
-  a48=(a48*a16);
-  a07=(a07+a48);
-  a41=(a41*a44);
-  a07=(a07+a41);
-  a38=(a38*a17);
-  a07=(a07+a38);
-  a05=(a05*a04);
-  a07=(a07+a05);
-  if (res[1]!=0) res[1][9]=a07;
+  a13=(a13*a26);
+  a14=(a14+a13);
+  a13=(a24*a00);
+  a14=(a14+a13);
+  a21=(a21*a00);
+  a14=(a14-a21);
+  a19=(a19*a26);
+  a14=(a14+a19);
+  a17=(a17*a05);
+  a14=(a14+a17);
+  a16=(a16*a07);
+  a14=(a14+a16);
+  if (res[1]!=0) res[1][4]=a14;
+  a23=(a23*a12);
+  if (res[1]!=0) res[1][5]=a23;
+  a02=(a10*a02);
+  a20=(a20*a06);
+  a02=(a02-a20);
+  a30=(a30*a35);
+  a02=(a02+a30);
+  a34=(a34*a32);
+  a02=(a02-a34);
+  if (res[1]!=0) res[1][6]=a02;
+  if (res[1]!=0) res[1][7]=a23;
+  a29=(a29*a35);
+  a33=(a33*a32);
+  a29=(a29-a33);
+  if (res[1]!=0) res[1][8]=a29;
+  a24=(a24*a23);
+  a10=(2.*a10);
+  a10=(a10*a41);
+  a24=(a24+a10);
+  a37=(a37*a07);
+  a24=(a24-a37);
+  a27=(2.*a27);
+  a08=(a08*a27);
+  a24=(a24+a08);
+  a44=(a44*a27);
+  a24=(a24+a44);
+  a43=(2.*a43);
+  a31=(a31*a43);
+  a24=(a24+a31);
+  a40=(a40*a23);
+  a24=(a24-a40);
+  a38=(a38*a43);
+  a24=(a24+a38);
+  a03=(a03*a05);
+  a24=(a24+a03);
+  a39=(a39*a07);
+  a24=(a24-a39);
+  if (res[1]!=0) res[1][9]=a24;
   return 0;
 }
 
@@ -1892,16 +1894,16 @@ CASADI_SYMBOL_EXPORT const char* five_bar_automatic_monomials_name_out(casadi_in
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s10;
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
-    case 1: return casadi_s11;
+    case 0: return casadi_s10;
+    case 1: return casadi_s10;
     default: return 0;
   }
 }

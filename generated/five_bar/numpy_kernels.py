@@ -2,17 +2,17 @@
 # with template numpy_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 0
-#   loop_closure: 35
-#   loop_closure_actuated: 37
-#   rate_jacobians: 25
-#   singularity_factors: 29
+#   loop_closure: 54
+#   loop_closure_actuated: 33
+#   rate_jacobians: 23
+#   singularity_factors: 27
 #   drawing: 11
 #   inverse_pose: 71
 #   inverse_pose_patterns: 94
 #   forward_polynomial: 30
 #   forward_back_substitution: 34
 #   automatic_family: 0
-#   automatic_monomials: 232
+#   automatic_monomials: 219
 #   automatic_passive: 0
 
 """Generated NumPy kernels. Every input is an array whose last axis indexes its group; leading
@@ -48,7 +48,7 @@ def platform_pose(actuated, passive, params):
 def loop_closure(actuated, passive, params):
     """Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.
 
-    Operations: 35.
+    Operations: 54.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -65,22 +65,22 @@ def loop_closure(actuated, passive, params):
     b1 = params[..., 3]
     b2 = params[..., 4]
     _t0 = -y
-    _t1 = -_t0 - a1 * numpy.sin(theta1)
-    _t2 = -a1 * numpy.cos(theta1) + d + x
-    _t3 = numpy.sqrt(_t1**2 + _t2**2)
-    _t4 = -_t0 - a2 * numpy.sin(theta2)
-    _t5 = -a2 * numpy.cos(theta2) - d + x
-    _t6 = numpy.sqrt(_t4**2 + _t5**2)
-    _t7 = 1 / _t3
-    _t8 = 1 / _t6
+    _t1 = a1 * numpy.sin(theta1)
+    _t2 = a1 * numpy.cos(theta1)
+    _t3 = (1 / 2) / b1
+    _t4 = a2 * numpy.sin(theta2)
+    _t5 = a2 * numpy.cos(theta2)
+    _t6 = (1 / 2) / b2
+    _t7 = 2 * d
+    _t8 = -2 * y
     residual = numpy.zeros(shape + (2,))
-    residual[..., 0] = _t3 - b1
-    residual[..., 1] = _t6 - b2
+    residual[..., 0] = _t3 * (-(b1**2) + (-_t0 - _t1) ** 2 + (-_t2 + d + x) ** 2)
+    residual[..., 1] = _t6 * (-(b2**2) + (-_t0 - _t4) ** 2 + (-_t5 - d + x) ** 2)
     jacobian = numpy.zeros(shape + (2, 2))
-    jacobian[..., 0, 0] = _t2 * _t7
-    jacobian[..., 0, 1] = _t1 * _t7
-    jacobian[..., 1, 0] = _t5 * _t8
-    jacobian[..., 1, 1] = _t4 * _t8
+    jacobian[..., 0, 0] = _t3 * (-2 * _t2 + _t7 + 2 * x)
+    jacobian[..., 0, 1] = _t3 * (-2 * _t1 - _t8)
+    jacobian[..., 1, 0] = _t6 * (-2 * _t5 - _t7 + 2 * x)
+    jacobian[..., 1, 1] = _t6 * (-2 * _t4 - _t8)
     alignment = numpy.zeros(shape + (1,))
     alignment[..., 0] = 1
     return {
@@ -93,7 +93,83 @@ def loop_closure(actuated, passive, params):
 def loop_closure_actuated(actuated, passive, params):
     """Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).
 
-    Operations: 37.
+    Operations: 33.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    d = params[..., 0]
+    a1 = params[..., 1]
+    a2 = params[..., 2]
+    b1 = params[..., 3]
+    b2 = params[..., 4]
+    _t0 = -y
+    _t1 = numpy.sin(theta1)
+    _t2 = a1 * numpy.cos(theta1)
+    _t3 = numpy.sin(theta2)
+    _t4 = a2 * numpy.cos(theta2)
+    jacobian_actuated = numpy.zeros(shape + (2, 2))
+    jacobian_actuated[..., 0, 0] = (
+        (1 / 2) * (2 * _t1 * a1 * (-_t2 + d + x) - 2 * _t2 * (-_t0 - _t1 * a1)) / b1
+    )
+    jacobian_actuated[..., 1, 1] = (
+        (1 / 2) * (2 * _t3 * a2 * (-_t4 - d + x) - 2 * _t4 * (-_t0 - _t3 * a2)) / b2
+    )
+    return {
+        "jacobian_actuated": jacobian_actuated,
+    }
+
+
+def rate_jacobians(actuated, passive, params):
+    """Input-output Jacobians of A twist = B actuated_rates.
+
+    Operations: 23.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    d = params[..., 0]
+    a1 = params[..., 1]
+    a2 = params[..., 2]
+    _t0 = a1 * numpy.cos(theta1)
+    _t1 = -_t0 + d + x
+    _t2 = -y
+    _t3 = a1 * numpy.sin(theta1)
+    _t4 = -_t2 - _t3
+    _t5 = a2 * numpy.cos(theta2)
+    _t6 = -_t5 - d + x
+    _t7 = a2 * numpy.sin(theta2)
+    _t8 = -_t2 - _t7
+    a = numpy.zeros(shape + (2, 2))
+    a[..., 0, 0] = _t1
+    a[..., 0, 1] = _t4
+    a[..., 1, 0] = _t6
+    a[..., 1, 1] = _t8
+    b = numpy.zeros(shape + (2, 2))
+    b[..., 0, 0] = _t0 * _t4 - _t1 * _t3
+    b[..., 1, 1] = _t5 * _t8 - _t6 * _t7
+    return {
+        "a": a,
+        "b": b,
+    }
+
+
+def singularity_factors(actuated, passive, params):
+    """Every named singularity factor, then the determinants.
+
+    Operations: 27.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -108,91 +184,17 @@ def loop_closure_actuated(actuated, passive, params):
     a1 = params[..., 1]
     a2 = params[..., 2]
     _t0 = -y
-    _t1 = numpy.sin(theta1)
-    _t2 = -_t0 - _t1 * a1
+    _t1 = a1 * numpy.sin(theta1)
+    _t2 = _t0 + _t1
     _t3 = a1 * numpy.cos(theta1)
     _t4 = -_t3 + d + x
-    _t5 = numpy.sin(theta2)
-    _t6 = -_t0 - _t5 * a2
-    _t7 = a2 * numpy.cos(theta2)
-    _t8 = -_t7 - d + x
-    jacobian_actuated = numpy.zeros(shape + (2, 2))
-    jacobian_actuated[..., 0, 0] = (_t1 * _t4 * a1 - _t2 * _t3) / numpy.sqrt(_t2**2 + _t4**2)
-    jacobian_actuated[..., 1, 1] = (_t5 * _t8 * a2 - _t6 * _t7) / numpy.sqrt(_t6**2 + _t8**2)
-    return {
-        "jacobian_actuated": jacobian_actuated,
-    }
-
-
-def rate_jacobians(actuated, passive, params):
-    """Input-output Jacobians of A twist = B actuated_rates.
-
-    Operations: 25.
-    """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
-    )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    _t0 = numpy.cos(theta1)
-    _t1 = -_t0 * a1 + d + x
-    _t2 = -y
-    _t3 = numpy.sin(theta1)
-    _t4 = -_t2 - _t3 * a1
-    _t5 = numpy.cos(theta2)
-    _t6 = -_t5 * a2 - d + x
-    _t7 = numpy.sin(theta2)
-    _t8 = -_t2 - _t7 * a2
-    a = numpy.zeros(shape + (2, 2))
-    a[..., 0, 0] = _t1
-    a[..., 0, 1] = _t4
-    a[..., 1, 0] = _t6
-    a[..., 1, 1] = _t8
-    b = numpy.zeros(shape + (2, 2))
-    b[..., 0, 0] = a1 * (_t0 * _t4 - _t1 * _t3)
-    b[..., 1, 1] = a2 * (_t5 * _t8 - _t6 * _t7)
-    return {
-        "a": a,
-        "b": b,
-    }
-
-
-def singularity_factors(actuated, passive, params):
-    """Every named singularity factor, then the determinants.
-
-    Operations: 29.
-    """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
-    )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    _t0 = numpy.cos(theta1)
-    _t1 = -y
-    _t2 = numpy.sin(theta1)
-    _t3 = _t1 + _t2 * a1
-    _t4 = -_t0 * a1 + d + x
-    _t5 = a1 * (-_t0 * _t3 - _t2 * _t4)
-    _t6 = numpy.cos(theta2)
-    _t7 = numpy.sin(theta2)
-    _t8 = -_t1 - _t7 * a2
-    _t9 = -_t6 * a2 - d + x
-    _t10 = a2 * (_t6 * _t8 - _t7 * _t9)
-    _t11 = _t3 * _t9 + _t4 * _t8
+    _t5 = -_t1 * _t4 - _t2 * _t3
+    _t6 = a2 * numpy.sin(theta2)
+    _t7 = -_t0 - _t6
+    _t8 = a2 * numpy.cos(theta2)
+    _t9 = -_t8 - d + x
+    _t10 = -_t6 * _t9 + _t7 * _t8
+    _t11 = _t2 * _t9 + _t4 * _t7
     factors = numpy.zeros(shape + (3,))
     factors[..., 0] = _t5
     factors[..., 1] = _t10
@@ -227,16 +229,20 @@ def drawing(actuated, passive, params):
     base = numpy.zeros(shape + (3, 2))
     base[..., 0, 0] = _t0
     base[..., 0, 1] = d
-    moving = numpy.zeros(shape + (3, 3))
-    moving[..., 0, 0] = _t0 + a1 * numpy.cos(theta1)
-    moving[..., 0, 1] = a2 * numpy.cos(theta2) + d
-    moving[..., 0, 2] = x
-    moving[..., 1, 0] = a1 * numpy.sin(theta1)
-    moving[..., 1, 1] = a2 * numpy.sin(theta2)
-    moving[..., 1, 2] = y
+    elbow = numpy.zeros(shape + (3, 2))
+    elbow[..., 0, 0] = _t0 + a1 * numpy.cos(theta1)
+    elbow[..., 0, 1] = a2 * numpy.cos(theta2) + d
+    elbow[..., 1, 0] = a1 * numpy.sin(theta1)
+    elbow[..., 1, 1] = a2 * numpy.sin(theta2)
+    platform = numpy.zeros(shape + (3, 2))
+    platform[..., 0, 0] = x
+    platform[..., 0, 1] = x
+    platform[..., 1, 0] = y
+    platform[..., 1, 1] = y
     return {
         "base": base,
-        "moving": moving,
+        "elbow": elbow,
+        "platform": platform,
     }
 
 
@@ -464,7 +470,7 @@ def automatic_family(actuated, params):
 def automatic_monomials(family_re, family_im):
     """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
 
-    Operations: 232.
+    Operations: 219.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(family_re)[:-1],
@@ -493,125 +499,127 @@ def automatic_monomials(family_re, family_im):
     S_u_1_im = family_im[..., 9]
     D_u_1_im = family_im[..., 10]
     _t0 = D_u_0_im**2 - D_u_0_re**2
-    _t1 = 4 * d_im
-    _t2 = D_u_0_im * D_u_0_re
-    _t3 = _t1 * _t2
-    _t4 = 2 * C_u_0_im
-    _t5 = 2 * C_u_0_re * D_u_0_re - D_u_0_im * _t4
-    _t6 = 2 * C_u_0_re * D_u_0_im + D_u_0_re * _t4
-    _t7 = _t6 * a1_im
-    _t8 = -_t0
-    _t9 = 2 * d_re
-    _t10 = 2 * D_u_0_im
-    _t11 = 2 * D_u_0_re * S_u_0_im + S_u_0_re * _t10
-    _t12 = 2 * D_u_0_re * S_u_0_re - S_u_0_im * _t10
+    _t1 = -_t0
+    _t2 = 4 * d_im
+    _t3 = D_u_0_im * D_u_0_re
+    _t4 = _t2 * _t3
+    _t5 = 2 * D_u_0_re
+    _t6 = 2 * D_u_0_im
+    _t7 = -C_u_0_im * _t5 - C_u_0_re * _t6
+    _t8 = C_u_0_im * _t6 - C_u_0_re * _t5
+    _t9 = _t7 * a1_im - _t8 * a1_re
+    _t10 = -S_u_0_im * _t5 - S_u_0_re * _t6
+    _t11 = S_u_0_im * _t6 - S_u_0_re * _t5
+    _t12 = C_u_0_im * C_u_0_re
     _t13 = a1_im * a1_re
     _t14 = 4 * _t13
     _t15 = b1_im * b1_re
     _t16 = S_u_0_im * S_u_0_re
-    _t17 = C_u_0_im**2 - C_u_0_re**2
+    _t17 = -(C_u_0_im**2) + C_u_0_re**2
     _t18 = -(a1_im**2) + a1_re**2
-    _t19 = -(b1_im**2) + b1_re**2
-    _t20 = -(d_im**2) + d_re**2
-    _t21 = S_u_0_im**2 - S_u_0_re**2
-    _t22 = _t5 * a1_im + _t6 * a1_re
-    _t23 = _t5 * a1_re - _t7
+    _t19 = -(d_im**2) + d_re**2
+    _t20 = -(b1_im**2) + b1_re**2
+    _t21 = -(S_u_0_im**2) + S_u_0_re**2
+    _t22 = _t7 * a1_re + _t8 * a1_im
+    _t23 = -_t9
     _t24 = D_u_1_im**2 - D_u_1_re**2
-    _t25 = D_u_1_im * D_u_1_re
-    _t26 = _t1 * _t25
-    _t27 = 2 * C_u_1_im
-    _t28 = 2 * C_u_1_re * D_u_1_im + D_u_1_re * _t27
-    _t29 = -2 * C_u_1_re * D_u_1_re + D_u_1_im * _t27
-    _t30 = -_t29
-    _t31 = -_t24
-    _t32 = 2 * D_u_1_im
-    _t33 = 2 * D_u_1_re * S_u_1_im + S_u_1_re * _t32
-    _t34 = 2 * D_u_1_re * S_u_1_re - S_u_1_im * _t32
-    _t35 = a2_im * a2_re
-    _t36 = 4 * _t35
-    _t37 = b2_im * b2_re
-    _t38 = S_u_1_im * S_u_1_re
-    _t39 = C_u_1_im**2 - C_u_1_re**2
-    _t40 = -(a2_im**2) + a2_re**2
-    _t41 = -(b2_im**2) + b2_re**2
-    _t42 = S_u_1_im**2 - S_u_1_re**2
-    _t43 = -_t28
-    _t44 = _t29 * a2_im + _t43 * a2_re
-    _t45 = _t29 * a2_re - _t43 * a2_im
-    _t46 = D_u_0_re * _t10
-    _t47 = -_t46
-    _t48 = 4 * d_re
-    _t49 = 2 * d_im
-    _t50 = 2 * _t13
-    _t51 = _t9 * d_im
-    _t52 = D_u_1_re * _t32
-    _t53 = -_t52
-    _t54 = 2 * _t35
+    _t25 = -_t24
+    _t26 = D_u_1_im * D_u_1_re
+    _t27 = _t2 * _t26
+    _t28 = 2 * D_u_1_im
+    _t29 = 2 * D_u_1_re
+    _t30 = C_u_1_im * _t28 - C_u_1_re * _t29
+    _t31 = C_u_1_im * _t29 + C_u_1_re * _t28
+    _t32 = -_t31
+    _t33 = 2 * d_re
+    _t34 = _t25 * _t33
+    _t35 = -S_u_1_im * _t29 - S_u_1_re * _t28
+    _t36 = S_u_1_im * _t28 - S_u_1_re * _t29
+    _t37 = C_u_1_im * C_u_1_re
+    _t38 = a2_im * a2_re
+    _t39 = 4 * _t38
+    _t40 = b2_im * b2_re
+    _t41 = S_u_1_im * S_u_1_re
+    _t42 = -(C_u_1_im**2) + C_u_1_re**2
+    _t43 = -(a2_im**2) + a2_re**2
+    _t44 = -(b2_im**2) + b2_re**2
+    _t45 = -(S_u_1_im**2) + S_u_1_re**2
+    _t46 = -_t30
+    _t47 = _t31 * a2_re + _t46 * a2_im
+    _t48 = -_t31 * a2_im + _t46 * a2_re
+    _t49 = D_u_0_im * _t5
+    _t50 = 2 * d_im
+    _t51 = 4 * d_re
+    _t52 = 2 * _t18
+    _t53 = 2 * _t13
+    _t54 = D_u_1_im * _t29
+    _t55 = 2 * _t43
+    _t56 = 2 * _t38
     re = numpy.zeros(shape + (10,))
-    re[..., 0] = _t0
-    re[..., 1] = _t3 + _t5 * a1_re - _t7 - _t8 * _t9
-    re[..., 2] = _t0
-    re[..., 3] = -_t11 * a1_im + _t12 * a1_re
+    re[..., 0] = _t1
+    re[..., 1] = 2 * _t1 * d_re - _t4 - _t9
+    re[..., 2] = _t1
+    re[..., 3] = -_t10 * a1_im + _t11 * a1_re
     re[..., 4] = (
-        C_u_0_im * C_u_0_re * _t14
-        + _t0 * _t20
-        + _t14 * _t16
-        - 4 * _t15 * _t2
+        _t0 * _t20
+        + _t1 * _t19
+        - _t12 * _t14
+        - _t14 * _t16
+        + 4 * _t15 * _t3
         + _t17 * _t18
         + _t18 * _t21
-        + _t19 * _t8
         - _t22 * d_im
         + _t23 * d_re
-        + _t3 * d_re
+        - _t4 * d_re
     )
-    re[..., 5] = _t24
-    re[..., 6] = -_t26 - _t28 * a2_im + _t30 * a2_re + 2 * _t31 * d_re
-    re[..., 7] = _t24
-    re[..., 8] = -_t33 * a2_im + _t34 * a2_re
+    re[..., 5] = _t25
+    re[..., 6] = _t27 + _t30 * a2_re - _t32 * a2_im - _t34
+    re[..., 7] = _t25
+    re[..., 8] = -_t35 * a2_im + _t36 * a2_re
     re[..., 9] = (
-        C_u_1_im * C_u_1_re * _t36
-        + _t20 * _t24
-        - 4 * _t25 * _t37
-        + _t26 * d_re
-        + _t31 * _t41
-        + _t36 * _t38
-        + _t39 * _t40
-        + _t40 * _t42
-        - _t44 * d_im
-        + _t45 * d_re
+        _t19 * _t25
+        + _t24 * _t44
+        + 4 * _t26 * _t40
+        - _t27 * d_re
+        - _t37 * _t39
+        - _t39 * _t41
+        + _t42 * _t43
+        + _t43 * _t45
+        - _t47 * d_im
+        + _t48 * d_re
     )
     im = numpy.zeros(shape + (10,))
-    im[..., 0] = _t47
-    im[..., 1] = -_t2 * _t48 - _t49 * _t8 + _t5 * a1_im + _t6 * a1_re
-    im[..., 2] = _t47
-    im[..., 3] = _t11 * a1_re + _t12 * a1_im
+    im[..., 0] = _t49
+    im[..., 1] = _t1 * _t50 + _t22 + _t3 * _t51
+    im[..., 2] = _t49
+    im[..., 3] = _t10 * a1_re + _t11 * a1_im
     im[..., 4] = (
-        -C_u_0_re * _t18 * _t4
-        + _t0 * _t51
-        + 2 * _t15 * _t8
-        - 2 * _t16 * _t18
-        + _t17 * _t50
-        + _t19 * _t46
-        - _t20 * _t46
-        + _t21 * _t50
+        2 * _t0 * _t15
+        + _t1 * _t33 * d_im
+        + _t12 * _t52
+        + _t16 * _t52
+        + _t17 * _t53
+        + _t19 * _t49
+        - _t20 * _t49
+        + _t21 * _t53
         + _t22 * d_re
         + _t23 * d_im
     )
-    im[..., 5] = _t53
-    im[..., 6] = _t25 * _t48 + _t28 * a2_re + _t30 * a2_im + _t31 * _t49
-    im[..., 7] = _t53
-    im[..., 8] = _t33 * a2_re + _t34 * a2_im
+    im[..., 5] = _t54
+    im[..., 6] = -_t25 * _t50 - _t26 * _t51 + _t30 * a2_im + _t32 * a2_re
+    im[..., 7] = _t54
+    im[..., 8] = _t35 * a2_re + _t36 * a2_im
     im[..., 9] = (
-        -C_u_1_re * _t27 * _t40
-        - _t20 * _t52
-        + _t24 * _t51
-        + 2 * _t31 * _t37
-        - 2 * _t38 * _t40
-        + _t39 * _t54
-        + _t41 * _t52
-        + _t42 * _t54
-        + _t44 * d_re
-        + _t45 * d_im
+        _t19 * _t54
+        + 2 * _t24 * _t40
+        + _t34 * d_im
+        + _t37 * _t55
+        + _t41 * _t55
+        + _t42 * _t56
+        - _t44 * _t54
+        + _t45 * _t56
+        + _t47 * d_re
+        + _t48 * d_im
     )
     return {
         "re": re,
