@@ -19,6 +19,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -169,6 +170,21 @@ def laplace_det(matrix: sp.Matrix) -> sp.Expr:
 
 
 # ------------------------------------------------------------------ one angle from one equation
+def block_laplace_det(matrix: sp.Matrix) -> sp.Expr:
+    """det of a 6 x 6 matrix by Laplace's expansion along its first three columns: the sum over
+    3-row subsets S of (-1)^(sum of S + 0 + 1 + 2) det(M[S, :3]) det(M[not S, 3:]) (0-based), 20
+    products of 3 x 3 ``laplace_det``s. As written, a third of the size of the cofactor expansion
+    along a row (600 entry occurrences instead of 1956)."""
+    total = sp.Integer(0)
+    for chosen in itertools.combinations(range(6), 3):
+        rest = [k for k in range(6) if k not in chosen]
+        sign = (-1) ** (sum(chosen) + 3)
+        total += (
+            sign * laplace_det(matrix.extract(list(chosen), [0, 1, 2])) * laplace_det(matrix.extract(rest, [3, 4, 5]))
+        )
+    return total
+
+
 def half_angle_solution(
     cos_coefficient: sp.Expr, sin_coefficient: sp.Expr, constant: sp.Expr, sign: sp.Expr
 ) -> tuple[sp.Expr, sp.Expr]:

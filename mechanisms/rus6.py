@@ -34,6 +34,8 @@ Frames and conventions (SI, radians):
   (moment about the origin of {P}); B = diag(u_i . ((E_i - A_i) x d_i)) (d_i . dE_i/dtheta_i).
   Type I (det B = 0): ``leg<i>_rod_in_crank_axis_plane``, the rod in the plane of the crank and
   the motor axis (its tip moves normal to the rod). Type II (det A = 0): ``rod_lines_dependent``.
+* Model: six R-U-S legs (``parakin.generator.joints.crank_leg``); closure, rates, factors,
+  inverse and drawing (shafts, crank tips ``elbow``, platform joints) are derived from them.
 * Forward pose: none in closed form here (``forward=None``): Newton on the closure from a guess
   (``forward_pose``), or the generic all-modes stage built from the closure residual.
 * Defaults (illustrative, not from a paper: a servo hexapod of the usual layout): three motor
@@ -57,36 +59,12 @@ Frames and conventions (SI, radians):
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import sympy as sp
-from parakin.generator.blocks import (
-    TWIST,
-    half_angle_solution,
-    laplace_det,
-    point_defaults,
-    point_info,
-    point_parameters,
-)
-from parakin.generator.frames import (
-    homogeneous,
-    quaternion_rotation,
-    quaternion_rotation_unnormalised,
-    sign_or_plus,
-)
-from parakin.generator.model import (
-    POSE_POSITION,
-    POSE_ROTATION,
-    Citation,
-    ClosureModel,
-    Drawing,
-    Example,
-    InverseSolution,
-    Mechanism,
-    ParameterInfo,
-    RateModel,
-)
+from parakin.generator import joints
+from parakin.generator.blocks import point_defaults, point_info, point_parameters
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms.stewart import (
     DIETMAIER_BASE,
     DIETMAIER_LENGTHS,
@@ -147,148 +125,27 @@ def row(points: sp.Matrix, i: int) -> sp.Matrix:
     return points.row(i).T
 
 
-def crank_plane(i: int) -> tuple[sp.Matrix, sp.Matrix]:
-    """(e1_i, e2_i = u_i x e1_i)."""
-    e1 = row(CRANK_ZERO, i)
-    return e1, row(AXIS, i).cross(e1)
-
-
-def crank_tip(i: int, angle: sp.Expr) -> sp.Matrix:
-    """E_i = A_i + a_i (cos theta_i e1_i + sin theta_i e2_i)."""
-    e1, e2 = crank_plane(i)
-    return row(BASE, i) + a[i] * (sp.cos(angle) * e1 + sp.sin(angle) * e2)
-
-
-def platform_joint(i: int, rotation: sp.Matrix, position: sp.Matrix) -> sp.Matrix:
-    """B_i = R c_i + p."""
-    return rotation * row(PLATFORM, i) + position
-
-
-def state_pose() -> tuple[sp.Matrix, sp.Matrix]:
-    return quaternion_rotation(quaternion), sp.Matrix([x, y, z])
-
-
-def rods() -> list[sp.Matrix]:
-    """d_i = B_i - E_i(theta_i), in {B}."""
-    rotation, position = state_pose()
-    return [platform_joint(i, rotation, position) - crank_tip(i, theta[i]) for i in range(6)]
-
-
-def inverse() -> InverseSolution:
-    """Per leg the tan-half-angle quadratic of E cos + F sin + G = 0; p read off, q from R
-    (q0 >= 0, branch-free) as in ``stewart``."""
-    sigma = list(sp.symbols("sigma1:7", real=True))
-    steps: list[tuple[sp.Symbol, sp.Expr]] = []
-    validity = {}
-    for i in range(6):
-        e, f, g = sp.symbols(f"E{i + 1} F{i + 1} G{i + 1}", real=True)
-        e1, e2 = crank_plane(i)
-        v = platform_joint(i, POSE_ROTATION, POSE_POSITION) - row(BASE, i)
-        steps += [(e, -2 * a[i] * v.dot(e1)), (f, -2 * a[i] * v.dot(e2)), (g, v.dot(v) + a[i] ** 2 - b[i] ** 2)]
-        # sigma = +1 takes the root -F - sqrt(disc): the crank turned back from A_i -> B_i
-        angle, discriminant = half_angle_solution(e, f, g, -sigma[i])
-        steps.append((theta[i], angle))
-        validity[f"leg{i + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
-    steps += [(x, POSE_POSITION[0]), (y, POSE_POSITION[1]), (z, POSE_POSITION[2])]
-    steps += quaternion_steps(POSE_ROTATION)
-    return InverseSolution(steps, sigma, validity)
-
-
-def quaternion_steps(rotation: sp.Matrix) -> list[tuple[sp.Symbol, sp.Expr]]:
-    """q0..q3 of R (q0 >= 0, branch-free) by the algorithm of ``frames.quaternion_from_rotation``
-    (the columns k_c of K = 4 q q^T, each added to the running sum with the sign that makes it
-    agree, then normalised), written as steps with the running sums as intermediate symbols:
-    the same values, where the one expression of ``quaternion_from_rotation`` repeats each sum
-    inside every later sign (2.7 MB of SymPy, 0.1 s per evaluation in the generator's checks)."""
-    r = rotation
-    k = sp.Matrix(
-        [
-            [1 + r[0, 0] + r[1, 1] + r[2, 2], r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]],
-            [r[2, 1] - r[1, 2], 1 + r[0, 0] - r[1, 1] - r[2, 2], r[0, 1] + r[1, 0], r[0, 2] + r[2, 0]],
-            [r[0, 2] - r[2, 0], r[0, 1] + r[1, 0], 1 - r[0, 0] + r[1, 1] - r[2, 2], r[1, 2] + r[2, 1]],
-            [r[1, 0] - r[0, 1], r[0, 2] + r[2, 0], r[1, 2] + r[2, 1], 1 - r[0, 0] - r[1, 1] + r[2, 2]],
-        ]
-    )
-    steps: list[tuple[sp.Symbol, sp.Expr]] = []
-    total = k[:, 0]
-    for column in range(1, 4):
-        sign = sign_or_plus(total.dot(k[:, column]))
-        running = sp.Matrix(sp.symbols(f"quaternion_sum{column}_0:4", real=True))
-        steps += list(zip(running, total + sign * k[:, column], strict=True))
-        total = running
-    norm = sp.Symbol("quaternion_sum_norm", positive=True)
-    steps.append((norm, sp.sqrt(total.dot(total))))
-    return steps + [(q, total[j] / norm) for j, q in enumerate(quaternion)]
-
-
-def closure() -> ClosureModel:
-    rotation, position = state_pose()
-    residual = sp.Matrix([(d.dot(d) - b[i] ** 2) / (2 * b[i]) for i, d in enumerate(rods())])
-    norm = (sum(c**2 for c in quaternion) - 1) / 2
-    return ClosureModel(sp.Matrix.vstack(residual, sp.Matrix([norm])), sp.Matrix([1]), homogeneous(rotation, position))
-
-
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """d_i . (v + w x (B_i - p)) = d_i . dE_i/dtheta_i theta_dot_i, with (B_i - p) x d_i =
-    (E_i - p) x d_i and dE_i/dtheta_i = u_i x (E_i - A_i)."""
-    _, position = state_pose()
-    links = rods()
-    rows, diagonal = [], []
-    for i, d in enumerate(links):
-        tip = crank_tip(i, theta[i])
-        rows.append([*d, *(tip - position).cross(d)])
-        diagonal.append(row(AXIS, i).dot((tip - row(BASE, i)).cross(d)))
-    matrix = sp.Matrix(rows)
-    # det A from polynomial rows: with n = q . q and R = R_u(q) / n (R_u quadratic in q), row i
-    # of A is (n d_i ; n E_i x d_i) / n up to a column operation (the moment about the origin of
-    # {B} instead of p: adding [p]x times the first three columns, the same in every row), and
-    # n d_i = R_u c_i + n (p - E_i), n E_i x d_i = E_i x (R_u c_i + n p): det A = det P / n^6
-    norm = sum(c**2 for c in quaternion)
-    turned = quaternion_rotation_unnormalised(quaternion)
-    polynomial = []
-    for i in range(6):
-        tip, joint = crank_tip(i, theta[i]), turned * row(PLATFORM, i) + norm * position
-        polynomial.append([*(joint - norm * tip), *tip.cross(joint)])
-    model = RateModel(
-        twist=list(TWIST),
-        a=matrix,
-        b=sp.diag(*diagonal),
-        serial_factors={f"leg{i + 1}_rod_in_crank_axis_plane": diagonal[i] for i in range(6)},
-    )
-    return model, {"rod_lines_dependent": block_laplace_det(sp.Matrix(polynomial)) / norm**6}
-
-
-def block_laplace_det(matrix: sp.Matrix) -> sp.Expr:
-    """det of a 6 x 6 matrix by Laplace's expansion along its first three columns: the sum over
-    3-row subsets S of (-1)^(sum of S + 0 + 1 + 2) det(M[S, :3]) det(M[not S, 3:]) (0-based), 20
-    products of 3 x 3 ``laplace_det``s. As written, a third of the size of the cofactor expansion
-    along a row (600 entry occurrences instead of 1956)."""
-    total = sp.Integer(0)
-    for chosen in itertools.combinations(range(6), 3):
-        rest = [k for k in range(6) if k not in chosen]
-        sign = (-1) ** (sum(chosen) + 3)
-        total += (
-            sign * laplace_det(matrix.extract(list(chosen), [0, 1, 2])) * laplace_det(matrix.extract(rest, [3, 4, 5]))
+#: the model: six R-U-S legs (crank about u_i from e1_i, rod to c_i; branch sign +1 the crank
+#: turned back about u_i) on a spatial platform; closure, rates, factors, inverse and drawing are
+#: derived from it
+MODEL = joints.DistanceMechanism(
+    joints.platform("transform"),
+    [
+        joints.crank_leg(
+            row(BASE, i),
+            row(AXIS, i),
+            row(CRANK_ZERO, i),
+            a[i],
+            b[i],
+            row(PLATFORM, i),
+            theta[i],
+            sign=-1,
+            serial_name="leg{k}_rod_in_crank_axis_plane",
         )
-    return total
-
-
-def drawing() -> Drawing:
-    """Shafts A_i, crank tips E_i and platform joints B_i (in {B}): each leg A_i -> E_i -> B_i,
-    the base and platform hexagons."""
-    rotation, position = state_pose()
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*(row(BASE, i) for i in range(6))),
-            "crank": sp.Matrix.hstack(*(crank_tip(i, theta[i]) for i in range(6))),
-            "platform": sp.Matrix.hstack(*(platform_joint(i, rotation, position) for i in range(6))),
-        },
-        polylines={
-            **{f"leg{i + 1}": [("base", i), ("crank", i), ("platform", i)] for i in range(6)},
-            "base": [("base", i % 6) for i in range(7)],
-            "platform": [("platform", i % 6) for i in range(7)],
-        },
-    )
+        for i in range(6)
+    ],
+    parallel_name="rod_lines_dependent",
+)
 
 
 def defaults() -> dict[sp.Symbol, float]:
@@ -333,7 +190,7 @@ DIETMAIER_POSE = pose_list(DIETMAIER_ROTATION, DIETMAIER_POSITION)
 def home() -> dict[sp.Symbol, float]:
     """The inverse of HOME_POSE on branch 0 at the defaults (theta = 0 to rounding)."""
     pose = sp.Matrix(HOME_POSE)
-    values = inverse().at(pose[:3, :3], pose[:3, 3], 0, defaults())
+    values = MODEL.inverse().at(pose[:3, :3], pose[:3, 3], 0, defaults())
     return {v: values[v] for v in (*theta, x, y, z, *quaternion)}
 
 
@@ -373,7 +230,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
     return Mechanism(
         name="rus6",
         title="6-RUS rotary hexapod (Hunt 1983): six actuated cranks with rods to a spherical-jointed platform",
@@ -384,19 +240,10 @@ def build() -> Mechanism:
             "ASME Journal of Mechanisms, Transmissions, and Automation in Design 105(4), pp. 705-712",
         ),
         parameters=defaults(),
-        actuated=list(theta),
-        passive=[x, y, z, *quaternion],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=None,
         home=home(),
         limits=dict.fromkeys(theta, CRANK_RANGE),
-        angular=list(theta),
-        dimensionless=list(quaternion),
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="transform",
         parameter_info={
             **point_info(BASE, "motor shaft point A{k} (on the motor axis), in {B}"),
             **point_info(AXIS, "motor axis u{k} (unit vector; theta{k} right-handed about it), in {B}", unit=""),
@@ -407,5 +254,4 @@ def build() -> Mechanism:
         },
         parameter_groups={"base": BASE, "axis": AXIS, "crank_zero": CRANK_ZERO, "platform": PLATFORM},
         examples=EXAMPLES,
-        drawing=drawing(),
     )

@@ -66,6 +66,8 @@ class _Numeric:
         self.a = sp.lambdify(state, rates.a.xreplace(values), "numpy")
         self.b = sp.lambdify(state, rates.b.xreplace(values), "numpy")
         self.columns = [joints.TWIST.index(name) for name in rates.twist]
+        (factor,) = model.parallel_factors().values()
+        self.parallel = sp.lambdify(state, factor.xreplace(values), "numpy")
 
     def inverse(self, pose: np.ndarray, branch: int) -> tuple[np.ndarray, np.ndarray, bool]:
         """(actuated, coordinates, valid) of one pose (4 x 4) on one branch."""
@@ -111,6 +113,8 @@ def _check(model: joints.DistanceMechanism, values: dict, poses: list[np.ndarray
             twist = np.concatenate([velocity, [spin[2, 1], spin[0, 2], spin[1, 0]]])[numeric.columns]
             a, b = np.asarray(numeric.a(*theta, *q), float), np.asarray(numeric.b(*theta, *q), float)
             assert np.abs(a @ twist - b @ rates).max() < 1e-6 * (1 + np.abs(a @ twist).max())
+            # the parallel factor, however it is written, is det A
+            assert abs(float(numeric.parallel(*theta, *q)) - np.linalg.det(a)) < 1e-9 * (1 + abs(np.linalg.det(a)))
             rated += 1
     return closed, rated
 

@@ -303,7 +303,7 @@ def test_drawing_points(m):
     state = m.inverse_pose(pose).branch(0)
     points = m.drawing(state)
     np.testing.assert_allclose(points["base"].T, SHAFTS, atol=1e-15)
-    np.testing.assert_allclose(points["crank"].T, crank_tips(state.actuated), atol=1e-14)
+    np.testing.assert_allclose(points["elbow"].T, crank_tips(state.actuated), atol=1e-14)
     np.testing.assert_allclose(points["platform"].T, joints(pose), atol=1e-14)
 
 

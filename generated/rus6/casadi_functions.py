@@ -2141,76 +2141,76 @@ def drawing() -> casadi.Function:
     base[2, 3] = base_z4
     base[2, 4] = base_z5
     base[2, 5] = base_z6
-    crank = casadi.SX.zeros(3, 6)
-    crank[0, 0] = (
+    elbow = casadi.SX.zeros(3, 6)
+    elbow[0, 0] = (
         a1 * (_t0 * crank_zero_x1 + _t1 * (axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1))
         + base_x1
     )
-    crank[0, 1] = (
+    elbow[0, 1] = (
         a2 * (_t2 * crank_zero_x2 + _t3 * (axis_y2 * crank_zero_z2 - axis_z2 * crank_zero_y2))
         + base_x2
     )
-    crank[0, 2] = (
+    elbow[0, 2] = (
         a3 * (_t4 * crank_zero_x3 + _t5 * (axis_y3 * crank_zero_z3 - axis_z3 * crank_zero_y3))
         + base_x3
     )
-    crank[0, 3] = (
+    elbow[0, 3] = (
         a4 * (_t6 * crank_zero_x4 + _t7 * (axis_y4 * crank_zero_z4 - axis_z4 * crank_zero_y4))
         + base_x4
     )
-    crank[0, 4] = (
+    elbow[0, 4] = (
         a5 * (_t8 * crank_zero_x5 + _t9 * (axis_y5 * crank_zero_z5 - axis_z5 * crank_zero_y5))
         + base_x5
     )
-    crank[0, 5] = (
+    elbow[0, 5] = (
         a6 * (_t10 * crank_zero_x6 + _t11 * (axis_y6 * crank_zero_z6 - axis_z6 * crank_zero_y6))
         + base_x6
     )
-    crank[1, 0] = (
+    elbow[1, 0] = (
         a1 * (_t0 * crank_zero_y1 + _t1 * (-axis_x1 * crank_zero_z1 + axis_z1 * crank_zero_x1))
         + base_y1
     )
-    crank[1, 1] = (
+    elbow[1, 1] = (
         a2 * (_t2 * crank_zero_y2 + _t3 * (-axis_x2 * crank_zero_z2 + axis_z2 * crank_zero_x2))
         + base_y2
     )
-    crank[1, 2] = (
+    elbow[1, 2] = (
         a3 * (_t4 * crank_zero_y3 + _t5 * (-axis_x3 * crank_zero_z3 + axis_z3 * crank_zero_x3))
         + base_y3
     )
-    crank[1, 3] = (
+    elbow[1, 3] = (
         a4 * (_t6 * crank_zero_y4 + _t7 * (-axis_x4 * crank_zero_z4 + axis_z4 * crank_zero_x4))
         + base_y4
     )
-    crank[1, 4] = (
+    elbow[1, 4] = (
         a5 * (_t8 * crank_zero_y5 + _t9 * (-axis_x5 * crank_zero_z5 + axis_z5 * crank_zero_x5))
         + base_y5
     )
-    crank[1, 5] = (
+    elbow[1, 5] = (
         a6 * (_t10 * crank_zero_y6 + _t11 * (-axis_x6 * crank_zero_z6 + axis_z6 * crank_zero_x6))
         + base_y6
     )
-    crank[2, 0] = (
+    elbow[2, 0] = (
         a1 * (_t0 * crank_zero_z1 + _t1 * (axis_x1 * crank_zero_y1 - axis_y1 * crank_zero_x1))
         + base_z1
     )
-    crank[2, 1] = (
+    elbow[2, 1] = (
         a2 * (_t2 * crank_zero_z2 + _t3 * (axis_x2 * crank_zero_y2 - axis_y2 * crank_zero_x2))
         + base_z2
     )
-    crank[2, 2] = (
+    elbow[2, 2] = (
         a3 * (_t4 * crank_zero_z3 + _t5 * (axis_x3 * crank_zero_y3 - axis_y3 * crank_zero_x3))
         + base_z3
     )
-    crank[2, 3] = (
+    elbow[2, 3] = (
         a4 * (_t6 * crank_zero_z4 + _t7 * (axis_x4 * crank_zero_y4 - axis_y4 * crank_zero_x4))
         + base_z4
     )
-    crank[2, 4] = (
+    elbow[2, 4] = (
         a5 * (_t8 * crank_zero_z5 + _t9 * (axis_x5 * crank_zero_y5 - axis_y5 * crank_zero_x5))
         + base_z5
     )
-    crank[2, 5] = (
+    elbow[2, 5] = (
         a6 * (_t10 * crank_zero_z6 + _t11 * (axis_x6 * crank_zero_y6 - axis_y6 * crank_zero_x6))
         + base_z6
     )
@@ -2242,7 +2242,7 @@ def drawing() -> casadi.Function:
         ],
         [
             base,
-            crank,
+            elbow,
             platform,
         ],
         [
@@ -2252,7 +2252,7 @@ def drawing() -> casadi.Function:
         ],
         [
             "base",
-            "crank",
+            "elbow",
             "platform",
         ],
     )

@@ -153,14 +153,14 @@ int rus6_drawing_batch(long long n, const double** inputs, const long long* stri
     casadi_int iw[0 + 1];
     casadi_real w[29 + 1];
     casadi_real out_base[18 + 1];
-    casadi_real out_crank[18 + 1];
+    casadi_real out_elbow[18 + 1];
     casadi_real out_platform[18 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_base;
-        res[1] = out_crank;
+        res[1] = out_elbow;
         res[2] = out_platform;
         if (rus6_drawing(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
@@ -168,7 +168,7 @@ int rus6_drawing_batch(long long n, const double** inputs, const long long* stri
                 outputs[0][i * 18 + r * 6 + c] = out_base[c * 3 + r];
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 6; ++c)
-                outputs[1][i * 18 + r * 6 + c] = out_crank[c * 3 + r];
+                outputs[1][i * 18 + r * 6 + c] = out_elbow[c * 3 + r];
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 6; ++c)
                 outputs[2][i * 18 + r * 6 + c] = out_platform[c * 3 + r];

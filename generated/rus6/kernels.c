@@ -4746,7 +4746,7 @@ CASADI_SYMBOL_EXPORT int rus6_singularity_factors_work_bytes(casadi_int *sz_arg,
   return 0;
 }
 
-/* rus6_drawing:(actuated[6],passive[7],params[84])->(base[3x6],crank[3x6],platform[3x6]) */
+/* rus6_drawing:(actuated[6],passive[7],params[84])->(base[3x6],elbow[3x6],platform[3x6]) */
 static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -5246,7 +5246,7 @@ CASADI_SYMBOL_EXPORT const char* rus6_drawing_name_in(casadi_int i) {
 CASADI_SYMBOL_EXPORT const char* rus6_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
-    case 1: return "crank";
+    case 1: return "elbow";
     case 2: return "platform";
     default: return 0;
   }

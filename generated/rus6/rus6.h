@@ -51,6 +51,8 @@
 //   (moment about the origin of {P}); B = diag(u_i . ((E_i - A_i) x d_i)) (d_i . dE_i/dtheta_i).
 //   Type I (det B = 0): ``leg<i>_rod_in_crank_axis_plane``, the rod in the plane of the crank and
 //   the motor axis (its tip moves normal to the rod). Type II (det A = 0): ``rod_lines_dependent``.
+// * Model: six R-U-S legs (``parakin.generator.joints.crank_leg``); closure, rates, factors,
+//   inverse and drawing (shafts, crank tips ``elbow``, platform joints) are derived from them.
 // * Forward pose: none in closed form here (``forward=None``): Newton on the closure from a guess
 //   (``forward_pose``), or the generic all-modes stage built from the closure residual.
 // * Defaults (illustrative, not from a paper: a servo hexapod of the usual layout): three motor
@@ -307,7 +309,7 @@ int rus6_rate_jacobians_batch(long long n, const double** inputs, const long lon
 int rus6_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
 //   inputs: actuated[6], passive[7], params[84]
-//   outputs: base[3 x 6], crank[3 x 6], platform[3 x 6]
+//   outputs: base[3 x 6], elbow[3 x 6], platform[3 x 6]
 int rus6_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 //   inputs: pose[12], branch[6], params[84]

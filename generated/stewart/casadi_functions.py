@@ -5,10 +5,10 @@
 #   loop_closure: 1350
 #   loop_closure_actuated: 248
 #   rate_jacobians: 257
-#   singularity_factors: 590
+#   singularity_factors: 689
 #   drawing: 155
-#   inverse_pose: 708
-#   inverse_pose_patterns: 708
+#   inverse_pose: 485
+#   inverse_pose_patterns: 485
 #   homotopy_family: 0
 #   homotopy_monomials: 1423
 #   homotopy_passive: 45
@@ -1074,7 +1074,7 @@ def rate_jacobians() -> casadi.Function:
 def singularity_factors() -> casadi.Function:
     """Every named singularity factor, then the determinants.
 
-    Operations: 590.
+    Operations: 689.
     """
     actuated = casadi.SX.sym("actuated", 6)
     passive = casadi.SX.sym("passive", 7)
@@ -1128,175 +1128,207 @@ def singularity_factors() -> casadi.Function:
     platform_x6 = params[33]
     platform_y6 = params[34]
     platform_z6 = params[35]
-    _t0 = -x
-    _t1 = _t0 + base_x1
-    _t2 = 2 * q0
-    _t3 = _t2 * q3
-    _t4 = 2 * q1
-    _t5 = _t3 + _t4 * q2
-    _t6 = q2**2
-    _t7 = q3**2
-    _t8 = q0**2
-    _t9 = q1**2
-    _t10 = _t8 + _t9
-    _t11 = 1 / (_t10 + _t6 + _t7)
-    _t12 = _t11 * platform_x1
-    _t13 = _t2 * q1
-    _t14 = -_t13 + 2 * q2 * q3
-    _t15 = _t11 * platform_z1
-    _t16 = -_t7
-    _t17 = _t8 - _t9
-    _t18 = _t16 + _t17 + _t6
-    _t19 = _t11 * platform_y1
-    _t20 = _t12 * _t5 + _t14 * _t15 + _t18 * _t19 - base_y1 + y
-    _t21 = -y
-    _t22 = _t21 + base_y1
-    _t23 = -_t3 + 2 * q1 * q2
-    _t24 = _t2 * q2
-    _t25 = _t24 + _t4 * q3
-    _t26 = -_t6
-    _t27 = _t10 + _t16 + _t26
-    _t28 = _t12 * _t27 + _t15 * _t25 + _t19 * _t23 - base_x1 + x
-    _t29 = _t0 + base_x2
-    _t30 = -_t24 + 2 * q1 * q3
-    _t31 = _t11 * platform_x2
-    _t32 = _t13 + 2 * q2 * q3
-    _t33 = _t11 * platform_y2
-    _t34 = _t17 + _t26 + _t7
-    _t35 = _t11 * platform_z2
-    _t36 = _t30 * _t31 + _t32 * _t33 + _t34 * _t35 - base_z2 + z
-    _t37 = -z
-    _t38 = _t37 + base_z2
-    _t39 = _t23 * _t33 + _t25 * _t35 + _t27 * _t31 - base_x2 + x
-    _t40 = _t29 * _t36 - _t38 * _t39
-    _t41 = _t21 + base_y3
-    _t42 = _t11 * platform_x3
-    _t43 = _t11 * platform_y3
-    _t44 = _t11 * platform_z3
-    _t45 = _t30 * _t42 + _t32 * _t43 + _t34 * _t44 - base_z3 + z
-    _t46 = _t37 + base_z3
-    _t47 = _t14 * _t44 + _t18 * _t43 + _t42 * _t5 - base_y3 + y
-    _t48 = _t41 * _t45 - _t46 * _t47
-    _t49 = -_t48
-    _t50 = _t11 * platform_x4
-    _t51 = _t11 * platform_y4
-    _t52 = _t11 * platform_z4
-    _t53 = _t30 * _t50 + _t32 * _t51 + _t34 * _t52 - base_z4 + z
-    _t54 = _t11 * platform_y5
-    _t55 = _t11 * platform_z5
-    _t56 = _t11 * platform_x5
-    _t57 = _t23 * _t54 + _t25 * _t55 + _t27 * _t56 - base_x5 + x
-    _t58 = _t11 * platform_x6
-    _t59 = _t11 * platform_z6
-    _t60 = _t11 * platform_y6
-    _t61 = _t14 * _t59 + _t18 * _t60 + _t5 * _t58 - base_y6 + y
-    _t62 = _t23 * _t60 + _t25 * _t59 + _t27 * _t58 - base_x6 + x
-    _t63 = _t14 * _t55 + _t18 * _t54 + _t5 * _t56 - base_y5 + y
-    _t64 = _t57 * _t61 - _t62 * _t63
-    _t65 = _t23 * _t51 + _t25 * _t52 + _t27 * _t50 - base_x4 + x
-    _t66 = _t30 * _t58 + _t32 * _t60 + _t34 * _t59 - base_z6 + z
-    _t67 = _t30 * _t56 + _t32 * _t54 + _t34 * _t55 - base_z5 + z
-    _t68 = -_t67
-    _t69 = _t61 * _t68 + _t63 * _t66
-    _t70 = _t14 * _t52 + _t18 * _t51 + _t5 * _t50 - base_y4 + y
-    _t71 = -_t70
-    _t72 = _t57 * _t66 + _t62 * _t68
-    _t73 = _t53 * _t64 + _t65 * _t69 + _t71 * _t72
-    _t74 = _t21 + base_y4
-    _t75 = _t37 + base_z4
-    _t76 = _t53 * _t74 - _t70 * _t75
-    _t77 = _t21 + base_y5
-    _t78 = _t37 + base_z5
-    _t79 = -_t63 * _t78 + _t67 * _t77
-    _t80 = -_t79
-    _t81 = _t21 + base_y6
-    _t82 = _t37 + base_z6
-    _t83 = -_t61 * _t82 + _t66 * _t81
-    _t84 = _t61 * _t80 + _t63 * _t83
-    _t85 = _t57 * _t83 + _t62 * _t80
-    _t86 = _t64 * _t76 + _t65 * _t84 + _t71 * _t85
-    _t87 = _t23 * _t43 + _t25 * _t44 + _t27 * _t42 - base_x3 + x
-    _t88 = _t66 * _t80 + _t67 * _t83
-    _t89 = -_t53
-    _t90 = _t69 * _t76 + _t70 * _t88 + _t84 * _t89
-    _t91 = -_t47
-    _t92 = _t65 * _t88 + _t72 * _t76 + _t85 * _t89
-    _t93 = _t45 * _t86 + _t49 * _t73 + _t87 * _t90 + _t91 * _t92
-    _t94 = _t21 + base_y2
-    _t95 = _t14 * _t35 + _t18 * _t33 + _t31 * _t5 - base_y2 + y
-    _t96 = _t36 * _t94 - _t38 * _t95
-    _t97 = -_t96
-    _t98 = _t0 + base_x3
-    _t99 = _t45 * _t98 - _t46 * _t87
-    _t100 = _t0 + base_x4
-    _t101 = _t100 * _t53 - _t65 * _t75
-    _t102 = -_t101
-    _t103 = _t0 + base_x5
-    _t104 = _t103 * _t67 - _t57 * _t78
-    _t105 = _t0 + base_x6
-    _t106 = -_t105 * _t66 + _t62 * _t82
-    _t107 = _t104 * _t61 + _t106 * _t63
-    _t108 = _t104 * _t62 + _t106 * _t57
-    _t109 = _t102 * _t64 + _t107 * _t65 + _t108 * _t71
-    _t110 = _t104 * _t66 + _t106 * _t67
-    _t111 = _t102 * _t69 + _t107 * _t89 + _t110 * _t70
-    _t112 = _t102 * _t72 + _t108 * _t89 + _t110 * _t65
-    _t113 = _t109 * _t45 + _t111 * _t87 + _t112 * _t91 + _t73 * _t99
-    _t114 = -_t76
-    _t115 = _t104 * _t83 + _t106 * _t79
-    _t116 = _t102 * _t84 + _t107 * _t114 + _t115 * _t70
-    _t117 = _t102 * _t85 + _t108 * _t114 + _t115 * _t65
-    _t118 = _t109 * _t48 + _t116 * _t87 + _t117 * _t91 + _t86 * _t99
-    _t119 = _t102 * _t88 + _t110 * _t114 + _t115 * _t53
-    _t120 = -_t45
-    _t121 = _t111 * _t48 + _t116 * _t120 + _t119 * _t47 + _t90 * _t99
-    _t122 = -_t95
-    _t123 = _t112 * _t48 + _t117 * _t120 + _t119 * _t87 + _t92 * _t99
-    _t124 = _t12 * _t30 + _t15 * _t34 + _t19 * _t32 - base_z1 + z
-    _t125 = _t37 + base_z1
-    _t126 = _t29 * _t95 - _t39 * _t94
-    _t127 = _t41 * _t87 - _t47 * _t98
-    _t128 = _t100 * _t70 - _t65 * _t74
-    _t129 = -_t103 * _t63 + _t57 * _t77
-    _t130 = _t105 * _t61 - _t62 * _t81
-    _t131 = _t129 * _t61 + _t130 * _t63
-    _t132 = _t129 * _t62 + _t130 * _t57
-    _t133 = _t128 * _t64 + _t131 * _t65 + _t132 * _t71
-    _t134 = _t129 * _t66 + _t130 * _t67
-    _t135 = _t128 * _t69 + _t131 * _t89 + _t134 * _t70
-    _t136 = _t128 * _t72 + _t132 * _t89 + _t134 * _t65
-    _t137 = _t127 * _t73 + _t133 * _t45 + _t135 * _t87 + _t136 * _t91
-    _t138 = _t129 * _t83 + _t130 * _t79
-    _t139 = _t114 * _t131 + _t128 * _t84 + _t138 * _t70
-    _t140 = _t114 * _t132 + _t128 * _t85 + _t138 * _t65
-    _t141 = _t127 * _t86 + _t133 * _t48 + _t139 * _t87 + _t140 * _t91
-    _t142 = _t114 * _t134 + _t128 * _t88 + _t138 * _t53
-    _t143 = _t120 * _t139 + _t127 * _t90 + _t135 * _t48 + _t142 * _t47
-    _t144 = _t120 * _t140 + _t127 * _t92 + _t136 * _t48 + _t142 * _t87
-    _t145 = -_t99
-    _t146 = -_t104 * _t130 + _t106 * _t129
-    _t147 = _t101 * _t131 + _t107 * _t128 + _t146 * _t70
-    _t148 = _t101 * _t132 + _t108 * _t128 + _t146 * _t65
-    _t149 = _t109 * _t127 + _t133 * _t145 + _t147 * _t87 + _t148 * _t91
-    _t150 = _t101 * _t134 + _t110 * _t128 + _t146 * _t53
-    _t151 = _t111 * _t127 + _t120 * _t147 + _t135 * _t145 + _t150 * _t47
-    _t152 = _t112 * _t127 + _t120 * _t148 + _t136 * _t145 + _t150 * _t87
-    _t153 = _t101 * _t138 + _t115 * _t128 + _t146 * _t76
-    _t154 = _t119 * _t127 + _t142 * _t145 + _t150 * _t49 + _t153 * _t45
-    _t155 = -_t36
-    _t156 = _t116 * _t127 + _t139 * _t145 + _t147 * _t49 + _t153 * _t47
-    _t157 = _t117 * _t127 + _t140 * _t145 + _t148 * _t49 + _t153 * _t87
-    _t158 = (
-        _t124 * (_t118 * _t126 + _t122 * _t157 + _t141 * _t40 + _t149 * _t96 + _t156 * _t39)
-        - _t20 * (_t123 * _t126 + _t144 * _t40 + _t152 * _t96 + _t154 * _t39 + _t155 * _t157)
-        + _t28 * (_t121 * _t126 + _t143 * _t40 + _t151 * _t96 + _t154 * _t95 + _t155 * _t156)
-        + (-_t1 * _t124 + _t125 * _t28)
-        * (_t122 * _t144 + _t126 * _t93 + _t137 * _t97 + _t141 * _t36 + _t143 * _t39)
-        + (-_t1 * _t20 + _t22 * _t28)
-        * (_t113 * _t97 + _t118 * _t36 + _t121 * _t39 + _t122 * _t123 - _t40 * _t93)
-        + (-_t124 * _t22 + _t125 * _t20)
-        * (_t113 * _t126 + _t122 * _t152 + _t137 * _t40 + _t149 * _t36 + _t151 * _t39)
-    )
+    _t0 = q1**2
+    _t1 = q2**2
+    _t2 = q0**2
+    _t3 = q3**2
+    _t4 = _t2 + _t3
+    _t5 = _t0 + _t1 + _t4
+    _t6 = 2 * q0
+    _t7 = _t6 * q2
+    _t8 = -_t7 + 2 * q1 * q3
+    _t9 = _t6 * q1
+    _t10 = 2 * q3
+    _t11 = _t10 * q2 + _t9
+    _t12 = _t5 * z
+    _t13 = -_t0
+    _t14 = -_t1
+    _t15 = _t13 + _t14 + _t4
+    _t16 = _t11 * platform_y3 + _t12 + _t15 * platform_z3 + _t8 * platform_x3
+    _t17 = _t16 - _t5 * base_z3
+    _t18 = _t6 * q3
+    _t19 = -_t18 + 2 * q1 * q2
+    _t20 = _t10 * q1 + _t7
+    _t21 = _t5 * x
+    _t22 = _t2 - _t3
+    _t23 = _t0 + _t14 + _t22
+    _t24 = _t19 * platform_y5 + _t20 * platform_z5 + _t21 + _t23 * platform_x5
+    _t25 = _t24 - _t5 * base_x5
+    _t26 = _t18 + 2 * q1 * q2
+    _t27 = -_t9 + 2 * q2 * q3
+    _t28 = _t5 * y
+    _t29 = _t1 + _t13 + _t22
+    _t30 = _t26 * platform_x6 + _t27 * platform_z6 + _t28 + _t29 * platform_y6
+    _t31 = _t30 - _t5 * base_y6
+    _t32 = _t19 * platform_y6 + _t20 * platform_z6 + _t21 + _t23 * platform_x6
+    _t33 = _t32 - _t5 * base_x6
+    _t34 = _t26 * platform_x5 + _t27 * platform_z5 + _t28 + _t29 * platform_y5
+    _t35 = _t34 - _t5 * base_y5
+    _t36 = _t25 * _t31 - _t33 * _t35
+    _t37 = _t19 * platform_y3 + _t20 * platform_z3 + _t21 + _t23 * platform_x3
+    _t38 = _t37 - _t5 * base_x3
+    _t39 = _t11 * platform_y6 + _t12 + _t15 * platform_z6 + _t8 * platform_x6
+    _t40 = _t39 - _t5 * base_z6
+    _t41 = _t11 * platform_y5 + _t12 + _t15 * platform_z5 + _t8 * platform_x5
+    _t42 = _t41 - _t5 * base_z5
+    _t43 = -_t42
+    _t44 = _t31 * _t43 + _t35 * _t40
+    _t45 = _t26 * platform_x3 + _t27 * platform_z3 + _t28 + _t29 * platform_y3
+    _t46 = _t45 - _t5 * base_y3
+    _t47 = -_t46
+    _t48 = _t25 * _t40 + _t33 * _t43
+    _t49 = _t11 * platform_y1 + _t12 + _t15 * platform_z1 + _t8 * platform_x1
+    _t50 = _t19 * platform_y1 + _t20 * platform_z1 + _t21 + _t23 * platform_x1
+    _t51 = _t49 * base_x1 - _t50 * base_z1
+    _t52 = _t26 * platform_x2 + _t27 * platform_z2 + _t28 + _t29 * platform_y2
+    _t53 = _t19 * platform_y2 + _t20 * platform_z2 + _t21 + _t23 * platform_x2
+    _t54 = _t52 * base_x2 - _t53 * base_y2
+    _t55 = -_t54
+    _t56 = _t11 * platform_y4 + _t12 + _t15 * platform_z4 + _t8 * platform_x4
+    _t57 = _t26 * platform_x4 + _t27 * platform_z4 + _t28 + _t29 * platform_y4
+    _t58 = _t56 * base_y4 - _t57 * base_z4
+    _t59 = _t19 * platform_y4 + _t20 * platform_z4 + _t21 + _t23 * platform_x4
+    _t60 = _t57 * base_x4 - _t59 * base_y4
+    _t61 = _t11 * platform_y2 + _t12 + _t15 * platform_z2 + _t8 * platform_x2
+    _t62 = -_t52 * base_z2 + _t61 * base_y2
+    _t63 = _t26 * platform_x1 + _t27 * platform_z1 + _t28 + _t29 * platform_y1
+    _t64 = -_t50 * base_y1 + _t63 * base_x1
+    _t65 = -_t53 * base_z2 + _t61 * base_x2
+    _t66 = _t56 * base_x4 - _t59 * base_z4
+    _t67 = -_t66
+    _t68 = _t49 * base_y1 - _t63 * base_z1
+    _t69 = -_t65
+    _t70 = -_t5 * base_x4 + _t59
+    _t71 = -_t5 * base_y4 + _t57
+    _t72 = -_t71
+    _t73 = _t25 * _t72 + _t35 * _t70
+    _t74 = -_t5 * base_z4 + _t56
+    _t75 = -_t74
+    _t76 = _t35 * _t75 + _t42 * _t71
+    _t77 = _t25 * _t75 + _t42 * _t70
+    _t78 = -_t30 * base_z6 + _t39 * base_y6
+    _t79 = _t30 * base_x6 - _t32 * base_y6
+    _t80 = _t32 * base_z6 - _t39 * base_x6
+    _t81 = -_t5 * base_z2 + _t61
+    _t82 = _t31 * _t70 + _t33 * _t72
+    _t83 = -_t5 * base_x2 + _t53
+    _t84 = _t31 * _t75 + _t40 * _t71
+    _t85 = -_t5 * base_y2 + _t52
+    _t86 = -_t85
+    _t87 = _t33 * _t75 + _t40 * _t70
+    _t88 = -_t37 * base_y3 + _t45 * base_x3
+    _t89 = -_t88
+    _t90 = -_t34 * base_z5 + _t41 * base_y5
+    _t91 = -_t24 * base_y5 + _t34 * base_x5
+    _t92 = _t16 * base_y3 - _t45 * base_z3
+    _t93 = _t89 * _t90 + _t91 * _t92
+    _t94 = _t16 * base_x3 - _t37 * base_z3
+    _t95 = -_t24 * base_z5 + _t41 * base_x5
+    _t96 = -_t95
+    _t97 = _t90 * _t94 + _t92 * _t96
+    _t98 = -_t94
+    _t99 = _t89 * _t96 + _t91 * _t98
+    _t100 = _t25 * _t47 + _t35 * _t38
+    _t101 = -_t17
+    _t102 = _t101 * _t35 + _t42 * _t46
+    _t103 = _t101 * _t25 + _t38 * _t42
+    _t104 = -_t60
+    _t105 = _t104 * _t78 + _t58 * _t79
+    _t106 = _t58 * _t80 + _t66 * _t78
+    _t107 = _t104 * _t80 + _t67 * _t79
+    _t108 = _t49 - _t5 * base_z1
+    _t109 = -_t5 * base_x1 + _t50
+    _t110 = _t5 * base_y1 - _t63
+    _t111 = _t58 * _t89 + _t60 * _t92
+    _t112 = _t58 * _t94 + _t67 * _t92
+    _t113 = _t60 * _t98 + _t67 * _t89
+    _t114 = _t78 * _t89 + _t79 * _t92
+    _t115 = _t78 * _t94 + _t80 * _t92
+    _t116 = _t79 * _t98 + _t80 * _t89
+    _t117 = _t31 * _t38 + _t33 * _t47
+    _t118 = _t101 * _t31 + _t40 * _t46
+    _t119 = _t101 * _t33 + _t38 * _t40
+    _t120 = _t104 * _t90 + _t58 * _t91
+    _t121 = _t58 * _t96 + _t66 * _t90
+    _t122 = _t104 * _t96 + _t67 * _t91
+    _t123 = _t38 * _t71 + _t47 * _t70
+    _t124 = _t101 * _t71 + _t46 * _t74
+    _t125 = _t101 * _t70 + _t38 * _t74
+    _t126 = -_t91
+    _t127 = _t126 * _t78 + _t79 * _t90
+    _t128 = _t78 * _t95 + _t80 * _t90
+    _t129 = _t126 * _t80 + _t79 * _t96
+    _t130 = -_t81
+    _t131 = (
+        (-_t100 * _t108 - _t102 * _t109 - _t103 * _t110)
+        * (_t105 * _t65 + _t106 * _t54 + _t107 * _t62)
+        + (_t100 * _t81 + _t102 * _t83 + _t103 * _t86)
+        * (_t105 * _t51 + _t106 * _t64 + _t107 * _t68)
+        + (_t105 * _t94 + _t106 * _t88 + _t107 * _t92)
+        * (
+            _t108 * (_t25 * _t86 + _t35 * _t83)
+            + _t109 * (_t130 * _t35 + _t42 * _t85)
+            + _t110 * (_t130 * _t25 + _t42 * _t83)
+        )
+        + (_t108 * _t117 + _t109 * _t118 + _t110 * _t119)
+        * (_t120 * _t65 + _t121 * _t54 + _t122 * _t62)
+        + (_t108 * _t123 + _t109 * _t124 + _t110 * _t125)
+        * (_t127 * _t65 + _t128 * _t54 + _t129 * _t62)
+        + (_t108 * _t36 + _t109 * _t44 + _t110 * _t48)
+        * (_t111 * _t65 + _t112 * _t54 + _t113 * _t62)
+        + (_t108 * _t73 + _t109 * _t76 + _t110 * _t77)
+        * (_t114 * _t65 + _t115 * _t54 + _t116 * _t62)
+        + (-_t108 * _t82 - _t109 * _t84 - _t110 * _t87) * (_t54 * _t97 + _t62 * _t99 + _t65 * _t93)
+        + (
+            -_t108 * (_t31 * _t83 + _t33 * _t86)
+            - _t109 * (_t130 * _t31 + _t40 * _t85)
+            - _t110 * (_t130 * _t33 + _t40 * _t83)
+        )
+        * (_t120 * _t94 + _t121 * _t88 + _t122 * _t92)
+        + (
+            _t108 * (_t38 * _t86 + _t46 * _t83)
+            + _t109 * (_t130 * _t46 + _t17 * _t85)
+            + _t110 * (_t130 * _t38 + _t17 * _t83)
+        )
+        * (_t127 * _t66 + _t128 * _t60 + _t129 * _t58)
+        + (
+            -_t108 * (_t70 * _t86 + _t71 * _t83)
+            - _t109 * (_t130 * _t71 + _t74 * _t85)
+            - _t110 * (_t130 * _t70 + _t74 * _t83)
+        )
+        * (_t127 * _t94 + _t128 * _t88 + _t129 * _t92)
+        + (_t111 * _t51 + _t112 * _t64 + _t113 * _t68) * (-_t36 * _t81 - _t44 * _t83 - _t48 * _t86)
+        + (_t114 * _t51 + _t115 * _t64 + _t116 * _t68) * (-_t73 * _t81 - _t76 * _t83 - _t77 * _t86)
+        + (-_t117 * _t81 - _t118 * _t83 - _t119 * _t86)
+        * (_t120 * _t51 + _t121 * _t64 + _t122 * _t68)
+        + (-_t123 * _t81 - _t124 * _t83 - _t125 * _t86)
+        * (_t127 * _t51 + _t128 * _t64 + _t129 * _t68)
+        + (_t17 * _t36 + _t38 * _t44 + _t47 * _t48)
+        * (
+            _t51 * (_t55 * _t58 + _t60 * _t62)
+            + _t64 * (_t58 * _t65 + _t62 * _t67)
+            + _t68 * (_t55 * _t67 + _t60 * _t69)
+        )
+        + (_t17 * _t73 + _t38 * _t76 + _t47 * _t77)
+        * (
+            _t51 * (_t55 * _t78 + _t62 * _t79)
+            + _t64 * (_t62 * _t80 + _t65 * _t78)
+            + _t68 * (_t55 * _t80 + _t69 * _t79)
+        )
+        + (-_t17 * _t82 - _t38 * _t84 - _t47 * _t87)
+        * (
+            _t51 * (_t55 * _t90 + _t62 * _t91)
+            + _t64 * (_t62 * _t96 + _t65 * _t90)
+            + _t68 * (_t55 * _t96 + _t69 * _t91)
+        )
+        + (-_t36 * _t74 - _t44 * _t70 - _t48 * _t72)
+        * (
+            _t51 * (_t55 * _t92 + _t62 * _t88)
+            + _t64 * (_t62 * _t98 + _t65 * _t92)
+            + _t68 * (_t55 * _t98 + _t69 * _t88)
+        )
+        + (_t51 * _t93 + _t64 * _t97 + _t68 * _t99) * (_t81 * _t82 + _t83 * _t84 + _t86 * _t87)
+    ) / _t5**6
     factors = casadi.SX.zeros(7)
     factors[0] = l1
     factors[1] = l2
@@ -1304,9 +1336,9 @@ def singularity_factors() -> casadi.Function:
     factors[3] = l4
     factors[4] = l5
     factors[5] = l6
-    factors[6] = _t158
+    factors[6] = _t131
     determinants = casadi.SX.zeros(2)
-    determinants[0] = _t158
+    determinants[0] = _t131
     determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
     return casadi.Function(
         "stewart_singularity_factors",
@@ -1469,7 +1501,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 708.
+    Operations: 485.
     """
     pose = casadi.SX.sym("pose", 12)
     branch = casadi.SX.sym("branch", 0)
@@ -1555,240 +1587,181 @@ def inverse_pose() -> casadi.Function:
     x = px
     y = py
     z = pz
-    _t0 = r12 - r21
+    _t0 = r23 - r32
     _t1 = -_t0
-    _t2 = r13 - r31
-    _t3 = r23 + r32
-    _t4 = r13 + r31
-    _t5 = r12 + r21
-    _t6 = _t2 * _t5
-    _t7 = r23 - r32
-    _t8 = -_t7
-    _t9 = r11 + 1
-    _t10 = _t9 + r22 + r33
-    _t11 = -r22
-    _t12 = -r33
-    _t13 = _t11 + _t12 + _t9
-    _t14 = _t0 * _t4 + _t10 * _t7 + _t13 * _t7 - _t6
-    _t15 = 1 - casadi.fabs(casadi.sign(_t14))
-    _t16 = _t15 + casadi.sign(_t1 * _t4 + _t10 * _t8 + _t13 * _t8 + _t6)
-    _t17 = -r12 + r21
-    _t18 = _t16 * _t4 + _t17
-    _t19 = _t10 + _t16 * _t8
-    _t20 = -r23 + r32
-    _t21 = _t13 * _t16 + _t20
-    _t22 = r11 - 1
-    _t23 = _t11 + _t22 + r33
-    _t24 = -_t23
-    _t25 = _t16 * _t5 + _t2
-    _t26 = casadi.sign(_t18 * _t3 + _t19 * _t2 + _t21 * _t5 + _t24 * _t25)
-    _t27 = _t26 - casadi.fabs(_t26) + 1
-    _t28 = _t19 + _t2 * _t27
-    _t29 = _t21 + _t27 * _t5
-    _t30 = _t24 * _t27 + _t25
-    _t31 = _t12 + _t22 + r22
-    _t32 = -_t31
-    _t33 = _t18 + _t27 * _t3
-    _t34 = _t15 - casadi.sign(_t14)
-    _t35 = _t17 + _t34 * _t4
-    _t36 = _t10 - _t34 * _t7
-    _t37 = _t2 + _t34 * _t5
-    _t38 = _t13 * _t34 + _t20
-    _t39 = casadi.sign(_t2 * _t36 - _t23 * _t37 + _t3 * _t35 + _t38 * _t5)
-    _t40 = _t39 - casadi.fabs(_t39) + 1
-    _t41 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t0 * (_t2 * _t40 + _t36)
-                - _t3 * (-_t23 * _t40 + _t37)
-                + _t31 * (_t3 * _t40 + _t35)
-                - _t4 * (_t38 + _t40 * _t5)
-            )
+    _t2 = r13 + r31
+    _t3 = r12 - r21
+    _t4 = (r12 + r21) * (r13 - r31)
+    _t5 = r11 + 1
+    _t6 = _t5 + r22 + r33
+    _t7 = _t5 - r22 - r33
+    quaternion_sum1_0 = (
+        _t1
+        * (
+            -casadi.fabs(casadi.sign(_t0 * _t6 + _t0 * _t7 + _t2 * _t3 - _t4))
+            + casadi.sign(_t1 * _t6 + _t1 * _t7 - _t2 * _t3 + _t4)
+            + 1
         )
-        + casadi.sign(_t1 * _t28 + _t29 * _t4 + _t3 * _t30 + _t32 * _t33)
-        + 1
+        + _t6
     )
-    _t42 = _t1 * _t41 + _t28
-    q0 = _t42 / casadi.sqrt(
-        _t42**2 + (_t29 + _t4 * _t41) ** 2 + (_t3 * _t41 + _t30) ** 2 + (_t32 * _t41 + _t33) ** 2
-    )
-    _t43 = r13 + r31
-    _t44 = r12 - r21
-    _t45 = -_t44
-    _t46 = r13 - r31
-    _t47 = r23 + r32
-    _t48 = r12 + r21
-    _t49 = _t46 * _t48
-    _t50 = r23 - r32
-    _t51 = -_t50
-    _t52 = r11 + 1
-    _t53 = _t52 + r22 + r33
-    _t54 = -r22
-    _t55 = -r33
-    _t56 = _t52 + _t54 + _t55
-    _t57 = _t43 * _t44 - _t49 + _t50 * _t53 + _t50 * _t56
-    _t58 = 1 - casadi.fabs(casadi.sign(_t57))
-    _t59 = _t58 + casadi.sign(_t43 * _t45 + _t49 + _t51 * _t53 + _t51 * _t56)
-    _t60 = -r12 + r21
-    _t61 = _t43 * _t59 + _t60
-    _t62 = _t51 * _t59 + _t53
-    _t63 = -r23 + r32
-    _t64 = _t56 * _t59 + _t63
-    _t65 = r11 - 1
-    _t66 = _t54 + _t65 + r33
-    _t67 = -_t66
-    _t68 = _t46 + _t48 * _t59
-    _t69 = casadi.sign(_t46 * _t62 + _t47 * _t61 + _t48 * _t64 + _t67 * _t68)
-    _t70 = _t69 - casadi.fabs(_t69) + 1
-    _t71 = _t46 * _t70 + _t62
-    _t72 = _t48 * _t70 + _t64
-    _t73 = _t67 * _t70 + _t68
-    _t74 = _t55 + _t65 + r22
-    _t75 = -_t74
-    _t76 = _t47 * _t70 + _t61
-    _t77 = _t58 - casadi.sign(_t57)
-    _t78 = _t43 * _t77 + _t60
-    _t79 = -_t50 * _t77 + _t53
-    _t80 = _t46 + _t48 * _t77
-    _t81 = _t56 * _t77 + _t63
-    _t82 = casadi.sign(_t46 * _t79 + _t47 * _t78 + _t48 * _t81 - _t66 * _t80)
-    _t83 = _t82 - casadi.fabs(_t82) + 1
-    _t84 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t43 * (_t48 * _t83 + _t81)
-                - _t44 * (_t46 * _t83 + _t79)
-                - _t47 * (_t66 * _t83 - _t80)
-                - _t74 * (_t47 * _t83 + _t78)
-            )
+    _t8 = r11 + 1
+    _t9 = _t8 - r22 - r33
+    _t10 = r13 + r31
+    _t11 = r12 - r21
+    _t12 = (r12 + r21) * (r13 - r31)
+    _t13 = r23 - r32
+    _t14 = -_t13
+    _t15 = _t8 + r22 + r33
+    quaternion_sum1_1 = (
+        _t9
+        * (
+            -casadi.fabs(casadi.sign(_t10 * _t11 - _t12 + _t13 * _t15 + _t13 * _t9))
+            + casadi.sign(-_t10 * _t11 + _t12 + _t14 * _t15 + _t14 * _t9)
+            + 1
         )
-        + casadi.sign(_t43 * _t72 + _t45 * _t71 + _t47 * _t73 + _t75 * _t76)
-        + 1
+        - r23
+        + r32
     )
-    _t85 = _t43 * _t84 + _t72
-    q1 = _t85 / casadi.sqrt(
-        _t85**2 + (_t45 * _t84 + _t71) ** 2 + (_t47 * _t84 + _t73) ** 2 + (_t75 * _t84 + _t76) ** 2
-    )
-    _t86 = r23 + r32
-    _t87 = r12 - r21
-    _t88 = -_t87
-    _t89 = r13 - r31
-    _t90 = r13 + r31
-    _t91 = r12 + r21
-    _t92 = _t89 * _t91
-    _t93 = r23 - r32
-    _t94 = -_t93
-    _t95 = r11 + 1
-    _t96 = _t95 + r22 + r33
-    _t97 = -r22
-    _t98 = -r33
-    _t99 = _t95 + _t97 + _t98
-    _t100 = _t87 * _t90 - _t92 + _t93 * _t96 + _t93 * _t99
-    _t101 = 1 - casadi.fabs(casadi.sign(_t100))
-    _t102 = _t101 + casadi.sign(_t88 * _t90 + _t92 + _t94 * _t96 + _t94 * _t99)
-    _t103 = -r12 + r21
-    _t104 = _t102 * _t90 + _t103
-    _t105 = _t102 * _t94 + _t96
-    _t106 = -r23 + r32
-    _t107 = _t102 * _t99 + _t106
-    _t108 = r11 - 1
-    _t109 = _t108 + _t97 + r33
-    _t110 = -_t109
-    _t111 = _t102 * _t91 + _t89
-    _t112 = casadi.sign(_t104 * _t86 + _t105 * _t89 + _t107 * _t91 + _t110 * _t111)
-    _t113 = _t112 - casadi.fabs(_t112) + 1
-    _t114 = _t105 + _t113 * _t89
-    _t115 = _t107 + _t113 * _t91
-    _t116 = _t110 * _t113 + _t111
-    _t117 = _t108 + _t98 + r22
-    _t118 = -_t117
-    _t119 = _t104 + _t113 * _t86
-    _t120 = _t101 - casadi.sign(_t100)
-    _t121 = _t103 + _t120 * _t90
-    _t122 = -_t120 * _t93 + _t96
-    _t123 = _t120 * _t91 + _t89
-    _t124 = _t106 + _t120 * _t99
-    _t125 = casadi.sign(-_t109 * _t123 + _t121 * _t86 + _t122 * _t89 + _t124 * _t91)
-    _t126 = _t125 - casadi.fabs(_t125) + 1
-    _t127 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t117 * (_t121 + _t126 * _t86)
-                - _t86 * (-_t109 * _t126 + _t123)
-                + _t87 * (_t122 + _t126 * _t89)
-                - _t90 * (_t124 + _t126 * _t91)
-            )
+    _t16 = r12 + r21
+    _t17 = r13 + r31
+    _t18 = r12 - r21
+    _t19 = r13 - r31
+    _t20 = _t16 * _t19
+    _t21 = r23 - r32
+    _t22 = -_t21
+    _t23 = r11 + 1
+    _t24 = _t23 + r22 + r33
+    _t25 = _t23 - r22 - r33
+    quaternion_sum1_2 = (
+        _t16
+        * (
+            -casadi.fabs(casadi.sign(_t17 * _t18 - _t20 + _t21 * _t24 + _t21 * _t25))
+            + casadi.sign(-_t17 * _t18 + _t20 + _t22 * _t24 + _t22 * _t25)
+            + 1
         )
-        + casadi.sign(_t114 * _t88 + _t115 * _t90 + _t116 * _t86 + _t118 * _t119)
-        + 1
+        + _t19
     )
-    _t128 = _t116 + _t127 * _t86
-    q2 = _t128 / casadi.sqrt(
-        _t128**2
-        + (_t114 + _t127 * _t88) ** 2
-        + (_t115 + _t127 * _t90) ** 2
-        + (_t118 * _t127 + _t119) ** 2
-    )
-    _t129 = -r33
-    _t130 = r11 - 1
-    _t131 = _t129 + _t130 + r22
-    _t132 = -_t131
-    _t133 = r12 - r21
-    _t134 = -_t133
-    _t135 = r13 - r31
-    _t136 = r23 + r32
-    _t137 = r13 + r31
-    _t138 = r12 + r21
-    _t139 = _t135 * _t138
-    _t140 = r23 - r32
-    _t141 = -_t140
-    _t142 = r11 + 1
-    _t143 = _t142 + r22 + r33
-    _t144 = -r22
-    _t145 = _t129 + _t142 + _t144
-    _t146 = _t133 * _t137 - _t139 + _t140 * _t143 + _t140 * _t145
-    _t147 = 1 - casadi.fabs(casadi.sign(_t146))
-    _t148 = _t147 + casadi.sign(_t134 * _t137 + _t139 + _t141 * _t143 + _t141 * _t145)
-    _t149 = -r12 + r21
-    _t150 = _t137 * _t148 + _t149
-    _t151 = _t141 * _t148 + _t143
-    _t152 = -r23 + r32
-    _t153 = _t145 * _t148 + _t152
-    _t154 = _t130 + _t144 + r33
-    _t155 = -_t154
-    _t156 = _t135 + _t138 * _t148
-    _t157 = casadi.sign(_t135 * _t151 + _t136 * _t150 + _t138 * _t153 + _t155 * _t156)
-    _t158 = _t157 - casadi.fabs(_t157) + 1
-    _t159 = _t135 * _t158 + _t151
-    _t160 = _t138 * _t158 + _t153
-    _t161 = _t155 * _t158 + _t156
-    _t162 = _t136 * _t158 + _t150
-    _t163 = _t147 - casadi.sign(_t146)
-    _t164 = _t137 * _t163 + _t149
-    _t165 = -_t140 * _t163 + _t143
-    _t166 = _t135 + _t138 * _t163
-    _t167 = _t145 * _t163 + _t152
-    _t168 = casadi.sign(_t135 * _t165 + _t136 * _t164 + _t138 * _t167 - _t154 * _t166)
-    _t169 = _t168 - casadi.fabs(_t168) + 1
-    _t170 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t131 * (_t136 * _t169 + _t164)
-                + _t133 * (_t135 * _t169 + _t165)
-                - _t136 * (-_t154 * _t169 + _t166)
-                - _t137 * (_t138 * _t169 + _t167)
-            )
+    _t26 = r13 + r31
+    _t27 = r12 - r21
+    _t28 = (r12 + r21) * (r13 - r31)
+    _t29 = r23 - r32
+    _t30 = -_t29
+    _t31 = r11 + 1
+    _t32 = _t31 + r22 + r33
+    _t33 = _t31 - r22 - r33
+    quaternion_sum1_3 = (
+        _t26
+        * (
+            -casadi.fabs(casadi.sign(_t26 * _t27 - _t28 + _t29 * _t32 + _t29 * _t33))
+            + casadi.sign(-_t26 * _t27 + _t28 + _t30 * _t32 + _t30 * _t33)
+            + 1
         )
-        + casadi.sign(_t132 * _t162 + _t134 * _t159 + _t136 * _t161 + _t137 * _t160)
-        + 1
+        - r12
+        + r21
     )
-    _t171 = _t132 * _t170 + _t162
-    q3 = _t171 / casadi.sqrt(
-        _t171**2
-        + (_t134 * _t170 + _t159) ** 2
-        + (_t136 * _t170 + _t161) ** 2
-        + (_t137 * _t170 + _t160) ** 2
+    _t34 = r13 - r31
+    _t35 = casadi.sign(
+        _t34 * quaternion_sum1_0
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
     )
+    quaternion_sum2_0 = _t34 * (_t35 - casadi.fabs(_t35) + 1) + quaternion_sum1_0
+    _t36 = r12 + r21
+    _t37 = casadi.sign(
+        _t36 * quaternion_sum1_1
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_1 = _t36 * (_t37 - casadi.fabs(_t37) + 1) + quaternion_sum1_1
+    _t38 = -r11 + r22 - r33 + 1
+    _t39 = casadi.sign(
+        _t38 * quaternion_sum1_2
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_2 = _t38 * (_t39 - casadi.fabs(_t39) + 1) + quaternion_sum1_2
+    _t40 = r23 + r32
+    _t41 = casadi.sign(
+        _t40 * quaternion_sum1_3
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+    )
+    quaternion_sum2_3 = _t40 * (_t41 - casadi.fabs(_t41) + 1) + quaternion_sum1_3
+    _t42 = r12 - r21
+    _t43 = -_t42
+    _t44 = quaternion_sum2_1 * (r13 + r31)
+    _t45 = quaternion_sum2_2 * (r23 + r32)
+    _t46 = r11 + r22 - r33 - 1
+    quaternion_sum3_0 = (
+        _t43
+        * (
+            -casadi.fabs(
+                casadi.sign(_t42 * quaternion_sum2_0 - _t44 - _t45 + _t46 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t43 * quaternion_sum2_0 + _t44 + _t45 - _t46 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_0
+    )
+    _t47 = r13 + r31
+    _t48 = _t47 * quaternion_sum2_1
+    _t49 = quaternion_sum2_2 * (r23 + r32)
+    _t50 = r12 - r21
+    _t51 = r11 + r22 - r33 - 1
+    quaternion_sum3_1 = (
+        _t47
+        * (
+            -casadi.fabs(
+                casadi.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_1
+    )
+    _t52 = r23 + r32
+    _t53 = quaternion_sum2_1 * (r13 + r31)
+    _t54 = _t52 * quaternion_sum2_2
+    _t55 = r12 - r21
+    _t56 = r11 + r22 - r33 - 1
+    quaternion_sum3_2 = (
+        _t52
+        * (
+            -casadi.fabs(
+                casadi.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_2
+    )
+    _t57 = r11 + r22 - r33 - 1
+    _t58 = -_t57
+    _t59 = quaternion_sum2_1 * (r13 + r31)
+    _t60 = quaternion_sum2_2 * (r23 + r32)
+    _t61 = r12 - r21
+    quaternion_sum3_3 = (
+        _t58
+        * (
+            -casadi.fabs(
+                casadi.sign(_t57 * quaternion_sum2_3 - _t59 - _t60 + _t61 * quaternion_sum2_0)
+            )
+            + casadi.sign(_t58 * quaternion_sum2_3 + _t59 + _t60 - _t61 * quaternion_sum2_0)
+            + 1
+        )
+        + quaternion_sum2_3
+    )
+    quaternion_sum_norm = casadi.sqrt(
+        quaternion_sum3_0**2 + quaternion_sum3_1**2 + quaternion_sum3_2**2 + quaternion_sum3_3**2
+    )
+    q0 = quaternion_sum3_0 / quaternion_sum_norm
+    q1 = quaternion_sum3_1 / quaternion_sum_norm
+    q2 = quaternion_sum3_2 / quaternion_sum_norm
+    q3 = quaternion_sum3_3 / quaternion_sum_norm
     actuated = casadi.SX.zeros(6)
     actuated[0] = l1
     actuated[1] = l2
@@ -1839,7 +1812,7 @@ def inverse_pose() -> casadi.Function:
 def inverse_pose_patterns() -> casadi.Function:
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 708.
+    Operations: 485.
     """
     pose = casadi.SX.sym("pose", 12)
     params = casadi.SX.sym("params", 36)
@@ -1924,240 +1897,181 @@ def inverse_pose_patterns() -> casadi.Function:
     x = px
     y = py
     z = pz
-    _t0 = r12 - r21
+    _t0 = r23 - r32
     _t1 = -_t0
-    _t2 = r13 - r31
-    _t3 = r23 + r32
-    _t4 = r13 + r31
-    _t5 = r12 + r21
-    _t6 = _t2 * _t5
-    _t7 = r23 - r32
-    _t8 = -_t7
-    _t9 = r11 + 1
-    _t10 = _t9 + r22 + r33
-    _t11 = -r22
-    _t12 = -r33
-    _t13 = _t11 + _t12 + _t9
-    _t14 = _t0 * _t4 + _t10 * _t7 + _t13 * _t7 - _t6
-    _t15 = 1 - casadi.fabs(casadi.sign(_t14))
-    _t16 = _t15 + casadi.sign(_t1 * _t4 + _t10 * _t8 + _t13 * _t8 + _t6)
-    _t17 = -r12 + r21
-    _t18 = _t16 * _t4 + _t17
-    _t19 = _t10 + _t16 * _t8
-    _t20 = -r23 + r32
-    _t21 = _t13 * _t16 + _t20
-    _t22 = r11 - 1
-    _t23 = _t11 + _t22 + r33
-    _t24 = -_t23
-    _t25 = _t16 * _t5 + _t2
-    _t26 = casadi.sign(_t18 * _t3 + _t19 * _t2 + _t21 * _t5 + _t24 * _t25)
-    _t27 = _t26 - casadi.fabs(_t26) + 1
-    _t28 = _t19 + _t2 * _t27
-    _t29 = _t21 + _t27 * _t5
-    _t30 = _t24 * _t27 + _t25
-    _t31 = _t12 + _t22 + r22
-    _t32 = -_t31
-    _t33 = _t18 + _t27 * _t3
-    _t34 = _t15 - casadi.sign(_t14)
-    _t35 = _t17 + _t34 * _t4
-    _t36 = _t10 - _t34 * _t7
-    _t37 = _t2 + _t34 * _t5
-    _t38 = _t13 * _t34 + _t20
-    _t39 = casadi.sign(_t2 * _t36 - _t23 * _t37 + _t3 * _t35 + _t38 * _t5)
-    _t40 = _t39 - casadi.fabs(_t39) + 1
-    _t41 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t0 * (_t2 * _t40 + _t36)
-                - _t3 * (-_t23 * _t40 + _t37)
-                + _t31 * (_t3 * _t40 + _t35)
-                - _t4 * (_t38 + _t40 * _t5)
-            )
+    _t2 = r13 + r31
+    _t3 = r12 - r21
+    _t4 = (r12 + r21) * (r13 - r31)
+    _t5 = r11 + 1
+    _t6 = _t5 + r22 + r33
+    _t7 = _t5 - r22 - r33
+    quaternion_sum1_0 = (
+        _t1
+        * (
+            -casadi.fabs(casadi.sign(_t0 * _t6 + _t0 * _t7 + _t2 * _t3 - _t4))
+            + casadi.sign(_t1 * _t6 + _t1 * _t7 - _t2 * _t3 + _t4)
+            + 1
         )
-        + casadi.sign(_t1 * _t28 + _t29 * _t4 + _t3 * _t30 + _t32 * _t33)
-        + 1
+        + _t6
     )
-    _t42 = _t1 * _t41 + _t28
-    q0 = _t42 / casadi.sqrt(
-        _t42**2 + (_t29 + _t4 * _t41) ** 2 + (_t3 * _t41 + _t30) ** 2 + (_t32 * _t41 + _t33) ** 2
-    )
-    _t43 = r13 + r31
-    _t44 = r12 - r21
-    _t45 = -_t44
-    _t46 = r13 - r31
-    _t47 = r23 + r32
-    _t48 = r12 + r21
-    _t49 = _t46 * _t48
-    _t50 = r23 - r32
-    _t51 = -_t50
-    _t52 = r11 + 1
-    _t53 = _t52 + r22 + r33
-    _t54 = -r22
-    _t55 = -r33
-    _t56 = _t52 + _t54 + _t55
-    _t57 = _t43 * _t44 - _t49 + _t50 * _t53 + _t50 * _t56
-    _t58 = 1 - casadi.fabs(casadi.sign(_t57))
-    _t59 = _t58 + casadi.sign(_t43 * _t45 + _t49 + _t51 * _t53 + _t51 * _t56)
-    _t60 = -r12 + r21
-    _t61 = _t43 * _t59 + _t60
-    _t62 = _t51 * _t59 + _t53
-    _t63 = -r23 + r32
-    _t64 = _t56 * _t59 + _t63
-    _t65 = r11 - 1
-    _t66 = _t54 + _t65 + r33
-    _t67 = -_t66
-    _t68 = _t46 + _t48 * _t59
-    _t69 = casadi.sign(_t46 * _t62 + _t47 * _t61 + _t48 * _t64 + _t67 * _t68)
-    _t70 = _t69 - casadi.fabs(_t69) + 1
-    _t71 = _t46 * _t70 + _t62
-    _t72 = _t48 * _t70 + _t64
-    _t73 = _t67 * _t70 + _t68
-    _t74 = _t55 + _t65 + r22
-    _t75 = -_t74
-    _t76 = _t47 * _t70 + _t61
-    _t77 = _t58 - casadi.sign(_t57)
-    _t78 = _t43 * _t77 + _t60
-    _t79 = -_t50 * _t77 + _t53
-    _t80 = _t46 + _t48 * _t77
-    _t81 = _t56 * _t77 + _t63
-    _t82 = casadi.sign(_t46 * _t79 + _t47 * _t78 + _t48 * _t81 - _t66 * _t80)
-    _t83 = _t82 - casadi.fabs(_t82) + 1
-    _t84 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t43 * (_t48 * _t83 + _t81)
-                - _t44 * (_t46 * _t83 + _t79)
-                - _t47 * (_t66 * _t83 - _t80)
-                - _t74 * (_t47 * _t83 + _t78)
-            )
+    _t8 = r11 + 1
+    _t9 = _t8 - r22 - r33
+    _t10 = r13 + r31
+    _t11 = r12 - r21
+    _t12 = (r12 + r21) * (r13 - r31)
+    _t13 = r23 - r32
+    _t14 = -_t13
+    _t15 = _t8 + r22 + r33
+    quaternion_sum1_1 = (
+        _t9
+        * (
+            -casadi.fabs(casadi.sign(_t10 * _t11 - _t12 + _t13 * _t15 + _t13 * _t9))
+            + casadi.sign(-_t10 * _t11 + _t12 + _t14 * _t15 + _t14 * _t9)
+            + 1
         )
-        + casadi.sign(_t43 * _t72 + _t45 * _t71 + _t47 * _t73 + _t75 * _t76)
-        + 1
+        - r23
+        + r32
     )
-    _t85 = _t43 * _t84 + _t72
-    q1 = _t85 / casadi.sqrt(
-        _t85**2 + (_t45 * _t84 + _t71) ** 2 + (_t47 * _t84 + _t73) ** 2 + (_t75 * _t84 + _t76) ** 2
-    )
-    _t86 = r23 + r32
-    _t87 = r12 - r21
-    _t88 = -_t87
-    _t89 = r13 - r31
-    _t90 = r13 + r31
-    _t91 = r12 + r21
-    _t92 = _t89 * _t91
-    _t93 = r23 - r32
-    _t94 = -_t93
-    _t95 = r11 + 1
-    _t96 = _t95 + r22 + r33
-    _t97 = -r22
-    _t98 = -r33
-    _t99 = _t95 + _t97 + _t98
-    _t100 = _t87 * _t90 - _t92 + _t93 * _t96 + _t93 * _t99
-    _t101 = 1 - casadi.fabs(casadi.sign(_t100))
-    _t102 = _t101 + casadi.sign(_t88 * _t90 + _t92 + _t94 * _t96 + _t94 * _t99)
-    _t103 = -r12 + r21
-    _t104 = _t102 * _t90 + _t103
-    _t105 = _t102 * _t94 + _t96
-    _t106 = -r23 + r32
-    _t107 = _t102 * _t99 + _t106
-    _t108 = r11 - 1
-    _t109 = _t108 + _t97 + r33
-    _t110 = -_t109
-    _t111 = _t102 * _t91 + _t89
-    _t112 = casadi.sign(_t104 * _t86 + _t105 * _t89 + _t107 * _t91 + _t110 * _t111)
-    _t113 = _t112 - casadi.fabs(_t112) + 1
-    _t114 = _t105 + _t113 * _t89
-    _t115 = _t107 + _t113 * _t91
-    _t116 = _t110 * _t113 + _t111
-    _t117 = _t108 + _t98 + r22
-    _t118 = -_t117
-    _t119 = _t104 + _t113 * _t86
-    _t120 = _t101 - casadi.sign(_t100)
-    _t121 = _t103 + _t120 * _t90
-    _t122 = -_t120 * _t93 + _t96
-    _t123 = _t120 * _t91 + _t89
-    _t124 = _t106 + _t120 * _t99
-    _t125 = casadi.sign(-_t109 * _t123 + _t121 * _t86 + _t122 * _t89 + _t124 * _t91)
-    _t126 = _t125 - casadi.fabs(_t125) + 1
-    _t127 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t117 * (_t121 + _t126 * _t86)
-                - _t86 * (-_t109 * _t126 + _t123)
-                + _t87 * (_t122 + _t126 * _t89)
-                - _t90 * (_t124 + _t126 * _t91)
-            )
+    _t16 = r12 + r21
+    _t17 = r13 + r31
+    _t18 = r12 - r21
+    _t19 = r13 - r31
+    _t20 = _t16 * _t19
+    _t21 = r23 - r32
+    _t22 = -_t21
+    _t23 = r11 + 1
+    _t24 = _t23 + r22 + r33
+    _t25 = _t23 - r22 - r33
+    quaternion_sum1_2 = (
+        _t16
+        * (
+            -casadi.fabs(casadi.sign(_t17 * _t18 - _t20 + _t21 * _t24 + _t21 * _t25))
+            + casadi.sign(-_t17 * _t18 + _t20 + _t22 * _t24 + _t22 * _t25)
+            + 1
         )
-        + casadi.sign(_t114 * _t88 + _t115 * _t90 + _t116 * _t86 + _t118 * _t119)
-        + 1
+        + _t19
     )
-    _t128 = _t116 + _t127 * _t86
-    q2 = _t128 / casadi.sqrt(
-        _t128**2
-        + (_t114 + _t127 * _t88) ** 2
-        + (_t115 + _t127 * _t90) ** 2
-        + (_t118 * _t127 + _t119) ** 2
-    )
-    _t129 = -r33
-    _t130 = r11 - 1
-    _t131 = _t129 + _t130 + r22
-    _t132 = -_t131
-    _t133 = r12 - r21
-    _t134 = -_t133
-    _t135 = r13 - r31
-    _t136 = r23 + r32
-    _t137 = r13 + r31
-    _t138 = r12 + r21
-    _t139 = _t135 * _t138
-    _t140 = r23 - r32
-    _t141 = -_t140
-    _t142 = r11 + 1
-    _t143 = _t142 + r22 + r33
-    _t144 = -r22
-    _t145 = _t129 + _t142 + _t144
-    _t146 = _t133 * _t137 - _t139 + _t140 * _t143 + _t140 * _t145
-    _t147 = 1 - casadi.fabs(casadi.sign(_t146))
-    _t148 = _t147 + casadi.sign(_t134 * _t137 + _t139 + _t141 * _t143 + _t141 * _t145)
-    _t149 = -r12 + r21
-    _t150 = _t137 * _t148 + _t149
-    _t151 = _t141 * _t148 + _t143
-    _t152 = -r23 + r32
-    _t153 = _t145 * _t148 + _t152
-    _t154 = _t130 + _t144 + r33
-    _t155 = -_t154
-    _t156 = _t135 + _t138 * _t148
-    _t157 = casadi.sign(_t135 * _t151 + _t136 * _t150 + _t138 * _t153 + _t155 * _t156)
-    _t158 = _t157 - casadi.fabs(_t157) + 1
-    _t159 = _t135 * _t158 + _t151
-    _t160 = _t138 * _t158 + _t153
-    _t161 = _t155 * _t158 + _t156
-    _t162 = _t136 * _t158 + _t150
-    _t163 = _t147 - casadi.sign(_t146)
-    _t164 = _t137 * _t163 + _t149
-    _t165 = -_t140 * _t163 + _t143
-    _t166 = _t135 + _t138 * _t163
-    _t167 = _t145 * _t163 + _t152
-    _t168 = casadi.sign(_t135 * _t165 + _t136 * _t164 + _t138 * _t167 - _t154 * _t166)
-    _t169 = _t168 - casadi.fabs(_t168) + 1
-    _t170 = (
-        -casadi.fabs(
-            casadi.sign(
-                _t131 * (_t136 * _t169 + _t164)
-                + _t133 * (_t135 * _t169 + _t165)
-                - _t136 * (-_t154 * _t169 + _t166)
-                - _t137 * (_t138 * _t169 + _t167)
-            )
+    _t26 = r13 + r31
+    _t27 = r12 - r21
+    _t28 = (r12 + r21) * (r13 - r31)
+    _t29 = r23 - r32
+    _t30 = -_t29
+    _t31 = r11 + 1
+    _t32 = _t31 + r22 + r33
+    _t33 = _t31 - r22 - r33
+    quaternion_sum1_3 = (
+        _t26
+        * (
+            -casadi.fabs(casadi.sign(_t26 * _t27 - _t28 + _t29 * _t32 + _t29 * _t33))
+            + casadi.sign(-_t26 * _t27 + _t28 + _t30 * _t32 + _t30 * _t33)
+            + 1
         )
-        + casadi.sign(_t132 * _t162 + _t134 * _t159 + _t136 * _t161 + _t137 * _t160)
-        + 1
+        - r12
+        + r21
     )
-    _t171 = _t132 * _t170 + _t162
-    q3 = _t171 / casadi.sqrt(
-        _t171**2
-        + (_t134 * _t170 + _t159) ** 2
-        + (_t136 * _t170 + _t161) ** 2
-        + (_t137 * _t170 + _t160) ** 2
+    _t34 = r13 - r31
+    _t35 = casadi.sign(
+        _t34 * quaternion_sum1_0
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
     )
+    quaternion_sum2_0 = _t34 * (_t35 - casadi.fabs(_t35) + 1) + quaternion_sum1_0
+    _t36 = r12 + r21
+    _t37 = casadi.sign(
+        _t36 * quaternion_sum1_1
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_1 = _t36 * (_t37 - casadi.fabs(_t37) + 1) + quaternion_sum1_1
+    _t38 = -r11 + r22 - r33 + 1
+    _t39 = casadi.sign(
+        _t38 * quaternion_sum1_2
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_2 = _t38 * (_t39 - casadi.fabs(_t39) + 1) + quaternion_sum1_2
+    _t40 = r23 + r32
+    _t41 = casadi.sign(
+        _t40 * quaternion_sum1_3
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+    )
+    quaternion_sum2_3 = _t40 * (_t41 - casadi.fabs(_t41) + 1) + quaternion_sum1_3
+    _t42 = r12 - r21
+    _t43 = -_t42
+    _t44 = quaternion_sum2_1 * (r13 + r31)
+    _t45 = quaternion_sum2_2 * (r23 + r32)
+    _t46 = r11 + r22 - r33 - 1
+    quaternion_sum3_0 = (
+        _t43
+        * (
+            -casadi.fabs(
+                casadi.sign(_t42 * quaternion_sum2_0 - _t44 - _t45 + _t46 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t43 * quaternion_sum2_0 + _t44 + _t45 - _t46 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_0
+    )
+    _t47 = r13 + r31
+    _t48 = _t47 * quaternion_sum2_1
+    _t49 = quaternion_sum2_2 * (r23 + r32)
+    _t50 = r12 - r21
+    _t51 = r11 + r22 - r33 - 1
+    quaternion_sum3_1 = (
+        _t47
+        * (
+            -casadi.fabs(
+                casadi.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_1
+    )
+    _t52 = r23 + r32
+    _t53 = quaternion_sum2_1 * (r13 + r31)
+    _t54 = _t52 * quaternion_sum2_2
+    _t55 = r12 - r21
+    _t56 = r11 + r22 - r33 - 1
+    quaternion_sum3_2 = (
+        _t52
+        * (
+            -casadi.fabs(
+                casadi.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+            )
+            + casadi.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+            + 1
+        )
+        + quaternion_sum2_2
+    )
+    _t57 = r11 + r22 - r33 - 1
+    _t58 = -_t57
+    _t59 = quaternion_sum2_1 * (r13 + r31)
+    _t60 = quaternion_sum2_2 * (r23 + r32)
+    _t61 = r12 - r21
+    quaternion_sum3_3 = (
+        _t58
+        * (
+            -casadi.fabs(
+                casadi.sign(_t57 * quaternion_sum2_3 - _t59 - _t60 + _t61 * quaternion_sum2_0)
+            )
+            + casadi.sign(_t58 * quaternion_sum2_3 + _t59 + _t60 - _t61 * quaternion_sum2_0)
+            + 1
+        )
+        + quaternion_sum2_3
+    )
+    quaternion_sum_norm = casadi.sqrt(
+        quaternion_sum3_0**2 + quaternion_sum3_1**2 + quaternion_sum3_2**2 + quaternion_sum3_3**2
+    )
+    q0 = quaternion_sum3_0 / quaternion_sum_norm
+    q1 = quaternion_sum3_1 / quaternion_sum_norm
+    q2 = quaternion_sum3_2 / quaternion_sum_norm
+    q3 = quaternion_sum3_3 / quaternion_sum_norm
     actuated = casadi.SX.zeros(6)
     actuated[0] = l1
     actuated[1] = l2

@@ -5,10 +5,10 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
-//   singularity_factors: 590
+//   singularity_factors: 689
 //   drawing: 155
-//   inverse_pose: 708
-//   inverse_pose_patterns: 708
+//   inverse_pose: 485
+//   inverse_pose_patterns: 485
 //   homotopy_family: 0
 //   homotopy_monomials: 1423
 //   homotopy_passive: 45
@@ -131,7 +131,7 @@ int stewart_singularity_factors_batch(long long n, const double** inputs, const 
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[79 + 1];
+    casadi_real w[74 + 1];
     casadi_real out_factors[7 + 1];
     casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -179,7 +179,7 @@ int stewart_inverse_pose_batch(long long n, const double** inputs, const long lo
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[37 + 1];
+    casadi_real w[31 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[7 + 1];
     casadi_real out_validity[6 + 1];
@@ -208,7 +208,7 @@ int stewart_inverse_pose_patterns_batch(long long n, const double** inputs, cons
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[37 + 1];
+    casadi_real w[31 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[7 + 1];
     casadi_real out_validity[6 + 1];

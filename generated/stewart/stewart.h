@@ -5,10 +5,10 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
-//   singularity_factors: 590
+//   singularity_factors: 689
 //   drawing: 155
-//   inverse_pose: 708
-//   inverse_pose_patterns: 708
+//   inverse_pose: 485
+//   inverse_pose_patterns: 485
 //   homotopy_family: 0
 //   homotopy_monomials: 1423
 //   homotopy_passive: 45
