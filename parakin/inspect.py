@@ -64,13 +64,36 @@ def _sections(manifest: Any, objects: dict[str, Any]) -> list[tuple[str, str]]:
     return [(title, key) for title, key in sections if key in objects]
 
 
+#: expressions of more operations than this print with their repeated subexpressions named
+SHARE_ABOVE = 400
+
+
 def _text(sympy: Any, expr: Any, width: int, lines: int, name: str) -> str:
-    if sympy.count_ops(expr) < 40:
+    operations = sympy.count_ops(expr)
+    if operations < 40:
         return str(sympy.pretty(expr, num_columns=width))
     rows = [expr] if not isinstance(expr, sympy.MatrixBase) else list(expr)
+    shared: list[tuple[Any, Any]] = []
+    if operations > SHARE_ABOVE:
+        # a repeated subtree printed once, by name (shared_k, defined below): a 6 x 6 determinant
+        # written by Laplace expansion repeats its minors; printing it whole took seconds
+        from sympy.simplify.cse_main import tree_cse
+
+        taken = {str(symbol) for symbol in expr.free_symbols}
+        prefix = next(p for p in ("shared_", "shared__", "shared___") if not any(t.startswith(p) for t in taken))
+        shared, rows = tree_cse(rows, sympy.numbered_symbols(prefix), opt_subs={}, order="none")
+    out = _wrapped([(f"[{k}] " if len(rows) > 1 else "", row) for k, row in enumerate(rows)], width, lines, name)
+    if shared:
+        shown = shared[: 2 * lines]
+        out += ["  where"] + _wrapped([(f"  {symbol} = ", value) for symbol, value in shown], width, lines, name)
+        if len(shared) > len(shown):
+            out.append(f"  ... {len(shared) - len(shown)} more (full: parakin inspect {name} --format latex|json)")
+    return "\n".join(out)
+
+
+def _wrapped(rows: list[tuple[str, Any]], width: int, lines: int, name: str) -> list[str]:
     out: list[str] = []
-    for index, row in enumerate(rows):
-        label = f"[{index}] " if len(rows) > 1 else ""
+    for label, row in rows:
         wrapped = textwrap.wrap(label + str(row), width=width, break_long_words=True, subsequent_indent="    ")
         if len(wrapped) > lines:
             hidden = len(wrapped) - lines
@@ -78,7 +101,7 @@ def _text(sympy: Any, expr: Any, width: int, lines: int, name: str) -> str:
                 f"    ... {hidden} more lines (full: parakin inspect {name} --format latex|json)"
             ]
         out.extend(wrapped)
-    return "\n".join(out)
+    return out
 
 
 def inspect(name: str | os.PathLike[str], fmt: str = "text", width: int = 100, lines: int = 12) -> str:

@@ -235,3 +235,26 @@ def test_sweep_fixed_passes_actuated_inputs_through(tmp_path):
     assert not np.array_equal(fixed, default, equal_nan=True)
     refused = run(*command, "--fixed", "theta1=0.1,0.2")
     assert refused.returncode == 2 and "one number" in refused.stderr
+
+
+def test_inspect_prints_a_large_expression_with_its_repeated_parts_named_and_defined():
+    """A large expression prints its repeated subtrees once, by name, each defined below it:
+    read back, the rows with the definitions substituted are the expression itself."""
+    import sympy as sp
+
+    from parakin.inspect import SHARE_ABOVE, _text
+
+    x, y = sp.symbols("x y")
+    inner = sum((x + k * y) ** k * sp.sin(k * x) for k in range(1, 40))
+    expr = sp.Matrix([inner * x + 1, inner * y])
+    assert sp.count_ops(expr) > SHARE_ABOVE
+    text = _text(sp, expr, 10**6, 10**6, "demo")
+    rows, definitions = text.split("\n  where\n")
+    values = [sp.sympify(line.split("] ", 1)[1]) for line in rows.splitlines()]
+    named = [line.strip().split(" = ", 1) for line in definitions.splitlines()]
+    assert named and all(name.startswith("shared_") for name, _ in named)
+    substitutions = {}
+    for name, value in named:
+        substitutions[sp.Symbol(name)] = sp.sympify(value).xreplace(substitutions)
+    assert [v.xreplace(substitutions) for v in values] == list(expr)
+    assert len(text) < len(str(expr))  # the repeated sum is printed once
