@@ -272,7 +272,7 @@ class DistanceMechanism:
         (a column operation: the same determinant in smaller expressions)."""
         elbows = [leg.elbow() for leg in self.legs]
         q = self.motion.dimensionless
-        if self.motion.kind == "transform" and self.motion.rotation == quaternion_rotation(q):
+        if self.motion.kind == "transform" and len(q) == 4 and self.motion.rotation == quaternion_rotation(q):
             # rows (d_i ; (E_i - p) x d_i) times n = q . q, less [p]x times the first three
             # columns: (R_u c_i + n (p - E_i) ; E_i x (R_u c_i + n p)), polynomial in q, and
             # det A = det P / n^6 by Laplace's expansion in 3 x 3 blocks (600 entry occurrences
@@ -285,7 +285,8 @@ class DistanceMechanism:
             return {self.parallel_name: block_laplace_det(sp.Matrix(rows)) / norm**6}
         spatial = len(POSE_KINDS[self.motion.kind].rotation_axes) == 3
         origin = self.motion.position if spatial else elbows[0]
-        return {self.parallel_name: laplace_det(self._rows(elbows, origin))}
+        rows = self._rows(elbows, origin)
+        return {self.parallel_name: block_laplace_det(rows) if rows.cols == 6 else laplace_det(rows)}
 
     def inverse(self) -> InverseSolution:
         """Each leg in closed form and the platform's coordinates read from the pose (the

@@ -15,6 +15,10 @@ Frames and conventions (paper section 2; SI, radians):
   singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
   platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
 * Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
+  The legs are S-P-S joint chains (``parakin.generator.joints``): rates, factors, inverse and
+  drawing are derived; the closure is kept in this form (not the language's squared one)
+  because the polynomial family it gives has its root count (32) proven by the trace test,
+  which the squared form's family does not reach at generation.
 * Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
   d_i), d_i = B_i - A_i (moment about the origin of {P}, since the twist is (v of O_P, w) in {B}),
   and B = diag(l_i). det A = prod(l_i) det J, J the unit-line Pluecker matrix (rows s_i, moments
@@ -49,19 +53,17 @@ Frames and conventions (paper section 2; SI, radians):
 from __future__ import annotations
 
 import sympy as sp
+from parakin.generator import joints
 from parakin.generator.frames import euler_zyx_rotation, homogeneous
 from parakin.generator.model import (
     POSE_POSITION,
     POSE_ROTATION,
     Citation,
     ClosureModel,
-    Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
     ParameterInfo,
-    RateModel,
 )
 
 XA = sp.symbols("xA2:7", real=True)
@@ -138,49 +140,37 @@ def conic_matrix() -> sp.Matrix:
     return sp.Matrix([[1, px, py, px**2, py**2, px * py] for px, py in points])
 
 
-def _determinant(matrix: sp.Matrix) -> sp.Expr:
-    """det of a 6x6 matrix by the generalised Laplace expansion over its first three columns:
-    20 products of 3x3 minors, compact enough to emit without expansion."""
-    import itertools
-
-    total = sp.Integer(0)
-    rows = range(matrix.rows)
-    for chosen in itertools.combinations(rows, 3):
-        rest = [r for r in rows if r not in chosen]
-        sign = (-1) ** (sum(chosen) + 0 + 1 + 2)
-        total += sign * _det3(matrix.extract(list(chosen), [0, 1, 2])) * _det3(matrix.extract(rest, [3, 4, 5]))
-    return total
-
-
-def _det3(m: sp.Matrix) -> sp.Expr:
-    """3x3 determinant as written (no simplification)."""
-    return (
-        m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1])
-        - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
-        + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0])
-    )
-
-
 def leg_vectors(rotation: sp.Matrix, position: sp.Matrix) -> list[sp.Matrix]:
     """d_i = B_i - A_i = p + R B_i^(P) - A_i."""
     return [position + rotation * b - a for a, b in zip(base_points(), platform_points(), strict=True)]
 
 
-def inverse() -> InverseSolution:
-    """l_i = |p + R B_i^(P) - A_i|; the passive pose coordinates read off ^B_P T."""
-    steps: list[tuple[sp.Symbol, sp.Expr]] = []
-    for k, d in enumerate(leg_vectors(POSE_ROTATION, POSE_POSITION)):
-        steps.append((lengths[k], sp.sqrt(d.dot(d))))
-    r = POSE_ROTATION
-    steps += [
+#: the platform's coordinates: the position and Z-Y-X Euler angles read off ^B_P T
+MOTION = joints.Platform(
+    "transform",
+    (x, y, z, alpha, beta, gamma),
+    euler_zyx_rotation(alpha, beta, gamma),
+    sp.Matrix([x, y, z]),
+    read=(
         (x, POSE_POSITION[0]),
         (y, POSE_POSITION[1]),
         (z, POSE_POSITION[2]),
-        (alpha, sp.atan2(r[1, 0], r[0, 0])),
-        (beta, sp.atan2(-r[2, 0], sp.sqrt(r[0, 0] ** 2 + r[1, 0] ** 2))),
-        (gamma, sp.atan2(r[2, 1], r[2, 2])),
-    ]
-    return InverseSolution(steps, [], {f"leg{k + 1}_length": lengths[k] for k in range(6)})
+        (alpha, sp.atan2(POSE_ROTATION[1, 0], POSE_ROTATION[0, 0])),
+        (beta, sp.atan2(-POSE_ROTATION[2, 0], sp.sqrt(POSE_ROTATION[0, 0] ** 2 + POSE_ROTATION[1, 0] ** 2))),
+        (gamma, sp.atan2(POSE_ROTATION[2, 1], POSE_ROTATION[2, 2])),
+    ),
+    pose=(POSE_ROTATION, POSE_POSITION),
+    angular=(alpha, beta, gamma),
+)
+#: the model: six S-P-S legs from A_i to B_i^(P); closure, rates, the singularity factor, the
+#: inverse and the drawing are derived from it (the forward elimination below is the paper's)
+MODEL = joints.DistanceMechanism(
+    MOTION,
+    [
+        joints.prismatic_leg(a, b, lengths[k])
+        for k, (a, b) in enumerate(zip(base_points(), platform_points(), strict=True))
+    ],
+)
 
 
 def forward() -> ForwardElimination:
@@ -248,28 +238,10 @@ def forward() -> ForwardElimination:
 
 
 def closure() -> ClosureModel:
-    rotation = euler_zyx_rotation(alpha, beta, gamma)
-    position = sp.Matrix([x, y, z])
+    """|p + R B_i^(P) - A_i| - l_i, one row per leg (module docstring: why not the squared form)."""
+    rotation, position = MOTION.rotation, MOTION.position
     residual = sp.Matrix([sp.sqrt(d.dot(d)) - lengths[k] for k, d in enumerate(leg_vectors(rotation, position))])
     return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), homogeneous(rotation, position))
-
-
-def rate_matrix() -> sp.Matrix:
-    """A: rows (d_i ; (A_i - p) x d_i), the Pluecker coordinates of leg line i (unnormalised)."""
-    rotation = euler_zyx_rotation(alpha, beta, gamma)
-    position = sp.Matrix([x, y, z])
-    rows = []
-    for a, d in zip(base_points(), leg_vectors(rotation, position), strict=True):
-        rows.append(sp.Matrix.hstack(d.T, ((a - position).cross(d)).T))
-    return sp.Matrix.vstack(*rows)
-
-
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """l_i l_dot_i = d_i . (v + w x (B_i - p)) = d_i . v + ((A_i - p) x d_i) . w."""
-    a = rate_matrix()
-    serial = {f"leg{k + 1}_length": lengths[k] for k in range(6)}
-    model = RateModel(twist=["vx", "vy", "vz", "wx", "wy", "wz"], a=a, b=sp.diag(*lengths), serial_factors=serial)
-    return model, {"leg_lines_dependent": _determinant(a)}
 
 
 def defaults() -> dict[sp.Symbol, float]:
@@ -320,23 +292,6 @@ def examples() -> list[Example]:
     ]
 
 
-def drawing() -> Drawing:
-    """Base joints A_i, platform joints B_i = p + R B_i^(P) in {B}; the base and platform
-    hexagons A1..A6 and B1..B6 (in the order of the points, around the base) and
-    the legs A_i -> B_i."""
-    rotation = euler_zyx_rotation(alpha, beta, gamma)
-    position = sp.Matrix([x, y, z])
-    platform = [position + rotation * b for b in platform_points()]
-    return Drawing(
-        points={"base": sp.Matrix.hstack(*base_points()), "platform": sp.Matrix.hstack(*platform)},
-        polylines={
-            "base": [("base", i % 6) for i in range(7)],
-            "platform": [("platform", i % 6) for i in range(7)],
-            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(6)},
-        },
-    )
-
-
 def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
     """Section 5.4 prints the base without a unit: read as metres (module docstring)."""
     info = {}
@@ -350,7 +305,6 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
     return Mechanism(
         name="gough",
         title="6-SPS platform with linearly related planar platforms (Kong & Gosselin)",
@@ -361,25 +315,16 @@ def build() -> Mechanism:
             "Electronic Journal of Computational Kinematics",
         ),
         parameters=defaults(),
-        actuated=list(lengths),
-        passive=[x, y, z, alpha, beta, gamma],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields() | {"closure": closure()},
         forward=forward(),
         home=home(),
-        angular=[alpha, beta, gamma],
         limits={length: (0.0, float("inf")) for length in lengths},  # leg lengths
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="transform",
         architecture=architecture(),
         # a normalised measure (|.| <= 1): below this the base lies on a conic (load warns)
         architecture_tolerance=1e-9,
         parameter_info=parameter_info(),
         parameter_groups={"base": sp.Matrix([[XA[k], YA[k]] for k in range(5)])},
         examples=examples(),
-        drawing=drawing(),
     )
 
 

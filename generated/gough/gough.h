@@ -5,7 +5,7 @@
 //   loop_closure: 394
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
-//   singularity_factors: 433
+//   singularity_factors: 442
 //   architecture: 455
 //   drawing: 95
 //   inverse_pose: 141
@@ -36,6 +36,10 @@
 //   singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
 //   platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
 // * Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
+//   The legs are S-P-S joint chains (``parakin.generator.joints``): rates, factors, inverse and
+//   drawing are derived; the closure is kept in this form (not the language's squared one)
+//   because the polynomial family it gives has its root count (32) proven by the trace test,
+//   which the squared form's family does not reach at generation.
 // * Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
 //   d_i), d_i = B_i - A_i (moment about the origin of {P}, since the twist is (v of O_P, w) in {B}),
 //   and B = diag(l_i). det A = prod(l_i) det J, J the unit-line Pluecker matrix (rows s_i, moments
