@@ -29,7 +29,8 @@ def main(argv: list[str] | None = None) -> int:
     kept = [name for name, stats in report.items() if stats.get("up_to_date")]
     for name, stats in report.items():
         if not stats.get("up_to_date"):
-            print(f"generated {name} in {stats['seconds']:.2f} s")
+            stages = ", ".join(f"{stage} {seconds:.1f} s" for stage, seconds in stats.get("stages", {}).items())
+            print(f"generated {name} in {stats['seconds']:.2f} s" + (f" ({stages})" if stages else ""))
     if kept:
         print(f"up to date (kept): {', '.join(kept)}")
     return 0

@@ -16,6 +16,7 @@ destination that holds other files is refused (``generate_file`` can write next 
 from __future__ import annotations
 
 import ast
+import contextlib
 import ctypes
 import errno
 import functools
@@ -29,7 +30,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from types import ModuleType, TracebackType
@@ -184,11 +185,16 @@ def generate_package(path: Path, package: Path, name: str | None = None) -> dict
 def _write_package(
     path: Path, package: Path, mechanism: Mechanism, module: ModuleType, started: float
 ) -> dict[str, Any]:
-    derivation = derive(mechanism)
-    lowered = [program.lower() for program in derivation.programs]
-    casadi_source = emit.render_casadi(mechanism.name, lowered)
-    c_source, h_source, sizes = _c_sources(mechanism.name, casadi_source, lowered)
-    manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
+    stages: dict[str, float] = {}
+    progress = _Progress(mechanism.name, stages)
+    with progress("derive", "deriving: closure, rates, factors, inverse, polynomial form and start systems"):
+        derivation = derive(mechanism)
+    with progress("lower", f"lowering {len(derivation.programs)} programs"):
+        lowered = [program.lower() for program in derivation.programs]
+    with progress("emit", "emitting CasADi, C and NumPy"):
+        casadi_source = emit.render_casadi(mechanism.name, lowered)
+        c_source, h_source, sizes = _c_sources(mechanism.name, casadi_source, lowered)
+        manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
     package.mkdir(parents=True, exist_ok=True)
     header = emit.banner(mechanism.name, "casadi.CodeGenerator", lowered, "//")
     files = {
@@ -210,7 +216,22 @@ def _write_package(
         )
     for filename, text in files.items():
         (package / filename).write_text(text)
-    return {"seconds": time.perf_counter() - started}
+    return {"seconds": time.perf_counter() - started, "stages": stages}
+
+
+class _Progress:
+    """One line on stderr as each stage of a mechanism's build starts (a build in another process
+    prints its own), and the stage's seconds into ``stages``."""
+
+    def __init__(self, name: str, stages: dict[str, float]) -> None:
+        self.name, self.stages = name, stages
+
+    @contextlib.contextmanager
+    def __call__(self, stage: str, what: str) -> Iterator[None]:
+        print(f"parakin generator: {self.name}: {what}", file=sys.stderr, flush=True)
+        began = time.perf_counter()
+        yield
+        self.stages[stage] = time.perf_counter() - began
 
 
 def _format(directory: Path) -> None:
