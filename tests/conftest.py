@@ -37,6 +37,10 @@ def pytest_collection_modifyitems(config, items):
         f"{HEAVY_PATHS} paths, in NumPy orchestration off the compiled backend and in the second run its "
         "certificate asks for; its own test file runs every time, the generic cases with --run-slow"
     )
+    orchestrated = pytest.mark.skip(
+        reason=f"slow: the all-modes solver of {', '.join(sorted(_heavy_families(32) - _heavy_families()))} "
+        "tracks more than 32 paths, orchestrated in NumPy on this backend; the compiled case runs every time"
+    )
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)
@@ -45,6 +49,8 @@ def pytest_collection_modifyitems(config, items):
         name = params.get("name")
         if isinstance(name, str) and name in _heavy_families():
             item.add_marker(heavy)
+        elif isinstance(name, str) and params.get("backend") in ("numpy", "casadi") and name in _heavy_families(32):
+            item.add_marker(orchestrated)
 
 
 #: a mechanism whose default all-modes homotopy has more paths than this is checked by the generic
@@ -53,11 +59,12 @@ HEAVY_PATHS = 40
 
 
 @functools.cache
-def _heavy_families() -> frozenset[str]:
+def _heavy_families(paths: int = HEAVY_PATHS) -> frozenset[str]:
+    """The mechanisms whose default all-modes homotopy tracks more than ``paths`` paths."""
     heavy = set()
     for name in parakin.available():
         forward = parakin.load(name, backend="numpy").capabilities.forward
-        if forward is not None and forward.homotopy is not None and forward.homotopy.start.shape[0] > HEAVY_PATHS:
+        if forward is not None and forward.homotopy is not None and forward.homotopy.start.shape[0] > paths:
             heavy.add(name)
     return frozenset(heavy)
 

@@ -315,3 +315,21 @@ def test_the_polynomial_form_keeps_exact_constants_and_clears_roots_and_quotient
     assert "sqrt(3)" in text and "sqrt(" not in text.replace("sqrt(3)", "")
     for equation in form.equations:
         sympy.Poly(equation, *form.unknowns)  # polynomial in the unknowns
+
+
+def test_certificates_in_chunks_equal_one_pass(monkeypatch) -> None:
+    """Certification runs in chunks of inputs (bounded memory: 10^4 inputs at once ran out of
+    memory): chunks of 2 give exactly the counts and per-path verdicts of one pass."""
+    from parakin import modes as modes_module
+
+    m = parakin.load("planar_3rpr", backend="numpy")
+    info = m.capabilities.forward_methods["automatic"]
+    state = _inputs(m, 7, seed=12)
+    out = modes_module.numpy_modes(m, state.actuated, info)
+    whole = modes_module.certify(m, info, state.actuated, out["endpoints"])
+    monkeypatch.setattr(modes_module, "CERTIFY_CHUNK", 2)
+    chunked = modes_module.certify(m, info, state.actuated, out["endpoints"])
+    assert state.actuated.shape[0] >= 5
+    np.testing.assert_array_equal(whole[0], chunked[0])
+    np.testing.assert_array_equal(whole[1], chunked[1])
+    assert (whole[0] == info.degree).all()

@@ -121,7 +121,15 @@ def _python_pose(pose: np.ndarray) -> np.ndarray:
     return np.concatenate([pose[..., :3, 3], pose[..., :3, 2]], axis=-1)
 
 
-@pytest.mark.parametrize("name", [n for n in parakin.available()])
+def _sanitized_slow(name: str) -> bool:
+    """More than 32 homotopy paths under AddressSanitizer and UBSan: about a minute (stewart)."""
+    forward = parakin.metadata(name).capabilities.forward
+    return forward is not None and forward.homotopy is not None and forward.degree > 32
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if _sanitized_slow(n) else n for n in parakin.available()]
+)
 def test_exported_example_program_runs(tmp_path, name):
     """Every export compiles with -Wall -Wextra -Werror under AddressSanitizer and UBSan (every
     file: kernels.c too), runs the configuration chosen at generation time, exits 0, and prints
