@@ -145,7 +145,18 @@ class Leg:
 
 def _vector(value: Sequence[sp.Expr] | sp.Matrix) -> sp.Matrix:
     v = sp.Matrix(value)
+    if v.cols != 1 or not 1 <= v.rows <= 3:
+        raise ValueError(f"a point or direction has 1 to 3 coordinates, got a {v.rows} x {v.cols} matrix")
     return sp.Matrix([v[k] if k < v.rows else 0 for k in range(3)])
+
+
+def _unit(name: str, value: sp.Matrix) -> sp.Matrix:
+    """A direction given in numbers must be a unit vector (one given by parameters is the user's
+    to keep unit: the parameters' values are not known here)."""
+    if not value.free_symbols and abs(float(value.dot(value)) - 1) > 1e-12:
+        length = float(sp.sqrt(value.dot(value)))
+        raise ValueError(f"{name} must be a unit vector, got {list(value)} of length {length:.6g}")
+    return value
 
 
 def prismatic_leg(
@@ -170,10 +181,10 @@ def crank_leg(
     about the unit ``axis`` through A from the unit direction ``zero`` (normal to the axis;
     counter-clockwise about the axis), then a link of length ``link`` to c (in {P}). Branch sign
     +1 turns the crank counter-clockwise from the line A -> C (``sign`` = -1: clockwise)."""
-    return Leg(
-        "crank", angle, _vector(base), _vector(platform_joint), link, _vector(axis), _vector(zero), crank, sign,
-        serial_name,
-    )  # fmt: skip
+    u, e0 = _unit("a crank's axis", _vector(axis)), _unit("a crank's zero direction", _vector(zero))
+    if not (u.free_symbols or e0.free_symbols) and abs(float(u.dot(e0))) > 1e-12:
+        raise ValueError(f"a crank's zero direction {list(e0)} must be normal to its axis {list(u)}")
+    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, u, e0, crank, sign, serial_name)
 
 
 def slider_leg(
@@ -188,9 +199,8 @@ def slider_leg(
     """P-S-S or P-U-S: an actuated slider at A + stroke k along the unit ``axis`` k, then a link
     of length ``link`` to c (in {P}). Branch sign +1 puts the slider behind the platform joint
     along k (the link rising along k; ``sign`` = -1: ahead of it)."""
-    return Leg(
-        "slider", stroke, _vector(base), _vector(platform_joint), link, _vector(axis), None, None, sign, serial_name
-    )
+    k = _unit("a slider's axis", _vector(axis))
+    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, k, None, None, sign, serial_name)
 
 
 SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}

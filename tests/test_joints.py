@@ -41,6 +41,21 @@ def test_six_prismatic_legs_reproduce_the_hand_derived_block():
     assert all(steps[length] == value for length, value in by_pose)
 
 
+def test_legs_refuse_directions_that_are_not_unit_or_not_normal():
+    theta = sp.Symbol("theta")
+    with pytest.raises(ValueError, match="crank's axis must be a unit vector"):
+        joints.crank_leg([0, 0, 0], [0, 0, 2], [1, 0, 0], 0.1, 0.3, [0, 0, 0], theta)
+    with pytest.raises(ValueError, match="must be normal to its axis"):
+        joints.crank_leg([0, 0, 0], [0, 0, 1], [0, 0.6, 0.8], 0.1, 0.3, [0, 0, 0], theta)
+    with pytest.raises(ValueError, match="slider's axis must be a unit vector"):
+        joints.slider_leg([0, 0, 0], [1, 1, 0], 0.3, [0, 0, 0], theta)
+    with pytest.raises(ValueError, match="1 to 3 coordinates"):
+        joints.prismatic_leg([0, 0, 0, 0], [0, 0, 0], theta)
+    # directions written with parameters are accepted as given (their values are not known here)
+    u = sp.Matrix(sp.symbols("u_x u_y u_z"))
+    assert joints.crank_leg([0, 0, 0], u, [1, 0, 0], 0.1, 0.3, [0, 0, 0], theta).axis == u
+
+
 def test_a_model_refuses_a_leg_count_that_does_not_match_its_motion():
     leg = joints.prismatic_leg([0, 0, 0], [0, 0, 0], sp.Symbol("l"))
     with pytest.raises(ValueError, match="one leg per degree of freedom"):
