@@ -56,7 +56,9 @@ class Platform:
     passive variables. ``rotation`` and ``position`` are ^B_P T in the coordinates; ``read`` the
     inverse's assignments of the coordinates from a pose; ``pose`` the rotation and position that
     the inverse uses for the platform joints (the pose symbols themselves where every entry is a
-    coordinate, the coordinates' pose where the kind reads only some: a planar pose)."""
+    coordinate, the coordinates' pose where the kind reads only some: a planar pose).
+    ``branches`` are sign symbols the reading takes (an Euler set's two triples), after the
+    legs' in the inverse's branch numbering; ``validity`` names conditions of the reading."""
 
     kind: str
     coordinates: tuple[sp.Symbol, ...]
@@ -67,6 +69,8 @@ class Platform:
     extra_residual: tuple[sp.Expr, ...] = ()
     angular: tuple[sp.Symbol, ...] = ()
     dimensionless: tuple[sp.Symbol, ...] = ()
+    branches: tuple[sp.Symbol, ...] = ()
+    validity: tuple[tuple[str, sp.Expr], ...] = ()
 
     @property
     def twist(self) -> list[str]:
@@ -227,7 +231,7 @@ class DistanceMechanism:
                 f"pose kind {self.motion.kind!r} ({', '.join(self.motion.twist)}): one leg per degree of freedom"
             )
         signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
-        self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed]
+        self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed] + list(self.motion.branches)
 
     @property
     def actuated(self) -> list[sp.Symbol]:
@@ -327,6 +331,7 @@ class DistanceMechanism:
                 # sign +1 puts the slider below the platform joint along the axis
                 steps.append((leg.joint, along - leg.sign * next(signs) * sp.sqrt(sp.Max(0, disc))))
                 validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
+        validity.update(self.motion.validity)
         read = list(self.motion.read)
         uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
         steps = read + steps if uses_coordinates else steps + read

@@ -23,6 +23,9 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
   a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i), declared as the
   mechanism's ``actuator_stiffness``; the kinematics do not use them (statics, section 4:
   ``examples/sps_section5.py``).
+* Model: three S-P-S legs (``parakin.generator.joints``) on a platform with this Euler set as
+  coordinates: rates, the singularity factor, the inverse (with validity ``leg<i>_length`` and
+  ``euler_angles_regular``) and the drawing are derived; the closure below is the paper's.
 * Loop closure: g_i = a_i^2 + b_i^2 - 2 a_i . R b_ip - d_i^2 = 0 (eq 7), square in (alpha, beta,
   gamma). Its passive Jacobian is U_omega (eq 11a) and its actuated Jacobian W = -2 diag(d) (eq
   12), so the closure's passive rates are J_omega^-1 = -U_omega^-1 W (eq 17 lacks the minus sign).
@@ -65,6 +68,7 @@ Frames and conventions (SI, radians), as in section 2 of the paper:
 from __future__ import annotations
 
 import sympy as sp
+from parakin.generator import joints
 from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
 from parakin.generator.frames import homogeneous, rot_x, rot_y
 from parakin.generator.model import (
@@ -74,10 +78,8 @@ from parakin.generator.model import (
     Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
     ParameterInfo,
-    RateModel,
 )
 
 # parameters (section 5)
@@ -130,26 +132,36 @@ def leg_equations(rotation: sp.Matrix) -> sp.Matrix:
     return sp.Matrix(rows)
 
 
-def inverse() -> InverseSolution:
-    """d_i = |a_i - R b_ip| (eq 7); the XYX Euler angles of R (eq 9) on branch sigma = sign(sin beta).
-    The strokes are not validity conditions here: they are the actuated ranges (``STROKES``)."""
-    sigma = sp.Symbol("sigma", real=True)
-    r = POSE_ROTATION
-    steps: list[tuple[sp.Symbol, sp.Expr]] = []
-    validity: dict[str, sp.Expr] = {}
-    for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True)):
-        point = sp.Matrix(sp.symbols(f"B{i + 1}_x B{i + 1}_y B{i + 1}_z", real=True))
-        steps += [(point[k], (r * bp)[k]) for k in range(3)]
-        steps.append((d[i], sp.sqrt((a - point).dot(a - point))))
-    sin_beta = sp.Symbol("sin_beta", real=True)
-    steps += [
-        (sin_beta, sp.sqrt(r[0, 1] ** 2 + r[0, 2] ** 2)),
-        (beta, sp.atan2(sigma * sin_beta, r[0, 0])),
-        (alpha, sp.atan2(sigma * r[1, 0], -sigma * r[2, 0])),
-        (gamma, sp.atan2(sigma * r[0, 1], sigma * r[0, 2])),
+#: the model: three S-P-S legs from a_i to b_ip on a platform turning about Q, with the Euler set
+#: of eq (9) as coordinates (branch sigma = sign(sin beta)); rates, the singularity factor, the
+#: inverse (d_i = |a_i - R b_ip|, eq 7) and the drawing are derived from it; the closure is the
+#: paper's eq (7), kept as written (its Jacobians are eqs 11a and 12)
+SIGMA = sp.Symbol("sigma", real=True)
+SIN_BETA = sp.Symbol("sin_beta", real=True)
+MOTION = joints.Platform(
+    "rotation",
+    (alpha, beta, gamma),
+    euler_rotation(alpha, beta, gamma),
+    sp.zeros(3, 1),
+    read=(
+        (SIN_BETA, sp.sqrt(POSE_ROTATION[0, 1] ** 2 + POSE_ROTATION[0, 2] ** 2)),
+        (beta, sp.atan2(SIGMA * SIN_BETA, POSE_ROTATION[0, 0])),
+        (alpha, sp.atan2(SIGMA * POSE_ROTATION[1, 0], -SIGMA * POSE_ROTATION[2, 0])),
+        (gamma, sp.atan2(SIGMA * POSE_ROTATION[0, 1], SIGMA * POSE_ROTATION[0, 2])),
+    ),
+    pose=(POSE_ROTATION, sp.zeros(3, 1)),
+    angular=(alpha, beta, gamma),
+    branches=(SIGMA,),
+    validity=(("euler_angles_regular", SIN_BETA**2),),
+)
+
+
+def model() -> joints.DistanceMechanism:
+    legs = [
+        joints.prismatic_leg(a, bp, d[i])
+        for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True))
     ]
-    validity["euler_angles_regular"] = sin_beta**2
-    return InverseSolution(steps, [sigma], validity)
+    return joints.DistanceMechanism(MOTION, legs, parallel_name="leg_moments_coplanar")
 
 
 # ---------------------------------------------------------------------------- forward pose
@@ -338,47 +350,23 @@ def closure() -> ClosureModel:
     return ClosureModel(leg_equations(rotation), sp.Matrix([sp.Integer(1)]), homogeneous(rotation, [0, 0, 0]))
 
 
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """d_i d_i_dot = (a_i x b_i) . omega (module docstring)."""
-    rotation = euler_rotation(alpha, beta, gamma)
-    rows = [a.cross(rotation * bp).T for a, bp in zip(base_points(), platform_points(), strict=True)]
-    matrix = sp.Matrix.vstack(*rows)
-    model = RateModel(
-        twist=["wx", "wy", "wz"],
-        a=matrix,
-        b=sp.diag(*d),
-        serial_factors={f"leg{i + 1}_length": d[i] for i in range(3)},
-    )
-    triple = matrix.row(0).dot(matrix.row(1).cross(matrix.row(2)))
-    return model, {"leg_moments_coplanar": triple}
-
-
 # section 5: the machine's configuration (root v3, branch (s1, s2) = (-, +)), XYX Euler angles,
 # to full precision so that the home closes the loop (residual 4e-16; 8 digits left 7e-9)
 HOME_EULER = (0.38623430068232256, 0.32043813812493704, -0.2199222510816914)
 
 
-def drawing() -> Drawing:
-    """The base points A_i and the centre Q (fixed), the platform points B_i = R b_ip and Q on the
-    platform (R 0 = 0): legs A_i -> B_i (the linear actuators), the base and platform triangles,
-    and the spokes from Q to the points of each body (the central spherical joint)."""
-    rotation = euler_rotation(alpha, beta, gamma)
+def drawing(parts: Drawing) -> Drawing:
+    """The model's parts (base points A_i, platform points B_i = R b_ip, the legs A_i -> B_i, the
+    base and platform triangles) with the centre Q on both bodies and the spokes from Q to the
+    points of each body (the central spherical joint)."""
     centre = sp.zeros(3, 1)
-    platform = [rotation * point for point in platform_points()]
     spokes = [0, 3, 1, 3, 2]  # A1 (B1) -> Q -> A2 (B2) -> Q -> A3 (B3)
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*base_points(), centre),
-            "platform": sp.Matrix.hstack(*platform, centre),
-        },
-        polylines={
-            "base": [("base", i % 3) for i in range(4)],
-            "platform": [("platform", i % 3) for i in range(4)],
-            "base_spokes": [("base", i) for i in spokes],
-            "platform_spokes": [("platform", i) for i in spokes],
-            **{f"leg{i + 1}": [("base", i), ("platform", i)] for i in range(3)},
-        },
-    )
+    points = {name: sp.Matrix.hstack(parts.points[name], centre) for name in ("base", "platform")}
+    polylines = parts.polylines | {
+        "base_spokes": [("base", i) for i in spokes],
+        "platform_spokes": [("platform", i) for i in spokes],
+    }
+    return Drawing(points=points, polylines=polylines)
 
 
 def platform_frame(b1_printed: list[float], b2_printed: list[float]) -> list[list[float]]:
@@ -440,7 +428,7 @@ def parameter_info() -> dict[sp.Symbol, ParameterInfo]:
 
 
 def build() -> Mechanism:
-    rate_model, parallel = rates()
+    derived = model().fields()
     parameters: dict[sp.Symbol, float] = {
         a1x: 2.470,
         a2x: 2.250,
@@ -465,23 +453,14 @@ def build() -> Mechanism:
             "Displacement and force analysis of the spherical platform mechanism 3(SPS)-S with compliancies of linear actuators taken into account",
         ),
         parameters=parameters,
-        actuated=list(d),
-        passive=[alpha, beta, gamma],
-        legs=[],
-        inverse=inverse(),
+        **derived | {"closure": closure(), "drawing": drawing(derived["drawing"])},  # type: ignore[arg-type]
         forward=forward(),
         home={
             **dict(zip(d, (0.780, 0.570, 1.320), strict=True)),
             **dict(zip((alpha, beta, gamma), HOME_EULER, strict=True)),
         },
-        angular=[alpha, beta, gamma],
         limits=dict(zip(d, STROKES, strict=True)),  # the actuator strokes (section 5)
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="rotation",
         parameter_info=parameter_info(),
         examples=examples(),
-        drawing=drawing(),
         actuator_stiffness=list(stiffness),
     )

@@ -4,11 +4,11 @@
 #   platform_pose: 25
 #   loop_closure: 229
 #   loop_closure_actuated: 6
-#   rate_jacobians: 126
-#   singularity_factors: 136
+#   rate_jacobians: 137
+#   singularity_factors: 147
 #   drawing: 112
-#   inverse_pose: 282
-#   inverse_pose_patterns: 284
+#   inverse_pose: 141
+#   inverse_pose_patterns: 143
 #   forward_polynomial: 1838
 #   forward_back_substitution: 3637
 #   automatic_family: 106
@@ -272,7 +272,7 @@ def loop_closure_actuated() -> casadi.Function:
 def rate_jacobians() -> casadi.Function:
     """Input-output Jacobians of A twist = B actuated_rates.
 
-    Operations: 126.
+    Operations: 137.
     """
     actuated = casadi.SX.sym("actuated", 3)
     passive = casadi.SX.sym("passive", 3)
@@ -327,37 +327,41 @@ def rate_jacobians() -> casadi.Function:
     _t28 = b3**2
     _t29 = _t28 + _t6 - b13**2
     _t30 = _t29 * _t9
-    _t31 = _t28 + _t7 - b23**2
-    _t32 = 1 / (b2 * b3)
-    _t33 = b3 / _t21
-    _t34 = _t33 * (-_t19 * _t29 * _t32 * _t8 + (1 / 2) * _t31 * _t32)
+    _t31 = 1 / _t21
+    _t32 = _t28 + _t7 - b23**2
+    _t33 = 1 / (b2 * b3)
+    _t34 = -_t19 * _t29 * _t33 * _t8 + (1 / 2) * _t32 * _t33
     _t35 = 1 / _t28
-    _t36 = (
-        _t33
-        * chi
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                (1 / 4) * _t17 * _t18 * _t29 * _t31 * _t35 * _t8
-                - 1 / 4 * _t17 * _t31**2 * _t35
-                - _t19 * _t29**2 * _t35
-                - _t20
-                + 1,
-            )
+    _t36 = casadi.sqrt(
+        casadi.fmax(
+            0,
+            (1 / 4) * _t17 * _t18 * _t29 * _t32 * _t35 * _t8
+            - 1 / 4 * _t17 * _t32**2 * _t35
+            - _t19 * _t29**2 * _t35
+            - _t20
+            + 1,
         )
     )
-    _t37 = _t16 * _t34 - _t2 * _t30 + _t36 * (_t0 * _t11 * _t13 - _t26)
-    _t38 = _t27 * _t34 + _t30 * _t5 + _t36 * (-_t12 * _t13 - _t15)
-    _t39 = _t1 * _t11 * _t36 + _t24 * _t29 + _t25 * _t34
+    _t37 = (
+        _t16 * _t31 * _t34 * b3
+        - _t2 * _t30
+        + _t31 * _t36 * b3 * chi * (_t0 * _t11 * _t13 - _t26)
+        - a3z
+    )
+    _t38 = _t31 * b3
+    _t39 = _t34 * _t38
+    _t40 = _t36 * _t38 * chi
+    _t41 = _t27 * _t39 + _t30 * _t5 + _t40 * (-_t12 * _t13 - _t15) - a3y
+    _t42 = _t1 * _t11 * _t40 + _t24 * _t29 + _t25 * _t39 - a3x
     a = casadi.SX.zeros(3, 3)
     a[0, 1] = _t2 * _t3
     a[0, 2] = _t3 * _t5
     a[1, 0] = _t23 * a2y
     a[1, 1] = -_t23 * a2x
-    a[1, 2] = a2x * (_t10 * _t5 + _t22 * _t27) - a2y * (_t22 * _t25 + _t24 * _t8)
-    a[2, 0] = _t37 * a3y - _t38 * a3z
-    a[2, 1] = -_t37 * a3x + _t39 * a3z
-    a[2, 2] = _t38 * a3x - _t39 * a3y
+    a[1, 2] = a2x * (_t10 * _t5 + _t22 * _t27 - a2y) - a2y * (_t22 * _t25 + _t24 * _t8 - a2x)
+    a[2, 0] = _t37 * a3y - _t41 * a3z
+    a[2, 1] = -_t37 * a3x + _t42 * a3z
+    a[2, 2] = _t41 * a3x - _t42 * a3y
     b = casadi.SX.zeros(3, 3)
     b[0, 0] = d1
     b[1, 1] = d2
@@ -388,7 +392,7 @@ def rate_jacobians() -> casadi.Function:
 def singularity_factors() -> casadi.Function:
     """Every named singularity factor, then the determinants.
 
-    Operations: 136.
+    Operations: 147.
     """
     actuated = casadi.SX.sym("actuated", 3)
     passive = casadi.SX.sym("passive", 3)
@@ -419,64 +423,68 @@ def singularity_factors() -> casadi.Function:
     _t4 = casadi.cos(beta)
     _t5 = (1 / 2) / b1
     _t6 = _t4 * _t5
-    _t7 = casadi.sin(gamma)
-    _t8 = casadi.sin(beta)
-    _t9 = _t7 * _t8
-    _t10 = b2**2
-    _t11 = _t10 + _t2 - b23**2
-    _t12 = 1 / (b2 * b3)
-    _t13 = 1 / _t1
-    _t14 = (1 / 4) * _t13
-    _t15 = _t1 + _t10 - b12**2
-    _t16 = 1 / _t10
-    _t17 = _t14 * _t15**2 * _t16
-    _t18 = casadi.sqrt(1 - _t17)
-    _t19 = b3 / _t18
-    _t20 = _t19 * ((1 / 2) * _t11 * _t12 - _t12 * _t14 * _t15 * _t3)
-    _t21 = casadi.cos(gamma)
-    _t22 = 1 / _t2
-    _t23 = (
-        _t19
-        * chi
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                -1 / 4 * _t11**2 * _t16 * _t22
-                + (1 / 4) * _t11 * _t13 * _t15 * _t16 * _t22 * _t3
-                - _t14 * _t22 * _t3**2
-                - _t17
-                + 1,
-            )
+    _t7 = b2**2
+    _t8 = _t2 + _t7 - b23**2
+    _t9 = 1 / (b2 * b3)
+    _t10 = 1 / _t1
+    _t11 = (1 / 4) * _t10
+    _t12 = _t1 + _t7 - b12**2
+    _t13 = -_t11 * _t12 * _t3 * _t9 + (1 / 2) * _t8 * _t9
+    _t14 = 1 / _t7
+    _t15 = _t11 * _t12**2 * _t14
+    _t16 = casadi.sqrt(1 - _t15)
+    _t17 = 1 / _t16
+    _t18 = _t17 * b3
+    _t19 = _t13 * _t18
+    _t20 = casadi.sin(gamma)
+    _t21 = casadi.sin(beta)
+    _t22 = _t20 * _t21
+    _t23 = casadi.cos(gamma)
+    _t24 = 1 / _t2
+    _t25 = casadi.sqrt(
+        casadi.fmax(
+            0,
+            (1 / 4) * _t10 * _t12 * _t14 * _t24 * _t3 * _t8
+            - _t11 * _t24 * _t3**2
+            - 1 / 4 * _t14 * _t24 * _t8**2
+            - _t15
+            + 1,
         )
     )
-    _t24 = _t20 * _t9 + _t21 * _t23 * _t8 + _t3 * _t6
-    _t25 = casadi.cos(alpha)
-    _t26 = _t5 * _t8
-    _t27 = _t25 * _t26
-    _t28 = _t0 * _t21
-    _t29 = _t25 * _t7
-    _t30 = _t28 + _t29 * _t4
-    _t31 = _t0 * _t7
-    _t32 = _t20 * _t30 + _t23 * (_t21 * _t25 * _t4 - _t31) - _t27 * _t3
-    _t33 = _t18 * b2
-    _t34 = -_t15 * _t27 + _t30 * _t33
-    _t35 = _t34 * a2y
-    _t36 = _t0 * _t26
-    _t37 = _t21 * _t25 - _t31 * _t4
-    _t38 = _t20 * _t37 + _t23 * (-_t28 * _t4 - _t29) + _t3 * _t36
-    _t39 = _t32 * a3y - _t38 * a3z
-    _t40 = _t8 * a1x * b1
-    _t41 = _t0 * _t40 * (_t34 * _t39 * a2x + _t35 * (_t24 * a3z - _t32 * a3x)) + _t25 * _t40 * (
-        -_t35 * (-_t24 * a3y + _t38 * a3x)
-        + _t39 * (a2x * (_t15 * _t36 + _t33 * _t37) - a2y * (_t15 * _t6 + _t33 * _t9))
+    _t26 = _t18 * _t25 * chi
+    _t27 = _t19 * _t22 + _t21 * _t23 * _t26 + _t3 * _t6 - a3x
+    _t28 = casadi.cos(alpha)
+    _t29 = _t21 * _t5
+    _t30 = _t29 * _t3
+    _t31 = _t0 * _t23
+    _t32 = _t20 * _t28
+    _t33 = _t31 + _t32 * _t4
+    _t34 = _t0 * _t20
+    _t35 = (
+        _t13 * _t17 * _t33 * b3
+        + _t17 * _t25 * b3 * chi * (_t23 * _t28 * _t4 - _t34)
+        - _t28 * _t30
+        - a3z
+    )
+    _t36 = _t12 * _t29
+    _t37 = _t16 * b2
+    _t38 = -_t28 * _t36 + _t33 * _t37
+    _t39 = _t38 * a2y
+    _t40 = _t23 * _t28 - _t34 * _t4
+    _t41 = _t0 * _t30 + _t19 * _t40 + _t26 * (-_t31 * _t4 - _t32) - a3y
+    _t42 = _t35 * a3y - _t41 * a3z
+    _t43 = _t21 * a1x * b1
+    _t44 = _t0 * _t43 * (_t38 * _t42 * a2x + _t39 * (_t27 * a3z - _t35 * a3x)) - _t28 * _t43 * (
+        _t39 * (-_t27 * a3y + _t41 * a3x)
+        + _t42 * (-a2x * (_t0 * _t36 + _t37 * _t40 - a2y) + a2y * (_t12 * _t6 + _t22 * _t37 - a2x))
     )
     factors = casadi.SX.zeros(4)
     factors[0] = d1
     factors[1] = d2
     factors[2] = d3
-    factors[3] = _t41
+    factors[3] = _t44
     determinants = casadi.SX.zeros(2)
-    determinants[0] = _t41
+    determinants[0] = _t44
     determinants[1] = d1 * d2 * d3
     return casadi.Function(
         "sps_singularity_factors",
@@ -616,7 +624,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 282.
+    Operations: 141.
     """
     pose = casadi.SX.sym("pose", 12)
     branch = casadi.SX.sym("branch", 1)
@@ -644,114 +652,52 @@ def inverse_pose() -> casadi.Function:
     b23 = params[10]
     b13 = params[11]
     chi = params[12]
-    B1_x = b1 * r11
-    B1_y = b1 * r21
-    B1_z = b1 * r31
-    d1 = casadi.sqrt(B1_y**2 + B1_z**2 + (-B1_x + a1x) ** 2)
     _t0 = b1**2
-    _t1 = b2**2
-    _t2 = _t0 + _t1 - b12**2
-    B2_x = (1 / 2) * _t2 * r11 / b1 + b2 * r12 * casadi.sqrt(1 - 1 / 4 * _t2**2 / (_t0 * _t1))
-    _t3 = b1**2
-    _t4 = b2**2
-    _t5 = _t3 + _t4 - b12**2
-    B2_y = (1 / 2) * _t5 * r21 / b1 + b2 * r22 * casadi.sqrt(1 - 1 / 4 * _t5**2 / (_t3 * _t4))
+    d1 = casadi.sqrt(_t0 * r21**2 + _t0 * r31**2 + (-a1x + b1 * r11) ** 2)
+    _t1 = b1**2
+    _t2 = b2**2
+    _t3 = _t1 + _t2 - b12**2
+    _t4 = (1 / 2) * _t3 / b1
+    _t5 = b2 * casadi.sqrt(1 - 1 / 4 * _t3**2 / (_t1 * _t2))
+    d2 = casadi.sqrt(
+        (_t4 * r31 + _t5 * r32) ** 2
+        + (_t4 * r11 + _t5 * r12 - a2x) ** 2
+        + (_t4 * r21 + _t5 * r22 - a2y) ** 2
+    )
     _t6 = b1**2
-    _t7 = b2**2
-    _t8 = _t6 + _t7 - b12**2
-    B2_z = (1 / 2) * _t8 * r31 / b1 + b2 * r32 * casadi.sqrt(1 - 1 / 4 * _t8**2 / (_t6 * _t7))
-    d2 = casadi.sqrt(B2_z**2 + (-B2_x + a2x) ** 2 + (-B2_y + a2y) ** 2)
-    _t9 = b1**2
-    _t10 = b3**2
-    _t11 = _t10 + _t9 - b13**2
-    _t12 = b2**2
-    _t13 = _t10 + _t12 - b23**2
-    _t14 = 1 / (b2 * b3)
-    _t15 = 1 / _t9
-    _t16 = (1 / 4) * _t15
-    _t17 = _t12 + _t9 - b12**2
-    _t18 = 1 / _t12
-    _t19 = _t16 * _t17**2 * _t18
-    _t20 = b3 / casadi.sqrt(1 - _t19)
-    _t21 = 1 / _t10
-    B3_x = (
-        (1 / 2) * _t11 * r11 / b1
-        + _t20
+    _t7 = b3**2
+    _t8 = _t6 + _t7 - b13**2
+    _t9 = (1 / 2) * _t8 / b1
+    _t10 = b2**2
+    _t11 = _t10 + _t7 - b23**2
+    _t12 = 1 / (b2 * b3)
+    _t13 = 1 / _t6
+    _t14 = (1 / 4) * _t13
+    _t15 = _t10 + _t6 - b12**2
+    _t16 = 1 / _t10
+    _t17 = _t14 * _t15**2 * _t16
+    _t18 = b3 / casadi.sqrt(1 - _t17)
+    _t19 = _t18 * ((1 / 2) * _t11 * _t12 - _t12 * _t14 * _t15 * _t8)
+    _t20 = 1 / _t7
+    _t21 = (
+        _t18
         * chi
-        * r13
         * casadi.sqrt(
             casadi.fmax(
                 0,
-                -(_t11**2) * _t16 * _t21
-                + (1 / 4) * _t11 * _t13 * _t15 * _t17 * _t18 * _t21
-                - 1 / 4 * _t13**2 * _t18 * _t21
-                - _t19
+                -1 / 4 * _t11**2 * _t16 * _t20
+                + (1 / 4) * _t11 * _t13 * _t15 * _t16 * _t20 * _t8
+                - _t14 * _t20 * _t8**2
+                - _t17
                 + 1,
             )
         )
-        + _t20 * r12 * (-_t11 * _t14 * _t16 * _t17 + (1 / 2) * _t13 * _t14)
     )
-    _t22 = b1**2
-    _t23 = b3**2
-    _t24 = _t22 + _t23 - b13**2
-    _t25 = b2**2
-    _t26 = _t23 + _t25 - b23**2
-    _t27 = 1 / (b2 * b3)
-    _t28 = 1 / _t22
-    _t29 = (1 / 4) * _t28
-    _t30 = _t22 + _t25 - b12**2
-    _t31 = 1 / _t25
-    _t32 = _t29 * _t30**2 * _t31
-    _t33 = b3 / casadi.sqrt(1 - _t32)
-    _t34 = 1 / _t23
-    B3_y = (
-        (1 / 2) * _t24 * r21 / b1
-        + _t33
-        * chi
-        * r23
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                -(_t24**2) * _t29 * _t34
-                + (1 / 4) * _t24 * _t26 * _t28 * _t30 * _t31 * _t34
-                - 1 / 4 * _t26**2 * _t31 * _t34
-                - _t32
-                + 1,
-            )
-        )
-        + _t33 * r22 * (-_t24 * _t27 * _t29 * _t30 + (1 / 2) * _t26 * _t27)
+    d3 = casadi.sqrt(
+        (_t19 * r12 + _t21 * r13 + _t9 * r11 - a3x) ** 2
+        + (_t19 * r22 + _t21 * r23 + _t9 * r21 - a3y) ** 2
+        + (_t19 * r32 + _t21 * r33 + _t9 * r31 - a3z) ** 2
     )
-    _t35 = b1**2
-    _t36 = b3**2
-    _t37 = _t35 + _t36 - b13**2
-    _t38 = b2**2
-    _t39 = _t36 + _t38 - b23**2
-    _t40 = 1 / (b2 * b3)
-    _t41 = 1 / _t35
-    _t42 = (1 / 4) * _t41
-    _t43 = _t35 + _t38 - b12**2
-    _t44 = 1 / _t38
-    _t45 = _t42 * _t43**2 * _t44
-    _t46 = b3 / casadi.sqrt(1 - _t45)
-    _t47 = 1 / _t36
-    B3_z = (
-        (1 / 2) * _t37 * r31 / b1
-        + _t46
-        * chi
-        * r33
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                -(_t37**2) * _t42 * _t47
-                + (1 / 4) * _t37 * _t39 * _t41 * _t43 * _t44 * _t47
-                - 1 / 4 * _t39**2 * _t44 * _t47
-                - _t45
-                + 1,
-            )
-        )
-        + _t46 * r32 * (-_t37 * _t40 * _t42 * _t43 + (1 / 2) * _t39 * _t40)
-    )
-    d3 = casadi.sqrt((-B3_x + a3x) ** 2 + (-B3_y + a3y) ** 2 + (-B3_z + a3z) ** 2)
     sin_beta = casadi.sqrt(r12**2 + r13**2)
     beta = casadi.atan2(sigma * sin_beta, r11)
     alpha = casadi.atan2(r21 * sigma, -r31 * sigma)
@@ -764,8 +710,11 @@ def inverse_pose() -> casadi.Function:
     passive[0] = alpha
     passive[1] = beta
     passive[2] = gamma
-    validity = casadi.SX.zeros(1)
-    validity[0] = sin_beta**2
+    validity = casadi.SX.zeros(4)
+    validity[0] = d1
+    validity[1] = d2
+    validity[2] = d3
+    validity[3] = sin_beta**2
     return casadi.Function(
         "sps_inverse_pose",
         [
@@ -794,7 +743,7 @@ def inverse_pose() -> casadi.Function:
 def inverse_pose_patterns() -> casadi.Function:
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 284.
+    Operations: 143.
     """
     pose = casadi.SX.sym("pose", 12)
     params = casadi.SX.sym("params", 16)
@@ -820,114 +769,52 @@ def inverse_pose_patterns() -> casadi.Function:
     b23 = params[10]
     b13 = params[11]
     chi = params[12]
-    B1_x = b1 * r11
-    B1_y = b1 * r21
-    B1_z = b1 * r31
-    d1 = casadi.sqrt(B1_y**2 + B1_z**2 + (-B1_x + a1x) ** 2)
     _t0 = b1**2
-    _t1 = b2**2
-    _t2 = _t0 + _t1 - b12**2
-    B2_x = (1 / 2) * _t2 * r11 / b1 + b2 * r12 * casadi.sqrt(1 - 1 / 4 * _t2**2 / (_t0 * _t1))
-    _t3 = b1**2
-    _t4 = b2**2
-    _t5 = _t3 + _t4 - b12**2
-    B2_y = (1 / 2) * _t5 * r21 / b1 + b2 * r22 * casadi.sqrt(1 - 1 / 4 * _t5**2 / (_t3 * _t4))
+    d1 = casadi.sqrt(_t0 * r21**2 + _t0 * r31**2 + (-a1x + b1 * r11) ** 2)
+    _t1 = b1**2
+    _t2 = b2**2
+    _t3 = _t1 + _t2 - b12**2
+    _t4 = (1 / 2) * _t3 / b1
+    _t5 = b2 * casadi.sqrt(1 - 1 / 4 * _t3**2 / (_t1 * _t2))
+    d2 = casadi.sqrt(
+        (_t4 * r31 + _t5 * r32) ** 2
+        + (_t4 * r11 + _t5 * r12 - a2x) ** 2
+        + (_t4 * r21 + _t5 * r22 - a2y) ** 2
+    )
     _t6 = b1**2
-    _t7 = b2**2
-    _t8 = _t6 + _t7 - b12**2
-    B2_z = (1 / 2) * _t8 * r31 / b1 + b2 * r32 * casadi.sqrt(1 - 1 / 4 * _t8**2 / (_t6 * _t7))
-    d2 = casadi.sqrt(B2_z**2 + (-B2_x + a2x) ** 2 + (-B2_y + a2y) ** 2)
-    _t9 = b1**2
-    _t10 = b3**2
-    _t11 = _t10 + _t9 - b13**2
-    _t12 = b2**2
-    _t13 = _t10 + _t12 - b23**2
-    _t14 = 1 / (b2 * b3)
-    _t15 = 1 / _t9
-    _t16 = (1 / 4) * _t15
-    _t17 = _t12 + _t9 - b12**2
-    _t18 = 1 / _t12
-    _t19 = _t16 * _t17**2 * _t18
-    _t20 = b3 / casadi.sqrt(1 - _t19)
-    _t21 = 1 / _t10
-    B3_x = (
-        (1 / 2) * _t11 * r11 / b1
-        + _t20
+    _t7 = b3**2
+    _t8 = _t6 + _t7 - b13**2
+    _t9 = (1 / 2) * _t8 / b1
+    _t10 = b2**2
+    _t11 = _t10 + _t7 - b23**2
+    _t12 = 1 / (b2 * b3)
+    _t13 = 1 / _t6
+    _t14 = (1 / 4) * _t13
+    _t15 = _t10 + _t6 - b12**2
+    _t16 = 1 / _t10
+    _t17 = _t14 * _t15**2 * _t16
+    _t18 = b3 / casadi.sqrt(1 - _t17)
+    _t19 = _t18 * ((1 / 2) * _t11 * _t12 - _t12 * _t14 * _t15 * _t8)
+    _t20 = 1 / _t7
+    _t21 = (
+        _t18
         * chi
-        * r13
         * casadi.sqrt(
             casadi.fmax(
                 0,
-                -(_t11**2) * _t16 * _t21
-                + (1 / 4) * _t11 * _t13 * _t15 * _t17 * _t18 * _t21
-                - 1 / 4 * _t13**2 * _t18 * _t21
-                - _t19
+                -1 / 4 * _t11**2 * _t16 * _t20
+                + (1 / 4) * _t11 * _t13 * _t15 * _t16 * _t20 * _t8
+                - _t14 * _t20 * _t8**2
+                - _t17
                 + 1,
             )
         )
-        + _t20 * r12 * (-_t11 * _t14 * _t16 * _t17 + (1 / 2) * _t13 * _t14)
     )
-    _t22 = b1**2
-    _t23 = b3**2
-    _t24 = _t22 + _t23 - b13**2
-    _t25 = b2**2
-    _t26 = _t23 + _t25 - b23**2
-    _t27 = 1 / (b2 * b3)
-    _t28 = 1 / _t22
-    _t29 = (1 / 4) * _t28
-    _t30 = _t22 + _t25 - b12**2
-    _t31 = 1 / _t25
-    _t32 = _t29 * _t30**2 * _t31
-    _t33 = b3 / casadi.sqrt(1 - _t32)
-    _t34 = 1 / _t23
-    B3_y = (
-        (1 / 2) * _t24 * r21 / b1
-        + _t33
-        * chi
-        * r23
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                -(_t24**2) * _t29 * _t34
-                + (1 / 4) * _t24 * _t26 * _t28 * _t30 * _t31 * _t34
-                - 1 / 4 * _t26**2 * _t31 * _t34
-                - _t32
-                + 1,
-            )
-        )
-        + _t33 * r22 * (-_t24 * _t27 * _t29 * _t30 + (1 / 2) * _t26 * _t27)
+    d3 = casadi.sqrt(
+        (_t19 * r12 + _t21 * r13 + _t9 * r11 - a3x) ** 2
+        + (_t19 * r22 + _t21 * r23 + _t9 * r21 - a3y) ** 2
+        + (_t19 * r32 + _t21 * r33 + _t9 * r31 - a3z) ** 2
     )
-    _t35 = b1**2
-    _t36 = b3**2
-    _t37 = _t35 + _t36 - b13**2
-    _t38 = b2**2
-    _t39 = _t36 + _t38 - b23**2
-    _t40 = 1 / (b2 * b3)
-    _t41 = 1 / _t35
-    _t42 = (1 / 4) * _t41
-    _t43 = _t35 + _t38 - b12**2
-    _t44 = 1 / _t38
-    _t45 = _t42 * _t43**2 * _t44
-    _t46 = b3 / casadi.sqrt(1 - _t45)
-    _t47 = 1 / _t36
-    B3_z = (
-        (1 / 2) * _t37 * r31 / b1
-        + _t46
-        * chi
-        * r33
-        * casadi.sqrt(
-            casadi.fmax(
-                0,
-                -(_t37**2) * _t42 * _t47
-                + (1 / 4) * _t37 * _t39 * _t41 * _t43 * _t44 * _t47
-                - 1 / 4 * _t39**2 * _t44 * _t47
-                - _t45
-                + 1,
-            )
-        )
-        + _t46 * r32 * (-_t37 * _t40 * _t42 * _t43 + (1 / 2) * _t39 * _t40)
-    )
-    d3 = casadi.sqrt((-B3_x + a3x) ** 2 + (-B3_y + a3y) ** 2 + (-B3_z + a3z) ** 2)
     sin_beta = casadi.sqrt(r12**2 + r13**2)
     beta_pattern0 = casadi.atan2(sin_beta, r11)
     beta_pattern1 = casadi.atan2(-sin_beta, r11)
@@ -935,7 +822,7 @@ def inverse_pose_patterns() -> casadi.Function:
     alpha_pattern1 = casadi.atan2(-r21, r31)
     gamma_pattern0 = casadi.atan2(r12, r13)
     gamma_pattern1 = casadi.atan2(-r12, -r13)
-    _t48 = sin_beta**2
+    _t22 = sin_beta**2
     actuated = casadi.SX.zeros(3, 2)
     actuated[0, 0] = d1
     actuated[0, 1] = d1
@@ -950,9 +837,15 @@ def inverse_pose_patterns() -> casadi.Function:
     passive[1, 1] = beta_pattern1
     passive[2, 0] = gamma_pattern0
     passive[2, 1] = gamma_pattern1
-    validity = casadi.SX.zeros(1, 2)
-    validity[0, 0] = _t48
-    validity[0, 1] = _t48
+    validity = casadi.SX.zeros(4, 2)
+    validity[0, 0] = d1
+    validity[0, 1] = d1
+    validity[1, 0] = d2
+    validity[1, 1] = d2
+    validity[2, 0] = d3
+    validity[2, 1] = d3
+    validity[3, 0] = _t22
+    validity[3, 1] = _t22
     return casadi.Function(
         "sps_inverse_pose_patterns",
         [

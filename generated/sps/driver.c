@@ -4,11 +4,11 @@
 //   platform_pose: 25
 //   loop_closure: 229
 //   loop_closure_actuated: 6
-//   rate_jacobians: 126
-//   singularity_factors: 136
+//   rate_jacobians: 137
+//   singularity_factors: 147
 //   drawing: 112
-//   inverse_pose: 282
-//   inverse_pose_patterns: 284
+//   inverse_pose: 141
+//   inverse_pose_patterns: 143
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
 //   automatic_family: 106
@@ -107,7 +107,7 @@ int sps_rate_jacobians_batch(long long n, const double** inputs, const long long
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[31 + 1];
+    casadi_real w[32 + 1];
     casadi_real out_a[9 + 1];
     casadi_real out_b[9 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -131,7 +131,7 @@ int sps_singularity_factors_batch(long long n, const double** inputs, const long
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[34 + 1];
+    casadi_real w[35 + 1];
     casadi_real out_factors[4 + 1];
     casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -179,10 +179,10 @@ int sps_inverse_pose_batch(long long n, const double** inputs, const long long* 
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[33 + 1];
+    casadi_real w[26 + 1];
     casadi_real out_actuated[3 + 1];
     casadi_real out_passive[3 + 1];
-    casadi_real out_validity[1 + 1];
+    casadi_real out_validity[4 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -197,9 +197,9 @@ int sps_inverse_pose_batch(long long n, const double** inputs, const long long* 
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[1][i * 3 + r * 1 + c] = out_passive[c * 3 + r];
-        for (int r = 0; r < 1; ++r)
+        for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 1; ++c)
-                outputs[2][i * 1 + r * 1 + c] = out_validity[c * 1 + r];
+                outputs[2][i * 4 + r * 1 + c] = out_validity[c * 4 + r];
     }
     return 0;
 }
@@ -208,10 +208,10 @@ int sps_inverse_pose_patterns_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[35 + 1];
+    casadi_real w[26 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[6 + 1];
-    casadi_real out_validity[2 + 1];
+    casadi_real out_validity[8 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -225,9 +225,9 @@ int sps_inverse_pose_patterns_batch(long long n, const double** inputs, const lo
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[1][i * 6 + r * 2 + c] = out_passive[c * 3 + r];
-        for (int r = 0; r < 1; ++r)
+        for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 2; ++c)
-                outputs[2][i * 2 + r * 2 + c] = out_validity[c * 1 + r];
+                outputs[2][i * 8 + r * 2 + c] = out_validity[c * 4 + r];
     }
     return 0;
 }
@@ -513,7 +513,7 @@ int sps_forward_pose(const sps_newton_job* job) {
 #define NB 2
 #define NBS 1
 #define NDEG 0
-#define NV 1
+#define NV 4
 #define NF 4
 #define NDET 2
 #define M (DEGREE * NB)
@@ -532,7 +532,7 @@ static const int actuated_revolute[NA] = { 0, 0, 0 };
 #define NPATTERNS 2
 static const int actuated_group[NA] = { -1, -1, -1 };
 static const int passive_group[NQ_ALLOC] = { 0, 0, 0 };
-static const int validity_group[NV > 0 ? NV : 1] = { -1 };
+static const int validity_group[NV > 0 ? NV : 1] = { -1, -1, -1, -1 };
 
 // Returns 0 when some group has no finite passive values. The actuated mismatch only ranks
 // patterns: where the inverse is singular (a folded leg of an input-independent mode) the

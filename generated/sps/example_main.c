@@ -4,11 +4,11 @@
 //   platform_pose: 25
 //   loop_closure: 229
 //   loop_closure_actuated: 6
-//   rate_jacobians: 126
-//   singularity_factors: 136
+//   rate_jacobians: 137
+//   singularity_factors: 147
 //   drawing: 112
-//   inverse_pose: 282
-//   inverse_pose_patterns: 284
+//   inverse_pose: 141
+//   inverse_pose_patterns: 143
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
 //   automatic_family: 106

@@ -4,11 +4,11 @@
 //   platform_pose: 25
 //   loop_closure: 229
 //   loop_closure_actuated: 6
-//   rate_jacobians: 126
-//   singularity_factors: 136
+//   rate_jacobians: 137
+//   singularity_factors: 147
 //   drawing: 112
-//   inverse_pose: 282
-//   inverse_pose_patterns: 284
+//   inverse_pose: 141
+//   inverse_pose_patterns: 143
 //   forward_polynomial: 1838
 //   forward_back_substitution: 3637
 //   automatic_family: 106
@@ -43,6 +43,9 @@
 //   a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i), declared as the
 //   mechanism's ``actuator_stiffness``; the kinematics do not use them (statics, section 4:
 //   ``examples/sps_section5.py``).
+// * Model: three S-P-S legs (``parakin.generator.joints``) on a platform with this Euler set as
+//   coordinates: rates, the singularity factor, the inverse (with validity ``leg<i>_length`` and
+//   ``euler_angles_regular``) and the drawing are derived; the closure below is the paper's.
 // * Loop closure: g_i = a_i^2 + b_i^2 - 2 a_i . R b_ip - d_i^2 = 0 (eq 7), square in (alpha, beta,
 //   gamma). Its passive Jacobian is U_omega (eq 11a) and its actuated Jacobian W = -2 diag(d) (eq
 //   12), so the closure's passive rates are J_omega^-1 = -U_omega^-1 W (eq 17 lacks the minus sign).
@@ -253,11 +256,11 @@ int sps_singularity_factors_batch(long long n, const double** inputs, const long
 int sps_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 //   inputs: pose[12], branch[1], params[16]
-//   outputs: actuated[3], passive[3], validity[1]
+//   outputs: actuated[3], passive[3], validity[4]
 int sps_inverse_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 //   inputs: pose[12], params[16]
-//   outputs: actuated[3 x 2], passive[3 x 2], validity[1 x 2]
+//   outputs: actuated[3 x 2], passive[3 x 2], validity[4 x 2]
 int sps_inverse_pose_patterns_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Coefficients (ascending powers) of the univariate forward-kinematics polynomial, and the elimination's degeneracy measures.
 //   inputs: actuated[3], params[16]
