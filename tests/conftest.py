@@ -38,8 +38,10 @@ def pytest_collection_modifyitems(config, items):
         "certificate asks for; its own test file runs every time, the generic cases with --run-slow"
     )
     orchestrated = pytest.mark.skip(
-        reason=f"slow: the all-modes solver of {', '.join(sorted(_heavy_families(32) - _heavy_families()))} "
-        "tracks more than 32 paths, orchestrated in NumPy on this backend; the compiled case runs every time"
+        reason=f"slow: the all-modes solver of "
+        f"{', '.join(sorted(_heavy_families(ORCHESTRATED_PATHS) - _heavy_families()))} tracks more than "
+        f"{ORCHESTRATED_PATHS} paths, orchestrated in NumPy on this backend; the compiled case and the "
+        "mechanism's own test file run every time"
     )
     for item in items:
         if "slow" in item.keywords:
@@ -49,13 +51,19 @@ def pytest_collection_modifyitems(config, items):
         name = params.get("name")
         if isinstance(name, str) and name in _heavy_families():
             item.add_marker(heavy)
-        elif isinstance(name, str) and params.get("backend") in ("numpy", "casadi") and name in _heavy_families(32):
+        elif (
+            isinstance(name, str)
+            and params.get("backend") in ("numpy", "casadi")
+            and name in _heavy_families(ORCHESTRATED_PATHS)
+        ):
             item.add_marker(orchestrated)
 
 
 #: a mechanism whose default all-modes homotopy has more paths than this is checked by the generic
 #: tests parametrised by name only with --run-slow; its own test file runs every time
 HEAVY_PATHS = 40
+#: ... and its NumPy and CasADi cases only with --run-slow above this many paths (prs3, stewart)
+ORCHESTRATED_PATHS = 16
 
 
 @functools.cache
