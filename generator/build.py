@@ -280,14 +280,17 @@ def _mechanism_sources(path: Path) -> list[Path]:
 
 @functools.cache
 def _generator_digest() -> bytes:
-    """The generator's own code and templates, the runtime module it tracks paths with, and the
-    versions of the tools: what every package is generated from besides its mechanism."""
+    """The generator's own code and templates, the runtime modules it uses (path tracking, the
+    shared-subtree form of ``symbolic.py``), and the versions of the tools: what every package is
+    generated from besides its mechanism."""
     import parakin.homotopy
+    import parakin.inspect
 
     digest = hashlib.sha256()
     here = Path(__file__).resolve().parent
     files = sorted([*here.glob("*.py"), *(p for p in (here / "templates").iterdir() if p.is_file())])
-    for source in [*files, Path(parakin.homotopy.__file__).resolve()]:
+    runtime = [Path(module.__file__ or "").resolve() for module in (parakin.homotopy, parakin.inspect)]
+    for source in [*files, *runtime]:
         label = source.relative_to(here).as_posix() if source.is_relative_to(here) else f"parakin/{source.name}"
         digest.update(f"{label}\0{source.stat().st_size}\0".encode() + source.read_bytes())
     for tool in TOOLS:

@@ -15,7 +15,8 @@ from typing import Any
 import jinja2
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
-from sympy.simplify.cse_main import tree_cse
+
+from parakin.inspect import shared_subtrees
 
 from .program import LoweredProgram
 
@@ -369,9 +370,7 @@ def render_symbolic(mechanism: str, objects: dict[str, Any]) -> str:
     determinant written by Laplace expansion shares its minors: 10 MB become 0.1 MB)."""
     names = list(objects)
     values = [sp.ImmutableMatrix(v) if isinstance(v, sp.MatrixBase) else v for v in objects.values()]
-    taken = {str(s) for v in values for s in getattr(v, "free_symbols", ())}
-    prefix = next(p for p in ("shared_", "shared__", "shared___") if not any(t.startswith(p) for t in taken))
-    shared, reduced = tree_cse(values, sp.numbered_symbols(prefix), opt_subs={}, order="none")
+    shared, reduced = shared_subtrees(sp, values)
     matrices = [name for name, value in objects.items() if isinstance(value, sp.MatrixBase)]
     return (
         _environment()

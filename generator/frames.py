@@ -116,20 +116,13 @@ def quaternion_from_rotation(rotation: sp.Matrix) -> sp.Matrix:
     """The unit quaternion of R with q0 >= 0 (q0 = 0: the half-turns, either sign), without
     branches: the columns of K = 4 q q^T (entries linear in R) are 4 q_k q; they are added with
     the sign that makes each agree with the sum so far (a sign error only ever affects a column of
-    vanishing length), so the sum is 4 (|q0| + |q1| + |q2| + |q3|) q, of length >= 2."""
-    r = rotation
-    k = sp.Matrix(
-        [
-            [1 + r[0, 0] + r[1, 1] + r[2, 2], r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]],
-            [r[2, 1] - r[1, 2], 1 + r[0, 0] - r[1, 1] - r[2, 2], r[0, 1] + r[1, 0], r[0, 2] + r[2, 0]],
-            [r[0, 2] - r[2, 0], r[0, 1] + r[1, 0], 1 - r[0, 0] + r[1, 1] - r[2, 2], r[1, 2] + r[2, 1]],
-            [r[1, 0] - r[0, 1], r[0, 2] + r[2, 0], r[1, 2] + r[2, 1], 1 - r[0, 0] - r[1, 1] + r[2, 2]],
-        ]
-    )
-    total = k[:, 0]
-    for column in range(1, 4):
-        total = total + sign_or_plus(total.dot(k[:, column])) * k[:, column]
-    return total / sp.sqrt(total.dot(total))
+    vanishing length), so the sum is 4 (|q0| + |q1| + |q2| + |q3|) q, of length >= 2. One
+    expression: ``quaternion_steps`` substituted into one another."""
+    quaternion = sp.symbols("q0:4", real=True)
+    values: dict[sp.Symbol, sp.Expr] = {}
+    for target, expression in quaternion_steps(rotation, quaternion):
+        values[target] = expression.xreplace(values)
+    return sp.Matrix([values[q] for q in quaternion])
 
 
 @dataclass(frozen=True)
@@ -166,11 +159,11 @@ class ModifiedDHLink:
 
 
 def quaternion_steps(rotation: sp.Matrix, quaternion: Sequence[sp.Symbol]) -> list[tuple[sp.Symbol, sp.Expr]]:
-    """``quaternion`` (q0..q3) of R (q0 >= 0, branch-free) by the algorithm of ``quaternion_from_rotation``
-    (the columns k_c of K = 4 q q^T, each added to the running sum with the sign that makes it
-    agree, then normalised), written as steps with the running sums as intermediate symbols:
-    the same values, where the one expression of ``quaternion_from_rotation`` repeats each sum
-    inside every later sign (2.7 MB of SymPy, 0.1 s per evaluation in the generator's checks)."""
+    """``quaternion`` (q0..q3) of R (q0 >= 0, branch-free; ``quaternion_from_rotation``: the
+    columns k_c of K = 4 q q^T, each added to the running sum with the sign that makes it agree,
+    then normalised), written as steps with the running sums as intermediate symbols: as one
+    expression each sum repeats inside every later sign (2.7 MB of SymPy, 0.1 s per evaluation
+    in the generator's checks)."""
     r = rotation
     k = sp.Matrix(
         [

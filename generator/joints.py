@@ -41,13 +41,11 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .blocks import block_laplace_det, half_angle_solution, laplace_det, planar_coordinates
+from .blocks import TWIST, block_laplace_det, half_angle_solution, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
 
 ZERO = sp.Matrix([0, 0, 0])
-#: the twist components of a spatial twist, in order (``RateModel.twist`` picks from these)
-TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
 
 
 @dataclass(frozen=True)
@@ -220,7 +218,8 @@ class DistanceMechanism:
     legs: list[Leg]
     #: the name of the parallel (type II) factor det A
     parallel_name: str = "leg_lines_dependent"
-    branch_names: list[sp.Symbol] = field(default_factory=list)
+    #: the inverse's branch signs: sigma<k> of each crank or slider leg k, then the platform's
+    branch_names: list[sp.Symbol] = field(init=False)
 
     def __post_init__(self) -> None:
         if not self.legs:
@@ -247,9 +246,12 @@ class DistanceMechanism:
         """d_i = C_i - E_i, in {B}."""
         return [c - leg.elbow() for c, leg in zip(self.platform_joints(), self.legs, strict=True)]
 
-    def closure(self) -> ClosureModel:
+    def closure(self, squared: bool = True) -> ClosureModel:
+        """Per leg (|d|^2 - L^2) / (2 L), in metres and polynomial; or with ``squared`` False
+        |d| - L (a mechanism whose polynomial family was proven in that form keeps it)."""
         rows = [
-            (d.dot(d) - leg.length() ** 2) / (2 * leg.length()) for d, leg in zip(self.links(), self.legs, strict=True)
+            (d.dot(d) - leg.length() ** 2) / (2 * leg.length()) if squared else sp.sqrt(d.dot(d)) - leg.length()
+            for d, leg in zip(self.links(), self.legs, strict=True)
         ]
         residual = sp.Matrix([*rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
@@ -346,8 +348,8 @@ class DistanceMechanism:
         if with_elbow:
             points["elbow"] = sp.Matrix.hstack(*(leg.elbow() for leg in self.legs))
         points["platform"] = sp.Matrix.hstack(*self.platform_joints())
-        middle = [("elbow",)] if with_elbow else []
-        polylines = {f"leg{i + 1}": [("base", i), *((m[0], i) for m in middle), ("platform", i)] for i in range(count)}
+        parts = ["base", "elbow", "platform"] if with_elbow else ["base", "platform"]
+        polylines = {f"leg{i + 1}": [(part, i) for part in parts] for i in range(count)}
         polylines["base"] = [("base", i % count) for i in range(count + 1)]
         if any(leg.platform_joint != self.legs[0].platform_joint for leg in self.legs):  # not a point
             polylines["platform"] = [("platform", i % count) for i in range(count + 1)]

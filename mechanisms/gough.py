@@ -15,8 +15,8 @@ Frames and conventions (paper section 2; SI, radians):
   singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
   platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
 * Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
-  The legs are S-P-S joint chains (``parakin.generator.joints``): rates, factors, inverse and
-  drawing are derived; the closure is kept in this form (not the language's squared one)
+  The legs are S-P-S joint chains (``parakin.generator.joints``): closure, rates, factors,
+  inverse and drawing are derived, the closure in this unsquared form (``squared=False``)
   because the polynomial family it gives has its root count (32) proven by the trace test,
   which the squared form's family does not reach at generation.
 * Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
@@ -59,7 +59,6 @@ from parakin.generator.model import (
     POSE_POSITION,
     POSE_ROTATION,
     Citation,
-    ClosureModel,
     Example,
     ForwardElimination,
     Mechanism,
@@ -237,13 +236,6 @@ def forward() -> ForwardElimination:
     return ForwardElimination(iy, coefficients, [sigma, tau], auxiliary, back, pose, degeneracies)
 
 
-def closure() -> ClosureModel:
-    """|p + R B_i^(P) - A_i| - l_i, one row per leg (module docstring: why not the squared form)."""
-    rotation, position = MOTION.rotation, MOTION.position
-    residual = sp.Matrix([sp.sqrt(d.dot(d)) - lengths[k] for k, d in enumerate(leg_vectors(rotation, position))])
-    return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), homogeneous(rotation, position))
-
-
 def defaults() -> dict[sp.Symbol, float]:
     """The default geometry: ``DEFAULT_BASE`` and section 5.4's platform map (module docstring)."""
     values: dict[sp.Symbol, float] = {}
@@ -315,7 +307,7 @@ def build() -> Mechanism:
             "Electronic Journal of Computational Kinematics",
         ),
         parameters=defaults(),
-        **MODEL.fields() | {"closure": closure()},
+        **MODEL.fields() | {"closure": MODEL.closure(squared=False)},
         forward=forward(),
         home=home(),
         limits={length: (0.0, float("inf")) for length in lengths},  # leg lengths

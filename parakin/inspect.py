@@ -68,6 +68,19 @@ def _sections(manifest: Any, objects: dict[str, Any]) -> list[tuple[str, str]]:
 SHARE_ABOVE = 400
 
 
+def shared_subtrees(sympy: Any, expressions: list[Any]) -> tuple[list[tuple[Any, Any]], list[Any]]:
+    """Every subtree that repeats, named once (``shared_k``, or a longer prefix where the
+    expressions already use that name), and the expressions written with those names: a tree
+    CSE that only names identical subtrees, so substituting back in order rebuilds them exactly.
+    ``parakin inspect`` prints this form of a large expression; the generator stores it
+    (``symbolic.py``)."""
+    from sympy.simplify.cse_main import tree_cse
+
+    taken = {str(symbol) for expression in expressions for symbol in getattr(expression, "free_symbols", ())}
+    prefix = next(p for p in ("shared_", "shared__", "shared___") if not any(t.startswith(p) for t in taken))
+    return tree_cse(expressions, sympy.numbered_symbols(prefix), opt_subs={}, order="none")
+
+
 def _text(sympy: Any, expr: Any, width: int, lines: int, name: str) -> str:
     operations = sympy.count_ops(expr)
     if operations < 40:
@@ -77,11 +90,7 @@ def _text(sympy: Any, expr: Any, width: int, lines: int, name: str) -> str:
     if operations > SHARE_ABOVE:
         # a repeated subtree printed once, by name (shared_k, defined below): a 6 x 6 determinant
         # written by Laplace expansion repeats its minors; printing it whole took seconds
-        from sympy.simplify.cse_main import tree_cse
-
-        taken = {str(symbol) for symbol in expr.free_symbols}
-        prefix = next(p for p in ("shared_", "shared__", "shared___") if not any(t.startswith(p) for t in taken))
-        shared, rows = tree_cse(rows, sympy.numbered_symbols(prefix), opt_subs={}, order="none")
+        shared, rows = shared_subtrees(sympy, rows)
     out = _wrapped([(f"[{k}] " if len(rows) > 1 else "", row) for k, row in enumerate(rows)], width, lines, name)
     if shared:
         shown = shared[: 2 * lines]

@@ -36,8 +36,8 @@
 //   singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
 //   platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
 // * Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
-//   The legs are S-P-S joint chains (``parakin.generator.joints``): rates, factors, inverse and
-//   drawing are derived; the closure is kept in this form (not the language's squared one)
+//   The legs are S-P-S joint chains (``parakin.generator.joints``): closure, rates, factors,
+//   inverse and drawing are derived, the closure in this unsquared form (``squared=False``)
 //   because the polynomial family it gives has its root count (32) proven by the trace test,
 //   which the squared form's family does not reach at generation.
 // * Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
