@@ -51,6 +51,20 @@ def check_pose_kind(m: Mechanism) -> None:
             f"{m.name}: the rate model's twist {list(m.rates.twist)} does not match pose_kind {m.pose_kind!r}, "
             f"whose twist is {list(kind.twist)} (write the rates in those components, or change pose_kind)"
         )
+    if m.rates is not None:
+        size, count = len(kind.twist), len(m.actuated)
+        wrenches = 0 if m.rates.constraints is None else m.rates.constraints.rows
+        shapes = {"A": (m.rates.a.shape, (count, size)), "B": (m.rates.b.shape, (count, count))}
+        if m.rates.constraints is not None:
+            shapes["constraints"] = (m.rates.constraints.shape, (size - count, size))
+        for what, (shape, expected) in shapes.items():
+            if shape != expected:
+                raise GenerationError(
+                    f"{m.name}: the rate model's {what} is {shape[0]} x {shape[1]}, expected {expected[0]} x "
+                    f"{expected[1]} ({count} actuators, {size} twist components {list(kind.twist)}, {wrenches} "
+                    "constraint wrenches: a platform with fewer actuators than twist components gives "
+                    "RateModel(constraints=...) one constraint wrench per missing actuator)"
+                )
 
 
 def check_inverse(m: Mechanism) -> None:

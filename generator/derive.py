@@ -336,7 +336,7 @@ def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
             closure.pose, closure.residual, closure.alignment, None, dict(mechanism.factors), {}, {}, {"legs": []}
         )
     found = configurations.anchors(mechanism, closure.pose, closure.residual)
-    sign_a = check_parallel_factors(mechanism, rates.a, found, what="det A = product of parallel_factors")
+    sign_a = check_parallel_factors(mechanism, rates.overall(), found, what="det A = product of parallel_factors")
     serial_product = sp.Mul(*rates.serial_factors.values())
     sign_b = check_parallel_factors(
         mechanism, rates.b, found, {"det B": serial_product}, "det B = product of the rate model's serial_factors"
@@ -345,10 +345,14 @@ def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
     determinants = {"det_A": sign_a * sp.Mul(*mechanism.parallel_factors.values()), "det_B": sign_b * serial_product}
     program = Program(
         "rate_jacobians",
-        "Input-output Jacobians of A twist = B actuated_rates.",
+        "Input-output Jacobians of A twist = B actuated_rates."
+        + ("" if rates.constraints is None else " Constraint wrenches: constraints twist = 0."),
         state,
-        [("a", rates.a), ("b", rates.b)],
+        [("a", rates.a), ("b", rates.b), *([] if rates.constraints is None else [("constraints", rates.constraints)])],
     )
+    views = {"rate_matrix_A": rates.a, "rate_matrix_B": rates.b}
+    if rates.constraints is not None:
+        views["constraint_wrenches"] = rates.constraints
     return _Closure(
         closure.pose,
         closure.residual,
@@ -356,8 +360,15 @@ def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
         program,
         factors,
         determinants,
-        {"rate_matrix_A": rates.a, "rate_matrix_B": rates.b},
-        {"legs": [], "rates": {"twist": rates.twist, "input_independent": rates.input_independent}},
+        views,
+        {
+            "legs": [],
+            "rates": {
+                "twist": rates.twist,
+                "input_independent": rates.input_independent,
+                "constraints": 0 if rates.constraints is None else rates.constraints.rows,
+            },
+        },
     )
 
 

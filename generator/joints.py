@@ -10,7 +10,14 @@ base to platform; S a spherical joint, U a universal joint, the underlined one a
   axis u through A, E = A + r (cos theta e0 + sin theta (u x e0)), e0 its zero direction (a unit
   vector normal to u); a link of fixed length L from E to C;
 * ``slider_leg``: P-S-S, P-U-S: a slider moves along the unit axis k through A, E = A + s k;
-  a link of fixed length L.
+  a link of fixed length L; with a revolute axis n (normal to k), P-R-S: the revolute joint on
+  the slider keeps the link, and so C, in the plane through A normal to n, (C - A) . n = 0.
+
+A platform with fewer legs than twist components gets its missing constraints from such
+revolute joints (lower mobility: the 3-PRS, whose platform also moves in parasitic components);
+each adds a row (C - A) . n to the closure and a constraint wrench, the force along n through C,
+(n, (C - p) x n), to the rate model (``RateModel.constraints``), and the parallel factor is the
+determinant of all six wrenches.
 
 A U at either end of a fixed-length link constrains nothing a distance does not (the link's spin
 about its own line is not a coordinate of the model), so U and S legs share one model. The
@@ -128,6 +135,10 @@ class Leg:
     sign: int = 1
     #: the name of the leg's serial (type I) factor; None: the kind's (``SERIAL_NAMES``)
     serial_name: str | None = None
+    #: a revolute joint's axis n that keeps the link, and so the platform joint, in the fixed
+    #: plane through A normal to n (a P-R-S leg): one constraint wrench, the force along n
+    #: through C; None: no such joint (S or U joints only)
+    plane_normal: sp.Matrix | None = None
 
     def elbow(self, value: sp.Expr | None = None) -> sp.Matrix:
         """E, the base-side end of the distance, at the joint value (default: the joint)."""
@@ -197,12 +208,23 @@ def slider_leg(
     stroke: sp.Symbol,
     sign: int = 1,
     serial_name: str | None = None,
+    revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
     """P-S-S or P-U-S: an actuated slider at A + stroke k along the unit ``axis`` k, then a link
     of length ``link`` to c (in {P}). Branch sign +1 puts the slider behind the platform joint
-    along k (the link rising along k; ``sign`` = -1: ahead of it)."""
+    along k (the link rising along k; ``sign`` = -1: ahead of it). With ``revolute_axis`` n (a
+    unit vector normal to k), a P-R-S leg: a revolute joint on the slider keeps the link in the
+    plane through A normal to n, a constraint on the platform (lower mobility)."""
     k = _unit("a slider's axis", _vector(axis))
-    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, k, None, None, sign, serial_name)
+    normal = None
+    if revolute_axis is not None:
+        normal = _unit("a revolute joint's axis", _vector(revolute_axis))
+        if not (normal.free_symbols or k.free_symbols) and abs(float(normal.dot(k))) > 1e-12:
+            raise ValueError(
+                f"a slider's revolute axis {list(normal)} must be normal to the slider's axis {list(k)} (the link's "
+                "plane must hold the rail)"
+            )
+    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, k, None, None, sign, serial_name, normal)
 
 
 SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}
@@ -224,10 +246,12 @@ class DistanceMechanism:
     def __post_init__(self) -> None:
         if not self.legs:
             raise ValueError("DistanceMechanism: no legs")
-        if len(self.legs) != len(self.motion.twist):
+        planes = len(self.constrained)
+        if len(self.legs) + planes != len(self.motion.twist):
             raise ValueError(
-                f"DistanceMechanism: {len(self.legs)} legs for the {len(self.motion.twist)} twist components of "
-                f"pose kind {self.motion.kind!r} ({', '.join(self.motion.twist)}): one leg per degree of freedom"
+                f"DistanceMechanism: {len(self.legs)} legs and {planes} constraining revolute joints for the "
+                f"{len(self.motion.twist)} twist components of pose kind {self.motion.kind!r} "
+                f"({', '.join(self.motion.twist)}): one leg per degree of freedom, one constraint per missing one"
             )
         signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
         self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed] + list(self.motion.branches)
@@ -235,6 +259,11 @@ class DistanceMechanism:
     @property
     def actuated(self) -> list[sp.Symbol]:
         return [leg.joint for leg in self.legs]
+
+    @property
+    def constrained(self) -> list[int]:
+        """The legs whose revolute joint keeps the platform joint in a plane (lower mobility)."""
+        return [k for k, leg in enumerate(self.legs) if leg.plane_normal is not None]
 
     def platform_joints(self, rotation: sp.Matrix | None = None, position: sp.Matrix | None = None) -> list[sp.Matrix]:
         """C_i = p + R c_i in {B} (default: the platform's coordinates)."""
@@ -253,7 +282,9 @@ class DistanceMechanism:
             (d.dot(d) - leg.length() ** 2) / (2 * leg.length()) if squared else sp.sqrt(d.dot(d)) - leg.length()
             for d, leg in zip(self.links(), self.legs, strict=True)
         ]
-        residual = sp.Matrix([*rows, *self.motion.extra_residual])
+        joints = self.platform_joints()
+        planes = [(joints[k] - self.legs[k].base).dot(self.legs[k].plane_normal) for k in self.constrained]
+        residual = sp.Matrix([*planes, *rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
         return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), pose)
 
@@ -281,10 +312,27 @@ class DistanceMechanism:
         serial = {
             (leg.serial_name or SERIAL_NAMES[leg.kind]).format(k=k + 1): diagonal[k] for k, leg in enumerate(self.legs)
         }
-        return RateModel(self.motion.twist, self._rows(elbows, self.motion.position), sp.diag(*diagonal), serial)
+        a = self._rows(elbows, self.motion.position)
+        return RateModel(self.motion.twist, a, sp.diag(*diagonal), serial, constraints=self._constraint_rows())
+
+    def _constraint_rows(self, origin: sp.Matrix | None = None) -> sp.Matrix | None:
+        """One row per plane: the force along its normal n through the platform joint C,
+        (n, (C - origin) x n) over the platform's twist components (origin: p)."""
+        if not self.constrained:
+            return None
+        origin = self.motion.position if origin is None else origin
+        columns = [TWIST.index(name) for name in self.motion.twist]
+        joints = self.platform_joints()
+        rows = []
+        for k in self.constrained:
+            n = self.legs[k].plane_normal
+            assert n is not None
+            full = list(n) + list((joints[k] - origin).cross(n))
+            rows.append([full[c] for c in columns])
+        return sp.Matrix(rows)
 
     def parallel_factors(self) -> dict[str, sp.Expr]:
-        """det A. A platform that does not turn about all three axes writes its moments about E_1
+        """det A ([A; constraints] for a lower-mobility platform). A platform that does not turn about all three axes writes its moments about E_1
         (a column operation: the same determinant in smaller expressions)."""
         elbows = [leg.elbow() for leg in self.legs]
         q = self.motion.dimensionless
@@ -298,10 +346,17 @@ class DistanceMechanism:
             for leg, e in zip(self.legs, elbows, strict=True):
                 joint = turned * leg.platform_joint + norm * self.motion.position
                 rows.append([*(joint - norm * e), *e.cross(joint)])
+            for k in self.constrained:  # (n, (C - p) x n) the same way: (norm n, (R_u c + norm p) x n)
+                n = self.legs[k].plane_normal
+                assert n is not None
+                joint = turned * self.legs[k].platform_joint + norm * self.motion.position
+                rows.append([*(norm * n), *joint.cross(n)])
             return {self.parallel_name: block_laplace_det(sp.Matrix(rows)) / norm**6}
         spatial = len(POSE_KINDS[self.motion.kind].rotation_axes) == 3
         origin = self.motion.position if spatial else elbows[0]
         rows = self._rows(elbows, origin)
+        constraints = self._constraint_rows(origin)
+        rows = rows if constraints is None else sp.Matrix.vstack(rows, constraints)
         return {self.parallel_name: block_laplace_det(rows) if rows.cols == 6 else laplace_det(rows)}
 
     def inverse(self) -> InverseSolution:

@@ -227,6 +227,13 @@ class RateModel:
     ``parallel_factors`` multiply to det A (direct, type II). Both products are verified.
     ``input_independent`` names serial factors whose zeros give assembly modes that do not depend
     on the inputs (the Agile Eye's folded poses); such modes are flagged, not counted.
+
+    A lower-mobility platform (fewer actuators than twist components, e.g. a 3-PRS with its
+    parasitic motion) adds ``constraints``: the constraint wrenches its legs transmit, one row
+    per wrench over ``twist``, so that every motion it can make has constraints * twist = 0.
+    A then has one row per actuator (the actuation wrenches) and the square matrix [A; constraints]
+    is the mechanism's overall Jacobian (Joshi & Tsai 2002): its determinant is the product of the
+    parallel factors, zero where the platform moves with the actuators locked.
     """
 
     twist: list[str]
@@ -234,6 +241,11 @@ class RateModel:
     b: sp.Matrix
     serial_factors: dict[str, sp.Expr]
     input_independent: list[str] = field(default_factory=list)
+    constraints: sp.Matrix | None = None
+
+    def overall(self) -> sp.Matrix:
+        """[A; constraints]: square, one row per twist component."""
+        return self.a if self.constraints is None else sp.Matrix.vstack(self.a, self.constraints)
 
 
 @dataclass(frozen=True)

@@ -48,24 +48,26 @@ Frames and conventions (SI, radians):
   sigma_i = +1 puts the slider below the platform joint (the link rises to the platform),
   -1 above it; validity ``leg<i>_reachable`` = (L^2 - |h_i|^2) / L^2 (the link reaches the
   joint's rail distance; 0: the link is horizontal, a serial singularity).
-* Rates: no A/B rate model. The runtime's rate model is A twist = B d_dot with A and B square
-  over the pose kind's whole twist (vx, vy, vz, wx, wy, wz), and the generator refuses any other
-  twist ("the rate model's twist ['vz', 'wx', 'wy'] does not match pose_kind 'transform'"); this
-  platform has 3 actuators and a 6 x 6 A (three actuation wrenches and three constraint wrenches)
-  against a 6 x 3 B. So forward_rate, inverse_rate, rate_jacobians and statics are unsupported;
-  ``passive_rates`` (from the loop closure) gives the (x, y, z, q) rates of slider rates.
-  ``reduced_rate_model`` writes the 3 x 3 model over (vz, wx, wy) for the rate model to come.
-* Singularity factors (``m.singularities``): ``leg<i>_link_horizontal`` = (C_i - S_i) . k / L
-  (the link perpendicular to its rail: the stroke is stationary, a serial singularity), and
-  ``platform_moves_with_sliders_locked`` = det(dg / dt) / (L r_p)^3, the Jacobian of the three
-  platform-triangle equations g_ij = |C_i - C_j|^2 - 3 r_p^2 in the link angles t_i (forward pose
-  below), with dC_i / dt_i = (C_i - S_i) x u_i: zero where the platform can move with the sliders
-  locked, the type II singularity (where the loop-closure Jacobian is singular, and where the six
-  wrenches the legs transmit, the force along each link and the constraint force along each
-  revolute axis through C_i, are dependent: Joshi & Tsai 2002, "Jacobian analysis of limited-DOF
-  parallel manipulators", J. Mech. Design 124(2)). A 3 x 3 determinant of small entries instead
-  of that 6 x 6 one (a megabyte of expression).
-* Forward pose: none (``forward=None``). By the parametrisation of the links in their planes,
+* The model (``MODEL``) is three P-R-S legs of the joint language (``generator/joints.py``):
+  a slider on rail i, a revolute joint with axis u_i, a link of length L, a spherical joint at
+  c_i; every derivation below comes from it, the inverse's reading of the pose (``motion``)
+  aside.
+* Rates (derived: Joshi & Tsai 2002, "Jacobian analysis of limited-DOF parallel manipulators",
+  J. Mech. Design 124(2)): A twist = B d_dot over the whole twist (vx, vy, vz, wx, wy, wz), A's
+  row i the actuation wrench of leg i, the force along the link (C_i - S_i, (C_i - p) x (C_i -
+  S_i)), B = diag((C_i - S_i) . k); and three constraint wrenches, the force along each
+  revolute axis through C_i, (u_i, (C_i - p) x u_i): every motion has constraints twist = 0.
+  ``forward_rate`` returns the whole twist, parasitic (vx, vy, wz) included; ``inverse_rate``
+  takes only twists the platform can make (BadInputError otherwise); ``actuator_forces`` and
+  ``constraint_forces`` hold a wrench together; ``stiffness`` acts on the feasible motions.
+* Singularity factors (``m.singularities``): ``leg<i>_link_horizontal`` = (C_i - S_i) . k
+  (metres; the link perpendicular to its rail: the stroke is stationary, a serial singularity),
+  and ``platform_moves_with_sliders_locked`` = det [A; constraints], the six wrenches the legs
+  transmit dependent: zero where the platform can move with the sliders locked (the type II
+  singularity, where the loop-closure Jacobian is singular), written by Laplace's expansion in
+  3 x 3 blocks with polynomial entries in the quaternion.
+* Forward pose: none written (``forward=None``): ``forward_pose_all`` tracks the polynomial
+  form the generator derives from the closure. By the parametrisation of the links in their planes,
   C_i = S_i + L (cos t_i e_i + sin t_i k), the forward problem is three equations
   |C_i - C_j|^2 = 3 r_p^2 of bidegree (2, 2) in the half-angle tangents of (t_i, t_j): at most
   16 assembly modes (the multihomogeneous Bezout number, reached over the complex numbers),
@@ -81,28 +83,17 @@ Frames and conventions (SI, radians):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import sympy as sp
-from parakin.generator.blocks import laplace_det
-from parakin.generator.frames import homogeneous, quaternion_rotation, rot_y, rot_z, sign_or_plus
-from parakin.generator.model import (
-    POSE_POSITION,
-    POSE_ROTATION,
-    Citation,
-    ClosureModel,
-    Drawing,
-    Example,
-    InverseSolution,
-    Mechanism,
-    ParameterInfo,
-    RateModel,
-)
+from parakin.generator import joints
+from parakin.generator.frames import homogeneous, rot_y, rot_z, sign_or_plus
+from parakin.generator.model import POSE_POSITION, POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p, L = sp.symbols("r_b r_p L", positive=True)
 strokes = sp.symbols("d1:4", real=True)
 x, y, z = sp.symbols("x y z", real=True)
 quaternion = sp.symbols("q0:4", real=True)
-sigma = sp.symbols("sigma1:4", real=True)
 K = sp.Matrix([0, 0, 1])
 #: rail angles theta_i: 0, 120, 240 deg, exactly (cos, sin)
 ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
@@ -146,36 +137,6 @@ HALF_TURN_MODE = [
 ]
 
 
-def base_points() -> list[sp.Matrix]:
-    """A_i = r_b e_i, in {B}."""
-    return [r_b * e for e in RADIAL]
-
-
-def sliders(values: tuple[sp.Expr, ...] = strokes) -> list[sp.Matrix]:
-    """S_i = A_i + d_i k, in {B}."""
-    return [a + d * K for a, d in zip(base_points(), values, strict=True)]
-
-
-def platform_joints(rotation: sp.Matrix, position: sp.Matrix) -> list[sp.Matrix]:
-    """C_i = R c_i + p with c_i = r_p e_i, in {B}."""
-    return [rotation * (r_p * e) + position for e in RADIAL]
-
-
-def state_pose() -> tuple[sp.Matrix, sp.Matrix]:
-    """(R(q), p) of the passive variables."""
-    return quaternion_rotation(quaternion), sp.Matrix([x, y, z])
-
-
-def closure() -> ClosureModel:
-    """Plane constraints (C_i - A_i) . u_i, links (|C_i - S_i|^2 - L^2) / (2 L), (q . q - 1) / 2."""
-    rotation, position = state_pose()
-    joints = platform_joints(rotation, position)
-    planes = [(c - a).dot(u) for c, a, u in zip(joints, base_points(), TANGENT, strict=True)]
-    links = [((c - s).dot(c - s) - L**2) / (2 * L) for c, s in zip(joints, sliders(), strict=True)]
-    norm = (sum(q**2 for q in quaternion) - 1) / 2
-    return ClosureModel(sp.Matrix([*planes, *links, norm]), sp.Matrix([1]), homogeneous(rotation, position))
-
-
 def tilt(n: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     """For a unit n = R^T k: the tilt R0 about a horizontal axis with R0^T k = n, its unit
     quaternion (q0 > 0) and the platform centre (x0, y0, 0) that the plane constraints give it
@@ -190,105 +151,34 @@ def tilt(n: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     return rotation, q, centre
 
 
-def inverse() -> InverseSolution:
-    """The reachable pose with the pose's height and tilt (module docstring), then per leg
-    d_i = (C_i - A_i) . k - sigma_i sqrt(L^2 - |h_i|^2)."""
+def motion() -> joints.Platform:
+    """A spatial platform (x, y, z, unit quaternion) whose inverse reads the reachable pose with
+    the pose's height and tilt (module docstring), not the pose's own x, y and turn."""
     n = sp.Matrix(sp.symbols("n_x n_y n_z", real=True))
     r0 = sp.Matrix(3, 3, sp.symbols("tilt11 tilt12 tilt13 tilt21 tilt22 tilt23 tilt31 tilt32 tilt33", real=True))
     centre = sp.Matrix(sp.symbols("x0 y0", real=True))
     turn = sp.Symbol("turn", real=True)  # +1: R0, -1: its half-turn Rot_z(pi) R0
     rotation, q, centre_expr = tilt(n)
-    steps: list[tuple[sp.Symbol, sp.Expr]] = list(zip(n, POSE_ROTATION[2, :], strict=True))
-    steps += list(zip(r0, rotation, strict=True))
-    steps += list(zip(centre, centre_expr[:2], strict=True))
-    # cos of the angle about the vertical from R0 to R: (R R0^T)_11
-    steps.append((turn, sign_or_plus(POSE_ROTATION[0, :].dot(r0[0, :]))))
+    read = [*zip(n, POSE_ROTATION[2, :], strict=True), *zip(r0, rotation, strict=True)]
+    read += [*zip(centre, centre_expr[:2], strict=True), (turn, sign_or_plus(POSE_ROTATION[0, :].dot(r0[0, :])))]
     half = [(1 + turn) / 2, (1 - turn) / 2]  # Rot_z(pi) q = (0, 0, 0, 1) q = (0, -q2, q1, q0)
-    steps += [
-        (x, turn * centre[0]),
-        (y, turn * centre[1]),
-        (z, POSE_POSITION[2]),
-        (quaternion[0], half[0] * q[0]),
-        (quaternion[1], half[0] * q[1] - half[1] * q[2]),
-        (quaternion[2], half[0] * q[2] + half[1] * q[1]),
-        (quaternion[3], half[1] * q[0]),
-    ]
-    turned = sp.diag(turn, turn, 1)
-    joints = platform_joints(turned * r0, sp.Matrix([x, y, z]))
-    validity = {}
-    for i, (c, a) in enumerate(zip(joints, base_points(), strict=True)):
-        disc = sp.Symbol(f"disc{i + 1}", real=True)
-        steps.append((disc, L**2 - (c[0] - a[0]) ** 2 - (c[1] - a[1]) ** 2))
-        steps.append((strokes[i], c[2] - a[2] - sigma[i] * sp.sqrt(sp.Max(0, disc))))
-        validity[f"leg{i + 1}_reachable"] = disc / L**2
-    return InverseSolution(steps, list(sigma), validity)
+    turned = [half[0] * q[0], half[0] * q[1] - half[1] * q[2], half[0] * q[2] + half[1] * q[1], half[1] * q[0]]
+    read += [(x, turn * centre[0]), (y, turn * centre[1]), (z, POSE_POSITION[2]), *zip(quaternion, turned, strict=True)]
+    pose = (sp.diag(turn, turn, 1) * r0, sp.Matrix([x, y, z]))
+    return replace(joints.platform("transform"), read=tuple(read), pose=pose)
 
 
-def factors() -> dict[str, sp.Expr]:
-    """``leg<i>_link_horizontal`` = (C_i - S_i) . k / L, and ``platform_moves_with_sliders_locked``:
-    det(dg / dt) / (L r_p)^3 for the link angles t_i and g_ij = |C_i - C_j|^2 - 3 r_p^2
-    (module docstring), with dC_i / dt_i = (C_i - S_i) x u_i."""
-    rotation, position = state_pose()
-    joints = platform_joints(rotation, position)
-    links = [c - s for c, s in zip(joints, sliders(), strict=True)]
-    named = {f"leg{i + 1}_link_horizontal": link[2] / L for i, link in enumerate(links)}
-    speeds = [link.cross(u) for link, u in zip(links, TANGENT, strict=True)]
-    sides = [joints[i] - joints[(i + 1) % 3] for i in range(3)]  # C1 - C2, C2 - C3, C3 - C1
-    # row (i, i + 1): 2 (C_i - C_j) . dC_i/dt_i in column i, -2 (C_i - C_j) . dC_j/dt_j in column j
-    forward = sp.Mul(*(sides[i].dot(speeds[i]) for i in range(3)))
-    backward = sp.Mul(*(sides[i].dot(speeds[(i + 1) % 3]) for i in range(3)))
-    named["platform_moves_with_sliders_locked"] = 8 * (forward - backward) / (L * r_p) ** 3
-    return named
-
-
-def reduced_rate_model() -> RateModel:
-    """The rates over the independent twist (vz, wx, wy), for the rate model of lower-mobility
-    platforms that is still to come: NOT passed to ``Mechanism`` (the generator refuses a twist
-    other than the pose kind's, module docstring). Each joint velocity is v + w x (C_i - p); the
-    constraints u_i . (v + w x (C_i - p)) = 0 give the parasitic (vx, vy, wz) = -U_p^-1 U_i
-    (vz, wx, wy) (U_p, U_i: the constraint rows' parasitic and independent columns) and the
-    links (C_i - S_i) . (v + w x (C_i - p)) = (C_i - S_i) . k d_dot_i, so
-    A = Lambda_i - Lambda_p U_p^-1 U_i (Lambda: the link rows, U_p^-1 = adj(U_p) / det(U_p))
-    and B = diag((C_i - S_i) . k), det B the product of the serial factors. Checked against finite
-    differences of Newton and of the inverse by tests/test_prs3.py."""
-    rotation, position = state_pose()
-    joints = platform_joints(rotation, position)
-    links, constraints = [], []
-    for c, s, u in zip(joints, sliders(), TANGENT, strict=True):
-        links.append([*(c - s), *(c - position).cross(c - s)])
-        constraints.append([*u, *(c - position).cross(u)])
-    independent, parasitic = [2, 3, 4], [0, 1, 5]
-    link_rows, constraint_rows = sp.Matrix(links), sp.Matrix(constraints)
-    u_p = constraint_rows.extract([0, 1, 2], parasitic)
-    coupling = u_p.adjugate() * constraint_rows.extract([0, 1, 2], independent) / laplace_det(u_p)
-    a = link_rows.extract([0, 1, 2], independent) - link_rows.extract([0, 1, 2], parasitic) * coupling
-    rises = [(c - s)[2] for c, s in zip(joints, sliders(), strict=True)]
-    serial = {f"leg{i + 1}_link_rise": rise for i, rise in enumerate(rises)}
-    return RateModel(["vz", "wx", "wy"], a, sp.diag(*rises), serial)
-
-
-def drawing() -> Drawing:
-    """Base triangle A_i, the rails A_i -> A_i + RAIL_LENGTH k, the sliders (a short block on
-    the rail around S_i), the links S_i -> C_i and the platform triangle C_i."""
-    rotation, position = state_pose()
-    block = r_b / 8 * K
-    slider = sliders()
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(*base_points()),
-            "rail_top": sp.Matrix.hstack(*(a + RAIL_LENGTH * K for a in base_points())),
-            "slider": sp.Matrix.hstack(*slider),
-            "slider_ends": sp.Matrix.hstack(*(s + sign * block for s in slider for sign in (-1, 1))),
-            "platform": sp.Matrix.hstack(*platform_joints(rotation, position)),
-        },
-        polylines={
-            "base": [("base", i % 3) for i in range(4)],
-            **{f"rail{i + 1}": [("base", i), ("rail_top", i)] for i in range(3)},
-            **{f"slider{i + 1}": [("slider_ends", 2 * i), ("slider_ends", 2 * i + 1)] for i in range(3)},
-            **{f"link{i + 1}": [("slider", i), ("platform", i)] for i in range(3)},
-            "platform": [("platform", i % 3) for i in range(4)],
-        },
-    )
+#: the model: three P-R-S legs (a slider on a vertical rail, a revolute joint tangent to the base
+#: circle, a link to a spherical joint) on a spatial platform; closure, rates with the three
+#: constraint wrenches, singularity factors, inverse and drawing are derived from it
+MODEL = joints.DistanceMechanism(
+    motion(),
+    [
+        joints.slider_leg(r_b * e, K, L, r_p * e, d, serial_name="leg{k}_link_horizontal", revolute_axis=u)
+        for e, u, d in zip(RADIAL, TANGENT, strokes, strict=True)
+    ],
+    parallel_name="platform_moves_with_sliders_locked",
+)
 
 
 def level_stroke() -> float:
@@ -303,8 +193,7 @@ LEVEL_POSE = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, HOME_H
 def home() -> dict[sp.Symbol, float]:
     """LEVEL_POSE on branch 0 (links rising): the inverse itself, evaluated at 17 digits."""
     pose = sp.Matrix(LEVEL_POSE)
-    values = inverse().at(pose[:3, :3], pose[:3, 3], 0, DEFAULTS)
-    return {v: values[v] for v in [*strokes, x, y, z, *quaternion]}
+    return MODEL.home_at(pose[:3, :3], pose[:3, 3], 0, DEFAULTS)
 
 
 def euler_pose(alpha: float, beta: float, height: float) -> list[list[float]]:
@@ -367,7 +256,7 @@ def examples() -> list[Example]:
 def build() -> Mechanism:
     return Mechanism(
         name="prs3",
-        title="3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion), no forward model yet",
+        title="3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion)",
         citation=Citation(
             ("M. Carretero", "R. P. Podhorodeski", "M. A. Nahon", "C. M. Gosselin"),
             "Kinematic analysis and optimization of a new three degree-of-freedom spatial parallel manipulator",
@@ -375,23 +264,14 @@ def build() -> Mechanism:
             "Journal of Mechanical Design 122(1)",
         ),
         parameters=dict(DEFAULTS),
-        actuated=list(strokes),
-        passive=[x, y, z, *quaternion],
-        legs=[],
-        inverse=inverse(),
+        **MODEL.fields(),
         forward=None,
         home=home(),
         limits={d: (0.0, RAIL_LENGTH) for d in strokes},
-        dimensionless=list(quaternion),
-        factors=factors(),
-        closure=closure(),
-        rates=None,
-        pose_kind="transform",
         parameter_info={
             r_b: ParameterInfo("m", "radius of the circle of the rails A_i (base)", "positive"),
             r_p: ParameterInfo("m", "radius of the circle of the spherical joints c_i (platform)", "positive"),
             L: ParameterInfo("m", "length of each link, revolute joint S_i to spherical joint C_i", "positive"),
         },
         examples=examples(),
-        drawing=drawing(),
     )

@@ -188,10 +188,13 @@ class Leg:
 
 @dataclass(frozen=True)
 class RateModel:
-    """A twist = B actuated_rates, twist components named ``twist``."""
+    """A twist = B actuated_rates, twist components named ``twist``; a lower-mobility platform
+    also has ``constraints`` constraint wrenches (rows C with C twist = 0 for every motion it
+    can make), A one row per actuator."""
 
     twist: tuple[str, ...]
     input_independent: tuple[str, ...]
+    constraints: int = 0
 
 
 @dataclass(frozen=True)
@@ -410,6 +413,7 @@ class Manifest:
                 rates=RateModel(
                     _names(caps["rates"]["twist"], "capabilities.rates.twist"),
                     _names(caps["rates"]["input_independent"], "capabilities.rates.input_independent"),
+                    int(caps["rates"].get("constraints", 0)),
                 )
                 if caps["rates"]
                 else None,

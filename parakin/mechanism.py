@@ -54,6 +54,9 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
     NEWTON_SINGULAR,
     NEWTON_WRONG_BASIN,
 )
+#: a lower-mobility platform's twist must satisfy constraints @ twist = 0 to this relative
+#: measure, |C_i . twist| / (|C_i| |twist|) per constraint wrench C_i (``inverse_rate``)
+CONSTRAINT_TOLERANCE = 1e-6
 
 
 def _home(variable: Variable) -> float:
@@ -695,7 +698,9 @@ class Mechanism:
         Jacobian; a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1 of
         the matrix that maps joint rates to the twist (each leg's J, or B of A twist = B rates),
         the paper's recommendation near a serial singularity (the motion is then not exactly as
-        commanded). A single state broadcasts against a batch of twists and the reverse.
+        commanded). A single state broadcasts against a batch of twists and the reverse. A
+        lower-mobility platform (a rate model with constraint wrenches C) takes only twists it can
+        make, |C_i . twist| <= CONSTRAINT_TOLERANCE |C_i| |twist|, and raises BadInputError otherwise.
         """
         if damping is not None:
             damping = positive_number(damping, "damping")
@@ -725,6 +730,8 @@ class Mechanism:
         omega = bounded_vector(twist, "twist", rates_model.twist)
         theta, passive = self._state(state)
         jacobians = self.rate_jacobians(state)
+        if "constraints" in jacobians:
+            self._check_feasible(jacobians["constraints"], omega)
         right = (jacobians["a"] @ omega[..., None])[..., 0]
         if damping is None:
             rates = self._solve(
@@ -738,6 +745,22 @@ class Mechanism:
             np.broadcast_to(np.eye(4), rates.shape[:-1] + (4, 4)),  # not read by passive_rates
         )
         return Rates(rates, self.passive_rates(state_b, rates))
+
+    def _check_feasible(self, constraints: Array, twist: Array) -> None:
+        """A lower-mobility platform moves only with constraints @ twist = 0: any other twist
+        raises (its actuator rates would silently drop the motion the legs forbid)."""
+        forbidden = np.abs((constraints @ twist[..., None])[..., 0])
+        scale = np.linalg.norm(constraints, axis=-1) * np.linalg.norm(twist, axis=-1)[..., None]
+        violation = np.max(forbidden / np.maximum(scale, 1e-300), axis=-1)
+        bad = violation > CONSTRAINT_TOLERANCE
+        if bad.any():
+            index = first_index(bad)
+            raise BadInputError(
+                f"the twist{at_index(index)} is not a motion {self.name} can make: it works against the legs' "
+                f"constraint wrenches (|C twist| / (|C| |twist|) = {float(violation[index]):.3g} > "
+                f"{CONSTRAINT_TOLERANCE:g}, C = rate_jacobians(state)['constraints']); a feasible twist is "
+                "forward_rate(state, actuated_rates)"
+            )
 
     def rate_matrix(self, state: Configuration) -> Array:
         """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
@@ -755,11 +778,18 @@ class Mechanism:
         return np.stack(rows, axis=-2)
 
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
-        """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12)."""
+        """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12), or
+        A twist = B theta_dot with a rate model (and constraints twist = 0 for a lower-mobility
+        platform: its parasitic components come out with the rest)."""
         rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         if self.capabilities.rates is not None:
             jacobians = self.rate_jacobians(state)
             right = (jacobians["b"] @ rates[..., None])[..., 0]
+            if "constraints" in jacobians:  # and no motion against the constraint wrenches
+                constraints = jacobians["constraints"]
+                right = np.concatenate([right, np.zeros(right.shape[:-1] + constraints.shape[-2:-1])], axis=-1)
+                overall = np.concatenate([jacobians["a"], constraints], axis=-2)
+                return self._solve(overall, right, "[A; constraints] (overall Jacobian)", "a type II singularity")
             return self._solve(jacobians["a"], right, "A (direct Jacobian)", "a type II (parallel) singularity")
         matrix = self.rate_matrix(state)
         return self._solve(matrix, rates, "rate matrix M (eq 12)", "a type II (parallel) singularity")
@@ -801,6 +831,13 @@ class Mechanism:
         from parakin.statics import actuator_forces
 
         return actuator_forces(self, state, wrench)
+
+    def constraint_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
+        """Intensities of the constraint wrenches a lower-mobility platform's legs apply while its
+        actuators hold ``wrench`` (``parakin.statics.constraint_forces``)."""
+        from parakin.statics import constraint_forces
+
+        return constraint_forces(self, state, wrench)
 
     def stiffness(self, state: Configuration, actuator_stiffness: ArrayLike | None = None) -> Array:
         """Platform stiffness K = G^T K_q G from actuator stiffnesses (default: the ones the

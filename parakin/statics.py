@@ -16,7 +16,10 @@ Conventions (the same for every mechanism):
 * Actuator efforts tau (a force for a prismatic actuator, a torque for a revolute one) are
   positive along increasing actuated values. ``actuator_forces`` returns the efforts that hold
   the platform in static equilibrium against an external wrench w applied to it (massless,
-  frictionless): tau . dq + w . twist dt = 0 for every virtual motion, i.e. G^T tau = -w.
+  frictionless): tau . dq + w . twist dt = 0 for every virtual motion, i.e. G^T tau = -w. A
+  lower-mobility platform (constraint wrenches C, C twist = 0 for every motion it can make) holds
+  w with its actuators and its constraints together: w + A^T phi + C^T lambda = 0, tau = B^T phi
+  (``constraint_forces`` gives lambda).
 * Compliant actuators: tau = K_q (q_cmd - q), K_q (n_a, n_a) positive (a diagonal given as its
   (n_a,) diagonal): an actuator pushed beyond its command pulls back.
 
@@ -56,18 +59,25 @@ def twist_names(m: Mechanism) -> tuple[str, ...]:
     )
 
 
-def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None]:
-    """(A, B) with A twist = B actuated_rates; B is None for a leg model (A = M, B = I)."""
+def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None, Array | None]:
+    """(A, B, C) with A twist = B actuated_rates and C twist = 0 (C None without constraint
+    wrenches); B is None for a leg model (A = M, B = I)."""
     twist_names(m)
     if m.manifest.capabilities.rates is not None:
         jacobians = m.rate_jacobians(state)
-        return np.asarray(jacobians["a"], dtype=float), np.asarray(jacobians["b"], dtype=float)
-    return np.asarray(m.rate_matrix(state), dtype=float), None
+        constraints = jacobians.get("constraints")
+        return (
+            np.asarray(jacobians["a"], dtype=float),
+            np.asarray(jacobians["b"], dtype=float),
+            None if constraints is None else np.asarray(constraints, dtype=float),
+        )
+    return np.asarray(m.rate_matrix(state), dtype=float), None, None
 
 
 def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
-    """G (..., n_a, n_twist): actuated_rates = G twist (B^-1 A, or M of ``m.rate_matrix``)."""
-    a, b = _rate_model(m, state)
+    """G (..., n_a, n_twist): actuated_rates = G twist (B^-1 A, or M of ``m.rate_matrix``); for a
+    lower-mobility platform, on the twists it can make (C twist = 0)."""
+    a, b, _ = _rate_model(m, state)
     if b is None:
         return a
     return m._solve(
@@ -87,16 +97,36 @@ def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Ar
 
     Raises SingularConfigurationError at a type II (parallel) singularity, where A (or M) is
     singular and some wrench cannot be held."""
+    return _holding_intensities(m, state, wrench)[0]
+
+
+def constraint_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Array:
+    """The intensities lambda (..., n_c) of the constraint wrenches C (``m.rate_jacobians(state)
+    ['constraints']``, one row per wrench) that a lower-mobility platform's legs apply to it
+    while its actuators hold the external ``wrench``: wrench + A^T phi + C^T lambda = 0 with
+    tau = B^T phi (``actuator_forces``). Raises UnsupportedOperationError for a platform with no
+    constraint wrenches (its actuators alone hold every wrench)."""
+    rates = m.manifest.capabilities.rates
+    if rates is None or not rates.constraints:
+        raise UnsupportedOperationError(f"{m.name} has no constraint wrenches: its actuators hold every wrench")
+    return _holding_intensities(m, state, wrench)[1]
+
+
+def _holding_intensities(m: Mechanism, state: Configuration, wrench: ArrayLike) -> tuple[Array, Array]:
+    """(tau, lambda): the platform's equilibrium w + A^T phi + C^T lambda = 0, tau = B^T phi."""
     w = _wrench(m, wrench)
-    a, b = _rate_model(m, state)
+    a, b, constraints = _rate_model(m, state)
+    overall = a if constraints is None else np.concatenate([a, constraints], axis=-2)
     y = m._solve(
-        np.swapaxes(a, -1, -2),
+        np.swapaxes(overall, -1, -2),
         w,
-        "A (direct Jacobian)" if b is not None else "rate matrix M",
+        "rate matrix M" if b is None else "A (direct Jacobian)" if constraints is None else "[A; constraints]",
         "a type II (parallel) singularity",
     )
-    tau = -y if b is None else -(np.swapaxes(b, -1, -2) @ y[..., None])[..., 0]
-    return np.asarray(tau, dtype=np.float64)
+    count = a.shape[-2]
+    phi, reactions = -y[..., :count], -y[..., count:]
+    tau = phi if b is None else (np.swapaxes(b, -1, -2) @ phi[..., None])[..., 0]
+    return np.asarray(tau, dtype=np.float64), np.asarray(reactions, dtype=np.float64)
 
 
 def _actuator_stiffness(m: Mechanism, actuator_stiffness: ArrayLike) -> Array:
@@ -109,7 +139,9 @@ def stiffness(m: Mechanism, state: Configuration, actuator_stiffness: ArrayLike)
     """K = G^T K_q G (..., n_twist, n_twist): the extra external wrench that holds the platform
     displaced by a small motion twist dt, dw = K twist dt, with actuators of stiffness K_q
     ((n_a,) diagonal or (n_a, n_a)). Symmetric, and positive definite when K_q is and G has full
-    rank. The geometric stiffness of preloaded actuators (dG/dx^T tau) is neglected."""
+    rank. The geometric stiffness of preloaded actuators (dG/dx^T tau) is neglected. For a
+    lower-mobility platform K holds for the twists it can make (C twist = 0; rank n_a): the
+    constraint wrenches hold the other directions rigidly."""
     k = _actuator_stiffness(m, actuator_stiffness)
     g = actuation_matrix(m, state)
     return np.asarray(np.swapaxes(g, -1, -2) @ k @ g, dtype=np.float64)
@@ -227,6 +259,7 @@ __all__ = [
     "Equilibrium",
     "actuation_matrix",
     "actuator_forces",
+    "constraint_forces",
     "equilibrium",
     "point_force_wrench",
     "stiffness",

@@ -303,3 +303,15 @@ def newton_tolerance(
         return np.full(np.shape(actuated)[:-1], base)
     values = np.linalg.svd(scaled_closure_jacobian(m, actuated, passive), compute_uv=False)
     return base + 10.0 * np.sqrt(values.shape[-1]) * residual / values[..., -1]
+
+
+def feasible_twist(m: Mechanism, state, twist: np.ndarray) -> np.ndarray:
+    """``twist`` itself, or for a lower-mobility platform (a rate model with constraint wrenches
+    C) its projection on the motions it can make, C twist = 0 (least-squares, per batch entry)."""
+    rates = m.capabilities.rates
+    if rates is None or not rates.constraints:
+        return twist
+    c = np.asarray(m.rate_jacobians(state)["constraints"])
+    gram = c @ np.swapaxes(c, -1, -2)
+    along = np.linalg.solve(gram, (c @ twist[..., None]))
+    return twist - (np.swapaxes(c, -1, -2) @ along)[..., 0]

@@ -310,7 +310,8 @@ def test_rate_model_matches_finite_differences_of_the_pose_solvers(name, backend
       twist and the passive rates; forward_rate, passive_rates and each leg Jacobian (joint
       rates -> twist) must give them (1e-6 relative; the step shrinks as 1 / condition near a
       type II singularity, where the higher derivatives grow);
-    * inverse: moving the pose along a random twist, finite differences of inverse_pose give
+    * inverse: moving the pose along a random twist (for a lower-mobility platform, one it can
+      make: the twist of random actuator rates), finite differences of inverse_pose give
       actuated and passive rates; inverse_rate must give them (1e-6 relative).
 
     Differences are central and Richardson-extrapolated (fourth order)."""
@@ -365,6 +366,9 @@ def test_rate_model_matches_finite_differences_of_the_pose_solvers(name, backend
         # inverse: finite differences of the closed-form inverse along a twist
         motion = np.zeros(6)
         motion[components] = rng.normal(size=len(components)) * twist_scale[components]
+        if capabilities.rates is not None and capabilities.rates.constraints:
+            # a lower-mobility platform moves only along its feasible twists: those of actuator rates
+            motion[components] = m.forward_rate(state, rng.normal(size=state.actuated.shape) * actuated_scale)
         step = 1e-5
         ik = m.inverse_pose(np.stack([h.move_pose(state.pose, motion, t * step) for t in STENCIL]), strict=False)
         k = nearest_branch(m, ik, state)
@@ -846,6 +850,8 @@ def test_a_batch_of_five_equals_five_single_calls(name, backend):
             "forward_rate",
         )
         twist = rng.normal(size=(5, m.manifest.twist_size))
+        if m.capabilities.rates is not None and m.capabilities.rates.constraints:  # twists it can make
+            twist = m.forward_rate(batch, rng.normal(size=actuated.shape))
         back = m.inverse_rate(batch, twist)
         back1 = [m.inverse_rate(s, t) for s, t in zip(singles, twist, strict=True)]
         assert_same(back.actuated, [b.actuated for b in back1], "inverse_rate actuated")

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import warnings
 
+import contract_helpers as h
 import numpy as np
 import pytest
 
@@ -381,6 +382,6 @@ def test_rates_twists_and_wrenches_beyond_the_magnitude_bound_are_refused(name):
         m.forward_rate(state, np.full(len(m.actuated_names), 2 * MAX_MAGNITUDE))
     with pytest.raises(BadInputError, match="wrench .* is outside its range"):
         m.actuator_forces(state, huge)
-    twist = np.linspace(0.1, 0.3, size)
+    twist = h.feasible_twist(m, state, np.linspace(0.1, 0.3, size))
     back = m.forward_rate(state, m.inverse_rate(state, twist).actuated)
     assert np.allclose(back, twist, rtol=1e-8, atol=1e-10)

@@ -174,7 +174,7 @@ def _conditioning(m, c: Configuration) -> float:
         if has_rates(m):
             try:
                 m.forward_rate(c, np.ones(len(m.actuated_names)))
-                m.inverse_rate(c, np.ones(m.manifest.twist_size))
+                m.inverse_rate(c, h.feasible_twist(m, c, np.ones(m.manifest.twist_size)))
             except ParakinError:
                 return np.inf
     return condition
@@ -201,7 +201,7 @@ def fixture(name: str) -> Fixture:
     guess = state.passive + 0.05 * scale * rng.normal(size=state.passive.shape)
     moved = state.actuated + 1e-5 * h.variable_scale(m, m.manifest.actuated) * rng.normal(size=state.actuated.shape)
     twist_scale = np.array([h.length_scale(m)] * 3 + [1.0] * 3)[h.twist_components(m)] if has_rates(m) else 1.0
-    twist = rng.normal(size=m.manifest.twist_size) * twist_scale
+    twist = h.feasible_twist(m, state, rng.normal(size=m.manifest.twist_size) * twist_scale)
     rates = rng.normal(size=len(m.actuated_names)) * h.variable_scale(m, m.manifest.actuated)
     wrench = rng.normal(size=m.manifest.twist_size)
     return Fixture(name, dict(h.usable_parameters(name)), state, states, guess, moved, twist, rates, wrench)

@@ -20,7 +20,7 @@ import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import point_defaults, prismatic_legs
 from parakin.generator.model import POSE_POSITION, POSE_ROTATION
-from parakin.mechanisms import planar_3rrr, stewart
+from parakin.mechanisms import planar_3rrr, prs3, stewart
 
 SAMPLES = 300
 
@@ -49,6 +49,8 @@ def test_legs_refuse_directions_that_are_not_unit_or_not_normal():
         joints.crank_leg([0, 0, 0], [0, 0, 1], [0, 0.6, 0.8], 0.1, 0.3, [0, 0, 0], theta)
     with pytest.raises(ValueError, match="slider's axis must be a unit vector"):
         joints.slider_leg([0, 0, 0], [1, 1, 0], 0.3, [0, 0, 0], theta)
+    with pytest.raises(ValueError, match="revolute axis .* must be normal to the slider's axis"):
+        joints.slider_leg([0, 0, 0], [0, 0, 1], 0.3, [0, 0, 0], theta, revolute_axis=[0, 0.6, 0.8])
     with pytest.raises(ValueError, match="1 to 3 coordinates"):
         joints.prismatic_leg([0, 0, 0, 0], [0, 0, 0], theta)
     # directions written with parameters are accepted as given (their values are not known here)
@@ -210,3 +212,50 @@ def test_planar_prismatic_legs_close_and_rate():
     model = joints.DistanceMechanism(joints.platform("planar"), legs)
     closed, rated = _check(model, {}, _poses("planar", np.zeros(3), 0.05, SAMPLES // 3, 6))
     assert closed == SAMPLES // 3 and rated >= 0.9 * (SAMPLES // 3)
+
+
+def test_prs_legs_constrain_the_platform_and_rate_with_constraint_wrenches():
+    """3-PRS (``prs3.MODEL``, P-R-S legs: lower mobility): at reachable poses (Z-Y-Z Euler
+    (alpha, beta, -alpha) with the parasitic centre, ``prs3.euler_pose``) every valid branch
+    closes the loop (plane rows included) and reproduces the pose; along a motion of (alpha,
+    beta, height) the twist by central differences satisfies the constraint wrenches (C twist = 0)
+    and A twist = B rates with the rates by central differences of the inverse; the parallel
+    factor is det [A; C]."""
+    model, values = prs3.MODEL, prs3.DEFAULTS
+    numeric = _Numeric(model, values)
+    rates_model = model.rates()
+    assert rates_model.constraints is not None and rates_model.constraints.shape == (3, 6)
+    state = [*model.actuated, *model.motion.coordinates]
+    constraints = sp.lambdify(state, rates_model.constraints.xreplace(values), "numpy")
+    rng = np.random.default_rng(9)
+    closed = rated = 0
+    for _ in range(SAMPLES // 3):
+        alpha, beta, height = rng.uniform(-np.pi, np.pi), rng.uniform(0, 0.5), rng.uniform(0.4, 0.7)
+        pose = np.array(prs3.euler_pose(alpha, beta, height), dtype=float)
+        for branch in range(len(numeric.branches)):
+            theta, q, valid = numeric.inverse(pose, branch)
+            if not valid:
+                continue
+            assert np.abs(numeric.residual(*theta, *q)).max() < 1e-9
+            assert np.abs(numeric.pose(*q) - pose).max() < 1e-9
+            closed += 1
+            if branch:
+                continue
+            direction, h = rng.standard_normal(3) * [1.0, 0.3, 0.1], 1e-6
+            ends = [
+                np.array(prs3.euler_pose(*(np.array([alpha, beta, height]) + s * h * direction)), float)
+                for s in (1, -1)
+            ]
+            turned = [numeric.inverse(e, 0) for e in ends]
+            rates = (turned[0][0] - turned[1][0]) / (2 * h)
+            velocity = (ends[0][:3, 3] - ends[1][:3, 3]) / (2 * h)
+            spin = (ends[0][:3, :3] - ends[1][:3, :3]) / (2 * h) @ pose[:3, :3].T
+            twist = np.concatenate([velocity, [spin[2, 1], spin[0, 2], spin[1, 0]]])
+            a, b = np.asarray(numeric.a(*theta, *q), float), np.asarray(numeric.b(*theta, *q), float)
+            c = np.asarray(constraints(*theta, *q), float)
+            assert np.abs(c @ twist).max() < 1e-6 * np.abs(twist).max()
+            assert np.abs(a @ twist - b @ rates).max() < 1e-6 * (1 + np.abs(a @ twist).max())
+            overall = np.linalg.det(np.vstack([a, c]))
+            assert abs(float(numeric.parallel(*theta, *q)) - overall) < 1e-9 * (1 + abs(overall))
+            rated += 1
+    assert closed >= SAMPLES // 3 and rated >= 0.9 * (SAMPLES // 3)

@@ -327,8 +327,9 @@ def test_inverse_reads_height_and_tilt_only(m):
 
 
 def test_link_horizontal_factor_squared_is_the_reach_validity(m):
-    """leg<i>_link_horizontal = (C_i - S_i) . k / L = sigma_i sqrt(L^2 - |h_i|^2) / L: its square
-    is the validity leg<i>_reachable and its sign the branch sign (1e-12)."""
+    """leg<i>_link_horizontal = (C_i - S_i) . k = sigma_i sqrt(L^2 - |h_i|^2) (metres, the slider
+    leg's serial factor d . k): its square over L^2 is the validity leg<i>_reachable and its sign
+    the branch sign (1e-12)."""
     rng = np.random.default_rng(5)
     signs = branch_signs(m)
     for _ in range(10):
@@ -338,7 +339,7 @@ def test_link_horizontal_factor_squared_is_the_reach_validity(m):
         validity = (L**2 - ((joints[:, :2] - R_B * RADIAL[:, :2]) ** 2).sum(-1)) / L**2
         for k in np.flatnonzero(ik.valid):
             factors = m.singularities(parakin.Configuration(ik.actuated[k], ik.passive[k], pose))
-            horizontal = np.array([factors[f"leg{i}_link_horizontal"] for i in (1, 2, 3)])
+            horizontal = np.array([factors[f"leg{i}_link_horizontal"] for i in (1, 2, 3)]) / L
             assert np.abs(horizontal**2 - validity).max() < 1e-12
             assert (np.sign(horizontal) == signs[k]).all()
 
@@ -432,18 +433,17 @@ def test_the_constructed_input_has_its_pose_and_the_example_modes_among_its_mode
     assert (np.abs(quaternions[:, 3]) < 1e-12).sum() == 8 and (np.abs(quaternions[:, 0]) < 1e-12).sum() == 8
 
 
-def test_every_mode_is_derived_but_the_rate_model_is_not_yet():
-    """No forward model is written: forward_pose_all comes from the generator's polynomial form
-    (method "automatic"; the mode counts against the independent elimination are tested above
-    and in test_automatic_forward.py); the rate model of a lower-mobility platform is still to
-    come, so its operations are unsupported, named."""
+def test_every_mode_and_the_rate_model_are_derived():
+    """No forward model and no rate model are written: forward_pose_all comes from the
+    generator's polynomial form (method "automatic"; the mode counts against the independent
+    elimination are tested above and in test_automatic_forward.py), the rate model with its three
+    constraint wrenches from the P-R-S legs."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         m = parakin.load("prs3", backend="numpy")
-    assert set(m.capabilities.forward_methods) == {"automatic"} and m.capabilities.rates is None
+    assert set(m.capabilities.forward_methods) == {"automatic"}
+    assert m.capabilities.rates is not None and m.capabilities.rates.constraints == 3
     assert int(m.forward_pose_all(m.home_actuated).count) >= 1
-    with pytest.raises(parakin.UnsupportedOperationError):
-        m.forward_rate(m.forward_pose(m.home_actuated), np.zeros(3))
 
 
 def test_passive_rates_follow_finite_differences_of_newton(m):
@@ -460,50 +460,71 @@ def test_passive_rates_follow_finite_differences_of_newton(m):
     assert np.abs(numeric[:2]).max() > 1e-3 * np.abs(numeric).max(), "the parasitic x, y move"
 
 
-def test_drawing_has_rails_sliders_links_and_platform(m):
+def test_drawing_has_base_sliders_and_platform(m):
     state = m.forward_pose(m.home_actuated)
     points = m.drawing(state)
     assert np.abs(points["base"].T - R_B * RADIAL).max() < 1e-15
-    assert np.abs(points["slider"].T - sliders(m.home_actuated)).max() < 1e-15
+    assert np.abs(points["elbow"].T - sliders(m.home_actuated)).max() < 1e-15
     assert np.abs(points["platform"].T - platform_joints(state.pose)).max() < 1e-12
-    lines = m.capabilities.drawing.polylines
-    assert {f"{part}{i}" for part in ("rail", "slider", "link") for i in (1, 2, 3)} | {"base", "platform"} == set(lines)
+    assert set(m.capabilities.drawing.polylines) == {"leg1", "leg2", "leg3", "base", "platform"}
 
 
-def test_reduced_rate_model_matches_finite_differences_of_newton_and_of_the_inverse(m):
-    """prs3.reduced_rate_model() (not in the package: the generator accepts only the pose kind's
-    six twist components) at 6 closed configurations near home: the (vz, wx, wy) it gives for
-    slider rates are the central differences of Newton's poses, and the slider rates it gives
-    for a motion with that (vz, wx, wy) and no (vx, vy, wz) are the central differences of
-    inverse_pose along it (1e-6 relative); the platform does move in (vx, vy, wz) (parasitic)."""
-    model = prs3.reduced_rate_model()
-    symbols = [*prs3.strokes, prs3.x, prs3.y, prs3.z, *prs3.quaternion, *prs3.DEFAULTS]
-    matrices = sp.lambdify(symbols, [model.a, model.b], modules="numpy", cse=True)
+def twist_between(before: np.ndarray, after: np.ndarray, step: float) -> np.ndarray:
+    """(v of the origin of {P}, w) in {B} by central differences of two poses 2 step apart."""
+    velocity = (after[:3, 3] - before[:3, 3]) / (2 * step)
+    spin = after[:3, :3] @ before[:3, :3].T
+    omega = np.array([spin[2, 1] - spin[1, 2], spin[0, 2] - spin[2, 0], spin[1, 0] - spin[0, 1]]) / (4 * step)
+    return np.concatenate([velocity, omega])
+
+
+def test_lower_mobility_rates_and_statics_match_finite_differences_and_virtual_work(m):
+    """At 6 closed configurations near home: forward_rate of slider rates is the twist of the
+    central differences of Newton's poses, all six components (the parasitic vx, vy, wz move:
+    > 1e-3 of the twist), 1e-6 relative; inverse_rate of the tilt-and-height part of a motion
+    (feasible: built by the constraint wrenches' null space from an independent NumPy geometry)
+    gives the central differences of inverse_pose along it; a twist against the constraint
+    wrenches raises BadInputError; and the actuator and constraint forces hold a random wrench:
+    the virtual work tau . d_dot + w . twist vanishes for every feasible motion, and the
+    platform's equilibrium w + A^T phi + C^T lambda = 0 (1e-9)."""
     rng = np.random.default_rng(8)
-    step, parasitic = 1e-6, 0.0
+    step, parasitic, checked = 1e-6, 0.0, 0
     for _ in range(6):
         state = m.forward_pose(m.home_actuated + rng.normal(scale=0.02, size=3), guess=m.home_passive)
-        a, b = (np.asarray(v, dtype=float) for v in matrices(*state.actuated, *state.passive, *prs3.DEFAULTS.values()))
         rates = rng.normal(size=3)
         ends = [m.forward_pose(state.actuated + s * step * rates, guess=state, tolerance=1e-13).pose for s in (-1, 1)]
-        velocity = (ends[1][:3, 3] - ends[0][:3, 3]) / (2 * step)
-        spin = ends[1][:3, :3] @ ends[0][:3, :3].T
-        omega = np.array([spin[2, 1] - spin[1, 2], spin[0, 2] - spin[2, 0], spin[1, 0] - spin[0, 1]]) / (4 * step)
-        twist = np.concatenate([velocity, omega])
-        independent = np.linalg.solve(a, b @ rates)
-        assert np.abs(independent - twist[[2, 3, 4]]).max() < 1e-6 * np.abs(twist).max()
+        twist = twist_between(ends[0], ends[1], step)
+        ours = m.forward_rate(state, rates)
+        assert np.abs(ours - twist).max() < 1e-6 * np.abs(twist).max()
         parasitic = max(parasitic, np.abs(twist[[0, 1, 5]]).max() / np.abs(twist).max())
-        motion = rng.normal(size=3)
+        # constraint wrenches of this test's own geometry: the force along u_i through C_i
+        joints = platform_joints(state.pose)
+        wrenches = np.array([[*u, *np.cross(c - state.pose[:3, 3], u)] for c, u in zip(joints, TANGENT, strict=True)])
+        assert np.abs(wrenches @ ours).max() < 1e-9 * np.abs(ours).max()
+        # a feasible motion: any twist projected on the null space of the constraint wrenches
+        null = np.linalg.svd(wrenches)[2][3:]
+        motion = null.T @ rng.normal(size=3)
         moved = [
-            transform(
-                Rotation.from_rotvec(sign * step * np.array([motion[1], motion[2], 0.0])).as_matrix()
-                @ state.pose[:3, :3],
-                state.pose[:3, 3] + [0.0, 0.0, sign * step * motion[0]],
-            )
-            for sign in (-1, 1)
-        ]
+            transform(Rotation.from_rotvec(s * step * motion[3:]).as_matrix() @ state.pose[:3, :3],
+                      state.pose[:3, 3] + s * step * motion[:3])
+            for s in (-1, 1)
+        ]  # fmt: skip
         ik = m.inverse_pose(np.stack(moved), strict=False)
         numeric = (ik.actuated[1, 0] - ik.actuated[0, 0]) / (2 * step)
-        ours = np.linalg.solve(b, a @ motion)
-        assert np.abs(ours - numeric).max() < 1e-6 * np.abs(numeric).max()
-    assert parasitic > 1e-3
+        back = m.inverse_rate(state, motion).actuated
+        assert np.abs(back - numeric).max() < 1e-6 * np.abs(numeric).max()
+        with pytest.raises(parakin.BadInputError, match="constraint wrenches"):
+            m.inverse_rate(state, motion + 1e-3 * np.abs(motion).max() * wrenches[0] / np.linalg.norm(wrenches[0]))
+        # statics: the efforts hold a wrench on every feasible motion (virtual work)
+        wrench = rng.normal(size=6)
+        tau = m.actuator_forces(state, wrench)
+        reactions = m.constraint_forces(state, wrench)
+        jacobians = m.rate_jacobians(state)
+        phi = np.linalg.solve(jacobians["b"].T, tau)
+        balance = wrench + jacobians["a"].T @ phi + jacobians["constraints"].T @ reactions
+        assert np.abs(balance).max() < 1e-9 * np.abs(wrench).max()
+        for _ in range(3):
+            slider_rates = rng.normal(size=3)
+            work = tau @ slider_rates + wrench @ m.forward_rate(state, slider_rates)
+            assert abs(work) < 1e-9 * np.abs(tau).max() * np.abs(slider_rates).max()
+            checked += 1
+    assert parasitic > 1e-3 and checked == 18

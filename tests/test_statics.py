@@ -19,6 +19,7 @@ encodes; equilibrium of compliant actuators by Newton and by fixed point.
 
 import warnings
 
+import contract_helpers as h
 import numpy as np
 import pytest
 
@@ -109,6 +110,9 @@ def configurations(m: parakin.Mechanism, rng: np.random.Generator, count: int = 
             continue  # joint values that do not close need not give a rigid pose: refused
         for k in np.nonzero(branches.valid)[0]:
             state = branches.branch(int(k))
+            # its own pose: an inverse that reads part of the pose (a 3-PRS reads height and
+            # tilt) reaches a pose of its own, and the motions below start there
+            state = parakin.Configuration(state.actuated, state.passive, m.platform_pose(state.actuated, state.passive))
             if well_conditioned(m, state):
                 found.append((int(k), state))
                 break
@@ -159,7 +163,7 @@ def test_actuator_forces_are_virtual_work(case):
     worst = 0.0
     for branch, state in states:
         for _ in range(3):
-            wrench, twist = rng.normal(size=n), rng.normal(size=n)
+            wrench, twist = rng.normal(size=n), h.feasible_twist(m, state, rng.normal(size=n))
             tau = statics.actuator_forces(m, state, wrench)
             dq = actuated_change(m, branch, state, twist)
             scale = np.abs(tau) @ np.abs(dq) + np.abs(wrench) @ np.abs(twist)
@@ -194,16 +198,20 @@ def test_actuator_forces_batch_and_point_force(case):
 
 
 def test_stiffness_is_symmetric_positive_definite_and_maps_motion_to_wrench(case):
-    """K = G^T K_q G: symmetric positive definite for positive actuator stiffnesses, and the extra
-    wrench K twist dt is held by the actuator efforts -K_q dq (the springs' response to dq)."""
+    """K = G^T K_q G: symmetric positive definite for positive actuator stiffnesses (on the
+    motions a lower-mobility platform can make), and the extra wrench K twist dt is held by the
+    actuator efforts -K_q dq (the springs' response to dq)."""
     m, states, rng = case
     n_a = len(m.actuated_names)
     for branch, state in states:
         k_q = np.exp(rng.normal(size=n_a)) * 1e4
         stiffness = statics.stiffness(m, state, k_q)
         assert np.abs(stiffness - stiffness.T).max() <= 1e-12 * np.abs(stiffness).max()
-        assert np.linalg.eigvalsh(0.5 * (stiffness + stiffness.T)).min() > 0
-        twist = rng.normal(size=stiffness.shape[0])
+        # positive definite on the motions the platform can make (all, but for a lower-mobility one)
+        basis = np.linalg.svd(np.stack([h.feasible_twist(m, state, e) for e in np.eye(len(stiffness))]).T)[0]
+        basis = basis[:, :n_a] if m.capabilities.rates is not None and m.capabilities.rates.constraints else basis
+        assert np.linalg.eigvalsh(basis.T @ (0.5 * (stiffness + stiffness.T)) @ basis).min() > 0
+        twist = h.feasible_twist(m, state, rng.normal(size=stiffness.shape[0]))
         dq = actuated_change(m, branch, state, twist)
         tau = statics.actuator_forces(m, state, stiffness @ twist)
         assert np.abs(tau + k_q * dq).max() < 1e-6 * np.abs(k_q * dq).max()

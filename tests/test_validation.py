@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import warnings
 
+import contract_helpers as h
 import numpy as np
 import pytest
 
@@ -123,7 +124,7 @@ def test_damping_is_honoured_by_every_rate_model(name, backend):
     if state.actuated.shape[0] == 0:
         pytest.skip(f"{name}: no closed configuration near home with default parameters")
     rng = np.random.default_rng(1)
-    twist = rng.standard_normal(state.actuated.shape[:-1] + (m.manifest.twist_size,))
+    twist = h.feasible_twist(m, state, rng.standard_normal(state.actuated.shape[:-1] + (m.manifest.twist_size,)))
     jacobians = m.rate_jacobians(state)
     exact = m.inverse_rate(state, twist)
     for damping in (1e-1, 1e-3):

@@ -4,9 +4,10 @@
 //   platform_pose: 47
 //   loop_closure: 535
 //   loop_closure_actuated: 39
-//   singularity_factors: 152
-//   drawing: 70
-//   inverse_pose: 195
+//   rate_jacobians: 130
+//   singularity_factors: 447
+//   drawing: 62
+//   inverse_pose: 218
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0
@@ -27,7 +28,7 @@
 #define NQ_ALLOC (NQ > 0 ? NQ : 1)  // a serial chain has no unknowns; C arrays need a size
 #define NPAIRS 1
 #define SZ_ARG 3
-#define SZ_RES 5
+#define SZ_RES 3
 #define SZ_IW (0 + 1)
 #define SZ_W (65 + 1)
 
@@ -98,13 +99,42 @@ int prs3_loop_closure_actuated_batch(long long n, const double** inputs, const l
     return 0;
 }
 
+int prs3_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[3];
+    casadi_int iw[0 + 1];
+    casadi_real w[33 + 1];
+    casadi_real out_a[18 + 1];
+    casadi_real out_b[9 + 1];
+    casadi_real out_constraints[18 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_a;
+        res[1] = out_b;
+        res[2] = out_constraints;
+        if (prs3_rate_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c)
+                outputs[0][i * 18 + r * 6 + c] = out_a[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                outputs[1][i * 9 + r * 3 + c] = out_b[c * 3 + r];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c)
+                outputs[2][i * 18 + r * 6 + c] = out_constraints[c * 3 + r];
+    }
+    return 0;
+}
+
 int prs3_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[38 + 1];
+    casadi_real w[58 + 1];
     casadi_real out_factors[4 + 1];
-    casadi_real out_determinants[0 + 1];
+    casadi_real out_determinants[2 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
@@ -115,48 +145,38 @@ int prs3_singularity_factors_batch(long long n, const double** inputs, const lon
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 1; ++c)
                 outputs[0][i * 4 + r * 1 + c] = out_factors[c * 4 + r];
-        for (int r = 0; r < 0; ++r)
+        for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 1; ++c)
-                outputs[1][i * 0 + r * 1 + c] = out_determinants[c * 0 + r];
+                outputs[1][i * 2 + r * 1 + c] = out_determinants[c * 2 + r];
     }
     return 0;
 }
 
 int prs3_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
-    casadi_real* res[5];
+    casadi_real* res[3];
     casadi_int iw[0 + 1];
     casadi_real w[19 + 1];
     casadi_real out_base[9 + 1];
-    casadi_real out_rail_top[9 + 1];
-    casadi_real out_slider[9 + 1];
-    casadi_real out_slider_ends[18 + 1];
+    casadi_real out_elbow[9 + 1];
     casadi_real out_platform[9 + 1];
     for (long long i = 0; i < n; ++i) {
         arg[0] = inputs[0] + i * strides[0];
         arg[1] = inputs[1] + i * strides[1];
         arg[2] = inputs[2] + i * strides[2];
         res[0] = out_base;
-        res[1] = out_rail_top;
-        res[2] = out_slider;
-        res[3] = out_slider_ends;
-        res[4] = out_platform;
+        res[1] = out_elbow;
+        res[2] = out_platform;
         if (prs3_drawing(arg, res, iw, w, 0)) return 1;
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[0][i * 9 + r * 3 + c] = out_base[c * 3 + r];
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
-                outputs[1][i * 9 + r * 3 + c] = out_rail_top[c * 3 + r];
+                outputs[1][i * 9 + r * 3 + c] = out_elbow[c * 3 + r];
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
-                outputs[2][i * 9 + r * 3 + c] = out_slider[c * 3 + r];
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 6; ++c)
-                outputs[3][i * 18 + r * 6 + c] = out_slider_ends[c * 3 + r];
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c)
-                outputs[4][i * 9 + r * 3 + c] = out_platform[c * 3 + r];
+                outputs[2][i * 9 + r * 3 + c] = out_platform[c * 3 + r];
     }
     return 0;
 }
@@ -435,7 +455,7 @@ int prs3_forward_pose(const prs3_newton_job* job) {
 #define NDEG 0
 #define NV 3
 #define NF 4
-#define NDET 0
+#define NDET 2
 #define M (DEGREE * NB)
 // a root at infinity (manifest tolerances): for a tangent half-angle, the half-turn
 #define AT_INFINITY 100000000.0

@@ -4,9 +4,10 @@
 //   platform_pose: 47
 //   loop_closure: 535
 //   loop_closure_actuated: 39
-//   singularity_factors: 152
-//   drawing: 70
-//   inverse_pose: 195
+//   rate_jacobians: 130
+//   singularity_factors: 447
+//   drawing: 62
+//   inverse_pose: 218
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0

@@ -4,9 +4,10 @@
 //   platform_pose: 47
 //   loop_closure: 535
 //   loop_closure_actuated: 39
-//   singularity_factors: 152
-//   drawing: 70
-//   inverse_pose: 195
+//   rate_jacobians: 130
+//   singularity_factors: 447
+//   drawing: 62
+//   inverse_pose: 218
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_f7 CASADI_PREFIX(f7)
 #define casadi_f8 CASADI_PREFIX(f8)
+#define casadi_f9 CASADI_PREFIX(f9)
 #define casadi_fabs CASADI_PREFIX(fabs)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
@@ -124,10 +126,10 @@ static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {7, 7, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {7, 3, 1};
-static const casadi_int casadi_s6[3] = {4, 1, 1};
-static const casadi_int casadi_s7[3] = {0, 1, 1};
-static const casadi_int casadi_s8[3] = {3, 3, 1};
-static const casadi_int casadi_s9[3] = {3, 6, 1};
+static const casadi_int casadi_s6[3] = {3, 6, 1};
+static const casadi_int casadi_s7[3] = {3, 3, 1};
+static const casadi_int casadi_s8[3] = {4, 1, 1};
+static const casadi_int casadi_s9[3] = {2, 1, 1};
 static const casadi_int casadi_s10[3] = {12, 1, 1};
 static const casadi_int casadi_s11[3] = {6, 1, 1};
 static const casadi_int casadi_s12[3] = {134, 1, 1};
@@ -1111,12 +1113,11 @@ CASADI_SYMBOL_EXPORT int prs3_loop_closure_actuated_work_bytes(casadi_int *sz_ar
   return 0;
 }
 
-/* prs3_singularity_factors:(actuated[3],passive[7],params[3])->(factors[4],determinants[0]) */
+/* prs3_rate_jacobians:(actuated[3],passive[7],params[3])->(a[3x6],b[3x3],constraints[3x6]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
-  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
-  casadi_real a36, a37;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32;
   a00=arg[2]? arg[2][1] : 0;
   a01=arg[1]? arg[1][5] : 0;
   a02=casadi_sq(a01);
@@ -1129,163 +1130,709 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a09=casadi_sq(a08);
   a10=(a07+a09);
   a05=(a05+a10);
-  a11=(a00/a05);
-  a12=(2.*a08);
-  a12=(a12*a03);
+  a00=(a00/a05);
+  a05=(a02+a04);
+  a10=(a10-a05);
+  a10=(a00*a10);
+  a05=arg[2]? arg[2][0] : 0;
+  a11=(a10-a05);
+  a12=arg[1]? arg[1][0] : 0;
+  a11=(a11+a12);
+  if (res[0]!=0) res[0][0]=a11;
+  a13=(2.*a08);
+  a13=(a13*a01);
   a06=(2.*a06);
-  a13=(a06*a01);
-  a12=(a12-a13);
-  a12=(a11*a12);
-  a13=arg[0]? arg[0][0] : 0;
-  a13=(a12-a13);
-  a14=arg[1]? arg[1][2] : 0;
-  a13=(a13+a14);
-  a15=arg[2]? arg[2][2] : 0;
-  a16=(a13/a15);
-  if (res[0]!=0) res[0][0]=a16;
-  a16=(a06*a08);
-  a17=(2.*a01);
-  a17=(a17*a03);
-  a16=(a16+a17);
-  a17=8.6602540378443860e-01;
-  a18=(a17*a11);
-  a19=(a16*a18);
-  a20=5.0000000000000000e-01;
-  a21=(a20*a12);
-  a21=(a21-a14);
-  a22=(a19-a21);
-  a23=arg[0]? arg[0][1] : 0;
-  a22=(a22-a23);
-  a24=(a22/a15);
-  if (res[0]!=0) res[0][1]=a24;
-  a21=(a19+a21);
-  a24=arg[0]? arg[0][2] : 0;
-  a21=(a21+a24);
-  a25=(a21/a15);
-  a25=(-a25);
-  if (res[0]!=0) res[0][2]=a25;
-  a25=-8.;
-  a26=(2.*a08);
-  a26=(a26*a01);
-  a06=(a06*a03);
-  a26=(a26-a06);
-  a03=(a18*a26);
-  a27=1.5000000000000000e+00;
-  a28=(a04+a02);
-  a10=(a10-a28);
-  a28=(a10*a11);
-  a29=(a27*a28);
-  a30=(a03+a29);
-  a31=(a13*a30);
-  a32=arg[2]? arg[2][0] : 0;
-  a28=(a28-a32);
-  a33=arg[1]? arg[1][0] : 0;
-  a28=(a28+a33);
-  a34=(a27*a12);
-  a35=(a19+a34);
-  a36=(a28*a35);
-  a31=(a31-a36);
-  a25=(a25*a31);
-  a31=-8.6602540378443860e-01;
-  a36=(a17*a32);
+  a14=(a06*a03);
+  a13=(a13-a14);
+  a15=8.6602540378443860e-01;
+  a16=(a15*a00);
+  a17=(a13*a16);
+  a18=5.0000000000000000e-01;
+  a19=(a18*a05);
+  a19=(a19+a12);
+  a20=(a18*a10);
+  a20=(a19-a20);
+  a21=(a17+a20);
+  if (res[0]!=0) res[0][1]=a21;
+  a20=(a20-a17);
+  if (res[0]!=0) res[0][2]=a20;
+  a17=(2.*a08);
+  a17=(a17*a01);
+  a14=(a14+a17);
+  a14=(a00*a14);
+  a17=arg[1]? arg[1][1] : 0;
+  a22=(a14+a17);
+  if (res[0]!=0) res[0][3]=a22;
+  a23=(a15*a05);
+  a24=(a23-a17);
+  a14=(a18*a14);
   a02=(a02-a04);
   a02=(a02+a07);
   a02=(a02-a09);
-  a18=(a18*a02);
-  a36=(a36-a18);
-  a08=(2.*a08);
-  a08=(a08*a01);
-  a06=(a06+a08);
-  a06=(a11*a06);
-  a08=(a20*a06);
-  a01=(a36-a08);
-  a09=arg[1]? arg[1][1] : 0;
-  a01=(a01+a09);
-  a01=(a31*a01);
-  a07=4.3301270189221930e-01;
-  a07=(a07*a11);
-  a04=(a26*a07);
-  a01=(a01+a04);
-  a37=-2.5000000000000000e-01;
-  a37=(a37*a10);
-  a37=(a37/a05);
-  a37=(a37*a00);
-  a05=2.5000000000000000e-01;
-  a32=(a05*a32);
-  a37=(a37+a32);
-  a33=(a20*a33);
-  a37=(a37+a33);
-  a01=(a01-a37);
-  a33=1.7320508075688772e+00;
-  a33=(a33*a11);
-  a32=(a16*a33);
-  a10=(a01*a32);
-  a02=(a27*a02);
-  a02=(a02*a11);
-  a11=(a21*a02);
-  a16=(a16*a07);
-  a05=(a05*a12);
-  a14=(a20*a14);
-  a05=(a05-a14);
-  a14=(a16+a05);
-  a24=(a20*a24);
-  a14=(a14+a24);
-  a26=(a26*a33);
-  a33=(a14*a26);
-  a11=(a11+a33);
-  a10=(a10-a11);
-  a25=(a25*a10);
-  a31=(a31*a22);
-  a27=(a27*a06);
-  a06=(a27-a18);
-  a31=(a31*a06);
-  a16=(a16-a05);
+  a02=(a16*a02);
+  a09=(a14-a02);
+  a07=(a24+a09);
+  a04=(-a07);
+  if (res[0]!=0) res[0][4]=a04;
+  a23=(a23+a17);
+  a04=(a14+a02);
+  a04=(a23-a04);
+  if (res[0]!=0) res[0][5]=a04;
+  a25=(2.*a08);
+  a25=(a25*a03);
+  a26=(a06*a01);
+  a25=(a25-a26);
+  a25=(a00*a25);
+  a26=arg[0]? arg[0][0] : 0;
+  a27=(a25-a26);
+  a28=arg[1]? arg[1][2] : 0;
+  a27=(a27+a28);
+  if (res[0]!=0) res[0][6]=a27;
+  a06=(a06*a08);
+  a01=(2.*a01);
+  a01=(a01*a03);
+  a06=(a06+a01);
+  a16=(a16*a06);
+  a18=(a18*a25);
+  a01=(a16-a18);
+  a03=arg[0]? arg[0][1] : 0;
+  a03=(a03-a28);
+  a01=(a01-a03);
+  if (res[0]!=0) res[0][7]=a01;
+  a08=arg[0]? arg[0][2] : 0;
+  a08=(a08-a28);
+  a29=(a18+a16);
+  a30=(a08+a29);
+  a31=(-a30);
+  if (res[0]!=0) res[0][8]=a31;
+  a26=(a26-a28);
+  a28=(a22*a26);
+  a32=(a27*a17);
+  a28=(a28+a32);
+  a28=(-a28);
+  if (res[0]!=0) res[0][9]=a28;
+  a28=(a24*a01);
+  a32=(a07*a03);
+  a28=(a28+a32);
+  if (res[0]!=0) res[0][10]=a28;
+  a28=(a30*a23);
+  a32=(a04*a08);
+  a28=(a28-a32);
+  if (res[0]!=0) res[0][11]=a28;
+  a26=(a26*a11);
+  a05=(a05-a12);
+  a12=(a27*a05);
+  a26=(a26-a12);
+  if (res[0]!=0) res[0][12]=a26;
+  a03=(a21*a03);
+  a26=(a01*a19);
+  a03=(a03+a26);
+  if (res[0]!=0) res[0][13]=a03;
+  a08=(a20*a08);
+  a30=(a19*a30);
+  a08=(a08-a30);
+  if (res[0]!=0) res[0][14]=a08;
+  a22=(a22*a05);
+  a11=(a11*a17);
+  a22=(a22+a11);
+  if (res[0]!=0) res[0][15]=a22;
+  a07=(a07*a19);
+  a21=(a21*a24);
+  a07=(a07-a21);
+  if (res[0]!=0) res[0][16]=a07;
   a20=(a20*a23);
-  a16=(a16-a20);
-  a29=(a29-a03);
-  a03=(a16*a29);
-  a31=(a31+a03);
-  a34=(a34-a19);
-  a08=(a08+a36);
-  a09=(a09-a08);
-  a09=(a17*a09);
-  a09=(a09-a04);
-  a09=(a09-a37);
-  a37=(a34*a09);
-  a31=(a31+a37);
-  a25=(a25*a31);
-  a31=8.;
-  a28=(a28*a34);
-  a13=(a13*a29);
-  a28=(a28-a13);
-  a31=(a31*a28);
-  a26=(a26*a16);
-  a22=(a22*a02);
-  a26=(a26-a22);
-  a32=(a32*a09);
-  a26=(a26+a32);
-  a31=(a31*a26);
-  a17=(a17*a21);
-  a18=(a18+a27);
-  a17=(a17*a18);
-  a35=(a35*a01);
-  a17=(a17-a35);
-  a30=(a30*a14);
-  a17=(a17+a30);
-  a31=(a31*a17);
-  a25=(a25+a31);
-  a31=casadi_sq(a15);
-  a15=(a15*a31);
-  a31=casadi_sq(a00);
-  a00=(a00*a31);
+  a19=(a19*a04);
+  a20=(a20-a19);
+  if (res[0]!=0) res[0][17]=a20;
+  if (res[1]!=0) res[1][0]=a27;
+  a27=0.;
+  if (res[1]!=0) res[1][1]=a27;
+  if (res[1]!=0) res[1][2]=a27;
+  if (res[1]!=0) res[1][3]=a27;
+  if (res[1]!=0) res[1][4]=a01;
+  if (res[1]!=0) res[1][5]=a27;
+  if (res[1]!=0) res[1][6]=a27;
+  if (res[1]!=0) res[1][7]=a27;
+  if (res[1]!=0) res[1][8]=a31;
+  if (res[2]!=0) res[2][0]=a27;
+  a31=-8.6602540378443860e-01;
+  if (res[2]!=0) res[2][1]=a31;
+  if (res[2]!=0) res[2][2]=a15;
+  a15=1.;
+  if (res[2]!=0) res[2][3]=a15;
+  a15=-5.0000000000000000e-01;
+  if (res[2]!=0) res[2][4]=a15;
+  if (res[2]!=0) res[2][5]=a15;
+  if (res[2]!=0) res[2][6]=a27;
+  if (res[2]!=0) res[2][7]=a27;
+  if (res[2]!=0) res[2][8]=a27;
+  a15=(-a25);
+  if (res[2]!=0) res[2][9]=a15;
+  a15=4.3301270189221930e-01;
   a15=(a15*a00);
-  a25=(a25/a15);
+  a06=(a06*a15);
+  a00=2.5000000000000000e-01;
+  a25=(a00*a25);
+  a01=(a06-a25);
+  if (res[2]!=0) res[2][10]=a01;
+  a25=(a25+a06);
+  a25=(-a25);
+  if (res[2]!=0) res[2][11]=a25;
+  if (res[2]!=0) res[2][12]=a27;
+  a16=(a16-a18);
+  a16=(a31*a16);
+  if (res[2]!=0) res[2][13]=a16;
+  a29=(a31*a29);
+  if (res[2]!=0) res[2][14]=a29;
+  if (res[2]!=0) res[2][15]=a10;
+  a09=(a31*a09);
+  a13=(a13*a15);
+  a09=(a09-a13);
+  a00=(a00*a10);
+  a09=(a09+a00);
+  if (res[2]!=0) res[2][16]=a09;
+  a14=(a14+a02);
+  a31=(a31*a14);
+  a13=(a13-a31);
+  a13=(a13+a00);
+  if (res[2]!=0) res[2][17]=a13;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int prs3_rate_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f3(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int prs3_rate_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void prs3_rate_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void prs3_rate_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void prs3_rate_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int prs3_rate_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int prs3_rate_jacobians_n_out(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_real prs3_rate_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* prs3_rate_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* prs3_rate_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "a";
+    case 1: return "b";
+    case 2: return "constraints";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* prs3_rate_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    case 2: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* prs3_rate_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s6;
+    case 1: return casadi_s7;
+    case 2: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int prs3_rate_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 3;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int prs3_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* prs3_singularity_factors:(actuated[3],passive[7],params[3])->(factors[4],determinants[2]) */
+static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57;
+  a00=arg[2]? arg[2][1] : 0;
+  a01=arg[1]? arg[1][4] : 0;
+  a02=(2.*a01);
+  a03=arg[1]? arg[1][6] : 0;
+  a02=(a02*a03);
+  a04=arg[1]? arg[1][3] : 0;
+  a05=(2.*a04);
+  a06=arg[1]? arg[1][5] : 0;
+  a07=(a05*a06);
+  a02=(a02-a07);
+  a02=(a00*a02);
+  a07=casadi_sq(a06);
+  a08=casadi_sq(a03);
+  a09=(a07+a08);
+  a04=casadi_sq(a04);
+  a10=casadi_sq(a01);
+  a11=(a04+a10);
+  a09=(a09+a11);
+  a12=(a02/a09);
+  a13=arg[0]? arg[0][0] : 0;
+  a14=(a12-a13);
+  a15=arg[1]? arg[1][2] : 0;
+  a14=(a14+a15);
+  if (res[0]!=0) res[0][0]=a14;
+  a16=8.6602540378443860e-01;
+  a17=(a05*a01);
+  a18=(2.*a06);
+  a18=(a18*a03);
+  a17=(a17+a18);
+  a17=(a00*a17);
+  a18=(a16*a17);
+  a19=(a18/a09);
+  a20=5.0000000000000000e-01;
+  a12=(a20*a12);
+  a12=(a12-a15);
+  a21=(a19-a12);
+  a22=arg[0]? arg[0][1] : 0;
+  a21=(a21-a22);
+  if (res[0]!=0) res[0][1]=a21;
+  a19=(a19+a12);
+  a12=arg[0]? arg[0][2] : 0;
+  a19=(a19+a12);
+  a23=(-a19);
+  if (res[0]!=0) res[0][2]=a23;
+  a23=(a20*a02);
+  a24=(a09*a15);
+  a25=(a23-a24);
+  a26=(a25-a18);
+  a27=(a09*a22);
+  a26=(a26+a27);
+  a27=(a09*a26);
+  a28=(a16*a09);
+  a29=(a27*a28);
+  a23=(a18-a23);
+  a23=(a23+a24);
+  a30=(a16*a23);
+  a31=-8.6602540378443860e-01;
+  a32=arg[1]? arg[1][0] : 0;
+  a32=(a09*a32);
+  a33=(2.*a01);
+  a33=(a33*a06);
+  a05=(a05*a03);
+  a33=(a33-a05);
+  a03=(a16*a00);
+  a34=(a33*a03);
+  a35=(a32-a34);
+  a36=(a07+a08);
+  a11=(a11-a36);
+  a11=(a00*a11);
+  a36=(a20*a11);
+  a35=(a35-a36);
+  a37=(a31*a35);
+  a38=arg[2]? arg[2][0] : 0;
+  a37=(a37*a38);
+  a39=(a20*a38);
+  a40=(a07+a04);
+  a40=(a40-a10);
+  a40=(a40-a08);
+  a03=(a03*a40);
+  a01=(2.*a01);
+  a01=(a01*a06);
+  a05=(a05+a01);
+  a05=(a00*a05);
+  a01=(a20*a05);
+  a06=arg[1]? arg[1][1] : 0;
+  a06=(a09*a06);
+  a40=(a01-a06);
+  a41=(a03+a40);
+  a42=(a39*a41);
+  a37=(a37-a42);
+  a42=(a30*a37);
+  a01=(a06-a01);
+  a43=(a03+a01);
+  a44=(a31*a43);
+  a45=4.3301270189221930e-01;
+  a33=(a45*a33);
+  a33=(a33*a00);
+  a44=(a44+a33);
+  a00=(a20*a32);
+  a44=(a44+a00);
+  a46=2.5000000000000000e-01;
+  a47=(a46*a11);
+  a44=(a44-a47);
+  a35=(a35*a12);
+  a18=(a18+a25);
+  a25=(a39*a18);
+  a35=(a35-a25);
+  a25=(a44*a35);
+  a42=(a42+a25);
+  a05=(a05+a06);
+  a06=(a05*a13);
+  a25=(a42*a06);
+  a48=(a20*a24);
+  a46=(a46*a02);
+  a48=(a48-a46);
+  a45=(a45*a17);
+  a48=(a48+a45);
+  a17=(a48*a35);
+  a49=(a16*a18);
+  a50=(a49*a38);
+  a51=(a41*a12);
+  a50=(a50+a51);
+  a51=(a30*a50);
+  a17=(a17+a51);
+  a52=(a05*a38);
+  a53=(a17*a52);
+  a25=(a25-a53);
+  a53=(a48*a37);
+  a54=(a44*a50);
+  a53=(a53-a54);
+  a24=(a24+a02);
+  a02=(a24*a38);
+  a11=(a32+a11);
+  a54=(a11*a13);
+  a02=(a02-a54);
+  a55=(a53*a02);
+  a25=(a25+a55);
+  a25=(a29*a25);
+  a12=(a09*a12);
+  a18=(a18+a12);
+  a12=(a09*a18);
+  a55=(a16*a09);
+  a12=(a12*a55);
+  a56=(a16*a23);
+  a56=(a56*a38);
+  a57=(a43*a22);
+  a56=(a56-a57);
+  a31=(a31*a41);
+  a33=(a33-a31);
+  a33=(a33-a00);
+  a33=(a33+a47);
+  a47=(a56*a33);
+  a32=(a32-a36);
+  a36=(a34+a32);
+  a00=(a16*a36);
+  a00=(a00*a38);
+  a43=(a39*a43);
+  a00=(a00+a43);
+  a43=(a20*a09);
+  a43=(a43*a15);
+  a43=(a43-a46);
+  a43=(a43-a45);
+  a45=(a00*a43);
+  a47=(a47+a45);
+  a47=(a02*a47);
+  a45=(a56*a49);
+  a23=(a23*a39);
+  a22=(a36*a22);
+  a23=(a23+a22);
+  a22=(a23*a43);
+  a22=(a45+a22);
+  a22=(a52*a22);
+  a47=(a47-a22);
+  a22=(a23*a33);
+  a39=(a00*a49);
+  a22=(a22-a39);
+  a22=(a06*a22);
+  a47=(a47-a22);
+  a47=(a12*a47);
+  a22=(a48*a00);
+  a39=(a44*a56);
+  a22=(a22-a39);
+  a22=(a02*a22);
+  a39=(a48*a23);
+  a46=(a30*a56);
+  a39=(a39+a46);
+  a39=(a52*a39);
+  a22=(a22-a39);
+  a39=(a30*a00);
+  a15=(a44*a23);
+  a39=(a39+a15);
+  a39=(a06*a39);
+  a22=(a22+a39);
+  a12=(a12*a22);
+  a47=(a47+a12);
+  a25=(a25-a47);
+  a47=(a50*a33);
+  a12=(a37*a43);
+  a47=(a47+a12);
+  a12=(a47*a02);
+  a22=(a49*a50);
+  a39=(a35*a43);
+  a39=(a22+a39);
+  a15=(a39*a52);
+  a31=(a35*a33);
+  a41=(a49*a37);
+  a31=(a31-a41);
+  a41=(a31*a06);
+  a15=(a15+a41);
+  a12=(a12-a15);
+  a29=(a29*a12);
+  a25=(a25+a29);
+  a13=(a09*a13);
+  a13=(a24-a13);
+  a29=(a09*a13);
+  a28=(a28*a29);
+  a17=(a17*a00);
+  a42=(a42*a56);
+  a17=(a17-a42);
+  a53=(a53*a23);
+  a17=(a17-a53);
+  a17=(a28*a17);
+  a25=(a25+a17);
+  a39=(a39*a00);
+  a31=(a31*a56);
+  a39=(a39+a31);
+  a47=(a47*a23);
+  a39=(a39-a47);
+  a28=(a28*a39);
+  a25=(a25+a28);
+  a07=(a20*a07);
+  a08=(a20*a08);
+  a07=(a07+a08);
+  a04=(a20*a04);
+  a07=(a07+a04);
+  a10=(a20*a10);
+  a07=(a07+a10);
+  a10=(a16*a07);
+  a10=(a10*a09);
+  a04=(a07*a55);
+  a10=(a10+a04);
+  a04=(a18*a10);
+  a08=(a24*a52);
+  a28=(a23*a08);
+  a54=(a05*a54);
+  a39=(a23*a54);
+  a28=(a28-a39);
+  a39=(a11*a56);
+  a47=(a24*a00);
+  a47=(a39-a47);
+  a47=(a02*a47);
+  a28=(a28+a47);
+  a04=(a04*a28);
+  a25=(a25-a04);
+  a04=(a10*a26);
+  a28=(a24*a35);
+  a47=(a52*a28);
+  a54=(a54*a35);
+  a47=(a47-a54);
+  a54=(a11*a50);
+  a31=(a24*a37);
+  a54=(a54-a31);
+  a31=(a02*a54);
+  a47=(a47+a31);
+  a04=(a04*a47);
+  a25=(a25+a04);
+  a10=(a10*a13);
+  a39=(a39*a35);
+  a54=(a23*a54);
+  a39=(a39-a54);
+  a28=(a28*a00);
+  a39=(a39-a28);
+  a10=(a10*a39);
+  a25=(a25+a10);
+  a32=(a32-a34);
+  a38=(a09*a38);
+  a20=(a20*a38);
+  a32=(a32+a20);
+  a27=(a27*a32);
+  a36=(a36+a20);
+  a20=(a18*a09);
+  a34=(a36*a20);
+  a27=(a27-a34);
+  a34=(a30*a43);
+  a10=(a48*a49);
+  a34=(a34-a10);
+  a52=(a34*a52);
+  a10=(a30*a33);
+  a39=(a44*a49);
+  a10=(a10+a39);
+  a39=(a10*a06);
+  a52=(a52+a39);
+  a39=(a48*a33);
+  a28=(a44*a43);
+  a39=(a39+a28);
+  a28=(a39*a02);
+  a52=(a52+a28);
+  a27=(a27*a52);
+  a25=(a25+a27);
+  a27=(a34*a11);
+  a52=(a10*a24);
+  a27=(a27+a52);
+  a52=(a11-a38);
+  a38=(a16*a38);
+  a38=(a38-a03);
+  a01=(a01+a38);
+  a03=(a01*a26);
+  a40=(a40+a38);
+  a38=(a18*a40);
+  a03=(a03+a38);
+  a03=(a52*a03);
+  a38=(a26*a32);
+  a28=(a18*a36);
+  a38=(a38-a28);
+  a38=(a05*a38);
+  a03=(a03-a38);
+  a38=(a01*a36);
+  a28=(a40*a32);
+  a38=(a38+a28);
+  a38=(a13*a38);
+  a03=(a03+a38);
+  a27=(a27*a03);
+  a25=(a25+a27);
+  a27=(a29*a36);
+  a03=(a52*a09);
+  a38=(a03*a26);
+  a27=(a27+a38);
+  a38=(a37*a34);
+  a50=(a10*a50);
+  a38=(a38+a50);
+  a50=(a39*a35);
+  a38=(a38+a50);
+  a27=(a27*a38);
+  a25=(a25+a27);
+  a29=(a29*a32);
+  a03=(a03*a18);
+  a29=(a29+a03);
+  a34=(a34*a00);
+  a10=(a10*a56);
+  a34=(a34+a10);
+  a39=(a39*a23);
+  a34=(a34+a39);
+  a29=(a29*a34);
+  a25=(a25-a29);
+  a29=(a05*a55);
+  a29=(a29*a26);
+  a52=(a52*a07);
+  a34=(a52*a26);
+  a39=(a29+a34);
+  a10=(a55*a40);
+  a36=(a07*a36);
+  a56=(a10-a36);
+  a56=(a13*a56);
+  a39=(a39-a56);
+  a51=(a51*a11);
+  a44=(a44*a24);
+  a48=(a48*a11);
+  a44=(a44-a48);
+  a48=(a44*a35);
+  a56=(a30*a24);
+  a03=(a56*a37);
+  a48=(a48+a03);
+  a51=(a51-a48);
+  a39=(a39*a51);
+  a25=(a25+a39);
+  a29=(a29-a34);
+  a10=(a10+a36);
+  a10=(a13*a10);
+  a29=(a29-a10);
+  a22=(a22*a11);
+  a10=(a24*a49);
+  a37=(a37*a10);
+  a22=(a22-a37);
+  a24=(a24*a33);
+  a43=(a11*a43);
+  a24=(a24+a43);
+  a35=(a35*a24);
+  a22=(a22+a35);
+  a29=(a29*a22);
+  a25=(a25+a29);
+  a01=(a01*a55);
+  a07=(a07*a32);
+  a32=(a01-a07);
+  a55=(a32*a26);
+  a36=(a18*a36);
+  a55=(a55+a36);
+  a20=(a16*a20);
+  a40=(a40*a20);
+  a55=(a55+a40);
+  a29=(a08*a49);
+  a22=(a02*a24);
+  a29=(a29-a22);
+  a06=(a11*a06);
+  a49=(a49*a06);
+  a29=(a29-a49);
+  a55=(a55*a29);
+  a25=(a25-a55);
+  a52=(a52*a18);
+  a32=(a32*a13);
+  a16=(a16*a05);
+  a16=(a16*a18);
+  a16=(a16*a09);
+  a32=(a32+a16);
+  a32=(a52-a32);
+  a45=(a45*a11);
+  a10=(a10*a00);
+  a45=(a45-a10);
+  a24=(a23*a24);
+  a45=(a45+a24);
+  a32=(a32*a45);
+  a25=(a25+a32);
+  a08=(a30*a08);
+  a30=(a30*a06);
+  a08=(a08-a30);
+  a02=(a44*a02);
+  a08=(a08+a02);
+  a01=(a01+a07);
+  a26=(a01*a26);
+  a36=(a36-a26);
+  a36=(a36-a40);
+  a08=(a08*a36);
+  a25=(a25+a08);
+  a46=(a46*a11);
+  a44=(a44*a23);
+  a46=(a46-a44);
+  a56=(a56*a00);
+  a46=(a46-a56);
+  a01=(a01*a13);
+  a05=(a05*a20);
+  a01=(a01+a05);
+  a01=(a01+a52);
+  a46=(a46*a01);
+  a25=(a25-a46);
+  a46=casadi_sq(a09);
+  a09=(a09*a46);
+  a09=casadi_sq(a09);
+  a25=(a25/a09);
   if (res[0]!=0) res[0][3]=a25;
+  if (res[1]!=0) res[1][0]=a25;
+  a14=(a14*a21);
+  a14=(a14*a19);
+  a14=(-a14);
+  if (res[1]!=0) res[1][1]=a14;
   return 0;
 }
 
 CASADI_SYMBOL_EXPORT int prs3_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f3(arg, res, iw, w, mem);
+  return casadi_f4(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_singularity_factors_checkout(void) {
@@ -1339,8 +1886,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* prs3_singularity_factors_sparsity_in(casa
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s6;
-    case 1: return casadi_s7;
+    case 0: return casadi_s8;
+    case 1: return casadi_s9;
     default: return 0;
   }
 }
@@ -1361,8 +1908,8 @@ CASADI_SYMBOL_EXPORT int prs3_singularity_factors_work_bytes(casadi_int *sz_arg,
   return 0;
 }
 
-/* prs3_drawing:(actuated[3],passive[7],params[3])->(base[3x3],rail_top[3x3],slider[3x3],slider_ends[3x6],platform[3x3]) */
-static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+/* prs3_drawing:(actuated[3],passive[7],params[3])->(base[3x3],elbow[3x3],platform[3x3]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18;
   a00=arg[2]? arg[2][0] : 0;
@@ -1384,128 +1931,92 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[0]!=0) res[0][8]=a01;
   if (res[1]!=0) res[1][0]=a00;
   if (res[1]!=0) res[1][1]=a01;
-  a07=1.;
-  if (res[1]!=0) res[1][2]=a07;
+  a01=arg[0]? arg[0][0] : 0;
+  if (res[1]!=0) res[1][2]=a01;
   if (res[1]!=0) res[1][3]=a03;
   if (res[1]!=0) res[1][4]=a05;
-  if (res[1]!=0) res[1][5]=a07;
+  a05=arg[0]? arg[0][1] : 0;
+  if (res[1]!=0) res[1][5]=a05;
   if (res[1]!=0) res[1][6]=a03;
   if (res[1]!=0) res[1][7]=a06;
-  if (res[1]!=0) res[1][8]=a07;
-  if (res[2]!=0) res[2][0]=a00;
-  if (res[2]!=0) res[2][1]=a01;
-  a07=arg[0]? arg[0][0] : 0;
-  if (res[2]!=0) res[2][2]=a07;
-  if (res[2]!=0) res[2][3]=a03;
-  if (res[2]!=0) res[2][4]=a05;
-  a08=arg[0]? arg[0][1] : 0;
-  if (res[2]!=0) res[2][5]=a08;
-  if (res[2]!=0) res[2][6]=a03;
-  if (res[2]!=0) res[2][7]=a06;
-  a09=arg[0]? arg[0][2] : 0;
-  if (res[2]!=0) res[2][8]=a09;
-  if (res[3]!=0) res[3][0]=a00;
-  if (res[3]!=0) res[3][1]=a01;
-  a10=1.2500000000000000e-01;
-  a10=(a10*a00);
-  a11=(a07-a10);
-  if (res[3]!=0) res[3][2]=a11;
-  if (res[3]!=0) res[3][3]=a00;
-  if (res[3]!=0) res[3][4]=a01;
-  a07=(a10+a07);
-  if (res[3]!=0) res[3][5]=a07;
-  if (res[3]!=0) res[3][6]=a03;
-  if (res[3]!=0) res[3][7]=a05;
-  a07=(a08-a10);
-  if (res[3]!=0) res[3][8]=a07;
-  if (res[3]!=0) res[3][9]=a03;
-  if (res[3]!=0) res[3][10]=a05;
-  a08=(a10+a08);
-  if (res[3]!=0) res[3][11]=a08;
-  if (res[3]!=0) res[3][12]=a03;
-  if (res[3]!=0) res[3][13]=a06;
-  a08=(a09-a10);
-  if (res[3]!=0) res[3][14]=a08;
-  if (res[3]!=0) res[3][15]=a03;
-  if (res[3]!=0) res[3][16]=a06;
-  a10=(a10+a09);
-  if (res[3]!=0) res[3][17]=a10;
-  a10=arg[2]? arg[2][1] : 0;
-  a09=arg[1]? arg[1][3] : 0;
-  a06=casadi_sq(a09);
-  a03=arg[1]? arg[1][4] : 0;
-  a08=casadi_sq(a03);
-  a05=(a06+a08);
-  a07=arg[1]? arg[1][5] : 0;
-  a01=casadi_sq(a07);
-  a00=(a05+a01);
+  a06=arg[0]? arg[0][2] : 0;
+  if (res[1]!=0) res[1][8]=a06;
+  a06=arg[2]? arg[2][1] : 0;
+  a03=arg[1]? arg[1][3] : 0;
+  a05=casadi_sq(a03);
+  a01=arg[1]? arg[1][4] : 0;
+  a00=casadi_sq(a01);
+  a07=(a05+a00);
+  a08=arg[1]? arg[1][5] : 0;
+  a09=casadi_sq(a08);
+  a10=(a07+a09);
   a11=arg[1]? arg[1][6] : 0;
   a12=casadi_sq(a11);
-  a00=(a00+a12);
-  a10=(a10/a00);
-  a05=(a05-a01);
-  a05=(a05-a12);
-  a05=(a10*a05);
-  a00=arg[1]? arg[1][0] : 0;
-  a13=(a05+a00);
-  if (res[4]!=0) res[4][0]=a13;
-  a09=(2.*a09);
-  a13=(a09*a11);
-  a14=(2.*a03);
-  a14=(a14*a07);
+  a10=(a10+a12);
+  a06=(a06/a10);
+  a07=(a07-a09);
+  a07=(a07-a12);
+  a07=(a06*a07);
+  a10=arg[1]? arg[1][0] : 0;
+  a13=(a07+a10);
+  if (res[2]!=0) res[2][0]=a13;
+  a03=(2.*a03);
+  a13=(a03*a11);
+  a14=(2.*a01);
+  a14=(a14*a08);
   a14=(a13+a14);
-  a14=(a10*a14);
+  a14=(a06*a14);
   a15=arg[1]? arg[1][1] : 0;
   a16=(a14+a15);
-  if (res[4]!=0) res[4][1]=a16;
-  a16=(2.*a03);
+  if (res[2]!=0) res[2][1]=a16;
+  a16=(2.*a01);
   a16=(a16*a11);
-  a17=(a09*a07);
+  a17=(a03*a08);
   a16=(a16-a17);
-  a16=(a10*a16);
+  a16=(a06*a16);
   a17=arg[1]? arg[1][2] : 0;
   a18=(a16+a17);
-  if (res[4]!=0) res[4][2]=a18;
-  a04=(a04*a10);
-  a10=(2.*a03);
-  a10=(a10*a07);
-  a10=(a10-a13);
-  a10=(a04*a10);
-  a05=(a02*a05);
-  a13=(a10-a05);
-  a13=(a13+a00);
-  if (res[4]!=0) res[4][3]=a13;
-  a06=(a06-a08);
-  a06=(a06+a01);
-  a06=(a06-a12);
+  if (res[2]!=0) res[2][2]=a18;
+  a04=(a04*a06);
+  a06=(2.*a01);
+  a06=(a06*a08);
+  a06=(a06-a13);
   a06=(a04*a06);
+  a07=(a02*a07);
+  a13=(a06-a07);
+  a13=(a13+a10);
+  if (res[2]!=0) res[2][3]=a13;
+  a09=(a09-a12);
+  a09=(a09+a05);
+  a09=(a09-a00);
+  a09=(a04*a09);
   a14=(a02*a14);
-  a12=(a06-a14);
-  a12=(a12+a15);
-  if (res[4]!=0) res[4][4]=a12;
-  a09=(a09*a03);
-  a07=(2.*a07);
-  a07=(a07*a11);
-  a09=(a09+a07);
-  a04=(a04*a09);
+  a00=(a09-a14);
+  a00=(a00+a15);
+  if (res[2]!=0) res[2][4]=a00;
+  a03=(a03*a01);
+  a08=(2.*a08);
+  a08=(a08*a11);
+  a03=(a03+a08);
+  a04=(a04*a03);
   a02=(a02*a16);
   a16=(a04-a02);
   a16=(a16+a17);
-  if (res[4]!=0) res[4][5]=a16;
-  a10=(a10+a05);
-  a00=(a00-a10);
-  if (res[4]!=0) res[4][6]=a00;
-  a14=(a14+a06);
+  if (res[2]!=0) res[2][5]=a16;
+  a06=(a06+a07);
+  a10=(a10-a06);
+  if (res[2]!=0) res[2][6]=a10;
+  a14=(a14+a09);
   a15=(a15-a14);
-  if (res[4]!=0) res[4][7]=a15;
+  if (res[2]!=0) res[2][7]=a15;
   a02=(a02+a04);
   a17=(a17-a02);
-  if (res[4]!=0) res[4][8]=a17;
+  if (res[2]!=0) res[2][8]=a17;
   return 0;
 }
 
 CASADI_SYMBOL_EXPORT int prs3_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_drawing_checkout(void) {
@@ -1523,7 +2034,7 @@ CASADI_SYMBOL_EXPORT void prs3_drawing_decref(void) {
 
 CASADI_SYMBOL_EXPORT casadi_int prs3_drawing_n_in(void) { return 3;}
 
-CASADI_SYMBOL_EXPORT casadi_int prs3_drawing_n_out(void) { return 5;}
+CASADI_SYMBOL_EXPORT casadi_int prs3_drawing_n_out(void) { return 3;}
 
 CASADI_SYMBOL_EXPORT casadi_real prs3_drawing_default_in(casadi_int i) {
   switch (i) {
@@ -1543,10 +2054,8 @@ CASADI_SYMBOL_EXPORT const char* prs3_drawing_name_in(casadi_int i) {
 CASADI_SYMBOL_EXPORT const char* prs3_drawing_name_out(casadi_int i) {
   switch (i) {
     case 0: return "base";
-    case 1: return "rail_top";
-    case 2: return "slider";
-    case 3: return "slider_ends";
-    case 4: return "platform";
+    case 1: return "elbow";
+    case 2: return "platform";
     default: return 0;
   }
 }
@@ -1562,18 +2071,16 @@ CASADI_SYMBOL_EXPORT const casadi_int* prs3_drawing_sparsity_in(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s8;
-    case 2: return casadi_s8;
-    case 3: return casadi_s9;
-    case 4: return casadi_s8;
+    case 0: return casadi_s7;
+    case 1: return casadi_s7;
+    case 2: return casadi_s7;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT int prs3_drawing_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3;
-  if (sz_res) *sz_res = 5;
+  if (sz_res) *sz_res = 3;
   if (sz_iw) *sz_iw = 0;
   if (sz_w) *sz_w = 0;
   return 0;
@@ -1581,213 +2088,235 @@ CASADI_SYMBOL_EXPORT int prs3_drawing_work(casadi_int *sz_arg, casadi_int* sz_re
 
 CASADI_SYMBOL_EXPORT int prs3_drawing_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
   if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
-  if (sz_res) *sz_res = 5*sizeof(casadi_real*);
+  if (sz_res) *sz_res = 3*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
   if (sz_w) *sz_w = 0*sizeof(casadi_real);
   return 0;
 }
 
 /* prs3_inverse_pose:(pose[12],branch[3],params[3])->(actuated[3],passive[7],validity[3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26;
   a00=arg[2]? arg[2][1] : 0;
   a01=arg[0]? arg[0][6] : 0;
   a02=(a00*a01);
-  a03=arg[1]? arg[1][0] : 0;
-  a04=0.;
-  a05=arg[2]? arg[2][2] : 0;
-  a06=casadi_sq(a05);
-  a07=arg[0]? arg[0][0] : 0;
-  a08=1.;
-  a09=casadi_sq(a01);
-  a10=arg[0]? arg[0][8] : 0;
-  a11=(a10+a08);
-  a09=(a09/a11);
-  a09=(a08-a09);
-  a07=(a07*a09);
-  a11=arg[0]? arg[0][1] : 0;
-  a12=arg[0]? arg[0][7] : 0;
-  a13=(a01*a12);
-  a14=(a10+a08);
-  a13=(a13/a14);
-  a11=(a11*a13);
-  a07=(a07-a11);
-  a11=arg[0]? arg[0][2] : 0;
-  a11=(a11*a01);
-  a07=(a07-a11);
-  a07=casadi_sign(a07);
-  a11=casadi_fabs(a07);
-  a07=(a07-a11);
-  a07=(a07+a08);
-  a11=(a01*a12);
-  a11=(a11*a00);
-  a14=(a10+a08);
-  a11=(a11/a14);
-  a11=(a07*a11);
-  a14=(a00*a07);
-  a15=(a01*a12);
-  a16=(a10+a08);
-  a15=(a15/a16);
-  a16=(a14*a15);
-  a16=(a11-a16);
-  a16=casadi_sq(a16);
-  a06=(a06-a16);
-  a14=(a14*a09);
-  a16=arg[2]? arg[2][0] : 0;
-  a14=(a14-a16);
-  a17=casadi_sq(a01);
-  a18=casadi_sq(a12);
-  a17=(a17-a18);
-  a17=(a00*a17);
-  a18=(2.*a10);
-  a19=2.;
-  a18=(a18+a19);
-  a17=(a17/a18);
-  a17=(a07*a17);
-  a14=(a14-a17);
-  a14=casadi_sq(a14);
-  a06=(a06-a14);
-  a14=casadi_fmax(a04,a06);
-  a14=sqrt(a14);
-  a03=(a03*a14);
-  a02=(a02-a03);
   a03=arg[0]? arg[0][11] : 0;
   a02=(a02+a03);
+  a04=arg[1]? arg[1][0] : 0;
+  a05=0.;
+  a06=arg[2]? arg[2][2] : 0;
+  a07=casadi_sq(a06);
+  a08=casadi_sq(a02);
+  a07=(a07+a08);
+  a08=arg[0]? arg[0][0] : 0;
+  a09=1.;
+  a10=casadi_sq(a01);
+  a11=arg[0]? arg[0][8] : 0;
+  a12=(a11+a09);
+  a10=(a10/a12);
+  a10=(a09-a10);
+  a08=(a08*a10);
+  a12=arg[0]? arg[0][1] : 0;
+  a13=arg[0]? arg[0][7] : 0;
+  a14=(a01*a13);
+  a15=(a11+a09);
+  a14=(a14/a15);
+  a12=(a12*a14);
+  a08=(a08-a12);
+  a12=arg[0]? arg[0][2] : 0;
+  a12=(a12*a01);
+  a08=(a08-a12);
+  a08=casadi_sign(a08);
+  a12=casadi_fabs(a08);
+  a08=(a08-a12);
+  a08=(a08+a09);
+  a12=(a01*a13);
+  a12=(a12*a00);
+  a15=(a11+a09);
+  a12=(a12/a15);
+  a12=(a08*a12);
+  a15=(a00*a08);
+  a16=(a01*a13);
+  a17=(a11+a09);
+  a16=(a16/a17);
+  a17=(a15*a16);
+  a17=(a12-a17);
+  a17=casadi_sq(a17);
+  a07=(a07-a17);
+  a17=(a00*a01);
+  a17=(a17+a03);
+  a17=casadi_sq(a17);
+  a07=(a07-a17);
+  a15=(a15*a10);
+  a17=arg[2]? arg[2][0] : 0;
+  a15=(a15-a17);
+  a18=casadi_sq(a01);
+  a19=casadi_sq(a13);
+  a18=(a18-a19);
+  a18=(a00*a18);
+  a19=(2.*a11);
+  a20=2.;
+  a19=(a19+a20);
+  a18=(a18/a19);
+  a18=(a08*a18);
+  a15=(a15-a18);
+  a15=casadi_sq(a15);
+  a07=(a07-a15);
+  a15=casadi_fmax(a05,a07);
+  a15=sqrt(a15);
+  a04=(a04*a15);
+  a02=(a02-a04);
   if (res[0]!=0) res[0][0]=a02;
-  a02=-5.0000000000000000e-01;
-  a02=(a02*a00);
-  a02=(a02*a01);
-  a14=8.6602540378443860e-01;
-  a18=(a14*a00);
-  a18=(a18*a12);
-  a02=(a02+a18);
-  a18=arg[1]? arg[1][1] : 0;
-  a20=casadi_sq(a05);
-  a21=5.0000000000000000e-01;
-  a22=(a21*a16);
-  a23=1.7320508075688772e+00;
-  a24=(a21*a00);
-  a24=(a24*a07);
-  a25=(a23*a24);
-  a25=(a25*a13);
-  a22=(a22-a25);
-  a25=(a24*a09);
-  a22=(a22-a25);
-  a22=(a22-a17);
-  a22=casadi_sq(a22);
-  a20=(a20-a22);
-  a24=(a24*a15);
-  a22=(a14*a16);
-  a24=(a24-a22);
-  a22=(a14*a00);
-  a25=casadi_sq(a12);
-  a26=(a10+a08);
-  a25=(a25/a26);
-  a25=(a08-a25);
-  a22=(a22*a25);
-  a22=(a22*a07);
-  a24=(a24+a22);
-  a24=(a24+a11);
+  a02=8.6602540378443860e-01;
+  a04=(a02*a00);
+  a04=(a04*a13);
+  a15=5.0000000000000000e-01;
+  a19=(a15*a00);
+  a19=(a19*a01);
+  a04=(a04-a19);
+  a04=(a04+a03);
+  a19=arg[1]? arg[1][1] : 0;
+  a21=casadi_sq(a06);
+  a22=casadi_sq(a04);
+  a21=(a21+a22);
+  a22=(a02*a00);
+  a23=(a22*a13);
+  a24=(a15*a00);
+  a25=(a24*a01);
+  a23=(a23-a25);
+  a23=(a23+a03);
+  a23=casadi_sq(a23);
+  a21=(a21-a23);
+  a23=(a15*a17);
+  a24=(a24*a08);
+  a25=(a24*a10);
+  a23=(a23-a25);
+  a22=(a22*a14);
+  a22=(a22*a08);
+  a23=(a23-a22);
+  a23=(a23-a18);
+  a23=casadi_sq(a23);
+  a21=(a21-a23);
+  a24=(a24*a16);
+  a23=(a02*a17);
+  a24=(a24-a23);
+  a23=(a02*a00);
+  a22=casadi_sq(a13);
+  a25=(a11+a09);
+  a22=(a22/a25);
+  a22=(a09-a22);
+  a23=(a23*a22);
+  a23=(a23*a08);
+  a24=(a24+a23);
+  a24=(a24+a12);
   a24=casadi_sq(a24);
-  a20=(a20-a24);
-  a24=casadi_fmax(a04,a20);
+  a21=(a21-a24);
+  a24=casadi_fmax(a05,a21);
   a24=sqrt(a24);
-  a18=(a18*a24);
-  a02=(a02-a18);
-  a02=(a02+a03);
-  if (res[0]!=0) res[0][1]=a02;
-  a02=(a21*a00);
-  a02=(a02*a01);
-  a18=(a14*a00);
-  a18=(a18*a12);
-  a02=(a02+a18);
-  a18=arg[1]? arg[1][2] : 0;
-  a24=casadi_sq(a05);
-  a00=(a21*a00);
-  a00=(a00*a07);
-  a23=(a23*a00);
-  a13=(a23*a13);
-  a09=(a00*a09);
-  a13=(a13-a09);
-  a09=(a21*a16);
-  a13=(a13+a09);
-  a13=(a13-a17);
-  a13=casadi_sq(a13);
-  a24=(a24-a13);
-  a00=(a00*a15);
-  a14=(a14*a16);
-  a00=(a00+a14);
-  a23=(a23*a25);
-  a00=(a00-a23);
-  a00=(a00+a11);
-  a00=casadi_sq(a00);
-  a24=(a24-a00);
-  a04=casadi_fmax(a04,a24);
-  a04=sqrt(a04);
-  a18=(a18*a04);
-  a02=(a02+a18);
-  a02=(a03-a02);
-  if (res[0]!=0) res[0][2]=a02;
-  a17=(-a17);
-  if (res[1]!=0) res[1][0]=a17;
-  if (res[1]!=0) res[1][1]=a11;
+  a19=(a19*a24);
+  a04=(a04-a19);
+  if (res[0]!=0) res[0][1]=a04;
+  a04=(a15*a00);
+  a04=(a04*a01);
+  a19=(a02*a00);
+  a19=(a19*a13);
+  a04=(a04+a19);
+  a04=(a03-a04);
+  a19=arg[1]? arg[1][2] : 0;
+  a24=casadi_sq(a06);
+  a23=casadi_sq(a04);
+  a24=(a24+a23);
+  a23=(a15*a00);
+  a25=(a23*a01);
+  a00=(a02*a00);
+  a26=(a00*a13);
+  a25=(a25+a26);
+  a25=(a03-a25);
+  a25=casadi_sq(a25);
+  a24=(a24-a25);
+  a25=(a15*a17);
+  a23=(a23*a08);
+  a10=(a23*a10);
+  a25=(a25-a10);
+  a00=(a00*a08);
+  a14=(a00*a14);
+  a25=(a25+a14);
+  a25=(a25-a18);
+  a25=casadi_sq(a25);
+  a24=(a24-a25);
+  a02=(a02*a17);
+  a23=(a23*a16);
+  a02=(a02+a23);
+  a00=(a00*a22);
+  a02=(a02-a00);
+  a02=(a02+a12);
+  a02=casadi_sq(a02);
+  a24=(a24-a02);
+  a05=casadi_fmax(a05,a24);
+  a05=sqrt(a05);
+  a19=(a19*a05);
+  a04=(a04-a19);
+  if (res[0]!=0) res[0][2]=a04;
+  a18=(-a18);
+  if (res[1]!=0) res[1][0]=a18;
+  if (res[1]!=0) res[1][1]=a12;
   if (res[1]!=0) res[1][2]=a03;
-  a03=(a10+a08);
-  a11=(a21*a07);
-  a11=(a11+a21);
-  a03=(a03*a11);
-  a11=(2.*a10);
-  a11=(a11+a19);
-  a11=sqrt(a11);
-  a03=(a03/a11);
+  a03=(a11+a09);
+  a12=(a15*a08);
+  a12=(a12+a15);
+  a03=(a03*a12);
+  a12=(2.*a11);
+  a12=(a12+a20);
+  a12=sqrt(a12);
+  a03=(a03/a12);
   if (res[1]!=0) res[1][3]=a03;
-  a03=(2.*a10);
-  a03=(a03+a19);
+  a03=(2.*a11);
+  a03=(a03+a20);
   a03=sqrt(a03);
-  a11=(a01/a03);
-  a17=(a21*a07);
-  a02=(a21-a17);
-  a11=(a11*a02);
-  a03=(a12/a03);
-  a17=(a17+a21);
-  a03=(a03*a17);
-  a11=(a11+a03);
-  if (res[1]!=0) res[1][4]=a11;
-  a11=(2.*a10);
-  a11=(a11+a19);
-  a11=sqrt(a11);
-  a12=(a12/a11);
-  a03=(a21*a07);
-  a17=(a21-a03);
-  a12=(a12*a17);
-  a01=(a01/a11);
-  a03=(a03+a21);
+  a12=(a01/a03);
+  a18=(a15*a08);
+  a04=(a15-a18);
+  a12=(a12*a04);
+  a03=(a13/a03);
+  a18=(a18+a15);
+  a03=(a03*a18);
+  a12=(a12+a03);
+  if (res[1]!=0) res[1][4]=a12;
+  a12=(2.*a11);
+  a12=(a12+a20);
+  a12=sqrt(a12);
+  a13=(a13/a12);
+  a03=(a15*a08);
+  a18=(a15-a03);
+  a13=(a13*a18);
+  a01=(a01/a12);
+  a03=(a03+a15);
   a01=(a01*a03);
-  a12=(a12-a01);
-  if (res[1]!=0) res[1][5]=a12;
-  a07=(a21*a07);
-  a21=(a21-a07);
-  a08=(a10+a08);
-  a21=(a21*a08);
-  a10=(2.*a10);
-  a10=(a10+a19);
-  a10=sqrt(a10);
-  a21=(a21/a10);
-  if (res[1]!=0) res[1][6]=a21;
-  a05=casadi_sq(a05);
-  a06=(a06/a05);
-  if (res[2]!=0) res[2][0]=a06;
-  a20=(a20/a05);
-  if (res[2]!=0) res[2][1]=a20;
-  a24=(a24/a05);
+  a13=(a13-a01);
+  if (res[1]!=0) res[1][5]=a13;
+  a08=(a15*a08);
+  a15=(a15-a08);
+  a09=(a11+a09);
+  a15=(a15*a09);
+  a11=(2.*a11);
+  a11=(a11+a20);
+  a11=sqrt(a11);
+  a15=(a15/a11);
+  if (res[1]!=0) res[1][6]=a15;
+  a06=casadi_sq(a06);
+  a07=(a07/a06);
+  if (res[2]!=0) res[2][0]=a07;
+  a21=(a21/a06);
+  if (res[2]!=0) res[2][1]=a21;
+  a24=(a24/a06);
   if (res[2]!=0) res[2][2]=a24;
   return 0;
 }
 
 CASADI_SYMBOL_EXPORT int prs3_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_inverse_pose_checkout(void) {
@@ -1866,7 +2395,7 @@ CASADI_SYMBOL_EXPORT int prs3_inverse_pose_work_bytes(casadi_int *sz_arg, casadi
 }
 
 /* prs3_automatic_family:(actuated[3],params[3])->(free[6],angles) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1886,7 +2415,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_family_checkout(void) {
@@ -1961,7 +2490,7 @@ CASADI_SYMBOL_EXPORT int prs3_automatic_family_work_bytes(casadi_int *sz_arg, ca
 }
 
 /* prs3_automatic_monomials:(family_re[6],family_im[6])->(re[134],im[134]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2430,7 +2959,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_monomials_checkout(void) {
@@ -2505,7 +3034,7 @@ CASADI_SYMBOL_EXPORT int prs3_automatic_monomials_work_bytes(casadi_int *sz_arg,
 }
 
 /* prs3_automatic_passive:(z[7],params[3])->(passive[7]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -2525,7 +3054,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_passive_checkout(void) {

@@ -4,9 +4,10 @@
 #   platform_pose: 47
 #   loop_closure: 535
 #   loop_closure_actuated: 39
-#   singularity_factors: 152
-#   drawing: 70
-#   inverse_pose: 195
+#   rate_jacobians: 130
+#   singularity_factors: 447
+#   drawing: 62
+#   inverse_pose: 218
 #   automatic_family: 0
 #   automatic_monomials: 173
 #   automatic_passive: 0
@@ -380,10 +381,10 @@ def loop_closure_actuated(actuated, passive, params):
     }
 
 
-def singularity_factors(actuated, passive, params):
-    """Every named singularity factor, then the determinants.
+def rate_jacobians(actuated, passive, params):
+    """Input-output Jacobians of A twist = B actuated_rates. Constraint wrenches: constraints twist = 0.
 
-    Operations: 152.
+    Operations: 130.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -402,75 +403,309 @@ def singularity_factors(actuated, passive, params):
     q3 = passive[..., 6]
     r_b = params[..., 0]
     r_p = params[..., 1]
-    L = params[..., 2]
-    _t0 = 1 / L
-    _t1 = 2 * q0
-    _t2 = q2**2
-    _t3 = q3**2
-    _t4 = q0**2
-    _t5 = q1**2
-    _t6 = _t4 + _t5
-    _t7 = 1 / (_t2 + _t3 + _t6)
-    _t8 = _t7 * r_p
-    _t9 = _t8 * (-_t1 * q2 + 2 * q1 * q3)
+    _t0 = q2**2
+    _t1 = q3**2
+    _t2 = -_t1
+    _t3 = q0**2
+    _t4 = q1**2
+    _t5 = _t3 + _t4
+    _t6 = r_p / (_t0 + _t1 + _t5)
+    _t7 = _t6 * (-_t0 + _t2 + _t5)
+    _t8 = _t7 - r_b + x
+    _t9 = 2 * q0
+    _t10 = _t9 * q3
+    _t11 = _t6 * (_t10 + 2 * q1 * q2)
+    _t12 = _t11 + y
+    _t13 = _t6 * (-_t9 * q2 + 2 * q1 * q3)
+    _t14 = _t13 - d1 + z
+    _t15 = -z
+    _t16 = _t15 + d1
+    _t17 = r_b - x
+    _t18 = -_t10 + 2 * q1 * q2
+    _t19 = numpy.sqrt(3)
+    _t20 = (1 / 2) * _t19
+    _t21 = _t20 * _t6
+    _t22 = _t18 * _t21
+    _t23 = (1 / 2) * r_b
+    _t24 = _t23 + x
+    _t25 = _t24 - 1 / 2 * _t7
+    _t26 = _t22 + _t25
+    _t27 = _t19 * _t23
+    _t28 = _t27 - y
+    _t29 = (1 / 2) * _t11
+    _t30 = _t21 * (_t0 + _t2 + _t3 - _t4)
+    _t31 = -_t30
+    _t32 = _t29 + _t31
+    _t33 = -_t28 - _t32
+    _t34 = (1 / 2) * _t13
+    _t35 = _t9 * q1 + 2 * q2 * q3
+    _t36 = _t21 * _t35
+    _t37 = _t15 + d2
+    _t38 = -_t34 + _t36 - _t37
+    _t39 = -_t24
+    _t40 = -_t22 + _t25
+    _t41 = _t27 + y
+    _t42 = -_t29 + _t31 + _t41
+    _t43 = _t15 + d3
+    _t44 = _t34 + _t36
+    _t45 = -_t43 - _t44
+    _t46 = -_t41
+    _t47 = (1 / 4) * _t13
+    _t48 = (1 / 4) * _t19 * _t6
+    _t49 = _t35 * _t48
+    _t50 = _t18 * _t48
+    _t51 = (1 / 4) * _t7
+    a = numpy.zeros(shape + (3, 6))
+    a[..., 0, 0] = _t8
+    a[..., 0, 1] = _t12
+    a[..., 0, 2] = _t14
+    a[..., 0, 3] = -_t12 * _t16 - _t14 * y
+    a[..., 0, 4] = -_t14 * _t17 + _t16 * _t8
+    a[..., 0, 5] = _t12 * _t17 + _t8 * y
+    a[..., 1, 0] = _t26
+    a[..., 1, 1] = _t33
+    a[..., 1, 2] = _t38
+    a[..., 1, 3] = _t28 * _t38 - _t33 * _t37
+    a[..., 1, 4] = _t26 * _t37 - _t38 * _t39
+    a[..., 1, 5] = -_t26 * _t28 + _t33 * _t39
+    a[..., 2, 0] = _t40
+    a[..., 2, 1] = _t42
+    a[..., 2, 2] = _t45
+    a[..., 2, 3] = -_t42 * _t43 + _t45 * _t46
+    a[..., 2, 4] = -_t39 * _t45 + _t40 * _t43
+    a[..., 2, 5] = _t39 * _t42 - _t40 * _t46
+    b = numpy.zeros(shape + (3, 3))
+    b[..., 0, 0] = _t14
+    b[..., 1, 1] = _t38
+    b[..., 2, 2] = _t45
+    constraints = numpy.zeros(shape + (3, 6))
+    constraints[..., 0, 1] = 1
+    constraints[..., 0, 3] = -_t13
+    constraints[..., 0, 5] = _t7
+    constraints[..., 1, 0] = -_t20
+    constraints[..., 1, 1] = -1 / 2
+    constraints[..., 1, 3] = -_t47 + _t49
+    constraints[..., 1, 4] = -_t20 * (-_t34 + _t36)
+    constraints[..., 1, 5] = -_t20 * _t32 - _t50 + _t51
+    constraints[..., 2, 0] = _t20
+    constraints[..., 2, 1] = -1 / 2
+    constraints[..., 2, 3] = -_t47 - _t49
+    constraints[..., 2, 4] = -_t20 * _t44
+    constraints[..., 2, 5] = -_t20 * (-_t29 - _t30) + _t50 + _t51
+    return {
+        "a": a,
+        "b": b,
+        "constraints": constraints,
+    }
+
+
+def singularity_factors(actuated, passive, params):
+    """Every named singularity factor, then the determinants.
+
+    Operations: 447.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    d1 = actuated[..., 0]
+    d2 = actuated[..., 1]
+    d3 = actuated[..., 2]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    z = passive[..., 2]
+    q0 = passive[..., 3]
+    q1 = passive[..., 4]
+    q2 = passive[..., 5]
+    q3 = passive[..., 6]
+    r_b = params[..., 0]
+    r_p = params[..., 1]
+    _t0 = q2**2
+    _t1 = q3**2
+    _t2 = q0**2
+    _t3 = q1**2
+    _t4 = _t2 + _t3
+    _t5 = _t0 + _t1 + _t4
+    _t6 = 1 / _t5
+    _t7 = 2 * q0
+    _t8 = r_p * (-_t7 * q2 + 2 * q1 * q3)
+    _t9 = _t6 * _t8
     _t10 = _t9 - d1 + z
-    _t11 = _t1 * q1 + 2 * q2 * q3
-    _t12 = numpy.sqrt(3)
-    _t13 = (1 / 2) * _t12
-    _t14 = _t13 * _t8
-    _t15 = _t11 * _t14
+    _t11 = numpy.sqrt(3)
+    _t12 = (1 / 2) * _t11
+    _t13 = r_p * (_t7 * q1 + 2 * q2 * q3)
+    _t14 = _t12 * _t13
+    _t15 = _t14 * _t6
     _t16 = (1 / 2) * _t9 - z
     _t17 = _t15 - _t16 - d2
     _t18 = -_t15 - _t16 - d3
-    _t19 = -_t3
-    _t20 = _t19 - _t2 + _t6
-    _t21 = _t20 * _t8
-    _t22 = _t21 - r_b + x
-    _t23 = (3 / 2) * _t9
-    _t24 = -_t15 - _t23
-    _t25 = -_t10
-    _t26 = _t1 * q3
-    _t27 = -_t26 + 2 * q1 * q2
-    _t28 = _t14 * _t27
-    _t29 = (3 / 2) * _t21
-    _t30 = -_t28 - _t29
-    _t31 = _t12 * _t8
-    _t32 = (1 / 4) * _t31
-    _t33 = _t11 * _t32
-    _t34 = (1 / 4) * _t9 - 1 / 2 * z
-    _t35 = -_t33 - _t34 - 1 / 2 * d3
-    _t36 = _t27 * _t31
-    _t37 = _t19 + _t2 + _t4 - _t5
-    _t38 = (3 / 2) * _t37 * _t8
-    _t39 = _t8 * (_t26 + 2 * q1 * q2)
-    _t40 = (1 / 2) * _t39
-    _t41 = _t14 * _t37
+    _t19 = (1 / 2) * _t8
+    _t20 = _t5 * z
+    _t21 = _t19 - _t20
+    _t22 = _t14 + _t21
+    _t23 = _t22 + _t5 * d3
+    _t24 = -_t23
+    _t25 = (1 / 2) * _t0 + (1 / 2) * _t1 + (1 / 2) * _t2 + (1 / 2) * _t3
+    _t26 = -_t25
+    _t27 = _t12 * _t5
+    _t28 = (1 / 2) * _t11 * _t25 * _t5 - _t26 * _t27
+    _t29 = _t14 - _t19 + _t20
+    _t30 = (1 / 2) * r_b
+    _t31 = _t7 * q3
+    _t32 = -_t31 + 2 * q1 * q2
+    _t33 = _t12 * r_p
+    _t34 = _t32 * _t33
+    _t35 = _t5 * x
+    _t36 = -_t1
+    _t37 = r_p * (-_t0 + _t36 + _t4)
+    _t38 = (1 / 2) * _t37
+    _t39 = _t35 - _t38
+    _t40 = _t34 + _t39
+    _t41 = _t29 * _t30 + _t40 * d2
     _t42 = -_t41
-    _t43 = _t13 * r_b + _t42
-    _t44 = _t27 * _t32
-    _t45 = -1 / 4 * _t20 * _t7 * r_p + (1 / 4) * r_b + (1 / 2) * x
-    _t46 = -_t13 * (-_t40 + _t43 + y) + _t44 - _t45
-    _t47 = _t11 * _t31
-    _t48 = _t33 - _t34 - 1 / 2 * d2
-    _t49 = -_t28 + _t29
-    _t50 = (3 / 2) * _t39
-    _t51 = -_t15 + _t23
-    _t52 = (1 / 2) * _t12 * (-_t40 - _t43 + y) - _t44 - _t45
+    _t43 = _t20 + _t8
+    _t44 = -_t43
+    _t45 = r_p * (_t31 + 2 * q1 * q2)
+    _t46 = _t5 * y
+    _t47 = _t45 + _t46
+    _t48 = _t47 * r_b
+    _t49 = _t44 * _t48
+    _t50 = _t35 + _t37
+    _t51 = _t50 * d1
+    _t52 = _t47 * _t51
+    _t53 = _t43 * r_b - _t51
+    _t54 = _t33 * (_t0 + _t2 - _t3 + _t36)
+    _t55 = (1 / 2) * _t45
+    _t56 = _t46 - _t55
+    _t57 = _t54 + _t56
+    _t58 = (1 / 2) * _t11 * _t29 * r_b - _t57 * d2
+    _t59 = _t50 * _t58
+    _t60 = _t12 * _t40 * r_b + _t30 * _t57
+    _t61 = -_t14 + _t21 + _t5 * d2
+    _t62 = -_t61
+    _t63 = -_t22
+    _t64 = -_t34 + _t35 - _t38
+    _t65 = _t30 * _t63 + _t64 * d3
+    _t66 = -_t65
+    _t67 = _t44 * _t66
+    _t68 = _t12 * _t63
+    _t69 = -_t46 + _t55
+    _t70 = -_t54 - _t69
+    _t71 = -_t68 * r_b - _t70 * d3
+    _t72 = -1 / 2 * _t11 * _t64 * r_b + _t30 * _t70
+    _t73 = _t44 * _t72 + _t50 * _t71
+    _t74 = _t43 - _t5 * d1
+    _t75 = -_t60
+    _t76 = -_t50
+    _t77 = _t47 * d1
+    _t78 = _t76 * _t77
+    _t79 = (1 / 4) * _t8
+    _t80 = (1 / 4) * _t11
+    _t81 = _t13 * _t80
+    _t82 = (1 / 2) * _t5 * z - _t79 - _t81
+    _t83 = _t32 * _t80 * r_p
+    _t84 = (1 / 2) * _t35
+    _t85 = (1 / 4) * _t37
+    _t86 = -_t12 * _t70 + _t83 - _t84 + _t85
+    _t87 = _t44 * _t86 + _t76 * _t82
+    _t88 = _t5 * r_b
+    _t89 = (1 / 2) * _t88
+    _t90 = _t40 + _t89
+    _t91 = _t26 * _t90
+    _t92 = _t23 * _t91
+    _t93 = _t12 * _t88 - _t54
+    _t94 = _t69 + _t93
+    _t95 = _t23 * _t5
+    _t96 = _t12 * _t95
+    _t97 = _t94 * _t96
+    _t98 = -_t34 + _t39 + _t89
+    _t99 = _t26 * _t98
+    _t100 = _t56 + _t93
+    _t101 = -_t100 * _t27
+    _t102 = -_t101 + _t99
+    _t103 = _t12 * _t29
+    _t104 = (1 / 2) * _t20 - _t79 + _t81
+    _t105 = -_t12 * _t57 + _t83 + _t84 - _t85
+    _t106 = -_t105
+    _t107 = _t104 * _t76 + _t106 * _t44
+    _t108 = _t101 + _t99
+    _t109 = -_t47
+    _t110 = _t50 - _t88
+    _t111 = _t110 * _t26
+    _t112 = _t111 * _t23
+    _t113 = _t103 * _t58
+    _t114 = _t103 * _t44
+    _t115 = _t109 * _t27 * _t61
+    _t116 = _t111 * _t61
+    _t117 = _t27 * _t94
+    _t118 = _t68 * _t71
+    _t119 = -_t72
+    _t120 = _t44 * _t68
+    _t121 = _t58 * _t68
+    _t122 = _t103 * _t71
+    _t123 = _t5 * _t62
+    _t124 = _t103 * _t82 + _t104 * _t68
+    _t125 = -_t103 * _t86 + _t105 * _t68
+    _t126 = _t104 * _t86 + _t105 * _t82
+    _t127 = -_t5
+    _t128 = _t127 * _t24 * _t27
+    _t129 = _t104 * _t66 - _t122
+    _t130 = -_t103 * _t72 + _t106 * _t65
+    _t131 = _t104 * _t72 + _t106 * _t71
+    _t132 = _t12 * _t127
+    _t133 = _t123 * _t132
+    _t134 = _t118 + _t66 * _t82
+    _t135 = _t65 * _t86 + _t68 * _t72
+    _t136 = _t71 * _t86 + _t72 * _t82
+    _t137 = _t5 * _t74
+    _t138 = _t110 * _t5
+    _t139 = _t132 * _t137
+    _t140 = (
+        -_t128
+        * (
+            _t48 * (_t121 + _t42 * _t82)
+            + _t53 * (_t58 * _t86 + _t60 * _t82)
+            - _t77 * (_t41 * _t86 + _t60 * _t68)
+        )
+        - _t128
+        * (
+            _t48 * (_t104 * _t42 - _t113)
+            + _t53 * (_t104 * _t60 + _t106 * _t58)
+            - _t77 * (-_t103 * _t60 + _t106 * _t41)
+        )
+        + _t133 * (_t129 * _t48 - _t130 * _t77 + _t131 * _t53)
+        + _t133 * (_t134 * _t48 - _t135 * _t77 + _t136 * _t53)
+        - _t139 * (_t129 * _t75 + _t130 * _t58 + _t131 * _t42)
+        - _t139 * (_t134 * _t75 + _t135 * _t58 + _t136 * _t42)
+        + _t24 * _t28 * (-_t41 * _t52 + _t42 * _t49 + _t53 * (_t44 * _t60 + _t59))
+        - _t28 * _t62 * (_t48 * _t67 - _t52 * _t65 + _t53 * _t73)
+        + _t28 * _t74 * (_t42 * _t73 + _t59 * _t65 + _t67 * _t75)
+        + (-_t123 * _t98 - _t90 * _t95) * (_t124 * _t48 - _t125 * _t77 + _t126 * _t53)
+        + (_t124 * _t50 + _t125 * _t44)
+        * (
+            _t109 * (_t24 * _t90 + _t61 * _t98)
+            + _t110 * (_t100 * _t61 - _t24 * _t94)
+            + _t74 * (_t100 * _t90 + _t94 * _t98)
+        )
+        + (-_t137 * _t90 - _t138 * _t61) * (_t119 * _t124 + _t125 * _t71 + _t126 * _t66)
+        + (_t137 * _t98 + _t138 * _t23) * (_t124 * _t75 + _t125 * _t58 + _t126 * _t42)
+        + (-_t115 - _t116 - _t74 * (_t117 + _t91)) * (_t107 * _t66 - _t114 * _t119 - _t122 * _t76)
+        + (-_t115 + _t116 + _t74 * (-_t117 + _t91)) * (_t118 * _t76 + _t119 * _t120 + _t66 * _t87)
+        + (_t102 * _t62 + _t92 - _t97) * (_t49 * _t68 + _t53 * _t87 - _t68 * _t78)
+        + (-_t102 * _t74 + (1 / 2) * _t109 * _t11 * _t23 * _t5 - _t112)
+        * (_t120 * _t75 + _t121 * _t76 + _t42 * _t87)
+        + (-_t103 * _t49 + _t103 * _t78 + _t107 * _t53) * (-_t108 * _t62 - _t92 - _t97)
+        + (_t107 * _t42 - _t113 * _t76 - _t114 * _t75) * (_t108 * _t74 + _t109 * _t96 + _t112)
+    ) / _t5**6
     factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = _t0 * _t10
-    factors[..., 1] = _t0 * _t17
-    factors[..., 2] = _t0 * _t18
-    factors[..., 3] = (
-        -8
-        * (_t22 * _t24 + _t25 * _t30)
-        * (_t18 * _t38 + _t35 * _t36 + _t46 * _t47)
-        * (-_t13 * _t17 * (_t42 + _t50) + _t48 * _t49 + _t51 * _t52)
-        + 8
-        * (_t22 * _t51 + _t25 * _t49)
-        * (-_t17 * _t38 + _t36 * _t48 + _t47 * _t52)
-        * (_t13 * _t18 * (-_t41 - _t50) + _t24 * _t46 + _t30 * _t35)
-    ) / (L**3 * r_p**3)
-    determinants = numpy.zeros(shape + (0,))
+    factors[..., 0] = _t10
+    factors[..., 1] = _t17
+    factors[..., 2] = _t18
+    factors[..., 3] = _t140
+    determinants = numpy.zeros(shape + (2,))
+    determinants[..., 0] = _t140
+    determinants[..., 1] = _t10 * _t17 * _t18
     return {
         "factors": factors,
         "determinants": determinants,
@@ -480,7 +715,7 @@ def singularity_factors(actuated, passive, params):
 def drawing(actuated, passive, params):
     """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
 
-    Operations: 70.
+    Operations: 62.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(actuated)[:-1],
@@ -504,83 +739,53 @@ def drawing(actuated, passive, params):
     _t2 = numpy.sqrt(3)
     _t3 = _t0 * _t2
     _t4 = -_t3
-    _t5 = (1 / 8) * r_b
-    _t6 = -_t5
-    _t7 = q2**2
-    _t8 = q3**2
-    _t9 = -_t8
-    _t10 = q0**2
-    _t11 = q1**2
-    _t12 = _t10 + _t11
-    _t13 = r_p / (_t12 + _t7 + _t8)
-    _t14 = _t13 * (_t12 - _t7 + _t9)
-    _t15 = 2 * q0
-    _t16 = _t15 * q3
-    _t17 = (1 / 2) * _t13 * _t2
-    _t18 = _t17 * (-_t16 + 2 * q1 * q2)
-    _t19 = (1 / 2) * _t14
-    _t20 = _t13 * (_t16 + 2 * q1 * q2)
-    _t21 = (1 / 2) * _t20
-    _t22 = _t17 * (_t10 - _t11 + _t7 + _t9)
-    _t23 = _t13 * (-_t15 * q2 + 2 * q1 * q3)
-    _t24 = (1 / 2) * _t23
-    _t25 = _t17 * (_t15 * q1 + 2 * q2 * q3)
+    _t5 = q2**2
+    _t6 = q3**2
+    _t7 = -_t6
+    _t8 = q0**2
+    _t9 = q1**2
+    _t10 = _t8 + _t9
+    _t11 = r_p / (_t10 + _t5 + _t6)
+    _t12 = _t11 * (_t10 - _t5 + _t7)
+    _t13 = 2 * q0
+    _t14 = _t13 * q3
+    _t15 = (1 / 2) * _t11 * _t2
+    _t16 = _t15 * (-_t14 + 2 * q1 * q2)
+    _t17 = (1 / 2) * _t12
+    _t18 = _t11 * (_t14 + 2 * q1 * q2)
+    _t19 = (1 / 2) * _t18
+    _t20 = _t15 * (_t5 + _t7 + _t8 - _t9)
+    _t21 = _t11 * (-_t13 * q2 + 2 * q1 * q3)
+    _t22 = (1 / 2) * _t21
+    _t23 = _t15 * (_t13 * q1 + 2 * q2 * q3)
     base = numpy.zeros(shape + (3, 3))
     base[..., 0, 0] = r_b
     base[..., 0, 1] = _t1
     base[..., 0, 2] = _t1
     base[..., 1, 1] = _t3
     base[..., 1, 2] = _t4
-    rail_top = numpy.zeros(shape + (3, 3))
-    rail_top[..., 0, 0] = r_b
-    rail_top[..., 0, 1] = _t1
-    rail_top[..., 0, 2] = _t1
-    rail_top[..., 1, 1] = _t3
-    rail_top[..., 1, 2] = _t4
-    rail_top[..., 2, 0] = 1.00000000000000
-    rail_top[..., 2, 1] = 1.00000000000000
-    rail_top[..., 2, 2] = 1.00000000000000
-    slider = numpy.zeros(shape + (3, 3))
-    slider[..., 0, 0] = r_b
-    slider[..., 0, 1] = _t1
-    slider[..., 0, 2] = _t1
-    slider[..., 1, 1] = _t3
-    slider[..., 1, 2] = _t4
-    slider[..., 2, 0] = d1
-    slider[..., 2, 1] = d2
-    slider[..., 2, 2] = d3
-    slider_ends = numpy.zeros(shape + (3, 6))
-    slider_ends[..., 0, 0] = r_b
-    slider_ends[..., 0, 1] = r_b
-    slider_ends[..., 0, 2] = _t1
-    slider_ends[..., 0, 3] = _t1
-    slider_ends[..., 0, 4] = _t1
-    slider_ends[..., 0, 5] = _t1
-    slider_ends[..., 1, 2] = _t3
-    slider_ends[..., 1, 3] = _t3
-    slider_ends[..., 1, 4] = _t4
-    slider_ends[..., 1, 5] = _t4
-    slider_ends[..., 2, 0] = _t6 + d1
-    slider_ends[..., 2, 1] = _t5 + d1
-    slider_ends[..., 2, 2] = _t6 + d2
-    slider_ends[..., 2, 3] = _t5 + d2
-    slider_ends[..., 2, 4] = _t6 + d3
-    slider_ends[..., 2, 5] = _t5 + d3
+    elbow = numpy.zeros(shape + (3, 3))
+    elbow[..., 0, 0] = r_b
+    elbow[..., 0, 1] = _t1
+    elbow[..., 0, 2] = _t1
+    elbow[..., 1, 1] = _t3
+    elbow[..., 1, 2] = _t4
+    elbow[..., 2, 0] = d1
+    elbow[..., 2, 1] = d2
+    elbow[..., 2, 2] = d3
     platform = numpy.zeros(shape + (3, 3))
-    platform[..., 0, 0] = _t14 + x
-    platform[..., 0, 1] = _t18 - _t19 + x
-    platform[..., 0, 2] = -_t18 - _t19 + x
-    platform[..., 1, 0] = _t20 + y
-    platform[..., 1, 1] = -_t21 + _t22 + y
-    platform[..., 1, 2] = -_t21 - _t22 + y
-    platform[..., 2, 0] = _t23 + z
-    platform[..., 2, 1] = -_t24 + _t25 + z
-    platform[..., 2, 2] = -_t24 - _t25 + z
+    platform[..., 0, 0] = _t12 + x
+    platform[..., 0, 1] = _t16 - _t17 + x
+    platform[..., 0, 2] = -_t16 - _t17 + x
+    platform[..., 1, 0] = _t18 + y
+    platform[..., 1, 1] = -_t19 + _t20 + y
+    platform[..., 1, 2] = -_t19 - _t20 + y
+    platform[..., 2, 0] = _t21 + z
+    platform[..., 2, 1] = -_t22 + _t23 + z
+    platform[..., 2, 2] = -_t22 - _t23 + z
     return {
         "base": base,
-        "rail_top": rail_top,
-        "slider": slider,
-        "slider_ends": slider_ends,
+        "elbow": elbow,
         "platform": platform,
     }
 
@@ -588,7 +793,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 195.
+    Operations: 218.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -635,40 +840,48 @@ def inverse_pose(pose, branch, params):
     _t4 = 1 / numpy.sqrt(2 * n_z + 2)
     q2 = -_t4 * n_x * (_t3 + 1 / 2) + _t4 * n_y * (1 / 2 - _t3)
     q3 = (1 / 2 - 1 / 2 * turn) * (n_z + 1) / numpy.sqrt(2 * n_z + 2)
+    along1 = r_p * tilt31 + z
     _t5 = r_p * turn
-    disc1 = L**2 - (_t5 * tilt21 + y) ** 2 - (_t5 * tilt11 - r_b + x) ** 2
-    d1 = r_p * tilt31 - sigma1 * numpy.sqrt(numpy.fmax(0, disc1)) + z
-    _t6 = (1 / 2) * r_b
-    _t7 = (1 / 2) * r_p * turn
+    disc1 = (
+        L**2
+        + along1**2
+        - (_t5 * tilt21 + y) ** 2
+        - (r_p * tilt31 + z) ** 2
+        - (_t5 * tilt11 - r_b + x) ** 2
+    )
+    d1 = along1 - sigma1 * numpy.sqrt(numpy.fmax(0, disc1))
+    _t6 = (1 / 2) * r_p
+    along2 = -_t6 * tilt31 + numpy.sqrt(3) * _t6 * tilt32 + z
+    _t7 = (1 / 2) * r_p
     _t8 = numpy.sqrt(3)
+    _t9 = _t7 * _t8
+    _t10 = (1 / 2) * r_b
+    _t11 = _t7 * turn
     disc2 = (
         L**2
-        - (_t6 + _t7 * _t8 * tilt12 - _t7 * tilt11 + x) ** 2
-        - (-_t6 * _t8 - _t7 * tilt21 + (1 / 2) * _t8 * r_p * tilt22 * turn + y) ** 2
+        + along2**2
+        - (-_t7 * tilt31 + _t9 * tilt32 + z) ** 2
+        - (_t10 - _t11 * tilt11 + _t9 * tilt12 * turn + x) ** 2
+        - (-_t10 * _t8 - _t11 * tilt21 + (1 / 2) * _t8 * r_p * tilt22 * turn + y) ** 2
     )
-    d2 = (
-        -1 / 2 * r_p * tilt31
-        + (1 / 2) * numpy.sqrt(3) * r_p * tilt32
-        - sigma2 * numpy.sqrt(numpy.fmax(0, disc2))
-        + z
-    )
-    _t9 = (1 / 2) * r_b
-    _t10 = (1 / 2) * r_p * turn
-    _t11 = numpy.sqrt(3)
-    _t12 = _t10 * _t11
+    d2 = along2 - sigma2 * numpy.sqrt(numpy.fmax(0, disc2))
+    _t12 = (1 / 2) * r_p
+    along3 = -_t12 * tilt31 - numpy.sqrt(3) * _t12 * tilt32 + z
+    _t13 = (1 / 2) * r_p
+    _t14 = numpy.sqrt(3)
+    _t15 = _t13 * _t14
+    _t16 = (1 / 2) * r_b
+    _t17 = _t13 * turn
+    _t18 = _t15 * turn
     disc3 = (
         L**2
-        - (-_t10 * tilt11 - _t12 * tilt12 + _t9 + x) ** 2
-        - (-_t10 * tilt21 + _t11 * _t9 - _t12 * tilt22 + y) ** 2
+        + along3**2
+        - (-_t13 * tilt31 - _t15 * tilt32 + z) ** 2
+        - (_t16 - _t17 * tilt11 - _t18 * tilt12 + x) ** 2
+        - (_t14 * _t16 - _t17 * tilt21 - _t18 * tilt22 + y) ** 2
     )
-    _t13 = (1 / 2) * r_p
-    d3 = (
-        -_t13 * tilt31
-        - numpy.sqrt(3) * _t13 * tilt32
-        - sigma3 * numpy.sqrt(numpy.fmax(0, disc3))
-        + z
-    )
-    _t14 = L ** (-2)
+    d3 = along3 - sigma3 * numpy.sqrt(numpy.fmax(0, disc3))
+    _t19 = L ** (-2)
     actuated = numpy.zeros(shape + (3,))
     actuated[..., 0] = d1
     actuated[..., 1] = d2
@@ -682,9 +895,9 @@ def inverse_pose(pose, branch, params):
     passive[..., 5] = q2
     passive[..., 6] = q3
     validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = _t14 * disc1
-    validity[..., 1] = _t14 * disc2
-    validity[..., 2] = _t14 * disc3
+    validity[..., 0] = _t19 * disc1
+    validity[..., 1] = _t19 * disc2
+    validity[..., 2] = _t19 * disc3
     return {
         "actuated": actuated,
         "passive": passive,
@@ -1107,6 +1320,7 @@ KERNELS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
+    "rate_jacobians": rate_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

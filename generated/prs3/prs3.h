@@ -4,14 +4,15 @@
 //   platform_pose: 47
 //   loop_closure: 535
 //   loop_closure_actuated: 39
-//   singularity_factors: 152
-//   drawing: 70
-//   inverse_pose: 195
+//   rate_jacobians: 130
+//   singularity_factors: 447
+//   drawing: 62
+//   inverse_pose: 218
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0
 
-// Public C interface of the generated prs3 solvers: 3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion), no forward model yet.
+// Public C interface of the generated prs3 solvers: 3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion).
 // M. Carretero, R. P. Podhorodeski, M. A. Nahon, C. M. Gosselin (2000)
 //
 // 3-PRS parallel manipulator: three vertical rails, each carrying an actuated slider, a passive
@@ -64,24 +65,26 @@
 //   sigma_i = +1 puts the slider below the platform joint (the link rises to the platform),
 //   -1 above it; validity ``leg<i>_reachable`` = (L^2 - |h_i|^2) / L^2 (the link reaches the
 //   joint's rail distance; 0: the link is horizontal, a serial singularity).
-// * Rates: no A/B rate model. The runtime's rate model is A twist = B d_dot with A and B square
-//   over the pose kind's whole twist (vx, vy, vz, wx, wy, wz), and the generator refuses any other
-//   twist ("the rate model's twist ['vz', 'wx', 'wy'] does not match pose_kind 'transform'"); this
-//   platform has 3 actuators and a 6 x 6 A (three actuation wrenches and three constraint wrenches)
-//   against a 6 x 3 B. So forward_rate, inverse_rate, rate_jacobians and statics are unsupported;
-//   ``passive_rates`` (from the loop closure) gives the (x, y, z, q) rates of slider rates.
-//   ``reduced_rate_model`` writes the 3 x 3 model over (vz, wx, wy) for the rate model to come.
-// * Singularity factors (``m.singularities``): ``leg<i>_link_horizontal`` = (C_i - S_i) . k / L
-//   (the link perpendicular to its rail: the stroke is stationary, a serial singularity), and
-//   ``platform_moves_with_sliders_locked`` = det(dg / dt) / (L r_p)^3, the Jacobian of the three
-//   platform-triangle equations g_ij = |C_i - C_j|^2 - 3 r_p^2 in the link angles t_i (forward pose
-//   below), with dC_i / dt_i = (C_i - S_i) x u_i: zero where the platform can move with the sliders
-//   locked, the type II singularity (where the loop-closure Jacobian is singular, and where the six
-//   wrenches the legs transmit, the force along each link and the constraint force along each
-//   revolute axis through C_i, are dependent: Joshi & Tsai 2002, "Jacobian analysis of limited-DOF
-//   parallel manipulators", J. Mech. Design 124(2)). A 3 x 3 determinant of small entries instead
-//   of that 6 x 6 one (a megabyte of expression).
-// * Forward pose: none (``forward=None``). By the parametrisation of the links in their planes,
+// * The model (``MODEL``) is three P-R-S legs of the joint language (``generator/joints.py``):
+//   a slider on rail i, a revolute joint with axis u_i, a link of length L, a spherical joint at
+//   c_i; every derivation below comes from it, the inverse's reading of the pose (``motion``)
+//   aside.
+// * Rates (derived: Joshi & Tsai 2002, "Jacobian analysis of limited-DOF parallel manipulators",
+//   J. Mech. Design 124(2)): A twist = B d_dot over the whole twist (vx, vy, vz, wx, wy, wz), A's
+//   row i the actuation wrench of leg i, the force along the link (C_i - S_i, (C_i - p) x (C_i -
+//   S_i)), B = diag((C_i - S_i) . k); and three constraint wrenches, the force along each
+//   revolute axis through C_i, (u_i, (C_i - p) x u_i): every motion has constraints twist = 0.
+//   ``forward_rate`` returns the whole twist, parasitic (vx, vy, wz) included; ``inverse_rate``
+//   takes only twists the platform can make (BadInputError otherwise); ``actuator_forces`` and
+//   ``constraint_forces`` hold a wrench together; ``stiffness`` acts on the feasible motions.
+// * Singularity factors (``m.singularities``): ``leg<i>_link_horizontal`` = (C_i - S_i) . k
+//   (metres; the link perpendicular to its rail: the stroke is stationary, a serial singularity),
+//   and ``platform_moves_with_sliders_locked`` = det [A; constraints], the six wrenches the legs
+//   transmit dependent: zero where the platform can move with the sliders locked (the type II
+//   singularity, where the loop-closure Jacobian is singular), written by Laplace's expansion in
+//   3 x 3 blocks with polynomial entries in the quaternion.
+// * Forward pose: none written (``forward=None``): ``forward_pose_all`` tracks the polynomial
+//   form the generator derives from the closure. By the parametrisation of the links in their planes,
 //   C_i = S_i + L (cos t_i e_i + sin t_i k), the forward problem is three equations
 //   |C_i - C_j|^2 = 3 r_p^2 of bidegree (2, 2) in the half-angle tangents of (t_i, t_j): at most
 //   16 assembly modes (the multihomogeneous Bezout number, reached over the complex numbers),
@@ -238,13 +241,17 @@ int prs3_loop_closure_batch(long long n, const double** inputs, const long long*
 //   inputs: actuated[3], passive[7], params[3]
 //   outputs: jacobian_actuated[7 x 3]
 int prs3_loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Input-output Jacobians of A twist = B actuated_rates. Constraint wrenches: constraints twist = 0.
+//   inputs: actuated[3], passive[7], params[3]
+//   outputs: a[3 x 6], b[3 x 3], constraints[3 x 6]
+int prs3_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[7], params[3]
-//   outputs: factors[4], determinants[0]
+//   outputs: factors[4], determinants[2]
 int prs3_singularity_factors_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
 //   inputs: actuated[3], passive[7], params[3]
-//   outputs: base[3 x 3], rail_top[3 x 3], slider[3 x 3], slider_ends[3 x 6], platform[3 x 3]
+//   outputs: base[3 x 3], elbow[3 x 3], platform[3 x 3]
 int prs3_drawing_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 //   inputs: pose[12], branch[3], params[3]
