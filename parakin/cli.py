@@ -337,6 +337,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"parakin {_version()}")
     commands = parser.add_subparsers(dest="command", required=True)
     # each flag only on the commands that use it (the README's command table says which)
     backend = argparse.ArgumentParser(add_help=False)
@@ -423,6 +424,16 @@ COMMANDS = {
     "export": _export,
     "sweep": _sweep,
 }
+
+
+def _version() -> str:
+    """The installed distribution's version (the checkout's pyproject.toml when run from it)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("parakin")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
 
 
 def main(argv: list[str] | None = None) -> int:

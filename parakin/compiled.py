@@ -16,6 +16,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +29,7 @@ from parakin.errors import (
     CompilerUnavailableError,
     ParakinError,
 )
+from parakin.log import logger
 from parakin.package import GeneratedPackage
 from parakin.results import Array
 
@@ -80,11 +82,14 @@ def build_library(package: GeneratedPackage) -> Path:
         raise _cache_error(error, "creating the library") from error
     os.close(handle)
     command = [compiler, *FLAGS, "-I", str(package.path), *map(str, sources), "-o", scratch, "-lm"]
+    logger.info("compiling the C library of %s (first use; cached in %s)", package.manifest.name, cache)
+    start = time.perf_counter()
     try:
         result = subprocess.run(command, capture_output=True, text=True)
         if result.returncode != 0:
             raise CompilerUnavailableError(f"C compilation failed: {' '.join(command)}\n{result.stderr[-2000:]}")
         os.replace(scratch, target)
+        logger.info("compiled %s in %.1f s", package.manifest.name, time.perf_counter() - start)
     except OSError as error:
         raise _cache_error(error, "storing the library") from error
     finally:

@@ -12,6 +12,7 @@ when it is read (``parakin.manifest``): names are identifiers and files stay ins
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import importlib
 import importlib.util
@@ -94,8 +95,10 @@ class GeneratedPackage:
         packages = discover()
         if str(name_or_path) not in packages:
             shown = str(name_or_path) if len(str(name_or_path)) <= 80 else f"{str(name_or_path)[:77]}..."
+            close = difflib.get_close_matches(str(name_or_path).lower(), sorted(packages), n=3, cutoff=0.6)
+            hint = f"did you mean {' or '.join(map(repr, close))}? " if close else ""
             raise UnknownMechanismError(
-                f"unknown mechanism {shown!r}: not a package folder; available: {sorted(packages)}"
+                f"unknown mechanism {shown!r}: not a package folder; {hint}available: {sorted(packages)}"
             )
         return cls(packages[str(name_or_path)])
 
