@@ -138,6 +138,18 @@ class Mechanism:
         values = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
         return f"parakin.load({self.name!r}, {values})  # backend {self.backend.name}"
 
+    def __str__(self) -> str:
+        """Tables of the parameters (values, units), variables (kinds, units, home, limits),
+        capabilities and named examples, under the title and citation."""
+        from parakin.display import mechanism_text
+
+        return mechanism_text(self)
+
+    def _repr_html_(self) -> str:
+        from parakin.display import mechanism_html
+
+        return mechanism_html(self)
+
     # ------------------------------------------------------------------ input checks
     def _actuated(self, value: ArrayLike) -> Array:
         """Actuated values (..., n_a): finite reals inside each actuator's declared range."""

@@ -162,6 +162,17 @@ class AssemblyModes:
         singularity: the mode is reported, but its pose is sensitive to the inputs)."""
         return self.valid & ~(self.conditioning > singular_ratio)
 
+    def __repr__(self) -> str:
+        """A summary line and, for one input, a table of its modes (numbered 0 .. count - 1)."""
+        from parakin.display import modes_text
+
+        return modes_text(self)
+
+    def _repr_html_(self) -> str:
+        from parakin.display import modes_html
+
+        return modes_html(self)
+
     def certificate(self) -> dict[str, NDArray[np.int64]]:
         """Per input: every isolated root accounted for. ``roots`` = real + near-real + at
         infinity; ``with_modes`` roots gave at least one mode; ``rejected[reason]`` counts the
