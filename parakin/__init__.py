@@ -156,6 +156,13 @@ def symbolic(name: str | os.PathLike[str]) -> dict[str, object]:
     return GeneratedPackage.find(name).symbolic()
 
 
+def __dir__() -> list[str]:
+    """The public names (``__all__``) and the submodules, not this module's own imports."""
+    import pkgutil
+
+    return sorted({*__all__, *(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))})
+
+
 __all__ = [
     "ArchitectureSingularityWarning",
     "AssemblyModeChangeError",

@@ -49,3 +49,11 @@ def test_version_and_did_you_mean():
     wrong = subprocess.run([sys.executable, "-m", "parakin", "ik", "Sam", "--pose", *"0 0 0.7 0 0 0".split()],
                            capture_output=True, text=True)  # fmt: skip
     assert wrong.returncode == 2 and "did you mean 'sam'" in wrong.stderr
+
+
+def test_dir_lists_the_public_api_not_the_package_imports():
+    import parakin
+
+    names = dir(parakin)
+    assert set(parakin.__all__) <= set(names) and {"load", "Mechanism", "statics", "plot"} <= set(names)
+    assert not {"Any", "Mapping", "os", "math", "warnings", "__main__"} & set(names)
