@@ -97,6 +97,10 @@ def _inverse_example(m: object, example: Example) -> list[Comparison]:
     return comparisons
 
 
+#: the first line of every mode table (the header is the second)
+CONVENTION = "  (x, y, z: the origin of {P} in {B}; alpha, beta, gamma: Z-Y-X Euler angles of ^B_P R)"
+
+
 def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
     """Every valid mode of one input: position (m), Z-Y-X Euler angles (deg), the closure residual
     and the conditioning (pivot ratio of the closure Jacobian: near 0 close to a type II singularity)."""
@@ -104,7 +108,7 @@ def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
         f"  {'mode':>4s} {'x [m]':>10s} {'y [m]':>10s} {'z [m]':>10s} {'alpha':>9s} {'beta':>9s} {'gamma [deg]':>11s}"
         f" {'residual':>9s} {'conditioning':>12s}"
     )
-    lines = [header]
+    lines = [CONVENTION, header]
     for number, index in enumerate(np.nonzero(modes.valid)[0]):  # numbered as modes.mode(number)
         x, y, z, *angles = xyz_euler_from_pose(modes.poses[index])
         alpha, beta, gamma = np.degrees(angles)
@@ -173,7 +177,7 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
                     f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
                 )
             if result.modes:
-                lines.append(f"  {len(result.modes) - 1} assembly modes:")
+                lines.append(f"  {len(result.modes) - 2} assembly modes:")
                 lines += result.modes
             lines.append("")
     return "\n".join(lines)
