@@ -221,10 +221,16 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
+    from parakin.plot import plot
+
     m = _load(args)
     degrees = args.actuated_deg is not None
     given = args.actuated_deg if degrees else args.actuated
     actuated = m.home_actuated if given is None else _from_cli_units(m.manifest.actuated, given, degrees)
+    if args.animate is None and (args.frames is not None or args.to is not None):
+        raise BadInputError("--frames and --to shape an animation: add --animate OUT.gif")
+    if args.animate is not None:
+        return _plot_animation(args, m, actuated, degrees)
     if m.capabilities.forward is not None:
         try:
             state: Any = m.forward_pose_all(actuated)
@@ -242,9 +248,36 @@ def _plot(args: argparse.Namespace) -> int:
     else:
         state = m.forward_pose(actuated)
     path = args.output or f"{m.name}.png"
-    m.plot(state, path)
+    plot(m, state, path, mode=args.mode, all_modes=args.all_modes)
     print(f"wrote {path}")
     return 0
+
+
+def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np.ndarray, degrees: bool) -> int:
+    """``parakin plot NAME --animate OUT.gif``: a straight line to ``--to``, or else a loop through
+    the start (``actuated_loop``), shrunk up to three times while it crosses a singularity or
+    leaves the workspace; the start is ``--mode K`` or the mode nearest the home."""
+    from parakin.plot import actuated_line, actuated_loop, animate
+
+    frames = 24 if args.frames is None else args.frames
+    start = None if args.mode is None else m.forward_pose_all(actuated).mode(args.mode)
+    if args.to is not None:
+        end = _from_cli_units(m.manifest.actuated, args.to, degrees)
+        animate(m, actuated_line(m, actuated, end, frames), args.animate, start=start)
+        print(f"wrote {args.animate}: {frames} frames from {actuated} to {end}")
+        return 0
+    scales = (1.0, 0.5, 0.25, 0.125)
+    for scale in scales:
+        try:
+            animate(m, actuated_loop(m, actuated, frames, scale), args.animate, start=start)
+        except ParakinError as error:
+            if scale == scales[-1]:
+                raise
+            print(f"{m.name}: the loop at scale {scale:g} fails ({type(error).__name__}); trying {scale / 2:g}")
+            continue
+        print(f"wrote {args.animate}: {frames} frames, a loop through {actuated} (scale {scale:g})")
+        return 0
+    raise AssertionError("unreachable")
 
 
 def _export(args: argparse.Namespace) -> int:
@@ -372,11 +405,28 @@ def _parser() -> argparse.ArgumentParser:
         "--actuated-deg", nargs="+", type=float, metavar="V", help="revolute inputs in degrees, prismatic in metres"
     )
 
-    plot = commands.add_parser("plot", parents=[mechanism], help="draw every assembly mode (PNG)")
+    plot = commands.add_parser(
+        "plot",
+        parents=[mechanism],
+        help="draw the assembly modes (PNG: a grid of every mode, or one) or animate one (GIF)",
+        description="Draw the mechanism at the actuated inputs (default: home). Default: a grid of every "
+        "assembly mode, each panel titled 'mode k' (k = 0 .. count-1) with its distance to singularity; "
+        "--mode K draws mode K alone. --animate OUT.gif tracks one mode (--mode K, default the mode nearest "
+        "the home) along a loop through the inputs, or a straight line --to other inputs, instead.",
+    )
     plot.add_argument("--output", default=None, help="PNG path (default NAME.png)")
     group = plot.add_mutually_exclusive_group()
     group.add_argument("--actuated", nargs="+", type=float, metavar="V", help="actuated values (default: home)")
     group.add_argument("--actuated-deg", nargs="+", type=float, metavar="V", help="revolute in degrees, prismatic in m")
+    which = plot.add_mutually_exclusive_group()
+    which.add_argument("--mode", type=int, default=None, metavar="K", help="draw (or animate from) mode K only")
+    which.add_argument("--all-modes", action="store_true", help="every mode as a grid of small multiples (default)")
+    plot.add_argument("--animate", default=None, metavar="OUT.gif", help="write a GIF along an actuated path")
+    plot.add_argument("--frames", type=int, default=None, metavar="N", help="frames of the animation (default 24)")
+    plot.add_argument(
+        "--to", nargs="+", type=float, default=None, metavar="V",
+        help="animate along the line to these inputs (units as --actuated / --actuated-deg; default: a loop)",
+    )  # fmt: skip
 
     generate = commands.add_parser("generate", help="turn a mechanism file into a generated package folder")
     generate.add_argument("file", help="a mechanism file (defines build() -> parakin.generator.Mechanism)")

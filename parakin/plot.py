@@ -1,26 +1,249 @@
-"""Drawings of any mechanism from its generated drawing kernel (matplotlib, optional extra 'plot').
+"""Pictures of any mechanism from its generated drawing kernel (matplotlib, optional extra 'plot').
 
 The kernel returns named point sets (3 x n, in {B}, metres) for a configuration; the manifest
-lists the polylines through them (legs, base and platform outlines). ``plot`` draws one
-configuration or every mode of an ``AssemblyModes`` in 3-D, with labelled axes in metres; on
-given 2-D axes it draws the x-y plane, which is exact only for a drawing that lies in one plane
-z = const (a planar mechanism), so any other drawing on 2-D axes is refused.
+lists the polylines through them. ``plot`` draws one configuration, a chosen assembly mode, every
+mode overlaid on given axes, or every mode as a grid of small multiples (common limits, each panel
+titled "mode k"); ``animate`` draws a GIF along an actuated trajectory, tracking one mode. How a
+drawing is drawn is derived from the package alone (``compose_scene``; the manifest carries none
+of these facts yet):
+
+- a drawing in one plane z = const is drawn on 2-D axes (the x-y plane);
+- a spherical one (pose kind ``rotation``, every point at one distance from the fixed centre) on
+  its translucent sphere, with great-circle arcs between consecutive points instead of chords;
+- polylines are parts (base, legs, platform) by name or by whether they move, each with its own
+  colour and width; fixed joints are squares, moving joints circles; a legend names the parts;
+- every panel shows the distance to singularity: ``type II`` (1/cond of the loop-closure Jacobian)
+  and ``type I`` (1/cond of the rate model's B, or of the worst leg Jacobian), 1 far, 0 singular.
 """
 
 from __future__ import annotations
 
+import math
+import re
+import textwrap
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.errors import (
+    AssemblyModeChangeError,
+    BadInputError,
+    ConvergenceError,
+    NoSuchModeError,
+    ParakinError,
+    SelfMotionError,
+    UnreachablePoseError,
+    UnsupportedOperationError,
+)
 from parakin.results import Array, AssemblyModes, Configuration
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
 
 
+# ---------------------------------------------------------- the scene: what a picture shows
+#: the parts a polyline can belong to, in drawing order (later parts are drawn on top)
+PARTS = ("base", "leg", "platform")
+#: words of a polyline or point-set name that say which part it belongs to
+PART_WORDS = {
+    "base": ("base", "ground", "fixed", "frame", "reference"),
+    "platform": ("platform", "tool", "effector", "end", "moving"),
+    "leg": ("leg", "link", "arm", "rail", "crank", "chain", "rod", "elbow", "strut"),
+}
+#: relative tolerance of the planarity and sphere tests (the kernel's points are exact to rounding)
+SHAPE_TOLERANCE = 1e-9
+#: points per great-circle arc between two consecutive vertices of a spherical polyline
+ARC_POINTS = 33
+
+
+@dataclass(frozen=True)
+class Sphere:
+    """The sphere every point of a spherical drawing lies on: centre (3,) in {B}, radius (m)."""
+
+    centre: Array
+    radius: float
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """One configuration ready to draw: ``lines`` maps each polyline name to its vertices (3 x k,
+    {B}, metres; arcs densified on a sphere), ``joints`` the polyline vertices (3 x n) split into
+    ``fixed`` and ``moving`` ones, ``distance`` the distance to singularity (``singularity_distance``)."""
+
+    lines: dict[str, Array]
+    joints: dict[str, Array]
+    distance: dict[str, float]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Every configuration of one picture with what they share: ``parts`` (polyline name -> part),
+    ``planar`` (all points in one plane z = const), ``sphere`` (or None), and the common axis
+    box ``low``, ``high`` (3,) (a cube in 3-D, a square in the x-y plane for a planar scene)."""
+
+    drawn: list[Drawn]
+    parts: dict[str, str]
+    planar: bool
+    sphere: Sphere | None
+    low: Array
+    high: Array
+
+
+def _words(name: str) -> list[str]:
+    return [w for w in re.split(r"[^a-z]+", name.lower()) if w]
+
+
+def part_of_name(name: str) -> str | None:
+    """The part a name says (``PART_WORDS``, base words first), or None for a name that says none."""
+    words = _words(name)
+    for part in ("base", "platform", "leg"):
+        if any(word in PART_WORDS[part] for word in words):
+            return part
+    return None
+
+
+def _inverse_condition(matrix: Array) -> float:
+    values = np.linalg.svd(matrix, compute_uv=False)
+    return float(values[-1] / values[0]) if values[0] > 0 else 0.0
+
+
+def singularity_distance(m: Mechanism, config: Configuration) -> dict[str, float]:
+    """Distance to singularity of one configuration, as ``parakin sweep`` measures it (1 far,
+    0 singular): ``type II`` is 1/cond of the loop-closure Jacobian d closure / d passive (a parallel
+    singularity), ``type I`` 1/cond of the rate model's B (A twist = B actuated rates), or of the
+    worst leg Jacobian (a serial singularity). A measure the mechanism lacks is left out."""
+    out: dict[str, float] = {}
+    try:
+        if m.passive_names:
+            out["type II"] = _inverse_condition(m.loop_closure(config.actuated, config.passive)["jacobian"])
+        if m.capabilities.rates is not None:
+            out["type I"] = _inverse_condition(m.rate_jacobians(config)["b"])
+        elif m.capabilities.legs:
+            out["type I"] = min(_inverse_condition(j) for j in m.leg_jacobians(config).values())
+    except ParakinError:  # a measure undefined here (non-finite model values): not shown
+        pass
+    return out
+
+
+def distance_text(distance: dict[str, float]) -> str:
+    """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures."""
+    return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
+
+
+def _fixed_sets(m: Mechanism, configurations: list[Configuration], points: list[dict[str, Array]]) -> set[str]:
+    """Point sets that belong to the base: those named so (``PART_WORDS``); where no name says so,
+    those unchanged between configurations whose actuated inputs differ (with the home's)."""
+    named = {name for name in points[0] if part_of_name(name) == "base"}
+    if named:
+        return named
+    samples = [
+        p
+        for c, p in zip(configurations, points, strict=True)
+        if not np.allclose(c.actuated, configurations[0].actuated)
+    ]
+    if not np.allclose(m.home_actuated, configurations[0].actuated):
+        try:
+            samples.append(m.drawing(Configuration(m.home_actuated, m.home_passive, np.eye(4))))
+        except ParakinError:
+            pass
+    if not samples:
+        return set()
+    return {name for name in points[0] if all(np.allclose(s[name], points[0][name], atol=1e-12) for s in samples)}
+
+
+def _part(name: str, vertices: tuple[tuple[str, int], ...], fixed: set[str]) -> str:
+    named = part_of_name(name)
+    if named is not None:
+        return named
+    return "base" if all(s in fixed for s, _ in vertices) else "leg"
+
+
+def great_circle(a: Array, b: Array, sphere: Sphere, count: int = ARC_POINTS) -> Array:
+    """The shorter great-circle arc from a to b (3,) on ``sphere``: 3 x count points; the chord
+    when a and b are (nearly) antipodal or equal, where the arc is not unique or not needed."""
+    u, v = (a - sphere.centre) / sphere.radius, (b - sphere.centre) / sphere.radius
+    angle = float(np.arccos(np.clip(u @ v, -1.0, 1.0)))
+    t = np.linspace(0.0, 1.0, count)
+    if angle < 1e-9 or angle > np.pi - 1e-6:
+        return a[:, None] + (b - a)[:, None] * t
+    arc = (np.sin((1 - t) * angle)[:, None] * u + np.sin(t * angle)[:, None] * v) / np.sin(angle)
+    arc /= np.linalg.norm(arc, axis=-1, keepdims=True)  # on the sphere to rounding
+    return (sphere.centre + sphere.radius * arc).T
+
+
+def _sphere(m: Mechanism, configurations: list[Configuration], cloud: Array) -> Sphere | None:
+    if m.manifest.pose_kind != "rotation" or cloud.shape[1] < 3:
+        return None
+    centre = np.asarray(configurations[0].pose)[:3, 3]
+    if any(not np.allclose(np.asarray(c.pose)[:3, 3], centre, atol=1e-12) for c in configurations):
+        return None
+    radii = np.linalg.norm(cloud - centre[:, None], axis=0)
+    radius = float(radii.mean())
+    if radius <= 0 or np.ptp(radii) > SHAPE_TOLERANCE * max(radius, 1.0):
+        return None
+    return Sphere(centre, radius)
+
+
+def compose_scene(m: Mechanism, configurations: list[Configuration], distances: bool = True) -> Scene:
+    """Evaluate the drawing kernel at every configuration and decide how to draw them together."""
+    drawing = m.capabilities.drawing
+    assert drawing is not None
+    points = [m.drawing(c) for c in configurations]
+    fixed = _fixed_sets(m, configurations, points)
+    parts = {name: _part(name, vertices, fixed) for name, vertices in drawing.polylines.items()}
+    used = {(s, i) for vertices in drawing.polylines.values() for s, i in vertices}
+    cloud = np.concatenate([np.stack([p[s][:, i] for s, i in sorted(used)], -1) for p in points], -1)
+    scale = max(1.0, float(np.abs(cloud).max(initial=0.0)))
+    planar = bool(np.ptp(cloud[2]) <= SHAPE_TOLERANCE * scale) if cloud.size else False
+    sphere = None if planar else _sphere(m, configurations, cloud)
+    drawn = []
+    for config, p in zip(configurations, points, strict=True):
+        lines = {}
+        for name, vertices in drawing.polylines.items():
+            xyz = np.stack([p[s][:, i] for s, i in vertices], axis=-1)
+            if sphere is not None and xyz.shape[1] > 1:
+                arcs = [great_circle(xyz[:, k], xyz[:, k + 1], sphere) for k in range(xyz.shape[1] - 1)]
+                xyz = np.concatenate([arcs[0]] + [arc[:, 1:] for arc in arcs[1:]], axis=-1)
+            lines[name] = xyz
+        joints = {
+            kind: np.stack([p[s][:, i] for s, i in sorted(used) if (s in fixed) == (kind == "fixed")], -1)
+            if any((s in fixed) == (kind == "fixed") for s, _ in used)
+            else np.zeros((3, 0))
+            for kind in ("fixed", "moving")
+        }
+        drawn.append(Drawn(lines, joints, singularity_distance(m, config) if distances else {}))
+    if sphere is not None:
+        low, high = sphere.centre - 1.05 * sphere.radius, sphere.centre + 1.05 * sphere.radius
+    elif cloud.size:
+        centre = (cloud.max(-1) + cloud.min(-1)) / 2
+        half = max(float(np.ptp(cloud[:2] if planar else cloud, axis=-1).max()) / 2 * 1.08, 1e-9)
+        low, high = centre - half, centre + half
+    else:
+        low, high = -np.ones(3), np.ones(3)
+    return Scene(drawn, parts, planar, sphere, low, high)
+
+
+# ---------------------------------------------------------- drawing a scene (matplotlib)
+#: line style of each part: colour, line width, drawing order
+PART_STYLE: dict[str, dict[str, Any]] = {
+    "base": {"color": "#3b3b3b", "linewidth": 3.2, "zorder": 2},
+    "leg": {"color": "#e66101", "linewidth": 1.8, "zorder": 3},
+    "platform": {"color": "#1f5fa8", "linewidth": 2.6, "zorder": 4},
+}
+#: what each part is called in a legend
+PART_LABEL = {"base": "base", "leg": "legs", "platform": "platform"}
+#: joint markers: fixed (on the base) and moving
+JOINT_STYLE: dict[str, dict[str, Any]] = {
+    "fixed": {"marker": "s", "s": 26, "c": "#111111", "edgecolors": "#111111"},
+    "moving": {"marker": "o", "s": 20, "c": "white", "edgecolors": "#222222"},
+}
+JOINT_LABEL = {"fixed": "fixed joints", "moving": "moving joints"}
+
+
 def _pyplot() -> Any:
+    """matplotlib.pyplot on a non-interactive backend (Agg) unless inline in a notebook."""
     try:
         import matplotlib
     except ImportError as error:
@@ -32,12 +255,326 @@ def _pyplot() -> Any:
     return plt
 
 
+def is_3d(ax: Any) -> bool:
+    """Whether ``ax`` is matplotlib's 3-D Axes (2-D Axes have no z limits)."""
+    return hasattr(ax, "set_zlim")
+
+
+def check_axes(ax: Any, scene: Scene, name: str) -> None:
+    """2-D axes draw only a planar scene: BadInputError naming the z extent otherwise."""
+    if is_3d(ax) or scene.planar:
+        return
+    z = np.concatenate([xyz[2] for d in scene.drawn for xyz in d.lines.values()])
+    raise BadInputError(
+        f"the drawing of {name} spans {float(np.ptp(z)):.3g} m in z: it needs 3-D axes "
+        "(figure.add_subplot(projection='3d'), or ax=None); 2-D axes draw planar drawings only"
+    )
+
+
+def _fill(ax: Any, xyz: np.ndarray, colour: Any) -> None:
+    closed = xyz.shape[1] >= 4 and np.allclose(xyz[:, 0], xyz[:, -1])
+    if not closed:
+        return
+    if is_3d(ax):
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        ax.add_collection3d(Poly3DCollection([xyz.T], facecolors=[colour], alpha=0.18, edgecolors="none"))
+    else:
+        ax.fill(xyz[0], xyz[1], color=colour, alpha=0.18, linewidth=0, zorder=1)
+
+
+def draw_configuration(
+    ax: Any, scene: Scene, index: int, colour: Any = None, label: str | None = None, base: bool = True
+) -> None:
+    """Configuration ``index`` of ``scene`` on ``ax`` (2-D: the x-y plane), one Line per polyline
+    in manifest order; ``colour`` overrides the colour of the moving parts (modes overlaid),
+    ``label`` goes on its first moving line (the legend by mode), ``base=False`` skips the base."""
+    drawn = scene.drawn[index]
+    three = is_3d(ax)
+    labelled = False
+    for name, xyz in drawn.lines.items():
+        part = scene.parts[name]
+        if part == "base" and not base:
+            continue
+        style = dict(PART_STYLE[part])
+        if colour is not None and part != "base":
+            style["color"] = colour
+        if part == "leg" and colour is not None:
+            style["linewidth"] = 1.2
+        legend = label if label and not labelled and part != "base" else None
+        labelled = labelled or legend is not None
+        ax.plot(*(xyz if three else xyz[:2]), label=legend, solid_capstyle="round", **style)
+        if part == "platform" and scene.sphere is None:
+            _fill(ax, xyz, style["color"])
+    for kind, xyz in drawn.joints.items():
+        if not xyz.shape[1] or (kind == "fixed" and not base):
+            continue
+        options: dict[str, Any] = {"depthshade": False} if three else {}
+        ax.scatter(*(xyz if three else xyz[:2]), zorder=5, linewidths=0.8, **JOINT_STYLE[kind], **options)
+
+
+def _sphere_surface(ax: Any, scene: Scene) -> None:
+    sphere = scene.sphere
+    assert sphere is not None
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 49), np.linspace(0, np.pi, 25))
+    x = sphere.centre[0] + sphere.radius * np.cos(u) * np.sin(v)
+    y = sphere.centre[1] + sphere.radius * np.sin(u) * np.sin(v)
+    z = sphere.centre[2] + sphere.radius * np.cos(v)
+    ax.plot_surface(x, y, z, color="#9ecae1", alpha=0.10, linewidth=0, shade=False, zorder=0)
+    ax.plot_wireframe(x, y, z, color="#6b8fb3", alpha=0.18, linewidth=0.4, rstride=4, cstride=4)
+    ax.scatter(*sphere.centre, marker="+", s=30, c="#555555", depthshade=False)
+
+
+def decorate(ax: Any, scene: Scene, small: bool = False) -> None:
+    """Axis labels in metres, the scene's common limits, equal scales, and the sphere if any."""
+    three = is_3d(ax)
+    names = ("x", "y", "z") if three else ("x", "y")
+    size = 6 if small else 9
+    for index, name in enumerate(names):
+        if not small:  # small multiples: the figure's title says metres
+            getattr(ax, f"set_{name}label")(f"{name} [m]", fontsize=size)
+        getattr(ax, f"set_{name}lim")(scene.low[index], scene.high[index])
+    ax.tick_params(labelsize=size - 1, pad=0 if small else 2)
+    if small:
+        from matplotlib.ticker import MaxNLocator
+
+        for name in names:
+            getattr(ax, f"{name}axis").set_major_locator(MaxNLocator(3))
+    if three:
+        ax.set_box_aspect((1, 1, 1), zoom=1.15 if small else 1.0)
+        ax.view_init(elev=22, azim=-58)
+        if scene.sphere is not None:
+            _sphere_surface(ax, scene)
+    else:
+        ax.set_aspect("equal")
+        ax.grid(True, linewidth=0.3, alpha=0.5)
+
+
+def part_handles(scene: Scene) -> list[Any]:
+    """Legend entries for the parts and joint kinds this scene has."""
+    from matplotlib.lines import Line2D
+
+    present = set(scene.parts.values())
+    handles: list[Any] = [
+        Line2D([], [], color=PART_STYLE[p]["color"], linewidth=PART_STYLE[p]["linewidth"], label=PART_LABEL[p])
+        for p in PARTS
+        if p in present
+    ]
+    for kind in ("fixed", "moving"):
+        if any(d.joints[kind].shape[1] for d in scene.drawn):
+            style = JOINT_STYLE[kind]
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    linestyle="",
+                    marker=style["marker"],
+                    markersize=5,
+                    markerfacecolor=style["c"],
+                    markeredgecolor=style["edgecolors"],
+                    label=JOINT_LABEL[kind],
+                )  # fmt: skip
+            )
+    return handles
+
+
+def wrap(text: str, inches: float, fontsize: float = 10) -> str:
+    """``text`` broken into lines that fit ``inches`` of figure width at ``fontsize`` points."""
+    width = max(20, int(inches * 140 / fontsize))
+    return "\n".join(textwrap.fill(line, width) for line in text.split("\n"))
+
+
+def new_axes(plt: Any, scene: Scene, size: float = 6.4) -> tuple[Any, Any]:
+    """A figure with one axes: 2-D for a planar scene, 3-D otherwise."""
+    figure = plt.figure(figsize=(size, size + 0.5), layout="constrained")
+    ax = figure.add_subplot() if scene.planar else figure.add_subplot(projection="3d")
+    return figure, ax
+
+
+def grid(plt: Any, scene: Scene, titles: list[str], suptitle: str) -> tuple[Any, np.ndarray]:
+    """Small multiples: one panel per configuration of ``scene``, titled ``titles[k]``, common
+    limits, one legend of parts for the figure. Returns the figure and the panels (in order)."""
+    count = len(scene.drawn)
+    cols = math.ceil(math.sqrt(count))
+    rows = math.ceil(count / cols)
+    panel = 2.7 if count > 4 else 3.6
+    figure = plt.figure(figsize=(cols * panel, rows * panel + 0.9), layout="constrained")
+    axes = []
+    for k in range(rows * cols):
+        ax = figure.add_subplot(rows, cols, k + 1, **({} if scene.planar else {"projection": "3d"}))
+        if k >= count:
+            ax.set_axis_off()
+            continue
+        draw_configuration(ax, scene, k)
+        decorate(ax, scene, small=True)
+        ax.set_title(titles[k], fontsize=8, pad=2)
+        axes.append(ax)
+    figure.suptitle(wrap(suptitle, cols * panel), fontsize=10)
+    handles = part_handles(scene)
+    figure.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8, frameon=False)
+    return figure, np.array(axes, dtype=object)
+
+
+# ---------------------------------------------------------- animation along an actuated path
+#: amplitude of the default loop (``actuated_loop``): radians for a revolute input, a fraction of
+#: the input's value for a prismatic one
+LOOP_ANGLE, LOOP_FRACTION = 0.12, 0.04
+#: most substeps a frame is split into where Newton does not converge in one step
+MAX_SUBSTEPS = 16
+
+
+@dataclass(frozen=True)
+class Animation:
+    """A tracked path: ``configurations`` (actuated (N, n_a), passive (N, n_p), pose (N, 4, 4)),
+    ``distance`` (name -> (N,) distance to singularity, 1/cond as ``singularity_distance``) and the
+    matplotlib ``animation`` (None when nothing was drawn)."""
+
+    configurations: Configuration
+    distance: dict[str, Array]
+    animation: Any = None
+
+    def __len__(self) -> int:
+        return int(np.asarray(self.configurations.actuated).shape[0])
+
+
+def actuated_path(m: Mechanism, value: ArrayLike, name: str = "actuated_path") -> Array:
+    """Validated inputs (N, n_a), N >= 2, finite, every one inside the actuators' ranges: a path
+    that leaves them is refused naming the frame and the actuator (BadInputError)."""
+    try:
+        path = np.array(value, dtype=float)
+    except (TypeError, ValueError) as error:
+        raise BadInputError(f"{name} must be numbers (N, {len(m.actuated_names)}): {error}") from error
+    if path.ndim != 2 or path.shape[1] != len(m.actuated_names) or path.shape[0] < 2:
+        raise BadInputError(
+            f"{name} must have shape (N >= 2, {len(m.actuated_names)}) (one row per frame: "
+            f"{', '.join(m.actuated_names)}), got {path.shape}"
+        )
+    if not np.isfinite(path).all():
+        raise BadInputError(f"{name} has a non-finite value at frame {int(np.argwhere(~np.isfinite(path))[0, 0])}")
+    low, high = m.actuated_bounds
+    outside = (path < low) | (path > high)
+    if outside.any():
+        frame, k = (int(i) for i in np.argwhere(outside)[0])
+        raise BadInputError(
+            f"{name} leaves the workspace at frame {frame}: {m.actuated_names[k]} = {path[frame, k]:.6g} is "
+            f"outside its range [{low[k]:.6g}, {high[k]:.6g}]"
+        )
+    return path
+
+
+def actuated_line(m: Mechanism, start: ArrayLike, end: ArrayLike, frames: int) -> Array:
+    """``frames`` inputs evenly spaced on the straight line from ``start`` to ``end`` (n_a,)."""
+    if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 2:
+        raise BadInputError(f"frames must be an integer >= 2, got {frames!r}")
+    t = np.linspace(0.0, 1.0, int(frames))[:, None]
+    a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    return actuated_path(m, a + t * (b - a))
+
+
+def actuated_loop(m: Mechanism, start: ArrayLike, frames: int, scale: float = 1.0) -> Array:
+    """A closed loop of ``frames`` inputs through ``start`` (n_a,): input i moves as
+    a_i + scale * amplitude_i * sin(2 pi t + 2 pi i / n_a), t in [0, 1], amplitude LOOP_ANGLE (rad)
+    for a revolute input and LOOP_FRACTION * |a_i| for a prismatic one; every input moves, out of
+    phase, and the last frame is the first (a GIF that loops)."""
+    if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 2:
+        raise BadInputError(f"frames must be an integer >= 2, got {frames!r}")
+    a = np.asarray(start, dtype=float)
+    revolute = np.array([v.revolute for v in m.manifest.actuated])
+    amplitude = scale * np.where(revolute, LOOP_ANGLE, LOOP_FRACTION * np.abs(a))
+    t = np.linspace(0.0, 1.0, int(frames))[:, None]
+    phase = 2 * np.pi * np.arange(a.size) / max(a.size, 1)
+    return actuated_path(m, a + amplitude * (np.sin(2 * np.pi * t + phase) - np.sin(phase)))
+
+
+def _at_frame(error: ParakinError, frame: int, frames: int, theta: Array) -> ParakinError:
+    """The same kind of error, its message prefixed with the frame and its inputs."""
+    values = np.array2string(theta, precision=6, separator=", ")
+    message = f"animation frame {frame} of {frames} (actuated {values}): {error}"
+    if isinstance(error, AssemblyModeChangeError):
+        return AssemblyModeChangeError(message, frame, error.change)
+    if isinstance(error, ConvergenceError):
+        return ConvergenceError(message, error.residual)
+    if isinstance(error, SelfMotionError):
+        return SelfMotionError(message, error.solution_set)
+    try:
+        return type(error)(message)
+    except TypeError:  # an error class with other constructor arguments: keep it as it is
+        return error
+
+
+def _step(tracker: Any, previous: Array, theta: Array) -> tuple[Array, Array]:
+    """One frame of tracking: the tracker's solve, or, where Newton does not converge in one step,
+    the same segment in 2, 4, ... ``MAX_SUBSTEPS`` substeps (each still checked for a mode change;
+    a failed solve leaves the tracker at its previous solution)."""
+    substeps = 1
+    while True:
+        try:
+            for t in np.linspace(0.0, 1.0, substeps + 1)[1:]:
+                q, pose = tracker.solve(previous + t * (theta - previous))
+            return q, pose
+        except ConvergenceError:
+            if substeps >= MAX_SUBSTEPS:
+                raise
+            tracker.solve(previous)  # back to the frame's start (a solve at the inputs it came from)
+            substeps *= 2
+
+
+def track(m: Mechanism, path: ArrayLike, start: Configuration | None = None) -> Configuration:
+    """The configurations along ``path`` (N, n_a): the runtime's tracker from ``start`` (a solved
+    configuration at ``path[0]``; default the forward pose nearest the home, ``m.forward_pose``),
+    so the assembly mode stays the start's. A serial chain (no passive joints) is solved in closed
+    form per frame. Errors name the frame: AssemblyModeChangeError where the path crosses a type II
+    singularity (or the branch ends), ConvergenceError or SingularConfigurationError where Newton
+    fails, UnreachablePoseError where passive joints leave their limits, BadInputError where an
+    input leaves its range."""
+    theta = actuated_path(m, path)
+    frames = theta.shape[0]
+    if start is None:  # at the home inputs, the home's own mode (Newton from it: no all-modes solve)
+        at_home = np.allclose(theta[0], m.home_actuated, rtol=0, atol=1e-12)
+        start = m.forward_pose(theta[0], guess=m.home_passive) if at_home else m.forward_pose(theta[0])
+    if not isinstance(start, Configuration) or np.asarray(start.actuated).shape != theta[0].shape:
+        raise BadInputError("start must be one solved Configuration (e.g. modes.mode(k)) at the path's first input")
+    if not np.allclose(start.actuated, theta[0], rtol=0, atol=1e-9):
+        raise BadInputError(
+            f"start is at actuated {np.asarray(start.actuated)}, the path begins at {theta[0]}: they must agree"
+        )
+    if not m.passive_names:
+        forward = m.forward_pose(theta)
+        return Configuration(theta, np.asarray(forward.passive), np.asarray(forward.pose))
+    tracker = m.tracker(start, strict=True)
+    passive = np.empty((frames, len(m.passive_names)))
+    poses = np.empty((frames, 4, 4))
+    passive[0], poses[0] = np.asarray(start.passive), np.asarray(start.pose)
+    limited = bool(m.within_limits(passive[0]))
+    for k in range(1, frames):
+        try:
+            q, pose = _step(tracker, theta[k - 1], theta[k])
+        except ParakinError as error:
+            raise _at_frame(error, k, frames, theta[k]) from error
+        passive[k], poses[k] = q[0], pose[0]
+        if limited and not m.within_limits(passive[k]):
+            raise UnreachablePoseError(
+                f"animation frame {k} of {frames} (actuated {theta[k]}): the tracked configuration leaves "
+                "the passive joint limits (the path leaves the workspace)"
+            )
+    return Configuration(theta, passive, poses)
+
+
+# ---------------------------------------------------------- plot and animate
+#: the explanation of the distance measures under a figure
+DISTANCE_NOTE = "type I / type II: 1/cond of the serial / closure Jacobian (1 far from, 0 at a singularity)"
+
+
 def _states(state: Configuration | AssemblyModes) -> tuple[list[Configuration], list[str]]:
     if isinstance(state, AssemblyModes):
-        indices = np.nonzero(np.asarray(state.valid))[0]
-        configurations = [Configuration(state.actuated, state.passive[k], state.poses[k]) for k in indices]
+        if np.ndim(state.count):
+            raise BadInputError(
+                f"plot draws the modes of one input; these AssemblyModes hold a batch {np.shape(state.count)}"
+            )
         # modes numbered as AssemblyModes.mode(k) numbers them: 0 .. count - 1, not by slot
-        return configurations, [f"mode {n}" for n in range(len(indices))]
+        return list(state), [f"mode {n}" for n in range(len(state))]
+    if not isinstance(state, Configuration):
+        raise BadInputError(f"state must be a Configuration or AssemblyModes, got {type(state).__name__}")
     actuated = np.asarray(state.actuated)
     if actuated.ndim > 1:  # a batch: one drawing per entry
         passive, pose = np.asarray(state.passive), np.asarray(state.pose)
@@ -46,56 +583,94 @@ def _states(state: Configuration | AssemblyModes) -> tuple[list[Configuration], 
     return [state], [""]
 
 
+def _pick(configurations: list[Configuration], labels: list[str], mode: object) -> int:
+    count = len(configurations)
+    if isinstance(mode, bool | np.bool_) or not isinstance(mode, int | np.integer):
+        raise NoSuchModeError(f"mode must be an integer in [0, {count}), got {type(mode).__name__} {mode!r}")
+    if not 0 <= mode < count:
+        valid = f"indexed 0 to {count - 1}" if count else "none to draw"
+        raise NoSuchModeError(f"no mode {mode}: there are {count} modes ({valid})")
+    return int(mode)
+
+
 def plot(
     m: Mechanism,
     state: Configuration | AssemblyModes,
     path: str | None = None,
     ax: Any = None,
     title: str | None = None,
+    *,
+    mode: int | None = None,
+    all_modes: bool = False,
+    distances: bool = True,
 ) -> Any:
-    """Draw the mechanism in one configuration, a batch, or every valid mode of ``AssemblyModes``;
-    write a PNG to ``path`` when given. ``ax``: axes to draw into, 3-D, or 2-D for a drawing that
-    lies in one plane z = const (BadInputError for any other). Returns the matplotlib axes."""
+    """Draw the mechanism and write a PNG to ``path`` when given.
+
+    ``state``: a Configuration (one, or a batch: one drawing per entry, labelled #k) or the
+    AssemblyModes of one input (modes numbered 0 .. count - 1). ``mode=k`` draws mode (or entry) k
+    alone; ``all_modes=True`` draws every one as a grid of small multiples. Without either, given
+    ``ax`` gets every configuration overlaid (coloured by mode, a legend by mode number), and
+    ``ax=None`` gets one drawing for a single Configuration and the grid otherwise. ``ax``: 3-D
+    axes, or 2-D axes for a planar drawing (BadInputError for any other). ``distances``: show the
+    distance to singularity in titles. Returns the axes drawn on: one Axes, or for a grid a 1-D
+    array of Axes, entry k the panel of mode k."""
     drawing = m.capabilities.drawing
     if drawing is None:
         raise UnsupportedOperationError(f"{m.name} has no drawing kernel: plot is not available")
-    plt = _pyplot()
+    if mode is not None and all_modes:
+        raise BadInputError("pass mode=k (one mode) or all_modes=True (the grid), not both")
     configurations, labels = _states(state)
-    lines: list[tuple[int, str | None, Array]] = []  # (configuration number, legend, 3 x n vertices)
-    for number, (config, label) in enumerate(zip(configurations, labels, strict=True)):
-        points = m.drawing(config)
-        for line_number, vertices in enumerate(drawing.polylines.values()):
-            legend = label if line_number == 0 and label else None
-            lines.append((number, legend, np.stack([points[s][:, i] for s, i in vertices], axis=-1)))
-    cloud = np.concatenate([xyz for _, _, xyz in lines], axis=-1) if lines else np.zeros((3, 0))
+    if mode is not None:
+        k = _pick(configurations, labels, mode)
+        configurations, labels = [configurations[k]], [labels[k] or f"mode {k}"]
+    several = isinstance(state, AssemblyModes) or len(configurations) > 1
+    as_grid = all_modes or (ax is None and mode is None and several)
+    if as_grid and ax is not None:
+        raise BadInputError("all_modes draws a grid on a figure of its own: leave ax None (or pass mode=k)")
+    if as_grid and not configurations:
+        raise NoSuchModeError("no mode to draw: there are 0 modes (count 0)")
+    plt = _pyplot()
+    picture = compose_scene(m, configurations, distances=distances) if configurations else None
+    heading = title or m.manifest.title
+    if as_grid:
+        assert picture is not None
+        titles = [
+            "\n".join(t for t in (label or f"#{k}", distance_text(d.distance)) if t)
+            for k, (label, d) in enumerate(zip(labels, picture.drawn, strict=True))
+        ]
+        values = np.array2string(np.asarray(configurations[0].actuated), precision=4, separator=", ")
+        note = f"\n{DISTANCE_NOTE}" if distances else ""
+        figure, axes = grid(
+            plt,
+            picture,
+            titles,
+            f"{heading}\n{len(configurations)} configurations at actuated {values} (axes in m){note}",
+        )
+        if path is not None:
+            figure.savefig(path, dpi=110)
+            plt.close(figure)
+        return axes
     figure = None
     if ax is None:
-        figure = plt.figure(figsize=(7, 7))
-        ax = figure.add_subplot(projection="3d")
-    planar_axes = not hasattr(ax, "set_zlim")  # matplotlib's 2-D Axes (3-D ones are Axes3D)
-    if planar_axes and cloud.size:
-        height = float(np.ptp(cloud[2]))
-        if height > 1e-9 * max(1.0, float(np.abs(cloud).max())):
-            raise BadInputError(
-                f"the drawing of {m.name} spans {height:.3g} m in z: it needs 3-D axes "
-                "(figure.add_subplot(projection='3d'), or ax=None); 2-D axes draw planar drawings only"
-            )
-    colours = plt.cm.tab10(np.linspace(0, 1, 10))
-    for number, legend, xyz in lines:
-        shown = xyz[:2] if planar_axes else xyz
-        ax.plot(*shown, color=colours[number % 10], marker="o", markersize=3, linewidth=1.5, label=legend)
-    names = ("x", "y") if planar_axes else ("x", "y", "z")
-    for name in names:
-        getattr(ax, f"set_{name}label")(f"{name} [m]")
-    if cloud.size:
-        centre, half = cloud.mean(-1), max(float(np.ptp(cloud, axis=-1).max()) / 2, 1e-9)
-        for index, name in enumerate(names):
-            getattr(ax, f"set_{name}lim")(centre[index] - half, centre[index] + half)
-    if planar_axes:
-        ax.set_aspect("equal")
-    ax.set_title(title or m.manifest.title, fontsize=9)
-    if any(labels):
-        ax.legend(loc="upper left", fontsize=8)
+        assert picture is not None
+        figure, ax = new_axes(plt, picture)
+    if picture is not None:
+        check_axes(ax, picture, m.name)
+        overlay = len(configurations) > 1
+        colours = (
+            plt.cm.tab10(np.linspace(0, 1, 10)) if len(configurations) <= 10 else plt.cm.tab20(np.linspace(0, 1, 20))
+        )
+        for k, label in enumerate(labels):
+            colour = colours[k % len(colours)] if overlay else None
+            draw_configuration(ax, picture, k, colour=colour, label=label if overlay else None, base=k == 0)
+        decorate(ax, picture)
+        if overlay:
+            ax.legend(loc="upper left", fontsize=7, ncol=1 + len(labels) // 12, title="assembly modes")
+        else:
+            ax.legend(handles=part_handles(picture), loc="upper left", fontsize=7)
+            details = " · ".join(t for t in (labels[0], distance_text(picture.drawn[0].distance)) if t)
+            heading = f"{heading}\n{details}" if details else heading
+    ax.set_title(wrap(heading, ax.figure.get_figwidth(), 9), fontsize=9)
     if path is not None:
         (figure or ax.figure).savefig(path, dpi=120)
     if figure is not None and path is not None:
@@ -103,4 +678,53 @@ def plot(
     return ax
 
 
-__all__ = ["plot"]
+def animate(
+    m: Mechanism,
+    actuated_path: ArrayLike,
+    path: str | None = None,
+    start: Configuration | None = None,
+    fps: int = 12,
+    title: str | None = None,
+    dpi: int = 80,
+) -> Animation:
+    """Animate the mechanism along ``actuated_path`` (N, n_a; metres and radians), writing a GIF
+    to ``path`` when given (matplotlib's PillowWriter). The forward pose is tracked from ``start``
+    (a solved configuration at the first input, e.g. ``modes.mode(k)``; default the mode nearest
+    the home) by the runtime's tracker, never re-solved from scratch, so the assembly mode does not
+    jump; a path that crosses a singularity or leaves the workspace raises the tracker's named
+    error with the frame (``track``). Every frame has the same limits and
+    shows its inputs and distance to singularity. Returns the tracked path and the animation."""
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    if m.capabilities.drawing is None:
+        raise UnsupportedOperationError(f"{m.name} has no drawing kernel: animate is not available")
+    if isinstance(fps, bool) or not isinstance(fps, int | np.integer) or not 0 < fps <= 100:
+        raise BadInputError(f"fps (frames per second) must be an integer in [1, 100], got {fps!r}")
+    tracked = track(m, actuated_path, start)
+    frames = int(np.asarray(tracked.actuated).shape[0])
+    configurations = [Configuration(tracked.actuated[k], tracked.passive[k], tracked.pose[k]) for k in range(frames)]
+    picture = compose_scene(m, configurations)
+    names = sorted({name for d in picture.drawn for name in d.distance})
+    distance = {name: np.array([d.distance.get(name, np.nan) for d in picture.drawn]) for name in names}
+    plt = _pyplot()
+    figure, ax = new_axes(plt, picture, size=5.0)
+    heading = title or m.manifest.title
+
+    def frame(k: int) -> list[Any]:
+        ax.cla()
+        draw_configuration(ax, picture, k)
+        decorate(ax, picture)
+        ax.legend(handles=part_handles(picture), loc="upper left", fontsize=6)
+        values = np.array2string(np.asarray(tracked.actuated[k]), precision=3, separator=", ")
+        details = " · ".join(t for t in (f"frame {k}/{frames - 1}", distance_text(picture.drawn[k].distance)) if t)
+        ax.set_title(wrap(f"{heading}\nactuated {values}\n{details}", figure.get_figwidth(), 8), fontsize=8)
+        return []
+
+    animation = FuncAnimation(figure, frame, frames=frames, interval=1000.0 / fps, blit=False)
+    if path is not None:
+        animation.save(path, writer=PillowWriter(fps=int(fps)), dpi=dpi)
+        plt.close(figure)
+    return Animation(tracked, distance, animation)
+
+
+__all__ = ["Animation", "actuated_line", "actuated_loop", "animate", "plot", "track"]
