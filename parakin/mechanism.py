@@ -876,12 +876,22 @@ class Mechanism:
             for name, value in points.items()
         }
 
-    def plot(self, state: Configuration | AssemblyModes, path: str | None = None, ax: Any = None) -> Any:
-        """Draw the mechanism (3-D, metres) in a configuration or every valid assembly mode;
-        a PNG is written to ``path`` when given. Needs matplotlib (extra 'plot')."""
+    def plot(
+        self,
+        state: Configuration | AssemblyModes,
+        path: str | None = None,
+        ax: Any = None,
+        title: str | None = None,
+        *,
+        mode: int | None = None,
+        all_modes: bool = False,
+    ) -> Any:
+        """Draw the mechanism (metres; 2-D for a planar drawing, on its sphere for a spherical
+        one) in a configuration, mode ``mode`` of an AssemblyModes, or all its modes as a grid;
+        a PNG is written to ``path`` when given (``parakin.plot.plot``). Needs matplotlib."""
         from parakin.plot import plot
 
-        return plot(self, state, path, ax)
+        return plot(self, state, path, ax, title, mode=mode, all_modes=all_modes)
 
     # ------------------------------------------------------------------ singularities
     def is_architecturally_singular(self) -> bool:
