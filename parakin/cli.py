@@ -460,7 +460,19 @@ def _parser() -> argparse.ArgumentParser:
     export = commands.add_parser("export", help="write the mechanism's C library (sources, header, example)")
     export.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     export.add_argument("--out", required=True, help="folder to write the C files into")
+    view = commands.add_parser(
+        "view",
+        help="interactive viewer in the browser: a slider per actuated input, modes, singularity measures",
+        add_help=False,
+    )
+    view.add_argument("arguments", nargs=argparse.REMAINDER, help="NAME [--port P] [--open] (parakin view --help)")
     return parser
+
+
+def _view(args: argparse.Namespace) -> int:
+    from parakin.viewer import main as viewer
+
+    return viewer(args.arguments)
 
 
 COMMANDS = {
@@ -473,6 +485,7 @@ COMMANDS = {
     "generate": _generate,
     "export": _export,
     "sweep": _sweep,
+    "view": _view,
 }
 
 
@@ -488,6 +501,9 @@ def _version() -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; the exit status (see the module docstring) is returned, never raised."""
+    given = sys.argv[1:] if argv is None else list(argv)
+    if given[:1] == ["view"]:  # its own options, --help included (argparse would take those)
+        return _view(argparse.Namespace(arguments=given[1:]))
     args = _parser().parse_args(argv)
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:

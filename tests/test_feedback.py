@@ -57,3 +57,12 @@ def test_dir_lists_the_public_api_not_the_package_imports():
     names = dir(parakin)
     assert set(parakin.__all__) <= set(names) and {"load", "Mechanism", "statics", "plot"} <= set(names)
     assert not {"Any", "Mapping", "os", "math", "warnings", "__main__"} & set(names)
+
+
+def test_parakin_view_is_the_viewer_command():
+    """``parakin view`` hands its arguments to the viewer: its own --help (exit 0) and a named
+    error for an unknown mechanism (exit 2)."""
+    shown = subprocess.run([sys.executable, "-m", "parakin", "view", "--help"], capture_output=True, text=True)
+    assert shown.returncode == 0 and "--port" in shown.stdout
+    wrong = subprocess.run([sys.executable, "-m", "parakin", "view", "stewert"], capture_output=True, text=True)
+    assert wrong.returncode == 2 and "unknown mechanism 'stewert'" in wrong.stderr
