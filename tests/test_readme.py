@@ -43,8 +43,28 @@ def command_lines() -> list[str]:
         for block in shell_blocks()
         if not any("generate" in x for x in block)
         for line in block
-        if line.startswith("parakin ")
+        if line.startswith("parakin ") and not line.startswith("parakin view ")
     ]
+
+
+def test_the_readme_view_line_serves_the_viewer():
+    """``parakin view NAME`` serves until interrupted: run as written, it prints the page's URL,
+    and the page answers."""
+    import subprocess
+    import sys
+    import urllib.request
+
+    (line,) = [line for block in shell_blocks() for line in block if line.startswith("parakin view ")]
+    argv = [sys.executable, "-m", "parakin", *shlex.split(line)[1:], "--port", "0"]
+    server = subprocess.Popen(argv, stdout=subprocess.PIPE, text=True)
+    try:
+        url = server.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:"), url
+        with urllib.request.urlopen(url, timeout=30) as page:
+            assert page.status == 200 and b"<canvas" in page.read()
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
 
 
 def test_the_readme_has_command_lines_for_every_command():
