@@ -16,7 +16,7 @@ import jinja2
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from parakin.inspect import shared_subtrees
+from parakin.subtrees import shared_subtrees
 
 from .program import LoweredProgram
 

@@ -13,6 +13,7 @@ import textwrap
 from typing import Any
 
 from parakin.errors import UnsupportedOperationError
+from parakin.subtrees import shared_subtrees
 
 
 def _sympy() -> Any:
@@ -66,19 +67,6 @@ def _sections(manifest: Any, objects: dict[str, Any]) -> list[tuple[str, str]]:
 
 #: expressions of more operations than this print with their repeated subexpressions named
 SHARE_ABOVE = 400
-
-
-def shared_subtrees(sympy: Any, expressions: list[Any]) -> tuple[list[tuple[Any, Any]], list[Any]]:
-    """Every subtree that repeats, named once (``shared_k``, or a longer prefix where the
-    expressions already use that name), and the expressions written with those names: a tree
-    CSE that only names identical subtrees, so substituting back in order rebuilds them exactly.
-    ``parakin inspect`` prints this form of a large expression; the generator stores it
-    (``symbolic.py``)."""
-    from sympy.simplify.cse_main import tree_cse
-
-    taken = {str(symbol) for expression in expressions for symbol in getattr(expression, "free_symbols", ())}
-    prefix = next(p for p in ("shared_", "shared__", "shared___") if not any(t.startswith(p) for t in taken))
-    return tree_cse(expressions, sympy.numbered_symbols(prefix), opt_subs={}, order="none")
 
 
 def _text(sympy: Any, expr: Any, width: int, lines: int, name: str) -> str:
