@@ -155,3 +155,6 @@ def test_the_joints_guide_file_generates_a_working_mechanism(tmp_path):
     modes = m.forward_pose_all(state.actuated)
     assert bool(modes.certificate()["complete"])
     assert np.abs(modes.poses[modes.valid] - pose).max(axis=(-2, -1)).min() < 1e-9
+    # a point list by its group name (parameter_groups), as the README's loading section says
+    wide = parakin.load(tmp_path / "packages" / "my_robot", base=[[0, 0], [1.4, 0], [0.7, 1.2]])
+    assert (wide.parameters["base_x2"], wide.parameters["base_y3"]) == (1.4, 1.2)
