@@ -20,6 +20,7 @@ setup(
         *(f"parakin.generated.{name}" for name in FOLDERS),
     ],
     package_data={
+        "parakin": ["py.typed", "viewer.html"],
         "parakin.generator.templates": ["*.j2", "*.h"],
         **{f"parakin.generated.{name}": ["*.json", "*.c", "*.h", "*.md"] for name in FOLDERS},
     },
