@@ -13,9 +13,11 @@ from pathlib import Path
 from typing import Any
 
 import jinja2
+import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from parakin.homotopy import sign_symmetry, symmetric_partners
 from parakin.subtrees import shared_subtrees
 
 from .program import LoweredProgram
@@ -165,6 +167,20 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     )
 
 
+def _symmetry(chosen: dict) -> dict[str, object]:
+    """The family's sign symmetry and the start paths it pairs (``parakin.homotopy``): the C
+    driver tracks one path of each pair and takes the image of its end for the other, as the
+    NumPy pipeline does; empty when there is none."""
+    exponents = np.array([e for _, e in chosen["terms"]], dtype=np.int64)
+    equation = np.array([k for k, _ in chosen["terms"]], dtype=np.int64)
+    flip = sign_symmetry(exponents, equation)
+    start = np.array(chosen["start"]["real"], dtype=float) + 1j * np.array(chosen["start"]["imag"], dtype=float)
+    partner = symmetric_partners(start, flip)
+    if partner is None or flip is None:
+        return {"partner": None}
+    return {"partner": [int(p) for p in partner], "flip": [repr(float(v)) for v in flip]}
+
+
 def _product(factors: list[tuple[int, int]]) -> str | None:
     """The C expression of a product of powers pw[v][e] (None for the empty product, 1)."""
     expression = None
@@ -233,6 +249,7 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
                 ],
                 "circle_a": [repr(float(v)) for v in chosen["circle_constants"][0]],
                 "circle_b": [repr(float(v)) for v in chosen["circle_constants"][1]],
+                **_symmetry(chosen),
             }
     if caps["forward"] is not None and caps["inverse"] is not None:
         groups = caps["inverse"]["groups"]

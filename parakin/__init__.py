@@ -2,7 +2,7 @@
 
     >>> import parakin
     >>> parakin.available()                          # the generated packages found
-    >>> m = parakin.load("spm")                      # paper defaults, fastest available backend
+    >>> m = parakin.load(parakin.available()[0])     # paper defaults, fastest available backend
     >>> modes = m.forward_pose_all(m.home_actuated)  # every assembly mode, closed form
     >>> ik = m.inverse_pose(modes.poses[0])          # every inverse branch
 

@@ -8,7 +8,9 @@ halved (doubled again after ``GROW_AFTER`` accepted steps in a row). Contraction
 its own branch: a corrector that converges slowly is the sign of a step large enough to jump to
 another path. At s = 0 the endpoint is refined by Newton to rounding. The generated C driver
 (``generator/templates/c_driver.c.j2``) runs the same algorithm with the same constants; the
-generator uses this module to find the start solutions (monodromy).
+generator uses this module to find the start solutions (monodromy). A family whose equations are
+each even or odd under a sign change z -> S z (a quaternion's q -> -q) has its paths in pairs
+(z(s), S z(s)): one of each pair is tracked (``track_symmetric``), in NumPy and in C alike.
 """
 
 from __future__ import annotations
@@ -259,3 +261,75 @@ def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray,
     with np.errstate(all="ignore"):
         imaginary = np.abs(z.imag).max(-1) / np.abs(z).max(-1)
     return z, imaginary
+
+
+# ---------------------------------------------------------------------------------- symmetry
+def sign_symmetry(exponents: np.ndarray, equation: np.ndarray) -> np.ndarray | None:
+    """A sign change z -> S z (S = diag(flip), flip in {1, -1}^n, not all 1) under which every
+    equation is even or odd, H_k(S z) = +-H_k(z), whatever its coefficients: the parity of
+    a_t . v (v the flipped unknowns) is the same for every term t of an equation. The first
+    such v of a basis of the solutions over GF(2) (e.g. q -> -q of a quaternion, which gives the
+    same rotation), or None. Then the solutions of the system, and the paths of a homotopy of
+    the family, come in pairs (z, S z)."""
+    parity = np.asarray(exponents, dtype=np.int64) % 2
+    rows = [
+        (parity[members[1:]] + parity[members[0]]) % 2
+        for members in (np.nonzero(np.asarray(equation) == k)[0] for k in np.unique(equation))
+        if members.size > 1
+    ]
+    a = np.concatenate(rows).astype(np.uint8) if rows else np.zeros((0, parity.shape[1]), np.uint8)
+    pivots: list[int] = []
+    for column in range(a.shape[1]):  # row reduction over GF(2)
+        row = next((r for r in range(len(pivots), a.shape[0]) if a[r, column]), None)
+        if row is None:
+            continue
+        a[[len(pivots), row]] = a[[row, len(pivots)]]
+        for r in range(a.shape[0]):
+            if r != len(pivots) and a[r, column]:
+                a[r] ^= a[len(pivots)]
+        pivots.append(column)
+    free = [c for c in range(a.shape[1]) if c not in pivots]
+    if not free:
+        return None
+    v = np.zeros(a.shape[1], dtype=bool)
+    v[free[0]] = True
+    for r, column in enumerate(pivots):
+        v[column] = bool(a[r, free[0]])
+    return np.where(v, -1.0, 1.0)
+
+
+def symmetric_partners(start: np.ndarray, flip: np.ndarray | None) -> np.ndarray | None:
+    """For start solutions (P, n) closed under z -> flip z: partner[p] = the path whose start is
+    flip * start[p] (never p itself); None when there is no symmetry or the starts do not pair
+    up exactly (to 1e-8 relative): then every path is tracked."""
+    if flip is None or start.shape[0] % 2:
+        return None
+    images = start * flip
+    scale = 1.0 + np.abs(start).max(-1)
+    distance = np.abs(images[:, None, :] - start[None, :, :]).max(-1) / scale[:, None]
+    partner = distance.argmin(-1)
+    if not (distance[np.arange(start.shape[0]), partner] <= 1e-8).all():
+        return None
+    if (partner == np.arange(start.shape[0])).any() or (partner[partner] != np.arange(start.shape[0])).any():
+        return None
+    return partner
+
+
+def track_symmetric(system_for: Callable[[int], System], start: np.ndarray, count: int, tolerance: float,
+                    flip: np.ndarray | None, partner: np.ndarray | None) -> Paths:  # fmt: skip
+    """``track`` of ``count`` inputs' paths from ``start`` (P, n); with a sign symmetry
+    (``symmetric_partners``), one path of each pair (z, S z) is tracked and its partner's path
+    is its image: H(S z, s) = D H(z, s) along the whole homotopy, so the partner ends at S times
+    its end, the same way (reached, failed or diverged). ``system_for(paths per input)`` builds
+    the system; results are (count * P, ...) in path order either way."""
+    paths = start.shape[0]
+    if partner is None or flip is None:
+        return track(system_for(paths), np.tile(start, (count, 1)), tolerance)
+    tracked = np.nonzero(partner > np.arange(paths))[0]  # the first of each pair
+    half = track(system_for(tracked.size), np.tile(start[tracked], (count, 1)), tolerance)
+    source = np.empty(paths, dtype=np.intp)
+    source[tracked], source[partner[tracked]] = np.arange(tracked.size), np.arange(tracked.size)
+    signs = np.ones((paths, start.shape[1]))
+    signs[partner[tracked]] = flip
+    rows = (np.arange(count)[:, None] * tracked.size + source[None, :]).ravel()
+    return Paths(half.z[rows] * np.tile(signs, (count, 1)), half.status[rows], half.steps[rows], half.update[rows])

@@ -30,9 +30,12 @@ from parakin.homotopy import (
     is_known,
     path_coefficients,
     phase_normalised,
+    sign_symmetry,
     sparse_system,
+    symmetric_partners,
     target_coefficients,
     track,
+    track_symmetric,
 )
 from parakin.polynomial import isolate_real_roots
 from parakin.pose import wrap_angle
@@ -220,8 +223,7 @@ def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: boo
     paths = start.shape[0]
     n = theta.shape[0]
     table = _path_table(m, info, theta, int(retrack))
-    system = sparse_system(table, homotopy.exponents, homotopy.equation, paths)
-    ended = track(system, np.tile(start, (n, 1)), tol["path_tolerance"] * (1e-2 if retrack else 1.0))
+    ended = _track_family(homotopy, table, start, n, tol["path_tolerance"] * (1e-2 if retrack else 1.0))
     if not retrack and (ended.status == PATH_FAILED).any():
         ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
     z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous))
@@ -268,6 +270,17 @@ def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: boo
         "near_roots": near.reshape(shape).sum(-1),
         "at_infinity": (ended.status == PATH_DIVERGED).reshape(shape).sum(-1),
     }
+
+
+def _track_family(homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float) -> Paths:
+    """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
+    a sign symmetry (``parakin.homotopy.track_symmetric``), as the generated C driver does."""
+    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
+
+    def system_for(per_input: int):
+        return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
+
+    return track_symmetric(system_for, start, count, tolerance, flip, symmetric_partners(start, flip))
 
 
 def _monomials(m: Mechanism, info: Forward):
@@ -367,6 +380,7 @@ def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, in
     alternative = homotopy.alternative
     paths = alternative.shape[0]
     rows = np.unique(np.nonzero(ended.status == PATH_FAILED)[0] // paths)
+    # every path, as the generated C driver's retry does (failures are rare; the two agree)
     system = sparse_system(_path_table(m, info, theta[rows], 1), homotopy.exponents, homotopy.equation, paths)
     second = track(system, np.tile(alternative, (rows.size, 1)), tolerance)
     z, status = ended.z.copy(), ended.status.copy()

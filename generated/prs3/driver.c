@@ -686,6 +686,11 @@ static const double alternative_imag[DEGREE][NZ] = {
     { 0.4533830359687571, 1.1319008392700616, -1.6458970844837226, -4.9642406991653793e-42, -0.27564348217225293, 0.09223396417868049, 0.13028448253478864 },
     { 0.4533830359687571, 1.1319008392700616, -1.6458970844837226, 4.9642406991653793e-42, 0.27564348217225293, -0.09223396417868049, -0.13028448253478864 },
 };
+// the family's sign symmetry z -> flip z (H(flip z, s) = +-H(z, s) equation by equation): the
+// start paths pair up, partner[p] starting at flip times path p's start, so one of each pair is
+// tracked and the other ends at the image of its end (parakin.homotopy.track_symmetric)
+static const int partner[DEGREE] = { 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14, 17, 16, 19, 18, 21, 20, 23, 22, 25, 24, 27, 26, 29, 28, 31, 30 };
+static const double flip[NZ] = { 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0 };
 
 typedef struct { double re, im; } cplx;
 
@@ -1733,6 +1738,12 @@ static void modes_one(workspace* ws, const prs3_modes_job* job, long long i) {
     cplx ends[DEGREE][NZ];
     int ended[DEGREE], failures = 0;
     for (int p = 0; p < DEGREE; ++p) {
+        if (partner[p] < p) {  // the image of the path tracked before it
+            for (int k = 0; k < NZ; ++k) ends[p][k] = c_scale(flip[k], ends[partner[p]][k]);
+            ended[p] = ended[partner[p]];
+            failures += ended[p] == PATH_FAILED;
+            continue;
+        }
         for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){start_real[p][k], start_imag[p][k]};
         ended[p] = track_path(&system, job->path_tolerance, ends[p], &at);
         failures += ended[p] == PATH_FAILED;

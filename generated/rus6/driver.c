@@ -873,6 +873,11 @@ static const double alternative_imag[DEGREE][NZ] = {
     { -4.602023521479389, 138.0678432156618, 17.416174306853854, -0.9677104007224248, 0.1868979744619201, -1.7023903860618248, -5.394494710028505 },
     { -4.602023521479389, 138.0678432156618, 17.416174306853854, 0.9677104007224248, -0.1868979744619201, 1.7023903860618248, 5.394494710028505 },
 };
+// the family's sign symmetry z -> flip z (H(flip z, s) = +-H(z, s) equation by equation): the
+// start paths pair up, partner[p] starting at flip times path p's start, so one of each pair is
+// tracked and the other ends at the image of its end (parakin.homotopy.track_symmetric)
+static const int partner[DEGREE] = { 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14, 17, 16, 19, 18, 21, 20, 23, 22, 25, 24, 27, 26, 29, 28, 31, 30, 33, 32, 35, 34, 37, 36, 39, 38, 41, 40, 43, 42, 45, 44, 47, 46, 49, 48, 51, 50, 53, 52, 55, 54, 57, 56, 59, 58, 61, 60, 63, 62, 65, 64, 67, 66, 69, 68, 71, 70, 73, 72, 75, 74, 77, 76, 79, 78 };
+static const double flip[NZ] = { 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0 };
 
 typedef struct { double re, im; } cplx;
 
@@ -2994,6 +2999,12 @@ static void modes_one(workspace* ws, const rus6_modes_job* job, long long i) {
     cplx ends[DEGREE][NZ];
     int ended[DEGREE], failures = 0;
     for (int p = 0; p < DEGREE; ++p) {
+        if (partner[p] < p) {  // the image of the path tracked before it
+            for (int k = 0; k < NZ; ++k) ends[p][k] = c_scale(flip[k], ends[partner[p]][k]);
+            ended[p] = ended[partner[p]];
+            failures += ended[p] == PATH_FAILED;
+            continue;
+        }
         for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){start_real[p][k], start_imag[p][k]};
         ended[p] = track_path(&system, job->path_tolerance, ends[p], &at);
         failures += ended[p] == PATH_FAILED;

@@ -1,0 +1,65 @@
+"""Sign symmetries of a homotopy family (``parakin.homotopy.sign_symmetry``): where every
+equation is even or odd under z -> S z (q -> -q of a quaternion), the paths pair up and one of
+each pair is tracked. Checked against the full tracking (each partner path followed on its own
+ends at the image of its representative's end) and against the generated C driver's table."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.homotopy import sign_symmetry, sparse_system, symmetric_partners, track, track_symmetric
+from parakin.modes import _path_table
+from parakin.sampling import sample_configurations
+
+
+def test_the_parity_test_finds_the_quaternion_sign_and_nothing_where_there_is_none():
+    # x^2 + y^2 - 1 and x y - c: even under (x, y) -> (-x, -y); x + y: odd under it too
+    exponents = np.array([[2, 0], [0, 2], [0, 0], [1, 1], [0, 0]])
+    assert list(sign_symmetry(exponents, np.array([0, 0, 0, 1, 1]))) == [-1.0, -1.0]
+    # x^2 + y - 1: even under x -> -x alone
+    assert list(sign_symmetry(np.array([[2, 0], [0, 1], [0, 0]]), np.array([0, 0, 0]))) == [-1.0, 1.0]
+    assert sign_symmetry(np.array([[1, 0], [0, 1], [0, 0]]), np.array([0, 0, 0])) is None  # x + y - 1
+    prs3 = parakin.metadata("prs3").capabilities.forward.homotopy
+    flip = sign_symmetry(prs3.exponents, prs3.equation)
+    flipped = [name for name, f in zip(prs3.unknowns, flip, strict=True) if f < 0]
+    assert flipped == ["z_q0", "z_q1", "z_q2", "z_q3"]
+    planar = parakin.metadata("planar_3rrr").capabilities.forward.homotopy
+    assert sign_symmetry(planar.exponents, planar.equation) is None
+
+
+@pytest.mark.parametrize("name", ["prs3"])
+def test_a_partner_path_tracked_on_its_own_ends_at_the_image_of_its_representative(name):
+    m = parakin.load(name, backend="numpy")
+    info = m.capabilities.forward
+    homotopy = info.homotopy
+    theta = sample_configurations(m, 3, seed=21).actuated
+    table = _path_table(m, info, theta, 0)
+    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
+    partner = symmetric_partners(homotopy.start, flip)
+    assert partner is not None and (partner[partner] == np.arange(partner.size)).all()
+    paths = homotopy.start.shape[0]
+    full = track(sparse_system(table, homotopy.exponents, homotopy.equation, paths), np.tile(homotopy.start, (3, 1)))
+    half = track_symmetric(
+        lambda per: sparse_system(table, homotopy.exponents, homotopy.equation, per), homotopy.start, 3, 1e-7,
+        flip, partner,
+    )  # fmt: skip
+    assert (full.status == 0).all() and (half.status == 0).all()
+    scale = 1 + np.abs(full.z).max(-1)
+    assert (np.abs(full.z - half.z).max(-1) / scale).max() < 1e-9, "each partner path ends at the image"
+    assert full.z.shape[0] == 3 * paths
+
+
+@pytest.mark.parametrize("name", ["prs3", "rus6"])
+def test_the_generated_driver_pairs_the_paths_as_the_runtime_does(name):
+    homotopy = parakin.metadata(name).capabilities.forward.homotopy
+    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
+    partner = symmetric_partners(homotopy.start, flip)
+    sources = parakin.load(name, backend="numpy").package.c_sources()
+    driver = next(p for p in sources if p.name == "driver.c").read_text()
+    table = re.search(r"static const int partner\[DEGREE\] = \{ ([^}]*) \};", driver)
+    assert table is not None
+    assert [int(v) for v in table.group(1).split(",")] == list(partner)
