@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from parakin.certify import certify_roots, distinct_clusters, homogeneous_group
+from parakin.certify import Certificate, certify_roots, distinct_clusters, homogeneous_group
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN, BadInputError
 from parakin.exact_certify import certify_root_exactly
 from parakin.homotopy import (
@@ -346,14 +346,7 @@ def certify_inputs(
     with np.errstate(all="ignore"):
         coefficients = target_coefficients(_monomials(m, info), free, angles)
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
-    result = certify_roots(
-        coefficients,
-        homotopy.exponents,
-        homotopy.equation,
-        roots,
-        homogeneous=_certified_group(homotopy),
-        patch_equation=homotopy.patch_equation,
-    )
+    result = _certify_endpoints(homotopy, coefficients, roots)
     counts, unique = result.certified_distinct.copy(), result.unique.copy()
     if not exact or homotopy.root_count is None:
         return counts, unique
@@ -368,6 +361,46 @@ def certify_inputs(
                 unique[i, p], centre[i, p], radii[i, p] = True, exact_box.center, exact_box.radius
         counts[i] = distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1]
     return counts, unique
+
+
+def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.ndarray) -> Certificate:
+    """``certify_roots`` of every endpoint; with a sign symmetry, only the first path of each
+    pair where the other ended at its image S z (as tracked): a box B holding exactly one root of
+    F gives S B holding exactly one root, since F(S z) = D F(z) with D = diag(+-1), so the
+    image's certificate is the image of the box (an input whose ends do not pair up, after a
+    retry, is certified path by path)."""
+
+    def certified(c: np.ndarray, z: np.ndarray) -> Certificate:
+        return certify_roots(
+            c, homotopy.exponents, homotopy.equation, z,
+            homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
+        )  # fmt: skip
+
+    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
+    partner = symmetric_partners(homotopy.start, flip)
+    if partner is None or flip is None or roots.shape[1] != partner.size:
+        return certified(coefficients, roots)
+    first = np.nonzero(partner > np.arange(partner.size))[0]
+    second = partner[first]
+    image = roots[:, first] * flip
+    paired = ((roots[:, second] == image) | (np.isnan(roots[:, second]) & np.isnan(image))).all((-2, -1))
+    n, paths, size = roots.shape
+    unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
+    radius, centre = np.full((n, paths), np.nan), np.full((n, paths, size), np.nan + 0j)
+    radii = np.full((n, paths, size), np.nan)
+    for rows, columns in ((paired, first), (~paired, np.arange(paths))):
+        if not rows.any():
+            continue
+        part = certified(coefficients[rows], roots[rows][:, columns])
+        block = np.ix_(np.nonzero(rows)[0], columns)
+        unique[block], real[block], radius[block] = part.unique, part.real, part.radius
+        centre[block], radii[block] = part.center, part.radii
+    mirror = np.ix_(np.nonzero(paired)[0], second)
+    source = np.ix_(np.nonzero(paired)[0], first)
+    unique[mirror], real[mirror], radius[mirror] = unique[source], real[source], radius[source]
+    centre[mirror], radii[mirror] = centre[source] * flip, radii[source]
+    distinct, count = distinct_clusters(centre, np.where(unique[..., None], radii, 0.0), unique)
+    return Certificate(unique, radius, real, distinct, count, centre, radii)
 
 
 def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, info: Forward) -> Paths:

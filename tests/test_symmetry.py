@@ -63,3 +63,30 @@ def test_the_generated_driver_pairs_the_paths_as_the_runtime_does(name):
     table = re.search(r"static const int partner\[DEGREE\] = \{ ([^}]*) \};", driver)
     assert table is not None
     assert [int(v) for v in table.group(1).split(",")] == list(partner)
+
+
+def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
+    """prs3 on 40 sampled inputs: the certificate by symmetry (boxes of the first path of each
+    pair, their images for the other) has the same certified paths and the same count of distinct
+    certified roots as certifying every endpoint, and every image box holds its path's end."""
+    from parakin.certify import certify_roots
+    from parakin.homotopy import target_coefficients
+    from parakin.modes import _certified_group, _certify_endpoints, _family, _monomials, compiled_modes
+
+    m = parakin.load("prs3", backend="compiled")
+    info = m.capabilities.forward
+    homotopy = info.homotopy
+    theta = sample_configurations(m, 40, seed=31).actuated
+    endpoints = compiled_modes(m, theta)["endpoints"]
+    roots = endpoints[..., 0] + 1j * endpoints[..., 1]
+    coefficients = target_coefficients(_monomials(m, info), *_family(m, info, theta))
+    full = certify_roots(
+        coefficients, homotopy.exponents, homotopy.equation, roots,
+        homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
+    )  # fmt: skip
+    mirrored = _certify_endpoints(homotopy, coefficients, roots)
+    assert theta.shape[0] >= 30
+    assert (mirrored.unique == full.unique).all()
+    assert (mirrored.certified_distinct == full.certified_distinct).all() and (full.certified_distinct == 32).all()
+    inside = np.abs(roots - mirrored.center) <= mirrored.radii
+    assert inside[mirrored.unique].all()
