@@ -66,8 +66,8 @@ def demo() -> None:
     for number, k in enumerate(np.nonzero(modes.valid)[0]):
         angle, axis = axis_angle(modes.poses[k, :3, :3])
         print(
-            f"  mode {number}: x = tan(phi1/2) = {modes.root[k]: .5f}  rotation {angle:7.3f} deg about {axis}"
-            f"  passive (deg) {np.rad2deg(modes.passive[k])}  residual {modes.residual[k]:.1e}"
+            f"  mode {number}: x = tan((phi1 - 1/2) / 2) = {modes.root[k]: .5f}  rotation {angle:7.3f} deg about {axis}"
+            f"  quaternion (q0..q3) {modes.passive[k].round(5)}  residual {modes.residual[k]:.1e}"
         )
     printed = parakin.load("spm", **PRINTED_LINKS)
     print(

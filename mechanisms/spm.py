@@ -10,17 +10,26 @@ Frames and conventions (SI, radians):
   is a right-handed rotation about u_i. Platform axes v_i = R v0_i, v0_i = Rz(eta_i) (0, sin beta,
   cos beta) (beta: platform half-angle). Leg closure: w_i . v_i = cos(alpha2).
   alpha1 is the proximal link angle (u to w), alpha2 the distal one (w to v).
-* Passive angles phi_i: v_i = cos(alpha2) w_i + sin(alpha2) (cos(phi_i) n1_i + sin(phi_i) n2_i),
-  n1_i = (u_i x w_i) / sin(alpha1), n2_i = w_i x n1_i. phi_i = +-90 deg puts the distal link in
-  the proximal plane (a serial singularity).
+* The model (``MODEL``) is three crank legs of the joint language on the unit sphere: w_i turns
+  on the cone of half-angle alpha1 about u_i (a crank of radius sin(alpha1) about the axis u_i
+  through cos(alpha1) u_i), and |v_i - w_i| = 2 sin(alpha2 / 2) is w_i . v_i = cos(alpha2). The
+  passive variables are the unit quaternion q0..q3 of R (scalar first); closure, rates (A rows
+  (w_i x v_i)^T, B = diag((u_i x w_i) . v_i): ``leg<i>_axes_coplanar``, zero where the distal link
+  lies in the proximal plane), the parallel factor det A (``distal_plane_normals_coplanar``),
+  the inverse and the drawing are derived from it; the Agile Eye's folded poses (a zero
+  ``leg<i>_axes_coplanar`` at every input) are flagged input-independent.
+* Distal angles phi_i (the elimination's unknowns): v_i = cos(alpha2) w_i + sin(alpha2)
+  (cos(phi_i) n1_i + sin(phi_i) n2_i), n1_i = (u_i x w_i) / sin(alpha1), n2_i = w_i x n1_i.
+  phi_i = +-90 deg puts the distal link in the proximal plane (a serial singularity).
 * Inverse branches: sigma_i = +-1 in theta_i = atan2(B, A) + sigma_i acos(-C / sqrt(A^2 + B^2)),
   8 combinations numbered as in ``parakin.Mechanism`` (branch 0 = all +).
 * Defaults: the report's example (section 3.2.3) read with alpha1 and alpha2 swapped, the only
   reading that reproduces its "8 independent solutions": alpha1 = 45 deg (proximal), alpha2 =
   90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py). Home: R = I on inverse
   branch 0 (theta_i = -74.46 deg, phi_i = 158.53 deg), a regular, symmetric configuration.
-* Forward pose: x = tan(phi1 / 2). Two equations in (x, y = tan(phi2 / 2)), E1 = v1.v2 - cos(psi)
-  and E2 = w3 . v3(v1, v2) - cos(alpha2) with leg 3 imposed on the rigid platform (which fixes its
+* Forward pose (an accelerator; the generator also derives the polynomial form from the closure,
+  method "automatic"): x = tan((phi1 - 1/2) / 2). Two equations in (x, y = tan(phi2 / 2)), E1 = v1.v2 - cos(psi)
+  and E2 = w3 . v3(v1, v2) - cos(alpha2), with leg 3 imposed on the rigid platform (which fixes its
   handedness, so the report's mirror solutions never enter), are biquadratic; their resultant in y
   (formed over generic coefficients) has degree 8 in x, the bound of Gosselin et al. (1994).
 """
@@ -28,22 +37,13 @@ Frames and conventions (SI, radians):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import sympy as sp
+from parakin.generator import joints
 from parakin.generator.elimination import biquadratic_resultant, half_angle_grid
 from parakin.generator.frames import homogeneous, rot_z, sign_or_plus
-from parakin.generator.model import (
-    POSE_ROTATION,
-    Citation,
-    ClosureModel,
-    Drawing,
-    Example,
-    ForwardElimination,
-    InverseSolution,
-    Mechanism,
-    ParameterInfo,
-    RateModel,
-)
+from parakin.generator.model import Citation, Example, ForwardElimination, Mechanism, ParameterInfo
 
 alpha1, alpha2, beta, gamma = sp.symbols("alpha1 alpha2 beta gamma", positive=True)
 theta = sp.symbols("theta1:4", real=True)
@@ -101,32 +101,6 @@ def rotation_from_axes(v1: sp.Matrix, v2: sp.Matrix) -> sp.Matrix:
     """R with R v0_1 = v1, R v0_2 = v2 (and so R (v0_1 x v0_2) = v1 x v2)."""
     reference = sp.Matrix.hstack(platform_axis(0), platform_axis(1), platform_axis(0).cross(platform_axis(1)))
     return sp.Matrix.hstack(v1, v2, v1.cross(v2)) * sp.simplify(reference.inv())
-
-
-def inverse() -> InverseSolution:
-    """Per leg: w_i . v_i = cos(alpha2) is A cos(theta) + B sin(theta) + C = 0 with v_i = R v0_i."""
-    branches = list(sp.symbols("sigma1:4", real=True))
-    steps: list[tuple[sp.Symbol, sp.Expr]] = []
-    validity = {}
-    for i in range(3):
-        u, e1, e2 = base_axes(i)
-        v = POSE_ROTATION * platform_axis(i)
-        a, b, c, reach = sp.symbols(f"A{i + 1} B{i + 1} C{i + 1} reach{i + 1}", real=True)
-        cos_p, sin_p = sp.symbols(f"cos_phi{i + 1} sin_phi{i + 1}", real=True)
-        v_sym = sp.Matrix(sp.symbols(f"v{i + 1}_x v{i + 1}_y v{i + 1}_z", real=True))
-        steps += [(v_sym[k], v[k]) for k in range(3)]
-        steps += [
-            (a, sp.sin(alpha1) * e1.dot(v_sym)),
-            (b, sp.sin(alpha1) * e2.dot(v_sym)),
-            (c, sp.cos(alpha1) * u.dot(v_sym) - sp.cos(alpha2)),
-            (reach, a**2 + b**2 - c**2),
-            # the clamp keeps unreachable branches finite; their validity (reach) is negative
-            (theta[i], sp.atan2(b, a) + branches[i] * sp.acos(sp.Max(-1, sp.Min(1, -c / sp.sqrt(a**2 + b**2))))),
-        ]
-        w, n1, n2 = leg_vectors(i, theta[i])
-        steps += [(cos_p, n1.dot(v_sym)), (sin_p, n2.dot(v_sym)), (phi[i], sp.atan2(sin_p, cos_p))]
-        validity[f"leg{i + 1}_reachable"] = reach
-    return InverseSolution(steps, branches, validity)
 
 
 def forward() -> ForwardElimination:
@@ -189,59 +163,29 @@ def forward() -> ForwardElimination:
     )
 
 
-def closure() -> ClosureModel:
-    """The report's eq (15) in the passive angles, v_i . v_j = cos(psi), plus the handedness
-    det[v1 v2 v3] / det[v0_1 v0_2 v0_3] (+1 for the platform, -1 for its mirror image)."""
-    cos_psi = platform_constants()[0]
-    v = [distal_axis(i) for i in range(3)]
-    residual = sp.Matrix([v[0].dot(v[1]) - cos_psi, v[1].dot(v[2]) - cos_psi, v[2].dot(v[0]) - cos_psi])
-    reference = sp.Matrix.hstack(*(platform_axis(i) for i in range(3))).det()
-    handedness = sp.Matrix([v[0].dot(v[1].cross(v[2])) / sp.simplify(reference)])
-    return ClosureModel(residual, handedness, homogeneous(rotation_from_axes(v[0], v[1]), [0, 0, 0]))
-
-
-def rates() -> tuple[RateModel, dict[str, sp.Expr]]:
-    """Differentiating w_i . v_i = cos(alpha2): (w_i x v_i) . omega = ((u_i x w_i) . v_i) theta_dot_i,
-    so A has rows (w_i x v_i)^T and B = diag((u_i x w_i) . v_i); omega is in {B}."""
-    rows, diagonal, normals = [], [], []
-    for i in range(3):
-        u = base_axes(i)[0]
-        w = leg_vectors(i, theta[i])[0]
-        v = distal_axis(i)
-        rows.append((w.cross(v)).T)
-        diagonal.append(u.cross(w).dot(v))
-        normals.append(w.cross(v) / sp.sin(alpha2))
-    serial = {f"leg{i + 1}_axes_coplanar": sp.cos(phi[i]) for i in range(3)}
-    serial |= {"proximal_links_folded": sp.sin(alpha1) ** 3, "distal_links_folded_b": sp.sin(alpha2) ** 3}
-    triple = normals[0].dot(normals[1].cross(normals[2]))
-    parallel = {"distal_plane_normals_coplanar": triple, "distal_links_folded_a": sp.sin(alpha2) ** 3}
-    model = RateModel(
-        twist=["wx", "wy", "wz"],
-        a=sp.Matrix.vstack(*rows),
-        b=sp.diag(*diagonal),
-        serial_factors=serial,
-        input_independent=[f"leg{i + 1}_axes_coplanar" for i in range(3)],
-    )
-    return model, parallel
-
-
-def drawing() -> Drawing:
-    """The joint axes as points on the unit sphere, one set per layer: actuated axes u_i (base),
-    intermediate axes w_i (theta_i) and platform axes v_i (theta_i, phi_i) as each leg reaches
-    them (at a closure, v_i = R v0_i); each leg is the path u_i -> w_i -> v_i (proximal, then
-    distal link), the base and the platform are the triangles of their axes."""
-    return Drawing(
-        points={
-            "base_axes": sp.Matrix.hstack(*(base_axes(i)[0] for i in range(3))),
-            "intermediate_axes": sp.Matrix.hstack(*(leg_vectors(i, theta[i])[0] for i in range(3))),
-            "platform_axes": sp.Matrix.hstack(*(distal_axis(i) for i in range(3))),
-        },
-        polylines={
-            "base": [("base_axes", i % 3) for i in range(4)],
-            "platform": [("platform_axes", i % 3) for i in range(4)],
-            **{f"leg{i + 1}": [("base_axes", i), ("intermediate_axes", i), ("platform_axes", i)] for i in range(3)},
-        },
-    )
+#: the model: three R-R-R legs whose axes meet at the centre, written as crank legs on the unit
+#: sphere (the intermediate axis w_i turns on the cone of half-angle alpha1 about u_i: a crank of
+#: radius sin(alpha1) about the axis u_i through cos(alpha1) u_i; the platform axis v_i = R v0_i
+#: lies at the distal angle alpha2 from it, |v_i - w_i| = 2 sin(alpha2 / 2)) on a platform that
+#: turns about the centre (unit quaternion); closure, rates, singularity factor, inverse (the
+#: report's branch signs) and drawing are derived from it
+MODEL = joints.DistanceMechanism(
+    joints.platform("rotation"),
+    [
+        joints.crank_leg(
+            sp.cos(alpha1) * base_axes(i)[0],
+            base_axes(i)[0],
+            base_axes(i)[1],
+            sp.sin(alpha1),
+            2 * sp.sin(alpha2 / 2),
+            platform_axis(i),
+            theta[i],
+            serial_name="leg{k}_axes_coplanar",
+        )  # fmt: skip
+        for i in range(3)
+    ],
+    parallel_name="distal_plane_normals_coplanar",
+)
 
 
 #: The report prints no numbers for the Agile Eye (alpha1 = alpha2 = 90 deg, beta = gamma =
@@ -261,12 +205,16 @@ EXAMPLES = [
 
 def build() -> Mechanism:
     deg = sp.pi / 180
-    rate_model, parallel = rates()
     parameters = {alpha1: float(45 * deg), alpha2: float(90 * deg), beta: float(60 * deg), gamma: float(45 * deg)}
-    solution = inverse()
+    fields = MODEL.fields()
+    # the Agile Eye's folded poses (a leg's axes coplanar) do not depend on the inputs: flagged
+    fields["rates"] = replace(fields["rates"], input_independent=[f"leg{i + 1}_axes_coplanar" for i in range(3)])
+    # drawn on the unit sphere: each leg from its actuated axis u_i (not the centre of w_i's circle)
+    axes = sp.Matrix.hstack(*(base_axes(i)[0] for i in range(3)))
+    fields["drawing"] = replace(fields["drawing"], points={**fields["drawing"].points, "base": axes})
     # home: the platform at R = I on inverse branch 0 (all sigma_i = +1), symmetric and far from
-    # both singularity kinds (|det A| = 0.999, |det B| = 0.285 with the defaults)
-    at_identity = solution.at(sp.eye(3), None, 0, parameters)
+    # both singularity kinds
+    home = MODEL.home_at(sp.eye(3), None, 0, parameters)
     return Mechanism(
         name="spm",
         title="3-RRR spherical parallel manipulator (Bai, Hansen & Angeles 2009 parametrisation)",
@@ -277,17 +225,11 @@ def build() -> Mechanism:
             "ED5314 course project report",
         ),
         parameters=parameters,
-        actuated=list(theta),
-        passive=list(phi),
-        legs=[],
-        inverse=solution,
+        **fields,
         forward=forward(),
-        home={symbol: math.remainder(at_identity[symbol], 2 * math.pi) for symbol in (*theta, *phi)},
-        angular=[*theta, *phi],
-        parallel_factors=parallel,
-        closure=closure(),
-        rates=rate_model,
-        pose_kind="rotation",
+        home={
+            symbol: math.remainder(value, 2 * math.pi) if symbol in theta else value for symbol, value in home.items()
+        },
         parameter_info={
             alpha1: ParameterInfo(
                 "rad", "proximal link angle, between the actuated axis u_i and the intermediate axis w_i", "positive"
@@ -303,5 +245,4 @@ def build() -> Mechanism:
             ),
         },
         examples=EXAMPLES,
-        drawing=drawing(),
     )

@@ -59,6 +59,15 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 CONSTRAINT_TOLERANCE = 1e-6
 
 
+def _looks_like_pose(array: Array) -> bool:
+    """Whether (..., 4, 4) values are homogeneous transforms: last rows (0, 0, 0, 1) and
+    orthonormal rotation blocks (to 1e-6)."""
+    last = (array[..., 3, :] == np.array([0.0, 0.0, 0.0, 1.0])).all()
+    rotation = array[..., :3, :3]
+    gram = np.swapaxes(rotation, -1, -2) @ rotation
+    return bool(last and np.isfinite(array).all() and np.abs(gram - np.eye(3)).max() < 1e-6)
+
+
 def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
 
@@ -294,8 +303,10 @@ class Mechanism:
             return self._passive(guess.passive)
         array = as_array(guess, "guess", ())
         # (..., 4, 4) is a pose (^B_P T); anything else is passive values (..., n_p): a (3, 3)
-        # array is three passive vectors, never a rotation (pass a 4x4 or a Configuration)
-        if array.shape[-2:] == (4, 4):
+        # array is three passive vectors, never a rotation (pass a 4x4 or a Configuration). With
+        # four passive values (a quaternion), four guesses are also (4, 4): a pose has the last
+        # row (0, 0, 0, 1) and a rotation block; anything else is the passive values
+        if array.shape[-2:] == (4, 4) and not (len(self.passive_names) == 4 and not _looks_like_pose(array)):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
 

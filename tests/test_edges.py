@@ -385,3 +385,16 @@ def test_rates_twists_and_wrenches_beyond_the_magnitude_bound_are_refused(name):
     twist = h.feasible_twist(m, state, np.linspace(0.1, 0.3, size))
     back = m.forward_rate(state, m.inverse_rate(state, twist).actuated)
     assert np.allclose(back, twist, rtol=1e-8, atol=1e-10)
+
+
+def test_four_quaternion_guesses_are_not_taken_for_a_pose():
+    """A mechanism with four passive values (spm: a unit quaternion): guesses for four inputs are
+    a (4, 4) array too; it is read as passive values unless it is a homogeneous transform, so
+    both forms give the same Newton solutions."""
+    m = parakin.load("spm", backend="numpy")
+    actuated = m.home_actuated + 0.01 * np.arange(4)[:, None]
+    by_passive = m.forward_pose(actuated, guess=np.tile(m.home_passive, (4, 1)))
+    assert by_passive.converged.all()
+    by_pose = m.forward_pose(actuated, guess=np.eye(4))
+    assert by_pose.converged.all()
+    np.testing.assert_allclose(by_passive.pose, by_pose.pose, atol=1e-12)

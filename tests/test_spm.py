@@ -154,7 +154,10 @@ def test_singularity_factors_multiply_to_the_determinants(spm):
     assert np.linalg.det(jac["a"]) == pytest.approx(float(factors["det_A"]), rel=1e-10)
     assert np.linalg.det(jac["b"]) == pytest.approx(float(factors["det_B"]), rel=1e-10)
     product = factors["leg1_axes_coplanar"] * factors["leg2_axes_coplanar"] * factors["leg3_axes_coplanar"]
-    assert abs(float(factors["det_B"])) == pytest.approx(abs(float(product)) * np.sin(45 * DEG) ** 3, rel=1e-10)
+    assert abs(float(factors["det_B"])) == pytest.approx(abs(float(product)), rel=1e-10)
+    assert abs(float(factors["det_A"])) == pytest.approx(
+        abs(float(factors["distal_plane_normals_coplanar"])), rel=1e-10
+    )
 
 
 def test_newton_tracker_follows_a_mode(spm):
@@ -273,7 +276,9 @@ def test_modes_with_phi1_equal_pi_are_found():
         if not matching.any():
             continue
         k = int(np.argmax(matching))
-        assert abs(abs(branches.passive[k, 0]) - np.pi) < 1e-9
+        # phi1 = pi on this branch: the distal axis v1 = R v0_1 is the constructed one, in the
+        # proximal plane on the far side (w1 . v1 = cos(alpha2), (u1 x w1) . v1 = 0 with n1 . v1 < 0)
+        assert np.abs(target @ v10 - v1).max() < 1e-12
         modes = m.forward_pose_all(branches.actuated[k])
         distance = np.abs(modes.poses[:, :3, :3] - target).max(axis=(-2, -1))
         assert distance[modes.valid].min() < 1e-9
