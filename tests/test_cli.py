@@ -33,7 +33,7 @@ def test_list_has_titles_and_inspect_text_is_line_broken():
 def test_inspect_json_and_latex():
     data = json.loads(run("inspect", "sam", "--format", "json").stdout)
     assert data["manifest"] == "sam"
-    assert "L2**2" in data["objects"]["left_leg_determinant"]
+    assert "L2**2" in data["objects"]["left_leg_determinant"]["value"]  # objects are typed (parakin.inspect)
     assert "\\sin" in run("inspect", "sam", "--format", "latex").stdout
 
 

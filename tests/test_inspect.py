@@ -1,0 +1,156 @@
+"""``parakin inspect``: every symbol a report prints is defined, matrices print as labelled
+matrices, the JSON reads back to the very objects of ``parakin.symbolic``, and the LaTeX
+report is a document that compiles."""
+
+import json
+import shutil
+import subprocess
+from functools import cache
+
+import pytest
+import sympy as sp
+
+import parakin
+from parakin.inspect import POSE_INPUTS, _report, inspect
+
+MECHANISMS = sorted(parakin.available())
+
+
+@cache
+def symbolic(name: str) -> dict:
+    return parakin.symbolic(name)
+
+
+def read_back(data: dict) -> dict:
+    """The objects of an inspect JSON report, parsed as its module docstring says."""
+    names = {d: sp.Symbol(s["name"], **s["assumptions"]) for d, s in data["symbols"].items()}
+    shared: dict = {}
+    for display, value in data["shared"]:
+        shared[sp.Symbol(display)] = sp.parse_expr(value, local_dict=names).xreplace(shared)
+
+    def parse(text: str):
+        return sp.parse_expr(text, local_dict=names).xreplace(shared)
+
+    objects = {}
+    for key, item in data["objects"].items():
+        if item["kind"] == "matrix":
+            rows, columns = item["shape"]
+            objects[key] = sp.Matrix(rows, columns, [parse(e) for row in item["entries"] for e in row])
+        elif item["kind"] == "definitions":
+            steps = [tuple(parse(part) for part in step) for step in item["steps"]]
+            objects[key] = sp.Tuple(*(sp.Tuple(*step) for step in steps))
+        else:
+            objects[key] = parse(item["value"])
+    return objects
+
+
+@pytest.mark.parametrize("mechanism", MECHANISMS)
+def test_json_reads_back_to_the_symbolic_objects_and_defines_every_symbol(mechanism):
+    """Every object, parsed back from its strings, is structurally == the generated one; every
+    free symbol is in the symbol table (a variable, a parameter, or described)."""
+    name = mechanism
+    data = json.loads(inspect(name, "json"))
+    assert data["schema"] == "parakin.inspect/1" and data["manifest"] == name
+    original = symbolic(name)
+    back = read_back(data)
+    assert set(back) == set(original)
+    for key, value in original.items():
+        assert back[key] == value, f"{name} {key} does not read back"
+    table = {sp.Symbol(s["name"], **s["assumptions"]) for s in data["symbols"].values()}
+    used = set().union(*(v.free_symbols for v in original.values()))
+    assert used <= table, sorted(map(str, used - table))
+    manifest = parakin.metadata(name)
+    kinds = {s["kind"] for s in data["symbols"].values()}
+    assert "other" not in kinds  # nothing left to "defined by the mechanism file"
+    for variable in manifest.actuated:
+        assert data["symbols"][variable.name]["unit"] == variable.unit
+    for parameter in manifest.parameters:
+        if parameter.name in data["symbols"]:
+            assert data["symbols"][parameter.name]["value"] == parameter.default
+
+
+@pytest.mark.parametrize("mechanism", MECHANISMS)
+def test_text_defines_every_symbol_it_prints(mechanism):
+    """Each symbol of the report that is not a variable or a parameter is listed under "other
+    symbols" with what it is, and each step target is printed as `name = ...`."""
+    name = mechanism
+    report = _report(name)
+    text = inspect(name)
+    header, _, body = text.partition("\n== ")
+    printed = set()
+    for section in report.sections:
+        value = report.objects[section.key]
+        items = [value]
+        if hasattr(value, "shape"):
+            items = list(value)
+        elif isinstance(value, sp.Tuple):
+            items = [part for step in value for part in step]
+        printed |= set().union(*(getattr(e, "free_symbols", set()) for e in items))
+    shown = {entry.symbol for entry in report.symbols.values()}
+    assert printed <= shown, sorted(map(str, printed - shown))
+    listed = header.split("other symbols:\n", 1)[1] if "other symbols:" in header else ""
+    for display, entry in report.symbols.items():
+        if entry.kind in ("actuated", "passive"):
+            assert f"{display} [" in header
+        elif entry.kind == "parameter":
+            assert f"{display} = " in header
+        else:
+            assert display in listed.replace("\n    ", " "), f"{name}: {display} ({entry.kind}) is not defined"
+    for key in ("inverse_steps", "forward_auxiliary"):
+        for target, _ in report.objects.get(key, ()):
+            assert f"\n{target} = " in body
+
+
+def test_pose_inputs_are_the_generators():
+    from parakin.generator.model import POSE_SYMBOLS
+
+    assert tuple(map(str, POSE_SYMBOLS)) == POSE_INPUTS
+
+
+def test_sam_forward_polynomial_helpers_are_defined():
+    """The issue's example: a_lin, c_lin, line_norm2 in sam's forward polynomial."""
+    text = inspect("sam", width=10**4, lines=10**4)
+    for helper in ("a_lin", "c_lin", "line_norm2"):
+        assert f"\n{helper} = " in text
+        assert f"{helper}" in text.split("other symbols:", 1)[1].split("\n== ", 1)[0]
+
+
+def test_sps_name_clash_is_told_apart():
+    """sps: the parameter b12 (|B1 B2|) and the forward auxiliary b12 are different symbols."""
+    data = json.loads(inspect("sps", "json"))
+    assert data["symbols"]["b12"]["kind"] == "parameter"
+    assert data["symbols"]["b12_fwd"]["name"] == "b12" and data["symbols"]["b12_fwd"]["kind"] == "defined"
+    assert "b12_fwd" in data["objects"]["forward_polynomial"]["value"]
+
+
+def test_matrices_print_as_matrices_with_labels():
+    """stewart's B = diag(l) is a grid with the actuated names over its columns; A is listed
+    entry by entry, labelled (equation, twist component); sam's leg Jacobian rows are (v, w)."""
+    text = inspect("stewart", width=100)
+    b = text.split("== B (columns: the actuated rates)\n", 1)[1].split("\n\n", 1)[0].splitlines()
+    assert b[0].split() == ["l1", "l2", "l3", "l4", "l5", "l6"]
+    assert b[1].split() == ["[0]", "l1", "0", "0", "0", "0", "0"] and len(b) == 7
+    a = text.split("== A of A twist", 1)[1].split("\n== ", 1)[0]
+    assert "\n[0, vx] " in a and "\n[5, wz] " in a and "[35]" not in a
+    sam = inspect("sam", width=100)
+    assert "\n[wz, phi3] " in sam.split("== Leg Jacobian left", 1)[1]
+
+
+def test_latex_is_one_document_that_compiles(tmp_path):
+    """A complete document (five_bar); stewart's stays under 1 MB; pdflatex compiles it."""
+    document = inspect("five_bar", "latex")
+    assert document.startswith("\\documentclass") and document.rstrip().endswith("\\end{document}")
+    assert "==" not in document and "\\begin{document}" in document
+    assert len(inspect("stewart", "latex").encode()) < 10**6
+    if shutil.which("pdflatex") is None:
+        pytest.skip("pdflatex is not installed")
+    (tmp_path / "five_bar.tex").write_text(document)
+    done = subprocess.run(
+        ["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "five_bar.tex"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stdout[-2000:]
+    assert (tmp_path / "five_bar.pdf").stat().st_size > 1000
