@@ -475,14 +475,10 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
         "actuated: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.actuated),
         "passive: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.passive),
     ]
-    others: dict[str, list[str]] = {}
-    for display, entry in report.symbols.items():
-        if entry.kind not in ("actuated", "passive", "parameter"):
-            others.setdefault(entry.description, []).append(display)
+    others = _others(report)
     if others:
         header.append("other symbols:")
-        for description, names in others.items():
-            names.sort(key=_natural)
+        for names, description in others:
             header += textwrap.wrap(
                 f"{', '.join(names)}: {description}", width=width, initial_indent="  ", subsequent_indent="    "
             )
@@ -492,6 +488,15 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
         title = "\n".join(textwrap.wrap(f"== {section.title}", width=width, subsequent_indent="   "))
         body.append(f"{title}\n{shown}\n")
     return "\n".join([*header, "", *body])
+
+
+def _others(report: _Report) -> list[tuple[list[str], str]]:
+    """The symbols that are neither variables nor parameters, grouped by their description."""
+    groups: dict[str, list[str]] = {}
+    for display, entry in report.symbols.items():
+        if entry.kind not in ("actuated", "passive", "parameter"):
+            groups.setdefault(entry.description, []).append(display)
+    return [(sorted(names, key=_natural), description) for description, names in groups.items()]
 
 
 def _natural(name: str) -> tuple[Any, ...]:
@@ -553,13 +558,16 @@ def _as_latex(sympy: Any, report: _Report) -> str:
         r"\section*{Symbols}",
         r"\begin{description}",
     ]
-    for entry in report.symbols.values():
-        what = entry.description
-        if entry.unit is not None:
-            what += f" [{entry.unit}]" if entry.unit else ""
-        if entry.value is not None:
-            what += f", default {entry.value:g}"
-        out.append(rf"\item[${tex(entry.symbol)}$] {_escape(what)}")
+    order = [v.name for v in (*manifest.actuated, *manifest.passive)] + [p.name for p in manifest.parameters]
+    for display in order:
+        entry = report.symbols.get(display)
+        if entry is not None:
+            what = entry.description + (f" [{entry.unit}]" if entry.unit else "")
+            what += f", default {entry.value:g}" if entry.value is not None else ""
+            out.append(rf"\item[${tex(entry.symbol)}$] {_escape(what)}")
+    for group, description in _others(report):
+        shown = ", ".join(tex(report.symbols[n].symbol) for n in group)
+        out.append(rf"\item[${shown}$] {_escape(description)}")
     out += [r"\end{description}"]
     defined: set[Any] = set()
     position = 0
