@@ -45,8 +45,8 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
   (``xreplace``, not the full expressions in ``local_dict``: ``-shared_0*z`` must stay
   ``Mul(-1, shared_0, z)``, where ``-(a + b)*z`` would distribute the sign.)
 
-  A display name is the SymPy name, except where two different symbols share a name (sps: the
-  parameter ``b12`` and the forward auxiliary ``b12``): the one that is not a variable or a
+  A display name is the SymPy name, except where two different symbols share a name (e.g. a
+  parameter ``b12`` and a forward auxiliary ``b12``): the one that is not a variable or a
   parameter gets a suffix (``b12_fwd``) in every format.
 """
 

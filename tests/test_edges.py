@@ -155,19 +155,20 @@ def test_forward_pose_without_a_guess_on_200_inputs_near_home(backend):
 # ---------------------------------------------------------------------------- item 6: rigid poses
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_platform_pose_is_rigid_or_refused(backend):
-    """spm: joint values that do not close gave |R^T R - I| = 0.09 at 6bfa97b; now
-    InconsistentInputError naming the closure residual. At a mode the pose is rigid to 1e-14
-    and equals the mode's pose (1e-9); a non-converged forward_pose never returns a non-rigid pose."""
+    """spm's joint values that did not close once gave |R^T R - I| = 0.09 (6bfa97b). Its passive
+    values are now a quaternion, normalised by the pose kernel, so any values give a rigid pose;
+    a pose kernel that does give a non-rigid pose off closure (one built from points, as a user's
+    mechanism may) is refused with InconsistentInputError naming the closure residual. At a mode
+    the pose is rigid to 1e-14 and equals the mode's pose (1e-9); a non-converged forward_pose
+    never returns a non-rigid pose."""
     m = _load("spm", backend)
     modes = m.forward_pose_all(m.home_actuated)
     closed = modes.mode(0).passive
-    passive = closed + np.array([0.1, -0.2, 0.15])
+    passive = closed + np.array([0.1, -0.2, 0.15, -0.05])[: closed.size]  # a unit quaternion, moved off
     residual = float(_closure(m, m.home_actuated, passive))
     assert residual > 0.1
-    with pytest.raises(InconsistentInputError, match=rf"closure residual {residual:.3g}"):
-        m.platform_pose(m.home_actuated, passive)
-    with pytest.raises(InconsistentInputError, match=r"batch index \(1,\)"):
-        m.platform_pose(m.home_actuated, np.stack([closed, passive]))
+    off = m.platform_pose(m.home_actuated, passive)[:3, :3]
+    assert np.abs(off.T @ off - np.eye(3)).max() < 1e-14
     for config in modes:
         pose = m.platform_pose(config.actuated, config.passive)
         rotation = pose[:3, :3]
@@ -175,7 +176,27 @@ def test_platform_pose_is_rigid_or_refused(backend):
         assert np.abs(pose - config.pose).max() < 1e-9
     failed = m.forward_pose(m.home_actuated, guess=passive, max_iterations=0, strict=False)
     assert not failed.converged
-    assert np.isnan(failed.pose).all()
+    rotation = failed.pose[:3, :3]  # the last iterate's pose: rigid (or NaN), never off rigid
+    assert np.isnan(failed.pose).all() or np.abs(rotation.T @ rotation - np.eye(3)).max() < 1e-14
+    # a kernel whose pose is not rigid off closure (the rotation block scaled by |q|^2)
+    call = m.backend.call
+
+    def unnormalised(kernel, *inputs):
+        out = call(kernel, *inputs)
+        if kernel == "platform_pose":
+            q = np.asarray(inputs[1])
+            out = dict(out, pose=out["pose"] * np.where(np.arange(4) < 3, 1.0, 0.0)[:, None] * (q * q).sum(-1)[
+                ..., None, None] + np.eye(4) * np.where(np.arange(4) == 3, 1.0, 0.0))  # fmt: skip
+        return out
+
+    m.backend.call = unnormalised
+    try:
+        with pytest.raises(InconsistentInputError, match=rf"closure residual {residual:.3g}"):
+            m.platform_pose(m.home_actuated, passive)
+        with pytest.raises(InconsistentInputError, match=r"batch index \(1,\)"):
+            m.platform_pose(m.home_actuated, np.stack([closed, passive]))
+    finally:
+        del m.backend.call
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
