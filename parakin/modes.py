@@ -352,8 +352,17 @@ def certify_inputs(
         return counts, unique
     centre, radii = result.center.copy(), result.radii.copy()
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
+    pairs = _pairs(homotopy, roots)
+    source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
+    if pairs is not None:
+        paired, first, second, flip = pairs
+        source[np.ix_(np.nonzero(paired)[0], second)] = first
     for i in np.nonzero(counts < homotopy.root_count.count)[0]:
         for p in np.nonzero(~unique[i] & finite[i])[0]:
+            if source[i, p] >= 0:  # the image of an earlier path's end: the image of its box
+                q = source[i, p]
+                unique[i, p], centre[i, p], radii[i, p] = unique[i, q], centre[i, q] * flip, radii[i, q]
+                continue
             exact_box = certify_root_exactly(
                 coefficients[i], homotopy.exponents, homotopy.equation, roots[i, p], homotopy.patch_equation is None
             )
@@ -361,6 +370,21 @@ def certify_inputs(
                 unique[i, p], centre[i, p], radii[i, p] = True, exact_box.center, exact_box.radius
         counts[i] = distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1]
     return counts, unique
+
+
+def _pairs(homotopy: Homotopy, roots: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """Under the family's sign symmetry S (``parakin.homotopy.symmetric_partners``): per input
+    whether its paths' ends pair up as tracked (z_second = S z_first exactly, or both absent),
+    the first and second path of each pair, and S's signs; None without a symmetry."""
+    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
+    partner = symmetric_partners(homotopy.start, flip)
+    if partner is None or flip is None or roots.shape[1] != partner.size:
+        return None
+    first = np.nonzero(partner > np.arange(partner.size))[0]
+    second = partner[first]
+    image = roots[:, first] * flip
+    paired = ((roots[:, second] == image) | (np.isnan(roots[:, second]) & np.isnan(image))).all((-2, -1))
+    return paired, first, second, flip
 
 
 def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.ndarray) -> Certificate:
@@ -376,14 +400,10 @@ def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.n
             homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
         )  # fmt: skip
 
-    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
-    partner = symmetric_partners(homotopy.start, flip)
-    if partner is None or flip is None or roots.shape[1] != partner.size:
+    pairs = _pairs(homotopy, roots)
+    if pairs is None:
         return certified(coefficients, roots)
-    first = np.nonzero(partner > np.arange(partner.size))[0]
-    second = partner[first]
-    image = roots[:, first] * flip
-    paired = ((roots[:, second] == image) | (np.isnan(roots[:, second]) & np.isnan(image))).all((-2, -1))
+    paired, first, second, flip = pairs
     n, paths, size = roots.shape
     unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
     radius, centre = np.full((n, paths), np.nan), np.full((n, paths, size), np.nan + 0j)

@@ -90,3 +90,21 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
     assert (mirrored.certified_distinct == full.certified_distinct).all() and (full.certified_distinct == 32).all()
     inside = np.abs(roots - mirrored.center) <= mirrored.radii
     assert inside[mirrored.unique].all()
+
+
+def test_exact_certificates_of_image_paths_are_the_images_of_their_boxes(monkeypatch):
+    """rus6 (80 roots in +-q pairs, many beyond double precision's Krawczyk test): on 3 sampled
+    inputs the exact certification of one path of each pair, mirrored, certifies the same paths
+    and the same number of distinct roots as certifying every path exactly."""
+    import parakin.modes as modes
+
+    m = parakin.load("rus6", backend="compiled")
+    info = m.capabilities.forward
+    theta = sample_configurations(m, 3, seed=5).actuated
+    endpoints = modes.compiled_modes(m, theta)["endpoints"]
+    mirrored = modes.certify(m, info, theta, endpoints, exact=True)
+    monkeypatch.setattr(modes, "_pairs", lambda homotopy, roots: None)
+    every = modes.certify(m, info, theta, endpoints, exact=True)
+    assert theta.shape[0] == 3
+    assert (mirrored[0] == every[0]).all() and (mirrored[1] == every[1]).all()
+    assert (every[0] > 56).all(), "exact arithmetic certified roots that double precision could not"
