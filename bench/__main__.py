@@ -20,7 +20,7 @@ from parakin.generator.build import discover, generate
 
 import parakin
 from bench.timing import best_time
-from parakin.homotopy import sign_symmetry, symmetric_partners
+from parakin.homotopy import path_pairs
 from parakin.sampling import sample_configurations
 
 BATCHES = [1, 1000]
@@ -184,11 +184,11 @@ METHOD_INPUTS = 40
 
 def tracked_paths(info) -> int:
     """Paths tracked per input: a homotopy with a sign symmetry tracks one path of each pair
-    (``parakin.homotopy.symmetric_partners``); a closed form has one slot per root."""
+    (``parakin.homotopy.path_pairs``); a closed form has one slot per root."""
     homotopy = info.homotopy
     if homotopy is None:
         return int(info.degree)
-    pairs = symmetric_partners(homotopy.start, sign_symmetry(homotopy.exponents, homotopy.equation))
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     return int(info.degree) if pairs is None else int(info.degree) // 2
 
 

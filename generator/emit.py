@@ -17,7 +17,7 @@ import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from parakin.homotopy import sign_symmetry, symmetric_partners
+from parakin.homotopy import path_pairs
 from parakin.subtrees import shared_subtrees
 
 from .program import LoweredProgram
@@ -173,12 +173,11 @@ def _symmetry(chosen: dict) -> dict[str, object]:
     NumPy pipeline does; empty when there is none."""
     exponents = np.array([e for _, e in chosen["terms"]], dtype=np.int64)
     equation = np.array([k for k, _ in chosen["terms"]], dtype=np.int64)
-    flip = sign_symmetry(exponents, equation)
     start = np.array(chosen["start"]["real"], dtype=float) + 1j * np.array(chosen["start"]["imag"], dtype=float)
-    partner = symmetric_partners(start, flip)
-    if partner is None or flip is None:
+    pairs = path_pairs(exponents, equation, start)
+    if pairs is None:
         return {"partner": None}
-    return {"partner": [int(p) for p in partner], "flip": [repr(float(v)) for v in flip]}
+    return {"partner": [int(p) for p in pairs.partner], "flip": [repr(float(v)) for v in pairs.flip]}
 
 
 def _product(factors: list[tuple[int, int]]) -> str | None:

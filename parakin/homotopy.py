@@ -10,7 +10,8 @@ another path. At s = 0 the endpoint is refined by Newton to rounding. The genera
 (``generator/templates/c_driver.c.j2``) runs the same algorithm with the same constants; the
 generator uses this module to find the start solutions (monodromy). A family whose equations are
 each even or odd under a sign change z -> S z (a quaternion's q -> -q) has its paths in pairs
-(z(s), S z(s)): one of each pair is tracked (``track_symmetric``), in NumPy and in C alike.
+(z(s), S z(s)): one of each pair is tracked (``path_pairs``, ``track_symmetric``), in NumPy and in
+C alike.
 """
 
 from __future__ import annotations
@@ -315,21 +316,45 @@ def symmetric_partners(start: np.ndarray, flip: np.ndarray | None) -> np.ndarray
     return partner
 
 
-def track_symmetric(system_for: Callable[[int], System], start: np.ndarray, count: int, tolerance: float,
-                    flip: np.ndarray | None, partner: np.ndarray | None) -> Paths:  # fmt: skip
-    """``track`` of ``count`` inputs' paths from ``start`` (P, n); with a sign symmetry
-    (``symmetric_partners``), one path of each pair (z, S z) is tracked and its partner's path
-    is its image: H(S z, s) = D H(z, s) along the whole homotopy, so the partner ends at S times
-    its end, the same way (reached, failed or diverged). ``system_for(paths per input)`` builds
-    the system; results are (count * P, ...) in path order either way."""
-    paths = start.shape[0]
+class PathPairs(NamedTuple):
+    """The start paths of a family with a sign symmetry, in pairs: ``flip`` S's signs (n,),
+    ``partner`` (P,) each path's partner, ``first`` the path of each pair that is tracked (the
+    lower index) and ``second`` its partner, the image (``first[k]`` pairs with ``second[k]``)."""
+
+    flip: NDArray[np.float64]
+    partner: NDArray[np.intp]
+    first: NDArray[np.intp]
+    second: NDArray[np.intp]
+
+
+def path_pairs(exponents: np.ndarray, equation: np.ndarray, start: np.ndarray) -> PathPairs | None:
+    """The pairs of the start paths ``start`` (P, n) under the family's sign symmetry
+    (``sign_symmetry``, ``symmetric_partners``), or None: then every path is tracked. The one
+    place the generator (the C driver's table), the NumPy pipeline and the certificates pair paths."""
+    flip = sign_symmetry(exponents, equation)
+    partner = symmetric_partners(start, flip)
     if partner is None or flip is None:
+        return None
+    first = np.nonzero(partner > np.arange(partner.size))[0]
+    return PathPairs(flip, partner, first, partner[first])
+
+
+def track_symmetric(
+    system_for: Callable[[int], System], start: np.ndarray, count: int, tolerance: float, pairs: PathPairs | None
+) -> Paths:
+    """``track`` of ``count`` inputs' paths from ``start`` (P, n); with ``pairs`` (``path_pairs``
+    of ``start``), one path of each pair (z, S z) is tracked and its partner's path is its image:
+    H(S z, s) = D H(z, s) along the whole homotopy, so the partner ends at S times its end, the
+    same way (reached, failed or diverged). ``system_for(paths per input)`` builds the system;
+    results are (count * P, ...) in path order either way."""
+    paths = start.shape[0]
+    if pairs is None:
         return track(system_for(paths), np.tile(start, (count, 1)), tolerance)
-    tracked = np.nonzero(partner > np.arange(paths))[0]  # the first of each pair
+    tracked = pairs.first
     half = track(system_for(tracked.size), np.tile(start[tracked], (count, 1)), tolerance)
     source = np.empty(paths, dtype=np.intp)
-    source[tracked], source[partner[tracked]] = np.arange(tracked.size), np.arange(tracked.size)
+    source[tracked], source[pairs.second] = np.arange(tracked.size), np.arange(tracked.size)
     signs = np.ones((paths, start.shape[1]))
-    signs[partner[tracked]] = flip
+    signs[pairs.second] = pairs.flip
     rows = (np.arange(count)[:, None] * tracked.size + source[None, :]).ravel()
     return Paths(half.z[rows] * np.tile(signs, (count, 1)), half.status[rows], half.steps[rows], half.update[rows])

@@ -36,7 +36,15 @@ from parakin.linalg import pivoted_solve
 from parakin.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.modes import assemble, certify, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
-from parakin.pose import LEG_TWIST, as_array, rigid_or_nan, rigidity_error, transform_from_pose, wrap_angle
+from parakin.pose import (
+    LEG_TWIST,
+    RIGID_TOLERANCE,
+    as_array,
+    rigid_or_nan,
+    rigidity_error,
+    transform_from_pose,
+    wrap_angle,
+)
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.tracker import ForwardPoseTracker
 from parakin.validation import (
@@ -57,15 +65,6 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 #: a lower-mobility platform's twist must satisfy constraints @ twist = 0 to this relative
 #: measure, |C_i . twist| / (|C_i| |twist|) per constraint wrench C_i (``inverse_rate``)
 CONSTRAINT_TOLERANCE = 1e-6
-
-
-def _looks_like_pose(array: Array) -> bool:
-    """Whether (..., 4, 4) values are homogeneous transforms: last rows (0, 0, 0, 1) and
-    orthonormal rotation blocks (to 1e-6)."""
-    last = (array[..., 3, :] == np.array([0.0, 0.0, 0.0, 1.0])).all()
-    rotation = array[..., :3, :3]
-    gram = np.swapaxes(rotation, -1, -2) @ rotation
-    return bool(last and np.isfinite(array).all() and np.abs(gram - np.eye(3)).max() < 1e-6)
 
 
 def _home(variable: Variable) -> float:
@@ -306,7 +305,8 @@ class Mechanism:
         # array is three passive vectors, never a rotation (pass a 4x4 or a Configuration). With
         # four passive values (a quaternion), four guesses are also (4, 4): a pose has the last
         # row (0, 0, 0, 1) and a rotation block; anything else is the passive values
-        if array.shape[-2:] == (4, 4) and not (len(self.passive_names) == 4 and not _looks_like_pose(array)):
+        four = len(self.passive_names) == 4
+        if array.shape[-2:] == (4, 4) and (not four or bool((rigidity_error(array) <= RIGID_TOLERANCE).all())):
             return self.passive_from_pose(actuated, array)
         return self._passive(array)
 

@@ -26,13 +26,13 @@ from parakin.homotopy import (
     PATH_DIVERGED,
     PATH_FAILED,
     PATH_REACHED,
+    PathPairs,
     Paths,
     is_known,
     path_coefficients,
+    path_pairs,
     phase_normalised,
-    sign_symmetry,
     sparse_system,
-    symmetric_partners,
     target_coefficients,
     track,
     track_symmetric,
@@ -275,12 +275,13 @@ def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: boo
 def _track_family(homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float) -> Paths:
     """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
     a sign symmetry (``parakin.homotopy.track_symmetric``), as the generated C driver does."""
-    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
 
     def system_for(per_input: int):
         return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
 
-    return track_symmetric(system_for, start, count, tolerance, flip, symmetric_partners(start, flip))
+    return track_symmetric(
+        system_for, start, count, tolerance, path_pairs(homotopy.exponents, homotopy.equation, start)
+    )
 
 
 def _monomials(m: Mechanism, info: Forward):
@@ -346,22 +347,22 @@ def certify_inputs(
     with np.errstate(all="ignore"):
         coefficients = target_coefficients(_monomials(m, info), free, angles)
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
-    result = _certify_endpoints(homotopy, coefficients, roots)
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
+    paired = _paired_ends(pairs, roots)
+    result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired)
     counts, unique = result.certified_distinct.copy(), result.unique.copy()
     if not exact or homotopy.root_count is None:
         return counts, unique
     centre, radii = result.center.copy(), result.radii.copy()
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
-    pairs = _pairs(homotopy, roots)
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
-        paired, first, second, flip = pairs
-        source[np.ix_(np.nonzero(paired)[0], second)] = first
+        source[np.ix_(np.nonzero(paired)[0], pairs.second)] = pairs.first
     for i in np.nonzero(counts < homotopy.root_count.count)[0]:
         for p in np.nonzero(~unique[i] & finite[i])[0]:
-            if source[i, p] >= 0:  # the image of an earlier path's end: the image of its box
+            if pairs is not None and source[i, p] >= 0:  # the image of an earlier path's end: its box's image
                 q = source[i, p]
-                unique[i, p], centre[i, p], radii[i, p] = unique[i, q], centre[i, q] * flip, radii[i, q]
+                unique[i, p], centre[i, p], radii[i, p] = unique[i, q], centre[i, q] * pairs.flip, radii[i, q]
                 continue
             exact_box = certify_root_exactly(
                 coefficients[i], homotopy.exponents, homotopy.equation, roots[i, p], homotopy.patch_equation is None
@@ -372,22 +373,20 @@ def certify_inputs(
     return counts, unique
 
 
-def _pairs(homotopy: Homotopy, roots: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-    """Under the family's sign symmetry S (``parakin.homotopy.symmetric_partners``): per input
-    whether its paths' ends pair up as tracked (z_second = S z_first exactly, or both absent),
-    the first and second path of each pair, and S's signs; None without a symmetry."""
-    flip = sign_symmetry(homotopy.exponents, homotopy.equation)
-    partner = symmetric_partners(homotopy.start, flip)
-    if partner is None or flip is None or roots.shape[1] != partner.size:
-        return None
-    first = np.nonzero(partner > np.arange(partner.size))[0]
-    second = partner[first]
-    image = roots[:, first] * flip
-    paired = ((roots[:, second] == image) | (np.isnan(roots[:, second]) & np.isnan(image))).all((-2, -1))
-    return paired, first, second, flip
+def _paired_ends(pairs: PathPairs | None, roots: np.ndarray) -> np.ndarray:
+    """Per input (n,): whether its paths' ends (n, P, n_z) pair up as tracked, z_second = S
+    z_first exactly (or both absent); all False without pairs (an input retried after a failed
+    path may not pair up)."""
+    if pairs is None:
+        return np.zeros(roots.shape[0], dtype=bool)
+    image = roots[:, pairs.first] * pairs.flip
+    later = roots[:, pairs.second]
+    return ((later == image) | (np.isnan(later) & np.isnan(image))).all((-2, -1))
 
 
-def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.ndarray) -> Certificate:
+def _certify_endpoints(
+    homotopy: Homotopy, coefficients: np.ndarray, roots: np.ndarray, pairs: PathPairs | None, paired: np.ndarray
+) -> Certificate:
     """``certify_roots`` of every endpoint; with a sign symmetry, only the first path of each
     pair where the other ended at its image S z (as tracked): a box B holding exactly one root of
     F gives S B holding exactly one root, since F(S z) = D F(z) with D = diag(+-1), so the
@@ -400,10 +399,9 @@ def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.n
             homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
         )  # fmt: skip
 
-    pairs = _pairs(homotopy, roots)
-    if pairs is None:
+    if pairs is None or not paired.any():
         return certified(coefficients, roots)
-    paired, first, second, flip = pairs
+    first, second = pairs.first, pairs.second
     n, paths, size = roots.shape
     unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
     radius, centre = np.full((n, paths), np.nan), np.full((n, paths, size), np.nan + 0j)
@@ -418,7 +416,7 @@ def _certify_endpoints(homotopy: Homotopy, coefficients: np.ndarray, roots: np.n
     mirror = np.ix_(np.nonzero(paired)[0], second)
     source = np.ix_(np.nonzero(paired)[0], first)
     unique[mirror], real[mirror], radius[mirror] = unique[source], real[source], radius[source]
-    centre[mirror], radii[mirror] = centre[source] * flip, radii[source]
+    centre[mirror], radii[mirror] = centre[source] * pairs.flip, radii[source]
     distinct, count = distinct_clusters(centre, np.where(unique[..., None], radii, 0.0), unique)
     return Certificate(unique, radius, real, distinct, count, centre, radii)
 

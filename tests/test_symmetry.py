@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.homotopy import sign_symmetry, sparse_system, symmetric_partners, track, track_symmetric
+from parakin.homotopy import path_pairs, sign_symmetry, sparse_system, symmetric_partners, track, track_symmetric
 from parakin.modes import _path_table
 from parakin.sampling import sample_configurations
 
@@ -43,10 +43,11 @@ def test_a_partner_path_tracked_on_its_own_ends_at_the_image_of_its_representati
     assert partner is not None and (partner[partner] == np.arange(partner.size)).all()
     paths = homotopy.start.shape[0]
     full = track(sparse_system(table, homotopy.exponents, homotopy.equation, paths), np.tile(homotopy.start, (3, 1)))
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
+    assert pairs is not None and (pairs.partner == partner).all() and (pairs.first < pairs.second).all()
     half = track_symmetric(
-        lambda per: sparse_system(table, homotopy.exponents, homotopy.equation, per), homotopy.start, 3, 1e-7,
-        flip, partner,
-    )  # fmt: skip
+        lambda per: sparse_system(table, homotopy.exponents, homotopy.equation, per), homotopy.start, 3, 1e-7, pairs
+    )
     assert (full.status == 0).all() and (half.status == 0).all()
     scale = 1 + np.abs(full.z).max(-1)
     assert (np.abs(full.z - half.z).max(-1) / scale).max() < 1e-9, "each partner path ends at the image"
@@ -71,7 +72,7 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
     certified roots as certifying every endpoint, and every image box holds its path's end."""
     from parakin.certify import certify_roots
     from parakin.homotopy import target_coefficients
-    from parakin.modes import _certified_group, _certify_endpoints, _family, _monomials, compiled_modes
+    from parakin.modes import _certified_group, _certify_endpoints, _family, _monomials, _paired_ends, compiled_modes
 
     m = parakin.load("prs3", backend="compiled")
     info = m.capabilities.forward
@@ -84,7 +85,10 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
         coefficients, homotopy.exponents, homotopy.equation, roots,
         homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
     )  # fmt: skip
-    mirrored = _certify_endpoints(homotopy, coefficients, roots)
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
+    paired = _paired_ends(pairs, roots)
+    assert paired.all(), "every input's ends pair up as tracked"
+    mirrored = _certify_endpoints(homotopy, coefficients, roots, pairs, paired)
     assert theta.shape[0] >= 30
     assert (mirrored.unique == full.unique).all()
     assert (mirrored.certified_distinct == full.certified_distinct).all() and (full.certified_distinct == 32).all()
@@ -103,7 +107,7 @@ def test_exact_certificates_of_image_paths_are_the_images_of_their_boxes(monkeyp
     theta = sample_configurations(m, 3, seed=5).actuated
     endpoints = modes.compiled_modes(m, theta)["endpoints"]
     mirrored = modes.certify(m, info, theta, endpoints, exact=True)
-    monkeypatch.setattr(modes, "_pairs", lambda homotopy, roots: None)
+    monkeypatch.setattr(modes, "path_pairs", lambda exponents, equation, start: None)
     every = modes.certify(m, info, theta, endpoints, exact=True)
     assert theta.shape[0] == 3
     assert (mirrored[0] == every[0]).all() and (mirrored[1] == every[1]).all()
