@@ -69,16 +69,38 @@ class Certificate:
     radii: NDArray[np.float64]
 
 
-def _scatter(values: np.ndarray, index: np.ndarray, size: int) -> np.ndarray:
-    """Sums values (..., Q) into (..., size) at index (Q,), sequentially per target (counted in K)."""
-    out = np.zeros(values.shape[:-1] + (size,), values.dtype)
-    if index.size == 0:
+#: a polynomial map is evaluated through a dense per-input table of monomial by output (a matrix
+#: product) when at least this share of the table's entries are terms, else term by term
+DENSE = 0.08
+
+
+class _Polynomials:
+    """Outputs out_k = sum over terms q with target[q] = k of coefficients[..., q] * m[monomial[q]],
+    for monomial values m (..., P, U): either a matrix product with the per-input table of
+    coefficient sums (dense maps, a fast BLAS product) or a sum per output of the terms' products
+    (sparse maps, where most of a table would be zeros). Each output is one sum (counted in K)."""
+
+    def __init__(self, coefficients: np.ndarray, monomial: np.ndarray, target: np.ndarray, monomials: int, size: int):
+        self.size, self.monomial, self.coefficients = size, monomial, coefficients
+        self.dense = monomial.size >= DENSE * monomials * size
+        index = monomial * size + target if self.dense else target
+        self.order = np.argsort(index, kind="stable")
+        ordered = index[self.order]
+        self.starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1] if index.size else np.zeros(0, np.int64)
+        self.present = ordered[self.starts]
+        if self.dense:
+            self.table = self._sum(coefficients, monomials * size).reshape(coefficients.shape[:-1] + (monomials, size))
+
+    def _sum(self, values: np.ndarray, size: int) -> np.ndarray:
+        out = np.zeros(values.shape[:-1] + (size,), values.dtype)
+        if self.starts.size:
+            out[..., self.present] = np.add.reduceat(values[..., self.order], self.starts, axis=-1)
         return out
-    order = np.argsort(index, kind="stable")
-    ordered = index[order]
-    starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1]
-    out[..., ordered[starts]] = np.add.reduceat(values[..., order], starts, axis=-1)
-    return out
+
+    def __call__(self, m: np.ndarray) -> np.ndarray:
+        if self.dense:
+            return m @ self.table
+        return self._sum(self.coefficients[..., None, :] * m[..., self.monomial], self.size)
 
 
 def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
@@ -94,9 +116,9 @@ def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
 
 
 class _System:
-    """F regrouped by distinct monomial: F = M C, J = M CJ (M the monomials at x), with the
-    coefficient sums A = |c| regrouped the same way for the absolute-value polynomials, and the
-    weights W of H_k (module docstring)."""
+    """F, J, the absolute-value polynomials S, SJ and the sums H_k (module docstring) as
+    polynomial maps over the distinct monomials of F and J (``rows``) and of the second
+    derivatives (``second``)."""
 
     def __init__(self, c: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
         terms, n = exponents.shape
@@ -105,19 +127,16 @@ class _System:
         rows = np.concatenate([exponents, exponents[tj] - eye[ij]])
         self.rows, where = np.unique(rows, axis=0, return_inverse=True)
         where = where.reshape(-1)
-        size, here = self.rows.shape[0] * n, where[:terms] * n + equation
-        there = (where[terms:] * n + equation[tj]) * n + ij
         weight = exponents[tj, ij].astype(float)
-        self.C, self.A = (_scatter(v, here, size).reshape(v.shape[:-1] + (-1, n)) for v in (c, abs(c)))
-        self.CJ = _scatter(c[..., tj] * weight, there, size * n).reshape(c.shape[:-1] + (-1, n * n))
-        self.AJ = _scatter(abs(c[..., tj]) * weight, there, size * n).reshape(c.shape[:-1] + (-1, n * n))
+        u, cj = self.rows.shape[0], c[..., tj] * weight
+        term, entry = where[:terms], where[terms:]
+        self.F, self.S = (_Polynomials(v, term, equation, u, n) for v in (c, abs(c)))
+        self.J, self.SJ = (_Polynomials(v, entry, equation[tj] * n + ij, u, n * n) for v in (cj, abs(cj)))
         pair = exponents[:, :, None] * (exponents[:, None, :] - eye)  # a_ti (a_tj - [i = j])
         th, ih, jh = np.nonzero(pair > 0)
         self.second, at = np.unique(exponents[th] - eye[ih] - eye[jh], axis=0, return_inverse=True)
-        values = abs(c[..., th]) * pair[th, ih, jh]
-        self.W = _scatter(values, at.reshape(-1) * n + equation[th], self.second.shape[0] * n).reshape(
-            c.shape[:-1] + (-1, n)
-        )
+        weights = abs(c[..., th]) * pair[th, ih, jh]
+        self.H = _Polynomials(weights, at.reshape(-1), equation[th], self.second.shape[0], n)
         degree = int(exponents.sum(1).max(initial=0))
         # roundings on any path (module docstring): F~, J~: 3 (degree + n + 1) + terms + monomials;
         # L: 4 degree + n (rho's error raised to the degree) + 2 terms (2 pairs (i, j) per term) + the
@@ -130,7 +149,7 @@ class _System:
         m = _monomials(x, self.rows)
         size = abs(m)
         shape = x.shape[:-1] + (self.n, self.n)
-        return m @ self.C, (m @ self.CJ).reshape(shape), size @ self.A, (size @ self.AJ).reshape(shape)
+        return self.F(m), self.J(m).reshape(shape), self.S(size), self.SJ(size).reshape(shape)
 
     def bounds(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """Bounds on ||Y F(x)||, ||I - Y J(x)||, ||Y|| and the Newton step Y F~ at x."""
@@ -148,7 +167,7 @@ class _System:
         a, b, c = (v[..., None] for v in bounds[:3])
         rho = abs(x)[..., None, :] + r[..., None]
         flat = rho.reshape(rho.shape[:-3] + (-1, self.n))
-        hessian = (_monomials(flat, self.second) @ self.W).max(-1).reshape(r.shape)
+        hessian = self.H(_monomials(flat, self.second)).max(-1).reshape(r.shape)
         return np.asarray((a + (b + c * r * hessian) * r) * (1 + self.gain) < r)
 
     def contains(self, x: np.ndarray, need: np.ndarray, floor: np.ndarray) -> np.ndarray:
@@ -292,7 +311,7 @@ def _certify(
     nonreal = (abs(x.imag) > r)[..., ~group].any(-1)
     if homogeneous is None:  # B(x, r) lies in the conjugation-symmetric B(Re x, need)
         need = (abs(x.imag).max(-1) + r[..., 0]) * (1 + 4 * UNIT)
-        real = candidates & system.contains(x.real + 0j, need, floor)
+        real = _contains_where(c, exponents, equation, x.real + 0j, need, floor, candidates & ~nonreal)
     else:
         jmax = np.asarray(homogeneous)[abs(x[..., homogeneous]).argmax(-1)]
         xj = np.take_along_axis(x, jmax[..., None], -1)
@@ -306,9 +325,9 @@ def _certify(
         chart_exponents = np.concatenate([exponents[keep], np.zeros((2, n), np.int64)])
         chart_equation = np.r_[equation[keep], [patch_equation, patch_equation]]
         ones = np.broadcast_to(np.array([1.0, -1.0]), c.shape[:-1] + (2,))
+        chart_c = np.concatenate([c[..., keep], ones], -1)
         for j in homogeneous:  # the real chart: z_j - 1 = 0 replaces the patch
             chart_exponents[-2] = np.eye(n, dtype=np.int64)[j]
-            chart = _System(np.concatenate([c[..., keep], ones], -1), chart_exponents, chart_equation)
             w = x.real.copy()
             w[..., group] = (x / x[..., j : j + 1]).real[..., group]
             w[..., j] = 1.0
@@ -316,10 +335,32 @@ def _certify(
             # |z_i/z_j - x_i/x_j| <= 2 r (|x_i| + |x_j|) / |x_j|^2 and |x_i/x_j - w_i| = |x_i - w_i x_j| / |x_j|
             gap = (abs(x - w * xj) + 2 * UNIT * abs(w) * mj + 2 * r * (mi + mj) / mj) / mj
             need = np.where(group, gap, abs(x.imag) + r).max(-1) * (1 + 16 * UNIT)
-            pick = candidates & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
-            real |= pick & chart.contains(w + 0j, need, floor)
+            pick = candidates & ~nonreal & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
+            real |= _contains_where(chart_c, chart_exponents, chart_equation, w + 0j, need, floor, pick)
     code = np.where(real, 1, np.where(unique & nonreal, -1, 0)).astype(np.int8)
     return unique, radius, code, np.where(given[..., None], x, np.nan)
+
+
+def _contains_where(
+    c: np.ndarray,
+    exponents: np.ndarray,
+    equation: np.ndarray,
+    x: np.ndarray,
+    need: np.ndarray,
+    floor: np.ndarray,
+    mask: np.ndarray,
+) -> np.ndarray:
+    """``_System.contains`` for the candidates x (..., P, n) where ``mask`` (..., P), False
+    elsewhere: the systems (..., T) are built for the inputs of those candidates only, so the test
+    costs what is asked (the realness test of the few candidates that may be real)."""
+    out = np.zeros(mask.shape, bool)
+    if not mask.any():
+        return out
+    index = np.nonzero(mask)
+    coefficients = np.broadcast_to(c, mask.shape[:-1] + c.shape[-1:])[index[:-1]]
+    system = _System(coefficients, exponents, equation)
+    out[index] = system.contains(x[index][:, None, :], need[index][:, None], floor[index][:, None])[:, 0]
+    return out
 
 
 def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
