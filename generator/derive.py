@@ -16,6 +16,7 @@ import sympy as sp
 
 from . import configurations, homotopy, polynomial_form
 from .checks import check_closure, check_pose_kind, check_program_symbols
+from .drawing import drawing_metadata
 from .errors import GenerationError
 from .frames import vee
 from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
@@ -458,10 +459,7 @@ def derive(mechanism: Mechanism) -> Derivation:
                 list(drawing.points.items()),
             )
         )
-        metadata["drawing"] = {
-            "points": {name: matrix.cols for name, matrix in drawing.points.items()},
-            "polylines": {name: [[s, int(c)] for s, c in line] for name, line in drawing.polylines.items()},
-        }
+        metadata["drawing"] = drawing_metadata(drawing, set(mechanism.actuated) | set(mechanism.passive))
 
     if mechanism.inverse is not None:
         inverse = mechanism.inverse

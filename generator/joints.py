@@ -403,12 +403,13 @@ class DistanceMechanism:
         if with_elbow:
             points["elbow"] = sp.Matrix.hstack(*(leg.elbow() for leg in self.legs))
         points["platform"] = sp.Matrix.hstack(*self.platform_joints())
-        parts = ["base", "elbow", "platform"] if with_elbow else ["base", "platform"]
-        polylines = {f"leg{i + 1}": [(part, i) for part in parts] for i in range(count)}
+        chain = ["base", "elbow", "platform"] if with_elbow else ["base", "platform"]
+        polylines = {f"leg{i + 1}": [(point, i) for point in chain] for i in range(count)}
         polylines["base"] = [("base", i % count) for i in range(count + 1)]
         if any(leg.platform_joint != self.legs[0].platform_joint for leg in self.legs):  # not a point
             polylines["platform"] = [("platform", i % count) for i in range(count + 1)]
-        return Drawing(points=points, polylines=polylines)
+        parts = {name: name if name in ("base", "platform") else "leg" for name in polylines}
+        return Drawing(points=points, polylines=polylines, parts=parts)
 
     def home_at(
         self, rotation: sp.Matrix, position: sp.Matrix | None, branch: int, parameters: dict[sp.Symbol, float]

@@ -307,10 +307,13 @@ class Example:
 @dataclass
 class Drawing:
     """What ``m.plot`` draws: named point sets (3 x n matrices in {B}, functions of the state and
-    parameters) and polylines through them, each a list of (point set, column) pairs."""
+    parameters) and polylines through them, each a list of (point set, column) pairs; ``parts``
+    says which polyline is the base, a leg or the platform where its name does not
+    (``generator.drawing``)."""
 
     points: dict[str, sp.Matrix]
     polylines: dict[str, list[tuple[str, int]]]
+    parts: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass

@@ -203,12 +203,20 @@ class Architecture:
     tolerance: float
 
 
+#: what a drawing's polyline can be (generator/drawing.py)
+DRAWING_PARTS = ("base", "leg", "platform")
+
+
 @dataclass(frozen=True)
 class Drawing:
-    """Point sets (name -> number of points) and polylines of (point set, index) pairs."""
+    """Point sets (name -> number of points) and polylines of (point set, index) pairs; each
+    polyline's part ("base", "leg" or "platform") and the point sets fixed to the base (their
+    kernel expressions hold no actuated or passive variable), both from the generator."""
 
     points: dict[str, int]
     polylines: dict[str, tuple[tuple[str, int], ...]]
+    parts: dict[str, str]
+    fixed: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -540,7 +548,16 @@ def _drawing(data: dict[str, Any]) -> Drawing:
         )
         for k, v in dict(data["polylines"]).items()
     }
-    return Drawing(points, polylines)
+    parts = {_name(k, "capabilities.drawing.parts"): str(v) for k, v in dict(data["parts"]).items()}
+    if set(parts) != set(polylines) or not set(parts.values()) <= set(DRAWING_PARTS):
+        raise BadInputError(
+            f"capabilities.drawing.parts {parts}: one of {', '.join(DRAWING_PARTS)} for each polyline "
+            f"({', '.join(polylines)})"
+        )
+    fixed = tuple(_name(k, "capabilities.drawing.fixed") for k in data["fixed"])
+    if not set(fixed) <= set(points):
+        raise BadInputError(f"capabilities.drawing.fixed {list(fixed)} names point sets the drawing lacks")
+    return Drawing(points, polylines, parts, fixed)
 
 
 def _newton_status(names: list[str]) -> tuple[str, ...]:

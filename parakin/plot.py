@@ -4,14 +4,14 @@ The kernel returns named point sets (3 x n, in {B}, metres) for a configuration;
 lists the polylines through them. ``plot`` draws one configuration, a chosen assembly mode, every
 mode overlaid on given axes, or every mode as a grid of small multiples (common limits, each panel
 titled "mode k"); ``animate`` draws a GIF along an actuated trajectory, tracking one mode. How a
-drawing is drawn is derived from the package alone (``compose_scene``; the manifest carries none
-of these facts yet):
+drawing is drawn comes from the package alone (``compose_scene``):
 
 - a drawing in one plane z = const is drawn on 2-D axes (the x-y plane);
 - a spherical one (pose kind ``rotation``, every point at one distance from the fixed centre) on
   its translucent sphere, with great-circle arcs between consecutive points instead of chords;
-- polylines are parts (base, legs, platform) by name or by whether they move, each with its own
-  colour and width; fixed joints are squares, moving joints circles; a legend names the parts;
+- polylines are parts (base, legs, platform) as the manifest says (``Drawing.parts``), each with
+  its own colour and width; joints of the manifest's fixed point sets are squares, moving joints
+  circles; a legend names the parts;
 - every panel shows the distance to singularity: ``type II`` (1/cond of the loop-closure Jacobian)
   and ``type I`` (1/cond of the rate model's B, or of the worst leg Jacobian), 1 far, 0 singular.
 """
@@ -19,7 +19,6 @@ of these facts yet):
 from __future__ import annotations
 
 import math
-import re
 import textwrap
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -37,6 +36,7 @@ from parakin.errors import (
     UnreachablePoseError,
     UnsupportedOperationError,
 )
+from parakin.manifest import DRAWING_PARTS
 from parakin.results import Array, AssemblyModes, Configuration
 
 if TYPE_CHECKING:
@@ -45,13 +45,7 @@ if TYPE_CHECKING:
 
 # ---------------------------------------------------------- the scene: what a picture shows
 #: the parts a polyline can belong to, in drawing order (later parts are drawn on top)
-PARTS = ("base", "leg", "platform")
-#: words of a polyline or point-set name that say which part it belongs to
-PART_WORDS = {
-    "base": ("base", "ground", "fixed", "frame", "reference"),
-    "platform": ("platform", "tool", "effector", "end", "moving"),
-    "leg": ("leg", "link", "arm", "rail", "crank", "chain", "rod", "elbow", "strut"),
-}
+PARTS = DRAWING_PARTS
 #: relative tolerance of the planarity and sphere tests (the kernel's points are exact to rounding)
 SHAPE_TOLERANCE = 1e-9
 #: points per great-circle arc between two consecutive vertices of a spherical polyline
@@ -91,19 +85,6 @@ class Scene:
     high: Array
 
 
-def _words(name: str) -> list[str]:
-    return [w for w in re.split(r"[^a-z]+", name.lower()) if w]
-
-
-def part_of_name(name: str) -> str | None:
-    """The part a name says (``PART_WORDS``, base words first), or None for a name that says none."""
-    words = _words(name)
-    for part in ("base", "platform", "leg"):
-        if any(word in PART_WORDS[part] for word in words):
-            return part
-    return None
-
-
 def _inverse_condition(matrix: Array) -> float:
     values = np.linalg.svd(matrix, compute_uv=False)
     return float(values[-1] / values[0]) if values[0] > 0 else 0.0
@@ -130,34 +111,6 @@ def singularity_distance(m: Mechanism, config: Configuration) -> dict[str, float
 def distance_text(distance: dict[str, float]) -> str:
     """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures."""
     return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
-
-
-def _fixed_sets(m: Mechanism, configurations: list[Configuration], points: list[dict[str, Array]]) -> set[str]:
-    """Point sets that belong to the base: those named so (``PART_WORDS``); where no name says so,
-    those unchanged between configurations whose actuated inputs differ (with the home's)."""
-    named = {name for name in points[0] if part_of_name(name) == "base"}
-    if named:
-        return named
-    samples = [
-        p
-        for c, p in zip(configurations, points, strict=True)
-        if not np.allclose(c.actuated, configurations[0].actuated)
-    ]
-    if not np.allclose(m.home_actuated, configurations[0].actuated):
-        try:
-            samples.append(m.drawing(Configuration(m.home_actuated, m.home_passive, np.eye(4))))
-        except ParakinError:
-            pass
-    if not samples:
-        return set()
-    return {name for name in points[0] if all(np.allclose(s[name], points[0][name], atol=1e-12) for s in samples)}
-
-
-def _part(name: str, vertices: tuple[tuple[str, int], ...], fixed: set[str]) -> str:
-    named = part_of_name(name)
-    if named is not None:
-        return named
-    return "base" if all(s in fixed for s, _ in vertices) else "leg"
 
 
 def great_circle(a: Array, b: Array, sphere: Sphere, count: int = ARC_POINTS) -> Array:
@@ -191,8 +144,7 @@ def compose_scene(m: Mechanism, configurations: list[Configuration], distances: 
     drawing = m.capabilities.drawing
     assert drawing is not None
     points = [m.drawing(c) for c in configurations]
-    fixed = _fixed_sets(m, configurations, points)
-    parts = {name: _part(name, vertices, fixed) for name, vertices in drawing.polylines.items()}
+    fixed, parts = set(drawing.fixed), drawing.parts
     used = {(s, i) for vertices in drawing.polylines.values() for s, i in vertices}
     cloud = np.concatenate([np.stack([p[s][:, i] for s, i in sorted(used)], -1) for p in points], -1)
     scale = max(1.0, float(np.abs(cloud).max(initial=0.0)))

@@ -244,7 +244,7 @@ class ViewerSession:
         return np.array(values, dtype=float)
 
     def scene(self) -> dict[str, Any]:
-        """What the page is built from: title, sliders, polyline names, view kind and size."""
+        """What the page is built from: title, sliders, polyline names and parts, view kind and size."""
         m = self.m
         home = self._config
         planar = self._planar()
@@ -254,6 +254,7 @@ class ViewerSession:
             "backend": m.backend.name,
             "sliders": self._sliders,
             "polylines": list(m.capabilities.drawing.polylines) if m.capabilities.drawing else [],
+            "parts": dict(m.capabilities.drawing.parts) if m.capabilities.drawing else {},
             "planar": planar,
             "scale": self._scale,
             "centre": self._centre(home),

@@ -234,6 +234,29 @@ def test_parts_are_styled_apart_and_named_in_the_legend(name):
         plt.close(ax.figure)
 
 
+@pytest.mark.parametrize("name", drawable_names())
+def test_the_manifests_fixed_point_sets_stay_and_the_others_move(name):
+    """The generator's symbolic fact (no actuated or passive variable in the expressions) against
+    the kernel: at configurations tracked to other inputs, fixed sets are unchanged and every other
+    set moves; each polyline's part in the manifest is the part it is drawn as."""
+    m = parakin.load(name)
+    drawing = m.capabilities.drawing
+    start = home(m)
+    step = np.where(np.isfinite(start.actuated), 0.02 * np.maximum(abs(start.actuated), 0.1), 0.0)
+    others = [m.forward_pose(start.actuated + k * step, guess=start.passive) for k in (1, -1)]
+    at_home = m.drawing(start)
+    moved = {s: max(abs(m.drawing(c)[s] - at_home[s]).max() for c in others) for s in drawing.points}
+    assert drawing.fixed and set(drawing.fixed) < set(drawing.points)
+    for s, distance in moved.items():
+        assert (distance == 0.0) == (s in drawing.fixed), (s, distance)
+    ax = plot(m, start)
+    try:
+        for polyline, line in zip(drawing.polylines, ax.get_lines(), strict=True):
+            assert line.get_color() == PART_STYLE[drawing.parts[polyline]]["color"]
+    finally:
+        plt.close(ax.figure)
+
+
 @pytest.mark.parametrize("name", [n for n in drawable_names() if parakin.metadata(n).capabilities.forward])
 def test_the_title_shows_the_distance_to_a_type_ii_singularity(name):
     """'type II d' in the title: d = 1/cond of the loop-closure Jacobian (0 at a singularity)."""

@@ -172,11 +172,23 @@ def test_every_name_and_file_field_is_checked(tmp_path, path, value, field):
     [
         lambda data: data.pop("kernels"),
         lambda data: data["capabilities"].pop("drawing"),
+        lambda data: data["capabilities"]["drawing"]["parts"].update(arm="wheel"),
+        lambda data: data["capabilities"]["drawing"]["parts"].pop("arm"),
+        lambda data: data["capabilities"]["drawing"].update(fixed=["nowhere"]),
         lambda data: data.update(parameters=[{"name": "x"}]),
         lambda data: data.update(actuated=5),
         lambda data: data.clear(),
     ],
-    ids=["no kernels", "no drawing", "parameter without default", "actuated not a list", "empty"],
+    ids=[
+        "no kernels",
+        "no drawing",
+        "unknown part",
+        "polyline without a part",
+        "fixed set not drawn",
+        "parameter without default",
+        "actuated not a list",
+        "empty",
+    ],
 )
 def test_a_malformed_manifest_is_a_named_error(tmp_path, edit):
     """A malformed manifest once crashed with KeyError / TypeError; now `load` raises
