@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
+from parakin.display import modes_table
 from parakin.errors import ParakinError
 from parakin.manifest import Example
-from parakin.pose import xyz_euler_from_pose
 from parakin.results import Array, AssemblyModes
 
 
@@ -98,25 +98,10 @@ def _inverse_example(m: object, example: Example) -> list[Comparison]:
 
 
 #: the first line of every mode table (the header is the second)
-CONVENTION = "  (x, y, z: the origin of {P} in {B}; alpha, beta, gamma: Z-Y-X Euler angles of ^B_P R)"
-
-
 def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
-    """Every valid mode of one input: position (m), Z-Y-X Euler angles (deg), the closure residual
-    and the conditioning (pivot ratio of the closure Jacobian: near 0 close to a type II singularity)."""
-    header = (
-        f"  {'mode':>4s} {'x [m]':>10s} {'y [m]':>10s} {'z [m]':>10s} {'alpha':>9s} {'beta':>9s} {'gamma [deg]':>11s}"
-        f" {'residual':>9s} {'conditioning':>12s}"
-    )
-    lines = [CONVENTION, header]
-    for number, index in enumerate(np.nonzero(modes.valid)[0]):  # numbered as modes.mode(number)
-        x, y, z, *angles = xyz_euler_from_pose(modes.poses[index])
-        alpha, beta, gamma = np.degrees(angles)
-        lines.append(
-            f"  {number:4d} {x:10.6f} {y:10.6f} {z:10.6f} {alpha:9.3f} {beta:9.3f} {gamma:11.3f}"
-            f" {modes.residual[index]:9.1e} {modes.conditioning[index]:12.2e}"
-        )
-    return tuple(lines)
+    """Every valid mode of one input, as ``print(modes)`` shows them, with the closure residual:
+    the convention line, the header, a rule and one line per mode."""
+    return tuple(modes_table(modes, residual=True, rows_shown=len(modes.valid)).splitlines())
 
 
 def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]:
@@ -177,7 +162,7 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
                     f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
                 )
             if result.modes:
-                lines.append(f"  {len(result.modes) - 2} assembly modes:")
+                lines.append(f"  {len(result.modes) - 3} assembly modes:")
                 lines += result.modes
             lines.append("")
     return "\n".join(lines)

@@ -27,10 +27,10 @@ POSE_CONVENTION = "pose: position of the origin of {P} in {B}, Z-Y-X Euler angle
 ROWS_SHOWN = 40
 
 
-def text_table(headers: Sequence[str], rows: Rows, indent: str = "  ") -> str:
-    """Columns padded to their widest cell, a rule under the headers; rows past ROWS_SHOWN are
+def text_table(headers: Sequence[str], rows: Rows, indent: str = "  ", rows_shown: int = ROWS_SHOWN) -> str:
+    """Columns padded to their widest cell, a rule under the headers; rows past ``rows_shown`` are
     counted, not shown."""
-    shown = rows[:ROWS_SHOWN]
+    shown = rows[:rows_shown]
     widths = [max(len(str(c)) for c in column) for column in zip(headers, *shown, strict=True)]
     lines = ["  ".join(str(h).ljust(w) for h, w in zip(headers, widths, strict=True)).rstrip()]
     lines.append("  ".join("-" * w for w in widths))
@@ -138,23 +138,33 @@ def modes_summary(modes: AssemblyModes) -> str:
     return f"AssemblyModes: {found}{method}{certificate}"
 
 
-def modes_rows(modes: AssemblyModes) -> Rows:
-    """One row per mode of a single input: mode k, pose, conditioning."""
+def modes_rows(modes: AssemblyModes, residual: bool = False) -> Rows:
+    """One row per mode of a single input: mode k (as ``modes.mode(k)``), pose, the closure
+    residual (with ``residual``) and the conditioning."""
     valid = np.flatnonzero(np.asarray(modes.valid))
     poses = xyz_euler_deg_from_pose(modes.poses[valid]) if valid.size else np.zeros((0, 6))
     conditioning = np.asarray(modes.conditioning)[valid]
-    return [[str(k), *(f"{v:.6g}" for v in pose), f"{c:.3g}"] for k, (pose, c) in enumerate(zip(poses, conditioning,
-                                                                                             strict=True))]  # fmt: skip
+    residuals = np.asarray(modes.residual)[valid]
+    return [
+        [str(k), *(f"{v:.6g}" for v in pose), *([f"{r:.1e}"] if residual else []), f"{c:.3g}"]
+        for k, (pose, r, c) in enumerate(zip(poses, residuals, conditioning, strict=True))
+    ]
 
 
 MODE_HEADERS = ["mode", *POSE_HEADERS, "conditioning"]
+MODES_CONVENTION = f"{POSE_CONVENTION}; conditioning: 1 well conditioned, 0 singular"
+
+
+def modes_table(modes: AssemblyModes, residual: bool = False, rows_shown: int = ROWS_SHOWN) -> str:
+    """The convention line and the table of the modes of a single input (``modes_rows``)."""
+    headers = MODE_HEADERS[:-1] + (["residual"] if residual else []) + MODE_HEADERS[-1:]
+    return f"  {MODES_CONVENTION}\n" + text_table(headers, modes_rows(modes, residual), rows_shown=rows_shown)
 
 
 def modes_text(modes: AssemblyModes) -> str:
     lines = [modes_summary(modes)]
     if np.ndim(modes.count) == 0 and int(modes.count):
-        lines += [f"  {POSE_CONVENTION}; conditioning: 1 well conditioned, 0 singular",
-                  text_table(MODE_HEADERS, modes_rows(modes))]  # fmt: skip
+        lines.append(modes_table(modes))
     elif np.ndim(modes.count):
         lines.append("  modes per input (count): " + np.array2string(np.asarray(modes.count), threshold=20))
     return "\n".join(lines)
@@ -167,4 +177,4 @@ def modes_html(modes: AssemblyModes) -> str:
     return "<div class='parakin'>" + "".join(out) + "</div>"
 
 
-__all__ = ["html_table", "mechanism_html", "mechanism_text", "modes_html", "modes_text", "text_table"]
+__all__ = ["html_table", "mechanism_html", "mechanism_text", "modes_html", "modes_table", "modes_text", "text_table"]

@@ -55,7 +55,7 @@ def test_demo_table_and_plot_legend_number_modes_from_zero():
     name, actuated = _with_modes_in_sparse_slots()
     m = parakin.load(name, backend="numpy")
     modes = m.forward_pose_all(actuated)
-    rows = mode_table(modes)[2:]  # below the convention line and the header
+    rows = mode_table(modes)[3:]  # below the convention line, the header and its rule
     assert [int(row.split()[0]) for row in rows] == list(range(int(modes.count)))
     for row, mode in zip(rows, modes, strict=True):
         assert float(row.split()[1]) == pytest.approx(mode.pose[0, 3], abs=1e-6)
