@@ -130,11 +130,18 @@ def modes_summary(modes: AssemblyModes) -> str:
     certificate = ""
     if modes.certified_roots is not None and modes.root_count is not None:
         complete = (np.asarray(modes.certified_roots) == modes.root_count) & modes.root_count_proven
-        certificate = (
-            "; certified complete"
-            if complete.all()
-            else f"; certified complete for {int(complete.sum())} of {complete.size}"
-        )
+        if complete.all():
+            certificate = "; certified complete"
+        elif count.ndim == 0:  # one input: say how far the certificate got
+            missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
+            certificate = (
+                f"; not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
+                f"certified, {missing} not (path_certified: which paths)"
+                if modes.root_count_proven
+                else "; not certified complete: the root count is not proven"
+            )
+        else:
+            certificate = f"; certified complete for {int(complete.sum())} of {complete.size} inputs"
     return f"AssemblyModes: {found}{method}{certificate}"
 
 

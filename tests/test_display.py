@@ -76,3 +76,22 @@ def test_assembly_modes_repr_is_a_table_of_modes_in_the_stated_convention():
     assert len(cells.rows) == 41 and cells.rows[0][0] == "mode"
     batch = repr(m.forward_pose_all(np.stack([m.home_actuated] * 3)))
     assert batch.splitlines()[0].startswith("AssemblyModes: a batch of 3 inputs") and len(batch.splitlines()) == 2
+
+
+def test_an_incomplete_certificate_of_one_input_says_how_far_it_got():
+    """A symmetric design at its centre has double complex roots, which no Krawczyk box
+    certifies: the summary line counts the certified roots instead of 'complete for 0 of 1'."""
+    m = parakin.load("planar_3rrr")
+    modes = m.forward_pose_all(m.home_actuated)
+    certificate = modes.certificate()
+    certified, total = int(certificate["certified_roots"]), int(certificate["root_count"])
+    assert not certificate["complete"] and certified < total
+    assert (
+        repr(modes)
+        .splitlines()[0]
+        .endswith(
+            f"; not certified complete: {certified} of {total} roots certified, {total - certified} not "
+            "(path_certified: which paths)"
+        )
+    )
+    assert int((~modes.path_certified).sum()) == total - certified
