@@ -1,52 +1,18 @@
-"""Tables for people: a mechanism and its results as text (``print``) and HTML (notebooks).
-
-Every angle shown names its convention: poses as position (x, y, z) in metres and Z-Y-X Euler
-angles (alpha about z, beta about y', gamma about x'', in degrees) of ^B_P R; revolute joint
-values in degrees with the unit written. Modes are numbered 0 .. count - 1, as ``mode(k)``.
-"""
+"""A mechanism as tables for people (``print(m)``, and HTML in notebooks): its parameters with
+units, variables with kinds, units, home values and limits, capabilities and named examples.
+Revolute home values are shown in degrees too, with the unit written (``parakin.tables``)."""
 
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from parakin.pose import xyz_euler_deg_from_pose
+from parakin.tables import Rows, html_table, text_table
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
-    from parakin.results import AssemblyModes
-
-Rows = list[list[str]]
-#: the convention of every pose column
-POSE_HEADERS = ["x [m]", "y [m]", "z [m]", "alpha [deg]", "beta [deg]", "gamma [deg]"]
-POSE_CONVENTION = "pose: position of the origin of {P} in {B}, Z-Y-X Euler angles (alpha, beta, gamma) of ^B_P R"
-#: at most this many rows of a table are shown (the rest counted)
-ROWS_SHOWN = 40
-
-
-def text_table(headers: Sequence[str], rows: Rows, indent: str = "  ") -> str:
-    """Columns padded to their widest cell, a rule under the headers; rows past ROWS_SHOWN are
-    counted, not shown."""
-    shown = rows[:ROWS_SHOWN]
-    widths = [max(len(str(c)) for c in column) for column in zip(headers, *shown, strict=True)]
-    lines = ["  ".join(str(h).ljust(w) for h, w in zip(headers, widths, strict=True)).rstrip()]
-    lines.append("  ".join("-" * w for w in widths))
-    lines += ["  ".join(str(c).ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in shown]
-    if len(rows) > len(shown):
-        lines.append(f"... {len(rows) - len(shown)} more rows")
-    return "\n".join(indent + line for line in lines)
-
-
-def html_table(headers: Sequence[str], rows: Rows) -> str:
-    head = "".join(f"<th>{html.escape(str(h))}</th>" for h in headers)
-    body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>" for row in rows[:ROWS_SHOWN]
-    )
-    more = f"<p>... {len(rows) - ROWS_SHOWN} more rows</p>" if len(rows) > ROWS_SHOWN else ""
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{more}"
+    from parakin.loaded import LoadedMechanism
 
 
 def _number(value: float) -> str:
@@ -57,7 +23,7 @@ def _limits(low: float, high: float) -> str:
     return f"[{_number(low)}, {_number(high)}]"
 
 
-def mechanism_sections(m: Mechanism) -> tuple[list[str], list[tuple[str, list[str], Rows]]]:
+def mechanism_sections(m: LoadedMechanism) -> tuple[list[str], list[tuple[str, list[str], Rows]]]:
     """(heading lines, [(section title, headers, rows)]) describing ``m``."""
     manifest = m.manifest
     heading = [f"{manifest.name}: {manifest.title}", str(manifest.citation)]
@@ -81,7 +47,7 @@ def mechanism_sections(m: Mechanism) -> tuple[list[str], list[tuple[str, list[st
     return heading, sections
 
 
-def capability_rows(m: Mechanism) -> Rows:
+def capability_rows(m: LoadedMechanism) -> Rows:
     caps = m.capabilities
     rows = []
     if caps.inverse is not None:
@@ -103,7 +69,7 @@ def capability_rows(m: Mechanism) -> Rows:
     return rows
 
 
-def mechanism_text(m: Mechanism) -> str:
+def mechanism_text(m: LoadedMechanism) -> str:
     heading, sections = mechanism_sections(m)
     parts = list(heading)
     for title, headers, rows in sections:
@@ -111,7 +77,7 @@ def mechanism_text(m: Mechanism) -> str:
     return "\n".join(parts)
 
 
-def mechanism_html(m: Mechanism) -> str:
+def mechanism_html(m: LoadedMechanism) -> str:
     heading, sections = mechanism_sections(m)
     out = [f"<h4>{html.escape(heading[0])}</h4>"] + [f"<p>{html.escape(line)}</p>" for line in heading[1:]]
     for title, headers, rows in sections:
@@ -119,52 +85,4 @@ def mechanism_html(m: Mechanism) -> str:
     return "<div class='parakin'>" + "".join(out) + "</div>"
 
 
-def modes_summary(modes: AssemblyModes) -> str:
-    """One line: input batch, modes found, method, certificate."""
-    count = np.asarray(modes.count)
-    method = f" by {modes.method}" if modes.method else ""
-    if count.ndim == 0:
-        found = f"{int(count)} assembly mode{'s' if int(count) != 1 else ''}"
-    else:
-        found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
-    certificate = ""
-    if modes.certified_roots is not None and modes.root_count is not None:
-        complete = (np.asarray(modes.certified_roots) == modes.root_count) & modes.root_count_proven
-        certificate = (
-            "; certified complete"
-            if complete.all()
-            else f"; certified complete for {int(complete.sum())} of {complete.size}"
-        )
-    return f"AssemblyModes: {found}{method}{certificate}"
-
-
-def modes_rows(modes: AssemblyModes) -> Rows:
-    """One row per mode of a single input: mode k, pose, conditioning."""
-    valid = np.flatnonzero(np.asarray(modes.valid))
-    poses = xyz_euler_deg_from_pose(modes.poses[valid]) if valid.size else np.zeros((0, 6))
-    conditioning = np.asarray(modes.conditioning)[valid]
-    return [[str(k), *(f"{v:.6g}" for v in pose), f"{c:.3g}"] for k, (pose, c) in enumerate(zip(poses, conditioning,
-                                                                                             strict=True))]  # fmt: skip
-
-
-MODE_HEADERS = ["mode", *POSE_HEADERS, "conditioning"]
-
-
-def modes_text(modes: AssemblyModes) -> str:
-    lines = [modes_summary(modes)]
-    if np.ndim(modes.count) == 0 and int(modes.count):
-        lines += [f"  {POSE_CONVENTION}; conditioning: 1 well conditioned, 0 singular",
-                  text_table(MODE_HEADERS, modes_rows(modes))]  # fmt: skip
-    elif np.ndim(modes.count):
-        lines.append("  modes per input (count): " + np.array2string(np.asarray(modes.count), threshold=20))
-    return "\n".join(lines)
-
-
-def modes_html(modes: AssemblyModes) -> str:
-    out = [f"<p><b>{html.escape(modes_summary(modes))}</b></p>"]
-    if np.ndim(modes.count) == 0 and int(modes.count):
-        out += [f"<p>{html.escape(POSE_CONVENTION)}</p>", html_table(MODE_HEADERS, modes_rows(modes))]
-    return "<div class='parakin'>" + "".join(out) + "</div>"
-
-
-__all__ = ["html_table", "mechanism_html", "mechanism_text", "modes_html", "modes_text", "text_table"]
+__all__ = ["mechanism_html", "mechanism_text"]

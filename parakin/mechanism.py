@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.backends import Backend, broadcast_shapes
+from parakin.backends import Backend
 from parakin.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
@@ -40,6 +40,7 @@ from parakin.pose import (
     LEG_TWIST,
     RIGID_TOLERANCE,
     as_array,
+    pose_vector,
     rigid_or_nan,
     rigidity_error,
     transform_from_pose,
@@ -50,6 +51,7 @@ from parakin.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
     bounded_vector,
+    broadcast_shapes,
     integer_in_range,
     newton_tolerance,
     positive_number,
@@ -69,11 +71,6 @@ CONSTRAINT_TOLERANCE = 1e-6
 
 def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
-
-
-def pose_vector(pose: Array) -> Array:
-    """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
-    return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
 
 
 class Mechanism:
@@ -934,4 +931,4 @@ class Mechanism:
         return {name: values[..., k] for k, name in enumerate(names)}
 
 
-__all__ = ["Mechanism", "pose_vector"]
+__all__ = ["Mechanism"]

@@ -38,12 +38,12 @@ from parakin.homotopy import (
     track_symmetric,
 )
 from parakin.polynomial import isolate_real_roots
-from parakin.pose import wrap_angle
+from parakin.pose import pose_vector, wrap_angle
 from parakin.results import Array, AssemblyModes
 
 if TYPE_CHECKING:
+    from parakin.loaded import LoadedMechanism as Mechanism  # the interface parakin.Mechanism implements
     from parakin.manifest import Forward, Homotopy
-    from parakin.mechanism import Mechanism
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096
@@ -607,8 +607,6 @@ def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: 
     they miss it; the same rule as the C driver's ``passive_from_pose``: every sign pattern in one
     ``inverse_pose_patterns`` call, each independent branch group choosing its own pattern (ranked
     by actuated mismatch, +1e3 per invalid validity measure; NaN where no pattern is finite)."""
-    from parakin.mechanism import pose_vector
-
     inverse = m.capabilities.inverse
     assert inverse is not None
     n_groups = len(inverse.groups)

@@ -366,7 +366,7 @@ class ViewerSession:
             modes = self._assembly_modes(theta)
         except ParakinError as error:
             return {"ok": False, "error": _error(error), "actuated": actuated, "count": 0, "rows": []}
-        from parakin.display import modes_rows, modes_summary
+        from parakin.results import modes_rows, modes_summary
 
         with self._lock:
             drawn = self._config
