@@ -13,6 +13,7 @@ FOLDERS = sorted(p.name for p in GENERATED.iterdir() if (p / "manifest.json").is
 setup(
     packages=[
         "parakin",
+        "parakin.packages",
         "parakin.generator",
         "parakin.generator.templates",
         "parakin.mechanisms",

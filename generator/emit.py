@@ -18,7 +18,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from parakin.homotopy import path_pairs
-from parakin.subtrees import shared_subtrees
+from parakin.packages.subtrees import shared_subtrees
 
 from .program import LoweredProgram
 

@@ -21,7 +21,6 @@ import warnings
 from collections.abc import Mapping
 from typing import Any
 
-from parakin.backends import make_backend
 from parakin.errors import (
     ArchitectureSingularityWarning,
     AssemblyModeChangeError,
@@ -41,9 +40,10 @@ from parakin.errors import (
     UnreachablePoseError,
     UnsupportedOperationError,
 )
-from parakin.manifest import Manifest, unknown_name
 from parakin.mechanism import Mechanism
-from parakin.package import GeneratedPackage, readable_names
+from parakin.packages.backends import make_backend
+from parakin.packages.manifest import Manifest, unknown_name
+from parakin.packages.package import GeneratedPackage, readable_names
 from parakin.pose import (
     euler_zyx_to_rotation,
     pose_from_xyz_euler,

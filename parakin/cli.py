@@ -21,7 +21,7 @@ import numpy as np
 import parakin
 from parakin.continuation import SelfMotion
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
-from parakin.manifest import Manifest, Variable, unknown_name
+from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS
 from parakin.results import Configuration
 
@@ -137,7 +137,7 @@ def _print(record: dict[str, Any], as_json: bool) -> None:
 
 
 def _list(args: argparse.Namespace) -> int:
-    from parakin.package import survey
+    from parakin.packages.package import survey
 
     readable, broken = survey()
     for name, reason in broken.items():  # reported and skipped: the others are still listed
@@ -281,7 +281,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
 
 
 def _export(args: argparse.Namespace) -> int:
-    from parakin.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage
 
     package = GeneratedPackage.find(args.name)
     written = package.export_c(args.out)

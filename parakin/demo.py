@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from parakin.errors import ParakinError
-from parakin.manifest import Example
+from parakin.packages.manifest import Example
 from parakin.pose import xyz_euler_from_pose
 from parakin.results import Array, AssemblyModes
 

@@ -60,7 +60,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from parakin.errors import UnsupportedOperationError
-from parakin.subtrees import shared_subtrees
+from parakin.packages.subtrees import shared_subtrees
 
 #: expressions of more nodes than this print with their repeated subexpressions named
 SHARE_ABOVE = 400
@@ -245,7 +245,7 @@ def _display_names(sympy: Any, manifest: Any, objects: dict[str, Any], sections:
 
 def _notes(name: str | os.PathLike[str]) -> dict[str, list[str]]:
     """The generator's notes on each forward method's unknowns and family parameters."""
-    from parakin.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage
 
     try:
         data = json.loads((GeneratedPackage.find(name).path / "manifest.json").read_text())

@@ -16,8 +16,8 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.backends import Backend
-from parakin.manifest import Capabilities, Manifest
+from parakin.packages.backends import Backend
+from parakin.packages.manifest import Capabilities, Manifest
 from parakin.results import Array, Configuration, ForwardPose, NewtonOutcome
 from parakin.tracker import ForwardPoseTracker
 

@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.backends import Backend
 from parakin.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
@@ -33,9 +32,10 @@ from parakin.errors import (
     raise_for_newton_status,
 )
 from parakin.linalg import pivoted_solve
-from parakin.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.modes import assemble, certify, compiled_modes, numpy_modes
-from parakin.package import GeneratedPackage
+from parakin.packages.backends import Backend
+from parakin.packages.manifest import Capabilities, Forward, Manifest, Variable
+from parakin.packages.package import GeneratedPackage
 from parakin.pose import (
     LEG_TWIST,
     RIGID_TOLERANCE,

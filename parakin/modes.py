@@ -43,7 +43,7 @@ from parakin.results import Array, AssemblyModes
 
 if TYPE_CHECKING:
     from parakin.loaded import LoadedMechanism as Mechanism  # the interface parakin.Mechanism implements
-    from parakin.manifest import Forward, Homotopy
+    from parakin.packages.manifest import Forward, Homotopy
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096

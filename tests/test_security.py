@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 import parakin
-from parakin.manifest import Manifest
-from parakin.package import GeneratedPackage
+from parakin.packages.manifest import Manifest
+from parakin.packages.package import GeneratedPackage
 
 SOURCE = "sphere2r"  # the smallest package: quick to compile
 
@@ -215,7 +215,7 @@ def test_a_broken_package_is_reported_named_and_skipped(tmp_path, monkeypatch):
 
 def test_every_shipped_manifest_passes_the_checks():
     """The generator writes only what the reader accepts: every shipped package reads."""
-    readable, broken = parakin.package.survey()
+    readable, broken = parakin.packages.package.survey()
     assert broken == {}
     assert set(readable) >= {"sam", "spm", "sphere2r"}
 

@@ -29,7 +29,7 @@ from parakin.errors import (
     ParakinError,
 )
 from parakin.log import logger
-from parakin.package import GeneratedPackage
+from parakin.packages.package import GeneratedPackage
 from parakin.results import Array
 from parakin.validation import broadcast_batch
 

@@ -12,9 +12,9 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from parakin.compiled import CompiledBackend
 from parakin.errors import BackendFallbackWarning, BadInputError, CompiledUnavailableError, UnsupportedOperationError
-from parakin.package import GeneratedPackage
+from parakin.packages.compiled import CompiledBackend
+from parakin.packages.package import GeneratedPackage
 from parakin.results import Array
 from parakin.validation import batch_shape, broadcast_batch
 
