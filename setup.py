@@ -14,6 +14,7 @@ setup(
     packages=[
         "parakin",
         "parakin.packages",
+        "parakin.solvers",
         "parakin.generator",
         "parakin.generator.templates",
         "parakin.mechanisms",

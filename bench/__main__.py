@@ -20,8 +20,8 @@ from parakin.generator.build import discover, generate
 
 import parakin
 from bench.timing import best_time
-from parakin.homotopy import path_pairs
 from parakin.sampling import sample_configurations
+from parakin.solvers.homotopy import path_pairs
 
 BATCHES = [1, 1000]
 BASELINE_POSES = 50  # the scipy baseline loops in Python: timed on this many, reported per pose
@@ -184,7 +184,7 @@ METHOD_INPUTS = 40
 
 def tracked_paths(info) -> int:
     """Paths tracked per input: a homotopy with a sign symmetry tracks one path of each pair
-    (``parakin.homotopy.path_pairs``); a closed form has one slot per root."""
+    (``parakin.solvers.homotopy.path_pairs``); a closed form has one slot per root."""
     homotopy = info.homotopy
     if homotopy is None:
         return int(info.degree)

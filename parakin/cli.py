@@ -19,11 +19,11 @@ from typing import Any
 import numpy as np
 
 import parakin
-from parakin.continuation import SelfMotion
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS
 from parakin.results import Configuration
+from parakin.solvers.continuation import SelfMotion
 
 
 def _pose_arguments(coordinates: tuple[str, ...]) -> tuple[str, int]:

@@ -12,7 +12,7 @@ import numpy as np
 from parakin.tables import Rows, html_table, text_table
 
 if TYPE_CHECKING:
-    from parakin.loaded import LoadedMechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 def _number(value: float) -> str:

@@ -40,7 +40,7 @@ from parakin.errors import (
 from parakin.results import Array, AssemblyModes, Configuration
 
 if TYPE_CHECKING:
-    from parakin.loaded import LoadedMechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 # ---------------------------------------------------------- the scene: what a picture shows

@@ -182,7 +182,7 @@ class AssemblyModes:
         at generation time, by the total-degree bound or the trace test, where
         ``root_count_proven``), ``certified_roots``
         (distinct roots of the system at the input, each in a Krawczyk box holding exactly one
-        root: ``parakin.certify``), ``complete`` (the two are equal and the count is proven: no
+        root: ``parakin.solvers.certify``), ``complete`` (the two are equal and the count is proven: no
         solution can be missing, so the modes returned are all of them), ``uncertified_paths``
         (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run
         was not complete: tracked again from the second start instance with tighter steps, the

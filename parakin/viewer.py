@@ -42,14 +42,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from parakin.errors import BadInputError, ParakinError
-from parakin.linalg import pivoted_solve
 from parakin.pose import xyz_euler_deg_from_pose
 from parakin.results import AssemblyModes, Configuration
+from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import within_ranges
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
-    from parakin.tracker import ForwardPoseTracker
+    from parakin.solvers.tracker import ForwardPoseTracker
 
 #: slider positions per input range
 SLIDER_STEPS = 2000

@@ -1,4 +1,4 @@
-"""parakin.certify: Krawczyk certificates of roots, checked against systems whose roots are known
+"""parakin.solvers.certify: Krawczyk certificates of roots, checked against systems whose roots are known
 exactly (products of linear factors with integer or Gaussian-integer roots: exact coefficients)."""
 
 import itertools
@@ -6,8 +6,8 @@ import itertools
 import numpy as np
 import pytest
 
-from parakin.certify import _monomials, _System, certify_roots
 from parakin.errors import BadInputError
+from parakin.solvers.certify import _monomials, _System, certify_roots
 
 pytestmark = pytest.mark.filterwarnings("error")  # certify_roots never warns, NaN rows included
 

@@ -396,7 +396,7 @@ def test_stiffness_refuses_malformed_stiffnesses(name, backend):
     @given(key=st.sampled_from(sorted(cases)), through=st.sampled_from(["method", "function"]))
     def property_holds(key, through):
         expect, value = cases[key]
-        from parakin.statics import stiffness
+        from parakin.solvers.statics import stiffness
 
         call = (
             (lambda: m.stiffness(fx.state, value)) if through == "method" else (lambda: stiffness(m, fx.state, value))

@@ -28,9 +28,9 @@ from parakin.errors import (
     UnsupportedOperationError,
     raise_for_newton_status,
 )
-from parakin.linalg import pivoted_solve
 from parakin.pose import rigid_or_nan, wrap_angle
 from parakin.results import Array, Configuration
+from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
 #: ``ForwardPoseTracker.mode_change`` codes

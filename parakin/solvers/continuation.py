@@ -22,7 +22,7 @@ from parakin.pose import rigid_or_nan
 from parakin.results import Array
 
 if TYPE_CHECKING:
-    from parakin.loaded import LoadedMechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 @dataclass(frozen=True)

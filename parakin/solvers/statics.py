@@ -41,7 +41,7 @@ from parakin.results import Array, Configuration, ForwardPose
 from parakin.validation import bounded_vector, stiffness_matrix
 
 if TYPE_CHECKING:
-    from parakin.loaded import LoadedMechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 Wrench = ArrayLike | Callable[[Configuration], ArrayLike]

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from parakin.packages.backends import Backend
 from parakin.packages.manifest import Capabilities, Manifest
 from parakin.results import Array, Configuration, ForwardPose, NewtonOutcome
-from parakin.tracker import ForwardPoseTracker
+from parakin.solvers.tracker import ForwardPoseTracker
 
 
 class LoadedMechanism(Protocol):
