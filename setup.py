@@ -15,6 +15,7 @@ setup(
         "parakin",
         "parakin.packages",
         "parakin.solvers",
+        "parakin.studies",
         "parakin.generator",
         "parakin.generator.templates",
         "parakin.mechanisms",

@@ -340,7 +340,7 @@ def _fixed(text: str) -> tuple[str, float]:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     m = _load(args)
     axes = dict(_axis(a) for a in args.axis)
@@ -360,7 +360,7 @@ def _sweep(args: argparse.Namespace) -> int:
         )
         print(f"{name:24s} {dict(values.sizes)}  {summary}  ({finite.size}/{array.size} defined)")
     if args.plot:
-        from parakin.atlas import plot_sweep
+        from parakin.studies.atlas import plot_sweep
 
         quantity = args.plot_quantity or str(next(iter(result.data_vars)))
         plot_sweep(result, quantity, args.plot)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 WITH_LOOPS = [name for name in parakin.available() if parakin.metadata(name).passive]
 #: the mechanisms whose derived form got a start system (sam's has no regular start point: it keeps

@@ -207,7 +207,7 @@ def test_sweep_fixed_passes_actuated_inputs_through(tmp_path):
     mode counts on the grid differ from the home's (found by count_modes, not by the sweep: the
     counts near home do not change with theta1, so a value that gives the home's counts would
     not show that the value arrived)."""
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     xr = pytest.importorskip("xarray")
     m = parakin.load("sam", backend="numpy")

@@ -537,13 +537,13 @@ def test_forward_refuses_what_the_inverse_refuses_many_poses(name, backend):
 
 # ---------------------------------------------------------------------------- item 10: sweeps
 def sweep_of(m, quantities, axes, fixed=None):
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     return sweep(m, quantities, axes, fixed=fixed, scheduler="synchronous")
 
 
 def pose_coordinates(m) -> tuple[str, ...]:
-    from parakin.sweep import POSE_COORDINATES
+    from parakin.studies.sweep import POSE_COORDINATES
 
     return POSE_COORDINATES[m.manifest.pose_kind]
 

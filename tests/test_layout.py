@@ -5,6 +5,8 @@ a public API listed in ``parakin.__all__``."""
 import ast
 from pathlib import Path
 
+import parakin
+
 ROOT = Path(__file__).resolve().parent.parent
 RUNTIME = ROOT / "parakin"
 
@@ -173,3 +175,25 @@ def test_the_circle_finder_finds_circles(tmp_path):
     assert cycles(graph) == [["parakin.a", "parakin.sub.b", "parakin.sub.c", "parakin.a"]]
     assert cycles({"x": {"x"}}) == [["x", "x"]]
     assert cycles({"x": {"y"}, "y": set()}) == []
+
+
+def test_the_public_api_is_what_all_lists():
+    """Every name ``parakin`` binds (besides its submodules and dunders) is in ``__all__``, and
+    every listed name resolves; ``parakin.sweep`` is the sweep function, not a module."""
+    import __future__
+
+    import types
+
+    import parakin.studies.sweep as sweep_module
+
+    bound = {
+        name
+        for name, value in vars(parakin).items()
+        if not name.startswith("_") and not isinstance(value, types.ModuleType | __future__._Feature)
+    }
+    assert bound == set(parakin.__all__)
+    assert len(parakin.__all__) == len(set(parakin.__all__)) >= 35
+    assert all(getattr(parakin, name) is not None for name in parakin.__all__)
+    from parakin import sweep
+
+    assert sweep is parakin.sweep is sweep_module.sweep and isinstance(sweep, types.FunctionType)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import near_singular_configurations, sample_configurations
+from parakin.studies.sampling import near_singular_configurations, sample_configurations
 
 WITH_MODES = [n for n in parakin.available() if parakin.metadata(n).capabilities.forward is not None]
 #: forward pose by a parameter homotopy: ~0.15 s an input on NumPy (a univariate polynomial: ~0.1 ms)

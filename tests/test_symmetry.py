@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import sample_configurations
 from parakin.solvers.homotopy import (
     path_pairs,
     sign_symmetry,
@@ -21,6 +20,7 @@ from parakin.solvers.homotopy import (
     track_symmetric,
 )
 from parakin.solvers.modes import _path_table
+from parakin.studies.sampling import sample_configurations
 
 
 def test_the_parity_test_finds_the_quaternion_sign_and_nothing_where_there_is_none():

@@ -13,7 +13,7 @@ import pytest
 
 import parakin
 from parakin.pose import wrap_angle
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 TRACKED = [n for n in parakin.available() if parakin.metadata(n).passive_names]
 
