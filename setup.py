@@ -16,6 +16,7 @@ setup(
         "parakin.packages",
         "parakin.solvers",
         "parakin.studies",
+        "parakin.interfaces",
         "parakin.generator",
         "parakin.generator.templates",
         "parakin.mechanisms",
@@ -23,7 +24,8 @@ setup(
         *(f"parakin.generated.{name}" for name in FOLDERS),
     ],
     package_data={
-        "parakin": ["py.typed", "viewer.html"],
+        "parakin": ["py.typed"],
+        "parakin.interfaces": ["viewer.html"],
         "parakin.generator.templates": ["*.j2", "*.h"],
         **{f"parakin.generated.{name}": ["*.json", "*.c", "*.h", "*.md"] for name in FOLDERS},
     },

@@ -146,12 +146,12 @@ class Mechanism:
     def __str__(self) -> str:
         """Tables of the parameters (values, units), variables (kinds, units, home, limits),
         capabilities and named examples, under the title and citation."""
-        from parakin.display import mechanism_text
+        from parakin.interfaces.display import mechanism_text
 
         return mechanism_text(self)
 
     def _repr_html_(self) -> str:
-        from parakin.display import mechanism_html
+        from parakin.interfaces.display import mechanism_html
 
         return mechanism_html(self)
 
@@ -896,8 +896,8 @@ class Mechanism:
     ) -> Any:
         """Draw the mechanism (metres; 2-D for a planar drawing, on its sphere for a spherical
         one) in a configuration, mode ``mode`` of an AssemblyModes, or all its modes as a grid;
-        a PNG is written to ``path`` when given (``parakin.plot.plot``). Needs matplotlib."""
-        from parakin.plot import plot
+        a PNG is written to ``path`` when given (``parakin.interfaces.plot.plot``). Needs matplotlib."""
+        from parakin.interfaces.plot import plot
 
         return plot(self, state, path, ax, title, mode=mode, all_modes=all_modes)
 

@@ -859,7 +859,7 @@ def cli_arguments(draw_name, values, tmp: Path) -> st.SearchStrategy[list[str]]:
 
 
 def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    from parakin.cli import main
+    from parakin.interfaces.cli import main
 
     stdout, stderr = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr), warnings.catch_warnings():

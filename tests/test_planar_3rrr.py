@@ -16,8 +16,8 @@ from parakin.mechanisms import planar_3rrr
 from scipy.optimize import brentq
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 from parakin.results import Configuration
 from parakin.solvers.linalg import pivoted_solve

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin import cli
+from parakin.interfaces import cli
 from parakin.packages.manifest import SUPPORTED_SCHEMA
 
 ROOT = Path(__file__).resolve().parent.parent

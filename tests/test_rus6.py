@@ -23,8 +23,8 @@ from parakin.mechanisms.stewart import (
 )
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 from parakin.results import Configuration
 from parakin.solvers.linalg import pivoted_solve

@@ -95,7 +95,7 @@ def test_export_writes_only_inside_out(tmp_path, edit, entry):
     out = tmp_path / "deep" / "er" / "out"
     before = files_under(tmp_path)
     done = subprocess.run(
-        [sys.executable, "-W", "ignore", "-m", "parakin.cli", "export", str(package), "--out", str(out)],
+        [sys.executable, "-W", "ignore", "-m", "parakin.interfaces.cli", "export", str(package), "--out", str(out)],
         capture_output=True,
         text=True,
     )
@@ -205,7 +205,7 @@ def test_a_broken_package_is_reported_named_and_skipped(tmp_path, monkeypatch):
         parakin.load("broken_one")
     assert parakin.load("good_copy", backend="numpy").name == SOURCE
     done = subprocess.run(
-        [sys.executable, "-m", "parakin.cli", "list"], capture_output=True, text=True, env=dict(os.environ)
+        [sys.executable, "-m", "parakin.interfaces.cli", "list"], capture_output=True, text=True, env=dict(os.environ)
     )
     assert done.returncode == 0, done.stderr
     listed = [line.split()[0] for line in done.stdout.splitlines()]

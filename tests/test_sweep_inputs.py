@@ -17,7 +17,7 @@ pytest.importorskip("dask")
 from test_sweep import _five_bar_reachable  # noqa: E402
 
 import parakin  # noqa: E402
-from parakin.cli import main  # noqa: E402
+from parakin.interfaces.cli import main  # noqa: E402
 from parakin.studies.sweep import sweep  # noqa: E402
 
 # SAM's inputs other than the two swept, fixed explicitly (the values of its home at 6bfa97b),

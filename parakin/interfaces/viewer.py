@@ -20,7 +20,7 @@ network) and a JSON API over a ``ViewerSession``:
 
 Nothing here knows a mechanism: every slider, measure and polyline comes from the manifest.
 ``serve(m)`` starts a server (``Viewer``: ``url``, ``close()``, a context manager, an iframe in
-notebooks), ``show(m)`` returns that iframe, ``python -m parakin.viewer NAME`` serves one from the
+notebooks), ``show(m)`` returns that iframe, ``python -m parakin.interfaces.viewer NAME`` serves one from the
 shell (``main(argv)``).
 """
 
@@ -417,7 +417,7 @@ class ViewerSession:
 
 def page() -> str:
     """The viewer's HTML page (self-contained: no script or style from the network)."""
-    return resources.files("parakin").joinpath("viewer.html").read_text(encoding="utf-8")
+    return resources.files("parakin.interfaces").joinpath("viewer.html").read_text(encoding="utf-8")
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -548,11 +548,11 @@ def show(m: Mechanism, port: int = 0, width: str = "100%", height: int = 640) ->
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m parakin.viewer NAME [--port P]``: serve a viewer of NAME, print its URL, run
+    """``python -m parakin.interfaces.viewer NAME [--port P]``: serve a viewer of NAME, print its URL, run
     until interrupted. Exit status 0, or 2 for an unknown mechanism or bad arguments."""
     import parakin
 
-    parser = argparse.ArgumentParser(prog="python -m parakin.viewer", description=main.__doc__)
+    parser = argparse.ArgumentParser(prog="python -m parakin.interfaces.viewer", description=main.__doc__)
     parser.add_argument("name", help="a mechanism name (parakin list) or package folder")
     parser.add_argument("--port", type=int, default=0, help="port to listen on (default: any free port)")
     parser.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")

@@ -13,10 +13,10 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
 * ``latex``: one complete document (``pdflatex`` compiles it: amsmath and geometry only); the
   repeated subexpressions of the whole report are named once (``s_k``), each where it is first
   needed; long expressions are inline math, which breaks after + and -.
-* ``json``: one object, described by this schema (schema ``"parakin.inspect/1"``)::
+* ``json``: one object, described by this schema (schema ``"parakin.interfaces.inspect/1"``)::
 
     {
-      "schema": "parakin.inspect/1",
+      "schema": "parakin.interfaces.inspect/1",
       "manifest": NAME, "title": TEXT, "citation": TEXT,
       "symbols": {DISPLAY: {
           "name": SYMPY_NAME, "assumptions": {"real": true, ...},
@@ -680,7 +680,7 @@ def _as_json(sympy: Any, report: _Report) -> str:
             item["value"] = entry.value
         symbols[display] = item
     data = {
-        "schema": "parakin.inspect/1",
+        "schema": "parakin.interfaces.inspect/1",
         "manifest": manifest.name,
         "title": manifest.title,
         "citation": str(manifest.citation),

@@ -206,7 +206,7 @@ def _fk(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from parakin.demo import format_results, run_examples
+    from parakin.interfaces.demo import format_results, run_examples
 
     names = [args.name] if args.name else parakin.available()
     failed = 0
@@ -221,7 +221,7 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from parakin.plot import plot
+    from parakin.interfaces.plot import plot
 
     m = _load(args)
     degrees = args.actuated_deg is not None
@@ -257,7 +257,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
     """``parakin plot NAME --animate OUT.gif``: a straight line to ``--to``, or else a loop through
     the start (``actuated_loop``), shrunk up to three times while it crosses a singularity or
     leaves the workspace; the start is ``--mode K`` or the mode nearest the home."""
-    from parakin.plot import actuated_line, actuated_loop, animate
+    from parakin.interfaces.plot import actuated_line, actuated_loop, animate
 
     frames = 24 if args.frames is None else args.frames
     start = None if args.mode is None else m.forward_pose_all(actuated).mode(args.mode)
@@ -310,7 +310,7 @@ def _generate(args: argparse.Namespace) -> int:
 
 
 def _inspect(args: argparse.Namespace) -> int:
-    from parakin.inspect import inspect
+    from parakin.interfaces.inspect import inspect
 
     print(inspect(args.name, args.format, args.width, args.lines))
     return 0
@@ -470,7 +470,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _view(args: argparse.Namespace) -> int:
-    from parakin.viewer import main as viewer
+    from parakin.interfaces.viewer import main as viewer
 
     return viewer(args.arguments)
 
