@@ -551,7 +551,7 @@ def track(m: LoadedMechanism, path: ArrayLike, start: Configuration | None = Non
             q, pose = _step(tracker, theta[k - 1], theta[k])
         except ParakinError as error:
             raise _at_frame(error, k, frames, theta[k]) from error
-        passive[k], poses[k] = q[0], pose[0]
+        passive[k], poses[k] = q, pose
         if limited and not m.within_limits(passive[k]):
             raise UnreachablePoseError(
                 f"animation frame {k} of {frames} (actuated {theta[k]}): the tracked configuration leaves "

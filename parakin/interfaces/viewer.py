@@ -134,7 +134,7 @@ class ViewerSession:
             solved = self.m.forward_pose(actuated)
             return Configuration(np.array(solved.actuated), np.array(solved.passive), np.array(solved.pose))
         passive, pose = self._tracker.solve(actuated)
-        return Configuration(self._tracker.actuated[0].copy(), passive[0].copy(), pose[0].copy())
+        return Configuration(self._tracker.actuated[0].copy(), passive.copy(), pose.copy())
 
     # ------------------------------------------------------------------ what a configuration shows
     def _polylines(self, config: Configuration) -> dict[str, list[list[float | None]]]:
