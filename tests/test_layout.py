@@ -145,6 +145,37 @@ def test_the_runtime_has_no_import_circle():
     assert found == [], "import circles:\n" + "\n".join(" -> ".join(circle) for circle in found)
 
 
+#: the runtime's parts, lowest first: the foundation (errors, log, validation, pose, results,
+#: tables: the other top-level modules), the generated packages, the solvers, then what is built
+#: on them: the Mechanism with parakin.load (the facade), design studies and interfaces
+LOWER_PARTS = ("foundation", "packages", "solvers")
+FACADE = {"parakin", "parakin.__main__", "parakin.mechanism", "parakin.loading"}
+
+
+def _part(module: str) -> str:
+    parts = module.split(".")
+    if len(parts) > 2 or (len(parts) == 2 and (RUNTIME / parts[1]).is_dir()):
+        return parts[1]
+    return "facade" if module in FACADE else "foundation"
+
+
+def test_the_lower_parts_import_nothing_above_them():
+    """The foundation imports only the foundation, packages/ the two of them, solvers/ the three:
+    none of them knows the Mechanism, a study or an interface."""
+    graph = import_graph()
+    parts = {module: _part(module) for module in graph}
+    assert set(parts.values()) == {*LOWER_PARTS, "facade", "studies", "interfaces"}, parts
+    rank = {part: LOWER_PARTS.index(part) if part in LOWER_PARTS else len(LOWER_PARTS) for part in parts.values()}
+    upward = sorted(
+        f"{module} ({parts[module]}) -> {target} ({parts[target]})"
+        for module, targets in graph.items()
+        for target in targets
+        if parts[module] in LOWER_PARTS and rank[parts[target]] > rank[parts[module]]
+    )
+    assert upward == [], "\n".join(upward)
+    assert sum(parts[m] in LOWER_PARTS for m in graph) >= 20
+
+
 def test_the_circle_finder_finds_circles(tmp_path):
     """The checker on a made-up runtime with the kinds of import it must see: a function-level
     import, one under TYPE_CHECKING, a relative one, ``from package import submodule``, and
