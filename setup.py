@@ -13,6 +13,10 @@ FOLDERS = sorted(p.name for p in GENERATED.iterdir() if (p / "manifest.json").is
 setup(
     packages=[
         "parakin",
+        "parakin.packages",
+        "parakin.solvers",
+        "parakin.studies",
+        "parakin.interfaces",
         "parakin.generator",
         "parakin.generator.templates",
         "parakin.mechanisms",
@@ -20,7 +24,8 @@ setup(
         *(f"parakin.generated.{name}" for name in FOLDERS),
     ],
     package_data={
-        "parakin": ["py.typed", "viewer.html"],
+        "parakin": ["py.typed"],
+        "parakin.interfaces": ["viewer.html"],
         "parakin.generator.templates": ["*.j2", "*.h"],
         **{f"parakin.generated.{name}": ["*.json", "*.c", "*.h", "*.md"] for name in FOLDERS},
     },

@@ -20,8 +20,8 @@ from parakin.generator.build import discover, generate
 
 import parakin
 from bench.timing import best_time
-from parakin.homotopy import path_pairs
-from parakin.sampling import sample_configurations
+from parakin.solvers.homotopy import path_pairs
+from parakin.studies.sampling import sample_configurations
 
 BATCHES = [1, 1000]
 BASELINE_POSES = 50  # the scipy baseline loops in Python: timed on this many, reported per pose
@@ -184,7 +184,7 @@ METHOD_INPUTS = 40
 
 def tracked_paths(info) -> int:
     """Paths tracked per input: a homotopy with a sign symmetry tracks one path of each pair
-    (``parakin.homotopy.path_pairs``); a closed form has one slot per root."""
+    (``parakin.solvers.homotopy.path_pairs``); a closed form has one slot per root."""
     homotopy = info.homotopy
     if homotopy is None:
         return int(info.degree)
@@ -329,7 +329,7 @@ def sweep_rows() -> list[str]:
     2-worker LocalCluster; scaling = local threads (or cluster) / one process."""
     import distributed
 
-    from parakin.sweep import POSE_COORDINATES, sweep
+    from parakin.studies.sweep import POSE_COORDINATES, sweep
 
     rows = []
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:

@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import parakin
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 
 def statistics(name: str, inputs: int, seed: int = 19, others: int | None = None) -> list[dict[str, object]]:

@@ -23,8 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from parakin.atlas import plot_sweep
-from parakin.sweep import sweep
+from parakin import sweep
+from parakin.studies.atlas import plot_sweep
 
 
 def main() -> None:

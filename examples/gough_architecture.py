@@ -14,7 +14,7 @@ t22 yA_i, 0) (eq 1), pose ^B_P T with O_P = B1, lengths in metres. NumPy only.
 * parakin itself, generically: ``parakin.load`` warns (ArchitectureSingularityWarning) when the
   mechanism's declared architecture measure vanishes, ``m.forward_pose_all`` reports the
   degenerate elimination and, where the locked legs leave a curve of poses, raises SelfMotionError
-  with the curve traced by continuation (``parakin.continuation.SelfMotion``).
+  with the curve traced by continuation (``parakin.solvers.continuation.SelfMotion``).
 * This module, the paper's section 5: ``conic_fit``, the conic through the six base points (eq 15,
   with A1 = O), fitted by the SVD of the scaled 6-point conic matrix [1, x, y, x^2, y^2, xy];
   ``compatibility``: on a singular geometry M u = L (8) is solvable iff lambda . L(l) = 0 (lambda
@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import parakin
-from parakin.polynomial import isolate_real_roots
+from parakin.solvers.polynomial import isolate_real_roots
 
 Array = NDArray[np.float64]
 

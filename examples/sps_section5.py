@@ -1,5 +1,5 @@
 """Knapczyk & Tora, section 5: the 3(SPS)-S spherical platform's printed example, on parakin's
-public API (``parakin.load("sps")`` and ``parakin.statics``).
+public API (``parakin.load("sps")`` and ``parakin.solvers.statics``).
 
     python examples/sps_section5.py [figure.png]
 
@@ -14,7 +14,7 @@ extends), i.e. parakin's actuator stiffness K_q = -diag(k). The external force F
 the platform point P, p_p in {P}, p_b = R p_p in {B}.
 
 Statics used instead of the paper's eqs (19c)-(23), which cannot hold as printed (J_p^-1 is
-singular, see ``jacobians``): the generic virtual-work statics of ``parakin.statics`` with the
+singular, see ``jacobians``): the generic virtual-work statics of ``parakin.solvers.statics`` with the
 moment p_b x F about Q as the wrench, f = -(J_p^-1)^T F, and the joint Q carries
 R_Q = -(F + sum_i f_i u_i).
 """
@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import parakin
-from parakin import statics
 from parakin.results import Configuration
+from parakin.solvers import statics
 
 # ---------------------------------------------------------------------------- section 5, as printed
 A3_PRINTED = np.array([-2.720, 0.130, -0.460])  # m; typo: a3x is +2.720 (tests/test_sps.py)
@@ -209,7 +209,7 @@ def load_wrench(m: parakin.Mechanism, force: np.ndarray = LOAD, point: np.ndarra
 def leg_forces(
     m: parakin.Mechanism, config: Configuration, force: np.ndarray = LOAD, point: np.ndarray = LOAD_POINT
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Leg forces f (compression > 0) balancing F at P about Q (``parakin.statics``), and the
+    """Leg forces f (compression > 0) balancing F at P about Q (``parakin.solvers.statics``), and the
     reaction R_Q at Q (N)."""
     forces = statics.actuator_forces(m, config, statics.point_force_wrench(m, config, force, point))
     return forces, -(force + leg_units(m, config).T @ forces)
@@ -241,7 +241,7 @@ def equilibrium(
 ) -> Equilibrium:
     """Static equilibrium under F at P with compliant actuators, d = d0 + f(d) / k (section 4):
     the lengths d0 of ``unloaded`` are commanded, the assembly mode is tracked from it.
-    ``method`` 'successive' is the paper's successive approximation (``parakin.statics``'
+    ``method`` 'successive' is the paper's successive approximation (``parakin.solvers.statics``'
     'fixed_point'), 'newton' Newton with a finite-difference Jacobian."""
     generic = {"successive": "fixed_point", "newton": "newton"}.get(method)
     if generic is None:
@@ -264,7 +264,7 @@ def equilibrium(
 class Stiffness:
     """Stiffness of the platform held by compliant actuators (the legs' geometric stiffness under
     preload is neglected): ``rotational`` S_omega = G^T K_q G = -M_T K M_T^T (N m/rad: the applied
-    moment per rotation, positive definite; ``parakin.statics.stiffness``); ``compliance_point``
+    moment per rotation, positive definite; ``parakin.solvers.statics.stiffness``); ``compliance_point``
     C = -[p_b]x S_omega^-1 [p_b]x (m/N: delta p = C delta F) of P, rank 2 (P moves on a sphere
     about Q; the paper's -H K^-1 H^T with H = J_p^-1); ``point`` = pinv(C) (N/m), the stiffness
     of P across p_b."""
@@ -337,7 +337,7 @@ def demo(backend: str = "auto") -> None:
     rigid, _ = leg_forces(m, machine)
     loaded = equilibrium(m, machine)
     newton = equilibrium(m, machine, method="newton")
-    print(f"\n  load F = {LOAD} N at p_p = {LOAD_POINT} m; k = {stiffnesses(m)} N/m (parakin.statics)")
+    print(f"\n  load F = {LOAD} N at p_p = {LOAD_POINT} m; k = {stiffnesses(m)} N/m (parakin.solvers.statics)")
     print(f"  rigid legs (unloaded pose): f = {rigid} N")
     updates = ", ".join(f"{h:.1e}" for h in loaded.solution.history)
     print(f"  compliant equilibrium, successive approximation ({loaded.iterations} iterations, updates {updates}):")

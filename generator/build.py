@@ -283,15 +283,22 @@ def _generator_digest() -> bytes:
     """The generator's own code and templates, the runtime modules it uses (path tracking, the
     shared-subtree form of ``symbolic.py``), and the versions of the tools: what every package is
     generated from besides its mechanism."""
-    import parakin.homotopy
-    import parakin.subtrees
+    import parakin.packages.subtrees
+    import parakin.solvers.homotopy
 
     digest = hashlib.sha256()
     here = Path(__file__).resolve().parent
+    runtime_root = Path(parakin.__file__).resolve().parent
     files = sorted([*here.glob("*.py"), *(p for p in (here / "templates").iterdir() if p.is_file())])
-    runtime = [Path(module.__file__ or "").resolve() for module in (parakin.homotopy, parakin.subtrees)]
+    runtime = [
+        Path(module.__file__ or "").resolve() for module in (parakin.solvers.homotopy, parakin.packages.subtrees)
+    ]
     for source in [*files, *runtime]:
-        label = source.relative_to(here).as_posix() if source.is_relative_to(here) else f"parakin/{source.name}"
+        label = (
+            source.relative_to(here).as_posix()
+            if source.is_relative_to(here)
+            else f"parakin/{source.relative_to(runtime_root).as_posix()}"
+        )
         digest.update(f"{label}\0{source.stat().st_size}\0".encode() + source.read_bytes())
     for tool in TOOLS:
         digest.update(f"{tool}=={importlib.metadata.version(tool)}\0".encode())

@@ -13,7 +13,7 @@ import re
 
 import sympy as sp
 
-from parakin.manifest import DRAWING_PARTS as PARTS
+from parakin.packages.manifest import DRAWING_PARTS as PARTS
 
 from .errors import GenerationError
 from .model import Drawing

@@ -17,8 +17,8 @@ import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from parakin.homotopy import path_pairs
-from parakin.subtrees import shared_subtrees
+from parakin.packages.subtrees import shared_subtrees
+from parakin.solvers.homotopy import path_pairs
 
 from .program import LoweredProgram
 
@@ -168,7 +168,7 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
 
 
 def _symmetry(chosen: dict) -> dict[str, object]:
-    """The family's sign symmetry and the start paths it pairs (``parakin.homotopy``): the C
+    """The family's sign symmetry and the start paths it pairs (``parakin.solvers.homotopy``): the C
     driver tracks one path of each pair and takes the image of its end for the other, as the
     NumPy pipeline does; empty when there is none."""
     exponents = np.array([e for _, e in chosen["terms"]], dtype=np.int64)

@@ -1,6 +1,6 @@
 """The manifest of a generated package: everything the runtime needs, language neutral (JSON).
 
-``parakin/manifest.py`` reads it into typed objects; nothing in the runtime knows a mechanism by
+``parakin/packages/manifest.py`` reads it into typed objects; nothing in the runtime knows a mechanism by
 name. Bump ``SCHEMA`` whenever a field changes meaning or is removed.
 """
 

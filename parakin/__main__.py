@@ -2,7 +2,7 @@
 
 import sys
 
-from parakin.cli import main
+from parakin.interfaces.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

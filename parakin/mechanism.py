@@ -14,8 +14,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.backends import Backend, broadcast_shapes
-from parakin.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.errors import (
     NEWTON_NO_CONVERGENCE,
     NEWTON_NONFINITE,
@@ -32,24 +30,28 @@ from parakin.errors import (
     first_index,
     raise_for_newton_status,
 )
-from parakin.linalg import pivoted_solve
-from parakin.manifest import Capabilities, Forward, Manifest, Variable
-from parakin.modes import assemble, certify, compiled_modes, numpy_modes
-from parakin.package import GeneratedPackage
+from parakin.packages.backends import Backend
+from parakin.packages.manifest import Capabilities, Forward, Manifest, Variable
+from parakin.packages.package import GeneratedPackage
 from parakin.pose import (
     LEG_TWIST,
     RIGID_TOLERANCE,
     as_array,
+    pose_vector,
     rigid_or_nan,
     rigidity_error,
     transform_from_pose,
     wrap_angle,
 )
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
-from parakin.tracker import ForwardPoseTracker
+from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
+from parakin.solvers.linalg import pivoted_solve
+from parakin.solvers.modes import assemble, certify, compiled_modes, numpy_modes
+from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
     bounded_vector,
+    broadcast_shapes,
     integer_in_range,
     newton_tolerance,
     positive_number,
@@ -69,11 +71,6 @@ CONSTRAINT_TOLERANCE = 1e-6
 
 def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
-
-
-def pose_vector(pose: Array) -> Array:
-    """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
-    return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
 
 
 class Mechanism:
@@ -149,12 +146,12 @@ class Mechanism:
     def __str__(self) -> str:
         """Tables of the parameters (values, units), variables (kinds, units, home, limits),
         capabilities and named examples, under the title and citation."""
-        from parakin.display import mechanism_text
+        from parakin.interfaces.display import mechanism_text
 
         return mechanism_text(self)
 
     def _repr_html_(self) -> str:
-        from parakin.display import mechanism_html
+        from parakin.interfaces.display import mechanism_html
 
         return mechanism_html(self)
 
@@ -557,7 +554,7 @@ class Mechanism:
 
         ``certify`` (homotopy methods): "exact" (default) tests every endpoint that the
         double-precision Krawczyk test cannot certify again in exact dyadic arithmetic
-        (``parakin.exact_certify``: milliseconds per such root; ill-conditioned roots near
+        (``parakin.solvers.exact_certify``: milliseconds per such root; ill-conditioned roots near
         infinity need it), "double" only in double precision (faster; such roots stay
         uncertified and the input incomplete).
         """
@@ -673,7 +670,7 @@ class Mechanism:
     def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
         """The solution set of the loop closure for one locked input where it is a curve (a
         self-motion), traced by continuation from ``starts`` (k, n_p) or from the home
-        configuration and random perturbations of it (see ``parakin.continuation``)."""
+        configuration and random perturbations of it (see ``parakin.solvers.continuation``)."""
         theta = self._actuated(actuated)
         step = positive_number(step, "step")
         if theta.ndim != 1:
@@ -850,22 +847,22 @@ class Mechanism:
     # ------------------------------------------------------------------ statics
     def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
         """Actuator efforts that hold the platform against an external wrench (virtual work; see
-        ``parakin.statics.actuator_forces`` for the wrench convention)."""
-        from parakin.statics import actuator_forces
+        ``parakin.solvers.statics.actuator_forces`` for the wrench convention)."""
+        from parakin.solvers.statics import actuator_forces
 
         return actuator_forces(self, state, wrench)
 
     def constraint_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
         """Intensities of the constraint wrenches a lower-mobility platform's legs apply while its
-        actuators hold ``wrench`` (``parakin.statics.constraint_forces``)."""
-        from parakin.statics import constraint_forces
+        actuators hold ``wrench`` (``parakin.solvers.statics.constraint_forces``)."""
+        from parakin.solvers.statics import constraint_forces
 
         return constraint_forces(self, state, wrench)
 
     def stiffness(self, state: Configuration, actuator_stiffness: ArrayLike | None = None) -> Array:
         """Platform stiffness K = G^T K_q G from actuator stiffnesses (default: the ones the
         mechanism declares as parameters, ``m.capabilities.statics``)."""
-        from parakin.statics import stiffness
+        from parakin.solvers.statics import stiffness
 
         if actuator_stiffness is None:
             statics = self.capabilities.statics
@@ -899,8 +896,8 @@ class Mechanism:
     ) -> Any:
         """Draw the mechanism (metres; 2-D for a planar drawing, on its sphere for a spherical
         one) in a configuration, mode ``mode`` of an AssemblyModes, or all its modes as a grid;
-        a PNG is written to ``path`` when given (``parakin.plot.plot``). Needs matplotlib."""
-        from parakin.plot import plot
+        a PNG is written to ``path`` when given (``parakin.interfaces.plot.plot``). Needs matplotlib."""
+        from parakin.interfaces.plot import plot
 
         return plot(self, state, path, ax, title, mode=mode, all_modes=all_modes)
 
@@ -934,4 +931,4 @@ class Mechanism:
         return {name: values[..., k] for k, name in enumerate(names)}
 
 
-__all__ = ["Mechanism", "pose_vector"]
+__all__ = ["Mechanism"]

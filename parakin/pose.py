@@ -132,6 +132,11 @@ def xyz_euler_deg_from_pose(pose: ArrayLike) -> Array:
     return values
 
 
+def pose_vector(pose: Array) -> Array:
+    """(..., 12): r11..r33 then px, py, pz, the input layout of generated inverse kernels."""
+    return np.concatenate([pose[..., :3, :3].reshape(pose.shape[:-2] + (9,)), pose[..., :3, 3]], axis=-1)
+
+
 def wrap_angle(angle: ArrayLike) -> Array:
     """Angles mapped to (-pi, pi]."""
     wrapped = np.mod(np.asarray(angle, dtype=float) + np.pi, 2 * np.pi) - np.pi

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -10,6 +11,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from parakin.errors import NoSuchModeError, at_index, first_index
+from parakin.pose import xyz_euler_deg_from_pose
+from parakin.tables import POSE_CONVENTION, POSE_HEADERS, ROWS_SHOWN, Rows, html_table, text_table
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -164,13 +167,9 @@ class AssemblyModes:
 
     def __repr__(self) -> str:
         """A summary line and, for one input, a table of its modes (numbered 0 .. count - 1)."""
-        from parakin.display import modes_text
-
         return modes_text(self)
 
     def _repr_html_(self) -> str:
-        from parakin.display import modes_html
-
         return modes_html(self)
 
     def certificate(self) -> dict[str, NDArray[np.int64]]:
@@ -183,7 +182,7 @@ class AssemblyModes:
         at generation time, by the total-degree bound or the trace test, where
         ``root_count_proven``), ``certified_roots``
         (distinct roots of the system at the input, each in a Krawczyk box holding exactly one
-        root: ``parakin.certify``), ``complete`` (the two are equal and the count is proven: no
+        root: ``parakin.solvers.certify``), ``complete`` (the two are equal and the count is proven: no
         solution can be missing, so the modes returned are all of them), ``uncertified_paths``
         (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run
         was not complete: tracked again from the second start instance with tighter steps, the
@@ -230,3 +229,69 @@ class Rates:
 
     actuated: Array
     passive: Array
+
+
+# ---------------------------------------------------------------- the modes as tables
+def modes_summary(modes: AssemblyModes) -> str:
+    """One line: input batch, modes found, method, certificate."""
+    count = np.asarray(modes.count)
+    method = f" by {modes.method}" if modes.method else ""
+    if count.ndim == 0:
+        found = f"{int(count)} assembly mode{'s' if int(count) != 1 else ''}"
+    else:
+        found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
+    certificate = ""
+    if modes.certified_roots is not None and modes.root_count is not None:
+        complete = (np.asarray(modes.certified_roots) == modes.root_count) & modes.root_count_proven
+        if complete.all():
+            certificate = "; certified complete"
+        elif count.ndim == 0:  # one input: say how far the certificate got
+            missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
+            certificate = (
+                f"; not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
+                f"certified, {missing} not (path_certified: which paths)"
+                if modes.root_count_proven
+                else "; not certified complete: the root count is not proven"
+            )
+        else:
+            certificate = f"; certified complete for {int(complete.sum())} of {complete.size} inputs"
+    return f"AssemblyModes: {found}{method}{certificate}"
+
+
+def modes_rows(modes: AssemblyModes, residual: bool = False) -> Rows:
+    """One row per mode of a single input: mode k (as ``modes.mode(k)``), pose, the closure
+    residual (with ``residual``) and the conditioning."""
+    valid = np.flatnonzero(np.asarray(modes.valid))
+    poses = xyz_euler_deg_from_pose(modes.poses[valid]) if valid.size else np.zeros((0, 6))
+    conditioning = np.asarray(modes.conditioning)[valid]
+    residuals = np.asarray(modes.residual)[valid]
+    return [
+        [str(k), *(f"{v:.6g}" for v in pose), *([f"{r:.1e}"] if residual else []), f"{c:.3g}"]
+        for k, (pose, r, c) in enumerate(zip(poses, residuals, conditioning, strict=True))
+    ]
+
+
+MODE_HEADERS = ["mode", *POSE_HEADERS, "conditioning"]
+MODES_CONVENTION = f"{POSE_CONVENTION}; conditioning: 1 well conditioned, 0 singular"
+
+
+def modes_table(modes: AssemblyModes, residual: bool = False, rows_shown: int = ROWS_SHOWN) -> str:
+    """The convention line and the table of the modes of a single input (``modes_rows``)."""
+    headers = MODE_HEADERS[:-1] + (["residual"] if residual else []) + MODE_HEADERS[-1:]
+    return f"  {MODES_CONVENTION}\n" + text_table(headers, modes_rows(modes, residual), rows_shown=rows_shown)
+
+
+def modes_text(modes: AssemblyModes) -> str:
+    lines = [modes_summary(modes)]
+    if np.ndim(modes.count) == 0 and int(modes.count):
+        lines.append(modes_table(modes))
+    elif np.ndim(modes.count):
+        lines.append("  modes per input (count): " + np.array2string(np.asarray(modes.count), threshold=20))
+    return "\n".join(lines)
+
+
+def modes_html(modes: AssemblyModes) -> str:
+    out = [f"<p><b>{html.escape(modes_summary(modes))}</b></p>"]
+    if np.ndim(modes.count) == 0 and int(modes.count):
+        out += [f"<p>{html.escape(POSE_CONVENTION)}</p>", html_table(MODE_HEADERS, modes_rows(modes))]
+    return "<div class='parakin'>" + "".join(out) + "</div>"

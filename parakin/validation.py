@@ -3,7 +3,8 @@ float array of the right shape, or into a ``BadInputError`` naming the value and
 
 Accepted numbers: integers and reals (Python, NumPy). Rejected: complex values (their imaginary
 part would be dropped), booleans, strings, bytes, None and object arrays, even when NumPy could
-convert them, so that a typo never becomes a number.
+convert them, so that a typo never becomes a number. Batches follow one rule everywhere: the
+leading (batch) axes of the inputs broadcast (``broadcast_shapes``), or a BadInputError names them.
 """
 
 from __future__ import annotations
@@ -164,3 +165,31 @@ def stiffness_matrix(value: ArrayLike, name: str, size: int) -> Array:
     if not smallest > 0:
         raise BadInputError(f"{name} is not positive definite: smallest eigenvalue {smallest:g} (must be > 0)")
     return k
+
+
+def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
+    """``np.broadcast_shapes`` with the one batch rule of parakin: BadInputError naming them."""
+    try:
+        return tuple(np.broadcast_shapes(*shapes))
+    except ValueError as error:
+        raise BadInputError(f"batch shapes do not broadcast: {', '.join(map(str, shapes))}") from error
+
+
+def batch_shape(inputs: tuple[Array, ...]) -> tuple[int, ...]:
+    """The broadcast of the inputs' leading (batch) shapes, or BadInputError naming them."""
+    return broadcast_shapes(*(np.shape(x)[:-1] for x in inputs))
+
+
+def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Array]]:
+    """The common batch shape and each input reshaped to (n, size) (or (1, size) to share)."""
+    shape = batch_shape(inputs)
+    count = int(np.prod(shape, dtype=np.int64))
+    flat = []
+    for x in inputs:
+        array = np.asarray(x, dtype=float)
+        size = array.shape[-1]
+        if array.shape[:-1] == ():
+            flat.append(np.ascontiguousarray(array.reshape(1, size)))
+        else:  # the size is explicit: an empty batch has no -1 to infer
+            flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + (size,)).reshape(count, size)))
+    return shape, flat

@@ -15,7 +15,8 @@ import pytest
 
 import parakin
 from parakin.errors import CompiledUnavailableError
-from parakin.mechanism import Mechanism, pose_vector
+from parakin.mechanism import Mechanism
+from parakin.pose import pose_vector
 
 BACKENDS = ("numpy", "casadi", "compiled")
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sweep import sweep
+from parakin.studies.sweep import sweep
 
 
 def bounded() -> list[tuple[str, int]]:

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 WITH_LOOPS = [name for name in parakin.available() if parakin.metadata(name).passive]
 #: the mechanisms whose derived form got a start system (sam's has no regular start point: it keeps
@@ -234,7 +234,7 @@ def test_a_certificate_fails_when_an_endpoint_is_spoiled() -> None:
     m = parakin.load("planar_3rpr", backend="numpy")
     info = m.capabilities.forward_methods["automatic"]
     state = _inputs(m, 4, seed=8)
-    from parakin.modes import certify, numpy_modes
+    from parakin.solvers.modes import certify, numpy_modes
 
     out = numpy_modes(m, state.actuated, info)
     good, unique = certify(m, info, state.actuated, out["endpoints"])
@@ -280,7 +280,7 @@ def test_stewart_automatic_gives_dietmaier_40_modes_certified() -> None:
 def test_the_circle_parametrisation_covers_every_real_angle() -> None:
     """u(x) is finite for every real angle (pi included), (C, S, D)(u(x)) is proportional to
     (cos x, sin x, 1) and C^2 + S^2 = D^2 identically."""
-    from parakin.homotopy import circle_parameter, circle_point
+    from parakin.solvers.homotopy import circle_parameter, circle_point
 
     sympy = pytest.importorskip("sympy")
     from parakin.generator.polynomial_form import MOEBIUS_A, MOEBIUS_B, circle_parametrisation
@@ -320,7 +320,7 @@ def test_the_polynomial_form_keeps_exact_constants_and_clears_roots_and_quotient
 def test_certificates_in_chunks_equal_one_pass(monkeypatch) -> None:
     """Certification runs in chunks of inputs (bounded memory: 10^4 inputs at once ran out of
     memory): chunks of 2 give exactly the counts and per-path verdicts of one pass."""
-    from parakin import modes as modes_module
+    from parakin.solvers import modes as modes_module
 
     m = parakin.load("planar_3rpr", backend="numpy")
     info = m.capabilities.forward_methods["automatic"]

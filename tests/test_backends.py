@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 
 import parakin
-from parakin.mechanism import pose_vector
+from parakin.pose import pose_vector
 
 
 @pytest.fixture(scope="module")

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 COMPILER = shutil.which("gcc") or shutil.which("cc")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")

@@ -1,4 +1,4 @@
-"""parakin.certify: Krawczyk certificates of roots, checked against systems whose roots are known
+"""parakin.solvers.certify: Krawczyk certificates of roots, checked against systems whose roots are known
 exactly (products of linear factors with integer or Gaussian-integer roots: exact coefficients)."""
 
 import itertools
@@ -6,8 +6,8 @@ import itertools
 import numpy as np
 import pytest
 
-from parakin.certify import _monomials, _System, certify_roots
 from parakin.errors import BadInputError
+from parakin.solvers.certify import _monomials, _System, certify_roots
 
 pytestmark = pytest.mark.filterwarnings("error")  # certify_roots never warns, NaN rows included
 
@@ -372,7 +372,7 @@ def test_dense_and_term_by_term_evaluations_agree(monkeypatch):
     """A polynomial map is a matrix product with per-input tables (dense) or a sum of the terms'
     products: both give F, J, S, SJ and the second-derivative sums to rounding, and the same
     certificates, on batches of random systems (the choice is a speed trade only)."""
-    import parakin.certify as certify
+    import parakin.solvers.certify as certify
 
     rng = np.random.default_rng(7)
     checked = 0

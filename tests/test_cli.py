@@ -10,12 +10,14 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin import cli
 from parakin.errors import BadInputError
+from parakin.interfaces import cli
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-W", "ignore", "-m", "parakin.cli", *args], capture_output=True, text=True)
+    return subprocess.run(
+        [sys.executable, "-W", "ignore", "-m", "parakin.interfaces.cli", *args], capture_output=True, text=True
+    )
 
 
 def test_list_has_titles_and_inspect_text_is_line_broken():
@@ -33,7 +35,7 @@ def test_list_has_titles_and_inspect_text_is_line_broken():
 def test_inspect_json_and_latex():
     data = json.loads(run("inspect", "sam", "--format", "json").stdout)
     assert data["manifest"] == "sam"
-    assert "L2**2" in data["objects"]["left_leg_determinant"]["value"]  # objects are typed (parakin.inspect)
+    assert "L2**2" in data["objects"]["left_leg_determinant"]["value"]  # objects are typed (parakin.interfaces.inspect)
     assert "\\sin" in run("inspect", "sam", "--format", "latex").stdout
 
 
@@ -71,7 +73,10 @@ def test_parameters_and_backend_flags():
 
 def test_closed_pipe_prints_no_traceback():
     done = subprocess.run(
-        f"{sys.executable} -W ignore -m parakin.cli inspect spm | head -n 1", shell=True, capture_output=True, text=True
+        f"{sys.executable} -W ignore -m parakin.interfaces.cli inspect spm | head -n 1",
+        shell=True,
+        capture_output=True,
+        text=True,
     )
     assert "Traceback" not in done.stderr
 
@@ -88,7 +93,7 @@ def test_reader_that_leaves_early_is_a_quiet_exit_0():
     branch caught it first), or "Exception ignored" at the final flush. A real pipe: the
     reading end is closed before parakin writes, so every write fails with EPIPE."""
     process = subprocess.Popen(
-        [sys.executable, "-W", "ignore", "-m", "parakin.cli", "demo", "sam"],
+        [sys.executable, "-W", "ignore", "-m", "parakin.interfaces.cli", "demo", "sam"],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
     )
@@ -97,7 +102,11 @@ def test_reader_that_leaves_early_is_a_quiet_exit_0():
     assert process.wait(timeout=120) == 0, stderr
     assert stderr == ""
     shell = subprocess.run(
-        ["bash", "-c", f"{sys.executable} -W ignore -m parakin.cli demo sam | head -1; exit ${{PIPESTATUS[0]}}"],
+        [
+            "bash",
+            "-c",
+            f"{sys.executable} -W ignore -m parakin.interfaces.cli demo sam | head -1; exit ${{PIPESTATUS[0]}}",
+        ],
         capture_output=True,
         text=True,
     )
@@ -207,7 +216,7 @@ def test_sweep_fixed_passes_actuated_inputs_through(tmp_path):
     mode counts on the grid differ from the home's (found by count_modes, not by the sweep: the
     counts near home do not change with theta1, so a value that gives the home's counts would
     not show that the value arrived)."""
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     xr = pytest.importorskip("xarray")
     m = parakin.load("sam", backend="numpy")
@@ -242,7 +251,7 @@ def test_inspect_prints_a_large_expression_with_its_repeated_parts_named_and_def
     read back, the rows with the definitions substituted are the expression itself."""
     import sympy as sp
 
-    from parakin.inspect import SHARE_ABOVE, _text
+    from parakin.interfaces.inspect import SHARE_ABOVE, _text
 
     x, y = sp.symbols("x y")
     inner = sum((x + k * y) ** k * sp.sin(k * x) for k in range(1, 40))

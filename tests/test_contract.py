@@ -762,7 +762,7 @@ def test_default_home_is_a_regular_configuration(name):
     values without a guess converges back to the home's passive values, and forward_pose_all
     there finds the home among its assembly modes. (A singular home made `parakin plot` draw a
     self-motion and the exported C example exit 1.)"""
-    from parakin.linalg import pivoted_solve
+    from parakin.solvers.linalg import pivoted_solve
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError, UnreachablePoseError
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 
 BASE_R, PLATFORM_R, ARM, FOREARM = 0.2, 0.05, 0.35, 1.3  # R, r, L, l

@@ -243,7 +243,7 @@ def test_stiffness_refuses_what_is_not_a_stiffness(sps_state, value, match):
 def test_stiffness_of_a_valid_diagonal_and_matrix(sps_state):
     """A positive diagonal and the same matrix give the same K = G^T K_q G (symmetric, positive
     definite), recomputed from the actuation matrix."""
-    from parakin.statics import actuation_matrix
+    from parakin.solvers.statics import actuation_matrix
 
     m, state = sps_state
     diagonal = np.array([1e5, 2e5, 3e5])

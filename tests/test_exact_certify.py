@@ -1,4 +1,4 @@
-"""parakin.exact_certify: Krawczyk certificates in exact dyadic arithmetic, against systems with
+"""parakin.solvers.exact_certify: Krawczyk certificates in exact dyadic arithmetic, against systems with
 known roots that double precision cannot separate (two roots 2^-25 apart) and against spoiled
 candidates, which it must refuse."""
 
@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from parakin.certify import certify_roots, distinct_clusters
-from parakin.exact_certify import certify_root_exactly
+from parakin.solvers.certify import certify_roots, distinct_clusters
+from parakin.solvers.exact_certify import certify_root_exactly
 
 D = 2.0**-26
 # x^2 - 2 x + 1 - D^2 = 0 (roots 1 +- D, exactly; 1 - D^2 = 1 - 2^-52 is a double), y - x = 0

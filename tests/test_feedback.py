@@ -55,7 +55,7 @@ def test_dir_lists_the_public_api_not_the_package_imports():
     import parakin
 
     names = dir(parakin)
-    assert set(parakin.__all__) <= set(names) and {"load", "Mechanism", "statics", "plot"} <= set(names)
+    assert set(parakin.__all__) <= set(names) and {"load", "Mechanism", "sweep", "solvers", "interfaces"} <= set(names)
     assert not {"Any", "Mapping", "os", "math", "warnings", "__main__"} & set(names)
 
 

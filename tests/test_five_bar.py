@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.cli import main
-from parakin.demo import run_examples
 from parakin.errors import BadInputError, SingularConfigurationError, UnreachablePoseError
+from parakin.interfaces.cli import main
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 
 D, A, B = 0.15, np.array([0.2, 0.2]), np.array([0.25, 0.25])

@@ -487,16 +487,16 @@ def operations(m, fx: Fixture) -> list[Op]:
         ops += [
             Op("tracker(state).solve(actuated)", "tracker.solve", "actuated", a,
                lambda v: copy_result(m.tracker(s).solve(v)), f"m.tracker({S}).solve(@V)", "tracker",
-               verify_tracker(m), batched=False, size=n_a, fixed_batch=(1,)),
+               verify_tracker(m), batched=False, size=n_a),
             Op("tracker(start).solve", "tracker.solve", "state", s, lambda v: copy_result(tracker_of(m, v)),
                "m.tracker(@V).solve(@V.actuated)", "tracker", verify_tracker_start(m)),
             Op("tracker(max_iterations=).solve", "tracker.solve", "max_iterations", None,
                lambda v: copy_result(m.tracker(s, max_iterations=v).solve(fx.moved)),
                f"m.tracker({S}, max_iterations=@V).solve({lit(fx.moved)})", "tracker", verify_tracker(m, fx.moved),
-               fixed_batch=(1,)),
+               fixed_batch=()),
             Op("tracker(tolerance=).solve", "tracker.solve", "tolerance", None,
                lambda v: copy_result(m.tracker(s, tolerance=v).solve(fx.moved)),
-               f"m.tracker({S}, tolerance=@V).solve({lit(fx.moved)})", "tracker", fixed_batch=(1,)),
+               f"m.tracker({S}, tolerance=@V).solve({lit(fx.moved)})", "tracker", fixed_batch=()),
         ]  # fmt: skip
     return ops
 
@@ -1184,7 +1184,7 @@ def make_variant(op: Op, m, cls: str, k: Knobs, name: str | None = None) -> Vari
         expect, value = OPTION_CLASSES[op.role][cls]
         if op.role == "kwargs" and cls == "damping-where-none":
             expect = "raise" if op.method != "inverse_rate" else "ok"
-        return Variant(cls, expect, value, lit(value), (1,) if op.kind == "tracker" else ())
+        return Variant(cls, expect, value, lit(value), ())
     return load_variant(op, name or (m.name if m is not None else ""), cls, k)
 
 
@@ -1382,8 +1382,6 @@ def judge(op: Op, variant: Variant, got: Answer, single: Callable[[Any], Answer]
     batch = variant.batch
     if op.fixed_batch is not None:
         batch = op.fixed_batch
-    elif op.kind == "tracker" and batch is not None:
-        batch = batch or (1,)  # a tracker of one start answers (1, n)
     if batch is not None:
         for name, array in parts(result).items():
             if array.shape[: len(batch)] != tuple(batch):
@@ -1435,8 +1433,6 @@ def compare_rows(op: Op, variant: Variant, result: Any, batch, single, flags) ->
                 return f"batch row {index}: the single call raises {type(reference.error).__name__}"
             continue
         theirs = canonical_parts(op.kind, reference.result)
-        if op.kind == "tracker":  # a tracker of one start answers (1, n)
-            theirs = {key: value[0] if value.shape[:1] == (1,) else value for key, value in theirs.items()}
         mine = {key: _flat(value, batch)[index] for key, value in ours.items()}
         theirs = {key: value for key, value in theirs.items() if key in mine}
         problem = differ(mine, theirs, BATCH_AGREEMENT)

@@ -396,7 +396,7 @@ def test_stiffness_refuses_malformed_stiffnesses(name, backend):
     @given(key=st.sampled_from(sorted(cases)), through=st.sampled_from(["method", "function"]))
     def property_holds(key, through):
         expect, value = cases[key]
-        from parakin.statics import stiffness
+        from parakin.solvers.statics import stiffness
 
         call = (
             (lambda: m.stiffness(fx.state, value)) if through == "method" else (lambda: stiffness(m, fx.state, value))
@@ -537,13 +537,13 @@ def test_forward_refuses_what_the_inverse_refuses_many_poses(name, backend):
 
 # ---------------------------------------------------------------------------- item 10: sweeps
 def sweep_of(m, quantities, axes, fixed=None):
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     return sweep(m, quantities, axes, fixed=fixed, scheduler="synchronous")
 
 
 def pose_coordinates(m) -> tuple[str, ...]:
-    from parakin.sweep import POSE_COORDINATES
+    from parakin.studies.sweep import POSE_COORDINATES
 
     return POSE_COORDINATES[m.manifest.pose_kind]
 
@@ -859,7 +859,7 @@ def cli_arguments(draw_name, values, tmp: Path) -> st.SearchStrategy[list[str]]:
 
 
 def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    from parakin.cli import main
+    from parakin.interfaces.cli import main
 
     stdout, stderr = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr), warnings.catch_warnings():
@@ -907,7 +907,7 @@ ESCAPES = ("../x.h", "../../x.h", "sub/../../x.h", "..", "a/../../../x.h", "~/x.
 
 def smallest_package() -> Path:
     """The generated package with the fewest bytes (copied for each manifest case)."""
-    from parakin.package import discover
+    from parakin.packages.package import discover
 
     sizes = {path: sum(f.stat().st_size for f in path.iterdir() if f.is_file()) for path in discover().values()}
     return min(sizes, key=sizes.get)
@@ -948,7 +948,10 @@ def test_manifest_names_and_files_outside_the_package_are_refused(tmp_path):
         for label, call in (
             ("parakin.load", lambda: parakin.load(package, backend="numpy")),
             ("parakin.metadata", lambda: parakin.metadata(package)),
-            ("export_c", lambda: __import__("parakin.package").package.GeneratedPackage(package).export_c(out)),
+            (
+                "export_c",
+                lambda: __import__("parakin.packages.package").packages.package.GeneratedPackage(package).export_c(out),
+            ),
         ):
             got = fz.answer(call)
             assert isinstance(got.error, ParakinError), f"{label} of a manifest with {field} = {path!r}: {got.error!r}"
@@ -964,7 +967,7 @@ def test_manifest_names_and_files_outside_the_package_are_refused(tmp_path):
 @pytest.mark.parametrize("name", NAMES)
 def test_export_c_writes_only_inside_its_folder(name, tmp_path):
     """Issue 18 item 13: export_c writes the package's C files into its folder and nowhere else."""
-    from parakin.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage
 
     out = tmp_path / "deep" / "out"
     before = files_under(tmp_path)

@@ -16,8 +16,8 @@ import sympy as sp
 from parakin.mechanisms import gough
 
 import parakin
-from parakin.continuation import SelfMotion
 from parakin.errors import SingularConfigurationError
+from parakin.solvers.continuation import SelfMotion
 
 PRINTED = np.array(arch.PRINTED_LENGTHS)  # section 5.4, two decimals
 

@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 import parakin
-from parakin.inspect import POSE_INPUTS, _report, inspect
+from parakin.interfaces.inspect import POSE_INPUTS, _report, inspect
 
 MECHANISMS = sorted(parakin.available())
 
@@ -50,7 +50,7 @@ def test_json_reads_back_to_the_symbolic_objects_and_defines_every_symbol(mechan
     free symbol is in the symbol table (a variable, a parameter, or described)."""
     name = mechanism
     data = json.loads(inspect(name, "json"))
-    assert data["schema"] == "parakin.inspect/1" and data["manifest"] == name
+    assert data["schema"] == "parakin.interfaces.inspect/1" and data["manifest"] == name
     original = symbolic(name)
     back = read_back(data)
     assert set(back) == set(original)

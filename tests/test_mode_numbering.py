@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.cli import main
-from parakin.demo import mode_table
+from parakin.interfaces.cli import main
+from parakin.interfaces.demo import mode_table
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

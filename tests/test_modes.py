@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import near_singular_configurations, sample_configurations
+from parakin.studies.sampling import near_singular_configurations, sample_configurations
 
 WITH_MODES = [n for n in parakin.available() if parakin.metadata(n).capabilities.forward is not None]
 #: forward pose by a parameter homotopy: ~0.15 s an input on NumPy (a univariate polynomial: ~0.1 ms)
@@ -167,7 +167,7 @@ def test_a_million_inputs_stay_under_a_gigabyte():
 def test_a_batch_split_over_threads_equals_one_thread(name, monkeypatch):
     """The compiled batch spreads over PARAKIN_THREADS threads (slices of the same buffers):
     bit-equal to one thread, and a bad setting is a named error."""
-    from parakin import modes as modes_module
+    from parakin.solvers import modes as modes_module
 
     m = _load(name, "compiled")
     actuated = _inputs(m, 64, seed=5)

@@ -10,6 +10,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def _package_files() -> set[str]:
+    """Every file of the checkout's package folders (the runtime, the generator with its templates,
+    the mechanisms, the generated packages with their C and JSON), by its path in the wheel."""
+    folders = {"parakin": "parakin", "generator": "parakin/generator", "mechanisms": "parakin/mechanisms",
+               "generated": "parakin/generated"}  # fmt: skip
+    return {
+        f"{inside}/{path.relative_to(ROOT / folder).as_posix()}"
+        for folder, inside in folders.items()
+        for path in (ROOT / folder).rglob("*")
+        if path.is_file() and "__pycache__" not in path.parts
+    }
+
+
 # not marked slow (~12 s): the only test of the wheel, so it stays in the default run
 def test_wheel_generates_and_loads_a_user_mechanism_outside_the_checkout(tmp_path):
     subprocess.run(
@@ -30,7 +43,11 @@ def test_wheel_generates_and_loads_a_user_mechanism_outside_the_checkout(tmp_pat
     wheel = next(tmp_path.glob("parakin-*.whl"))
     tops = {name.split("/")[0] for name in zipfile.ZipFile(wheel).namelist()}
     assert {t for t in tops if not t.endswith(".dist-info")} == {"parakin"}, tops
-    assert any(n.endswith("parakin/py.typed") for n in zipfile.ZipFile(wheel).namelist())
+    shipped = {n for n in zipfile.ZipFile(wheel).namelist() if n.startswith("parakin/")}
+    assert shipped == _package_files() and {"parakin/py.typed", "parakin/interfaces/viewer.html"} <= shipped, (
+        f"missing from the wheel: {sorted(_package_files() - shipped)}; in the wheel but not in the checkout (a "
+        f"stale build/ folder: remove it): {sorted(shipped - _package_files())}"
+    )
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     python = venv / "bin" / "python"

@@ -16,8 +16,8 @@ from parakin.mechanisms import planar_3rpr
 from scipy.optimize import brentq
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 
 GSR_BASE = np.array(planar_3rpr.GSR_BASE)

@@ -16,11 +16,11 @@ from parakin.mechanisms import planar_3rrr
 from scipy.optimize import brentq
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError
-from parakin.linalg import pivoted_solve
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 from parakin.results import Configuration
+from parakin.solvers.linalg import pivoted_solve
 
 ANGLES = np.radians([210.0, 330.0, 90.0])
 UNIT = np.stack([np.cos(ANGLES), np.sin(ANGLES)], -1)

@@ -68,8 +68,8 @@ from contextlib import redirect_stdout  # noqa: E402
 
 from PIL import Image  # noqa: E402
 
-from parakin.cli import main  # noqa: E402
-from parakin.plot import PART_LABEL, PART_STYLE, actuated_line, actuated_loop, animate, plot, track  # noqa: E402
+from parakin.interfaces.cli import main  # noqa: E402
+from parakin.interfaces.plot import PART_LABEL, PART_STYLE, actuated_line, actuated_loop, animate, plot, track  # noqa: E402
 
 
 def drawable_names() -> list[str]:

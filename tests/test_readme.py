@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin import cli
-from parakin.manifest import SUPPORTED_SCHEMA
+from parakin.interfaces import cli
+from parakin.packages.manifest import SUPPORTED_SCHEMA
 
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text()

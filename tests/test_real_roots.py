@@ -1,5 +1,5 @@
 """Real-root isolation, written twice: generator/templates/real_roots.h (C, compiled here) and
-parakin.polynomial.isolate_real_roots (NumPy). Checked against mpmath.polyroots at high precision,
+parakin.solvers.polynomial.isolate_real_roots (NumPy). Checked against mpmath.polyroots at high precision,
 on constructed multiple and near-multiple roots, and C against NumPy."""
 
 import ctypes
@@ -11,7 +11,14 @@ import mpmath
 import numpy as np
 import pytest
 
-from parakin.polynomial import MAX_DEGREE, ROOT_CLUSTER, ROOT_NEAR, ROOT_SIMPLE, IsolatedRoots, isolate_real_roots
+from parakin.solvers.polynomial import (
+    MAX_DEGREE,
+    ROOT_CLUSTER,
+    ROOT_NEAR,
+    ROOT_SIMPLE,
+    IsolatedRoots,
+    isolate_real_roots,
+)
 
 HEADER = Path(__file__).resolve().parent.parent / "generator" / "templates" / "real_roots.h"
 P = np.polynomial.polynomial

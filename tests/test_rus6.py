@@ -23,11 +23,11 @@ from parakin.mechanisms.stewart import (
 )
 
 import parakin
-from parakin.demo import run_examples
 from parakin.errors import SingularConfigurationError
-from parakin.linalg import pivoted_solve
+from parakin.interfaces.demo import run_examples
 from parakin.pose import wrap_angle
 from parakin.results import Configuration
+from parakin.solvers.linalg import pivoted_solve
 
 CENTRES = np.radians([0.0, 0.0, 120.0, 120.0, 240.0, 240.0])
 SIDES = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0])
@@ -329,7 +329,7 @@ def test_dietmaiers_forty_modes_from_the_derived_polynomial_form(dietmaier):
 
 def test_every_endpoint_at_dietmaiers_input_is_certified(dietmaier):
     """74 of the 80 endpoints certify in double precision; the rest in exact arithmetic
-    (``parakin.exact_certify``): complete, with the count proven."""
+    (``parakin.solvers.exact_certify``): complete, with the count proven."""
     certificate = dietmaier.forward_pose_all(np.full(6, DIETMAIER_THETA)).certificate()
     assert int(certificate["certified_roots"]) == int(certificate["root_count"]) == 80
     assert bool(certificate["complete"])

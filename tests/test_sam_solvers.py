@@ -189,7 +189,7 @@ def test_tracker_follows_the_trajectory(sam):
     for pose in poses[2:]:
         branch = nearest_branch(sam.inverse_pose(pose), previous.actuated)
         _, reached = tracker.solve(branch.actuated)
-        assert np.abs(reached[0] - pose).max() < 1e-10
+        assert reached.shape == (4, 4) and np.abs(reached - pose).max() < 1e-10
         previous = branch
 
 
@@ -226,7 +226,7 @@ def test_tracker_keeps_its_last_good_solution_after_a_failure(backend):
         tracker.solve(config.actuated + 1.5)  # a jump far beyond a tracking step
     assert np.array_equal(tracker.passive, good)
     passive, pose = tracker.solve(config.actuated)
-    assert np.abs(pose[0] - config.pose).max() < 1e-10
+    assert pose.shape == (4, 4) and np.abs(pose - config.pose).max() < 1e-10
 
 
 def test_failed_forward_pose_entries_keep_the_guess(sam_numpy):

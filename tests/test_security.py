@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 import parakin
-from parakin.manifest import Manifest
-from parakin.package import GeneratedPackage
+from parakin.packages.manifest import Manifest
+from parakin.packages.package import GeneratedPackage
 
 SOURCE = "sphere2r"  # the smallest package: quick to compile
 
@@ -95,7 +95,7 @@ def test_export_writes_only_inside_out(tmp_path, edit, entry):
     out = tmp_path / "deep" / "er" / "out"
     before = files_under(tmp_path)
     done = subprocess.run(
-        [sys.executable, "-W", "ignore", "-m", "parakin.cli", "export", str(package), "--out", str(out)],
+        [sys.executable, "-W", "ignore", "-m", "parakin.interfaces.cli", "export", str(package), "--out", str(out)],
         capture_output=True,
         text=True,
     )
@@ -217,7 +217,7 @@ def test_a_broken_package_is_reported_named_and_skipped(tmp_path, monkeypatch):
         parakin.load("broken_one")
     assert parakin.load("good_copy", backend="numpy").name == SOURCE
     done = subprocess.run(
-        [sys.executable, "-m", "parakin.cli", "list"], capture_output=True, text=True, env=dict(os.environ)
+        [sys.executable, "-m", "parakin.interfaces.cli", "list"], capture_output=True, text=True, env=dict(os.environ)
     )
     assert done.returncode == 0, done.stderr
     listed = [line.split()[0] for line in done.stdout.splitlines()]
@@ -227,7 +227,7 @@ def test_a_broken_package_is_reported_named_and_skipped(tmp_path, monkeypatch):
 
 def test_every_shipped_manifest_passes_the_checks():
     """The generator writes only what the reader accepts: every shipped package reads."""
-    readable, broken = parakin.package.survey()
+    readable, broken = parakin.packages.package.survey()
     assert broken == {}
     assert set(readable) >= {"sam", "spm", "sphere2r"}
 

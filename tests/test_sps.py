@@ -11,7 +11,7 @@ import pytest
 import sps_section5 as s5
 
 import parakin
-from parakin import statics
+from parakin.solvers import statics
 
 BACKENDS = ["numpy", "compiled"]
 
@@ -249,7 +249,7 @@ def test_stiffness_matrices(sps, section5):
 
 
 def test_generic_statics_agree_with_the_papers_moment_arm_formulas(sps, section5):
-    """parakin.statics' G = B^-1 A of the generated rate model is the paper's M_T^T (columns b_i x u_i,
+    """parakin.solvers.statics' G = B^-1 A of the generated rate model is the paper's M_T^T (columns b_i x u_i,
     d_dot = M_T^T omega), so its stiffness G^T K_q G with K_q = -diag(k) is the paper's
     -M_T diag(k) M_T^T, its efforts for the moment p_b x F are the moment balance about Q
     solved with M_T, and the point compliance -[p_b]x S^-1 [p_b]x is the paper's -H K^-1 H^T with

@@ -1,4 +1,4 @@
-"""parakin.statics on every mechanism with a rate model (A/B rate Jacobians or serial legs), found
+"""parakin.solvers.statics on every mechanism with a rate model (A/B rate Jacobians or serial legs), found
 in ``parakin.available()``, never by name.
 
 Configurations: the platform pose reached from the home configuration perturbed (actuated and
@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin import statics
 from parakin.pose import wrap_angle
+from parakin.solvers import statics
 
 SIX = ("vx", "vy", "vz", "wx", "wy", "wz")
 

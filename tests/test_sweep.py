@@ -1,5 +1,6 @@
-"""parakin.sweep: a workspace slice against its analytic boundary, the same sweep on a 2-worker
-dask cluster and in one process, a resumed store, and memory bounded by the chunk."""
+"""parakin.sweep (the function of parakin.studies.sweep): a workspace slice against its analytic
+boundary, the same sweep on a 2-worker dask cluster and in one process, a resumed store, and
+memory bounded by the chunk."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ xr = pytest.importorskip("xarray")
 pytest.importorskip("dask")
 
 import parakin  # noqa: E402
-from parakin.sweep import sweep  # noqa: E402
+from parakin import sweep  # noqa: E402  (the public function: parakin.sweep)
 
 
 def _five_bar_reachable(x: np.ndarray, y: np.ndarray, p: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:

@@ -17,8 +17,8 @@ pytest.importorskip("dask")
 from test_sweep import _five_bar_reachable  # noqa: E402
 
 import parakin  # noqa: E402
-from parakin.cli import main  # noqa: E402
-from parakin.sweep import sweep  # noqa: E402
+from parakin.interfaces.cli import main  # noqa: E402
+from parakin.studies.sweep import sweep  # noqa: E402
 
 # SAM's inputs other than the two swept, fixed explicitly (the values of its home at 6bfa97b),
 # so that the claims below do not depend on the default home
@@ -58,7 +58,7 @@ def test_a_plot_marks_the_flag_as_its_own_region(tmp_path):
     """plot_sweep draws 'modes' with its degenerate cells left out of the colour map and covered
     by a hatched region named in the legend (one cell per degenerate input)."""
     pytest.importorskip("matplotlib")
-    from parakin.atlas import plot_sweep
+    from parakin.studies.atlas import plot_sweep
 
     grid = {"theta1": np.linspace(-0.3, 0.3, 5), "theta4": np.linspace(-0.3, 0.3, 5)}
     result = sweep("sam", ["modes"], grid, fixed=SAM_OTHERS)
@@ -164,7 +164,7 @@ def test_the_cli_fixes_and_refuses_the_same(tmp_path, capsys):
 
 def test_planar_translation_pose_coordinates():
     """pose kind 'planar_translation': ^B_P T = [I, (x, y, 0)] from the sweep's (x, y)."""
-    from parakin.sweep import POSE_COORDINATES, _pose_from
+    from parakin.studies.sweep import POSE_COORDINATES, _pose_from
 
     assert POSE_COORDINATES["planar_translation"] == ("x", "y")
     x, y = np.array([0.1, -0.2]), np.array([0.3, 0.4])

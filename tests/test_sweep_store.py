@@ -18,8 +18,8 @@ pytest.importorskip("dask")
 pytest.importorskip("zarr")
 
 import parakin  # noqa: E402
-from parakin import sweep as sweep_module  # noqa: E402
-from parakin.sweep import sweep  # noqa: E402
+from parakin.studies import sweep as sweep_module  # noqa: E402
+from parakin.studies.sweep import sweep  # noqa: E402
 
 QUANTITIES = ["reachable", "branches", "type_ii_distance"]
 # 40 x 30 poses in chunks of 300: 4 chunks of 10 rows of x; about half the grid is reachable, so
@@ -171,7 +171,7 @@ def test_a_process_killed_before_its_first_record_resumes(tmp_path, fresh):
         f"""
         import os, pathlib
         import numpy as np
-        from parakin import sweep as module
+        from parakin.studies import sweep as module
         write = pathlib.Path.write_text
         def killed(path, *args, **kwargs):
             if path.name.startswith("finished"):

@@ -1,4 +1,4 @@
-"""Sign symmetries of a homotopy family (``parakin.homotopy.sign_symmetry``): where every
+"""Sign symmetries of a homotopy family (``parakin.solvers.homotopy.sign_symmetry``): where every
 equation is even or odd under z -> S z (q -> -q of a quaternion), the paths pair up and one of
 each pair is tracked. Checked against the full tracking (each partner path followed on its own
 ends at the image of its representative's end) and against the generated C driver's table."""
@@ -11,9 +11,16 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.homotopy import path_pairs, sign_symmetry, sparse_system, symmetric_partners, track, track_symmetric
-from parakin.modes import _path_table
-from parakin.sampling import sample_configurations
+from parakin.solvers.homotopy import (
+    path_pairs,
+    sign_symmetry,
+    sparse_system,
+    symmetric_partners,
+    track,
+    track_symmetric,
+)
+from parakin.solvers.modes import _path_table
+from parakin.studies.sampling import sample_configurations
 
 
 def test_the_parity_test_finds_the_quaternion_sign_and_nothing_where_there_is_none():
@@ -70,9 +77,16 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
     """prs3 on 40 sampled inputs: the certificate by symmetry (boxes of the first path of each
     pair, their images for the other) has the same certified paths and the same count of distinct
     certified roots as certifying every endpoint, and every image box holds its path's end."""
-    from parakin.certify import certify_roots
-    from parakin.homotopy import target_coefficients
-    from parakin.modes import _certified_group, _certify_endpoints, _family, _monomials, _paired_ends, compiled_modes
+    from parakin.solvers.certify import certify_roots
+    from parakin.solvers.homotopy import target_coefficients
+    from parakin.solvers.modes import (
+        _certified_group,
+        _certify_endpoints,
+        _family,
+        _monomials,
+        _paired_ends,
+        compiled_modes,
+    )
 
     m = parakin.load("prs3", backend="compiled")
     info = m.capabilities.forward
@@ -100,7 +114,7 @@ def test_exact_certificates_of_image_paths_are_the_images_of_their_boxes(monkeyp
     """rus6 (80 roots in +-q pairs, many beyond double precision's Krawczyk test): on 3 sampled
     inputs the exact certification of one path of each pair, mirrored, certifies the same paths
     and the same number of distinct roots as certifying every path exactly."""
-    import parakin.modes as modes
+    import parakin.solvers.modes as modes
 
     m = parakin.load("rus6", backend="compiled")
     info = m.capabilities.forward

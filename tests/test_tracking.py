@@ -13,7 +13,7 @@ import pytest
 
 import parakin
 from parakin.pose import wrap_angle
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 TRACKED = [n for n in parakin.available() if parakin.metadata(n).passive_names]
 
@@ -179,3 +179,35 @@ def test_a_refused_step_leaves_the_whole_tracker_consistent(backend):
     with pytest.raises(parakin.ConvergenceError):
         batch.solve(np.stack([home + [0.05, 0.0], home + [1.5, 0.0]]))
     assert np.abs(bar.loop_closure(batch.actuated, batch.passive)["residual"]).max() < 1e-12
+
+
+@pytest.mark.parametrize("backend", ["compiled", "numpy"])
+def test_one_input_gives_one_result_and_a_batch_stays_a_batch(backend):
+    """As ``forward_pose`` treats a leading batch axis: a tracker started from one configuration
+    and given one input (n_a,) answers one result, (n_p,) and (4, 4); a batch of one, in the
+    start or in the input, answers (1, n_p) and (1, 4, 4); three starts given one input answer
+    three rows. Every answer is the forward pose by Newton from the same start."""
+    m = _load("five_bar", backend)
+    n_p = len(m.passive_names)
+    home = m.home_actuated
+    start = m.forward_pose(home)
+    step = home + np.array([0.01, -0.02])
+    expected = m.forward_pose(step, guess=start)
+    assert expected.passive.shape == (n_p,) and bool(expected.converged)
+    cases = [
+        (start, step, ()),
+        (start, step[None], (1,)),
+        (m.forward_pose(home[None]), step, (1,)),
+        (m.forward_pose(np.stack([home] * 3)), step, (3,)),
+    ]
+    for begin, actuated, batch in cases:
+        tracker = m.tracker(begin)
+        passive, pose = tracker.solve(actuated)
+        assert tracker.single == (begin is start)  # started from one configuration
+        assert passive.shape == batch + (n_p,) and pose.shape == batch + (4, 4)
+        np.testing.assert_allclose(passive, np.broadcast_to(expected.passive, passive.shape), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(pose, np.broadcast_to(expected.pose, pose.shape), rtol=0, atol=1e-12)
+    # the single result is a view of the tracker's buffers, like the batched one
+    tracker = m.tracker(start)
+    passive, pose = tracker.solve(step)
+    assert np.shares_memory(passive, tracker.passive) and np.shares_memory(pose, tracker.pose)

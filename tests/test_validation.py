@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.sampling import sample_configurations
+from parakin.studies.sampling import sample_configurations
 
 BACKENDS = ["compiled", "numpy", "casadi"]
 WITH_AB_RATES = [n for n in parakin.available() if parakin.metadata(n).capabilities.rates is not None]

@@ -1,4 +1,4 @@
-"""The interactive viewer (parakin.viewer): its server drives the tracker for every mechanism, follows
+"""The interactive viewer (parakin.interfaces.viewer): its server drives the tracker for every mechanism, follows
 the mode asked for, names every refusal, and its page works in a real headless browser (Debian's
 chromium and chromium-driver through selenium), checked on screenshots."""
 
@@ -17,8 +17,8 @@ import pytest
 
 import parakin
 from parakin.errors import BadInputError
+from parakin.interfaces.viewer import ViewerSession, main, serve, show
 from parakin.results import Configuration
-from parakin.viewer import ViewerSession, main, serve, show
 
 NAMES = parakin.available()
 #: a slider nudge, as a fraction of each slider's range: small enough that every mechanism's home
@@ -172,7 +172,7 @@ def test_show_and_the_module_entry(loaded):
     viewer.close()
     assert main(["no_such_mechanism"]) == 2
     process = subprocess.Popen(
-        [sys.executable, "-m", "parakin.viewer", "five_bar", "--port", "0"],
+        [sys.executable, "-m", "parakin.interfaces.viewer", "five_bar", "--port", "0"],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

@@ -2,7 +2,7 @@
 // with template real_roots.h. Do not modify by hand: run `make generate`.
 /* real_roots.h: isolated real roots of a univariate polynomial, allocation-free.
  *
- * Copied verbatim into every generated package; parakin/polynomial.py (isolate_real_roots) is the
+ * Copied verbatim into every generated package; parakin/solvers/polynomial.py (isolate_real_roots) is the
  * same algorithm vectorised in NumPy and makes the same floating-point operations in the same
  * order, so both return the same roots, bit for bit, as long as this file is compiled without
  * floating-point contraction (ISO C mode, e.g. -std=c99, or -ffp-contract=off): a fused

@@ -288,7 +288,7 @@ static const int passive_revolute[NQ_ALLOC] = { 0, 0, 1 };
 
 // Gaussian elimination with partial pivoting on a (NQ x NQ row-major, destroyed), solving a x = b
 // in place. Returns the pivot ratio min |u_kk| / max |u_kk|: a scale-free reciprocal-condition
-// estimate, and the one singularity criterion of every backend (parakin.linalg does the same);
+// estimate, and the one singularity criterion of every backend (parakin.solvers.linalg does the same);
 // *sign receives the sign of det a (0 when singular): a sign change along a path crosses det = 0.
 static double solve_in_place(double* a, double* b, int* sign) {
     double smallest = INFINITY, largest = 0.0;
@@ -524,7 +524,7 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
 // ---------------------------------------------------------------------------------------------
 // The generated parameter homotopy: each of the NPATHS start solutions of the generated complex
 // instance is followed to the inputs (s = 1 -> 0) by the same predictor-corrector as
-// parakin/homotopy.py (Runge-Kutta predictor, at most CORRECTIONS contracting Newton steps,
+// parakin/solvers/homotopy.py (Runge-Kutta predictor, at most CORRECTIONS contracting Newton steps,
 // step halved on failure and doubled after GROW_AFTER successes), refined at s = 0; real and
 // near-real endpoints are completed to passive values by a generated kernel and settled.
 #define NZ 4
@@ -616,7 +616,7 @@ static inline cplx c_scale(double f, cplx a) { return (cplx){f * a.re, f * a.im}
 static inline cplx c_div(cplx a, cplx b) { return c_mul(a, c_inv(b)); }
 
 // The coefficients in s of every monomial along the segment from start instance `which` (0: the
-// first, 1: the second, 'alternative') to the inputs, as parakin.homotopy.path_coefficients: the
+// first, 1: the second, 'alternative') to the inputs, as parakin.solvers.homotopy.path_coefficients: the
 // family (free values linear in s, circle parameters u linear in s, (C, S, D) from u) at the
 // POWERS-th roots of unity, the generated monomials kernel at each, one DFT.
 static int load_system(workspace* ws, const double* theta, const double* params, int which, sparse_system* system) {
@@ -1086,7 +1086,7 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
     }
     // a failed path came too close to another: track again from the second start system, along
     // another segment, and give each failed slot an endpoint the first run did not reach (the
-    // same solution has the same coordinates in both: one patch); as parakin.modes._retry_failed
+    // same solution has the same coordinates in both: one patch); as parakin.solvers.modes._retry_failed
     if (failures && load_system(ws, theta, params, 1, &system)) {
         for (int p = 0; p < DEGREE && failures; ++p) {
             cplx z[NZ];

@@ -363,7 +363,7 @@ static const int passive_revolute[NQ_ALLOC] = { 0, 1, 1, 0, 1, 1 };
 
 // Gaussian elimination with partial pivoting on a (NQ x NQ row-major, destroyed), solving a x = b
 // in place. Returns the pivot ratio min |u_kk| / max |u_kk|: a scale-free reciprocal-condition
-// estimate, and the one singularity criterion of every backend (parakin.linalg does the same);
+// estimate, and the one singularity criterion of every backend (parakin.solvers.linalg does the same);
 // *sign receives the sign of det a (0 when singular): a sign change along a path crosses det = 0.
 static double solve_in_place(double* a, double* b, int* sign) {
     double smallest = INFINITY, largest = 0.0;

@@ -7,7 +7,7 @@ package needs no installation and two packages never share a module name.
 
 Loading a package runs its code: its Python modules are imported and its C sources compiled and
 loaded by the compiled backend. Load only packages you trust. What the manifest names is checked
-when it is read (``parakin.manifest``): names are identifiers and files stay inside the folder.
+when it is read (``parakin.packages.manifest``): names are identifiers and files stay inside the folder.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from types import ModuleType
 from typing import Any
 
 from parakin.errors import BadInputError, BrokenPackageWarning, UnknownMechanismError
-from parakin.manifest import Manifest
+from parakin.packages.manifest import Manifest
 
 MANIFEST = "manifest.json"
 

@@ -2,7 +2,7 @@
 certify (ill-conditioned ones, e.g. near a singular set at infinity, where the rounding of F
 alone exceeds the width of any box the double-precision test could pass).
 
-Same test and notation as ``parakin.certify`` (module docstring there): for a centre x, any matrix
+Same test and notation as ``parakin.solvers.certify`` (module docstring there): for a centre x, any matrix
 Y and B = B(x, r) (max-norm polydisc), if ||Y F(x)|| + (||I - Y J(x)|| + ||Y|| L(r)) r < r then B
 holds exactly one root. Here every number is a dyadic rational m 2^e (every double is one) held as
 Python integers: x, the coefficients and Y are dyadic, and F(x), J(x), Y F(x), I - Y J(x) and the
@@ -117,7 +117,7 @@ def _round(a: Complex, bits: int) -> Complex:
 
 
 class _ExactSystem:
-    """F and J of a sparse system (``parakin.certify`` layout) with exact dyadic coefficients."""
+    """F and J of a sparse system (``parakin.solvers.certify`` layout) with exact dyadic coefficients."""
 
     def __init__(self, coefficients: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
         self.exponents = [tuple(int(e) for e in row) for row in exponents]
@@ -166,7 +166,7 @@ class _ExactSystem:
         return f, jac
 
     def hessian_bound(self, rho: list[Real]) -> Real:
-        """max_k H_k(rho) (``parakin.certify``), with |c_t| bounded by |Re| + |Im|."""
+        """max_k H_k(rho) (``parakin.solvers.certify``), with |c_t| bounded by |Re| + |Im|."""
         powers = []
         for value in rho:
             row = [(1, 0)]

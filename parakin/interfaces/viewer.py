@@ -20,7 +20,7 @@ network) and a JSON API over a ``ViewerSession``:
 
 Nothing here knows a mechanism: every slider, measure and polyline comes from the manifest.
 ``serve(m)`` starts a server (``Viewer``: ``url``, ``close()``, a context manager, an iframe in
-notebooks), ``show(m)`` returns that iframe, ``python -m parakin.viewer NAME`` serves one from the
+notebooks), ``show(m)`` returns that iframe, ``python -m parakin.interfaces.viewer NAME`` serves one from the
 shell (``main(argv)``).
 """
 
@@ -42,14 +42,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from parakin.errors import BadInputError, ParakinError
-from parakin.linalg import pivoted_solve
 from parakin.pose import xyz_euler_deg_from_pose
 from parakin.results import AssemblyModes, Configuration
+from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import within_ranges
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
-    from parakin.tracker import ForwardPoseTracker
+    from parakin.solvers.tracker import ForwardPoseTracker
 
 #: slider positions per input range
 SLIDER_STEPS = 2000
@@ -134,7 +134,7 @@ class ViewerSession:
             solved = self.m.forward_pose(actuated)
             return Configuration(np.array(solved.actuated), np.array(solved.passive), np.array(solved.pose))
         passive, pose = self._tracker.solve(actuated)
-        return Configuration(self._tracker.actuated[0].copy(), passive[0].copy(), pose[0].copy())
+        return Configuration(self._tracker.actuated[0].copy(), passive.copy(), pose.copy())
 
     # ------------------------------------------------------------------ what a configuration shows
     def _polylines(self, config: Configuration) -> dict[str, list[list[float | None]]]:
@@ -367,7 +367,7 @@ class ViewerSession:
             modes = self._assembly_modes(theta)
         except ParakinError as error:
             return {"ok": False, "error": _error(error), "actuated": actuated, "count": 0, "rows": []}
-        from parakin.display import modes_rows, modes_summary
+        from parakin.results import modes_rows, modes_summary
 
         with self._lock:
             drawn = self._config
@@ -418,7 +418,7 @@ class ViewerSession:
 
 def page() -> str:
     """The viewer's HTML page (self-contained: no script or style from the network)."""
-    return resources.files("parakin").joinpath("viewer.html").read_text(encoding="utf-8")
+    return resources.files("parakin.interfaces").joinpath("viewer.html").read_text(encoding="utf-8")
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -549,11 +549,11 @@ def show(m: Mechanism, port: int = 0, width: str = "100%", height: int = 640) ->
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m parakin.viewer NAME [--port P]``: serve a viewer of NAME, print its URL, run
+    """``python -m parakin.interfaces.viewer NAME [--port P]``: serve a viewer of NAME, print its URL, run
     until interrupted. Exit status 0, or 2 for an unknown mechanism or bad arguments."""
     import parakin
 
-    parser = argparse.ArgumentParser(prog="python -m parakin.viewer", description=main.__doc__)
+    parser = argparse.ArgumentParser(prog="python -m parakin.interfaces.viewer", description=main.__doc__)
     parser.add_argument("name", help="a mechanism name (parakin list) or package folder")
     parser.add_argument("--port", type=int, default=0, help="port to listen on (default: any free port)")
     parser.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")

@@ -36,11 +36,11 @@ from parakin.errors import (
     UnreachablePoseError,
     UnsupportedOperationError,
 )
-from parakin.manifest import DRAWING_PARTS
+from parakin.packages.manifest import DRAWING_PARTS
 from parakin.results import Array, AssemblyModes, Configuration
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 # ---------------------------------------------------------- the scene: what a picture shows
@@ -90,7 +90,7 @@ def _inverse_condition(matrix: Array) -> float:
     return float(values[-1] / values[0]) if values[0] > 0 else 0.0
 
 
-def singularity_distance(m: Mechanism, config: Configuration) -> dict[str, float]:
+def singularity_distance(m: LoadedMechanism, config: Configuration) -> dict[str, float]:
     """Distance to singularity of one configuration, as ``parakin sweep`` measures it (1 far,
     0 singular): ``type II`` is 1/cond of the loop-closure Jacobian d closure / d passive (a parallel
     singularity), ``type I`` 1/cond of the rate model's B (A twist = B actuated rates), or of the
@@ -126,7 +126,7 @@ def great_circle(a: Array, b: Array, sphere: Sphere, count: int = ARC_POINTS) ->
     return (sphere.centre + sphere.radius * arc).T
 
 
-def _sphere(m: Mechanism, configurations: list[Configuration], cloud: Array) -> Sphere | None:
+def _sphere(m: LoadedMechanism, configurations: list[Configuration], cloud: Array) -> Sphere | None:
     if m.manifest.pose_kind != "rotation" or cloud.shape[1] < 3:
         return None
     centre = np.asarray(configurations[0].pose)[:3, 3]
@@ -139,7 +139,7 @@ def _sphere(m: Mechanism, configurations: list[Configuration], cloud: Array) -> 
     return Sphere(centre, radius)
 
 
-def compose_scene(m: Mechanism, configurations: list[Configuration], distances: bool = True) -> Scene:
+def compose_scene(m: LoadedMechanism, configurations: list[Configuration], distances: bool = True) -> Scene:
     """Evaluate the drawing kernel at every configuration and decide how to draw them together."""
     drawing = m.capabilities.drawing
     assert drawing is not None
@@ -389,7 +389,7 @@ class Animation:
         return int(np.asarray(self.configurations.actuated).shape[0])
 
 
-def actuated_path(m: Mechanism, value: ArrayLike, name: str = "actuated_path") -> Array:
+def actuated_path(m: LoadedMechanism, value: ArrayLike, name: str = "actuated_path") -> Array:
     """Validated inputs (N, n_a), N >= 2, finite, every one inside the actuators' ranges: a path
     that leaves them is refused naming the frame and the actuator (BadInputError)."""
     try:
@@ -414,7 +414,7 @@ def actuated_path(m: Mechanism, value: ArrayLike, name: str = "actuated_path") -
     return path
 
 
-def actuated_line(m: Mechanism, start: ArrayLike, end: ArrayLike, frames: int) -> Array:
+def actuated_line(m: LoadedMechanism, start: ArrayLike, end: ArrayLike, frames: int) -> Array:
     """``frames`` inputs evenly spaced on the straight line from ``start`` to ``end`` (n_a,)."""
     if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 2:
         raise BadInputError(f"frames must be an integer >= 2, got {frames!r}")
@@ -423,7 +423,7 @@ def actuated_line(m: Mechanism, start: ArrayLike, end: ArrayLike, frames: int) -
     return actuated_path(m, a + t * (b - a))
 
 
-def actuated_loop(m: Mechanism, start: ArrayLike, frames: int, scale: float = 1.0) -> Array:
+def actuated_loop(m: LoadedMechanism, start: ArrayLike, frames: int, scale: float = 1.0) -> Array:
     """A closed loop of ``frames`` inputs through ``start`` (n_a,): input i moves as
     a_i + scale * amplitude_i * sin(2 pi t + 2 pi i / n_a), t in [0, 1], amplitude LOOP_ANGLE (rad)
     for a revolute input and LOOP_FRACTION * |a_i| for a prismatic one; every input moves, out of
@@ -471,7 +471,7 @@ def _step(tracker: Any, previous: Array, theta: Array) -> tuple[Array, Array]:
             substeps *= 2
 
 
-def track(m: Mechanism, path: ArrayLike, start: Configuration | None = None) -> Configuration:
+def track(m: LoadedMechanism, path: ArrayLike, start: Configuration | None = None) -> Configuration:
     """The configurations along ``path`` (N, n_a): the runtime's tracker from ``start`` (a solved
     configuration at ``path[0]``; default the forward pose nearest the home, ``m.forward_pose``),
     so the assembly mode stays the start's. A serial chain (no passive joints) is solved in closed
@@ -503,7 +503,7 @@ def track(m: Mechanism, path: ArrayLike, start: Configuration | None = None) -> 
             q, pose = _step(tracker, theta[k - 1], theta[k])
         except ParakinError as error:
             raise _at_frame(error, k, frames, theta[k]) from error
-        passive[k], poses[k] = q[0], pose[0]
+        passive[k], poses[k] = q, pose
         if limited and not m.within_limits(passive[k]):
             raise UnreachablePoseError(
                 f"animation frame {k} of {frames} (actuated {theta[k]}): the tracked configuration leaves "
@@ -546,7 +546,7 @@ def _pick(configurations: list[Configuration], labels: list[str], mode: object) 
 
 
 def plot(
-    m: Mechanism,
+    m: LoadedMechanism,
     state: Configuration | AssemblyModes,
     path: str | None = None,
     ax: Any = None,
@@ -631,7 +631,7 @@ def plot(
 
 
 def animate(
-    m: Mechanism,
+    m: LoadedMechanism,
     actuated_path: ArrayLike,
     path: str | None = None,
     start: Configuration | None = None,

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from parakin.errors import BadInputError
-from parakin.plot import _pyplot
+from parakin.interfaces.plot import _pyplot
 
 if TYPE_CHECKING:
     import xarray

@@ -56,7 +56,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.errors import ArchitectureSingularityWarning, BadInputError, UnsupportedOperationError
 from parakin.pose import POSE_KINDS
 from parakin.validation import as_array
 
@@ -90,12 +90,12 @@ def _needs_dask() -> tuple[Any, Any]:
 @functools.lru_cache(maxsize=64)
 def _mechanism(source: str, backend: str, parameters: tuple[tuple[str, float], ...], limits: Limits = ()) -> Mechanism:
     """One loaded mechanism per design, joint limits and process (workers load their own)."""
-    import parakin
+    from parakin.loading import load
 
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
+        warnings.simplefilter("ignore", ArchitectureSingularityWarning)
         values: dict[str, Any] = dict(parameters)
-        return parakin.load(source, backend=backend, limits=dict(limits) or None, **values)
+        return load(source, backend=backend, limits=dict(limits) or None, **values)
 
 
 #: joint limits and actuated ranges as a hashable key: ((name, (low, high)), ...)
@@ -330,7 +330,7 @@ def _home_pose(m: Mechanism) -> np.ndarray:
     configuration near it (zeros when none is found)."""
     from parakin.errors import ParakinError
     from parakin.pose import xyz_euler_from_pose
-    from parakin.sampling import sample_configurations
+    from parakin.studies.sampling import sample_configurations
 
     try:
         solved = m.forward_pose(m.home_actuated, strict=False)

@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from parakin.backends import broadcast_batch
 from parakin.errors import (
     BadInputError,
     CacheUnavailableError,
@@ -30,8 +29,9 @@ from parakin.errors import (
     ParakinError,
 )
 from parakin.log import logger
-from parakin.package import GeneratedPackage
+from parakin.packages.package import GeneratedPackage
 from parakin.results import Array
+from parakin.validation import broadcast_batch
 
 FLAGS = [
     "-O2",

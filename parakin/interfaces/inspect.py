@@ -13,10 +13,10 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
 * ``latex``: one complete document (``pdflatex`` compiles it: amsmath and geometry only); the
   repeated subexpressions of the whole report are named once (``s_k``), each where it is first
   needed; long expressions are inline math, which breaks after + and -.
-* ``json``: one object, described by this schema (schema ``"parakin.inspect/1"``)::
+* ``json``: one object, described by this schema (schema ``"parakin.interfaces.inspect/1"``)::
 
     {
-      "schema": "parakin.inspect/1",
+      "schema": "parakin.interfaces.inspect/1",
       "manifest": NAME, "title": TEXT, "citation": TEXT,
       "symbols": {DISPLAY: {
           "name": SYMPY_NAME, "assumptions": {"real": true, ...},
@@ -60,7 +60,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from parakin.errors import UnsupportedOperationError
-from parakin.subtrees import shared_subtrees
+from parakin.packages.subtrees import shared_subtrees
 
 #: expressions of more nodes than this print with their repeated subexpressions named
 SHARE_ABOVE = 400
@@ -245,7 +245,7 @@ def _display_names(sympy: Any, manifest: Any, objects: dict[str, Any], sections:
 
 def _notes(name: str | os.PathLike[str]) -> dict[str, list[str]]:
     """The generator's notes on each forward method's unknowns and family parameters."""
-    from parakin.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage
 
     try:
         data = json.loads((GeneratedPackage.find(name).path / "manifest.json").read_text())
@@ -680,7 +680,7 @@ def _as_json(sympy: Any, report: _Report) -> str:
             item["value"] = entry.value
         symbols[display] = item
     data = {
-        "schema": "parakin.inspect/1",
+        "schema": "parakin.interfaces.inspect/1",
         "manifest": manifest.name,
         "title": manifest.title,
         "citation": str(manifest.citation),

@@ -252,7 +252,7 @@ class Capabilities:
 
 @dataclass(frozen=True)
 class Newton:
-    """The C Newton driver's layout (shared with ``parakin.compiled``)."""
+    """The C Newton driver's layout (shared with ``parakin.packages.compiled``)."""
 
     symbol: str
     unknowns: int
@@ -262,7 +262,7 @@ class Newton:
 @dataclass(frozen=True)
 class Abi:
     """The C ABI as the generator wrote it: status code names (their index is the code) and
-    the fields (name, type) of the job structures that ``parakin.compiled`` binds."""
+    the fields (name, type) of the job structures that ``parakin.packages.compiled`` binds."""
 
     newton_status: tuple[str, ...]
     mode_outcomes: tuple[str, ...]

@@ -2,7 +2,7 @@
 vectorised in NumPy for the Python backends.
 
 Steps per input (both versions, ``generator/templates/c_driver.c.j2`` for C): the generated
-univariate polynomial; every real root isolated (``parakin.polynomial.isolate_real_roots``,
+univariate polynomial; every real root isolated (``parakin.solvers.polynomial.isolate_real_roots``,
 complete: roots are separated by the roots of the derivative); for each root x branch the
 generated back substitution; the passive joints from the inverse kernels (the branch whose
 actuated values match); closure and alignment; a Newton polish; wrapping, joint limits, input
@@ -19,10 +19,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from parakin.certify import Certificate, certify_roots, distinct_clusters, homogeneous_group
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN, BadInputError
-from parakin.exact_certify import certify_root_exactly
-from parakin.homotopy import (
+from parakin.pose import pose_vector, wrap_angle
+from parakin.results import Array, AssemblyModes
+from parakin.solvers.certify import Certificate, certify_roots, distinct_clusters, homogeneous_group
+from parakin.solvers.exact_certify import certify_root_exactly
+from parakin.solvers.homotopy import (
     PATH_DIVERGED,
     PATH_FAILED,
     PATH_REACHED,
@@ -37,13 +39,11 @@ from parakin.homotopy import (
     track,
     track_symmetric,
 )
-from parakin.polynomial import isolate_real_roots
-from parakin.pose import wrap_angle
-from parakin.results import Array, AssemblyModes
+from parakin.solvers.polynomial import isolate_real_roots
 
 if TYPE_CHECKING:
-    from parakin.manifest import Forward, Homotopy
-    from parakin.mechanism import Mechanism
+    from parakin.packages.manifest import Forward, Homotopy
+    from parakin.solvers.loaded import LoadedMechanism as Mechanism  # the interface parakin.Mechanism implements
 
 #: inputs per chunk of the NumPy pipeline: bounds its temporaries whatever the batch
 CHUNK = 4096
@@ -212,7 +212,7 @@ def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: bool = Fals
 
 
 def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
-    """Every path of the generated homotopy followed to the inputs (``parakin.homotopy``); real
+    """Every path of the generated homotopy followed to the inputs (``parakin.solvers.homotopy``); real
     and near-real endpoints become candidates (passive values from the generated kernel), the
     others are accounted for as complex, at infinity or failed."""
     homotopy = info.homotopy
@@ -274,7 +274,7 @@ def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: boo
 
 def _track_family(homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float) -> Paths:
     """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
-    a sign symmetry (``parakin.homotopy.track_symmetric``), as the generated C driver does."""
+    a sign symmetry (``parakin.solvers.homotopy.track_symmetric``), as the generated C driver does."""
 
     def system_for(per_input: int):
         return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
@@ -338,9 +338,9 @@ def certify_inputs(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per input (flat batch): how many distinct roots of the system at the inputs are certified
     by Krawczyk boxes around the paths' endpoints, and per path whether its box holds exactly one
-    root (``parakin.certify``); the answer is complete where the first equals the root count.
+    root (``parakin.solvers.certify``); the answer is complete where the first equals the root count.
     With ``exact``, the finite endpoints of incomplete inputs that double precision cannot
-    certify are tested again in exact dyadic arithmetic (``parakin.exact_certify``)."""
+    certify are tested again in exact dyadic arithmetic (``parakin.solvers.exact_certify``)."""
     homotopy = info.homotopy
     assert homotopy is not None
     free, angles = _family(m, info, theta)
@@ -607,8 +607,6 @@ def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: 
     they miss it; the same rule as the C driver's ``passive_from_pose``: every sign pattern in one
     ``inverse_pose_patterns`` call, each independent branch group choosing its own pattern (ranked
     by actuated mismatch, +1e3 per invalid validity measure; NaN where no pattern is finite)."""
-    from parakin.mechanism import pose_vector
-
     inverse = m.capabilities.inverse
     assert inverse is not None
     n_groups = len(inverse.groups)

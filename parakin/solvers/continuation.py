@@ -22,7 +22,7 @@ from parakin.pose import rigid_or_nan
 from parakin.results import Array
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 @dataclass(frozen=True)
@@ -43,12 +43,12 @@ class SelfMotion:
         return int(self.passive.shape[0])
 
 
-def _closure(m: Mechanism, theta: Array, q: Array) -> tuple[Array, Array]:
+def _closure(m: LoadedMechanism, theta: Array, q: Array) -> tuple[Array, Array]:
     out = m.backend.call("loop_closure", theta, q, m.params)
     return out["residual"], out["jacobian"]
 
 
-def _correct(m: Mechanism, theta: Array, q: Array, tolerance: float, iterations: int = 12) -> tuple[Array, float]:
+def _correct(m: LoadedMechanism, theta: Array, q: Array, tolerance: float, iterations: int = 12) -> tuple[Array, float]:
     """Minimum-norm Gauss-Newton onto the solution set (the Jacobian is rank deficient there);
     a false closure (an alignment measure not positive: a half-turn, a mirror) counts as none."""
     residual = np.inf
@@ -69,7 +69,7 @@ def _correct(m: Mechanism, theta: Array, q: Array, tolerance: float, iterations:
     return q, residual
 
 
-def _tangent(m: Mechanism, theta: Array, q: Array, previous: Array | None) -> Array:
+def _tangent(m: LoadedMechanism, theta: Array, q: Array, previous: Array | None) -> Array:
     _, jacobian = _closure(m, theta, q)
     tangent = np.linalg.svd(jacobian)[2][-1]
     if previous is not None and tangent @ previous < 0:
@@ -78,7 +78,7 @@ def _tangent(m: Mechanism, theta: Array, q: Array, previous: Array | None) -> Ar
 
 
 def trace_self_motion(
-    m: Mechanism,
+    m: LoadedMechanism,
     actuated: Array,
     starts: Array | None = None,
     step: float = 0.02,
@@ -148,7 +148,9 @@ class LeastSquares:
     iterations: int
 
 
-def least_squares_configuration(m: Mechanism, actuated: Array, start: Array, iterations: int = 200) -> LeastSquares:
+def least_squares_configuration(
+    m: LoadedMechanism, actuated: Array, start: Array, iterations: int = 200
+) -> LeastSquares:
     """Levenberg-Marquardt on the loop closure from ``start`` (n_p,); converges to a local
     minimum (zero residual where the inputs are compatible)."""
     theta, q = np.asarray(actuated, dtype=float), np.array(start, dtype=float)

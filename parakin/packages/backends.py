@@ -13,42 +13,16 @@ from typing import Any, Protocol
 import numpy as np
 
 from parakin.errors import BackendFallbackWarning, BadInputError, CompiledUnavailableError, UnsupportedOperationError
-from parakin.package import GeneratedPackage
+from parakin.packages.compiled import CompiledBackend
+from parakin.packages.package import GeneratedPackage
 from parakin.results import Array
+from parakin.validation import batch_shape, broadcast_batch
 
 
 class Backend(Protocol):
     name: str
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]: ...
-
-
-def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
-    """``np.broadcast_shapes`` with the one batch rule of parakin: BadInputError naming them."""
-    try:
-        return tuple(np.broadcast_shapes(*shapes))
-    except ValueError as error:
-        raise BadInputError(f"batch shapes do not broadcast: {', '.join(map(str, shapes))}") from error
-
-
-def batch_shape(inputs: tuple[Array, ...]) -> tuple[int, ...]:
-    """The broadcast of the inputs' leading (batch) shapes, or BadInputError naming them."""
-    return broadcast_shapes(*(np.shape(x)[:-1] for x in inputs))
-
-
-def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Array]]:
-    """The common batch shape and each input reshaped to (n, size) (or (1, size) to share)."""
-    shape = batch_shape(inputs)
-    count = int(np.prod(shape, dtype=np.int64))
-    flat = []
-    for x in inputs:
-        array = np.asarray(x, dtype=float)
-        size = array.shape[-1]
-        if array.shape[:-1] == ():
-            flat.append(np.ascontiguousarray(array.reshape(1, size)))
-        else:  # the size is explicit: an empty batch has no -1 to infer
-            flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + (size,)).reshape(count, size)))
-    return shape, flat
 
 
 class NumpyBackend:
@@ -114,8 +88,6 @@ def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:
     if backend == "casadi":
         return CasadiBackend(mechanism)
     if backend in ("compiled", "auto"):
-        from parakin.compiled import CompiledBackend
-
         try:
             return CompiledBackend(mechanism)
         except CompiledUnavailableError as error:

@@ -28,9 +28,9 @@ from parakin.errors import (
     UnsupportedOperationError,
     raise_for_newton_status,
 )
-from parakin.linalg import pivoted_solve
 from parakin.pose import rigid_or_nan, wrap_angle
 from parakin.results import Array, Configuration
+from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
 #: ``ForwardPoseTracker.mode_change`` codes
@@ -43,7 +43,9 @@ class ForwardPoseTracker:
     """Tracks the forward pose of a batch of n mechanisms (n = 1 for one robot).
 
     ``solve(actuated)`` runs Newton from the previous solution and returns the passive values
-    (n, n_p) and poses (n, 4, 4) as views of internal buffers (copy them to keep them); the
+    (n, n_p) and poses (n, 4, 4) as views of internal buffers (copy them to keep them); a
+    tracker started from one configuration (no batch axis) given one input (n_a,) returns one
+    result, (n_p,) and (4, 4), as ``Mechanism.forward_pose`` does. The
     last ``residual``, ``iterations``, ``status``, ``conditioning`` (pivot ratio of the closure
     Jacobian), ``orientation`` (sign of its determinant) and ``mode_change`` stay readable.
     Raises ConvergenceError or SingularConfigurationError like ``Mechanism.forward_pose``, and
@@ -67,6 +69,8 @@ class ForwardPoseTracker:
                 f"{mechanism.name} is a serial chain: no passive joints to track (forward_pose is closed form)"
             )
         theta, passive = mechanism._state(start)
+        #: started from one configuration: one input gives one result, not a batch of one
+        self.single = theta.ndim == 1 and passive.ndim == 1
         tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
         self.jump_ratio = positive_number(jump_ratio, "jump_ratio")
@@ -143,7 +147,9 @@ class ForwardPoseTracker:
         return self._max_iterations
 
     def solve(self, actuated: ArrayLike) -> tuple[Array, Array]:
-        """Newton from the previous solution for new actuated values (n, n_a) or (n_a,)."""
+        """Newton from the previous solution for new actuated values (n, n_a) or (n_a,): passive
+        values and poses, (n_p,) and (4, 4) for one input to a tracker of one configuration
+        (``single``), else (n, n_p) and (n, 4, 4); views of the tracker's buffers."""
         theta = self.mechanism._actuated(actuated)
         self._previous[...] = self.passive
         self._previous_pose[...] = self.pose
@@ -178,6 +184,8 @@ class ForwardPoseTracker:
                 self._previous,
             )
         self._check_mode(previous_theta)
+        if self.single and theta.ndim == 1:
+            return self.passive[0], self.pose[0]
         return self.passive, self.pose
 
     def _restore(self, entries: np.ndarray, previous_theta: Array) -> None:

@@ -41,13 +41,13 @@ from parakin.results import Array, Configuration, ForwardPose
 from parakin.validation import bounded_vector, stiffness_matrix
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism
 
 
 Wrench = ArrayLike | Callable[[Configuration], ArrayLike]
 
 
-def twist_names(m: Mechanism) -> tuple[str, ...]:
+def twist_names(m: LoadedMechanism) -> tuple[str, ...]:
     """The twist (and wrench) components of ``m``; UnsupportedOperationError without a rate model."""
     rates = m.manifest.capabilities.rates
     if rates is not None:
@@ -59,7 +59,7 @@ def twist_names(m: Mechanism) -> tuple[str, ...]:
     )
 
 
-def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None, Array | None]:
+def _rate_model(m: LoadedMechanism, state: Configuration) -> tuple[Array, Array | None, Array | None]:
     """(A, B, C) with A twist = B actuated_rates and C twist = 0 (C None without constraint
     wrenches); B is None for a leg model (A = M, B = I)."""
     twist_names(m)
@@ -74,7 +74,7 @@ def _rate_model(m: Mechanism, state: Configuration) -> tuple[Array, Array | None
     return np.asarray(m.rate_matrix(state), dtype=float), None, None
 
 
-def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
+def actuation_matrix(m: LoadedMechanism, state: Configuration) -> Array:
     """G (..., n_a, n_twist): actuated_rates = G twist (B^-1 A, or M of ``m.rate_matrix``); for a
     lower-mobility platform, on the twists it can make (C twist = 0)."""
     a, b, _ = _rate_model(m, state)
@@ -85,11 +85,11 @@ def actuation_matrix(m: Mechanism, state: Configuration) -> Array:
     )
 
 
-def _wrench(m: Mechanism, wrench: ArrayLike) -> Array:
+def _wrench(m: LoadedMechanism, wrench: ArrayLike) -> Array:
     return bounded_vector(wrench, "wrench", twist_names(m))
 
 
-def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Array:
+def actuator_forces(m: LoadedMechanism, state: Configuration, wrench: ArrayLike) -> Array:
     """Actuator efforts tau (..., n_a) that hold the platform against the external ``wrench``
     (..., n_twist) applied to it (see the module docstring): G^T tau = -wrench, solved as
     tau = -B^T A^-T wrench (or -M^-T wrench). Positive along increasing actuated values (for a
@@ -100,7 +100,7 @@ def actuator_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Ar
     return _holding_intensities(m, state, wrench)[0]
 
 
-def constraint_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> Array:
+def constraint_forces(m: LoadedMechanism, state: Configuration, wrench: ArrayLike) -> Array:
     """The intensities lambda (..., n_c) of the constraint wrenches C (``m.rate_jacobians(state)
     ['constraints']``, one row per wrench) that a lower-mobility platform's legs apply to it
     while its actuators hold the external ``wrench``: wrench + A^T phi + C^T lambda = 0 with
@@ -112,7 +112,7 @@ def constraint_forces(m: Mechanism, state: Configuration, wrench: ArrayLike) -> 
     return _holding_intensities(m, state, wrench)[1]
 
 
-def _holding_intensities(m: Mechanism, state: Configuration, wrench: ArrayLike) -> tuple[Array, Array]:
+def _holding_intensities(m: LoadedMechanism, state: Configuration, wrench: ArrayLike) -> tuple[Array, Array]:
     """(tau, lambda): the platform's equilibrium w + A^T phi + C^T lambda = 0, tau = B^T phi."""
     w = _wrench(m, wrench)
     a, b, constraints = _rate_model(m, state)
@@ -129,13 +129,13 @@ def _holding_intensities(m: Mechanism, state: Configuration, wrench: ArrayLike) 
     return np.asarray(tau, dtype=np.float64), np.asarray(reactions, dtype=np.float64)
 
 
-def _actuator_stiffness(m: Mechanism, actuator_stiffness: ArrayLike) -> Array:
+def _actuator_stiffness(m: LoadedMechanism, actuator_stiffness: ArrayLike) -> Array:
     """K_q (n_a, n_a), validated (``validation.stiffness_matrix``: positive diagonal, or symmetric
     positive definite)."""
     return stiffness_matrix(actuator_stiffness, "actuator_stiffness", len(m.actuated_names))
 
 
-def stiffness(m: Mechanism, state: Configuration, actuator_stiffness: ArrayLike) -> Array:
+def stiffness(m: LoadedMechanism, state: Configuration, actuator_stiffness: ArrayLike) -> Array:
     """K = G^T K_q G (..., n_twist, n_twist): the extra external wrench that holds the platform
     displaced by a small motion twist dt, dw = K twist dt, with actuators of stiffness K_q
     ((n_a,) diagonal or (n_a, n_a)). Symmetric, and positive definite when K_q is and G has full
@@ -147,7 +147,7 @@ def stiffness(m: Mechanism, state: Configuration, actuator_stiffness: ArrayLike)
     return np.asarray(np.swapaxes(g, -1, -2) @ k @ g, dtype=np.float64)
 
 
-def point_force_wrench(m: Mechanism, state: Configuration, force: ArrayLike, point: ArrayLike) -> Array:
+def point_force_wrench(m: LoadedMechanism, state: Configuration, force: ArrayLike, point: ArrayLike) -> Array:
     """The wrench of a force (3,) in {B} applied at a platform point (3,) given in {P}: the force
     and its moment (R p) x F about the origin of {P}, in the mechanism's twist components (an
     orienting platform keeps the moment only)."""
@@ -181,7 +181,7 @@ class Equilibrium:
 
 
 def equilibrium(
-    m: Mechanism,
+    m: LoadedMechanism,
     commanded_actuated: ArrayLike,
     wrench: Wrench,
     actuator_stiffness: ArrayLike,

@@ -19,11 +19,11 @@ from typing import Any
 import numpy as np
 
 import parakin
-from parakin.continuation import SelfMotion
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
-from parakin.manifest import Manifest, Variable, unknown_name
+from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS
 from parakin.results import Configuration
+from parakin.solvers.continuation import SelfMotion
 
 
 def _pose_arguments(coordinates: tuple[str, ...]) -> tuple[str, int]:
@@ -137,7 +137,7 @@ def _print(record: dict[str, Any], as_json: bool) -> None:
 
 
 def _list(args: argparse.Namespace) -> int:
-    from parakin.package import survey
+    from parakin.packages.package import survey
 
     readable, broken = survey()
     for name, reason in broken.items():  # reported and skipped: the others are still listed
@@ -206,7 +206,7 @@ def _fk(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from parakin.demo import format_results, run_examples
+    from parakin.interfaces.demo import format_results, run_examples
 
     names = [args.name] if args.name else parakin.available()
     failed = 0
@@ -221,7 +221,7 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from parakin.plot import plot
+    from parakin.interfaces.plot import plot
 
     m = _load(args)
     degrees = args.actuated_deg is not None
@@ -257,7 +257,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
     """``parakin plot NAME --animate OUT.gif``: a straight line to ``--to``, or else a loop through
     the start (``actuated_loop``), shrunk up to three times while it crosses a singularity or
     leaves the workspace; the start is ``--mode K`` or the mode nearest the home."""
-    from parakin.plot import actuated_line, actuated_loop, animate
+    from parakin.interfaces.plot import actuated_line, actuated_loop, animate
 
     frames = 24 if args.frames is None else args.frames
     start = None if args.mode is None else m.forward_pose_all(actuated).mode(args.mode)
@@ -281,7 +281,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
 
 
 def _export(args: argparse.Namespace) -> int:
-    from parakin.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage
 
     package = GeneratedPackage.find(args.name)
     written = package.export_c(args.out)
@@ -310,7 +310,7 @@ def _generate(args: argparse.Namespace) -> int:
 
 
 def _inspect(args: argparse.Namespace) -> int:
-    from parakin.inspect import inspect
+    from parakin.interfaces.inspect import inspect
 
     print(inspect(args.name, args.format, args.width, args.lines))
     return 0
@@ -340,7 +340,7 @@ def _fixed(text: str) -> tuple[str, float]:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from parakin.sweep import sweep
+    from parakin.studies.sweep import sweep
 
     m = _load(args)
     axes = dict(_axis(a) for a in args.axis)
@@ -360,7 +360,7 @@ def _sweep(args: argparse.Namespace) -> int:
         )
         print(f"{name:24s} {dict(values.sizes)}  {summary}  ({finite.size}/{array.size} defined)")
     if args.plot:
-        from parakin.atlas import plot_sweep
+        from parakin.studies.atlas import plot_sweep
 
         quantity = args.plot_quantity or str(next(iter(result.data_vars)))
         plot_sweep(result, quantity, args.plot)
@@ -470,7 +470,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _view(args: argparse.Namespace) -> int:
-    from parakin.viewer import main as viewer
+    from parakin.interfaces.viewer import main as viewer
 
     return viewer(args.arguments)
 

@@ -15,10 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from parakin.display import modes_table
 from parakin.errors import ParakinError
-from parakin.manifest import Example
-from parakin.results import Array, AssemblyModes
+from parakin.packages.manifest import Example
+from parakin.results import Array, AssemblyModes, modes_table
 
 
 @dataclass(frozen=True)
