@@ -33,6 +33,7 @@ from parakin.errors import (
     raise_for_newton_status,
 )
 from parakin.linalg import pivoted_solve
+from parakin.log import progress
 from parakin.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.modes import assemble, certify, compiled_modes, numpy_modes
 from parakin.package import GeneratedPackage
@@ -65,6 +66,8 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 #: a lower-mobility platform's twist must satisfy constraints @ twist = 0 to this relative
 #: measure, |C_i . twist| / (|C_i| |twist|) per constraint wrench C_i (``inverse_rate``)
 CONSTRAINT_TOLERANCE = 1e-6
+#: the fewest inputs per step of a batch of ``forward_pose_all`` that shows a progress bar
+BAR_STEP = 256
 
 
 def _home(variable: Variable) -> float:
@@ -582,12 +585,16 @@ class Mechanism:
                 outcomes=self.manifest.abi.mode_outcomes,
             )  # fmt: skip
         flat = theta.reshape(-1, theta.shape[-1])
-        if self.backend.name == "compiled" and info is self.capabilities.forward:
-            out = compiled_modes(self, flat)
-        else:  # the same pipeline in NumPy, over this backend's kernels
-            out = numpy_modes(self, flat, info)
-        if info.homotopy is not None:
-            out = self._certified(info, flat, out, exact=certify == "exact")
+        count = flat.shape[0]
+        with progress(count, f"{self.name}: every assembly mode") as bar:
+            # with a bar, in about a hundred steps so that it moves (each input is solved on its
+            # own: the same answers); without one, in one step
+            step = max(BAR_STEP, -(-count // 100)) if bar.active else max(count, 1)
+            parts = []
+            for start in range(0, max(count, 1), step):
+                parts.append(self._every_mode(info, flat[start : start + step], certify == "exact"))
+                bar.update(parts[-1]["count"].shape[0])
+        out = parts[0] if len(parts) == 1 else {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
         modes = assemble(self, theta, out, info)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
@@ -607,6 +614,16 @@ class Mechanism:
                 raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
             raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
         return modes
+
+    def _every_mode(self, info: Forward, flat: Array, exact: bool) -> dict[str, np.ndarray]:
+        """The all-modes pipeline's arrays for a flat batch: compiled C or NumPy, then certified."""
+        if self.backend.name == "compiled" and info is self.capabilities.forward:
+            out = compiled_modes(self, flat)
+        else:  # the same pipeline in NumPy, over this backend's kernels
+            out = numpy_modes(self, flat, info)
+        if info.homotopy is not None:
+            out = self._certified(info, flat, out, exact)
+        return out
 
     def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray], exact: bool) -> dict[str, np.ndarray]:
         """Certify every input's endpoints (``exact``: what double precision cannot certify is
