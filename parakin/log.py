@@ -149,11 +149,12 @@ def progress(
     show: bool | None = None,
     minimum: int = LARGE_BATCH,
     size: int | None = None,
+    delay: float = BAR_DELAY,
 ) -> Progress:
     """A progress bar over ``total`` ``unit``s on stderr (None: known once the work starts, then
     ``restart``), or a silent ``Progress``. ``show``: True or False decides; None (the default): a
     bar when the work's ``size`` (default ``total``) is at least ``minimum`` and ``PARAKIN_PROGRESS``
-    allows it (module docstring), appearing after ``BAR_DELAY`` seconds unless the setting is 'on'.
+    allows it (module docstring), appearing after ``delay`` seconds unless the setting is 'on'.
     While a bar is open in this process, a request from the same thread with the same unit counts
     into it (``count_modes``' chunks into one bar over the whole batch) and every other stays silent."""
     setting = progress_setting()
@@ -173,7 +174,7 @@ def progress(
     if wanted:
         from tqdm import tqdm
 
-        delay = 0.0 if show is True or setting == "on" else BAR_DELAY
+        delay = 0.0 if show is True or setting == "on" else delay
         handle.bar = tqdm(total=total, desc=description, unit=unit, file=sys.stderr, delay=delay, dynamic_ncols=True)
     return handle
 

@@ -679,12 +679,13 @@ class Mechanism:
         total = int(np.prod(shape, dtype=np.int64))
         result: dict[str, Array] = {key: np.zeros(total, dtype=np.int32) for key in keys}
         result["min_conditioning"] = np.full(total, np.nan)
-        for start, modes in self.forward_pose_all_chunks(theta, chunk, strict=False):
-            stop = start + modes.count.shape[0]
-            for key in keys:
-                result[key][start:stop] = getattr(modes, key)
-            conditioning = np.where(modes.valid, modes.conditioning, np.inf).min(-1)
-            result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
+        with progress(total, f"{self.name}: counting assembly modes"):  # the chunks feed this one bar
+            for start, modes in self.forward_pose_all_chunks(theta, chunk, strict=False):
+                stop = start + modes.count.shape[0]
+                for key in keys:
+                    result[key][start:stop] = getattr(modes, key)
+                conditioning = np.where(modes.valid, modes.conditioning, np.inf).min(-1)
+                result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
         return {key: value.reshape(shape) for key, value in result.items()}
 
     def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
