@@ -1,6 +1,7 @@
 """``python -m parakin.generator [names...] [--force]``: regenerate ``generated/`` from
 ``mechanisms/`` (every mechanism file by default; of those only the packages that are out of
-date, unless ``--force``)."""
+date, unless ``--force``). Progress on stderr: a bar on a terminal, else a ``parakin`` logger
+line per stage (``parakin.log``: ``PARAKIN_PROGRESS``, ``PARAKIN_LOG``)."""
 
 from __future__ import annotations
 
@@ -21,18 +22,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     # a terminated build unwinds like an interrupted one: its staging folder is removed
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
-    try:
-        report = generate(args.names or None, workers=args.workers, force=args.force)
+    try:  # what it does is shown as it happens (generator.stages): a bar, parakin logger lines
+        generate(args.names or None, workers=args.workers, force=args.force)
     except GenerationError as error:
         print(f"parakin generator: {error}", file=sys.stderr)
         return 2
-    kept = [name for name, stats in report.items() if stats.get("up_to_date")]
-    for name, stats in report.items():
-        if not stats.get("up_to_date"):
-            stages = ", ".join(f"{stage} {seconds:.1f} s" for stage, seconds in stats.get("stages", {}).items())
-            print(f"generated {name} in {stats['seconds']:.2f} s" + (f" ({stages})" if stages else ""))
-    if kept:
-        print(f"up to date (kept): {', '.join(kept)}")
     return 0
 
 

@@ -16,7 +16,6 @@ destination that holds other files is refused (``generate_file`` can write next 
 from __future__ import annotations
 
 import ast
-import contextlib
 import ctypes
 import errno
 import functools
@@ -24,13 +23,18 @@ import hashlib
 import importlib.metadata
 import importlib.util
 import json
+import logging
+import logging.handlers
+import multiprocessing
+import multiprocessing.queues
 import os
+import queue
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from types import ModuleType, TracebackType
@@ -38,7 +42,9 @@ from typing import Any
 
 import casadi
 
-from . import emit
+from parakin.log import logger
+
+from . import emit, stages
 from .checks import check_inverse, check_variables
 from .derive import derive
 from .errors import GenerationError
@@ -169,32 +175,32 @@ def _c_sources(
 
 
 def generate_package(path: Path, package: Path, name: str | None = None) -> dict[str, Any]:
-    """Write the generated package of the mechanism file ``path`` into the folder ``package``."""
+    """Write the generated package of the mechanism file ``path`` into the folder ``package``;
+    returns its seconds and each stage's (``generator.stages``, reported as they run)."""
     started = time.perf_counter()
-    mechanism, module = load_definition(path, name)
-    try:
-        check_variables(mechanism)
-        check_inverse(mechanism)
-        return _write_package(path, package, mechanism, module, started)
-    except GenerationError:
-        raise
-    except Exception as error:  # a model the checks did not foresee: one line, not a traceback
-        raise GenerationError(f"{mechanism.name}: {type(error).__name__}: {error}") from error
+    with stages.reporting(validate_name(name or path.stem)) as times:
+        stages.begin("model")
+        mechanism, module = load_definition(path, name)
+        try:
+            stages.begin("checks")
+            check_variables(mechanism)
+            check_inverse(mechanism)
+            _write_package(path, package, mechanism, module)
+        except GenerationError:
+            raise
+        except Exception as error:  # a model the checks did not foresee: one line, not a traceback
+            raise GenerationError(f"{mechanism.name}: {type(error).__name__}: {error}") from error
+    return {"seconds": time.perf_counter() - started, "stages": times}
 
 
-def _write_package(
-    path: Path, package: Path, mechanism: Mechanism, module: ModuleType, started: float
-) -> dict[str, Any]:
-    stages: dict[str, float] = {}
-    progress = _Progress(mechanism.name, stages)
-    with progress("derive", "deriving: closure, rates, factors, inverse, polynomial form and start systems"):
-        derivation = derive(mechanism)
-    with progress("lower", f"lowering {len(derivation.programs)} programs"):
-        lowered = [program.lower() for program in derivation.programs]
-    with progress("emit", "emitting CasADi, C and NumPy"):
-        casadi_source = emit.render_casadi(mechanism.name, lowered)
-        c_source, h_source, sizes = _c_sources(mechanism.name, casadi_source, lowered)
-        manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
+def _write_package(path: Path, package: Path, mechanism: Mechanism, module: ModuleType) -> None:
+    derivation = derive(mechanism)  # its stages: derivations, polynomial form, homotopy
+    stages.begin("lower")
+    lowered = [program.lower() for program in derivation.programs]
+    stages.begin("emit")
+    casadi_source = emit.render_casadi(mechanism.name, lowered)
+    c_source, h_source, sizes = _c_sources(mechanism.name, casadi_source, lowered)
+    manifest = build_manifest(mechanism, module.__doc__ or "", path.name, derivation, lowered, sizes)
     package.mkdir(parents=True, exist_ok=True)
     header = emit.banner(mechanism.name, "casadi.CodeGenerator", lowered, "//")
     files = {
@@ -216,22 +222,6 @@ def _write_package(
         )
     for filename, text in files.items():
         (package / filename).write_text(text)
-    return {"seconds": time.perf_counter() - started, "stages": stages}
-
-
-class _Progress:
-    """One line on stderr as each stage of a mechanism's build starts (a build in another process
-    prints its own), and the stage's seconds into ``stages``."""
-
-    def __init__(self, name: str, stages: dict[str, float]) -> None:
-        self.name, self.stages = name, stages
-
-    @contextlib.contextmanager
-    def __call__(self, stage: str, what: str) -> Iterator[None]:
-        print(f"parakin generator: {self.name}: {what}", file=sys.stderr, flush=True)
-        began = time.perf_counter()
-        yield
-        self.stages[stage] = time.perf_counter() - began
 
 
 def _format(directory: Path) -> None:
@@ -499,6 +489,44 @@ def _build_one(job: tuple[str, str, str]) -> tuple[str, dict[str, Any]]:
     return name, generate_package(Path(source), Path(package), name)
 
 
+def _worker(events: multiprocessing.queues.Queue[Any]) -> None:
+    """A build process: its builds' stage events and ``parakin`` log records go into ``events``,
+    for the display of the process that runs ``generate``."""
+    events.cancel_join_thread()  # an exit never waits for a queue that nobody reads any more
+    stages.send_to(events.put)
+    logger.handlers[:] = [logging.handlers.QueueHandler(events)]
+
+
+def _build_in_processes(
+    jobs: list[tuple[str, str, str]], workers: int, display: stages.Display
+) -> dict[str, dict[str, Any]]:
+    """Every job in a pool of ``workers`` processes, their events shown here as they come; the
+    first failure (in the jobs' order) is raised once the running builds end, the others cancelled."""
+    events: multiprocessing.queues.Queue[Any] = multiprocessing.Queue()
+    with ProcessPoolExecutor(max_workers=workers, initializer=_worker, initargs=(events,)) as pool:
+        futures = [pool.submit(_build_one, job) for job in jobs]
+        building = {name for name, _, _ in jobs}
+        while building:
+            try:
+                item = events.get(timeout=0.1)
+            except queue.Empty:
+                if any(f.done() and f.exception() is not None for f in futures):
+                    for future in futures:
+                        future.cancel()
+                    break
+                continue
+            if isinstance(item, logging.LogRecord):
+                logger.handle(item)
+                continue
+            display(item)
+            if not item.stage:
+                building.discard(item.mechanism)
+        failed = [f.exception() for f in futures if f.done() and not f.cancelled() and f.exception() is not None]
+        if failed:
+            raise failed[0]  # type: ignore[misc]
+        return dict(f.result() for f in futures)
+
+
 def generate(
     names: list[str] | None = None,
     destination: Path = GENERATED,
@@ -533,6 +561,7 @@ def generate(
     current: dict[str, dict[str, Any]] = {}
     if everything and not force and destination.is_dir():
         current = {n: {"seconds": 0.0, "up_to_date": True} for n in names if up_to_date(n, sources[n], destination / n)}
+        stages.say_kept(list(current))
         packages = {p.name for p in destination.iterdir() if p.is_dir() and package_name(p) is not None}
         if len(current) == len(names) and packages == set(names):
             return current  # nothing to write: the tree is not touched
@@ -545,12 +574,10 @@ def generate(
         (staging / "__init__.py").write_text(GENERATED_INIT)
         jobs = [(name, str(sources[name]), str(staging / name)) for name in names]
         workers = workers or min(len(jobs), os.cpu_count() or 1)
-        if workers > 1:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                report = dict(pool.map(_build_one, jobs))
-        else:
-            report = dict(map(_build_one, jobs))
-        _format(staging)
+        with stages.shown(names) as display:
+            report = _build_in_processes(jobs, workers, display) if workers > 1 else dict(map(_build_one, jobs))
+            display.step("formatting")
+            _format(staging)
         for name in names:
             _seal(staging / name, name, sources[name])
         partial = set(names) != set(sources)
@@ -598,8 +625,10 @@ def generate_file(path: Path, package: Path, force: bool = False) -> dict[str, A
     _remove_abandoned(package.parent)
     staging = Path(tempfile.mkdtemp(prefix=f".generated-{os.getpid()}-", dir=package.parent))
     try:
-        report = generate_package(path, staging, name)
-        _format(staging)
+        with stages.shown([name]) as display:
+            report = generate_package(path, staging, name)
+            display.step("formatting")
+            _format(staging)
         _seal(staging, name, path)
         staging.chmod(0o755)
         if into_folder:

@@ -8,13 +8,14 @@ from __future__ import annotations
 
 import itertools
 import random
-import sys
 from dataclasses import dataclass, field
 
 import mpmath
 import sympy as sp
 
-from . import configurations, homotopy, polynomial_form
+from parakin.log import logger
+
+from . import configurations, homotopy, polynomial_form, stages
 from .checks import check_closure, check_pose_kind, check_program_symbols
 from .drawing import drawing_metadata
 from .errors import GenerationError
@@ -378,6 +379,7 @@ def derive(mechanism: Mechanism) -> Derivation:
     passive = ("passive", mechanism.passive)
     params = ("params", list(mechanism.parameters))
     state = [actuated, passive, params]
+    stages.begin("derivations")
     check_pose_kind(mechanism)
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
@@ -499,6 +501,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             list(forward_homotopy.homogeneous),
             ["the mechanism's own polynomial system (ForwardHomotopy)"],
         )
+        stages.begin("homotopy")
         setup = homotopy.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
         programs += setup.programs
         methods["homotopy"] = setup.metadata
@@ -536,16 +539,18 @@ def derive(mechanism: Mechanism) -> Derivation:
         symbolic["forward_auxiliary"] = sp.Tuple(*(sp.Tuple(t, v) for t, v in forward.auxiliary))
     if mechanism.passive:
         # every mechanism with a loop to close: its modes by the homotopy of the derived polynomial form
+        stages.begin("polynomial form")
         form = polynomial_form.derive(
             list(residual), mechanism.passive, mechanism.actuated, list(mechanism.parameters), mechanism.angular
         )
+        stages.begin("homotopy")
         try:
             setup = homotopy.build(mechanism.name, form, actuated, params, "automatic")
         except GenerationError as error:
             if not methods:
                 raise
             # the mechanism has its own method: it keeps it, and the build says what failed
-            print(f"parakin generator: {mechanism.name}: no automatic method ({error})", file=sys.stderr)
+            logger.warning("%s: no automatic method, the mechanism keeps its own (%s)", mechanism.name, error)
         else:
             programs += setup.programs
             methods["automatic"] = setup.metadata

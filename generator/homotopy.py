@@ -31,13 +31,14 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import mpmath
 import numpy as np
 import sympy as sp
+
+from parakin.log import logger
 
 from .errors import GenerationError
 from .polynomial_form import MOEBIUS_A, MOEBIUS_B, PolynomialForm, circle_parametrisation
@@ -555,11 +556,10 @@ def _total_degree_bound(
     counts = ", ".join(str(len(found)) for found in runs)
     method = f"{TOTAL_DEGREE_METHOD} ({len(runs)} independent runs of {paths} paths, regular endpoints {counts})"
     if not complete:
-        print(
-            f"parakin generator: {name}: the total-degree runs found {counts} regular solutions, monodromy "
-            f"{len(solutions)}, together {len(joined)}: the count is NOT proven",
-            file=sys.stderr,
-        )
+        logger.warning(
+            "%s: the total-degree runs found %s regular solutions, monodromy %d, together %d: the count is NOT proven",
+            name, counts, len(solutions), len(joined),
+        )  # fmt: skip
     return joined, {
         "method": method if complete else method + f"; NOT proven: fewer than {TOTAL_DEGREE_RUNS} runs found them all",
         "proven": complete,
@@ -659,6 +659,8 @@ def start_systems(
             record["second_solutions"] = [_pairs(row) for row in second_solutions]
             _store(cached, record)
             return family, {**record, "key": key.hexdigest()}
+    proof_text = "total-degree runs" if bounded else "the trace test"
+    logger.info("%s (%s): new start systems: monodromy and %s (minutes; then cached)", name, method, proof_text)
     rng = np.random.default_rng(seed)
     q, point = _start_instance(name, family, rng)
     found = point[None, :]
@@ -702,7 +704,7 @@ def start_systems(
             else f"the trace test is not attempted above {TRACE_MAX_SOLUTIONS} solutions"
         )
         # the count is monodromy's, and the manifest says so
-        print(f"parakin generator: {name} ({method}): {len(solutions)} solutions, {method_text}", file=sys.stderr)
+        logger.warning("%s (%s): %d solutions, %s", name, method, len(solutions), method_text)
     second, second_solutions = _second_start(name, family, q, solutions, seed)
     record = {
         "instance": _pairs(q),

@@ -1,24 +1,62 @@
-"""The ``parakin`` logger: what the runtime does that takes time or changes how it runs
-(compiling a generated package's C library on first use, and the like).
+"""What parakin tells its user while it works: the ``parakin`` logger and progress bars.
 
-It writes ``parakin: message`` lines to stderr at INFO and above, through its own handler (it
-does not propagate to the root logger, so a program's own logging configuration does not print
-them twice). Quieter: ``PARAKIN_LOG=warning`` in the environment, or
-``logging.getLogger("parakin").setLevel(logging.WARNING)``; louder: ``PARAKIN_LOG=debug``.
+The logger says what takes time or changes how parakin runs (compiling a generated package's C
+library on first use, the generator's stages). It writes ``parakin: message`` lines to stderr at
+INFO and above, through its own handler (it does not propagate to the root logger, so a
+program's own logging configuration does not print them twice). Quieter: ``PARAKIN_LOG=warning``
+in the environment, or ``logging.getLogger("parakin").setLevel(logging.WARNING)``; louder:
+``PARAKIN_LOG=debug``.
+
+Progress bars (tqdm, on stderr) show how far a long piece of work is: generating packages
+(``make generate``, ``parakin generate``: one bar over every package's stages), and a batch of at
+least ``LARGE_BATCH`` inputs (``forward_pose_all``, ``count_modes``) or a ``sweep`` that is still
+running after ``BAR_DELAY`` seconds. ``PARAKIN_PROGRESS`` decides where they appear: ``auto``
+(the default) only when stderr is a terminal, so never in a log file, a pipe or a test's captured
+output; ``on`` also when it is not; ``off`` never (the generator then reports each stage as a
+logger line, as it does whenever no bar is shown). ``sweep(progress=True / False)`` asks for its
+bar or refuses it whatever the setting. Logger lines written while a bar is shown appear above it.
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import sys
+import threading
+from types import TracebackType
+from typing import Any
+
+from parakin.errors import BadInputError
 
 logger = logging.getLogger("parakin")
+
+#: the least number of inputs of a batch that gets a progress bar
+LARGE_BATCH = 1000
+#: seconds a batch runs before its bar appears (``PARAKIN_PROGRESS=on``: at once), so that a
+#: large batch that finishes fast draws nothing
+BAR_DELAY = 1.0
+PROGRESS_SETTINGS = ("auto", "on", "off")
+
+
+class _Handler(logging.StreamHandler):  # type: ignore[type-arg]
+    """stderr, above an open progress bar (through ``tqdm.write``, which redraws the bar below)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if not _shown:
+            super().emit(record)
+            return
+        try:
+            from tqdm import tqdm
+
+            tqdm.write(self.format(record), file=self.stream)
+        except Exception:
+            self.handleError(record)
 
 
 def _configure() -> None:
     if logger.handlers:  # configured already (a reload, or by the user before import)
         return
-    handler = logging.StreamHandler()
+    handler = _Handler()
     handler.setFormatter(logging.Formatter("parakin: %(message)s"))
     logger.addHandler(handler)
     logger.propagate = False
@@ -28,4 +66,117 @@ def _configure() -> None:
 
 _configure()
 
-__all__ = ["logger"]
+#: every Progress open in this process (shown or not): while one is, no other bar appears
+_open: list[Progress] = []
+#: the open Progress objects that draw a bar
+_shown: list[Progress] = []
+_lock = threading.Lock()
+
+
+class Progress:
+    """A progress bar over ``total`` units of work, or nothing where no bar is shown: ``update``,
+    ``describe`` and ``close`` work either way (``active`` says whether anything is drawn, or fed:
+    a request nested in an open bar of the same unit counts into that bar). A context manager."""
+
+    def __init__(self, bar: Any = None, into: Progress | None = None, unit: str = "", owner: bool = True) -> None:
+        self.bar, self.into, self.unit, self.owner = bar, into, unit, owner
+        self.thread = threading.get_ident()
+
+    @property
+    def active(self) -> bool:
+        """Whether updates reach a bar on the screen."""
+        return self.bar is not None or (self.into is not None and self.into.active)
+
+    def update(self, count: int = 1) -> None:
+        """``count`` more units done."""
+        if self.bar is not None:
+            self.bar.update(count)
+        elif self.into is not None:
+            self.into.update(count)
+
+    def restart(self, total: int) -> None:
+        """Count to ``total`` from zero (work whose size is known once it starts: a dask graph)."""
+        if self.bar is not None:
+            self.bar.reset(total=total)
+
+    def describe(self, text: str) -> None:
+        """What is being done now, shown after the bar."""
+        if self.bar is not None:
+            self.bar.set_postfix_str(text, refresh=False)
+
+    def close(self) -> None:
+        """Remove the bar (once); a nested request leaves the bar it fed open."""
+        if not self.owner:
+            return
+        self.owner = False
+        with _lock:
+            if self in _open:
+                _open.remove(self)
+            if self in _shown:
+                _shown.remove(self)
+        if self.bar is not None:
+            self.bar.close()
+
+    def __enter__(self) -> Progress:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
+    ) -> None:
+        self.close()
+
+
+def progress_setting() -> str:
+    """``PARAKIN_PROGRESS`` ('auto' unless set): 'auto', 'on' or 'off' (module docstring);
+    BadInputError for any other value."""
+    setting = os.environ.get("PARAKIN_PROGRESS", "auto").strip().lower() or "auto"
+    if setting not in PROGRESS_SETTINGS:
+        raise BadInputError(f"PARAKIN_PROGRESS must be 'auto', 'on' or 'off', got {setting!r}")
+    return setting
+
+
+def _terminal() -> bool:
+    try:
+        return bool(sys.stderr.isatty())
+    except (AttributeError, ValueError):  # no stderr, or a closed one
+        return False
+
+
+def progress(
+    total: int | None,
+    description: str,
+    unit: str = "input",
+    show: bool | None = None,
+    minimum: int = LARGE_BATCH,
+    size: int | None = None,
+    delay: float = BAR_DELAY,
+) -> Progress:
+    """A progress bar over ``total`` ``unit``s on stderr (None: known once the work starts, then
+    ``restart``), or a silent ``Progress``. ``show``: True or False decides; None (the default): a
+    bar when the work's ``size`` (default ``total``) is at least ``minimum`` and ``PARAKIN_PROGRESS``
+    allows it (module docstring), appearing after ``delay`` seconds unless the setting is 'on'.
+    While a bar is open in this process, a request from the same thread with the same unit counts
+    into it (``count_modes``' chunks into one bar over the whole batch) and every other stays silent."""
+    setting = progress_setting()
+    thread = threading.get_ident()
+    with _lock:
+        outer = _open[-1] if _open else None
+        if outer is not None:
+            nested = outer.thread == thread and outer.unit == unit
+            return Progress(into=outer if nested else None, unit=unit, owner=False)
+        large = (size if size is not None else total or 0) >= minimum
+        wanted = show if show is not None else (setting != "off" and large)
+        wanted = wanted and (show is True or setting == "on" or _terminal())
+        handle = Progress(unit=unit)
+        _open.append(handle)
+        if wanted:
+            _shown.append(handle)
+    if wanted:
+        from tqdm import tqdm
+
+        delay = 0.0 if show is True or setting == "on" else delay
+        handle.bar = tqdm(total=total, desc=description, unit=unit, file=sys.stderr, delay=delay, dynamic_ncols=True)
+    return handle
+
+
+__all__ = ["BAR_DELAY", "LARGE_BATCH", "Progress", "logger", "progress", "progress_setting"]

@@ -30,6 +30,7 @@ from parakin.errors import (
     first_index,
     raise_for_newton_status,
 )
+from parakin.log import progress
 from parakin.packages.backends import Backend
 from parakin.packages.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.packages.package import GeneratedPackage
@@ -67,6 +68,8 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 #: a lower-mobility platform's twist must satisfy constraints @ twist = 0 to this relative
 #: measure, |C_i . twist| / (|C_i| |twist|) per constraint wrench C_i (``inverse_rate``)
 CONSTRAINT_TOLERANCE = 1e-6
+#: the fewest inputs per step of a batch of ``forward_pose_all`` that shows a progress bar
+BAR_STEP = 256
 
 
 def _home(variable: Variable) -> float:
@@ -579,12 +582,16 @@ class Mechanism:
                 outcomes=self.manifest.abi.mode_outcomes,
             )  # fmt: skip
         flat = theta.reshape(-1, theta.shape[-1])
-        if self.backend.name == "compiled" and info is self.capabilities.forward:
-            out = compiled_modes(self, flat)
-        else:  # the same pipeline in NumPy, over this backend's kernels
-            out = numpy_modes(self, flat, info)
-        if info.homotopy is not None:
-            out = self._certified(info, flat, out, exact=certify == "exact")
+        count = flat.shape[0]
+        with progress(count, f"{self.name}: every assembly mode") as bar:
+            # with a bar, in about a hundred steps so that it moves (each input is solved on its
+            # own: the same answers); without one, in one step
+            step = max(BAR_STEP, -(-count // 100)) if bar.active else max(count, 1)
+            parts = []
+            for start in range(0, max(count, 1), step):
+                parts.append(self._every_mode(info, flat[start : start + step], certify == "exact"))
+                bar.update(parts[-1]["count"].shape[0])
+        out = parts[0] if len(parts) == 1 else {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
         modes = assemble(self, theta, out, info)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
@@ -604,6 +611,16 @@ class Mechanism:
                 raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
             raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
         return modes
+
+    def _every_mode(self, info: Forward, flat: Array, exact: bool) -> dict[str, np.ndarray]:
+        """The all-modes pipeline's arrays for a flat batch: compiled C or NumPy, then certified."""
+        if self.backend.name == "compiled" and info is self.capabilities.forward:
+            out = compiled_modes(self, flat)
+        else:  # the same pipeline in NumPy, over this backend's kernels
+            out = numpy_modes(self, flat, info)
+        if info.homotopy is not None:
+            out = self._certified(info, flat, out, exact)
+        return out
 
     def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray], exact: bool) -> dict[str, np.ndarray]:
         """Certify every input's endpoints (``exact``: what double precision cannot certify is
@@ -659,12 +676,13 @@ class Mechanism:
         total = int(np.prod(shape, dtype=np.int64))
         result: dict[str, Array] = {key: np.zeros(total, dtype=np.int32) for key in keys}
         result["min_conditioning"] = np.full(total, np.nan)
-        for start, modes in self.forward_pose_all_chunks(theta, chunk, strict=False):
-            stop = start + modes.count.shape[0]
-            for key in keys:
-                result[key][start:stop] = getattr(modes, key)
-            conditioning = np.where(modes.valid, modes.conditioning, np.inf).min(-1)
-            result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
+        with progress(total, f"{self.name}: counting assembly modes"):  # the chunks feed this one bar
+            for start, modes in self.forward_pose_all_chunks(theta, chunk, strict=False):
+                stop = start + modes.count.shape[0]
+                for key in keys:
+                    result[key][start:stop] = getattr(modes, key)
+                conditioning = np.where(modes.valid, modes.conditioning, np.inf).min(-1)
+                result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
         return {key: value.reshape(shape) for key, value in result.items()}
 
     def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:

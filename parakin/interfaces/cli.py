@@ -456,7 +456,12 @@ def _parser() -> argparse.ArgumentParser:
     sweeping.add_argument("--netcdf", default=None, help="also write the result as netCDF")
     sweeping.add_argument("--plot", default=None, help="PNG of one quantity")
     sweeping.add_argument("--plot-quantity", default=None, help="the quantity to plot (default: the first)")
-    sweeping.add_argument("--progress", action="store_true")
+    sweeping.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="a progress bar on stderr: always, or never (--no-progress); default: for a large sweep on a terminal",
+    )
     export = commands.add_parser("export", help="write the mechanism's C library (sources, header, example)")
     export.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     export.add_argument("--out", required=True, help="folder to write the C files into")

@@ -35,7 +35,11 @@ parameter space:
 Results are an ``xarray.Dataset`` with one dimension per axis. The grid is cut into chunks of
 whole slabs of the first axis (about ``chunk`` points each): memory is bounded by the chunk, not
 the grid. ``scheduler``: None (dask's local threads), 'synchronous', or a ``dask.distributed``
-scheduler address (the same call then runs on a cluster). With ``store`` (a zarr folder) every
+scheduler address (the same call then runs on a cluster). ``progress``: a bar on stderr over the
+graph's tasks (over the store's chunks with a ``store``): True always, False never, None (the
+default) as ``parakin.log.progress`` decides: a sweep of at least ``parakin.log.LARGE_BATCH``
+points (workspace points included) on a terminal; on a ``dask.distributed`` scheduler without a
+store, the cluster's dashboard shows the tasks instead. With ``store`` (a zarr folder) every
 finished chunk is written at once and recorded with the sha256 of each variable's values in it
 (``finished.json``), so an interrupted sweep resumes where it stopped. Resuming verifies every
 recorded chunk against its checksum and recomputes any that does not verify (a deleted or damaged
@@ -57,6 +61,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from parakin.errors import ArchitectureSingularityWarning, BadInputError, UnsupportedOperationError
+from parakin.log import progress as bar_over
 from parakin.pose import POSE_KINDS
 from parakin.validation import as_array
 
@@ -76,6 +81,8 @@ OUTSIDE_RANGE = "outside_range"
 RECORD, RECORD_FORMAT = "finished.json", 2
 POSE_QUANTITIES = ("reachable", "branches", "type_i_distance", "type_ii_distance")
 QUANTITIES = (*POSE_QUANTITIES, "modes", "architecture", "workspace_volume")
+#: the task states of dask's local scheduler: their sizes add up to the graph's tasks
+_TASK_STATES = ("ready", "waiting", "running", "finished")
 
 
 def _needs_dask() -> tuple[Any, Any]:
@@ -353,7 +360,7 @@ def sweep(
     chunk: int = 65_536,
     scheduler: str | None = None,
     store: str | Path | None = None,
-    progress: bool = False,
+    progress: bool | None = None,
     backend: str = "auto",
 ) -> xarray.Dataset:
     """Evaluate ``quantities`` over the grid ``axes`` (see the module docstring); returns a labelled
@@ -512,9 +519,11 @@ def sweep(
         "workspace": json.dumps({k: [float(v[0]), float(v[-1]), int(v.size)] for k, v in workspace_grid.items()}),
     }
     dataset = xr.Dataset(data, coords={name: values for name, values in grid.items()}, attrs=described_attributes)
+    # the bar's decision (parakin.log.progress) weighs the points computed, workspace points included
+    size = int(np.prod(shape, dtype=np.int64)) * int(np.prod([v.size for v in workspace_grid.values()], dtype=np.int64))
     if store is None:
-        return _compute(dataset, scheduler, progress)
-    return _compute_into(dataset, Path(store), chunks[0], scheduler, progress)
+        return _compute(dataset, scheduler, progress, size)
+    return _compute_into(dataset, Path(store), chunks[0], scheduler, progress, size)
 
 
 def _client(scheduler: str | None) -> Any:
@@ -528,15 +537,21 @@ def _client(scheduler: str | None) -> Any:
         raise BadInputError(f"no dask scheduler at {scheduler!r}: {error}") from error
 
 
-def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool) -> xarray.Dataset:
-    import contextlib
-
-    from dask.diagnostics import ProgressBar
+def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool | None, size: int) -> xarray.Dataset:
+    from dask.callbacks import Callback
 
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
+    # a bar over the graph's tasks; a dask.distributed cluster reports to its own dashboard instead
+    show = False if client is not None else progress
     try:
-        with ProgressBar() if progress and client is None else contextlib.nullcontext():
+        with (
+            bar_over(None, f"sweep of {dataset.attrs['mechanism']}", "task", show, size=size) as bar,
+            Callback(
+                start_state=lambda graph, state: bar.restart(sum(len(state[k]) for k in _TASK_STATES)),
+                posttask=lambda *task: bar.update(),
+            ),
+        ):
             return dataset.compute(scheduler=client or local)
     finally:
         if client is not None:
@@ -655,7 +670,12 @@ def _initialise(dataset: xarray.Dataset, store: Path) -> None:
 
 
 def _compute_into(
-    dataset: xarray.Dataset, store: Path, rows: tuple[int, ...], scheduler: str | None, progress: bool
+    dataset: xarray.Dataset,
+    store: Path,
+    rows: tuple[int, ...],
+    scheduler: str | None,
+    progress: bool | None,
+    size: int,
 ) -> xarray.Dataset:
     """Write the sweep chunk by chunk into a zarr store, skipping the chunks a previous run
     finished and that still verify against the checksums in the record (``RECORD``, replaced
@@ -703,6 +723,8 @@ def _compute_into(
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
     workers = max(1, len(client.scheduler_info()["workers"])) if client is not None else 2
+    bar = bar_over(len(rows), f"sweep of {dataset.attrs['mechanism']} into {store.name}", "chunk", progress, size=size)
+    bar.update(len(finished))
     try:
         for start in range(0, len(pending), workers):
             batch = pending[start : start + workers]
@@ -716,9 +738,9 @@ def _compute_into(
                 # the checksums of the arrays written, recorded only after the write returned
                 finished[k] = {name: _checksum(part[name].values) for name in names}
             _write_record(store, spec, finished)
-            if progress:
-                print(f"sweep: {len(finished)}/{len(rows)} chunks written to {store}", flush=True)
+            bar.update(len(batch))
     finally:
+        bar.close()
         if client is not None:
             client.close()
     result = _verified_view(dataset, store, bounds, finished)
