@@ -3,6 +3,7 @@
 Stages, each a module with one job:
     frames      homogeneous transforms, Craig's modified DH links, Z-Y-X Euler angles
     model       the declarative mechanism model that ``mechanisms/*`` fill in
+    chains      serial-chain legs (modified-DH tables): the inverse by decomposition, factors, drawing
     trigpoly    factoring of trigonometric polynomials modulo sin^2 + cos^2 = 1
     derive      Jacobians, determinants and named singularity factors
     configurations  regular configurations near the home and the examples: the factor checks'

@@ -23,7 +23,6 @@ from .frames import vee
 from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
 from .polynomial_form import PolynomialForm
 from .program import Program
-from .trigpoly import factor_list
 
 
 @dataclass
@@ -62,8 +61,7 @@ def serial_factors(mechanism: Mechanism, jacobians: dict[str, sp.Matrix]) -> dic
     """Each leg Jacobian's determinant, factored; every factor named (eq 13-14 for SAM)."""
     result = {}
     for leg in mechanism.legs:
-        determinant = leg.determinant_jacobian().det(method="berkowitz")
-        constant, factors = factor_list(determinant)
+        constant, factors = leg.factored_determinant
         named = []
         for factor, multiplicity in factors:
             name = mechanism.serial_factor_names.get(factor, f"{leg.name}_{_name(factor)}")

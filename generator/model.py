@@ -20,7 +20,8 @@ from functools import cached_property
 
 import sympy as sp
 
-from .frames import ModifiedDHLink
+from .frames import ModifiedDHLink, inverse_transform
+from .trigpoly import factor_list
 
 POSE_ROTATION = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33", real=True))
 POSE_POSITION = sp.Matrix(sp.symbols("px py pz", real=True))
@@ -106,6 +107,27 @@ class SerialChain:
         for link in self.links:
             frames.append(frames[-1] * link.transform())
         return self._jacobian(frames, frames[-1][:3, 3])
+
+    def platform_frames(self) -> list[sp.Matrix]:
+        """^P_i T for i = 0..n: each frame seen from the platform, written with the joints after
+        it only (^P_i T = (prod of the later link transforms * tool)^-1)."""
+        current = inverse_transform(self.tool)
+        result = [current]
+        for link in reversed(self.links):
+            current = current * inverse_transform(link.transform())
+            result.append(current)
+        return result[::-1]
+
+    def platform_jacobian(self, reference: sp.Matrix) -> sp.Matrix:
+        """The Jacobian [v; w] in {P} coordinates, v of the point ``reference`` (in {P}); columns
+        ordered as ``joints``. Its determinant equals that of ``geometric_jacobian`` (a change of
+        frame and of reference point), written with each joint's later joints only."""
+        return self._jacobian(self.platform_frames(), reference)
+
+    @cached_property
+    def factored_determinant(self) -> tuple[sp.Expr, list[tuple[sp.Expr, int]]]:
+        """det of the leg Jacobian as (constant, [(factor, multiplicity), ...]) (``trigpoly``)."""
+        return factor_list(self.determinant_jacobian().det(method="berkowitz"))
 
     def _jacobian(self, frames: list[sp.Matrix], platform_origin: sp.Matrix) -> sp.Matrix:
         columns: dict[sp.Symbol, sp.Matrix] = {}

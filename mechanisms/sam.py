@@ -17,6 +17,21 @@ Conventions, as in the paper:
   sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
   (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
 * Lengths in metres, angles in radians.
+
+What is written here: Table I per leg with eq (3)'s fixed transforms (``spu_leg``), the actuated
+S joints, the parameters, the home, the examples, and the closed-form forward pose
+(``forward_elimination``, an accelerator). The generator (``parakin.generator.chains``) reads the
+S-P-U structure from the table and derives the rest: the inverse of section 3.1 as subproblems
+(L2 the distance of the S and U centres, eq 5; the U joint pointing the leg line, eq 5's two sets,
+its sign the one above: sin(phi2) = sign * rho / L2; the S joint's Euler decomposition, eqs 6-8,
+its sign that of cos(theta2) = sin(theta2 + 90 deg)), the validity conditions
+``<leg>_u_joint_not_aligned`` (the leg along the U joint's platform axis Z_P: phi3 undetermined)
+and ``<leg>_s_joint_not_locked`` (|cos(theta2)|: gimbal lock), the leg determinants' factors
+(eq 13-14: ``<leg>_leg_length``, ``<leg>_s_joint_gimbal_lock``, ``<leg>_u_joint_aligned``), the
+closed-loop factors (``u_joint_axes_parallel``: the axes z4 of both U joints and Z_P parallel to
+one plane; ``legs_coplanar_with_platform_x``: both leg lines and X_P; ``platform_span`` = 2 L4),
+the joint limits (L2, L3 >= 0) and the drawing (S centres, U centres as each leg reaches them,
+the platform bar with a marker at L4 along X_P).
 * Home (the default Newton guess, ``parakin plot sam``, exported C examples): the last pose of
   section 4.2's inverse-pose trajectory, {x y z alpha beta gamma} = {0.05 0.05 0.714 0 0 5 deg}
   (ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} from eq (15), ``SECTION42_HOME``), on the
@@ -31,18 +46,16 @@ from __future__ import annotations
 import math
 
 import sympy as sp
-from parakin.generator.frames import ModifiedDHLink, euler_zyx_rotation, homogeneous, inverse_transform, translation
+from parakin.generator import chains
+from parakin.generator.frames import ModifiedDHLink, euler_zyx_rotation, homogeneous, translation
 from parakin.generator.model import (
     POSE_POSITION,
     Citation,
-    Drawing,
     Example,
     ForwardElimination,
-    InverseSolution,
     Mechanism,
     ParameterInfo,
     SerialChain,
-    pose_matrix,
 )
 
 L1, L4 = sp.symbols("L1 L4", positive=True)
@@ -74,51 +87,6 @@ def spu_leg(name: str, thetas, length, phis, base_offset, platform_offset) -> Se
     base = translation(0, -base_offset, 0)
     tool = homogeneous(sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]), [-platform_offset, 0, 0])
     return SerialChain(name, base, links, tool, [t1, t2, t3, length, p2, p3])
-
-
-def spu_inverse(leg: SerialChain, epsilon: sp.Symbol, delta: sp.Symbol) -> tuple[list, dict]:
-    """Section 3.1 for one leg, as ordered assignments: eqs (3)-(5) for the passive joints, then
-    eqs (6)-(8) for the S joint. Signs epsilon and delta pick the branch (module docstring)."""
-    t1, t2, t3, length, p2, p3 = leg.joints
-    tag = str(t1)
-    # eq (3): ^0_6 T = ^B_0 T^-1 ^B_P T ^6_P T^-1, and its inverse's position {X1, Y1, Z1}
-    t06 = inverse_transform(leg.base) * pose_matrix() * inverse_transform(leg.tool)
-    t60 = inverse_transform(t06)
-    x1, y1, z1 = (sp.Symbol(f"{axis}_{tag}", real=True) for axis in "XYZ")
-    rho = sp.Symbol(f"rho_{tag}", real=True)
-    c_p2, s_p2, c_p3, s_p3 = (sp.Symbol(f"{f}_{p}", real=True) for p in (p2, p3) for f in "cs")
-    steps = [
-        (x1, t60[0, 3]),
-        (y1, t60[1, 3]),
-        (z1, t60[2, 3]),
-        (rho, sp.sqrt(x1**2 + y1**2)),
-        # eq (5), with the sign of sin(phi2) as the branch instead of a division by cos(phi3)
-        (length, sp.sqrt(x1**2 + y1**2 + z1**2)),
-        (c_p2, -z1 / length),
-        (s_p2, epsilon * rho / length),
-        (c_p3, epsilon * x1 / rho),
-        (s_p3, -epsilon * y1 / rho),
-        (p2, sp.atan2(s_p2, c_p2)),
-        (p3, sp.atan2(s_p3, c_p3)),
-    ]
-    # eq (6): ^0_3 R = ^0_6 R ^3_6 R^T with ^3_6 R from the chain (links 4..6)
-    r36 = sp.eye(3)
-    for link in leg.links[3:]:
-        r36 = r36 * link.transform()[:3, :3]
-    r36 = r36.subs({sp.cos(p2): c_p2, sp.sin(p2): s_p2, sp.cos(p3): c_p3, sp.sin(p3): s_p3})
-    r03 = t06[:3, :3] * r36.T
-    r = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"r{i + 1}{j + 1}_{tag}", real=True))
-    steps += [(r[i, j], r03[i, j]) for i, j in [(0, 2), (1, 2), (2, 2), (2, 0), (2, 1)]]
-    cos_t2 = sp.Symbol(f"abs_c_{t2}", real=True)
-    # eq (8), with the sign of cos(theta2) as the branch (the paper's "signs of c2")
-    steps += [
-        (cos_t2, sp.sqrt(r[0, 2] ** 2 + r[1, 2] ** 2)),
-        (t1, sp.atan2(-delta * r[0, 2], delta * r[1, 2])),
-        (t2, sp.atan2(r[2, 2], delta * cos_t2)),
-        (t3, sp.atan2(-delta * r[2, 1], delta * r[2, 0])),
-    ]
-    validity = {f"{leg.name}_u_joint_not_aligned": rho, f"{leg.name}_s_joint_not_locked": cos_t2}
-    return steps, validity
 
 
 def forward_elimination(left: SerialChain, right: SerialChain) -> ForwardElimination:
@@ -186,28 +154,6 @@ def forward_elimination(left: SerialChain, right: SerialChain) -> ForwardElimina
     )
 
 
-def drawing(left: SerialChain, right: SerialChain) -> Drawing:
-    """The S-joint centres on the base, each leg's U-joint centre as reached by its own chain
-    (S + L x3, the passive prismatic along the leg line), and the platform from the left leg's
-    ^B_P T: both U joints at y = -+L4 on Y_P and a marker at L4 along X_P (the platform itself
-    is the bar between the U joints; the marker shows its roll about Y_P)."""
-    platform = left.end_transform()
-    on_platform = sp.Matrix([[0, 0, L4], [-L4, L4, 0], [0, 0, 0], [1, 1, 1]])
-    return Drawing(
-        points={
-            "base": sp.Matrix.hstack(left.base[:3, 3], right.base[:3, 3]),
-            "u_joints": sp.Matrix.hstack(left.frames()[4][:3, 3], right.frames()[4][:3, 3]),
-            "platform": (platform * on_platform)[:3, :],
-        },
-        polylines={
-            "base": [("base", 0), ("base", 1)],
-            "left_leg": [("base", 0), ("u_joints", 0)],
-            "right_leg": [("base", 1), ("u_joints", 1)],
-            "platform": [("platform", 0), ("platform", 2), ("platform", 1), ("platform", 0)],
-        },
-    )
-
-
 def table2(row: int, t1: float, t2: float, t3: float, length: float, p2: float, p3: float) -> list[float]:
     """Table II: row ``row`` of one leg's four inverse solutions, from the first row (eqs 5, 8).
     Row r is leg branch r - 1 of the module docstring (signs of sin(phi2), cos(theta2))."""
@@ -258,23 +204,15 @@ def examples() -> list[Example]:
 def build() -> Mechanism:
     left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
     right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
-    branches = sp.symbols("epsilon_left delta_left epsilon_right delta_right", real=True)
-    steps_left, valid_left = spu_inverse(left, branches[0], branches[1])
-    steps_right, valid_right = spu_inverse(right, branches[2], branches[3])
-    frames_left, frames_right = left.frames(), right.frames()
-    platform = left.end_transform()
-    # closed-loop (type II) factors: see derive.parallel_singularity for the block structure
-    parallel = {
-        "u_joint_axes_parallel": sp.Matrix.hstack(frames_left[4][:3, 2], platform[:3, 2], frames_right[4][:3, 2]).det(),
-        "legs_coplanar_with_platform_x": sp.Matrix.hstack(
-            frames_left[3][:3, 0], frames_right[3][:3, 0], platform[:3, 0]
-        ).det(),
-        "platform_span": 2 * L4,
-    }
+    # the derived branch signs are (epsilon, delta) of the module docstring, in the paper's names
+    model = chains.ChainMechanism(
+        [
+            chains.chain_leg(left, theta[:3], ("epsilon_left", "delta_left")),
+            chains.chain_leg(right, theta[3:], ("epsilon_right", "delta_right")),
+        ]
+    )
     parameters = {L1: 0.5334, L4: 0.3556}  # section 4.1, metres
-    inverse = InverseSolution(steps_left + steps_right, list(branches), valid_left | valid_right)
     x, y, z, alpha, beta, gamma = SECTION42_HOME
-    home = inverse.at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters)
     return Mechanism(
         name="sam",
         title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
@@ -285,24 +223,10 @@ def build() -> Mechanism:
             "Journal of Robotic Systems (final manuscript, December 2000)",
         ),
         parameters=parameters,
-        actuated=list(theta),
-        passive=[L2, phi2, phi3, L3, phi5, phi6],
-        legs=[left, right],
-        inverse=inverse,
+        **model.fields(),
         forward=forward_elimination(left, right),
         # section 4.2's last trajectory pose (module docstring), not eq (15): that is singular
-        home={v: home[v] for v in [*theta, L2, phi2, phi3, L3, phi5, phi6]},
-        limits={L2: (0.0, float("inf")), L3: (0.0, float("inf"))},
-        serial_factor_names={
-            L2: "left_leg_length",
-            sp.cos(theta[1]): "left_s_joint_gimbal_lock",
-            sp.sin(phi2): "left_u_joint_aligned",
-            L3: "right_leg_length",
-            sp.cos(theta[4]): "right_s_joint_gimbal_lock",
-            sp.sin(phi5): "right_u_joint_aligned",
-        },
-        parallel_factors=parallel,
-        angular=[*theta, phi2, phi3, phi5, phi6],
+        home=model.home_at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters),
         parameter_info={
             L1: ParameterInfo(
                 "m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)", "positive"
@@ -312,7 +236,6 @@ def build() -> Mechanism:
             ),
         },
         examples=examples(),
-        drawing=drawing(left, right),
     )
 
 

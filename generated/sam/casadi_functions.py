@@ -5,10 +5,10 @@
 #   loop_closure: 399
 #   loop_closure_actuated: 607
 #   leg_jacobians: 217
-#   singularity_factors: 261
+#   singularity_factors: 27
 #   drawing: 111
-#   inverse_pose: 214
-#   inverse_pose_patterns: 488
+#   inverse_pose: 228
+#   inverse_pose_patterns: 666
 #   forward_polynomial: 462
 #   forward_back_substitution: 242
 #   automatic_family: 0
@@ -850,146 +850,29 @@ def leg_jacobians() -> casadi.Function:
 def singularity_factors() -> casadi.Function:
     """Every named singularity factor, then the determinants.
 
-    Operations: 261.
+    Operations: 27.
     """
     actuated = casadi.SX.sym("actuated", 6)
     passive = casadi.SX.sym("passive", 6)
     params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
     theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
     theta5 = actuated[4]
-    theta6 = actuated[5]
     L2 = passive[0]
     phi2 = passive[1]
     phi3 = passive[2]
     L3 = passive[3]
     phi5 = passive[4]
+    phi6 = passive[5]
     L4 = params[1]
     _t0 = casadi.sin(phi2)
     _t1 = casadi.cos(theta2)
     _t2 = casadi.sin(phi5)
     _t3 = casadi.cos(theta5)
-    _t4 = casadi.cos(theta1)
-    _t5 = _t0 * _t4
-    _t6 = casadi.sin(theta2)
-    _t7 = casadi.cos(theta6)
-    _t8 = _t6 * _t7
-    _t9 = casadi.cos(theta3)
-    _t10 = casadi.sin(theta4)
-    _t11 = _t10 * _t9
-    _t12 = casadi.cos(theta4)
-    _t13 = _t12 * _t7
-    _t14 = casadi.sin(theta1)
-    _t15 = _t0 * _t14
-    _t16 = _t6 * _t9
-    _t17 = _t0 * _t1
-    _t18 = _t17 * _t9
-    _t19 = _t14**2
-    _t20 = casadi.sin(theta6)
-    _t21 = _t20 * _t3
-    _t22 = _t19 * _t21
-    _t23 = _t4**2
-    _t24 = _t21 * _t23
-    _t25 = casadi.cos(phi2)
-    _t26 = casadi.sin(theta3)
-    _t27 = _t26**2
-    _t28 = _t25 * _t27
-    _t29 = _t1 * _t14
-    _t30 = _t28 * _t29
-    _t31 = _t9**2
-    _t32 = _t25 * _t31
-    _t33 = _t29 * _t32
-    _t34 = casadi.sin(theta5)
-    _t35 = _t34 * _t6
-    _t36 = _t12 * _t20
-    _t37 = _t34 * _t5
-    _t38 = _t10 * _t7
-    _t39 = _t6**2
-    _t40 = _t26 * _t39
-    _t41 = _t15 * _t40
-    _t42 = _t1**2
-    _t43 = _t26 * _t42
-    _t44 = _t15 * _t43
-    _t45 = _t13 * _t5
-    _t46 = _t1 * _t4
-    _t47 = _t38 * _t46
-    _t48 = _t22 * _t6
-    _t49 = _t24 * _t6
-    _t50 = _t10 * _t20
-    _t51 = _t37 * _t50
-    _t52 = _t34 * _t36
-    _t53 = _t34 * _t50
-    _t54 = _t46 * _t52
-    _t55 = (
-        _t11 * _t15 * _t20 * _t35
-        + _t11 * _t5 * _t8
-        - _t13 * _t15 * _t16
-        + _t13 * _t30
-        + _t13 * _t33
-        + _t16 * _t36 * _t37
-        + _t18 * _t22
-        + _t18 * _t24
-        - _t28 * _t47
-        + _t28 * _t48
-        + _t28 * _t49
-        - _t28 * _t54
-        - _t30 * _t53
-        - _t32 * _t47
-        + _t32 * _t48
-        + _t32 * _t49
-        - _t32 * _t54
-        - _t33 * _t53
-        - _t38 * _t41
-        - _t38 * _t44
-        - _t40 * _t45
-        + _t40 * _t51
-        - _t41 * _t52
-        - _t43 * _t45
-        + _t43 * _t51
-        - _t44 * _t52
-    )
-    _t56 = casadi.cos(phi3)
-    _t57 = _t27 * _t56
-    _t58 = _t31 * _t56
-    _t59 = casadi.sin(phi3)
-    _t60 = _t25 * _t59
-    _t61 = _t26 * _t60
-    _t62 = _t3 * _t8
-    _t63 = _t19 * _t62
-    _t64 = _t23 * _t62
-    _t65 = _t1 * _t3 * _t61 * _t7
-    _t66 = _t13 * _t14 * _t34 * _t9
-    _t67 = (
-        _t1 * _t10 * _t14 * _t27 * _t34 * _t56 * _t7
-        + _t1 * _t10 * _t14 * _t31 * _t34 * _t56 * _t7
-        + _t1 * _t12 * _t14 * _t20 * _t27 * _t56
-        + _t1 * _t12 * _t14 * _t20 * _t31 * _t56
-        + _t1 * _t12 * _t27 * _t34 * _t4 * _t56 * _t7
-        + _t1 * _t12 * _t31 * _t34 * _t4 * _t56 * _t7
-        + _t10 * _t14 * _t20 * _t25 * _t39 * _t59 * _t9
-        + _t10 * _t14 * _t20 * _t25 * _t42 * _t59 * _t9
-        - _t10 * _t14 * _t34 * _t61 * _t8
-        + _t10 * _t20 * _t25 * _t26 * _t4 * _t59 * _t6
-        + _t10 * _t25 * _t34 * _t39 * _t4 * _t59 * _t7 * _t9
-        + _t10 * _t25 * _t34 * _t4 * _t42 * _t59 * _t7 * _t9
-        + _t12 * _t20 * _t25 * _t39 * _t4 * _t59 * _t9
-        + _t12 * _t20 * _t25 * _t4 * _t42 * _t59 * _t9
-        - _t13 * _t35 * _t4 * _t61
-        - _t14 * _t36 * _t6 * _t61
-        - _t19 * _t65
-        - _t23 * _t65
-        - _t39 * _t60 * _t66
-        - _t42 * _t60 * _t66
-        - _t46 * _t50 * _t57
-        - _t46 * _t50 * _t58
-        - _t57 * _t63
-        - _t57 * _t64
-        - _t58 * _t63
-        - _t58 * _t64
-    )
-    _t68 = 2 * L4
+    _t4 = casadi.cos(phi6)
+    _t5 = casadi.cos(phi3)
+    _t6 = _t4 * casadi.sin(phi3) - _t5 * casadi.sin(phi6)
+    _t7 = -_t0 * _t5 * casadi.cos(phi5) + _t2 * _t4 * casadi.cos(phi2)
+    _t8 = 2 * L4
     factors = casadi.SX.zeros(9)
     factors[0] = L2
     factors[1] = _t0
@@ -997,13 +880,13 @@ def singularity_factors() -> casadi.Function:
     factors[3] = L3
     factors[4] = _t2
     factors[5] = _t3
-    factors[6] = _t55
-    factors[7] = _t67
-    factors[8] = _t68
+    factors[6] = _t6
+    factors[7] = _t7
+    factors[8] = _t8
     determinants = casadi.SX.zeros(3)
-    determinants[0] = L2**2 * _t17
+    determinants[0] = L2**2 * _t0 * _t1
     determinants[1] = L3**2 * _t2 * _t3
-    determinants[2] = _t55 * _t67 * _t68
+    determinants[2] = _t6 * _t7 * _t8
     return casadi.Function(
         "sam_singularity_factors",
         [
@@ -1136,7 +1019,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 214.
+    Operations: 228.
     """
     pose = casadi.SX.sym("pose", 12)
     branch = casadi.SX.sym("branch", 4)
@@ -1159,46 +1042,78 @@ def inverse_pose() -> casadi.Function:
     delta_right = branch[3]
     L1 = params[0]
     L4 = params[1]
-    X_theta1 = r12 * (-L4 * r12 + px) + r22 * (L1 - L4 * r22 + py) + r32 * (-L4 * r32 + pz)
-    Y_theta1 = -r11 * (-L4 * r12 + px) - r21 * (L1 - L4 * r22 + py) - r31 * (-L4 * r32 + pz)
-    Z_theta1 = -r13 * (-L4 * r12 + px) - r23 * (L1 - L4 * r22 + py) - r33 * (-L4 * r32 + pz)
-    rho_theta1 = casadi.sqrt(X_theta1**2 + Y_theta1**2)
-    L2 = casadi.sqrt(X_theta1**2 + Y_theta1**2 + Z_theta1**2)
-    c_phi2 = -Z_theta1 / L2
-    s_phi2 = epsilon_left * rho_theta1 / L2
-    c_phi3 = X_theta1 * epsilon_left / rho_theta1
-    s_phi3 = -Y_theta1 * epsilon_left / rho_theta1
-    phi2 = casadi.atan2(s_phi2, c_phi2)
-    phi3 = casadi.atan2(s_phi3, c_phi3)
-    r13_theta1 = c_phi2 * c_phi3 * r12 + c_phi2 * r11 * s_phi3 - r13 * s_phi2
-    r23_theta1 = c_phi2 * c_phi3 * r22 + c_phi2 * r21 * s_phi3 - r23 * s_phi2
-    r33_theta1 = c_phi2 * c_phi3 * r32 + c_phi2 * r31 * s_phi3 - r33 * s_phi2
-    r31_theta1 = c_phi2 * r33 + c_phi3 * r32 * s_phi2 + r31 * s_phi2 * s_phi3
-    r32_theta1 = c_phi3 * r31 - r32 * s_phi3
-    abs_c_theta2 = casadi.sqrt(r13_theta1**2 + r23_theta1**2)
-    theta1 = casadi.atan2(-delta_left * r13_theta1, delta_left * r23_theta1)
-    theta2 = casadi.atan2(r33_theta1, abs_c_theta2 * delta_left)
-    theta3 = casadi.atan2(-delta_left * r32_theta1, delta_left * r31_theta1)
-    X_theta4 = r12 * (L4 * r12 + px) + r22 * (-L1 + L4 * r22 + py) + r32 * (L4 * r32 + pz)
-    Y_theta4 = -r11 * (L4 * r12 + px) - r21 * (-L1 + L4 * r22 + py) - r31 * (L4 * r32 + pz)
-    Z_theta4 = -r13 * (L4 * r12 + px) - r23 * (-L1 + L4 * r22 + py) - r33 * (L4 * r32 + pz)
-    rho_theta4 = casadi.sqrt(X_theta4**2 + Y_theta4**2)
-    L3 = casadi.sqrt(X_theta4**2 + Y_theta4**2 + Z_theta4**2)
-    c_phi5 = -Z_theta4 / L3
-    s_phi5 = epsilon_right * rho_theta4 / L3
-    c_phi6 = X_theta4 * epsilon_right / rho_theta4
-    s_phi6 = -Y_theta4 * epsilon_right / rho_theta4
-    phi5 = casadi.atan2(s_phi5, c_phi5)
-    phi6 = casadi.atan2(s_phi6, c_phi6)
-    r13_theta4 = c_phi5 * c_phi6 * r12 + c_phi5 * r11 * s_phi6 - r13 * s_phi5
-    r23_theta4 = c_phi5 * c_phi6 * r22 + c_phi5 * r21 * s_phi6 - r23 * s_phi5
-    r33_theta4 = c_phi5 * c_phi6 * r32 + c_phi5 * r31 * s_phi6 - r33 * s_phi5
-    r31_theta4 = c_phi5 * r33 + c_phi6 * r32 * s_phi5 + r31 * s_phi5 * s_phi6
-    r32_theta4 = c_phi6 * r31 - r32 * s_phi6
-    abs_c_theta5 = casadi.sqrt(r13_theta4**2 + r23_theta4**2)
-    theta4 = casadi.atan2(-delta_right * r13_theta4, delta_right * r23_theta4)
-    theta5 = casadi.atan2(r33_theta4, abs_c_theta5 * delta_right)
-    theta6 = casadi.atan2(-delta_right * r32_theta4, delta_right * r31_theta4)
+    span_left_x = -L4 * r12 + px
+    span_left_y = L1 - L4 * r22 + py
+    span_left_z = -L4 * r32 + pz
+    L2 = casadi.sqrt(span_left_x**2 + span_left_y**2 + span_left_z**2)
+    b_left_u_x = r12 * span_left_x + r22 * span_left_y + r32 * span_left_z
+    b_left_u_y = -r11 * span_left_x - r21 * span_left_y - r31 * span_left_z
+    b_left_u_z = -r13 * span_left_x - r23 * span_left_y - r33 * span_left_z
+    a_left_u_x = -L2
+    rho_left_u = casadi.sqrt(b_left_u_x**2 + b_left_u_y**2)
+    along_left_u = epsilon_left * rho_left_u
+    phi3 = casadi.atan2(-along_left_u * b_left_u_y, along_left_u * b_left_u_x)
+    phi2 = casadi.atan2(-a_left_u_x * along_left_u, a_left_u_x * b_left_u_z)
+    _t0 = casadi.cos(phi2)
+    n13_left_s = (
+        _t0 * r11 * casadi.sin(phi3) + _t0 * r12 * casadi.cos(phi3) - r13 * casadi.sin(phi2)
+    )
+    _t1 = casadi.cos(phi2)
+    n23_left_s = (
+        _t1 * r21 * casadi.sin(phi3) + _t1 * r22 * casadi.cos(phi3) - r23 * casadi.sin(phi2)
+    )
+    _t2 = casadi.cos(phi2)
+    n33_left_s = (
+        _t2 * r31 * casadi.sin(phi3) + _t2 * r32 * casadi.cos(phi3) - r33 * casadi.sin(phi2)
+    )
+    _t3 = casadi.sin(phi2)
+    n31_left_s = (
+        _t3 * r31 * casadi.sin(phi3) + _t3 * r32 * casadi.cos(phi3) + r33 * casadi.cos(phi2)
+    )
+    n32_left_s = r31 * casadi.cos(phi3) - r32 * casadi.sin(phi3)
+    cos_left_s = -n33_left_s
+    sin_abs_left_s = casadi.sqrt(n13_left_s**2 + n23_left_s**2)
+    theta2 = casadi.atan2(-cos_left_s, delta_left * sin_abs_left_s)
+    _t4 = delta_left * sin_abs_left_s
+    theta1 = casadi.atan2(-_t4 * n13_left_s, _t4 * n23_left_s)
+    _t5 = delta_left * sin_abs_left_s
+    theta3 = casadi.atan2(-_t5 * n32_left_s, _t5 * n31_left_s)
+    span_right_x = L4 * r12 + px
+    span_right_y = -L1 + L4 * r22 + py
+    span_right_z = L4 * r32 + pz
+    L3 = casadi.sqrt(span_right_x**2 + span_right_y**2 + span_right_z**2)
+    b_right_u_x = r12 * span_right_x + r22 * span_right_y + r32 * span_right_z
+    b_right_u_y = -r11 * span_right_x - r21 * span_right_y - r31 * span_right_z
+    b_right_u_z = -r13 * span_right_x - r23 * span_right_y - r33 * span_right_z
+    a_right_u_x = -L3
+    rho_right_u = casadi.sqrt(b_right_u_x**2 + b_right_u_y**2)
+    along_right_u = epsilon_right * rho_right_u
+    phi6 = casadi.atan2(-along_right_u * b_right_u_y, along_right_u * b_right_u_x)
+    phi5 = casadi.atan2(-a_right_u_x * along_right_u, a_right_u_x * b_right_u_z)
+    _t6 = casadi.cos(phi5)
+    n13_right_s = (
+        _t6 * r11 * casadi.sin(phi6) + _t6 * r12 * casadi.cos(phi6) - r13 * casadi.sin(phi5)
+    )
+    _t7 = casadi.cos(phi5)
+    n23_right_s = (
+        _t7 * r21 * casadi.sin(phi6) + _t7 * r22 * casadi.cos(phi6) - r23 * casadi.sin(phi5)
+    )
+    _t8 = casadi.cos(phi5)
+    n33_right_s = (
+        _t8 * r31 * casadi.sin(phi6) + _t8 * r32 * casadi.cos(phi6) - r33 * casadi.sin(phi5)
+    )
+    _t9 = casadi.sin(phi5)
+    n31_right_s = (
+        _t9 * r31 * casadi.sin(phi6) + _t9 * r32 * casadi.cos(phi6) + r33 * casadi.cos(phi5)
+    )
+    n32_right_s = r31 * casadi.cos(phi6) - r32 * casadi.sin(phi6)
+    cos_right_s = -n33_right_s
+    sin_abs_right_s = casadi.sqrt(n13_right_s**2 + n23_right_s**2)
+    theta5 = casadi.atan2(-cos_right_s, delta_right * sin_abs_right_s)
+    _t10 = delta_right * sin_abs_right_s
+    theta4 = casadi.atan2(-_t10 * n13_right_s, _t10 * n23_right_s)
+    _t11 = delta_right * sin_abs_right_s
+    theta6 = casadi.atan2(-_t11 * n32_right_s, _t11 * n31_right_s)
     actuated = casadi.SX.zeros(6)
     actuated[0] = theta1
     actuated[1] = theta2
@@ -1214,10 +1129,10 @@ def inverse_pose() -> casadi.Function:
     passive[4] = phi5
     passive[5] = phi6
     validity = casadi.SX.zeros(4)
-    validity[0] = rho_theta1
-    validity[1] = abs_c_theta2
-    validity[2] = rho_theta4
-    validity[3] = abs_c_theta5
+    validity[0] = rho_left_u
+    validity[1] = sin_abs_left_s
+    validity[2] = rho_right_u
+    validity[3] = sin_abs_right_s
     return casadi.Function(
         "sam_inverse_pose",
         [
@@ -1246,7 +1161,7 @@ def inverse_pose() -> casadi.Function:
 def inverse_pose_patterns() -> casadi.Function:
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 488.
+    Operations: 666.
     """
     pose = casadi.SX.sym("pose", 12)
     params = casadi.SX.sym("params", 2)
@@ -1264,210 +1179,352 @@ def inverse_pose_patterns() -> casadi.Function:
     pz = pose[11]
     L1 = params[0]
     L4 = params[1]
-    X_theta1 = r12 * (-L4 * r12 + px) + r22 * (L1 - L4 * r22 + py) + r32 * (-L4 * r32 + pz)
-    Y_theta1 = -r11 * (-L4 * r12 + px) - r21 * (L1 - L4 * r22 + py) - r31 * (-L4 * r32 + pz)
-    Z_theta1 = -r13 * (-L4 * r12 + px) - r23 * (L1 - L4 * r22 + py) - r33 * (-L4 * r32 + pz)
-    rho_theta1 = casadi.sqrt(X_theta1**2 + Y_theta1**2)
-    L2 = casadi.sqrt(X_theta1**2 + Y_theta1**2 + Z_theta1**2)
-    c_phi2 = -Z_theta1 / L2
-    s_phi2_pattern0 = rho_theta1 / L2
-    s_phi2_pattern1 = -rho_theta1 / L2
-    s_phi2_pattern2 = rho_theta1 / L2
-    s_phi2_pattern3 = -rho_theta1 / L2
-    c_phi3_pattern0 = X_theta1 / rho_theta1
-    c_phi3_pattern1 = -X_theta1 / rho_theta1
-    c_phi3_pattern2 = X_theta1 / rho_theta1
-    c_phi3_pattern3 = -X_theta1 / rho_theta1
-    s_phi3_pattern0 = -Y_theta1 / rho_theta1
-    s_phi3_pattern1 = Y_theta1 / rho_theta1
-    s_phi3_pattern2 = -Y_theta1 / rho_theta1
-    s_phi3_pattern3 = Y_theta1 / rho_theta1
-    phi2_pattern0 = casadi.atan2(s_phi2_pattern0, c_phi2)
-    phi2_pattern1 = casadi.atan2(s_phi2_pattern1, c_phi2)
-    phi2_pattern2 = casadi.atan2(s_phi2_pattern2, c_phi2)
-    phi2_pattern3 = casadi.atan2(s_phi2_pattern3, c_phi2)
-    phi3_pattern0 = casadi.atan2(s_phi3_pattern0, c_phi3_pattern0)
-    phi3_pattern1 = casadi.atan2(s_phi3_pattern1, c_phi3_pattern1)
-    phi3_pattern2 = casadi.atan2(s_phi3_pattern2, c_phi3_pattern2)
-    phi3_pattern3 = casadi.atan2(s_phi3_pattern3, c_phi3_pattern3)
-    r13_theta1_pattern0 = (
-        c_phi2 * c_phi3_pattern0 * r12 + c_phi2 * r11 * s_phi3_pattern0 - r13 * s_phi2_pattern0
+    span_left_x = -L4 * r12 + px
+    span_left_y = L1 - L4 * r22 + py
+    span_left_z = -L4 * r32 + pz
+    L2 = casadi.sqrt(span_left_x**2 + span_left_y**2 + span_left_z**2)
+    b_left_u_x = r12 * span_left_x + r22 * span_left_y + r32 * span_left_z
+    b_left_u_y = -r11 * span_left_x - r21 * span_left_y - r31 * span_left_z
+    b_left_u_z = -r13 * span_left_x - r23 * span_left_y - r33 * span_left_z
+    a_left_u_x = -L2
+    rho_left_u = casadi.sqrt(b_left_u_x**2 + b_left_u_y**2)
+    along_left_u_pattern0 = rho_left_u
+    along_left_u_pattern1 = -rho_left_u
+    along_left_u_pattern2 = rho_left_u
+    along_left_u_pattern3 = -rho_left_u
+    phi3_pattern0 = casadi.atan2(
+        -along_left_u_pattern0 * b_left_u_y, along_left_u_pattern0 * b_left_u_x
     )
-    r13_theta1_pattern1 = (
-        c_phi2 * c_phi3_pattern1 * r12 + c_phi2 * r11 * s_phi3_pattern1 - r13 * s_phi2_pattern1
+    phi3_pattern1 = casadi.atan2(
+        -along_left_u_pattern1 * b_left_u_y, along_left_u_pattern1 * b_left_u_x
     )
-    r13_theta1_pattern2 = (
-        c_phi2 * c_phi3_pattern2 * r12 + c_phi2 * r11 * s_phi3_pattern2 - r13 * s_phi2_pattern2
+    phi3_pattern2 = casadi.atan2(
+        -along_left_u_pattern2 * b_left_u_y, along_left_u_pattern2 * b_left_u_x
     )
-    r13_theta1_pattern3 = (
-        c_phi2 * c_phi3_pattern3 * r12 + c_phi2 * r11 * s_phi3_pattern3 - r13 * s_phi2_pattern3
+    phi3_pattern3 = casadi.atan2(
+        -along_left_u_pattern3 * b_left_u_y, along_left_u_pattern3 * b_left_u_x
     )
-    r23_theta1_pattern0 = (
-        c_phi2 * c_phi3_pattern0 * r22 + c_phi2 * r21 * s_phi3_pattern0 - r23 * s_phi2_pattern0
+    phi2_pattern0 = casadi.atan2(-a_left_u_x * along_left_u_pattern0, a_left_u_x * b_left_u_z)
+    phi2_pattern1 = casadi.atan2(-a_left_u_x * along_left_u_pattern1, a_left_u_x * b_left_u_z)
+    phi2_pattern2 = casadi.atan2(-a_left_u_x * along_left_u_pattern2, a_left_u_x * b_left_u_z)
+    phi2_pattern3 = casadi.atan2(-a_left_u_x * along_left_u_pattern3, a_left_u_x * b_left_u_z)
+    _t0 = casadi.cos(phi2_pattern0)
+    n13_left_s_pattern0 = (
+        _t0 * r11 * casadi.sin(phi3_pattern0)
+        + _t0 * r12 * casadi.cos(phi3_pattern0)
+        - r13 * casadi.sin(phi2_pattern0)
     )
-    r23_theta1_pattern1 = (
-        c_phi2 * c_phi3_pattern1 * r22 + c_phi2 * r21 * s_phi3_pattern1 - r23 * s_phi2_pattern1
+    _t1 = casadi.cos(phi2_pattern1)
+    n13_left_s_pattern1 = (
+        _t1 * r11 * casadi.sin(phi3_pattern1)
+        + _t1 * r12 * casadi.cos(phi3_pattern1)
+        - r13 * casadi.sin(phi2_pattern1)
     )
-    r23_theta1_pattern2 = (
-        c_phi2 * c_phi3_pattern2 * r22 + c_phi2 * r21 * s_phi3_pattern2 - r23 * s_phi2_pattern2
+    _t2 = casadi.cos(phi2_pattern2)
+    n13_left_s_pattern2 = (
+        _t2 * r11 * casadi.sin(phi3_pattern2)
+        + _t2 * r12 * casadi.cos(phi3_pattern2)
+        - r13 * casadi.sin(phi2_pattern2)
     )
-    r23_theta1_pattern3 = (
-        c_phi2 * c_phi3_pattern3 * r22 + c_phi2 * r21 * s_phi3_pattern3 - r23 * s_phi2_pattern3
+    _t3 = casadi.cos(phi2_pattern3)
+    n13_left_s_pattern3 = (
+        _t3 * r11 * casadi.sin(phi3_pattern3)
+        + _t3 * r12 * casadi.cos(phi3_pattern3)
+        - r13 * casadi.sin(phi2_pattern3)
     )
-    r33_theta1_pattern0 = (
-        c_phi2 * c_phi3_pattern0 * r32 + c_phi2 * r31 * s_phi3_pattern0 - r33 * s_phi2_pattern0
+    _t4 = casadi.cos(phi2_pattern0)
+    n23_left_s_pattern0 = (
+        _t4 * r21 * casadi.sin(phi3_pattern0)
+        + _t4 * r22 * casadi.cos(phi3_pattern0)
+        - r23 * casadi.sin(phi2_pattern0)
     )
-    r33_theta1_pattern1 = (
-        c_phi2 * c_phi3_pattern1 * r32 + c_phi2 * r31 * s_phi3_pattern1 - r33 * s_phi2_pattern1
+    _t5 = casadi.cos(phi2_pattern1)
+    n23_left_s_pattern1 = (
+        _t5 * r21 * casadi.sin(phi3_pattern1)
+        + _t5 * r22 * casadi.cos(phi3_pattern1)
+        - r23 * casadi.sin(phi2_pattern1)
     )
-    r33_theta1_pattern2 = (
-        c_phi2 * c_phi3_pattern2 * r32 + c_phi2 * r31 * s_phi3_pattern2 - r33 * s_phi2_pattern2
+    _t6 = casadi.cos(phi2_pattern2)
+    n23_left_s_pattern2 = (
+        _t6 * r21 * casadi.sin(phi3_pattern2)
+        + _t6 * r22 * casadi.cos(phi3_pattern2)
+        - r23 * casadi.sin(phi2_pattern2)
     )
-    r33_theta1_pattern3 = (
-        c_phi2 * c_phi3_pattern3 * r32 + c_phi2 * r31 * s_phi3_pattern3 - r33 * s_phi2_pattern3
+    _t7 = casadi.cos(phi2_pattern3)
+    n23_left_s_pattern3 = (
+        _t7 * r21 * casadi.sin(phi3_pattern3)
+        + _t7 * r22 * casadi.cos(phi3_pattern3)
+        - r23 * casadi.sin(phi2_pattern3)
     )
-    r31_theta1_pattern0 = (
-        c_phi2 * r33
-        + c_phi3_pattern0 * r32 * s_phi2_pattern0
-        + r31 * s_phi2_pattern0 * s_phi3_pattern0
+    _t8 = casadi.cos(phi2_pattern0)
+    n33_left_s_pattern0 = (
+        _t8 * r31 * casadi.sin(phi3_pattern0)
+        + _t8 * r32 * casadi.cos(phi3_pattern0)
+        - r33 * casadi.sin(phi2_pattern0)
     )
-    r31_theta1_pattern1 = (
-        c_phi2 * r33
-        + c_phi3_pattern1 * r32 * s_phi2_pattern1
-        + r31 * s_phi2_pattern1 * s_phi3_pattern1
+    _t9 = casadi.cos(phi2_pattern1)
+    n33_left_s_pattern1 = (
+        _t9 * r31 * casadi.sin(phi3_pattern1)
+        + _t9 * r32 * casadi.cos(phi3_pattern1)
+        - r33 * casadi.sin(phi2_pattern1)
     )
-    r31_theta1_pattern2 = (
-        c_phi2 * r33
-        + c_phi3_pattern2 * r32 * s_phi2_pattern2
-        + r31 * s_phi2_pattern2 * s_phi3_pattern2
+    _t10 = casadi.cos(phi2_pattern2)
+    n33_left_s_pattern2 = (
+        _t10 * r31 * casadi.sin(phi3_pattern2)
+        + _t10 * r32 * casadi.cos(phi3_pattern2)
+        - r33 * casadi.sin(phi2_pattern2)
     )
-    r31_theta1_pattern3 = (
-        c_phi2 * r33
-        + c_phi3_pattern3 * r32 * s_phi2_pattern3
-        + r31 * s_phi2_pattern3 * s_phi3_pattern3
+    _t11 = casadi.cos(phi2_pattern3)
+    n33_left_s_pattern3 = (
+        _t11 * r31 * casadi.sin(phi3_pattern3)
+        + _t11 * r32 * casadi.cos(phi3_pattern3)
+        - r33 * casadi.sin(phi2_pattern3)
     )
-    r32_theta1_pattern0 = c_phi3_pattern0 * r31 - r32 * s_phi3_pattern0
-    r32_theta1_pattern1 = c_phi3_pattern1 * r31 - r32 * s_phi3_pattern1
-    r32_theta1_pattern2 = c_phi3_pattern2 * r31 - r32 * s_phi3_pattern2
-    r32_theta1_pattern3 = c_phi3_pattern3 * r31 - r32 * s_phi3_pattern3
-    abs_c_theta2_pattern0 = casadi.sqrt(r13_theta1_pattern0**2 + r23_theta1_pattern0**2)
-    abs_c_theta2_pattern1 = casadi.sqrt(r13_theta1_pattern1**2 + r23_theta1_pattern1**2)
-    abs_c_theta2_pattern2 = casadi.sqrt(r13_theta1_pattern2**2 + r23_theta1_pattern2**2)
-    abs_c_theta2_pattern3 = casadi.sqrt(r13_theta1_pattern3**2 + r23_theta1_pattern3**2)
-    theta1_pattern0 = casadi.atan2(-r13_theta1_pattern0, r23_theta1_pattern0)
-    theta1_pattern1 = casadi.atan2(-r13_theta1_pattern1, r23_theta1_pattern1)
-    theta1_pattern2 = casadi.atan2(r13_theta1_pattern2, -r23_theta1_pattern2)
-    theta1_pattern3 = casadi.atan2(r13_theta1_pattern3, -r23_theta1_pattern3)
-    theta2_pattern0 = casadi.atan2(r33_theta1_pattern0, abs_c_theta2_pattern0)
-    theta2_pattern1 = casadi.atan2(r33_theta1_pattern1, abs_c_theta2_pattern1)
-    theta2_pattern2 = casadi.atan2(r33_theta1_pattern2, -abs_c_theta2_pattern2)
-    theta2_pattern3 = casadi.atan2(r33_theta1_pattern3, -abs_c_theta2_pattern3)
-    theta3_pattern0 = casadi.atan2(-r32_theta1_pattern0, r31_theta1_pattern0)
-    theta3_pattern1 = casadi.atan2(-r32_theta1_pattern1, r31_theta1_pattern1)
-    theta3_pattern2 = casadi.atan2(r32_theta1_pattern2, -r31_theta1_pattern2)
-    theta3_pattern3 = casadi.atan2(r32_theta1_pattern3, -r31_theta1_pattern3)
-    X_theta4 = r12 * (L4 * r12 + px) + r22 * (-L1 + L4 * r22 + py) + r32 * (L4 * r32 + pz)
-    Y_theta4 = -r11 * (L4 * r12 + px) - r21 * (-L1 + L4 * r22 + py) - r31 * (L4 * r32 + pz)
-    Z_theta4 = -r13 * (L4 * r12 + px) - r23 * (-L1 + L4 * r22 + py) - r33 * (L4 * r32 + pz)
-    rho_theta4 = casadi.sqrt(X_theta4**2 + Y_theta4**2)
-    L3 = casadi.sqrt(X_theta4**2 + Y_theta4**2 + Z_theta4**2)
-    c_phi5 = -Z_theta4 / L3
-    s_phi5_pattern0 = rho_theta4 / L3
-    s_phi5_pattern1 = -rho_theta4 / L3
-    s_phi5_pattern2 = rho_theta4 / L3
-    s_phi5_pattern3 = -rho_theta4 / L3
-    c_phi6_pattern0 = X_theta4 / rho_theta4
-    c_phi6_pattern1 = -X_theta4 / rho_theta4
-    c_phi6_pattern2 = X_theta4 / rho_theta4
-    c_phi6_pattern3 = -X_theta4 / rho_theta4
-    s_phi6_pattern0 = -Y_theta4 / rho_theta4
-    s_phi6_pattern1 = Y_theta4 / rho_theta4
-    s_phi6_pattern2 = -Y_theta4 / rho_theta4
-    s_phi6_pattern3 = Y_theta4 / rho_theta4
-    phi5_pattern0 = casadi.atan2(s_phi5_pattern0, c_phi5)
-    phi5_pattern1 = casadi.atan2(s_phi5_pattern1, c_phi5)
-    phi5_pattern2 = casadi.atan2(s_phi5_pattern2, c_phi5)
-    phi5_pattern3 = casadi.atan2(s_phi5_pattern3, c_phi5)
-    phi6_pattern0 = casadi.atan2(s_phi6_pattern0, c_phi6_pattern0)
-    phi6_pattern1 = casadi.atan2(s_phi6_pattern1, c_phi6_pattern1)
-    phi6_pattern2 = casadi.atan2(s_phi6_pattern2, c_phi6_pattern2)
-    phi6_pattern3 = casadi.atan2(s_phi6_pattern3, c_phi6_pattern3)
-    r13_theta4_pattern0 = (
-        c_phi5 * c_phi6_pattern0 * r12 + c_phi5 * r11 * s_phi6_pattern0 - r13 * s_phi5_pattern0
+    _t12 = casadi.sin(phi2_pattern0)
+    n31_left_s_pattern0 = (
+        _t12 * r31 * casadi.sin(phi3_pattern0)
+        + _t12 * r32 * casadi.cos(phi3_pattern0)
+        + r33 * casadi.cos(phi2_pattern0)
     )
-    r13_theta4_pattern1 = (
-        c_phi5 * c_phi6_pattern1 * r12 + c_phi5 * r11 * s_phi6_pattern1 - r13 * s_phi5_pattern1
+    _t13 = casadi.sin(phi2_pattern1)
+    n31_left_s_pattern1 = (
+        _t13 * r31 * casadi.sin(phi3_pattern1)
+        + _t13 * r32 * casadi.cos(phi3_pattern1)
+        + r33 * casadi.cos(phi2_pattern1)
     )
-    r13_theta4_pattern2 = (
-        c_phi5 * c_phi6_pattern2 * r12 + c_phi5 * r11 * s_phi6_pattern2 - r13 * s_phi5_pattern2
+    _t14 = casadi.sin(phi2_pattern2)
+    n31_left_s_pattern2 = (
+        _t14 * r31 * casadi.sin(phi3_pattern2)
+        + _t14 * r32 * casadi.cos(phi3_pattern2)
+        + r33 * casadi.cos(phi2_pattern2)
     )
-    r13_theta4_pattern3 = (
-        c_phi5 * c_phi6_pattern3 * r12 + c_phi5 * r11 * s_phi6_pattern3 - r13 * s_phi5_pattern3
+    _t15 = casadi.sin(phi2_pattern3)
+    n31_left_s_pattern3 = (
+        _t15 * r31 * casadi.sin(phi3_pattern3)
+        + _t15 * r32 * casadi.cos(phi3_pattern3)
+        + r33 * casadi.cos(phi2_pattern3)
     )
-    r23_theta4_pattern0 = (
-        c_phi5 * c_phi6_pattern0 * r22 + c_phi5 * r21 * s_phi6_pattern0 - r23 * s_phi5_pattern0
+    n32_left_s_pattern0 = r31 * casadi.cos(phi3_pattern0) - r32 * casadi.sin(phi3_pattern0)
+    n32_left_s_pattern1 = r31 * casadi.cos(phi3_pattern1) - r32 * casadi.sin(phi3_pattern1)
+    n32_left_s_pattern2 = r31 * casadi.cos(phi3_pattern2) - r32 * casadi.sin(phi3_pattern2)
+    n32_left_s_pattern3 = r31 * casadi.cos(phi3_pattern3) - r32 * casadi.sin(phi3_pattern3)
+    cos_left_s_pattern0 = -n33_left_s_pattern0
+    cos_left_s_pattern1 = -n33_left_s_pattern1
+    cos_left_s_pattern2 = -n33_left_s_pattern2
+    cos_left_s_pattern3 = -n33_left_s_pattern3
+    sin_abs_left_s_pattern0 = casadi.sqrt(n13_left_s_pattern0**2 + n23_left_s_pattern0**2)
+    sin_abs_left_s_pattern1 = casadi.sqrt(n13_left_s_pattern1**2 + n23_left_s_pattern1**2)
+    sin_abs_left_s_pattern2 = casadi.sqrt(n13_left_s_pattern2**2 + n23_left_s_pattern2**2)
+    sin_abs_left_s_pattern3 = casadi.sqrt(n13_left_s_pattern3**2 + n23_left_s_pattern3**2)
+    theta2_pattern0 = casadi.atan2(-cos_left_s_pattern0, sin_abs_left_s_pattern0)
+    theta2_pattern1 = casadi.atan2(-cos_left_s_pattern1, sin_abs_left_s_pattern1)
+    theta2_pattern2 = casadi.atan2(-cos_left_s_pattern2, -sin_abs_left_s_pattern2)
+    theta2_pattern3 = casadi.atan2(-cos_left_s_pattern3, -sin_abs_left_s_pattern3)
+    theta1_pattern0 = casadi.atan2(
+        -n13_left_s_pattern0 * sin_abs_left_s_pattern0,
+        n23_left_s_pattern0 * sin_abs_left_s_pattern0,
     )
-    r23_theta4_pattern1 = (
-        c_phi5 * c_phi6_pattern1 * r22 + c_phi5 * r21 * s_phi6_pattern1 - r23 * s_phi5_pattern1
+    theta1_pattern1 = casadi.atan2(
+        -n13_left_s_pattern1 * sin_abs_left_s_pattern1,
+        n23_left_s_pattern1 * sin_abs_left_s_pattern1,
     )
-    r23_theta4_pattern2 = (
-        c_phi5 * c_phi6_pattern2 * r22 + c_phi5 * r21 * s_phi6_pattern2 - r23 * s_phi5_pattern2
+    theta1_pattern2 = casadi.atan2(
+        n13_left_s_pattern2 * sin_abs_left_s_pattern2,
+        -n23_left_s_pattern2 * sin_abs_left_s_pattern2,
     )
-    r23_theta4_pattern3 = (
-        c_phi5 * c_phi6_pattern3 * r22 + c_phi5 * r21 * s_phi6_pattern3 - r23 * s_phi5_pattern3
+    theta1_pattern3 = casadi.atan2(
+        n13_left_s_pattern3 * sin_abs_left_s_pattern3,
+        -n23_left_s_pattern3 * sin_abs_left_s_pattern3,
     )
-    r33_theta4_pattern0 = (
-        c_phi5 * c_phi6_pattern0 * r32 + c_phi5 * r31 * s_phi6_pattern0 - r33 * s_phi5_pattern0
+    theta3_pattern0 = casadi.atan2(
+        -n32_left_s_pattern0 * sin_abs_left_s_pattern0,
+        n31_left_s_pattern0 * sin_abs_left_s_pattern0,
     )
-    r33_theta4_pattern1 = (
-        c_phi5 * c_phi6_pattern1 * r32 + c_phi5 * r31 * s_phi6_pattern1 - r33 * s_phi5_pattern1
+    theta3_pattern1 = casadi.atan2(
+        -n32_left_s_pattern1 * sin_abs_left_s_pattern1,
+        n31_left_s_pattern1 * sin_abs_left_s_pattern1,
     )
-    r33_theta4_pattern2 = (
-        c_phi5 * c_phi6_pattern2 * r32 + c_phi5 * r31 * s_phi6_pattern2 - r33 * s_phi5_pattern2
+    theta3_pattern2 = casadi.atan2(
+        n32_left_s_pattern2 * sin_abs_left_s_pattern2,
+        -n31_left_s_pattern2 * sin_abs_left_s_pattern2,
     )
-    r33_theta4_pattern3 = (
-        c_phi5 * c_phi6_pattern3 * r32 + c_phi5 * r31 * s_phi6_pattern3 - r33 * s_phi5_pattern3
+    theta3_pattern3 = casadi.atan2(
+        n32_left_s_pattern3 * sin_abs_left_s_pattern3,
+        -n31_left_s_pattern3 * sin_abs_left_s_pattern3,
     )
-    r31_theta4_pattern0 = (
-        c_phi5 * r33
-        + c_phi6_pattern0 * r32 * s_phi5_pattern0
-        + r31 * s_phi5_pattern0 * s_phi6_pattern0
+    span_right_x = L4 * r12 + px
+    span_right_y = -L1 + L4 * r22 + py
+    span_right_z = L4 * r32 + pz
+    L3 = casadi.sqrt(span_right_x**2 + span_right_y**2 + span_right_z**2)
+    b_right_u_x = r12 * span_right_x + r22 * span_right_y + r32 * span_right_z
+    b_right_u_y = -r11 * span_right_x - r21 * span_right_y - r31 * span_right_z
+    b_right_u_z = -r13 * span_right_x - r23 * span_right_y - r33 * span_right_z
+    a_right_u_x = -L3
+    rho_right_u = casadi.sqrt(b_right_u_x**2 + b_right_u_y**2)
+    along_right_u_pattern0 = rho_right_u
+    along_right_u_pattern1 = -rho_right_u
+    along_right_u_pattern2 = rho_right_u
+    along_right_u_pattern3 = -rho_right_u
+    phi6_pattern0 = casadi.atan2(
+        -along_right_u_pattern0 * b_right_u_y, along_right_u_pattern0 * b_right_u_x
     )
-    r31_theta4_pattern1 = (
-        c_phi5 * r33
-        + c_phi6_pattern1 * r32 * s_phi5_pattern1
-        + r31 * s_phi5_pattern1 * s_phi6_pattern1
+    phi6_pattern1 = casadi.atan2(
+        -along_right_u_pattern1 * b_right_u_y, along_right_u_pattern1 * b_right_u_x
     )
-    r31_theta4_pattern2 = (
-        c_phi5 * r33
-        + c_phi6_pattern2 * r32 * s_phi5_pattern2
-        + r31 * s_phi5_pattern2 * s_phi6_pattern2
+    phi6_pattern2 = casadi.atan2(
+        -along_right_u_pattern2 * b_right_u_y, along_right_u_pattern2 * b_right_u_x
     )
-    r31_theta4_pattern3 = (
-        c_phi5 * r33
-        + c_phi6_pattern3 * r32 * s_phi5_pattern3
-        + r31 * s_phi5_pattern3 * s_phi6_pattern3
+    phi6_pattern3 = casadi.atan2(
+        -along_right_u_pattern3 * b_right_u_y, along_right_u_pattern3 * b_right_u_x
     )
-    r32_theta4_pattern0 = c_phi6_pattern0 * r31 - r32 * s_phi6_pattern0
-    r32_theta4_pattern1 = c_phi6_pattern1 * r31 - r32 * s_phi6_pattern1
-    r32_theta4_pattern2 = c_phi6_pattern2 * r31 - r32 * s_phi6_pattern2
-    r32_theta4_pattern3 = c_phi6_pattern3 * r31 - r32 * s_phi6_pattern3
-    abs_c_theta5_pattern0 = casadi.sqrt(r13_theta4_pattern0**2 + r23_theta4_pattern0**2)
-    abs_c_theta5_pattern1 = casadi.sqrt(r13_theta4_pattern1**2 + r23_theta4_pattern1**2)
-    abs_c_theta5_pattern2 = casadi.sqrt(r13_theta4_pattern2**2 + r23_theta4_pattern2**2)
-    abs_c_theta5_pattern3 = casadi.sqrt(r13_theta4_pattern3**2 + r23_theta4_pattern3**2)
-    theta4_pattern0 = casadi.atan2(-r13_theta4_pattern0, r23_theta4_pattern0)
-    theta4_pattern1 = casadi.atan2(-r13_theta4_pattern1, r23_theta4_pattern1)
-    theta4_pattern2 = casadi.atan2(r13_theta4_pattern2, -r23_theta4_pattern2)
-    theta4_pattern3 = casadi.atan2(r13_theta4_pattern3, -r23_theta4_pattern3)
-    theta5_pattern0 = casadi.atan2(r33_theta4_pattern0, abs_c_theta5_pattern0)
-    theta5_pattern1 = casadi.atan2(r33_theta4_pattern1, abs_c_theta5_pattern1)
-    theta5_pattern2 = casadi.atan2(r33_theta4_pattern2, -abs_c_theta5_pattern2)
-    theta5_pattern3 = casadi.atan2(r33_theta4_pattern3, -abs_c_theta5_pattern3)
-    theta6_pattern0 = casadi.atan2(-r32_theta4_pattern0, r31_theta4_pattern0)
-    theta6_pattern1 = casadi.atan2(-r32_theta4_pattern1, r31_theta4_pattern1)
-    theta6_pattern2 = casadi.atan2(r32_theta4_pattern2, -r31_theta4_pattern2)
-    theta6_pattern3 = casadi.atan2(r32_theta4_pattern3, -r31_theta4_pattern3)
+    phi5_pattern0 = casadi.atan2(-a_right_u_x * along_right_u_pattern0, a_right_u_x * b_right_u_z)
+    phi5_pattern1 = casadi.atan2(-a_right_u_x * along_right_u_pattern1, a_right_u_x * b_right_u_z)
+    phi5_pattern2 = casadi.atan2(-a_right_u_x * along_right_u_pattern2, a_right_u_x * b_right_u_z)
+    phi5_pattern3 = casadi.atan2(-a_right_u_x * along_right_u_pattern3, a_right_u_x * b_right_u_z)
+    _t16 = casadi.cos(phi5_pattern0)
+    n13_right_s_pattern0 = (
+        _t16 * r11 * casadi.sin(phi6_pattern0)
+        + _t16 * r12 * casadi.cos(phi6_pattern0)
+        - r13 * casadi.sin(phi5_pattern0)
+    )
+    _t17 = casadi.cos(phi5_pattern1)
+    n13_right_s_pattern1 = (
+        _t17 * r11 * casadi.sin(phi6_pattern1)
+        + _t17 * r12 * casadi.cos(phi6_pattern1)
+        - r13 * casadi.sin(phi5_pattern1)
+    )
+    _t18 = casadi.cos(phi5_pattern2)
+    n13_right_s_pattern2 = (
+        _t18 * r11 * casadi.sin(phi6_pattern2)
+        + _t18 * r12 * casadi.cos(phi6_pattern2)
+        - r13 * casadi.sin(phi5_pattern2)
+    )
+    _t19 = casadi.cos(phi5_pattern3)
+    n13_right_s_pattern3 = (
+        _t19 * r11 * casadi.sin(phi6_pattern3)
+        + _t19 * r12 * casadi.cos(phi6_pattern3)
+        - r13 * casadi.sin(phi5_pattern3)
+    )
+    _t20 = casadi.cos(phi5_pattern0)
+    n23_right_s_pattern0 = (
+        _t20 * r21 * casadi.sin(phi6_pattern0)
+        + _t20 * r22 * casadi.cos(phi6_pattern0)
+        - r23 * casadi.sin(phi5_pattern0)
+    )
+    _t21 = casadi.cos(phi5_pattern1)
+    n23_right_s_pattern1 = (
+        _t21 * r21 * casadi.sin(phi6_pattern1)
+        + _t21 * r22 * casadi.cos(phi6_pattern1)
+        - r23 * casadi.sin(phi5_pattern1)
+    )
+    _t22 = casadi.cos(phi5_pattern2)
+    n23_right_s_pattern2 = (
+        _t22 * r21 * casadi.sin(phi6_pattern2)
+        + _t22 * r22 * casadi.cos(phi6_pattern2)
+        - r23 * casadi.sin(phi5_pattern2)
+    )
+    _t23 = casadi.cos(phi5_pattern3)
+    n23_right_s_pattern3 = (
+        _t23 * r21 * casadi.sin(phi6_pattern3)
+        + _t23 * r22 * casadi.cos(phi6_pattern3)
+        - r23 * casadi.sin(phi5_pattern3)
+    )
+    _t24 = casadi.cos(phi5_pattern0)
+    n33_right_s_pattern0 = (
+        _t24 * r31 * casadi.sin(phi6_pattern0)
+        + _t24 * r32 * casadi.cos(phi6_pattern0)
+        - r33 * casadi.sin(phi5_pattern0)
+    )
+    _t25 = casadi.cos(phi5_pattern1)
+    n33_right_s_pattern1 = (
+        _t25 * r31 * casadi.sin(phi6_pattern1)
+        + _t25 * r32 * casadi.cos(phi6_pattern1)
+        - r33 * casadi.sin(phi5_pattern1)
+    )
+    _t26 = casadi.cos(phi5_pattern2)
+    n33_right_s_pattern2 = (
+        _t26 * r31 * casadi.sin(phi6_pattern2)
+        + _t26 * r32 * casadi.cos(phi6_pattern2)
+        - r33 * casadi.sin(phi5_pattern2)
+    )
+    _t27 = casadi.cos(phi5_pattern3)
+    n33_right_s_pattern3 = (
+        _t27 * r31 * casadi.sin(phi6_pattern3)
+        + _t27 * r32 * casadi.cos(phi6_pattern3)
+        - r33 * casadi.sin(phi5_pattern3)
+    )
+    _t28 = casadi.sin(phi5_pattern0)
+    n31_right_s_pattern0 = (
+        _t28 * r31 * casadi.sin(phi6_pattern0)
+        + _t28 * r32 * casadi.cos(phi6_pattern0)
+        + r33 * casadi.cos(phi5_pattern0)
+    )
+    _t29 = casadi.sin(phi5_pattern1)
+    n31_right_s_pattern1 = (
+        _t29 * r31 * casadi.sin(phi6_pattern1)
+        + _t29 * r32 * casadi.cos(phi6_pattern1)
+        + r33 * casadi.cos(phi5_pattern1)
+    )
+    _t30 = casadi.sin(phi5_pattern2)
+    n31_right_s_pattern2 = (
+        _t30 * r31 * casadi.sin(phi6_pattern2)
+        + _t30 * r32 * casadi.cos(phi6_pattern2)
+        + r33 * casadi.cos(phi5_pattern2)
+    )
+    _t31 = casadi.sin(phi5_pattern3)
+    n31_right_s_pattern3 = (
+        _t31 * r31 * casadi.sin(phi6_pattern3)
+        + _t31 * r32 * casadi.cos(phi6_pattern3)
+        + r33 * casadi.cos(phi5_pattern3)
+    )
+    n32_right_s_pattern0 = r31 * casadi.cos(phi6_pattern0) - r32 * casadi.sin(phi6_pattern0)
+    n32_right_s_pattern1 = r31 * casadi.cos(phi6_pattern1) - r32 * casadi.sin(phi6_pattern1)
+    n32_right_s_pattern2 = r31 * casadi.cos(phi6_pattern2) - r32 * casadi.sin(phi6_pattern2)
+    n32_right_s_pattern3 = r31 * casadi.cos(phi6_pattern3) - r32 * casadi.sin(phi6_pattern3)
+    cos_right_s_pattern0 = -n33_right_s_pattern0
+    cos_right_s_pattern1 = -n33_right_s_pattern1
+    cos_right_s_pattern2 = -n33_right_s_pattern2
+    cos_right_s_pattern3 = -n33_right_s_pattern3
+    sin_abs_right_s_pattern0 = casadi.sqrt(n13_right_s_pattern0**2 + n23_right_s_pattern0**2)
+    sin_abs_right_s_pattern1 = casadi.sqrt(n13_right_s_pattern1**2 + n23_right_s_pattern1**2)
+    sin_abs_right_s_pattern2 = casadi.sqrt(n13_right_s_pattern2**2 + n23_right_s_pattern2**2)
+    sin_abs_right_s_pattern3 = casadi.sqrt(n13_right_s_pattern3**2 + n23_right_s_pattern3**2)
+    theta5_pattern0 = casadi.atan2(-cos_right_s_pattern0, sin_abs_right_s_pattern0)
+    theta5_pattern1 = casadi.atan2(-cos_right_s_pattern1, sin_abs_right_s_pattern1)
+    theta5_pattern2 = casadi.atan2(-cos_right_s_pattern2, -sin_abs_right_s_pattern2)
+    theta5_pattern3 = casadi.atan2(-cos_right_s_pattern3, -sin_abs_right_s_pattern3)
+    theta4_pattern0 = casadi.atan2(
+        -n13_right_s_pattern0 * sin_abs_right_s_pattern0,
+        n23_right_s_pattern0 * sin_abs_right_s_pattern0,
+    )
+    theta4_pattern1 = casadi.atan2(
+        -n13_right_s_pattern1 * sin_abs_right_s_pattern1,
+        n23_right_s_pattern1 * sin_abs_right_s_pattern1,
+    )
+    theta4_pattern2 = casadi.atan2(
+        n13_right_s_pattern2 * sin_abs_right_s_pattern2,
+        -n23_right_s_pattern2 * sin_abs_right_s_pattern2,
+    )
+    theta4_pattern3 = casadi.atan2(
+        n13_right_s_pattern3 * sin_abs_right_s_pattern3,
+        -n23_right_s_pattern3 * sin_abs_right_s_pattern3,
+    )
+    theta6_pattern0 = casadi.atan2(
+        -n32_right_s_pattern0 * sin_abs_right_s_pattern0,
+        n31_right_s_pattern0 * sin_abs_right_s_pattern0,
+    )
+    theta6_pattern1 = casadi.atan2(
+        -n32_right_s_pattern1 * sin_abs_right_s_pattern1,
+        n31_right_s_pattern1 * sin_abs_right_s_pattern1,
+    )
+    theta6_pattern2 = casadi.atan2(
+        n32_right_s_pattern2 * sin_abs_right_s_pattern2,
+        -n31_right_s_pattern2 * sin_abs_right_s_pattern2,
+    )
+    theta6_pattern3 = casadi.atan2(
+        n32_right_s_pattern3 * sin_abs_right_s_pattern3,
+        -n31_right_s_pattern3 * sin_abs_right_s_pattern3,
+    )
     actuated = casadi.SX.zeros(6, 4)
     actuated[0, 0] = theta1_pattern0
     actuated[0, 1] = theta1_pattern1
@@ -1519,22 +1576,22 @@ def inverse_pose_patterns() -> casadi.Function:
     passive[5, 2] = phi6_pattern2
     passive[5, 3] = phi6_pattern3
     validity = casadi.SX.zeros(4, 4)
-    validity[0, 0] = rho_theta1
-    validity[0, 1] = rho_theta1
-    validity[0, 2] = rho_theta1
-    validity[0, 3] = rho_theta1
-    validity[1, 0] = abs_c_theta2_pattern0
-    validity[1, 1] = abs_c_theta2_pattern1
-    validity[1, 2] = abs_c_theta2_pattern2
-    validity[1, 3] = abs_c_theta2_pattern3
-    validity[2, 0] = rho_theta4
-    validity[2, 1] = rho_theta4
-    validity[2, 2] = rho_theta4
-    validity[2, 3] = rho_theta4
-    validity[3, 0] = abs_c_theta5_pattern0
-    validity[3, 1] = abs_c_theta5_pattern1
-    validity[3, 2] = abs_c_theta5_pattern2
-    validity[3, 3] = abs_c_theta5_pattern3
+    validity[0, 0] = rho_left_u
+    validity[0, 1] = rho_left_u
+    validity[0, 2] = rho_left_u
+    validity[0, 3] = rho_left_u
+    validity[1, 0] = sin_abs_left_s_pattern0
+    validity[1, 1] = sin_abs_left_s_pattern1
+    validity[1, 2] = sin_abs_left_s_pattern2
+    validity[1, 3] = sin_abs_left_s_pattern3
+    validity[2, 0] = rho_right_u
+    validity[2, 1] = rho_right_u
+    validity[2, 2] = rho_right_u
+    validity[2, 3] = rho_right_u
+    validity[3, 0] = sin_abs_right_s_pattern0
+    validity[3, 1] = sin_abs_right_s_pattern1
+    validity[3, 2] = sin_abs_right_s_pattern2
+    validity[3, 3] = sin_abs_right_s_pattern3
     return casadi.Function(
         "sam_inverse_pose_patterns",
         [

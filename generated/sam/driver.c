@@ -5,10 +5,10 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
-//   singularity_factors: 261
+//   singularity_factors: 27
 //   drawing: 111
-//   inverse_pose: 214
-//   inverse_pose_patterns: 488
+//   inverse_pose: 228
+//   inverse_pose_patterns: 666
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
 //   automatic_family: 0
@@ -131,7 +131,7 @@ int sam_singularity_factors_batch(long long n, const double** inputs, const long
     const casadi_real* arg[3];
     casadi_real* res[2];
     casadi_int iw[0 + 1];
-    casadi_real w[41 + 1];
+    casadi_real w[12 + 1];
     casadi_real out_factors[9 + 1];
     casadi_real out_determinants[3 + 1];
     for (long long i = 0; i < n; ++i) {
@@ -184,7 +184,7 @@ int sam_inverse_pose_batch(long long n, const double** inputs, const long long* 
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[26 + 1];
+    casadi_real w[24 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[6 + 1];
     casadi_real out_validity[4 + 1];
@@ -213,7 +213,7 @@ int sam_inverse_pose_patterns_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[49 + 1];
+    casadi_real w[41 + 1];
     casadi_real out_actuated[24 + 1];
     casadi_real out_passive[24 + 1];
     casadi_real out_validity[16 + 1];

@@ -5,10 +5,10 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
-//   singularity_factors: 261
+//   singularity_factors: 27
 //   drawing: 111
-//   inverse_pose: 214
-//   inverse_pose_patterns: 488
+//   inverse_pose: 228
+//   inverse_pose_patterns: 666
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
 //   automatic_family: 0

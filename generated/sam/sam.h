@@ -5,10 +5,10 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
-//   singularity_factors: 261
+//   singularity_factors: 27
 //   drawing: 111
-//   inverse_pose: 214
-//   inverse_pose_patterns: 488
+//   inverse_pose: 228
+//   inverse_pose_patterns: 666
 //   forward_polynomial: 462
 //   forward_back_substitution: 242
 //   automatic_family: 0
@@ -37,6 +37,21 @@
 //   sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
 //   (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
 // * Lengths in metres, angles in radians.
+// 
+// What is written here: Table I per leg with eq (3)'s fixed transforms (``spu_leg``), the actuated
+// S joints, the parameters, the home, the examples, and the closed-form forward pose
+// (``forward_elimination``, an accelerator). The generator (``parakin.generator.chains``) reads the
+// S-P-U structure from the table and derives the rest: the inverse of section 3.1 as subproblems
+// (L2 the distance of the S and U centres, eq 5; the U joint pointing the leg line, eq 5's two sets,
+// its sign the one above: sin(phi2) = sign * rho / L2; the S joint's Euler decomposition, eqs 6-8,
+// its sign that of cos(theta2) = sin(theta2 + 90 deg)), the validity conditions
+// ``<leg>_u_joint_not_aligned`` (the leg along the U joint's platform axis Z_P: phi3 undetermined)
+// and ``<leg>_s_joint_not_locked`` (|cos(theta2)|: gimbal lock), the leg determinants' factors
+// (eq 13-14: ``<leg>_leg_length``, ``<leg>_s_joint_gimbal_lock``, ``<leg>_u_joint_aligned``), the
+// closed-loop factors (``u_joint_axes_parallel``: the axes z4 of both U joints and Z_P parallel to
+// one plane; ``legs_coplanar_with_platform_x``: both leg lines and X_P; ``platform_span`` = 2 L4),
+// the joint limits (L2, L3 >= 0) and the drawing (S centres, U centres as each leg reaches them,
+// the platform bar with a marker at L4 along X_P).
 // * Home (the default Newton guess, ``parakin plot sam``, exported C examples): the last pose of
 //   section 4.2's inverse-pose trajectory, {x y z alpha beta gamma} = {0.05 0.05 0.714 0 0 5 deg}
 //   (ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} from eq (15), ``SECTION42_HOME``), on the
