@@ -47,7 +47,7 @@ from parakin.pose import (
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import pivoted_solve
-from parakin.solvers.modes import assemble, certify, compiled_modes, numpy_modes
+from parakin.solvers.modes import RETRACKS, assemble, certify, compiled_modes, numpy_modes
 from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
@@ -625,25 +625,29 @@ class Mechanism:
     def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray], exact: bool) -> dict[str, np.ndarray]:
         """Certify every input's endpoints (``exact``: what double precision cannot certify is
         tested in exact arithmetic); an input whose certified roots fall short of the root count
-        is tracked again (second start instance, tighter steps) and keeps the run with more
-        certified roots: never a silent loss, the certificate says what remains."""
+        is tracked again in projective space (``RETRACKS``: the second start instance, then the
+        first) and keeps the run with the most certified roots: never a silent loss, the
+        certificate says what remains."""
         if flat.shape[0] == 0:  # an empty batch: nothing to certify
             paths = out["endpoints"].shape[1]
             empty = {"certified": np.zeros(0, np.int64), "path_certified": np.zeros((0, paths), bool)}
             return out | empty | {"retracked": np.zeros(0, bool)}
         certified, unique = certify(self, info, flat, out["endpoints"], exact)
         assert info.homotopy is not None and info.homotopy.root_count is not None
-        short = np.nonzero((certified < info.homotopy.root_count.count) & np.isfinite(flat).all(-1))[0]
-        if short.size:
-            again = numpy_modes(self, flat[short], info, retrack=True)
+        count = info.homotopy.root_count.count
+        retracked = np.zeros(flat.shape[0], dtype=bool)
+        for instance in RETRACKS:
+            short = np.nonzero((certified < count) & np.isfinite(flat).all(-1))[0]
+            if not short.size:
+                break
+            retracked[short] = True
+            again = numpy_modes(self, flat[short], info, retrack=instance)
             second, second_unique = certify(self, info, flat[short], again["endpoints"], exact)
             better = second > certified[short]
             rows = short[better]
             for key, value in again.items():
                 out[key][rows] = value[better]
             certified[rows], unique[rows] = second[better], second_unique[better]
-        retracked = np.zeros(flat.shape[0], dtype=bool)
-        retracked[short] = True
         return out | {"certified": certified, "path_certified": unique, "retracked": retracked}
 
     def _forward_method(self, method: str | None) -> Forward | None:

@@ -194,24 +194,7 @@ def test_the_total_degree_bound_completes_and_proves_a_partial_set() -> None:
     assert "NOT proven" in str(proof["method"])
 
 
-#: families whose generic inputs are known to certify fewer roots than the count (open in issue
-#: 19): the test runs and must fail (strict), so that a fix shows
-SHORT_CERTIFICATES = {
-    "rus6": "78-80 of 80 roots certified at sampled inputs near the default home (56-60 in double "
-    "precision alone): clusters of complex roots near infinity, 2e-5 apart relative to their size, whose "
-    "double-precision endpoints are not accurate enough for exact Newton to tell them apart",
-}
-
-
-@pytest.mark.parametrize(
-    "name",
-    [
-        pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=SHORT_CERTIFICATES[name]))
-        if name in SHORT_CERTIFICATES
-        else name
-        for name in AUTOMATIC
-    ],
-)
+@pytest.mark.parametrize("name", AUTOMATIC)
 def test_generic_inputs_are_certified_complete(name: str) -> None:
     """Every path's endpoint is in a Krawczyk box holding exactly one root, the boxes are
     distinct, and they number the proven root count: no mode can be missing."""

@@ -40,6 +40,7 @@ from parakin.solvers.homotopy import (
     track_symmetric,
 )
 from parakin.solvers.polynomial import isolate_real_roots
+from parakin.solvers.projective import projective_family, projective_table, to_affine, to_projective
 
 if TYPE_CHECKING:
     from parakin.packages.manifest import Forward, Homotopy
@@ -51,6 +52,12 @@ CERTIFY_CHUNK = 256
 #: the least work a thread of a compiled batch gets: homotopy paths, or closed-form inputs
 THREAD_PATHS = 64
 THREAD_INPUTS = 512
+#: the start instances (0 the first, 1 the second) an input not certified complete is tracked
+#: from again, in this order until it is, in projective space (``parakin.solvers.projective``):
+#: its missing roots are mostly near infinity, where affine paths meet. The second instance's
+#: segment is another path through parameter space; the first's, tracked projectively, ends
+#: where affine tracking jumped
+RETRACKS = (1, 0)
 
 
 def _codes(m: Mechanism) -> dict[str, int]:
@@ -187,11 +194,11 @@ def _thread_parts(m: Mechanism, count: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
-def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
+def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: int | None = None) -> dict[str, np.ndarray]:
     """The same pipeline by the method ``info``, vectorised over the batch, in chunks of
-    ``CHUNK`` inputs; kernels from the mechanism's backend. ``retrack``: a homotopy's paths from
-    its second start instance, with a tolerance 100 times tighter (for inputs whose first answer
-    was not certified complete)."""
+    ``CHUNK`` inputs; kernels from the mechanism's backend. ``retrack`` (0 or 1, ``RETRACKS``):
+    a homotopy's paths from that start instance, tracked in projective space (for inputs whose
+    first answer was not certified complete)."""
     count = theta.shape[0]
     out = _allocate(info, m, count)
     for start in range(0, count, CHUNK):
@@ -201,7 +208,7 @@ def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: bool = False
     return out
 
 
-def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
+def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: int | None = None) -> dict[str, np.ndarray]:
     finite_input = np.asarray(np.isfinite(theta).all(-1))
     theta = np.where(finite_input[:, None], theta, 0.0)
     if info.homotopy is not None:
@@ -211,20 +218,24 @@ def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: bool = Fals
     return _settle(m, theta, finite_input, found)
 
 
-def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: bool = False) -> dict[str, np.ndarray]:
+def _homotopy_candidates(
+    m: Mechanism, theta: Array, info: Forward, retrack: int | None = None
+) -> dict[str, np.ndarray]:
     """Every path of the generated homotopy followed to the inputs (``parakin.solvers.homotopy``); real
     and near-real endpoints become candidates (passive values from the generated kernel), the
-    others are accounted for as complex, at infinity or failed."""
+    others are accounted for as complex, at infinity or failed. ``retrack``: from that start
+    instance, in projective space."""
     homotopy = info.homotopy
     assert homotopy is not None
     codes = _codes(m)
     tol = _settings(m)
-    start = homotopy.alternative if retrack else homotopy.start
+    instance = 0 if retrack is None else retrack
+    start = homotopy.alternative if instance else homotopy.start
     paths = start.shape[0]
     n = theta.shape[0]
-    table = _path_table(m, info, theta, int(retrack))
-    ended = _track_family(homotopy, table, start, n, tol["path_tolerance"] * (1e-2 if retrack else 1.0))
-    if not retrack and (ended.status == PATH_FAILED).any():
+    table = _path_table(m, info, theta, instance)
+    ended = _track_family(homotopy, table, start, n, float(tol["path_tolerance"]), projective=retrack is not None)
+    if retrack is None and (ended.status == PATH_FAILED).any():
         ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
     z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous))
     reached = ended.status == PATH_REACHED
@@ -272,16 +283,26 @@ def _homotopy_candidates(m: Mechanism, theta: Array, info: Forward, retrack: boo
     }
 
 
-def _track_family(homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float) -> Paths:
+def _track_family(
+    homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float, projective: bool = False
+) -> Paths:
     """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
-    a sign symmetry (``parakin.solvers.homotopy.track_symmetric``), as the generated C driver does."""
+    a sign symmetry (``parakin.solvers.homotopy.track_symmetric``), as the generated C driver does;
+    ``projective``: tracked on the homogenised family and returned as affine endpoints."""
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
+    if projective:
+        family = projective_family(homotopy.exponents, homotopy.equation, pairs)
+        extended = projective_table(family, table)
+
+        def on_patch(per_input: int):
+            return sparse_system(extended, family.exponents, family.equation, per_input)
+
+        return to_affine(track_symmetric(on_patch, to_projective(family, start), count, tolerance, family.pairs))
 
     def system_for(per_input: int):
         return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
 
-    return track_symmetric(
-        system_for, start, count, tolerance, path_pairs(homotopy.exponents, homotopy.equation, start)
-    )
+    return track_symmetric(system_for, start, count, tolerance, pairs)
 
 
 def _monomials(m: Mechanism, info: Forward):
