@@ -499,7 +499,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             list(forward_homotopy.homogeneous),
             ["the mechanism's own polynomial system (ForwardHomotopy)"],
         )
-        stages.begin("homotopy")
+        stages.begin("own homotopy")
         setup = homotopy.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
         programs += setup.programs
         methods["homotopy"] = setup.metadata
@@ -541,7 +541,7 @@ def derive(mechanism: Mechanism) -> Derivation:
         form = polynomial_form.derive(
             list(residual), mechanism.passive, mechanism.actuated, list(mechanism.parameters), mechanism.angular
         )
-        stages.begin("homotopy")
+        stages.begin("automatic homotopy")
         try:
             setup = homotopy.build(mechanism.name, form, actuated, params, "automatic")
         except GenerationError as error:

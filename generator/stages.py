@@ -2,11 +2,12 @@
 ``parakin generate``): for the person waiting up to a minute per mechanism.
 
 A build goes through ``STAGES`` in this order (a mechanism skips a stage it has nothing to do
-in; ``homotopy`` runs once per forward method that has one, its times added up): ``model`` runs
-the mechanism file, ``checks`` checks its variables and inverse, ``derivations`` derives the
-closure, rates, singularity factors, inverse and drawing, ``polynomial form`` writes the loop
-closure as polynomials, ``homotopy`` finds and proves the start systems (from the cache in
-seconds; new: monodromy with the trace test or total-degree runs, minutes), ``lower`` lowers the
+in): ``model`` runs the mechanism file, ``checks`` checks its variables and inverse,
+``derivations`` derives the closure, rates, singularity factors, inverse and drawing, ``own
+homotopy`` finds and proves the start systems of the mechanism's own polynomial system (where it
+writes one), ``polynomial form`` writes the loop closure as polynomials, ``automatic homotopy``
+the start systems of that form (from the cache in seconds; new: monodromy with the trace test or
+total-degree runs, minutes), ``lower`` lowers the
 programs to code and ``emit`` renders CasADi, C and NumPy. Code in a build marks where a stage
 begins (``begin``); the build's ``reporting`` sends each stage's start and finish (``Event``) to
 a sink: the ``Display`` of the process that runs ``generate``, directly or, from a worker
@@ -28,7 +29,7 @@ from typing import NamedTuple
 
 from parakin.log import logger, progress
 
-STAGES = ("model", "checks", "derivations", "polynomial form", "homotopy", "lower", "emit")
+STAGES = ("model", "checks", "derivations", "own homotopy", "polynomial form", "automatic homotopy", "lower", "emit")
 
 
 class Event(NamedTuple):

@@ -45,6 +45,7 @@ from parakin.pose import (
     wrap_angle,
 )
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
+from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import pivoted_solve
 from parakin.solvers.modes import RETRACKS, assemble, certify, compiled_modes, numpy_modes
@@ -522,11 +523,11 @@ class Mechanism:
     def tracker(
         self,
         start: Configuration,
-        tolerance: float = 1e-12,
-        max_iterations: int = 30,
+        tolerance: float = tracking.TOLERANCE,
+        max_iterations: int = tracking.MAX_ITERATIONS,
         strict: bool = True,
-        jump_ratio: float = 4.0,
-        trust_step: float = 0.25,
+        jump_ratio: float = tracking.JUMP_RATIO,
+        trust_step: float = tracking.TRUST_STEP,
     ) -> ForwardPoseTracker:
         """A ForwardPoseTracker from ``start`` (a solved configuration, batch allowed): Newton from
         the previous solution with preallocated buffers; the fast path of a control loop. It

@@ -37,6 +37,8 @@ from parakin.validation import integer_in_range, newton_tolerance, positive_numb
 MODE_CHANGES = ("none", "crossed_singularity", "left_branch", "step_too_coarse")
 #: substeps of the continuation that re-solves a suspect step
 SUBSTEPS = 32
+#: the defaults of ``ForwardPoseTracker`` and ``Mechanism.tracker`` (one set for both)
+TOLERANCE, MAX_ITERATIONS, JUMP_RATIO, TRUST_STEP = 1e-12, 30, 4.0, 0.25
 
 
 class ForwardPoseTracker:
@@ -56,11 +58,11 @@ class ForwardPoseTracker:
         self,
         mechanism,
         start: Configuration,
-        tolerance: float = 1e-12,
-        max_iterations: int = 30,
+        tolerance: float = TOLERANCE,
+        max_iterations: int = MAX_ITERATIONS,
         strict: bool = True,
-        jump_ratio: float = 4.0,
-        trust_step: float = 0.25,
+        jump_ratio: float = JUMP_RATIO,
+        trust_step: float = TRUST_STEP,
     ) -> None:
         if not isinstance(start, Configuration):
             raise BadInputError(f"start must be a Configuration (from a solver), got {type(start).__name__}")
