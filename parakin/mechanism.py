@@ -826,14 +826,14 @@ class Mechanism:
         platform: its parasitic components come out with the rest)."""
         rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         if self.capabilities.rates is not None:
+            from parakin.solvers.statics import overall_jacobian
+
             jacobians = self.rate_jacobians(state)
+            overall, name = overall_jacobian(jacobians["a"], jacobians.get("constraints"))
+            # and no motion against the constraint wrenches: C twist = 0
             right = (jacobians["b"] @ rates[..., None])[..., 0]
-            if "constraints" in jacobians:  # and no motion against the constraint wrenches
-                constraints = jacobians["constraints"]
-                right = np.concatenate([right, np.zeros(right.shape[:-1] + constraints.shape[-2:-1])], axis=-1)
-                overall = np.concatenate([jacobians["a"], constraints], axis=-2)
-                return self._solve(overall, right, "[A; constraints] (overall Jacobian)", "a type II singularity")
-            return self._solve(jacobians["a"], right, "A (direct Jacobian)", "a type II (parallel) singularity")
+            right = np.concatenate([right, np.zeros(right.shape[:-1] + (overall.shape[-2] - right.shape[-1],))], -1)
+            return self._solve(overall, right, name, "a type II (parallel) singularity")
         matrix = self.rate_matrix(state)
         return self._solve(matrix, rates, "rate matrix M (eq 12)", "a type II (parallel) singularity")
 

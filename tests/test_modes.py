@@ -112,9 +112,6 @@ def test_the_issue_example_near_a_type_ii_singularity_returns_its_mode(backend):
     assert modes.conditioning[best] < 1e-6
 
 
-#: open in issue 19: near a type II singularity (measure 1e-4, 1e-6) prs3's 32 roots are certified
-#: complete, yet the generating pose is not among the settled modes and nothing flags it: two
-#: real endpoints of a near-double root settle to one pose (a duplicate) without a near-root flag
 @pytest.mark.parametrize("name", WITH_MODES)
 def test_near_singular_inputs_lose_no_mode_silently(name):
     """Inputs made by inverse pose at poses where the closure Jacobian's normalised determinant is

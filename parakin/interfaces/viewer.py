@@ -43,8 +43,9 @@ import numpy as np
 
 from parakin.errors import BadInputError, ParakinError
 from parakin.pose import xyz_euler_deg_from_pose
-from parakin.results import AssemblyModes, Configuration
+from parakin.results import MODE_HEADERS, AssemblyModes, Configuration
 from parakin.solvers.linalg import pivoted_solve
+from parakin.tables import POSE_HEADERS
 from parakin.validation import within_ranges
 
 if TYPE_CHECKING:
@@ -72,7 +73,7 @@ MAX_BODY = 65536
 #: the drawing's size (the tracker and the mode polisher both converge to about 1e-12)
 SAME_MODE = 1e-7
 #: pose shown on the page: position of {P} in {B} and Z-Y-X Euler angles of ^B_P R
-POSE_LABELS = ("x [m]", "y [m]", "z [m]", "alpha [deg]", "beta [deg]", "gamma [deg]")
+POSE_LABELS = tuple(POSE_HEADERS)
 
 
 def _finite_or_none(value: float) -> float | None:
@@ -378,7 +379,7 @@ class ViewerSession:
             "actuated": [float(v) for v in theta],
             "count": len(modes),
             "summary": modes_summary(modes),
-            "headers": ["mode", *POSE_LABELS, "conditioning"],
+            "headers": list(MODE_HEADERS),
             "rows": modes_rows(modes),
             "current": number,
         }

@@ -112,16 +112,22 @@ def constraint_forces(m: LoadedMechanism, state: Configuration, wrench: ArrayLik
     return _holding_intensities(m, state, wrench)[1]
 
 
+def overall_jacobian(a: Array, constraints: Array | None) -> tuple[Array, str]:
+    """[A; C] (..., n_twist, n_twist) of a lower-mobility platform (A alone without constraint
+    wrenches) and its name for messages: twist -> (A twist, C twist), the matrix forward rates
+    and statics solve with."""
+    if constraints is None:
+        return a, "A (direct Jacobian)"
+    return np.concatenate([a, constraints], axis=-2), "[A; constraints] (overall Jacobian)"
+
+
 def _holding_intensities(m: LoadedMechanism, state: Configuration, wrench: ArrayLike) -> tuple[Array, Array]:
     """(tau, lambda): the platform's equilibrium w + A^T phi + C^T lambda = 0, tau = B^T phi."""
     w = _wrench(m, wrench)
     a, b, constraints = _rate_model(m, state)
-    overall = a if constraints is None else np.concatenate([a, constraints], axis=-2)
+    overall, name = overall_jacobian(a, constraints)
     y = m._solve(
-        np.swapaxes(overall, -1, -2),
-        w,
-        "rate matrix M" if b is None else "A (direct Jacobian)" if constraints is None else "[A; constraints]",
-        "a type II (parallel) singularity",
+        np.swapaxes(overall, -1, -2), w, "rate matrix M" if b is None else name, "a type II (parallel) singularity"
     )
     count = a.shape[-2]
     phi, reactions = -y[..., :count], -y[..., count:]
