@@ -34,7 +34,7 @@ from parakin.results import Array
 from parakin.validation import broadcast_batch
 
 FLAGS = [
-    "-O2",
+    "-O3",
     "-shared",
     "-fPIC",
     "-std=c99",
