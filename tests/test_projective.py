@@ -129,3 +129,37 @@ def test_a_6rus_input_missing_roots_near_infinity_is_completed_by_the_projective
     lost = ends[~unique[0]]
     assert lost.shape[0] >= 80 - certified[0]
     assert (np.isnan(lost).all(-1) | (np.abs(lost).max(-1) > 1e2)).all(), np.abs(lost).max(-1)
+
+
+def test_suspect_paths_are_the_uncertified_the_unfinished_and_the_twins():
+    from parakin.solvers.modes import suspect_paths
+
+    z = np.array([[1.0, 2.0], [1.0 + 1e-6, 2.0], [5.0, -1.0], [np.nan, np.nan], [-3.0, 4.0], [7.0, 7.0]])
+    endpoints = np.stack([z, np.zeros_like(z)], -1)[None]  # (1 input, 6 paths, 2 unknowns, re/im)
+    unique = np.array([[True, True, True, False, True, False]])
+    suspect = suspect_paths(endpoints, unique)
+    # 0 and 1 ended on one root, 3 did not end, 5 is not certified; 2 and 4 are alone
+    assert suspect.tolist() == [[True, True, False, True, False, True]]
+
+
+def test_a_partial_retrack_keeps_the_other_ends_and_tracks_the_chosen_paths_like_a_full_one():
+    """Re-tracking some paths (closed under symmetric partners) gives those paths the ends of a
+    full projective re-track from the same start, and leaves every other end as it was."""
+    from parakin.solvers.modes import Retrack, _homotopy_candidates
+    from parakin.studies.sampling import sample_configurations
+
+    m = parakin.load("prs3", backend="numpy")
+    info = m.capabilities.forward
+    theta = sample_configurations(m, 6, seed=31).actuated[:3]
+    paths = info.homotopy.start.shape[0]
+    full = _homotopy_candidates(m, theta, info, Retrack(0))["endpoints"]
+    marked = np.zeros((3, paths), bool)
+    marked[0, 3] = marked[2, [0, 9]] = True
+    placeholder = np.full(full.shape[:-1], 7.0 + 0j)  # the 'earlier' ends of the paths kept
+    part = _homotopy_candidates(m, theta, info, Retrack(0, marked, placeholder))["endpoints"]
+    pairs = path_pairs(info.homotopy.exponents, info.homotopy.equation, info.homotopy.start)
+    redo = marked | marked[:, pairs.partner]
+    assert redo.sum() == 6 and np.isfinite(full).all()
+    kept = part[~redo]
+    assert (kept[..., 0] == 7.0).all() and (kept[..., 1] == 0.0).all()
+    assert np.abs(part[redo] - full[redo]).max() < 1e-9 * (1 + np.abs(full[redo]).max())

@@ -15,7 +15,7 @@ import ctypes
 import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -52,11 +52,33 @@ CERTIFY_CHUNK = 256
 #: the least work a thread of a compiled batch gets: homotopy paths, or closed-form inputs
 THREAD_PATHS = 64
 THREAD_INPUTS = 512
-#: the start instances (0 the first, 1 the second) an input not certified complete is tracked
-#: from again, in this order until it is, in projective space (``parakin.solvers.projective``):
-#: its missing roots are mostly near infinity, where affine paths meet. The second instance's
-#: segment is another path through parameter space; the first's, tracked projectively, ends
-#: where affine tracking jumped
+#: paths re-tracked per call of the NumPy tracker in a partial re-track (each carries its own
+#: coefficient table, tens of kilobytes)
+RETRACK_PATHS = 1024
+#: two ends this close relative to their size may be one root (``suspect_paths``)
+TWIN = 1e-4
+
+
+class Retrack(NamedTuple):
+    """A re-track in projective space (``parakin.solvers.projective``) from start instance
+    ``instance`` (0 the first, 1 the second): every path, or with ``redo`` (inputs, paths) only
+    those, the others keeping their earlier ends ``ends`` (inputs, paths, unknowns)."""
+
+    instance: int
+    redo: np.ndarray | None = None
+    ends: np.ndarray | None = None
+
+    def rows(self, a: int, b: int) -> Retrack:
+        """This re-track for the inputs a:b of its batch."""
+        if self.redo is None or self.ends is None:
+            return self
+        return Retrack(self.instance, self.redo[a:b], self.ends[a:b])
+
+
+#: the start instances an input not certified complete is tracked from again, all its paths in
+#: projective space, after the paths of its first run that no certified box holds alone were
+#: (``suspect_paths``): its missing roots are mostly near infinity, where affine paths meet or
+#: escape. The second instance's segment is another path through parameter space
 RETRACKS = (1, 0)
 
 
@@ -194,21 +216,22 @@ def _thread_parts(m: Mechanism, count: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
-def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: int | None = None) -> dict[str, np.ndarray]:
+def numpy_modes(m: Mechanism, theta: Array, info: Forward, retrack: Retrack | None = None) -> dict[str, np.ndarray]:
     """The same pipeline by the method ``info``, vectorised over the batch, in chunks of
-    ``CHUNK`` inputs; kernels from the mechanism's backend. ``retrack`` (0 or 1, ``RETRACKS``):
-    a homotopy's paths from that start instance, tracked in projective space (for inputs whose
-    first answer was not certified complete)."""
+    ``CHUNK`` inputs; kernels from the mechanism's backend. ``retrack``: a homotopy's paths
+    tracked again in projective space (for inputs whose first answer was not certified complete)."""
     count = theta.shape[0]
     out = _allocate(info, m, count)
     for start in range(0, count, CHUNK):
-        part = _numpy_chunk(m, theta[start : start + CHUNK], info, retrack)
+        part = _numpy_chunk(
+            m, theta[start : start + CHUNK], info, None if retrack is None else retrack.rows(start, start + CHUNK)
+        )
         for key, value in part.items():
             out[key][start : start + CHUNK] = value
     return out
 
 
-def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: int | None = None) -> dict[str, np.ndarray]:
+def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: Retrack | None = None) -> dict[str, np.ndarray]:
     finite_input = np.asarray(np.isfinite(theta).all(-1))
     theta = np.where(finite_input[:, None], theta, 0.0)
     if info.homotopy is not None:
@@ -219,22 +242,26 @@ def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: int | None 
 
 
 def _homotopy_candidates(
-    m: Mechanism, theta: Array, info: Forward, retrack: int | None = None
+    m: Mechanism, theta: Array, info: Forward, retrack: Retrack | None = None
 ) -> dict[str, np.ndarray]:
     """Every path of the generated homotopy followed to the inputs (``parakin.solvers.homotopy``); real
     and near-real endpoints become candidates (passive values from the generated kernel), the
-    others are accounted for as complex, at infinity or failed. ``retrack``: from that start
-    instance, in projective space."""
+    others are accounted for as complex, at infinity or failed. ``retrack``: again, in
+    projective space (``Retrack``)."""
     homotopy = info.homotopy
     assert homotopy is not None
     codes = _codes(m)
     tol = _settings(m)
-    instance = 0 if retrack is None else retrack
+    instance = 0 if retrack is None else retrack.instance
     start = homotopy.alternative if instance else homotopy.start
     paths = start.shape[0]
     n = theta.shape[0]
     table = _path_table(m, info, theta, instance)
-    ended = _track_family(homotopy, table, start, n, float(tol["path_tolerance"]), projective=retrack is not None)
+    tolerance = float(tol["path_tolerance"])
+    if retrack is not None and retrack.redo is not None and retrack.ends is not None:
+        ended = _track_some(homotopy, table, start, retrack.redo, retrack.ends, tolerance)
+    else:
+        ended = _track_family(homotopy, table, start, n, tolerance, projective=retrack is not None)
     if retrack is None and (ended.status == PATH_FAILED).any():
         ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
     z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous))
@@ -303,6 +330,59 @@ def _track_family(
         return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
 
     return track_symmetric(system_for, start, count, tolerance, pairs)
+
+
+def _track_some(
+    homotopy: Homotopy, table: np.ndarray, start: np.ndarray, redo: np.ndarray, ends: np.ndarray, tolerance: float
+) -> Paths:
+    """The paths ``redo`` (inputs, paths) of the inputs of ``table`` tracked again in projective
+    space from ``start``, the others reached at their earlier ``ends`` (inputs, paths, unknowns):
+    one per symmetric pair (``redo`` is closed under partners), each path with its own input's
+    coefficients, ``RETRACK_PATHS`` at a time."""
+    count, paths, size = ends.shape
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
+    redo = redo.copy()
+    tracked = redo.copy()
+    if pairs is not None:
+        redo |= redo[:, pairs.partner]
+        tracked = redo.copy()
+        tracked[:, pairs.second] = False
+    family = projective_family(homotopy.exponents, homotopy.equation, pairs)
+    extended = projective_table(family, table)
+    z = np.array(ends, dtype=complex)
+    status = np.where(np.isfinite(z).all(-1), PATH_REACHED, PATH_FAILED).astype(np.int32)
+    rows, columns = np.nonzero(tracked)
+    for a in range(0, rows.size, RETRACK_PATHS):
+        r, c = rows[a : a + RETRACK_PATHS], columns[a : a + RETRACK_PATHS]
+        system = sparse_system(extended[r], family.exponents, family.equation, 1)
+        again = to_affine(track(system, to_projective(family, start[c]), tolerance))
+        z[r, c], status[r, c] = again.z, again.status
+    if pairs is not None:  # the partner of a path tracked ends at the image of its end
+        source = np.full(paths, -1)
+        source[pairs.second] = pairs.first
+        images = np.nonzero(redo & (source >= 0)[None, :])
+        z[images] = z[images[0], source[images[1]]] * pairs.flip
+        status[images] = status[images[0], source[images[1]]]
+    steps = np.zeros(count * paths, dtype=np.int32)
+    return Paths(z.reshape(-1, size), status.reshape(-1), steps, np.full(count * paths, np.nan))
+
+
+def suspect_paths(endpoints: np.ndarray, unique: np.ndarray) -> np.ndarray:
+    """Per input and path (inputs, paths): the paths worth tracking again, those whose end no
+    certified box holds or that ended near another path's end (within ``TWIN`` of its size:
+    certified boxes are at most ``certify.NEAR`` wide, so two paths on one root are this close):
+    a path that jumped ends on another's root. Only a choice of work; the certificate decides."""
+    z = endpoints[..., 0] + 1j * endpoints[..., 1]
+    finite = np.isfinite(z).all(-1)
+    z = np.where(finite[..., None], z, np.inf)
+    scale = 1.0 + np.abs(z).max(-1)
+    distance = np.zeros(z.shape[:2] + z.shape[1:2])
+    with np.errstate(invalid="ignore"):
+        for k in range(z.shape[-1]):  # unknown by unknown: (inputs, paths, paths) at a time
+            distance = np.maximum(distance, np.abs(z[:, :, None, k] - z[:, None, :, k]))
+        distance /= scale[:, :, None]
+    twin = (distance <= TWIN) & ~np.eye(z.shape[1], dtype=bool)  # inf - inf is NaN: not a twin
+    return ~unique | twin.any(-1) | ~finite
 
 
 def _monomials(m: Mechanism, info: Forward):
