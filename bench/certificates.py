@@ -4,7 +4,7 @@ homotopy method (``forward_pose_all(..., method=...)``) on N random inputs per m
 Inputs are the actuated values of closed configurations sampled around each home (so every one
 has at least its generating mode). Per mechanism and method the table counts the inputs whose
 answer is certified complete (distinct Krawczyk-certified roots == the proven root count), the
-inputs tracked again from the second start system (``retracked``; complete or not after it) and
+inputs tracked again in projective space (``retracked``; complete or not after it) and
 those left uncertified, with the mean uncertified paths of those, the time per input and the
 proof of the root count stored at generation.
 """

@@ -185,8 +185,9 @@ class AssemblyModes:
         root: ``parakin.solvers.certify``), ``complete`` (the two are equal and the count is proven: no
         solution can be missing, so the modes returned are all of them), ``uncertified_paths``
         (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run
-        was not complete: tracked again from the second start instance with tighter steps, the
-        better run kept)."""
+        was not complete: its suspect paths, then if need be every path from each start
+        instance, tracked again in projective space, where roots near infinity stay bounded;
+        the run with the most certified roots kept)."""
         extra: dict[str, object] = {}
         if self.certified_roots is not None and self.root_count is not None and self.path_certified is not None:
             extra = {
