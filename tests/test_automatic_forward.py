@@ -300,16 +300,20 @@ def test_the_polynomial_form_keeps_exact_constants_and_clears_roots_and_quotient
         sympy.Poly(equation, *form.unknowns)  # polynomial in the unknowns
 
 
-def test_certificates_in_chunks_equal_one_pass(monkeypatch) -> None:
+@pytest.mark.parametrize("threads", ["1", "3"])
+def test_certificates_in_chunks_equal_one_pass(monkeypatch, threads: str) -> None:
     """Certification runs in chunks of inputs (bounded memory: 10^4 inputs at once ran out of
-    memory): chunks of 2 give exactly the counts and per-path verdicts of one pass."""
+    memory), on several threads side by side: chunks of 2 (of 1 on 3 threads) give exactly the
+    counts and per-path verdicts of one pass."""
     from parakin.solvers import modes as modes_module
 
     m = parakin.load("planar_3rpr", backend="numpy")
     info = m.capabilities.forward_methods["automatic"]
     state = _inputs(m, 7, seed=12)
     out = modes_module.numpy_modes(m, state.actuated, info)
+    monkeypatch.setenv("PARAKIN_THREADS", "1")
     whole = modes_module.certify(m, info, state.actuated, out["endpoints"])
+    monkeypatch.setenv("PARAKIN_THREADS", threads)
     monkeypatch.setattr(modes_module, "CERTIFY_CHUNK", 2)
     chunked = modes_module.certify(m, info, state.actuated, out["endpoints"])
     assert state.actuated.shape[0] >= 5

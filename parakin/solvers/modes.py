@@ -373,7 +373,7 @@ def suspect_paths(endpoints: np.ndarray, unique: np.ndarray) -> np.ndarray:
     certified boxes are at most ``certify.NEAR`` wide, so two paths on one root are this close):
     a path that jumped ends on another's root. Only a choice of work; the certificate decides."""
     z = endpoints[..., 0] + 1j * endpoints[..., 1]
-    finite = np.isfinite(z).all(-1)
+    finite = np.asarray(np.isfinite(z).all(-1))
     z = np.where(finite[..., None], z, np.inf)
     scale = 1.0 + np.abs(z).max(-1)
     distance = np.zeros(z.shape[:2] + z.shape[1:2])
@@ -423,12 +423,22 @@ def _certified_group(homotopy: Homotopy) -> list[int] | None:
 def certify(
     m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``certify_inputs`` in chunks of ``CERTIFY_CHUNK`` inputs: the Krawczyk tables take
-    about a megabyte per input of a chunk, so memory stays bounded whatever the batch."""
-    parts = [
-        certify_inputs(m, info, theta[a : a + CERTIFY_CHUNK], endpoints[a : a + CERTIFY_CHUNK], exact)
-        for a in range(0, theta.shape[0], CERTIFY_CHUNK)
-    ]
+    """``certify_inputs`` in chunks: the Krawczyk tables take about a megabyte per input of a
+    chunk, so memory stays bounded whatever the batch (``CERTIFY_CHUNK`` inputs in all, shared
+    by the ``threads()`` that certify chunks side by side; NumPy releases the GIL in the array
+    work). Each input's certificate is its own: the same whatever the chunks."""
+    workers = threads()
+    size = max(1, CERTIFY_CHUNK // workers)
+
+    def chunk(a: int) -> tuple[np.ndarray, np.ndarray]:
+        return certify_inputs(m, info, theta[a : a + size], endpoints[a : a + size], exact)
+
+    starts = range(0, theta.shape[0], size)
+    if workers > 1 and len(starts) > 1:
+        with ThreadPoolExecutor(min(workers, len(starts))) as pool:
+            parts = list(pool.map(chunk, starts))
+    else:
+        parts = [chunk(a) for a in starts]
     if not parts:
         return certify_inputs(m, info, theta, endpoints, exact)
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
