@@ -31,6 +31,7 @@ rejects. Overflow gives inf or NaN, which fails the test.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,33 +75,49 @@ class Certificate:
 DENSE = 0.08
 
 
+class _Layout:
+    """Where the terms of a polynomial map go, fixed by the family: term q adds to output
+    ``target[q]`` its coefficient times monomial ``monomial[q]`` (of ``monomials``); the terms
+    sorted by destination once, so that each evaluation sums contiguous runs."""
+
+    def __init__(self, monomial: np.ndarray, target: np.ndarray, monomials: int, size: int, dense: float) -> None:
+        self.size, self.monomial, self.monomials = size, monomial, monomials
+        self.dense = monomial.size >= dense * monomials * size
+        index = monomial * size + target if self.dense else target
+        self.order = np.argsort(index, kind="stable")
+        ordered = index[self.order]
+        self.starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1] if index.size else np.zeros(0, np.int64)
+        self.present = ordered[self.starts]
+
+
 class _Polynomials:
     """Outputs out_k = sum over terms q with target[q] = k of coefficients[..., q] * m[monomial[q]],
     for monomial values m (..., P, U): either a matrix product with the per-input table of
     coefficient sums (dense maps, a fast BLAS product) or a sum per output of the terms' products
     (sparse maps, where most of a table would be zeros). Each output is one sum (counted in K)."""
 
-    def __init__(self, coefficients: np.ndarray, monomial: np.ndarray, target: np.ndarray, monomials: int, size: int):
-        self.size, self.monomial, self.coefficients = size, monomial, coefficients
-        self.dense = monomial.size >= DENSE * monomials * size
-        index = monomial * size + target if self.dense else target
-        self.order = np.argsort(index, kind="stable")
-        ordered = index[self.order]
-        self.starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1] if index.size else np.zeros(0, np.int64)
-        self.present = ordered[self.starts]
-        if self.dense:
-            self.table = self._sum(coefficients, monomials * size).reshape(coefficients.shape[:-1] + (monomials, size))
+    def __init__(self, coefficients: np.ndarray, layout: _Layout):
+        self.layout, self.coefficients = layout, coefficients
+        if layout.dense:
+            self.table = self._sum(coefficients, layout.monomials * layout.size).reshape(
+                coefficients.shape[:-1] + (layout.monomials, layout.size)
+            )
+
+    @property
+    def dense(self) -> bool:
+        return self.layout.dense
 
     def _sum(self, values: np.ndarray, size: int) -> np.ndarray:
+        layout = self.layout
         out = np.zeros(values.shape[:-1] + (size,), values.dtype)
-        if self.starts.size:
-            out[..., self.present] = np.add.reduceat(values[..., self.order], self.starts, axis=-1)
+        if layout.starts.size:
+            out[..., layout.present] = np.add.reduceat(values[..., layout.order], layout.starts, axis=-1)
         return out
 
     def __call__(self, m: np.ndarray) -> np.ndarray:
-        if self.dense:
+        if self.layout.dense:
             return m @ self.table
-        return self._sum(self.coefficients[..., None, :] * m[..., self.monomial], self.size)
+        return self._sum(self.coefficients[..., None, :] * m[..., self.layout.monomial], self.layout.size)
 
 
 def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
@@ -115,33 +132,61 @@ def _monomials(x: np.ndarray, table_rows: np.ndarray) -> np.ndarray:
     return out
 
 
-class _System:
-    """F, J, the absolute-value polynomials S, SJ and the sums H_k (module docstring) as
-    polynomial maps over the distinct monomials of F and J (``rows``) and of the second
-    derivatives (``second``)."""
+class _Structure:
+    """What the certificate needs of a family that its coefficients do not change, computed once
+    per family (``_structure``): the distinct monomials of F and J (``rows``) and of the second
+    derivatives (``second``), where each term of F, J and H goes, and the rounding count K."""
 
-    def __init__(self, c: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
+    def __init__(self, exponents: np.ndarray, equation: np.ndarray, dense: float) -> None:
         terms, n = exponents.shape
         self.n, eye = n, np.eye(n, dtype=np.int64)
-        tj, ij = np.nonzero(exponents > 0)  # Jacobian terms: d/dz_i of term t
-        rows = np.concatenate([exponents, exponents[tj] - eye[ij]])
+        self.tj, ij = np.nonzero(exponents > 0)  # Jacobian terms: d/dz_i of term t
+        rows = np.concatenate([exponents, exponents[self.tj] - eye[ij]])
         self.rows, where = np.unique(rows, axis=0, return_inverse=True)
         where = where.reshape(-1)
-        weight = exponents[tj, ij].astype(float)
-        u, cj = self.rows.shape[0], c[..., tj] * weight
-        term, entry = where[:terms], where[terms:]
-        self.F, self.S = (_Polynomials(v, term, equation, u, n) for v in (c, abs(c)))
-        self.J, self.SJ = (_Polynomials(v, entry, equation[tj] * n + ij, u, n * n) for v in (cj, abs(cj)))
+        self.weight = exponents[self.tj, ij].astype(float)
+        u = self.rows.shape[0]
+        self.f = _Layout(where[:terms], equation, u, n, dense)
+        self.j = _Layout(where[terms:], equation[self.tj] * n + ij, u, n * n, dense)
         pair = exponents[:, :, None] * (exponents[:, None, :] - eye)  # a_ti (a_tj - [i = j])
-        th, ih, jh = np.nonzero(pair > 0)
-        self.second, at = np.unique(exponents[th] - eye[ih] - eye[jh], axis=0, return_inverse=True)
-        weights = abs(c[..., th]) * pair[th, ih, jh]
-        self.H = _Polynomials(weights, at.reshape(-1), equation[th], self.second.shape[0], n)
+        self.th, ih, jh = np.nonzero(pair > 0)
+        self.second, at = np.unique(exponents[self.th] - eye[ih] - eye[jh], axis=0, return_inverse=True)
+        self.pair = pair[self.th, ih, jh]
+        self.h = _Layout(at.reshape(-1), equation[self.th], self.second.shape[0], n, dense)
         degree = int(exponents.sum(1).max(initial=0))
         # roundings on any path (module docstring): F~, J~: 3 (degree + n + 1) + terms + monomials;
         # L: 4 degree + n (rho's error raised to the degree) + 2 terms (2 pairs (i, j) per term) + the
         # second-derivative monomials; the Y products 2 n; the assembly of the test a constant
         self.count = 4 * (degree + n) + 2 * terms + self.rows.shape[0] + self.second.shape[0] + 32
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_structure(exponents: bytes, shape: tuple[int, int], equation: bytes, dense: float) -> _Structure:
+    return _Structure(
+        np.frombuffer(exponents, np.int64).reshape(shape).copy(), np.frombuffer(equation, np.int64).copy(), dense
+    )
+
+
+def _structure(exponents: np.ndarray, equation: np.ndarray) -> _Structure:
+    """The family's ``_Structure``, computed on its first certificate and kept (a single input's
+    certificate would otherwise spend most of its time here)."""
+    e = np.ascontiguousarray(exponents, dtype=np.int64)
+    return _cached_structure(e.tobytes(), e.shape, np.ascontiguousarray(equation, dtype=np.int64).tobytes(), DENSE)
+
+
+class _System:
+    """F, J, the absolute-value polynomials S, SJ and the sums H_k (module docstring) as
+    polynomial maps over the distinct monomials of F and J (``rows``) and of the second
+    derivatives (``second``), for the coefficients c (..., T)."""
+
+    def __init__(self, c: np.ndarray, exponents: np.ndarray, equation: np.ndarray) -> None:
+        structure = _structure(exponents, equation)
+        self.n, self.rows, self.second = structure.n, structure.rows, structure.second
+        cj = c[..., structure.tj] * structure.weight
+        self.F, self.S = (_Polynomials(v, structure.f) for v in (c, abs(c)))
+        self.J, self.SJ = (_Polynomials(v, structure.j) for v in (cj, abs(cj)))
+        self.H = _Polynomials(abs(c[..., structure.th]) * structure.pair, structure.h)
+        self.count = structure.count
         self.gain = 4.0 * self.count * UNIT
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -16,6 +16,7 @@ C alike.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -330,13 +331,27 @@ class PathPairs(NamedTuple):
 def path_pairs(exponents: np.ndarray, equation: np.ndarray, start: np.ndarray) -> PathPairs | None:
     """The pairs of the start paths ``start`` (P, n) under the family's sign symmetry
     (``sign_symmetry``, ``symmetric_partners``), or None: then every path is tracked. The one
-    place the generator (the C driver's table), the NumPy pipeline and the certificates pair paths."""
-    flip = sign_symmetry(exponents, equation)
-    partner = symmetric_partners(start, flip)
+    place the generator (the C driver's table), the NumPy pipeline and the certificates pair paths.
+    Computed once per family and start system (each certificate asks)."""
+    e = np.ascontiguousarray(exponents, dtype=np.int64)
+    z = np.ascontiguousarray(start, dtype=complex)
+    k = np.ascontiguousarray(equation, dtype=np.int64)
+    return _cached_pairs(e.tobytes(), e.shape, k.tobytes(), z.tobytes(), z.shape)
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_pairs(
+    exponents: bytes, shape: tuple[int, ...], equation: bytes, start: bytes, start_shape: tuple[int, ...]
+) -> PathPairs | None:
+    flip = sign_symmetry(np.frombuffer(exponents, np.int64).reshape(shape), np.frombuffer(equation, np.int64))
+    partner = symmetric_partners(np.frombuffer(start, complex).reshape(start_shape), flip)
     if partner is None or flip is None:
         return None
     first = np.nonzero(partner > np.arange(partner.size))[0]
-    return PathPairs(flip, partner, first, partner[first])
+    pairs = PathPairs(flip, partner, first, partner[first])
+    for array in pairs:  # shared by every caller: read-only
+        array.flags.writeable = False
+    return pairs
 
 
 def track_symmetric(
