@@ -341,11 +341,9 @@ def _track_some(
     coefficients, ``RETRACK_PATHS`` at a time."""
     count, paths, size = ends.shape
     pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
-    redo = redo.copy()
+    redo = redo | redo[:, pairs.partner] if pairs is not None else redo.copy()
     tracked = redo.copy()
     if pairs is not None:
-        redo |= redo[:, pairs.partner]
-        tracked = redo.copy()
         tracked[:, pairs.second] = False
     family = projective_family(homotopy.exponents, homotopy.equation, pairs)
     extended = projective_table(family, table)
