@@ -27,6 +27,17 @@ class ArchitectureSingularityWarning(UserWarning):
     """The loaded geometry is singular at every pose (an architecture singularity): unusable."""
 
 
+class BrokenPackageError(BadInputError):
+    """A package's manifest fails its checks (a missing field, a value of the wrong type, shape or
+    range): the message names the field's path and the bad value. Such a package is skipped by
+    ``parakin.available()`` with a BrokenPackageWarning."""
+
+
+class StoreInUseError(ParakinError):
+    """Another sweep (another process, or another thread of this one) is writing the sweep store:
+    the message names the store and the writer; run again once it has finished to resume."""
+
+
 class BrokenPackageWarning(UserWarning):
     """A package on the search path whose manifest cannot be read: it is skipped by
     ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
@@ -52,6 +63,17 @@ class CompilerUnavailableError(CompiledUnavailableError):
 
 class CacheUnavailableError(CompiledUnavailableError):
     """The library cache (``$PARAKIN_CACHE``) cannot be written or its library not loaded."""
+
+
+class UntrustedCacheError(CacheUnavailableError):
+    """The library cache, a folder above it or its library is owned by another user or writable
+    by others: a library planted there would run inside this process, so none is loaded from it
+    (the message names the file and what to do; backend 'auto' falls back to NumPy)."""
+
+
+class StaleLibraryError(CacheUnavailableError):
+    """A library in the cache under the package's name lacks C symbols the package needs (stale,
+    damaged or not built by parakin); the message names it and the symbols: delete it to rebuild."""
 
 
 class UnreachablePoseError(ParakinError):

@@ -46,21 +46,30 @@ recorded chunk against its checksum and recomputes any that does not verify (a d
 chunk file, a record that lists a chunk never written); the returned dataset verifies each chunk
 again when it is read and raises BadInputError for one that changed since, never returning it.
 A store killed before its first record resumes as an unfinished store of the same sweep.
+One sweep writes a store at a time: it holds the store's lock (``.NAME.lock`` next to it, an
+advisory ``flock`` that the system releases when the process ends, however it ends) from
+before it touches the store until its last chunk is recorded. Another sweep started on the
+store meanwhile, in any process or thread, is refused with StoreInUseError naming the store;
+started after, it resumes the store.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import json
+import os
+import socket
+import threading
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from parakin.errors import ArchitectureSingularityWarning, BadInputError, UnsupportedOperationError
+from parakin.errors import ArchitectureSingularityWarning, BadInputError, StoreInUseError, UnsupportedOperationError
 from parakin.log import progress as bar_over
 from parakin.pose import POSE_KINDS
 from parakin.validation import as_array
@@ -83,6 +92,10 @@ POSE_QUANTITIES = ("reachable", "branches", "type_i_distance", "type_ii_distance
 QUANTITIES = (*POSE_QUANTITIES, "modes", "architecture", "workspace_volume")
 #: the task states of dask's local scheduler: their sizes add up to the graph's tasks
 _TASK_STATES = ("ready", "waiting", "running", "finished")
+#: the stores this process is writing (resolved paths): threads of one process exclude each other
+#: here, as file systems whose flock is emulated by POSIX record locks (NFS) do not between them
+_WRITING: set[Path] = set()
+_WRITING_GUARD = threading.Lock()
 
 
 def _needs_dask() -> tuple[Any, Any]:
@@ -648,9 +661,84 @@ def _structure_matches(store: Path, dataset: xarray.Dataset, rows: tuple[int, ..
     return True
 
 
+def _lock_file(store: Path) -> Path:
+    """The file whose lock a sweep holds while it writes ``store``: next to the store (which is
+    renamed and rebuilt under it), named after the store's resolved path, so that every path
+    to one store names one lock."""
+    resolved = store.resolve()
+    return resolved.with_name(f".{resolved.name}.lock")
+
+
+def _holds_lock(store: Path) -> bool:
+    """Whether this process is writing ``store`` (holds its lock)."""
+    with _WRITING_GUARD:
+        return store.resolve() in _WRITING
+
+
+@contextlib.contextmanager
+def _writing(store: Path) -> Iterator[None]:
+    """Hold the store's lock while the block runs, or raise StoreInUseError naming the store and
+    the process that holds it. The lock is an advisory ``flock`` on ``_lock_file(store)``: the
+    system drops it when the holder ends, even by SIGKILL, so a killed sweep never leaves a
+    store locked. The lock file stays (removing it would let two processes lock two files)."""
+    key = store.resolve()
+    path = _lock_file(store)
+    with _WRITING_GUARD:
+        if key in _WRITING:
+            raise StoreInUseError(
+                f"another sweep is writing the store {store} (in this process, pid {os.getpid()}); "
+                "run again when it has finished to resume the store"
+            )
+        _WRITING.add(key)
+    try:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            handle = open(path, "a+")  # noqa: SIM115 - held open for the lock's lifetime
+        except OSError as error:
+            raise BadInputError(f"sweep store {store}: cannot open its lock file {path} ({error})") from error
+        with handle:
+            _lock(handle, store, path)
+            try:
+                # who holds it, for the message of a sweep refused meanwhile
+                handle.seek(0)
+                handle.truncate()
+                handle.write(f"pid {os.getpid()} on {socket.gethostname()}\n")
+                handle.flush()
+                yield
+            finally:
+                handle.seek(0)
+                handle.truncate()
+    finally:
+        with _WRITING_GUARD:
+            _WRITING.discard(key)
+
+
+def _lock(handle: Any, store: Path, path: Path) -> None:
+    """Take the exclusive lock of the open lock file ``handle`` without waiting."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - no flock (Windows): threads of this process only
+        return
+    try:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError as error:
+        handle.seek(0)
+        holder = handle.read().strip()
+        raise StoreInUseError(
+            f"another sweep is writing the store {store}{f' ({holder})' if holder else ''}; run again when "
+            "it has finished to resume the store"
+        ) from error
+    except OSError as error:  # a file system without locks: writing unlocked could lose chunks
+        raise BadInputError(
+            f"sweep store {store}: its lock file {path} cannot be locked ({error}); choose a store on a file "
+            "system with file locks"
+        ) from error
+
+
 def _scratch(store: Path) -> Path:
-    """The folder a store is built in before it is renamed into place, emptied: parakin's own (a
-    left-over one is what a kill during initialisation leaves)."""
+    """The folder a store is built in before it is renamed into place, emptied. Only a process
+    holding the store's lock (``_writing``) builds, renames or removes it, so one found there
+    is what a sweep killed during initialisation left: its maker is gone, never a live sweep's."""
     import shutil
 
     scratch = store.with_name(f".{store.name}.initialising")
@@ -679,15 +767,35 @@ def _compute_into(
 ) -> xarray.Dataset:
     """Write the sweep chunk by chunk into a zarr store, skipping the chunks a previous run
     finished and that still verify against the checksums in the record (``RECORD``, replaced
-    atomically after each batch of writes); returns the dataset read back chunk by chunk, verified."""
+    atomically after each batch of writes); returns the dataset read back chunk by chunk, verified.
+    The writing holds the store's lock (``_writing``): a sweep started meanwhile is refused."""
+    bounds = np.cumsum((0, *rows))
+    if store.exists() and not store.is_dir():
+        raise BadInputError(f"store {store} is a file, not a sweep store (a folder); choose another path")
+    with _writing(store):
+        finished, pending, unverified = _write_store(dataset, store, rows, scheduler, progress, size)
+    result = _verified_view(dataset, store, bounds, finished)
+    result.attrs["chunks_computed"] = len(pending)  # this run's work (0: everything was done before)
+    result.attrs["chunks_unverified"] = unverified  # recorded chunks that failed verification (recomputed)
+    return result
+
+
+def _write_store(
+    dataset: xarray.Dataset,
+    store: Path,
+    rows: tuple[int, ...],
+    scheduler: str | None,
+    progress: bool | None,
+    size: int,
+) -> tuple[dict[int, dict[str, str]], list[int], int]:
+    """``_compute_into``'s writing, under the store's lock: the finished chunks with their
+    checksums, the chunks this run computed and how many recorded ones failed verification."""
     import dask
 
     first = next(iter(dataset.dims))
     bounds = np.cumsum((0, *rows))
     names = [str(name) for name in dataset.data_vars]
     spec = dataset.attrs["spec"]
-    if store.exists() and not store.is_dir():
-        raise BadInputError(f"store {store} is a file, not a sweep store (a folder); choose another path")
     if store.exists() and not any(store.iterdir()):
         store.rmdir()  # an empty folder: nothing of anyone's to keep
     if not store.exists():
@@ -743,10 +851,7 @@ def _compute_into(
         bar.close()
         if client is not None:
             client.close()
-    result = _verified_view(dataset, store, bounds, finished)
-    result.attrs["chunks_computed"] = len(pending)  # this run's work (0: everything was done before)
-    result.attrs["chunks_unverified"] = unverified  # recorded chunks that failed verification (recomputed)
-    return result
+    return finished, pending, unverified
 
 
 def _verified_view(
