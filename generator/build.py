@@ -100,9 +100,18 @@ def validate_name(name: str) -> str:
     return name
 
 
+class Terminated(SystemExit):
+    """The exit a termination signal raises (``parakin generate`` turns SIGTERM into one, so that
+    a build unwinds and removes its staging folder): it passes through ``load_definition``,
+    which reports a mechanism file's own SystemExit as an error."""
+
+
 def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, ModuleType]:
     """Import a mechanism file and call its ``build()``; the mechanism takes the file's name. An
-    error in the file is a GenerationError naming the file and the line where it happened."""
+    error in the file is a GenerationError naming the file and the line where it happened: any
+    exception, SystemExit included (a file that calls ``sys.exit`` would otherwise end the
+    generator with that status and no package). KeyboardInterrupt and ``Terminated`` pass: they
+    interrupt."""
     name = validate_name(name or path.stem)
     spec = importlib.util.spec_from_file_location(f"parakin_mechanism_{name}", path)
     if spec is None or spec.loader is None:
@@ -118,7 +127,16 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
     except SyntaxError as error:  # the line is the error's own, not a frame's
         where = f", line {error.lineno}" if error.lineno and _same_file(error.filename, path) else ""
         raise GenerationError(f"{path}{where}: SyntaxError: {error.msg}") from error
-    except Exception as error:  # the file's own error, in one line with where it happened
+    except (KeyboardInterrupt, Terminated):
+        raise
+    except SystemExit as error:
+        line = _last_line_in(error.__traceback__, path)
+        where = f", line {line}" if line is not None else ""
+        raise GenerationError(
+            f"{path}{where}: SystemExit: sys.exit({error.code!r}) ran while the file was imported or built; a "
+            "mechanism file defines build() and never exits"
+        ) from error
+    except BaseException as error:  # the file's own error, in one line with where it happened
         line = _last_line_in(error.__traceback__, path)
         where = f", line {line}" if line is not None else ""
         raise GenerationError(f"{path}{where}: {type(error).__name__}: {error}") from error

@@ -292,15 +292,19 @@ def _export(args: argparse.Namespace) -> int:
 
 def _generate(args: argparse.Namespace) -> int:
     try:
-        from parakin.generator.build import GenerationError, generate_file
+        from parakin.generator.build import GenerationError, Terminated, generate_file
     except ImportError as error:
         raise ParakinError(
             f"generating needs the generator extra: pip install 'parakin[generator]' ({error})"
         ) from error
     import signal
 
-    # a terminated build unwinds like an interrupted one: its staging folder is removed
-    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
+    def terminated(signum: int, frame: object) -> None:
+        raise Terminated(128 + signum)
+
+    # a terminated build unwinds like an interrupted one: its staging folder is removed. Its own
+    # exit (Terminated), not SystemExit: a mechanism file's SystemExit is an error (exit 2)
+    signal.signal(signal.SIGTERM, terminated)
     try:
         report = generate_file(args.file, args.out, force=args.force)
     except GenerationError as error:
