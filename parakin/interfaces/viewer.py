@@ -10,8 +10,15 @@ network) and a JSON API over a ``ViewerSession``:
   cannot follow, no convergence, a value outside the actuator's range) is reported by the named
   error of ``parakin.errors`` and its message, the drawing staying at the last solved input:
   never a silent jump of assembly mode;
-- a mode selector lists the assembly modes of the current input (``m.forward_pose_all``,
-  numbered 0 .. count - 1 as ``AssemblyModes.mode(k)``); choosing one restarts the tracker there;
+- a mode selector lists the assembly modes of the current input (``m.forward_pose_all``);
+  choosing one restarts the tracker there. Mode numbers are the viewer's own and stay with a
+  mode: the first list is numbered as ``AssemblyModes.mode(k)``, each later list carries the
+  numbers over from the list before it by nearness of pose and drawing, and the followed mode
+  keeps its number as long as the tracker follows it (the solver's own order changes from input
+  to input as modes swap places, appear and vanish);
+- a move the tracker refuses is explained in the user's terms: where the followed mode ends
+  (a fold, where it meets another mode), or reaches a singularity it would have to cross, is
+  located on the move by bisection and named by the input's value;
 - the singularity measures (``m.singularities``: named serial and type II factors and the
   determinants, zero means singular) and the closure Jacobian's conditioning update live;
 - the drawing is the generated drawing kernel's point sets (``m.drawing``: 3 x n in {B}, metres)
@@ -19,6 +26,13 @@ network) and a JSON API over a ``ViewerSession``:
   in the plane for a drawing that lies in one plane z = const.
 
 Nothing here knows a mechanism: every slider, measure and polyline comes from the manifest.
+
+The server answers only requests that name it (Host and Origin: its own address, localhost or
+127.0.0.1 with its port, so a DNS-rebinding page or another site cannot drive or read it), POSTs
+declared ``application/json`` (a cross-origin "simple" POST cannot be one), changes state by POST
+only, replies to every malformed request with a JSON error (non-finite numbers, nesting deeper
+than MAX_DEPTH, bodies over MAX_BODY, a bad Content-Length) and drops a connection idle for
+REQUEST_TIMEOUT seconds.
 ``serve(m)`` starts a server (``Viewer``: ``url``, ``close()``, a context manager, an iframe in
 notebooks), ``show(m)`` returns that iframe, ``python -m parakin.interfaces.viewer NAME`` serves one from the
 shell (``main(argv)``).
@@ -27,13 +41,16 @@ shell (``main(argv)``).
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import json
 import math
+import re
 import sys
 import threading
 import webbrowser
 from collections import OrderedDict
 from collections.abc import Sequence
+from dataclasses import dataclass
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
@@ -41,7 +58,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from parakin.errors import BadInputError, ParakinError
+from parakin.errors import (
+    AssemblyModeChangeError,
+    BadInputError,
+    ConvergenceError,
+    NoSuchModeError,
+    ParakinError,
+    SingularConfigurationError,
+)
 from parakin.pose import xyz_euler_deg_from_pose
 from parakin.results import MODE_HEADERS, AssemblyModes, Configuration
 from parakin.solvers.linalg import pivoted_solve
@@ -69,6 +93,23 @@ POSE_COMPONENTS = {
 MODES_CACHED = 16
 #: the largest request body accepted (bytes): a request is a few numbers
 MAX_BODY = 65536
+#: a larger body is still read (and dropped) up to this many bytes, so that its sender sees the
+#: 413 reply instead of a connection reset; beyond it the connection is closed unread
+DRAIN_LIMIT = 1 << 20
+#: the deepest nesting of brackets a request body may have (a request is flat; the standard
+#: parser recurses once per level and fails with RecursionError near 1000 levels)
+MAX_DEPTH = 16
+#: seconds a connection may stay silent (before or within a request) before the server drops it
+REQUEST_TIMEOUT = 10.0
+#: calls a GET may make: they only read; every other call changes state and needs a POST
+READ_ONLY_CALLS = ("scene", "state")
+#: bisection steps that locate where a refused move stops being trackable
+BISECTIONS = 40
+#: closure conditioning (pivot ratio) at or below which the place a move stops is a singularity
+#: (at a fold it falls as the square root of the distance: ~1e-6 after the bisection)
+SINGULAR_CONDITIONING = 1e-3
+#: a message quotes at most this many characters of what a request held
+ECHO = 120
 #: a configuration is mode k when its pose and drawing agree with mode k's to this, relative to
 #: the drawing's size (the tracker and the mode polisher both converge to about 1e-12)
 SAME_MODE = 1e-7
@@ -82,8 +123,43 @@ def _finite_or_none(value: float) -> float | None:
     return value if math.isfinite(value) else None
 
 
-def _error(error: BaseException) -> dict[str, str]:
-    return {"type": type(error).__name__, "message": str(error)}
+def _error(error: BaseException, message: str | None = None) -> dict[str, str]:
+    """The error of a reply: its class's name and the message (``message`` rewords it)."""
+    return {"type": type(error).__name__, "message": str(error) if message is None else message}
+
+
+def _shown(value: Any) -> str:
+    """``repr(value)`` cut to ECHO characters: a message never copies a whole request."""
+    text = repr(value)
+    return text if len(text) <= ECHO else text[: ECHO - 3] + "..."
+
+
+def _echo(value: Any) -> Any:
+    """``value`` as a reply may echo it: itself when strict JSON can encode it (no NaN or infinity,
+    no nesting deeper than the encoder's recursion), else its ``_shown`` text."""
+    try:
+        json.dumps(value, allow_nan=False)
+    except (ValueError, TypeError, RecursionError):
+        return _shown(value)
+    return value
+
+
+def _numbers(labels: Sequence[int]) -> str:
+    """Mode numbers for a sentence: "0 to 5", or "0, 2, 3" where some are not in use."""
+    ordered = sorted(labels)
+    if ordered and ordered == list(range(ordered[0], ordered[-1] + 1)) and len(ordered) > 2:
+        return f"{ordered[0]} to {ordered[-1]}"
+    return ", ".join(str(k) for k in ordered)
+
+
+@dataclass
+class _Table:
+    """The assembly modes of one input with the viewer's numbers: ``labels[i]`` is the number of
+    ``modes.mode(i)``; ``prints`` its fingerprints (one row per mode), compared across inputs."""
+
+    modes: AssemblyModes
+    prints: np.ndarray
+    labels: list[int]
 
 
 class ViewerSession:
@@ -96,7 +172,8 @@ class ViewerSession:
     {B}, metres), ``measures`` ([name, value] of ``m.singularities``), ``conditioning`` (pivot ratio
     of the closure Jacobian: 1 well conditioned, 0 singular), ``residual`` (max-norm of the loop
     closure at the drawn configuration), ``pose`` (x, y, z in m, Z-Y-X Euler in deg) and ``mode``
-    (its number among the modes of its input when those are known, else None).
+    (the viewer's number of the followed mode, None until it is known). A refused move's error
+    keeps the class name of the solver's error and says in the user's terms what happened.
     """
 
     def __init__(self, m: Mechanism, start: Configuration | None = None) -> None:
@@ -104,6 +181,11 @@ class ViewerSession:
         self._lock = threading.RLock()  # the tracker and the current configuration
         self._modes_lock = threading.Lock()  # one forward_pose_all at a time
         self._modes: OrderedDict[tuple[float, ...], AssemblyModes] = OrderedDict()
+        # the viewer's mode numbers (under _lock): the tables of the latest inputs, the table the
+        # next one continues from, and the number of the mode the tracker follows
+        self._tables: OrderedDict[tuple[float, ...], _Table] = OrderedDict()
+        self._reference: _Table | None = None
+        self._followed: int | None = None
         self._tracker: ForwardPoseTracker | None = None
         self._config = self._restart(start if start is not None else self._home())
         self._home_measures = dict(self._measures(self._config))
@@ -182,12 +264,12 @@ class ViewerSession:
             return None
         return _finite_or_none(float(pivoted_solve(jacobian, np.zeros(jacobian.shape[-1]))[1]))
 
-    def _report(self, error: BaseException | None = None, requested: Any = None) -> dict[str, Any]:
+    def _report(self, error: dict[str, str] | None = None, requested: Any = None) -> dict[str, Any]:
         config = self._config
         return {
             "ok": error is None,
-            "error": None if error is None else _error(error),
-            "requested": requested,
+            "error": error,
+            "requested": _echo(requested),
             "actuated": [float(v) for v in config.actuated],
             "passive": [_finite_or_none(v) for v in config.passive],
             "pose": [_finite_or_none(v) for v in xyz_euler_deg_from_pose(config.pose)],
@@ -195,7 +277,7 @@ class ViewerSession:
             "measures": self._measures(config),
             "conditioning": self._conditioning(config),
             "residual": self._residual(config),
-            "mode": self._mode_number(config),
+            "mode": self._mode_number(),
         }
 
     # ------------------------------------------------------------------ assembly modes
@@ -213,19 +295,83 @@ class ViewerSession:
             self._modes.move_to_end(key)
             return self._modes[key]
 
-    def _mode_number(self, config: Configuration) -> int | None:
-        """Which mode of its input ``config`` is (0 .. count - 1), when that input's modes are
-        known; None when they are not, or none matches (the drawing and the pose decide: a
-        quaternion and its negative are one mode)."""
-        modes = self._modes.get(self._key(config.actuated))
-        if modes is None:
-            return None
-        tolerance = SAME_MODE * max(1.0, self._scale)
-        here = self._fingerprint(config)
-        for number, mode in enumerate(modes):
-            if np.abs(self._fingerprint(mode) - here).max(initial=0.0) <= tolerance:
-                return number
-        return None
+    def _table(self, actuated: np.ndarray, modes: AssemblyModes) -> _Table:
+        """The numbered modes of one input (under ``_lock``): numbered once, by continuity from
+        the table shown before (``_continued``), the followed mode holding its number at the drawn
+        input; this table becomes the one the next continues from."""
+        key = self._key(actuated)
+        table = self._tables.get(key)
+        if table is None or table.modes is not modes:
+            count = len(modes)
+            prints = np.array([self._fingerprint(modes.mode(k)) for k in range(count)], dtype=float)
+            table = _Table(modes, prints.reshape(count, -1), self._continued(prints.reshape(count, -1)))
+            self._tables[key] = table
+            while len(self._tables) > MODES_CACHED:
+                self._tables.popitem(last=False)
+        self._tables.move_to_end(key)
+        self._reference = table
+        return table
+
+    def _continued(self, prints: np.ndarray) -> list[int]:
+        """Numbers for the modes with fingerprints ``prints``: the first table's own order; later,
+        each mode takes the number of the nearest mode of the previous table (closest pairs first,
+        each number once), and a mode with no partner there the smallest number not in use."""
+        reference = self._reference
+        if reference is None or not len(reference.labels) or prints.shape[1] != reference.prints.shape[1]:
+            return list(range(len(prints)))
+        distance = np.abs(prints[:, None, :] - reference.prints[None, :, :]).max(-1, initial=0.0)
+        labels: list[int | None] = [None] * len(prints)
+        used: set[int] = set()
+        for flat in np.argsort(distance, axis=None, kind="stable"):
+            i, j = divmod(int(flat), distance.shape[1])
+            if labels[i] is None and reference.labels[j] not in used:
+                labels[i] = reference.labels[j]
+                used.add(reference.labels[j])
+        out = []
+        for label in labels:
+            if label is None:
+                label = self._unused(used)
+                used.add(label)
+            out.append(label)
+        return out
+
+    @staticmethod
+    def _unused(used: set[int] | list[int]) -> int:
+        return next(k for k in range(len(used) + 1) if k not in used)
+
+    def _drawn_row(self, table: _Table) -> int | None:
+        """Which row of ``table`` (a table of the drawn input) the drawing is, making the followed
+        mode's number that row's (swapping with the row that had it), or taking the followed
+        number from that row when none is known yet; None when no row matches (the drawing and
+        the pose decide: a quaternion and its negative are one mode)."""
+        if not len(table.labels):
+            row = None
+        else:
+            distance = np.abs(table.prints - self._fingerprint(self._config)).max(-1, initial=0.0)
+            nearest = int(np.argmin(distance))
+            row = nearest if distance[nearest] <= SAME_MODE * max(1.0, self._scale) else None
+        followed = self._followed
+        if followed is None:
+            if row is not None:
+                self._followed = table.labels[row]
+            return row
+        holder = table.labels.index(followed) if followed in table.labels else None
+        if row is None:  # the drawing is not listed (outside a joint limit): no row wears its number
+            if holder is not None:
+                table.labels[holder] = self._unused(table.labels)
+        elif holder != row:
+            if holder is not None:
+                table.labels[holder] = table.labels[row]
+            table.labels[row] = followed
+        return row
+
+    def _mode_number(self) -> int | None:
+        """The number of the mode the tracker follows: kept while it is followed, taken from its
+        input's table when that is known and no number is yet (at the start, after home)."""
+        table = self._tables.get(self._key(self._config.actuated))
+        if table is not None:
+            self._drawn_row(table)
+        return self._followed
 
     def _fingerprint(self, config: Configuration) -> np.ndarray:
         """Pose entries and every drawn point: equal for one mode, different across modes."""
@@ -239,10 +385,18 @@ class ViewerSession:
         """Request values as (n_a,) floats (range checks are the solvers'): BadInputError else."""
         names = self.m.actuated_names
         if not isinstance(values, list) or len(values) != len(names):
-            raise BadInputError(f"actuated must be a list of {len(names)} numbers ({', '.join(names)}), got {values!r}")
+            raise BadInputError(
+                f"actuated must be a list of {len(names)} numbers ({', '.join(names)}), got {_shown(values)}"
+            )
         if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
-            raise BadInputError(f"actuated must hold numbers only, got {values!r}")
-        return np.array(values, dtype=float)
+            raise BadInputError(f"actuated must hold numbers only, got {_shown(values)}")
+        try:
+            array = np.array(values, dtype=float)
+        except OverflowError:
+            array = np.full(len(values), np.inf)
+        if not np.isfinite(array).all():
+            raise BadInputError(f"actuated must hold finite numbers, got {_shown(values)}")
+        return array
 
     def scene(self) -> dict[str, Any]:
         """What the page is built from: title, sliders, polyline names and parts, view kind and size."""
@@ -332,47 +486,153 @@ class ViewerSession:
         """Track to new actuated values (SI, one per input), in pieces of at most 1/TRACK_PIECES
         of each slider's range. A value outside an actuator's range is refused before any step;
         a piece the tracker refuses (no convergence, a singular Jacobian, a change of assembly
-        mode) ends the move at the last piece solved, reported with the error (named, with its
-        message)."""
+        mode) ends the move at the last piece solved, reported with the solver's error class and
+        a message that says where and why the followed mode cannot go on (``_refusal``)."""
         with self._lock:
             try:
                 target = self._actuated(actuated)
                 low, high = self.m.actuated_bounds
                 within_ranges(target, self.m.actuated_names, low, high, "actuated")
-                start = self._config.actuated
-                pieces = np.abs(target - start) / np.where(self._span > 0, self._span / TRACK_PIECES, np.inf)
-                count = int(min(MAX_PIECES, max(1, math.ceil(float(np.nan_to_num(pieces.max(initial=0.0)))))))
-                for fraction in np.arange(1, count + 1) / count:
-                    self._config = self._solve(target if fraction == 1 else start + fraction * (target - start))
             except ParakinError as error:
-                return self._report(error, requested=actuated)
+                return self._report(_error(error), requested=actuated)
+            start = self._config.actuated
+            pieces = np.abs(target - start) / np.where(self._span > 0, self._span / TRACK_PIECES, np.inf)
+            count = int(min(MAX_PIECES, max(1, math.ceil(float(np.nan_to_num(pieces.max(initial=0.0)))))))
+            for fraction in np.arange(1, count + 1) / count:
+                piece = target if fraction == 1 else start + fraction * (target - start)
+                try:
+                    self._config = self._solve(piece)
+                except ParakinError as error:
+                    return self._report(self._refusal(error, piece, target - start), requested=actuated)
             return self._report(requested=actuated)
 
+    # ------------------------------------------------------------------ a refused move, in the user's terms
+    def _refusal(self, error: ParakinError, piece: np.ndarray, direction: np.ndarray) -> dict[str, str]:
+        """The reply's error for a piece of a move the solver refused: where on the piece the
+        followed mode stops being trackable (bisection on a scratch tracker from the drawn
+        configuration, which stays as it is) and what is there. A singular configuration there is
+        a fold when nothing of the mode lies just beyond (it meets another mode and both cease to
+        exist), a crossing when the solution goes on through the singularity into another mode;
+        elsewhere the solver's cause is named in plain words."""
+        if self._tracker is None:  # a serial chain: the closed form's own message
+            return _error(error)
+        mode = "" if self._followed is None else f" (mode {self._followed})"
+        try:
+            reached = self._last_trackable(piece)
+        except ParakinError:
+            reached = self._config
+        where = self._inputs_text(reached.actuated, direction)
+        conditioning = self._conditioning(reached)
+        if conditioning is not None and conditioning <= SINGULAR_CONDITIONING:
+            if self._continues_through(reached, direction):
+                message = (
+                    f"the followed assembly mode{mode} reaches a type II singularity near {where} (closure "
+                    f"conditioning {conditioning:.1g}): past it the mechanism would go on in another "
+                    "assembly mode, so the viewer stops before it; choose another mode or step back"
+                )
+            else:
+                message = (
+                    f"the followed assembly mode{mode} ends at a fold near {where}, where it meets another "
+                    f"assembly mode (a type II singularity, closure conditioning {conditioning:.1g}): it "
+                    "cannot be followed further; choose another mode or step back"
+                )
+        else:
+            cause = {
+                ConvergenceError: "no configuration of this mode was found there",
+                SingularConfigurationError: "the closure Jacobian became singular on the way",
+                AssemblyModeChangeError: "the solution there belongs to another assembly mode",
+                BadInputError: "the model has no value there",
+            }
+            because = next((text for kind, text in cause.items() if isinstance(error, kind)), str(error))
+            shown = "" if conditioning is None else f", closure conditioning {conditioning:.2g}"
+            message = (
+                f"the followed assembly mode{mode} could not be followed past {where}: {because} (the "
+                f"configuration reached is not singular{shown}); step back, try a smaller step or "
+                "choose another mode"
+            )
+        return _error(error, message)
+
+    def _last_trackable(self, piece: np.ndarray) -> Configuration:
+        """Bisection on the segment from the drawn input to ``piece`` (which the tracker refused):
+        the last configuration a scratch tracker reaches on it."""
+        reached = self._config
+        tracker = self.m.tracker(reached)
+        low, high = np.array(reached.actuated, dtype=float), np.array(piece, dtype=float)
+        for _ in range(BISECTIONS):
+            if not (np.abs(high - low) > 1e-12 * self._span).any():
+                break
+            middle = low + 0.5 * (high - low)
+            try:
+                passive, pose = tracker.solve(middle)
+            except ParakinError:  # the strict tracker keeps its previous solution
+                high = middle
+                continue
+            low = np.array(tracker.actuated[0], dtype=float)
+            reached = Configuration(low.copy(), np.array(passive, dtype=float), np.array(pose, dtype=float))
+        return reached
+
+    def _continues_through(self, reached: Configuration, direction: np.ndarray) -> bool:
+        """Whether the solution at ``reached`` (a singular configuration) goes on past it: Newton
+        from it, allowed to change mode, at an input 1e-6 of the sliders' ranges further along
+        ``direction`` converges next to it. Past a fold nothing real lies near (the nearest
+        solutions are complex): Newton fails or lands on a distant mode."""
+        scaled = np.abs(direction) / np.where(self._span > 0, self._span, np.inf)
+        if not scaled.max(initial=0.0) > 0:
+            return False
+        beyond = reached.actuated + direction * (1e-6 / float(scaled.max()))
+        try:
+            passive, pose = self.m.tracker(reached, strict=False).solve(beyond)
+        except ParakinError:
+            return False
+        moved = Configuration(beyond, np.array(passive, dtype=float), np.array(pose, dtype=float))
+        distance = float(np.abs(self._fingerprint(moved) - self._fingerprint(reached)).max(initial=0.0))
+        return distance <= 1e-2 * self._scale
+
+    def _inputs_text(self, actuated: np.ndarray, direction: np.ndarray) -> str:
+        """The inputs a move changes, as the sliders show them: "rho1 = 19.042 m", angles in
+        degrees; every input when the move changes none."""
+        moved = [k for k in range(len(actuated)) if direction[k] != 0] or list(range(len(actuated)))
+        parts = []
+        for k in moved:
+            slider = self._sliders[k]
+            if slider["revolute"]:
+                parts.append(f"{slider['name']} = {math.degrees(float(actuated[k])):.3f}°")
+            else:
+                unit = f" {slider['unit']}" if slider["unit"] else ""
+                parts.append(f"{slider['name']} = {float(actuated[k]):.6g}{unit}")
+        return ", ".join(parts)
+
     def home(self) -> dict[str, Any]:
-        """Back to the home configuration, the tracker restarted there."""
+        """Back to the home configuration, the tracker restarted there (its mode number: the one
+        its row has in the home input's table, once that is known)."""
         with self._lock:
             try:
                 self._config = self._restart(self._home())
             except ParakinError as error:
-                return self._report(error)
+                return self._report(_error(error))
+            self._followed = None
             return self._report()
 
     def modes(self, actuated: Any = None) -> dict[str, Any]:
-        """The assembly modes of an input (default: the current one): ``count``, ``rows`` (mode,
-        pose x y z [m], Z-Y-X Euler [deg], conditioning), ``current`` (the mode the drawing shows,
-        when the input is the drawn one), or ``error``."""
+        """The assembly modes of an input (default: the current one): ``count``, ``rows`` (mode
+        number, pose x y z [m], Z-Y-X Euler [deg], conditioning; by number), ``current`` (the
+        number of the mode the drawing shows, when the input is the drawn one and the drawing is
+        among them), or ``error``. Numbers are the viewer's (see the module docstring)."""
         with self._lock:
             current = self._config
         try:
             theta = current.actuated if actuated is None else self._actuated(actuated)
             modes = self._assembly_modes(theta)
         except ParakinError as error:
-            return {"ok": False, "error": _error(error), "actuated": actuated, "count": 0, "rows": []}
+            return {"ok": False, "error": _error(error), "actuated": _echo(actuated), "count": 0, "rows": []}
         from parakin.results import modes_rows, modes_summary
 
         with self._lock:
-            drawn = self._config
-            number = self._mode_number(drawn) if np.array_equal(drawn.actuated, theta) else None
+            table = self._table(theta, modes)
+            drawn = np.array_equal(self._config.actuated, theta)
+            row = self._drawn_row(table) if drawn else None
+            rows = [[str(label), *cells[1:]] for label, cells in zip(table.labels, modes_rows(modes), strict=True)]
+            number = None if row is None else table.labels[row]
         return {
             "ok": True,
             "error": None,
@@ -380,22 +640,27 @@ class ViewerSession:
             "count": len(modes),
             "summary": modes_summary(modes),
             "headers": list(MODE_HEADERS),
-            "rows": modes_rows(modes),
+            "rows": sorted(rows, key=lambda cells: int(cells[0])),
             "current": number,
         }
 
     def select(self, mode: Any, actuated: Any = None) -> dict[str, Any]:
-        """Restart the tracker from mode ``mode`` (0 .. count - 1) of an input (default: the
-        current one); NoSuchModeError (reported) for a number the input does not have."""
+        """Restart the tracker from mode number ``mode`` (as ``modes`` numbers them) of an input
+        (default: the current one); NoSuchModeError (reported, with the numbers there are) for a
+        number the input does not have. The chosen mode keeps its number while it is followed."""
         with self._lock:
             try:
                 theta = self._config.actuated if actuated is None else self._actuated(actuated)
                 if isinstance(mode, bool) or not isinstance(mode, int):
-                    raise BadInputError(f"mode must be an integer, got {mode!r}")
-                chosen = self._assembly_modes(theta).mode(mode)
-                self._config = self._restart(chosen)
+                    raise BadInputError(f"mode must be an integer, got {_shown(mode)}")
+                table = self._table(theta, self._assembly_modes(theta))
+                if mode not in table.labels:
+                    numbers = f", numbered {_numbers(table.labels)}" if table.labels else ""
+                    raise NoSuchModeError(f"no mode {mode} at this input: there are {len(table.labels)} modes{numbers}")
+                self._config = self._restart(table.modes.mode(table.labels.index(mode)))
+                self._followed = mode
             except ParakinError as error:
-                return self._report(error, requested=actuated)
+                return self._report(_error(error), requested=actuated)
             return self._report(requested=actuated)
 
     def request(self, path: str, body: dict[str, Any]) -> dict[str, Any]:
@@ -422,51 +687,220 @@ def page() -> str:
     return resources.files("parakin.interfaces").joinpath("viewer.html").read_text(encoding="utf-8")
 
 
+def _host_and_port(value: str) -> tuple[str, int | None] | None:
+    """A Host header's (or an origin's) host, lower case and without IPv6 brackets, and its port
+    (None when absent); None when it is not of that form."""
+    found = re.fullmatch(r"(\[[0-9a-f:.]+\]|[^:\[\]/@\s]+)(?::(\d{1,5}))?", value.strip().lower())
+    if found is None:
+        return None
+    return found.group(1).strip("[]"), None if found.group(2) is None else int(found.group(2))
+
+
+def _parsed_body(data: bytes) -> dict[str, Any]:
+    """A request body as a JSON object: strict UTF-8, nesting at most MAX_DEPTH, finite numbers
+    only (no NaN, Infinity or number beyond the float range: a reply could not carry them back).
+    ValueError naming what is wrong, never quoting more than a few characters of it."""
+    text = data.decode("utf-8") if data.strip() else "{}"
+    depth, inside, escaped = 0, False, False
+    for character in text:  # before the parser, whose recursion fails near 1000 levels
+        if inside:
+            escaped, inside = (False, True) if escaped else (character == "\\", character != '"')
+        elif character == '"':
+            inside = True
+        elif character in "[{":
+            depth += 1
+            if depth > MAX_DEPTH:
+                raise ValueError(f"the body nests deeper than {MAX_DEPTH} levels")
+        elif character in "]}":
+            depth -= 1
+
+    def constant(name: str) -> None:
+        raise ValueError(f"{name} is not a number JSON allows: numbers must be finite")
+
+    def real(token: str) -> float:
+        value = float(token)
+        if not math.isfinite(value):
+            raise ValueError(f"the number {token[:24]} is beyond the range of a double: numbers must be finite")
+        return value
+
+    def integer(token: str) -> int:
+        value = int(token)
+        try:
+            float(value)
+        except OverflowError:
+            raise ValueError(f"the number {token[:24]}... is beyond the range of a double") from None
+        return value
+
+    body = json.loads(text, parse_constant=constant, parse_float=real, parse_int=integer)
+    if not isinstance(body, dict):
+        raise ValueError(f"the body must be a JSON object, got {type(body).__name__}")
+    return body
+
+
+class _Refused(Exception):
+    """A request answered with an HTTP error (status and a message for the page)."""
+
+    def __init__(self, status: int, message: str, allow: str | None = None) -> None:
+        super().__init__(message)
+        self.status, self.allow = status, allow
+
+
 class _Handler(BaseHTTPRequestHandler):
-    """GET / serves the page, POST /api/<call> a JSON reply; nothing else."""
+    """GET / serves the page, GET /api/<read-only call> and POST /api/<call> a JSON reply; every
+    refusal and every malformed request a JSON error."""
 
     server: _Server
+
+    def setup(self) -> None:
+        super().setup()
+        self.connection.settimeout(self.server.request_timeout)  # a silent peer is dropped
 
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 (the base class's name)
         pass  # quiet: a slider drag is dozens of requests a second
 
-    def _send(self, status: int, content_type: str, data: bytes) -> None:
+    def _send(self, status: int, content_type: str, data: bytes, allow: str | None = None) -> None:
         self.send_response(status)
         self.send_header("Content-Type", content_type)
         self.send_header("Content-Length", str(len(data)))
         self.send_header("Cache-Control", "no-store")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        if allow is not None:
+            self.send_header("Allow", allow)
+        if self.close_connection:
+            self.send_header("Connection", "close")
         self.end_headers()
-        self.wfile.write(data)
+        if self.command != "HEAD":
+            self.wfile.write(data)
 
-    def _json(self, status: int, reply: Any) -> None:
-        self._send(status, "application/json", json.dumps(reply, allow_nan=False).encode())
+    def _json(self, status: int, reply: Any, allow: str | None = None) -> None:
+        try:
+            data = json.dumps(reply, allow_nan=False).encode()
+        except (ValueError, TypeError, RecursionError) as error:  # a bug: still a JSON reply
+            status = HTTPStatus.INTERNAL_SERVER_ERROR
+            data = json.dumps(
+                {"ok": False, "error": {"type": "InternalError", "message": f"the reply cannot be encoded: {error}"}}
+            ).encode()
+        self._send(status, "application/json", data, allow)
+
+    def _refuse(self, refusal: _Refused) -> None:
+        error = {"type": "BadRequestError", "message": str(refusal)}
+        self._json(refusal.status, {"ok": False, "error": error}, refusal.allow)
+
+    def send_error(self, code: int, message: str | None = None, explain: str | None = None) -> None:
+        """The base class's replies to requests it cannot parse (bad request line, headers too
+        long or too many, a method with no handler), as JSON errors."""
+        self.close_connection = True
+        short, long = self.responses.get(code, ("error", ""))
+        text = message or short
+        if explain or long:
+            text = f"{text}: {explain or long}"
+        self._refuse(_Refused(code, text))
+
+    def _check_addresses(self) -> None:
+        """Host must name this server (a DNS-rebinding page names its own host); an Origin, when
+        sent, must be this server's own http origin (a page elsewhere sends its own)."""
+        hosts = self.headers.get_all("Host") or []
+        if len(hosts) != 1:
+            raise _Refused(HTTPStatus.BAD_REQUEST, "the request needs one Host header naming the viewer's address")
+        if not self.server.names_me(hosts[0]):
+            raise _Refused(
+                HTTPStatus.FORBIDDEN,
+                f"Host {_shown(hosts[0])} is not this viewer's address: open {self.server.url} (localhost or "
+                "127.0.0.1 with its port)",
+            )
+        origin = self.headers.get("Origin")
+        if origin is not None:
+            scheme, _, rest = origin.strip().partition("://")
+            if scheme.lower() != "http" or not self.server.names_me(rest):
+                raise _Refused(
+                    HTTPStatus.FORBIDDEN,
+                    f"requests from origin {_shown(origin)} are refused: the viewer "
+                    f"answers its own page only ({self.server.url})",
+                )
 
     def do_GET(self) -> None:
-        if self.path.split("?")[0] in ("/", "/index.html"):
-            self._send(HTTPStatus.OK, "text/html; charset=utf-8", self.server.page)
-        elif self.path.startswith("/api/"):
-            self._answer({})
-        else:
-            self._send(HTTPStatus.NOT_FOUND, "text/plain", b"not found")
+        try:
+            self._check_addresses()
+            path = self.path.split("?")[0]
+            if path in ("/", "/index.html"):
+                self._send(HTTPStatus.OK, "text/html; charset=utf-8", self.server.page)
+                return
+            call = path.removeprefix("/api/")
+            if not path.startswith("/api/"):
+                raise _Refused(HTTPStatus.NOT_FOUND, f"no page {_shown(path)}: the viewer is at /")
+            if call not in READ_ONLY_CALLS:
+                raise _Refused(
+                    HTTPStatus.METHOD_NOT_ALLOWED,
+                    f"/api/{call[:40]} needs a POST (with a JSON body): a "
+                    f"GET only reads ({', '.join(READ_ONLY_CALLS)})",
+                    allow="POST",
+                )
+        except _Refused as refusal:
+            self._refuse(refusal)
+            return
+        self._answer(path, {})
+
+    def do_HEAD(self) -> None:
+        self.do_GET()
 
     def do_POST(self) -> None:
-        length = int(self.headers.get("Content-Length") or 0)
-        if not 0 <= length <= MAX_BODY:
-            self._json(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, {"ok": False, "error": {"type": "BadInputError",
-                       "message": f"request body of {length} bytes: at most {MAX_BODY}"}})  # fmt: skip
-            return
         try:
-            body = json.loads(self.rfile.read(length) or b"{}")
-            if not isinstance(body, dict):
-                raise ValueError("the body must be a JSON object")
-        except ValueError as error:
-            self._json(HTTPStatus.BAD_REQUEST, {"ok": False, "error": {"type": "BadInputError", "message": str(error)}})
+            self._check_addresses()
+            body = self._body()
+        except _Refused as refusal:
+            self._refuse(refusal)
             return
-        self._answer(body)
+        self._answer(self.path.split("?")[0], body)
 
-    def _answer(self, body: dict[str, Any]) -> None:
+    def _body(self) -> dict[str, Any]:
+        """The request's JSON object, read within MAX_BODY bytes; _Refused for anything else."""
+        declared = self.headers.get("Content-Type", "").split(";")[0].strip().lower()
+        if declared != "application/json":
+            raise _Refused(
+                HTTPStatus.UNSUPPORTED_MEDIA_TYPE,
+                f"a POST must be Content-Type application/json, got {_shown(declared) if declared else 'none'}",
+            )
+        if self.headers.get("Transfer-Encoding") is not None:
+            self.close_connection = True
+            raise _Refused(HTTPStatus.LENGTH_REQUIRED, "a POST needs a Content-Length (no Transfer-Encoding)")
+        lengths = self.headers.get_all("Content-Length") or ["0"]
+        if len(lengths) != 1 or not re.fullmatch(r"\d{1,18}", lengths[0].strip()):
+            self.close_connection = True  # where the body ends is unknown
+            raise _Refused(
+                HTTPStatus.BAD_REQUEST,
+                f"Content-Length must be one whole number of bytes, got {_shown(', '.join(lengths))}",
+            )
+        length = int(lengths[0])
         try:
-            reply = self.server.session.request(self.path, body)
+            if length > MAX_BODY:
+                self.close_connection = True
+                if length <= DRAIN_LIMIT:  # read and dropped: the sender then reads the reply
+                    self.rfile.read(length)
+                raise _Refused(
+                    HTTPStatus.REQUEST_ENTITY_TOO_LARGE, f"a request body of {length} bytes: at most {MAX_BODY}"
+                )
+            data = self.rfile.read(length)
+        except TimeoutError:
+            self.close_connection = True
+            raise _Refused(
+                HTTPStatus.REQUEST_TIMEOUT, f"the body did not arrive within {self.server.request_timeout:g} s"
+            ) from None
+        if len(data) < length:
+            self.close_connection = True
+            raise _Refused(HTTPStatus.BAD_REQUEST, f"the body ended after {len(data)} of {length} bytes")
+        try:
+            return _parsed_body(data)
+        except (ValueError, RecursionError) as error:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
+            message = (
+                f"the body is not UTF-8 text ({error.reason})" if isinstance(error, UnicodeDecodeError) else str(error)
+            )
+            raise _Refused(
+                HTTPStatus.BAD_REQUEST, f"the request is not a JSON object the viewer reads: {message}"
+            ) from None
+
+    def _answer(self, path: str, body: dict[str, Any]) -> None:
+        try:
+            reply = self.server.session.request(path, body)
         except ParakinError as error:
             self._json(HTTPStatus.BAD_REQUEST, {"ok": False, "error": _error(error)})
         except Exception as error:  # a bug: say so on the page rather than drop the connection
@@ -485,6 +919,33 @@ class _Server(ThreadingHTTPServer):
         super().__init__(address, _Handler)
         self.session = session
         self.page = page().encode("utf-8")
+        self.request_timeout = REQUEST_TIMEOUT
+        self.port = int(self.server_address[1])
+        bound = address[0].strip("[]").lower()
+        #: a wildcard bind is reachable at any of the machine's addresses: any IP literal may be
+        #: named then (DNS rebinding needs a host name, never a literal address)
+        self.any_address = bound in ("", "0.0.0.0", "::")
+        self.names = {"localhost", "127.0.0.1", "::1"} | ({bound} if not self.any_address else set())
+        shown = "127.0.0.1" if self.any_address else address[0]
+        self.url = f"http://{shown}:{self.port}/"
+
+    def names_me(self, value: str) -> bool:
+        """Whether ``value`` (host[:port]) names this server: one of its names with its port."""
+        parsed = _host_and_port(value)
+        if parsed is None:
+            return False
+        host, port = parsed
+        if (port if port is not None else 80) != self.port:
+            return False
+        if host in self.names:
+            return True
+        if self.any_address:
+            try:
+                ipaddress.ip_address(host)
+            except ValueError:
+                return False
+            return True
+        return False
 
 
 class Viewer:
@@ -557,7 +1018,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m parakin.interfaces.viewer", description=main.__doc__)
     parser.add_argument("name", help="a mechanism name (parakin list) or package folder")
     parser.add_argument("--port", type=int, default=0, help="port to listen on (default: any free port)")
-    parser.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
+    parser.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to bind (default 127.0.0.1: this machine only); the page answers to that address, "
+        "localhost and 127.0.0.1 with the port, and after 0.0.0.0 to any IP address, never to a host name",
+    )
     parser.add_argument("--backend", default="auto", help="auto, compiled, numpy or casadi")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a mechanism parameter")
     parser.add_argument("--open", action="store_true", help="open the page in the default browser")
