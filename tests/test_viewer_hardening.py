@@ -217,38 +217,58 @@ def _drawn_row(listing: dict) -> list[str] | None:
     return rows[0] if rows else None
 
 
+#: walks from planar_3rpr's home (mode chosen, slider, direction) along which, in the solver's own
+#: order, the followed mode changes number (two modes swap places; none is created or lost): the
+#: first one still doing so is used
+WALKS = [(1, 0, 1), (1, 1, -1), (2, 0, 1), (2, 1, -1), (0, 0, 1), (0, 1, 1), (3, 0, 1), (4, 2, -1)]
+
+
+def _solver_number(m, reply) -> int:
+    """The followed configuration's number in the solver's own order at its input."""
+    modes = m.forward_pose_all(reply["actuated"])
+    found = [k for k in range(len(modes)) if np.allclose(modes.mode(k).passive, reply["passive"], atol=1e-7)]
+    assert len(found) == 1, found
+    return found[0]
+
+
 def test_a_followed_mode_keeps_its_number(planar):
-    """planar_3rpr from home, mode 1 chosen, rho1 raised in slider steps: in the solver's own
-    order that mode becomes mode 2 (two modes swap places, none is created or lost); the viewer
-    goes on calling it mode 1, in its state and in its table, and mode 2 stays the other one."""
+    """planar_3rpr from home, a mode chosen, one slider moved in small steps: in the solver's own
+    order the followed mode changes number on the way; the viewer goes on calling it by the number
+    it was chosen by, in each move's reply, in its state and in its table (whose numbers stay 0 to
+    count - 1), and a number from the table selects that row."""
     session = ViewerSession(planar)
     home = session.state()["actuated"]
-    listing = session.modes()
-    assert listing["count"] == 6
-    reply = session.select(1)
-    assert reply["ok"] and reply["mode"] == 1
-    span = session.scene()["sliders"][0]["high"] - session.scene()["sliders"][0]["low"]
-    called = []  # what each move's own reply calls the followed mode (before any table of its input)
-    for step in range(1, 41):
-        target = list(home)
-        target[0] += step * span / 400
-        reply = session.move(target)
-        assert reply["ok"], reply["error"]
-        listing = session.modes()
-        assert listing["current"] == 1, f"step {step}: the table marks mode {listing['current']}"
-        assert session.state()["mode"] == 1
-        called.append(reply["mode"])
-        row = _drawn_row(listing)
-        np.testing.assert_allclose([float(v) for v in row[1:7]], reply["pose"], rtol=1e-5, atol=1e-6)
-        assert sorted(int(r[0]) for r in listing["rows"]) == list(range(listing["count"]))
-    assert called == [1] * len(called), called
-    modes = planar.forward_pose_all(target)
-    solver_numbers = [k for k in range(len(modes)) if np.allclose(modes.mode(k).passive, reply["passive"], atol=1e-7)]
-    assert solver_numbers == [2], "the premise: the solver's own numbering moved the followed mode"
-    moved_other = next(r for r in listing["rows"] if int(r[0]) == 2)
-    chosen = session.select(2, reply["actuated"])  # a number from the table selects that row
-    assert chosen["ok"] and chosen["mode"] == 2
-    np.testing.assert_allclose(chosen["pose"], [float(v) for v in moved_other[1:7]], rtol=1e-5, atol=1e-6)
+    sliders = session.scene()["sliders"]
+    for mode, k, direction in WALKS:
+        session.home()
+        assert session.modes()["count"] == 6
+        reply = session.select(mode, home)
+        assert reply["ok"] and reply["mode"] == mode
+        numbers = {_solver_number(planar, reply)}
+        called = []  # what each move's own reply calls the followed mode (before any table of its input)
+        for step in range(1, 41):
+            target = list(home)
+            target[k] += direction * step * (sliders[k]["high"] - sliders[k]["low"]) / 400
+            reply = session.move(target)
+            if not reply["ok"]:
+                break  # the walk ends at a fold: what it did so far still counts
+            listing = session.modes()
+            assert listing["current"] == mode, f"step {step}: the table marks mode {listing['current']}, not {mode}"
+            assert session.state()["mode"] == mode
+            called.append(reply["mode"])
+            row = _drawn_row(listing)
+            np.testing.assert_allclose([float(v) for v in row[1:7]], reply["pose"], rtol=1e-5, atol=1e-6)
+            assert sorted(int(r[0]) for r in listing["rows"]) == list(range(listing["count"]))
+            numbers.add(_solver_number(planar, reply))
+        assert called == [mode] * len(called), called
+        if len(numbers) > 1:
+            break
+    else:
+        pytest.fail("the premise: on no walk does the solver's own order renumber the followed mode")
+    other = next(r for r in listing["rows"] if int(r[0]) != mode)
+    chosen = session.select(int(other[0]), reply["actuated"])
+    assert chosen["ok"] and chosen["mode"] == int(other[0])
+    np.testing.assert_allclose(chosen["pose"], [float(v) for v in other[1:7]], rtol=1e-5, atol=1e-6)
 
 
 def test_a_move_past_a_fold_says_so_in_the_users_terms(planar):
