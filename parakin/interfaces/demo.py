@@ -108,14 +108,18 @@ def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]
     comparisons = []
     if "mode_count" in expected:
         comparisons.append(_compare("mode count", float(modes.count), float(expected["mode_count"]), 0.0))  # type: ignore[arg-type]
+    valid = np.asarray(modes.valid)
+    modes_found = np.flatnonzero(valid)  # the slots that hold modes, mode k in slot modes_found[k]
     for index, pose in enumerate(expected.get("poses", [])):  # type: ignore[arg-type]
         printed = np.asarray(pose, dtype=float)
-        distance = np.abs(modes.poses - printed).max(axis=(-2, -1))
-        distance = np.where(modes.valid, distance, np.inf)
-        best = int(np.argmin(distance))
-        comparisons.append(
-            _compare(f"printed pose {index + 1} (mode {best})", modes.poses[best], printed, example.tolerance)
-        )
+        quantity = f"printed pose {index + 1}"
+        if not modes_found.size:  # nothing to compare with: a slot that holds no mode is no answer
+            nothing = np.full_like(printed, np.nan)
+            comparisons.append(Comparison(f"{quantity} (no mode found)", nothing, printed, math.inf, example.tolerance))
+            continue
+        distance = np.abs(modes.poses[modes_found] - printed).max(axis=(-2, -1))
+        k = int(np.argmin(np.nan_to_num(distance, nan=np.inf)))  # the nearest mode, numbered as the table
+        comparisons.append(_compare(f"{quantity} (mode {k})", modes.poses[modes_found[k]], printed, example.tolerance))
     return comparisons
 
 
