@@ -599,9 +599,11 @@ def _refine_exact(family: Family, q: np.ndarray, found: np.ndarray) -> list[list
 def _cache_path(key: str) -> Path:
     """Where the start systems of these equations are kept between builds (the computation is
     deterministic, the cache only saves its minutes): $PARAKIN_CACHE/homotopy, else
-    ~/.cache/parakin/homotopy (the compiled backend's cache root); an empty folder recomputes."""
-    root = os.environ.get("PARAKIN_CACHE", str(Path.home() / ".cache" / "parakin"))
-    return Path(root) / "homotopy" / f"{key}.json"
+    ~/.cache/parakin/homotopy (the compiled backend's cache root); an empty folder recomputes.
+    A record is trusted only there and private (``_from_cache``)."""
+    from parakin.packages.compiled import cache_directory
+
+    return cache_directory() / "homotopy" / f"{key}.json"
 
 
 def _smallest_gap(z: np.ndarray) -> float:
@@ -725,10 +727,37 @@ def start_systems(
 
 
 def _store(cached: Path, record: dict) -> None:
-    cached.parent.mkdir(parents=True, exist_ok=True)
-    partial = cached.with_suffix(f".{os.getpid()}.tmp")
-    partial.write_text(json.dumps(record))
-    partial.replace(cached)
+    """Keep a record for the next build, naming its family (the file's key), in folders created
+    private (0700); a cache folder that is not private gets nothing, as it would not be read back
+    (``_from_cache``), and neither does one that cannot be written: the record only saves time."""
+    import tempfile
+
+    from parakin.packages.compiled import distrust
+
+    folder = cached.parent
+    try:
+        folder.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+        reason = distrust(folder.parent)
+        if reason is None:
+            folder.mkdir(exist_ok=True, mode=0o700)
+            reason = distrust(folder)
+        if reason is not None:
+            logger.warning("start systems not stored in %s: %s", folder, reason)
+            return
+        # a name of its own (O_EXCL), so a concurrent build never writes into this one's file
+        handle, partial = tempfile.mkstemp(prefix=f".{cached.stem}.", suffix=".tmp", dir=folder)
+    except OSError as error:
+        logger.warning("start systems not stored in %s: %s: %s", folder, type(error).__name__, error)
+        return
+    try:
+        with os.fdopen(handle, "w") as file:
+            json.dump({**record, "family_key": cached.stem}, file)
+        os.replace(partial, cached)
+    except OSError as error:
+        logger.warning("start systems not stored in %s: %s: %s", folder, type(error).__name__, error)
+    finally:
+        if os.path.exists(partial):
+            os.unlink(partial)
 
 
 def _second_start(
@@ -752,10 +781,33 @@ def _second_start(
 
 
 def _from_cache(path: Path) -> dict | None:
-    try:
-        return dict(json.loads(path.read_text()))
-    except (OSError, ValueError):
+    """The record this user stored for the family ``path.stem``, or None. A record's solutions
+    are verified before use, but its proof cannot be redone cheaply: a record with fewer
+    solutions and a forged proof would shrink a proven root count. So it is read only from a
+    cache and record folder and a file this user (or root) owns and no one else can write
+    (``parakin.packages.compiled.distrust``), and only when it names the family it is stored for;
+    anything else is ignored, with a warning, and the start systems come from the package or are
+    computed again."""
+    from parakin.packages.compiled import distrust
+
+    if not path.is_file():
         return None
+    reason = distrust(path.parent.parent) or distrust(path.parent) or distrust(path)
+    if reason is not None:
+        logger.warning("the start-system record %s is not used: the cache is not private: %s", path, reason)
+        return None
+    try:
+        record = dict(json.loads(path.read_text()))
+    except (OSError, ValueError, TypeError):
+        return None
+    family_key = record.pop("family_key", None)
+    if family_key is None:  # an older parakin's record: the package's, or a new one, replaces it
+        logger.info("the start-system record %s is not used: it does not name its family (an older record)", path)
+        return None
+    if family_key != path.stem:
+        logger.warning("the start-system record %s is not used: it is for another family (%s)", path, family_key)
+        return None
+    return record
 
 
 def _from_package(name: str, method: str, key: str) -> dict | None:

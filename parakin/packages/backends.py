@@ -80,9 +80,24 @@ def _shape(size: tuple[int, int]) -> tuple[int, ...]:
 
 
 def make_backend(mechanism: GeneratedPackage, backend: str) -> Backend:
-    """'numpy', 'casadi', 'compiled' (CasADi C code built with the system C compiler), or
-    'auto': compiled when a C compiler and the library cache work, otherwise NumPy with a
-    BackendFallbackWarning naming the cause ('compiled' raises that cause instead)."""
+    """The backend of a package by name.
+
+    Parameters
+    ----------
+    mechanism : GeneratedPackage
+        The package whose kernels the backend evaluates.
+    backend : str
+        'numpy', 'casadi', 'compiled' (CasADi C code built with the system C compiler), or
+        'auto': compiled when a C compiler works and the library cache is usable and private
+        (``parakin.packages.compiled.distrust``), otherwise NumPy with a BackendFallbackWarning
+        naming the cause ('compiled' raises that cause instead: a CompiledUnavailableError such
+        as UntrustedCacheError or StaleLibraryError).
+
+    Returns
+    -------
+    Backend
+        An object with ``call(kernel, *inputs)``.
+    """
     if backend == "numpy":
         return NumpyBackend(mechanism)
     if backend == "casadi":

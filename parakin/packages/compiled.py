@@ -2,10 +2,17 @@
 system C compiler into a cache outside the repository and called through ctypes.
 
 Cache: ``$PARAKIN_CACHE`` or ``~/.cache/parakin``; one shared library per source hash, built in a
-temporary file and renamed, so concurrent builds cannot leave a broken library behind. The
+scratch file and renamed, so concurrent builds cannot leave a broken library behind. The
 library's file name is the manifest's checked name (an identifier), so it stays in the cache.
 A cache that cannot be written (no permission, a file in its place) is a CacheUnavailableError:
 backend 'auto' falls back to NumPy and says why.
+
+Loading a library runs its code, so the cache is trusted only when it is private: the folder
+(created 0700) and the library owned by this user (or root) and writable by no one else, and no
+folder above it writable by anyone without the sticky bit; otherwise UntrustedCacheError. A
+library under the cache's name that lacks the package's symbols is a StaleLibraryError. A
+scratch file is named ``<library>.<host>.<pid>.<random>.partial``: a compile killed before its
+rename leaves one, which the next compile removes once that process is gone (or after a day).
 """
 
 from __future__ import annotations
@@ -13,7 +20,10 @@ from __future__ import annotations
 import ctypes
 import hashlib
 import os
+import re
 import shutil
+import socket
+import stat
 import subprocess
 import tempfile
 import time
@@ -27,6 +37,8 @@ from parakin.errors import (
     CacheUnavailableError,
     CompilerUnavailableError,
     ParakinError,
+    StaleLibraryError,
+    UntrustedCacheError,
 )
 from parakin.log import logger
 from parakin.packages.package import GeneratedPackage
@@ -44,7 +56,23 @@ FLAGS = [
 ]  # no FMA: bit-equal to NumPy
 
 
+#: a scratch file older than this belongs to a dead compile whatever its process id says (ids are reused)
+STALE_SCRATCH_AGE = 24 * 3600.0
+#: build_library's scratch files: "<library>.<host>.<pid>.<random>.partial" (see host_tag)
+_SCRATCH = re.compile(r"\w+-[0-9a-f]{16}\.so\.(?P<host>[A-Za-z0-9-]+)\.(?P<pid>[0-9]{1,10})\.\w+\.partial")
+#: tempfile.mkstemp's default names: parakin's scratch files before they named their compile
+_OLD_SCRATCH = re.compile(r"tmp[a-z0-9_]{8}\.so")
+_OTHERS_WRITE = stat.S_IWGRP | stat.S_IWOTH
+
+
 def cache_directory() -> Path:
+    """The compiled-library cache folder (it may not exist yet).
+
+    Returns
+    -------
+    Path
+        ``$PARAKIN_CACHE``, else ``~/.cache/parakin``.
+    """
     return Path(os.environ.get("PARAKIN_CACHE", Path.home() / ".cache" / "parakin"))
 
 
@@ -55,8 +83,172 @@ def _cache_error(error: OSError, what: str) -> CacheUnavailableError:
     )
 
 
+def _user(uid: int) -> str:
+    try:
+        import pwd
+
+        return f"{pwd.getpwuid(uid).pw_name} (uid {uid})"
+    except (ImportError, KeyError):
+        return f"uid {uid}"
+
+
+def distrust(path: Path) -> str | None:
+    """Why a folder or file of the cache cannot be trusted, or None when it can.
+
+    Trusted: owned by this user (or root), writable by no one else, and below no folder that
+    anyone may write to without the sticky bit (where anyone could rename it and put their own in
+    its place). Anything else could hold a file another local user wrote.
+
+    Parameters
+    ----------
+    path : Path
+        A cache folder or file; symbolic links are followed.
+
+    Returns
+    -------
+    str or None
+        What is wrong, as a clause that starts with the path and says what fixes it; None when
+        the path is trusted, or on a system without POSIX owners (Windows).
+    """
+    if not hasattr(os, "geteuid"):
+        return None
+    try:
+        info = os.stat(path)
+    except OSError as error:
+        return f"{path} cannot be examined ({type(error).__name__}: {error})"
+    me = os.geteuid()
+    if info.st_uid not in (me, 0):
+        return f"{path} belongs to {_user(info.st_uid)}, not to you, {_user(me)}"
+    if info.st_mode & _OTHERS_WRITE:
+        who = {stat.S_IWGRP: "its group", stat.S_IWOTH: "others"}.get(
+            info.st_mode & _OTHERS_WRITE, "its group and others"
+        )
+        return (
+            f"{path} is writable by {who} (mode {stat.S_IMODE(info.st_mode):04o}; `chmod go-w {path}` makes it private)"
+        )
+    absolute = Path(os.path.abspath(path))
+    for folder in dict.fromkeys([*absolute.parents, *absolute.resolve().parents]):
+        try:
+            mode = os.stat(folder).st_mode
+        except OSError:
+            continue
+        if mode & stat.S_IWOTH and not mode & stat.S_ISVTX:
+            return (
+                f"{path} lies in {folder}, which anyone may write to and rename in (mode "
+                f"{stat.S_IMODE(mode):04o}, no sticky bit; `chmod o-w {folder}` or `chmod +t {folder}`)"
+            )
+    return None
+
+
+def _untrusted(cache: Path, reason: str) -> UntrustedCacheError:
+    return UntrustedCacheError(
+        f"the compiled-library cache {cache} is not private: {reason}. A library another user put there "
+        "would run inside this process, so none is loaded from it: make it private, or set PARAKIN_CACHE "
+        "to a folder only you can write, or use backend='numpy'"
+    )
+
+
+def host_tag() -> str:
+    """This machine and process-id namespace, as a part of a file name.
+
+    A scratch file names the compile that writes it with this tag and its process id: whether
+    that process is alive can only be asked where the id means the same process (a cache shared
+    over the network, or by containers with their own process ids, sees other ids).
+
+    Returns
+    -------
+    str
+        The host name (letters, digits and '-'), '-', and the inode of ``/proc/self/ns/pid``
+        (0 where there is none).
+    """
+    host = re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())[:63] or "host"
+    try:
+        namespace = os.stat("/proc/self/ns/pid").st_ino
+    except OSError:
+        namespace = 0
+    return f"{host}-{namespace}"
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid() or os.name != "posix":  # elsewhere os.kill(pid, 0) would end the process
+        return True
+    if not 0 < pid < 2**31:  # no process has that id (0 and -1 would signal whole groups)
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: alive
+        return True
+    return True
+
+
+def remove_dead_scratch(cache: Path) -> list[Path]:
+    """Remove the scratch libraries that killed compiles left in the cache.
+
+    Only regular files named as ``build_library`` names them: one of this host whose process is
+    gone, and any one (also the older ``tmpXXXXXXXX.so`` names) older than STALE_SCRATCH_AGE.
+    A compile in progress elsewhere keeps its file.
+
+    Parameters
+    ----------
+    cache : Path
+        The cache folder (already checked to be private).
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    here, now = host_tag(), time.time()
+    removed: list[Path] = []
+    try:
+        entries = list(os.scandir(cache))
+    except OSError:
+        return removed
+    for entry in entries:
+        match = _SCRATCH.fullmatch(entry.name)
+        if match is None and _OLD_SCRATCH.fullmatch(entry.name) is None:
+            continue
+        try:
+            info = entry.stat(follow_symlinks=False)
+        except OSError:
+            continue
+        if not stat.S_ISREG(info.st_mode):
+            continue
+        dead = match is not None and match["host"] == here and not _alive(int(match["pid"]))
+        if dead or now - info.st_mtime > STALE_SCRATCH_AGE:
+            try:
+                os.unlink(entry.path)
+            except OSError:  # removed by another compile meanwhile, or not ours to remove
+                continue
+            removed.append(Path(entry.path))
+    if removed:
+        logger.debug("removed %d scratch files of killed compiles from %s", len(removed), cache)
+    return removed
+
+
 def build_library(package: GeneratedPackage) -> Path:
-    """Compile (or find in the cache) the shared library of a generated package."""
+    """Compile (or find in the cache) the shared library of a generated package.
+
+    Parameters
+    ----------
+    package : GeneratedPackage
+        The package whose C sources are built.
+
+    Returns
+    -------
+    Path
+        The library, in a cache folder checked to be private (``distrust``).
+
+    Raises
+    ------
+    CompilerUnavailableError
+        No C compiler, or the compilation failed.
+    CacheUnavailableError
+        The cache cannot be created or written; UntrustedCacheError where it, or the library,
+        is not private.
+    """
     sources = package.c_sources()
     headers = package.c_headers()
     compiler = shutil.which(os.environ.get("CC", "cc"))
@@ -75,9 +267,21 @@ def build_library(package: GeneratedPackage) -> Path:
         raise CacheUnavailableError(f"the library path {target} leads outside the cache {cache}")
     try:
         if target.is_file():
+            reason = distrust(cache) or distrust(target)
+            if reason is not None:
+                raise _untrusted(cache, reason)
             return target
-        cache.mkdir(parents=True, exist_ok=True)
-        handle, scratch = tempfile.mkstemp(suffix=".so", dir=cache)
+        # private from the start, whatever the umask (parents as `mkdir -p` makes them)
+        cache.mkdir(parents=True, exist_ok=True, mode=0o700)
+    except OSError as error:
+        raise _cache_error(error, "creating the library") from error
+    reason = distrust(cache)
+    if reason is not None:  # a library compiled here could be swapped before it is loaded
+        raise _untrusted(cache, reason)
+    remove_dead_scratch(cache)
+    try:
+        prefix = f"{target.name}.{host_tag()}.{os.getpid()}."
+        handle, scratch = tempfile.mkstemp(prefix=prefix, suffix=".partial", dir=cache)
     except OSError as error:
         raise _cache_error(error, "creating the library") from error
     os.close(handle)
@@ -88,6 +292,8 @@ def build_library(package: GeneratedPackage) -> Path:
         result = subprocess.run(command, capture_output=True, text=True)
         if result.returncode != 0:
             raise CompilerUnavailableError(f"C compilation failed: {' '.join(command)}\n{result.stderr[-2000:]}")
+        # the linker gives its output the umask's mode: nobody else may write the library
+        os.chmod(scratch, stat.S_IMODE(os.stat(scratch).st_mode) & ~_OTHERS_WRITE)
         os.replace(scratch, target)
         logger.info("compiled %s in %.1f s", package.manifest.name, time.perf_counter() - start)
     except OSError as error:
@@ -123,6 +329,20 @@ class CompiledBackend:
             raise _cache_error(error, f"loading {self.path.name}; delete it to rebuild") from error
         self.kernels = list(self.manifest.kernels)
         abi = self.manifest.abi
+        # a library under the cache's name built from other sources (or not by parakin at all)
+        # would fail at its first call, or call the wrong code: every symbol is looked up now
+        needed = [self.manifest.newton.symbol, *([abi.modes_symbol] if abi.modes_symbol else [])]
+        needed += [description.c_symbol for description in self.manifest.kernels.values()]
+        missing = [symbol for symbol in dict.fromkeys(needed) if not hasattr(self.library, symbol)]
+        if missing:
+            shown = ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")
+            raise StaleLibraryError(
+                f"{self.path} lacks {len(missing)} of the {len(set(needed))} C symbols {self.manifest.name} needs "
+                f"({shown}): it is stale, damaged or not built by parakin; delete it (rm {self.path}) and a new "
+                "Python process rebuilds it at its first load (this one keeps the library it loaded), or use "
+                "backend='numpy'"
+            )
+        self.functions = {kernel: getattr(self.library, d.c_symbol) for kernel, d in self.manifest.kernels.items()}
         self.NewtonJob = job_structure("NewtonJob", abi.newton_job)
         self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
@@ -156,7 +376,7 @@ class CompiledBackend:
         input_pointers = (_POINTER * len(flat))(*(x.ctypes.data for x in flat))
         strides = (_INT64 * len(flat))(*(x.shape[1] if x.shape[0] == count and count > 1 else 0 for x in flat))
         output_pointers = (_POINTER * len(outputs))(*(o.ctypes.data for o in outputs.values()))
-        function = getattr(self.library, description.c_symbol)
+        function = self.functions[kernel]
         if function(_INT64(count), input_pointers, strides, output_pointers) != 0:
             raise ParakinError(f"compiled kernel {kernel} failed")
         return {name: value.reshape(shape + value.shape[1:]) for name, value in outputs.items()}
