@@ -281,12 +281,14 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
 
 
 def _export(args: argparse.Namespace) -> int:
-    from parakin.packages.package import GeneratedPackage
+    from parakin.packages.package import GeneratedPackage, export_name
 
     package = GeneratedPackage.find(args.name)
-    written = package.export_c(args.out)
+    written = package.export_c(args.out, force=args.force)
     print(f"wrote {len(written)} files to {args.out}: {', '.join(p.name for p in written)}")
-    print(f"see {args.out}/README_C.md; try: cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm")
+    name = package.manifest.name
+    sources = " ".join(export_name(name, source) for source in ("example_main.c", "driver.c", "kernels.c"))
+    print(f"see {args.out}/{export_name(name, 'README_C.md')}; try: cc -std=c99 -O2 -I. {sources} -lm")
     return 0
 
 
@@ -468,7 +470,16 @@ def _parser() -> argparse.ArgumentParser:
     )
     export = commands.add_parser("export", help="write the mechanism's C library (sources, header, example)")
     export.add_argument("name", help="mechanism name (parakin list) or generated package folder")
-    export.add_argument("--out", required=True, help="folder to write the C files into")
+    export.add_argument(
+        "--out",
+        required=True,
+        help="folder to write the C files into (NAME_driver.c, NAME.h, ...): new, empty, or one parakin exported to",
+    )
+    export.add_argument(
+        "--force",
+        action="store_true",
+        help="also write into a folder that is not an export, and over files of the same names; other files are kept",
+    )
     view = commands.add_parser(
         "view",
         help="interactive viewer in the browser: a slider per actuated input, modes, singularity measures",

@@ -16,8 +16,9 @@ import difflib
 import hashlib
 import importlib
 import importlib.util
+import json
 import os
-import shutil
+import re
 import warnings
 from functools import cached_property
 from pathlib import Path
@@ -28,6 +29,13 @@ from parakin.errors import BadInputError, BrokenPackageWarning, UnknownMechanism
 from parakin.packages.manifest import Manifest
 
 MANIFEST = "manifest.json"
+#: the example program and the README of the exported C library (package files, not in the manifest)
+EXAMPLE_MAIN = "example_main.c"
+README_C = "README_C.md"
+#: what ``export_c`` wrote into a folder: each file's mechanism and SHA-256 (JSON)
+EXPORT_RECORD = ".parakin-export.json"
+RECORD_VERSION = 1
+_INCLUDE = re.compile(rb'^(\s*#\s*include\s*")([^"]+)(")', re.MULTILINE)
 
 
 def search_path() -> list[Path]:
@@ -131,32 +139,182 @@ class GeneratedPackage:
         """The public header ``<name>.h``."""
         return self.path / self.manifest.c_header
 
-    def export_c(self, folder: str | os.PathLike[str]) -> list[Path]:
-        """Copy the embeddable C library (sources, headers, example program, README) to ``folder``.
+    def export_names(self) -> dict[str, str]:
+        """The package's C files (sources, headers, example program, README) -> their names in an
+        export folder (``export_name``)."""
+        files = [*self.manifest.c_sources, *self.manifest.c_headers, EXAMPLE_MAIN, README_C]
+        return {name: export_name(self.manifest.name, name) for name in dict.fromkeys(files)}
 
-        Writes only inside ``folder``: the file names are the manifest's checked plain names, and
-        a destination that is a symbolic link (it could point anywhere) is refused, not followed."""
+    def export_c(self, folder: str | os.PathLike[str], force: bool = False) -> list[Path]:
+        """Write the embeddable C library (sources, headers, example program, README) to ``folder``.
+
+        Every file is named with the mechanism's prefix (``export_name``: ``NAME_driver.c``,
+        ``NAME_kernels.h``, ...; the public header ``NAME.h`` as it is), its ``#include`` lines
+        naming the same files, so that several mechanisms share one folder and link into one
+        program. ``EXPORT_RECORD`` (``.parakin-export.json``) lists what parakin exported there,
+        with each file's SHA-256 and mechanism.
+
+        Parameters
+        ----------
+        folder : str or PathLike
+            The folder to write into: created if missing.
+        force : bool
+            Write into a non-empty folder that is not an export, and over files of the export's
+            names that parakin did not write or that changed since. No other file is touched,
+            with or without ``force``.
+
+        Returns
+        -------
+        list of Path
+            The files written, the record last.
+
+        Raises
+        ------
+        BadInputError
+            Without ``force``: ``folder`` is not empty and holds no export record, or a file of
+            an exported name was not written by an export of this mechanism or changed since
+            (a user's own ``NAME_kernels.c``, an edited ``NAME_driver.c``). Always: ``folder`` is
+            a file, or a file to write (or the record) is a symbolic link, a folder, or leads
+            outside ``folder``; or the record is damaged and ``force`` is not given.
+        """
         target = Path(folder)
+        if target.exists() and not target.is_dir():
+            raise BadInputError(f"export to {target}: it is a file, not a folder; pass a new or empty folder")
         target.mkdir(parents=True, exist_ok=True)
         inside = target.resolve()
-        names = [*self.manifest.c_sources, *self.manifest.c_headers, "example_main.c", "README_C.md"]
-        for name in names:
+        names = self.export_names()
+        for name in [*names.values(), EXPORT_RECORD]:
             destination = target / name
-            if destination.is_symlink() or destination.resolve().parent != inside:
+            if destination.is_symlink() or destination.resolve().parent != inside or destination.is_dir():
                 raise BadInputError(
-                    f"export to {target}: {destination} is a symbolic link or leads outside the folder; "
+                    f"export to {target}: {destination} is a symbolic link, a folder or leads outside the folder; "
                     "remove it or export to a new folder"
                 )
+        record = _read_record(target, force)
+        if record is None and not force:
+            entries = sorted(target.iterdir())
+            if entries:
+                shown = ", ".join(f"{e.name} (a symbolic link)" if e.is_symlink() else e.name for e in entries[:5]) + (
+                    f" and {len(entries) - 5} more" if len(entries) > 5 else ""
+                )
+                raise BadInputError(
+                    f"export to {target}: a non-empty folder that parakin export did not write (no {EXPORT_RECORD}; "
+                    f"it holds {shown}); pass a new or empty folder, or --force (force=True) to write the C files "
+                    "into it (other files are kept)"
+                )
+        record = record or {}
+        mechanism = self.manifest.name
+        if not force:
+            foreign = [
+                name
+                for name in names.values()
+                if (target / name).exists() and not _written_by_export(target / name, record.get(name), mechanism)
+            ]
+            if foreign:
+                raise BadInputError(
+                    f"export to {target}: would overwrite {', '.join(foreign)}, not written by parakin export of "
+                    f"{mechanism!r} or changed since; move them, export to another folder, or pass --force "
+                    "(force=True) to overwrite them"
+                )
         written = []
-        for name in dict.fromkeys(names):
-            destination = target / name
-            shutil.copyfile(self.path / name, destination)
-            written.append(destination)
-        return written
+        for source, name in names.items():
+            data = (self.path / source).read_bytes()
+            if name.endswith((".c", ".h")):
+                data = _renamed_includes(data, names)
+            _replace(target / name, data)
+            record[name] = {"mechanism": mechanism, "sha256": hashlib.sha256(data).hexdigest()}
+            written.append(target / name)
+        kept = {name: entry for name, entry in sorted(record.items()) if (target / name).is_file()}
+        text = json.dumps({"parakin_export": RECORD_VERSION, "files": kept}, indent=1)
+        _replace(target / EXPORT_RECORD, (text + "\n").encode())
+        return [*written, target / EXPORT_RECORD]
 
     def c_headers(self) -> list[Path]:
         """Every header the C sources include (CasADi kernels, root isolation, public)."""
         return [self.path / name for name in self.manifest.c_headers]
 
 
-__all__ = ["BrokenPackageWarning", "GeneratedPackage", "discover", "readable_names", "search_path", "survey"]
+def export_name(mechanism: str, filename: str) -> str:
+    """The name of a package's C file in an export folder.
+
+    Parameters
+    ----------
+    mechanism : str
+        The mechanism's name.
+    filename : str
+        The file's name in the package (``driver.c``, ``kernels.h``, ``NAME.h``, ...).
+
+    Returns
+    -------
+    str
+        ``<mechanism>_<filename>``; the public header ``<mechanism>.h`` keeps its name.
+    """
+    return filename if filename == f"{mechanism}.h" else f"{mechanism}_{filename}"
+
+
+def _renamed_includes(source: bytes, names: dict[str, str]) -> bytes:
+    """``#include "X"`` of a package file X as its exported name; every other line as it is."""
+
+    def rename(match: re.Match[bytes]) -> bytes:
+        included = match.group(2).decode()
+        return match.group(1) + names.get(included, included).encode() + match.group(3)
+
+    return _INCLUDE.sub(rename, source)
+
+
+def _read_record(folder: Path, force: bool) -> dict[str, dict[str, str]] | None:
+    """The export record of ``folder`` (file name -> its mechanism and SHA-256), None when there
+    is none. A damaged record is refused (nothing in the folder can be told to be an export's)
+    unless ``force``, which then treats the folder as not an export."""
+    path = folder / EXPORT_RECORD
+    if not path.exists():
+        return None
+    try:
+        data = json.loads(path.read_text())
+        files = data["files"]
+        if not isinstance(files, dict) or not all(
+            isinstance(name, str)
+            and isinstance(entry, dict)
+            and isinstance(entry.get("mechanism"), str)
+            and isinstance(entry.get("sha256"), str)
+            for name, entry in files.items()
+        ):
+            raise TypeError("files is not a table of names, mechanisms and digests")
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as error:
+        if force:
+            return None
+        raise BadInputError(
+            f"export to {folder}: its {EXPORT_RECORD} is damaged ({type(error).__name__}: {error}); nothing in the "
+            "folder can be told to be parakin's: export to a new folder, or pass --force (force=True)"
+        ) from error
+    return {name: dict(entry) for name, entry in files.items()}
+
+
+def _written_by_export(path: Path, entry: dict[str, str] | None, mechanism: str) -> bool:
+    """Whether ``path`` is what an export of ``mechanism`` wrote there, unchanged since."""
+    if entry is None or entry["mechanism"] != mechanism:
+        return False
+    return hashlib.sha256(path.read_bytes()).hexdigest() == entry["sha256"]
+
+
+def _replace(path: Path, data: bytes) -> None:
+    """Write ``path`` through a new file renamed over it: a symbolic link put in its place since
+    it was checked is replaced, not followed, and a reader never sees half a file."""
+    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        scratch.write_bytes(data)
+        os.replace(scratch, path)
+    finally:
+        scratch.unlink(missing_ok=True)
+
+
+__all__ = [
+    "EXPORT_RECORD",
+    "BrokenPackageWarning",
+    "GeneratedPackage",
+    "discover",
+    "export_name",
+    "readable_names",
+    "search_path",
+    "survey",
+]
