@@ -4,6 +4,8 @@ past what CasADi wrote. Each raises a GenerationError naming the mechanism and t
 
 from __future__ import annotations
 
+import math
+
 import sympy as sp
 
 from .errors import GenerationError
@@ -38,6 +40,44 @@ def check_variables(m: Mechanism) -> None:
     for symbol, (low, high) in m.limits.items():
         if not low < high:
             raise GenerationError(f"{m.name}: limits of {symbol} must satisfy low < high, got ({low}, {high})")
+    check_home_within_limits(m)
+
+
+def check_home_within_limits(m: Mechanism) -> None:
+    """Every home value within its variable's limits.
+
+    The runtime refuses values outside the limits (``plot``, ``forward_pose_all``, the viewer
+    start from the home), so a package whose own home is outside them cannot be used from it.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism model.
+
+    Raises
+    ------
+    GenerationError
+        Naming the variable, its home value with its unit, and the limits; for an angle whose
+        value modulo 2 pi is inside, the value to write instead.
+    """
+    for symbol, value in m.home.items():
+        if symbol not in m.limits:
+            continue
+        low, high = (float(v) for v in m.limits[symbol])
+        home = float(value)
+        if low <= home <= high:
+            continue
+        unit = "rad" if symbol in m.angular else "" if symbol in m.dimensionless else "m"
+        hint = ""
+        if symbol in m.angular:
+            wrapped = math.remainder(home, 2 * math.pi)
+            if low <= wrapped <= high:
+                hint = f"; the same angle in (-pi, pi], {wrapped:.4f} {unit}, is inside: write that"
+        raise GenerationError(
+            f"{m.name}: home value {symbol} = {home:.4f}{' ' + unit if unit else ''} is outside its limits "
+            f"[{low:.4f}, {high:.4f}]{hint} (the runtime refuses values outside the limits, and so the "
+            "package's own home)"
+        )
 
 
 def check_pose_kind(m: Mechanism) -> None:

@@ -133,11 +133,14 @@ class _Numeric:
 @dataclass
 class Anchors:
     """Poses to sample around, each with what it is ("home", "example 'x'"), the mechanism's
-    length scale, and what became of the home (for the message when too few samples reach)."""
+    length scale, and what became of the home (for the message when too few samples reach).
+    ``project`` moves a sampled pose onto the reachable set of a lower-mobility platform (None:
+    every pose of the pose kind is a candidate)."""
 
     poses: list[tuple[str, list[float]]]
     length: float
     home: str
+    project: Callable[[list], list] | None = None
 
     def describe(self) -> str:
         where = ", ".join(name for name, _ in self.poses) or "nothing"
@@ -174,7 +177,53 @@ def anchors(mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix) -> A
             poses.append((f"example {example.name!r}", _pose_values(example.pose)))
         for k, mode in enumerate(_printed_modes(example)):
             poses.append((f"example {example.name!r} mode {k}", _pose_values(mode)))
-    return Anchors(poses, length, home)
+    return Anchors(poses, length, home, _projection(mechanism, platform, residual, length))
+
+
+def _projection(
+    mechanism: Mechanism, platform: sp.Matrix, residual: sp.Matrix, length: float
+) -> Callable[[list], list] | None:
+    """For a lower-mobility platform (constraint wrenches in its rate model): a function that
+    moves a pose onto the set its constraints allow, by minimum-norm Newton steps on the closure
+    rows free of actuated variables (its plane constraints, a unit quaternion) from the pose's
+    coordinates as the inverse reads them. A pose sampled around an anchor in every direction
+    of its kind is otherwise off that set, and an inverse that checks reachability refuses
+    almost all of them. None where there is nothing to project (or no way to)."""
+    if mechanism.rates is None or mechanism.rates.constraints is None or mechanism.inverse is None:
+        return None
+    rows = [row for row in residual if not row.has(*mechanism.actuated)]
+    if not rows or platform.has(*mechanism.actuated):
+        return None
+    constraint = sp.Matrix(rows)
+    variables = [*mechanism.passive, *mechanism.parameters]
+    numeric = sp.lambdify(variables, [constraint, constraint.jacobian(mechanism.passive)], modules="numpy", cse=True)
+    placed = sp.lambdify(variables, platform, modules="mpmath")
+    parameters = [float(v) for v in mechanism.parameters.values()]
+    read = inverse_function(mechanism)
+    signs = branch_signs(mechanism)[0]
+    tolerance = 1e-14 * (1 + length)
+
+    def project(pose: list) -> list:
+        values = read(pose, signs)
+        coordinates = [values[v] for v in mechanism.passive]
+        if not all(isinstance(v, mpmath.mpf) for v in coordinates):
+            return pose
+        passive = np.array([float(v) for v in coordinates])
+        for _ in range(50):
+            value, matrix = (np.asarray(v, dtype=float) for v in numeric(*passive, *parameters))
+            value = value.ravel()
+            if not np.all(np.isfinite(value)) or not np.all(np.isfinite(matrix)):
+                return pose
+            if np.abs(value).max() <= tolerance:
+                # the pose at the working precision from the coordinates, as sample_pose builds it
+                transform = placed(*(mpmath.mpf(v) for v in passive), *(mpmath.mpf(v) for v in parameters))
+                entries = mpmath.matrix(transform)
+                return [entries[i, j] for i in range(3) for j in range(3)] + [entries[i, 3] for i in range(3)]
+            step = np.linalg.lstsq(matrix.reshape(value.size, passive.size), -value, rcond=None)[0]
+            passive = passive + step
+        return pose
+
+    return project
 
 
 def sample_pose(rng: random.Random, mechanism: Mechanism, found: Anchors, index: int) -> list:
@@ -198,7 +247,8 @@ def sample_pose(rng: random.Random, mechanism: Mechanism, found: Anchors, index:
         anchor[9 + k] + (spread * found.length * rng.uniform(-1, 1) if k in kind.translation_axes else 0.0)
         for k in range(3)
     ]
-    return [mpmath.mpf(v) for row in rotation for v in row] + [mpmath.mpf(v) for v in position]
+    pose = [mpmath.mpf(v) for row in rotation for v in row] + [mpmath.mpf(v) for v in position]
+    return pose if found.project is None else found.project(pose)
 
 
 def _same_angle(a: float, b: float, angular: bool, tolerance: float) -> bool:

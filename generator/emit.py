@@ -17,6 +17,7 @@ import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from parakin.packages.package import export_name
 from parakin.packages.subtrees import shared_subtrees
 from parakin.solvers.homotopy import path_pairs
 
@@ -303,6 +304,12 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "modes_settings": _example_job(manifest, "modes"),
         "newton_settings": _example_job(manifest, "newton"),
         "kernels": manifest["kernels"],
+        # the names the files take where ``parakin export`` writes them (prefixed: several
+        # mechanisms share one folder); the README and the example program speak of those
+        "exported": {
+            name.replace(".", "_"): export_name(mechanism, name)
+            for name in ("driver.c", "kernels.c", "kernels.h", "real_roots.h", "example_main.c", "README_C.md")
+        },
         "programs": [
             {
                 "name": p.name,

@@ -5,10 +5,13 @@ the base side, placed by the leg's actuated joint, and the platform joint C = p 
 are a fixed or actuated distance L apart, |C - E| = L. The kinds of leg (the joints of a chain,
 base to platform; S a spherical joint, U a universal joint, the underlined one actuated):
 
-* ``prismatic_leg``: S-P-S, U-P-S, R-P-R (planar): E = A fixed, L = the actuated length l;
+* ``prismatic_leg``: S-P-S, U-P-S, R-P-R (planar): E = A fixed, L = the actuated length l; with
+  a revolute axis n at A, R-P-S (the 3-RPS): the leg, and so C, stays in the plane through A
+  normal to n, (C - A) . n = 0;
 * ``crank_leg``: R-S-S, R-U-S, R-R-R (planar): an actuated crank of length r turns about the unit
   axis u through A, E = A + r (cos theta e0 + sin theta (u x e0)), e0 its zero direction (a unit
-  vector normal to u); a link of fixed length L from E to C;
+  vector normal to u); a link of fixed length L from E to C; with a revolute joint at E parallel
+  to u, R-R-S (the 3-RRS): C stays in the crank's plane, (C - A) . u = 0;
 * ``slider_leg``: P-S-S, P-U-S: a slider moves along the unit axis k through A, E = A + s k;
   a link of fixed length L; with a revolute axis n (normal to k), P-R-S: the revolute joint on
   the slider keeps the link, and so C, in the plane through A normal to n, (C - A) . n = 0.
@@ -36,19 +39,23 @@ unknowns), and the generator derives from the legs:
 * the inverse per leg in closed form: l = |C - A|; a crank's E cos + F sin + G = 0 by its
   tangent-half-angle quadratic with branch sign sigma_i; a slider's quadratic
   s = (C - A) . k - sigma_i sqrt(L^2 - |h|^2); with the validity of each (the discriminant made
-  unitless);
+  unitless); crank angles in (-pi, pi], the runtime's range (``crank_angle``); and where the
+  platform's pose is read as given, one validity measure per plane constraint,
+  ``leg<i>_plane_reachable`` (``plane_measure``: the plane row relative to the leg's size), so
+  that a pose off a lower-mobility platform's reachable set is invalid, naming the leg;
 * the drawing: base joints, elbows (crank tips, sliders), platform joints, each leg as a
   polyline, the base and platform polygons.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .blocks import TWIST, block_laplace_det, half_angle_solution, laplace_det, planar_coordinates
+from .blocks import TWIST, block_laplace_det, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
 
@@ -172,11 +179,40 @@ def _unit(name: str, value: sp.Matrix) -> sp.Matrix:
     return value
 
 
+def _plane_normal(revolute_axis: Sequence[sp.Expr] | sp.Matrix | None) -> sp.Matrix | None:
+    """The unit normal of the plane a constraining revolute joint keeps its leg in (None: none)."""
+    return None if revolute_axis is None else _unit("a revolute joint's axis", _vector(revolute_axis))
+
+
 def prismatic_leg(
-    base: Sequence[sp.Expr] | sp.Matrix, platform_joint: Sequence[sp.Expr] | sp.Matrix, length: sp.Symbol
+    base: Sequence[sp.Expr] | sp.Matrix,
+    platform_joint: Sequence[sp.Expr] | sp.Matrix,
+    length: sp.Symbol,
+    revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
-    """S-P-S, U-P-S or planar R-P-R: the actuated length ``length`` from A (in {B}) to c (in {P})."""
-    return Leg("prismatic", length, _vector(base), _vector(platform_joint))
+    """A leg whose actuated prismatic joint sets the distance from the base joint to the
+    platform joint.
+
+    Parameters
+    ----------
+    base : sequence of expressions or Matrix
+        The base joint A, in {B}.
+    platform_joint : sequence of expressions or Matrix
+        The platform joint c, in {P}.
+    length : Symbol
+        The actuated length l = |C - A|.
+    revolute_axis : sequence of expressions or Matrix, optional
+        The unit axis n of a revolute joint at A (an R-P-S leg, as in the 3-RPS): it keeps the
+        leg, and so the platform joint, in the plane through A normal to n, (C - A) . n = 0, a
+        constraint on the platform (lower mobility). None (default): an S-P-S, U-P-S or planar
+        R-P-R leg, no constraint.
+
+    Returns
+    -------
+    Leg
+        The leg, for ``DistanceMechanism``.
+    """
+    return Leg("prismatic", length, _vector(base), _vector(platform_joint), plane_normal=_plane_normal(revolute_axis))
 
 
 def crank_leg(
@@ -189,15 +225,52 @@ def crank_leg(
     angle: sp.Symbol,
     sign: int = 1,
     serial_name: str | None = None,
+    revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
-    """R-S-S, R-U-S or planar R-R-R: an actuated crank of length ``crank`` turning by ``angle``
+    """A leg whose actuated crank carries a link of fixed length to the platform joint.
+
+    R-S-S, R-U-S or planar R-R-R: an actuated crank of length ``crank`` turning by ``angle``
     about the unit ``axis`` through A from the unit direction ``zero`` (normal to the axis;
     counter-clockwise about the axis), then a link of length ``link`` to c (in {P}). Branch sign
-    +1 turns the crank counter-clockwise from the line A -> C (``sign`` = -1: clockwise)."""
+    +1 turns the crank counter-clockwise from the line A -> C (``sign`` = -1: clockwise).
+
+    Parameters
+    ----------
+    base, axis, zero : sequence of expressions or Matrix
+        The crank's centre A (in {B}), its unit axis u and its unit zero direction e0 (normal to u).
+    crank, link : expression
+        The crank's length r and the link's length L.
+    platform_joint : sequence of expressions or Matrix
+        The platform joint c, in {P}.
+    angle : Symbol
+        The actuated crank angle theta.
+    sign : int
+        Which root branch sign +1 takes (above; -1 the other).
+    serial_name : str, optional
+        The name of the leg's serial factor (default ``leg{k}_links_aligned``).
+    revolute_axis : sequence of expressions or Matrix, optional
+        The axis of a revolute joint between crank and link (an R-R-S leg, as in the 3-RRS). It
+        must be parallel to the crank's axis: the link then stays in the crank's plane, through A
+        normal to u, (C - A) . u = 0, a constraint on the platform (lower mobility). None
+        (default): a spherical or universal joint there, no constraint.
+
+    Returns
+    -------
+    Leg
+        The leg, for ``DistanceMechanism``.
+    """
     u, e0 = _unit("a crank's axis", _vector(axis)), _unit("a crank's zero direction", _vector(zero))
     if not (u.free_symbols or e0.free_symbols) and abs(float(u.dot(e0))) > 1e-12:
         raise ValueError(f"a crank's zero direction {list(e0)} must be normal to its axis {list(u)}")
-    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, u, e0, crank, sign, serial_name)
+    normal = _plane_normal(revolute_axis)
+    if normal is not None and not (normal.free_symbols or u.free_symbols):
+        if float(normal.cross(u).norm()) > 1e-12:
+            raise ValueError(
+                f"a crank's revolute axis {list(normal)} must be parallel to the crank's axis {list(u)} (the link "
+                "then moves in the crank's plane; another revolute axis is not a fixed plane)"
+            )
+        normal = u  # the plane is the crank's: one normal, whichever of the two directions was given
+    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, u, e0, crank, sign, serial_name, normal)
 
 
 def slider_leg(
@@ -225,6 +298,84 @@ def slider_leg(
                 "plane must hold the rail)"
             )
     return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, k, None, None, sign, serial_name, normal)
+
+
+#: a platform joint this far from its leg's plane, relative to the leg's size (``plane_measure``),
+#: is off the reachable set: far below any distance a user means, far above the rounding of a
+#: pose computed in double precision (1e-16 relative)
+PLANE_TOLERANCE = 1e-6
+
+
+def plane_measure(leg: Leg, offset: sp.Matrix) -> sp.Expr:
+    """The inverse's validity measure of a leg's plane constraint.
+
+    Parameters
+    ----------
+    leg : Leg
+        A leg with a ``plane_normal`` n.
+    offset : Matrix
+        C - A, from the leg's base point to its platform joint at the pose, in {B}.
+
+    Returns
+    -------
+    Expr
+        1 - (((C - A) . n) / (PLANE_TOLERANCE s))^2, with s^2 = |A|^2 + |c|^2 + L^2 (+ r^2 for a
+        crank) the leg's size: 1 where the platform joint lies in the plane, positive while it is
+        within PLANE_TOLERANCE s of it, negative beyond. Unitless and the same at any scale (a
+        tolerance in metres would accept a whole millimetre mechanism, or refuse the rounding of
+        a large one).
+    """
+    assert leg.plane_normal is not None
+    size = leg.base.dot(leg.base) + leg.platform_joint.dot(leg.platform_joint) + leg.length() ** 2
+    size += 0 if leg.crank is None else leg.crank**2
+    return 1 - offset.dot(leg.plane_normal) ** 2 / (PLANE_TOLERANCE**2 * size)
+
+
+def crank_angle(
+    cos_coefficient: sp.Expr, sin_coefficient: sp.Expr, constant: sp.Expr, sign: sp.Expr
+) -> tuple[sp.Expr, sp.Expr]:
+    """A crank's angle theta in (-pi, pi] with E cos(theta) + F sin(theta) + G = 0.
+
+    Parameters
+    ----------
+    cos_coefficient, sin_coefficient, constant : Expr
+        E, F and G.
+    sign : Expr
+        The root's sign (+1 or -1), as ``blocks.half_angle_solution`` takes it.
+
+    Returns
+    -------
+    tuple of Expr
+        theta and the discriminant E^2 + F^2 - G^2 (the branch's validity).
+
+    Notes
+    -----
+    ``half_angle_solution`` writes theta = 2 atan2(Y, X), Y = -F + sign sqrt(disc), X = G - E, which
+    lies in (-2 pi, 2 pi]: a home read from it (``home_at``) could be 5.95 rad where the runtime
+    reports -0.33. The double-angle formulas give the same angle as atan2(2 X Y, X^2 - Y^2), in
+    (-pi, pi] like every angle the runtime returns, with no further trigonometric function.
+    """
+    e, f, g = cos_coefficient, sin_coefficient, constant
+    discriminant = e**2 + f**2 - g**2
+    y, x = -f + sign * sp.sqrt(sp.Max(0, discriminant)), g - e
+    return sp.atan2(2 * x * y, x**2 - y**2), discriminant
+
+
+def wrapped_angle(angle: float) -> float:
+    """``angle`` in (-pi, pi], the range of ``parakin.pose.wrap_angle``.
+
+    Parameters
+    ----------
+    angle : float
+        An angle in radians.
+
+    Returns
+    -------
+    float
+        The same angle modulo 2 pi, -pi given as pi.
+    """
+    value = math.remainder(angle, 2 * math.pi)
+    return math.pi if value <= -math.pi else value
 
 
 SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}
@@ -359,6 +510,18 @@ class DistanceMechanism:
         rows = rows if constraints is None else sp.Matrix.vstack(rows, constraints)
         return {self.parallel_name: block_laplace_det(rows) if rows.cols == 6 else laplace_det(rows)}
 
+    @property
+    def checks_planes(self) -> bool:
+        """Whether the inverse checks each plane constraint (``plane_measure``): where it reads the
+        pose's coordinates as given (the pose kind's own reading), a pose off the reachable set
+        puts platform joints out of their planes. A platform that writes its own reading (prs3's
+        ``motion()``: the reachable pose of the given height and tilt) keeps the joints in their
+        planes by construction and answers for what it reads."""
+        standard = platform(self.motion.kind)
+        return self.motion.read == standard.read and all(
+            mine == theirs for mine, theirs in zip(self.motion.pose, standard.pose, strict=True)
+        )
+
     def inverse(self) -> InverseSolution:
         """Each leg in closed form and the platform's coordinates read from the pose (the
         coordinates first where the legs' platform joints are written in them: a planar pose)."""
@@ -367,6 +530,7 @@ class DistanceMechanism:
         rotation, position = self.motion.pose
         joints = self.platform_joints(rotation, position)
         signs = iter(self.branch_names)
+        planes = self.checks_planes
         for k, (leg, c) in enumerate(zip(self.legs, joints, strict=True)):
             v = c - leg.base
             if leg.kind == "prismatic":
@@ -378,7 +542,7 @@ class DistanceMechanism:
                 r, side = leg.crank, leg.axis.cross(leg.zero)
                 steps += [(e, -2 * r * v.dot(leg.zero)), (f, -2 * r * v.dot(side)), (g, v.dot(v) + r**2 - leg.link**2)]
                 # sign +1 turns the crank counter-clockwise (about its axis) from the line A -> C
-                angle, discriminant = half_angle_solution(e, f, g, leg.sign * next(signs))
+                angle, discriminant = crank_angle(e, f, g, leg.sign * next(signs))
                 steps.append((leg.joint, angle))
                 validity[f"leg{k + 1}_reachable"] = discriminant / (e**2 + f**2 + g**2)
             else:
@@ -388,6 +552,8 @@ class DistanceMechanism:
                 # sign +1 puts the slider below the platform joint along the axis
                 steps.append((leg.joint, along - leg.sign * next(signs) * sp.sqrt(sp.Max(0, disc))))
                 validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
+            if planes and leg.plane_normal is not None:
+                validity[f"leg{k + 1}_plane_reachable"] = plane_measure(leg, v)
         validity.update(self.motion.validity)
         read = list(self.motion.read)
         uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
@@ -415,9 +581,14 @@ class DistanceMechanism:
         self, rotation: sp.Matrix, position: sp.Matrix | None, branch: int, parameters: dict[sp.Symbol, float]
     ) -> dict[sp.Symbol, float]:
         """A home configuration: the actuated and passive values of the pose (^B_P R, position)
-        on inverse branch ``branch`` at the parameters (every step of the inverse evaluated)."""
+        on inverse branch ``branch`` at the parameters (every step of the inverse evaluated),
+        angles in (-pi, pi] as the runtime's inverse returns them."""
         values = self.inverse().at(rotation, position, branch, parameters)
-        return {v: values[v] for v in (*self.actuated, *self.motion.coordinates)}
+        angular = {leg.joint for leg in self.legs if leg.kind == "crank"} | set(self.motion.angular)
+        return {
+            v: wrapped_angle(values[v]) if v in angular else values[v]
+            for v in (*self.actuated, *self.motion.coordinates)
+        }
 
     def fields(self) -> dict[str, object]:
         """The ``model.Mechanism`` fields the legs determine."""

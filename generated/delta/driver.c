@@ -7,8 +7,8 @@
 //   rate_jacobians: 64
 //   singularity_factors: 83
 //   drawing: 38
-//   inverse_pose: 158
-//   inverse_pose_patterns: 191
+//   inverse_pose: 176
+//   inverse_pose_patterns: 227
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 //   automatic_family: 0
@@ -184,7 +184,7 @@ int delta_inverse_pose_batch(long long n, const double** inputs, const long long
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[23 + 1];
+    casadi_real w[24 + 1];
     casadi_real out_actuated[3 + 1];
     casadi_real out_passive[3 + 1];
     casadi_real out_validity[3 + 1];
@@ -213,7 +213,7 @@ int delta_inverse_pose_patterns_batch(long long n, const double** inputs, const 
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[22 + 1];
+    casadi_real w[23 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[6 + 1];
     casadi_real out_validity[6 + 1];

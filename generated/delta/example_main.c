@@ -7,8 +7,8 @@
 //   rate_jacobians: 64
 //   singularity_factors: 83
 //   drawing: 38
-//   inverse_pose: 158
-//   inverse_pose_patterns: 191
+//   inverse_pose: 176
+//   inverse_pose_patterns: 227
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 //   automatic_family: 0
@@ -16,7 +16,8 @@
 //   automatic_passive: 0
 
 // Example: the delta solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. delta_example_main.c delta_driver.c delta_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "delta_" prefix)
 // It solves example 'arms_horizontal', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,8 +7,8 @@
 //   rate_jacobians: 64
 //   singularity_factors: 83
 //   drawing: 38
-//   inverse_pose: 158
-//   inverse_pose_patterns: 191
+//   inverse_pose: 176
+//   inverse_pose_patterns: 227
 //   forward_polynomial: 142
 //   forward_back_substitution: 150
 //   automatic_family: 0

@@ -7,8 +7,8 @@
 #   rate_jacobians: 64
 #   singularity_factors: 83
 #   drawing: 38
-#   inverse_pose: 158
-#   inverse_pose_patterns: 191
+#   inverse_pose: 176
+#   inverse_pose_patterns: 227
 #   forward_polynomial: 142
 #   forward_back_substitution: 150
 #   automatic_family: 0
@@ -370,7 +370,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 158.
+    Operations: 176.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -393,36 +393,33 @@ def inverse_pose(pose, branch, params):
     E1 = -2 * L * (-R + r + x)
     F1 = 2 * L * z
     G1 = L**2 - l**2 + y**2 + z**2 + (-R + r + x) ** 2
-    theta1 = 2 * numpy.arctan2(
-        -F1 - sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    _t0 = numpy.sqrt(3)
-    _t1 = (1 / 2) * _t0
-    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t0 * (-R * _t1 + _t1 * r + y) + (1 / 4) * r - 1 / 2 * x)
+    _t0 = -F1 - sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1 = numpy.arctan2(_t0 * (-2 * E1 + 2 * G1), -(_t0**2) + (-E1 + G1) ** 2)
+    _t1 = numpy.sqrt(3)
+    _t2 = (1 / 2) * _t1
+    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t1 * (-R * _t2 + _t2 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F2 = 2 * L * z
-    _t2 = (1 / 2) * R
-    _t3 = (1 / 2) * r
-    _t4 = numpy.sqrt(3)
-    G2 = L**2 - l**2 + z**2 + (_t2 - _t3 + x) ** 2 + (-_t2 * _t4 + _t3 * _t4 + y) ** 2
-    theta2 = 2 * numpy.arctan2(
-        -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t5 = (1 / 2) * numpy.sqrt(3)
-    E3 = -2 * L * (-1 / 4 * R - _t5 * (R * _t5 - _t5 * r + y) + (1 / 4) * r - 1 / 2 * x)
+    _t3 = (1 / 2) * R
+    _t4 = (1 / 2) * r
+    _t5 = numpy.sqrt(3)
+    G2 = L**2 - l**2 + z**2 + (_t3 - _t4 + x) ** 2 + (-_t3 * _t5 + _t4 * _t5 + y) ** 2
+    _t6 = -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2 = numpy.arctan2(_t6 * (-2 * E2 + 2 * G2), -(_t6**2) + (-E2 + G2) ** 2)
+    _t7 = (1 / 2) * numpy.sqrt(3)
+    E3 = -2 * L * (-1 / 4 * R - _t7 * (R * _t7 - _t7 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F3 = 2 * L * z
-    _t6 = (1 / 2) * R
-    _t7 = (1 / 2) * r
-    _t8 = numpy.sqrt(3)
-    G3 = L**2 - l**2 + z**2 + (_t6 - _t7 + x) ** 2 + (_t6 * _t8 - _t7 * _t8 + y) ** 2
-    theta3 = 2 * numpy.arctan2(
-        -F3 - sigma3 * numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    _t9 = G1**2
-    _t10 = E1**2 + F1**2
-    _t11 = G2**2
-    _t12 = E2**2 + F2**2
-    _t13 = G3**2
-    _t14 = E3**2 + F3**2
+    _t8 = (1 / 2) * R
+    _t9 = (1 / 2) * r
+    _t10 = numpy.sqrt(3)
+    G3 = L**2 - l**2 + z**2 + (_t8 - _t9 + x) ** 2 + (_t10 * _t8 - _t10 * _t9 + y) ** 2
+    _t11 = -F3 - sigma3 * numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3 = numpy.arctan2(_t11 * (-2 * E3 + 2 * G3), -(_t11**2) + (-E3 + G3) ** 2)
+    _t12 = G1**2
+    _t13 = E1**2 + F1**2
+    _t14 = G2**2
+    _t15 = E2**2 + F2**2
+    _t16 = G3**2
+    _t17 = E3**2 + F3**2
     actuated = numpy.zeros(shape + (3,))
     actuated[..., 0] = theta1
     actuated[..., 1] = theta2
@@ -432,9 +429,9 @@ def inverse_pose(pose, branch, params):
     passive[..., 1] = y
     passive[..., 2] = z
     validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = (_t10 - _t9) / (_t10 + _t9)
-    validity[..., 1] = (-_t11 + _t12) / (_t11 + _t12)
-    validity[..., 2] = (-_t13 + _t14) / (_t13 + _t14)
+    validity[..., 0] = (-_t12 + _t13) / (_t12 + _t13)
+    validity[..., 1] = (-_t14 + _t15) / (_t14 + _t15)
+    validity[..., 2] = (-_t16 + _t17) / (_t16 + _t17)
     return {
         "actuated": actuated,
         "passive": passive,
@@ -445,7 +442,7 @@ def inverse_pose(pose, branch, params):
 def inverse_pose_patterns(pose, params):
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 191.
+    Operations: 227.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -464,48 +461,42 @@ def inverse_pose_patterns(pose, params):
     E1 = -2 * L * (-R + r + x)
     F1 = 2 * L * z
     G1 = L**2 - l**2 + y**2 + z**2 + (-R + r + x) ** 2
-    theta1_pattern0 = 2 * numpy.arctan2(
-        -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    theta1_pattern1 = 2 * numpy.arctan2(
-        -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    _t0 = numpy.sqrt(3)
-    _t1 = (1 / 2) * _t0
-    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t0 * (-R * _t1 + _t1 * r + y) + (1 / 4) * r - 1 / 2 * x)
+    _t0 = -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern0 = numpy.arctan2(_t0 * (-2 * E1 + 2 * G1), -(_t0**2) + (-E1 + G1) ** 2)
+    _t1 = -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern1 = numpy.arctan2(_t1 * (-2 * E1 + 2 * G1), -(_t1**2) + (-E1 + G1) ** 2)
+    _t2 = numpy.sqrt(3)
+    _t3 = (1 / 2) * _t2
+    E2 = -2 * L * (-1 / 4 * R + (1 / 2) * _t2 * (-R * _t3 + _t3 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F2 = 2 * L * z
-    _t2 = (1 / 2) * R
-    _t3 = (1 / 2) * r
-    _t4 = numpy.sqrt(3)
-    G2 = L**2 - l**2 + z**2 + (_t2 - _t3 + x) ** 2 + (-_t2 * _t4 + _t3 * _t4 + y) ** 2
-    theta2_pattern0 = 2 * numpy.arctan2(
-        -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    theta2_pattern1 = 2 * numpy.arctan2(
-        -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t5 = (1 / 2) * numpy.sqrt(3)
-    E3 = -2 * L * (-1 / 4 * R - _t5 * (R * _t5 - _t5 * r + y) + (1 / 4) * r - 1 / 2 * x)
+    _t4 = (1 / 2) * R
+    _t5 = (1 / 2) * r
+    _t6 = numpy.sqrt(3)
+    G2 = L**2 - l**2 + z**2 + (_t4 - _t5 + x) ** 2 + (-_t4 * _t6 + _t5 * _t6 + y) ** 2
+    _t7 = -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern0 = numpy.arctan2(_t7 * (-2 * E2 + 2 * G2), -(_t7**2) + (-E2 + G2) ** 2)
+    _t8 = -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern1 = numpy.arctan2(_t8 * (-2 * E2 + 2 * G2), -(_t8**2) + (-E2 + G2) ** 2)
+    _t9 = (1 / 2) * numpy.sqrt(3)
+    E3 = -2 * L * (-1 / 4 * R - _t9 * (R * _t9 - _t9 * r + y) + (1 / 4) * r - 1 / 2 * x)
     F3 = 2 * L * z
-    _t6 = (1 / 2) * R
-    _t7 = (1 / 2) * r
-    _t8 = numpy.sqrt(3)
-    G3 = L**2 - l**2 + z**2 + (_t6 - _t7 + x) ** 2 + (_t6 * _t8 - _t7 * _t8 + y) ** 2
-    theta3_pattern0 = 2 * numpy.arctan2(
-        -F3 - numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    theta3_pattern1 = 2 * numpy.arctan2(
-        -F3 + numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    _t9 = G1**2
-    _t10 = E1**2 + F1**2
-    _t11 = (_t10 - _t9) / (_t10 + _t9)
-    _t12 = G2**2
-    _t13 = E2**2 + F2**2
-    _t14 = (-_t12 + _t13) / (_t12 + _t13)
-    _t15 = G3**2
-    _t16 = E3**2 + F3**2
+    _t10 = (1 / 2) * R
+    _t11 = (1 / 2) * r
+    _t12 = numpy.sqrt(3)
+    G3 = L**2 - l**2 + z**2 + (_t10 - _t11 + x) ** 2 + (_t10 * _t12 - _t11 * _t12 + y) ** 2
+    _t13 = -F3 - numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3_pattern0 = numpy.arctan2(_t13 * (-2 * E3 + 2 * G3), -(_t13**2) + (-E3 + G3) ** 2)
+    _t14 = -F3 + numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3_pattern1 = numpy.arctan2(_t14 * (-2 * E3 + 2 * G3), -(_t14**2) + (-E3 + G3) ** 2)
+    _t15 = G1**2
+    _t16 = E1**2 + F1**2
     _t17 = (-_t15 + _t16) / (_t15 + _t16)
+    _t18 = G2**2
+    _t19 = E2**2 + F2**2
+    _t20 = (-_t18 + _t19) / (_t18 + _t19)
+    _t21 = G3**2
+    _t22 = E3**2 + F3**2
+    _t23 = (-_t21 + _t22) / (_t21 + _t22)
     actuated = numpy.zeros(shape + (3, 2))
     actuated[..., 0, 0] = theta1_pattern0
     actuated[..., 0, 1] = theta1_pattern1
@@ -521,12 +512,12 @@ def inverse_pose_patterns(pose, params):
     passive[..., 2, 0] = z
     passive[..., 2, 1] = z
     validity = numpy.zeros(shape + (3, 2))
-    validity[..., 0, 0] = _t11
-    validity[..., 0, 1] = _t11
-    validity[..., 1, 0] = _t14
-    validity[..., 1, 1] = _t14
-    validity[..., 2, 0] = _t17
-    validity[..., 2, 1] = _t17
+    validity[..., 0, 0] = _t17
+    validity[..., 0, 1] = _t17
+    validity[..., 1, 0] = _t20
+    validity[..., 1, 1] = _t20
+    validity[..., 2, 0] = _t23
+    validity[..., 2, 1] = _t23
     return {
         "actuated": actuated,
         "passive": passive,

@@ -7,8 +7,8 @@
 //   rate_jacobians: 23
 //   singularity_factors: 27
 //   drawing: 11
-//   inverse_pose: 71
-//   inverse_pose_patterns: 94
+//   inverse_pose: 83
+//   inverse_pose_patterns: 118
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0
@@ -184,7 +184,7 @@ int five_bar_inverse_pose_batch(long long n, const double** inputs, const long l
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[13 + 1];
+    casadi_real w[14 + 1];
     casadi_real out_actuated[2 + 1];
     casadi_real out_passive[2 + 1];
     casadi_real out_validity[2 + 1];
@@ -213,7 +213,7 @@ int five_bar_inverse_pose_patterns_batch(long long n, const double** inputs, con
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[12 + 1];
+    casadi_real w[13 + 1];
     casadi_real out_actuated[4 + 1];
     casadi_real out_passive[4 + 1];
     casadi_real out_validity[4 + 1];

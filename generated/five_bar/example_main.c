@@ -7,8 +7,8 @@
 //   rate_jacobians: 23
 //   singularity_factors: 27
 //   drawing: 11
-//   inverse_pose: 71
-//   inverse_pose_patterns: 94
+//   inverse_pose: 83
+//   inverse_pose_patterns: 118
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0
@@ -16,7 +16,8 @@
 //   automatic_passive: 0
 
 // Example: the five_bar solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. five_bar_example_main.c five_bar_driver.c five_bar_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "five_bar_" prefix)
 // It solves example 'proximal_vertical', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,8 +7,8 @@
 //   rate_jacobians: 23
 //   singularity_factors: 27
 //   drawing: 11
-//   inverse_pose: 71
-//   inverse_pose_patterns: 94
+//   inverse_pose: 83
+//   inverse_pose_patterns: 118
 //   forward_polynomial: 30
 //   forward_back_substitution: 34
 //   automatic_family: 0

@@ -7,8 +7,8 @@
 #   rate_jacobians: 23
 #   singularity_factors: 27
 #   drawing: 11
-#   inverse_pose: 71
-#   inverse_pose_patterns: 94
+#   inverse_pose: 83
+#   inverse_pose_patterns: 118
 #   forward_polynomial: 30
 #   forward_back_substitution: 34
 #   automatic_family: 0
@@ -249,7 +249,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 71.
+    Operations: 83.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -270,19 +270,17 @@ def inverse_pose(pose, branch, params):
     E1 = -2 * a1 * (d + x)
     F1 = -2 * a1 * y
     G1 = a1**2 - b1**2 + y**2 + (d + x) ** 2
-    theta1 = 2 * numpy.arctan2(
-        -F1 + sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
+    _t0 = -F1 + sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1 = numpy.arctan2(_t0 * (-2 * E1 + 2 * G1), -(_t0**2) + (-E1 + G1) ** 2)
     E2 = -2 * a2 * (-d + x)
     F2 = -2 * a2 * y
     G2 = a2**2 - b2**2 + y**2 + (-d + x) ** 2
-    theta2 = 2 * numpy.arctan2(
-        -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t0 = G1**2
-    _t1 = E1**2 + F1**2
-    _t2 = G2**2
-    _t3 = E2**2 + F2**2
+    _t1 = -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2 = numpy.arctan2(_t1 * (-2 * E2 + 2 * G2), -(_t1**2) + (-E2 + G2) ** 2)
+    _t2 = G1**2
+    _t3 = E1**2 + F1**2
+    _t4 = G2**2
+    _t5 = E2**2 + F2**2
     actuated = numpy.zeros(shape + (2,))
     actuated[..., 0] = theta1
     actuated[..., 1] = theta2
@@ -290,8 +288,8 @@ def inverse_pose(pose, branch, params):
     passive[..., 0] = x
     passive[..., 1] = y
     validity = numpy.zeros(shape + (2,))
-    validity[..., 0] = (-_t0 + _t1) / (_t0 + _t1)
-    validity[..., 1] = (-_t2 + _t3) / (_t2 + _t3)
+    validity[..., 0] = (-_t2 + _t3) / (_t2 + _t3)
+    validity[..., 1] = (-_t4 + _t5) / (_t4 + _t5)
     return {
         "actuated": actuated,
         "passive": passive,
@@ -302,7 +300,7 @@ def inverse_pose(pose, branch, params):
 def inverse_pose_patterns(pose, params):
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 94.
+    Operations: 118.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -320,27 +318,23 @@ def inverse_pose_patterns(pose, params):
     E1 = -2 * a1 * (d + x)
     F1 = -2 * a1 * y
     G1 = a1**2 - b1**2 + y**2 + (d + x) ** 2
-    theta1_pattern0 = 2 * numpy.arctan2(
-        -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    theta1_pattern1 = 2 * numpy.arctan2(
-        -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
+    _t0 = -F1 + numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern0 = numpy.arctan2(_t0 * (-2 * E1 + 2 * G1), -(_t0**2) + (-E1 + G1) ** 2)
+    _t1 = -F1 - numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern1 = numpy.arctan2(_t1 * (-2 * E1 + 2 * G1), -(_t1**2) + (-E1 + G1) ** 2)
     E2 = -2 * a2 * (-d + x)
     F2 = -2 * a2 * y
     G2 = a2**2 - b2**2 + y**2 + (-d + x) ** 2
-    theta2_pattern0 = 2 * numpy.arctan2(
-        -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    theta2_pattern1 = 2 * numpy.arctan2(
-        -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t0 = G1**2
-    _t1 = E1**2 + F1**2
-    _t2 = (-_t0 + _t1) / (_t0 + _t1)
-    _t3 = G2**2
-    _t4 = E2**2 + F2**2
-    _t5 = (-_t3 + _t4) / (_t3 + _t4)
+    _t2 = -F2 - numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern0 = numpy.arctan2(_t2 * (-2 * E2 + 2 * G2), -(_t2**2) + (-E2 + G2) ** 2)
+    _t3 = -F2 + numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern1 = numpy.arctan2(_t3 * (-2 * E2 + 2 * G2), -(_t3**2) + (-E2 + G2) ** 2)
+    _t4 = G1**2
+    _t5 = E1**2 + F1**2
+    _t6 = (-_t4 + _t5) / (_t4 + _t5)
+    _t7 = G2**2
+    _t8 = E2**2 + F2**2
+    _t9 = (-_t7 + _t8) / (_t7 + _t8)
     actuated = numpy.zeros(shape + (2, 2))
     actuated[..., 0, 0] = theta1_pattern0
     actuated[..., 0, 1] = theta1_pattern1
@@ -352,10 +346,10 @@ def inverse_pose_patterns(pose, params):
     passive[..., 1, 0] = y
     passive[..., 1, 1] = y
     validity = numpy.zeros(shape + (2, 2))
-    validity[..., 0, 0] = _t2
-    validity[..., 0, 1] = _t2
-    validity[..., 1, 0] = _t5
-    validity[..., 1, 1] = _t5
+    validity[..., 0, 0] = _t6
+    validity[..., 0, 1] = _t6
+    validity[..., 1, 0] = _t9
+    validity[..., 1, 1] = _t9
     return {
         "actuated": actuated,
         "passive": passive,

@@ -17,7 +17,8 @@
 //   automatic_passive: 3
 
 // Example: the gough solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. gough_example_main.c gough_driver.c gough_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "gough_" prefix)
 // It solves the home configuration, a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

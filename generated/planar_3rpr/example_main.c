@@ -16,7 +16,8 @@
 //   automatic_passive: 1
 
 // Example: the planar_3rpr solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. planar_3rpr_example_main.c planar_3rpr_driver.c planar_3rpr_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "planar_3rpr_" prefix)
 // It solves example 'six_real_modes', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,7 +7,7 @@
 #   rate_jacobians: 76
 #   singularity_factors: 88
 #   drawing: 44
-#   inverse_pose: 178
+#   inverse_pose: 196
 #   automatic_family: 0
 #   automatic_monomials: 895
 #   automatic_passive: 1
@@ -506,7 +506,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 178.
+    Operations: 196.
     """
     pose = casadi.SX.sym("pose", 12)
     branch = casadi.SX.sym("branch", 3)
@@ -549,41 +549,38 @@ def inverse_pose() -> casadi.Function:
         + (_t0 * platform_x1 + _t1 * platform_y1 - base_y1 + y) ** 2
         + (-_t0 * platform_y1 + _t1 * platform_x1 - base_x1 + x) ** 2
     )
-    theta1 = 2 * casadi.atan2(
-        -F1 + sigma1 * casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
+    _t2 = -F1 + sigma1 * casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1 = casadi.atan2(_t2 * (-2 * E1 + 2 * G1), -(_t2**2) + (-E1 + G1) ** 2)
     E2 = -2 * a2 * (-base_x2 + platform_x2 * casadi.cos(phi) - platform_y2 * casadi.sin(phi) + x)
     F2 = -2 * a2 * (-base_y2 + platform_x2 * casadi.sin(phi) + platform_y2 * casadi.cos(phi) + y)
-    _t2 = casadi.sin(phi)
-    _t3 = casadi.cos(phi)
+    _t3 = casadi.sin(phi)
+    _t4 = casadi.cos(phi)
     G2 = (
         a2**2
         - b2**2
-        + (_t2 * platform_x2 + _t3 * platform_y2 - base_y2 + y) ** 2
-        + (-_t2 * platform_y2 + _t3 * platform_x2 - base_x2 + x) ** 2
+        + (_t3 * platform_x2 + _t4 * platform_y2 - base_y2 + y) ** 2
+        + (-_t3 * platform_y2 + _t4 * platform_x2 - base_x2 + x) ** 2
     )
-    theta2 = 2 * casadi.atan2(
-        -F2 + sigma2 * casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
+    _t5 = -F2 + sigma2 * casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2 = casadi.atan2(_t5 * (-2 * E2 + 2 * G2), -(_t5**2) + (-E2 + G2) ** 2)
     E3 = -2 * a3 * (-base_x3 + platform_x3 * casadi.cos(phi) - platform_y3 * casadi.sin(phi) + x)
     F3 = -2 * a3 * (-base_y3 + platform_x3 * casadi.sin(phi) + platform_y3 * casadi.cos(phi) + y)
-    _t4 = casadi.sin(phi)
-    _t5 = casadi.cos(phi)
+    _t6 = casadi.sin(phi)
+    _t7 = casadi.cos(phi)
     G3 = (
         a3**2
         - b3**2
-        + (_t4 * platform_x3 + _t5 * platform_y3 - base_y3 + y) ** 2
-        + (-_t4 * platform_y3 + _t5 * platform_x3 - base_x3 + x) ** 2
+        + (_t6 * platform_x3 + _t7 * platform_y3 - base_y3 + y) ** 2
+        + (-_t6 * platform_y3 + _t7 * platform_x3 - base_x3 + x) ** 2
     )
-    theta3 = 2 * casadi.atan2(
-        -F3 + sigma3 * casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    _t6 = G1**2
-    _t7 = E1**2 + F1**2
-    _t8 = G2**2
-    _t9 = E2**2 + F2**2
-    _t10 = G3**2
-    _t11 = E3**2 + F3**2
+    _t8 = -F3 + sigma3 * casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3 = casadi.atan2(_t8 * (-2 * E3 + 2 * G3), -(_t8**2) + (-E3 + G3) ** 2)
+    _t9 = G1**2
+    _t10 = E1**2 + F1**2
+    _t11 = G2**2
+    _t12 = E2**2 + F2**2
+    _t13 = G3**2
+    _t14 = E3**2 + F3**2
     actuated = casadi.SX.zeros(3)
     actuated[0] = theta1
     actuated[1] = theta2
@@ -593,9 +590,9 @@ def inverse_pose() -> casadi.Function:
     passive[1] = y
     passive[2] = phi
     validity = casadi.SX.zeros(3)
-    validity[0] = (-_t6 + _t7) / (_t6 + _t7)
-    validity[1] = (-_t8 + _t9) / (_t8 + _t9)
-    validity[2] = (-_t10 + _t11) / (_t10 + _t11)
+    validity[0] = (_t10 - _t9) / (_t10 + _t9)
+    validity[1] = (-_t11 + _t12) / (_t11 + _t12)
+    validity[2] = (-_t13 + _t14) / (_t13 + _t14)
     return casadi.Function(
         "planar_3rrr_inverse_pose",
         [

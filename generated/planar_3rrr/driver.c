@@ -7,7 +7,7 @@
 //   rate_jacobians: 76
 //   singularity_factors: 88
 //   drawing: 44
-//   inverse_pose: 178
+//   inverse_pose: 196
 //   automatic_family: 0
 //   automatic_monomials: 895
 //   automatic_passive: 1
@@ -180,7 +180,7 @@ int planar_3rrr_inverse_pose_batch(long long n, const double** inputs, const lon
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[23 + 1];
+    casadi_real w[24 + 1];
     casadi_real out_actuated[3 + 1];
     casadi_real out_passive[3 + 1];
     casadi_real out_validity[3 + 1];

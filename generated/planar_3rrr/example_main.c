@@ -7,13 +7,14 @@
 //   rate_jacobians: 76
 //   singularity_factors: 88
 //   drawing: 44
-//   inverse_pose: 178
+//   inverse_pose: 196
 //   automatic_family: 0
 //   automatic_monomials: 895
 //   automatic_passive: 1
 
 // Example: the planar_3rrr solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. planar_3rrr_example_main.c planar_3rrr_driver.c planar_3rrr_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "planar_3rrr_" prefix)
 // It solves example 'six_real_modes', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,7 +7,7 @@
 //   rate_jacobians: 76
 //   singularity_factors: 88
 //   drawing: 44
-//   inverse_pose: 178
+//   inverse_pose: 196
 //   automatic_family: 0
 //   automatic_monomials: 895
 //   automatic_passive: 1

@@ -13,7 +13,8 @@
 //   automatic_passive: 0
 
 // Example: the prs3 solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. prs3_example_main.c prs3_driver.c prs3_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "prs3_" prefix)
 // It solves example 'sixteen_real_modes', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>
@@ -32,7 +33,7 @@ int main(void) {
     // the actuated inputs [d1 [m], d2 [m], d3 [m]]
     double actuated[PRS3_NUM_ACTUATED] = { 0.20000812689943637, 0.214364266713217, 0.23008487353552343 };
     // a guess of the passive values [x [m], y [m], z [m], q0 [], q1 [], q2 [], q3 []]
-    double guess[7] = { -0.0003798, 0.0006578, 0.55, 0.9962, -0.04358, 0.07548, 3.727e-18 };
+    double guess[7] = { -0.0003798, 0.0006578, 0.55, 0.9962, -0.04358, 0.07548, 4.081e-18 };
     int failed = 0;
     printf("prs3: actuated");
     for (int k = 0; k < PRS3_NUM_ACTUATED; ++k) printf(" %.17g", actuated[k]);

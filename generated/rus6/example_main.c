@@ -7,13 +7,14 @@
 //   rate_jacobians: 521
 //   singularity_factors: 1080
 //   drawing: 311
-//   inverse_pose: 1025
+//   inverse_pose: 1061
 //   automatic_family: 0
 //   automatic_monomials: 11401
 //   automatic_passive: 0
 
 // Example: the rus6 solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. rus6_example_main.c rus6_driver.c rus6_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "rus6_" prefix)
 // It solves the home configuration, a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,7 +7,7 @@
 //   rate_jacobians: 521
 //   singularity_factors: 1080
 //   drawing: 311
-//   inverse_pose: 1025
+//   inverse_pose: 1061
 //   automatic_family: 0
 //   automatic_monomials: 11401
 //   automatic_passive: 0

@@ -7,7 +7,7 @@
 #   rate_jacobians: 521
 #   singularity_factors: 1080
 #   drawing: 311
-#   inverse_pose: 1025
+#   inverse_pose: 1061
 #   automatic_family: 0
 #   automatic_monomials: 11401
 #   automatic_passive: 0
@@ -2185,7 +2185,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 1025.
+    Operations: 1061.
     """
     shape = numpy.broadcast_shapes(
         numpy.shape(pose)[:-1],
@@ -2325,9 +2325,8 @@ def inverse_pose(pose, branch, params):
         + (-base_y1 + platform_x1 * r21 + platform_y1 * r22 + platform_z1 * r23 + py) ** 2
         + (-base_z1 + platform_x1 * r31 + platform_y1 * r32 + platform_z1 * r33 + pz) ** 2
     )
-    theta1 = 2 * numpy.arctan2(
-        -F1 - sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
+    _t0 = -F1 - sigma1 * numpy.sqrt(numpy.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1 = numpy.arctan2(_t0 * (-2 * E1 + 2 * G1), -(_t0**2) + (-E1 + G1) ** 2)
     E2 = (
         -2
         * a2
@@ -2359,9 +2358,8 @@ def inverse_pose(pose, branch, params):
         + (-base_y2 + platform_x2 * r21 + platform_y2 * r22 + platform_z2 * r23 + py) ** 2
         + (-base_z2 + platform_x2 * r31 + platform_y2 * r32 + platform_z2 * r33 + pz) ** 2
     )
-    theta2 = 2 * numpy.arctan2(
-        -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
+    _t1 = -F2 - sigma2 * numpy.sqrt(numpy.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2 = numpy.arctan2(_t1 * (-2 * E2 + 2 * G2), -(_t1**2) + (-E2 + G2) ** 2)
     E3 = (
         -2
         * a3
@@ -2393,9 +2391,8 @@ def inverse_pose(pose, branch, params):
         + (-base_y3 + platform_x3 * r21 + platform_y3 * r22 + platform_z3 * r23 + py) ** 2
         + (-base_z3 + platform_x3 * r31 + platform_y3 * r32 + platform_z3 * r33 + pz) ** 2
     )
-    theta3 = 2 * numpy.arctan2(
-        -F3 - sigma3 * numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
+    _t2 = -F3 - sigma3 * numpy.sqrt(numpy.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3 = numpy.arctan2(_t2 * (-2 * E3 + 2 * G3), -(_t2**2) + (-E3 + G3) ** 2)
     E4 = (
         -2
         * a4
@@ -2427,9 +2424,8 @@ def inverse_pose(pose, branch, params):
         + (-base_y4 + platform_x4 * r21 + platform_y4 * r22 + platform_z4 * r23 + py) ** 2
         + (-base_z4 + platform_x4 * r31 + platform_y4 * r32 + platform_z4 * r33 + pz) ** 2
     )
-    theta4 = 2 * numpy.arctan2(
-        -F4 - sigma4 * numpy.sqrt(numpy.fmax(0, E4**2 + F4**2 - G4**2)), -E4 + G4
-    )
+    _t3 = -F4 - sigma4 * numpy.sqrt(numpy.fmax(0, E4**2 + F4**2 - G4**2))
+    theta4 = numpy.arctan2(_t3 * (-2 * E4 + 2 * G4), -(_t3**2) + (-E4 + G4) ** 2)
     E5 = (
         -2
         * a5
@@ -2461,9 +2457,8 @@ def inverse_pose(pose, branch, params):
         + (-base_y5 + platform_x5 * r21 + platform_y5 * r22 + platform_z5 * r23 + py) ** 2
         + (-base_z5 + platform_x5 * r31 + platform_y5 * r32 + platform_z5 * r33 + pz) ** 2
     )
-    theta5 = 2 * numpy.arctan2(
-        -F5 - sigma5 * numpy.sqrt(numpy.fmax(0, E5**2 + F5**2 - G5**2)), -E5 + G5
-    )
+    _t4 = -F5 - sigma5 * numpy.sqrt(numpy.fmax(0, E5**2 + F5**2 - G5**2))
+    theta5 = numpy.arctan2(_t4 * (-2 * E5 + 2 * G5), -(_t4**2) + (-E5 + G5) ** 2)
     E6 = (
         -2
         * a6
@@ -2495,176 +2490,171 @@ def inverse_pose(pose, branch, params):
         + (-base_y6 + platform_x6 * r21 + platform_y6 * r22 + platform_z6 * r23 + py) ** 2
         + (-base_z6 + platform_x6 * r31 + platform_y6 * r32 + platform_z6 * r33 + pz) ** 2
     )
-    theta6 = 2 * numpy.arctan2(
-        -F6 - sigma6 * numpy.sqrt(numpy.fmax(0, E6**2 + F6**2 - G6**2)), -E6 + G6
-    )
+    _t5 = -F6 - sigma6 * numpy.sqrt(numpy.fmax(0, E6**2 + F6**2 - G6**2))
+    theta6 = numpy.arctan2(_t5 * (-2 * E6 + 2 * G6), -(_t5**2) + (-E6 + G6) ** 2)
     x = px
     y = py
     z = pz
-    _t0 = r23 - r32
-    _t1 = -_t0
-    _t2 = r13 + r31
-    _t3 = r12 - r21
-    _t4 = (r12 + r21) * (r13 - r31)
-    _t5 = r11 + 1
-    _t6 = _t5 + r22 + r33
-    _t7 = _t5 - r22 - r33
-    quaternion_sum1_0 = (
-        _t1
-        * (
-            -numpy.abs(numpy.sign(_t0 * _t6 + _t0 * _t7 + _t2 * _t3 - _t4))
-            + numpy.sign(_t1 * _t6 + _t1 * _t7 - _t2 * _t3 + _t4)
-            + 1
-        )
-        + _t6
+    _t6 = r23 - r32
+    _t7 = -_t6
+    _t8 = r13 + r31
+    _t9 = r12 - r21
+    _t10 = (r12 + r21) * (r13 - r31)
+    _t11 = r11 + 1
+    _t12 = _t11 + r22 + r33
+    _t13 = _t11 - r22 - r33
+    quaternion_sum1_0 = _t12 + _t7 * (
+        -numpy.abs(numpy.sign(-_t10 + _t12 * _t6 + _t13 * _t6 + _t8 * _t9))
+        + numpy.sign(_t10 + _t12 * _t7 + _t13 * _t7 - _t8 * _t9)
+        + 1
     )
-    _t8 = r11 + 1
-    _t9 = _t8 - r22 - r33
-    _t10 = r13 + r31
-    _t11 = r12 - r21
-    _t12 = (r12 + r21) * (r13 - r31)
-    _t13 = r23 - r32
-    _t14 = -_t13
-    _t15 = _t8 + r22 + r33
+    _t14 = r11 + 1
+    _t15 = _t14 - r22 - r33
+    _t16 = r13 + r31
+    _t17 = r12 - r21
+    _t18 = (r12 + r21) * (r13 - r31)
+    _t19 = r23 - r32
+    _t20 = -_t19
+    _t21 = _t14 + r22 + r33
     quaternion_sum1_1 = (
-        _t9
+        _t15
         * (
-            -numpy.abs(numpy.sign(_t10 * _t11 - _t12 + _t13 * _t15 + _t13 * _t9))
-            + numpy.sign(-_t10 * _t11 + _t12 + _t14 * _t15 + _t14 * _t9)
+            -numpy.abs(numpy.sign(_t15 * _t19 + _t16 * _t17 - _t18 + _t19 * _t21))
+            + numpy.sign(_t15 * _t20 - _t16 * _t17 + _t18 + _t20 * _t21)
             + 1
         )
         - r23
         + r32
     )
-    _t16 = r12 + r21
-    _t17 = r13 + r31
-    _t18 = r12 - r21
-    _t19 = r13 - r31
-    _t20 = _t16 * _t19
-    _t21 = r23 - r32
-    _t22 = -_t21
-    _t23 = r11 + 1
-    _t24 = _t23 + r22 + r33
-    _t25 = _t23 - r22 - r33
+    _t22 = r12 + r21
+    _t23 = r13 + r31
+    _t24 = r12 - r21
+    _t25 = r13 - r31
+    _t26 = _t22 * _t25
+    _t27 = r23 - r32
+    _t28 = -_t27
+    _t29 = r11 + 1
+    _t30 = _t29 + r22 + r33
+    _t31 = _t29 - r22 - r33
     quaternion_sum1_2 = (
-        _t16
+        _t22
         * (
-            -numpy.abs(numpy.sign(_t17 * _t18 - _t20 + _t21 * _t24 + _t21 * _t25))
-            + numpy.sign(-_t17 * _t18 + _t20 + _t22 * _t24 + _t22 * _t25)
+            -numpy.abs(numpy.sign(_t23 * _t24 - _t26 + _t27 * _t30 + _t27 * _t31))
+            + numpy.sign(-_t23 * _t24 + _t26 + _t28 * _t30 + _t28 * _t31)
             + 1
         )
-        + _t19
+        + _t25
     )
-    _t26 = r13 + r31
-    _t27 = r12 - r21
-    _t28 = (r12 + r21) * (r13 - r31)
-    _t29 = r23 - r32
-    _t30 = -_t29
-    _t31 = r11 + 1
-    _t32 = _t31 + r22 + r33
-    _t33 = _t31 - r22 - r33
+    _t32 = r13 + r31
+    _t33 = r12 - r21
+    _t34 = (r12 + r21) * (r13 - r31)
+    _t35 = r23 - r32
+    _t36 = -_t35
+    _t37 = r11 + 1
+    _t38 = _t37 + r22 + r33
+    _t39 = _t37 - r22 - r33
     quaternion_sum1_3 = (
-        _t26
+        _t32
         * (
-            -numpy.abs(numpy.sign(_t26 * _t27 - _t28 + _t29 * _t32 + _t29 * _t33))
-            + numpy.sign(-_t26 * _t27 + _t28 + _t30 * _t32 + _t30 * _t33)
+            -numpy.abs(numpy.sign(_t32 * _t33 - _t34 + _t35 * _t38 + _t35 * _t39))
+            + numpy.sign(-_t32 * _t33 + _t34 + _t36 * _t38 + _t36 * _t39)
             + 1
         )
         - r12
         + r21
     )
-    _t34 = r13 - r31
-    _t35 = numpy.sign(
-        _t34 * quaternion_sum1_0
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_0 = _t34 * (_t35 - numpy.abs(_t35) + 1) + quaternion_sum1_0
-    _t36 = r12 + r21
-    _t37 = numpy.sign(
-        _t36 * quaternion_sum1_1
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_1 = _t36 * (_t37 - numpy.abs(_t37) + 1) + quaternion_sum1_1
-    _t38 = -r11 + r22 - r33 + 1
-    _t39 = numpy.sign(
-        _t38 * quaternion_sum1_2
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_2 = _t38 * (_t39 - numpy.abs(_t39) + 1) + quaternion_sum1_2
-    _t40 = r23 + r32
+    _t40 = r13 - r31
     _t41 = numpy.sign(
-        _t40 * quaternion_sum1_3
+        _t40 * quaternion_sum1_0
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_0 = _t40 * (_t41 - numpy.abs(_t41) + 1) + quaternion_sum1_0
+    _t42 = r12 + r21
+    _t43 = numpy.sign(
+        _t42 * quaternion_sum1_1
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_1 = _t42 * (_t43 - numpy.abs(_t43) + 1) + quaternion_sum1_1
+    _t44 = -r11 + r22 - r33 + 1
+    _t45 = numpy.sign(
+        _t44 * quaternion_sum1_2
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_2 = _t44 * (_t45 - numpy.abs(_t45) + 1) + quaternion_sum1_2
+    _t46 = r23 + r32
+    _t47 = numpy.sign(
+        _t46 * quaternion_sum1_3
         + quaternion_sum1_0 * (r13 - r31)
         + quaternion_sum1_1 * (r12 + r21)
         + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
     )
-    quaternion_sum2_3 = _t40 * (_t41 - numpy.abs(_t41) + 1) + quaternion_sum1_3
-    _t42 = r12 - r21
-    _t43 = -_t42
-    _t44 = quaternion_sum2_1 * (r13 + r31)
-    _t45 = quaternion_sum2_2 * (r23 + r32)
-    _t46 = r11 + r22 - r33 - 1
+    quaternion_sum2_3 = _t46 * (_t47 - numpy.abs(_t47) + 1) + quaternion_sum1_3
+    _t48 = r12 - r21
+    _t49 = -_t48
+    _t50 = quaternion_sum2_1 * (r13 + r31)
+    _t51 = quaternion_sum2_2 * (r23 + r32)
+    _t52 = r11 + r22 - r33 - 1
     quaternion_sum3_0 = (
-        _t43
+        _t49
         * (
             -numpy.abs(
-                numpy.sign(_t42 * quaternion_sum2_0 - _t44 - _t45 + _t46 * quaternion_sum2_3)
+                numpy.sign(_t48 * quaternion_sum2_0 - _t50 - _t51 + _t52 * quaternion_sum2_3)
             )
-            + numpy.sign(_t43 * quaternion_sum2_0 + _t44 + _t45 - _t46 * quaternion_sum2_3)
+            + numpy.sign(_t49 * quaternion_sum2_0 + _t50 + _t51 - _t52 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_0
     )
-    _t47 = r13 + r31
-    _t48 = _t47 * quaternion_sum2_1
-    _t49 = quaternion_sum2_2 * (r23 + r32)
-    _t50 = r12 - r21
-    _t51 = r11 + r22 - r33 - 1
+    _t53 = r13 + r31
+    _t54 = _t53 * quaternion_sum2_1
+    _t55 = quaternion_sum2_2 * (r23 + r32)
+    _t56 = r12 - r21
+    _t57 = r11 + r22 - r33 - 1
     quaternion_sum3_1 = (
-        _t47
+        _t53
         * (
             -numpy.abs(
-                numpy.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+                numpy.sign(_t54 + _t55 - _t56 * quaternion_sum2_0 - _t57 * quaternion_sum2_3)
             )
-            + numpy.sign(_t48 + _t49 - _t50 * quaternion_sum2_0 - _t51 * quaternion_sum2_3)
+            + numpy.sign(_t54 + _t55 - _t56 * quaternion_sum2_0 - _t57 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_1
     )
-    _t52 = r23 + r32
-    _t53 = quaternion_sum2_1 * (r13 + r31)
-    _t54 = _t52 * quaternion_sum2_2
-    _t55 = r12 - r21
-    _t56 = r11 + r22 - r33 - 1
+    _t58 = r23 + r32
+    _t59 = quaternion_sum2_1 * (r13 + r31)
+    _t60 = _t58 * quaternion_sum2_2
+    _t61 = r12 - r21
+    _t62 = r11 + r22 - r33 - 1
     quaternion_sum3_2 = (
-        _t52
+        _t58
         * (
             -numpy.abs(
-                numpy.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+                numpy.sign(_t59 + _t60 - _t61 * quaternion_sum2_0 - _t62 * quaternion_sum2_3)
             )
-            + numpy.sign(_t53 + _t54 - _t55 * quaternion_sum2_0 - _t56 * quaternion_sum2_3)
+            + numpy.sign(_t59 + _t60 - _t61 * quaternion_sum2_0 - _t62 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_2
     )
-    _t57 = r11 + r22 - r33 - 1
-    _t58 = -_t57
-    _t59 = quaternion_sum2_1 * (r13 + r31)
-    _t60 = quaternion_sum2_2 * (r23 + r32)
-    _t61 = r12 - r21
+    _t63 = r11 + r22 - r33 - 1
+    _t64 = -_t63
+    _t65 = quaternion_sum2_1 * (r13 + r31)
+    _t66 = quaternion_sum2_2 * (r23 + r32)
+    _t67 = r12 - r21
     quaternion_sum3_3 = (
-        _t58
+        _t64
         * (
             -numpy.abs(
-                numpy.sign(_t57 * quaternion_sum2_3 - _t59 - _t60 + _t61 * quaternion_sum2_0)
+                numpy.sign(_t63 * quaternion_sum2_3 - _t65 - _t66 + _t67 * quaternion_sum2_0)
             )
-            + numpy.sign(_t58 * quaternion_sum2_3 + _t59 + _t60 - _t61 * quaternion_sum2_0)
+            + numpy.sign(_t64 * quaternion_sum2_3 + _t65 + _t66 - _t67 * quaternion_sum2_0)
             + 1
         )
         + quaternion_sum2_3
@@ -2676,18 +2666,18 @@ def inverse_pose(pose, branch, params):
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    _t62 = G1**2
-    _t63 = E1**2 + F1**2
-    _t64 = G2**2
-    _t65 = E2**2 + F2**2
-    _t66 = G3**2
-    _t67 = E3**2 + F3**2
-    _t68 = G4**2
-    _t69 = E4**2 + F4**2
-    _t70 = G5**2
-    _t71 = E5**2 + F5**2
-    _t72 = G6**2
-    _t73 = E6**2 + F6**2
+    _t68 = G1**2
+    _t69 = E1**2 + F1**2
+    _t70 = G2**2
+    _t71 = E2**2 + F2**2
+    _t72 = G3**2
+    _t73 = E3**2 + F3**2
+    _t74 = G4**2
+    _t75 = E4**2 + F4**2
+    _t76 = G5**2
+    _t77 = E5**2 + F5**2
+    _t78 = G6**2
+    _t79 = E6**2 + F6**2
     actuated = numpy.zeros(shape + (6,))
     actuated[..., 0] = theta1
     actuated[..., 1] = theta2
@@ -2704,12 +2694,12 @@ def inverse_pose(pose, branch, params):
     passive[..., 5] = q2
     passive[..., 6] = q3
     validity = numpy.zeros(shape + (6,))
-    validity[..., 0] = (-_t62 + _t63) / (_t62 + _t63)
-    validity[..., 1] = (-_t64 + _t65) / (_t64 + _t65)
-    validity[..., 2] = (-_t66 + _t67) / (_t66 + _t67)
-    validity[..., 3] = (-_t68 + _t69) / (_t68 + _t69)
-    validity[..., 4] = (-_t70 + _t71) / (_t70 + _t71)
-    validity[..., 5] = (-_t72 + _t73) / (_t72 + _t73)
+    validity[..., 0] = (-_t68 + _t69) / (_t68 + _t69)
+    validity[..., 1] = (-_t70 + _t71) / (_t70 + _t71)
+    validity[..., 2] = (-_t72 + _t73) / (_t72 + _t73)
+    validity[..., 3] = (-_t74 + _t75) / (_t74 + _t75)
+    validity[..., 4] = (-_t76 + _t77) / (_t76 + _t77)
+    validity[..., 5] = (-_t78 + _t79) / (_t78 + _t79)
     return {
         "actuated": actuated,
         "passive": passive,

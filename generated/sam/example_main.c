@@ -16,7 +16,8 @@
 //   automatic_passive: 4
 
 // Example: the sam solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. sam_example_main.c sam_driver.c sam_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "sam_" prefix)
 // It solves the home configuration, a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -9,7 +9,8 @@
 //   inverse_pose: 81
 
 // Example: the sphere2r solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. sphere2r_example_main.c sphere2r_driver.c sphere2r_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "sphere2r_" prefix)
 // It solves the home configuration, a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

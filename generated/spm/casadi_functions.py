@@ -7,8 +7,8 @@
 #   rate_jacobians: 223
 #   singularity_factors: 239
 #   drawing: 145
-#   inverse_pose: 705
-#   inverse_pose_patterns: 741
+#   inverse_pose: 723
+#   inverse_pose_patterns: 777
 #   forward_polynomial: 5082
 #   forward_back_substitution: 4098
 #   automatic_family: 1
@@ -946,7 +946,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 705.
+    Operations: 723.
     """
     pose = casadi.SX.sym("pose", 12)
     branch = casadi.SX.sym("branch", 3)
@@ -993,272 +993,269 @@ def inverse_pose() -> casadi.Function:
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta1 = 2 * casadi.atan2(
-        -F1 + sigma1 * casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    _t8 = casadi.sin(gamma)
-    _t9 = (1 / 2) * casadi.sin(beta)
-    _t10 = casadi.cos(beta)
-    _t11 = casadi.cos(alpha1)
-    _t12 = casadi.cos(gamma)
-    _t13 = casadi.sqrt(3)
-    _t14 = _t13 * _t9
-    _t15 = (1 / 2) * _t12
+    _t8 = -F1 + sigma1 * casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1 = casadi.atan2(_t8 * (-2 * E1 + 2 * G1), -(_t8**2) + (-E1 + G1) ** 2)
+    _t9 = casadi.sin(gamma)
+    _t10 = (1 / 2) * casadi.sin(beta)
+    _t11 = casadi.cos(beta)
+    _t12 = casadi.cos(alpha1)
+    _t13 = casadi.cos(gamma)
+    _t14 = casadi.sqrt(3)
+    _t15 = _t10 * _t14
+    _t16 = (1 / 2) * _t13
     E2 = (
         -2
         * (
-            _t13 * _t15 * (_t10 * r13 + (1 / 2) * _t11 * _t13 * _t8 - _t14 * r11 - _t9 * r12)
-            + _t15 * (_t10 * r23 + (1 / 2) * _t11 * _t8 - _t14 * r21 - _t9 * r22)
-            - _t8 * (_t10 * r33 + _t11 * _t12 - _t14 * r31 - _t9 * r32)
+            _t14 * _t16 * (-_t10 * r12 + _t11 * r13 + (1 / 2) * _t12 * _t14 * _t9 - _t15 * r11)
+            + _t16 * (-_t10 * r22 + _t11 * r23 + (1 / 2) * _t12 * _t9 - _t15 * r21)
+            - _t9 * (-_t10 * r32 + _t11 * r33 + _t12 * _t13 - _t15 * r31)
         )
         * casadi.sin(alpha1)
     )
-    _t16 = casadi.sin(gamma)
-    _t17 = (1 / 2) * _t16**2
-    _t18 = (1 / 2) * casadi.cos(gamma) ** 2
-    _t19 = (1 / 2) * casadi.sin(beta)
-    _t20 = casadi.cos(beta)
-    _t21 = casadi.sqrt(3)
-    _t22 = _t19 * _t21
-    _t23 = casadi.cos(alpha1)
+    _t17 = casadi.sin(gamma)
+    _t18 = (1 / 2) * _t17**2
+    _t19 = (1 / 2) * casadi.cos(gamma) ** 2
+    _t20 = (1 / 2) * casadi.sin(beta)
+    _t21 = casadi.cos(beta)
+    _t22 = casadi.sqrt(3)
+    _t23 = _t20 * _t22
+    _t24 = casadi.cos(alpha1)
     F2 = (
         -2
         * (
-            (_t17 + _t18) * ((1 / 2) * _t16 * _t21 * _t23 - _t19 * r12 + _t20 * r13 - _t22 * r11)
-            + (-_t17 * _t21 - _t18 * _t21)
-            * ((1 / 2) * _t16 * _t23 - _t19 * r22 + _t20 * r23 - _t22 * r21)
+            (_t18 + _t19) * ((1 / 2) * _t17 * _t22 * _t24 - _t20 * r12 + _t21 * r13 - _t23 * r11)
+            + (-_t18 * _t22 - _t19 * _t22)
+            * ((1 / 2) * _t17 * _t24 - _t20 * r22 + _t21 * r23 - _t23 * r21)
         )
         * casadi.sin(alpha1)
     )
-    _t24 = (1 / 2) * casadi.sin(beta)
-    _t25 = casadi.cos(beta)
-    _t26 = casadi.cos(alpha1)
-    _t27 = casadi.sqrt(3)
-    _t28 = _t24 * _t27
-    _t29 = casadi.sin(gamma)
+    _t25 = (1 / 2) * casadi.sin(beta)
+    _t26 = casadi.cos(beta)
+    _t27 = casadi.cos(alpha1)
+    _t28 = casadi.sqrt(3)
+    _t29 = _t25 * _t28
+    _t30 = casadi.sin(gamma)
     G2 = (
-        (-_t24 * r12 + _t25 * r13 + (1 / 2) * _t26 * _t27 * _t29 - _t28 * r11) ** 2
-        + (-_t24 * r22 + _t25 * r23 + (1 / 2) * _t26 * _t29 - _t28 * r21) ** 2
-        + (-_t24 * r32 + _t25 * r33 + _t26 * casadi.cos(gamma) - _t28 * r31) ** 2
+        (-_t25 * r12 + _t26 * r13 + (1 / 2) * _t27 * _t28 * _t30 - _t29 * r11) ** 2
+        + (-_t25 * r22 + _t26 * r23 + (1 / 2) * _t27 * _t30 - _t29 * r21) ** 2
+        + (-_t25 * r32 + _t26 * r33 + _t27 * casadi.cos(gamma) - _t29 * r31) ** 2
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta2 = 2 * casadi.atan2(
-        -F2 + sigma2 * casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t30 = casadi.sin(gamma)
-    _t31 = casadi.cos(beta)
-    _t32 = (1 / 2) * casadi.sin(beta)
-    _t33 = casadi.cos(alpha1)
-    _t34 = casadi.cos(gamma)
-    _t35 = casadi.sqrt(3)
-    _t36 = _t32 * _t35
-    _t37 = (1 / 2) * _t30 * _t33
+    _t31 = -F2 + sigma2 * casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2 = casadi.atan2(_t31 * (-2 * E2 + 2 * G2), -(_t31**2) + (-E2 + G2) ** 2)
+    _t32 = casadi.sin(gamma)
+    _t33 = casadi.cos(beta)
+    _t34 = (1 / 2) * casadi.sin(beta)
+    _t35 = casadi.cos(alpha1)
+    _t36 = casadi.cos(gamma)
+    _t37 = casadi.sqrt(3)
+    _t38 = _t34 * _t37
+    _t39 = (1 / 2) * _t32 * _t35
     E3 = (
         -2
         * (
-            -_t30 * (_t31 * r33 - _t32 * r32 + _t33 * _t34 + _t36 * r31)
-            - 1 / 2 * _t34 * _t35 * (_t31 * r13 - _t32 * r12 - _t35 * _t37 + _t36 * r11)
-            + (1 / 2) * _t34 * (_t31 * r23 - _t32 * r22 + _t36 * r21 + _t37)
+            -_t32 * (_t33 * r33 - _t34 * r32 + _t35 * _t36 + _t38 * r31)
+            - 1 / 2 * _t36 * _t37 * (_t33 * r13 - _t34 * r12 - _t37 * _t39 + _t38 * r11)
+            + (1 / 2) * _t36 * (_t33 * r23 - _t34 * r22 + _t38 * r21 + _t39)
         )
         * casadi.sin(alpha1)
     )
-    _t38 = casadi.sin(gamma)
-    _t39 = (1 / 2) * _t38**2
-    _t40 = (1 / 2) * casadi.cos(gamma) ** 2
-    _t41 = casadi.cos(beta)
-    _t42 = (1 / 2) * casadi.sin(beta)
-    _t43 = casadi.sqrt(3)
-    _t44 = _t42 * _t43
-    _t45 = (1 / 2) * _t38 * casadi.cos(alpha1)
+    _t40 = casadi.sin(gamma)
+    _t41 = (1 / 2) * _t40**2
+    _t42 = (1 / 2) * casadi.cos(gamma) ** 2
+    _t43 = casadi.cos(beta)
+    _t44 = (1 / 2) * casadi.sin(beta)
+    _t45 = casadi.sqrt(3)
+    _t46 = _t44 * _t45
+    _t47 = (1 / 2) * _t40 * casadi.cos(alpha1)
     F3 = (
         -2
         * (
-            (_t39 + _t40) * (_t41 * r13 - _t42 * r12 - _t43 * _t45 + _t44 * r11)
-            + (_t39 * _t43 + _t40 * _t43) * (_t41 * r23 - _t42 * r22 + _t44 * r21 + _t45)
+            (_t41 + _t42) * (_t43 * r13 - _t44 * r12 - _t45 * _t47 + _t46 * r11)
+            + (_t41 * _t45 + _t42 * _t45) * (_t43 * r23 - _t44 * r22 + _t46 * r21 + _t47)
         )
         * casadi.sin(alpha1)
     )
-    _t46 = casadi.cos(beta)
-    _t47 = (1 / 2) * casadi.sin(beta)
-    _t48 = casadi.cos(alpha1)
-    _t49 = casadi.sqrt(3)
-    _t50 = _t47 * _t49
-    _t51 = (1 / 2) * _t48 * casadi.sin(gamma)
+    _t48 = casadi.cos(beta)
+    _t49 = (1 / 2) * casadi.sin(beta)
+    _t50 = casadi.cos(alpha1)
+    _t51 = casadi.sqrt(3)
+    _t52 = _t49 * _t51
+    _t53 = (1 / 2) * _t50 * casadi.sin(gamma)
     G3 = (
-        (_t46 * r13 - _t47 * r12 - _t49 * _t51 + _t50 * r11) ** 2
-        + (_t46 * r23 - _t47 * r22 + _t50 * r21 + _t51) ** 2
-        + (_t46 * r33 - _t47 * r32 + _t48 * casadi.cos(gamma) + _t50 * r31) ** 2
+        (_t48 * r13 - _t49 * r12 - _t51 * _t53 + _t52 * r11) ** 2
+        + (_t48 * r23 - _t49 * r22 + _t52 * r21 + _t53) ** 2
+        + (_t48 * r33 - _t49 * r32 + _t50 * casadi.cos(gamma) + _t52 * r31) ** 2
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta3 = 2 * casadi.atan2(
-        -F3 + sigma3 * casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    _t52 = r23 - r32
-    _t53 = -_t52
-    _t54 = r13 + r31
-    _t55 = r12 - r21
-    _t56 = (r12 + r21) * (r13 - r31)
-    _t57 = r11 + 1
-    _t58 = _t57 + r22 + r33
-    _t59 = _t57 - r22 - r33
+    _t54 = -F3 + sigma3 * casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3 = casadi.atan2(_t54 * (-2 * E3 + 2 * G3), -(_t54**2) + (-E3 + G3) ** 2)
+    _t55 = r23 - r32
+    _t56 = -_t55
+    _t57 = r13 + r31
+    _t58 = r12 - r21
+    _t59 = (r12 + r21) * (r13 - r31)
+    _t60 = r11 + 1
+    _t61 = _t60 + r22 + r33
+    _t62 = _t60 - r22 - r33
     quaternion_sum1_0 = (
-        _t53
+        _t56
         * (
-            -casadi.fabs(casadi.sign(_t52 * _t58 + _t52 * _t59 + _t54 * _t55 - _t56))
-            + casadi.sign(_t53 * _t58 + _t53 * _t59 - _t54 * _t55 + _t56)
+            -casadi.fabs(casadi.sign(_t55 * _t61 + _t55 * _t62 + _t57 * _t58 - _t59))
+            + casadi.sign(_t56 * _t61 + _t56 * _t62 - _t57 * _t58 + _t59)
             + 1
         )
-        + _t58
+        + _t61
     )
-    _t60 = r11 + 1
-    _t61 = _t60 - r22 - r33
-    _t62 = r13 + r31
-    _t63 = r12 - r21
-    _t64 = (r12 + r21) * (r13 - r31)
-    _t65 = r23 - r32
-    _t66 = -_t65
-    _t67 = _t60 + r22 + r33
+    _t63 = r11 + 1
+    _t64 = _t63 - r22 - r33
+    _t65 = r13 + r31
+    _t66 = r12 - r21
+    _t67 = (r12 + r21) * (r13 - r31)
+    _t68 = r23 - r32
+    _t69 = -_t68
+    _t70 = _t63 + r22 + r33
     quaternion_sum1_1 = (
-        _t61
+        _t64
         * (
-            -casadi.fabs(casadi.sign(_t61 * _t65 + _t62 * _t63 - _t64 + _t65 * _t67))
-            + casadi.sign(_t61 * _t66 - _t62 * _t63 + _t64 + _t66 * _t67)
+            -casadi.fabs(casadi.sign(_t64 * _t68 + _t65 * _t66 - _t67 + _t68 * _t70))
+            + casadi.sign(_t64 * _t69 - _t65 * _t66 + _t67 + _t69 * _t70)
             + 1
         )
         - r23
         + r32
     )
-    _t68 = r12 + r21
-    _t69 = r13 + r31
-    _t70 = r12 - r21
-    _t71 = r13 - r31
-    _t72 = _t68 * _t71
-    _t73 = r23 - r32
-    _t74 = -_t73
-    _t75 = r11 + 1
-    _t76 = _t75 + r22 + r33
-    _t77 = _t75 - r22 - r33
+    _t71 = r12 + r21
+    _t72 = r13 + r31
+    _t73 = r12 - r21
+    _t74 = r13 - r31
+    _t75 = _t71 * _t74
+    _t76 = r23 - r32
+    _t77 = -_t76
+    _t78 = r11 + 1
+    _t79 = _t78 + r22 + r33
+    _t80 = _t78 - r22 - r33
     quaternion_sum1_2 = (
-        _t68
+        _t71
         * (
-            -casadi.fabs(casadi.sign(_t69 * _t70 - _t72 + _t73 * _t76 + _t73 * _t77))
-            + casadi.sign(-_t69 * _t70 + _t72 + _t74 * _t76 + _t74 * _t77)
+            -casadi.fabs(casadi.sign(_t72 * _t73 - _t75 + _t76 * _t79 + _t76 * _t80))
+            + casadi.sign(-_t72 * _t73 + _t75 + _t77 * _t79 + _t77 * _t80)
             + 1
         )
-        + _t71
+        + _t74
     )
-    _t78 = r13 + r31
-    _t79 = r12 - r21
-    _t80 = (r12 + r21) * (r13 - r31)
-    _t81 = r23 - r32
-    _t82 = -_t81
-    _t83 = r11 + 1
-    _t84 = _t83 + r22 + r33
-    _t85 = _t83 - r22 - r33
+    _t81 = r13 + r31
+    _t82 = r12 - r21
+    _t83 = (r12 + r21) * (r13 - r31)
+    _t84 = r23 - r32
+    _t85 = -_t84
+    _t86 = r11 + 1
+    _t87 = _t86 + r22 + r33
+    _t88 = _t86 - r22 - r33
     quaternion_sum1_3 = (
-        _t78
+        _t81
         * (
-            -casadi.fabs(casadi.sign(_t78 * _t79 - _t80 + _t81 * _t84 + _t81 * _t85))
-            + casadi.sign(-_t78 * _t79 + _t80 + _t82 * _t84 + _t82 * _t85)
+            -casadi.fabs(casadi.sign(_t81 * _t82 - _t83 + _t84 * _t87 + _t84 * _t88))
+            + casadi.sign(-_t81 * _t82 + _t83 + _t85 * _t87 + _t85 * _t88)
             + 1
         )
         - r12
         + r21
     )
-    _t86 = r13 - r31
-    _t87 = casadi.sign(
-        _t86 * quaternion_sum1_0
+    _t89 = r13 - r31
+    _t90 = casadi.sign(
+        _t89 * quaternion_sum1_0
         + quaternion_sum1_1 * (r12 + r21)
         + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
         + quaternion_sum1_3 * (r23 + r32)
     )
-    quaternion_sum2_0 = _t86 * (_t87 - casadi.fabs(_t87) + 1) + quaternion_sum1_0
-    _t88 = r12 + r21
-    _t89 = casadi.sign(
-        _t88 * quaternion_sum1_1
+    quaternion_sum2_0 = _t89 * (_t90 - casadi.fabs(_t90) + 1) + quaternion_sum1_0
+    _t91 = r12 + r21
+    _t92 = casadi.sign(
+        _t91 * quaternion_sum1_1
         + quaternion_sum1_0 * (r13 - r31)
         + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
         + quaternion_sum1_3 * (r23 + r32)
     )
-    quaternion_sum2_1 = _t88 * (_t89 - casadi.fabs(_t89) + 1) + quaternion_sum1_1
-    _t90 = -r11 + r22 - r33 + 1
-    _t91 = casadi.sign(
-        _t90 * quaternion_sum1_2
+    quaternion_sum2_1 = _t91 * (_t92 - casadi.fabs(_t92) + 1) + quaternion_sum1_1
+    _t93 = -r11 + r22 - r33 + 1
+    _t94 = casadi.sign(
+        _t93 * quaternion_sum1_2
         + quaternion_sum1_0 * (r13 - r31)
         + quaternion_sum1_1 * (r12 + r21)
         + quaternion_sum1_3 * (r23 + r32)
     )
-    quaternion_sum2_2 = _t90 * (_t91 - casadi.fabs(_t91) + 1) + quaternion_sum1_2
-    _t92 = r23 + r32
-    _t93 = casadi.sign(
-        _t92 * quaternion_sum1_3
+    quaternion_sum2_2 = _t93 * (_t94 - casadi.fabs(_t94) + 1) + quaternion_sum1_2
+    _t95 = r23 + r32
+    _t96 = casadi.sign(
+        _t95 * quaternion_sum1_3
         + quaternion_sum1_0 * (r13 - r31)
         + quaternion_sum1_1 * (r12 + r21)
         + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
     )
-    quaternion_sum2_3 = _t92 * (_t93 - casadi.fabs(_t93) + 1) + quaternion_sum1_3
-    _t94 = r12 - r21
-    _t95 = -_t94
-    _t96 = quaternion_sum2_1 * (r13 + r31)
-    _t97 = quaternion_sum2_2 * (r23 + r32)
-    _t98 = r11 + r22 - r33 - 1
+    quaternion_sum2_3 = _t95 * (_t96 - casadi.fabs(_t96) + 1) + quaternion_sum1_3
+    _t97 = r12 - r21
+    _t98 = -_t97
+    _t99 = quaternion_sum2_1 * (r13 + r31)
+    _t100 = quaternion_sum2_2 * (r23 + r32)
+    _t101 = r11 + r22 - r33 - 1
     quaternion_sum3_0 = (
-        _t95
+        _t98
         * (
             -casadi.fabs(
-                casadi.sign(_t94 * quaternion_sum2_0 - _t96 - _t97 + _t98 * quaternion_sum2_3)
+                casadi.sign(_t100 - _t101 * quaternion_sum2_3 - _t97 * quaternion_sum2_0 + _t99)
             )
-            + casadi.sign(_t95 * quaternion_sum2_0 + _t96 + _t97 - _t98 * quaternion_sum2_3)
+            + casadi.sign(_t100 - _t101 * quaternion_sum2_3 + _t98 * quaternion_sum2_0 + _t99)
             + 1
         )
         + quaternion_sum2_0
     )
-    _t99 = r13 + r31
-    _t100 = _t99 * quaternion_sum2_1
-    _t101 = quaternion_sum2_2 * (r23 + r32)
-    _t102 = r12 - r21
-    _t103 = r11 + r22 - r33 - 1
+    _t102 = r13 + r31
+    _t103 = _t102 * quaternion_sum2_1
+    _t104 = quaternion_sum2_2 * (r23 + r32)
+    _t105 = r12 - r21
+    _t106 = r11 + r22 - r33 - 1
     quaternion_sum3_1 = (
-        _t99
+        _t102
         * (
             -casadi.fabs(
-                casadi.sign(_t100 + _t101 - _t102 * quaternion_sum2_0 - _t103 * quaternion_sum2_3)
+                casadi.sign(_t103 + _t104 - _t105 * quaternion_sum2_0 - _t106 * quaternion_sum2_3)
             )
-            + casadi.sign(_t100 + _t101 - _t102 * quaternion_sum2_0 - _t103 * quaternion_sum2_3)
+            + casadi.sign(_t103 + _t104 - _t105 * quaternion_sum2_0 - _t106 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_1
     )
-    _t104 = r23 + r32
-    _t105 = quaternion_sum2_1 * (r13 + r31)
-    _t106 = _t104 * quaternion_sum2_2
-    _t107 = r12 - r21
-    _t108 = r11 + r22 - r33 - 1
+    _t107 = r23 + r32
+    _t108 = quaternion_sum2_1 * (r13 + r31)
+    _t109 = _t107 * quaternion_sum2_2
+    _t110 = r12 - r21
+    _t111 = r11 + r22 - r33 - 1
     quaternion_sum3_2 = (
-        _t104
+        _t107
         * (
             -casadi.fabs(
-                casadi.sign(_t105 + _t106 - _t107 * quaternion_sum2_0 - _t108 * quaternion_sum2_3)
+                casadi.sign(_t108 + _t109 - _t110 * quaternion_sum2_0 - _t111 * quaternion_sum2_3)
             )
-            + casadi.sign(_t105 + _t106 - _t107 * quaternion_sum2_0 - _t108 * quaternion_sum2_3)
+            + casadi.sign(_t108 + _t109 - _t110 * quaternion_sum2_0 - _t111 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_2
     )
-    _t109 = r11 + r22 - r33 - 1
-    _t110 = -_t109
-    _t111 = quaternion_sum2_1 * (r13 + r31)
-    _t112 = quaternion_sum2_2 * (r23 + r32)
-    _t113 = r12 - r21
+    _t112 = r11 + r22 - r33 - 1
+    _t113 = -_t112
+    _t114 = quaternion_sum2_1 * (r13 + r31)
+    _t115 = quaternion_sum2_2 * (r23 + r32)
+    _t116 = r12 - r21
     quaternion_sum3_3 = (
-        _t110
+        _t113
         * (
             -casadi.fabs(
-                casadi.sign(_t109 * quaternion_sum2_3 - _t111 - _t112 + _t113 * quaternion_sum2_0)
+                casadi.sign(_t112 * quaternion_sum2_3 - _t114 - _t115 + _t116 * quaternion_sum2_0)
             )
-            + casadi.sign(_t110 * quaternion_sum2_3 + _t111 + _t112 - _t113 * quaternion_sum2_0)
+            + casadi.sign(_t113 * quaternion_sum2_3 + _t114 + _t115 - _t116 * quaternion_sum2_0)
             + 1
         )
         + quaternion_sum2_3
@@ -1270,12 +1267,12 @@ def inverse_pose() -> casadi.Function:
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    _t114 = G1**2
-    _t115 = E1**2 + F1**2
-    _t116 = G2**2
-    _t117 = E2**2 + F2**2
-    _t118 = G3**2
-    _t119 = E3**2 + F3**2
+    _t117 = G1**2
+    _t118 = E1**2 + F1**2
+    _t119 = G2**2
+    _t120 = E2**2 + F2**2
+    _t121 = G3**2
+    _t122 = E3**2 + F3**2
     actuated = casadi.SX.zeros(3)
     actuated[0] = theta1
     actuated[1] = theta2
@@ -1286,9 +1283,9 @@ def inverse_pose() -> casadi.Function:
     passive[2] = q2
     passive[3] = q3
     validity = casadi.SX.zeros(3)
-    validity[0] = (-_t114 + _t115) / (_t114 + _t115)
-    validity[1] = (-_t116 + _t117) / (_t116 + _t117)
-    validity[2] = (-_t118 + _t119) / (_t118 + _t119)
+    validity[0] = (-_t117 + _t118) / (_t117 + _t118)
+    validity[1] = (-_t119 + _t120) / (_t119 + _t120)
+    validity[2] = (-_t121 + _t122) / (_t121 + _t122)
     return casadi.Function(
         "spm_inverse_pose",
         [
@@ -1317,7 +1314,7 @@ def inverse_pose() -> casadi.Function:
 def inverse_pose_patterns() -> casadi.Function:
     """Closed-form inverse pose for every sign pattern of the independent branch groups (column p: symbol k of a group takes sign -1 where bit (its place in the group) of p is set).
 
-    Operations: 741.
+    Operations: 777.
     """
     pose = casadi.SX.sym("pose", 12)
     params = casadi.SX.sym("params", 4)
@@ -1360,281 +1357,275 @@ def inverse_pose_patterns() -> casadi.Function:
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta1_pattern0 = 2 * casadi.atan2(
-        -F1 + casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    theta1_pattern1 = 2 * casadi.atan2(
-        -F1 - casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2)), -E1 + G1
-    )
-    _t8 = casadi.sin(gamma)
-    _t9 = (1 / 2) * casadi.sin(beta)
-    _t10 = casadi.cos(beta)
-    _t11 = casadi.cos(alpha1)
-    _t12 = casadi.cos(gamma)
-    _t13 = casadi.sqrt(3)
-    _t14 = _t13 * _t9
-    _t15 = (1 / 2) * _t12
+    _t8 = -F1 + casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern0 = casadi.atan2(_t8 * (-2 * E1 + 2 * G1), -(_t8**2) + (-E1 + G1) ** 2)
+    _t9 = -F1 - casadi.sqrt(casadi.fmax(0, E1**2 + F1**2 - G1**2))
+    theta1_pattern1 = casadi.atan2(_t9 * (-2 * E1 + 2 * G1), -(_t9**2) + (-E1 + G1) ** 2)
+    _t10 = casadi.sin(gamma)
+    _t11 = (1 / 2) * casadi.sin(beta)
+    _t12 = casadi.cos(beta)
+    _t13 = casadi.cos(alpha1)
+    _t14 = casadi.cos(gamma)
+    _t15 = casadi.sqrt(3)
+    _t16 = _t11 * _t15
+    _t17 = (1 / 2) * _t14
     E2 = (
         -2
         * (
-            _t13 * _t15 * (_t10 * r13 + (1 / 2) * _t11 * _t13 * _t8 - _t14 * r11 - _t9 * r12)
-            + _t15 * (_t10 * r23 + (1 / 2) * _t11 * _t8 - _t14 * r21 - _t9 * r22)
-            - _t8 * (_t10 * r33 + _t11 * _t12 - _t14 * r31 - _t9 * r32)
+            -_t10 * (-_t11 * r32 + _t12 * r33 + _t13 * _t14 - _t16 * r31)
+            + _t15 * _t17 * ((1 / 2) * _t10 * _t13 * _t15 - _t11 * r12 + _t12 * r13 - _t16 * r11)
+            + _t17 * ((1 / 2) * _t10 * _t13 - _t11 * r22 + _t12 * r23 - _t16 * r21)
         )
         * casadi.sin(alpha1)
     )
-    _t16 = casadi.sin(gamma)
-    _t17 = (1 / 2) * _t16**2
-    _t18 = (1 / 2) * casadi.cos(gamma) ** 2
-    _t19 = (1 / 2) * casadi.sin(beta)
-    _t20 = casadi.cos(beta)
-    _t21 = casadi.sqrt(3)
-    _t22 = _t19 * _t21
-    _t23 = casadi.cos(alpha1)
+    _t18 = casadi.sin(gamma)
+    _t19 = (1 / 2) * _t18**2
+    _t20 = (1 / 2) * casadi.cos(gamma) ** 2
+    _t21 = (1 / 2) * casadi.sin(beta)
+    _t22 = casadi.cos(beta)
+    _t23 = casadi.sqrt(3)
+    _t24 = _t21 * _t23
+    _t25 = casadi.cos(alpha1)
     F2 = (
         -2
         * (
-            (_t17 + _t18) * ((1 / 2) * _t16 * _t21 * _t23 - _t19 * r12 + _t20 * r13 - _t22 * r11)
-            + (-_t17 * _t21 - _t18 * _t21)
-            * ((1 / 2) * _t16 * _t23 - _t19 * r22 + _t20 * r23 - _t22 * r21)
+            (_t19 + _t20) * ((1 / 2) * _t18 * _t23 * _t25 - _t21 * r12 + _t22 * r13 - _t24 * r11)
+            + (-_t19 * _t23 - _t20 * _t23)
+            * ((1 / 2) * _t18 * _t25 - _t21 * r22 + _t22 * r23 - _t24 * r21)
         )
         * casadi.sin(alpha1)
     )
-    _t24 = (1 / 2) * casadi.sin(beta)
-    _t25 = casadi.cos(beta)
-    _t26 = casadi.cos(alpha1)
-    _t27 = casadi.sqrt(3)
-    _t28 = _t24 * _t27
-    _t29 = casadi.sin(gamma)
+    _t26 = (1 / 2) * casadi.sin(beta)
+    _t27 = casadi.cos(beta)
+    _t28 = casadi.cos(alpha1)
+    _t29 = casadi.sqrt(3)
+    _t30 = _t26 * _t29
+    _t31 = casadi.sin(gamma)
     G2 = (
-        (-_t24 * r12 + _t25 * r13 + (1 / 2) * _t26 * _t27 * _t29 - _t28 * r11) ** 2
-        + (-_t24 * r22 + _t25 * r23 + (1 / 2) * _t26 * _t29 - _t28 * r21) ** 2
-        + (-_t24 * r32 + _t25 * r33 + _t26 * casadi.cos(gamma) - _t28 * r31) ** 2
+        (-_t26 * r12 + _t27 * r13 + (1 / 2) * _t28 * _t29 * _t31 - _t30 * r11) ** 2
+        + (-_t26 * r22 + _t27 * r23 + (1 / 2) * _t28 * _t31 - _t30 * r21) ** 2
+        + (-_t26 * r32 + _t27 * r33 + _t28 * casadi.cos(gamma) - _t30 * r31) ** 2
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta2_pattern0 = 2 * casadi.atan2(
-        -F2 + casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    theta2_pattern1 = 2 * casadi.atan2(
-        -F2 - casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2)), -E2 + G2
-    )
-    _t30 = casadi.sin(gamma)
-    _t31 = casadi.cos(beta)
-    _t32 = (1 / 2) * casadi.sin(beta)
-    _t33 = casadi.cos(alpha1)
-    _t34 = casadi.cos(gamma)
-    _t35 = casadi.sqrt(3)
-    _t36 = _t32 * _t35
-    _t37 = (1 / 2) * _t30 * _t33
+    _t32 = -F2 + casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern0 = casadi.atan2(_t32 * (-2 * E2 + 2 * G2), -(_t32**2) + (-E2 + G2) ** 2)
+    _t33 = -F2 - casadi.sqrt(casadi.fmax(0, E2**2 + F2**2 - G2**2))
+    theta2_pattern1 = casadi.atan2(_t33 * (-2 * E2 + 2 * G2), -(_t33**2) + (-E2 + G2) ** 2)
+    _t34 = casadi.sin(gamma)
+    _t35 = casadi.cos(beta)
+    _t36 = (1 / 2) * casadi.sin(beta)
+    _t37 = casadi.cos(alpha1)
+    _t38 = casadi.cos(gamma)
+    _t39 = casadi.sqrt(3)
+    _t40 = _t36 * _t39
+    _t41 = (1 / 2) * _t34 * _t37
     E3 = (
         -2
         * (
-            -_t30 * (_t31 * r33 - _t32 * r32 + _t33 * _t34 + _t36 * r31)
-            - 1 / 2 * _t34 * _t35 * (_t31 * r13 - _t32 * r12 - _t35 * _t37 + _t36 * r11)
-            + (1 / 2) * _t34 * (_t31 * r23 - _t32 * r22 + _t36 * r21 + _t37)
+            -_t34 * (_t35 * r33 - _t36 * r32 + _t37 * _t38 + _t40 * r31)
+            - 1 / 2 * _t38 * _t39 * (_t35 * r13 - _t36 * r12 - _t39 * _t41 + _t40 * r11)
+            + (1 / 2) * _t38 * (_t35 * r23 - _t36 * r22 + _t40 * r21 + _t41)
         )
         * casadi.sin(alpha1)
     )
-    _t38 = casadi.sin(gamma)
-    _t39 = (1 / 2) * _t38**2
-    _t40 = (1 / 2) * casadi.cos(gamma) ** 2
-    _t41 = casadi.cos(beta)
-    _t42 = (1 / 2) * casadi.sin(beta)
-    _t43 = casadi.sqrt(3)
-    _t44 = _t42 * _t43
-    _t45 = (1 / 2) * _t38 * casadi.cos(alpha1)
+    _t42 = casadi.sin(gamma)
+    _t43 = (1 / 2) * _t42**2
+    _t44 = (1 / 2) * casadi.cos(gamma) ** 2
+    _t45 = casadi.cos(beta)
+    _t46 = (1 / 2) * casadi.sin(beta)
+    _t47 = casadi.sqrt(3)
+    _t48 = _t46 * _t47
+    _t49 = (1 / 2) * _t42 * casadi.cos(alpha1)
     F3 = (
         -2
         * (
-            (_t39 + _t40) * (_t41 * r13 - _t42 * r12 - _t43 * _t45 + _t44 * r11)
-            + (_t39 * _t43 + _t40 * _t43) * (_t41 * r23 - _t42 * r22 + _t44 * r21 + _t45)
+            (_t43 + _t44) * (_t45 * r13 - _t46 * r12 - _t47 * _t49 + _t48 * r11)
+            + (_t43 * _t47 + _t44 * _t47) * (_t45 * r23 - _t46 * r22 + _t48 * r21 + _t49)
         )
         * casadi.sin(alpha1)
     )
-    _t46 = casadi.cos(beta)
-    _t47 = (1 / 2) * casadi.sin(beta)
-    _t48 = casadi.cos(alpha1)
-    _t49 = casadi.sqrt(3)
-    _t50 = _t47 * _t49
-    _t51 = (1 / 2) * _t48 * casadi.sin(gamma)
+    _t50 = casadi.cos(beta)
+    _t51 = (1 / 2) * casadi.sin(beta)
+    _t52 = casadi.cos(alpha1)
+    _t53 = casadi.sqrt(3)
+    _t54 = _t51 * _t53
+    _t55 = (1 / 2) * _t52 * casadi.sin(gamma)
     G3 = (
-        (_t46 * r13 - _t47 * r12 - _t49 * _t51 + _t50 * r11) ** 2
-        + (_t46 * r23 - _t47 * r22 + _t50 * r21 + _t51) ** 2
-        + (_t46 * r33 - _t47 * r32 + _t48 * casadi.cos(gamma) + _t50 * r31) ** 2
+        (_t50 * r13 - _t51 * r12 - _t53 * _t55 + _t54 * r11) ** 2
+        + (_t50 * r23 - _t51 * r22 + _t54 * r21 + _t55) ** 2
+        + (_t50 * r33 - _t51 * r32 + _t52 * casadi.cos(gamma) + _t54 * r31) ** 2
         + casadi.sin(alpha1) ** 2
         - 4 * casadi.sin((1 / 2) * alpha2) ** 2
     )
-    theta3_pattern0 = 2 * casadi.atan2(
-        -F3 + casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    theta3_pattern1 = 2 * casadi.atan2(
-        -F3 - casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2)), -E3 + G3
-    )
-    _t52 = r23 - r32
-    _t53 = -_t52
-    _t54 = r13 + r31
-    _t55 = r12 - r21
-    _t56 = (r12 + r21) * (r13 - r31)
-    _t57 = r11 + 1
-    _t58 = _t57 + r22 + r33
-    _t59 = _t57 - r22 - r33
+    _t56 = -F3 + casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3_pattern0 = casadi.atan2(_t56 * (-2 * E3 + 2 * G3), -(_t56**2) + (-E3 + G3) ** 2)
+    _t57 = -F3 - casadi.sqrt(casadi.fmax(0, E3**2 + F3**2 - G3**2))
+    theta3_pattern1 = casadi.atan2(_t57 * (-2 * E3 + 2 * G3), -(_t57**2) + (-E3 + G3) ** 2)
+    _t58 = r23 - r32
+    _t59 = -_t58
+    _t60 = r13 + r31
+    _t61 = r12 - r21
+    _t62 = (r12 + r21) * (r13 - r31)
+    _t63 = r11 + 1
+    _t64 = _t63 + r22 + r33
+    _t65 = _t63 - r22 - r33
     quaternion_sum1_0 = (
-        _t53
+        _t59
         * (
-            -casadi.fabs(casadi.sign(_t52 * _t58 + _t52 * _t59 + _t54 * _t55 - _t56))
-            + casadi.sign(_t53 * _t58 + _t53 * _t59 - _t54 * _t55 + _t56)
+            -casadi.fabs(casadi.sign(_t58 * _t64 + _t58 * _t65 + _t60 * _t61 - _t62))
+            + casadi.sign(_t59 * _t64 + _t59 * _t65 - _t60 * _t61 + _t62)
             + 1
         )
-        + _t58
+        + _t64
     )
-    _t60 = r11 + 1
-    _t61 = _t60 - r22 - r33
-    _t62 = r13 + r31
-    _t63 = r12 - r21
-    _t64 = (r12 + r21) * (r13 - r31)
-    _t65 = r23 - r32
-    _t66 = -_t65
-    _t67 = _t60 + r22 + r33
+    _t66 = r11 + 1
+    _t67 = _t66 - r22 - r33
+    _t68 = r13 + r31
+    _t69 = r12 - r21
+    _t70 = (r12 + r21) * (r13 - r31)
+    _t71 = r23 - r32
+    _t72 = -_t71
+    _t73 = _t66 + r22 + r33
     quaternion_sum1_1 = (
-        _t61
+        _t67
         * (
-            -casadi.fabs(casadi.sign(_t61 * _t65 + _t62 * _t63 - _t64 + _t65 * _t67))
-            + casadi.sign(_t61 * _t66 - _t62 * _t63 + _t64 + _t66 * _t67)
+            -casadi.fabs(casadi.sign(_t67 * _t71 + _t68 * _t69 - _t70 + _t71 * _t73))
+            + casadi.sign(_t67 * _t72 - _t68 * _t69 + _t70 + _t72 * _t73)
             + 1
         )
         - r23
         + r32
     )
-    _t68 = r12 + r21
-    _t69 = r13 + r31
-    _t70 = r12 - r21
-    _t71 = r13 - r31
-    _t72 = _t68 * _t71
-    _t73 = r23 - r32
-    _t74 = -_t73
-    _t75 = r11 + 1
-    _t76 = _t75 + r22 + r33
-    _t77 = _t75 - r22 - r33
+    _t74 = r12 + r21
+    _t75 = r13 + r31
+    _t76 = r12 - r21
+    _t77 = r13 - r31
+    _t78 = _t74 * _t77
+    _t79 = r23 - r32
+    _t80 = -_t79
+    _t81 = r11 + 1
+    _t82 = _t81 + r22 + r33
+    _t83 = _t81 - r22 - r33
     quaternion_sum1_2 = (
-        _t68
+        _t74
         * (
-            -casadi.fabs(casadi.sign(_t69 * _t70 - _t72 + _t73 * _t76 + _t73 * _t77))
-            + casadi.sign(-_t69 * _t70 + _t72 + _t74 * _t76 + _t74 * _t77)
+            -casadi.fabs(casadi.sign(_t75 * _t76 - _t78 + _t79 * _t82 + _t79 * _t83))
+            + casadi.sign(-_t75 * _t76 + _t78 + _t80 * _t82 + _t80 * _t83)
             + 1
         )
-        + _t71
+        + _t77
     )
-    _t78 = r13 + r31
-    _t79 = r12 - r21
-    _t80 = (r12 + r21) * (r13 - r31)
-    _t81 = r23 - r32
-    _t82 = -_t81
-    _t83 = r11 + 1
-    _t84 = _t83 + r22 + r33
-    _t85 = _t83 - r22 - r33
+    _t84 = r13 + r31
+    _t85 = r12 - r21
+    _t86 = (r12 + r21) * (r13 - r31)
+    _t87 = r23 - r32
+    _t88 = -_t87
+    _t89 = r11 + 1
+    _t90 = _t89 + r22 + r33
+    _t91 = _t89 - r22 - r33
     quaternion_sum1_3 = (
-        _t78
+        _t84
         * (
-            -casadi.fabs(casadi.sign(_t78 * _t79 - _t80 + _t81 * _t84 + _t81 * _t85))
-            + casadi.sign(-_t78 * _t79 + _t80 + _t82 * _t84 + _t82 * _t85)
+            -casadi.fabs(casadi.sign(_t84 * _t85 - _t86 + _t87 * _t90 + _t87 * _t91))
+            + casadi.sign(-_t84 * _t85 + _t86 + _t88 * _t90 + _t88 * _t91)
             + 1
         )
         - r12
         + r21
     )
-    _t86 = r13 - r31
-    _t87 = casadi.sign(
-        _t86 * quaternion_sum1_0
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_0 = _t86 * (_t87 - casadi.fabs(_t87) + 1) + quaternion_sum1_0
-    _t88 = r12 + r21
-    _t89 = casadi.sign(
-        _t88 * quaternion_sum1_1
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_1 = _t88 * (_t89 - casadi.fabs(_t89) + 1) + quaternion_sum1_1
-    _t90 = -r11 + r22 - r33 + 1
-    _t91 = casadi.sign(
-        _t90 * quaternion_sum1_2
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_2 = _t90 * (_t91 - casadi.fabs(_t91) + 1) + quaternion_sum1_2
-    _t92 = r23 + r32
+    _t92 = r13 - r31
     _t93 = casadi.sign(
-        _t92 * quaternion_sum1_3
+        _t92 * quaternion_sum1_0
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_0 = _t92 * (_t93 - casadi.fabs(_t93) + 1) + quaternion_sum1_0
+    _t94 = r12 + r21
+    _t95 = casadi.sign(
+        _t94 * quaternion_sum1_1
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_1 = _t94 * (_t95 - casadi.fabs(_t95) + 1) + quaternion_sum1_1
+    _t96 = -r11 + r22 - r33 + 1
+    _t97 = casadi.sign(
+        _t96 * quaternion_sum1_2
+        + quaternion_sum1_0 * (r13 - r31)
+        + quaternion_sum1_1 * (r12 + r21)
+        + quaternion_sum1_3 * (r23 + r32)
+    )
+    quaternion_sum2_2 = _t96 * (_t97 - casadi.fabs(_t97) + 1) + quaternion_sum1_2
+    _t98 = r23 + r32
+    _t99 = casadi.sign(
+        _t98 * quaternion_sum1_3
         + quaternion_sum1_0 * (r13 - r31)
         + quaternion_sum1_1 * (r12 + r21)
         + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
     )
-    quaternion_sum2_3 = _t92 * (_t93 - casadi.fabs(_t93) + 1) + quaternion_sum1_3
-    _t94 = r12 - r21
-    _t95 = -_t94
-    _t96 = quaternion_sum2_1 * (r13 + r31)
-    _t97 = quaternion_sum2_2 * (r23 + r32)
-    _t98 = r11 + r22 - r33 - 1
+    quaternion_sum2_3 = _t98 * (_t99 - casadi.fabs(_t99) + 1) + quaternion_sum1_3
+    _t100 = r12 - r21
+    _t101 = -_t100
+    _t102 = quaternion_sum2_1 * (r13 + r31)
+    _t103 = quaternion_sum2_2 * (r23 + r32)
+    _t104 = r11 + r22 - r33 - 1
     quaternion_sum3_0 = (
-        _t95
+        _t101
         * (
             -casadi.fabs(
-                casadi.sign(_t94 * quaternion_sum2_0 - _t96 - _t97 + _t98 * quaternion_sum2_3)
+                casadi.sign(_t100 * quaternion_sum2_0 - _t102 - _t103 + _t104 * quaternion_sum2_3)
             )
-            + casadi.sign(_t95 * quaternion_sum2_0 + _t96 + _t97 - _t98 * quaternion_sum2_3)
+            + casadi.sign(_t101 * quaternion_sum2_0 + _t102 + _t103 - _t104 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_0
     )
-    _t99 = r13 + r31
-    _t100 = _t99 * quaternion_sum2_1
-    _t101 = quaternion_sum2_2 * (r23 + r32)
-    _t102 = r12 - r21
-    _t103 = r11 + r22 - r33 - 1
+    _t105 = r13 + r31
+    _t106 = _t105 * quaternion_sum2_1
+    _t107 = quaternion_sum2_2 * (r23 + r32)
+    _t108 = r12 - r21
+    _t109 = r11 + r22 - r33 - 1
     quaternion_sum3_1 = (
-        _t99
+        _t105
         * (
             -casadi.fabs(
-                casadi.sign(_t100 + _t101 - _t102 * quaternion_sum2_0 - _t103 * quaternion_sum2_3)
+                casadi.sign(_t106 + _t107 - _t108 * quaternion_sum2_0 - _t109 * quaternion_sum2_3)
             )
-            + casadi.sign(_t100 + _t101 - _t102 * quaternion_sum2_0 - _t103 * quaternion_sum2_3)
+            + casadi.sign(_t106 + _t107 - _t108 * quaternion_sum2_0 - _t109 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_1
     )
-    _t104 = r23 + r32
-    _t105 = quaternion_sum2_1 * (r13 + r31)
-    _t106 = _t104 * quaternion_sum2_2
-    _t107 = r12 - r21
-    _t108 = r11 + r22 - r33 - 1
+    _t110 = r23 + r32
+    _t111 = quaternion_sum2_1 * (r13 + r31)
+    _t112 = _t110 * quaternion_sum2_2
+    _t113 = r12 - r21
+    _t114 = r11 + r22 - r33 - 1
     quaternion_sum3_2 = (
-        _t104
+        _t110
         * (
             -casadi.fabs(
-                casadi.sign(_t105 + _t106 - _t107 * quaternion_sum2_0 - _t108 * quaternion_sum2_3)
+                casadi.sign(_t111 + _t112 - _t113 * quaternion_sum2_0 - _t114 * quaternion_sum2_3)
             )
-            + casadi.sign(_t105 + _t106 - _t107 * quaternion_sum2_0 - _t108 * quaternion_sum2_3)
+            + casadi.sign(_t111 + _t112 - _t113 * quaternion_sum2_0 - _t114 * quaternion_sum2_3)
             + 1
         )
         + quaternion_sum2_2
     )
-    _t109 = r11 + r22 - r33 - 1
-    _t110 = -_t109
-    _t111 = quaternion_sum2_1 * (r13 + r31)
-    _t112 = quaternion_sum2_2 * (r23 + r32)
-    _t113 = r12 - r21
+    _t115 = r11 + r22 - r33 - 1
+    _t116 = -_t115
+    _t117 = quaternion_sum2_1 * (r13 + r31)
+    _t118 = quaternion_sum2_2 * (r23 + r32)
+    _t119 = r12 - r21
     quaternion_sum3_3 = (
-        _t110
+        _t116
         * (
             -casadi.fabs(
-                casadi.sign(_t109 * quaternion_sum2_3 - _t111 - _t112 + _t113 * quaternion_sum2_0)
+                casadi.sign(_t115 * quaternion_sum2_3 - _t117 - _t118 + _t119 * quaternion_sum2_0)
             )
-            + casadi.sign(_t110 * quaternion_sum2_3 + _t111 + _t112 - _t113 * quaternion_sum2_0)
+            + casadi.sign(_t116 * quaternion_sum2_3 + _t117 + _t118 - _t119 * quaternion_sum2_0)
             + 1
         )
         + quaternion_sum2_3
@@ -1646,15 +1637,15 @@ def inverse_pose_patterns() -> casadi.Function:
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    _t114 = G1**2
-    _t115 = E1**2 + F1**2
-    _t116 = (-_t114 + _t115) / (_t114 + _t115)
-    _t117 = G2**2
-    _t118 = E2**2 + F2**2
-    _t119 = (-_t117 + _t118) / (_t117 + _t118)
-    _t120 = G3**2
-    _t121 = E3**2 + F3**2
+    _t120 = G1**2
+    _t121 = E1**2 + F1**2
     _t122 = (-_t120 + _t121) / (_t120 + _t121)
+    _t123 = G2**2
+    _t124 = E2**2 + F2**2
+    _t125 = (-_t123 + _t124) / (_t123 + _t124)
+    _t126 = G3**2
+    _t127 = E3**2 + F3**2
+    _t128 = (-_t126 + _t127) / (_t126 + _t127)
     actuated = casadi.SX.zeros(3, 2)
     actuated[0, 0] = theta1_pattern0
     actuated[0, 1] = theta1_pattern1
@@ -1672,12 +1663,12 @@ def inverse_pose_patterns() -> casadi.Function:
     passive[3, 0] = q3
     passive[3, 1] = q3
     validity = casadi.SX.zeros(3, 2)
-    validity[0, 0] = _t116
-    validity[0, 1] = _t116
-    validity[1, 0] = _t119
-    validity[1, 1] = _t119
-    validity[2, 0] = _t122
-    validity[2, 1] = _t122
+    validity[0, 0] = _t122
+    validity[0, 1] = _t122
+    validity[1, 0] = _t125
+    validity[1, 1] = _t125
+    validity[2, 0] = _t128
+    validity[2, 1] = _t128
     return casadi.Function(
         "spm_inverse_pose_patterns",
         [

@@ -7,8 +7,8 @@
 //   rate_jacobians: 223
 //   singularity_factors: 239
 //   drawing: 145
-//   inverse_pose: 705
-//   inverse_pose_patterns: 741
+//   inverse_pose: 723
+//   inverse_pose_patterns: 777
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 //   automatic_family: 1
@@ -213,7 +213,7 @@ int spm_inverse_pose_patterns_batch(long long n, const double** inputs, const lo
     const casadi_real* arg[2];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[34 + 1];
+    casadi_real w[35 + 1];
     casadi_real out_actuated[6 + 1];
     casadi_real out_passive[8 + 1];
     casadi_real out_validity[6 + 1];

@@ -7,8 +7,8 @@
 //   rate_jacobians: 223
 //   singularity_factors: 239
 //   drawing: 145
-//   inverse_pose: 705
-//   inverse_pose_patterns: 741
+//   inverse_pose: 723
+//   inverse_pose_patterns: 777
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 //   automatic_family: 1
@@ -16,7 +16,8 @@
 //   automatic_passive: 0
 
 // Example: the spm solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. spm_example_main.c spm_driver.c spm_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "spm_" prefix)
 // It solves example 'section323', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -7,8 +7,8 @@
 //   rate_jacobians: 223
 //   singularity_factors: 239
 //   drawing: 145
-//   inverse_pose: 705
-//   inverse_pose_patterns: 741
+//   inverse_pose: 723
+//   inverse_pose_patterns: 777
 //   forward_polynomial: 5082
 //   forward_back_substitution: 4098
 //   automatic_family: 1

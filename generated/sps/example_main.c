@@ -16,7 +16,8 @@
 //   automatic_passive: 3
 
 // Example: the sps solvers from C. Build (from this folder):
-//   cc -std=c99 -O2 -I. example_main.c driver.c kernels.c -lm -o example && ./example
+//   cc -std=c99 -O2 -I. sps_example_main.c sps_driver.c sps_kernels.c -lm -o example && ./example
+// (the names `parakin export` writes; in the package folder the files have no "sps_" prefix)
 // It solves example 'section5_starting_point', a configuration the generator checked to be regular (closed,
 // well-conditioned, within limits), and exits 0 when every solver succeeds, 1 otherwise.
 #include <math.h>

@@ -1,0 +1,223 @@
+"""A lower-mobility inverse validates reachability (issue 31, item 5).
+
+A user's 3-RPS (``tests/fixtures/rps3.py``: R-P-S legs whose base revolute joints keep each leg in
+a plane) written with the documented keyword ``prismatic_leg(..., revolute_axis=u)`` and
+generated with ``parakin generate``: the poses of its assembly modes (on the reachable set by
+construction) are valid and give back their leg lengths, and the same poses moved 5 cm off the
+set, or turned about the vertical, are invalid on every branch with the failing plane constraint
+named (``leg<i>_plane_reachable``), at 1 m and at 1 mm scale alike. Before, every branch of such
+a pose was valid, with leg lengths whose configuration does not close (plane rows +-0.043 m).
+The 3-RRS (``tests/fixtures/rrs3.py``, ``crank_leg(..., revolute_axis=u)``) is checked on the
+model's own inverse here, and as a generated package with --run-slow (its first root-count proof
+takes about two minutes).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import itertools
+import math
+import subprocess
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+import pytest
+import sympy as sp
+from parakin.generator import joints
+from parakin.generator.model import POSE_POSITION, POSE_ROTATION
+
+import parakin
+from parakin.errors import UnreachablePoseError
+
+FIXTURES = Path(__file__).parent / "fixtures"
+#: how far off the reachable set the moved poses are (metres at the default scale)
+OFF = 0.05
+
+
+def fixture(name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(f"fixture_{name}", FIXTURES / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def generate(name: str, folder: Path) -> Path:
+    """``parakin generate tests/fixtures/NAME.py --out FOLDER`` as a user runs it."""
+    done = subprocess.run(
+        [sys.executable, "-m", "parakin", "generate", str(FIXTURES / f"{name}.py"), "--out", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert done.returncode == 0, done.stderr
+    return folder
+
+
+@pytest.fixture(scope="module")
+def rps3(tmp_path_factory) -> Path:
+    return generate("rps3", tmp_path_factory.mktemp("rps3") / "package")
+
+
+def reachable_poses(
+    m: parakin.Mechanism, spread: float, count: int, seed: int, scale: float = 1.0
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(actuated, pose) of every assembly mode of ``count`` inputs drawn around the home (its
+    lengths times ``scale``)."""
+    home = np.array([v.home for v in m.manifest.actuated]) * scale
+    rng = np.random.default_rng(seed)
+    found = []
+    for _ in range(count):
+        actuated = home + spread * rng.uniform(-1, 1, home.size)
+        modes = m.forward_pose_all(actuated)
+        found += [(actuated, modes.mode(k).pose) for k in range(int(modes.count))]
+    return found
+
+
+def moved(pose: np.ndarray, how: str, scale: float) -> np.ndarray:
+    """The pose moved off the 3-RPS's reachable set: along x or y by OFF (times ``scale``), or
+    turned about the vertical (a torsion the three planes forbid)."""
+    result = pose.copy()
+    if how == "turn":
+        c, s = math.cos(0.2), math.sin(0.2)
+        result[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ pose[:3, :3]
+    else:
+        result["xy".index(how), 3] += OFF * scale
+    return result
+
+
+def check(m: parakin.Mechanism, scale: float) -> int:
+    """Every mode's pose valid and round-tripping; the same poses moved off the set invalid on
+    every branch, each with a plane condition failing on every branch. Returns the poses checked."""
+    checked = 0
+    for actuated, pose in reachable_poses(m, 0.02 * scale, 6, seed=3, scale=scale):
+        ik = m.inverse_pose(pose, strict=False)
+        back = ik.valid & (np.abs(ik.actuated - actuated).max(-1) < 1e-9 * scale)
+        assert back.any(), f"a mode of {actuated} is not given back: {ik.failures}"
+        branch = int(np.flatnonzero(back)[0])
+        closure = m.loop_closure(ik.actuated[branch], ik.passive[branch])["residual"]
+        assert np.abs(closure).max() < 1e-12 * scale
+        for how in ("x", "y", "turn"):
+            off = m.inverse_pose(moved(pose, how, scale), strict=False)
+            assert not off.valid.any(), (how, off.failures)
+            planes = [name for name in off.failures if name.endswith("_plane_reachable") and off.failures[name].all()]
+            assert planes, f"{how}: no plane condition fails on every branch: {off.failures}"
+            # the legs it names are out of their planes (their closure rows beyond the tolerance,
+            # relative to legs of at least r_b = 0.2 m), the farthest by about the move
+            rows = np.abs(m.loop_closure(off.actuated[0], off.passive[0])["residual"][:3])
+            assert all(rows[int(name[3]) - 1] > joints.PLANE_TOLERANCE * 0.2 * scale for name in planes)
+            assert rows.max() > 0.2 * OFF * scale
+            with pytest.raises(UnreachablePoseError, match="plane_reachable"):
+                m.inverse_pose(moved(pose, how, scale))
+        checked += 1
+    return checked
+
+
+def test_rps3_poses_on_the_reachable_set_are_valid_and_off_it_invalid(rps3):
+    m = parakin.load(rps3)
+    assert [n for n in m.capabilities.inverse.validity if n.endswith("plane_reachable")] == [
+        f"leg{k}_plane_reachable" for k in (1, 2, 3)
+    ]
+    assert check(m, 1.0) >= 6
+
+
+def test_rps3_at_millimetre_scale_decides_the_same(rps3):
+    """The tolerance is relative to the legs' size: the same mechanism 1000 times smaller (poses
+    5e-5 m off the set) decides every pose as at 1 m."""
+    scale = 1e-3
+    limits = {f"l{k}": (0.05 * scale, 1.0 * scale) for k in (1, 2, 3)}
+    m = parakin.load(rps3, r_b=0.2 * scale, r_p=0.1 * scale, limits=limits)
+    pose = np.eye(4)
+    pose[2, 3] = 0.3 * scale
+    assert m.inverse_pose(pose).valid[0]
+    assert check(m, scale) >= 6
+
+
+def test_rps3_the_home_pose_round_trips_with_every_plane_measure_one(rps3):
+    m = parakin.load(rps3, backend="numpy")
+    pose = np.eye(4)
+    pose[2, 3] = 0.3
+    ik = m.inverse_pose(pose)
+    assert ik.valid[0] and np.allclose(ik.actuated[0], math.sqrt(0.1**2 + 0.3**2), atol=1e-15)
+
+
+def numeric_inverse(model: joints.DistanceMechanism, values: dict):
+    """The model's inverse as a function (rotation, position, branch) -> every symbol."""
+    inverse = model.inverse()
+
+    def run(rotation: np.ndarray, position: np.ndarray, branch: tuple[int, ...]) -> dict:
+        known: dict = {k: sp.Float(v, 30) for k, v in values.items()}
+        known.update({POSE_ROTATION[i, j]: sp.Float(rotation[i, j], 30) for i in range(3) for j in range(3)})
+        known.update({s: sp.Float(v, 30) for s, v in zip(POSE_POSITION, position, strict=True)})
+        known.update({s: sp.Integer(v) for s, v in zip(inverse.branches, branch, strict=True)})
+        for target, expression in inverse.steps:
+            known[target] = sp.N(expression.xreplace(known), 30)
+        known["validity"] = {n: float(sp.N(v.xreplace(known), 30)) for n, v in inverse.validity.items()}
+        return known
+
+    return run
+
+
+def test_rrs3_inverse_checks_its_planes_and_gives_angles_in_range():
+    """The 3-RRS model (crank legs with a revolute axis parallel to the crank's): the level home
+    is valid on every branch, with crank angles in (-pi, pi]; the pose moved 5 cm along y fails
+    leg 1's plane, turned about the vertical every leg's."""
+    module = fixture("rrs3")
+    model, values = module.MODEL, module.DEFAULTS
+    run = numeric_inverse(model, values)
+    assert [n for n in model.inverse().validity if "plane" in n] == [f"leg{k}_plane_reachable" for k in (1, 2, 3)]
+    home = np.array([0.0, 0.0, module.HOME_HEIGHT])
+    branches = list(itertools.product((1, -1), repeat=3))
+    for branch in branches:
+        result = run(np.eye(3), home, branch)
+        assert all(v > 0 for v in result["validity"].values())
+        assert all(-math.pi < float(result[a]) <= math.pi for a in module.angles)
+    moved_pose = run(np.eye(3), home + np.array([0.0, OFF, 0.0]), branches[0])
+    assert moved_pose["validity"]["leg1_plane_reachable"] < 0
+    c, s = math.cos(0.2), math.sin(0.2)
+    turned = run(np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]), home, branches[0])
+    assert all(turned["validity"][f"leg{k}_plane_reachable"] < 0 for k in (1, 2, 3))
+
+
+def test_legs_take_a_revolute_axis_as_a_documented_keyword():
+    """issue 32: ``prismatic_leg`` and ``crank_leg`` take ``revolute_axis`` (they used to raise
+    "unexpected keyword argument"); a crank's must be parallel to its axis (the link's plane is
+    then fixed), and either direction names the same plane."""
+    theta, length = sp.Symbol("theta"), sp.Symbol("l")
+    leg = joints.prismatic_leg([0.2, 0, 0], [0.1, 0, 0], length, revolute_axis=[0, 1, 0])
+    assert leg.plane_normal == sp.Matrix([0, 1, 0])
+    crank = joints.crank_leg([0.2, 0, 0], [0, 1, 0], [1, 0, 0], 0.1, 0.3, [0.1, 0, 0], theta, revolute_axis=[0, -1, 0])
+    assert crank.plane_normal == sp.Matrix([0, 1, 0])
+    with pytest.raises(ValueError, match="must be parallel to the crank's axis"):
+        joints.crank_leg([0, 0, 0], [0, 1, 0], [1, 0, 0], 0.1, 0.3, [0, 0, 0], theta, revolute_axis=[0, 0, 1])
+    with pytest.raises(ValueError, match="revolute joint's axis must be a unit vector"):
+        joints.prismatic_leg([0, 0, 0], [0, 0, 0], length, revolute_axis=[0, 2, 0])
+
+
+def test_a_platform_that_reads_its_own_pose_keeps_its_inverse():
+    """prs3 reads the reachable pose of the given height and tilt itself (``motion()``): its
+    joints are in their planes by construction, and its inverse is unchanged (no plane measure)."""
+    from parakin.mechanisms import prs3
+
+    assert not prs3.MODEL.checks_planes
+    assert not any("plane" in name for name in prs3.MODEL.inverse().validity)
+
+
+@pytest.mark.slow
+def test_rrs3_generated_poses_on_and_off_the_reachable_set(tmp_path):
+    """The 3-RRS as a package: every mode's pose of inputs around the home valid and giving
+    back its crank angles (in (-pi, pi]), the same poses 5 cm off the set invalid with a plane named."""
+    m = parakin.load(generate("rrs3", tmp_path / "package"))
+    checked = 0
+    for actuated, pose in reachable_poses(m, 0.1, 6, seed=5):
+        ik = m.inverse_pose(pose, strict=False)
+        difference = np.abs(np.remainder(ik.actuated - actuated + np.pi, 2 * np.pi) - np.pi)
+        assert (ik.valid & (difference.max(-1) < 1e-9)).any()
+        for how in ("x", "y", "turn"):
+            off = m.inverse_pose(moved(pose, how, 1.0), strict=False)
+            assert not off.valid.any()
+            assert any(name.endswith("_plane_reachable") and mask.all() for name, mask in off.failures.items())
+        checked += 1
+    assert checked >= 6
