@@ -24,6 +24,9 @@ MODE_OUTCOMES = [
     "complex",  # a homotopy path ends at a complex solution (no real pose)
     "at_infinity",  # a homotopy path diverges: the solution went to infinity for these inputs
     "path_failed",  # the homotopy tracker could not follow the path to the end (step too small)
+    # a real-looking endpoint that no certified box holds alone, or whose realness the
+    # certificate could not decide: not listed (the input is then not certified complete)
+    "uncertified",
 ]
 
 #: per input of forward_pose_all

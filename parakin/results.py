@@ -112,6 +112,17 @@ class AssemblyModes:
     path_certified: Mask | None = None
     #: per input: its paths were tracked a second time (first answer not certified complete)
     retracked: Mask | None = None
+    #: per input: certified roots whose realness neither double nor exact arithmetic decided
+    #: (listed as no mode; the input is then not complete)
+    undecided_roots: NDArray[np.int64] | None = None
+
+    def complete(self) -> Mask:
+        """Per input: every root is certified and every real one decided, with a proven root
+        count: no assembly mode can be missing (False where no certificate applies)."""
+        if self.certified_roots is None or self.root_count is None:
+            return np.zeros(np.shape(self.count), dtype=bool)
+        undecided = 0 if self.undecided_roots is None else self.undecided_roots
+        return (self.certified_roots == self.root_count) & (undecided == 0) & self.root_count_proven
 
     def slot(self, index: int) -> Configuration:
         """Slot ``index`` (0 <= index < M) as a configuration, whether or not it holds a mode
@@ -193,7 +204,10 @@ class AssemblyModes:
             extra = {
                 "root_count": np.full(self.certified_roots.shape, self.root_count),
                 "certified_roots": self.certified_roots,
-                "complete": (self.certified_roots == self.root_count) & self.root_count_proven,
+                "complete": self.complete(),
+                "undecided_roots": self.undecided_roots
+                if self.undecided_roots is not None
+                else np.zeros(self.certified_roots.shape, np.int64),
                 "root_count_proven": np.full(self.certified_roots.shape, self.root_count_proven),
                 "uncertified_paths": (~self.path_certified).sum(-1),
                 "retracked": self.retracked
@@ -243,16 +257,22 @@ def modes_summary(modes: AssemblyModes) -> str:
         found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
     certificate = ""
     if modes.certified_roots is not None and modes.root_count is not None:
-        complete = (np.asarray(modes.certified_roots) == modes.root_count) & modes.root_count_proven
+        complete = modes.complete()
+        undecided = int(np.sum(modes.undecided_roots)) if modes.undecided_roots is not None else 0
         if complete.all():
             certificate = "; certified complete"
-        elif count.ndim == 0:  # one input: say how far the certificate got
+        elif count.ndim == 0 and not modes.root_count_proven:
+            certificate = "; not certified complete: the root count is not proven"
+        elif count.ndim == 0 and int(modes.certified_roots) < modes.root_count:  # type: ignore[call-overload]
             missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
             certificate = (
                 f"; not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
                 f"certified, {missing} not (path_certified: which paths)"
-                if modes.root_count_proven
-                else "; not certified complete: the root count is not proven"
+            )
+        elif count.ndim == 0:  # every root certified, the realness of some undecided
+            certificate = (
+                f"; not certified complete: {undecided} certified root{'s' if undecided != 1 else ''} "
+                "of undecided realness (outcome 'uncertified')"
             )
         else:
             certificate = f"; certified complete for {int(complete.sum())} of {complete.size} inputs"

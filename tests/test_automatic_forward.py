@@ -220,12 +220,12 @@ def test_a_certificate_fails_when_an_endpoint_is_spoiled() -> None:
     from parakin.solvers.modes import certify, numpy_modes
 
     out = numpy_modes(m, state.actuated, info)
-    good, unique = certify(m, info, state.actuated, out["endpoints"])
-    assert (good == info.degree).all() and unique.all()
+    good = certify(m, info, state.actuated, out["endpoints"])
+    assert (good.certified == info.degree).all() and good.unique.all()
     spoiled = out["endpoints"].copy()
     spoiled[0, 0] += 1e-3
-    bad, unique = certify(m, info, state.actuated, spoiled)
-    assert bad[0] == info.degree - 1 and not unique[0, 0] and (bad[1:] == info.degree).all()
+    bad = certify(m, info, state.actuated, spoiled)
+    assert bad.certified[0] == info.degree - 1 and not bad.unique[0, 0] and (bad.certified[1:] == info.degree).all()
 
 
 def test_prs3_has_every_mode_of_the_independent_elimination_without_a_forward_model() -> None:
@@ -317,6 +317,6 @@ def test_certificates_in_chunks_equal_one_pass(monkeypatch, threads: str) -> Non
     monkeypatch.setattr(modes_module, "CERTIFY_CHUNK", 2)
     chunked = modes_module.certify(m, info, state.actuated, out["endpoints"])
     assert state.actuated.shape[0] >= 5
-    np.testing.assert_array_equal(whole[0], chunked[0])
-    np.testing.assert_array_equal(whole[1], chunked[1])
-    assert (whole[0] == info.degree).all()
+    for mine, theirs in zip(whole, chunked, strict=True):
+        np.testing.assert_array_equal(mine, theirs)
+    assert (whole.certified == info.degree).all()

@@ -32,6 +32,7 @@ rejects. Overflow gives inf or NaN, which fails the test.
 from __future__ import annotations
 
 import functools
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -255,6 +256,18 @@ def homogeneous_group(exponents: ArrayLike, equation: ArrayLike, patch_equation:
     )
 
 
+def _typical_size(z: np.ndarray) -> np.ndarray:
+    """Per system and coordinate (..., 1, n): a power of two near the median size of that
+    coordinate over the system's finite nonzero candidates z (..., P, n) (1 where there is none)."""
+    size = np.where(np.isfinite(z).all(-1)[..., None], abs(z), np.nan)
+    size = np.where(size > 0, size, np.nan)  # a root at 0 has no size to measure by
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN slice: no candidate
+        median = np.nanmedian(size, axis=-2, keepdims=True)
+    usable = np.isfinite(median) & (median > 0)
+    return np.where(usable, np.exp2(np.round(np.log2(np.where(usable, median, 1.0)))), 1.0)
+
+
 @np.errstate(all="ignore")  # NaN rows and overflow are handled: never a warning
 def certify_roots(
     coefficients: ArrayLike,
@@ -291,12 +304,15 @@ def certify_roots(
     if homogeneous is None:
         # each candidate in its own coordinates w = z / D, D = diag of powers of two >= |z_i|:
         # the test's max-norm box becomes a box of radius r D_i per coordinate, fitting roots of
-        # very different sizes (a root near infinity); the scaling is exact in floating point
-        k = np.where(np.isfinite(z), np.ceil(np.log2(np.fmax(abs(z), 1.0))), 0.0).astype(np.int64)
+        # very different sizes (a root near infinity); the scaling is exact in floating point.
+        # A coordinate near 0 is measured in its typical size over the candidates of its system
+        # (the median: a few roots near infinity do not move it), not in absolute units, so a
+        # geometry in millimetres is certified as the same geometry in metres
+        k = np.where(np.isfinite(z), np.ceil(np.log2(np.fmax(abs(z), _typical_size(z)))), 0.0).astype(np.int64)
         shift = k @ exponents.T  # (..., P, T): c_t prod_i D_i^a_ti
         scaled = np.ldexp(c.real[..., None, :], shift) + 1j * np.ldexp(c.imag[..., None, :], shift)
         w = (z / np.ldexp(1.0, k))[..., None, :]
-        unique, radius, code, x = _certify(scaled, exponents, equation, w, real_coefficients, None, None)
+        unique, radius, code, x = _certify(scaled, exponents, equation, w, real_coefficients, None, None, unit=0.5)
         scale = np.ldexp(1.0, k)
         centre, radii = x[..., 0, :] * scale, radius[..., 0, None] * scale
         distinct, count = distinct_clusters(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
@@ -316,6 +332,7 @@ def _certify(
     real_coefficients: bool,
     homogeneous: list[int] | None,
     patch_equation: int | None,
+    unit: float = 1e-150,
 ) -> tuple[np.ndarray, ...]:
     """The test on each candidate (``certify_roots``, validated and broadcast): unique, radius,
     realness code and the sharpened centres (NaN where no candidate was given)."""
@@ -342,7 +359,9 @@ def _certify(
         new = x - system.bounds(x)[3]
         x = np.where(np.isfinite(new).all(-1)[..., None], new, x)
     bounds = system.bounds(x)
-    scale = NEAR * np.fmax(abs(z).max(-1), 1e-150)
+    # ``unit``: the least size a candidate is measured against (scaled coordinates: their
+    # typical size, 1/2 after rounding; a root at the origin moves relative to that)
+    scale = NEAR * np.fmax(abs(z).max(-1), unit)
     valid &= abs(x - z).max(-1) <= scale
     floor = 4 * UNIT * abs(x).max(-1) + FLOOR
     radii = MULTIPLIERS * bounds[0][..., None] + floor[..., None]
@@ -408,16 +427,24 @@ def _contains_where(
     return out
 
 
-def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Disjointness of the certified boxes (centres x (..., P, n), radii r (..., P, n) per
-    coordinate) and the number of connected clusters of overlapping ones."""
+def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Clusters of overlapping certified boxes (centres x (..., P, n), radii r (..., P, n) per
+    coordinate): per root its cluster's first member (-1 where not ``unique``), and per input
+    whether no two boxes overlap."""
+    count = unique.shape[-1]
     gap = abs(x[..., :, None, :] - x[..., None, :, :]) * (1 - 8 * UNIT)
     apart = (gap > (r[..., :, None, :] + r[..., None, :, :]) * (1 + 8 * UNIT)).any(-1)
     touch = unique[..., :, None] & unique[..., None, :] & ~apart
-    count = touch.shape[-1]
     distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))
     reach = touch.astype(float)
     for _ in range(int(np.ceil(np.log2(max(count, 2))))):  # transitive closure by squaring
         reach = np.minimum(reach + reach @ reach, 1.0)
-    first = unique & ~((reach > 0) & np.tri(count, k=-1, dtype=bool).T).any(-2)
-    return distinct, first.sum(-1)
+    labels = np.where(unique, (reach > 0).argmax(-1), -1)
+    return labels, distinct
+
+
+def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Disjointness of the certified boxes (centres x (..., P, n), radii r (..., P, n) per
+    coordinate) and the number of connected clusters of overlapping ones."""
+    labels, distinct = cluster_labels(x, r, unique)
+    return distinct, (labels == np.arange(unique.shape[-1])).sum(-1)

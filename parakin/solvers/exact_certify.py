@@ -23,6 +23,8 @@ import numpy as np
 BITS = 160
 #: Newton refinements at most (each gains about -log10(||I - Y J||) digits)
 REFINEMENTS = 12
+#: the unit roundoff of double precision (a quotient's relative error is below it)
+UNIT_ROUNDING = 2.0**-53
 #: radii tried, as powers of two times the exact bound on the Newton step (2, 8, 64, 1024)
 MULTIPLIER_SHIFTS = (1, 3, 6, 10)
 
@@ -283,3 +285,52 @@ def certify_root_exactly(
             if _test(system, [(v[0], 0, v[2]) for v in x], _radd(need, radius)) is not None:
                 real = 1
     return ExactCertificate(True, center, reported, real)
+
+
+def realness_in_chart(
+    coefficients: np.ndarray,
+    exponents: np.ndarray,
+    equation: np.ndarray,
+    patch_equation: int,
+    homogeneous: list[int],
+    root: np.ndarray,
+) -> int:
+    """Whether the root near ``root`` (n,) of a system whose equations but the complex linear
+    ``patch_equation`` are homogeneous in the unknowns ``homogeneous``, with real coefficients,
+    is a real projective point: +1 real, -1 not, 0 undecided (the root not certified, or the
+    coefficients not real).
+
+    The root is certified exactly (``certify_root_exactly``) in a box B(x, r); its image in the
+    real chart z_j = 1 (j: the largest homogeneous entry, 4 r <= |x_j|) lies within ``need`` of
+    the real point Re(x / x_j) (group entries: |z_i / z_j - x_i / x_j| <= 2 r (|x_i| + |x_j|) /
+    |x_j|^2; the others move by r). If a polydisc of radius >= need about that real point holds
+    exactly one root of the chart system (real coefficients), that root is its own conjugate: the
+    image, so the root, is real. If the image's box misses the real space, it is not."""
+    patch = np.asarray(equation) == patch_equation
+    if not np.all(np.asarray(coefficients)[~patch].imag == 0):
+        return 0
+    box = certify_root_exactly(coefficients, exponents, equation, root, False)
+    if not box.unique:
+        return 0
+    x, r = box.center, box.radius
+    group = np.zeros(x.size, dtype=bool)
+    group[list(homogeneous)] = True
+    j = int(np.asarray(homogeneous)[np.abs(x[homogeneous]).argmax()])
+    size_j = abs(x[j])
+    if not 4 * r <= size_j:
+        return 0
+    w = np.where(group, x / x[j], x)
+    # the image's distance from w, and w's own rounding (a quotient: a few units in the last place)
+    moved = np.where(group, 2 * r * (np.abs(x) + size_j) / size_j**2, r) + 8 * UNIT_ROUNDING * np.abs(w)
+    if (np.abs(w.imag) > moved * (1 + 1e-12)).any():
+        return -1  # the image's box misses the real space
+    need = float(((np.abs(w.imag) + moved) * (1 + 1e-12)).max())
+    keep = ~patch
+    n = x.size
+    chart_exponents = np.concatenate([np.asarray(exponents)[keep], np.zeros((2, n), np.int64)])
+    chart_exponents[-2, j] = 1
+    chart_equation = np.r_[np.asarray(equation)[keep], [patch_equation, patch_equation]]
+    chart_coefficients = np.r_[np.asarray(coefficients)[keep].real, [1.0, -1.0]]
+    system = _ExactSystem(chart_coefficients, chart_exponents, chart_equation)
+    centre: list[Complex] = [(mantissa, 0, exponent) for mantissa, exponent in (_real(float(v)) for v in w.real)]
+    return 1 if _test(system, centre, _real(math.nextafter(need, math.inf))) is not None else 0

@@ -261,7 +261,9 @@ def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray,
         with np.errstate(all="ignore"):
             z = z * (np.abs(largest) / largest)
     with np.errstate(all="ignore"):
-        imaginary = np.abs(z.imag).max(-1) / np.abs(z).max(-1)
+        largest_imaginary = np.abs(z.imag).max(-1)
+        # a root at the origin (a translating platform at home) is real, not 0/0
+        imaginary = np.where(largest_imaginary == 0, 0.0, largest_imaginary / np.abs(z).max(-1))
     return z, imaginary
 
 

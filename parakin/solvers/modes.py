@@ -22,8 +22,14 @@ import numpy as np
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN, BadInputError
 from parakin.pose import pose_vector, wrap_angle
 from parakin.results import Array, AssemblyModes
-from parakin.solvers.certify import Certificate, certify_roots, distinct_clusters, homogeneous_group
-from parakin.solvers.exact_certify import certify_root_exactly
+from parakin.solvers.certify import (
+    Certificate,
+    certify_roots,
+    cluster_labels,
+    distinct_clusters,
+    homogeneous_group,
+)
+from parakin.solvers.exact_certify import certify_root_exactly, realness_in_chart
 from parakin.solvers.homotopy import (
     PATH_DIVERGED,
     PATH_FAILED,
@@ -112,14 +118,27 @@ def _allocate(info: Forward, m: Mechanism, count: int) -> dict[str, np.ndarray]:
     }
 
 
+def length_scale(m: Mechanism) -> float:
+    """The size of the geometry: the largest length parameter (1 m where none is nonzero). The
+    thresholds on closure residuals and pose distances are multiples of it, so the same geometry
+    in millimetres or kilometres gets the same modes, scaled."""
+    lengths = [abs(v) for p, v in zip(m.manifest.parameters, m.params, strict=True) if p.unit == "m"]
+    largest = max((v for v in lengths if np.isfinite(v)), default=0.0)
+    return float(largest) if largest > 0 else 1.0
+
+
 def _settings(m: Mechanism) -> dict[str, float | int]:
     tol = m.tolerances
+    size = length_scale(m)
     return {
         "polish_iterations": int(tol["polish_iterations"]),
-        "tolerance": tol["polish"],
-        "closure": tol["closure"],
-        "candidate": tol["candidate"],
-        "duplicate": tol["duplicate"],
+        "tolerance": tol["polish"] * size,
+        # what a Newton that stalls (singular, or linear near a double root) must reach to be a
+        # mode: the real part of a near-real pair closes to ~1e-9, a real root to rounding
+        "closure": min(tol["closure"], 100 * tol["polish"]) * size,
+        "candidate": tol["candidate"] * size,
+        # a pose difference mixes rotation (unitless) and position: scaled down, never up
+        "duplicate": tol["duplicate"] * min(size, 1.0),
         "factor_zero": tol["factor_zero"],
         "singular_ratio": tol["singular_ratio"],
         "validity": tol["validity"],
@@ -418,9 +437,28 @@ def _certified_group(homotopy: Homotopy) -> list[int] | None:
     return homogeneous_group(homotopy.exponents, homotopy.equation, homotopy.patch_equation, list(homotopy.homogeneous))
 
 
-def certify(
-    m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
-) -> tuple[np.ndarray, np.ndarray]:
+class PathCertificate(NamedTuple):
+    """Per input of a flat batch (n,): ``certified`` the distinct roots certified (clusters of
+    overlapping Krawczyk boxes, a lower bound on the roots; complete where it equals the root
+    count); per path (n, P): ``unique`` its box holds exactly one root, ``real`` +1 that root is
+    certified real, -1 certified non-real, 0 undecided; ``centre`` (n, P, n_z) and ``radii``
+    (n, P, n_z) the box (NaN where not ``unique``)."""
+
+    certified: np.ndarray
+    unique: np.ndarray
+    real: np.ndarray
+    centre: np.ndarray
+    radii: np.ndarray
+
+    def rows(self, index: np.ndarray) -> PathCertificate:
+        return PathCertificate(*(value[index] for value in self))
+
+
+def _joined(parts: list[PathCertificate]) -> PathCertificate:
+    return PathCertificate(*(np.concatenate(values) for values in zip(*parts, strict=True)))
+
+
+def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False) -> PathCertificate:
     """``certify_inputs`` in chunks: the Krawczyk tables take about a megabyte per input of a
     chunk, so memory stays bounded whatever the batch (``CERTIFY_CHUNK`` inputs in all, shared
     by the ``threads()`` that certify chunks side by side; NumPy releases the GIL in the array
@@ -428,7 +466,7 @@ def certify(
     workers = threads()
     size = max(1, CERTIFY_CHUNK // workers)
 
-    def chunk(a: int) -> tuple[np.ndarray, np.ndarray]:
+    def chunk(a: int) -> PathCertificate:
         return certify_inputs(m, info, theta[a : a + size], endpoints[a : a + size], exact)
 
     starts = range(0, theta.shape[0], size)
@@ -439,17 +477,18 @@ def certify(
         parts = [chunk(a) for a in starts]
     if not parts:
         return certify_inputs(m, info, theta, endpoints, exact)
-    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+    return _joined(parts)
 
 
 def certify_inputs(
     m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, exact: bool = False
-) -> tuple[np.ndarray, np.ndarray]:
+) -> PathCertificate:
     """Per input (flat batch): how many distinct roots of the system at the inputs are certified
     by Krawczyk boxes around the paths' endpoints, and per path whether its box holds exactly one
-    root (``parakin.solvers.certify``); the answer is complete where the first equals the root count.
-    With ``exact``, the finite endpoints of incomplete inputs that double precision cannot
-    certify are tested again in exact dyadic arithmetic (``parakin.solvers.exact_certify``)."""
+    root and whether that root is real (``parakin.solvers.certify``); the answer is complete where
+    the first equals the root count. With ``exact``, the finite endpoints of incomplete inputs
+    that double precision cannot certify, and the certified roots whose realness it cannot
+    decide, are tested again in exact dyadic arithmetic (``parakin.solvers.exact_certify``)."""
     homotopy = info.homotopy
     assert homotopy is not None
     free, angles = _family(m, info, theta)
@@ -459,27 +498,136 @@ def certify_inputs(
     pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     paired = _paired_ends(pairs, roots)
     result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired)
-    counts, unique = result.certified_distinct.copy(), result.unique.copy()
-    if not exact or homotopy.root_count is None:
-        return counts, unique
+    counts, unique, real = result.certified_distinct.copy(), result.unique.copy(), result.real.copy()
     centre, radii = result.center.copy(), result.radii.copy()
+    if not exact or homotopy.root_count is None:
+        return PathCertificate(counts, unique, real, centre, radii)
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
         source[np.ix_(np.nonzero(paired)[0], pairs.second)] = pairs.first
-    for i in np.nonzero(counts < homotopy.root_count.count)[0]:
-        for p in np.nonzero(~unique[i] & finite[i])[0]:
+    short = counts < homotopy.root_count.count
+    undecided = unique & (real == 0)
+    for i in np.nonzero(short | undecided.any(-1))[0]:
+        retry = (~unique[i] & finite[i] & short[i]) | undecided[i]
+        for p in np.nonzero(retry)[0]:
             if pairs is not None and source[i, p] >= 0:  # the image of an earlier path's end: its box's image
                 q = source[i, p]
-                unique[i, p], centre[i, p], radii[i, p] = unique[i, q], centre[i, q] * pairs.flip, radii[i, q]
+                unique[i, p], real[i, p] = unique[i, q], real[i, q]
+                centre[i, p], radii[i, p] = centre[i, q] * pairs.flip, radii[i, q]
+                continue
+            start = centre[i, p] if unique[i, p] else roots[i, p]
+            if unique[i, p] and homotopy.patch_equation is not None:  # decided in the real chart
+                real[i, p] = realness_in_chart(
+                    coefficients[i], homotopy.exponents, homotopy.equation, homotopy.patch_equation,
+                    _certified_group(homotopy) or [], start,
+                )  # fmt: skip
                 continue
             exact_box = certify_root_exactly(
-                coefficients[i], homotopy.exponents, homotopy.equation, roots[i, p], homotopy.patch_equation is None
+                coefficients[i], homotopy.exponents, homotopy.equation, start, homotopy.patch_equation is None
             )
-            if exact_box.unique:
+            if exact_box.unique and not unique[i, p]:
                 unique[i, p], centre[i, p], radii[i, p] = True, exact_box.center, exact_box.radius
-        counts[i] = distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1]
-    return counts, unique
+                real[i, p] = exact_box.real
+            elif exact_box.unique and abs(exact_box.center - centre[i, p]).max() <= radii[i, p].min():
+                real[i, p] = exact_box.real  # the same root (its exact centre lies in the box)
+        counts[i] = int(distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1])
+    return PathCertificate(counts, unique, real, centre, radii)
+
+
+def _configuration(m: Mechanism, info: Forward, theta: Array, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Passive values (k, n_p) and poses (k, 4, 4) of real roots z (k, n_z) of the family at the
+    inputs ``theta`` (k, n_a), from the generated kernels (identity where a pose is undefined)."""
+    with np.errstate(all="ignore"):
+        q = m.backend.call(f"{info.method}_passive", np.ascontiguousarray(z), m.params)["passive"]
+        pose = m.backend.call("platform_pose", theta, np.nan_to_num(q), m.params)["pose"]
+    defined = np.asarray(np.isfinite(pose).all((-2, -1)))
+    return q, np.where(defined[:, None, None], pose, np.eye(4))
+
+
+#: two modes whose rotations differ by at most this, and their positions by at most this times
+#: the size of the input's workspace (its modes' largest position), are one pose
+SAME_POSE = 1e-9
+
+
+def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int) -> None:
+    """Mark, in slot order, each mode (n, slots) whose pose (n, slots, 4, 4) repeats an earlier
+    mode's as ``duplicate``, in place. Distinct certified roots can be one pose: a formulation's
+    second name for it (a quaternion's q -> -q, Euler angles (a + pi, pi - b, c + pi)), which
+    gives the same pose to rounding; distinct poses of a near-fold differ by far more."""
+    valid = outcome == mode
+    position = np.where(valid[..., None], np.abs(poses[..., :3, 3]), 0.0).max((-2, -1))
+    for s in range(1, outcome.shape[-1]):
+        pending = outcome[:, s] == mode
+        if not pending.any():
+            continue
+        earlier = outcome[:, :s] == mode
+        rotation = np.abs(poses[:, :s, :3, :3] - poses[:, s, None, :3, :3]).max((-2, -1))
+        moved = np.abs(poses[:, :s, :3, 3] - poses[:, s, None, :3, 3]).max(-1)
+        same = earlier & (rotation <= SAME_POSE) & (moved <= SAME_POSE * position[:, None])
+        outcome[:, s] = np.where(pending & same.any(-1), duplicate, outcome[:, s])
+
+
+def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
+    """The modes of a homotopy's inputs decided by the certificate, not by thresholds on the
+    endpoints: certified roots are grouped by overlapping boxes (and, where the family's sign
+    symmetry keeps the pose, their images: one mode); a group whose root is certified real is
+    a mode unless a physical check rejects it (it is settled again from its certified centre if
+    the first pass had rejected its endpoint), one certified non-real is "complex" (a near-real
+    pair is never a mode), one undecided is "uncertified", and so is a real-looking endpoint
+    that no box holds alone. Returns the updated arrays and ``undecided`` (n,): certified roots
+    whose realness is not decided (the input is then not complete)."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    codes, kinds = _codes(m), m.manifest.abi.root_kinds
+    n, paths = cert.unique.shape
+    out = {key: value.copy() for key, value in out.items()}
+    outcome, kind = out["outcome"], out["root_kind"]
+    radii = np.where(cert.unique[..., None], cert.radii, 0.0)
+    labels, _ = cluster_labels(cert.centre, radii, cert.unique)
+    member = (labels[..., :, None] == np.arange(paths)) & cert.unique[..., None]  # (n, path, group)
+    positive = (member & (cert.real == 1)[..., None]).any(-2)
+    negative = (member & (cert.real == -1)[..., None]).any(-2)
+    first = labels == np.arange(paths)
+    real = first & positive & ~negative
+    nonreal = first & negative & ~positive
+    undecided = first & ~real & ~nonreal
+    group = np.where(labels >= 0, labels, 0)
+    in_real = np.take_along_axis(real, group, -1) & cert.unique
+    in_nonreal = np.take_along_axis(nonreal, group, -1) & cert.unique
+    in_undecided = np.take_along_axis(undecided, group, -1) & cert.unique
+    real_centre, _ = phase_normalised(cert.centre, list(homotopy.homogeneous))
+    real_roots = real.sum(-1)
+    mode = codes["mode"]
+    kept = np.isin(outcome, [mode, codes["outside_limits"], codes["false_closure"], codes["input_independent"]])
+    # a real root the first pass did not settle (called complex, not closed, a pose repeat): again
+    # from its certified centre
+    redo = real & ~kept
+    outcome[~cert.unique & (outcome == mode)] = codes["uncertified"]
+    outcome[in_nonreal] = codes["complex"]
+    outcome[in_undecided] = codes["uncertified"]
+    outcome[in_real & ~first] = codes["duplicate"]
+    kind[in_real] = kinds.index("simple")
+    kind[in_nonreal] = kinds.index("complex")
+    kind[in_undecided] = kinds.index("near_real")
+    if redo.any():
+        rows, columns = np.nonzero(redo)
+        q, pose = _configuration(m, info, theta[rows], real_centre[rows, columns].real)
+        q, pose, result, residual, conditioning = _check_candidates(
+            m, theta[rows], q, pose, np.full(rows.size, -1, dtype=np.int32)
+        )
+        outcome[rows, columns] = np.where(result < 0, mode, result)
+        out["passive"][rows, columns] = np.nan_to_num(q)
+        out["poses"][rows, columns] = pose
+        out["residual"][rows, columns] = residual
+        out["conditioning"][rows, columns] = conditioning
+    _same_pose(outcome, out["poses"], mode, codes["duplicate"])
+    finite = np.isfinite(theta).all(-1)
+    out["count"] = (outcome == mode).sum(-1).astype(np.int32)
+    out["real_roots"] = np.where(finite, real_roots, out["real_roots"]).astype(np.int32)
+    out["near_roots"] = np.where(finite, undecided.sum(-1), out["near_roots"]).astype(np.int32)
+    out["undecided"] = undecided.sum(-1).astype(np.int64)
+    return out
 
 
 def _paired_ends(pairs: PathPairs | None, roots: np.ndarray) -> np.ndarray:
@@ -609,23 +757,19 @@ def _polynomial_candidates(m: Mechanism, theta: Array, info: Forward) -> dict[st
     }
 
 
-def _settle(
-    m: Mechanism, theta: Array, finite_input: np.ndarray, found: dict[str, np.ndarray]
-) -> dict[str, np.ndarray]:
-    """Candidates to modes: closure and alignment, Newton polish, wrapping, joint limits, input
-    independence and repeats; every slot ends with an outcome."""
+def _check_candidates(m: Mechanism, theta: Array, q: Array, pose: Array, outcome: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Candidates (k,) with actuated values ``theta`` (k, n_a), passive values ``q`` (k, n_p) and
+    poses (k, 4, 4) where ``outcome`` is -1 (others pass through): closure and alignment, Newton
+    polish, wrapping, joint limits and input independence. Returns q, pose, outcome (-1 still
+    for a mode), the closure residual and the conditioning."""
     codes = _codes(m)
     settings = _settings(m)
-    pose, q = found["pose"], found["q"]
-    slot_has = found["has_root"] & finite_input[:, None]
-    outcome = np.where(slot_has, found["outcome"], codes["no_root"]).astype(np.int32)
-    n, slots = outcome.shape
-    theta_slots = np.broadcast_to(theta[:, None, :], (n, slots, theta.shape[-1]))
+    q, pose, outcome = q.copy(), pose.copy(), outcome.copy()
     located = np.asarray(np.isfinite(q).all(-1))
     outcome = np.where((outcome < 0) & ~located, codes["not_closed"], outcome)
     q = np.where(located[..., None], q, 0.0)
     with np.errstate(all="ignore"):
-        closure = m.backend.call("loop_closure", theta_slots, q, m.params)
+        closure = m.backend.call("loop_closure", theta, q, m.params)
     # a NaN entry makes the whole closure undefined (np.fmax would drop it)
     norm = np.abs(closure["residual"]).max(-1, initial=0.0)
     norm = np.where(np.isnan(norm), np.inf, norm)
@@ -633,13 +777,12 @@ def _settle(
     residual = np.where(outcome < 0, norm, np.nan)
     outcome = np.where((outcome < 0) & ~(norm < settings["candidate"]), codes["not_closed"], outcome)
     outcome = np.where((outcome < 0) & ~aligned, codes["false_closure"], outcome)
-
-    conditioning = np.full((n, slots), np.nan)
+    conditioning = np.full(outcome.shape, np.nan)
     pending = outcome < 0
     if pending.any():
         where = np.nonzero(pending)
         polished_q, polished_pose, polished_norm, _, status, ratio, _, _ = m._newton_python(
-            theta_slots[where], q[where], settings["tolerance"], int(settings["polish_iterations"]), 0.5, keep_last=True
+            theta[where], q[where], settings["tolerance"], int(settings["polish_iterations"]), 0.5, keep_last=True
         )
         conditioning[where] = ratio
         # near a double root Newton converges only linearly: a last iterate that closes to the
@@ -647,10 +790,10 @@ def _settle(
         slow = (status == NEWTON_NO_CONVERGENCE) & (polished_norm < settings["closure"])
         if slow.any():
             with np.errstate(all="ignore"):
-                check = m.backend.call("loop_closure", theta_slots[where][slow], polished_q[slow], m.params)
+                check = m.backend.call("loop_closure", theta[where][slow], polished_q[slow], m.params)
             status[np.nonzero(slow)[0][(check["alignment"] > 0).all(-1)]] = NEWTON_OK
         ok = status == NEWTON_OK
-        keep = (status == NEWTON_SINGULAR) & (norm[where] < settings["candidate"])
+        keep = (status == NEWTON_SINGULAR) & (norm[where] < settings["closure"])
         result = np.full(status.shape, -1, dtype=np.int32)
         result[status == NEWTON_WRONG_BASIN] = codes["false_closure"]
         result[~ok & ~keep & (status != NEWTON_WRONG_BASIN)] = codes["not_converged"]
@@ -665,11 +808,30 @@ def _settle(
     folded = m.capabilities.rates.input_independent if m.capabilities.rates else ()
     if folded and (outcome < 0).any():
         with np.errstate(all="ignore"):
-            factors = m.backend.call("singularity_factors", theta_slots, q, m.params)["factors"]
+            factors = m.backend.call("singularity_factors", theta, q, m.params)["factors"]
         names = list(m.manifest.singularity_factors)
         picked = np.array([names.index(name) for name in folded])
         independent = (np.abs(factors[..., picked]) < settings["factor_zero"]).all(-1)
         outcome = np.where((outcome < 0) & independent, codes["input_independent"], outcome)
+    return q, pose, outcome, residual, conditioning
+
+
+def _settle(
+    m: Mechanism, theta: Array, finite_input: np.ndarray, found: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    """Candidates to modes: closure and alignment, Newton polish, wrapping, joint limits, input
+    independence (``_check_candidates``) and repeats; every slot ends with an outcome."""
+    codes = _codes(m)
+    settings = _settings(m)
+    slot_has = found["has_root"] & finite_input[:, None]
+    outcome = np.where(slot_has, found["outcome"], codes["no_root"]).astype(np.int32)
+    n, slots = outcome.shape
+    theta_slots = np.broadcast_to(theta[:, None, :], (n, slots, theta.shape[-1]))
+    checked = _check_candidates(
+        m, theta_slots.reshape(n * slots, -1), found["q"].reshape(n * slots, -1),
+        found["pose"].reshape(n * slots, 4, 4), outcome.reshape(-1),
+    )  # fmt: skip
+    q, pose, outcome, residual, conditioning = (v.reshape((n, slots) + v.shape[1:]) for v in checked)
     # repeats: slot by slot, so that the first of two equal modes is the one kept (as in C)
     for s in range(slots):
         pending_s = outcome[:, s] < 0
@@ -789,4 +951,5 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         certified_roots=shaped("certified") if "certified" in out else None,
         path_certified=shaped("path_certified") if "path_certified" in out else None,
         retracked=shaped("retracked") if "retracked" in out else None,
+        undecided_roots=shaped("undecided") if "undecided" in out else None,
     )
