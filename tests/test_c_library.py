@@ -62,8 +62,9 @@ def _build(tmp_path):
     for name in PAIR:
         folder = tmp_path / name
         parakin.load(name).package.export_c(folder)  # type: ignore[attr-defined]
-        for source, flags in (("driver.c", STRICT), ("kernels.c", ["-std=c99", "-O2"])):  # CasADi's own file
-            target = tmp_path / f"{name}_{source}.o"
+        # exported names carry the mechanism's prefix; the kernels are CasADi's own file
+        for source, flags in ((f"{name}_driver.c", STRICT), (f"{name}_kernels.c", ["-std=c99", "-O2"])):
+            target = tmp_path / f"{source}.o"
             subprocess.run(
                 [COMPILER, *flags, "-I", str(folder), "-c", str(folder / source), "-o", str(target)], check=True
             )
@@ -138,7 +139,7 @@ def test_exported_example_program_runs(tmp_path, name):
     folder = tmp_path / name
     m = parakin.load(name, backend="numpy")
     m.package.export_c(folder)  # type: ignore[attr-defined]
-    sources = ["example_main.c", "driver.c", "kernels.c"]
+    sources = [f"{name}_example_main.c", f"{name}_driver.c", f"{name}_kernels.c"]
     subprocess.run([COMPILER, *SANITIZED, "-I", ".", *sources, "-lm", "-o", "example"], cwd=folder, check=True)
     environment = {"ASAN_OPTIONS": "detect_leaks=0", "UBSAN_OPTIONS": "halt_on_error=1"}
     run = subprocess.run(["./example"], cwd=folder, capture_output=True, text=True, env=environment, timeout=120)

@@ -116,6 +116,7 @@ enum {
     DELTA_OUTCOME_COMPLEX = 9,
     DELTA_OUTCOME_AT_INFINITY = 10,
     DELTA_OUTCOME_PATH_FAILED = 11,
+    DELTA_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

@@ -632,7 +632,9 @@ static void settle(workspace* ws, const delta_modes_job* job, long long i, int s
     } else if (status == DELTA_WRONG_BASIN || !aligned) {
         outcome[s] = DELTA_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != DELTA_SINGULAR) {
+    } else if (status != DELTA_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = DELTA_OUTCOME_NOT_CONVERGED;
         return;
     }

@@ -632,7 +632,9 @@ static void settle(workspace* ws, const five_bar_modes_job* job, long long i, in
     } else if (status == FIVE_BAR_WRONG_BASIN || !aligned) {
         outcome[s] = FIVE_BAR_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != FIVE_BAR_SINGULAR) {
+    } else if (status != FIVE_BAR_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = FIVE_BAR_OUTCOME_NOT_CONVERGED;
         return;
     }

@@ -108,6 +108,7 @@ enum {
     FIVE_BAR_OUTCOME_COMPLEX = 9,
     FIVE_BAR_OUTCOME_AT_INFINITY = 10,
     FIVE_BAR_OUTCOME_PATH_FAILED = 11,
+    FIVE_BAR_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

@@ -128,6 +128,7 @@ enum {
     GOUGH_OUTCOME_COMPLEX = 9,
     GOUGH_OUTCOME_AT_INFINITY = 10,
     GOUGH_OUTCOME_PATH_FAILED = 11,
+    GOUGH_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

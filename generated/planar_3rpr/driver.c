@@ -627,7 +627,9 @@ static void settle(workspace* ws, const planar_3rpr_modes_job* job, long long i,
     } else if (status == PLANAR_3RPR_WRONG_BASIN || !aligned) {
         outcome[s] = PLANAR_3RPR_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != PLANAR_3RPR_SINGULAR) {
+    } else if (status != PLANAR_3RPR_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = PLANAR_3RPR_OUTCOME_NOT_CONVERGED;
         return;
     }

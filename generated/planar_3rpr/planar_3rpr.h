@@ -120,6 +120,7 @@ enum {
     PLANAR_3RPR_OUTCOME_COMPLEX = 9,
     PLANAR_3RPR_OUTCOME_AT_INFINITY = 10,
     PLANAR_3RPR_OUTCOME_PATH_FAILED = 11,
+    PLANAR_3RPR_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

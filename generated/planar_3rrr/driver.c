@@ -501,7 +501,9 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
     } else if (status == PLANAR_3RRR_WRONG_BASIN || !aligned) {
         outcome[s] = PLANAR_3RRR_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != PLANAR_3RRR_SINGULAR) {
+    } else if (status != PLANAR_3RRR_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = PLANAR_3RRR_OUTCOME_NOT_CONVERGED;
         return;
     }
@@ -1065,7 +1067,8 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
 static double phase_normalise(cplx* z) {
     double imaginary = 0.0, magnitude = 0.0;
     for (int k = 0; k < NZ; ++k) { imaginary = fmax(imaginary, fabs(z[k].im)); magnitude = fmax(magnitude, c_abs(z[k])); }
-    return imaginary / magnitude;
+    // a root at the origin (a translating platform at home) is real, not 0/0
+    return imaginary == 0.0 ? 0.0 : imaginary / magnitude;
 }
 
 static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long i) {

@@ -125,6 +125,7 @@ enum {
     PLANAR_3RRR_OUTCOME_COMPLEX = 9,
     PLANAR_3RRR_OUTCOME_AT_INFINITY = 10,
     PLANAR_3RRR_OUTCOME_PATH_FAILED = 11,
+    PLANAR_3RRR_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

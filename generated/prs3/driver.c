@@ -506,7 +506,9 @@ static void settle(workspace* ws, const prs3_modes_job* job, long long i, int s,
     } else if (status == PRS3_WRONG_BASIN || !aligned) {
         outcome[s] = PRS3_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != PRS3_SINGULAR) {
+    } else if (status != PRS3_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = PRS3_OUTCOME_NOT_CONVERGED;
         return;
     }
@@ -1723,7 +1725,8 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
 static double phase_normalise(cplx* z) {
     double imaginary = 0.0, magnitude = 0.0;
     for (int k = 0; k < NZ; ++k) { imaginary = fmax(imaginary, fabs(z[k].im)); magnitude = fmax(magnitude, c_abs(z[k])); }
-    return imaginary / magnitude;
+    // a root at the origin (a translating platform at home) is real, not 0/0
+    return imaginary == 0.0 ? 0.0 : imaginary / magnitude;
 }
 
 static void modes_one(workspace* ws, const prs3_modes_job* job, long long i) {

@@ -144,6 +144,7 @@ enum {
     PRS3_OUTCOME_COMPLEX = 9,
     PRS3_OUTCOME_AT_INFINITY = 10,
     PRS3_OUTCOME_PATH_FAILED = 11,
+    PRS3_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

@@ -202,6 +202,7 @@ enum {
     RUS6_OUTCOME_COMPLEX = 9,
     RUS6_OUTCOME_AT_INFINITY = 10,
     RUS6_OUTCOME_PATH_FAILED = 11,
+    RUS6_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

@@ -632,7 +632,9 @@ static void settle(workspace* ws, const sam_modes_job* job, long long i, int s, 
     } else if (status == SAM_WRONG_BASIN || !aligned) {
         outcome[s] = SAM_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != SAM_SINGULAR) {
+    } else if (status != SAM_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = SAM_OUTCOME_NOT_CONVERGED;
         return;
     }

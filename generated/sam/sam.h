@@ -107,6 +107,7 @@ enum {
     SAM_OUTCOME_COMPLEX = 9,
     SAM_OUTCOME_AT_INFINITY = 10,
     SAM_OUTCOME_PATH_FAILED = 11,
+    SAM_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

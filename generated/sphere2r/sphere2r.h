@@ -75,6 +75,7 @@ enum {
     SPHERE2R_OUTCOME_COMPLEX = 9,
     SPHERE2R_OUTCOME_AT_INFINITY = 10,
     SPHERE2R_OUTCOME_PATH_FAILED = 11,
+    SPHERE2R_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

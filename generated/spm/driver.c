@@ -628,7 +628,9 @@ static void settle(workspace* ws, const spm_modes_job* job, long long i, int s, 
     } else if (status == SPM_WRONG_BASIN || !aligned) {
         outcome[s] = SPM_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != SPM_SINGULAR) {
+    } else if (status != SPM_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = SPM_OUTCOME_NOT_CONVERGED;
         return;
     }

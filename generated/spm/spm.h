@@ -102,6 +102,7 @@ enum {
     SPM_OUTCOME_COMPLEX = 9,
     SPM_OUTCOME_AT_INFINITY = 10,
     SPM_OUTCOME_PATH_FAILED = 11,
+    SPM_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

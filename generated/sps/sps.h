@@ -145,6 +145,7 @@ enum {
     SPS_OUTCOME_COMPLEX = 9,
     SPS_OUTCOME_AT_INFINITY = 10,
     SPS_OUTCOME_PATH_FAILED = 11,
+    SPS_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all

@@ -592,7 +592,9 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
     } else if (status == STEWART_WRONG_BASIN || !aligned) {
         outcome[s] = STEWART_OUTCOME_FALSE_CLOSURE;
         return;
-    } else if (status != STEWART_SINGULAR) {
+    } else if (status != STEWART_SINGULAR || !(norm < job->closure)) {
+        // a singular Newton keeps only a candidate that already closes to the closure
+        // tolerance: a near-real pair's real part closes to ~1e-9, a mode to rounding
         outcome[s] = STEWART_OUTCOME_NOT_CONVERGED;
         return;
     }
@@ -2017,7 +2019,8 @@ static double phase_normalise(cplx* z) {
     for (int k = 0; k < NZ; ++k) z[k] = c_mul(z[k], phase);
     double imaginary = 0.0, magnitude = 0.0;
     for (int k = 0; k < NZ; ++k) { imaginary = fmax(imaginary, fabs(z[k].im)); magnitude = fmax(magnitude, c_abs(z[k])); }
-    return imaginary / magnitude;
+    // a root at the origin (a translating platform at home) is real, not 0/0
+    return imaginary == 0.0 ? 0.0 : imaginary / magnitude;
 }
 
 static void modes_one(workspace* ws, const stewart_modes_job* job, long long i) {

@@ -127,6 +127,7 @@ enum {
     STEWART_OUTCOME_COMPLEX = 9,
     STEWART_OUTCOME_AT_INFINITY = 10,
     STEWART_OUTCOME_PATH_FAILED = 11,
+    STEWART_OUTCOME_UNCERTIFIED = 12,
 };
 
 // Status of each input of forward_pose_all
