@@ -234,6 +234,15 @@ def test_pinned_inputs_have_the_oracle_modes(name, seed, scale, actuated, count)
         )
 
 
+def _is_real_root(name: str, parameters: dict[str, float], actuated: list[float], pose: np.ndarray) -> bool:
+    """60-digit Newton from ``pose`` converges to a real root within LOOSE of it."""
+    family = om.family(name)
+    root = om.polish(name, parameters, actuated, pose)
+    if root is None:
+        return False
+    return om.pose_distance(np.array([float(v) for v in root]), pose, family.angular, family.size(parameters)) <= LOOSE
+
+
 @pytest.mark.xfail(strict=True, reason="issue 31 items 1 and 3: false complete certificates next to folds")
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize(("name", "seed", "scale", "actuated", "count"), PINNED)
@@ -246,7 +255,7 @@ def test_pinned_certificates_are_complete_and_true(name, seed, scale, actuated, 
     m = parakin.load(name, backend=backend, **family.load_arguments(parameters))
     modes = m.forward_pose_all(values, method=family.method)
     listed = modes.passive[modes.valid]
-    spurious = [pose.tolist() for pose in listed if om.polish(name, parameters, values, pose) is None]
+    spurious = [pose.tolist() for pose in listed if not _is_real_root(name, parameters, values, pose)]
     assert not spurious, f"listed modes that are no real root: {spurious}"
     certificate = modes.certificate()
     assert bool(certificate["complete"]), certificate
