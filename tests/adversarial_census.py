@@ -6,7 +6,10 @@ and 1e3, on both backends.
     .venv/bin/python tests/adversarial_census.py --inputs 60 --mechanisms planar_3rrr --backends compiled
 
 prints one row per mechanism x backend x scale: inputs checked, those the oracle decides
-(``usable``: not exactly on a fold, a count robust to the rounding of the inputs), certificates
+(``usable``: not exactly on a fold, a count robust to the rounding of the inputs, and where the
+solver disagrees, a count that does not change within a relative 1e-12 of the input), those left
+out because the solver disagrees within that distance of a fold (``at a fold``: a double-precision
+certificate proves the roots of its rounded coefficients), certificates
 complete, false complete (complete, but the listed modes are not the oracle's: a count differs or
 a pose is more than TOLERANCE off in the best one-to-one pairing), modes missing and extra modes
 in complete certificates (no counterpart within LOOSE), complete certificates wrong only by the
@@ -112,9 +115,19 @@ class Verdict:
     extra: int = 0  # listed modes with no oracle mode within LOOSE
     distance: float = math.inf  # the best one-to-one pairing's largest distance (inf: counts differ)
 
+    #: None: not asked (the solver agrees with the oracle); False: the oracle's count changes
+    #: within STABLE of the input (within rounding of a fold: no double-precision certificate can
+    #: be held to the exact count there)
+    stable: bool | None = None
+
     @property
     def usable(self) -> bool:
-        return self.oracle.usable and not self.error
+        return self.oracle.usable and not self.error and self.stable is not False
+
+    @property
+    def at_fold(self) -> bool:
+        """Decided by the oracle but within rounding of a fold (``stable`` False)."""
+        return self.oracle.usable and not self.error and self.stable is False
 
     @property
     def wrong(self) -> bool:
@@ -214,15 +227,20 @@ def check(
             if oracle.count is not None:
                 missing, extra = om.unmatched(listed, oracle.array(), family.angular, size, LOOSE)
                 distance = om.match(listed, oracle.array(), family.angular, size)
+            stable = None
+            if oracle.usable and not error and (extra or not distance <= TOLERANCE):
+                stable = family.stable(parameters, values)
             out.append(
-                Verdict(case, backend, scale, oracle, listed, complete, elapsed, error, missing, extra, distance)
+                Verdict(
+                    case, backend, scale, oracle, listed, complete, elapsed, error, missing, extra, distance, stable
+                )
             )
     return out
 
 
 # ------------------------------------------------------------------ the table
 COLUMNS = (
-    "inputs", "usable", "complete", "false complete", "missing", "extra", "inaccurate", "not complete",
+    "inputs", "usable", "at a fold", "complete", "false complete", "missing", "extra", "inaccurate", "not complete",
     "spurious (not complete)", "errors",
 )  # fmt: skip
 
@@ -233,6 +251,7 @@ def tally(verdicts: Sequence[Verdict]) -> dict[str, int]:
         out["inputs"] += 1
         out["errors"] += bool(v.error)
         out["usable"] += v.usable
+        out["at a fold"] += v.at_fold
         out["complete"] += bool(v.complete)
         out["not complete"] += v.complete is False
         if v.usable and v.complete:

@@ -57,6 +57,9 @@ import sympy as sp
 DIGITS = 60
 #: bits of cos and sin of an actuated angle taken as a rational
 TRIG_BITS = 320
+#: the relative move of an input within which a count must not change for a double-precision
+#: certificate to be held to it (``Family.stable``): 1000 times the rounding of coefficients
+STABLE = 1e-12
 #: rational points (cos phi0, sin phi0) of the circle for the half-angle substitution: the next
 #: one is taken when phi0 + pi is a root (the polynomial's leading coefficient vanishes)
 OFFSETS = [(Fraction(1), Fraction(0)), (Fraction(3, 5), Fraction(4, 5)), (Fraction(-5, 13), Fraction(12, 13)),
@@ -552,6 +555,22 @@ class Family:
     def count(self, parameters: dict[str, float], actuated: Sequence[float]) -> int | None:
         """The oracle's count alone (no poses; exact trigonometry): what bisection needs."""
         return cached_count(self.name, parameters, actuated)
+
+    def stable(self, parameters: dict[str, float], actuated: Sequence[float], radius: float = STABLE) -> bool:
+        """The oracle's count is the same with each actuated value moved by +-``radius`` (times
+        the value for a length, in radians for an angle): the input is not within rounding of a
+        fold. A solver evaluates its system's coefficients in double precision (relative error
+        ~1e-15) and can only certify the roots of that rounded system, so an input closer to a
+        fold than that has no count a double-precision certificate can be held to."""
+        base = self.count(parameters, actuated)
+        for joint, value in enumerate(actuated):
+            unit = abs(value) if self.prismatic[joint] else 1.0
+            for sign in (-1.0, 1.0):
+                trial = [float(v) for v in actuated]
+                trial[joint] = float(value) + sign * radius * unit
+                if self.count(parameters, trial) != base:
+                    return False
+        return True
 
     def folds(self, seed: int, parameters: dict[str, float], wanted: int) -> list[Fold]:
         """Up to ``wanted`` folds of the forward map near random inputs: along one actuated value,
