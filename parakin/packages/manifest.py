@@ -7,7 +7,9 @@ that a mechanism lacks is a ``None`` capability here, never a test of its name.
 A manifest is untrusted text until read: every name in it (mechanism, parameters, variables,
 kernels, C symbols, ...) must be a Python identifier, because names become file names, module
 names and C symbols; every file entry (``c.sources``, ``c.headers``, ``c.header``) must be a plain
-file name inside the package folder. Anything else is a BadInputError naming the field.
+file name inside the package folder. Every other field is checked too, for its type, shape and
+range and against the fields it must agree with (``Manifest.from_dict``). Anything else is a
+BrokenPackageError (a BadInputError) naming the field's path and the bad value.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import re
+import reprlib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,8 +26,9 @@ from typing import Any
 
 import numpy as np
 
-from parakin.errors import NEWTON_STATUS_NAMES, BadInputError
+from parakin.errors import NEWTON_STATUS_NAMES, BadInputError, BrokenPackageError
 from parakin.pose import POSE_KINDS
+from parakin.validation import MAX_MAGNITUDE, in_domain
 
 SUPPORTED_SCHEMA = 2
 
@@ -295,6 +300,7 @@ class Manifest:
     determinants: tuple[str, ...]
     capabilities: Capabilities
     examples: tuple[Example, ...]
+    #: a ``Tolerances``: a missing name is a BrokenPackageError, not a KeyError
     tolerances: dict[str, float]
     kernels: dict[str, Kernel]
     c_sources: tuple[str, ...]
@@ -336,147 +342,174 @@ class Manifest:
 
     @classmethod
     def read(cls, path: Path) -> Manifest:
-        """Read and check ``path`` (a manifest.json): every name an identifier, every file
-        entry a plain file name that resolves inside the package folder."""
+        """Read and check ``path`` (a manifest.json): every field (``from_dict``), and every file
+        entry a plain file name that resolves inside the package folder. BrokenPackageError
+        (a BadInputError) naming the file, the field and the bad value otherwise."""
         path = Path(path)
         try:
             data = json.loads(path.read_text())
-        except (OSError, ValueError) as error:
-            raise BadInputError(f"cannot read the manifest {path}: {error}") from error
+        # RecursionError: brackets nested past the parser's depth
+        except (OSError, ValueError, RecursionError) as error:
+            raise BrokenPackageError(f"cannot read the manifest {path}: {error}") from error
         try:
             manifest = cls.from_dict(data)
         except BadInputError as error:
-            raise BadInputError(f"manifest {path}: {error}") from error
+            raise BrokenPackageError(f"manifest {path}: {error}") from error
         folder = path.parent.resolve()
         for name in manifest.files:
             if not (folder / name).resolve().is_relative_to(folder):  # a symbolic link out of the folder
-                raise BadInputError(f"manifest {path}: file {name!r} resolves outside the package folder {folder}")
+                raise BrokenPackageError(f"manifest {path}: file {name!r} resolves outside the package folder {folder}")
         return manifest
 
     @classmethod
     def from_dict(cls, data: object) -> Manifest:
-        """The typed manifest of a parsed manifest.json, or BadInputError naming the field that
-        is missing, of the wrong type, or not a valid name or file name."""
+        """The typed manifest of a parsed manifest.json. Total: every field is checked for its
+        type, shape and range, and against the fields it must agree with (sizes of variables,
+        branches, unknowns, the kernels each capability calls), so that a manifest read here
+        cannot make a solver fail later with a raw error; anything else is a BrokenPackageError
+        naming the field's path and the bad value."""
         if not isinstance(data, dict):
-            raise BadInputError(f"a manifest is a JSON object, got {type(data).__name__}")
+            raise BrokenPackageError(f"a manifest is a JSON object, got {type(data).__name__}")
         schema = data.get("schema")
-        if schema != SUPPORTED_SCHEMA:
-            raise BadInputError(
-                f"manifest schema {schema!r} is not supported by this parakin (schema {SUPPORTED_SCHEMA}); regenerate"
+        if schema != SUPPORTED_SCHEMA or isinstance(schema, bool):
+            raise BrokenPackageError(
+                f"manifest schema {_shown(schema)} is not supported by this parakin (schema {SUPPORTED_SCHEMA}); "
+                "regenerate"
             )
         try:
-            return cls._from_dict(data)
-        except BadInputError:
-            raise
-        except KeyError as error:
-            raise BadInputError(f"malformed manifest: field {error} is missing; regenerate the package") from error
-        except (TypeError, ValueError, AttributeError, IndexError) as error:
-            raise BadInputError(
+            manifest = cls._from_dict(data)
+            _check_agreement(manifest)
+        except BadInputError as error:
+            if isinstance(error, BrokenPackageError):
+                raise
+            raise BrokenPackageError(str(error)) from error
+        # a safety net: every check above names its field; an error that escapes them is still
+        # a broken package, not a crash
+        except (TypeError, ValueError, AttributeError, IndexError, KeyError, OverflowError) as error:
+            raise BrokenPackageError(
                 f"malformed manifest ({type(error).__name__}: {error}); regenerate the package"
             ) from error
+        return manifest
 
     @classmethod
     def _from_dict(cls, data: dict[str, Any]) -> Manifest:
-        caps = data["capabilities"]
-        forward, forward_methods = _forward_methods(caps["forward"])
-        c = data["c"]
+        caps = _object(_member(data, "capabilities", ""), "capabilities")
+        c = _object(_member(data, "c", ""), "c")
+        actuated = _variables(_member(data, "actuated", ""), "actuated", at_least=1)
+        passive = _variables(_member(data, "passive", ""), "passive")
+        parameters = _list(_member(data, "parameters", ""), "parameters")
+        generator = _object(_member(data, "generator", ""), "generator")
+        forward, forward_methods = _forward_methods(_member(caps, "forward", "capabilities"))
+        abi = _object(_member(c, "abi", "c"), "c.abi")
+        newton = _object(_member(c, "newton", "c"), "c.newton")
+        modes = _member(c, "modes", "c") if "modes" in c else None
+        if modes is not None:
+            modes = _object(modes, "c.modes")
         return cls(
-            schema=data["schema"],
-            name=_name(data["name"], "name"),
-            title=str(data["title"]),
-            citation=Citation(
-                tuple(data["citation"]["authors"]),
-                data["citation"]["title"],
-                data["citation"]["year"],
-                data["citation"]["venue"],
-                data["citation"]["doi"],
+            schema=SUPPORTED_SCHEMA,
+            name=_name(_member(data, "name", ""), "name"),
+            title=_text(_member(data, "title", ""), "title"),
+            citation=_citation(_member(data, "citation", "")),
+            conventions=_text(_member(data, "conventions", ""), "conventions"),
+            generator_version=_text(_member(generator, "version", "generator"), "generator.version"),
+            source=_text(_member(generator, "source", "generator"), "generator.source"),
+            pose_kind=_pose_kind(_member(data, "pose_kind", "")),
+            parameters=_unique(
+                tuple(_parameter(p, f"parameters[{k}]") for k, p in enumerate(parameters)), "parameters"
             ),
-            conventions=data["conventions"],
-            generator_version=data["generator"]["version"],
-            source=data["generator"]["source"],
-            pose_kind=_pose_kind(data["pose_kind"]),
-            parameters=tuple(_parameter(p) for p in data["parameters"]),
-            parameter_groups=tuple(
-                ParameterGroup(
-                    _name(g["name"], "parameter_groups.name"),
-                    tuple(int(n) for n in g["shape"]),
-                    _names(g["symbols"], "parameter_groups.symbols"),
-                )
-                for g in data["parameter_groups"]
+            parameter_groups=_unique(
+                tuple(
+                    _parameter_group(g, f"parameter_groups[{k}]")
+                    for k, g in enumerate(_list(_member(data, "parameter_groups", ""), "parameter_groups"))
+                ),
+                "parameter_groups",
             ),
-            actuated=tuple(_variable(v, "actuated") for v in data["actuated"]),
-            passive=tuple(_variable(v, "passive") for v in data["passive"]),
-            singularity_factors=_names(data["singularity_factors"], "singularity_factors"),
-            determinants=_names(data["determinants"], "determinants"),
+            actuated=actuated,
+            passive=passive,
+            singularity_factors=_names(_member(data, "singularity_factors", ""), "singularity_factors"),
+            determinants=_names(_member(data, "determinants", ""), "determinants"),
             capabilities=Capabilities(
-                inverse=_inverse(caps["inverse"]),
+                inverse=_inverse(_member(caps, "inverse", "capabilities"), len(actuated), len(passive)),
                 forward=forward,
                 forward_methods=forward_methods,
-                legs=tuple(
-                    Leg(_name(g["name"], "capabilities.legs.name"), _names(g["joints"], "capabilities.legs.joints"))
-                    for g in caps["legs"]
-                )
-                if caps["legs"]
-                else None,
-                rates=RateModel(
-                    _names(caps["rates"]["twist"], "capabilities.rates.twist"),
-                    _names(caps["rates"]["input_independent"], "capabilities.rates.input_independent"),
-                    int(caps["rates"].get("constraints", 0)),
-                )
-                if caps["rates"]
-                else None,
-                architecture=Architecture(
-                    _names(caps["architecture"]["measures"], "capabilities.architecture.measures"),
-                    float(caps["architecture"]["tolerance"]),
-                )
-                if caps["architecture"]
-                else None,
-                drawing=_drawing(caps["drawing"]) if caps["drawing"] else None,
-                statics=Statics(_names(caps["statics"]["stiffness"], "capabilities.statics.stiffness"))
-                if caps["statics"]
-                else None,
+                legs=_legs(_member(caps, "legs", "capabilities")),
+                rates=_rates(_member(caps, "rates", "capabilities")),
+                architecture=_architecture(_member(caps, "architecture", "capabilities")),
+                drawing=_drawing(_member(caps, "drawing", "capabilities")),
+                statics=_statics(_member(caps, "statics", "capabilities")),
             ),
             examples=tuple(
-                Example(
-                    _name(e["name"], "examples.name"),
-                    e["description"],
-                    e["pose"],
-                    tuple(e["actuated"]) if e["actuated"] is not None else None,
-                    e["branch"],
-                    dict(e["parameters"]),
-                    dict(e["expected"]),
-                    float(e["tolerance"]),
-                )
-                for e in data["examples"]
+                _example(e, f"examples[{k}]", len(actuated), len(passive))
+                for k, e in enumerate(_list(_member(data, "examples", ""), "examples"))
             ),
-            tolerances={_name(k, "tolerances"): v for k, v in dict(data["tolerances"]).items()},
-            kernels={
-                k["name"]: Kernel(
-                    _name(k["name"], "kernels.name"),
-                    k["doc"],
-                    int(k["operations"]),
-                    tuple(KernelIO(_name(i["name"], "kernels.inputs.name"), (int(i["size"]),)) for i in k["inputs"]),
-                    tuple(KernelIO(_name(o["name"], "kernels.outputs.name"), tuple(o["shape"])) for o in k["outputs"]),
-                    _name(k["c_symbol"], "kernels.c_symbol"),
-                )
-                for k in data["kernels"]
-            },
-            c_sources=tuple(_file_name(f, "c.sources") for f in c["sources"]),
-            c_header=_file_name(c["header"], "c.header"),
-            c_headers=tuple(_file_name(f, "c.headers") for f in c["headers"]),
+            tolerances=_tolerances(_member(data, "tolerances", "")),
+            kernels=_kernels(_member(data, "kernels", "")),
+            c_sources=tuple(
+                _file_name(f, f"c.sources[{k}]") for k, f in enumerate(_list(_member(c, "sources", "c"), "c.sources"))
+            ),
+            c_header=_file_name(_member(c, "header", "c"), "c.header"),
+            c_headers=tuple(
+                _file_name(f, f"c.headers[{k}]") for k, f in enumerate(_list(_member(c, "headers", "c"), "c.headers"))
+            ),
             newton=Newton(
-                _name(c["newton"]["symbol"], "c.newton.symbol"), c["newton"]["unknowns"], c["newton"]["actuated"]
+                _name(_member(newton, "symbol", "c.newton"), "c.newton.symbol"),
+                _integer(_member(newton, "unknowns", "c.newton"), "c.newton.unknowns"),
+                _integer(_member(newton, "actuated", "c.newton"), "c.newton.actuated"),
             ),
             abi=Abi(
-                _newton_status(c["abi"]["newton_status"]),
-                _names(c["abi"]["mode_outcomes"], "c.abi.mode_outcomes"),
-                _names(c["abi"]["input_status"], "c.abi.input_status"),
-                _names(c["abi"]["root_kinds"], "c.abi.root_kinds"),
-                tuple((_name(n, "c.abi.newton_job"), str(t)) for n, t in c["abi"]["newton_job"]),
-                tuple((_name(n, "c.abi.modes_job"), str(t)) for n, t in c["abi"]["modes_job"]),
-                _optional_name((c.get("modes") or {}).get("symbol"), "c.modes.symbol"),
+                _newton_status(_member(abi, "newton_status", "c.abi")),
+                _codes(abi, "mode_outcomes"),
+                _codes(abi, "input_status"),
+                _codes(abi, "root_kinds"),
+                _job(_member(abi, "newton_job", "c.abi"), "c.abi.newton_job"),
+                _job(_member(abi, "modes_job", "c.abi"), "c.abi.modes_job"),
+                _optional_name(modes.get("symbol") if modes is not None else None, "c.modes.symbol"),
             ),
         )
+
+
+class Tolerances(dict[str, float]):
+    """The manifest's tolerances by name: every value a finite number >= 0; asking for one the
+    manifest lacks is a BrokenPackageError naming it (not a KeyError deep inside a solver)."""
+
+    def __missing__(self, key: str) -> float:
+        raise BrokenPackageError(
+            f"field tolerances: the manifest has no tolerance {key!r}, which this parakin reads; regenerate the package"
+        )
+
+
+#: the names of status codes this parakin looks up in the manifest's ABI tables (``Abi``): a
+#: table may name more (a newer generator), never fewer
+ABI_NAMES_READ = {
+    "mode_outcomes": (
+        "mode",
+        "no_root",
+        "back_substitution_undefined",
+        "not_closed",
+        "false_closure",
+        "not_converged",
+        "outside_limits",
+        "duplicate",
+        "input_independent",
+        "complex",
+        "at_infinity",
+        "path_failed",
+        "uncertified",
+    ),
+    "root_kinds": ("simple", "cluster", "near_real", "complex", "at_infinity", "failed"),
+    "input_status": ("ok", "nonfinite", "degenerate"),
+}
+#: the largest count a manifest may give (sizes, degrees, points, paths): far above any
+#: mechanism's, far below what would exhaust memory when arrays are allocated from it
+MAX_COUNT = 1_000_000
+#: the most iterations a tolerance may ask for (``polish_iterations``)
+MAX_ITERATIONS = 10_000
+#: variable kinds and parameter domains (``parakin.validation.in_domain``)
+VARIABLE_KINDS = ("revolute", "prismatic", "dimensionless")
+PARAMETER_DOMAINS = ("real", "positive", "nonnegative", "nonzero", "sign")
+#: what a message shows of a bad value: short, however large the value
+_REPR = reprlib.Repr()  # keyword arguments only from Python 3.12
+_REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxstring, _REPR.maxother, _REPR.maxlong = 3, 4, 4, 60, 60, 40
 
 
 def unknown_name(kind: str, key: object, valid: Iterable[str], owner: str) -> BadInputError:
@@ -491,22 +524,162 @@ def unknown_name(kind: str, key: object, valid: Iterable[str], owner: str) -> Ba
     return BadInputError(f"unknown {kind} {key!r} for {owner!r}; {hint}valid: {valid}")
 
 
+# ---------------------------------------------------------------- checked readers of JSON values
+def _shown(value: object) -> str:
+    return _REPR.repr(value)
+
+
+def _bad(path: str, value: object, what: str) -> BrokenPackageError:
+    """The error for the field at ``path`` (with list indices: ``a.b[2].c``): the message names
+    the field as the schema does (``a.b.c``), the value, what it should be, and where it is."""
+    field_name = re.sub(r"\[\d+\]", "", path)
+    where = f" (at {path})" if field_name != path else ""
+    return BrokenPackageError(f"field {field_name}: {_shown(value)} {what}{where}")
+
+
+def _member(data: dict[str, Any], key: str, path: str) -> Any:
+    if key not in data:
+        raise BrokenPackageError(f"field {f'{path}.{key}' if path else key!r} is missing; regenerate the package")
+    return data[key]
+
+
+def _object(value: object, path: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise _bad(path, value, "is not an object (a JSON {...})")
+    return value
+
+
+def _optional_object(value: object, path: str) -> dict[str, Any] | None:
+    """A capability: None where the mechanism lacks it, else a complete object (an empty one is
+    not 'absent': the generator writes null)."""
+    return None if value is None else _object(value, path)
+
+
+def _list(value: object, path: str, length: int | None = None, at_least: int = 0) -> list[Any]:
+    if not isinstance(value, list):
+        raise _bad(path, value, "is not a list")
+    if length is not None and len(value) != length:
+        raise _bad(path, value, f"has {len(value)} entries, not {length}")
+    if len(value) < at_least:
+        raise _bad(path, value, f"has {len(value)} entries, fewer than {at_least}")
+    if len(value) > MAX_COUNT:
+        raise _bad(path, value, f"has {len(value)} entries, more than {MAX_COUNT}")
+    return value
+
+
+def _text(value: object, path: str) -> str:
+    if not isinstance(value, str):
+        raise _bad(path, value, "is not a string")
+    return value
+
+
+def _optional_text(value: object, path: str) -> str | None:
+    return None if value is None else _text(value, path)
+
+
+def _integer(value: object, path: str, low: int = 0, high: int = MAX_COUNT) -> int:
+    if type(value) is not int:  # not a bool, not a float
+        raise _bad(path, value, "is not an integer")
+    if not low <= value <= high:
+        raise _bad(path, value, f"is outside [{low}, {high}]")
+    return value
+
+
+def _number(value: object, path: str, low: float = -math.inf, high: float = math.inf) -> float:
+    """A finite real number in [low, high] (JSON ints included, booleans not)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise _bad(path, value, "is not a number")
+    try:
+        number = float(value)
+    except OverflowError:
+        raise _bad(path, value, "is not a finite number") from None
+    if not math.isfinite(number):
+        raise _bad(path, value, "is not a finite number")
+    if not low <= number <= high:
+        raise _bad(path, value, f"is outside [{low:g}, {high:g}]")
+    return number
+
+
+def _flag(value: object, path: str) -> bool:
+    if not isinstance(value, bool):
+        raise _bad(path, value, "is not true or false")
+    return value
+
+
+def _sign(value: object, path: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | float) or value not in (1, -1):
+        raise _bad(path, value, "is not a branch sign (+1 or -1)")
+    return int(value)
+
+
+def _signs(value: object, path: str, length: int) -> tuple[tuple[int, ...], ...]:
+    """Sign combinations: at least one, each of ``length`` signs."""
+    rows = _list(value, path, at_least=1)
+    return tuple(
+        tuple(_sign(s, f"{path}[{k}][{j}]") for j, s in enumerate(_list(row, f"{path}[{k}]", length)))
+        for k, row in enumerate(rows)
+    )
+
+
+def _indices(value: object, path: str, low: int, high: int) -> tuple[int, ...]:
+    return tuple(_integer(v, f"{path}[{k}]", low, high) for k, v in enumerate(_list(value, path)))
+
+
+def _numbers(value: object, path: str, length: int | None = None) -> tuple[float, ...]:
+    return tuple(_number(v, f"{path}[{k}]") for k, v in enumerate(_list(value, path, length)))
+
+
+def _matrix(value: object, path: str, rows: int | None = None, columns: int | None = None) -> np.ndarray:
+    """A matrix of finite numbers, a list of rows of equal length (``rows`` x ``columns`` when given)."""
+    entries = _list(value, path, rows)
+    values = [_numbers(row, f"{path}[{k}]", columns) for k, row in enumerate(entries)]
+    width = {len(row) for row in values}
+    if len(width) > 1:
+        raise _bad(path, value, "has rows of different lengths")
+    return np.array(values, dtype=float).reshape(len(values), width.pop() if width else (columns or 0))
+
+
+def _complex_matrix(value: object, path: str, rows: int, columns: int) -> np.ndarray:
+    """``{"real": matrix, "imag": matrix}`` of ``rows`` x ``columns``."""
+    data = _object(value, path)
+    real = _matrix(_member(data, "real", path), f"{path}.real", rows, columns)
+    imag = _matrix(_member(data, "imag", path), f"{path}.imag", rows, columns)
+    return real + 1j * imag
+
+
+def _complex_vector(value: object, path: str, length: int) -> np.ndarray:
+    data = _object(value, path)
+    real = np.array(_numbers(_member(data, "real", path), f"{path}.real", length))
+    imag = np.array(_numbers(_member(data, "imag", path), f"{path}.imag", length))
+    return (real + 1j * imag).astype(complex)
+
+
 def _name(value: object, field: str) -> str:
     """A name from the manifest: a Python identifier (names become module names, file names
     and C symbols, so nothing else may pass)."""
     if not (isinstance(value, str) and value.isidentifier() and value.isascii()):
-        raise BadInputError(f"field {field}: {value!r} is not a name (an ASCII Python identifier)")
+        raise _bad(field, value, "is not a name (an ASCII Python identifier)")
     return value
 
 
-def _names(values: Iterable[object], field: str) -> tuple[str, ...]:
-    if isinstance(values, str | bytes):
-        raise BadInputError(f"field {field}: {values!r} is not a list of names")
-    return tuple(_name(v, field) for v in values)
+def _names(values: object, field: str) -> tuple[str, ...]:
+    if not isinstance(values, list):
+        raise _bad(field, values, "is not a list of names")
+    return tuple(_name(v, f"{field}[{k}]") for k, v in enumerate(_list(values, field)))
 
 
 def _optional_name(value: object, field: str) -> str | None:
     return None if value is None else _name(value, field)
+
+
+def _unique(items: tuple[Any, ...], field: str) -> tuple[Any, ...]:
+    """Entries with a ``name`` attribute, no name twice."""
+    seen: set[str] = set()
+    for k, item in enumerate(items):
+        if item.name in seen:
+            raise _bad(f"{field}[{k}].name", item.name, "names a second entry")
+        seen.add(item.name)
+    return items
 
 
 def _file_name(value: object, field: str) -> str:
@@ -520,137 +693,538 @@ def _file_name(value: object, field: str) -> str:
         and "\0" not in value
         and Path(value).name == value
     ):
-        raise BadInputError(f"field {field}: {value!r} is not a plain file name inside the package folder")
+        raise _bad(field, value, "is not a plain file name inside the package folder")
     return value
 
 
 def _pose_kind(value: object) -> str:
-    if value not in POSE_KINDS:
-        raise BadInputError(f"field pose_kind: {value!r} is not a pose kind of this parakin ({sorted(POSE_KINDS)})")
-    return str(value)
+    if not isinstance(value, str) or value not in POSE_KINDS:
+        raise _bad("pose_kind", value, f"is not a pose kind of this parakin ({sorted(POSE_KINDS)})")
+    return value
 
 
-def _parameter(data: dict[str, Any]) -> Parameter:
-    return Parameter(
-        _name(data["name"], "parameters.name"),
-        float(data["default"]),
-        str(data["unit"]),
-        str(data["description"]),
-        str(data.get("domain", "real")),
+def _citation(value: object) -> Citation:
+    data = _object(value, "citation")
+    year = _member(data, "year", "citation")
+    return Citation(
+        tuple(
+            _text(a, f"citation.authors[{k}]")
+            for k, a in enumerate(_list(_member(data, "authors", "citation"), "citation.authors"))
+        ),
+        _text(_member(data, "title", "citation"), "citation.title"),
+        None if year is None else _integer(year, "citation.year", 0, 9999),
+        _optional_text(_member(data, "venue", "citation"), "citation.venue"),
+        _optional_text(_member(data, "doi", "citation"), "citation.doi"),
     )
 
 
-def _drawing(data: dict[str, Any]) -> Drawing:
-    points = {_name(k, "capabilities.drawing.points"): int(v) for k, v in dict(data["points"]).items()}
-    polylines = {
-        _name(k, "capabilities.drawing.polylines"): tuple(
-            (_name(s, "capabilities.drawing.polylines"), int(i)) for s, i in v
+def _parameter(value: object, path: str) -> Parameter:
+    data = _object(value, path)
+    name = _name(_member(data, "name", path), f"{path}.name")
+    domain = _text(data.get("domain", "real"), f"{path}.domain")
+    if domain not in PARAMETER_DOMAINS:
+        raise _bad(f"{path}.domain", domain, f"is not a parameter domain ({', '.join(PARAMETER_DOMAINS)})")
+    # the load refuses larger values (beyond them the kinematics overflows)
+    default = _number(_member(data, "default", path), f"{path}.default", -MAX_MAGNITUDE, MAX_MAGNITUDE)
+    try:
+        in_domain(default, name, domain)
+    except BadInputError as error:
+        raise _bad(f"{path}.default", default, f"is outside its domain: {error}") from None
+    return Parameter(
+        name,
+        default,
+        _text(_member(data, "unit", path), f"{path}.unit"),
+        _text(_member(data, "description", path), f"{path}.description"),
+        domain,
+    )
+
+
+def _parameter_group(value: object, path: str) -> ParameterGroup:
+    data = _object(value, path)
+    shape = tuple(
+        _integer(n, f"{path}.shape[{k}]", 1)
+        for k, n in enumerate(_list(_member(data, "shape", path), f"{path}.shape", at_least=1))
+    )
+    symbols = _names(_member(data, "symbols", path), f"{path}.symbols")
+    if len(symbols) != math.prod(shape):
+        raise _bad(
+            f"{path}.symbols", list(symbols), f"has {len(symbols)} names, not {math.prod(shape)} (shape {shape})"
         )
-        for k, v in dict(data["polylines"]).items()
+    return ParameterGroup(_name(_member(data, "name", path), f"{path}.name"), shape, symbols)
+
+
+def _variables(value: object, field: str, at_least: int = 0) -> tuple[Variable, ...]:
+    entries = _list(value, field, at_least=at_least)
+    return _unique(tuple(_variable(v, f"{field}[{k}]") for k, v in enumerate(entries)), field)
+
+
+def _variable(value: object, path: str) -> Variable:
+    data = _object(value, path)
+    kind = _text(_member(data, "kind", path), f"{path}.kind")
+    if kind not in VARIABLE_KINDS:
+        raise _bad(f"{path}.kind", kind, f"is not a variable kind ({', '.join(VARIABLE_KINDS)})")
+    low, high = _list(_member(data, "limits", path), f"{path}.limits", 2)
+    bounds = (
+        -math.inf if low is None else _number(low, f"{path}.limits[0]"),
+        math.inf if high is None else _number(high, f"{path}.limits[1]"),
+    )
+    if bounds[0] > bounds[1]:
+        raise _bad(f"{path}.limits", [low, high], "is not a range (low > high)")
+    home = _member(data, "home", path)
+    return Variable(
+        _name(_member(data, "name", path), f"{path}.name"),
+        kind,
+        _text(_member(data, "unit", path), f"{path}.unit"),
+        None if home is None else _number(home, f"{path}.home", -MAX_MAGNITUDE, MAX_MAGNITUDE),
+        bounds,
+    )
+
+
+def _inverse(value: object, n_actuated: int, n_passive: int) -> Inverse | None:
+    path = "capabilities.inverse"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    branches = _names(_member(data, "branches", path), f"{path}.branches")
+    validity = _names(_member(data, "validity", path), f"{path}.validity")
+    groups = tuple(
+        _indices(g, f"{path}.groups[{k}]", 0, len(branches) - 1)
+        for k, g in enumerate(_list(_member(data, "groups", path), f"{path}.groups"))
+    )
+
+    def group_of(key: str, length: int) -> tuple[int, ...]:
+        # -1: an output that no branch symbol changes
+        return tuple(
+            _integer(v, f"{path}.{key}[{k}]", -1, len(groups) - 1)
+            for k, v in enumerate(_list(_member(data, key, path), f"{path}.{key}", length))
+        )
+
+    return Inverse(
+        branches,
+        _signs(_member(data, "combinations", path), f"{path}.combinations", len(branches)),
+        validity,
+        groups,
+        group_of("actuated_groups", n_actuated),
+        group_of("passive_groups", n_passive),
+        group_of("validity_groups", len(validity)),
+        _signs(_member(data, "patterns", path), f"{path}.patterns", len(branches)),
+    )
+
+
+def _legs(value: object) -> tuple[Leg, ...] | None:
+    if value is None:
+        return None
+    path = "capabilities.legs"
+    legs = []
+    for k, entry in enumerate(_list(value, path, at_least=1)):
+        data = _object(entry, f"{path}[{k}]")
+        legs.append(
+            Leg(
+                _name(_member(data, "name", f"{path}[{k}]"), f"{path}[{k}].name"),
+                _names(_member(data, "joints", f"{path}[{k}]"), f"{path}[{k}].joints"),
+            )
+        )
+    return _unique(tuple(legs), path)
+
+
+def _rates(value: object) -> RateModel | None:
+    path = "capabilities.rates"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    return RateModel(
+        _names(_member(data, "twist", path), f"{path}.twist"),
+        _names(_member(data, "input_independent", path), f"{path}.input_independent"),
+        _integer(data.get("constraints", 0), f"{path}.constraints", 0, 6),
+    )
+
+
+def _architecture(value: object) -> Architecture | None:
+    path = "capabilities.architecture"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    return Architecture(
+        _names(_member(data, "measures", path), f"{path}.measures"),
+        _number(_member(data, "tolerance", path), f"{path}.tolerance", 0.0),
+    )
+
+
+def _statics(value: object) -> Statics | None:
+    path = "capabilities.statics"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    return Statics(_names(_member(data, "stiffness", path), f"{path}.stiffness"))
+
+
+def _drawing(value: object) -> Drawing | None:
+    path = "capabilities.drawing"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    points = {
+        _name(k, f"{path}.points"): _integer(v, f"{path}.points.{k}", 1)
+        for k, v in _object(_member(data, "points", path), f"{path}.points").items()
     }
-    parts = {_name(k, "capabilities.drawing.parts"): str(v) for k, v in dict(data["parts"]).items()}
+    polylines: dict[str, tuple[tuple[str, int], ...]] = {}
+    for name, vertices in _object(_member(data, "polylines", path), f"{path}.polylines").items():
+        where = f"{path}.polylines.{_name(name, f'{path}.polylines')}"
+        line = []
+        for k, vertex in enumerate(_list(vertices, where)):
+            point_set, index = _list(vertex, f"{where}[{k}]", 2)
+            if point_set not in points:
+                raise _bad(f"{where}[{k}][0]", point_set, f"is not a point set of the drawing ({', '.join(points)})")
+            line.append((point_set, _integer(index, f"{where}[{k}][1]", 0, points[point_set] - 1)))
+        polylines[name] = tuple(line)
+    parts = {
+        _name(k, f"{path}.parts"): _text(v, f"{path}.parts.{k}")
+        for k, v in _object(_member(data, "parts", path), f"{path}.parts").items()
+    }
     if set(parts) != set(polylines) or not set(parts.values()) <= set(DRAWING_PARTS):
-        raise BadInputError(
+        raise BrokenPackageError(
             f"capabilities.drawing.parts {parts}: one of {', '.join(DRAWING_PARTS)} for each polyline "
             f"({', '.join(polylines)})"
         )
-    fixed = tuple(_name(k, "capabilities.drawing.fixed") for k in data["fixed"])
+    fixed = _names(_member(data, "fixed", path), f"{path}.fixed")
     if not set(fixed) <= set(points):
-        raise BadInputError(f"capabilities.drawing.fixed {list(fixed)} names point sets the drawing lacks")
+        raise BrokenPackageError(f"capabilities.drawing.fixed {list(fixed)} names point sets the drawing lacks")
     return Drawing(points, polylines, parts, fixed)
 
 
-def _newton_status(names: list[str]) -> tuple[str, ...]:
-    if tuple(names) != NEWTON_STATUS_NAMES:
-        raise BadInputError(f"the package's Newton status codes {names} differ from this parakin's; regenerate it")
-    return tuple(names)
-
-
-def _limit(value: float | None, default: float) -> float:
-    return default if value is None else float(value)
-
-
-def _variable(data: dict[str, Any], field: str) -> Variable:
-    low, high = data["limits"]
-    return Variable(
-        _name(data["name"], f"{field}.name"),
-        str(data["kind"]),
-        str(data["unit"]),
-        data["home"],
-        (_limit(low, -math.inf), _limit(high, math.inf)),
+def _example(value: object, path: str, n_actuated: int, n_passive: int) -> Example:
+    data = _object(value, path)
+    pose, actuated = _member(data, "pose", path), _member(data, "actuated", path)
+    if (pose is None) == (actuated is None):
+        raise _bad(path, {"pose": pose, "actuated": actuated}, "gives not exactly one of a pose and actuated values")
+    branch = _member(data, "branch", path)
+    expected = _object(_member(data, "expected", path), f"{path}.expected")
+    checked: dict[str, Any] = dict(expected)
+    if "actuated" in expected:
+        checked["actuated"] = _numbers(expected["actuated"], f"{path}.expected.actuated", n_actuated)
+    if "passive" in expected:
+        checked["passive"] = _numbers(expected["passive"], f"{path}.expected.passive", n_passive)
+    if "mode_count" in expected:
+        checked["mode_count"] = _integer(expected["mode_count"], f"{path}.expected.mode_count")
+    if "poses" in expected:
+        checked["poses"] = [
+            _matrix(p, f"{path}.expected.poses[{k}]", 4, 4).tolist()
+            for k, p in enumerate(_list(expected["poses"], f"{path}.expected.poses"))
+        ]
+    if pose is not None:
+        size = len(_list(pose, f"{path}.pose"))
+        pose = _matrix(pose, f"{path}.pose", size, size).tolist() if size in (3, 4) else None
+        if pose is None:
+            raise _bad(f"{path}.pose", data["pose"], "is not a 4 x 4 pose or a 3 x 3 rotation")
+    return Example(
+        _name(_member(data, "name", path), f"{path}.name"),
+        _text(_member(data, "description", path), f"{path}.description"),
+        pose,
+        None if actuated is None else _numbers(actuated, f"{path}.actuated", n_actuated),
+        None if branch is None else _integer(branch, f"{path}.branch"),
+        {
+            _name(k, f"{path}.parameters"): _number(v, f"{path}.parameters.{k}", -MAX_MAGNITUDE, MAX_MAGNITUDE)
+            for k, v in _object(_member(data, "parameters", path), f"{path}.parameters").items()
+        },
+        checked,
+        _number(_member(data, "tolerance", path), f"{path}.tolerance", 0.0),
     )
 
 
-def _inverse(data: dict[str, Any] | None) -> Inverse | None:
-    if not data:
-        return None
-    return Inverse(
-        _names(data["branches"], "capabilities.inverse.branches"),
-        tuple(tuple(c) for c in data["combinations"]),
-        _names(data["validity"], "capabilities.inverse.validity"),
-        tuple(tuple(g) for g in data.get("groups", ())),
-        tuple(data.get("actuated_groups", ())),
-        tuple(data.get("passive_groups", ())),
-        tuple(data.get("validity_groups", ())),
-        tuple(tuple(s) for s in data.get("patterns", ())),
-    )
+def _tolerances(value: object) -> Tolerances:
+    tolerances = Tolerances()
+    for name, tolerance in _object(value, "tolerances").items():
+        if name.endswith("_iterations"):  # a count, not a size
+            tolerances[_name(name, "tolerances")] = _integer(tolerance, f"tolerances.{name}", 1, MAX_ITERATIONS)
+        else:
+            tolerances[_name(name, "tolerances")] = _number(tolerance, f"tolerances.{name}", 0.0)
+    return tolerances
 
 
-def _forward_methods(data: dict[str, Any] | None) -> tuple[Forward | None, dict[str, Forward]]:
+def _kernels(value: object) -> dict[str, Kernel]:
+    kernels: dict[str, Kernel] = {}
+    for k, entry in enumerate(_list(value, "kernels")):
+        path = f"kernels[{k}]"
+        data = _object(entry, path)
+        name = _name(_member(data, "name", path), f"{path}.name")
+        if name in kernels:
+            raise _bad(f"{path}.name", name, "names a second kernel")
+        inputs = []
+        for j, item in enumerate(_list(_member(data, "inputs", path), f"{path}.inputs")):
+            where = f"{path}.inputs[{j}]"
+            item = _object(item, where)
+            inputs.append(
+                KernelIO(
+                    _name(_member(item, "name", where), f"{where}.name"),
+                    (_integer(_member(item, "size", where), f"{where}.size"),),
+                )
+            )
+        outputs = []
+        for j, item in enumerate(_list(_member(data, "outputs", path), f"{path}.outputs")):
+            where = f"{path}.outputs[{j}]"
+            item = _object(item, where)
+            shape = tuple(
+                _integer(n, f"{where}.shape[{i}]")
+                for i, n in enumerate(_list(_member(item, "shape", where), f"{where}.shape"))
+            )
+            if len(shape) > 4 or math.prod(shape) > MAX_COUNT:
+                raise _bad(
+                    f"{where}.shape", list(shape), f"is not an output shape (at most 4 axes, {MAX_COUNT} values)"
+                )
+            outputs.append(KernelIO(_name(_member(item, "name", where), f"{where}.name"), shape))
+        kernels[name] = Kernel(
+            name,
+            _text(_member(data, "doc", path), f"{path}.doc"),
+            _integer(_member(data, "operations", path), f"{path}.operations", 0, 10**12),
+            tuple(inputs),
+            tuple(outputs),
+            _name(_member(data, "c_symbol", path), f"{path}.c_symbol"),
+        )
+    return kernels
+
+
+def _codes(abi: dict[str, Any], table: str) -> tuple[str, ...]:
+    """A table of status code names (the index is the code): unique names, among them every name
+    this parakin looks up (``ABI_NAMES_READ``)."""
+    path = f"c.abi.{table}"
+    names = _names(_member(abi, table, "c.abi"), path)
+    if len(set(names)) != len(names):
+        raise _bad(path, list(names), "names a code twice")
+    missing = [n for n in ABI_NAMES_READ[table] if n not in names]
+    if missing:
+        raise _bad(path, list(names), f"lacks {missing}, which this parakin reads; regenerate the package")
+    return names
+
+
+def _job(value: object, path: str) -> tuple[tuple[str, str], ...]:
+    fields = []
+    for k, entry in enumerate(_list(value, path, at_least=1)):
+        name, kind = _list(entry, f"{path}[{k}]", 2)
+        fields.append((_name(name, f"{path}[{k}][0]"), _text(kind, f"{path}[{k}][1]")))
+    return tuple(fields)
+
+
+def _newton_status(names: object) -> tuple[str, ...]:
+    if not isinstance(names, list) or tuple(names) != NEWTON_STATUS_NAMES:
+        raise BrokenPackageError(
+            f"the package's Newton status codes {_shown(names)} differ from this parakin's; regenerate it"
+        )
+    return NEWTON_STATUS_NAMES
+
+
+def _forward_methods(value: object) -> tuple[Forward | None, dict[str, Forward]]:
     """The default method and every method, by name."""
-    if not data:
+    path = "capabilities.forward"
+    data = _optional_object(value, path)
+    if data is None:
         return None, {}
-    methods = {name: _forward(name, entry) for name, entry in dict(data["methods"]).items()}
-    return methods[str(data["default"])], methods
+    entries = _object(_member(data, "methods", path), f"{path}.methods")
+    if not entries:
+        raise _bad(f"{path}.methods", entries, "names no method")
+    methods = {
+        _name(name, f"{path}.methods"): _forward(name, entry, f"{path}.methods.{name}")
+        for name, entry in entries.items()
+    }
+    default = _member(data, "default", path)
+    if not isinstance(default, str) or default not in methods:
+        raise _bad(f"{path}.default", default, f"is not one of the methods ({', '.join(methods)})")
+    return methods[default], methods
 
 
-def _forward(method: str, data: dict[str, Any]) -> Forward:
-    homotopy = None
-    if "start" in data:
-        start, alternative = (
-            np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
-            for key in ("start", "alternative")
-        )
-        terms = data["terms"]
-        proof = data["root_count"]
-        instances = (
-            np.array(data[key]["real"], dtype=float) + 1j * np.array(data[key]["imag"], dtype=float)
-            for key in ("start_instance", "alternative_instance")
-        )
-        homotopy = Homotopy(
-            _names(data["unknowns"], "capabilities.forward.unknowns"),
-            tuple(data["homogeneous"]),
-            start,
-            alternative,
-            np.array([e for _, e in terms], dtype=np.int64).reshape(len(terms), -1),
-            np.array([k for k, _ in terms], dtype=np.int64),
-            data.get("patch_equation"),
-            RootCount(
-                int(proof["count"]),
-                str(proof["method"]),
-                float(proof["trace_deviation"]),
-                float(proof["tolerance"]),
-                int(proof["witnesses"]),
-                bool(proof.get("proven", True)),
-                int(proof.get("bezout_paths", 0)),
-                tuple(int(k) for k in proof.get("regular_endpoints", ())),
-            ),
-            int(data["powers"]),
-            tuple(str(v) for v in data["free"]),
-            tuple(str(v) for v in data["circles"]),
-            (complex(*data["circle_constants"][0]), complex(*data["circle_constants"][1])),
-            *instances,
-        )
+def _forward(method: str, value: object, path: str) -> Forward:
+    data = _object(value, path)
+    branches = _names(_member(data, "branches", path), f"{path}.branches")
+    degree = _integer(_member(data, "degree", path), f"{path}.degree", 1)
+    homotopy = _homotopy(data, path, degree) if "start" in data else None
     unknown = data.get("unknown", "")
+    if homotopy is None or unknown != "":
+        unknown = _name(unknown, f"{path}.unknown")
     return Forward(
-        unknown and _name(unknown, "capabilities.forward.unknown"),
-        int(data["degree"]),
-        _names(data["branches"], "capabilities.forward.branches"),
-        tuple(tuple(c) for c in data["combinations"]),
-        _names(data["degeneracies"], "capabilities.forward.degeneracies"),
+        unknown,
+        degree,
+        branches,
+        _signs(_member(data, "combinations", path), f"{path}.combinations", len(branches)),
+        _names(_member(data, "degeneracies", path), f"{path}.degeneracies"),
         method,
         homotopy,
     )
+
+
+def _homotopy(data: dict[str, Any], path: str, paths: int) -> Homotopy:
+    """A homotopy method's data: ``paths`` start solutions of its unknowns, the sparse system's
+    terms over them, the family's parameters and the root count's proof."""
+    unknowns = _names(_member(data, "unknowns", path), f"{path}.unknowns")
+    n = len(unknowns)
+    if n == 0:
+        raise _bad(f"{path}.unknowns", [], "names no unknown")
+    exponents, equations = [], []
+    for k, term in enumerate(_list(_member(data, "terms", path), f"{path}.terms", at_least=1)):
+        equation, powers = _list(term, f"{path}.terms[{k}]", 2)
+        equations.append(_integer(equation, f"{path}.terms[{k}][0]", 0, n - 1))
+        exponents.append(_indices(powers, f"{path}.terms[{k}][1]", 0, 1000))
+        if len(exponents[-1]) != n:
+            raise _bad(
+                f"{path}.terms[{k}][1]", powers, f"has {len(exponents[-1])} exponents, not one per unknown ({n})"
+            )
+    patch = data.get("patch_equation")
+    # the family's parameters and angles as the generator prints them (expressions such as
+    # 'alpha2/2', not names): shown by inspect, never used as names
+    free, circles = (
+        tuple(_text(v, f"{path}.{key}[{k}]") for k, v in enumerate(_list(_member(data, key, path), f"{path}.{key}")))
+        for key in ("free", "circles")
+    )
+    constants = _list(_member(data, "circle_constants", path), f"{path}.circle_constants", 2)
+    a, b = (complex(*_numbers(c, f"{path}.circle_constants[{k}]", 2)) for k, c in enumerate(constants))
+    instance = len(free) + len(circles)
+    return Homotopy(
+        unknowns,
+        _indices(_member(data, "homogeneous", path), f"{path}.homogeneous", 0, n - 1),
+        _complex_matrix(_member(data, "start", path), f"{path}.start", paths, n),
+        _complex_matrix(_member(data, "alternative", path), f"{path}.alternative", paths, n),
+        np.array(exponents, dtype=np.int64).reshape(len(exponents), n),
+        np.array(equations, dtype=np.int64),
+        None if patch is None else _integer(patch, f"{path}.patch_equation", 0, n - 1),
+        _root_count(_member(data, "root_count", path), f"{path}.root_count", paths),
+        _integer(_member(data, "powers", path), f"{path}.powers", 1, 1000),
+        free,
+        circles,
+        (a, b),
+        _complex_vector(_member(data, "start_instance", path), f"{path}.start_instance", instance),
+        _complex_vector(_member(data, "alternative_instance", path), f"{path}.alternative_instance", instance),
+    )
+
+
+def _root_count(value: object, path: str, paths: int) -> RootCount:
+    data = _object(value, path)
+    return RootCount(
+        _integer(_member(data, "count", path), f"{path}.count", 0, paths),
+        _text(_member(data, "method", path), f"{path}.method"),
+        _number(_member(data, "trace_deviation", path), f"{path}.trace_deviation", 0.0),
+        _number(_member(data, "tolerance", path), f"{path}.tolerance", 0.0),
+        _integer(_member(data, "witnesses", path), f"{path}.witnesses", 0, 10**9),
+        _flag(data.get("proven", True), f"{path}.proven"),
+        _integer(data.get("bezout_paths", 0), f"{path}.bezout_paths", 0, 10**12),
+        _indices(data.get("regular_endpoints", []), f"{path}.regular_endpoints", 0, 10**12),
+    )
+
+
+# ---------------------------------------------------------------- what fields must agree on
+def _required_kernels(manifest: Manifest) -> dict[str, str]:
+    """Kernel -> the capability that calls it."""
+    caps = manifest.capabilities
+    needed = dict.fromkeys(
+        ("platform_pose", "loop_closure", "loop_closure_actuated", "singularity_factors"), "the model"
+    )
+    if caps.inverse is not None:
+        needed["inverse_pose"] = "capabilities.inverse"
+    for name, method in caps.forward_methods.items():
+        if method.homotopy is None:  # back substitution, then the passive values by the inverse's patterns
+            kernels = ("forward_polynomial", "forward_back_substitution", "inverse_pose_patterns")
+            needed.update(dict.fromkeys(kernels, f"forward method {name!r}"))
+        else:
+            needed.update({f"{name}_{part}": f"forward method {name!r}" for part in ("family", "monomials", "passive")})
+    for capability, kernel in (
+        ("rates", "rate_jacobians"),
+        ("legs", "leg_jacobians"),
+        ("drawing", "drawing"),
+        ("architecture", "architecture"),
+    ):
+        if getattr(caps, capability) is not None:
+            needed[kernel] = f"capabilities.{capability}"
+    return needed
+
+
+def _check_agreement(manifest: Manifest) -> None:
+    """Fields that must agree with each other: the kernels each capability calls exist, with the
+    sizes of the variables, parameters, branches and names the manifest lists."""
+    kernels = manifest.kernels
+    for kernel, caller in _required_kernels(manifest).items():
+        if kernel not in kernels:
+            raise BrokenPackageError(
+                f"field kernels: no kernel {kernel!r}, which {caller} calls; regenerate the package"
+            )
+    sizes = {"actuated": len(manifest.actuated), "passive": len(manifest.passive), "params": len(manifest.parameters)}
+    for described in kernels.values():
+        for item in described.inputs:
+            if item.name in sizes and item.shape != (sizes[item.name],):
+                raise BrokenPackageError(
+                    f"field kernels.inputs.size: {item.shape[0]} values of {item.name!r} in kernel "
+                    f"{described.name!r}, where the manifest lists {sizes[item.name]}"
+                )
+    outputs = {name: {o.name: o.shape for o in kernel.outputs} for name, kernel in kernels.items()}
+    caps = manifest.capabilities
+    expected: dict[str, dict[str, tuple[int, ...]]] = {
+        "singularity_factors": {
+            "factors": (len(manifest.singularity_factors),),
+            "determinants": (len(manifest.determinants),),
+        }
+    }
+    if caps.inverse is not None:
+        expected["inverse_pose"] = {
+            "actuated": (len(manifest.actuated),),
+            "passive": (len(manifest.passive),),
+            "validity": (len(caps.inverse.validity),),
+        }
+        if "inverse_pose_patterns" in kernels:  # one column per sign pattern
+            patterns = len(caps.inverse.patterns)
+            expected["inverse_pose_patterns"] = {
+                name: (*shape, patterns) for name, shape in expected["inverse_pose"].items()
+            }
+    if caps.architecture is not None:
+        expected["architecture"] = {"measures": (len(caps.architecture.measures),)}
+    if caps.drawing is not None:
+        expected["drawing"] = {name: (3, count) for name, count in caps.drawing.points.items()}
+    for kernel, shapes in expected.items():
+        got = outputs[kernel]
+        for name, shape in shapes.items():
+            # a kernel writes a one-element axis as no axis: (3, 1) as (3,), (1,) as ()
+            if name not in got or [n for n in got[name] if n != 1] != [n for n in shape if n != 1]:
+                raise BrokenPackageError(
+                    f"field kernels.outputs: kernel {kernel!r} has no output {name!r} of shape {shape} "
+                    f"(outputs {got}), which the manifest's names call for"
+                )
+    variables = {v.name for v in (*manifest.actuated, *manifest.passive)}
+    parameters = {p.name for p in manifest.parameters}
+    references = [
+        *(
+            (f"capabilities.legs[{k}].joints", leg.joints, variables, "variable")
+            for k, leg in enumerate(caps.legs or ())
+        ),
+        *(
+            (f"parameter_groups[{k}].symbols", group.symbols, parameters, "parameter")
+            for k, group in enumerate(manifest.parameter_groups)
+        ),
+        *(
+            (f"examples[{k}].parameters", tuple(example.parameters), set(manifest.parameter_names), "parameter")
+            for k, example in enumerate(manifest.examples)
+        ),
+    ]
+    if caps.rates is not None:  # factors that vanish for every input where the platform folds
+        factors = set(manifest.singularity_factors)
+        references.append(("capabilities.rates.input_independent", caps.rates.input_independent, factors, "factor"))
+    if caps.statics is not None:
+        references.append(("capabilities.statics.stiffness", caps.statics.stiffness, parameters, "parameter"))
+    for path, names, known, kind in references:
+        unknown = [name for name in names if name not in known]
+        if unknown:
+            raise _bad(path, list(names), f"names {unknown}, not {kind}s of the manifest")
+    elimination = [name for name, method in caps.forward_methods.items() if method.homotopy is None]
+    if elimination and caps.inverse is None:
+        raise BrokenPackageError(
+            f"field capabilities.inverse: null, but the forward method {elimination[0]!r} finds the passive values "
+            "of its poses by the inverse; regenerate the package"
+        )
+    newton = manifest.newton
+    if (newton.unknowns, newton.actuated) != (len(manifest.passive), len(manifest.actuated)):
+        raise BrokenPackageError(
+            f"field c.newton: {newton.unknowns} unknowns and {newton.actuated} actuated values, where the manifest "
+            f"lists {len(manifest.passive)} passive and {len(manifest.actuated)} actuated variables"
+        )
+    if caps.inverse is not None:
+        branches = len(caps.inverse.combinations)
+        for k, example in enumerate(manifest.examples):
+            if example.branch is not None and example.branch >= branches:
+                raise _bad(f"examples[{k}].branch", example.branch, f"is not an inverse branch (0 to {branches - 1})")
 
 
 __all__ = ["Manifest", "Variable", "Kernel", "Example", "Capabilities", "Citation", "Parameter", "unknown_name"]
