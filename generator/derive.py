@@ -372,6 +372,27 @@ def _from_closure(mechanism: Mechanism, state: list) -> _Closure:
     )
 
 
+def _parameter_jacobians(mechanism: Mechanism, state: list, closed: _Closure) -> Program:
+    """The closure's and the pose's sensitivities to the geometric parameters: what calibration fits."""
+    parameters = list(mechanism.parameters)
+    pose_entries = sp.Matrix([closed.platform[i, j] for i in range(3) for j in range(4)])
+
+    # a guard such as Max(0, gram) differentiates to a Heaviside step, which no backend prints: the
+    # same step as (sign + 1) / 2 (one-half exactly on the guard's kink, where no derivative exists)
+    def smooth(jacobian: sp.Matrix) -> sp.Matrix:
+        return jacobian.replace(sp.Heaviside, lambda x, *_: (sp.sign(x) + 1) / 2)
+
+    return Program(
+        "parameter_jacobians",
+        "Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.",
+        state,
+        [
+            ("closure_parameters", smooth(closed.residual.jacobian(parameters))),
+            ("pose_parameters", smooth(pose_entries.jacobian(parameters))),
+        ],
+    )
+
+
 def derive(mechanism: Mechanism) -> Derivation:
     actuated = ("actuated", mechanism.actuated)
     passive = ("passive", mechanism.passive)
@@ -410,6 +431,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             [("jacobian_actuated", jacobian_actuated)],
         ),
         *([closed.rate_program] if closed.rate_program is not None else []),
+        *([_parameter_jacobians(mechanism, state, closed)] if mechanism.parameters else []),
         Program(
             "singularity_factors",
             "Every named singularity factor, then the determinants.",

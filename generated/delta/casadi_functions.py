@@ -5,6 +5,7 @@
 #   loop_closure: 100
 #   loop_closure_actuated: 62
 #   rate_jacobians: 64
+#   parameter_jacobians: 109
 #   singularity_factors: 83
 #   drawing: 38
 #   inverse_pose: 176
@@ -280,6 +281,93 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 109.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 4)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    x = passive[0]
+    y = passive[1]
+    z = passive[2]
+    R = params[0]
+    r = params[1]
+    L = params[2]
+    l = params[3]
+    _t0 = casadi.cos(theta1)
+    _t1 = L * _t0
+    _t2 = 2 * R + 2 * _t1 - 2 * r - 2 * x
+    _t3 = (1 / 2) / l
+    _t4 = casadi.sin(theta1)
+    _t5 = L * _t4 + z
+    _t6 = -R - _t1 + r + x
+    _t7 = l**2
+    _t8 = -_t7
+    _t9 = (1 / 2) / _t7
+    _t10 = casadi.sqrt(3)
+    _t11 = casadi.cos(theta2)
+    _t12 = (1 / 2) * L
+    _t13 = _t11 * _t12
+    _t14 = (1 / 2) * R
+    _t15 = (1 / 2) * r
+    _t16 = _t10 * _t14 - _t10 * _t15
+    _t17 = -_t10 * _t13 - _t16 + y
+    _t18 = _t10 * _t17
+    _t19 = _t14 - _t15 + x
+    _t20 = _t13 + _t19
+    _t21 = -_t18 + _t20
+    _t22 = casadi.sin(theta2)
+    _t23 = L * _t22 + z
+    _t24 = casadi.cos(theta3)
+    _t25 = _t12 * _t24
+    _t26 = _t10 * _t25 + _t16 + y
+    _t27 = _t10 * _t26
+    _t28 = _t19 + _t25
+    _t29 = _t27 + _t28
+    _t30 = casadi.sin(theta3)
+    _t31 = L * _t30 + z
+    closure_parameters = casadi.SX.zeros(3, 4)
+    closure_parameters[0, 0] = _t2 * _t3
+    closure_parameters[0, 1] = -_t2 * _t3
+    closure_parameters[0, 2] = _t3 * (-2 * _t0 * _t6 + 2 * _t4 * _t5)
+    closure_parameters[0, 3] = -_t9 * (_t5**2 + _t6**2 + _t8 + y**2) - 1
+    closure_parameters[1, 0] = _t21 * _t3
+    closure_parameters[1, 1] = -_t21 * _t3
+    closure_parameters[1, 2] = _t3 * (-_t11 * _t18 + _t11 * _t20 + 2 * _t22 * _t23)
+    closure_parameters[1, 3] = -_t9 * (_t17**2 + _t20**2 + _t23**2 + _t8) - 1
+    closure_parameters[2, 0] = _t29 * _t3
+    closure_parameters[2, 1] = -_t29 * _t3
+    closure_parameters[2, 2] = _t3 * (_t24 * _t27 + _t24 * _t28 + 2 * _t30 * _t31)
+    closure_parameters[2, 3] = -_t9 * (_t26**2 + _t28**2 + _t31**2 + _t8) - 1
+    pose_parameters = casadi.SX.zeros(12, 4)
+    return casadi.Function(
+        "delta_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -1239,6 +1327,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -5,6 +5,7 @@
 //   loop_closure: 100
 //   loop_closure_actuated: 62
 //   rate_jacobians: 64
+//   parameter_jacobians: 109
 //   singularity_factors: 83
 //   drawing: 38
 //   inverse_pose: 176
@@ -218,6 +219,10 @@ int delta_loop_closure_actuated_batch(long long n, const double** inputs, const 
 //   inputs: actuated[3], passive[3], params[4]
 //   outputs: a[3 x 3], b[3 x 3]
 int delta_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[3], params[4]
+//   outputs: closure_parameters[3 x 4], pose_parameters[12 x 4]
+int delta_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[3], params[4]
 //   outputs: factors[4], determinants[2]

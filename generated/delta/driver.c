@@ -5,6 +5,7 @@
 //   loop_closure: 100
 //   loop_closure_actuated: 62
 //   rate_jacobians: 64
+//   parameter_jacobians: 109
 //   singularity_factors: 83
 //   drawing: 38
 //   inverse_pose: 176
@@ -123,6 +124,30 @@ int delta_rate_jacobians_batch(long long n, const double** inputs, const long lo
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[1][i * 9 + r * 3 + c] = out_b[c * 3 + r];
+    }
+    return 0;
+}
+
+int delta_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[25 + 1];
+    casadi_real out_closure_parameters[12 + 1];
+    casadi_real out_pose_parameters[48 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (delta_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                outputs[0][i * 12 + r * 4 + c] = out_closure_parameters[c * 3 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 4; ++c)
+                outputs[1][i * 48 + r * 4 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

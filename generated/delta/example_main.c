@@ -5,6 +5,7 @@
 //   loop_closure: 100
 //   loop_closure_actuated: 62
 //   rate_jacobians: 64
+//   parameter_jacobians: 109
 //   singularity_factors: 83
 //   drawing: 38
 //   inverse_pose: 176

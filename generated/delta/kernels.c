@@ -5,6 +5,7 @@
 //   loop_closure: 100
 //   loop_closure_actuated: 62
 //   rate_jacobians: 64
+//   parameter_jacobians: 109
 //   singularity_factors: 83
 //   drawing: 38
 //   inverse_pose: 176
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -67,6 +69,7 @@ extern "C" {
 #define casadi_s1 CASADI_PREFIX(s1)
 #define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s11 CASADI_PREFIX(s11)
+#define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -117,13 +120,14 @@ static const casadi_int casadi_s1[3] = {4, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {3, 3, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {2, 1, 1};
-static const casadi_int casadi_s6[3] = {3, 4, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {3, 2, 1};
-static const casadi_int casadi_s9[3] = {0, 1, 1};
-static const casadi_int casadi_s10[3] = {13, 1, 1};
-static const casadi_int casadi_s11[3] = {20, 1, 1};
+static const casadi_int casadi_s5[3] = {3, 4, 1};
+static const casadi_int casadi_s6[3] = {12, 4, 1};
+static const casadi_int casadi_s7[3] = {2, 1, 1};
+static const casadi_int casadi_s8[3] = {12, 1, 1};
+static const casadi_int casadi_s9[3] = {3, 2, 1};
+static const casadi_int casadi_s10[3] = {0, 1, 1};
+static const casadi_int casadi_s11[3] = {13, 1, 1};
+static const casadi_int casadi_s12[3] = {20, 1, 1};
 
 /* delta_platform_pose:(actuated[3],passive[3],params[4])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -781,8 +785,274 @@ CASADI_SYMBOL_EXPORT int delta_rate_jacobians_work_bytes(casadi_int *sz_arg, cas
   return 0;
 }
 
-/* delta_singularity_factors:(actuated[3],passive[3],params[4])->(factors[4],determinants[2]) */
+/* delta_parameter_jacobians:(actuated[3],passive[3],params[4])->(closure_parameters[3x4],pose_parameters[12x4]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24;
+  a00=arg[2]? arg[2][0] : 0;
+  a01=(2.*a00);
+  a02=arg[2]? arg[2][2] : 0;
+  a03=arg[0]? arg[0][0] : 0;
+  a04=cos(a03);
+  a05=(a02*a04);
+  a06=(2.*a05);
+  a01=(a01+a06);
+  a06=arg[2]? arg[2][1] : 0;
+  a07=(2.*a06);
+  a01=(a01-a07);
+  a07=arg[1]? arg[1][0] : 0;
+  a08=(2.*a07);
+  a01=(a01-a08);
+  a08=5.0000000000000000e-01;
+  a09=arg[2]? arg[2][3] : 0;
+  a10=(a08/a09);
+  a11=(a01*a10);
+  if (res[0]!=0) res[0][0]=a11;
+  a11=arg[0]? arg[0][1] : 0;
+  a12=cos(a11);
+  a13=(a08*a02);
+  a14=(a12*a13);
+  a15=(a08*a00);
+  a16=(a08*a06);
+  a15=(a15-a16);
+  a15=(a15+a07);
+  a16=(a14+a15);
+  a17=1.7320508075688772e+00;
+  a18=-1.7320508075688772e+00;
+  a18=(a18*a14);
+  a14=8.6602540378443860e-01;
+  a19=(a14*a00);
+  a14=(a14*a06);
+  a19=(a19-a14);
+  a18=(a18-a19);
+  a14=arg[1]? arg[1][1] : 0;
+  a18=(a18+a14);
+  a20=(a17*a18);
+  a21=(a16-a20);
+  a22=(a21*a10);
+  if (res[0]!=0) res[0][1]=a22;
+  a22=arg[0]? arg[0][2] : 0;
+  a23=cos(a22);
+  a13=(a13*a23);
+  a24=(a17*a13);
+  a24=(a24+a19);
+  a24=(a24+a14);
+  a17=(a17*a24);
+  a15=(a15+a13);
+  a13=(a17+a15);
+  a19=(a13*a10);
+  if (res[0]!=0) res[0][2]=a19;
+  a01=(a01*a10);
+  a01=(-a01);
+  if (res[0]!=0) res[0][3]=a01;
+  a21=(a21*a10);
+  a21=(-a21);
+  if (res[0]!=0) res[0][4]=a21;
+  a13=(a13*a10);
+  a13=(-a13);
+  if (res[0]!=0) res[0][5]=a13;
+  a13=-2.;
+  a13=(a13*a04);
+  a00=(a00+a05);
+  a06=(a06-a00);
+  a06=(a06+a07);
+  a13=(a13*a06);
+  a03=sin(a03);
+  a07=(2.*a03);
+  a03=(a02*a03);
+  a00=arg[1]? arg[1][2] : 0;
+  a03=(a03+a00);
+  a07=(a07*a03);
+  a13=(a13+a07);
+  a13=(a10*a13);
+  if (res[0]!=0) res[0][6]=a13;
+  a13=(a12*a16);
+  a12=(a12*a20);
+  a13=(a13-a12);
+  a11=sin(a11);
+  a12=(2.*a11);
+  a11=(a02*a11);
+  a11=(a11+a00);
+  a12=(a12*a11);
+  a13=(a13+a12);
+  a13=(a10*a13);
+  if (res[0]!=0) res[0][7]=a13;
+  a17=(a23*a17);
+  a23=(a23*a15);
+  a17=(a17+a23);
+  a22=sin(a22);
+  a23=(2.*a22);
+  a02=(a02*a22);
+  a02=(a02+a00);
+  a23=(a23*a02);
+  a17=(a17+a23);
+  a10=(a10*a17);
+  if (res[0]!=0) res[0][8]=a10;
+  a09=casadi_sq(a09);
+  a08=(a08/a09);
+  a03=casadi_sq(a03);
+  a06=casadi_sq(a06);
+  a03=(a03+a06);
+  a03=(a03-a09);
+  a14=casadi_sq(a14);
+  a03=(a03+a14);
+  a03=(a08*a03);
+  a14=1.;
+  a03=(a03+a14);
+  a03=(-a03);
+  if (res[0]!=0) res[0][9]=a03;
+  a18=casadi_sq(a18);
+  a16=casadi_sq(a16);
+  a18=(a18+a16);
+  a11=casadi_sq(a11);
+  a18=(a18+a11);
+  a18=(a18-a09);
+  a18=(a08*a18);
+  a18=(a18+a14);
+  a18=(-a18);
+  if (res[0]!=0) res[0][10]=a18;
+  a24=casadi_sq(a24);
+  a15=casadi_sq(a15);
+  a24=(a24+a15);
+  a02=casadi_sq(a02);
+  a24=(a24+a02);
+  a24=(a24-a09);
+  a08=(a08*a24);
+  a08=(a08+a14);
+  a08=(-a08);
+  if (res[0]!=0) res[0][11]=a08;
+  a08=0.;
+  if (res[1]!=0) res[1][0]=a08;
+  if (res[1]!=0) res[1][1]=a08;
+  if (res[1]!=0) res[1][2]=a08;
+  if (res[1]!=0) res[1][3]=a08;
+  if (res[1]!=0) res[1][4]=a08;
+  if (res[1]!=0) res[1][5]=a08;
+  if (res[1]!=0) res[1][6]=a08;
+  if (res[1]!=0) res[1][7]=a08;
+  if (res[1]!=0) res[1][8]=a08;
+  if (res[1]!=0) res[1][9]=a08;
+  if (res[1]!=0) res[1][10]=a08;
+  if (res[1]!=0) res[1][11]=a08;
+  if (res[1]!=0) res[1][12]=a08;
+  if (res[1]!=0) res[1][13]=a08;
+  if (res[1]!=0) res[1][14]=a08;
+  if (res[1]!=0) res[1][15]=a08;
+  if (res[1]!=0) res[1][16]=a08;
+  if (res[1]!=0) res[1][17]=a08;
+  if (res[1]!=0) res[1][18]=a08;
+  if (res[1]!=0) res[1][19]=a08;
+  if (res[1]!=0) res[1][20]=a08;
+  if (res[1]!=0) res[1][21]=a08;
+  if (res[1]!=0) res[1][22]=a08;
+  if (res[1]!=0) res[1][23]=a08;
+  if (res[1]!=0) res[1][24]=a08;
+  if (res[1]!=0) res[1][25]=a08;
+  if (res[1]!=0) res[1][26]=a08;
+  if (res[1]!=0) res[1][27]=a08;
+  if (res[1]!=0) res[1][28]=a08;
+  if (res[1]!=0) res[1][29]=a08;
+  if (res[1]!=0) res[1][30]=a08;
+  if (res[1]!=0) res[1][31]=a08;
+  if (res[1]!=0) res[1][32]=a08;
+  if (res[1]!=0) res[1][33]=a08;
+  if (res[1]!=0) res[1][34]=a08;
+  if (res[1]!=0) res[1][35]=a08;
+  if (res[1]!=0) res[1][36]=a08;
+  if (res[1]!=0) res[1][37]=a08;
+  if (res[1]!=0) res[1][38]=a08;
+  if (res[1]!=0) res[1][39]=a08;
+  if (res[1]!=0) res[1][40]=a08;
+  if (res[1]!=0) res[1][41]=a08;
+  if (res[1]!=0) res[1][42]=a08;
+  if (res[1]!=0) res[1][43]=a08;
+  if (res[1]!=0) res[1][44]=a08;
+  if (res[1]!=0) res[1][45]=a08;
+  if (res[1]!=0) res[1][46]=a08;
+  if (res[1]!=0) res[1][47]=a08;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int delta_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void delta_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void delta_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int delta_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real delta_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* delta_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* delta_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int delta_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int delta_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* delta_singularity_factors:(actuated[3],passive[3],params[4])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20;
   a00=arg[2]? arg[2][2] : 0;
@@ -886,7 +1156,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_singularity_factors_checkout(void) {
@@ -941,7 +1211,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* delta_singularity_factors_sparsity_in(cas
 CASADI_SYMBOL_EXPORT const casadi_int* delta_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
-    case 1: return casadi_s5;
+    case 1: return casadi_s7;
     default: return 0;
   }
 }
@@ -963,7 +1233,7 @@ CASADI_SYMBOL_EXPORT int delta_singularity_factors_work_bytes(casadi_int *sz_arg
 }
 
 /* delta_drawing:(actuated[3],passive[3],params[4])->(base[3x3],elbow[3x3],platform[3x4]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
   a0=arg[2]? arg[2][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1048,7 +1318,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_drawing_checkout(void) {
@@ -1105,7 +1375,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* delta_drawing_sparsity_out(casadi_int i) 
   switch (i) {
     case 0: return casadi_s3;
     case 1: return casadi_s3;
-    case 2: return casadi_s6;
+    case 2: return casadi_s5;
     default: return 0;
   }
 }
@@ -1127,7 +1397,7 @@ CASADI_SYMBOL_EXPORT int delta_drawing_work_bytes(casadi_int *sz_arg, casadi_int
 }
 
 /* delta_inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[3],validity[3]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   a00=arg[2]? arg[2][2] : 0;
@@ -1318,7 +1588,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_inverse_pose_checkout(void) {
@@ -1364,7 +1634,7 @@ CASADI_SYMBOL_EXPORT const char* delta_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s0;
     case 2: return casadi_s1;
     default: return 0;
@@ -1397,7 +1667,7 @@ CASADI_SYMBOL_EXPORT int delta_inverse_pose_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* delta_inverse_pose_patterns:(pose[12],params[4])->(actuated[3x2],passive[3x2],validity[3x2]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=arg[1]? arg[1][2] : 0;
@@ -1642,7 +1912,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_inverse_pose_patterns_checkout(void) {
@@ -1687,7 +1957,7 @@ CASADI_SYMBOL_EXPORT const char* delta_inverse_pose_patterns_name_out(casadi_int
 
 CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -1695,9 +1965,9 @@ CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_patterns_sparsity_in(c
 
 CASADI_SYMBOL_EXPORT const casadi_int* delta_inverse_pose_patterns_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s8;
-    case 2: return casadi_s8;
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
+    case 2: return casadi_s9;
     default: return 0;
   }
 }
@@ -1719,7 +1989,7 @@ CASADI_SYMBOL_EXPORT int delta_inverse_pose_patterns_work_bytes(casadi_int *sz_a
 }
 
 /* delta_forward_polynomial:(actuated[3],params[4])->(coefficients[3],degeneracies) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15;
   a00=5.0000000000000000e-01;
@@ -1872,7 +2142,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_forward_polynomial_checkout(void) {
@@ -1947,7 +2217,7 @@ CASADI_SYMBOL_EXPORT int delta_forward_polynomial_work_bytes(casadi_int *sz_arg,
 }
 
 /* delta_forward_back_substitution:(actuated[3],root,branch[0],params[4])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19;
   a00=1.;
@@ -2114,7 +2384,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int delta_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_checkout(void) {
@@ -2161,7 +2431,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* delta_forward_back_substitution_sparsity_
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
-    case 2: return casadi_s9;
+    case 2: return casadi_s10;
     case 3: return casadi_s1;
     default: return 0;
   }
@@ -2191,7 +2461,7 @@ CASADI_SYMBOL_EXPORT int delta_forward_back_substitution_work_bytes(casadi_int *
 }
 
 /* delta_automatic_family:(actuated[3],params[4])->(free[4],angles[3]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[1]? arg[1][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -2211,7 +2481,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_family_checkout(void) {
@@ -2286,7 +2556,7 @@ CASADI_SYMBOL_EXPORT int delta_automatic_family_work_bytes(casadi_int *sz_arg, c
 }
 
 /* delta_automatic_monomials:(family_re[13],family_im[13])->(re[20],im[20]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2894,7 +3164,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_monomials_checkout(void) {
@@ -2938,16 +3208,16 @@ CASADI_SYMBOL_EXPORT const char* delta_automatic_monomials_name_out(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s10;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* delta_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
-    case 1: return casadi_s11;
+    case 0: return casadi_s12;
+    case 1: return casadi_s12;
     default: return 0;
   }
 }
@@ -2969,7 +3239,7 @@ CASADI_SYMBOL_EXPORT int delta_automatic_monomials_work_bytes(casadi_int *sz_arg
 }
 
 /* delta_automatic_passive:(z[3],params[4])->(passive[3]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -2981,7 +3251,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int delta_automatic_passive_checkout(void) {

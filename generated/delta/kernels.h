@@ -5,6 +5,7 @@
 //   loop_closure: 100
 //   loop_closure_actuated: 62
 //   rate_jacobians: 64
+//   parameter_jacobians: 109
 //   singularity_factors: 83
 //   drawing: 38
 //   inverse_pose: 176
@@ -105,6 +106,24 @@ int delta_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casa
 #define delta_rate_jacobians_SZ_RES 2
 #define delta_rate_jacobians_SZ_IW 0
 #define delta_rate_jacobians_SZ_W 0
+int delta_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int delta_parameter_jacobians_checkout(void);
+void delta_parameter_jacobians_release(int mem);
+void delta_parameter_jacobians_incref(void);
+void delta_parameter_jacobians_decref(void);
+casadi_int delta_parameter_jacobians_n_in(void);
+casadi_int delta_parameter_jacobians_n_out(void);
+casadi_real delta_parameter_jacobians_default_in(casadi_int i);
+const char* delta_parameter_jacobians_name_in(casadi_int i);
+const char* delta_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* delta_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* delta_parameter_jacobians_sparsity_out(casadi_int i);
+int delta_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int delta_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define delta_parameter_jacobians_SZ_ARG 3
+#define delta_parameter_jacobians_SZ_RES 2
+#define delta_parameter_jacobians_SZ_IW 0
+#define delta_parameter_jacobians_SZ_W 0
 int delta_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int delta_singularity_factors_checkout(void);
 void delta_singularity_factors_release(int mem);

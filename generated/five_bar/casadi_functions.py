@@ -5,6 +5,7 @@
 #   loop_closure: 54
 #   loop_closure_actuated: 33
 #   rate_jacobians: 23
+#   parameter_jacobians: 63
 #   singularity_factors: 27
 #   drawing: 11
 #   inverse_pose: 83
@@ -221,6 +222,71 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 63.
+    """
+    actuated = casadi.SX.sym("actuated", 2)
+    passive = casadi.SX.sym("passive", 2)
+    params = casadi.SX.sym("params", 5)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    x = passive[0]
+    y = passive[1]
+    d = params[0]
+    a1 = params[1]
+    a2 = params[2]
+    b1 = params[3]
+    b2 = params[4]
+    _t0 = 2 * d
+    _t1 = 2 * x
+    _t2 = casadi.cos(theta1)
+    _t3 = _t2 * a1
+    _t4 = (1 / 2) / b1
+    _t5 = casadi.sin(theta1)
+    _t6 = -y
+    _t7 = -_t5 * a1 - _t6
+    _t8 = -_t3 + d + x
+    _t9 = b1**2
+    _t10 = casadi.cos(theta2)
+    _t11 = _t10 * a2
+    _t12 = (1 / 2) / b2
+    _t13 = casadi.sin(theta2)
+    _t14 = -_t13 * a2 - _t6
+    _t15 = -_t11 - d + x
+    _t16 = b2**2
+    closure_parameters = casadi.SX.zeros(2, 5)
+    closure_parameters[0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
+    closure_parameters[0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
+    closure_parameters[0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
+    closure_parameters[1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
+    closure_parameters[1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
+    closure_parameters[1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
+    pose_parameters = casadi.SX.zeros(12, 5)
+    return casadi.Function(
+        "five_bar_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -832,6 +898,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

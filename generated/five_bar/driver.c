@@ -5,6 +5,7 @@
 //   loop_closure: 54
 //   loop_closure_actuated: 33
 //   rate_jacobians: 23
+//   parameter_jacobians: 63
 //   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 83
@@ -123,6 +124,30 @@ int five_bar_rate_jacobians_batch(long long n, const double** inputs, const long
         for (int r = 0; r < 2; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[1][i * 4 + r * 2 + c] = out_b[c * 2 + r];
+    }
+    return 0;
+}
+
+int five_bar_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[18 + 1];
+    casadi_real out_closure_parameters[10 + 1];
+    casadi_real out_pose_parameters[60 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (five_bar_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 5; ++c)
+                outputs[0][i * 10 + r * 5 + c] = out_closure_parameters[c * 2 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 5; ++c)
+                outputs[1][i * 60 + r * 5 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

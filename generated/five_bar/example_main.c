@@ -5,6 +5,7 @@
 //   loop_closure: 54
 //   loop_closure_actuated: 33
 //   rate_jacobians: 23
+//   parameter_jacobians: 63
 //   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 83

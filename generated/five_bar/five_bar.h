@@ -5,6 +5,7 @@
 //   loop_closure: 54
 //   loop_closure_actuated: 33
 //   rate_jacobians: 23
+//   parameter_jacobians: 63
 //   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 83
@@ -210,6 +211,10 @@ int five_bar_loop_closure_actuated_batch(long long n, const double** inputs, con
 //   inputs: actuated[2], passive[2], params[5]
 //   outputs: a[2 x 2], b[2 x 2]
 int five_bar_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[2], passive[2], params[5]
+//   outputs: closure_parameters[2 x 5], pose_parameters[12 x 5]
+int five_bar_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[2], passive[2], params[5]
 //   outputs: factors[3], determinants[2]

@@ -5,6 +5,7 @@
 //   loop_closure: 54
 //   loop_closure_actuated: 33
 //   rate_jacobians: 23
+//   parameter_jacobians: 63
 //   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 83
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -66,6 +68,8 @@ extern "C" {
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
 #define casadi_s10 CASADI_PREFIX(s10)
+#define casadi_s11 CASADI_PREFIX(s11)
+#define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -116,12 +120,14 @@ static const casadi_int casadi_s1[3] = {5, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {2, 2, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {3, 1, 1};
-static const casadi_int casadi_s6[3] = {3, 2, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {0, 1, 1};
-static const casadi_int casadi_s9[3] = {11, 1, 1};
-static const casadi_int casadi_s10[3] = {10, 1, 1};
+static const casadi_int casadi_s5[3] = {2, 5, 1};
+static const casadi_int casadi_s6[3] = {12, 5, 1};
+static const casadi_int casadi_s7[3] = {3, 1, 1};
+static const casadi_int casadi_s8[3] = {3, 2, 1};
+static const casadi_int casadi_s9[3] = {12, 1, 1};
+static const casadi_int casadi_s10[3] = {0, 1, 1};
+static const casadi_int casadi_s11[3] = {11, 1, 1};
+static const casadi_int casadi_s12[3] = {10, 1, 1};
 
 /* five_bar_platform_pose:(actuated[2],passive[2],params[5])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -619,8 +625,229 @@ CASADI_SYMBOL_EXPORT int five_bar_rate_jacobians_work_bytes(casadi_int *sz_arg, 
   return 0;
 }
 
-/* five_bar_singularity_factors:(actuated[2],passive[2],params[5])->(factors[3],determinants[2]) */
+/* five_bar_parameter_jacobians:(actuated[2],passive[2],params[5])->(closure_parameters[2x5],pose_parameters[12x5]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17;
+  a00=5.0000000000000000e-01;
+  a01=arg[2]? arg[2][3] : 0;
+  a02=(a00/a01);
+  a03=arg[2]? arg[2][0] : 0;
+  a04=(2.*a03);
+  a05=arg[1]? arg[1][0] : 0;
+  a06=(2.*a05);
+  a07=(a04+a06);
+  a08=arg[0]? arg[0][0] : 0;
+  a09=cos(a08);
+  a10=arg[2]? arg[2][1] : 0;
+  a11=(a09*a10);
+  a12=(2.*a11);
+  a07=(a07-a12);
+  a07=(a02*a07);
+  if (res[0]!=0) res[0][0]=a07;
+  a07=arg[2]? arg[2][4] : 0;
+  a12=(a00/a07);
+  a04=(a04-a06);
+  a06=arg[0]? arg[0][1] : 0;
+  a13=cos(a06);
+  a14=arg[2]? arg[2][2] : 0;
+  a15=(a13*a14);
+  a16=(2.*a15);
+  a04=(a04+a16);
+  a04=(a12*a04);
+  if (res[0]!=0) res[0][1]=a04;
+  a04=-2.;
+  a09=(a04*a09);
+  a11=(a03-a11);
+  a11=(a11+a05);
+  a09=(a09*a11);
+  a08=sin(a08);
+  a16=(2.*a08);
+  a17=arg[1]? arg[1][1] : 0;
+  a08=(a08*a10);
+  a08=(a17-a08);
+  a16=(a16*a08);
+  a09=(a09-a16);
+  a02=(a02*a09);
+  if (res[0]!=0) res[0][2]=a02;
+  a02=0.;
+  if (res[0]!=0) res[0][3]=a02;
+  if (res[0]!=0) res[0][4]=a02;
+  a04=(a04*a13);
+  a15=(a15+a03);
+  a05=(a05-a15);
+  a04=(a04*a05);
+  a06=sin(a06);
+  a15=(2.*a06);
+  a06=(a06*a14);
+  a17=(a17-a06);
+  a15=(a15*a17);
+  a04=(a04-a15);
+  a12=(a12*a04);
+  if (res[0]!=0) res[0][5]=a12;
+  a12=-1.;
+  a08=casadi_sq(a08);
+  a11=casadi_sq(a11);
+  a08=(a08+a11);
+  a01=casadi_sq(a01);
+  a08=(a08-a01);
+  a08=(a00*a08);
+  a08=(a08/a01);
+  a08=(a12-a08);
+  if (res[0]!=0) res[0][6]=a08;
+  if (res[0]!=0) res[0][7]=a02;
+  if (res[0]!=0) res[0][8]=a02;
+  a17=casadi_sq(a17);
+  a05=casadi_sq(a05);
+  a17=(a17+a05);
+  a07=casadi_sq(a07);
+  a17=(a17-a07);
+  a00=(a00*a17);
+  a00=(a00/a07);
+  a12=(a12-a00);
+  if (res[0]!=0) res[0][9]=a12;
+  if (res[1]!=0) res[1][0]=a02;
+  if (res[1]!=0) res[1][1]=a02;
+  if (res[1]!=0) res[1][2]=a02;
+  if (res[1]!=0) res[1][3]=a02;
+  if (res[1]!=0) res[1][4]=a02;
+  if (res[1]!=0) res[1][5]=a02;
+  if (res[1]!=0) res[1][6]=a02;
+  if (res[1]!=0) res[1][7]=a02;
+  if (res[1]!=0) res[1][8]=a02;
+  if (res[1]!=0) res[1][9]=a02;
+  if (res[1]!=0) res[1][10]=a02;
+  if (res[1]!=0) res[1][11]=a02;
+  if (res[1]!=0) res[1][12]=a02;
+  if (res[1]!=0) res[1][13]=a02;
+  if (res[1]!=0) res[1][14]=a02;
+  if (res[1]!=0) res[1][15]=a02;
+  if (res[1]!=0) res[1][16]=a02;
+  if (res[1]!=0) res[1][17]=a02;
+  if (res[1]!=0) res[1][18]=a02;
+  if (res[1]!=0) res[1][19]=a02;
+  if (res[1]!=0) res[1][20]=a02;
+  if (res[1]!=0) res[1][21]=a02;
+  if (res[1]!=0) res[1][22]=a02;
+  if (res[1]!=0) res[1][23]=a02;
+  if (res[1]!=0) res[1][24]=a02;
+  if (res[1]!=0) res[1][25]=a02;
+  if (res[1]!=0) res[1][26]=a02;
+  if (res[1]!=0) res[1][27]=a02;
+  if (res[1]!=0) res[1][28]=a02;
+  if (res[1]!=0) res[1][29]=a02;
+  if (res[1]!=0) res[1][30]=a02;
+  if (res[1]!=0) res[1][31]=a02;
+  if (res[1]!=0) res[1][32]=a02;
+  if (res[1]!=0) res[1][33]=a02;
+  if (res[1]!=0) res[1][34]=a02;
+  if (res[1]!=0) res[1][35]=a02;
+  if (res[1]!=0) res[1][36]=a02;
+  if (res[1]!=0) res[1][37]=a02;
+  if (res[1]!=0) res[1][38]=a02;
+  if (res[1]!=0) res[1][39]=a02;
+  if (res[1]!=0) res[1][40]=a02;
+  if (res[1]!=0) res[1][41]=a02;
+  if (res[1]!=0) res[1][42]=a02;
+  if (res[1]!=0) res[1][43]=a02;
+  if (res[1]!=0) res[1][44]=a02;
+  if (res[1]!=0) res[1][45]=a02;
+  if (res[1]!=0) res[1][46]=a02;
+  if (res[1]!=0) res[1][47]=a02;
+  if (res[1]!=0) res[1][48]=a02;
+  if (res[1]!=0) res[1][49]=a02;
+  if (res[1]!=0) res[1][50]=a02;
+  if (res[1]!=0) res[1][51]=a02;
+  if (res[1]!=0) res[1][52]=a02;
+  if (res[1]!=0) res[1][53]=a02;
+  if (res[1]!=0) res[1][54]=a02;
+  if (res[1]!=0) res[1][55]=a02;
+  if (res[1]!=0) res[1][56]=a02;
+  if (res[1]!=0) res[1][57]=a02;
+  if (res[1]!=0) res[1][58]=a02;
+  if (res[1]!=0) res[1][59]=a02;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void five_bar_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int five_bar_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real five_bar_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* five_bar_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* five_bar_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int five_bar_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* five_bar_singularity_factors:(actuated[2],passive[2],params[5])->(factors[3],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
   a0=arg[2]? arg[2][1] : 0;
   a1=arg[0]? arg[0][0] : 0;
@@ -664,7 +891,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_singularity_factors_checkout(void) {
@@ -718,7 +945,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_singularity_factors_sparsity_in(
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
+    case 0: return casadi_s7;
     case 1: return casadi_s0;
     default: return 0;
   }
@@ -741,7 +968,7 @@ CASADI_SYMBOL_EXPORT int five_bar_singularity_factors_work_bytes(casadi_int *sz_
 }
 
 /* five_bar_drawing:(actuated[2],passive[2],params[5])->(base[3x2],elbow[3x2],platform[3x2]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4;
   a0=arg[2]? arg[2][0] : 0;
   a1=(-a0);
@@ -784,7 +1011,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_drawing_checkout(void) {
@@ -839,9 +1066,9 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_drawing_sparsity_in(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s6;
-    case 1: return casadi_s6;
-    case 2: return casadi_s6;
+    case 0: return casadi_s8;
+    case 1: return casadi_s8;
+    case 2: return casadi_s8;
     default: return 0;
   }
 }
@@ -863,7 +1090,7 @@ CASADI_SYMBOL_EXPORT int five_bar_drawing_work_bytes(casadi_int *sz_arg, casadi_
 }
 
 /* five_bar_inverse_pose:(pose[12],branch[2],params[5])->(actuated[2],passive[2],validity[2]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13;
   a00=arg[1]? arg[1][0] : 0;
@@ -964,7 +1191,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_inverse_pose_checkout(void) {
@@ -1010,7 +1237,7 @@ CASADI_SYMBOL_EXPORT const char* five_bar_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s9;
     case 1: return casadi_s0;
     case 2: return casadi_s1;
     default: return 0;
@@ -1043,7 +1270,7 @@ CASADI_SYMBOL_EXPORT int five_bar_inverse_pose_work_bytes(casadi_int *sz_arg, ca
 }
 
 /* five_bar_inverse_pose_patterns:(pose[12],params[5])->(actuated[2x2],passive[2x2],validity[2x2]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12;
   a00=0.;
@@ -1181,7 +1408,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_inverse_pose_patterns_checkout(void) {
@@ -1226,7 +1453,7 @@ CASADI_SYMBOL_EXPORT const char* five_bar_inverse_pose_patterns_name_out(casadi_
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s9;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -1258,7 +1485,7 @@ CASADI_SYMBOL_EXPORT int five_bar_inverse_pose_patterns_work_bytes(casadi_int *s
 }
 
 /* five_bar_forward_polynomial:(actuated[2],params[5])->(coefficients[3],degeneracies) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10;
   a00=5.0000000000000000e-01;
   a01=arg[1]? arg[1][3] : 0;
@@ -1308,7 +1535,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_forward_polynomial_checkout(void) {
@@ -1360,7 +1587,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_forward_polynomial_sparsity_in(c
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
+    case 0: return casadi_s7;
     case 1: return casadi_s4;
     default: return 0;
   }
@@ -1383,7 +1610,7 @@ CASADI_SYMBOL_EXPORT int five_bar_forward_polynomial_work_bytes(casadi_int *sz_a
 }
 
 /* five_bar_forward_back_substitution:(actuated[2],root,branch[0],params[5])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   a00=1.;
   if (res[0]!=0) res[0][0]=a00;
@@ -1450,7 +1677,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_forward_back_substitution_checkout(void) {
@@ -1497,7 +1724,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* five_bar_forward_back_substitution_sparsi
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
-    case 2: return casadi_s8;
+    case 2: return casadi_s10;
     case 3: return casadi_s1;
     default: return 0;
   }
@@ -1527,7 +1754,7 @@ CASADI_SYMBOL_EXPORT int five_bar_forward_back_substitution_work_bytes(casadi_in
 }
 
 /* five_bar_automatic_family:(actuated[2],params[5])->(free[5],angles[2]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[1]? arg[1][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1547,7 +1774,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_family_checkout(void) {
@@ -1622,7 +1849,7 @@ CASADI_SYMBOL_EXPORT int five_bar_automatic_family_work_bytes(casadi_int *sz_arg
 }
 
 /* five_bar_automatic_monomials:(family_re[11],family_im[11])->(re[10],im[10]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1887,7 +2114,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials_checkout(void) {
@@ -1931,16 +2158,16 @@ CASADI_SYMBOL_EXPORT const char* five_bar_automatic_monomials_name_out(casadi_in
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s9;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* five_bar_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s10;
+    case 0: return casadi_s12;
+    case 1: return casadi_s12;
     default: return 0;
   }
 }
@@ -1962,7 +2189,7 @@ CASADI_SYMBOL_EXPORT int five_bar_automatic_monomials_work_bytes(casadi_int *sz_
 }
 
 /* five_bar_automatic_passive:(z[2],params[5])->(passive[2]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1972,7 +2199,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int five_bar_automatic_passive_checkout(void) {

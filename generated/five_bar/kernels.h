@@ -5,6 +5,7 @@
 //   loop_closure: 54
 //   loop_closure_actuated: 33
 //   rate_jacobians: 23
+//   parameter_jacobians: 63
 //   singularity_factors: 27
 //   drawing: 11
 //   inverse_pose: 83
@@ -105,6 +106,24 @@ int five_bar_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, c
 #define five_bar_rate_jacobians_SZ_RES 2
 #define five_bar_rate_jacobians_SZ_IW 0
 #define five_bar_rate_jacobians_SZ_W 0
+int five_bar_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int five_bar_parameter_jacobians_checkout(void);
+void five_bar_parameter_jacobians_release(int mem);
+void five_bar_parameter_jacobians_incref(void);
+void five_bar_parameter_jacobians_decref(void);
+casadi_int five_bar_parameter_jacobians_n_in(void);
+casadi_int five_bar_parameter_jacobians_n_out(void);
+casadi_real five_bar_parameter_jacobians_default_in(casadi_int i);
+const char* five_bar_parameter_jacobians_name_in(casadi_int i);
+const char* five_bar_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* five_bar_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* five_bar_parameter_jacobians_sparsity_out(casadi_int i);
+int five_bar_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int five_bar_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define five_bar_parameter_jacobians_SZ_ARG 3
+#define five_bar_parameter_jacobians_SZ_RES 2
+#define five_bar_parameter_jacobians_SZ_IW 0
+#define five_bar_parameter_jacobians_SZ_W 0
 int five_bar_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int five_bar_singularity_factors_checkout(void);
 void five_bar_singularity_factors_release(int mem);

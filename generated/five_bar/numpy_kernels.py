@@ -5,6 +5,7 @@
 #   loop_closure: 54
 #   loop_closure_actuated: 33
 #   rate_jacobians: 23
+#   parameter_jacobians: 63
 #   singularity_factors: 27
 #   drawing: 11
 #   inverse_pose: 83
@@ -163,6 +164,56 @@ def rate_jacobians(actuated, passive, params):
     return {
         "a": a,
         "b": b,
+    }
+
+
+def parameter_jacobians(actuated, passive, params):
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 63.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    d = params[..., 0]
+    a1 = params[..., 1]
+    a2 = params[..., 2]
+    b1 = params[..., 3]
+    b2 = params[..., 4]
+    _t0 = 2 * d
+    _t1 = 2 * x
+    _t2 = numpy.cos(theta1)
+    _t3 = _t2 * a1
+    _t4 = (1 / 2) / b1
+    _t5 = numpy.sin(theta1)
+    _t6 = -y
+    _t7 = -_t5 * a1 - _t6
+    _t8 = -_t3 + d + x
+    _t9 = b1**2
+    _t10 = numpy.cos(theta2)
+    _t11 = _t10 * a2
+    _t12 = (1 / 2) / b2
+    _t13 = numpy.sin(theta2)
+    _t14 = -_t13 * a2 - _t6
+    _t15 = -_t11 - d + x
+    _t16 = b2**2
+    closure_parameters = numpy.zeros(shape + (2, 5))
+    closure_parameters[..., 0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
+    closure_parameters[..., 0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
+    closure_parameters[..., 0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
+    closure_parameters[..., 1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
+    closure_parameters[..., 1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
+    closure_parameters[..., 1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
+    pose_parameters = numpy.zeros(shape + (12, 5))
+    return {
+        "closure_parameters": closure_parameters,
+        "pose_parameters": pose_parameters,
     }
 
 
@@ -645,6 +696,7 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

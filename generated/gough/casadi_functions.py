@@ -5,6 +5,7 @@
 #   loop_closure: 394
 #   loop_closure_actuated: 6
 #   rate_jacobians: 170
+#   parameter_jacobians: 360
 #   singularity_factors: 442
 #   architecture: 455
 #   drawing: 95
@@ -492,6 +493,160 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 360.
+    """
+    actuated = casadi.SX.sym("actuated", 6)
+    passive = casadi.SX.sym("passive", 6)
+    params = casadi.SX.sym("params", 13)
+    x = passive[0]
+    y = passive[1]
+    z = passive[2]
+    alpha = passive[3]
+    beta = passive[4]
+    gamma = passive[5]
+    xA2 = params[0]
+    xA3 = params[1]
+    xA4 = params[2]
+    xA5 = params[3]
+    xA6 = params[4]
+    yA2 = params[5]
+    yA3 = params[6]
+    yA4 = params[7]
+    yA5 = params[8]
+    yA6 = params[9]
+    t11 = params[10]
+    t12 = params[11]
+    t22 = params[12]
+    _t0 = t22 * yA2
+    _t1 = casadi.sin(gamma)
+    _t2 = casadi.cos(beta)
+    _t3 = _t1 * _t2
+    _t4 = casadi.sin(beta)
+    _t5 = t11 * xA2 + t12 * yA2
+    _t6 = _t0 * _t3 - _t4 * _t5 + z
+    _t7 = casadi.sin(alpha)
+    _t8 = _t2 * _t5
+    _t9 = casadi.cos(alpha)
+    _t10 = casadi.cos(gamma)
+    _t11 = _t1 * _t4 * _t7 + _t10 * _t9
+    _t12 = _t0 * _t11 + _t7 * _t8 + y - yA2
+    _t13 = _t1 * _t4 * _t9 - _t10 * _t7
+    _t14 = _t0 * _t13 + _t8 * _t9 + x - xA2
+    _t15 = 1 / casadi.sqrt(_t12**2 + _t14**2 + _t6**2)
+    _t16 = _t4 * _t6
+    _t17 = _t2 * t11
+    _t18 = _t12 * _t7
+    _t19 = 2 * _t17 * _t9 - 2
+    _t20 = (1 / 2) * _t14
+    _t21 = 2 * t12
+    _t22 = _t1 * _t2 * t22 - 1 / 2 * _t21 * _t4
+    _t23 = _t2 * _t21
+    _t24 = 2 * t22
+    _t25 = (1 / 2) * _t11 * _t24 + (1 / 2) * _t23 * _t7 - 1
+    _t26 = _t13 * _t24 + _t23 * _t9
+    _t27 = _t2 * xA2
+    _t28 = _t12 * yA2
+    _t29 = _t2 * _t7
+    _t30 = _t14 * yA2
+    _t31 = _t2 * _t9
+    _t32 = t22 * yA3
+    _t33 = t11 * xA3 + t12 * yA3
+    _t34 = _t3 * _t32 - _t33 * _t4 + z
+    _t35 = _t2 * _t33
+    _t36 = _t11 * _t32 + _t35 * _t7 + y - yA3
+    _t37 = _t13 * _t32 + _t35 * _t9 + x - xA3
+    _t38 = 1 / casadi.sqrt(_t34**2 + _t36**2 + _t37**2)
+    _t39 = _t34 * _t4
+    _t40 = _t17 * _t7
+    _t41 = (1 / 2) * _t37
+    _t42 = _t36 * yA3
+    _t43 = _t37 * yA3
+    _t44 = t22 * yA4
+    _t45 = t11 * xA4 + t12 * yA4
+    _t46 = _t3 * _t44 - _t4 * _t45 + z
+    _t47 = _t2 * _t45
+    _t48 = _t11 * _t44 + _t47 * _t7 + y - yA4
+    _t49 = _t13 * _t44 + _t47 * _t9 + x - xA4
+    _t50 = 1 / casadi.sqrt(_t46**2 + _t48**2 + _t49**2)
+    _t51 = _t4 * _t46
+    _t52 = (1 / 2) * _t49
+    _t53 = _t48 * yA4
+    _t54 = _t49 * yA4
+    _t55 = t22 * yA5
+    _t56 = t11 * xA5 + t12 * yA5
+    _t57 = _t3 * _t55 - _t4 * _t56 + z
+    _t58 = _t2 * _t56
+    _t59 = _t11 * _t55 + _t58 * _t7 + y - yA5
+    _t60 = _t13 * _t55 + _t58 * _t9 + x - xA5
+    _t61 = 1 / casadi.sqrt(_t57**2 + _t59**2 + _t60**2)
+    _t62 = _t4 * _t57
+    _t63 = (1 / 2) * _t60
+    _t64 = _t59 * yA5
+    _t65 = _t60 * yA5
+    _t66 = t22 * yA6
+    _t67 = t11 * xA6 + t12 * yA6
+    _t68 = _t3 * _t66 - _t4 * _t67 + z
+    _t69 = _t2 * _t67
+    _t70 = _t11 * _t66 + _t69 * _t7 + y - yA6
+    _t71 = _t13 * _t66 + _t69 * _t9 + x - xA6
+    _t72 = 1 / casadi.sqrt(_t68**2 + _t70**2 + _t71**2)
+    _t73 = _t4 * _t68
+    _t74 = (1 / 2) * _t71
+    _t75 = _t70 * yA6
+    _t76 = _t71 * yA6
+    closure_parameters = casadi.SX.zeros(6, 13)
+    closure_parameters[1, 0] = _t15 * (-_t16 * t11 + _t17 * _t18 + _t19 * _t20)
+    closure_parameters[1, 5] = _t15 * (_t12 * _t25 + _t20 * _t26 + _t22 * _t6)
+    closure_parameters[1, 10] = _t15 * (_t14 * _t27 * _t9 - _t16 * xA2 + _t18 * _t27)
+    closure_parameters[1, 11] = _t15 * (-_t16 * yA2 + _t28 * _t29 + _t30 * _t31)
+    closure_parameters[1, 12] = _t15 * (_t11 * _t28 + _t13 * _t30 + _t3 * _t6 * yA2)
+    closure_parameters[2, 1] = _t38 * (_t19 * _t41 + _t36 * _t40 - _t39 * t11)
+    closure_parameters[2, 6] = _t38 * (_t22 * _t34 + _t25 * _t36 + _t26 * _t41)
+    closure_parameters[2, 10] = _t38 * (_t29 * _t36 * xA3 + _t31 * _t37 * xA3 - _t39 * xA3)
+    closure_parameters[2, 11] = _t38 * (_t29 * _t42 + _t31 * _t43 - _t39 * yA3)
+    closure_parameters[2, 12] = _t38 * (_t11 * _t42 + _t13 * _t43 + _t3 * _t34 * yA3)
+    closure_parameters[3, 2] = _t50 * (_t19 * _t52 + _t40 * _t48 - _t51 * t11)
+    closure_parameters[3, 7] = _t50 * (_t22 * _t46 + _t25 * _t48 + _t26 * _t52)
+    closure_parameters[3, 10] = _t50 * (_t29 * _t48 * xA4 + _t31 * _t49 * xA4 - _t51 * xA4)
+    closure_parameters[3, 11] = _t50 * (_t29 * _t53 + _t31 * _t54 - _t51 * yA4)
+    closure_parameters[3, 12] = _t50 * (_t11 * _t53 + _t13 * _t54 + _t3 * _t46 * yA4)
+    closure_parameters[4, 3] = _t61 * (_t19 * _t63 + _t40 * _t59 - _t62 * t11)
+    closure_parameters[4, 8] = _t61 * (_t22 * _t57 + _t25 * _t59 + _t26 * _t63)
+    closure_parameters[4, 10] = _t61 * (_t29 * _t59 * xA5 + _t31 * _t60 * xA5 - _t62 * xA5)
+    closure_parameters[4, 11] = _t61 * (_t29 * _t64 + _t31 * _t65 - _t62 * yA5)
+    closure_parameters[4, 12] = _t61 * (_t11 * _t64 + _t13 * _t65 + _t3 * _t57 * yA5)
+    closure_parameters[5, 4] = _t72 * (_t19 * _t74 + _t40 * _t70 - _t73 * t11)
+    closure_parameters[5, 9] = _t72 * (_t22 * _t68 + _t25 * _t70 + _t26 * _t74)
+    closure_parameters[5, 10] = _t72 * (_t29 * _t70 * xA6 + _t31 * _t71 * xA6 - _t73 * xA6)
+    closure_parameters[5, 11] = _t72 * (_t29 * _t75 + _t31 * _t76 - _t73 * yA6)
+    closure_parameters[5, 12] = _t72 * (_t11 * _t75 + _t13 * _t76 + _t3 * _t68 * yA6)
+    pose_parameters = casadi.SX.zeros(12, 13)
+    return casadi.Function(
+        "gough_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -4930,6 +5085,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "architecture": architecture,
     "drawing": drawing,

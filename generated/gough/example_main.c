@@ -5,6 +5,7 @@
 //   loop_closure: 394
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
+//   parameter_jacobians: 360
 //   singularity_factors: 442
 //   architecture: 455
 //   drawing: 95

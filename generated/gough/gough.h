@@ -5,6 +5,7 @@
 //   loop_closure: 394
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
+//   parameter_jacobians: 360
 //   singularity_factors: 442
 //   architecture: 455
 //   drawing: 95
@@ -230,6 +231,10 @@ int gough_loop_closure_actuated_batch(long long n, const double** inputs, const 
 //   inputs: actuated[6], passive[6], params[13]
 //   outputs: a[6 x 6], b[6 x 6]
 int gough_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[6], passive[6], params[13]
+//   outputs: closure_parameters[6 x 13], pose_parameters[12 x 13]
+int gough_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[6], passive[6], params[13]
 //   outputs: factors[7], determinants[2]

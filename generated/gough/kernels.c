@@ -5,6 +5,7 @@
 //   loop_closure: 394
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
+//   parameter_jacobians: 360
 //   singularity_factors: 442
 //   architecture: 455
 //   drawing: 95
@@ -56,6 +57,7 @@ extern "C" {
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
 #define casadi_f13 CASADI_PREFIX(f13)
+#define casadi_f14 CASADI_PREFIX(f14)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -72,6 +74,8 @@ extern "C" {
 #define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s13 CASADI_PREFIX(s13)
+#define casadi_s14 CASADI_PREFIX(s14)
+#define casadi_s15 CASADI_PREFIX(s15)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -131,15 +135,17 @@ static const casadi_int casadi_s1[3] = {13, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {6, 6, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {7, 1, 1};
-static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {3, 6, 1};
-static const casadi_int casadi_s8[3] = {12, 1, 1};
-static const casadi_int casadi_s9[3] = {0, 1, 1};
-static const casadi_int casadi_s10[3] = {5, 1, 1};
-static const casadi_int casadi_s11[3] = {19, 1, 1};
-static const casadi_int casadi_s12[3] = {168, 1, 1};
-static const casadi_int casadi_s13[3] = {9, 1, 1};
+static const casadi_int casadi_s5[3] = {6, 13, 1};
+static const casadi_int casadi_s6[3] = {12, 13, 1};
+static const casadi_int casadi_s7[3] = {7, 1, 1};
+static const casadi_int casadi_s8[3] = {2, 1, 1};
+static const casadi_int casadi_s9[3] = {3, 6, 1};
+static const casadi_int casadi_s10[3] = {12, 1, 1};
+static const casadi_int casadi_s11[3] = {0, 1, 1};
+static const casadi_int casadi_s12[3] = {5, 1, 1};
+static const casadi_int casadi_s13[3] = {19, 1, 1};
+static const casadi_int casadi_s14[3] = {168, 1, 1};
+static const casadi_int casadi_s15[3] = {9, 1, 1};
 
 /* gough_platform_pose:(actuated[6],passive[6],params[13])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1266,8 +1272,701 @@ CASADI_SYMBOL_EXPORT int gough_rate_jacobians_work_bytes(casadi_int *sz_arg, cas
   return 0;
 }
 
-/* gough_singularity_factors:(actuated[6],passive[6],params[13])->(factors[7],determinants[2]) */
+/* gough_parameter_jacobians:(actuated[6],passive[6],params[13])->(closure_parameters[6x13],pose_parameters[12x13]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57;
+  a00=0.;
+  if (res[0]!=0) res[0][0]=a00;
+  a01=arg[1]? arg[1][4] : 0;
+  a02=cos(a01);
+  a03=arg[2]? arg[2][10] : 0;
+  a04=(a02*a03);
+  a05=arg[2]? arg[2][12] : 0;
+  a06=arg[2]? arg[2][5] : 0;
+  a07=(a05*a06);
+  a08=arg[1]? arg[1][5] : 0;
+  a09=sin(a08);
+  a01=sin(a01);
+  a10=(a09*a01);
+  a11=arg[1]? arg[1][3] : 0;
+  a12=sin(a11);
+  a10=(a10*a12);
+  a08=cos(a08);
+  a11=cos(a11);
+  a13=(a08*a11);
+  a10=(a10+a13);
+  a13=(a07*a10);
+  a14=arg[2]? arg[2][0] : 0;
+  a15=(a03*a14);
+  a16=arg[2]? arg[2][11] : 0;
+  a17=(a16*a06);
+  a15=(a15+a17);
+  a17=(a02*a15);
+  a18=(a12*a17);
+  a13=(a13+a18);
+  a18=arg[1]? arg[1][1] : 0;
+  a13=(a13+a18);
+  a13=(a13-a06);
+  a19=(a13*a12);
+  a20=(a04*a19);
+  a21=(a09*a02);
+  a22=(a07*a21);
+  a15=(a01*a15);
+  a22=(a22-a15);
+  a15=arg[1]? arg[1][2] : 0;
+  a22=(a22+a15);
+  a23=(a01*a22);
+  a24=(a23*a03);
+  a20=(a20-a24);
+  a24=(2.*a04);
+  a24=(a24*a11);
+  a25=2.;
+  a24=(a24-a25);
+  a25=5.0000000000000000e-01;
+  a26=(a09*a01);
+  a26=(a26*a11);
+  a08=(a08*a12);
+  a26=(a26-a08);
+  a07=(a07*a26);
+  a17=(a17*a11);
+  a07=(a07+a17);
+  a17=arg[1]? arg[1][0] : 0;
+  a07=(a07+a17);
+  a07=(a07-a14);
+  a08=(a25*a07);
+  a27=(a24*a08);
+  a20=(a20+a27);
+  a27=casadi_sq(a13);
+  a28=casadi_sq(a07);
+  a27=(a27+a28);
+  a28=casadi_sq(a22);
+  a27=(a27+a28);
+  a27=sqrt(a27);
+  a20=(a20/a27);
+  if (res[0]!=0) res[0][1]=a20;
+  if (res[0]!=0) res[0][2]=a00;
+  if (res[0]!=0) res[0][3]=a00;
+  if (res[0]!=0) res[0][4]=a00;
+  if (res[0]!=0) res[0][5]=a00;
+  if (res[0]!=0) res[0][6]=a00;
+  if (res[0]!=0) res[0][7]=a00;
+  a20=arg[2]? arg[2][6] : 0;
+  a28=(a05*a20);
+  a29=(a26*a28);
+  a30=arg[2]? arg[2][1] : 0;
+  a31=(a03*a30);
+  a32=(a16*a20);
+  a31=(a31+a32);
+  a32=(a02*a31);
+  a33=(a32*a11);
+  a29=(a29+a33);
+  a29=(a29+a17);
+  a29=(a29-a30);
+  a33=(a25*a29);
+  a34=(a24*a33);
+  a35=(a10*a28);
+  a32=(a32*a12);
+  a35=(a35+a32);
+  a35=(a35+a18);
+  a35=(a35-a20);
+  a04=(a04*a12);
+  a32=(a35*a04);
+  a34=(a34+a32);
+  a28=(a21*a28);
+  a31=(a31*a01);
+  a28=(a28-a31);
+  a28=(a28+a15);
+  a31=(a28*a01);
+  a32=(a31*a03);
+  a34=(a34-a32);
+  a32=casadi_sq(a28);
+  a36=casadi_sq(a35);
+  a32=(a32+a36);
+  a36=casadi_sq(a29);
+  a32=(a32+a36);
+  a32=sqrt(a32);
+  a34=(a34/a32);
+  if (res[0]!=0) res[0][8]=a34;
+  if (res[0]!=0) res[0][9]=a00;
+  if (res[0]!=0) res[0][10]=a00;
+  if (res[0]!=0) res[0][11]=a00;
+  if (res[0]!=0) res[0][12]=a00;
+  if (res[0]!=0) res[0][13]=a00;
+  if (res[0]!=0) res[0][14]=a00;
+  a34=arg[2]? arg[2][7] : 0;
+  a36=(a05*a34);
+  a37=(a26*a36);
+  a38=arg[2]? arg[2][2] : 0;
+  a39=(a03*a38);
+  a40=(a16*a34);
+  a39=(a39+a40);
+  a40=(a02*a39);
+  a41=(a40*a11);
+  a37=(a37+a41);
+  a37=(a37+a17);
+  a37=(a37-a38);
+  a41=(a25*a37);
+  a42=(a24*a41);
+  a43=(a10*a36);
+  a40=(a40*a12);
+  a43=(a43+a40);
+  a43=(a43+a18);
+  a43=(a43-a34);
+  a40=(a04*a43);
+  a42=(a42+a40);
+  a36=(a21*a36);
+  a39=(a01*a39);
+  a36=(a36-a39);
+  a36=(a36+a15);
+  a39=(a01*a36);
+  a40=(a39*a03);
+  a42=(a42-a40);
+  a40=casadi_sq(a36);
+  a44=casadi_sq(a43);
+  a40=(a40+a44);
+  a44=casadi_sq(a37);
+  a40=(a40+a44);
+  a40=sqrt(a40);
+  a42=(a42/a40);
+  if (res[0]!=0) res[0][15]=a42;
+  if (res[0]!=0) res[0][16]=a00;
+  if (res[0]!=0) res[0][17]=a00;
+  if (res[0]!=0) res[0][18]=a00;
+  if (res[0]!=0) res[0][19]=a00;
+  if (res[0]!=0) res[0][20]=a00;
+  if (res[0]!=0) res[0][21]=a00;
+  a42=arg[2]? arg[2][8] : 0;
+  a44=(a05*a42);
+  a45=(a26*a44);
+  a46=arg[2]? arg[2][3] : 0;
+  a47=(a03*a46);
+  a48=(a16*a42);
+  a47=(a47+a48);
+  a48=(a02*a47);
+  a49=(a48*a11);
+  a45=(a45+a49);
+  a45=(a45+a17);
+  a45=(a45-a46);
+  a49=(a25*a45);
+  a50=(a24*a49);
+  a51=(a10*a44);
+  a48=(a48*a12);
+  a51=(a51+a48);
+  a51=(a51+a18);
+  a51=(a51-a42);
+  a48=(a04*a51);
+  a50=(a50+a48);
+  a44=(a21*a44);
+  a47=(a01*a47);
+  a44=(a44-a47);
+  a44=(a44+a15);
+  a47=(a01*a44);
+  a48=(a47*a03);
+  a50=(a50-a48);
+  a48=casadi_sq(a44);
+  a52=casadi_sq(a51);
+  a48=(a48+a52);
+  a52=casadi_sq(a45);
+  a48=(a48+a52);
+  a48=sqrt(a48);
+  a50=(a50/a48);
+  if (res[0]!=0) res[0][22]=a50;
+  if (res[0]!=0) res[0][23]=a00;
+  if (res[0]!=0) res[0][24]=a00;
+  if (res[0]!=0) res[0][25]=a00;
+  if (res[0]!=0) res[0][26]=a00;
+  if (res[0]!=0) res[0][27]=a00;
+  if (res[0]!=0) res[0][28]=a00;
+  a50=arg[2]? arg[2][9] : 0;
+  a52=(a05*a50);
+  a53=(a26*a52);
+  a54=arg[2]? arg[2][4] : 0;
+  a55=(a03*a54);
+  a56=(a16*a50);
+  a55=(a55+a56);
+  a56=(a02*a55);
+  a57=(a56*a11);
+  a53=(a53+a57);
+  a53=(a53+a17);
+  a53=(a53-a54);
+  a17=(a25*a53);
+  a24=(a24*a17);
+  a57=(a10*a52);
+  a56=(a56*a12);
+  a57=(a57+a56);
+  a57=(a57+a18);
+  a57=(a57-a50);
+  a04=(a04*a57);
+  a24=(a24+a04);
+  a52=(a21*a52);
+  a55=(a01*a55);
+  a52=(a52-a55);
+  a52=(a52+a15);
+  a15=(a01*a52);
+  a03=(a15*a03);
+  a24=(a24-a03);
+  a03=casadi_sq(a52);
+  a55=casadi_sq(a57);
+  a03=(a03+a55);
+  a55=casadi_sq(a53);
+  a03=(a03+a55);
+  a03=sqrt(a03);
+  a24=(a24/a03);
+  if (res[0]!=0) res[0][29]=a24;
+  if (res[0]!=0) res[0][30]=a00;
+  a24=(a25*a10);
+  a55=(2.*a05);
+  a24=(a24*a55);
+  a04=(2.*a16);
+  a04=(a02*a04);
+  a25=(a25*a04);
+  a25=(a25*a12);
+  a24=(a24+a25);
+  a25=1.;
+  a24=(a24-a25);
+  a25=(a13*a24);
+  a55=(a26*a55);
+  a04=(a04*a11);
+  a55=(a55+a04);
+  a08=(a08*a55);
+  a25=(a25+a08);
+  a09=(a09*a02);
+  a09=(a09*a05);
+  a16=(a16*a01);
+  a09=(a09-a16);
+  a16=(a09*a22);
+  a25=(a25+a16);
+  a25=(a25/a27);
+  if (res[0]!=0) res[0][31]=a25;
+  if (res[0]!=0) res[0][32]=a00;
+  if (res[0]!=0) res[0][33]=a00;
+  if (res[0]!=0) res[0][34]=a00;
+  if (res[0]!=0) res[0][35]=a00;
+  if (res[0]!=0) res[0][36]=a00;
+  if (res[0]!=0) res[0][37]=a00;
+  a25=(a09*a28);
+  a16=(a24*a35);
+  a25=(a25+a16);
+  a33=(a55*a33);
+  a25=(a25+a33);
+  a25=(a25/a32);
+  if (res[0]!=0) res[0][38]=a25;
+  if (res[0]!=0) res[0][39]=a00;
+  if (res[0]!=0) res[0][40]=a00;
+  if (res[0]!=0) res[0][41]=a00;
+  if (res[0]!=0) res[0][42]=a00;
+  if (res[0]!=0) res[0][43]=a00;
+  if (res[0]!=0) res[0][44]=a00;
+  a25=(a09*a36);
+  a33=(a24*a43);
+  a25=(a25+a33);
+  a41=(a55*a41);
+  a25=(a25+a41);
+  a25=(a25/a40);
+  if (res[0]!=0) res[0][45]=a25;
+  if (res[0]!=0) res[0][46]=a00;
+  if (res[0]!=0) res[0][47]=a00;
+  if (res[0]!=0) res[0][48]=a00;
+  if (res[0]!=0) res[0][49]=a00;
+  if (res[0]!=0) res[0][50]=a00;
+  if (res[0]!=0) res[0][51]=a00;
+  a25=(a09*a44);
+  a41=(a24*a51);
+  a25=(a25+a41);
+  a49=(a55*a49);
+  a25=(a25+a49);
+  a25=(a25/a48);
+  if (res[0]!=0) res[0][52]=a25;
+  if (res[0]!=0) res[0][53]=a00;
+  if (res[0]!=0) res[0][54]=a00;
+  if (res[0]!=0) res[0][55]=a00;
+  if (res[0]!=0) res[0][56]=a00;
+  if (res[0]!=0) res[0][57]=a00;
+  if (res[0]!=0) res[0][58]=a00;
+  a09=(a09*a52);
+  a24=(a24*a57);
+  a09=(a09+a24);
+  a55=(a55*a17);
+  a09=(a09+a55);
+  a09=(a09/a03);
+  if (res[0]!=0) res[0][59]=a09;
+  if (res[0]!=0) res[0][60]=a00;
+  a09=(a02*a14);
+  a55=(a07*a09);
+  a55=(a55*a11);
+  a14=(a23*a14);
+  a55=(a55-a14);
+  a19=(a19*a09);
+  a55=(a55+a19);
+  a55=(a55/a27);
+  if (res[0]!=0) res[0][61]=a55;
+  a12=(a02*a12);
+  a55=(a12*a35);
+  a55=(a55*a30);
+  a02=(a02*a11);
+  a11=(a02*a29);
+  a11=(a11*a30);
+  a55=(a55+a11);
+  a30=(a31*a30);
+  a55=(a55-a30);
+  a55=(a55/a32);
+  if (res[0]!=0) res[0][62]=a55;
+  a55=(a12*a43);
+  a55=(a55*a38);
+  a30=(a02*a37);
+  a30=(a30*a38);
+  a55=(a55+a30);
+  a38=(a39*a38);
+  a55=(a55-a38);
+  a55=(a55/a40);
+  if (res[0]!=0) res[0][63]=a55;
+  a55=(a12*a51);
+  a55=(a55*a46);
+  a38=(a02*a45);
+  a38=(a38*a46);
+  a55=(a55+a38);
+  a46=(a47*a46);
+  a55=(a55-a46);
+  a55=(a55/a48);
+  if (res[0]!=0) res[0][64]=a55;
+  a55=(a12*a57);
+  a55=(a55*a54);
+  a46=(a02*a53);
+  a46=(a46*a54);
+  a55=(a55+a46);
+  a54=(a15*a54);
+  a55=(a55-a54);
+  a55=(a55/a03);
+  if (res[0]!=0) res[0][65]=a55;
+  if (res[0]!=0) res[0][66]=a00;
+  a13=(a13*a06);
+  a55=(a13*a12);
+  a23=(a23*a06);
+  a55=(a55-a23);
+  a07=(a07*a06);
+  a23=(a07*a02);
+  a55=(a55+a23);
+  a55=(a55/a27);
+  if (res[0]!=0) res[0][67]=a55;
+  a35=(a35*a20);
+  a55=(a12*a35);
+  a29=(a29*a20);
+  a23=(a02*a29);
+  a55=(a55+a23);
+  a31=(a31*a20);
+  a55=(a55-a31);
+  a55=(a55/a32);
+  if (res[0]!=0) res[0][68]=a55;
+  a43=(a43*a34);
+  a55=(a12*a43);
+  a37=(a37*a34);
+  a31=(a02*a37);
+  a55=(a55+a31);
+  a39=(a39*a34);
+  a55=(a55-a39);
+  a55=(a55/a40);
+  if (res[0]!=0) res[0][69]=a55;
+  a51=(a51*a42);
+  a55=(a12*a51);
+  a45=(a45*a42);
+  a39=(a02*a45);
+  a55=(a55+a39);
+  a47=(a47*a42);
+  a55=(a55-a47);
+  a55=(a55/a48);
+  if (res[0]!=0) res[0][70]=a55;
+  a57=(a57*a50);
+  a12=(a12*a57);
+  a53=(a53*a50);
+  a02=(a02*a53);
+  a12=(a12+a02);
+  a15=(a15*a50);
+  a12=(a12-a15);
+  a12=(a12/a03);
+  if (res[0]!=0) res[0][71]=a12;
+  if (res[0]!=0) res[0][72]=a00;
+  a13=(a10*a13);
+  a07=(a26*a07);
+  a13=(a13+a07);
+  a22=(a21*a22);
+  a22=(a22*a06);
+  a13=(a13+a22);
+  a13=(a13/a27);
+  if (res[0]!=0) res[0][73]=a13;
+  a35=(a10*a35);
+  a29=(a26*a29);
+  a35=(a35+a29);
+  a28=(a21*a28);
+  a28=(a28*a20);
+  a35=(a35+a28);
+  a35=(a35/a32);
+  if (res[0]!=0) res[0][74]=a35;
+  a43=(a10*a43);
+  a37=(a26*a37);
+  a43=(a43+a37);
+  a36=(a21*a36);
+  a36=(a36*a34);
+  a43=(a43+a36);
+  a43=(a43/a40);
+  if (res[0]!=0) res[0][75]=a43;
+  a51=(a10*a51);
+  a45=(a26*a45);
+  a51=(a51+a45);
+  a44=(a21*a44);
+  a44=(a44*a42);
+  a51=(a51+a44);
+  a51=(a51/a48);
+  if (res[0]!=0) res[0][76]=a51;
+  a10=(a10*a57);
+  a26=(a26*a53);
+  a10=(a10+a26);
+  a21=(a21*a52);
+  a21=(a21*a50);
+  a10=(a10+a21);
+  a10=(a10/a03);
+  if (res[0]!=0) res[0][77]=a10;
+  if (res[1]!=0) res[1][0]=a00;
+  if (res[1]!=0) res[1][1]=a00;
+  if (res[1]!=0) res[1][2]=a00;
+  if (res[1]!=0) res[1][3]=a00;
+  if (res[1]!=0) res[1][4]=a00;
+  if (res[1]!=0) res[1][5]=a00;
+  if (res[1]!=0) res[1][6]=a00;
+  if (res[1]!=0) res[1][7]=a00;
+  if (res[1]!=0) res[1][8]=a00;
+  if (res[1]!=0) res[1][9]=a00;
+  if (res[1]!=0) res[1][10]=a00;
+  if (res[1]!=0) res[1][11]=a00;
+  if (res[1]!=0) res[1][12]=a00;
+  if (res[1]!=0) res[1][13]=a00;
+  if (res[1]!=0) res[1][14]=a00;
+  if (res[1]!=0) res[1][15]=a00;
+  if (res[1]!=0) res[1][16]=a00;
+  if (res[1]!=0) res[1][17]=a00;
+  if (res[1]!=0) res[1][18]=a00;
+  if (res[1]!=0) res[1][19]=a00;
+  if (res[1]!=0) res[1][20]=a00;
+  if (res[1]!=0) res[1][21]=a00;
+  if (res[1]!=0) res[1][22]=a00;
+  if (res[1]!=0) res[1][23]=a00;
+  if (res[1]!=0) res[1][24]=a00;
+  if (res[1]!=0) res[1][25]=a00;
+  if (res[1]!=0) res[1][26]=a00;
+  if (res[1]!=0) res[1][27]=a00;
+  if (res[1]!=0) res[1][28]=a00;
+  if (res[1]!=0) res[1][29]=a00;
+  if (res[1]!=0) res[1][30]=a00;
+  if (res[1]!=0) res[1][31]=a00;
+  if (res[1]!=0) res[1][32]=a00;
+  if (res[1]!=0) res[1][33]=a00;
+  if (res[1]!=0) res[1][34]=a00;
+  if (res[1]!=0) res[1][35]=a00;
+  if (res[1]!=0) res[1][36]=a00;
+  if (res[1]!=0) res[1][37]=a00;
+  if (res[1]!=0) res[1][38]=a00;
+  if (res[1]!=0) res[1][39]=a00;
+  if (res[1]!=0) res[1][40]=a00;
+  if (res[1]!=0) res[1][41]=a00;
+  if (res[1]!=0) res[1][42]=a00;
+  if (res[1]!=0) res[1][43]=a00;
+  if (res[1]!=0) res[1][44]=a00;
+  if (res[1]!=0) res[1][45]=a00;
+  if (res[1]!=0) res[1][46]=a00;
+  if (res[1]!=0) res[1][47]=a00;
+  if (res[1]!=0) res[1][48]=a00;
+  if (res[1]!=0) res[1][49]=a00;
+  if (res[1]!=0) res[1][50]=a00;
+  if (res[1]!=0) res[1][51]=a00;
+  if (res[1]!=0) res[1][52]=a00;
+  if (res[1]!=0) res[1][53]=a00;
+  if (res[1]!=0) res[1][54]=a00;
+  if (res[1]!=0) res[1][55]=a00;
+  if (res[1]!=0) res[1][56]=a00;
+  if (res[1]!=0) res[1][57]=a00;
+  if (res[1]!=0) res[1][58]=a00;
+  if (res[1]!=0) res[1][59]=a00;
+  if (res[1]!=0) res[1][60]=a00;
+  if (res[1]!=0) res[1][61]=a00;
+  if (res[1]!=0) res[1][62]=a00;
+  if (res[1]!=0) res[1][63]=a00;
+  if (res[1]!=0) res[1][64]=a00;
+  if (res[1]!=0) res[1][65]=a00;
+  if (res[1]!=0) res[1][66]=a00;
+  if (res[1]!=0) res[1][67]=a00;
+  if (res[1]!=0) res[1][68]=a00;
+  if (res[1]!=0) res[1][69]=a00;
+  if (res[1]!=0) res[1][70]=a00;
+  if (res[1]!=0) res[1][71]=a00;
+  if (res[1]!=0) res[1][72]=a00;
+  if (res[1]!=0) res[1][73]=a00;
+  if (res[1]!=0) res[1][74]=a00;
+  if (res[1]!=0) res[1][75]=a00;
+  if (res[1]!=0) res[1][76]=a00;
+  if (res[1]!=0) res[1][77]=a00;
+  if (res[1]!=0) res[1][78]=a00;
+  if (res[1]!=0) res[1][79]=a00;
+  if (res[1]!=0) res[1][80]=a00;
+  if (res[1]!=0) res[1][81]=a00;
+  if (res[1]!=0) res[1][82]=a00;
+  if (res[1]!=0) res[1][83]=a00;
+  if (res[1]!=0) res[1][84]=a00;
+  if (res[1]!=0) res[1][85]=a00;
+  if (res[1]!=0) res[1][86]=a00;
+  if (res[1]!=0) res[1][87]=a00;
+  if (res[1]!=0) res[1][88]=a00;
+  if (res[1]!=0) res[1][89]=a00;
+  if (res[1]!=0) res[1][90]=a00;
+  if (res[1]!=0) res[1][91]=a00;
+  if (res[1]!=0) res[1][92]=a00;
+  if (res[1]!=0) res[1][93]=a00;
+  if (res[1]!=0) res[1][94]=a00;
+  if (res[1]!=0) res[1][95]=a00;
+  if (res[1]!=0) res[1][96]=a00;
+  if (res[1]!=0) res[1][97]=a00;
+  if (res[1]!=0) res[1][98]=a00;
+  if (res[1]!=0) res[1][99]=a00;
+  if (res[1]!=0) res[1][100]=a00;
+  if (res[1]!=0) res[1][101]=a00;
+  if (res[1]!=0) res[1][102]=a00;
+  if (res[1]!=0) res[1][103]=a00;
+  if (res[1]!=0) res[1][104]=a00;
+  if (res[1]!=0) res[1][105]=a00;
+  if (res[1]!=0) res[1][106]=a00;
+  if (res[1]!=0) res[1][107]=a00;
+  if (res[1]!=0) res[1][108]=a00;
+  if (res[1]!=0) res[1][109]=a00;
+  if (res[1]!=0) res[1][110]=a00;
+  if (res[1]!=0) res[1][111]=a00;
+  if (res[1]!=0) res[1][112]=a00;
+  if (res[1]!=0) res[1][113]=a00;
+  if (res[1]!=0) res[1][114]=a00;
+  if (res[1]!=0) res[1][115]=a00;
+  if (res[1]!=0) res[1][116]=a00;
+  if (res[1]!=0) res[1][117]=a00;
+  if (res[1]!=0) res[1][118]=a00;
+  if (res[1]!=0) res[1][119]=a00;
+  if (res[1]!=0) res[1][120]=a00;
+  if (res[1]!=0) res[1][121]=a00;
+  if (res[1]!=0) res[1][122]=a00;
+  if (res[1]!=0) res[1][123]=a00;
+  if (res[1]!=0) res[1][124]=a00;
+  if (res[1]!=0) res[1][125]=a00;
+  if (res[1]!=0) res[1][126]=a00;
+  if (res[1]!=0) res[1][127]=a00;
+  if (res[1]!=0) res[1][128]=a00;
+  if (res[1]!=0) res[1][129]=a00;
+  if (res[1]!=0) res[1][130]=a00;
+  if (res[1]!=0) res[1][131]=a00;
+  if (res[1]!=0) res[1][132]=a00;
+  if (res[1]!=0) res[1][133]=a00;
+  if (res[1]!=0) res[1][134]=a00;
+  if (res[1]!=0) res[1][135]=a00;
+  if (res[1]!=0) res[1][136]=a00;
+  if (res[1]!=0) res[1][137]=a00;
+  if (res[1]!=0) res[1][138]=a00;
+  if (res[1]!=0) res[1][139]=a00;
+  if (res[1]!=0) res[1][140]=a00;
+  if (res[1]!=0) res[1][141]=a00;
+  if (res[1]!=0) res[1][142]=a00;
+  if (res[1]!=0) res[1][143]=a00;
+  if (res[1]!=0) res[1][144]=a00;
+  if (res[1]!=0) res[1][145]=a00;
+  if (res[1]!=0) res[1][146]=a00;
+  if (res[1]!=0) res[1][147]=a00;
+  if (res[1]!=0) res[1][148]=a00;
+  if (res[1]!=0) res[1][149]=a00;
+  if (res[1]!=0) res[1][150]=a00;
+  if (res[1]!=0) res[1][151]=a00;
+  if (res[1]!=0) res[1][152]=a00;
+  if (res[1]!=0) res[1][153]=a00;
+  if (res[1]!=0) res[1][154]=a00;
+  if (res[1]!=0) res[1][155]=a00;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int gough_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int gough_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void gough_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void gough_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void gough_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int gough_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int gough_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real gough_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* gough_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* gough_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* gough_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* gough_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int gough_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int gough_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* gough_singularity_factors:(actuated[6],passive[6],params[13])->(factors[7],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1729,7 +2428,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_singularity_factors_checkout(void) {
@@ -1783,8 +2482,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* gough_singularity_factors_sparsity_in(cas
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -1806,7 +2505,7 @@ CASADI_SYMBOL_EXPORT int gough_singularity_factors_work_bytes(casadi_int *sz_arg
 }
 
 /* gough_architecture:(params[13])->(measures) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2280,7 +2979,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_architecture(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_architecture_checkout(void) {
@@ -2351,7 +3050,7 @@ CASADI_SYMBOL_EXPORT int gough_architecture_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* gough_drawing:(actuated[6],passive[6],params[13])->(base[3x6],platform[3x6]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -2510,7 +3209,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_drawing_checkout(void) {
@@ -2564,8 +3263,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* gough_drawing_sparsity_in(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
-    case 1: return casadi_s7;
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
     default: return 0;
   }
 }
@@ -2587,7 +3286,7 @@ CASADI_SYMBOL_EXPORT int gough_drawing_work_bytes(casadi_int *sz_arg, casadi_int
 }
 
 /* gough_inverse_pose:(pose[12],branch[0],params[13])->(actuated[6],passive[6],validity[6]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=arg[0]? arg[0][9] : 0;
@@ -2769,7 +3468,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_inverse_pose_checkout(void) {
@@ -2815,8 +3514,8 @@ CASADI_SYMBOL_EXPORT const char* gough_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s9;
+    case 0: return casadi_s10;
+    case 1: return casadi_s11;
     case 2: return casadi_s1;
     default: return 0;
   }
@@ -2848,7 +3547,7 @@ CASADI_SYMBOL_EXPORT int gough_inverse_pose_work_bytes(casadi_int *sz_arg, casad
 }
 
 /* gough_inverse_pose_patterns:(pose[12],params[13])->(actuated[6],passive[6],validity[6]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=arg[0]? arg[0][9] : 0;
@@ -3030,7 +3729,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_inverse_pose_patterns_checkout(void) {
@@ -3075,7 +3774,7 @@ CASADI_SYMBOL_EXPORT const char* gough_inverse_pose_patterns_name_out(casadi_int
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s10;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -3107,7 +3806,7 @@ CASADI_SYMBOL_EXPORT int gough_inverse_pose_patterns_work_bytes(casadi_int *sz_a
 }
 
 /* gough_forward_polynomial:(actuated[6],params[13])->(coefficients[5],degeneracies[2]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -4938,7 +5637,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int gough_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_forward_polynomial_checkout(void) {
@@ -4990,8 +5689,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_polynomial_sparsity_in(casa
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s6;
+    case 0: return casadi_s12;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -5013,7 +5712,7 @@ CASADI_SYMBOL_EXPORT int gough_forward_polynomial_work_bytes(casadi_int *sz_arg,
 }
 
 /* gough_forward_back_substitution:(actuated[6],root,branch[2],params[13])->(pose[4x4]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -7733,7 +8432,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int gough_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_forward_back_substitution_checkout(void) {
@@ -7780,7 +8479,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* gough_forward_back_substitution_sparsity_
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
-    case 2: return casadi_s6;
+    case 2: return casadi_s8;
     case 3: return casadi_s1;
     default: return 0;
   }
@@ -7810,7 +8509,7 @@ CASADI_SYMBOL_EXPORT int gough_forward_back_substitution_work_bytes(casadi_int *
 }
 
 /* gough_automatic_family:(actuated[6],params[13])->(free[19],angles) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -7856,7 +8555,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_family_checkout(void) {
@@ -7908,7 +8607,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* gough_automatic_family_sparsity_in(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
+    case 0: return casadi_s13;
     case 1: return casadi_s4;
     default: return 0;
   }
@@ -7931,7 +8630,7 @@ CASADI_SYMBOL_EXPORT int gough_automatic_family_work_bytes(casadi_int *sz_arg, c
 }
 
 /* gough_automatic_monomials:(family_re[19],family_im[19])->(re[168],im[168]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -9340,7 +10039,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_monomials_checkout(void) {
@@ -9384,16 +10083,16 @@ CASADI_SYMBOL_EXPORT const char* gough_automatic_monomials_name_out(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
-    case 1: return casadi_s11;
+    case 0: return casadi_s13;
+    case 1: return casadi_s13;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
@@ -9415,7 +10114,7 @@ CASADI_SYMBOL_EXPORT int gough_automatic_monomials_work_bytes(casadi_int *sz_arg
 }
 
 /* gough_automatic_passive:(z[9],params[13])->(passive[6]) */
-static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f14(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -9439,7 +10138,7 @@ static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f13(arg, res, iw, w, mem);
+  return casadi_f14(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int gough_automatic_passive_checkout(void) {
@@ -9482,7 +10181,7 @@ CASADI_SYMBOL_EXPORT const char* gough_automatic_passive_name_out(casadi_int i) 
 
 CASADI_SYMBOL_EXPORT const casadi_int* gough_automatic_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s13;
+    case 0: return casadi_s15;
     case 1: return casadi_s1;
     default: return 0;
   }

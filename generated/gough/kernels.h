@@ -5,6 +5,7 @@
 //   loop_closure: 394
 //   loop_closure_actuated: 6
 //   rate_jacobians: 170
+//   parameter_jacobians: 360
 //   singularity_factors: 442
 //   architecture: 455
 //   drawing: 95
@@ -106,6 +107,24 @@ int gough_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casa
 #define gough_rate_jacobians_SZ_RES 2
 #define gough_rate_jacobians_SZ_IW 0
 #define gough_rate_jacobians_SZ_W 0
+int gough_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int gough_parameter_jacobians_checkout(void);
+void gough_parameter_jacobians_release(int mem);
+void gough_parameter_jacobians_incref(void);
+void gough_parameter_jacobians_decref(void);
+casadi_int gough_parameter_jacobians_n_in(void);
+casadi_int gough_parameter_jacobians_n_out(void);
+casadi_real gough_parameter_jacobians_default_in(casadi_int i);
+const char* gough_parameter_jacobians_name_in(casadi_int i);
+const char* gough_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* gough_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* gough_parameter_jacobians_sparsity_out(casadi_int i);
+int gough_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int gough_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define gough_parameter_jacobians_SZ_ARG 3
+#define gough_parameter_jacobians_SZ_RES 2
+#define gough_parameter_jacobians_SZ_IW 0
+#define gough_parameter_jacobians_SZ_W 0
 int gough_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int gough_singularity_factors_checkout(void);
 void gough_singularity_factors_release(int mem);

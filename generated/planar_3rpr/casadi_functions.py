@@ -5,6 +5,7 @@
 #   loop_closure: 126
 #   loop_closure_actuated: 60
 #   rate_jacobians: 46
+#   parameter_jacobians: 129
 #   singularity_factors: 58
 #   drawing: 26
 #   inverse_pose: 52
@@ -319,6 +320,92 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 129.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 12)
+    rho1 = actuated[0]
+    rho2 = actuated[1]
+    rho3 = actuated[2]
+    x = passive[0]
+    y = passive[1]
+    phi = passive[2]
+    base_x1 = params[0]
+    base_y1 = params[1]
+    base_x2 = params[2]
+    base_y2 = params[3]
+    base_x3 = params[4]
+    base_y3 = params[5]
+    platform_x1 = params[6]
+    platform_y1 = params[7]
+    platform_x2 = params[8]
+    platform_y2 = params[9]
+    platform_x3 = params[10]
+    platform_y3 = params[11]
+    _t0 = -2 * x
+    _t1 = casadi.cos(phi)
+    _t2 = casadi.sin(phi)
+    _t3 = _t2 * platform_y1
+    _t4 = (1 / 2) / rho1
+    _t5 = 2 * y
+    _t6 = _t2 * platform_x1
+    _t7 = _t1 * platform_y1
+    _t8 = _t6 + _t7 - base_y1 + y
+    _t9 = -x
+    _t10 = 2 * _t1 * platform_x1 - 2 * _t3 - 2 * _t9 - 2 * base_x1
+    _t11 = _t2 * platform_y2
+    _t12 = (1 / 2) / rho2
+    _t13 = _t2 * platform_x2
+    _t14 = _t1 * platform_y2
+    _t15 = _t13 + _t14 - base_y2 + y
+    _t16 = 2 * _t1 * platform_x2 - 2 * _t11 - 2 * _t9 - 2 * base_x2
+    _t17 = _t2 * platform_y3
+    _t18 = (1 / 2) / rho3
+    _t19 = _t2 * platform_x3
+    _t20 = _t1 * platform_y3
+    _t21 = _t19 + _t20 - base_y3 + y
+    _t22 = 2 * _t1 * platform_x3 - 2 * _t17 - 2 * _t9 - 2 * base_x3
+    closure_parameters = casadi.SX.zeros(3, 12)
+    closure_parameters[0, 0] = _t4 * (_t0 - 2 * _t1 * platform_x1 + 2 * _t3 + 2 * base_x1)
+    closure_parameters[0, 1] = _t4 * (-_t5 - 2 * _t6 - 2 * _t7 + 2 * base_y1)
+    closure_parameters[0, 6] = _t4 * (_t1 * _t10 + 2 * _t2 * _t8)
+    closure_parameters[0, 7] = _t4 * (2 * _t1 * _t8 - _t10 * _t2)
+    closure_parameters[1, 2] = _t12 * (_t0 - 2 * _t1 * platform_x2 + 2 * _t11 + 2 * base_x2)
+    closure_parameters[1, 3] = _t12 * (-2 * _t13 - 2 * _t14 - _t5 + 2 * base_y2)
+    closure_parameters[1, 8] = _t12 * (_t1 * _t16 + 2 * _t15 * _t2)
+    closure_parameters[1, 9] = _t12 * (2 * _t1 * _t15 - _t16 * _t2)
+    closure_parameters[2, 4] = _t18 * (_t0 - 2 * _t1 * platform_x3 + 2 * _t17 + 2 * base_x3)
+    closure_parameters[2, 5] = _t18 * (-2 * _t19 - 2 * _t20 - _t5 + 2 * base_y3)
+    closure_parameters[2, 10] = _t18 * (_t1 * _t22 + 2 * _t2 * _t21)
+    closure_parameters[2, 11] = _t18 * (2 * _t1 * _t21 - _t2 * _t22)
+    pose_parameters = casadi.SX.zeros(12, 12)
+    return casadi.Function(
+        "planar_3rpr_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -1894,6 +1981,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -5,6 +5,7 @@
 //   loop_closure: 126
 //   loop_closure_actuated: 60
 //   rate_jacobians: 46
+//   parameter_jacobians: 129
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
@@ -123,6 +124,30 @@ int planar_3rpr_rate_jacobians_batch(long long n, const double** inputs, const l
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[1][i * 9 + r * 3 + c] = out_b[c * 3 + r];
+    }
+    return 0;
+}
+
+int planar_3rpr_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[28 + 1];
+    casadi_real out_closure_parameters[36 + 1];
+    casadi_real out_pose_parameters[144 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (planar_3rpr_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 12; ++c)
+                outputs[0][i * 36 + r * 12 + c] = out_closure_parameters[c * 3 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 12; ++c)
+                outputs[1][i * 144 + r * 12 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

@@ -5,6 +5,7 @@
 //   loop_closure: 126
 //   loop_closure_actuated: 60
 //   rate_jacobians: 46
+//   parameter_jacobians: 129
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52

@@ -5,6 +5,7 @@
 //   loop_closure: 126
 //   loop_closure_actuated: 60
 //   rate_jacobians: 46
+//   parameter_jacobians: 129
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -66,6 +68,8 @@ extern "C" {
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
 #define casadi_s10 CASADI_PREFIX(s10)
+#define casadi_s11 CASADI_PREFIX(s11)
+#define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -116,12 +120,14 @@ static const casadi_int casadi_s1[3] = {12, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {3, 3, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {4, 1, 1};
-static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {0, 1, 1};
-static const casadi_int casadi_s8[3] = {7, 1, 1};
-static const casadi_int casadi_s9[3] = {15, 1, 1};
-static const casadi_int casadi_s10[3] = {42, 1, 1};
+static const casadi_int casadi_s5[3] = {3, 12, 1};
+static const casadi_int casadi_s6[3] = {12, 12, 1};
+static const casadi_int casadi_s7[3] = {4, 1, 1};
+static const casadi_int casadi_s8[3] = {2, 1, 1};
+static const casadi_int casadi_s9[3] = {0, 1, 1};
+static const casadi_int casadi_s10[3] = {7, 1, 1};
+static const casadi_int casadi_s11[3] = {15, 1, 1};
+static const casadi_int casadi_s12[3] = {42, 1, 1};
 
 /* planar_3rpr_platform_pose:(actuated[3],passive[3],params[12])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -802,8 +808,419 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_rate_jacobians_work_bytes(casadi_int *sz_ar
   return 0;
 }
 
-/* planar_3rpr_singularity_factors:(actuated[3],passive[3],params[12])->(factors[4],determinants[2]) */
+/* planar_3rpr_parameter_jacobians:(actuated[3],passive[3],params[12])->(closure_parameters[3x12],pose_parameters[12x12]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27;
+  a00=5.0000000000000000e-01;
+  a01=arg[0]? arg[0][0] : 0;
+  a01=(a00/a01);
+  a02=-2.;
+  a03=arg[1]? arg[1][0] : 0;
+  a04=(a02*a03);
+  a05=arg[1]? arg[1][2] : 0;
+  a06=cos(a05);
+  a07=(2.*a06);
+  a08=arg[2]? arg[2][6] : 0;
+  a07=(a07*a08);
+  a07=(a04-a07);
+  a05=sin(a05);
+  a09=arg[2]? arg[2][7] : 0;
+  a10=(a05*a09);
+  a11=(2.*a10);
+  a07=(a07+a11);
+  a11=arg[2]? arg[2][0] : 0;
+  a12=(2.*a11);
+  a07=(a07+a12);
+  a07=(a01*a07);
+  if (res[0]!=0) res[0][0]=a07;
+  a07=0.;
+  if (res[0]!=0) res[0][1]=a07;
+  if (res[0]!=0) res[0][2]=a07;
+  a12=arg[2]? arg[2][1] : 0;
+  a13=(2.*a12);
+  a14=arg[1]? arg[1][1] : 0;
+  a15=(2.*a14);
+  a16=(a05*a08);
+  a17=(2.*a16);
+  a17=(a15+a17);
+  a09=(a06*a09);
+  a18=(2.*a09);
+  a17=(a17+a18);
+  a13=(a13-a17);
+  a13=(a01*a13);
+  if (res[0]!=0) res[0][3]=a13;
+  if (res[0]!=0) res[0][4]=a07;
+  if (res[0]!=0) res[0][5]=a07;
+  if (res[0]!=0) res[0][6]=a07;
+  a13=arg[0]? arg[0][1] : 0;
+  a13=(a00/a13);
+  a17=(2.*a06);
+  a18=arg[2]? arg[2][8] : 0;
+  a17=(a17*a18);
+  a17=(a04-a17);
+  a19=arg[2]? arg[2][9] : 0;
+  a20=(a05*a19);
+  a21=(2.*a20);
+  a17=(a17+a21);
+  a21=arg[2]? arg[2][2] : 0;
+  a22=(2.*a21);
+  a17=(a17+a22);
+  a17=(a13*a17);
+  if (res[0]!=0) res[0][7]=a17;
+  if (res[0]!=0) res[0][8]=a07;
+  if (res[0]!=0) res[0][9]=a07;
+  a17=(a05*a18);
+  a22=(a02*a17);
+  a19=(a06*a19);
+  a23=(2.*a19);
+  a22=(a22-a23);
+  a22=(a22-a15);
+  a23=arg[2]? arg[2][3] : 0;
+  a24=(2.*a23);
+  a22=(a22+a24);
+  a22=(a13*a22);
+  if (res[0]!=0) res[0][10]=a22;
+  if (res[0]!=0) res[0][11]=a07;
+  if (res[0]!=0) res[0][12]=a07;
+  if (res[0]!=0) res[0][13]=a07;
+  a22=arg[0]? arg[0][2] : 0;
+  a00=(a00/a22);
+  a22=(2.*a06);
+  a24=arg[2]? arg[2][10] : 0;
+  a22=(a22*a24);
+  a04=(a04-a22);
+  a22=arg[2]? arg[2][11] : 0;
+  a25=(a05*a22);
+  a26=(2.*a25);
+  a04=(a04+a26);
+  a26=arg[2]? arg[2][4] : 0;
+  a27=(2.*a26);
+  a04=(a04+a27);
+  a04=(a00*a04);
+  if (res[0]!=0) res[0][14]=a04;
+  if (res[0]!=0) res[0][15]=a07;
+  if (res[0]!=0) res[0][16]=a07;
+  a04=(a05*a24);
+  a02=(a02*a04);
+  a22=(a06*a22);
+  a27=(2.*a22);
+  a02=(a02-a27);
+  a02=(a02-a15);
+  a15=arg[2]? arg[2][5] : 0;
+  a27=(2.*a15);
+  a02=(a02+a27);
+  a02=(a00*a02);
+  if (res[0]!=0) res[0][17]=a02;
+  a02=(2.*a06);
+  a02=(a02*a08);
+  a10=(2.*a10);
+  a02=(a02-a10);
+  a03=(-a03);
+  a10=(2.*a03);
+  a02=(a02-a10);
+  a11=(2.*a11);
+  a02=(a02-a11);
+  a11=(a06*a02);
+  a10=(2.*a05);
+  a16=(a16+a09);
+  a16=(a16-a12);
+  a16=(a16+a14);
+  a10=(a10*a16);
+  a11=(a11+a10);
+  a11=(a01*a11);
+  if (res[0]!=0) res[0][18]=a11;
+  if (res[0]!=0) res[0][19]=a07;
+  if (res[0]!=0) res[0][20]=a07;
+  a11=(2.*a06);
+  a11=(a11*a16);
+  a02=(a02*a05);
+  a11=(a11-a02);
+  a01=(a01*a11);
+  if (res[0]!=0) res[0][21]=a01;
+  if (res[0]!=0) res[0][22]=a07;
+  if (res[0]!=0) res[0][23]=a07;
+  if (res[0]!=0) res[0][24]=a07;
+  a01=(2.*a06);
+  a01=(a01*a18);
+  a20=(2.*a20);
+  a01=(a01-a20);
+  a20=(2.*a03);
+  a01=(a01-a20);
+  a21=(2.*a21);
+  a01=(a01-a21);
+  a21=(a06*a01);
+  a17=(a17+a19);
+  a17=(a17-a23);
+  a17=(a17+a14);
+  a23=(2.*a17);
+  a23=(a23*a05);
+  a21=(a21+a23);
+  a21=(a13*a21);
+  if (res[0]!=0) res[0][25]=a21;
+  if (res[0]!=0) res[0][26]=a07;
+  if (res[0]!=0) res[0][27]=a07;
+  a21=(2.*a06);
+  a21=(a21*a17);
+  a01=(a01*a05);
+  a21=(a21-a01);
+  a13=(a13*a21);
+  if (res[0]!=0) res[0][28]=a13;
+  if (res[0]!=0) res[0][29]=a07;
+  if (res[0]!=0) res[0][30]=a07;
+  if (res[0]!=0) res[0][31]=a07;
+  a13=(2.*a06);
+  a13=(a13*a24);
+  a25=(2.*a25);
+  a13=(a13-a25);
+  a03=(2.*a03);
+  a13=(a13-a03);
+  a26=(2.*a26);
+  a13=(a13-a26);
+  a26=(a06*a13);
+  a03=(2.*a05);
+  a04=(a04+a22);
+  a04=(a04-a15);
+  a04=(a04+a14);
+  a03=(a03*a04);
+  a26=(a26+a03);
+  a26=(a00*a26);
+  if (res[0]!=0) res[0][32]=a26;
+  if (res[0]!=0) res[0][33]=a07;
+  if (res[0]!=0) res[0][34]=a07;
+  a06=(2.*a06);
+  a06=(a06*a04);
+  a05=(a05*a13);
+  a06=(a06-a05);
+  a00=(a00*a06);
+  if (res[0]!=0) res[0][35]=a00;
+  if (res[1]!=0) res[1][0]=a07;
+  if (res[1]!=0) res[1][1]=a07;
+  if (res[1]!=0) res[1][2]=a07;
+  if (res[1]!=0) res[1][3]=a07;
+  if (res[1]!=0) res[1][4]=a07;
+  if (res[1]!=0) res[1][5]=a07;
+  if (res[1]!=0) res[1][6]=a07;
+  if (res[1]!=0) res[1][7]=a07;
+  if (res[1]!=0) res[1][8]=a07;
+  if (res[1]!=0) res[1][9]=a07;
+  if (res[1]!=0) res[1][10]=a07;
+  if (res[1]!=0) res[1][11]=a07;
+  if (res[1]!=0) res[1][12]=a07;
+  if (res[1]!=0) res[1][13]=a07;
+  if (res[1]!=0) res[1][14]=a07;
+  if (res[1]!=0) res[1][15]=a07;
+  if (res[1]!=0) res[1][16]=a07;
+  if (res[1]!=0) res[1][17]=a07;
+  if (res[1]!=0) res[1][18]=a07;
+  if (res[1]!=0) res[1][19]=a07;
+  if (res[1]!=0) res[1][20]=a07;
+  if (res[1]!=0) res[1][21]=a07;
+  if (res[1]!=0) res[1][22]=a07;
+  if (res[1]!=0) res[1][23]=a07;
+  if (res[1]!=0) res[1][24]=a07;
+  if (res[1]!=0) res[1][25]=a07;
+  if (res[1]!=0) res[1][26]=a07;
+  if (res[1]!=0) res[1][27]=a07;
+  if (res[1]!=0) res[1][28]=a07;
+  if (res[1]!=0) res[1][29]=a07;
+  if (res[1]!=0) res[1][30]=a07;
+  if (res[1]!=0) res[1][31]=a07;
+  if (res[1]!=0) res[1][32]=a07;
+  if (res[1]!=0) res[1][33]=a07;
+  if (res[1]!=0) res[1][34]=a07;
+  if (res[1]!=0) res[1][35]=a07;
+  if (res[1]!=0) res[1][36]=a07;
+  if (res[1]!=0) res[1][37]=a07;
+  if (res[1]!=0) res[1][38]=a07;
+  if (res[1]!=0) res[1][39]=a07;
+  if (res[1]!=0) res[1][40]=a07;
+  if (res[1]!=0) res[1][41]=a07;
+  if (res[1]!=0) res[1][42]=a07;
+  if (res[1]!=0) res[1][43]=a07;
+  if (res[1]!=0) res[1][44]=a07;
+  if (res[1]!=0) res[1][45]=a07;
+  if (res[1]!=0) res[1][46]=a07;
+  if (res[1]!=0) res[1][47]=a07;
+  if (res[1]!=0) res[1][48]=a07;
+  if (res[1]!=0) res[1][49]=a07;
+  if (res[1]!=0) res[1][50]=a07;
+  if (res[1]!=0) res[1][51]=a07;
+  if (res[1]!=0) res[1][52]=a07;
+  if (res[1]!=0) res[1][53]=a07;
+  if (res[1]!=0) res[1][54]=a07;
+  if (res[1]!=0) res[1][55]=a07;
+  if (res[1]!=0) res[1][56]=a07;
+  if (res[1]!=0) res[1][57]=a07;
+  if (res[1]!=0) res[1][58]=a07;
+  if (res[1]!=0) res[1][59]=a07;
+  if (res[1]!=0) res[1][60]=a07;
+  if (res[1]!=0) res[1][61]=a07;
+  if (res[1]!=0) res[1][62]=a07;
+  if (res[1]!=0) res[1][63]=a07;
+  if (res[1]!=0) res[1][64]=a07;
+  if (res[1]!=0) res[1][65]=a07;
+  if (res[1]!=0) res[1][66]=a07;
+  if (res[1]!=0) res[1][67]=a07;
+  if (res[1]!=0) res[1][68]=a07;
+  if (res[1]!=0) res[1][69]=a07;
+  if (res[1]!=0) res[1][70]=a07;
+  if (res[1]!=0) res[1][71]=a07;
+  if (res[1]!=0) res[1][72]=a07;
+  if (res[1]!=0) res[1][73]=a07;
+  if (res[1]!=0) res[1][74]=a07;
+  if (res[1]!=0) res[1][75]=a07;
+  if (res[1]!=0) res[1][76]=a07;
+  if (res[1]!=0) res[1][77]=a07;
+  if (res[1]!=0) res[1][78]=a07;
+  if (res[1]!=0) res[1][79]=a07;
+  if (res[1]!=0) res[1][80]=a07;
+  if (res[1]!=0) res[1][81]=a07;
+  if (res[1]!=0) res[1][82]=a07;
+  if (res[1]!=0) res[1][83]=a07;
+  if (res[1]!=0) res[1][84]=a07;
+  if (res[1]!=0) res[1][85]=a07;
+  if (res[1]!=0) res[1][86]=a07;
+  if (res[1]!=0) res[1][87]=a07;
+  if (res[1]!=0) res[1][88]=a07;
+  if (res[1]!=0) res[1][89]=a07;
+  if (res[1]!=0) res[1][90]=a07;
+  if (res[1]!=0) res[1][91]=a07;
+  if (res[1]!=0) res[1][92]=a07;
+  if (res[1]!=0) res[1][93]=a07;
+  if (res[1]!=0) res[1][94]=a07;
+  if (res[1]!=0) res[1][95]=a07;
+  if (res[1]!=0) res[1][96]=a07;
+  if (res[1]!=0) res[1][97]=a07;
+  if (res[1]!=0) res[1][98]=a07;
+  if (res[1]!=0) res[1][99]=a07;
+  if (res[1]!=0) res[1][100]=a07;
+  if (res[1]!=0) res[1][101]=a07;
+  if (res[1]!=0) res[1][102]=a07;
+  if (res[1]!=0) res[1][103]=a07;
+  if (res[1]!=0) res[1][104]=a07;
+  if (res[1]!=0) res[1][105]=a07;
+  if (res[1]!=0) res[1][106]=a07;
+  if (res[1]!=0) res[1][107]=a07;
+  if (res[1]!=0) res[1][108]=a07;
+  if (res[1]!=0) res[1][109]=a07;
+  if (res[1]!=0) res[1][110]=a07;
+  if (res[1]!=0) res[1][111]=a07;
+  if (res[1]!=0) res[1][112]=a07;
+  if (res[1]!=0) res[1][113]=a07;
+  if (res[1]!=0) res[1][114]=a07;
+  if (res[1]!=0) res[1][115]=a07;
+  if (res[1]!=0) res[1][116]=a07;
+  if (res[1]!=0) res[1][117]=a07;
+  if (res[1]!=0) res[1][118]=a07;
+  if (res[1]!=0) res[1][119]=a07;
+  if (res[1]!=0) res[1][120]=a07;
+  if (res[1]!=0) res[1][121]=a07;
+  if (res[1]!=0) res[1][122]=a07;
+  if (res[1]!=0) res[1][123]=a07;
+  if (res[1]!=0) res[1][124]=a07;
+  if (res[1]!=0) res[1][125]=a07;
+  if (res[1]!=0) res[1][126]=a07;
+  if (res[1]!=0) res[1][127]=a07;
+  if (res[1]!=0) res[1][128]=a07;
+  if (res[1]!=0) res[1][129]=a07;
+  if (res[1]!=0) res[1][130]=a07;
+  if (res[1]!=0) res[1][131]=a07;
+  if (res[1]!=0) res[1][132]=a07;
+  if (res[1]!=0) res[1][133]=a07;
+  if (res[1]!=0) res[1][134]=a07;
+  if (res[1]!=0) res[1][135]=a07;
+  if (res[1]!=0) res[1][136]=a07;
+  if (res[1]!=0) res[1][137]=a07;
+  if (res[1]!=0) res[1][138]=a07;
+  if (res[1]!=0) res[1][139]=a07;
+  if (res[1]!=0) res[1][140]=a07;
+  if (res[1]!=0) res[1][141]=a07;
+  if (res[1]!=0) res[1][142]=a07;
+  if (res[1]!=0) res[1][143]=a07;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rpr_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rpr_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real planar_3rpr_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rpr_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rpr_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* planar_3rpr_singularity_factors:(actuated[3],passive[3],params[12])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16;
   a00=arg[0]? arg[0][0] : 0;
@@ -887,7 +1304,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_singularity_factors_checkout(void) {
@@ -941,8 +1358,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_singularity_factors_sparsity_
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -964,7 +1381,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_singularity_factors_work_bytes(casadi_int *
 }
 
 /* planar_3rpr_drawing:(actuated[3],passive[3],params[12])->(base[3x3],platform[3x3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8;
   a0=arg[2]? arg[2][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1030,7 +1447,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_drawing_checkout(void) {
@@ -1107,7 +1524,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_drawing_work_bytes(casadi_int *sz_arg, casa
 }
 
 /* planar_3rpr_inverse_pose:(pose[12],branch[0],params[12])->(actuated[3],passive[3],validity[3]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10;
   a00=arg[0]? arg[0][3] : 0;
   a01=arg[0]? arg[0][0] : 0;
@@ -1187,7 +1604,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose_checkout(void) {
@@ -1234,7 +1651,7 @@ CASADI_SYMBOL_EXPORT const char* planar_3rpr_inverse_pose_name_out(casadi_int i)
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
-    case 1: return casadi_s7;
+    case 1: return casadi_s9;
     case 2: return casadi_s1;
     default: return 0;
   }
@@ -1266,7 +1683,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose_work_bytes(casadi_int *sz_arg,
 }
 
 /* planar_3rpr_inverse_pose_patterns:(pose[12],params[12])->(actuated[3],passive[3],validity[3]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10;
   a00=arg[0]? arg[0][3] : 0;
   a01=arg[0]? arg[0][0] : 0;
@@ -1346,7 +1763,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose_patterns_checkout(void) {
@@ -1423,7 +1840,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_inverse_pose_patterns_work_bytes(casadi_int
 }
 
 /* planar_3rpr_forward_polynomial:(actuated[3],params[12])->(coefficients[7],degeneracies[2]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -2892,7 +3309,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_forward_polynomial_checkout(void) {
@@ -2944,8 +3361,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_forward_polynomial_sparsity_i
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s6;
+    case 0: return casadi_s10;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -2967,7 +3384,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_forward_polynomial_work_bytes(casadi_int *s
 }
 
 /* planar_3rpr_forward_back_substitution:(actuated[3],root,branch[0],params[12])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -3147,7 +3564,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_forward_back_substitution_checkout(void) {
@@ -3194,7 +3611,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_forward_back_substitution_spa
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s4;
-    case 2: return casadi_s7;
+    case 2: return casadi_s9;
     case 3: return casadi_s1;
     default: return 0;
   }
@@ -3224,7 +3641,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_forward_back_substitution_work_bytes(casadi
 }
 
 /* planar_3rpr_automatic_family:(actuated[3],params[12])->(free[15],angles) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -3262,7 +3679,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family_checkout(void) {
@@ -3314,7 +3731,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_family_sparsity_in(
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
+    case 0: return casadi_s11;
     case 1: return casadi_s4;
     default: return 0;
   }
@@ -3337,7 +3754,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_family_work_bytes(casadi_int *sz_
 }
 
 /* planar_3rpr_automatic_monomials:(family_re[15],family_im[15])->(re[42],im[42]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3674,7 +4091,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials_checkout(void) {
@@ -3718,16 +4135,16 @@ CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_monomials_name_out(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s9;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s10;
+    case 0: return casadi_s12;
+    case 1: return casadi_s12;
     default: return 0;
   }
 }
@@ -3749,7 +4166,7 @@ CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_monomials_work_bytes(casadi_int *
 }
 
 /* planar_3rpr_automatic_passive:(z[4],params[12])->(passive[3]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -3763,7 +4180,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rpr_automatic_passive_checkout(void) {
@@ -3806,7 +4223,7 @@ CASADI_SYMBOL_EXPORT const char* planar_3rpr_automatic_passive_name_out(casadi_i
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rpr_automatic_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
+    case 0: return casadi_s7;
     case 1: return casadi_s1;
     default: return 0;
   }

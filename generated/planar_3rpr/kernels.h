@@ -5,6 +5,7 @@
 //   loop_closure: 126
 //   loop_closure_actuated: 60
 //   rate_jacobians: 46
+//   parameter_jacobians: 129
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
@@ -105,6 +106,24 @@ int planar_3rpr_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res
 #define planar_3rpr_rate_jacobians_SZ_RES 2
 #define planar_3rpr_rate_jacobians_SZ_IW 0
 #define planar_3rpr_rate_jacobians_SZ_W 0
+int planar_3rpr_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int planar_3rpr_parameter_jacobians_checkout(void);
+void planar_3rpr_parameter_jacobians_release(int mem);
+void planar_3rpr_parameter_jacobians_incref(void);
+void planar_3rpr_parameter_jacobians_decref(void);
+casadi_int planar_3rpr_parameter_jacobians_n_in(void);
+casadi_int planar_3rpr_parameter_jacobians_n_out(void);
+casadi_real planar_3rpr_parameter_jacobians_default_in(casadi_int i);
+const char* planar_3rpr_parameter_jacobians_name_in(casadi_int i);
+const char* planar_3rpr_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* planar_3rpr_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* planar_3rpr_parameter_jacobians_sparsity_out(casadi_int i);
+int planar_3rpr_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int planar_3rpr_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define planar_3rpr_parameter_jacobians_SZ_ARG 3
+#define planar_3rpr_parameter_jacobians_SZ_RES 2
+#define planar_3rpr_parameter_jacobians_SZ_IW 0
+#define planar_3rpr_parameter_jacobians_SZ_W 0
 int planar_3rpr_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int planar_3rpr_singularity_factors_checkout(void);
 void planar_3rpr_singularity_factors_release(int mem);

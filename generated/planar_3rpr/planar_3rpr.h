@@ -5,6 +5,7 @@
 //   loop_closure: 126
 //   loop_closure_actuated: 60
 //   rate_jacobians: 46
+//   parameter_jacobians: 129
 //   singularity_factors: 58
 //   drawing: 26
 //   inverse_pose: 52
@@ -222,6 +223,10 @@ int planar_3rpr_loop_closure_actuated_batch(long long n, const double** inputs, 
 //   inputs: actuated[3], passive[3], params[12]
 //   outputs: a[3 x 3], b[3 x 3]
 int planar_3rpr_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[3], params[12]
+//   outputs: closure_parameters[3 x 12], pose_parameters[12 x 12]
+int planar_3rpr_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[3], params[12]
 //   outputs: factors[4], determinants[2]

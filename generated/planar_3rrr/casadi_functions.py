@@ -5,6 +5,7 @@
 #   loop_closure: 156
 #   loop_closure_actuated: 75
 #   rate_jacobians: 76
+#   parameter_jacobians: 192
 #   singularity_factors: 88
 #   drawing: 44
 #   inverse_pose: 196
@@ -337,6 +338,126 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 192.
+    """
+    actuated = casadi.SX.sym("actuated", 3)
+    passive = casadi.SX.sym("passive", 3)
+    params = casadi.SX.sym("params", 18)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    x = passive[0]
+    y = passive[1]
+    phi = passive[2]
+    base_x1 = params[0]
+    base_y1 = params[1]
+    base_x2 = params[2]
+    base_y2 = params[3]
+    base_x3 = params[4]
+    base_y3 = params[5]
+    platform_x1 = params[6]
+    platform_y1 = params[7]
+    platform_x2 = params[8]
+    platform_y2 = params[9]
+    platform_x3 = params[10]
+    platform_y3 = params[11]
+    a1 = params[12]
+    a2 = params[13]
+    a3 = params[14]
+    b1 = params[15]
+    b2 = params[16]
+    b3 = params[17]
+    _t0 = -2 * x
+    _t1 = casadi.cos(theta1)
+    _t2 = _t1 * a1
+    _t3 = casadi.cos(phi)
+    _t4 = casadi.sin(phi)
+    _t5 = _t4 * platform_y1
+    _t6 = (1 / 2) / b1
+    _t7 = 2 * y
+    _t8 = casadi.sin(theta1)
+    _t9 = _t4 * platform_x1
+    _t10 = _t3 * platform_y1
+    _t11 = _t10 - _t8 * a1 + _t9 - base_y1 + y
+    _t12 = 2 * _t11
+    _t13 = -x
+    _t14 = -_t13 - _t2 + _t3 * platform_x1 - _t5 - base_x1
+    _t15 = 2 * _t14
+    _t16 = b1**2
+    _t17 = casadi.cos(theta2)
+    _t18 = _t17 * a2
+    _t19 = _t4 * platform_y2
+    _t20 = (1 / 2) / b2
+    _t21 = casadi.sin(theta2)
+    _t22 = _t4 * platform_x2
+    _t23 = _t3 * platform_y2
+    _t24 = -_t21 * a2 + _t22 + _t23 - base_y2 + y
+    _t25 = 2 * _t24
+    _t26 = -_t13 - _t18 - _t19 + _t3 * platform_x2 - base_x2
+    _t27 = 2 * _t26
+    _t28 = b2**2
+    _t29 = casadi.cos(theta3)
+    _t30 = _t29 * a3
+    _t31 = _t4 * platform_y3
+    _t32 = (1 / 2) / b3
+    _t33 = casadi.sin(theta3)
+    _t34 = _t4 * platform_x3
+    _t35 = _t3 * platform_y3
+    _t36 = -_t33 * a3 + _t34 + _t35 - base_y3 + y
+    _t37 = 2 * _t36
+    _t38 = -_t13 + _t3 * platform_x3 - _t30 - _t31 - base_x3
+    _t39 = 2 * _t38
+    _t40 = b3**2
+    closure_parameters = casadi.SX.zeros(3, 18)
+    closure_parameters[0, 0] = _t6 * (_t0 + 2 * _t2 - 2 * _t3 * platform_x1 + 2 * _t5 + 2 * base_x1)
+    closure_parameters[0, 1] = _t6 * (-2 * _t10 - _t7 + 2 * _t8 * a1 - 2 * _t9 + 2 * base_y1)
+    closure_parameters[0, 6] = _t6 * (_t12 * _t4 + _t15 * _t3)
+    closure_parameters[0, 7] = _t6 * (_t12 * _t3 - _t15 * _t4)
+    closure_parameters[0, 12] = _t6 * (-_t1 * _t15 - _t12 * _t8)
+    closure_parameters[0, 15] = -1 - 1 / 2 * (_t11**2 + _t14**2 - _t16) / _t16
+    closure_parameters[1, 2] = _t20 * (
+        _t0 + 2 * _t18 + 2 * _t19 - 2 * _t3 * platform_x2 + 2 * base_x2
+    )
+    closure_parameters[1, 3] = _t20 * (2 * _t21 * a2 - 2 * _t22 - 2 * _t23 - _t7 + 2 * base_y2)
+    closure_parameters[1, 8] = _t20 * (_t25 * _t4 + _t27 * _t3)
+    closure_parameters[1, 9] = _t20 * (_t25 * _t3 - _t27 * _t4)
+    closure_parameters[1, 13] = _t20 * (-_t17 * _t27 - _t21 * _t25)
+    closure_parameters[1, 16] = -1 - 1 / 2 * (_t24**2 + _t26**2 - _t28) / _t28
+    closure_parameters[2, 4] = _t32 * (
+        _t0 - 2 * _t3 * platform_x3 + 2 * _t30 + 2 * _t31 + 2 * base_x3
+    )
+    closure_parameters[2, 5] = _t32 * (2 * _t33 * a3 - 2 * _t34 - 2 * _t35 - _t7 + 2 * base_y3)
+    closure_parameters[2, 10] = _t32 * (_t3 * _t39 + _t37 * _t4)
+    closure_parameters[2, 11] = _t32 * (_t3 * _t37 - _t39 * _t4)
+    closure_parameters[2, 14] = _t32 * (-_t29 * _t39 - _t33 * _t37)
+    closure_parameters[2, 17] = -1 - 1 / 2 * (_t36**2 + _t38**2 - _t40) / _t40
+    pose_parameters = casadi.SX.zeros(12, 18)
+    return casadi.Function(
+        "planar_3rrr_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -1300,6 +1421,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

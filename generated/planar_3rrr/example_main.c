@@ -5,6 +5,7 @@
 //   loop_closure: 156
 //   loop_closure_actuated: 75
 //   rate_jacobians: 76
+//   parameter_jacobians: 192
 //   singularity_factors: 88
 //   drawing: 44
 //   inverse_pose: 196

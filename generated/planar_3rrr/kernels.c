@@ -5,6 +5,7 @@
 //   loop_closure: 156
 //   loop_closure_actuated: 75
 //   rate_jacobians: 76
+//   parameter_jacobians: 192
 //   singularity_factors: 88
 //   drawing: 44
 //   inverse_pose: 196
@@ -48,6 +49,7 @@ extern "C" {
 /* Add prefix to internal symbols */
 #define casadi_f0 CASADI_PREFIX(f0)
 #define casadi_f1 CASADI_PREFIX(f1)
+#define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -59,6 +61,8 @@ extern "C" {
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
+#define casadi_s10 CASADI_PREFIX(s10)
+#define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -109,11 +113,13 @@ static const casadi_int casadi_s1[3] = {18, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {3, 3, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {4, 1, 1};
-static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {27, 1, 1};
-static const casadi_int casadi_s9[3] = {42, 1, 1};
+static const casadi_int casadi_s5[3] = {3, 18, 1};
+static const casadi_int casadi_s6[3] = {12, 18, 1};
+static const casadi_int casadi_s7[3] = {4, 1, 1};
+static const casadi_int casadi_s8[3] = {2, 1, 1};
+static const casadi_int casadi_s9[3] = {12, 1, 1};
+static const casadi_int casadi_s10[3] = {27, 1, 1};
+static const casadi_int casadi_s11[3] = {42, 1, 1};
 
 /* planar_3rrr_platform_pose:(actuated[3],passive[3],params[18])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -888,8 +894,576 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_rate_jacobians_work_bytes(casadi_int *sz_ar
   return 0;
 }
 
-/* planar_3rrr_singularity_factors:(actuated[3],passive[3],params[18])->(factors[4],determinants[2]) */
+/* planar_3rrr_parameter_jacobians:(actuated[3],passive[3],params[18])->(closure_parameters[3x18],pose_parameters[12x18]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43;
+  a00=5.0000000000000000e-01;
+  a01=arg[2]? arg[2][15] : 0;
+  a02=(a00/a01);
+  a03=-2.;
+  a04=arg[1]? arg[1][0] : 0;
+  a05=(a03*a04);
+  a06=arg[0]? arg[0][0] : 0;
+  a07=cos(a06);
+  a08=arg[2]? arg[2][12] : 0;
+  a09=(a07*a08);
+  a10=(2.*a09);
+  a10=(a05+a10);
+  a11=arg[1]? arg[1][2] : 0;
+  a12=cos(a11);
+  a13=(2.*a12);
+  a14=arg[2]? arg[2][6] : 0;
+  a13=(a13*a14);
+  a10=(a10-a13);
+  a11=sin(a11);
+  a13=arg[2]? arg[2][7] : 0;
+  a15=(a11*a13);
+  a16=(2.*a15);
+  a10=(a10+a16);
+  a16=arg[2]? arg[2][0] : 0;
+  a17=(2.*a16);
+  a10=(a10+a17);
+  a10=(a02*a10);
+  if (res[0]!=0) res[0][0]=a10;
+  a10=0.;
+  if (res[0]!=0) res[0][1]=a10;
+  if (res[0]!=0) res[0][2]=a10;
+  a13=(a12*a13);
+  a03=(a03*a13);
+  a17=arg[1]? arg[1][1] : 0;
+  a18=(2.*a17);
+  a03=(a03-a18);
+  a06=sin(a06);
+  a19=(2.*a06);
+  a19=(a19*a08);
+  a03=(a03+a19);
+  a19=(a11*a14);
+  a20=(2.*a19);
+  a03=(a03-a20);
+  a20=arg[2]? arg[2][1] : 0;
+  a21=(2.*a20);
+  a03=(a03+a21);
+  a03=(a02*a03);
+  if (res[0]!=0) res[0][3]=a03;
+  if (res[0]!=0) res[0][4]=a10;
+  if (res[0]!=0) res[0][5]=a10;
+  if (res[0]!=0) res[0][6]=a10;
+  a03=arg[2]? arg[2][16] : 0;
+  a21=(a00/a03);
+  a22=arg[0]? arg[0][1] : 0;
+  a23=cos(a22);
+  a24=arg[2]? arg[2][13] : 0;
+  a25=(a23*a24);
+  a26=(2.*a25);
+  a26=(a05+a26);
+  a27=arg[2]? arg[2][9] : 0;
+  a28=(a11*a27);
+  a29=(2.*a28);
+  a26=(a26+a29);
+  a29=(2.*a12);
+  a30=arg[2]? arg[2][8] : 0;
+  a29=(a29*a30);
+  a26=(a26-a29);
+  a29=arg[2]? arg[2][2] : 0;
+  a31=(2.*a29);
+  a26=(a26+a31);
+  a26=(a21*a26);
+  if (res[0]!=0) res[0][7]=a26;
+  if (res[0]!=0) res[0][8]=a10;
+  if (res[0]!=0) res[0][9]=a10;
+  a22=sin(a22);
+  a26=(2.*a22);
+  a26=(a26*a24);
+  a31=(a11*a30);
+  a32=(2.*a31);
+  a26=(a26-a32);
+  a27=(a12*a27);
+  a32=(2.*a27);
+  a26=(a26-a32);
+  a26=(a26-a18);
+  a32=arg[2]? arg[2][3] : 0;
+  a33=(2.*a32);
+  a26=(a26+a33);
+  a26=(a21*a26);
+  if (res[0]!=0) res[0][10]=a26;
+  if (res[0]!=0) res[0][11]=a10;
+  if (res[0]!=0) res[0][12]=a10;
+  if (res[0]!=0) res[0][13]=a10;
+  a26=arg[2]? arg[2][17] : 0;
+  a33=(a00/a26);
+  a34=(2.*a12);
+  a35=arg[2]? arg[2][10] : 0;
+  a34=(a34*a35);
+  a05=(a05-a34);
+  a34=arg[0]? arg[0][2] : 0;
+  a36=cos(a34);
+  a37=arg[2]? arg[2][14] : 0;
+  a38=(a36*a37);
+  a39=(2.*a38);
+  a05=(a05+a39);
+  a39=arg[2]? arg[2][11] : 0;
+  a40=(a11*a39);
+  a41=(2.*a40);
+  a05=(a05+a41);
+  a41=arg[2]? arg[2][4] : 0;
+  a42=(2.*a41);
+  a05=(a05+a42);
+  a05=(a33*a05);
+  if (res[0]!=0) res[0][14]=a05;
+  if (res[0]!=0) res[0][15]=a10;
+  if (res[0]!=0) res[0][16]=a10;
+  a34=sin(a34);
+  a05=(2.*a34);
+  a05=(a05*a37);
+  a42=(a11*a35);
+  a43=(2.*a42);
+  a05=(a05-a43);
+  a39=(a12*a39);
+  a43=(2.*a39);
+  a05=(a05-a43);
+  a05=(a05-a18);
+  a18=arg[2]? arg[2][5] : 0;
+  a43=(2.*a18);
+  a05=(a05+a43);
+  a05=(a33*a05);
+  if (res[0]!=0) res[0][17]=a05;
+  a08=(a06*a08);
+  a13=(a13-a08);
+  a13=(a13+a19);
+  a13=(a13-a20);
+  a13=(a13+a17);
+  a20=(2.*a13);
+  a19=(a20*a11);
+  a09=(a04-a09);
+  a14=(a12*a14);
+  a09=(a09+a14);
+  a09=(a09-a15);
+  a09=(a09-a16);
+  a16=(2.*a09);
+  a15=(a16*a12);
+  a19=(a19+a15);
+  a19=(a02*a19);
+  if (res[0]!=0) res[0][18]=a19;
+  if (res[0]!=0) res[0][19]=a10;
+  if (res[0]!=0) res[0][20]=a10;
+  a19=(a20*a12);
+  a15=(a16*a11);
+  a19=(a19-a15);
+  a19=(a02*a19);
+  if (res[0]!=0) res[0][21]=a19;
+  if (res[0]!=0) res[0][22]=a10;
+  if (res[0]!=0) res[0][23]=a10;
+  if (res[0]!=0) res[0][24]=a10;
+  a24=(a22*a24);
+  a31=(a31-a24);
+  a31=(a31+a27);
+  a31=(a31-a32);
+  a31=(a31+a17);
+  a32=(2.*a31);
+  a27=(a32*a11);
+  a25=(a04-a25);
+  a25=(a25-a28);
+  a30=(a12*a30);
+  a25=(a25+a30);
+  a25=(a25-a29);
+  a29=(2.*a25);
+  a30=(a29*a12);
+  a27=(a27+a30);
+  a27=(a21*a27);
+  if (res[0]!=0) res[0][25]=a27;
+  if (res[0]!=0) res[0][26]=a10;
+  if (res[0]!=0) res[0][27]=a10;
+  a27=(a32*a12);
+  a30=(a29*a11);
+  a27=(a27-a30);
+  a27=(a21*a27);
+  if (res[0]!=0) res[0][28]=a27;
+  if (res[0]!=0) res[0][29]=a10;
+  if (res[0]!=0) res[0][30]=a10;
+  if (res[0]!=0) res[0][31]=a10;
+  a35=(a12*a35);
+  a04=(a04+a35);
+  a04=(a04-a38);
+  a04=(a04-a40);
+  a04=(a04-a41);
+  a41=(2.*a04);
+  a40=(a12*a41);
+  a37=(a34*a37);
+  a42=(a42-a37);
+  a42=(a42+a39);
+  a42=(a42-a18);
+  a42=(a42+a17);
+  a17=(2.*a42);
+  a18=(a17*a11);
+  a40=(a40+a18);
+  a40=(a33*a40);
+  if (res[0]!=0) res[0][32]=a40;
+  if (res[0]!=0) res[0][33]=a10;
+  if (res[0]!=0) res[0][34]=a10;
+  a12=(a12*a17);
+  a11=(a41*a11);
+  a12=(a12-a11);
+  a12=(a33*a12);
+  if (res[0]!=0) res[0][35]=a12;
+  a07=(a07*a16);
+  a20=(a20*a06);
+  a07=(a07+a20);
+  a02=(a02*a07);
+  a02=(-a02);
+  if (res[0]!=0) res[0][36]=a02;
+  if (res[0]!=0) res[0][37]=a10;
+  if (res[0]!=0) res[0][38]=a10;
+  if (res[0]!=0) res[0][39]=a10;
+  a23=(a23*a29);
+  a22=(a22*a32);
+  a23=(a23+a22);
+  a21=(a21*a23);
+  a21=(-a21);
+  if (res[0]!=0) res[0][40]=a21;
+  if (res[0]!=0) res[0][41]=a10;
+  if (res[0]!=0) res[0][42]=a10;
+  if (res[0]!=0) res[0][43]=a10;
+  a36=(a36*a41);
+  a34=(a34*a17);
+  a36=(a36+a34);
+  a33=(a33*a36);
+  a33=(-a33);
+  if (res[0]!=0) res[0][44]=a33;
+  a33=-1.;
+  a13=casadi_sq(a13);
+  a09=casadi_sq(a09);
+  a13=(a13+a09);
+  a01=casadi_sq(a01);
+  a13=(a13-a01);
+  a13=(a00*a13);
+  a13=(a13/a01);
+  a13=(a33-a13);
+  if (res[0]!=0) res[0][45]=a13;
+  if (res[0]!=0) res[0][46]=a10;
+  if (res[0]!=0) res[0][47]=a10;
+  if (res[0]!=0) res[0][48]=a10;
+  a31=casadi_sq(a31);
+  a25=casadi_sq(a25);
+  a31=(a31+a25);
+  a03=casadi_sq(a03);
+  a31=(a31-a03);
+  a31=(a00*a31);
+  a31=(a31/a03);
+  a31=(a33-a31);
+  if (res[0]!=0) res[0][49]=a31;
+  if (res[0]!=0) res[0][50]=a10;
+  if (res[0]!=0) res[0][51]=a10;
+  if (res[0]!=0) res[0][52]=a10;
+  a42=casadi_sq(a42);
+  a04=casadi_sq(a04);
+  a42=(a42+a04);
+  a26=casadi_sq(a26);
+  a42=(a42-a26);
+  a00=(a00*a42);
+  a00=(a00/a26);
+  a33=(a33-a00);
+  if (res[0]!=0) res[0][53]=a33;
+  if (res[1]!=0) res[1][0]=a10;
+  if (res[1]!=0) res[1][1]=a10;
+  if (res[1]!=0) res[1][2]=a10;
+  if (res[1]!=0) res[1][3]=a10;
+  if (res[1]!=0) res[1][4]=a10;
+  if (res[1]!=0) res[1][5]=a10;
+  if (res[1]!=0) res[1][6]=a10;
+  if (res[1]!=0) res[1][7]=a10;
+  if (res[1]!=0) res[1][8]=a10;
+  if (res[1]!=0) res[1][9]=a10;
+  if (res[1]!=0) res[1][10]=a10;
+  if (res[1]!=0) res[1][11]=a10;
+  if (res[1]!=0) res[1][12]=a10;
+  if (res[1]!=0) res[1][13]=a10;
+  if (res[1]!=0) res[1][14]=a10;
+  if (res[1]!=0) res[1][15]=a10;
+  if (res[1]!=0) res[1][16]=a10;
+  if (res[1]!=0) res[1][17]=a10;
+  if (res[1]!=0) res[1][18]=a10;
+  if (res[1]!=0) res[1][19]=a10;
+  if (res[1]!=0) res[1][20]=a10;
+  if (res[1]!=0) res[1][21]=a10;
+  if (res[1]!=0) res[1][22]=a10;
+  if (res[1]!=0) res[1][23]=a10;
+  if (res[1]!=0) res[1][24]=a10;
+  if (res[1]!=0) res[1][25]=a10;
+  if (res[1]!=0) res[1][26]=a10;
+  if (res[1]!=0) res[1][27]=a10;
+  if (res[1]!=0) res[1][28]=a10;
+  if (res[1]!=0) res[1][29]=a10;
+  if (res[1]!=0) res[1][30]=a10;
+  if (res[1]!=0) res[1][31]=a10;
+  if (res[1]!=0) res[1][32]=a10;
+  if (res[1]!=0) res[1][33]=a10;
+  if (res[1]!=0) res[1][34]=a10;
+  if (res[1]!=0) res[1][35]=a10;
+  if (res[1]!=0) res[1][36]=a10;
+  if (res[1]!=0) res[1][37]=a10;
+  if (res[1]!=0) res[1][38]=a10;
+  if (res[1]!=0) res[1][39]=a10;
+  if (res[1]!=0) res[1][40]=a10;
+  if (res[1]!=0) res[1][41]=a10;
+  if (res[1]!=0) res[1][42]=a10;
+  if (res[1]!=0) res[1][43]=a10;
+  if (res[1]!=0) res[1][44]=a10;
+  if (res[1]!=0) res[1][45]=a10;
+  if (res[1]!=0) res[1][46]=a10;
+  if (res[1]!=0) res[1][47]=a10;
+  if (res[1]!=0) res[1][48]=a10;
+  if (res[1]!=0) res[1][49]=a10;
+  if (res[1]!=0) res[1][50]=a10;
+  if (res[1]!=0) res[1][51]=a10;
+  if (res[1]!=0) res[1][52]=a10;
+  if (res[1]!=0) res[1][53]=a10;
+  if (res[1]!=0) res[1][54]=a10;
+  if (res[1]!=0) res[1][55]=a10;
+  if (res[1]!=0) res[1][56]=a10;
+  if (res[1]!=0) res[1][57]=a10;
+  if (res[1]!=0) res[1][58]=a10;
+  if (res[1]!=0) res[1][59]=a10;
+  if (res[1]!=0) res[1][60]=a10;
+  if (res[1]!=0) res[1][61]=a10;
+  if (res[1]!=0) res[1][62]=a10;
+  if (res[1]!=0) res[1][63]=a10;
+  if (res[1]!=0) res[1][64]=a10;
+  if (res[1]!=0) res[1][65]=a10;
+  if (res[1]!=0) res[1][66]=a10;
+  if (res[1]!=0) res[1][67]=a10;
+  if (res[1]!=0) res[1][68]=a10;
+  if (res[1]!=0) res[1][69]=a10;
+  if (res[1]!=0) res[1][70]=a10;
+  if (res[1]!=0) res[1][71]=a10;
+  if (res[1]!=0) res[1][72]=a10;
+  if (res[1]!=0) res[1][73]=a10;
+  if (res[1]!=0) res[1][74]=a10;
+  if (res[1]!=0) res[1][75]=a10;
+  if (res[1]!=0) res[1][76]=a10;
+  if (res[1]!=0) res[1][77]=a10;
+  if (res[1]!=0) res[1][78]=a10;
+  if (res[1]!=0) res[1][79]=a10;
+  if (res[1]!=0) res[1][80]=a10;
+  if (res[1]!=0) res[1][81]=a10;
+  if (res[1]!=0) res[1][82]=a10;
+  if (res[1]!=0) res[1][83]=a10;
+  if (res[1]!=0) res[1][84]=a10;
+  if (res[1]!=0) res[1][85]=a10;
+  if (res[1]!=0) res[1][86]=a10;
+  if (res[1]!=0) res[1][87]=a10;
+  if (res[1]!=0) res[1][88]=a10;
+  if (res[1]!=0) res[1][89]=a10;
+  if (res[1]!=0) res[1][90]=a10;
+  if (res[1]!=0) res[1][91]=a10;
+  if (res[1]!=0) res[1][92]=a10;
+  if (res[1]!=0) res[1][93]=a10;
+  if (res[1]!=0) res[1][94]=a10;
+  if (res[1]!=0) res[1][95]=a10;
+  if (res[1]!=0) res[1][96]=a10;
+  if (res[1]!=0) res[1][97]=a10;
+  if (res[1]!=0) res[1][98]=a10;
+  if (res[1]!=0) res[1][99]=a10;
+  if (res[1]!=0) res[1][100]=a10;
+  if (res[1]!=0) res[1][101]=a10;
+  if (res[1]!=0) res[1][102]=a10;
+  if (res[1]!=0) res[1][103]=a10;
+  if (res[1]!=0) res[1][104]=a10;
+  if (res[1]!=0) res[1][105]=a10;
+  if (res[1]!=0) res[1][106]=a10;
+  if (res[1]!=0) res[1][107]=a10;
+  if (res[1]!=0) res[1][108]=a10;
+  if (res[1]!=0) res[1][109]=a10;
+  if (res[1]!=0) res[1][110]=a10;
+  if (res[1]!=0) res[1][111]=a10;
+  if (res[1]!=0) res[1][112]=a10;
+  if (res[1]!=0) res[1][113]=a10;
+  if (res[1]!=0) res[1][114]=a10;
+  if (res[1]!=0) res[1][115]=a10;
+  if (res[1]!=0) res[1][116]=a10;
+  if (res[1]!=0) res[1][117]=a10;
+  if (res[1]!=0) res[1][118]=a10;
+  if (res[1]!=0) res[1][119]=a10;
+  if (res[1]!=0) res[1][120]=a10;
+  if (res[1]!=0) res[1][121]=a10;
+  if (res[1]!=0) res[1][122]=a10;
+  if (res[1]!=0) res[1][123]=a10;
+  if (res[1]!=0) res[1][124]=a10;
+  if (res[1]!=0) res[1][125]=a10;
+  if (res[1]!=0) res[1][126]=a10;
+  if (res[1]!=0) res[1][127]=a10;
+  if (res[1]!=0) res[1][128]=a10;
+  if (res[1]!=0) res[1][129]=a10;
+  if (res[1]!=0) res[1][130]=a10;
+  if (res[1]!=0) res[1][131]=a10;
+  if (res[1]!=0) res[1][132]=a10;
+  if (res[1]!=0) res[1][133]=a10;
+  if (res[1]!=0) res[1][134]=a10;
+  if (res[1]!=0) res[1][135]=a10;
+  if (res[1]!=0) res[1][136]=a10;
+  if (res[1]!=0) res[1][137]=a10;
+  if (res[1]!=0) res[1][138]=a10;
+  if (res[1]!=0) res[1][139]=a10;
+  if (res[1]!=0) res[1][140]=a10;
+  if (res[1]!=0) res[1][141]=a10;
+  if (res[1]!=0) res[1][142]=a10;
+  if (res[1]!=0) res[1][143]=a10;
+  if (res[1]!=0) res[1][144]=a10;
+  if (res[1]!=0) res[1][145]=a10;
+  if (res[1]!=0) res[1][146]=a10;
+  if (res[1]!=0) res[1][147]=a10;
+  if (res[1]!=0) res[1][148]=a10;
+  if (res[1]!=0) res[1][149]=a10;
+  if (res[1]!=0) res[1][150]=a10;
+  if (res[1]!=0) res[1][151]=a10;
+  if (res[1]!=0) res[1][152]=a10;
+  if (res[1]!=0) res[1][153]=a10;
+  if (res[1]!=0) res[1][154]=a10;
+  if (res[1]!=0) res[1][155]=a10;
+  if (res[1]!=0) res[1][156]=a10;
+  if (res[1]!=0) res[1][157]=a10;
+  if (res[1]!=0) res[1][158]=a10;
+  if (res[1]!=0) res[1][159]=a10;
+  if (res[1]!=0) res[1][160]=a10;
+  if (res[1]!=0) res[1][161]=a10;
+  if (res[1]!=0) res[1][162]=a10;
+  if (res[1]!=0) res[1][163]=a10;
+  if (res[1]!=0) res[1][164]=a10;
+  if (res[1]!=0) res[1][165]=a10;
+  if (res[1]!=0) res[1][166]=a10;
+  if (res[1]!=0) res[1][167]=a10;
+  if (res[1]!=0) res[1][168]=a10;
+  if (res[1]!=0) res[1][169]=a10;
+  if (res[1]!=0) res[1][170]=a10;
+  if (res[1]!=0) res[1][171]=a10;
+  if (res[1]!=0) res[1][172]=a10;
+  if (res[1]!=0) res[1][173]=a10;
+  if (res[1]!=0) res[1][174]=a10;
+  if (res[1]!=0) res[1][175]=a10;
+  if (res[1]!=0) res[1][176]=a10;
+  if (res[1]!=0) res[1][177]=a10;
+  if (res[1]!=0) res[1][178]=a10;
+  if (res[1]!=0) res[1][179]=a10;
+  if (res[1]!=0) res[1][180]=a10;
+  if (res[1]!=0) res[1][181]=a10;
+  if (res[1]!=0) res[1][182]=a10;
+  if (res[1]!=0) res[1][183]=a10;
+  if (res[1]!=0) res[1][184]=a10;
+  if (res[1]!=0) res[1][185]=a10;
+  if (res[1]!=0) res[1][186]=a10;
+  if (res[1]!=0) res[1][187]=a10;
+  if (res[1]!=0) res[1][188]=a10;
+  if (res[1]!=0) res[1][189]=a10;
+  if (res[1]!=0) res[1][190]=a10;
+  if (res[1]!=0) res[1][191]=a10;
+  if (res[1]!=0) res[1][192]=a10;
+  if (res[1]!=0) res[1][193]=a10;
+  if (res[1]!=0) res[1][194]=a10;
+  if (res[1]!=0) res[1][195]=a10;
+  if (res[1]!=0) res[1][196]=a10;
+  if (res[1]!=0) res[1][197]=a10;
+  if (res[1]!=0) res[1][198]=a10;
+  if (res[1]!=0) res[1][199]=a10;
+  if (res[1]!=0) res[1][200]=a10;
+  if (res[1]!=0) res[1][201]=a10;
+  if (res[1]!=0) res[1][202]=a10;
+  if (res[1]!=0) res[1][203]=a10;
+  if (res[1]!=0) res[1][204]=a10;
+  if (res[1]!=0) res[1][205]=a10;
+  if (res[1]!=0) res[1][206]=a10;
+  if (res[1]!=0) res[1][207]=a10;
+  if (res[1]!=0) res[1][208]=a10;
+  if (res[1]!=0) res[1][209]=a10;
+  if (res[1]!=0) res[1][210]=a10;
+  if (res[1]!=0) res[1][211]=a10;
+  if (res[1]!=0) res[1][212]=a10;
+  if (res[1]!=0) res[1][213]=a10;
+  if (res[1]!=0) res[1][214]=a10;
+  if (res[1]!=0) res[1][215]=a10;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rrr_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rrr_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rrr_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rrr_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void planar_3rrr_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rrr_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int planar_3rrr_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real planar_3rrr_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rrr_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* planar_3rrr_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rrr_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int planar_3rrr_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* planar_3rrr_singularity_factors:(actuated[3],passive[3],params[18])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=arg[1]? arg[1][2] : 0;
@@ -1006,7 +1580,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_singularity_factors_checkout(void) {
@@ -1060,8 +1634,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_singularity_factors_sparsity_
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -1083,7 +1657,7 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_singularity_factors_work_bytes(casadi_int *
 }
 
 /* planar_3rrr_drawing:(actuated[3],passive[3],params[18])->(base[3x3],elbow[3x3],platform[3x3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6, a7, a8, a9;
   a0=arg[2]? arg[2][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1182,7 +1756,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_drawing_checkout(void) {
@@ -1261,7 +1835,7 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_drawing_work_bytes(casadi_int *sz_arg, casa
 }
 
 /* planar_3rrr_inverse_pose:(pose[12],branch[3],params[18])->(actuated[3],passive[3],validity[3]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   a00=arg[1]? arg[1][0] : 0;
@@ -1491,7 +2065,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_inverse_pose_checkout(void) {
@@ -1537,7 +2111,7 @@ CASADI_SYMBOL_EXPORT const char* planar_3rrr_inverse_pose_name_out(casadi_int i)
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s9;
     case 1: return casadi_s0;
     case 2: return casadi_s1;
     default: return 0;
@@ -1570,7 +2144,7 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_inverse_pose_work_bytes(casadi_int *sz_arg,
 }
 
 /* planar_3rrr_automatic_family:(actuated[3],params[18])->(free[18],angles[3]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[1]? arg[1][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -1618,7 +2192,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_family_checkout(void) {
@@ -1693,7 +2267,7 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_family_work_bytes(casadi_int *sz_
 }
 
 /* planar_3rrr_automatic_monomials:(family_re[27],family_im[27])->(re[42],im[42]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -2730,7 +3304,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_monomials_checkout(void) {
@@ -2774,16 +3348,16 @@ CASADI_SYMBOL_EXPORT const char* planar_3rrr_automatic_monomials_name_out(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s8;
+    case 0: return casadi_s10;
+    case 1: return casadi_s10;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s9;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
     default: return 0;
   }
 }
@@ -2805,7 +3379,7 @@ CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_monomials_work_bytes(casadi_int *
 }
 
 /* planar_3rrr_automatic_passive:(z[4],params[18])->(passive[3]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -2819,7 +3393,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int planar_3rrr_automatic_passive_checkout(void) {
@@ -2862,7 +3436,7 @@ CASADI_SYMBOL_EXPORT const char* planar_3rrr_automatic_passive_name_out(casadi_i
 
 CASADI_SYMBOL_EXPORT const casadi_int* planar_3rrr_automatic_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
+    case 0: return casadi_s7;
     case 1: return casadi_s1;
     default: return 0;
   }

@@ -5,6 +5,7 @@
 //   loop_closure: 156
 //   loop_closure_actuated: 75
 //   rate_jacobians: 76
+//   parameter_jacobians: 192
 //   singularity_factors: 88
 //   drawing: 44
 //   inverse_pose: 196
@@ -227,6 +228,10 @@ int planar_3rrr_loop_closure_actuated_batch(long long n, const double** inputs, 
 //   inputs: actuated[3], passive[3], params[18]
 //   outputs: a[3 x 3], b[3 x 3]
 int planar_3rrr_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[3], params[18]
+//   outputs: closure_parameters[3 x 18], pose_parameters[12 x 18]
+int planar_3rrr_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[3], params[18]
 //   outputs: factors[4], determinants[2]

@@ -5,6 +5,7 @@
 //   loop_closure: 535
 //   loop_closure_actuated: 39
 //   rate_jacobians: 130
+//   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
 //   inverse_pose: 218

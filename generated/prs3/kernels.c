@@ -5,6 +5,7 @@
 //   loop_closure: 535
 //   loop_closure_actuated: 39
 //   rate_jacobians: 130
+//   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
 //   inverse_pose: 218
@@ -48,6 +49,7 @@ extern "C" {
 /* Add prefix to internal symbols */
 #define casadi_f0 CASADI_PREFIX(f0)
 #define casadi_f1 CASADI_PREFIX(f1)
+#define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -63,6 +65,7 @@ extern "C" {
 #define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s12 CASADI_PREFIX(s12)
+#define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -128,11 +131,12 @@ static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {7, 3, 1};
 static const casadi_int casadi_s6[3] = {3, 6, 1};
 static const casadi_int casadi_s7[3] = {3, 3, 1};
-static const casadi_int casadi_s8[3] = {4, 1, 1};
-static const casadi_int casadi_s9[3] = {2, 1, 1};
-static const casadi_int casadi_s10[3] = {12, 1, 1};
-static const casadi_int casadi_s11[3] = {6, 1, 1};
-static const casadi_int casadi_s12[3] = {134, 1, 1};
+static const casadi_int casadi_s8[3] = {12, 3, 1};
+static const casadi_int casadi_s9[3] = {4, 1, 1};
+static const casadi_int casadi_s10[3] = {2, 1, 1};
+static const casadi_int casadi_s11[3] = {12, 1, 1};
+static const casadi_int casadi_s12[3] = {6, 1, 1};
+static const casadi_int casadi_s13[3] = {134, 1, 1};
 
 /* prs3_platform_pose:(actuated[3],passive[7],params[3])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1378,8 +1382,321 @@ CASADI_SYMBOL_EXPORT int prs3_rate_jacobians_work_bytes(casadi_int *sz_arg, casa
   return 0;
 }
 
-/* prs3_singularity_factors:(actuated[3],passive[7],params[3])->(factors[4],determinants[2]) */
+/* prs3_parameter_jacobians:(actuated[3],passive[7],params[3])->(closure_parameters[7x3],pose_parameters[12x3]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31;
+  a00=0.;
+  if (res[0]!=0) res[0][0]=a00;
+  if (res[0]!=0) res[0][1]=a00;
+  if (res[0]!=0) res[0][2]=a00;
+  a01=5.0000000000000000e-01;
+  a02=arg[2]? arg[2][2] : 0;
+  a03=(a01/a02);
+  a04=-2.;
+  a05=arg[1]? arg[1][3] : 0;
+  a06=casadi_sq(a05);
+  a07=arg[1]? arg[1][4] : 0;
+  a08=casadi_sq(a07);
+  a09=(a06+a08);
+  a10=arg[1]? arg[1][6] : 0;
+  a11=casadi_sq(a10);
+  a12=arg[1]? arg[1][5] : 0;
+  a13=casadi_sq(a12);
+  a14=(a11+a13);
+  a14=(a09-a14);
+  a15=(a13+a11);
+  a15=(a15+a09);
+  a14=(a14/a15);
+  a09=arg[2]? arg[2][1] : 0;
+  a16=(a14*a09);
+  a04=(a04*a16);
+  a17=arg[2]? arg[2][0] : 0;
+  a18=(2.*a17);
+  a04=(a04+a18);
+  a18=arg[1]? arg[1][0] : 0;
+  a19=(2.*a18);
+  a04=(a04-a19);
+  a04=(a03*a04);
+  if (res[0]!=0) res[0][3]=a04;
+  a04=-1.7320508075688772e+00;
+  a19=arg[1]? arg[1][1] : 0;
+  a05=(2.*a05);
+  a20=(a05*a10);
+  a21=(2.*a07);
+  a21=(a21*a12);
+  a21=(a20+a21);
+  a22=(a21/a15);
+  a23=(a22*a09);
+  a24=(a01*a23);
+  a25=8.6602540378443860e-01;
+  a26=(a25*a17);
+  a13=(a13-a11);
+  a13=(a13+a06);
+  a13=(a13-a08);
+  a08=(a25/a15);
+  a06=(a08*a09);
+  a11=(a13*a06);
+  a26=(a26-a11);
+  a11=(a24+a26);
+  a11=(a19-a11);
+  a04=(a04*a11);
+  a27=(2.*a07);
+  a27=(a27*a12);
+  a27=(a27-a20);
+  a08=(a27*a08);
+  a20=(a08*a09);
+  a28=(a01*a17);
+  a29=(a01*a14);
+  a30=(a29*a09);
+  a28=(a28-a30);
+  a28=(a28+a18);
+  a30=(a20+a28);
+  a04=(a04+a30);
+  a04=(a03*a04);
+  if (res[0]!=0) res[0][4]=a04;
+  a04=1.7320508075688772e+00;
+  a26=(a26-a24);
+  a26=(a26+a19);
+  a24=(a04*a26);
+  a28=(a28-a20);
+  a24=(a24+a28);
+  a24=(a03*a24);
+  if (res[0]!=0) res[0][5]=a24;
+  if (res[0]!=0) res[0][6]=a00;
+  if (res[0]!=0) res[0][7]=a22;
+  a24=2.5000000000000000e-01;
+  a21=(a24*a21);
+  a21=(a21/a15);
+  a04=(a04/a15);
+  a13=(a13*a04);
+  a20=(a24*a13);
+  a31=(a08-a29);
+  a31=(a25*a31);
+  a31=(a20+a31);
+  a21=(a21-a31);
+  if (res[0]!=0) res[0][8]=a21;
+  a08=(a08+a29);
+  a25=(a25*a08);
+  a20=(a20-a25);
+  a24=(a24*a22);
+  a20=(a20+a24);
+  if (res[0]!=0) res[0][9]=a20;
+  a20=(2.*a14);
+  a16=(a16-a17);
+  a16=(a16+a18);
+  a20=(a20*a16);
+  a23=(a23+a19);
+  a19=(2.*a23);
+  a19=(a19*a22);
+  a20=(a20+a19);
+  a19=(2.*a07);
+  a19=(a19*a10);
+  a18=(a05*a12);
+  a19=(a19-a18);
+  a19=(a19/a15);
+  a15=(2.*a19);
+  a09=(a19*a09);
+  a18=arg[0]? arg[0][0] : 0;
+  a18=(a09-a18);
+  a17=arg[1]? arg[1][2] : 0;
+  a18=(a18+a17);
+  a15=(a15*a18);
+  a20=(a20+a15);
+  a20=(a03*a20);
+  if (res[0]!=0) res[0][10]=a20;
+  a20=(a13-a22);
+  a20=(a11*a20);
+  a27=(a04*a27);
+  a15=(a27-a14);
+  a15=(a30*a15);
+  a20=(a20+a15);
+  a05=(a05*a07);
+  a12=(2.*a12);
+  a12=(a12*a10);
+  a05=(a05+a12);
+  a06=(a06*a05);
+  a09=(a01*a09);
+  a09=(a09-a17);
+  a17=(a06-a09);
+  a12=arg[0]? arg[0][1] : 0;
+  a17=(a17-a12);
+  a04=(a04*a05);
+  a05=(a04-a19);
+  a05=(a17*a05);
+  a20=(a20+a05);
+  a20=(a03*a20);
+  if (res[0]!=0) res[0][11]=a20;
+  a06=(a06+a09);
+  a09=arg[0]? arg[0][2] : 0;
+  a06=(a06+a09);
+  a19=(a19+a04);
+  a19=(a06*a19);
+  a13=(a13+a22);
+  a13=(a26*a13);
+  a14=(a14+a27);
+  a14=(a28*a14);
+  a13=(a13+a14);
+  a19=(a19-a13);
+  a03=(a03*a19);
+  if (res[0]!=0) res[0][12]=a03;
+  if (res[0]!=0) res[0][13]=a00;
+  if (res[0]!=0) res[0][14]=a00;
+  if (res[0]!=0) res[0][15]=a00;
+  if (res[0]!=0) res[0][16]=a00;
+  a02=casadi_sq(a02);
+  a01=(a01/a02);
+  a23=casadi_sq(a23);
+  a18=casadi_sq(a18);
+  a23=(a23+a18);
+  a16=casadi_sq(a16);
+  a23=(a23+a16);
+  a23=(a23-a02);
+  a23=(a01*a23);
+  a16=1.;
+  a23=(a23+a16);
+  a23=(-a23);
+  if (res[0]!=0) res[0][17]=a23;
+  a11=casadi_sq(a11);
+  a11=(a11-a02);
+  a30=casadi_sq(a30);
+  a11=(a11+a30);
+  a17=casadi_sq(a17);
+  a11=(a11+a17);
+  a11=(a01*a11);
+  a11=(a11+a16);
+  a11=(-a11);
+  if (res[0]!=0) res[0][18]=a11;
+  a26=casadi_sq(a26);
+  a26=(a26-a02);
+  a28=casadi_sq(a28);
+  a26=(a26+a28);
+  a06=casadi_sq(a06);
+  a26=(a26+a06);
+  a01=(a01*a26);
+  a01=(a01+a16);
+  a01=(-a01);
+  if (res[0]!=0) res[0][19]=a01;
+  if (res[0]!=0) res[0][20]=a00;
+  if (res[1]!=0) res[1][0]=a00;
+  if (res[1]!=0) res[1][1]=a00;
+  if (res[1]!=0) res[1][2]=a00;
+  if (res[1]!=0) res[1][3]=a00;
+  if (res[1]!=0) res[1][4]=a00;
+  if (res[1]!=0) res[1][5]=a00;
+  if (res[1]!=0) res[1][6]=a00;
+  if (res[1]!=0) res[1][7]=a00;
+  if (res[1]!=0) res[1][8]=a00;
+  if (res[1]!=0) res[1][9]=a00;
+  if (res[1]!=0) res[1][10]=a00;
+  if (res[1]!=0) res[1][11]=a00;
+  if (res[1]!=0) res[1][12]=a00;
+  if (res[1]!=0) res[1][13]=a00;
+  if (res[1]!=0) res[1][14]=a00;
+  if (res[1]!=0) res[1][15]=a00;
+  if (res[1]!=0) res[1][16]=a00;
+  if (res[1]!=0) res[1][17]=a00;
+  if (res[1]!=0) res[1][18]=a00;
+  if (res[1]!=0) res[1][19]=a00;
+  if (res[1]!=0) res[1][20]=a00;
+  if (res[1]!=0) res[1][21]=a00;
+  if (res[1]!=0) res[1][22]=a00;
+  if (res[1]!=0) res[1][23]=a00;
+  if (res[1]!=0) res[1][24]=a00;
+  if (res[1]!=0) res[1][25]=a00;
+  if (res[1]!=0) res[1][26]=a00;
+  if (res[1]!=0) res[1][27]=a00;
+  if (res[1]!=0) res[1][28]=a00;
+  if (res[1]!=0) res[1][29]=a00;
+  if (res[1]!=0) res[1][30]=a00;
+  if (res[1]!=0) res[1][31]=a00;
+  if (res[1]!=0) res[1][32]=a00;
+  if (res[1]!=0) res[1][33]=a00;
+  if (res[1]!=0) res[1][34]=a00;
+  if (res[1]!=0) res[1][35]=a00;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int prs3_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int prs3_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void prs3_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void prs3_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void prs3_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int prs3_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int prs3_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real prs3_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* prs3_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* prs3_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* prs3_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    case 2: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* prs3_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s8;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int prs3_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int prs3_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* prs3_singularity_factors:(actuated[3],passive[7],params[3])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1832,7 +2149,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_singularity_factors_checkout(void) {
@@ -1886,8 +2203,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* prs3_singularity_factors_sparsity_in(casa
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s9;
+    case 0: return casadi_s9;
+    case 1: return casadi_s10;
     default: return 0;
   }
 }
@@ -1909,7 +2226,7 @@ CASADI_SYMBOL_EXPORT int prs3_singularity_factors_work_bytes(casadi_int *sz_arg,
 }
 
 /* prs3_drawing:(actuated[3],passive[7],params[3])->(base[3x3],elbow[3x3],platform[3x3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18;
   a00=arg[2]? arg[2][0] : 0;
@@ -2016,7 +2333,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_drawing_checkout(void) {
@@ -2095,7 +2412,7 @@ CASADI_SYMBOL_EXPORT int prs3_drawing_work_bytes(casadi_int *sz_arg, casadi_int*
 }
 
 /* prs3_inverse_pose:(pose[12],branch[3],params[3])->(actuated[3],passive[7],validity[3]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26;
@@ -2316,7 +2633,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_inverse_pose_checkout(void) {
@@ -2362,7 +2679,7 @@ CASADI_SYMBOL_EXPORT const char* prs3_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
+    case 0: return casadi_s11;
     case 1: return casadi_s0;
     case 2: return casadi_s0;
     default: return 0;
@@ -2395,7 +2712,7 @@ CASADI_SYMBOL_EXPORT int prs3_inverse_pose_work_bytes(casadi_int *sz_arg, casadi
 }
 
 /* prs3_automatic_family:(actuated[3],params[3])->(free[6],angles) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -2415,7 +2732,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_family_checkout(void) {
@@ -2467,7 +2784,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* prs3_automatic_family_sparsity_in(casadi_
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
+    case 0: return casadi_s12;
     case 1: return casadi_s4;
     default: return 0;
   }
@@ -2490,7 +2807,7 @@ CASADI_SYMBOL_EXPORT int prs3_automatic_family_work_bytes(casadi_int *sz_arg, ca
 }
 
 /* prs3_automatic_monomials:(family_re[6],family_im[6])->(re[134],im[134]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2959,7 +3276,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_monomials_checkout(void) {
@@ -3003,16 +3320,16 @@ CASADI_SYMBOL_EXPORT const char* prs3_automatic_monomials_name_out(casadi_int i)
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
-    case 1: return casadi_s11;
+    case 0: return casadi_s12;
+    case 1: return casadi_s12;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* prs3_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s13;
+    case 1: return casadi_s13;
     default: return 0;
   }
 }
@@ -3034,7 +3351,7 @@ CASADI_SYMBOL_EXPORT int prs3_automatic_monomials_work_bytes(casadi_int *sz_arg,
 }
 
 /* prs3_automatic_passive:(z[7],params[3])->(passive[7]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -3054,7 +3371,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int prs3_automatic_passive_checkout(void) {

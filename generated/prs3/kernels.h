@@ -5,6 +5,7 @@
 //   loop_closure: 535
 //   loop_closure_actuated: 39
 //   rate_jacobians: 130
+//   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
 //   inverse_pose: 218
@@ -102,6 +103,24 @@ int prs3_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casad
 #define prs3_rate_jacobians_SZ_RES 3
 #define prs3_rate_jacobians_SZ_IW 0
 #define prs3_rate_jacobians_SZ_W 0
+int prs3_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int prs3_parameter_jacobians_checkout(void);
+void prs3_parameter_jacobians_release(int mem);
+void prs3_parameter_jacobians_incref(void);
+void prs3_parameter_jacobians_decref(void);
+casadi_int prs3_parameter_jacobians_n_in(void);
+casadi_int prs3_parameter_jacobians_n_out(void);
+casadi_real prs3_parameter_jacobians_default_in(casadi_int i);
+const char* prs3_parameter_jacobians_name_in(casadi_int i);
+const char* prs3_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* prs3_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* prs3_parameter_jacobians_sparsity_out(casadi_int i);
+int prs3_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int prs3_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define prs3_parameter_jacobians_SZ_ARG 3
+#define prs3_parameter_jacobians_SZ_RES 2
+#define prs3_parameter_jacobians_SZ_IW 0
+#define prs3_parameter_jacobians_SZ_W 0
 int prs3_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int prs3_singularity_factors_checkout(void);
 void prs3_singularity_factors_release(int mem);

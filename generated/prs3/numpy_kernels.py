@@ -5,6 +5,7 @@
 #   loop_closure: 535
 #   loop_closure_actuated: 39
 #   rate_jacobians: 130
+#   parameter_jacobians: 163
 #   singularity_factors: 447
 #   drawing: 62
 #   inverse_pose: 218
@@ -496,6 +497,103 @@ def rate_jacobians(actuated, passive, params):
         "a": a,
         "b": b,
         "constraints": constraints,
+    }
+
+
+def parameter_jacobians(actuated, passive, params):
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 163.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    d1 = actuated[..., 0]
+    d2 = actuated[..., 1]
+    d3 = actuated[..., 2]
+    x = passive[..., 0]
+    y = passive[..., 1]
+    z = passive[..., 2]
+    q0 = passive[..., 3]
+    q1 = passive[..., 4]
+    q2 = passive[..., 5]
+    q3 = passive[..., 6]
+    r_b = params[..., 0]
+    r_p = params[..., 1]
+    L = params[..., 2]
+    _t0 = 2 * q0
+    _t1 = _t0 * q3
+    _t2 = _t1 + 2 * q1 * q2
+    _t3 = q2**2
+    _t4 = q3**2
+    _t5 = q0**2
+    _t6 = q1**2
+    _t7 = _t5 + _t6
+    _t8 = 1 / (_t3 + _t4 + _t7)
+    _t9 = _t2 * _t8
+    _t10 = -_t4
+    _t11 = _t10 + _t3 + _t5 - _t6
+    _t12 = numpy.sqrt(3)
+    _t13 = _t12 * _t8
+    _t14 = _t11 * _t13
+    _t15 = (1 / 4) * _t14
+    _t16 = -_t1 + 2 * q1 * q2
+    _t17 = (1 / 2) * _t12
+    _t18 = _t17 * _t8
+    _t19 = _t16 * _t18
+    _t20 = _t8 * (_t10 - _t3 + _t7)
+    _t21 = (1 / 2) * _t20
+    _t22 = _t20 * r_p
+    _t23 = (1 / 2) / L
+    _t24 = _t9 * r_p
+    _t25 = _t24 + y
+    _t26 = _t8 * (-_t0 * q2 + 2 * q1 * q3)
+    _t27 = _t26 * r_p
+    _t28 = _t27 - d1 + z
+    _t29 = _t22 - r_b + x
+    _t30 = L**2
+    _t31 = -_t30
+    _t32 = (1 / 2) / _t30
+    _t33 = (1 / 2) * _t24
+    _t34 = (1 / 2) * r_b
+    _t35 = _t18 * r_p
+    _t36 = -_t11 * _t35 + _t12 * _t34
+    _t37 = -_t33 - _t36 + y
+    _t38 = _t19 * r_p
+    _t39 = -_t21 * r_p + _t34 + x
+    _t40 = _t38 + _t39
+    _t41 = _t0 * q1 + 2 * q2 * q3
+    _t42 = _t13 * _t41
+    _t43 = _t35 * _t41
+    _t44 = (1 / 2) * _t27 - z
+    _t45 = _t43 - _t44 - d2
+    _t46 = _t13 * _t16
+    _t47 = -_t33 + _t36 + y
+    _t48 = -_t38 + _t39
+    _t49 = -_t43 - _t44 - d3
+    closure_parameters = numpy.zeros(shape + (7, 3))
+    closure_parameters[..., 0, 1] = _t9
+    closure_parameters[..., 1, 1] = -_t15 - _t17 * (_t19 - _t21) + (1 / 4) * _t2 * _t8
+    closure_parameters[..., 2, 1] = _t15 + _t17 * (-_t19 - _t21) + (1 / 4) * _t9
+    closure_parameters[..., 3, 0] = _t23 * (-2 * _t22 + 2 * r_b - 2 * x)
+    closure_parameters[..., 3, 1] = _t23 * (2 * _t20 * _t29 + 2 * _t25 * _t9 + 2 * _t26 * _t28)
+    closure_parameters[..., 3, 2] = -_t32 * (_t25**2 + _t28**2 + _t29**2 + _t31) - 1
+    closure_parameters[..., 4, 0] = _t23 * (-_t12 * _t37 + _t40)
+    closure_parameters[..., 4, 1] = _t23 * (
+        _t37 * (_t14 - _t9) + _t40 * (-_t20 + _t46) + _t45 * (-_t26 + _t42)
+    )
+    closure_parameters[..., 4, 2] = -_t32 * (_t31 + _t37**2 + _t40**2 + _t45**2) - 1
+    closure_parameters[..., 5, 0] = _t23 * (_t12 * _t47 + _t48)
+    closure_parameters[..., 5, 1] = _t23 * (
+        _t47 * (-_t14 - _t9) + _t48 * (-_t20 - _t46) + _t49 * (-_t26 - _t42)
+    )
+    closure_parameters[..., 5, 2] = -_t32 * (_t31 + _t47**2 + _t48**2 + _t49**2) - 1
+    pose_parameters = numpy.zeros(shape + (12, 3))
+    return {
+        "closure_parameters": closure_parameters,
+        "pose_parameters": pose_parameters,
     }
 
 
@@ -1321,6 +1419,7 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

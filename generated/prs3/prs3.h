@@ -5,6 +5,7 @@
 //   loop_closure: 535
 //   loop_closure_actuated: 39
 //   rate_jacobians: 130
+//   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
 //   inverse_pose: 218
@@ -246,6 +247,10 @@ int prs3_loop_closure_actuated_batch(long long n, const double** inputs, const l
 //   inputs: actuated[3], passive[7], params[3]
 //   outputs: a[3 x 6], b[3 x 3], constraints[3 x 6]
 int prs3_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[7], params[3]
+//   outputs: closure_parameters[7 x 3], pose_parameters[12 x 3]
+int prs3_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[7], params[3]
 //   outputs: factors[4], determinants[2]

@@ -5,6 +5,7 @@
 #   loop_closure: 1542
 #   loop_closure_actuated: 464
 #   rate_jacobians: 521
+#   parameter_jacobians: 1183
 #   singularity_factors: 1080
 #   drawing: 311
 #   inverse_pose: 1061
@@ -1481,6 +1482,576 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 1183.
+    """
+    actuated = casadi.SX.sym("actuated", 6)
+    passive = casadi.SX.sym("passive", 7)
+    params = casadi.SX.sym("params", 84)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    theta4 = actuated[3]
+    theta5 = actuated[4]
+    theta6 = actuated[5]
+    x = passive[0]
+    y = passive[1]
+    z = passive[2]
+    q0 = passive[3]
+    q1 = passive[4]
+    q2 = passive[5]
+    q3 = passive[6]
+    base_x1 = params[0]
+    base_y1 = params[1]
+    base_z1 = params[2]
+    base_x2 = params[3]
+    base_y2 = params[4]
+    base_z2 = params[5]
+    base_x3 = params[6]
+    base_y3 = params[7]
+    base_z3 = params[8]
+    base_x4 = params[9]
+    base_y4 = params[10]
+    base_z4 = params[11]
+    base_x5 = params[12]
+    base_y5 = params[13]
+    base_z5 = params[14]
+    base_x6 = params[15]
+    base_y6 = params[16]
+    base_z6 = params[17]
+    axis_x1 = params[18]
+    axis_y1 = params[19]
+    axis_z1 = params[20]
+    axis_x2 = params[21]
+    axis_y2 = params[22]
+    axis_z2 = params[23]
+    axis_x3 = params[24]
+    axis_y3 = params[25]
+    axis_z3 = params[26]
+    axis_x4 = params[27]
+    axis_y4 = params[28]
+    axis_z4 = params[29]
+    axis_x5 = params[30]
+    axis_y5 = params[31]
+    axis_z5 = params[32]
+    axis_x6 = params[33]
+    axis_y6 = params[34]
+    axis_z6 = params[35]
+    crank_zero_x1 = params[36]
+    crank_zero_y1 = params[37]
+    crank_zero_z1 = params[38]
+    crank_zero_x2 = params[39]
+    crank_zero_y2 = params[40]
+    crank_zero_z2 = params[41]
+    crank_zero_x3 = params[42]
+    crank_zero_y3 = params[43]
+    crank_zero_z3 = params[44]
+    crank_zero_x4 = params[45]
+    crank_zero_y4 = params[46]
+    crank_zero_z4 = params[47]
+    crank_zero_x5 = params[48]
+    crank_zero_y5 = params[49]
+    crank_zero_z5 = params[50]
+    crank_zero_x6 = params[51]
+    crank_zero_y6 = params[52]
+    crank_zero_z6 = params[53]
+    a1 = params[54]
+    a2 = params[55]
+    a3 = params[56]
+    a4 = params[57]
+    a5 = params[58]
+    a6 = params[59]
+    b1 = params[60]
+    b2 = params[61]
+    b3 = params[62]
+    b4 = params[63]
+    b5 = params[64]
+    b6 = params[65]
+    platform_x1 = params[66]
+    platform_y1 = params[67]
+    platform_z1 = params[68]
+    platform_x2 = params[69]
+    platform_y2 = params[70]
+    platform_z2 = params[71]
+    platform_x3 = params[72]
+    platform_y3 = params[73]
+    platform_z3 = params[74]
+    platform_x4 = params[75]
+    platform_y4 = params[76]
+    platform_z4 = params[77]
+    platform_x5 = params[78]
+    platform_y5 = params[79]
+    platform_z5 = params[80]
+    platform_x6 = params[81]
+    platform_y6 = params[82]
+    platform_z6 = params[83]
+    _t0 = 2 * x
+    _t1 = casadi.cos(theta1)
+    _t2 = _t1 * crank_zero_x1
+    _t3 = casadi.sin(theta1)
+    _t4 = _t3 * (axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1)
+    _t5 = _t2 + _t4
+    _t6 = 2 * q0
+    _t7 = _t6 * q3
+    _t8 = -_t7 + 2 * q1 * q2
+    _t9 = q2**2
+    _t10 = q3**2
+    _t11 = q0**2
+    _t12 = q1**2
+    _t13 = _t11 + _t12
+    _t14 = 1 / (_t10 + _t13 + _t9)
+    _t15 = _t14 * platform_y1
+    _t16 = _t15 * _t8
+    _t17 = _t6 * q2
+    _t18 = 2 * q1
+    _t19 = _t17 + _t18 * q3
+    _t20 = _t14 * platform_z1
+    _t21 = _t19 * _t20
+    _t22 = -_t9
+    _t23 = -_t10
+    _t24 = _t13 + _t22 + _t23
+    _t25 = _t14 * platform_x1
+    _t26 = _t24 * _t25
+    _t27 = (1 / 2) / b1
+    _t28 = 2 * y
+    _t29 = _t1 * crank_zero_y1
+    _t30 = _t3 * (-axis_x1 * crank_zero_z1 + axis_z1 * crank_zero_x1)
+    _t31 = _t29 + _t30
+    _t32 = _t18 * q2 + _t7
+    _t33 = _t25 * _t32
+    _t34 = _t6 * q1
+    _t35 = -_t34 + 2 * q2 * q3
+    _t36 = _t20 * _t35
+    _t37 = _t11 - _t12
+    _t38 = _t23 + _t37 + _t9
+    _t39 = _t15 * _t38
+    _t40 = 2 * z
+    _t41 = _t1 * crank_zero_z1
+    _t42 = _t3 * (axis_x1 * crank_zero_y1 - axis_y1 * crank_zero_x1)
+    _t43 = _t41 + _t42
+    _t44 = -_t17 + 2 * q1 * q3
+    _t45 = _t25 * _t44
+    _t46 = _t34 + 2 * q2 * q3
+    _t47 = _t15 * _t46
+    _t48 = _t10 + _t22 + _t37
+    _t49 = _t20 * _t48
+    _t50 = -_t43 * a1 + _t45 + _t47 + _t49 - base_z1 + z
+    _t51 = _t3 * a1
+    _t52 = 2 * _t51
+    _t53 = _t50 * _t52
+    _t54 = -_t31 * a1 + _t33 + _t36 + _t39 - base_y1 + y
+    _t55 = _t16 + _t21 + _t26 - _t5 * a1 - base_x1 + x
+    _t56 = 2 * _t55
+    _t57 = _t51 * _t56
+    _t58 = _t52 * _t54
+    _t59 = _t1 * a1
+    _t60 = 2 * _t59
+    _t61 = b1**2
+    _t62 = 2 * _t14
+    _t63 = _t50 * _t62
+    _t64 = _t54 * _t62
+    _t65 = _t14 * _t56
+    _t66 = casadi.cos(theta2)
+    _t67 = _t66 * crank_zero_x2
+    _t68 = casadi.sin(theta2)
+    _t69 = _t68 * (axis_y2 * crank_zero_z2 - axis_z2 * crank_zero_y2)
+    _t70 = _t67 + _t69
+    _t71 = _t14 * platform_y2
+    _t72 = _t71 * _t8
+    _t73 = _t14 * platform_z2
+    _t74 = _t19 * _t73
+    _t75 = _t14 * platform_x2
+    _t76 = _t24 * _t75
+    _t77 = (1 / 2) / b2
+    _t78 = _t66 * crank_zero_y2
+    _t79 = _t68 * (-axis_x2 * crank_zero_z2 + axis_z2 * crank_zero_x2)
+    _t80 = _t78 + _t79
+    _t81 = _t32 * _t75
+    _t82 = _t35 * _t73
+    _t83 = _t38 * _t71
+    _t84 = _t66 * crank_zero_z2
+    _t85 = _t68 * (axis_x2 * crank_zero_y2 - axis_y2 * crank_zero_x2)
+    _t86 = _t84 + _t85
+    _t87 = _t44 * _t75
+    _t88 = _t46 * _t71
+    _t89 = _t48 * _t73
+    _t90 = -_t86 * a2 + _t87 + _t88 + _t89 - base_z2 + z
+    _t91 = 2 * a2
+    _t92 = _t68 * _t91
+    _t93 = _t90 * _t92
+    _t94 = -_t80 * a2 + _t81 + _t82 + _t83 - base_y2 + y
+    _t95 = -_t70 * a2 + _t72 + _t74 + _t76 - base_x2 + x
+    _t96 = _t92 * _t94
+    _t97 = _t66 * _t91
+    _t98 = b2**2
+    _t99 = _t62 * _t90
+    _t100 = _t62 * _t94
+    _t101 = _t62 * _t95
+    _t102 = casadi.cos(theta3)
+    _t103 = _t102 * crank_zero_x3
+    _t104 = casadi.sin(theta3)
+    _t105 = _t104 * (axis_y3 * crank_zero_z3 - axis_z3 * crank_zero_y3)
+    _t106 = _t103 + _t105
+    _t107 = _t14 * platform_y3
+    _t108 = _t107 * _t8
+    _t109 = _t14 * platform_z3
+    _t110 = _t109 * _t19
+    _t111 = _t14 * platform_x3
+    _t112 = _t111 * _t24
+    _t113 = (1 / 2) / b3
+    _t114 = _t102 * crank_zero_y3
+    _t115 = _t104 * (-axis_x3 * crank_zero_z3 + axis_z3 * crank_zero_x3)
+    _t116 = _t114 + _t115
+    _t117 = _t111 * _t32
+    _t118 = _t109 * _t35
+    _t119 = _t107 * _t38
+    _t120 = _t102 * crank_zero_z3
+    _t121 = _t104 * (axis_x3 * crank_zero_y3 - axis_y3 * crank_zero_x3)
+    _t122 = _t120 + _t121
+    _t123 = _t111 * _t44
+    _t124 = _t107 * _t46
+    _t125 = _t109 * _t48
+    _t126 = -_t122 * a3 + _t123 + _t124 + _t125 - base_z3 + z
+    _t127 = 2 * a3
+    _t128 = _t104 * _t127
+    _t129 = _t126 * _t128
+    _t130 = -_t116 * a3 + _t117 + _t118 + _t119 - base_y3 + y
+    _t131 = -_t106 * a3 + _t108 + _t110 + _t112 - base_x3 + x
+    _t132 = _t128 * _t130
+    _t133 = _t102 * _t127
+    _t134 = b3**2
+    _t135 = _t126 * _t62
+    _t136 = _t130 * _t62
+    _t137 = _t131 * _t62
+    _t138 = casadi.cos(theta4)
+    _t139 = _t138 * crank_zero_x4
+    _t140 = casadi.sin(theta4)
+    _t141 = _t140 * (axis_y4 * crank_zero_z4 - axis_z4 * crank_zero_y4)
+    _t142 = _t139 + _t141
+    _t143 = _t14 * platform_y4
+    _t144 = _t143 * _t8
+    _t145 = _t14 * platform_z4
+    _t146 = _t145 * _t19
+    _t147 = _t14 * platform_x4
+    _t148 = _t147 * _t24
+    _t149 = (1 / 2) / b4
+    _t150 = _t138 * crank_zero_y4
+    _t151 = _t140 * (-axis_x4 * crank_zero_z4 + axis_z4 * crank_zero_x4)
+    _t152 = _t150 + _t151
+    _t153 = _t147 * _t32
+    _t154 = _t145 * _t35
+    _t155 = _t143 * _t38
+    _t156 = _t138 * crank_zero_z4
+    _t157 = _t140 * (axis_x4 * crank_zero_y4 - axis_y4 * crank_zero_x4)
+    _t158 = _t156 + _t157
+    _t159 = _t147 * _t44
+    _t160 = _t143 * _t46
+    _t161 = _t145 * _t48
+    _t162 = -_t158 * a4 + _t159 + _t160 + _t161 - base_z4 + z
+    _t163 = 2 * a4
+    _t164 = _t140 * _t163
+    _t165 = _t162 * _t164
+    _t166 = -_t152 * a4 + _t153 + _t154 + _t155 - base_y4 + y
+    _t167 = -_t142 * a4 + _t144 + _t146 + _t148 - base_x4 + x
+    _t168 = _t164 * _t166
+    _t169 = _t138 * _t163
+    _t170 = b4**2
+    _t171 = _t162 * _t62
+    _t172 = _t166 * _t62
+    _t173 = _t167 * _t62
+    _t174 = casadi.cos(theta5)
+    _t175 = _t174 * crank_zero_x5
+    _t176 = casadi.sin(theta5)
+    _t177 = _t176 * (axis_y5 * crank_zero_z5 - axis_z5 * crank_zero_y5)
+    _t178 = _t175 + _t177
+    _t179 = _t14 * platform_y5
+    _t180 = _t179 * _t8
+    _t181 = _t14 * platform_z5
+    _t182 = _t181 * _t19
+    _t183 = _t14 * platform_x5
+    _t184 = _t183 * _t24
+    _t185 = (1 / 2) / b5
+    _t186 = _t174 * crank_zero_y5
+    _t187 = _t176 * (-axis_x5 * crank_zero_z5 + axis_z5 * crank_zero_x5)
+    _t188 = _t186 + _t187
+    _t189 = _t183 * _t32
+    _t190 = _t181 * _t35
+    _t191 = _t179 * _t38
+    _t192 = _t174 * crank_zero_z5
+    _t193 = _t176 * (axis_x5 * crank_zero_y5 - axis_y5 * crank_zero_x5)
+    _t194 = _t192 + _t193
+    _t195 = _t183 * _t44
+    _t196 = _t179 * _t46
+    _t197 = _t181 * _t48
+    _t198 = -_t194 * a5 + _t195 + _t196 + _t197 - base_z5 + z
+    _t199 = 2 * a5
+    _t200 = _t176 * _t199
+    _t201 = _t198 * _t200
+    _t202 = -_t188 * a5 + _t189 + _t190 + _t191 - base_y5 + y
+    _t203 = -_t178 * a5 + _t180 + _t182 + _t184 - base_x5 + x
+    _t204 = _t200 * _t202
+    _t205 = _t174 * _t199
+    _t206 = b5**2
+    _t207 = _t198 * _t62
+    _t208 = _t202 * _t62
+    _t209 = _t203 * _t62
+    _t210 = casadi.cos(theta6)
+    _t211 = _t210 * crank_zero_x6
+    _t212 = casadi.sin(theta6)
+    _t213 = _t212 * (axis_y6 * crank_zero_z6 - axis_z6 * crank_zero_y6)
+    _t214 = _t211 + _t213
+    _t215 = _t14 * platform_y6
+    _t216 = _t215 * _t8
+    _t217 = _t14 * platform_z6
+    _t218 = _t19 * _t217
+    _t219 = _t14 * platform_x6
+    _t220 = _t219 * _t24
+    _t221 = (1 / 2) / b6
+    _t222 = _t210 * crank_zero_y6
+    _t223 = _t212 * (-axis_x6 * crank_zero_z6 + axis_z6 * crank_zero_x6)
+    _t224 = _t222 + _t223
+    _t225 = _t219 * _t32
+    _t226 = _t217 * _t35
+    _t227 = _t215 * _t38
+    _t228 = _t210 * crank_zero_z6
+    _t229 = _t212 * (axis_x6 * crank_zero_y6 - axis_y6 * crank_zero_x6)
+    _t230 = _t228 + _t229
+    _t231 = _t219 * _t44
+    _t232 = _t215 * _t46
+    _t233 = _t217 * _t48
+    _t234 = -_t230 * a6 + _t231 + _t232 + _t233 - base_z6 + z
+    _t235 = 2 * a6
+    _t236 = _t212 * _t235
+    _t237 = _t234 * _t236
+    _t238 = -_t224 * a6 + _t225 + _t226 + _t227 - base_y6 + y
+    _t239 = -_t214 * a6 + _t216 + _t218 + _t220 - base_x6 + x
+    _t240 = _t236 * _t238
+    _t241 = _t210 * _t235
+    _t242 = b6**2
+    _t243 = _t234 * _t62
+    _t244 = _t238 * _t62
+    _t245 = _t239 * _t62
+    closure_parameters = casadi.SX.zeros(7, 84)
+    closure_parameters[0, 0] = _t27 * (
+        -_t0 - 2 * _t16 - 2 * _t21 - 2 * _t26 + 2 * _t5 * a1 + 2 * base_x1
+    )
+    closure_parameters[0, 1] = _t27 * (
+        -_t28 + 2 * _t31 * a1 - 2 * _t33 - 2 * _t36 - 2 * _t39 + 2 * base_y1
+    )
+    closure_parameters[0, 2] = _t27 * (
+        -_t40 + 2 * _t43 * a1 - 2 * _t45 - 2 * _t47 - 2 * _t49 + 2 * base_z1
+    )
+    closure_parameters[0, 18] = _t27 * (2 * _t3 * _t54 * a1 * crank_zero_z1 - _t53 * crank_zero_y1)
+    closure_parameters[0, 19] = _t27 * (_t53 * crank_zero_x1 - _t57 * crank_zero_z1)
+    closure_parameters[0, 20] = _t27 * (2 * _t3 * _t55 * a1 * crank_zero_y1 - _t58 * crank_zero_x1)
+    closure_parameters[0, 36] = _t27 * (
+        2 * _t3 * _t50 * a1 * axis_y1 - _t56 * _t59 - _t58 * axis_z1
+    )
+    closure_parameters[0, 37] = _t27 * (
+        2 * _t3 * _t55 * a1 * axis_z1 - _t53 * axis_x1 - _t54 * _t60
+    )
+    closure_parameters[0, 38] = _t27 * (
+        2 * _t3 * _t54 * a1 * axis_x1 - _t50 * _t60 - _t57 * axis_y1
+    )
+    closure_parameters[0, 54] = _t27 * (
+        _t50 * (-2 * _t41 - 2 * _t42) + _t54 * (-2 * _t29 - 2 * _t30) + _t55 * (-2 * _t2 - 2 * _t4)
+    )
+    closure_parameters[0, 60] = -1 - 1 / 2 * (_t50**2 + _t54**2 + _t55**2 - _t61) / _t61
+    closure_parameters[0, 66] = _t27 * (_t24 * _t65 + _t32 * _t64 + _t44 * _t63)
+    closure_parameters[0, 67] = _t27 * (_t38 * _t64 + _t46 * _t63 + _t65 * _t8)
+    closure_parameters[0, 68] = _t27 * (_t19 * _t65 + _t35 * _t64 + _t48 * _t63)
+    closure_parameters[1, 3] = _t77 * (
+        -_t0 + 2 * _t70 * a2 - 2 * _t72 - 2 * _t74 - 2 * _t76 + 2 * base_x2
+    )
+    closure_parameters[1, 4] = _t77 * (
+        -_t28 + 2 * _t80 * a2 - 2 * _t81 - 2 * _t82 - 2 * _t83 + 2 * base_y2
+    )
+    closure_parameters[1, 5] = _t77 * (
+        -_t40 + 2 * _t86 * a2 - 2 * _t87 - 2 * _t88 - 2 * _t89 + 2 * base_z2
+    )
+    closure_parameters[1, 21] = _t77 * (2 * _t68 * _t94 * a2 * crank_zero_z2 - _t93 * crank_zero_y2)
+    closure_parameters[1, 22] = _t77 * (-_t92 * _t95 * crank_zero_z2 + _t93 * crank_zero_x2)
+    closure_parameters[1, 23] = _t77 * (2 * _t68 * _t95 * a2 * crank_zero_y2 - _t96 * crank_zero_x2)
+    closure_parameters[1, 39] = _t77 * (
+        2 * _t68 * _t90 * a2 * axis_y2 - _t95 * _t97 - _t96 * axis_z2
+    )
+    closure_parameters[1, 40] = _t77 * (
+        2 * _t68 * _t95 * a2 * axis_z2 - _t93 * axis_x2 - _t94 * _t97
+    )
+    closure_parameters[1, 41] = _t77 * (
+        2 * _t68 * _t94 * a2 * axis_x2 - _t90 * _t97 - _t92 * _t95 * axis_y2
+    )
+    closure_parameters[1, 55] = _t77 * (
+        _t90 * (-2 * _t84 - 2 * _t85)
+        + _t94 * (-2 * _t78 - 2 * _t79)
+        + _t95 * (-2 * _t67 - 2 * _t69)
+    )
+    closure_parameters[1, 61] = -1 - 1 / 2 * (_t90**2 + _t94**2 + _t95**2 - _t98) / _t98
+    closure_parameters[1, 69] = _t77 * (_t100 * _t32 + _t101 * _t24 + _t44 * _t99)
+    closure_parameters[1, 70] = _t77 * (_t100 * _t38 + _t101 * _t8 + _t46 * _t99)
+    closure_parameters[1, 71] = _t77 * (_t100 * _t35 + _t101 * _t19 + _t48 * _t99)
+    closure_parameters[2, 6] = _t113 * (
+        -_t0 + 2 * _t106 * a3 - 2 * _t108 - 2 * _t110 - 2 * _t112 + 2 * base_x3
+    )
+    closure_parameters[2, 7] = _t113 * (
+        2 * _t116 * a3 - 2 * _t117 - 2 * _t118 - 2 * _t119 - _t28 + 2 * base_y3
+    )
+    closure_parameters[2, 8] = _t113 * (
+        2 * _t122 * a3 - 2 * _t123 - 2 * _t124 - 2 * _t125 - _t40 + 2 * base_z3
+    )
+    closure_parameters[2, 24] = _t113 * (
+        2 * _t104 * _t130 * a3 * crank_zero_z3 - _t129 * crank_zero_y3
+    )
+    closure_parameters[2, 25] = _t113 * (-_t128 * _t131 * crank_zero_z3 + _t129 * crank_zero_x3)
+    closure_parameters[2, 26] = _t113 * (
+        2 * _t104 * _t131 * a3 * crank_zero_y3 - _t132 * crank_zero_x3
+    )
+    closure_parameters[2, 42] = _t113 * (
+        2 * _t104 * _t126 * a3 * axis_y3 - _t131 * _t133 - _t132 * axis_z3
+    )
+    closure_parameters[2, 43] = _t113 * (
+        2 * _t104 * _t131 * a3 * axis_z3 - _t129 * axis_x3 - _t130 * _t133
+    )
+    closure_parameters[2, 44] = _t113 * (
+        2 * _t104 * _t130 * a3 * axis_x3 - _t126 * _t133 - _t128 * _t131 * axis_y3
+    )
+    closure_parameters[2, 56] = _t113 * (
+        _t126 * (-2 * _t120 - 2 * _t121)
+        + _t130 * (-2 * _t114 - 2 * _t115)
+        + _t131 * (-2 * _t103 - 2 * _t105)
+    )
+    closure_parameters[2, 62] = -1 - 1 / 2 * (_t126**2 + _t130**2 + _t131**2 - _t134) / _t134
+    closure_parameters[2, 72] = _t113 * (_t135 * _t44 + _t136 * _t32 + _t137 * _t24)
+    closure_parameters[2, 73] = _t113 * (_t135 * _t46 + _t136 * _t38 + _t137 * _t8)
+    closure_parameters[2, 74] = _t113 * (_t135 * _t48 + _t136 * _t35 + _t137 * _t19)
+    closure_parameters[3, 9] = _t149 * (
+        -_t0 + 2 * _t142 * a4 - 2 * _t144 - 2 * _t146 - 2 * _t148 + 2 * base_x4
+    )
+    closure_parameters[3, 10] = _t149 * (
+        2 * _t152 * a4 - 2 * _t153 - 2 * _t154 - 2 * _t155 - _t28 + 2 * base_y4
+    )
+    closure_parameters[3, 11] = _t149 * (
+        2 * _t158 * a4 - 2 * _t159 - 2 * _t160 - 2 * _t161 - _t40 + 2 * base_z4
+    )
+    closure_parameters[3, 27] = _t149 * (
+        2 * _t140 * _t166 * a4 * crank_zero_z4 - _t165 * crank_zero_y4
+    )
+    closure_parameters[3, 28] = _t149 * (-_t164 * _t167 * crank_zero_z4 + _t165 * crank_zero_x4)
+    closure_parameters[3, 29] = _t149 * (
+        2 * _t140 * _t167 * a4 * crank_zero_y4 - _t168 * crank_zero_x4
+    )
+    closure_parameters[3, 45] = _t149 * (
+        2 * _t140 * _t162 * a4 * axis_y4 - _t167 * _t169 - _t168 * axis_z4
+    )
+    closure_parameters[3, 46] = _t149 * (
+        2 * _t140 * _t167 * a4 * axis_z4 - _t165 * axis_x4 - _t166 * _t169
+    )
+    closure_parameters[3, 47] = _t149 * (
+        2 * _t140 * _t166 * a4 * axis_x4 - _t162 * _t169 - _t164 * _t167 * axis_y4
+    )
+    closure_parameters[3, 57] = _t149 * (
+        _t162 * (-2 * _t156 - 2 * _t157)
+        + _t166 * (-2 * _t150 - 2 * _t151)
+        + _t167 * (-2 * _t139 - 2 * _t141)
+    )
+    closure_parameters[3, 63] = -1 - 1 / 2 * (_t162**2 + _t166**2 + _t167**2 - _t170) / _t170
+    closure_parameters[3, 75] = _t149 * (_t171 * _t44 + _t172 * _t32 + _t173 * _t24)
+    closure_parameters[3, 76] = _t149 * (_t171 * _t46 + _t172 * _t38 + _t173 * _t8)
+    closure_parameters[3, 77] = _t149 * (_t171 * _t48 + _t172 * _t35 + _t173 * _t19)
+    closure_parameters[4, 12] = _t185 * (
+        -_t0 + 2 * _t178 * a5 - 2 * _t180 - 2 * _t182 - 2 * _t184 + 2 * base_x5
+    )
+    closure_parameters[4, 13] = _t185 * (
+        2 * _t188 * a5 - 2 * _t189 - 2 * _t190 - 2 * _t191 - _t28 + 2 * base_y5
+    )
+    closure_parameters[4, 14] = _t185 * (
+        2 * _t194 * a5 - 2 * _t195 - 2 * _t196 - 2 * _t197 - _t40 + 2 * base_z5
+    )
+    closure_parameters[4, 30] = _t185 * (
+        2 * _t176 * _t202 * a5 * crank_zero_z5 - _t201 * crank_zero_y5
+    )
+    closure_parameters[4, 31] = _t185 * (-_t200 * _t203 * crank_zero_z5 + _t201 * crank_zero_x5)
+    closure_parameters[4, 32] = _t185 * (
+        2 * _t176 * _t203 * a5 * crank_zero_y5 - _t204 * crank_zero_x5
+    )
+    closure_parameters[4, 48] = _t185 * (
+        2 * _t176 * _t198 * a5 * axis_y5 - _t203 * _t205 - _t204 * axis_z5
+    )
+    closure_parameters[4, 49] = _t185 * (
+        2 * _t176 * _t203 * a5 * axis_z5 - _t201 * axis_x5 - _t202 * _t205
+    )
+    closure_parameters[4, 50] = _t185 * (
+        2 * _t176 * _t202 * a5 * axis_x5 - _t198 * _t205 - _t200 * _t203 * axis_y5
+    )
+    closure_parameters[4, 58] = _t185 * (
+        _t198 * (-2 * _t192 - 2 * _t193)
+        + _t202 * (-2 * _t186 - 2 * _t187)
+        + _t203 * (-2 * _t175 - 2 * _t177)
+    )
+    closure_parameters[4, 64] = -1 - 1 / 2 * (_t198**2 + _t202**2 + _t203**2 - _t206) / _t206
+    closure_parameters[4, 78] = _t185 * (_t207 * _t44 + _t208 * _t32 + _t209 * _t24)
+    closure_parameters[4, 79] = _t185 * (_t207 * _t46 + _t208 * _t38 + _t209 * _t8)
+    closure_parameters[4, 80] = _t185 * (_t19 * _t209 + _t207 * _t48 + _t208 * _t35)
+    closure_parameters[5, 15] = _t221 * (
+        -_t0 + 2 * _t214 * a6 - 2 * _t216 - 2 * _t218 - 2 * _t220 + 2 * base_x6
+    )
+    closure_parameters[5, 16] = _t221 * (
+        2 * _t224 * a6 - 2 * _t225 - 2 * _t226 - 2 * _t227 - _t28 + 2 * base_y6
+    )
+    closure_parameters[5, 17] = _t221 * (
+        2 * _t230 * a6 - 2 * _t231 - 2 * _t232 - 2 * _t233 - _t40 + 2 * base_z6
+    )
+    closure_parameters[5, 33] = _t221 * (
+        2 * _t212 * _t238 * a6 * crank_zero_z6 - _t237 * crank_zero_y6
+    )
+    closure_parameters[5, 34] = _t221 * (-_t236 * _t239 * crank_zero_z6 + _t237 * crank_zero_x6)
+    closure_parameters[5, 35] = _t221 * (
+        2 * _t212 * _t239 * a6 * crank_zero_y6 - _t240 * crank_zero_x6
+    )
+    closure_parameters[5, 51] = _t221 * (
+        2 * _t212 * _t234 * a6 * axis_y6 - _t239 * _t241 - _t240 * axis_z6
+    )
+    closure_parameters[5, 52] = _t221 * (
+        2 * _t212 * _t239 * a6 * axis_z6 - _t237 * axis_x6 - _t238 * _t241
+    )
+    closure_parameters[5, 53] = _t221 * (
+        2 * _t212 * _t238 * a6 * axis_x6 - _t234 * _t241 - _t236 * _t239 * axis_y6
+    )
+    closure_parameters[5, 59] = _t221 * (
+        _t234 * (-2 * _t228 - 2 * _t229)
+        + _t238 * (-2 * _t222 - 2 * _t223)
+        + _t239 * (-2 * _t211 - 2 * _t213)
+    )
+    closure_parameters[5, 65] = -1 - 1 / 2 * (_t234**2 + _t238**2 + _t239**2 - _t242) / _t242
+    closure_parameters[5, 81] = _t221 * (_t24 * _t245 + _t243 * _t44 + _t244 * _t32)
+    closure_parameters[5, 82] = _t221 * (_t243 * _t46 + _t244 * _t38 + _t245 * _t8)
+    closure_parameters[5, 83] = _t221 * (_t19 * _t245 + _t243 * _t48 + _t244 * _t35)
+    pose_parameters = casadi.SX.zeros(12, 84)
+    return casadi.Function(
+        "rus6_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -9318,6 +9889,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

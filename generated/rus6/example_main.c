@@ -5,6 +5,7 @@
 //   loop_closure: 1542
 //   loop_closure_actuated: 464
 //   rate_jacobians: 521
+//   parameter_jacobians: 1183
 //   singularity_factors: 1080
 //   drawing: 311
 //   inverse_pose: 1061

@@ -5,6 +5,7 @@
 //   loop_closure: 1542
 //   loop_closure_actuated: 464
 //   rate_jacobians: 521
+//   parameter_jacobians: 1183
 //   singularity_factors: 1080
 //   drawing: 311
 //   inverse_pose: 1061
@@ -102,6 +103,24 @@ int rus6_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casad
 #define rus6_rate_jacobians_SZ_RES 2
 #define rus6_rate_jacobians_SZ_IW 0
 #define rus6_rate_jacobians_SZ_W 0
+int rus6_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int rus6_parameter_jacobians_checkout(void);
+void rus6_parameter_jacobians_release(int mem);
+void rus6_parameter_jacobians_incref(void);
+void rus6_parameter_jacobians_decref(void);
+casadi_int rus6_parameter_jacobians_n_in(void);
+casadi_int rus6_parameter_jacobians_n_out(void);
+casadi_real rus6_parameter_jacobians_default_in(casadi_int i);
+const char* rus6_parameter_jacobians_name_in(casadi_int i);
+const char* rus6_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* rus6_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* rus6_parameter_jacobians_sparsity_out(casadi_int i);
+int rus6_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int rus6_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define rus6_parameter_jacobians_SZ_ARG 3
+#define rus6_parameter_jacobians_SZ_RES 2
+#define rus6_parameter_jacobians_SZ_IW 0
+#define rus6_parameter_jacobians_SZ_W 0
 int rus6_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int rus6_singularity_factors_checkout(void);
 void rus6_singularity_factors_release(int mem);

@@ -5,6 +5,7 @@
 //   loop_closure: 1542
 //   loop_closure_actuated: 464
 //   rate_jacobians: 521
+//   parameter_jacobians: 1183
 //   singularity_factors: 1080
 //   drawing: 311
 //   inverse_pose: 1061
@@ -304,6 +305,10 @@ int rus6_loop_closure_actuated_batch(long long n, const double** inputs, const l
 //   inputs: actuated[6], passive[7], params[84]
 //   outputs: a[6 x 6], b[6 x 6]
 int rus6_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[6], passive[7], params[84]
+//   outputs: closure_parameters[7 x 84], pose_parameters[12 x 84]
+int rus6_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[6], passive[7], params[84]
 //   outputs: factors[7], determinants[2]

@@ -5,6 +5,7 @@
 #   loop_closure: 399
 #   loop_closure_actuated: 607
 #   leg_jacobians: 217
+#   parameter_jacobians: 104
 #   singularity_factors: 27
 #   drawing: 111
 #   inverse_pose: 228
@@ -843,6 +844,98 @@ def leg_jacobians() -> casadi.Function:
         [
             "left",
             "right",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 104.
+    """
+    actuated = casadi.SX.sym("actuated", 6)
+    passive = casadi.SX.sym("passive", 6)
+    params = casadi.SX.sym("params", 2)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    theta3 = actuated[2]
+    theta4 = actuated[3]
+    theta5 = actuated[4]
+    theta6 = actuated[5]
+    phi2 = passive[1]
+    phi3 = passive[2]
+    phi5 = passive[4]
+    phi6 = passive[5]
+    _t0 = casadi.sin(phi6)
+    _t1 = casadi.cos(theta4)
+    _t2 = casadi.cos(theta6)
+    _t3 = casadi.sin(theta5)
+    _t4 = casadi.sin(theta4)
+    _t5 = casadi.sin(theta6)
+    _t6 = _t4 * _t5
+    _t7 = casadi.cos(phi6)
+    _t8 = casadi.cos(phi5)
+    _t9 = casadi.cos(theta5)
+    _t10 = casadi.sin(phi5)
+    _t11 = _t1 * _t5
+    _t12 = _t2 * _t4
+    _t13 = casadi.sin(phi3)
+    _t14 = casadi.cos(theta1)
+    _t15 = casadi.cos(theta3)
+    _t16 = casadi.sin(theta2)
+    _t17 = casadi.sin(theta1)
+    _t18 = casadi.sin(theta3)
+    _t19 = _t17 * _t18
+    _t20 = casadi.cos(phi3)
+    _t21 = casadi.cos(phi2)
+    _t22 = casadi.cos(theta2)
+    _t23 = casadi.sin(phi2)
+    _t24 = _t14 * _t18
+    _t25 = _t15 * _t17
+    _t26 = _t13 * (_t14 * _t15 - _t16 * _t19) + _t20 * (
+        _t17 * _t21 * _t22 - _t23 * (_t16 * _t25 + _t24)
+    )
+    _t27 = _t13 * (_t16 * _t24 + _t25) + _t20 * (
+        -_t14 * _t21 * _t22 - _t23 * (-_t14 * _t15 * _t16 + _t19)
+    )
+    _t28 = -_t13 * _t18 * _t22 + _t20 * (-_t15 * _t22 * _t23 - _t16 * _t21)
+    closure_parameters = casadi.SX.zeros(6, 2)
+    closure_parameters[0, 1] = (
+        -_t0 * (_t1 * _t2 - _t3 * _t6)
+        - _t26
+        - _t7 * (-_t10 * (_t11 + _t12 * _t3) + _t4 * _t8 * _t9)
+    )
+    closure_parameters[1, 0] = -2
+    closure_parameters[1, 1] = (
+        -_t0 * (_t11 * _t3 + _t12)
+        - _t27
+        - _t7 * (-_t1 * _t8 * _t9 - _t10 * (-_t1 * _t2 * _t3 + _t6))
+    )
+    closure_parameters[2, 1] = _t0 * _t5 * _t9 - _t28 - _t7 * (-_t10 * _t2 * _t9 - _t3 * _t8)
+    pose_parameters = casadi.SX.zeros(12, 2)
+    pose_parameters[3, 1] = -_t26
+    pose_parameters[7, 0] = -1
+    pose_parameters[7, 1] = -_t27
+    pose_parameters[11, 1] = -_t28
+    return casadi.Function(
+        "sam_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -3785,6 +3878,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "leg_jacobians": leg_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -5,6 +5,7 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
+//   parameter_jacobians: 104
 //   singularity_factors: 27
 //   drawing: 111
 //   inverse_pose: 228
@@ -123,6 +124,30 @@ int sam_leg_jacobians_batch(long long n, const double** inputs, const long long*
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 outputs[1][i * 36 + r * 6 + c] = out_right[c * 6 + r];
+    }
+    return 0;
+}
+
+int sam_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[29 + 1];
+    casadi_real out_closure_parameters[12 + 1];
+    casadi_real out_pose_parameters[24 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (sam_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[0][i * 12 + r * 2 + c] = out_closure_parameters[c * 6 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[1][i * 24 + r * 2 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

@@ -5,6 +5,7 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
+//   parameter_jacobians: 104
 //   singularity_factors: 27
 //   drawing: 111
 //   inverse_pose: 228

@@ -5,6 +5,7 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
+//   parameter_jacobians: 104
 //   singularity_factors: 27
 //   drawing: 111
 //   inverse_pose: 228
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -69,6 +71,8 @@ extern "C" {
 #define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s14 CASADI_PREFIX(s14)
+#define casadi_s15 CASADI_PREFIX(s15)
+#define casadi_s16 CASADI_PREFIX(s16)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -110,16 +114,18 @@ static const casadi_int casadi_s1[3] = {2, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {6, 6, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {9, 1, 1};
-static const casadi_int casadi_s6[3] = {3, 1, 1};
-static const casadi_int casadi_s7[3] = {3, 2, 1};
-static const casadi_int casadi_s8[3] = {3, 3, 1};
-static const casadi_int casadi_s9[3] = {12, 1, 1};
-static const casadi_int casadi_s10[3] = {4, 1, 1};
-static const casadi_int casadi_s11[3] = {6, 4, 1};
-static const casadi_int casadi_s12[3] = {20, 1, 1};
-static const casadi_int casadi_s13[3] = {79, 1, 1};
-static const casadi_int casadi_s14[3] = {10, 1, 1};
+static const casadi_int casadi_s5[3] = {6, 2, 1};
+static const casadi_int casadi_s6[3] = {12, 2, 1};
+static const casadi_int casadi_s7[3] = {9, 1, 1};
+static const casadi_int casadi_s8[3] = {3, 1, 1};
+static const casadi_int casadi_s9[3] = {3, 2, 1};
+static const casadi_int casadi_s10[3] = {3, 3, 1};
+static const casadi_int casadi_s11[3] = {12, 1, 1};
+static const casadi_int casadi_s12[3] = {4, 1, 1};
+static const casadi_int casadi_s13[3] = {6, 4, 1};
+static const casadi_int casadi_s14[3] = {20, 1, 1};
+static const casadi_int casadi_s15[3] = {79, 1, 1};
+static const casadi_int casadi_s16[3] = {10, 1, 1};
 
 /* sam_platform_pose:(actuated[6],passive[6],params[2])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1916,8 +1922,238 @@ CASADI_SYMBOL_EXPORT int sam_leg_jacobians_work_bytes(casadi_int *sz_arg, casadi
   return 0;
 }
 
-/* sam_singularity_factors:(actuated[6],passive[6],params[2])->(factors[9],determinants[3]) */
+/* sam_parameter_jacobians:(actuated[6],passive[6],params[2])->(closure_parameters[6x2],pose_parameters[12x2]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28;
+  a00=0.;
+  if (res[0]!=0) res[0][0]=a00;
+  a01=-2.;
+  if (res[0]!=0) res[0][1]=a01;
+  if (res[0]!=0) res[0][2]=a00;
+  if (res[0]!=0) res[0][3]=a00;
+  if (res[0]!=0) res[0][4]=a00;
+  if (res[0]!=0) res[0][5]=a00;
+  a01=arg[1]? arg[1][5] : 0;
+  a02=sin(a01);
+  a03=arg[0]? arg[0][3] : 0;
+  a04=cos(a03);
+  a05=arg[0]? arg[0][5] : 0;
+  a06=cos(a05);
+  a07=(a04*a06);
+  a08=arg[0]? arg[0][4] : 0;
+  a09=sin(a08);
+  a03=sin(a03);
+  a05=sin(a05);
+  a10=(a03*a05);
+  a11=(a09*a10);
+  a07=(a07-a11);
+  a07=(a02*a07);
+  a11=arg[1]? arg[1][2] : 0;
+  a12=sin(a11);
+  a13=arg[0]? arg[0][0] : 0;
+  a14=cos(a13);
+  a15=arg[0]? arg[0][2] : 0;
+  a16=cos(a15);
+  a17=(a14*a16);
+  a18=arg[0]? arg[0][1] : 0;
+  a19=sin(a18);
+  a13=sin(a13);
+  a15=sin(a15);
+  a20=(a13*a15);
+  a21=(a19*a20);
+  a17=(a17-a21);
+  a17=(a12*a17);
+  a11=cos(a11);
+  a21=arg[1]? arg[1][1] : 0;
+  a22=cos(a21);
+  a23=(a13*a22);
+  a18=cos(a18);
+  a23=(a23*a18);
+  a21=sin(a21);
+  a13=(a16*a13);
+  a24=(a19*a13);
+  a25=(a14*a15);
+  a24=(a24+a25);
+  a24=(a21*a24);
+  a23=(a23-a24);
+  a23=(a11*a23);
+  a17=(a17+a23);
+  a07=(a07+a17);
+  a01=cos(a01);
+  a23=arg[1]? arg[1][4] : 0;
+  a24=cos(a23);
+  a26=(a03*a24);
+  a08=cos(a08);
+  a26=(a26*a08);
+  a23=sin(a23);
+  a27=(a04*a05);
+  a03=(a06*a03);
+  a28=(a03*a09);
+  a28=(a27+a28);
+  a28=(a23*a28);
+  a26=(a26-a28);
+  a26=(a01*a26);
+  a07=(a07+a26);
+  a07=(-a07);
+  if (res[0]!=0) res[0][6]=a07;
+  a07=(a04*a24);
+  a07=(a07*a08);
+  a04=(a04*a06);
+  a04=(a04*a09);
+  a10=(a10-a04);
+  a10=(a23*a10);
+  a07=(a07+a10);
+  a07=(a01*a07);
+  a27=(a27*a09);
+  a27=(a27+a03);
+  a27=(a02*a27);
+  a25=(a19*a25);
+  a25=(a25+a13);
+  a25=(a12*a25);
+  a13=(a14*a22);
+  a13=(a13*a18);
+  a14=(a14*a16);
+  a14=(a14*a19);
+  a20=(a20-a14);
+  a20=(a21*a20);
+  a13=(a13+a20);
+  a13=(a11*a13);
+  a25=(a25-a13);
+  a27=(a27+a25);
+  a07=(a07-a27);
+  if (res[0]!=0) res[0][7]=a07;
+  a02=(a02*a05);
+  a02=(a02*a08);
+  a12=(a12*a15);
+  a12=(a12*a18);
+  a16=(a16*a18);
+  a16=(a16*a21);
+  a19=(a19*a22);
+  a16=(a16+a19);
+  a11=(a11*a16);
+  a12=(a12+a11);
+  a02=(a02+a12);
+  a23=(a23*a06);
+  a23=(a23*a08);
+  a09=(a09*a24);
+  a23=(a23+a09);
+  a01=(a01*a23);
+  a02=(a02+a01);
+  if (res[0]!=0) res[0][8]=a02;
+  if (res[0]!=0) res[0][9]=a00;
+  if (res[0]!=0) res[0][10]=a00;
+  if (res[0]!=0) res[0][11]=a00;
+  if (res[1]!=0) res[1][0]=a00;
+  if (res[1]!=0) res[1][1]=a00;
+  if (res[1]!=0) res[1][2]=a00;
+  if (res[1]!=0) res[1][3]=a00;
+  if (res[1]!=0) res[1][4]=a00;
+  if (res[1]!=0) res[1][5]=a00;
+  if (res[1]!=0) res[1][6]=a00;
+  a02=-1.;
+  if (res[1]!=0) res[1][7]=a02;
+  if (res[1]!=0) res[1][8]=a00;
+  if (res[1]!=0) res[1][9]=a00;
+  if (res[1]!=0) res[1][10]=a00;
+  if (res[1]!=0) res[1][11]=a00;
+  if (res[1]!=0) res[1][12]=a00;
+  if (res[1]!=0) res[1][13]=a00;
+  if (res[1]!=0) res[1][14]=a00;
+  a17=(-a17);
+  if (res[1]!=0) res[1][15]=a17;
+  if (res[1]!=0) res[1][16]=a00;
+  if (res[1]!=0) res[1][17]=a00;
+  if (res[1]!=0) res[1][18]=a00;
+  a25=(-a25);
+  if (res[1]!=0) res[1][19]=a25;
+  if (res[1]!=0) res[1][20]=a00;
+  if (res[1]!=0) res[1][21]=a00;
+  if (res[1]!=0) res[1][22]=a00;
+  if (res[1]!=0) res[1][23]=a12;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sam_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int sam_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void sam_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void sam_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void sam_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int sam_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int sam_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real sam_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sam_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sam_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sam_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sam_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int sam_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sam_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* sam_singularity_factors:(actuated[6],passive[6],params[2])->(factors[9],determinants[3]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   a00=arg[1]? arg[1][0] : 0;
   if (res[0]!=0) res[0][0]=a00;
@@ -1971,7 +2207,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_singularity_factors_checkout(void) {
@@ -2025,8 +2261,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* sam_singularity_factors_sparsity_in(casad
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -2048,7 +2284,7 @@ CASADI_SYMBOL_EXPORT int sam_singularity_factors_work_bytes(casadi_int *sz_arg, 
 }
 
 /* sam_drawing:(actuated[6],passive[6],params[2])->(base[3x2],u_joints[3x2],platform[3x3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -2191,7 +2427,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_drawing_checkout(void) {
@@ -2246,9 +2482,9 @@ CASADI_SYMBOL_EXPORT const casadi_int* sam_drawing_sparsity_in(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
-    case 1: return casadi_s7;
-    case 2: return casadi_s8;
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
+    case 2: return casadi_s10;
     default: return 0;
   }
 }
@@ -2270,7 +2506,7 @@ CASADI_SYMBOL_EXPORT int sam_drawing_work_bytes(casadi_int *sz_arg, casadi_int* 
 }
 
 /* sam_inverse_pose:(pose[12],branch[4],params[2])->(actuated[6],passive[6],validity[4]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   a00=arg[1]? arg[1][1] : 0;
@@ -2519,7 +2755,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_inverse_pose_checkout(void) {
@@ -2565,8 +2801,8 @@ CASADI_SYMBOL_EXPORT const char* sam_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s10;
+    case 0: return casadi_s11;
+    case 1: return casadi_s12;
     case 2: return casadi_s1;
     default: return 0;
   }
@@ -2576,7 +2812,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_sparsity_out(casadi_int 
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
-    case 2: return casadi_s10;
+    case 2: return casadi_s12;
     default: return 0;
   }
 }
@@ -2598,7 +2834,7 @@ CASADI_SYMBOL_EXPORT int sam_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_
 }
 
 /* sam_inverse_pose_patterns:(pose[12],params[2])->(actuated[6x4],passive[6x4],validity[4x4]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3309,7 +3545,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_inverse_pose_patterns_checkout(void) {
@@ -3354,7 +3590,7 @@ CASADI_SYMBOL_EXPORT const char* sam_inverse_pose_patterns_name_out(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
+    case 0: return casadi_s11;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -3362,8 +3598,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_patterns_sparsity_in(cas
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_inverse_pose_patterns_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
-    case 1: return casadi_s11;
+    case 0: return casadi_s13;
+    case 1: return casadi_s13;
     case 2: return casadi_s2;
     default: return 0;
   }
@@ -3386,7 +3622,7 @@ CASADI_SYMBOL_EXPORT int sam_inverse_pose_patterns_work_bytes(casadi_int *sz_arg
 }
 
 /* sam_forward_polynomial:(actuated[6],params[2])->(coefficients[3],degeneracies[2]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3868,7 +4104,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_forward_polynomial_checkout(void) {
@@ -3920,7 +4156,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_polynomial_sparsity_in(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s6;
+    case 0: return casadi_s8;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -3943,7 +4179,7 @@ CASADI_SYMBOL_EXPORT int sam_forward_polynomial_work_bytes(casadi_int *sz_arg, c
 }
 
 /* sam_forward_back_substitution:(actuated[6],root,branch,params[2])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22;
   a00=5.0000000000000000e-01;
@@ -4215,7 +4451,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sam_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_forward_back_substitution_checkout(void) {
@@ -4292,7 +4528,7 @@ CASADI_SYMBOL_EXPORT int sam_forward_back_substitution_work_bytes(casadi_int *sz
 }
 
 /* sam_automatic_family:(actuated[6],params[2])->(free[2],angles[6]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[1]? arg[1][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -4314,7 +4550,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_family_checkout(void) {
@@ -4389,7 +4625,7 @@ CASADI_SYMBOL_EXPORT int sam_automatic_family_work_bytes(casadi_int *sz_arg, cas
 }
 
 /* sam_automatic_monomials:(family_re[20],family_im[20])->(re[79],im[79]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -8347,7 +8583,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_monomials_checkout(void) {
@@ -8391,16 +8627,16 @@ CASADI_SYMBOL_EXPORT const char* sam_automatic_monomials_name_out(casadi_int i) 
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s13;
-    case 1: return casadi_s13;
+    case 0: return casadi_s15;
+    case 1: return casadi_s15;
     default: return 0;
   }
 }
@@ -8422,7 +8658,7 @@ CASADI_SYMBOL_EXPORT int sam_automatic_monomials_work_bytes(casadi_int *sz_arg, 
 }
 
 /* sam_automatic_passive:(z[10],params[2])->(passive[6]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -8448,7 +8684,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sam_automatic_passive_checkout(void) {
@@ -8491,7 +8727,7 @@ CASADI_SYMBOL_EXPORT const char* sam_automatic_passive_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sam_automatic_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s14;
+    case 0: return casadi_s16;
     case 1: return casadi_s1;
     default: return 0;
   }

@@ -5,6 +5,7 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
+//   parameter_jacobians: 104
 //   singularity_factors: 27
 //   drawing: 111
 //   inverse_pose: 228
@@ -105,6 +106,24 @@ int sam_leg_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_
 #define sam_leg_jacobians_SZ_RES 2
 #define sam_leg_jacobians_SZ_IW 0
 #define sam_leg_jacobians_SZ_W 0
+int sam_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sam_parameter_jacobians_checkout(void);
+void sam_parameter_jacobians_release(int mem);
+void sam_parameter_jacobians_incref(void);
+void sam_parameter_jacobians_decref(void);
+casadi_int sam_parameter_jacobians_n_in(void);
+casadi_int sam_parameter_jacobians_n_out(void);
+casadi_real sam_parameter_jacobians_default_in(casadi_int i);
+const char* sam_parameter_jacobians_name_in(casadi_int i);
+const char* sam_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* sam_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* sam_parameter_jacobians_sparsity_out(casadi_int i);
+int sam_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sam_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sam_parameter_jacobians_SZ_ARG 3
+#define sam_parameter_jacobians_SZ_RES 2
+#define sam_parameter_jacobians_SZ_IW 0
+#define sam_parameter_jacobians_SZ_W 0
 int sam_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int sam_singularity_factors_checkout(void);
 void sam_singularity_factors_release(int mem);

@@ -5,6 +5,7 @@
 #   loop_closure: 399
 #   loop_closure_actuated: 607
 #   leg_jacobians: 217
+#   parameter_jacobians: 104
 #   singularity_factors: 27
 #   drawing: 111
 #   inverse_pose: 228
@@ -787,6 +788,83 @@ def leg_jacobians(actuated, passive, params):
     return {
         "left": left,
         "right": right,
+    }
+
+
+def parameter_jacobians(actuated, passive, params):
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 104.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    theta4 = actuated[..., 3]
+    theta5 = actuated[..., 4]
+    theta6 = actuated[..., 5]
+    phi2 = passive[..., 1]
+    phi3 = passive[..., 2]
+    phi5 = passive[..., 4]
+    phi6 = passive[..., 5]
+    _t0 = numpy.sin(phi6)
+    _t1 = numpy.cos(theta4)
+    _t2 = numpy.cos(theta6)
+    _t3 = numpy.sin(theta5)
+    _t4 = numpy.sin(theta4)
+    _t5 = numpy.sin(theta6)
+    _t6 = _t4 * _t5
+    _t7 = numpy.cos(phi6)
+    _t8 = numpy.cos(phi5)
+    _t9 = numpy.cos(theta5)
+    _t10 = numpy.sin(phi5)
+    _t11 = _t1 * _t5
+    _t12 = _t2 * _t4
+    _t13 = numpy.sin(phi3)
+    _t14 = numpy.cos(theta1)
+    _t15 = numpy.cos(theta3)
+    _t16 = numpy.sin(theta2)
+    _t17 = numpy.sin(theta1)
+    _t18 = numpy.sin(theta3)
+    _t19 = _t17 * _t18
+    _t20 = numpy.cos(phi3)
+    _t21 = numpy.cos(phi2)
+    _t22 = numpy.cos(theta2)
+    _t23 = numpy.sin(phi2)
+    _t24 = _t14 * _t18
+    _t25 = _t15 * _t17
+    _t26 = _t13 * (_t14 * _t15 - _t16 * _t19) + _t20 * (
+        _t17 * _t21 * _t22 - _t23 * (_t16 * _t25 + _t24)
+    )
+    _t27 = _t13 * (_t16 * _t24 + _t25) + _t20 * (
+        -_t14 * _t21 * _t22 - _t23 * (-_t14 * _t15 * _t16 + _t19)
+    )
+    _t28 = -_t13 * _t18 * _t22 + _t20 * (-_t15 * _t22 * _t23 - _t16 * _t21)
+    closure_parameters = numpy.zeros(shape + (6, 2))
+    closure_parameters[..., 0, 1] = (
+        -_t0 * (_t1 * _t2 - _t3 * _t6)
+        - _t26
+        - _t7 * (-_t10 * (_t11 + _t12 * _t3) + _t4 * _t8 * _t9)
+    )
+    closure_parameters[..., 1, 0] = -2
+    closure_parameters[..., 1, 1] = (
+        -_t0 * (_t11 * _t3 + _t12)
+        - _t27
+        - _t7 * (-_t1 * _t8 * _t9 - _t10 * (-_t1 * _t2 * _t3 + _t6))
+    )
+    closure_parameters[..., 2, 1] = _t0 * _t5 * _t9 - _t28 - _t7 * (-_t10 * _t2 * _t9 - _t3 * _t8)
+    pose_parameters = numpy.zeros(shape + (12, 2))
+    pose_parameters[..., 3, 1] = -_t26
+    pose_parameters[..., 7, 0] = -1
+    pose_parameters[..., 7, 1] = -_t27
+    pose_parameters[..., 11, 1] = -_t28
+    return {
+        "closure_parameters": closure_parameters,
+        "pose_parameters": pose_parameters,
     }
 
 
@@ -3584,6 +3662,7 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "leg_jacobians": leg_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -5,6 +5,7 @@
 //   loop_closure: 399
 //   loop_closure_actuated: 607
 //   leg_jacobians: 217
+//   parameter_jacobians: 104
 //   singularity_factors: 27
 //   drawing: 111
 //   inverse_pose: 228
@@ -209,6 +210,10 @@ int sam_loop_closure_actuated_batch(long long n, const double** inputs, const lo
 //   inputs: actuated[6], passive[6], params[2]
 //   outputs: left[6 x 6], right[6 x 6]
 int sam_leg_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[6], passive[6], params[2]
+//   outputs: closure_parameters[6 x 2], pose_parameters[12 x 2]
+int sam_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[6], passive[6], params[2]
 //   outputs: factors[9], determinants[3]

@@ -4,6 +4,7 @@
 #   platform_pose: 66
 #   loop_closure: 0
 #   loop_closure_actuated: 0
+#   parameter_jacobians: 167
 #   singularity_factors: 5
 #   drawing: 56
 #   inverse_pose: 81
@@ -141,6 +142,118 @@ def loop_closure_actuated() -> casadi.Function:
         ],
         [
             "jacobian_actuated",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 167.
+    """
+    actuated = casadi.SX.sym("actuated", 2)
+    passive = casadi.SX.sym("passive", 0)
+    params = casadi.SX.sym("params", 2)
+    theta1 = actuated[0]
+    theta2 = actuated[1]
+    alpha1 = params[0]
+    alpha2 = params[1]
+    _t0 = casadi.sin(alpha1)
+    _t1 = casadi.sin(theta1)
+    _t2 = casadi.sin(theta2)
+    _t3 = _t1 * _t2
+    _t4 = _t0 * _t3
+    _t5 = casadi.cos(alpha1)
+    _t6 = casadi.cos(alpha2)
+    _t7 = _t5 * _t6
+    _t8 = casadi.sin(alpha2)
+    _t9 = casadi.cos(theta2)
+    _t10 = casadi.cos(theta1)
+    _t11 = _t2 * _t5
+    _t12 = _t10 * _t11
+    _t13 = _t1 * _t9 + _t12
+    _t14 = _t0 * _t13
+    _t15 = _t3 * _t5
+    _t16 = _t10 * _t9 - _t15
+    _t17 = _t0 * _t16
+    _t18 = -_t1 * _t14 - _t10 * _t17
+    _t19 = _t1**2
+    _t20 = _t10**2
+    _t21 = _t0 * _t19 + _t0 * _t20
+    _t22 = _t2 * _t21
+    _t23 = 1 - _t6
+    _t24 = _t1 * _t17 - _t10 * _t14 + _t11 * _t21
+    _t25 = _t23 * _t24
+    _t26 = _t18 * _t8 + _t22 * _t25 + _t7
+    _t27 = _t0 * _t10
+    _t28 = _t2 * _t27
+    _t29 = _t0 * _t6
+    _t30 = _t16 * _t5
+    _t31 = _t21 * _t4 - _t30
+    _t32 = _t13 * _t23
+    _t33 = -_t10 * _t29 + _t24 * _t32 + _t31 * _t8
+    _t34 = _t2 * (_t19 * _t5 + _t20 * _t5)
+    _t35 = _t13 * _t5
+    _t36 = _t0**2 * _t2
+    _t37 = _t0 * _t22
+    _t38 = _t1 * _t30 - _t10 * _t35 + _t19 * _t36 + _t20 * _t36 + _t34 * _t5 - _t37
+    _t39 = _t22 * _t23 * _t38 + _t25 * _t34 - _t29 + _t8 * (-_t1 * _t35 - _t10 * _t30)
+    _t40 = (
+        -_t10 * _t7
+        - _t25 * _t28
+        + _t32 * _t38
+        + _t8 * (_t0 * _t1 * _t34 + _t15 * _t21 + _t17 - _t4 * _t5)
+    )
+    _t41 = _t24 * _t8
+    _t42 = _t18 * _t6 + _t22 * _t41 - _t5 * _t8
+    _t43 = _t0 * _t8
+    _t44 = _t10 * _t43 + _t13 * _t41 + _t31 * _t6
+    _t45 = _t16 * _t23
+    _t46 = (
+        _t1 * _t7
+        + _t25 * _t4
+        + _t38 * _t45
+        + _t8 * (-_t0 * _t12 + _t12 * _t21 - _t14 + _t27 * _t34)
+    )
+    _t47 = _t10 * _t37 + _t35
+    _t48 = -_t1 * _t43 + _t16 * _t41 + _t47 * _t6
+    _t49 = _t1 * _t29 + _t24 * _t45 + _t47 * _t8
+    closure_parameters = casadi.SX.zeros(0, 2)
+    pose_parameters = casadi.SX.zeros(12, 2)
+    pose_parameters[0, 0] = _t4
+    pose_parameters[1, 0] = -_t13 * _t39 + _t22 * _t40 + _t26 * _t28 + _t33 * _t34
+    pose_parameters[1, 1] = -_t13 * _t42 + _t22 * _t44
+    pose_parameters[2, 0] = _t46
+    pose_parameters[2, 1] = _t48
+    pose_parameters[4, 0] = -_t28
+    pose_parameters[5, 0] = _t0 * _t1 * _t2 * _t26 + _t16 * _t39 - _t22 * _t46 - _t34 * _t49
+    pose_parameters[5, 1] = _t16 * _t42 - _t22 * _t48
+    pose_parameters[6, 0] = _t40
+    pose_parameters[6, 1] = _t44
+    pose_parameters[8, 0] = _t34
+    pose_parameters[9, 0] = _t13 * _t46 - _t16 * _t40 - _t28 * _t49 - _t33 * _t4
+    pose_parameters[9, 1] = _t13 * _t48 - _t16 * _t44
+    pose_parameters[10, 0] = _t39
+    pose_parameters[10, 1] = _t42
+    return casadi.Function(
+        "sphere2r_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -314,6 +427,7 @@ BUILDERS = {
     "platform_pose": platform_pose,
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -4,6 +4,7 @@
 //   platform_pose: 66
 //   loop_closure: 0
 //   loop_closure_actuated: 0
+//   parameter_jacobians: 167
 //   singularity_factors: 5
 //   drawing: 56
 //   inverse_pose: 81
@@ -26,7 +27,7 @@
 #define SZ_ARG 3
 #define SZ_RES 3
 #define SZ_IW (0 + 1)
-#define SZ_W (18 + 1)
+#define SZ_W (31 + 1)
 
 int sphere2r_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -91,6 +92,30 @@ int sphere2r_loop_closure_actuated_batch(long long n, const double** inputs, con
         for (int r = 0; r < 0; ++r)
             for (int c = 0; c < 2; ++c)
                 outputs[0][i * 0 + r * 2 + c] = out_jacobian_actuated[c * 0 + r];
+    }
+    return 0;
+}
+
+int sphere2r_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[31 + 1];
+    casadi_real out_closure_parameters[0 + 1];
+    casadi_real out_pose_parameters[24 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (sphere2r_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 0; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[0][i * 0 + r * 2 + c] = out_closure_parameters[c * 0 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 2; ++c)
+                outputs[1][i * 24 + r * 2 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

@@ -4,6 +4,7 @@
 //   platform_pose: 66
 //   loop_closure: 0
 //   loop_closure_actuated: 0
+//   parameter_jacobians: 167
 //   singularity_factors: 5
 //   drawing: 56
 //   inverse_pose: 81

@@ -4,6 +4,7 @@
 //   platform_pose: 66
 //   loop_closure: 0
 //   loop_closure_actuated: 0
+//   parameter_jacobians: 167
 //   singularity_factors: 5
 //   drawing: 56
 //   inverse_pose: 81
@@ -48,6 +49,7 @@ extern "C" {
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
 #define casadi_f5 CASADI_PREFIX(f5)
+#define casadi_f6 CASADI_PREFIX(f6)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_s0 CASADI_PREFIX(s0)
 #define casadi_s1 CASADI_PREFIX(s1)
@@ -57,6 +59,7 @@ extern "C" {
 #define casadi_s5 CASADI_PREFIX(s5)
 #define casadi_s6 CASADI_PREFIX(s6)
 #define casadi_s7 CASADI_PREFIX(s7)
+#define casadi_s8 CASADI_PREFIX(s8)
 #define casadi_sq CASADI_PREFIX(sq)
 
 /* Symbol visibility in DLLs */
@@ -100,8 +103,9 @@ static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {0, 0, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
 static const casadi_int casadi_s5[3] = {0, 2, 1};
-static const casadi_int casadi_s6[3] = {3, 2, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
+static const casadi_int casadi_s6[3] = {12, 2, 1};
+static const casadi_int casadi_s7[3] = {3, 2, 1};
+static const casadi_int casadi_s8[3] = {12, 1, 1};
 
 /* sphere2r_platform_pose:(actuated[2],passive[0],params[2])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -439,8 +443,281 @@ CASADI_SYMBOL_EXPORT int sphere2r_loop_closure_actuated_work_bytes(casadi_int *s
   return 0;
 }
 
-/* sphere2r_singularity_factors:(actuated[2],passive[0],params[2])->(factors,determinants[0]) */
+/* sphere2r_parameter_jacobians:(actuated[2],passive[0],params[2])->(closure_parameters[0x2],pose_parameters[12x2]) */
 static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30;
+  a00=arg[2]? arg[2][0] : 0;
+  a01=sin(a00);
+  a02=arg[0]? arg[0][0] : 0;
+  a03=sin(a02);
+  a04=arg[0]? arg[0][1] : 0;
+  a05=sin(a04);
+  a06=(a03*a05);
+  a07=(a01*a06);
+  if (res[1]!=0) res[1][0]=a07;
+  a08=(a05*a01);
+  a04=cos(a04);
+  a09=(a03*a04);
+  a02=cos(a02);
+  a00=cos(a00);
+  a10=(a05*a00);
+  a11=(a02*a10);
+  a09=(a09+a11);
+  a11=1.;
+  a12=arg[2]? arg[2][1] : 0;
+  a13=cos(a12);
+  a11=(a11-a13);
+  a14=(a09*a11);
+  a04=(a02*a04);
+  a06=(a06*a00);
+  a04=(a04-a06);
+  a15=(a04*a00);
+  a16=(a03*a15);
+  a17=(a09*a00);
+  a18=(a02*a17);
+  a16=(a16-a18);
+  a18=casadi_sq(a03);
+  a19=casadi_sq(a01);
+  a19=(a19*a05);
+  a20=(a18*a19);
+  a16=(a16+a20);
+  a20=casadi_sq(a02);
+  a19=(a20*a19);
+  a16=(a16+a19);
+  a18=(a18*a00);
+  a20=(a20*a00);
+  a18=(a18+a20);
+  a18=(a05*a18);
+  a20=(a18*a00);
+  a16=(a16+a20);
+  a20=(a01*a08);
+  a16=(a16-a20);
+  a19=(a14*a16);
+  a21=(a00*a13);
+  a22=(a02*a21);
+  a23=(a01*a04);
+  a24=(a03*a23);
+  a25=(a01*a09);
+  a26=(a02*a25);
+  a24=(a24-a26);
+  a10=(a10*a01);
+  a24=(a24+a10);
+  a10=(a11*a24);
+  a26=(a01*a02);
+  a27=(a05*a26);
+  a28=(a10*a27);
+  a22=(a22+a28);
+  a19=(a19-a22);
+  a12=sin(a12);
+  a22=(a01*a03);
+  a22=(a22*a18);
+  a06=(a06*a01);
+  a22=(a22+a06);
+  a22=(a22+a23);
+  a06=(a07*a00);
+  a22=(a22-a06);
+  a22=(a12*a22);
+  a19=(a19+a22);
+  a22=(a08*a19);
+  a06=(a08*a11);
+  a06=(a06*a16);
+  a28=(a10*a18);
+  a06=(a06+a28);
+  a28=(a01*a13);
+  a06=(a06-a28);
+  a29=(a03*a17);
+  a30=(a02*a15);
+  a29=(a29+a30);
+  a29=(a12*a29);
+  a06=(a06-a29);
+  a29=(a09*a06);
+  a22=(a22-a29);
+  a29=(a08*a10);
+  a30=(a03*a25);
+  a23=(a02*a23);
+  a30=(a30+a23);
+  a23=(a30*a12);
+  a29=(a29-a23);
+  a29=(a29+a21);
+  a23=(a29*a27);
+  a22=(a22+a23);
+  a14=(a24*a14);
+  a23=(a02*a28);
+  a14=(a14-a23);
+  a23=(a01*a07);
+  a23=(a23-a15);
+  a15=(a23*a12);
+  a14=(a14+a15);
+  a15=(a14*a18);
+  a22=(a22+a15);
+  if (res[1]!=0) res[1][1]=a22;
+  a21=(a03*a21);
+  a10=(a10*a07);
+  a21=(a21+a10);
+  a11=(a04*a11);
+  a16=(a16*a11);
+  a21=(a21+a16);
+  a26=(a26*a18);
+  a26=(a26-a25);
+  a26=(a12*a26);
+  a21=(a21+a26);
+  if (res[1]!=0) res[1][2]=a21;
+  a26=0.;
+  if (res[1]!=0) res[1][3]=a26;
+  a25=(-a27);
+  if (res[1]!=0) res[1][4]=a25;
+  a25=(a01*a03);
+  a25=(a25*a05);
+  a25=(a25*a29);
+  a29=(a04*a06);
+  a25=(a25+a29);
+  a29=(a08*a21);
+  a25=(a25-a29);
+  a28=(a03*a28);
+  a11=(a24*a11);
+  a28=(a28+a11);
+  a20=(a02*a20);
+  a20=(a20+a17);
+  a17=(a20*a12);
+  a28=(a28+a17);
+  a17=(a18*a28);
+  a25=(a25-a17);
+  if (res[1]!=0) res[1][5]=a25;
+  if (res[1]!=0) res[1][6]=a19;
+  if (res[1]!=0) res[1][7]=a26;
+  if (res[1]!=0) res[1][8]=a18;
+  a21=(a09*a21);
+  a19=(a04*a19);
+  a21=(a21-a19);
+  a27=(a27*a28);
+  a21=(a21-a27);
+  a14=(a14*a07);
+  a21=(a21-a14);
+  if (res[1]!=0) res[1][9]=a21;
+  if (res[1]!=0) res[1][10]=a06;
+  if (res[1]!=0) res[1][11]=a26;
+  if (res[1]!=0) res[1][12]=a26;
+  a01=(a01*a12);
+  a02=(a02*a01);
+  a24=(a24*a12);
+  a06=(a09*a24);
+  a02=(a02+a06);
+  a23=(a23*a13);
+  a02=(a02+a23);
+  a23=(a08*a02);
+  a06=(a08*a24);
+  a30=(a30*a13);
+  a06=(a06-a30);
+  a00=(a00*a12);
+  a06=(a06-a00);
+  a00=(a09*a06);
+  a23=(a23-a00);
+  if (res[1]!=0) res[1][13]=a23;
+  a24=(a04*a24);
+  a03=(a03*a01);
+  a24=(a24-a03);
+  a20=(a20*a13);
+  a24=(a24+a20);
+  if (res[1]!=0) res[1][14]=a24;
+  if (res[1]!=0) res[1][15]=a26;
+  if (res[1]!=0) res[1][16]=a26;
+  a20=(a04*a06);
+  a08=(a08*a24);
+  a20=(a20-a08);
+  if (res[1]!=0) res[1][17]=a20;
+  if (res[1]!=0) res[1][18]=a02;
+  if (res[1]!=0) res[1][19]=a26;
+  if (res[1]!=0) res[1][20]=a26;
+  a09=(a09*a24);
+  a04=(a04*a02);
+  a09=(a09-a04);
+  if (res[1]!=0) res[1][21]=a09;
+  if (res[1]!=0) res[1][22]=a06;
+  if (res[1]!=0) res[1][23]=a26;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sphere2r_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f3(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int sphere2r_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void sphere2r_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void sphere2r_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void sphere2r_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int sphere2r_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int sphere2r_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real sphere2r_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sphere2r_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sphere2r_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sphere2r_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    case 2: return casadi_s0;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sphere2r_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int sphere2r_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sphere2r_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* sphere2r_singularity_factors:(actuated[2],passive[0],params[2])->(factors,determinants[0]) */
+static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[2]? arg[2][0] : 0;
   a0=sin(a0);
@@ -455,7 +732,7 @@ static int casadi_f3(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f3(arg, res, iw, w, mem);
+  return casadi_f4(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_singularity_factors_checkout(void) {
@@ -532,7 +809,7 @@ CASADI_SYMBOL_EXPORT int sphere2r_singularity_factors_work_bytes(casadi_int *sz_
 }
 
 /* sphere2r_drawing:(actuated[2],passive[0],params[2])->(base_axes[3x2],moving_axes[3x2]) */
-static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13;
   a00=0.;
@@ -607,7 +884,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_drawing_checkout(void) {
@@ -661,8 +938,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* sphere2r_drawing_sparsity_in(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* sphere2r_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s6;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s7;
     default: return 0;
   }
 }
@@ -684,7 +961,7 @@ CASADI_SYMBOL_EXPORT int sphere2r_drawing_work_bytes(casadi_int *sz_arg, casadi_
 }
 
 /* sphere2r_inverse_pose:(pose[12],branch,params[2])->(actuated[2],passive[0],validity[2]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15;
   a00=arg[2]? arg[2][1] : 0;
@@ -778,7 +1055,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sphere2r_inverse_pose_checkout(void) {
@@ -824,7 +1101,7 @@ CASADI_SYMBOL_EXPORT const char* sphere2r_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sphere2r_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s4;
     case 2: return casadi_s0;
     default: return 0;

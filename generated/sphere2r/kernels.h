@@ -4,6 +4,7 @@
 //   platform_pose: 66
 //   loop_closure: 0
 //   loop_closure_actuated: 0
+//   parameter_jacobians: 167
 //   singularity_factors: 5
 //   drawing: 56
 //   inverse_pose: 81
@@ -80,6 +81,24 @@ int sphere2r_loop_closure_actuated_work_bytes(casadi_int *sz_arg, casadi_int* sz
 #define sphere2r_loop_closure_actuated_SZ_RES 1
 #define sphere2r_loop_closure_actuated_SZ_IW 0
 #define sphere2r_loop_closure_actuated_SZ_W 0
+int sphere2r_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sphere2r_parameter_jacobians_checkout(void);
+void sphere2r_parameter_jacobians_release(int mem);
+void sphere2r_parameter_jacobians_incref(void);
+void sphere2r_parameter_jacobians_decref(void);
+casadi_int sphere2r_parameter_jacobians_n_in(void);
+casadi_int sphere2r_parameter_jacobians_n_out(void);
+casadi_real sphere2r_parameter_jacobians_default_in(casadi_int i);
+const char* sphere2r_parameter_jacobians_name_in(casadi_int i);
+const char* sphere2r_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* sphere2r_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* sphere2r_parameter_jacobians_sparsity_out(casadi_int i);
+int sphere2r_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sphere2r_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sphere2r_parameter_jacobians_SZ_ARG 3
+#define sphere2r_parameter_jacobians_SZ_RES 2
+#define sphere2r_parameter_jacobians_SZ_IW 0
+#define sphere2r_parameter_jacobians_SZ_W 0
 int sphere2r_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int sphere2r_singularity_factors_checkout(void);
 void sphere2r_singularity_factors_release(int mem);

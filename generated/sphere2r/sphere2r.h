@@ -4,6 +4,7 @@
 //   platform_pose: 66
 //   loop_closure: 0
 //   loop_closure_actuated: 0
+//   parameter_jacobians: 167
 //   singularity_factors: 5
 //   drawing: 56
 //   inverse_pose: 81
@@ -129,6 +130,10 @@ int sphere2r_loop_closure_batch(long long n, const double** inputs, const long l
 //   inputs: actuated[2], passive[0], params[2]
 //   outputs: jacobian_actuated[0 x 2]
 int sphere2r_loop_closure_actuated_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[2], passive[0], params[2]
+//   outputs: closure_parameters[0 x 2], pose_parameters[12 x 2]
+int sphere2r_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[2], passive[0], params[2]
 //   outputs: factors[1], determinants[0]

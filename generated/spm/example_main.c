@@ -5,6 +5,7 @@
 //   loop_closure: 516
 //   loop_closure_actuated: 192
 //   rate_jacobians: 223
+//   parameter_jacobians: 313
 //   singularity_factors: 239
 //   drawing: 145
 //   inverse_pose: 723

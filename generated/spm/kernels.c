@@ -5,6 +5,7 @@
 //   loop_closure: 516
 //   loop_closure_actuated: 192
 //   rate_jacobians: 223
+//   parameter_jacobians: 313
 //   singularity_factors: 239
 //   drawing: 145
 //   inverse_pose: 723
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -70,6 +72,7 @@ extern "C" {
 #define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s13 CASADI_PREFIX(s13)
+#define casadi_s14 CASADI_PREFIX(s14)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -133,14 +136,15 @@ static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {1, 1, 1};
 static const casadi_int casadi_s4[3] = {4, 3, 1};
 static const casadi_int casadi_s5[3] = {3, 3, 1};
-static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {12, 1, 1};
-static const casadi_int casadi_s8[3] = {3, 2, 1};
-static const casadi_int casadi_s9[3] = {4, 2, 1};
-static const casadi_int casadi_s10[3] = {9, 1, 1};
-static const casadi_int casadi_s11[3] = {7, 1, 1};
-static const casadi_int casadi_s12[3] = {21, 1, 1};
-static const casadi_int casadi_s13[3] = {68, 1, 1};
+static const casadi_int casadi_s6[3] = {12, 4, 1};
+static const casadi_int casadi_s7[3] = {2, 1, 1};
+static const casadi_int casadi_s8[3] = {12, 1, 1};
+static const casadi_int casadi_s9[3] = {3, 2, 1};
+static const casadi_int casadi_s10[3] = {4, 2, 1};
+static const casadi_int casadi_s11[3] = {9, 1, 1};
+static const casadi_int casadi_s12[3] = {7, 1, 1};
+static const casadi_int casadi_s13[3] = {21, 1, 1};
+static const casadi_int casadi_s14[3] = {68, 1, 1};
 
 /* spm_platform_pose:(actuated[3],passive[4],params[4])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -1507,8 +1511,466 @@ CASADI_SYMBOL_EXPORT int spm_rate_jacobians_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* spm_singularity_factors:(actuated[3],passive[4],params[4])->(factors[4],determinants[2]) */
+/* spm_parameter_jacobians:(actuated[3],passive[4],params[4])->(closure_parameters[4x4],pose_parameters[12x4]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51;
+  a00=2.5000000000000000e-01;
+  a01=5.0000000000000000e-01;
+  a02=arg[2]? arg[2][1] : 0;
+  a02=(a01*a02);
+  a03=sin(a02);
+  a00=(a00/a03);
+  a04=arg[1]? arg[1][0] : 0;
+  a05=(2.*a04);
+  a06=arg[1]? arg[1][1] : 0;
+  a07=(a05*a06);
+  a08=arg[1]? arg[1][2] : 0;
+  a09=(2.*a08);
+  a10=arg[1]? arg[1][3] : 0;
+  a11=(a09*a10);
+  a11=(a07+a11);
+  a12=arg[2]? arg[2][2] : 0;
+  a13=sin(a12);
+  a14=casadi_sq(a06);
+  a15=casadi_sq(a08);
+  a16=(a14+a15);
+  a04=casadi_sq(a04);
+  a17=casadi_sq(a10);
+  a18=(a04+a17);
+  a16=(a16+a18);
+  a13=(a13/a16);
+  a19=(a11*a13);
+  a18=(a18-a14);
+  a18=(a18-a15);
+  a12=cos(a12);
+  a20=(a12/a16);
+  a21=(a18*a20);
+  a22=(a19+a21);
+  a23=arg[2]? arg[2][3] : 0;
+  a24=cos(a23);
+  a25=arg[2]? arg[2][0] : 0;
+  a26=cos(a25);
+  a27=(a24*a26);
+  a22=(a22+a27);
+  a28=arg[0]? arg[0][0] : 0;
+  a29=cos(a28);
+  a25=sin(a25);
+  a23=sin(a23);
+  a30=(a25*a23);
+  a31=(a29*a30);
+  a22=(a22+a31);
+  a32=(2.*a23);
+  a32=(a32*a26);
+  a32=(a32*a29);
+  a33=(a24*a25);
+  a34=(2.*a33);
+  a32=(a32-a34);
+  a32=(a22*a32);
+  a33=(a33*a29);
+  a35=(a23*a26);
+  a33=(a33-a35);
+  a36=(2.*a08);
+  a36=(a36*a10);
+  a36=(a36-a07);
+  a07=(a20*a36);
+  a33=(a33+a07);
+  a37=(a15-a14);
+  a04=(a04-a17);
+  a37=(a37+a04);
+  a17=(a13*a37);
+  a33=(a33+a17);
+  a38=(2.*a27);
+  a39=(a38*a29);
+  a40=(2.*a30);
+  a39=(a39+a40);
+  a39=(a33*a39);
+  a32=(a32+a39);
+  a28=sin(a28);
+  a39=(a25*a28);
+  a40=(a05*a08);
+  a41=(2.*a06);
+  a41=(a41*a10);
+  a41=(a40+a41);
+  a42=(a20*a41);
+  a39=(a39+a42);
+  a42=(2.*a06);
+  a42=(a42*a08);
+  a05=(a05*a10);
+  a42=(a42-a05);
+  a08=(a13*a42);
+  a39=(a39+a08);
+  a28=(a28*a39);
+  a43=(2.*a26);
+  a28=(a28*a43);
+  a32=(a32+a28);
+  a32=(a00*a32);
+  if (res[0]!=0) res[0][0]=a32;
+  a32=arg[0]? arg[0][1] : 0;
+  a28=cos(a32);
+  a44=(a28*a30);
+  a44=(a44+a27);
+  a45=(2.*a06);
+  a45=(a45*a10);
+  a45=(a45-a40);
+  a40=8.6602540378443860e-01;
+  a10=(a40*a13);
+  a46=(a45*a10);
+  a47=(a44-a46);
+  a48=-5.0000000000000000e-01;
+  a48=(a48*a19);
+  a48=(a48+a21);
+  a47=(a47+a48);
+  a21=(2.*a23);
+  a21=(a21*a26);
+  a21=(a21*a28);
+  a21=(a21-a34);
+  a21=(a47*a21);
+  a19=(a12/a16);
+  a19=(a19*a36);
+  a24=(a01*a24);
+  a49=(a28*a24);
+  a32=sin(a32);
+  a50=(a40*a32);
+  a50=(a49-a50);
+  a51=(a25*a50);
+  a19=(a19-a51);
+  a51=(a01*a23);
+  a51=(a51*a26);
+  a19=(a19+a51);
+  a09=(a09*a06);
+  a09=(a09+a05);
+  a05=(a10*a09);
+  a19=(a19-a05);
+  a17=(a01*a17);
+  a19=(a19-a17);
+  a50=(a43*a50);
+  a50=(a50+a30);
+  a50=(a19*a50);
+  a21=(a21-a50);
+  a50=(a40*a35);
+  a06=1.7320508075688772e+00;
+  a49=(a06*a49);
+  a32=(a01*a32);
+  a49=(a49+a32);
+  a32=(a25*a49);
+  a32=(a50-a32);
+  a14=(a14-a15);
+  a14=(a14+a04);
+  a10=(a10*a14);
+  a32=(a32-a10);
+  a08=(a01*a08);
+  a04=(a12/a16);
+  a04=(a04*a41);
+  a08=(a08-a04);
+  a32=(a32-a08);
+  a49=(a43*a49);
+  a04=(a06*a30);
+  a49=(a49+a04);
+  a49=(a32*a49);
+  a21=(a21-a49);
+  a21=(a00*a21);
+  if (res[0]!=0) res[0][1]=a21;
+  a21=arg[0]? arg[0][2] : 0;
+  a49=sin(a21);
+  a15=(a01*a49);
+  a21=cos(a21);
+  a24=(a24*a21);
+  a51=(a06*a24);
+  a15=(a15-a51);
+  a51=(a25*a15);
+  a51=(a51+a50);
+  a10=(a10-a51);
+  a10=(a10-a08);
+  a15=(a15*a43);
+  a15=(a04-a15);
+  a15=(a10*a15);
+  a40=(a40*a49);
+  a40=(a40+a24);
+  a25=(a25*a40);
+  a07=(a07-a25);
+  a07=(a07+a05);
+  a07=(a07-a17);
+  a01=(a01*a35);
+  a07=(a07+a01);
+  a40=(a40*a43);
+  a40=(a40+a30);
+  a40=(a07*a40);
+  a15=(a15-a40);
+  a46=(a46+a48);
+  a30=(a30*a21);
+  a30=(a27+a30);
+  a46=(a46+a30);
+  a23=(2.*a23);
+  a23=(a23*a26);
+  a23=(a23*a21);
+  a23=(a23-a34);
+  a23=(a46*a23);
+  a15=(a15+a23);
+  a15=(a00*a15);
+  if (res[0]!=0) res[0][2]=a15;
+  a15=0.;
+  if (res[0]!=0) res[0][3]=a15;
+  a02=cos(a02);
+  a23=1.2500000000000000e-01;
+  a23=(a23*a02);
+  a03=casadi_sq(a03);
+  a23=(a23/a03);
+  a26=casadi_sq(a22);
+  a48=casadi_sq(a33);
+  a26=(a26+a48);
+  a48=casadi_sq(a39);
+  a26=(a26+a48);
+  a48=-4.;
+  a48=(a48*a03);
+  a26=(a26+a48);
+  a26=(a23*a26);
+  a26=(a02+a26);
+  a26=(-a26);
+  if (res[0]!=0) res[0][4]=a26;
+  a26=casadi_sq(a47);
+  a26=(a48+a26);
+  a03=casadi_sq(a19);
+  a26=(a26+a03);
+  a03=casadi_sq(a32);
+  a26=(a26+a03);
+  a26=(a23*a26);
+  a26=(a02+a26);
+  a26=(-a26);
+  if (res[0]!=0) res[0][5]=a26;
+  a26=casadi_sq(a10);
+  a03=casadi_sq(a07);
+  a26=(a26+a03);
+  a26=(a26+a48);
+  a48=casadi_sq(a46);
+  a26=(a26+a48);
+  a23=(a23*a26);
+  a02=(a02+a23);
+  a02=(-a02);
+  if (res[0]!=0) res[0][6]=a02;
+  if (res[0]!=0) res[0][7]=a15;
+  a11=(a11*a20);
+  a02=(2.*a11);
+  a13=(2.*a13);
+  a18=(a18*a13);
+  a02=(a02-a18);
+  a02=(a22*a02);
+  a23=2.;
+  a26=(a23/a16);
+  a26=(a26*a12);
+  a26=(a26*a37);
+  a36=(a36*a13);
+  a26=(a26-a36);
+  a26=(a33*a26);
+  a02=(a02+a26);
+  a23=(a23/a16);
+  a23=(a23*a12);
+  a23=(a23*a42);
+  a41=(a41*a13);
+  a23=(a23-a41);
+  a39=(a39*a23);
+  a02=(a02+a39);
+  a02=(a00*a02);
+  if (res[0]!=0) res[0][8]=a02;
+  a02=(a06*a20);
+  a45=(a45*a02);
+  a11=(a11+a18);
+  a18=(a45+a11);
+  a18=(a47*a18);
+  a09=(a09*a02);
+  a37=(a20*a37);
+  a37=(a37+a36);
+  a36=(a09+a37);
+  a36=(a19*a36);
+  a18=(a18+a36);
+  a14=(a14*a02);
+  a20=(a20*a42);
+  a20=(a20+a41);
+  a41=(a14+a20);
+  a41=(a32*a41);
+  a18=(a18+a41);
+  a18=(a00*a18);
+  a18=(-a18);
+  if (res[0]!=0) res[0][9]=a18;
+  a14=(a14-a20);
+  a14=(a10*a14);
+  a09=(a09-a37);
+  a09=(a07*a09);
+  a14=(a14+a09);
+  a45=(a45-a11);
+  a45=(a46*a45);
+  a14=(a14+a45);
+  a14=(a00*a14);
+  if (res[0]!=0) res[0][10]=a14;
+  if (res[0]!=0) res[0][11]=a15;
+  a29=(a34*a29);
+  a14=-2.;
+  a14=(a14*a35);
+  a29=(a29+a14);
+  a22=(a22*a29);
+  a31=(2.*a31);
+  a38=(a38+a31);
+  a33=(a33*a38);
+  a22=(a22-a33);
+  a22=(a00*a22);
+  if (res[0]!=0) res[0][12]=a22;
+  a44=(a44*a19);
+  a19=(a34*a28);
+  a19=(a19+a14);
+  a47=(a47*a19);
+  a44=(a44+a47);
+  a28=(a28*a04);
+  a06=(a06*a27);
+  a28=(a28+a06);
+  a32=(a32*a28);
+  a44=(a44+a32);
+  a44=(a00*a44);
+  if (res[0]!=0) res[0][13]=a44;
+  a07=(a07*a30);
+  a04=(a04*a21);
+  a04=(a04+a06);
+  a10=(a10*a04);
+  a07=(a07-a10);
+  a34=(a34*a21);
+  a34=(a34+a14);
+  a46=(a46*a34);
+  a07=(a07+a46);
+  a00=(a00*a07);
+  if (res[0]!=0) res[0][14]=a00;
+  if (res[0]!=0) res[0][15]=a15;
+  if (res[1]!=0) res[1][0]=a15;
+  if (res[1]!=0) res[1][1]=a15;
+  if (res[1]!=0) res[1][2]=a15;
+  if (res[1]!=0) res[1][3]=a15;
+  if (res[1]!=0) res[1][4]=a15;
+  if (res[1]!=0) res[1][5]=a15;
+  if (res[1]!=0) res[1][6]=a15;
+  if (res[1]!=0) res[1][7]=a15;
+  if (res[1]!=0) res[1][8]=a15;
+  if (res[1]!=0) res[1][9]=a15;
+  if (res[1]!=0) res[1][10]=a15;
+  if (res[1]!=0) res[1][11]=a15;
+  if (res[1]!=0) res[1][12]=a15;
+  if (res[1]!=0) res[1][13]=a15;
+  if (res[1]!=0) res[1][14]=a15;
+  if (res[1]!=0) res[1][15]=a15;
+  if (res[1]!=0) res[1][16]=a15;
+  if (res[1]!=0) res[1][17]=a15;
+  if (res[1]!=0) res[1][18]=a15;
+  if (res[1]!=0) res[1][19]=a15;
+  if (res[1]!=0) res[1][20]=a15;
+  if (res[1]!=0) res[1][21]=a15;
+  if (res[1]!=0) res[1][22]=a15;
+  if (res[1]!=0) res[1][23]=a15;
+  if (res[1]!=0) res[1][24]=a15;
+  if (res[1]!=0) res[1][25]=a15;
+  if (res[1]!=0) res[1][26]=a15;
+  if (res[1]!=0) res[1][27]=a15;
+  if (res[1]!=0) res[1][28]=a15;
+  if (res[1]!=0) res[1][29]=a15;
+  if (res[1]!=0) res[1][30]=a15;
+  if (res[1]!=0) res[1][31]=a15;
+  if (res[1]!=0) res[1][32]=a15;
+  if (res[1]!=0) res[1][33]=a15;
+  if (res[1]!=0) res[1][34]=a15;
+  if (res[1]!=0) res[1][35]=a15;
+  if (res[1]!=0) res[1][36]=a15;
+  if (res[1]!=0) res[1][37]=a15;
+  if (res[1]!=0) res[1][38]=a15;
+  if (res[1]!=0) res[1][39]=a15;
+  if (res[1]!=0) res[1][40]=a15;
+  if (res[1]!=0) res[1][41]=a15;
+  if (res[1]!=0) res[1][42]=a15;
+  if (res[1]!=0) res[1][43]=a15;
+  if (res[1]!=0) res[1][44]=a15;
+  if (res[1]!=0) res[1][45]=a15;
+  if (res[1]!=0) res[1][46]=a15;
+  if (res[1]!=0) res[1][47]=a15;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int spm_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int spm_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void spm_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void spm_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void spm_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int spm_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int spm_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real spm_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* spm_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* spm_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* spm_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* spm_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s2;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int spm_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int spm_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* spm_singularity_factors:(actuated[3],passive[4],params[4])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -1750,7 +2212,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_singularity_factors_checkout(void) {
@@ -1805,7 +2267,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* spm_singularity_factors_sparsity_in(casad
 CASADI_SYMBOL_EXPORT const casadi_int* spm_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
-    case 1: return casadi_s6;
+    case 1: return casadi_s7;
     default: return 0;
   }
 }
@@ -1827,7 +2289,7 @@ CASADI_SYMBOL_EXPORT int spm_singularity_factors_work_bytes(casadi_int *sz_arg, 
 }
 
 /* spm_drawing:(actuated[3],passive[4],params[4])->(base[3x3],elbow[3x3],platform[3x3]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   a00=0.;
@@ -2004,7 +2466,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_drawing_checkout(void) {
@@ -2083,7 +2545,7 @@ CASADI_SYMBOL_EXPORT int spm_drawing_work_bytes(casadi_int *sz_arg, casadi_int* 
 }
 
 /* spm_inverse_pose:(pose[12],branch[3],params[4])->(actuated[3],passive[4],validity[3]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34;
@@ -2789,7 +3251,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_inverse_pose_checkout(void) {
@@ -2835,7 +3297,7 @@ CASADI_SYMBOL_EXPORT const char* spm_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s0;
     case 2: return casadi_s1;
     default: return 0;
@@ -2868,7 +3330,7 @@ CASADI_SYMBOL_EXPORT int spm_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_
 }
 
 /* spm_inverse_pose_patterns:(pose[12],params[4])->(actuated[3x2],passive[4x2],validity[3x2]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34;
@@ -3632,7 +4094,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_inverse_pose_patterns_checkout(void) {
@@ -3677,7 +4139,7 @@ CASADI_SYMBOL_EXPORT const char* spm_inverse_pose_patterns_name_out(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
+    case 0: return casadi_s8;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -3685,9 +4147,9 @@ CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_patterns_sparsity_in(cas
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_inverse_pose_patterns_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
-    case 1: return casadi_s9;
-    case 2: return casadi_s8;
+    case 0: return casadi_s9;
+    case 1: return casadi_s10;
+    case 2: return casadi_s9;
     default: return 0;
   }
 }
@@ -3709,7 +4171,7 @@ CASADI_SYMBOL_EXPORT int spm_inverse_pose_patterns_work_bytes(casadi_int *sz_arg
 }
 
 /* spm_forward_polynomial:(actuated[3],params[4])->(coefficients[9]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -8576,7 +9038,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_forward_polynomial_checkout(void) {
@@ -8627,7 +9089,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_polynomial_sparsity_in(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
+    case 0: return casadi_s11;
     default: return 0;
   }
 }
@@ -8649,7 +9111,7 @@ CASADI_SYMBOL_EXPORT int spm_forward_polynomial_work_bytes(casadi_int *sz_arg, c
 }
 
 /* spm_forward_back_substitution:(actuated[3],root,branch,params[4])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -10169,7 +10631,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int spm_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_forward_back_substitution_checkout(void) {
@@ -10246,7 +10708,7 @@ CASADI_SYMBOL_EXPORT int spm_forward_back_substitution_work_bytes(casadi_int *sz
 }
 
 /* spm_automatic_family:(actuated[3],params[4])->(free,angles[7]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=0.;
   if (res[0]!=0) res[0][0]=a0;
@@ -10270,7 +10732,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_family_checkout(void) {
@@ -10323,7 +10785,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* spm_automatic_family_sparsity_in(casadi_i
 CASADI_SYMBOL_EXPORT const casadi_int* spm_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s3;
-    case 1: return casadi_s11;
+    case 1: return casadi_s12;
     default: return 0;
   }
 }
@@ -10345,7 +10807,7 @@ CASADI_SYMBOL_EXPORT int spm_automatic_family_work_bytes(casadi_int *sz_arg, cas
 }
 
 /* spm_automatic_monomials:(family_re[21],family_im[21])->(re[68],im[68]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -14958,7 +15420,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_monomials_checkout(void) {
@@ -15002,16 +15464,16 @@ CASADI_SYMBOL_EXPORT const char* spm_automatic_monomials_name_out(casadi_int i) 
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s13;
+    case 1: return casadi_s13;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* spm_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s13;
-    case 1: return casadi_s13;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
@@ -15033,7 +15495,7 @@ CASADI_SYMBOL_EXPORT int spm_automatic_monomials_work_bytes(casadi_int *sz_arg, 
 }
 
 /* spm_automatic_passive:(z[4],params[4])->(passive[4]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -15047,7 +15509,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int spm_automatic_passive_checkout(void) {

@@ -5,6 +5,7 @@
 //   loop_closure: 516
 //   loop_closure_actuated: 192
 //   rate_jacobians: 223
+//   parameter_jacobians: 313
 //   singularity_factors: 239
 //   drawing: 145
 //   inverse_pose: 723
@@ -105,6 +106,24 @@ int spm_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi
 #define spm_rate_jacobians_SZ_RES 2
 #define spm_rate_jacobians_SZ_IW 0
 #define spm_rate_jacobians_SZ_W 0
+int spm_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int spm_parameter_jacobians_checkout(void);
+void spm_parameter_jacobians_release(int mem);
+void spm_parameter_jacobians_incref(void);
+void spm_parameter_jacobians_decref(void);
+casadi_int spm_parameter_jacobians_n_in(void);
+casadi_int spm_parameter_jacobians_n_out(void);
+casadi_real spm_parameter_jacobians_default_in(casadi_int i);
+const char* spm_parameter_jacobians_name_in(casadi_int i);
+const char* spm_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* spm_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* spm_parameter_jacobians_sparsity_out(casadi_int i);
+int spm_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int spm_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define spm_parameter_jacobians_SZ_ARG 3
+#define spm_parameter_jacobians_SZ_RES 2
+#define spm_parameter_jacobians_SZ_IW 0
+#define spm_parameter_jacobians_SZ_W 0
 int spm_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int spm_singularity_factors_checkout(void);
 void spm_singularity_factors_release(int mem);

@@ -5,6 +5,7 @@
 #   loop_closure: 516
 #   loop_closure_actuated: 192
 #   rate_jacobians: 223
+#   parameter_jacobians: 313
 #   singularity_factors: 239
 #   drawing: 145
 #   inverse_pose: 723
@@ -586,6 +587,174 @@ def rate_jacobians(actuated, passive, params):
     return {
         "a": a,
         "b": b,
+    }
+
+
+def parameter_jacobians(actuated, passive, params):
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 313.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    theta1 = actuated[..., 0]
+    theta2 = actuated[..., 1]
+    theta3 = actuated[..., 2]
+    q0 = passive[..., 0]
+    q1 = passive[..., 1]
+    q2 = passive[..., 2]
+    q3 = passive[..., 3]
+    alpha1 = params[..., 0]
+    alpha2 = params[..., 1]
+    beta = params[..., 2]
+    gamma = params[..., 3]
+    _t0 = numpy.cos(gamma)
+    _t1 = numpy.sin(alpha1)
+    _t2 = _t0 * _t1
+    _t3 = 2 * _t2
+    _t4 = numpy.sin(gamma)
+    _t5 = numpy.cos(alpha1)
+    _t6 = numpy.cos(theta1)
+    _t7 = _t0 * _t5
+    _t8 = _t1 * _t4
+    _t9 = _t6 * _t8
+    _t10 = 2 * q0
+    _t11 = _t10 * q1
+    _t12 = 2 * q2
+    _t13 = _t11 + _t12 * q3
+    _t14 = q1**2
+    _t15 = q2**2
+    _t16 = q0**2
+    _t17 = q3**2
+    _t18 = _t16 + _t17
+    _t19 = 1 / (_t14 + _t15 + _t18)
+    _t20 = _t19 * numpy.sin(beta)
+    _t21 = _t13 * _t20
+    _t22 = -_t14
+    _t23 = -_t15
+    _t24 = _t18 + _t22 + _t23
+    _t25 = numpy.cos(beta)
+    _t26 = _t19 * _t25
+    _t27 = _t24 * _t26
+    _t28 = _t21 + _t27 + _t7 + _t9
+    _t29 = 2 * _t7
+    _t30 = _t4 * _t5
+    _t31 = -_t11 + 2 * q2 * q3
+    _t32 = _t26 * _t31
+    _t33 = _t16 - _t17
+    _t34 = _t15 + _t22 + _t33
+    _t35 = _t20 * _t34
+    _t36 = _t2 * _t6 - _t30 + _t32 + _t35
+    _t37 = _t4**2
+    _t38 = _t0**2
+    _t39 = (-_t37 - _t38) * numpy.sin(theta1)
+    _t40 = _t10 * q2
+    _t41 = _t40 + 2 * q1 * q3
+    _t42 = _t10 * q3
+    _t43 = -_t42 + 2 * q1 * q2
+    _t44 = _t20 * _t43
+    _t45 = -_t1 * _t39 + _t26 * _t41 + _t44
+    _t46 = 2 * _t5
+    _t47 = (1 / 2) * alpha2
+    _t48 = numpy.sin(_t47)
+    _t49 = (1 / 4) / _t48
+    _t50 = numpy.cos(_t47)
+    _t51 = _t48**2
+    _t52 = -4 * _t51
+    _t53 = (1 / 8) * _t50 / _t51
+    _t54 = 2 * _t20
+    _t55 = _t41 * _t54
+    _t56 = _t13 * _t26
+    _t57 = _t24 * _t54
+    _t58 = _t31 * _t54
+    _t59 = -2 * _t30
+    _t60 = numpy.cos(theta2)
+    _t61 = -_t40 + 2 * q1 * q3
+    _t62 = numpy.sqrt(3)
+    _t63 = (1 / 2) * _t20 * _t62
+    _t64 = _t61 * _t63
+    _t65 = _t60 * _t8 + _t7
+    _t66 = -1 / 2 * _t21 + _t27
+    _t67 = -_t64 + _t65 + _t66
+    _t68 = (1 / 2) * _t0
+    _t69 = _t60 * _t68
+    _t70 = numpy.sin(theta2)
+    _t71 = (1 / 2) * _t37
+    _t72 = (1 / 2) * _t38
+    _t73 = _t62 * _t71 + _t62 * _t72
+    _t74 = _t69 - _t70 * _t73
+    _t75 = _t12 * q1 + _t42
+    _t76 = _t63 * _t75
+    _t77 = (1 / 2) * _t35
+    _t78 = -_t1 * _t74 + _t19 * _t25 * _t31 + (1 / 2) * _t4 * _t5 - _t76 - _t77
+    _t79 = _t62 * _t8
+    _t80 = _t71 + _t72
+    _t81 = _t62 * _t69 + _t70 * _t80
+    _t82 = (1 / 2) * _t30
+    _t83 = _t62 * _t82
+    _t84 = _t14 + _t23 + _t33
+    _t85 = _t63 * _t84
+    _t86 = -_t19 * _t25 * _t41 + (1 / 2) * _t44
+    _t87 = -_t1 * _t81 + _t83 - _t85 - _t86
+    _t88 = _t26 * _t62
+    _t89 = _t61 * _t88
+    _t90 = _t56 + _t57
+    _t91 = _t75 * _t88
+    _t92 = _t26 * _t34 + _t58
+    _t93 = _t84 * _t88
+    _t94 = _t26 * _t43 + _t55
+    _t95 = _t62 * _t7
+    _t96 = numpy.cos(theta3)
+    _t97 = _t7 + _t8 * _t96
+    _t98 = _t64 + _t66 + _t97
+    _t99 = _t68 * _t96
+    _t100 = numpy.sin(theta3)
+    _t101 = _t100 * _t80 - _t62 * _t99
+    _t102 = -_t1 * _t101 - _t83 + _t85 - _t86
+    _t103 = _t100 * _t73 + _t99
+    _t104 = -_t1 * _t103 + _t32 + _t76 - _t77 + _t82
+    closure_parameters = numpy.zeros(shape + (4, 4))
+    closure_parameters[..., 0, 0] = _t49 * (
+        _t28 * (-_t3 + 2 * _t4 * _t5 * _t6) + _t36 * (_t29 * _t6 + 2 * _t8) - _t39 * _t45 * _t46
+    )
+    closure_parameters[..., 0, 1] = -_t50 - _t53 * (_t28**2 + _t36**2 + _t45**2 + _t52)
+    closure_parameters[..., 0, 2] = _t49 * (
+        _t28 * (2 * _t56 - _t57)
+        + _t36 * (2 * _t19 * _t25 * _t34 - _t58)
+        + _t45 * (2 * _t19 * _t25 * _t43 - _t55)
+    )
+    closure_parameters[..., 0, 3] = _t49 * (_t28 * (_t3 * _t6 + _t59) + _t36 * (-_t29 - 2 * _t9))
+    closure_parameters[..., 1, 0] = _t49 * (
+        _t67 * (-_t3 + 2 * _t4 * _t5 * _t60)
+        + _t78 * (-_t46 * _t74 - _t8)
+        + _t87 * (-_t46 * _t81 - _t79)
+    )
+    closure_parameters[..., 1, 1] = -_t50 - _t53 * (_t52 + _t67**2 + _t78**2 + _t87**2)
+    closure_parameters[..., 1, 2] = _t49 * (
+        _t67 * (-_t89 - _t90) + _t78 * (-_t91 - _t92) + _t87 * (-_t93 - _t94)
+    )
+    closure_parameters[..., 1, 3] = _t49 * (
+        _t65 * _t78 + _t67 * (_t3 * _t60 + _t59) + _t87 * (_t60 * _t79 + _t95)
+    )
+    closure_parameters[..., 2, 0] = _t49 * (
+        _t102 * (-_t101 * _t46 + _t79)
+        + _t104 * (-_t103 * _t46 - _t8)
+        + _t98 * (-_t3 + 2 * _t4 * _t5 * _t96)
+    )
+    closure_parameters[..., 2, 1] = -_t50 - _t53 * (_t102**2 + _t104**2 + _t52 + _t98**2)
+    closure_parameters[..., 2, 2] = _t49 * (
+        _t102 * (_t93 - _t94) + _t104 * (_t91 - _t92) + _t98 * (_t89 - _t90)
+    )
+    closure_parameters[..., 2, 3] = _t49 * (
+        _t102 * (-_t79 * _t96 - _t95) + _t104 * _t97 + _t98 * (_t3 * _t96 + _t59)
+    )
+    pose_parameters = numpy.zeros(shape + (12, 4))
+    return {
+        "closure_parameters": closure_parameters,
+        "pose_parameters": pose_parameters,
     }
 
 
@@ -7615,6 +7784,7 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

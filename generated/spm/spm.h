@@ -5,6 +5,7 @@
 //   loop_closure: 516
 //   loop_closure_actuated: 192
 //   rate_jacobians: 223
+//   parameter_jacobians: 313
 //   singularity_factors: 239
 //   drawing: 145
 //   inverse_pose: 723
@@ -204,6 +205,10 @@ int spm_loop_closure_actuated_batch(long long n, const double** inputs, const lo
 //   inputs: actuated[3], passive[4], params[4]
 //   outputs: a[3 x 3], b[3 x 3]
 int spm_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[4], params[4]
+//   outputs: closure_parameters[4 x 4], pose_parameters[12 x 4]
+int spm_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[4], params[4]
 //   outputs: factors[4], determinants[2]

@@ -5,6 +5,7 @@
 //   loop_closure: 229
 //   loop_closure_actuated: 6
 //   rate_jacobians: 137
+//   parameter_jacobians: 616
 //   singularity_factors: 147
 //   drawing: 112
 //   inverse_pose: 141
@@ -123,6 +124,30 @@ int sps_rate_jacobians_batch(long long n, const double** inputs, const long long
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 outputs[1][i * 9 + r * 3 + c] = out_b[c * 3 + r];
+    }
+    return 0;
+}
+
+int sps_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[92 + 1];
+    casadi_real out_closure_parameters[48 + 1];
+    casadi_real out_pose_parameters[192 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (sps_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 16; ++c)
+                outputs[0][i * 48 + r * 16 + c] = out_closure_parameters[c * 3 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 16; ++c)
+                outputs[1][i * 192 + r * 16 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

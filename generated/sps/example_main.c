@@ -5,6 +5,7 @@
 //   loop_closure: 229
 //   loop_closure_actuated: 6
 //   rate_jacobians: 137
+//   parameter_jacobians: 616
 //   singularity_factors: 147
 //   drawing: 112
 //   inverse_pose: 141

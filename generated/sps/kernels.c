@@ -5,6 +5,7 @@
 //   loop_closure: 229
 //   loop_closure_actuated: 6
 //   rate_jacobians: 137
+//   parameter_jacobians: 616
 //   singularity_factors: 147
 //   drawing: 112
 //   inverse_pose: 141
@@ -54,6 +55,7 @@ extern "C" {
 #define casadi_f10 CASADI_PREFIX(f10)
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
+#define casadi_f13 CASADI_PREFIX(f13)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -71,6 +73,8 @@ extern "C" {
 #define casadi_s12 CASADI_PREFIX(s12)
 #define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s14 CASADI_PREFIX(s14)
+#define casadi_s15 CASADI_PREFIX(s15)
+#define casadi_s16 CASADI_PREFIX(s16)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -79,6 +83,7 @@ extern "C" {
 #define casadi_s7 CASADI_PREFIX(s7)
 #define casadi_s8 CASADI_PREFIX(s8)
 #define casadi_s9 CASADI_PREFIX(s9)
+#define casadi_sign CASADI_PREFIX(sign)
 #define casadi_sq CASADI_PREFIX(sq)
 
 /* Symbol visibility in DLLs */
@@ -107,6 +112,8 @@ casadi_real casadi_fmax(casadi_real x, casadi_real y) {
 #endif
 }
 
+casadi_real casadi_sign(casadi_real x) { return x<0 ? -1 : x>0 ? 1 : x;}
+
 casadi_real casadi_fabs(casadi_real x) {
 /* Pre-c99 compatibility */
 #if __STDC_VERSION__ < 199901L
@@ -130,16 +137,18 @@ static const casadi_int casadi_s1[3] = {16, 1, 1};
 static const casadi_int casadi_s2[3] = {4, 4, 1};
 static const casadi_int casadi_s3[3] = {3, 3, 1};
 static const casadi_int casadi_s4[3] = {1, 1, 1};
-static const casadi_int casadi_s5[3] = {4, 1, 1};
-static const casadi_int casadi_s6[3] = {2, 1, 1};
-static const casadi_int casadi_s7[3] = {3, 4, 1};
-static const casadi_int casadi_s8[3] = {12, 1, 1};
-static const casadi_int casadi_s9[3] = {3, 2, 1};
-static const casadi_int casadi_s10[3] = {4, 2, 1};
-static const casadi_int casadi_s11[3] = {9, 1, 1};
-static const casadi_int casadi_s12[3] = {20, 1, 1};
-static const casadi_int casadi_s13[3] = {31, 1, 1};
-static const casadi_int casadi_s14[3] = {6, 1, 1};
+static const casadi_int casadi_s5[3] = {3, 16, 1};
+static const casadi_int casadi_s6[3] = {12, 16, 1};
+static const casadi_int casadi_s7[3] = {4, 1, 1};
+static const casadi_int casadi_s8[3] = {2, 1, 1};
+static const casadi_int casadi_s9[3] = {3, 4, 1};
+static const casadi_int casadi_s10[3] = {12, 1, 1};
+static const casadi_int casadi_s11[3] = {3, 2, 1};
+static const casadi_int casadi_s12[3] = {4, 2, 1};
+static const casadi_int casadi_s13[3] = {9, 1, 1};
+static const casadi_int casadi_s14[3] = {20, 1, 1};
+static const casadi_int casadi_s15[3] = {31, 1, 1};
+static const casadi_int casadi_s16[3] = {6, 1, 1};
 
 /* sps_platform_pose:(actuated[3],passive[3],params[16])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -957,8 +966,966 @@ CASADI_SYMBOL_EXPORT int sps_rate_jacobians_work_bytes(casadi_int *sz_arg, casad
   return 0;
 }
 
-/* sps_singularity_factors:(actuated[3],passive[3],params[16])->(factors[4],determinants[2]) */
+/* sps_parameter_jacobians:(actuated[3],passive[3],params[16])->(closure_parameters[3x16],pose_parameters[12x16]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57, a58, a59;
+  casadi_real a60, a61, a62, a63, a64, a65, a66, a67, a68, a69, a70, a71;
+  casadi_real a72, a73, a74, a75, a76, a77, a78, a79, a80, a81, a82, a83;
+  casadi_real a84, a85, a86, a87, a88, a89, a90, a91;
+  a00=arg[2]? arg[2][0] : 0;
+  a00=(2.*a00);
+  a01=arg[1]? arg[1][1] : 0;
+  a02=cos(a01);
+  a03=(2.*a02);
+  a04=arg[2]? arg[2][6] : 0;
+  a03=(a03*a04);
+  a03=(a00-a03);
+  if (res[0]!=0) res[0][0]=a03;
+  a03=0.;
+  if (res[0]!=0) res[0][1]=a03;
+  if (res[0]!=0) res[0][2]=a03;
+  if (res[0]!=0) res[0][3]=a03;
+  a05=arg[2]? arg[2][1] : 0;
+  a06=(2.*a05);
+  a07=casadi_sq(a04);
+  a08=arg[2]? arg[2][7] : 0;
+  a09=casadi_sq(a08);
+  a10=(a07+a09);
+  a11=arg[2]? arg[2][9] : 0;
+  a12=casadi_sq(a11);
+  a10=(a10-a12);
+  a12=(a10/a04);
+  a13=(a02*a12);
+  a14=1.;
+  a15=2.5000000000000000e-01;
+  a16=(a15/a09);
+  a17=casadi_sq(a10);
+  a18=(a17/a07);
+  a19=(a16*a18);
+  a20=(a14-a19);
+  a21=sqrt(a20);
+  a01=sin(a01);
+  a22=arg[1]? arg[1][2] : 0;
+  a23=sin(a22);
+  a24=(a01*a23);
+  a25=(a21*a24);
+  a26=(2.*a08);
+  a27=(a25*a26);
+  a13=(a13+a27);
+  a06=(a06-a13);
+  if (res[0]!=0) res[0][4]=a06;
+  if (res[0]!=0) res[0][5]=a03;
+  if (res[0]!=0) res[0][6]=a03;
+  a06=arg[2]? arg[2][2] : 0;
+  a13=(2.*a06);
+  a27=arg[1]? arg[1][0] : 0;
+  a28=cos(a27);
+  a22=cos(a22);
+  a29=(a28*a22);
+  a27=sin(a27);
+  a30=(a23*a27);
+  a31=(a02*a30);
+  a29=(a29-a31);
+  a31=(a21*a29);
+  a32=(a26*a31);
+  a33=(a01*a27);
+  a34=(a33*a12);
+  a32=(a32+a34);
+  a13=(a13-a32);
+  if (res[0]!=0) res[0][7]=a13;
+  if (res[0]!=0) res[0][8]=a03;
+  if (res[0]!=0) res[0][9]=a03;
+  if (res[0]!=0) res[0][10]=a03;
+  a13=arg[2]? arg[2][3] : 0;
+  a32=(2.*a13);
+  a34=arg[2]? arg[2][8] : 0;
+  a35=casadi_sq(a34);
+  a36=(a07+a35);
+  a37=arg[2]? arg[2][11] : 0;
+  a38=casadi_sq(a37);
+  a36=(a36-a38);
+  a38=(a36/a04);
+  a39=(a02*a38);
+  a40=-2.5000000000000000e-01;
+  a41=(a10/a07);
+  a42=(a41/a08);
+  a43=(a40*a42);
+  a44=(a36/a34);
+  a43=(a43*a44);
+  a45=(a09+a35);
+  a46=arg[2]? arg[2][10] : 0;
+  a47=casadi_sq(a46);
+  a45=(a45-a47);
+  a47=(a45/a08);
+  a48=5.0000000000000000e-01;
+  a49=(a48/a34);
+  a50=(a47*a49);
+  a43=(a43+a50);
+  a50=(a43/a21);
+  a51=(a24*a50);
+  a52=(2.*a34);
+  a53=(a51*a52);
+  a39=(a39+a53);
+  a53=(a15/a09);
+  a53=(a53*a10);
+  a53=(a53*a36);
+  a53=(a53*a45);
+  a53=(a53/a35);
+  a53=(a53/a07);
+  a54=casadi_sq(a45);
+  a55=(a54/a35);
+  a56=(a16*a55);
+  a53=(a53-a56);
+  a53=(a53-a19);
+  a19=casadi_sq(a36);
+  a56=(a19/a07);
+  a15=(a15/a35);
+  a57=(a56*a15);
+  a53=(a53-a57);
+  a53=(a53+a14);
+  a14=casadi_fmax(a03,a53);
+  a57=sqrt(a14);
+  a58=arg[2]? arg[2][12] : 0;
+  a59=(a57*a58);
+  a60=(a59/a21);
+  a61=(a01*a22);
+  a62=(a60*a61);
+  a63=(a52*a62);
+  a39=(a39+a63);
+  a32=(a32-a39);
+  if (res[0]!=0) res[0][11]=a32;
+  if (res[0]!=0) res[0][12]=a03;
+  if (res[0]!=0) res[0][13]=a03;
+  a27=(a27*a22);
+  a32=(a02*a27);
+  a39=(a23*a28);
+  a32=(a32+a39);
+  a63=(a60*a32);
+  a64=(a52*a63);
+  a65=(a33*a38);
+  a66=(a29*a50);
+  a67=(a52*a66);
+  a65=(a65+a67);
+  a64=(a64-a65);
+  a65=arg[2]? arg[2][4] : 0;
+  a67=(2.*a65);
+  a64=(a64+a67);
+  if (res[0]!=0) res[0][14]=a64;
+  if (res[0]!=0) res[0][15]=a03;
+  if (res[0]!=0) res[0][16]=a03;
+  a64=(a01*a28);
+  a67=(a38*a64);
+  a39=(a02*a39);
+  a39=(a39+a27);
+  a50=(a50*a39);
+  a27=(a52*a50);
+  a67=(a67-a27);
+  a28=(a02*a28);
+  a28=(a28*a22);
+  a28=(a28-a30);
+  a60=(a60*a28);
+  a30=(a52*a60);
+  a67=(a67-a30);
+  a30=arg[2]? arg[2][5] : 0;
+  a30=(2.*a30);
+  a67=(a67+a30);
+  if (res[0]!=0) res[0][17]=a67;
+  a67=(2.*a04);
+  a00=(a00*a02);
+  a67=(a67-a00);
+  if (res[0]!=0) res[0][18]=a67;
+  a67=(a10/a04);
+  a00=casadi_sq(a04);
+  a00=(a04*a00);
+  a22=(a48/a00);
+  a27=(a22*a17);
+  a67=(a67-a27);
+  a68=-5.0000000000000000e-01;
+  a69=(a68/a09);
+  a69=(a69/a00);
+  a69=(a69*a17);
+  a70=(a12/a09);
+  a69=(a69+a70);
+  a71=(a69*a09);
+  a67=(a67-a71);
+  a05=(2.*a05);
+  a71=(a48*a02);
+  a72=(a41*a71);
+  a72=(a02-a72);
+  a73=(a40/a09);
+  a73=(a73/a00);
+  a73=(a73*a17);
+  a74=(a48*a70);
+  a73=(a73+a74);
+  a75=(a24/a21);
+  a76=(a75*a08);
+  a77=(a73*a76);
+  a72=(a72-a77);
+  a72=(a05*a72);
+  a67=(a67-a72);
+  a06=(2.*a06);
+  a72=(a48*a33);
+  a77=(a41*a72);
+  a77=(a33-a77);
+  a78=(a29/a21);
+  a79=(a78*a08);
+  a80=(a73*a79);
+  a77=(a77-a80);
+  a77=(a06*a77);
+  a67=(a67-a77);
+  if (res[0]!=0) res[0][19]=a67;
+  a67=casadi_sq(a20);
+  a67=(a35/a67);
+  a77=casadi_sq(a58);
+  a80=(a14*a77);
+  a81=(a67*a80);
+  a82=(a81*a69);
+  a53=casadi_sign(a53);
+  a53=(a48*a53);
+  a53=(a53+a48);
+  a27=(a27/a09);
+  a83=(a38/a35);
+  a84=(a48*a83);
+  a85=(a45/a09);
+  a84=(a84*a85);
+  a27=(a27+a84);
+  a27=(a27-a83);
+  a45=(a45/a35);
+  a74=(a45*a74);
+  a27=(a27+a74);
+  a74=(a85/a35);
+  a83=(a74*a22);
+  a83=(a83*a10);
+  a83=(a83*a36);
+  a27=(a27-a83);
+  a27=(a27-a70);
+  a22=(a22*a19);
+  a19=(a22/a35);
+  a27=(a27+a19);
+  a27=(a53*a27);
+  a19=(a35/a20);
+  a70=(a19*a77);
+  a83=(a27*a70);
+  a82=(a82+a83);
+  a13=(2.*a13);
+  a83=(a36/a07);
+  a71=(a83*a71);
+  a71=(a02-a71);
+  a84=(a48/a00);
+  a84=(a84/a08);
+  a84=(a84*a10);
+  a84=(a84*a36);
+  a84=(a84/a34);
+  a86=(a49/a08);
+  a87=(a86*a38);
+  a86=(a86*a12);
+  a87=(a87+a86);
+  a84=(a84-a87);
+  a84=(a34*a84);
+  a87=(a84*a75);
+  a71=(a71+a87);
+  a87=1.5000000000000000e+00;
+  a87=pow(a20,a87);
+  a87=(a34/a87);
+  a86=(a87*a43);
+  a88=(a86*a73);
+  a89=(a88*a24);
+  a71=(a71+a89);
+  a87=(a87*a59);
+  a73=(a87*a73);
+  a59=(a73*a61);
+  a71=(a71+a59);
+  a59=(a34/a21);
+  a89=(a59*a58);
+  a89=(a89/a57);
+  a27=(a27*a89);
+  a90=(a48*a61);
+  a91=(a27*a90);
+  a71=(a71+a91);
+  a71=(a13*a71);
+  a82=(a82-a71);
+  a65=(2.*a65);
+  a71=(a84*a78);
+  a72=(a83*a72);
+  a71=(a71-a72);
+  a72=(a88*a29);
+  a71=(a71+a72);
+  a72=(a73*a32);
+  a71=(a71-a72);
+  a72=(a48*a32);
+  a91=(a27*a72);
+  a71=(a71-a91);
+  a71=(a71+a33);
+  a71=(a65*a71);
+  a82=(a82-a71);
+  a71=casadi_sq(a43);
+  a67=(a71*a67);
+  a69=(a69*a67);
+  a82=(a82+a69);
+  a82=(a82+a38);
+  a69=(a39/a21);
+  a84=(a84*a69);
+  a88=(a88*a39);
+  a84=(a84+a88);
+  a73=(a73*a28);
+  a84=(a84+a73);
+  a73=(a48*a28);
+  a27=(a27*a73);
+  a84=(a84+a27);
+  a27=(a48*a83);
+  a88=(a27*a64);
+  a84=(a84+a88);
+  a84=(a84-a64);
+  a84=(a30*a84);
+  a82=(a82-a84);
+  a82=(a82-a22);
+  a19=(a43*a19);
+  a00=(1./a00);
+  a00=(a00/a08);
+  a00=(a00*a10);
+  a00=(a00*a36);
+  a00=(a00/a34);
+  a22=(1./a08);
+  a84=(a22/a34);
+  a38=(a38*a84);
+  a00=(a00-a38);
+  a12=(a12*a84);
+  a00=(a00-a12);
+  a00=(a19*a00);
+  a82=(a82+a00);
+  if (res[0]!=0) res[0][20]=a82;
+  if (res[0]!=0) res[0][21]=a03;
+  a26=(a20*a26);
+  a82=(a41*a08);
+  a26=(a26+a82);
+  a82=casadi_sq(a08);
+  a82=(a08*a82);
+  a00=(a48/a82);
+  a00=(a00*a17);
+  a00=(a00/a07);
+  a00=(a42-a00);
+  a12=(a09*a00);
+  a26=(a26-a12);
+  a40=(a40/a82);
+  a40=(a40*a17);
+  a40=(a40/a07);
+  a17=(a48*a42);
+  a40=(a40+a17);
+  a76=(a76*a40);
+  a25=(a25-a76);
+  a02=(a02/a04);
+  a76=(a02*a08);
+  a25=(a25+a76);
+  a25=(a05*a25);
+  a26=(a26-a25);
+  a79=(a79*a40);
+  a31=(a31-a79);
+  a33=(a33/a04);
+  a79=(a33*a08);
+  a31=(a31+a79);
+  a31=(a06*a31);
+  a26=(a26-a31);
+  if (res[0]!=0) res[0][22]=a26;
+  a26=(a81*a00);
+  a47=(a47/a35);
+  a31=(a48*a47);
+  a79=(a83*a31);
+  a25=(a48/a82);
+  a45=(a45*a25);
+  a45=(a45*a41);
+  a45=(a45*a36);
+  a79=(a79-a45);
+  a25=(a25*a55);
+  a79=(a79+a25);
+  a25=(a36/a35);
+  a55=(a25*a17);
+  a55=(a55-a47);
+  a55=(a55-a42);
+  a79=(a79+a55);
+  a82=(a48/a82);
+  a82=(a82*a18);
+  a79=(a79+a82);
+  a89=(a53*a89);
+  a82=(a79*a89);
+  a18=(a90*a82);
+  a16=(a16*a41);
+  a16=(a16*a44);
+  a44=(a83/a34);
+  a47=(a48*a44);
+  a16=(a16-a47);
+  a47=(a85/a34);
+  a45=(a48*a47);
+  a16=(a16-a45);
+  a76=(1./a34);
+  a16=(a16+a76);
+  a16=(a34*a16);
+  a76=(a16*a75);
+  a18=(a18+a76);
+  a76=(a86*a40);
+  a12=(a76*a24);
+  a18=(a18+a12);
+  a40=(a87*a40);
+  a12=(a40*a61);
+  a18=(a18+a12);
+  a18=(a13*a18);
+  a26=(a26-a18);
+  a18=(a16*a78);
+  a12=(a72*a82);
+  a18=(a18-a12);
+  a12=(a76*a29);
+  a18=(a18+a12);
+  a12=(a40*a32);
+  a18=(a18-a12);
+  a18=(a65*a18);
+  a26=(a26-a18);
+  a70=(a53*a70);
+  a79=(a79*a70);
+  a26=(a26+a79);
+  a00=(a00*a67);
+  a26=(a26+a00);
+  a16=(a69*a16);
+  a82=(a73*a82);
+  a16=(a16+a82);
+  a76=(a76*a39);
+  a16=(a16+a76);
+  a40=(a40*a28);
+  a16=(a16+a40);
+  a16=(a30*a16);
+  a26=(a26-a16);
+  a16=(a41/a09);
+  a40=(a16*a36);
+  a40=(a40*a49);
+  a44=(a44+a47);
+  a40=(a40-a44);
+  a44=2.;
+  a47=(a44/a34);
+  a47=(a40+a47);
+  a47=(a19*a47);
+  a26=(a26+a47);
+  if (res[0]!=0) res[0][23]=a26;
+  if (res[0]!=0) res[0][24]=a03;
+  if (res[0]!=0) res[0][25]=a03;
+  a26=(a83*a34);
+  a47=casadi_sq(a34);
+  a47=(a34*a47);
+  a47=(a48/a47);
+  a09=(a47/a09);
+  a09=(a09*a54);
+  a85=(a85*a47);
+  a85=(a85*a41);
+  a85=(a85*a36);
+  a09=(a09-a85);
+  a09=(a09+a40);
+  a45=(a45*a41);
+  a09=(a09+a45);
+  a47=(a47*a56);
+  a09=(a09+a47);
+  a47=(a89*a09);
+  a56=(a90*a47);
+  a22=(a22-a31);
+  a42=(a42*a36);
+  a42=(a42*a15);
+  a22=(a22+a42);
+  a22=(a22-a17);
+  a22=(a34*a22);
+  a42=(a22*a75);
+  a56=(a56+a42);
+  a42=(a02*a34);
+  a56=(a56+a42);
+  a56=(a56+a51);
+  a56=(a56+a62);
+  a56=(a13*a56);
+  a26=(a26-a56);
+  a56=(a22*a78);
+  a62=(a72*a47);
+  a56=(a56-a62);
+  a62=(a33*a34);
+  a56=(a56+a62);
+  a56=(a56+a66);
+  a56=(a56-a63);
+  a56=(a65*a56);
+  a26=(a26-a56);
+  a70=(a70*a09);
+  a26=(a26+a70);
+  a52=(a52/a20);
+  a71=(a52*a71);
+  a26=(a26+a71);
+  a52=(a52*a80);
+  a26=(a26+a52);
+  a22=(a69*a22);
+  a47=(a73*a47);
+  a22=(a22+a47);
+  a64=(a64/a04);
+  a04=(a64*a34);
+  a22=(a22-a04);
+  a22=(a22+a50);
+  a22=(a22+a60);
+  a22=(a30*a22);
+  a26=(a26-a22);
+  a44=(a44/a08);
+  a55=(a55+a44);
+  a19=(a19*a55);
+  a26=(a26+a19);
+  if (res[0]!=0) res[0][26]=a26;
+  if (res[0]!=0) res[0][27]=a03;
+  a01=(a48*a01);
+  a01=(a01*a23);
+  a01=(a01/a21);
+  a01=(a01/a08);
+  a01=(a01*a10);
+  a01=(a01/a07);
+  a01=(a01*a11);
+  a23=(a02*a11);
+  a01=(a01-a23);
+  a05=(a05*a01);
+  a01=(a48*a29);
+  a01=(a01/a21);
+  a01=(a01/a08);
+  a01=(a01*a10);
+  a01=(a01/a07);
+  a01=(a01*a11);
+  a21=(a33*a11);
+  a01=(a01-a21);
+  a06=(a06*a01);
+  a05=(a05+a06);
+  a05=(-a05);
+  if (res[0]!=0) res[0][28]=a05;
+  a05=(a16*a11);
+  a06=(a27*a11);
+  a01=(a74*a06);
+  a01=(a05-a01);
+  a21=(a53*a01);
+  a21=(a21*a35);
+  a21=(a21/a20);
+  a21=(a21*a77);
+  a81=(a81*a05);
+  a21=(a21-a81);
+  a01=(a89*a01);
+  a81=(a90*a01);
+  a87=(a87*a05);
+  a23=(a90*a87);
+  a81=(a81-a23);
+  a06=(a06/a08);
+  a23=(a06*a75);
+  a81=(a81+a23);
+  a86=(a48*a86);
+  a86=(a86*a05);
+  a24=(a86*a24);
+  a81=(a81-a24);
+  a81=(a13*a81);
+  a21=(a21-a81);
+  a27=(a27*a78);
+  a27=(a27/a08);
+  a27=(a27*a11);
+  a81=(a72*a87);
+  a27=(a27+a81);
+  a81=(a72*a01);
+  a27=(a27-a81);
+  a29=(a86*a29);
+  a27=(a27-a29);
+  a27=(a65*a27);
+  a21=(a21-a27);
+  a05=(a05*a67);
+  a21=(a21-a05);
+  a36=(a36/a08);
+  a36=(a36*a43);
+  a36=(a36/a07);
+  a36=(a36/a20);
+  a36=(a36*a11);
+  a36=(a36*a34);
+  a21=(a21+a36);
+  a06=(a69*a06);
+  a87=(a73*a87);
+  a06=(a06-a87);
+  a01=(a73*a01);
+  a06=(a06+a01);
+  a86=(a86*a39);
+  a06=(a06-a86);
+  a06=(a30*a06);
+  a21=(a21-a06);
+  if (res[0]!=0) res[0][29]=a21;
+  if (res[0]!=0) res[0][30]=a03;
+  if (res[0]!=0) res[0][31]=a03;
+  a21=(a74*a46);
+  a48=(a48*a16);
+  a48=(a48*a25);
+  a48=(a48*a46);
+  a21=(a21-a48);
+  a48=(a53*a21);
+  a48=(a48*a35);
+  a48=(a48/a20);
+  a48=(a48*a77);
+  a21=(a89*a21);
+  a25=(a90*a21);
+  a16=(a46/a08);
+  a06=(a16*a75);
+  a25=(a25-a06);
+  a25=(a13*a25);
+  a48=(a48-a25);
+  a25=(a72*a21);
+  a06=(a16*a78);
+  a25=(a25+a06);
+  a25=(a65*a25);
+  a48=(a48+a25);
+  a44=(a44*a43);
+  a44=(a44/a20);
+  a44=(a44*a46);
+  a44=(a44*a34);
+  a48=(a48-a44);
+  a21=(a73*a21);
+  a16=(a69*a16);
+  a21=(a21-a16);
+  a21=(a30*a21);
+  a48=(a48-a21);
+  if (res[0]!=0) res[0][32]=a48;
+  if (res[0]!=0) res[0][33]=a03;
+  if (res[0]!=0) res[0][34]=a03;
+  a68=(a68*a74);
+  a68=(a68*a41);
+  a68=(a68*a37);
+  a83=(a83*a37);
+  a41=(a83/a35);
+  a68=(a68+a41);
+  a53=(a53*a68);
+  a53=(a53*a35);
+  a53=(a53/a20);
+  a53=(a53*a77);
+  a89=(a89*a68);
+  a90=(a90*a89);
+  a17=(a17*a37);
+  a75=(a17*a75);
+  a90=(a90+a75);
+  a02=(a02*a37);
+  a90=(a90-a02);
+  a90=(a13*a90);
+  a53=(a53-a90);
+  a78=(a17*a78);
+  a72=(a72*a89);
+  a78=(a78-a72);
+  a33=(a33*a37);
+  a78=(a78-a33);
+  a78=(a65*a78);
+  a53=(a53-a78);
+  a53=(a53-a83);
+  a10=(a10/a08);
+  a10=(a10*a43);
+  a10=(a10/a07);
+  a10=(a10/a20);
+  a10=(a10*a37);
+  a10=(a10*a34);
+  a53=(a53+a10);
+  a69=(a69*a17);
+  a73=(a73*a89);
+  a69=(a69+a73);
+  a64=(a64*a37);
+  a69=(a69+a64);
+  a69=(a30*a69);
+  a53=(a53-a69);
+  if (res[0]!=0) res[0][35]=a53;
+  if (res[0]!=0) res[0][36]=a03;
+  if (res[0]!=0) res[0][37]=a03;
+  a59=(a59*a57);
+  a65=(a65*a59);
+  a65=(a65*a32);
+  a13=(a13*a59);
+  a13=(a13*a61);
+  a65=(a65-a13);
+  a59=(a59*a30);
+  a59=(a59*a28);
+  a65=(a65-a59);
+  a35=(2.*a35);
+  a35=(a35*a14);
+  a35=(a35/a20);
+  a35=(a35*a58);
+  a65=(a65+a35);
+  if (res[0]!=0) res[0][38]=a65;
+  if (res[0]!=0) res[0][39]=a03;
+  if (res[0]!=0) res[0][40]=a03;
+  if (res[0]!=0) res[0][41]=a03;
+  if (res[0]!=0) res[0][42]=a03;
+  if (res[0]!=0) res[0][43]=a03;
+  if (res[0]!=0) res[0][44]=a03;
+  if (res[0]!=0) res[0][45]=a03;
+  if (res[0]!=0) res[0][46]=a03;
+  if (res[0]!=0) res[0][47]=a03;
+  if (res[1]!=0) res[1][0]=a03;
+  if (res[1]!=0) res[1][1]=a03;
+  if (res[1]!=0) res[1][2]=a03;
+  if (res[1]!=0) res[1][3]=a03;
+  if (res[1]!=0) res[1][4]=a03;
+  if (res[1]!=0) res[1][5]=a03;
+  if (res[1]!=0) res[1][6]=a03;
+  if (res[1]!=0) res[1][7]=a03;
+  if (res[1]!=0) res[1][8]=a03;
+  if (res[1]!=0) res[1][9]=a03;
+  if (res[1]!=0) res[1][10]=a03;
+  if (res[1]!=0) res[1][11]=a03;
+  if (res[1]!=0) res[1][12]=a03;
+  if (res[1]!=0) res[1][13]=a03;
+  if (res[1]!=0) res[1][14]=a03;
+  if (res[1]!=0) res[1][15]=a03;
+  if (res[1]!=0) res[1][16]=a03;
+  if (res[1]!=0) res[1][17]=a03;
+  if (res[1]!=0) res[1][18]=a03;
+  if (res[1]!=0) res[1][19]=a03;
+  if (res[1]!=0) res[1][20]=a03;
+  if (res[1]!=0) res[1][21]=a03;
+  if (res[1]!=0) res[1][22]=a03;
+  if (res[1]!=0) res[1][23]=a03;
+  if (res[1]!=0) res[1][24]=a03;
+  if (res[1]!=0) res[1][25]=a03;
+  if (res[1]!=0) res[1][26]=a03;
+  if (res[1]!=0) res[1][27]=a03;
+  if (res[1]!=0) res[1][28]=a03;
+  if (res[1]!=0) res[1][29]=a03;
+  if (res[1]!=0) res[1][30]=a03;
+  if (res[1]!=0) res[1][31]=a03;
+  if (res[1]!=0) res[1][32]=a03;
+  if (res[1]!=0) res[1][33]=a03;
+  if (res[1]!=0) res[1][34]=a03;
+  if (res[1]!=0) res[1][35]=a03;
+  if (res[1]!=0) res[1][36]=a03;
+  if (res[1]!=0) res[1][37]=a03;
+  if (res[1]!=0) res[1][38]=a03;
+  if (res[1]!=0) res[1][39]=a03;
+  if (res[1]!=0) res[1][40]=a03;
+  if (res[1]!=0) res[1][41]=a03;
+  if (res[1]!=0) res[1][42]=a03;
+  if (res[1]!=0) res[1][43]=a03;
+  if (res[1]!=0) res[1][44]=a03;
+  if (res[1]!=0) res[1][45]=a03;
+  if (res[1]!=0) res[1][46]=a03;
+  if (res[1]!=0) res[1][47]=a03;
+  if (res[1]!=0) res[1][48]=a03;
+  if (res[1]!=0) res[1][49]=a03;
+  if (res[1]!=0) res[1][50]=a03;
+  if (res[1]!=0) res[1][51]=a03;
+  if (res[1]!=0) res[1][52]=a03;
+  if (res[1]!=0) res[1][53]=a03;
+  if (res[1]!=0) res[1][54]=a03;
+  if (res[1]!=0) res[1][55]=a03;
+  if (res[1]!=0) res[1][56]=a03;
+  if (res[1]!=0) res[1][57]=a03;
+  if (res[1]!=0) res[1][58]=a03;
+  if (res[1]!=0) res[1][59]=a03;
+  if (res[1]!=0) res[1][60]=a03;
+  if (res[1]!=0) res[1][61]=a03;
+  if (res[1]!=0) res[1][62]=a03;
+  if (res[1]!=0) res[1][63]=a03;
+  if (res[1]!=0) res[1][64]=a03;
+  if (res[1]!=0) res[1][65]=a03;
+  if (res[1]!=0) res[1][66]=a03;
+  if (res[1]!=0) res[1][67]=a03;
+  if (res[1]!=0) res[1][68]=a03;
+  if (res[1]!=0) res[1][69]=a03;
+  if (res[1]!=0) res[1][70]=a03;
+  if (res[1]!=0) res[1][71]=a03;
+  if (res[1]!=0) res[1][72]=a03;
+  if (res[1]!=0) res[1][73]=a03;
+  if (res[1]!=0) res[1][74]=a03;
+  if (res[1]!=0) res[1][75]=a03;
+  if (res[1]!=0) res[1][76]=a03;
+  if (res[1]!=0) res[1][77]=a03;
+  if (res[1]!=0) res[1][78]=a03;
+  if (res[1]!=0) res[1][79]=a03;
+  if (res[1]!=0) res[1][80]=a03;
+  if (res[1]!=0) res[1][81]=a03;
+  if (res[1]!=0) res[1][82]=a03;
+  if (res[1]!=0) res[1][83]=a03;
+  if (res[1]!=0) res[1][84]=a03;
+  if (res[1]!=0) res[1][85]=a03;
+  if (res[1]!=0) res[1][86]=a03;
+  if (res[1]!=0) res[1][87]=a03;
+  if (res[1]!=0) res[1][88]=a03;
+  if (res[1]!=0) res[1][89]=a03;
+  if (res[1]!=0) res[1][90]=a03;
+  if (res[1]!=0) res[1][91]=a03;
+  if (res[1]!=0) res[1][92]=a03;
+  if (res[1]!=0) res[1][93]=a03;
+  if (res[1]!=0) res[1][94]=a03;
+  if (res[1]!=0) res[1][95]=a03;
+  if (res[1]!=0) res[1][96]=a03;
+  if (res[1]!=0) res[1][97]=a03;
+  if (res[1]!=0) res[1][98]=a03;
+  if (res[1]!=0) res[1][99]=a03;
+  if (res[1]!=0) res[1][100]=a03;
+  if (res[1]!=0) res[1][101]=a03;
+  if (res[1]!=0) res[1][102]=a03;
+  if (res[1]!=0) res[1][103]=a03;
+  if (res[1]!=0) res[1][104]=a03;
+  if (res[1]!=0) res[1][105]=a03;
+  if (res[1]!=0) res[1][106]=a03;
+  if (res[1]!=0) res[1][107]=a03;
+  if (res[1]!=0) res[1][108]=a03;
+  if (res[1]!=0) res[1][109]=a03;
+  if (res[1]!=0) res[1][110]=a03;
+  if (res[1]!=0) res[1][111]=a03;
+  if (res[1]!=0) res[1][112]=a03;
+  if (res[1]!=0) res[1][113]=a03;
+  if (res[1]!=0) res[1][114]=a03;
+  if (res[1]!=0) res[1][115]=a03;
+  if (res[1]!=0) res[1][116]=a03;
+  if (res[1]!=0) res[1][117]=a03;
+  if (res[1]!=0) res[1][118]=a03;
+  if (res[1]!=0) res[1][119]=a03;
+  if (res[1]!=0) res[1][120]=a03;
+  if (res[1]!=0) res[1][121]=a03;
+  if (res[1]!=0) res[1][122]=a03;
+  if (res[1]!=0) res[1][123]=a03;
+  if (res[1]!=0) res[1][124]=a03;
+  if (res[1]!=0) res[1][125]=a03;
+  if (res[1]!=0) res[1][126]=a03;
+  if (res[1]!=0) res[1][127]=a03;
+  if (res[1]!=0) res[1][128]=a03;
+  if (res[1]!=0) res[1][129]=a03;
+  if (res[1]!=0) res[1][130]=a03;
+  if (res[1]!=0) res[1][131]=a03;
+  if (res[1]!=0) res[1][132]=a03;
+  if (res[1]!=0) res[1][133]=a03;
+  if (res[1]!=0) res[1][134]=a03;
+  if (res[1]!=0) res[1][135]=a03;
+  if (res[1]!=0) res[1][136]=a03;
+  if (res[1]!=0) res[1][137]=a03;
+  if (res[1]!=0) res[1][138]=a03;
+  if (res[1]!=0) res[1][139]=a03;
+  if (res[1]!=0) res[1][140]=a03;
+  if (res[1]!=0) res[1][141]=a03;
+  if (res[1]!=0) res[1][142]=a03;
+  if (res[1]!=0) res[1][143]=a03;
+  if (res[1]!=0) res[1][144]=a03;
+  if (res[1]!=0) res[1][145]=a03;
+  if (res[1]!=0) res[1][146]=a03;
+  if (res[1]!=0) res[1][147]=a03;
+  if (res[1]!=0) res[1][148]=a03;
+  if (res[1]!=0) res[1][149]=a03;
+  if (res[1]!=0) res[1][150]=a03;
+  if (res[1]!=0) res[1][151]=a03;
+  if (res[1]!=0) res[1][152]=a03;
+  if (res[1]!=0) res[1][153]=a03;
+  if (res[1]!=0) res[1][154]=a03;
+  if (res[1]!=0) res[1][155]=a03;
+  if (res[1]!=0) res[1][156]=a03;
+  if (res[1]!=0) res[1][157]=a03;
+  if (res[1]!=0) res[1][158]=a03;
+  if (res[1]!=0) res[1][159]=a03;
+  if (res[1]!=0) res[1][160]=a03;
+  if (res[1]!=0) res[1][161]=a03;
+  if (res[1]!=0) res[1][162]=a03;
+  if (res[1]!=0) res[1][163]=a03;
+  if (res[1]!=0) res[1][164]=a03;
+  if (res[1]!=0) res[1][165]=a03;
+  if (res[1]!=0) res[1][166]=a03;
+  if (res[1]!=0) res[1][167]=a03;
+  if (res[1]!=0) res[1][168]=a03;
+  if (res[1]!=0) res[1][169]=a03;
+  if (res[1]!=0) res[1][170]=a03;
+  if (res[1]!=0) res[1][171]=a03;
+  if (res[1]!=0) res[1][172]=a03;
+  if (res[1]!=0) res[1][173]=a03;
+  if (res[1]!=0) res[1][174]=a03;
+  if (res[1]!=0) res[1][175]=a03;
+  if (res[1]!=0) res[1][176]=a03;
+  if (res[1]!=0) res[1][177]=a03;
+  if (res[1]!=0) res[1][178]=a03;
+  if (res[1]!=0) res[1][179]=a03;
+  if (res[1]!=0) res[1][180]=a03;
+  if (res[1]!=0) res[1][181]=a03;
+  if (res[1]!=0) res[1][182]=a03;
+  if (res[1]!=0) res[1][183]=a03;
+  if (res[1]!=0) res[1][184]=a03;
+  if (res[1]!=0) res[1][185]=a03;
+  if (res[1]!=0) res[1][186]=a03;
+  if (res[1]!=0) res[1][187]=a03;
+  if (res[1]!=0) res[1][188]=a03;
+  if (res[1]!=0) res[1][189]=a03;
+  if (res[1]!=0) res[1][190]=a03;
+  if (res[1]!=0) res[1][191]=a03;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sps_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int sps_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void sps_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void sps_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void sps_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int sps_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int sps_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real sps_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sps_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* sps_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sps_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s0;
+    case 2: return casadi_s1;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* sps_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s5;
+    case 1: return casadi_s6;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int sps_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int sps_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* sps_singularity_factors:(actuated[3],passive[3],params[16])->(factors[4],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34;
@@ -1133,7 +2100,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_singularity_factors_checkout(void) {
@@ -1187,8 +2154,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_singularity_factors_sparsity_in(casad
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s5;
-    case 1: return casadi_s6;
+    case 0: return casadi_s7;
+    case 1: return casadi_s8;
     default: return 0;
   }
 }
@@ -1210,7 +2177,7 @@ CASADI_SYMBOL_EXPORT int sps_singularity_factors_work_bytes(casadi_int *sz_arg, 
 }
 
 /* sps_drawing:(actuated[3],passive[3],params[16])->(base[3x4],platform[3x4]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30;
@@ -1366,7 +2333,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_drawing_checkout(void) {
@@ -1420,8 +2387,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_drawing_sparsity_in(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s7;
-    case 1: return casadi_s7;
+    case 0: return casadi_s9;
+    case 1: return casadi_s9;
     default: return 0;
   }
 }
@@ -1443,7 +2410,7 @@ CASADI_SYMBOL_EXPORT int sps_drawing_work_bytes(casadi_int *sz_arg, casadi_int* 
 }
 
 /* sps_inverse_pose:(pose[12],branch,params[16])->(actuated[3],passive[3],validity[4]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -1618,7 +2585,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_inverse_pose_checkout(void) {
@@ -1664,7 +2631,7 @@ CASADI_SYMBOL_EXPORT const char* sps_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s10;
     case 1: return casadi_s4;
     case 2: return casadi_s1;
     default: return 0;
@@ -1675,7 +2642,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_sparsity_out(casadi_int 
   switch (i) {
     case 0: return casadi_s0;
     case 1: return casadi_s0;
-    case 2: return casadi_s5;
+    case 2: return casadi_s7;
     default: return 0;
   }
 }
@@ -1697,7 +2664,7 @@ CASADI_SYMBOL_EXPORT int sps_inverse_pose_work_bytes(casadi_int *sz_arg, casadi_
 }
 
 /* sps_inverse_pose_patterns:(pose[12],params[16])->(actuated[3x2],passive[3x2],validity[4x2]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25;
@@ -1883,7 +2850,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_inverse_pose_patterns_checkout(void) {
@@ -1928,7 +2895,7 @@ CASADI_SYMBOL_EXPORT const char* sps_inverse_pose_patterns_name_out(casadi_int i
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s8;
+    case 0: return casadi_s10;
     case 1: return casadi_s1;
     default: return 0;
   }
@@ -1936,9 +2903,9 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_patterns_sparsity_in(cas
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_inverse_pose_patterns_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s9;
-    case 2: return casadi_s10;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
+    case 2: return casadi_s12;
     default: return 0;
   }
 }
@@ -1960,7 +2927,7 @@ CASADI_SYMBOL_EXPORT int sps_inverse_pose_patterns_work_bytes(casadi_int *sz_arg
 }
 
 /* sps_forward_polynomial:(actuated[3],params[16])->(coefficients[9]) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -2747,7 +3714,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_forward_polynomial(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_forward_polynomial_checkout(void) {
@@ -2798,7 +3765,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_polynomial_sparsity_in(casadi
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_forward_polynomial_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
+    case 0: return casadi_s13;
     default: return 0;
   }
 }
@@ -2820,7 +3787,7 @@ CASADI_SYMBOL_EXPORT int sps_forward_polynomial_work_bytes(casadi_int *sz_arg, c
 }
 
 /* sps_forward_back_substitution:(actuated[3],root,branch,params[16])->(pose[4x4]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -5952,7 +6919,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int sps_forward_back_substitution(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_forward_back_substitution_checkout(void) {
@@ -6029,7 +6996,7 @@ CASADI_SYMBOL_EXPORT int sps_forward_back_substitution_work_bytes(casadi_int *sz
 }
 
 /* sps_automatic_family:(actuated[3],params[16])->(free[20],angles) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17;
   a00=arg[0]? arg[0][0] : 0;
@@ -6173,7 +7140,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_family_checkout(void) {
@@ -6225,7 +7192,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* sps_automatic_family_sparsity_in(casadi_i
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
+    case 0: return casadi_s14;
     case 1: return casadi_s4;
     default: return 0;
   }
@@ -6248,7 +7215,7 @@ CASADI_SYMBOL_EXPORT int sps_automatic_family_work_bytes(casadi_int *sz_arg, cas
 }
 
 /* sps_automatic_monomials:(family_re[20],family_im[20])->(re[31],im[31]) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -11422,7 +12389,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_monomials_checkout(void) {
@@ -11466,16 +12433,16 @@ CASADI_SYMBOL_EXPORT const char* sps_automatic_monomials_name_out(casadi_int i) 
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s13;
-    case 1: return casadi_s13;
+    case 0: return casadi_s15;
+    case 1: return casadi_s15;
     default: return 0;
   }
 }
@@ -11497,7 +12464,7 @@ CASADI_SYMBOL_EXPORT int sps_automatic_monomials_work_bytes(casadi_int *sz_arg, 
 }
 
 /* sps_automatic_passive:(z[6],params[16])->(passive[3]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1;
   a0=arg[0]? arg[0][1] : 0;
   a1=arg[0]? arg[0][0] : 0;
@@ -11515,7 +12482,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int sps_automatic_passive_checkout(void) {
@@ -11558,7 +12525,7 @@ CASADI_SYMBOL_EXPORT const char* sps_automatic_passive_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* sps_automatic_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s14;
+    case 0: return casadi_s16;
     case 1: return casadi_s1;
     default: return 0;
   }

@@ -5,6 +5,7 @@
 //   loop_closure: 229
 //   loop_closure_actuated: 6
 //   rate_jacobians: 137
+//   parameter_jacobians: 616
 //   singularity_factors: 147
 //   drawing: 112
 //   inverse_pose: 141
@@ -105,6 +106,24 @@ int sps_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi
 #define sps_rate_jacobians_SZ_RES 2
 #define sps_rate_jacobians_SZ_IW 0
 #define sps_rate_jacobians_SZ_W 0
+int sps_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int sps_parameter_jacobians_checkout(void);
+void sps_parameter_jacobians_release(int mem);
+void sps_parameter_jacobians_incref(void);
+void sps_parameter_jacobians_decref(void);
+casadi_int sps_parameter_jacobians_n_in(void);
+casadi_int sps_parameter_jacobians_n_out(void);
+casadi_real sps_parameter_jacobians_default_in(casadi_int i);
+const char* sps_parameter_jacobians_name_in(casadi_int i);
+const char* sps_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* sps_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* sps_parameter_jacobians_sparsity_out(casadi_int i);
+int sps_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int sps_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define sps_parameter_jacobians_SZ_ARG 3
+#define sps_parameter_jacobians_SZ_RES 2
+#define sps_parameter_jacobians_SZ_IW 0
+#define sps_parameter_jacobians_SZ_W 0
 int sps_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int sps_singularity_factors_checkout(void);
 void sps_singularity_factors_release(int mem);

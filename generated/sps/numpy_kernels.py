@@ -5,6 +5,7 @@
 #   loop_closure: 229
 #   loop_closure_actuated: 6
 #   rate_jacobians: 137
+#   parameter_jacobians: 616
 #   singularity_factors: 147
 #   drawing: 112
 #   inverse_pose: 141
@@ -327,6 +328,300 @@ def rate_jacobians(actuated, passive, params):
     return {
         "a": a,
         "b": b,
+    }
+
+
+def parameter_jacobians(actuated, passive, params):
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 616.
+    """
+    shape = numpy.broadcast_shapes(
+        numpy.shape(actuated)[:-1],
+        numpy.shape(passive)[:-1],
+        numpy.shape(params)[:-1],
+    )
+    alpha = passive[..., 0]
+    beta = passive[..., 1]
+    gamma = passive[..., 2]
+    a1x = params[..., 0]
+    a2x = params[..., 1]
+    a2y = params[..., 2]
+    a3x = params[..., 3]
+    a3y = params[..., 4]
+    a3z = params[..., 5]
+    b1 = params[..., 6]
+    b2 = params[..., 7]
+    b3 = params[..., 8]
+    b12 = params[..., 9]
+    b23 = params[..., 10]
+    b13 = params[..., 11]
+    chi = params[..., 12]
+    _t0 = 2 * a1x
+    _t1 = numpy.cos(beta)
+    _t2 = 1 / b1
+    _t3 = b1**2
+    _t4 = b2**2
+    _t5 = _t3 + _t4 - b12**2
+    _t6 = _t2 * _t5
+    _t7 = _t5**2
+    _t8 = 1 / _t3
+    _t9 = _t7 * _t8
+    _t10 = 1 / _t4
+    _t11 = (1 / 4) * _t10
+    _t12 = _t11 * _t9
+    _t13 = 1 - _t12
+    _t14 = numpy.sqrt(_t13)
+    _t15 = numpy.sin(beta)
+    _t16 = numpy.sin(gamma)
+    _t17 = _t15 * _t16
+    _t18 = _t14 * _t17
+    _t19 = 2 * b2
+    _t20 = numpy.sin(alpha)
+    _t21 = _t15 * _t20
+    _t22 = numpy.cos(alpha)
+    _t23 = numpy.cos(gamma)
+    _t24 = _t16 * _t20
+    _t25 = -_t1 * _t24 + _t22 * _t23
+    _t26 = _t14 * _t25
+    _t27 = b1 ** (-3)
+    _t28 = (1 / 2) * _t27
+    _t29 = _t28 * _t7
+    _t30 = _t10 * _t6
+    _t31 = -1 / 2 * _t10 * _t27 * _t7 + _t30
+    _t32 = _t5 * _t8
+    _t33 = (1 / 2) * _t1
+    _t34 = (1 / 2) * _t30
+    _t35 = -1 / 4 * _t10 * _t27 * _t7 + _t34
+    _t36 = -_t35
+    _t37 = 1 / _t14
+    _t38 = _t17 * _t37
+    _t39 = _t38 * b2
+    _t40 = 2 * a2x
+    _t41 = (1 / 2) * _t21
+    _t42 = _t25 * _t37
+    _t43 = _t42 * b2
+    _t44 = 2 * a2y
+    _t45 = 1 / b2
+    _t46 = _t32 * _t45
+    _t47 = b2 ** (-3)
+    _t48 = _t46 - 1 / 2 * _t47 * _t7 * _t8
+    _t49 = _t1 * _t2
+    _t50 = (1 / 2) * _t46
+    _t51 = -1 / 4 * _t47 * _t7 * _t8 + _t50
+    _t52 = -_t51
+    _t53 = _t2 * _t21
+    _t54 = b3**2
+    _t55 = _t3 + _t54 - b13**2
+    _t56 = _t2 * _t55
+    _t57 = _t4 + _t54 - b23**2
+    _t58 = _t45 * _t57
+    _t59 = 1 / b3
+    _t60 = (1 / 2) * _t59
+    _t61 = _t55 * _t59
+    _t62 = -1 / 4 * _t46 * _t61 + _t58 * _t60
+    _t63 = _t37 * _t62
+    _t64 = _t17 * _t63
+    _t65 = 2 * b3
+    _t66 = _t55**2
+    _t67 = _t66 * _t8
+    _t68 = 1 / _t54
+    _t69 = (1 / 4) * _t68
+    _t70 = _t57**2
+    _t71 = _t68 * _t70
+    _t72 = (1 / 4) * _t10 * _t5 * _t55 * _t57 * _t68 * _t8 - _t11 * _t71 - _t12 - _t67 * _t69 + 1
+    _t73 = numpy.fmax(0, _t72)
+    _t74 = numpy.sqrt(_t73)
+    _t75 = _t74 * chi
+    _t76 = _t37 * _t75
+    _t77 = _t15 * _t23
+    _t78 = _t76 * _t77
+    _t79 = _t25 * _t63
+    _t80 = _t16 * _t22
+    _t81 = _t20 * _t23
+    _t82 = -_t1 * _t81 - _t80
+    _t83 = _t76 * _t82
+    _t84 = 2 * a3z
+    _t85 = _t15 * _t22
+    _t86 = _t1 * _t80 + _t81
+    _t87 = _t63 * _t86
+    _t88 = _t1 * _t22 * _t23 - _t24
+    _t89 = _t76 * _t88
+    _t90 = _t28 * _t66
+    _t91 = _t62**2
+    _t92 = _t54 / _t13**2
+    _t93 = _t91 * _t92
+    _t94 = _t45 * _t59
+    _t95 = 1 / _t13
+    _t96 = _t54 * _t95
+    _t97 = _t62 * _t96
+    _t98 = chi**2
+    _t99 = _t73 * _t98
+    _t100 = _t92 * _t99
+    _t101 = (1 / 2) * numpy.sign(_t72) + 1 / 2
+    _t102 = _t56 * _t68
+    _t103 = _t57 * _t68
+    _t104 = _t10 * _t57
+    _t105 = _t104 * _t68
+    _t106 = _t101 * (
+        _t10 * _t29
+        + (1 / 2) * _t102 * _t104
+        - _t102
+        + _t103 * _t34
+        - _t105 * _t28 * _t5 * _t55
+        - _t30
+        + _t68 * _t90
+    )
+    _t107 = _t96 * _t98
+    _t108 = _t55 * _t8
+    _t109 = _t45 * _t60
+    _t110 = b3 * (-_t109 * _t56 - _t109 * _t6 + (1 / 2) * _t27 * _t45 * _t5 * _t55 * _t59)
+    _t111 = b3 / _t13 ** (3 / 2)
+    _t112 = _t111 * _t62
+    _t113 = _t112 * _t35
+    _t114 = _t111 * _t75
+    _t115 = _t114 * _t35
+    _t116 = _t37 * b3
+    _t117 = _t116 * chi / _t74
+    _t118 = _t106 * _t117
+    _t119 = (1 / 2) * _t77
+    _t120 = 2 * a3x
+    _t121 = (1 / 2) * _t108
+    _t122 = _t37 * _t86
+    _t123 = (1 / 2) * _t88
+    _t124 = (1 / 2) * _t82
+    _t125 = 2 * a3y
+    _t126 = _t108 * _t59
+    _t127 = _t104 * _t59
+    _t128 = _t10 * _t32
+    _t129 = -_t126 - _t127 + _t128 * _t55 * _t60
+    _t130 = (1 / 2) * _t47
+    _t131 = _t58 * _t68
+    _t132 = (1 / 2) * _t131
+    _t133 = _t55 * _t68
+    _t134 = -_t131 + _t133 * _t50 - _t46
+    _t135 = (
+        -_t103 * _t130 * _t32 * _t55 + _t108 * _t132 + _t130 * _t71 + _t134 + (1 / 2) * _t47 * _t9
+    )
+    _t136 = _t101 * _t107
+    _t137 = (1 / 2) * _t127
+    _t138 = b3 * (_t11 * _t32 * _t61 - 1 / 2 * _t126 - _t137 + _t59)
+    _t139 = _t112 * _t51
+    _t140 = _t114 * _t51
+    _t141 = _t101 * _t117
+    _t142 = _t135 * _t141
+    _t143 = _t65 * _t95
+    _t144 = 2 * _t45
+    _t145 = (1 / 2) / b3**3
+    _t146 = _t10 * _t145 * _t70 - _t104 * _t145 * _t32 * _t55 + _t129 + _t137 * _t32 + _t145 * _t67
+    _t147 = b3 * (-_t132 + _t45 + _t46 * _t55 * _t69 - _t50)
+    _t148 = _t141 * _t146
+    _t149 = _t2 * _t85
+    _t150 = _t128 * b12
+    _t151 = _t121 * b12
+    _t152 = -_t105 * _t151 + _t150
+    _t153 = _t151 * _t45
+    _t154 = (1 / 2) * _t112 * _t150
+    _t155 = _t114 * _t150
+    _t156 = _t141 * _t152
+    _t157 = _t105 * b23 - 1 / 2 * _t128 * _t133 * b23
+    _t158 = _t45 * b23
+    _t159 = _t141 * _t157
+    _t160 = _t108 * b13
+    _t161 = -1 / 2 * _t105 * _t32 * b13 + _t160 * _t68
+    _t162 = _t50 * b13
+    _t163 = _t141 * _t161
+    _t164 = _t116 * _t74
+    closure_parameters = numpy.zeros(shape + (3, 16))
+    closure_parameters[..., 0, 0] = _t0 - 2 * _t1 * b1
+    closure_parameters[..., 0, 6] = -_t0 * _t1 + 2 * b1
+    closure_parameters[..., 1, 1] = -_t1 * _t6 - _t18 * _t19 + 2 * a2x
+    closure_parameters[..., 1, 2] = -_t19 * _t26 - _t21 * _t6 + 2 * a2y
+    closure_parameters[..., 1, 6] = (
+        _t2 * _t5
+        - _t29
+        - _t31 * _t4
+        - _t40 * (_t1 - _t32 * _t33 + _t36 * _t39)
+        - _t44 * (_t21 - _t32 * _t41 + _t36 * _t43)
+    )
+    closure_parameters[..., 1, 7] = (
+        _t13 * _t19
+        + _t32 * b2
+        - _t4 * _t48
+        - _t40 * (_t18 + _t39 * _t52 + _t49 * b2)
+        - _t44 * (_t26 + _t43 * _t52 + _t53 * b2)
+    )
+    closure_parameters[..., 1, 9] = -_t40 * (
+        (1 / 2) * _t15 * _t16 * _t37 * _t45 * _t5 * _t8 * b12 - _t49 * b12
+    ) - _t44 * ((1 / 2) * _t25 * _t37 * _t45 * _t5 * _t8 * b12 - _t53 * b12)
+    closure_parameters[..., 2, 3] = -_t1 * _t56 - _t64 * _t65 - _t65 * _t78 + 2 * a3x
+    closure_parameters[..., 2, 4] = -_t21 * _t56 - _t65 * _t79 - _t65 * _t83 + 2 * a3y
+    closure_parameters[..., 2, 5] = _t56 * _t85 - _t65 * _t87 - _t65 * _t89 + _t84
+    closure_parameters[..., 2, 6] = (
+        _t100 * _t31
+        + _t106 * _t107
+        - _t120 * (_t1 - _t108 * _t33 + _t110 * _t38 + _t113 * _t17 + _t115 * _t77 + _t118 * _t119)
+        - _t125
+        * (-_t108 * _t41 + _t110 * _t42 + _t113 * _t25 + _t115 * _t82 + _t118 * _t124 + _t21)
+        + _t31 * _t93
+        + _t56
+        - _t84 * (_t110 * _t122 + _t113 * _t86 + _t115 * _t88 + _t118 * _t123 + _t121 * _t85 - _t85)
+        - _t90
+        + _t97 * (_t27 * _t45 * _t5 * _t55 * _t59 - _t56 * _t94 - _t6 * _t94)
+    )
+    closure_parameters[..., 2, 7] = (
+        _t100 * _t48
+        - _t120 * (_t119 * _t142 + _t138 * _t38 + _t139 * _t17 + _t140 * _t77)
+        - _t125 * (_t124 * _t142 + _t138 * _t42 + _t139 * _t25 + _t140 * _t82)
+        + _t135 * _t136
+        + _t48 * _t93
+        - _t84 * (_t122 * _t138 + _t123 * _t142 + _t139 * _t86 + _t140 * _t88)
+        + _t97 * (_t129 + 2 * _t59)
+    )
+    closure_parameters[..., 2, 8] = (
+        _t108 * b3
+        - _t120 * (_t119 * _t148 + _t147 * _t38 + _t49 * b3 + _t64 + _t78)
+        - _t125 * (_t124 * _t148 + _t147 * _t42 + _t53 * b3 + _t79 + _t83)
+        + _t136 * _t146
+        + _t143 * _t91
+        + _t143 * _t99
+        - _t84 * (_t122 * _t147 + _t123 * _t148 - _t149 * b3 + _t87 + _t89)
+        + _t97 * (_t134 + _t144)
+    )
+    closure_parameters[..., 2, 9] = (
+        -_t100 * _t150
+        + _t101 * _t152 * _t54 * _t95 * _t98
+        - _t120 * (-_t119 * _t155 + _t119 * _t156 + _t153 * _t38 - _t154 * _t17)
+        - _t125 * (_t121 * _t42 * _t45 * b12 - _t124 * _t155 + _t124 * _t156 - _t154 * _t25)
+        - _t150 * _t93
+        + _t45 * _t55 * _t62 * _t8 * _t95 * b12 * b3
+        - _t84 * (_t122 * _t153 - _t123 * _t155 + _t123 * _t156 - _t154 * _t86)
+    )
+    closure_parameters[..., 2, 10] = (
+        _t101 * _t157 * _t54 * _t95 * _t98
+        - _t120 * (_t119 * _t159 - _t158 * _t38)
+        - _t125 * (_t124 * _t159 - _t158 * _t42)
+        - _t144 * _t62 * _t95 * b23 * b3
+        - _t84 * (-_t122 * _t158 + _t123 * _t159)
+    )
+    closure_parameters[..., 2, 11] = (
+        _t101 * _t161 * _t54 * _t95 * _t98
+        - _t120 * (_t119 * _t163 + _t162 * _t38 - _t49 * b13)
+        - _t125 * (_t124 * _t163 + _t162 * _t42 - _t53 * b13)
+        - _t160
+        + _t45 * _t5 * _t62 * _t8 * _t95 * b13 * b3
+        - _t84 * (_t122 * _t162 + _t123 * _t163 + _t149 * b13)
+    )
+    closure_parameters[..., 2, 12] = (
+        -_t120 * _t164 * _t77
+        - _t125 * _t164 * _t82
+        - _t164 * _t84 * _t88
+        + 2 * _t54 * _t73 * _t95 * chi
+    )
+    pose_parameters = numpy.zeros(shape + (12, 16))
+    return {
+        "closure_parameters": closure_parameters,
+        "pose_parameters": pose_parameters,
     }
 
 
@@ -5186,6 +5481,7 @@ KERNELS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

@@ -5,6 +5,7 @@
 //   loop_closure: 229
 //   loop_closure_actuated: 6
 //   rate_jacobians: 137
+//   parameter_jacobians: 616
 //   singularity_factors: 147
 //   drawing: 112
 //   inverse_pose: 141
@@ -247,6 +248,10 @@ int sps_loop_closure_actuated_batch(long long n, const double** inputs, const lo
 //   inputs: actuated[3], passive[3], params[16]
 //   outputs: a[3 x 3], b[3 x 3]
 int sps_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[3], passive[3], params[16]
+//   outputs: closure_parameters[3 x 16], pose_parameters[12 x 16]
+int sps_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[3], passive[3], params[16]
 //   outputs: factors[4], determinants[2]

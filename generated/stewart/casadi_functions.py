@@ -5,6 +5,7 @@
 #   loop_closure: 1350
 #   loop_closure_actuated: 248
 #   rate_jacobians: 257
+#   parameter_jacobians: 486
 #   singularity_factors: 689
 #   drawing: 155
 #   inverse_pose: 485
@@ -1067,6 +1068,247 @@ def rate_jacobians() -> casadi.Function:
         [
             "a",
             "b",
+        ],
+    )
+
+
+def parameter_jacobians() -> casadi.Function:
+    """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+
+    Operations: 486.
+    """
+    actuated = casadi.SX.sym("actuated", 6)
+    passive = casadi.SX.sym("passive", 7)
+    params = casadi.SX.sym("params", 36)
+    l1 = actuated[0]
+    l2 = actuated[1]
+    l3 = actuated[2]
+    l4 = actuated[3]
+    l5 = actuated[4]
+    l6 = actuated[5]
+    x = passive[0]
+    y = passive[1]
+    z = passive[2]
+    q0 = passive[3]
+    q1 = passive[4]
+    q2 = passive[5]
+    q3 = passive[6]
+    base_x1 = params[0]
+    base_y1 = params[1]
+    base_z1 = params[2]
+    base_x2 = params[3]
+    base_y2 = params[4]
+    base_z2 = params[5]
+    base_x3 = params[6]
+    base_y3 = params[7]
+    base_z3 = params[8]
+    base_x4 = params[9]
+    base_y4 = params[10]
+    base_z4 = params[11]
+    base_x5 = params[12]
+    base_y5 = params[13]
+    base_z5 = params[14]
+    base_x6 = params[15]
+    base_y6 = params[16]
+    base_z6 = params[17]
+    platform_x1 = params[18]
+    platform_y1 = params[19]
+    platform_z1 = params[20]
+    platform_x2 = params[21]
+    platform_y2 = params[22]
+    platform_z2 = params[23]
+    platform_x3 = params[24]
+    platform_y3 = params[25]
+    platform_z3 = params[26]
+    platform_x4 = params[27]
+    platform_y4 = params[28]
+    platform_z4 = params[29]
+    platform_x5 = params[30]
+    platform_y5 = params[31]
+    platform_z5 = params[32]
+    platform_x6 = params[33]
+    platform_y6 = params[34]
+    platform_z6 = params[35]
+    _t0 = 2 * x
+    _t1 = 2 * q0
+    _t2 = _t1 * q3
+    _t3 = -_t2 + 2 * q1 * q2
+    _t4 = q2**2
+    _t5 = q3**2
+    _t6 = q0**2
+    _t7 = q1**2
+    _t8 = _t6 + _t7
+    _t9 = 1 / (_t4 + _t5 + _t8)
+    _t10 = _t9 * platform_y1
+    _t11 = _t10 * _t3
+    _t12 = _t1 * q2
+    _t13 = 2 * q1
+    _t14 = _t12 + _t13 * q3
+    _t15 = _t9 * platform_z1
+    _t16 = _t14 * _t15
+    _t17 = -_t4
+    _t18 = -_t5
+    _t19 = _t17 + _t18 + _t8
+    _t20 = _t9 * platform_x1
+    _t21 = _t19 * _t20
+    _t22 = (1 / 2) / l1
+    _t23 = 2 * y
+    _t24 = _t13 * q2 + _t2
+    _t25 = _t20 * _t24
+    _t26 = _t1 * q1
+    _t27 = -_t26 + 2 * q2 * q3
+    _t28 = _t15 * _t27
+    _t29 = _t6 - _t7
+    _t30 = _t18 + _t29 + _t4
+    _t31 = _t10 * _t30
+    _t32 = 2 * z
+    _t33 = -_t12 + 2 * q1 * q3
+    _t34 = _t20 * _t33
+    _t35 = _t26 + 2 * q2 * q3
+    _t36 = _t10 * _t35
+    _t37 = _t17 + _t29 + _t5
+    _t38 = _t15 * _t37
+    _t39 = 2 * _t9
+    _t40 = _t39 * (_t34 + _t36 + _t38 - base_z1 + z)
+    _t41 = _t39 * (_t25 + _t28 + _t31 - base_y1 + y)
+    _t42 = _t39 * (_t11 + _t16 + _t21 - base_x1 + x)
+    _t43 = _t9 * platform_y2
+    _t44 = _t3 * _t43
+    _t45 = _t9 * platform_z2
+    _t46 = _t14 * _t45
+    _t47 = _t9 * platform_x2
+    _t48 = _t19 * _t47
+    _t49 = (1 / 2) / l2
+    _t50 = _t24 * _t47
+    _t51 = _t27 * _t45
+    _t52 = _t30 * _t43
+    _t53 = _t33 * _t47
+    _t54 = _t35 * _t43
+    _t55 = _t37 * _t45
+    _t56 = _t39 * (_t53 + _t54 + _t55 - base_z2 + z)
+    _t57 = _t39 * (_t50 + _t51 + _t52 - base_y2 + y)
+    _t58 = _t39 * (_t44 + _t46 + _t48 - base_x2 + x)
+    _t59 = _t9 * platform_y3
+    _t60 = _t3 * _t59
+    _t61 = _t9 * platform_z3
+    _t62 = _t14 * _t61
+    _t63 = _t9 * platform_x3
+    _t64 = _t19 * _t63
+    _t65 = (1 / 2) / l3
+    _t66 = _t24 * _t63
+    _t67 = _t27 * _t61
+    _t68 = _t30 * _t59
+    _t69 = _t33 * _t63
+    _t70 = _t35 * _t59
+    _t71 = _t37 * _t61
+    _t72 = _t39 * (_t69 + _t70 + _t71 - base_z3 + z)
+    _t73 = _t39 * (_t66 + _t67 + _t68 - base_y3 + y)
+    _t74 = _t39 * (_t60 + _t62 + _t64 - base_x3 + x)
+    _t75 = _t9 * platform_y4
+    _t76 = _t3 * _t75
+    _t77 = _t9 * platform_z4
+    _t78 = _t14 * _t77
+    _t79 = _t9 * platform_x4
+    _t80 = _t19 * _t79
+    _t81 = (1 / 2) / l4
+    _t82 = _t24 * _t79
+    _t83 = _t27 * _t77
+    _t84 = _t30 * _t75
+    _t85 = _t33 * _t79
+    _t86 = _t35 * _t75
+    _t87 = _t37 * _t77
+    _t88 = _t39 * (_t85 + _t86 + _t87 - base_z4 + z)
+    _t89 = _t39 * (_t82 + _t83 + _t84 - base_y4 + y)
+    _t90 = _t39 * (_t76 + _t78 + _t80 - base_x4 + x)
+    _t91 = _t9 * platform_y5
+    _t92 = _t3 * _t91
+    _t93 = _t9 * platform_z5
+    _t94 = _t14 * _t93
+    _t95 = _t9 * platform_x5
+    _t96 = _t19 * _t95
+    _t97 = (1 / 2) / l5
+    _t98 = _t24 * _t95
+    _t99 = _t27 * _t93
+    _t100 = _t30 * _t91
+    _t101 = _t33 * _t95
+    _t102 = _t35 * _t91
+    _t103 = _t37 * _t93
+    _t104 = _t39 * (_t101 + _t102 + _t103 - base_z5 + z)
+    _t105 = _t39 * (_t100 + _t98 + _t99 - base_y5 + y)
+    _t106 = _t39 * (_t92 + _t94 + _t96 - base_x5 + x)
+    _t107 = _t9 * platform_y6
+    _t108 = _t107 * _t3
+    _t109 = _t9 * platform_z6
+    _t110 = _t109 * _t14
+    _t111 = _t9 * platform_x6
+    _t112 = _t111 * _t19
+    _t113 = (1 / 2) / l6
+    _t114 = _t111 * _t24
+    _t115 = _t109 * _t27
+    _t116 = _t107 * _t30
+    _t117 = _t111 * _t33
+    _t118 = _t107 * _t35
+    _t119 = _t109 * _t37
+    _t120 = _t39 * (_t117 + _t118 + _t119 - base_z6 + z)
+    _t121 = _t39 * (_t114 + _t115 + _t116 - base_y6 + y)
+    _t122 = _t39 * (_t108 + _t110 + _t112 - base_x6 + x)
+    closure_parameters = casadi.SX.zeros(7, 36)
+    closure_parameters[0, 0] = _t22 * (-_t0 - 2 * _t11 - 2 * _t16 - 2 * _t21 + 2 * base_x1)
+    closure_parameters[0, 1] = _t22 * (-_t23 - 2 * _t25 - 2 * _t28 - 2 * _t31 + 2 * base_y1)
+    closure_parameters[0, 2] = _t22 * (-_t32 - 2 * _t34 - 2 * _t36 - 2 * _t38 + 2 * base_z1)
+    closure_parameters[0, 18] = _t22 * (_t19 * _t42 + _t24 * _t41 + _t33 * _t40)
+    closure_parameters[0, 19] = _t22 * (_t3 * _t42 + _t30 * _t41 + _t35 * _t40)
+    closure_parameters[0, 20] = _t22 * (_t14 * _t42 + _t27 * _t41 + _t37 * _t40)
+    closure_parameters[1, 3] = _t49 * (-_t0 - 2 * _t44 - 2 * _t46 - 2 * _t48 + 2 * base_x2)
+    closure_parameters[1, 4] = _t49 * (-_t23 - 2 * _t50 - 2 * _t51 - 2 * _t52 + 2 * base_y2)
+    closure_parameters[1, 5] = _t49 * (-_t32 - 2 * _t53 - 2 * _t54 - 2 * _t55 + 2 * base_z2)
+    closure_parameters[1, 21] = _t49 * (_t19 * _t58 + _t24 * _t57 + _t33 * _t56)
+    closure_parameters[1, 22] = _t49 * (_t3 * _t58 + _t30 * _t57 + _t35 * _t56)
+    closure_parameters[1, 23] = _t49 * (_t14 * _t58 + _t27 * _t57 + _t37 * _t56)
+    closure_parameters[2, 6] = _t65 * (-_t0 - 2 * _t60 - 2 * _t62 - 2 * _t64 + 2 * base_x3)
+    closure_parameters[2, 7] = _t65 * (-_t23 - 2 * _t66 - 2 * _t67 - 2 * _t68 + 2 * base_y3)
+    closure_parameters[2, 8] = _t65 * (-_t32 - 2 * _t69 - 2 * _t70 - 2 * _t71 + 2 * base_z3)
+    closure_parameters[2, 24] = _t65 * (_t19 * _t74 + _t24 * _t73 + _t33 * _t72)
+    closure_parameters[2, 25] = _t65 * (_t3 * _t74 + _t30 * _t73 + _t35 * _t72)
+    closure_parameters[2, 26] = _t65 * (_t14 * _t74 + _t27 * _t73 + _t37 * _t72)
+    closure_parameters[3, 9] = _t81 * (-_t0 - 2 * _t76 - 2 * _t78 - 2 * _t80 + 2 * base_x4)
+    closure_parameters[3, 10] = _t81 * (-_t23 - 2 * _t82 - 2 * _t83 - 2 * _t84 + 2 * base_y4)
+    closure_parameters[3, 11] = _t81 * (-_t32 - 2 * _t85 - 2 * _t86 - 2 * _t87 + 2 * base_z4)
+    closure_parameters[3, 27] = _t81 * (_t19 * _t90 + _t24 * _t89 + _t33 * _t88)
+    closure_parameters[3, 28] = _t81 * (_t3 * _t90 + _t30 * _t89 + _t35 * _t88)
+    closure_parameters[3, 29] = _t81 * (_t14 * _t90 + _t27 * _t89 + _t37 * _t88)
+    closure_parameters[4, 12] = _t97 * (-_t0 - 2 * _t92 - 2 * _t94 - 2 * _t96 + 2 * base_x5)
+    closure_parameters[4, 13] = _t97 * (-2 * _t100 - _t23 - 2 * _t98 - 2 * _t99 + 2 * base_y5)
+    closure_parameters[4, 14] = _t97 * (-2 * _t101 - 2 * _t102 - 2 * _t103 - _t32 + 2 * base_z5)
+    closure_parameters[4, 30] = _t97 * (_t104 * _t33 + _t105 * _t24 + _t106 * _t19)
+    closure_parameters[4, 31] = _t97 * (_t104 * _t35 + _t105 * _t30 + _t106 * _t3)
+    closure_parameters[4, 32] = _t97 * (_t104 * _t37 + _t105 * _t27 + _t106 * _t14)
+    closure_parameters[5, 15] = _t113 * (-_t0 - 2 * _t108 - 2 * _t110 - 2 * _t112 + 2 * base_x6)
+    closure_parameters[5, 16] = _t113 * (-2 * _t114 - 2 * _t115 - 2 * _t116 - _t23 + 2 * base_y6)
+    closure_parameters[5, 17] = _t113 * (-2 * _t117 - 2 * _t118 - 2 * _t119 - _t32 + 2 * base_z6)
+    closure_parameters[5, 33] = _t113 * (_t120 * _t33 + _t121 * _t24 + _t122 * _t19)
+    closure_parameters[5, 34] = _t113 * (_t120 * _t35 + _t121 * _t30 + _t122 * _t3)
+    closure_parameters[5, 35] = _t113 * (_t120 * _t37 + _t121 * _t27 + _t122 * _t14)
+    pose_parameters = casadi.SX.zeros(12, 36)
+    return casadi.Function(
+        "stewart_parameter_jacobians",
+        [
+            actuated,
+            passive,
+            params,
+        ],
+        [
+            closure_parameters,
+            pose_parameters,
+        ],
+        [
+            "actuated",
+            "passive",
+            "params",
+        ],
+        [
+            "closure_parameters",
+            "pose_parameters",
         ],
     )
 
@@ -4816,6 +5058,7 @@ BUILDERS = {
     "loop_closure": loop_closure,
     "loop_closure_actuated": loop_closure_actuated,
     "rate_jacobians": rate_jacobians,
+    "parameter_jacobians": parameter_jacobians,
     "singularity_factors": singularity_factors,
     "drawing": drawing,
     "inverse_pose": inverse_pose,

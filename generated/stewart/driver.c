@@ -5,6 +5,7 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
+//   parameter_jacobians: 486
 //   singularity_factors: 689
 //   drawing: 155
 //   inverse_pose: 485
@@ -123,6 +124,30 @@ int stewart_rate_jacobians_batch(long long n, const double** inputs, const long 
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 outputs[1][i * 36 + r * 6 + c] = out_b[c * 6 + r];
+    }
+    return 0;
+}
+
+int stewart_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
+    const casadi_real* arg[3];
+    casadi_real* res[2];
+    casadi_int iw[0 + 1];
+    casadi_real w[95 + 1];
+    casadi_real out_closure_parameters[252 + 1];
+    casadi_real out_pose_parameters[432 + 1];
+    for (long long i = 0; i < n; ++i) {
+        arg[0] = inputs[0] + i * strides[0];
+        arg[1] = inputs[1] + i * strides[1];
+        arg[2] = inputs[2] + i * strides[2];
+        res[0] = out_closure_parameters;
+        res[1] = out_pose_parameters;
+        if (stewart_parameter_jacobians(arg, res, iw, w, 0)) return 1;
+        for (int r = 0; r < 7; ++r)
+            for (int c = 0; c < 36; ++c)
+                outputs[0][i * 252 + r * 36 + c] = out_closure_parameters[c * 7 + r];
+        for (int r = 0; r < 12; ++r)
+            for (int c = 0; c < 36; ++c)
+                outputs[1][i * 432 + r * 36 + c] = out_pose_parameters[c * 12 + r];
     }
     return 0;
 }

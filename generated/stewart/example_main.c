@@ -5,6 +5,7 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
+//   parameter_jacobians: 486
 //   singularity_factors: 689
 //   drawing: 155
 //   inverse_pose: 485

@@ -5,6 +5,7 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
+//   parameter_jacobians: 486
 //   singularity_factors: 689
 //   drawing: 155
 //   inverse_pose: 485
@@ -56,6 +57,7 @@ extern "C" {
 #define casadi_f11 CASADI_PREFIX(f11)
 #define casadi_f12 CASADI_PREFIX(f12)
 #define casadi_f13 CASADI_PREFIX(f13)
+#define casadi_f14 CASADI_PREFIX(f14)
 #define casadi_f2 CASADI_PREFIX(f2)
 #define casadi_f3 CASADI_PREFIX(f3)
 #define casadi_f4 CASADI_PREFIX(f4)
@@ -73,6 +75,8 @@ extern "C" {
 #define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s14 CASADI_PREFIX(s14)
 #define casadi_s15 CASADI_PREFIX(s15)
+#define casadi_s16 CASADI_PREFIX(s16)
+#define casadi_s17 CASADI_PREFIX(s17)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -129,14 +133,16 @@ static const casadi_int casadi_s4[3] = {7, 7, 1};
 static const casadi_int casadi_s5[3] = {1, 1, 1};
 static const casadi_int casadi_s6[3] = {7, 6, 1};
 static const casadi_int casadi_s7[3] = {6, 6, 1};
-static const casadi_int casadi_s8[3] = {2, 1, 1};
-static const casadi_int casadi_s9[3] = {3, 6, 1};
-static const casadi_int casadi_s10[3] = {12, 1, 1};
-static const casadi_int casadi_s11[3] = {0, 1, 1};
-static const casadi_int casadi_s12[3] = {42, 1, 1};
-static const casadi_int casadi_s13[3] = {165, 1, 1};
-static const casadi_int casadi_s14[3] = {8, 1, 1};
-static const casadi_int casadi_s15[3] = {311, 1, 1};
+static const casadi_int casadi_s8[3] = {7, 36, 1};
+static const casadi_int casadi_s9[3] = {12, 36, 1};
+static const casadi_int casadi_s10[3] = {2, 1, 1};
+static const casadi_int casadi_s11[3] = {3, 6, 1};
+static const casadi_int casadi_s12[3] = {12, 1, 1};
+static const casadi_int casadi_s13[3] = {0, 1, 1};
+static const casadi_int casadi_s14[3] = {42, 1, 1};
+static const casadi_int casadi_s15[3] = {165, 1, 1};
+static const casadi_int casadi_s16[3] = {8, 1, 1};
+static const casadi_int casadi_s17[3] = {311, 1, 1};
 
 /* stewart_platform_pose:(actuated[6],passive[7],params[36])->(pose[4x4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -2682,8 +2688,1312 @@ CASADI_SYMBOL_EXPORT int stewart_rate_jacobians_work_bytes(casadi_int *sz_arg, c
   return 0;
 }
 
-/* stewart_singularity_factors:(actuated[6],passive[7],params[36])->(factors[7],determinants[2]) */
+/* stewart_parameter_jacobians:(actuated[6],passive[7],params[36])->(closure_parameters[7x36],pose_parameters[12x36]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
+  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
+  casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
+  casadi_real a36, a37, a38, a39, a40, a41, a42, a43, a44, a45, a46, a47;
+  casadi_real a48, a49, a50, a51, a52, a53, a54, a55, a56, a57, a58, a59;
+  casadi_real a60, a61, a62, a63, a64, a65, a66, a67, a68, a69, a70, a71;
+  casadi_real a72, a73, a74, a75, a76, a77, a78, a79, a80, a81, a82, a83;
+  casadi_real a84, a85, a86, a87, a88, a89, a90, a91, a92, a93, a94;
+  a00=5.0000000000000000e-01;
+  a01=arg[0]? arg[0][0] : 0;
+  a01=(a00/a01);
+  a02=arg[2]? arg[2][0] : 0;
+  a03=(2.*a02);
+  a04=arg[1]? arg[1][0] : 0;
+  a05=(2.*a04);
+  a06=arg[2]? arg[2][19] : 0;
+  a07=arg[1]? arg[1][5] : 0;
+  a08=casadi_sq(a07);
+  a09=arg[1]? arg[1][6] : 0;
+  a10=casadi_sq(a09);
+  a11=(a08+a10);
+  a12=arg[1]? arg[1][3] : 0;
+  a13=casadi_sq(a12);
+  a14=arg[1]? arg[1][4] : 0;
+  a15=casadi_sq(a14);
+  a16=(a13+a15);
+  a11=(a11+a16);
+  a06=(a06/a11);
+  a17=(2.*a14);
+  a17=(a17*a07);
+  a12=(2.*a12);
+  a18=(a12*a09);
+  a17=(a17-a18);
+  a19=(a06*a17);
+  a20=(2.*a19);
+  a20=(a05+a20);
+  a21=(a12*a07);
+  a22=(2.*a14);
+  a23=(a22*a09);
+  a23=(a21+a23);
+  a24=arg[2]? arg[2][20] : 0;
+  a24=(a24/a11);
+  a25=(a23*a24);
+  a26=(2.*a25);
+  a20=(a20+a26);
+  a26=(a08+a10);
+  a16=(a16-a26);
+  a26=arg[2]? arg[2][18] : 0;
+  a26=(a26/a11);
+  a27=(a16*a26);
+  a28=(2.*a27);
+  a20=(a20+a28);
+  a03=(a03-a20);
+  a03=(a01*a03);
+  if (res[0]!=0) res[0][0]=a03;
+  a03=0.;
+  if (res[0]!=0) res[0][1]=a03;
+  if (res[0]!=0) res[0][2]=a03;
+  if (res[0]!=0) res[0][3]=a03;
+  if (res[0]!=0) res[0][4]=a03;
+  if (res[0]!=0) res[0][5]=a03;
+  if (res[0]!=0) res[0][6]=a03;
+  a20=arg[2]? arg[2][1] : 0;
+  a28=(2.*a20);
+  a29=arg[1]? arg[1][1] : 0;
+  a30=(2.*a29);
+  a22=(a22*a07);
+  a22=(a22+a18);
+  a18=(a26*a22);
+  a31=(2.*a18);
+  a31=(a30+a31);
+  a32=(2.*a07);
+  a32=(a32*a09);
+  a12=(a12*a14);
+  a32=(a32-a12);
+  a33=(a24*a32);
+  a34=(2.*a33);
+  a31=(a31+a34);
+  a13=(a13-a15);
+  a15=(a13-a10);
+  a15=(a15+a08);
+  a34=(a06*a15);
+  a35=(2.*a34);
+  a31=(a31+a35);
+  a28=(a28-a31);
+  a28=(a01*a28);
+  if (res[0]!=0) res[0][7]=a28;
+  if (res[0]!=0) res[0][8]=a03;
+  if (res[0]!=0) res[0][9]=a03;
+  if (res[0]!=0) res[0][10]=a03;
+  if (res[0]!=0) res[0][11]=a03;
+  if (res[0]!=0) res[0][12]=a03;
+  if (res[0]!=0) res[0][13]=a03;
+  a28=arg[2]? arg[2][2] : 0;
+  a31=(2.*a28);
+  a35=arg[1]? arg[1][2] : 0;
+  a36=(2.*a35);
+  a14=(2.*a14);
+  a14=(a14*a09);
+  a14=(a14-a21);
+  a26=(a26*a14);
+  a21=(2.*a26);
+  a21=(a36+a21);
+  a07=(2.*a07);
+  a07=(a07*a09);
+  a12=(a12+a07);
+  a06=(a06*a12);
+  a07=(2.*a06);
+  a21=(a21+a07);
+  a13=(a13-a08);
+  a13=(a13+a10);
+  a24=(a24*a13);
+  a10=(2.*a24);
+  a21=(a21+a10);
+  a31=(a31-a21);
+  a31=(a01*a31);
+  if (res[0]!=0) res[0][14]=a31;
+  if (res[0]!=0) res[0][15]=a03;
+  if (res[0]!=0) res[0][16]=a03;
+  if (res[0]!=0) res[0][17]=a03;
+  if (res[0]!=0) res[0][18]=a03;
+  if (res[0]!=0) res[0][19]=a03;
+  if (res[0]!=0) res[0][20]=a03;
+  if (res[0]!=0) res[0][21]=a03;
+  a31=arg[0]? arg[0][1] : 0;
+  a31=(a00/a31);
+  a21=arg[2]? arg[2][3] : 0;
+  a10=(2.*a21);
+  a08=arg[2]? arg[2][22] : 0;
+  a08=(a08/a11);
+  a07=(a17*a08);
+  a09=(2.*a07);
+  a09=(a05+a09);
+  a37=arg[2]? arg[2][23] : 0;
+  a37=(a37/a11);
+  a38=(a23*a37);
+  a39=(2.*a38);
+  a09=(a09+a39);
+  a39=arg[2]? arg[2][21] : 0;
+  a39=(a39/a11);
+  a40=(a16*a39);
+  a41=(2.*a40);
+  a09=(a09+a41);
+  a10=(a10-a09);
+  a10=(a31*a10);
+  if (res[0]!=0) res[0][22]=a10;
+  if (res[0]!=0) res[0][23]=a03;
+  if (res[0]!=0) res[0][24]=a03;
+  if (res[0]!=0) res[0][25]=a03;
+  if (res[0]!=0) res[0][26]=a03;
+  if (res[0]!=0) res[0][27]=a03;
+  if (res[0]!=0) res[0][28]=a03;
+  a10=arg[2]? arg[2][4] : 0;
+  a09=(2.*a10);
+  a41=(a22*a39);
+  a42=(2.*a41);
+  a42=(a30+a42);
+  a43=(a32*a37);
+  a44=(2.*a43);
+  a42=(a42+a44);
+  a44=(a15*a08);
+  a45=(2.*a44);
+  a42=(a42+a45);
+  a09=(a09-a42);
+  a09=(a31*a09);
+  if (res[0]!=0) res[0][29]=a09;
+  if (res[0]!=0) res[0][30]=a03;
+  if (res[0]!=0) res[0][31]=a03;
+  if (res[0]!=0) res[0][32]=a03;
+  if (res[0]!=0) res[0][33]=a03;
+  if (res[0]!=0) res[0][34]=a03;
+  if (res[0]!=0) res[0][35]=a03;
+  a09=arg[2]? arg[2][5] : 0;
+  a42=(2.*a09);
+  a39=(a14*a39);
+  a45=(2.*a39);
+  a45=(a36+a45);
+  a08=(a12*a08);
+  a46=(2.*a08);
+  a45=(a45+a46);
+  a37=(a13*a37);
+  a46=(2.*a37);
+  a45=(a45+a46);
+  a42=(a42-a45);
+  a42=(a31*a42);
+  if (res[0]!=0) res[0][36]=a42;
+  if (res[0]!=0) res[0][37]=a03;
+  if (res[0]!=0) res[0][38]=a03;
+  if (res[0]!=0) res[0][39]=a03;
+  if (res[0]!=0) res[0][40]=a03;
+  if (res[0]!=0) res[0][41]=a03;
+  if (res[0]!=0) res[0][42]=a03;
+  if (res[0]!=0) res[0][43]=a03;
+  a42=arg[0]? arg[0][2] : 0;
+  a42=(a00/a42);
+  a45=arg[2]? arg[2][6] : 0;
+  a46=(2.*a45);
+  a47=arg[2]? arg[2][25] : 0;
+  a47=(a47/a11);
+  a48=(a17*a47);
+  a49=(2.*a48);
+  a49=(a05+a49);
+  a50=arg[2]? arg[2][26] : 0;
+  a50=(a50/a11);
+  a51=(a23*a50);
+  a52=(2.*a51);
+  a49=(a49+a52);
+  a52=arg[2]? arg[2][24] : 0;
+  a52=(a52/a11);
+  a53=(a16*a52);
+  a54=(2.*a53);
+  a49=(a49+a54);
+  a46=(a46-a49);
+  a46=(a42*a46);
+  if (res[0]!=0) res[0][44]=a46;
+  if (res[0]!=0) res[0][45]=a03;
+  if (res[0]!=0) res[0][46]=a03;
+  if (res[0]!=0) res[0][47]=a03;
+  if (res[0]!=0) res[0][48]=a03;
+  if (res[0]!=0) res[0][49]=a03;
+  if (res[0]!=0) res[0][50]=a03;
+  a46=arg[2]? arg[2][7] : 0;
+  a49=(2.*a46);
+  a54=(a22*a52);
+  a55=(2.*a54);
+  a55=(a30+a55);
+  a56=(a32*a50);
+  a57=(2.*a56);
+  a55=(a55+a57);
+  a57=(a15*a47);
+  a58=(2.*a57);
+  a55=(a55+a58);
+  a49=(a49-a55);
+  a49=(a42*a49);
+  if (res[0]!=0) res[0][51]=a49;
+  if (res[0]!=0) res[0][52]=a03;
+  if (res[0]!=0) res[0][53]=a03;
+  if (res[0]!=0) res[0][54]=a03;
+  if (res[0]!=0) res[0][55]=a03;
+  if (res[0]!=0) res[0][56]=a03;
+  if (res[0]!=0) res[0][57]=a03;
+  a49=arg[2]? arg[2][8] : 0;
+  a55=(2.*a49);
+  a52=(a14*a52);
+  a58=(2.*a52);
+  a58=(a36+a58);
+  a47=(a12*a47);
+  a59=(2.*a47);
+  a58=(a58+a59);
+  a50=(a13*a50);
+  a59=(2.*a50);
+  a58=(a58+a59);
+  a55=(a55-a58);
+  a55=(a42*a55);
+  if (res[0]!=0) res[0][58]=a55;
+  if (res[0]!=0) res[0][59]=a03;
+  if (res[0]!=0) res[0][60]=a03;
+  if (res[0]!=0) res[0][61]=a03;
+  if (res[0]!=0) res[0][62]=a03;
+  if (res[0]!=0) res[0][63]=a03;
+  if (res[0]!=0) res[0][64]=a03;
+  if (res[0]!=0) res[0][65]=a03;
+  a55=arg[0]? arg[0][3] : 0;
+  a55=(a00/a55);
+  a58=arg[2]? arg[2][9] : 0;
+  a59=(2.*a58);
+  a60=arg[2]? arg[2][28] : 0;
+  a60=(a60/a11);
+  a61=(a17*a60);
+  a62=(2.*a61);
+  a62=(a05+a62);
+  a63=arg[2]? arg[2][29] : 0;
+  a63=(a63/a11);
+  a64=(a23*a63);
+  a65=(2.*a64);
+  a62=(a62+a65);
+  a65=arg[2]? arg[2][27] : 0;
+  a65=(a65/a11);
+  a66=(a16*a65);
+  a67=(2.*a66);
+  a62=(a62+a67);
+  a59=(a59-a62);
+  a59=(a55*a59);
+  if (res[0]!=0) res[0][66]=a59;
+  if (res[0]!=0) res[0][67]=a03;
+  if (res[0]!=0) res[0][68]=a03;
+  if (res[0]!=0) res[0][69]=a03;
+  if (res[0]!=0) res[0][70]=a03;
+  if (res[0]!=0) res[0][71]=a03;
+  if (res[0]!=0) res[0][72]=a03;
+  a59=arg[2]? arg[2][10] : 0;
+  a62=(2.*a59);
+  a67=(a22*a65);
+  a68=(2.*a67);
+  a68=(a30+a68);
+  a69=(a32*a63);
+  a70=(2.*a69);
+  a68=(a68+a70);
+  a70=(a15*a60);
+  a71=(2.*a70);
+  a68=(a68+a71);
+  a62=(a62-a68);
+  a62=(a55*a62);
+  if (res[0]!=0) res[0][73]=a62;
+  if (res[0]!=0) res[0][74]=a03;
+  if (res[0]!=0) res[0][75]=a03;
+  if (res[0]!=0) res[0][76]=a03;
+  if (res[0]!=0) res[0][77]=a03;
+  if (res[0]!=0) res[0][78]=a03;
+  if (res[0]!=0) res[0][79]=a03;
+  a62=arg[2]? arg[2][11] : 0;
+  a68=(2.*a62);
+  a65=(a14*a65);
+  a71=(2.*a65);
+  a71=(a36+a71);
+  a60=(a12*a60);
+  a72=(2.*a60);
+  a71=(a71+a72);
+  a63=(a13*a63);
+  a72=(2.*a63);
+  a71=(a71+a72);
+  a68=(a68-a71);
+  a68=(a55*a68);
+  if (res[0]!=0) res[0][80]=a68;
+  if (res[0]!=0) res[0][81]=a03;
+  if (res[0]!=0) res[0][82]=a03;
+  if (res[0]!=0) res[0][83]=a03;
+  if (res[0]!=0) res[0][84]=a03;
+  if (res[0]!=0) res[0][85]=a03;
+  if (res[0]!=0) res[0][86]=a03;
+  if (res[0]!=0) res[0][87]=a03;
+  a68=arg[0]? arg[0][4] : 0;
+  a68=(a00/a68);
+  a71=arg[2]? arg[2][12] : 0;
+  a72=(2.*a71);
+  a73=arg[2]? arg[2][31] : 0;
+  a73=(a73/a11);
+  a74=(a17*a73);
+  a75=(2.*a74);
+  a75=(a05+a75);
+  a76=arg[2]? arg[2][32] : 0;
+  a76=(a76/a11);
+  a77=(a23*a76);
+  a78=(2.*a77);
+  a75=(a75+a78);
+  a78=arg[2]? arg[2][30] : 0;
+  a78=(a78/a11);
+  a79=(a16*a78);
+  a80=(2.*a79);
+  a75=(a75+a80);
+  a72=(a72-a75);
+  a72=(a68*a72);
+  if (res[0]!=0) res[0][88]=a72;
+  if (res[0]!=0) res[0][89]=a03;
+  if (res[0]!=0) res[0][90]=a03;
+  if (res[0]!=0) res[0][91]=a03;
+  if (res[0]!=0) res[0][92]=a03;
+  if (res[0]!=0) res[0][93]=a03;
+  if (res[0]!=0) res[0][94]=a03;
+  a72=-2.;
+  a75=(a15*a73);
+  a80=(a72*a75);
+  a80=(a80-a30);
+  a81=(a22*a78);
+  a82=(2.*a81);
+  a80=(a80-a82);
+  a82=(a32*a76);
+  a83=(2.*a82);
+  a80=(a80-a83);
+  a83=arg[2]? arg[2][13] : 0;
+  a84=(2.*a83);
+  a80=(a80+a84);
+  a80=(a68*a80);
+  if (res[0]!=0) res[0][95]=a80;
+  if (res[0]!=0) res[0][96]=a03;
+  if (res[0]!=0) res[0][97]=a03;
+  if (res[0]!=0) res[0][98]=a03;
+  if (res[0]!=0) res[0][99]=a03;
+  if (res[0]!=0) res[0][100]=a03;
+  if (res[0]!=0) res[0][101]=a03;
+  a78=(a14*a78);
+  a80=(a72*a78);
+  a73=(a12*a73);
+  a84=(2.*a73);
+  a80=(a80-a84);
+  a76=(a13*a76);
+  a84=(2.*a76);
+  a80=(a80-a84);
+  a80=(a80-a36);
+  a84=arg[2]? arg[2][14] : 0;
+  a85=(2.*a84);
+  a80=(a80+a85);
+  a80=(a68*a80);
+  if (res[0]!=0) res[0][102]=a80;
+  if (res[0]!=0) res[0][103]=a03;
+  if (res[0]!=0) res[0][104]=a03;
+  if (res[0]!=0) res[0][105]=a03;
+  if (res[0]!=0) res[0][106]=a03;
+  if (res[0]!=0) res[0][107]=a03;
+  if (res[0]!=0) res[0][108]=a03;
+  if (res[0]!=0) res[0][109]=a03;
+  a80=arg[0]? arg[0][5] : 0;
+  a00=(a00/a80);
+  a80=arg[2]? arg[2][15] : 0;
+  a85=(2.*a80);
+  a86=arg[2]? arg[2][34] : 0;
+  a86=(a86/a11);
+  a87=(a86*a17);
+  a88=(2.*a87);
+  a05=(a05+a88);
+  a88=arg[2]? arg[2][35] : 0;
+  a88=(a88/a11);
+  a89=(a88*a23);
+  a90=(2.*a89);
+  a05=(a05+a90);
+  a90=arg[2]? arg[2][33] : 0;
+  a90=(a90/a11);
+  a91=(a90*a16);
+  a92=(2.*a91);
+  a05=(a05+a92);
+  a85=(a85-a05);
+  a85=(a00*a85);
+  if (res[0]!=0) res[0][110]=a85;
+  if (res[0]!=0) res[0][111]=a03;
+  if (res[0]!=0) res[0][112]=a03;
+  if (res[0]!=0) res[0][113]=a03;
+  if (res[0]!=0) res[0][114]=a03;
+  if (res[0]!=0) res[0][115]=a03;
+  if (res[0]!=0) res[0][116]=a03;
+  a85=(a90*a22);
+  a05=(a72*a85);
+  a92=(a88*a32);
+  a93=(2.*a92);
+  a05=(a05-a93);
+  a93=(a86*a15);
+  a94=(2.*a93);
+  a05=(a05-a94);
+  a05=(a05-a30);
+  a30=arg[2]? arg[2][16] : 0;
+  a94=(2.*a30);
+  a05=(a05+a94);
+  a05=(a00*a05);
+  if (res[0]!=0) res[0][117]=a05;
+  if (res[0]!=0) res[0][118]=a03;
+  if (res[0]!=0) res[0][119]=a03;
+  if (res[0]!=0) res[0][120]=a03;
+  if (res[0]!=0) res[0][121]=a03;
+  if (res[0]!=0) res[0][122]=a03;
+  if (res[0]!=0) res[0][123]=a03;
+  a90=(a90*a14);
+  a72=(a72*a90);
+  a86=(a86*a12);
+  a05=(2.*a86);
+  a72=(a72-a05);
+  a88=(a88*a13);
+  a05=(2.*a88);
+  a72=(a72-a05);
+  a72=(a72-a36);
+  a36=arg[2]? arg[2][17] : 0;
+  a05=(2.*a36);
+  a72=(a72+a05);
+  a72=(a00*a72);
+  if (res[0]!=0) res[0][124]=a72;
+  if (res[0]!=0) res[0][125]=a03;
+  a72=2.;
+  a72=(a72/a11);
+  a19=(a19+a25);
+  a19=(a19+a27);
+  a19=(a19-a02);
+  a19=(a19+a04);
+  a19=(a72*a19);
+  a02=(a16*a19);
+  a18=(a18+a33);
+  a18=(a18+a34);
+  a18=(a18-a20);
+  a18=(a18+a29);
+  a18=(a72*a18);
+  a20=(a22*a18);
+  a02=(a02+a20);
+  a26=(a26+a06);
+  a26=(a26+a24);
+  a26=(a26-a28);
+  a26=(a26+a35);
+  a26=(a72*a26);
+  a28=(a14*a26);
+  a02=(a02+a28);
+  a02=(a01*a02);
+  if (res[0]!=0) res[0][126]=a02;
+  if (res[0]!=0) res[0][127]=a03;
+  if (res[0]!=0) res[0][128]=a03;
+  if (res[0]!=0) res[0][129]=a03;
+  if (res[0]!=0) res[0][130]=a03;
+  if (res[0]!=0) res[0][131]=a03;
+  if (res[0]!=0) res[0][132]=a03;
+  a02=(a17*a19);
+  a28=(a15*a18);
+  a02=(a02+a28);
+  a28=(a12*a26);
+  a02=(a02+a28);
+  a02=(a01*a02);
+  if (res[0]!=0) res[0][133]=a02;
+  if (res[0]!=0) res[0][134]=a03;
+  if (res[0]!=0) res[0][135]=a03;
+  if (res[0]!=0) res[0][136]=a03;
+  if (res[0]!=0) res[0][137]=a03;
+  if (res[0]!=0) res[0][138]=a03;
+  if (res[0]!=0) res[0][139]=a03;
+  a19=(a23*a19);
+  a18=(a32*a18);
+  a19=(a19+a18);
+  a26=(a13*a26);
+  a19=(a19+a26);
+  a01=(a01*a19);
+  if (res[0]!=0) res[0][140]=a01;
+  if (res[0]!=0) res[0][141]=a03;
+  if (res[0]!=0) res[0][142]=a03;
+  if (res[0]!=0) res[0][143]=a03;
+  if (res[0]!=0) res[0][144]=a03;
+  if (res[0]!=0) res[0][145]=a03;
+  if (res[0]!=0) res[0][146]=a03;
+  if (res[0]!=0) res[0][147]=a03;
+  a07=(a07+a38);
+  a07=(a07+a40);
+  a07=(a07-a21);
+  a07=(a07+a04);
+  a07=(a72*a07);
+  a21=(a16*a07);
+  a41=(a41+a43);
+  a41=(a41+a44);
+  a41=(a41-a10);
+  a41=(a41+a29);
+  a41=(a72*a41);
+  a10=(a22*a41);
+  a21=(a21+a10);
+  a39=(a39+a08);
+  a39=(a39+a37);
+  a39=(a39-a09);
+  a39=(a39+a35);
+  a39=(a72*a39);
+  a09=(a14*a39);
+  a21=(a21+a09);
+  a21=(a31*a21);
+  if (res[0]!=0) res[0][148]=a21;
+  if (res[0]!=0) res[0][149]=a03;
+  if (res[0]!=0) res[0][150]=a03;
+  if (res[0]!=0) res[0][151]=a03;
+  if (res[0]!=0) res[0][152]=a03;
+  if (res[0]!=0) res[0][153]=a03;
+  if (res[0]!=0) res[0][154]=a03;
+  a21=(a17*a07);
+  a09=(a15*a41);
+  a21=(a21+a09);
+  a09=(a12*a39);
+  a21=(a21+a09);
+  a21=(a31*a21);
+  if (res[0]!=0) res[0][155]=a21;
+  if (res[0]!=0) res[0][156]=a03;
+  if (res[0]!=0) res[0][157]=a03;
+  if (res[0]!=0) res[0][158]=a03;
+  if (res[0]!=0) res[0][159]=a03;
+  if (res[0]!=0) res[0][160]=a03;
+  if (res[0]!=0) res[0][161]=a03;
+  a07=(a23*a07);
+  a41=(a32*a41);
+  a07=(a07+a41);
+  a39=(a13*a39);
+  a07=(a07+a39);
+  a31=(a31*a07);
+  if (res[0]!=0) res[0][162]=a31;
+  if (res[0]!=0) res[0][163]=a03;
+  if (res[0]!=0) res[0][164]=a03;
+  if (res[0]!=0) res[0][165]=a03;
+  if (res[0]!=0) res[0][166]=a03;
+  if (res[0]!=0) res[0][167]=a03;
+  if (res[0]!=0) res[0][168]=a03;
+  if (res[0]!=0) res[0][169]=a03;
+  a48=(a48+a51);
+  a48=(a48+a53);
+  a48=(a48-a45);
+  a48=(a48+a04);
+  a48=(a72*a48);
+  a45=(a16*a48);
+  a54=(a54+a56);
+  a54=(a54+a57);
+  a54=(a54-a46);
+  a54=(a54+a29);
+  a54=(a72*a54);
+  a46=(a22*a54);
+  a45=(a45+a46);
+  a52=(a52+a47);
+  a52=(a52+a50);
+  a52=(a52-a49);
+  a52=(a52+a35);
+  a52=(a72*a52);
+  a49=(a14*a52);
+  a45=(a45+a49);
+  a45=(a42*a45);
+  if (res[0]!=0) res[0][170]=a45;
+  if (res[0]!=0) res[0][171]=a03;
+  if (res[0]!=0) res[0][172]=a03;
+  if (res[0]!=0) res[0][173]=a03;
+  if (res[0]!=0) res[0][174]=a03;
+  if (res[0]!=0) res[0][175]=a03;
+  if (res[0]!=0) res[0][176]=a03;
+  a45=(a17*a48);
+  a49=(a15*a54);
+  a45=(a45+a49);
+  a49=(a12*a52);
+  a45=(a45+a49);
+  a45=(a42*a45);
+  if (res[0]!=0) res[0][177]=a45;
+  if (res[0]!=0) res[0][178]=a03;
+  if (res[0]!=0) res[0][179]=a03;
+  if (res[0]!=0) res[0][180]=a03;
+  if (res[0]!=0) res[0][181]=a03;
+  if (res[0]!=0) res[0][182]=a03;
+  if (res[0]!=0) res[0][183]=a03;
+  a48=(a23*a48);
+  a54=(a32*a54);
+  a48=(a48+a54);
+  a52=(a13*a52);
+  a48=(a48+a52);
+  a42=(a42*a48);
+  if (res[0]!=0) res[0][184]=a42;
+  if (res[0]!=0) res[0][185]=a03;
+  if (res[0]!=0) res[0][186]=a03;
+  if (res[0]!=0) res[0][187]=a03;
+  if (res[0]!=0) res[0][188]=a03;
+  if (res[0]!=0) res[0][189]=a03;
+  if (res[0]!=0) res[0][190]=a03;
+  if (res[0]!=0) res[0][191]=a03;
+  a61=(a61+a64);
+  a61=(a61+a66);
+  a61=(a61-a58);
+  a61=(a61+a04);
+  a61=(a72*a61);
+  a58=(a16*a61);
+  a67=(a67+a69);
+  a67=(a67+a70);
+  a67=(a67-a59);
+  a67=(a67+a29);
+  a67=(a72*a67);
+  a59=(a22*a67);
+  a58=(a58+a59);
+  a65=(a65+a60);
+  a65=(a65+a63);
+  a65=(a65-a62);
+  a65=(a65+a35);
+  a65=(a72*a65);
+  a62=(a14*a65);
+  a58=(a58+a62);
+  a58=(a55*a58);
+  if (res[0]!=0) res[0][192]=a58;
+  if (res[0]!=0) res[0][193]=a03;
+  if (res[0]!=0) res[0][194]=a03;
+  if (res[0]!=0) res[0][195]=a03;
+  if (res[0]!=0) res[0][196]=a03;
+  if (res[0]!=0) res[0][197]=a03;
+  if (res[0]!=0) res[0][198]=a03;
+  a58=(a17*a61);
+  a62=(a15*a67);
+  a58=(a58+a62);
+  a62=(a12*a65);
+  a58=(a58+a62);
+  a58=(a55*a58);
+  if (res[0]!=0) res[0][199]=a58;
+  if (res[0]!=0) res[0][200]=a03;
+  if (res[0]!=0) res[0][201]=a03;
+  if (res[0]!=0) res[0][202]=a03;
+  if (res[0]!=0) res[0][203]=a03;
+  if (res[0]!=0) res[0][204]=a03;
+  if (res[0]!=0) res[0][205]=a03;
+  a61=(a23*a61);
+  a67=(a32*a67);
+  a61=(a61+a67);
+  a65=(a13*a65);
+  a61=(a61+a65);
+  a55=(a55*a61);
+  if (res[0]!=0) res[0][206]=a55;
+  if (res[0]!=0) res[0][207]=a03;
+  if (res[0]!=0) res[0][208]=a03;
+  if (res[0]!=0) res[0][209]=a03;
+  if (res[0]!=0) res[0][210]=a03;
+  if (res[0]!=0) res[0][211]=a03;
+  if (res[0]!=0) res[0][212]=a03;
+  if (res[0]!=0) res[0][213]=a03;
+  a78=(a78+a73);
+  a78=(a78+a76);
+  a78=(a78-a84);
+  a78=(a78+a35);
+  a78=(a72*a78);
+  a84=(a78*a14);
+  a75=(a75+a81);
+  a75=(a75+a82);
+  a75=(a75-a83);
+  a75=(a75+a29);
+  a75=(a72*a75);
+  a83=(a75*a22);
+  a84=(a84+a83);
+  a74=(a74+a77);
+  a74=(a74+a79);
+  a74=(a74-a71);
+  a74=(a74+a04);
+  a74=(a72*a74);
+  a71=(a74*a16);
+  a84=(a84+a71);
+  a84=(a68*a84);
+  if (res[0]!=0) res[0][214]=a84;
+  if (res[0]!=0) res[0][215]=a03;
+  if (res[0]!=0) res[0][216]=a03;
+  if (res[0]!=0) res[0][217]=a03;
+  if (res[0]!=0) res[0][218]=a03;
+  if (res[0]!=0) res[0][219]=a03;
+  if (res[0]!=0) res[0][220]=a03;
+  a84=(a78*a12);
+  a71=(a75*a15);
+  a84=(a84+a71);
+  a71=(a74*a17);
+  a84=(a84+a71);
+  a84=(a68*a84);
+  if (res[0]!=0) res[0][221]=a84;
+  if (res[0]!=0) res[0][222]=a03;
+  if (res[0]!=0) res[0][223]=a03;
+  if (res[0]!=0) res[0][224]=a03;
+  if (res[0]!=0) res[0][225]=a03;
+  if (res[0]!=0) res[0][226]=a03;
+  if (res[0]!=0) res[0][227]=a03;
+  a78=(a78*a13);
+  a75=(a75*a32);
+  a78=(a78+a75);
+  a74=(a74*a23);
+  a78=(a78+a74);
+  a68=(a68*a78);
+  if (res[0]!=0) res[0][228]=a68;
+  if (res[0]!=0) res[0][229]=a03;
+  if (res[0]!=0) res[0][230]=a03;
+  if (res[0]!=0) res[0][231]=a03;
+  if (res[0]!=0) res[0][232]=a03;
+  if (res[0]!=0) res[0][233]=a03;
+  if (res[0]!=0) res[0][234]=a03;
+  if (res[0]!=0) res[0][235]=a03;
+  a90=(a90+a86);
+  a90=(a90+a88);
+  a90=(a90-a36);
+  a90=(a90+a35);
+  a90=(a72*a90);
+  a14=(a90*a14);
+  a85=(a85+a92);
+  a85=(a85+a93);
+  a85=(a85-a30);
+  a85=(a85+a29);
+  a85=(a72*a85);
+  a22=(a85*a22);
+  a14=(a14+a22);
+  a87=(a87+a89);
+  a87=(a87+a91);
+  a87=(a87-a80);
+  a87=(a87+a04);
+  a72=(a72*a87);
+  a16=(a72*a16);
+  a14=(a14+a16);
+  a14=(a00*a14);
+  if (res[0]!=0) res[0][236]=a14;
+  if (res[0]!=0) res[0][237]=a03;
+  if (res[0]!=0) res[0][238]=a03;
+  if (res[0]!=0) res[0][239]=a03;
+  if (res[0]!=0) res[0][240]=a03;
+  if (res[0]!=0) res[0][241]=a03;
+  if (res[0]!=0) res[0][242]=a03;
+  a12=(a90*a12);
+  a15=(a85*a15);
+  a12=(a12+a15);
+  a17=(a72*a17);
+  a12=(a12+a17);
+  a12=(a00*a12);
+  if (res[0]!=0) res[0][243]=a12;
+  if (res[0]!=0) res[0][244]=a03;
+  if (res[0]!=0) res[0][245]=a03;
+  if (res[0]!=0) res[0][246]=a03;
+  if (res[0]!=0) res[0][247]=a03;
+  if (res[0]!=0) res[0][248]=a03;
+  if (res[0]!=0) res[0][249]=a03;
+  a90=(a90*a13);
+  a85=(a85*a32);
+  a90=(a90+a85);
+  a72=(a72*a23);
+  a90=(a90+a72);
+  a00=(a00*a90);
+  if (res[0]!=0) res[0][250]=a00;
+  if (res[0]!=0) res[0][251]=a03;
+  if (res[1]!=0) res[1][0]=a03;
+  if (res[1]!=0) res[1][1]=a03;
+  if (res[1]!=0) res[1][2]=a03;
+  if (res[1]!=0) res[1][3]=a03;
+  if (res[1]!=0) res[1][4]=a03;
+  if (res[1]!=0) res[1][5]=a03;
+  if (res[1]!=0) res[1][6]=a03;
+  if (res[1]!=0) res[1][7]=a03;
+  if (res[1]!=0) res[1][8]=a03;
+  if (res[1]!=0) res[1][9]=a03;
+  if (res[1]!=0) res[1][10]=a03;
+  if (res[1]!=0) res[1][11]=a03;
+  if (res[1]!=0) res[1][12]=a03;
+  if (res[1]!=0) res[1][13]=a03;
+  if (res[1]!=0) res[1][14]=a03;
+  if (res[1]!=0) res[1][15]=a03;
+  if (res[1]!=0) res[1][16]=a03;
+  if (res[1]!=0) res[1][17]=a03;
+  if (res[1]!=0) res[1][18]=a03;
+  if (res[1]!=0) res[1][19]=a03;
+  if (res[1]!=0) res[1][20]=a03;
+  if (res[1]!=0) res[1][21]=a03;
+  if (res[1]!=0) res[1][22]=a03;
+  if (res[1]!=0) res[1][23]=a03;
+  if (res[1]!=0) res[1][24]=a03;
+  if (res[1]!=0) res[1][25]=a03;
+  if (res[1]!=0) res[1][26]=a03;
+  if (res[1]!=0) res[1][27]=a03;
+  if (res[1]!=0) res[1][28]=a03;
+  if (res[1]!=0) res[1][29]=a03;
+  if (res[1]!=0) res[1][30]=a03;
+  if (res[1]!=0) res[1][31]=a03;
+  if (res[1]!=0) res[1][32]=a03;
+  if (res[1]!=0) res[1][33]=a03;
+  if (res[1]!=0) res[1][34]=a03;
+  if (res[1]!=0) res[1][35]=a03;
+  if (res[1]!=0) res[1][36]=a03;
+  if (res[1]!=0) res[1][37]=a03;
+  if (res[1]!=0) res[1][38]=a03;
+  if (res[1]!=0) res[1][39]=a03;
+  if (res[1]!=0) res[1][40]=a03;
+  if (res[1]!=0) res[1][41]=a03;
+  if (res[1]!=0) res[1][42]=a03;
+  if (res[1]!=0) res[1][43]=a03;
+  if (res[1]!=0) res[1][44]=a03;
+  if (res[1]!=0) res[1][45]=a03;
+  if (res[1]!=0) res[1][46]=a03;
+  if (res[1]!=0) res[1][47]=a03;
+  if (res[1]!=0) res[1][48]=a03;
+  if (res[1]!=0) res[1][49]=a03;
+  if (res[1]!=0) res[1][50]=a03;
+  if (res[1]!=0) res[1][51]=a03;
+  if (res[1]!=0) res[1][52]=a03;
+  if (res[1]!=0) res[1][53]=a03;
+  if (res[1]!=0) res[1][54]=a03;
+  if (res[1]!=0) res[1][55]=a03;
+  if (res[1]!=0) res[1][56]=a03;
+  if (res[1]!=0) res[1][57]=a03;
+  if (res[1]!=0) res[1][58]=a03;
+  if (res[1]!=0) res[1][59]=a03;
+  if (res[1]!=0) res[1][60]=a03;
+  if (res[1]!=0) res[1][61]=a03;
+  if (res[1]!=0) res[1][62]=a03;
+  if (res[1]!=0) res[1][63]=a03;
+  if (res[1]!=0) res[1][64]=a03;
+  if (res[1]!=0) res[1][65]=a03;
+  if (res[1]!=0) res[1][66]=a03;
+  if (res[1]!=0) res[1][67]=a03;
+  if (res[1]!=0) res[1][68]=a03;
+  if (res[1]!=0) res[1][69]=a03;
+  if (res[1]!=0) res[1][70]=a03;
+  if (res[1]!=0) res[1][71]=a03;
+  if (res[1]!=0) res[1][72]=a03;
+  if (res[1]!=0) res[1][73]=a03;
+  if (res[1]!=0) res[1][74]=a03;
+  if (res[1]!=0) res[1][75]=a03;
+  if (res[1]!=0) res[1][76]=a03;
+  if (res[1]!=0) res[1][77]=a03;
+  if (res[1]!=0) res[1][78]=a03;
+  if (res[1]!=0) res[1][79]=a03;
+  if (res[1]!=0) res[1][80]=a03;
+  if (res[1]!=0) res[1][81]=a03;
+  if (res[1]!=0) res[1][82]=a03;
+  if (res[1]!=0) res[1][83]=a03;
+  if (res[1]!=0) res[1][84]=a03;
+  if (res[1]!=0) res[1][85]=a03;
+  if (res[1]!=0) res[1][86]=a03;
+  if (res[1]!=0) res[1][87]=a03;
+  if (res[1]!=0) res[1][88]=a03;
+  if (res[1]!=0) res[1][89]=a03;
+  if (res[1]!=0) res[1][90]=a03;
+  if (res[1]!=0) res[1][91]=a03;
+  if (res[1]!=0) res[1][92]=a03;
+  if (res[1]!=0) res[1][93]=a03;
+  if (res[1]!=0) res[1][94]=a03;
+  if (res[1]!=0) res[1][95]=a03;
+  if (res[1]!=0) res[1][96]=a03;
+  if (res[1]!=0) res[1][97]=a03;
+  if (res[1]!=0) res[1][98]=a03;
+  if (res[1]!=0) res[1][99]=a03;
+  if (res[1]!=0) res[1][100]=a03;
+  if (res[1]!=0) res[1][101]=a03;
+  if (res[1]!=0) res[1][102]=a03;
+  if (res[1]!=0) res[1][103]=a03;
+  if (res[1]!=0) res[1][104]=a03;
+  if (res[1]!=0) res[1][105]=a03;
+  if (res[1]!=0) res[1][106]=a03;
+  if (res[1]!=0) res[1][107]=a03;
+  if (res[1]!=0) res[1][108]=a03;
+  if (res[1]!=0) res[1][109]=a03;
+  if (res[1]!=0) res[1][110]=a03;
+  if (res[1]!=0) res[1][111]=a03;
+  if (res[1]!=0) res[1][112]=a03;
+  if (res[1]!=0) res[1][113]=a03;
+  if (res[1]!=0) res[1][114]=a03;
+  if (res[1]!=0) res[1][115]=a03;
+  if (res[1]!=0) res[1][116]=a03;
+  if (res[1]!=0) res[1][117]=a03;
+  if (res[1]!=0) res[1][118]=a03;
+  if (res[1]!=0) res[1][119]=a03;
+  if (res[1]!=0) res[1][120]=a03;
+  if (res[1]!=0) res[1][121]=a03;
+  if (res[1]!=0) res[1][122]=a03;
+  if (res[1]!=0) res[1][123]=a03;
+  if (res[1]!=0) res[1][124]=a03;
+  if (res[1]!=0) res[1][125]=a03;
+  if (res[1]!=0) res[1][126]=a03;
+  if (res[1]!=0) res[1][127]=a03;
+  if (res[1]!=0) res[1][128]=a03;
+  if (res[1]!=0) res[1][129]=a03;
+  if (res[1]!=0) res[1][130]=a03;
+  if (res[1]!=0) res[1][131]=a03;
+  if (res[1]!=0) res[1][132]=a03;
+  if (res[1]!=0) res[1][133]=a03;
+  if (res[1]!=0) res[1][134]=a03;
+  if (res[1]!=0) res[1][135]=a03;
+  if (res[1]!=0) res[1][136]=a03;
+  if (res[1]!=0) res[1][137]=a03;
+  if (res[1]!=0) res[1][138]=a03;
+  if (res[1]!=0) res[1][139]=a03;
+  if (res[1]!=0) res[1][140]=a03;
+  if (res[1]!=0) res[1][141]=a03;
+  if (res[1]!=0) res[1][142]=a03;
+  if (res[1]!=0) res[1][143]=a03;
+  if (res[1]!=0) res[1][144]=a03;
+  if (res[1]!=0) res[1][145]=a03;
+  if (res[1]!=0) res[1][146]=a03;
+  if (res[1]!=0) res[1][147]=a03;
+  if (res[1]!=0) res[1][148]=a03;
+  if (res[1]!=0) res[1][149]=a03;
+  if (res[1]!=0) res[1][150]=a03;
+  if (res[1]!=0) res[1][151]=a03;
+  if (res[1]!=0) res[1][152]=a03;
+  if (res[1]!=0) res[1][153]=a03;
+  if (res[1]!=0) res[1][154]=a03;
+  if (res[1]!=0) res[1][155]=a03;
+  if (res[1]!=0) res[1][156]=a03;
+  if (res[1]!=0) res[1][157]=a03;
+  if (res[1]!=0) res[1][158]=a03;
+  if (res[1]!=0) res[1][159]=a03;
+  if (res[1]!=0) res[1][160]=a03;
+  if (res[1]!=0) res[1][161]=a03;
+  if (res[1]!=0) res[1][162]=a03;
+  if (res[1]!=0) res[1][163]=a03;
+  if (res[1]!=0) res[1][164]=a03;
+  if (res[1]!=0) res[1][165]=a03;
+  if (res[1]!=0) res[1][166]=a03;
+  if (res[1]!=0) res[1][167]=a03;
+  if (res[1]!=0) res[1][168]=a03;
+  if (res[1]!=0) res[1][169]=a03;
+  if (res[1]!=0) res[1][170]=a03;
+  if (res[1]!=0) res[1][171]=a03;
+  if (res[1]!=0) res[1][172]=a03;
+  if (res[1]!=0) res[1][173]=a03;
+  if (res[1]!=0) res[1][174]=a03;
+  if (res[1]!=0) res[1][175]=a03;
+  if (res[1]!=0) res[1][176]=a03;
+  if (res[1]!=0) res[1][177]=a03;
+  if (res[1]!=0) res[1][178]=a03;
+  if (res[1]!=0) res[1][179]=a03;
+  if (res[1]!=0) res[1][180]=a03;
+  if (res[1]!=0) res[1][181]=a03;
+  if (res[1]!=0) res[1][182]=a03;
+  if (res[1]!=0) res[1][183]=a03;
+  if (res[1]!=0) res[1][184]=a03;
+  if (res[1]!=0) res[1][185]=a03;
+  if (res[1]!=0) res[1][186]=a03;
+  if (res[1]!=0) res[1][187]=a03;
+  if (res[1]!=0) res[1][188]=a03;
+  if (res[1]!=0) res[1][189]=a03;
+  if (res[1]!=0) res[1][190]=a03;
+  if (res[1]!=0) res[1][191]=a03;
+  if (res[1]!=0) res[1][192]=a03;
+  if (res[1]!=0) res[1][193]=a03;
+  if (res[1]!=0) res[1][194]=a03;
+  if (res[1]!=0) res[1][195]=a03;
+  if (res[1]!=0) res[1][196]=a03;
+  if (res[1]!=0) res[1][197]=a03;
+  if (res[1]!=0) res[1][198]=a03;
+  if (res[1]!=0) res[1][199]=a03;
+  if (res[1]!=0) res[1][200]=a03;
+  if (res[1]!=0) res[1][201]=a03;
+  if (res[1]!=0) res[1][202]=a03;
+  if (res[1]!=0) res[1][203]=a03;
+  if (res[1]!=0) res[1][204]=a03;
+  if (res[1]!=0) res[1][205]=a03;
+  if (res[1]!=0) res[1][206]=a03;
+  if (res[1]!=0) res[1][207]=a03;
+  if (res[1]!=0) res[1][208]=a03;
+  if (res[1]!=0) res[1][209]=a03;
+  if (res[1]!=0) res[1][210]=a03;
+  if (res[1]!=0) res[1][211]=a03;
+  if (res[1]!=0) res[1][212]=a03;
+  if (res[1]!=0) res[1][213]=a03;
+  if (res[1]!=0) res[1][214]=a03;
+  if (res[1]!=0) res[1][215]=a03;
+  if (res[1]!=0) res[1][216]=a03;
+  if (res[1]!=0) res[1][217]=a03;
+  if (res[1]!=0) res[1][218]=a03;
+  if (res[1]!=0) res[1][219]=a03;
+  if (res[1]!=0) res[1][220]=a03;
+  if (res[1]!=0) res[1][221]=a03;
+  if (res[1]!=0) res[1][222]=a03;
+  if (res[1]!=0) res[1][223]=a03;
+  if (res[1]!=0) res[1][224]=a03;
+  if (res[1]!=0) res[1][225]=a03;
+  if (res[1]!=0) res[1][226]=a03;
+  if (res[1]!=0) res[1][227]=a03;
+  if (res[1]!=0) res[1][228]=a03;
+  if (res[1]!=0) res[1][229]=a03;
+  if (res[1]!=0) res[1][230]=a03;
+  if (res[1]!=0) res[1][231]=a03;
+  if (res[1]!=0) res[1][232]=a03;
+  if (res[1]!=0) res[1][233]=a03;
+  if (res[1]!=0) res[1][234]=a03;
+  if (res[1]!=0) res[1][235]=a03;
+  if (res[1]!=0) res[1][236]=a03;
+  if (res[1]!=0) res[1][237]=a03;
+  if (res[1]!=0) res[1][238]=a03;
+  if (res[1]!=0) res[1][239]=a03;
+  if (res[1]!=0) res[1][240]=a03;
+  if (res[1]!=0) res[1][241]=a03;
+  if (res[1]!=0) res[1][242]=a03;
+  if (res[1]!=0) res[1][243]=a03;
+  if (res[1]!=0) res[1][244]=a03;
+  if (res[1]!=0) res[1][245]=a03;
+  if (res[1]!=0) res[1][246]=a03;
+  if (res[1]!=0) res[1][247]=a03;
+  if (res[1]!=0) res[1][248]=a03;
+  if (res[1]!=0) res[1][249]=a03;
+  if (res[1]!=0) res[1][250]=a03;
+  if (res[1]!=0) res[1][251]=a03;
+  if (res[1]!=0) res[1][252]=a03;
+  if (res[1]!=0) res[1][253]=a03;
+  if (res[1]!=0) res[1][254]=a03;
+  if (res[1]!=0) res[1][255]=a03;
+  if (res[1]!=0) res[1][256]=a03;
+  if (res[1]!=0) res[1][257]=a03;
+  if (res[1]!=0) res[1][258]=a03;
+  if (res[1]!=0) res[1][259]=a03;
+  if (res[1]!=0) res[1][260]=a03;
+  if (res[1]!=0) res[1][261]=a03;
+  if (res[1]!=0) res[1][262]=a03;
+  if (res[1]!=0) res[1][263]=a03;
+  if (res[1]!=0) res[1][264]=a03;
+  if (res[1]!=0) res[1][265]=a03;
+  if (res[1]!=0) res[1][266]=a03;
+  if (res[1]!=0) res[1][267]=a03;
+  if (res[1]!=0) res[1][268]=a03;
+  if (res[1]!=0) res[1][269]=a03;
+  if (res[1]!=0) res[1][270]=a03;
+  if (res[1]!=0) res[1][271]=a03;
+  if (res[1]!=0) res[1][272]=a03;
+  if (res[1]!=0) res[1][273]=a03;
+  if (res[1]!=0) res[1][274]=a03;
+  if (res[1]!=0) res[1][275]=a03;
+  if (res[1]!=0) res[1][276]=a03;
+  if (res[1]!=0) res[1][277]=a03;
+  if (res[1]!=0) res[1][278]=a03;
+  if (res[1]!=0) res[1][279]=a03;
+  if (res[1]!=0) res[1][280]=a03;
+  if (res[1]!=0) res[1][281]=a03;
+  if (res[1]!=0) res[1][282]=a03;
+  if (res[1]!=0) res[1][283]=a03;
+  if (res[1]!=0) res[1][284]=a03;
+  if (res[1]!=0) res[1][285]=a03;
+  if (res[1]!=0) res[1][286]=a03;
+  if (res[1]!=0) res[1][287]=a03;
+  if (res[1]!=0) res[1][288]=a03;
+  if (res[1]!=0) res[1][289]=a03;
+  if (res[1]!=0) res[1][290]=a03;
+  if (res[1]!=0) res[1][291]=a03;
+  if (res[1]!=0) res[1][292]=a03;
+  if (res[1]!=0) res[1][293]=a03;
+  if (res[1]!=0) res[1][294]=a03;
+  if (res[1]!=0) res[1][295]=a03;
+  if (res[1]!=0) res[1][296]=a03;
+  if (res[1]!=0) res[1][297]=a03;
+  if (res[1]!=0) res[1][298]=a03;
+  if (res[1]!=0) res[1][299]=a03;
+  if (res[1]!=0) res[1][300]=a03;
+  if (res[1]!=0) res[1][301]=a03;
+  if (res[1]!=0) res[1][302]=a03;
+  if (res[1]!=0) res[1][303]=a03;
+  if (res[1]!=0) res[1][304]=a03;
+  if (res[1]!=0) res[1][305]=a03;
+  if (res[1]!=0) res[1][306]=a03;
+  if (res[1]!=0) res[1][307]=a03;
+  if (res[1]!=0) res[1][308]=a03;
+  if (res[1]!=0) res[1][309]=a03;
+  if (res[1]!=0) res[1][310]=a03;
+  if (res[1]!=0) res[1][311]=a03;
+  if (res[1]!=0) res[1][312]=a03;
+  if (res[1]!=0) res[1][313]=a03;
+  if (res[1]!=0) res[1][314]=a03;
+  if (res[1]!=0) res[1][315]=a03;
+  if (res[1]!=0) res[1][316]=a03;
+  if (res[1]!=0) res[1][317]=a03;
+  if (res[1]!=0) res[1][318]=a03;
+  if (res[1]!=0) res[1][319]=a03;
+  if (res[1]!=0) res[1][320]=a03;
+  if (res[1]!=0) res[1][321]=a03;
+  if (res[1]!=0) res[1][322]=a03;
+  if (res[1]!=0) res[1][323]=a03;
+  if (res[1]!=0) res[1][324]=a03;
+  if (res[1]!=0) res[1][325]=a03;
+  if (res[1]!=0) res[1][326]=a03;
+  if (res[1]!=0) res[1][327]=a03;
+  if (res[1]!=0) res[1][328]=a03;
+  if (res[1]!=0) res[1][329]=a03;
+  if (res[1]!=0) res[1][330]=a03;
+  if (res[1]!=0) res[1][331]=a03;
+  if (res[1]!=0) res[1][332]=a03;
+  if (res[1]!=0) res[1][333]=a03;
+  if (res[1]!=0) res[1][334]=a03;
+  if (res[1]!=0) res[1][335]=a03;
+  if (res[1]!=0) res[1][336]=a03;
+  if (res[1]!=0) res[1][337]=a03;
+  if (res[1]!=0) res[1][338]=a03;
+  if (res[1]!=0) res[1][339]=a03;
+  if (res[1]!=0) res[1][340]=a03;
+  if (res[1]!=0) res[1][341]=a03;
+  if (res[1]!=0) res[1][342]=a03;
+  if (res[1]!=0) res[1][343]=a03;
+  if (res[1]!=0) res[1][344]=a03;
+  if (res[1]!=0) res[1][345]=a03;
+  if (res[1]!=0) res[1][346]=a03;
+  if (res[1]!=0) res[1][347]=a03;
+  if (res[1]!=0) res[1][348]=a03;
+  if (res[1]!=0) res[1][349]=a03;
+  if (res[1]!=0) res[1][350]=a03;
+  if (res[1]!=0) res[1][351]=a03;
+  if (res[1]!=0) res[1][352]=a03;
+  if (res[1]!=0) res[1][353]=a03;
+  if (res[1]!=0) res[1][354]=a03;
+  if (res[1]!=0) res[1][355]=a03;
+  if (res[1]!=0) res[1][356]=a03;
+  if (res[1]!=0) res[1][357]=a03;
+  if (res[1]!=0) res[1][358]=a03;
+  if (res[1]!=0) res[1][359]=a03;
+  if (res[1]!=0) res[1][360]=a03;
+  if (res[1]!=0) res[1][361]=a03;
+  if (res[1]!=0) res[1][362]=a03;
+  if (res[1]!=0) res[1][363]=a03;
+  if (res[1]!=0) res[1][364]=a03;
+  if (res[1]!=0) res[1][365]=a03;
+  if (res[1]!=0) res[1][366]=a03;
+  if (res[1]!=0) res[1][367]=a03;
+  if (res[1]!=0) res[1][368]=a03;
+  if (res[1]!=0) res[1][369]=a03;
+  if (res[1]!=0) res[1][370]=a03;
+  if (res[1]!=0) res[1][371]=a03;
+  if (res[1]!=0) res[1][372]=a03;
+  if (res[1]!=0) res[1][373]=a03;
+  if (res[1]!=0) res[1][374]=a03;
+  if (res[1]!=0) res[1][375]=a03;
+  if (res[1]!=0) res[1][376]=a03;
+  if (res[1]!=0) res[1][377]=a03;
+  if (res[1]!=0) res[1][378]=a03;
+  if (res[1]!=0) res[1][379]=a03;
+  if (res[1]!=0) res[1][380]=a03;
+  if (res[1]!=0) res[1][381]=a03;
+  if (res[1]!=0) res[1][382]=a03;
+  if (res[1]!=0) res[1][383]=a03;
+  if (res[1]!=0) res[1][384]=a03;
+  if (res[1]!=0) res[1][385]=a03;
+  if (res[1]!=0) res[1][386]=a03;
+  if (res[1]!=0) res[1][387]=a03;
+  if (res[1]!=0) res[1][388]=a03;
+  if (res[1]!=0) res[1][389]=a03;
+  if (res[1]!=0) res[1][390]=a03;
+  if (res[1]!=0) res[1][391]=a03;
+  if (res[1]!=0) res[1][392]=a03;
+  if (res[1]!=0) res[1][393]=a03;
+  if (res[1]!=0) res[1][394]=a03;
+  if (res[1]!=0) res[1][395]=a03;
+  if (res[1]!=0) res[1][396]=a03;
+  if (res[1]!=0) res[1][397]=a03;
+  if (res[1]!=0) res[1][398]=a03;
+  if (res[1]!=0) res[1][399]=a03;
+  if (res[1]!=0) res[1][400]=a03;
+  if (res[1]!=0) res[1][401]=a03;
+  if (res[1]!=0) res[1][402]=a03;
+  if (res[1]!=0) res[1][403]=a03;
+  if (res[1]!=0) res[1][404]=a03;
+  if (res[1]!=0) res[1][405]=a03;
+  if (res[1]!=0) res[1][406]=a03;
+  if (res[1]!=0) res[1][407]=a03;
+  if (res[1]!=0) res[1][408]=a03;
+  if (res[1]!=0) res[1][409]=a03;
+  if (res[1]!=0) res[1][410]=a03;
+  if (res[1]!=0) res[1][411]=a03;
+  if (res[1]!=0) res[1][412]=a03;
+  if (res[1]!=0) res[1][413]=a03;
+  if (res[1]!=0) res[1][414]=a03;
+  if (res[1]!=0) res[1][415]=a03;
+  if (res[1]!=0) res[1][416]=a03;
+  if (res[1]!=0) res[1][417]=a03;
+  if (res[1]!=0) res[1][418]=a03;
+  if (res[1]!=0) res[1][419]=a03;
+  if (res[1]!=0) res[1][420]=a03;
+  if (res[1]!=0) res[1][421]=a03;
+  if (res[1]!=0) res[1][422]=a03;
+  if (res[1]!=0) res[1][423]=a03;
+  if (res[1]!=0) res[1][424]=a03;
+  if (res[1]!=0) res[1][425]=a03;
+  if (res[1]!=0) res[1][426]=a03;
+  if (res[1]!=0) res[1][427]=a03;
+  if (res[1]!=0) res[1][428]=a03;
+  if (res[1]!=0) res[1][429]=a03;
+  if (res[1]!=0) res[1][430]=a03;
+  if (res[1]!=0) res[1][431]=a03;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int stewart_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
+  return casadi_f4(arg, res, iw, w, mem);
+}
+
+CASADI_SYMBOL_EXPORT int stewart_parameter_jacobians_checkout(void) {
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT void stewart_parameter_jacobians_release(int mem) {
+}
+
+CASADI_SYMBOL_EXPORT void stewart_parameter_jacobians_incref(void) {
+}
+
+CASADI_SYMBOL_EXPORT void stewart_parameter_jacobians_decref(void) {
+}
+
+CASADI_SYMBOL_EXPORT casadi_int stewart_parameter_jacobians_n_in(void) { return 3;}
+
+CASADI_SYMBOL_EXPORT casadi_int stewart_parameter_jacobians_n_out(void) { return 2;}
+
+CASADI_SYMBOL_EXPORT casadi_real stewart_parameter_jacobians_default_in(casadi_int i) {
+  switch (i) {
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* stewart_parameter_jacobians_name_in(casadi_int i) {
+  switch (i) {
+    case 0: return "actuated";
+    case 1: return "passive";
+    case 2: return "params";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const char* stewart_parameter_jacobians_name_out(casadi_int i) {
+  switch (i) {
+    case 0: return "closure_parameters";
+    case 1: return "pose_parameters";
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* stewart_parameter_jacobians_sparsity_in(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s0;
+    case 1: return casadi_s1;
+    case 2: return casadi_s2;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT const casadi_int* stewart_parameter_jacobians_sparsity_out(casadi_int i) {
+  switch (i) {
+    case 0: return casadi_s8;
+    case 1: return casadi_s9;
+    default: return 0;
+  }
+}
+
+CASADI_SYMBOL_EXPORT int stewart_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3;
+  if (sz_res) *sz_res = 2;
+  if (sz_iw) *sz_iw = 0;
+  if (sz_w) *sz_w = 0;
+  return 0;
+}
+
+CASADI_SYMBOL_EXPORT int stewart_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
+  if (sz_arg) *sz_arg = 3*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = 2*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
+  if (sz_w) *sz_w = 0*sizeof(casadi_real);
+  return 0;
+}
+
+/* stewart_singularity_factors:(actuated[6],passive[7],params[36])->(factors[7],determinants[2]) */
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -3417,7 +4727,7 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_singularity_factors_checkout(void) {
@@ -3472,7 +4782,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* stewart_singularity_factors_sparsity_in(c
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_singularity_factors_sparsity_out(casadi_int i) {
   switch (i) {
     case 0: return casadi_s1;
-    case 1: return casadi_s8;
+    case 1: return casadi_s10;
     default: return 0;
   }
 }
@@ -3494,7 +4804,7 @@ CASADI_SYMBOL_EXPORT int stewart_singularity_factors_work_bytes(casadi_int *sz_a
 }
 
 /* stewart_drawing:(actuated[6],passive[7],params[36])->(base[3x6],platform[3x6]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20;
   a00=arg[2]? arg[2][0] : 0;
@@ -3732,7 +5042,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_drawing(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_drawing_checkout(void) {
@@ -3786,8 +5096,8 @@ CASADI_SYMBOL_EXPORT const casadi_int* stewart_drawing_sparsity_in(casadi_int i)
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_drawing_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s9;
-    case 1: return casadi_s9;
+    case 0: return casadi_s11;
+    case 1: return casadi_s11;
     default: return 0;
   }
 }
@@ -3809,7 +5119,7 @@ CASADI_SYMBOL_EXPORT int stewart_drawing_work_bytes(casadi_int *sz_arg, casadi_i
 }
 
 /* stewart_inverse_pose:(pose[12],branch[0],params[36])->(actuated[6],passive[7],validity[6]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30;
@@ -4357,7 +5667,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_inverse_pose(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f7(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_inverse_pose_checkout(void) {
@@ -4403,8 +5713,8 @@ CASADI_SYMBOL_EXPORT const char* stewart_inverse_pose_name_out(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_inverse_pose_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
-    case 1: return casadi_s11;
+    case 0: return casadi_s12;
+    case 1: return casadi_s13;
     case 2: return casadi_s2;
     default: return 0;
   }
@@ -4436,7 +5746,7 @@ CASADI_SYMBOL_EXPORT int stewart_inverse_pose_work_bytes(casadi_int *sz_arg, cas
 }
 
 /* stewart_inverse_pose_patterns:(pose[12],params[36])->(actuated[6],passive[7],validity[6]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30;
@@ -4984,7 +6294,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_inverse_pose_patterns(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f8(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_inverse_pose_patterns_checkout(void) {
@@ -5029,7 +6339,7 @@ CASADI_SYMBOL_EXPORT const char* stewart_inverse_pose_patterns_name_out(casadi_i
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_inverse_pose_patterns_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
+    case 0: return casadi_s12;
     case 1: return casadi_s2;
     default: return 0;
   }
@@ -5061,7 +6371,7 @@ CASADI_SYMBOL_EXPORT int stewart_inverse_pose_patterns_work_bytes(casadi_int *sz
 }
 
 /* stewart_homotopy_family:(actuated[6],params[36])->(free[42],angles) */
-static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -5153,7 +6463,7 @@ static int casadi_f8(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f8(arg, res, iw, w, mem);
+  return casadi_f9(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_family_checkout(void) {
@@ -5205,7 +6515,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* stewart_homotopy_family_sparsity_in(casad
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_homotopy_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
+    case 0: return casadi_s14;
     case 1: return casadi_s5;
     default: return 0;
   }
@@ -5228,7 +6538,7 @@ CASADI_SYMBOL_EXPORT int stewart_homotopy_family_work_bytes(casadi_int *sz_arg, 
 }
 
 /* stewart_homotopy_monomials:(family_re[42],family_im[42])->(re[165],im[165]) */
-static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -7045,7 +8355,7 @@ static int casadi_f9(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f9(arg, res, iw, w, mem);
+  return casadi_f10(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_monomials_checkout(void) {
@@ -7089,16 +8399,16 @@ CASADI_SYMBOL_EXPORT const char* stewart_homotopy_monomials_name_out(casadi_int 
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_homotopy_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_homotopy_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s13;
-    case 1: return casadi_s13;
+    case 0: return casadi_s15;
+    case 1: return casadi_s15;
     default: return 0;
   }
 }
@@ -7120,7 +8430,7 @@ CASADI_SYMBOL_EXPORT int stewart_homotopy_monomials_work_bytes(casadi_int *sz_ar
 }
 
 /* stewart_homotopy_passive:(z[8],params[36])->(passive[7]) */
-static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13;
   a00=arg[0]? arg[0][5] : 0;
@@ -7184,7 +8494,7 @@ static int casadi_f10(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f10(arg, res, iw, w, mem);
+  return casadi_f11(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_homotopy_passive_checkout(void) {
@@ -7227,7 +8537,7 @@ CASADI_SYMBOL_EXPORT const char* stewart_homotopy_passive_name_out(casadi_int i)
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_homotopy_passive_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s14;
+    case 0: return casadi_s16;
     case 1: return casadi_s2;
     default: return 0;
   }
@@ -7257,7 +8567,7 @@ CASADI_SYMBOL_EXPORT int stewart_homotopy_passive_work_bytes(casadi_int *sz_arg,
 }
 
 /* stewart_automatic_family:(actuated[6],params[36])->(free[42],angles) */
-static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -7349,7 +8659,7 @@ static int casadi_f11(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_family(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f11(arg, res, iw, w, mem);
+  return casadi_f12(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_family_checkout(void) {
@@ -7401,7 +8711,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* stewart_automatic_family_sparsity_in(casa
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_automatic_family_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
+    case 0: return casadi_s14;
     case 1: return casadi_s5;
     default: return 0;
   }
@@ -7424,7 +8734,7 @@ CASADI_SYMBOL_EXPORT int stewart_automatic_family_work_bytes(casadi_int *sz_arg,
 }
 
 /* stewart_automatic_monomials:(family_re[42],family_im[42])->(re[311],im[311]) */
-static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
   casadi_real a024, a025, a026, a027, a028, a029, a030, a031, a032, a033, a034, a035;
@@ -9295,7 +10605,7 @@ static int casadi_f12(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_monomials(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f12(arg, res, iw, w, mem);
+  return casadi_f13(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_monomials_checkout(void) {
@@ -9339,16 +10649,16 @@ CASADI_SYMBOL_EXPORT const char* stewart_automatic_monomials_name_out(casadi_int
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_automatic_monomials_sparsity_in(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s12;
-    case 1: return casadi_s12;
+    case 0: return casadi_s14;
+    case 1: return casadi_s14;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* stewart_automatic_monomials_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s15;
-    case 1: return casadi_s15;
+    case 0: return casadi_s17;
+    case 1: return casadi_s17;
     default: return 0;
   }
 }
@@ -9370,7 +10680,7 @@ CASADI_SYMBOL_EXPORT int stewart_automatic_monomials_work_bytes(casadi_int *sz_a
 }
 
 /* stewart_automatic_passive:(z[7],params[36])->(passive[7]) */
-static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f14(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0;
   a0=arg[0]? arg[0][0] : 0;
   if (res[0]!=0) res[0][0]=a0;
@@ -9390,7 +10700,7 @@ static int casadi_f13(const casadi_real** arg, casadi_real** res, casadi_int* iw
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_passive(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f13(arg, res, iw, w, mem);
+  return casadi_f14(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int stewart_automatic_passive_checkout(void) {

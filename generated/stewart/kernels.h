@@ -5,6 +5,7 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
+//   parameter_jacobians: 486
 //   singularity_factors: 689
 //   drawing: 155
 //   inverse_pose: 485
@@ -106,6 +107,24 @@ int stewart_rate_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, ca
 #define stewart_rate_jacobians_SZ_RES 2
 #define stewart_rate_jacobians_SZ_IW 0
 #define stewart_rate_jacobians_SZ_W 0
+int stewart_parameter_jacobians(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int stewart_parameter_jacobians_checkout(void);
+void stewart_parameter_jacobians_release(int mem);
+void stewart_parameter_jacobians_incref(void);
+void stewart_parameter_jacobians_decref(void);
+casadi_int stewart_parameter_jacobians_n_in(void);
+casadi_int stewart_parameter_jacobians_n_out(void);
+casadi_real stewart_parameter_jacobians_default_in(casadi_int i);
+const char* stewart_parameter_jacobians_name_in(casadi_int i);
+const char* stewart_parameter_jacobians_name_out(casadi_int i);
+const casadi_int* stewart_parameter_jacobians_sparsity_in(casadi_int i);
+const casadi_int* stewart_parameter_jacobians_sparsity_out(casadi_int i);
+int stewart_parameter_jacobians_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+int stewart_parameter_jacobians_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+#define stewart_parameter_jacobians_SZ_ARG 3
+#define stewart_parameter_jacobians_SZ_RES 2
+#define stewart_parameter_jacobians_SZ_IW 0
+#define stewart_parameter_jacobians_SZ_W 0
 int stewart_singularity_factors(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int stewart_singularity_factors_checkout(void);
 void stewart_singularity_factors_release(int mem);

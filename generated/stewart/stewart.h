@@ -5,6 +5,7 @@
 //   loop_closure: 1350
 //   loop_closure_actuated: 248
 //   rate_jacobians: 257
+//   parameter_jacobians: 486
 //   singularity_factors: 689
 //   drawing: 155
 //   inverse_pose: 485
@@ -229,6 +230,10 @@ int stewart_loop_closure_actuated_batch(long long n, const double** inputs, cons
 //   inputs: actuated[6], passive[7], params[36]
 //   outputs: a[6 x 6], b[6 x 6]
 int stewart_rate_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
+// Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
+//   inputs: actuated[6], passive[7], params[36]
+//   outputs: closure_parameters[7 x 36], pose_parameters[12 x 36]
+int stewart_parameter_jacobians_batch(long long n, const double** inputs, const long long* strides, double** outputs);
 // Every named singularity factor, then the determinants.
 //   inputs: actuated[6], passive[7], params[36]
 //   outputs: factors[7], determinants[2]
