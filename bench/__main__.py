@@ -18,6 +18,7 @@ import scipy.optimize
 import sympy as sp
 from parakin.generator.build import discover, generate
 
+import bench.floor
 import parakin
 from bench.timing import best_time
 from parakin.solvers.homotopy import path_pairs
@@ -474,6 +475,7 @@ def main() -> None:
     for name in parakin.available():
         for line in method_rows(name):
             print(line)
+    bench.floor.main()
     print(
         "\nparakin.sweep: reachable + type II distance over a pose grid (chunks of 20,000); thousands of poses "
         "per second, scaling = one process / local threads and / 2-worker cluster (2 cores on this machine)\n"

@@ -17,7 +17,9 @@ rename leaves one, which the next compile removes once that process is gone (or 
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import dataclasses
 import hashlib
 import os
 import re
@@ -27,6 +29,7 @@ import stat
 import subprocess
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -315,6 +318,27 @@ def job_structure(name: str, fields: tuple[tuple[str, str], ...]) -> type[ctypes
     return type(name, (ctypes.Structure,), {"_fields_": [(n, _CTYPES.get(t, _POINTER)) for n, t in fields]})
 
 
+@dataclasses.dataclass
+class TrackCounts:
+    """What the C path tracker did, summed over calls (``CompiledBackend.counting``): paths
+    tracked (a sign symmetry's partner paths are not tracked), step attempts, rejected steps,
+    homotopy evaluations (value and Jacobian) and LU factorisations."""
+
+    paths: int = 0
+    steps: int = 0
+    rejected: int = 0
+    evaluations: int = 0
+    factorisations: int = 0
+
+    def add(self, values: list[int]) -> None:
+        """Add one call's five counts, in the order of the fields."""
+        self.paths += values[0]
+        self.steps += values[1]
+        self.rejected += values[2]
+        self.evaluations += values[3]
+        self.factorisations += values[4]
+
+
 class CompiledBackend:
     """Batched kernels, the forward-pose Newton loop and the all-modes pipeline in compiled C."""
 
@@ -349,10 +373,56 @@ class CompiledBackend:
         self.newton.argtypes = [_POINTER]
         self.ModesJob = job_structure("ModesJob", abi.modes_job)
         self.forward_pose_all = None
+        # forward_pose_all that also sums what path tracking cost (``counting``); a library of an
+        # older generator lacks it
+        self._counted: Any = None
         if abi.modes_symbol is not None:
             self.forward_pose_all = getattr(self.library, abi.modes_symbol)
             self.forward_pose_all.restype = ctypes.c_int
             self.forward_pose_all.argtypes = [_POINTER]
+            self._counted = getattr(self.library, f"{abi.modes_symbol}_counted", None)
+            if self._counted is not None:
+                self._counted.restype = ctypes.c_int
+                self._counted.argtypes = [_POINTER, _POINTER]
+
+    @contextlib.contextmanager
+    def counting(self) -> Iterator[TrackCounts]:
+        """Count what the C path tracker does while the block runs (every ``forward_pose_all``
+        through this backend, from this thread or others; not thread-safe: for measurements).
+
+        Yields
+        ------
+        TrackCounts
+            Summed over the calls made in the block; filled as they return.
+
+        Raises
+        ------
+        StaleLibraryError
+            The library was built by an older generator, without the counted entry point.
+
+        Example
+        -------
+        >>> m = parakin.load("stewart", backend="compiled")  # doctest: +SKIP
+        >>> with m.backend.counting() as counts:  # doctest: +SKIP
+        ...     m.forward_pose_all(m.home_actuated)
+        >>> counts.steps / counts.paths  # doctest: +SKIP
+        """
+        if self._counted is None or self.forward_pose_all is None:
+            raise StaleLibraryError(f"{self.path} has no counted forward_pose_all: regenerate its package")
+        counts = TrackCounts()
+        original, counted = self.forward_pose_all, self._counted
+        buffer = (_INT64 * 5)()
+
+        def call(pointer: Any) -> int:
+            status = int(counted(pointer, buffer))
+            counts.add(list(buffer))
+            return status
+
+        self.forward_pose_all = call
+        try:
+            yield counts
+        finally:
+            self.forward_pose_all = original
 
     def job(self, structure: type[ctypes.Structure], values: dict[str, Any]) -> ctypes.Structure:
         """Fill a job structure: arrays become their data pointers (the caller keeps them alive)."""

@@ -1,0 +1,181 @@
+"""The solver core against its floor (issue 33): Dietmaier's 40 modes of the general Stewart
+platform by parakin's certified ``forward_pose_all`` and by fkSGP (Martyushev 2025, an
+elimination template in NumPy/SciPy: ``../shared/peers/fkSGP``), single thread, CPU time, the two
+contenders interleaved in one process with their order rotated; and per homotopy family what the
+C path tracker does per path (step attempts, rejections, evaluations, LU factorisations).
+
+Run alone: ``python -m bench.floor``; ``make bench`` prints the same table.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+import time
+import types
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import parakin
+from parakin.packages.compiled import CompiledBackend
+from parakin.studies.sampling import sample_configurations
+
+PEERS = Path(__file__).resolve().parent.parent.parent / "shared" / "peers"
+#: Dietmaier's geometry with 40 real postures (../shared/peers/README.md), fkSGP's arguments
+DIETMAIER_BASE = np.array(
+    [
+        [0, 0, 0],
+        [1.107915, 0, 0],
+        [0.549094, 0.756063, 0],
+        [0.735077, -0.223935, 0.525991],
+        [0.514188, -0.526063, -0.368418],
+        [0.590473, 0.094733, -0.205018],
+    ]
+)
+DIETMAIER_PLATFORM = np.array(
+    [
+        [0, 0, 0],
+        [0.542805, 0, 0],
+        [0.956919, -0.528915, 0],
+        [0.665885, -0.353482, 1.402538],
+        [0.478359, 1.158742, 0.107672],
+        [-0.137087, -0.235121, 0.353913],
+    ]
+)
+DIETMAIER_LEGS = np.array([1, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071])
+#: rounds of the interleaved comparison (each times every contender once, order rotated)
+ROUNDS = 30
+#: inputs near home per family for the tracker counts
+COUNT_INPUTS = {"stewart": 20, "prs3": 40, "planar_3rrr": 100, "rus6": 4}
+
+
+def load_fksgp() -> Callable[..., Any] | None:
+    """fkSGP's ``solver66`` where ``../shared/peers/fkSGP`` is present, else None. Its package
+    ``__init__`` imports a test module that needs Python >= 3.12, so a package object is
+    registered for the folder and only ``solver66`` (and what it imports) is loaded."""
+    folder = PEERS / "fkSGP" / "python"
+    if not (folder / "solver66.py").is_file():
+        return None
+    if "fksgp_peer" not in sys.modules:
+        package = types.ModuleType("fksgp_peer")
+        package.__path__ = [str(folder)]
+        sys.modules["fksgp_peer"] = package
+    module = importlib.import_module("fksgp_peer.solver66")
+    return module.solver66  # type: ignore[no-any-return]
+
+
+def compiled(m: Any) -> CompiledBackend:
+    """The compiled backend of a loaded mechanism (the bench loads with backend='compiled')."""
+    backend = m.backend
+    assert isinstance(backend, CompiledBackend), backend
+    return backend
+
+
+def interleaved(contenders: dict[str, Callable[[], object]], rounds: int = ROUNDS) -> dict[str, np.ndarray]:
+    """CPU seconds of each contender's call over ``rounds`` rounds, the contenders' order rotated
+    each round (what one of them leaves in the caches the next one finds)."""
+    names = list(contenders)
+    times: dict[str, list[float]] = {name: [] for name in names}
+    for call in contenders.values():  # warm up: compile, load, first-call allocations
+        call()
+    for r in range(rounds):
+        for name in names[r % len(names) :] + names[: r % len(names)]:
+            began = time.process_time()
+            contenders[name]()
+            times[name].append(time.process_time() - began)
+    return {name: np.array(value) for name, value in times.items()}
+
+
+def dietmaier_row() -> list[str]:
+    """Dietmaier's 40 modes: parakin (certified) and fkSGP, CPU ms per input (median, 10th and
+    90th percentile), their ratio in this run, modes each finds, and the tracker's counts."""
+    m = parakin.load("stewart", backend="compiled")
+    theta = DIETMAIER_LEGS.copy()
+    solver = load_fksgp()
+    contenders: dict[str, Callable[[], object]] = {"parakin": lambda: m.forward_pose_all(theta, strict=False)}
+    squared = DIETMAIER_LEGS**2
+    if solver is not None:
+        np.random.seed(1)  # fkSGP randomises internally
+        contenders["fkSGP"] = lambda: solver(DIETMAIER_BASE, DIETMAIER_PLATFORM, squared, 1)
+    times = interleaved(contenders)
+    modes = m.forward_pose_all(theta, strict=False)
+    complete = bool(np.all(modes.certificate().get("complete", False)))
+    with compiled(m).counting() as counts:
+        m.forward_pose_all(theta, strict=False)
+    rows = []
+    ours = float(np.median(times["parakin"]))
+    for name, value in times.items():
+        if name == "fkSGP":
+            assert solver is not None
+            found = len(solver(DIETMAIER_BASE, DIETMAIER_PLATFORM, squared, 1)[0])
+            extra = f"{found:5d} {'-':>8s}"
+        else:
+            extra = f"{int(modes.count):5d} {str(complete):>8s}"
+        ms = value * 1e3
+        rows.append(
+            f"{name:8s} {np.median(ms):9.2f} {np.percentile(ms, 10):9.2f} {np.percentile(ms, 90):9.2f} "
+            f"{np.median(value) / ours:8.2f} {extra}"
+        )
+    if solver is None:
+        rows.append(f"fkSGP: not found in {PEERS} (the peer is a bench baseline outside the repository)")
+    per_path = counts_line(counts)
+    rows.append(f"parakin's tracker on this input, per path: {per_path}")
+    return rows
+
+
+def counts_line(counts: Any) -> str:
+    paths = max(counts.paths, 1)
+    accepted = max(counts.steps - counts.rejected, 1)
+    return (
+        f"{counts.paths} paths, {counts.steps / paths:.1f} steps ({counts.rejected / max(counts.steps, 1):.1%} "
+        f"rejected), {counts.evaluations / paths:.1f} evaluations, {counts.factorisations / paths:.1f} LU, "
+        f"{counts.factorisations / accepted:.2f} LU per accepted step"
+    )
+
+
+def tracker_rows() -> list[str]:
+    """Per homotopy family: CPU ms per input of forward_pose_all (certified, one at a time) on
+    inputs sampled near home, and the tracker's work per path on them."""
+    rows = []
+    for name, count in COUNT_INPUTS.items():
+        if name not in parakin.available():
+            continue
+        m = parakin.load(name, backend="compiled")
+        sample = sample_configurations(m, 3 * count, spread=0.05, seed=5)
+        inputs = sample.actuated[:count]
+        began = time.process_time()
+        for theta in inputs:
+            m.forward_pose_all(theta, strict=False)
+        seconds = (time.process_time() - began) / len(inputs)
+        with compiled(m).counting() as counts:
+            m.forward_pose_all(inputs, strict=False)
+        rows.append(f"{name:12s} {len(inputs):4d} {seconds * 1e3:9.3f}   {counts_line(counts)}")
+    return rows
+
+
+def main() -> None:
+    warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
+    os.environ["PARAKIN_THREADS"] = "1"
+    print("\nDietmaier's 40 modes (issue 33): CPU ms per input, single thread, contenders interleaved")
+    header = f"{'solver':8s} {'median':>9s} {'p10':>9s} {'p90':>9s} {'/parakin':>8s} {'modes':>5s} {'complete':>8s}"
+    print(header)
+    print("-" * len(header))
+    for line in dietmaier_row():
+        print(line)
+    print("\nThe C path tracker per homotopy family (inputs near home, certified, one input per call)")
+    header = f"{'mechanism':12s} {'n':>4s} {'ms/input':>9s}   work per path"
+    print(header)
+    print("-" * len(header))
+    for line in tracker_rows():
+        print(line)
+
+
+if __name__ == "__main__":
+    for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(variable, "1")
+    main()
