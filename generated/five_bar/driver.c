@@ -679,7 +679,10 @@ static void settle(workspace* ws, const five_bar_modes_job* job, long long i, in
     job->count[i] += 1;
 }
 
-static void modes_one(workspace* ws, const five_bar_modes_job* job, long long i) {
+typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
+
+static void modes_one(workspace* ws, const five_bar_modes_job* job, long long i, track_counts* counts) {
+    (void)counts;  // a closed form tracks no path
     const double* theta = job->actuated + i * job->actuated_stride;
     const double* params = job->params;
     double* poses = job->poses + i * M * 16;
@@ -744,6 +747,19 @@ static void modes_one(workspace* ws, const five_bar_modes_job* job, long long i)
 
 int five_bar_forward_pose_all(const five_bar_modes_job* job) {
     workspace ws;
-    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i);
+    track_counts counts = {0, 0, 0, 0, 0};
+    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i, &counts);
+    return 0;
+}
+
+// forward_pose_all that also returns what path tracking cost over the whole job, summed:
+// counts[0..4] = paths tracked, step attempts, rejected steps, homotopy evaluations (each with
+// its Jacobian), LU factorisations (all 0 for a closed form)
+int five_bar_forward_pose_all_counted(const five_bar_modes_job* job, long long* counts) {
+    workspace ws;
+    track_counts sum = {0, 0, 0, 0, 0};
+    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i, &sum);
+    counts[0] = sum.paths; counts[1] = sum.steps; counts[2] = sum.rejected;
+    counts[3] = sum.evaluations; counts[4] = sum.factorisations;
     return 0;
 }

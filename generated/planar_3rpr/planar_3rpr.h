@@ -204,6 +204,9 @@ typedef struct {
 } planar_3rpr_modes_job;
 
 int planar_3rpr_forward_pose_all(const planar_3rpr_modes_job* job);
+// the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
+// rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
+int planar_3rpr_forward_pose_all_counted(const planar_3rpr_modes_job* job, long long* counts);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -997,18 +997,26 @@ static double c_max_abs(const cplx* v) {
 
 static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
 
+// What tracking cost, summed over paths: planar_3rrr_forward_pose_all_counted returns it (bench/)
+typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
+
 // dz/ds = -H_z^-1 H_s; 0 when singular or not finite
-static int velocity(const coefficients_at* at, const cplx* z, cplx* out) {
+static int velocity(const coefficients_at* at, const cplx* z, cplx* out, track_counts* counts) {
     cplx jacobian[NZ * NZ];
+    counts->evaluations += 1;
     if (!homotopy_eval(at, z, NULL, jacobian, out)) return 0;
+    counts->factorisations += 1;
     for (int k = 0; k < NZ; ++k) out[k] = (cplx){-out[k].re, -out[k].im};
     return c_solve(jacobian, out);
 }
 
 // One Newton step at (z, s) in place; returns the update relative to |z| (inf when singular).
-static double newton_step(const coefficients_at* at, cplx* z) {
+static double newton_step(const coefficients_at* at, cplx* z, track_counts* counts) {
     cplx value[NZ], jacobian[NZ * NZ];
-    if (!homotopy_eval(at, z, value, jacobian, NULL) || !c_solve(jacobian, value)) return INFINITY;
+    counts->evaluations += 1;
+    if (!homotopy_eval(at, z, value, jacobian, NULL)) return INFINITY;
+    counts->factorisations += 1;
+    if (!c_solve(jacobian, value)) return INFINITY;
     for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
     return c_max_abs(value) / c_size(z);
 }
@@ -1017,7 +1025,8 @@ static double newton_step(const coefficients_at* at, cplx* z) {
 // too large for a small thread stack
 typedef struct { coefficients_at here, middle, end, target; } step_coefficients;
 
-static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at) {
+static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
+    counts->paths += 1;
     double s = 1.0, h = INITIAL_STEP;
     int streak = 0, slope_known = 0, slope_ok = 0;
     cplx k1[NZ];
@@ -1026,19 +1035,20 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
         double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
         cplx k2[NZ], k3[NZ], k4[NZ], probe[NZ], corrected[NZ];
         // a rejected step is retried from the same point, whose slope is still valid
-        if (!slope_known) { slope_ok = velocity(&at->here, z, k1); slope_known = 1; }
+        if (!slope_known) { slope_ok = velocity(&at->here, z, k1, counts); slope_known = 1; }
         coefficients(system, s - 0.5 * step, &at->middle);
         coefficients(system, s - step, &at->end);
         const coefficients_at* at_target = &at->end;
         if (target != s - step) { coefficients(system, target, &at->target); at_target = &at->target; }
         int ok = slope_ok;
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k1[k].re, z[k].im - 0.5 * step * k1[k].im};
-        ok = ok && velocity(&at->middle, probe, k2);
+        ok = ok && velocity(&at->middle, probe, k2, counts);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k2[k].re, z[k].im - 0.5 * step * k2[k].im};
-        ok = ok && velocity(&at->middle, probe, k3);
+        ok = ok && velocity(&at->middle, probe, k3, counts);
         for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - step * k3[k].re, z[k].im - step * k3[k].im};
-        ok = ok && velocity(&at->end, probe, k4);
+        ok = ok && velocity(&at->end, probe, k4, counts);
         int accepted = 0;
+        counts->steps += 1;
         if (ok) {
             for (int k = 0; k < NZ; ++k) {
                 double re = k1[k].re + 2.0 * k2[k].re + 2.0 * k3[k].re + k4[k].re;
@@ -1048,7 +1058,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
             double update = INFINITY;
             int contracting = 1;
             for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
-                double size = newton_step(at_target, corrected);
+                double size = newton_step(at_target, corrected, counts);
                 // converged iterates stop: at an ill-conditioned solution further updates are
                 // rounding noise, which need not contract
                 if (iteration) contracting &= size <= 0.5 * update;
@@ -1065,6 +1075,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
             if (++streak >= GROW_AFTER) { h *= 2.0; streak = 0; }
             if (s <= 0.0) break;
         } else {
+            counts->rejected += 1;
             h *= 0.5;
             streak = 0;
             if (h < MIN_STEP) return PATH_FAILED;
@@ -1079,7 +1090,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
     for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
         cplx trial[NZ];
         memcpy(trial, z, sizeof(trial));
-        double size = newton_step(&at->target, trial);
+        double size = newton_step(&at->target, trial, counts);
         if (!(size < update)) break;
         memcpy(z, trial, sizeof(trial));
         update = size;
@@ -1096,7 +1107,7 @@ static double phase_normalise(cplx* z) {
     return imaginary == 0.0 ? 0.0 : imaginary / magnitude;
 }
 
-static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long i) {
+static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long i, track_counts* counts) {
     const double* theta = job->actuated + i * job->actuated_stride;
     const double* params = job->params;
     int* outcome = job->outcome + i * M;
@@ -1112,7 +1123,7 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
     int ended[DEGREE], failures = 0;
     for (int p = 0; p < DEGREE; ++p) {
         for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){start_real[p][k], start_imag[p][k]};
-        ended[p] = track_path(&system, job->path_tolerance, ends[p], &at);
+        ended[p] = track_path(&system, job->path_tolerance, ends[p], &at, counts);
         failures += ended[p] == PATH_FAILED;
     }
     // a failed path came too close to another: track again from the second start system, along
@@ -1122,7 +1133,7 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
         for (int p = 0; p < DEGREE && failures; ++p) {
             cplx z[NZ];
             for (int k = 0; k < NZ; ++k) z[k] = (cplx){alternative_real[p][k], alternative_imag[p][k]};
-            if (track_path(&system, job->path_tolerance, z, &at) != PATH_REACHED) continue;
+            if (track_path(&system, job->path_tolerance, z, &at, counts) != PATH_REACHED) continue;
             double size = 0.0;
             for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(z[k]));
             int seen = 0;
@@ -1190,6 +1201,19 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
 
 int planar_3rrr_forward_pose_all(const planar_3rrr_modes_job* job) {
     workspace ws;
-    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i);
+    track_counts counts = {0, 0, 0, 0, 0};
+    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i, &counts);
+    return 0;
+}
+
+// forward_pose_all that also returns what path tracking cost over the whole job, summed:
+// counts[0..4] = paths tracked, step attempts, rejected steps, homotopy evaluations (each with
+// its Jacobian), LU factorisations (all 0 for a closed form)
+int planar_3rrr_forward_pose_all_counted(const planar_3rrr_modes_job* job, long long* counts) {
+    workspace ws;
+    track_counts sum = {0, 0, 0, 0, 0};
+    for (long long i = 0; i < job->n; ++i) modes_one(&ws, job, i, &sum);
+    counts[0] = sum.paths; counts[1] = sum.steps; counts[2] = sum.rejected;
+    counts[3] = sum.evaluations; counts[4] = sum.factorisations;
     return 0;
 }

@@ -286,6 +286,9 @@ typedef struct {
 } rus6_modes_job;
 
 int rus6_forward_pose_all(const rus6_modes_job* job);
+// the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
+// rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
+int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.
