@@ -1,0 +1,545 @@
+"""``calibrate``: the geometric parameters, actuated-joint offsets (and scales) and unknown
+instrument frames that best explain measured poses, by Levenberg-Marquardt on whitened residuals
+with analytic Jacobians, and what the measurements leave undetermined.
+
+The problem (implicit loop). Pose k was measured with encoder readings theta_k; the model's joints
+are theta'_k = scale * theta_k + offset. Its passive joints q_k are unknowns estimated with the
+parameters: they close the loop c(theta'_k, q_k; p) = 0, and the platform pose P(theta'_k, q_k; p)
+seen through the tracker and tool frames is compared with the measurement (the pose noise
+dominates: the encoders are taken as exact). Each iteration eliminates the q_k by the implicit
+function theorem (dq_k = -C_q^-1 (C_p dp + C_theta dtheta')), so the Jacobian of the residuals
+with respect to the parameters is exact:
+
+    dr/dp = dr/dy dy/dP (P_p - P_q C_q^-1 C_p),   dr/dtheta' = dr/dy dy/dP (P_theta - P_q C_q^-1 C_theta)
+
+with C_p and P_p from the generated ``parameter_jacobians`` kernel, C_q from ``loop_closure``,
+C_theta from ``loop_closure_actuated``, dy/dP and the frames' derivatives in closed form
+(``parakin.calibration.data.predict``). P_q and P_theta, the pose kernel's partial derivatives in the
+joints, come from central differences of the ``platform_pose`` kernel (one batched call; the
+kernels have no such output; exact for the quadratic pose kernels of quaternion platforms). A
+trial step moves every q_k by the linear prediction and closes each loop by Newton before its
+residual is compared.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from parakin.calibration.data import CalibrationData, frame_names, predict, residual, residual_in_units
+from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
+from parakin.calibration.frames import frame_transform
+from parakin.calibration.identifiability import RANK_TOLERANCE, Combination, analyse
+from parakin.errors import ConvergenceError, at_index, first_index
+from parakin.mechanism import Mechanism
+from parakin.packages.manifest import unknown_name
+from parakin.results import Array
+
+#: Newton iterations allowed to close one loop after a step
+CLOSE_ITERATIONS = 30
+#: central-difference step of the pose kernel's joint derivatives, relative to max(1, |value|)
+JOINT_STEP = 1e-6
+#: Levenberg-Marquardt: iteration cap, relative cost decrease that ends it, damping bounds
+MAX_ITERATIONS = 200
+COST_TOLERANCE = 1e-12
+DAMPING = (1e-12, 1e12)
+
+
+def require_kernel(m: Mechanism) -> None:
+    """CalibrationUnavailableError unless the package has the ``parameter_jacobians`` kernel."""
+    if "parameter_jacobians" not in m.manifest.kernels:
+        raise CalibrationUnavailableError(
+            f"{m.name}'s package has no parameter_jacobians kernel (it was generated before calibration "
+            "existed): regenerate it (make regenerate, or parakin generate FILE --out DIR --force)"
+        )
+
+
+def joint_names(m: Mechanism) -> list[str]:
+    """``<actuated>_offset`` for every actuated variable, then ``<actuated>_scale``."""
+    return [f"{a}_offset" for a in m.actuated_names] + [f"{a}_scale" for a in m.actuated_names]
+
+
+class Problem:
+    """One calibration problem: the parameter layout, and the residuals and Jacobian of a
+    parameter vector (geometric, joint offsets and scales, tracker, tool: ``names``)."""
+
+    def __init__(
+        self,
+        m: Mechanism,
+        data: CalibrationData,
+        free: Sequence[str] | None,
+        fixed: Sequence[str],
+        prior: Mapping[str, tuple[float, float]] | None,
+        start: Mapping[str, float] | None = None,
+    ) -> None:
+        require_kernel(m)
+        if data.actuated.shape[1] != len(m.actuated_names):
+            raise CalibrationDataError(
+                f"actuated has {data.actuated.shape[1]} columns; {m.name} has {len(m.actuated_names)} "
+                f"actuated variables {m.actuated_names}"
+            )
+        if data.passive is not None and data.passive.shape[1] != len(m.passive_names):
+            raise CalibrationDataError(
+                f"passive has {data.passive.shape[1]} columns; {m.name} has passive {m.passive_names}"
+            )
+        self.m, self.data = m, data
+        self.geometric = [p.name for p in m.manifest.parameters]
+        self.names = self.geometric + joint_names(m) + frame_names("tracker") + frame_names("tool")
+        n_a = len(m.actuated_names)
+        self.nominal = np.concatenate(
+            [m.params, np.zeros(n_a), np.ones(n_a), np.array(list(data.frame_values().values()))]
+        )
+        for name, value in (start or {}).items():
+            if name not in self.names:
+                raise unknown_name("calibration parameter", name, self.names, m.name)
+            self.nominal[self.names.index(name)] = float(value)
+        chosen = list(self.geometric + joint_names(m)[:n_a] + data.free_frames()) if free is None else list(free)
+        for name in [*chosen, *fixed]:
+            if name not in self.names:
+                raise unknown_name("calibration parameter", name, self.names, m.name)
+        self.free = [name for name in self.names if name in chosen and name not in set(fixed)]
+        if not self.free:
+            raise CalibrationDataError("no parameter is free: free minus fixed is empty")
+        self.index = np.array([self.names.index(name) for name in self.free], dtype=np.intp)
+        self.prior_index: list[int] = []
+        self.prior_mean: list[float] = []
+        self.prior_sigma: list[float] = []
+        for name, (mean, sigma) in (prior or {}).items():
+            if name not in self.free:
+                raise unknown_name("free parameter in prior", name, self.free, m.name)
+            if not (np.isfinite(mean) and np.isfinite(sigma) and sigma > 0):
+                raise CalibrationDataError(f"prior[{name!r}] must be (mean, sigma > 0), got {(mean, sigma)!r}")
+            self.prior_index.append(self.free.index(name))
+            self.prior_mean.append(float(mean))
+            self.prior_sigma.append(float(sigma))
+        self.n_g, self.n_a, self.n_p = len(self.geometric), n_a, len(m.passive_names)
+        lengths = np.abs(m.params[np.isfinite(m.params)])
+        self.closure_tolerance = 1e-12 * max(1.0, float(lengths.max(initial=1.0)))
+
+    # ---------------------------------------------------------------- layout
+    def full(self, x: Array) -> Array:
+        """Every parameter's value with the free ones set to ``x``."""
+        values = self.nominal.copy()
+        values[self.index] = x
+        return values
+
+    def split(self, values: Array) -> tuple[Array, Array, Array, Array, Array]:
+        """(geometric params, offsets, scales, tracker (6,), tool (6,)) of a full vector."""
+        g, a = self.n_g, self.n_a
+        return values[:g], values[g : g + a], values[g + a : g + 2 * a], values[-12:-6], values[-6:]
+
+    def joints(self, values: Array) -> Array:
+        """The model's actuated joints (N, n_a): scale * reading + offset."""
+        _, offset, scale, _, _ = self.split(values)
+        return self.data.actuated * scale + offset
+
+    # ---------------------------------------------------------------- loop closure
+    def close(self, values: Array, passive: Array) -> Array:
+        """Passive values (N, n_p) that close every loop at ``values``, by Newton from ``passive``;
+        ConvergenceError naming the first pose that does not close."""
+        params = self.split(values)[0]
+        theta = self.joints(values)
+        q = passive.copy()
+        error = np.full(len(q), np.inf)
+        for _ in range(CLOSE_ITERATIONS):
+            with np.errstate(all="ignore"):
+                out = self.m.backend.call("loop_closure", theta, q, params)
+            error = np.abs(out["residual"]).max(-1)
+            if (error <= self.closure_tolerance).all():
+                return q
+            with np.errstate(all="ignore"):
+                q = q - _solve(out["jacobian"], out["residual"][..., None])[..., 0]
+        bad = ~(error <= self.m.tolerances["closure"])
+        if bad.any():
+            index = first_index(bad)
+            raise ConvergenceError(
+                f"calibration: the loop of pose{at_index(index)} does not close at these parameters (residual "
+                f"{float(error[index]):.3g} > {self.m.tolerances['closure']:g}); the starting guess of its passive "
+                "joints is too far (pass CalibrationData(passive=...)) or the parameters left the mechanism's domain",
+                residual=float(error[index]),
+            )
+        return q
+
+    def _pose_joint_derivatives(self, params: Array, theta: Array, q: Array) -> tuple[Array, Array, Array]:
+        """The pose kernel's top rows (N, 12) and their central-difference derivatives in the
+        passive (N, 12, n_p) and actuated (N, 12, n_a) joints (module docstring)."""
+        n, n_a, n_p = len(q), self.n_a, self.n_p
+        count = n_a + n_p
+        joint = np.concatenate([theta, q], axis=1)
+        steps = JOINT_STEP * np.maximum(1.0, np.abs(joint))
+        shifted = np.repeat(joint[:, None, :], 2 * count + 1, axis=1)
+        for j in range(count):
+            shifted[:, 2 * j, j] += steps[:, j]
+            shifted[:, 2 * j + 1, j] -= steps[:, j]
+        with np.errstate(all="ignore"):
+            pose = self.m.backend.call("platform_pose", shifted[..., :n_a], shifted[..., n_a:], params)["pose"]
+        top = pose[..., :3, :].reshape(n, 2 * count + 1, 12)
+        derivative = (top[:, 0:-1:2] - top[:, 1:-1:2]) / (2.0 * steps[:, :, None])  # (N, count, 12)
+        derivative = np.swapaxes(derivative, 1, 2)
+        return top[:, -1], derivative[..., n_a:], derivative[..., :n_a]
+
+    def evaluate(self, values: Array, q: Array, jacobian: bool = True) -> tuple[Array, Array, Array]:
+        """Whitened residuals (rows,), their Jacobian (rows, n_free) and the passive sensitivity
+        (N, n_p, n_g + n_a) (dq = -sensitivity @ (dp, dtheta')) at closed ``q``."""
+        params, _, _, tracker, tool = self.split(values)
+        theta = self.joints(values)
+        n = len(q)
+        top, pose_passive, pose_actuated = self._pose_joint_derivatives(params, theta, q)
+        y, d_platform, d_tracker, d_tool = predict(top.reshape(n, 3, 4), tracker, tool, derivatives=jacobian)
+        r, d_residual = residual(self.data, y)
+        prior = (self.full_x(values)[self.prior_index] - np.array(self.prior_mean)) / np.array(self.prior_sigma)
+        rows = np.concatenate([r.ravel(), prior])
+        if not jacobian:
+            return rows, np.zeros((0, 0)), np.zeros((0, 0, 0))
+        closure = self.m.backend.call("loop_closure", theta, q, params)["jacobian"]
+        closure_actuated = self.m.backend.call("loop_closure_actuated", theta, q, params)["jacobian_actuated"]
+        kernel = self.m.backend.call("parameter_jacobians", theta, q, params)
+        right = np.concatenate([kernel["closure_parameters"], closure_actuated], axis=2)
+        sensitivity = _solve(closure, right)  # C_q^-1 [C_p, C_theta]
+        total = np.concatenate([kernel["pose_parameters"], pose_actuated], axis=2) - pose_passive @ sensitivity
+        through = d_residual @ d_platform  # (N, s, 12)
+        by_joint = through @ total  # (N, s, n_g + n_a)
+        g = self.n_g
+        full = np.concatenate(
+            [
+                by_joint[..., :g],
+                by_joint[..., g:],
+                by_joint[..., g:] * self.data.actuated[:, None, :],
+                d_residual @ d_tracker,
+                d_residual @ d_tool,
+            ],
+            axis=2,
+        )
+        columns = full[..., self.index].reshape(n * full.shape[1], len(self.index))
+        prior_rows = np.zeros((len(self.prior_index), len(self.index)))
+        prior_rows[np.arange(len(self.prior_index)), self.prior_index] = 1.0 / np.array(self.prior_sigma)
+        return rows, np.concatenate([columns, prior_rows]), sensitivity
+
+    def full_x(self, values: Array) -> Array:
+        return values[self.index]
+
+    def predicted_passive(self, q: Array, sensitivity: Array, step_values: Array) -> Array:
+        """The linear prediction q - C_q^-1 (C_p dp + C_theta dtheta') of a step of the full vector."""
+        params_step = step_values[: self.n_g]
+        theta_step = self.joints(self.nominal + step_values) - self.joints(self.nominal)
+        combined = np.concatenate([np.broadcast_to(params_step, (len(q), self.n_g)), theta_step], axis=1)
+        return q - (sensitivity @ combined[..., None])[..., 0]
+
+
+def _solve(matrix: Array, right: Array) -> Array:
+    """matrix^-1 right for a batch; the least-squares solution where the closure is not square."""
+    if matrix.shape[-1] == matrix.shape[-2]:
+        return np.asarray(np.linalg.solve(matrix, right))
+    return np.asarray(np.linalg.pinv(matrix) @ right)
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    """What ``calibrate`` found.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The free (estimated) parameters, in the order of ``covariance``.
+    values, nominal : dict
+        Every calibration parameter (geometric, ``<actuated>_offset`` / ``_scale``, ``tracker_*``,
+        ``tool_*``) after and before the fit (m, rad, 1).
+    standard_errors : dict
+        One standard deviation of each free parameter (NaN for one that is not identifiable).
+    covariance : (n_free, n_free)
+        Covariance of the free parameters (the pseudo-inverse over the identifiable subspace).
+    rank, singular_values, observability
+        Rank of the whitened Jacobian (column-scaled), its singular values, O1..O5
+        (``parakin.calibration.identifiability``).
+    identifiable : tuple of str
+        Free parameters that the measurements determine individually.
+    unidentifiable : tuple of Combination
+        The null directions, named in parameter terms (``str(c)`` reads ``R + r``).
+    null_space : (n_free, k)
+        Their basis in parameter units (unit columns).
+    residuals_before, residuals_after : dict
+        Residuals in measurement units per component ('position' (N, 3) m, 'angle' (N, 3) rad,
+        'z' or 'distance' (N,) m).
+    rms_before, rms_after : dict
+        Root-mean-square of each component.
+    chi2, dof : float, int
+        Sum of squared whitened residuals at the solution and rows minus rank.
+    iterations, seconds : int, float
+    passive : (N, n_p)
+        The estimated passive joints of every pose.
+    mechanism : Mechanism
+        The mechanism loaded with the calibrated geometric parameters.
+    """
+
+    names: tuple[str, ...]
+    values: dict[str, float]
+    nominal: dict[str, float]
+    standard_errors: dict[str, float]
+    covariance: Array
+    rank: int
+    singular_values: Array
+    observability: dict[str, float]
+    identifiable: tuple[str, ...]
+    unidentifiable: tuple[Combination, ...]
+    null_space: Array
+    residuals_before: dict[str, Array]
+    residuals_after: dict[str, Array]
+    rms_before: dict[str, float]
+    rms_after: dict[str, float]
+    chi2: float
+    dof: int
+    iterations: int
+    seconds: float
+    passive: Array
+    mechanism: Mechanism
+
+    @property
+    def offsets(self) -> dict[str, float]:
+        """``<actuated>_offset`` values."""
+        return {k: v for k, v in self.values.items() if k.endswith("_offset")}
+
+    @property
+    def tracker(self) -> Array:
+        """^B_W T (4, 4) at the calibrated values."""
+        return frame_transform(np.array([self.values[n] for n in frame_names("tracker")]))
+
+    @property
+    def tool(self) -> Array:
+        """^P_T T (4, 4) at the calibrated values."""
+        return frame_transform(np.array([self.values[n] for n in frame_names("tool")]))
+
+    def joints(self, readings: ArrayLike) -> Array:
+        """The calibrated model's actuated joints (..., n_a) for encoder readings (..., n_a):
+        scale * reading + offset."""
+        names = self.mechanism.actuated_names
+        reading = np.asarray(readings, dtype=float)
+        scale = np.array([self.values[f"{a}_scale"] for a in names])
+        offset = np.array([self.values[f"{a}_offset"] for a in names])
+        return reading * scale + offset
+
+    def readings(self, joints: ArrayLike) -> Array:
+        """The encoder readings that put the calibrated model's joints at ``joints`` (inverse of
+        ``joints``): what to command."""
+        names = self.mechanism.actuated_names
+        scale = np.array([self.values[f"{a}_scale"] for a in names])
+        offset = np.array([self.values[f"{a}_offset"] for a in names])
+        return (np.asarray(joints, dtype=float) - offset) / scale
+
+    def interval(self, name: str, level: float = 0.95) -> tuple[float, float]:
+        """The two-sided normal confidence interval of a free parameter (``level`` 0.95 or 0.99)."""
+        z = {0.95: 1.959963984540054, 0.99: 2.5758293035489004, 0.6826894921370859: 1.0}.get(level)
+        if z is None:
+            raise CalibrationDataError(f"level must be 0.95 or 0.99, got {level!r}")
+        if name not in self.standard_errors:
+            raise unknown_name("free parameter", name, self.names, self.mechanism.name)
+        value, error = self.values[name], self.standard_errors[name]
+        return value - z * error, value + z * error
+
+    def summary(self) -> str:
+        """A text table: every free parameter (nominal, calibrated, one sigma), then the null
+        combinations, the rms before and after and O1..O5."""
+        lines = [f"{'parameter':<16} {'nominal':>13} {'calibrated':>13} {'sigma':>10}"]
+        for name in self.names:
+            error = self.standard_errors[name]
+            shown = f"{error:10.3g}" if np.isfinite(error) else "  (unid.)"
+            lines.append(f"{name:<16} {self.nominal[name]:13.7g} {self.values[name]:13.7g} {shown}")
+        lines.append(f"rank {self.rank} of {len(self.names)}; {len(self.unidentifiable)} unidentifiable combination(s)")
+        lines += [f"  unidentifiable: {c}" for c in self.unidentifiable]
+        for key in self.rms_before:
+            lines.append(f"rms {key}: {self.rms_before[key]:.4g} before, {self.rms_after[key]:.4g} after")
+        lines.append("observability: " + ", ".join(f"{k} = {v:.3g}" for k, v in self.observability.items()))
+        lines.append(f"{self.iterations} iterations, {self.seconds:.3g} s")
+        return "\n".join(lines)
+
+
+def _start(problem: Problem) -> Array:
+    """Starting passive joints: given, or Newton from the measured pose (kind 'pose', with an
+    inverse) or from the mode nearest home, on the nominal model at the readings."""
+    m, data = problem.m, problem.data
+    if data.passive is not None:
+        return problem.close(problem.nominal, data.passive)
+    theta = problem.joints(problem.nominal)
+    guess: Array | None = None
+    if data.kind == "pose" and m.capabilities.inverse is not None:
+        guess = data.tracker @ data.measured @ np.linalg.inv(data.tool)
+    solved = m.forward_pose(theta, guess=guess, strict=False)
+    return problem.close(problem.nominal, np.asarray(solved.passive))
+
+
+def _rms(parts: dict[str, Array]) -> dict[str, float]:
+    return {k: float(np.sqrt(np.mean(np.sum(v.reshape(len(v), -1) ** 2, axis=1)))) for k, v in parts.items()}
+
+
+def calibrate(
+    m: Mechanism,
+    data: CalibrationData,
+    free: Sequence[str] | None = None,
+    fixed: Sequence[str] = (),
+    prior: Mapping[str, tuple[float, float]] | None = None,
+    rank_tolerance: float = RANK_TOLERANCE,
+) -> CalibrationResult:
+    """Identify a mechanism's geometric parameters, actuated-joint offsets (and scales) and
+    unknown instrument frames from measurements (module docstring: the method).
+
+    Parameters
+    ----------
+    m : Mechanism
+        The nominal model (its parameters are the starting values).
+    data : CalibrationData
+        The measurements (N poses; kinds, frames and sigma in ``parakin.calibration.data``).
+    free : sequence of str, optional
+        The parameters to estimate. Default: every geometric parameter, every
+        ``<actuated>_offset``, and the frame parameters of the unknown frames.
+    fixed : sequence of str
+        Parameters held at their starting values (removed from ``free``).
+    prior : mapping name -> (mean, sigma), optional
+        A Gaussian prior on free parameters (units of the parameter), as extra residuals.
+    rank_tolerance : float
+        Relative singular value below which a direction is unidentifiable.
+
+    Returns
+    -------
+    CalibrationResult
+
+    Raises
+    ------
+    CalibrationUnavailableError
+        The package lacks the ``parameter_jacobians`` kernel (regenerate it).
+    CalibrationDataError, BadInputError
+        Measurements of the wrong shape, an unknown parameter name.
+    ConvergenceError
+        A pose whose loop cannot be closed from its starting guess.
+
+    Example
+    -------
+    >>> m = parakin.load("stewart")
+    >>> result = calibrate(m, CalibrationData(readings, poses, sigma=(20e-6, 3.5e-5)))
+    >>> result.rank, result.rms_after["position"], result.mechanism.parameters["base_x2"]
+    """
+    began = time.perf_counter()
+    problem = Problem(m, data, free, fixed, prior)
+    q = _start(problem)
+    values = problem.nominal.copy()
+    r, jacobian, sensitivity = problem.evaluate(values, q)
+    first = r
+    cost = float(r @ r)
+    damping = 1e-3
+    iterations = 0
+    for iterations in range(1, MAX_ITERATIONS + 1):  # noqa: B007  (reported)
+        weights = np.sqrt(np.maximum(np.sum(jacobian**2, axis=0), 1e-30))
+        while True:
+            system = np.concatenate([jacobian, np.diag(np.sqrt(damping) * weights)])
+            step = np.linalg.lstsq(system, np.concatenate([-r, np.zeros(len(weights))]), rcond=None)[0]
+            trial = problem.full(values[problem.index] + step)
+            step_full = trial - values
+            try:
+                trial_q = problem.close(trial, problem.predicted_passive(q, sensitivity, step_full))
+                trial_r = problem.evaluate(trial, trial_q, jacobian=False)[0]
+                trial_cost = float(trial_r @ trial_r)
+            except ConvergenceError:
+                trial_cost = np.inf
+            if trial_cost < cost:
+                damping = max(damping / 10.0, DAMPING[0])
+                break
+            damping *= 10.0
+            if damping > DAMPING[1]:
+                trial_cost = cost
+                break
+        if trial_cost >= cost:
+            break
+        decrease = cost - trial_cost
+        values, q, cost = trial, trial_q, trial_cost
+        r, jacobian, sensitivity = problem.evaluate(values, q)
+        if decrease <= COST_TOLERANCE * max(cost, 1e-300) + 1e-30:
+            break
+    analysis = analyse(jacobian, problem.free, len(data), rank_tolerance)
+    standard = np.sqrt(np.maximum(np.diag(analysis.covariance), 0.0))
+    errors = {
+        name: float(standard[i]) if name in analysis.identifiable else float("nan")
+        for i, name in enumerate(problem.free)
+    }
+    n_rows = len(data) * data.size
+    before = residual_in_units(data, first[:n_rows].reshape(len(data), data.size))
+    after = residual_in_units(data, r[:n_rows].reshape(len(data), data.size))
+    final = dict(zip(problem.names, (float(v) for v in values), strict=True))
+    calibrated = _reload(m, {name: final[name] for name in problem.geometric})
+    return CalibrationResult(
+        names=tuple(problem.free),
+        values=final,
+        nominal=dict(zip(problem.names, (float(v) for v in problem.nominal), strict=True)),
+        standard_errors=errors,
+        covariance=analysis.covariance,
+        rank=analysis.rank,
+        singular_values=analysis.singular_values,
+        observability=analysis.observability,
+        identifiable=analysis.identifiable,
+        unidentifiable=analysis.combinations,
+        null_space=analysis.null_space,
+        residuals_before=before,
+        residuals_after=after,
+        rms_before=_rms(before),
+        rms_after=_rms(after),
+        chi2=cost,
+        dof=int(len(r) - analysis.rank),
+        iterations=iterations,
+        seconds=time.perf_counter() - began,
+        passive=q,
+        mechanism=calibrated,
+    )
+
+
+def prediction_covariance(
+    result: CalibrationResult, readings: ArrayLike, guess: ArrayLike | None = None
+) -> tuple[Array, Array]:
+    """The calibrated model's platform poses at encoder readings and the covariance of their
+    positions that the parameters' covariance implies (first-order propagation).
+
+    Parameters
+    ----------
+    result : CalibrationResult
+    readings : array_like (N, n_a)
+        Encoder readings (m or rad), the same kind as the calibration's.
+    guess : array_like, optional
+        Poses (N, 4, 4) or passive values (N, n_p) that seed Newton (default: the mode nearest home).
+
+    Returns
+    -------
+    poses : (N, 4, 4)
+        ^B_P T of the calibrated model (its joints ``result.joints(readings)``), by Newton from
+        ``guess``.
+    covariance : (N, 3, 3)
+        Covariance (m^2) of the origin of {P} in {B}, from the covariance of the free geometric
+        and joint parameters (the frames' do not move the platform).
+
+    Example
+    -------
+    >>> poses, cov = prediction_covariance(result, held_out_readings)
+    >>> predicted_rms = np.sqrt(np.trace(cov, axis1=1, axis2=2).mean())
+    """
+    m = result.mechanism
+    theta = np.asarray(readings, dtype=float)
+    solved = m.forward_pose(result.joints(theta), guess=guess)
+    data = CalibrationData(theta, solved.pose[:, :3, 3], kind="position", sigma=1.0, passive=solved.passive)
+    movers = [name for name in result.names if not name.startswith(("tracker_", "tool_"))]
+    joint_values = {k: v for k, v in result.values.items() if k.endswith(("_offset", "_scale"))}
+    problem = Problem(m, data, movers, (), None, start=joint_values)
+    q = problem.close(problem.nominal, solved.passive)
+    jacobian = problem.evaluate(problem.nominal, q)[1].reshape(len(theta), 3, len(movers))
+    pick = [result.names.index(name) for name in movers]
+    covariance = result.covariance[np.ix_(pick, pick)]
+    return np.asarray(solved.pose), jacobian @ covariance @ np.swapaxes(jacobian, 1, 2)
+
+
+def _reload(m: Mechanism, parameters: dict[str, float]) -> Mechanism:
+    """``m``'s package loaded again with new parameters, the same backend and joint ranges."""
+    from parakin.loading import load
+
+    limits: dict[str, tuple[float, float]] = {**m.limits, **m.actuated_ranges}
+    return load(m.package.path, backend=m.backend.name, limits=limits, **parameters)
+
+
+__all__ = ["CalibrationResult", "Problem", "calibrate", "joint_names", "prediction_covariance", "require_kernel"]
