@@ -11,8 +11,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from parakin.errors import NoSuchModeError, at_index, first_index
-from parakin.pose import xyz_euler_deg_from_pose
-from parakin.tables import POSE_CONVENTION, POSE_HEADERS, ROWS_SHOWN, Rows, html_table, text_table
+from parakin.tables import (
+    POSE_HEADERS,
+    ROWS_SHOWN,
+    Rows,
+    html_table,
+    pose_convention,
+    pose_headers,
+    pose_values,
+    text_table,
+)
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -115,6 +123,9 @@ class AssemblyModes:
     #: per input: certified roots whose realness neither double nor exact arithmetic decided
     #: (listed as no mode; the input is then not complete)
     undecided_roots: NDArray[np.int64] | None = None
+    #: the mechanism's pose kind (``parakin.pose.POSE_KINDS``): the tables show its coordinates
+    #: only; "" (unknown) shows all six of a transform
+    pose_kind: str = ""
 
     def complete(self) -> Mask:
         """Per input: every root is certified and every real one decided, with a proven root
@@ -279,11 +290,14 @@ def modes_summary(modes: AssemblyModes) -> str:
     return f"AssemblyModes: {found}{method}{certificate}"
 
 
-def modes_rows(modes: AssemblyModes, residual: bool = False) -> Rows:
-    """One row per mode of a single input: mode k (as ``modes.mode(k)``), pose, the closure
-    residual (with ``residual``) and the conditioning."""
+def modes_rows(modes: AssemblyModes, residual: bool = False, pose_kind: str | None = None) -> Rows:
+    """One row per mode of a single input: mode k (as ``modes.mode(k)``), the pose coordinates of
+    its pose kind (``pose_kind``, default ``modes.pose_kind``: ``parakin.tables.pose_headers``),
+    the closure residual (with ``residual``) and the conditioning."""
+    kind = modes.pose_kind if pose_kind is None else pose_kind
     valid = np.flatnonzero(np.asarray(modes.valid))
-    poses = xyz_euler_deg_from_pose(modes.poses[valid]) if valid.size else np.zeros((0, 6))
+    width = len(pose_headers(kind))
+    poses = pose_values(kind, modes.poses[valid]) if valid.size else np.zeros((0, width))
     conditioning = np.asarray(modes.conditioning)[valid]
     residuals = np.asarray(modes.residual)[valid]
     return [
@@ -292,14 +306,29 @@ def modes_rows(modes: AssemblyModes, residual: bool = False) -> Rows:
     ]
 
 
+#: the headers of a table of modes of a transform (``mode_headers`` for any pose kind)
 MODE_HEADERS = ["mode", *POSE_HEADERS, "conditioning"]
-MODES_CONVENTION = f"{POSE_CONVENTION}; conditioning: 1 well conditioned, 0 singular"
 
 
-def modes_table(modes: AssemblyModes, residual: bool = False, rows_shown: int = ROWS_SHOWN) -> str:
+def mode_headers(pose_kind: str, residual: bool = False) -> list[str]:
+    """The headers of ``modes_rows`` for pose kind ``pose_kind``."""
+    return ["mode", *pose_headers(pose_kind), *(["residual"] if residual else []), "conditioning"]
+
+
+def modes_convention(pose_kind: str) -> str:
+    """The line above a table of modes: the pose convention and what conditioning means."""
+    return f"{pose_convention(pose_kind)}; conditioning: 1 well conditioned, 0 singular"
+
+
+def modes_table(
+    modes: AssemblyModes, residual: bool = False, rows_shown: int = ROWS_SHOWN, pose_kind: str | None = None
+) -> str:
     """The convention line and the table of the modes of a single input (``modes_rows``)."""
-    headers = MODE_HEADERS[:-1] + (["residual"] if residual else []) + MODE_HEADERS[-1:]
-    return f"  {MODES_CONVENTION}\n" + text_table(headers, modes_rows(modes, residual), rows_shown=rows_shown)
+    kind = modes.pose_kind if pose_kind is None else pose_kind
+    headers = mode_headers(kind, residual)
+    return f"  {modes_convention(kind)}\n" + text_table(
+        headers, modes_rows(modes, residual, kind), rows_shown=rows_shown
+    )
 
 
 def modes_text(modes: AssemblyModes) -> str:
@@ -314,5 +343,6 @@ def modes_text(modes: AssemblyModes) -> str:
 def modes_html(modes: AssemblyModes) -> str:
     out = [f"<p><b>{html.escape(modes_summary(modes))}</b></p>"]
     if np.ndim(modes.count) == 0 and int(modes.count):
-        out += [f"<p>{html.escape(POSE_CONVENTION)}</p>", html_table(MODE_HEADERS, modes_rows(modes))]
+        kind = modes.pose_kind
+        out += [f"<p>{html.escape(modes_convention(kind))}</p>", html_table(mode_headers(kind), modes_rows(modes))]
     return "<div class='parakin'>" + "".join(out) + "</div>"

@@ -1,4 +1,4 @@
-"""Command line: ``parakin list | inspect | demo | ik | fk | plot | generate | export``.
+"""Command line: ``parakin list | inspect | demo | ik | fk | plot | sweep | view | generate | export``.
 
 Values are SI (metres, radians) unless a flag ends in ``-deg``: those convert revolute
 variables (and Euler angles) from degrees and leave prismatic ones in metres. Exit status: 0 on
@@ -14,7 +14,7 @@ import argparse
 import json
 import os
 import sys
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS
 from parakin.results import Configuration
 from parakin.solvers.continuation import SelfMotion
+from parakin.tables import pose_headers, pose_values, text_table
 
 
 def _pose_arguments(coordinates: tuple[str, ...]) -> tuple[str, int]:
@@ -78,13 +79,17 @@ def _from_cli_units(variables: tuple[Variable, ...], values: list[float], degree
     return array
 
 
+def _header(variable: Variable, degrees: bool) -> str:
+    """A variable's column header: its name and unit (``deg`` for a revolute one with
+    ``degrees``); a dimensionless variable (a quaternion component) has none."""
+    unit = "deg" if degrees and variable.revolute else variable.unit
+    return f"{variable.name} [{unit}]" if unit else variable.name
+
+
 def _labelled(variables: tuple[Variable, ...], values: np.ndarray, degrees: bool) -> dict[str, float]:
     result = {}
     for v, x in zip(variables, np.asarray(values, dtype=float), strict=True):
-        if degrees and v.revolute:
-            result[f"{v.name} [deg]"] = float(np.rad2deg(x))
-        else:
-            result[f"{v.name} [{v.unit}]"] = float(x)
+        result[_header(v, degrees)] = float(np.rad2deg(x)) if degrees and v.revolute else float(x)
     return result
 
 
@@ -110,30 +115,30 @@ def _pose_from_cli(manifest: Manifest, values: list[float], degrees: bool) -> np
 
 
 def _describe_pose(manifest: Manifest, pose: np.ndarray, degrees: bool) -> dict[str, float]:
-    unit = "deg" if degrees else "rad"
-    convert = np.rad2deg if degrees else (lambda x: x)
-    xyz_euler = parakin.xyz_euler_from_pose(pose)
-    if manifest.pose_kind == "rotation":
-        return {
-            f"{k} [{unit}]": float(convert(v)) for k, v in zip(("alpha", "beta", "gamma"), xyz_euler[3:], strict=True)
-        }
-    if manifest.pose_kind == "planar":
-        return {"x [m]": float(pose[0, 3]), "y [m]": float(pose[1, 3]), f"phi [{unit}]": float(convert(xyz_euler[3]))}
-    if manifest.pose_kind == "translation":
-        return {f"{k} [m]": float(v) for k, v in zip("xyz", pose[:3, 3], strict=True)}
-    if manifest.pose_kind == "planar_translation":
-        return {f"{k} [m]": float(v) for k, v in zip("xy", pose[:2, 3], strict=True)}
-    names = ("x [m]", "y [m]", "z [m]", f"alpha [{unit}]", f"beta [{unit}]", f"gamma [{unit}]")
-    values = np.concatenate([xyz_euler[:3], convert(xyz_euler[3:])])
-    return {k: float(v) for k, v in zip(names, values, strict=True)}
+    """The coordinates of the pose kind (``parakin.tables.pose_headers``: the columns of every
+    table of poses), labelled with their units."""
+    values = pose_values(manifest.pose_kind, pose, degrees)
+    return {k: float(v) for k, v in zip(pose_headers(manifest.pose_kind, degrees), values, strict=True)}
+
+
+def _number(value: float) -> str:
+    return f"{value + 0.0:.6g}"  # + 0.0: no "-0"
 
 
 def _print(record: dict[str, Any], as_json: bool) -> None:
     if as_json:
         print(json.dumps(record))
     else:
-        text = "  ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in record.items())
+        text = "  ".join(f"{k}={_number(v)}" if isinstance(v, float) else f"{k}={v}" for k, v in record.items())
         print(text)
+
+
+def _signs(signs: np.ndarray) -> str:
+    return " ".join("+" if s > 0 else "-" for s in signs) or "(none)"
+
+
+#: failures that leave a branch's values real (only out of a range): its values are still shown
+_RANGE_FAILURES = ("limits", "actuator_range")
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -171,7 +176,9 @@ def _ik(args: argparse.Namespace) -> int:
     degrees = args.pose_deg is not None
     pose = _pose_from_cli(m.manifest, args.pose_deg if degrees else args.pose, degrees)
     result = m.inverse_pose(pose, strict=False)
-    for k in range(result.actuated.shape[-2]):
+    count = result.actuated.shape[-2]
+    records = []
+    for k in range(count):
         record: dict[str, Any] = {
             "branch": k,
             "signs": [int(s) for s in result.branches[k]],
@@ -181,11 +188,63 @@ def _ik(args: argparse.Namespace) -> int:
             record["failed"] = [name for name, mask in result.failures.items() if mask[k]]
         record.update(_labelled(m.manifest.actuated, result.actuated[k], degrees))
         record.update(_labelled(m.manifest.passive, result.passive[k], degrees))
-        _print(record, args.json)
+        records.append(record)
+    if args.json:
+        for record in records:
+            _print(record, True)
+    else:
+        _ik_tables(m, records, degrees)
     if not result.valid.any():
         print(f"parakin: no valid inverse branch for this pose on {m.name}", file=sys.stderr)
         return 1
     return 0
+
+
+def _conditions(names: list[str]) -> str:
+    """Failed condition names, those of consecutive legs joined: leg1_reachable ...
+    leg6_reachable as ``leg1-6_reachable``."""
+    import re
+
+    groups: dict[str, list[int]] = {}
+    others = []
+    for name in names:
+        match = re.fullmatch(r"leg(\d+)_(\w+)", name)
+        if match:
+            groups.setdefault(match[2], []).append(int(match[1]))
+        else:
+            others.append(name)
+    joined = []
+    for what, legs in groups.items():
+        consecutive = len(legs) > 2 and legs == list(range(legs[0], legs[-1] + 1))
+        joined.append(f"leg{legs[0]}-{legs[-1]}_{what}" if consecutive else ", ".join(f"leg{k}_{what}" for k in legs))
+    return ", ".join(joined + others)
+
+
+def _ik_tables(m: parakin.Mechanism, records: list[dict[str, Any]], degrees: bool) -> None:
+    """Two aligned tables, one row per branch: its signs, whether it is valid (else which
+    conditions failed) and the actuated values; then the passive values. A branch that is not
+    reachable shows no values ("-": the solver's numbers there are no configuration); one that is
+    only out of a range shows them."""
+    valid = sum(r["valid"] for r in records)
+    print(f"{m.name}: {len(records)} inverse branch{'es' if len(records) != 1 else ''}, {valid} valid")
+
+    def cells(record: dict[str, Any], variables: tuple[Variable, ...]) -> list[str]:
+        shown = record["valid"] or all(f in _RANGE_FAILURES for f in record.get("failed", []))
+        return [_number(record[_header(v, degrees)]) if shown else "-" for v in variables]
+
+    def status(record: dict[str, Any]) -> str:
+        return "yes" if record["valid"] else "no, failed: " + _conditions(record["failed"])
+
+    actuated = [
+        [str(r["branch"]), _signs(np.array(r["signs"])), *cells(r, m.manifest.actuated), status(r)] for r in records
+    ]
+    headers = ["branch", "signs", *(_header(v, degrees) for v in m.manifest.actuated), "valid"]
+    print(text_table(headers, actuated, indent="", rows_shown=len(records)))
+    if m.manifest.passive:
+        print("\npassive joints per branch:")
+        passive = [[str(r["branch"]), *cells(r, m.manifest.passive)] for r in records]
+        headers = ["branch", *(_header(v, degrees) for v in m.manifest.passive)]
+        print(text_table(headers, passive, indent="", rows_shown=len(records)))
 
 
 def _fk(args: argparse.Namespace) -> int:
@@ -194,11 +253,29 @@ def _fk(args: argparse.Namespace) -> int:
     actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
     modes = m.forward_pose_all(actuated)
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
+    records = []
     for n, k in enumerate(np.nonzero(modes.valid)[0]):
         record: dict[str, Any] = {"mode": n, "slot": int(k), **_describe_pose(m.manifest, modes.poses[k], degrees)}
         record.update(_labelled(m.manifest.passive, modes.passive[k], degrees))
         record["residual"] = float(modes.residual[k])
-        _print(record, args.json)
+        records.append(record)
+    if args.json:
+        for record in records:
+            _print(record, True)
+    elif records:
+        count = len(records)
+        print(f"{m.name}: {count} assembly mode{'s' if count != 1 else ''}")
+        pose = pose_headers(m.manifest.pose_kind, degrees)
+        headers = ["mode", "slot", *pose, "residual"]
+        rows = [
+            [str(r["mode"]), str(r["slot"]), *(_number(r[h]) for h in pose), f"{r['residual']:.1e}"] for r in records
+        ]
+        print(text_table(headers, rows, indent="", rows_shown=count))
+        passive = [v for v in m.manifest.passive if _header(v, degrees) not in pose]
+        if passive:
+            print("\npassive joints per mode:")
+            rows = [[str(r["mode"]), *(_number(r[_header(v, degrees)]) for v in passive)] for r in records]
+            print(text_table(["mode", *(_header(v, degrees) for v in passive)], rows, indent="", rows_shown=count))
     if int(modes.count) == 0:
         print(f"parakin: no real assembly mode of {m.name} for these inputs", file=sys.stderr)
         return 1
@@ -212,7 +289,7 @@ def _demo(args: argparse.Namespace) -> int:
     failed = 0
     for name in names:
         results = run_examples(name, backend=args.backend)
-        print(format_results(name, results))
+        print(format_results(name, results), flush=True)
         failed += sum(not r.holds for r in results)
     if failed:
         print(f"parakin: {failed} example(s) did not reproduce", file=sys.stderr)
@@ -374,16 +451,58 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a suggestion for a mistyped command or option (``did you mean 'plot'?``)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        self.exit(2, f"{self.prog}: error: {message}{_suggestion(self, message)}\n")
+
+
+def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
+    """``; did you mean ...?`` for an invalid choice or an unrecognized option, or nothing."""
+    import difflib
+    import re
+
+    choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+    if choice:
+        known, given = re.findall(r"'([^']*)'", choice[2]), [choice[1]]
+    else:
+        unknown = re.search(r"unrecognized arguments: (.*)", message)
+        if not unknown:
+            return ""
+        given = [word for word in unknown[1].split() if word.startswith("--")]
+        known = sorted(_option_strings(parser))
+    hints = []
+    for word in given:
+        close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
+        if close:
+            hints.append(
+                f"did you mean {close[0]!r} for {word!r}?" if len(given) > 1 else f"did you mean {close[0]!r}?"
+            )
+    return "; " + " ".join(hints) if hints else ""
+
+
+def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
+    """Every option string of ``parser`` and of its commands' parsers."""
+    options = {o for action in parser._actions for o in action.option_strings}
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for command in action.choices.values():
+                options |= _option_strings(command)
+    return options
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    parser = _Parser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     parser.add_argument("--version", action="version", version=f"parakin {_version()}")
     commands = parser.add_subparsers(dest="command", required=True)
     # each flag only on the commands that use it (the README's command table says which)
-    backend = argparse.ArgumentParser(add_help=False)
+    backend = _Parser(add_help=False)
     backend.add_argument("--backend", default="auto", choices=["auto", "compiled", "numpy", "casadi"])
-    as_json = argparse.ArgumentParser(add_help=False)
+    as_json = _Parser(add_help=False)
     as_json.add_argument("--json", action="store_true", help="one JSON object per line")
-    mechanism = argparse.ArgumentParser(add_help=False, parents=[backend])
+    mechanism = _Parser(add_help=False, parents=[backend])
     mechanism.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     mechanism.add_argument(
         "--param", action="append", default=[], metavar="NAME=VALUE", help="override a parameter (SI; JSON lists too)"
@@ -395,8 +514,15 @@ def _parser() -> argparse.ArgumentParser:
     inspect.add_argument("--format", choices=["text", "latex", "json"], default="text")
     inspect.add_argument("--width", type=int, default=100, help="line width of text expressions")
     inspect.add_argument("--lines", type=int, default=12, help="lines shown per expression (text)")
-    demo = commands.add_parser("demo", parents=[backend], help="reproduce the named examples of the papers")
-    demo.add_argument("name", nargs="?")
+    demo = commands.add_parser("demo", help="reproduce the named examples of the papers")
+    demo.add_argument("name", nargs="?", help="one mechanism (default: every one, in parakin list's order)")
+    demo.add_argument(
+        "--backend",
+        default="numpy",
+        choices=["auto", "compiled", "numpy", "casadi"],
+        help="default numpy: the examples need no compiled library; auto or compiled build each "
+        "mechanism's C library on its first use (1-20 s each, cached)",
+    )
 
     ik = commands.add_parser("ik", parents=[mechanism, as_json], help="every inverse branch of a pose")
     group = ik.add_mutually_exclusive_group(required=True)
@@ -519,12 +645,49 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
+def _show_warning(
+    message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None, line: Any = None
+) -> None:
+    """A warning as one line, ``parakin: warning: ...`` (parakin's own without their class name;
+    no source path or code line: they are for parakin's developers, not its users)."""
+    text = " ".join(str(message).split())
+    own = category.__module__.startswith("parakin")
+    print(f"parakin: warning: {text}" if own else f"parakin: warning: {category.__name__}: {text}", file=sys.stderr)
+
+
+#: the exit status of an interrupted command (128 + SIGINT, as shells report it)
+INTERRUPTED = 130
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run one command; the exit status (see the module docstring) is returned, never raised."""
+    """Run one command; the exit status (see the module docstring) is returned, never raised.
+
+    Ctrl-C prints ``parakin: interrupted`` and gives 130; as the ``parakin`` program
+    (``argv`` None) the process then ends at once, without waiting for worker threads (a
+    sweep's) to finish their chunks."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        try:
+            return _main(argv)
+        except KeyboardInterrupt:
+            print("\nparakin: interrupted", file=sys.stderr)
+            if argv is None:  # the program: worker threads would hold its exit for seconds
+                try:
+                    sys.stdout.flush()
+                except OSError:
+                    pass
+                sys.stderr.flush()
+                os._exit(INTERRUPTED)
+            return INTERRUPTED
+
+
+def _main(argv: list[str] | None) -> int:
     given = sys.argv[1:] if argv is None else list(argv)
     if given[:1] == ["view"]:  # its own options, --help included (argparse would take those)
         return _view(argparse.Namespace(arguments=given[1:]))
-    args = _parser().parse_args(argv)
+    args = _parser().parse_args(given)
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:
         status = COMMANDS[args.command](args)

@@ -36,9 +36,12 @@ class Comparison:
 
     @property
     def digits(self) -> float:
-        """Significant digits of agreement (relative to the largest printed magnitude)."""
-        scale = max(float(np.abs(self.printed).max(initial=0.0)), 1e-300)
-        return math.inf if self.error == 0 else max(0.0, -math.log10(self.error / scale))
+        """Significant digits of agreement (relative to the largest printed magnitude): inf when
+        equal, NaN when the printed values are all zero (no digits to count: the error says it)."""
+        scale = float(np.abs(self.printed).max(initial=0.0))
+        if self.error == 0:
+            return math.inf
+        return max(0.0, -math.log10(self.error / scale)) if scale > 0 else math.nan
 
 
 @dataclass(frozen=True)
@@ -97,10 +100,11 @@ def _inverse_example(m: object, example: Example) -> list[Comparison]:
 
 
 #: the first line of every mode table (the header is the second)
-def mode_table(modes: AssemblyModes) -> tuple[str, ...]:
+def mode_table(modes: AssemblyModes, pose_kind: str | None = None) -> tuple[str, ...]:
     """Every valid mode of one input, as ``print(modes)`` shows them, with the closure residual:
-    the convention line, the header, a rule and one line per mode."""
-    return tuple(modes_table(modes, residual=True, rows_shown=len(modes.valid)).splitlines())
+    the convention line, the header, a rule and one line per mode; the pose columns of
+    ``pose_kind`` (default ``modes.pose_kind``)."""
+    return tuple(modes_table(modes, residual=True, rows_shown=len(modes.valid), pose_kind=pose_kind).splitlines())
 
 
 def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]:
@@ -137,10 +141,29 @@ def run_examples(name: str | os.PathLike[str], backend: str = "auto") -> list[Ex
                 results.append(ExampleResult(example, tuple(_inverse_example(m, example))))
             else:
                 modes = m.forward_pose_all(np.asarray(example.actuated, dtype=float))
-                results.append(ExampleResult(example, tuple(_forward_example(modes, example)), modes=mode_table(modes)))
+                table = mode_table(modes, m.manifest.pose_kind)
+                results.append(ExampleResult(example, tuple(_forward_example(modes, example)), modes=table))
         except ParakinError as error:
             results.append(ExampleResult(example, (), f"{type(error).__name__}: {error}"))
     return results
+
+
+def _values(values: Array) -> str:
+    """(v1, v2, ...) to 6 significant digits; below 1e-12 in magnitude shown as 0 (no "-0")."""
+    return "(" + ", ".join(f"{round(float(v), 12) + 0.0:.6g}" for v in np.ravel(values)) + ")"
+
+
+def format_comparison(c: Comparison) -> str:
+    """One line per printed quantity: ``[ok ]`` or ``[FAIL]``, what was compared, our value and
+    the printed one (vectors; poses only by their error) and the error against the tolerance."""
+    mark = "ok " if c.holds else "FAIL"
+    if c.tolerance == 0 and c.ours.ndim == 0:  # an exact quantity: a count, or validity
+        if c.quantity == "branch valid":
+            return f"  [{mark}] the branch is {'valid' if c.ours == 1 else 'not valid'}"
+        return f"  [{mark}] {c.quantity}: {c.ours:g} (printed {c.printed:g})"
+    values = f"ours {_values(c.ours)}, printed {_values(c.printed)}; " if c.ours.ndim < 2 else ""
+    digits = "" if math.isnan(c.digits) else ", equal" if math.isinf(c.digits) else f", {c.digits:.1f} digits"
+    return f"  [{mark}] {c.quantity}: {values}|error| {c.error:.1e} (tolerance {c.tolerance:.0e}{digits})"
 
 
 def format_results(name: str, results: list[ExampleResult]) -> str:
@@ -150,25 +173,19 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
     manifest = parakin.metadata(name)
     lines = [f"{manifest.title}", f"  {manifest.citation}", ""]
     if not results:
-        lines.append("  (no named examples in this mechanism's manifest)")
-    with np.printoptions(precision=6, suppress=True, linewidth=150):
-        for result in results:
-            e = result.example
-            lines.append(f"example {e.name}: {e.description}")
-            if result.error:
-                lines.append(f"  raised {result.error}")
-            for c in result.comparisons:
-                mark = "ok " if c.holds else "FAIL"
-                values = f"ours {c.ours}  printed {c.printed}  " if c.ours.ndim < 2 else ""  # poses: error only
-                lines.append(
-                    f"  [{mark}] {c.quantity}: {values}"
-                    f"|error| {c.error:.2e} (tolerance {c.tolerance:.1e}, {c.digits:.1f} digits)"
-                )
-            if result.modes:
-                lines.append(f"  {len(result.modes) - 3} assembly modes:")
-                lines += result.modes
-            lines.append("")
+        lines += ["  (no named examples in this mechanism's manifest)", ""]
+    for result in results:
+        e = result.example
+        lines.append(f"example {e.name}: {e.description}")
+        if result.error:
+            lines.append(f"  raised {result.error}")
+        lines += [format_comparison(c) for c in result.comparisons]
+        if result.modes:
+            count = len(result.modes) - 3
+            lines.append(f"  {count} assembly mode{'s' if count != 1 else ''}:")
+            lines += result.modes
+        lines.append("")
     return "\n".join(lines)
 
 
-__all__ = ["Comparison", "ExampleResult", "format_results", "run_examples"]
+__all__ = ["Comparison", "ExampleResult", "format_comparison", "format_results", "mode_table", "run_examples"]

@@ -1,0 +1,212 @@
+"""What the command line and the tables print (issue 36, text output): only the pose kind's
+columns, aligned ik/fk tables with unreachable branches shown as such, one-line warnings,
+did-you-mean for mistyped commands and options, Ctrl-C as ``parakin: interrupted`` with exit 130,
+and a demo that needs no compiled library. Values are checked against hand-worked numbers or
+an independent Euler decomposition (SciPy), never against the printing code's own output."""
+
+import dataclasses
+import os
+import select
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import parakin
+from parakin.interfaces import cli
+from parakin.results import modes_html, modes_table
+
+
+def run(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "parakin.interfaces.cli", *args],
+        capture_output=True,
+        text=True,
+        env={**os.environ, **(env or {})},
+    )
+
+
+def _rows(text: str) -> tuple[list[str], list[list[str]]]:
+    """The header and rows of the first table in ``text`` (the lines after a rule of dashes)."""
+    lines = text.splitlines()
+    rule = next(i for i, line in enumerate(lines) if line.strip() and set(line.strip()) <= {"-", " "})
+    body = []
+    for line in lines[rule + 1 :]:
+        if not line.strip():
+            break
+        body.append(line.split())
+    return lines[rule - 1].split(), body
+
+
+@pytest.fixture(scope="module")
+def spm_modes():
+    m = parakin.load("spm", backend="numpy")
+    return m, m.forward_pose_all(np.deg2rad([105.0, 60.0, 105.0]))
+
+
+def test_a_spherical_mode_table_has_angles_only_and_they_are_the_zyx_angles(spm_modes):
+    """spm (pose kind rotation): no x, y, z columns (they were all 0); each row's angles are
+    the Z-Y-X Euler angles of the mode's rotation, as SciPy decomposes it."""
+    m, modes = spm_modes
+    kind = m.manifest.pose_kind
+    assert kind == "rotation"
+    text = modes_table(dataclasses.replace(modes, pose_kind=kind))
+    header, rows = _rows(text)
+    assert header == ["mode", "alpha", "[deg]", "beta", "[deg]", "gamma", "[deg]", "conditioning"]
+    assert "x [m]" not in text and "position" not in text.splitlines()[0]
+    assert len(rows) == int(modes.count) == 8
+    for k, row in enumerate(rows):
+        expected = Rotation.from_matrix(modes.mode(k).rotation).as_euler("ZYX", degrees=True)
+        np.testing.assert_allclose([float(v) for v in row[1:4]], expected, atol=1e-3)
+    html = modes_html(dataclasses.replace(modes, pose_kind=kind))
+    assert "<th>alpha [deg]</th>" in html and "<th>x [m]</th>" not in html
+
+
+def test_unknown_pose_kind_keeps_all_six_columns(spm_modes):
+    """A result made without its pose kind (``pose_kind=""``) shows the six transform columns."""
+    _, modes = spm_modes
+    header, _ = _rows(modes_table(dataclasses.replace(modes, pose_kind="")))
+    assert header[:4] == ["mode", "x", "[m]", "y"] and "gamma" in header
+
+
+def test_five_bar_fk_table_is_the_two_hand_worked_points():
+    """theta = (pi/2, pi/2) at the defaults: elbows (-0.15, 0.2) and (0.15, 0.2), circles of radius
+    0.25 m meeting at P = (0, 0) and (0, 0.4) (0.15^2 + 0.2^2 = 0.25^2). Pose kind
+    planar_translation: columns x and y only."""
+    done = run("fk", "five_bar", "--backend", "numpy", "--actuated", repr(np.pi / 2), repr(np.pi / 2))
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("five_bar: 2 assembly modes")
+    header, rows = _rows(done.stdout)
+    assert header == ["mode", "slot", "x", "[m]", "y", "[m]", "residual"]
+    points = sorted((float(r[2]), float(r[3])) for r in rows)
+    np.testing.assert_allclose(points, [(0.0, 0.0), (0.0, 0.4)], atol=1e-6)
+
+
+def test_planar_fk_has_x_y_phi_and_they_close_the_legs():
+    """planar_3rpr, rho = (14.98, 15.38, 12): six modes; each printed (x, y, phi) puts every
+    platform joint at its leg's length from its base joint (to the printed digits)."""
+    rho = [14.98, 15.38, 12.0]
+    done = run("fk", "planar_3rpr", "--backend", "numpy", "--actuated", *map(str, rho))
+    assert done.returncode == 0, done.stderr
+    header, rows = _rows(done.stdout)
+    assert header == ["mode", "slot", "x", "[m]", "y", "[m]", "phi", "[rad]", "residual"]
+    assert len(rows) == 6
+    p = parakin.load("planar_3rpr", backend="numpy").parameters
+    for row in rows:
+        x, y, phi = map(float, row[2:5])
+        c, s = np.cos(phi), np.sin(phi)
+        for i in range(3):
+            a = np.array([p[f"base_x{i + 1}"], p[f"base_y{i + 1}"]])
+            b = np.array([p[f"platform_x{i + 1}"], p[f"platform_y{i + 1}"]])
+            joint = np.array([x + c * b[0] - s * b[1], y + s * b[0] + c * b[1]])
+            assert np.linalg.norm(joint - a) == pytest.approx(rho[i], abs=1e-4)
+
+
+def test_ik_table_shows_the_hand_worked_delta_branches():
+    """delta at p = (0, 0, -1.2): branch 0 has theta = 0 on every leg, branch 7 theta = -2 atan(8)
+    = -2.892883 rad (the manifest's examples, worked by hand); aligned columns, one per input."""
+    done = run("ik", "delta", "--backend", "numpy", "--pose", "0", "0", "-1.2")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("delta: 8 inverse branches, 8 valid")
+    header, rows = _rows(done.stdout)
+    assert header[:2] == ["branch", "signs"] and header[-1] == "valid"
+    by_branch = {int(r[0]): r for r in rows}
+    np.testing.assert_allclose([float(v) for v in by_branch[0][4:7]], [0.0, 0.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose([float(v) for v in by_branch[7][4:7]], [-2 * np.arctan(8.0)] * 3, atol=1e-5)
+    assert by_branch[7][1:4] == ["-", "-", "-"] and by_branch[7][-1] == "yes"
+    lines = done.stdout.splitlines()
+    column = lines[1].index("theta2")  # aligned: every row's second input starts under its header
+    assert all(line[column - 1] == " " and line[column] != " " for line in lines[3 : 3 + len(rows)])
+    assert max(len(line) for line in lines) < 120
+
+
+def test_an_unreachable_branch_shows_no_numbers():
+    """rus6 with the platform 0.9 m up: out of every leg's reach (the solver returns clipped,
+    made-up angles there), so every branch reads '-' and names the failed conditions."""
+    done = run("ik", "rus6", "--backend", "numpy", "--pose", "0", "0", "0.9", "0", "0", "0")
+    assert done.returncode == 1
+    header, rows = _rows(done.stdout)
+    assert len(rows) == 64
+    theta = [i for i, h in enumerate(header) if h.startswith("theta")]
+    for row in rows:
+        assert row[7:13] == ["-"] * 6, row
+        assert " ".join(row).endswith("no, failed: leg1-6_reachable")
+    assert len(theta) == 6
+    assert "q0 []" not in done.stdout and "q0" in done.stdout
+
+
+def test_a_warning_is_one_line_without_source_path():
+    """gough's section 5.4 geometry is architecturally singular: load warns. Once a raw Python
+    warning with parakin's source path and code line."""
+    done = run("demo", "gough")
+    warned = [line for line in done.stderr.splitlines() if "warning" in line]
+    assert warned == [
+        line for line in done.stderr.splitlines() if line.startswith("parakin: warning: gough geometry is")
+    ]
+    assert len(warned) == 1 and ".py" not in done.stderr and "parakin.load(" not in done.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "suggestion"),
+    [(["plto", "sam"], "did you mean 'plot'?"), (["plot", "sam", "--outptu", "x.png"], "did you mean '--output'?")],
+)
+def test_did_you_mean(args, suggestion, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(args)
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.rstrip().endswith(suggestion)
+
+
+def test_interrupt_in_process_is_exit_130(monkeypatch, capsys):
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setitem(cli.COMMANDS, "list", interrupted)
+    assert cli.main(["list"]) == 130
+    assert capsys.readouterr().err.strip() == "parakin: interrupted"
+
+
+def test_ctrl_c_in_a_running_sweep_ends_within_two_seconds():
+    """A sweep of stewart's modes (homotopy: minutes) interrupted once its bar shows: once a
+    25-line traceback, about 20 s later; now one line and exit 130 within 2 s."""
+    axes = ["--axis", "l1=0.9:1.1:40", "--axis", "l2=0.6:0.7:40"]
+    fixed = [f"--fixed=l{i}={v}" for i, v in zip(range(3, 7), (1.086284, 1.503439, 1.281933, 0.771071), strict=True)]
+    process = subprocess.Popen(
+        [sys.executable, "-m", "parakin.interfaces.cli", "sweep", "stewart", "modes", *axes, *fixed]
+        + ["--backend", "numpy", "--chunk", "50", "--progress"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env={**os.environ, "PARAKIN_PROGRESS": "on"},
+    )
+    try:
+        ready, _, _ = select.select([process.stderr], [], [], 60)  # the bar: the sweep is running
+        assert ready, "the sweep showed no progress within 60 s"
+        time.sleep(0.5)
+        start = time.perf_counter()
+        process.send_signal(signal.SIGINT)
+        code = process.wait(timeout=30)
+        elapsed = time.perf_counter() - start
+    finally:
+        if process.poll() is None:
+            process.kill()
+    stderr = process.stderr.read().decode()
+    assert code == 130, stderr
+    assert elapsed <= 2.0
+    assert stderr.rstrip().endswith("parakin: interrupted") and "Traceback" not in stderr
+
+
+def test_demo_compiles_nothing(tmp_path):
+    """`parakin demo` runs on NumPy by default: a fresh cache stays empty (once it compiled 12 C
+    libraries one after another before the last result, 35 s on an idle machine)."""
+    cache = tmp_path / "cache"
+    done = run("demo", "delta", env={"PARAKIN_CACHE": str(cache)})
+    assert done.returncode == 0, done.stderr
+    assert not cache.exists() or not any(cache.iterdir())
+    assert "compiling" not in done.stderr
+    # the comparison lines: a zero printed value has no "digits" (once "0.0 digits" for 8.9e-16)
+    line = next(line for line in done.stdout.splitlines() if "actuated (branch 0)" in line)
+    assert "ours (0, 0, 0), printed (0, 0, 0)" in line and "digits" not in line
