@@ -430,14 +430,20 @@ def calibrate(
     damping = 1e-3
     iterations = 0
     for iterations in range(1, MAX_ITERATIONS + 1):  # noqa: B007  (reported)
-        weights = np.sqrt(np.maximum(np.sum(jacobian**2, axis=0), 1e-30))
+        # the damped step min |J d + r|^2 + damping |W d|^2 (W: column norms, Marquardt's
+        # scaling) for every damping from one thin SVD of J W^-1; directions below the rank
+        # tolerance are not moved along (they change no residual)
+        weights = np.linalg.norm(jacobian, axis=0)
+        weights = np.where(weights > 0.0, weights, 1.0)
+        u, singular, vt = np.linalg.svd(jacobian / weights, full_matrices=False)
+        keep = singular > rank_tolerance * singular[0]
+        projected = (u.T @ r)[keep]
         while True:
-            system = np.concatenate([jacobian, np.diag(np.sqrt(damping) * weights)])
-            step = np.linalg.lstsq(system, np.concatenate([-r, np.zeros(len(weights))]), rcond=None)[0]
+            gain = singular[keep] / (singular[keep] ** 2 + damping)
+            step = -(vt[keep].T @ (gain * projected)) / weights
             trial = problem.full(values[problem.index] + step)
-            step_full = trial - values
             try:
-                trial_q = problem.close(trial, problem.predicted_passive(q, sensitivity, step_full))
+                trial_q = problem.close(trial, problem.predicted_passive(q, sensitivity, trial - values))
                 trial_r = problem.evaluate(trial, trial_q, jacobian=False)[0]
                 trial_cost = float(trial_r @ trial_r)
             except ConvergenceError:
@@ -447,9 +453,8 @@ def calibrate(
                 break
             damping *= 10.0
             if damping > DAMPING[1]:
-                trial_cost = cost
                 break
-        if trial_cost >= cost:
+        if not trial_cost < cost:
             break
         decrease = cost - trial_cost
         values, q, cost = trial, trial_q, trial_cost

@@ -150,7 +150,8 @@ def analyse(jacobian: Array, names: Sequence[str], poses: int, tolerance: float 
     """
     norms = np.linalg.norm(jacobian, axis=0)
     scale = np.where(norms > 0.0, norms, 1.0)
-    _, singular, vt = np.linalg.svd(jacobian / scale, full_matrices=True)
+    # thin when the rows are enough (V is then square); full otherwise, for the whole null space
+    _, singular, vt = np.linalg.svd(jacobian / scale, full_matrices=jacobian.shape[0] < jacobian.shape[1])
     singular = np.concatenate([singular, np.zeros(max(0, len(names) - singular.size))])
     largest = float(singular[0]) if singular.size else 0.0
     rank = int(np.sum(singular > tolerance * largest)) if largest > 0 else 0

@@ -1,0 +1,379 @@
+"""Calibration (issue 35): parameters identified from measurements simulated by another code path
+(the true model's closed-form ``inverse_pose`` at chosen poses, with noise drawn here), null
+spaces checked against rigid motions built here and against a finite-difference SVD of the
+explicit forward model, intervals checked for coverage over repeated campaigns."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.linalg import subspace_angles
+from scipy.spatial.transform import Rotation
+
+import parakin
+from parakin.calibration import (
+    CalibrationData,
+    CalibrationDataError,
+    CalibrationUnavailableError,
+    calibrate,
+    prediction_covariance,
+)
+from parakin.calibration.fit import Problem
+from parakin.errors import BadInputError, UnsupportedOperationError
+
+SIGMA_POSITION = 20e-6  # m: a laser tracker
+SIGMA_ANGLE = np.deg2rad(0.002)  # rad
+HOME = np.array([0.0, 0.0, 0.7])
+
+
+def hexapod() -> dict[str, np.ndarray]:
+    """A symmetric 6-6 hexapod: base joints in pairs 24 deg apart on a 0.5 m circle, platform
+    joints in pairs 24 deg apart on a 0.3 m circle, rotated by 60 deg."""
+    base, platform = [], []
+    for k in range(3):
+        for s in (-1, 1):
+            a = np.deg2rad(120 * k + 12 * s)
+            b = np.deg2rad(120 * k + 60 - 48 * s)
+            base.append([0.5 * np.cos(a), 0.5 * np.sin(a), 0.0])
+            platform.append([0.3 * np.cos(b), 0.3 * np.sin(b), 0.0])
+    return {"base": np.array(base), "platform": np.array(platform)}
+
+
+@pytest.fixture(scope="module")
+def stewart() -> parakin.Mechanism:
+    return parakin.load("stewart", **hexapod())
+
+
+def random_poses(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Poses about HOME: +-0.1 m, rotations of up to ~0.15 rad about random axes."""
+    poses = np.zeros((n, 4, 4))
+    poses[:, 3, 3] = 1.0
+    poses[:, :3, 3] = HOME + rng.uniform(-0.1, 0.1, (n, 3))
+    poses[:, :3, :3] = Rotation.from_rotvec(rng.uniform(-0.15, 0.15, (n, 3))).as_matrix()
+    return poses
+
+
+def perturbed_truth(m: parakin.Mechanism, rng: np.random.Generator, spread: float = 1e-3):
+    """A 'built' robot: every geometric parameter and leg offset off by N(0, spread)."""
+    names = [p.name for p in m.manifest.parameters]
+    true = dict(zip(names, m.params + rng.normal(0.0, spread, m.params.size), strict=True))
+    offsets = rng.normal(0.0, spread, len(m.actuated_names))
+    return true, offsets, parakin.load(m.package.path, **true)
+
+
+def noisy(rng: np.random.Generator, poses: np.ndarray) -> np.ndarray:
+    """Tracker noise: N(0, 20 um) per coordinate, a rotation of N(0, 0.002 deg) per axis (in the
+    target's frame)."""
+    out = poses.copy()
+    out[:, :3, 3] += rng.normal(0.0, SIGMA_POSITION, (len(poses), 3))
+    out[:, :3, :3] = out[:, :3, :3] @ Rotation.from_rotvec(rng.normal(0.0, SIGMA_ANGLE, (len(poses), 3))).as_matrix()
+    return out
+
+
+def campaign(m, rng, n=40, tracker=None, tool=None):
+    """Simulated measurements of a perturbed robot: (truth dict, offsets, true model, readings,
+    measured ^W_T T, true poses ^B_P T)."""
+    true, offsets, truth = perturbed_truth(m, rng)
+    poses = random_poses(rng, n)
+    inverse = truth.inverse_pose(poses)
+    assert inverse.valid[:, 0].all()
+    readings = inverse.actuated[:, 0] - offsets  # the model's joint = reading + offset
+    seen = poses
+    if tracker is not None:
+        seen = np.linalg.inv(tracker) @ poses @ tool
+    return true, offsets, truth, readings, noisy(rng, seen), poses
+
+
+def z_scores(result, true, offsets, names_actuated):
+    truth = dict(true) | {f"{a}_offset": o for a, o in zip(names_actuated, offsets, strict=True)}
+    return np.array([(result.values[n] - truth[n]) / result.standard_errors[n] for n in result.names])
+
+
+def test_stewart_full_poses_identify_all_42(stewart):
+    """36 joint positions and 6 leg offsets from 40 tracker poses: rank 42 of 42, every parameter
+    identifiable, no null combination; the fit reaches the noise (chi2 near its dof)."""
+    rng = np.random.default_rng(35)
+    true, offsets, _, readings, measured, _ = campaign(stewart, rng)
+    result = calibrate(stewart, CalibrationData(readings, measured, sigma=(SIGMA_POSITION, SIGMA_ANGLE)))
+    assert len(result.names) == 42
+    assert result.rank == 42, result.singular_values
+    assert result.unidentifiable == () and len(result.identifiable) == 42
+    assert result.rms_before["position"] > 1e-3  # millimetres off before
+    # the rms of the 3-vector residual expected after a fit: sigma sqrt(3 (rows - 42) / rows)
+    rows = 6 * len(readings)
+    expected = SIGMA_POSITION * np.sqrt(3 * (rows - 42) / rows)
+    assert result.rms_after["position"] <= 1.2 * expected, (result.rms_after, expected)
+    assert abs(result.chi2 / result.dof - 1.0) < 0.3, (result.chi2, result.dof)
+    z = z_scores(result, true, offsets, stewart.actuated_names)
+    assert np.abs(z).max() < 4.5, z
+
+
+def test_unknown_frames_leave_the_two_rigid_motions(stewart):
+    """Tracker and tool frames unknown (54 parameters): the null space is exactly 12, and it is
+    the span of the rigid motions of the base frame (base joints with the tracker) and of the
+    platform frame (platform joints with the tool), built here by central differences with
+    scipy's rotations: every principal angle below 1e-6 rad."""
+    rng = np.random.default_rng(36)
+    tracker = np.eye(4)
+    tracker[:3, :3] = Rotation.from_rotvec([0.02, -0.01, 0.3]).as_matrix()
+    tracker[:3, 3] = [1.5, -0.4, 0.2]
+    tool = np.eye(4)
+    tool[:3, :3] = Rotation.from_rotvec([0.01, 0.02, -0.02]).as_matrix()
+    tool[:3, 3] = [0.01, 0.02, 0.05]
+    _, _, _, readings, measured, _ = campaign(stewart, rng, tracker=tracker, tool=tool)
+    start_tracker = tracker.copy()
+    start_tracker[:3, 3] += 0.01  # starting values off by 1 cm and 0.01 rad
+    start_tracker[:3, :3] = Rotation.from_rotvec([0.0, 0.01, 0.0]).as_matrix() @ tracker[:3, :3]
+    data = CalibrationData(
+        readings,
+        measured,
+        sigma=(SIGMA_POSITION, SIGMA_ANGLE),
+        tracker=start_tracker,
+        tool=np.eye(4),
+        unknown=("tracker", "tool"),
+    )
+    result = calibrate(stewart, data)
+    names = list(result.names)
+    assert len(names) == 54 and result.rank == 42
+    assert len(result.unidentifiable) == 12 and result.null_space.shape == (54, 12)
+    assert result.rms_after["position"] < 2 * SIGMA_POSITION
+
+    values = result.values
+
+    def vector(base, platform, tracker_frame, tool_frame):
+        out = dict(values)
+        for k in range(6):
+            for c, axis in enumerate("xyz"):
+                out[f"base_{axis}{k + 1}"] = base[k, c]
+                out[f"platform_{axis}{k + 1}"] = platform[k, c]
+        for frame, matrix in (("tracker", tracker_frame), ("tool", tool_frame)):
+            rotvec = Rotation.from_matrix(matrix[:3, :3]).as_rotvec()
+            for c, axis in enumerate("xyz"):
+                out[f"{frame}_{axis}"] = matrix[c, 3]
+                out[f"{frame}_r{axis}"] = rotvec[c]
+        return np.array([out[n] for n in names])
+
+    base = np.array([[values[f"base_{a}{k + 1}"] for a in "xyz"] for k in range(6)])
+    platform = np.array([[values[f"platform_{a}{k + 1}"] for a in "xyz"] for k in range(6)])
+    frames = [result.tracker, result.tool]
+
+    def moved(twist, eps, which):
+        g = np.eye(4)
+        g[:3, :3] = Rotation.from_rotvec(eps * twist[3:]).as_matrix()
+        g[:3, 3] = eps * twist[:3]
+        points = [base, platform]
+        points[which] = points[which] @ g[:3, :3].T + g[:3, 3]
+        new = list(frames)
+        new[which] = g @ frames[which]
+        return vector(points[0], points[1], new[0], new[1])
+
+    generators = []
+    for which in (0, 1):
+        for twist in np.eye(6):
+            generators.append((moved(twist, 1e-6, which) - moved(twist, -1e-6, which)) / 2e-6)
+    angles = subspace_angles(result.null_space, np.array(generators).T)
+    assert angles.max() < 1e-6, angles
+
+
+@pytest.fixture(scope="module")
+def delta_campaign():
+    """A delta built 1 mm off (R, r, L, l) with encoder offsets, 40 positions measured in xyz
+    (10 um noise); for the z-only probe the bed's surface is 7 mm above {B}'s z origin (tracker_z)."""
+    rng = np.random.default_rng(7)
+    m = parakin.load("delta")
+    true = {"R": 0.2007, "r": 0.0496, "L": 0.3512, "l": 1.2985}
+    offsets = np.array([0.004, -0.003, 0.002])
+    truth = parakin.load("delta", **true)
+    positions = np.column_stack(
+        [rng.uniform(-0.25, 0.25, 40), rng.uniform(-0.25, 0.25, 40), rng.uniform(-1.35, -1.05, 40)]
+    )
+    inverse = truth.inverse_pose(positions)
+    assert inverse.valid[:, 0].all()
+    readings = inverse.actuated[:, 0] - offsets
+    return m, true, offsets, readings, positions, rng
+
+
+def fd_null_count(true, offsets, readings, positions, measure, bed: bool) -> int:
+    """Null directions of the explicit forward model, by central differences: each parameter
+    (R, r, L, l, the offsets, the bed height) moved +-h, the perturbed delta loaded and solved
+    by forward_pose, the measurement differenced; columns scaled to unit norm, singular values
+    below 1e-8 of the largest counted."""
+    base = [true["R"], true["r"], true["L"], true["l"], *offsets] + ([0.007] if bed else [])
+
+    def measurements(v):
+        model = parakin.load("delta", R=v[0], r=v[1], L=v[2], l=v[3])
+        solved = model.forward_pose(readings + np.array(v[4:7]), guess=positions)
+        out = measure(solved.pose[:, :3, 3])
+        return out - v[7] if bed else out
+
+    columns = []
+    for i in range(len(base)):
+        h = 1e-5
+        up, down = list(base), list(base)
+        up[i] += h
+        down[i] -= h
+        columns.append(((measurements(up) - measurements(down)) / (2 * h)).ravel())
+    jacobian = np.array(columns).T
+    jacobian /= np.linalg.norm(jacobian, axis=0)
+    singular = np.linalg.svd(jacobian, compute_uv=False)
+    return int(np.sum(singular < 1e-8 * singular[0]))
+
+
+def test_delta_xyz_leaves_one_combination(delta_campaign):
+    """xyz data: R and r enter only as R - r, so R + r is the one null direction, as the
+    finite-difference SVD of the explicit model finds; everything else identified."""
+    m, true, offsets, readings, positions, rng = delta_campaign
+    measured = positions + rng.normal(0.0, 1e-5, positions.shape)
+    result = calibrate(m, CalibrationData(readings, measured, kind="position", sigma=1e-5))
+    independent = fd_null_count(true, offsets, readings, positions, lambda p: p, bed=False)
+    assert independent == 1
+    assert len(result.unidentifiable) == independent and result.rank == 6
+    (combination,) = result.unidentifiable
+    assert combination.coefficients.keys() == {"R", "r"}
+    assert combination.coefficients["R"] == combination.coefficients["r"] == 1.0
+    assert str(combination) in ("R + r", "r + R")
+    assert set(result.identifiable) == {"L", "l", "theta1_offset", "theta2_offset", "theta3_offset"}
+    assert abs(result.values["l"] - true["l"]) < 5 * result.standard_errors["l"]
+    assert result.rms_after["position"] < 2e-5
+
+
+def test_delta_z_probe_with_bed_height(delta_campaign):
+    """z-only probing with an unknown bed height (tracker_z): the calibrator's null count equals
+    the finite-difference SVD's (1: R + r; the delta's own parameters have one length per kind,
+    not one per leg), and the bed height is recovered."""
+    m, true, offsets, readings, positions, rng = delta_campaign
+    measured = positions[:, 2] - 0.007 + rng.normal(0.0, 1e-5, len(positions))
+    free = ["R", "r", "L", "l", "theta1_offset", "theta2_offset", "theta3_offset", "tracker_z"]
+    result = calibrate(m, CalibrationData(readings, measured, kind="z", sigma=1e-5), free=free)
+    independent = fd_null_count(true, offsets, readings, positions, lambda p: p[:, 2], bed=True)
+    assert len(result.unidentifiable) == independent == 1
+    assert result.rank == 7
+    assert abs(result.values["tracker_z"] - 0.007) < 5 * result.standard_errors["tracker_z"]
+    # forearm length against bed height: nearly the same effect on z, so both are poorly known
+    # (millimetres from 10 um probing), the firmware users' complaint; xyz data pin l down
+    assert result.standard_errors["tracker_z"] > 100 * 1e-5
+    assert result.standard_errors["l"] > 100 * 1e-5
+
+
+def coverage(stewart, campaigns: int, seed: int):
+    rng = np.random.default_rng(seed)
+    scores, ratios = [], []
+    for _ in range(campaigns):
+        true, offsets, _, readings, measured, _ = campaign(stewart, rng)
+        result = calibrate(stewart, CalibrationData(readings, measured, sigma=(SIGMA_POSITION, SIGMA_ANGLE)))
+        assert result.rank == 42
+        scores.append(z_scores(result, true, offsets, stewart.actuated_names))
+        rows = 6 * len(readings)
+        ratios.append(result.rms_after["position"] / (SIGMA_POSITION * np.sqrt(3 * (rows - 42) / rows)))
+    z = np.concatenate(scores)
+    return np.mean(np.abs(z) < 1.959963984540054), np.std(z), np.array(ratios), z.size
+
+
+def test_interval_coverage_small():
+    """Six campaigns of 40 poses (252 intervals): coverage of the 95 % intervals within 3.5
+    binomial standard deviations of 0.95, z-score standard deviation within [0.85, 1.15]."""
+    covered, spread, ratios, count = coverage(parakin.load("stewart", **hexapod()), 6, 100)
+    assert count == 6 * 42
+    assert abs(covered - 0.95) < 3.5 * np.sqrt(0.95 * 0.05 / count), covered
+    assert 0.85 < spread < 1.15, spread
+    assert ratios.max() <= 1.2, ratios
+
+
+@pytest.mark.slow
+def test_interval_coverage_40_campaigns():
+    """The issue's statistic: 40 campaigns x 40 poses, truth perturbed by N(0, 1 mm): coverage in
+    [0.92, 0.98], z-score standard deviation in [0.9, 1.1], rms after <= 1.2x the predicted."""
+    covered, spread, ratios, count = coverage(parakin.load("stewart", **hexapod()), 40, 200)
+    assert count == 40 * 42
+    assert 0.92 <= covered <= 0.98, covered
+    assert 0.9 <= spread <= 1.1, spread
+    assert ratios.max() <= 1.2, ratios
+
+
+def test_held_out_accuracy(stewart):
+    """20 held-out poses: the calibrated model's forward pose at the readings is within 0.05 mm
+    rms of the truth (the nominal one is millimetres off), and within 1.5x of the error that
+    the covariance predicts."""
+    rng = np.random.default_rng(37)
+    _, offsets, truth, readings, measured, _ = campaign(stewart, rng)
+    result = calibrate(stewart, CalibrationData(readings, measured, sigma=(SIGMA_POSITION, SIGMA_ANGLE)))
+    poses = random_poses(rng, 20)
+    held_readings = truth.inverse_pose(poses).actuated[:, 0] - offsets
+    nominal = stewart.forward_pose(held_readings, guess=poses)
+    before = np.sqrt(np.mean(np.sum((nominal.pose[:, :3, 3] - poses[:, :3, 3]) ** 2, axis=1)))
+    predicted_poses, covariance = prediction_covariance(result, held_readings, guess=poses)
+    after = np.sqrt(np.mean(np.sum((predicted_poses[:, :3, 3] - poses[:, :3, 3]) ** 2, axis=1)))
+    predicted = np.sqrt(np.mean(np.trace(covariance, axis1=1, axis2=2)))
+    assert before > 1e-3, before
+    assert after < 0.05e-3, after
+    assert predicted / 1.5 <= after <= 1.5 * predicted, (after, predicted)
+
+
+@pytest.mark.parametrize("kind", ["pose", "position", "z", "distance"])
+def test_jacobian_matches_central_differences(stewart, kind):
+    """The analytic Jacobian (implicit function of the closure, frames, offsets and scales) equals
+    central differences of the residual with the loops re-closed, for every kind."""
+    rng = np.random.default_rng(38)
+    poses = random_poses(rng, 5)
+    readings = stewart.inverse_pose(poses).actuated[:, 0]
+    tracker = np.eye(4)
+    tracker[:3, :3] = Rotation.from_rotvec([0.1, -0.2, 0.3]).as_matrix()
+    tracker[:3, 3] = [0.2, -0.1, -0.3]
+    tool = np.eye(4)
+    tool[:3, :3] = Rotation.from_rotvec([-0.1, 0.05, 0.2]).as_matrix()
+    tool[:3, 3] = [0.03, -0.02, 0.04]
+    seen = np.linalg.inv(tracker) @ poses @ tool
+    measured = {
+        "pose": seen,
+        "position": seen[:, :3, 3],
+        "z": seen[:, 2, 3],
+        "distance": np.linalg.norm(seen[:, :3, 3], axis=1),
+    }[kind]
+    data = CalibrationData(readings, measured, kind=kind, sigma=1.0, tracker=tracker, tool=tool)
+    free = ["base_x1", "base_z3", "platform_y2", "platform_z6", "l2_offset", "l4_scale"]
+    free += [f"{f}_{c}" for f in ("tracker", "tool") for c in ("x", "y", "z", "rx", "ry", "rz")]
+    problem = Problem(stewart, data, free, (), None)
+    values = problem.nominal.copy()
+    values[problem.index] += rng.normal(0.0, 1e-3, len(free))
+    q = problem.close(values, stewart.inverse_pose(poses).passive[:, 0])
+    analytic = problem.evaluate(values, q)[1]
+    numeric = np.zeros_like(analytic)
+    for i in range(len(free)):
+        step = np.zeros_like(values)
+        step[problem.index[i]] = 1e-6
+        plus = problem.evaluate(values + step, problem.close(values + step, q), jacobian=False)[0]
+        minus = problem.evaluate(values - step, problem.close(values - step, q), jacobian=False)[0]
+        numeric[:, i] = (plus - minus) / 2e-6
+    assert analytic.shape == (5 * data.size, len(free))
+    assert np.abs(analytic - numeric).max() < 1e-6 * max(1.0, np.abs(numeric).max())
+
+
+def test_old_package_without_the_kernel(monkeypatch):
+    """A package generated before the kernel: a named error that says to regenerate."""
+    m = parakin.load("delta")
+    kernels = dict(m.manifest.kernels)
+    kernels.pop("parameter_jacobians")
+    monkeypatch.setattr(m, "manifest", dataclasses.replace(m.manifest, kernels=kernels))
+    data = CalibrationData(np.zeros((2, 3)), np.zeros((2, 3)), kind="position", sigma=1e-5)
+    with pytest.raises(CalibrationUnavailableError, match="regenerate") as error:
+        calibrate(m, data)
+    assert isinstance(error.value, UnsupportedOperationError)
+
+
+def test_bad_inputs_are_named(stewart):
+    readings = np.ones((3, 6))
+    with pytest.raises(CalibrationDataError, match="kind"):
+        CalibrationData(readings, np.zeros((3, 3)), kind="angle")
+    with pytest.raises(CalibrationDataError, match="measured must have shape"):
+        CalibrationData(readings, np.zeros((3, 4)), kind="position")
+    with pytest.raises(CalibrationDataError, match="sigma"):
+        CalibrationData(readings, np.zeros((3, 3)), kind="position", sigma=-1.0)
+    with pytest.raises(CalibrationDataError, match="frames"):
+        CalibrationData(readings, np.zeros((3, 3)), kind="position", unknown=("camera",))
+    data = CalibrationData(readings, np.zeros(3), kind="z")
+    with pytest.raises(BadInputError, match="base_x7"):
+        calibrate(stewart, data, free=["base_x7"])
+    with pytest.raises(CalibrationDataError, match="3 columns"):
+        calibrate(stewart, CalibrationData(np.ones((3, 3)), np.zeros(3), kind="z"))
