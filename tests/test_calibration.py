@@ -6,6 +6,7 @@ explicit forward model, intervals checked for coverage over repeated campaigns."
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 import pytest
@@ -28,7 +29,7 @@ SIGMA_ANGLE = np.deg2rad(0.002)  # rad
 HOME = np.array([0.0, 0.0, 0.7])
 
 
-def hexapod() -> dict[str, np.ndarray]:
+def hexapod() -> dict[str, Any]:
     """A symmetric 6-6 hexapod: base joints in pairs 24 deg apart on a 0.5 m circle, platform
     joints in pairs 24 deg apart on a 0.3 m circle, rotated by 60 deg."""
     base, platform = [], []
