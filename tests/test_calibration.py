@@ -19,6 +19,7 @@ from parakin.calibration import (
     CalibrationDataError,
     CalibrationUnavailableError,
     calibrate,
+    design_poses,
     prediction_covariance,
 )
 from parakin.calibration.fit import Problem
@@ -378,3 +379,67 @@ def test_bad_inputs_are_named(stewart):
         calibrate(stewart, data, free=["base_x7"])
     with pytest.raises(CalibrationDataError, match="3 columns"):
         calibrate(stewart, CalibrationData(np.ones((3, 3)), np.zeros(3), kind="z"))
+
+
+def test_design_poses_beats_random_subsets(stewart):
+    """D-optimal design of 12 poses from 80 candidates: its log det(J^T J) (columns scaled over the
+    candidates, computed here from the problem's Jacobian) equals the design's value, exceeds
+    every one of 50 random 12-subsets, is at least the greedy value, and no single exchange
+    improves it (checked by brute force)."""
+    rng = np.random.default_rng(39)
+    candidates = random_poses(rng, 80)
+    design = design_poses(stewart, candidates, 12, "D", sigma=(SIGMA_POSITION, SIGMA_ANGLE))
+    assert design.rank == 42 and design.eligible == 80 and len(set(design.indices)) == 12
+    inverse = stewart.inverse_pose(candidates)
+    seen = inverse.pose
+    data = CalibrationData(
+        inverse.actuated[:, 0], seen, sigma=(SIGMA_POSITION, SIGMA_ANGLE), passive=inverse.passive[:, 0]
+    )
+    problem = Problem(stewart, data, None, (), None)
+    rows = problem.evaluate(problem.nominal, inverse.passive[:, 0])[1].reshape(80, 6, 42)
+    rows = rows / np.linalg.norm(rows.reshape(-1, 42), axis=0)
+
+    def logdet(indices):
+        stacked = rows[list(indices)].reshape(-1, 42)
+        return np.linalg.slogdet(stacked.T @ stacked)[1]
+
+    chosen = logdet(design.indices)
+    assert abs(chosen - design.value) < 1e-6 * abs(chosen)
+    assert chosen >= design.greedy_value - 1e-9
+    random_values = [logdet(rng.choice(80, 12, replace=False)) for _ in range(50)]
+    assert chosen > max(random_values), (chosen, max(random_values))
+    outside = [k for k in range(80) if k not in design.indices]
+    for slot in range(12):
+        for k in outside:
+            swapped = list(design.indices)
+            swapped[slot] = k
+            assert logdet(swapped) <= chosen + 1e-9 * abs(chosen)
+
+
+def test_design_poses_keeps_the_singularity_margin():
+    """Delta candidates over a wide box, some near the workspace boundary (arm and forearm in one
+    plane: the actuated Jacobian loses rank): exactly those whose reciprocal condition numbers,
+    computed here with numpy's cond of the public loop_closure Jacobians, exceed the margin are
+    eligible, and every chosen pose is among them; too many asked is a named error."""
+    m = parakin.load("delta")
+    rng = np.random.default_rng(40)
+    positions = np.column_stack(
+        [rng.uniform(-0.6, 0.6, 120), rng.uniform(-0.6, 0.6, 120), rng.uniform(-1.5, -0.7, 120)]
+    )
+    inverse = m.inverse_pose(positions, strict=False)
+    reachable = inverse.valid[:, 0]
+    theta, passive = inverse.actuated[reachable, 0], inverse.passive[reachable, 0]
+    closure = m.loop_closure(theta, passive)["jacobian"]
+    actuated = m.backend.call("loop_closure_actuated", theta, passive, m.params)["jacobian_actuated"]
+    margin = 0.2
+    conditions = np.minimum(1 / np.linalg.cond(closure), 1 / np.linalg.cond(actuated))
+    expected = np.flatnonzero(reachable)[conditions > margin]
+    assert 10 <= expected.size < reachable.sum(), (expected.size, reachable.sum())
+    design = design_poses(m, positions, 8, "E", kind="position", sigma=1e-5, margin=margin)
+    assert design.eligible == expected.size
+    assert set(design.indices) <= set(expected)
+    assert design.rank == 6  # R + r stays unidentifiable whatever the poses
+    with pytest.raises(CalibrationDataError, match="n must be"):
+        design_poses(m, positions, expected.size + 1, kind="position", margin=margin)
+    with pytest.raises(CalibrationDataError, match="criterion"):
+        design_poses(m, positions, 3, "A", kind="position")

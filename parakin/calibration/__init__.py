@@ -6,6 +6,7 @@ Jacobians and names what the data cannot identify; ``design_poses`` chooses wher
 from __future__ import annotations
 
 from parakin.calibration.data import CalibrationData
+from parakin.calibration.design import PoseDesign, design_poses
 from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
 from parakin.calibration.fit import CalibrationResult, calibrate, prediction_covariance
 from parakin.calibration.identifiability import Combination
@@ -16,6 +17,8 @@ __all__ = [
     "CalibrationResult",
     "CalibrationUnavailableError",
     "Combination",
+    "PoseDesign",
     "calibrate",
+    "design_poses",
     "prediction_covariance",
 ]
