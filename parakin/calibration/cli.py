@@ -1,0 +1,171 @@
+"""``parakin calibrate NAME DATA.csv``: calibrate a mechanism from a CSV of measurements.
+
+The CSV has a header row naming its columns (``#`` starts a comment line): every actuated
+variable (``parakin inspect NAME`` lists them; the encoder readings, m or rad), then the
+measurement's columns for ``--kind``:
+
+* ``pose``: ``x y z alpha beta gamma`` (m; Z-Y-X Euler angles in rad, ``parakin.pose_from_xyz_euler``);
+* ``position``: ``x y z`` (m);
+* ``z``: ``z`` (m);
+* ``distance``: ``distance`` (m).
+
+``--deg`` reads revolute actuated columns and the pose's angles in degrees. The output is a table
+(or with ``--json`` one JSON object) of the free parameters with their standard errors, the
+unidentifiable combinations, the rms before and after and O1..O5; ``--output FILE`` writes the
+calibrated values as JSON (``{"parameters": {...}, "offsets": {...}, ...}``; the parameters go
+back into ``--param NAME=VALUE`` or ``parakin.load(NAME, **parameters)``).
+
+Errors (a malformed CSV, an unknown column or parameter) raise ``parakin.errors`` exceptions, which
+the command line reports with exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from parakin.calibration.data import KINDS, CalibrationData
+from parakin.calibration.errors import CalibrationDataError
+from parakin.calibration.fit import CalibrationResult, calibrate
+from parakin.mechanism import Mechanism
+from parakin.pose import pose_from_xyz_euler
+
+#: the measurement columns of each kind
+COLUMNS = {
+    "pose": ("x", "y", "z", "alpha", "beta", "gamma"),
+    "position": ("x", "y", "z"),
+    "z": ("z",),
+    "distance": ("distance",),
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``parakin calibrate`` (module docstring)."""
+    parser.add_argument("name", help="mechanism name (parakin list) or generated package folder")
+    parser.add_argument("data", help="CSV of measurements: actuated columns, then the kind's columns")
+    parser.add_argument("--kind", choices=KINDS, default="pose", help="what was measured (default pose)")
+    parser.add_argument("--sigma", type=float, required=True, help="measurement noise, one standard deviation (m)")
+    parser.add_argument("--sigma-angle", type=float, default=None, help="rotation noise of poses (rad; needed for --kind pose)")
+    parser.add_argument("--deg", action="store_true", help="revolute actuated columns and pose angles in degrees")
+    parser.add_argument(
+        "--unknown", action="append", choices=("tracker", "tool"), default=[], help="a frame to estimate (repeat)"
+    )
+    parser.add_argument("--free", default=None, help="comma-separated parameters to estimate (default: all)")
+    parser.add_argument("--fix", action="append", default=[], metavar="NAME", help="hold a parameter (repeat)")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="nominal parameter (SI)")
+    parser.add_argument("--backend", default="auto", choices=["auto", "compiled", "numpy", "casadi"])
+    parser.add_argument("--json", action="store_true", help="the result as one JSON object")
+    parser.add_argument("--output", default=None, help="write the calibrated values to this JSON file")
+
+
+def read_csv(path: str | Path, m: Mechanism, kind: str, degrees: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Encoder readings (N, n_a) and measurements (kind's shape) from a CSV (module docstring).
+
+    Raises
+    ------
+    CalibrationDataError
+        A missing file or column, an unknown column, a value that is not a number.
+    """
+    try:
+        with open(path, newline="") as handle:
+            lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
+    except OSError as error:
+        raise CalibrationDataError(f"cannot read the measurements {str(path)!r}: {error.strerror}") from error
+    rows = list(csv.reader(lines))
+    if len(rows) < 2:
+        raise CalibrationDataError(f"{path}: a header row and at least one measurement are needed")
+    header = [cell.strip() for cell in rows[0]]
+    needed = [*m.actuated_names, *COLUMNS[kind]]
+    for name in header:
+        if name not in needed:
+            raise CalibrationDataError(f"{path}: unknown column {name!r}; kind {kind!r} of {m.name} reads {needed}")
+    for name in needed:
+        if name not in header:
+            raise CalibrationDataError(f"{path}: no column {name!r} (kind {kind!r} of {m.name} reads {needed})")
+    values = np.zeros((len(rows) - 1, len(needed)))
+    for line, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise CalibrationDataError(f"{path} line {line}: {len(row)} values for {len(header)} columns")
+        for k, name in enumerate(needed):
+            text = row[header.index(name)].strip()
+            try:
+                values[line - 2, k] = float(text)
+            except ValueError as error:
+                raise CalibrationDataError(f"{path} line {line}, column {name!r}: {text!r} is not a number") from error
+    n_a = len(m.actuated_names)
+    readings, measured = values[:, :n_a], values[:, n_a:]
+    if degrees:
+        revolute = np.array([v.revolute for v in m.manifest.actuated])
+        readings[:, revolute] = np.deg2rad(readings[:, revolute])
+        if kind == "pose":
+            measured[:, 3:] = np.deg2rad(measured[:, 3:])
+    if kind == "pose":
+        return readings, pose_from_xyz_euler(measured)
+    return readings, measured if kind == "position" else measured[:, 0]
+
+
+def record(result: CalibrationResult) -> dict[str, Any]:
+    """The result as a JSON-ready dict."""
+    return {
+        "mechanism": result.mechanism.name,
+        "free": list(result.names),
+        "values": {name: result.values[name] for name in result.names},
+        "standard_errors": {k: (v if np.isfinite(v) else None) for k, v in result.standard_errors.items()},
+        "rank": result.rank,
+        "identifiable": list(result.identifiable),
+        "unidentifiable": [str(c) for c in result.unidentifiable],
+        "rms_before": result.rms_before,
+        "rms_after": result.rms_after,
+        "observability": result.observability,
+        "iterations": result.iterations,
+        "seconds": result.seconds,
+        "parameters": dict(result.mechanism.parameters),
+        "offsets": result.offsets,
+        "scales": {k: v for k, v in result.values.items() if k.endswith("_scale")},
+        "tracker": {k: v for k, v in result.values.items() if k.startswith("tracker_")},
+        "tool": {k: v for k, v in result.values.items() if k.startswith("tool_")},
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``parakin calibrate``: 0 after a fit (its output printed), errors raised as
+    ``parakin.errors`` exceptions (exit status 2 on the command line)."""
+    from parakin.loading import load
+
+    parameters: dict[str, Any] = {}
+    for item in args.param:
+        name, sep, text = item.partition("=")
+        if not sep:
+            raise CalibrationDataError(f"--param takes NAME=VALUE, got {item!r}")
+        try:
+            parameters[name.strip()] = json.loads(text)
+        except ValueError as error:
+            raise CalibrationDataError(f"--param {name}: {text!r} is not a number or a JSON list") from error
+    m = load(args.name, backend=args.backend, **parameters)
+    readings, measured = read_csv(args.data, m, args.kind, args.deg)
+    sigma: float | tuple[float, float] = args.sigma
+    if args.kind == "pose":
+        if args.sigma_angle is None:
+            raise CalibrationDataError("--kind pose needs --sigma-angle (the rotation noise, rad)")
+        sigma = (args.sigma, args.sigma_angle)
+    elif args.sigma_angle is not None:
+        raise CalibrationDataError(f"--sigma-angle is for --kind pose, not {args.kind!r}")
+    data = CalibrationData(readings, measured, kind=args.kind, sigma=sigma, unknown=tuple(args.unknown))
+    free = None if args.free is None else [name.strip() for name in args.free.split(",") if name.strip()]
+    result = calibrate(m, data, free=free, fixed=args.fix)
+    output = record(result)
+    if args.output is not None:
+        try:
+            Path(args.output).write_text(json.dumps(output, indent=2) + "\n")
+        except OSError as error:
+            raise CalibrationDataError(f"cannot write {args.output!r}: {error.strerror}") from error
+    print(json.dumps(output) if args.json else result.summary())
+    return 0
+
+
+__all__ = ["COLUMNS", "add_arguments", "read_csv", "record", "run"]
