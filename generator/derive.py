@@ -15,7 +15,7 @@ import sympy as sp
 
 from parakin.log import logger
 
-from . import configurations, homotopy, polynomial_form, stages
+from . import configurations, graph, homotopy, polynomial_form, stages
 from .checks import check_closure, check_pose_kind, check_program_symbols
 from .drawing import drawing_metadata
 from .errors import GenerationError
@@ -393,6 +393,21 @@ def _parameter_jacobians(mechanism: Mechanism, state: list, closed: _Closure) ->
     )
 
 
+def check_mobility(mechanism: Mechanism, residual: sp.Matrix) -> graph.Motion:
+    """The platform's mobility and motion by screw analysis of the joint graph at the home and at
+    generic configurations near it (``graph.analyse``), checked against the declared pose kind
+    and actuators; logged. Raise GenerationError saying what differs."""
+    joint_graph = mechanism.joint_graph
+    assert joint_graph is not None
+    found = graph.analyse(
+        joint_graph, residual, mechanism.actuated, mechanism.passive, mechanism.parameters, mechanism.home,
+        mechanism.angular,
+    )  # fmt: skip
+    logger.info("%s: %s (screw analysis at %d configurations)", mechanism.name, found.text(), found.samples)
+    graph.check_motion(mechanism.name, joint_graph, found, len(mechanism.actuated))
+    return found
+
+
 def derive(mechanism: Mechanism) -> Derivation:
     actuated = ("actuated", mechanism.actuated)
     passive = ("passive", mechanism.passive)
@@ -402,6 +417,8 @@ def derive(mechanism: Mechanism) -> Derivation:
     check_pose_kind(mechanism)
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
+    if mechanism.joint_graph is not None:
+        check_mobility(mechanism, residual)
     if mechanism.passive:
         jacobian_passive = residual.jacobian(mechanism.passive)
         jacobian_actuated = residual.jacobian(mechanism.actuated)

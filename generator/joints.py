@@ -51,12 +51,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
 from .blocks import TWIST, block_laplace_det, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
+from .graph import Chain, Joint, JointGraph
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
 
 ZERO = sp.Matrix([0, 0, 0])
@@ -146,6 +147,8 @@ class Leg:
     #: plane through A normal to n (a P-R-S leg): one constraint wrench, the force along n
     #: through C; None: no such joint (S or U joints only)
     plane_normal: sp.Matrix | None = None
+    #: the leg's joints in the joint graph (``generator.graph``), of which this is the distance form
+    chain: Chain | None = field(default=None, compare=False, repr=False)
 
     def elbow(self, value: sp.Expr | None = None) -> sp.Matrix:
         """E, the base-side end of the distance, at the joint value (default: the joint)."""
@@ -189,6 +192,7 @@ def prismatic_leg(
     platform_joint: Sequence[sp.Expr] | sp.Matrix,
     length: sp.Symbol,
     revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
+    universal_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
     """A leg whose actuated prismatic joint sets the distance from the base joint to the
     platform joint.
@@ -206,13 +210,24 @@ def prismatic_leg(
         leg, and so the platform joint, in the plane through A normal to n, (C - A) . n = 0, a
         constraint on the platform (lower mobility). None (default): an S-P-S, U-P-S or planar
         R-P-R leg, no constraint.
+    universal_axis : sequence of expressions or Matrix, optional
+        The first (base) axis of a universal joint at A (a U-P-S leg; in the joint graph, the
+        same distance and no constraint). None (default): a spherical joint there.
 
     Returns
     -------
     Leg
         The leg, for ``DistanceMechanism``.
     """
-    return Leg("prismatic", length, _vector(base), _vector(platform_joint), plane_normal=_plane_normal(revolute_axis))
+    a, normal = _vector(base), _plane_normal(revolute_axis)
+    if normal is not None and universal_axis is not None:
+        raise ValueError("a prismatic leg has a revolute or a universal joint at its base, not both")
+    first = Joint("S", "base", a) if normal is None else Joint("R", "base", a, normal)
+    if universal_axis is not None:
+        first = Joint("U", "base", a, _unit("a universal joint's axis", _vector(universal_axis)))
+    slide = Joint("P", "base", a, None, length, actuated=True)
+    chain = Chain("leg", (first, slide, Joint("S", "platform", _vector(platform_joint))))
+    return distance_form(chain)
 
 
 def crank_leg(
@@ -226,6 +241,8 @@ def crank_leg(
     sign: int = 1,
     serial_name: str | None = None,
     revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
+    parallelogram: Sequence[sp.Expr] | sp.Matrix | None = None,
+    spherical: bool = False,
 ) -> Leg:
     """A leg whose actuated crank carries a link of fixed length to the platform joint.
 
@@ -253,6 +270,19 @@ def crank_leg(
         must be parallel to the crank's axis: the link then stays in the crank's plane, through A
         normal to u, (C - A) . u = 0, a constraint on the platform (lower mobility). None
         (default): a spherical or universal joint there, no constraint.
+    parallelogram : sequence of expressions or Matrix, optional
+        The hinge direction h of a parallelogram link (a delta's forearm: two bars of length
+        ``link``, short sides along h at the crank and at the platform, in {B} and in {P} at
+        the platform's zero orientation): revolute joints about h at both ends and the
+        parallelogram between them, which keep the platform's side parallel to the crank's
+        (no turn about two axes normal to h). The distance is the same; the joint graph, and
+        so the screw analysis, has the parallelogram.
+    spherical : bool
+        An R-R-R leg of a spherical mechanism (the SPM), its crank's axis through the origin of
+        {B}, the elbow and the platform joint on a sphere about it: revolute joints about the
+        lines from the origin through the elbow and through the platform joint, meeting the
+        crank's axis there. The distance is the same (the distal link's angle); the joint graph
+        has the revolute joints.
 
     Returns
     -------
@@ -270,7 +300,15 @@ def crank_leg(
                 "then moves in the crank's plane; another revolute axis is not a fixed plane)"
             )
         normal = u  # the plane is the crank's: one normal, whichever of the two directions was given
-    return Leg("crank", angle, _vector(base), _vector(platform_joint), link, u, e0, crank, sign, serial_name, normal)
+    a, c = _vector(base), _vector(platform_joint)
+    if spherical:
+        if normal is not None or parallelogram is not None:
+            raise ValueError("a spherical crank leg (axes meeting at the origin) has no revolute_axis or parallelogram")
+        middle, end = _spherical(a + crank * e0, c)
+    else:
+        middle, end = _middle(normal, parallelogram), _platform_end(c, parallelogram)
+    joints = (Joint("R", "base", a, u, angle, actuated=True), *middle, end)
+    return distance_form(Chain("leg", joints, reach=(crank, e0), link=link, sign=sign, serial_name=serial_name))
 
 
 def slider_leg(
@@ -282,12 +320,15 @@ def slider_leg(
     sign: int = 1,
     serial_name: str | None = None,
     revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
+    parallelogram: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
     """P-S-S or P-U-S: an actuated slider at A + stroke k along the unit ``axis`` k, then a link
     of length ``link`` to c (in {P}). Branch sign +1 puts the slider behind the platform joint
     along k (the link rising along k; ``sign`` = -1: ahead of it). With ``revolute_axis`` n (a
     unit vector normal to k), a P-R-S leg: a revolute joint on the slider keeps the link in the
-    plane through A normal to n, a constraint on the platform (lower mobility)."""
+    plane through A normal to n, a constraint on the platform (lower mobility). With
+    ``parallelogram`` h, the link is a parallelogram hinged about h at both ends (``crank_leg``),
+    a linear delta's."""
     k = _unit("a slider's axis", _vector(axis))
     normal = None
     if revolute_axis is not None:
@@ -297,7 +338,163 @@ def slider_leg(
                 f"a slider's revolute axis {list(normal)} must be normal to the slider's axis {list(k)} (the link's "
                 "plane must hold the rail)"
             )
-    return Leg("slider", stroke, _vector(base), _vector(platform_joint), link, k, None, None, sign, serial_name, normal)
+    a, c = _vector(base), _vector(platform_joint)
+    middle = _middle(normal, parallelogram)
+    joints = (Joint("P", "base", a, k, stroke, actuated=True), *middle, _platform_end(c, parallelogram))
+    return distance_form(Chain("leg", joints, link=link, sign=sign, serial_name=serial_name))
+
+
+def _middle(normal: sp.Matrix | None, parallelogram: Sequence[sp.Expr] | sp.Matrix | None) -> tuple[Joint, ...]:
+    """The elbow's joints: S (default), R about ``normal``, or R and Pa about the parallelogram's
+    hinge direction."""
+    if parallelogram is not None:
+        if normal is not None:
+            raise ValueError("a leg has a revolute joint at its elbow or a parallelogram link, not both")
+        hinge = _unit("a parallelogram's hinge axis", _vector(parallelogram))
+        return (Joint("R", "elbow", None, hinge), Joint("Pa", "elbow", None, hinge))
+    return (Joint("S", "elbow"),) if normal is None else (Joint("R", "elbow", None, normal),)
+
+
+def _spherical(zero_elbow: sp.Matrix, platform_axis: sp.Matrix) -> tuple[tuple[Joint, ...], Joint]:
+    """The elbow and platform joints of an R-R-R leg whose axes meet at the origin (a spherical
+    mechanism's): revolute about the lines from the origin through the elbow (at zero, carried by
+    the crank) and through the platform joint."""
+    return (Joint("R", "elbow", None, zero_elbow),), Joint("R", "platform", platform_axis, platform_axis)
+
+
+def _platform_end(point: sp.Matrix, parallelogram: Sequence[sp.Expr] | sp.Matrix | None) -> Joint:
+    """The platform joint: S, or after a parallelogram R about its hinge direction (in {P})."""
+    if parallelogram is None:
+        return Joint("S", "platform", point)
+    return Joint("R", "platform", point, _vector(parallelogram))
+
+
+def passive_leg(
+    base: Sequence[sp.Expr] | sp.Matrix,
+    axis: Sequence[sp.Expr] | sp.Matrix,
+    platform_point: Sequence[sp.Expr] | sp.Matrix,
+    direction: Sequence[sp.Expr] | sp.Matrix,
+) -> Chain:
+    """A passive U-P leg fixed to the platform (the Tricept's central leg): a universal joint at
+    A, the first axis a1 fixed in {B}, a passive prismatic joint along the leg's line, and the
+    leg rigidly attached to the platform at c0 (in {P}), its line along the unit w (in {P}).
+
+    It constrains the platform three times: C0 = p + R c0 stays on the line through A along
+    R w, (C0 - A) . R b = (C0 - A) . R (w x b) = 0, and the universal joint's second axis, R b
+    with b = a1 x w (the axes at the platform's zero orientation R = I), stays normal to the
+    first, a1 . R b = 0. Its constraint wrenches: the forces through A along R b and R (w x b),
+    and the couple a1 x R b.
+
+    Parameters
+    ----------
+    base : sequence of expressions or Matrix
+        The universal joint's centre A, in {B}.
+    axis : sequence of expressions or Matrix
+        The universal joint's first (base) axis a1, a unit vector in {B}, normal to w.
+    platform_point : sequence of expressions or Matrix
+        c0, where the leg is fixed to the platform, in {P}.
+    direction : sequence of expressions or Matrix
+        w, the leg's line in {P}, a unit vector.
+
+    Returns
+    -------
+    Chain
+        The leg in the joint graph, for ``DistanceMechanism`` (with the actuated legs).
+
+    Raises
+    ------
+    ValueError
+        If an axis is not a unit vector, or a1 is not normal to w.
+
+    Example
+    -------
+    >>> leg = passive_leg([0, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 1])
+    >>> leg.kinds
+    'U-P-F'
+    """
+    a1, w = _unit("a universal joint's axis", _vector(axis)), _unit("a passive leg's direction", _vector(direction))
+    if not (a1.free_symbols or w.free_symbols) and abs(float(a1.dot(w))) > 1e-12:
+        raise ValueError(f"a passive leg's universal axis {list(a1)} must be normal to its line {list(w)}")
+    a = _vector(base)
+    joints = (Joint("U", "base", a, a1), Joint("P", "base", a), Joint("F", "platform", _vector(platform_point), w))
+    return Chain("leg", joints)
+
+
+def central_joint() -> Chain:
+    """A spherical joint at the origin of {B} holding the platform (a 3-SPS-1S): the platform of
+    pose kind 'rotation' turns about it. It adds no row to the closure (the pose kind has no
+    translation); the joint graph, and so the screw analysis, has it.
+
+    Returns
+    -------
+    Chain
+        The passive leg S-F, for ``DistanceMechanism``.
+
+    Example
+    -------
+    >>> central_joint().kinds
+    'S-F'
+    """
+    return Chain("leg", (Joint("S", "base", ZERO), Joint("F", "platform", ZERO)))
+
+
+def distance_form(chain: Chain, pose_kind: str = "transform") -> Leg:
+    """The distance form of a leg of the joint graph (module docstring): a prismatic leg (a line
+    of variable length from A, its actuated prismatic joint), a crank (an actuated revolute joint
+    at A carrying a crank of ``reach`` to the elbow) or a slider (an actuated prismatic joint
+    along an axis), with a link of fixed length from the elbow to the platform joint, and the
+    plane a revolute joint at A or at the elbow keeps it in.
+
+    Parameters
+    ----------
+    chain : Chain
+        The leg's joints, base to platform (``prismatic_leg``, ``crank_leg``, ``slider_leg`` or
+        written joint by joint).
+    pose_kind : str
+        The platform's pose kind: in a planar one a plane normal to z is the pose kind's own,
+        no constraint.
+
+    Returns
+    -------
+    Leg
+        Its distance form, ``chain`` kept.
+
+    Raises
+    ------
+    ValueError
+        Where the chain is none of these shapes, saying what it holds and what is supported.
+    """
+    joints = chain.joints
+    actuated = [j for j in joints if j.actuated]
+    shapes = (
+        "supported: [S, U or R at A]-P(actuated, along A -> C)-[S or U at C]; R(actuated at A, with reach)-"
+        "[S, U, R, or R-Pa at the elbow]-[S, U or R at C] with a link; P(actuated at A, with an axis)-[the same]"
+    )
+    if len(actuated) != 1 or actuated[0].variable is None:
+        raise ValueError(f"leg {chain.name} ({chain.kinds}): one actuated joint with a variable; {shapes}")
+    drive = actuated[0]
+    elbow = chain.at("elbow")
+    revolute = [j for j in (*chain.at("base"), *elbow) if j.kind == "R" and j is not drive]
+    # a revolute joint keeps the leg in a plane where the link ends in a spherical or universal
+    # joint; in an R-R-R leg the platform's revolute joint and the pose kind hold the rest
+    spherical_end = joints[-1].kind in ("S", "U")
+    normal = revolute[0].axis if revolute and spherical_end and not any(j.kind == "Pa" for j in elbow) else None
+    if normal is not None and pose_kind in ("planar", "planar_translation") and list(normal) in ([0, 0, 1], [0, 0, -1]):
+        normal = None  # the plane z = 0 is the pose kind's
+    a, c = joints[0].point, joints[-1].point
+    assert a is not None and c is not None
+    if chain.link is None and drive.kind == "P" and drive.axis is None:
+        return Leg("prismatic", drive.variable, a, c, plane_normal=normal, chain=chain)
+    if chain.link is not None and drive is joints[0] and drive.kind == "R" and chain.reach is not None:
+        crank, zero = chain.reach
+        return Leg(
+            "crank", drive.variable, a, c, chain.link, drive.axis, zero, crank, chain.sign, chain.serial_name, normal, chain
+        )  # fmt: skip
+    if chain.link is not None and drive is joints[0] and drive.kind == "P" and drive.axis is not None:
+        return Leg(
+            "slider", drive.variable, a, c, chain.link, drive.axis, None, None, chain.sign, chain.serial_name, normal, chain
+        )  # fmt: skip
+    raise ValueError(f"leg {chain.name} ({chain.kinds}) is not a distance leg; {shapes}")
 
 
 #: a platform joint this far from its leg's plane, relative to the leg's size (``plane_measure``),
@@ -329,6 +526,35 @@ def plane_measure(leg: Leg, offset: sp.Matrix) -> sp.Expr:
     size = leg.base.dot(leg.base) + leg.platform_joint.dot(leg.platform_joint) + leg.length() ** 2
     size += 0 if leg.crank is None else leg.crank**2
     return 1 - offset.dot(leg.plane_normal) ** 2 / (PLANE_TOLERANCE**2 * size)
+
+
+def passive_measures(leg: PassiveLeg, rotation: sp.Matrix, position: sp.Matrix) -> dict[str, sp.Expr]:
+    """The inverse's validity measures of a passive leg at a pose (^B_P R, position).
+
+    Parameters
+    ----------
+    leg : PassiveLeg
+        The leg.
+    rotation, position : Matrix
+        The pose, in {B}.
+
+    Returns
+    -------
+    dict
+        ``<leg>_line_reachable``: 1 - ((C0 - A) . R b)^2 + ((C0 - A) . R (w x b))^2) / (PLANE_TOLERANCE
+        s)^2, s^2 = |A|^2 + |c0|^2 + |C0 - A|^2, negative where C0 is off the leg's line;
+        ``<leg>_u_joint_reachable``: 1 - (a1 . R b / PLANE_TOLERANCE)^2, negative where the
+        platform turned about the leg (the universal joint cannot); ``<leg>_extension_reachable``:
+        (C0 - A) . R w / s, negative where the leg would point away from the platform. Unitless.
+    """
+    d = leg.offset(rotation, position)
+    across = leg.rows(rotation, position)
+    size = leg.base.dot(leg.base) + leg.platform_point.dot(leg.platform_point) + d.dot(d)
+    return {
+        f"{leg.name}_line_reachable": 1 - (across[0] ** 2 + across[1] ** 2) / (PLANE_TOLERANCE**2 * size),
+        f"{leg.name}_u_joint_reachable": 1 - across[2] ** 2 / PLANE_TOLERANCE**2,
+        f"{leg.name}_extension_reachable": d.dot(rotation * leg.direction) / sp.sqrt(size),
+    }
 
 
 def crank_angle(
@@ -378,6 +604,71 @@ def wrapped_angle(angle: float) -> float:
     return math.pi if value <= -math.pi else value
 
 
+def _for_kind(chain: Chain, pose_kind: str) -> Chain:
+    """A leg's joints in a planar mechanism: the shorthands' spherical joints are revolute joints
+    about z there (what R-P-R and R-R-R legs have)."""
+    if pose_kind not in ("planar", "planar_translation"):
+        return chain
+    z = sp.Matrix([0, 0, 1])
+    joints = tuple(replace(j, kind="R", axis=z) if j.kind == "S" else j for j in chain.joints)
+    return replace(chain, joints=joints)
+
+
+@dataclass(frozen=True)
+class PassiveLeg:
+    """A passive U-P leg fixed to the platform (``passive_leg``): the universal joint's centre A
+    and first axis a1 (in {B}), the fixed point c0 and the line w (in {P}), b = a1 x w the
+    universal joint's second axis in {P}, and the leg's name."""
+
+    name: str
+    base: sp.Matrix
+    axis: sp.Matrix
+    platform_point: sp.Matrix
+    direction: sp.Matrix
+
+    @property
+    def second(self) -> sp.Matrix:
+        return self.axis.cross(self.direction)
+
+    def offset(self, rotation: sp.Matrix, position: sp.Matrix) -> sp.Matrix:
+        """C0 - A, in {B}."""
+        return position + rotation * self.platform_point - self.base
+
+    def rows(self, rotation: sp.Matrix, position: sp.Matrix) -> list[sp.Expr]:
+        """(C0 - A) . R b, (C0 - A) . R (w x b) (metres) and a1 . R b: zero where the leg closes."""
+        d, b = self.offset(rotation, position), self.second
+        return [d.dot(rotation * b), d.dot(rotation * self.direction.cross(b)), self.axis.dot(rotation * b)]
+
+
+def passive_form(chain: Chain) -> PassiveLeg:
+    """The passive leg a chain of the joint graph is (``passive_leg``: U-P-F).
+
+    Parameters
+    ----------
+    chain : Chain
+        A leg without actuated joints.
+
+    Returns
+    -------
+    PassiveLeg
+        Its universal joint, fixed point and line.
+
+    Raises
+    ------
+    ValueError
+        If the chain is not a U-P-F leg (the one passive leg supported).
+    """
+    kinds = [j.kind for j in chain.joints]
+    if kinds != ["U", "P", "F"] or chain.joints[2].axis is None or chain.joints[0].axis is None:
+        raise ValueError(
+            f"leg {chain.name} ({chain.kinds}) has no actuated joint: the one passive leg supported is U-P fixed "
+            "to the platform (passive_leg: a Tricept's)"
+        )
+    base, fixed = chain.joints[0], chain.joints[2]
+    assert base.point is not None and base.axis is not None and fixed.point is not None and fixed.axis is not None
+    return PassiveLeg(chain.name, base.point, base.axis, fixed.point, fixed.axis)
+
+
 SERIAL_NAMES = {"prismatic": "leg{k}_length", "crank": "leg{k}_links_aligned", "slider": "leg{k}_link_normal_to_rail"}
 
 
@@ -388,19 +679,47 @@ class DistanceMechanism:
     citation."""
 
     motion: Platform
+    #: the legs: distance legs (``prismatic_leg``, ``crank_leg``, ``slider_leg``) or chains of the
+    #: joint graph (``passive_leg``, or joint by joint); after construction their distance forms,
+    #: the actuated ones, and ``passive`` the passive legs
     legs: list[Leg]
     #: the name of the parallel (type II) factor det A
     parallel_name: str = "leg_lines_dependent"
     #: the inverse's branch signs: sigma<k> of each crank or slider leg k, then the platform's
     branch_names: list[sp.Symbol] = field(init=False)
+    #: the mechanism's bodies and joints, from which every derivation below starts
+    graph: JointGraph = field(init=False)
+    #: the passive legs (``passive_leg``), numbered after the actuated ones
+    passive: list[PassiveLeg] = field(init=False)
 
     def __post_init__(self) -> None:
         if not self.legs:
             raise ValueError("DistanceMechanism: no legs")
-        planes = len(self.constrained)
-        if len(self.legs) + planes != len(self.motion.twist):
+        chains = []
+        for k, leg in enumerate(self.legs):
+            chain = leg.chain if isinstance(leg, Leg) else leg
+            if not isinstance(chain, Chain):
+                raise ValueError(f"DistanceMechanism: leg {k + 1} is {type(leg).__name__}, not a leg or a chain")
+            chains.append(_for_kind(replace(chain, name=f"leg{k + 1}"), self.motion.kind))
+        self.graph = JointGraph(
+            self.motion.kind, self.motion.coordinates, self.motion.rotation, self.motion.position, chains
+        )
+        # the one path: every derivation below reads the legs' distance forms from the graph
+        self.legs = [distance_form(chain, self.motion.kind) for chain in self.graph.legs if chain.actuated]
+        centres = [chain for chain in self.graph.legs if [j.kind for j in chain.joints] == ["S", "F"]]
+        if centres and (self.motion.kind != "rotation" or any(c.joints[0].point != ZERO for c in centres)):
             raise ValueError(
-                f"DistanceMechanism: {len(self.legs)} legs and {planes} constraining revolute joints for the "
+                "DistanceMechanism: a central spherical joint (central_joint) holds a platform of pose kind 'rotation' "
+                f"at the origin of {{B}}, got pose kind {self.motion.kind!r}"
+            )
+        rest = [chain for chain in self.graph.legs if not chain.actuated and chain not in centres]
+        self.passive = [passive_form(chain) for chain in rest]
+        planes = len(self.constrained)
+        held = 3 * len(self.passive)
+        if len(self.legs) + planes + held != len(self.motion.twist):
+            passive = f" and {len(self.passive)} passive legs ({held} constraints)" if self.passive else ""
+            raise ValueError(
+                f"DistanceMechanism: {len(self.legs)} legs and {planes} constraining revolute joints{passive} for the "
                 f"{len(self.motion.twist)} twist components of pose kind {self.motion.kind!r} "
                 f"({', '.join(self.motion.twist)}): one leg per degree of freedom, one constraint per missing one"
             )
@@ -435,7 +754,8 @@ class DistanceMechanism:
         ]
         joints = self.platform_joints()
         planes = [(joints[k] - self.legs[k].base).dot(self.legs[k].plane_normal) for k in self.constrained]
-        residual = sp.Matrix([*planes, *rows, *self.motion.extra_residual])
+        held = [row for leg in self.passive for row in leg.rows(self.motion.rotation, self.motion.position)]
+        residual = sp.Matrix([*planes, *held, *rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
         return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), pose)
 
@@ -469,7 +789,7 @@ class DistanceMechanism:
     def _constraint_rows(self, origin: sp.Matrix | None = None) -> sp.Matrix | None:
         """One row per plane: the force along its normal n through the platform joint C,
         (n, (C - origin) x n) over the platform's twist components (origin: p)."""
-        if not self.constrained:
+        if not self.constrained and not self.passive:
             return None
         origin = self.motion.position if origin is None else origin
         columns = [TWIST.index(name) for name in self.motion.twist]
@@ -480,6 +800,14 @@ class DistanceMechanism:
             assert n is not None
             full = list(n) + list((joints[k] - origin).cross(n))
             rows.append([full[c] for c in columns])
+        rotation = self.motion.rotation
+        for leg in self.passive:  # forces through A along R b, R (w x b); the couple a1 x R b
+            b = rotation * leg.second
+            for force in (b, rotation * leg.direction.cross(leg.second)):
+                full = list(force) + list((leg.base - origin).cross(force))
+                rows.append([full[c] for c in columns])
+            full = [0, 0, 0, *leg.axis.cross(b)]
+            rows.append([full[c] for c in columns])
         return sp.Matrix(rows)
 
     def parallel_factors(self) -> dict[str, sp.Expr]:
@@ -487,7 +815,8 @@ class DistanceMechanism:
         (a column operation: the same determinant in smaller expressions)."""
         elbows = [leg.elbow() for leg in self.legs]
         q = self.motion.dimensionless
-        if self.motion.kind == "transform" and len(q) == 4 and self.motion.rotation == quaternion_rotation(q):
+        quaternion = len(q) == 4 and self.motion.rotation == quaternion_rotation(q)
+        if self.motion.kind == "transform" and quaternion and not self.passive:
             # rows (d_i ; (E_i - p) x d_i) times n = q . q, less [p]x times the first three
             # columns: (R_u c_i + n (p - E_i) ; E_i x (R_u c_i + n p)), polynomial in q, and
             # det A = det P / n^6 by Laplace's expansion in 3 x 3 blocks (600 entry occurrences
@@ -554,6 +883,8 @@ class DistanceMechanism:
                 validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
             if planes and leg.plane_normal is not None:
                 validity[f"leg{k + 1}_plane_reachable"] = plane_measure(leg, v)
+        for held in self.passive:
+            validity.update(passive_measures(held, rotation, position))
         validity.update(self.motion.validity)
         read = list(self.motion.read)
         uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
@@ -574,6 +905,14 @@ class DistanceMechanism:
         polylines["base"] = [("base", i % count) for i in range(count + 1)]
         if any(leg.platform_joint != self.legs[0].platform_joint for leg in self.legs):  # not a point
             polylines["platform"] = [("platform", i % count) for i in range(count + 1)]
+        if self.passive:  # each passive leg from its universal joint to where it holds the platform
+            rotation, position = self.motion.rotation, self.motion.position
+            points["passive_base"] = sp.Matrix.hstack(*(leg.base for leg in self.passive))
+            points["passive_joint"] = sp.Matrix.hstack(
+                *(position + rotation * leg.platform_point for leg in self.passive)
+            )
+            for k, leg in enumerate(self.passive):
+                polylines[leg.name] = [("passive_base", k), ("passive_joint", k)]
         parts = {name: name if name in ("base", "platform") else "leg" for name in polylines}
         return Drawing(points=points, polylines=polylines, parts=parts)
 
@@ -604,4 +943,5 @@ class DistanceMechanism:
             "angular": [leg.joint for leg in self.legs if leg.kind == "crank"] + list(self.motion.angular),
             "dimensionless": list(self.motion.dimensionless),
             "drawing": self.drawing(),
+            "joint_graph": self.graph,
         }

@@ -21,6 +21,7 @@ from functools import cached_property
 import sympy as sp
 
 from .frames import ModifiedDHLink, inverse_transform
+from .graph import JointGraph
 from .trigpoly import factor_list
 
 POSE_ROTATION = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33", real=True))
@@ -386,6 +387,9 @@ class Mechanism:
     drawing: Drawing | None = None
     #: actuator stiffness parameters, in actuated order (statics with compliant actuators)
     actuator_stiffness: list[sp.Symbol] = field(default_factory=list)
+    #: the bodies and joints (``generator.graph``), where the mechanism was written as joints: the
+    #: generator checks their mobility and motion by screw analysis against ``pose_kind``
+    joint_graph: JointGraph | None = None
     #: names of architecture measures normalised to [0, 1]-like scale: below ``architecture_tolerance``
     #: the design is singular at every pose (``load`` warns)
     architecture_tolerance: float = 1e-9

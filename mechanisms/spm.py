@@ -181,6 +181,7 @@ MODEL = joints.DistanceMechanism(
             platform_axis(i),
             theta[i],
             serial_name="leg{k}_axes_coplanar",
+            spherical=True,
         )  # fmt: skip
         for i in range(3)
     ],

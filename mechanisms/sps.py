@@ -161,7 +161,7 @@ def model() -> joints.DistanceMechanism:
         joints.prismatic_leg(a, bp, d[i])
         for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True))
     ]
-    return joints.DistanceMechanism(MOTION, legs, parallel_name="leg_moments_coplanar")
+    return joints.DistanceMechanism(MOTION, [*legs, joints.central_joint()], parallel_name="leg_moments_coplanar")
 
 
 # ---------------------------------------------------------------------------- forward pose
