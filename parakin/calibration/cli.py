@@ -50,7 +50,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("data", help="CSV of measurements: actuated columns, then the kind's columns")
     parser.add_argument("--kind", choices=KINDS, default="pose", help="what was measured (default pose)")
     parser.add_argument("--sigma", type=float, required=True, help="measurement noise, one standard deviation (m)")
-    parser.add_argument("--sigma-angle", type=float, default=None, help="rotation noise of poses (rad; needed for --kind pose)")
+    parser.add_argument(
+        "--sigma-angle", type=float, default=None, help="rotation noise of poses (rad; needed for --kind pose)"
+    )
     parser.add_argument("--deg", action="store_true", help="revolute actuated columns and pose angles in degrees")
     parser.add_argument(
         "--unknown", action="append", choices=("tracker", "tool"), default=[], help="a frame to estimate (repeat)"

@@ -92,7 +92,8 @@ def _snap(value: float) -> float:
 def readable(null_space: Array, names: Sequence[str]) -> tuple[Combination, ...]:
     """A null-space basis (n, k) in parameter units turned into k readable combinations: reduced
     row echelon form of its transpose with complete pivoting (each combination has a pivot
-    parameter with coefficient 1 that the others do not contain), coefficients below
+    parameter with coefficient 1 that the others do not contain; the sparsest first, each with
+    its other terms by decreasing magnitude), coefficients below
     ``ROUNDING`` set to zero and those within it of a fraction p/q (q <= 12) snapped to it."""
     rows = null_space.T.copy()
     k, n = rows.shape
@@ -100,7 +101,9 @@ def readable(null_space: Array, names: Sequence[str]) -> tuple[Combination, ...]
     for row in range(k):
         free = [c for c in range(n) if c not in pivots]
         sub = np.abs(rows[row:, free])
-        at_row, at_col = np.unravel_index(int(np.argmax(sub)), sub.shape)
+        # the largest entry; among equal ones (to rounding) the first parameter, then the first row
+        ties = np.argwhere(sub >= sub.max() * (1.0 - 1e-9))
+        at_row, at_col = min(ties, key=lambda rc: (rc[1], rc[0]))
         pivot_row, pivot = row + int(at_row), free[int(at_col)]
         rows[[row, pivot_row]] = rows[[pivot_row, row]]
         rows[row] /= rows[row, pivot]
@@ -110,10 +113,12 @@ def readable(null_space: Array, names: Sequence[str]) -> tuple[Combination, ...]
         pivots.append(pivot)
     combinations = []
     for row, pivot in enumerate(pivots):
-        order = [pivot] + [c for c in range(n) if c != pivot]
-        coefficients = {names[c]: _snap(float(rows[row, c])) for c in order}
+        # the pivot first, then the others by decreasing magnitude (ties in parameter order)
+        others = sorted((c for c in range(n) if c != pivot), key=lambda c: (-round(abs(rows[row, c]), 9), c))
+        coefficients = {names[c]: _snap(float(rows[row, c])) for c in [pivot, *others]}
         combinations.append(Combination({key: value for key, value in coefficients.items() if value != 0.0}))
-    return tuple(combinations)
+    # the sparsest (most readable) first
+    return tuple(sorted(combinations, key=lambda c: len(c.coefficients)))
 
 
 def observability(singular: Array, poses: int) -> dict[str, float]:
