@@ -189,3 +189,21 @@ def test_no_compiler_auto_says_it_runs_on_numpy(monkeypatch):
         assert parakin.load("sphere2r").backend.name == "numpy"
     with pytest.raises(CompilerUnavailableError, match="no C compiler"):
         parakin.load("sphere2r", backend="compiled")
+
+
+def test_every_named_error_and_warning_is_exported_at_the_top_level():
+    """A user catches ``parakin.StoreInUseError`` without knowing the module it lives in: every
+    exception and warning class of ``parakin.errors`` is in ``parakin.__all__``."""
+    import inspect
+
+    import parakin
+    import parakin.errors as errors
+
+    named = {
+        name
+        for name, value in vars(errors).items()
+        if inspect.isclass(value) and issubclass(value, Warning | Exception) and value.__module__ == errors.__name__
+    }
+    assert len(named) >= 20
+    assert named - set(parakin.__all__) == set()
+    assert all(getattr(parakin, name) is getattr(errors, name) for name in named)

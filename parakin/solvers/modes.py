@@ -529,8 +529,10 @@ def certify_inputs(
             if exact_box.unique and not unique[i, p]:
                 unique[i, p], centre[i, p], radii[i, p] = True, exact_box.center, exact_box.radius
                 real[i, p] = exact_box.real
-            elif exact_box.unique and abs(exact_box.center - centre[i, p]).max() <= radii[i, p].min():
-                real[i, p] = exact_box.real  # the same root (its exact centre lies in the box)
+            elif exact_box.unique and (abs(exact_box.center - centre[i, p]) + exact_box.radius <= radii[i, p]).all():
+                # the same root: the exact polydisc lies inside the box, coordinate by coordinate
+                # (each box radius is in its coordinate's own size), and the box holds one root
+                real[i, p] = exact_box.real
         counts[i] = int(distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1])
     return PathCertificate(counts, unique, real, centre, radii)
 
