@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import time
 from functools import partial
+from typing import Any
 
 import numpy as np
 
@@ -26,7 +27,7 @@ from parakin.calibration.frames import rotation
 SIGMA = (20e-6, np.deg2rad(0.002))
 
 
-def hexapod() -> dict[str, np.ndarray]:
+def hexapod() -> dict[str, Any]:
     base, platform = [], []
     for k in range(3):
         for s in (-1, 1):
