@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from parakin.calibration.data import CalibrationData
 from parakin.calibration.errors import CalibrationDataError
 from parakin.calibration.fit import Problem
-from parakin.calibration.identifiability import observability
+from parakin.calibration.identifiability import observability, thin_svd
 from parakin.mechanism import Mechanism
 from parakin.results import Array
 
@@ -228,7 +228,7 @@ def design_poses(
         if not improved:
             break
     stacked = jacobian[chosen].reshape(-1, jacobian.shape[-1])
-    singular = np.asarray(np.linalg.svd(stacked, compute_uv=False), dtype=np.float64)
+    singular = thin_svd(stacked)[1]
     rank = int(np.sum(singular > 1e-8 * singular[0]))
     picked = eligible[chosen]
     return PoseDesign(

@@ -47,6 +47,8 @@ JOINT_STEP = 1e-6
 MAX_ITERATIONS = 200
 COST_TOLERANCE = 1e-12
 DAMPING = (1e-12, 1e12)
+#: eigenvalues of the scaled normal matrix below this fraction of the largest are not stepped along
+STEP_RANK = 1e-14
 
 
 def require_kernel(m: Mechanism) -> None:
@@ -431,16 +433,17 @@ def calibrate(
     iterations = 0
     for iterations in range(1, MAX_ITERATIONS + 1):  # noqa: B007  (reported)
         # the damped step min |J d + r|^2 + damping |W d|^2 (W: column norms, Marquardt's
-        # scaling) for every damping from one thin SVD of J W^-1; directions below the rank
-        # tolerance are not moved along (they change no residual)
+        # scaling) for every damping from one eigendecomposition of the scaled normal matrix
+        # (small, and cheap on any BLAS); directions with eigenvalue below STEP_RANK of the
+        # largest (singular value below sqrt(STEP_RANK)) are not moved along: they change no residual
         weights = np.linalg.norm(jacobian, axis=0)
         weights = np.where(weights > 0.0, weights, 1.0)
-        u, singular, vt = np.linalg.svd(jacobian / weights, full_matrices=False)
-        keep = singular > rank_tolerance * singular[0]
-        projected = (u.T @ r)[keep]
+        scaled = jacobian / weights
+        eigenvalues, vectors = np.linalg.eigh(scaled.T @ scaled)
+        keep = eigenvalues > STEP_RANK * eigenvalues[-1]
+        projected = vectors[:, keep].T @ (scaled.T @ r)
         while True:
-            gain = singular[keep] / (singular[keep] ** 2 + damping)
-            step = -(vt[keep].T @ (gain * projected)) / weights
+            step = -(vectors[:, keep] @ (projected / (eigenvalues[keep] + damping))) / weights
             trial = problem.full(values[problem.index] + step)
             try:
                 trial_q = problem.close(trial, problem.predicted_passive(q, sensitivity, trial - values))

@@ -135,6 +135,21 @@ def observability(singular: Array, poses: int) -> dict[str, float]:
     }
 
 
+def thin_svd(matrix: Array) -> tuple[Array, Array, Array]:
+    """U (rows, k), s (k,), V^T (k, n) of a tall matrix through its QR factors (the SVD of the
+    small triangular factor): the same decomposition as ``np.linalg.svd(full_matrices=False)``,
+    without LAPACK's blocked bidiagonalisation of the tall matrix, which multithreaded BLAS
+    slows by two orders of magnitude on a loaded machine. A wide matrix (rows < n) gets the full
+    SVD (V square, for the whole null space)."""
+    rows, columns = matrix.shape
+    if rows < columns:
+        u, singular, vt = np.linalg.svd(matrix, full_matrices=True)
+        return np.asarray(u), np.asarray(singular), np.asarray(vt)
+    q, r = np.linalg.qr(matrix)
+    u, singular, vt = np.linalg.svd(r)
+    return np.asarray(q @ u), np.asarray(singular), np.asarray(vt)
+
+
 def analyse(jacobian: Array, names: Sequence[str], poses: int, tolerance: float = RANK_TOLERANCE) -> Identifiability:
     """Rank, null space, readable combinations, identifiable parameters, covariance and O1..O5
     of a whitened Jacobian (rows, n) over the parameters ``names`` measured at ``poses`` poses.
@@ -155,8 +170,7 @@ def analyse(jacobian: Array, names: Sequence[str], poses: int, tolerance: float 
     """
     norms = np.linalg.norm(jacobian, axis=0)
     scale = np.where(norms > 0.0, norms, 1.0)
-    # thin when the rows are enough (V is then square); full otherwise, for the whole null space
-    _, singular, vt = np.linalg.svd(jacobian / scale, full_matrices=jacobian.shape[0] < jacobian.shape[1])
+    _, singular, vt = thin_svd(jacobian / scale)
     singular = np.concatenate([singular, np.zeros(max(0, len(names) - singular.size))])
     largest = float(singular[0]) if singular.size else 0.0
     rank = int(np.sum(singular > tolerance * largest)) if largest > 0 else 0
