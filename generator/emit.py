@@ -19,6 +19,7 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from parakin.packages.package import export_name
 from parakin.packages.subtrees import shared_subtrees
+from parakin.solvers import homotopy as tracking
 from parakin.solvers.homotopy import path_pairs
 
 from .program import LoweredProgram
@@ -291,6 +292,13 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "c_types": C_TYPES,
         "version": manifest["generator"]["version"],
         "at_infinity": repr(float(manifest["tolerances"]["at_infinity"])),
+        # the C tracker's step control: the NumPy reference's constants (track_hermite)
+        "tracker": {
+            "predictor_target": repr(float(tracking.PREDICTOR_TARGET)),
+            "step_safety": repr(float(tracking.STEP_SAFETY)),
+            "step_grow": repr(float(tracking.STEP_GROW)),
+            "step_shrink": repr(float(tracking.STEP_SHRINK)),
+        },
         "source": manifest["generator"]["source"],
         "example": {
             "source": manifest["c"]["example"]["source"],

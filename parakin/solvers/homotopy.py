@@ -34,6 +34,13 @@ ESCAPE = 1e8
 MAX_STEPS = 2000
 REFINE = 8
 END_GAP = 1e-13
+#: track_hermite's (and the C driver's) step control: the first Newton correction of a step (the
+#: predictor's error, relative to |z|) that the next step is sized to reach; the step's safety
+#: factor, and the most it grows after an accepted step and shrinks after a rejected one
+PREDICTOR_TARGET = 3e-3
+STEP_SAFETY = 0.8
+STEP_GROW = 2.0
+STEP_SHRINK = 0.25
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -49,6 +56,18 @@ class Paths(NamedTuple):
     status: NDArray[np.int32]
     steps: NDArray[np.int32]
     update: NDArray[np.float64]
+
+
+class TrackedPaths(NamedTuple):
+    """``Paths`` with what tracking cost per path: ``rejected`` steps (of ``steps``) and Newton
+    ``evaluations`` (each with one LU; the refinement at s = 0 included), as the C driver counts."""
+
+    z: NDArray[np.complex128]
+    status: NDArray[np.int32]
+    steps: NDArray[np.int32]
+    update: NDArray[np.float64]
+    rejected: NDArray[np.int32]
+    evaluations: NDArray[np.int32]
 
 
 def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -133,9 +152,181 @@ def track(system: System, start: np.ndarray, tolerance: float = 1e-7) -> Paths:
     return Paths(z, status, steps, update)
 
 
-def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = REFINE) -> tuple[np.ndarray, np.ndarray]:
+def _newton_with_slope(
+    system: System, index: np.ndarray, z: np.ndarray, s: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One Newton step at (z, s) with the slope dz/ds = -H_z^-1 H_s from the same LU (both
+    right-hand sides in one solve): the new points, their slopes and the update relative to |z|."""
+    value, jacobian, rate = system(index, z, s)
+    both = _solve_two(jacobian, value, rate)
+    moved = z - both[..., 0]
+    return moved, -both[..., 1], np.abs(both[..., 0]).max(-1) / _size(moved)
+
+
+def _solve_two(matrix: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Batched complex solve of two right-hand sides (k, n) each, one factorisation: (k, n, 2);
+    inf where singular (the step is then rejected)."""
+    rhs = np.stack([first, second], axis=-1)
+    try:
+        return np.linalg.solve(matrix, rhs)
+    except np.linalg.LinAlgError:
+        out = np.full(rhs.shape, np.inf + 0j)
+        for k in range(matrix.shape[0]):
+            try:
+                out[k] = np.linalg.solve(matrix[k], rhs[k])
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
+def hermite_predict(
+    history: np.ndarray,
+    s0: np.ndarray,
+    z0: np.ndarray,
+    v0: np.ndarray,
+    s1: np.ndarray,
+    z1: np.ndarray,
+    v1: np.ndarray,
+    target: np.ndarray,
+) -> np.ndarray:
+    """z at ``target`` extrapolated from a path's last two points (s0, z0) and (s1, z1) with their
+    slopes v = dz/ds: the cubic Hermite interpolant of both (third order); Euler from (s1, z1, v1)
+    alone where ``history`` is False (no earlier point). Shapes: (k,) for s, history and target,
+    (k, n) for z and v; returns (k, n)."""
+    span = np.where(history, s1 - s0, 1.0)
+    u = (target - s0) / span
+    u2, u3 = u * u, u * u * u
+    a0, b0 = 2 * u3 - 3 * u2 + 1, (u3 - 2 * u2 + u) * span
+    a1, b1 = 3 * u2 - 2 * u3, (u3 - u2) * span
+    cubic = a0[:, None] * z0 + b0[:, None] * v0 + a1[:, None] * z1 + b1[:, None] * v1
+    euler = z1 + (target - s1)[:, None] * v1
+    return np.where(history[:, None], cubic, euler)
+
+
+def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) -> TrackedPaths:
+    """Follow every start solution (P, n) from s = 1 to s = 0 with the predictor of the generated
+    C driver (its ``track_path``, the same algorithm and constants): each step predicts by the
+    cubic Hermite extrapolation of the path's last two points and slopes (``hermite_predict``;
+    Euler on the first step) and corrects by at most ``CORRECTIONS`` contracting Newton steps at
+    the new s, accepted when the error the last one leaves is below ``tolerance`` (relative to
+    |z|): the update itself after one Newton step, after more the estimate of quadratic
+    convergence from the last two (size^3 / previous^2, each at most half the one before). The last Newton step's LU also gives the slope at the new point, so an accepted step
+    costs its corrector's evaluations and LUs only. The first correction measures the predictor's
+    error: the next step is sized to bring it to ``PREDICTOR_TARGET`` (it grows as the step^4, on
+    the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
+    step and [STEP_SHRINK, 1/2] after a rejected one, retried from the same point. The endpoint is
+    refined at s = 0 (``refine``).
+
+    Parameters
+    ----------
+    system : System
+        ``system(index, z, s)``: H, H_z and H_s of the paths ``index`` (``sparse_system``).
+    start : ndarray, shape (P, n), complex
+        The start solutions at s = 1.
+    tolerance : float
+        The last Newton update of an accepted step, relative to 1 + max|z|.
+
+    Returns
+    -------
+    TrackedPaths
+        The endpoints and how each path ended (``Paths``), with each path's rejected steps and
+        Newton evaluations (each one LU).
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> table = np.zeros((1, 2, 2), complex)
+    >>> table[0, 0] = [1.0, -4.0]  # z^2 - 4 at s = 0 ...
+    >>> table[0, 1] = [0.0, 3.0]  # ... z^2 - (4 - 3 s): z^2 - 1 at s = 1
+    >>> system = sparse_system(table, np.array([[2], [0]]), np.array([0, 0]), 2)
+    >>> ends = track_hermite(system, np.array([[1.0 + 0j], [-1.0 + 0j]]))
+    >>> bool(np.allclose(ends.z[:, 0], [2, -2]))
+    True
+    """
+    z = np.array(start, dtype=complex)
+    count = z.shape[0]
+    every = np.arange(count)
+    s, s_previous = np.ones(count), np.ones(count)
+    h = np.full(count, INITIAL_STEP)
+    history = np.zeros(count, bool)
+    steps, rejected, evaluations = (np.zeros(count, dtype=np.int32) for _ in range(3))
+    status = np.full(count, -1, dtype=np.int32)
+    with np.errstate(all="ignore"):
+        z, slope, size = _newton_with_slope(system, every, z, s)  # the start's slope
+        evaluations += 1
+        status[~np.isfinite(size)] = PATH_FAILED
+        z_previous, slope_previous = z.copy(), slope.copy()
+        while (status < 0).any():
+            active = np.nonzero(status < 0)[0]
+            step = np.minimum(h[active], s[active])
+            target = np.where(s[active] - step < END_GAP, 0.0, s[active] - step)
+            corrected = hermite_predict(
+                history[active],
+                s_previous[active],
+                z_previous[active],
+                slope_previous[active],
+                s[active],
+                z[active],
+                slope[active],
+                target,
+            )
+            next_slope = np.zeros_like(corrected)
+            first, update, error = (np.full(active.size, np.inf) for _ in range(3))
+            contracting, live = np.ones(active.size, bool), np.ones(active.size, bool)
+            for iteration in range(CORRECTIONS):
+                rows = np.nonzero(live)[0]
+                corrected[rows], next_slope[rows], size = _newton_with_slope(
+                    system, active[rows], corrected[rows], target[rows]
+                )
+                evaluations[active[rows]] += 1
+                if iteration:
+                    contracting[rows] &= size <= 0.5 * update[rows]
+                    # quadratic convergence: the error left after this update is about
+                    # omega size^2 with omega = size / previous^2
+                    error[rows] = size * (size / update[rows]) ** 2
+                else:
+                    first[rows] = size
+                    error[rows] = size
+                update[rows] = size
+                live[rows] = ~(error[rows] < tolerance) & contracting[rows]
+                if not live.any():
+                    break
+            accepted = contracting & (error < tolerance) & np.isfinite(update)
+            power = np.where(history[active], 0.25, 0.5)
+            factor = np.where(
+                ~np.isfinite(first),
+                0.0,
+                np.where(
+                    first > 0, STEP_SAFETY * (PREDICTOR_TARGET / np.where(first > 0, first, 1.0)) ** power, STEP_GROW
+                ),
+            )
+            steps[active] += 1
+            good, bad = active[accepted], active[~accepted]
+            rejected[bad] += 1
+            z_previous[good], slope_previous[good], s_previous[good] = z[good], slope[good], s[good]
+            z[good], slope[good], s[good] = corrected[accepted], next_slope[accepted], target[accepted]
+            history[good] = True
+            h[good] = step[accepted] * np.minimum(STEP_GROW, np.maximum(0.5, factor[accepted]))
+            h[bad] = step[~accepted] * np.minimum(0.5, np.maximum(STEP_SHRINK, factor[~accepted]))
+            status[good[s[good] <= 0.0]] = PATH_REACHED
+            status[bad[h[bad] < MIN_STEP]] = PATH_FAILED
+            status[active[~(np.abs(z[active]).max(-1) < ESCAPE)]] = PATH_DIVERGED
+            status[active[(steps[active] >= MAX_STEPS) & (status[active] < 0)]] = PATH_FAILED
+        update = np.full(count, np.nan)
+        reached = np.nonzero(status == PATH_REACHED)[0]
+        if reached.size:
+            refined = np.zeros(reached.size, dtype=np.int32)
+            z[reached], update[reached] = refine(system, reached, z[reached], evaluations=refined)
+            evaluations[reached] += refined
+    return TrackedPaths(z, status, steps, update, rejected, evaluations)
+
+
+def refine(
+    system: System, index: np.ndarray, z: np.ndarray, iterations: int = REFINE, evaluations: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Newton on H(z, 0) until the update stops shrinking or reaches rounding; returns the
-    points and the last update relative to |z|."""
+    points and the last update relative to |z|. ``evaluations`` (per row of z), where given,
+    counts each row's Newton evaluations."""
     zero = np.zeros(index.size)
     update = np.full(index.size, np.inf)
     live = np.ones(index.size, bool)
@@ -145,6 +336,8 @@ def refine(system: System, index: np.ndarray, z: np.ndarray, iterations: int = R
                 break
             rows = np.nonzero(live)[0]
             residual, jacobian, _ = system(index[rows], z[rows], zero[rows])
+            if evaluations is not None:
+                evaluations[rows] += 1
             correction = _solve(jacobian, residual)
             size = np.abs(correction).max(-1) / _size(z[rows])
             improving = np.isfinite(size) & (size < update[rows])
