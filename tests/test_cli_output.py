@@ -210,3 +210,23 @@ def test_demo_compiles_nothing(tmp_path):
     # the comparison lines: a zero printed value has no "digits" (once "0.0 digits" for 8.9e-16)
     line = next(line for line in done.stdout.splitlines() if "actuated (branch 0)" in line)
     assert "ours (0, 0, 0), printed (0, 0, 0)" in line and "digits" not in line
+
+
+def test_work_over_a_second_says_what_runs(monkeypatch, capsys):
+    """`parakin plot rus6` once printed nothing for minutes: work wrapped in ``_Busy`` names itself
+    and its elapsed time after its delay (where bars show: PARAKIN_PROGRESS=on here), and ends
+    with the time taken; work that ends before the delay prints nothing."""
+    monkeypatch.setenv("PARAKIN_PROGRESS", "on")
+    with cli._Busy("quick", delay=0.5):
+        pass
+    assert capsys.readouterr().err == ""
+    with cli._Busy("rus6: every assembly mode", delay=0.05):
+        time.sleep(0.3)
+    lines = capsys.readouterr().err.split("\r")
+    assert lines[1].startswith("parakin: rus6: every assembly mode ... 0 s")
+    done = float(lines[-1].removeprefix("parakin: rus6: every assembly mode: done in ").removesuffix(" s\n"))
+    assert 0.25 <= done < 5
+    monkeypatch.setenv("PARAKIN_PROGRESS", "off")
+    with cli._Busy("silent", delay=0.0):
+        time.sleep(0.1)
+    assert capsys.readouterr().err == ""

@@ -141,6 +141,53 @@ def _signs(signs: np.ndarray) -> str:
 _RANGE_FAILURES = ("limits", "actuator_range")
 
 
+class _Busy:
+    """``with _Busy("rus6: every assembly mode"):`` work that may take more than a second: after
+    ``delay`` seconds a line on stderr says what is running and for how long (redrawn each second,
+    ended with the time taken), where progress bars appear (``parakin.log``: a terminal, or
+    ``PARAKIN_PROGRESS=on``); nothing for work that ends sooner."""
+
+    def __init__(self, what: str, delay: float = 1.0) -> None:
+        import threading
+
+        from parakin.log import progress_setting
+
+        self.what, self.delay = what, delay
+        setting = progress_setting()
+        terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+        self.show = setting == "on" or (setting == "auto" and terminal)
+        self.done = threading.Event()
+        self.thread = threading.Thread(target=self._tick, daemon=True)
+        self.drawn = False
+
+    def _tick(self) -> None:
+        import time
+
+        start = time.perf_counter()
+        if self.done.wait(self.delay):
+            return
+        while True:
+            print(
+                f"\rparakin: {self.what} ... {time.perf_counter() - start:.0f} s", end="", file=sys.stderr, flush=True
+            )
+            self.drawn = True
+            if self.done.wait(1.0):
+                print(
+                    f"\rparakin: {self.what}: done in {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True
+                )
+                return
+
+    def __enter__(self) -> _Busy:
+        if self.show:
+            self.thread.start()
+        return self
+
+    def __exit__(self, *exception: object) -> None:
+        self.done.set()
+        if self.show:
+            self.thread.join()
+
+
 def _list(args: argparse.Namespace) -> int:
     from parakin.packages.package import survey
 
@@ -251,7 +298,8 @@ def _fk(args: argparse.Namespace) -> int:
     m = _load(args)
     degrees = args.actuated_deg is not None
     actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
-    modes = m.forward_pose_all(actuated)
+    with _Busy(f"{m.name}: every assembly mode"):
+        modes = m.forward_pose_all(actuated)
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
     for n, k in enumerate(np.nonzero(modes.valid)[0]):
@@ -283,10 +331,19 @@ def _fk(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from parakin.interfaces.demo import format_results, run_examples
+    from parakin.interfaces.demo import CACHED, demo_backend, format_results, run_examples
 
     names = [args.name] if args.name else parakin.available()
     failed = 0
+    with_examples = [name for name in names if parakin.metadata(name).examples]
+    on_numpy = [name for name in with_examples if args.backend == CACHED and demo_backend(name) == "numpy"]
+    if on_numpy:
+        print(
+            f"parakin: the demo runs on NumPy where no C library is built yet ({len(on_numpy)} of "
+            f"{len(with_examples)}); "
+            "`parakin demo --backend compiled` builds them once (1-20 s each)",
+            file=sys.stderr,
+        )
     for name in names:
         results = run_examples(name, backend=args.backend)
         print(format_results(name, results), flush=True)
@@ -310,7 +367,8 @@ def _plot(args: argparse.Namespace) -> int:
         return _plot_animation(args, m, actuated, degrees)
     if m.capabilities.forward is not None:
         try:
-            state: Any = m.forward_pose_all(actuated)
+            with _Busy(f"{m.name}: every assembly mode to draw"):
+                state: Any = m.forward_pose_all(actuated)
         except SelfMotionError as error:  # draw the self-motion instead: a few points along it
             motion = error.solution_set
             assert isinstance(motion, SelfMotion)
@@ -325,7 +383,8 @@ def _plot(args: argparse.Namespace) -> int:
     else:
         state = m.forward_pose(actuated)
     path = args.output or f"{m.name}.png"
-    plot(m, state, path, mode=args.mode, all_modes=args.all_modes)
+    with _Busy(f"{m.name}: drawing {path}"):
+        plot(m, state, path, mode=args.mode, all_modes=args.all_modes)
     print(f"wrote {path}")
     return 0
 
@@ -337,16 +396,19 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
     from parakin.interfaces.plot import actuated_line, actuated_loop, animate
 
     frames = 24 if args.frames is None else args.frames
-    start = None if args.mode is None else m.forward_pose_all(actuated).mode(args.mode)
+    with _Busy(f"{m.name}: every assembly mode"):
+        start = None if args.mode is None else m.forward_pose_all(actuated).mode(args.mode)
     if args.to is not None:
         end = _from_cli_units(m.manifest.actuated, args.to, degrees)
-        animate(m, actuated_line(m, actuated, end, frames), args.animate, start=start)
+        with _Busy(f"{m.name}: {frames} frames to {args.animate}"):
+            animate(m, actuated_line(m, actuated, end, frames), args.animate, start=start)
         print(f"wrote {args.animate}: {frames} frames from {actuated} to {end}")
         return 0
     scales = (1.0, 0.5, 0.25, 0.125)
     for scale in scales:
         try:
-            animate(m, actuated_loop(m, actuated, frames, scale), args.animate, start=start)
+            with _Busy(f"{m.name}: {frames} frames to {args.animate}"):
+                animate(m, actuated_loop(m, actuated, frames, scale), args.animate, start=start)
         except ParakinError as error:
             if scale == scales[-1]:
                 raise
@@ -518,10 +580,10 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("name", nargs="?", help="one mechanism (default: every one, in parakin list's order)")
     demo.add_argument(
         "--backend",
-        default="numpy",
-        choices=["auto", "compiled", "numpy", "casadi"],
-        help="default numpy: the examples need no compiled library; auto or compiled build each "
-        "mechanism's C library on its first use (1-20 s each, cached)",
+        default="cached",
+        choices=["cached", "auto", "compiled", "numpy", "casadi"],
+        help="default cached: the C library where it is already built, else NumPy (the demo never waits "
+        "for the compiler); auto or compiled build each mechanism's C library on first use (1-20 s each)",
     )
 
     ik = commands.add_parser("ik", parents=[mechanism, as_json], help="every inverse branch of a pose")

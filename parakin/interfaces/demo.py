@@ -127,11 +127,51 @@ def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]
     return comparisons
 
 
+def library_cached(name: str | os.PathLike[str]) -> bool:
+    """Whether the compiled C library of package ``name`` is already in the cache (so that
+    backend 'compiled' loads it without running the compiler). Mirrors the cache key of
+    ``parakin.packages.compiled.build_library``: the SHA-256 of the package's C sources and
+    headers, the compiler's path and the flags; anything unreadable counts as not cached."""
+    import hashlib
+    import shutil
+
+    from parakin.packages import compiled
+    from parakin.packages.package import GeneratedPackage
+
+    try:
+        package = GeneratedPackage.find(name)
+        compiler = shutil.which(os.environ.get("CC", "cc"))
+        if compiler is None:
+            return False
+        digest = hashlib.sha256()
+        for path in [*package.c_sources(), *package.c_headers()]:
+            digest.update(path.read_bytes())
+        digest.update(" ".join([compiler, *compiled.FLAGS]).encode())
+        return (compiled.cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so").is_file()
+    except (OSError, ParakinError):
+        return False
+
+
+#: ``parakin demo``'s default backend: compiled where its library is already built, else NumPy
+CACHED = "cached"
+
+
+def demo_backend(name: str | os.PathLike[str], backend: str = CACHED) -> str:
+    """The backend the demo of ``name`` runs on: ``backend``, except that ``"cached"`` is
+    'compiled' where the C library is already in the cache and 'numpy' where it is not (so the
+    demo never waits for the C compiler: 1-20 s per mechanism on first use)."""
+    if backend != CACHED:
+        return backend
+    return "compiled" if library_cached(name) else "numpy"
+
+
 def run_examples(name: str | os.PathLike[str], backend: str = "auto") -> list[ExampleResult]:
-    """Solve every example of a mechanism's manifest and compare with the printed values."""
+    """Solve every example of a mechanism's manifest and compare with the printed values.
+    ``backend``: as ``parakin.load``, or ``"cached"`` (``demo_backend``)."""
     import parakin
 
     manifest = parakin.metadata(name)
+    backend = demo_backend(name, backend)
     results = []
     for example in manifest.examples:
         try:
@@ -188,4 +228,14 @@ def format_results(name: str, results: list[ExampleResult]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["Comparison", "ExampleResult", "format_comparison", "format_results", "mode_table", "run_examples"]
+__all__ = [
+    "CACHED",
+    "Comparison",
+    "ExampleResult",
+    "demo_backend",
+    "library_cached",
+    "format_comparison",
+    "format_results",
+    "mode_table",
+    "run_examples",
+]
