@@ -65,6 +65,7 @@ import sympy as sp
 from .blocks import block_laplace_det
 from .errors import GenerationError
 from .frames import ModifiedDHLink, homogeneous, inverse_transform, rot_x, rot_z
+from .graph import Chain, Joint, JointGraph
 from .model import POSE_POSITION, POSE_ROTATION, Drawing, InverseSolution, SerialChain, pose_matrix
 from .trigpoly import factor_list
 
@@ -326,6 +327,37 @@ def _leg_inverse(leg: ChainLeg) -> tuple[list[tuple[sp.Symbol, sp.Expr]], dict[s
     return steps + point_steps + euler_steps, validity | locked
 
 
+def graph_leg(leg: ChainLeg) -> Chain:
+    """A leg's table as the joint graph's serial chain: each joint R or P with its axis and point
+    in {B} at zero joint values (the frames of the table there), its variable and actuated mark.
+
+    Parameters
+    ----------
+    leg : ChainLeg
+        The leg (``chain_leg``).
+
+    Returns
+    -------
+    Chain
+        Its joints, site "chain" (placed by their products of exponentials).
+    """
+    zero = {joint: 0 for joint in leg.chain.joints}
+    frames = leg.chain.frames()
+    joints = []
+    for index, link in enumerate(leg.chain.links, start=1):
+        if link.joint is None:
+            continue
+        frame = frames[index].xreplace(zero)
+        kind = link.kind()
+        axis = (
+            frames[index - 1][:3, 0].xreplace(zero)
+            if kind == "P" and link.prismatic_axis() == "x_prev"
+            else frame[:3, 2]
+        )
+        joints.append(Joint(kind, "chain", frame[:3, 3], axis, link.joint, actuated=link.joint in leg.actuated))
+    return Chain(leg.name, tuple(joints))
+
+
 @dataclass
 class ChainMechanism:
     """A platform held by serial-chain legs (``chain_leg``): the derivations of the module
@@ -479,6 +511,13 @@ class ChainMechanism:
         values = self.inverse().at(rotation, position, branch, parameters)
         return {v: values[v] for v in (*self.actuated, *self.passive)}
 
+    def graph(self) -> JointGraph:
+        """The legs as the joint graph's serial chains (``graph_leg``), the platform where the
+        first leg reaches it, its coordinates the passive joints."""
+        pose = self.legs[0].chain.end_transform()
+        chains = [graph_leg(leg) for leg in self.legs]
+        return JointGraph("transform", tuple(self.passive), pose[:3, :3], pose[:3, 3], chains)
+
     def fields(self) -> dict[str, object]:
         """The ``model.Mechanism`` fields the legs determine."""
         revolute = [j for leg in self.legs for j in (*leg.actuated, *leg.passive) if j != leg.length]
@@ -493,6 +532,7 @@ class ChainMechanism:
             "angular": angular,
             "limits": self.limits(),
             "drawing": self.drawing(),
+            "joint_graph": self.graph(),
         }
 
 

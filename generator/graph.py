@@ -55,7 +55,7 @@ from .errors import GenerationError
 KINDS = {"R": 1, "P": 1, "C": 2, "U": 2, "S": 3, "planar": 3, "Pa": 1, "F": 0}
 #: the kinds that need an axis
 AXIAL = ("R", "P", "C", "U", "planar", "Pa")
-SITES = ("base", "elbow", "platform")
+SITES = ("base", "elbow", "platform", "chain")
 #: twist components, (v of the platform origin p, w), in {B}
 TWIST = ("vx", "vy", "vz", "wx", "wy", "wz")
 
@@ -148,11 +148,19 @@ class Chain:
     serial_name: str | None = None
 
     def __post_init__(self) -> None:
+        if self.serial:
+            return
         if not self.joints or self.joints[0].site != "base" or self.joints[-1].site != "platform":
             sites = [j.site for j in self.joints]
             raise ValueError(f"leg {self.name}: joints run from the base to the platform, got sites {sites}")
         if self.bodies and len(self.bodies) != len(self.joints) - 1:
             raise ValueError(f"leg {self.name}: {len(self.joints)} joints hold {len(self.joints) - 1} bodies")
+
+    @property
+    def serial(self) -> bool:
+        """Whether the leg is a serial chain of R and P joints placed by their products of
+        exponentials (site "chain": each joint's point and axis in {B} with every joint at 0)."""
+        return bool(self.joints) and all(j.site == "chain" for j in self.joints)
 
     @property
     def kinds(self) -> str:
@@ -239,6 +247,8 @@ def place(leg: Chain, rotation: np.ndarray, origin: np.ndarray, values: Callable
     """A leg's sites at a configuration: ``rotation`` and ``origin`` of the platform, ``values``
     evaluating a point or axis expression (parameters and joint variables) numerically."""
     first = leg.joints[0]
+    if leg.serial:  # placed joint by joint (``serial_twists``)
+        return Placement(np.zeros(3), None, origin, rotation, origin, np.eye(3))
     base = values(first.point).reshape(3)
     joint = origin + rotation @ values(leg.joints[-1].point).reshape(3)
     carried = np.eye(3)
@@ -257,9 +267,36 @@ def place(leg: Chain, rotation: np.ndarray, origin: np.ndarray, values: Callable
     return Placement(base, elbow, joint, rotation, origin, carried)
 
 
+def serial_twists(
+    leg: Chain, origin: np.ndarray, values: Callable[[sp.Expr], np.ndarray]
+) -> list[tuple[Joint, np.ndarray]]:
+    """The twists of a serial chain's joints (``Chain.serial``) at its joints' values, by the
+    product of exponentials: joint k's axis and point are those at zero carried by the motions
+    of the joints before it (v of the platform origin ``origin``, w; in {B})."""
+    turn, shift = np.eye(3), np.zeros(3)
+    result = []
+    for joint in leg.joints:
+        assert joint.axis is not None and joint.point is not None and joint.variable is not None
+        axis = turn @ _unit(values(joint.axis).reshape(3))
+        point = turn @ values(joint.point).reshape(3) + shift
+        q = float(values(joint.variable))
+        if joint.kind == "R":
+            result.append((joint, np.concatenate([np.cross(point - origin, axis), axis])))
+            step = _rotation(axis, q)
+            turn, shift = step @ turn, step @ (shift - point) + point
+        elif joint.kind == "P":
+            result.append((joint, np.concatenate([axis, np.zeros(3)])))
+            shift = shift + q * axis
+        else:
+            raise ValueError(f"leg {leg.name}: a serial chain holds R and P joints, got {joint.kind}")
+    return result
+
+
 def joint_twists(leg: Chain, at: Placement, values: Callable[[sp.Expr], np.ndarray]) -> list[tuple[Joint, np.ndarray]]:
     """Each joint's unit twists (v of the platform origin p, w; in {B}) at a placement: one per
     degree of freedom, (joint, 6-vector) pairs, base to platform."""
+    if leg.serial:
+        return serial_twists(leg, at.origin, values)
     start = at.elbow if at.elbow is not None else at.base
     span = at.joint - start
     if float(np.linalg.norm(span)) == 0 and any(
@@ -575,7 +612,8 @@ def analyse(
     size = max(lengths) if lengths else 1.0  # metres: the Newton threshold and the inputs' steps
     rng = np.random.default_rng(seed)
     samples = []
-    point_platform = all(leg.joints[-1].point == graph.legs[0].joints[-1].point for leg in graph.legs)
+    ends = [leg.joints[-1].point for leg in graph.legs if not leg.serial]
+    point_platform = len(ends) == len(graph.legs) and all(end == ends[0] for end in ends)
     for k in range(count):
         inputs = np.array([home[v] for v in actuated], dtype=float)
         if k:

@@ -207,3 +207,33 @@ def test_inertial_symbols_are_a_mass_a_centre_and_a_symmetric_inertia():
     assert inertial.centre.shape == (3, 1)
     assert inertial.inertia == inertial.inertia.T
     assert len(inertial.inertia.free_symbols) == 6
+
+
+def test_a_dh_tables_joints_in_the_graph_move_as_its_jacobian_says():
+    # the SAM's S-P-U leg (Williams and Poling's Table I) as the graph's serial chain: at random
+    # joint values, each joint's twist by the product of exponentials (axes at zero, carried by
+    # the joints before) is the column of the table's geometric Jacobian (eq 9: frames multiplied
+    # out, v of the origin of {P}, in {B})
+    from parakin.generator import chains
+    from parakin.mechanisms import sam
+
+    thetas, length, phis = sp.symbols("t1:4", real=True), sp.Symbol("L", real=True), sp.symbols("p2 p3", real=True)
+    offsets = sp.symbols("L1 L4", positive=True)
+    serial = sam.spu_leg("left", thetas, length, phis, *offsets)
+    chain = chains.graph_leg(chains.chain_leg(serial, thetas))
+    assert chain.kinds == "R_-R_-R_-P-R-R"
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(5):
+        state = {s: sp.Float(v) for s, v in zip([*serial.joints, *offsets], rng.uniform(0.2, 1.0, 8), strict=True)}
+        end = np.array(serial.end_transform().xreplace(state).evalf(), dtype=float)
+        expected = np.array(serial.geometric_jacobian().xreplace(state).evalf(), dtype=float)
+
+        def values(expression: sp.Expr, state: dict = state) -> np.ndarray:
+            return np.array(sp.sympify(expression).xreplace(state).evalf(), dtype=float)
+
+        twists = dict((j.variable, t) for j, t in graph.serial_twists(chain, end[:3, 3], values))
+        found = np.array([twists[joint] for joint in serial.joints]).T
+        assert np.abs(found - expected).max() < 1e-12
+        checked += 1
+    assert checked == 5
