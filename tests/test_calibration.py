@@ -474,3 +474,152 @@ def test_command_line_from_csv(delta_campaign, tmp_path, capsys):
     path.write_text("theta1,theta2,theta3,x,y,zz\n0,0,0,0,0,-1.2\n")
     with pytest.raises(CalibrationDataError, match="unknown column 'zz'"):
         cli.run(parser.parse_args(["delta", str(path), "--kind", "position", "--sigma", "1e-5"]))
+
+
+#: a Delta whose every leg has its own geometry (the issue's 16 parameters with the offsets:
+#: per leg R_i, eta_i, L_i, l_i and its encoder offset, and the platform radius r), generated
+#: by the test with ``parakin generate`` (about 25 s: marked slow)
+DELTA_LEGS = '''\
+"""A Delta robot with every leg's geometry its own (calibration test, issue 35): per leg i the
+motor joint's radius R_i and angle eta_i about z, the arm L_i and the forearm l_i; one platform
+radius r. Conventions as the shipped ``delta`` (theta_i = 0 horizontal outward, > 0 down)."""
+
+from __future__ import annotations
+
+import sympy as sp
+from parakin.generator import joints
+from parakin.generator.model import Citation, Mechanism, ParameterInfo
+
+R = sp.symbols("R1:4", positive=True)
+eta = sp.symbols("eta1:4", real=True)
+L = sp.symbols("L1:4", positive=True)
+ell = sp.symbols("l1:4", positive=True)
+r = sp.Symbol("r", positive=True)
+theta = sp.symbols("theta1:4", real=True)
+x, y, z = sp.symbols("x y z", real=True)
+Z = sp.Matrix([0, 0, 1])
+NOMINAL = [0.0, 2.0943951023931953, 4.1887902047863905]
+
+
+def radial(angle: sp.Expr) -> sp.Matrix:
+    return sp.Matrix([sp.cos(angle), sp.sin(angle), 0])
+
+
+MODEL = joints.DistanceMechanism(
+    joints.platform("translation"),
+    [
+        joints.crank_leg(
+            R[i] * radial(eta[i]),
+            Z.cross(radial(eta[i])),
+            radial(eta[i]),
+            L[i],
+            ell[i],
+            r * radial(eta[i]),
+            theta[i],
+            sign=-1,
+            serial_name="leg{k}_forearm_in_arm_plane",
+            parallelogram=Z.cross(radial(eta[i])),
+        )
+        for i in range(3)
+    ],
+    parallel_name="forearms_coplanar",
+)
+
+
+def build() -> Mechanism:
+    defaults = {**dict.fromkeys(R, 0.2), **dict(zip(eta, NOMINAL)), **dict.fromkeys(L, 0.35), **dict.fromkeys(ell, 1.3)}
+    info = {s: ParameterInfo("m", "length", "positive") for s in (*R, *L, *ell, r)}
+    info |= {s: ParameterInfo("rad", "motor joint angle about z", "real") for s in eta}
+    return Mechanism(
+        name="delta_legs",
+        title="Delta robot, every leg's geometry its own (calibration test)",
+        citation=Citation(("R. Clavel",), "DELTA, a fast robot with parallel geometry", 1988, "ISIR"),
+        parameters={**defaults, r: 0.05},
+        **MODEL.fields(),
+        home={**dict.fromkeys(theta, 0.0), x: 0.0, y: 0.0, z: -1.2},
+        parameter_info=info,
+    )
+'''
+
+
+@pytest.fixture(scope="module")
+def delta_legs(tmp_path_factory):
+    import subprocess
+    import sys
+
+    folder = tmp_path_factory.mktemp("delta_legs")
+    (folder / "delta_legs.py").write_text(DELTA_LEGS)
+    done = subprocess.run(
+        [sys.executable, "-m", "parakin", "generate", str(folder / "delta_legs.py"), "--out", str(folder / "package")],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert done.returncode == 0, done.stderr
+    return folder / "package"
+
+
+@pytest.mark.slow
+def test_delta_per_leg_geometry(delta_legs):
+    """The per-leg delta: xyz data -> 1 null (R1 + R2 + R3 + r); z only with an unknown bed
+    height -> 2 exact nulls (that sum, and eta1 + eta2 + eta3: turning the robot about z) and a
+    third direction, forearms against bed height, whose singular value is ~1e-4 of the largest:
+    3 unidentifiable at a practical tolerance of 1e-3. The finite-difference SVD of the
+    explicit model (perturbed packages loaded, forward_pose) finds the same counts at both
+    tolerances."""
+    m = parakin.load(delta_legs)
+    rng = np.random.default_rng(16)
+    names = [p.name for p in m.manifest.parameters]
+    true = dict(zip(names, m.params + rng.normal(0.0, 1e-3, m.params.size), strict=True))
+    offsets = rng.normal(0.0, 2e-3, 3)
+    truth = parakin.load(delta_legs, **true)
+    positions = np.column_stack([rng.uniform(-0.25, 0.25, (40, 2)), rng.uniform(-1.35, -1.05, 40)])
+    inverse = truth.inverse_pose(positions)
+    assert inverse.valid[:, 0].all()
+    readings = inverse.actuated[:, 0] - offsets
+    xyz = CalibrationData(readings, positions + rng.normal(0.0, 1e-5, positions.shape), kind="position", sigma=1e-5)
+    located = calibrate(m, xyz)
+    assert [str(c) for c in located.unidentifiable] == ["R1 + R2 + R3 + r"]
+    free = names + ["theta1_offset", "theta2_offset", "theta3_offset", "tracker_z"]
+    heights = positions[:, 2] - 0.007 + rng.normal(0.0, 1e-5, 40)
+    data = CalibrationData(readings, heights, kind="z", sigma=1e-5)
+    probed = calibrate(m, data, free=free)
+    assert sorted(str(c) for c in probed.unidentifiable) == ["R1 + R2 + R3 + r", "eta1 + eta2 + eta3"]
+    loose = calibrate(m, data, free=free, rank_tolerance=1e-3)
+    assert len(loose.unidentifiable) == 3
+    third = [c for c in loose.unidentifiable if "tracker_z" in c.coefficients]
+    assert len(third) == 1 and {"l1", "l2", "l3"} <= set(third[0].coefficients)
+
+    def measure(vector, kind):
+        model = parakin.load(delta_legs, **dict(zip(names, vector[: len(names)], strict=True)))
+        solved = model.forward_pose(readings + vector[len(names) : len(names) + 3], guess=positions)
+        return solved.pose[:, :3, 3].ravel() if kind == "xyz" else solved.pose[:, 2, 3] - vector[-1]
+
+    for kind, base, expected in (
+        ("xyz", np.concatenate([list(true.values()), offsets]), (1, 1)),
+        ("z", np.concatenate([list(true.values()), offsets, [0.007]]), (2, 3)),
+    ):
+        columns = []
+        for i in range(base.size):
+            step = np.zeros(base.size)
+            step[i] = 1e-5
+            columns.append((measure(base + step, kind) - measure(base - step, kind)) / 2e-5)
+        jacobian = np.array(columns).T
+        singular = np.linalg.svd(jacobian / np.linalg.norm(jacobian, axis=0), compute_uv=False)
+        relative = singular / singular[0]
+        assert (int(np.sum(relative < 1e-8)), int(np.sum(relative < 1e-3))) == expected, relative
+
+
+def test_prior_pins_an_unidentifiable_combination(delta_campaign):
+    """A prior on R (its true value, 1 um) removes the R + r null direction: r is then
+    identified and lands within 5 sigma of its true value, whose sigma is about the
+    position-data's sigma of R - r (a few micrometres)."""
+    m, true, offsets, readings, positions, rng = delta_campaign
+    measured = positions + rng.normal(0.0, 1e-5, positions.shape)
+    data = CalibrationData(readings, measured, kind="position", sigma=1e-5)
+    result = calibrate(m, data, prior={"R": (true["R"], 1e-6)})
+    assert result.unidentifiable == () and result.rank == 7
+    assert abs(result.values["R"] - true["R"]) < 5e-6
+    assert abs(result.values["r"] - true["r"]) < 5 * result.standard_errors["r"] < 1e-4
+    with pytest.raises(BadInputError, match="prior"):
+        calibrate(m, data, prior={"L_typo": (0.35, 1e-3)})

@@ -34,7 +34,7 @@ from parakin.calibration.data import CalibrationData, frame_names, predict, resi
 from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
 from parakin.calibration.frames import frame_transform
 from parakin.calibration.identifiability import RANK_TOLERANCE, Combination, analyse
-from parakin.errors import ConvergenceError, at_index, first_index
+from parakin.errors import BadInputError, ConvergenceError, at_index, first_index
 from parakin.mechanism import Mechanism
 from parakin.packages.manifest import unknown_name
 from parakin.results import Array
@@ -547,7 +547,13 @@ def _reload(m: Mechanism, parameters: dict[str, float]) -> Mechanism:
     from parakin.loading import load
 
     limits: dict[str, tuple[float, float]] = {**m.limits, **m.actuated_ranges}
-    return load(m.package.path, backend=m.backend.name, limits=limits, **parameters)
+    try:
+        return load(m.package.path, backend=m.backend.name, limits=limits, **parameters)
+    except BadInputError as error:
+        raise CalibrationDataError(
+            f"the calibrated parameters leave {m.name}'s domain ({error}): the measurements determine this "
+            "parameter poorly (see its standard error with fixed=... or a prior=...), or the model does not fit them"
+        ) from error
 
 
 __all__ = ["CalibrationResult", "Problem", "calibrate", "joint_names", "prediction_covariance", "require_kernel"]
