@@ -1,0 +1,82 @@
+"""3-RPS parallel manipulator (Lee and Shah 1988): three legs, each a revolute joint on the base
+whose axis is tangent to the base circle, an actuated prismatic joint and a spherical joint on
+the platform. Three degrees of freedom, the height and two tilts, with parasitic motion (the
+platform's centre moves sideways and it turns about the vertical as it tilts); the forward pose
+has 16 complex solutions.
+
+Frames and conventions (SI, radians):
+* {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 0, 120, 240 deg; the
+  revolute axis of leg i is the tangent u_i = (-sin eta_i, cos eta_i, 0): leg i stays in the
+  vertical plane through A_i normal to u_i.
+* {P}: platform joints c_i = r_p e_i.
+* Actuated: the leg lengths l1..l3 = |C_i - A_i| (metres). Passive: the platform position x, y,
+  z and its unit quaternion q0..q3 (scalar first, q0 >= 0 from the inverse).
+* Inverse pose: every leg length of the given pose; a pose off the reachable set (a platform
+  joint out of its leg's plane) is invalid, ``leg<i>_plane_reachable`` naming the leg.
+* Forward pose: the generator's automatic homotopy, 32 paths (16 poses, each with its two
+  quaternion signs).
+* Defaults (illustrative): r_b = 0.2 m, r_p = 0.1 m; home: the platform level at z = 0.3 m.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+from parakin.generator import joints
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+
+r_b, r_p = sp.symbols("r_b r_p", positive=True)
+lengths = sp.symbols("l1:4", positive=True)
+#: leg angles 0, 120, 240 deg, exactly (cos, sin)
+ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
+RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
+TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
+DEFAULTS = {r_b: 0.2, r_p: 0.1}
+HOME_HEIGHT = 0.3
+
+MODEL = joints.DistanceMechanism(
+    joints.platform("transform"),
+    [
+        joints.prismatic_leg(r_b * e, r_p * e, length, revolute_axis=u)
+        for e, u, length in zip(RADIAL, TANGENT, lengths, strict=True)
+    ],
+    parallel_name="platform_moves_with_legs_locked",
+)
+
+EXAMPLES = [
+    Example(
+        name="home",
+        description="the platform level at p = (0, 0, 0.3): by hand every leg spans r_b - r_p = 0.1 m "
+        "across and 0.3 m up, l = sqrt(0.1) = 0.3162277660 m",
+        pose=[[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, HOME_HEIGHT], [0.0, 0.0, 0.0, 1.0]],
+        branch=0,
+        expected={"actuated": [math.sqrt(0.1)] * 3},
+        tolerance=1e-12,
+    ),
+]
+
+
+def build() -> Mechanism:
+    home = MODEL.home_at(sp.eye(3), sp.Matrix([0, 0, HOME_HEIGHT]), 0, DEFAULTS)
+    return Mechanism(
+        name="rps3",
+        title="3-RPS parallel manipulator (Lee and Shah 1988): height and two tilts, parasitic motion",
+        citation=Citation(
+            ("K.-M. Lee", "D. K. Shah"),
+            "Kinematic analysis of a three-degrees-of-freedom in-parallel actuated manipulator",
+            1988,
+            "IEEE Journal on Robotics and Automation 4(3), pp. 354-360",
+            "10.1109/56.796",
+        ),
+        parameters=dict(DEFAULTS),
+        **MODEL.fields(),
+        forward=None,
+        home=home,
+        limits={length: (0.05, 1.0) for length in lengths},
+        parameter_info={
+            r_b: ParameterInfo("m", "radius of the circle of the base revolute joints A_i", "positive"),
+            r_p: ParameterInfo("m", "radius of the circle of the platform spherical joints c_i", "positive"),
+        },
+        examples=EXAMPLES,
+    )
