@@ -126,7 +126,10 @@ def great_circle(a: Array, b: Array, sphere: Sphere, count: int = ARC_POINTS) ->
     return (sphere.centre + sphere.radius * arc).T
 
 
-def _sphere(m: LoadedMechanism, configurations: list[Configuration], cloud: Array) -> Sphere | None:
+def sphere_of(m: LoadedMechanism, configurations: list[Configuration], cloud: Array) -> Sphere | None:
+    """The sphere a spherical drawing lies on (pose kind ``rotation``, every point of ``cloud``
+    (3, k) at one distance from the platform's fixed centre), or None: drawn with great-circle
+    arcs on it (here and in the viewer)."""
     if m.manifest.pose_kind != "rotation" or cloud.shape[1] < 3:
         return None
     centre = np.asarray(configurations[0].pose)[:3, 3]
@@ -149,7 +152,7 @@ def compose_scene(m: LoadedMechanism, configurations: list[Configuration], dista
     cloud = np.concatenate([np.stack([p[s][:, i] for s, i in sorted(used)], -1) for p in points], -1)
     scale = max(1.0, float(np.abs(cloud).max(initial=0.0)))
     planar = bool(np.ptp(cloud[2]) <= SHAPE_TOLERANCE * scale) if cloud.size else False
-    sphere = None if planar else _sphere(m, configurations, cloud)
+    sphere = None if planar else sphere_of(m, configurations, cloud)
     drawn = []
     for config, p in zip(configurations, points, strict=True):
         lines = {}

@@ -67,7 +67,7 @@ from parakin.errors import (
     SingularConfigurationError,
 )
 from parakin.pose import xyz_euler_deg_from_pose
-from parakin.results import MODE_HEADERS, AssemblyModes, Configuration
+from parakin.results import AssemblyModes, Configuration
 from parakin.solvers.linalg import pivoted_solve
 from parakin.tables import POSE_HEADERS
 from parakin.validation import within_ranges
@@ -191,6 +191,7 @@ class ViewerSession:
         self._home_measures = dict(self._measures(self._config))
         self._home_conditioning = self._conditioning(self._config)
         self._scale = self._drawing_scale(self._config)
+        self._sphere = self._sphere_of(self._config)
         self._sliders = self.sliders()
         self._span = np.array([s["high"] - s["low"] for s in self._sliders], dtype=float)
 
@@ -236,6 +237,18 @@ class ViewerSession:
         except ParakinError:  # a measure not finite here: none shown rather than a wrong one
             return []
         return [(name, _finite_or_none(float(value))) for name, value in values.items()]
+
+    def _sphere_of(self, config: Configuration) -> dict[str, Any] | None:
+        """A spherical mechanism's sphere (centre in {B}, radius), as ``parakin.interfaces.plot``
+        finds it: the page then draws it and great-circle arcs between the polylines' vertices."""
+        if self.m.capabilities.drawing is None:
+            return None
+        from parakin.interfaces.plot import sphere_of
+
+        sphere = sphere_of(self.m, [config], self._points(config))
+        if sphere is None:
+            return None
+        return {"centre": [float(v) for v in sphere.centre], "radius": float(sphere.radius)}
 
     def _drawing_scale(self, config: Configuration) -> float:
         """The drawing's size (m): the largest extent of its points or of the platform position."""
@@ -412,8 +425,9 @@ class ViewerSession:
             "parts": dict(m.capabilities.drawing.parts) if m.capabilities.drawing else {},
             "planar": planar,
             "scale": self._scale,
-            "centre": self._centre(home),
-            "radius": self._radius(home),
+            "sphere": self._sphere,
+            "centre": self._centre(home) if self._sphere is None else self._sphere["centre"],
+            "radius": self._radius(home) if self._sphere is None else 1.05 * self._sphere["radius"],
             "pose_components": list(POSE_COMPONENTS.get(m.manifest.pose_kind, range(6))),
             "pose_labels": list(POSE_LABELS),
             "home_measures": self._home_measures,
@@ -516,25 +530,31 @@ class ViewerSession:
         elsewhere the solver's cause is named in plain words."""
         if self._tracker is None:  # a serial chain: the closed form's own message
             return _error(error)
-        mode = "" if self._followed is None else f" (mode {self._followed})"
         try:
             reached = self._last_trackable(piece)
         except ParakinError:
             reached = self._config
+        if self._followed is None:  # no list of modes asked for yet: number the drawn one now
+            try:
+                here = self._config.actuated
+                self._drawn_row(self._table(here, self._assembly_modes(here)))
+            except ParakinError:
+                pass
+        mode = "the followed assembly mode" if self._followed is None else f"mode {self._followed}"
         where = self._inputs_text(reached.actuated, direction)
         conditioning = self._conditioning(reached)
         if conditioning is not None and conditioning <= SINGULAR_CONDITIONING:
             if self._continues_through(reached, direction):
                 message = (
-                    f"the followed assembly mode{mode} reaches a type II singularity near {where} (closure "
-                    f"conditioning {conditioning:.1g}): past it the mechanism would go on in another "
-                    "assembly mode, so the viewer stops before it; choose another mode or step back"
+                    f"{mode} reaches a type II singularity near {where} (closure conditioning "
+                    f"{conditioning:.1g}): past it the mechanism would go on in another assembly mode, so the "
+                    "viewer stops before it; choose another mode or step back"
                 )
             else:
                 message = (
-                    f"the followed assembly mode{mode} ends at a fold near {where}, where it meets another "
-                    f"assembly mode (a type II singularity, closure conditioning {conditioning:.1g}): it "
-                    "cannot be followed further; choose another mode or step back"
+                    f"{mode} ends near {where}, a fold: there it meets another assembly mode and both cease "
+                    f"to exist (a type II singularity, closure conditioning {conditioning:.1g}); choose another "
+                    "mode or step back"
                 )
         else:
             cause = {
@@ -546,9 +566,8 @@ class ViewerSession:
             because = next((text for kind, text in cause.items() if isinstance(error, kind)), str(error))
             shown = "" if conditioning is None else f", closure conditioning {conditioning:.2g}"
             message = (
-                f"the followed assembly mode{mode} could not be followed past {where}: {because} (the "
-                f"configuration reached is not singular{shown}); step back, try a smaller step or "
-                "choose another mode"
+                f"{mode} could not be followed past {where}: {because} (the configuration reached is not "
+                f"singular{shown}); step back, try a smaller step or choose another mode"
             )
         return _error(error, message)
 
@@ -625,13 +644,15 @@ class ViewerSession:
             modes = self._assembly_modes(theta)
         except ParakinError as error:
             return {"ok": False, "error": _error(error), "actuated": _echo(actuated), "count": 0, "rows": []}
-        from parakin.results import modes_rows, modes_summary
+        from parakin.results import mode_headers, modes_rows, modes_summary
 
         with self._lock:
             table = self._table(theta, modes)
             drawn = np.array_equal(self._config.actuated, theta)
             row = self._drawn_row(table) if drawn else None
-            rows = [[str(label), *cells[1:]] for label, cells in zip(table.labels, modes_rows(modes), strict=True)]
+            kind = self.m.manifest.pose_kind
+            labelled = zip(table.labels, modes_rows(modes, pose_kind=kind), strict=True)
+            rows = [[str(label), *cells[1:]] for label, cells in labelled]
             number = None if row is None else table.labels[row]
         return {
             "ok": True,
@@ -639,7 +660,7 @@ class ViewerSession:
             "actuated": [float(v) for v in theta],
             "count": len(modes),
             "summary": modes_summary(modes),
-            "headers": list(MODE_HEADERS),
+            "headers": mode_headers(self.m.manifest.pose_kind),
             "rows": sorted(rows, key=lambda cells: int(cells[0])),
             "current": number,
         }
@@ -1011,11 +1032,15 @@ def show(m: Mechanism, port: int = 0, width: str = "100%", height: int = 640) ->
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m parakin.interfaces.viewer NAME [--port P]``: serve a viewer of NAME, print its URL, run
-    until interrupted. Exit status 0, or 2 for an unknown mechanism or bad arguments."""
+    """``parakin view NAME [--port P] [--open]``: serve a viewer of NAME, print its URL, run until
+    interrupted. Exit status 0, or 2 for an unknown mechanism or bad arguments."""
     import parakin
 
-    parser = argparse.ArgumentParser(prog="python -m parakin.interfaces.viewer", description=main.__doc__)
+    parser = argparse.ArgumentParser(
+        prog="parakin view",
+        description="Serve an interactive viewer of the mechanism NAME in the browser (a slider per actuated "
+        "input, its assembly modes, singularity measures), print its address and run until Ctrl-C.",
+    )
     parser.add_argument("name", help="a mechanism name (parakin list) or package folder")
     parser.add_argument("--port", type=int, default=0, help="port to listen on (default: any free port)")
     parser.add_argument(
@@ -1024,7 +1049,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="address to bind (default 127.0.0.1: this machine only); the page answers to that address, "
         "localhost and 127.0.0.1 with the port, and after 0.0.0.0 to any IP address, never to a host name",
     )
-    parser.add_argument("--backend", default="auto", help="auto, compiled, numpy or casadi")
+    parser.add_argument("--backend", default="auto", choices=["auto", "compiled", "numpy", "casadi"])
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a mechanism parameter")
     parser.add_argument("--open", action="store_true", help="open the page in the default browser")
     args = parser.parse_args(argv)

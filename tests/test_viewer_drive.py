@@ -1,0 +1,109 @@
+"""The viewer driven as a user would, in headless Chromium (issue 36): every slider of stewart and
+planar_3rpr pushed from the home towards each end of its range in steps. Each step either draws
+the configuration that closes at the slider's value, or is refused with a message in the user's
+terms (the mode's number, the input and where it stops, what is there; no solver vocabulary), the
+drawing staying at a solved input between the home and the value asked for. Screenshots of where
+each drive stopped are kept in the test's tmp_path. Skipped without chromium and chromedriver, as
+test_viewer's browser test."""
+
+import numpy as np
+import pytest
+from test_viewer import _canvas, _updates, _wait, browser, loaded  # noqa: F401 (fixtures)
+
+from parakin.interfaces.viewer import serve
+
+#: steps from the home to a slider's end (the page asks the server once per step)
+STEPS = 8
+API_WORDS = ("batch index", "guess", "tracker", "strict", "iterations", "Traceback")
+
+
+def _set_slider(driver, slider, value):
+    driver.execute_script(
+        "const s = arguments[0]; s.value = arguments[1];"
+        "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));",
+        slider,
+        value,
+    )
+
+
+@pytest.mark.parametrize("mechanism", ["planar_3rpr", pytest.param("stewart", marks=pytest.mark.slow)])
+def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_path):  # noqa: F811
+    from selenium.webdriver.common.by import By
+
+    m = loaded(mechanism)
+    refused = reached = 0
+    with serve(m) as viewer:
+        browser.get(viewer.url)
+        _wait(browser, lambda: _updates(browser) >= 1, "the first state drawn")
+        sliders = viewer.session.scene()["sliders"]
+        for k, spec in enumerate(sliders):
+            for end in ("high", "low"):
+                count = _updates(browser)
+                browser.find_element(By.ID, "home").click()
+                _wait(browser, lambda: _updates(browser) > count, "home drawn")
+                home = viewer.session.state()["actuated"]
+                element = browser.find_element(By.ID, f"slider-{k}")
+                for step in range(1, STEPS + 1):
+                    value = home[k] + (spec[end] - home[k]) * step / STEPS
+                    count = _updates(browser)
+                    _set_slider(browser, element, value)
+                    _wait(browser, lambda: _updates(browser) > count, f"the reply to {spec['name']} = {value}")
+                    state = viewer.session.state()
+                    box = browser.find_element(By.ID, "status")
+                    if "bad" not in box.get_attribute("class"):
+                        # the drawn input is the slider's (as the page rounds it to the slider's step)
+                        assert state["ok"] and state["actuated"][k] == pytest.approx(
+                            float(element.get_attribute("value")), abs=1e-9 * max(1.0, abs(value))
+                        )
+                        assert box.text.startswith("following mode"), box.text
+                        continue
+                    message = box.text
+                    assert message.startswith("Mode ") and f"{spec['name']} = " in message, message
+                    assert any(w in message for w in ("a fold", "type II singularity", "could not be followed"))
+                    assert not any(word in message for word in API_WORDS), message
+                    assert "choose another mode" in message, message
+                    drawn = state["actuated"][k]
+                    low, high = sorted((home[k], value))
+                    assert low - 1e-12 <= drawn <= high + 1e-12, (drawn, home[k], value)
+                    # the slider is put back where the drawing is
+                    _wait(
+                        browser,
+                        lambda: float(element.get_attribute("value")) == pytest.approx(drawn, abs=spec["step"]),
+                        "the slider back at the drawn input",
+                    )
+                    _canvas(browser, tmp_path / f"{mechanism}_{spec['name']}_{end}.png")
+                    refused += 1
+                    break
+                else:
+                    assert viewer.session.state()["actuated"][k] == pytest.approx(spec[end], abs=2 * spec["step"])
+                    reached += 1
+        assert browser.get_log("browser") == []
+    assert refused + reached == 2 * len(sliders)
+    assert np.isfinite(refused)
+
+
+def test_a_spherical_mechanism_is_drawn_on_its_sphere(browser, loaded, tmp_path):  # noqa: F811
+    """spm: every drawn point lies on the unit sphere about the fixed centre (computed here from the
+    drawing kernel's points), the page draws that sphere and arcs (as `parakin plot spm`) and labels
+    it instead of a scale bar in metres (once "0.20 m" on a unit sphere)."""
+    from selenium.webdriver.common.by import By
+
+    m = loaded("spm")
+    with serve(m) as viewer:
+        sphere = viewer.session.scene()["sphere"]
+        config = viewer.session._config
+        points = np.concatenate([p for p in m.drawing(config).values()], axis=-1)
+        radii = np.linalg.norm(points - np.asarray(config.pose)[:3, 3:], axis=0)
+        assert sphere is not None and sphere["radius"] == pytest.approx(float(radii.mean()), rel=1e-9)
+        assert np.ptp(radii) < 1e-9 and sphere["radius"] == pytest.approx(1.0)
+        browser.get(viewer.url)
+        _wait(browser, lambda: _updates(browser) >= 1, "the first state drawn")
+        assert browser.execute_script("return document.body.dataset.scale") == "sphere"
+        image = _canvas(browser, tmp_path / "spm_sphere.png")
+        canvas = browser.find_element(By.ID, "view")
+        # the silhouette: a light blue disc about the centre, out to the sphere's radius on screen
+        height, width = image.shape[:2]
+        tinted = (image.min(-1) >= 235) & (image.min(-1) < 255) & (image[..., 2] > image[..., 0])
+        assert tinted.mean() > 0.2, f"no sphere drawn ({tinted.mean():.1%} of the canvas tinted)"
+        assert canvas.size["width"] > 0 and width > 0 and height > 0
+        assert browser.get_log("browser") == []
