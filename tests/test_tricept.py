@@ -108,6 +108,7 @@ def test_forward_rates_are_the_central_differences_of_the_poses(m):
     assert checked == 6
 
 
+@pytest.mark.slow
 def test_screw_analysis_finds_two_rotations_and_a_translation():
     from parakin.generator import graph
     from parakin.mechanisms import tricept
