@@ -40,14 +40,18 @@ def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_pat
             for end in ("high", "low"):
                 count = _updates(browser)
                 browser.find_element(By.ID, "home").click()
-                _wait(browser, lambda: _updates(browser) > count, "home drawn")
+                _wait(browser, lambda count=count: _updates(browser) > count, "home drawn")
                 home = viewer.session.state()["actuated"]
                 element = browser.find_element(By.ID, f"slider-{k}")
                 for step in range(1, STEPS + 1):
                     value = home[k] + (spec[end] - home[k]) * step / STEPS
                     count = _updates(browser)
                     _set_slider(browser, element, value)
-                    _wait(browser, lambda: _updates(browser) > count, f"the reply to {spec['name']} = {value}")
+                    _wait(
+                        browser,
+                        lambda count=count: _updates(browser) > count,
+                        f"the reply to {spec['name']} = {value}",
+                    )
                     state = viewer.session.state()
                     box = browser.find_element(By.ID, "status")
                     if "bad" not in box.get_attribute("class"):
@@ -68,7 +72,9 @@ def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_pat
                     # the slider is put back where the drawing is
                     _wait(
                         browser,
-                        lambda: float(element.get_attribute("value")) == pytest.approx(drawn, abs=spec["step"]),
+                        lambda e=element, d=drawn, s=spec: (
+                            float(e.get_attribute("value")) == pytest.approx(d, abs=s["step"])
+                        ),
                         "the slider back at the drawn input",
                     )
                     _canvas(browser, tmp_path / f"{mechanism}_{spec['name']}_{end}.png")
