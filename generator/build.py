@@ -288,7 +288,7 @@ def _mechanism_sources(path: Path) -> list[Path]:
 
 @functools.cache
 def _generator_digest() -> bytes:
-    """The generator's own code and templates, the runtime modules it uses (path tracking, the
+    """The generator's own code, templates and C runtime, the runtime modules it uses (path tracking, the
     shared-subtree form of ``symbolic.py``), and the versions of the tools: what every package is
     generated from besides its mechanism."""
     import parakin.packages.subtrees
@@ -297,7 +297,12 @@ def _generator_digest() -> bytes:
     digest = hashlib.sha256()
     here = Path(__file__).resolve().parent
     runtime_root = Path(parakin.__file__).resolve().parent
-    files = sorted([*here.glob("*.py"), *(p for p in (here / "templates").iterdir() if p.is_file())])
+    files = sorted(
+        [
+            *here.glob("*.py"),
+            *(p for folder in ("templates", "runtime") for p in (here / folder).iterdir() if p.is_file()),
+        ]
+    )
     runtime = [
         Path(module.__file__ or "").resolve() for module in (parakin.solvers.homotopy, parakin.packages.subtrees)
     ]

@@ -25,6 +25,23 @@ from parakin.solvers.homotopy import path_pairs
 from .program import LoweredProgram
 
 TEMPLATES = Path(__file__).parent / "templates"
+#: the fixed C every homotopy package's driver holds (ordinary sources, tested on their own by
+#: tests/test_c_runtime.py), printed into the driver where the template names them
+RUNTIME = Path(__file__).parent / "runtime"
+#: the step control the C tracker shares with parakin.solvers.homotopy, printed as #defines
+TRACKER_CONSTANTS = (
+    "CORRECTIONS",
+    "INITIAL_STEP",
+    "PREDICTOR_TARGET",
+    "STEP_SAFETY",
+    "STEP_GROW",
+    "STEP_SHRINK",
+    "MIN_STEP",
+    "ESCAPE",
+    "MAX_STEPS",
+    "REFINE",
+    "END_GAP",
+)
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 
 
@@ -91,6 +108,12 @@ class ModulePrinter(PythonCodePrinter):
     def _print_sign(self, expr: sp.Expr) -> str:
         # the base printer emits a Python conditional, which neither arrays nor CasADi accept
         return f"{self.module}.sign({self._print(expr.args[0])})"
+
+
+def runtime_sources() -> dict[str, str]:
+    """The C runtime's headers by name without their extension (``complex``, ``tracker``): their
+    text as the driver prints it, the include guard's lines and all."""
+    return {path.stem: path.read_text().rstrip() for path in sorted(RUNTIME.glob("*.h"))}
 
 
 def _environment() -> jinja2.Environment:
@@ -292,13 +315,15 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "c_types": C_TYPES,
         "version": manifest["generator"]["version"],
         "at_infinity": repr(float(manifest["tolerances"]["at_infinity"])),
-        # the C tracker's step control: the NumPy reference's constants (track_hermite)
-        "tracker": {
-            "predictor_target": repr(float(tracking.PREDICTOR_TARGET)),
-            "step_safety": repr(float(tracking.STEP_SAFETY)),
-            "step_grow": repr(float(tracking.STEP_GROW)),
-            "step_shrink": repr(float(tracking.STEP_SHRINK)),
+        # the C tracker (generator/runtime/tracker.h) and its constants: the NumPy reference's
+        # (parakin.solvers.homotopy.track_hermite)
+        "tracker": [(name, repr(getattr(tracking, name))) for name in TRACKER_CONSTANTS],
+        "path_codes": {
+            "reached": tracking.PATH_REACHED,
+            "failed": tracking.PATH_FAILED,
+            "diverged": tracking.PATH_DIVERGED,
         },
+        "runtime": runtime_sources(),
         "source": manifest["generator"]["source"],
         "example": {
             "source": manifest["c"]["example"]["source"],

@@ -1,0 +1,151 @@
+// Unit tests of the parakin C runtime on its own (tests/test_c_runtime.py compiles and runs this
+// with the system compiler): the complex LU with two right-hand sides, the Hermite predictor, and
+// the path tracker on test homotopies whose paths are known in closed form. Prints one line per
+// tracked path ("path <kind> <start> <status> <z re/im ...> <steps> <rejected> <evaluations>
+// <factorisations>") for the Python side to compare with parakin.solvers.homotopy.track_hermite,
+// and "failed: ..." for each check that fails; exits 1 if any did.
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "complex.h"
+
+#define NZ 2
+#define CORRECTIONS 3
+#define INITIAL_STEP 0.05
+#define PREDICTOR_TARGET 0.003
+#define STEP_SAFETY 0.8
+#define STEP_GROW 2.0
+#define STEP_SHRINK 0.25
+#define MIN_STEP 1e-12
+#define ESCAPE 1e8
+#define MAX_STEPS 2000
+#define REFINE 8
+#define END_GAP 1e-13
+enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
+
+// The test homotopies, equation k in z_k alone:
+//   kind 0: z_k^2 - ((1 - s) a_k + s)    from z_k = +-1 at s = 1 to z_k = +-sqrt(a_k) at s = 0
+//   kind 1: s z_k - 1                    z_k = 1/s: to infinity as s -> 0
+typedef struct { int kind; cplx a[NZ]; } sparse_system;
+typedef struct { const sparse_system* system; double s; } coefficients_at;
+
+static void coefficients(const sparse_system* system, double s, coefficients_at* at) {
+    at->system = system;
+    at->s = s;
+}
+
+static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, cplx* jacobian, cplx* rate) {
+    double s = at->s;
+    for (int k = 0; k < NZ * NZ; ++k) jacobian[k] = (cplx){0.0, 0.0};
+    for (int k = 0; k < NZ; ++k) {
+        cplx a = at->system->a[k];
+        if (at->system->kind == 0) {
+            cplx target = c_add(c_scale(1.0 - s, a), (cplx){s, 0.0});
+            if (value) value[k] = c_sub(c_mul(z[k], z[k]), target);
+            jacobian[k * NZ + k] = c_scale(2.0, z[k]);
+            if (rate) rate[k] = c_sub(a, (cplx){1.0, 0.0});
+        } else {
+            if (value) value[k] = c_sub(c_scale(s, z[k]), (cplx){1.0, 0.0});
+            jacobian[k * NZ + k] = (cplx){s, 0.0};
+            if (rate) rate[k] = z[k];
+        }
+    }
+    return 1;
+}
+
+#include "tracker.h"
+
+static int failures = 0;
+
+static void check(int ok, const char* what) {
+    if (!ok) {
+        printf("failed: %s\n", what);
+        failures += 1;
+    }
+}
+
+static void test_solve(void) {
+    // a x = b and a y = c against products computed here: a (row-major), x, y chosen
+    cplx a[NZ * NZ] = {{0.0, 1e-3}, {2.0, -1.0}, {3.0, 0.5}, {-1.0, 4.0}};  // a pivot swap
+    cplx x[NZ] = {{1.0, -2.0}, {0.5, 0.25}}, y[NZ] = {{-3.0, 1.0}, {0.0, 7.0}};
+    cplx b[NZ], c[NZ], copy[NZ * NZ];
+    for (int r = 0; r < NZ; ++r) {
+        b[r] = c[r] = (cplx){0.0, 0.0};
+        for (int j = 0; j < NZ; ++j) {
+            b[r] = c_add(b[r], c_mul(a[r * NZ + j], x[j]));
+            c[r] = c_add(c[r], c_mul(a[r * NZ + j], y[j]));
+        }
+    }
+    memcpy(copy, a, sizeof(a));
+    check(c_solve(copy, b, c), "c_solve: a regular matrix is singular");
+    for (int k = 0; k < NZ; ++k) {
+        check(c_abs(c_sub(b[k], x[k])) < 1e-14, "c_solve: first right-hand side");
+        check(c_abs(c_sub(c[k], y[k])) < 1e-14, "c_solve: second right-hand side");
+    }
+    cplx singular[NZ * NZ] = {{1.0, 1.0}, {2.0, 2.0}, {0.0, 0.0}, {0.0, 0.0}};
+    check(!c_solve(singular, b, NULL), "c_solve: a zero row is not singular");
+}
+
+static void test_predict(void) {
+    // z(s) = p0 + p1 s + p2 s^2 + p3 s^3: Hermite from (s0, s1) reproduces it beyond s1
+    cplx p[4][NZ] = {{{1, 2}, {0, -1}}, {{-2, 0.5}, {3, 0}}, {{0.25, -1}, {1, 1}}, {{4, 0}, {-0.5, 2}}};
+    double s0 = 0.9, s1 = 0.7, target = 0.45;
+    cplx z0[NZ], v0[NZ], z1[NZ], v1[NZ], exact[NZ], out[NZ];
+    double at[3] = {s0, s1, target};
+    cplx* values[3] = {z0, z1, exact};
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < NZ; ++k) {
+            double s = at[i];
+            values[i][k] = c_add(c_add(p[0][k], c_scale(s, p[1][k])), c_add(c_scale(s * s, p[2][k]), c_scale(s * s * s, p[3][k])));
+        }
+    for (int k = 0; k < NZ; ++k) {
+        v0[k] = c_add(p[1][k], c_add(c_scale(2 * s0, p[2][k]), c_scale(3 * s0 * s0, p[3][k])));
+        v1[k] = c_add(p[1][k], c_add(c_scale(2 * s1, p[2][k]), c_scale(3 * s1 * s1, p[3][k])));
+    }
+    predict(1, s0, z0, v0, s1, z1, v1, target, out);
+    for (int k = 0; k < NZ; ++k) check(c_abs(c_sub(out[k], exact[k])) < 1e-12, "predict: a cubic is not reproduced");
+    predict(0, s0, z0, v0, s1, z1, v1, target, out);
+    for (int k = 0; k < NZ; ++k) {
+        cplx euler = c_add(z1[k], c_scale(target - s1, v1[k]));
+        check(c_abs(c_sub(out[k], euler)) < 1e-15, "predict: without history it is not Euler");
+    }
+}
+
+static void track(const sparse_system* system, const cplx* start, int label) {
+    step_coefficients at;
+    track_counts counts = {0, 0, 0, 0, 0};
+    cplx z[NZ];
+    memcpy(z, start, sizeof(z));
+    int status = track_path(system, 1e-7, z, &at, &counts);
+    printf("path %d %d %d", system->kind, label, status);
+    for (int k = 0; k < NZ; ++k) printf(" %.17g %.17g", z[k].re, z[k].im);
+    printf(" %lld %lld %lld %lld\n", counts.steps, counts.rejected, counts.evaluations, counts.factorisations);
+    check(counts.paths == 1, "track_path: counts one path");
+    check(counts.evaluations == counts.factorisations, "track_path: one LU per evaluation");
+    check(counts.rejected < counts.steps, "track_path: every step rejected");
+    if (system->kind == 0) {
+        check(status == PATH_REACHED, "track_path: a regular path does not reach s = 0");
+        for (int k = 0; k < NZ; ++k) {
+            cplx square = c_mul(z[k], z[k]);
+            check(c_abs(c_sub(square, system->a[k])) < 1e-13 * (1.0 + c_abs(system->a[k])), "track_path: z^2 != a");
+            // the path keeps the start's sign: Re(z / start) > 0 (no jump to the other root)
+            cplx ratio = c_div(z[k], start[k]);
+            check(ratio.re > 0.0, "track_path: the path jumped to the other root");
+        }
+    } else {
+        check(status == PATH_DIVERGED, "track_path: z = 1/s does not diverge");
+    }
+}
+
+int main(void) {
+    test_solve();
+    test_predict();
+    sparse_system roots = {0, {{4.0, 1.0}, {-9.0, 0.5}}};
+    cplx starts[4][NZ] = {{{1, 0}, {1, 0}}, {{-1, 0}, {1, 0}}, {{1, 0}, {-1, 0}}, {{-1, 0}, {-1, 0}}};
+    for (int p = 0; p < 4; ++p) track(&roots, starts[p], p);
+    sparse_system escaping = {1, {{0.0, 0.0}, {0.0, 0.0}}};
+    track(&escaping, starts[0], 0);
+    if (failures) printf("%d checks failed\n", failures);
+    return failures ? 1 : 0;
+}

@@ -1,0 +1,186 @@
+// parakin C runtime: the path tracker of a parameter homotopy H(z, s) = 0, from a start solution
+// at s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite is its NumPy reference: the same
+// algorithm and constants). Copied into every homotopy package's driver by the generator
+// (generator/emit.py), and compiled on its own with a test homotopy by tests/test_c_runtime.py.
+//
+// The includer defines, before including it (after complex.h):
+//   NZ                  the unknowns (a constant: every work array is on the stack)
+//   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.homotopy)
+//   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
+//   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
+//   static void coefficients(const sparse_system*, double s, coefficients_at*)
+//   static int homotopy_eval(const coefficients_at*, const cplx* z, cplx* value, cplx* jacobian,
+//                            cplx* rate)
+//       H, dH/dz (NZ x NZ, row-major) and dH/ds at z; value or rate NULL when not wanted;
+//       0 when not finite.
+// Needs <math.h> and <string.h>.
+#ifndef PARAKIN_RUNTIME_TRACKER_H
+#define PARAKIN_RUNTIME_TRACKER_H
+
+// a x = b, and a y = c where c is not NULL, in place by Gaussian elimination with partial
+// pivoting (a destroyed): one factorisation serves both right-hand sides; 0 when singular
+static int c_solve(cplx* a, cplx* b, cplx* c) {
+    for (int k = 0; k < NZ; ++k) {
+        int best = k;
+        double largest = c_norm1(a[k * NZ + k]);
+        for (int r = k + 1; r < NZ; ++r)
+            if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
+        if (!(largest > 0.0)) return 0;
+        if (best != k) {
+            for (int j = 0; j < NZ; ++j) { cplx t = a[k * NZ + j]; a[k * NZ + j] = a[best * NZ + j]; a[best * NZ + j] = t; }
+            cplx t = b[k]; b[k] = b[best]; b[best] = t;
+            if (c) { t = c[k]; c[k] = c[best]; c[best] = t; }
+        }
+        cplx inverse = c_inv(a[k * NZ + k]);
+        for (int r = k + 1; r < NZ; ++r) {
+            cplx f = c_mul(a[r * NZ + k], inverse);
+            for (int j = k + 1; j < NZ; ++j) a[r * NZ + j] = c_sub(a[r * NZ + j], c_mul(f, a[k * NZ + j]));
+            b[r] = c_sub(b[r], c_mul(f, b[k]));
+            if (c) c[r] = c_sub(c[r], c_mul(f, c[k]));
+        }
+    }
+    for (int k = NZ - 1; k >= 0; --k) {
+        cplx inverse = c_inv(a[k * NZ + k]), sum = b[k];
+        for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], b[j]));
+        b[k] = c_mul(sum, inverse);
+        if (c) {
+            sum = c[k];
+            for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], c[j]));
+            c[k] = c_mul(sum, inverse);
+        }
+    }
+    return 1;
+}
+
+// max_k |v_k|: one square root of the largest squared modulus instead of a hypot per entry (the
+// sizes of a tracked path are far from overflow: ESCAPE)
+static double c_max_abs(const cplx* v) {
+    double largest = 0.0;
+    for (int k = 0; k < NZ; ++k) largest = fmax(largest, v[k].re * v[k].re + v[k].im * v[k].im);
+    return sqrt(largest);
+}
+
+static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
+
+// What tracking cost, summed over paths (a package's NAME_forward_pose_all_counted returns it)
+typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
+
+// One Newton step at (z, s) in place: H, H_z and H_s at z, one LU of H_z, z -= H_z^-1 H; where
+// velocity is not NULL it receives dz/ds = -H_z^-1 H_s from the same LU (the path's slope for the
+// next prediction: no factorisation of its own). Returns the update relative to |z| (inf when
+// singular or not finite).
+static double newton_step(const coefficients_at* at, cplx* z, cplx* velocity, track_counts* counts) {
+    cplx value[NZ], jacobian[NZ * NZ];
+    counts->evaluations += 1;
+    if (!homotopy_eval(at, z, value, jacobian, velocity)) return INFINITY;
+    counts->factorisations += 1;
+    if (!c_solve(jacobian, value, velocity)) return INFINITY;
+    for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
+    if (velocity)
+        for (int k = 0; k < NZ; ++k) velocity[k] = (cplx){-velocity[k].re, -velocity[k].im};
+    return c_max_abs(value) / c_size(z);
+}
+
+// z at s = target extrapolated from the path's last two points (s0, z0, v0) and (s1, z1, v1), v
+// the slope dz/ds: the cubic Hermite interpolant of both (third order), or Euler from (s1, z1,
+// v1) alone where the path has no earlier point (history 0)
+static void predict(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1, const cplx* v1,
+                    double target, cplx* out) {
+    if (!history) {
+        double d = target - s1;
+        for (int k = 0; k < NZ; ++k) out[k] = (cplx){z1[k].re + d * v1[k].re, z1[k].im + d * v1[k].im};
+        return;
+    }
+    double span = s1 - s0, u = (target - s0) / span, u2 = u * u, u3 = u2 * u;
+    double a0 = 2.0 * u3 - 3.0 * u2 + 1.0, b0 = (u3 - 2.0 * u2 + u) * span;
+    double a1 = 3.0 * u2 - 2.0 * u3, b1 = (u3 - u2) * span;
+    for (int k = 0; k < NZ; ++k)
+        out[k] = (cplx){a0 * z0[k].re + b0 * v0[k].re + a1 * z1[k].re + b1 * v1[k].re,
+                        a0 * z0[k].im + b0 * v0[k].im + a1 * z1[k].im + b1 * v1[k].im};
+}
+
+// The coefficient sets of one step: in the caller's storage, as with hundreds of terms they are
+// too large for a small thread stack
+typedef struct { coefficients_at here, target; } step_coefficients;
+
+// One path from s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite, the same algorithm): each
+// step predicts by the cubic Hermite extrapolation of the last two points and their slopes, and
+// corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
+// the last one leaves (the update itself after one step; after more, estimated from the
+// quadratic convergence of the last two) is below tolerance: contraction keeps the path on its
+// own branch. The last Newton step's LU also gives the slope at the new point, so an accepted
+// step costs the evaluations and LUs of its corrector only. The first correction is the predictor's error: the next step is
+// sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
+// the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
+// shorter from the same point.
+static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
+    double s = 1.0, s_previous = 1.0, h = INITIAL_STEP;
+    int history = 0;
+    cplx slope[NZ], z_previous[NZ], slope_previous[NZ];
+    counts->paths += 1;
+    coefficients(system, s, &at->here);
+    // the start's slope (and its start solution refined once)
+    if (!isfinite(newton_step(&at->here, z, slope, counts))) return PATH_FAILED;
+    for (int steps = 0; steps < MAX_STEPS; ++steps) {
+        double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
+        cplx corrected[NZ], next_slope[NZ];
+        coefficients(system, target, &at->target);
+        predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
+        counts->steps += 1;
+        double first = INFINITY, update = INFINITY, error = INFINITY;
+        int contracting = 1;
+        for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
+            double size = newton_step(&at->target, corrected, next_slope, counts);
+            if (iteration) {
+                contracting &= size <= 0.5 * update;
+                // quadratic convergence: the error this update leaves is about omega size^2,
+                // omega = size / update^2 from the two last updates
+                double ratio = size / update;
+                error = size * ratio * ratio;
+            } else {
+                first = error = size;
+            }
+            update = size;
+            // converged iterates stop: at an ill-conditioned solution further updates are
+            // rounding noise, which need not contract
+            if (error < tolerance || !contracting) break;
+        }
+        int accepted = contracting && error < tolerance && isfinite(update);
+        double factor = !isfinite(first) ? 0.0
+                        : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, history ? 0.25 : 0.5)
+                                        : STEP_GROW;
+        if (accepted) {
+            memcpy(z_previous, z, sizeof(slope));
+            memcpy(slope_previous, slope, sizeof(slope));
+            s_previous = s;
+            memcpy(z, corrected, sizeof(slope));
+            memcpy(slope, next_slope, sizeof(slope));
+            s = target;
+            history = 1;
+            h = step * fmin(STEP_GROW, fmax(0.5, factor));
+            if (s <= 0.0) break;
+        } else {
+            counts->rejected += 1;
+            h = step * fmin(0.5, fmax(STEP_SHRINK, factor));
+            if (h < MIN_STEP) return PATH_FAILED;
+        }
+        if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
+        if (steps == MAX_STEPS - 1) return PATH_FAILED;
+    }
+    if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
+    // refine at s = 0 while the update shrinks
+    coefficients(system, 0.0, &at->target);
+    double update = INFINITY;
+    for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
+        cplx trial[NZ];
+        memcpy(trial, z, sizeof(trial));
+        double size = newton_step(&at->target, trial, NULL, counts);
+        if (!(size < update)) break;
+        memcpy(z, trial, sizeof(trial));
+        update = size;
+    }
+    return PATH_REACHED;
+}
+
+#endif

@@ -1,0 +1,87 @@
+"""The C runtime (generator/runtime/) on its own: its C unit tests compiled with the system
+compiler and run (the complex LU, the Hermite predictor, the tracker on homotopies with
+closed-form paths), and each tracked path compared with the NumPy reference
+``parakin.solvers.homotopy.track_hermite`` on the same homotopy: the same endpoint, the same
+step attempts, rejections and evaluations. Every homotopy package's driver prints these sources
+(generator/emit.py): the packages' drivers are checked to hold them verbatim."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.solvers import homotopy
+
+ROOT = Path(__file__).resolve().parent.parent
+RUNTIME = ROOT / "generator" / "runtime"
+GENERATED = ROOT / "generated"
+
+
+@pytest.fixture(scope="module")
+def runtime_output(tmp_path_factory: pytest.TempPathFactory) -> list[str]:
+    compiler = shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    binary = tmp_path_factory.mktemp("runtime") / "test_runtime"
+    flags = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-ffp-contract=off"]
+    subprocess.run([compiler, *flags, str(RUNTIME / "test_runtime.c"), "-o", str(binary), "-lm"], check=True)
+    result = subprocess.run([str(binary)], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return result.stdout.splitlines()
+
+
+def _system(kind: int, a: np.ndarray) -> homotopy.System:
+    """test_runtime.c's homotopies as a sparse system: kind 0, z_k^2 - ((1 - s) a_k + s); kind 1,
+    s z_k - 1 (each equation in its own unknown)."""
+    if kind == 0:
+        exponents = np.array([[2, 0], [0, 0], [0, 2], [0, 0]])
+        table = np.array([[[1, -a[0], 1, -a[1]], [0, a[0] - 1, 0, a[1] - 1]]], dtype=complex)
+    else:
+        exponents = np.array([[1, 0], [0, 0], [0, 1], [0, 0]])
+        table = np.array([[[0, -1, 0, -1], [1, 0, 1, 0]]], dtype=complex)
+    return homotopy.sparse_system(table, exponents, np.array([0, 0, 1, 1]), 1)
+
+
+def test_c_runtime_unit_tests_pass(runtime_output: list[str]) -> None:
+    assert not [line for line in runtime_output if line.startswith("failed")]
+    assert sum(line.startswith("path ") for line in runtime_output) == 5
+
+
+def test_c_tracker_as_the_numpy_reference(runtime_output: list[str]) -> None:
+    a = np.array([4.0 + 1.0j, -9.0 + 0.5j])  # test_runtime.c's roots homotopy
+    starts = np.array([[1, 1], [-1, 1], [1, -1], [-1, -1]], dtype=complex)
+    checked = 0
+    for line in runtime_output:
+        if not line.startswith("path "):
+            continue
+        fields = line.split()
+        kind, label, status = (int(v) for v in fields[1:4])
+        z = np.array([float(fields[4 + 2 * k]) + 1j * float(fields[5 + 2 * k]) for k in range(2)])
+        steps, rejected, evaluations, factorisations = (int(v) for v in fields[8:12])
+        reference = homotopy.track_hermite(_system(kind, a), starts[label : label + 1], 1e-7)
+        assert status == int(reference.status[0])
+        if kind == 0:  # the closed form: z_k^2 = a_k, the start's sign kept
+            np.testing.assert_allclose(z**2, a, rtol=1e-13)
+            assert (np.real(z / starts[label]) > 0).all()
+        np.testing.assert_allclose(z, reference.z[0], rtol=1e-12)
+        assert (steps, rejected, evaluations) == (reference.steps[0], reference.rejected[0], reference.evaluations[0])
+        assert factorisations == evaluations
+        checked += 1
+    assert checked == 5
+
+
+@pytest.mark.parametrize("name", [n for n in parakin.available() if (GENERATED / n / "driver.c").is_file()])
+def test_homotopy_drivers_hold_the_runtime(name: str) -> None:
+    """A homotopy package's driver holds each runtime header verbatim (self-contained: nothing
+    to include from parakin); a closed-form one holds none."""
+    driver = (GENERATED / name / "driver.c").read_text()
+    homotopy_package = parakin.metadata(name).capabilities.forward is not None and (
+        parakin.metadata(name).capabilities.forward.homotopy is not None  # type: ignore[union-attr]
+    )
+    for header in sorted(RUNTIME.glob("*.h")):
+        assert (header.read_text().rstrip() in driver) == homotopy_package, header.name
