@@ -417,8 +417,9 @@ def derive(mechanism: Mechanism) -> Derivation:
     check_pose_kind(mechanism)
     closed = _from_closure(mechanism, state) if mechanism.closure is not None else _from_legs(mechanism, state)
     residual = closed.residual
+    joints = None
     if mechanism.joint_graph is not None:
-        check_mobility(mechanism, residual)
+        joints = graph.to_json(mechanism.joint_graph, check_mobility(mechanism, residual))
     if mechanism.passive:
         jacobian_passive = residual.jacobian(mechanism.passive)
         jacobian_actuated = residual.jacobian(mechanism.actuated)
@@ -468,6 +469,8 @@ def derive(mechanism: Mechanism) -> Derivation:
         "pose_kind": mechanism.pose_kind,
         **closed.metadata,
     }
+    if joints is not None:  # the bodies and joints, for a manifest that carries them (not written yet)
+        metadata["joints"] = joints
     symbolic: dict[str, object] = {
         "platform_pose": closed.platform,
         "loop_closure": residual,

@@ -44,7 +44,7 @@ inverse and drawing of a mechanism of distance legs are derived from the graph's
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
@@ -97,7 +97,9 @@ class Inertial:
 
 @dataclass(frozen=True)
 class Body:
-    """A rigid body: the base, the platform or a link of a leg."""
+    """A rigid body: the base, the platform or a link of a leg. A link's frame is that of the
+    joint carrying it (origin at the joint's point, z along its axis where it has one), the
+    platform's {P}, the base's {B}."""
 
     name: str
     inertial: Inertial | None = None
@@ -199,6 +201,14 @@ class JointGraph:
     @property
     def bodies(self) -> list[Body]:
         return [self.base, self.platform, *(body for leg in self.legs for body in leg.bodies)]
+
+    def named(self) -> JointGraph:
+        """The graph with every leg's links named <leg>_link<k> where the leg gave none."""
+        legs = []
+        for leg in self.legs:
+            bodies = leg.bodies or tuple(Body(f"{leg.name}_link{k + 1}") for k in range(len(leg.joints) - 1))
+            legs.append(replace(leg, bodies=bodies))
+        return replace(self, legs=legs)
 
     @property
     def loops(self) -> list[Loop]:
@@ -645,3 +655,93 @@ def _screws_at(graph: JointGraph, parameters: dict[sp.Symbol, float], config: di
     origin = values(graph.position).reshape(3)
     placements = {leg.name: place(leg, rotation, origin, values) for leg in graph.legs}
     return screw_analysis(graph, placements, values)
+
+
+def _text(value: sp.Matrix | sp.Expr | None) -> list[str] | str | None:
+    if value is None:
+        return None
+    if isinstance(value, sp.MatrixBase):
+        return [str(entry) for entry in value]
+    return str(value)
+
+
+def to_json(graph: JointGraph, found: Motion | None = None) -> dict[str, object]:
+    """The graph as plain data (for a manifest): bodies with their inertial symbols, legs with
+    their joints (kind, site, point and axis as expression strings, variable, actuated mark,
+    limits), the loops, and what the screw analysis found.
+
+    Parameters
+    ----------
+    graph : JointGraph
+        The mechanism's joints.
+    found : Motion, optional
+        Its screw analysis (``analyse``).
+
+    Returns
+    -------
+    dict
+        JSON-ready: strings, numbers, lists, dictionaries and None.
+
+    Example
+    -------
+    >>> import sympy as sp
+    >>> from parakin.generator import joints
+    >>> legs = [joints.prismatic_leg([k, 0, 0], [0, 0, 0], sp.Symbol(f"l{k}")) for k in range(3)]
+    >>> model = joints.DistanceMechanism(joints.platform("translation"), legs)
+    >>> to_json(model.graph)["legs"][0]["joints"][1]["kind"]
+    'P'
+    """
+    named = graph.named()
+
+    def inertial(body: Body) -> dict[str, object] | None:
+        if body.inertial is None:
+            return None
+        return {
+            "mass": str(body.inertial.mass),
+            "centre": _text(body.inertial.centre),
+            "inertia": _text(body.inertial.inertia),
+        }
+
+    legs = []
+    for leg in named.legs:
+        joints = [
+            {
+                "kind": j.kind,
+                "site": j.site,
+                "point": _text(j.point),
+                "axis": _text(j.axis),
+                "variable": None if j.variable is None else str(j.variable),
+                "actuated": j.actuated,
+                "limits": None if j.limits is None else [float(j.limits[0]), float(j.limits[1])],
+            }
+            for j in leg.joints
+        ]
+        reach = None if leg.reach is None else {"length": str(leg.reach[0]), "direction": _text(leg.reach[1])}
+        legs.append(
+            {
+                "name": leg.name,
+                "actuated": leg.actuated,
+                "joints": joints,
+                "bodies": [b.name for b in leg.bodies],
+                "reach": reach,
+                "link": _text(leg.link),
+            }
+        )
+    motion = None
+    if found is not None:
+        motion = {
+            "mobility": found.mobility,
+            "kind": found.kind,
+            "translations": found.translations,
+            "rotations": found.rotations,
+            "parasitic": found.parasitic,
+            "samples": found.samples,
+            "text": found.text(),
+        }
+    return {
+        "pose_kind": graph.pose_kind,
+        "bodies": [{"name": b.name, "inertial": inertial(b)} for b in named.bodies],
+        "legs": legs,
+        "loops": [{"leg": loop.leg, "joint": len(named.legs[k].joints) - 1} for k, loop in enumerate(named.loops)],
+        "motion": motion,
+    }

@@ -242,3 +242,17 @@ def test_a_dh_tables_joints_in_the_graph_move_as_its_jacobian_says():
         assert np.abs(found - expected).max() < 1e-12
         checked += 1
     assert checked == 5
+
+
+def test_the_graph_as_plain_data_names_every_body_and_joint():
+    import json
+
+    delta = __import__("parakin.mechanisms.delta", fromlist=["build"]).build()
+    assert delta.joint_graph is not None
+    data = json.loads(json.dumps(graph.to_json(delta.joint_graph, analyse(delta))))
+    assert [j["kind"] for j in data["legs"][0]["joints"]] == ["R", "R", "Pa", "R"]
+    assert [leg["joints"][0]["variable"] for leg in data["legs"]] == ["theta1", "theta2", "theta3"]
+    assert [j["actuated"] for j in data["legs"][0]["joints"]] == [True, False, False, False]
+    assert len(data["bodies"]) == 2 + 3 * 3  # base, platform, three links per leg
+    assert data["loops"] == [{"leg": f"leg{k}", "joint": 3} for k in (1, 2, 3)]
+    assert data["motion"]["mobility"] == 3 and data["motion"]["kind"] == "translation"
