@@ -45,8 +45,10 @@ CLOSE_ITERATIONS = 30
 JOINT_STEP = 1e-6
 #: Levenberg-Marquardt: iteration cap, relative cost decrease that ends it, damping bounds
 MAX_ITERATIONS = 200
-COST_TOLERANCE = 1e-12
+COST_TOLERANCE = 1e-10
 DAMPING = (1e-12, 1e12)
+#: a step that changes the whitened residuals by less than this (in sigmas) ends the iteration
+STEP_TOLERANCE = 1e-9
 #: eigenvalues of the scaled normal matrix below this fraction of the largest are not stepped along
 STEP_RANK = 1e-14
 
@@ -99,10 +101,18 @@ class Problem:
             if name not in self.names:
                 raise unknown_name("calibration parameter", name, self.names, m.name)
             self.nominal[self.names.index(name)] = float(value)
-        chosen = list(self.geometric + joint_names(m)[:n_a] + data.free_frames()) if free is None else list(free)
+        # a sign parameter (a configuration choice, +1 or -1) is no dimension to calibrate
+        signs = [p.name for p in m.manifest.parameters if p.domain == "sign"]
+        continuous = [name for name in self.geometric if name not in signs]
+        chosen = list(continuous + joint_names(m)[:n_a] + data.free_frames()) if free is None else list(free)
         for name in [*chosen, *fixed]:
             if name not in self.names:
                 raise unknown_name("calibration parameter", name, self.names, m.name)
+            if name in signs and name in chosen:
+                raise CalibrationDataError(
+                    f"parameter {name!r} of {m.name} is a sign (+1 or -1, a configuration choice), not a "
+                    "dimension: it cannot be calibrated; leave it out of free"
+                )
         self.free = [name for name in self.names if name in chosen and name not in set(fixed)]
         if not self.free:
             raise CalibrationDataError("no parameter is free: free minus fixed is empty")
@@ -120,7 +130,9 @@ class Problem:
             self.prior_sigma.append(float(sigma))
         self.n_g, self.n_a, self.n_p = len(self.geometric), n_a, len(m.passive_names)
         lengths = np.abs(m.params[np.isfinite(m.params)])
-        self.closure_tolerance = 1e-12 * max(1.0, float(lengths.max(initial=1.0)))
+        # the rounding floor of a closure residual, never above 1e-3 of the manifest's tolerance
+        # (parameters that are no lengths, such as stiffnesses of 1e8, must not loosen it)
+        self.closure_tolerance = min(1e-15 * max(1.0, float(lengths.max(initial=1.0))), 1e-3 * m.tolerances["closure"])
 
     # ---------------------------------------------------------------- layout
     def full(self, x: Array) -> Array:
@@ -143,18 +155,27 @@ class Problem:
     def close(self, values: Array, passive: Array) -> Array:
         """Passive values (N, n_p) that close every loop at ``values``, by Newton from ``passive``;
         ConvergenceError naming the first pose that does not close."""
+        if not self.n_p:  # a serial chain: no loop
+            return passive.copy()
         params = self.split(values)[0]
         theta = self.joints(values)
         q = passive.copy()
         error = np.full(len(q), np.inf)
+        # Newton to the rounding floor: until every residual is below 1e-15 of the length scale,
+        # or has stopped halving below 1e-3 of the manifest's closure tolerance (a looser stop
+        # leaves pose errors of the residual times the condition number of the closure's
+        # Jacobian, visible in noise-free fits)
+        floor = 1e-3 * self.m.tolerances["closure"]
         for _ in range(CLOSE_ITERATIONS):
             with np.errstate(all="ignore"):
                 out = self.m.backend.call("loop_closure", theta, q, params)
-            error = np.abs(out["residual"]).max(-1)
-            if (error <= self.closure_tolerance).all():
-                return q
+            previous, error = error, np.abs(out["residual"]).max(-1)
+            stalled = (error >= 0.5 * previous) & (error <= floor)
+            if ((error <= self.closure_tolerance) | stalled).all():
+                break
             with np.errstate(all="ignore"):
-                q = q - _solve(out["jacobian"], out["residual"][..., None])[..., 0]
+                step = _solve(out["jacobian"], out["residual"][..., None])[..., 0]
+            q = q - np.where((error > self.closure_tolerance)[:, None], step, 0.0)
         bad = ~(error <= self.m.tolerances["closure"])
         if bad.any():
             index = first_index(bad)
@@ -197,11 +218,14 @@ class Problem:
         rows = np.concatenate([r.ravel(), prior])
         if not jacobian:
             return rows, np.zeros((0, 0)), np.zeros((0, 0, 0))
-        closure = self.m.backend.call("loop_closure", theta, q, params)["jacobian"]
-        closure_actuated = self.m.backend.call("loop_closure_actuated", theta, q, params)["jacobian_actuated"]
         kernel = self.m.backend.call("parameter_jacobians", theta, q, params)
-        right = np.concatenate([kernel["closure_parameters"], closure_actuated], axis=2)
-        sensitivity = _solve(closure, right)  # C_q^-1 [C_p, C_theta]
+        if self.n_p:
+            closure = self.m.backend.call("loop_closure", theta, q, params)["jacobian"]
+            closure_actuated = self.m.backend.call("loop_closure_actuated", theta, q, params)["jacobian_actuated"]
+            right = np.concatenate([kernel["closure_parameters"], closure_actuated], axis=2)
+            sensitivity = _solve(closure, right)  # C_q^-1 [C_p, C_theta]
+        else:  # a serial chain: the pose is explicit in the joints
+            sensitivity = np.zeros((n, 0, self.n_g + self.n_a))
         total = np.concatenate([kernel["pose_parameters"], pose_actuated], axis=2) - pose_passive @ sensitivity
         through = d_residual @ d_platform  # (N, s, 12)
         by_joint = through @ total  # (N, s, n_g + n_a)
@@ -365,6 +389,8 @@ def _start(problem: Problem) -> Array:
     if data.passive is not None:
         return problem.close(problem.nominal, data.passive)
     theta = problem.joints(problem.nominal)
+    if not m.passive_names:  # a serial chain: nothing to close
+        return np.zeros((len(data), 0))
     guess: Array | None = None
     if data.kind == "pose" and m.capabilities.inverse is not None:
         guess = data.tracker @ data.measured @ np.linalg.inv(data.tool)
@@ -460,9 +486,11 @@ def calibrate(
         if not trial_cost < cost:
             break
         decrease = cost - trial_cost
+        # the step's size in residual units (each parameter's change times its column's norm)
+        moved = float(np.linalg.norm(step * weights))
         values, q, cost = trial, trial_q, trial_cost
         r, jacobian, sensitivity = problem.evaluate(values, q)
-        if decrease <= COST_TOLERANCE * max(cost, 1e-300) + 1e-30:
+        if decrease <= COST_TOLERANCE * max(cost, 1e-300) + 1e-30 or moved <= STEP_TOLERANCE:
             break
     analysis = analyse(jacobian, problem.free, len(data), rank_tolerance)
     standard = np.sqrt(np.maximum(np.diag(analysis.covariance), 0.0))
