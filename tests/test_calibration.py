@@ -623,6 +623,12 @@ def test_prior_pins_an_unidentifiable_combination(delta_campaign):
     assert abs(result.values["r"] - true["r"]) < 5 * result.standard_errors["r"] < 1e-4
     with pytest.raises(BadInputError, match="prior"):
         calibrate(m, data, prior={"L_typo": (0.35, 1e-3)})
+    with pytest.raises(CalibrationDataError, match="sigma > 0"):
+        calibrate(m, data, prior={"L": (0.35, 0.0)})
+    with pytest.raises(CalibrationDataError, match=r"prior\['L'\] must be \(mean, sigma\)"):
+        calibrate(m, data, prior={"L": ("0.35", 1e-3)})
+    with pytest.raises(CalibrationDataError, match="list of parameter names"):
+        calibrate(m, data, free="L")
 
 
 @pytest.mark.parametrize("name", parakin.available())

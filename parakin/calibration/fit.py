@@ -38,6 +38,7 @@ from parakin.errors import BadInputError, ConvergenceError, at_index, first_inde
 from parakin.mechanism import Mechanism
 from parakin.packages.manifest import unknown_name
 from parakin.results import Array
+from parakin.validation import real_number
 
 #: Newton iterations allowed to close one loop after a step
 CLOSE_ITERATIONS = 30
@@ -101,6 +102,9 @@ class Problem:
             if name not in self.names:
                 raise unknown_name("calibration parameter", name, self.names, m.name)
             self.nominal[self.names.index(name)] = float(value)
+        for what, names in (("free", free), ("fixed", fixed)):
+            if isinstance(names, str | bytes):
+                raise CalibrationDataError(f"{what} must be a list of parameter names, got the string {names!r}")
         # a sign parameter (a configuration choice, +1 or -1) is no dimension to calibrate
         signs = [p.name for p in m.manifest.parameters if p.domain == "sign"]
         continuous = [name for name in self.geometric if name not in signs]
@@ -120,11 +124,15 @@ class Problem:
         self.prior_index: list[int] = []
         self.prior_mean: list[float] = []
         self.prior_sigma: list[float] = []
-        for name, (mean, sigma) in (prior or {}).items():
+        for name, pair in (prior or {}).items():
             if name not in self.free:
                 raise unknown_name("free parameter in prior", name, self.free, m.name)
-            if not (np.isfinite(mean) and np.isfinite(sigma) and sigma > 0):
-                raise CalibrationDataError(f"prior[{name!r}] must be (mean, sigma > 0), got {(mean, sigma)!r}")
+            try:
+                mean, sigma = (real_number(v, f"prior[{name!r}]") for v in pair)
+            except (BadInputError, TypeError, ValueError) as error:
+                raise CalibrationDataError(f"prior[{name!r}] must be (mean, sigma), got {pair!r}") from error
+            if not sigma > 0:
+                raise CalibrationDataError(f"prior[{name!r}] must have sigma > 0, got {sigma!r}")
             self.prior_index.append(self.free.index(name))
             self.prior_mean.append(float(mean))
             self.prior_sigma.append(float(sigma))
