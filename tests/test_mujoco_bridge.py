@@ -8,7 +8,8 @@ projects ``mj_inverse`` onto the actuated joints (Gamma^T qfrc_inverse). Pinocch
 its own loop Jacobian and J_dot v (``getFrameClassicalAcceleration``) and projects ``rnea`` the
 same way. Claims:
 * projected mj_inverse = parakin's inverse_dynamics to 1e-6 relative at 8 samples of a trajectory
-  (five-bar, Stewart); the massless legs' 1e-9 kg bound the agreement near 1e-9;
+  (five-bar, Stewart, and the lower-mobility 3-PRS); the massless legs' 1e-9 kg bound the
+  agreement near 1e-9; MuJoCo's mobility nv - rank J is the mechanism's (2, 6, 3);
 * Pinocchio's projected RNEA = parakin's on the five-bar to 1e-6 at 8 samples;
 * a simulation under the platform's weight settles within 0.3 mm / 0.01 deg of ``forward_pose`` at
   the settled actuated values, and ``nearest_mode`` names the mode the start was assembled in.
@@ -67,6 +68,7 @@ def test_five_bar_projected_mj_inverse_equals_inverse_dynamics():
         q, qd, qdd = trajectory(m.home_actuated, 0.15, t)
         residual = bridge.assemble(chain, data, q, qd, qdd)
         assert residual < 1e-12
+        assert model.nv - np.linalg.matrix_rank(bridge.loop_jacobian(chain, data), tol=1e-9) == 2
         state = m.forward_pose(q, guess=state)
         engine = bridge.projected_inverse(chain, data)
         ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=rigid_inertia(1.0), gravity=(0, -9.81, 0))
@@ -180,11 +182,13 @@ def test_stewart_projected_mj_inverse_equals_inverse_dynamics():
     model, chain, m = stewart()
     data = mujoco.MjData(model)
     state = stewart_home(m)
+    home = state.actuated
     stewart_guess(model, data, m, state)
     errors = []
     for t in np.linspace(0.0, 1.4, SAMPLES):
-        q, qd, qdd = trajectory(state.actuated * 0 + stewart_home(m).actuated, 0.03, t)
+        q, qd, qdd = trajectory(home, 0.03, t)
         assert bridge.assemble(chain, data, q, qd, qdd) < 1e-12
+        assert model.nv - np.linalg.matrix_rank(bridge.loop_jacobian(chain, data), tol=1e-9) == 6
         state = m.forward_pose(q, guess=state)
         engine = bridge.projected_inverse(chain, data)
         ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=STEWART_INERTIA, gravity=model.opt.gravity)
@@ -192,6 +196,44 @@ def test_stewart_projected_mj_inverse_equals_inverse_dynamics():
         errors.append(np.abs(engine - ours.efforts).max() / np.abs(ours.efforts).max())
     assert len(errors) == SAMPLES
     assert max(errors) < 1e-6, f"Stewart: projected mj_inverse vs inverse_dynamics {max(errors):.3g} relative"
+
+
+# --------------------------------------------------------------------- prs3 (lower mobility)
+PRS3_INERTIA = rigid_inertia(
+    5.0, (0.005, 0.01, -0.01), [[0.05, 0.002, -0.003], [0.002, 0.06, 0.001], [-0.003, 0.001, 0.09]]
+)  # the fixture's <inertial>
+
+
+def test_prs3_projected_mj_inverse_equals_inverse_dynamics():
+    """A lower-mobility platform (3 dof, its parasitic motion from the legs' constraints):
+    mobility nv - rank J = 3 in MuJoCo, and the actuator forces agree at 8 samples."""
+    model = mujoco.MjModel.from_xml_path(str(FIXTURES / "prs3.xml"))
+    chain = bridge.closed_chain(model, ["d1", "d2", "d3"], "platform")
+    m = parakin.load("prs3", backend="numpy")  # r_b = 0.2, r_p = 0.1, L = 0.35: the fixture's numbers
+    data = mujoco.MjData(model)
+    state = m.forward_pose(m.home_actuated, guess=m.home_passive)
+    for i in range(3):  # the guess: each link pointing from its slider at its platform joint
+        e = np.array([np.cos(2 * np.pi * i / 3), np.sin(2 * np.pi * i / 3), 0.0])
+        link = state.rotation @ (0.1 * e) + state.pose[:3, 3] - (0.2 * e + state.actuated[i] * np.array([0, 0, 1]))
+        data.qpos[model.joint(f"d{i + 1}").qposadr[0]] = state.actuated[i]
+        data.qpos[model.joint(f"r{i + 1}").qposadr[0]] = np.arctan2(link @ e, link[2])
+    free = model.joint("platform").qposadr[0]
+    data.qpos[free : free + 3] = state.pose[:3, 3]
+    data.qpos[free + 3 : free + 7] = (1, 0, 0, 0)
+    errors = []
+    for t in np.linspace(0.0, 1.4, SAMPLES):
+        q, qd, qdd = trajectory(m.home_actuated, 0.03, t)
+        assert bridge.assemble(chain, data, q, qd, qdd) < 1e-12
+        jacobian = bridge.loop_jacobian(chain, data)
+        assert model.nv - np.linalg.matrix_rank(jacobian, tol=1e-9) == 3
+        state = m.forward_pose(q, guess=state)
+        assert np.abs(bridge.platform_pose(chain, data) - state.pose).max() < 1e-8  # the fixture's 9 decimals
+        engine = bridge.projected_inverse(chain, data)
+        ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=PRS3_INERTIA, gravity=model.opt.gravity)
+        assert ours.constraint_forces is not None and ours.constraint_forces.shape == (3,)
+        errors.append(np.abs(engine - ours.efforts).max() / np.abs(ours.efforts).max())
+    assert len(errors) == SAMPLES
+    assert max(errors) < 1e-6, f"prs3: projected mj_inverse vs inverse_dynamics {max(errors):.3g} relative"
 
 
 # ------------------------------------------------------------------------- settling and modes
