@@ -185,7 +185,14 @@ def _velocity_product_function(m: Mechanism) -> Any:
     """The CasADi Function (actuated, passive, params, twist, actuated_rates, passive_rates) ->
     (A; C)' t - (B; 0)' q_dot: the derivative of the generated ``rate_jacobians`` along the
     motion, by forward-mode automatic differentiation of its generated expression."""
-    key = str(m.package.path)
+    source = m.package.path / "casadi_functions.py"
+    try:
+        stamp = source.stat()
+    except OSError as error:
+        raise UnsupportedOperationError(
+            f"{m.name}: inverse dynamics needs the package's {source.name}: {error}"
+        ) from error
+    key = f"{m.package.path}:{stamp.st_mtime_ns}:{stamp.st_size}"  # a regenerated package is rebuilt
     with _PRODUCTS_LOCK:
         if key in _PRODUCTS:
             return _PRODUCTS[key]
