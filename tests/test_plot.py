@@ -295,7 +295,9 @@ def test_animation_tracks_a_chosen_mode_and_writes_a_gif_of_every_frame(tmp_path
     assert len(done) == 6 and np.allclose(done.configurations.pose[0], start.pose)
     assert set(done.distance) == {"type I", "type II"} and (done.distance["type II"] > 0).all()
     with Image.open(target) as gif:
-        assert gif.format == "GIF" and gif.n_frames == 6 and gif.size == (400, 440)
+        assert (
+            gif.format == "GIF" and gif.n_frames == 6 and gif.size == (600, 650)
+        )  # 6 x 6.5 in at 100 dpi (was 400 px)
 
 
 def test_a_path_across_a_singularity_or_out_of_range_is_a_named_error_with_its_frame():

@@ -113,6 +113,29 @@ def distance_text(distance: dict[str, float]) -> str:
     return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
 
 
+def inputs_text(m: LoadedMechanism, actuated: ArrayLike, digits: int = 4) -> str:
+    """The actuated inputs (n_a,) by name with their units, revolute ones in degrees:
+    ``theta1 = -74.46°, theta2 = ...`` or ``rho1 = 14.99 m, ...`` (``digits`` significant digits of a
+    length, ``digits - 2`` decimals of an angle)."""
+    values = np.asarray(actuated, dtype=float).reshape(-1)
+    parts = []
+    for variable, value in zip(m.manifest.actuated, values, strict=True):
+        if variable.revolute:
+            parts.append(f"{variable.name}\u00a0=\u00a0{math.degrees(value) + 0.0:.{max(digits - 2, 1)}f}°")
+        else:
+            unit = f"\u00a0{variable.unit}" if variable.unit else ""
+            parts.append(f"{variable.name}\u00a0=\u00a0{value + 0.0:.{digits}g}{unit}")
+    return ", ".join(parts)  # no line break inside "name = value unit" (non-breaking spaces)
+
+
+def axes_note(scene: Scene) -> str:
+    """What the axes measure: metres, or the unit sphere of a spherical drawing of radius 1."""
+    names = "x, y" if scene.planar else "x, y, z"
+    if scene.sphere is not None and abs(scene.sphere.radius - 1.0) < 1e-9:
+        return f"axes {names} on the unit sphere (radius 1)"
+    return f"axes {names} in m"
+
+
 def great_circle(a: Array, b: Array, sphere: Sphere, count: int = ARC_POINTS) -> Array:
     """The shorter great-circle arc from a to b (3,) on ``sphere``: 3 x count points; the chord
     when a and b are (nearly) antipodal or equal, where the arc is not unique or not needed."""
@@ -285,9 +308,11 @@ def decorate(ax: Any, scene: Scene, small: bool = False) -> None:
     three = is_3d(ax)
     names = ("x", "y", "z") if three else ("x", "y")
     size = 6 if small else 9
+    unit = "" if scene.sphere is not None and abs(scene.sphere.radius - 1.0) < 1e-9 else " [m]"
     for index, name in enumerate(names):
-        if not small:  # small multiples: the figure's title says metres
-            getattr(ax, f"set_{name}label")(f"{name} [m]", fontsize=size)
+        # small multiples: a short name by each axis (the figure's title says the unit)
+        label, pad = (name, -6 if three else 1) if small else (f"{name}{unit}", 4)
+        getattr(ax, f"set_{name}label")(label, fontsize=size, labelpad=pad)
         getattr(ax, f"set_{name}lim")(scene.low[index], scene.high[index])
     ax.tick_params(labelsize=size - 1, pad=0 if small else 2)
     if small:
@@ -353,7 +378,10 @@ def grid(plt: Any, scene: Scene, titles: list[str], suptitle: str) -> tuple[Any,
     cols = math.ceil(math.sqrt(count))
     rows = math.ceil(count / cols)
     panel = 2.7 if count > 4 else 3.6
-    figure = plt.figure(figsize=(cols * panel, rows * panel + 0.9), layout="constrained")
+    figure = plt.figure(figsize=(cols * panel, rows * panel + 1.1), layout="constrained")
+    figure.get_layout_engine().set(
+        h_pad=0.15, w_pad=0.05, hspace=0.02
+    )  # room between a row's ticks and the titles below
     axes = []
     for k in range(rows * cols):
         ax = figure.add_subplot(rows, cols, k + 1, **({} if scene.planar else {"projection": "3d"}))
@@ -362,7 +390,7 @@ def grid(plt: Any, scene: Scene, titles: list[str], suptitle: str) -> tuple[Any,
             continue
         draw_configuration(ax, scene, k)
         decorate(ax, scene, small=True)
-        ax.set_title(titles[k], fontsize=8, pad=2)
+        ax.set_title(titles[k], fontsize=8, pad=4)
         axes.append(ax)
     figure.suptitle(wrap(suptitle, cols * panel), fontsize=10)
     handles = part_handles(scene)
@@ -593,13 +621,11 @@ def plot(
             "\n".join(t for t in (label or f"#{k}", distance_text(d.distance)) if t)
             for k, (label, d) in enumerate(zip(labels, picture.drawn, strict=True))
         ]
-        values = np.array2string(np.asarray(configurations[0].actuated), precision=4, separator=", ")
-        note = f"\n{DISTANCE_NOTE}" if distances else ""
+        note = f"; {DISTANCE_NOTE}" if distances else ""
+        what = "assembly modes" if isinstance(state, AssemblyModes) else "configurations"
+        at = inputs_text(m, configurations[0].actuated)
         figure, axes = grid(
-            plt,
-            picture,
-            titles,
-            f"{heading}\n{len(configurations)} configurations at actuated {values} (axes in m){note}",
+            plt, picture, titles, f"{heading}\n{len(configurations)} {what} at {at}\n{axes_note(picture)}{note}"
         )
         if path is not None:
             figure.savefig(path, dpi=110)
@@ -640,7 +666,7 @@ def animate(
     start: Configuration | None = None,
     fps: int = 12,
     title: str | None = None,
-    dpi: int = 80,
+    dpi: int = 100,
 ) -> Animation:
     """Animate the mechanism along ``actuated_path`` (N, n_a; metres and radians), writing a GIF
     to ``path`` when given (matplotlib's PillowWriter). The forward pose is tracked from ``start``
@@ -662,7 +688,7 @@ def animate(
     names = sorted({name for d in picture.drawn for name in d.distance})
     distance = {name: np.array([d.distance.get(name, np.nan) for d in picture.drawn]) for name in names}
     plt = _pyplot()
-    figure, ax = new_axes(plt, picture, size=5.0)
+    figure, ax = new_axes(plt, picture, size=6.0)
     heading = title or m.manifest.title
 
     def frame(k: int) -> list[Any]:
@@ -670,9 +696,9 @@ def animate(
         draw_configuration(ax, picture, k)
         decorate(ax, picture)
         ax.legend(handles=part_handles(picture), loc="upper left", fontsize=6)
-        values = np.array2string(np.asarray(tracked.actuated[k]), precision=3, separator=", ")
+        values = inputs_text(m, tracked.actuated[k], digits=3)
         details = " · ".join(t for t in (f"frame {k}/{frames - 1}", distance_text(picture.drawn[k].distance)) if t)
-        ax.set_title(wrap(f"{heading}\nactuated {values}\n{details}", figure.get_figwidth(), 8), fontsize=8)
+        ax.set_title(wrap(f"{heading}\n{values}\n{details}", figure.get_figwidth(), 8), fontsize=8)
         return []
 
     animation = FuncAnimation(figure, frame, frames=frames, interval=1000.0 / fps, blit=False)
