@@ -66,10 +66,21 @@ def body(rng) -> RigidInertia:
     return rigid_inertia(rng.uniform(1, 5), rng.normal(size=3) * 0.05, q @ np.diag(principal) @ q.T * 0.05)
 
 
+def dalembert(platform, rotation, w, a, alpha, gravity):
+    """(F, n_O) in {B}: Newton at the centre, Euler's equations in the body frame
+    (I w_b' + w_b x I w_b, w_b = R^T w), the moment moved to the origin of {P}."""
+    r = rotation @ platform.centre
+    force = platform.mass * (a + np.cross(alpha, r) + np.cross(w, np.cross(w, r)) - gravity)
+    w_b, alpha_b = rotation.T @ w, rotation.T @ alpha
+    euler = platform.inertia @ alpha_b + np.cross(w_b, platform.inertia @ w_b)
+    return np.concatenate([force, rotation @ euler + np.cross(r, force)])
+
+
 def test_stewart_acceleration_equals_closed_form_motion():
     """Pose p(t) = p0 + u sin(2t + 0.7), R(t) = exp(phi(t) n) R0: v, w, a, alpha and the leg lengths'
     rates and accelerations in closed form; platform_acceleration(l_dot, l_ddot) must return
-    (v, w) and (a, alpha) to 1e-10 relative at 8 instants."""
+    (v, w) and (a, alpha) to 1e-10 relative at 8 instants, and the efforts the statics of the
+    closed-form motion's d'Alembert wrench to 1e-10."""
     m = parakin.load("stewart", backend="numpy")
     start = home(m)
     base = np.array([[m.parameters[f"base_{c}{i}"] for c in "xyz"] for i in range(1, 7)])
@@ -100,6 +111,10 @@ def test_stewart_acceleration_equals_closed_form_motion():
         assert np.abs(twist - np.concatenate([v, w])).max() <= 1e-10 * np.abs(v).max()
         error = np.abs(twist_rate - expected).max() / np.abs(expected).max()
         assert error <= 1e-10, f"t = {t}: twist rate off by {error:.3g} relative"
+        platform = rigid_inertia(10.0, (0.01, -0.02, 0.03), [[0.4, 0.01, 0.02], [0.01, 0.5, -0.03], [0.02, -0.03, 0.6]])
+        expected_tau = m.actuator_forces(state, -dalembert(platform, rotation, w, a, alpha, GRAVITY))
+        tau = inverse_dynamics(m, state, rate, acceleration, platform_inertia=platform, gravity=GRAVITY).efforts
+        assert np.abs(tau - expected_tau).max() <= 1e-10 * np.abs(expected_tau).max()
         checked += 1
     assert checked == 8
 
@@ -138,12 +153,7 @@ def test_massless_legs_equal_statics_of_dalembert_wrench(name):
     out = inverse_dynamics(m, state, qd, qdd, platform_inertia=platform, gravity=GRAVITY)
     twist, twist_rate = platform_acceleration(m, state, qd, qdd)
     (_, w), (a, alpha) = np.split(twist6(m, twist), 2), np.split(twist6(m, twist_rate), 2)
-    rotation = state.rotation
-    r, inertia = rotation @ platform.centre, rotation @ platform.inertia @ rotation.T
-    a_c = a + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
-    force = platform.mass * (a_c - GRAVITY)
-    moment = inertia @ alpha + np.cross(w, inertia @ w) + np.cross(r, force)
-    six = np.concatenate([force, moment])
+    six = dalembert(platform, state.rotation, w, a, alpha, GRAVITY)
     kept = [("vx", "vy", "vz", "wx", "wy", "wz").index(c) for c in m.manifest.capabilities.rates.twist]
     expected = m.actuator_forces(state, -six[kept])
     error = np.abs(out.efforts - expected).max() / np.abs(expected).max()
