@@ -27,29 +27,29 @@ def platform_pose() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = 1
-    pose[0, 3] = x
-    pose[1, 1] = 1
-    pose[1, 3] = y
-    pose[2, 2] = 1
-    pose[2, 3] = z
-    pose[3, 3] = 1
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = 1
+    _out_pose[0, 3] = x
+    _out_pose[1, 1] = 1
+    _out_pose[1, 3] = y
+    _out_pose[2, 2] = 1
+    _out_pose[2, 3] = z
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "delta_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -67,19 +67,19 @@ def loop_closure() -> casadi.Function:
 
     Operations: 100.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     _t0 = -(l**2)
     _t1 = L * casadi.sin(theta1)
     _t2 = L * casadi.cos(theta1)
@@ -100,33 +100,37 @@ def loop_closure() -> casadi.Function:
     _t17 = 2 * z
     _t18 = _t3 + 2 * x
     _t19 = R * _t12 - _t12 * r
-    residual = casadi.SX.zeros(3)
-    residual[0] = _t5 * (_t0 + y**2 + (_t1 + z) ** 2 + (-_t2 - _t3 + x) ** 2)
-    residual[1] = _t5 * (_t0 + (_t11 + _t8) ** 2 + (_t6 + z) ** 2 + (-_t12 * _t8 - _t13 + y) ** 2)
-    residual[2] = _t5 * (_t0 + (_t11 + _t16) ** 2 + (_t14 + z) ** 2 + (_t12 * _t16 + _t13 + y) ** 2)
-    jacobian = casadi.SX.zeros(3, 3)
-    jacobian[0, 0] = _t5 * (-2 * R - 2 * _t2 + 2 * r + 2 * x)
-    jacobian[0, 1] = _t4 * y
-    jacobian[0, 2] = _t5 * (2 * _t1 + _t17)
-    jacobian[1, 0] = _t5 * (_t18 + _t7)
-    jacobian[1, 1] = _t5 * (-_t12 * _t7 - _t19 + 2 * y)
-    jacobian[1, 2] = _t5 * (_t17 + 2 * _t6)
-    jacobian[2, 0] = _t5 * (_t15 + _t18)
-    jacobian[2, 1] = _t5 * (_t12 * _t15 + _t19 + 2 * y)
-    jacobian[2, 2] = _t5 * (2 * _t14 + _t17)
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_residual = casadi.SX.zeros(3)
+    _out_residual[0] = _t5 * (_t0 + y**2 + (_t1 + z) ** 2 + (-_t2 - _t3 + x) ** 2)
+    _out_residual[1] = _t5 * (
+        _t0 + (_t11 + _t8) ** 2 + (_t6 + z) ** 2 + (-_t12 * _t8 - _t13 + y) ** 2
+    )
+    _out_residual[2] = _t5 * (
+        _t0 + (_t11 + _t16) ** 2 + (_t14 + z) ** 2 + (_t12 * _t16 + _t13 + y) ** 2
+    )
+    _out_jacobian = casadi.SX.zeros(3, 3)
+    _out_jacobian[0, 0] = _t5 * (-2 * R - 2 * _t2 + 2 * r + 2 * x)
+    _out_jacobian[0, 1] = _t4 * y
+    _out_jacobian[0, 2] = _t5 * (2 * _t1 + _t17)
+    _out_jacobian[1, 0] = _t5 * (_t18 + _t7)
+    _out_jacobian[1, 1] = _t5 * (-_t12 * _t7 - _t19 + 2 * y)
+    _out_jacobian[1, 2] = _t5 * (_t17 + 2 * _t6)
+    _out_jacobian[2, 0] = _t5 * (_t15 + _t18)
+    _out_jacobian[2, 1] = _t5 * (_t12 * _t15 + _t19 + 2 * y)
+    _out_jacobian[2, 2] = _t5 * (2 * _t14 + _t17)
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "delta_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -146,19 +150,19 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 62.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     _t0 = L * casadi.sin(theta1)
     _t1 = L * casadi.cos(theta1)
     _t2 = (1 / 2) / l
@@ -174,23 +178,23 @@ def loop_closure_actuated() -> casadi.Function:
     _t12 = casadi.cos(theta3)
     _t13 = L * casadi.sin(theta3)
     _t14 = _t12 * _t5
-    jacobian_actuated = casadi.SX.zeros(3, 3)
-    jacobian_actuated[0, 0] = _t2 * (2 * _t0 * (-R - _t1 + r + x) + 2 * _t1 * (_t0 + z))
-    jacobian_actuated[1, 1] = _t2 * (
+    _out_jacobian_actuated = casadi.SX.zeros(3, 3)
+    _out_jacobian_actuated[0, 0] = _t2 * (2 * _t0 * (-R - _t1 + r + x) + 2 * _t1 * (_t0 + z))
+    _out_jacobian_actuated[1, 1] = _t2 * (
         2 * L * _t3 * (_t4 + z) + _t10 * _t4 * (-_t10 * _t6 - _t11 + y) - _t4 * (_t6 + _t9)
     )
-    jacobian_actuated[2, 2] = _t2 * (
+    _out_jacobian_actuated[2, 2] = _t2 * (
         2 * L * _t12 * (_t13 + z) - _t10 * _t13 * (_t10 * _t14 + _t11 + y) - _t13 * (_t14 + _t9)
     )
     return casadi.Function(
         "delta_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -208,18 +212,18 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 64.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
     _t0 = L * casadi.cos(theta1)
     _t1 = -R - _t0 + r + x
     _t2 = L * casadi.sin(theta1)
@@ -248,30 +252,34 @@ def rate_jacobians() -> casadi.Function:
     _t25 = _t24 + z
     _t26 = (1 / 4) * L
     _t27 = (1 / 2) * _t11
-    a = casadi.SX.zeros(3, 3)
-    a[0, 0] = _t1
-    a[0, 1] = y
-    a[0, 2] = _t3
-    a[1, 0] = _t10
-    a[1, 1] = _t14
-    a[1, 2] = _t17
-    a[2, 0] = _t20
-    a[2, 1] = _t22
-    a[2, 2] = _t25
-    b = casadi.SX.zeros(3, 3)
-    b[0, 0] = -_t0 * _t3 - _t1 * _t2
-    b[1, 1] = (1 / 2) * L * _t10 * _t15 - _t17 * _t26 * _t4 - _t27 * (_t12 * _t17 + _t14 * _t16)
-    b[2, 2] = -_t18 * _t25 * _t26 + (1 / 2) * _t20 * _t24 + _t27 * (L * _t22 * _t23 - _t21 * _t25)
+    _out_a = casadi.SX.zeros(3, 3)
+    _out_a[0, 0] = _t1
+    _out_a[0, 1] = y
+    _out_a[0, 2] = _t3
+    _out_a[1, 0] = _t10
+    _out_a[1, 1] = _t14
+    _out_a[1, 2] = _t17
+    _out_a[2, 0] = _t20
+    _out_a[2, 1] = _t22
+    _out_a[2, 2] = _t25
+    _out_b = casadi.SX.zeros(3, 3)
+    _out_b[0, 0] = -_t0 * _t3 - _t1 * _t2
+    _out_b[1, 1] = (
+        (1 / 2) * L * _t10 * _t15 - _t17 * _t26 * _t4 - _t27 * (_t12 * _t17 + _t14 * _t16)
+    )
+    _out_b[2, 2] = (
+        -_t18 * _t25 * _t26 + (1 / 2) * _t20 * _t24 + _t27 * (L * _t22 * _t23 - _t21 * _t25)
+    )
     return casadi.Function(
         "delta_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -290,19 +298,19 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 109.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     _t0 = casadi.cos(theta1)
     _t1 = L * _t0
     _t2 = 2 * R + 2 * _t1 - 2 * r - 2 * x
@@ -335,30 +343,30 @@ def parameter_jacobians() -> casadi.Function:
     _t29 = _t27 + _t28
     _t30 = casadi.sin(theta3)
     _t31 = L * _t30 + z
-    closure_parameters = casadi.SX.zeros(3, 4)
-    closure_parameters[0, 0] = _t2 * _t3
-    closure_parameters[0, 1] = -_t2 * _t3
-    closure_parameters[0, 2] = _t3 * (-2 * _t0 * _t6 + 2 * _t4 * _t5)
-    closure_parameters[0, 3] = -_t9 * (_t5**2 + _t6**2 + _t8 + y**2) - 1
-    closure_parameters[1, 0] = _t21 * _t3
-    closure_parameters[1, 1] = -_t21 * _t3
-    closure_parameters[1, 2] = _t3 * (-_t11 * _t18 + _t11 * _t20 + 2 * _t22 * _t23)
-    closure_parameters[1, 3] = -_t9 * (_t17**2 + _t20**2 + _t23**2 + _t8) - 1
-    closure_parameters[2, 0] = _t29 * _t3
-    closure_parameters[2, 1] = -_t29 * _t3
-    closure_parameters[2, 2] = _t3 * (_t24 * _t27 + _t24 * _t28 + 2 * _t30 * _t31)
-    closure_parameters[2, 3] = -_t9 * (_t26**2 + _t28**2 + _t31**2 + _t8) - 1
-    pose_parameters = casadi.SX.zeros(12, 4)
+    _out_closure_parameters = casadi.SX.zeros(3, 4)
+    _out_closure_parameters[0, 0] = _t2 * _t3
+    _out_closure_parameters[0, 1] = -_t2 * _t3
+    _out_closure_parameters[0, 2] = _t3 * (-2 * _t0 * _t6 + 2 * _t4 * _t5)
+    _out_closure_parameters[0, 3] = -_t9 * (_t5**2 + _t6**2 + _t8 + y**2) - 1
+    _out_closure_parameters[1, 0] = _t21 * _t3
+    _out_closure_parameters[1, 1] = -_t21 * _t3
+    _out_closure_parameters[1, 2] = _t3 * (-_t11 * _t18 + _t11 * _t20 + 2 * _t22 * _t23)
+    _out_closure_parameters[1, 3] = -_t9 * (_t17**2 + _t20**2 + _t23**2 + _t8) - 1
+    _out_closure_parameters[2, 0] = _t29 * _t3
+    _out_closure_parameters[2, 1] = -_t29 * _t3
+    _out_closure_parameters[2, 2] = _t3 * (_t24 * _t27 + _t24 * _t28 + 2 * _t30 * _t31)
+    _out_closure_parameters[2, 3] = -_t9 * (_t26**2 + _t28**2 + _t31**2 + _t8) - 1
+    _out_pose_parameters = casadi.SX.zeros(12, 4)
     return casadi.Function(
         "delta_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -377,18 +385,18 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 83.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
     _t0 = L * casadi.sin(theta1)
     _t1 = _t0 + z
     _t2 = L * casadi.cos(theta1)
@@ -426,24 +434,24 @@ def singularity_factors() -> casadi.Function:
         + _t3 * (_t20 * _t24 + _t29 * _t31)
         - y * (_t14 * _t24 + _t27 * _t31)
     )
-    factors = casadi.SX.zeros(4)
-    factors[0] = _t4
-    factors[1] = _t21
-    factors[2] = _t30
-    factors[3] = _t32
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t32
-    determinants[1] = _t21 * _t30 * _t4
+    _out_factors = casadi.SX.zeros(4)
+    _out_factors[0] = _t4
+    _out_factors[1] = _t21
+    _out_factors[2] = _t30
+    _out_factors[3] = _t32
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t32
+    _out_determinants[1] = _t21 * _t30 * _t4
     return casadi.Function(
         "delta_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -462,18 +470,18 @@ def drawing() -> casadi.Function:
 
     Operations: 38.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
     _t0 = (1 / 2) * R
     _t1 = -_t0
     _t2 = casadi.sqrt(3)
@@ -484,45 +492,45 @@ def drawing() -> casadi.Function:
     _t7 = (1 / 2) * r
     _t8 = -_t7 + x
     _t9 = _t2 * _t7
-    base = casadi.SX.zeros(3, 3)
-    base[0, 0] = R
-    base[0, 1] = _t1
-    base[0, 2] = _t1
-    base[1, 1] = _t3
-    base[1, 2] = -_t3
-    elbow = casadi.SX.zeros(3, 3)
-    elbow[0, 0] = L * casadi.cos(theta1) + R
-    elbow[0, 1] = -_t0 - _t5
-    elbow[0, 2] = -_t0 - _t6
-    elbow[1, 1] = _t2 * _t5 + _t3
-    elbow[1, 2] = -_t2 * _t6 - _t3
-    elbow[2, 0] = -L * casadi.sin(theta1)
-    elbow[2, 1] = -L * casadi.sin(theta2)
-    elbow[2, 2] = -L * casadi.sin(theta3)
-    platform = casadi.SX.zeros(3, 4)
-    platform[0, 0] = r + x
-    platform[0, 1] = _t8
-    platform[0, 2] = _t8
-    platform[0, 3] = x
-    platform[1, 0] = y
-    platform[1, 1] = _t9 + y
-    platform[1, 2] = -_t9 + y
-    platform[1, 3] = y
-    platform[2, 0] = z
-    platform[2, 1] = z
-    platform[2, 2] = z
-    platform[2, 3] = z
+    _out_base = casadi.SX.zeros(3, 3)
+    _out_base[0, 0] = R
+    _out_base[0, 1] = _t1
+    _out_base[0, 2] = _t1
+    _out_base[1, 1] = _t3
+    _out_base[1, 2] = -_t3
+    _out_elbow = casadi.SX.zeros(3, 3)
+    _out_elbow[0, 0] = L * casadi.cos(theta1) + R
+    _out_elbow[0, 1] = -_t0 - _t5
+    _out_elbow[0, 2] = -_t0 - _t6
+    _out_elbow[1, 1] = _t2 * _t5 + _t3
+    _out_elbow[1, 2] = -_t2 * _t6 - _t3
+    _out_elbow[2, 0] = -L * casadi.sin(theta1)
+    _out_elbow[2, 1] = -L * casadi.sin(theta2)
+    _out_elbow[2, 2] = -L * casadi.sin(theta3)
+    _out_platform = casadi.SX.zeros(3, 4)
+    _out_platform[0, 0] = r + x
+    _out_platform[0, 1] = _t8
+    _out_platform[0, 2] = _t8
+    _out_platform[0, 3] = x
+    _out_platform[1, 0] = y
+    _out_platform[1, 1] = _t9 + y
+    _out_platform[1, 2] = -_t9 + y
+    _out_platform[1, 3] = y
+    _out_platform[2, 0] = z
+    _out_platform[2, 1] = z
+    _out_platform[2, 2] = z
+    _out_platform[2, 3] = z
     return casadi.Function(
         "delta_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            elbow,
-            platform,
+            _out_base,
+            _out_elbow,
+            _out_platform,
         ],
         [
             "actuated",
@@ -542,19 +550,19 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 176.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 3)
-    params = casadi.SX.sym("params", 4)
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    sigma1 = branch[0]
-    sigma2 = branch[1]
-    sigma3 = branch[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    sigma1 = _in_branch[0]
+    sigma2 = _in_branch[1]
+    sigma3 = _in_branch[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     x = px
     y = py
     z = pz
@@ -588,29 +596,29 @@ def inverse_pose() -> casadi.Function:
     _t15 = E2**2 + F2**2
     _t16 = G3**2
     _t17 = E3**2 + F3**2
-    actuated = casadi.SX.zeros(3)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    actuated[2] = theta3
-    passive = casadi.SX.zeros(3)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = z
-    validity = casadi.SX.zeros(3)
-    validity[0] = (-_t12 + _t13) / (_t12 + _t13)
-    validity[1] = (-_t14 + _t15) / (_t14 + _t15)
-    validity[2] = (-_t16 + _t17) / (_t16 + _t17)
+    _out_actuated = casadi.SX.zeros(3)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_actuated[2] = theta3
+    _out_passive = casadi.SX.zeros(3)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = z
+    _out_validity = casadi.SX.zeros(3)
+    _out_validity[0] = (-_t12 + _t13) / (_t12 + _t13)
+    _out_validity[1] = (-_t14 + _t15) / (_t14 + _t15)
+    _out_validity[2] = (-_t16 + _t17) / (_t16 + _t17)
     return casadi.Function(
         "delta_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -630,15 +638,15 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 227.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 4)
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 4)
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     x = px
     y = py
     z = pz
@@ -681,37 +689,37 @@ def inverse_pose_patterns() -> casadi.Function:
     _t21 = G3**2
     _t22 = E3**2 + F3**2
     _t23 = (-_t21 + _t22) / (_t21 + _t22)
-    actuated = casadi.SX.zeros(3, 2)
-    actuated[0, 0] = theta1_pattern0
-    actuated[0, 1] = theta1_pattern1
-    actuated[1, 0] = theta2_pattern0
-    actuated[1, 1] = theta2_pattern1
-    actuated[2, 0] = theta3_pattern0
-    actuated[2, 1] = theta3_pattern1
-    passive = casadi.SX.zeros(3, 2)
-    passive[0, 0] = x
-    passive[0, 1] = x
-    passive[1, 0] = y
-    passive[1, 1] = y
-    passive[2, 0] = z
-    passive[2, 1] = z
-    validity = casadi.SX.zeros(3, 2)
-    validity[0, 0] = _t17
-    validity[0, 1] = _t17
-    validity[1, 0] = _t20
-    validity[1, 1] = _t20
-    validity[2, 0] = _t23
-    validity[2, 1] = _t23
+    _out_actuated = casadi.SX.zeros(3, 2)
+    _out_actuated[0, 0] = theta1_pattern0
+    _out_actuated[0, 1] = theta1_pattern1
+    _out_actuated[1, 0] = theta2_pattern0
+    _out_actuated[1, 1] = theta2_pattern1
+    _out_actuated[2, 0] = theta3_pattern0
+    _out_actuated[2, 1] = theta3_pattern1
+    _out_passive = casadi.SX.zeros(3, 2)
+    _out_passive[0, 0] = x
+    _out_passive[0, 1] = x
+    _out_passive[1, 0] = y
+    _out_passive[1, 1] = y
+    _out_passive[2, 0] = z
+    _out_passive[2, 1] = z
+    _out_validity = casadi.SX.zeros(3, 2)
+    _out_validity[0, 0] = _t17
+    _out_validity[0, 1] = _t17
+    _out_validity[1, 0] = _t20
+    _out_validity[1, 1] = _t20
+    _out_validity[2, 0] = _t23
+    _out_validity[2, 1] = _t23
     return casadi.Function(
         "delta_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -730,15 +738,15 @@ def forward_polynomial() -> casadi.Function:
 
     Operations: 142.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
     c1_x = L * casadi.cos(theta1) + R - r
     c1_y = 0
     c1_z = -L * casadi.sin(theta1)
@@ -787,20 +795,20 @@ def forward_polynomial() -> casadi.Function:
     )
     v0_squared = v0_x**2 + v0_y**2 + v0_z**2
     _t2 = l**2
-    coefficients = casadi.SX.zeros(3)
-    coefficients[0] = -_t2 + v0_squared
-    coefficients[2] = 1
-    degeneracies = casadi.SX.zeros(1)
-    degeneracies[0] = n_norm / _t2
+    _out_coefficients = casadi.SX.zeros(3)
+    _out_coefficients[0] = -_t2 + v0_squared
+    _out_coefficients[2] = 1
+    _out_degeneracies = casadi.SX.zeros(1)
+    _out_degeneracies[0] = n_norm / _t2
     return casadi.Function(
         "delta_forward_polynomial",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            coefficients,
-            degeneracies,
+            _out_coefficients,
+            _out_degeneracies,
         ],
         [
             "actuated",
@@ -818,17 +826,17 @@ def forward_back_substitution() -> casadi.Function:
 
     Operations: 150.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    root = casadi.SX.sym("root", 1)
-    branch = casadi.SX.sym("branch", 0)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    mu = root[0]
-    R = params[0]
-    r = params[1]
-    L = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_root = casadi.SX.sym("root", 1)
+    _in_branch = casadi.SX.sym("branch", 0)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    mu = _in_root[0]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
     c1_x = L * casadi.cos(theta1) + R - r
     c1_y = 0
     c1_z = -L * casadi.sin(theta1)
@@ -877,24 +885,24 @@ def forward_back_substitution() -> casadi.Function:
     )
     v0_squared = v0_x**2 + v0_y**2 + v0_z**2
     _t2 = mu / casadi.fmax(1.0e-300, n_norm)
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = 1
-    pose[0, 3] = _t2 * n_x + c1_x + v0_x
-    pose[1, 1] = 1
-    pose[1, 3] = _t2 * n_y + c1_y + v0_y
-    pose[2, 2] = 1
-    pose[2, 3] = _t2 * n_z + c1_z + v0_z
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = 1
+    _out_pose[0, 3] = _t2 * n_x + c1_x + v0_x
+    _out_pose[1, 1] = 1
+    _out_pose[1, 3] = _t2 * n_y + c1_y + v0_y
+    _out_pose[2, 2] = 1
+    _out_pose[2, 3] = _t2 * n_z + c1_z + v0_z
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "delta_forward_back_substitution",
         [
-            actuated,
-            root,
-            branch,
-            params,
+            _in_actuated,
+            _in_root,
+            _in_branch,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -913,33 +921,33 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    R = params[0]
-    r = params[1]
-    L = params[2]
-    l = params[3]
-    free = casadi.SX.zeros(4)
-    free[0] = R
-    free[1] = r
-    free[2] = L
-    free[3] = l
-    angles = casadi.SX.zeros(3)
-    angles[0] = theta1
-    angles[1] = theta2
-    angles[2] = theta3
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    R = _in_params[0]
+    r = _in_params[1]
+    L = _in_params[2]
+    l = _in_params[3]
+    _out_free = casadi.SX.zeros(4)
+    _out_free[0] = R
+    _out_free[1] = r
+    _out_free[2] = L
+    _out_free[3] = l
+    _out_angles = casadi.SX.zeros(3)
+    _out_angles[0] = theta1
+    _out_angles[1] = theta2
+    _out_angles[2] = theta3
     return casadi.Function(
         "delta_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -957,34 +965,34 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 535.
     """
-    family_re = casadi.SX.sym("family_re", 13)
-    family_im = casadi.SX.sym("family_im", 13)
-    R_re = family_re[0]
-    r_re = family_re[1]
-    L_re = family_re[2]
-    l_re = family_re[3]
-    C_u_0_re = family_re[4]
-    S_u_0_re = family_re[5]
-    D_u_0_re = family_re[6]
-    C_u_1_re = family_re[7]
-    S_u_1_re = family_re[8]
-    D_u_1_re = family_re[9]
-    C_u_2_re = family_re[10]
-    S_u_2_re = family_re[11]
-    D_u_2_re = family_re[12]
-    R_im = family_im[0]
-    r_im = family_im[1]
-    L_im = family_im[2]
-    l_im = family_im[3]
-    C_u_0_im = family_im[4]
-    S_u_0_im = family_im[5]
-    D_u_0_im = family_im[6]
-    C_u_1_im = family_im[7]
-    S_u_1_im = family_im[8]
-    D_u_1_im = family_im[9]
-    C_u_2_im = family_im[10]
-    S_u_2_im = family_im[11]
-    D_u_2_im = family_im[12]
+    _in_family_re = casadi.SX.sym("family_re", 13)
+    _in_family_im = casadi.SX.sym("family_im", 13)
+    R_re = _in_family_re[0]
+    r_re = _in_family_re[1]
+    L_re = _in_family_re[2]
+    l_re = _in_family_re[3]
+    C_u_0_re = _in_family_re[4]
+    S_u_0_re = _in_family_re[5]
+    D_u_0_re = _in_family_re[6]
+    C_u_1_re = _in_family_re[7]
+    S_u_1_re = _in_family_re[8]
+    D_u_1_re = _in_family_re[9]
+    C_u_2_re = _in_family_re[10]
+    S_u_2_re = _in_family_re[11]
+    D_u_2_re = _in_family_re[12]
+    R_im = _in_family_im[0]
+    r_im = _in_family_im[1]
+    L_im = _in_family_im[2]
+    l_im = _in_family_im[3]
+    C_u_0_im = _in_family_im[4]
+    S_u_0_im = _in_family_im[5]
+    D_u_0_im = _in_family_im[6]
+    C_u_1_im = _in_family_im[7]
+    S_u_1_im = _in_family_im[8]
+    D_u_1_im = _in_family_im[9]
+    C_u_2_im = _in_family_im[10]
+    S_u_2_im = _in_family_im[11]
+    D_u_2_im = _in_family_im[12]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
     _t2 = 4 * D_u_0_im * D_u_0_re
@@ -1110,13 +1118,13 @@ def automatic_monomials() -> casadi.Function:
     _t122 = _t63 * _t92
     _t123 = R_re * _t86
     _t124 = L_im * _t90 + L_re * _t89
-    re = casadi.SX.zeros(20)
-    re[0] = _t1
-    re[1] = L_re * _t7 - _t10 - _t12 + _t13 + _t3 - _t4
-    re[2] = _t1
-    re[3] = _t1
-    re[4] = -L_im * _t14 + L_re * _t15
-    re[5] = (
+    _out_re = casadi.SX.zeros(20)
+    _out_re[0] = _t1
+    _out_re[1] = L_re * _t7 - _t10 - _t12 + _t13 + _t3 - _t4
+    _out_re[2] = _t1
+    _out_re[3] = _t1
+    _out_re[4] = -L_im * _t14 + L_re * _t15
+    _out_re[5] = (
         -R_im * _t33
         - R_re * _t3
         + R_re * _t34
@@ -1134,21 +1142,21 @@ def automatic_monomials() -> casadi.Function:
         + _t36 * r_re
         - _t4 * r_re
     )
-    re[6] = _t40
-    re[7] = (
+    _out_re[6] = _t40
+    _out_re[7] = (
         8 * D_u_1_im * D_u_1_re * r_im - L_im * _t45 + L_re * _t47 + 4 * R_re * _t48 - _t43 - _t50
     )
-    re[8] = _t40
-    re[9] = (
+    _out_re[8] = _t40
+    _out_re[9] = (
         -R_re * _t49 * _t51
         - _t42 * _t51 * r_im
         + _t43 * _t51
         + _t50 * _t51
         + _t51 * (-L_im * _t52 + L_re * _t46)
     )
-    re[10] = _t40
-    re[11] = -L_im * _t54 + L_re * _t55
-    re[12] = (
+    _out_re[10] = _t40
+    _out_re[11] = -L_im * _t54 + L_re * _t55
+    _out_re[12] = (
         -R_im * _t73
         + R_re * _t74
         + _t19 * _t60
@@ -1166,13 +1174,13 @@ def automatic_monomials() -> casadi.Function:
         - _t76 * r_im
         + _t77 * r_re
     )
-    re[13] = _t81
-    re[14] = 8 * D_u_2_im * D_u_2_re * r_im + 4 * R_re * _t82 - _t84 - _t87 - _t91
-    re[15] = _t81
-    re[16] = R_re * _t51 * _t83 + _t51 * _t64 * _t92 - _t51 * _t84 - _t51 * _t87 - _t51 * _t91
-    re[17] = _t81
-    re[18] = -L_im * _t94 + L_re * _t95
-    re[19] = (
+    _out_re[13] = _t81
+    _out_re[14] = 8 * D_u_2_im * D_u_2_re * r_im + 4 * R_re * _t82 - _t84 - _t87 - _t91
+    _out_re[15] = _t81
+    _out_re[16] = R_re * _t51 * _t83 + _t51 * _t64 * _t92 - _t51 * _t84 - _t51 * _t87 - _t51 * _t91
+    _out_re[17] = _t81
+    _out_re[18] = -L_im * _t94 + L_re * _t95
+    _out_re[19] = (
         -R_im * _t104
         + R_re * _t105
         + _t100 * _t26
@@ -1190,13 +1198,13 @@ def automatic_monomials() -> casadi.Function:
         - _t66 * _t92
         + _t67 * _t82
     )
-    im = casadi.SX.zeros(20)
-    im[0] = _t24
-    im[1] = -R_im * _t11 - R_re * _t2 + _t11 * r_im + _t2 * r_re + _t35
-    im[2] = _t24
-    im[3] = _t24
-    im[4] = L_im * _t15 + L_re * _t14
-    im[5] = (
+    _out_im = casadi.SX.zeros(20)
+    _out_im[0] = _t24
+    _out_im[1] = -R_im * _t11 - R_re * _t2 + _t11 * r_im + _t2 * r_re + _t35
+    _out_im[2] = _t24
+    _out_im[3] = _t24
+    _out_im[4] = L_im * _t15 + L_re * _t14
+    _out_im[5] = (
         R_im * _t12
         + R_im * _t34
         + R_re * _t33
@@ -1214,19 +1222,19 @@ def automatic_monomials() -> casadi.Function:
         + _t35 * r_re
         + _t36 * r_im
     )
-    im[6] = _t42
-    im[7] = L_im * _t47 + L_re * _t45 + _t112 - _t113 + _t114 - _t115
-    im[8] = _t42
-    im[9] = (
+    _out_im[6] = _t42
+    _out_im[7] = L_im * _t47 + L_re * _t45 + _t112 - _t113 + _t114 - _t115
+    _out_im[8] = _t42
+    _out_im[9] = (
         -_t112 * _t51
         + _t113 * _t51
         - _t114 * _t51
         + _t115 * _t51
         + _t51 * (L_im * _t46 + L_re * _t52)
     )
-    im[10] = _t42
-    im[11] = L_im * _t55 + L_re * _t54
-    im[12] = (
+    _out_im[10] = _t42
+    _out_im[11] = L_im * _t55 + L_re * _t54
+    _out_im[12] = (
         R_im * _t74
         + R_re * _t73
         + _t110 * _t68
@@ -1244,13 +1252,13 @@ def automatic_monomials() -> casadi.Function:
         + _t76 * r_re
         + _t77 * r_im
     )
-    im[13] = _t86
-    im[14] = -_t120 + _t121 - _t122 + _t123 + _t124
-    im[15] = _t86
-    im[16] = -_t120 * _t51 + _t121 * _t51 - _t122 * _t51 + _t123 * _t51 + _t124 * _t51
-    im[17] = _t86
-    im[18] = L_im * _t95 + L_re * _t94
-    im[19] = (
+    _out_im[13] = _t86
+    _out_im[14] = -_t120 + _t121 - _t122 + _t123 + _t124
+    _out_im[15] = _t86
+    _out_im[16] = -_t120 * _t51 + _t121 * _t51 - _t122 * _t51 + _t123 * _t51 + _t124 * _t51
+    _out_im[17] = _t86
+    _out_im[18] = L_im * _t95 + L_re * _t94
+    _out_im[19] = (
         R_im * _t105
         + R_re * _t104
         + _t100 * _t110
@@ -1271,12 +1279,12 @@ def automatic_monomials() -> casadi.Function:
     return casadi.Function(
         "delta_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -1294,23 +1302,23 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 0.
     """
-    z = casadi.SX.sym("z", 3)
-    params = casadi.SX.sym("params", 4)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    passive = casadi.SX.zeros(3)
-    passive[0] = z0
-    passive[1] = z1
-    passive[2] = z2
+    _in_z = casadi.SX.sym("z", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    _out_passive = casadi.SX.zeros(3)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
+    _out_passive[2] = z2
     return casadi.Function(
         "delta_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

@@ -62,8 +62,10 @@
 //   seen along the axis, the workspace boundary). Type II: ``forearms_coplanar``, det[d_1 d_2 d_3]
 //   = 0 (the three forearms parallel to one plane: the platform gains a motion).
 // * Model: three R-U-U legs (``parakin.generator.joints.crank_leg``: the crank about t_i from e_i,
-//   the forearm a distance) on a translating platform; closure, rates, factors, inverse and drawing
-//   are derived from them, the forward three-sphere elimination is written here.
+//   the forearm a distance; in the joint graph a parallelogram hinged about t_i, which the screw
+//   analysis finds holds the platform to three translations) on a translating platform; closure,
+//   rates, factors, inverse and drawing are derived from them, the forward three-sphere
+//   elimination is written here.
 // * Defaults (illustrative, of the size of a picking Delta): R = 0.2, r = 0.05, L = 0.35, l = 1.3 m.
 //   Then R - r + L = 0.5 and (0.5, 1.2, 1.3) is a 5-12-13 triangle: at p = (0, 0, -1.2) every arm
 //   is horizontal (theta = 0, the home configuration).

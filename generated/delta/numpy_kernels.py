@@ -27,24 +27,25 @@ def platform_pose(actuated, passive, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = 1
-    pose[..., 0, 3] = x
-    pose[..., 1, 1] = 1
-    pose[..., 1, 3] = y
-    pose[..., 2, 2] = 1
-    pose[..., 2, 3] = z
-    pose[..., 3, 3] = 1
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = 1
+    _out_pose[..., 0, 3] = x
+    _out_pose[..., 1, 1] = 1
+    _out_pose[..., 1, 3] = y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 2, 3] = z
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -53,21 +54,22 @@ def loop_closure(actuated, passive, params):
 
     Operations: 100.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     _t0 = -(l**2)
     _t1 = L * numpy.sin(theta1)
     _t2 = L * numpy.cos(theta1)
@@ -88,30 +90,30 @@ def loop_closure(actuated, passive, params):
     _t17 = 2 * z
     _t18 = _t3 + 2 * x
     _t19 = R * _t12 - _t12 * r
-    residual = numpy.zeros(shape + (3,))
-    residual[..., 0] = _t5 * (_t0 + y**2 + (_t1 + z) ** 2 + (-_t2 - _t3 + x) ** 2)
-    residual[..., 1] = _t5 * (
+    _out_residual = numpy.zeros(_shape + (3,))
+    _out_residual[..., 0] = _t5 * (_t0 + y**2 + (_t1 + z) ** 2 + (-_t2 - _t3 + x) ** 2)
+    _out_residual[..., 1] = _t5 * (
         _t0 + (_t11 + _t8) ** 2 + (_t6 + z) ** 2 + (-_t12 * _t8 - _t13 + y) ** 2
     )
-    residual[..., 2] = _t5 * (
+    _out_residual[..., 2] = _t5 * (
         _t0 + (_t11 + _t16) ** 2 + (_t14 + z) ** 2 + (_t12 * _t16 + _t13 + y) ** 2
     )
-    jacobian = numpy.zeros(shape + (3, 3))
-    jacobian[..., 0, 0] = _t5 * (-2 * R - 2 * _t2 + 2 * r + 2 * x)
-    jacobian[..., 0, 1] = _t4 * y
-    jacobian[..., 0, 2] = _t5 * (2 * _t1 + _t17)
-    jacobian[..., 1, 0] = _t5 * (_t18 + _t7)
-    jacobian[..., 1, 1] = _t5 * (-_t12 * _t7 - _t19 + 2 * y)
-    jacobian[..., 1, 2] = _t5 * (_t17 + 2 * _t6)
-    jacobian[..., 2, 0] = _t5 * (_t15 + _t18)
-    jacobian[..., 2, 1] = _t5 * (_t12 * _t15 + _t19 + 2 * y)
-    jacobian[..., 2, 2] = _t5 * (2 * _t14 + _t17)
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_jacobian = numpy.zeros(_shape + (3, 3))
+    _out_jacobian[..., 0, 0] = _t5 * (-2 * R - 2 * _t2 + 2 * r + 2 * x)
+    _out_jacobian[..., 0, 1] = _t4 * y
+    _out_jacobian[..., 0, 2] = _t5 * (2 * _t1 + _t17)
+    _out_jacobian[..., 1, 0] = _t5 * (_t18 + _t7)
+    _out_jacobian[..., 1, 1] = _t5 * (-_t12 * _t7 - _t19 + 2 * y)
+    _out_jacobian[..., 1, 2] = _t5 * (_t17 + 2 * _t6)
+    _out_jacobian[..., 2, 0] = _t5 * (_t15 + _t18)
+    _out_jacobian[..., 2, 1] = _t5 * (_t12 * _t15 + _t19 + 2 * y)
+    _out_jacobian[..., 2, 2] = _t5 * (2 * _t14 + _t17)
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -120,21 +122,22 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 62.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     _t0 = L * numpy.sin(theta1)
     _t1 = L * numpy.cos(theta1)
     _t2 = (1 / 2) / l
@@ -150,16 +153,16 @@ def loop_closure_actuated(actuated, passive, params):
     _t12 = numpy.cos(theta3)
     _t13 = L * numpy.sin(theta3)
     _t14 = _t12 * _t5
-    jacobian_actuated = numpy.zeros(shape + (3, 3))
-    jacobian_actuated[..., 0, 0] = _t2 * (2 * _t0 * (-R - _t1 + r + x) + 2 * _t1 * (_t0 + z))
-    jacobian_actuated[..., 1, 1] = _t2 * (
+    _out_jacobian_actuated = numpy.zeros(_shape + (3, 3))
+    _out_jacobian_actuated[..., 0, 0] = _t2 * (2 * _t0 * (-R - _t1 + r + x) + 2 * _t1 * (_t0 + z))
+    _out_jacobian_actuated[..., 1, 1] = _t2 * (
         2 * L * _t3 * (_t4 + z) + _t10 * _t4 * (-_t10 * _t6 - _t11 + y) - _t4 * (_t6 + _t9)
     )
-    jacobian_actuated[..., 2, 2] = _t2 * (
+    _out_jacobian_actuated[..., 2, 2] = _t2 * (
         2 * L * _t12 * (_t13 + z) - _t10 * _t13 * (_t10 * _t14 + _t11 + y) - _t13 * (_t14 + _t9)
     )
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -168,20 +171,21 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 64.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = L * numpy.cos(theta1)
     _t1 = -R - _t0 + r + x
     _t2 = L * numpy.sin(theta1)
@@ -210,27 +214,27 @@ def rate_jacobians(actuated, passive, params):
     _t25 = _t24 + z
     _t26 = (1 / 4) * L
     _t27 = (1 / 2) * _t11
-    a = numpy.zeros(shape + (3, 3))
-    a[..., 0, 0] = _t1
-    a[..., 0, 1] = y
-    a[..., 0, 2] = _t3
-    a[..., 1, 0] = _t10
-    a[..., 1, 1] = _t14
-    a[..., 1, 2] = _t17
-    a[..., 2, 0] = _t20
-    a[..., 2, 1] = _t22
-    a[..., 2, 2] = _t25
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = -_t0 * _t3 - _t1 * _t2
-    b[..., 1, 1] = (
+    _out_a = numpy.zeros(_shape + (3, 3))
+    _out_a[..., 0, 0] = _t1
+    _out_a[..., 0, 1] = y
+    _out_a[..., 0, 2] = _t3
+    _out_a[..., 1, 0] = _t10
+    _out_a[..., 1, 1] = _t14
+    _out_a[..., 1, 2] = _t17
+    _out_a[..., 2, 0] = _t20
+    _out_a[..., 2, 1] = _t22
+    _out_a[..., 2, 2] = _t25
+    _out_b = numpy.zeros(_shape + (3, 3))
+    _out_b[..., 0, 0] = -_t0 * _t3 - _t1 * _t2
+    _out_b[..., 1, 1] = (
         (1 / 2) * L * _t10 * _t15 - _t17 * _t26 * _t4 - _t27 * (_t12 * _t17 + _t14 * _t16)
     )
-    b[..., 2, 2] = (
+    _out_b[..., 2, 2] = (
         -_t18 * _t25 * _t26 + (1 / 2) * _t20 * _t24 + _t27 * (L * _t22 * _t23 - _t21 * _t25)
     )
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -239,21 +243,22 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 109.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     _t0 = numpy.cos(theta1)
     _t1 = L * _t0
     _t2 = 2 * R + 2 * _t1 - 2 * r - 2 * x
@@ -286,23 +291,23 @@ def parameter_jacobians(actuated, passive, params):
     _t29 = _t27 + _t28
     _t30 = numpy.sin(theta3)
     _t31 = L * _t30 + z
-    closure_parameters = numpy.zeros(shape + (3, 4))
-    closure_parameters[..., 0, 0] = _t2 * _t3
-    closure_parameters[..., 0, 1] = -_t2 * _t3
-    closure_parameters[..., 0, 2] = _t3 * (-2 * _t0 * _t6 + 2 * _t4 * _t5)
-    closure_parameters[..., 0, 3] = -_t9 * (_t5**2 + _t6**2 + _t8 + y**2) - 1
-    closure_parameters[..., 1, 0] = _t21 * _t3
-    closure_parameters[..., 1, 1] = -_t21 * _t3
-    closure_parameters[..., 1, 2] = _t3 * (-_t11 * _t18 + _t11 * _t20 + 2 * _t22 * _t23)
-    closure_parameters[..., 1, 3] = -_t9 * (_t17**2 + _t20**2 + _t23**2 + _t8) - 1
-    closure_parameters[..., 2, 0] = _t29 * _t3
-    closure_parameters[..., 2, 1] = -_t29 * _t3
-    closure_parameters[..., 2, 2] = _t3 * (_t24 * _t27 + _t24 * _t28 + 2 * _t30 * _t31)
-    closure_parameters[..., 2, 3] = -_t9 * (_t26**2 + _t28**2 + _t31**2 + _t8) - 1
-    pose_parameters = numpy.zeros(shape + (12, 4))
+    _out_closure_parameters = numpy.zeros(_shape + (3, 4))
+    _out_closure_parameters[..., 0, 0] = _t2 * _t3
+    _out_closure_parameters[..., 0, 1] = -_t2 * _t3
+    _out_closure_parameters[..., 0, 2] = _t3 * (-2 * _t0 * _t6 + 2 * _t4 * _t5)
+    _out_closure_parameters[..., 0, 3] = -_t9 * (_t5**2 + _t6**2 + _t8 + y**2) - 1
+    _out_closure_parameters[..., 1, 0] = _t21 * _t3
+    _out_closure_parameters[..., 1, 1] = -_t21 * _t3
+    _out_closure_parameters[..., 1, 2] = _t3 * (-_t11 * _t18 + _t11 * _t20 + 2 * _t22 * _t23)
+    _out_closure_parameters[..., 1, 3] = -_t9 * (_t17**2 + _t20**2 + _t23**2 + _t8) - 1
+    _out_closure_parameters[..., 2, 0] = _t29 * _t3
+    _out_closure_parameters[..., 2, 1] = -_t29 * _t3
+    _out_closure_parameters[..., 2, 2] = _t3 * (_t24 * _t27 + _t24 * _t28 + 2 * _t30 * _t31)
+    _out_closure_parameters[..., 2, 3] = -_t9 * (_t26**2 + _t28**2 + _t31**2 + _t8) - 1
+    _out_pose_parameters = numpy.zeros(_shape + (12, 4))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -311,20 +316,21 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 83.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = L * numpy.sin(theta1)
     _t1 = _t0 + z
     _t2 = L * numpy.cos(theta1)
@@ -362,17 +368,17 @@ def singularity_factors(actuated, passive, params):
         + _t3 * (_t20 * _t24 + _t29 * _t31)
         - y * (_t14 * _t24 + _t27 * _t31)
     )
-    factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = _t4
-    factors[..., 1] = _t21
-    factors[..., 2] = _t30
-    factors[..., 3] = _t32
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t32
-    determinants[..., 1] = _t21 * _t30 * _t4
+    _out_factors = numpy.zeros(_shape + (4,))
+    _out_factors[..., 0] = _t4
+    _out_factors[..., 1] = _t21
+    _out_factors[..., 2] = _t30
+    _out_factors[..., 3] = _t32
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t32
+    _out_determinants[..., 1] = _t21 * _t30 * _t4
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -381,20 +387,21 @@ def drawing(actuated, passive, params):
 
     Operations: 38.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = (1 / 2) * R
     _t1 = -_t0
     _t2 = numpy.sqrt(3)
@@ -405,38 +412,38 @@ def drawing(actuated, passive, params):
     _t7 = (1 / 2) * r
     _t8 = -_t7 + x
     _t9 = _t2 * _t7
-    base = numpy.zeros(shape + (3, 3))
-    base[..., 0, 0] = R
-    base[..., 0, 1] = _t1
-    base[..., 0, 2] = _t1
-    base[..., 1, 1] = _t3
-    base[..., 1, 2] = -_t3
-    elbow = numpy.zeros(shape + (3, 3))
-    elbow[..., 0, 0] = L * numpy.cos(theta1) + R
-    elbow[..., 0, 1] = -_t0 - _t5
-    elbow[..., 0, 2] = -_t0 - _t6
-    elbow[..., 1, 1] = _t2 * _t5 + _t3
-    elbow[..., 1, 2] = -_t2 * _t6 - _t3
-    elbow[..., 2, 0] = -L * numpy.sin(theta1)
-    elbow[..., 2, 1] = -L * numpy.sin(theta2)
-    elbow[..., 2, 2] = -L * numpy.sin(theta3)
-    platform = numpy.zeros(shape + (3, 4))
-    platform[..., 0, 0] = r + x
-    platform[..., 0, 1] = _t8
-    platform[..., 0, 2] = _t8
-    platform[..., 0, 3] = x
-    platform[..., 1, 0] = y
-    platform[..., 1, 1] = _t9 + y
-    platform[..., 1, 2] = -_t9 + y
-    platform[..., 1, 3] = y
-    platform[..., 2, 0] = z
-    platform[..., 2, 1] = z
-    platform[..., 2, 2] = z
-    platform[..., 2, 3] = z
+    _out_base = numpy.zeros(_shape + (3, 3))
+    _out_base[..., 0, 0] = R
+    _out_base[..., 0, 1] = _t1
+    _out_base[..., 0, 2] = _t1
+    _out_base[..., 1, 1] = _t3
+    _out_base[..., 1, 2] = -_t3
+    _out_elbow = numpy.zeros(_shape + (3, 3))
+    _out_elbow[..., 0, 0] = L * numpy.cos(theta1) + R
+    _out_elbow[..., 0, 1] = -_t0 - _t5
+    _out_elbow[..., 0, 2] = -_t0 - _t6
+    _out_elbow[..., 1, 1] = _t2 * _t5 + _t3
+    _out_elbow[..., 1, 2] = -_t2 * _t6 - _t3
+    _out_elbow[..., 2, 0] = -L * numpy.sin(theta1)
+    _out_elbow[..., 2, 1] = -L * numpy.sin(theta2)
+    _out_elbow[..., 2, 2] = -L * numpy.sin(theta3)
+    _out_platform = numpy.zeros(_shape + (3, 4))
+    _out_platform[..., 0, 0] = r + x
+    _out_platform[..., 0, 1] = _t8
+    _out_platform[..., 0, 2] = _t8
+    _out_platform[..., 0, 3] = x
+    _out_platform[..., 1, 0] = y
+    _out_platform[..., 1, 1] = _t9 + y
+    _out_platform[..., 1, 2] = -_t9 + y
+    _out_platform[..., 1, 3] = y
+    _out_platform[..., 2, 0] = z
+    _out_platform[..., 2, 1] = z
+    _out_platform[..., 2, 2] = z
+    _out_platform[..., 2, 3] = z
     return {
-        "base": base,
-        "elbow": elbow,
-        "platform": platform,
+        "base": _out_base,
+        "elbow": _out_elbow,
+        "platform": _out_platform,
     }
 
 
@@ -445,21 +452,22 @@ def inverse_pose(pose, branch, params):
 
     Operations: 176.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    px = pose[..., 9]
-    py = pose[..., 10]
-    pz = pose[..., 11]
-    sigma1 = branch[..., 0]
-    sigma2 = branch[..., 1]
-    sigma3 = branch[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    pz = _in_pose[..., 11]
+    sigma1 = _in_branch[..., 0]
+    sigma2 = _in_branch[..., 1]
+    sigma3 = _in_branch[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     x = px
     y = py
     z = pz
@@ -493,22 +501,22 @@ def inverse_pose(pose, branch, params):
     _t15 = E2**2 + F2**2
     _t16 = G3**2
     _t17 = E3**2 + F3**2
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = theta1
-    actuated[..., 1] = theta2
-    actuated[..., 2] = theta3
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    passive[..., 2] = z
-    validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = (-_t12 + _t13) / (_t12 + _t13)
-    validity[..., 1] = (-_t14 + _t15) / (_t14 + _t15)
-    validity[..., 2] = (-_t16 + _t17) / (_t16 + _t17)
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = theta1
+    _out_actuated[..., 1] = theta2
+    _out_actuated[..., 2] = theta3
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_passive[..., 2] = z
+    _out_validity = numpy.zeros(_shape + (3,))
+    _out_validity[..., 0] = (-_t12 + _t13) / (_t12 + _t13)
+    _out_validity[..., 1] = (-_t14 + _t15) / (_t14 + _t15)
+    _out_validity[..., 2] = (-_t16 + _t17) / (_t16 + _t17)
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -517,17 +525,18 @@ def inverse_pose_patterns(pose, params):
 
     Operations: 227.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_params = pose, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    px = pose[..., 9]
-    py = pose[..., 10]
-    pz = pose[..., 11]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    pz = _in_pose[..., 11]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     x = px
     y = py
     z = pz
@@ -570,31 +579,31 @@ def inverse_pose_patterns(pose, params):
     _t21 = G3**2
     _t22 = E3**2 + F3**2
     _t23 = (-_t21 + _t22) / (_t21 + _t22)
-    actuated = numpy.zeros(shape + (3, 2))
-    actuated[..., 0, 0] = theta1_pattern0
-    actuated[..., 0, 1] = theta1_pattern1
-    actuated[..., 1, 0] = theta2_pattern0
-    actuated[..., 1, 1] = theta2_pattern1
-    actuated[..., 2, 0] = theta3_pattern0
-    actuated[..., 2, 1] = theta3_pattern1
-    passive = numpy.zeros(shape + (3, 2))
-    passive[..., 0, 0] = x
-    passive[..., 0, 1] = x
-    passive[..., 1, 0] = y
-    passive[..., 1, 1] = y
-    passive[..., 2, 0] = z
-    passive[..., 2, 1] = z
-    validity = numpy.zeros(shape + (3, 2))
-    validity[..., 0, 0] = _t17
-    validity[..., 0, 1] = _t17
-    validity[..., 1, 0] = _t20
-    validity[..., 1, 1] = _t20
-    validity[..., 2, 0] = _t23
-    validity[..., 2, 1] = _t23
+    _out_actuated = numpy.zeros(_shape + (3, 2))
+    _out_actuated[..., 0, 0] = theta1_pattern0
+    _out_actuated[..., 0, 1] = theta1_pattern1
+    _out_actuated[..., 1, 0] = theta2_pattern0
+    _out_actuated[..., 1, 1] = theta2_pattern1
+    _out_actuated[..., 2, 0] = theta3_pattern0
+    _out_actuated[..., 2, 1] = theta3_pattern1
+    _out_passive = numpy.zeros(_shape + (3, 2))
+    _out_passive[..., 0, 0] = x
+    _out_passive[..., 0, 1] = x
+    _out_passive[..., 1, 0] = y
+    _out_passive[..., 1, 1] = y
+    _out_passive[..., 2, 0] = z
+    _out_passive[..., 2, 1] = z
+    _out_validity = numpy.zeros(_shape + (3, 2))
+    _out_validity[..., 0, 0] = _t17
+    _out_validity[..., 0, 1] = _t17
+    _out_validity[..., 1, 0] = _t20
+    _out_validity[..., 1, 1] = _t20
+    _out_validity[..., 2, 0] = _t23
+    _out_validity[..., 2, 1] = _t23
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -603,17 +612,18 @@ def forward_polynomial(actuated, params):
 
     Operations: 142.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
     c1_x = L * numpy.cos(theta1) + R - r
     c1_y = 0
     c1_z = -L * numpy.sin(theta1)
@@ -662,14 +672,14 @@ def forward_polynomial(actuated, params):
     )
     v0_squared = v0_x**2 + v0_y**2 + v0_z**2
     _t2 = l**2
-    coefficients = numpy.zeros(shape + (3,))
-    coefficients[..., 0] = -_t2 + v0_squared
-    coefficients[..., 2] = 1
-    degeneracies = numpy.zeros(shape + (1,))
-    degeneracies[..., 0] = n_norm / _t2
+    _out_coefficients = numpy.zeros(_shape + (3,))
+    _out_coefficients[..., 0] = -_t2 + v0_squared
+    _out_coefficients[..., 2] = 1
+    _out_degeneracies = numpy.zeros(_shape + (1,))
+    _out_degeneracies[..., 0] = n_norm / _t2
     return {
-        "coefficients": coefficients,
-        "degeneracies": degeneracies,
+        "coefficients": _out_coefficients,
+        "degeneracies": _out_degeneracies,
     }
 
 
@@ -678,19 +688,20 @@ def forward_back_substitution(actuated, root, branch, params):
 
     Operations: 150.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(root)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_root, _in_branch, _in_params = actuated, root, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_root)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    mu = root[..., 0]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    mu = _in_root[..., 0]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
     c1_x = L * numpy.cos(theta1) + R - r
     c1_y = 0
     c1_z = -L * numpy.sin(theta1)
@@ -739,16 +750,16 @@ def forward_back_substitution(actuated, root, branch, params):
     )
     v0_squared = v0_x**2 + v0_y**2 + v0_z**2
     _t2 = mu / numpy.fmax(1.0e-300, n_norm)
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = 1
-    pose[..., 0, 3] = _t2 * n_x + c1_x + v0_x
-    pose[..., 1, 1] = 1
-    pose[..., 1, 3] = _t2 * n_y + c1_y + v0_y
-    pose[..., 2, 2] = 1
-    pose[..., 2, 3] = _t2 * n_z + c1_z + v0_z
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = 1
+    _out_pose[..., 0, 3] = _t2 * n_x + c1_x + v0_x
+    _out_pose[..., 1, 1] = 1
+    _out_pose[..., 1, 3] = _t2 * n_y + c1_y + v0_y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 2, 3] = _t2 * n_z + c1_z + v0_z
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -757,29 +768,30 @@ def automatic_family(actuated, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    R = params[..., 0]
-    r = params[..., 1]
-    L = params[..., 2]
-    l = params[..., 3]
-    free = numpy.zeros(shape + (4,))
-    free[..., 0] = R
-    free[..., 1] = r
-    free[..., 2] = L
-    free[..., 3] = l
-    angles = numpy.zeros(shape + (3,))
-    angles[..., 0] = theta1
-    angles[..., 1] = theta2
-    angles[..., 2] = theta3
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    R = _in_params[..., 0]
+    r = _in_params[..., 1]
+    L = _in_params[..., 2]
+    l = _in_params[..., 3]
+    _out_free = numpy.zeros(_shape + (4,))
+    _out_free[..., 0] = R
+    _out_free[..., 1] = r
+    _out_free[..., 2] = L
+    _out_free[..., 3] = l
+    _out_angles = numpy.zeros(_shape + (3,))
+    _out_angles[..., 0] = theta1
+    _out_angles[..., 1] = theta2
+    _out_angles[..., 2] = theta3
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -788,36 +800,37 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 535.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    R_re = family_re[..., 0]
-    r_re = family_re[..., 1]
-    L_re = family_re[..., 2]
-    l_re = family_re[..., 3]
-    C_u_0_re = family_re[..., 4]
-    S_u_0_re = family_re[..., 5]
-    D_u_0_re = family_re[..., 6]
-    C_u_1_re = family_re[..., 7]
-    S_u_1_re = family_re[..., 8]
-    D_u_1_re = family_re[..., 9]
-    C_u_2_re = family_re[..., 10]
-    S_u_2_re = family_re[..., 11]
-    D_u_2_re = family_re[..., 12]
-    R_im = family_im[..., 0]
-    r_im = family_im[..., 1]
-    L_im = family_im[..., 2]
-    l_im = family_im[..., 3]
-    C_u_0_im = family_im[..., 4]
-    S_u_0_im = family_im[..., 5]
-    D_u_0_im = family_im[..., 6]
-    C_u_1_im = family_im[..., 7]
-    S_u_1_im = family_im[..., 8]
-    D_u_1_im = family_im[..., 9]
-    C_u_2_im = family_im[..., 10]
-    S_u_2_im = family_im[..., 11]
-    D_u_2_im = family_im[..., 12]
+    R_re = _in_family_re[..., 0]
+    r_re = _in_family_re[..., 1]
+    L_re = _in_family_re[..., 2]
+    l_re = _in_family_re[..., 3]
+    C_u_0_re = _in_family_re[..., 4]
+    S_u_0_re = _in_family_re[..., 5]
+    D_u_0_re = _in_family_re[..., 6]
+    C_u_1_re = _in_family_re[..., 7]
+    S_u_1_re = _in_family_re[..., 8]
+    D_u_1_re = _in_family_re[..., 9]
+    C_u_2_re = _in_family_re[..., 10]
+    S_u_2_re = _in_family_re[..., 11]
+    D_u_2_re = _in_family_re[..., 12]
+    R_im = _in_family_im[..., 0]
+    r_im = _in_family_im[..., 1]
+    L_im = _in_family_im[..., 2]
+    l_im = _in_family_im[..., 3]
+    C_u_0_im = _in_family_im[..., 4]
+    S_u_0_im = _in_family_im[..., 5]
+    D_u_0_im = _in_family_im[..., 6]
+    C_u_1_im = _in_family_im[..., 7]
+    S_u_1_im = _in_family_im[..., 8]
+    D_u_1_im = _in_family_im[..., 9]
+    C_u_2_im = _in_family_im[..., 10]
+    S_u_2_im = _in_family_im[..., 11]
+    D_u_2_im = _in_family_im[..., 12]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
     _t2 = 4 * D_u_0_im * D_u_0_re
@@ -943,13 +956,13 @@ def automatic_monomials(family_re, family_im):
     _t122 = _t63 * _t92
     _t123 = R_re * _t86
     _t124 = L_im * _t90 + L_re * _t89
-    re = numpy.zeros(shape + (20,))
-    re[..., 0] = _t1
-    re[..., 1] = L_re * _t7 - _t10 - _t12 + _t13 + _t3 - _t4
-    re[..., 2] = _t1
-    re[..., 3] = _t1
-    re[..., 4] = -L_im * _t14 + L_re * _t15
-    re[..., 5] = (
+    _out_re = numpy.zeros(_shape + (20,))
+    _out_re[..., 0] = _t1
+    _out_re[..., 1] = L_re * _t7 - _t10 - _t12 + _t13 + _t3 - _t4
+    _out_re[..., 2] = _t1
+    _out_re[..., 3] = _t1
+    _out_re[..., 4] = -L_im * _t14 + L_re * _t15
+    _out_re[..., 5] = (
         -R_im * _t33
         - R_re * _t3
         + R_re * _t34
@@ -967,21 +980,21 @@ def automatic_monomials(family_re, family_im):
         + _t36 * r_re
         - _t4 * r_re
     )
-    re[..., 6] = _t40
-    re[..., 7] = (
+    _out_re[..., 6] = _t40
+    _out_re[..., 7] = (
         8 * D_u_1_im * D_u_1_re * r_im - L_im * _t45 + L_re * _t47 + 4 * R_re * _t48 - _t43 - _t50
     )
-    re[..., 8] = _t40
-    re[..., 9] = (
+    _out_re[..., 8] = _t40
+    _out_re[..., 9] = (
         -R_re * _t49 * _t51
         - _t42 * _t51 * r_im
         + _t43 * _t51
         + _t50 * _t51
         + _t51 * (-L_im * _t52 + L_re * _t46)
     )
-    re[..., 10] = _t40
-    re[..., 11] = -L_im * _t54 + L_re * _t55
-    re[..., 12] = (
+    _out_re[..., 10] = _t40
+    _out_re[..., 11] = -L_im * _t54 + L_re * _t55
+    _out_re[..., 12] = (
         -R_im * _t73
         + R_re * _t74
         + _t19 * _t60
@@ -999,13 +1012,15 @@ def automatic_monomials(family_re, family_im):
         - _t76 * r_im
         + _t77 * r_re
     )
-    re[..., 13] = _t81
-    re[..., 14] = 8 * D_u_2_im * D_u_2_re * r_im + 4 * R_re * _t82 - _t84 - _t87 - _t91
-    re[..., 15] = _t81
-    re[..., 16] = R_re * _t51 * _t83 + _t51 * _t64 * _t92 - _t51 * _t84 - _t51 * _t87 - _t51 * _t91
-    re[..., 17] = _t81
-    re[..., 18] = -L_im * _t94 + L_re * _t95
-    re[..., 19] = (
+    _out_re[..., 13] = _t81
+    _out_re[..., 14] = 8 * D_u_2_im * D_u_2_re * r_im + 4 * R_re * _t82 - _t84 - _t87 - _t91
+    _out_re[..., 15] = _t81
+    _out_re[..., 16] = (
+        R_re * _t51 * _t83 + _t51 * _t64 * _t92 - _t51 * _t84 - _t51 * _t87 - _t51 * _t91
+    )
+    _out_re[..., 17] = _t81
+    _out_re[..., 18] = -L_im * _t94 + L_re * _t95
+    _out_re[..., 19] = (
         -R_im * _t104
         + R_re * _t105
         + _t100 * _t26
@@ -1023,13 +1038,13 @@ def automatic_monomials(family_re, family_im):
         - _t66 * _t92
         + _t67 * _t82
     )
-    im = numpy.zeros(shape + (20,))
-    im[..., 0] = _t24
-    im[..., 1] = -R_im * _t11 - R_re * _t2 + _t11 * r_im + _t2 * r_re + _t35
-    im[..., 2] = _t24
-    im[..., 3] = _t24
-    im[..., 4] = L_im * _t15 + L_re * _t14
-    im[..., 5] = (
+    _out_im = numpy.zeros(_shape + (20,))
+    _out_im[..., 0] = _t24
+    _out_im[..., 1] = -R_im * _t11 - R_re * _t2 + _t11 * r_im + _t2 * r_re + _t35
+    _out_im[..., 2] = _t24
+    _out_im[..., 3] = _t24
+    _out_im[..., 4] = L_im * _t15 + L_re * _t14
+    _out_im[..., 5] = (
         R_im * _t12
         + R_im * _t34
         + R_re * _t33
@@ -1047,19 +1062,19 @@ def automatic_monomials(family_re, family_im):
         + _t35 * r_re
         + _t36 * r_im
     )
-    im[..., 6] = _t42
-    im[..., 7] = L_im * _t47 + L_re * _t45 + _t112 - _t113 + _t114 - _t115
-    im[..., 8] = _t42
-    im[..., 9] = (
+    _out_im[..., 6] = _t42
+    _out_im[..., 7] = L_im * _t47 + L_re * _t45 + _t112 - _t113 + _t114 - _t115
+    _out_im[..., 8] = _t42
+    _out_im[..., 9] = (
         -_t112 * _t51
         + _t113 * _t51
         - _t114 * _t51
         + _t115 * _t51
         + _t51 * (L_im * _t46 + L_re * _t52)
     )
-    im[..., 10] = _t42
-    im[..., 11] = L_im * _t55 + L_re * _t54
-    im[..., 12] = (
+    _out_im[..., 10] = _t42
+    _out_im[..., 11] = L_im * _t55 + L_re * _t54
+    _out_im[..., 12] = (
         R_im * _t74
         + R_re * _t73
         + _t110 * _t68
@@ -1077,13 +1092,13 @@ def automatic_monomials(family_re, family_im):
         + _t76 * r_re
         + _t77 * r_im
     )
-    im[..., 13] = _t86
-    im[..., 14] = -_t120 + _t121 - _t122 + _t123 + _t124
-    im[..., 15] = _t86
-    im[..., 16] = -_t120 * _t51 + _t121 * _t51 - _t122 * _t51 + _t123 * _t51 + _t124 * _t51
-    im[..., 17] = _t86
-    im[..., 18] = L_im * _t95 + L_re * _t94
-    im[..., 19] = (
+    _out_im[..., 13] = _t86
+    _out_im[..., 14] = -_t120 + _t121 - _t122 + _t123 + _t124
+    _out_im[..., 15] = _t86
+    _out_im[..., 16] = -_t120 * _t51 + _t121 * _t51 - _t122 * _t51 + _t123 * _t51 + _t124 * _t51
+    _out_im[..., 17] = _t86
+    _out_im[..., 18] = L_im * _t95 + L_re * _t94
+    _out_im[..., 19] = (
         R_im * _t105
         + R_re * _t104
         + _t100 * _t110
@@ -1102,8 +1117,8 @@ def automatic_monomials(family_re, family_im):
         + _t65 * _t82
     )
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -1112,19 +1127,20 @@ def automatic_passive(z, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
-    passive[..., 2] = z2
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
+    _out_passive[..., 2] = z2
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

@@ -27,27 +27,27 @@ def platform_pose() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    x = passive[0]
-    y = passive[1]
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = 1
-    pose[0, 3] = x
-    pose[1, 1] = 1
-    pose[1, 3] = y
-    pose[2, 2] = 1
-    pose[3, 3] = 1
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = 1
+    _out_pose[0, 3] = x
+    _out_pose[1, 1] = 1
+    _out_pose[1, 3] = y
+    _out_pose[2, 2] = 1
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "five_bar_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -65,18 +65,18 @@ def loop_closure() -> casadi.Function:
 
     Operations: 54.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     _t0 = -y
     _t1 = a1 * casadi.sin(theta1)
     _t2 = a1 * casadi.cos(theta1)
@@ -86,27 +86,27 @@ def loop_closure() -> casadi.Function:
     _t6 = (1 / 2) / b2
     _t7 = 2 * d
     _t8 = -2 * y
-    residual = casadi.SX.zeros(2)
-    residual[0] = _t3 * (-(b1**2) + (-_t0 - _t1) ** 2 + (-_t2 + d + x) ** 2)
-    residual[1] = _t6 * (-(b2**2) + (-_t0 - _t4) ** 2 + (-_t5 - d + x) ** 2)
-    jacobian = casadi.SX.zeros(2, 2)
-    jacobian[0, 0] = _t3 * (-2 * _t2 + _t7 + 2 * x)
-    jacobian[0, 1] = _t3 * (-2 * _t1 - _t8)
-    jacobian[1, 0] = _t6 * (-2 * _t5 - _t7 + 2 * x)
-    jacobian[1, 1] = _t6 * (-2 * _t4 - _t8)
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_residual = casadi.SX.zeros(2)
+    _out_residual[0] = _t3 * (-(b1**2) + (-_t0 - _t1) ** 2 + (-_t2 + d + x) ** 2)
+    _out_residual[1] = _t6 * (-(b2**2) + (-_t0 - _t4) ** 2 + (-_t5 - d + x) ** 2)
+    _out_jacobian = casadi.SX.zeros(2, 2)
+    _out_jacobian[0, 0] = _t3 * (-2 * _t2 + _t7 + 2 * x)
+    _out_jacobian[0, 1] = _t3 * (-2 * _t1 - _t8)
+    _out_jacobian[1, 0] = _t6 * (-2 * _t5 - _t7 + 2 * x)
+    _out_jacobian[1, 1] = _t6 * (-2 * _t4 - _t8)
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "five_bar_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -126,39 +126,39 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 33.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     _t0 = -y
     _t1 = casadi.sin(theta1)
     _t2 = a1 * casadi.cos(theta1)
     _t3 = casadi.sin(theta2)
     _t4 = a2 * casadi.cos(theta2)
-    jacobian_actuated = casadi.SX.zeros(2, 2)
-    jacobian_actuated[0, 0] = (
+    _out_jacobian_actuated = casadi.SX.zeros(2, 2)
+    _out_jacobian_actuated[0, 0] = (
         (1 / 2) * (2 * _t1 * a1 * (-_t2 + d + x) - 2 * _t2 * (-_t0 - _t1 * a1)) / b1
     )
-    jacobian_actuated[1, 1] = (
+    _out_jacobian_actuated[1, 1] = (
         (1 / 2) * (2 * _t3 * a2 * (-_t4 - d + x) - 2 * _t4 * (-_t0 - _t3 * a2)) / b2
     )
     return casadi.Function(
         "five_bar_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -176,16 +176,16 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 23.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
     _t0 = a1 * casadi.cos(theta1)
     _t1 = -_t0 + d + x
     _t2 = -y
@@ -195,24 +195,24 @@ def rate_jacobians() -> casadi.Function:
     _t6 = -_t5 - d + x
     _t7 = a2 * casadi.sin(theta2)
     _t8 = -_t2 - _t7
-    a = casadi.SX.zeros(2, 2)
-    a[0, 0] = _t1
-    a[0, 1] = _t4
-    a[1, 0] = _t6
-    a[1, 1] = _t8
-    b = casadi.SX.zeros(2, 2)
-    b[0, 0] = _t0 * _t4 - _t1 * _t3
-    b[1, 1] = _t5 * _t8 - _t6 * _t7
+    _out_a = casadi.SX.zeros(2, 2)
+    _out_a[0, 0] = _t1
+    _out_a[0, 1] = _t4
+    _out_a[1, 0] = _t6
+    _out_a[1, 1] = _t8
+    _out_b = casadi.SX.zeros(2, 2)
+    _out_b[0, 0] = _t0 * _t4 - _t1 * _t3
+    _out_b[1, 1] = _t5 * _t8 - _t6 * _t7
     return casadi.Function(
         "five_bar_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -231,18 +231,18 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 63.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     _t0 = 2 * d
     _t1 = 2 * x
     _t2 = casadi.cos(theta1)
@@ -260,24 +260,24 @@ def parameter_jacobians() -> casadi.Function:
     _t14 = -_t13 * a2 - _t6
     _t15 = -_t11 - d + x
     _t16 = b2**2
-    closure_parameters = casadi.SX.zeros(2, 5)
-    closure_parameters[0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
-    closure_parameters[0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
-    closure_parameters[0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
-    closure_parameters[1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
-    closure_parameters[1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
-    closure_parameters[1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
-    pose_parameters = casadi.SX.zeros(12, 5)
+    _out_closure_parameters = casadi.SX.zeros(2, 5)
+    _out_closure_parameters[0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
+    _out_closure_parameters[0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
+    _out_closure_parameters[0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
+    _out_closure_parameters[1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
+    _out_closure_parameters[1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
+    _out_closure_parameters[1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
+    _out_pose_parameters = casadi.SX.zeros(12, 5)
     return casadi.Function(
         "five_bar_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -296,16 +296,16 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 27.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
     _t0 = -y
     _t1 = a1 * casadi.sin(theta1)
     _t2 = _t0 + _t1
@@ -318,23 +318,23 @@ def singularity_factors() -> casadi.Function:
     _t9 = -_t8 - d + x
     _t10 = -_t6 * _t9 + _t7 * _t8
     _t11 = _t2 * _t9 + _t4 * _t7
-    factors = casadi.SX.zeros(3)
-    factors[0] = _t5
-    factors[1] = _t10
-    factors[2] = _t11
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t11
-    determinants[1] = _t10 * _t5
+    _out_factors = casadi.SX.zeros(3)
+    _out_factors[0] = _t5
+    _out_factors[1] = _t10
+    _out_factors[2] = _t11
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t11
+    _out_determinants[1] = _t10 * _t5
     return casadi.Function(
         "five_bar_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -353,41 +353,41 @@ def drawing() -> casadi.Function:
 
     Operations: 11.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    x = passive[0]
-    y = passive[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
     _t0 = -d
-    base = casadi.SX.zeros(3, 2)
-    base[0, 0] = _t0
-    base[0, 1] = d
-    elbow = casadi.SX.zeros(3, 2)
-    elbow[0, 0] = _t0 + a1 * casadi.cos(theta1)
-    elbow[0, 1] = a2 * casadi.cos(theta2) + d
-    elbow[1, 0] = a1 * casadi.sin(theta1)
-    elbow[1, 1] = a2 * casadi.sin(theta2)
-    platform = casadi.SX.zeros(3, 2)
-    platform[0, 0] = x
-    platform[0, 1] = x
-    platform[1, 0] = y
-    platform[1, 1] = y
+    _out_base = casadi.SX.zeros(3, 2)
+    _out_base[0, 0] = _t0
+    _out_base[0, 1] = d
+    _out_elbow = casadi.SX.zeros(3, 2)
+    _out_elbow[0, 0] = _t0 + a1 * casadi.cos(theta1)
+    _out_elbow[0, 1] = a2 * casadi.cos(theta2) + d
+    _out_elbow[1, 0] = a1 * casadi.sin(theta1)
+    _out_elbow[1, 1] = a2 * casadi.sin(theta2)
+    _out_platform = casadi.SX.zeros(3, 2)
+    _out_platform[0, 0] = x
+    _out_platform[0, 1] = x
+    _out_platform[1, 0] = y
+    _out_platform[1, 1] = y
     return casadi.Function(
         "five_bar_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            elbow,
-            platform,
+            _out_base,
+            _out_elbow,
+            _out_platform,
         ],
         [
             "actuated",
@@ -407,18 +407,18 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 83.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 2)
-    params = casadi.SX.sym("params", 5)
-    px = pose[9]
-    py = pose[10]
-    sigma1 = branch[0]
-    sigma2 = branch[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    px = _in_pose[9]
+    py = _in_pose[10]
+    sigma1 = _in_branch[0]
+    sigma2 = _in_branch[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     x = px
     y = py
     E1 = -2 * a1 * (d + x)
@@ -435,26 +435,26 @@ def inverse_pose() -> casadi.Function:
     _t3 = E1**2 + F1**2
     _t4 = G2**2
     _t5 = E2**2 + F2**2
-    actuated = casadi.SX.zeros(2)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    passive = casadi.SX.zeros(2)
-    passive[0] = x
-    passive[1] = y
-    validity = casadi.SX.zeros(2)
-    validity[0] = (-_t2 + _t3) / (_t2 + _t3)
-    validity[1] = (-_t4 + _t5) / (_t4 + _t5)
+    _out_actuated = casadi.SX.zeros(2)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_passive = casadi.SX.zeros(2)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_validity = casadi.SX.zeros(2)
+    _out_validity[0] = (-_t2 + _t3) / (_t2 + _t3)
+    _out_validity[1] = (-_t4 + _t5) / (_t4 + _t5)
     return casadi.Function(
         "five_bar_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -474,15 +474,15 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 118.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 5)
-    px = pose[9]
-    py = pose[10]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 5)
+    px = _in_pose[9]
+    py = _in_pose[10]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     x = px
     y = py
     E1 = -2 * a1 * (d + x)
@@ -505,31 +505,31 @@ def inverse_pose_patterns() -> casadi.Function:
     _t7 = G2**2
     _t8 = E2**2 + F2**2
     _t9 = (-_t7 + _t8) / (_t7 + _t8)
-    actuated = casadi.SX.zeros(2, 2)
-    actuated[0, 0] = theta1_pattern0
-    actuated[0, 1] = theta1_pattern1
-    actuated[1, 0] = theta2_pattern0
-    actuated[1, 1] = theta2_pattern1
-    passive = casadi.SX.zeros(2, 2)
-    passive[0, 0] = x
-    passive[0, 1] = x
-    passive[1, 0] = y
-    passive[1, 1] = y
-    validity = casadi.SX.zeros(2, 2)
-    validity[0, 0] = _t6
-    validity[0, 1] = _t6
-    validity[1, 0] = _t9
-    validity[1, 1] = _t9
+    _out_actuated = casadi.SX.zeros(2, 2)
+    _out_actuated[0, 0] = theta1_pattern0
+    _out_actuated[0, 1] = theta1_pattern1
+    _out_actuated[1, 0] = theta2_pattern0
+    _out_actuated[1, 1] = theta2_pattern1
+    _out_passive = casadi.SX.zeros(2, 2)
+    _out_passive[0, 0] = x
+    _out_passive[0, 1] = x
+    _out_passive[1, 0] = y
+    _out_passive[1, 1] = y
+    _out_validity = casadi.SX.zeros(2, 2)
+    _out_validity[0, 0] = _t6
+    _out_validity[0, 1] = _t6
+    _out_validity[1, 0] = _t9
+    _out_validity[1, 1] = _t9
     return casadi.Function(
         "five_bar_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -548,15 +548,15 @@ def forward_polynomial() -> casadi.Function:
 
     Operations: 30.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     C1_x = a1 * casadi.cos(theta1) - d
     C1_y = a1 * casadi.sin(theta1)
     e_x = -C1_x + a2 * casadi.cos(theta2) + d
@@ -564,20 +564,20 @@ def forward_polynomial() -> casadi.Function:
     e_squared = e_x**2 + e_y**2
     e_norm = casadi.sqrt(e_squared)
     alpha = (1 / 2) * (b1**2 - b2**2 + e_squared) / casadi.fmax(1.0e-300, e_squared)
-    coefficients = casadi.SX.zeros(3)
-    coefficients[0] = alpha**2 * e_squared - b1**2
-    coefficients[2] = 1
-    degeneracies = casadi.SX.zeros(1)
-    degeneracies[0] = e_norm / (b1 + b2)
+    _out_coefficients = casadi.SX.zeros(3)
+    _out_coefficients[0] = alpha**2 * e_squared - b1**2
+    _out_coefficients[2] = 1
+    _out_degeneracies = casadi.SX.zeros(1)
+    _out_degeneracies[0] = e_norm / (b1 + b2)
     return casadi.Function(
         "five_bar_forward_polynomial",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            coefficients,
-            degeneracies,
+            _out_coefficients,
+            _out_degeneracies,
         ],
         [
             "actuated",
@@ -595,18 +595,18 @@ def forward_back_substitution() -> casadi.Function:
 
     Operations: 34.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    root = casadi.SX.sym("root", 1)
-    branch = casadi.SX.sym("branch", 0)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    mu = root[0]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_root = casadi.SX.sym("root", 1)
+    _in_branch = casadi.SX.sym("branch", 0)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    mu = _in_root[0]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
     C1_x = a1 * casadi.cos(theta1) - d
     C1_y = a1 * casadi.sin(theta1)
     e_x = -C1_x + a2 * casadi.cos(theta2) + d
@@ -615,23 +615,23 @@ def forward_back_substitution() -> casadi.Function:
     e_norm = casadi.sqrt(e_squared)
     alpha = (1 / 2) * (b1**2 - b2**2 + e_squared) / casadi.fmax(1.0e-300, e_squared)
     _t0 = mu / casadi.fmax(1.0e-300, e_norm)
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = 1
-    pose[0, 3] = C1_x - _t0 * e_y + alpha * e_x
-    pose[1, 1] = 1
-    pose[1, 3] = C1_y + _t0 * e_x + alpha * e_y
-    pose[2, 2] = 1
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = 1
+    _out_pose[0, 3] = C1_x - _t0 * e_y + alpha * e_x
+    _out_pose[1, 1] = 1
+    _out_pose[1, 3] = C1_y + _t0 * e_x + alpha * e_y
+    _out_pose[2, 2] = 1
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "five_bar_forward_back_substitution",
         [
-            actuated,
-            root,
-            branch,
-            params,
+            _in_actuated,
+            _in_root,
+            _in_branch,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -650,33 +650,33 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    params = casadi.SX.sym("params", 5)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    d = params[0]
-    a1 = params[1]
-    a2 = params[2]
-    b1 = params[3]
-    b2 = params[4]
-    free = casadi.SX.zeros(5)
-    free[0] = d
-    free[1] = a1
-    free[2] = a2
-    free[3] = b1
-    free[4] = b2
-    angles = casadi.SX.zeros(2)
-    angles[0] = theta1
-    angles[1] = theta2
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    d = _in_params[0]
+    a1 = _in_params[1]
+    a2 = _in_params[2]
+    b1 = _in_params[3]
+    b2 = _in_params[4]
+    _out_free = casadi.SX.zeros(5)
+    _out_free[0] = d
+    _out_free[1] = a1
+    _out_free[2] = a2
+    _out_free[3] = b1
+    _out_free[4] = b2
+    _out_angles = casadi.SX.zeros(2)
+    _out_angles[0] = theta1
+    _out_angles[1] = theta2
     return casadi.Function(
         "five_bar_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -694,30 +694,30 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 219.
     """
-    family_re = casadi.SX.sym("family_re", 11)
-    family_im = casadi.SX.sym("family_im", 11)
-    d_re = family_re[0]
-    a1_re = family_re[1]
-    a2_re = family_re[2]
-    b1_re = family_re[3]
-    b2_re = family_re[4]
-    C_u_0_re = family_re[5]
-    S_u_0_re = family_re[6]
-    D_u_0_re = family_re[7]
-    C_u_1_re = family_re[8]
-    S_u_1_re = family_re[9]
-    D_u_1_re = family_re[10]
-    d_im = family_im[0]
-    a1_im = family_im[1]
-    a2_im = family_im[2]
-    b1_im = family_im[3]
-    b2_im = family_im[4]
-    C_u_0_im = family_im[5]
-    S_u_0_im = family_im[6]
-    D_u_0_im = family_im[7]
-    C_u_1_im = family_im[8]
-    S_u_1_im = family_im[9]
-    D_u_1_im = family_im[10]
+    _in_family_re = casadi.SX.sym("family_re", 11)
+    _in_family_im = casadi.SX.sym("family_im", 11)
+    d_re = _in_family_re[0]
+    a1_re = _in_family_re[1]
+    a2_re = _in_family_re[2]
+    b1_re = _in_family_re[3]
+    b2_re = _in_family_re[4]
+    C_u_0_re = _in_family_re[5]
+    S_u_0_re = _in_family_re[6]
+    D_u_0_re = _in_family_re[7]
+    C_u_1_re = _in_family_re[8]
+    S_u_1_re = _in_family_re[9]
+    D_u_1_re = _in_family_re[10]
+    d_im = _in_family_im[0]
+    a1_im = _in_family_im[1]
+    a2_im = _in_family_im[2]
+    b1_im = _in_family_im[3]
+    b2_im = _in_family_im[4]
+    C_u_0_im = _in_family_im[5]
+    S_u_0_im = _in_family_im[6]
+    D_u_0_im = _in_family_im[7]
+    C_u_1_im = _in_family_im[8]
+    S_u_1_im = _in_family_im[9]
+    D_u_1_im = _in_family_im[10]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
     _t2 = 4 * d_im
@@ -775,12 +775,12 @@ def automatic_monomials() -> casadi.Function:
     _t54 = D_u_1_im * _t29
     _t55 = 2 * _t43
     _t56 = 2 * _t38
-    re = casadi.SX.zeros(10)
-    re[0] = _t1
-    re[1] = 2 * _t1 * d_re - _t4 - _t9
-    re[2] = _t1
-    re[3] = -_t10 * a1_im + _t11 * a1_re
-    re[4] = (
+    _out_re = casadi.SX.zeros(10)
+    _out_re[0] = _t1
+    _out_re[1] = 2 * _t1 * d_re - _t4 - _t9
+    _out_re[2] = _t1
+    _out_re[3] = -_t10 * a1_im + _t11 * a1_re
+    _out_re[4] = (
         _t0 * _t20
         + _t1 * _t19
         - _t12 * _t14
@@ -792,11 +792,11 @@ def automatic_monomials() -> casadi.Function:
         + _t23 * d_re
         - _t4 * d_re
     )
-    re[5] = _t25
-    re[6] = _t27 + _t30 * a2_re - _t32 * a2_im - _t34
-    re[7] = _t25
-    re[8] = -_t35 * a2_im + _t36 * a2_re
-    re[9] = (
+    _out_re[5] = _t25
+    _out_re[6] = _t27 + _t30 * a2_re - _t32 * a2_im - _t34
+    _out_re[7] = _t25
+    _out_re[8] = -_t35 * a2_im + _t36 * a2_re
+    _out_re[9] = (
         _t19 * _t25
         + _t24 * _t44
         + 4 * _t26 * _t40
@@ -808,12 +808,12 @@ def automatic_monomials() -> casadi.Function:
         - _t47 * d_im
         + _t48 * d_re
     )
-    im = casadi.SX.zeros(10)
-    im[0] = _t49
-    im[1] = _t1 * _t50 + _t22 + _t3 * _t51
-    im[2] = _t49
-    im[3] = _t10 * a1_re + _t11 * a1_im
-    im[4] = (
+    _out_im = casadi.SX.zeros(10)
+    _out_im[0] = _t49
+    _out_im[1] = _t1 * _t50 + _t22 + _t3 * _t51
+    _out_im[2] = _t49
+    _out_im[3] = _t10 * a1_re + _t11 * a1_im
+    _out_im[4] = (
         2 * _t0 * _t15
         + _t1 * _t33 * d_im
         + _t12 * _t52
@@ -825,11 +825,11 @@ def automatic_monomials() -> casadi.Function:
         + _t22 * d_re
         + _t23 * d_im
     )
-    im[5] = _t54
-    im[6] = -_t25 * _t50 - _t26 * _t51 + _t30 * a2_im + _t32 * a2_re
-    im[7] = _t54
-    im[8] = _t35 * a2_re + _t36 * a2_im
-    im[9] = (
+    _out_im[5] = _t54
+    _out_im[6] = -_t25 * _t50 - _t26 * _t51 + _t30 * a2_im + _t32 * a2_re
+    _out_im[7] = _t54
+    _out_im[8] = _t35 * a2_re + _t36 * a2_im
+    _out_im[9] = (
         _t19 * _t54
         + 2 * _t24 * _t40
         + _t34 * d_im
@@ -844,12 +844,12 @@ def automatic_monomials() -> casadi.Function:
     return casadi.Function(
         "five_bar_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -867,21 +867,21 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 0.
     """
-    z = casadi.SX.sym("z", 2)
-    params = casadi.SX.sym("params", 5)
-    z0 = z[0]
-    z1 = z[1]
-    passive = casadi.SX.zeros(2)
-    passive[0] = z0
-    passive[1] = z1
+    _in_z = casadi.SX.sym("z", 2)
+    _in_params = casadi.SX.sym("params", 5)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    _out_passive = casadi.SX.zeros(2)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
     return casadi.Function(
         "five_bar_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

@@ -27,22 +27,23 @@ def platform_pose(actuated, passive, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = 1
-    pose[..., 0, 3] = x
-    pose[..., 1, 1] = 1
-    pose[..., 1, 3] = y
-    pose[..., 2, 2] = 1
-    pose[..., 3, 3] = 1
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = 1
+    _out_pose[..., 0, 3] = x
+    _out_pose[..., 1, 1] = 1
+    _out_pose[..., 1, 3] = y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -51,20 +52,21 @@ def loop_closure(actuated, passive, params):
 
     Operations: 54.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     _t0 = -y
     _t1 = a1 * numpy.sin(theta1)
     _t2 = a1 * numpy.cos(theta1)
@@ -74,20 +76,20 @@ def loop_closure(actuated, passive, params):
     _t6 = (1 / 2) / b2
     _t7 = 2 * d
     _t8 = -2 * y
-    residual = numpy.zeros(shape + (2,))
-    residual[..., 0] = _t3 * (-(b1**2) + (-_t0 - _t1) ** 2 + (-_t2 + d + x) ** 2)
-    residual[..., 1] = _t6 * (-(b2**2) + (-_t0 - _t4) ** 2 + (-_t5 - d + x) ** 2)
-    jacobian = numpy.zeros(shape + (2, 2))
-    jacobian[..., 0, 0] = _t3 * (-2 * _t2 + _t7 + 2 * x)
-    jacobian[..., 0, 1] = _t3 * (-2 * _t1 - _t8)
-    jacobian[..., 1, 0] = _t6 * (-2 * _t5 - _t7 + 2 * x)
-    jacobian[..., 1, 1] = _t6 * (-2 * _t4 - _t8)
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_residual = numpy.zeros(_shape + (2,))
+    _out_residual[..., 0] = _t3 * (-(b1**2) + (-_t0 - _t1) ** 2 + (-_t2 + d + x) ** 2)
+    _out_residual[..., 1] = _t6 * (-(b2**2) + (-_t0 - _t4) ** 2 + (-_t5 - d + x) ** 2)
+    _out_jacobian = numpy.zeros(_shape + (2, 2))
+    _out_jacobian[..., 0, 0] = _t3 * (-2 * _t2 + _t7 + 2 * x)
+    _out_jacobian[..., 0, 1] = _t3 * (-2 * _t1 - _t8)
+    _out_jacobian[..., 1, 0] = _t6 * (-2 * _t5 - _t7 + 2 * x)
+    _out_jacobian[..., 1, 1] = _t6 * (-2 * _t4 - _t8)
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -96,34 +98,35 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 33.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     _t0 = -y
     _t1 = numpy.sin(theta1)
     _t2 = a1 * numpy.cos(theta1)
     _t3 = numpy.sin(theta2)
     _t4 = a2 * numpy.cos(theta2)
-    jacobian_actuated = numpy.zeros(shape + (2, 2))
-    jacobian_actuated[..., 0, 0] = (
+    _out_jacobian_actuated = numpy.zeros(_shape + (2, 2))
+    _out_jacobian_actuated[..., 0, 0] = (
         (1 / 2) * (2 * _t1 * a1 * (-_t2 + d + x) - 2 * _t2 * (-_t0 - _t1 * a1)) / b1
     )
-    jacobian_actuated[..., 1, 1] = (
+    _out_jacobian_actuated[..., 1, 1] = (
         (1 / 2) * (2 * _t3 * a2 * (-_t4 - d + x) - 2 * _t4 * (-_t0 - _t3 * a2)) / b2
     )
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -132,18 +135,19 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 23.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
     _t0 = a1 * numpy.cos(theta1)
     _t1 = -_t0 + d + x
     _t2 = -y
@@ -153,17 +157,17 @@ def rate_jacobians(actuated, passive, params):
     _t6 = -_t5 - d + x
     _t7 = a2 * numpy.sin(theta2)
     _t8 = -_t2 - _t7
-    a = numpy.zeros(shape + (2, 2))
-    a[..., 0, 0] = _t1
-    a[..., 0, 1] = _t4
-    a[..., 1, 0] = _t6
-    a[..., 1, 1] = _t8
-    b = numpy.zeros(shape + (2, 2))
-    b[..., 0, 0] = _t0 * _t4 - _t1 * _t3
-    b[..., 1, 1] = _t5 * _t8 - _t6 * _t7
+    _out_a = numpy.zeros(_shape + (2, 2))
+    _out_a[..., 0, 0] = _t1
+    _out_a[..., 0, 1] = _t4
+    _out_a[..., 1, 0] = _t6
+    _out_a[..., 1, 1] = _t8
+    _out_b = numpy.zeros(_shape + (2, 2))
+    _out_b[..., 0, 0] = _t0 * _t4 - _t1 * _t3
+    _out_b[..., 1, 1] = _t5 * _t8 - _t6 * _t7
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -172,20 +176,21 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 63.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     _t0 = 2 * d
     _t1 = 2 * x
     _t2 = numpy.cos(theta1)
@@ -203,17 +208,17 @@ def parameter_jacobians(actuated, passive, params):
     _t14 = -_t13 * a2 - _t6
     _t15 = -_t11 - d + x
     _t16 = b2**2
-    closure_parameters = numpy.zeros(shape + (2, 5))
-    closure_parameters[..., 0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
-    closure_parameters[..., 0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
-    closure_parameters[..., 0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
-    closure_parameters[..., 1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
-    closure_parameters[..., 1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
-    closure_parameters[..., 1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
-    pose_parameters = numpy.zeros(shape + (12, 5))
+    _out_closure_parameters = numpy.zeros(_shape + (2, 5))
+    _out_closure_parameters[..., 0, 0] = _t4 * (_t0 + _t1 - 2 * _t3)
+    _out_closure_parameters[..., 0, 1] = _t4 * (-2 * _t2 * _t8 - 2 * _t5 * _t7)
+    _out_closure_parameters[..., 0, 3] = -1 - 1 / 2 * (_t7**2 + _t8**2 - _t9) / _t9
+    _out_closure_parameters[..., 1, 0] = _t12 * (_t0 - _t1 + 2 * _t11)
+    _out_closure_parameters[..., 1, 2] = _t12 * (-2 * _t10 * _t15 - 2 * _t13 * _t14)
+    _out_closure_parameters[..., 1, 4] = -1 - 1 / 2 * (_t14**2 + _t15**2 - _t16) / _t16
+    _out_pose_parameters = numpy.zeros(_shape + (12, 5))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -222,18 +227,19 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 27.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
     _t0 = -y
     _t1 = a1 * numpy.sin(theta1)
     _t2 = _t0 + _t1
@@ -246,16 +252,16 @@ def singularity_factors(actuated, passive, params):
     _t9 = -_t8 - d + x
     _t10 = -_t6 * _t9 + _t7 * _t8
     _t11 = _t2 * _t9 + _t4 * _t7
-    factors = numpy.zeros(shape + (3,))
-    factors[..., 0] = _t5
-    factors[..., 1] = _t10
-    factors[..., 2] = _t11
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t11
-    determinants[..., 1] = _t10 * _t5
+    _out_factors = numpy.zeros(_shape + (3,))
+    _out_factors[..., 0] = _t5
+    _out_factors[..., 1] = _t10
+    _out_factors[..., 2] = _t11
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t11
+    _out_determinants[..., 1] = _t10 * _t5
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -264,36 +270,37 @@ def drawing(actuated, passive, params):
 
     Operations: 11.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
     _t0 = -d
-    base = numpy.zeros(shape + (3, 2))
-    base[..., 0, 0] = _t0
-    base[..., 0, 1] = d
-    elbow = numpy.zeros(shape + (3, 2))
-    elbow[..., 0, 0] = _t0 + a1 * numpy.cos(theta1)
-    elbow[..., 0, 1] = a2 * numpy.cos(theta2) + d
-    elbow[..., 1, 0] = a1 * numpy.sin(theta1)
-    elbow[..., 1, 1] = a2 * numpy.sin(theta2)
-    platform = numpy.zeros(shape + (3, 2))
-    platform[..., 0, 0] = x
-    platform[..., 0, 1] = x
-    platform[..., 1, 0] = y
-    platform[..., 1, 1] = y
+    _out_base = numpy.zeros(_shape + (3, 2))
+    _out_base[..., 0, 0] = _t0
+    _out_base[..., 0, 1] = d
+    _out_elbow = numpy.zeros(_shape + (3, 2))
+    _out_elbow[..., 0, 0] = _t0 + a1 * numpy.cos(theta1)
+    _out_elbow[..., 0, 1] = a2 * numpy.cos(theta2) + d
+    _out_elbow[..., 1, 0] = a1 * numpy.sin(theta1)
+    _out_elbow[..., 1, 1] = a2 * numpy.sin(theta2)
+    _out_platform = numpy.zeros(_shape + (3, 2))
+    _out_platform[..., 0, 0] = x
+    _out_platform[..., 0, 1] = x
+    _out_platform[..., 1, 0] = y
+    _out_platform[..., 1, 1] = y
     return {
-        "base": base,
-        "elbow": elbow,
-        "platform": platform,
+        "base": _out_base,
+        "elbow": _out_elbow,
+        "platform": _out_platform,
     }
 
 
@@ -302,20 +309,21 @@ def inverse_pose(pose, branch, params):
 
     Operations: 83.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    px = pose[..., 9]
-    py = pose[..., 10]
-    sigma1 = branch[..., 0]
-    sigma2 = branch[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    sigma1 = _in_branch[..., 0]
+    sigma2 = _in_branch[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     x = px
     y = py
     E1 = -2 * a1 * (d + x)
@@ -332,19 +340,19 @@ def inverse_pose(pose, branch, params):
     _t3 = E1**2 + F1**2
     _t4 = G2**2
     _t5 = E2**2 + F2**2
-    actuated = numpy.zeros(shape + (2,))
-    actuated[..., 0] = theta1
-    actuated[..., 1] = theta2
-    passive = numpy.zeros(shape + (2,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    validity = numpy.zeros(shape + (2,))
-    validity[..., 0] = (-_t2 + _t3) / (_t2 + _t3)
-    validity[..., 1] = (-_t4 + _t5) / (_t4 + _t5)
+    _out_actuated = numpy.zeros(_shape + (2,))
+    _out_actuated[..., 0] = theta1
+    _out_actuated[..., 1] = theta2
+    _out_passive = numpy.zeros(_shape + (2,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_validity = numpy.zeros(_shape + (2,))
+    _out_validity[..., 0] = (-_t2 + _t3) / (_t2 + _t3)
+    _out_validity[..., 1] = (-_t4 + _t5) / (_t4 + _t5)
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -353,17 +361,18 @@ def inverse_pose_patterns(pose, params):
 
     Operations: 118.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_params = pose, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    px = pose[..., 9]
-    py = pose[..., 10]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     x = px
     y = py
     E1 = -2 * a1 * (d + x)
@@ -386,25 +395,25 @@ def inverse_pose_patterns(pose, params):
     _t7 = G2**2
     _t8 = E2**2 + F2**2
     _t9 = (-_t7 + _t8) / (_t7 + _t8)
-    actuated = numpy.zeros(shape + (2, 2))
-    actuated[..., 0, 0] = theta1_pattern0
-    actuated[..., 0, 1] = theta1_pattern1
-    actuated[..., 1, 0] = theta2_pattern0
-    actuated[..., 1, 1] = theta2_pattern1
-    passive = numpy.zeros(shape + (2, 2))
-    passive[..., 0, 0] = x
-    passive[..., 0, 1] = x
-    passive[..., 1, 0] = y
-    passive[..., 1, 1] = y
-    validity = numpy.zeros(shape + (2, 2))
-    validity[..., 0, 0] = _t6
-    validity[..., 0, 1] = _t6
-    validity[..., 1, 0] = _t9
-    validity[..., 1, 1] = _t9
+    _out_actuated = numpy.zeros(_shape + (2, 2))
+    _out_actuated[..., 0, 0] = theta1_pattern0
+    _out_actuated[..., 0, 1] = theta1_pattern1
+    _out_actuated[..., 1, 0] = theta2_pattern0
+    _out_actuated[..., 1, 1] = theta2_pattern1
+    _out_passive = numpy.zeros(_shape + (2, 2))
+    _out_passive[..., 0, 0] = x
+    _out_passive[..., 0, 1] = x
+    _out_passive[..., 1, 0] = y
+    _out_passive[..., 1, 1] = y
+    _out_validity = numpy.zeros(_shape + (2, 2))
+    _out_validity[..., 0, 0] = _t6
+    _out_validity[..., 0, 1] = _t6
+    _out_validity[..., 1, 0] = _t9
+    _out_validity[..., 1, 1] = _t9
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -413,17 +422,18 @@ def forward_polynomial(actuated, params):
 
     Operations: 30.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     C1_x = a1 * numpy.cos(theta1) - d
     C1_y = a1 * numpy.sin(theta1)
     e_x = -C1_x + a2 * numpy.cos(theta2) + d
@@ -431,14 +441,14 @@ def forward_polynomial(actuated, params):
     e_squared = e_x**2 + e_y**2
     e_norm = numpy.sqrt(e_squared)
     alpha = (1 / 2) * (b1**2 - b2**2 + e_squared) / numpy.fmax(1.0e-300, e_squared)
-    coefficients = numpy.zeros(shape + (3,))
-    coefficients[..., 0] = alpha**2 * e_squared - b1**2
-    coefficients[..., 2] = 1
-    degeneracies = numpy.zeros(shape + (1,))
-    degeneracies[..., 0] = e_norm / (b1 + b2)
+    _out_coefficients = numpy.zeros(_shape + (3,))
+    _out_coefficients[..., 0] = alpha**2 * e_squared - b1**2
+    _out_coefficients[..., 2] = 1
+    _out_degeneracies = numpy.zeros(_shape + (1,))
+    _out_degeneracies[..., 0] = e_norm / (b1 + b2)
     return {
-        "coefficients": coefficients,
-        "degeneracies": degeneracies,
+        "coefficients": _out_coefficients,
+        "degeneracies": _out_degeneracies,
     }
 
 
@@ -447,20 +457,21 @@ def forward_back_substitution(actuated, root, branch, params):
 
     Operations: 34.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(root)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_root, _in_branch, _in_params = actuated, root, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_root)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    mu = root[..., 0]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    mu = _in_root[..., 0]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
     C1_x = a1 * numpy.cos(theta1) - d
     C1_y = a1 * numpy.sin(theta1)
     e_x = -C1_x + a2 * numpy.cos(theta2) + d
@@ -469,15 +480,15 @@ def forward_back_substitution(actuated, root, branch, params):
     e_norm = numpy.sqrt(e_squared)
     alpha = (1 / 2) * (b1**2 - b2**2 + e_squared) / numpy.fmax(1.0e-300, e_squared)
     _t0 = mu / numpy.fmax(1.0e-300, e_norm)
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = 1
-    pose[..., 0, 3] = C1_x - _t0 * e_y + alpha * e_x
-    pose[..., 1, 1] = 1
-    pose[..., 1, 3] = C1_y + _t0 * e_x + alpha * e_y
-    pose[..., 2, 2] = 1
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = 1
+    _out_pose[..., 0, 3] = C1_x - _t0 * e_y + alpha * e_x
+    _out_pose[..., 1, 1] = 1
+    _out_pose[..., 1, 3] = C1_y + _t0 * e_x + alpha * e_y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -486,29 +497,30 @@ def automatic_family(actuated, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    d = params[..., 0]
-    a1 = params[..., 1]
-    a2 = params[..., 2]
-    b1 = params[..., 3]
-    b2 = params[..., 4]
-    free = numpy.zeros(shape + (5,))
-    free[..., 0] = d
-    free[..., 1] = a1
-    free[..., 2] = a2
-    free[..., 3] = b1
-    free[..., 4] = b2
-    angles = numpy.zeros(shape + (2,))
-    angles[..., 0] = theta1
-    angles[..., 1] = theta2
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    d = _in_params[..., 0]
+    a1 = _in_params[..., 1]
+    a2 = _in_params[..., 2]
+    b1 = _in_params[..., 3]
+    b2 = _in_params[..., 4]
+    _out_free = numpy.zeros(_shape + (5,))
+    _out_free[..., 0] = d
+    _out_free[..., 1] = a1
+    _out_free[..., 2] = a2
+    _out_free[..., 3] = b1
+    _out_free[..., 4] = b2
+    _out_angles = numpy.zeros(_shape + (2,))
+    _out_angles[..., 0] = theta1
+    _out_angles[..., 1] = theta2
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -517,32 +529,33 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 219.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    d_re = family_re[..., 0]
-    a1_re = family_re[..., 1]
-    a2_re = family_re[..., 2]
-    b1_re = family_re[..., 3]
-    b2_re = family_re[..., 4]
-    C_u_0_re = family_re[..., 5]
-    S_u_0_re = family_re[..., 6]
-    D_u_0_re = family_re[..., 7]
-    C_u_1_re = family_re[..., 8]
-    S_u_1_re = family_re[..., 9]
-    D_u_1_re = family_re[..., 10]
-    d_im = family_im[..., 0]
-    a1_im = family_im[..., 1]
-    a2_im = family_im[..., 2]
-    b1_im = family_im[..., 3]
-    b2_im = family_im[..., 4]
-    C_u_0_im = family_im[..., 5]
-    S_u_0_im = family_im[..., 6]
-    D_u_0_im = family_im[..., 7]
-    C_u_1_im = family_im[..., 8]
-    S_u_1_im = family_im[..., 9]
-    D_u_1_im = family_im[..., 10]
+    d_re = _in_family_re[..., 0]
+    a1_re = _in_family_re[..., 1]
+    a2_re = _in_family_re[..., 2]
+    b1_re = _in_family_re[..., 3]
+    b2_re = _in_family_re[..., 4]
+    C_u_0_re = _in_family_re[..., 5]
+    S_u_0_re = _in_family_re[..., 6]
+    D_u_0_re = _in_family_re[..., 7]
+    C_u_1_re = _in_family_re[..., 8]
+    S_u_1_re = _in_family_re[..., 9]
+    D_u_1_re = _in_family_re[..., 10]
+    d_im = _in_family_im[..., 0]
+    a1_im = _in_family_im[..., 1]
+    a2_im = _in_family_im[..., 2]
+    b1_im = _in_family_im[..., 3]
+    b2_im = _in_family_im[..., 4]
+    C_u_0_im = _in_family_im[..., 5]
+    S_u_0_im = _in_family_im[..., 6]
+    D_u_0_im = _in_family_im[..., 7]
+    C_u_1_im = _in_family_im[..., 8]
+    S_u_1_im = _in_family_im[..., 9]
+    D_u_1_im = _in_family_im[..., 10]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
     _t2 = 4 * d_im
@@ -600,12 +613,12 @@ def automatic_monomials(family_re, family_im):
     _t54 = D_u_1_im * _t29
     _t55 = 2 * _t43
     _t56 = 2 * _t38
-    re = numpy.zeros(shape + (10,))
-    re[..., 0] = _t1
-    re[..., 1] = 2 * _t1 * d_re - _t4 - _t9
-    re[..., 2] = _t1
-    re[..., 3] = -_t10 * a1_im + _t11 * a1_re
-    re[..., 4] = (
+    _out_re = numpy.zeros(_shape + (10,))
+    _out_re[..., 0] = _t1
+    _out_re[..., 1] = 2 * _t1 * d_re - _t4 - _t9
+    _out_re[..., 2] = _t1
+    _out_re[..., 3] = -_t10 * a1_im + _t11 * a1_re
+    _out_re[..., 4] = (
         _t0 * _t20
         + _t1 * _t19
         - _t12 * _t14
@@ -617,11 +630,11 @@ def automatic_monomials(family_re, family_im):
         + _t23 * d_re
         - _t4 * d_re
     )
-    re[..., 5] = _t25
-    re[..., 6] = _t27 + _t30 * a2_re - _t32 * a2_im - _t34
-    re[..., 7] = _t25
-    re[..., 8] = -_t35 * a2_im + _t36 * a2_re
-    re[..., 9] = (
+    _out_re[..., 5] = _t25
+    _out_re[..., 6] = _t27 + _t30 * a2_re - _t32 * a2_im - _t34
+    _out_re[..., 7] = _t25
+    _out_re[..., 8] = -_t35 * a2_im + _t36 * a2_re
+    _out_re[..., 9] = (
         _t19 * _t25
         + _t24 * _t44
         + 4 * _t26 * _t40
@@ -633,12 +646,12 @@ def automatic_monomials(family_re, family_im):
         - _t47 * d_im
         + _t48 * d_re
     )
-    im = numpy.zeros(shape + (10,))
-    im[..., 0] = _t49
-    im[..., 1] = _t1 * _t50 + _t22 + _t3 * _t51
-    im[..., 2] = _t49
-    im[..., 3] = _t10 * a1_re + _t11 * a1_im
-    im[..., 4] = (
+    _out_im = numpy.zeros(_shape + (10,))
+    _out_im[..., 0] = _t49
+    _out_im[..., 1] = _t1 * _t50 + _t22 + _t3 * _t51
+    _out_im[..., 2] = _t49
+    _out_im[..., 3] = _t10 * a1_re + _t11 * a1_im
+    _out_im[..., 4] = (
         2 * _t0 * _t15
         + _t1 * _t33 * d_im
         + _t12 * _t52
@@ -650,11 +663,11 @@ def automatic_monomials(family_re, family_im):
         + _t22 * d_re
         + _t23 * d_im
     )
-    im[..., 5] = _t54
-    im[..., 6] = -_t25 * _t50 - _t26 * _t51 + _t30 * a2_im + _t32 * a2_re
-    im[..., 7] = _t54
-    im[..., 8] = _t35 * a2_re + _t36 * a2_im
-    im[..., 9] = (
+    _out_im[..., 5] = _t54
+    _out_im[..., 6] = -_t25 * _t50 - _t26 * _t51 + _t30 * a2_im + _t32 * a2_re
+    _out_im[..., 7] = _t54
+    _out_im[..., 8] = _t35 * a2_re + _t36 * a2_im
+    _out_im[..., 9] = (
         _t19 * _t54
         + 2 * _t24 * _t40
         + _t34 * d_im
@@ -667,8 +680,8 @@ def automatic_monomials(family_re, family_im):
         + _t48 * d_im
     )
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -677,17 +690,18 @@ def automatic_passive(z, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    passive = numpy.zeros(shape + (2,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    _out_passive = numpy.zeros(_shape + (2,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

@@ -28,15 +28,15 @@ def platform_pose() -> casadi.Function:
 
     Operations: 24.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
     _t0 = casadi.cos(alpha)
     _t1 = casadi.cos(beta)
     _t2 = casadi.sin(alpha)
@@ -46,29 +46,29 @@ def platform_pose() -> casadi.Function:
     _t6 = casadi.sin(gamma)
     _t7 = _t2 * _t6
     _t8 = _t0 * _t3
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t0 * _t1
-    pose[0, 1] = _t0 * _t5 * _t6 - _t4
-    pose[0, 2] = _t5 * _t8 + _t7
-    pose[0, 3] = x
-    pose[1, 0] = _t1 * _t2
-    pose[1, 1] = _t5 * _t7 + _t8
-    pose[1, 2] = -_t0 * _t6 + _t4 * _t5
-    pose[1, 3] = y
-    pose[2, 0] = -_t5
-    pose[2, 1] = _t1 * _t6
-    pose[2, 2] = _t1 * _t3
-    pose[2, 3] = z
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t0 * _t1
+    _out_pose[0, 1] = _t0 * _t5 * _t6 - _t4
+    _out_pose[0, 2] = _t5 * _t8 + _t7
+    _out_pose[0, 3] = x
+    _out_pose[1, 0] = _t1 * _t2
+    _out_pose[1, 1] = _t5 * _t7 + _t8
+    _out_pose[1, 2] = -_t0 * _t6 + _t4 * _t5
+    _out_pose[1, 3] = y
+    _out_pose[2, 0] = -_t5
+    _out_pose[2, 1] = _t1 * _t6
+    _out_pose[2, 2] = _t1 * _t3
+    _out_pose[2, 3] = z
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "gough_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -86,34 +86,34 @@ def loop_closure() -> casadi.Function:
 
     Operations: 394.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     _t0 = casadi.sqrt(x**2 + y**2 + z**2)
     _t1 = t22 * yA2
     _t2 = casadi.sin(gamma)
@@ -217,80 +217,80 @@ def loop_closure() -> casadi.Function:
     _t100 = (1 / 2) * _t66
     _t101 = _t57 * _t85
     _t102 = 2 * _t59
-    residual = casadi.SX.zeros(6)
-    residual[0] = _t0 - l1
-    residual[1] = _t23 - l2
-    residual[2] = _t34 - l3
-    residual[3] = _t45 - l4
-    residual[4] = _t56 - l5
-    residual[5] = _t67 - l6
-    jacobian = casadi.SX.zeros(6, 6)
-    jacobian[0, 0] = _t68 * x
-    jacobian[0, 1] = _t68 * y
-    jacobian[0, 2] = _t68 * z
-    jacobian[1, 0] = _t22 * _t69
-    jacobian[1, 1] = _t17 * _t69
-    jacobian[1, 2] = _t69 * _t8
-    jacobian[1, 3] = _t69 * (_t70 * (2 * _t18 + 2 * _t21) + _t72 * (_t1 * _t71 - 2 * _t11))
-    jacobian[1, 4] = _t69 * (
+    _out_residual = casadi.SX.zeros(6)
+    _out_residual[0] = _t0 - l1
+    _out_residual[1] = _t23 - l2
+    _out_residual[2] = _t34 - l3
+    _out_residual[3] = _t45 - l4
+    _out_residual[4] = _t56 - l5
+    _out_residual[5] = _t67 - l6
+    _out_jacobian = casadi.SX.zeros(6, 6)
+    _out_jacobian[0, 0] = _t68 * x
+    _out_jacobian[0, 1] = _t68 * y
+    _out_jacobian[0, 2] = _t68 * z
+    _out_jacobian[1, 0] = _t22 * _t69
+    _out_jacobian[1, 1] = _t17 * _t69
+    _out_jacobian[1, 2] = _t69 * _t8
+    _out_jacobian[1, 3] = _t69 * (_t70 * (2 * _t18 + 2 * _t21) + _t72 * (_t1 * _t71 - 2 * _t11))
+    _out_jacobian[1, 4] = _t69 * (
         _t70 * (_t15 * _t75 - _t76 * _t9)
         + _t72 * (-_t12 * _t76 + _t75 * _t77)
         + (1 / 2) * _t8 * (-2 * _t10 - _t73 * _t74)
     )
-    jacobian[1, 5] = _t69 * (_t1 * _t17 * _t80 + _t1 * _t22 * _t79 + _t1 * _t78 * _t8)
-    jacobian[2, 0] = _t33 * _t81
-    jacobian[2, 1] = _t30 * _t81
-    jacobian[2, 2] = _t27 * _t81
-    jacobian[2, 3] = _t81 * (_t82 * (2 * _t31 + 2 * _t32) + _t83 * (_t24 * _t71 - 2 * _t29))
-    jacobian[2, 4] = _t81 * (
+    _out_jacobian[1, 5] = _t69 * (_t1 * _t17 * _t80 + _t1 * _t22 * _t79 + _t1 * _t78 * _t8)
+    _out_jacobian[2, 0] = _t33 * _t81
+    _out_jacobian[2, 1] = _t30 * _t81
+    _out_jacobian[2, 2] = _t27 * _t81
+    _out_jacobian[2, 3] = _t81 * (_t82 * (2 * _t31 + 2 * _t32) + _t83 * (_t24 * _t71 - 2 * _t29))
+    _out_jacobian[2, 4] = _t81 * (
         (1 / 2) * _t27 * (-_t24 * _t84 - 2 * _t28)
         + _t82 * (_t15 * _t86 - _t87 * _t9)
         + _t83 * (-_t12 * _t87 + _t77 * _t86)
     )
-    jacobian[2, 5] = _t81 * (_t24 * _t27 * _t78 + _t24 * _t30 * _t80 + _t24 * _t33 * _t79)
-    jacobian[3, 0] = _t44 * _t88
-    jacobian[3, 1] = _t41 * _t88
-    jacobian[3, 2] = _t38 * _t88
-    jacobian[3, 3] = _t88 * (_t89 * (2 * _t42 + 2 * _t43) + _t90 * (_t35 * _t71 - 2 * _t40))
-    jacobian[3, 4] = _t88 * (
+    _out_jacobian[2, 5] = _t81 * (_t24 * _t27 * _t78 + _t24 * _t30 * _t80 + _t24 * _t33 * _t79)
+    _out_jacobian[3, 0] = _t44 * _t88
+    _out_jacobian[3, 1] = _t41 * _t88
+    _out_jacobian[3, 2] = _t38 * _t88
+    _out_jacobian[3, 3] = _t88 * (_t89 * (2 * _t42 + 2 * _t43) + _t90 * (_t35 * _t71 - 2 * _t40))
+    _out_jacobian[3, 4] = _t88 * (
         (1 / 2) * _t38 * (-_t35 * _t84 - 2 * _t39)
         + _t89 * (_t15 * _t91 - _t9 * _t92)
         + _t90 * (-_t12 * _t92 + _t77 * _t91)
     )
-    jacobian[3, 5] = _t88 * (_t35 * _t38 * _t78 + _t35 * _t41 * _t80 + _t35 * _t44 * _t79)
-    jacobian[4, 0] = _t55 * _t93
-    jacobian[4, 1] = _t52 * _t93
-    jacobian[4, 2] = _t49 * _t93
-    jacobian[4, 3] = _t93 * (_t94 * (2 * _t53 + 2 * _t54) + _t95 * (_t46 * _t71 - 2 * _t51))
-    jacobian[4, 4] = _t93 * (
+    _out_jacobian[3, 5] = _t88 * (_t35 * _t38 * _t78 + _t35 * _t41 * _t80 + _t35 * _t44 * _t79)
+    _out_jacobian[4, 0] = _t55 * _t93
+    _out_jacobian[4, 1] = _t52 * _t93
+    _out_jacobian[4, 2] = _t49 * _t93
+    _out_jacobian[4, 3] = _t93 * (_t94 * (2 * _t53 + 2 * _t54) + _t95 * (_t46 * _t71 - 2 * _t51))
+    _out_jacobian[4, 4] = _t93 * (
         (1 / 2) * _t49 * (-_t46 * _t84 - 2 * _t50)
         + _t94 * (_t15 * _t96 - _t9 * _t97)
         + _t95 * (-_t12 * _t97 + _t77 * _t96)
     )
-    jacobian[4, 5] = _t93 * (_t46 * _t49 * _t78 + _t46 * _t52 * _t80 + _t46 * _t55 * _t79)
-    jacobian[5, 0] = _t66 * _t98
-    jacobian[5, 1] = _t63 * _t98
-    jacobian[5, 2] = _t60 * _t98
-    jacobian[5, 3] = _t98 * (_t100 * (_t57 * _t71 - 2 * _t62) + _t99 * (2 * _t64 + 2 * _t65))
-    jacobian[5, 4] = _t98 * (
+    _out_jacobian[4, 5] = _t93 * (_t46 * _t49 * _t78 + _t46 * _t52 * _t80 + _t46 * _t55 * _t79)
+    _out_jacobian[5, 0] = _t66 * _t98
+    _out_jacobian[5, 1] = _t63 * _t98
+    _out_jacobian[5, 2] = _t60 * _t98
+    _out_jacobian[5, 3] = _t98 * (_t100 * (_t57 * _t71 - 2 * _t62) + _t99 * (2 * _t64 + 2 * _t65))
+    _out_jacobian[5, 4] = _t98 * (
         _t100 * (_t101 * _t77 - _t102 * _t12)
         + (1 / 2) * _t60 * (-_t57 * _t84 - 2 * _t61)
         + _t99 * (_t101 * _t15 - _t102 * _t9)
     )
-    jacobian[5, 5] = _t98 * (_t57 * _t60 * _t78 + _t57 * _t63 * _t80 + _t57 * _t66 * _t79)
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_jacobian[5, 5] = _t98 * (_t57 * _t60 * _t78 + _t57 * _t63 * _t80 + _t57 * _t66 * _t79)
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "gough_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -310,25 +310,25 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 6.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    jacobian_actuated = casadi.SX.zeros(6, 6)
-    jacobian_actuated[0, 0] = -1
-    jacobian_actuated[1, 1] = -1
-    jacobian_actuated[2, 2] = -1
-    jacobian_actuated[3, 3] = -1
-    jacobian_actuated[4, 4] = -1
-    jacobian_actuated[5, 5] = -1
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    _out_jacobian_actuated = casadi.SX.zeros(6, 6)
+    _out_jacobian_actuated[0, 0] = -1
+    _out_jacobian_actuated[1, 1] = -1
+    _out_jacobian_actuated[2, 2] = -1
+    _out_jacobian_actuated[3, 3] = -1
+    _out_jacobian_actuated[4, 4] = -1
+    _out_jacobian_actuated[5, 5] = -1
     return casadi.Function(
         "gough_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -346,34 +346,34 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 170.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     _t0 = casadi.sin(alpha)
     _t1 = casadi.cos(gamma)
     _t2 = casadi.sin(beta)
@@ -433,57 +433,57 @@ def rate_jacobians() -> casadi.Function:
     _t56 = _t15 * _t49 - _t2 * _t50 + z
     _t57 = -_t54
     _t58 = -_t52
-    a = casadi.SX.zeros(6, 6)
-    a[0, 0] = x
-    a[0, 1] = y
-    a[0, 2] = z
-    a[1, 0] = _t11
-    a[1, 1] = _t14
-    a[1, 2] = _t16
-    a[1, 3] = _t14 * z + _t16 * _t17
-    a[1, 4] = -_t11 * z - _t16 * _t18
-    a[1, 5] = -_t11 * _t17 + _t14 * _t18
-    a[2, 0] = _t23
-    a[2, 1] = _t25
-    a[2, 2] = _t26
-    a[2, 3] = _t25 * z + _t26 * _t27
-    a[2, 4] = -_t23 * z - _t26 * _t28
-    a[2, 5] = -_t23 * _t27 + _t25 * _t28
-    a[3, 0] = _t33
-    a[3, 1] = _t35
-    a[3, 2] = _t36
-    a[3, 3] = _t35 * z + _t36 * _t37
-    a[3, 4] = -_t33 * z - _t36 * _t38
-    a[3, 5] = -_t33 * _t37 + _t35 * _t38
-    a[4, 0] = _t43
-    a[4, 1] = _t45
-    a[4, 2] = _t46
-    a[4, 3] = _t45 * z + _t46 * _t47
-    a[4, 4] = -_t43 * z - _t46 * _t48
-    a[4, 5] = -_t43 * _t47 + _t45 * _t48
-    a[5, 0] = _t53
-    a[5, 1] = _t55
-    a[5, 2] = _t56
-    a[5, 3] = _t55 * z + _t56 * _t57
-    a[5, 4] = -_t53 * z - _t56 * _t58
-    a[5, 5] = -_t53 * _t57 + _t55 * _t58
-    b = casadi.SX.zeros(6, 6)
-    b[0, 0] = l1
-    b[1, 1] = l2
-    b[2, 2] = l3
-    b[3, 3] = l4
-    b[4, 4] = l5
-    b[5, 5] = l6
+    _out_a = casadi.SX.zeros(6, 6)
+    _out_a[0, 0] = x
+    _out_a[0, 1] = y
+    _out_a[0, 2] = z
+    _out_a[1, 0] = _t11
+    _out_a[1, 1] = _t14
+    _out_a[1, 2] = _t16
+    _out_a[1, 3] = _t14 * z + _t16 * _t17
+    _out_a[1, 4] = -_t11 * z - _t16 * _t18
+    _out_a[1, 5] = -_t11 * _t17 + _t14 * _t18
+    _out_a[2, 0] = _t23
+    _out_a[2, 1] = _t25
+    _out_a[2, 2] = _t26
+    _out_a[2, 3] = _t25 * z + _t26 * _t27
+    _out_a[2, 4] = -_t23 * z - _t26 * _t28
+    _out_a[2, 5] = -_t23 * _t27 + _t25 * _t28
+    _out_a[3, 0] = _t33
+    _out_a[3, 1] = _t35
+    _out_a[3, 2] = _t36
+    _out_a[3, 3] = _t35 * z + _t36 * _t37
+    _out_a[3, 4] = -_t33 * z - _t36 * _t38
+    _out_a[3, 5] = -_t33 * _t37 + _t35 * _t38
+    _out_a[4, 0] = _t43
+    _out_a[4, 1] = _t45
+    _out_a[4, 2] = _t46
+    _out_a[4, 3] = _t45 * z + _t46 * _t47
+    _out_a[4, 4] = -_t43 * z - _t46 * _t48
+    _out_a[4, 5] = -_t43 * _t47 + _t45 * _t48
+    _out_a[5, 0] = _t53
+    _out_a[5, 1] = _t55
+    _out_a[5, 2] = _t56
+    _out_a[5, 3] = _t55 * z + _t56 * _t57
+    _out_a[5, 4] = -_t53 * z - _t56 * _t58
+    _out_a[5, 5] = -_t53 * _t57 + _t55 * _t58
+    _out_b = casadi.SX.zeros(6, 6)
+    _out_b[0, 0] = l1
+    _out_b[1, 1] = l2
+    _out_b[2, 2] = l3
+    _out_b[3, 3] = l4
+    _out_b[4, 4] = l5
+    _out_b[5, 5] = l6
     return casadi.Function(
         "gough_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -502,28 +502,28 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 360.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     _t0 = t22 * yA2
     _t1 = casadi.sin(gamma)
     _t2 = casadi.cos(beta)
@@ -601,43 +601,43 @@ def parameter_jacobians() -> casadi.Function:
     _t74 = (1 / 2) * _t71
     _t75 = _t70 * yA6
     _t76 = _t71 * yA6
-    closure_parameters = casadi.SX.zeros(6, 13)
-    closure_parameters[1, 0] = _t15 * (-_t16 * t11 + _t17 * _t18 + _t19 * _t20)
-    closure_parameters[1, 5] = _t15 * (_t12 * _t25 + _t20 * _t26 + _t22 * _t6)
-    closure_parameters[1, 10] = _t15 * (_t14 * _t27 * _t9 - _t16 * xA2 + _t18 * _t27)
-    closure_parameters[1, 11] = _t15 * (-_t16 * yA2 + _t28 * _t29 + _t30 * _t31)
-    closure_parameters[1, 12] = _t15 * (_t11 * _t28 + _t13 * _t30 + _t3 * _t6 * yA2)
-    closure_parameters[2, 1] = _t38 * (_t19 * _t41 + _t36 * _t40 - _t39 * t11)
-    closure_parameters[2, 6] = _t38 * (_t22 * _t34 + _t25 * _t36 + _t26 * _t41)
-    closure_parameters[2, 10] = _t38 * (_t29 * _t36 * xA3 + _t31 * _t37 * xA3 - _t39 * xA3)
-    closure_parameters[2, 11] = _t38 * (_t29 * _t42 + _t31 * _t43 - _t39 * yA3)
-    closure_parameters[2, 12] = _t38 * (_t11 * _t42 + _t13 * _t43 + _t3 * _t34 * yA3)
-    closure_parameters[3, 2] = _t50 * (_t19 * _t52 + _t40 * _t48 - _t51 * t11)
-    closure_parameters[3, 7] = _t50 * (_t22 * _t46 + _t25 * _t48 + _t26 * _t52)
-    closure_parameters[3, 10] = _t50 * (_t29 * _t48 * xA4 + _t31 * _t49 * xA4 - _t51 * xA4)
-    closure_parameters[3, 11] = _t50 * (_t29 * _t53 + _t31 * _t54 - _t51 * yA4)
-    closure_parameters[3, 12] = _t50 * (_t11 * _t53 + _t13 * _t54 + _t3 * _t46 * yA4)
-    closure_parameters[4, 3] = _t61 * (_t19 * _t63 + _t40 * _t59 - _t62 * t11)
-    closure_parameters[4, 8] = _t61 * (_t22 * _t57 + _t25 * _t59 + _t26 * _t63)
-    closure_parameters[4, 10] = _t61 * (_t29 * _t59 * xA5 + _t31 * _t60 * xA5 - _t62 * xA5)
-    closure_parameters[4, 11] = _t61 * (_t29 * _t64 + _t31 * _t65 - _t62 * yA5)
-    closure_parameters[4, 12] = _t61 * (_t11 * _t64 + _t13 * _t65 + _t3 * _t57 * yA5)
-    closure_parameters[5, 4] = _t72 * (_t19 * _t74 + _t40 * _t70 - _t73 * t11)
-    closure_parameters[5, 9] = _t72 * (_t22 * _t68 + _t25 * _t70 + _t26 * _t74)
-    closure_parameters[5, 10] = _t72 * (_t29 * _t70 * xA6 + _t31 * _t71 * xA6 - _t73 * xA6)
-    closure_parameters[5, 11] = _t72 * (_t29 * _t75 + _t31 * _t76 - _t73 * yA6)
-    closure_parameters[5, 12] = _t72 * (_t11 * _t75 + _t13 * _t76 + _t3 * _t68 * yA6)
-    pose_parameters = casadi.SX.zeros(12, 13)
+    _out_closure_parameters = casadi.SX.zeros(6, 13)
+    _out_closure_parameters[1, 0] = _t15 * (-_t16 * t11 + _t17 * _t18 + _t19 * _t20)
+    _out_closure_parameters[1, 5] = _t15 * (_t12 * _t25 + _t20 * _t26 + _t22 * _t6)
+    _out_closure_parameters[1, 10] = _t15 * (_t14 * _t27 * _t9 - _t16 * xA2 + _t18 * _t27)
+    _out_closure_parameters[1, 11] = _t15 * (-_t16 * yA2 + _t28 * _t29 + _t30 * _t31)
+    _out_closure_parameters[1, 12] = _t15 * (_t11 * _t28 + _t13 * _t30 + _t3 * _t6 * yA2)
+    _out_closure_parameters[2, 1] = _t38 * (_t19 * _t41 + _t36 * _t40 - _t39 * t11)
+    _out_closure_parameters[2, 6] = _t38 * (_t22 * _t34 + _t25 * _t36 + _t26 * _t41)
+    _out_closure_parameters[2, 10] = _t38 * (_t29 * _t36 * xA3 + _t31 * _t37 * xA3 - _t39 * xA3)
+    _out_closure_parameters[2, 11] = _t38 * (_t29 * _t42 + _t31 * _t43 - _t39 * yA3)
+    _out_closure_parameters[2, 12] = _t38 * (_t11 * _t42 + _t13 * _t43 + _t3 * _t34 * yA3)
+    _out_closure_parameters[3, 2] = _t50 * (_t19 * _t52 + _t40 * _t48 - _t51 * t11)
+    _out_closure_parameters[3, 7] = _t50 * (_t22 * _t46 + _t25 * _t48 + _t26 * _t52)
+    _out_closure_parameters[3, 10] = _t50 * (_t29 * _t48 * xA4 + _t31 * _t49 * xA4 - _t51 * xA4)
+    _out_closure_parameters[3, 11] = _t50 * (_t29 * _t53 + _t31 * _t54 - _t51 * yA4)
+    _out_closure_parameters[3, 12] = _t50 * (_t11 * _t53 + _t13 * _t54 + _t3 * _t46 * yA4)
+    _out_closure_parameters[4, 3] = _t61 * (_t19 * _t63 + _t40 * _t59 - _t62 * t11)
+    _out_closure_parameters[4, 8] = _t61 * (_t22 * _t57 + _t25 * _t59 + _t26 * _t63)
+    _out_closure_parameters[4, 10] = _t61 * (_t29 * _t59 * xA5 + _t31 * _t60 * xA5 - _t62 * xA5)
+    _out_closure_parameters[4, 11] = _t61 * (_t29 * _t64 + _t31 * _t65 - _t62 * yA5)
+    _out_closure_parameters[4, 12] = _t61 * (_t11 * _t64 + _t13 * _t65 + _t3 * _t57 * yA5)
+    _out_closure_parameters[5, 4] = _t72 * (_t19 * _t74 + _t40 * _t70 - _t73 * t11)
+    _out_closure_parameters[5, 9] = _t72 * (_t22 * _t68 + _t25 * _t70 + _t26 * _t74)
+    _out_closure_parameters[5, 10] = _t72 * (_t29 * _t70 * xA6 + _t31 * _t71 * xA6 - _t73 * xA6)
+    _out_closure_parameters[5, 11] = _t72 * (_t29 * _t75 + _t31 * _t76 - _t73 * yA6)
+    _out_closure_parameters[5, 12] = _t72 * (_t11 * _t75 + _t13 * _t76 + _t3 * _t68 * yA6)
+    _out_pose_parameters = casadi.SX.zeros(12, 13)
     return casadi.Function(
         "gough_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -656,34 +656,34 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 442.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     _t0 = casadi.sin(gamma)
     _t1 = casadi.cos(beta)
     _t2 = _t0 * _t1 * t22
@@ -846,27 +846,27 @@ def singularity_factors() -> casadi.Function:
             + z * (_t37 * _t43 - _t47 * _t51)
         )
     )
-    factors = casadi.SX.zeros(7)
-    factors[0] = l1
-    factors[1] = l2
-    factors[2] = l3
-    factors[3] = l4
-    factors[4] = l5
-    factors[5] = l6
-    factors[6] = _t88
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t88
-    determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
+    _out_factors = casadi.SX.zeros(7)
+    _out_factors[0] = l1
+    _out_factors[1] = l2
+    _out_factors[2] = l3
+    _out_factors[3] = l4
+    _out_factors[4] = l5
+    _out_factors[5] = l6
+    _out_factors[6] = _t88
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t88
+    _out_determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
     return casadi.Function(
         "gough_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -885,17 +885,17 @@ def architecture() -> casadi.Function:
 
     Operations: 455.
     """
-    params = casadi.SX.sym("params", 13)
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
+    _in_params = casadi.SX.sym("params", 13)
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
     _t0 = xA2**2
     _t1 = xA3**2
     _t2 = xA4**2
@@ -1028,8 +1028,8 @@ def architecture() -> casadi.Function:
     _t117 = xA6 * yA6
     _t118 = _t52 * _t6
     _t119 = _t57 * yA2
-    measures = casadi.SX.zeros(1)
-    measures[0] = (
+    _out_measures = casadi.SX.zeros(1)
+    _out_measures[0] = (
         _t1 * _t109 * _t94
         - _t1 * _t20 * _t49
         - _t1 * _t67 * yA5
@@ -1162,10 +1162,10 @@ def architecture() -> casadi.Function:
     return casadi.Function(
         "gough_architecture",
         [
-            params,
+            _in_params,
         ],
         [
-            measures,
+            _out_measures,
         ],
         [
             "params",
@@ -1181,28 +1181,28 @@ def drawing() -> casadi.Function:
 
     Operations: 95.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 13)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    alpha = passive[3]
-    beta = passive[4]
-    gamma = passive[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    alpha = _in_passive[3]
+    beta = _in_passive[4]
+    gamma = _in_passive[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     _t0 = t11 * xA2 + t12 * yA2
     _t1 = casadi.cos(alpha)
     _t2 = casadi.cos(beta)
@@ -1219,46 +1219,46 @@ def drawing() -> casadi.Function:
     _t13 = _t2 * _t4
     _t14 = t22 * (_t1 * _t5 + _t4 * _t6 * _t7)
     _t15 = _t2 * _t7 * t22
-    base = casadi.SX.zeros(3, 6)
-    base[0, 1] = xA2
-    base[0, 2] = xA3
-    base[0, 3] = xA4
-    base[0, 4] = xA5
-    base[0, 5] = xA6
-    base[1, 1] = yA2
-    base[1, 2] = yA3
-    base[1, 3] = yA4
-    base[1, 4] = yA5
-    base[1, 5] = yA6
-    platform = casadi.SX.zeros(3, 6)
-    platform[0, 0] = x
-    platform[0, 1] = _t0 * _t3 + _t8 * yA2 + x
-    platform[0, 2] = _t3 * _t9 + _t8 * yA3 + x
-    platform[0, 3] = _t10 * _t3 + _t8 * yA4 + x
-    platform[0, 4] = _t11 * _t3 + _t8 * yA5 + x
-    platform[0, 5] = _t12 * _t3 + _t8 * yA6 + x
-    platform[1, 0] = y
-    platform[1, 1] = _t0 * _t13 + _t14 * yA2 + y
-    platform[1, 2] = _t13 * _t9 + _t14 * yA3 + y
-    platform[1, 3] = _t10 * _t13 + _t14 * yA4 + y
-    platform[1, 4] = _t11 * _t13 + _t14 * yA5 + y
-    platform[1, 5] = _t12 * _t13 + _t14 * yA6 + y
-    platform[2, 0] = z
-    platform[2, 1] = -_t0 * _t6 + _t15 * yA2 + z
-    platform[2, 2] = _t15 * yA3 - _t6 * _t9 + z
-    platform[2, 3] = -_t10 * _t6 + _t15 * yA4 + z
-    platform[2, 4] = -_t11 * _t6 + _t15 * yA5 + z
-    platform[2, 5] = -_t12 * _t6 + _t15 * yA6 + z
+    _out_base = casadi.SX.zeros(3, 6)
+    _out_base[0, 1] = xA2
+    _out_base[0, 2] = xA3
+    _out_base[0, 3] = xA4
+    _out_base[0, 4] = xA5
+    _out_base[0, 5] = xA6
+    _out_base[1, 1] = yA2
+    _out_base[1, 2] = yA3
+    _out_base[1, 3] = yA4
+    _out_base[1, 4] = yA5
+    _out_base[1, 5] = yA6
+    _out_platform = casadi.SX.zeros(3, 6)
+    _out_platform[0, 0] = x
+    _out_platform[0, 1] = _t0 * _t3 + _t8 * yA2 + x
+    _out_platform[0, 2] = _t3 * _t9 + _t8 * yA3 + x
+    _out_platform[0, 3] = _t10 * _t3 + _t8 * yA4 + x
+    _out_platform[0, 4] = _t11 * _t3 + _t8 * yA5 + x
+    _out_platform[0, 5] = _t12 * _t3 + _t8 * yA6 + x
+    _out_platform[1, 0] = y
+    _out_platform[1, 1] = _t0 * _t13 + _t14 * yA2 + y
+    _out_platform[1, 2] = _t13 * _t9 + _t14 * yA3 + y
+    _out_platform[1, 3] = _t10 * _t13 + _t14 * yA4 + y
+    _out_platform[1, 4] = _t11 * _t13 + _t14 * yA5 + y
+    _out_platform[1, 5] = _t12 * _t13 + _t14 * yA6 + y
+    _out_platform[2, 0] = z
+    _out_platform[2, 1] = -_t0 * _t6 + _t15 * yA2 + z
+    _out_platform[2, 2] = _t15 * yA3 - _t6 * _t9 + z
+    _out_platform[2, 3] = -_t10 * _t6 + _t15 * yA4 + z
+    _out_platform[2, 4] = -_t11 * _t6 + _t15 * yA5 + z
+    _out_platform[2, 5] = -_t12 * _t6 + _t15 * yA6 + z
     return casadi.Function(
         "gough_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            platform,
+            _out_base,
+            _out_platform,
         ],
         [
             "actuated",
@@ -1277,32 +1277,32 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 141.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 0)
-    params = casadi.SX.sym("params", 13)
-    r11 = pose[0]
-    r12 = pose[1]
-    r21 = pose[3]
-    r22 = pose[4]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 0)
+    _in_params = casadi.SX.sym("params", 13)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     l1 = casadi.sqrt(px**2 + py**2 + pz**2)
     _t0 = t22 * yA2
     _t1 = t11 * xA2 + t12 * yA2
@@ -1345,38 +1345,38 @@ def inverse_pose() -> casadi.Function:
     alpha = casadi.atan2(r21, r11)
     beta = casadi.atan2(-r31, casadi.sqrt(r11**2 + r21**2))
     gamma = casadi.atan2(r32, r33)
-    actuated = casadi.SX.zeros(6)
-    actuated[0] = l1
-    actuated[1] = l2
-    actuated[2] = l3
-    actuated[3] = l4
-    actuated[4] = l5
-    actuated[5] = l6
-    passive = casadi.SX.zeros(6)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = z
-    passive[3] = alpha
-    passive[4] = beta
-    passive[5] = gamma
-    validity = casadi.SX.zeros(6)
-    validity[0] = l1
-    validity[1] = l2
-    validity[2] = l3
-    validity[3] = l4
-    validity[4] = l5
-    validity[5] = l6
+    _out_actuated = casadi.SX.zeros(6)
+    _out_actuated[0] = l1
+    _out_actuated[1] = l2
+    _out_actuated[2] = l3
+    _out_actuated[3] = l4
+    _out_actuated[4] = l5
+    _out_actuated[5] = l6
+    _out_passive = casadi.SX.zeros(6)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = z
+    _out_passive[3] = alpha
+    _out_passive[4] = beta
+    _out_passive[5] = gamma
+    _out_validity = casadi.SX.zeros(6)
+    _out_validity[0] = l1
+    _out_validity[1] = l2
+    _out_validity[2] = l3
+    _out_validity[3] = l4
+    _out_validity[4] = l5
+    _out_validity[5] = l6
     return casadi.Function(
         "gough_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1396,31 +1396,31 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 141.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 13)
-    r11 = pose[0]
-    r12 = pose[1]
-    r21 = pose[3]
-    r22 = pose[4]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 13)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     l1 = casadi.sqrt(px**2 + py**2 + pz**2)
     _t0 = t22 * yA2
     _t1 = t11 * xA2 + t12 * yA2
@@ -1463,37 +1463,37 @@ def inverse_pose_patterns() -> casadi.Function:
     alpha = casadi.atan2(r21, r11)
     beta = casadi.atan2(-r31, casadi.sqrt(r11**2 + r21**2))
     gamma = casadi.atan2(r32, r33)
-    actuated = casadi.SX.zeros(6)
-    actuated[0] = l1
-    actuated[1] = l2
-    actuated[2] = l3
-    actuated[3] = l4
-    actuated[4] = l5
-    actuated[5] = l6
-    passive = casadi.SX.zeros(6)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = z
-    passive[3] = alpha
-    passive[4] = beta
-    passive[5] = gamma
-    validity = casadi.SX.zeros(6)
-    validity[0] = l1
-    validity[1] = l2
-    validity[2] = l3
-    validity[3] = l4
-    validity[4] = l5
-    validity[5] = l6
+    _out_actuated = casadi.SX.zeros(6)
+    _out_actuated[0] = l1
+    _out_actuated[1] = l2
+    _out_actuated[2] = l3
+    _out_actuated[3] = l4
+    _out_actuated[4] = l5
+    _out_actuated[5] = l6
+    _out_passive = casadi.SX.zeros(6)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = z
+    _out_passive[3] = alpha
+    _out_passive[4] = beta
+    _out_passive[5] = gamma
+    _out_validity = casadi.SX.zeros(6)
+    _out_validity[0] = l1
+    _out_validity[1] = l2
+    _out_validity[2] = l3
+    _out_validity[3] = l4
+    _out_validity[4] = l5
+    _out_validity[5] = l6
     return casadi.Function(
         "gough_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1512,27 +1512,27 @@ def forward_polynomial() -> casadi.Function:
 
     Operations: 2581.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     scale2 = casadi.fmax(
         1.0e-300,
         (1 / 5) * xA2**2
@@ -2833,14 +2833,14 @@ def forward_polynomial() -> casadi.Function:
     _t432 = xA4**2 + yA4**2
     _t433 = xA5**2 + yA5**2
     _t434 = xA6**2 + yA6**2
-    coefficients = casadi.SX.zeros(5)
-    coefficients[0] = -_t418 + _t419 * _t420 - _t419 - _t420 + 1
-    coefficients[1] = 2 * _t420 * a2 * e2 - _t422 - _t423 * e2 - _t424 * a2
-    coefficients[2] = _t418 + _t420 * _t426 - _t423 * _t427 - _t424 * e2 - _t425 - _t426 - 1
-    coefficients[3] = _t422 - 2 * _t427 * e2
-    coefficients[4] = _t425
-    degeneracies = casadi.SX.zeros(2)
-    degeneracies[0] = det_M / casadi.fmax(
+    _out_coefficients = casadi.SX.zeros(5)
+    _out_coefficients[0] = -_t418 + _t419 * _t420 - _t419 - _t420 + 1
+    _out_coefficients[1] = 2 * _t420 * a2 * e2 - _t422 - _t423 * e2 - _t424 * a2
+    _out_coefficients[2] = _t418 + _t420 * _t426 - _t423 * _t427 - _t424 * e2 - _t425 - _t426 - 1
+    _out_coefficients[3] = _t422 - 2 * _t427 * e2
+    _out_coefficients[4] = _t425
+    _out_degeneracies = casadi.SX.zeros(2)
+    _out_degeneracies[0] = det_M / casadi.fmax(
         1.0e-300,
         scale2**4
         * casadi.sqrt(
@@ -2851,16 +2851,16 @@ def forward_polynomial() -> casadi.Function:
             * (_t428 * _t434 + _t430 * _t434**2)
         ),
     )
-    degeneracies[1] = t11 * t22
+    _out_degeneracies[1] = t11 * t22
     return casadi.Function(
         "gough_forward_polynomial",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            coefficients,
-            degeneracies,
+            _out_coefficients,
+            _out_degeneracies,
         ],
         [
             "actuated",
@@ -2878,32 +2878,32 @@ def forward_back_substitution() -> casadi.Function:
 
     Operations: 2710.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    root = casadi.SX.sym("root", 1)
-    branch = casadi.SX.sym("branch", 2)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    i_y = root[0]
-    sigma = branch[0]
-    tau = branch[1]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_root = casadi.SX.sym("root", 1)
+    _in_branch = casadi.SX.sym("branch", 2)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    i_y = _in_root[0]
+    sigma = _in_branch[0]
+    tau = _in_branch[1]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
     scale2 = casadi.fmax(
         1.0e-300,
         (1 / 5) * xA2**2
@@ -4242,30 +4242,30 @@ def forward_back_substitution() -> casadi.Function:
     _t434 = i_y * t12 + j_y * t22 - 1
     _t435 = i_z * t11
     _t436 = tau * casadi.sqrt(1 / det_G) * casadi.sqrt(casadi.fmax(0, h2))
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t422
-    pose[0, 1] = _t425
-    pose[0, 2] = _t426 * _t428 - _t427 * _t429
-    pose[0, 3] = _t430 * c1 + _t431 * c2 + _t436 * (_t432 * _t433 - _t434 * _t435)
-    pose[1, 0] = _t426
-    pose[1, 1] = _t429
-    pose[1, 2] = _t421 * _t423 * _t424 * i_z - _t422 * _t428
-    pose[1, 3] = _t433 * c1 + _t434 * c2 + _t436 * (-_t430 * _t432 + _t431 * _t435)
-    pose[2, 0] = _t427
-    pose[2, 1] = _t428
-    pose[2, 2] = _t422 * _t429 - _t425 * _t426
-    pose[2, 3] = _t432 * c2 + _t435 * c1 + _t436 * (_t430 * _t434 - _t431 * _t433)
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t422
+    _out_pose[0, 1] = _t425
+    _out_pose[0, 2] = _t426 * _t428 - _t427 * _t429
+    _out_pose[0, 3] = _t430 * c1 + _t431 * c2 + _t436 * (_t432 * _t433 - _t434 * _t435)
+    _out_pose[1, 0] = _t426
+    _out_pose[1, 1] = _t429
+    _out_pose[1, 2] = _t421 * _t423 * _t424 * i_z - _t422 * _t428
+    _out_pose[1, 3] = _t433 * c1 + _t434 * c2 + _t436 * (-_t430 * _t432 + _t431 * _t435)
+    _out_pose[2, 0] = _t427
+    _out_pose[2, 1] = _t428
+    _out_pose[2, 2] = _t422 * _t429 - _t425 * _t426
+    _out_pose[2, 3] = _t432 * c2 + _t435 * c1 + _t436 * (_t430 * _t434 - _t431 * _t433)
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "gough_forward_back_substitution",
         [
-            actuated,
-            root,
-            branch,
-            params,
+            _in_actuated,
+            _in_root,
+            _in_branch,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -4284,57 +4284,57 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 13)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    xA2 = params[0]
-    xA3 = params[1]
-    xA4 = params[2]
-    xA5 = params[3]
-    xA6 = params[4]
-    yA2 = params[5]
-    yA3 = params[6]
-    yA4 = params[7]
-    yA5 = params[8]
-    yA6 = params[9]
-    t11 = params[10]
-    t12 = params[11]
-    t22 = params[12]
-    free = casadi.SX.zeros(19)
-    free[0] = l1
-    free[1] = l2
-    free[2] = l3
-    free[3] = l4
-    free[4] = l5
-    free[5] = l6
-    free[6] = xA2
-    free[7] = xA3
-    free[8] = xA4
-    free[9] = xA5
-    free[10] = xA6
-    free[11] = yA2
-    free[12] = yA3
-    free[13] = yA4
-    free[14] = yA5
-    free[15] = yA6
-    free[16] = t11
-    free[17] = t12
-    free[18] = t22
-    angles = casadi.SX.zeros(1)
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 13)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    xA2 = _in_params[0]
+    xA3 = _in_params[1]
+    xA4 = _in_params[2]
+    xA5 = _in_params[3]
+    xA6 = _in_params[4]
+    yA2 = _in_params[5]
+    yA3 = _in_params[6]
+    yA4 = _in_params[7]
+    yA5 = _in_params[8]
+    yA6 = _in_params[9]
+    t11 = _in_params[10]
+    t12 = _in_params[11]
+    t22 = _in_params[12]
+    _out_free = casadi.SX.zeros(19)
+    _out_free[0] = l1
+    _out_free[1] = l2
+    _out_free[2] = l3
+    _out_free[3] = l4
+    _out_free[4] = l5
+    _out_free[5] = l6
+    _out_free[6] = xA2
+    _out_free[7] = xA3
+    _out_free[8] = xA4
+    _out_free[9] = xA5
+    _out_free[10] = xA6
+    _out_free[11] = yA2
+    _out_free[12] = yA3
+    _out_free[13] = yA4
+    _out_free[14] = yA5
+    _out_free[15] = yA6
+    _out_free[16] = t11
+    _out_free[17] = t12
+    _out_free[18] = t22
+    _out_angles = casadi.SX.zeros(1)
     return casadi.Function(
         "gough_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -4352,46 +4352,46 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 1043.
     """
-    family_re = casadi.SX.sym("family_re", 19)
-    family_im = casadi.SX.sym("family_im", 19)
-    l1_re = family_re[0]
-    l2_re = family_re[1]
-    l3_re = family_re[2]
-    l4_re = family_re[3]
-    l5_re = family_re[4]
-    l6_re = family_re[5]
-    xA2_re = family_re[6]
-    xA3_re = family_re[7]
-    xA4_re = family_re[8]
-    xA5_re = family_re[9]
-    xA6_re = family_re[10]
-    yA2_re = family_re[11]
-    yA3_re = family_re[12]
-    yA4_re = family_re[13]
-    yA5_re = family_re[14]
-    yA6_re = family_re[15]
-    t11_re = family_re[16]
-    t12_re = family_re[17]
-    t22_re = family_re[18]
-    l1_im = family_im[0]
-    l2_im = family_im[1]
-    l3_im = family_im[2]
-    l4_im = family_im[3]
-    l5_im = family_im[4]
-    l6_im = family_im[5]
-    xA2_im = family_im[6]
-    xA3_im = family_im[7]
-    xA4_im = family_im[8]
-    xA5_im = family_im[9]
-    xA6_im = family_im[10]
-    yA2_im = family_im[11]
-    yA3_im = family_im[12]
-    yA4_im = family_im[13]
-    yA5_im = family_im[14]
-    yA6_im = family_im[15]
-    t11_im = family_im[16]
-    t12_im = family_im[17]
-    t22_im = family_im[18]
+    _in_family_re = casadi.SX.sym("family_re", 19)
+    _in_family_im = casadi.SX.sym("family_im", 19)
+    l1_re = _in_family_re[0]
+    l2_re = _in_family_re[1]
+    l3_re = _in_family_re[2]
+    l4_re = _in_family_re[3]
+    l5_re = _in_family_re[4]
+    l6_re = _in_family_re[5]
+    xA2_re = _in_family_re[6]
+    xA3_re = _in_family_re[7]
+    xA4_re = _in_family_re[8]
+    xA5_re = _in_family_re[9]
+    xA6_re = _in_family_re[10]
+    yA2_re = _in_family_re[11]
+    yA3_re = _in_family_re[12]
+    yA4_re = _in_family_re[13]
+    yA5_re = _in_family_re[14]
+    yA6_re = _in_family_re[15]
+    t11_re = _in_family_re[16]
+    t12_re = _in_family_re[17]
+    t22_re = _in_family_re[18]
+    l1_im = _in_family_im[0]
+    l2_im = _in_family_im[1]
+    l3_im = _in_family_im[2]
+    l4_im = _in_family_im[3]
+    l5_im = _in_family_im[4]
+    l6_im = _in_family_im[5]
+    xA2_im = _in_family_im[6]
+    xA3_im = _in_family_im[7]
+    xA4_im = _in_family_im[8]
+    xA5_im = _in_family_im[9]
+    xA6_im = _in_family_im[10]
+    yA2_im = _in_family_im[11]
+    yA3_im = _in_family_im[12]
+    yA4_im = _in_family_im[13]
+    yA5_im = _in_family_im[14]
+    yA6_im = _in_family_im[15]
+    t11_im = _in_family_im[16]
+    t12_im = _in_family_im[17]
+    t22_im = _in_family_im[18]
     _t0 = 2 * yA2_re
     _t1 = 2 * yA2_im
     _t2 = 2 * xA2_im
@@ -4706,326 +4706,326 @@ def automatic_monomials() -> casadi.Function:
     _t255 = -_t184 * _t33 * t22_im + 2 * _t42 * yA6_im * yA6_re
     _t256 = 4 * _t177
     _t257 = _t184 * _t32 + _t256 * t22_re
-    re = casadi.SX.zeros(168)
-    re[0] = -1
-    re[1] = -1
-    re[2] = -1
-    re[3] = -(l1_im**2) + l1_re**2
-    re[4] = -1
-    re[5] = _t5
-    re[6] = _t6
-    re[7] = -_t6
-    re[8] = _t3
-    re[9] = -1
-    re[10] = _t6
-    re[11] = _t5
-    re[12] = _t6
-    re[13] = _t0
-    re[14] = -1
-    re[15] = _t6
-    re[16] = -_t5
-    re[17] = _t27
-    re[18] = _t39
-    re[19] = _t43
-    re[20] = _t43
-    re[21] = 2 * _t16 * t11_re - _t44 * yA2_im + _t45 * yA2_re - _t9
-    re[22] = -_t46 * yA2_im + _t48 * yA2_re
-    re[23] = _t49
-    re[24] = _t27
-    re[25] = _t39
-    re[26] = _t43
-    re[27] = _t43
-    re[28] = -_t12 + 2 * _t20 * t12_re - _t50 * yA2_im + _t51 * yA2_re
-    re[29] = _t49
-    re[30] = _t47 * yA2_re - _t52 * yA2_im
-    re[31] = _t43
-    re[32] = _t20 * _t53 - _t28 * _t30 - _t55 * yA2_im + _t56 * yA2_re
-    re[33] = _t27
-    re[34] = _t14 - _t15 + _t18 - _t19 - l2_im**2 + l2_re**2
-    re[35] = -1
-    re[36] = _t62
-    re[37] = _t63
-    re[38] = -_t63
-    re[39] = _t60
-    re[40] = -1
-    re[41] = _t63
-    re[42] = _t62
-    re[43] = _t63
-    re[44] = _t57
-    re[45] = -1
-    re[46] = _t63
-    re[47] = -_t62
-    re[48] = _t76
-    re[49] = _t80
-    re[50] = _t82
-    re[51] = _t82
-    re[52] = -_t65 + 2 * _t70 * t11_re - _t83 * yA3_im + _t84 * yA3_re
-    re[53] = -_t85 * yA3_im + _t87 * yA3_re
-    re[54] = _t88
-    re[55] = _t76
-    re[56] = _t80
-    re[57] = _t82
-    re[58] = _t82
-    re[59] = -_t67 + 2 * _t73 * t12_re - _t89 * yA3_im + _t90 * yA3_re
-    re[60] = _t88
-    re[61] = _t86 * yA3_re - _t91 * yA3_im
-    re[62] = _t82
-    re[63] = -_t28 * _t77 + _t53 * _t73 - _t92 * yA3_im + _t93 * yA3_re
-    re[64] = _t76
-    re[65] = _t68 - _t69 + _t71 - _t72 - l3_im**2 + l3_re**2
-    re[66] = -1
-    re[67] = _t99
-    re[68] = _t100
-    re[69] = -_t100
-    re[70] = _t97
-    re[71] = -1
-    re[72] = _t100
-    re[73] = _t99
-    re[74] = _t100
-    re[75] = _t94
-    re[76] = -1
-    re[77] = _t100
-    re[78] = -_t99
-    re[79] = _t113
-    re[80] = _t117
-    re[81] = _t119
-    re[82] = _t119
-    re[83] = -_t102 + 2 * _t107 * t11_re - _t120 * yA4_im + _t121 * yA4_re
-    re[84] = -_t122 * yA4_im + _t124 * yA4_re
-    re[85] = _t125
-    re[86] = _t113
-    re[87] = _t117
-    re[88] = _t119
-    re[89] = _t119
-    re[90] = -_t104 + 2 * _t110 * t12_re - _t126 * yA4_im + _t127 * yA4_re
-    re[91] = _t125
-    re[92] = _t123 * yA4_re - _t128 * yA4_im
-    re[93] = _t119
-    re[94] = _t110 * _t53 - _t114 * _t28 - _t129 * yA4_im + _t130 * yA4_re
-    re[95] = _t113
-    re[96] = _t105 - _t106 + _t108 - _t109 - l4_im**2 + l4_re**2
-    re[97] = -1
-    re[98] = _t136
-    re[99] = _t137
-    re[100] = -_t137
-    re[101] = _t134
-    re[102] = -1
-    re[103] = _t137
-    re[104] = _t136
-    re[105] = _t137
-    re[106] = _t131
-    re[107] = -1
-    re[108] = _t137
-    re[109] = -_t136
-    re[110] = _t150
-    re[111] = _t154
-    re[112] = _t156
-    re[113] = _t156
-    re[114] = -_t139 + 2 * _t144 * t11_re - _t157 * yA5_im + _t158 * yA5_re
-    re[115] = -_t159 * yA5_im + _t161 * yA5_re
-    re[116] = _t162
-    re[117] = _t150
-    re[118] = _t154
-    re[119] = _t156
-    re[120] = _t156
-    re[121] = -_t141 + 2 * _t147 * t12_re - _t163 * yA5_im + _t164 * yA5_re
-    re[122] = _t162
-    re[123] = _t160 * yA5_re - _t165 * yA5_im
-    re[124] = _t156
-    re[125] = _t147 * _t53 - _t151 * _t28 - _t166 * yA5_im + _t167 * yA5_re
-    re[126] = _t150
-    re[127] = _t142 - _t143 + _t145 - _t146 - l5_im**2 + l5_re**2
-    re[128] = -1
-    re[129] = _t173
-    re[130] = _t174
-    re[131] = -_t174
-    re[132] = _t171
-    re[133] = -1
-    re[134] = _t174
-    re[135] = _t173
-    re[136] = _t174
-    re[137] = _t168
-    re[138] = -1
-    re[139] = _t174
-    re[140] = -_t173
-    re[141] = _t187
-    re[142] = _t191
-    re[143] = _t193
-    re[144] = _t193
-    re[145] = -_t176 + 2 * _t181 * t11_re - _t194 * yA6_im + _t195 * yA6_re
-    re[146] = -_t196 * yA6_im + _t198 * yA6_re
-    re[147] = _t199
-    re[148] = _t187
-    re[149] = _t191
-    re[150] = _t193
-    re[151] = _t193
-    re[152] = -_t178 + 2 * _t184 * t12_re - _t200 * yA6_im + _t201 * yA6_re
-    re[153] = _t199
-    re[154] = _t197 * yA6_re - _t202 * yA6_im
-    re[155] = _t193
-    re[156] = _t184 * _t53 - _t188 * _t28 - _t203 * yA6_im + _t204 * yA6_re
-    re[157] = _t187
-    re[158] = _t179 - _t180 + _t182 - _t183 - l6_im**2 + l6_re**2
-    re[159] = 1
-    re[160] = 1
-    re[161] = -1
-    re[162] = 1
-    re[163] = 1
-    re[164] = -1
-    re[165] = 1
-    re[166] = 1
-    re[167] = -1
-    im = casadi.SX.zeros(168)
-    im[3] = 2 * l1_im * l1_re
-    im[5] = _t206
-    im[6] = _t208
-    im[7] = _t207
-    im[8] = _t2
-    im[10] = _t208
-    im[11] = _t206
-    im[12] = _t208
-    im[13] = _t1
-    im[15] = _t208
-    im[16] = _t205
-    im[17] = _t211
-    im[18] = _t212
-    im[19] = _t213
-    im[20] = _t213
-    im[21] = _t16 * _t215 + _t214 * _t8 + _t44 * yA2_re + _t45 * yA2_im
-    im[22] = _t46 * yA2_re + _t48 * yA2_im
-    im[23] = _t217
-    im[24] = _t211
-    im[25] = _t212
-    im[26] = _t213
-    im[27] = _t213
-    im[28] = _t20 * _t21 + _t216 * t12_re + _t50 * yA2_re + _t51 * yA2_im
-    im[29] = _t217
-    im[30] = _t47 * yA2_im + _t52 * yA2_re
-    im[31] = _t213
-    im[32] = _t20 * _t28 + _t30 * _t53 + _t55 * yA2_re + _t56 * yA2_im
-    im[33] = _t211
-    im[34] = -_t210 - _t30 + 2 * l2_im * l2_re
-    im[36] = _t219
-    im[37] = _t221
-    im[38] = _t220
-    im[39] = _t59
-    im[41] = _t221
-    im[42] = _t219
-    im[43] = _t221
-    im[44] = _t58
-    im[46] = _t221
-    im[47] = _t218
-    im[48] = _t223
-    im[49] = _t224
-    im[50] = _t225
-    im[51] = _t225
-    im[52] = _t214 * _t64 + _t215 * _t70 + _t83 * yA3_re + _t84 * yA3_im
-    im[53] = _t85 * yA3_re + _t87 * yA3_im
-    im[54] = _t227
-    im[55] = _t223
-    im[56] = _t224
-    im[57] = _t225
-    im[58] = _t225
-    im[59] = _t21 * _t73 + _t226 * t12_re + _t89 * yA3_re + _t90 * yA3_im
-    im[60] = _t227
-    im[61] = _t86 * yA3_im + _t91 * yA3_re
-    im[62] = _t225
-    im[63] = _t28 * _t73 + _t53 * _t77 + _t92 * yA3_re + _t93 * yA3_im
-    im[64] = _t223
-    im[65] = -_t222 - _t77 + 2 * l3_im * l3_re
-    im[67] = _t229
-    im[68] = _t231
-    im[69] = _t230
-    im[70] = _t96
-    im[72] = _t231
-    im[73] = _t229
-    im[74] = _t231
-    im[75] = _t95
-    im[77] = _t231
-    im[78] = _t228
-    im[79] = _t233
-    im[80] = _t234
-    im[81] = _t235
-    im[82] = _t235
-    im[83] = _t101 * _t214 + _t107 * _t215 + _t120 * yA4_re + _t121 * yA4_im
-    im[84] = _t122 * yA4_re + _t124 * yA4_im
-    im[85] = _t237
-    im[86] = _t233
-    im[87] = _t234
-    im[88] = _t235
-    im[89] = _t235
-    im[90] = _t110 * _t21 + _t126 * yA4_re + _t127 * yA4_im + _t236 * t12_re
-    im[91] = _t237
-    im[92] = _t123 * yA4_im + _t128 * yA4_re
-    im[93] = _t235
-    im[94] = _t110 * _t28 + _t114 * _t53 + _t129 * yA4_re + _t130 * yA4_im
-    im[95] = _t233
-    im[96] = -_t114 - _t232 + 2 * l4_im * l4_re
-    im[98] = _t239
-    im[99] = _t241
-    im[100] = _t240
-    im[101] = _t133
-    im[103] = _t241
-    im[104] = _t239
-    im[105] = _t241
-    im[106] = _t132
-    im[108] = _t241
-    im[109] = _t238
-    im[110] = _t243
-    im[111] = _t244
-    im[112] = _t245
-    im[113] = _t245
-    im[114] = _t138 * _t214 + _t144 * _t215 + _t157 * yA5_re + _t158 * yA5_im
-    im[115] = _t159 * yA5_re + _t161 * yA5_im
-    im[116] = _t247
-    im[117] = _t243
-    im[118] = _t244
-    im[119] = _t245
-    im[120] = _t245
-    im[121] = _t147 * _t21 + _t163 * yA5_re + _t164 * yA5_im + _t246 * t12_re
-    im[122] = _t247
-    im[123] = _t160 * yA5_im + _t165 * yA5_re
-    im[124] = _t245
-    im[125] = _t147 * _t28 + _t151 * _t53 + _t166 * yA5_re + _t167 * yA5_im
-    im[126] = _t243
-    im[127] = -_t151 - _t242 + 2 * l5_im * l5_re
-    im[129] = _t249
-    im[130] = _t251
-    im[131] = _t250
-    im[132] = _t170
-    im[134] = _t251
-    im[135] = _t249
-    im[136] = _t251
-    im[137] = _t169
-    im[139] = _t251
-    im[140] = _t248
-    im[141] = _t253
-    im[142] = _t254
-    im[143] = _t255
-    im[144] = _t255
-    im[145] = _t175 * _t214 + _t181 * _t215 + _t194 * yA6_re + _t195 * yA6_im
-    im[146] = _t196 * yA6_re + _t198 * yA6_im
-    im[147] = _t257
-    im[148] = _t253
-    im[149] = _t254
-    im[150] = _t255
-    im[151] = _t255
-    im[152] = _t184 * _t21 + _t200 * yA6_re + _t201 * yA6_im + _t256 * t12_re
-    im[153] = _t257
-    im[154] = _t197 * yA6_im + _t202 * yA6_re
-    im[155] = _t255
-    im[156] = _t184 * _t28 + _t188 * _t53 + _t203 * yA6_re + _t204 * yA6_im
-    im[157] = _t253
-    im[158] = -_t188 - _t252 + 2 * l6_im * l6_re
+    _out_re = casadi.SX.zeros(168)
+    _out_re[0] = -1
+    _out_re[1] = -1
+    _out_re[2] = -1
+    _out_re[3] = -(l1_im**2) + l1_re**2
+    _out_re[4] = -1
+    _out_re[5] = _t5
+    _out_re[6] = _t6
+    _out_re[7] = -_t6
+    _out_re[8] = _t3
+    _out_re[9] = -1
+    _out_re[10] = _t6
+    _out_re[11] = _t5
+    _out_re[12] = _t6
+    _out_re[13] = _t0
+    _out_re[14] = -1
+    _out_re[15] = _t6
+    _out_re[16] = -_t5
+    _out_re[17] = _t27
+    _out_re[18] = _t39
+    _out_re[19] = _t43
+    _out_re[20] = _t43
+    _out_re[21] = 2 * _t16 * t11_re - _t44 * yA2_im + _t45 * yA2_re - _t9
+    _out_re[22] = -_t46 * yA2_im + _t48 * yA2_re
+    _out_re[23] = _t49
+    _out_re[24] = _t27
+    _out_re[25] = _t39
+    _out_re[26] = _t43
+    _out_re[27] = _t43
+    _out_re[28] = -_t12 + 2 * _t20 * t12_re - _t50 * yA2_im + _t51 * yA2_re
+    _out_re[29] = _t49
+    _out_re[30] = _t47 * yA2_re - _t52 * yA2_im
+    _out_re[31] = _t43
+    _out_re[32] = _t20 * _t53 - _t28 * _t30 - _t55 * yA2_im + _t56 * yA2_re
+    _out_re[33] = _t27
+    _out_re[34] = _t14 - _t15 + _t18 - _t19 - l2_im**2 + l2_re**2
+    _out_re[35] = -1
+    _out_re[36] = _t62
+    _out_re[37] = _t63
+    _out_re[38] = -_t63
+    _out_re[39] = _t60
+    _out_re[40] = -1
+    _out_re[41] = _t63
+    _out_re[42] = _t62
+    _out_re[43] = _t63
+    _out_re[44] = _t57
+    _out_re[45] = -1
+    _out_re[46] = _t63
+    _out_re[47] = -_t62
+    _out_re[48] = _t76
+    _out_re[49] = _t80
+    _out_re[50] = _t82
+    _out_re[51] = _t82
+    _out_re[52] = -_t65 + 2 * _t70 * t11_re - _t83 * yA3_im + _t84 * yA3_re
+    _out_re[53] = -_t85 * yA3_im + _t87 * yA3_re
+    _out_re[54] = _t88
+    _out_re[55] = _t76
+    _out_re[56] = _t80
+    _out_re[57] = _t82
+    _out_re[58] = _t82
+    _out_re[59] = -_t67 + 2 * _t73 * t12_re - _t89 * yA3_im + _t90 * yA3_re
+    _out_re[60] = _t88
+    _out_re[61] = _t86 * yA3_re - _t91 * yA3_im
+    _out_re[62] = _t82
+    _out_re[63] = -_t28 * _t77 + _t53 * _t73 - _t92 * yA3_im + _t93 * yA3_re
+    _out_re[64] = _t76
+    _out_re[65] = _t68 - _t69 + _t71 - _t72 - l3_im**2 + l3_re**2
+    _out_re[66] = -1
+    _out_re[67] = _t99
+    _out_re[68] = _t100
+    _out_re[69] = -_t100
+    _out_re[70] = _t97
+    _out_re[71] = -1
+    _out_re[72] = _t100
+    _out_re[73] = _t99
+    _out_re[74] = _t100
+    _out_re[75] = _t94
+    _out_re[76] = -1
+    _out_re[77] = _t100
+    _out_re[78] = -_t99
+    _out_re[79] = _t113
+    _out_re[80] = _t117
+    _out_re[81] = _t119
+    _out_re[82] = _t119
+    _out_re[83] = -_t102 + 2 * _t107 * t11_re - _t120 * yA4_im + _t121 * yA4_re
+    _out_re[84] = -_t122 * yA4_im + _t124 * yA4_re
+    _out_re[85] = _t125
+    _out_re[86] = _t113
+    _out_re[87] = _t117
+    _out_re[88] = _t119
+    _out_re[89] = _t119
+    _out_re[90] = -_t104 + 2 * _t110 * t12_re - _t126 * yA4_im + _t127 * yA4_re
+    _out_re[91] = _t125
+    _out_re[92] = _t123 * yA4_re - _t128 * yA4_im
+    _out_re[93] = _t119
+    _out_re[94] = _t110 * _t53 - _t114 * _t28 - _t129 * yA4_im + _t130 * yA4_re
+    _out_re[95] = _t113
+    _out_re[96] = _t105 - _t106 + _t108 - _t109 - l4_im**2 + l4_re**2
+    _out_re[97] = -1
+    _out_re[98] = _t136
+    _out_re[99] = _t137
+    _out_re[100] = -_t137
+    _out_re[101] = _t134
+    _out_re[102] = -1
+    _out_re[103] = _t137
+    _out_re[104] = _t136
+    _out_re[105] = _t137
+    _out_re[106] = _t131
+    _out_re[107] = -1
+    _out_re[108] = _t137
+    _out_re[109] = -_t136
+    _out_re[110] = _t150
+    _out_re[111] = _t154
+    _out_re[112] = _t156
+    _out_re[113] = _t156
+    _out_re[114] = -_t139 + 2 * _t144 * t11_re - _t157 * yA5_im + _t158 * yA5_re
+    _out_re[115] = -_t159 * yA5_im + _t161 * yA5_re
+    _out_re[116] = _t162
+    _out_re[117] = _t150
+    _out_re[118] = _t154
+    _out_re[119] = _t156
+    _out_re[120] = _t156
+    _out_re[121] = -_t141 + 2 * _t147 * t12_re - _t163 * yA5_im + _t164 * yA5_re
+    _out_re[122] = _t162
+    _out_re[123] = _t160 * yA5_re - _t165 * yA5_im
+    _out_re[124] = _t156
+    _out_re[125] = _t147 * _t53 - _t151 * _t28 - _t166 * yA5_im + _t167 * yA5_re
+    _out_re[126] = _t150
+    _out_re[127] = _t142 - _t143 + _t145 - _t146 - l5_im**2 + l5_re**2
+    _out_re[128] = -1
+    _out_re[129] = _t173
+    _out_re[130] = _t174
+    _out_re[131] = -_t174
+    _out_re[132] = _t171
+    _out_re[133] = -1
+    _out_re[134] = _t174
+    _out_re[135] = _t173
+    _out_re[136] = _t174
+    _out_re[137] = _t168
+    _out_re[138] = -1
+    _out_re[139] = _t174
+    _out_re[140] = -_t173
+    _out_re[141] = _t187
+    _out_re[142] = _t191
+    _out_re[143] = _t193
+    _out_re[144] = _t193
+    _out_re[145] = -_t176 + 2 * _t181 * t11_re - _t194 * yA6_im + _t195 * yA6_re
+    _out_re[146] = -_t196 * yA6_im + _t198 * yA6_re
+    _out_re[147] = _t199
+    _out_re[148] = _t187
+    _out_re[149] = _t191
+    _out_re[150] = _t193
+    _out_re[151] = _t193
+    _out_re[152] = -_t178 + 2 * _t184 * t12_re - _t200 * yA6_im + _t201 * yA6_re
+    _out_re[153] = _t199
+    _out_re[154] = _t197 * yA6_re - _t202 * yA6_im
+    _out_re[155] = _t193
+    _out_re[156] = _t184 * _t53 - _t188 * _t28 - _t203 * yA6_im + _t204 * yA6_re
+    _out_re[157] = _t187
+    _out_re[158] = _t179 - _t180 + _t182 - _t183 - l6_im**2 + l6_re**2
+    _out_re[159] = 1
+    _out_re[160] = 1
+    _out_re[161] = -1
+    _out_re[162] = 1
+    _out_re[163] = 1
+    _out_re[164] = -1
+    _out_re[165] = 1
+    _out_re[166] = 1
+    _out_re[167] = -1
+    _out_im = casadi.SX.zeros(168)
+    _out_im[3] = 2 * l1_im * l1_re
+    _out_im[5] = _t206
+    _out_im[6] = _t208
+    _out_im[7] = _t207
+    _out_im[8] = _t2
+    _out_im[10] = _t208
+    _out_im[11] = _t206
+    _out_im[12] = _t208
+    _out_im[13] = _t1
+    _out_im[15] = _t208
+    _out_im[16] = _t205
+    _out_im[17] = _t211
+    _out_im[18] = _t212
+    _out_im[19] = _t213
+    _out_im[20] = _t213
+    _out_im[21] = _t16 * _t215 + _t214 * _t8 + _t44 * yA2_re + _t45 * yA2_im
+    _out_im[22] = _t46 * yA2_re + _t48 * yA2_im
+    _out_im[23] = _t217
+    _out_im[24] = _t211
+    _out_im[25] = _t212
+    _out_im[26] = _t213
+    _out_im[27] = _t213
+    _out_im[28] = _t20 * _t21 + _t216 * t12_re + _t50 * yA2_re + _t51 * yA2_im
+    _out_im[29] = _t217
+    _out_im[30] = _t47 * yA2_im + _t52 * yA2_re
+    _out_im[31] = _t213
+    _out_im[32] = _t20 * _t28 + _t30 * _t53 + _t55 * yA2_re + _t56 * yA2_im
+    _out_im[33] = _t211
+    _out_im[34] = -_t210 - _t30 + 2 * l2_im * l2_re
+    _out_im[36] = _t219
+    _out_im[37] = _t221
+    _out_im[38] = _t220
+    _out_im[39] = _t59
+    _out_im[41] = _t221
+    _out_im[42] = _t219
+    _out_im[43] = _t221
+    _out_im[44] = _t58
+    _out_im[46] = _t221
+    _out_im[47] = _t218
+    _out_im[48] = _t223
+    _out_im[49] = _t224
+    _out_im[50] = _t225
+    _out_im[51] = _t225
+    _out_im[52] = _t214 * _t64 + _t215 * _t70 + _t83 * yA3_re + _t84 * yA3_im
+    _out_im[53] = _t85 * yA3_re + _t87 * yA3_im
+    _out_im[54] = _t227
+    _out_im[55] = _t223
+    _out_im[56] = _t224
+    _out_im[57] = _t225
+    _out_im[58] = _t225
+    _out_im[59] = _t21 * _t73 + _t226 * t12_re + _t89 * yA3_re + _t90 * yA3_im
+    _out_im[60] = _t227
+    _out_im[61] = _t86 * yA3_im + _t91 * yA3_re
+    _out_im[62] = _t225
+    _out_im[63] = _t28 * _t73 + _t53 * _t77 + _t92 * yA3_re + _t93 * yA3_im
+    _out_im[64] = _t223
+    _out_im[65] = -_t222 - _t77 + 2 * l3_im * l3_re
+    _out_im[67] = _t229
+    _out_im[68] = _t231
+    _out_im[69] = _t230
+    _out_im[70] = _t96
+    _out_im[72] = _t231
+    _out_im[73] = _t229
+    _out_im[74] = _t231
+    _out_im[75] = _t95
+    _out_im[77] = _t231
+    _out_im[78] = _t228
+    _out_im[79] = _t233
+    _out_im[80] = _t234
+    _out_im[81] = _t235
+    _out_im[82] = _t235
+    _out_im[83] = _t101 * _t214 + _t107 * _t215 + _t120 * yA4_re + _t121 * yA4_im
+    _out_im[84] = _t122 * yA4_re + _t124 * yA4_im
+    _out_im[85] = _t237
+    _out_im[86] = _t233
+    _out_im[87] = _t234
+    _out_im[88] = _t235
+    _out_im[89] = _t235
+    _out_im[90] = _t110 * _t21 + _t126 * yA4_re + _t127 * yA4_im + _t236 * t12_re
+    _out_im[91] = _t237
+    _out_im[92] = _t123 * yA4_im + _t128 * yA4_re
+    _out_im[93] = _t235
+    _out_im[94] = _t110 * _t28 + _t114 * _t53 + _t129 * yA4_re + _t130 * yA4_im
+    _out_im[95] = _t233
+    _out_im[96] = -_t114 - _t232 + 2 * l4_im * l4_re
+    _out_im[98] = _t239
+    _out_im[99] = _t241
+    _out_im[100] = _t240
+    _out_im[101] = _t133
+    _out_im[103] = _t241
+    _out_im[104] = _t239
+    _out_im[105] = _t241
+    _out_im[106] = _t132
+    _out_im[108] = _t241
+    _out_im[109] = _t238
+    _out_im[110] = _t243
+    _out_im[111] = _t244
+    _out_im[112] = _t245
+    _out_im[113] = _t245
+    _out_im[114] = _t138 * _t214 + _t144 * _t215 + _t157 * yA5_re + _t158 * yA5_im
+    _out_im[115] = _t159 * yA5_re + _t161 * yA5_im
+    _out_im[116] = _t247
+    _out_im[117] = _t243
+    _out_im[118] = _t244
+    _out_im[119] = _t245
+    _out_im[120] = _t245
+    _out_im[121] = _t147 * _t21 + _t163 * yA5_re + _t164 * yA5_im + _t246 * t12_re
+    _out_im[122] = _t247
+    _out_im[123] = _t160 * yA5_im + _t165 * yA5_re
+    _out_im[124] = _t245
+    _out_im[125] = _t147 * _t28 + _t151 * _t53 + _t166 * yA5_re + _t167 * yA5_im
+    _out_im[126] = _t243
+    _out_im[127] = -_t151 - _t242 + 2 * l5_im * l5_re
+    _out_im[129] = _t249
+    _out_im[130] = _t251
+    _out_im[131] = _t250
+    _out_im[132] = _t170
+    _out_im[134] = _t251
+    _out_im[135] = _t249
+    _out_im[136] = _t251
+    _out_im[137] = _t169
+    _out_im[139] = _t251
+    _out_im[140] = _t248
+    _out_im[141] = _t253
+    _out_im[142] = _t254
+    _out_im[143] = _t255
+    _out_im[144] = _t255
+    _out_im[145] = _t175 * _t214 + _t181 * _t215 + _t194 * yA6_re + _t195 * yA6_im
+    _out_im[146] = _t196 * yA6_re + _t198 * yA6_im
+    _out_im[147] = _t257
+    _out_im[148] = _t253
+    _out_im[149] = _t254
+    _out_im[150] = _t255
+    _out_im[151] = _t255
+    _out_im[152] = _t184 * _t21 + _t200 * yA6_re + _t201 * yA6_im + _t256 * t12_re
+    _out_im[153] = _t257
+    _out_im[154] = _t197 * yA6_im + _t202 * yA6_re
+    _out_im[155] = _t255
+    _out_im[156] = _t184 * _t28 + _t188 * _t53 + _t203 * yA6_re + _t204 * yA6_im
+    _out_im[157] = _t253
+    _out_im[158] = -_t188 - _t252 + 2 * l6_im * l6_re
     return casadi.Function(
         "gough_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -5043,32 +5043,32 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 3.
     """
-    z = casadi.SX.sym("z", 9)
-    params = casadi.SX.sym("params", 13)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    z4 = z[4]
-    z5 = z[5]
-    z6 = z[6]
-    z7 = z[7]
-    z8 = z[8]
-    passive = casadi.SX.zeros(6)
-    passive[0] = z0
-    passive[1] = z1
-    passive[2] = z2
-    passive[3] = casadi.atan2(z4, z3)
-    passive[4] = casadi.atan2(z6, z5)
-    passive[5] = casadi.atan2(z8, z7)
+    _in_z = casadi.SX.sym("z", 9)
+    _in_params = casadi.SX.sym("params", 13)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    z4 = _in_z[4]
+    z5 = _in_z[5]
+    z6 = _in_z[6]
+    z7 = _in_z[7]
+    z8 = _in_z[8]
+    _out_passive = casadi.SX.zeros(6)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
+    _out_passive[2] = z2
+    _out_passive[3] = casadi.atan2(z4, z3)
+    _out_passive[4] = casadi.atan2(z6, z5)
+    _out_passive[5] = casadi.atan2(z8, z7)
     return casadi.Function(
         "gough_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

@@ -27,27 +27,28 @@ def platform_pose(actuated, passive, params):
 
     Operations: 3.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
     _t0 = numpy.cos(phi)
     _t1 = numpy.sin(phi)
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t0
-    pose[..., 0, 1] = -_t1
-    pose[..., 0, 3] = x
-    pose[..., 1, 0] = _t1
-    pose[..., 1, 1] = _t0
-    pose[..., 1, 3] = y
-    pose[..., 2, 2] = 1
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t0
+    _out_pose[..., 0, 1] = -_t1
+    _out_pose[..., 0, 3] = x
+    _out_pose[..., 1, 0] = _t1
+    _out_pose[..., 1, 1] = _t0
+    _out_pose[..., 1, 3] = y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -56,29 +57,30 @@ def loop_closure(actuated, passive, params):
 
     Operations: 126.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = numpy.sin(phi)
     _t1 = _t0 * platform_x1
     _t2 = numpy.cos(phi)
@@ -108,26 +110,26 @@ def loop_closure(actuated, passive, params):
     _t26 = 2 * _t10 + 2 * _t9
     _t27 = 2 * _t18
     _t28 = 2 * _t15 + 2 * _t16
-    residual = numpy.zeros(shape + (3,))
-    residual[..., 0] = _t8 * (_t4**2 + _t7**2 - rho1**2)
-    residual[..., 1] = _t14 * (_t11**2 + _t13**2 - rho2**2)
-    residual[..., 2] = _t20 * (_t17**2 + _t19**2 - rho3**2)
-    jacobian = numpy.zeros(shape + (3, 3))
-    jacobian[..., 0, 0] = _t8 * (2 * _t2 * platform_x1 - _t21 - _t22 - 2 * base_x1)
-    jacobian[..., 0, 1] = _t8 * (_t23 + _t24 - 2 * base_y1)
-    jacobian[..., 0, 2] = _t8 * (-_t24 * _t7 + _t4 * (2 * _t2 * platform_x1 - _t22))
-    jacobian[..., 1, 0] = _t14 * (2 * _t2 * platform_x2 - _t21 - _t25 - 2 * base_x2)
-    jacobian[..., 1, 1] = _t14 * (_t23 + _t26 - 2 * base_y2)
-    jacobian[..., 1, 2] = _t14 * (_t11 * (2 * _t2 * platform_x2 - _t25) - _t13 * _t26)
-    jacobian[..., 2, 0] = _t20 * (2 * _t2 * platform_x3 - _t21 - _t27 - 2 * base_x3)
-    jacobian[..., 2, 1] = _t20 * (_t23 + _t28 - 2 * base_y3)
-    jacobian[..., 2, 2] = _t20 * (_t17 * (2 * _t2 * platform_x3 - _t27) - _t19 * _t28)
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_residual = numpy.zeros(_shape + (3,))
+    _out_residual[..., 0] = _t8 * (_t4**2 + _t7**2 - rho1**2)
+    _out_residual[..., 1] = _t14 * (_t11**2 + _t13**2 - rho2**2)
+    _out_residual[..., 2] = _t20 * (_t17**2 + _t19**2 - rho3**2)
+    _out_jacobian = numpy.zeros(_shape + (3, 3))
+    _out_jacobian[..., 0, 0] = _t8 * (2 * _t2 * platform_x1 - _t21 - _t22 - 2 * base_x1)
+    _out_jacobian[..., 0, 1] = _t8 * (_t23 + _t24 - 2 * base_y1)
+    _out_jacobian[..., 0, 2] = _t8 * (-_t24 * _t7 + _t4 * (2 * _t2 * platform_x1 - _t22))
+    _out_jacobian[..., 1, 0] = _t14 * (2 * _t2 * platform_x2 - _t21 - _t25 - 2 * base_x2)
+    _out_jacobian[..., 1, 1] = _t14 * (_t23 + _t26 - 2 * base_y2)
+    _out_jacobian[..., 1, 2] = _t14 * (_t11 * (2 * _t2 * platform_x2 - _t25) - _t13 * _t26)
+    _out_jacobian[..., 2, 0] = _t20 * (2 * _t2 * platform_x3 - _t21 - _t27 - 2 * base_x3)
+    _out_jacobian[..., 2, 1] = _t20 * (_t23 + _t28 - 2 * base_y3)
+    _out_jacobian[..., 2, 2] = _t20 * (_t17 * (2 * _t2 * platform_x3 - _t27) - _t19 * _t28)
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -136,37 +138,38 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 60.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = rho1**2
     _t1 = numpy.sin(phi)
     _t2 = numpy.cos(phi)
     _t3 = -x
     _t4 = rho2**2
     _t5 = rho3**2
-    jacobian_actuated = numpy.zeros(shape + (3, 3))
-    jacobian_actuated[..., 0, 0] = (
+    _out_jacobian_actuated = numpy.zeros(_shape + (3, 3))
+    _out_jacobian_actuated[..., 0, 0] = (
         -1
         - 1
         / 2
@@ -177,7 +180,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / _t0
     )
-    jacobian_actuated[..., 1, 1] = (
+    _out_jacobian_actuated[..., 1, 1] = (
         -1
         - 1
         / 2
@@ -188,7 +191,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / _t4
     )
-    jacobian_actuated[..., 2, 2] = (
+    _out_jacobian_actuated[..., 2, 2] = (
         -1
         - 1
         / 2
@@ -200,7 +203,7 @@ def loop_closure_actuated(actuated, passive, params):
         / _t5
     )
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -209,29 +212,30 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 46.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = numpy.sin(phi)
     _t1 = numpy.cos(phi)
     _t2 = -x
@@ -245,23 +249,23 @@ def rate_jacobians(actuated, passive, params):
     _t10 = _t2 + base_x3
     _t11 = -_t0 * platform_y3 + _t1 * platform_x3 - _t10
     _t12 = _t0 * platform_x3 + _t1 * platform_y3 - base_y3 + y
-    a = numpy.zeros(shape + (3, 3))
-    a[..., 0, 0] = _t4
-    a[..., 0, 1] = _t5
-    a[..., 0, 2] = _t3 * _t5 - _t4 * (_t6 + base_y1)
-    a[..., 1, 0] = _t8
-    a[..., 1, 1] = _t9
-    a[..., 1, 2] = _t7 * _t9 - _t8 * (_t6 + base_y2)
-    a[..., 2, 0] = _t11
-    a[..., 2, 1] = _t12
-    a[..., 2, 2] = _t10 * _t12 - _t11 * (_t6 + base_y3)
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = rho1
-    b[..., 1, 1] = rho2
-    b[..., 2, 2] = rho3
+    _out_a = numpy.zeros(_shape + (3, 3))
+    _out_a[..., 0, 0] = _t4
+    _out_a[..., 0, 1] = _t5
+    _out_a[..., 0, 2] = _t3 * _t5 - _t4 * (_t6 + base_y1)
+    _out_a[..., 1, 0] = _t8
+    _out_a[..., 1, 1] = _t9
+    _out_a[..., 1, 2] = _t7 * _t9 - _t8 * (_t6 + base_y2)
+    _out_a[..., 2, 0] = _t11
+    _out_a[..., 2, 1] = _t12
+    _out_a[..., 2, 2] = _t10 * _t12 - _t11 * (_t6 + base_y3)
+    _out_b = numpy.zeros(_shape + (3, 3))
+    _out_b[..., 0, 0] = rho1
+    _out_b[..., 1, 1] = rho2
+    _out_b[..., 2, 2] = rho3
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -270,29 +274,30 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 129.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = -2 * x
     _t1 = numpy.cos(phi)
     _t2 = numpy.sin(phi)
@@ -316,23 +321,27 @@ def parameter_jacobians(actuated, passive, params):
     _t20 = _t1 * platform_y3
     _t21 = _t19 + _t20 - base_y3 + y
     _t22 = 2 * _t1 * platform_x3 - 2 * _t17 - 2 * _t9 - 2 * base_x3
-    closure_parameters = numpy.zeros(shape + (3, 12))
-    closure_parameters[..., 0, 0] = _t4 * (_t0 - 2 * _t1 * platform_x1 + 2 * _t3 + 2 * base_x1)
-    closure_parameters[..., 0, 1] = _t4 * (-_t5 - 2 * _t6 - 2 * _t7 + 2 * base_y1)
-    closure_parameters[..., 0, 6] = _t4 * (_t1 * _t10 + 2 * _t2 * _t8)
-    closure_parameters[..., 0, 7] = _t4 * (2 * _t1 * _t8 - _t10 * _t2)
-    closure_parameters[..., 1, 2] = _t12 * (_t0 - 2 * _t1 * platform_x2 + 2 * _t11 + 2 * base_x2)
-    closure_parameters[..., 1, 3] = _t12 * (-2 * _t13 - 2 * _t14 - _t5 + 2 * base_y2)
-    closure_parameters[..., 1, 8] = _t12 * (_t1 * _t16 + 2 * _t15 * _t2)
-    closure_parameters[..., 1, 9] = _t12 * (2 * _t1 * _t15 - _t16 * _t2)
-    closure_parameters[..., 2, 4] = _t18 * (_t0 - 2 * _t1 * platform_x3 + 2 * _t17 + 2 * base_x3)
-    closure_parameters[..., 2, 5] = _t18 * (-2 * _t19 - 2 * _t20 - _t5 + 2 * base_y3)
-    closure_parameters[..., 2, 10] = _t18 * (_t1 * _t22 + 2 * _t2 * _t21)
-    closure_parameters[..., 2, 11] = _t18 * (2 * _t1 * _t21 - _t2 * _t22)
-    pose_parameters = numpy.zeros(shape + (12, 12))
+    _out_closure_parameters = numpy.zeros(_shape + (3, 12))
+    _out_closure_parameters[..., 0, 0] = _t4 * (_t0 - 2 * _t1 * platform_x1 + 2 * _t3 + 2 * base_x1)
+    _out_closure_parameters[..., 0, 1] = _t4 * (-_t5 - 2 * _t6 - 2 * _t7 + 2 * base_y1)
+    _out_closure_parameters[..., 0, 6] = _t4 * (_t1 * _t10 + 2 * _t2 * _t8)
+    _out_closure_parameters[..., 0, 7] = _t4 * (2 * _t1 * _t8 - _t10 * _t2)
+    _out_closure_parameters[..., 1, 2] = _t12 * (
+        _t0 - 2 * _t1 * platform_x2 + 2 * _t11 + 2 * base_x2
+    )
+    _out_closure_parameters[..., 1, 3] = _t12 * (-2 * _t13 - 2 * _t14 - _t5 + 2 * base_y2)
+    _out_closure_parameters[..., 1, 8] = _t12 * (_t1 * _t16 + 2 * _t15 * _t2)
+    _out_closure_parameters[..., 1, 9] = _t12 * (2 * _t1 * _t15 - _t16 * _t2)
+    _out_closure_parameters[..., 2, 4] = _t18 * (
+        _t0 - 2 * _t1 * platform_x3 + 2 * _t17 + 2 * base_x3
+    )
+    _out_closure_parameters[..., 2, 5] = _t18 * (-2 * _t19 - 2 * _t20 - _t5 + 2 * base_y3)
+    _out_closure_parameters[..., 2, 10] = _t18 * (_t1 * _t22 + 2 * _t2 * _t21)
+    _out_closure_parameters[..., 2, 11] = _t18 * (2 * _t1 * _t21 - _t2 * _t22)
+    _out_pose_parameters = numpy.zeros(_shape + (12, 12))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -341,29 +350,30 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 58.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = -x
     _t1 = numpy.sin(phi)
     _t2 = numpy.cos(phi)
@@ -378,17 +388,17 @@ def singularity_factors(actuated, passive, params):
     _t11 = (_t10 * _t6 + _t4 * _t8) * (-_t0 - _t1 * platform_y1 + _t2 * platform_x1 - base_x1) + (
         _t10 * _t7 + _t8 * _t9
     ) * (-_t1 * platform_x1 - _t2 * platform_y1 + base_y1 - y)
-    factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = rho1
-    factors[..., 1] = rho2
-    factors[..., 2] = rho3
-    factors[..., 3] = _t11
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t11
-    determinants[..., 1] = rho1 * rho2 * rho3
+    _out_factors = numpy.zeros(_shape + (4,))
+    _out_factors[..., 0] = rho1
+    _out_factors[..., 1] = rho2
+    _out_factors[..., 2] = rho3
+    _out_factors[..., 3] = _t11
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t11
+    _out_determinants[..., 1] = rho1 * rho2 * rho3
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -397,45 +407,46 @@ def drawing(actuated, passive, params):
 
     Operations: 26.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    phi = passive[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    phi = _in_passive[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     _t0 = numpy.cos(phi)
     _t1 = numpy.sin(phi)
-    base = numpy.zeros(shape + (3, 3))
-    base[..., 0, 0] = base_x1
-    base[..., 0, 1] = base_x2
-    base[..., 0, 2] = base_x3
-    base[..., 1, 0] = base_y1
-    base[..., 1, 1] = base_y2
-    base[..., 1, 2] = base_y3
-    platform = numpy.zeros(shape + (3, 3))
-    platform[..., 0, 0] = _t0 * platform_x1 - _t1 * platform_y1 + x
-    platform[..., 0, 1] = _t0 * platform_x2 - _t1 * platform_y2 + x
-    platform[..., 0, 2] = _t0 * platform_x3 - _t1 * platform_y3 + x
-    platform[..., 1, 0] = _t0 * platform_y1 + _t1 * platform_x1 + y
-    platform[..., 1, 1] = _t0 * platform_y2 + _t1 * platform_x2 + y
-    platform[..., 1, 2] = _t0 * platform_y3 + _t1 * platform_x3 + y
+    _out_base = numpy.zeros(_shape + (3, 3))
+    _out_base[..., 0, 0] = base_x1
+    _out_base[..., 0, 1] = base_x2
+    _out_base[..., 0, 2] = base_x3
+    _out_base[..., 1, 0] = base_y1
+    _out_base[..., 1, 1] = base_y2
+    _out_base[..., 1, 2] = base_y3
+    _out_platform = numpy.zeros(_shape + (3, 3))
+    _out_platform[..., 0, 0] = _t0 * platform_x1 - _t1 * platform_y1 + x
+    _out_platform[..., 0, 1] = _t0 * platform_x2 - _t1 * platform_y2 + x
+    _out_platform[..., 0, 2] = _t0 * platform_x3 - _t1 * platform_y3 + x
+    _out_platform[..., 1, 0] = _t0 * platform_y1 + _t1 * platform_x1 + y
+    _out_platform[..., 1, 1] = _t0 * platform_y2 + _t1 * platform_x2 + y
+    _out_platform[..., 1, 2] = _t0 * platform_y3 + _t1 * platform_x3 + y
     return {
-        "base": base,
-        "platform": platform,
+        "base": _out_base,
+        "platform": _out_platform,
     }
 
 
@@ -444,27 +455,28 @@ def inverse_pose(pose, branch, params):
 
     Operations: 52.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r21 = pose[..., 3]
-    px = pose[..., 9]
-    py = pose[..., 10]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    r11 = _in_pose[..., 0]
+    r21 = _in_pose[..., 3]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     x = px
     y = py
     phi = numpy.arctan2(r21, r11)
@@ -486,22 +498,22 @@ def inverse_pose(pose, branch, params):
         (_t4 * platform_x3 + _t5 * platform_y3 - base_y3 + y) ** 2
         + (-_t4 * platform_y3 + _t5 * platform_x3 - base_x3 + x) ** 2
     )
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = rho1
-    actuated[..., 1] = rho2
-    actuated[..., 2] = rho3
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    passive[..., 2] = phi
-    validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = rho1
-    validity[..., 1] = rho2
-    validity[..., 2] = rho3
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = rho1
+    _out_actuated[..., 1] = rho2
+    _out_actuated[..., 2] = rho3
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_passive[..., 2] = phi
+    _out_validity = numpy.zeros(_shape + (3,))
+    _out_validity[..., 0] = rho1
+    _out_validity[..., 1] = rho2
+    _out_validity[..., 2] = rho3
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -510,26 +522,27 @@ def inverse_pose_patterns(pose, params):
 
     Operations: 52.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_params = pose, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r21 = pose[..., 3]
-    px = pose[..., 9]
-    py = pose[..., 10]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    r11 = _in_pose[..., 0]
+    r21 = _in_pose[..., 3]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     x = px
     y = py
     phi = numpy.arctan2(r21, r11)
@@ -551,22 +564,22 @@ def inverse_pose_patterns(pose, params):
         (_t4 * platform_x3 + _t5 * platform_y3 - base_y3 + y) ** 2
         + (-_t4 * platform_y3 + _t5 * platform_x3 - base_x3 + x) ** 2
     )
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = rho1
-    actuated[..., 1] = rho2
-    actuated[..., 2] = rho3
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    passive[..., 2] = phi
-    validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = rho1
-    validity[..., 1] = rho2
-    validity[..., 2] = rho3
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = rho1
+    _out_actuated[..., 1] = rho2
+    _out_actuated[..., 2] = rho3
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_passive[..., 2] = phi
+    _out_validity = numpy.zeros(_shape + (3,))
+    _out_validity[..., 0] = rho1
+    _out_validity[..., 1] = rho2
+    _out_validity[..., 2] = rho3
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -575,25 +588,26 @@ def forward_polynomial(actuated, params):
 
     Operations: 1413.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     u2_x = -platform_x1 + platform_x2
     u2_y = -platform_y1 + platform_y2
     w2_x = -base_x1 + base_x2
@@ -1412,16 +1426,16 @@ def forward_polynomial(actuated, params):
         + 4 * g2_s * g3_c * u3_y * w2_y
     )
     _t268 = _t11 - _t15 - _t17 - _t19 - _t21 + _t253 + _t3 + _t5 + _t75 + _t9
-    coefficients = numpy.zeros(shape + (7,))
-    coefficients[..., 0] = _t127
-    coefficients[..., 1] = _t210
-    coefficients[..., 2] = _t259
-    coefficients[..., 3] = _t265
-    coefficients[..., 4] = _t266
-    coefficients[..., 5] = _t267
-    coefficients[..., 6] = _t268
-    degeneracies = numpy.zeros(shape + (2,))
-    degeneracies[..., 0] = (
+    _out_coefficients = numpy.zeros(_shape + (7,))
+    _out_coefficients[..., 0] = _t127
+    _out_coefficients[..., 1] = _t210
+    _out_coefficients[..., 2] = _t259
+    _out_coefficients[..., 3] = _t265
+    _out_coefficients[..., 4] = _t266
+    _out_coefficients[..., 5] = _t267
+    _out_coefficients[..., 6] = _t268
+    _out_degeneracies = numpy.zeros(_shape + (2,))
+    _out_degeneracies[..., 0] = (
         numpy.sqrt(
             (_t12 + _t16 - _t18 - _t20) ** 2
             + (_t47 + _t48 - _t52 - _t53) ** 2
@@ -1429,13 +1443,13 @@ def forward_polynomial(actuated, params):
         )
         / length_scale2
     )
-    degeneracies[..., 1] = (
+    _out_degeneracies[..., 1] = (
         numpy.sqrt(_t127**2 + _t210**2 + _t259**2 + _t265**2 + _t266**2 + _t267**2 + _t268**2)
         / length_scale2**3
     )
     return {
-        "coefficients": coefficients,
-        "degeneracies": degeneracies,
+        "coefficients": _out_coefficients,
+        "degeneracies": _out_degeneracies,
     }
 
 
@@ -1444,28 +1458,29 @@ def forward_back_substitution(actuated, root, branch, params):
 
     Operations: 169.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(root)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_root, _in_branch, _in_params = actuated, root, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_root)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    t = root[..., 0]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    t = _in_root[..., 0]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
     u2_x = -platform_x1 + platform_x2
     u2_y = -platform_y1 + platform_y2
     w2_x = -base_x1 + base_x2
@@ -1525,17 +1540,17 @@ def forward_back_substitution(actuated, root, branch, params):
     ) / det_M
     _t1 = numpy.cos(phi_root)
     _t2 = numpy.sin(phi_root)
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t1
-    pose[..., 0, 1] = -_t2
-    pose[..., 0, 3] = base_x1 - cos_phi * platform_x1 + platform_y1 * sin_phi + q_x
-    pose[..., 1, 0] = _t2
-    pose[..., 1, 1] = _t1
-    pose[..., 1, 3] = base_y1 - cos_phi * platform_y1 - platform_x1 * sin_phi + q_y
-    pose[..., 2, 2] = 1
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t1
+    _out_pose[..., 0, 1] = -_t2
+    _out_pose[..., 0, 3] = base_x1 - cos_phi * platform_x1 + platform_y1 * sin_phi + q_x
+    _out_pose[..., 1, 0] = _t2
+    _out_pose[..., 1, 1] = _t1
+    _out_pose[..., 1, 3] = base_y1 - cos_phi * platform_y1 - platform_x1 * sin_phi + q_y
+    _out_pose[..., 2, 2] = 1
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -1544,45 +1559,46 @@ def automatic_family(actuated, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    rho1 = actuated[..., 0]
-    rho2 = actuated[..., 1]
-    rho3 = actuated[..., 2]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_x2 = params[..., 2]
-    base_y2 = params[..., 3]
-    base_x3 = params[..., 4]
-    base_y3 = params[..., 5]
-    platform_x1 = params[..., 6]
-    platform_y1 = params[..., 7]
-    platform_x2 = params[..., 8]
-    platform_y2 = params[..., 9]
-    platform_x3 = params[..., 10]
-    platform_y3 = params[..., 11]
-    free = numpy.zeros(shape + (15,))
-    free[..., 0] = rho1
-    free[..., 1] = rho2
-    free[..., 2] = rho3
-    free[..., 3] = base_x1
-    free[..., 4] = base_y1
-    free[..., 5] = base_x2
-    free[..., 6] = base_y2
-    free[..., 7] = base_x3
-    free[..., 8] = base_y3
-    free[..., 9] = platform_x1
-    free[..., 10] = platform_y1
-    free[..., 11] = platform_x2
-    free[..., 12] = platform_y2
-    free[..., 13] = platform_x3
-    free[..., 14] = platform_y3
-    angles = numpy.zeros(shape + (1,))
+    rho1 = _in_actuated[..., 0]
+    rho2 = _in_actuated[..., 1]
+    rho3 = _in_actuated[..., 2]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_x2 = _in_params[..., 2]
+    base_y2 = _in_params[..., 3]
+    base_x3 = _in_params[..., 4]
+    base_y3 = _in_params[..., 5]
+    platform_x1 = _in_params[..., 6]
+    platform_y1 = _in_params[..., 7]
+    platform_x2 = _in_params[..., 8]
+    platform_y2 = _in_params[..., 9]
+    platform_x3 = _in_params[..., 10]
+    platform_y3 = _in_params[..., 11]
+    _out_free = numpy.zeros(_shape + (15,))
+    _out_free[..., 0] = rho1
+    _out_free[..., 1] = rho2
+    _out_free[..., 2] = rho3
+    _out_free[..., 3] = base_x1
+    _out_free[..., 4] = base_y1
+    _out_free[..., 5] = base_x2
+    _out_free[..., 6] = base_y2
+    _out_free[..., 7] = base_x3
+    _out_free[..., 8] = base_y3
+    _out_free[..., 9] = platform_x1
+    _out_free[..., 10] = platform_y1
+    _out_free[..., 11] = platform_x2
+    _out_free[..., 12] = platform_y2
+    _out_free[..., 13] = platform_x3
+    _out_free[..., 14] = platform_y3
+    _out_angles = numpy.zeros(_shape + (1,))
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -1591,40 +1607,41 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 217.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    rho1_re = family_re[..., 0]
-    rho2_re = family_re[..., 1]
-    rho3_re = family_re[..., 2]
-    base_x1_re = family_re[..., 3]
-    base_y1_re = family_re[..., 4]
-    base_x2_re = family_re[..., 5]
-    base_y2_re = family_re[..., 6]
-    base_x3_re = family_re[..., 7]
-    base_y3_re = family_re[..., 8]
-    platform_x1_re = family_re[..., 9]
-    platform_y1_re = family_re[..., 10]
-    platform_x2_re = family_re[..., 11]
-    platform_y2_re = family_re[..., 12]
-    platform_x3_re = family_re[..., 13]
-    platform_y3_re = family_re[..., 14]
-    rho1_im = family_im[..., 0]
-    rho2_im = family_im[..., 1]
-    rho3_im = family_im[..., 2]
-    base_x1_im = family_im[..., 3]
-    base_y1_im = family_im[..., 4]
-    base_x2_im = family_im[..., 5]
-    base_y2_im = family_im[..., 6]
-    base_x3_im = family_im[..., 7]
-    base_y3_im = family_im[..., 8]
-    platform_x1_im = family_im[..., 9]
-    platform_y1_im = family_im[..., 10]
-    platform_x2_im = family_im[..., 11]
-    platform_y2_im = family_im[..., 12]
-    platform_x3_im = family_im[..., 13]
-    platform_y3_im = family_im[..., 14]
+    rho1_re = _in_family_re[..., 0]
+    rho2_re = _in_family_re[..., 1]
+    rho3_re = _in_family_re[..., 2]
+    base_x1_re = _in_family_re[..., 3]
+    base_y1_re = _in_family_re[..., 4]
+    base_x2_re = _in_family_re[..., 5]
+    base_y2_re = _in_family_re[..., 6]
+    base_x3_re = _in_family_re[..., 7]
+    base_y3_re = _in_family_re[..., 8]
+    platform_x1_re = _in_family_re[..., 9]
+    platform_y1_re = _in_family_re[..., 10]
+    platform_x2_re = _in_family_re[..., 11]
+    platform_y2_re = _in_family_re[..., 12]
+    platform_x3_re = _in_family_re[..., 13]
+    platform_y3_re = _in_family_re[..., 14]
+    rho1_im = _in_family_im[..., 0]
+    rho2_im = _in_family_im[..., 1]
+    rho3_im = _in_family_im[..., 2]
+    base_x1_im = _in_family_im[..., 3]
+    base_y1_im = _in_family_im[..., 4]
+    base_x2_im = _in_family_im[..., 5]
+    base_y2_im = _in_family_im[..., 6]
+    base_x3_im = _in_family_im[..., 7]
+    base_y3_im = _in_family_im[..., 8]
+    platform_x1_im = _in_family_im[..., 9]
+    platform_y1_im = _in_family_im[..., 10]
+    platform_x2_im = _in_family_im[..., 11]
+    platform_y2_im = _in_family_im[..., 12]
+    platform_x3_im = _in_family_im[..., 13]
+    platform_y3_im = _in_family_im[..., 14]
     _t0 = 2 * platform_x1_re
     _t1 = 2 * platform_y1_re
     _t2 = 2 * base_x1_re
@@ -1649,115 +1666,121 @@ def automatic_monomials(family_re, family_im):
     _t21 = _t0 * platform_x1_im + _t1 * platform_y1_im
     _t22 = _t7 * platform_x2_im + _t8 * platform_y2_im
     _t23 = _t14 * platform_x3_im + _t15 * platform_y3_im
-    re = numpy.zeros(shape + (42,))
-    re[..., 0] = 1
-    re[..., 1] = _t0
-    re[..., 2] = -_t1
-    re[..., 3] = -_t2
-    re[..., 4] = 1
-    re[..., 5] = _t1
-    re[..., 6] = _t0
-    re[..., 7] = -_t3
-    re[..., 8] = _t4
-    re[..., 9] = -_t0 * base_x1_re - _t1 * base_y1_re + _t5 * base_x1_im + _t6 * base_y1_im
-    re[..., 10] = _t4
-    re[..., 11] = (
+    _out_re = numpy.zeros(_shape + (42,))
+    _out_re[..., 0] = 1
+    _out_re[..., 1] = _t0
+    _out_re[..., 2] = -_t1
+    _out_re[..., 3] = -_t2
+    _out_re[..., 4] = 1
+    _out_re[..., 5] = _t1
+    _out_re[..., 6] = _t0
+    _out_re[..., 7] = -_t3
+    _out_re[..., 8] = _t4
+    _out_re[..., 9] = -_t0 * base_x1_re - _t1 * base_y1_re + _t5 * base_x1_im + _t6 * base_y1_im
+    _out_re[..., 10] = _t4
+    _out_re[..., 11] = (
         -_t0 * base_y1_re
         - _t6 * base_x1_im
         + 2 * base_x1_re * platform_y1_re
         + 2 * base_y1_im * platform_x1_im
     )
-    re[..., 12] = (
+    _out_re[..., 12] = (
         -(base_x1_im**2) + base_x1_re**2 - base_y1_im**2 + base_y1_re**2 + rho1_im**2 - rho1_re**2
     )
-    re[..., 13] = 1
-    re[..., 14] = _t7
-    re[..., 15] = -_t8
-    re[..., 16] = -_t9
-    re[..., 17] = 1
-    re[..., 18] = _t8
-    re[..., 19] = _t7
-    re[..., 20] = -_t10
-    re[..., 21] = _t11
-    re[..., 22] = _t12 * base_x2_im + _t13 * base_y2_im - _t7 * base_x2_re - _t8 * base_y2_re
-    re[..., 23] = _t11
-    re[..., 24] = (
+    _out_re[..., 13] = 1
+    _out_re[..., 14] = _t7
+    _out_re[..., 15] = -_t8
+    _out_re[..., 16] = -_t9
+    _out_re[..., 17] = 1
+    _out_re[..., 18] = _t8
+    _out_re[..., 19] = _t7
+    _out_re[..., 20] = -_t10
+    _out_re[..., 21] = _t11
+    _out_re[..., 22] = _t12 * base_x2_im + _t13 * base_y2_im - _t7 * base_x2_re - _t8 * base_y2_re
+    _out_re[..., 23] = _t11
+    _out_re[..., 24] = (
         -_t13 * base_x2_im
         - _t7 * base_y2_re
         + 2 * base_x2_re * platform_y2_re
         + 2 * base_y2_im * platform_x2_im
     )
-    re[..., 25] = (
+    _out_re[..., 25] = (
         -(base_x2_im**2) + base_x2_re**2 - base_y2_im**2 + base_y2_re**2 + rho2_im**2 - rho2_re**2
     )
-    re[..., 26] = 1
-    re[..., 27] = _t14
-    re[..., 28] = -_t15
-    re[..., 29] = -_t16
-    re[..., 30] = 1
-    re[..., 31] = _t15
-    re[..., 32] = _t14
-    re[..., 33] = -_t17
-    re[..., 34] = _t18
-    re[..., 35] = -_t14 * base_x3_re - _t15 * base_y3_re + _t19 * base_x3_im + _t20 * base_y3_im
-    re[..., 36] = _t18
-    re[..., 37] = (
+    _out_re[..., 26] = 1
+    _out_re[..., 27] = _t14
+    _out_re[..., 28] = -_t15
+    _out_re[..., 29] = -_t16
+    _out_re[..., 30] = 1
+    _out_re[..., 31] = _t15
+    _out_re[..., 32] = _t14
+    _out_re[..., 33] = -_t17
+    _out_re[..., 34] = _t18
+    _out_re[..., 35] = (
+        -_t14 * base_x3_re - _t15 * base_y3_re + _t19 * base_x3_im + _t20 * base_y3_im
+    )
+    _out_re[..., 36] = _t18
+    _out_re[..., 37] = (
         -_t14 * base_y3_re
         - _t20 * base_x3_im
         + 2 * base_x3_re * platform_y3_re
         + 2 * base_y3_im * platform_x3_im
     )
-    re[..., 38] = (
+    _out_re[..., 38] = (
         -(base_x3_im**2) + base_x3_re**2 - base_y3_im**2 + base_y3_re**2 + rho3_im**2 - rho3_re**2
     )
-    re[..., 39] = 1
-    re[..., 40] = 1
-    re[..., 41] = -1
-    im = numpy.zeros(shape + (42,))
-    im[..., 1] = _t5
-    im[..., 2] = -_t6
-    im[..., 3] = -2 * base_x1_im
-    im[..., 5] = _t6
-    im[..., 6] = _t5
-    im[..., 7] = -2 * base_y1_im
-    im[..., 8] = _t21
-    im[..., 9] = -_t0 * base_x1_im - _t1 * base_y1_im - _t2 * platform_x1_im - _t3 * platform_y1_im
-    im[..., 10] = _t21
-    im[..., 11] = -_t0 * base_y1_im + _t1 * base_x1_im + _t2 * platform_y1_im - _t3 * platform_x1_im
-    im[..., 12] = _t2 * base_x1_im + _t3 * base_y1_im - 2 * rho1_im * rho1_re
-    im[..., 14] = _t12
-    im[..., 15] = -_t13
-    im[..., 16] = -2 * base_x2_im
-    im[..., 18] = _t13
-    im[..., 19] = _t12
-    im[..., 20] = -2 * base_y2_im
-    im[..., 21] = _t22
-    im[..., 22] = (
+    _out_re[..., 39] = 1
+    _out_re[..., 40] = 1
+    _out_re[..., 41] = -1
+    _out_im = numpy.zeros(_shape + (42,))
+    _out_im[..., 1] = _t5
+    _out_im[..., 2] = -_t6
+    _out_im[..., 3] = -2 * base_x1_im
+    _out_im[..., 5] = _t6
+    _out_im[..., 6] = _t5
+    _out_im[..., 7] = -2 * base_y1_im
+    _out_im[..., 8] = _t21
+    _out_im[..., 9] = (
+        -_t0 * base_x1_im - _t1 * base_y1_im - _t2 * platform_x1_im - _t3 * platform_y1_im
+    )
+    _out_im[..., 10] = _t21
+    _out_im[..., 11] = (
+        -_t0 * base_y1_im + _t1 * base_x1_im + _t2 * platform_y1_im - _t3 * platform_x1_im
+    )
+    _out_im[..., 12] = _t2 * base_x1_im + _t3 * base_y1_im - 2 * rho1_im * rho1_re
+    _out_im[..., 14] = _t12
+    _out_im[..., 15] = -_t13
+    _out_im[..., 16] = -2 * base_x2_im
+    _out_im[..., 18] = _t13
+    _out_im[..., 19] = _t12
+    _out_im[..., 20] = -2 * base_y2_im
+    _out_im[..., 21] = _t22
+    _out_im[..., 22] = (
         -_t10 * platform_y2_im - _t7 * base_x2_im - _t8 * base_y2_im - _t9 * platform_x2_im
     )
-    im[..., 23] = _t22
-    im[..., 24] = (
+    _out_im[..., 23] = _t22
+    _out_im[..., 24] = (
         -_t10 * platform_x2_im - _t7 * base_y2_im + _t8 * base_x2_im + _t9 * platform_y2_im
     )
-    im[..., 25] = _t10 * base_y2_im + _t9 * base_x2_im - 2 * rho2_im * rho2_re
-    im[..., 27] = _t19
-    im[..., 28] = -_t20
-    im[..., 29] = -2 * base_x3_im
-    im[..., 31] = _t20
-    im[..., 32] = _t19
-    im[..., 33] = -2 * base_y3_im
-    im[..., 34] = _t23
-    im[..., 35] = (
+    _out_im[..., 25] = _t10 * base_y2_im + _t9 * base_x2_im - 2 * rho2_im * rho2_re
+    _out_im[..., 27] = _t19
+    _out_im[..., 28] = -_t20
+    _out_im[..., 29] = -2 * base_x3_im
+    _out_im[..., 31] = _t20
+    _out_im[..., 32] = _t19
+    _out_im[..., 33] = -2 * base_y3_im
+    _out_im[..., 34] = _t23
+    _out_im[..., 35] = (
         -_t14 * base_x3_im - _t15 * base_y3_im - _t16 * platform_x3_im - _t17 * platform_y3_im
     )
-    im[..., 36] = _t23
-    im[..., 37] = (
+    _out_im[..., 36] = _t23
+    _out_im[..., 37] = (
         -_t14 * base_y3_im + _t15 * base_x3_im + _t16 * platform_y3_im - _t17 * platform_x3_im
     )
-    im[..., 38] = _t16 * base_x3_im + _t17 * base_y3_im - 2 * rho3_im * rho3_re
+    _out_im[..., 38] = _t16 * base_x3_im + _t17 * base_y3_im - 2 * rho3_im * rho3_re
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -1766,20 +1789,21 @@ def automatic_passive(z, params):
 
     Operations: 1.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    z3 = z[..., 3]
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
-    passive[..., 2] = numpy.arctan2(z3, z2)
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    z3 = _in_z[..., 3]
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
+    _out_passive[..., 2] = numpy.arctan2(z3, z2)
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

@@ -24,32 +24,32 @@ def platform_pose() -> casadi.Function:
 
     Operations: 3.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
     _t0 = casadi.cos(phi)
     _t1 = casadi.sin(phi)
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t0
-    pose[0, 1] = -_t1
-    pose[0, 3] = x
-    pose[1, 0] = _t1
-    pose[1, 1] = _t0
-    pose[1, 3] = y
-    pose[2, 2] = 1
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t0
+    _out_pose[0, 1] = -_t1
+    _out_pose[0, 3] = x
+    _out_pose[1, 0] = _t1
+    _out_pose[1, 1] = _t0
+    _out_pose[1, 3] = y
+    _out_pose[2, 2] = 1
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "planar_3rrr_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -67,33 +67,33 @@ def loop_closure() -> casadi.Function:
 
     Operations: 156.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
-    b1 = params[15]
-    b2 = params[16]
-    b3 = params[17]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
+    b1 = _in_params[15]
+    b2 = _in_params[16]
+    b3 = _in_params[17]
     _t0 = casadi.sin(phi)
     _t1 = _t0 * platform_x1
     _t2 = casadi.cos(phi)
@@ -129,33 +129,33 @@ def loop_closure() -> casadi.Function:
     _t32 = 2 * _t11 + 2 * _t12
     _t33 = 2 * _t24
     _t34 = 2 * _t19 + 2 * _t20
-    residual = casadi.SX.zeros(3)
-    residual[0] = _t10 * (_t5**2 + _t9**2 - b1**2)
-    residual[1] = _t18 * (_t14**2 + _t17**2 - b2**2)
-    residual[2] = _t26 * (_t22**2 + _t25**2 - b3**2)
-    jacobian = casadi.SX.zeros(3, 3)
-    jacobian[0, 0] = _t10 * (2 * _t2 * platform_x1 - _t27 - _t28 - 2 * _t7 - 2 * base_x1)
-    jacobian[0, 1] = _t10 * (_t29 + _t30 - 2 * _t4 - 2 * base_y1)
-    jacobian[0, 2] = _t10 * (-_t30 * _t9 + _t5 * (2 * _t2 * platform_x1 - _t28))
-    jacobian[1, 0] = _t18 * (-2 * _t15 + 2 * _t2 * platform_x2 - _t27 - _t31 - 2 * base_x2)
-    jacobian[1, 1] = _t18 * (-2 * _t13 + _t29 + _t32 - 2 * base_y2)
-    jacobian[1, 2] = _t18 * (_t14 * (2 * _t2 * platform_x2 - _t31) - _t17 * _t32)
-    jacobian[2, 0] = _t26 * (2 * _t2 * platform_x3 - 2 * _t23 - _t27 - _t33 - 2 * base_x3)
-    jacobian[2, 1] = _t26 * (-2 * _t21 + _t29 + _t34 - 2 * base_y3)
-    jacobian[2, 2] = _t26 * (_t22 * (2 * _t2 * platform_x3 - _t33) - _t25 * _t34)
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_residual = casadi.SX.zeros(3)
+    _out_residual[0] = _t10 * (_t5**2 + _t9**2 - b1**2)
+    _out_residual[1] = _t18 * (_t14**2 + _t17**2 - b2**2)
+    _out_residual[2] = _t26 * (_t22**2 + _t25**2 - b3**2)
+    _out_jacobian = casadi.SX.zeros(3, 3)
+    _out_jacobian[0, 0] = _t10 * (2 * _t2 * platform_x1 - _t27 - _t28 - 2 * _t7 - 2 * base_x1)
+    _out_jacobian[0, 1] = _t10 * (_t29 + _t30 - 2 * _t4 - 2 * base_y1)
+    _out_jacobian[0, 2] = _t10 * (-_t30 * _t9 + _t5 * (2 * _t2 * platform_x1 - _t28))
+    _out_jacobian[1, 0] = _t18 * (-2 * _t15 + 2 * _t2 * platform_x2 - _t27 - _t31 - 2 * base_x2)
+    _out_jacobian[1, 1] = _t18 * (-2 * _t13 + _t29 + _t32 - 2 * base_y2)
+    _out_jacobian[1, 2] = _t18 * (_t14 * (2 * _t2 * platform_x2 - _t31) - _t17 * _t32)
+    _out_jacobian[2, 0] = _t26 * (2 * _t2 * platform_x3 - 2 * _t23 - _t27 - _t33 - 2 * base_x3)
+    _out_jacobian[2, 1] = _t26 * (-2 * _t21 + _t29 + _t34 - 2 * base_y3)
+    _out_jacobian[2, 2] = _t26 * (_t22 * (2 * _t2 * platform_x3 - _t33) - _t25 * _t34)
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "planar_3rrr_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -175,33 +175,33 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 75.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
-    b1 = params[15]
-    b2 = params[16]
-    b3 = params[17]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
+    b1 = _in_params[15]
+    b2 = _in_params[16]
+    b3 = _in_params[17]
     _t0 = casadi.sin(phi)
     _t1 = casadi.cos(phi)
     _t2 = casadi.sin(theta1)
@@ -211,8 +211,8 @@ def loop_closure_actuated() -> casadi.Function:
     _t6 = a2 * casadi.cos(theta2)
     _t7 = casadi.sin(theta3)
     _t8 = a3 * casadi.cos(theta3)
-    jacobian_actuated = casadi.SX.zeros(3, 3)
-    jacobian_actuated[0, 0] = (
+    _out_jacobian_actuated = casadi.SX.zeros(3, 3)
+    _out_jacobian_actuated[0, 0] = (
         (1 / 2)
         * (
             2 * _t2 * a1 * (-_t0 * platform_y1 + _t1 * platform_x1 - _t3 - _t4 - base_x1)
@@ -220,7 +220,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / b1
     )
-    jacobian_actuated[1, 1] = (
+    _out_jacobian_actuated[1, 1] = (
         (1 / 2)
         * (
             2 * _t5 * a2 * (-_t0 * platform_y2 + _t1 * platform_x2 - _t4 - _t6 - base_x2)
@@ -228,7 +228,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / b2
     )
-    jacobian_actuated[2, 2] = (
+    _out_jacobian_actuated[2, 2] = (
         (1 / 2)
         * (
             2 * _t7 * a3 * (-_t0 * platform_y3 + _t1 * platform_x3 - _t4 - _t8 - base_x3)
@@ -239,12 +239,12 @@ def loop_closure_actuated() -> casadi.Function:
     return casadi.Function(
         "planar_3rrr_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -262,30 +262,30 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 76.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
     _t0 = casadi.sin(phi)
     _t1 = casadi.cos(phi)
     _t2 = -x
@@ -305,30 +305,30 @@ def rate_jacobians() -> casadi.Function:
     _t16 = -_t0 * platform_y3 + _t1 * platform_x3 - _t15
     _t17 = a3 * casadi.sin(theta3)
     _t18 = _t0 * platform_x3 + _t1 * platform_y3 - _t17 - base_y3 + y
-    a = casadi.SX.zeros(3, 3)
-    a[0, 0] = _t5
-    a[0, 1] = _t7
-    a[0, 2] = _t4 * _t7 - _t5 * (_t6 + _t8 + base_y1)
-    a[1, 0] = _t11
-    a[1, 1] = _t13
-    a[1, 2] = _t10 * _t13 - _t11 * (_t12 + _t8 + base_y2)
-    a[2, 0] = _t16
-    a[2, 1] = _t18
-    a[2, 2] = _t15 * _t18 - _t16 * (_t17 + _t8 + base_y3)
-    b = casadi.SX.zeros(3, 3)
-    b[0, 0] = _t3 * _t7 - _t5 * _t6
-    b[1, 1] = -_t11 * _t12 + _t13 * _t9
-    b[2, 2] = _t14 * _t18 - _t16 * _t17
+    _out_a = casadi.SX.zeros(3, 3)
+    _out_a[0, 0] = _t5
+    _out_a[0, 1] = _t7
+    _out_a[0, 2] = _t4 * _t7 - _t5 * (_t6 + _t8 + base_y1)
+    _out_a[1, 0] = _t11
+    _out_a[1, 1] = _t13
+    _out_a[1, 2] = _t10 * _t13 - _t11 * (_t12 + _t8 + base_y2)
+    _out_a[2, 0] = _t16
+    _out_a[2, 1] = _t18
+    _out_a[2, 2] = _t15 * _t18 - _t16 * (_t17 + _t8 + base_y3)
+    _out_b = casadi.SX.zeros(3, 3)
+    _out_b[0, 0] = _t3 * _t7 - _t5 * _t6
+    _out_b[1, 1] = -_t11 * _t12 + _t13 * _t9
+    _out_b[2, 2] = _t14 * _t18 - _t16 * _t17
     return casadi.Function(
         "planar_3rrr_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -347,33 +347,33 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 192.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
-    b1 = params[15]
-    b2 = params[16]
-    b3 = params[17]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
+    b1 = _in_params[15]
+    b2 = _in_params[16]
+    b3 = _in_params[17]
     _t0 = -2 * x
     _t1 = casadi.cos(theta1)
     _t2 = _t1 * a1
@@ -415,40 +415,42 @@ def parameter_jacobians() -> casadi.Function:
     _t38 = -_t13 + _t3 * platform_x3 - _t30 - _t31 - base_x3
     _t39 = 2 * _t38
     _t40 = b3**2
-    closure_parameters = casadi.SX.zeros(3, 18)
-    closure_parameters[0, 0] = _t6 * (_t0 + 2 * _t2 - 2 * _t3 * platform_x1 + 2 * _t5 + 2 * base_x1)
-    closure_parameters[0, 1] = _t6 * (-2 * _t10 - _t7 + 2 * _t8 * a1 - 2 * _t9 + 2 * base_y1)
-    closure_parameters[0, 6] = _t6 * (_t12 * _t4 + _t15 * _t3)
-    closure_parameters[0, 7] = _t6 * (_t12 * _t3 - _t15 * _t4)
-    closure_parameters[0, 12] = _t6 * (-_t1 * _t15 - _t12 * _t8)
-    closure_parameters[0, 15] = -1 - 1 / 2 * (_t11**2 + _t14**2 - _t16) / _t16
-    closure_parameters[1, 2] = _t20 * (
+    _out_closure_parameters = casadi.SX.zeros(3, 18)
+    _out_closure_parameters[0, 0] = _t6 * (
+        _t0 + 2 * _t2 - 2 * _t3 * platform_x1 + 2 * _t5 + 2 * base_x1
+    )
+    _out_closure_parameters[0, 1] = _t6 * (-2 * _t10 - _t7 + 2 * _t8 * a1 - 2 * _t9 + 2 * base_y1)
+    _out_closure_parameters[0, 6] = _t6 * (_t12 * _t4 + _t15 * _t3)
+    _out_closure_parameters[0, 7] = _t6 * (_t12 * _t3 - _t15 * _t4)
+    _out_closure_parameters[0, 12] = _t6 * (-_t1 * _t15 - _t12 * _t8)
+    _out_closure_parameters[0, 15] = -1 - 1 / 2 * (_t11**2 + _t14**2 - _t16) / _t16
+    _out_closure_parameters[1, 2] = _t20 * (
         _t0 + 2 * _t18 + 2 * _t19 - 2 * _t3 * platform_x2 + 2 * base_x2
     )
-    closure_parameters[1, 3] = _t20 * (2 * _t21 * a2 - 2 * _t22 - 2 * _t23 - _t7 + 2 * base_y2)
-    closure_parameters[1, 8] = _t20 * (_t25 * _t4 + _t27 * _t3)
-    closure_parameters[1, 9] = _t20 * (_t25 * _t3 - _t27 * _t4)
-    closure_parameters[1, 13] = _t20 * (-_t17 * _t27 - _t21 * _t25)
-    closure_parameters[1, 16] = -1 - 1 / 2 * (_t24**2 + _t26**2 - _t28) / _t28
-    closure_parameters[2, 4] = _t32 * (
+    _out_closure_parameters[1, 3] = _t20 * (2 * _t21 * a2 - 2 * _t22 - 2 * _t23 - _t7 + 2 * base_y2)
+    _out_closure_parameters[1, 8] = _t20 * (_t25 * _t4 + _t27 * _t3)
+    _out_closure_parameters[1, 9] = _t20 * (_t25 * _t3 - _t27 * _t4)
+    _out_closure_parameters[1, 13] = _t20 * (-_t17 * _t27 - _t21 * _t25)
+    _out_closure_parameters[1, 16] = -1 - 1 / 2 * (_t24**2 + _t26**2 - _t28) / _t28
+    _out_closure_parameters[2, 4] = _t32 * (
         _t0 - 2 * _t3 * platform_x3 + 2 * _t30 + 2 * _t31 + 2 * base_x3
     )
-    closure_parameters[2, 5] = _t32 * (2 * _t33 * a3 - 2 * _t34 - 2 * _t35 - _t7 + 2 * base_y3)
-    closure_parameters[2, 10] = _t32 * (_t3 * _t39 + _t37 * _t4)
-    closure_parameters[2, 11] = _t32 * (_t3 * _t37 - _t39 * _t4)
-    closure_parameters[2, 14] = _t32 * (-_t29 * _t39 - _t33 * _t37)
-    closure_parameters[2, 17] = -1 - 1 / 2 * (_t36**2 + _t38**2 - _t40) / _t40
-    pose_parameters = casadi.SX.zeros(12, 18)
+    _out_closure_parameters[2, 5] = _t32 * (2 * _t33 * a3 - 2 * _t34 - 2 * _t35 - _t7 + 2 * base_y3)
+    _out_closure_parameters[2, 10] = _t32 * (_t3 * _t39 + _t37 * _t4)
+    _out_closure_parameters[2, 11] = _t32 * (_t3 * _t37 - _t39 * _t4)
+    _out_closure_parameters[2, 14] = _t32 * (-_t29 * _t39 - _t33 * _t37)
+    _out_closure_parameters[2, 17] = -1 - 1 / 2 * (_t36**2 + _t38**2 - _t40) / _t40
+    _out_pose_parameters = casadi.SX.zeros(12, 18)
     return casadi.Function(
         "planar_3rrr_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -467,30 +469,30 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 88.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
     _t0 = casadi.sin(phi)
     _t1 = casadi.cos(phi)
     _t2 = a1 * casadi.sin(theta1)
@@ -516,24 +518,24 @@ def singularity_factors() -> casadi.Function:
     _t22 = -_t11 * (_t12 - _t6 + base_x2) + _t13 * (-_t10 - _t21)
     _t23 = _t17 * (_t18 - _t6 + base_x3) - _t19 * (-_t16 - _t21)
     _t24 = -_t3 * (_t13 * _t23 + _t19 * _t22) + _t7 * (_t11 * _t23 + _t17 * _t22)
-    factors = casadi.SX.zeros(4)
-    factors[0] = _t8
-    factors[1] = _t14
-    factors[2] = _t20
-    factors[3] = _t24
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t24
-    determinants[1] = _t14 * _t20 * _t8
+    _out_factors = casadi.SX.zeros(4)
+    _out_factors[0] = _t8
+    _out_factors[1] = _t14
+    _out_factors[2] = _t20
+    _out_factors[3] = _t24
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t24
+    _out_determinants[1] = _t14 * _t20 * _t8
     return casadi.Function(
         "planar_3rrr_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -552,64 +554,64 @@ def drawing() -> casadi.Function:
 
     Operations: 44.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = passive[0]
-    y = passive[1]
-    phi = passive[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    phi = _in_passive[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
     _t0 = casadi.cos(phi)
     _t1 = casadi.sin(phi)
-    base = casadi.SX.zeros(3, 3)
-    base[0, 0] = base_x1
-    base[0, 1] = base_x2
-    base[0, 2] = base_x3
-    base[1, 0] = base_y1
-    base[1, 1] = base_y2
-    base[1, 2] = base_y3
-    elbow = casadi.SX.zeros(3, 3)
-    elbow[0, 0] = a1 * casadi.cos(theta1) + base_x1
-    elbow[0, 1] = a2 * casadi.cos(theta2) + base_x2
-    elbow[0, 2] = a3 * casadi.cos(theta3) + base_x3
-    elbow[1, 0] = a1 * casadi.sin(theta1) + base_y1
-    elbow[1, 1] = a2 * casadi.sin(theta2) + base_y2
-    elbow[1, 2] = a3 * casadi.sin(theta3) + base_y3
-    platform = casadi.SX.zeros(3, 3)
-    platform[0, 0] = _t0 * platform_x1 - _t1 * platform_y1 + x
-    platform[0, 1] = _t0 * platform_x2 - _t1 * platform_y2 + x
-    platform[0, 2] = _t0 * platform_x3 - _t1 * platform_y3 + x
-    platform[1, 0] = _t0 * platform_y1 + _t1 * platform_x1 + y
-    platform[1, 1] = _t0 * platform_y2 + _t1 * platform_x2 + y
-    platform[1, 2] = _t0 * platform_y3 + _t1 * platform_x3 + y
+    _out_base = casadi.SX.zeros(3, 3)
+    _out_base[0, 0] = base_x1
+    _out_base[0, 1] = base_x2
+    _out_base[0, 2] = base_x3
+    _out_base[1, 0] = base_y1
+    _out_base[1, 1] = base_y2
+    _out_base[1, 2] = base_y3
+    _out_elbow = casadi.SX.zeros(3, 3)
+    _out_elbow[0, 0] = a1 * casadi.cos(theta1) + base_x1
+    _out_elbow[0, 1] = a2 * casadi.cos(theta2) + base_x2
+    _out_elbow[0, 2] = a3 * casadi.cos(theta3) + base_x3
+    _out_elbow[1, 0] = a1 * casadi.sin(theta1) + base_y1
+    _out_elbow[1, 1] = a2 * casadi.sin(theta2) + base_y2
+    _out_elbow[1, 2] = a3 * casadi.sin(theta3) + base_y3
+    _out_platform = casadi.SX.zeros(3, 3)
+    _out_platform[0, 0] = _t0 * platform_x1 - _t1 * platform_y1 + x
+    _out_platform[0, 1] = _t0 * platform_x2 - _t1 * platform_y2 + x
+    _out_platform[0, 2] = _t0 * platform_x3 - _t1 * platform_y3 + x
+    _out_platform[1, 0] = _t0 * platform_y1 + _t1 * platform_x1 + y
+    _out_platform[1, 1] = _t0 * platform_y2 + _t1 * platform_x2 + y
+    _out_platform[1, 2] = _t0 * platform_y3 + _t1 * platform_x3 + y
     return casadi.Function(
         "planar_3rrr_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            elbow,
-            platform,
+            _out_base,
+            _out_elbow,
+            _out_platform,
         ],
         [
             "actuated",
@@ -629,34 +631,34 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 196.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 3)
-    params = casadi.SX.sym("params", 18)
-    r11 = pose[0]
-    r21 = pose[3]
-    px = pose[9]
-    py = pose[10]
-    sigma1 = branch[0]
-    sigma2 = branch[1]
-    sigma3 = branch[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
-    b1 = params[15]
-    b2 = params[16]
-    b3 = params[17]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    r11 = _in_pose[0]
+    r21 = _in_pose[3]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    sigma1 = _in_branch[0]
+    sigma2 = _in_branch[1]
+    sigma3 = _in_branch[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
+    b1 = _in_params[15]
+    b2 = _in_params[16]
+    b3 = _in_params[17]
     x = px
     y = py
     phi = casadi.atan2(r21, r11)
@@ -702,29 +704,29 @@ def inverse_pose() -> casadi.Function:
     _t12 = E2**2 + F2**2
     _t13 = G3**2
     _t14 = E3**2 + F3**2
-    actuated = casadi.SX.zeros(3)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    actuated[2] = theta3
-    passive = casadi.SX.zeros(3)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = phi
-    validity = casadi.SX.zeros(3)
-    validity[0] = (_t10 - _t9) / (_t10 + _t9)
-    validity[1] = (-_t11 + _t12) / (_t11 + _t12)
-    validity[2] = (-_t13 + _t14) / (_t13 + _t14)
+    _out_actuated = casadi.SX.zeros(3)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_actuated[2] = theta3
+    _out_passive = casadi.SX.zeros(3)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = phi
+    _out_validity = casadi.SX.zeros(3)
+    _out_validity[0] = (_t10 - _t9) / (_t10 + _t9)
+    _out_validity[1] = (-_t11 + _t12) / (_t11 + _t12)
+    _out_validity[2] = (-_t13 + _t14) / (_t13 + _t14)
     return casadi.Function(
         "planar_3rrr_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -744,61 +746,61 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    params = casadi.SX.sym("params", 18)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_x2 = params[2]
-    base_y2 = params[3]
-    base_x3 = params[4]
-    base_y3 = params[5]
-    platform_x1 = params[6]
-    platform_y1 = params[7]
-    platform_x2 = params[8]
-    platform_y2 = params[9]
-    platform_x3 = params[10]
-    platform_y3 = params[11]
-    a1 = params[12]
-    a2 = params[13]
-    a3 = params[14]
-    b1 = params[15]
-    b2 = params[16]
-    b3 = params[17]
-    free = casadi.SX.zeros(18)
-    free[0] = base_x1
-    free[1] = base_y1
-    free[2] = base_x2
-    free[3] = base_y2
-    free[4] = base_x3
-    free[5] = base_y3
-    free[6] = platform_x1
-    free[7] = platform_y1
-    free[8] = platform_x2
-    free[9] = platform_y2
-    free[10] = platform_x3
-    free[11] = platform_y3
-    free[12] = a1
-    free[13] = a2
-    free[14] = a3
-    free[15] = b1
-    free[16] = b2
-    free[17] = b3
-    angles = casadi.SX.zeros(3)
-    angles[0] = theta1
-    angles[1] = theta2
-    angles[2] = theta3
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_params = casadi.SX.sym("params", 18)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_x2 = _in_params[2]
+    base_y2 = _in_params[3]
+    base_x3 = _in_params[4]
+    base_y3 = _in_params[5]
+    platform_x1 = _in_params[6]
+    platform_y1 = _in_params[7]
+    platform_x2 = _in_params[8]
+    platform_y2 = _in_params[9]
+    platform_x3 = _in_params[10]
+    platform_y3 = _in_params[11]
+    a1 = _in_params[12]
+    a2 = _in_params[13]
+    a3 = _in_params[14]
+    b1 = _in_params[15]
+    b2 = _in_params[16]
+    b3 = _in_params[17]
+    _out_free = casadi.SX.zeros(18)
+    _out_free[0] = base_x1
+    _out_free[1] = base_y1
+    _out_free[2] = base_x2
+    _out_free[3] = base_y2
+    _out_free[4] = base_x3
+    _out_free[5] = base_y3
+    _out_free[6] = platform_x1
+    _out_free[7] = platform_y1
+    _out_free[8] = platform_x2
+    _out_free[9] = platform_y2
+    _out_free[10] = platform_x3
+    _out_free[11] = platform_y3
+    _out_free[12] = a1
+    _out_free[13] = a2
+    _out_free[14] = a3
+    _out_free[15] = b1
+    _out_free[16] = b2
+    _out_free[17] = b3
+    _out_angles = casadi.SX.zeros(3)
+    _out_angles[0] = theta1
+    _out_angles[1] = theta2
+    _out_angles[2] = theta3
     return casadi.Function(
         "planar_3rrr_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -816,62 +818,62 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 895.
     """
-    family_re = casadi.SX.sym("family_re", 27)
-    family_im = casadi.SX.sym("family_im", 27)
-    base_x1_re = family_re[0]
-    base_y1_re = family_re[1]
-    base_x2_re = family_re[2]
-    base_y2_re = family_re[3]
-    base_x3_re = family_re[4]
-    base_y3_re = family_re[5]
-    platform_x1_re = family_re[6]
-    platform_y1_re = family_re[7]
-    platform_x2_re = family_re[8]
-    platform_y2_re = family_re[9]
-    platform_x3_re = family_re[10]
-    platform_y3_re = family_re[11]
-    a1_re = family_re[12]
-    a2_re = family_re[13]
-    a3_re = family_re[14]
-    b1_re = family_re[15]
-    b2_re = family_re[16]
-    b3_re = family_re[17]
-    C_u_0_re = family_re[18]
-    S_u_0_re = family_re[19]
-    D_u_0_re = family_re[20]
-    C_u_1_re = family_re[21]
-    S_u_1_re = family_re[22]
-    D_u_1_re = family_re[23]
-    C_u_2_re = family_re[24]
-    S_u_2_re = family_re[25]
-    D_u_2_re = family_re[26]
-    base_x1_im = family_im[0]
-    base_y1_im = family_im[1]
-    base_x2_im = family_im[2]
-    base_y2_im = family_im[3]
-    base_x3_im = family_im[4]
-    base_y3_im = family_im[5]
-    platform_x1_im = family_im[6]
-    platform_y1_im = family_im[7]
-    platform_x2_im = family_im[8]
-    platform_y2_im = family_im[9]
-    platform_x3_im = family_im[10]
-    platform_y3_im = family_im[11]
-    a1_im = family_im[12]
-    a2_im = family_im[13]
-    a3_im = family_im[14]
-    b1_im = family_im[15]
-    b2_im = family_im[16]
-    b3_im = family_im[17]
-    C_u_0_im = family_im[18]
-    S_u_0_im = family_im[19]
-    D_u_0_im = family_im[20]
-    C_u_1_im = family_im[21]
-    S_u_1_im = family_im[22]
-    D_u_1_im = family_im[23]
-    C_u_2_im = family_im[24]
-    S_u_2_im = family_im[25]
-    D_u_2_im = family_im[26]
+    _in_family_re = casadi.SX.sym("family_re", 27)
+    _in_family_im = casadi.SX.sym("family_im", 27)
+    base_x1_re = _in_family_re[0]
+    base_y1_re = _in_family_re[1]
+    base_x2_re = _in_family_re[2]
+    base_y2_re = _in_family_re[3]
+    base_x3_re = _in_family_re[4]
+    base_y3_re = _in_family_re[5]
+    platform_x1_re = _in_family_re[6]
+    platform_y1_re = _in_family_re[7]
+    platform_x2_re = _in_family_re[8]
+    platform_y2_re = _in_family_re[9]
+    platform_x3_re = _in_family_re[10]
+    platform_y3_re = _in_family_re[11]
+    a1_re = _in_family_re[12]
+    a2_re = _in_family_re[13]
+    a3_re = _in_family_re[14]
+    b1_re = _in_family_re[15]
+    b2_re = _in_family_re[16]
+    b3_re = _in_family_re[17]
+    C_u_0_re = _in_family_re[18]
+    S_u_0_re = _in_family_re[19]
+    D_u_0_re = _in_family_re[20]
+    C_u_1_re = _in_family_re[21]
+    S_u_1_re = _in_family_re[22]
+    D_u_1_re = _in_family_re[23]
+    C_u_2_re = _in_family_re[24]
+    S_u_2_re = _in_family_re[25]
+    D_u_2_re = _in_family_re[26]
+    base_x1_im = _in_family_im[0]
+    base_y1_im = _in_family_im[1]
+    base_x2_im = _in_family_im[2]
+    base_y2_im = _in_family_im[3]
+    base_x3_im = _in_family_im[4]
+    base_y3_im = _in_family_im[5]
+    platform_x1_im = _in_family_im[6]
+    platform_y1_im = _in_family_im[7]
+    platform_x2_im = _in_family_im[8]
+    platform_y2_im = _in_family_im[9]
+    platform_x3_im = _in_family_im[10]
+    platform_y3_im = _in_family_im[11]
+    a1_im = _in_family_im[12]
+    a2_im = _in_family_im[13]
+    a3_im = _in_family_im[14]
+    b1_im = _in_family_im[15]
+    b2_im = _in_family_im[16]
+    b3_im = _in_family_im[17]
+    C_u_0_im = _in_family_im[18]
+    S_u_0_im = _in_family_im[19]
+    D_u_0_im = _in_family_im[20]
+    C_u_1_im = _in_family_im[21]
+    S_u_1_im = _in_family_im[22]
+    D_u_1_im = _in_family_im[23]
+    C_u_2_im = _in_family_im[24]
+    S_u_2_im = _in_family_im[25]
+    D_u_2_im = _in_family_im[26]
     _t0 = D_u_0_im**2 - D_u_0_re**2
     _t1 = -_t0
     _t2 = 4 * D_u_0_im * D_u_0_re
@@ -1080,17 +1082,17 @@ def automatic_monomials() -> casadi.Function:
     )
     _t199 = 2 * _t176
     _t200 = 2 * _t171
-    re = casadi.SX.zeros(42)
-    re[0] = _t1
-    re[1] = _t4
-    re[2] = _t8
-    re[3] = _t12 * a1_re - _t14 * a1_im - _t15 + _t9
-    re[4] = _t1
-    re[5] = -_t8
-    re[6] = _t4
-    re[7] = _t16 + _t17 * a1_re - _t19 * a1_im - _t20
-    re[8] = _t23
-    re[9] = (
+    _out_re = casadi.SX.zeros(42)
+    _out_re[0] = _t1
+    _out_re[1] = _t4
+    _out_re[2] = _t8
+    _out_re[3] = _t12 * a1_re - _t14 * a1_im - _t15 + _t9
+    _out_re[4] = _t1
+    _out_re[5] = -_t8
+    _out_re[6] = _t4
+    _out_re[7] = _t16 + _t17 * a1_re - _t19 * a1_im - _t20
+    _out_re[8] = _t23
+    _out_re[9] = (
         _t1 * _t31
         + _t1 * _t32
         - _t26 * _t27
@@ -1100,8 +1102,8 @@ def automatic_monomials() -> casadi.Function:
         + _t35 * a1_re
         + _t36 * a1_re
     )
-    re[10] = _t23
-    re[11] = (
+    _out_re[10] = _t23
+    _out_re[11] = (
         _t1 * _t39
         + _t1 * _t40
         - _t27 * _t37
@@ -1111,7 +1113,7 @@ def automatic_monomials() -> casadi.Function:
         + _t44 * a1_re
         + _t45 * a1_re
     )
-    re[12] = (
+    _out_re[12] = (
         _t0 * _t55
         + _t1 * _t53
         + _t1 * _t54
@@ -1127,16 +1129,16 @@ def automatic_monomials() -> casadi.Function:
         + _t61 * a1_re
         - _t9 * base_x1_re
     )
-    re[13] = _t63
-    re[14] = _t66
-    re[15] = _t70
-    re[16] = _t71 + _t74 * a2_re - _t76 * a2_im - _t77
-    re[17] = _t63
-    re[18] = -_t70
-    re[19] = _t66
-    re[20] = _t78 + _t79 * a2_re - _t81 * a2_im - _t82
-    re[21] = _t85
-    re[22] = (
+    _out_re[13] = _t63
+    _out_re[14] = _t66
+    _out_re[15] = _t70
+    _out_re[16] = _t71 + _t74 * a2_re - _t76 * a2_im - _t77
+    _out_re[17] = _t63
+    _out_re[18] = -_t70
+    _out_re[19] = _t66
+    _out_re[20] = _t78 + _t79 * a2_re - _t81 * a2_im - _t82
+    _out_re[21] = _t85
+    _out_re[22] = (
         _t63 * _t93
         + _t63 * _t94
         - _t88 * _t89
@@ -1146,8 +1148,8 @@ def automatic_monomials() -> casadi.Function:
         + _t97 * a2_re
         + _t98 * a2_re
     )
-    re[23] = _t85
-    re[24] = (
+    _out_re[23] = _t85
+    _out_re[24] = (
         -_t100 * _t89
         + _t101 * _t63
         + _t102 * _t63
@@ -1157,7 +1159,7 @@ def automatic_monomials() -> casadi.Function:
         + _t107 * a2_re
         - _t89 * _t99
     )
-    re[25] = (
+    _out_re[25] = (
         -_t108 * _t110
         - _t110 * _t112
         + _t111 * _t64
@@ -1173,16 +1175,16 @@ def automatic_monomials() -> casadi.Function:
         - _t71 * base_x2_re
         - _t78 * base_y2_re
     )
-    re[26] = _t125
-    re[27] = _t128
-    re[28] = _t132
-    re[29] = _t133 + _t136 * a3_re - _t138 * a3_im - _t139
-    re[30] = _t125
-    re[31] = -_t132
-    re[32] = _t128
-    re[33] = _t140 + _t141 * a3_re - _t143 * a3_im - _t144
-    re[34] = _t147
-    re[35] = (
+    _out_re[26] = _t125
+    _out_re[27] = _t128
+    _out_re[28] = _t132
+    _out_re[29] = _t133 + _t136 * a3_re - _t138 * a3_im - _t139
+    _out_re[30] = _t125
+    _out_re[31] = -_t132
+    _out_re[32] = _t128
+    _out_re[33] = _t140 + _t141 * a3_re - _t143 * a3_im - _t144
+    _out_re[34] = _t147
+    _out_re[35] = (
         _t125 * _t155
         + _t125 * _t156
         - _t150 * _t151
@@ -1192,8 +1194,8 @@ def automatic_monomials() -> casadi.Function:
         + _t159 * a3_re
         + _t160 * a3_re
     )
-    re[36] = _t147
-    re[37] = (
+    _out_re[36] = _t147
+    _out_re[37] = (
         _t125 * _t163
         + _t125 * _t164
         - _t151 * _t161
@@ -1203,7 +1205,7 @@ def automatic_monomials() -> casadi.Function:
         + _t168 * a3_re
         + _t169 * a3_re
     )
-    re[38] = (
+    _out_re[38] = (
         _t124 * _t179
         + _t125 * _t177
         + _t125 * _t178
@@ -1219,20 +1221,20 @@ def automatic_monomials() -> casadi.Function:
         + _t184 * a3_re
         + _t185 * a3_re
     )
-    re[39] = 1
-    re[40] = 1
-    re[41] = -1
-    im = casadi.SX.zeros(42)
-    im[0] = _t27
-    im[1] = _t186
-    im[2] = -_t187
-    im[3] = _t12 * a1_im + _t14 * a1_re - _t2 * base_x1_re - _t6 * base_x1_im
-    im[4] = _t27
-    im[5] = _t187
-    im[6] = _t186
-    im[7] = _t17 * a1_im + _t19 * a1_re - _t2 * base_y1_re - _t6 * base_y1_im
-    im[8] = _t188
-    im[9] = (
+    _out_re[39] = 1
+    _out_re[40] = 1
+    _out_re[41] = -1
+    _out_im = casadi.SX.zeros(42)
+    _out_im[0] = _t27
+    _out_im[1] = _t186
+    _out_im[2] = -_t187
+    _out_im[3] = _t12 * a1_im + _t14 * a1_re - _t2 * base_x1_re - _t6 * base_x1_im
+    _out_im[4] = _t27
+    _out_im[5] = _t187
+    _out_im[6] = _t186
+    _out_im[7] = _t17 * a1_im + _t19 * a1_re - _t2 * base_y1_re - _t6 * base_y1_im
+    _out_im[8] = _t188
+    _out_im[9] = (
         _t1 * _t26
         + _t1 * _t30
         + _t27 * _t31
@@ -1242,8 +1244,8 @@ def automatic_monomials() -> casadi.Function:
         + _t35 * a1_im
         + _t36 * a1_im
     )
-    im[10] = _t188
-    im[11] = (
+    _out_im[10] = _t188
+    _out_im[11] = (
         _t1 * _t37
         + _t1 * _t38
         + _t27 * _t39
@@ -1253,7 +1255,7 @@ def automatic_monomials() -> casadi.Function:
         + _t44 * a1_im
         + _t45 * a1_im
     )
-    im[12] = (
+    _out_im[12] = (
         2 * _t0 * _t49
         + _t15 * base_x1_im
         + _t189 * _t46
@@ -1269,16 +1271,16 @@ def automatic_monomials() -> casadi.Function:
         + _t60 * a1_im
         + _t61 * a1_im
     )
-    im[13] = _t89
-    im[14] = _t191
-    im[15] = -_t192
-    im[16] = -_t64 * base_x2_re - _t68 * base_x2_im + _t74 * a2_im + _t76 * a2_re
-    im[17] = _t89
-    im[18] = _t192
-    im[19] = _t191
-    im[20] = -_t64 * base_y2_re - _t68 * base_y2_im + _t79 * a2_im + _t81 * a2_re
-    im[21] = _t193
-    im[22] = (
+    _out_im[13] = _t89
+    _out_im[14] = _t191
+    _out_im[15] = -_t192
+    _out_im[16] = -_t64 * base_x2_re - _t68 * base_x2_im + _t74 * a2_im + _t76 * a2_re
+    _out_im[17] = _t89
+    _out_im[18] = _t192
+    _out_im[19] = _t191
+    _out_im[20] = -_t64 * base_y2_re - _t68 * base_y2_im + _t79 * a2_im + _t81 * a2_re
+    _out_im[21] = _t193
+    _out_im[22] = (
         _t63 * _t88
         + _t63 * _t92
         + _t89 * _t93
@@ -1288,8 +1290,8 @@ def automatic_monomials() -> casadi.Function:
         + _t97 * a2_im
         + _t98 * a2_im
     )
-    im[23] = _t193
-    im[24] = (
+    _out_im[23] = _t193
+    _out_im[24] = (
         _t100 * _t63
         + _t101 * _t89
         + _t102 * _t89
@@ -1299,7 +1301,7 @@ def automatic_monomials() -> casadi.Function:
         + _t107 * a2_im
         + _t63 * _t99
     )
-    im[25] = (
+    _out_im[25] = (
         _t108 * _t194
         + 2 * _t111 * _t62
         + _t112 * _t194
@@ -1315,16 +1317,16 @@ def automatic_monomials() -> casadi.Function:
         + _t77 * base_x2_im
         + _t82 * base_y2_im
     )
-    im[26] = _t151
-    im[27] = _t196
-    im[28] = -_t197
-    im[29] = -_t126 * base_x3_re - _t130 * base_x3_im + _t136 * a3_im + _t138 * a3_re
-    im[30] = _t151
-    im[31] = _t197
-    im[32] = _t196
-    im[33] = -_t126 * base_y3_re - _t130 * base_y3_im + _t141 * a3_im + _t143 * a3_re
-    im[34] = _t198
-    im[35] = (
+    _out_im[26] = _t151
+    _out_im[27] = _t196
+    _out_im[28] = -_t197
+    _out_im[29] = -_t126 * base_x3_re - _t130 * base_x3_im + _t136 * a3_im + _t138 * a3_re
+    _out_im[30] = _t151
+    _out_im[31] = _t197
+    _out_im[32] = _t196
+    _out_im[33] = -_t126 * base_y3_re - _t130 * base_y3_im + _t141 * a3_im + _t143 * a3_re
+    _out_im[34] = _t198
+    _out_im[35] = (
         _t125 * _t150
         + _t125 * _t154
         + _t151 * _t155
@@ -1334,8 +1336,8 @@ def automatic_monomials() -> casadi.Function:
         + _t159 * a3_im
         + _t160 * a3_im
     )
-    im[36] = _t198
-    im[37] = (
+    _out_im[36] = _t198
+    _out_im[37] = (
         _t125 * _t161
         + _t125 * _t162
         + _t151 * _t163
@@ -1345,7 +1347,7 @@ def automatic_monomials() -> casadi.Function:
         + _t168 * a3_im
         + _t169 * a3_im
     )
-    im[38] = (
+    _out_im[38] = (
         2 * _t124 * _t173
         + _t139 * base_x3_im
         + _t144 * base_y3_im
@@ -1364,12 +1366,12 @@ def automatic_monomials() -> casadi.Function:
     return casadi.Function(
         "planar_3rrr_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -1387,24 +1389,24 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 1.
     """
-    z = casadi.SX.sym("z", 4)
-    params = casadi.SX.sym("params", 18)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    passive = casadi.SX.zeros(3)
-    passive[0] = z0
-    passive[1] = z1
-    passive[2] = casadi.atan2(z3, z2)
+    _in_z = casadi.SX.sym("z", 4)
+    _in_params = casadi.SX.sym("params", 18)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    _out_passive = casadi.SX.zeros(3)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
+    _out_passive[2] = casadi.atan2(z3, z2)
     return casadi.Function(
         "planar_3rrr_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

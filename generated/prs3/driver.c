@@ -556,16 +556,20 @@ static void settle(workspace* ws, const prs3_modes_job* job, long long i, int s,
 // ---------------------------------------------------------------------------------------------
 // The generated parameter homotopy: each of the NPATHS start solutions of the generated complex
 // instance is followed to the inputs (s = 1 -> 0) by the same predictor-corrector as
-// parakin/solvers/homotopy.py (Runge-Kutta predictor, at most CORRECTIONS contracting Newton steps,
-// step halved on failure and doubled after GROW_AFTER successes), refined at s = 0; real and
-// near-real endpoints are completed to passive values by a generated kernel and settled.
+// parakin.solvers.homotopy.track_hermite (track_path), refined at s = 0; real and near-real
+// endpoints are completed to passive values by a generated kernel and settled. The step
+// constants are that module's.
 #define NZ 7
 #define NH 0
+// the tracker's constants (parakin.solvers.homotopy)
 #define CORRECTIONS 3
-#define GROW_AFTER 2
 #define INITIAL_STEP 0.05
+#define PREDICTOR_TARGET 0.003
+#define STEP_SAFETY 0.8
+#define STEP_GROW 2.0
+#define STEP_SHRINK 0.25
 #define MIN_STEP 1e-12
-#define ESCAPE 1e8
+#define ESCAPE 100000000.0
 #define MAX_STEPS 2000
 #define REFINE 8
 #define END_GAP 1e-13
@@ -719,10 +723,19 @@ static const double alternative_imag[DEGREE][NZ] = {
 static const int partner[DEGREE] = { 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14, 17, 16, 19, 18, 21, 20, 23, 22, 25, 24, 27, 26, 29, 28, 31, 30 };
 static const double flip[NZ] = { 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0 };
 
+// parakin C runtime: complex numbers as two doubles (C99 without <complex.h>, which MSVC lacks),
+// the few operations the path tracker needs, inline. Copied into every homotopy package's driver
+// by the generator (generator/emit.py), and compiled on its own by tests/test_c_runtime.py.
+// Needs <math.h>.
+#ifndef PARAKIN_RUNTIME_COMPLEX_H
+#define PARAKIN_RUNTIME_COMPLEX_H
+
 typedef struct { double re, im; } cplx;
 
 static inline cplx c_mul(cplx a, cplx b) { return (cplx){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
 static inline cplx c_sub(cplx a, cplx b) { return (cplx){a.re - b.re, a.im - b.im}; }
+static inline cplx c_add(cplx a, cplx b) { return (cplx){a.re + b.re, a.im + b.im}; }
+static inline cplx c_scale(double f, cplx a) { return (cplx){f * a.re, f * a.im}; }
 static inline double c_abs(cplx a) { return hypot(a.re, a.im); }
 // |re| + |im|: within a factor sqrt(2) of |a|, enough to choose pivots and far cheaper than hypot
 static inline double c_norm1(cplx a) { return fabs(a.re) + fabs(a.im); }
@@ -730,7 +743,9 @@ static inline cplx c_inv(cplx a) {
     double d = a.re * a.re + a.im * a.im;
     return (cplx){a.re / d, -a.im / d};
 }
+static inline cplx c_div(cplx a, cplx b) { return c_mul(a, c_inv(b)); }
 
+#endif
 // The homotopy of one input: equation k = sum over its monomials t of c_t(s) z^a_t, each
 // coefficient a polynomial in s (the manifest's term table; coefficient d of term t at [d][t])
 #define POWERS 3
@@ -751,10 +766,6 @@ static const double start_instance[2][NFREE + NCIRCLES > 0 ? NFREE + NCIRCLES : 
 };
 static const double circle_a[2] = { 0.317, -1.291 };
 static const double circle_b[2] = { -1.733, 0.557 };
-
-static inline cplx c_add(cplx a, cplx b) { return (cplx){a.re + b.re, a.im + b.im}; }
-static inline cplx c_scale(double f, cplx a) { return (cplx){f * a.re, f * a.im}; }
-static inline cplx c_div(cplx a, cplx b) { return c_mul(a, c_inv(b)); }
 
 // The coefficients in s of every monomial along the segment from start instance `which` (0: the
 // first, 1: the second, 'alternative') to the inputs, as parakin.solvers.homotopy.path_coefficients: the
@@ -1618,8 +1629,29 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
     return finite;
 }
 
-// a x = b in place by Gaussian elimination with partial pivoting (a destroyed); 0 when singular
-static int c_solve(cplx* a, cplx* b) {
+// parakin C runtime: the path tracker of a parameter homotopy H(z, s) = 0, from a start solution
+// at s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite is its NumPy reference: the same
+// algorithm and constants). Copied into every homotopy package's driver by the generator
+// (generator/emit.py), and compiled on its own with a test homotopy by tests/test_c_runtime.py.
+//
+// The includer defines, before including it (after complex.h):
+//   NZ                  the unknowns (a constant: every work array is on the stack)
+//   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.homotopy)
+//   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
+//   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
+//   static void coefficients(const sparse_system*, double s, coefficients_at*)
+//   static int homotopy_eval(const coefficients_at*, const cplx* z, cplx* value, cplx* jacobian,
+//                            cplx* rate)
+//       H, dH/dz (NZ x NZ, row-major) and dH/ds at z; value or rate NULL when not wanted;
+//       0 when not finite.
+// Needs <math.h> and <string.h>.
+#ifndef PARAKIN_RUNTIME_TRACKER_H
+#define PARAKIN_RUNTIME_TRACKER_H
+
+// a x = b, and a y = c where c is not NULL, in place by Gaussian elimination with partial
+// pivoting (a destroyed): one factorisation serves both right-hand sides; 0 when singular
+static int c_solve(cplx* a, cplx* b, cplx* c) {
     for (int k = 0; k < NZ; ++k) {
         int best = k;
         double largest = c_norm1(a[k * NZ + k]);
@@ -1627,20 +1659,27 @@ static int c_solve(cplx* a, cplx* b) {
             if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
         if (!(largest > 0.0)) return 0;
         if (best != k) {
-            for (int c = 0; c < NZ; ++c) { cplx t = a[k * NZ + c]; a[k * NZ + c] = a[best * NZ + c]; a[best * NZ + c] = t; }
+            for (int j = 0; j < NZ; ++j) { cplx t = a[k * NZ + j]; a[k * NZ + j] = a[best * NZ + j]; a[best * NZ + j] = t; }
             cplx t = b[k]; b[k] = b[best]; b[best] = t;
+            if (c) { t = c[k]; c[k] = c[best]; c[best] = t; }
         }
         cplx inverse = c_inv(a[k * NZ + k]);
         for (int r = k + 1; r < NZ; ++r) {
             cplx f = c_mul(a[r * NZ + k], inverse);
-            for (int c = k + 1; c < NZ; ++c) a[r * NZ + c] = c_sub(a[r * NZ + c], c_mul(f, a[k * NZ + c]));
+            for (int j = k + 1; j < NZ; ++j) a[r * NZ + j] = c_sub(a[r * NZ + j], c_mul(f, a[k * NZ + j]));
             b[r] = c_sub(b[r], c_mul(f, b[k]));
+            if (c) c[r] = c_sub(c[r], c_mul(f, c[k]));
         }
     }
     for (int k = NZ - 1; k >= 0; --k) {
-        cplx sum = b[k];
-        for (int c = k + 1; c < NZ; ++c) sum = c_sub(sum, c_mul(a[k * NZ + c], b[c]));
-        b[k] = c_mul(sum, c_inv(a[k * NZ + k]));
+        cplx inverse = c_inv(a[k * NZ + k]), sum = b[k];
+        for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], b[j]));
+        b[k] = c_mul(sum, inverse);
+        if (c) {
+            sum = c[k];
+            for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], c[j]));
+            c[k] = c_mul(sum, inverse);
+        }
     }
     return 1;
 }
@@ -1655,87 +1694,106 @@ static double c_max_abs(const cplx* v) {
 
 static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
 
-// What tracking cost, summed over paths: prs3_forward_pose_all_counted returns it (bench/)
+// What tracking cost, summed over paths (a package's NAME_forward_pose_all_counted returns it)
 typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
 
-// dz/ds = -H_z^-1 H_s; 0 when singular or not finite
-static int velocity(const coefficients_at* at, const cplx* z, cplx* out, track_counts* counts) {
-    cplx jacobian[NZ * NZ];
-    counts->evaluations += 1;
-    if (!homotopy_eval(at, z, NULL, jacobian, out)) return 0;
-    counts->factorisations += 1;
-    for (int k = 0; k < NZ; ++k) out[k] = (cplx){-out[k].re, -out[k].im};
-    return c_solve(jacobian, out);
-}
-
-// One Newton step at (z, s) in place; returns the update relative to |z| (inf when singular).
-static double newton_step(const coefficients_at* at, cplx* z, track_counts* counts) {
+// One Newton step at (z, s) in place: H, H_z and H_s at z, one LU of H_z, z -= H_z^-1 H; where
+// velocity is not NULL it receives dz/ds = -H_z^-1 H_s from the same LU (the path's slope for the
+// next prediction: no factorisation of its own). Returns the update relative to |z| (inf when
+// singular or not finite).
+static double newton_step(const coefficients_at* at, cplx* z, cplx* velocity, track_counts* counts) {
     cplx value[NZ], jacobian[NZ * NZ];
     counts->evaluations += 1;
-    if (!homotopy_eval(at, z, value, jacobian, NULL)) return INFINITY;
+    if (!homotopy_eval(at, z, value, jacobian, velocity)) return INFINITY;
     counts->factorisations += 1;
-    if (!c_solve(jacobian, value)) return INFINITY;
+    if (!c_solve(jacobian, value, velocity)) return INFINITY;
     for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
+    if (velocity)
+        for (int k = 0; k < NZ; ++k) velocity[k] = (cplx){-velocity[k].re, -velocity[k].im};
     return c_max_abs(value) / c_size(z);
+}
+
+// z at s = target extrapolated from the path's last two points (s0, z0, v0) and (s1, z1, v1), v
+// the slope dz/ds: the cubic Hermite interpolant of both (third order), or Euler from (s1, z1,
+// v1) alone where the path has no earlier point (history 0)
+static void predict(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1, const cplx* v1,
+                    double target, cplx* out) {
+    if (!history) {
+        double d = target - s1;
+        for (int k = 0; k < NZ; ++k) out[k] = (cplx){z1[k].re + d * v1[k].re, z1[k].im + d * v1[k].im};
+        return;
+    }
+    double span = s1 - s0, u = (target - s0) / span, u2 = u * u, u3 = u2 * u;
+    double a0 = 2.0 * u3 - 3.0 * u2 + 1.0, b0 = (u3 - 2.0 * u2 + u) * span;
+    double a1 = 3.0 * u2 - 2.0 * u3, b1 = (u3 - u2) * span;
+    for (int k = 0; k < NZ; ++k)
+        out[k] = (cplx){a0 * z0[k].re + b0 * v0[k].re + a1 * z1[k].re + b1 * v1[k].re,
+                        a0 * z0[k].im + b0 * v0[k].im + a1 * z1[k].im + b1 * v1[k].im};
 }
 
 // The coefficient sets of one step: in the caller's storage, as with hundreds of terms they are
 // too large for a small thread stack
-typedef struct { coefficients_at here, middle, end, target; } step_coefficients;
+typedef struct { coefficients_at here, target; } step_coefficients;
 
+// One path from s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite, the same algorithm): each
+// step predicts by the cubic Hermite extrapolation of the last two points and their slopes, and
+// corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
+// the last one leaves (the update itself after one step; after more, estimated from the
+// quadratic convergence of the last two) is below tolerance: contraction keeps the path on its
+// own branch. The last Newton step's LU also gives the slope at the new point, so an accepted
+// step costs the evaluations and LUs of its corrector only. The first correction is the predictor's error: the next step is
+// sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
+// the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
+// shorter from the same point.
 static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
+    double s = 1.0, s_previous = 1.0, h = INITIAL_STEP;
+    int history = 0;
+    cplx slope[NZ], z_previous[NZ], slope_previous[NZ];
     counts->paths += 1;
-    double s = 1.0, h = INITIAL_STEP;
-    int streak = 0, slope_known = 0, slope_ok = 0;
-    cplx k1[NZ];
     coefficients(system, s, &at->here);
+    // the start's slope (and its start solution refined once)
+    if (!isfinite(newton_step(&at->here, z, slope, counts))) return PATH_FAILED;
     for (int steps = 0; steps < MAX_STEPS; ++steps) {
         double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
-        cplx k2[NZ], k3[NZ], k4[NZ], probe[NZ], corrected[NZ];
-        // a rejected step is retried from the same point, whose slope is still valid
-        if (!slope_known) { slope_ok = velocity(&at->here, z, k1, counts); slope_known = 1; }
-        coefficients(system, s - 0.5 * step, &at->middle);
-        coefficients(system, s - step, &at->end);
-        const coefficients_at* at_target = &at->end;
-        if (target != s - step) { coefficients(system, target, &at->target); at_target = &at->target; }
-        int ok = slope_ok;
-        for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k1[k].re, z[k].im - 0.5 * step * k1[k].im};
-        ok = ok && velocity(&at->middle, probe, k2, counts);
-        for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - 0.5 * step * k2[k].re, z[k].im - 0.5 * step * k2[k].im};
-        ok = ok && velocity(&at->middle, probe, k3, counts);
-        for (int k = 0; k < NZ; ++k) probe[k] = (cplx){z[k].re - step * k3[k].re, z[k].im - step * k3[k].im};
-        ok = ok && velocity(&at->end, probe, k4, counts);
-        int accepted = 0;
+        cplx corrected[NZ], next_slope[NZ];
+        coefficients(system, target, &at->target);
+        predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
         counts->steps += 1;
-        if (ok) {
-            for (int k = 0; k < NZ; ++k) {
-                double re = k1[k].re + 2.0 * k2[k].re + 2.0 * k3[k].re + k4[k].re;
-                double im = k1[k].im + 2.0 * k2[k].im + 2.0 * k3[k].im + k4[k].im;
-                corrected[k] = (cplx){z[k].re - step / 6.0 * re, z[k].im - step / 6.0 * im};
+        double first = INFINITY, update = INFINITY, error = INFINITY;
+        int contracting = 1;
+        for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
+            double size = newton_step(&at->target, corrected, next_slope, counts);
+            if (iteration) {
+                contracting &= size <= 0.5 * update;
+                // quadratic convergence: the error this update leaves is about omega size^2,
+                // omega = size / update^2 from the two last updates
+                double ratio = size / update;
+                error = size * ratio * ratio;
+            } else {
+                first = error = size;
             }
-            double update = INFINITY;
-            int contracting = 1;
-            for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
-                double size = newton_step(at_target, corrected, counts);
-                // converged iterates stop: at an ill-conditioned solution further updates are
-                // rounding noise, which need not contract
-                if (iteration) contracting &= size <= 0.5 * update;
-                update = size;
-                if (update < tolerance || !contracting) break;
-            }
-            accepted = contracting && update < tolerance && isfinite(update);
+            update = size;
+            // converged iterates stop: at an ill-conditioned solution further updates are
+            // rounding noise, which need not contract
+            if (error < tolerance || !contracting) break;
         }
+        int accepted = contracting && error < tolerance && isfinite(update);
+        double factor = !isfinite(first) ? 0.0
+                        : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, history ? 0.25 : 0.5)
+                                        : STEP_GROW;
         if (accepted) {
-            memcpy(z, corrected, sizeof(corrected));
+            memcpy(z_previous, z, sizeof(slope));
+            memcpy(slope_previous, slope, sizeof(slope));
+            s_previous = s;
+            memcpy(z, corrected, sizeof(slope));
+            memcpy(slope, next_slope, sizeof(slope));
             s = target;
-            memcpy(&at->here, at_target, sizeof(coefficients_at));
-            slope_known = 0;
-            if (++streak >= GROW_AFTER) { h *= 2.0; streak = 0; }
+            history = 1;
+            h = step * fmin(STEP_GROW, fmax(0.5, factor));
             if (s <= 0.0) break;
         } else {
             counts->rejected += 1;
-            h *= 0.5;
-            streak = 0;
+            h = step * fmin(0.5, fmax(STEP_SHRINK, factor));
             if (h < MIN_STEP) return PATH_FAILED;
         }
         if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
@@ -1748,7 +1806,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
     for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
         cplx trial[NZ];
         memcpy(trial, z, sizeof(trial));
-        double size = newton_step(&at->target, trial, counts);
+        double size = newton_step(&at->target, trial, NULL, counts);
         if (!(size < update)) break;
         memcpy(z, trial, sizeof(trial));
         update = size;
@@ -1756,6 +1814,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
     return PATH_REACHED;
 }
 
+#endif
 // The endpoint with its largest homogeneous entry made real and positive (a complex multiple of
 // a real solution becomes real); returns the imaginary part relative to |z|.
 static double phase_normalise(cplx* z) {

@@ -24,18 +24,19 @@ def platform_pose(actuated, passive, params):
 
     Operations: 47.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -50,22 +51,22 @@ def platform_pose(actuated, passive, params):
     _t11 = 2 * q1
     _t12 = _t2 - _t3
     _t13 = _t8 * q1
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
-    pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
-    pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
-    pose[..., 0, 3] = x
-    pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
-    pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
-    pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
-    pose[..., 1, 3] = y
-    pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
-    pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
-    pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
-    pose[..., 2, 3] = z
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
+    _out_pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
+    _out_pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
+    _out_pose[..., 0, 3] = x
+    _out_pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
+    _out_pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
+    _out_pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
+    _out_pose[..., 1, 3] = y
+    _out_pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
+    _out_pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
+    _out_pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
+    _out_pose[..., 2, 3] = z
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -74,24 +75,25 @@ def loop_closure(actuated, passive, params):
 
     Operations: 535.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
-    L = params[..., 2]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = 2 * q0
     _t1 = _t0 * q3
     _t2 = 2 * q1
@@ -234,115 +236,115 @@ def loop_closure(actuated, passive, params):
     _t139 = -_t112 + _t55
     _t140 = -_t61
     _t141 = _t117 + _t48
-    residual = numpy.zeros(shape + (7,))
-    residual[..., 0] = _t13
-    residual[..., 1] = (1 / 4) * _t10 * _t3 * r_p - _t14 - _t17 * _t25 - _t30
-    residual[..., 2] = (1 / 4) * _t12 - _t14 + _t17 * _t31 + _t30
-    residual[..., 3] = _t37 * (_t13**2 + _t32 + _t35**2 + _t36**2)
-    residual[..., 4] = _t37 * (_t25**2 + _t32 + _t42**2 + _t45**2)
-    residual[..., 5] = _t37 * (_t31**2 + _t32 + _t46**2 + _t47**2)
-    residual[..., 6] = (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 + (1 / 2) * _t7 - 1 / 2
-    jacobian = numpy.zeros(shape + (7, 7))
-    jacobian[..., 0, 1] = 1
-    jacobian[..., 0, 3] = -_t53
-    jacobian[..., 0, 4] = -_t57
-    jacobian[..., 0, 5] = _t60
-    jacobian[..., 0, 6] = _t63
-    jacobian[..., 1, 0] = -_t17
-    jacobian[..., 1, 1] = -1 / 2
-    jacobian[..., 1, 3] = (
+    _out_residual = numpy.zeros(_shape + (7,))
+    _out_residual[..., 0] = _t13
+    _out_residual[..., 1] = (1 / 4) * _t10 * _t3 * r_p - _t14 - _t17 * _t25 - _t30
+    _out_residual[..., 2] = (1 / 4) * _t12 - _t14 + _t17 * _t31 + _t30
+    _out_residual[..., 3] = _t37 * (_t13**2 + _t32 + _t35**2 + _t36**2)
+    _out_residual[..., 4] = _t37 * (_t25**2 + _t32 + _t42**2 + _t45**2)
+    _out_residual[..., 5] = _t37 * (_t31**2 + _t32 + _t46**2 + _t47**2)
+    _out_residual[..., 6] = (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 + (1 / 2) * _t7 - 1 / 2
+    _out_jacobian = numpy.zeros(_shape + (7, 7))
+    _out_jacobian[..., 0, 1] = 1
+    _out_jacobian[..., 0, 3] = -_t53
+    _out_jacobian[..., 0, 4] = -_t57
+    _out_jacobian[..., 0, 5] = _t60
+    _out_jacobian[..., 0, 6] = _t63
+    _out_jacobian[..., 1, 0] = -_t17
+    _out_jacobian[..., 1, 1] = -1 / 2
+    _out_jacobian[..., 1, 3] = (
         (1 / 2) * _t10 * q3 * r_p - _t17 * (_t22 * _t50 * q0 * r_p - _t64 - _t68) - _t70 - _t72
     )
-    jacobian[..., 1, 4] = (
+    _out_jacobian[..., 1, 4] = (
         -_t17 * (_t22 * _t50 * q1 * r_p - _t73 - _t75) + (1 / 2) * _t54 - _t76 + _t78
     )
-    jacobian[..., 1, 5] = (1 / 2) * _t10 * q1 * r_p - _t17 * (_t79 - _t80 + _t83) - _t84 - _t85
-    jacobian[..., 1, 6] = (
+    _out_jacobian[..., 1, 5] = (1 / 2) * _t10 * q1 * r_p - _t17 * (_t79 - _t80 + _t83) - _t84 - _t85
+    _out_jacobian[..., 1, 6] = (
         -_t17 * (_t10 * q3 * r_p + _t22 * _t50 * q3 * r_p - _t86) + (1 / 2) * _t64 - _t87 + _t88
     )
-    jacobian[..., 2, 0] = _t17
-    jacobian[..., 2, 1] = -1 / 2
-    jacobian[..., 2, 3] = _t17 * (-_t64 + _t68 + _t89) + (1 / 2) * _t65 - _t70 + _t72
-    jacobian[..., 2, 4] = (
+    _out_jacobian[..., 2, 0] = _t17
+    _out_jacobian[..., 2, 1] = -1 / 2
+    _out_jacobian[..., 2, 3] = _t17 * (-_t64 + _t68 + _t89) + (1 / 2) * _t65 - _t70 + _t72
+    _out_jacobian[..., 2, 4] = (
         (1 / 2) * _t10 * q2 * r_p + (1 / 2) * _t16 * (-_t73 + _t75 + _t90) - _t76 - _t78
     )
-    jacobian[..., 2, 5] = _t17 * (-_t79 + _t80 + _t83) + (1 / 2) * _t73 - _t84 + _t85
-    jacobian[..., 2, 6] = (
+    _out_jacobian[..., 2, 5] = _t17 * (-_t79 + _t80 + _t83) + (1 / 2) * _t73 - _t84 + _t85
+    _out_jacobian[..., 2, 6] = (
         (1 / 2) * _t10 * q0 * r_p + (1 / 2) * _t16 * (_t65 + _t86 + _t91) - _t87 - _t88
     )
-    jacobian[..., 3, 0] = _t37 * (2 * _t23 + _t92 - 2 * r_b)
-    jacobian[..., 3, 1] = _t37 * (2 * _t12 + _t93)
-    jacobian[..., 3, 2] = _t37 * (2 * _t34 - 2 * d1 + 2 * z)
-    jacobian[..., 3, 3] = _t37 * (
+    _out_jacobian[..., 3, 0] = _t37 * (2 * _t23 + _t92 - 2 * r_b)
+    _out_jacobian[..., 3, 1] = _t37 * (2 * _t12 + _t93)
+    _out_jacobian[..., 3, 2] = _t37 * (2 * _t34 - 2 * d1 + 2 * z)
+    _out_jacobian[..., 3, 3] = _t37 * (
         _t13 * (-_t95 - _t96 * q0) + _t35 * (-_t66 * _t98 - _t97) + _t36 * (-4 * _t89 + _t99)
     )
-    jacobian[..., 3, 4] = _t37 * (
+    _out_jacobian[..., 3, 4] = _t37 * (
         _t13 * (-_t96 * q1 + _t97)
         + _t35 * (-_t100 * q1 - _t95)
         + _t36 * (4 * _t10 * q1 * r_p - 4 * _t90)
     )
-    jacobian[..., 3, 5] = _t37 * (
+    _out_jacobian[..., 3, 5] = _t37 * (
         _t13 * (_t101 - 4 * _t59) + _t35 * (-_t100 * q2 - _t99) + _t36 * (-4 * _t82 - _t97)
     )
-    jacobian[..., 3, 6] = _t37 * (
+    _out_jacobian[..., 3, 6] = _t37 * (
         _t13 * (-_t96 * q3 + _t99) + _t35 * (-_t100 * q3 + _t101) + _t36 * (-4 * _t91 - _t94)
     )
-    jacobian[..., 4, 0] = _t37 * (_t102 + _t103)
-    jacobian[..., 4, 1] = _t37 * (-_t104 - _t12 + 2 * y)
-    jacobian[..., 4, 2] = _t37 * (_t105 - _t106 - 2 * d2)
-    jacobian[..., 4, 3] = _t37 * (
+    _out_jacobian[..., 4, 0] = _t37 * (_t102 + _t103)
+    _out_jacobian[..., 4, 1] = _t37 * (-_t104 - _t12 + 2 * y)
+    _out_jacobian[..., 4, 2] = _t37 * (_t105 - _t106 - 2 * d2)
+    _out_jacobian[..., 4, 3] = _t37 * (
         _t25 * (-_t114 - _t116 + 2 * _t22 * _t50 * q0 * r_p)
         + _t42 * (_t108 - _t111 + _t113)
         + _t45 * (_t117 - _t118 + _t53)
     )
-    jacobian[..., 4, 4] = _t37 * (
+    _out_jacobian[..., 4, 4] = _t37 * (
         _t25 * (-_t122 - _t125 + 2 * _t22 * _t50 * q1 * r_p)
         + _t42 * (_t107 * _t2 + _t120 + _t121)
         + _t45 * (-_t113 - _t126 + _t56)
     )
-    jacobian[..., 4, 5] = _t37 * (
+    _out_jacobian[..., 4, 5] = _t37 * (
         _t25 * (_t113 + _t131 - _t132)
         + _t42 * (_t116 + _t128 - _t130)
         + _t45 * (-_t124 - _t133 - _t60)
     )
-    jacobian[..., 4, 6] = _t37 * (
+    _out_jacobian[..., 4, 6] = _t37 * (
         _t25 * (-_t121 - _t137 + 2 * _t22 * _t50 * q3 * r_p)
         + _t42 * (-_t125 - _t134 - _t136)
         + _t45 * (-_t138 - _t63)
     )
-    jacobian[..., 5, 0] = _t37 * (-_t102 + _t103)
-    jacobian[..., 5, 1] = _t37 * (_t104 - _t12 + _t93)
-    jacobian[..., 5, 2] = _t37 * (-_t105 - _t106 - 2 * d3)
-    jacobian[..., 5, 3] = _t37 * (
+    _out_jacobian[..., 5, 0] = _t37 * (-_t102 + _t103)
+    _out_jacobian[..., 5, 1] = _t37 * (_t104 - _t12 + _t93)
+    _out_jacobian[..., 5, 2] = _t37 * (-_t105 - _t106 - 2 * d3)
+    _out_jacobian[..., 5, 3] = _t37 * (
         _t31 * (_t0 * _t81 + _t114 + _t115 + _t140)
         + _t46 * (_t108 + _t111 + _t139)
         + _t47 * (-_t117 + _t118 + _t53)
     )
-    jacobian[..., 5, 4] = _t37 * (
+    _out_jacobian[..., 5, 4] = _t37 * (
         _t31 * (_t122 + _t124 + _t2 * _t81 - _t58)
         + _t46 * (-_t120 - _t141 + 2 * _t33 * _t50 * q1 * r_p)
         + _t47 * (_t112 + _t126 + _t57)
     )
-    jacobian[..., 5, 5] = _t37 * (
+    _out_jacobian[..., 5, 5] = _t37 * (
         _t31 * (_t131 + _t132 + _t139)
         + _t46 * (-_t115 + _t128 + _t130 + _t61)
         + _t47 * (-_t123 + _t133 - _t60)
     )
-    jacobian[..., 5, 6] = _t37 * (
+    _out_jacobian[..., 5, 6] = _t37 * (
         _t31 * (_t137 + _t141 + _t38 * _t81)
         + _t46 * (-_t123 - _t134 + _t136 - _t58)
         + _t47 * (_t138 + _t140 + _t62)
     )
-    jacobian[..., 6, 3] = q0
-    jacobian[..., 6, 4] = q1
-    jacobian[..., 6, 5] = q2
-    jacobian[..., 6, 6] = q3
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_jacobian[..., 6, 3] = q0
+    _out_jacobian[..., 6, 4] = q1
+    _out_jacobian[..., 6, 5] = q2
+    _out_jacobian[..., 6, 6] = q3
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -351,21 +353,22 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 39.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_p = params[..., 1]
-    L = params[..., 2]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_p = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = 2 * z
     _t1 = 2 * q0
     _t2 = r_p / (q0**2 + q1**2 + q2**2 + q3**2)
@@ -373,12 +376,12 @@ def loop_closure_actuated(actuated, passive, params):
     _t4 = (1 / 2) / L
     _t5 = numpy.sqrt(3) * _t2 * (_t1 * q1 + 2 * q2 * q3)
     _t6 = -_t0 + _t3
-    jacobian_actuated = numpy.zeros(shape + (7, 3))
-    jacobian_actuated[..., 3, 0] = _t4 * (-_t0 - 2 * _t3 + 2 * d1)
-    jacobian_actuated[..., 4, 1] = _t4 * (-_t5 + _t6 + 2 * d2)
-    jacobian_actuated[..., 5, 2] = _t4 * (_t5 + _t6 + 2 * d3)
+    _out_jacobian_actuated = numpy.zeros(_shape + (7, 3))
+    _out_jacobian_actuated[..., 3, 0] = _t4 * (-_t0 - 2 * _t3 + 2 * d1)
+    _out_jacobian_actuated[..., 4, 1] = _t4 * (-_t5 + _t6 + 2 * d2)
+    _out_jacobian_actuated[..., 5, 2] = _t4 * (_t5 + _t6 + 2 * d3)
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -387,23 +390,24 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 130.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = -_t1
@@ -456,47 +460,47 @@ def rate_jacobians(actuated, passive, params):
     _t49 = _t35 * _t48
     _t50 = _t18 * _t48
     _t51 = (1 / 4) * _t7
-    a = numpy.zeros(shape + (3, 6))
-    a[..., 0, 0] = _t8
-    a[..., 0, 1] = _t12
-    a[..., 0, 2] = _t14
-    a[..., 0, 3] = -_t12 * _t16 - _t14 * y
-    a[..., 0, 4] = -_t14 * _t17 + _t16 * _t8
-    a[..., 0, 5] = _t12 * _t17 + _t8 * y
-    a[..., 1, 0] = _t26
-    a[..., 1, 1] = _t33
-    a[..., 1, 2] = _t38
-    a[..., 1, 3] = _t28 * _t38 - _t33 * _t37
-    a[..., 1, 4] = _t26 * _t37 - _t38 * _t39
-    a[..., 1, 5] = -_t26 * _t28 + _t33 * _t39
-    a[..., 2, 0] = _t40
-    a[..., 2, 1] = _t42
-    a[..., 2, 2] = _t45
-    a[..., 2, 3] = -_t42 * _t43 + _t45 * _t46
-    a[..., 2, 4] = -_t39 * _t45 + _t40 * _t43
-    a[..., 2, 5] = _t39 * _t42 - _t40 * _t46
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = _t14
-    b[..., 1, 1] = _t38
-    b[..., 2, 2] = _t45
-    constraints = numpy.zeros(shape + (3, 6))
-    constraints[..., 0, 1] = 1
-    constraints[..., 0, 3] = -_t13
-    constraints[..., 0, 5] = _t7
-    constraints[..., 1, 0] = -_t20
-    constraints[..., 1, 1] = -1 / 2
-    constraints[..., 1, 3] = -_t47 + _t49
-    constraints[..., 1, 4] = -_t20 * (-_t34 + _t36)
-    constraints[..., 1, 5] = -_t20 * _t32 - _t50 + _t51
-    constraints[..., 2, 0] = _t20
-    constraints[..., 2, 1] = -1 / 2
-    constraints[..., 2, 3] = -_t47 - _t49
-    constraints[..., 2, 4] = -_t20 * _t44
-    constraints[..., 2, 5] = -_t20 * (-_t29 - _t30) + _t50 + _t51
+    _out_a = numpy.zeros(_shape + (3, 6))
+    _out_a[..., 0, 0] = _t8
+    _out_a[..., 0, 1] = _t12
+    _out_a[..., 0, 2] = _t14
+    _out_a[..., 0, 3] = -_t12 * _t16 - _t14 * y
+    _out_a[..., 0, 4] = -_t14 * _t17 + _t16 * _t8
+    _out_a[..., 0, 5] = _t12 * _t17 + _t8 * y
+    _out_a[..., 1, 0] = _t26
+    _out_a[..., 1, 1] = _t33
+    _out_a[..., 1, 2] = _t38
+    _out_a[..., 1, 3] = _t28 * _t38 - _t33 * _t37
+    _out_a[..., 1, 4] = _t26 * _t37 - _t38 * _t39
+    _out_a[..., 1, 5] = -_t26 * _t28 + _t33 * _t39
+    _out_a[..., 2, 0] = _t40
+    _out_a[..., 2, 1] = _t42
+    _out_a[..., 2, 2] = _t45
+    _out_a[..., 2, 3] = -_t42 * _t43 + _t45 * _t46
+    _out_a[..., 2, 4] = -_t39 * _t45 + _t40 * _t43
+    _out_a[..., 2, 5] = _t39 * _t42 - _t40 * _t46
+    _out_b = numpy.zeros(_shape + (3, 3))
+    _out_b[..., 0, 0] = _t14
+    _out_b[..., 1, 1] = _t38
+    _out_b[..., 2, 2] = _t45
+    _out_constraints = numpy.zeros(_shape + (3, 6))
+    _out_constraints[..., 0, 1] = 1
+    _out_constraints[..., 0, 3] = -_t13
+    _out_constraints[..., 0, 5] = _t7
+    _out_constraints[..., 1, 0] = -_t20
+    _out_constraints[..., 1, 1] = -1 / 2
+    _out_constraints[..., 1, 3] = -_t47 + _t49
+    _out_constraints[..., 1, 4] = -_t20 * (-_t34 + _t36)
+    _out_constraints[..., 1, 5] = -_t20 * _t32 - _t50 + _t51
+    _out_constraints[..., 2, 0] = _t20
+    _out_constraints[..., 2, 1] = -1 / 2
+    _out_constraints[..., 2, 3] = -_t47 - _t49
+    _out_constraints[..., 2, 4] = -_t20 * _t44
+    _out_constraints[..., 2, 5] = -_t20 * (-_t29 - _t30) + _t50 + _t51
     return {
-        "a": a,
-        "b": b,
-        "constraints": constraints,
+        "a": _out_a,
+        "b": _out_b,
+        "constraints": _out_constraints,
     }
 
 
@@ -505,24 +509,25 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 163.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
-    L = params[..., 2]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
+    L = _in_params[..., 2]
     _t0 = 2 * q0
     _t1 = _t0 * q3
     _t2 = _t1 + 2 * q1 * q2
@@ -573,27 +578,27 @@ def parameter_jacobians(actuated, passive, params):
     _t47 = -_t33 + _t36 + y
     _t48 = -_t38 + _t39
     _t49 = -_t43 - _t44 - d3
-    closure_parameters = numpy.zeros(shape + (7, 3))
-    closure_parameters[..., 0, 1] = _t9
-    closure_parameters[..., 1, 1] = -_t15 - _t17 * (_t19 - _t21) + (1 / 4) * _t2 * _t8
-    closure_parameters[..., 2, 1] = _t15 + _t17 * (-_t19 - _t21) + (1 / 4) * _t9
-    closure_parameters[..., 3, 0] = _t23 * (-2 * _t22 + 2 * r_b - 2 * x)
-    closure_parameters[..., 3, 1] = _t23 * (2 * _t20 * _t29 + 2 * _t25 * _t9 + 2 * _t26 * _t28)
-    closure_parameters[..., 3, 2] = -_t32 * (_t25**2 + _t28**2 + _t29**2 + _t31) - 1
-    closure_parameters[..., 4, 0] = _t23 * (-_t12 * _t37 + _t40)
-    closure_parameters[..., 4, 1] = _t23 * (
+    _out_closure_parameters = numpy.zeros(_shape + (7, 3))
+    _out_closure_parameters[..., 0, 1] = _t9
+    _out_closure_parameters[..., 1, 1] = -_t15 - _t17 * (_t19 - _t21) + (1 / 4) * _t2 * _t8
+    _out_closure_parameters[..., 2, 1] = _t15 + _t17 * (-_t19 - _t21) + (1 / 4) * _t9
+    _out_closure_parameters[..., 3, 0] = _t23 * (-2 * _t22 + 2 * r_b - 2 * x)
+    _out_closure_parameters[..., 3, 1] = _t23 * (2 * _t20 * _t29 + 2 * _t25 * _t9 + 2 * _t26 * _t28)
+    _out_closure_parameters[..., 3, 2] = -_t32 * (_t25**2 + _t28**2 + _t29**2 + _t31) - 1
+    _out_closure_parameters[..., 4, 0] = _t23 * (-_t12 * _t37 + _t40)
+    _out_closure_parameters[..., 4, 1] = _t23 * (
         _t37 * (_t14 - _t9) + _t40 * (-_t20 + _t46) + _t45 * (-_t26 + _t42)
     )
-    closure_parameters[..., 4, 2] = -_t32 * (_t31 + _t37**2 + _t40**2 + _t45**2) - 1
-    closure_parameters[..., 5, 0] = _t23 * (_t12 * _t47 + _t48)
-    closure_parameters[..., 5, 1] = _t23 * (
+    _out_closure_parameters[..., 4, 2] = -_t32 * (_t31 + _t37**2 + _t40**2 + _t45**2) - 1
+    _out_closure_parameters[..., 5, 0] = _t23 * (_t12 * _t47 + _t48)
+    _out_closure_parameters[..., 5, 1] = _t23 * (
         _t47 * (-_t14 - _t9) + _t48 * (-_t20 - _t46) + _t49 * (-_t26 - _t42)
     )
-    closure_parameters[..., 5, 2] = -_t32 * (_t31 + _t47**2 + _t48**2 + _t49**2) - 1
-    pose_parameters = numpy.zeros(shape + (12, 3))
+    _out_closure_parameters[..., 5, 2] = -_t32 * (_t31 + _t47**2 + _t48**2 + _t49**2) - 1
+    _out_pose_parameters = numpy.zeros(_shape + (12, 3))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -602,23 +607,24 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 447.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -796,17 +802,17 @@ def singularity_factors(actuated, passive, params):
         + (-_t103 * _t49 + _t103 * _t78 + _t107 * _t53) * (-_t108 * _t62 - _t92 - _t97)
         + (_t107 * _t42 - _t113 * _t76 - _t114 * _t75) * (_t108 * _t74 + _t109 * _t96 + _t112)
     ) / _t5**6
-    factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = _t10
-    factors[..., 1] = _t17
-    factors[..., 2] = _t18
-    factors[..., 3] = _t140
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t140
-    determinants[..., 1] = _t10 * _t17 * _t18
+    _out_factors = numpy.zeros(_shape + (4,))
+    _out_factors[..., 0] = _t10
+    _out_factors[..., 1] = _t17
+    _out_factors[..., 2] = _t18
+    _out_factors[..., 3] = _t140
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t140
+    _out_determinants[..., 1] = _t10 * _t17 * _t18
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -815,23 +821,24 @@ def drawing(actuated, passive, params):
 
     Operations: 62.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
     _t0 = (1 / 2) * r_b
     _t1 = -_t0
     _t2 = numpy.sqrt(3)
@@ -856,35 +863,35 @@ def drawing(actuated, passive, params):
     _t21 = _t11 * (-_t13 * q2 + 2 * q1 * q3)
     _t22 = (1 / 2) * _t21
     _t23 = _t15 * (_t13 * q1 + 2 * q2 * q3)
-    base = numpy.zeros(shape + (3, 3))
-    base[..., 0, 0] = r_b
-    base[..., 0, 1] = _t1
-    base[..., 0, 2] = _t1
-    base[..., 1, 1] = _t3
-    base[..., 1, 2] = _t4
-    elbow = numpy.zeros(shape + (3, 3))
-    elbow[..., 0, 0] = r_b
-    elbow[..., 0, 1] = _t1
-    elbow[..., 0, 2] = _t1
-    elbow[..., 1, 1] = _t3
-    elbow[..., 1, 2] = _t4
-    elbow[..., 2, 0] = d1
-    elbow[..., 2, 1] = d2
-    elbow[..., 2, 2] = d3
-    platform = numpy.zeros(shape + (3, 3))
-    platform[..., 0, 0] = _t12 + x
-    platform[..., 0, 1] = _t16 - _t17 + x
-    platform[..., 0, 2] = -_t16 - _t17 + x
-    platform[..., 1, 0] = _t18 + y
-    platform[..., 1, 1] = -_t19 + _t20 + y
-    platform[..., 1, 2] = -_t19 - _t20 + y
-    platform[..., 2, 0] = _t21 + z
-    platform[..., 2, 1] = -_t22 + _t23 + z
-    platform[..., 2, 2] = -_t22 - _t23 + z
+    _out_base = numpy.zeros(_shape + (3, 3))
+    _out_base[..., 0, 0] = r_b
+    _out_base[..., 0, 1] = _t1
+    _out_base[..., 0, 2] = _t1
+    _out_base[..., 1, 1] = _t3
+    _out_base[..., 1, 2] = _t4
+    _out_elbow = numpy.zeros(_shape + (3, 3))
+    _out_elbow[..., 0, 0] = r_b
+    _out_elbow[..., 0, 1] = _t1
+    _out_elbow[..., 0, 2] = _t1
+    _out_elbow[..., 1, 1] = _t3
+    _out_elbow[..., 1, 2] = _t4
+    _out_elbow[..., 2, 0] = d1
+    _out_elbow[..., 2, 1] = d2
+    _out_elbow[..., 2, 2] = d3
+    _out_platform = numpy.zeros(_shape + (3, 3))
+    _out_platform[..., 0, 0] = _t12 + x
+    _out_platform[..., 0, 1] = _t16 - _t17 + x
+    _out_platform[..., 0, 2] = -_t16 - _t17 + x
+    _out_platform[..., 1, 0] = _t18 + y
+    _out_platform[..., 1, 1] = -_t19 + _t20 + y
+    _out_platform[..., 1, 2] = -_t19 - _t20 + y
+    _out_platform[..., 2, 0] = _t21 + z
+    _out_platform[..., 2, 1] = -_t22 + _t23 + z
+    _out_platform[..., 2, 2] = -_t22 - _t23 + z
     return {
-        "base": base,
-        "elbow": elbow,
-        "platform": platform,
+        "base": _out_base,
+        "elbow": _out_elbow,
+        "platform": _out_platform,
     }
 
 
@@ -893,24 +900,25 @@ def inverse_pose(pose, branch, params):
 
     Operations: 218.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    pz = pose[..., 11]
-    sigma1 = branch[..., 0]
-    sigma2 = branch[..., 1]
-    sigma3 = branch[..., 2]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
-    L = params[..., 2]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    pz = _in_pose[..., 11]
+    sigma1 = _in_branch[..., 0]
+    sigma2 = _in_branch[..., 1]
+    sigma3 = _in_branch[..., 2]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
+    L = _in_params[..., 2]
     n_x = r31
     n_y = r32
     n_z = r33
@@ -980,26 +988,26 @@ def inverse_pose(pose, branch, params):
     )
     d3 = along3 - sigma3 * numpy.sqrt(numpy.fmax(0, disc3))
     _t19 = L ** (-2)
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = d1
-    actuated[..., 1] = d2
-    actuated[..., 2] = d3
-    passive = numpy.zeros(shape + (7,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    passive[..., 2] = z
-    passive[..., 3] = q0
-    passive[..., 4] = q1
-    passive[..., 5] = q2
-    passive[..., 6] = q3
-    validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = _t19 * disc1
-    validity[..., 1] = _t19 * disc2
-    validity[..., 2] = _t19 * disc3
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = d1
+    _out_actuated[..., 1] = d2
+    _out_actuated[..., 2] = d3
+    _out_passive = numpy.zeros(_shape + (7,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_passive[..., 2] = z
+    _out_passive[..., 3] = q0
+    _out_passive[..., 4] = q1
+    _out_passive[..., 5] = q2
+    _out_passive[..., 6] = q3
+    _out_validity = numpy.zeros(_shape + (3,))
+    _out_validity[..., 0] = _t19 * disc1
+    _out_validity[..., 1] = _t19 * disc2
+    _out_validity[..., 2] = _t19 * disc3
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -1008,27 +1016,28 @@ def automatic_family(actuated, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    r_b = params[..., 0]
-    r_p = params[..., 1]
-    L = params[..., 2]
-    free = numpy.zeros(shape + (6,))
-    free[..., 0] = d1
-    free[..., 1] = d2
-    free[..., 2] = d3
-    free[..., 3] = r_b
-    free[..., 4] = r_p
-    free[..., 5] = L
-    angles = numpy.zeros(shape + (1,))
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    r_b = _in_params[..., 0]
+    r_p = _in_params[..., 1]
+    L = _in_params[..., 2]
+    _out_free = numpy.zeros(_shape + (6,))
+    _out_free[..., 0] = d1
+    _out_free[..., 1] = d2
+    _out_free[..., 2] = d3
+    _out_free[..., 3] = r_b
+    _out_free[..., 4] = r_p
+    _out_free[..., 5] = L
+    _out_angles = numpy.zeros(_shape + (1,))
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -1037,22 +1046,23 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 173.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    d1_re = family_re[..., 0]
-    d2_re = family_re[..., 1]
-    d3_re = family_re[..., 2]
-    r_b_re = family_re[..., 3]
-    r_p_re = family_re[..., 4]
-    L_re = family_re[..., 5]
-    d1_im = family_im[..., 0]
-    d2_im = family_im[..., 1]
-    d3_im = family_im[..., 2]
-    r_b_im = family_im[..., 3]
-    r_p_im = family_im[..., 4]
-    L_im = family_im[..., 5]
+    d1_re = _in_family_re[..., 0]
+    d2_re = _in_family_re[..., 1]
+    d3_re = _in_family_re[..., 2]
+    r_b_re = _in_family_re[..., 3]
+    r_p_re = _in_family_re[..., 4]
+    L_re = _in_family_re[..., 5]
+    d1_im = _in_family_im[..., 0]
+    d2_im = _in_family_im[..., 1]
+    d3_im = _in_family_im[..., 2]
+    r_b_im = _in_family_im[..., 3]
+    r_p_im = _in_family_im[..., 4]
+    L_im = _in_family_im[..., 5]
     _t0 = 2 * r_p_re
     _t1 = numpy.sqrt(3)
     _t2 = 2 * _t1
@@ -1128,260 +1138,260 @@ def automatic_monomials(family_re, family_im):
     _t72 = -8 * _t55 + 8 * r_b_im * r_b_re
     _t73 = _t3 * d3_im + _t42 * r_p_im
     _t74 = _t1 * _t73
-    re = numpy.zeros(shape + (134,))
-    re[..., 0] = 1
-    re[..., 1] = _t0
-    re[..., 2] = _t0
-    re[..., 3] = -_t2
-    re[..., 4] = -2
-    re[..., 5] = _t3
-    re[..., 6] = _t4
-    re[..., 7] = _t6
-    re[..., 8] = _t7
-    re[..., 9] = _t2
-    re[..., 10] = -2
-    re[..., 11] = _t3
-    re[..., 12] = _t7
-    re[..., 13] = _t6
-    re[..., 14] = _t4
-    re[..., 15] = 1
-    re[..., 16] = _t0
-    re[..., 17] = _t0
-    re[..., 18] = _t8
-    re[..., 19] = _t8
-    re[..., 20] = -_t9
-    re[..., 21] = 1
-    re[..., 22] = _t5
-    re[..., 23] = _t5
-    re[..., 24] = 1
-    re[..., 25] = _t6
-    re[..., 26] = _t5
-    re[..., 27] = -_t10
-    re[..., 28] = _t13
-    re[..., 29] = _t14
-    re[..., 30] = _t14
-    re[..., 31] = _t14
-    re[..., 32] = _t16
-    re[..., 33] = -_t18
-    re[..., 34] = _t13
-    re[..., 35] = _t14
-    re[..., 36] = _t14
-    re[..., 37] = _t16
-    re[..., 38] = _t18
-    re[..., 39] = _t13
-    re[..., 40] = _t14
-    re[..., 41] = _t19
-    re[..., 42] = _t13
-    re[..., 43] = _t19
-    re[..., 44] = _t20 + _t21 - _t22 - _t23 - d1_im**2 + d1_re**2
-    re[..., 45] = 4
-    re[..., 46] = _t6
-    re[..., 47] = _t25
-    re[..., 48] = _t6
-    re[..., 49] = _t24
-    re[..., 50] = _t5
-    re[..., 51] = _t5
-    re[..., 52] = _t26
-    re[..., 53] = 4
-    re[..., 54] = _t27
-    re[..., 55] = _t28
-    re[..., 56] = _t29
-    re[..., 57] = _t28
-    re[..., 58] = _t27
-    re[..., 59] = _t29
-    re[..., 60] = -_t30
-    re[..., 61] = 4
-    re[..., 62] = _t24
-    re[..., 63] = _t3
-    re[..., 64] = _t28
-    re[..., 65] = _t24
-    re[..., 66] = -_t31
-    re[..., 67] = _t32
-    re[..., 68] = _t33
-    re[..., 69] = _t33
-    re[..., 70] = _t33
-    re[..., 71] = _t35
-    re[..., 72] = _t37
-    re[..., 73] = _t36
-    re[..., 74] = _t32
-    re[..., 75] = _t33
-    re[..., 76] = _t33
-    re[..., 77] = _t39
-    re[..., 78] = _t1 * _t40
-    re[..., 79] = -_t36
-    re[..., 80] = _t32
-    re[..., 81] = _t33
-    re[..., 82] = _t38
-    re[..., 83] = _t37
-    re[..., 84] = _t32
-    re[..., 85] = _t40
-    re[..., 86] = _t41 - 4 * d2_im**2 + 4 * d2_re**2
-    re[..., 87] = 4
-    re[..., 88] = _t6
-    re[..., 89] = _t24
-    re[..., 90] = _t6
-    re[..., 91] = _t25
-    re[..., 92] = _t5
-    re[..., 93] = _t5
-    re[..., 94] = _t26
-    re[..., 95] = 4
-    re[..., 96] = _t29
-    re[..., 97] = _t28
-    re[..., 98] = _t27
-    re[..., 99] = _t28
-    re[..., 100] = _t29
-    re[..., 101] = _t27
-    re[..., 102] = _t30
-    re[..., 103] = 4
-    re[..., 104] = _t25
-    re[..., 105] = _t3
-    re[..., 106] = _t28
-    re[..., 107] = _t25
-    re[..., 108] = -_t42
-    re[..., 109] = _t32
-    re[..., 110] = _t33
-    re[..., 111] = _t33
-    re[..., 112] = _t33
-    re[..., 113] = _t35
-    re[..., 114] = _t45
-    re[..., 115] = _t43
-    re[..., 116] = _t32
-    re[..., 117] = _t33
-    re[..., 118] = _t33
-    re[..., 119] = _t39
-    re[..., 120] = _t1 * _t35
-    re[..., 121] = _t44
-    re[..., 122] = _t32
-    re[..., 123] = _t33
-    re[..., 124] = _t38
-    re[..., 125] = _t45
-    re[..., 126] = _t32
-    re[..., 127] = _t40
-    re[..., 128] = _t41 - 4 * d3_im**2 + 4 * d3_re**2
-    re[..., 129] = 1
-    re[..., 130] = 1
-    re[..., 131] = 1
-    re[..., 132] = 1
-    re[..., 133] = -1
-    im = numpy.zeros(shape + (134,))
-    im[..., 1] = _t15
-    im[..., 2] = _t15
-    im[..., 5] = _t34
-    im[..., 6] = _t46
-    im[..., 7] = _t47
-    im[..., 8] = _t48
-    im[..., 11] = _t34
-    im[..., 12] = _t48
-    im[..., 13] = _t47
-    im[..., 14] = _t46
-    im[..., 16] = _t15
-    im[..., 17] = _t15
-    im[..., 18] = _t49
-    im[..., 19] = _t49
-    im[..., 20] = -2 * r_b_im
-    im[..., 22] = _t17
-    im[..., 23] = _t17
-    im[..., 25] = _t47
-    im[..., 26] = _t17
-    im[..., 27] = -2 * d1_im
-    im[..., 28] = _t50
-    im[..., 29] = _t51
-    im[..., 30] = _t51
-    im[..., 31] = _t51
-    im[..., 32] = _t53
-    im[..., 33] = _t54
-    im[..., 34] = _t50
-    im[..., 35] = _t51
-    im[..., 36] = _t51
-    im[..., 37] = _t53
-    im[..., 38] = -_t54
-    im[..., 39] = _t50
-    im[..., 40] = _t51
-    im[..., 41] = _t52
-    im[..., 42] = _t50
-    im[..., 43] = _t52
-    im[..., 44] = _t10 * d1_im - 2 * _t55 + _t9 * r_b_im
-    im[..., 46] = _t47
-    im[..., 47] = _t57
-    im[..., 48] = _t47
-    im[..., 49] = _t56
-    im[..., 50] = _t17
-    im[..., 51] = _t17
-    im[..., 52] = _t58
-    im[..., 54] = _t59
-    im[..., 55] = _t60
-    im[..., 56] = _t61
-    im[..., 57] = _t60
-    im[..., 58] = _t59
-    im[..., 59] = _t61
-    im[..., 60] = -_t62
-    im[..., 62] = _t56
-    im[..., 63] = _t34
-    im[..., 64] = _t60
-    im[..., 65] = _t56
-    im[..., 66] = -8 * d2_im
-    im[..., 67] = _t63
-    im[..., 68] = _t64
-    im[..., 69] = _t64
-    im[..., 70] = _t64
-    im[..., 71] = _t66
-    im[..., 72] = _t69
-    im[..., 73] = _t68
-    im[..., 74] = _t63
-    im[..., 75] = _t64
-    im[..., 76] = _t64
-    im[..., 77] = _t70
-    im[..., 78] = _t1 * _t65
-    im[..., 79] = _t67
-    im[..., 80] = _t63
-    im[..., 81] = _t64
-    im[..., 82] = _t71
-    im[..., 83] = _t69
-    im[..., 84] = _t63
-    im[..., 85] = _t65
-    im[..., 86] = _t31 * d2_im + _t72
-    im[..., 88] = _t47
-    im[..., 89] = _t56
-    im[..., 90] = _t47
-    im[..., 91] = _t57
-    im[..., 92] = _t17
-    im[..., 93] = _t17
-    im[..., 94] = _t58
-    im[..., 96] = _t61
-    im[..., 97] = _t60
-    im[..., 98] = _t59
-    im[..., 99] = _t60
-    im[..., 100] = _t61
-    im[..., 101] = _t59
-    im[..., 102] = _t62
-    im[..., 104] = _t57
-    im[..., 105] = _t34
-    im[..., 106] = _t60
-    im[..., 107] = _t57
-    im[..., 108] = -8 * d3_im
-    im[..., 109] = _t63
-    im[..., 110] = _t64
-    im[..., 111] = _t64
-    im[..., 112] = _t64
-    im[..., 113] = _t66
-    im[..., 114] = _t74
-    im[..., 115] = -_t73
-    im[..., 116] = _t63
-    im[..., 117] = _t64
-    im[..., 118] = _t64
-    im[..., 119] = _t70
-    im[..., 120] = _t1 * _t66
-    im[..., 121] = _t73
-    im[..., 122] = _t63
-    im[..., 123] = _t64
-    im[..., 124] = _t71
-    im[..., 125] = _t74
-    im[..., 126] = _t63
-    im[..., 127] = _t65
-    im[..., 128] = _t42 * d3_im + _t72
+    _out_re = numpy.zeros(_shape + (134,))
+    _out_re[..., 0] = 1
+    _out_re[..., 1] = _t0
+    _out_re[..., 2] = _t0
+    _out_re[..., 3] = -_t2
+    _out_re[..., 4] = -2
+    _out_re[..., 5] = _t3
+    _out_re[..., 6] = _t4
+    _out_re[..., 7] = _t6
+    _out_re[..., 8] = _t7
+    _out_re[..., 9] = _t2
+    _out_re[..., 10] = -2
+    _out_re[..., 11] = _t3
+    _out_re[..., 12] = _t7
+    _out_re[..., 13] = _t6
+    _out_re[..., 14] = _t4
+    _out_re[..., 15] = 1
+    _out_re[..., 16] = _t0
+    _out_re[..., 17] = _t0
+    _out_re[..., 18] = _t8
+    _out_re[..., 19] = _t8
+    _out_re[..., 20] = -_t9
+    _out_re[..., 21] = 1
+    _out_re[..., 22] = _t5
+    _out_re[..., 23] = _t5
+    _out_re[..., 24] = 1
+    _out_re[..., 25] = _t6
+    _out_re[..., 26] = _t5
+    _out_re[..., 27] = -_t10
+    _out_re[..., 28] = _t13
+    _out_re[..., 29] = _t14
+    _out_re[..., 30] = _t14
+    _out_re[..., 31] = _t14
+    _out_re[..., 32] = _t16
+    _out_re[..., 33] = -_t18
+    _out_re[..., 34] = _t13
+    _out_re[..., 35] = _t14
+    _out_re[..., 36] = _t14
+    _out_re[..., 37] = _t16
+    _out_re[..., 38] = _t18
+    _out_re[..., 39] = _t13
+    _out_re[..., 40] = _t14
+    _out_re[..., 41] = _t19
+    _out_re[..., 42] = _t13
+    _out_re[..., 43] = _t19
+    _out_re[..., 44] = _t20 + _t21 - _t22 - _t23 - d1_im**2 + d1_re**2
+    _out_re[..., 45] = 4
+    _out_re[..., 46] = _t6
+    _out_re[..., 47] = _t25
+    _out_re[..., 48] = _t6
+    _out_re[..., 49] = _t24
+    _out_re[..., 50] = _t5
+    _out_re[..., 51] = _t5
+    _out_re[..., 52] = _t26
+    _out_re[..., 53] = 4
+    _out_re[..., 54] = _t27
+    _out_re[..., 55] = _t28
+    _out_re[..., 56] = _t29
+    _out_re[..., 57] = _t28
+    _out_re[..., 58] = _t27
+    _out_re[..., 59] = _t29
+    _out_re[..., 60] = -_t30
+    _out_re[..., 61] = 4
+    _out_re[..., 62] = _t24
+    _out_re[..., 63] = _t3
+    _out_re[..., 64] = _t28
+    _out_re[..., 65] = _t24
+    _out_re[..., 66] = -_t31
+    _out_re[..., 67] = _t32
+    _out_re[..., 68] = _t33
+    _out_re[..., 69] = _t33
+    _out_re[..., 70] = _t33
+    _out_re[..., 71] = _t35
+    _out_re[..., 72] = _t37
+    _out_re[..., 73] = _t36
+    _out_re[..., 74] = _t32
+    _out_re[..., 75] = _t33
+    _out_re[..., 76] = _t33
+    _out_re[..., 77] = _t39
+    _out_re[..., 78] = _t1 * _t40
+    _out_re[..., 79] = -_t36
+    _out_re[..., 80] = _t32
+    _out_re[..., 81] = _t33
+    _out_re[..., 82] = _t38
+    _out_re[..., 83] = _t37
+    _out_re[..., 84] = _t32
+    _out_re[..., 85] = _t40
+    _out_re[..., 86] = _t41 - 4 * d2_im**2 + 4 * d2_re**2
+    _out_re[..., 87] = 4
+    _out_re[..., 88] = _t6
+    _out_re[..., 89] = _t24
+    _out_re[..., 90] = _t6
+    _out_re[..., 91] = _t25
+    _out_re[..., 92] = _t5
+    _out_re[..., 93] = _t5
+    _out_re[..., 94] = _t26
+    _out_re[..., 95] = 4
+    _out_re[..., 96] = _t29
+    _out_re[..., 97] = _t28
+    _out_re[..., 98] = _t27
+    _out_re[..., 99] = _t28
+    _out_re[..., 100] = _t29
+    _out_re[..., 101] = _t27
+    _out_re[..., 102] = _t30
+    _out_re[..., 103] = 4
+    _out_re[..., 104] = _t25
+    _out_re[..., 105] = _t3
+    _out_re[..., 106] = _t28
+    _out_re[..., 107] = _t25
+    _out_re[..., 108] = -_t42
+    _out_re[..., 109] = _t32
+    _out_re[..., 110] = _t33
+    _out_re[..., 111] = _t33
+    _out_re[..., 112] = _t33
+    _out_re[..., 113] = _t35
+    _out_re[..., 114] = _t45
+    _out_re[..., 115] = _t43
+    _out_re[..., 116] = _t32
+    _out_re[..., 117] = _t33
+    _out_re[..., 118] = _t33
+    _out_re[..., 119] = _t39
+    _out_re[..., 120] = _t1 * _t35
+    _out_re[..., 121] = _t44
+    _out_re[..., 122] = _t32
+    _out_re[..., 123] = _t33
+    _out_re[..., 124] = _t38
+    _out_re[..., 125] = _t45
+    _out_re[..., 126] = _t32
+    _out_re[..., 127] = _t40
+    _out_re[..., 128] = _t41 - 4 * d3_im**2 + 4 * d3_re**2
+    _out_re[..., 129] = 1
+    _out_re[..., 130] = 1
+    _out_re[..., 131] = 1
+    _out_re[..., 132] = 1
+    _out_re[..., 133] = -1
+    _out_im = numpy.zeros(_shape + (134,))
+    _out_im[..., 1] = _t15
+    _out_im[..., 2] = _t15
+    _out_im[..., 5] = _t34
+    _out_im[..., 6] = _t46
+    _out_im[..., 7] = _t47
+    _out_im[..., 8] = _t48
+    _out_im[..., 11] = _t34
+    _out_im[..., 12] = _t48
+    _out_im[..., 13] = _t47
+    _out_im[..., 14] = _t46
+    _out_im[..., 16] = _t15
+    _out_im[..., 17] = _t15
+    _out_im[..., 18] = _t49
+    _out_im[..., 19] = _t49
+    _out_im[..., 20] = -2 * r_b_im
+    _out_im[..., 22] = _t17
+    _out_im[..., 23] = _t17
+    _out_im[..., 25] = _t47
+    _out_im[..., 26] = _t17
+    _out_im[..., 27] = -2 * d1_im
+    _out_im[..., 28] = _t50
+    _out_im[..., 29] = _t51
+    _out_im[..., 30] = _t51
+    _out_im[..., 31] = _t51
+    _out_im[..., 32] = _t53
+    _out_im[..., 33] = _t54
+    _out_im[..., 34] = _t50
+    _out_im[..., 35] = _t51
+    _out_im[..., 36] = _t51
+    _out_im[..., 37] = _t53
+    _out_im[..., 38] = -_t54
+    _out_im[..., 39] = _t50
+    _out_im[..., 40] = _t51
+    _out_im[..., 41] = _t52
+    _out_im[..., 42] = _t50
+    _out_im[..., 43] = _t52
+    _out_im[..., 44] = _t10 * d1_im - 2 * _t55 + _t9 * r_b_im
+    _out_im[..., 46] = _t47
+    _out_im[..., 47] = _t57
+    _out_im[..., 48] = _t47
+    _out_im[..., 49] = _t56
+    _out_im[..., 50] = _t17
+    _out_im[..., 51] = _t17
+    _out_im[..., 52] = _t58
+    _out_im[..., 54] = _t59
+    _out_im[..., 55] = _t60
+    _out_im[..., 56] = _t61
+    _out_im[..., 57] = _t60
+    _out_im[..., 58] = _t59
+    _out_im[..., 59] = _t61
+    _out_im[..., 60] = -_t62
+    _out_im[..., 62] = _t56
+    _out_im[..., 63] = _t34
+    _out_im[..., 64] = _t60
+    _out_im[..., 65] = _t56
+    _out_im[..., 66] = -8 * d2_im
+    _out_im[..., 67] = _t63
+    _out_im[..., 68] = _t64
+    _out_im[..., 69] = _t64
+    _out_im[..., 70] = _t64
+    _out_im[..., 71] = _t66
+    _out_im[..., 72] = _t69
+    _out_im[..., 73] = _t68
+    _out_im[..., 74] = _t63
+    _out_im[..., 75] = _t64
+    _out_im[..., 76] = _t64
+    _out_im[..., 77] = _t70
+    _out_im[..., 78] = _t1 * _t65
+    _out_im[..., 79] = _t67
+    _out_im[..., 80] = _t63
+    _out_im[..., 81] = _t64
+    _out_im[..., 82] = _t71
+    _out_im[..., 83] = _t69
+    _out_im[..., 84] = _t63
+    _out_im[..., 85] = _t65
+    _out_im[..., 86] = _t31 * d2_im + _t72
+    _out_im[..., 88] = _t47
+    _out_im[..., 89] = _t56
+    _out_im[..., 90] = _t47
+    _out_im[..., 91] = _t57
+    _out_im[..., 92] = _t17
+    _out_im[..., 93] = _t17
+    _out_im[..., 94] = _t58
+    _out_im[..., 96] = _t61
+    _out_im[..., 97] = _t60
+    _out_im[..., 98] = _t59
+    _out_im[..., 99] = _t60
+    _out_im[..., 100] = _t61
+    _out_im[..., 101] = _t59
+    _out_im[..., 102] = _t62
+    _out_im[..., 104] = _t57
+    _out_im[..., 105] = _t34
+    _out_im[..., 106] = _t60
+    _out_im[..., 107] = _t57
+    _out_im[..., 108] = -8 * d3_im
+    _out_im[..., 109] = _t63
+    _out_im[..., 110] = _t64
+    _out_im[..., 111] = _t64
+    _out_im[..., 112] = _t64
+    _out_im[..., 113] = _t66
+    _out_im[..., 114] = _t74
+    _out_im[..., 115] = -_t73
+    _out_im[..., 116] = _t63
+    _out_im[..., 117] = _t64
+    _out_im[..., 118] = _t64
+    _out_im[..., 119] = _t70
+    _out_im[..., 120] = _t1 * _t66
+    _out_im[..., 121] = _t73
+    _out_im[..., 122] = _t63
+    _out_im[..., 123] = _t64
+    _out_im[..., 124] = _t71
+    _out_im[..., 125] = _t74
+    _out_im[..., 126] = _t63
+    _out_im[..., 127] = _t65
+    _out_im[..., 128] = _t42 * d3_im + _t72
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -1390,27 +1400,28 @@ def automatic_passive(z, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    z3 = z[..., 3]
-    z4 = z[..., 4]
-    z5 = z[..., 5]
-    z6 = z[..., 6]
-    passive = numpy.zeros(shape + (7,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
-    passive[..., 2] = z2
-    passive[..., 3] = z3
-    passive[..., 4] = z4
-    passive[..., 5] = z5
-    passive[..., 6] = z6
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    z3 = _in_z[..., 3]
+    z4 = _in_z[..., 4]
+    z5 = _in_z[..., 5]
+    z6 = _in_z[..., 6]
+    _out_passive = numpy.zeros(_shape + (7,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
+    _out_passive[..., 2] = z2
+    _out_passive[..., 3] = z3
+    _out_passive[..., 4] = z4
+    _out_passive[..., 5] = z5
+    _out_passive[..., 6] = z6
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

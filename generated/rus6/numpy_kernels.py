@@ -24,18 +24,19 @@ def platform_pose(actuated, passive, params):
 
     Operations: 47.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -50,22 +51,22 @@ def platform_pose(actuated, passive, params):
     _t11 = 2 * q1
     _t12 = _t2 - _t3
     _t13 = _t8 * q1
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
-    pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
-    pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
-    pose[..., 0, 3] = x
-    pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
-    pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
-    pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
-    pose[..., 1, 3] = y
-    pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
-    pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
-    pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
-    pose[..., 2, 3] = z
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
+    _out_pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
+    _out_pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
+    _out_pose[..., 0, 3] = x
+    _out_pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
+    _out_pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
+    _out_pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
+    _out_pose[..., 1, 3] = y
+    _out_pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
+    _out_pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
+    _out_pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
+    _out_pose[..., 2, 3] = z
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -74,108 +75,109 @@ def loop_closure(actuated, passive, params):
 
     Operations: 1542.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    b1 = params[..., 60]
-    b2 = params[..., 61]
-    b3 = params[..., 62]
-    b4 = params[..., 63]
-    b5 = params[..., 64]
-    b6 = params[..., 65]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    b1 = _in_params[..., 60]
+    b2 = _in_params[..., 61]
+    b3 = _in_params[..., 62]
+    b4 = _in_params[..., 63]
+    b5 = _in_params[..., 64]
+    b6 = _in_params[..., 65]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = numpy.cos(theta1)
     _t1 = numpy.sin(theta1)
     _t2 = a1 * (_t0 * crank_zero_x1 + _t1 * (axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1))
@@ -518,24 +520,30 @@ def loop_closure(actuated, passive, params):
     _t327 = _t186 * platform_y6
     _t328 = _t186 * platform_z6
     _t329 = _t186 * platform_x6
-    residual = numpy.zeros(shape + (7,))
-    residual[..., 0] = _t44 * (_t25**2 + _t35**2 + _t43**2 - b1**2)
-    residual[..., 1] = _t65 * (_t54**2 + _t59**2 + _t64**2 - b2**2)
-    residual[..., 2] = _t86 * (_t75**2 + _t80**2 + _t85**2 - b3**2)
-    residual[..., 3] = _t107 * (_t101**2 + _t106**2 + _t96**2 - b4**2)
-    residual[..., 4] = _t128 * (_t117**2 + _t122**2 + _t127**2 - b5**2)
-    residual[..., 5] = _t149 * (_t138**2 + _t143**2 + _t148**2 - b6**2)
-    residual[..., 6] = (1 / 2) * _t6 + (1 / 2) * _t7 + (1 / 2) * _t8 + (1 / 2) * _t9 - 1 / 2
-    jacobian = numpy.zeros(shape + (7, 7))
-    jacobian[..., 0, 0] = _t44 * (2 * _t14 + _t150 + 2 * _t19 - 2 * _t2 + 2 * _t24 - 2 * base_x1)
-    jacobian[..., 0, 1] = _t44 * (_t151 - 2 * _t26 + 2 * _t28 + 2 * _t31 + 2 * _t34 - 2 * base_y1)
-    jacobian[..., 0, 2] = _t44 * (_t152 - 2 * _t36 + 2 * _t38 + 2 * _t40 + 2 * _t42 - 2 * base_z1)
-    jacobian[..., 0, 3] = _t44 * (
+    _out_residual = numpy.zeros(_shape + (7,))
+    _out_residual[..., 0] = _t44 * (_t25**2 + _t35**2 + _t43**2 - b1**2)
+    _out_residual[..., 1] = _t65 * (_t54**2 + _t59**2 + _t64**2 - b2**2)
+    _out_residual[..., 2] = _t86 * (_t75**2 + _t80**2 + _t85**2 - b3**2)
+    _out_residual[..., 3] = _t107 * (_t101**2 + _t106**2 + _t96**2 - b4**2)
+    _out_residual[..., 4] = _t128 * (_t117**2 + _t122**2 + _t127**2 - b5**2)
+    _out_residual[..., 5] = _t149 * (_t138**2 + _t143**2 + _t148**2 - b6**2)
+    _out_residual[..., 6] = (1 / 2) * _t6 + (1 / 2) * _t7 + (1 / 2) * _t8 + (1 / 2) * _t9 - 1 / 2
+    _out_jacobian = numpy.zeros(_shape + (7, 7))
+    _out_jacobian[..., 0, 0] = _t44 * (
+        2 * _t14 + _t150 + 2 * _t19 - 2 * _t2 + 2 * _t24 - 2 * base_x1
+    )
+    _out_jacobian[..., 0, 1] = _t44 * (
+        _t151 - 2 * _t26 + 2 * _t28 + 2 * _t31 + 2 * _t34 - 2 * base_y1
+    )
+    _out_jacobian[..., 0, 2] = _t44 * (
+        _t152 - 2 * _t36 + 2 * _t38 + 2 * _t40 + 2 * _t42 - 2 * base_z1
+    )
+    _out_jacobian[..., 0, 3] = _t44 * (
         _t25 * (-_t156 * _t22 - _t157 * _t5 - _t158 * _t17 - _t164)
         + _t35 * (-_t156 * _t27 - _t157 * _t33 - _t158 * _t30 - _t168)
         + _t43 * (-_t156 * _t37 - _t157 * _t39 - _t158 * _t41 - _t174)
     )
-    jacobian[..., 0, 4] = _t44 * (
+    _out_jacobian[..., 0, 4] = _t44 * (
         _t25
         * (
             4 * _t12 * platform_x1 * q1
@@ -548,25 +556,31 @@ def loop_closure(actuated, passive, params):
         + _t35 * (-_t170 - _t171 + _t173 - _t177 * _t33 - _t178 * _t30 - _t180 * _t27)
         + _t43 * (-_t168 - _t177 * _t39 - _t178 * _t41 - _t180 * _t37)
     )
-    jacobian[..., 0, 5] = _t44 * (
+    _out_jacobian[..., 0, 5] = _t44 * (
         _t25 * (-_t17 * _t183 - _t174 - _t179 * _t181 - _t182 * _t5)
         + _t35 * (-_t182 * _t33 - _t183 * _t30 - _t184 * _t27 + _t185)
         + _t43 * (-_t159 - _t161 + _t163 - _t182 * _t39 - _t183 * _t41 - _t184 * _t37)
     )
-    jacobian[..., 0, 6] = _t44 * (
+    _out_jacobian[..., 0, 6] = _t44 * (
         _t25 * (-_t165 - _t166 + _t167 - _t17 * _t188 - _t179 * _t186 - _t187 * _t5)
         + _t35 * (-_t164 - _t187 * _t33 - _t188 * _t30 - _t189 * _t27)
         + _t43 * (_t185 - _t187 * _t39 - _t188 * _t41 - _t189 * _t37)
     )
-    jacobian[..., 1, 0] = _t65 * (_t150 - 2 * _t47 + 2 * _t49 + 2 * _t51 + 2 * _t53 - 2 * base_x2)
-    jacobian[..., 1, 1] = _t65 * (_t151 - 2 * _t55 + 2 * _t56 + 2 * _t57 + 2 * _t58 - 2 * base_y2)
-    jacobian[..., 1, 2] = _t65 * (_t152 - 2 * _t60 + 2 * _t61 + 2 * _t62 + 2 * _t63 - 2 * base_z2)
-    jacobian[..., 1, 3] = _t65 * (
+    _out_jacobian[..., 1, 0] = _t65 * (
+        _t150 - 2 * _t47 + 2 * _t49 + 2 * _t51 + 2 * _t53 - 2 * base_x2
+    )
+    _out_jacobian[..., 1, 1] = _t65 * (
+        _t151 - 2 * _t55 + 2 * _t56 + 2 * _t57 + 2 * _t58 - 2 * base_y2
+    )
+    _out_jacobian[..., 1, 2] = _t65 * (
+        _t152 - 2 * _t60 + 2 * _t61 + 2 * _t62 + 2 * _t63 - 2 * base_z2
+    )
+    _out_jacobian[..., 1, 3] = _t65 * (
         _t54 * (-_t17 * _t192 - _t190 * _t22 - _t191 * _t5 - _t197)
         + _t59 * (-_t190 * _t27 - _t191 * _t33 - _t192 * _t30 - _t201)
         + _t64 * (-_t190 * _t37 - _t191 * _t39 - _t192 * _t41 - _t207)
     )
-    jacobian[..., 1, 4] = _t65 * (
+    _out_jacobian[..., 1, 4] = _t65 * (
         _t54
         * (
             4 * _t12 * platform_x2 * q1
@@ -579,25 +593,31 @@ def loop_closure(actuated, passive, params):
         + _t59 * (-_t203 - _t204 + _t206 - _t208 * _t33 - _t209 * _t30 - _t210 * _t27)
         + _t64 * (-_t201 - _t208 * _t39 - _t209 * _t41 - _t210 * _t37)
     )
-    jacobian[..., 1, 5] = _t65 * (
+    _out_jacobian[..., 1, 5] = _t65 * (
         _t54 * (-_t17 * _t213 - _t207 - _t211 * _t22 - _t212 * _t5)
         + _t59 * (-_t211 * _t27 - _t212 * _t33 - _t213 * _t30 + _t214)
         + _t64 * (-_t193 - _t195 + _t196 - _t211 * _t37 - _t212 * _t39 - _t213 * _t41)
     )
-    jacobian[..., 1, 6] = _t65 * (
+    _out_jacobian[..., 1, 6] = _t65 * (
         _t54 * (-_t17 * _t216 - _t198 - _t199 + _t200 - _t215 * _t5 - _t217 * _t22)
         + _t59 * (-_t197 - _t215 * _t33 - _t216 * _t30 - _t217 * _t27)
         + _t64 * (_t214 - _t215 * _t39 - _t216 * _t41 - _t217 * _t37)
     )
-    jacobian[..., 2, 0] = _t86 * (_t150 - 2 * _t68 + 2 * _t70 + 2 * _t72 + 2 * _t74 - 2 * base_x3)
-    jacobian[..., 2, 1] = _t86 * (_t151 - 2 * _t76 + 2 * _t77 + 2 * _t78 + 2 * _t79 - 2 * base_y3)
-    jacobian[..., 2, 2] = _t86 * (_t152 - 2 * _t81 + 2 * _t82 + 2 * _t83 + 2 * _t84 - 2 * base_z3)
-    jacobian[..., 2, 3] = _t86 * (
+    _out_jacobian[..., 2, 0] = _t86 * (
+        _t150 - 2 * _t68 + 2 * _t70 + 2 * _t72 + 2 * _t74 - 2 * base_x3
+    )
+    _out_jacobian[..., 2, 1] = _t86 * (
+        _t151 - 2 * _t76 + 2 * _t77 + 2 * _t78 + 2 * _t79 - 2 * base_y3
+    )
+    _out_jacobian[..., 2, 2] = _t86 * (
+        _t152 - 2 * _t81 + 2 * _t82 + 2 * _t83 + 2 * _t84 - 2 * base_z3
+    )
+    _out_jacobian[..., 2, 3] = _t86 * (
         _t75 * (-_t17 * _t220 - _t218 * _t22 - _t219 * _t5 - _t225)
         + _t80 * (-_t218 * _t27 - _t219 * _t33 - _t220 * _t30 - _t229)
         + _t85 * (-_t218 * _t37 - _t219 * _t39 - _t220 * _t41 - _t235)
     )
-    jacobian[..., 2, 4] = _t86 * (
+    _out_jacobian[..., 2, 4] = _t86 * (
         _t75
         * (
             4 * _t12 * platform_x3 * q1
@@ -610,27 +630,31 @@ def loop_closure(actuated, passive, params):
         + _t80 * (-_t231 - _t232 + _t234 - _t236 * _t33 - _t237 * _t30 - _t238 * _t27)
         + _t85 * (-_t229 - _t236 * _t39 - _t237 * _t41 - _t238 * _t37)
     )
-    jacobian[..., 2, 5] = _t86 * (
+    _out_jacobian[..., 2, 5] = _t86 * (
         _t75 * (-_t17 * _t241 - _t22 * _t239 - _t235 - _t240 * _t5)
         + _t80 * (-_t239 * _t27 - _t240 * _t33 - _t241 * _t30 + _t242)
         + _t85 * (-_t221 - _t223 + _t224 - _t239 * _t37 - _t240 * _t39 - _t241 * _t41)
     )
-    jacobian[..., 2, 6] = _t86 * (
+    _out_jacobian[..., 2, 6] = _t86 * (
         _t75 * (-_t17 * _t244 - _t22 * _t245 - _t226 - _t227 + _t228 - _t243 * _t5)
         + _t80 * (-_t225 - _t243 * _t33 - _t244 * _t30 - _t245 * _t27)
         + _t85 * (_t242 - _t243 * _t39 - _t244 * _t41 - _t245 * _t37)
     )
-    jacobian[..., 3, 0] = _t107 * (_t150 - 2 * _t89 + 2 * _t91 + 2 * _t93 + 2 * _t95 - 2 * base_x4)
-    jacobian[..., 3, 1] = _t107 * (2 * _t100 + _t151 - 2 * _t97 + 2 * _t98 + 2 * _t99 - 2 * base_y4)
-    jacobian[..., 3, 2] = _t107 * (
+    _out_jacobian[..., 3, 0] = _t107 * (
+        _t150 - 2 * _t89 + 2 * _t91 + 2 * _t93 + 2 * _t95 - 2 * base_x4
+    )
+    _out_jacobian[..., 3, 1] = _t107 * (
+        2 * _t100 + _t151 - 2 * _t97 + 2 * _t98 + 2 * _t99 - 2 * base_y4
+    )
+    _out_jacobian[..., 3, 2] = _t107 * (
         -2 * _t102 + 2 * _t103 + 2 * _t104 + 2 * _t105 + _t152 - 2 * base_z4
     )
-    jacobian[..., 3, 3] = _t107 * (
+    _out_jacobian[..., 3, 3] = _t107 * (
         _t101 * (-_t246 * _t27 - _t247 * _t33 - _t248 * _t30 - _t257)
         + _t106 * (-_t246 * _t37 - _t247 * _t39 - _t248 * _t41 - _t263)
         + _t96 * (-_t17 * _t248 - _t22 * _t246 - _t247 * _t5 - _t253)
     )
-    jacobian[..., 3, 4] = _t107 * (
+    _out_jacobian[..., 3, 4] = _t107 * (
         _t101 * (-_t259 - _t260 + _t262 - _t264 * _t33 - _t265 * _t30 - _t266 * _t27)
         + _t106 * (-_t257 - _t264 * _t39 - _t265 * _t41 - _t266 * _t37)
         + _t96
@@ -643,31 +667,31 @@ def loop_closure(actuated, passive, params):
             - _t264 * _t5
         )
     )
-    jacobian[..., 3, 5] = _t107 * (
+    _out_jacobian[..., 3, 5] = _t107 * (
         _t101 * (-_t267 * _t27 - _t268 * _t33 - _t269 * _t30 + _t270)
         + _t106 * (-_t249 - _t251 + _t252 - _t267 * _t37 - _t268 * _t39 - _t269 * _t41)
         + _t96 * (-_t17 * _t269 - _t22 * _t267 - _t263 - _t268 * _t5)
     )
-    jacobian[..., 3, 6] = _t107 * (
+    _out_jacobian[..., 3, 6] = _t107 * (
         _t101 * (-_t253 - _t27 * _t273 - _t271 * _t33 - _t272 * _t30)
         + _t106 * (_t270 - _t271 * _t39 - _t272 * _t41 - _t273 * _t37)
         + _t96 * (-_t17 * _t272 - _t22 * _t273 - _t254 - _t255 + _t256 - _t271 * _t5)
     )
-    jacobian[..., 4, 0] = _t128 * (
+    _out_jacobian[..., 4, 0] = _t128 * (
         -2 * _t110 + 2 * _t112 + 2 * _t114 + 2 * _t116 + _t150 - 2 * base_x5
     )
-    jacobian[..., 4, 1] = _t128 * (
+    _out_jacobian[..., 4, 1] = _t128 * (
         -2 * _t118 + 2 * _t119 + 2 * _t120 + 2 * _t121 + _t151 - 2 * base_y5
     )
-    jacobian[..., 4, 2] = _t128 * (
+    _out_jacobian[..., 4, 2] = _t128 * (
         -2 * _t123 + 2 * _t124 + 2 * _t125 + 2 * _t126 + _t152 - 2 * base_z5
     )
-    jacobian[..., 4, 3] = _t128 * (
+    _out_jacobian[..., 4, 3] = _t128 * (
         _t117 * (-_t17 * _t276 - _t22 * _t274 - _t275 * _t5 - _t281)
         + _t122 * (-_t27 * _t274 - _t275 * _t33 - _t276 * _t30 - _t285)
         + _t127 * (-_t274 * _t37 - _t275 * _t39 - _t276 * _t41 - _t291)
     )
-    jacobian[..., 4, 4] = _t128 * (
+    _out_jacobian[..., 4, 4] = _t128 * (
         _t117
         * (
             4 * _t12 * platform_x5 * q1
@@ -680,31 +704,31 @@ def loop_closure(actuated, passive, params):
         + _t122 * (-_t27 * _t294 - _t287 - _t288 + _t290 - _t292 * _t33 - _t293 * _t30)
         + _t127 * (-_t285 - _t292 * _t39 - _t293 * _t41 - _t294 * _t37)
     )
-    jacobian[..., 4, 5] = _t128 * (
+    _out_jacobian[..., 4, 5] = _t128 * (
         _t117 * (-_t17 * _t297 - _t22 * _t295 - _t291 - _t296 * _t5)
         + _t122 * (-_t27 * _t295 - _t296 * _t33 - _t297 * _t30 + _t298)
         + _t127 * (-_t277 - _t279 + _t280 - _t295 * _t37 - _t296 * _t39 - _t297 * _t41)
     )
-    jacobian[..., 4, 6] = _t128 * (
+    _out_jacobian[..., 4, 6] = _t128 * (
         _t117 * (-_t17 * _t300 - _t22 * _t301 - _t282 - _t283 + _t284 - _t299 * _t5)
         + _t122 * (-_t27 * _t301 - _t281 - _t299 * _t33 - _t30 * _t300)
         + _t127 * (_t298 - _t299 * _t39 - _t300 * _t41 - _t301 * _t37)
     )
-    jacobian[..., 5, 0] = _t149 * (
+    _out_jacobian[..., 5, 0] = _t149 * (
         -2 * _t131 + 2 * _t133 + 2 * _t135 + 2 * _t137 + _t150 - 2 * base_x6
     )
-    jacobian[..., 5, 1] = _t149 * (
+    _out_jacobian[..., 5, 1] = _t149 * (
         -2 * _t139 + 2 * _t140 + 2 * _t141 + 2 * _t142 + _t151 - 2 * base_y6
     )
-    jacobian[..., 5, 2] = _t149 * (
+    _out_jacobian[..., 5, 2] = _t149 * (
         -2 * _t144 + 2 * _t145 + 2 * _t146 + 2 * _t147 + _t152 - 2 * base_z6
     )
-    jacobian[..., 5, 3] = _t149 * (
+    _out_jacobian[..., 5, 3] = _t149 * (
         _t138 * (-_t17 * _t304 - _t22 * _t302 - _t303 * _t5 - _t309)
         + _t143 * (-_t27 * _t302 - _t30 * _t304 - _t303 * _t33 - _t313)
         + _t148 * (-_t302 * _t37 - _t303 * _t39 - _t304 * _t41 - _t319)
     )
-    jacobian[..., 5, 4] = _t149 * (
+    _out_jacobian[..., 5, 4] = _t149 * (
         _t138
         * (
             4 * _t12 * platform_x6 * q1
@@ -717,26 +741,26 @@ def loop_closure(actuated, passive, params):
         + _t143 * (-_t27 * _t322 - _t30 * _t321 - _t315 - _t316 + _t318 - _t320 * _t33)
         + _t148 * (-_t313 - _t320 * _t39 - _t321 * _t41 - _t322 * _t37)
     )
-    jacobian[..., 5, 5] = _t149 * (
+    _out_jacobian[..., 5, 5] = _t149 * (
         _t138 * (-_t17 * _t325 - _t22 * _t323 - _t319 - _t324 * _t5)
         + _t143 * (-_t27 * _t323 - _t30 * _t325 - _t324 * _t33 + _t326)
         + _t148 * (-_t305 - _t307 + _t308 - _t323 * _t37 - _t324 * _t39 - _t325 * _t41)
     )
-    jacobian[..., 5, 6] = _t149 * (
+    _out_jacobian[..., 5, 6] = _t149 * (
         _t138 * (-_t17 * _t328 - _t22 * _t329 - _t310 - _t311 + _t312 - _t327 * _t5)
         + _t143 * (-_t27 * _t329 - _t30 * _t328 - _t309 - _t327 * _t33)
         + _t148 * (_t326 - _t327 * _t39 - _t328 * _t41 - _t329 * _t37)
     )
-    jacobian[..., 6, 3] = q0
-    jacobian[..., 6, 4] = q1
-    jacobian[..., 6, 5] = q2
-    jacobian[..., 6, 6] = q3
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_jacobian[..., 6, 3] = q0
+    _out_jacobian[..., 6, 4] = q1
+    _out_jacobian[..., 6, 5] = q2
+    _out_jacobian[..., 6, 6] = q3
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -745,108 +769,109 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 464.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    b1 = params[..., 60]
-    b2 = params[..., 61]
-    b3 = params[..., 62]
-    b4 = params[..., 63]
-    b5 = params[..., 64]
-    b6 = params[..., 65]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    b1 = _in_params[..., 60]
+    b2 = _in_params[..., 61]
+    b3 = _in_params[..., 62]
+    b4 = _in_params[..., 63]
+    b5 = _in_params[..., 64]
+    b6 = _in_params[..., 65]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = numpy.sin(theta1)
     _t1 = numpy.cos(theta1)
     _t2 = axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1
@@ -924,8 +949,8 @@ def loop_closure_actuated(actuated, passive, params):
     _t74 = 2 * a6
     _t75 = -axis_x6 * crank_zero_z6 + axis_z6 * crank_zero_x6
     _t76 = axis_x6 * crank_zero_y6 - axis_y6 * crank_zero_x6
-    jacobian_actuated = numpy.zeros(shape + (7, 6))
-    jacobian_actuated[..., 0, 0] = (
+    _out_jacobian_actuated = numpy.zeros(_shape + (7, 6))
+    _out_jacobian_actuated[..., 0, 0] = (
         (1 / 2)
         * (
             -_t21
@@ -961,7 +986,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / b1
     )
-    jacobian_actuated[..., 1, 1] = (
+    _out_jacobian_actuated[..., 1, 1] = (
         (1 / 2)
         * (
             -_t38
@@ -997,7 +1022,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / b2
     )
-    jacobian_actuated[..., 2, 2] = (
+    _out_jacobian_actuated[..., 2, 2] = (
         (1 / 2)
         * (
             -_t47
@@ -1033,7 +1058,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / b3
     )
-    jacobian_actuated[..., 3, 3] = (
+    _out_jacobian_actuated[..., 3, 3] = (
         (1 / 2)
         * (
             -_t56
@@ -1069,7 +1094,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / b4
     )
-    jacobian_actuated[..., 4, 4] = (
+    _out_jacobian_actuated[..., 4, 4] = (
         (1 / 2)
         * (
             -_t65
@@ -1105,7 +1130,7 @@ def loop_closure_actuated(actuated, passive, params):
         )
         / b5
     )
-    jacobian_actuated[..., 5, 5] = (
+    _out_jacobian_actuated[..., 5, 5] = (
         (1 / 2)
         * (
             -_t74
@@ -1142,7 +1167,7 @@ def loop_closure_actuated(actuated, passive, params):
         / b6
     )
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -1151,102 +1176,103 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 521.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = numpy.cos(theta1)
     _t1 = numpy.sin(theta1)
     _t2 = a1 * (_t0 * crank_zero_x1 + _t1 * (axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1))
@@ -1367,77 +1393,77 @@ def rate_jacobians(actuated, passive, params):
     _t113 = _t108 + _t35 + base_y6
     _t114 = _t111 + _t37 + base_z6
     _t115 = _t103 + _t39 + base_x6
-    a = numpy.zeros(shape + (6, 6))
-    a[..., 0, 0] = _t21
-    a[..., 0, 1] = _t28
-    a[..., 0, 2] = _t34
-    a[..., 0, 3] = -_t28 * _t38 + _t34 * _t36
-    a[..., 0, 4] = _t21 * _t38 - _t34 * _t40
-    a[..., 0, 5] = -_t21 * _t36 + _t28 * _t40
-    a[..., 1, 0] = _t47
-    a[..., 1, 1] = _t49
-    a[..., 1, 2] = _t52
-    a[..., 1, 3] = -_t49 * _t54 + _t52 * _t53
-    a[..., 1, 4] = _t47 * _t54 - _t52 * _t55
-    a[..., 1, 5] = -_t47 * _t53 + _t49 * _t55
-    a[..., 2, 0] = _t62
-    a[..., 2, 1] = _t64
-    a[..., 2, 2] = _t67
-    a[..., 2, 3] = -_t64 * _t69 + _t67 * _t68
-    a[..., 2, 4] = _t62 * _t69 - _t67 * _t70
-    a[..., 2, 5] = -_t62 * _t68 + _t64 * _t70
-    a[..., 3, 0] = _t77
-    a[..., 3, 1] = _t79
-    a[..., 3, 2] = _t82
-    a[..., 3, 3] = -_t79 * _t84 + _t82 * _t83
-    a[..., 3, 4] = _t77 * _t84 - _t82 * _t85
-    a[..., 3, 5] = -_t77 * _t83 + _t79 * _t85
-    a[..., 4, 0] = _t92
-    a[..., 4, 1] = _t94
-    a[..., 4, 2] = _t97
-    a[..., 4, 3] = -_t94 * _t99 + _t97 * _t98
-    a[..., 4, 4] = -_t100 * _t97 + _t92 * _t99
-    a[..., 4, 5] = _t100 * _t94 - _t92 * _t98
-    a[..., 5, 0] = _t107
-    a[..., 5, 1] = _t109
-    a[..., 5, 2] = _t112
-    a[..., 5, 3] = -_t109 * _t114 + _t112 * _t113
-    a[..., 5, 4] = _t107 * _t114 - _t112 * _t115
-    a[..., 5, 5] = -_t107 * _t113 + _t109 * _t115
-    b = numpy.zeros(shape + (6, 6))
-    b[..., 0, 0] = (
+    _out_a = numpy.zeros(_shape + (6, 6))
+    _out_a[..., 0, 0] = _t21
+    _out_a[..., 0, 1] = _t28
+    _out_a[..., 0, 2] = _t34
+    _out_a[..., 0, 3] = -_t28 * _t38 + _t34 * _t36
+    _out_a[..., 0, 4] = _t21 * _t38 - _t34 * _t40
+    _out_a[..., 0, 5] = -_t21 * _t36 + _t28 * _t40
+    _out_a[..., 1, 0] = _t47
+    _out_a[..., 1, 1] = _t49
+    _out_a[..., 1, 2] = _t52
+    _out_a[..., 1, 3] = -_t49 * _t54 + _t52 * _t53
+    _out_a[..., 1, 4] = _t47 * _t54 - _t52 * _t55
+    _out_a[..., 1, 5] = -_t47 * _t53 + _t49 * _t55
+    _out_a[..., 2, 0] = _t62
+    _out_a[..., 2, 1] = _t64
+    _out_a[..., 2, 2] = _t67
+    _out_a[..., 2, 3] = -_t64 * _t69 + _t67 * _t68
+    _out_a[..., 2, 4] = _t62 * _t69 - _t67 * _t70
+    _out_a[..., 2, 5] = -_t62 * _t68 + _t64 * _t70
+    _out_a[..., 3, 0] = _t77
+    _out_a[..., 3, 1] = _t79
+    _out_a[..., 3, 2] = _t82
+    _out_a[..., 3, 3] = -_t79 * _t84 + _t82 * _t83
+    _out_a[..., 3, 4] = _t77 * _t84 - _t82 * _t85
+    _out_a[..., 3, 5] = -_t77 * _t83 + _t79 * _t85
+    _out_a[..., 4, 0] = _t92
+    _out_a[..., 4, 1] = _t94
+    _out_a[..., 4, 2] = _t97
+    _out_a[..., 4, 3] = -_t94 * _t99 + _t97 * _t98
+    _out_a[..., 4, 4] = -_t100 * _t97 + _t92 * _t99
+    _out_a[..., 4, 5] = _t100 * _t94 - _t92 * _t98
+    _out_a[..., 5, 0] = _t107
+    _out_a[..., 5, 1] = _t109
+    _out_a[..., 5, 2] = _t112
+    _out_a[..., 5, 3] = -_t109 * _t114 + _t112 * _t113
+    _out_a[..., 5, 4] = _t107 * _t114 - _t112 * _t115
+    _out_a[..., 5, 5] = -_t107 * _t113 + _t109 * _t115
+    _out_b = numpy.zeros(_shape + (6, 6))
+    _out_b[..., 0, 0] = (
         axis_x1 * (_t22 * _t34 - _t28 * _t30)
         + axis_y1 * (-_t2 * _t34 + _t21 * _t29 * a1)
         + axis_z1 * (_t2 * _t28 - _t21 * _t22)
     )
-    b[..., 1, 1] = (
+    _out_b[..., 1, 1] = (
         axis_x2 * (_t48 * _t52 - _t49 * _t51)
         + axis_y2 * (-_t43 * _t52 + _t47 * _t50 * a2)
         + axis_z2 * (_t43 * _t49 - _t47 * _t48)
     )
-    b[..., 2, 2] = (
+    _out_b[..., 2, 2] = (
         axis_x3 * (_t63 * _t67 - _t64 * _t66)
         + axis_y3 * (-_t58 * _t67 + _t62 * _t65 * a3)
         + axis_z3 * (_t58 * _t64 - _t62 * _t63)
     )
-    b[..., 3, 3] = (
+    _out_b[..., 3, 3] = (
         axis_x4 * (_t78 * _t82 - _t79 * _t81)
         + axis_y4 * (-_t73 * _t82 + _t77 * _t80 * a4)
         + axis_z4 * (_t73 * _t79 - _t77 * _t78)
     )
-    b[..., 4, 4] = (
+    _out_b[..., 4, 4] = (
         axis_x5 * (_t93 * _t97 - _t94 * _t96)
         + axis_y5 * (-_t88 * _t97 + _t92 * _t95 * a5)
         + axis_z5 * (_t88 * _t94 - _t92 * _t93)
     )
-    b[..., 5, 5] = (
+    _out_b[..., 5, 5] = (
         axis_x6 * (_t108 * _t112 - _t109 * _t111)
         + axis_y6 * (-_t103 * _t112 + _t107 * _t110 * a6)
         + axis_z6 * (_t103 * _t109 - _t107 * _t108)
     )
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -1446,108 +1472,109 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 1183.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    b1 = params[..., 60]
-    b2 = params[..., 61]
-    b3 = params[..., 62]
-    b4 = params[..., 63]
-    b5 = params[..., 64]
-    b6 = params[..., 65]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    b1 = _in_params[..., 60]
+    b2 = _in_params[..., 61]
+    b3 = _in_params[..., 62]
+    b4 = _in_params[..., 63]
+    b5 = _in_params[..., 64]
+    b6 = _in_params[..., 65]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = 2 * x
     _t1 = numpy.cos(theta1)
     _t2 = _t1 * crank_zero_x1
@@ -1794,221 +1821,231 @@ def parameter_jacobians(actuated, passive, params):
     _t243 = _t234 * _t62
     _t244 = _t238 * _t62
     _t245 = _t239 * _t62
-    closure_parameters = numpy.zeros(shape + (7, 84))
-    closure_parameters[..., 0, 0] = _t27 * (
+    _out_closure_parameters = numpy.zeros(_shape + (7, 84))
+    _out_closure_parameters[..., 0, 0] = _t27 * (
         -_t0 - 2 * _t16 - 2 * _t21 - 2 * _t26 + 2 * _t5 * a1 + 2 * base_x1
     )
-    closure_parameters[..., 0, 1] = _t27 * (
+    _out_closure_parameters[..., 0, 1] = _t27 * (
         -_t28 + 2 * _t31 * a1 - 2 * _t33 - 2 * _t36 - 2 * _t39 + 2 * base_y1
     )
-    closure_parameters[..., 0, 2] = _t27 * (
+    _out_closure_parameters[..., 0, 2] = _t27 * (
         -_t40 + 2 * _t43 * a1 - 2 * _t45 - 2 * _t47 - 2 * _t49 + 2 * base_z1
     )
-    closure_parameters[..., 0, 18] = _t27 * (
+    _out_closure_parameters[..., 0, 18] = _t27 * (
         2 * _t3 * _t54 * a1 * crank_zero_z1 - _t53 * crank_zero_y1
     )
-    closure_parameters[..., 0, 19] = _t27 * (_t53 * crank_zero_x1 - _t57 * crank_zero_z1)
-    closure_parameters[..., 0, 20] = _t27 * (
+    _out_closure_parameters[..., 0, 19] = _t27 * (_t53 * crank_zero_x1 - _t57 * crank_zero_z1)
+    _out_closure_parameters[..., 0, 20] = _t27 * (
         2 * _t3 * _t55 * a1 * crank_zero_y1 - _t58 * crank_zero_x1
     )
-    closure_parameters[..., 0, 36] = _t27 * (
+    _out_closure_parameters[..., 0, 36] = _t27 * (
         2 * _t3 * _t50 * a1 * axis_y1 - _t56 * _t59 - _t58 * axis_z1
     )
-    closure_parameters[..., 0, 37] = _t27 * (
+    _out_closure_parameters[..., 0, 37] = _t27 * (
         2 * _t3 * _t55 * a1 * axis_z1 - _t53 * axis_x1 - _t54 * _t60
     )
-    closure_parameters[..., 0, 38] = _t27 * (
+    _out_closure_parameters[..., 0, 38] = _t27 * (
         2 * _t3 * _t54 * a1 * axis_x1 - _t50 * _t60 - _t57 * axis_y1
     )
-    closure_parameters[..., 0, 54] = _t27 * (
+    _out_closure_parameters[..., 0, 54] = _t27 * (
         _t50 * (-2 * _t41 - 2 * _t42) + _t54 * (-2 * _t29 - 2 * _t30) + _t55 * (-2 * _t2 - 2 * _t4)
     )
-    closure_parameters[..., 0, 60] = -1 - 1 / 2 * (_t50**2 + _t54**2 + _t55**2 - _t61) / _t61
-    closure_parameters[..., 0, 66] = _t27 * (_t24 * _t65 + _t32 * _t64 + _t44 * _t63)
-    closure_parameters[..., 0, 67] = _t27 * (_t38 * _t64 + _t46 * _t63 + _t65 * _t8)
-    closure_parameters[..., 0, 68] = _t27 * (_t19 * _t65 + _t35 * _t64 + _t48 * _t63)
-    closure_parameters[..., 1, 3] = _t77 * (
+    _out_closure_parameters[..., 0, 60] = -1 - 1 / 2 * (_t50**2 + _t54**2 + _t55**2 - _t61) / _t61
+    _out_closure_parameters[..., 0, 66] = _t27 * (_t24 * _t65 + _t32 * _t64 + _t44 * _t63)
+    _out_closure_parameters[..., 0, 67] = _t27 * (_t38 * _t64 + _t46 * _t63 + _t65 * _t8)
+    _out_closure_parameters[..., 0, 68] = _t27 * (_t19 * _t65 + _t35 * _t64 + _t48 * _t63)
+    _out_closure_parameters[..., 1, 3] = _t77 * (
         -_t0 + 2 * _t70 * a2 - 2 * _t72 - 2 * _t74 - 2 * _t76 + 2 * base_x2
     )
-    closure_parameters[..., 1, 4] = _t77 * (
+    _out_closure_parameters[..., 1, 4] = _t77 * (
         -_t28 + 2 * _t80 * a2 - 2 * _t81 - 2 * _t82 - 2 * _t83 + 2 * base_y2
     )
-    closure_parameters[..., 1, 5] = _t77 * (
+    _out_closure_parameters[..., 1, 5] = _t77 * (
         -_t40 + 2 * _t86 * a2 - 2 * _t87 - 2 * _t88 - 2 * _t89 + 2 * base_z2
     )
-    closure_parameters[..., 1, 21] = _t77 * (
+    _out_closure_parameters[..., 1, 21] = _t77 * (
         2 * _t68 * _t94 * a2 * crank_zero_z2 - _t93 * crank_zero_y2
     )
-    closure_parameters[..., 1, 22] = _t77 * (-_t92 * _t95 * crank_zero_z2 + _t93 * crank_zero_x2)
-    closure_parameters[..., 1, 23] = _t77 * (
+    _out_closure_parameters[..., 1, 22] = _t77 * (
+        -_t92 * _t95 * crank_zero_z2 + _t93 * crank_zero_x2
+    )
+    _out_closure_parameters[..., 1, 23] = _t77 * (
         2 * _t68 * _t95 * a2 * crank_zero_y2 - _t96 * crank_zero_x2
     )
-    closure_parameters[..., 1, 39] = _t77 * (
+    _out_closure_parameters[..., 1, 39] = _t77 * (
         2 * _t68 * _t90 * a2 * axis_y2 - _t95 * _t97 - _t96 * axis_z2
     )
-    closure_parameters[..., 1, 40] = _t77 * (
+    _out_closure_parameters[..., 1, 40] = _t77 * (
         2 * _t68 * _t95 * a2 * axis_z2 - _t93 * axis_x2 - _t94 * _t97
     )
-    closure_parameters[..., 1, 41] = _t77 * (
+    _out_closure_parameters[..., 1, 41] = _t77 * (
         2 * _t68 * _t94 * a2 * axis_x2 - _t90 * _t97 - _t92 * _t95 * axis_y2
     )
-    closure_parameters[..., 1, 55] = _t77 * (
+    _out_closure_parameters[..., 1, 55] = _t77 * (
         _t90 * (-2 * _t84 - 2 * _t85)
         + _t94 * (-2 * _t78 - 2 * _t79)
         + _t95 * (-2 * _t67 - 2 * _t69)
     )
-    closure_parameters[..., 1, 61] = -1 - 1 / 2 * (_t90**2 + _t94**2 + _t95**2 - _t98) / _t98
-    closure_parameters[..., 1, 69] = _t77 * (_t100 * _t32 + _t101 * _t24 + _t44 * _t99)
-    closure_parameters[..., 1, 70] = _t77 * (_t100 * _t38 + _t101 * _t8 + _t46 * _t99)
-    closure_parameters[..., 1, 71] = _t77 * (_t100 * _t35 + _t101 * _t19 + _t48 * _t99)
-    closure_parameters[..., 2, 6] = _t113 * (
+    _out_closure_parameters[..., 1, 61] = -1 - 1 / 2 * (_t90**2 + _t94**2 + _t95**2 - _t98) / _t98
+    _out_closure_parameters[..., 1, 69] = _t77 * (_t100 * _t32 + _t101 * _t24 + _t44 * _t99)
+    _out_closure_parameters[..., 1, 70] = _t77 * (_t100 * _t38 + _t101 * _t8 + _t46 * _t99)
+    _out_closure_parameters[..., 1, 71] = _t77 * (_t100 * _t35 + _t101 * _t19 + _t48 * _t99)
+    _out_closure_parameters[..., 2, 6] = _t113 * (
         -_t0 + 2 * _t106 * a3 - 2 * _t108 - 2 * _t110 - 2 * _t112 + 2 * base_x3
     )
-    closure_parameters[..., 2, 7] = _t113 * (
+    _out_closure_parameters[..., 2, 7] = _t113 * (
         2 * _t116 * a3 - 2 * _t117 - 2 * _t118 - 2 * _t119 - _t28 + 2 * base_y3
     )
-    closure_parameters[..., 2, 8] = _t113 * (
+    _out_closure_parameters[..., 2, 8] = _t113 * (
         2 * _t122 * a3 - 2 * _t123 - 2 * _t124 - 2 * _t125 - _t40 + 2 * base_z3
     )
-    closure_parameters[..., 2, 24] = _t113 * (
+    _out_closure_parameters[..., 2, 24] = _t113 * (
         2 * _t104 * _t130 * a3 * crank_zero_z3 - _t129 * crank_zero_y3
     )
-    closure_parameters[..., 2, 25] = _t113 * (
+    _out_closure_parameters[..., 2, 25] = _t113 * (
         -_t128 * _t131 * crank_zero_z3 + _t129 * crank_zero_x3
     )
-    closure_parameters[..., 2, 26] = _t113 * (
+    _out_closure_parameters[..., 2, 26] = _t113 * (
         2 * _t104 * _t131 * a3 * crank_zero_y3 - _t132 * crank_zero_x3
     )
-    closure_parameters[..., 2, 42] = _t113 * (
+    _out_closure_parameters[..., 2, 42] = _t113 * (
         2 * _t104 * _t126 * a3 * axis_y3 - _t131 * _t133 - _t132 * axis_z3
     )
-    closure_parameters[..., 2, 43] = _t113 * (
+    _out_closure_parameters[..., 2, 43] = _t113 * (
         2 * _t104 * _t131 * a3 * axis_z3 - _t129 * axis_x3 - _t130 * _t133
     )
-    closure_parameters[..., 2, 44] = _t113 * (
+    _out_closure_parameters[..., 2, 44] = _t113 * (
         2 * _t104 * _t130 * a3 * axis_x3 - _t126 * _t133 - _t128 * _t131 * axis_y3
     )
-    closure_parameters[..., 2, 56] = _t113 * (
+    _out_closure_parameters[..., 2, 56] = _t113 * (
         _t126 * (-2 * _t120 - 2 * _t121)
         + _t130 * (-2 * _t114 - 2 * _t115)
         + _t131 * (-2 * _t103 - 2 * _t105)
     )
-    closure_parameters[..., 2, 62] = -1 - 1 / 2 * (_t126**2 + _t130**2 + _t131**2 - _t134) / _t134
-    closure_parameters[..., 2, 72] = _t113 * (_t135 * _t44 + _t136 * _t32 + _t137 * _t24)
-    closure_parameters[..., 2, 73] = _t113 * (_t135 * _t46 + _t136 * _t38 + _t137 * _t8)
-    closure_parameters[..., 2, 74] = _t113 * (_t135 * _t48 + _t136 * _t35 + _t137 * _t19)
-    closure_parameters[..., 3, 9] = _t149 * (
+    _out_closure_parameters[..., 2, 62] = (
+        -1 - 1 / 2 * (_t126**2 + _t130**2 + _t131**2 - _t134) / _t134
+    )
+    _out_closure_parameters[..., 2, 72] = _t113 * (_t135 * _t44 + _t136 * _t32 + _t137 * _t24)
+    _out_closure_parameters[..., 2, 73] = _t113 * (_t135 * _t46 + _t136 * _t38 + _t137 * _t8)
+    _out_closure_parameters[..., 2, 74] = _t113 * (_t135 * _t48 + _t136 * _t35 + _t137 * _t19)
+    _out_closure_parameters[..., 3, 9] = _t149 * (
         -_t0 + 2 * _t142 * a4 - 2 * _t144 - 2 * _t146 - 2 * _t148 + 2 * base_x4
     )
-    closure_parameters[..., 3, 10] = _t149 * (
+    _out_closure_parameters[..., 3, 10] = _t149 * (
         2 * _t152 * a4 - 2 * _t153 - 2 * _t154 - 2 * _t155 - _t28 + 2 * base_y4
     )
-    closure_parameters[..., 3, 11] = _t149 * (
+    _out_closure_parameters[..., 3, 11] = _t149 * (
         2 * _t158 * a4 - 2 * _t159 - 2 * _t160 - 2 * _t161 - _t40 + 2 * base_z4
     )
-    closure_parameters[..., 3, 27] = _t149 * (
+    _out_closure_parameters[..., 3, 27] = _t149 * (
         2 * _t140 * _t166 * a4 * crank_zero_z4 - _t165 * crank_zero_y4
     )
-    closure_parameters[..., 3, 28] = _t149 * (
+    _out_closure_parameters[..., 3, 28] = _t149 * (
         -_t164 * _t167 * crank_zero_z4 + _t165 * crank_zero_x4
     )
-    closure_parameters[..., 3, 29] = _t149 * (
+    _out_closure_parameters[..., 3, 29] = _t149 * (
         2 * _t140 * _t167 * a4 * crank_zero_y4 - _t168 * crank_zero_x4
     )
-    closure_parameters[..., 3, 45] = _t149 * (
+    _out_closure_parameters[..., 3, 45] = _t149 * (
         2 * _t140 * _t162 * a4 * axis_y4 - _t167 * _t169 - _t168 * axis_z4
     )
-    closure_parameters[..., 3, 46] = _t149 * (
+    _out_closure_parameters[..., 3, 46] = _t149 * (
         2 * _t140 * _t167 * a4 * axis_z4 - _t165 * axis_x4 - _t166 * _t169
     )
-    closure_parameters[..., 3, 47] = _t149 * (
+    _out_closure_parameters[..., 3, 47] = _t149 * (
         2 * _t140 * _t166 * a4 * axis_x4 - _t162 * _t169 - _t164 * _t167 * axis_y4
     )
-    closure_parameters[..., 3, 57] = _t149 * (
+    _out_closure_parameters[..., 3, 57] = _t149 * (
         _t162 * (-2 * _t156 - 2 * _t157)
         + _t166 * (-2 * _t150 - 2 * _t151)
         + _t167 * (-2 * _t139 - 2 * _t141)
     )
-    closure_parameters[..., 3, 63] = -1 - 1 / 2 * (_t162**2 + _t166**2 + _t167**2 - _t170) / _t170
-    closure_parameters[..., 3, 75] = _t149 * (_t171 * _t44 + _t172 * _t32 + _t173 * _t24)
-    closure_parameters[..., 3, 76] = _t149 * (_t171 * _t46 + _t172 * _t38 + _t173 * _t8)
-    closure_parameters[..., 3, 77] = _t149 * (_t171 * _t48 + _t172 * _t35 + _t173 * _t19)
-    closure_parameters[..., 4, 12] = _t185 * (
+    _out_closure_parameters[..., 3, 63] = (
+        -1 - 1 / 2 * (_t162**2 + _t166**2 + _t167**2 - _t170) / _t170
+    )
+    _out_closure_parameters[..., 3, 75] = _t149 * (_t171 * _t44 + _t172 * _t32 + _t173 * _t24)
+    _out_closure_parameters[..., 3, 76] = _t149 * (_t171 * _t46 + _t172 * _t38 + _t173 * _t8)
+    _out_closure_parameters[..., 3, 77] = _t149 * (_t171 * _t48 + _t172 * _t35 + _t173 * _t19)
+    _out_closure_parameters[..., 4, 12] = _t185 * (
         -_t0 + 2 * _t178 * a5 - 2 * _t180 - 2 * _t182 - 2 * _t184 + 2 * base_x5
     )
-    closure_parameters[..., 4, 13] = _t185 * (
+    _out_closure_parameters[..., 4, 13] = _t185 * (
         2 * _t188 * a5 - 2 * _t189 - 2 * _t190 - 2 * _t191 - _t28 + 2 * base_y5
     )
-    closure_parameters[..., 4, 14] = _t185 * (
+    _out_closure_parameters[..., 4, 14] = _t185 * (
         2 * _t194 * a5 - 2 * _t195 - 2 * _t196 - 2 * _t197 - _t40 + 2 * base_z5
     )
-    closure_parameters[..., 4, 30] = _t185 * (
+    _out_closure_parameters[..., 4, 30] = _t185 * (
         2 * _t176 * _t202 * a5 * crank_zero_z5 - _t201 * crank_zero_y5
     )
-    closure_parameters[..., 4, 31] = _t185 * (
+    _out_closure_parameters[..., 4, 31] = _t185 * (
         -_t200 * _t203 * crank_zero_z5 + _t201 * crank_zero_x5
     )
-    closure_parameters[..., 4, 32] = _t185 * (
+    _out_closure_parameters[..., 4, 32] = _t185 * (
         2 * _t176 * _t203 * a5 * crank_zero_y5 - _t204 * crank_zero_x5
     )
-    closure_parameters[..., 4, 48] = _t185 * (
+    _out_closure_parameters[..., 4, 48] = _t185 * (
         2 * _t176 * _t198 * a5 * axis_y5 - _t203 * _t205 - _t204 * axis_z5
     )
-    closure_parameters[..., 4, 49] = _t185 * (
+    _out_closure_parameters[..., 4, 49] = _t185 * (
         2 * _t176 * _t203 * a5 * axis_z5 - _t201 * axis_x5 - _t202 * _t205
     )
-    closure_parameters[..., 4, 50] = _t185 * (
+    _out_closure_parameters[..., 4, 50] = _t185 * (
         2 * _t176 * _t202 * a5 * axis_x5 - _t198 * _t205 - _t200 * _t203 * axis_y5
     )
-    closure_parameters[..., 4, 58] = _t185 * (
+    _out_closure_parameters[..., 4, 58] = _t185 * (
         _t198 * (-2 * _t192 - 2 * _t193)
         + _t202 * (-2 * _t186 - 2 * _t187)
         + _t203 * (-2 * _t175 - 2 * _t177)
     )
-    closure_parameters[..., 4, 64] = -1 - 1 / 2 * (_t198**2 + _t202**2 + _t203**2 - _t206) / _t206
-    closure_parameters[..., 4, 78] = _t185 * (_t207 * _t44 + _t208 * _t32 + _t209 * _t24)
-    closure_parameters[..., 4, 79] = _t185 * (_t207 * _t46 + _t208 * _t38 + _t209 * _t8)
-    closure_parameters[..., 4, 80] = _t185 * (_t19 * _t209 + _t207 * _t48 + _t208 * _t35)
-    closure_parameters[..., 5, 15] = _t221 * (
+    _out_closure_parameters[..., 4, 64] = (
+        -1 - 1 / 2 * (_t198**2 + _t202**2 + _t203**2 - _t206) / _t206
+    )
+    _out_closure_parameters[..., 4, 78] = _t185 * (_t207 * _t44 + _t208 * _t32 + _t209 * _t24)
+    _out_closure_parameters[..., 4, 79] = _t185 * (_t207 * _t46 + _t208 * _t38 + _t209 * _t8)
+    _out_closure_parameters[..., 4, 80] = _t185 * (_t19 * _t209 + _t207 * _t48 + _t208 * _t35)
+    _out_closure_parameters[..., 5, 15] = _t221 * (
         -_t0 + 2 * _t214 * a6 - 2 * _t216 - 2 * _t218 - 2 * _t220 + 2 * base_x6
     )
-    closure_parameters[..., 5, 16] = _t221 * (
+    _out_closure_parameters[..., 5, 16] = _t221 * (
         2 * _t224 * a6 - 2 * _t225 - 2 * _t226 - 2 * _t227 - _t28 + 2 * base_y6
     )
-    closure_parameters[..., 5, 17] = _t221 * (
+    _out_closure_parameters[..., 5, 17] = _t221 * (
         2 * _t230 * a6 - 2 * _t231 - 2 * _t232 - 2 * _t233 - _t40 + 2 * base_z6
     )
-    closure_parameters[..., 5, 33] = _t221 * (
+    _out_closure_parameters[..., 5, 33] = _t221 * (
         2 * _t212 * _t238 * a6 * crank_zero_z6 - _t237 * crank_zero_y6
     )
-    closure_parameters[..., 5, 34] = _t221 * (
+    _out_closure_parameters[..., 5, 34] = _t221 * (
         -_t236 * _t239 * crank_zero_z6 + _t237 * crank_zero_x6
     )
-    closure_parameters[..., 5, 35] = _t221 * (
+    _out_closure_parameters[..., 5, 35] = _t221 * (
         2 * _t212 * _t239 * a6 * crank_zero_y6 - _t240 * crank_zero_x6
     )
-    closure_parameters[..., 5, 51] = _t221 * (
+    _out_closure_parameters[..., 5, 51] = _t221 * (
         2 * _t212 * _t234 * a6 * axis_y6 - _t239 * _t241 - _t240 * axis_z6
     )
-    closure_parameters[..., 5, 52] = _t221 * (
+    _out_closure_parameters[..., 5, 52] = _t221 * (
         2 * _t212 * _t239 * a6 * axis_z6 - _t237 * axis_x6 - _t238 * _t241
     )
-    closure_parameters[..., 5, 53] = _t221 * (
+    _out_closure_parameters[..., 5, 53] = _t221 * (
         2 * _t212 * _t238 * a6 * axis_x6 - _t234 * _t241 - _t236 * _t239 * axis_y6
     )
-    closure_parameters[..., 5, 59] = _t221 * (
+    _out_closure_parameters[..., 5, 59] = _t221 * (
         _t234 * (-2 * _t228 - 2 * _t229)
         + _t238 * (-2 * _t222 - 2 * _t223)
         + _t239 * (-2 * _t211 - 2 * _t213)
     )
-    closure_parameters[..., 5, 65] = -1 - 1 / 2 * (_t234**2 + _t238**2 + _t239**2 - _t242) / _t242
-    closure_parameters[..., 5, 81] = _t221 * (_t24 * _t245 + _t243 * _t44 + _t244 * _t32)
-    closure_parameters[..., 5, 82] = _t221 * (_t243 * _t46 + _t244 * _t38 + _t245 * _t8)
-    closure_parameters[..., 5, 83] = _t221 * (_t19 * _t245 + _t243 * _t48 + _t244 * _t35)
-    pose_parameters = numpy.zeros(shape + (12, 84))
+    _out_closure_parameters[..., 5, 65] = (
+        -1 - 1 / 2 * (_t234**2 + _t238**2 + _t239**2 - _t242) / _t242
+    )
+    _out_closure_parameters[..., 5, 81] = _t221 * (_t24 * _t245 + _t243 * _t44 + _t244 * _t32)
+    _out_closure_parameters[..., 5, 82] = _t221 * (_t243 * _t46 + _t244 * _t38 + _t245 * _t8)
+    _out_closure_parameters[..., 5, 83] = _t221 * (_t19 * _t245 + _t243 * _t48 + _t244 * _t35)
+    _out_pose_parameters = numpy.zeros(_shape + (12, 84))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -2017,102 +2054,103 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 1080.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = numpy.cos(theta1)
     _t1 = numpy.sin(theta1)
     _t2 = _t0 * crank_zero_z1 + _t1 * (axis_x1 * crank_zero_y1 - axis_y1 * crank_zero_x1)
@@ -2483,20 +2521,20 @@ def singularity_factors(actuated, passive, params):
             - _t243 * (_t204 * _t214 + _t207 * _t263)
         )
     ) / _t9**6
-    factors = numpy.zeros(shape + (7,))
-    factors[..., 0] = _t42
-    factors[..., 1] = _t61
-    factors[..., 2] = _t80
-    factors[..., 3] = _t99
-    factors[..., 4] = _t118
-    factors[..., 5] = _t137
-    factors[..., 6] = _t264
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t264
-    determinants[..., 1] = _t118 * _t137 * _t42 * _t61 * _t80 * _t99
+    _out_factors = numpy.zeros(_shape + (7,))
+    _out_factors[..., 0] = _t42
+    _out_factors[..., 1] = _t61
+    _out_factors[..., 2] = _t80
+    _out_factors[..., 3] = _t99
+    _out_factors[..., 4] = _t118
+    _out_factors[..., 5] = _t137
+    _out_factors[..., 6] = _t264
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t264
+    _out_determinants[..., 1] = _t118 * _t137 * _t42 * _t61 * _t80 * _t99
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -2505,102 +2543,103 @@ def drawing(actuated, passive, params):
 
     Operations: 311.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    x = passive[..., 0]
-    y = passive[..., 1]
-    z = passive[..., 2]
-    q0 = passive[..., 3]
-    q1 = passive[..., 4]
-    q2 = passive[..., 5]
-    q3 = passive[..., 6]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    x = _in_passive[..., 0]
+    y = _in_passive[..., 1]
+    z = _in_passive[..., 2]
+    q0 = _in_passive[..., 3]
+    q1 = _in_passive[..., 4]
+    q2 = _in_passive[..., 5]
+    q3 = _in_passive[..., 6]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     _t0 = numpy.cos(theta1)
     _t1 = numpy.sin(theta1)
     _t2 = numpy.cos(theta2)
@@ -2636,121 +2675,121 @@ def drawing(actuated, passive, params):
     _t32 = _t17 * (-_t21 + 2 * q1 * q3)
     _t33 = _t17 * (_t28 + 2 * q2 * q3)
     _t34 = _t17 * (_t13 + _t24 + _t30)
-    base = numpy.zeros(shape + (3, 6))
-    base[..., 0, 0] = base_x1
-    base[..., 0, 1] = base_x2
-    base[..., 0, 2] = base_x3
-    base[..., 0, 3] = base_x4
-    base[..., 0, 4] = base_x5
-    base[..., 0, 5] = base_x6
-    base[..., 1, 0] = base_y1
-    base[..., 1, 1] = base_y2
-    base[..., 1, 2] = base_y3
-    base[..., 1, 3] = base_y4
-    base[..., 1, 4] = base_y5
-    base[..., 1, 5] = base_y6
-    base[..., 2, 0] = base_z1
-    base[..., 2, 1] = base_z2
-    base[..., 2, 2] = base_z3
-    base[..., 2, 3] = base_z4
-    base[..., 2, 4] = base_z5
-    base[..., 2, 5] = base_z6
-    elbow = numpy.zeros(shape + (3, 6))
-    elbow[..., 0, 0] = (
+    _out_base = numpy.zeros(_shape + (3, 6))
+    _out_base[..., 0, 0] = base_x1
+    _out_base[..., 0, 1] = base_x2
+    _out_base[..., 0, 2] = base_x3
+    _out_base[..., 0, 3] = base_x4
+    _out_base[..., 0, 4] = base_x5
+    _out_base[..., 0, 5] = base_x6
+    _out_base[..., 1, 0] = base_y1
+    _out_base[..., 1, 1] = base_y2
+    _out_base[..., 1, 2] = base_y3
+    _out_base[..., 1, 3] = base_y4
+    _out_base[..., 1, 4] = base_y5
+    _out_base[..., 1, 5] = base_y6
+    _out_base[..., 2, 0] = base_z1
+    _out_base[..., 2, 1] = base_z2
+    _out_base[..., 2, 2] = base_z3
+    _out_base[..., 2, 3] = base_z4
+    _out_base[..., 2, 4] = base_z5
+    _out_base[..., 2, 5] = base_z6
+    _out_elbow = numpy.zeros(_shape + (3, 6))
+    _out_elbow[..., 0, 0] = (
         a1 * (_t0 * crank_zero_x1 + _t1 * (axis_y1 * crank_zero_z1 - axis_z1 * crank_zero_y1))
         + base_x1
     )
-    elbow[..., 0, 1] = (
+    _out_elbow[..., 0, 1] = (
         a2 * (_t2 * crank_zero_x2 + _t3 * (axis_y2 * crank_zero_z2 - axis_z2 * crank_zero_y2))
         + base_x2
     )
-    elbow[..., 0, 2] = (
+    _out_elbow[..., 0, 2] = (
         a3 * (_t4 * crank_zero_x3 + _t5 * (axis_y3 * crank_zero_z3 - axis_z3 * crank_zero_y3))
         + base_x3
     )
-    elbow[..., 0, 3] = (
+    _out_elbow[..., 0, 3] = (
         a4 * (_t6 * crank_zero_x4 + _t7 * (axis_y4 * crank_zero_z4 - axis_z4 * crank_zero_y4))
         + base_x4
     )
-    elbow[..., 0, 4] = (
+    _out_elbow[..., 0, 4] = (
         a5 * (_t8 * crank_zero_x5 + _t9 * (axis_y5 * crank_zero_z5 - axis_z5 * crank_zero_y5))
         + base_x5
     )
-    elbow[..., 0, 5] = (
+    _out_elbow[..., 0, 5] = (
         a6 * (_t10 * crank_zero_x6 + _t11 * (axis_y6 * crank_zero_z6 - axis_z6 * crank_zero_y6))
         + base_x6
     )
-    elbow[..., 1, 0] = (
+    _out_elbow[..., 1, 0] = (
         a1 * (_t0 * crank_zero_y1 + _t1 * (-axis_x1 * crank_zero_z1 + axis_z1 * crank_zero_x1))
         + base_y1
     )
-    elbow[..., 1, 1] = (
+    _out_elbow[..., 1, 1] = (
         a2 * (_t2 * crank_zero_y2 + _t3 * (-axis_x2 * crank_zero_z2 + axis_z2 * crank_zero_x2))
         + base_y2
     )
-    elbow[..., 1, 2] = (
+    _out_elbow[..., 1, 2] = (
         a3 * (_t4 * crank_zero_y3 + _t5 * (-axis_x3 * crank_zero_z3 + axis_z3 * crank_zero_x3))
         + base_y3
     )
-    elbow[..., 1, 3] = (
+    _out_elbow[..., 1, 3] = (
         a4 * (_t6 * crank_zero_y4 + _t7 * (-axis_x4 * crank_zero_z4 + axis_z4 * crank_zero_x4))
         + base_y4
     )
-    elbow[..., 1, 4] = (
+    _out_elbow[..., 1, 4] = (
         a5 * (_t8 * crank_zero_y5 + _t9 * (-axis_x5 * crank_zero_z5 + axis_z5 * crank_zero_x5))
         + base_y5
     )
-    elbow[..., 1, 5] = (
+    _out_elbow[..., 1, 5] = (
         a6 * (_t10 * crank_zero_y6 + _t11 * (-axis_x6 * crank_zero_z6 + axis_z6 * crank_zero_x6))
         + base_y6
     )
-    elbow[..., 2, 0] = (
+    _out_elbow[..., 2, 0] = (
         a1 * (_t0 * crank_zero_z1 + _t1 * (axis_x1 * crank_zero_y1 - axis_y1 * crank_zero_x1))
         + base_z1
     )
-    elbow[..., 2, 1] = (
+    _out_elbow[..., 2, 1] = (
         a2 * (_t2 * crank_zero_z2 + _t3 * (axis_x2 * crank_zero_y2 - axis_y2 * crank_zero_x2))
         + base_z2
     )
-    elbow[..., 2, 2] = (
+    _out_elbow[..., 2, 2] = (
         a3 * (_t4 * crank_zero_z3 + _t5 * (axis_x3 * crank_zero_y3 - axis_y3 * crank_zero_x3))
         + base_z3
     )
-    elbow[..., 2, 3] = (
+    _out_elbow[..., 2, 3] = (
         a4 * (_t6 * crank_zero_z4 + _t7 * (axis_x4 * crank_zero_y4 - axis_y4 * crank_zero_x4))
         + base_z4
     )
-    elbow[..., 2, 4] = (
+    _out_elbow[..., 2, 4] = (
         a5 * (_t8 * crank_zero_z5 + _t9 * (axis_x5 * crank_zero_y5 - axis_y5 * crank_zero_x5))
         + base_z5
     )
-    elbow[..., 2, 5] = (
+    _out_elbow[..., 2, 5] = (
         a6 * (_t10 * crank_zero_z6 + _t11 * (axis_x6 * crank_zero_y6 - axis_y6 * crank_zero_x6))
         + base_z6
     )
-    platform = numpy.zeros(shape + (3, 6))
-    platform[..., 0, 0] = _t20 * platform_y1 + _t23 * platform_z1 + _t26 * platform_x1 + x
-    platform[..., 0, 1] = _t20 * platform_y2 + _t23 * platform_z2 + _t26 * platform_x2 + x
-    platform[..., 0, 2] = _t20 * platform_y3 + _t23 * platform_z3 + _t26 * platform_x3 + x
-    platform[..., 0, 3] = _t20 * platform_y4 + _t23 * platform_z4 + _t26 * platform_x4 + x
-    platform[..., 0, 4] = _t20 * platform_y5 + _t23 * platform_z5 + _t26 * platform_x5 + x
-    platform[..., 0, 5] = _t20 * platform_y6 + _t23 * platform_z6 + _t26 * platform_x6 + x
-    platform[..., 1, 0] = _t27 * platform_x1 + _t29 * platform_z1 + _t31 * platform_y1 + y
-    platform[..., 1, 1] = _t27 * platform_x2 + _t29 * platform_z2 + _t31 * platform_y2 + y
-    platform[..., 1, 2] = _t27 * platform_x3 + _t29 * platform_z3 + _t31 * platform_y3 + y
-    platform[..., 1, 3] = _t27 * platform_x4 + _t29 * platform_z4 + _t31 * platform_y4 + y
-    platform[..., 1, 4] = _t27 * platform_x5 + _t29 * platform_z5 + _t31 * platform_y5 + y
-    platform[..., 1, 5] = _t27 * platform_x6 + _t29 * platform_z6 + _t31 * platform_y6 + y
-    platform[..., 2, 0] = _t32 * platform_x1 + _t33 * platform_y1 + _t34 * platform_z1 + z
-    platform[..., 2, 1] = _t32 * platform_x2 + _t33 * platform_y2 + _t34 * platform_z2 + z
-    platform[..., 2, 2] = _t32 * platform_x3 + _t33 * platform_y3 + _t34 * platform_z3 + z
-    platform[..., 2, 3] = _t32 * platform_x4 + _t33 * platform_y4 + _t34 * platform_z4 + z
-    platform[..., 2, 4] = _t32 * platform_x5 + _t33 * platform_y5 + _t34 * platform_z5 + z
-    platform[..., 2, 5] = _t32 * platform_x6 + _t33 * platform_y6 + _t34 * platform_z6 + z
+    _out_platform = numpy.zeros(_shape + (3, 6))
+    _out_platform[..., 0, 0] = _t20 * platform_y1 + _t23 * platform_z1 + _t26 * platform_x1 + x
+    _out_platform[..., 0, 1] = _t20 * platform_y2 + _t23 * platform_z2 + _t26 * platform_x2 + x
+    _out_platform[..., 0, 2] = _t20 * platform_y3 + _t23 * platform_z3 + _t26 * platform_x3 + x
+    _out_platform[..., 0, 3] = _t20 * platform_y4 + _t23 * platform_z4 + _t26 * platform_x4 + x
+    _out_platform[..., 0, 4] = _t20 * platform_y5 + _t23 * platform_z5 + _t26 * platform_x5 + x
+    _out_platform[..., 0, 5] = _t20 * platform_y6 + _t23 * platform_z6 + _t26 * platform_x6 + x
+    _out_platform[..., 1, 0] = _t27 * platform_x1 + _t29 * platform_z1 + _t31 * platform_y1 + y
+    _out_platform[..., 1, 1] = _t27 * platform_x2 + _t29 * platform_z2 + _t31 * platform_y2 + y
+    _out_platform[..., 1, 2] = _t27 * platform_x3 + _t29 * platform_z3 + _t31 * platform_y3 + y
+    _out_platform[..., 1, 3] = _t27 * platform_x4 + _t29 * platform_z4 + _t31 * platform_y4 + y
+    _out_platform[..., 1, 4] = _t27 * platform_x5 + _t29 * platform_z5 + _t31 * platform_y5 + y
+    _out_platform[..., 1, 5] = _t27 * platform_x6 + _t29 * platform_z6 + _t31 * platform_y6 + y
+    _out_platform[..., 2, 0] = _t32 * platform_x1 + _t33 * platform_y1 + _t34 * platform_z1 + z
+    _out_platform[..., 2, 1] = _t32 * platform_x2 + _t33 * platform_y2 + _t34 * platform_z2 + z
+    _out_platform[..., 2, 2] = _t32 * platform_x3 + _t33 * platform_y3 + _t34 * platform_z3 + z
+    _out_platform[..., 2, 3] = _t32 * platform_x4 + _t33 * platform_y4 + _t34 * platform_z4 + z
+    _out_platform[..., 2, 4] = _t32 * platform_x5 + _t33 * platform_y5 + _t34 * platform_z5 + z
+    _out_platform[..., 2, 5] = _t32 * platform_x6 + _t33 * platform_y6 + _t34 * platform_z6 + z
     return {
-        "base": base,
-        "elbow": elbow,
-        "platform": platform,
+        "base": _out_base,
+        "elbow": _out_elbow,
+        "platform": _out_platform,
     }
 
 
@@ -2759,113 +2798,114 @@ def inverse_pose(pose, branch, params):
 
     Operations: 1061.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r21 = pose[..., 3]
-    r22 = pose[..., 4]
-    r23 = pose[..., 5]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    px = pose[..., 9]
-    py = pose[..., 10]
-    pz = pose[..., 11]
-    sigma1 = branch[..., 0]
-    sigma2 = branch[..., 1]
-    sigma3 = branch[..., 2]
-    sigma4 = branch[..., 3]
-    sigma5 = branch[..., 4]
-    sigma6 = branch[..., 5]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    b1 = params[..., 60]
-    b2 = params[..., 61]
-    b3 = params[..., 62]
-    b4 = params[..., 63]
-    b5 = params[..., 64]
-    b6 = params[..., 65]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r21 = _in_pose[..., 3]
+    r22 = _in_pose[..., 4]
+    r23 = _in_pose[..., 5]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    px = _in_pose[..., 9]
+    py = _in_pose[..., 10]
+    pz = _in_pose[..., 11]
+    sigma1 = _in_branch[..., 0]
+    sigma2 = _in_branch[..., 1]
+    sigma3 = _in_branch[..., 2]
+    sigma4 = _in_branch[..., 3]
+    sigma5 = _in_branch[..., 4]
+    sigma6 = _in_branch[..., 5]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    b1 = _in_params[..., 60]
+    b2 = _in_params[..., 61]
+    b3 = _in_params[..., 62]
+    b4 = _in_params[..., 63]
+    b5 = _in_params[..., 64]
+    b6 = _in_params[..., 65]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
     E1 = (
         -2
         * a1
@@ -3250,32 +3290,32 @@ def inverse_pose(pose, branch, params):
     _t77 = E5**2 + F5**2
     _t78 = G6**2
     _t79 = E6**2 + F6**2
-    actuated = numpy.zeros(shape + (6,))
-    actuated[..., 0] = theta1
-    actuated[..., 1] = theta2
-    actuated[..., 2] = theta3
-    actuated[..., 3] = theta4
-    actuated[..., 4] = theta5
-    actuated[..., 5] = theta6
-    passive = numpy.zeros(shape + (7,))
-    passive[..., 0] = x
-    passive[..., 1] = y
-    passive[..., 2] = z
-    passive[..., 3] = q0
-    passive[..., 4] = q1
-    passive[..., 5] = q2
-    passive[..., 6] = q3
-    validity = numpy.zeros(shape + (6,))
-    validity[..., 0] = (-_t68 + _t69) / (_t68 + _t69)
-    validity[..., 1] = (-_t70 + _t71) / (_t70 + _t71)
-    validity[..., 2] = (-_t72 + _t73) / (_t72 + _t73)
-    validity[..., 3] = (-_t74 + _t75) / (_t74 + _t75)
-    validity[..., 4] = (-_t76 + _t77) / (_t76 + _t77)
-    validity[..., 5] = (-_t78 + _t79) / (_t78 + _t79)
+    _out_actuated = numpy.zeros(_shape + (6,))
+    _out_actuated[..., 0] = theta1
+    _out_actuated[..., 1] = theta2
+    _out_actuated[..., 2] = theta3
+    _out_actuated[..., 3] = theta4
+    _out_actuated[..., 4] = theta5
+    _out_actuated[..., 5] = theta6
+    _out_passive = numpy.zeros(_shape + (7,))
+    _out_passive[..., 0] = x
+    _out_passive[..., 1] = y
+    _out_passive[..., 2] = z
+    _out_passive[..., 3] = q0
+    _out_passive[..., 4] = q1
+    _out_passive[..., 5] = q2
+    _out_passive[..., 6] = q3
+    _out_validity = numpy.zeros(_shape + (6,))
+    _out_validity[..., 0] = (-_t68 + _t69) / (_t68 + _t69)
+    _out_validity[..., 1] = (-_t70 + _t71) / (_t70 + _t71)
+    _out_validity[..., 2] = (-_t72 + _t73) / (_t72 + _t73)
+    _out_validity[..., 3] = (-_t74 + _t75) / (_t74 + _t75)
+    _out_validity[..., 4] = (-_t76 + _t77) / (_t76 + _t77)
+    _out_validity[..., 5] = (-_t78 + _t79) / (_t78 + _t79)
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -3284,195 +3324,196 @@ def automatic_family(actuated, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    theta4 = actuated[..., 3]
-    theta5 = actuated[..., 4]
-    theta6 = actuated[..., 5]
-    base_x1 = params[..., 0]
-    base_y1 = params[..., 1]
-    base_z1 = params[..., 2]
-    base_x2 = params[..., 3]
-    base_y2 = params[..., 4]
-    base_z2 = params[..., 5]
-    base_x3 = params[..., 6]
-    base_y3 = params[..., 7]
-    base_z3 = params[..., 8]
-    base_x4 = params[..., 9]
-    base_y4 = params[..., 10]
-    base_z4 = params[..., 11]
-    base_x5 = params[..., 12]
-    base_y5 = params[..., 13]
-    base_z5 = params[..., 14]
-    base_x6 = params[..., 15]
-    base_y6 = params[..., 16]
-    base_z6 = params[..., 17]
-    axis_x1 = params[..., 18]
-    axis_y1 = params[..., 19]
-    axis_z1 = params[..., 20]
-    axis_x2 = params[..., 21]
-    axis_y2 = params[..., 22]
-    axis_z2 = params[..., 23]
-    axis_x3 = params[..., 24]
-    axis_y3 = params[..., 25]
-    axis_z3 = params[..., 26]
-    axis_x4 = params[..., 27]
-    axis_y4 = params[..., 28]
-    axis_z4 = params[..., 29]
-    axis_x5 = params[..., 30]
-    axis_y5 = params[..., 31]
-    axis_z5 = params[..., 32]
-    axis_x6 = params[..., 33]
-    axis_y6 = params[..., 34]
-    axis_z6 = params[..., 35]
-    crank_zero_x1 = params[..., 36]
-    crank_zero_y1 = params[..., 37]
-    crank_zero_z1 = params[..., 38]
-    crank_zero_x2 = params[..., 39]
-    crank_zero_y2 = params[..., 40]
-    crank_zero_z2 = params[..., 41]
-    crank_zero_x3 = params[..., 42]
-    crank_zero_y3 = params[..., 43]
-    crank_zero_z3 = params[..., 44]
-    crank_zero_x4 = params[..., 45]
-    crank_zero_y4 = params[..., 46]
-    crank_zero_z4 = params[..., 47]
-    crank_zero_x5 = params[..., 48]
-    crank_zero_y5 = params[..., 49]
-    crank_zero_z5 = params[..., 50]
-    crank_zero_x6 = params[..., 51]
-    crank_zero_y6 = params[..., 52]
-    crank_zero_z6 = params[..., 53]
-    a1 = params[..., 54]
-    a2 = params[..., 55]
-    a3 = params[..., 56]
-    a4 = params[..., 57]
-    a5 = params[..., 58]
-    a6 = params[..., 59]
-    b1 = params[..., 60]
-    b2 = params[..., 61]
-    b3 = params[..., 62]
-    b4 = params[..., 63]
-    b5 = params[..., 64]
-    b6 = params[..., 65]
-    platform_x1 = params[..., 66]
-    platform_y1 = params[..., 67]
-    platform_z1 = params[..., 68]
-    platform_x2 = params[..., 69]
-    platform_y2 = params[..., 70]
-    platform_z2 = params[..., 71]
-    platform_x3 = params[..., 72]
-    platform_y3 = params[..., 73]
-    platform_z3 = params[..., 74]
-    platform_x4 = params[..., 75]
-    platform_y4 = params[..., 76]
-    platform_z4 = params[..., 77]
-    platform_x5 = params[..., 78]
-    platform_y5 = params[..., 79]
-    platform_z5 = params[..., 80]
-    platform_x6 = params[..., 81]
-    platform_y6 = params[..., 82]
-    platform_z6 = params[..., 83]
-    free = numpy.zeros(shape + (84,))
-    free[..., 0] = base_x1
-    free[..., 1] = base_y1
-    free[..., 2] = base_z1
-    free[..., 3] = base_x2
-    free[..., 4] = base_y2
-    free[..., 5] = base_z2
-    free[..., 6] = base_x3
-    free[..., 7] = base_y3
-    free[..., 8] = base_z3
-    free[..., 9] = base_x4
-    free[..., 10] = base_y4
-    free[..., 11] = base_z4
-    free[..., 12] = base_x5
-    free[..., 13] = base_y5
-    free[..., 14] = base_z5
-    free[..., 15] = base_x6
-    free[..., 16] = base_y6
-    free[..., 17] = base_z6
-    free[..., 18] = axis_x1
-    free[..., 19] = axis_y1
-    free[..., 20] = axis_z1
-    free[..., 21] = axis_x2
-    free[..., 22] = axis_y2
-    free[..., 23] = axis_z2
-    free[..., 24] = axis_x3
-    free[..., 25] = axis_y3
-    free[..., 26] = axis_z3
-    free[..., 27] = axis_x4
-    free[..., 28] = axis_y4
-    free[..., 29] = axis_z4
-    free[..., 30] = axis_x5
-    free[..., 31] = axis_y5
-    free[..., 32] = axis_z5
-    free[..., 33] = axis_x6
-    free[..., 34] = axis_y6
-    free[..., 35] = axis_z6
-    free[..., 36] = crank_zero_x1
-    free[..., 37] = crank_zero_y1
-    free[..., 38] = crank_zero_z1
-    free[..., 39] = crank_zero_x2
-    free[..., 40] = crank_zero_y2
-    free[..., 41] = crank_zero_z2
-    free[..., 42] = crank_zero_x3
-    free[..., 43] = crank_zero_y3
-    free[..., 44] = crank_zero_z3
-    free[..., 45] = crank_zero_x4
-    free[..., 46] = crank_zero_y4
-    free[..., 47] = crank_zero_z4
-    free[..., 48] = crank_zero_x5
-    free[..., 49] = crank_zero_y5
-    free[..., 50] = crank_zero_z5
-    free[..., 51] = crank_zero_x6
-    free[..., 52] = crank_zero_y6
-    free[..., 53] = crank_zero_z6
-    free[..., 54] = a1
-    free[..., 55] = a2
-    free[..., 56] = a3
-    free[..., 57] = a4
-    free[..., 58] = a5
-    free[..., 59] = a6
-    free[..., 60] = b1
-    free[..., 61] = b2
-    free[..., 62] = b3
-    free[..., 63] = b4
-    free[..., 64] = b5
-    free[..., 65] = b6
-    free[..., 66] = platform_x1
-    free[..., 67] = platform_y1
-    free[..., 68] = platform_z1
-    free[..., 69] = platform_x2
-    free[..., 70] = platform_y2
-    free[..., 71] = platform_z2
-    free[..., 72] = platform_x3
-    free[..., 73] = platform_y3
-    free[..., 74] = platform_z3
-    free[..., 75] = platform_x4
-    free[..., 76] = platform_y4
-    free[..., 77] = platform_z4
-    free[..., 78] = platform_x5
-    free[..., 79] = platform_y5
-    free[..., 80] = platform_z5
-    free[..., 81] = platform_x6
-    free[..., 82] = platform_y6
-    free[..., 83] = platform_z6
-    angles = numpy.zeros(shape + (6,))
-    angles[..., 0] = theta1
-    angles[..., 1] = theta2
-    angles[..., 2] = theta3
-    angles[..., 3] = theta4
-    angles[..., 4] = theta5
-    angles[..., 5] = theta6
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    theta4 = _in_actuated[..., 3]
+    theta5 = _in_actuated[..., 4]
+    theta6 = _in_actuated[..., 5]
+    base_x1 = _in_params[..., 0]
+    base_y1 = _in_params[..., 1]
+    base_z1 = _in_params[..., 2]
+    base_x2 = _in_params[..., 3]
+    base_y2 = _in_params[..., 4]
+    base_z2 = _in_params[..., 5]
+    base_x3 = _in_params[..., 6]
+    base_y3 = _in_params[..., 7]
+    base_z3 = _in_params[..., 8]
+    base_x4 = _in_params[..., 9]
+    base_y4 = _in_params[..., 10]
+    base_z4 = _in_params[..., 11]
+    base_x5 = _in_params[..., 12]
+    base_y5 = _in_params[..., 13]
+    base_z5 = _in_params[..., 14]
+    base_x6 = _in_params[..., 15]
+    base_y6 = _in_params[..., 16]
+    base_z6 = _in_params[..., 17]
+    axis_x1 = _in_params[..., 18]
+    axis_y1 = _in_params[..., 19]
+    axis_z1 = _in_params[..., 20]
+    axis_x2 = _in_params[..., 21]
+    axis_y2 = _in_params[..., 22]
+    axis_z2 = _in_params[..., 23]
+    axis_x3 = _in_params[..., 24]
+    axis_y3 = _in_params[..., 25]
+    axis_z3 = _in_params[..., 26]
+    axis_x4 = _in_params[..., 27]
+    axis_y4 = _in_params[..., 28]
+    axis_z4 = _in_params[..., 29]
+    axis_x5 = _in_params[..., 30]
+    axis_y5 = _in_params[..., 31]
+    axis_z5 = _in_params[..., 32]
+    axis_x6 = _in_params[..., 33]
+    axis_y6 = _in_params[..., 34]
+    axis_z6 = _in_params[..., 35]
+    crank_zero_x1 = _in_params[..., 36]
+    crank_zero_y1 = _in_params[..., 37]
+    crank_zero_z1 = _in_params[..., 38]
+    crank_zero_x2 = _in_params[..., 39]
+    crank_zero_y2 = _in_params[..., 40]
+    crank_zero_z2 = _in_params[..., 41]
+    crank_zero_x3 = _in_params[..., 42]
+    crank_zero_y3 = _in_params[..., 43]
+    crank_zero_z3 = _in_params[..., 44]
+    crank_zero_x4 = _in_params[..., 45]
+    crank_zero_y4 = _in_params[..., 46]
+    crank_zero_z4 = _in_params[..., 47]
+    crank_zero_x5 = _in_params[..., 48]
+    crank_zero_y5 = _in_params[..., 49]
+    crank_zero_z5 = _in_params[..., 50]
+    crank_zero_x6 = _in_params[..., 51]
+    crank_zero_y6 = _in_params[..., 52]
+    crank_zero_z6 = _in_params[..., 53]
+    a1 = _in_params[..., 54]
+    a2 = _in_params[..., 55]
+    a3 = _in_params[..., 56]
+    a4 = _in_params[..., 57]
+    a5 = _in_params[..., 58]
+    a6 = _in_params[..., 59]
+    b1 = _in_params[..., 60]
+    b2 = _in_params[..., 61]
+    b3 = _in_params[..., 62]
+    b4 = _in_params[..., 63]
+    b5 = _in_params[..., 64]
+    b6 = _in_params[..., 65]
+    platform_x1 = _in_params[..., 66]
+    platform_y1 = _in_params[..., 67]
+    platform_z1 = _in_params[..., 68]
+    platform_x2 = _in_params[..., 69]
+    platform_y2 = _in_params[..., 70]
+    platform_z2 = _in_params[..., 71]
+    platform_x3 = _in_params[..., 72]
+    platform_y3 = _in_params[..., 73]
+    platform_z3 = _in_params[..., 74]
+    platform_x4 = _in_params[..., 75]
+    platform_y4 = _in_params[..., 76]
+    platform_z4 = _in_params[..., 77]
+    platform_x5 = _in_params[..., 78]
+    platform_y5 = _in_params[..., 79]
+    platform_z5 = _in_params[..., 80]
+    platform_x6 = _in_params[..., 81]
+    platform_y6 = _in_params[..., 82]
+    platform_z6 = _in_params[..., 83]
+    _out_free = numpy.zeros(_shape + (84,))
+    _out_free[..., 0] = base_x1
+    _out_free[..., 1] = base_y1
+    _out_free[..., 2] = base_z1
+    _out_free[..., 3] = base_x2
+    _out_free[..., 4] = base_y2
+    _out_free[..., 5] = base_z2
+    _out_free[..., 6] = base_x3
+    _out_free[..., 7] = base_y3
+    _out_free[..., 8] = base_z3
+    _out_free[..., 9] = base_x4
+    _out_free[..., 10] = base_y4
+    _out_free[..., 11] = base_z4
+    _out_free[..., 12] = base_x5
+    _out_free[..., 13] = base_y5
+    _out_free[..., 14] = base_z5
+    _out_free[..., 15] = base_x6
+    _out_free[..., 16] = base_y6
+    _out_free[..., 17] = base_z6
+    _out_free[..., 18] = axis_x1
+    _out_free[..., 19] = axis_y1
+    _out_free[..., 20] = axis_z1
+    _out_free[..., 21] = axis_x2
+    _out_free[..., 22] = axis_y2
+    _out_free[..., 23] = axis_z2
+    _out_free[..., 24] = axis_x3
+    _out_free[..., 25] = axis_y3
+    _out_free[..., 26] = axis_z3
+    _out_free[..., 27] = axis_x4
+    _out_free[..., 28] = axis_y4
+    _out_free[..., 29] = axis_z4
+    _out_free[..., 30] = axis_x5
+    _out_free[..., 31] = axis_y5
+    _out_free[..., 32] = axis_z5
+    _out_free[..., 33] = axis_x6
+    _out_free[..., 34] = axis_y6
+    _out_free[..., 35] = axis_z6
+    _out_free[..., 36] = crank_zero_x1
+    _out_free[..., 37] = crank_zero_y1
+    _out_free[..., 38] = crank_zero_z1
+    _out_free[..., 39] = crank_zero_x2
+    _out_free[..., 40] = crank_zero_y2
+    _out_free[..., 41] = crank_zero_z2
+    _out_free[..., 42] = crank_zero_x3
+    _out_free[..., 43] = crank_zero_y3
+    _out_free[..., 44] = crank_zero_z3
+    _out_free[..., 45] = crank_zero_x4
+    _out_free[..., 46] = crank_zero_y4
+    _out_free[..., 47] = crank_zero_z4
+    _out_free[..., 48] = crank_zero_x5
+    _out_free[..., 49] = crank_zero_y5
+    _out_free[..., 50] = crank_zero_z5
+    _out_free[..., 51] = crank_zero_x6
+    _out_free[..., 52] = crank_zero_y6
+    _out_free[..., 53] = crank_zero_z6
+    _out_free[..., 54] = a1
+    _out_free[..., 55] = a2
+    _out_free[..., 56] = a3
+    _out_free[..., 57] = a4
+    _out_free[..., 58] = a5
+    _out_free[..., 59] = a6
+    _out_free[..., 60] = b1
+    _out_free[..., 61] = b2
+    _out_free[..., 62] = b3
+    _out_free[..., 63] = b4
+    _out_free[..., 64] = b5
+    _out_free[..., 65] = b6
+    _out_free[..., 66] = platform_x1
+    _out_free[..., 67] = platform_y1
+    _out_free[..., 68] = platform_z1
+    _out_free[..., 69] = platform_x2
+    _out_free[..., 70] = platform_y2
+    _out_free[..., 71] = platform_z2
+    _out_free[..., 72] = platform_x3
+    _out_free[..., 73] = platform_y3
+    _out_free[..., 74] = platform_z3
+    _out_free[..., 75] = platform_x4
+    _out_free[..., 76] = platform_y4
+    _out_free[..., 77] = platform_z4
+    _out_free[..., 78] = platform_x5
+    _out_free[..., 79] = platform_y5
+    _out_free[..., 80] = platform_z5
+    _out_free[..., 81] = platform_x6
+    _out_free[..., 82] = platform_y6
+    _out_free[..., 83] = platform_z6
+    _out_angles = numpy.zeros(_shape + (6,))
+    _out_angles[..., 0] = theta1
+    _out_angles[..., 1] = theta2
+    _out_angles[..., 2] = theta3
+    _out_angles[..., 3] = theta4
+    _out_angles[..., 4] = theta5
+    _out_angles[..., 5] = theta6
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -3481,214 +3522,215 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 11401.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    base_x1_re = family_re[..., 0]
-    base_y1_re = family_re[..., 1]
-    base_z1_re = family_re[..., 2]
-    base_x2_re = family_re[..., 3]
-    base_y2_re = family_re[..., 4]
-    base_z2_re = family_re[..., 5]
-    base_x3_re = family_re[..., 6]
-    base_y3_re = family_re[..., 7]
-    base_z3_re = family_re[..., 8]
-    base_x4_re = family_re[..., 9]
-    base_y4_re = family_re[..., 10]
-    base_z4_re = family_re[..., 11]
-    base_x5_re = family_re[..., 12]
-    base_y5_re = family_re[..., 13]
-    base_z5_re = family_re[..., 14]
-    base_x6_re = family_re[..., 15]
-    base_y6_re = family_re[..., 16]
-    base_z6_re = family_re[..., 17]
-    axis_x1_re = family_re[..., 18]
-    axis_y1_re = family_re[..., 19]
-    axis_z1_re = family_re[..., 20]
-    axis_x2_re = family_re[..., 21]
-    axis_y2_re = family_re[..., 22]
-    axis_z2_re = family_re[..., 23]
-    axis_x3_re = family_re[..., 24]
-    axis_y3_re = family_re[..., 25]
-    axis_z3_re = family_re[..., 26]
-    axis_x4_re = family_re[..., 27]
-    axis_y4_re = family_re[..., 28]
-    axis_z4_re = family_re[..., 29]
-    axis_x5_re = family_re[..., 30]
-    axis_y5_re = family_re[..., 31]
-    axis_z5_re = family_re[..., 32]
-    axis_x6_re = family_re[..., 33]
-    axis_y6_re = family_re[..., 34]
-    axis_z6_re = family_re[..., 35]
-    crank_zero_x1_re = family_re[..., 36]
-    crank_zero_y1_re = family_re[..., 37]
-    crank_zero_z1_re = family_re[..., 38]
-    crank_zero_x2_re = family_re[..., 39]
-    crank_zero_y2_re = family_re[..., 40]
-    crank_zero_z2_re = family_re[..., 41]
-    crank_zero_x3_re = family_re[..., 42]
-    crank_zero_y3_re = family_re[..., 43]
-    crank_zero_z3_re = family_re[..., 44]
-    crank_zero_x4_re = family_re[..., 45]
-    crank_zero_y4_re = family_re[..., 46]
-    crank_zero_z4_re = family_re[..., 47]
-    crank_zero_x5_re = family_re[..., 48]
-    crank_zero_y5_re = family_re[..., 49]
-    crank_zero_z5_re = family_re[..., 50]
-    crank_zero_x6_re = family_re[..., 51]
-    crank_zero_y6_re = family_re[..., 52]
-    crank_zero_z6_re = family_re[..., 53]
-    a1_re = family_re[..., 54]
-    a2_re = family_re[..., 55]
-    a3_re = family_re[..., 56]
-    a4_re = family_re[..., 57]
-    a5_re = family_re[..., 58]
-    a6_re = family_re[..., 59]
-    b1_re = family_re[..., 60]
-    b2_re = family_re[..., 61]
-    b3_re = family_re[..., 62]
-    b4_re = family_re[..., 63]
-    b5_re = family_re[..., 64]
-    b6_re = family_re[..., 65]
-    platform_x1_re = family_re[..., 66]
-    platform_y1_re = family_re[..., 67]
-    platform_z1_re = family_re[..., 68]
-    platform_x2_re = family_re[..., 69]
-    platform_y2_re = family_re[..., 70]
-    platform_z2_re = family_re[..., 71]
-    platform_x3_re = family_re[..., 72]
-    platform_y3_re = family_re[..., 73]
-    platform_z3_re = family_re[..., 74]
-    platform_x4_re = family_re[..., 75]
-    platform_y4_re = family_re[..., 76]
-    platform_z4_re = family_re[..., 77]
-    platform_x5_re = family_re[..., 78]
-    platform_y5_re = family_re[..., 79]
-    platform_z5_re = family_re[..., 80]
-    platform_x6_re = family_re[..., 81]
-    platform_y6_re = family_re[..., 82]
-    platform_z6_re = family_re[..., 83]
-    C_u_0_re = family_re[..., 84]
-    S_u_0_re = family_re[..., 85]
-    D_u_0_re = family_re[..., 86]
-    C_u_1_re = family_re[..., 87]
-    S_u_1_re = family_re[..., 88]
-    D_u_1_re = family_re[..., 89]
-    C_u_2_re = family_re[..., 90]
-    S_u_2_re = family_re[..., 91]
-    D_u_2_re = family_re[..., 92]
-    C_u_3_re = family_re[..., 93]
-    S_u_3_re = family_re[..., 94]
-    D_u_3_re = family_re[..., 95]
-    C_u_4_re = family_re[..., 96]
-    S_u_4_re = family_re[..., 97]
-    D_u_4_re = family_re[..., 98]
-    C_u_5_re = family_re[..., 99]
-    S_u_5_re = family_re[..., 100]
-    D_u_5_re = family_re[..., 101]
-    base_x1_im = family_im[..., 0]
-    base_y1_im = family_im[..., 1]
-    base_z1_im = family_im[..., 2]
-    base_x2_im = family_im[..., 3]
-    base_y2_im = family_im[..., 4]
-    base_z2_im = family_im[..., 5]
-    base_x3_im = family_im[..., 6]
-    base_y3_im = family_im[..., 7]
-    base_z3_im = family_im[..., 8]
-    base_x4_im = family_im[..., 9]
-    base_y4_im = family_im[..., 10]
-    base_z4_im = family_im[..., 11]
-    base_x5_im = family_im[..., 12]
-    base_y5_im = family_im[..., 13]
-    base_z5_im = family_im[..., 14]
-    base_x6_im = family_im[..., 15]
-    base_y6_im = family_im[..., 16]
-    base_z6_im = family_im[..., 17]
-    axis_x1_im = family_im[..., 18]
-    axis_y1_im = family_im[..., 19]
-    axis_z1_im = family_im[..., 20]
-    axis_x2_im = family_im[..., 21]
-    axis_y2_im = family_im[..., 22]
-    axis_z2_im = family_im[..., 23]
-    axis_x3_im = family_im[..., 24]
-    axis_y3_im = family_im[..., 25]
-    axis_z3_im = family_im[..., 26]
-    axis_x4_im = family_im[..., 27]
-    axis_y4_im = family_im[..., 28]
-    axis_z4_im = family_im[..., 29]
-    axis_x5_im = family_im[..., 30]
-    axis_y5_im = family_im[..., 31]
-    axis_z5_im = family_im[..., 32]
-    axis_x6_im = family_im[..., 33]
-    axis_y6_im = family_im[..., 34]
-    axis_z6_im = family_im[..., 35]
-    crank_zero_x1_im = family_im[..., 36]
-    crank_zero_y1_im = family_im[..., 37]
-    crank_zero_z1_im = family_im[..., 38]
-    crank_zero_x2_im = family_im[..., 39]
-    crank_zero_y2_im = family_im[..., 40]
-    crank_zero_z2_im = family_im[..., 41]
-    crank_zero_x3_im = family_im[..., 42]
-    crank_zero_y3_im = family_im[..., 43]
-    crank_zero_z3_im = family_im[..., 44]
-    crank_zero_x4_im = family_im[..., 45]
-    crank_zero_y4_im = family_im[..., 46]
-    crank_zero_z4_im = family_im[..., 47]
-    crank_zero_x5_im = family_im[..., 48]
-    crank_zero_y5_im = family_im[..., 49]
-    crank_zero_z5_im = family_im[..., 50]
-    crank_zero_x6_im = family_im[..., 51]
-    crank_zero_y6_im = family_im[..., 52]
-    crank_zero_z6_im = family_im[..., 53]
-    a1_im = family_im[..., 54]
-    a2_im = family_im[..., 55]
-    a3_im = family_im[..., 56]
-    a4_im = family_im[..., 57]
-    a5_im = family_im[..., 58]
-    a6_im = family_im[..., 59]
-    b1_im = family_im[..., 60]
-    b2_im = family_im[..., 61]
-    b3_im = family_im[..., 62]
-    b4_im = family_im[..., 63]
-    b5_im = family_im[..., 64]
-    b6_im = family_im[..., 65]
-    platform_x1_im = family_im[..., 66]
-    platform_y1_im = family_im[..., 67]
-    platform_z1_im = family_im[..., 68]
-    platform_x2_im = family_im[..., 69]
-    platform_y2_im = family_im[..., 70]
-    platform_z2_im = family_im[..., 71]
-    platform_x3_im = family_im[..., 72]
-    platform_y3_im = family_im[..., 73]
-    platform_z3_im = family_im[..., 74]
-    platform_x4_im = family_im[..., 75]
-    platform_y4_im = family_im[..., 76]
-    platform_z4_im = family_im[..., 77]
-    platform_x5_im = family_im[..., 78]
-    platform_y5_im = family_im[..., 79]
-    platform_z5_im = family_im[..., 80]
-    platform_x6_im = family_im[..., 81]
-    platform_y6_im = family_im[..., 82]
-    platform_z6_im = family_im[..., 83]
-    C_u_0_im = family_im[..., 84]
-    S_u_0_im = family_im[..., 85]
-    D_u_0_im = family_im[..., 86]
-    C_u_1_im = family_im[..., 87]
-    S_u_1_im = family_im[..., 88]
-    D_u_1_im = family_im[..., 89]
-    C_u_2_im = family_im[..., 90]
-    S_u_2_im = family_im[..., 91]
-    D_u_2_im = family_im[..., 92]
-    C_u_3_im = family_im[..., 93]
-    S_u_3_im = family_im[..., 94]
-    D_u_3_im = family_im[..., 95]
-    C_u_4_im = family_im[..., 96]
-    S_u_4_im = family_im[..., 97]
-    D_u_4_im = family_im[..., 98]
-    C_u_5_im = family_im[..., 99]
-    S_u_5_im = family_im[..., 100]
-    D_u_5_im = family_im[..., 101]
+    base_x1_re = _in_family_re[..., 0]
+    base_y1_re = _in_family_re[..., 1]
+    base_z1_re = _in_family_re[..., 2]
+    base_x2_re = _in_family_re[..., 3]
+    base_y2_re = _in_family_re[..., 4]
+    base_z2_re = _in_family_re[..., 5]
+    base_x3_re = _in_family_re[..., 6]
+    base_y3_re = _in_family_re[..., 7]
+    base_z3_re = _in_family_re[..., 8]
+    base_x4_re = _in_family_re[..., 9]
+    base_y4_re = _in_family_re[..., 10]
+    base_z4_re = _in_family_re[..., 11]
+    base_x5_re = _in_family_re[..., 12]
+    base_y5_re = _in_family_re[..., 13]
+    base_z5_re = _in_family_re[..., 14]
+    base_x6_re = _in_family_re[..., 15]
+    base_y6_re = _in_family_re[..., 16]
+    base_z6_re = _in_family_re[..., 17]
+    axis_x1_re = _in_family_re[..., 18]
+    axis_y1_re = _in_family_re[..., 19]
+    axis_z1_re = _in_family_re[..., 20]
+    axis_x2_re = _in_family_re[..., 21]
+    axis_y2_re = _in_family_re[..., 22]
+    axis_z2_re = _in_family_re[..., 23]
+    axis_x3_re = _in_family_re[..., 24]
+    axis_y3_re = _in_family_re[..., 25]
+    axis_z3_re = _in_family_re[..., 26]
+    axis_x4_re = _in_family_re[..., 27]
+    axis_y4_re = _in_family_re[..., 28]
+    axis_z4_re = _in_family_re[..., 29]
+    axis_x5_re = _in_family_re[..., 30]
+    axis_y5_re = _in_family_re[..., 31]
+    axis_z5_re = _in_family_re[..., 32]
+    axis_x6_re = _in_family_re[..., 33]
+    axis_y6_re = _in_family_re[..., 34]
+    axis_z6_re = _in_family_re[..., 35]
+    crank_zero_x1_re = _in_family_re[..., 36]
+    crank_zero_y1_re = _in_family_re[..., 37]
+    crank_zero_z1_re = _in_family_re[..., 38]
+    crank_zero_x2_re = _in_family_re[..., 39]
+    crank_zero_y2_re = _in_family_re[..., 40]
+    crank_zero_z2_re = _in_family_re[..., 41]
+    crank_zero_x3_re = _in_family_re[..., 42]
+    crank_zero_y3_re = _in_family_re[..., 43]
+    crank_zero_z3_re = _in_family_re[..., 44]
+    crank_zero_x4_re = _in_family_re[..., 45]
+    crank_zero_y4_re = _in_family_re[..., 46]
+    crank_zero_z4_re = _in_family_re[..., 47]
+    crank_zero_x5_re = _in_family_re[..., 48]
+    crank_zero_y5_re = _in_family_re[..., 49]
+    crank_zero_z5_re = _in_family_re[..., 50]
+    crank_zero_x6_re = _in_family_re[..., 51]
+    crank_zero_y6_re = _in_family_re[..., 52]
+    crank_zero_z6_re = _in_family_re[..., 53]
+    a1_re = _in_family_re[..., 54]
+    a2_re = _in_family_re[..., 55]
+    a3_re = _in_family_re[..., 56]
+    a4_re = _in_family_re[..., 57]
+    a5_re = _in_family_re[..., 58]
+    a6_re = _in_family_re[..., 59]
+    b1_re = _in_family_re[..., 60]
+    b2_re = _in_family_re[..., 61]
+    b3_re = _in_family_re[..., 62]
+    b4_re = _in_family_re[..., 63]
+    b5_re = _in_family_re[..., 64]
+    b6_re = _in_family_re[..., 65]
+    platform_x1_re = _in_family_re[..., 66]
+    platform_y1_re = _in_family_re[..., 67]
+    platform_z1_re = _in_family_re[..., 68]
+    platform_x2_re = _in_family_re[..., 69]
+    platform_y2_re = _in_family_re[..., 70]
+    platform_z2_re = _in_family_re[..., 71]
+    platform_x3_re = _in_family_re[..., 72]
+    platform_y3_re = _in_family_re[..., 73]
+    platform_z3_re = _in_family_re[..., 74]
+    platform_x4_re = _in_family_re[..., 75]
+    platform_y4_re = _in_family_re[..., 76]
+    platform_z4_re = _in_family_re[..., 77]
+    platform_x5_re = _in_family_re[..., 78]
+    platform_y5_re = _in_family_re[..., 79]
+    platform_z5_re = _in_family_re[..., 80]
+    platform_x6_re = _in_family_re[..., 81]
+    platform_y6_re = _in_family_re[..., 82]
+    platform_z6_re = _in_family_re[..., 83]
+    C_u_0_re = _in_family_re[..., 84]
+    S_u_0_re = _in_family_re[..., 85]
+    D_u_0_re = _in_family_re[..., 86]
+    C_u_1_re = _in_family_re[..., 87]
+    S_u_1_re = _in_family_re[..., 88]
+    D_u_1_re = _in_family_re[..., 89]
+    C_u_2_re = _in_family_re[..., 90]
+    S_u_2_re = _in_family_re[..., 91]
+    D_u_2_re = _in_family_re[..., 92]
+    C_u_3_re = _in_family_re[..., 93]
+    S_u_3_re = _in_family_re[..., 94]
+    D_u_3_re = _in_family_re[..., 95]
+    C_u_4_re = _in_family_re[..., 96]
+    S_u_4_re = _in_family_re[..., 97]
+    D_u_4_re = _in_family_re[..., 98]
+    C_u_5_re = _in_family_re[..., 99]
+    S_u_5_re = _in_family_re[..., 100]
+    D_u_5_re = _in_family_re[..., 101]
+    base_x1_im = _in_family_im[..., 0]
+    base_y1_im = _in_family_im[..., 1]
+    base_z1_im = _in_family_im[..., 2]
+    base_x2_im = _in_family_im[..., 3]
+    base_y2_im = _in_family_im[..., 4]
+    base_z2_im = _in_family_im[..., 5]
+    base_x3_im = _in_family_im[..., 6]
+    base_y3_im = _in_family_im[..., 7]
+    base_z3_im = _in_family_im[..., 8]
+    base_x4_im = _in_family_im[..., 9]
+    base_y4_im = _in_family_im[..., 10]
+    base_z4_im = _in_family_im[..., 11]
+    base_x5_im = _in_family_im[..., 12]
+    base_y5_im = _in_family_im[..., 13]
+    base_z5_im = _in_family_im[..., 14]
+    base_x6_im = _in_family_im[..., 15]
+    base_y6_im = _in_family_im[..., 16]
+    base_z6_im = _in_family_im[..., 17]
+    axis_x1_im = _in_family_im[..., 18]
+    axis_y1_im = _in_family_im[..., 19]
+    axis_z1_im = _in_family_im[..., 20]
+    axis_x2_im = _in_family_im[..., 21]
+    axis_y2_im = _in_family_im[..., 22]
+    axis_z2_im = _in_family_im[..., 23]
+    axis_x3_im = _in_family_im[..., 24]
+    axis_y3_im = _in_family_im[..., 25]
+    axis_z3_im = _in_family_im[..., 26]
+    axis_x4_im = _in_family_im[..., 27]
+    axis_y4_im = _in_family_im[..., 28]
+    axis_z4_im = _in_family_im[..., 29]
+    axis_x5_im = _in_family_im[..., 30]
+    axis_y5_im = _in_family_im[..., 31]
+    axis_z5_im = _in_family_im[..., 32]
+    axis_x6_im = _in_family_im[..., 33]
+    axis_y6_im = _in_family_im[..., 34]
+    axis_z6_im = _in_family_im[..., 35]
+    crank_zero_x1_im = _in_family_im[..., 36]
+    crank_zero_y1_im = _in_family_im[..., 37]
+    crank_zero_z1_im = _in_family_im[..., 38]
+    crank_zero_x2_im = _in_family_im[..., 39]
+    crank_zero_y2_im = _in_family_im[..., 40]
+    crank_zero_z2_im = _in_family_im[..., 41]
+    crank_zero_x3_im = _in_family_im[..., 42]
+    crank_zero_y3_im = _in_family_im[..., 43]
+    crank_zero_z3_im = _in_family_im[..., 44]
+    crank_zero_x4_im = _in_family_im[..., 45]
+    crank_zero_y4_im = _in_family_im[..., 46]
+    crank_zero_z4_im = _in_family_im[..., 47]
+    crank_zero_x5_im = _in_family_im[..., 48]
+    crank_zero_y5_im = _in_family_im[..., 49]
+    crank_zero_z5_im = _in_family_im[..., 50]
+    crank_zero_x6_im = _in_family_im[..., 51]
+    crank_zero_y6_im = _in_family_im[..., 52]
+    crank_zero_z6_im = _in_family_im[..., 53]
+    a1_im = _in_family_im[..., 54]
+    a2_im = _in_family_im[..., 55]
+    a3_im = _in_family_im[..., 56]
+    a4_im = _in_family_im[..., 57]
+    a5_im = _in_family_im[..., 58]
+    a6_im = _in_family_im[..., 59]
+    b1_im = _in_family_im[..., 60]
+    b2_im = _in_family_im[..., 61]
+    b3_im = _in_family_im[..., 62]
+    b4_im = _in_family_im[..., 63]
+    b5_im = _in_family_im[..., 64]
+    b6_im = _in_family_im[..., 65]
+    platform_x1_im = _in_family_im[..., 66]
+    platform_y1_im = _in_family_im[..., 67]
+    platform_z1_im = _in_family_im[..., 68]
+    platform_x2_im = _in_family_im[..., 69]
+    platform_y2_im = _in_family_im[..., 70]
+    platform_z2_im = _in_family_im[..., 71]
+    platform_x3_im = _in_family_im[..., 72]
+    platform_y3_im = _in_family_im[..., 73]
+    platform_z3_im = _in_family_im[..., 74]
+    platform_x4_im = _in_family_im[..., 75]
+    platform_y4_im = _in_family_im[..., 76]
+    platform_z4_im = _in_family_im[..., 77]
+    platform_x5_im = _in_family_im[..., 78]
+    platform_y5_im = _in_family_im[..., 79]
+    platform_z5_im = _in_family_im[..., 80]
+    platform_x6_im = _in_family_im[..., 81]
+    platform_y6_im = _in_family_im[..., 82]
+    platform_z6_im = _in_family_im[..., 83]
+    C_u_0_im = _in_family_im[..., 84]
+    S_u_0_im = _in_family_im[..., 85]
+    D_u_0_im = _in_family_im[..., 86]
+    C_u_1_im = _in_family_im[..., 87]
+    S_u_1_im = _in_family_im[..., 88]
+    D_u_1_im = _in_family_im[..., 89]
+    C_u_2_im = _in_family_im[..., 90]
+    S_u_2_im = _in_family_im[..., 91]
+    D_u_2_im = _in_family_im[..., 92]
+    C_u_3_im = _in_family_im[..., 93]
+    S_u_3_im = _in_family_im[..., 94]
+    D_u_3_im = _in_family_im[..., 95]
+    C_u_4_im = _in_family_im[..., 96]
+    S_u_4_im = _in_family_im[..., 97]
+    D_u_4_im = _in_family_im[..., 98]
+    C_u_5_im = _in_family_im[..., 99]
+    S_u_5_im = _in_family_im[..., 100]
+    D_u_5_im = _in_family_im[..., 101]
     _t0 = D_u_0_im**2
     _t1 = D_u_0_re**2
     _t2 = _t0 - _t1
@@ -7445,17 +7487,17 @@ def automatic_monomials(family_re, family_im):
         + _t2366 * a6_im
         + _t2367 * a6_im
     )
-    re = numpy.zeros(shape + (311,))
-    re[..., 0] = _t3
-    re[..., 1] = _t8
-    re[..., 2] = _t12
-    re[..., 3] = _t15
-    re[..., 4] = _t8
-    re[..., 5] = _t16
-    re[..., 6] = _t12
-    re[..., 7] = _t7
-    re[..., 8] = _t7
-    re[..., 9] = (
+    _out_re = numpy.zeros(_shape + (311,))
+    _out_re[..., 0] = _t3
+    _out_re[..., 1] = _t8
+    _out_re[..., 2] = _t12
+    _out_re[..., 3] = _t15
+    _out_re[..., 4] = _t8
+    _out_re[..., 5] = _t16
+    _out_re[..., 6] = _t12
+    _out_re[..., 7] = _t7
+    _out_re[..., 8] = _t7
+    _out_re[..., 9] = (
         _t17
         - _t19
         - _t25 * a1_im
@@ -7465,16 +7507,16 @@ def automatic_monomials(family_re, family_im):
         + _t37 * a1_re
         + _t38 * a1_re
     )
-    re[..., 10] = _t3
-    re[..., 11] = _t41
-    re[..., 12] = _t11
-    re[..., 13] = _t44
-    re[..., 14] = _t40
-    re[..., 15] = _t44
-    re[..., 16] = _t41
-    re[..., 17] = _t12
-    re[..., 18] = _t40
-    re[..., 19] = (
+    _out_re[..., 10] = _t3
+    _out_re[..., 11] = _t41
+    _out_re[..., 12] = _t11
+    _out_re[..., 13] = _t44
+    _out_re[..., 14] = _t40
+    _out_re[..., 15] = _t44
+    _out_re[..., 16] = _t41
+    _out_re[..., 17] = _t12
+    _out_re[..., 18] = _t40
+    _out_re[..., 19] = (
         _t45
         - _t46
         - _t47 * a1_im
@@ -7484,16 +7526,16 @@ def automatic_monomials(family_re, family_im):
         + _t55 * a1_re
         + _t56 * a1_re
     )
-    re[..., 20] = _t3
-    re[..., 21] = _t59
-    re[..., 22] = _t16
-    re[..., 23] = _t43
-    re[..., 24] = _t58
-    re[..., 25] = _t44
-    re[..., 26] = _t58
-    re[..., 27] = _t16
-    re[..., 28] = _t59
-    re[..., 29] = (
+    _out_re[..., 20] = _t3
+    _out_re[..., 21] = _t59
+    _out_re[..., 22] = _t16
+    _out_re[..., 23] = _t43
+    _out_re[..., 24] = _t58
+    _out_re[..., 25] = _t44
+    _out_re[..., 26] = _t58
+    _out_re[..., 27] = _t16
+    _out_re[..., 28] = _t59
+    _out_re[..., 29] = (
         _t60
         - _t61
         - _t62 * a1_im
@@ -7503,12 +7545,12 @@ def automatic_monomials(family_re, family_im):
         + _t70 * a1_re
         + _t71 * a1_re
     )
-    re[..., 30] = _t75
-    re[..., 31] = _t77
-    re[..., 32] = _t77
-    re[..., 33] = _t77
-    re[..., 34] = -_t102 - _t114 - _t90
-    re[..., 35] = (
+    _out_re[..., 30] = _t75
+    _out_re[..., 31] = _t77
+    _out_re[..., 32] = _t77
+    _out_re[..., 33] = _t77
+    _out_re[..., 34] = -_t102 - _t114 - _t90
+    _out_re[..., 35] = (
         -_t123 * a1_im
         - _t129 * a1_im
         - _t135 * a1_im
@@ -7519,7 +7561,7 @@ def automatic_monomials(family_re, family_im):
         - _t143 * _t89
         - _t163
     )
-    re[..., 36] = (
+    _out_re[..., 36] = (
         -_t168 * a1_im
         - _t173 * a1_im
         - _t176 * a1_im
@@ -7530,7 +7572,7 @@ def automatic_monomials(family_re, family_im):
         - _t183 * _t89
         - _t200
     )
-    re[..., 37] = (
+    _out_re[..., 37] = (
         -_t203 * a1_im
         - _t208 * a1_im
         - _t211 * a1_im
@@ -7541,11 +7583,11 @@ def automatic_monomials(family_re, family_im):
         - _t217 * _t89
         - _t232
     )
-    re[..., 38] = _t75
-    re[..., 39] = _t77
-    re[..., 40] = _t77
-    re[..., 41] = -_t247 - _t261 - _t90
-    re[..., 42] = (
+    _out_re[..., 38] = _t75
+    _out_re[..., 39] = _t77
+    _out_re[..., 40] = _t77
+    _out_re[..., 41] = -_t247 - _t261 - _t90
+    _out_re[..., 42] = (
         _t215 * _t3
         - _t232
         - _t262 * a1_im
@@ -7556,7 +7598,7 @@ def automatic_monomials(family_re, family_im):
         + _t267 * a1_re
         - _t268 * _t89
     )
-    re[..., 43] = (
+    _out_re[..., 43] = (
         _t181 * _t3
         - _t200
         - _t269 * a1_im
@@ -7567,10 +7609,10 @@ def automatic_monomials(family_re, family_im):
         + _t274 * a1_re
         - _t275 * _t89
     )
-    re[..., 44] = _t75
-    re[..., 45] = _t77
-    re[..., 46] = -_t102 - _t247 - _t289
-    re[..., 47] = (
+    _out_re[..., 44] = _t75
+    _out_re[..., 45] = _t77
+    _out_re[..., 46] = -_t102 - _t247 - _t289
+    _out_re[..., 47] = (
         _t140 * _t3
         - _t163
         - _t290 * a1_im
@@ -7581,9 +7623,9 @@ def automatic_monomials(family_re, family_im):
         + _t295 * a1_re
         - _t296 * _t89
     )
-    re[..., 48] = _t75
-    re[..., 49] = -_t114 - _t261 - _t289
-    re[..., 50] = (
+    _out_re[..., 48] = _t75
+    _out_re[..., 49] = -_t114 - _t261 - _t289
+    _out_re[..., 50] = (
         -_t17 * base_x1_re
         + _t2 * _t301
         + _t297 * _t5
@@ -7635,16 +7677,16 @@ def automatic_monomials(family_re, family_im):
         - _t45 * base_y1_re
         - _t60 * base_z1_re
     )
-    re[..., 51] = _t419
-    re[..., 52] = _t424
-    re[..., 53] = _t428
-    re[..., 54] = _t431
-    re[..., 55] = _t424
-    re[..., 56] = _t432
-    re[..., 57] = _t428
-    re[..., 58] = _t423
-    re[..., 59] = _t423
-    re[..., 60] = (
+    _out_re[..., 51] = _t419
+    _out_re[..., 52] = _t424
+    _out_re[..., 53] = _t428
+    _out_re[..., 54] = _t431
+    _out_re[..., 55] = _t424
+    _out_re[..., 56] = _t432
+    _out_re[..., 57] = _t428
+    _out_re[..., 58] = _t423
+    _out_re[..., 59] = _t423
+    _out_re[..., 60] = (
         _t433
         - _t435
         - _t441 * a2_im
@@ -7654,16 +7696,16 @@ def automatic_monomials(family_re, family_im):
         + _t453 * a2_re
         + _t454 * a2_re
     )
-    re[..., 61] = _t419
-    re[..., 62] = _t457
-    re[..., 63] = _t427
-    re[..., 64] = _t460
-    re[..., 65] = _t456
-    re[..., 66] = _t460
-    re[..., 67] = _t457
-    re[..., 68] = _t428
-    re[..., 69] = _t456
-    re[..., 70] = (
+    _out_re[..., 61] = _t419
+    _out_re[..., 62] = _t457
+    _out_re[..., 63] = _t427
+    _out_re[..., 64] = _t460
+    _out_re[..., 65] = _t456
+    _out_re[..., 66] = _t460
+    _out_re[..., 67] = _t457
+    _out_re[..., 68] = _t428
+    _out_re[..., 69] = _t456
+    _out_re[..., 70] = (
         _t461
         - _t462
         - _t463 * a2_im
@@ -7673,16 +7715,16 @@ def automatic_monomials(family_re, family_im):
         + _t471 * a2_re
         + _t472 * a2_re
     )
-    re[..., 71] = _t419
-    re[..., 72] = _t475
-    re[..., 73] = _t432
-    re[..., 74] = _t459
-    re[..., 75] = _t474
-    re[..., 76] = _t460
-    re[..., 77] = _t474
-    re[..., 78] = _t432
-    re[..., 79] = _t475
-    re[..., 80] = (
+    _out_re[..., 71] = _t419
+    _out_re[..., 72] = _t475
+    _out_re[..., 73] = _t432
+    _out_re[..., 74] = _t459
+    _out_re[..., 75] = _t474
+    _out_re[..., 76] = _t460
+    _out_re[..., 77] = _t474
+    _out_re[..., 78] = _t432
+    _out_re[..., 79] = _t475
+    _out_re[..., 80] = (
         _t476
         - _t477
         - _t478 * a2_im
@@ -7692,12 +7734,12 @@ def automatic_monomials(family_re, family_im):
         + _t486 * a2_re
         + _t487 * a2_re
     )
-    re[..., 81] = _t491
-    re[..., 82] = _t493
-    re[..., 83] = _t493
-    re[..., 84] = _t493
-    re[..., 85] = -_t506 - _t518 - _t530
-    re[..., 86] = (
+    _out_re[..., 81] = _t491
+    _out_re[..., 82] = _t493
+    _out_re[..., 83] = _t493
+    _out_re[..., 84] = _t493
+    _out_re[..., 85] = -_t506 - _t518 - _t530
+    _out_re[..., 86] = (
         _t419 * _t557
         - _t505 * _t559
         - _t539 * a2_im
@@ -7708,7 +7750,7 @@ def automatic_monomials(family_re, family_im):
         + _t554 * a2_re
         - _t579
     )
-    re[..., 87] = (
+    _out_re[..., 87] = (
         _t419 * _t598
         - _t505 * _t599
         - _t584 * a2_im
@@ -7719,7 +7761,7 @@ def automatic_monomials(family_re, family_im):
         + _t595 * a2_re
         - _t616
     )
-    re[..., 88] = (
+    _out_re[..., 88] = (
         _t419 * _t632
         - _t505 * _t633
         - _t619 * a2_im
@@ -7730,11 +7772,11 @@ def automatic_monomials(family_re, family_im):
         + _t630 * a2_re
         - _t648
     )
-    re[..., 89] = _t491
-    re[..., 90] = _t493
-    re[..., 91] = _t493
-    re[..., 92] = -_t506 - _t663 - _t677
-    re[..., 93] = (
+    _out_re[..., 89] = _t491
+    _out_re[..., 90] = _t493
+    _out_re[..., 91] = _t493
+    _out_re[..., 92] = -_t506 - _t663 - _t677
+    _out_re[..., 93] = (
         _t419 * _t631
         - _t505 * _t684
         - _t648
@@ -7745,7 +7787,7 @@ def automatic_monomials(family_re, family_im):
         + _t682 * a2_re
         + _t683 * a2_re
     )
-    re[..., 94] = (
+    _out_re[..., 94] = (
         _t419 * _t597
         - _t505 * _t691
         - _t616
@@ -7756,10 +7798,10 @@ def automatic_monomials(family_re, family_im):
         + _t689 * a2_re
         + _t690 * a2_re
     )
-    re[..., 95] = _t491
-    re[..., 96] = _t493
-    re[..., 97] = -_t518 - _t663 - _t705
-    re[..., 98] = (
+    _out_re[..., 95] = _t491
+    _out_re[..., 96] = _t493
+    _out_re[..., 97] = -_t518 - _t663 - _t705
+    _out_re[..., 98] = (
         _t419 * _t556
         - _t505 * _t712
         - _t579
@@ -7770,9 +7812,9 @@ def automatic_monomials(family_re, family_im):
         + _t710 * a2_re
         + _t711 * a2_re
     )
-    re[..., 99] = _t491
-    re[..., 100] = -_t530 - _t677 - _t705
-    re[..., 101] = (
+    _out_re[..., 99] = _t491
+    _out_re[..., 100] = -_t530 - _t677 - _t705
+    _out_re[..., 101] = (
         _t418 * _t717
         + _t419 * _t714
         + _t419 * _t715
@@ -7824,16 +7866,16 @@ def automatic_monomials(family_re, family_im):
         + _t804 * a2_re
         + _t805 * a2_re
     )
-    re[..., 102] = _t835
-    re[..., 103] = _t840
-    re[..., 104] = _t844
-    re[..., 105] = _t847
-    re[..., 106] = _t840
-    re[..., 107] = _t848
-    re[..., 108] = _t844
-    re[..., 109] = _t839
-    re[..., 110] = _t839
-    re[..., 111] = (
+    _out_re[..., 102] = _t835
+    _out_re[..., 103] = _t840
+    _out_re[..., 104] = _t844
+    _out_re[..., 105] = _t847
+    _out_re[..., 106] = _t840
+    _out_re[..., 107] = _t848
+    _out_re[..., 108] = _t844
+    _out_re[..., 109] = _t839
+    _out_re[..., 110] = _t839
+    _out_re[..., 111] = (
         _t849
         - _t851
         - _t857 * a3_im
@@ -7843,16 +7885,16 @@ def automatic_monomials(family_re, family_im):
         + _t869 * a3_re
         + _t870 * a3_re
     )
-    re[..., 112] = _t835
-    re[..., 113] = _t873
-    re[..., 114] = _t843
-    re[..., 115] = _t876
-    re[..., 116] = _t872
-    re[..., 117] = _t876
-    re[..., 118] = _t873
-    re[..., 119] = _t844
-    re[..., 120] = _t872
-    re[..., 121] = (
+    _out_re[..., 112] = _t835
+    _out_re[..., 113] = _t873
+    _out_re[..., 114] = _t843
+    _out_re[..., 115] = _t876
+    _out_re[..., 116] = _t872
+    _out_re[..., 117] = _t876
+    _out_re[..., 118] = _t873
+    _out_re[..., 119] = _t844
+    _out_re[..., 120] = _t872
+    _out_re[..., 121] = (
         _t877
         - _t878
         - _t879 * a3_im
@@ -7862,16 +7904,16 @@ def automatic_monomials(family_re, family_im):
         + _t887 * a3_re
         + _t888 * a3_re
     )
-    re[..., 122] = _t835
-    re[..., 123] = _t891
-    re[..., 124] = _t848
-    re[..., 125] = _t875
-    re[..., 126] = _t890
-    re[..., 127] = _t876
-    re[..., 128] = _t890
-    re[..., 129] = _t848
-    re[..., 130] = _t891
-    re[..., 131] = (
+    _out_re[..., 122] = _t835
+    _out_re[..., 123] = _t891
+    _out_re[..., 124] = _t848
+    _out_re[..., 125] = _t875
+    _out_re[..., 126] = _t890
+    _out_re[..., 127] = _t876
+    _out_re[..., 128] = _t890
+    _out_re[..., 129] = _t848
+    _out_re[..., 130] = _t891
+    _out_re[..., 131] = (
         _t892
         - _t893
         - _t894 * a3_im
@@ -7881,12 +7923,12 @@ def automatic_monomials(family_re, family_im):
         + _t902 * a3_re
         + _t903 * a3_re
     )
-    re[..., 132] = _t907
-    re[..., 133] = _t909
-    re[..., 134] = _t909
-    re[..., 135] = _t909
-    re[..., 136] = -_t922 - _t934 - _t946
-    re[..., 137] = (
+    _out_re[..., 132] = _t907
+    _out_re[..., 133] = _t909
+    _out_re[..., 134] = _t909
+    _out_re[..., 135] = _t909
+    _out_re[..., 136] = -_t922 - _t934 - _t946
+    _out_re[..., 137] = (
         _t835 * _t973
         - _t921 * _t975
         - _t955 * a3_im
@@ -7897,7 +7939,7 @@ def automatic_monomials(family_re, family_im):
         + _t970 * a3_re
         - _t995
     )
-    re[..., 138] = (
+    _out_re[..., 138] = (
         -_t1000 * a3_im
         - _t1005 * a3_im
         - _t1008 * a3_im
@@ -7908,7 +7950,7 @@ def automatic_monomials(family_re, family_im):
         - _t1015 * _t921
         - _t1032
     )
-    re[..., 139] = (
+    _out_re[..., 139] = (
         -_t1035 * a3_im
         - _t1040 * a3_im
         - _t1043 * a3_im
@@ -7919,11 +7961,11 @@ def automatic_monomials(family_re, family_im):
         - _t1049 * _t921
         - _t1064
     )
-    re[..., 140] = _t907
-    re[..., 141] = _t909
-    re[..., 142] = _t909
-    re[..., 143] = -_t1079 - _t1093 - _t922
-    re[..., 144] = (
+    _out_re[..., 140] = _t907
+    _out_re[..., 141] = _t909
+    _out_re[..., 142] = _t909
+    _out_re[..., 143] = -_t1079 - _t1093 - _t922
+    _out_re[..., 144] = (
         _t1047 * _t835
         - _t1064
         - _t1094 * a3_im
@@ -7934,7 +7976,7 @@ def automatic_monomials(family_re, family_im):
         + _t1099 * a3_re
         - _t1100 * _t921
     )
-    re[..., 145] = (
+    _out_re[..., 145] = (
         _t1013 * _t835
         - _t1032
         - _t1101 * a3_im
@@ -7945,10 +7987,10 @@ def automatic_monomials(family_re, family_im):
         + _t1106 * a3_re
         - _t1107 * _t921
     )
-    re[..., 146] = _t907
-    re[..., 147] = _t909
-    re[..., 148] = -_t1079 - _t1121 - _t934
-    re[..., 149] = (
+    _out_re[..., 146] = _t907
+    _out_re[..., 147] = _t909
+    _out_re[..., 148] = -_t1079 - _t1121 - _t934
+    _out_re[..., 149] = (
         -_t1122 * a3_im
         - _t1123 * a3_im
         - _t1124 * a3_im
@@ -7959,9 +8001,9 @@ def automatic_monomials(family_re, family_im):
         + _t835 * _t972
         - _t995
     )
-    re[..., 150] = _t907
-    re[..., 151] = -_t1093 - _t1121 - _t946
-    re[..., 152] = (
+    _out_re[..., 150] = _t907
+    _out_re[..., 151] = -_t1093 - _t1121 - _t946
+    _out_re[..., 152] = (
         _t1129 * _t837
         + _t1130 * _t835
         + _t1131 * _t835
@@ -8013,16 +8055,16 @@ def automatic_monomials(family_re, family_im):
         - _t877 * base_y3_re
         - _t892 * base_z3_re
     )
-    re[..., 153] = _t1251
-    re[..., 154] = _t1256
-    re[..., 155] = _t1260
-    re[..., 156] = _t1263
-    re[..., 157] = _t1256
-    re[..., 158] = _t1264
-    re[..., 159] = _t1260
-    re[..., 160] = _t1255
-    re[..., 161] = _t1255
-    re[..., 162] = (
+    _out_re[..., 153] = _t1251
+    _out_re[..., 154] = _t1256
+    _out_re[..., 155] = _t1260
+    _out_re[..., 156] = _t1263
+    _out_re[..., 157] = _t1256
+    _out_re[..., 158] = _t1264
+    _out_re[..., 159] = _t1260
+    _out_re[..., 160] = _t1255
+    _out_re[..., 161] = _t1255
+    _out_re[..., 162] = (
         _t1265
         - _t1267
         - _t1273 * a4_im
@@ -8032,16 +8074,16 @@ def automatic_monomials(family_re, family_im):
         + _t1285 * a4_re
         + _t1286 * a4_re
     )
-    re[..., 163] = _t1251
-    re[..., 164] = _t1289
-    re[..., 165] = _t1259
-    re[..., 166] = _t1292
-    re[..., 167] = _t1288
-    re[..., 168] = _t1292
-    re[..., 169] = _t1289
-    re[..., 170] = _t1260
-    re[..., 171] = _t1288
-    re[..., 172] = (
+    _out_re[..., 163] = _t1251
+    _out_re[..., 164] = _t1289
+    _out_re[..., 165] = _t1259
+    _out_re[..., 166] = _t1292
+    _out_re[..., 167] = _t1288
+    _out_re[..., 168] = _t1292
+    _out_re[..., 169] = _t1289
+    _out_re[..., 170] = _t1260
+    _out_re[..., 171] = _t1288
+    _out_re[..., 172] = (
         _t1293
         - _t1294
         - _t1295 * a4_im
@@ -8051,16 +8093,16 @@ def automatic_monomials(family_re, family_im):
         + _t1303 * a4_re
         + _t1304 * a4_re
     )
-    re[..., 173] = _t1251
-    re[..., 174] = _t1307
-    re[..., 175] = _t1264
-    re[..., 176] = _t1291
-    re[..., 177] = _t1306
-    re[..., 178] = _t1292
-    re[..., 179] = _t1306
-    re[..., 180] = _t1264
-    re[..., 181] = _t1307
-    re[..., 182] = (
+    _out_re[..., 173] = _t1251
+    _out_re[..., 174] = _t1307
+    _out_re[..., 175] = _t1264
+    _out_re[..., 176] = _t1291
+    _out_re[..., 177] = _t1306
+    _out_re[..., 178] = _t1292
+    _out_re[..., 179] = _t1306
+    _out_re[..., 180] = _t1264
+    _out_re[..., 181] = _t1307
+    _out_re[..., 182] = (
         _t1308
         - _t1309
         - _t1310 * a4_im
@@ -8070,12 +8112,12 @@ def automatic_monomials(family_re, family_im):
         + _t1318 * a4_re
         + _t1319 * a4_re
     )
-    re[..., 183] = _t1323
-    re[..., 184] = _t1325
-    re[..., 185] = _t1325
-    re[..., 186] = _t1325
-    re[..., 187] = -_t1338 - _t1350 - _t1362
-    re[..., 188] = (
+    _out_re[..., 183] = _t1323
+    _out_re[..., 184] = _t1325
+    _out_re[..., 185] = _t1325
+    _out_re[..., 186] = _t1325
+    _out_re[..., 187] = -_t1338 - _t1350 - _t1362
+    _out_re[..., 188] = (
         _t1251 * _t1389
         - _t1337 * _t1391
         - _t1371 * a4_im
@@ -8086,7 +8128,7 @@ def automatic_monomials(family_re, family_im):
         + _t1386 * a4_re
         - _t1411
     )
-    re[..., 189] = (
+    _out_re[..., 189] = (
         _t1251 * _t1430
         - _t1337 * _t1431
         - _t1416 * a4_im
@@ -8097,7 +8139,7 @@ def automatic_monomials(family_re, family_im):
         + _t1427 * a4_re
         - _t1448
     )
-    re[..., 190] = (
+    _out_re[..., 190] = (
         _t1251 * _t1464
         - _t1337 * _t1465
         - _t1451 * a4_im
@@ -8108,11 +8150,11 @@ def automatic_monomials(family_re, family_im):
         + _t1462 * a4_re
         - _t1480
     )
-    re[..., 191] = _t1323
-    re[..., 192] = _t1325
-    re[..., 193] = _t1325
-    re[..., 194] = -_t1338 - _t1495 - _t1509
-    re[..., 195] = (
+    _out_re[..., 191] = _t1323
+    _out_re[..., 192] = _t1325
+    _out_re[..., 193] = _t1325
+    _out_re[..., 194] = -_t1338 - _t1495 - _t1509
+    _out_re[..., 195] = (
         _t1251 * _t1463
         - _t1337 * _t1516
         - _t1480
@@ -8123,7 +8165,7 @@ def automatic_monomials(family_re, family_im):
         + _t1514 * a4_re
         + _t1515 * a4_re
     )
-    re[..., 196] = (
+    _out_re[..., 196] = (
         _t1251 * _t1429
         - _t1337 * _t1523
         - _t1448
@@ -8134,10 +8176,10 @@ def automatic_monomials(family_re, family_im):
         + _t1521 * a4_re
         + _t1522 * a4_re
     )
-    re[..., 197] = _t1323
-    re[..., 198] = _t1325
-    re[..., 199] = -_t1350 - _t1495 - _t1537
-    re[..., 200] = (
+    _out_re[..., 197] = _t1323
+    _out_re[..., 198] = _t1325
+    _out_re[..., 199] = -_t1350 - _t1495 - _t1537
+    _out_re[..., 200] = (
         _t1251 * _t1388
         - _t1337 * _t1544
         - _t1411
@@ -8148,9 +8190,9 @@ def automatic_monomials(family_re, family_im):
         + _t1542 * a4_re
         + _t1543 * a4_re
     )
-    re[..., 201] = _t1323
-    re[..., 202] = -_t1362 - _t1509 - _t1537
-    re[..., 203] = (
+    _out_re[..., 201] = _t1323
+    _out_re[..., 202] = -_t1362 - _t1509 - _t1537
+    _out_re[..., 203] = (
         _t1250 * _t1549
         + _t1251 * _t1546
         + _t1251 * _t1547
@@ -8202,16 +8244,16 @@ def automatic_monomials(family_re, family_im):
         + _t1636 * a4_re
         + _t1637 * a4_re
     )
-    re[..., 204] = _t1667
-    re[..., 205] = _t1672
-    re[..., 206] = _t1676
-    re[..., 207] = _t1679
-    re[..., 208] = _t1672
-    re[..., 209] = _t1680
-    re[..., 210] = _t1676
-    re[..., 211] = _t1671
-    re[..., 212] = _t1671
-    re[..., 213] = (
+    _out_re[..., 204] = _t1667
+    _out_re[..., 205] = _t1672
+    _out_re[..., 206] = _t1676
+    _out_re[..., 207] = _t1679
+    _out_re[..., 208] = _t1672
+    _out_re[..., 209] = _t1680
+    _out_re[..., 210] = _t1676
+    _out_re[..., 211] = _t1671
+    _out_re[..., 212] = _t1671
+    _out_re[..., 213] = (
         _t1681
         - _t1683
         - _t1689 * a5_im
@@ -8221,16 +8263,16 @@ def automatic_monomials(family_re, family_im):
         + _t1701 * a5_re
         + _t1702 * a5_re
     )
-    re[..., 214] = _t1667
-    re[..., 215] = _t1705
-    re[..., 216] = _t1675
-    re[..., 217] = _t1708
-    re[..., 218] = _t1704
-    re[..., 219] = _t1708
-    re[..., 220] = _t1705
-    re[..., 221] = _t1676
-    re[..., 222] = _t1704
-    re[..., 223] = (
+    _out_re[..., 214] = _t1667
+    _out_re[..., 215] = _t1705
+    _out_re[..., 216] = _t1675
+    _out_re[..., 217] = _t1708
+    _out_re[..., 218] = _t1704
+    _out_re[..., 219] = _t1708
+    _out_re[..., 220] = _t1705
+    _out_re[..., 221] = _t1676
+    _out_re[..., 222] = _t1704
+    _out_re[..., 223] = (
         _t1709
         - _t1710
         - _t1711 * a5_im
@@ -8240,16 +8282,16 @@ def automatic_monomials(family_re, family_im):
         + _t1719 * a5_re
         + _t1720 * a5_re
     )
-    re[..., 224] = _t1667
-    re[..., 225] = _t1723
-    re[..., 226] = _t1680
-    re[..., 227] = _t1707
-    re[..., 228] = _t1722
-    re[..., 229] = _t1708
-    re[..., 230] = _t1722
-    re[..., 231] = _t1680
-    re[..., 232] = _t1723
-    re[..., 233] = (
+    _out_re[..., 224] = _t1667
+    _out_re[..., 225] = _t1723
+    _out_re[..., 226] = _t1680
+    _out_re[..., 227] = _t1707
+    _out_re[..., 228] = _t1722
+    _out_re[..., 229] = _t1708
+    _out_re[..., 230] = _t1722
+    _out_re[..., 231] = _t1680
+    _out_re[..., 232] = _t1723
+    _out_re[..., 233] = (
         _t1724
         - _t1725
         - _t1726 * a5_im
@@ -8259,12 +8301,12 @@ def automatic_monomials(family_re, family_im):
         + _t1734 * a5_re
         + _t1735 * a5_re
     )
-    re[..., 234] = _t1739
-    re[..., 235] = _t1741
-    re[..., 236] = _t1741
-    re[..., 237] = _t1741
-    re[..., 238] = -_t1754 - _t1766 - _t1778
-    re[..., 239] = (
+    _out_re[..., 234] = _t1739
+    _out_re[..., 235] = _t1741
+    _out_re[..., 236] = _t1741
+    _out_re[..., 237] = _t1741
+    _out_re[..., 238] = -_t1754 - _t1766 - _t1778
+    _out_re[..., 239] = (
         _t1667 * _t1805
         - _t1753 * _t1807
         - _t1787 * a5_im
@@ -8275,7 +8317,7 @@ def automatic_monomials(family_re, family_im):
         + _t1802 * a5_re
         - _t1827
     )
-    re[..., 240] = (
+    _out_re[..., 240] = (
         _t1667 * _t1846
         - _t1753 * _t1847
         - _t1832 * a5_im
@@ -8286,7 +8328,7 @@ def automatic_monomials(family_re, family_im):
         + _t1843 * a5_re
         - _t1864
     )
-    re[..., 241] = (
+    _out_re[..., 241] = (
         _t1667 * _t1880
         - _t1753 * _t1881
         - _t1867 * a5_im
@@ -8297,11 +8339,11 @@ def automatic_monomials(family_re, family_im):
         + _t1878 * a5_re
         - _t1896
     )
-    re[..., 242] = _t1739
-    re[..., 243] = _t1741
-    re[..., 244] = _t1741
-    re[..., 245] = -_t1754 - _t1911 - _t1925
-    re[..., 246] = (
+    _out_re[..., 242] = _t1739
+    _out_re[..., 243] = _t1741
+    _out_re[..., 244] = _t1741
+    _out_re[..., 245] = -_t1754 - _t1911 - _t1925
+    _out_re[..., 246] = (
         _t1667 * _t1879
         - _t1753 * _t1932
         - _t1896
@@ -8312,7 +8354,7 @@ def automatic_monomials(family_re, family_im):
         + _t1930 * a5_re
         + _t1931 * a5_re
     )
-    re[..., 247] = (
+    _out_re[..., 247] = (
         _t1667 * _t1845
         - _t1753 * _t1939
         - _t1864
@@ -8323,10 +8365,10 @@ def automatic_monomials(family_re, family_im):
         + _t1937 * a5_re
         + _t1938 * a5_re
     )
-    re[..., 248] = _t1739
-    re[..., 249] = _t1741
-    re[..., 250] = -_t1766 - _t1911 - _t1953
-    re[..., 251] = (
+    _out_re[..., 248] = _t1739
+    _out_re[..., 249] = _t1741
+    _out_re[..., 250] = -_t1766 - _t1911 - _t1953
+    _out_re[..., 251] = (
         _t1667 * _t1804
         - _t1753 * _t1960
         - _t1827
@@ -8337,9 +8379,9 @@ def automatic_monomials(family_re, family_im):
         + _t1958 * a5_re
         + _t1959 * a5_re
     )
-    re[..., 252] = _t1739
-    re[..., 253] = -_t1778 - _t1925 - _t1953
-    re[..., 254] = (
+    _out_re[..., 252] = _t1739
+    _out_re[..., 253] = -_t1778 - _t1925 - _t1953
+    _out_re[..., 254] = (
         _t1666 * _t1965
         + _t1667 * _t1962
         + _t1667 * _t1963
@@ -8391,16 +8433,16 @@ def automatic_monomials(family_re, family_im):
         + _t2052 * a5_re
         + _t2053 * a5_re
     )
-    re[..., 255] = _t2083
-    re[..., 256] = _t2088
-    re[..., 257] = _t2092
-    re[..., 258] = _t2095
-    re[..., 259] = _t2088
-    re[..., 260] = _t2096
-    re[..., 261] = _t2092
-    re[..., 262] = _t2087
-    re[..., 263] = _t2087
-    re[..., 264] = (
+    _out_re[..., 255] = _t2083
+    _out_re[..., 256] = _t2088
+    _out_re[..., 257] = _t2092
+    _out_re[..., 258] = _t2095
+    _out_re[..., 259] = _t2088
+    _out_re[..., 260] = _t2096
+    _out_re[..., 261] = _t2092
+    _out_re[..., 262] = _t2087
+    _out_re[..., 263] = _t2087
+    _out_re[..., 264] = (
         _t2097
         - _t2099
         - _t2105 * a6_im
@@ -8410,16 +8452,16 @@ def automatic_monomials(family_re, family_im):
         + _t2117 * a6_re
         + _t2118 * a6_re
     )
-    re[..., 265] = _t2083
-    re[..., 266] = _t2121
-    re[..., 267] = _t2091
-    re[..., 268] = _t2124
-    re[..., 269] = _t2120
-    re[..., 270] = _t2124
-    re[..., 271] = _t2121
-    re[..., 272] = _t2092
-    re[..., 273] = _t2120
-    re[..., 274] = (
+    _out_re[..., 265] = _t2083
+    _out_re[..., 266] = _t2121
+    _out_re[..., 267] = _t2091
+    _out_re[..., 268] = _t2124
+    _out_re[..., 269] = _t2120
+    _out_re[..., 270] = _t2124
+    _out_re[..., 271] = _t2121
+    _out_re[..., 272] = _t2092
+    _out_re[..., 273] = _t2120
+    _out_re[..., 274] = (
         _t2125
         - _t2126
         - _t2127 * a6_im
@@ -8429,16 +8471,16 @@ def automatic_monomials(family_re, family_im):
         + _t2135 * a6_re
         + _t2136 * a6_re
     )
-    re[..., 275] = _t2083
-    re[..., 276] = _t2139
-    re[..., 277] = _t2096
-    re[..., 278] = _t2123
-    re[..., 279] = _t2138
-    re[..., 280] = _t2124
-    re[..., 281] = _t2138
-    re[..., 282] = _t2096
-    re[..., 283] = _t2139
-    re[..., 284] = (
+    _out_re[..., 275] = _t2083
+    _out_re[..., 276] = _t2139
+    _out_re[..., 277] = _t2096
+    _out_re[..., 278] = _t2123
+    _out_re[..., 279] = _t2138
+    _out_re[..., 280] = _t2124
+    _out_re[..., 281] = _t2138
+    _out_re[..., 282] = _t2096
+    _out_re[..., 283] = _t2139
+    _out_re[..., 284] = (
         _t2140
         - _t2141
         - _t2142 * a6_im
@@ -8448,12 +8490,12 @@ def automatic_monomials(family_re, family_im):
         + _t2150 * a6_re
         + _t2151 * a6_re
     )
-    re[..., 285] = _t2155
-    re[..., 286] = _t2157
-    re[..., 287] = _t2157
-    re[..., 288] = _t2157
-    re[..., 289] = -_t2170 - _t2182 - _t2194
-    re[..., 290] = (
+    _out_re[..., 285] = _t2155
+    _out_re[..., 286] = _t2157
+    _out_re[..., 287] = _t2157
+    _out_re[..., 288] = _t2157
+    _out_re[..., 289] = -_t2170 - _t2182 - _t2194
+    _out_re[..., 290] = (
         _t2083 * _t2221
         - _t2169 * _t2223
         - _t2203 * a6_im
@@ -8464,7 +8506,7 @@ def automatic_monomials(family_re, family_im):
         + _t2218 * a6_re
         - _t2243
     )
-    re[..., 291] = (
+    _out_re[..., 291] = (
         _t2083 * _t2262
         - _t2169 * _t2263
         - _t2248 * a6_im
@@ -8475,7 +8517,7 @@ def automatic_monomials(family_re, family_im):
         + _t2259 * a6_re
         - _t2280
     )
-    re[..., 292] = (
+    _out_re[..., 292] = (
         _t2083 * _t2296
         - _t2169 * _t2297
         - _t2283 * a6_im
@@ -8486,11 +8528,11 @@ def automatic_monomials(family_re, family_im):
         + _t2294 * a6_re
         - _t2312
     )
-    re[..., 293] = _t2155
-    re[..., 294] = _t2157
-    re[..., 295] = _t2157
-    re[..., 296] = -_t2170 - _t2327 - _t2341
-    re[..., 297] = (
+    _out_re[..., 293] = _t2155
+    _out_re[..., 294] = _t2157
+    _out_re[..., 295] = _t2157
+    _out_re[..., 296] = -_t2170 - _t2327 - _t2341
+    _out_re[..., 297] = (
         _t2083 * _t2295
         - _t2169 * _t2348
         - _t2312
@@ -8501,7 +8543,7 @@ def automatic_monomials(family_re, family_im):
         + _t2346 * a6_re
         + _t2347 * a6_re
     )
-    re[..., 298] = (
+    _out_re[..., 298] = (
         _t2083 * _t2261
         - _t2169 * _t2355
         - _t2280
@@ -8512,10 +8554,10 @@ def automatic_monomials(family_re, family_im):
         + _t2353 * a6_re
         + _t2354 * a6_re
     )
-    re[..., 299] = _t2155
-    re[..., 300] = _t2157
-    re[..., 301] = -_t2182 - _t2327 - _t2369
-    re[..., 302] = (
+    _out_re[..., 299] = _t2155
+    _out_re[..., 300] = _t2157
+    _out_re[..., 301] = -_t2182 - _t2327 - _t2369
+    _out_re[..., 302] = (
         _t2083 * _t2220
         - _t2169 * _t2376
         - _t2243
@@ -8526,9 +8568,9 @@ def automatic_monomials(family_re, family_im):
         + _t2374 * a6_re
         + _t2375 * a6_re
     )
-    re[..., 303] = _t2155
-    re[..., 304] = -_t2194 - _t2341 - _t2369
-    re[..., 305] = (
+    _out_re[..., 303] = _t2155
+    _out_re[..., 304] = -_t2194 - _t2341 - _t2369
+    _out_re[..., 305] = (
         _t2082 * _t2381
         + _t2083 * _t2378
         + _t2083 * _t2379
@@ -8580,22 +8622,22 @@ def automatic_monomials(family_re, family_im):
         + _t2468 * a6_re
         + _t2469 * a6_re
     )
-    re[..., 306] = 1
-    re[..., 307] = 1
-    re[..., 308] = 1
-    re[..., 309] = 1
-    re[..., 310] = -1
-    im = numpy.zeros(shape + (311,))
-    im[..., 0] = _t89
-    im[..., 1] = _t2496
-    im[..., 2] = _t2497
-    im[..., 3] = -_t2498
-    im[..., 4] = _t2496
-    im[..., 5] = _t2498
-    im[..., 6] = _t2497
-    im[..., 7] = _t2499
-    im[..., 8] = _t2499
-    im[..., 9] = (
+    _out_re[..., 306] = 1
+    _out_re[..., 307] = 1
+    _out_re[..., 308] = 1
+    _out_re[..., 309] = 1
+    _out_re[..., 310] = -1
+    _out_im = numpy.zeros(_shape + (311,))
+    _out_im[..., 0] = _t89
+    _out_im[..., 1] = _t2496
+    _out_im[..., 2] = _t2497
+    _out_im[..., 3] = -_t2498
+    _out_im[..., 4] = _t2496
+    _out_im[..., 5] = _t2498
+    _out_im[..., 6] = _t2497
+    _out_im[..., 7] = _t2499
+    _out_im[..., 8] = _t2499
+    _out_im[..., 9] = (
         -_t18 * base_x1_im
         + _t25 * a1_re
         + _t26 * a1_im
@@ -8605,16 +8647,16 @@ def automatic_monomials(family_re, family_im):
         + _t38 * a1_im
         - _t5 * base_x1_re
     )
-    im[..., 10] = _t89
-    im[..., 11] = _t2500
-    im[..., 12] = -_t2497
-    im[..., 13] = _t2501
-    im[..., 14] = _t2502
-    im[..., 15] = _t2501
-    im[..., 16] = _t2500
-    im[..., 17] = _t2497
-    im[..., 18] = _t2502
-    im[..., 19] = (
+    _out_im[..., 10] = _t89
+    _out_im[..., 11] = _t2500
+    _out_im[..., 12] = -_t2497
+    _out_im[..., 13] = _t2501
+    _out_im[..., 14] = _t2502
+    _out_im[..., 15] = _t2501
+    _out_im[..., 16] = _t2500
+    _out_im[..., 17] = _t2497
+    _out_im[..., 18] = _t2502
+    _out_im[..., 19] = (
         -_t18 * base_y1_im
         + _t47 * a1_re
         + _t48 * a1_im
@@ -8624,16 +8666,16 @@ def automatic_monomials(family_re, family_im):
         + _t55 * a1_im
         + _t56 * a1_im
     )
-    im[..., 20] = _t89
-    im[..., 21] = _t2503
-    im[..., 22] = _t2498
-    im[..., 23] = -_t2501
-    im[..., 24] = _t2504
-    im[..., 25] = _t2501
-    im[..., 26] = _t2504
-    im[..., 27] = _t2498
-    im[..., 28] = _t2503
-    im[..., 29] = (
+    _out_im[..., 20] = _t89
+    _out_im[..., 21] = _t2503
+    _out_im[..., 22] = _t2498
+    _out_im[..., 23] = -_t2501
+    _out_im[..., 24] = _t2504
+    _out_im[..., 25] = _t2501
+    _out_im[..., 26] = _t2504
+    _out_im[..., 27] = _t2498
+    _out_im[..., 28] = _t2503
+    _out_im[..., 29] = (
         -_t18 * base_z1_im
         - _t5 * base_z1_re
         + _t62 * a1_re
@@ -8643,12 +8685,12 @@ def automatic_monomials(family_re, family_im):
         + _t70 * a1_im
         + _t71 * a1_im
     )
-    im[..., 30] = _t2505
-    im[..., 31] = _t2506
-    im[..., 32] = _t2506
-    im[..., 33] = _t2506
-    im[..., 34] = _t2507 + _t2508 + _t2509
-    im[..., 35] = (
+    _out_im[..., 30] = _t2505
+    _out_im[..., 31] = _t2506
+    _out_im[..., 32] = _t2506
+    _out_im[..., 33] = _t2506
+    _out_im[..., 34] = _t2507 + _t2508 + _t2509
+    _out_im[..., 35] = (
         _t123 * a1_re
         + _t129 * a1_re
         + _t135 * a1_re
@@ -8659,7 +8701,7 @@ def automatic_monomials(family_re, family_im):
         + _t143 * _t3
         + _t2510
     )
-    im[..., 36] = (
+    _out_im[..., 36] = (
         _t168 * a1_re
         + _t173 * a1_re
         + _t176 * a1_re
@@ -8670,7 +8712,7 @@ def automatic_monomials(family_re, family_im):
         + _t183 * _t3
         + _t2511
     )
-    im[..., 37] = (
+    _out_im[..., 37] = (
         _t203 * a1_re
         + _t208 * a1_re
         + _t211 * a1_re
@@ -8681,11 +8723,11 @@ def automatic_monomials(family_re, family_im):
         + _t217 * _t3
         + _t2512
     )
-    im[..., 38] = _t2505
-    im[..., 39] = _t2506
-    im[..., 40] = _t2506
-    im[..., 41] = _t2507 + _t2513 + _t2514
-    im[..., 42] = (
+    _out_im[..., 38] = _t2505
+    _out_im[..., 39] = _t2506
+    _out_im[..., 40] = _t2506
+    _out_im[..., 41] = _t2507 + _t2513 + _t2514
+    _out_im[..., 42] = (
         _t215 * _t89
         + _t2512
         + _t262 * a1_re
@@ -8696,7 +8738,7 @@ def automatic_monomials(family_re, family_im):
         + _t267 * a1_im
         + _t268 * _t3
     )
-    im[..., 43] = (
+    _out_im[..., 43] = (
         _t181 * _t89
         + _t2511
         + _t269 * a1_re
@@ -8707,10 +8749,10 @@ def automatic_monomials(family_re, family_im):
         + _t274 * a1_im
         + _t275 * _t3
     )
-    im[..., 44] = _t2505
-    im[..., 45] = _t2506
-    im[..., 46] = _t2508 + _t2513 + _t2515
-    im[..., 47] = (
+    _out_im[..., 44] = _t2505
+    _out_im[..., 45] = _t2506
+    _out_im[..., 46] = _t2508 + _t2513 + _t2515
+    _out_im[..., 47] = (
         _t140 * _t89
         + _t2510
         + _t290 * a1_re
@@ -8721,9 +8763,9 @@ def automatic_monomials(family_re, family_im):
         + _t295 * a1_im
         + _t296 * _t3
     )
-    im[..., 48] = _t2505
-    im[..., 49] = _t2509 + _t2514 + _t2515
-    im[..., 50] = (
+    _out_im[..., 48] = _t2505
+    _out_im[..., 49] = _t2509 + _t2514 + _t2515
+    _out_im[..., 50] = (
         _t19 * base_x1_im
         + 2 * _t2 * _t297
         + _t298 * _t89
@@ -8775,16 +8817,16 @@ def automatic_monomials(family_re, family_im):
         + _t46 * base_y1_im
         + _t61 * base_z1_im
     )
-    im[..., 51] = _t505
-    im[..., 52] = _t2516
-    im[..., 53] = _t2517
-    im[..., 54] = -_t2518
-    im[..., 55] = _t2516
-    im[..., 56] = _t2518
-    im[..., 57] = _t2517
-    im[..., 58] = _t2519
-    im[..., 59] = _t2519
-    im[..., 60] = (
+    _out_im[..., 51] = _t505
+    _out_im[..., 52] = _t2516
+    _out_im[..., 53] = _t2517
+    _out_im[..., 54] = -_t2518
+    _out_im[..., 55] = _t2516
+    _out_im[..., 56] = _t2518
+    _out_im[..., 57] = _t2517
+    _out_im[..., 58] = _t2519
+    _out_im[..., 59] = _t2519
+    _out_im[..., 60] = (
         -_t421 * base_x2_re
         - _t434 * base_x2_im
         + _t441 * a2_re
@@ -8794,16 +8836,16 @@ def automatic_monomials(family_re, family_im):
         + _t453 * a2_im
         + _t454 * a2_im
     )
-    im[..., 61] = _t505
-    im[..., 62] = _t2520
-    im[..., 63] = -_t2517
-    im[..., 64] = _t2521
-    im[..., 65] = _t2522
-    im[..., 66] = _t2521
-    im[..., 67] = _t2520
-    im[..., 68] = _t2517
-    im[..., 69] = _t2522
-    im[..., 70] = (
+    _out_im[..., 61] = _t505
+    _out_im[..., 62] = _t2520
+    _out_im[..., 63] = -_t2517
+    _out_im[..., 64] = _t2521
+    _out_im[..., 65] = _t2522
+    _out_im[..., 66] = _t2521
+    _out_im[..., 67] = _t2520
+    _out_im[..., 68] = _t2517
+    _out_im[..., 69] = _t2522
+    _out_im[..., 70] = (
         -_t421 * base_y2_re
         - _t434 * base_y2_im
         + _t463 * a2_re
@@ -8813,16 +8855,16 @@ def automatic_monomials(family_re, family_im):
         + _t471 * a2_im
         + _t472 * a2_im
     )
-    im[..., 71] = _t505
-    im[..., 72] = _t2523
-    im[..., 73] = _t2518
-    im[..., 74] = -_t2521
-    im[..., 75] = _t2524
-    im[..., 76] = _t2521
-    im[..., 77] = _t2524
-    im[..., 78] = _t2518
-    im[..., 79] = _t2523
-    im[..., 80] = (
+    _out_im[..., 71] = _t505
+    _out_im[..., 72] = _t2523
+    _out_im[..., 73] = _t2518
+    _out_im[..., 74] = -_t2521
+    _out_im[..., 75] = _t2524
+    _out_im[..., 76] = _t2521
+    _out_im[..., 77] = _t2524
+    _out_im[..., 78] = _t2518
+    _out_im[..., 79] = _t2523
+    _out_im[..., 80] = (
         -_t421 * base_z2_re
         - _t434 * base_z2_im
         + _t478 * a2_re
@@ -8832,12 +8874,12 @@ def automatic_monomials(family_re, family_im):
         + _t486 * a2_im
         + _t487 * a2_im
     )
-    im[..., 81] = _t2525
-    im[..., 82] = _t2526
-    im[..., 83] = _t2526
-    im[..., 84] = _t2526
-    im[..., 85] = _t2527 + _t2528 + _t2529
-    im[..., 86] = (
+    _out_im[..., 81] = _t2525
+    _out_im[..., 82] = _t2526
+    _out_im[..., 83] = _t2526
+    _out_im[..., 84] = _t2526
+    _out_im[..., 85] = _t2527 + _t2528 + _t2529
+    _out_im[..., 86] = (
         _t2530
         + _t419 * _t559
         + _t505 * _t557
@@ -8848,7 +8890,7 @@ def automatic_monomials(family_re, family_im):
         + _t553 * a2_im
         + _t554 * a2_im
     )
-    im[..., 87] = (
+    _out_im[..., 87] = (
         _t2531
         + _t419 * _t599
         + _t505 * _t598
@@ -8859,7 +8901,7 @@ def automatic_monomials(family_re, family_im):
         + _t594 * a2_im
         + _t595 * a2_im
     )
-    im[..., 88] = (
+    _out_im[..., 88] = (
         _t2532
         + _t419 * _t633
         + _t505 * _t632
@@ -8870,11 +8912,11 @@ def automatic_monomials(family_re, family_im):
         + _t629 * a2_im
         + _t630 * a2_im
     )
-    im[..., 89] = _t2525
-    im[..., 90] = _t2526
-    im[..., 91] = _t2526
-    im[..., 92] = _t2527 + _t2533 + _t2534
-    im[..., 93] = (
+    _out_im[..., 89] = _t2525
+    _out_im[..., 90] = _t2526
+    _out_im[..., 91] = _t2526
+    _out_im[..., 92] = _t2527 + _t2533 + _t2534
+    _out_im[..., 93] = (
         _t2532
         + _t419 * _t684
         + _t505 * _t631
@@ -8885,7 +8927,7 @@ def automatic_monomials(family_re, family_im):
         + _t682 * a2_im
         + _t683 * a2_im
     )
-    im[..., 94] = (
+    _out_im[..., 94] = (
         _t2531
         + _t419 * _t691
         + _t505 * _t597
@@ -8896,10 +8938,10 @@ def automatic_monomials(family_re, family_im):
         + _t689 * a2_im
         + _t690 * a2_im
     )
-    im[..., 95] = _t2525
-    im[..., 96] = _t2526
-    im[..., 97] = _t2528 + _t2533 + _t2535
-    im[..., 98] = (
+    _out_im[..., 95] = _t2525
+    _out_im[..., 96] = _t2526
+    _out_im[..., 97] = _t2528 + _t2533 + _t2535
+    _out_im[..., 98] = (
         _t2530
         + _t419 * _t712
         + _t505 * _t556
@@ -8910,9 +8952,9 @@ def automatic_monomials(family_re, family_im):
         + _t710 * a2_im
         + _t711 * a2_im
     )
-    im[..., 99] = _t2525
-    im[..., 100] = _t2529 + _t2534 + _t2535
-    im[..., 101] = (
+    _out_im[..., 99] = _t2525
+    _out_im[..., 100] = _t2529 + _t2534 + _t2535
+    _out_im[..., 101] = (
         2 * _t418 * _t713
         + _t435 * base_x2_im
         + _t462 * base_y2_im
@@ -8964,16 +9006,16 @@ def automatic_monomials(family_re, family_im):
         + _t804 * a2_im
         + _t805 * a2_im
     )
-    im[..., 102] = _t921
-    im[..., 103] = _t2536
-    im[..., 104] = _t2537
-    im[..., 105] = -_t2538
-    im[..., 106] = _t2536
-    im[..., 107] = _t2538
-    im[..., 108] = _t2537
-    im[..., 109] = _t2539
-    im[..., 110] = _t2539
-    im[..., 111] = (
+    _out_im[..., 102] = _t921
+    _out_im[..., 103] = _t2536
+    _out_im[..., 104] = _t2537
+    _out_im[..., 105] = -_t2538
+    _out_im[..., 106] = _t2536
+    _out_im[..., 107] = _t2538
+    _out_im[..., 108] = _t2537
+    _out_im[..., 109] = _t2539
+    _out_im[..., 110] = _t2539
+    _out_im[..., 111] = (
         -_t837 * base_x3_re
         - _t850 * base_x3_im
         + _t857 * a3_re
@@ -8983,16 +9025,16 @@ def automatic_monomials(family_re, family_im):
         + _t869 * a3_im
         + _t870 * a3_im
     )
-    im[..., 112] = _t921
-    im[..., 113] = _t2540
-    im[..., 114] = -_t2537
-    im[..., 115] = _t2541
-    im[..., 116] = _t2542
-    im[..., 117] = _t2541
-    im[..., 118] = _t2540
-    im[..., 119] = _t2537
-    im[..., 120] = _t2542
-    im[..., 121] = (
+    _out_im[..., 112] = _t921
+    _out_im[..., 113] = _t2540
+    _out_im[..., 114] = -_t2537
+    _out_im[..., 115] = _t2541
+    _out_im[..., 116] = _t2542
+    _out_im[..., 117] = _t2541
+    _out_im[..., 118] = _t2540
+    _out_im[..., 119] = _t2537
+    _out_im[..., 120] = _t2542
+    _out_im[..., 121] = (
         -_t837 * base_y3_re
         - _t850 * base_y3_im
         + _t879 * a3_re
@@ -9002,16 +9044,16 @@ def automatic_monomials(family_re, family_im):
         + _t887 * a3_im
         + _t888 * a3_im
     )
-    im[..., 122] = _t921
-    im[..., 123] = _t2543
-    im[..., 124] = _t2538
-    im[..., 125] = -_t2541
-    im[..., 126] = _t2544
-    im[..., 127] = _t2541
-    im[..., 128] = _t2544
-    im[..., 129] = _t2538
-    im[..., 130] = _t2543
-    im[..., 131] = (
+    _out_im[..., 122] = _t921
+    _out_im[..., 123] = _t2543
+    _out_im[..., 124] = _t2538
+    _out_im[..., 125] = -_t2541
+    _out_im[..., 126] = _t2544
+    _out_im[..., 127] = _t2541
+    _out_im[..., 128] = _t2544
+    _out_im[..., 129] = _t2538
+    _out_im[..., 130] = _t2543
+    _out_im[..., 131] = (
         -_t837 * base_z3_re
         - _t850 * base_z3_im
         + _t894 * a3_re
@@ -9021,12 +9063,12 @@ def automatic_monomials(family_re, family_im):
         + _t902 * a3_im
         + _t903 * a3_im
     )
-    im[..., 132] = _t2545
-    im[..., 133] = _t2546
-    im[..., 134] = _t2546
-    im[..., 135] = _t2546
-    im[..., 136] = _t2547 + _t2548 + _t2549
-    im[..., 137] = (
+    _out_im[..., 132] = _t2545
+    _out_im[..., 133] = _t2546
+    _out_im[..., 134] = _t2546
+    _out_im[..., 135] = _t2546
+    _out_im[..., 136] = _t2547 + _t2548 + _t2549
+    _out_im[..., 137] = (
         _t2550
         + _t835 * _t975
         + _t921 * _t973
@@ -9037,7 +9079,7 @@ def automatic_monomials(family_re, family_im):
         + _t969 * a3_im
         + _t970 * a3_im
     )
-    im[..., 138] = (
+    _out_im[..., 138] = (
         _t1000 * a3_re
         + _t1005 * a3_re
         + _t1008 * a3_re
@@ -9048,7 +9090,7 @@ def automatic_monomials(family_re, family_im):
         + _t1015 * _t835
         + _t2551
     )
-    im[..., 139] = (
+    _out_im[..., 139] = (
         _t1035 * a3_re
         + _t1040 * a3_re
         + _t1043 * a3_re
@@ -9059,11 +9101,11 @@ def automatic_monomials(family_re, family_im):
         + _t1049 * _t835
         + _t2552
     )
-    im[..., 140] = _t2545
-    im[..., 141] = _t2546
-    im[..., 142] = _t2546
-    im[..., 143] = _t2547 + _t2553 + _t2554
-    im[..., 144] = (
+    _out_im[..., 140] = _t2545
+    _out_im[..., 141] = _t2546
+    _out_im[..., 142] = _t2546
+    _out_im[..., 143] = _t2547 + _t2553 + _t2554
+    _out_im[..., 144] = (
         _t1047 * _t921
         + _t1094 * a3_re
         + _t1095 * a3_re
@@ -9074,7 +9116,7 @@ def automatic_monomials(family_re, family_im):
         + _t1100 * _t835
         + _t2552
     )
-    im[..., 145] = (
+    _out_im[..., 145] = (
         _t1013 * _t921
         + _t1101 * a3_re
         + _t1102 * a3_re
@@ -9085,10 +9127,10 @@ def automatic_monomials(family_re, family_im):
         + _t1107 * _t835
         + _t2551
     )
-    im[..., 146] = _t2545
-    im[..., 147] = _t2546
-    im[..., 148] = _t2548 + _t2553 + _t2555
-    im[..., 149] = (
+    _out_im[..., 146] = _t2545
+    _out_im[..., 147] = _t2546
+    _out_im[..., 148] = _t2548 + _t2553 + _t2555
+    _out_im[..., 149] = (
         _t1122 * a3_re
         + _t1123 * a3_re
         + _t1124 * a3_re
@@ -9099,9 +9141,9 @@ def automatic_monomials(family_re, family_im):
         + _t2550
         + _t921 * _t972
     )
-    im[..., 150] = _t2545
-    im[..., 151] = _t2549 + _t2554 + _t2555
-    im[..., 152] = (
+    _out_im[..., 150] = _t2545
+    _out_im[..., 151] = _t2549 + _t2554 + _t2555
+    _out_im[..., 152] = (
         2 * _t1129 * _t834
         + _t1130 * _t921
         + _t1131 * _t921
@@ -9153,16 +9195,16 @@ def automatic_monomials(family_re, family_im):
         + _t878 * base_y3_im
         + _t893 * base_z3_im
     )
-    im[..., 153] = _t1337
-    im[..., 154] = _t2556
-    im[..., 155] = _t2557
-    im[..., 156] = -_t2558
-    im[..., 157] = _t2556
-    im[..., 158] = _t2558
-    im[..., 159] = _t2557
-    im[..., 160] = _t2559
-    im[..., 161] = _t2559
-    im[..., 162] = (
+    _out_im[..., 153] = _t1337
+    _out_im[..., 154] = _t2556
+    _out_im[..., 155] = _t2557
+    _out_im[..., 156] = -_t2558
+    _out_im[..., 157] = _t2556
+    _out_im[..., 158] = _t2558
+    _out_im[..., 159] = _t2557
+    _out_im[..., 160] = _t2559
+    _out_im[..., 161] = _t2559
+    _out_im[..., 162] = (
         -_t1253 * base_x4_re
         - _t1266 * base_x4_im
         + _t1273 * a4_re
@@ -9172,16 +9214,16 @@ def automatic_monomials(family_re, family_im):
         + _t1285 * a4_im
         + _t1286 * a4_im
     )
-    im[..., 163] = _t1337
-    im[..., 164] = _t2560
-    im[..., 165] = -_t2557
-    im[..., 166] = _t2561
-    im[..., 167] = _t2562
-    im[..., 168] = _t2561
-    im[..., 169] = _t2560
-    im[..., 170] = _t2557
-    im[..., 171] = _t2562
-    im[..., 172] = (
+    _out_im[..., 163] = _t1337
+    _out_im[..., 164] = _t2560
+    _out_im[..., 165] = -_t2557
+    _out_im[..., 166] = _t2561
+    _out_im[..., 167] = _t2562
+    _out_im[..., 168] = _t2561
+    _out_im[..., 169] = _t2560
+    _out_im[..., 170] = _t2557
+    _out_im[..., 171] = _t2562
+    _out_im[..., 172] = (
         -_t1253 * base_y4_re
         - _t1266 * base_y4_im
         + _t1295 * a4_re
@@ -9191,16 +9233,16 @@ def automatic_monomials(family_re, family_im):
         + _t1303 * a4_im
         + _t1304 * a4_im
     )
-    im[..., 173] = _t1337
-    im[..., 174] = _t2563
-    im[..., 175] = _t2558
-    im[..., 176] = -_t2561
-    im[..., 177] = _t2564
-    im[..., 178] = _t2561
-    im[..., 179] = _t2564
-    im[..., 180] = _t2558
-    im[..., 181] = _t2563
-    im[..., 182] = (
+    _out_im[..., 173] = _t1337
+    _out_im[..., 174] = _t2563
+    _out_im[..., 175] = _t2558
+    _out_im[..., 176] = -_t2561
+    _out_im[..., 177] = _t2564
+    _out_im[..., 178] = _t2561
+    _out_im[..., 179] = _t2564
+    _out_im[..., 180] = _t2558
+    _out_im[..., 181] = _t2563
+    _out_im[..., 182] = (
         -_t1253 * base_z4_re
         - _t1266 * base_z4_im
         + _t1310 * a4_re
@@ -9210,12 +9252,12 @@ def automatic_monomials(family_re, family_im):
         + _t1318 * a4_im
         + _t1319 * a4_im
     )
-    im[..., 183] = _t2565
-    im[..., 184] = _t2566
-    im[..., 185] = _t2566
-    im[..., 186] = _t2566
-    im[..., 187] = _t2567 + _t2568 + _t2569
-    im[..., 188] = (
+    _out_im[..., 183] = _t2565
+    _out_im[..., 184] = _t2566
+    _out_im[..., 185] = _t2566
+    _out_im[..., 186] = _t2566
+    _out_im[..., 187] = _t2567 + _t2568 + _t2569
+    _out_im[..., 188] = (
         _t1251 * _t1391
         + _t1337 * _t1389
         + _t1371 * a4_re
@@ -9226,7 +9268,7 @@ def automatic_monomials(family_re, family_im):
         + _t1386 * a4_im
         + _t2570
     )
-    im[..., 189] = (
+    _out_im[..., 189] = (
         _t1251 * _t1431
         + _t1337 * _t1430
         + _t1416 * a4_re
@@ -9237,7 +9279,7 @@ def automatic_monomials(family_re, family_im):
         + _t1427 * a4_im
         + _t2571
     )
-    im[..., 190] = (
+    _out_im[..., 190] = (
         _t1251 * _t1465
         + _t1337 * _t1464
         + _t1451 * a4_re
@@ -9248,11 +9290,11 @@ def automatic_monomials(family_re, family_im):
         + _t1462 * a4_im
         + _t2572
     )
-    im[..., 191] = _t2565
-    im[..., 192] = _t2566
-    im[..., 193] = _t2566
-    im[..., 194] = _t2567 + _t2573 + _t2574
-    im[..., 195] = (
+    _out_im[..., 191] = _t2565
+    _out_im[..., 192] = _t2566
+    _out_im[..., 193] = _t2566
+    _out_im[..., 194] = _t2567 + _t2573 + _t2574
+    _out_im[..., 195] = (
         _t1251 * _t1516
         + _t1337 * _t1463
         + _t1510 * a4_re
@@ -9263,7 +9305,7 @@ def automatic_monomials(family_re, family_im):
         + _t1515 * a4_im
         + _t2572
     )
-    im[..., 196] = (
+    _out_im[..., 196] = (
         _t1251 * _t1523
         + _t1337 * _t1429
         + _t1517 * a4_re
@@ -9274,10 +9316,10 @@ def automatic_monomials(family_re, family_im):
         + _t1522 * a4_im
         + _t2571
     )
-    im[..., 197] = _t2565
-    im[..., 198] = _t2566
-    im[..., 199] = _t2568 + _t2573 + _t2575
-    im[..., 200] = (
+    _out_im[..., 197] = _t2565
+    _out_im[..., 198] = _t2566
+    _out_im[..., 199] = _t2568 + _t2573 + _t2575
+    _out_im[..., 200] = (
         _t1251 * _t1544
         + _t1337 * _t1388
         + _t1538 * a4_re
@@ -9288,9 +9330,9 @@ def automatic_monomials(family_re, family_im):
         + _t1543 * a4_im
         + _t2570
     )
-    im[..., 201] = _t2565
-    im[..., 202] = _t2569 + _t2574 + _t2575
-    im[..., 203] = (
+    _out_im[..., 201] = _t2565
+    _out_im[..., 202] = _t2569 + _t2574 + _t2575
+    _out_im[..., 203] = (
         2 * _t1250 * _t1545
         + _t1267 * base_x4_im
         + _t1294 * base_y4_im
@@ -9342,16 +9384,16 @@ def automatic_monomials(family_re, family_im):
         + _t1636 * a4_im
         + _t1637 * a4_im
     )
-    im[..., 204] = _t1753
-    im[..., 205] = _t2576
-    im[..., 206] = _t2577
-    im[..., 207] = -_t2578
-    im[..., 208] = _t2576
-    im[..., 209] = _t2578
-    im[..., 210] = _t2577
-    im[..., 211] = _t2579
-    im[..., 212] = _t2579
-    im[..., 213] = (
+    _out_im[..., 204] = _t1753
+    _out_im[..., 205] = _t2576
+    _out_im[..., 206] = _t2577
+    _out_im[..., 207] = -_t2578
+    _out_im[..., 208] = _t2576
+    _out_im[..., 209] = _t2578
+    _out_im[..., 210] = _t2577
+    _out_im[..., 211] = _t2579
+    _out_im[..., 212] = _t2579
+    _out_im[..., 213] = (
         -_t1669 * base_x5_re
         - _t1682 * base_x5_im
         + _t1689 * a5_re
@@ -9361,16 +9403,16 @@ def automatic_monomials(family_re, family_im):
         + _t1701 * a5_im
         + _t1702 * a5_im
     )
-    im[..., 214] = _t1753
-    im[..., 215] = _t2580
-    im[..., 216] = -_t2577
-    im[..., 217] = _t2581
-    im[..., 218] = _t2582
-    im[..., 219] = _t2581
-    im[..., 220] = _t2580
-    im[..., 221] = _t2577
-    im[..., 222] = _t2582
-    im[..., 223] = (
+    _out_im[..., 214] = _t1753
+    _out_im[..., 215] = _t2580
+    _out_im[..., 216] = -_t2577
+    _out_im[..., 217] = _t2581
+    _out_im[..., 218] = _t2582
+    _out_im[..., 219] = _t2581
+    _out_im[..., 220] = _t2580
+    _out_im[..., 221] = _t2577
+    _out_im[..., 222] = _t2582
+    _out_im[..., 223] = (
         -_t1669 * base_y5_re
         - _t1682 * base_y5_im
         + _t1711 * a5_re
@@ -9380,16 +9422,16 @@ def automatic_monomials(family_re, family_im):
         + _t1719 * a5_im
         + _t1720 * a5_im
     )
-    im[..., 224] = _t1753
-    im[..., 225] = _t2583
-    im[..., 226] = _t2578
-    im[..., 227] = -_t2581
-    im[..., 228] = _t2584
-    im[..., 229] = _t2581
-    im[..., 230] = _t2584
-    im[..., 231] = _t2578
-    im[..., 232] = _t2583
-    im[..., 233] = (
+    _out_im[..., 224] = _t1753
+    _out_im[..., 225] = _t2583
+    _out_im[..., 226] = _t2578
+    _out_im[..., 227] = -_t2581
+    _out_im[..., 228] = _t2584
+    _out_im[..., 229] = _t2581
+    _out_im[..., 230] = _t2584
+    _out_im[..., 231] = _t2578
+    _out_im[..., 232] = _t2583
+    _out_im[..., 233] = (
         -_t1669 * base_z5_re
         - _t1682 * base_z5_im
         + _t1726 * a5_re
@@ -9399,12 +9441,12 @@ def automatic_monomials(family_re, family_im):
         + _t1734 * a5_im
         + _t1735 * a5_im
     )
-    im[..., 234] = _t2585
-    im[..., 235] = _t2586
-    im[..., 236] = _t2586
-    im[..., 237] = _t2586
-    im[..., 238] = _t2587 + _t2588 + _t2589
-    im[..., 239] = (
+    _out_im[..., 234] = _t2585
+    _out_im[..., 235] = _t2586
+    _out_im[..., 236] = _t2586
+    _out_im[..., 237] = _t2586
+    _out_im[..., 238] = _t2587 + _t2588 + _t2589
+    _out_im[..., 239] = (
         _t1667 * _t1807
         + _t1753 * _t1805
         + _t1787 * a5_re
@@ -9415,7 +9457,7 @@ def automatic_monomials(family_re, family_im):
         + _t1802 * a5_im
         + _t2590
     )
-    im[..., 240] = (
+    _out_im[..., 240] = (
         _t1667 * _t1847
         + _t1753 * _t1846
         + _t1832 * a5_re
@@ -9426,7 +9468,7 @@ def automatic_monomials(family_re, family_im):
         + _t1843 * a5_im
         + _t2591
     )
-    im[..., 241] = (
+    _out_im[..., 241] = (
         _t1667 * _t1881
         + _t1753 * _t1880
         + _t1867 * a5_re
@@ -9437,11 +9479,11 @@ def automatic_monomials(family_re, family_im):
         + _t1878 * a5_im
         + _t2592
     )
-    im[..., 242] = _t2585
-    im[..., 243] = _t2586
-    im[..., 244] = _t2586
-    im[..., 245] = _t2587 + _t2593 + _t2594
-    im[..., 246] = (
+    _out_im[..., 242] = _t2585
+    _out_im[..., 243] = _t2586
+    _out_im[..., 244] = _t2586
+    _out_im[..., 245] = _t2587 + _t2593 + _t2594
+    _out_im[..., 246] = (
         _t1667 * _t1932
         + _t1753 * _t1879
         + _t1926 * a5_re
@@ -9452,7 +9494,7 @@ def automatic_monomials(family_re, family_im):
         + _t1931 * a5_im
         + _t2592
     )
-    im[..., 247] = (
+    _out_im[..., 247] = (
         _t1667 * _t1939
         + _t1753 * _t1845
         + _t1933 * a5_re
@@ -9463,10 +9505,10 @@ def automatic_monomials(family_re, family_im):
         + _t1938 * a5_im
         + _t2591
     )
-    im[..., 248] = _t2585
-    im[..., 249] = _t2586
-    im[..., 250] = _t2588 + _t2593 + _t2595
-    im[..., 251] = (
+    _out_im[..., 248] = _t2585
+    _out_im[..., 249] = _t2586
+    _out_im[..., 250] = _t2588 + _t2593 + _t2595
+    _out_im[..., 251] = (
         _t1667 * _t1960
         + _t1753 * _t1804
         + _t1954 * a5_re
@@ -9477,9 +9519,9 @@ def automatic_monomials(family_re, family_im):
         + _t1959 * a5_im
         + _t2590
     )
-    im[..., 252] = _t2585
-    im[..., 253] = _t2589 + _t2594 + _t2595
-    im[..., 254] = (
+    _out_im[..., 252] = _t2585
+    _out_im[..., 253] = _t2589 + _t2594 + _t2595
+    _out_im[..., 254] = (
         2 * _t1666 * _t1961
         + _t1683 * base_x5_im
         + _t1710 * base_y5_im
@@ -9531,16 +9573,16 @@ def automatic_monomials(family_re, family_im):
         + _t2052 * a5_im
         + _t2053 * a5_im
     )
-    im[..., 255] = _t2169
-    im[..., 256] = _t2596
-    im[..., 257] = _t2597
-    im[..., 258] = -_t2598
-    im[..., 259] = _t2596
-    im[..., 260] = _t2598
-    im[..., 261] = _t2597
-    im[..., 262] = _t2599
-    im[..., 263] = _t2599
-    im[..., 264] = (
+    _out_im[..., 255] = _t2169
+    _out_im[..., 256] = _t2596
+    _out_im[..., 257] = _t2597
+    _out_im[..., 258] = -_t2598
+    _out_im[..., 259] = _t2596
+    _out_im[..., 260] = _t2598
+    _out_im[..., 261] = _t2597
+    _out_im[..., 262] = _t2599
+    _out_im[..., 263] = _t2599
+    _out_im[..., 264] = (
         -_t2085 * base_x6_re
         - _t2098 * base_x6_im
         + _t2105 * a6_re
@@ -9550,16 +9592,16 @@ def automatic_monomials(family_re, family_im):
         + _t2117 * a6_im
         + _t2118 * a6_im
     )
-    im[..., 265] = _t2169
-    im[..., 266] = _t2600
-    im[..., 267] = -_t2597
-    im[..., 268] = _t2601
-    im[..., 269] = _t2602
-    im[..., 270] = _t2601
-    im[..., 271] = _t2600
-    im[..., 272] = _t2597
-    im[..., 273] = _t2602
-    im[..., 274] = (
+    _out_im[..., 265] = _t2169
+    _out_im[..., 266] = _t2600
+    _out_im[..., 267] = -_t2597
+    _out_im[..., 268] = _t2601
+    _out_im[..., 269] = _t2602
+    _out_im[..., 270] = _t2601
+    _out_im[..., 271] = _t2600
+    _out_im[..., 272] = _t2597
+    _out_im[..., 273] = _t2602
+    _out_im[..., 274] = (
         -_t2085 * base_y6_re
         - _t2098 * base_y6_im
         + _t2127 * a6_re
@@ -9569,16 +9611,16 @@ def automatic_monomials(family_re, family_im):
         + _t2135 * a6_im
         + _t2136 * a6_im
     )
-    im[..., 275] = _t2169
-    im[..., 276] = _t2603
-    im[..., 277] = _t2598
-    im[..., 278] = -_t2601
-    im[..., 279] = _t2604
-    im[..., 280] = _t2601
-    im[..., 281] = _t2604
-    im[..., 282] = _t2598
-    im[..., 283] = _t2603
-    im[..., 284] = (
+    _out_im[..., 275] = _t2169
+    _out_im[..., 276] = _t2603
+    _out_im[..., 277] = _t2598
+    _out_im[..., 278] = -_t2601
+    _out_im[..., 279] = _t2604
+    _out_im[..., 280] = _t2601
+    _out_im[..., 281] = _t2604
+    _out_im[..., 282] = _t2598
+    _out_im[..., 283] = _t2603
+    _out_im[..., 284] = (
         -_t2085 * base_z6_re
         - _t2098 * base_z6_im
         + _t2142 * a6_re
@@ -9588,12 +9630,12 @@ def automatic_monomials(family_re, family_im):
         + _t2150 * a6_im
         + _t2151 * a6_im
     )
-    im[..., 285] = _t2605
-    im[..., 286] = _t2606
-    im[..., 287] = _t2606
-    im[..., 288] = _t2606
-    im[..., 289] = _t2607 + _t2608 + _t2609
-    im[..., 290] = (
+    _out_im[..., 285] = _t2605
+    _out_im[..., 286] = _t2606
+    _out_im[..., 287] = _t2606
+    _out_im[..., 288] = _t2606
+    _out_im[..., 289] = _t2607 + _t2608 + _t2609
+    _out_im[..., 290] = (
         _t2083 * _t2223
         + _t2169 * _t2221
         + _t2203 * a6_re
@@ -9604,7 +9646,7 @@ def automatic_monomials(family_re, family_im):
         + _t2218 * a6_im
         + _t2610
     )
-    im[..., 291] = (
+    _out_im[..., 291] = (
         _t2083 * _t2263
         + _t2169 * _t2262
         + _t2248 * a6_re
@@ -9615,7 +9657,7 @@ def automatic_monomials(family_re, family_im):
         + _t2259 * a6_im
         + _t2611
     )
-    im[..., 292] = (
+    _out_im[..., 292] = (
         _t2083 * _t2297
         + _t2169 * _t2296
         + _t2283 * a6_re
@@ -9626,11 +9668,11 @@ def automatic_monomials(family_re, family_im):
         + _t2294 * a6_im
         + _t2612
     )
-    im[..., 293] = _t2605
-    im[..., 294] = _t2606
-    im[..., 295] = _t2606
-    im[..., 296] = _t2607 + _t2613 + _t2614
-    im[..., 297] = (
+    _out_im[..., 293] = _t2605
+    _out_im[..., 294] = _t2606
+    _out_im[..., 295] = _t2606
+    _out_im[..., 296] = _t2607 + _t2613 + _t2614
+    _out_im[..., 297] = (
         _t2083 * _t2348
         + _t2169 * _t2295
         + _t2342 * a6_re
@@ -9641,7 +9683,7 @@ def automatic_monomials(family_re, family_im):
         + _t2347 * a6_im
         + _t2612
     )
-    im[..., 298] = (
+    _out_im[..., 298] = (
         _t2083 * _t2355
         + _t2169 * _t2261
         + _t2349 * a6_re
@@ -9652,10 +9694,10 @@ def automatic_monomials(family_re, family_im):
         + _t2354 * a6_im
         + _t2611
     )
-    im[..., 299] = _t2605
-    im[..., 300] = _t2606
-    im[..., 301] = _t2608 + _t2613 + _t2615
-    im[..., 302] = (
+    _out_im[..., 299] = _t2605
+    _out_im[..., 300] = _t2606
+    _out_im[..., 301] = _t2608 + _t2613 + _t2615
+    _out_im[..., 302] = (
         _t2083 * _t2376
         + _t2169 * _t2220
         + _t2370 * a6_re
@@ -9666,9 +9708,9 @@ def automatic_monomials(family_re, family_im):
         + _t2375 * a6_im
         + _t2610
     )
-    im[..., 303] = _t2605
-    im[..., 304] = _t2609 + _t2614 + _t2615
-    im[..., 305] = (
+    _out_im[..., 303] = _t2605
+    _out_im[..., 304] = _t2609 + _t2614 + _t2615
+    _out_im[..., 305] = (
         2 * _t2082 * _t2377
         + _t2099 * base_x6_im
         + _t2126 * base_y6_im
@@ -9721,8 +9763,8 @@ def automatic_monomials(family_re, family_im):
         + _t2469 * a6_im
     )
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -9731,27 +9773,28 @@ def automatic_passive(z, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    z3 = z[..., 3]
-    z4 = z[..., 4]
-    z5 = z[..., 5]
-    z6 = z[..., 6]
-    passive = numpy.zeros(shape + (7,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
-    passive[..., 2] = z2
-    passive[..., 3] = z3
-    passive[..., 4] = z4
-    passive[..., 5] = z5
-    passive[..., 6] = z6
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    z3 = _in_z[..., 3]
+    z4 = _in_z[..., 4]
+    z5 = _in_z[..., 5]
+    z6 = _in_z[..., 6]
+    _out_passive = numpy.zeros(_shape + (7,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
+    _out_passive[..., 2] = z2
+    _out_passive[..., 3] = z3
+    _out_passive[..., 4] = z4
+    _out_passive[..., 5] = z5
+    _out_passive[..., 6] = z6
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

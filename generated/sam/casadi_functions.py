@@ -27,17 +27,17 @@ def platform_pose() -> casadi.Function:
 
     Operations: 82.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L1 = params[0]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     _t0 = casadi.cos(phi3)
     _t1 = casadi.cos(theta1)
     _t2 = casadi.cos(theta3)
@@ -63,29 +63,29 @@ def platform_pose() -> casadi.Function:
     _t22 = _t10 * _t2
     _t23 = -_t11 * _t22 - _t3 * _t9
     _t24 = _t0 * _t23 - _t10 * _t5 * _t8
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t0 * _t7 - _t15 * _t8
-    pose[0, 1] = -_t16
-    pose[0, 2] = _t10 * _t11 * _t4 + _t14 * _t9
-    pose[0, 3] = L2 * _t14 - L4 * _t16
-    pose[1, 0] = _t0 * _t17 - _t20 * _t8
-    pose[1, 1] = -_t21
-    pose[1, 2] = -_t11 * _t18 + _t19 * _t9
-    pose[1, 3] = -L1 + L2 * _t19 - L4 * _t21
-    pose[2, 0] = -_t0 * _t10 * _t5 - _t23 * _t8
-    pose[2, 1] = -_t24
-    pose[2, 2] = _t10 * _t2 * _t9 - _t11 * _t3
-    pose[2, 3] = L2 * _t22 - L4 * _t24
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t0 * _t7 - _t15 * _t8
+    _out_pose[0, 1] = -_t16
+    _out_pose[0, 2] = _t10 * _t11 * _t4 + _t14 * _t9
+    _out_pose[0, 3] = L2 * _t14 - L4 * _t16
+    _out_pose[1, 0] = _t0 * _t17 - _t20 * _t8
+    _out_pose[1, 1] = -_t21
+    _out_pose[1, 2] = -_t11 * _t18 + _t19 * _t9
+    _out_pose[1, 3] = -L1 + L2 * _t19 - L4 * _t21
+    _out_pose[2, 0] = -_t0 * _t10 * _t5 - _t23 * _t8
+    _out_pose[2, 1] = -_t24
+    _out_pose[2, 2] = _t10 * _t2 * _t9 - _t11 * _t3
+    _out_pose[2, 3] = L2 * _t22 - L4 * _t24
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "sam_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -103,23 +103,23 @@ def loop_closure() -> casadi.Function:
 
     Operations: 399.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L3 = passive[3]
-    phi5 = passive[4]
-    phi6 = passive[5]
-    L1 = params[0]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L3 = _in_passive[3]
+    phi5 = _in_passive[4]
+    phi6 = _in_passive[5]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta6)
     _t1 = casadi.cos(theta4)
     _t2 = _t0 * _t1
@@ -236,13 +236,15 @@ def loop_closure() -> casadi.Function:
     _t113 = _t55 * _t72
     _t114 = _t59 * _t64
     _t115 = -1 / 2 * _t112 - 1 / 2 * _t113 - 1 / 2 * _t114
-    residual = casadi.SX.zeros(6)
-    residual[0] = L2 * _t15 - L3 * _t7 - L4 * _t24 - L4 * _t33
-    residual[1] = -2 * L1 + L2 * _t35 - L3 * _t34 - L4 * _t38 - L4 * _t41
-    residual[2] = L2 * _t13 * _t21 - L3 * _t42 - L4 * _t46 - L4 * _t49
-    residual[3] = _t54 + _t58 + _t63 - _t75
-    residual[4] = -_t53 * _t83 - _t57 * _t87 - _t62 * _t79 + _t67 * _t77 + _t71 * _t81 + _t74 * _t85
-    residual[5] = (
+    _out_residual = casadi.SX.zeros(6)
+    _out_residual[0] = L2 * _t15 - L3 * _t7 - L4 * _t24 - L4 * _t33
+    _out_residual[1] = -2 * L1 + L2 * _t35 - L3 * _t34 - L4 * _t38 - L4 * _t41
+    _out_residual[2] = L2 * _t13 * _t21 - L3 * _t42 - L4 * _t46 - L4 * _t49
+    _out_residual[3] = _t54 + _t58 + _t63 - _t75
+    _out_residual[4] = (
+        -_t53 * _t83 - _t57 * _t87 - _t62 * _t79 + _t67 * _t77 + _t71 * _t81 + _t74 * _t85
+    )
+    _out_residual[5] = (
         (1 / 2) * _t64 * _t79
         + (1 / 2) * _t68 * _t83
         + (1 / 2) * _t72 * _t87
@@ -250,42 +252,42 @@ def loop_closure() -> casadi.Function:
         - _t81 * _t89
         - _t85 * _t90
     )
-    jacobian = casadi.SX.zeros(6, 6)
-    jacobian[0, 0] = _t15
-    jacobian[0, 1] = -_t91 * _t92
-    jacobian[0, 2] = -L4 * _t81
-    jacobian[0, 3] = -_t7
-    jacobian[0, 4] = -_t93 * _t94
-    jacobian[0, 5] = -L4 * _t83
-    jacobian[1, 0] = _t35
-    jacobian[1, 1] = -_t92 * _t95
-    jacobian[1, 2] = -L4 * _t85
-    jacobian[1, 3] = -_t34
-    jacobian[1, 4] = -_t94 * _t96
-    jacobian[1, 5] = -L4 * _t87
-    jacobian[2, 0] = _t44
-    jacobian[2, 1] = -_t60 * _t92
-    jacobian[2, 2] = -L4 * _t77
-    jacobian[2, 3] = -_t42
-    jacobian[2, 4] = -_t65 * _t94
-    jacobian[2, 5] = -L4 * _t79
-    jacobian[3, 1] = (
+    _out_jacobian = casadi.SX.zeros(6, 6)
+    _out_jacobian[0, 0] = _t15
+    _out_jacobian[0, 1] = -_t91 * _t92
+    _out_jacobian[0, 2] = -L4 * _t81
+    _out_jacobian[0, 3] = -_t7
+    _out_jacobian[0, 4] = -_t93 * _t94
+    _out_jacobian[0, 5] = -L4 * _t83
+    _out_jacobian[1, 0] = _t35
+    _out_jacobian[1, 1] = -_t92 * _t95
+    _out_jacobian[1, 2] = -L4 * _t85
+    _out_jacobian[1, 3] = -_t34
+    _out_jacobian[1, 4] = -_t94 * _t96
+    _out_jacobian[1, 5] = -L4 * _t87
+    _out_jacobian[2, 0] = _t44
+    _out_jacobian[2, 1] = -_t60 * _t92
+    _out_jacobian[2, 2] = -L4 * _t77
+    _out_jacobian[2, 3] = -_t42
+    _out_jacobian[2, 4] = -_t65 * _t94
+    _out_jacobian[2, 5] = -L4 * _t79
+    _out_jacobian[3, 1] = (
         _t19 * _t97 + _t19 * _t98 + _t19 * _t99 + _t23 * _t89 + _t37 * _t90 + _t45 * _t88
     )
-    jacobian[3, 2] = -_t67 * _t76 - _t71 * _t80 - _t74 * _t84
-    jacobian[3, 4] = (
+    _out_jacobian[3, 2] = -_t67 * _t76 - _t71 * _t80 - _t74 * _t84
+    _out_jacobian[3, 4] = (
         -_t100 * _t28 - _t101 * _t48 - _t102 * _t28 - _t103 * _t28 - _t104 * _t32 - _t105 * _t40
     )
-    jacobian[3, 5] = _t53 * _t82 + _t57 * _t86 + _t62 * _t78
-    jacobian[4, 1] = (
+    _out_jacobian[3, 5] = _t53 * _t82 + _t57 * _t86 + _t62 * _t78
+    _out_jacobian[4, 1] = (
         -_t106 * _t45 - _t107 * _t23 - _t108 * _t37 - _t16 * _t97 - _t16 * _t98 - _t16 * _t99
     )
-    jacobian[4, 2] = _t75
-    jacobian[4, 4] = (
+    _out_jacobian[4, 2] = _t75
+    _out_jacobian[4, 4] = (
         _t100 * _t25 + _t102 * _t25 + _t103 * _t25 + _t109 * _t48 + _t110 * _t32 + _t111 * _t40
     )
-    jacobian[4, 5] = -_t54 - _t58 - _t63
-    jacobian[5, 1] = (
+    _out_jacobian[4, 5] = -_t54 - _t58 - _t63
+    _out_jacobian[5, 1] = (
         -_t106 * _t19 * _t60
         - _t107 * _t19 * _t91
         - _t108 * _t19 * _t95
@@ -293,8 +295,8 @@ def loop_closure() -> casadi.Function:
         + (1 / 2) * _t16 * _t55 * _t95
         + (1 / 2) * _t16 * _t59 * _t60
     )
-    jacobian[5, 2] = _t106 * _t76 + _t107 * _t80 + _t108 * _t84 + _t115
-    jacobian[5, 4] = (
+    _out_jacobian[5, 2] = _t106 * _t76 + _t107 * _t80 + _t108 * _t84 + _t115
+    _out_jacobian[5, 4] = (
         -_t101 * _t25 * _t65
         - _t104 * _t25 * _t93
         - _t105 * _t25 * _t96
@@ -302,9 +304,9 @@ def loop_closure() -> casadi.Function:
         + _t110 * _t28 * _t93
         + _t111 * _t28 * _t96
     )
-    jacobian[5, 5] = -_t109 * _t78 - _t110 * _t82 - _t111 * _t86 - _t115
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = (
+    _out_jacobian[5, 5] = -_t109 * _t78 - _t110 * _t82 - _t111 * _t86 - _t115
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = (
         _t112
         + _t113
         + _t114
@@ -319,14 +321,14 @@ def loop_closure() -> casadi.Function:
     return casadi.Function(
         "sam_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -346,22 +348,22 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 607.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L3 = passive[3]
-    phi5 = passive[4]
-    phi6 = passive[5]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L3 = _in_passive[3]
+    phi5 = _in_passive[4]
+    phi6 = _in_passive[5]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta1)
     _t1 = casadi.sin(theta3)
     _t2 = _t0 * _t1
@@ -530,27 +532,27 @@ def loop_closure_actuated() -> casadi.Function:
     _t165 = _t38 * _t44 + _t49 * _t91
     _t166 = _t44 * _t60 + _t49 * _t69
     _t167 = (1 / 2) * _t156
-    jacobian_actuated = casadi.SX.zeros(6, 6)
-    jacobian_actuated[0, 0] = L2 * _t7 - L4 * _t20
-    jacobian_actuated[0, 1] = -L4 * _t26 + _t21 * _t9
-    jacobian_actuated[0, 2] = L2 * _t27 + L4 * _t30
-    jacobian_actuated[0, 3] = -L3 * _t38 - L4 * _t51
-    jacobian_actuated[0, 4] = -L4 * _t57 - _t40 * _t52
-    jacobian_actuated[0, 5] = -L3 * _t58 + L4 * _t61
-    jacobian_actuated[1, 0] = L2 * _t28 - L4 * _t64
-    jacobian_actuated[1, 1] = -L4 * _t67 - _t21 * _t65
-    jacobian_actuated[1, 2] = L2 * _t11 - L4 * _t68
-    jacobian_actuated[1, 3] = -L3 * _t59 - L4 * _t71
-    jacobian_actuated[1, 4] = -L4 * _t74 + _t52 * _t72
-    jacobian_actuated[1, 5] = -L3 * _t42 - L4 * _t75
-    jacobian_actuated[2, 1] = -L2 * _t3 * _t5 - L4 * _t79
-    jacobian_actuated[2, 2] = -L2 * _t80 - L4 * _t82
-    jacobian_actuated[2, 4] = L3 * _t34 * _t36 - L4 * _t86
-    jacobian_actuated[2, 5] = L3 * _t87 - L4 * _t89
-    jacobian_actuated[3, 0] = (
+    _out_jacobian_actuated = casadi.SX.zeros(6, 6)
+    _out_jacobian_actuated[0, 0] = L2 * _t7 - L4 * _t20
+    _out_jacobian_actuated[0, 1] = -L4 * _t26 + _t21 * _t9
+    _out_jacobian_actuated[0, 2] = L2 * _t27 + L4 * _t30
+    _out_jacobian_actuated[0, 3] = -L3 * _t38 - L4 * _t51
+    _out_jacobian_actuated[0, 4] = -L4 * _t57 - _t40 * _t52
+    _out_jacobian_actuated[0, 5] = -L3 * _t58 + L4 * _t61
+    _out_jacobian_actuated[1, 0] = L2 * _t28 - L4 * _t64
+    _out_jacobian_actuated[1, 1] = -L4 * _t67 - _t21 * _t65
+    _out_jacobian_actuated[1, 2] = L2 * _t11 - L4 * _t68
+    _out_jacobian_actuated[1, 3] = -L3 * _t59 - L4 * _t71
+    _out_jacobian_actuated[1, 4] = -L4 * _t74 + _t52 * _t72
+    _out_jacobian_actuated[1, 5] = -L3 * _t42 - L4 * _t75
+    _out_jacobian_actuated[2, 1] = -L2 * _t3 * _t5 - L4 * _t79
+    _out_jacobian_actuated[2, 2] = -L2 * _t80 - L4 * _t82
+    _out_jacobian_actuated[2, 4] = L3 * _t34 * _t36 - L4 * _t86
+    _out_jacobian_actuated[2, 5] = L3 * _t87 - L4 * _t89
+    _out_jacobian_actuated[3, 0] = (
         -_t100 * _t103 + (1 / 2) * _t90 * _t93 + (1 / 2) * _t95 * _t96 - _t97 * _t99
     )
-    jacobian_actuated[3, 1] = (
+    _out_jacobian_actuated[3, 1] = (
         -_t103 * _t111
         - _t104 * _t106
         + _t108 * _t109
@@ -558,7 +560,7 @@ def loop_closure_actuated() -> casadi.Function:
         + _t112 * _t113
         + _t114 * _t115
     )
-    jacobian_actuated[3, 2] = (
+    _out_jacobian_actuated[3, 2] = (
         -_t103 * _t119
         - _t106 * _t116
         + (1 / 2) * _t11 * _t14 * _t93
@@ -566,10 +568,10 @@ def loop_closure_actuated() -> casadi.Function:
         + (1 / 2) * _t14 * _t27 * _t96
         - _t30 * _t99
     )
-    jacobian_actuated[3, 3] = (
+    _out_jacobian_actuated[3, 3] = (
         -_t122 * _t99 - _t123 * _t124 + (1 / 2) * _t125 * _t90 + (1 / 2) * _t126 * _t96
     )
-    jacobian_actuated[3, 4] = (
+    _out_jacobian_actuated[3, 4] = (
         -_t122 * _t135
         - _t124 * _t134
         + (1 / 2) * _t126 * _t133
@@ -577,7 +579,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t130 * _t131
         + (1 / 2) * _t132 * _t90
     )
-    jacobian_actuated[3, 5] = (
+    _out_jacobian_actuated[3, 5] = (
         -1 / 2 * _t122 * _t42 * _t45
         - _t124 * _t45 * _t58
         + (1 / 2) * _t130 * _t138
@@ -585,8 +587,8 @@ def loop_closure_actuated() -> casadi.Function:
         + _t139 * _t140
         + _t141 * _t61
     )
-    jacobian_actuated[4, 0] = _t103 * _t146 - _t141 * _t142 - _t144 * _t95 + _t145 * _t99
-    jacobian_actuated[4, 1] = (
+    _out_jacobian_actuated[4, 0] = _t103 * _t146 - _t141 * _t142 - _t144 * _t95 + _t145 * _t99
+    _out_jacobian_actuated[4, 1] = (
         (1 / 2) * _t102 * _t149
         + (1 / 2) * _t105 * _t147
         - _t109 * _t148
@@ -594,7 +596,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t114 * _t151
         + (1 / 2) * _t150 * _t98
     )
-    jacobian_actuated[4, 2] = (
+    _out_jacobian_actuated[4, 2] = (
         _t103 * _t154
         + _t106 * _t152
         - _t11 * _t14 * _t151
@@ -602,8 +604,8 @@ def loop_closure_actuated() -> casadi.Function:
         - _t14 * _t144 * _t27
         + _t155 * _t99
     )
-    jacobian_actuated[4, 3] = _t123 * _t157 - _t140 * _t143 - _t141 * _t158 + _t156 * _t99
-    jacobian_actuated[4, 4] = (
+    _out_jacobian_actuated[4, 3] = _t123 * _t157 - _t140 * _t143 - _t141 * _t158 + _t156 * _t99
+    _out_jacobian_actuated[4, 4] = (
         _t131 * _t160
         + _t134 * _t157
         + _t135 * _t156
@@ -611,7 +613,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t140 * _t161
         - _t141 * _t162
     )
-    jacobian_actuated[4, 5] = (
+    _out_jacobian_actuated[4, 5] = (
         -_t137 * _t163
         - _t138 * _t164
         - _t140 * _t165
@@ -619,10 +621,10 @@ def loop_closure_actuated() -> casadi.Function:
         + (1 / 2) * _t146 * _t45 * _t58
         + (1 / 2) * _t156 * _t42 * _t45
     )
-    jacobian_actuated[5, 0] = (
+    _out_jacobian_actuated[5, 0] = (
         (1 / 2) * _t100 * _t142 - _t113 * _t145 - _t115 * _t146 + (1 / 2) * _t143 * _t97
     )
-    jacobian_actuated[5, 1] = (
+    _out_jacobian_actuated[5, 1] = (
         _t104 * _t153
         + _t110 * _t144
         + _t111 * _t151
@@ -630,7 +632,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t115 * _t149
         - _t117 * _t147
     )
-    jacobian_actuated[5, 2] = (
+    _out_jacobian_actuated[5, 2] = (
         -_t113 * _t155
         - _t115 * _t154
         + _t116 * _t153
@@ -638,10 +640,10 @@ def loop_closure_actuated() -> casadi.Function:
         + _t119 * _t151
         + _t144 * _t30
     )
-    jacobian_actuated[5, 3] = (
+    _out_jacobian_actuated[5, 3] = (
         (1 / 2) * _t100 * _t158 - _t113 * _t156 + (1 / 2) * _t122 * _t143 - _t125 * _t157
     )
-    jacobian_actuated[5, 4] = (
+    _out_jacobian_actuated[5, 4] = (
         (1 / 2) * _t100 * _t162
         + (1 / 2) * _t122 * _t161
         - _t128 * _t164
@@ -649,7 +651,7 @@ def loop_closure_actuated() -> casadi.Function:
         - _t132 * _t157
         - _t133 * _t167
     )
-    jacobian_actuated[5, 5] = (
+    _out_jacobian_actuated[5, 5] = (
         (1 / 2) * _t100 * _t166
         + (1 / 2) * _t122 * _t165
         + (1 / 2) * _t130 * _t163
@@ -660,12 +662,12 @@ def loop_closure_actuated() -> casadi.Function:
     return casadi.Function(
         "sam_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -683,22 +685,22 @@ def leg_jacobians() -> casadi.Function:
 
     Operations: 217.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L3 = passive[3]
-    phi5 = passive[4]
-    phi6 = passive[5]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L3 = _in_passive[3]
+    phi5 = _in_passive[4]
+    phi6 = _in_passive[5]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta1)
     _t1 = casadi.sin(theta3)
     _t2 = _t0 * _t1
@@ -765,76 +767,76 @@ def leg_jacobians() -> casadi.Function:
     _t63 = L3 * _t58 + _t62
     _t64 = _t34 * _t47
     _t65 = _t46 * _t58 + _t49 * _t64
-    left = casadi.SX.zeros(6, 6)
-    left[0, 0] = -_t17
-    left[0, 1] = _t23
-    left[0, 2] = _t13 * _t22 * _t4 - _t17 * _t3
-    left[0, 3] = _t24
-    left[0, 4] = -_t10 * _t21 - _t19 * _t25
-    left[0, 5] = -_t21 * _t26 + _t25 * _t27
-    left[1, 0] = _t31
-    left[1, 1] = -_t22 * _t4
-    left[1, 2] = _t13 * _t23 + _t3 * _t31
-    left[1, 3] = _t6
-    left[1, 4] = _t19 * _t30 + _t21 * _t28
-    left[1, 5] = L4 * _t20 * _t33 - _t27 * _t30
-    left[2, 1] = -_t0 * _t31 + _t17 * _t4
-    left[2, 2] = -_t14 * _t31 - _t17 * _t32
-    left[2, 3] = _t18
-    left[2, 4] = L4 * _t10 * _t29 - _t25 * _t28
-    left[2, 5] = L4 * _t26 * _t29 - _t25 * _t33
-    left[3, 1] = _t4
-    left[3, 2] = -_t32
-    left[3, 4] = _t28
-    left[3, 5] = _t33
-    left[4, 1] = _t0
-    left[4, 2] = _t14
-    left[4, 4] = _t10
-    left[4, 5] = _t26
-    left[5, 0] = 1
-    left[5, 2] = _t3
-    left[5, 4] = -_t19
-    left[5, 5] = _t27
-    right = casadi.SX.zeros(6, 6)
-    right[0, 0] = -_t51
-    right[0, 1] = _t57
-    right[0, 2] = -_t37 * _t51 + _t38 * _t47 * _t56
-    right[0, 3] = _t58
-    right[0, 4] = _t44 * _t55 + _t50 * _t53
-    right[0, 5] = L4 * _t54 * _t59 - _t50 * _t60
-    right[1, 0] = _t63
-    right[1, 1] = -_t38 * _t56
-    right[1, 2] = _t37 * _t63 + _t47 * _t57
-    right[1, 3] = _t40
-    right[1, 4] = -_t53 * _t62 - _t55 * _t61
-    right[1, 5] = -_t55 * _t65 + _t60 * _t62
-    right[2, 1] = -_t34 * _t63 + _t38 * _t51
-    right[2, 2] = -_t48 * _t63 - _t51 * _t64
-    right[2, 3] = _t52
-    right[2, 4] = -_t44 * _t62 + _t50 * _t61
-    right[2, 5] = _t50 * _t65 - _t59 * _t62
-    right[3, 1] = _t38
-    right[3, 2] = -_t64
-    right[3, 4] = _t61
-    right[3, 5] = _t65
-    right[4, 1] = _t34
-    right[4, 2] = _t48
-    right[4, 4] = _t44
-    right[4, 5] = _t59
-    right[5, 0] = 1
-    right[5, 2] = _t37
-    right[5, 4] = -_t53
-    right[5, 5] = _t60
+    _out_left = casadi.SX.zeros(6, 6)
+    _out_left[0, 0] = -_t17
+    _out_left[0, 1] = _t23
+    _out_left[0, 2] = _t13 * _t22 * _t4 - _t17 * _t3
+    _out_left[0, 3] = _t24
+    _out_left[0, 4] = -_t10 * _t21 - _t19 * _t25
+    _out_left[0, 5] = -_t21 * _t26 + _t25 * _t27
+    _out_left[1, 0] = _t31
+    _out_left[1, 1] = -_t22 * _t4
+    _out_left[1, 2] = _t13 * _t23 + _t3 * _t31
+    _out_left[1, 3] = _t6
+    _out_left[1, 4] = _t19 * _t30 + _t21 * _t28
+    _out_left[1, 5] = L4 * _t20 * _t33 - _t27 * _t30
+    _out_left[2, 1] = -_t0 * _t31 + _t17 * _t4
+    _out_left[2, 2] = -_t14 * _t31 - _t17 * _t32
+    _out_left[2, 3] = _t18
+    _out_left[2, 4] = L4 * _t10 * _t29 - _t25 * _t28
+    _out_left[2, 5] = L4 * _t26 * _t29 - _t25 * _t33
+    _out_left[3, 1] = _t4
+    _out_left[3, 2] = -_t32
+    _out_left[3, 4] = _t28
+    _out_left[3, 5] = _t33
+    _out_left[4, 1] = _t0
+    _out_left[4, 2] = _t14
+    _out_left[4, 4] = _t10
+    _out_left[4, 5] = _t26
+    _out_left[5, 0] = 1
+    _out_left[5, 2] = _t3
+    _out_left[5, 4] = -_t19
+    _out_left[5, 5] = _t27
+    _out_right = casadi.SX.zeros(6, 6)
+    _out_right[0, 0] = -_t51
+    _out_right[0, 1] = _t57
+    _out_right[0, 2] = -_t37 * _t51 + _t38 * _t47 * _t56
+    _out_right[0, 3] = _t58
+    _out_right[0, 4] = _t44 * _t55 + _t50 * _t53
+    _out_right[0, 5] = L4 * _t54 * _t59 - _t50 * _t60
+    _out_right[1, 0] = _t63
+    _out_right[1, 1] = -_t38 * _t56
+    _out_right[1, 2] = _t37 * _t63 + _t47 * _t57
+    _out_right[1, 3] = _t40
+    _out_right[1, 4] = -_t53 * _t62 - _t55 * _t61
+    _out_right[1, 5] = -_t55 * _t65 + _t60 * _t62
+    _out_right[2, 1] = -_t34 * _t63 + _t38 * _t51
+    _out_right[2, 2] = -_t48 * _t63 - _t51 * _t64
+    _out_right[2, 3] = _t52
+    _out_right[2, 4] = -_t44 * _t62 + _t50 * _t61
+    _out_right[2, 5] = _t50 * _t65 - _t59 * _t62
+    _out_right[3, 1] = _t38
+    _out_right[3, 2] = -_t64
+    _out_right[3, 4] = _t61
+    _out_right[3, 5] = _t65
+    _out_right[4, 1] = _t34
+    _out_right[4, 2] = _t48
+    _out_right[4, 4] = _t44
+    _out_right[4, 5] = _t59
+    _out_right[5, 0] = 1
+    _out_right[5, 2] = _t37
+    _out_right[5, 4] = -_t53
+    _out_right[5, 5] = _t60
     return casadi.Function(
         "sam_leg_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            left,
-            right,
+            _out_left,
+            _out_right,
         ],
         [
             "actuated",
@@ -853,19 +855,19 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 104.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    phi5 = passive[4]
-    phi6 = passive[5]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    phi5 = _in_passive[4]
+    phi6 = _in_passive[5]
     _t0 = casadi.sin(phi6)
     _t1 = casadi.cos(theta4)
     _t2 = casadi.cos(theta6)
@@ -899,34 +901,34 @@ def parameter_jacobians() -> casadi.Function:
         -_t14 * _t21 * _t22 - _t23 * (-_t14 * _t15 * _t16 + _t19)
     )
     _t28 = -_t13 * _t18 * _t22 + _t20 * (-_t15 * _t22 * _t23 - _t16 * _t21)
-    closure_parameters = casadi.SX.zeros(6, 2)
-    closure_parameters[0, 1] = (
+    _out_closure_parameters = casadi.SX.zeros(6, 2)
+    _out_closure_parameters[0, 1] = (
         -_t0 * (_t1 * _t2 - _t3 * _t6)
         - _t26
         - _t7 * (-_t10 * (_t11 + _t12 * _t3) + _t4 * _t8 * _t9)
     )
-    closure_parameters[1, 0] = -2
-    closure_parameters[1, 1] = (
+    _out_closure_parameters[1, 0] = -2
+    _out_closure_parameters[1, 1] = (
         -_t0 * (_t11 * _t3 + _t12)
         - _t27
         - _t7 * (-_t1 * _t8 * _t9 - _t10 * (-_t1 * _t2 * _t3 + _t6))
     )
-    closure_parameters[2, 1] = _t0 * _t5 * _t9 - _t28 - _t7 * (-_t10 * _t2 * _t9 - _t3 * _t8)
-    pose_parameters = casadi.SX.zeros(12, 2)
-    pose_parameters[3, 1] = -_t26
-    pose_parameters[7, 0] = -1
-    pose_parameters[7, 1] = -_t27
-    pose_parameters[11, 1] = -_t28
+    _out_closure_parameters[2, 1] = _t0 * _t5 * _t9 - _t28 - _t7 * (-_t10 * _t2 * _t9 - _t3 * _t8)
+    _out_pose_parameters = casadi.SX.zeros(12, 2)
+    _out_pose_parameters[3, 1] = -_t26
+    _out_pose_parameters[7, 0] = -1
+    _out_pose_parameters[7, 1] = -_t27
+    _out_pose_parameters[11, 1] = -_t28
     return casadi.Function(
         "sam_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -945,18 +947,18 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 27.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta2 = actuated[1]
-    theta5 = actuated[4]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L3 = passive[3]
-    phi5 = passive[4]
-    phi6 = passive[5]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta2 = _in_actuated[1]
+    theta5 = _in_actuated[4]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L3 = _in_passive[3]
+    phi5 = _in_passive[4]
+    phi6 = _in_passive[5]
+    L4 = _in_params[1]
     _t0 = casadi.sin(phi2)
     _t1 = casadi.cos(theta2)
     _t2 = casadi.sin(phi5)
@@ -966,30 +968,30 @@ def singularity_factors() -> casadi.Function:
     _t6 = _t4 * casadi.sin(phi3) - _t5 * casadi.sin(phi6)
     _t7 = -_t0 * _t5 * casadi.cos(phi5) + _t2 * _t4 * casadi.cos(phi2)
     _t8 = 2 * L4
-    factors = casadi.SX.zeros(9)
-    factors[0] = L2
-    factors[1] = _t0
-    factors[2] = _t1
-    factors[3] = L3
-    factors[4] = _t2
-    factors[5] = _t3
-    factors[6] = _t6
-    factors[7] = _t7
-    factors[8] = _t8
-    determinants = casadi.SX.zeros(3)
-    determinants[0] = L2**2 * _t0 * _t1
-    determinants[1] = L3**2 * _t2 * _t3
-    determinants[2] = _t6 * _t7 * _t8
+    _out_factors = casadi.SX.zeros(9)
+    _out_factors[0] = L2
+    _out_factors[1] = _t0
+    _out_factors[2] = _t1
+    _out_factors[3] = L3
+    _out_factors[4] = _t2
+    _out_factors[5] = _t3
+    _out_factors[6] = _t6
+    _out_factors[7] = _t7
+    _out_factors[8] = _t8
+    _out_determinants = casadi.SX.zeros(3)
+    _out_determinants[0] = L2**2 * _t0 * _t1
+    _out_determinants[1] = L3**2 * _t2 * _t3
+    _out_determinants[2] = _t6 * _t7 * _t8
     return casadi.Function(
         "sam_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -1008,21 +1010,21 @@ def drawing() -> casadi.Function:
 
     Operations: 111.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L2 = passive[0]
-    phi2 = passive[1]
-    phi3 = passive[2]
-    L3 = passive[3]
-    L1 = params[0]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L2 = _in_passive[0]
+    phi2 = _in_passive[1]
+    phi3 = _in_passive[2]
+    L3 = _in_passive[3]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta3)
     _t1 = casadi.cos(theta1)
     _t2 = _t0 * _t1
@@ -1064,37 +1066,37 @@ def drawing() -> casadi.Function:
     _t38 = -L4 * _t37
     _t39 = L4 * _t37
     _t40 = _t19 - _t39
-    base = casadi.SX.zeros(3, 2)
-    base[1, 0] = -L1
-    base[1, 1] = L1
-    u_joints = casadi.SX.zeros(3, 2)
-    u_joints[0, 0] = _t8
-    u_joints[0, 1] = L3 * (_t10 * _t9 + _t11 * _t13)
-    u_joints[1, 0] = -_t16
-    u_joints[1, 1] = L1 + L3 * (-_t10 * _t13 + _t11 * _t9)
-    u_joints[2, 0] = _t19
-    u_joints[2, 1] = L3 * _t12 * casadi.cos(theta5)
-    platform = casadi.SX.zeros(3, 3)
-    platform[0, 0] = L2 * _t7 - _t27 - _t28
-    platform[0, 1] = _t28 + _t29
-    platform[0, 2] = L4 * (-_t20 * _t25 + _t21 * _t22) + _t29
-    platform[1, 0] = -_t33 - _t34
-    platform[1, 1] = _t33 - _t34
-    platform[1, 2] = L4 * (-_t20 * _t31 + _t22 * _t30) - _t34
-    platform[2, 0] = L2 * _t17 * _t5 - _t38 - _t39
-    platform[2, 1] = _t38 + _t40
-    platform[2, 2] = L4 * (-_t20 * _t36 - _t22 * _t35) + _t40
+    _out_base = casadi.SX.zeros(3, 2)
+    _out_base[1, 0] = -L1
+    _out_base[1, 1] = L1
+    _out_u_joints = casadi.SX.zeros(3, 2)
+    _out_u_joints[0, 0] = _t8
+    _out_u_joints[0, 1] = L3 * (_t10 * _t9 + _t11 * _t13)
+    _out_u_joints[1, 0] = -_t16
+    _out_u_joints[1, 1] = L1 + L3 * (-_t10 * _t13 + _t11 * _t9)
+    _out_u_joints[2, 0] = _t19
+    _out_u_joints[2, 1] = L3 * _t12 * casadi.cos(theta5)
+    _out_platform = casadi.SX.zeros(3, 3)
+    _out_platform[0, 0] = L2 * _t7 - _t27 - _t28
+    _out_platform[0, 1] = _t28 + _t29
+    _out_platform[0, 2] = L4 * (-_t20 * _t25 + _t21 * _t22) + _t29
+    _out_platform[1, 0] = -_t33 - _t34
+    _out_platform[1, 1] = _t33 - _t34
+    _out_platform[1, 2] = L4 * (-_t20 * _t31 + _t22 * _t30) - _t34
+    _out_platform[2, 0] = L2 * _t17 * _t5 - _t38 - _t39
+    _out_platform[2, 1] = _t38 + _t40
+    _out_platform[2, 2] = L4 * (-_t20 * _t36 - _t22 * _t35) + _t40
     return casadi.Function(
         "sam_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            u_joints,
-            platform,
+            _out_base,
+            _out_u_joints,
+            _out_platform,
         ],
         [
             "actuated",
@@ -1114,27 +1116,27 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 228.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 4)
-    params = casadi.SX.sym("params", 2)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    epsilon_left = branch[0]
-    delta_left = branch[1]
-    epsilon_right = branch[2]
-    delta_right = branch[3]
-    L1 = params[0]
-    L4 = params[1]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 4)
+    _in_params = casadi.SX.sym("params", 2)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    epsilon_left = _in_branch[0]
+    delta_left = _in_branch[1]
+    epsilon_right = _in_branch[2]
+    delta_right = _in_branch[3]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     span_left_x = -L4 * r12 + px
     span_left_y = L1 - L4 * r22 + py
     span_left_z = -L4 * r32 + pz
@@ -1207,36 +1209,36 @@ def inverse_pose() -> casadi.Function:
     theta4 = casadi.atan2(-_t10 * n13_right_s, _t10 * n23_right_s)
     _t11 = delta_right * sin_abs_right_s
     theta6 = casadi.atan2(-_t11 * n32_right_s, _t11 * n31_right_s)
-    actuated = casadi.SX.zeros(6)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    actuated[2] = theta3
-    actuated[3] = theta4
-    actuated[4] = theta5
-    actuated[5] = theta6
-    passive = casadi.SX.zeros(6)
-    passive[0] = L2
-    passive[1] = phi2
-    passive[2] = phi3
-    passive[3] = L3
-    passive[4] = phi5
-    passive[5] = phi6
-    validity = casadi.SX.zeros(4)
-    validity[0] = rho_left_u
-    validity[1] = sin_abs_left_s
-    validity[2] = rho_right_u
-    validity[3] = sin_abs_right_s
+    _out_actuated = casadi.SX.zeros(6)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_actuated[2] = theta3
+    _out_actuated[3] = theta4
+    _out_actuated[4] = theta5
+    _out_actuated[5] = theta6
+    _out_passive = casadi.SX.zeros(6)
+    _out_passive[0] = L2
+    _out_passive[1] = phi2
+    _out_passive[2] = phi3
+    _out_passive[3] = L3
+    _out_passive[4] = phi5
+    _out_passive[5] = phi6
+    _out_validity = casadi.SX.zeros(4)
+    _out_validity[0] = rho_left_u
+    _out_validity[1] = sin_abs_left_s
+    _out_validity[2] = rho_right_u
+    _out_validity[3] = sin_abs_right_s
     return casadi.Function(
         "sam_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1256,22 +1258,22 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 666.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 2)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    L1 = params[0]
-    L4 = params[1]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 2)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     span_left_x = -L4 * r12 + px
     span_left_y = L1 - L4 * r22 + py
     span_left_z = -L4 * r32 + pz
@@ -1618,83 +1620,83 @@ def inverse_pose_patterns() -> casadi.Function:
         n32_right_s_pattern3 * sin_abs_right_s_pattern3,
         -n31_right_s_pattern3 * sin_abs_right_s_pattern3,
     )
-    actuated = casadi.SX.zeros(6, 4)
-    actuated[0, 0] = theta1_pattern0
-    actuated[0, 1] = theta1_pattern1
-    actuated[0, 2] = theta1_pattern2
-    actuated[0, 3] = theta1_pattern3
-    actuated[1, 0] = theta2_pattern0
-    actuated[1, 1] = theta2_pattern1
-    actuated[1, 2] = theta2_pattern2
-    actuated[1, 3] = theta2_pattern3
-    actuated[2, 0] = theta3_pattern0
-    actuated[2, 1] = theta3_pattern1
-    actuated[2, 2] = theta3_pattern2
-    actuated[2, 3] = theta3_pattern3
-    actuated[3, 0] = theta4_pattern0
-    actuated[3, 1] = theta4_pattern1
-    actuated[3, 2] = theta4_pattern2
-    actuated[3, 3] = theta4_pattern3
-    actuated[4, 0] = theta5_pattern0
-    actuated[4, 1] = theta5_pattern1
-    actuated[4, 2] = theta5_pattern2
-    actuated[4, 3] = theta5_pattern3
-    actuated[5, 0] = theta6_pattern0
-    actuated[5, 1] = theta6_pattern1
-    actuated[5, 2] = theta6_pattern2
-    actuated[5, 3] = theta6_pattern3
-    passive = casadi.SX.zeros(6, 4)
-    passive[0, 0] = L2
-    passive[0, 1] = L2
-    passive[0, 2] = L2
-    passive[0, 3] = L2
-    passive[1, 0] = phi2_pattern0
-    passive[1, 1] = phi2_pattern1
-    passive[1, 2] = phi2_pattern2
-    passive[1, 3] = phi2_pattern3
-    passive[2, 0] = phi3_pattern0
-    passive[2, 1] = phi3_pattern1
-    passive[2, 2] = phi3_pattern2
-    passive[2, 3] = phi3_pattern3
-    passive[3, 0] = L3
-    passive[3, 1] = L3
-    passive[3, 2] = L3
-    passive[3, 3] = L3
-    passive[4, 0] = phi5_pattern0
-    passive[4, 1] = phi5_pattern1
-    passive[4, 2] = phi5_pattern2
-    passive[4, 3] = phi5_pattern3
-    passive[5, 0] = phi6_pattern0
-    passive[5, 1] = phi6_pattern1
-    passive[5, 2] = phi6_pattern2
-    passive[5, 3] = phi6_pattern3
-    validity = casadi.SX.zeros(4, 4)
-    validity[0, 0] = rho_left_u
-    validity[0, 1] = rho_left_u
-    validity[0, 2] = rho_left_u
-    validity[0, 3] = rho_left_u
-    validity[1, 0] = sin_abs_left_s_pattern0
-    validity[1, 1] = sin_abs_left_s_pattern1
-    validity[1, 2] = sin_abs_left_s_pattern2
-    validity[1, 3] = sin_abs_left_s_pattern3
-    validity[2, 0] = rho_right_u
-    validity[2, 1] = rho_right_u
-    validity[2, 2] = rho_right_u
-    validity[2, 3] = rho_right_u
-    validity[3, 0] = sin_abs_right_s_pattern0
-    validity[3, 1] = sin_abs_right_s_pattern1
-    validity[3, 2] = sin_abs_right_s_pattern2
-    validity[3, 3] = sin_abs_right_s_pattern3
+    _out_actuated = casadi.SX.zeros(6, 4)
+    _out_actuated[0, 0] = theta1_pattern0
+    _out_actuated[0, 1] = theta1_pattern1
+    _out_actuated[0, 2] = theta1_pattern2
+    _out_actuated[0, 3] = theta1_pattern3
+    _out_actuated[1, 0] = theta2_pattern0
+    _out_actuated[1, 1] = theta2_pattern1
+    _out_actuated[1, 2] = theta2_pattern2
+    _out_actuated[1, 3] = theta2_pattern3
+    _out_actuated[2, 0] = theta3_pattern0
+    _out_actuated[2, 1] = theta3_pattern1
+    _out_actuated[2, 2] = theta3_pattern2
+    _out_actuated[2, 3] = theta3_pattern3
+    _out_actuated[3, 0] = theta4_pattern0
+    _out_actuated[3, 1] = theta4_pattern1
+    _out_actuated[3, 2] = theta4_pattern2
+    _out_actuated[3, 3] = theta4_pattern3
+    _out_actuated[4, 0] = theta5_pattern0
+    _out_actuated[4, 1] = theta5_pattern1
+    _out_actuated[4, 2] = theta5_pattern2
+    _out_actuated[4, 3] = theta5_pattern3
+    _out_actuated[5, 0] = theta6_pattern0
+    _out_actuated[5, 1] = theta6_pattern1
+    _out_actuated[5, 2] = theta6_pattern2
+    _out_actuated[5, 3] = theta6_pattern3
+    _out_passive = casadi.SX.zeros(6, 4)
+    _out_passive[0, 0] = L2
+    _out_passive[0, 1] = L2
+    _out_passive[0, 2] = L2
+    _out_passive[0, 3] = L2
+    _out_passive[1, 0] = phi2_pattern0
+    _out_passive[1, 1] = phi2_pattern1
+    _out_passive[1, 2] = phi2_pattern2
+    _out_passive[1, 3] = phi2_pattern3
+    _out_passive[2, 0] = phi3_pattern0
+    _out_passive[2, 1] = phi3_pattern1
+    _out_passive[2, 2] = phi3_pattern2
+    _out_passive[2, 3] = phi3_pattern3
+    _out_passive[3, 0] = L3
+    _out_passive[3, 1] = L3
+    _out_passive[3, 2] = L3
+    _out_passive[3, 3] = L3
+    _out_passive[4, 0] = phi5_pattern0
+    _out_passive[4, 1] = phi5_pattern1
+    _out_passive[4, 2] = phi5_pattern2
+    _out_passive[4, 3] = phi5_pattern3
+    _out_passive[5, 0] = phi6_pattern0
+    _out_passive[5, 1] = phi6_pattern1
+    _out_passive[5, 2] = phi6_pattern2
+    _out_passive[5, 3] = phi6_pattern3
+    _out_validity = casadi.SX.zeros(4, 4)
+    _out_validity[0, 0] = rho_left_u
+    _out_validity[0, 1] = rho_left_u
+    _out_validity[0, 2] = rho_left_u
+    _out_validity[0, 3] = rho_left_u
+    _out_validity[1, 0] = sin_abs_left_s_pattern0
+    _out_validity[1, 1] = sin_abs_left_s_pattern1
+    _out_validity[1, 2] = sin_abs_left_s_pattern2
+    _out_validity[1, 3] = sin_abs_left_s_pattern3
+    _out_validity[2, 0] = rho_right_u
+    _out_validity[2, 1] = rho_right_u
+    _out_validity[2, 2] = rho_right_u
+    _out_validity[2, 3] = rho_right_u
+    _out_validity[3, 0] = sin_abs_right_s_pattern0
+    _out_validity[3, 1] = sin_abs_right_s_pattern1
+    _out_validity[3, 2] = sin_abs_right_s_pattern2
+    _out_validity[3, 3] = sin_abs_right_s_pattern3
     return casadi.Function(
         "sam_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1713,16 +1715,16 @@ def forward_polynomial() -> casadi.Function:
 
     Operations: 462.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L1 = params[0]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta6)
     _t1 = casadi.sin(theta3)
     n_x = -_t0 * (
@@ -1855,8 +1857,8 @@ def forward_polynomial() -> casadi.Function:
     _t103 = _t54 * _t56
     _t104 = _t101 * _t88
     _t105 = _t103 * _t86
-    coefficients = casadi.SX.zeros(3)
-    coefficients[0] = (
+    _out_coefficients = casadi.SX.zeros(3)
+    _out_coefficients[0] = (
         4 * L1**2
         - 4 * L4**2
         + _t24 * _t28
@@ -1883,7 +1885,7 @@ def forward_polynomial() -> casadi.Function:
         + _t60 * _t89
         + _t62 * _t64
     )
-    coefficients[1] = (
+    _out_coefficients[1] = (
         4 * L1 * _t34 * _t35 * _t36 * b_lin
         + 4 * L1 * _t39 * _t40 * _t41 * a_lin
         + 2 * _t22 * _t23 * _t26 * _t31 * _t32 * _t56 * c_lin
@@ -1917,7 +1919,7 @@ def forward_polynomial() -> casadi.Function:
         - _t90 * _t97
         - _t92 * _t97
     )
-    coefficients[2] = (
+    _out_coefficients[2] = (
         _t100 * _t59
         + _t100 * _t60
         + _t101 * _t62
@@ -1938,18 +1940,18 @@ def forward_polynomial() -> casadi.Function:
         + _t91
         + _t93
     )
-    degeneracies = casadi.SX.zeros(2)
-    degeneracies[0] = normal_norm
-    degeneracies[1] = line_norm2
+    _out_degeneracies = casadi.SX.zeros(2)
+    _out_degeneracies[0] = normal_norm
+    _out_degeneracies[1] = line_norm2
     return casadi.Function(
         "sam_forward_polynomial",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            coefficients,
-            degeneracies,
+            _out_coefficients,
+            _out_degeneracies,
         ],
         [
             "actuated",
@@ -1967,20 +1969,20 @@ def forward_back_substitution() -> casadi.Function:
 
     Operations: 242.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    root = casadi.SX.sym("root", 1)
-    branch = casadi.SX.sym("branch", 1)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    t = root[0]
-    sigma = branch[0]
-    L1 = params[0]
-    L4 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_root = casadi.SX.sym("root", 1)
+    _in_branch = casadi.SX.sym("branch", 1)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    t = _in_root[0]
+    sigma = _in_branch[0]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
     _t0 = casadi.sin(theta6)
     _t1 = casadi.sin(theta3)
     n_x = -_t0 * (
@@ -2084,30 +2086,30 @@ def forward_back_substitution() -> casadi.Function:
         )
         / L4
     )
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = yP_y * zP_z - yP_z * zP_y
-    pose[0, 1] = yP_x
-    pose[0, 2] = zP_x
-    pose[0, 3] = L4 * yP_x + UL_x
-    pose[1, 0] = -yP_x * zP_z + yP_z * zP_x
-    pose[1, 1] = yP_y
-    pose[1, 2] = zP_y
-    pose[1, 3] = L4 * yP_y + UL_y
-    pose[2, 0] = yP_x * zP_y - yP_y * zP_x
-    pose[2, 1] = yP_z
-    pose[2, 2] = zP_z
-    pose[2, 3] = L4 * yP_z + UL_z
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = yP_y * zP_z - yP_z * zP_y
+    _out_pose[0, 1] = yP_x
+    _out_pose[0, 2] = zP_x
+    _out_pose[0, 3] = L4 * yP_x + UL_x
+    _out_pose[1, 0] = -yP_x * zP_z + yP_z * zP_x
+    _out_pose[1, 1] = yP_y
+    _out_pose[1, 2] = zP_y
+    _out_pose[1, 3] = L4 * yP_y + UL_y
+    _out_pose[2, 0] = yP_x * zP_y - yP_y * zP_x
+    _out_pose[2, 1] = yP_z
+    _out_pose[2, 2] = zP_z
+    _out_pose[2, 3] = L4 * yP_z + UL_z
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "sam_forward_back_substitution",
         [
-            actuated,
-            root,
-            branch,
-            params,
+            _in_actuated,
+            _in_root,
+            _in_branch,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -2126,35 +2128,35 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    theta4 = actuated[3]
-    theta5 = actuated[4]
-    theta6 = actuated[5]
-    L1 = params[0]
-    L4 = params[1]
-    free = casadi.SX.zeros(2)
-    free[0] = L1
-    free[1] = L4
-    angles = casadi.SX.zeros(6)
-    angles[0] = theta1
-    angles[1] = theta2
-    angles[2] = theta3
-    angles[3] = theta4
-    angles[4] = theta5
-    angles[5] = theta6
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    theta4 = _in_actuated[3]
+    theta5 = _in_actuated[4]
+    theta6 = _in_actuated[5]
+    L1 = _in_params[0]
+    L4 = _in_params[1]
+    _out_free = casadi.SX.zeros(2)
+    _out_free[0] = L1
+    _out_free[1] = L4
+    _out_angles = casadi.SX.zeros(6)
+    _out_angles[0] = theta1
+    _out_angles[1] = theta2
+    _out_angles[2] = theta3
+    _out_angles[3] = theta4
+    _out_angles[4] = theta5
+    _out_angles[5] = theta6
     return casadi.Function(
         "sam_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -2172,48 +2174,48 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 3787.
     """
-    family_re = casadi.SX.sym("family_re", 20)
-    family_im = casadi.SX.sym("family_im", 20)
-    L1_re = family_re[0]
-    L4_re = family_re[1]
-    C_u_0_re = family_re[2]
-    S_u_0_re = family_re[3]
-    D_u_0_re = family_re[4]
-    C_u_1_re = family_re[5]
-    S_u_1_re = family_re[6]
-    D_u_1_re = family_re[7]
-    C_u_2_re = family_re[8]
-    S_u_2_re = family_re[9]
-    D_u_2_re = family_re[10]
-    C_u_3_re = family_re[11]
-    S_u_3_re = family_re[12]
-    D_u_3_re = family_re[13]
-    C_u_4_re = family_re[14]
-    S_u_4_re = family_re[15]
-    D_u_4_re = family_re[16]
-    C_u_5_re = family_re[17]
-    S_u_5_re = family_re[18]
-    D_u_5_re = family_re[19]
-    L1_im = family_im[0]
-    L4_im = family_im[1]
-    C_u_0_im = family_im[2]
-    S_u_0_im = family_im[3]
-    D_u_0_im = family_im[4]
-    C_u_1_im = family_im[5]
-    S_u_1_im = family_im[6]
-    D_u_1_im = family_im[7]
-    C_u_2_im = family_im[8]
-    S_u_2_im = family_im[9]
-    D_u_2_im = family_im[10]
-    C_u_3_im = family_im[11]
-    S_u_3_im = family_im[12]
-    D_u_3_im = family_im[13]
-    C_u_4_im = family_im[14]
-    S_u_4_im = family_im[15]
-    D_u_4_im = family_im[16]
-    C_u_5_im = family_im[17]
-    S_u_5_im = family_im[18]
-    D_u_5_im = family_im[19]
+    _in_family_re = casadi.SX.sym("family_re", 20)
+    _in_family_im = casadi.SX.sym("family_im", 20)
+    L1_re = _in_family_re[0]
+    L4_re = _in_family_re[1]
+    C_u_0_re = _in_family_re[2]
+    S_u_0_re = _in_family_re[3]
+    D_u_0_re = _in_family_re[4]
+    C_u_1_re = _in_family_re[5]
+    S_u_1_re = _in_family_re[6]
+    D_u_1_re = _in_family_re[7]
+    C_u_2_re = _in_family_re[8]
+    S_u_2_re = _in_family_re[9]
+    D_u_2_re = _in_family_re[10]
+    C_u_3_re = _in_family_re[11]
+    S_u_3_re = _in_family_re[12]
+    D_u_3_re = _in_family_re[13]
+    C_u_4_re = _in_family_re[14]
+    S_u_4_re = _in_family_re[15]
+    D_u_4_re = _in_family_re[16]
+    C_u_5_re = _in_family_re[17]
+    S_u_5_re = _in_family_re[18]
+    D_u_5_re = _in_family_re[19]
+    L1_im = _in_family_im[0]
+    L4_im = _in_family_im[1]
+    C_u_0_im = _in_family_im[2]
+    S_u_0_im = _in_family_im[3]
+    D_u_0_im = _in_family_im[4]
+    C_u_1_im = _in_family_im[5]
+    S_u_1_im = _in_family_im[6]
+    D_u_1_im = _in_family_im[7]
+    C_u_2_im = _in_family_im[8]
+    S_u_2_im = _in_family_im[9]
+    D_u_2_im = _in_family_im[10]
+    C_u_3_im = _in_family_im[11]
+    S_u_3_im = _in_family_im[12]
+    D_u_3_im = _in_family_im[13]
+    C_u_4_im = _in_family_im[14]
+    S_u_4_im = _in_family_im[15]
+    D_u_4_im = _in_family_im[16]
+    C_u_5_im = _in_family_im[17]
+    S_u_5_im = _in_family_im[18]
+    D_u_5_im = _in_family_im[19]
     _t0 = C_u_2_im * D_u_3_re + C_u_2_re * D_u_3_im
     _t1 = -C_u_2_im * D_u_3_im + C_u_2_re * D_u_3_re
     _t2 = D_u_4_im * _t1 + D_u_4_re * _t0
@@ -3585,71 +3587,71 @@ def automatic_monomials() -> casadi.Function:
         + S_u_5_re * _t855
         + S_u_5_re * _t861
     )
-    re = casadi.SX.zeros(79)
-    re[0] = -_t18 - _t8
-    re[1] = -L4_im * _t28 + L4_re * _t29
-    re[2] = -L4_im * _t30 - L4_im * _t31 + L4_re * _t32 + L4_re * _t33
-    re[3] = -L4_im * _t42 - L4_im * _t53 + L4_re * _t43 + L4_re * _t54
-    re[4] = -S_u_4_im * _t62 + S_u_4_re * _t71 - S_u_5_im * _t70 + S_u_5_re * _t72
-    re[5] = -L4_im * _t81 + L4_re * _t82
-    re[6] = -L4_im * _t90 - L4_im * _t98 + L4_re * _t100 + L4_re * _t99
-    re[7] = -L4_im * _t113 - L4_im * _t124 + L4_re * _t114 + L4_re * _t125
-    re[8] = -_t132 - _t141
-    re[9] = -L4_im * _t151 + L4_re * _t152
-    re[10] = -L4_im * _t153 - L4_im * _t155 + L4_re * _t154 + L4_re * _t156
-    re[11] = -L4_im * _t166 - L4_im * _t175 + L4_re * _t176 + L4_re * _t177
-    re[12] = -S_u_4_im * _t183 + S_u_4_re * _t184 - S_u_5_im * _t190 + S_u_5_re * _t191
-    re[13] = -L4_im * _t201 + L4_re * _t202
-    re[14] = -L4_im * _t207 - L4_im * _t209 + L4_re * _t208 + L4_re * _t210
-    re[15] = -L4_im * _t213 - L4_im * _t216 + L4_re * _t217 + L4_re * _t218
-    re[16] = -L1_im * _t227 + L1_re * _t228
-    re[17] = _t234
-    re[18] = -L4_im * _t239 + L4_re * _t240
-    re[19] = -L4_im * _t241 + L4_re * _t234
-    re[20] = -L4_im * _t246 + L4_re * _t247
-    re[21] = -D_u_2_im * _t251 + D_u_2_re * _t252
-    re[22] = -L4_im * _t257 + L4_re * _t258
-    re[23] = -L4_im * _t262 + L4_re * _t263
-    re[24] = -L4_im * _t268 + L4_re * _t269
-    re[25] = _t307
-    re[26] = _t330
-    re[27] = _t367
-    re[28] = _t438
-    re[29] = _t500
-    re[30] = _t557
-    re[31] = _t367
-    re[32] = _t578
-    re[33] = _t307
-    re[34] = _t609
-    re[35] = _t666
-    re[36] = _t701
-    re[37] = _t729
-    re[38] = _t578
-    re[39] = _t761
-    re[40] = _t557
-    re[41] = _t500
-    re[42] = _t438
-    re[43] = _t761
-    re[44] = _t330
-    re[45] = _t729
-    re[46] = _t609
-    re[47] = _t666
-    re[48] = _t701
-    re[49] = _t330
-    re[50] = _t729
-    re[51] = _t609
-    re[52] = _t578
-    re[53] = _t307
-    re[54] = _t609
-    re[55] = _t367
-    re[56] = _t438
-    re[57] = _t816
-    re[58] = _t761
-    re[59] = _t557
-    re[60] = _t816
-    re[61] = _t701
-    re[62] = _t866
-    re[63] = (
+    _out_re = casadi.SX.zeros(79)
+    _out_re[0] = -_t18 - _t8
+    _out_re[1] = -L4_im * _t28 + L4_re * _t29
+    _out_re[2] = -L4_im * _t30 - L4_im * _t31 + L4_re * _t32 + L4_re * _t33
+    _out_re[3] = -L4_im * _t42 - L4_im * _t53 + L4_re * _t43 + L4_re * _t54
+    _out_re[4] = -S_u_4_im * _t62 + S_u_4_re * _t71 - S_u_5_im * _t70 + S_u_5_re * _t72
+    _out_re[5] = -L4_im * _t81 + L4_re * _t82
+    _out_re[6] = -L4_im * _t90 - L4_im * _t98 + L4_re * _t100 + L4_re * _t99
+    _out_re[7] = -L4_im * _t113 - L4_im * _t124 + L4_re * _t114 + L4_re * _t125
+    _out_re[8] = -_t132 - _t141
+    _out_re[9] = -L4_im * _t151 + L4_re * _t152
+    _out_re[10] = -L4_im * _t153 - L4_im * _t155 + L4_re * _t154 + L4_re * _t156
+    _out_re[11] = -L4_im * _t166 - L4_im * _t175 + L4_re * _t176 + L4_re * _t177
+    _out_re[12] = -S_u_4_im * _t183 + S_u_4_re * _t184 - S_u_5_im * _t190 + S_u_5_re * _t191
+    _out_re[13] = -L4_im * _t201 + L4_re * _t202
+    _out_re[14] = -L4_im * _t207 - L4_im * _t209 + L4_re * _t208 + L4_re * _t210
+    _out_re[15] = -L4_im * _t213 - L4_im * _t216 + L4_re * _t217 + L4_re * _t218
+    _out_re[16] = -L1_im * _t227 + L1_re * _t228
+    _out_re[17] = _t234
+    _out_re[18] = -L4_im * _t239 + L4_re * _t240
+    _out_re[19] = -L4_im * _t241 + L4_re * _t234
+    _out_re[20] = -L4_im * _t246 + L4_re * _t247
+    _out_re[21] = -D_u_2_im * _t251 + D_u_2_re * _t252
+    _out_re[22] = -L4_im * _t257 + L4_re * _t258
+    _out_re[23] = -L4_im * _t262 + L4_re * _t263
+    _out_re[24] = -L4_im * _t268 + L4_re * _t269
+    _out_re[25] = _t307
+    _out_re[26] = _t330
+    _out_re[27] = _t367
+    _out_re[28] = _t438
+    _out_re[29] = _t500
+    _out_re[30] = _t557
+    _out_re[31] = _t367
+    _out_re[32] = _t578
+    _out_re[33] = _t307
+    _out_re[34] = _t609
+    _out_re[35] = _t666
+    _out_re[36] = _t701
+    _out_re[37] = _t729
+    _out_re[38] = _t578
+    _out_re[39] = _t761
+    _out_re[40] = _t557
+    _out_re[41] = _t500
+    _out_re[42] = _t438
+    _out_re[43] = _t761
+    _out_re[44] = _t330
+    _out_re[45] = _t729
+    _out_re[46] = _t609
+    _out_re[47] = _t666
+    _out_re[48] = _t701
+    _out_re[49] = _t330
+    _out_re[50] = _t729
+    _out_re[51] = _t609
+    _out_re[52] = _t578
+    _out_re[53] = _t307
+    _out_re[54] = _t609
+    _out_re[55] = _t367
+    _out_re[56] = _t438
+    _out_re[57] = _t816
+    _out_re[58] = _t761
+    _out_re[59] = _t557
+    _out_re[60] = _t816
+    _out_re[61] = _t701
+    _out_re[62] = _t866
+    _out_re[63] = (
         -D_u_4_im * _t867
         + D_u_4_re * _t901
         - S_u_2_im * _t912
@@ -3669,9 +3671,9 @@ def automatic_monomials() -> casadi.Function:
         + S_u_5_re * _t907
         + S_u_5_re * _t917
     )
-    re[64] = _t701
-    re[65] = _t866
-    re[66] = (
+    _out_re[64] = _t701
+    _out_re[65] = _t866
+    _out_re[66] = (
         -D_u_4_im * _t930
         + D_u_4_re * _t962
         - S_u_2_im * _t922
@@ -3691,83 +3693,83 @@ def automatic_monomials() -> casadi.Function:
         + S_u_5_re * _t967
         + S_u_5_re * _t968
     )
-    re[67] = 1
-    re[68] = 1
-    re[69] = -1
-    re[70] = 1
-    re[71] = 1
-    re[72] = -1
-    re[73] = 1
-    re[74] = 1
-    re[75] = -1
-    re[76] = 1
-    re[77] = 1
-    re[78] = -1
-    im = casadi.SX.zeros(79)
-    im[0] = _t30 + _t31
-    im[1] = L4_im * _t29 + L4_re * _t28
-    im[2] = L4_im * _t32 + L4_im * _t33 + L4_re * _t30 + L4_re * _t31
-    im[3] = L4_im * _t43 + L4_im * _t54 + L4_re * _t42 + L4_re * _t53
-    im[4] = S_u_4_im * _t71 + S_u_4_re * _t62 + S_u_5_im * _t72 + S_u_5_re * _t70
-    im[5] = L4_im * _t82 + L4_re * _t81
-    im[6] = L4_im * _t100 + L4_im * _t99 + L4_re * _t90 + L4_re * _t98
-    im[7] = L4_im * _t114 + L4_im * _t125 + L4_re * _t113 + L4_re * _t124
-    im[8] = _t153 + _t155
-    im[9] = L4_im * _t152 + L4_re * _t151
-    im[10] = L4_im * _t154 + L4_im * _t156 + L4_re * _t153 + L4_re * _t155
-    im[11] = L4_im * _t176 + L4_im * _t177 + L4_re * _t166 + L4_re * _t175
-    im[12] = S_u_4_im * _t184 + S_u_4_re * _t183 + S_u_5_im * _t191 + S_u_5_re * _t190
-    im[13] = L4_im * _t202 + L4_re * _t201
-    im[14] = L4_im * _t208 + L4_im * _t210 + L4_re * _t207 + L4_re * _t209
-    im[15] = L4_im * _t217 + L4_im * _t218 + L4_re * _t213 + L4_re * _t216
-    im[16] = L1_im * _t228 + L1_re * _t227
-    im[17] = _t241
-    im[18] = L4_im * _t240 + L4_re * _t239
-    im[19] = L4_im * _t234 + L4_re * _t241
-    im[20] = L4_im * _t247 + L4_re * _t246
-    im[21] = D_u_2_im * _t252 + D_u_2_re * _t251
-    im[22] = L4_im * _t258 + L4_re * _t257
-    im[23] = L4_im * _t263 + L4_re * _t262
-    im[24] = L4_im * _t269 + L4_re * _t268
-    im[25] = _t969
-    im[26] = _t970
-    im[27] = _t971
-    im[28] = _t972
-    im[29] = _t973
-    im[30] = _t974
-    im[31] = _t971
-    im[32] = _t975
-    im[33] = _t969
-    im[34] = _t976
-    im[35] = _t977
-    im[36] = _t978
-    im[37] = _t979
-    im[38] = _t975
-    im[39] = _t980
-    im[40] = _t974
-    im[41] = _t973
-    im[42] = _t972
-    im[43] = _t980
-    im[44] = _t970
-    im[45] = _t979
-    im[46] = _t976
-    im[47] = _t977
-    im[48] = _t978
-    im[49] = _t970
-    im[50] = _t979
-    im[51] = _t976
-    im[52] = _t975
-    im[53] = _t969
-    im[54] = _t976
-    im[55] = _t971
-    im[56] = _t972
-    im[57] = _t981
-    im[58] = _t980
-    im[59] = _t974
-    im[60] = _t981
-    im[61] = _t978
-    im[62] = _t982
-    im[63] = (
+    _out_re[67] = 1
+    _out_re[68] = 1
+    _out_re[69] = -1
+    _out_re[70] = 1
+    _out_re[71] = 1
+    _out_re[72] = -1
+    _out_re[73] = 1
+    _out_re[74] = 1
+    _out_re[75] = -1
+    _out_re[76] = 1
+    _out_re[77] = 1
+    _out_re[78] = -1
+    _out_im = casadi.SX.zeros(79)
+    _out_im[0] = _t30 + _t31
+    _out_im[1] = L4_im * _t29 + L4_re * _t28
+    _out_im[2] = L4_im * _t32 + L4_im * _t33 + L4_re * _t30 + L4_re * _t31
+    _out_im[3] = L4_im * _t43 + L4_im * _t54 + L4_re * _t42 + L4_re * _t53
+    _out_im[4] = S_u_4_im * _t71 + S_u_4_re * _t62 + S_u_5_im * _t72 + S_u_5_re * _t70
+    _out_im[5] = L4_im * _t82 + L4_re * _t81
+    _out_im[6] = L4_im * _t100 + L4_im * _t99 + L4_re * _t90 + L4_re * _t98
+    _out_im[7] = L4_im * _t114 + L4_im * _t125 + L4_re * _t113 + L4_re * _t124
+    _out_im[8] = _t153 + _t155
+    _out_im[9] = L4_im * _t152 + L4_re * _t151
+    _out_im[10] = L4_im * _t154 + L4_im * _t156 + L4_re * _t153 + L4_re * _t155
+    _out_im[11] = L4_im * _t176 + L4_im * _t177 + L4_re * _t166 + L4_re * _t175
+    _out_im[12] = S_u_4_im * _t184 + S_u_4_re * _t183 + S_u_5_im * _t191 + S_u_5_re * _t190
+    _out_im[13] = L4_im * _t202 + L4_re * _t201
+    _out_im[14] = L4_im * _t208 + L4_im * _t210 + L4_re * _t207 + L4_re * _t209
+    _out_im[15] = L4_im * _t217 + L4_im * _t218 + L4_re * _t213 + L4_re * _t216
+    _out_im[16] = L1_im * _t228 + L1_re * _t227
+    _out_im[17] = _t241
+    _out_im[18] = L4_im * _t240 + L4_re * _t239
+    _out_im[19] = L4_im * _t234 + L4_re * _t241
+    _out_im[20] = L4_im * _t247 + L4_re * _t246
+    _out_im[21] = D_u_2_im * _t252 + D_u_2_re * _t251
+    _out_im[22] = L4_im * _t258 + L4_re * _t257
+    _out_im[23] = L4_im * _t263 + L4_re * _t262
+    _out_im[24] = L4_im * _t269 + L4_re * _t268
+    _out_im[25] = _t969
+    _out_im[26] = _t970
+    _out_im[27] = _t971
+    _out_im[28] = _t972
+    _out_im[29] = _t973
+    _out_im[30] = _t974
+    _out_im[31] = _t971
+    _out_im[32] = _t975
+    _out_im[33] = _t969
+    _out_im[34] = _t976
+    _out_im[35] = _t977
+    _out_im[36] = _t978
+    _out_im[37] = _t979
+    _out_im[38] = _t975
+    _out_im[39] = _t980
+    _out_im[40] = _t974
+    _out_im[41] = _t973
+    _out_im[42] = _t972
+    _out_im[43] = _t980
+    _out_im[44] = _t970
+    _out_im[45] = _t979
+    _out_im[46] = _t976
+    _out_im[47] = _t977
+    _out_im[48] = _t978
+    _out_im[49] = _t970
+    _out_im[50] = _t979
+    _out_im[51] = _t976
+    _out_im[52] = _t975
+    _out_im[53] = _t969
+    _out_im[54] = _t976
+    _out_im[55] = _t971
+    _out_im[56] = _t972
+    _out_im[57] = _t981
+    _out_im[58] = _t980
+    _out_im[59] = _t974
+    _out_im[60] = _t981
+    _out_im[61] = _t978
+    _out_im[62] = _t982
+    _out_im[63] = (
         D_u_4_im * _t901
         + D_u_4_re * _t867
         + S_u_2_im * _t916
@@ -3787,9 +3789,9 @@ def automatic_monomials() -> casadi.Function:
         + S_u_5_re * _t900
         + S_u_5_re * _t915
     )
-    im[64] = _t978
-    im[65] = _t982
-    im[66] = (
+    _out_im[64] = _t978
+    _out_im[65] = _t982
+    _out_im[66] = (
         D_u_4_im * _t962
         + D_u_4_re * _t930
         + S_u_2_im * _t928
@@ -3812,12 +3814,12 @@ def automatic_monomials() -> casadi.Function:
     return casadi.Function(
         "sam_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -3835,33 +3837,33 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 4.
     """
-    z = casadi.SX.sym("z", 10)
-    params = casadi.SX.sym("params", 2)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    z4 = z[4]
-    z5 = z[5]
-    z6 = z[6]
-    z7 = z[7]
-    z8 = z[8]
-    z9 = z[9]
-    passive = casadi.SX.zeros(6)
-    passive[0] = z0
-    passive[1] = casadi.atan2(z2, z1)
-    passive[2] = casadi.atan2(z4, z3)
-    passive[3] = z5
-    passive[4] = casadi.atan2(z7, z6)
-    passive[5] = casadi.atan2(z9, z8)
+    _in_z = casadi.SX.sym("z", 10)
+    _in_params = casadi.SX.sym("params", 2)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    z4 = _in_z[4]
+    z5 = _in_z[5]
+    z6 = _in_z[6]
+    z7 = _in_z[7]
+    z8 = _in_z[8]
+    z9 = _in_z[9]
+    _out_passive = casadi.SX.zeros(6)
+    _out_passive[0] = z0
+    _out_passive[1] = casadi.atan2(z2, z1)
+    _out_passive[2] = casadi.atan2(z4, z3)
+    _out_passive[3] = z5
+    _out_passive[4] = casadi.atan2(z7, z6)
+    _out_passive[5] = casadi.atan2(z9, z8)
     return casadi.Function(
         "sam_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

@@ -20,13 +20,13 @@ def platform_pose() -> casadi.Function:
 
     Operations: 66.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    alpha1 = params[0]
-    alpha2 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
     _t0 = casadi.cos(theta1)
     _t1 = casadi.cos(theta2)
     _t2 = casadi.sin(theta1)
@@ -47,26 +47,26 @@ def platform_pose() -> casadi.Function:
     _t17 = _t10 * _t13
     _t18 = -_t0 * _t16 + _t14 * _t7 + _t9 * (_t17 * _t2 - _t3 * _t6)
     _t19 = _t14 * _t6 + _t16 * _t2 + _t9 * (_t0 * _t17 + _t3 * _t7)
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t6
-    pose[0, 1] = _t13 * _t18 - _t15 * _t7
-    pose[0, 2] = _t19
-    pose[1, 0] = _t7
-    pose[1, 1] = -_t13 * _t19 + _t15 * _t6
-    pose[1, 2] = _t18
-    pose[2, 0] = _t13
-    pose[2, 1] = -_t18 * _t6 + _t19 * _t7
-    pose[2, 2] = _t15
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t6
+    _out_pose[0, 1] = _t13 * _t18 - _t15 * _t7
+    _out_pose[0, 2] = _t19
+    _out_pose[1, 0] = _t7
+    _out_pose[1, 1] = -_t13 * _t19 + _t15 * _t6
+    _out_pose[1, 2] = _t18
+    _out_pose[2, 0] = _t13
+    _out_pose[2, 1] = -_t18 * _t6 + _t19 * _t7
+    _out_pose[2, 2] = _t15
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "sphere2r_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -84,24 +84,24 @@ def loop_closure() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    residual = casadi.SX.zeros(0)
-    jacobian = casadi.SX.zeros(0, 0)
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    _out_residual = casadi.SX.zeros(0)
+    _out_jacobian = casadi.SX.zeros(0, 0)
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "sphere2r_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -121,19 +121,19 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    jacobian_actuated = casadi.SX.zeros(0, 2)
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    _out_jacobian_actuated = casadi.SX.zeros(0, 2)
     return casadi.Function(
         "sphere2r_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -151,13 +151,13 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 167.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    alpha1 = params[0]
-    alpha2 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
     _t0 = casadi.sin(alpha1)
     _t1 = casadi.sin(theta1)
     _t2 = casadi.sin(theta2)
@@ -218,33 +218,33 @@ def parameter_jacobians() -> casadi.Function:
     _t47 = _t10 * _t37 + _t35
     _t48 = -_t1 * _t43 + _t16 * _t41 + _t47 * _t6
     _t49 = _t1 * _t29 + _t24 * _t45 + _t47 * _t8
-    closure_parameters = casadi.SX.zeros(0, 2)
-    pose_parameters = casadi.SX.zeros(12, 2)
-    pose_parameters[0, 0] = _t4
-    pose_parameters[1, 0] = -_t13 * _t39 + _t22 * _t40 + _t26 * _t28 + _t33 * _t34
-    pose_parameters[1, 1] = -_t13 * _t42 + _t22 * _t44
-    pose_parameters[2, 0] = _t46
-    pose_parameters[2, 1] = _t48
-    pose_parameters[4, 0] = -_t28
-    pose_parameters[5, 0] = _t0 * _t1 * _t2 * _t26 + _t16 * _t39 - _t22 * _t46 - _t34 * _t49
-    pose_parameters[5, 1] = _t16 * _t42 - _t22 * _t48
-    pose_parameters[6, 0] = _t40
-    pose_parameters[6, 1] = _t44
-    pose_parameters[8, 0] = _t34
-    pose_parameters[9, 0] = _t13 * _t46 - _t16 * _t40 - _t28 * _t49 - _t33 * _t4
-    pose_parameters[9, 1] = _t13 * _t48 - _t16 * _t44
-    pose_parameters[10, 0] = _t39
-    pose_parameters[10, 1] = _t42
+    _out_closure_parameters = casadi.SX.zeros(0, 2)
+    _out_pose_parameters = casadi.SX.zeros(12, 2)
+    _out_pose_parameters[0, 0] = _t4
+    _out_pose_parameters[1, 0] = -_t13 * _t39 + _t22 * _t40 + _t26 * _t28 + _t33 * _t34
+    _out_pose_parameters[1, 1] = -_t13 * _t42 + _t22 * _t44
+    _out_pose_parameters[2, 0] = _t46
+    _out_pose_parameters[2, 1] = _t48
+    _out_pose_parameters[4, 0] = -_t28
+    _out_pose_parameters[5, 0] = _t0 * _t1 * _t2 * _t26 + _t16 * _t39 - _t22 * _t46 - _t34 * _t49
+    _out_pose_parameters[5, 1] = _t16 * _t42 - _t22 * _t48
+    _out_pose_parameters[6, 0] = _t40
+    _out_pose_parameters[6, 1] = _t44
+    _out_pose_parameters[8, 0] = _t34
+    _out_pose_parameters[9, 0] = _t13 * _t46 - _t16 * _t40 - _t28 * _t49 - _t33 * _t4
+    _out_pose_parameters[9, 1] = _t13 * _t48 - _t16 * _t44
+    _out_pose_parameters[10, 0] = _t39
+    _out_pose_parameters[10, 1] = _t42
     return casadi.Function(
         "sphere2r_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -263,25 +263,25 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 5.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    theta2 = actuated[1]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    factors = casadi.SX.zeros(1)
-    factors[0] = casadi.sin(alpha1) * casadi.sin(alpha2) * casadi.sin(theta2)
-    determinants = casadi.SX.zeros(0)
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    theta2 = _in_actuated[1]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    _out_factors = casadi.SX.zeros(1)
+    _out_factors[0] = casadi.sin(alpha1) * casadi.sin(alpha2) * casadi.sin(theta2)
+    _out_determinants = casadi.SX.zeros(0)
     return casadi.Function(
         "sphere2r_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -300,13 +300,13 @@ def drawing() -> casadi.Function:
 
     Operations: 56.
     """
-    actuated = casadi.SX.sym("actuated", 2)
-    passive = casadi.SX.sym("passive", 0)
-    params = casadi.SX.sym("params", 2)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    alpha1 = params[0]
-    alpha2 = params[1]
+    _in_actuated = casadi.SX.sym("actuated", 2)
+    _in_passive = casadi.SX.sym("passive", 0)
+    _in_params = casadi.SX.sym("params", 2)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
     _t0 = casadi.sin(alpha1)
     _t1 = casadi.sin(theta1)
     _t2 = _t0 * _t1
@@ -323,26 +323,26 @@ def drawing() -> casadi.Function:
     _t13 = _t12 * _t8
     _t14 = -_t1 * _t9 + _t6 * _t7
     _t15 = (1 - _t3) * (-_t10 * _t11 + _t12 * _t9 + _t14 * _t2)
-    base_axes = casadi.SX.zeros(3, 2)
-    base_axes[0, 1] = 1
-    base_axes[2, 0] = 1
-    moving_axes = casadi.SX.zeros(3, 2)
-    moving_axes[0, 0] = _t2
-    moving_axes[0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
-    moving_axes[1, 0] = -_t11
-    moving_axes[1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
-    moving_axes[2, 0] = _t5
-    moving_axes[2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
+    _out_base_axes = casadi.SX.zeros(3, 2)
+    _out_base_axes[0, 1] = 1
+    _out_base_axes[2, 0] = 1
+    _out_moving_axes = casadi.SX.zeros(3, 2)
+    _out_moving_axes[0, 0] = _t2
+    _out_moving_axes[0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
+    _out_moving_axes[1, 0] = -_t11
+    _out_moving_axes[1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
+    _out_moving_axes[2, 0] = _t5
+    _out_moving_axes[2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
     return casadi.Function(
         "sphere2r_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base_axes,
-            moving_axes,
+            _out_base_axes,
+            _out_moving_axes,
         ],
         [
             "actuated",
@@ -361,15 +361,15 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 81.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 1)
-    params = casadi.SX.sym("params", 2)
-    r13 = pose[2]
-    r23 = pose[5]
-    r33 = pose[8]
-    sigma = branch[0]
-    alpha1 = params[0]
-    alpha2 = params[1]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 1)
+    _in_params = casadi.SX.sym("params", 2)
+    r13 = _in_pose[2]
+    r23 = _in_pose[5]
+    r33 = _in_pose[8]
+    sigma = _in_branch[0]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
     c_uw = r33
     gram = 1 - c_uw**2
     p = (-c_uw * casadi.cos(alpha2) + casadi.cos(alpha1)) / casadi.fmax(1.0e-300, gram)
@@ -391,24 +391,24 @@ def inverse_pose() -> casadi.Function:
         + v_z * (m_x * n_y - m_y * n_x),
         m_x * n_x + m_y * n_y + m_z * n_z,
     )
-    actuated = casadi.SX.zeros(2)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    passive = casadi.SX.zeros(0)
-    validity = casadi.SX.zeros(2)
-    validity[0] = r_squared
-    validity[1] = gram
+    _out_actuated = casadi.SX.zeros(2)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_passive = casadi.SX.zeros(0)
+    _out_validity = casadi.SX.zeros(2)
+    _out_validity[0] = r_squared
+    _out_validity[1] = gram
     return casadi.Function(
         "sphere2r_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",

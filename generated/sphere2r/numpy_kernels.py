@@ -20,15 +20,16 @@ def platform_pose(actuated, passive, params):
 
     Operations: 66.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
     _t0 = numpy.cos(theta1)
     _t1 = numpy.cos(theta2)
     _t2 = numpy.sin(theta1)
@@ -49,19 +50,19 @@ def platform_pose(actuated, passive, params):
     _t17 = _t10 * _t13
     _t18 = -_t0 * _t16 + _t14 * _t7 + _t9 * (_t17 * _t2 - _t3 * _t6)
     _t19 = _t14 * _t6 + _t16 * _t2 + _t9 * (_t0 * _t17 + _t3 * _t7)
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t6
-    pose[..., 0, 1] = _t13 * _t18 - _t15 * _t7
-    pose[..., 0, 2] = _t19
-    pose[..., 1, 0] = _t7
-    pose[..., 1, 1] = -_t13 * _t19 + _t15 * _t6
-    pose[..., 1, 2] = _t18
-    pose[..., 2, 0] = _t13
-    pose[..., 2, 1] = -_t18 * _t6 + _t19 * _t7
-    pose[..., 2, 2] = _t15
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t6
+    _out_pose[..., 0, 1] = _t13 * _t18 - _t15 * _t7
+    _out_pose[..., 0, 2] = _t19
+    _out_pose[..., 1, 0] = _t7
+    _out_pose[..., 1, 1] = -_t13 * _t19 + _t15 * _t6
+    _out_pose[..., 1, 2] = _t18
+    _out_pose[..., 2, 0] = _t13
+    _out_pose[..., 2, 1] = -_t18 * _t6 + _t19 * _t7
+    _out_pose[..., 2, 2] = _t15
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -70,19 +71,20 @@ def loop_closure(actuated, passive, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    residual = numpy.zeros(shape + (0,))
-    jacobian = numpy.zeros(shape + (0, 0))
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_residual = numpy.zeros(_shape + (0,))
+    _out_jacobian = numpy.zeros(_shape + (0, 0))
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -91,14 +93,15 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    jacobian_actuated = numpy.zeros(shape + (0, 2))
+    _out_jacobian_actuated = numpy.zeros(_shape + (0, 2))
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -107,15 +110,16 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 167.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
     _t0 = numpy.sin(alpha1)
     _t1 = numpy.sin(theta1)
     _t2 = numpy.sin(theta2)
@@ -176,26 +180,28 @@ def parameter_jacobians(actuated, passive, params):
     _t47 = _t10 * _t37 + _t35
     _t48 = -_t1 * _t43 + _t16 * _t41 + _t47 * _t6
     _t49 = _t1 * _t29 + _t24 * _t45 + _t47 * _t8
-    closure_parameters = numpy.zeros(shape + (0, 2))
-    pose_parameters = numpy.zeros(shape + (12, 2))
-    pose_parameters[..., 0, 0] = _t4
-    pose_parameters[..., 1, 0] = -_t13 * _t39 + _t22 * _t40 + _t26 * _t28 + _t33 * _t34
-    pose_parameters[..., 1, 1] = -_t13 * _t42 + _t22 * _t44
-    pose_parameters[..., 2, 0] = _t46
-    pose_parameters[..., 2, 1] = _t48
-    pose_parameters[..., 4, 0] = -_t28
-    pose_parameters[..., 5, 0] = _t0 * _t1 * _t2 * _t26 + _t16 * _t39 - _t22 * _t46 - _t34 * _t49
-    pose_parameters[..., 5, 1] = _t16 * _t42 - _t22 * _t48
-    pose_parameters[..., 6, 0] = _t40
-    pose_parameters[..., 6, 1] = _t44
-    pose_parameters[..., 8, 0] = _t34
-    pose_parameters[..., 9, 0] = _t13 * _t46 - _t16 * _t40 - _t28 * _t49 - _t33 * _t4
-    pose_parameters[..., 9, 1] = _t13 * _t48 - _t16 * _t44
-    pose_parameters[..., 10, 0] = _t39
-    pose_parameters[..., 10, 1] = _t42
+    _out_closure_parameters = numpy.zeros(_shape + (0, 2))
+    _out_pose_parameters = numpy.zeros(_shape + (12, 2))
+    _out_pose_parameters[..., 0, 0] = _t4
+    _out_pose_parameters[..., 1, 0] = -_t13 * _t39 + _t22 * _t40 + _t26 * _t28 + _t33 * _t34
+    _out_pose_parameters[..., 1, 1] = -_t13 * _t42 + _t22 * _t44
+    _out_pose_parameters[..., 2, 0] = _t46
+    _out_pose_parameters[..., 2, 1] = _t48
+    _out_pose_parameters[..., 4, 0] = -_t28
+    _out_pose_parameters[..., 5, 0] = (
+        _t0 * _t1 * _t2 * _t26 + _t16 * _t39 - _t22 * _t46 - _t34 * _t49
+    )
+    _out_pose_parameters[..., 5, 1] = _t16 * _t42 - _t22 * _t48
+    _out_pose_parameters[..., 6, 0] = _t40
+    _out_pose_parameters[..., 6, 1] = _t44
+    _out_pose_parameters[..., 8, 0] = _t34
+    _out_pose_parameters[..., 9, 0] = _t13 * _t46 - _t16 * _t40 - _t28 * _t49 - _t33 * _t4
+    _out_pose_parameters[..., 9, 1] = _t13 * _t48 - _t16 * _t44
+    _out_pose_parameters[..., 10, 0] = _t39
+    _out_pose_parameters[..., 10, 1] = _t42
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -204,20 +210,21 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 5.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta2 = actuated[..., 1]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    factors = numpy.zeros(shape + (1,))
-    factors[..., 0] = numpy.sin(alpha1) * numpy.sin(alpha2) * numpy.sin(theta2)
-    determinants = numpy.zeros(shape + (0,))
+    theta2 = _in_actuated[..., 1]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    _out_factors = numpy.zeros(_shape + (1,))
+    _out_factors[..., 0] = numpy.sin(alpha1) * numpy.sin(alpha2) * numpy.sin(theta2)
+    _out_determinants = numpy.zeros(_shape + (0,))
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -226,15 +233,16 @@ def drawing(actuated, passive, params):
 
     Operations: 56.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
     _t0 = numpy.sin(alpha1)
     _t1 = numpy.sin(theta1)
     _t2 = _t0 * _t1
@@ -251,19 +259,19 @@ def drawing(actuated, passive, params):
     _t13 = _t12 * _t8
     _t14 = -_t1 * _t9 + _t6 * _t7
     _t15 = (1 - _t3) * (-_t10 * _t11 + _t12 * _t9 + _t14 * _t2)
-    base_axes = numpy.zeros(shape + (3, 2))
-    base_axes[..., 0, 1] = 1
-    base_axes[..., 2, 0] = 1
-    moving_axes = numpy.zeros(shape + (3, 2))
-    moving_axes[..., 0, 0] = _t2
-    moving_axes[..., 0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
-    moving_axes[..., 1, 0] = -_t11
-    moving_axes[..., 1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
-    moving_axes[..., 2, 0] = _t5
-    moving_axes[..., 2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
+    _out_base_axes = numpy.zeros(_shape + (3, 2))
+    _out_base_axes[..., 0, 1] = 1
+    _out_base_axes[..., 2, 0] = 1
+    _out_moving_axes = numpy.zeros(_shape + (3, 2))
+    _out_moving_axes[..., 0, 0] = _t2
+    _out_moving_axes[..., 0, 1] = _t14 * _t15 + _t2 * _t3 + _t4 * (_t10 * _t5 + _t11 * _t13)
+    _out_moving_axes[..., 1, 0] = -_t11
+    _out_moving_axes[..., 1, 1] = _t10 * _t15 - _t11 * _t3 + _t4 * (_t13 * _t2 - _t14 * _t5)
+    _out_moving_axes[..., 2, 0] = _t5
+    _out_moving_axes[..., 2, 1] = _t13 * _t15 + _t3 * _t5 + _t4 * (-_t10 * _t2 - _t11 * _t14)
     return {
-        "base_axes": base_axes,
-        "moving_axes": moving_axes,
+        "base_axes": _out_base_axes,
+        "moving_axes": _out_moving_axes,
     }
 
 
@@ -272,17 +280,18 @@ def inverse_pose(pose, branch, params):
 
     Operations: 81.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r13 = pose[..., 2]
-    r23 = pose[..., 5]
-    r33 = pose[..., 8]
-    sigma = branch[..., 0]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
+    r13 = _in_pose[..., 2]
+    r23 = _in_pose[..., 5]
+    r33 = _in_pose[..., 8]
+    sigma = _in_branch[..., 0]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
     c_uw = r33
     gram = 1 - c_uw**2
     p = (-c_uw * numpy.cos(alpha2) + numpy.cos(alpha1)) / numpy.fmax(1.0e-300, gram)
@@ -304,17 +313,17 @@ def inverse_pose(pose, branch, params):
         + v_z * (m_x * n_y - m_y * n_x),
         m_x * n_x + m_y * n_y + m_z * n_z,
     )
-    actuated = numpy.zeros(shape + (2,))
-    actuated[..., 0] = theta1
-    actuated[..., 1] = theta2
-    passive = numpy.zeros(shape + (0,))
-    validity = numpy.zeros(shape + (2,))
-    validity[..., 0] = r_squared
-    validity[..., 1] = gram
+    _out_actuated = numpy.zeros(_shape + (2,))
+    _out_actuated[..., 0] = theta1
+    _out_actuated[..., 1] = theta2
+    _out_passive = numpy.zeros(_shape + (0,))
+    _out_validity = numpy.zeros(_shape + (2,))
+    _out_validity[..., 0] = r_squared
+    _out_validity[..., 1] = gram
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 

@@ -27,13 +27,13 @@ def platform_pose() -> casadi.Function:
 
     Operations: 47.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -48,26 +48,26 @@ def platform_pose() -> casadi.Function:
     _t11 = 2 * q1
     _t12 = _t2 - _t3
     _t13 = _t8 * q1
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t5 * (_t4 + _t6 + _t7)
-    pose[0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
-    pose[0, 2] = _t5 * (_t10 + _t11 * q3)
-    pose[1, 0] = _t5 * (_t11 * q2 + _t9)
-    pose[1, 1] = _t5 * (_t0 + _t12 + _t7)
-    pose[1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
-    pose[2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
-    pose[2, 1] = _t5 * (_t13 + 2 * q2 * q3)
-    pose[2, 2] = _t5 * (_t1 + _t12 + _t6)
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t5 * (_t4 + _t6 + _t7)
+    _out_pose[0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
+    _out_pose[0, 2] = _t5 * (_t10 + _t11 * q3)
+    _out_pose[1, 0] = _t5 * (_t11 * q2 + _t9)
+    _out_pose[1, 1] = _t5 * (_t0 + _t12 + _t7)
+    _out_pose[1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
+    _out_pose[2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
+    _out_pose[2, 1] = _t5 * (_t13 + 2 * q2 * q3)
+    _out_pose[2, 2] = _t5 * (_t1 + _t12 + _t6)
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "spm_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -85,20 +85,20 @@ def loop_closure() -> casadi.Function:
 
     Operations: 516.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sin((1 / 2) * alpha2)
     _t1 = -4 * _t0**2
     _t2 = casadi.sin(alpha1)
@@ -272,89 +272,89 @@ def loop_closure() -> casadi.Function:
     _t170 = -_t135 + _t137
     _t171 = _t141 + _t142
     _t172 = -_t127 + _t153
-    residual = casadi.SX.zeros(4)
-    residual[0] = _t44 * (_t1 + _t25**2 + _t36**2 + _t43**2)
-    residual[1] = _t44 * (_t1 + _t52**2 + _t63**2 + _t70**2)
-    residual[2] = _t44 * (_t1 + _t72**2 + _t75**2 + _t76**2)
-    residual[3] = (1 / 2) * _t11 + (1 / 2) * _t12 + (1 / 2) * _t13 + (1 / 2) * _t14 - 1 / 2
-    jacobian = casadi.SX.zeros(4, 4)
-    jacobian[0, 0] = _t44 * (
+    _out_residual = casadi.SX.zeros(4)
+    _out_residual[0] = _t44 * (_t1 + _t25**2 + _t36**2 + _t43**2)
+    _out_residual[1] = _t44 * (_t1 + _t52**2 + _t63**2 + _t70**2)
+    _out_residual[2] = _t44 * (_t1 + _t72**2 + _t75**2 + _t76**2)
+    _out_residual[3] = (1 / 2) * _t11 + (1 / 2) * _t12 + (1 / 2) * _t13 + (1 / 2) * _t14 - 1 / 2
+    _out_jacobian = casadi.SX.zeros(4, 4)
+    _out_jacobian[0, 0] = _t44 * (
         _t25 * (-_t79 * _t80 - _t82 - _t88)
         + _t36 * (-_t28 * _t90 + _t89 - _t94)
         + _t43 * (-_t41 * _t90 - _t95 - _t98)
     )
-    jacobian[0, 1] = _t44 * (
+    _out_jacobian[0, 1] = _t44 * (
         _t25 * (-_t101 - _t103 - _t80 * _t99)
         + _t36 * (-_t104 * _t28 - _t105 - _t98)
         + _t43 * (-_t104 * _t41 - _t106 - _t107)
     )
-    jacobian[0, 2] = _t44 * (
+    _out_jacobian[0, 2] = _t44 * (
         _t25 * (_t107 - _t108 * _t80 + _t111)
         + _t36 * (-_t112 * _t28 - _t114 + _t87)
         + _t43 * (-_t103 - _t112 * _t41 - _t115)
     )
-    jacobian[0, 3] = _t44 * (
+    _out_jacobian[0, 3] = _t44 * (
         _t25 * (-_t116 * _t80 - _t118 - _t96 + _t97)
         + _t36 * (-_t119 * _t28 + _t122 + _t86 * q2)
         + _t43 * (-_t119 * _t41 - _t123 - _t88)
     )
-    jacobian[1, 0] = _t44 * (
+    _out_jacobian[1, 0] = _t44 * (
         _t52 * (_t125 * _t28 + _t129 + _t131 - _t93)
         + _t63 * (_t133 - _t138 - _t139)
         + _t70 * (_t140 + _t143 + _t144)
     )
-    jacobian[1, 1] = _t44 * (
+    _out_jacobian[1, 1] = _t44 * (
         _t52 * (-_t138 + _t146 - _t147)
         + _t63 * (_t149 - _t150 - _t151)
         + _t70 * (_t152 - _t154 - _t155)
     )
-    jacobian[1, 2] = _t44 * (
+    _out_jacobian[1, 2] = _t44 * (
         _t52 * (-_t113 - _t134 + _t157 * _t28 + _t158 + _t85)
         + _t63 * (-_t115 - _t154 - _t160 + 2 * _t22 * _t41 * _t77 * q2)
         + _t70 * (_t111 + _t150 + _t156 * _t80 + _t161)
     )
-    jacobian[1, 3] = _t44 * (
+    _out_jacobian[1, 3] = _t44 * (
         _t52 * (-_t121 - _t154 - _t164 + 2 * _t22 * _t28 * _t77 * q3)
         + _t63 * (_t143 + _t166 + _t167)
         + _t70 * (_t138 + _t168 + _t169)
     )
-    jacobian[2, 0] = _t44 * (
+    _out_jacobian[2, 0] = _t44 * (
         _t72 * (-_t129 - _t130 + 2 * _t22 * _t28 * _t77 * q0 - _t94)
         + _t75 * (-_t133 - _t139 - _t170)
         + _t76 * (-_t140 + _t144 + _t171)
     )
-    jacobian[2, 1] = _t44 * (
+    _out_jacobian[2, 1] = _t44 * (
         _t72 * (-_t146 - _t147 - _t170)
         + _t75 * (_t128 - _t131 - _t149 - _t151)
         + _t76 * (-_t102 - _t127 - _t152 + _t153 - _t155)
     )
-    jacobian[2, 2] = _t44 * (
+    _out_jacobian[2, 2] = _t44 * (
         _t72 * (-_t114 - _t134 - _t158 + 2 * _t22 * _t28 * _t77 * q2)
         + _t75 * (-_t115 + _t120 + _t157 * _t41 + _t160 + _t172)
         + _t76 * (-_t110 - _t128 - _t130 - _t161 + 2 * _t21 * _t22 * _t77 * q2 - _t92)
     )
-    jacobian[2, 3] = _t44 * (
+    _out_jacobian[2, 3] = _t44 * (
         _t72 * (_t122 + _t163 * _t28 + _t164 + _t172)
         + _t75 * (-_t166 + _t167 + _t171)
         + _t76 * (-_t168 + _t169 + _t170)
     )
-    jacobian[3, 0] = q0
-    jacobian[3, 1] = q1
-    jacobian[3, 2] = q2
-    jacobian[3, 3] = q3
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_jacobian[3, 0] = q0
+    _out_jacobian[3, 1] = q1
+    _out_jacobian[3, 2] = q2
+    _out_jacobian[3, 3] = q3
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "spm_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -374,20 +374,20 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 192.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sin(theta1)
     _t1 = 2 * q0
     _t2 = _t1 * q1
@@ -451,13 +451,13 @@ def loop_closure_actuated() -> casadi.Function:
     _t60 = casadi.cos(theta3)
     _t61 = _t45 * _t59
     _t62 = _t45 * _t60
-    jacobian_actuated = casadi.SX.zeros(4, 3)
-    jacobian_actuated[0, 0] = _t38 * (
+    _out_jacobian_actuated = casadi.SX.zeros(4, 3)
+    _out_jacobian_actuated[0, 0] = _t38 * (
         -_t0 * _t16 * _t29 * (_t14 * _t16 - _t24 + _t26 + _t28)
         - _t0 * _t23 * (_t10 + _t11 * _t14 + _t21)
         - 2 * _t13 * _t32 * (-_t0 * _t32 + _t20 * _t35 + _t37)
     )
-    jacobian_actuated[1, 1] = _t38 * (
+    _out_jacobian_actuated[1, 1] = _t38 * (
         -_t23 * _t39 * (_t22 * _t40 - _t43 + _t44)
         - _t29
         * (_t40 * _t49 - _t41 * _t46)
@@ -466,7 +466,7 @@ def loop_closure_actuated() -> casadi.Function:
         * (_t40 * _t56 - _t46)
         * ((1 / 2) * _t11 * _t15 - _t12 * (_t39 * _t56 + _t50) + _t19 * _t25 * _t8 - _t57 - _t58)
     )
-    jacobian_actuated[2, 2] = _t38 * (
+    _out_jacobian_actuated[2, 2] = _t38 * (
         -_t23 * _t59 * (_t22 * _t60 + _t43 + _t44)
         - _t29
         * (_t41 * _t61 + _t49 * _t60)
@@ -476,12 +476,12 @@ def loop_closure_actuated() -> casadi.Function:
     return casadi.Function(
         "spm_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -499,19 +499,19 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 223.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sin(gamma)
     _t1 = casadi.cos(alpha1)
     _t2 = _t0 * _t1
@@ -604,24 +604,24 @@ def rate_jacobians() -> casadi.Function:
     _t89 = _t69 + _t88
     _t90 = _t74 - _t75 - _t89
     _t91 = (1 / 2) * _t0
-    a = casadi.SX.zeros(3, 3)
-    a[0, 0] = _t28 * _t8 - _t29 * _t34
-    a[0, 1] = _t29 * _t44 - _t45
-    a[0, 2] = _t34 * _t35 * _t38 * _t4 - _t44 * _t8
-    a[1, 0] = _t57 * _t64 - _t65 * _t68
-    a[1, 1] = -_t64 * _t73 + _t65 * _t76
-    a[1, 2] = -_t57 * _t76 + _t68 * _t73
-    a[2, 0] = _t81 * _t84 - _t85 * _t86
-    a[2, 1] = -_t84 * _t89 + _t85 * _t90
-    a[2, 2] = -_t81 * _t90 + _t86 * _t89
-    b = casadi.SX.zeros(3, 3)
-    b[0, 0] = _t0 * (-_t26 * _t44 - _t45) - _t3 * (_t34 * _t39 + _t44 * _t6)
-    b[1, 1] = (
+    _out_a = casadi.SX.zeros(3, 3)
+    _out_a[0, 0] = _t28 * _t8 - _t29 * _t34
+    _out_a[0, 1] = _t29 * _t44 - _t45
+    _out_a[0, 2] = _t34 * _t35 * _t38 * _t4 - _t44 * _t8
+    _out_a[1, 0] = _t57 * _t64 - _t65 * _t68
+    _out_a[1, 1] = -_t64 * _t73 + _t65 * _t76
+    _out_a[1, 2] = -_t57 * _t76 + _t68 * _t73
+    _out_a[2, 0] = _t81 * _t84 - _t85 * _t86
+    _out_a[2, 1] = -_t84 * _t89 + _t85 * _t90
+    _out_a[2, 2] = -_t81 * _t90 + _t86 * _t89
+    _out_b = casadi.SX.zeros(3, 3)
+    _out_b[0, 0] = _t0 * (-_t26 * _t44 - _t45) - _t3 * (_t34 * _t39 + _t44 * _t6)
+    _out_b[1, 1] = (
         -_t3 * (_t4 * _t68 * _t71 - _t56 * _t76)
         - _t52 * _t91 * (_t56 * _t64 + _t61 * _t68)
         - _t91 * (-_t61 * _t76 - _t64 * _t72)
     )
-    b[2, 2] = (
+    _out_b[2, 2] = (
         (1 / 2) * _t0 * _t52 * (_t80 * _t84 + _t82 * _t86)
         - _t3 * (_t4 * _t86 * _t87 - _t80 * _t90)
         - _t91 * (-_t82 * _t90 - _t84 * _t88)
@@ -629,13 +629,13 @@ def rate_jacobians() -> casadi.Function:
     return casadi.Function(
         "spm_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -654,20 +654,20 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 313.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.cos(gamma)
     _t1 = casadi.sin(alpha1)
     _t2 = _t0 * _t1
@@ -773,52 +773,52 @@ def parameter_jacobians() -> casadi.Function:
     _t102 = -_t1 * _t101 - _t83 + _t85 - _t86
     _t103 = _t100 * _t73 + _t99
     _t104 = -_t1 * _t103 + _t32 + _t76 - _t77 + _t82
-    closure_parameters = casadi.SX.zeros(4, 4)
-    closure_parameters[0, 0] = _t49 * (
+    _out_closure_parameters = casadi.SX.zeros(4, 4)
+    _out_closure_parameters[0, 0] = _t49 * (
         _t28 * (-_t3 + 2 * _t4 * _t5 * _t6) + _t36 * (_t29 * _t6 + 2 * _t8) - _t39 * _t45 * _t46
     )
-    closure_parameters[0, 1] = -_t50 - _t53 * (_t28**2 + _t36**2 + _t45**2 + _t52)
-    closure_parameters[0, 2] = _t49 * (
+    _out_closure_parameters[0, 1] = -_t50 - _t53 * (_t28**2 + _t36**2 + _t45**2 + _t52)
+    _out_closure_parameters[0, 2] = _t49 * (
         _t28 * (2 * _t56 - _t57)
         + _t36 * (2 * _t19 * _t25 * _t34 - _t58)
         + _t45 * (2 * _t19 * _t25 * _t43 - _t55)
     )
-    closure_parameters[0, 3] = _t49 * (_t28 * (_t3 * _t6 + _t59) + _t36 * (-_t29 - 2 * _t9))
-    closure_parameters[1, 0] = _t49 * (
+    _out_closure_parameters[0, 3] = _t49 * (_t28 * (_t3 * _t6 + _t59) + _t36 * (-_t29 - 2 * _t9))
+    _out_closure_parameters[1, 0] = _t49 * (
         _t67 * (-_t3 + 2 * _t4 * _t5 * _t60)
         + _t78 * (-_t46 * _t74 - _t8)
         + _t87 * (-_t46 * _t81 - _t79)
     )
-    closure_parameters[1, 1] = -_t50 - _t53 * (_t52 + _t67**2 + _t78**2 + _t87**2)
-    closure_parameters[1, 2] = _t49 * (
+    _out_closure_parameters[1, 1] = -_t50 - _t53 * (_t52 + _t67**2 + _t78**2 + _t87**2)
+    _out_closure_parameters[1, 2] = _t49 * (
         _t67 * (-_t89 - _t90) + _t78 * (-_t91 - _t92) + _t87 * (-_t93 - _t94)
     )
-    closure_parameters[1, 3] = _t49 * (
+    _out_closure_parameters[1, 3] = _t49 * (
         _t65 * _t78 + _t67 * (_t3 * _t60 + _t59) + _t87 * (_t60 * _t79 + _t95)
     )
-    closure_parameters[2, 0] = _t49 * (
+    _out_closure_parameters[2, 0] = _t49 * (
         _t102 * (-_t101 * _t46 + _t79)
         + _t104 * (-_t103 * _t46 - _t8)
         + _t98 * (-_t3 + 2 * _t4 * _t5 * _t96)
     )
-    closure_parameters[2, 1] = -_t50 - _t53 * (_t102**2 + _t104**2 + _t52 + _t98**2)
-    closure_parameters[2, 2] = _t49 * (
+    _out_closure_parameters[2, 1] = -_t50 - _t53 * (_t102**2 + _t104**2 + _t52 + _t98**2)
+    _out_closure_parameters[2, 2] = _t49 * (
         _t102 * (_t93 - _t94) + _t104 * (_t91 - _t92) + _t98 * (_t89 - _t90)
     )
-    closure_parameters[2, 3] = _t49 * (
+    _out_closure_parameters[2, 3] = _t49 * (
         _t102 * (-_t79 * _t96 - _t95) + _t104 * _t97 + _t98 * (_t3 * _t96 + _t59)
     )
-    pose_parameters = casadi.SX.zeros(12, 4)
+    _out_pose_parameters = casadi.SX.zeros(12, 4)
     return casadi.Function(
         "spm_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -837,19 +837,19 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 239.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.cos(gamma)
     _t1 = casadi.sin(alpha1)
     _t2 = casadi.sin(theta1)
@@ -964,24 +964,24 @@ def singularity_factors() -> casadi.Function:
         + (-_t100 * _t97 + _t94 * _t99) * (-_t34 * _t98 + _t42 * _t90)
         + (_t92 * _t94 + _t96 * _t97) * (_t1 * _t2 * _t34 * _t6 - _t22 * _t90)
     )
-    factors = casadi.SX.zeros(4)
-    factors[0] = _t44
-    factors[1] = _t76
-    factors[2] = _t89
-    factors[3] = _t101
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t101
-    determinants[1] = _t44 * _t76 * _t89
+    _out_factors = casadi.SX.zeros(4)
+    _out_factors[0] = _t44
+    _out_factors[1] = _t76
+    _out_factors[2] = _t89
+    _out_factors[3] = _t101
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t101
+    _out_determinants[1] = _t44 * _t76 * _t89
     return casadi.Function(
         "spm_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -1000,19 +1000,19 @@ def drawing() -> casadi.Function:
 
     Operations: 145.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    passive = casadi.SX.sym("passive", 4)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    q0 = passive[0]
-    q1 = passive[1]
-    q2 = passive[2]
-    q3 = passive[3]
-    alpha1 = params[0]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_passive = casadi.SX.sym("passive", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    q0 = _in_passive[0]
+    q1 = _in_passive[1]
+    q2 = _in_passive[2]
+    q3 = _in_passive[3]
+    alpha1 = _in_params[0]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sqrt(3)
     _t1 = casadi.sin(gamma)
     _t2 = (1 / 2) * _t1
@@ -1073,46 +1073,46 @@ def drawing() -> casadi.Function:
     _t57 = _t38 * _t56
     _t58 = (1 / 2) * _t55
     _t59 = _t46 * (-_t28 + 2 * q1 * q3)
-    base = casadi.SX.zeros(3, 3)
-    base[0, 1] = -_t3
-    base[0, 2] = _t3
-    base[1, 0] = _t1
-    base[1, 1] = _t4
-    base[1, 2] = _t4
-    base[2, 0] = _t6
-    base[2, 1] = _t6
-    base[2, 2] = _t6
-    elbow = casadi.SX.zeros(3, 3)
-    elbow[0, 0] = _t7 * (-_t8 - _t9) * casadi.sin(theta1)
-    elbow[0, 1] = -_t11 + _t7 * (_t0 * _t14 + _t15 * _t18)
-    elbow[0, 2] = _t11 + _t7 * (-_t0 * _t20 + _t18 * _t21)
-    elbow[1, 0] = _t1 * _t10 - _t22 * _t5
-    elbow[1, 1] = _t23 + _t7 * (_t14 - _t15 * _t24)
-    elbow[1, 2] = _t23 + _t7 * (_t20 + _t21 * _t24)
-    elbow[2, 0] = -_t1 * _t22 - _t25
-    elbow[2, 1] = -_t12 * _t26 - _t25
-    elbow[2, 2] = -_t19 * _t26 - _t25
-    platform = casadi.SX.zeros(3, 3)
-    platform[0, 0] = _t39 + _t42
-    platform[0, 1] = _t30 * _t36 * _t37 - _t43 - _t47
-    platform[0, 2] = _t39 - _t43 + _t47
-    platform[1, 0] = _t50 + _t52
-    platform[1, 1] = _t36 * _t37 * _t49 - _t53 - _t54
-    platform[1, 2] = _t50 + _t53 - _t54
-    platform[2, 0] = _t55 + _t57
-    platform[2, 1] = _t36 * _t37 * _t56 - _t58 - _t59
-    platform[2, 2] = _t57 - _t58 + _t59
+    _out_base = casadi.SX.zeros(3, 3)
+    _out_base[0, 1] = -_t3
+    _out_base[0, 2] = _t3
+    _out_base[1, 0] = _t1
+    _out_base[1, 1] = _t4
+    _out_base[1, 2] = _t4
+    _out_base[2, 0] = _t6
+    _out_base[2, 1] = _t6
+    _out_base[2, 2] = _t6
+    _out_elbow = casadi.SX.zeros(3, 3)
+    _out_elbow[0, 0] = _t7 * (-_t8 - _t9) * casadi.sin(theta1)
+    _out_elbow[0, 1] = -_t11 + _t7 * (_t0 * _t14 + _t15 * _t18)
+    _out_elbow[0, 2] = _t11 + _t7 * (-_t0 * _t20 + _t18 * _t21)
+    _out_elbow[1, 0] = _t1 * _t10 - _t22 * _t5
+    _out_elbow[1, 1] = _t23 + _t7 * (_t14 - _t15 * _t24)
+    _out_elbow[1, 2] = _t23 + _t7 * (_t20 + _t21 * _t24)
+    _out_elbow[2, 0] = -_t1 * _t22 - _t25
+    _out_elbow[2, 1] = -_t12 * _t26 - _t25
+    _out_elbow[2, 2] = -_t19 * _t26 - _t25
+    _out_platform = casadi.SX.zeros(3, 3)
+    _out_platform[0, 0] = _t39 + _t42
+    _out_platform[0, 1] = _t30 * _t36 * _t37 - _t43 - _t47
+    _out_platform[0, 2] = _t39 - _t43 + _t47
+    _out_platform[1, 0] = _t50 + _t52
+    _out_platform[1, 1] = _t36 * _t37 * _t49 - _t53 - _t54
+    _out_platform[1, 2] = _t50 + _t53 - _t54
+    _out_platform[2, 0] = _t55 + _t57
+    _out_platform[2, 1] = _t36 * _t37 * _t56 - _t58 - _t59
+    _out_platform[2, 2] = _t57 - _t58 + _t59
     return casadi.Function(
         "spm_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            elbow,
-            platform,
+            _out_base,
+            _out_elbow,
+            _out_platform,
         ],
         [
             "actuated",
@@ -1132,25 +1132,25 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 723.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 3)
-    params = casadi.SX.sym("params", 4)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    sigma1 = branch[0]
-    sigma2 = branch[1]
-    sigma3 = branch[2]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    sigma1 = _in_branch[0]
+    sigma2 = _in_branch[1]
+    sigma3 = _in_branch[2]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sin(gamma)
     _t1 = casadi.sin(beta)
     _t2 = casadi.cos(beta)
@@ -1457,30 +1457,30 @@ def inverse_pose() -> casadi.Function:
     _t120 = E2**2 + F2**2
     _t121 = G3**2
     _t122 = E3**2 + F3**2
-    actuated = casadi.SX.zeros(3)
-    actuated[0] = theta1
-    actuated[1] = theta2
-    actuated[2] = theta3
-    passive = casadi.SX.zeros(4)
-    passive[0] = q0
-    passive[1] = q1
-    passive[2] = q2
-    passive[3] = q3
-    validity = casadi.SX.zeros(3)
-    validity[0] = (-_t117 + _t118) / (_t117 + _t118)
-    validity[1] = (-_t119 + _t120) / (_t119 + _t120)
-    validity[2] = (-_t121 + _t122) / (_t121 + _t122)
+    _out_actuated = casadi.SX.zeros(3)
+    _out_actuated[0] = theta1
+    _out_actuated[1] = theta2
+    _out_actuated[2] = theta3
+    _out_passive = casadi.SX.zeros(4)
+    _out_passive[0] = q0
+    _out_passive[1] = q1
+    _out_passive[2] = q2
+    _out_passive[3] = q3
+    _out_validity = casadi.SX.zeros(3)
+    _out_validity[0] = (-_t117 + _t118) / (_t117 + _t118)
+    _out_validity[1] = (-_t119 + _t120) / (_t119 + _t120)
+    _out_validity[2] = (-_t121 + _t122) / (_t121 + _t122)
     return casadi.Function(
         "spm_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1500,21 +1500,21 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 777.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 4)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 4)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     _t0 = casadi.sin(gamma)
     _t1 = casadi.sin(beta)
     _t2 = casadi.cos(beta)
@@ -1830,39 +1830,39 @@ def inverse_pose_patterns() -> casadi.Function:
     _t126 = G3**2
     _t127 = E3**2 + F3**2
     _t128 = (-_t126 + _t127) / (_t126 + _t127)
-    actuated = casadi.SX.zeros(3, 2)
-    actuated[0, 0] = theta1_pattern0
-    actuated[0, 1] = theta1_pattern1
-    actuated[1, 0] = theta2_pattern0
-    actuated[1, 1] = theta2_pattern1
-    actuated[2, 0] = theta3_pattern0
-    actuated[2, 1] = theta3_pattern1
-    passive = casadi.SX.zeros(4, 2)
-    passive[0, 0] = q0
-    passive[0, 1] = q0
-    passive[1, 0] = q1
-    passive[1, 1] = q1
-    passive[2, 0] = q2
-    passive[2, 1] = q2
-    passive[3, 0] = q3
-    passive[3, 1] = q3
-    validity = casadi.SX.zeros(3, 2)
-    validity[0, 0] = _t122
-    validity[0, 1] = _t122
-    validity[1, 0] = _t125
-    validity[1, 1] = _t125
-    validity[2, 0] = _t128
-    validity[2, 1] = _t128
+    _out_actuated = casadi.SX.zeros(3, 2)
+    _out_actuated[0, 0] = theta1_pattern0
+    _out_actuated[0, 1] = theta1_pattern1
+    _out_actuated[1, 0] = theta2_pattern0
+    _out_actuated[1, 1] = theta2_pattern1
+    _out_actuated[2, 0] = theta3_pattern0
+    _out_actuated[2, 1] = theta3_pattern1
+    _out_passive = casadi.SX.zeros(4, 2)
+    _out_passive[0, 0] = q0
+    _out_passive[0, 1] = q0
+    _out_passive[1, 0] = q1
+    _out_passive[1, 1] = q1
+    _out_passive[2, 0] = q2
+    _out_passive[2, 1] = q2
+    _out_passive[3, 0] = q3
+    _out_passive[3, 1] = q3
+    _out_validity = casadi.SX.zeros(3, 2)
+    _out_validity[0, 0] = _t122
+    _out_validity[0, 1] = _t122
+    _out_validity[1, 0] = _t125
+    _out_validity[1, 1] = _t125
+    _out_validity[2, 0] = _t128
+    _out_validity[2, 1] = _t128
     return casadi.Function(
         "spm_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -1881,15 +1881,15 @@ def forward_polynomial() -> casadi.Function:
 
     Operations: 5082.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     cos_psi = -1 / 2 * casadi.sin(beta) ** 2 + casadi.cos(beta) ** 2
     _t0 = casadi.sin(beta) ** 2
     _t1 = casadi.cos(beta) ** 2
@@ -3713,8 +3713,8 @@ def forward_polynomial() -> casadi.Function:
     _t1103 = a22**2
     _t1104 = _t1066 * b21
     _t1105 = _t1066 * b22
-    coefficients = casadi.SX.zeros(9)
-    coefficients[0] = (
+    _out_coefficients = casadi.SX.zeros(9)
+    _out_coefficients[0] = (
         _t1032 * a00 * a20
         + _t1033 * b00 * b20
         - _t1034 * _t1035
@@ -3723,7 +3723,7 @@ def forward_polynomial() -> casadi.Function:
         + _t1038 * _t1039
         + _t1040 * _t1041
     )
-    coefficients[1] = (
+    _out_coefficients[1] = (
         _t1032 * a00 * a21
         + _t1032 * a01 * a20
         + _t1033 * b00 * b21
@@ -3747,7 +3747,7 @@ def forward_polynomial() -> casadi.Function:
         + 2 * a00 * a20 * b10 * b11
         + 2 * a10 * a11 * b00 * b20
     )
-    coefficients[2] = (
+    _out_coefficients[2] = (
         _t1032 * a00 * a22
         + _t1032 * a01 * a21
         + _t1032 * a02 * a20
@@ -3803,7 +3803,7 @@ def forward_polynomial() -> casadi.Function:
         + 2 * a10 * a12 * b00 * b20
         + 4 * a20 * a21 * b00 * b01
     )
-    coefficients[3] = (
+    _out_coefficients[3] = (
         _t1032 * a01 * a22
         + _t1032 * a02 * a21
         + _t1033 * b01 * b22
@@ -3885,7 +3885,7 @@ def forward_polynomial() -> casadi.Function:
         + 4 * a20 * a21 * b00 * b02
         + 4 * a20 * a22 * b00 * b01
     )
-    coefficients[4] = (
+    _out_coefficients[4] = (
         _t1032 * a02 * a22
         + _t1033 * b02 * b22
         - _t1034 * _t1093
@@ -3984,7 +3984,7 @@ def forward_polynomial() -> casadi.Function:
         + 4 * a20 * a22 * b00 * b02
         + 4 * a21 * a22 * b00 * b01
     )
-    coefficients[5] = (
+    _out_coefficients[5] = (
         -_t1043 * _t1093
         - _t1043 * _t1095
         - _t1044 * _t1093
@@ -4066,7 +4066,7 @@ def forward_polynomial() -> casadi.Function:
         + 4 * a20 * a22 * b01 * b02
         + 4 * a21 * a22 * b00 * b02
     )
-    coefficients[6] = (
+    _out_coefficients[6] = (
         -_t1057 * _t1093
         - _t1057 * _t1095
         - _t1058 * _t1093
@@ -4122,7 +4122,7 @@ def forward_polynomial() -> casadi.Function:
         + 2 * a11 * a12 * b02 * b21
         + 4 * a21 * a22 * b01 * b02
     )
-    coefficients[7] = (
+    _out_coefficients[7] = (
         -_t1077 * _t1093
         - _t1077 * _t1095
         - _t1078 * _t1093
@@ -4146,7 +4146,7 @@ def forward_polynomial() -> casadi.Function:
         + 2 * a02 * a22 * b11 * b12
         + 2 * a11 * a12 * b02 * b22
     )
-    coefficients[8] = (
+    _out_coefficients[8] = (
         -_t1090 * _t1093
         - _t1090 * _t1095
         - _t1093 * _t1096
@@ -4158,11 +4158,11 @@ def forward_polynomial() -> casadi.Function:
     return casadi.Function(
         "spm_forward_polynomial",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            coefficients,
+            _out_coefficients,
         ],
         [
             "actuated",
@@ -4179,19 +4179,19 @@ def forward_back_substitution() -> casadi.Function:
 
     Operations: 4098.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    root = casadi.SX.sym("root", 1)
-    branch = casadi.SX.sym("branch", 1)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    x = root[0]
-    tau = branch[0]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_root = casadi.SX.sym("root", 1)
+    _in_branch = casadi.SX.sym("branch", 1)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    x = _in_root[0]
+    tau = _in_branch[0]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
     cos_psi = -1 / 2 * casadi.sin(beta) ** 2 + casadi.cos(beta) ** 2
     _t0 = casadi.sin(beta) ** 2
     _t1 = casadi.cos(beta) ** 2
@@ -6037,27 +6037,27 @@ def forward_back_substitution() -> casadi.Function:
     _t1098 = -_t1056 * _t1086 + _t1077 * _t1083
     _t1099 = 2 * _t1086
     _t1100 = _t1056 * _t1084 - _t1077 * _t1085
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t1056 * _t1062 + _t1078 * _t1080 + _t1087 * _t1090
-    pose[0, 1] = _t1056 * _t1091 + _t1078 * _t1093 + _t1087 * _t1094
-    pose[0, 2] = _t1056 * _t1095 + _t1078 * _t1088 * _t1092 + _t1087 * _t1096
-    pose[1, 0] = _t1062 * _t1085 + _t1080 * _t1097 + _t1090 * _t1098
-    pose[1, 1] = _t1085 * _t1091 + _t1093 * _t1097 + _t1094 * _t1098
-    pose[1, 2] = _t1084 * _t1095 + _t1085 * _t1095 + _t1096 * _t1098
-    pose[2, 0] = _t1062 * _t1083 + _t1080 * _t1099 + _t1090 * _t1100
-    pose[2, 1] = _t1083 * _t1091 + _t1093 * _t1099 + _t1094 * _t1100
-    pose[2, 2] = _t1083 * _t1095 + _t1086 * _t1095 + _t1096 * _t1100
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t1056 * _t1062 + _t1078 * _t1080 + _t1087 * _t1090
+    _out_pose[0, 1] = _t1056 * _t1091 + _t1078 * _t1093 + _t1087 * _t1094
+    _out_pose[0, 2] = _t1056 * _t1095 + _t1078 * _t1088 * _t1092 + _t1087 * _t1096
+    _out_pose[1, 0] = _t1062 * _t1085 + _t1080 * _t1097 + _t1090 * _t1098
+    _out_pose[1, 1] = _t1085 * _t1091 + _t1093 * _t1097 + _t1094 * _t1098
+    _out_pose[1, 2] = _t1084 * _t1095 + _t1085 * _t1095 + _t1096 * _t1098
+    _out_pose[2, 0] = _t1062 * _t1083 + _t1080 * _t1099 + _t1090 * _t1100
+    _out_pose[2, 1] = _t1083 * _t1091 + _t1093 * _t1099 + _t1094 * _t1100
+    _out_pose[2, 2] = _t1083 * _t1095 + _t1086 * _t1095 + _t1096 * _t1100
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "spm_forward_back_substitution",
         [
-            actuated,
-            root,
-            branch,
-            params,
+            _in_actuated,
+            _in_root,
+            _in_branch,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -6076,33 +6076,33 @@ def automatic_family() -> casadi.Function:
 
     Operations: 1.
     """
-    actuated = casadi.SX.sym("actuated", 3)
-    params = casadi.SX.sym("params", 4)
-    theta1 = actuated[0]
-    theta2 = actuated[1]
-    theta3 = actuated[2]
-    alpha1 = params[0]
-    alpha2 = params[1]
-    beta = params[2]
-    gamma = params[3]
-    free = casadi.SX.zeros(1)
-    angles = casadi.SX.zeros(7)
-    angles[0] = alpha1
-    angles[1] = (1 / 2) * alpha2
-    angles[2] = beta
-    angles[3] = gamma
-    angles[4] = theta1
-    angles[5] = theta2
-    angles[6] = theta3
+    _in_actuated = casadi.SX.sym("actuated", 3)
+    _in_params = casadi.SX.sym("params", 4)
+    theta1 = _in_actuated[0]
+    theta2 = _in_actuated[1]
+    theta3 = _in_actuated[2]
+    alpha1 = _in_params[0]
+    alpha2 = _in_params[1]
+    beta = _in_params[2]
+    gamma = _in_params[3]
+    _out_free = casadi.SX.zeros(1)
+    _out_angles = casadi.SX.zeros(7)
+    _out_angles[0] = alpha1
+    _out_angles[1] = (1 / 2) * alpha2
+    _out_angles[2] = beta
+    _out_angles[3] = gamma
+    _out_angles[4] = theta1
+    _out_angles[5] = theta2
+    _out_angles[6] = theta3
     return casadi.Function(
         "spm_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -6120,48 +6120,48 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 4436.
     """
-    family_re = casadi.SX.sym("family_re", 21)
-    family_im = casadi.SX.sym("family_im", 21)
-    C_u_0_re = family_re[0]
-    S_u_0_re = family_re[1]
-    D_u_0_re = family_re[2]
-    S_u_1_re = family_re[4]
-    D_u_1_re = family_re[5]
-    C_u_2_re = family_re[6]
-    S_u_2_re = family_re[7]
-    D_u_2_re = family_re[8]
-    C_u_3_re = family_re[9]
-    S_u_3_re = family_re[10]
-    D_u_3_re = family_re[11]
-    C_u_4_re = family_re[12]
-    S_u_4_re = family_re[13]
-    D_u_4_re = family_re[14]
-    C_u_5_re = family_re[15]
-    S_u_5_re = family_re[16]
-    D_u_5_re = family_re[17]
-    C_u_6_re = family_re[18]
-    S_u_6_re = family_re[19]
-    D_u_6_re = family_re[20]
-    C_u_0_im = family_im[0]
-    S_u_0_im = family_im[1]
-    D_u_0_im = family_im[2]
-    S_u_1_im = family_im[4]
-    D_u_1_im = family_im[5]
-    C_u_2_im = family_im[6]
-    S_u_2_im = family_im[7]
-    D_u_2_im = family_im[8]
-    C_u_3_im = family_im[9]
-    S_u_3_im = family_im[10]
-    D_u_3_im = family_im[11]
-    C_u_4_im = family_im[12]
-    S_u_4_im = family_im[13]
-    D_u_4_im = family_im[14]
-    C_u_5_im = family_im[15]
-    S_u_5_im = family_im[16]
-    D_u_5_im = family_im[17]
-    C_u_6_im = family_im[18]
-    S_u_6_im = family_im[19]
-    D_u_6_im = family_im[20]
+    _in_family_re = casadi.SX.sym("family_re", 21)
+    _in_family_im = casadi.SX.sym("family_im", 21)
+    C_u_0_re = _in_family_re[0]
+    S_u_0_re = _in_family_re[1]
+    D_u_0_re = _in_family_re[2]
+    S_u_1_re = _in_family_re[4]
+    D_u_1_re = _in_family_re[5]
+    C_u_2_re = _in_family_re[6]
+    S_u_2_re = _in_family_re[7]
+    D_u_2_re = _in_family_re[8]
+    C_u_3_re = _in_family_re[9]
+    S_u_3_re = _in_family_re[10]
+    D_u_3_re = _in_family_re[11]
+    C_u_4_re = _in_family_re[12]
+    S_u_4_re = _in_family_re[13]
+    D_u_4_re = _in_family_re[14]
+    C_u_5_re = _in_family_re[15]
+    S_u_5_re = _in_family_re[16]
+    D_u_5_re = _in_family_re[17]
+    C_u_6_re = _in_family_re[18]
+    S_u_6_re = _in_family_re[19]
+    D_u_6_re = _in_family_re[20]
+    C_u_0_im = _in_family_im[0]
+    S_u_0_im = _in_family_im[1]
+    D_u_0_im = _in_family_im[2]
+    S_u_1_im = _in_family_im[4]
+    D_u_1_im = _in_family_im[5]
+    C_u_2_im = _in_family_im[6]
+    S_u_2_im = _in_family_im[7]
+    D_u_2_im = _in_family_im[8]
+    C_u_3_im = _in_family_im[9]
+    S_u_3_im = _in_family_im[10]
+    D_u_3_im = _in_family_im[11]
+    C_u_4_im = _in_family_im[12]
+    S_u_4_im = _in_family_im[13]
+    D_u_4_im = _in_family_im[14]
+    C_u_5_im = _in_family_im[15]
+    S_u_5_im = _in_family_im[16]
+    D_u_5_im = _in_family_im[17]
+    C_u_6_im = _in_family_im[18]
+    S_u_6_im = _in_family_im[19]
+    D_u_6_im = _in_family_im[20]
     _t0 = D_u_3_im**2
     _t1 = 2 * D_u_3_re
     _t2 = D_u_3_re**2
@@ -7493,28 +7493,28 @@ def automatic_monomials() -> casadi.Function:
         + _t1084 * _t212
     )
     _t1294 = _t1144 * _t4 + _t1145 * _t5 + _t765 * _t970 + _t767 * _t971
-    re = casadi.SX.zeros(68)
-    re[0] = _t43
-    re[1] = _t63
-    re[2] = _t63
-    re[3] = _t63
-    re[4] = -_t124 - _t95
-    re[5] = -_t140 * _t5 + _t154 * _t32 + _t155 * _t4 - _t156 * _t31 - _t185
-    re[6] = _t214
-    re[7] = -_t203 * _t230 - _t208 * _t233 + _t212 * _t235 + _t234 * _t3
-    re[8] = _t43
-    re[9] = _t63
-    re[10] = _t63
-    re[11] = -_t260 - _t285
-    re[12] = -_t203 * _t297 - _t208 * _t300 + _t212 * _t302 + _t3 * _t301
-    re[13] = _t214
-    re[14] = _t43
-    re[15] = _t63
-    re[16] = -_t260 - _t95
-    re[17] = -_t185 - _t31 * _t326 - _t314 * _t5 + _t32 * _t324 + _t325 * _t4
-    re[18] = _t43
-    re[19] = -_t124 - _t285
-    re[20] = (
+    _out_re = casadi.SX.zeros(68)
+    _out_re[0] = _t43
+    _out_re[1] = _t63
+    _out_re[2] = _t63
+    _out_re[3] = _t63
+    _out_re[4] = -_t124 - _t95
+    _out_re[5] = -_t140 * _t5 + _t154 * _t32 + _t155 * _t4 - _t156 * _t31 - _t185
+    _out_re[6] = _t214
+    _out_re[7] = -_t203 * _t230 - _t208 * _t233 + _t212 * _t235 + _t234 * _t3
+    _out_re[8] = _t43
+    _out_re[9] = _t63
+    _out_re[10] = _t63
+    _out_re[11] = -_t260 - _t285
+    _out_re[12] = -_t203 * _t297 - _t208 * _t300 + _t212 * _t302 + _t3 * _t301
+    _out_re[13] = _t214
+    _out_re[14] = _t43
+    _out_re[15] = _t63
+    _out_re[16] = -_t260 - _t95
+    _out_re[17] = -_t185 - _t31 * _t326 - _t314 * _t5 + _t32 * _t324 + _t325 * _t4
+    _out_re[18] = _t43
+    _out_re[19] = -_t124 - _t285
+    _out_re[20] = (
         -_t208 * _t384
         - _t208 * _t391
         + _t212 * _t394
@@ -7532,12 +7532,12 @@ def automatic_monomials() -> casadi.Function:
         - _t352 * _t353
         + _t354 * _t355
     )
-    re[21] = _t441
-    re[22] = _t457
-    re[23] = _t457
-    re[24] = _t457
-    re[25] = _t4 * _t493 - _t430 * _t494 + _t431 * _t491 - _t474 * _t5 - _t524
-    re[26] = (
+    _out_re[21] = _t441
+    _out_re[22] = _t457
+    _out_re[23] = _t457
+    _out_re[24] = _t457
+    _out_re[25] = _t4 * _t493 - _t430 * _t494 + _t431 * _t491 - _t474 * _t5 - _t524
+    _out_re[26] = (
         -_t203 * _t577
         - _t208 * _t579
         + _t212 * _t575
@@ -7548,12 +7548,12 @@ def automatic_monomials() -> casadi.Function:
         - _t5 * _t538
         - _t615
     )
-    re[27] = _t4 * _t640 - _t430 * _t641 + _t431 * _t639 - _t5 * _t629 - _t679
-    re[28] = -_t203 * _t693 - _t208 * _t696 + _t212 * _t698 + _t3 * _t697
-    re[29] = _t441
-    re[30] = _t457
-    re[31] = _t457
-    re[32] = (
+    _out_re[27] = _t4 * _t640 - _t430 * _t641 + _t431 * _t639 - _t5 * _t629 - _t679
+    _out_re[28] = -_t203 * _t693 - _t208 * _t696 + _t212 * _t698 + _t3 * _t697
+    _out_re[29] = _t441
+    _out_re[30] = _t457
+    _out_re[31] = _t457
+    _out_re[32] = (
         -_t203 * _t742
         - _t208 * _t744
         + _t212 * _t740
@@ -7564,7 +7564,7 @@ def automatic_monomials() -> casadi.Function:
         - _t5 * _t712
         - _t768
     )
-    re[33] = (
+    _out_re[33] = (
         -_t203 * _t785
         - _t208 * _t788
         + _t212 * _t792
@@ -7574,10 +7574,10 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t772
         - _t5 * _t789
     )
-    re[34] = _t4 * _t797 - _t430 * _t798 + _t431 * _t796 - _t5 * _t793 - _t679
-    re[35] = _t441
-    re[36] = _t457
-    re[37] = (
+    _out_re[34] = _t4 * _t797 - _t430 * _t798 + _t431 * _t796 - _t5 * _t793 - _t679
+    _out_re[35] = _t441
+    _out_re[36] = _t457
+    _out_re[37] = (
         -_t203 * _t836
         - _t208 * _t838
         + _t212 * _t834
@@ -7588,7 +7588,7 @@ def automatic_monomials() -> casadi.Function:
         - _t5 * _t810
         - _t768
     )
-    re[38] = (
+    _out_re[38] = (
         -_t203 * _t859
         - _t208 * _t861
         + _t212 * _t857
@@ -7599,9 +7599,9 @@ def automatic_monomials() -> casadi.Function:
         - _t5 * _t839
         - _t615
     )
-    re[39] = _t441
-    re[40] = _t4 * _t887 - _t430 * _t888 + _t431 * _t886 - _t5 * _t873 - _t524
-    re[41] = (
+    _out_re[39] = _t441
+    _out_re[40] = _t4 * _t887 - _t430 * _t888 + _t431 * _t886 - _t5 * _t873 - _t524
+    _out_re[41] = (
         -_t208 * _t936
         - _t208 * _t946
         + _t212 * _t957
@@ -7619,12 +7619,12 @@ def automatic_monomials() -> casadi.Function:
         + _t897 * _t959
         + _t897 * _t968
     )
-    re[42] = _t974
-    re[43] = _t977
-    re[44] = _t977
-    re[45] = _t977
-    re[46] = -_t1008 + _t4 * _t992 + _t491 * _t971 - _t494 * _t970 - _t5 * _t991
-    re[47] = (
+    _out_re[42] = _t974
+    _out_re[43] = _t977
+    _out_re[44] = _t977
+    _out_re[45] = _t977
+    _out_re[46] = -_t1008 + _t4 * _t992 + _t491 * _t971 - _t494 * _t970 - _t5 * _t991
+    _out_re[47] = (
         -_t1021 * _t5
         + _t1030 * _t3
         + _t1033 * _t212
@@ -7635,12 +7635,12 @@ def automatic_monomials() -> casadi.Function:
         + _t569 * _t971
         - _t578 * _t970
     )
-    re[48] = -_t1057 * _t5 + _t1058 * _t4 - _t1085 + _t796 * _t971 - _t798 * _t970
-    re[49] = -_t1096 * _t203 - _t1099 * _t208 + _t1100 * _t3 + _t1101 * _t212
-    re[50] = _t974
-    re[51] = _t977
-    re[52] = _t977
-    re[53] = (
+    _out_re[48] = -_t1057 * _t5 + _t1058 * _t4 - _t1085 + _t796 * _t971 - _t798 * _t970
+    _out_re[49] = -_t1096 * _t203 - _t1099 * _t208 + _t1100 * _t3 + _t1101 * _t212
+    _out_re[50] = _t974
+    _out_re[51] = _t977
+    _out_re[52] = _t977
+    _out_re[53] = (
         -_t1115 * _t5
         + _t1126 * _t3
         + _t1129 * _t212
@@ -7651,7 +7651,7 @@ def automatic_monomials() -> casadi.Function:
         + _t737 * _t971
         - _t743 * _t970
     )
-    re[54] = (
+    _out_re[54] = (
         -_t1149 * _t970
         + _t1150 * _t971
         - _t1161 * _t203
@@ -7661,10 +7661,10 @@ def automatic_monomials() -> casadi.Function:
         + _t1181 * _t3
         + _t1182 * _t212
     )
-    re[55] = -_t1085 - _t1194 * _t5 + _t1195 * _t4 + _t639 * _t971 - _t641 * _t970
-    re[56] = _t974
-    re[57] = _t977
-    re[58] = (
+    _out_re[55] = -_t1085 - _t1194 * _t5 + _t1195 * _t4 + _t639 * _t971 - _t641 * _t970
+    _out_re[56] = _t974
+    _out_re[57] = _t977
+    _out_re[58] = (
         -_t1146
         - _t1207 * _t5
         + _t1218 * _t3
@@ -7675,7 +7675,7 @@ def automatic_monomials() -> casadi.Function:
         + _t831 * _t971
         - _t837 * _t970
     )
-    re[59] = (
+    _out_re[59] = (
         -_t1056
         - _t1235 * _t5
         + _t1238 * _t3
@@ -7686,9 +7686,9 @@ def automatic_monomials() -> casadi.Function:
         + _t854 * _t971
         - _t860 * _t970
     )
-    re[60] = _t974
-    re[61] = -_t1008 - _t1245 * _t5 + _t1246 * _t4 + _t886 * _t971 - _t888 * _t970
-    re[62] = (
+    _out_re[60] = _t974
+    _out_re[61] = -_t1008 - _t1245 * _t5 + _t1246 * _t4 + _t886 * _t971 - _t888 * _t970
+    _out_re[62] = (
         -_t1247 * _t967
         - _t1248 * _t894
         - _t1248 * _t954
@@ -7706,33 +7706,33 @@ def automatic_monomials() -> casadi.Function:
         - _t916 * _t970
         + _t955 * _t971
     )
-    re[63] = 1
-    re[64] = 1
-    re[65] = 1
-    re[66] = 1
-    re[67] = -1
-    im = casadi.SX.zeros(68)
-    im[0] = _t1275
-    im[1] = _t1276
-    im[2] = _t1276
-    im[3] = _t1276
-    im[4] = _t1277 + _t1278
-    im[5] = _t1279 + _t140 * _t4 + _t154 * _t31 + _t155 * _t5 + _t156 * _t32
-    im[6] = _t1280
-    im[7] = _t203 * _t234 + _t208 * _t235 + _t212 * _t233 + _t230 * _t3
-    im[8] = _t1275
-    im[9] = _t1276
-    im[10] = _t1276
-    im[11] = _t1281 + _t1282
-    im[12] = _t203 * _t301 + _t208 * _t302 + _t212 * _t300 + _t297 * _t3
-    im[13] = _t1280
-    im[14] = _t1275
-    im[15] = _t1276
-    im[16] = _t1277 + _t1281
-    im[17] = _t1279 + _t31 * _t324 + _t314 * _t4 + _t32 * _t326 + _t325 * _t5
-    im[18] = _t1275
-    im[19] = _t1278 + _t1282
-    im[20] = (
+    _out_re[63] = 1
+    _out_re[64] = 1
+    _out_re[65] = 1
+    _out_re[66] = 1
+    _out_re[67] = -1
+    _out_im = casadi.SX.zeros(68)
+    _out_im[0] = _t1275
+    _out_im[1] = _t1276
+    _out_im[2] = _t1276
+    _out_im[3] = _t1276
+    _out_im[4] = _t1277 + _t1278
+    _out_im[5] = _t1279 + _t140 * _t4 + _t154 * _t31 + _t155 * _t5 + _t156 * _t32
+    _out_im[6] = _t1280
+    _out_im[7] = _t203 * _t234 + _t208 * _t235 + _t212 * _t233 + _t230 * _t3
+    _out_im[8] = _t1275
+    _out_im[9] = _t1276
+    _out_im[10] = _t1276
+    _out_im[11] = _t1281 + _t1282
+    _out_im[12] = _t203 * _t301 + _t208 * _t302 + _t212 * _t300 + _t297 * _t3
+    _out_im[13] = _t1280
+    _out_im[14] = _t1275
+    _out_im[15] = _t1276
+    _out_im[16] = _t1277 + _t1281
+    _out_im[17] = _t1279 + _t31 * _t324 + _t314 * _t4 + _t32 * _t326 + _t325 * _t5
+    _out_im[18] = _t1275
+    _out_im[19] = _t1278 + _t1282
+    _out_im[20] = (
         _t208 * _t394
         + _t208 * _t395
         + _t212 * _t384
@@ -7750,12 +7750,12 @@ def automatic_monomials() -> casadi.Function:
         + _t352 * _t354
         + _t353 * _t355
     )
-    im[21] = _t1283
-    im[22] = _t1284
-    im[23] = _t1284
-    im[24] = _t1284
-    im[25] = _t1285 + _t4 * _t474 + _t430 * _t491 + _t431 * _t494 + _t493 * _t5
-    im[26] = (
+    _out_im[21] = _t1283
+    _out_im[22] = _t1284
+    _out_im[23] = _t1284
+    _out_im[24] = _t1284
+    _out_im[25] = _t1285 + _t4 * _t474 + _t430 * _t491 + _t431 * _t494 + _t493 * _t5
+    _out_im[26] = (
         _t1286
         + _t203 * _t556
         + _t208 * _t575
@@ -7766,12 +7766,12 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t578
         + _t5 * _t576
     )
-    im[27] = _t1287 + _t4 * _t629 + _t430 * _t639 + _t431 * _t641 + _t5 * _t640
-    im[28] = _t203 * _t697 + _t208 * _t698 + _t212 * _t696 + _t3 * _t693
-    im[29] = _t1283
-    im[30] = _t1284
-    im[31] = _t1284
-    im[32] = (
+    _out_im[27] = _t1287 + _t4 * _t629 + _t430 * _t639 + _t431 * _t641 + _t5 * _t640
+    _out_im[28] = _t203 * _t697 + _t208 * _t698 + _t212 * _t696 + _t3 * _t693
+    _out_im[29] = _t1283
+    _out_im[30] = _t1284
+    _out_im[31] = _t1284
+    _out_im[32] = (
         _t1288
         + _t203 * _t725
         + _t208 * _t740
@@ -7782,7 +7782,7 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t743
         + _t5 * _t741
     )
-    im[33] = (
+    _out_im[33] = (
         _t203 * _t791
         + _t208 * _t792
         + _t212 * _t788
@@ -7792,10 +7792,10 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t771
         + _t5 * _t790
     )
-    im[34] = _t1287 + _t4 * _t793 + _t430 * _t796 + _t431 * _t798 + _t5 * _t797
-    im[35] = _t1283
-    im[36] = _t1284
-    im[37] = (
+    _out_im[34] = _t1287 + _t4 * _t793 + _t430 * _t796 + _t431 * _t798 + _t5 * _t797
+    _out_im[35] = _t1283
+    _out_im[36] = _t1284
+    _out_im[37] = (
         _t1288
         + _t203 * _t821
         + _t208 * _t834
@@ -7806,7 +7806,7 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t837
         + _t5 * _t835
     )
-    im[38] = (
+    _out_im[38] = (
         _t1286
         + _t203 * _t851
         + _t208 * _t857
@@ -7817,9 +7817,9 @@ def automatic_monomials() -> casadi.Function:
         + _t431 * _t860
         + _t5 * _t858
     )
-    im[39] = _t1283
-    im[40] = _t1285 + _t4 * _t873 + _t430 * _t886 + _t431 * _t888 + _t5 * _t887
-    im[41] = (
+    _out_im[39] = _t1283
+    _out_im[40] = _t1285 + _t4 * _t873 + _t430 * _t886 + _t431 * _t888 + _t5 * _t887
+    _out_im[41] = (
         _t208 * _t957
         + _t208 * _t958
         + _t212 * _t936
@@ -7837,12 +7837,12 @@ def automatic_monomials() -> casadi.Function:
         + _t897 * _t954
         + _t897 * _t966
     )
-    im[42] = _t1289
-    im[43] = _t1290
-    im[44] = _t1290
-    im[45] = _t1290
-    im[46] = _t1291 + _t4 * _t991 + _t491 * _t970 + _t494 * _t971 + _t5 * _t992
-    im[47] = (
+    _out_im[42] = _t1289
+    _out_im[43] = _t1290
+    _out_im[44] = _t1290
+    _out_im[45] = _t1290
+    _out_im[46] = _t1291 + _t4 * _t991 + _t491 * _t970 + _t494 * _t971 + _t5 * _t992
+    _out_im[47] = (
         _t1021 * _t4
         + _t1030 * _t203
         + _t1033 * _t208
@@ -7853,12 +7853,12 @@ def automatic_monomials() -> casadi.Function:
         + _t569 * _t970
         + _t578 * _t971
     )
-    im[48] = _t1057 * _t4 + _t1058 * _t5 + _t1293 + _t796 * _t970 + _t798 * _t971
-    im[49] = _t1096 * _t3 + _t1099 * _t212 + _t1100 * _t203 + _t1101 * _t208
-    im[50] = _t1289
-    im[51] = _t1290
-    im[52] = _t1290
-    im[53] = (
+    _out_im[48] = _t1057 * _t4 + _t1058 * _t5 + _t1293 + _t796 * _t970 + _t798 * _t971
+    _out_im[49] = _t1096 * _t3 + _t1099 * _t212 + _t1100 * _t203 + _t1101 * _t208
+    _out_im[50] = _t1289
+    _out_im[51] = _t1290
+    _out_im[52] = _t1290
+    _out_im[53] = (
         _t1115 * _t4
         + _t1126 * _t203
         + _t1129 * _t208
@@ -7869,7 +7869,7 @@ def automatic_monomials() -> casadi.Function:
         + _t737 * _t970
         + _t743 * _t971
     )
-    im[54] = (
+    _out_im[54] = (
         _t1149 * _t971
         + _t1150 * _t970
         + _t1161 * _t3
@@ -7879,10 +7879,10 @@ def automatic_monomials() -> casadi.Function:
         + _t1181 * _t203
         + _t1182 * _t208
     )
-    im[55] = _t1194 * _t4 + _t1195 * _t5 + _t1293 + _t639 * _t970 + _t641 * _t971
-    im[56] = _t1289
-    im[57] = _t1290
-    im[58] = (
+    _out_im[55] = _t1194 * _t4 + _t1195 * _t5 + _t1293 + _t639 * _t970 + _t641 * _t971
+    _out_im[56] = _t1289
+    _out_im[57] = _t1290
+    _out_im[58] = (
         _t1207 * _t4
         + _t1218 * _t203
         + _t1221 * _t208
@@ -7893,7 +7893,7 @@ def automatic_monomials() -> casadi.Function:
         + _t831 * _t970
         + _t837 * _t971
     )
-    im[59] = (
+    _out_im[59] = (
         _t1235 * _t4
         + _t1238 * _t203
         + _t1241 * _t208
@@ -7904,9 +7904,9 @@ def automatic_monomials() -> casadi.Function:
         + _t854 * _t970
         + _t860 * _t971
     )
-    im[60] = _t1289
-    im[61] = _t1245 * _t4 + _t1246 * _t5 + _t1291 + _t886 * _t970 + _t888 * _t971
-    im[62] = (
+    _out_im[60] = _t1289
+    _out_im[61] = _t1245 * _t4 + _t1246 * _t5 + _t1291 + _t886 * _t970 + _t888 * _t971
+    _out_im[62] = (
         _t1248 * _t898
         + _t1248 * _t959
         + _t1248 * _t968
@@ -7927,12 +7927,12 @@ def automatic_monomials() -> casadi.Function:
     return casadi.Function(
         "spm_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -7950,25 +7950,25 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 0.
     """
-    z = casadi.SX.sym("z", 4)
-    params = casadi.SX.sym("params", 4)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    passive = casadi.SX.zeros(4)
-    passive[0] = z0
-    passive[1] = z1
-    passive[2] = z2
-    passive[3] = z3
+    _in_z = casadi.SX.sym("z", 4)
+    _in_params = casadi.SX.sym("params", 4)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    _out_passive = casadi.SX.zeros(4)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
+    _out_passive[2] = z2
+    _out_passive[3] = z3
     return casadi.Function(
         "spm_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",

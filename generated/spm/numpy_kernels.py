@@ -27,15 +27,16 @@ def platform_pose(actuated, passive, params):
 
     Operations: 47.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -50,19 +51,19 @@ def platform_pose(actuated, passive, params):
     _t11 = 2 * q1
     _t12 = _t2 - _t3
     _t13 = _t8 * q1
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
-    pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
-    pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
-    pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
-    pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
-    pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
-    pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
-    pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
-    pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t5 * (_t4 + _t6 + _t7)
+    _out_pose[..., 0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
+    _out_pose[..., 0, 2] = _t5 * (_t10 + _t11 * q3)
+    _out_pose[..., 1, 0] = _t5 * (_t11 * q2 + _t9)
+    _out_pose[..., 1, 1] = _t5 * (_t0 + _t12 + _t7)
+    _out_pose[..., 1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
+    _out_pose[..., 2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
+    _out_pose[..., 2, 1] = _t5 * (_t13 + 2 * q2 * q3)
+    _out_pose[..., 2, 2] = _t5 * (_t1 + _t12 + _t6)
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -71,22 +72,23 @@ def loop_closure(actuated, passive, params):
 
     Operations: 516.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sin((1 / 2) * alpha2)
     _t1 = -4 * _t0**2
     _t2 = numpy.sin(alpha1)
@@ -260,82 +262,84 @@ def loop_closure(actuated, passive, params):
     _t170 = -_t135 + _t137
     _t171 = _t141 + _t142
     _t172 = -_t127 + _t153
-    residual = numpy.zeros(shape + (4,))
-    residual[..., 0] = _t44 * (_t1 + _t25**2 + _t36**2 + _t43**2)
-    residual[..., 1] = _t44 * (_t1 + _t52**2 + _t63**2 + _t70**2)
-    residual[..., 2] = _t44 * (_t1 + _t72**2 + _t75**2 + _t76**2)
-    residual[..., 3] = (1 / 2) * _t11 + (1 / 2) * _t12 + (1 / 2) * _t13 + (1 / 2) * _t14 - 1 / 2
-    jacobian = numpy.zeros(shape + (4, 4))
-    jacobian[..., 0, 0] = _t44 * (
+    _out_residual = numpy.zeros(_shape + (4,))
+    _out_residual[..., 0] = _t44 * (_t1 + _t25**2 + _t36**2 + _t43**2)
+    _out_residual[..., 1] = _t44 * (_t1 + _t52**2 + _t63**2 + _t70**2)
+    _out_residual[..., 2] = _t44 * (_t1 + _t72**2 + _t75**2 + _t76**2)
+    _out_residual[..., 3] = (
+        (1 / 2) * _t11 + (1 / 2) * _t12 + (1 / 2) * _t13 + (1 / 2) * _t14 - 1 / 2
+    )
+    _out_jacobian = numpy.zeros(_shape + (4, 4))
+    _out_jacobian[..., 0, 0] = _t44 * (
         _t25 * (-_t79 * _t80 - _t82 - _t88)
         + _t36 * (-_t28 * _t90 + _t89 - _t94)
         + _t43 * (-_t41 * _t90 - _t95 - _t98)
     )
-    jacobian[..., 0, 1] = _t44 * (
+    _out_jacobian[..., 0, 1] = _t44 * (
         _t25 * (-_t101 - _t103 - _t80 * _t99)
         + _t36 * (-_t104 * _t28 - _t105 - _t98)
         + _t43 * (-_t104 * _t41 - _t106 - _t107)
     )
-    jacobian[..., 0, 2] = _t44 * (
+    _out_jacobian[..., 0, 2] = _t44 * (
         _t25 * (_t107 - _t108 * _t80 + _t111)
         + _t36 * (-_t112 * _t28 - _t114 + _t87)
         + _t43 * (-_t103 - _t112 * _t41 - _t115)
     )
-    jacobian[..., 0, 3] = _t44 * (
+    _out_jacobian[..., 0, 3] = _t44 * (
         _t25 * (-_t116 * _t80 - _t118 - _t96 + _t97)
         + _t36 * (-_t119 * _t28 + _t122 + _t86 * q2)
         + _t43 * (-_t119 * _t41 - _t123 - _t88)
     )
-    jacobian[..., 1, 0] = _t44 * (
+    _out_jacobian[..., 1, 0] = _t44 * (
         _t52 * (_t125 * _t28 + _t129 + _t131 - _t93)
         + _t63 * (_t133 - _t138 - _t139)
         + _t70 * (_t140 + _t143 + _t144)
     )
-    jacobian[..., 1, 1] = _t44 * (
+    _out_jacobian[..., 1, 1] = _t44 * (
         _t52 * (-_t138 + _t146 - _t147)
         + _t63 * (_t149 - _t150 - _t151)
         + _t70 * (_t152 - _t154 - _t155)
     )
-    jacobian[..., 1, 2] = _t44 * (
+    _out_jacobian[..., 1, 2] = _t44 * (
         _t52 * (-_t113 - _t134 + _t157 * _t28 + _t158 + _t85)
         + _t63 * (-_t115 - _t154 - _t160 + 2 * _t22 * _t41 * _t77 * q2)
         + _t70 * (_t111 + _t150 + _t156 * _t80 + _t161)
     )
-    jacobian[..., 1, 3] = _t44 * (
+    _out_jacobian[..., 1, 3] = _t44 * (
         _t52 * (-_t121 - _t154 - _t164 + 2 * _t22 * _t28 * _t77 * q3)
         + _t63 * (_t143 + _t166 + _t167)
         + _t70 * (_t138 + _t168 + _t169)
     )
-    jacobian[..., 2, 0] = _t44 * (
+    _out_jacobian[..., 2, 0] = _t44 * (
         _t72 * (-_t129 - _t130 + 2 * _t22 * _t28 * _t77 * q0 - _t94)
         + _t75 * (-_t133 - _t139 - _t170)
         + _t76 * (-_t140 + _t144 + _t171)
     )
-    jacobian[..., 2, 1] = _t44 * (
+    _out_jacobian[..., 2, 1] = _t44 * (
         _t72 * (-_t146 - _t147 - _t170)
         + _t75 * (_t128 - _t131 - _t149 - _t151)
         + _t76 * (-_t102 - _t127 - _t152 + _t153 - _t155)
     )
-    jacobian[..., 2, 2] = _t44 * (
+    _out_jacobian[..., 2, 2] = _t44 * (
         _t72 * (-_t114 - _t134 - _t158 + 2 * _t22 * _t28 * _t77 * q2)
         + _t75 * (-_t115 + _t120 + _t157 * _t41 + _t160 + _t172)
         + _t76 * (-_t110 - _t128 - _t130 - _t161 + 2 * _t21 * _t22 * _t77 * q2 - _t92)
     )
-    jacobian[..., 2, 3] = _t44 * (
+    _out_jacobian[..., 2, 3] = _t44 * (
         _t72 * (_t122 + _t163 * _t28 + _t164 + _t172)
         + _t75 * (-_t166 + _t167 + _t171)
         + _t76 * (-_t168 + _t169 + _t170)
     )
-    jacobian[..., 3, 0] = q0
-    jacobian[..., 3, 1] = q1
-    jacobian[..., 3, 2] = q2
-    jacobian[..., 3, 3] = q3
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_jacobian[..., 3, 0] = q0
+    _out_jacobian[..., 3, 1] = q1
+    _out_jacobian[..., 3, 2] = q2
+    _out_jacobian[..., 3, 3] = q3
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -344,22 +348,23 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 192.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sin(theta1)
     _t1 = 2 * q0
     _t2 = _t1 * q1
@@ -423,13 +428,13 @@ def loop_closure_actuated(actuated, passive, params):
     _t60 = numpy.cos(theta3)
     _t61 = _t45 * _t59
     _t62 = _t45 * _t60
-    jacobian_actuated = numpy.zeros(shape + (4, 3))
-    jacobian_actuated[..., 0, 0] = _t38 * (
+    _out_jacobian_actuated = numpy.zeros(_shape + (4, 3))
+    _out_jacobian_actuated[..., 0, 0] = _t38 * (
         -_t0 * _t16 * _t29 * (_t14 * _t16 - _t24 + _t26 + _t28)
         - _t0 * _t23 * (_t10 + _t11 * _t14 + _t21)
         - 2 * _t13 * _t32 * (-_t0 * _t32 + _t20 * _t35 + _t37)
     )
-    jacobian_actuated[..., 1, 1] = _t38 * (
+    _out_jacobian_actuated[..., 1, 1] = _t38 * (
         -_t23 * _t39 * (_t22 * _t40 - _t43 + _t44)
         - _t29
         * (_t40 * _t49 - _t41 * _t46)
@@ -438,7 +443,7 @@ def loop_closure_actuated(actuated, passive, params):
         * (_t40 * _t56 - _t46)
         * ((1 / 2) * _t11 * _t15 - _t12 * (_t39 * _t56 + _t50) + _t19 * _t25 * _t8 - _t57 - _t58)
     )
-    jacobian_actuated[..., 2, 2] = _t38 * (
+    _out_jacobian_actuated[..., 2, 2] = _t38 * (
         -_t23 * _t59 * (_t22 * _t60 + _t43 + _t44)
         - _t29
         * (_t41 * _t61 + _t49 * _t60)
@@ -446,7 +451,7 @@ def loop_closure_actuated(actuated, passive, params):
         - _t29 * (_t55 * _t60 - _t61) * (-_t12 * (_t55 * _t59 + _t62) + _t26 + _t51 + _t57 - _t58)
     )
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -455,21 +460,22 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 223.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sin(gamma)
     _t1 = numpy.cos(alpha1)
     _t2 = _t0 * _t1
@@ -562,31 +568,31 @@ def rate_jacobians(actuated, passive, params):
     _t89 = _t69 + _t88
     _t90 = _t74 - _t75 - _t89
     _t91 = (1 / 2) * _t0
-    a = numpy.zeros(shape + (3, 3))
-    a[..., 0, 0] = _t28 * _t8 - _t29 * _t34
-    a[..., 0, 1] = _t29 * _t44 - _t45
-    a[..., 0, 2] = _t34 * _t35 * _t38 * _t4 - _t44 * _t8
-    a[..., 1, 0] = _t57 * _t64 - _t65 * _t68
-    a[..., 1, 1] = -_t64 * _t73 + _t65 * _t76
-    a[..., 1, 2] = -_t57 * _t76 + _t68 * _t73
-    a[..., 2, 0] = _t81 * _t84 - _t85 * _t86
-    a[..., 2, 1] = -_t84 * _t89 + _t85 * _t90
-    a[..., 2, 2] = -_t81 * _t90 + _t86 * _t89
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = _t0 * (-_t26 * _t44 - _t45) - _t3 * (_t34 * _t39 + _t44 * _t6)
-    b[..., 1, 1] = (
+    _out_a = numpy.zeros(_shape + (3, 3))
+    _out_a[..., 0, 0] = _t28 * _t8 - _t29 * _t34
+    _out_a[..., 0, 1] = _t29 * _t44 - _t45
+    _out_a[..., 0, 2] = _t34 * _t35 * _t38 * _t4 - _t44 * _t8
+    _out_a[..., 1, 0] = _t57 * _t64 - _t65 * _t68
+    _out_a[..., 1, 1] = -_t64 * _t73 + _t65 * _t76
+    _out_a[..., 1, 2] = -_t57 * _t76 + _t68 * _t73
+    _out_a[..., 2, 0] = _t81 * _t84 - _t85 * _t86
+    _out_a[..., 2, 1] = -_t84 * _t89 + _t85 * _t90
+    _out_a[..., 2, 2] = -_t81 * _t90 + _t86 * _t89
+    _out_b = numpy.zeros(_shape + (3, 3))
+    _out_b[..., 0, 0] = _t0 * (-_t26 * _t44 - _t45) - _t3 * (_t34 * _t39 + _t44 * _t6)
+    _out_b[..., 1, 1] = (
         -_t3 * (_t4 * _t68 * _t71 - _t56 * _t76)
         - _t52 * _t91 * (_t56 * _t64 + _t61 * _t68)
         - _t91 * (-_t61 * _t76 - _t64 * _t72)
     )
-    b[..., 2, 2] = (
+    _out_b[..., 2, 2] = (
         (1 / 2) * _t0 * _t52 * (_t80 * _t84 + _t82 * _t86)
         - _t3 * (_t4 * _t86 * _t87 - _t80 * _t90)
         - _t91 * (-_t82 * _t90 - _t84 * _t88)
     )
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -595,22 +601,23 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 313.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.cos(gamma)
     _t1 = numpy.sin(alpha1)
     _t2 = _t0 * _t1
@@ -716,45 +723,47 @@ def parameter_jacobians(actuated, passive, params):
     _t102 = -_t1 * _t101 - _t83 + _t85 - _t86
     _t103 = _t100 * _t73 + _t99
     _t104 = -_t1 * _t103 + _t32 + _t76 - _t77 + _t82
-    closure_parameters = numpy.zeros(shape + (4, 4))
-    closure_parameters[..., 0, 0] = _t49 * (
+    _out_closure_parameters = numpy.zeros(_shape + (4, 4))
+    _out_closure_parameters[..., 0, 0] = _t49 * (
         _t28 * (-_t3 + 2 * _t4 * _t5 * _t6) + _t36 * (_t29 * _t6 + 2 * _t8) - _t39 * _t45 * _t46
     )
-    closure_parameters[..., 0, 1] = -_t50 - _t53 * (_t28**2 + _t36**2 + _t45**2 + _t52)
-    closure_parameters[..., 0, 2] = _t49 * (
+    _out_closure_parameters[..., 0, 1] = -_t50 - _t53 * (_t28**2 + _t36**2 + _t45**2 + _t52)
+    _out_closure_parameters[..., 0, 2] = _t49 * (
         _t28 * (2 * _t56 - _t57)
         + _t36 * (2 * _t19 * _t25 * _t34 - _t58)
         + _t45 * (2 * _t19 * _t25 * _t43 - _t55)
     )
-    closure_parameters[..., 0, 3] = _t49 * (_t28 * (_t3 * _t6 + _t59) + _t36 * (-_t29 - 2 * _t9))
-    closure_parameters[..., 1, 0] = _t49 * (
+    _out_closure_parameters[..., 0, 3] = _t49 * (
+        _t28 * (_t3 * _t6 + _t59) + _t36 * (-_t29 - 2 * _t9)
+    )
+    _out_closure_parameters[..., 1, 0] = _t49 * (
         _t67 * (-_t3 + 2 * _t4 * _t5 * _t60)
         + _t78 * (-_t46 * _t74 - _t8)
         + _t87 * (-_t46 * _t81 - _t79)
     )
-    closure_parameters[..., 1, 1] = -_t50 - _t53 * (_t52 + _t67**2 + _t78**2 + _t87**2)
-    closure_parameters[..., 1, 2] = _t49 * (
+    _out_closure_parameters[..., 1, 1] = -_t50 - _t53 * (_t52 + _t67**2 + _t78**2 + _t87**2)
+    _out_closure_parameters[..., 1, 2] = _t49 * (
         _t67 * (-_t89 - _t90) + _t78 * (-_t91 - _t92) + _t87 * (-_t93 - _t94)
     )
-    closure_parameters[..., 1, 3] = _t49 * (
+    _out_closure_parameters[..., 1, 3] = _t49 * (
         _t65 * _t78 + _t67 * (_t3 * _t60 + _t59) + _t87 * (_t60 * _t79 + _t95)
     )
-    closure_parameters[..., 2, 0] = _t49 * (
+    _out_closure_parameters[..., 2, 0] = _t49 * (
         _t102 * (-_t101 * _t46 + _t79)
         + _t104 * (-_t103 * _t46 - _t8)
         + _t98 * (-_t3 + 2 * _t4 * _t5 * _t96)
     )
-    closure_parameters[..., 2, 1] = -_t50 - _t53 * (_t102**2 + _t104**2 + _t52 + _t98**2)
-    closure_parameters[..., 2, 2] = _t49 * (
+    _out_closure_parameters[..., 2, 1] = -_t50 - _t53 * (_t102**2 + _t104**2 + _t52 + _t98**2)
+    _out_closure_parameters[..., 2, 2] = _t49 * (
         _t102 * (_t93 - _t94) + _t104 * (_t91 - _t92) + _t98 * (_t89 - _t90)
     )
-    closure_parameters[..., 2, 3] = _t49 * (
+    _out_closure_parameters[..., 2, 3] = _t49 * (
         _t102 * (-_t79 * _t96 - _t95) + _t104 * _t97 + _t98 * (_t3 * _t96 + _t59)
     )
-    pose_parameters = numpy.zeros(shape + (12, 4))
+    _out_pose_parameters = numpy.zeros(_shape + (12, 4))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -763,21 +772,22 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 239.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.cos(gamma)
     _t1 = numpy.sin(alpha1)
     _t2 = numpy.sin(theta1)
@@ -892,17 +902,17 @@ def singularity_factors(actuated, passive, params):
         + (-_t100 * _t97 + _t94 * _t99) * (-_t34 * _t98 + _t42 * _t90)
         + (_t92 * _t94 + _t96 * _t97) * (_t1 * _t2 * _t34 * _t6 - _t22 * _t90)
     )
-    factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = _t44
-    factors[..., 1] = _t76
-    factors[..., 2] = _t89
-    factors[..., 3] = _t101
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t101
-    determinants[..., 1] = _t44 * _t76 * _t89
+    _out_factors = numpy.zeros(_shape + (4,))
+    _out_factors[..., 0] = _t44
+    _out_factors[..., 1] = _t76
+    _out_factors[..., 2] = _t89
+    _out_factors[..., 3] = _t101
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t101
+    _out_determinants[..., 1] = _t44 * _t76 * _t89
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -911,21 +921,22 @@ def drawing(actuated, passive, params):
 
     Operations: 145.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    q0 = passive[..., 0]
-    q1 = passive[..., 1]
-    q2 = passive[..., 2]
-    q3 = passive[..., 3]
-    alpha1 = params[..., 0]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    q0 = _in_passive[..., 0]
+    q1 = _in_passive[..., 1]
+    q2 = _in_passive[..., 2]
+    q3 = _in_passive[..., 3]
+    alpha1 = _in_params[..., 0]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sqrt(3)
     _t1 = numpy.sin(gamma)
     _t2 = (1 / 2) * _t1
@@ -986,39 +997,39 @@ def drawing(actuated, passive, params):
     _t57 = _t38 * _t56
     _t58 = (1 / 2) * _t55
     _t59 = _t46 * (-_t28 + 2 * q1 * q3)
-    base = numpy.zeros(shape + (3, 3))
-    base[..., 0, 1] = -_t3
-    base[..., 0, 2] = _t3
-    base[..., 1, 0] = _t1
-    base[..., 1, 1] = _t4
-    base[..., 1, 2] = _t4
-    base[..., 2, 0] = _t6
-    base[..., 2, 1] = _t6
-    base[..., 2, 2] = _t6
-    elbow = numpy.zeros(shape + (3, 3))
-    elbow[..., 0, 0] = _t7 * (-_t8 - _t9) * numpy.sin(theta1)
-    elbow[..., 0, 1] = -_t11 + _t7 * (_t0 * _t14 + _t15 * _t18)
-    elbow[..., 0, 2] = _t11 + _t7 * (-_t0 * _t20 + _t18 * _t21)
-    elbow[..., 1, 0] = _t1 * _t10 - _t22 * _t5
-    elbow[..., 1, 1] = _t23 + _t7 * (_t14 - _t15 * _t24)
-    elbow[..., 1, 2] = _t23 + _t7 * (_t20 + _t21 * _t24)
-    elbow[..., 2, 0] = -_t1 * _t22 - _t25
-    elbow[..., 2, 1] = -_t12 * _t26 - _t25
-    elbow[..., 2, 2] = -_t19 * _t26 - _t25
-    platform = numpy.zeros(shape + (3, 3))
-    platform[..., 0, 0] = _t39 + _t42
-    platform[..., 0, 1] = _t30 * _t36 * _t37 - _t43 - _t47
-    platform[..., 0, 2] = _t39 - _t43 + _t47
-    platform[..., 1, 0] = _t50 + _t52
-    platform[..., 1, 1] = _t36 * _t37 * _t49 - _t53 - _t54
-    platform[..., 1, 2] = _t50 + _t53 - _t54
-    platform[..., 2, 0] = _t55 + _t57
-    platform[..., 2, 1] = _t36 * _t37 * _t56 - _t58 - _t59
-    platform[..., 2, 2] = _t57 - _t58 + _t59
+    _out_base = numpy.zeros(_shape + (3, 3))
+    _out_base[..., 0, 1] = -_t3
+    _out_base[..., 0, 2] = _t3
+    _out_base[..., 1, 0] = _t1
+    _out_base[..., 1, 1] = _t4
+    _out_base[..., 1, 2] = _t4
+    _out_base[..., 2, 0] = _t6
+    _out_base[..., 2, 1] = _t6
+    _out_base[..., 2, 2] = _t6
+    _out_elbow = numpy.zeros(_shape + (3, 3))
+    _out_elbow[..., 0, 0] = _t7 * (-_t8 - _t9) * numpy.sin(theta1)
+    _out_elbow[..., 0, 1] = -_t11 + _t7 * (_t0 * _t14 + _t15 * _t18)
+    _out_elbow[..., 0, 2] = _t11 + _t7 * (-_t0 * _t20 + _t18 * _t21)
+    _out_elbow[..., 1, 0] = _t1 * _t10 - _t22 * _t5
+    _out_elbow[..., 1, 1] = _t23 + _t7 * (_t14 - _t15 * _t24)
+    _out_elbow[..., 1, 2] = _t23 + _t7 * (_t20 + _t21 * _t24)
+    _out_elbow[..., 2, 0] = -_t1 * _t22 - _t25
+    _out_elbow[..., 2, 1] = -_t12 * _t26 - _t25
+    _out_elbow[..., 2, 2] = -_t19 * _t26 - _t25
+    _out_platform = numpy.zeros(_shape + (3, 3))
+    _out_platform[..., 0, 0] = _t39 + _t42
+    _out_platform[..., 0, 1] = _t30 * _t36 * _t37 - _t43 - _t47
+    _out_platform[..., 0, 2] = _t39 - _t43 + _t47
+    _out_platform[..., 1, 0] = _t50 + _t52
+    _out_platform[..., 1, 1] = _t36 * _t37 * _t49 - _t53 - _t54
+    _out_platform[..., 1, 2] = _t50 + _t53 - _t54
+    _out_platform[..., 2, 0] = _t55 + _t57
+    _out_platform[..., 2, 1] = _t36 * _t37 * _t56 - _t58 - _t59
+    _out_platform[..., 2, 2] = _t57 - _t58 + _t59
     return {
-        "base": base,
-        "elbow": elbow,
-        "platform": platform,
+        "base": _out_base,
+        "elbow": _out_elbow,
+        "platform": _out_platform,
     }
 
 
@@ -1027,27 +1038,28 @@ def inverse_pose(pose, branch, params):
 
     Operations: 723.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r21 = pose[..., 3]
-    r22 = pose[..., 4]
-    r23 = pose[..., 5]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    sigma1 = branch[..., 0]
-    sigma2 = branch[..., 1]
-    sigma3 = branch[..., 2]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r21 = _in_pose[..., 3]
+    r22 = _in_pose[..., 4]
+    r23 = _in_pose[..., 5]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    sigma1 = _in_branch[..., 0]
+    sigma2 = _in_branch[..., 1]
+    sigma3 = _in_branch[..., 2]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sin(gamma)
     _t1 = numpy.sin(beta)
     _t2 = numpy.cos(beta)
@@ -1354,23 +1366,23 @@ def inverse_pose(pose, branch, params):
     _t120 = E2**2 + F2**2
     _t121 = G3**2
     _t122 = E3**2 + F3**2
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = theta1
-    actuated[..., 1] = theta2
-    actuated[..., 2] = theta3
-    passive = numpy.zeros(shape + (4,))
-    passive[..., 0] = q0
-    passive[..., 1] = q1
-    passive[..., 2] = q2
-    passive[..., 3] = q3
-    validity = numpy.zeros(shape + (3,))
-    validity[..., 0] = (-_t117 + _t118) / (_t117 + _t118)
-    validity[..., 1] = (-_t119 + _t120) / (_t119 + _t120)
-    validity[..., 2] = (-_t121 + _t122) / (_t121 + _t122)
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = theta1
+    _out_actuated[..., 1] = theta2
+    _out_actuated[..., 2] = theta3
+    _out_passive = numpy.zeros(_shape + (4,))
+    _out_passive[..., 0] = q0
+    _out_passive[..., 1] = q1
+    _out_passive[..., 2] = q2
+    _out_passive[..., 3] = q3
+    _out_validity = numpy.zeros(_shape + (3,))
+    _out_validity[..., 0] = (-_t117 + _t118) / (_t117 + _t118)
+    _out_validity[..., 1] = (-_t119 + _t120) / (_t119 + _t120)
+    _out_validity[..., 2] = (-_t121 + _t122) / (_t121 + _t122)
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -1379,23 +1391,24 @@ def inverse_pose_patterns(pose, params):
 
     Operations: 777.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_params = pose, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r21 = pose[..., 3]
-    r22 = pose[..., 4]
-    r23 = pose[..., 5]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r21 = _in_pose[..., 3]
+    r22 = _in_pose[..., 4]
+    r23 = _in_pose[..., 5]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     _t0 = numpy.sin(gamma)
     _t1 = numpy.sin(beta)
     _t2 = numpy.cos(beta)
@@ -1711,33 +1724,33 @@ def inverse_pose_patterns(pose, params):
     _t126 = G3**2
     _t127 = E3**2 + F3**2
     _t128 = (-_t126 + _t127) / (_t126 + _t127)
-    actuated = numpy.zeros(shape + (3, 2))
-    actuated[..., 0, 0] = theta1_pattern0
-    actuated[..., 0, 1] = theta1_pattern1
-    actuated[..., 1, 0] = theta2_pattern0
-    actuated[..., 1, 1] = theta2_pattern1
-    actuated[..., 2, 0] = theta3_pattern0
-    actuated[..., 2, 1] = theta3_pattern1
-    passive = numpy.zeros(shape + (4, 2))
-    passive[..., 0, 0] = q0
-    passive[..., 0, 1] = q0
-    passive[..., 1, 0] = q1
-    passive[..., 1, 1] = q1
-    passive[..., 2, 0] = q2
-    passive[..., 2, 1] = q2
-    passive[..., 3, 0] = q3
-    passive[..., 3, 1] = q3
-    validity = numpy.zeros(shape + (3, 2))
-    validity[..., 0, 0] = _t122
-    validity[..., 0, 1] = _t122
-    validity[..., 1, 0] = _t125
-    validity[..., 1, 1] = _t125
-    validity[..., 2, 0] = _t128
-    validity[..., 2, 1] = _t128
+    _out_actuated = numpy.zeros(_shape + (3, 2))
+    _out_actuated[..., 0, 0] = theta1_pattern0
+    _out_actuated[..., 0, 1] = theta1_pattern1
+    _out_actuated[..., 1, 0] = theta2_pattern0
+    _out_actuated[..., 1, 1] = theta2_pattern1
+    _out_actuated[..., 2, 0] = theta3_pattern0
+    _out_actuated[..., 2, 1] = theta3_pattern1
+    _out_passive = numpy.zeros(_shape + (4, 2))
+    _out_passive[..., 0, 0] = q0
+    _out_passive[..., 0, 1] = q0
+    _out_passive[..., 1, 0] = q1
+    _out_passive[..., 1, 1] = q1
+    _out_passive[..., 2, 0] = q2
+    _out_passive[..., 2, 1] = q2
+    _out_passive[..., 3, 0] = q3
+    _out_passive[..., 3, 1] = q3
+    _out_validity = numpy.zeros(_shape + (3, 2))
+    _out_validity[..., 0, 0] = _t122
+    _out_validity[..., 0, 1] = _t122
+    _out_validity[..., 1, 0] = _t125
+    _out_validity[..., 1, 1] = _t125
+    _out_validity[..., 2, 0] = _t128
+    _out_validity[..., 2, 1] = _t128
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -1746,17 +1759,18 @@ def forward_polynomial(actuated, params):
 
     Operations: 5082.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     cos_psi = -1 / 2 * numpy.sin(beta) ** 2 + numpy.cos(beta) ** 2
     _t0 = numpy.sin(beta) ** 2
     _t1 = numpy.cos(beta) ** 2
@@ -3580,8 +3594,8 @@ def forward_polynomial(actuated, params):
     _t1103 = a22**2
     _t1104 = _t1066 * b21
     _t1105 = _t1066 * b22
-    coefficients = numpy.zeros(shape + (9,))
-    coefficients[..., 0] = (
+    _out_coefficients = numpy.zeros(_shape + (9,))
+    _out_coefficients[..., 0] = (
         _t1032 * a00 * a20
         + _t1033 * b00 * b20
         - _t1034 * _t1035
@@ -3590,7 +3604,7 @@ def forward_polynomial(actuated, params):
         + _t1038 * _t1039
         + _t1040 * _t1041
     )
-    coefficients[..., 1] = (
+    _out_coefficients[..., 1] = (
         _t1032 * a00 * a21
         + _t1032 * a01 * a20
         + _t1033 * b00 * b21
@@ -3614,7 +3628,7 @@ def forward_polynomial(actuated, params):
         + 2 * a00 * a20 * b10 * b11
         + 2 * a10 * a11 * b00 * b20
     )
-    coefficients[..., 2] = (
+    _out_coefficients[..., 2] = (
         _t1032 * a00 * a22
         + _t1032 * a01 * a21
         + _t1032 * a02 * a20
@@ -3670,7 +3684,7 @@ def forward_polynomial(actuated, params):
         + 2 * a10 * a12 * b00 * b20
         + 4 * a20 * a21 * b00 * b01
     )
-    coefficients[..., 3] = (
+    _out_coefficients[..., 3] = (
         _t1032 * a01 * a22
         + _t1032 * a02 * a21
         + _t1033 * b01 * b22
@@ -3752,7 +3766,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a21 * b00 * b02
         + 4 * a20 * a22 * b00 * b01
     )
-    coefficients[..., 4] = (
+    _out_coefficients[..., 4] = (
         _t1032 * a02 * a22
         + _t1033 * b02 * b22
         - _t1034 * _t1093
@@ -3851,7 +3865,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a22 * b00 * b02
         + 4 * a21 * a22 * b00 * b01
     )
-    coefficients[..., 5] = (
+    _out_coefficients[..., 5] = (
         -_t1043 * _t1093
         - _t1043 * _t1095
         - _t1044 * _t1093
@@ -3933,7 +3947,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a22 * b01 * b02
         + 4 * a21 * a22 * b00 * b02
     )
-    coefficients[..., 6] = (
+    _out_coefficients[..., 6] = (
         -_t1057 * _t1093
         - _t1057 * _t1095
         - _t1058 * _t1093
@@ -3989,7 +4003,7 @@ def forward_polynomial(actuated, params):
         + 2 * a11 * a12 * b02 * b21
         + 4 * a21 * a22 * b01 * b02
     )
-    coefficients[..., 7] = (
+    _out_coefficients[..., 7] = (
         -_t1077 * _t1093
         - _t1077 * _t1095
         - _t1078 * _t1093
@@ -4013,7 +4027,7 @@ def forward_polynomial(actuated, params):
         + 2 * a02 * a22 * b11 * b12
         + 2 * a11 * a12 * b02 * b22
     )
-    coefficients[..., 8] = (
+    _out_coefficients[..., 8] = (
         -_t1090 * _t1093
         - _t1090 * _t1095
         - _t1093 * _t1096
@@ -4023,7 +4037,7 @@ def forward_polynomial(actuated, params):
         + _t1102 * _t1103
     )
     return {
-        "coefficients": coefficients,
+        "coefficients": _out_coefficients,
     }
 
 
@@ -4032,21 +4046,22 @@ def forward_back_substitution(actuated, root, branch, params):
 
     Operations: 4098.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(root)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_root, _in_branch, _in_params = actuated, root, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_root)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    x = root[..., 0]
-    tau = branch[..., 0]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    x = _in_root[..., 0]
+    tau = _in_branch[..., 0]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
     cos_psi = -1 / 2 * numpy.sin(beta) ** 2 + numpy.cos(beta) ** 2
     _t0 = numpy.sin(beta) ** 2
     _t1 = numpy.cos(beta) ** 2
@@ -5892,19 +5907,19 @@ def forward_back_substitution(actuated, root, branch, params):
     _t1098 = -_t1056 * _t1086 + _t1077 * _t1083
     _t1099 = 2 * _t1086
     _t1100 = _t1056 * _t1084 - _t1077 * _t1085
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t1056 * _t1062 + _t1078 * _t1080 + _t1087 * _t1090
-    pose[..., 0, 1] = _t1056 * _t1091 + _t1078 * _t1093 + _t1087 * _t1094
-    pose[..., 0, 2] = _t1056 * _t1095 + _t1078 * _t1088 * _t1092 + _t1087 * _t1096
-    pose[..., 1, 0] = _t1062 * _t1085 + _t1080 * _t1097 + _t1090 * _t1098
-    pose[..., 1, 1] = _t1085 * _t1091 + _t1093 * _t1097 + _t1094 * _t1098
-    pose[..., 1, 2] = _t1084 * _t1095 + _t1085 * _t1095 + _t1096 * _t1098
-    pose[..., 2, 0] = _t1062 * _t1083 + _t1080 * _t1099 + _t1090 * _t1100
-    pose[..., 2, 1] = _t1083 * _t1091 + _t1093 * _t1099 + _t1094 * _t1100
-    pose[..., 2, 2] = _t1083 * _t1095 + _t1086 * _t1095 + _t1096 * _t1100
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t1056 * _t1062 + _t1078 * _t1080 + _t1087 * _t1090
+    _out_pose[..., 0, 1] = _t1056 * _t1091 + _t1078 * _t1093 + _t1087 * _t1094
+    _out_pose[..., 0, 2] = _t1056 * _t1095 + _t1078 * _t1088 * _t1092 + _t1087 * _t1096
+    _out_pose[..., 1, 0] = _t1062 * _t1085 + _t1080 * _t1097 + _t1090 * _t1098
+    _out_pose[..., 1, 1] = _t1085 * _t1091 + _t1093 * _t1097 + _t1094 * _t1098
+    _out_pose[..., 1, 2] = _t1084 * _t1095 + _t1085 * _t1095 + _t1096 * _t1098
+    _out_pose[..., 2, 0] = _t1062 * _t1083 + _t1080 * _t1099 + _t1090 * _t1100
+    _out_pose[..., 2, 1] = _t1083 * _t1091 + _t1093 * _t1099 + _t1094 * _t1100
+    _out_pose[..., 2, 2] = _t1083 * _t1095 + _t1086 * _t1095 + _t1096 * _t1100
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -5913,29 +5928,30 @@ def automatic_family(actuated, params):
 
     Operations: 1.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    theta1 = actuated[..., 0]
-    theta2 = actuated[..., 1]
-    theta3 = actuated[..., 2]
-    alpha1 = params[..., 0]
-    alpha2 = params[..., 1]
-    beta = params[..., 2]
-    gamma = params[..., 3]
-    free = numpy.zeros(shape + (1,))
-    angles = numpy.zeros(shape + (7,))
-    angles[..., 0] = alpha1
-    angles[..., 1] = (1 / 2) * alpha2
-    angles[..., 2] = beta
-    angles[..., 3] = gamma
-    angles[..., 4] = theta1
-    angles[..., 5] = theta2
-    angles[..., 6] = theta3
+    theta1 = _in_actuated[..., 0]
+    theta2 = _in_actuated[..., 1]
+    theta3 = _in_actuated[..., 2]
+    alpha1 = _in_params[..., 0]
+    alpha2 = _in_params[..., 1]
+    beta = _in_params[..., 2]
+    gamma = _in_params[..., 3]
+    _out_free = numpy.zeros(_shape + (1,))
+    _out_angles = numpy.zeros(_shape + (7,))
+    _out_angles[..., 0] = alpha1
+    _out_angles[..., 1] = (1 / 2) * alpha2
+    _out_angles[..., 2] = beta
+    _out_angles[..., 3] = gamma
+    _out_angles[..., 4] = theta1
+    _out_angles[..., 5] = theta2
+    _out_angles[..., 6] = theta3
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -5944,50 +5960,51 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 4436.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    C_u_0_re = family_re[..., 0]
-    S_u_0_re = family_re[..., 1]
-    D_u_0_re = family_re[..., 2]
-    S_u_1_re = family_re[..., 4]
-    D_u_1_re = family_re[..., 5]
-    C_u_2_re = family_re[..., 6]
-    S_u_2_re = family_re[..., 7]
-    D_u_2_re = family_re[..., 8]
-    C_u_3_re = family_re[..., 9]
-    S_u_3_re = family_re[..., 10]
-    D_u_3_re = family_re[..., 11]
-    C_u_4_re = family_re[..., 12]
-    S_u_4_re = family_re[..., 13]
-    D_u_4_re = family_re[..., 14]
-    C_u_5_re = family_re[..., 15]
-    S_u_5_re = family_re[..., 16]
-    D_u_5_re = family_re[..., 17]
-    C_u_6_re = family_re[..., 18]
-    S_u_6_re = family_re[..., 19]
-    D_u_6_re = family_re[..., 20]
-    C_u_0_im = family_im[..., 0]
-    S_u_0_im = family_im[..., 1]
-    D_u_0_im = family_im[..., 2]
-    S_u_1_im = family_im[..., 4]
-    D_u_1_im = family_im[..., 5]
-    C_u_2_im = family_im[..., 6]
-    S_u_2_im = family_im[..., 7]
-    D_u_2_im = family_im[..., 8]
-    C_u_3_im = family_im[..., 9]
-    S_u_3_im = family_im[..., 10]
-    D_u_3_im = family_im[..., 11]
-    C_u_4_im = family_im[..., 12]
-    S_u_4_im = family_im[..., 13]
-    D_u_4_im = family_im[..., 14]
-    C_u_5_im = family_im[..., 15]
-    S_u_5_im = family_im[..., 16]
-    D_u_5_im = family_im[..., 17]
-    C_u_6_im = family_im[..., 18]
-    S_u_6_im = family_im[..., 19]
-    D_u_6_im = family_im[..., 20]
+    C_u_0_re = _in_family_re[..., 0]
+    S_u_0_re = _in_family_re[..., 1]
+    D_u_0_re = _in_family_re[..., 2]
+    S_u_1_re = _in_family_re[..., 4]
+    D_u_1_re = _in_family_re[..., 5]
+    C_u_2_re = _in_family_re[..., 6]
+    S_u_2_re = _in_family_re[..., 7]
+    D_u_2_re = _in_family_re[..., 8]
+    C_u_3_re = _in_family_re[..., 9]
+    S_u_3_re = _in_family_re[..., 10]
+    D_u_3_re = _in_family_re[..., 11]
+    C_u_4_re = _in_family_re[..., 12]
+    S_u_4_re = _in_family_re[..., 13]
+    D_u_4_re = _in_family_re[..., 14]
+    C_u_5_re = _in_family_re[..., 15]
+    S_u_5_re = _in_family_re[..., 16]
+    D_u_5_re = _in_family_re[..., 17]
+    C_u_6_re = _in_family_re[..., 18]
+    S_u_6_re = _in_family_re[..., 19]
+    D_u_6_re = _in_family_re[..., 20]
+    C_u_0_im = _in_family_im[..., 0]
+    S_u_0_im = _in_family_im[..., 1]
+    D_u_0_im = _in_family_im[..., 2]
+    S_u_1_im = _in_family_im[..., 4]
+    D_u_1_im = _in_family_im[..., 5]
+    C_u_2_im = _in_family_im[..., 6]
+    S_u_2_im = _in_family_im[..., 7]
+    D_u_2_im = _in_family_im[..., 8]
+    C_u_3_im = _in_family_im[..., 9]
+    S_u_3_im = _in_family_im[..., 10]
+    D_u_3_im = _in_family_im[..., 11]
+    C_u_4_im = _in_family_im[..., 12]
+    S_u_4_im = _in_family_im[..., 13]
+    D_u_4_im = _in_family_im[..., 14]
+    C_u_5_im = _in_family_im[..., 15]
+    S_u_5_im = _in_family_im[..., 16]
+    D_u_5_im = _in_family_im[..., 17]
+    C_u_6_im = _in_family_im[..., 18]
+    S_u_6_im = _in_family_im[..., 19]
+    D_u_6_im = _in_family_im[..., 20]
     _t0 = D_u_3_im**2
     _t1 = 2 * D_u_3_re
     _t2 = D_u_3_re**2
@@ -7319,28 +7336,28 @@ def automatic_monomials(family_re, family_im):
         + _t1084 * _t212
     )
     _t1294 = _t1144 * _t4 + _t1145 * _t5 + _t765 * _t970 + _t767 * _t971
-    re = numpy.zeros(shape + (68,))
-    re[..., 0] = _t43
-    re[..., 1] = _t63
-    re[..., 2] = _t63
-    re[..., 3] = _t63
-    re[..., 4] = -_t124 - _t95
-    re[..., 5] = -_t140 * _t5 + _t154 * _t32 + _t155 * _t4 - _t156 * _t31 - _t185
-    re[..., 6] = _t214
-    re[..., 7] = -_t203 * _t230 - _t208 * _t233 + _t212 * _t235 + _t234 * _t3
-    re[..., 8] = _t43
-    re[..., 9] = _t63
-    re[..., 10] = _t63
-    re[..., 11] = -_t260 - _t285
-    re[..., 12] = -_t203 * _t297 - _t208 * _t300 + _t212 * _t302 + _t3 * _t301
-    re[..., 13] = _t214
-    re[..., 14] = _t43
-    re[..., 15] = _t63
-    re[..., 16] = -_t260 - _t95
-    re[..., 17] = -_t185 - _t31 * _t326 - _t314 * _t5 + _t32 * _t324 + _t325 * _t4
-    re[..., 18] = _t43
-    re[..., 19] = -_t124 - _t285
-    re[..., 20] = (
+    _out_re = numpy.zeros(_shape + (68,))
+    _out_re[..., 0] = _t43
+    _out_re[..., 1] = _t63
+    _out_re[..., 2] = _t63
+    _out_re[..., 3] = _t63
+    _out_re[..., 4] = -_t124 - _t95
+    _out_re[..., 5] = -_t140 * _t5 + _t154 * _t32 + _t155 * _t4 - _t156 * _t31 - _t185
+    _out_re[..., 6] = _t214
+    _out_re[..., 7] = -_t203 * _t230 - _t208 * _t233 + _t212 * _t235 + _t234 * _t3
+    _out_re[..., 8] = _t43
+    _out_re[..., 9] = _t63
+    _out_re[..., 10] = _t63
+    _out_re[..., 11] = -_t260 - _t285
+    _out_re[..., 12] = -_t203 * _t297 - _t208 * _t300 + _t212 * _t302 + _t3 * _t301
+    _out_re[..., 13] = _t214
+    _out_re[..., 14] = _t43
+    _out_re[..., 15] = _t63
+    _out_re[..., 16] = -_t260 - _t95
+    _out_re[..., 17] = -_t185 - _t31 * _t326 - _t314 * _t5 + _t32 * _t324 + _t325 * _t4
+    _out_re[..., 18] = _t43
+    _out_re[..., 19] = -_t124 - _t285
+    _out_re[..., 20] = (
         -_t208 * _t384
         - _t208 * _t391
         + _t212 * _t394
@@ -7358,12 +7375,12 @@ def automatic_monomials(family_re, family_im):
         - _t352 * _t353
         + _t354 * _t355
     )
-    re[..., 21] = _t441
-    re[..., 22] = _t457
-    re[..., 23] = _t457
-    re[..., 24] = _t457
-    re[..., 25] = _t4 * _t493 - _t430 * _t494 + _t431 * _t491 - _t474 * _t5 - _t524
-    re[..., 26] = (
+    _out_re[..., 21] = _t441
+    _out_re[..., 22] = _t457
+    _out_re[..., 23] = _t457
+    _out_re[..., 24] = _t457
+    _out_re[..., 25] = _t4 * _t493 - _t430 * _t494 + _t431 * _t491 - _t474 * _t5 - _t524
+    _out_re[..., 26] = (
         -_t203 * _t577
         - _t208 * _t579
         + _t212 * _t575
@@ -7374,12 +7391,12 @@ def automatic_monomials(family_re, family_im):
         - _t5 * _t538
         - _t615
     )
-    re[..., 27] = _t4 * _t640 - _t430 * _t641 + _t431 * _t639 - _t5 * _t629 - _t679
-    re[..., 28] = -_t203 * _t693 - _t208 * _t696 + _t212 * _t698 + _t3 * _t697
-    re[..., 29] = _t441
-    re[..., 30] = _t457
-    re[..., 31] = _t457
-    re[..., 32] = (
+    _out_re[..., 27] = _t4 * _t640 - _t430 * _t641 + _t431 * _t639 - _t5 * _t629 - _t679
+    _out_re[..., 28] = -_t203 * _t693 - _t208 * _t696 + _t212 * _t698 + _t3 * _t697
+    _out_re[..., 29] = _t441
+    _out_re[..., 30] = _t457
+    _out_re[..., 31] = _t457
+    _out_re[..., 32] = (
         -_t203 * _t742
         - _t208 * _t744
         + _t212 * _t740
@@ -7390,7 +7407,7 @@ def automatic_monomials(family_re, family_im):
         - _t5 * _t712
         - _t768
     )
-    re[..., 33] = (
+    _out_re[..., 33] = (
         -_t203 * _t785
         - _t208 * _t788
         + _t212 * _t792
@@ -7400,10 +7417,10 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t772
         - _t5 * _t789
     )
-    re[..., 34] = _t4 * _t797 - _t430 * _t798 + _t431 * _t796 - _t5 * _t793 - _t679
-    re[..., 35] = _t441
-    re[..., 36] = _t457
-    re[..., 37] = (
+    _out_re[..., 34] = _t4 * _t797 - _t430 * _t798 + _t431 * _t796 - _t5 * _t793 - _t679
+    _out_re[..., 35] = _t441
+    _out_re[..., 36] = _t457
+    _out_re[..., 37] = (
         -_t203 * _t836
         - _t208 * _t838
         + _t212 * _t834
@@ -7414,7 +7431,7 @@ def automatic_monomials(family_re, family_im):
         - _t5 * _t810
         - _t768
     )
-    re[..., 38] = (
+    _out_re[..., 38] = (
         -_t203 * _t859
         - _t208 * _t861
         + _t212 * _t857
@@ -7425,9 +7442,9 @@ def automatic_monomials(family_re, family_im):
         - _t5 * _t839
         - _t615
     )
-    re[..., 39] = _t441
-    re[..., 40] = _t4 * _t887 - _t430 * _t888 + _t431 * _t886 - _t5 * _t873 - _t524
-    re[..., 41] = (
+    _out_re[..., 39] = _t441
+    _out_re[..., 40] = _t4 * _t887 - _t430 * _t888 + _t431 * _t886 - _t5 * _t873 - _t524
+    _out_re[..., 41] = (
         -_t208 * _t936
         - _t208 * _t946
         + _t212 * _t957
@@ -7445,12 +7462,12 @@ def automatic_monomials(family_re, family_im):
         + _t897 * _t959
         + _t897 * _t968
     )
-    re[..., 42] = _t974
-    re[..., 43] = _t977
-    re[..., 44] = _t977
-    re[..., 45] = _t977
-    re[..., 46] = -_t1008 + _t4 * _t992 + _t491 * _t971 - _t494 * _t970 - _t5 * _t991
-    re[..., 47] = (
+    _out_re[..., 42] = _t974
+    _out_re[..., 43] = _t977
+    _out_re[..., 44] = _t977
+    _out_re[..., 45] = _t977
+    _out_re[..., 46] = -_t1008 + _t4 * _t992 + _t491 * _t971 - _t494 * _t970 - _t5 * _t991
+    _out_re[..., 47] = (
         -_t1021 * _t5
         + _t1030 * _t3
         + _t1033 * _t212
@@ -7461,12 +7478,12 @@ def automatic_monomials(family_re, family_im):
         + _t569 * _t971
         - _t578 * _t970
     )
-    re[..., 48] = -_t1057 * _t5 + _t1058 * _t4 - _t1085 + _t796 * _t971 - _t798 * _t970
-    re[..., 49] = -_t1096 * _t203 - _t1099 * _t208 + _t1100 * _t3 + _t1101 * _t212
-    re[..., 50] = _t974
-    re[..., 51] = _t977
-    re[..., 52] = _t977
-    re[..., 53] = (
+    _out_re[..., 48] = -_t1057 * _t5 + _t1058 * _t4 - _t1085 + _t796 * _t971 - _t798 * _t970
+    _out_re[..., 49] = -_t1096 * _t203 - _t1099 * _t208 + _t1100 * _t3 + _t1101 * _t212
+    _out_re[..., 50] = _t974
+    _out_re[..., 51] = _t977
+    _out_re[..., 52] = _t977
+    _out_re[..., 53] = (
         -_t1115 * _t5
         + _t1126 * _t3
         + _t1129 * _t212
@@ -7477,7 +7494,7 @@ def automatic_monomials(family_re, family_im):
         + _t737 * _t971
         - _t743 * _t970
     )
-    re[..., 54] = (
+    _out_re[..., 54] = (
         -_t1149 * _t970
         + _t1150 * _t971
         - _t1161 * _t203
@@ -7487,10 +7504,10 @@ def automatic_monomials(family_re, family_im):
         + _t1181 * _t3
         + _t1182 * _t212
     )
-    re[..., 55] = -_t1085 - _t1194 * _t5 + _t1195 * _t4 + _t639 * _t971 - _t641 * _t970
-    re[..., 56] = _t974
-    re[..., 57] = _t977
-    re[..., 58] = (
+    _out_re[..., 55] = -_t1085 - _t1194 * _t5 + _t1195 * _t4 + _t639 * _t971 - _t641 * _t970
+    _out_re[..., 56] = _t974
+    _out_re[..., 57] = _t977
+    _out_re[..., 58] = (
         -_t1146
         - _t1207 * _t5
         + _t1218 * _t3
@@ -7501,7 +7518,7 @@ def automatic_monomials(family_re, family_im):
         + _t831 * _t971
         - _t837 * _t970
     )
-    re[..., 59] = (
+    _out_re[..., 59] = (
         -_t1056
         - _t1235 * _t5
         + _t1238 * _t3
@@ -7512,9 +7529,9 @@ def automatic_monomials(family_re, family_im):
         + _t854 * _t971
         - _t860 * _t970
     )
-    re[..., 60] = _t974
-    re[..., 61] = -_t1008 - _t1245 * _t5 + _t1246 * _t4 + _t886 * _t971 - _t888 * _t970
-    re[..., 62] = (
+    _out_re[..., 60] = _t974
+    _out_re[..., 61] = -_t1008 - _t1245 * _t5 + _t1246 * _t4 + _t886 * _t971 - _t888 * _t970
+    _out_re[..., 62] = (
         -_t1247 * _t967
         - _t1248 * _t894
         - _t1248 * _t954
@@ -7532,33 +7549,33 @@ def automatic_monomials(family_re, family_im):
         - _t916 * _t970
         + _t955 * _t971
     )
-    re[..., 63] = 1
-    re[..., 64] = 1
-    re[..., 65] = 1
-    re[..., 66] = 1
-    re[..., 67] = -1
-    im = numpy.zeros(shape + (68,))
-    im[..., 0] = _t1275
-    im[..., 1] = _t1276
-    im[..., 2] = _t1276
-    im[..., 3] = _t1276
-    im[..., 4] = _t1277 + _t1278
-    im[..., 5] = _t1279 + _t140 * _t4 + _t154 * _t31 + _t155 * _t5 + _t156 * _t32
-    im[..., 6] = _t1280
-    im[..., 7] = _t203 * _t234 + _t208 * _t235 + _t212 * _t233 + _t230 * _t3
-    im[..., 8] = _t1275
-    im[..., 9] = _t1276
-    im[..., 10] = _t1276
-    im[..., 11] = _t1281 + _t1282
-    im[..., 12] = _t203 * _t301 + _t208 * _t302 + _t212 * _t300 + _t297 * _t3
-    im[..., 13] = _t1280
-    im[..., 14] = _t1275
-    im[..., 15] = _t1276
-    im[..., 16] = _t1277 + _t1281
-    im[..., 17] = _t1279 + _t31 * _t324 + _t314 * _t4 + _t32 * _t326 + _t325 * _t5
-    im[..., 18] = _t1275
-    im[..., 19] = _t1278 + _t1282
-    im[..., 20] = (
+    _out_re[..., 63] = 1
+    _out_re[..., 64] = 1
+    _out_re[..., 65] = 1
+    _out_re[..., 66] = 1
+    _out_re[..., 67] = -1
+    _out_im = numpy.zeros(_shape + (68,))
+    _out_im[..., 0] = _t1275
+    _out_im[..., 1] = _t1276
+    _out_im[..., 2] = _t1276
+    _out_im[..., 3] = _t1276
+    _out_im[..., 4] = _t1277 + _t1278
+    _out_im[..., 5] = _t1279 + _t140 * _t4 + _t154 * _t31 + _t155 * _t5 + _t156 * _t32
+    _out_im[..., 6] = _t1280
+    _out_im[..., 7] = _t203 * _t234 + _t208 * _t235 + _t212 * _t233 + _t230 * _t3
+    _out_im[..., 8] = _t1275
+    _out_im[..., 9] = _t1276
+    _out_im[..., 10] = _t1276
+    _out_im[..., 11] = _t1281 + _t1282
+    _out_im[..., 12] = _t203 * _t301 + _t208 * _t302 + _t212 * _t300 + _t297 * _t3
+    _out_im[..., 13] = _t1280
+    _out_im[..., 14] = _t1275
+    _out_im[..., 15] = _t1276
+    _out_im[..., 16] = _t1277 + _t1281
+    _out_im[..., 17] = _t1279 + _t31 * _t324 + _t314 * _t4 + _t32 * _t326 + _t325 * _t5
+    _out_im[..., 18] = _t1275
+    _out_im[..., 19] = _t1278 + _t1282
+    _out_im[..., 20] = (
         _t208 * _t394
         + _t208 * _t395
         + _t212 * _t384
@@ -7576,12 +7593,12 @@ def automatic_monomials(family_re, family_im):
         + _t352 * _t354
         + _t353 * _t355
     )
-    im[..., 21] = _t1283
-    im[..., 22] = _t1284
-    im[..., 23] = _t1284
-    im[..., 24] = _t1284
-    im[..., 25] = _t1285 + _t4 * _t474 + _t430 * _t491 + _t431 * _t494 + _t493 * _t5
-    im[..., 26] = (
+    _out_im[..., 21] = _t1283
+    _out_im[..., 22] = _t1284
+    _out_im[..., 23] = _t1284
+    _out_im[..., 24] = _t1284
+    _out_im[..., 25] = _t1285 + _t4 * _t474 + _t430 * _t491 + _t431 * _t494 + _t493 * _t5
+    _out_im[..., 26] = (
         _t1286
         + _t203 * _t556
         + _t208 * _t575
@@ -7592,12 +7609,12 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t578
         + _t5 * _t576
     )
-    im[..., 27] = _t1287 + _t4 * _t629 + _t430 * _t639 + _t431 * _t641 + _t5 * _t640
-    im[..., 28] = _t203 * _t697 + _t208 * _t698 + _t212 * _t696 + _t3 * _t693
-    im[..., 29] = _t1283
-    im[..., 30] = _t1284
-    im[..., 31] = _t1284
-    im[..., 32] = (
+    _out_im[..., 27] = _t1287 + _t4 * _t629 + _t430 * _t639 + _t431 * _t641 + _t5 * _t640
+    _out_im[..., 28] = _t203 * _t697 + _t208 * _t698 + _t212 * _t696 + _t3 * _t693
+    _out_im[..., 29] = _t1283
+    _out_im[..., 30] = _t1284
+    _out_im[..., 31] = _t1284
+    _out_im[..., 32] = (
         _t1288
         + _t203 * _t725
         + _t208 * _t740
@@ -7608,7 +7625,7 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t743
         + _t5 * _t741
     )
-    im[..., 33] = (
+    _out_im[..., 33] = (
         _t203 * _t791
         + _t208 * _t792
         + _t212 * _t788
@@ -7618,10 +7635,10 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t771
         + _t5 * _t790
     )
-    im[..., 34] = _t1287 + _t4 * _t793 + _t430 * _t796 + _t431 * _t798 + _t5 * _t797
-    im[..., 35] = _t1283
-    im[..., 36] = _t1284
-    im[..., 37] = (
+    _out_im[..., 34] = _t1287 + _t4 * _t793 + _t430 * _t796 + _t431 * _t798 + _t5 * _t797
+    _out_im[..., 35] = _t1283
+    _out_im[..., 36] = _t1284
+    _out_im[..., 37] = (
         _t1288
         + _t203 * _t821
         + _t208 * _t834
@@ -7632,7 +7649,7 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t837
         + _t5 * _t835
     )
-    im[..., 38] = (
+    _out_im[..., 38] = (
         _t1286
         + _t203 * _t851
         + _t208 * _t857
@@ -7643,9 +7660,9 @@ def automatic_monomials(family_re, family_im):
         + _t431 * _t860
         + _t5 * _t858
     )
-    im[..., 39] = _t1283
-    im[..., 40] = _t1285 + _t4 * _t873 + _t430 * _t886 + _t431 * _t888 + _t5 * _t887
-    im[..., 41] = (
+    _out_im[..., 39] = _t1283
+    _out_im[..., 40] = _t1285 + _t4 * _t873 + _t430 * _t886 + _t431 * _t888 + _t5 * _t887
+    _out_im[..., 41] = (
         _t208 * _t957
         + _t208 * _t958
         + _t212 * _t936
@@ -7663,12 +7680,12 @@ def automatic_monomials(family_re, family_im):
         + _t897 * _t954
         + _t897 * _t966
     )
-    im[..., 42] = _t1289
-    im[..., 43] = _t1290
-    im[..., 44] = _t1290
-    im[..., 45] = _t1290
-    im[..., 46] = _t1291 + _t4 * _t991 + _t491 * _t970 + _t494 * _t971 + _t5 * _t992
-    im[..., 47] = (
+    _out_im[..., 42] = _t1289
+    _out_im[..., 43] = _t1290
+    _out_im[..., 44] = _t1290
+    _out_im[..., 45] = _t1290
+    _out_im[..., 46] = _t1291 + _t4 * _t991 + _t491 * _t970 + _t494 * _t971 + _t5 * _t992
+    _out_im[..., 47] = (
         _t1021 * _t4
         + _t1030 * _t203
         + _t1033 * _t208
@@ -7679,12 +7696,12 @@ def automatic_monomials(family_re, family_im):
         + _t569 * _t970
         + _t578 * _t971
     )
-    im[..., 48] = _t1057 * _t4 + _t1058 * _t5 + _t1293 + _t796 * _t970 + _t798 * _t971
-    im[..., 49] = _t1096 * _t3 + _t1099 * _t212 + _t1100 * _t203 + _t1101 * _t208
-    im[..., 50] = _t1289
-    im[..., 51] = _t1290
-    im[..., 52] = _t1290
-    im[..., 53] = (
+    _out_im[..., 48] = _t1057 * _t4 + _t1058 * _t5 + _t1293 + _t796 * _t970 + _t798 * _t971
+    _out_im[..., 49] = _t1096 * _t3 + _t1099 * _t212 + _t1100 * _t203 + _t1101 * _t208
+    _out_im[..., 50] = _t1289
+    _out_im[..., 51] = _t1290
+    _out_im[..., 52] = _t1290
+    _out_im[..., 53] = (
         _t1115 * _t4
         + _t1126 * _t203
         + _t1129 * _t208
@@ -7695,7 +7712,7 @@ def automatic_monomials(family_re, family_im):
         + _t737 * _t970
         + _t743 * _t971
     )
-    im[..., 54] = (
+    _out_im[..., 54] = (
         _t1149 * _t971
         + _t1150 * _t970
         + _t1161 * _t3
@@ -7705,10 +7722,10 @@ def automatic_monomials(family_re, family_im):
         + _t1181 * _t203
         + _t1182 * _t208
     )
-    im[..., 55] = _t1194 * _t4 + _t1195 * _t5 + _t1293 + _t639 * _t970 + _t641 * _t971
-    im[..., 56] = _t1289
-    im[..., 57] = _t1290
-    im[..., 58] = (
+    _out_im[..., 55] = _t1194 * _t4 + _t1195 * _t5 + _t1293 + _t639 * _t970 + _t641 * _t971
+    _out_im[..., 56] = _t1289
+    _out_im[..., 57] = _t1290
+    _out_im[..., 58] = (
         _t1207 * _t4
         + _t1218 * _t203
         + _t1221 * _t208
@@ -7719,7 +7736,7 @@ def automatic_monomials(family_re, family_im):
         + _t831 * _t970
         + _t837 * _t971
     )
-    im[..., 59] = (
+    _out_im[..., 59] = (
         _t1235 * _t4
         + _t1238 * _t203
         + _t1241 * _t208
@@ -7730,9 +7747,9 @@ def automatic_monomials(family_re, family_im):
         + _t854 * _t970
         + _t860 * _t971
     )
-    im[..., 60] = _t1289
-    im[..., 61] = _t1245 * _t4 + _t1246 * _t5 + _t1291 + _t886 * _t970 + _t888 * _t971
-    im[..., 62] = (
+    _out_im[..., 60] = _t1289
+    _out_im[..., 61] = _t1245 * _t4 + _t1246 * _t5 + _t1291 + _t886 * _t970 + _t888 * _t971
+    _out_im[..., 62] = (
         _t1248 * _t898
         + _t1248 * _t959
         + _t1248 * _t968
@@ -7751,8 +7768,8 @@ def automatic_monomials(family_re, family_im):
         + _t955 * _t970
     )
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -7761,21 +7778,22 @@ def automatic_passive(z, params):
 
     Operations: 0.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    z3 = z[..., 3]
-    passive = numpy.zeros(shape + (4,))
-    passive[..., 0] = z0
-    passive[..., 1] = z1
-    passive[..., 2] = z2
-    passive[..., 3] = z3
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    z3 = _in_z[..., 3]
+    _out_passive = numpy.zeros(_shape + (4,))
+    _out_passive[..., 0] = z0
+    _out_passive[..., 1] = z1
+    _out_passive[..., 2] = z2
+    _out_passive[..., 3] = z3
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

@@ -27,14 +27,15 @@ def platform_pose(actuated, passive, params):
 
     Operations: 25.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
     _t0 = numpy.cos(beta)
     _t1 = numpy.sin(beta)
     _t2 = numpy.sin(gamma)
@@ -44,19 +45,19 @@ def platform_pose(actuated, passive, params):
     _t6 = _t2 * _t4
     _t7 = _t2 * _t5
     _t8 = _t3 * _t4
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = _t0
-    pose[..., 0, 1] = _t1 * _t2
-    pose[..., 0, 2] = _t1 * _t3
-    pose[..., 1, 0] = _t1 * _t4
-    pose[..., 1, 1] = -_t0 * _t6 + _t3 * _t5
-    pose[..., 1, 2] = -_t0 * _t8 - _t7
-    pose[..., 2, 0] = -_t1 * _t5
-    pose[..., 2, 1] = _t0 * _t7 + _t8
-    pose[..., 2, 2] = _t0 * _t3 * _t5 - _t6
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = _t0
+    _out_pose[..., 0, 1] = _t1 * _t2
+    _out_pose[..., 0, 2] = _t1 * _t3
+    _out_pose[..., 1, 0] = _t1 * _t4
+    _out_pose[..., 1, 1] = -_t0 * _t6 + _t3 * _t5
+    _out_pose[..., 1, 2] = -_t0 * _t8 - _t7
+    _out_pose[..., 2, 0] = -_t1 * _t5
+    _out_pose[..., 2, 1] = _t0 * _t7 + _t8
+    _out_pose[..., 2, 2] = _t0 * _t3 * _t5 - _t6
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -65,30 +66,31 @@ def loop_closure(actuated, passive, params):
 
     Operations: 229.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = b1**2
     _t1 = numpy.cos(beta)
     _t2 = 2 * a1x * b1
@@ -156,9 +158,9 @@ def loop_closure(actuated, passive, params):
     _t57 = _t14 * _t17
     _t58 = _t14 * _t41
     _t59 = _t14 * _t43
-    residual = numpy.zeros(shape + (3,))
-    residual[..., 0] = _t0 - _t1 * _t2 + a1x**2 - d1**2
-    residual[..., 1] = (
+    _out_residual = numpy.zeros(_shape + (3,))
+    _out_residual[..., 0] = _t0 - _t1 * _t2 + a1x**2 - d1**2
+    _out_residual[..., 1] = (
         _t10 * _t3
         - _t19 * (_t13 + _t14 * _t18)
         - _t28 * (_t17 * _t27 + _t20 * _t22)
@@ -167,7 +169,7 @@ def loop_closure(actuated, passive, params):
         + a2y**2
         - d2**2
     )
-    residual[..., 2] = (
+    _out_residual[..., 2] = (
         _t31
         + _t34**2 * _t35
         + _t35 * _t37 * chi**2
@@ -179,28 +181,28 @@ def loop_closure(actuated, passive, params):
         + a3z**2
         - d3**2
     )
-    jacobian = numpy.zeros(shape + (3, 3))
-    jacobian[..., 0, 1] = _t14 * _t2
-    jacobian[..., 1, 0] = -_t28 * (_t17 * _t56 + _t22 * _t23)
-    jacobian[..., 1, 1] = -_t19 * (_t1 * _t18 - _t22) - _t28 * (_t13 * _t20 + _t25 * _t57)
-    jacobian[..., 1, 2] = -_t17 * _t28 * _t53 - _t19 * _t24 * _t57
-    jacobian[..., 2, 0] = -_t52 * _t54 - _t55 * (_t41 * _t56 + _t43 * _t50 + _t46)
-    jacobian[..., 2, 1] = (
+    _out_jacobian = numpy.zeros(_shape + (3, 3))
+    _out_jacobian[..., 0, 1] = _t14 * _t2
+    _out_jacobian[..., 1, 0] = -_t28 * (_t17 * _t56 + _t22 * _t23)
+    _out_jacobian[..., 1, 1] = -_t19 * (_t1 * _t18 - _t22) - _t28 * (_t13 * _t20 + _t25 * _t57)
+    _out_jacobian[..., 1, 2] = -_t17 * _t28 * _t53 - _t19 * _t24 * _t57
+    _out_jacobian[..., 2, 0] = -_t52 * _t54 - _t55 * (_t41 * _t56 + _t43 * _t50 + _t46)
+    _out_jacobian[..., 2, 1] = (
         -_t44 * (_t1 * _t24 * _t43 + _t1 * _t42 - _t45)
         - _t52 * (-_t23 * _t24 * _t59 - _t23 * _t38 - _t48 * _t58)
         - _t55 * (_t20 * _t38 + _t25 * _t58 + _t47 * _t59)
     )
-    jacobian[..., 2, 2] = (
+    _out_jacobian[..., 2, 2] = (
         -_t44 * (_t14 * _t24 * _t34 * _t39 * b3 - _t15 * _t59)
         - _t52 * (_t41 * _t51 + _t43 * _t56)
         - _t55 * (_t26 * _t43 + _t41 * _t53)
     )
-    alignment = numpy.zeros(shape + (1,))
-    alignment[..., 0] = 1
+    _out_alignment = numpy.zeros(_shape + (1,))
+    _out_alignment[..., 0] = 1
     return {
-        "residual": residual,
-        "jacobian": jacobian,
-        "alignment": alignment,
+        "residual": _out_residual,
+        "jacobian": _out_jacobian,
+        "alignment": _out_alignment,
     }
 
 
@@ -209,20 +211,21 @@ def loop_closure_actuated(actuated, passive, params):
 
     Operations: 6.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    jacobian_actuated = numpy.zeros(shape + (3, 3))
-    jacobian_actuated[..., 0, 0] = -2 * d1
-    jacobian_actuated[..., 1, 1] = -2 * d2
-    jacobian_actuated[..., 2, 2] = -2 * d3
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    _out_jacobian_actuated = numpy.zeros(_shape + (3, 3))
+    _out_jacobian_actuated[..., 0, 0] = -2 * d1
+    _out_jacobian_actuated[..., 1, 1] = -2 * d2
+    _out_jacobian_actuated[..., 2, 2] = -2 * d3
     return {
-        "jacobian_actuated": jacobian_actuated,
+        "jacobian_actuated": _out_jacobian_actuated,
     }
 
 
@@ -231,30 +234,31 @@ def rate_jacobians(actuated, passive, params):
 
     Operations: 137.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = numpy.cos(alpha)
     _t1 = numpy.sin(beta)
     _t2 = _t0 * _t1
@@ -312,22 +316,24 @@ def rate_jacobians(actuated, passive, params):
     _t40 = _t36 * _t38 * chi
     _t41 = _t27 * _t39 + _t30 * _t5 + _t40 * (-_t12 * _t13 - _t15) - a3y
     _t42 = _t1 * _t11 * _t40 + _t24 * _t29 + _t25 * _t39 - a3x
-    a = numpy.zeros(shape + (3, 3))
-    a[..., 0, 1] = _t2 * _t3
-    a[..., 0, 2] = _t3 * _t5
-    a[..., 1, 0] = _t23 * a2y
-    a[..., 1, 1] = -_t23 * a2x
-    a[..., 1, 2] = a2x * (_t10 * _t5 + _t22 * _t27 - a2y) - a2y * (_t22 * _t25 + _t24 * _t8 - a2x)
-    a[..., 2, 0] = _t37 * a3y - _t41 * a3z
-    a[..., 2, 1] = -_t37 * a3x + _t42 * a3z
-    a[..., 2, 2] = _t41 * a3x - _t42 * a3y
-    b = numpy.zeros(shape + (3, 3))
-    b[..., 0, 0] = d1
-    b[..., 1, 1] = d2
-    b[..., 2, 2] = d3
+    _out_a = numpy.zeros(_shape + (3, 3))
+    _out_a[..., 0, 1] = _t2 * _t3
+    _out_a[..., 0, 2] = _t3 * _t5
+    _out_a[..., 1, 0] = _t23 * a2y
+    _out_a[..., 1, 1] = -_t23 * a2x
+    _out_a[..., 1, 2] = a2x * (_t10 * _t5 + _t22 * _t27 - a2y) - a2y * (
+        _t22 * _t25 + _t24 * _t8 - a2x
+    )
+    _out_a[..., 2, 0] = _t37 * a3y - _t41 * a3z
+    _out_a[..., 2, 1] = -_t37 * a3x + _t42 * a3z
+    _out_a[..., 2, 2] = _t41 * a3x - _t42 * a3y
+    _out_b = numpy.zeros(_shape + (3, 3))
+    _out_b[..., 0, 0] = d1
+    _out_b[..., 1, 1] = d2
+    _out_b[..., 2, 2] = d3
     return {
-        "a": a,
-        "b": b,
+        "a": _out_a,
+        "b": _out_b,
     }
 
 
@@ -336,27 +342,28 @@ def parameter_jacobians(actuated, passive, params):
 
     Operations: 616.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = 2 * a1x
     _t1 = numpy.cos(beta)
     _t2 = 1 / b1
@@ -532,32 +539,32 @@ def parameter_jacobians(actuated, passive, params):
     _t162 = _t50 * b13
     _t163 = _t141 * _t161
     _t164 = _t116 * _t74
-    closure_parameters = numpy.zeros(shape + (3, 16))
-    closure_parameters[..., 0, 0] = _t0 - 2 * _t1 * b1
-    closure_parameters[..., 0, 6] = -_t0 * _t1 + 2 * b1
-    closure_parameters[..., 1, 1] = -_t1 * _t6 - _t18 * _t19 + 2 * a2x
-    closure_parameters[..., 1, 2] = -_t19 * _t26 - _t21 * _t6 + 2 * a2y
-    closure_parameters[..., 1, 6] = (
+    _out_closure_parameters = numpy.zeros(_shape + (3, 16))
+    _out_closure_parameters[..., 0, 0] = _t0 - 2 * _t1 * b1
+    _out_closure_parameters[..., 0, 6] = -_t0 * _t1 + 2 * b1
+    _out_closure_parameters[..., 1, 1] = -_t1 * _t6 - _t18 * _t19 + 2 * a2x
+    _out_closure_parameters[..., 1, 2] = -_t19 * _t26 - _t21 * _t6 + 2 * a2y
+    _out_closure_parameters[..., 1, 6] = (
         _t2 * _t5
         - _t29
         - _t31 * _t4
         - _t40 * (_t1 - _t32 * _t33 + _t36 * _t39)
         - _t44 * (_t21 - _t32 * _t41 + _t36 * _t43)
     )
-    closure_parameters[..., 1, 7] = (
+    _out_closure_parameters[..., 1, 7] = (
         _t13 * _t19
         + _t32 * b2
         - _t4 * _t48
         - _t40 * (_t18 + _t39 * _t52 + _t49 * b2)
         - _t44 * (_t26 + _t43 * _t52 + _t53 * b2)
     )
-    closure_parameters[..., 1, 9] = -_t40 * (
+    _out_closure_parameters[..., 1, 9] = -_t40 * (
         (1 / 2) * _t15 * _t16 * _t37 * _t45 * _t5 * _t8 * b12 - _t49 * b12
     ) - _t44 * ((1 / 2) * _t25 * _t37 * _t45 * _t5 * _t8 * b12 - _t53 * b12)
-    closure_parameters[..., 2, 3] = -_t1 * _t56 - _t64 * _t65 - _t65 * _t78 + 2 * a3x
-    closure_parameters[..., 2, 4] = -_t21 * _t56 - _t65 * _t79 - _t65 * _t83 + 2 * a3y
-    closure_parameters[..., 2, 5] = _t56 * _t85 - _t65 * _t87 - _t65 * _t89 + _t84
-    closure_parameters[..., 2, 6] = (
+    _out_closure_parameters[..., 2, 3] = -_t1 * _t56 - _t64 * _t65 - _t65 * _t78 + 2 * a3x
+    _out_closure_parameters[..., 2, 4] = -_t21 * _t56 - _t65 * _t79 - _t65 * _t83 + 2 * a3y
+    _out_closure_parameters[..., 2, 5] = _t56 * _t85 - _t65 * _t87 - _t65 * _t89 + _t84
+    _out_closure_parameters[..., 2, 6] = (
         _t100 * _t31
         + _t106 * _t107
         - _t120 * (_t1 - _t108 * _t33 + _t110 * _t38 + _t113 * _t17 + _t115 * _t77 + _t118 * _t119)
@@ -569,7 +576,7 @@ def parameter_jacobians(actuated, passive, params):
         - _t90
         + _t97 * (_t27 * _t45 * _t5 * _t55 * _t59 - _t56 * _t94 - _t6 * _t94)
     )
-    closure_parameters[..., 2, 7] = (
+    _out_closure_parameters[..., 2, 7] = (
         _t100 * _t48
         - _t120 * (_t119 * _t142 + _t138 * _t38 + _t139 * _t17 + _t140 * _t77)
         - _t125 * (_t124 * _t142 + _t138 * _t42 + _t139 * _t25 + _t140 * _t82)
@@ -578,7 +585,7 @@ def parameter_jacobians(actuated, passive, params):
         - _t84 * (_t122 * _t138 + _t123 * _t142 + _t139 * _t86 + _t140 * _t88)
         + _t97 * (_t129 + 2 * _t59)
     )
-    closure_parameters[..., 2, 8] = (
+    _out_closure_parameters[..., 2, 8] = (
         _t108 * b3
         - _t120 * (_t119 * _t148 + _t147 * _t38 + _t49 * b3 + _t64 + _t78)
         - _t125 * (_t124 * _t148 + _t147 * _t42 + _t53 * b3 + _t79 + _t83)
@@ -588,7 +595,7 @@ def parameter_jacobians(actuated, passive, params):
         - _t84 * (_t122 * _t147 + _t123 * _t148 - _t149 * b3 + _t87 + _t89)
         + _t97 * (_t134 + _t144)
     )
-    closure_parameters[..., 2, 9] = (
+    _out_closure_parameters[..., 2, 9] = (
         -_t100 * _t150
         + _t101 * _t152 * _t54 * _t95 * _t98
         - _t120 * (-_t119 * _t155 + _t119 * _t156 + _t153 * _t38 - _t154 * _t17)
@@ -597,14 +604,14 @@ def parameter_jacobians(actuated, passive, params):
         + _t45 * _t55 * _t62 * _t8 * _t95 * b12 * b3
         - _t84 * (_t122 * _t153 - _t123 * _t155 + _t123 * _t156 - _t154 * _t86)
     )
-    closure_parameters[..., 2, 10] = (
+    _out_closure_parameters[..., 2, 10] = (
         _t101 * _t157 * _t54 * _t95 * _t98
         - _t120 * (_t119 * _t159 - _t158 * _t38)
         - _t125 * (_t124 * _t159 - _t158 * _t42)
         - _t144 * _t62 * _t95 * b23 * b3
         - _t84 * (-_t122 * _t158 + _t123 * _t159)
     )
-    closure_parameters[..., 2, 11] = (
+    _out_closure_parameters[..., 2, 11] = (
         _t101 * _t161 * _t54 * _t95 * _t98
         - _t120 * (_t119 * _t163 + _t162 * _t38 - _t49 * b13)
         - _t125 * (_t124 * _t163 + _t162 * _t42 - _t53 * b13)
@@ -612,16 +619,16 @@ def parameter_jacobians(actuated, passive, params):
         + _t45 * _t5 * _t62 * _t8 * _t95 * b13 * b3
         - _t84 * (_t122 * _t162 + _t123 * _t163 + _t149 * b13)
     )
-    closure_parameters[..., 2, 12] = (
+    _out_closure_parameters[..., 2, 12] = (
         -_t120 * _t164 * _t77
         - _t125 * _t164 * _t82
         - _t164 * _t84 * _t88
         + 2 * _t54 * _t73 * _t95 * chi
     )
-    pose_parameters = numpy.zeros(shape + (12, 16))
+    _out_pose_parameters = numpy.zeros(_shape + (12, 16))
     return {
-        "closure_parameters": closure_parameters,
-        "pose_parameters": pose_parameters,
+        "closure_parameters": _out_closure_parameters,
+        "pose_parameters": _out_pose_parameters,
     }
 
 
@@ -630,30 +637,31 @@ def singularity_factors(actuated, passive, params):
 
     Operations: 147.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = numpy.sin(alpha)
     _t1 = b1**2
     _t2 = b3**2
@@ -716,17 +724,17 @@ def singularity_factors(actuated, passive, params):
         _t39 * (-_t27 * a3y + _t41 * a3x)
         + _t42 * (-a2x * (_t0 * _t36 + _t37 * _t40 - a2y) + a2y * (_t12 * _t6 + _t22 * _t37 - a2x))
     )
-    factors = numpy.zeros(shape + (4,))
-    factors[..., 0] = d1
-    factors[..., 1] = d2
-    factors[..., 2] = d3
-    factors[..., 3] = _t44
-    determinants = numpy.zeros(shape + (2,))
-    determinants[..., 0] = _t44
-    determinants[..., 1] = d1 * d2 * d3
+    _out_factors = numpy.zeros(_shape + (4,))
+    _out_factors[..., 0] = d1
+    _out_factors[..., 1] = d2
+    _out_factors[..., 2] = d3
+    _out_factors[..., 3] = _t44
+    _out_determinants = numpy.zeros(_shape + (2,))
+    _out_determinants[..., 0] = _t44
+    _out_determinants[..., 1] = d1 * d2 * d3
     return {
-        "factors": factors,
-        "determinants": determinants,
+        "factors": _out_factors,
+        "determinants": _out_determinants,
     }
 
 
@@ -735,27 +743,28 @@ def drawing(actuated, passive, params):
 
     Operations: 112.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(passive)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_passive, _in_params = actuated, passive, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_passive)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    alpha = passive[..., 0]
-    beta = passive[..., 1]
-    gamma = passive[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    alpha = _in_passive[..., 0]
+    beta = _in_passive[..., 1]
+    gamma = _in_passive[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = numpy.cos(beta)
     _t1 = b1**2
     _t2 = b2**2
@@ -804,26 +813,26 @@ def drawing(actuated, passive, params):
     _t32 = _t21 * _t24
     _t33 = _t26 * _t28
     _t34 = _t0 * _t31 + _t32
-    base = numpy.zeros(shape + (3, 4))
-    base[..., 0, 0] = a1x
-    base[..., 0, 1] = a2x
-    base[..., 0, 2] = a3x
-    base[..., 1, 1] = a2y
-    base[..., 1, 2] = a3y
-    base[..., 2, 2] = a3z
-    platform = numpy.zeros(shape + (3, 4))
-    platform[..., 0, 0] = _t0 * b1
-    platform[..., 0, 1] = _t11 * _t14 + _t3 * _t5
-    platform[..., 0, 2] = _t13 * _t21 * _t23 + _t14 * _t20 + _t16 * _t5
-    platform[..., 1, 0] = _t24 * _t25
-    platform[..., 1, 1] = _t11 * _t30 + _t27 * _t3
-    platform[..., 1, 2] = _t16 * _t27 + _t20 * _t30 + _t23 * (-_t0 * _t32 - _t31)
-    platform[..., 2, 0] = -_t25 * _t28
-    platform[..., 2, 1] = _t11 * _t34 - _t3 * _t33
-    platform[..., 2, 2] = -_t16 * _t33 + _t20 * _t34 + _t23 * (_t0 * _t21 * _t28 - _t29)
+    _out_base = numpy.zeros(_shape + (3, 4))
+    _out_base[..., 0, 0] = a1x
+    _out_base[..., 0, 1] = a2x
+    _out_base[..., 0, 2] = a3x
+    _out_base[..., 1, 1] = a2y
+    _out_base[..., 1, 2] = a3y
+    _out_base[..., 2, 2] = a3z
+    _out_platform = numpy.zeros(_shape + (3, 4))
+    _out_platform[..., 0, 0] = _t0 * b1
+    _out_platform[..., 0, 1] = _t11 * _t14 + _t3 * _t5
+    _out_platform[..., 0, 2] = _t13 * _t21 * _t23 + _t14 * _t20 + _t16 * _t5
+    _out_platform[..., 1, 0] = _t24 * _t25
+    _out_platform[..., 1, 1] = _t11 * _t30 + _t27 * _t3
+    _out_platform[..., 1, 2] = _t16 * _t27 + _t20 * _t30 + _t23 * (-_t0 * _t32 - _t31)
+    _out_platform[..., 2, 0] = -_t25 * _t28
+    _out_platform[..., 2, 1] = _t11 * _t34 - _t3 * _t33
+    _out_platform[..., 2, 2] = -_t16 * _t33 + _t20 * _t34 + _t23 * (_t0 * _t21 * _t28 - _t29)
     return {
-        "base": base,
-        "platform": platform,
+        "base": _out_base,
+        "platform": _out_platform,
     }
 
 
@@ -832,34 +841,35 @@ def inverse_pose(pose, branch, params):
 
     Operations: 141.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_branch, _in_params = pose, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r21 = pose[..., 3]
-    r22 = pose[..., 4]
-    r23 = pose[..., 5]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    sigma = branch[..., 0]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r21 = _in_pose[..., 3]
+    r22 = _in_pose[..., 4]
+    r23 = _in_pose[..., 5]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    sigma = _in_branch[..., 0]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = b1**2
     d1 = numpy.sqrt(_t0 * r21**2 + _t0 * r31**2 + (-a1x + b1 * r11) ** 2)
     _t1 = b1**2
@@ -910,23 +920,23 @@ def inverse_pose(pose, branch, params):
     beta = numpy.arctan2(sigma * sin_beta, r11)
     alpha = numpy.arctan2(r21 * sigma, -r31 * sigma)
     gamma = numpy.arctan2(r12 * sigma, r13 * sigma)
-    actuated = numpy.zeros(shape + (3,))
-    actuated[..., 0] = d1
-    actuated[..., 1] = d2
-    actuated[..., 2] = d3
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = alpha
-    passive[..., 1] = beta
-    passive[..., 2] = gamma
-    validity = numpy.zeros(shape + (4,))
-    validity[..., 0] = d1
-    validity[..., 1] = d2
-    validity[..., 2] = d3
-    validity[..., 3] = sin_beta**2
+    _out_actuated = numpy.zeros(_shape + (3,))
+    _out_actuated[..., 0] = d1
+    _out_actuated[..., 1] = d2
+    _out_actuated[..., 2] = d3
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = alpha
+    _out_passive[..., 1] = beta
+    _out_passive[..., 2] = gamma
+    _out_validity = numpy.zeros(_shape + (4,))
+    _out_validity[..., 0] = d1
+    _out_validity[..., 1] = d2
+    _out_validity[..., 2] = d3
+    _out_validity[..., 3] = sin_beta**2
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -935,32 +945,33 @@ def inverse_pose_patterns(pose, params):
 
     Operations: 143.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(pose)[:-1],
-        numpy.shape(params)[:-1],
+    _in_pose, _in_params = pose, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_pose)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    r11 = pose[..., 0]
-    r12 = pose[..., 1]
-    r13 = pose[..., 2]
-    r21 = pose[..., 3]
-    r22 = pose[..., 4]
-    r23 = pose[..., 5]
-    r31 = pose[..., 6]
-    r32 = pose[..., 7]
-    r33 = pose[..., 8]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    r11 = _in_pose[..., 0]
+    r12 = _in_pose[..., 1]
+    r13 = _in_pose[..., 2]
+    r21 = _in_pose[..., 3]
+    r22 = _in_pose[..., 4]
+    r23 = _in_pose[..., 5]
+    r31 = _in_pose[..., 6]
+    r32 = _in_pose[..., 7]
+    r33 = _in_pose[..., 8]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = b1**2
     d1 = numpy.sqrt(_t0 * r21**2 + _t0 * r31**2 + (-a1x + b1 * r11) ** 2)
     _t1 = b1**2
@@ -1015,33 +1026,33 @@ def inverse_pose_patterns(pose, params):
     gamma_pattern0 = numpy.arctan2(r12, r13)
     gamma_pattern1 = numpy.arctan2(-r12, -r13)
     _t22 = sin_beta**2
-    actuated = numpy.zeros(shape + (3, 2))
-    actuated[..., 0, 0] = d1
-    actuated[..., 0, 1] = d1
-    actuated[..., 1, 0] = d2
-    actuated[..., 1, 1] = d2
-    actuated[..., 2, 0] = d3
-    actuated[..., 2, 1] = d3
-    passive = numpy.zeros(shape + (3, 2))
-    passive[..., 0, 0] = alpha_pattern0
-    passive[..., 0, 1] = alpha_pattern1
-    passive[..., 1, 0] = beta_pattern0
-    passive[..., 1, 1] = beta_pattern1
-    passive[..., 2, 0] = gamma_pattern0
-    passive[..., 2, 1] = gamma_pattern1
-    validity = numpy.zeros(shape + (4, 2))
-    validity[..., 0, 0] = d1
-    validity[..., 0, 1] = d1
-    validity[..., 1, 0] = d2
-    validity[..., 1, 1] = d2
-    validity[..., 2, 0] = d3
-    validity[..., 2, 1] = d3
-    validity[..., 3, 0] = _t22
-    validity[..., 3, 1] = _t22
+    _out_actuated = numpy.zeros(_shape + (3, 2))
+    _out_actuated[..., 0, 0] = d1
+    _out_actuated[..., 0, 1] = d1
+    _out_actuated[..., 1, 0] = d2
+    _out_actuated[..., 1, 1] = d2
+    _out_actuated[..., 2, 0] = d3
+    _out_actuated[..., 2, 1] = d3
+    _out_passive = numpy.zeros(_shape + (3, 2))
+    _out_passive[..., 0, 0] = alpha_pattern0
+    _out_passive[..., 0, 1] = alpha_pattern1
+    _out_passive[..., 1, 0] = beta_pattern0
+    _out_passive[..., 1, 1] = beta_pattern1
+    _out_passive[..., 2, 0] = gamma_pattern0
+    _out_passive[..., 2, 1] = gamma_pattern1
+    _out_validity = numpy.zeros(_shape + (4, 2))
+    _out_validity[..., 0, 0] = d1
+    _out_validity[..., 0, 1] = d1
+    _out_validity[..., 1, 0] = d2
+    _out_validity[..., 1, 1] = d2
+    _out_validity[..., 2, 0] = d3
+    _out_validity[..., 2, 1] = d3
+    _out_validity[..., 3, 0] = _t22
+    _out_validity[..., 3, 1] = _t22
     return {
-        "actuated": actuated,
-        "passive": passive,
-        "validity": validity,
+        "actuated": _out_actuated,
+        "passive": _out_passive,
+        "validity": _out_validity,
     }
 
 
@@ -1050,29 +1061,30 @@ def forward_polynomial(actuated, params):
 
     Operations: 1838.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
-    k1 = params[..., 13]
-    k2 = params[..., 14]
-    k3 = params[..., 15]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
+    k1 = _in_params[..., 13]
+    k2 = _in_params[..., 14]
+    k3 = _in_params[..., 15]
     c12 = a2x / numpy.sqrt(a2x**2 + a2y**2)
     s12 = a2y / numpy.sqrt(a2x**2 + a2y**2)
     e1 = a3x / numpy.sqrt(a3x**2 + a3y**2 + a3z**2)
@@ -1359,8 +1371,8 @@ def forward_polynomial(actuated, params):
     _t140 = a22**2
     _t141 = _t103 * b21
     _t142 = _t103 * b22
-    coefficients = numpy.zeros(shape + (9,))
-    coefficients[..., 0] = (
+    _out_coefficients = numpy.zeros(_shape + (9,))
+    _out_coefficients[..., 0] = (
         _t69 * a00 * a20
         + _t70 * b00 * b20
         - _t71 * _t72
@@ -1369,7 +1381,7 @@ def forward_polynomial(actuated, params):
         + _t75 * _t76
         + _t77 * _t78
     )
-    coefficients[..., 1] = (
+    _out_coefficients[..., 1] = (
         _t69 * a00 * a21
         + _t69 * a01 * a20
         + _t70 * b00 * b21
@@ -1393,7 +1405,7 @@ def forward_polynomial(actuated, params):
         + 2 * a00 * a20 * b10 * b11
         + 2 * a10 * a11 * b00 * b20
     )
-    coefficients[..., 2] = (
+    _out_coefficients[..., 2] = (
         -_t100 * _t71
         - _t100 * _t74
         - _t101 * _t71
@@ -1449,7 +1461,7 @@ def forward_polynomial(actuated, params):
         + 2 * a10 * a12 * b00 * b20
         + 4 * a20 * a21 * b00 * b01
     )
-    coefficients[..., 3] = (
+    _out_coefficients[..., 3] = (
         -_t100 * _t102
         - _t100 * _t124
         - _t100 * _t80
@@ -1531,7 +1543,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a21 * b00 * b02
         + 4 * a20 * a22 * b00 * b01
     )
-    coefficients[..., 4] = (
+    _out_coefficients[..., 4] = (
         -_t100 * _t120
         - _t100 * _t134
         - _t100 * _t94
@@ -1630,7 +1642,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a22 * b00 * b02
         + 4 * a21 * a22 * b00 * b01
     )
-    coefficients[..., 5] = (
+    _out_coefficients[..., 5] = (
         -_t100 * _t114
         - _t100 * _t115
         - _t100 * _t126
@@ -1712,7 +1724,7 @@ def forward_polynomial(actuated, params):
         + 4 * a20 * a22 * b01 * b02
         + 4 * a21 * a22 * b00 * b02
     )
-    coefficients[..., 6] = (
+    _out_coefficients[..., 6] = (
         -_t100 * _t127
         - _t100 * _t133
         - _t101 * _t127
@@ -1768,7 +1780,7 @@ def forward_polynomial(actuated, params):
         + 2 * a11 * a12 * b02 * b21
         + 4 * a21 * a22 * b01 * b02
     )
-    coefficients[..., 7] = (
+    _out_coefficients[..., 7] = (
         -_t114 * _t130
         - _t114 * _t132
         - _t115 * _t130
@@ -1792,7 +1804,7 @@ def forward_polynomial(actuated, params):
         + 2 * a02 * a22 * b11 * b12
         + 2 * a11 * a12 * b02 * b22
     )
-    coefficients[..., 8] = (
+    _out_coefficients[..., 8] = (
         -_t127 * _t130
         - _t127 * _t132
         - _t130 * _t133
@@ -1802,7 +1814,7 @@ def forward_polynomial(actuated, params):
         + _t139 * _t140
     )
     return {
-        "coefficients": coefficients,
+        "coefficients": _out_coefficients,
     }
 
 
@@ -1811,33 +1823,34 @@ def forward_back_substitution(actuated, root, branch, params):
 
     Operations: 3637.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(root)[:-1],
-        numpy.shape(branch)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_root, _in_branch, _in_params = actuated, root, branch, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_root)[:-1],
+        numpy.shape(_in_branch)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    t = root[..., 0]
-    tau = branch[..., 0]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
-    k1 = params[..., 13]
-    k2 = params[..., 14]
-    k3 = params[..., 15]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    t = _in_root[..., 0]
+    tau = _in_branch[..., 0]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
+    k1 = _in_params[..., 13]
+    k2 = _in_params[..., 14]
+    k3 = _in_params[..., 15]
     c12 = a2x / numpy.sqrt(a2x**2 + a2y**2)
     s12 = a2y / numpy.sqrt(a2x**2 + a2y**2)
     e1 = a3x / numpy.sqrt(a3x**2 + a3y**2 + a3z**2)
@@ -3033,19 +3046,19 @@ def forward_back_substitution(actuated, root, branch, params):
         + R5_23 * _t340 * (_t336 * newton6_w1 + _t338 * newton6_w2)
         + R5_33 * (-_t339 * _t340 + 1)
     )
-    pose = numpy.zeros(shape + (4, 4))
-    pose[..., 0, 0] = R6_11
-    pose[..., 0, 1] = R6_12
-    pose[..., 0, 2] = R6_13
-    pose[..., 1, 0] = R6_21
-    pose[..., 1, 1] = R6_22
-    pose[..., 1, 2] = R6_23
-    pose[..., 2, 0] = R6_31
-    pose[..., 2, 1] = R6_32
-    pose[..., 2, 2] = R6_33
-    pose[..., 3, 3] = 1
+    _out_pose = numpy.zeros(_shape + (4, 4))
+    _out_pose[..., 0, 0] = R6_11
+    _out_pose[..., 0, 1] = R6_12
+    _out_pose[..., 0, 2] = R6_13
+    _out_pose[..., 1, 0] = R6_21
+    _out_pose[..., 1, 1] = R6_22
+    _out_pose[..., 1, 2] = R6_23
+    _out_pose[..., 2, 0] = R6_31
+    _out_pose[..., 2, 1] = R6_32
+    _out_pose[..., 2, 2] = R6_33
+    _out_pose[..., 3, 3] = 1
     return {
-        "pose": pose,
+        "pose": _out_pose,
     }
 
 
@@ -3054,26 +3067,27 @@ def automatic_family(actuated, params):
 
     Operations: 106.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(actuated)[:-1],
-        numpy.shape(params)[:-1],
+    _in_actuated, _in_params = actuated, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_actuated)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    d1 = actuated[..., 0]
-    d2 = actuated[..., 1]
-    d3 = actuated[..., 2]
-    a1x = params[..., 0]
-    a2x = params[..., 1]
-    a2y = params[..., 2]
-    a3x = params[..., 3]
-    a3y = params[..., 4]
-    a3z = params[..., 5]
-    b1 = params[..., 6]
-    b2 = params[..., 7]
-    b3 = params[..., 8]
-    b12 = params[..., 9]
-    b23 = params[..., 10]
-    b13 = params[..., 11]
-    chi = params[..., 12]
+    d1 = _in_actuated[..., 0]
+    d2 = _in_actuated[..., 1]
+    d3 = _in_actuated[..., 2]
+    a1x = _in_params[..., 0]
+    a2x = _in_params[..., 1]
+    a2y = _in_params[..., 2]
+    a3x = _in_params[..., 3]
+    a3y = _in_params[..., 4]
+    a3z = _in_params[..., 5]
+    b1 = _in_params[..., 6]
+    b2 = _in_params[..., 7]
+    b3 = _in_params[..., 8]
+    b12 = _in_params[..., 9]
+    b23 = _in_params[..., 10]
+    b13 = _in_params[..., 11]
+    chi = _in_params[..., 12]
     _t0 = b1**2
     _t1 = b2**2
     p_0 = numpy.sqrt(1 - 1 / 4 * (_t0 + _t1 - b12**2) ** 2 / (_t0 * _t1))
@@ -3124,31 +3138,31 @@ def automatic_family(actuated, params):
         )
         / (1 - _t21)
     )
-    free = numpy.zeros(shape + (20,))
-    free[..., 0] = d1
-    free[..., 1] = d2
-    free[..., 2] = d3
-    free[..., 3] = a1x
-    free[..., 4] = a2x
-    free[..., 5] = a2y
-    free[..., 6] = a3x
-    free[..., 7] = a3y
-    free[..., 8] = a3z
-    free[..., 9] = b1
-    free[..., 10] = b2
-    free[..., 11] = b3
-    free[..., 12] = b12
-    free[..., 13] = b23
-    free[..., 14] = b13
-    free[..., 15] = chi
-    free[..., 16] = p_0
-    free[..., 17] = p_1
-    free[..., 18] = p_2
-    free[..., 19] = p_3
-    angles = numpy.zeros(shape + (1,))
+    _out_free = numpy.zeros(_shape + (20,))
+    _out_free[..., 0] = d1
+    _out_free[..., 1] = d2
+    _out_free[..., 2] = d3
+    _out_free[..., 3] = a1x
+    _out_free[..., 4] = a2x
+    _out_free[..., 5] = a2y
+    _out_free[..., 6] = a3x
+    _out_free[..., 7] = a3y
+    _out_free[..., 8] = a3z
+    _out_free[..., 9] = b1
+    _out_free[..., 10] = b2
+    _out_free[..., 11] = b3
+    _out_free[..., 12] = b12
+    _out_free[..., 13] = b23
+    _out_free[..., 14] = b13
+    _out_free[..., 15] = chi
+    _out_free[..., 16] = p_0
+    _out_free[..., 17] = p_1
+    _out_free[..., 18] = p_2
+    _out_free[..., 19] = p_3
+    _out_angles = numpy.zeros(_shape + (1,))
     return {
-        "free": free,
-        "angles": angles,
+        "free": _out_free,
+        "angles": _out_angles,
     }
 
 
@@ -3157,50 +3171,51 @@ def automatic_monomials(family_re, family_im):
 
     Operations: 5086.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(family_re)[:-1],
-        numpy.shape(family_im)[:-1],
+    _in_family_re, _in_family_im = family_re, family_im
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_family_re)[:-1],
+        numpy.shape(_in_family_im)[:-1],
     )
-    d1_re = family_re[..., 0]
-    d2_re = family_re[..., 1]
-    d3_re = family_re[..., 2]
-    a1x_re = family_re[..., 3]
-    a2x_re = family_re[..., 4]
-    a2y_re = family_re[..., 5]
-    a3x_re = family_re[..., 6]
-    a3y_re = family_re[..., 7]
-    a3z_re = family_re[..., 8]
-    b1_re = family_re[..., 9]
-    b2_re = family_re[..., 10]
-    b3_re = family_re[..., 11]
-    b12_re = family_re[..., 12]
-    b23_re = family_re[..., 13]
-    b13_re = family_re[..., 14]
-    chi_re = family_re[..., 15]
-    p_0_re = family_re[..., 16]
-    p_1_re = family_re[..., 17]
-    p_2_re = family_re[..., 18]
-    p_3_re = family_re[..., 19]
-    d1_im = family_im[..., 0]
-    d2_im = family_im[..., 1]
-    d3_im = family_im[..., 2]
-    a1x_im = family_im[..., 3]
-    a2x_im = family_im[..., 4]
-    a2y_im = family_im[..., 5]
-    a3x_im = family_im[..., 6]
-    a3y_im = family_im[..., 7]
-    a3z_im = family_im[..., 8]
-    b1_im = family_im[..., 9]
-    b2_im = family_im[..., 10]
-    b3_im = family_im[..., 11]
-    b12_im = family_im[..., 12]
-    b23_im = family_im[..., 13]
-    b13_im = family_im[..., 14]
-    chi_im = family_im[..., 15]
-    p_0_im = family_im[..., 16]
-    p_1_im = family_im[..., 17]
-    p_2_im = family_im[..., 18]
-    p_3_im = family_im[..., 19]
+    d1_re = _in_family_re[..., 0]
+    d2_re = _in_family_re[..., 1]
+    d3_re = _in_family_re[..., 2]
+    a1x_re = _in_family_re[..., 3]
+    a2x_re = _in_family_re[..., 4]
+    a2y_re = _in_family_re[..., 5]
+    a3x_re = _in_family_re[..., 6]
+    a3y_re = _in_family_re[..., 7]
+    a3z_re = _in_family_re[..., 8]
+    b1_re = _in_family_re[..., 9]
+    b2_re = _in_family_re[..., 10]
+    b3_re = _in_family_re[..., 11]
+    b12_re = _in_family_re[..., 12]
+    b23_re = _in_family_re[..., 13]
+    b13_re = _in_family_re[..., 14]
+    chi_re = _in_family_re[..., 15]
+    p_0_re = _in_family_re[..., 16]
+    p_1_re = _in_family_re[..., 17]
+    p_2_re = _in_family_re[..., 18]
+    p_3_re = _in_family_re[..., 19]
+    d1_im = _in_family_im[..., 0]
+    d2_im = _in_family_im[..., 1]
+    d3_im = _in_family_im[..., 2]
+    a1x_im = _in_family_im[..., 3]
+    a2x_im = _in_family_im[..., 4]
+    a2y_im = _in_family_im[..., 5]
+    a3x_im = _in_family_im[..., 6]
+    a3y_im = _in_family_im[..., 7]
+    a3z_im = _in_family_im[..., 8]
+    b1_im = _in_family_im[..., 9]
+    b2_im = _in_family_im[..., 10]
+    b3_im = _in_family_im[..., 11]
+    b12_im = _in_family_im[..., 12]
+    b23_im = _in_family_im[..., 13]
+    b13_im = _in_family_im[..., 14]
+    chi_im = _in_family_im[..., 15]
+    p_0_im = _in_family_im[..., 16]
+    p_1_im = _in_family_im[..., 17]
+    p_2_im = _in_family_im[..., 18]
+    p_3_im = _in_family_im[..., 19]
     _t0 = 2 * b1_im
     _t1 = 2 * b1_re
     _t2 = b1_im**2
@@ -4409,19 +4424,19 @@ def automatic_monomials(family_re, family_im):
         + _t436 * _t49
         + _t437 * _t50
     )
-    re = numpy.zeros(shape + (31,))
-    re[..., 0] = _t0 * a1x_im - _t1 * a1x_re
-    re[..., 1] = -_t4 - a1x_im**2 + a1x_re**2 + d1_im**2 - d1_re**2
-    re[..., 2] = -_t10 * _t11 + _t12 * _t13
-    re[..., 3] = -_t11 * _t15 + _t12 * _t16
-    re[..., 4] = (
+    _out_re = numpy.zeros(_shape + (31,))
+    _out_re[..., 0] = _t0 * a1x_im - _t1 * a1x_re
+    _out_re[..., 1] = -_t4 - a1x_im**2 + a1x_re**2 + d1_im**2 - d1_re**2
+    _out_re[..., 2] = -_t10 * _t11 + _t12 * _t13
+    _out_re[..., 3] = -_t11 * _t15 + _t12 * _t16
+    _out_re[..., 4] = (
         -_t17 * _t19 - _t20 * _t22 + _t24 * _t31 + _t25 * _t28 + _t32 * a2y_im - _t33 * a2y_re
     )
-    re[..., 5] = (
+    _out_re[..., 5] = (
         -_t19 * _t34 - _t22 * _t35 + _t28 * _t38 + _t31 * _t37 + _t32 * a2x_im - _t33 * a2x_re
     )
-    re[..., 6] = -_t11 * _t41 + _t12 * _t42
-    re[..., 7] = (
+    _out_re[..., 6] = -_t11 * _t41 + _t12 * _t42
+    _out_re[..., 7] = (
         _t12 * _t31
         + _t12 * _t46
         + _t12 * _t47
@@ -4431,7 +4446,7 @@ def automatic_monomials(family_re, family_im):
         + _t44 * _t45
         - _t44 * b2_im * b2_re
     )
-    re[..., 8] = (
+    _out_re[..., 8] = (
         -_t100 * _t101
         + _t102 * _t103
         - _t108 * _t19
@@ -4445,8 +4460,8 @@ def automatic_monomials(family_re, family_im):
         - _t88 * _t91
         + _t92 * _t93
     )
-    re[..., 9] = _t238
-    re[..., 10] = (
+    _out_re[..., 9] = _t238
+    _out_re[..., 10] = (
         -_t100 * _t244
         + _t102 * _t254
         - _t124 * _t283
@@ -4484,7 +4499,7 @@ def automatic_monomials(family_re, family_im):
         - _t305 * _t50
         + _t306 * _t49
     )
-    re[..., 11] = (
+    _out_re[..., 11] = (
         -_t100 * _t328
         + _t102 * _t329
         - _t124 * _t333
@@ -4558,9 +4573,9 @@ def automatic_monomials(family_re, family_im):
         - _t328 * _t51
         + _t329 * _t52
     )
-    re[..., 12] = _t446
-    re[..., 13] = _t446
-    re[..., 14] = (
+    _out_re[..., 12] = _t446
+    _out_re[..., 13] = _t446
+    _out_re[..., 14] = (
         -_t100 * _t453
         + _t102 * _t454
         - _t124 * _t404
@@ -4634,7 +4649,7 @@ def automatic_monomials(family_re, family_im):
         - _t453 * _t51
         + _t454 * _t52
     )
-    re[..., 15] = (
+    _out_re[..., 15] = (
         -_t100 * _t524
         + _t102 * _t534
         - _t124 * _t569
@@ -4672,8 +4687,8 @@ def automatic_monomials(family_re, family_im):
         + _t555 * _t83
         + _t559 * _t83
     )
-    re[..., 16] = _t238
-    re[..., 17] = (
+    _out_re[..., 16] = _t238
+    _out_re[..., 17] = (
         -_t100 * _t623
         + _t102 * _t624
         - _t19 * _t629
@@ -4687,7 +4702,7 @@ def automatic_monomials(family_re, family_im):
         - _t617 * _t88
         + _t618 * _t92
     )
-    re[..., 18] = (
+    _out_re[..., 18] = (
         -_t100 * _t634
         + _t102 * _t642
         - _t124 * _t672
@@ -4725,7 +4740,7 @@ def automatic_monomials(family_re, family_im):
         + _t660 * _t83
         + _t664 * _t83
     )
-    re[..., 19] = (
+    _out_re[..., 19] = (
         -_t100 * _t724
         + _t102 * _t725
         - _t19 * _t730
@@ -4739,7 +4754,7 @@ def automatic_monomials(family_re, family_im):
         - _t718 * _t88
         + _t719 * _t92
     )
-    re[..., 20] = (
+    _out_re[..., 20] = (
         -_t100 * _t749
         + _t102 * _t750
         - _t124 * _t754
@@ -4813,7 +4828,7 @@ def automatic_monomials(family_re, family_im):
         + _t52 * _t748
         + _t52 * _t750
     )
-    re[..., 21] = (
+    _out_re[..., 21] = (
         -_t100 * _t840
         - _t100 * _t880
         - _t100 * _t884
@@ -4923,28 +4938,28 @@ def automatic_monomials(family_re, family_im):
         + _t919 * _t920
         - _t996 * _t997
     )
-    re[..., 22] = 1
-    re[..., 23] = 1
-    re[..., 24] = -1
-    re[..., 25] = 1
-    re[..., 26] = 1
-    re[..., 27] = -1
-    re[..., 28] = 1
-    re[..., 29] = 1
-    re[..., 30] = -1
-    im = numpy.zeros(shape + (31,))
-    im[..., 0] = -_t0 * a1x_re - _t1 * a1x_im
-    im[..., 1] = _t11 + 2 * a1x_im * a1x_re - 2 * d1_im * d1_re
-    im[..., 2] = _t10 * _t12 + _t11 * _t13
-    im[..., 3] = _t11 * _t16 + _t12 * _t15
-    im[..., 4] = (
+    _out_re[..., 22] = 1
+    _out_re[..., 23] = 1
+    _out_re[..., 24] = -1
+    _out_re[..., 25] = 1
+    _out_re[..., 26] = 1
+    _out_re[..., 27] = -1
+    _out_re[..., 28] = 1
+    _out_re[..., 29] = 1
+    _out_re[..., 30] = -1
+    _out_im = numpy.zeros(_shape + (31,))
+    _out_im[..., 0] = -_t0 * a1x_re - _t1 * a1x_im
+    _out_im[..., 1] = _t11 + 2 * a1x_im * a1x_re - 2 * d1_im * d1_re
+    _out_im[..., 2] = _t10 * _t12 + _t11 * _t13
+    _out_im[..., 3] = _t11 * _t16 + _t12 * _t15
+    _out_im[..., 4] = (
         _t17 * _t28 + _t19 * _t25 + _t20 * _t31 + _t22 * _t24 - _t32 * a2y_re - _t33 * a2y_im
     )
-    im[..., 5] = (
+    _out_im[..., 5] = (
         _t19 * _t38 + _t22 * _t37 + _t28 * _t34 + _t31 * _t35 - _t32 * a2x_re - _t33 * a2x_im
     )
-    im[..., 6] = _t11 * _t42 + _t12 * _t41
-    im[..., 7] = (
+    _out_im[..., 6] = _t11 * _t42 + _t12 * _t41
+    _out_im[..., 7] = (
         _t1033 * a2x_im * a2x_re
         + _t1033 * a2y_im * a2y_re
         + _t11 * _t31
@@ -4954,7 +4969,7 @@ def automatic_monomials(family_re, family_im):
         + _t12 * _t22
         + 2 * _t4 * _t45
     )
-    im[..., 8] = (
+    _out_im[..., 8] = (
         _t100 * _t103
         + _t101 * _t102
         + _t108 * _t28
@@ -4968,8 +4983,8 @@ def automatic_monomials(family_re, family_im):
         + _t88 * _t93
         + _t91 * _t92
     )
-    im[..., 9] = _t1034
-    im[..., 10] = (
+    _out_im[..., 9] = _t1034
+    _out_im[..., 10] = (
         _t100 * _t254
         + _t102 * _t244
         + _t124 * _t296
@@ -5007,7 +5022,7 @@ def automatic_monomials(family_re, family_im):
         + _t305 * _t49
         + _t306 * _t50
     )
-    im[..., 11] = (
+    _out_im[..., 11] = (
         _t100 * _t329
         + _t102 * _t328
         + _t124 * _t346
@@ -5081,9 +5096,9 @@ def automatic_monomials(family_re, family_im):
         + _t328 * _t52
         + _t329 * _t51
     )
-    im[..., 12] = _t1035
-    im[..., 13] = _t1035
-    im[..., 14] = (
+    _out_im[..., 12] = _t1035
+    _out_im[..., 13] = _t1035
+    _out_im[..., 14] = (
         _t100 * _t454
         + _t102 * _t453
         + _t124 * _t410
@@ -5157,7 +5172,7 @@ def automatic_monomials(family_re, family_im):
         + _t453 * _t52
         + _t454 * _t51
     )
-    im[..., 15] = (
+    _out_im[..., 15] = (
         _t100 * _t534
         + _t102 * _t524
         + _t124 * _t582
@@ -5195,8 +5210,8 @@ def automatic_monomials(family_re, family_im):
         + _t554 * _t83
         + _t558 * _t83
     )
-    im[..., 16] = _t1034
-    im[..., 17] = (
+    _out_im[..., 16] = _t1034
+    _out_im[..., 17] = (
         _t100 * _t624
         + _t102 * _t623
         + _t19 * _t630
@@ -5210,7 +5225,7 @@ def automatic_monomials(family_re, family_im):
         + _t617 * _t92
         + _t618 * _t88
     )
-    im[..., 18] = (
+    _out_im[..., 18] = (
         _t100 * _t642
         + _t102 * _t634
         + _t124 * _t685
@@ -5248,7 +5263,7 @@ def automatic_monomials(family_re, family_im):
         + _t659 * _t83
         + _t663 * _t83
     )
-    im[..., 19] = (
+    _out_im[..., 19] = (
         _t100 * _t725
         + _t102 * _t724
         + _t19 * _t731
@@ -5262,7 +5277,7 @@ def automatic_monomials(family_re, family_im):
         + _t718 * _t92
         + _t719 * _t88
     )
-    im[..., 20] = (
+    _out_im[..., 20] = (
         _t100 * _t750
         + _t102 * _t749
         + _t124 * _t766
@@ -5336,7 +5351,7 @@ def automatic_monomials(family_re, family_im):
         + _t52 * _t745
         + _t52 * _t749
     )
-    im[..., 21] = (
+    _out_im[..., 21] = (
         _t100 * _t841
         + _t100 * _t896
         + _t100 * _t897
@@ -5447,8 +5462,8 @@ def automatic_monomials(family_re, family_im):
         + _t919 * _t992
     )
     return {
-        "re": re,
-        "im": im,
+        "re": _out_re,
+        "im": _out_im,
     }
 
 
@@ -5457,22 +5472,23 @@ def automatic_passive(z, params):
 
     Operations: 3.
     """
-    shape = numpy.broadcast_shapes(
-        numpy.shape(z)[:-1],
-        numpy.shape(params)[:-1],
+    _in_z, _in_params = z, params
+    _shape = numpy.broadcast_shapes(
+        numpy.shape(_in_z)[:-1],
+        numpy.shape(_in_params)[:-1],
     )
-    z0 = z[..., 0]
-    z1 = z[..., 1]
-    z2 = z[..., 2]
-    z3 = z[..., 3]
-    z4 = z[..., 4]
-    z5 = z[..., 5]
-    passive = numpy.zeros(shape + (3,))
-    passive[..., 0] = numpy.arctan2(z1, z0)
-    passive[..., 1] = numpy.arctan2(z3, z2)
-    passive[..., 2] = numpy.arctan2(z5, z4)
+    z0 = _in_z[..., 0]
+    z1 = _in_z[..., 1]
+    z2 = _in_z[..., 2]
+    z3 = _in_z[..., 3]
+    z4 = _in_z[..., 4]
+    z5 = _in_z[..., 5]
+    _out_passive = numpy.zeros(_shape + (3,))
+    _out_passive[..., 0] = numpy.arctan2(z1, z0)
+    _out_passive[..., 1] = numpy.arctan2(z3, z2)
+    _out_passive[..., 2] = numpy.arctan2(z5, z4)
     return {
-        "passive": passive,
+        "passive": _out_passive,
     }
 
 

@@ -28,16 +28,16 @@ def platform_pose() -> casadi.Function:
 
     Operations: 47.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -52,29 +52,29 @@ def platform_pose() -> casadi.Function:
     _t11 = 2 * q1
     _t12 = _t2 - _t3
     _t13 = _t8 * q1
-    pose = casadi.SX.zeros(4, 4)
-    pose[0, 0] = _t5 * (_t4 + _t6 + _t7)
-    pose[0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
-    pose[0, 2] = _t5 * (_t10 + _t11 * q3)
-    pose[0, 3] = x
-    pose[1, 0] = _t5 * (_t11 * q2 + _t9)
-    pose[1, 1] = _t5 * (_t0 + _t12 + _t7)
-    pose[1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
-    pose[1, 3] = y
-    pose[2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
-    pose[2, 1] = _t5 * (_t13 + 2 * q2 * q3)
-    pose[2, 2] = _t5 * (_t1 + _t12 + _t6)
-    pose[2, 3] = z
-    pose[3, 3] = 1
+    _out_pose = casadi.SX.zeros(4, 4)
+    _out_pose[0, 0] = _t5 * (_t4 + _t6 + _t7)
+    _out_pose[0, 1] = _t5 * (-_t9 + 2 * q1 * q2)
+    _out_pose[0, 2] = _t5 * (_t10 + _t11 * q3)
+    _out_pose[0, 3] = x
+    _out_pose[1, 0] = _t5 * (_t11 * q2 + _t9)
+    _out_pose[1, 1] = _t5 * (_t0 + _t12 + _t7)
+    _out_pose[1, 2] = _t5 * (-_t13 + 2 * q2 * q3)
+    _out_pose[1, 3] = y
+    _out_pose[2, 0] = _t5 * (-_t10 + 2 * q1 * q3)
+    _out_pose[2, 1] = _t5 * (_t13 + 2 * q2 * q3)
+    _out_pose[2, 2] = _t5 * (_t1 + _t12 + _t6)
+    _out_pose[2, 3] = z
+    _out_pose[3, 3] = 1
     return casadi.Function(
         "stewart_platform_pose",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            pose,
+            _out_pose,
         ],
         [
             "actuated",
@@ -92,58 +92,58 @@ def loop_closure() -> casadi.Function:
 
     Operations: 1350.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = 2 * q0
     _t1 = _t0 * q3
     _t2 = -_t1 + 2 * q1 * q2
@@ -444,24 +444,24 @@ def loop_closure() -> casadi.Function:
     _t297 = _t156 * platform_y6
     _t298 = _t156 * platform_z6
     _t299 = _t156 * platform_x6
-    residual = casadi.SX.zeros(7)
-    residual[0] = _t39 * (_t22**2 + _t31**2 + _t38**2 - l1**2)
-    residual[1] = _t55 * (_t46**2 + _t50**2 + _t54**2 - l2**2)
-    residual[2] = _t71 * (_t62**2 + _t66**2 + _t70**2 - l3**2)
-    residual[3] = _t87 * (_t78**2 + _t82**2 + _t86**2 - l4**2)
-    residual[4] = _t103 * (_t102**2 + _t94**2 + _t98**2 - l5**2)
-    residual[5] = _t119 * (_t110**2 + _t114**2 + _t118**2 - l6**2)
-    residual[6] = (1 / 2) * _t3 + (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 - 1 / 2
-    jacobian = casadi.SX.zeros(7, 7)
-    jacobian[0, 0] = _t39 * (2 * _t11 + _t120 + 2 * _t16 + 2 * _t21 - 2 * base_x1)
-    jacobian[0, 1] = _t39 * (_t121 + 2 * _t24 + 2 * _t27 + 2 * _t30 - 2 * base_y1)
-    jacobian[0, 2] = _t39 * (_t122 + 2 * _t33 + 2 * _t35 + 2 * _t37 - 2 * base_z1)
-    jacobian[0, 3] = _t39 * (
+    _out_residual = casadi.SX.zeros(7)
+    _out_residual[0] = _t39 * (_t22**2 + _t31**2 + _t38**2 - l1**2)
+    _out_residual[1] = _t55 * (_t46**2 + _t50**2 + _t54**2 - l2**2)
+    _out_residual[2] = _t71 * (_t62**2 + _t66**2 + _t70**2 - l3**2)
+    _out_residual[3] = _t87 * (_t78**2 + _t82**2 + _t86**2 - l4**2)
+    _out_residual[4] = _t103 * (_t102**2 + _t94**2 + _t98**2 - l5**2)
+    _out_residual[5] = _t119 * (_t110**2 + _t114**2 + _t118**2 - l6**2)
+    _out_residual[6] = (1 / 2) * _t3 + (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 - 1 / 2
+    _out_jacobian = casadi.SX.zeros(7, 7)
+    _out_jacobian[0, 0] = _t39 * (2 * _t11 + _t120 + 2 * _t16 + 2 * _t21 - 2 * base_x1)
+    _out_jacobian[0, 1] = _t39 * (_t121 + 2 * _t24 + 2 * _t27 + 2 * _t30 - 2 * base_y1)
+    _out_jacobian[0, 2] = _t39 * (_t122 + 2 * _t33 + 2 * _t35 + 2 * _t37 - 2 * base_z1)
+    _out_jacobian[0, 3] = _t39 * (
         _t22 * (-_t126 * _t19 - _t127 * _t2 - _t128 * _t14 - _t134)
         + _t31 * (-_t126 * _t23 - _t127 * _t29 - _t128 * _t26 - _t138)
         + _t38 * (-_t126 * _t32 - _t127 * _t34 - _t128 * _t36 - _t144)
     )
-    jacobian[0, 4] = _t39 * (
+    _out_jacobian[0, 4] = _t39 * (
         _t22
         * (
             -_t14 * _t148
@@ -474,25 +474,25 @@ def loop_closure() -> casadi.Function:
         + _t31 * (-_t140 - _t141 + _t143 - _t147 * _t29 - _t148 * _t26 - _t150 * _t23)
         + _t38 * (-_t138 - _t147 * _t34 - _t148 * _t36 - _t150 * _t32)
     )
-    jacobian[0, 5] = _t39 * (
+    _out_jacobian[0, 5] = _t39 * (
         _t22 * (-_t14 * _t153 - _t144 - _t149 * _t151 - _t152 * _t2)
         + _t31 * (-_t152 * _t29 - _t153 * _t26 - _t154 * _t23 + _t155)
         + _t38 * (-_t129 - _t131 + _t133 - _t152 * _t34 - _t153 * _t36 - _t154 * _t32)
     )
-    jacobian[0, 6] = _t39 * (
+    _out_jacobian[0, 6] = _t39 * (
         _t22 * (-_t135 - _t136 + _t137 - _t14 * _t158 - _t149 * _t156 - _t157 * _t2)
         + _t31 * (-_t134 - _t157 * _t29 - _t158 * _t26 - _t159 * _t23)
         + _t38 * (_t155 - _t157 * _t34 - _t158 * _t36 - _t159 * _t32)
     )
-    jacobian[1, 0] = _t55 * (_t120 + 2 * _t41 + 2 * _t43 + 2 * _t45 - 2 * base_x2)
-    jacobian[1, 1] = _t55 * (_t121 + 2 * _t47 + 2 * _t48 + 2 * _t49 - 2 * base_y2)
-    jacobian[1, 2] = _t55 * (_t122 + 2 * _t51 + 2 * _t52 + 2 * _t53 - 2 * base_z2)
-    jacobian[1, 3] = _t55 * (
+    _out_jacobian[1, 0] = _t55 * (_t120 + 2 * _t41 + 2 * _t43 + 2 * _t45 - 2 * base_x2)
+    _out_jacobian[1, 1] = _t55 * (_t121 + 2 * _t47 + 2 * _t48 + 2 * _t49 - 2 * base_y2)
+    _out_jacobian[1, 2] = _t55 * (_t122 + 2 * _t51 + 2 * _t52 + 2 * _t53 - 2 * base_z2)
+    _out_jacobian[1, 3] = _t55 * (
         _t46 * (-_t14 * _t162 - _t160 * _t19 - _t161 * _t2 - _t167)
         + _t50 * (-_t160 * _t23 - _t161 * _t29 - _t162 * _t26 - _t171)
         + _t54 * (-_t160 * _t32 - _t161 * _t34 - _t162 * _t36 - _t177)
     )
-    jacobian[1, 4] = _t55 * (
+    _out_jacobian[1, 4] = _t55 * (
         _t46
         * (
             -_t14 * _t179
@@ -505,25 +505,25 @@ def loop_closure() -> casadi.Function:
         + _t50 * (-_t173 - _t174 + _t176 - _t178 * _t29 - _t179 * _t26 - _t180 * _t23)
         + _t54 * (-_t171 - _t178 * _t34 - _t179 * _t36 - _t180 * _t32)
     )
-    jacobian[1, 5] = _t55 * (
+    _out_jacobian[1, 5] = _t55 * (
         _t46 * (-_t14 * _t183 - _t177 - _t181 * _t19 - _t182 * _t2)
         + _t50 * (-_t181 * _t23 - _t182 * _t29 - _t183 * _t26 + _t184)
         + _t54 * (-_t163 - _t165 + _t166 - _t181 * _t32 - _t182 * _t34 - _t183 * _t36)
     )
-    jacobian[1, 6] = _t55 * (
+    _out_jacobian[1, 6] = _t55 * (
         _t46 * (-_t14 * _t186 - _t168 - _t169 + _t170 - _t185 * _t2 - _t187 * _t19)
         + _t50 * (-_t167 - _t185 * _t29 - _t186 * _t26 - _t187 * _t23)
         + _t54 * (_t184 - _t185 * _t34 - _t186 * _t36 - _t187 * _t32)
     )
-    jacobian[2, 0] = _t71 * (_t120 + 2 * _t57 + 2 * _t59 + 2 * _t61 - 2 * base_x3)
-    jacobian[2, 1] = _t71 * (_t121 + 2 * _t63 + 2 * _t64 + 2 * _t65 - 2 * base_y3)
-    jacobian[2, 2] = _t71 * (_t122 + 2 * _t67 + 2 * _t68 + 2 * _t69 - 2 * base_z3)
-    jacobian[2, 3] = _t71 * (
+    _out_jacobian[2, 0] = _t71 * (_t120 + 2 * _t57 + 2 * _t59 + 2 * _t61 - 2 * base_x3)
+    _out_jacobian[2, 1] = _t71 * (_t121 + 2 * _t63 + 2 * _t64 + 2 * _t65 - 2 * base_y3)
+    _out_jacobian[2, 2] = _t71 * (_t122 + 2 * _t67 + 2 * _t68 + 2 * _t69 - 2 * base_z3)
+    _out_jacobian[2, 3] = _t71 * (
         _t62 * (-_t14 * _t190 - _t188 * _t19 - _t189 * _t2 - _t195)
         + _t66 * (-_t188 * _t23 - _t189 * _t29 - _t190 * _t26 - _t199)
         + _t70 * (-_t188 * _t32 - _t189 * _t34 - _t190 * _t36 - _t205)
     )
-    jacobian[2, 4] = _t71 * (
+    _out_jacobian[2, 4] = _t71 * (
         _t62
         * (
             -_t14 * _t207
@@ -536,25 +536,25 @@ def loop_closure() -> casadi.Function:
         + _t66 * (-_t201 - _t202 + _t204 - _t206 * _t29 - _t207 * _t26 - _t208 * _t23)
         + _t70 * (-_t199 - _t206 * _t34 - _t207 * _t36 - _t208 * _t32)
     )
-    jacobian[2, 5] = _t71 * (
+    _out_jacobian[2, 5] = _t71 * (
         _t62 * (-_t14 * _t211 - _t19 * _t209 - _t2 * _t210 - _t205)
         + _t66 * (-_t209 * _t23 - _t210 * _t29 - _t211 * _t26 + _t212)
         + _t70 * (-_t191 - _t193 + _t194 - _t209 * _t32 - _t210 * _t34 - _t211 * _t36)
     )
-    jacobian[2, 6] = _t71 * (
+    _out_jacobian[2, 6] = _t71 * (
         _t62 * (-_t14 * _t214 - _t19 * _t215 - _t196 - _t197 + _t198 - _t2 * _t213)
         + _t66 * (-_t195 - _t213 * _t29 - _t214 * _t26 - _t215 * _t23)
         + _t70 * (_t212 - _t213 * _t34 - _t214 * _t36 - _t215 * _t32)
     )
-    jacobian[3, 0] = _t87 * (_t120 + 2 * _t73 + 2 * _t75 + 2 * _t77 - 2 * base_x4)
-    jacobian[3, 1] = _t87 * (_t121 + 2 * _t79 + 2 * _t80 + 2 * _t81 - 2 * base_y4)
-    jacobian[3, 2] = _t87 * (_t122 + 2 * _t83 + 2 * _t84 + 2 * _t85 - 2 * base_z4)
-    jacobian[3, 3] = _t87 * (
+    _out_jacobian[3, 0] = _t87 * (_t120 + 2 * _t73 + 2 * _t75 + 2 * _t77 - 2 * base_x4)
+    _out_jacobian[3, 1] = _t87 * (_t121 + 2 * _t79 + 2 * _t80 + 2 * _t81 - 2 * base_y4)
+    _out_jacobian[3, 2] = _t87 * (_t122 + 2 * _t83 + 2 * _t84 + 2 * _t85 - 2 * base_z4)
+    _out_jacobian[3, 3] = _t87 * (
         _t78 * (-_t14 * _t218 - _t19 * _t216 - _t2 * _t217 - _t223)
         + _t82 * (-_t216 * _t23 - _t217 * _t29 - _t218 * _t26 - _t227)
         + _t86 * (-_t216 * _t32 - _t217 * _t34 - _t218 * _t36 - _t233)
     )
-    jacobian[3, 4] = _t87 * (
+    _out_jacobian[3, 4] = _t87 * (
         _t78
         * (
             -_t14 * _t235
@@ -567,25 +567,25 @@ def loop_closure() -> casadi.Function:
         + _t82 * (-_t229 - _t23 * _t236 - _t230 + _t232 - _t234 * _t29 - _t235 * _t26)
         + _t86 * (-_t227 - _t234 * _t34 - _t235 * _t36 - _t236 * _t32)
     )
-    jacobian[3, 5] = _t87 * (
+    _out_jacobian[3, 5] = _t87 * (
         _t78 * (-_t14 * _t239 - _t19 * _t237 - _t2 * _t238 - _t233)
         + _t82 * (-_t23 * _t237 - _t238 * _t29 - _t239 * _t26 + _t240)
         + _t86 * (-_t219 - _t221 + _t222 - _t237 * _t32 - _t238 * _t34 - _t239 * _t36)
     )
-    jacobian[3, 6] = _t87 * (
+    _out_jacobian[3, 6] = _t87 * (
         _t78 * (-_t14 * _t242 - _t19 * _t243 - _t2 * _t241 - _t224 - _t225 + _t226)
         + _t82 * (-_t223 - _t23 * _t243 - _t241 * _t29 - _t242 * _t26)
         + _t86 * (_t240 - _t241 * _t34 - _t242 * _t36 - _t243 * _t32)
     )
-    jacobian[4, 0] = _t103 * (_t120 + 2 * _t89 + 2 * _t91 + 2 * _t93 - 2 * base_x5)
-    jacobian[4, 1] = _t103 * (_t121 + 2 * _t95 + 2 * _t96 + 2 * _t97 - 2 * base_y5)
-    jacobian[4, 2] = _t103 * (2 * _t100 + 2 * _t101 + _t122 + 2 * _t99 - 2 * base_z5)
-    jacobian[4, 3] = _t103 * (
+    _out_jacobian[4, 0] = _t103 * (_t120 + 2 * _t89 + 2 * _t91 + 2 * _t93 - 2 * base_x5)
+    _out_jacobian[4, 1] = _t103 * (_t121 + 2 * _t95 + 2 * _t96 + 2 * _t97 - 2 * base_y5)
+    _out_jacobian[4, 2] = _t103 * (2 * _t100 + 2 * _t101 + _t122 + 2 * _t99 - 2 * base_z5)
+    _out_jacobian[4, 3] = _t103 * (
         _t102 * (-_t244 * _t32 - _t245 * _t34 - _t246 * _t36 - _t261)
         + _t94 * (-_t14 * _t246 - _t19 * _t244 - _t2 * _t245 - _t251)
         + _t98 * (-_t23 * _t244 - _t245 * _t29 - _t246 * _t26 - _t255)
     )
-    jacobian[4, 4] = _t103 * (
+    _out_jacobian[4, 4] = _t103 * (
         _t102 * (-_t255 - _t262 * _t34 - _t263 * _t36 - _t264 * _t32)
         + _t94
         * (
@@ -598,25 +598,25 @@ def loop_closure() -> casadi.Function:
         )
         + _t98 * (-_t23 * _t264 - _t257 - _t258 - _t26 * _t263 + _t260 - _t262 * _t29)
     )
-    jacobian[4, 5] = _t103 * (
+    _out_jacobian[4, 5] = _t103 * (
         _t102 * (-_t247 - _t249 + _t250 - _t265 * _t32 - _t266 * _t34 - _t267 * _t36)
         + _t94 * (-_t14 * _t267 - _t19 * _t265 - _t2 * _t266 - _t261)
         + _t98 * (-_t23 * _t265 - _t26 * _t267 - _t266 * _t29 + _t268)
     )
-    jacobian[4, 6] = _t103 * (
+    _out_jacobian[4, 6] = _t103 * (
         _t102 * (_t268 - _t269 * _t34 - _t270 * _t36 - _t271 * _t32)
         + _t94 * (-_t14 * _t270 - _t19 * _t271 - _t2 * _t269 - _t252 - _t253 + _t254)
         + _t98 * (-_t23 * _t271 - _t251 - _t26 * _t270 - _t269 * _t29)
     )
-    jacobian[5, 0] = _t119 * (2 * _t105 + 2 * _t107 + 2 * _t109 + _t120 - 2 * base_x6)
-    jacobian[5, 1] = _t119 * (2 * _t111 + 2 * _t112 + 2 * _t113 + _t121 - 2 * base_y6)
-    jacobian[5, 2] = _t119 * (2 * _t115 + 2 * _t116 + 2 * _t117 + _t122 - 2 * base_z6)
-    jacobian[5, 3] = _t119 * (
+    _out_jacobian[5, 0] = _t119 * (2 * _t105 + 2 * _t107 + 2 * _t109 + _t120 - 2 * base_x6)
+    _out_jacobian[5, 1] = _t119 * (2 * _t111 + 2 * _t112 + 2 * _t113 + _t121 - 2 * base_y6)
+    _out_jacobian[5, 2] = _t119 * (2 * _t115 + 2 * _t116 + 2 * _t117 + _t122 - 2 * base_z6)
+    _out_jacobian[5, 3] = _t119 * (
         _t110 * (-_t14 * _t274 - _t19 * _t272 - _t2 * _t273 - _t279)
         + _t114 * (-_t23 * _t272 - _t26 * _t274 - _t273 * _t29 - _t283)
         + _t118 * (-_t272 * _t32 - _t273 * _t34 - _t274 * _t36 - _t289)
     )
-    jacobian[5, 4] = _t119 * (
+    _out_jacobian[5, 4] = _t119 * (
         _t110
         * (
             -_t14 * _t291
@@ -629,33 +629,33 @@ def loop_closure() -> casadi.Function:
         + _t114 * (-_t23 * _t292 - _t26 * _t291 - _t285 - _t286 + _t288 - _t29 * _t290)
         + _t118 * (-_t283 - _t290 * _t34 - _t291 * _t36 - _t292 * _t32)
     )
-    jacobian[5, 5] = _t119 * (
+    _out_jacobian[5, 5] = _t119 * (
         _t110 * (-_t14 * _t295 - _t19 * _t293 - _t2 * _t294 - _t289)
         + _t114 * (-_t23 * _t293 - _t26 * _t295 - _t29 * _t294 + _t296)
         + _t118 * (-_t275 - _t277 + _t278 - _t293 * _t32 - _t294 * _t34 - _t295 * _t36)
     )
-    jacobian[5, 6] = _t119 * (
+    _out_jacobian[5, 6] = _t119 * (
         _t110 * (-_t14 * _t298 - _t19 * _t299 - _t2 * _t297 - _t280 - _t281 + _t282)
         + _t114 * (-_t23 * _t299 - _t26 * _t298 - _t279 - _t29 * _t297)
         + _t118 * (_t296 - _t297 * _t34 - _t298 * _t36 - _t299 * _t32)
     )
-    jacobian[6, 3] = q0
-    jacobian[6, 4] = q1
-    jacobian[6, 5] = q2
-    jacobian[6, 6] = q3
-    alignment = casadi.SX.zeros(1)
-    alignment[0] = 1
+    _out_jacobian[6, 3] = q0
+    _out_jacobian[6, 4] = q1
+    _out_jacobian[6, 5] = q2
+    _out_jacobian[6, 6] = q3
+    _out_alignment = casadi.SX.zeros(1)
+    _out_alignment[0] = 1
     return casadi.Function(
         "stewart_loop_closure",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            residual,
-            jacobian,
-            alignment,
+            _out_residual,
+            _out_jacobian,
+            _out_alignment,
         ],
         [
             "actuated",
@@ -675,58 +675,58 @@ def loop_closure_actuated() -> casadi.Function:
 
     Operations: 248.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = l1**2
     _t1 = 2 * q0
     _t2 = _t1 * q3
@@ -774,8 +774,8 @@ def loop_closure_actuated() -> casadi.Function:
     _t44 = _t9 * platform_y6
     _t45 = _t9 * platform_z6
     _t46 = _t9 * platform_x6
-    jacobian_actuated = casadi.SX.zeros(7, 6)
-    jacobian_actuated[0, 0] = (
+    _out_jacobian_actuated = casadi.SX.zeros(7, 6)
+    _out_jacobian_actuated[0, 0] = (
         -1
         - 1
         / 2
@@ -787,7 +787,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / _t0
     )
-    jacobian_actuated[1, 1] = (
+    _out_jacobian_actuated[1, 1] = (
         -1
         - 1
         / 2
@@ -799,7 +799,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / _t27
     )
-    jacobian_actuated[2, 2] = (
+    _out_jacobian_actuated[2, 2] = (
         -1
         - 1
         / 2
@@ -811,7 +811,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / _t31
     )
-    jacobian_actuated[3, 3] = (
+    _out_jacobian_actuated[3, 3] = (
         -1
         - 1
         / 2
@@ -823,7 +823,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / _t35
     )
-    jacobian_actuated[4, 4] = (
+    _out_jacobian_actuated[4, 4] = (
         -1
         - 1
         / 2
@@ -835,7 +835,7 @@ def loop_closure_actuated() -> casadi.Function:
         )
         / _t39
     )
-    jacobian_actuated[5, 5] = (
+    _out_jacobian_actuated[5, 5] = (
         -1
         - 1
         / 2
@@ -850,12 +850,12 @@ def loop_closure_actuated() -> casadi.Function:
     return casadi.Function(
         "stewart_loop_closure_actuated",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            jacobian_actuated,
+            _out_jacobian_actuated,
         ],
         [
             "actuated",
@@ -873,58 +873,58 @@ def rate_jacobians() -> casadi.Function:
 
     Operations: 257.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = 2 * q0
     _t1 = _t0 * q3
     _t2 = -_t1 + 2 * q1 * q2
@@ -1005,60 +1005,60 @@ def rate_jacobians() -> casadi.Function:
     _t77 = _t29 + base_y6
     _t78 = _t31 + base_z6
     _t79 = _t33 + base_x6
-    a = casadi.SX.zeros(6, 6)
-    a[0, 0] = _t18
-    a[0, 1] = _t24
-    a[0, 2] = _t28
-    a[0, 3] = -_t24 * _t32 + _t28 * _t30
-    a[0, 4] = _t18 * _t32 - _t28 * _t34
-    a[0, 5] = -_t18 * _t30 + _t24 * _t34
-    a[1, 0] = _t38
-    a[1, 1] = _t39
-    a[1, 2] = _t40
-    a[1, 3] = -_t39 * _t42 + _t40 * _t41
-    a[1, 4] = _t38 * _t42 - _t40 * _t43
-    a[1, 5] = -_t38 * _t41 + _t39 * _t43
-    a[2, 0] = _t47
-    a[2, 1] = _t48
-    a[2, 2] = _t49
-    a[2, 3] = -_t48 * _t51 + _t49 * _t50
-    a[2, 4] = _t47 * _t51 - _t49 * _t52
-    a[2, 5] = -_t47 * _t50 + _t48 * _t52
-    a[3, 0] = _t56
-    a[3, 1] = _t57
-    a[3, 2] = _t58
-    a[3, 3] = -_t57 * _t60 + _t58 * _t59
-    a[3, 4] = _t56 * _t60 - _t58 * _t61
-    a[3, 5] = -_t56 * _t59 + _t57 * _t61
-    a[4, 0] = _t65
-    a[4, 1] = _t66
-    a[4, 2] = _t67
-    a[4, 3] = -_t66 * _t69 + _t67 * _t68
-    a[4, 4] = _t65 * _t69 - _t67 * _t70
-    a[4, 5] = -_t65 * _t68 + _t66 * _t70
-    a[5, 0] = _t74
-    a[5, 1] = _t75
-    a[5, 2] = _t76
-    a[5, 3] = -_t75 * _t78 + _t76 * _t77
-    a[5, 4] = _t74 * _t78 - _t76 * _t79
-    a[5, 5] = -_t74 * _t77 + _t75 * _t79
-    b = casadi.SX.zeros(6, 6)
-    b[0, 0] = l1
-    b[1, 1] = l2
-    b[2, 2] = l3
-    b[3, 3] = l4
-    b[4, 4] = l5
-    b[5, 5] = l6
+    _out_a = casadi.SX.zeros(6, 6)
+    _out_a[0, 0] = _t18
+    _out_a[0, 1] = _t24
+    _out_a[0, 2] = _t28
+    _out_a[0, 3] = -_t24 * _t32 + _t28 * _t30
+    _out_a[0, 4] = _t18 * _t32 - _t28 * _t34
+    _out_a[0, 5] = -_t18 * _t30 + _t24 * _t34
+    _out_a[1, 0] = _t38
+    _out_a[1, 1] = _t39
+    _out_a[1, 2] = _t40
+    _out_a[1, 3] = -_t39 * _t42 + _t40 * _t41
+    _out_a[1, 4] = _t38 * _t42 - _t40 * _t43
+    _out_a[1, 5] = -_t38 * _t41 + _t39 * _t43
+    _out_a[2, 0] = _t47
+    _out_a[2, 1] = _t48
+    _out_a[2, 2] = _t49
+    _out_a[2, 3] = -_t48 * _t51 + _t49 * _t50
+    _out_a[2, 4] = _t47 * _t51 - _t49 * _t52
+    _out_a[2, 5] = -_t47 * _t50 + _t48 * _t52
+    _out_a[3, 0] = _t56
+    _out_a[3, 1] = _t57
+    _out_a[3, 2] = _t58
+    _out_a[3, 3] = -_t57 * _t60 + _t58 * _t59
+    _out_a[3, 4] = _t56 * _t60 - _t58 * _t61
+    _out_a[3, 5] = -_t56 * _t59 + _t57 * _t61
+    _out_a[4, 0] = _t65
+    _out_a[4, 1] = _t66
+    _out_a[4, 2] = _t67
+    _out_a[4, 3] = -_t66 * _t69 + _t67 * _t68
+    _out_a[4, 4] = _t65 * _t69 - _t67 * _t70
+    _out_a[4, 5] = -_t65 * _t68 + _t66 * _t70
+    _out_a[5, 0] = _t74
+    _out_a[5, 1] = _t75
+    _out_a[5, 2] = _t76
+    _out_a[5, 3] = -_t75 * _t78 + _t76 * _t77
+    _out_a[5, 4] = _t74 * _t78 - _t76 * _t79
+    _out_a[5, 5] = -_t74 * _t77 + _t75 * _t79
+    _out_b = casadi.SX.zeros(6, 6)
+    _out_b[0, 0] = l1
+    _out_b[1, 1] = l2
+    _out_b[2, 2] = l3
+    _out_b[3, 3] = l4
+    _out_b[4, 4] = l5
+    _out_b[5, 5] = l6
     return casadi.Function(
         "stewart_rate_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            a,
-            b,
+            _out_a,
+            _out_b,
         ],
         [
             "actuated",
@@ -1077,58 +1077,58 @@ def parameter_jacobians() -> casadi.Function:
 
     Operations: 486.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = 2 * x
     _t1 = 2 * q0
     _t2 = _t1 * q3
@@ -1252,54 +1252,62 @@ def parameter_jacobians() -> casadi.Function:
     _t120 = _t39 * (_t117 + _t118 + _t119 - base_z6 + z)
     _t121 = _t39 * (_t114 + _t115 + _t116 - base_y6 + y)
     _t122 = _t39 * (_t108 + _t110 + _t112 - base_x6 + x)
-    closure_parameters = casadi.SX.zeros(7, 36)
-    closure_parameters[0, 0] = _t22 * (-_t0 - 2 * _t11 - 2 * _t16 - 2 * _t21 + 2 * base_x1)
-    closure_parameters[0, 1] = _t22 * (-_t23 - 2 * _t25 - 2 * _t28 - 2 * _t31 + 2 * base_y1)
-    closure_parameters[0, 2] = _t22 * (-_t32 - 2 * _t34 - 2 * _t36 - 2 * _t38 + 2 * base_z1)
-    closure_parameters[0, 18] = _t22 * (_t19 * _t42 + _t24 * _t41 + _t33 * _t40)
-    closure_parameters[0, 19] = _t22 * (_t3 * _t42 + _t30 * _t41 + _t35 * _t40)
-    closure_parameters[0, 20] = _t22 * (_t14 * _t42 + _t27 * _t41 + _t37 * _t40)
-    closure_parameters[1, 3] = _t49 * (-_t0 - 2 * _t44 - 2 * _t46 - 2 * _t48 + 2 * base_x2)
-    closure_parameters[1, 4] = _t49 * (-_t23 - 2 * _t50 - 2 * _t51 - 2 * _t52 + 2 * base_y2)
-    closure_parameters[1, 5] = _t49 * (-_t32 - 2 * _t53 - 2 * _t54 - 2 * _t55 + 2 * base_z2)
-    closure_parameters[1, 21] = _t49 * (_t19 * _t58 + _t24 * _t57 + _t33 * _t56)
-    closure_parameters[1, 22] = _t49 * (_t3 * _t58 + _t30 * _t57 + _t35 * _t56)
-    closure_parameters[1, 23] = _t49 * (_t14 * _t58 + _t27 * _t57 + _t37 * _t56)
-    closure_parameters[2, 6] = _t65 * (-_t0 - 2 * _t60 - 2 * _t62 - 2 * _t64 + 2 * base_x3)
-    closure_parameters[2, 7] = _t65 * (-_t23 - 2 * _t66 - 2 * _t67 - 2 * _t68 + 2 * base_y3)
-    closure_parameters[2, 8] = _t65 * (-_t32 - 2 * _t69 - 2 * _t70 - 2 * _t71 + 2 * base_z3)
-    closure_parameters[2, 24] = _t65 * (_t19 * _t74 + _t24 * _t73 + _t33 * _t72)
-    closure_parameters[2, 25] = _t65 * (_t3 * _t74 + _t30 * _t73 + _t35 * _t72)
-    closure_parameters[2, 26] = _t65 * (_t14 * _t74 + _t27 * _t73 + _t37 * _t72)
-    closure_parameters[3, 9] = _t81 * (-_t0 - 2 * _t76 - 2 * _t78 - 2 * _t80 + 2 * base_x4)
-    closure_parameters[3, 10] = _t81 * (-_t23 - 2 * _t82 - 2 * _t83 - 2 * _t84 + 2 * base_y4)
-    closure_parameters[3, 11] = _t81 * (-_t32 - 2 * _t85 - 2 * _t86 - 2 * _t87 + 2 * base_z4)
-    closure_parameters[3, 27] = _t81 * (_t19 * _t90 + _t24 * _t89 + _t33 * _t88)
-    closure_parameters[3, 28] = _t81 * (_t3 * _t90 + _t30 * _t89 + _t35 * _t88)
-    closure_parameters[3, 29] = _t81 * (_t14 * _t90 + _t27 * _t89 + _t37 * _t88)
-    closure_parameters[4, 12] = _t97 * (-_t0 - 2 * _t92 - 2 * _t94 - 2 * _t96 + 2 * base_x5)
-    closure_parameters[4, 13] = _t97 * (-2 * _t100 - _t23 - 2 * _t98 - 2 * _t99 + 2 * base_y5)
-    closure_parameters[4, 14] = _t97 * (-2 * _t101 - 2 * _t102 - 2 * _t103 - _t32 + 2 * base_z5)
-    closure_parameters[4, 30] = _t97 * (_t104 * _t33 + _t105 * _t24 + _t106 * _t19)
-    closure_parameters[4, 31] = _t97 * (_t104 * _t35 + _t105 * _t30 + _t106 * _t3)
-    closure_parameters[4, 32] = _t97 * (_t104 * _t37 + _t105 * _t27 + _t106 * _t14)
-    closure_parameters[5, 15] = _t113 * (-_t0 - 2 * _t108 - 2 * _t110 - 2 * _t112 + 2 * base_x6)
-    closure_parameters[5, 16] = _t113 * (-2 * _t114 - 2 * _t115 - 2 * _t116 - _t23 + 2 * base_y6)
-    closure_parameters[5, 17] = _t113 * (-2 * _t117 - 2 * _t118 - 2 * _t119 - _t32 + 2 * base_z6)
-    closure_parameters[5, 33] = _t113 * (_t120 * _t33 + _t121 * _t24 + _t122 * _t19)
-    closure_parameters[5, 34] = _t113 * (_t120 * _t35 + _t121 * _t30 + _t122 * _t3)
-    closure_parameters[5, 35] = _t113 * (_t120 * _t37 + _t121 * _t27 + _t122 * _t14)
-    pose_parameters = casadi.SX.zeros(12, 36)
+    _out_closure_parameters = casadi.SX.zeros(7, 36)
+    _out_closure_parameters[0, 0] = _t22 * (-_t0 - 2 * _t11 - 2 * _t16 - 2 * _t21 + 2 * base_x1)
+    _out_closure_parameters[0, 1] = _t22 * (-_t23 - 2 * _t25 - 2 * _t28 - 2 * _t31 + 2 * base_y1)
+    _out_closure_parameters[0, 2] = _t22 * (-_t32 - 2 * _t34 - 2 * _t36 - 2 * _t38 + 2 * base_z1)
+    _out_closure_parameters[0, 18] = _t22 * (_t19 * _t42 + _t24 * _t41 + _t33 * _t40)
+    _out_closure_parameters[0, 19] = _t22 * (_t3 * _t42 + _t30 * _t41 + _t35 * _t40)
+    _out_closure_parameters[0, 20] = _t22 * (_t14 * _t42 + _t27 * _t41 + _t37 * _t40)
+    _out_closure_parameters[1, 3] = _t49 * (-_t0 - 2 * _t44 - 2 * _t46 - 2 * _t48 + 2 * base_x2)
+    _out_closure_parameters[1, 4] = _t49 * (-_t23 - 2 * _t50 - 2 * _t51 - 2 * _t52 + 2 * base_y2)
+    _out_closure_parameters[1, 5] = _t49 * (-_t32 - 2 * _t53 - 2 * _t54 - 2 * _t55 + 2 * base_z2)
+    _out_closure_parameters[1, 21] = _t49 * (_t19 * _t58 + _t24 * _t57 + _t33 * _t56)
+    _out_closure_parameters[1, 22] = _t49 * (_t3 * _t58 + _t30 * _t57 + _t35 * _t56)
+    _out_closure_parameters[1, 23] = _t49 * (_t14 * _t58 + _t27 * _t57 + _t37 * _t56)
+    _out_closure_parameters[2, 6] = _t65 * (-_t0 - 2 * _t60 - 2 * _t62 - 2 * _t64 + 2 * base_x3)
+    _out_closure_parameters[2, 7] = _t65 * (-_t23 - 2 * _t66 - 2 * _t67 - 2 * _t68 + 2 * base_y3)
+    _out_closure_parameters[2, 8] = _t65 * (-_t32 - 2 * _t69 - 2 * _t70 - 2 * _t71 + 2 * base_z3)
+    _out_closure_parameters[2, 24] = _t65 * (_t19 * _t74 + _t24 * _t73 + _t33 * _t72)
+    _out_closure_parameters[2, 25] = _t65 * (_t3 * _t74 + _t30 * _t73 + _t35 * _t72)
+    _out_closure_parameters[2, 26] = _t65 * (_t14 * _t74 + _t27 * _t73 + _t37 * _t72)
+    _out_closure_parameters[3, 9] = _t81 * (-_t0 - 2 * _t76 - 2 * _t78 - 2 * _t80 + 2 * base_x4)
+    _out_closure_parameters[3, 10] = _t81 * (-_t23 - 2 * _t82 - 2 * _t83 - 2 * _t84 + 2 * base_y4)
+    _out_closure_parameters[3, 11] = _t81 * (-_t32 - 2 * _t85 - 2 * _t86 - 2 * _t87 + 2 * base_z4)
+    _out_closure_parameters[3, 27] = _t81 * (_t19 * _t90 + _t24 * _t89 + _t33 * _t88)
+    _out_closure_parameters[3, 28] = _t81 * (_t3 * _t90 + _t30 * _t89 + _t35 * _t88)
+    _out_closure_parameters[3, 29] = _t81 * (_t14 * _t90 + _t27 * _t89 + _t37 * _t88)
+    _out_closure_parameters[4, 12] = _t97 * (-_t0 - 2 * _t92 - 2 * _t94 - 2 * _t96 + 2 * base_x5)
+    _out_closure_parameters[4, 13] = _t97 * (-2 * _t100 - _t23 - 2 * _t98 - 2 * _t99 + 2 * base_y5)
+    _out_closure_parameters[4, 14] = _t97 * (
+        -2 * _t101 - 2 * _t102 - 2 * _t103 - _t32 + 2 * base_z5
+    )
+    _out_closure_parameters[4, 30] = _t97 * (_t104 * _t33 + _t105 * _t24 + _t106 * _t19)
+    _out_closure_parameters[4, 31] = _t97 * (_t104 * _t35 + _t105 * _t30 + _t106 * _t3)
+    _out_closure_parameters[4, 32] = _t97 * (_t104 * _t37 + _t105 * _t27 + _t106 * _t14)
+    _out_closure_parameters[5, 15] = _t113 * (
+        -_t0 - 2 * _t108 - 2 * _t110 - 2 * _t112 + 2 * base_x6
+    )
+    _out_closure_parameters[5, 16] = _t113 * (
+        -2 * _t114 - 2 * _t115 - 2 * _t116 - _t23 + 2 * base_y6
+    )
+    _out_closure_parameters[5, 17] = _t113 * (
+        -2 * _t117 - 2 * _t118 - 2 * _t119 - _t32 + 2 * base_z6
+    )
+    _out_closure_parameters[5, 33] = _t113 * (_t120 * _t33 + _t121 * _t24 + _t122 * _t19)
+    _out_closure_parameters[5, 34] = _t113 * (_t120 * _t35 + _t121 * _t30 + _t122 * _t3)
+    _out_closure_parameters[5, 35] = _t113 * (_t120 * _t37 + _t121 * _t27 + _t122 * _t14)
+    _out_pose_parameters = casadi.SX.zeros(12, 36)
     return casadi.Function(
         "stewart_parameter_jacobians",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            closure_parameters,
-            pose_parameters,
+            _out_closure_parameters,
+            _out_pose_parameters,
         ],
         [
             "actuated",
@@ -1318,58 +1326,58 @@ def singularity_factors() -> casadi.Function:
 
     Operations: 689.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = q1**2
     _t1 = q2**2
     _t2 = q0**2
@@ -1571,27 +1579,27 @@ def singularity_factors() -> casadi.Function:
         )
         + (_t51 * _t93 + _t64 * _t97 + _t68 * _t99) * (_t81 * _t82 + _t83 * _t84 + _t86 * _t87)
     ) / _t5**6
-    factors = casadi.SX.zeros(7)
-    factors[0] = l1
-    factors[1] = l2
-    factors[2] = l3
-    factors[3] = l4
-    factors[4] = l5
-    factors[5] = l6
-    factors[6] = _t131
-    determinants = casadi.SX.zeros(2)
-    determinants[0] = _t131
-    determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
+    _out_factors = casadi.SX.zeros(7)
+    _out_factors[0] = l1
+    _out_factors[1] = l2
+    _out_factors[2] = l3
+    _out_factors[3] = l4
+    _out_factors[4] = l5
+    _out_factors[5] = l6
+    _out_factors[6] = _t131
+    _out_determinants = casadi.SX.zeros(2)
+    _out_determinants[0] = _t131
+    _out_determinants[1] = l1 * l2 * l3 * l4 * l5 * l6
     return casadi.Function(
         "stewart_singularity_factors",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            factors,
-            determinants,
+            _out_factors,
+            _out_determinants,
         ],
         [
             "actuated",
@@ -1610,52 +1618,52 @@ def drawing() -> casadi.Function:
 
     Operations: 155.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    passive = casadi.SX.sym("passive", 7)
-    params = casadi.SX.sym("params", 36)
-    x = passive[0]
-    y = passive[1]
-    z = passive[2]
-    q0 = passive[3]
-    q1 = passive[4]
-    q2 = passive[5]
-    q3 = passive[6]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_passive = casadi.SX.sym("passive", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    x = _in_passive[0]
+    y = _in_passive[1]
+    z = _in_passive[2]
+    q0 = _in_passive[3]
+    q1 = _in_passive[4]
+    q2 = _in_passive[5]
+    q3 = _in_passive[6]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     _t0 = q2**2
     _t1 = q3**2
     _t2 = q0**2
@@ -1679,54 +1687,54 @@ def drawing() -> casadi.Function:
     _t20 = _t5 * (-_t9 + 2 * q1 * q3)
     _t21 = _t5 * (_t16 + 2 * q2 * q3)
     _t22 = _t5 * (_t1 + _t12 + _t18)
-    base = casadi.SX.zeros(3, 6)
-    base[0, 0] = base_x1
-    base[0, 1] = base_x2
-    base[0, 2] = base_x3
-    base[0, 3] = base_x4
-    base[0, 4] = base_x5
-    base[0, 5] = base_x6
-    base[1, 0] = base_y1
-    base[1, 1] = base_y2
-    base[1, 2] = base_y3
-    base[1, 3] = base_y4
-    base[1, 4] = base_y5
-    base[1, 5] = base_y6
-    base[2, 0] = base_z1
-    base[2, 1] = base_z2
-    base[2, 2] = base_z3
-    base[2, 3] = base_z4
-    base[2, 4] = base_z5
-    base[2, 5] = base_z6
-    platform = casadi.SX.zeros(3, 6)
-    platform[0, 0] = _t11 * platform_z1 + _t14 * platform_x1 + _t8 * platform_y1 + x
-    platform[0, 1] = _t11 * platform_z2 + _t14 * platform_x2 + _t8 * platform_y2 + x
-    platform[0, 2] = _t11 * platform_z3 + _t14 * platform_x3 + _t8 * platform_y3 + x
-    platform[0, 3] = _t11 * platform_z4 + _t14 * platform_x4 + _t8 * platform_y4 + x
-    platform[0, 4] = _t11 * platform_z5 + _t14 * platform_x5 + _t8 * platform_y5 + x
-    platform[0, 5] = _t11 * platform_z6 + _t14 * platform_x6 + _t8 * platform_y6 + x
-    platform[1, 0] = _t15 * platform_x1 + _t17 * platform_z1 + _t19 * platform_y1 + y
-    platform[1, 1] = _t15 * platform_x2 + _t17 * platform_z2 + _t19 * platform_y2 + y
-    platform[1, 2] = _t15 * platform_x3 + _t17 * platform_z3 + _t19 * platform_y3 + y
-    platform[1, 3] = _t15 * platform_x4 + _t17 * platform_z4 + _t19 * platform_y4 + y
-    platform[1, 4] = _t15 * platform_x5 + _t17 * platform_z5 + _t19 * platform_y5 + y
-    platform[1, 5] = _t15 * platform_x6 + _t17 * platform_z6 + _t19 * platform_y6 + y
-    platform[2, 0] = _t20 * platform_x1 + _t21 * platform_y1 + _t22 * platform_z1 + z
-    platform[2, 1] = _t20 * platform_x2 + _t21 * platform_y2 + _t22 * platform_z2 + z
-    platform[2, 2] = _t20 * platform_x3 + _t21 * platform_y3 + _t22 * platform_z3 + z
-    platform[2, 3] = _t20 * platform_x4 + _t21 * platform_y4 + _t22 * platform_z4 + z
-    platform[2, 4] = _t20 * platform_x5 + _t21 * platform_y5 + _t22 * platform_z5 + z
-    platform[2, 5] = _t20 * platform_x6 + _t21 * platform_y6 + _t22 * platform_z6 + z
+    _out_base = casadi.SX.zeros(3, 6)
+    _out_base[0, 0] = base_x1
+    _out_base[0, 1] = base_x2
+    _out_base[0, 2] = base_x3
+    _out_base[0, 3] = base_x4
+    _out_base[0, 4] = base_x5
+    _out_base[0, 5] = base_x6
+    _out_base[1, 0] = base_y1
+    _out_base[1, 1] = base_y2
+    _out_base[1, 2] = base_y3
+    _out_base[1, 3] = base_y4
+    _out_base[1, 4] = base_y5
+    _out_base[1, 5] = base_y6
+    _out_base[2, 0] = base_z1
+    _out_base[2, 1] = base_z2
+    _out_base[2, 2] = base_z3
+    _out_base[2, 3] = base_z4
+    _out_base[2, 4] = base_z5
+    _out_base[2, 5] = base_z6
+    _out_platform = casadi.SX.zeros(3, 6)
+    _out_platform[0, 0] = _t11 * platform_z1 + _t14 * platform_x1 + _t8 * platform_y1 + x
+    _out_platform[0, 1] = _t11 * platform_z2 + _t14 * platform_x2 + _t8 * platform_y2 + x
+    _out_platform[0, 2] = _t11 * platform_z3 + _t14 * platform_x3 + _t8 * platform_y3 + x
+    _out_platform[0, 3] = _t11 * platform_z4 + _t14 * platform_x4 + _t8 * platform_y4 + x
+    _out_platform[0, 4] = _t11 * platform_z5 + _t14 * platform_x5 + _t8 * platform_y5 + x
+    _out_platform[0, 5] = _t11 * platform_z6 + _t14 * platform_x6 + _t8 * platform_y6 + x
+    _out_platform[1, 0] = _t15 * platform_x1 + _t17 * platform_z1 + _t19 * platform_y1 + y
+    _out_platform[1, 1] = _t15 * platform_x2 + _t17 * platform_z2 + _t19 * platform_y2 + y
+    _out_platform[1, 2] = _t15 * platform_x3 + _t17 * platform_z3 + _t19 * platform_y3 + y
+    _out_platform[1, 3] = _t15 * platform_x4 + _t17 * platform_z4 + _t19 * platform_y4 + y
+    _out_platform[1, 4] = _t15 * platform_x5 + _t17 * platform_z5 + _t19 * platform_y5 + y
+    _out_platform[1, 5] = _t15 * platform_x6 + _t17 * platform_z6 + _t19 * platform_y6 + y
+    _out_platform[2, 0] = _t20 * platform_x1 + _t21 * platform_y1 + _t22 * platform_z1 + z
+    _out_platform[2, 1] = _t20 * platform_x2 + _t21 * platform_y2 + _t22 * platform_z2 + z
+    _out_platform[2, 2] = _t20 * platform_x3 + _t21 * platform_y3 + _t22 * platform_z3 + z
+    _out_platform[2, 3] = _t20 * platform_x4 + _t21 * platform_y4 + _t22 * platform_z4 + z
+    _out_platform[2, 4] = _t20 * platform_x5 + _t21 * platform_y5 + _t22 * platform_z5 + z
+    _out_platform[2, 5] = _t20 * platform_x6 + _t21 * platform_y6 + _t22 * platform_z6 + z
     return casadi.Function(
         "stewart_drawing",
         [
-            actuated,
-            passive,
-            params,
+            _in_actuated,
+            _in_passive,
+            _in_params,
         ],
         [
-            base,
-            platform,
+            _out_base,
+            _out_platform,
         ],
         [
             "actuated",
@@ -1745,57 +1753,57 @@ def inverse_pose() -> casadi.Function:
 
     Operations: 485.
     """
-    pose = casadi.SX.sym("pose", 12)
-    branch = casadi.SX.sym("branch", 0)
-    params = casadi.SX.sym("params", 36)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_branch = casadi.SX.sym("branch", 0)
+    _in_params = casadi.SX.sym("params", 36)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     l1 = casadi.sqrt(
         (-base_x1 + platform_x1 * r11 + platform_y1 * r12 + platform_z1 * r13 + px) ** 2
         + (-base_y1 + platform_x1 * r21 + platform_y1 * r22 + platform_z1 * r23 + py) ** 2
@@ -2004,39 +2012,39 @@ def inverse_pose() -> casadi.Function:
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    actuated = casadi.SX.zeros(6)
-    actuated[0] = l1
-    actuated[1] = l2
-    actuated[2] = l3
-    actuated[3] = l4
-    actuated[4] = l5
-    actuated[5] = l6
-    passive = casadi.SX.zeros(7)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = z
-    passive[3] = q0
-    passive[4] = q1
-    passive[5] = q2
-    passive[6] = q3
-    validity = casadi.SX.zeros(6)
-    validity[0] = l1
-    validity[1] = l2
-    validity[2] = l3
-    validity[3] = l4
-    validity[4] = l5
-    validity[5] = l6
+    _out_actuated = casadi.SX.zeros(6)
+    _out_actuated[0] = l1
+    _out_actuated[1] = l2
+    _out_actuated[2] = l3
+    _out_actuated[3] = l4
+    _out_actuated[4] = l5
+    _out_actuated[5] = l6
+    _out_passive = casadi.SX.zeros(7)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = z
+    _out_passive[3] = q0
+    _out_passive[4] = q1
+    _out_passive[5] = q2
+    _out_passive[6] = q3
+    _out_validity = casadi.SX.zeros(6)
+    _out_validity[0] = l1
+    _out_validity[1] = l2
+    _out_validity[2] = l3
+    _out_validity[3] = l4
+    _out_validity[4] = l5
+    _out_validity[5] = l6
     return casadi.Function(
         "stewart_inverse_pose",
         [
-            pose,
-            branch,
-            params,
+            _in_pose,
+            _in_branch,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -2056,56 +2064,56 @@ def inverse_pose_patterns() -> casadi.Function:
 
     Operations: 485.
     """
-    pose = casadi.SX.sym("pose", 12)
-    params = casadi.SX.sym("params", 36)
-    r11 = pose[0]
-    r12 = pose[1]
-    r13 = pose[2]
-    r21 = pose[3]
-    r22 = pose[4]
-    r23 = pose[5]
-    r31 = pose[6]
-    r32 = pose[7]
-    r33 = pose[8]
-    px = pose[9]
-    py = pose[10]
-    pz = pose[11]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
+    _in_pose = casadi.SX.sym("pose", 12)
+    _in_params = casadi.SX.sym("params", 36)
+    r11 = _in_pose[0]
+    r12 = _in_pose[1]
+    r13 = _in_pose[2]
+    r21 = _in_pose[3]
+    r22 = _in_pose[4]
+    r23 = _in_pose[5]
+    r31 = _in_pose[6]
+    r32 = _in_pose[7]
+    r33 = _in_pose[8]
+    px = _in_pose[9]
+    py = _in_pose[10]
+    pz = _in_pose[11]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
     l1 = casadi.sqrt(
         (-base_x1 + platform_x1 * r11 + platform_y1 * r12 + platform_z1 * r13 + px) ** 2
         + (-base_y1 + platform_x1 * r21 + platform_y1 * r22 + platform_z1 * r23 + py) ** 2
@@ -2314,38 +2322,38 @@ def inverse_pose_patterns() -> casadi.Function:
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    actuated = casadi.SX.zeros(6)
-    actuated[0] = l1
-    actuated[1] = l2
-    actuated[2] = l3
-    actuated[3] = l4
-    actuated[4] = l5
-    actuated[5] = l6
-    passive = casadi.SX.zeros(7)
-    passive[0] = x
-    passive[1] = y
-    passive[2] = z
-    passive[3] = q0
-    passive[4] = q1
-    passive[5] = q2
-    passive[6] = q3
-    validity = casadi.SX.zeros(6)
-    validity[0] = l1
-    validity[1] = l2
-    validity[2] = l3
-    validity[3] = l4
-    validity[4] = l5
-    validity[5] = l6
+    _out_actuated = casadi.SX.zeros(6)
+    _out_actuated[0] = l1
+    _out_actuated[1] = l2
+    _out_actuated[2] = l3
+    _out_actuated[3] = l4
+    _out_actuated[4] = l5
+    _out_actuated[5] = l6
+    _out_passive = casadi.SX.zeros(7)
+    _out_passive[0] = x
+    _out_passive[1] = y
+    _out_passive[2] = z
+    _out_passive[3] = q0
+    _out_passive[4] = q1
+    _out_passive[5] = q2
+    _out_passive[6] = q3
+    _out_validity = casadi.SX.zeros(6)
+    _out_validity[0] = l1
+    _out_validity[1] = l2
+    _out_validity[2] = l3
+    _out_validity[3] = l4
+    _out_validity[4] = l5
+    _out_validity[5] = l6
     return casadi.Function(
         "stewart_inverse_pose_patterns",
         [
-            pose,
-            params,
+            _in_pose,
+            _in_params,
         ],
         [
-            actuated,
-            passive,
-            validity,
+            _out_actuated,
+            _out_passive,
+            _out_validity,
         ],
         [
             "pose",
@@ -2364,103 +2372,103 @@ def homotopy_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
-    free = casadi.SX.zeros(42)
-    free[0] = l1
-    free[1] = l2
-    free[2] = l3
-    free[3] = l4
-    free[4] = l5
-    free[5] = l6
-    free[6] = base_x1
-    free[7] = base_y1
-    free[8] = base_z1
-    free[9] = base_x2
-    free[10] = base_y2
-    free[11] = base_z2
-    free[12] = base_x3
-    free[13] = base_y3
-    free[14] = base_z3
-    free[15] = base_x4
-    free[16] = base_y4
-    free[17] = base_z4
-    free[18] = base_x5
-    free[19] = base_y5
-    free[20] = base_z5
-    free[21] = base_x6
-    free[22] = base_y6
-    free[23] = base_z6
-    free[24] = platform_x1
-    free[25] = platform_y1
-    free[26] = platform_z1
-    free[27] = platform_x2
-    free[28] = platform_y2
-    free[29] = platform_z2
-    free[30] = platform_x3
-    free[31] = platform_y3
-    free[32] = platform_z3
-    free[33] = platform_x4
-    free[34] = platform_y4
-    free[35] = platform_z4
-    free[36] = platform_x5
-    free[37] = platform_y5
-    free[38] = platform_z5
-    free[39] = platform_x6
-    free[40] = platform_y6
-    free[41] = platform_z6
-    angles = casadi.SX.zeros(1)
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
+    _out_free = casadi.SX.zeros(42)
+    _out_free[0] = l1
+    _out_free[1] = l2
+    _out_free[2] = l3
+    _out_free[3] = l4
+    _out_free[4] = l5
+    _out_free[5] = l6
+    _out_free[6] = base_x1
+    _out_free[7] = base_y1
+    _out_free[8] = base_z1
+    _out_free[9] = base_x2
+    _out_free[10] = base_y2
+    _out_free[11] = base_z2
+    _out_free[12] = base_x3
+    _out_free[13] = base_y3
+    _out_free[14] = base_z3
+    _out_free[15] = base_x4
+    _out_free[16] = base_y4
+    _out_free[17] = base_z4
+    _out_free[18] = base_x5
+    _out_free[19] = base_y5
+    _out_free[20] = base_z5
+    _out_free[21] = base_x6
+    _out_free[22] = base_y6
+    _out_free[23] = base_z6
+    _out_free[24] = platform_x1
+    _out_free[25] = platform_y1
+    _out_free[26] = platform_z1
+    _out_free[27] = platform_x2
+    _out_free[28] = platform_y2
+    _out_free[29] = platform_z2
+    _out_free[30] = platform_x3
+    _out_free[31] = platform_y3
+    _out_free[32] = platform_z3
+    _out_free[33] = platform_x4
+    _out_free[34] = platform_y4
+    _out_free[35] = platform_z4
+    _out_free[36] = platform_x5
+    _out_free[37] = platform_y5
+    _out_free[38] = platform_z5
+    _out_free[39] = platform_x6
+    _out_free[40] = platform_y6
+    _out_free[41] = platform_z6
+    _out_angles = casadi.SX.zeros(1)
     return casadi.Function(
         "stewart_homotopy_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -2478,92 +2486,92 @@ def homotopy_monomials() -> casadi.Function:
 
     Operations: 1423.
     """
-    family_re = casadi.SX.sym("family_re", 42)
-    family_im = casadi.SX.sym("family_im", 42)
-    l1_re = family_re[0]
-    l2_re = family_re[1]
-    l3_re = family_re[2]
-    l4_re = family_re[3]
-    l5_re = family_re[4]
-    l6_re = family_re[5]
-    base_x1_re = family_re[6]
-    base_y1_re = family_re[7]
-    base_z1_re = family_re[8]
-    base_x2_re = family_re[9]
-    base_y2_re = family_re[10]
-    base_z2_re = family_re[11]
-    base_x3_re = family_re[12]
-    base_y3_re = family_re[13]
-    base_z3_re = family_re[14]
-    base_x4_re = family_re[15]
-    base_y4_re = family_re[16]
-    base_z4_re = family_re[17]
-    base_x5_re = family_re[18]
-    base_y5_re = family_re[19]
-    base_z5_re = family_re[20]
-    base_x6_re = family_re[21]
-    base_y6_re = family_re[22]
-    base_z6_re = family_re[23]
-    platform_x1_re = family_re[24]
-    platform_y1_re = family_re[25]
-    platform_z1_re = family_re[26]
-    platform_x2_re = family_re[27]
-    platform_y2_re = family_re[28]
-    platform_z2_re = family_re[29]
-    platform_x3_re = family_re[30]
-    platform_y3_re = family_re[31]
-    platform_z3_re = family_re[32]
-    platform_x4_re = family_re[33]
-    platform_y4_re = family_re[34]
-    platform_z4_re = family_re[35]
-    platform_x5_re = family_re[36]
-    platform_y5_re = family_re[37]
-    platform_z5_re = family_re[38]
-    platform_x6_re = family_re[39]
-    platform_y6_re = family_re[40]
-    platform_z6_re = family_re[41]
-    l1_im = family_im[0]
-    l2_im = family_im[1]
-    l3_im = family_im[2]
-    l4_im = family_im[3]
-    l5_im = family_im[4]
-    l6_im = family_im[5]
-    base_x1_im = family_im[6]
-    base_y1_im = family_im[7]
-    base_z1_im = family_im[8]
-    base_x2_im = family_im[9]
-    base_y2_im = family_im[10]
-    base_z2_im = family_im[11]
-    base_x3_im = family_im[12]
-    base_y3_im = family_im[13]
-    base_z3_im = family_im[14]
-    base_x4_im = family_im[15]
-    base_y4_im = family_im[16]
-    base_z4_im = family_im[17]
-    base_x5_im = family_im[18]
-    base_y5_im = family_im[19]
-    base_z5_im = family_im[20]
-    base_x6_im = family_im[21]
-    base_y6_im = family_im[22]
-    base_z6_im = family_im[23]
-    platform_x1_im = family_im[24]
-    platform_y1_im = family_im[25]
-    platform_z1_im = family_im[26]
-    platform_x2_im = family_im[27]
-    platform_y2_im = family_im[28]
-    platform_z2_im = family_im[29]
-    platform_x3_im = family_im[30]
-    platform_y3_im = family_im[31]
-    platform_z3_im = family_im[32]
-    platform_x4_im = family_im[33]
-    platform_y4_im = family_im[34]
-    platform_z4_im = family_im[35]
-    platform_x5_im = family_im[36]
-    platform_y5_im = family_im[37]
-    platform_z5_im = family_im[38]
-    platform_x6_im = family_im[39]
-    platform_y6_im = family_im[40]
-    platform_z6_im = family_im[41]
+    _in_family_re = casadi.SX.sym("family_re", 42)
+    _in_family_im = casadi.SX.sym("family_im", 42)
+    l1_re = _in_family_re[0]
+    l2_re = _in_family_re[1]
+    l3_re = _in_family_re[2]
+    l4_re = _in_family_re[3]
+    l5_re = _in_family_re[4]
+    l6_re = _in_family_re[5]
+    base_x1_re = _in_family_re[6]
+    base_y1_re = _in_family_re[7]
+    base_z1_re = _in_family_re[8]
+    base_x2_re = _in_family_re[9]
+    base_y2_re = _in_family_re[10]
+    base_z2_re = _in_family_re[11]
+    base_x3_re = _in_family_re[12]
+    base_y3_re = _in_family_re[13]
+    base_z3_re = _in_family_re[14]
+    base_x4_re = _in_family_re[15]
+    base_y4_re = _in_family_re[16]
+    base_z4_re = _in_family_re[17]
+    base_x5_re = _in_family_re[18]
+    base_y5_re = _in_family_re[19]
+    base_z5_re = _in_family_re[20]
+    base_x6_re = _in_family_re[21]
+    base_y6_re = _in_family_re[22]
+    base_z6_re = _in_family_re[23]
+    platform_x1_re = _in_family_re[24]
+    platform_y1_re = _in_family_re[25]
+    platform_z1_re = _in_family_re[26]
+    platform_x2_re = _in_family_re[27]
+    platform_y2_re = _in_family_re[28]
+    platform_z2_re = _in_family_re[29]
+    platform_x3_re = _in_family_re[30]
+    platform_y3_re = _in_family_re[31]
+    platform_z3_re = _in_family_re[32]
+    platform_x4_re = _in_family_re[33]
+    platform_y4_re = _in_family_re[34]
+    platform_z4_re = _in_family_re[35]
+    platform_x5_re = _in_family_re[36]
+    platform_y5_re = _in_family_re[37]
+    platform_z5_re = _in_family_re[38]
+    platform_x6_re = _in_family_re[39]
+    platform_y6_re = _in_family_re[40]
+    platform_z6_re = _in_family_re[41]
+    l1_im = _in_family_im[0]
+    l2_im = _in_family_im[1]
+    l3_im = _in_family_im[2]
+    l4_im = _in_family_im[3]
+    l5_im = _in_family_im[4]
+    l6_im = _in_family_im[5]
+    base_x1_im = _in_family_im[6]
+    base_y1_im = _in_family_im[7]
+    base_z1_im = _in_family_im[8]
+    base_x2_im = _in_family_im[9]
+    base_y2_im = _in_family_im[10]
+    base_z2_im = _in_family_im[11]
+    base_x3_im = _in_family_im[12]
+    base_y3_im = _in_family_im[13]
+    base_z3_im = _in_family_im[14]
+    base_x4_im = _in_family_im[15]
+    base_y4_im = _in_family_im[16]
+    base_z4_im = _in_family_im[17]
+    base_x5_im = _in_family_im[18]
+    base_y5_im = _in_family_im[19]
+    base_z5_im = _in_family_im[20]
+    base_x6_im = _in_family_im[21]
+    base_y6_im = _in_family_im[22]
+    base_z6_im = _in_family_im[23]
+    platform_x1_im = _in_family_im[24]
+    platform_y1_im = _in_family_im[25]
+    platform_z1_im = _in_family_im[26]
+    platform_x2_im = _in_family_im[27]
+    platform_y2_im = _in_family_im[28]
+    platform_z2_im = _in_family_im[29]
+    platform_x3_im = _in_family_im[30]
+    platform_y3_im = _in_family_im[31]
+    platform_z3_im = _in_family_im[32]
+    platform_x4_im = _in_family_im[33]
+    platform_y4_im = _in_family_im[34]
+    platform_z4_im = _in_family_im[35]
+    platform_x5_im = _in_family_im[36]
+    platform_y5_im = _in_family_im[37]
+    platform_z5_im = _in_family_im[38]
+    platform_x6_im = _in_family_im[39]
+    platform_y6_im = _in_family_im[40]
+    platform_z6_im = _in_family_im[41]
     _t0 = base_x1_im**2
     _t1 = base_y1_im**2
     _t2 = base_z1_im**2
@@ -3314,174 +3322,174 @@ def homotopy_monomials() -> casadi.Function:
     _t495 = _t307 + _t328
     _t496 = _t478 + _t493
     _t497 = _t309 + _t314
-    re = casadi.SX.zeros(165)
-    re[0] = 1
-    re[1] = 1
-    re[2] = 1
-    re[3] = 1
-    re[4] = -_t18 - _t23 - _t28
-    re[5] = -_t30 - _t33 + 4 * base_z1_im * platform_y1_im
-    re[6] = -_t35 + _t37 + _t40
-    re[7] = -_t41 - _t42 + 4 * base_y1_im * platform_x1_im
-    re[8] = -_t43
-    re[9] = -_t44
-    re[10] = -_t47
-    re[11] = -_t18 - _t48 - _t49
-    re[12] = _t34 * base_y1_im - _t41 + _t42
-    re[13] = _t35 - _t37 + _t40
-    re[14] = _t43
-    re[15] = -_t50
-    re[16] = _t51
-    re[17] = -_t23 - _t48 - _t52
-    re[18] = -_t30 + _t33 + _t53 * base_z1_im
-    re[19] = _t44
-    re[20] = _t50
-    re[21] = -_t54
-    re[22] = -_t28 - _t49 - _t52
-    re[23] = _t47
-    re[24] = -_t51
-    re[25] = _t54
-    re[26] = 4
-    re[27] = 4
-    re[28] = 4
-    re[29] = 4
-    re[30] = -_t73 - _t78 - _t83
-    re[31] = -_t85 - _t88 + 4 * base_z2_im * platform_y2_im
-    re[32] = -_t90 + _t92 + _t95
-    re[33] = -_t96 - _t97 + 4 * base_y2_im * platform_x2_im
-    re[34] = -_t98
-    re[35] = -_t99
-    re[36] = -_t102
-    re[37] = -_t103 - _t104 - _t73
-    re[38] = _t89 * base_y2_im - _t96 + _t97
-    re[39] = _t90 - _t92 + _t95
-    re[40] = _t98
-    re[41] = -_t105
-    re[42] = _t106
-    re[43] = -_t103 - _t107 - _t78
-    re[44] = _t108 * base_z2_im - _t85 + _t88
-    re[45] = _t99
-    re[46] = _t105
-    re[47] = -_t109
-    re[48] = -_t104 - _t107 - _t83
-    re[49] = _t102
-    re[50] = -_t106
-    re[51] = _t109
-    re[52] = 4
-    re[53] = 4
-    re[54] = 4
-    re[55] = 4
-    re[56] = -_t128 - _t133 - _t138
-    re[57] = -_t140 - _t143 + 4 * base_z3_im * platform_y3_im
-    re[58] = -_t145 + _t147 + _t150
-    re[59] = -_t151 - _t152 + 4 * base_y3_im * platform_x3_im
-    re[60] = -_t153
-    re[61] = -_t154
-    re[62] = -_t157
-    re[63] = -_t128 - _t158 - _t159
-    re[64] = _t144 * base_y3_im - _t151 + _t152
-    re[65] = _t145 - _t147 + _t150
-    re[66] = _t153
-    re[67] = -_t160
-    re[68] = _t161
-    re[69] = -_t133 - _t158 - _t162
-    re[70] = -_t140 + _t143 + _t163 * base_z3_im
-    re[71] = _t154
-    re[72] = _t160
-    re[73] = -_t164
-    re[74] = -_t138 - _t159 - _t162
-    re[75] = _t157
-    re[76] = -_t161
-    re[77] = _t164
-    re[78] = 4
-    re[79] = 4
-    re[80] = 4
-    re[81] = 4
-    re[82] = -_t183 - _t188 - _t193
-    re[83] = -_t195 - _t198 + 4 * base_z4_im * platform_y4_im
-    re[84] = -_t200 + _t202 + _t205
-    re[85] = -_t206 - _t207 + 4 * base_y4_im * platform_x4_im
-    re[86] = -_t208
-    re[87] = -_t209
-    re[88] = -_t212
-    re[89] = -_t183 - _t213 - _t214
-    re[90] = _t199 * base_y4_im - _t206 + _t207
-    re[91] = _t200 - _t202 + _t205
-    re[92] = _t208
-    re[93] = -_t215
-    re[94] = _t216
-    re[95] = -_t188 - _t213 - _t217
-    re[96] = -_t195 + _t198 + _t218 * base_z4_im
-    re[97] = _t209
-    re[98] = _t215
-    re[99] = -_t219
-    re[100] = -_t193 - _t214 - _t217
-    re[101] = _t212
-    re[102] = -_t216
-    re[103] = _t219
-    re[104] = 4
-    re[105] = 4
-    re[106] = 4
-    re[107] = 4
-    re[108] = -_t238 - _t243 - _t248
-    re[109] = -_t250 - _t253 + 4 * base_z5_im * platform_y5_im
-    re[110] = -_t255 + _t257 + _t260
-    re[111] = -_t261 - _t262 + 4 * base_y5_im * platform_x5_im
-    re[112] = -_t263
-    re[113] = -_t264
-    re[114] = -_t267
-    re[115] = -_t238 - _t268 - _t269
-    re[116] = _t254 * base_y5_im - _t261 + _t262
-    re[117] = _t255 - _t257 + _t260
-    re[118] = _t263
-    re[119] = -_t270
-    re[120] = _t271
-    re[121] = -_t243 - _t268 - _t272
-    re[122] = -_t250 + _t253 + _t273 * base_z5_im
-    re[123] = _t264
-    re[124] = _t270
-    re[125] = -_t274
-    re[126] = -_t248 - _t269 - _t272
-    re[127] = _t267
-    re[128] = -_t271
-    re[129] = _t274
-    re[130] = 4
-    re[131] = 4
-    re[132] = 4
-    re[133] = 4
-    re[134] = -_t293 - _t298 - _t303
-    re[135] = -_t305 - _t308 + 4 * base_z6_im * platform_y6_im
-    re[136] = -_t310 + _t312 + _t315
-    re[137] = -_t316 - _t317 + 4 * base_y6_im * platform_x6_im
-    re[138] = -_t318
-    re[139] = -_t319
-    re[140] = -_t322
-    re[141] = -_t293 - _t323 - _t324
-    re[142] = _t309 * base_y6_im - _t316 + _t317
-    re[143] = _t310 - _t312 + _t315
-    re[144] = _t318
-    re[145] = -_t325
-    re[146] = _t326
-    re[147] = -_t298 - _t323 - _t327
-    re[148] = -_t305 + _t308 + _t328 * base_z6_im
-    re[149] = _t319
-    re[150] = _t325
-    re[151] = -_t329
-    re[152] = -_t303 - _t324 - _t327
-    re[153] = _t322
-    re[154] = -_t326
-    re[155] = _t329
-    re[156] = 4
-    re[157] = 4
-    re[158] = 4
-    re[159] = 4
-    re[160] = -793 / 1000
-    re[161] = -237 / 125
-    re[162] = 319 / 500
-    re[163] = -39 / 125
-    re[164] = -1
-    im = casadi.SX.zeros(165)
-    im[4] = (
+    _out_re = casadi.SX.zeros(165)
+    _out_re[0] = 1
+    _out_re[1] = 1
+    _out_re[2] = 1
+    _out_re[3] = 1
+    _out_re[4] = -_t18 - _t23 - _t28
+    _out_re[5] = -_t30 - _t33 + 4 * base_z1_im * platform_y1_im
+    _out_re[6] = -_t35 + _t37 + _t40
+    _out_re[7] = -_t41 - _t42 + 4 * base_y1_im * platform_x1_im
+    _out_re[8] = -_t43
+    _out_re[9] = -_t44
+    _out_re[10] = -_t47
+    _out_re[11] = -_t18 - _t48 - _t49
+    _out_re[12] = _t34 * base_y1_im - _t41 + _t42
+    _out_re[13] = _t35 - _t37 + _t40
+    _out_re[14] = _t43
+    _out_re[15] = -_t50
+    _out_re[16] = _t51
+    _out_re[17] = -_t23 - _t48 - _t52
+    _out_re[18] = -_t30 + _t33 + _t53 * base_z1_im
+    _out_re[19] = _t44
+    _out_re[20] = _t50
+    _out_re[21] = -_t54
+    _out_re[22] = -_t28 - _t49 - _t52
+    _out_re[23] = _t47
+    _out_re[24] = -_t51
+    _out_re[25] = _t54
+    _out_re[26] = 4
+    _out_re[27] = 4
+    _out_re[28] = 4
+    _out_re[29] = 4
+    _out_re[30] = -_t73 - _t78 - _t83
+    _out_re[31] = -_t85 - _t88 + 4 * base_z2_im * platform_y2_im
+    _out_re[32] = -_t90 + _t92 + _t95
+    _out_re[33] = -_t96 - _t97 + 4 * base_y2_im * platform_x2_im
+    _out_re[34] = -_t98
+    _out_re[35] = -_t99
+    _out_re[36] = -_t102
+    _out_re[37] = -_t103 - _t104 - _t73
+    _out_re[38] = _t89 * base_y2_im - _t96 + _t97
+    _out_re[39] = _t90 - _t92 + _t95
+    _out_re[40] = _t98
+    _out_re[41] = -_t105
+    _out_re[42] = _t106
+    _out_re[43] = -_t103 - _t107 - _t78
+    _out_re[44] = _t108 * base_z2_im - _t85 + _t88
+    _out_re[45] = _t99
+    _out_re[46] = _t105
+    _out_re[47] = -_t109
+    _out_re[48] = -_t104 - _t107 - _t83
+    _out_re[49] = _t102
+    _out_re[50] = -_t106
+    _out_re[51] = _t109
+    _out_re[52] = 4
+    _out_re[53] = 4
+    _out_re[54] = 4
+    _out_re[55] = 4
+    _out_re[56] = -_t128 - _t133 - _t138
+    _out_re[57] = -_t140 - _t143 + 4 * base_z3_im * platform_y3_im
+    _out_re[58] = -_t145 + _t147 + _t150
+    _out_re[59] = -_t151 - _t152 + 4 * base_y3_im * platform_x3_im
+    _out_re[60] = -_t153
+    _out_re[61] = -_t154
+    _out_re[62] = -_t157
+    _out_re[63] = -_t128 - _t158 - _t159
+    _out_re[64] = _t144 * base_y3_im - _t151 + _t152
+    _out_re[65] = _t145 - _t147 + _t150
+    _out_re[66] = _t153
+    _out_re[67] = -_t160
+    _out_re[68] = _t161
+    _out_re[69] = -_t133 - _t158 - _t162
+    _out_re[70] = -_t140 + _t143 + _t163 * base_z3_im
+    _out_re[71] = _t154
+    _out_re[72] = _t160
+    _out_re[73] = -_t164
+    _out_re[74] = -_t138 - _t159 - _t162
+    _out_re[75] = _t157
+    _out_re[76] = -_t161
+    _out_re[77] = _t164
+    _out_re[78] = 4
+    _out_re[79] = 4
+    _out_re[80] = 4
+    _out_re[81] = 4
+    _out_re[82] = -_t183 - _t188 - _t193
+    _out_re[83] = -_t195 - _t198 + 4 * base_z4_im * platform_y4_im
+    _out_re[84] = -_t200 + _t202 + _t205
+    _out_re[85] = -_t206 - _t207 + 4 * base_y4_im * platform_x4_im
+    _out_re[86] = -_t208
+    _out_re[87] = -_t209
+    _out_re[88] = -_t212
+    _out_re[89] = -_t183 - _t213 - _t214
+    _out_re[90] = _t199 * base_y4_im - _t206 + _t207
+    _out_re[91] = _t200 - _t202 + _t205
+    _out_re[92] = _t208
+    _out_re[93] = -_t215
+    _out_re[94] = _t216
+    _out_re[95] = -_t188 - _t213 - _t217
+    _out_re[96] = -_t195 + _t198 + _t218 * base_z4_im
+    _out_re[97] = _t209
+    _out_re[98] = _t215
+    _out_re[99] = -_t219
+    _out_re[100] = -_t193 - _t214 - _t217
+    _out_re[101] = _t212
+    _out_re[102] = -_t216
+    _out_re[103] = _t219
+    _out_re[104] = 4
+    _out_re[105] = 4
+    _out_re[106] = 4
+    _out_re[107] = 4
+    _out_re[108] = -_t238 - _t243 - _t248
+    _out_re[109] = -_t250 - _t253 + 4 * base_z5_im * platform_y5_im
+    _out_re[110] = -_t255 + _t257 + _t260
+    _out_re[111] = -_t261 - _t262 + 4 * base_y5_im * platform_x5_im
+    _out_re[112] = -_t263
+    _out_re[113] = -_t264
+    _out_re[114] = -_t267
+    _out_re[115] = -_t238 - _t268 - _t269
+    _out_re[116] = _t254 * base_y5_im - _t261 + _t262
+    _out_re[117] = _t255 - _t257 + _t260
+    _out_re[118] = _t263
+    _out_re[119] = -_t270
+    _out_re[120] = _t271
+    _out_re[121] = -_t243 - _t268 - _t272
+    _out_re[122] = -_t250 + _t253 + _t273 * base_z5_im
+    _out_re[123] = _t264
+    _out_re[124] = _t270
+    _out_re[125] = -_t274
+    _out_re[126] = -_t248 - _t269 - _t272
+    _out_re[127] = _t267
+    _out_re[128] = -_t271
+    _out_re[129] = _t274
+    _out_re[130] = 4
+    _out_re[131] = 4
+    _out_re[132] = 4
+    _out_re[133] = 4
+    _out_re[134] = -_t293 - _t298 - _t303
+    _out_re[135] = -_t305 - _t308 + 4 * base_z6_im * platform_y6_im
+    _out_re[136] = -_t310 + _t312 + _t315
+    _out_re[137] = -_t316 - _t317 + 4 * base_y6_im * platform_x6_im
+    _out_re[138] = -_t318
+    _out_re[139] = -_t319
+    _out_re[140] = -_t322
+    _out_re[141] = -_t293 - _t323 - _t324
+    _out_re[142] = _t309 * base_y6_im - _t316 + _t317
+    _out_re[143] = _t310 - _t312 + _t315
+    _out_re[144] = _t318
+    _out_re[145] = -_t325
+    _out_re[146] = _t326
+    _out_re[147] = -_t298 - _t323 - _t327
+    _out_re[148] = -_t305 + _t308 + _t328 * base_z6_im
+    _out_re[149] = _t319
+    _out_re[150] = _t325
+    _out_re[151] = -_t329
+    _out_re[152] = -_t303 - _t324 - _t327
+    _out_re[153] = _t322
+    _out_re[154] = -_t326
+    _out_re[155] = _t329
+    _out_re[156] = 4
+    _out_re[157] = 4
+    _out_re[158] = 4
+    _out_re[159] = 4
+    _out_re[160] = -793 / 1000
+    _out_re[161] = -237 / 125
+    _out_re[162] = 319 / 500
+    _out_re[163] = -39 / 125
+    _out_re[164] = -1
+    _out_im = casadi.SX.zeros(165)
+    _out_im[4] = (
         -_t330
         - _t335
         - _t338
@@ -3492,28 +3500,28 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y1_im * platform_y1_re
         + 2 * platform_z1_im * platform_z1_re
     )
-    im[5] = -_t339 - _t340 + _t341
-    im[6] = _t342 + _t343 - _t344
-    im[7] = -_t345 - _t346 + _t347
-    im[8] = -_t348
-    im[9] = -_t349
-    im[10] = -_t352
-    im[11] = _t335 - _t336 - _t337 + _t353
-    im[12] = -_t345 - _t346 - _t347
-    im[13] = -_t342 - _t343 - _t344
-    im[14] = _t348
-    im[15] = -_t354
-    im[16] = _t355
-    im[17] = -_t331 - _t332 + _t333 + _t334 + _t356
-    im[18] = -_t339 - _t340 - _t341
-    im[19] = _t349
-    im[20] = _t354
-    im[21] = -_t357
-    im[22] = _t331 + _t332 - _t333 - _t334 + _t356
-    im[23] = _t352
-    im[24] = -_t355
-    im[25] = _t357
-    im[30] = (
+    _out_im[5] = -_t339 - _t340 + _t341
+    _out_im[6] = _t342 + _t343 - _t344
+    _out_im[7] = -_t345 - _t346 + _t347
+    _out_im[8] = -_t348
+    _out_im[9] = -_t349
+    _out_im[10] = -_t352
+    _out_im[11] = _t335 - _t336 - _t337 + _t353
+    _out_im[12] = -_t345 - _t346 - _t347
+    _out_im[13] = -_t342 - _t343 - _t344
+    _out_im[14] = _t348
+    _out_im[15] = -_t354
+    _out_im[16] = _t355
+    _out_im[17] = -_t331 - _t332 + _t333 + _t334 + _t356
+    _out_im[18] = -_t339 - _t340 - _t341
+    _out_im[19] = _t349
+    _out_im[20] = _t354
+    _out_im[21] = -_t357
+    _out_im[22] = _t331 + _t332 - _t333 - _t334 + _t356
+    _out_im[23] = _t352
+    _out_im[24] = -_t355
+    _out_im[25] = _t357
+    _out_im[30] = (
         -_t358
         - _t363
         - _t366
@@ -3524,28 +3532,28 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y2_im * platform_y2_re
         + 2 * platform_z2_im * platform_z2_re
     )
-    im[31] = -_t367 - _t368 + _t369
-    im[32] = _t370 + _t371 - _t372
-    im[33] = -_t373 - _t374 + _t375
-    im[34] = -_t376
-    im[35] = -_t377
-    im[36] = -_t380
-    im[37] = _t363 - _t364 - _t365 + _t381
-    im[38] = -_t373 - _t374 - _t375
-    im[39] = -_t370 - _t371 - _t372
-    im[40] = _t376
-    im[41] = -_t382
-    im[42] = _t383
-    im[43] = -_t359 - _t360 + _t361 + _t362 + _t384
-    im[44] = -_t367 - _t368 - _t369
-    im[45] = _t377
-    im[46] = _t382
-    im[47] = -_t385
-    im[48] = _t359 + _t360 - _t361 - _t362 + _t384
-    im[49] = _t380
-    im[50] = -_t383
-    im[51] = _t385
-    im[56] = (
+    _out_im[31] = -_t367 - _t368 + _t369
+    _out_im[32] = _t370 + _t371 - _t372
+    _out_im[33] = -_t373 - _t374 + _t375
+    _out_im[34] = -_t376
+    _out_im[35] = -_t377
+    _out_im[36] = -_t380
+    _out_im[37] = _t363 - _t364 - _t365 + _t381
+    _out_im[38] = -_t373 - _t374 - _t375
+    _out_im[39] = -_t370 - _t371 - _t372
+    _out_im[40] = _t376
+    _out_im[41] = -_t382
+    _out_im[42] = _t383
+    _out_im[43] = -_t359 - _t360 + _t361 + _t362 + _t384
+    _out_im[44] = -_t367 - _t368 - _t369
+    _out_im[45] = _t377
+    _out_im[46] = _t382
+    _out_im[47] = -_t385
+    _out_im[48] = _t359 + _t360 - _t361 - _t362 + _t384
+    _out_im[49] = _t380
+    _out_im[50] = -_t383
+    _out_im[51] = _t385
+    _out_im[56] = (
         -_t386
         - _t391
         - _t394
@@ -3556,28 +3564,28 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y3_im * platform_y3_re
         + 2 * platform_z3_im * platform_z3_re
     )
-    im[57] = -_t395 - _t396 + _t397
-    im[58] = _t398 + _t399 - _t400
-    im[59] = -_t401 - _t402 + _t403
-    im[60] = -_t404
-    im[61] = -_t405
-    im[62] = -_t408
-    im[63] = _t391 - _t392 - _t393 + _t409
-    im[64] = -_t401 - _t402 - _t403
-    im[65] = -_t398 - _t399 - _t400
-    im[66] = _t404
-    im[67] = -_t410
-    im[68] = _t411
-    im[69] = -_t387 - _t388 + _t389 + _t390 + _t412
-    im[70] = -_t395 - _t396 - _t397
-    im[71] = _t405
-    im[72] = _t410
-    im[73] = -_t413
-    im[74] = _t387 + _t388 - _t389 - _t390 + _t412
-    im[75] = _t408
-    im[76] = -_t411
-    im[77] = _t413
-    im[82] = (
+    _out_im[57] = -_t395 - _t396 + _t397
+    _out_im[58] = _t398 + _t399 - _t400
+    _out_im[59] = -_t401 - _t402 + _t403
+    _out_im[60] = -_t404
+    _out_im[61] = -_t405
+    _out_im[62] = -_t408
+    _out_im[63] = _t391 - _t392 - _t393 + _t409
+    _out_im[64] = -_t401 - _t402 - _t403
+    _out_im[65] = -_t398 - _t399 - _t400
+    _out_im[66] = _t404
+    _out_im[67] = -_t410
+    _out_im[68] = _t411
+    _out_im[69] = -_t387 - _t388 + _t389 + _t390 + _t412
+    _out_im[70] = -_t395 - _t396 - _t397
+    _out_im[71] = _t405
+    _out_im[72] = _t410
+    _out_im[73] = -_t413
+    _out_im[74] = _t387 + _t388 - _t389 - _t390 + _t412
+    _out_im[75] = _t408
+    _out_im[76] = -_t411
+    _out_im[77] = _t413
+    _out_im[82] = (
         -_t414
         - _t419
         - _t422
@@ -3588,28 +3596,28 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y4_im * platform_y4_re
         + 2 * platform_z4_im * platform_z4_re
     )
-    im[83] = -_t423 - _t424 + _t425
-    im[84] = _t426 + _t427 - _t428
-    im[85] = -_t429 - _t430 + _t431
-    im[86] = -_t432
-    im[87] = -_t433
-    im[88] = -_t436
-    im[89] = _t419 - _t420 - _t421 + _t437
-    im[90] = -_t429 - _t430 - _t431
-    im[91] = -_t426 - _t427 - _t428
-    im[92] = _t432
-    im[93] = -_t438
-    im[94] = _t439
-    im[95] = -_t415 - _t416 + _t417 + _t418 + _t440
-    im[96] = -_t423 - _t424 - _t425
-    im[97] = _t433
-    im[98] = _t438
-    im[99] = -_t441
-    im[100] = _t415 + _t416 - _t417 - _t418 + _t440
-    im[101] = _t436
-    im[102] = -_t439
-    im[103] = _t441
-    im[108] = (
+    _out_im[83] = -_t423 - _t424 + _t425
+    _out_im[84] = _t426 + _t427 - _t428
+    _out_im[85] = -_t429 - _t430 + _t431
+    _out_im[86] = -_t432
+    _out_im[87] = -_t433
+    _out_im[88] = -_t436
+    _out_im[89] = _t419 - _t420 - _t421 + _t437
+    _out_im[90] = -_t429 - _t430 - _t431
+    _out_im[91] = -_t426 - _t427 - _t428
+    _out_im[92] = _t432
+    _out_im[93] = -_t438
+    _out_im[94] = _t439
+    _out_im[95] = -_t415 - _t416 + _t417 + _t418 + _t440
+    _out_im[96] = -_t423 - _t424 - _t425
+    _out_im[97] = _t433
+    _out_im[98] = _t438
+    _out_im[99] = -_t441
+    _out_im[100] = _t415 + _t416 - _t417 - _t418 + _t440
+    _out_im[101] = _t436
+    _out_im[102] = -_t439
+    _out_im[103] = _t441
+    _out_im[108] = (
         -_t442
         - _t447
         - _t450
@@ -3620,28 +3628,28 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y5_im * platform_y5_re
         + 2 * platform_z5_im * platform_z5_re
     )
-    im[109] = -_t451 - _t452 + _t453
-    im[110] = _t454 + _t455 - _t456
-    im[111] = -_t457 - _t458 + _t459
-    im[112] = -_t460
-    im[113] = -_t461
-    im[114] = -_t464
-    im[115] = _t447 - _t448 - _t449 + _t465
-    im[116] = -_t457 - _t458 - _t459
-    im[117] = -_t454 - _t455 - _t456
-    im[118] = _t460
-    im[119] = -_t466
-    im[120] = _t467
-    im[121] = -_t443 - _t444 + _t445 + _t446 + _t468
-    im[122] = -_t451 - _t452 - _t453
-    im[123] = _t461
-    im[124] = _t466
-    im[125] = -_t469
-    im[126] = _t443 + _t444 - _t445 - _t446 + _t468
-    im[127] = _t464
-    im[128] = -_t467
-    im[129] = _t469
-    im[134] = (
+    _out_im[109] = -_t451 - _t452 + _t453
+    _out_im[110] = _t454 + _t455 - _t456
+    _out_im[111] = -_t457 - _t458 + _t459
+    _out_im[112] = -_t460
+    _out_im[113] = -_t461
+    _out_im[114] = -_t464
+    _out_im[115] = _t447 - _t448 - _t449 + _t465
+    _out_im[116] = -_t457 - _t458 - _t459
+    _out_im[117] = -_t454 - _t455 - _t456
+    _out_im[118] = _t460
+    _out_im[119] = -_t466
+    _out_im[120] = _t467
+    _out_im[121] = -_t443 - _t444 + _t445 + _t446 + _t468
+    _out_im[122] = -_t451 - _t452 - _t453
+    _out_im[123] = _t461
+    _out_im[124] = _t466
+    _out_im[125] = -_t469
+    _out_im[126] = _t443 + _t444 - _t445 - _t446 + _t468
+    _out_im[127] = _t464
+    _out_im[128] = -_t467
+    _out_im[129] = _t469
+    _out_im[134] = (
         -_t470
         - _t475
         - _t478
@@ -3652,40 +3660,40 @@ def homotopy_monomials() -> casadi.Function:
         + 2 * platform_y6_im * platform_y6_re
         + 2 * platform_z6_im * platform_z6_re
     )
-    im[135] = -_t479 - _t480 + _t481
-    im[136] = _t482 + _t483 - _t484
-    im[137] = -_t485 - _t486 + _t487
-    im[138] = -_t488
-    im[139] = -_t489
-    im[140] = -_t492
-    im[141] = _t475 - _t476 - _t477 + _t493
-    im[142] = -_t485 - _t486 - _t487
-    im[143] = -_t482 - _t483 - _t484
-    im[144] = _t488
-    im[145] = -_t494
-    im[146] = _t495
-    im[147] = -_t471 - _t472 + _t473 + _t474 + _t496
-    im[148] = -_t479 - _t480 - _t481
-    im[149] = _t489
-    im[150] = _t494
-    im[151] = -_t497
-    im[152] = _t471 + _t472 - _t473 - _t474 + _t496
-    im[153] = _t492
-    im[154] = -_t495
-    im[155] = _t497
-    im[160] = 241 / 1000
-    im[161] = 349 / 250
-    im[162] = -73 / 250
-    im[163] = 38 / 125
+    _out_im[135] = -_t479 - _t480 + _t481
+    _out_im[136] = _t482 + _t483 - _t484
+    _out_im[137] = -_t485 - _t486 + _t487
+    _out_im[138] = -_t488
+    _out_im[139] = -_t489
+    _out_im[140] = -_t492
+    _out_im[141] = _t475 - _t476 - _t477 + _t493
+    _out_im[142] = -_t485 - _t486 - _t487
+    _out_im[143] = -_t482 - _t483 - _t484
+    _out_im[144] = _t488
+    _out_im[145] = -_t494
+    _out_im[146] = _t495
+    _out_im[147] = -_t471 - _t472 + _t473 + _t474 + _t496
+    _out_im[148] = -_t479 - _t480 - _t481
+    _out_im[149] = _t489
+    _out_im[150] = _t494
+    _out_im[151] = -_t497
+    _out_im[152] = _t471 + _t472 - _t473 - _t474 + _t496
+    _out_im[153] = _t492
+    _out_im[154] = -_t495
+    _out_im[155] = _t497
+    _out_im[160] = 241 / 1000
+    _out_im[161] = 349 / 250
+    _out_im[162] = -73 / 250
+    _out_im[163] = 38 / 125
     return casadi.Function(
         "stewart_homotopy_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -3703,16 +3711,16 @@ def homotopy_passive() -> casadi.Function:
 
     Operations: 45.
     """
-    z = casadi.SX.sym("z", 8)
-    params = casadi.SX.sym("params", 36)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    z4 = z[4]
-    z5 = z[5]
-    z6 = z[6]
-    z7 = z[7]
+    _in_z = casadi.SX.sym("z", 8)
+    _in_params = casadi.SX.sym("params", 36)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    z4 = _in_z[4]
+    z5 = _in_z[5]
+    z6 = _in_z[6]
+    z7 = _in_z[7]
     _t0 = z0**2 + z1**2 + z2**2 + z3**2
     _t1 = 1 / _t0
     _t2 = 2 * z5
@@ -3720,22 +3728,22 @@ def homotopy_passive() -> casadi.Function:
     _t4 = 2 * z2
     _t5 = 2 * z6
     _t6 = 1 / casadi.sqrt(_t0)
-    passive = casadi.SX.zeros(7)
-    passive[0] = _t1 * (_t2 * z0 - _t3 * z4 + _t4 * z7 - _t5 * z3)
-    passive[1] = _t1 * (_t2 * z3 - _t3 * z7 - _t4 * z4 + _t5 * z0)
-    passive[2] = _t1 * (-_t2 * z2 + _t3 * z6 + 2 * z0 * z7 - 2 * z3 * z4)
-    passive[3] = _t6 * z0
-    passive[4] = _t6 * z1
-    passive[5] = _t6 * z2
-    passive[6] = _t6 * z3
+    _out_passive = casadi.SX.zeros(7)
+    _out_passive[0] = _t1 * (_t2 * z0 - _t3 * z4 + _t4 * z7 - _t5 * z3)
+    _out_passive[1] = _t1 * (_t2 * z3 - _t3 * z7 - _t4 * z4 + _t5 * z0)
+    _out_passive[2] = _t1 * (-_t2 * z2 + _t3 * z6 + 2 * z0 * z7 - 2 * z3 * z4)
+    _out_passive[3] = _t6 * z0
+    _out_passive[4] = _t6 * z1
+    _out_passive[5] = _t6 * z2
+    _out_passive[6] = _t6 * z3
     return casadi.Function(
         "stewart_homotopy_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",
@@ -3752,103 +3760,103 @@ def automatic_family() -> casadi.Function:
 
     Operations: 0.
     """
-    actuated = casadi.SX.sym("actuated", 6)
-    params = casadi.SX.sym("params", 36)
-    l1 = actuated[0]
-    l2 = actuated[1]
-    l3 = actuated[2]
-    l4 = actuated[3]
-    l5 = actuated[4]
-    l6 = actuated[5]
-    base_x1 = params[0]
-    base_y1 = params[1]
-    base_z1 = params[2]
-    base_x2 = params[3]
-    base_y2 = params[4]
-    base_z2 = params[5]
-    base_x3 = params[6]
-    base_y3 = params[7]
-    base_z3 = params[8]
-    base_x4 = params[9]
-    base_y4 = params[10]
-    base_z4 = params[11]
-    base_x5 = params[12]
-    base_y5 = params[13]
-    base_z5 = params[14]
-    base_x6 = params[15]
-    base_y6 = params[16]
-    base_z6 = params[17]
-    platform_x1 = params[18]
-    platform_y1 = params[19]
-    platform_z1 = params[20]
-    platform_x2 = params[21]
-    platform_y2 = params[22]
-    platform_z2 = params[23]
-    platform_x3 = params[24]
-    platform_y3 = params[25]
-    platform_z3 = params[26]
-    platform_x4 = params[27]
-    platform_y4 = params[28]
-    platform_z4 = params[29]
-    platform_x5 = params[30]
-    platform_y5 = params[31]
-    platform_z5 = params[32]
-    platform_x6 = params[33]
-    platform_y6 = params[34]
-    platform_z6 = params[35]
-    free = casadi.SX.zeros(42)
-    free[0] = l1
-    free[1] = l2
-    free[2] = l3
-    free[3] = l4
-    free[4] = l5
-    free[5] = l6
-    free[6] = base_x1
-    free[7] = base_y1
-    free[8] = base_z1
-    free[9] = base_x2
-    free[10] = base_y2
-    free[11] = base_z2
-    free[12] = base_x3
-    free[13] = base_y3
-    free[14] = base_z3
-    free[15] = base_x4
-    free[16] = base_y4
-    free[17] = base_z4
-    free[18] = base_x5
-    free[19] = base_y5
-    free[20] = base_z5
-    free[21] = base_x6
-    free[22] = base_y6
-    free[23] = base_z6
-    free[24] = platform_x1
-    free[25] = platform_y1
-    free[26] = platform_z1
-    free[27] = platform_x2
-    free[28] = platform_y2
-    free[29] = platform_z2
-    free[30] = platform_x3
-    free[31] = platform_y3
-    free[32] = platform_z3
-    free[33] = platform_x4
-    free[34] = platform_y4
-    free[35] = platform_z4
-    free[36] = platform_x5
-    free[37] = platform_y5
-    free[38] = platform_z5
-    free[39] = platform_x6
-    free[40] = platform_y6
-    free[41] = platform_z6
-    angles = casadi.SX.zeros(1)
+    _in_actuated = casadi.SX.sym("actuated", 6)
+    _in_params = casadi.SX.sym("params", 36)
+    l1 = _in_actuated[0]
+    l2 = _in_actuated[1]
+    l3 = _in_actuated[2]
+    l4 = _in_actuated[3]
+    l5 = _in_actuated[4]
+    l6 = _in_actuated[5]
+    base_x1 = _in_params[0]
+    base_y1 = _in_params[1]
+    base_z1 = _in_params[2]
+    base_x2 = _in_params[3]
+    base_y2 = _in_params[4]
+    base_z2 = _in_params[5]
+    base_x3 = _in_params[6]
+    base_y3 = _in_params[7]
+    base_z3 = _in_params[8]
+    base_x4 = _in_params[9]
+    base_y4 = _in_params[10]
+    base_z4 = _in_params[11]
+    base_x5 = _in_params[12]
+    base_y5 = _in_params[13]
+    base_z5 = _in_params[14]
+    base_x6 = _in_params[15]
+    base_y6 = _in_params[16]
+    base_z6 = _in_params[17]
+    platform_x1 = _in_params[18]
+    platform_y1 = _in_params[19]
+    platform_z1 = _in_params[20]
+    platform_x2 = _in_params[21]
+    platform_y2 = _in_params[22]
+    platform_z2 = _in_params[23]
+    platform_x3 = _in_params[24]
+    platform_y3 = _in_params[25]
+    platform_z3 = _in_params[26]
+    platform_x4 = _in_params[27]
+    platform_y4 = _in_params[28]
+    platform_z4 = _in_params[29]
+    platform_x5 = _in_params[30]
+    platform_y5 = _in_params[31]
+    platform_z5 = _in_params[32]
+    platform_x6 = _in_params[33]
+    platform_y6 = _in_params[34]
+    platform_z6 = _in_params[35]
+    _out_free = casadi.SX.zeros(42)
+    _out_free[0] = l1
+    _out_free[1] = l2
+    _out_free[2] = l3
+    _out_free[3] = l4
+    _out_free[4] = l5
+    _out_free[5] = l6
+    _out_free[6] = base_x1
+    _out_free[7] = base_y1
+    _out_free[8] = base_z1
+    _out_free[9] = base_x2
+    _out_free[10] = base_y2
+    _out_free[11] = base_z2
+    _out_free[12] = base_x3
+    _out_free[13] = base_y3
+    _out_free[14] = base_z3
+    _out_free[15] = base_x4
+    _out_free[16] = base_y4
+    _out_free[17] = base_z4
+    _out_free[18] = base_x5
+    _out_free[19] = base_y5
+    _out_free[20] = base_z5
+    _out_free[21] = base_x6
+    _out_free[22] = base_y6
+    _out_free[23] = base_z6
+    _out_free[24] = platform_x1
+    _out_free[25] = platform_y1
+    _out_free[26] = platform_z1
+    _out_free[27] = platform_x2
+    _out_free[28] = platform_y2
+    _out_free[29] = platform_z2
+    _out_free[30] = platform_x3
+    _out_free[31] = platform_y3
+    _out_free[32] = platform_z3
+    _out_free[33] = platform_x4
+    _out_free[34] = platform_y4
+    _out_free[35] = platform_z4
+    _out_free[36] = platform_x5
+    _out_free[37] = platform_y5
+    _out_free[38] = platform_z5
+    _out_free[39] = platform_x6
+    _out_free[40] = platform_y6
+    _out_free[41] = platform_z6
+    _out_angles = casadi.SX.zeros(1)
     return casadi.Function(
         "stewart_automatic_family",
         [
-            actuated,
-            params,
+            _in_actuated,
+            _in_params,
         ],
         [
-            free,
-            angles,
+            _out_free,
+            _out_angles,
         ],
         [
             "actuated",
@@ -3866,92 +3874,92 @@ def automatic_monomials() -> casadi.Function:
 
     Operations: 1159.
     """
-    family_re = casadi.SX.sym("family_re", 42)
-    family_im = casadi.SX.sym("family_im", 42)
-    l1_re = family_re[0]
-    l2_re = family_re[1]
-    l3_re = family_re[2]
-    l4_re = family_re[3]
-    l5_re = family_re[4]
-    l6_re = family_re[5]
-    base_x1_re = family_re[6]
-    base_y1_re = family_re[7]
-    base_z1_re = family_re[8]
-    base_x2_re = family_re[9]
-    base_y2_re = family_re[10]
-    base_z2_re = family_re[11]
-    base_x3_re = family_re[12]
-    base_y3_re = family_re[13]
-    base_z3_re = family_re[14]
-    base_x4_re = family_re[15]
-    base_y4_re = family_re[16]
-    base_z4_re = family_re[17]
-    base_x5_re = family_re[18]
-    base_y5_re = family_re[19]
-    base_z5_re = family_re[20]
-    base_x6_re = family_re[21]
-    base_y6_re = family_re[22]
-    base_z6_re = family_re[23]
-    platform_x1_re = family_re[24]
-    platform_y1_re = family_re[25]
-    platform_z1_re = family_re[26]
-    platform_x2_re = family_re[27]
-    platform_y2_re = family_re[28]
-    platform_z2_re = family_re[29]
-    platform_x3_re = family_re[30]
-    platform_y3_re = family_re[31]
-    platform_z3_re = family_re[32]
-    platform_x4_re = family_re[33]
-    platform_y4_re = family_re[34]
-    platform_z4_re = family_re[35]
-    platform_x5_re = family_re[36]
-    platform_y5_re = family_re[37]
-    platform_z5_re = family_re[38]
-    platform_x6_re = family_re[39]
-    platform_y6_re = family_re[40]
-    platform_z6_re = family_re[41]
-    l1_im = family_im[0]
-    l2_im = family_im[1]
-    l3_im = family_im[2]
-    l4_im = family_im[3]
-    l5_im = family_im[4]
-    l6_im = family_im[5]
-    base_x1_im = family_im[6]
-    base_y1_im = family_im[7]
-    base_z1_im = family_im[8]
-    base_x2_im = family_im[9]
-    base_y2_im = family_im[10]
-    base_z2_im = family_im[11]
-    base_x3_im = family_im[12]
-    base_y3_im = family_im[13]
-    base_z3_im = family_im[14]
-    base_x4_im = family_im[15]
-    base_y4_im = family_im[16]
-    base_z4_im = family_im[17]
-    base_x5_im = family_im[18]
-    base_y5_im = family_im[19]
-    base_z5_im = family_im[20]
-    base_x6_im = family_im[21]
-    base_y6_im = family_im[22]
-    base_z6_im = family_im[23]
-    platform_x1_im = family_im[24]
-    platform_y1_im = family_im[25]
-    platform_z1_im = family_im[26]
-    platform_x2_im = family_im[27]
-    platform_y2_im = family_im[28]
-    platform_z2_im = family_im[29]
-    platform_x3_im = family_im[30]
-    platform_y3_im = family_im[31]
-    platform_z3_im = family_im[32]
-    platform_x4_im = family_im[33]
-    platform_y4_im = family_im[34]
-    platform_z4_im = family_im[35]
-    platform_x5_im = family_im[36]
-    platform_y5_im = family_im[37]
-    platform_z5_im = family_im[38]
-    platform_x6_im = family_im[39]
-    platform_y6_im = family_im[40]
-    platform_z6_im = family_im[41]
+    _in_family_re = casadi.SX.sym("family_re", 42)
+    _in_family_im = casadi.SX.sym("family_im", 42)
+    l1_re = _in_family_re[0]
+    l2_re = _in_family_re[1]
+    l3_re = _in_family_re[2]
+    l4_re = _in_family_re[3]
+    l5_re = _in_family_re[4]
+    l6_re = _in_family_re[5]
+    base_x1_re = _in_family_re[6]
+    base_y1_re = _in_family_re[7]
+    base_z1_re = _in_family_re[8]
+    base_x2_re = _in_family_re[9]
+    base_y2_re = _in_family_re[10]
+    base_z2_re = _in_family_re[11]
+    base_x3_re = _in_family_re[12]
+    base_y3_re = _in_family_re[13]
+    base_z3_re = _in_family_re[14]
+    base_x4_re = _in_family_re[15]
+    base_y4_re = _in_family_re[16]
+    base_z4_re = _in_family_re[17]
+    base_x5_re = _in_family_re[18]
+    base_y5_re = _in_family_re[19]
+    base_z5_re = _in_family_re[20]
+    base_x6_re = _in_family_re[21]
+    base_y6_re = _in_family_re[22]
+    base_z6_re = _in_family_re[23]
+    platform_x1_re = _in_family_re[24]
+    platform_y1_re = _in_family_re[25]
+    platform_z1_re = _in_family_re[26]
+    platform_x2_re = _in_family_re[27]
+    platform_y2_re = _in_family_re[28]
+    platform_z2_re = _in_family_re[29]
+    platform_x3_re = _in_family_re[30]
+    platform_y3_re = _in_family_re[31]
+    platform_z3_re = _in_family_re[32]
+    platform_x4_re = _in_family_re[33]
+    platform_y4_re = _in_family_re[34]
+    platform_z4_re = _in_family_re[35]
+    platform_x5_re = _in_family_re[36]
+    platform_y5_re = _in_family_re[37]
+    platform_z5_re = _in_family_re[38]
+    platform_x6_re = _in_family_re[39]
+    platform_y6_re = _in_family_re[40]
+    platform_z6_re = _in_family_re[41]
+    l1_im = _in_family_im[0]
+    l2_im = _in_family_im[1]
+    l3_im = _in_family_im[2]
+    l4_im = _in_family_im[3]
+    l5_im = _in_family_im[4]
+    l6_im = _in_family_im[5]
+    base_x1_im = _in_family_im[6]
+    base_y1_im = _in_family_im[7]
+    base_z1_im = _in_family_im[8]
+    base_x2_im = _in_family_im[9]
+    base_y2_im = _in_family_im[10]
+    base_z2_im = _in_family_im[11]
+    base_x3_im = _in_family_im[12]
+    base_y3_im = _in_family_im[13]
+    base_z3_im = _in_family_im[14]
+    base_x4_im = _in_family_im[15]
+    base_y4_im = _in_family_im[16]
+    base_z4_im = _in_family_im[17]
+    base_x5_im = _in_family_im[18]
+    base_y5_im = _in_family_im[19]
+    base_z5_im = _in_family_im[20]
+    base_x6_im = _in_family_im[21]
+    base_y6_im = _in_family_im[22]
+    base_z6_im = _in_family_im[23]
+    platform_x1_im = _in_family_im[24]
+    platform_y1_im = _in_family_im[25]
+    platform_z1_im = _in_family_im[26]
+    platform_x2_im = _in_family_im[27]
+    platform_y2_im = _in_family_im[28]
+    platform_z2_im = _in_family_im[29]
+    platform_x3_im = _in_family_im[30]
+    platform_y3_im = _in_family_im[31]
+    platform_z3_im = _in_family_im[32]
+    platform_x4_im = _in_family_im[33]
+    platform_y4_im = _in_family_im[34]
+    platform_z4_im = _in_family_im[35]
+    platform_x5_im = _in_family_im[36]
+    platform_y5_im = _in_family_im[37]
+    platform_z5_im = _in_family_im[38]
+    platform_x6_im = _in_family_im[39]
+    platform_y6_im = _in_family_im[40]
+    platform_z6_im = _in_family_im[41]
     _t0 = 2 * platform_x1_re
     _t1 = 4 * platform_z1_re
     _t2 = 4 * platform_y1_re
@@ -4336,58 +4344,58 @@ def automatic_monomials() -> casadi.Function:
     _t381 = _t216 * base_y6_im
     _t382 = _t243 * base_y6_re
     _t383 = _t212 * base_x6_im + _t248 * base_x6_re
-    re = casadi.SX.zeros(311)
-    re[0] = 1
-    re[1] = _t0
-    re[2] = _t1
-    re[3] = -_t2
-    re[4] = _t0
-    re[5] = _t2
-    re[6] = _t1
-    re[7] = _t3
-    re[8] = _t3
-    re[9] = -_t4
-    re[10] = 1
-    re[11] = _t5
-    re[12] = -_t1
-    re[13] = _t6
-    re[14] = _t7
-    re[15] = _t6
-    re[16] = _t5
-    re[17] = _t1
-    re[18] = _t7
-    re[19] = -_t8
-    re[20] = 1
-    re[21] = _t9
-    re[22] = _t2
-    re[23] = -_t6
-    re[24] = _t10
-    re[25] = _t6
-    re[26] = _t10
-    re[27] = _t2
-    re[28] = _t9
-    re[29] = -_t11
-    re[30] = _t18
-    re[31] = _t19
-    re[32] = _t19
-    re[33] = _t19
-    re[34] = _t25 + _t29
-    re[35] = -_t30 - _t32 + 4 * base_z1_im * platform_y1_im
-    re[36] = -_t34 + _t35 + _t36
-    re[37] = -_t37 - _t39 + 4 * base_y1_im * platform_x1_im
-    re[38] = _t18
-    re[39] = _t19
-    re[40] = _t19
-    re[41] = _t40 + _t41
-    re[42] = _t33 * base_y1_im - _t37 + _t39
-    re[43] = _t34 - _t35 + _t36
-    re[44] = _t18
-    re[45] = _t19
-    re[46] = -_t25 - _t40
-    re[47] = -_t30 + _t32 + _t38 * base_z1_im
-    re[48] = _t18
-    re[49] = -_t29 - _t41
-    re[50] = (
+    _out_re = casadi.SX.zeros(311)
+    _out_re[0] = 1
+    _out_re[1] = _t0
+    _out_re[2] = _t1
+    _out_re[3] = -_t2
+    _out_re[4] = _t0
+    _out_re[5] = _t2
+    _out_re[6] = _t1
+    _out_re[7] = _t3
+    _out_re[8] = _t3
+    _out_re[9] = -_t4
+    _out_re[10] = 1
+    _out_re[11] = _t5
+    _out_re[12] = -_t1
+    _out_re[13] = _t6
+    _out_re[14] = _t7
+    _out_re[15] = _t6
+    _out_re[16] = _t5
+    _out_re[17] = _t1
+    _out_re[18] = _t7
+    _out_re[19] = -_t8
+    _out_re[20] = 1
+    _out_re[21] = _t9
+    _out_re[22] = _t2
+    _out_re[23] = -_t6
+    _out_re[24] = _t10
+    _out_re[25] = _t6
+    _out_re[26] = _t10
+    _out_re[27] = _t2
+    _out_re[28] = _t9
+    _out_re[29] = -_t11
+    _out_re[30] = _t18
+    _out_re[31] = _t19
+    _out_re[32] = _t19
+    _out_re[33] = _t19
+    _out_re[34] = _t25 + _t29
+    _out_re[35] = -_t30 - _t32 + 4 * base_z1_im * platform_y1_im
+    _out_re[36] = -_t34 + _t35 + _t36
+    _out_re[37] = -_t37 - _t39 + 4 * base_y1_im * platform_x1_im
+    _out_re[38] = _t18
+    _out_re[39] = _t19
+    _out_re[40] = _t19
+    _out_re[41] = _t40 + _t41
+    _out_re[42] = _t33 * base_y1_im - _t37 + _t39
+    _out_re[43] = _t34 - _t35 + _t36
+    _out_re[44] = _t18
+    _out_re[45] = _t19
+    _out_re[46] = -_t25 - _t40
+    _out_re[47] = -_t30 + _t32 + _t38 * base_z1_im
+    _out_re[48] = _t18
+    _out_re[49] = -_t29 - _t41
+    _out_re[50] = (
         -(base_x1_im**2)
         + base_x1_re**2
         - base_y1_im**2
@@ -4397,57 +4405,57 @@ def automatic_monomials() -> casadi.Function:
         + l1_im**2
         - l1_re**2
     )
-    re[51] = 1
-    re[52] = _t42
-    re[53] = _t43
-    re[54] = -_t44
-    re[55] = _t42
-    re[56] = _t44
-    re[57] = _t43
-    re[58] = _t45
-    re[59] = _t45
-    re[60] = -_t46
-    re[61] = 1
-    re[62] = _t47
-    re[63] = -_t43
-    re[64] = _t48
-    re[65] = _t49
-    re[66] = _t48
-    re[67] = _t47
-    re[68] = _t43
-    re[69] = _t49
-    re[70] = -_t50
-    re[71] = 1
-    re[72] = _t51
-    re[73] = _t44
-    re[74] = -_t48
-    re[75] = _t52
-    re[76] = _t48
-    re[77] = _t52
-    re[78] = _t44
-    re[79] = _t51
-    re[80] = -_t53
-    re[81] = _t60
-    re[82] = _t61
-    re[83] = _t61
-    re[84] = _t61
-    re[85] = _t67 + _t71
-    re[86] = -_t72 - _t74 + 4 * base_z2_im * platform_y2_im
-    re[87] = -_t76 + _t77 + _t78
-    re[88] = -_t79 - _t81 + 4 * base_y2_im * platform_x2_im
-    re[89] = _t60
-    re[90] = _t61
-    re[91] = _t61
-    re[92] = _t82 + _t83
-    re[93] = _t75 * base_y2_im - _t79 + _t81
-    re[94] = _t76 - _t77 + _t78
-    re[95] = _t60
-    re[96] = _t61
-    re[97] = -_t67 - _t82
-    re[98] = -_t72 + _t74 + _t80 * base_z2_im
-    re[99] = _t60
-    re[100] = -_t71 - _t83
-    re[101] = (
+    _out_re[51] = 1
+    _out_re[52] = _t42
+    _out_re[53] = _t43
+    _out_re[54] = -_t44
+    _out_re[55] = _t42
+    _out_re[56] = _t44
+    _out_re[57] = _t43
+    _out_re[58] = _t45
+    _out_re[59] = _t45
+    _out_re[60] = -_t46
+    _out_re[61] = 1
+    _out_re[62] = _t47
+    _out_re[63] = -_t43
+    _out_re[64] = _t48
+    _out_re[65] = _t49
+    _out_re[66] = _t48
+    _out_re[67] = _t47
+    _out_re[68] = _t43
+    _out_re[69] = _t49
+    _out_re[70] = -_t50
+    _out_re[71] = 1
+    _out_re[72] = _t51
+    _out_re[73] = _t44
+    _out_re[74] = -_t48
+    _out_re[75] = _t52
+    _out_re[76] = _t48
+    _out_re[77] = _t52
+    _out_re[78] = _t44
+    _out_re[79] = _t51
+    _out_re[80] = -_t53
+    _out_re[81] = _t60
+    _out_re[82] = _t61
+    _out_re[83] = _t61
+    _out_re[84] = _t61
+    _out_re[85] = _t67 + _t71
+    _out_re[86] = -_t72 - _t74 + 4 * base_z2_im * platform_y2_im
+    _out_re[87] = -_t76 + _t77 + _t78
+    _out_re[88] = -_t79 - _t81 + 4 * base_y2_im * platform_x2_im
+    _out_re[89] = _t60
+    _out_re[90] = _t61
+    _out_re[91] = _t61
+    _out_re[92] = _t82 + _t83
+    _out_re[93] = _t75 * base_y2_im - _t79 + _t81
+    _out_re[94] = _t76 - _t77 + _t78
+    _out_re[95] = _t60
+    _out_re[96] = _t61
+    _out_re[97] = -_t67 - _t82
+    _out_re[98] = -_t72 + _t74 + _t80 * base_z2_im
+    _out_re[99] = _t60
+    _out_re[100] = -_t71 - _t83
+    _out_re[101] = (
         -(base_x2_im**2)
         + base_x2_re**2
         - base_y2_im**2
@@ -4457,57 +4465,57 @@ def automatic_monomials() -> casadi.Function:
         + l2_im**2
         - l2_re**2
     )
-    re[102] = 1
-    re[103] = _t84
-    re[104] = _t85
-    re[105] = -_t86
-    re[106] = _t84
-    re[107] = _t86
-    re[108] = _t85
-    re[109] = _t87
-    re[110] = _t87
-    re[111] = -_t88
-    re[112] = 1
-    re[113] = _t89
-    re[114] = -_t85
-    re[115] = _t90
-    re[116] = _t91
-    re[117] = _t90
-    re[118] = _t89
-    re[119] = _t85
-    re[120] = _t91
-    re[121] = -_t92
-    re[122] = 1
-    re[123] = _t93
-    re[124] = _t86
-    re[125] = -_t90
-    re[126] = _t94
-    re[127] = _t90
-    re[128] = _t94
-    re[129] = _t86
-    re[130] = _t93
-    re[131] = -_t95
-    re[132] = _t102
-    re[133] = _t103
-    re[134] = _t103
-    re[135] = _t103
-    re[136] = _t109 + _t113
-    re[137] = -_t114 - _t116 + 4 * base_z3_im * platform_y3_im
-    re[138] = -_t118 + _t119 + _t120
-    re[139] = -_t121 - _t123 + 4 * base_y3_im * platform_x3_im
-    re[140] = _t102
-    re[141] = _t103
-    re[142] = _t103
-    re[143] = _t124 + _t125
-    re[144] = _t117 * base_y3_im - _t121 + _t123
-    re[145] = _t118 - _t119 + _t120
-    re[146] = _t102
-    re[147] = _t103
-    re[148] = -_t109 - _t124
-    re[149] = -_t114 + _t116 + _t122 * base_z3_im
-    re[150] = _t102
-    re[151] = -_t113 - _t125
-    re[152] = (
+    _out_re[102] = 1
+    _out_re[103] = _t84
+    _out_re[104] = _t85
+    _out_re[105] = -_t86
+    _out_re[106] = _t84
+    _out_re[107] = _t86
+    _out_re[108] = _t85
+    _out_re[109] = _t87
+    _out_re[110] = _t87
+    _out_re[111] = -_t88
+    _out_re[112] = 1
+    _out_re[113] = _t89
+    _out_re[114] = -_t85
+    _out_re[115] = _t90
+    _out_re[116] = _t91
+    _out_re[117] = _t90
+    _out_re[118] = _t89
+    _out_re[119] = _t85
+    _out_re[120] = _t91
+    _out_re[121] = -_t92
+    _out_re[122] = 1
+    _out_re[123] = _t93
+    _out_re[124] = _t86
+    _out_re[125] = -_t90
+    _out_re[126] = _t94
+    _out_re[127] = _t90
+    _out_re[128] = _t94
+    _out_re[129] = _t86
+    _out_re[130] = _t93
+    _out_re[131] = -_t95
+    _out_re[132] = _t102
+    _out_re[133] = _t103
+    _out_re[134] = _t103
+    _out_re[135] = _t103
+    _out_re[136] = _t109 + _t113
+    _out_re[137] = -_t114 - _t116 + 4 * base_z3_im * platform_y3_im
+    _out_re[138] = -_t118 + _t119 + _t120
+    _out_re[139] = -_t121 - _t123 + 4 * base_y3_im * platform_x3_im
+    _out_re[140] = _t102
+    _out_re[141] = _t103
+    _out_re[142] = _t103
+    _out_re[143] = _t124 + _t125
+    _out_re[144] = _t117 * base_y3_im - _t121 + _t123
+    _out_re[145] = _t118 - _t119 + _t120
+    _out_re[146] = _t102
+    _out_re[147] = _t103
+    _out_re[148] = -_t109 - _t124
+    _out_re[149] = -_t114 + _t116 + _t122 * base_z3_im
+    _out_re[150] = _t102
+    _out_re[151] = -_t113 - _t125
+    _out_re[152] = (
         -(base_x3_im**2)
         + base_x3_re**2
         - base_y3_im**2
@@ -4517,57 +4525,57 @@ def automatic_monomials() -> casadi.Function:
         + l3_im**2
         - l3_re**2
     )
-    re[153] = 1
-    re[154] = _t126
-    re[155] = _t127
-    re[156] = -_t128
-    re[157] = _t126
-    re[158] = _t128
-    re[159] = _t127
-    re[160] = _t129
-    re[161] = _t129
-    re[162] = -_t130
-    re[163] = 1
-    re[164] = _t131
-    re[165] = -_t127
-    re[166] = _t132
-    re[167] = _t133
-    re[168] = _t132
-    re[169] = _t131
-    re[170] = _t127
-    re[171] = _t133
-    re[172] = -_t134
-    re[173] = 1
-    re[174] = _t135
-    re[175] = _t128
-    re[176] = -_t132
-    re[177] = _t136
-    re[178] = _t132
-    re[179] = _t136
-    re[180] = _t128
-    re[181] = _t135
-    re[182] = -_t137
-    re[183] = _t144
-    re[184] = _t145
-    re[185] = _t145
-    re[186] = _t145
-    re[187] = _t151 + _t155
-    re[188] = -_t156 - _t158 + 4 * base_z4_im * platform_y4_im
-    re[189] = -_t160 + _t161 + _t162
-    re[190] = -_t163 - _t165 + 4 * base_y4_im * platform_x4_im
-    re[191] = _t144
-    re[192] = _t145
-    re[193] = _t145
-    re[194] = _t166 + _t167
-    re[195] = _t159 * base_y4_im - _t163 + _t165
-    re[196] = _t160 - _t161 + _t162
-    re[197] = _t144
-    re[198] = _t145
-    re[199] = -_t151 - _t166
-    re[200] = -_t156 + _t158 + _t164 * base_z4_im
-    re[201] = _t144
-    re[202] = -_t155 - _t167
-    re[203] = (
+    _out_re[153] = 1
+    _out_re[154] = _t126
+    _out_re[155] = _t127
+    _out_re[156] = -_t128
+    _out_re[157] = _t126
+    _out_re[158] = _t128
+    _out_re[159] = _t127
+    _out_re[160] = _t129
+    _out_re[161] = _t129
+    _out_re[162] = -_t130
+    _out_re[163] = 1
+    _out_re[164] = _t131
+    _out_re[165] = -_t127
+    _out_re[166] = _t132
+    _out_re[167] = _t133
+    _out_re[168] = _t132
+    _out_re[169] = _t131
+    _out_re[170] = _t127
+    _out_re[171] = _t133
+    _out_re[172] = -_t134
+    _out_re[173] = 1
+    _out_re[174] = _t135
+    _out_re[175] = _t128
+    _out_re[176] = -_t132
+    _out_re[177] = _t136
+    _out_re[178] = _t132
+    _out_re[179] = _t136
+    _out_re[180] = _t128
+    _out_re[181] = _t135
+    _out_re[182] = -_t137
+    _out_re[183] = _t144
+    _out_re[184] = _t145
+    _out_re[185] = _t145
+    _out_re[186] = _t145
+    _out_re[187] = _t151 + _t155
+    _out_re[188] = -_t156 - _t158 + 4 * base_z4_im * platform_y4_im
+    _out_re[189] = -_t160 + _t161 + _t162
+    _out_re[190] = -_t163 - _t165 + 4 * base_y4_im * platform_x4_im
+    _out_re[191] = _t144
+    _out_re[192] = _t145
+    _out_re[193] = _t145
+    _out_re[194] = _t166 + _t167
+    _out_re[195] = _t159 * base_y4_im - _t163 + _t165
+    _out_re[196] = _t160 - _t161 + _t162
+    _out_re[197] = _t144
+    _out_re[198] = _t145
+    _out_re[199] = -_t151 - _t166
+    _out_re[200] = -_t156 + _t158 + _t164 * base_z4_im
+    _out_re[201] = _t144
+    _out_re[202] = -_t155 - _t167
+    _out_re[203] = (
         -(base_x4_im**2)
         + base_x4_re**2
         - base_y4_im**2
@@ -4577,57 +4585,57 @@ def automatic_monomials() -> casadi.Function:
         + l4_im**2
         - l4_re**2
     )
-    re[204] = 1
-    re[205] = _t168
-    re[206] = _t169
-    re[207] = -_t170
-    re[208] = _t168
-    re[209] = _t170
-    re[210] = _t169
-    re[211] = _t171
-    re[212] = _t171
-    re[213] = -_t172
-    re[214] = 1
-    re[215] = _t173
-    re[216] = -_t169
-    re[217] = _t174
-    re[218] = _t175
-    re[219] = _t174
-    re[220] = _t173
-    re[221] = _t169
-    re[222] = _t175
-    re[223] = -_t176
-    re[224] = 1
-    re[225] = _t177
-    re[226] = _t170
-    re[227] = -_t174
-    re[228] = _t178
-    re[229] = _t174
-    re[230] = _t178
-    re[231] = _t170
-    re[232] = _t177
-    re[233] = -_t179
-    re[234] = _t186
-    re[235] = _t187
-    re[236] = _t187
-    re[237] = _t187
-    re[238] = _t193 + _t197
-    re[239] = -_t198 - _t200 + 4 * base_z5_im * platform_y5_im
-    re[240] = -_t202 + _t203 + _t204
-    re[241] = -_t205 - _t207 + 4 * base_y5_im * platform_x5_im
-    re[242] = _t186
-    re[243] = _t187
-    re[244] = _t187
-    re[245] = _t208 + _t209
-    re[246] = _t201 * base_y5_im - _t205 + _t207
-    re[247] = _t202 - _t203 + _t204
-    re[248] = _t186
-    re[249] = _t187
-    re[250] = -_t193 - _t208
-    re[251] = -_t198 + _t200 + _t206 * base_z5_im
-    re[252] = _t186
-    re[253] = -_t197 - _t209
-    re[254] = (
+    _out_re[204] = 1
+    _out_re[205] = _t168
+    _out_re[206] = _t169
+    _out_re[207] = -_t170
+    _out_re[208] = _t168
+    _out_re[209] = _t170
+    _out_re[210] = _t169
+    _out_re[211] = _t171
+    _out_re[212] = _t171
+    _out_re[213] = -_t172
+    _out_re[214] = 1
+    _out_re[215] = _t173
+    _out_re[216] = -_t169
+    _out_re[217] = _t174
+    _out_re[218] = _t175
+    _out_re[219] = _t174
+    _out_re[220] = _t173
+    _out_re[221] = _t169
+    _out_re[222] = _t175
+    _out_re[223] = -_t176
+    _out_re[224] = 1
+    _out_re[225] = _t177
+    _out_re[226] = _t170
+    _out_re[227] = -_t174
+    _out_re[228] = _t178
+    _out_re[229] = _t174
+    _out_re[230] = _t178
+    _out_re[231] = _t170
+    _out_re[232] = _t177
+    _out_re[233] = -_t179
+    _out_re[234] = _t186
+    _out_re[235] = _t187
+    _out_re[236] = _t187
+    _out_re[237] = _t187
+    _out_re[238] = _t193 + _t197
+    _out_re[239] = -_t198 - _t200 + 4 * base_z5_im * platform_y5_im
+    _out_re[240] = -_t202 + _t203 + _t204
+    _out_re[241] = -_t205 - _t207 + 4 * base_y5_im * platform_x5_im
+    _out_re[242] = _t186
+    _out_re[243] = _t187
+    _out_re[244] = _t187
+    _out_re[245] = _t208 + _t209
+    _out_re[246] = _t201 * base_y5_im - _t205 + _t207
+    _out_re[247] = _t202 - _t203 + _t204
+    _out_re[248] = _t186
+    _out_re[249] = _t187
+    _out_re[250] = -_t193 - _t208
+    _out_re[251] = -_t198 + _t200 + _t206 * base_z5_im
+    _out_re[252] = _t186
+    _out_re[253] = -_t197 - _t209
+    _out_re[254] = (
         -(base_x5_im**2)
         + base_x5_re**2
         - base_y5_im**2
@@ -4637,57 +4645,57 @@ def automatic_monomials() -> casadi.Function:
         + l5_im**2
         - l5_re**2
     )
-    re[255] = 1
-    re[256] = _t210
-    re[257] = _t211
-    re[258] = -_t212
-    re[259] = _t210
-    re[260] = _t212
-    re[261] = _t211
-    re[262] = _t213
-    re[263] = _t213
-    re[264] = -_t214
-    re[265] = 1
-    re[266] = _t215
-    re[267] = -_t211
-    re[268] = _t216
-    re[269] = _t217
-    re[270] = _t216
-    re[271] = _t215
-    re[272] = _t211
-    re[273] = _t217
-    re[274] = -_t218
-    re[275] = 1
-    re[276] = _t219
-    re[277] = _t212
-    re[278] = -_t216
-    re[279] = _t220
-    re[280] = _t216
-    re[281] = _t220
-    re[282] = _t212
-    re[283] = _t219
-    re[284] = -_t221
-    re[285] = _t228
-    re[286] = _t229
-    re[287] = _t229
-    re[288] = _t229
-    re[289] = _t235 + _t239
-    re[290] = -_t240 - _t242 + 4 * base_z6_im * platform_y6_im
-    re[291] = -_t244 + _t245 + _t246
-    re[292] = -_t247 - _t249 + 4 * base_y6_im * platform_x6_im
-    re[293] = _t228
-    re[294] = _t229
-    re[295] = _t229
-    re[296] = _t250 + _t251
-    re[297] = _t243 * base_y6_im - _t247 + _t249
-    re[298] = _t244 - _t245 + _t246
-    re[299] = _t228
-    re[300] = _t229
-    re[301] = -_t235 - _t250
-    re[302] = -_t240 + _t242 + _t248 * base_z6_im
-    re[303] = _t228
-    re[304] = -_t239 - _t251
-    re[305] = (
+    _out_re[255] = 1
+    _out_re[256] = _t210
+    _out_re[257] = _t211
+    _out_re[258] = -_t212
+    _out_re[259] = _t210
+    _out_re[260] = _t212
+    _out_re[261] = _t211
+    _out_re[262] = _t213
+    _out_re[263] = _t213
+    _out_re[264] = -_t214
+    _out_re[265] = 1
+    _out_re[266] = _t215
+    _out_re[267] = -_t211
+    _out_re[268] = _t216
+    _out_re[269] = _t217
+    _out_re[270] = _t216
+    _out_re[271] = _t215
+    _out_re[272] = _t211
+    _out_re[273] = _t217
+    _out_re[274] = -_t218
+    _out_re[275] = 1
+    _out_re[276] = _t219
+    _out_re[277] = _t212
+    _out_re[278] = -_t216
+    _out_re[279] = _t220
+    _out_re[280] = _t216
+    _out_re[281] = _t220
+    _out_re[282] = _t212
+    _out_re[283] = _t219
+    _out_re[284] = -_t221
+    _out_re[285] = _t228
+    _out_re[286] = _t229
+    _out_re[287] = _t229
+    _out_re[288] = _t229
+    _out_re[289] = _t235 + _t239
+    _out_re[290] = -_t240 - _t242 + 4 * base_z6_im * platform_y6_im
+    _out_re[291] = -_t244 + _t245 + _t246
+    _out_re[292] = -_t247 - _t249 + 4 * base_y6_im * platform_x6_im
+    _out_re[293] = _t228
+    _out_re[294] = _t229
+    _out_re[295] = _t229
+    _out_re[296] = _t250 + _t251
+    _out_re[297] = _t243 * base_y6_im - _t247 + _t249
+    _out_re[298] = _t244 - _t245 + _t246
+    _out_re[299] = _t228
+    _out_re[300] = _t229
+    _out_re[301] = -_t235 - _t250
+    _out_re[302] = -_t240 + _t242 + _t248 * base_z6_im
+    _out_re[303] = _t228
+    _out_re[304] = -_t239 - _t251
+    _out_re[305] = (
         -(base_x6_im**2)
         + base_x6_re**2
         - base_y6_im**2
@@ -4697,309 +4705,309 @@ def automatic_monomials() -> casadi.Function:
         + l6_im**2
         - l6_re**2
     )
-    re[306] = 1
-    re[307] = 1
-    re[308] = 1
-    re[309] = 1
-    re[310] = -1
-    im = casadi.SX.zeros(311)
-    im[1] = _t23
-    im[2] = _t31
-    im[3] = -_t38
-    im[4] = _t23
-    im[5] = _t38
-    im[6] = _t31
-    im[7] = _t252
-    im[8] = _t252
-    im[9] = -2 * base_x1_im
-    im[11] = _t27
-    im[12] = -_t31
-    im[13] = _t33
-    im[14] = _t253
-    im[15] = _t33
-    im[16] = _t27
-    im[17] = _t31
-    im[18] = _t253
-    im[19] = -2 * base_y1_im
-    im[21] = _t21
-    im[22] = _t38
-    im[23] = -_t33
-    im[24] = _t254
-    im[25] = _t33
-    im[26] = _t254
-    im[27] = _t38
-    im[28] = _t21
-    im[29] = -2 * base_z1_im
-    im[30] = _t255
-    im[31] = _t256
-    im[32] = _t256
-    im[33] = _t256
-    im[34] = -_t261 - _t264
-    im[35] = -_t265 - _t266 + _t267
-    im[36] = _t268 + _t269 - _t270
-    im[37] = -_t271 - _t272 + _t273
-    im[38] = _t255
-    im[39] = _t256
-    im[40] = _t256
-    im[41] = _t261 - _t262 - _t263
-    im[42] = -_t271 - _t272 - _t273
-    im[43] = -_t268 - _t269 - _t270
-    im[44] = _t255
-    im[45] = _t256
-    im[46] = -_t257 - _t258 + _t259 + _t260 + _t264
-    im[47] = -_t265 - _t266 - _t267
-    im[48] = _t255
-    im[49] = _t257 + _t258 - _t259 - _t260 + _t264
-    im[50] = _t11 * base_z1_im + _t4 * base_x1_im + _t8 * base_y1_im - 2 * l1_im * l1_re
-    im[52] = _t65
-    im[53] = _t73
-    im[54] = -_t80
-    im[55] = _t65
-    im[56] = _t80
-    im[57] = _t73
-    im[58] = _t274
-    im[59] = _t274
-    im[60] = -2 * base_x2_im
-    im[62] = _t69
-    im[63] = -_t73
-    im[64] = _t75
-    im[65] = _t275
-    im[66] = _t75
-    im[67] = _t69
-    im[68] = _t73
-    im[69] = _t275
-    im[70] = -2 * base_y2_im
-    im[72] = _t63
-    im[73] = _t80
-    im[74] = -_t75
-    im[75] = _t276
-    im[76] = _t75
-    im[77] = _t276
-    im[78] = _t80
-    im[79] = _t63
-    im[80] = -2 * base_z2_im
-    im[81] = _t277
-    im[82] = _t278
-    im[83] = _t278
-    im[84] = _t278
-    im[85] = -_t283 - _t286
-    im[86] = -_t287 - _t288 + _t289
-    im[87] = _t290 + _t291 - _t292
-    im[88] = -_t293 - _t294 + _t295
-    im[89] = _t277
-    im[90] = _t278
-    im[91] = _t278
-    im[92] = _t283 - _t284 - _t285
-    im[93] = -_t293 - _t294 - _t295
-    im[94] = -_t290 - _t291 - _t292
-    im[95] = _t277
-    im[96] = _t278
-    im[97] = -_t279 - _t280 + _t281 + _t282 + _t286
-    im[98] = -_t287 - _t288 - _t289
-    im[99] = _t277
-    im[100] = _t279 + _t280 - _t281 - _t282 + _t286
-    im[101] = _t46 * base_x2_im + _t50 * base_y2_im + _t53 * base_z2_im - 2 * l2_im * l2_re
-    im[103] = _t107
-    im[104] = _t115
-    im[105] = -_t122
-    im[106] = _t107
-    im[107] = _t122
-    im[108] = _t115
-    im[109] = _t296
-    im[110] = _t296
-    im[111] = -2 * base_x3_im
-    im[113] = _t111
-    im[114] = -_t115
-    im[115] = _t117
-    im[116] = _t297
-    im[117] = _t117
-    im[118] = _t111
-    im[119] = _t115
-    im[120] = _t297
-    im[121] = -2 * base_y3_im
-    im[123] = _t105
-    im[124] = _t122
-    im[125] = -_t117
-    im[126] = _t298
-    im[127] = _t117
-    im[128] = _t298
-    im[129] = _t122
-    im[130] = _t105
-    im[131] = -2 * base_z3_im
-    im[132] = _t299
-    im[133] = _t300
-    im[134] = _t300
-    im[135] = _t300
-    im[136] = -_t305 - _t308
-    im[137] = -_t309 - _t310 + _t311
-    im[138] = _t312 + _t313 - _t314
-    im[139] = -_t315 - _t316 + _t317
-    im[140] = _t299
-    im[141] = _t300
-    im[142] = _t300
-    im[143] = _t305 - _t306 - _t307
-    im[144] = -_t315 - _t316 - _t317
-    im[145] = -_t312 - _t313 - _t314
-    im[146] = _t299
-    im[147] = _t300
-    im[148] = -_t301 - _t302 + _t303 + _t304 + _t308
-    im[149] = -_t309 - _t310 - _t311
-    im[150] = _t299
-    im[151] = _t301 + _t302 - _t303 - _t304 + _t308
-    im[152] = _t88 * base_x3_im + _t92 * base_y3_im + _t95 * base_z3_im - 2 * l3_im * l3_re
-    im[154] = _t149
-    im[155] = _t157
-    im[156] = -_t164
-    im[157] = _t149
-    im[158] = _t164
-    im[159] = _t157
-    im[160] = _t318
-    im[161] = _t318
-    im[162] = -2 * base_x4_im
-    im[164] = _t153
-    im[165] = -_t157
-    im[166] = _t159
-    im[167] = _t319
-    im[168] = _t159
-    im[169] = _t153
-    im[170] = _t157
-    im[171] = _t319
-    im[172] = -2 * base_y4_im
-    im[174] = _t147
-    im[175] = _t164
-    im[176] = -_t159
-    im[177] = _t320
-    im[178] = _t159
-    im[179] = _t320
-    im[180] = _t164
-    im[181] = _t147
-    im[182] = -2 * base_z4_im
-    im[183] = _t321
-    im[184] = _t322
-    im[185] = _t322
-    im[186] = _t322
-    im[187] = -_t327 - _t330
-    im[188] = -_t331 - _t332 + _t333
-    im[189] = _t334 + _t335 - _t336
-    im[190] = -_t337 - _t338 + _t339
-    im[191] = _t321
-    im[192] = _t322
-    im[193] = _t322
-    im[194] = _t327 - _t328 - _t329
-    im[195] = -_t337 - _t338 - _t339
-    im[196] = -_t334 - _t335 - _t336
-    im[197] = _t321
-    im[198] = _t322
-    im[199] = -_t323 - _t324 + _t325 + _t326 + _t330
-    im[200] = -_t331 - _t332 - _t333
-    im[201] = _t321
-    im[202] = _t323 + _t324 - _t325 - _t326 + _t330
-    im[203] = _t130 * base_x4_im + _t134 * base_y4_im + _t137 * base_z4_im - 2 * l4_im * l4_re
-    im[205] = _t191
-    im[206] = _t199
-    im[207] = -_t206
-    im[208] = _t191
-    im[209] = _t206
-    im[210] = _t199
-    im[211] = _t340
-    im[212] = _t340
-    im[213] = -2 * base_x5_im
-    im[215] = _t195
-    im[216] = -_t199
-    im[217] = _t201
-    im[218] = _t341
-    im[219] = _t201
-    im[220] = _t195
-    im[221] = _t199
-    im[222] = _t341
-    im[223] = -2 * base_y5_im
-    im[225] = _t189
-    im[226] = _t206
-    im[227] = -_t201
-    im[228] = _t342
-    im[229] = _t201
-    im[230] = _t342
-    im[231] = _t206
-    im[232] = _t189
-    im[233] = -2 * base_z5_im
-    im[234] = _t343
-    im[235] = _t344
-    im[236] = _t344
-    im[237] = _t344
-    im[238] = -_t349 - _t352
-    im[239] = -_t353 - _t354 + _t355
-    im[240] = _t356 + _t357 - _t358
-    im[241] = -_t359 - _t360 + _t361
-    im[242] = _t343
-    im[243] = _t344
-    im[244] = _t344
-    im[245] = _t349 - _t350 - _t351
-    im[246] = -_t359 - _t360 - _t361
-    im[247] = -_t356 - _t357 - _t358
-    im[248] = _t343
-    im[249] = _t344
-    im[250] = -_t345 - _t346 + _t347 + _t348 + _t352
-    im[251] = -_t353 - _t354 - _t355
-    im[252] = _t343
-    im[253] = _t345 + _t346 - _t347 - _t348 + _t352
-    im[254] = _t172 * base_x5_im + _t176 * base_y5_im + _t179 * base_z5_im - 2 * l5_im * l5_re
-    im[256] = _t233
-    im[257] = _t241
-    im[258] = -_t248
-    im[259] = _t233
-    im[260] = _t248
-    im[261] = _t241
-    im[262] = _t362
-    im[263] = _t362
-    im[264] = -2 * base_x6_im
-    im[266] = _t237
-    im[267] = -_t241
-    im[268] = _t243
-    im[269] = _t363
-    im[270] = _t243
-    im[271] = _t237
-    im[272] = _t241
-    im[273] = _t363
-    im[274] = -2 * base_y6_im
-    im[276] = _t231
-    im[277] = _t248
-    im[278] = -_t243
-    im[279] = _t364
-    im[280] = _t243
-    im[281] = _t364
-    im[282] = _t248
-    im[283] = _t231
-    im[284] = -2 * base_z6_im
-    im[285] = _t365
-    im[286] = _t366
-    im[287] = _t366
-    im[288] = _t366
-    im[289] = -_t371 - _t374
-    im[290] = -_t375 - _t376 + _t377
-    im[291] = _t378 + _t379 - _t380
-    im[292] = -_t381 - _t382 + _t383
-    im[293] = _t365
-    im[294] = _t366
-    im[295] = _t366
-    im[296] = _t371 - _t372 - _t373
-    im[297] = -_t381 - _t382 - _t383
-    im[298] = -_t378 - _t379 - _t380
-    im[299] = _t365
-    im[300] = _t366
-    im[301] = -_t367 - _t368 + _t369 + _t370 + _t374
-    im[302] = -_t375 - _t376 - _t377
-    im[303] = _t365
-    im[304] = _t367 + _t368 - _t369 - _t370 + _t374
-    im[305] = _t214 * base_x6_im + _t218 * base_y6_im + _t221 * base_z6_im - 2 * l6_im * l6_re
+    _out_re[306] = 1
+    _out_re[307] = 1
+    _out_re[308] = 1
+    _out_re[309] = 1
+    _out_re[310] = -1
+    _out_im = casadi.SX.zeros(311)
+    _out_im[1] = _t23
+    _out_im[2] = _t31
+    _out_im[3] = -_t38
+    _out_im[4] = _t23
+    _out_im[5] = _t38
+    _out_im[6] = _t31
+    _out_im[7] = _t252
+    _out_im[8] = _t252
+    _out_im[9] = -2 * base_x1_im
+    _out_im[11] = _t27
+    _out_im[12] = -_t31
+    _out_im[13] = _t33
+    _out_im[14] = _t253
+    _out_im[15] = _t33
+    _out_im[16] = _t27
+    _out_im[17] = _t31
+    _out_im[18] = _t253
+    _out_im[19] = -2 * base_y1_im
+    _out_im[21] = _t21
+    _out_im[22] = _t38
+    _out_im[23] = -_t33
+    _out_im[24] = _t254
+    _out_im[25] = _t33
+    _out_im[26] = _t254
+    _out_im[27] = _t38
+    _out_im[28] = _t21
+    _out_im[29] = -2 * base_z1_im
+    _out_im[30] = _t255
+    _out_im[31] = _t256
+    _out_im[32] = _t256
+    _out_im[33] = _t256
+    _out_im[34] = -_t261 - _t264
+    _out_im[35] = -_t265 - _t266 + _t267
+    _out_im[36] = _t268 + _t269 - _t270
+    _out_im[37] = -_t271 - _t272 + _t273
+    _out_im[38] = _t255
+    _out_im[39] = _t256
+    _out_im[40] = _t256
+    _out_im[41] = _t261 - _t262 - _t263
+    _out_im[42] = -_t271 - _t272 - _t273
+    _out_im[43] = -_t268 - _t269 - _t270
+    _out_im[44] = _t255
+    _out_im[45] = _t256
+    _out_im[46] = -_t257 - _t258 + _t259 + _t260 + _t264
+    _out_im[47] = -_t265 - _t266 - _t267
+    _out_im[48] = _t255
+    _out_im[49] = _t257 + _t258 - _t259 - _t260 + _t264
+    _out_im[50] = _t11 * base_z1_im + _t4 * base_x1_im + _t8 * base_y1_im - 2 * l1_im * l1_re
+    _out_im[52] = _t65
+    _out_im[53] = _t73
+    _out_im[54] = -_t80
+    _out_im[55] = _t65
+    _out_im[56] = _t80
+    _out_im[57] = _t73
+    _out_im[58] = _t274
+    _out_im[59] = _t274
+    _out_im[60] = -2 * base_x2_im
+    _out_im[62] = _t69
+    _out_im[63] = -_t73
+    _out_im[64] = _t75
+    _out_im[65] = _t275
+    _out_im[66] = _t75
+    _out_im[67] = _t69
+    _out_im[68] = _t73
+    _out_im[69] = _t275
+    _out_im[70] = -2 * base_y2_im
+    _out_im[72] = _t63
+    _out_im[73] = _t80
+    _out_im[74] = -_t75
+    _out_im[75] = _t276
+    _out_im[76] = _t75
+    _out_im[77] = _t276
+    _out_im[78] = _t80
+    _out_im[79] = _t63
+    _out_im[80] = -2 * base_z2_im
+    _out_im[81] = _t277
+    _out_im[82] = _t278
+    _out_im[83] = _t278
+    _out_im[84] = _t278
+    _out_im[85] = -_t283 - _t286
+    _out_im[86] = -_t287 - _t288 + _t289
+    _out_im[87] = _t290 + _t291 - _t292
+    _out_im[88] = -_t293 - _t294 + _t295
+    _out_im[89] = _t277
+    _out_im[90] = _t278
+    _out_im[91] = _t278
+    _out_im[92] = _t283 - _t284 - _t285
+    _out_im[93] = -_t293 - _t294 - _t295
+    _out_im[94] = -_t290 - _t291 - _t292
+    _out_im[95] = _t277
+    _out_im[96] = _t278
+    _out_im[97] = -_t279 - _t280 + _t281 + _t282 + _t286
+    _out_im[98] = -_t287 - _t288 - _t289
+    _out_im[99] = _t277
+    _out_im[100] = _t279 + _t280 - _t281 - _t282 + _t286
+    _out_im[101] = _t46 * base_x2_im + _t50 * base_y2_im + _t53 * base_z2_im - 2 * l2_im * l2_re
+    _out_im[103] = _t107
+    _out_im[104] = _t115
+    _out_im[105] = -_t122
+    _out_im[106] = _t107
+    _out_im[107] = _t122
+    _out_im[108] = _t115
+    _out_im[109] = _t296
+    _out_im[110] = _t296
+    _out_im[111] = -2 * base_x3_im
+    _out_im[113] = _t111
+    _out_im[114] = -_t115
+    _out_im[115] = _t117
+    _out_im[116] = _t297
+    _out_im[117] = _t117
+    _out_im[118] = _t111
+    _out_im[119] = _t115
+    _out_im[120] = _t297
+    _out_im[121] = -2 * base_y3_im
+    _out_im[123] = _t105
+    _out_im[124] = _t122
+    _out_im[125] = -_t117
+    _out_im[126] = _t298
+    _out_im[127] = _t117
+    _out_im[128] = _t298
+    _out_im[129] = _t122
+    _out_im[130] = _t105
+    _out_im[131] = -2 * base_z3_im
+    _out_im[132] = _t299
+    _out_im[133] = _t300
+    _out_im[134] = _t300
+    _out_im[135] = _t300
+    _out_im[136] = -_t305 - _t308
+    _out_im[137] = -_t309 - _t310 + _t311
+    _out_im[138] = _t312 + _t313 - _t314
+    _out_im[139] = -_t315 - _t316 + _t317
+    _out_im[140] = _t299
+    _out_im[141] = _t300
+    _out_im[142] = _t300
+    _out_im[143] = _t305 - _t306 - _t307
+    _out_im[144] = -_t315 - _t316 - _t317
+    _out_im[145] = -_t312 - _t313 - _t314
+    _out_im[146] = _t299
+    _out_im[147] = _t300
+    _out_im[148] = -_t301 - _t302 + _t303 + _t304 + _t308
+    _out_im[149] = -_t309 - _t310 - _t311
+    _out_im[150] = _t299
+    _out_im[151] = _t301 + _t302 - _t303 - _t304 + _t308
+    _out_im[152] = _t88 * base_x3_im + _t92 * base_y3_im + _t95 * base_z3_im - 2 * l3_im * l3_re
+    _out_im[154] = _t149
+    _out_im[155] = _t157
+    _out_im[156] = -_t164
+    _out_im[157] = _t149
+    _out_im[158] = _t164
+    _out_im[159] = _t157
+    _out_im[160] = _t318
+    _out_im[161] = _t318
+    _out_im[162] = -2 * base_x4_im
+    _out_im[164] = _t153
+    _out_im[165] = -_t157
+    _out_im[166] = _t159
+    _out_im[167] = _t319
+    _out_im[168] = _t159
+    _out_im[169] = _t153
+    _out_im[170] = _t157
+    _out_im[171] = _t319
+    _out_im[172] = -2 * base_y4_im
+    _out_im[174] = _t147
+    _out_im[175] = _t164
+    _out_im[176] = -_t159
+    _out_im[177] = _t320
+    _out_im[178] = _t159
+    _out_im[179] = _t320
+    _out_im[180] = _t164
+    _out_im[181] = _t147
+    _out_im[182] = -2 * base_z4_im
+    _out_im[183] = _t321
+    _out_im[184] = _t322
+    _out_im[185] = _t322
+    _out_im[186] = _t322
+    _out_im[187] = -_t327 - _t330
+    _out_im[188] = -_t331 - _t332 + _t333
+    _out_im[189] = _t334 + _t335 - _t336
+    _out_im[190] = -_t337 - _t338 + _t339
+    _out_im[191] = _t321
+    _out_im[192] = _t322
+    _out_im[193] = _t322
+    _out_im[194] = _t327 - _t328 - _t329
+    _out_im[195] = -_t337 - _t338 - _t339
+    _out_im[196] = -_t334 - _t335 - _t336
+    _out_im[197] = _t321
+    _out_im[198] = _t322
+    _out_im[199] = -_t323 - _t324 + _t325 + _t326 + _t330
+    _out_im[200] = -_t331 - _t332 - _t333
+    _out_im[201] = _t321
+    _out_im[202] = _t323 + _t324 - _t325 - _t326 + _t330
+    _out_im[203] = _t130 * base_x4_im + _t134 * base_y4_im + _t137 * base_z4_im - 2 * l4_im * l4_re
+    _out_im[205] = _t191
+    _out_im[206] = _t199
+    _out_im[207] = -_t206
+    _out_im[208] = _t191
+    _out_im[209] = _t206
+    _out_im[210] = _t199
+    _out_im[211] = _t340
+    _out_im[212] = _t340
+    _out_im[213] = -2 * base_x5_im
+    _out_im[215] = _t195
+    _out_im[216] = -_t199
+    _out_im[217] = _t201
+    _out_im[218] = _t341
+    _out_im[219] = _t201
+    _out_im[220] = _t195
+    _out_im[221] = _t199
+    _out_im[222] = _t341
+    _out_im[223] = -2 * base_y5_im
+    _out_im[225] = _t189
+    _out_im[226] = _t206
+    _out_im[227] = -_t201
+    _out_im[228] = _t342
+    _out_im[229] = _t201
+    _out_im[230] = _t342
+    _out_im[231] = _t206
+    _out_im[232] = _t189
+    _out_im[233] = -2 * base_z5_im
+    _out_im[234] = _t343
+    _out_im[235] = _t344
+    _out_im[236] = _t344
+    _out_im[237] = _t344
+    _out_im[238] = -_t349 - _t352
+    _out_im[239] = -_t353 - _t354 + _t355
+    _out_im[240] = _t356 + _t357 - _t358
+    _out_im[241] = -_t359 - _t360 + _t361
+    _out_im[242] = _t343
+    _out_im[243] = _t344
+    _out_im[244] = _t344
+    _out_im[245] = _t349 - _t350 - _t351
+    _out_im[246] = -_t359 - _t360 - _t361
+    _out_im[247] = -_t356 - _t357 - _t358
+    _out_im[248] = _t343
+    _out_im[249] = _t344
+    _out_im[250] = -_t345 - _t346 + _t347 + _t348 + _t352
+    _out_im[251] = -_t353 - _t354 - _t355
+    _out_im[252] = _t343
+    _out_im[253] = _t345 + _t346 - _t347 - _t348 + _t352
+    _out_im[254] = _t172 * base_x5_im + _t176 * base_y5_im + _t179 * base_z5_im - 2 * l5_im * l5_re
+    _out_im[256] = _t233
+    _out_im[257] = _t241
+    _out_im[258] = -_t248
+    _out_im[259] = _t233
+    _out_im[260] = _t248
+    _out_im[261] = _t241
+    _out_im[262] = _t362
+    _out_im[263] = _t362
+    _out_im[264] = -2 * base_x6_im
+    _out_im[266] = _t237
+    _out_im[267] = -_t241
+    _out_im[268] = _t243
+    _out_im[269] = _t363
+    _out_im[270] = _t243
+    _out_im[271] = _t237
+    _out_im[272] = _t241
+    _out_im[273] = _t363
+    _out_im[274] = -2 * base_y6_im
+    _out_im[276] = _t231
+    _out_im[277] = _t248
+    _out_im[278] = -_t243
+    _out_im[279] = _t364
+    _out_im[280] = _t243
+    _out_im[281] = _t364
+    _out_im[282] = _t248
+    _out_im[283] = _t231
+    _out_im[284] = -2 * base_z6_im
+    _out_im[285] = _t365
+    _out_im[286] = _t366
+    _out_im[287] = _t366
+    _out_im[288] = _t366
+    _out_im[289] = -_t371 - _t374
+    _out_im[290] = -_t375 - _t376 + _t377
+    _out_im[291] = _t378 + _t379 - _t380
+    _out_im[292] = -_t381 - _t382 + _t383
+    _out_im[293] = _t365
+    _out_im[294] = _t366
+    _out_im[295] = _t366
+    _out_im[296] = _t371 - _t372 - _t373
+    _out_im[297] = -_t381 - _t382 - _t383
+    _out_im[298] = -_t378 - _t379 - _t380
+    _out_im[299] = _t365
+    _out_im[300] = _t366
+    _out_im[301] = -_t367 - _t368 + _t369 + _t370 + _t374
+    _out_im[302] = -_t375 - _t376 - _t377
+    _out_im[303] = _t365
+    _out_im[304] = _t367 + _t368 - _t369 - _t370 + _t374
+    _out_im[305] = _t214 * base_x6_im + _t218 * base_y6_im + _t221 * base_z6_im - 2 * l6_im * l6_re
     return casadi.Function(
         "stewart_automatic_monomials",
         [
-            family_re,
-            family_im,
+            _in_family_re,
+            _in_family_im,
         ],
         [
-            re,
-            im,
+            _out_re,
+            _out_im,
         ],
         [
             "family_re",
@@ -5017,31 +5025,31 @@ def automatic_passive() -> casadi.Function:
 
     Operations: 0.
     """
-    z = casadi.SX.sym("z", 7)
-    params = casadi.SX.sym("params", 36)
-    z0 = z[0]
-    z1 = z[1]
-    z2 = z[2]
-    z3 = z[3]
-    z4 = z[4]
-    z5 = z[5]
-    z6 = z[6]
-    passive = casadi.SX.zeros(7)
-    passive[0] = z0
-    passive[1] = z1
-    passive[2] = z2
-    passive[3] = z3
-    passive[4] = z4
-    passive[5] = z5
-    passive[6] = z6
+    _in_z = casadi.SX.sym("z", 7)
+    _in_params = casadi.SX.sym("params", 36)
+    z0 = _in_z[0]
+    z1 = _in_z[1]
+    z2 = _in_z[2]
+    z3 = _in_z[3]
+    z4 = _in_z[4]
+    z5 = _in_z[5]
+    z6 = _in_z[6]
+    _out_passive = casadi.SX.zeros(7)
+    _out_passive[0] = z0
+    _out_passive[1] = z1
+    _out_passive[2] = z2
+    _out_passive[3] = z3
+    _out_passive[4] = z4
+    _out_passive[5] = z5
+    _out_passive[6] = z6
     return casadi.Function(
         "stewart_automatic_passive",
         [
-            z,
-            params,
+            _in_z,
+            _in_params,
         ],
         [
-            passive,
+            _out_passive,
         ],
         [
             "z",
