@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike
 from parakin.calibration.data import CalibrationData, frame_names, predict, residual, residual_in_units
 from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
 from parakin.calibration.frames import frame_transform
-from parakin.calibration.identifiability import RANK_TOLERANCE, Combination, analyse
+from parakin.calibration.identifiability import RANK_TOLERANCE, Combination, analyse, thin_svd
 from parakin.errors import BadInputError, ConvergenceError, at_index, first_index
 from parakin.mechanism import Mechanism
 from parakin.packages.manifest import unknown_name
@@ -476,6 +476,14 @@ def calibrate(
         eigenvalues, vectors = np.linalg.eigh(scaled.T @ scaled)
         keep = eigenvalues > STEP_RANK * eigenvalues[-1]
         projected = vectors[:, keep].T @ (scaled.T @ r)
+        if np.any(~keep & (eigenvalues > 0.01 * rank_tolerance**2 * eigenvalues[-1])):
+            # directions the normal matrix cannot resolve but the rank test may count: the SVD
+            # (through QR) resolves singular values down to rank_tolerance
+            u, singular, vt = thin_svd(scaled)
+            keep = singular > rank_tolerance * singular[0]
+            eigenvalues, vectors = singular[keep] ** 2, vt[: singular.size][keep].T
+            projected = singular[keep] * (u[:, : singular.size][:, keep].T @ r)
+            keep = np.ones(eigenvalues.size, dtype=bool)
         while True:
             step = -(vectors[:, keep] @ (projected / (eigenvalues[keep] + damping))) / weights
             trial = problem.full(values[problem.index] + step)
