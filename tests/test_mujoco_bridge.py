@@ -314,6 +314,36 @@ def test_stewart_nearest_mode_is_the_assembled_one():
     assert nearest.position_error < 3e-4
 
 
+@pytest.mark.slow
+def test_stewart_every_real_mode_kept():
+    """Each real assembly mode at the home leg lengths (8 for this geometry; the all-modes solver,
+    compiled: ~4 s), assembled in MuJoCo from its own pose, is the nearest mode, and stays: after
+    1 s on the leg servos under the 10 kg platform it is within 0.3 mm / 0.01 deg of forward_pose
+    tracked from that mode, and nearer that mode's home pose than any other's."""
+    model, chain, m = stewart()
+    with_leg_masses(model, [f"{part}{i}" for i in range(1, 7) for part in ("leg", "rod")], 0.2)
+    base = [model.body(f"leg{i}").pos.tolist() for i in range(1, 7)]
+    platform = [model.site(f"p{i}").pos.tolist() for i in range(1, 7)]
+    fast = parakin.load("stewart", base=base, platform=platform)
+    modes = fast.forward_pose_all(stewart_home(m).actuated)
+    assert modes.count == 8
+    positions = np.array([modes.mode(k).pose[:3, 3] for k in range(modes.count)])
+    for k in range(modes.count):
+        data = mujoco.MjData(model)
+        stewart_guess(model, data, m, modes.mode(k))
+        assert bridge.assemble(chain, data, modes.mode(k).actuated) < 1e-12
+        if k == 0:
+            assert bridge.nearest_mode(fast, chain, data).mode == 0
+        data.ctrl[:] = modes.mode(k).actuated
+        settled = bridge.settle(chain, data, duration=1.0, speed=1e-6)
+        reference = m.forward_pose(settled.actuated, guess=modes.mode(k))
+        gap = np.linalg.norm(settled.pose[:3, 3] - reference.pose[:3, 3])
+        relative = reference.rotation.T @ settled.pose[:3, :3]
+        angle = np.degrees(np.arccos(np.clip((np.trace(relative) - 1) / 2, -1, 1)))
+        assert gap < 3e-4 and angle < 1e-2, f"mode {k}: {gap * 1e3:.4f} mm / {angle:.2e} deg"
+        assert np.argmin(np.linalg.norm(positions - settled.pose[:3, 3], axis=1)) == k
+
+
 def test_bridge_refuses_what_it_cannot_read():
     model, _, _ = five_bar()
     with pytest.raises(BadInputError, match="not in the model"):
