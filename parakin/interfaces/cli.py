@@ -5,7 +5,8 @@ variables (and Euler angles) from degrees and leave prismatic ones in metres. Ex
 success (also when the reader of the output leaves early, as ``| head`` does), 1 when there is
 no solution (no valid branch, no assembly mode, an example that does not reproduce), 2 on an
 error (bad input, unknown mechanism, unsupported operation, a file that cannot be written), 3 on
-an internal error (an exception parakin did not expect: a bug, please report it).
+an internal error (an exception parakin did not expect: a bug, please report it), 130 when
+interrupted (Ctrl-C: ``parakin: interrupted``).
 """
 
 from __future__ import annotations
@@ -556,7 +557,12 @@ def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="parakin", description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    parser = _Parser(
+        prog="parakin",
+        description=(__doc__ or "").replace("``", ""),  # plain text: no reST markup in a terminal
+        epilog="parakin COMMAND --help shows a command's options.",
+        formatter_class=argparse.RawTextHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"parakin {_version()}")
     commands = parser.add_subparsers(dest="command", required=True)
     # each flag only on the commands that use it (the README's command table says which)
@@ -572,7 +578,7 @@ def _parser() -> argparse.ArgumentParser:
 
     commands.add_parser("list", parents=[as_json], help="available mechanisms with titles")
     inspect = commands.add_parser("inspect", help="symbolic closure, Jacobians, factored singularity conditions")
-    inspect.add_argument("name")
+    inspect.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     inspect.add_argument("--format", choices=["text", "latex", "json"], default="text")
     inspect.add_argument("--width", type=int, default=100, help="line width of text expressions")
     inspect.add_argument("--lines", type=int, default=12, help="lines shown per expression (text)")
