@@ -240,6 +240,10 @@ def test_delta_xyz_leaves_one_combination(delta_campaign):
     assert set(result.identifiable) == {"L", "l", "theta1_offset", "theta2_offset", "theta3_offset"}
     assert abs(result.values["l"] - true["l"]) < 5 * result.standard_errors["l"]
     assert result.rms_after["position"] < 2e-5
+    low, high = result.interval("l")
+    assert np.isclose(high - low, 2 * 1.959963984540054 * result.standard_errors["l"])
+    assert np.isnan(result.standard_errors["R"]) and "rank 6 of 7" in result.summary()
+    assert "unidentifiable: R + r" in result.summary()
 
 
 def test_delta_z_probe_with_bed_height(delta_campaign):
