@@ -434,7 +434,7 @@ def inverse_dynamics(
     body = _platform(platform_inertia)
     g = _gravity(gravity)
     twist, twist_rate = platform_acceleration(m, state, rates, accelerations)
-    v, w = _full(m, twist)
+    _, w = _full(m, twist)  # v enters only through the closure's velocity product
     a, alpha = _full(m, twist_rate)
     rotation = np.asarray(state.rotation, dtype=float)
     r = np.einsum("...ij,j->...i", rotation, body.centre)
@@ -443,7 +443,6 @@ def inverse_dynamics(
     force = body.mass * (centre_acceleration - g)
     spin = np.einsum("...ij,...j->...i", inertia, alpha) + np.cross(w, np.einsum("...ij,...j->...i", inertia, w))
     moment = spin + np.cross(r, force)  # about O: the moment about the centre plus r x F
-    del v  # the wrench needs only w, a and alpha (v enters through the closure's velocity product)
     wrench = np.concatenate([force, moment], axis=-1)
     tau, reactions = _efforts(m, state, wrench)
     return InverseDynamics(tau, reactions, twist, twist_rate, wrench)

@@ -167,8 +167,8 @@ def test_massless_legs_equal_statics_of_dalembert_wrench(name):
 
 @pytest.mark.parametrize("name", KINDS)
 def test_regressor_times_parameters_equals_efforts(name):
-    """Y theta = tau to 1e-12 relative over a batch of 6 states and 6 random bodies; the batch
-    equals each input alone."""
+    """Y theta = tau to 1e-12 relative over a batch of 6 states and 6 random bodies; a batch (of
+    the regressor and of the efforts) equals each input alone."""
     m = parakin.load(name, backend="numpy")
     rng = np.random.default_rng(7)
     at = motion(m, rng)
@@ -182,8 +182,13 @@ def test_regressor_times_parameters_equals_efforts(name):
     qd, qdd = np.stack([s[1] for s in samples]), np.stack([s[2] for s in samples])
     y = dynamics_regressor(m, batch, qd, qdd, gravity=GRAVITY)
     assert y.shape == (6, len(m.actuated_names), len(INERTIAL_PARAMETERS))
+    common = body(rng)
+    batched = inverse_dynamics(m, batch, qd, qdd, platform_inertia=common, gravity=GRAVITY).efforts
+    assert batched.shape == (6, len(m.actuated_names))
     checked = 0
     for k in range(6):
+        alone = inverse_dynamics(m, states[k], qd[k], qdd[k], platform_inertia=common, gravity=GRAVITY).efforts
+        assert np.abs(batched[k] - alone).max() <= 1e-13 * np.abs(alone).max()
         platform = body(rng)
         tau = inverse_dynamics(m, states[k], qd[k], qdd[k], platform_inertia=platform, gravity=GRAVITY).efforts
         assert np.abs(y[k] @ platform.parameters() - tau).max() <= 1e-12 * np.abs(tau).max()
