@@ -15,6 +15,7 @@ packages you trust.
 
 from __future__ import annotations
 
+from parakin.calibration import CalibrationData, CalibrationResult, PoseDesign, calibrate, design_poses
 from parakin.errors import (
     ArchitectureSingularityWarning,
     AssemblyModeChangeError,
@@ -23,6 +24,8 @@ from parakin.errors import (
     BrokenPackageError,
     BrokenPackageWarning,
     CacheUnavailableError,
+    CalibrationDataError,
+    CalibrationUnavailableError,
     CompiledUnavailableError,
     CompilerUnavailableError,
     ConvergenceError,
@@ -72,6 +75,10 @@ __all__ = [
     "BrokenPackageError",
     "BrokenPackageWarning",
     "CacheUnavailableError",
+    "CalibrationData",
+    "CalibrationDataError",
+    "CalibrationResult",
+    "CalibrationUnavailableError",
     "CompiledUnavailableError",
     "CompilerUnavailableError",
     "Configuration",
@@ -81,6 +88,7 @@ __all__ = [
     "InconsistentInputError",
     "InversePose",
     "LeastSquares",
+    "PoseDesign",
     "Manifest",
     "Mechanism",
     "NoSuchModeError",
@@ -96,6 +104,8 @@ __all__ = [
     "UnsupportedOperationError",
     "UntrustedCacheError",
     "available",
+    "calibrate",
+    "design_poses",
     "euler_zyx_to_rotation",
     "load",
     "metadata",

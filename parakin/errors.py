@@ -184,3 +184,15 @@ def raise_for_newton_status(
         f"tolerance {tolerance:g}; try a closer guess",
         residual=reached,
     )
+
+
+class CalibrationUnavailableError(UnsupportedOperationError):
+    """The mechanism's package has no ``parameter_jacobians`` kernel (it was generated before the
+    kernel existed): regenerate it (``make regenerate``, or ``parakin generate FILE --out DIR
+    --force``) to calibrate it."""
+
+
+class CalibrationDataError(BadInputError):
+    """Measurements that do not fit the mechanism or the measurement kind (wrong shape, a
+    non-positive sigma, an unknown parameter name in ``free`` / ``fixed`` / ``prior``); the
+    message names the value."""

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import ctypes
 import threading
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -655,7 +655,7 @@ class Mechanism:
         result = None
         if known and unit != 1.0:
 
-            def scaled(variables: list[Variable], values: Mapping[str, tuple[float, float]]) -> dict:
+            def scaled(variables: Sequence[Variable], values: Mapping[str, tuple[float, float]]) -> dict:
                 lengths = {v.name for v in variables if v.unit == "m"}
                 return {k: (lo / unit, hi / unit) if k in lengths else (lo, hi) for k, (lo, hi) in values.items()}
 
