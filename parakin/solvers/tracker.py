@@ -103,6 +103,8 @@ class ForwardPoseTracker:
         self._previous = self.passive.copy()
         self._previous_pose = self.pose.copy()
         self._previous_orientation = self._orientation_at(self.actuated, self.passive)
+        self._previous_theta = self.actuated.copy()
+        self._angular = bool(mechanism._angular_passive.any())
         self._params = np.ascontiguousarray(mechanism.params)
         self._tolerance, self._max_iterations = tolerance, max_iterations
         backend = mechanism.backend
@@ -152,10 +154,22 @@ class ForwardPoseTracker:
         """Newton from the previous solution for new actuated values (n, n_a) or (n_a,): passive
         values and poses, (n_p,) and (4, 4) for one input to a tracker of one configuration
         (``single``), else (n, n_p) and (n, 4, 4); views of the tracker's buffers."""
-        theta = self.mechanism._actuated(actuated)
+        m = self.mechanism
+        # the control loop's case, a float array of inputs inside their ranges, checked in one
+        # comparison (NaN and inf fail it); anything else is validated, and named, in full
+        if not (
+            type(actuated) is np.ndarray
+            and actuated.dtype == np.float64
+            and 0 < actuated.ndim <= 2
+            and actuated.shape[-1] == self.actuated.shape[1]
+            and ((actuated >= m._actuated_low) & (actuated <= m._actuated_high)).all()
+        ):
+            actuated = m._actuated(actuated)
+        theta: Array = actuated  # type: ignore[assignment]
         self._previous[...] = self.passive
         self._previous_pose[...] = self.pose
-        previous_theta = self.actuated.copy()
+        previous_theta = self._previous_theta
+        previous_theta[...] = self.actuated
         try:
             self.actuated[...] = theta
         except ValueError as error:
@@ -205,9 +219,16 @@ class ForwardPoseTracker:
         # the first step is the linearised prediction: a quadratically converging Newton moves
         # within a small multiple of it, a jump to another branch moves much further; a first
         # step beyond trust_step leaves the linearisation's reach, where Newton finds *a* solution
-        jumped = self._moved(self.passive, self._previous) > self.jump_ratio * self.first_step + 100 * self._tolerance
+        moved = np.abs(self.passive - self._previous).max(-1, initial=0.0)
+        if self._angular and moved.max(initial=0.0) > np.pi:  # a wrapped angle moved less
+            moved = self._moved(self.passive, self._previous)
+        jumped = moved > self.jump_ratio * self.first_step + 100 * self._tolerance
         coarse = ~(self.first_step <= self.trust_step)
         suspect = ~crossed & (jumped | coarse)
+        if not (crossed | suspect).any():  # the control loop's case: nothing to follow or flag
+            self.mode_change.fill(0)
+            np.copyto(self._previous_orientation, self.orientation, where=self.orientation != 0)
+            return
         self.mode_change[...] = np.where(crossed, 1, 0)
         if suspect.any():
             self._follow_branch(np.nonzero(suspect)[0], previous_theta)
