@@ -708,4 +708,43 @@ def animate(
     return Animation(tracked, distance, animation)
 
 
-__all__ = ["Animation", "actuated_line", "actuated_loop", "animate", "plot", "track"]
+def figure_html(figure: Any, alt: str, width: int | None = None, dpi: int = 100) -> str:
+    """A matplotlib figure as one self-contained HTML image (PNG inlined as base64), for a page
+    built from code (the documentation's tutorials) or any HTML output; the figure is closed.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure, e.g. ``m.plot(modes, all_modes=True)[0].figure``.
+    alt : str
+        The image's text alternative: what the figure shows.
+    width : int, optional
+        Display width in CSS pixels (default: the PNG's own).
+    dpi : int
+        Resolution of the PNG.
+
+    Returns
+    -------
+    str
+        ``<img alt="..." src="data:image/png;base64,...">``.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> figure, ax = plt.subplots()
+    >>> figure_html(figure, "an empty plot").startswith('<img alt="an empty plot"')
+    True
+    """
+    import base64
+    import html
+    import io
+
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=dpi)
+    _pyplot().close(figure)
+    encoded = base64.b64encode(buffer.getvalue()).decode("ascii")
+    size = f' width="{int(width)}"' if width else ""
+    return f'<img alt="{html.escape(alt)}"{size} src="data:image/png;base64,{encoded}">'
+
+
+__all__ = ["Animation", "actuated_line", "actuated_loop", "animate", "figure_html", "plot", "track"]
