@@ -346,7 +346,8 @@ def _demo(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     for name in names:
-        results = run_examples(name, backend=args.backend)
+        with _Busy(f"{name}: reproducing its examples"):
+            results = run_examples(name, backend=args.backend)
         print(format_results(name, results), flush=True)
         failed += sum(not r.holds for r in results)
     if failed:
