@@ -23,6 +23,7 @@ import numpy as np
 
 import parakin
 from parakin.packages.compiled import CompiledBackend
+from parakin.solvers.modes import compiled_modes
 from parakin.studies.sampling import sample_configurations
 
 PEERS = Path(__file__).resolve().parent.parent.parent / "shared" / "peers"
@@ -97,7 +98,11 @@ def dietmaier_row() -> list[str]:
     m = parakin.load("stewart", backend="compiled")
     theta = DIETMAIER_LEGS.copy()
     solver = load_fksgp()
-    contenders: dict[str, Callable[[], object]] = {"parakin": lambda: m.forward_pose_all(theta, strict=False)}
+    contenders: dict[str, Callable[[], object]] = {
+        "parakin": lambda: m.forward_pose_all(theta, strict=False),
+        # the generated C pipeline alone: tracking, settling; no certificate, no Python
+        "C only": lambda: compiled_modes(m, theta[None]),
+    }
     squared = DIETMAIER_LEGS**2
     if solver is not None:
         np.random.seed(1)  # fkSGP randomises internally
@@ -114,6 +119,8 @@ def dietmaier_row() -> list[str]:
             assert solver is not None
             found = len(solver(DIETMAIER_BASE, DIETMAIER_PLATFORM, squared, 1)[0])
             extra = f"{found:5d} {'-':>8s}"
+        elif name == "C only":
+            extra = f"{int((compiled_modes(m, theta[None])['outcome'] == 0).sum()):5d} {'-':>8s}"
         else:
             extra = f"{int(modes.count):5d} {str(complete):>8s}"
         ms = value * 1e3
