@@ -230,3 +230,26 @@ def test_work_over_a_second_says_what_runs(monkeypatch, capsys):
     with cli._Busy("silent", delay=0.0):
         time.sleep(0.1)
     assert capsys.readouterr().err == ""
+
+
+def test_ctrl_c_stops_the_viewer_as_any_command():
+    """`parakin view` serves until Ctrl-C; it once exited 0 without a word: now as every command,
+    'parakin: interrupted' and 130, within 2 s."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "parakin.interfaces.cli", "view", "five_bar", "--port", "0", "--backend", "numpy"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        url = process.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:"), url
+        start = time.perf_counter()
+        process.send_signal(signal.SIGINT)
+        code = process.wait(timeout=30)
+        elapsed = time.perf_counter() - start
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert code == 130 and elapsed <= 2.0
+    assert process.stderr.read().strip() == "parakin: interrupted (the viewer stopped)"

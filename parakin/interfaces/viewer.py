@@ -429,7 +429,11 @@ class ViewerSession:
             "centre": self._centre(home) if self._sphere is None else self._sphere["centre"],
             "radius": self._radius(home) if self._sphere is None else 1.05 * self._sphere["radius"],
             "pose_components": list(POSE_COMPONENTS.get(m.manifest.pose_kind, range(6))),
-            "pose_labels": list(POSE_LABELS),
+            # the planar turn is phi (alpha of the Z-Y-X angles), as in the modes table
+            "pose_labels": [
+                "phi [deg]" if label == "alpha [deg]" and m.manifest.pose_kind == "planar" else label
+                for label in POSE_LABELS
+            ],
             "home_measures": self._home_measures,
             "home_conditioning": self._home_conditioning,
             "tracks": bool(m.passive_names),
@@ -1033,7 +1037,8 @@ def show(m: Mechanism, port: int = 0, width: str = "100%", height: int = 640) ->
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``parakin view NAME [--port P] [--open]``: serve a viewer of NAME, print its URL, run until
-    interrupted. Exit status 0, or 2 for an unknown mechanism or bad arguments."""
+    interrupted (Ctrl-C: ``parakin: interrupted``, exit status 130). Exit status 2 for an
+    unknown mechanism or bad arguments."""
     import parakin
 
     parser = argparse.ArgumentParser(
@@ -1063,13 +1068,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         m = parakin.load(args.name, backend=args.backend, **parameters)
         viewer = serve(m, args.port, args.open, args.host)
     except (ParakinError, ValueError, OSError) as error:
-        print(f"parakin viewer: {error}", file=sys.stderr)
+        print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2
     print(viewer.url, flush=True)
     try:
         threading.Event().wait()
-    except KeyboardInterrupt:
-        pass
+    except KeyboardInterrupt:  # the way to stop it: as every command, "interrupted" and 130
+        print("\nparakin: interrupted (the viewer stopped)", file=sys.stderr)
+        return 130
     finally:
         viewer.close()
     return 0
