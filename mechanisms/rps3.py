@@ -5,7 +5,7 @@ platform's centre moves sideways and it turns about the vertical as it tilts); t
 has 16 complex solutions.
 
 Frames and conventions (SI, radians):
-* {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 0, 120, 240 deg; the
+* {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 90, 210, 330 deg; the
   revolute axis of leg i is the tangent u_i = (-sin eta_i, cos eta_i, 0): leg i stays in the
   vertical plane through A_i normal to u_i.
 * {P}: platform joints c_i = r_p e_i.
@@ -28,8 +28,8 @@ from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p = sp.symbols("r_b r_p", positive=True)
 lengths = sp.symbols("l1:4", positive=True)
-#: leg angles 0, 120, 240 deg, exactly (cos, sin)
-ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
+#: leg angles 90, 210, 330 deg, exactly (cos, sin)
+ANGLES = [(sp.Integer(0), sp.Integer(1)), (-sp.sqrt(3) / 2, -sp.Rational(1, 2)), (sp.sqrt(3) / 2, -sp.Rational(1, 2))]
 RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
 TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
 DEFAULTS = {r_b: 0.2, r_p: 0.1}

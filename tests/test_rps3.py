@@ -17,7 +17,7 @@ import pytest
 import parakin
 
 R_B, R_P = 0.2, 0.1
-ETA = np.radians([0.0, 120.0, 240.0])
+ETA = np.radians([90.0, 210.0, 330.0])
 RADIAL = np.stack([np.cos(ETA), np.sin(ETA), np.zeros(3)], -1)
 TANGENT = np.stack([-np.sin(ETA), np.cos(ETA), np.zeros(3)], -1)
 
