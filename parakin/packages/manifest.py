@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from parakin.errors import NEWTON_STATUS_NAMES, BadInputError, BrokenPackageError
+from parakin.packages import expression
 from parakin.pose import POSE_KINDS
 from parakin.validation import MAX_MAGNITUDE, in_domain
 
@@ -282,6 +283,104 @@ class Abi:
         return getattr(self, table).index(name)
 
 
+#: joint kinds of the graph and their degrees of freedom (generator.graph.KINDS)
+JOINT_KINDS = {"R": 1, "P": 1, "C": 2, "U": 2, "S": 3, "planar": 3, "Pa": 1, "F": 0}
+#: the kinds that need an axis (a prismatic joint without one slides along its leg's line)
+AXIAL_KINDS = ("R", "C", "U", "planar", "Pa")
+#: where a joint lies on its leg: the base point A, the elbow E, the platform point C, or placed
+#: by a serial chain's product of exponentials ("chain")
+JOINT_SITES = ("base", "elbow", "platform", "chain")
+
+
+@dataclass(frozen=True)
+class GraphJoint:
+    """One joint of the joint graph (``generator.graph.Joint``): its kind (``JOINT_KINDS``) and
+    site (``JOINT_SITES``); ``point`` and ``axis`` as three expression texts of the parameters
+    (``parakin.packages.expression``; in {B} at the base and the elbow, the elbow's before the
+    first body turns, in {P} at the platform; None where the kind or site has none); the
+    ``variable`` it carries (an actuated variable where ``actuated``), and its limits (rad or m)."""
+
+    kind: str
+    site: str
+    point: tuple[str, str, str] | None
+    axis: tuple[str, str, str] | None
+    variable: str | None
+    actuated: bool
+    limits: tuple[float, float] | None
+
+    @property
+    def dof(self) -> int:
+        return JOINT_KINDS[self.kind]
+
+
+@dataclass(frozen=True)
+class GraphLeg:
+    """A leg: its joints from the base to the platform and the bodies between them (one fewer);
+    ``reach`` the first body's length and zero direction (expressions) where it is a crank;
+    ``link`` the fixed elbow-to-platform distance (None: a line of variable length from A)."""
+
+    name: str
+    actuated: bool
+    joints: tuple[GraphJoint, ...]
+    bodies: tuple[str, ...]
+    reach: tuple[str, tuple[str, str, str]] | None
+    link: str | None
+
+    @property
+    def serial(self) -> bool:
+        """Whether the leg is a serial chain placed by products of exponentials (site "chain")."""
+        return all(j.site == "chain" for j in self.joints)
+
+
+@dataclass(frozen=True)
+class GraphInertial:
+    """A body's inertial symbols (names): mass, centre (3) and inertia (3 x 3, row by row)."""
+
+    mass: str
+    centre: tuple[str, ...]
+    inertia: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class GraphBody:
+    name: str
+    inertial: GraphInertial | None
+
+
+@dataclass(frozen=True)
+class GraphLoop:
+    """A loop constraint: leg ``leg`` meets the platform at its joint number ``joint``."""
+
+    leg: str
+    joint: int
+
+
+@dataclass(frozen=True)
+class GraphMotion:
+    """What the generator's screw analysis found: the platform's mobility, the smallest pose
+    kind holding its twists (None: none), nTmR, parasitic motion, the configurations sampled."""
+
+    mobility: int
+    kind: str | None
+    translations: int
+    rotations: int
+    parasitic: bool
+    samples: int
+    text: str
+
+
+@dataclass(frozen=True)
+class JointGraph:
+    """The mechanism as bodies and joints (``generator.graph``; the manifest's ``joints``): the
+    platform's pose kind, bodies, legs, loops and the screw analysis's ``motion``."""
+
+    pose_kind: str
+    bodies: tuple[GraphBody, ...]
+    legs: tuple[GraphLeg, ...]
+    loops: tuple[GraphLoop, ...]
+    motion: GraphMotion | None
+
+
 @dataclass(frozen=True)
 class Manifest:
     schema: int
@@ -308,6 +407,8 @@ class Manifest:
     c_headers: tuple[str, ...]
     newton: Newton
     abi: Abi
+    #: the bodies and joints (None: a package generated before the manifest carried them)
+    joints: JointGraph | None = None
 
     @property
     def actuated_names(self) -> list[str]:
@@ -405,6 +506,9 @@ class Manifest:
         modes = _member(c, "modes", "c") if "modes" in c else None
         if modes is not None:
             modes = _object(modes, "c.modes")
+        parsed_parameters = _unique(
+            tuple(_parameter(p, f"parameters[{k}]") for k, p in enumerate(parameters)), "parameters"
+        )
         return cls(
             schema=SUPPORTED_SCHEMA,
             name=_name(_member(data, "name", ""), "name"),
@@ -414,9 +518,7 @@ class Manifest:
             generator_version=_text(_member(generator, "version", "generator"), "generator.version"),
             source=_text(_member(generator, "source", "generator"), "generator.source"),
             pose_kind=_pose_kind(_member(data, "pose_kind", "")),
-            parameters=_unique(
-                tuple(_parameter(p, f"parameters[{k}]") for k, p in enumerate(parameters)), "parameters"
-            ),
+            parameters=parsed_parameters,
             parameter_groups=_unique(
                 tuple(
                     _parameter_group(g, f"parameter_groups[{k}]")
@@ -465,6 +567,7 @@ class Manifest:
                 _job(_member(abi, "modes_job", "c.abi"), "c.abi.modes_job"),
                 _optional_name(modes.get("symbol") if modes is not None else None, "c.modes.symbol"),
             ),
+            joints=_joint_graph(data.get("joints"), [p.name for p in parsed_parameters]),
         )
 
 
@@ -1108,6 +1211,150 @@ def _root_count(value: object, path: str, paths: int) -> RootCount:
     )
 
 
+# ---------------------------------------------------------------- the joint graph
+def _vector_text(value: object, path: str, parameters: list[str]) -> tuple[str, str, str]:
+    """Three expressions of the parameters (a point or an axis)."""
+    entries = _list(value, path, 3)
+    x, y, z = (expression.check(e, parameters, f"{path}[{k}]") for k, e in enumerate(entries))
+    return x, y, z
+
+
+def _optional_vector(value: object, path: str, parameters: list[str]) -> tuple[str, str, str] | None:
+    return None if value is None else _vector_text(value, path, parameters)
+
+
+def _graph_joint(value: object, path: str, parameters: list[str]) -> GraphJoint:
+    data = _object(value, path)
+    kind = _member(data, "kind", path)
+    if not isinstance(kind, str) or kind not in JOINT_KINDS:
+        raise _bad(f"{path}.kind", kind, f"is not a joint kind ({', '.join(JOINT_KINDS)})")
+    site = _member(data, "site", path)
+    if not isinstance(site, str) or site not in JOINT_SITES:
+        raise _bad(f"{path}.site", site, f"is not a joint site ({', '.join(JOINT_SITES)})")
+    point = _optional_vector(_member(data, "point", path), f"{path}.point", parameters)
+    axis = _optional_vector(_member(data, "axis", path), f"{path}.axis", parameters)
+    if point is None and site != "elbow":
+        raise _bad(f"{path}.point", None, f"is missing: a joint at the {site} has a point")
+    if axis is None and kind in AXIAL_KINDS:
+        raise _bad(f"{path}.axis", None, f"is missing: a {kind} joint has an axis")
+    variable = _optional_name(_member(data, "variable", path), f"{path}.variable")
+    actuated = _flag(_member(data, "actuated", path), f"{path}.actuated")
+    if actuated and (JOINT_KINDS[kind] != 1 or variable is None):
+        raise _bad(f"{path}.actuated", actuated, f"marks a {kind} joint with variable {variable}: an actuated joint "
+                   "has one degree of freedom and a variable")  # fmt: skip
+    limits = _member(data, "limits", path)
+    if limits is not None:
+        low, high = _numbers(limits, f"{path}.limits", 2)
+        if not low <= high:
+            raise _bad(f"{path}.limits", limits, "is not an interval (low <= high)")
+        limits = (low, high)
+    return GraphJoint(kind, site, point, axis, variable, actuated, limits)
+
+
+def _graph_leg(value: object, path: str, parameters: list[str]) -> GraphLeg:
+    data = _object(value, path)
+    joints = tuple(
+        _graph_joint(j, f"{path}.joints[{k}]", parameters)
+        for k, j in enumerate(_list(_member(data, "joints", path), f"{path}.joints", at_least=1))
+    )
+    bodies = _names(_member(data, "bodies", path), f"{path}.bodies")
+    if len(bodies) != len(joints) - 1:
+        raise _bad(f"{path}.bodies", list(bodies), f"has {len(bodies)} names: {len(joints)} joints hold "
+                   f"{len(joints) - 1} bodies")  # fmt: skip
+    serial = all(j.site == "chain" for j in joints)
+    if not serial and (joints[0].site != "base" or joints[-1].site != "platform"):
+        raise _bad(f"{path}.joints", [j.site for j in joints], "do not run from the base to the platform (sites)")
+    reach = _member(data, "reach", path)
+    if reach is not None:
+        reach_data = _object(reach, f"{path}.reach")
+        reach = (
+            expression.check(_member(reach_data, "length", f"{path}.reach"), parameters, f"{path}.reach.length"),
+            _vector_text(_member(reach_data, "direction", f"{path}.reach"), f"{path}.reach.direction", parameters),
+        )
+    link = _member(data, "link", path)
+    if link is not None:
+        link = expression.check(link, parameters, f"{path}.link")
+    actuated = _flag(_member(data, "actuated", path), f"{path}.actuated")
+    if actuated != any(j.actuated for j in joints):
+        raise _bad(f"{path}.actuated", actuated, "disagrees with its joints' actuated marks")
+    return GraphLeg(_name(_member(data, "name", path), f"{path}.name"), actuated, joints, bodies, reach, link)
+
+
+def _graph_body(value: object, path: str) -> GraphBody:
+    data = _object(value, path)
+    inertial = _member(data, "inertial", path)
+    if inertial is not None:
+        where = f"{path}.inertial"
+        entries = _object(inertial, where)
+        inertial = GraphInertial(
+            _name(_member(entries, "mass", where), f"{where}.mass"),
+            _names(_list(_member(entries, "centre", where), f"{where}.centre", 3), f"{where}.centre"),
+            _names(_list(_member(entries, "inertia", where), f"{where}.inertia", 9), f"{where}.inertia"),
+        )
+    return GraphBody(_name(_member(data, "name", path), f"{path}.name"), inertial)
+
+
+def _graph_motion(value: object) -> GraphMotion | None:
+    path = "joints.motion"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    kind = _member(data, "kind", path)
+    if kind is not None:
+        kind = _pose_kind(kind)
+    return GraphMotion(
+        _integer(_member(data, "mobility", path), f"{path}.mobility", 0, 6),
+        kind,
+        _integer(_member(data, "translations", path), f"{path}.translations", 0, 6),
+        _integer(_member(data, "rotations", path), f"{path}.rotations", 0, 6),
+        _flag(_member(data, "parasitic", path), f"{path}.parasitic"),
+        _integer(_member(data, "samples", path), f"{path}.samples", 0, MAX_COUNT),
+        _text(_member(data, "text", path), f"{path}.text"),
+    )
+
+
+def _joint_graph(value: object, parameters: list[str]) -> JointGraph | None:
+    """The manifest's ``joints`` (optional: None where an older package lacks it): every joint's
+    kind, site, point and axis (expressions of ``parameters`` only), legs and bodies by name,
+    loops naming a leg and one of its joints."""
+    data = _optional_object(value, "joints")
+    if data is None:
+        return None
+    legs = _unique(
+        tuple(
+            _graph_leg(leg, f"joints.legs[{k}]", parameters)
+            for k, leg in enumerate(_list(_member(data, "legs", "joints"), "joints.legs", at_least=1))
+        ),
+        "joints.legs",
+    )
+    bodies = _unique(
+        tuple(
+            _graph_body(body, f"joints.bodies[{k}]")
+            for k, body in enumerate(_list(_member(data, "bodies", "joints"), "joints.bodies"))
+        ),
+        "joints.bodies",
+    )
+    known = {body.name for body in bodies}
+    for k, leg in enumerate(legs):
+        missing = [name for name in leg.bodies if name not in known]
+        if missing:
+            raise _bad(f"joints.legs[{k}].bodies", list(leg.bodies), f"names {missing}, not bodies of joints.bodies")
+    by_name = {leg.name: leg for leg in legs}
+    loops = []
+    for k, loop in enumerate(_list(_member(data, "loops", "joints"), "joints.loops")):
+        path = f"joints.loops[{k}]"
+        entry = _object(loop, path)
+        leg_name = _member(entry, "leg", path)
+        if not isinstance(leg_name, str) or leg_name not in by_name:
+            raise _bad(f"{path}.leg", leg_name, f"is not a leg of joints.legs ({', '.join(by_name)})")
+        joint = _integer(_member(entry, "joint", path), f"{path}.joint", 0, len(by_name[leg_name].joints) - 1)
+        loops.append(GraphLoop(leg_name, joint))
+    return JointGraph(
+        _pose_kind(_member(data, "pose_kind", "joints")), bodies, legs, tuple(loops),
+        _graph_motion(_member(data, "motion", "joints")),
+    )  # fmt: skip
+
+
 # ---------------------------------------------------------------- what fields must agree on
 def _required_kernels(manifest: Manifest) -> dict[str, str]:
     """Kernel -> the capability that calls it."""
@@ -1220,6 +1467,16 @@ def _check_agreement(manifest: Manifest) -> None:
             f"field c.newton: {newton.unknowns} unknowns and {newton.actuated} actuated values, where the manifest "
             f"lists {len(manifest.passive)} passive and {len(manifest.actuated)} actuated variables"
         )
+    if manifest.joints is not None:  # each actuated joint carries one actuated variable, once
+        carried = [str(j.variable) for leg in manifest.joints.legs for j in leg.joints if j.actuated]
+        actuated_names = manifest.actuated_names
+        unknown = [name for name in carried if name not in actuated_names]
+        twice = sorted({name for name in carried if carried.count(name) > 1})
+        if unknown or twice:
+            raise _bad("joints.legs.joints.variable", carried, f"names {unknown or twice}: each actuated joint "
+                       f"carries one actuated variable ({', '.join(actuated_names)}), each once")  # fmt: skip
+        if manifest.joints.pose_kind != manifest.pose_kind:
+            raise _bad("joints.pose_kind", manifest.joints.pose_kind, f"differs from pose_kind {manifest.pose_kind!r}")
     if caps.inverse is not None:
         branches = len(caps.inverse.combinations)
         for k, example in enumerate(manifest.examples):
@@ -1227,4 +1484,19 @@ def _check_agreement(manifest: Manifest) -> None:
                 raise _bad(f"examples[{k}].branch", example.branch, f"is not an inverse branch (0 to {branches - 1})")
 
 
-__all__ = ["Manifest", "Variable", "Kernel", "Example", "Capabilities", "Citation", "Parameter", "unknown_name"]
+__all__ = [
+    "Capabilities",
+    "Citation",
+    "Example",
+    "GraphBody",
+    "GraphJoint",
+    "GraphLeg",
+    "GraphLoop",
+    "GraphMotion",
+    "JointGraph",
+    "Kernel",
+    "Manifest",
+    "Parameter",
+    "Variable",
+    "unknown_name",
+]
