@@ -57,3 +57,24 @@ def test_the_offline_hook_removes_network_scripts_and_flags_other_loads(caplog):
     assert '<a href="https://github.com/">' in cleaned and not caplog.records
     hook.on_post_page('<img src="https://example.org/x.png">', page, None)
     assert any("loads" in r.getMessage() and "example.org" in r.getMessage() for r in caplog.records)
+
+
+def test_the_plotting_reference_examples_run(tmp_path, monkeypatch):
+    """The Examples sections of parakin.interfaces.plot (rendered on the API page) run as written
+    and print what they show (doctest)."""
+    import doctest
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from parakin.interfaces import plot
+
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(tmp_path)  # the animation example writes its GIF here
+    try:
+        result = doctest.testmod(plot, optionflags=doctest.NORMALIZE_WHITESPACE)
+    finally:
+        plt.close("all")
+    assert result.attempted >= 12 and result.failed == 0, result
+    assert (tmp_path / "five_bar.gif").stat().st_size > 1000

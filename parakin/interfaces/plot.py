@@ -446,7 +446,34 @@ def actuated_path(m: LoadedMechanism, value: ArrayLike, name: str = "actuated_pa
 
 
 def actuated_line(m: LoadedMechanism, start: ArrayLike, end: ArrayLike, frames: int) -> Array:
-    """``frames`` inputs evenly spaced on the straight line from ``start`` to ``end`` (n_a,)."""
+    """Inputs evenly spaced on the straight line between two inputs: a path for ``animate``.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism (its actuators' ranges bound the path).
+    start, end : array_like, shape (n_a,)
+        The first and last input (metres for prismatic, radians for revolute actuators).
+    frames : int
+        The number of inputs, at least 2.
+
+    Returns
+    -------
+    ndarray, shape (frames, n_a)
+        The inputs, ``start`` first and ``end`` last.
+
+    Raises
+    ------
+    BadInputError
+        ``frames`` below 2, or an input outside its actuator's range (naming the frame).
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> actuated_line(m, [1.5, 1.6], [1.7, 1.4], 3).round(2).tolist()
+    [[1.5, 1.6], [1.6, 1.5], [1.7, 1.4]]
+    """
     if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 2:
         raise BadInputError(f"frames must be an integer >= 2, got {frames!r}")
     t = np.linspace(0.0, 1.0, int(frames))[:, None]
@@ -455,10 +482,42 @@ def actuated_line(m: LoadedMechanism, start: ArrayLike, end: ArrayLike, frames: 
 
 
 def actuated_loop(m: LoadedMechanism, start: ArrayLike, frames: int, scale: float = 1.0) -> Array:
-    """A closed loop of ``frames`` inputs through ``start`` (n_a,): input i moves as
-    a_i + scale * amplitude_i * sin(2 pi t + 2 pi i / n_a), t in [0, 1], amplitude LOOP_ANGLE (rad)
-    for a revolute input and LOOP_FRACTION * |a_i| for a prismatic one; every input moves, out of
-    phase, and the last frame is the first (a GIF that loops)."""
+    """A closed loop of inputs through ``start``: the default path of ``parakin plot --animate``.
+
+    Input i moves as a_i + scale * amplitude_i * (sin(2 pi t + phi_i) - sin(phi_i)), t in [0, 1],
+    phi_i = 2 pi i / n_a: every input moves, out of phase, and the last frame is the first (a GIF
+    that loops). The amplitude is ``LOOP_ANGLE`` (rad) for a revolute input and
+    ``LOOP_FRACTION * |a_i|`` for a prismatic one.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism (its actuators' ranges bound the loop).
+    start : array_like, shape (n_a,)
+        The input the loop starts and ends at (m, rad).
+    frames : int
+        The number of inputs, at least 2.
+    scale : float
+        A factor on the amplitudes (smaller loops stay clear of singularities).
+
+    Returns
+    -------
+    ndarray, shape (frames, n_a)
+        The inputs, first and last equal to ``start``.
+
+    Raises
+    ------
+    BadInputError
+        ``frames`` below 2, or an input outside its actuator's range (naming the frame).
+
+    Examples
+    --------
+    >>> import numpy as np, parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> loop = actuated_loop(m, m.home_actuated, 24)
+    >>> loop.shape, bool(np.allclose(loop[0], loop[-1]))
+    ((24, 2), True)
+    """
     if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 2:
         raise BadInputError(f"frames must be an integer >= 2, got {frames!r}")
     a = np.asarray(start, dtype=float)
@@ -503,13 +562,46 @@ def _step(tracker: Any, previous: Array, theta: Array) -> tuple[Array, Array]:
 
 
 def track(m: LoadedMechanism, path: ArrayLike, start: Configuration | None = None) -> Configuration:
-    """The configurations along ``path`` (N, n_a): the runtime's tracker from ``start`` (a solved
-    configuration at ``path[0]``; default the forward pose nearest the home, ``m.forward_pose``),
-    so the assembly mode stays the start's. A serial chain (no passive joints) is solved in closed
-    form per frame. Errors name the frame: AssemblyModeChangeError where the path crosses a type II
-    singularity (or the branch ends), ConvergenceError or SingularConfigurationError where Newton
-    fails, UnreachablePoseError where passive joints leave their limits, BadInputError where an
-    input leaves its range."""
+    """The configurations along a path of inputs, in one assembly mode.
+
+    The runtime's tracker follows the mode from ``start``, so the assembly mode stays the start's
+    (never a silent jump); a serial chain (no passive joints) is solved in closed form per frame.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism.
+    path : array_like, shape (N, n_a)
+        The inputs, N >= 2 (m, rad), e.g. ``actuated_line`` or ``actuated_loop``.
+    start : Configuration, optional
+        A solved configuration at ``path[0]`` (e.g. ``modes.mode(k)``); default the forward pose
+        nearest the home (``m.forward_pose``).
+
+    Returns
+    -------
+    Configuration
+        actuated (N, n_a), passive (N, n_p) and pose ^B_P T (N, 4, 4) in {B}, metres.
+
+    Raises
+    ------
+    AssemblyModeChangeError
+        Where the path crosses a type II singularity (or the branch ends); every error names
+        the frame.
+    ConvergenceError, SingularConfigurationError
+        Where Newton fails.
+    UnreachablePoseError
+        Where passive joints leave their limits.
+    BadInputError
+        Where an input leaves its range.
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> tracked = track(m, actuated_loop(m, m.home_actuated, 12))
+    >>> tracked.pose.shape
+    (12, 4, 4)
+    """
     theta = actuated_path(m, path)
     frames = theta.shape[0]
     if start is None:  # at the home inputs, the home's own mode (Newton from it: no all-modes solve)
@@ -587,16 +679,55 @@ def plot(
     all_modes: bool = False,
     distances: bool = True,
 ) -> Any:
-    """Draw the mechanism and write a PNG to ``path`` when given.
+    """Draw the mechanism (``m.plot``, ``parakin plot``) and write a PNG when asked.
 
-    ``state``: a Configuration (one, or a batch: one drawing per entry, labelled #k) or the
-    AssemblyModes of one input (modes numbered 0 .. count - 1). ``mode=k`` draws mode (or entry) k
-    alone; ``all_modes=True`` draws every one as a grid of small multiples. Without either, given
-    ``ax`` gets every configuration overlaid (coloured by mode, a legend by mode number), and
-    ``ax=None`` gets one drawing for a single Configuration and the grid otherwise. ``ax``: 3-D
-    axes, or 2-D axes for a planar drawing (BadInputError for any other). ``distances``: show the
-    distance to singularity in titles. Returns the axes drawn on: one Axes, or for a grid a 1-D
-    array of Axes, entry k the panel of mode k."""
+    Without ``mode`` or ``all_modes``, given ``ax`` gets every configuration overlaid (coloured by
+    mode, a legend by mode number), and ``ax=None`` gets one drawing for a single Configuration
+    and the grid otherwise. Lengths are metres in {B}; a planar drawing is drawn in the x-y plane,
+    a spherical one on its sphere with great-circle arcs.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism (it needs a drawing kernel: ``m.capabilities.drawing``).
+    state : Configuration or AssemblyModes
+        One configuration, a batch (one drawing per entry, labelled #k), or the assembly modes of
+        one input (numbered 0 .. count - 1 as ``modes.mode(k)``).
+    path : str, optional
+        Where to write a PNG.
+    ax : matplotlib Axes, optional
+        3-D axes, or 2-D axes for a planar drawing.
+    title : str, optional
+        The heading (default: the mechanism's title).
+    mode : int, optional
+        Draw mode (or entry) ``mode`` alone.
+    all_modes : bool
+        Draw every mode as a grid of small multiples, each titled "mode k".
+    distances : bool
+        Show each drawing's distance to singularity (type I and type II) in its title.
+
+    Returns
+    -------
+    Axes or ndarray of Axes
+        The axes drawn on; for a grid a 1-D array, entry k the panel of mode k.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        The mechanism has no drawing kernel, or matplotlib is missing.
+    BadInputError
+        Both ``mode`` and ``all_modes``, ``all_modes`` with ``ax``, or axes of the wrong kind.
+    NoSuchModeError
+        ``mode`` is not a mode of ``state``, or there is no mode to draw.
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("planar_3rpr", backend="numpy")
+    >>> panels = plot(m, m.forward_pose_all(m.home_actuated), all_modes=True)
+    >>> [ax.get_title().split("\\n")[0] for ax in panels]
+    ['mode 0', 'mode 1', 'mode 2', 'mode 3', 'mode 4', 'mode 5']
+    """
     drawing = m.capabilities.drawing
     if drawing is None:
         raise UnsupportedOperationError(f"{m.name} has no drawing kernel: plot is not available")
@@ -668,13 +799,52 @@ def animate(
     title: str | None = None,
     dpi: int = 100,
 ) -> Animation:
-    """Animate the mechanism along ``actuated_path`` (N, n_a; metres and radians), writing a GIF
-    to ``path`` when given (matplotlib's PillowWriter). The forward pose is tracked from ``start``
-    (a solved configuration at the first input, e.g. ``modes.mode(k)``; default the mode nearest
-    the home) by the runtime's tracker, never re-solved from scratch, so the assembly mode does not
-    jump; a path that crosses a singularity or leaves the workspace raises the tracker's named
-    error with the frame (``track``). Every frame has the same limits and
-    shows its inputs and distance to singularity. Returns the tracked path and the animation."""
+    """Animate the mechanism along a path of inputs (``parakin plot NAME --animate OUT.gif``).
+
+    The forward pose is tracked from ``start`` by the runtime's tracker (``track``), never
+    re-solved from scratch, so the assembly mode does not jump. Every frame has the same limits
+    and shows its inputs (by name, revolute ones in degrees) and its distance to singularity.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism (it needs a drawing kernel).
+    actuated_path : array_like, shape (N, n_a)
+        The inputs, N >= 2 (m, rad): ``actuated_line``, ``actuated_loop`` or your own.
+    path : str, optional
+        Where to write the GIF (matplotlib's PillowWriter).
+    start : Configuration, optional
+        A solved configuration at the first input (e.g. ``modes.mode(k)``); default the mode
+        nearest the home.
+    fps : int
+        Frames per second, 1 to 100.
+    title : str, optional
+        The heading (default: the mechanism's title).
+    dpi : int
+        Resolution of the GIF (6 x 6.5 in: 600 x 650 pixels at 100).
+
+    Returns
+    -------
+    Animation
+        The tracked configurations, their distances to singularity and the matplotlib animation.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        The mechanism has no drawing kernel.
+    BadInputError
+        ``fps`` out of range, or an input outside its range (naming the frame).
+    AssemblyModeChangeError, ConvergenceError, SingularConfigurationError
+        The path crosses a singularity or leaves the workspace (naming the frame, as ``track``).
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> done = animate(m, actuated_loop(m, m.home_actuated, 6), "five_bar.gif")
+    >>> len(done), sorted(done.distance)
+    (6, ['type I', 'type II'])
+    """
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     if m.capabilities.drawing is None:
