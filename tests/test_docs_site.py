@@ -67,9 +67,9 @@ def test_the_plotting_reference_examples_run(tmp_path, monkeypatch):
     import matplotlib
 
     matplotlib.use("Agg")
-    from parakin.interfaces import plot
-
     import matplotlib.pyplot as plt
+
+    from parakin.interfaces import plot
 
     monkeypatch.chdir(tmp_path)  # the animation example writes its GIF here
     try:
