@@ -59,6 +59,16 @@ from parakin.studies.sweep import sweep
 __version__ = "0.2.0"
 
 
+def __getattr__(name: str) -> object:
+    """``parakin.mujoco``: the MuJoCo bridge, imported on first use (MuJoCo is optional: the
+    ``sim`` extra)."""
+    if name == "mujoco":
+        import importlib
+
+        return importlib.import_module("parakin.mujoco_bridge")
+    raise AttributeError(f"module 'parakin' has no attribute {name!r}")
+
+
 def __dir__() -> list[str]:
     """The public names (``__all__``) and the submodules, not this module's own imports."""
     import pkgutil

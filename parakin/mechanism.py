@@ -944,6 +944,42 @@ class Mechanism:
         return np.asarray((transposed @ y[..., None])[..., 0], dtype=np.float64)
 
     # ------------------------------------------------------------------ statics
+    def inverse_dynamics(
+        self,
+        state: Configuration,
+        rates: ArrayLike,
+        accelerations: ArrayLike,
+        *,
+        platform_inertia: Any,
+        gravity: ArrayLike | None = None,
+        leg_inertias: object = None,
+    ) -> Any:
+        """Actuator efforts that move the platform with the given actuated rates and accelerations
+        (``parakin.dynamics.inverse_dynamics``: the platform's Newton-Euler wrench through the rate
+        model; massless legs). Returns ``parakin.dynamics.InverseDynamics``."""
+        from parakin import dynamics
+
+        g = dynamics.STANDARD_GRAVITY if gravity is None else gravity
+        return dynamics.inverse_dynamics(
+            self, state, rates, accelerations, platform_inertia=platform_inertia, gravity=g, leg_inertias=leg_inertias
+        )
+
+    def dynamics_regressor(
+        self,
+        state: Configuration,
+        rates: ArrayLike,
+        accelerations: ArrayLike,
+        *,
+        gravity: ArrayLike | None = None,
+        leg_inertias: object = None,
+    ) -> Array:
+        """Y (..., n_a, 10) with efforts tau = Y theta over the platform's ten inertial parameters
+        (``parakin.dynamics.dynamics_regressor``)."""
+        from parakin import dynamics
+
+        g = dynamics.STANDARD_GRAVITY if gravity is None else gravity
+        return dynamics.dynamics_regressor(self, state, rates, accelerations, gravity=g, leg_inertias=leg_inertias)
+
     def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
         """Actuator efforts that hold the platform against an external wrench (virtual work; see
         ``parakin.solvers.statics.actuator_forces`` for the wrench convention)."""

@@ -258,3 +258,21 @@ def test_bad_inputs_are_named_errors():
     sam = parakin.load("sam", backend="numpy")
     with pytest.raises(UnsupportedOperationError, match="rate model"):
         inverse_dynamics(sam, home(sam), np.zeros(6), np.zeros(6), platform_inertia=rigid_inertia(1.0))
+
+
+def test_mechanism_methods_are_the_free_functions():
+    """``m.inverse_dynamics`` and ``m.dynamics_regressor`` give the free functions' values, and
+    ``parakin.mujoco`` is the bridge module."""
+    import parakin.mujoco_bridge
+    from parakin import dynamics
+
+    m = parakin.load("five_bar", backend="numpy")
+    state = m.forward_pose(m.home_actuated)
+    inertia = dynamics.rigid_inertia(0.7, [0.01, -0.02, 0.0], np.diag([1e-3, 2e-3, 3e-3]))
+    rates, accelerations = np.array([0.3, -0.2]), np.array([1.5, 0.4])
+    method = m.inverse_dynamics(state, rates, accelerations, platform_inertia=inertia)
+    free = dynamics.inverse_dynamics(m, state, rates, accelerations, platform_inertia=inertia)
+    np.testing.assert_array_equal(method.efforts, free.efforts)
+    regressor = m.dynamics_regressor(state, rates, accelerations)
+    np.testing.assert_allclose(regressor @ inertia.parameters(), method.efforts, rtol=1e-12, atol=1e-15)
+    assert parakin.mujoco is parakin.mujoco_bridge
