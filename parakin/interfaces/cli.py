@@ -337,7 +337,8 @@ def _demo(args: argparse.Namespace) -> int:
     names = [args.name] if args.name else parakin.available()
     failed = 0
     with_examples = [name for name in names if parakin.metadata(name).examples]
-    on_numpy = [name for name in with_examples if args.backend == CACHED and demo_backend(name) == "numpy"]
+    backends = {name: demo_backend(name, args.backend) for name in with_examples}  # each library looked up once
+    on_numpy = [name for name in with_examples if args.backend == CACHED and backends[name] == "numpy"]
     if on_numpy:
         print(
             f"parakin: the demo runs on NumPy where no C library is built yet ({len(on_numpy)} of "
@@ -347,7 +348,7 @@ def _demo(args: argparse.Namespace) -> int:
         )
     for name in names:
         with _Busy(f"{name}: reproducing its examples"):
-            results = run_examples(name, backend=args.backend)
+            results = run_examples(name, backend=backends.get(name, args.backend))
         print(format_results(name, results), flush=True)
         failed += sum(not r.holds for r in results)
     if failed:
