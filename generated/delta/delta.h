@@ -158,6 +158,13 @@ typedef struct {
 } delta_newton_job;
 
 int delta_forward_pose(const delta_newton_job* job);
+// one step of a tracker from its buffers (parakin.solvers.tracker): keeps the solutions before it
+// in previous (n x NQ) and previous_pose (n x 16), runs forward_pose, and returns how many entries
+// failed or need the mode checks (an orientation change against previous_orientation, a move
+// beyond jump_ratio times the first Newton step, a first step beyond trust_step); where none
+// does, mode_change is 0 and previous_orientation takes the new orientations
+long long delta_forward_pose_step(const delta_newton_job* job, double* previous, double* previous_pose,
+                                    int* previous_orientation, double jump_ratio, double trust_step, int* mode_change);
 
 // Every real assembly mode of n inputs. Per input, MAX_MODES slots (root r, branch b at slot
 // r * 1 + b, roots ascending, roots at infinity last): poses, passive, residual,

@@ -534,6 +534,40 @@ int planar_3rpr_forward_pose(const planar_3rpr_newton_job* job) {
     return 0;
 }
 
+// One control-loop step of a tracker (parakin.solvers.tracker.ForwardPoseTracker.solve, whose
+// buffers the job points at, its guess aliasing its passive output): keeps the passive values and
+// poses before the step (previous, previous_pose), runs planar_3rpr_forward_pose, and returns how
+// many entries need the tracker's own checks: Newton failed (status), the closure Jacobian's
+// determinant changed sign (orientation against previous_orientation), or the step is suspect
+// (moved, angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a
+// first step beyond trust_step). Where none does, mode_change is 0 and previous_orientation takes
+// the new non-zero orientations; otherwise both are left to the caller.
+long long planar_3rpr_forward_pose_step(const planar_3rpr_newton_job* job, double* previous, double* previous_pose,
+                                    int* previous_orientation, double jump_ratio, double trust_step, int* mode_change) {
+    long long n = job->n, unusual = 0;
+    memcpy(previous, job->passive, sizeof(double) * (size_t)(n * NQ));
+    memcpy(previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));
+    planar_3rpr_forward_pose(job);
+    for (long long i = 0; i < n; ++i) {
+        if (job->status[i]) { unusual += 1; continue; }
+        double moved = 0.0;
+        for (int k = 0; k < NQ; ++k) {
+            double change = job->passive[i * NQ + k] - previous[i * NQ + k];
+            moved = fmax(moved, fabs(passive_revolute[k] ? wrap_angle(change) : change));
+        }
+        int crossed = job->orientation[i] * previous_orientation[i] < 0;
+        int jumped = moved > jump_ratio * job->first_step[i] + 100.0 * job->tolerance;
+        int coarse = !(job->first_step[i] <= trust_step);
+        unusual += crossed || jumped || coarse;
+    }
+    if (unusual) return unusual;
+    for (long long i = 0; i < n; ++i) {
+        mode_change[i] = 0;
+        if (job->orientation[i]) previous_orientation[i] = job->orientation[i];
+    }
+    return 0;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Every assembly mode: isolate every real root of the generated univariate polynomial, back
 // substitute each root x branch, recover the passive joints from the inverse kernels, polish by

@@ -2,15 +2,15 @@
 # with template casadi_module.py.j2. Do not modify by hand: run `make generate`.
 # Operation counts (after common-subexpression elimination):
 #   platform_pose: 47
-#   loop_closure: 531
-#   loop_closure_actuated: 95
-#   rate_jacobians: 125
-#   parameter_jacobians: 133
-#   singularity_factors: 416
-#   drawing: 62
+#   loop_closure: 524
+#   loop_closure_actuated: 94
+#   rate_jacobians: 124
+#   parameter_jacobians: 132
+#   singularity_factors: 412
+#   drawing: 61
 #   inverse_pose: 439
 #   automatic_family: 0
-#   automatic_monomials: 125
+#   automatic_monomials: 123
 #   automatic_passive: 0
 
 """Generated CasADi builders: each returns a ``casadi.Function`` with named inputs and outputs
@@ -86,7 +86,7 @@ def platform_pose() -> casadi.Function:
 def loop_closure() -> casadi.Function:
     """Loop-closure residual, its Jacobian with respect to the passive variables, and the alignment measures (positive at a true closure). The Newton kernel.
 
-    Operations: 531.
+    Operations: 524.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -105,245 +105,233 @@ def loop_closure() -> casadi.Function:
     r_p = _in_params[1]
     _t0 = 2 * q0
     _t1 = _t0 * q3
-    _t2 = 2 * q1
-    _t3 = _t1 + _t2 * q2
-    _t4 = q2**2
-    _t5 = q3**2
-    _t6 = q0**2
-    _t7 = q1**2
-    _t8 = _t6 + _t7
-    _t9 = _t4 + _t5 + _t8
-    _t10 = 1 / _t9
-    _t11 = _t10 * r_p
-    _t12 = _t11 * _t3
-    _t13 = _t12 + y
-    _t14 = (1 / 2) * y
-    _t15 = -_t1 + 2 * q1 * q2
-    _t16 = casadi.sqrt(3)
-    _t17 = (1 / 2) * _t16
-    _t18 = _t11 * _t17
-    _t19 = _t15 * _t18
-    _t20 = (1 / 2) * r_b
-    _t21 = -_t5
-    _t22 = _t21 - _t4 + _t8
-    _t23 = _t11 * _t22
-    _t24 = _t20 - 1 / 2 * _t23 + x
-    _t25 = _t19 + _t24
-    _t26 = _t16 * r_b
-    _t27 = _t21 + _t4 + _t6 - _t7
-    _t28 = _t11 * _t16
+    _t2 = -_t1 + 2 * q1 * q2
+    _t3 = q1**2
+    _t4 = q3**2
+    _t5 = q0**2
+    _t6 = q2**2
+    _t7 = _t5 + _t6
+    _t8 = _t3 + _t4 + _t7
+    _t9 = 1 / _t8
+    _t10 = _t9 * r_p
+    _t11 = _t10 * _t2
+    _t12 = _t11 + x
+    _t13 = 2 * q2
+    _t14 = _t1 + _t13 * q1
+    _t15 = casadi.sqrt(3)
+    _t16 = (1 / 2) * _t15
+    _t17 = _t10 * _t16
+    _t18 = _t14 * _t17
+    _t19 = (1 / 2) * r_b
+    _t20 = -_t4
+    _t21 = _t20 - _t3 + _t7
+    _t22 = _t10 * _t21
+    _t23 = _t19 - 1 / 2 * _t22 + y
+    _t24 = -_t18 + _t23
+    _t25 = (1 / 4) * _t11
+    _t26 = _t15 * r_b
+    _t27 = _t20 + _t3 + _t5 - _t6
+    _t28 = _t10 * _t15
     _t29 = _t27 * _t28
     _t30 = -1 / 4 * _t26 + (1 / 4) * _t29
-    _t31 = -_t19 + _t24
-    _t32 = -_t0 * q2 + 2 * q1 * q3
-    _t33 = _t11 * _t32
+    _t31 = _t18 + _t23
+    _t32 = _t0 * q1 + _t13 * q3
+    _t33 = _t10 * _t32
     _t34 = _t33 + z
-    _t35 = _t23 - r_b + x
+    _t35 = _t22 - r_b + y
     _t36 = (1 / 2) / l1
     _t37 = (1 / 2) * _t33
-    _t38 = 2 * q3
-    _t39 = _t0 * q1 + _t38 * q2
-    _t40 = _t18 * _t39
-    _t41 = -_t37 + _t40 + z
-    _t42 = (1 / 2) * _t12
-    _t43 = _t16 * _t20 - _t18 * _t27
-    _t44 = -_t42 - _t43 + y
-    _t45 = (1 / 2) / l2
-    _t46 = -_t37 - _t40 + z
-    _t47 = -_t42 + _t43 + y
-    _t48 = (1 / 2) / l3
-    _t49 = _t11 * _t38
-    _t50 = -_t49
-    _t51 = _t9 ** (-2)
-    _t52 = _t51 * r_p
-    _t53 = _t3 * _t52
-    _t54 = _t0 * _t53 + _t50
-    _t55 = _t11 * q2
-    _t56 = 2 * _t55
-    _t57 = _t2 * _t53
-    _t58 = -_t56 + _t57
-    _t59 = _t11 * _t2
-    _t60 = _t53 * q2
-    _t61 = _t59 - 2 * _t60
-    _t62 = _t0 * _t11
-    _t63 = _t38 * _t53
-    _t64 = _t62 - _t63
-    _t65 = _t11 * q0
-    _t66 = _t11 * q3
-    _t67 = _t52 * q0
-    _t68 = _t15 * _t16
-    _t69 = _t16 * _t66 + _t67 * _t68
-    _t70 = (1 / 2) * _t53
-    _t71 = _t70 * q0
-    _t72 = _t17 * _t27
-    _t73 = _t17 * _t65 - _t67 * _t72
-    _t74 = _t11 * q1
-    _t75 = _t52 * _t68
-    _t76 = -_t16 * _t55 + _t75 * q1
-    _t77 = _t70 * q1
-    _t78 = _t52 * _t72
-    _t79 = _t17 * _t74 + _t78 * q1
-    _t80 = _t16 * _t74
-    _t81 = _t75 * q2
-    _t82 = _t22 * _t52
-    _t83 = _t82 * q2
-    _t84 = _t55 + _t83
-    _t85 = (1 / 2) * _t60
-    _t86 = _t17 * _t55 - _t78 * q2
-    _t87 = _t16 * _t65 + _t75 * q3
-    _t88 = _t70 * q3
-    _t89 = _t17 * _t66 + _t78 * q3
-    _t90 = _t82 * q0
-    _t91 = _t82 * q1
+    _t38 = -_t0 * q2 + 2 * q1 * q3
+    _t39 = _t17 * _t38
+    _t40 = -_t37 - _t39 + z
+    _t41 = (1 / 2) * _t11
+    _t42 = _t15 * _t19 - _t17 * _t27
+    _t43 = -_t41 + _t42 + x
+    _t44 = (1 / 2) / l2
+    _t45 = -_t37 + _t39 + z
+    _t46 = -_t41 - _t42 + x
+    _t47 = (1 / 2) / l3
+    _t48 = 2 * q3
+    _t49 = _t10 * _t48
+    _t50 = _t8 ** (-2)
+    _t51 = _t50 * r_p
+    _t52 = _t2 * _t51
+    _t53 = _t0 * _t52 + _t49
+    _t54 = _t10 * _t13
+    _t55 = -_t54
+    _t56 = _t52 * q1
+    _t57 = _t55 + 2 * _t56
+    _t58 = _t10 * q1
+    _t59 = 2 * _t58
+    _t60 = -2 * _t2 * _t50 * q2 * r_p + _t59
+    _t61 = _t0 * _t10
+    _t62 = _t48 * _t52 + _t61
+    _t63 = _t10 * q0
+    _t64 = _t21 * _t51
+    _t65 = _t64 * q0
+    _t66 = _t10 * q3
+    _t67 = _t51 * q0
+    _t68 = _t14 * _t15
+    _t69 = -_t15 * _t66 + _t67 * _t68
+    _t70 = _t16 * _t63
+    _t71 = _t16 * _t27
+    _t72 = _t67 * _t71
+    _t73 = (1 / 2) * _t52
+    _t74 = (1 / 2) * _t66 + _t73 * q0
+    _t75 = _t10 * q2
+    _t76 = _t15 * _t75
+    _t77 = _t51 * _t68
+    _t78 = _t77 * q1
+    _t79 = _t64 * q1
+    _t80 = _t58 + _t79
+    _t81 = (1 / 2) * _t75
+    _t82 = _t51 * _t71
+    _t83 = _t16 * _t58 - _t82 * q1
+    _t84 = _t15 * _t58 - _t77 * q2
+    _t85 = (1 / 2) * _t58
+    _t86 = _t16 * _t75 + _t82 * q2
+    _t87 = _t15 * _t63
+    _t88 = _t77 * q3
+    _t89 = _t64 * q3
+    _t90 = _t66 + _t89
+    _t91 = _t16 * _t66
     _t92 = _t82 * q3
-    _t93 = 2 * x
-    _t94 = 2 * y
-    _t95 = 2 * z
-    _t96 = 4 * _t55
-    _t97 = 4 * _t32
-    _t98 = 4 * _t66
-    _t99 = -_t98
-    _t100 = 4 * _t53
-    _t101 = 4 * _t65
-    _t102 = _t52 * _t97
-    _t103 = 4 * _t74
-    _t104 = _t15 * _t28
-    _t105 = -_t23 + _t93 + r_b
-    _t106 = _t26 - _t29
-    _t107 = _t28 * _t39
-    _t108 = _t32 * _t52
-    _t109 = _t0 * _t108
-    _t110 = _t16 * _t52
+    _t93 = (1 / 2) * _t63 + _t73 * q3
+    _t94 = _t64 * q2
+    _t95 = 2 * x
+    _t96 = 2 * y
+    _t97 = 2 * z
+    _t98 = 4 * _t58
+    _t99 = 4 * _t32
+    _t100 = 4 * _t66
+    _t101 = 4 * _t52
+    _t102 = 4 * _t63
+    _t103 = _t51 * _t99
+    _t104 = -4 * _t9 * q2 * r_p
+    _t105 = _t26 - _t29
+    _t106 = _t14 * _t28
+    _t107 = -_t22 + _t96 + r_b
+    _t108 = _t28 * _t38
+    _t109 = _t32 * _t51
+    _t110 = _t15 * _t51
     _t111 = _t0 * _t110
-    _t112 = _t111 * _t39
-    _t113 = _t16 * _t59
-    _t114 = _t113 + _t56
-    _t115 = _t0 * _t75
-    _t116 = _t16 * _t49
-    _t117 = _t116 + _t62
-    _t118 = _t16 * _t62
-    _t119 = _t111 * _t27
-    _t120 = _t110 * _t2
-    _t121 = -_t120 * _t39
-    _t122 = _t118 + _t50
-    _t123 = _t2 * _t75
-    _t124 = _t16 * _t56
-    _t125 = -_t124
-    _t126 = _t125 + _t59
-    _t127 = _t120 * _t27
-    _t128 = 2 * q2
-    _t129 = _t108 * _t128
-    _t130 = _t110 * _t128
-    _t131 = _t130 * _t39
-    _t132 = 2 * _t83
-    _t133 = 2 * _t81
-    _t134 = _t130 * _t27
-    _t135 = -2 * _t32 * _t51 * q3 * r_p
-    _t136 = _t110 * _t38
-    _t137 = _t136 * _t39
-    _t138 = _t38 * _t75
-    _t139 = _t116 + _t136 * _t27
-    _t140 = -_t113 + _t56
-    _t141 = -_t62
-    _t142 = _t118 + _t49
+    _t112 = _t111 * _t38
+    _t113 = _t15 * _t54
+    _t114 = _t113 - _t59
+    _t115 = _t15 * _t49
+    _t116 = -_t115
+    _t117 = _t0 * _t77 + _t116
+    _t118 = _t15 * _t61
+    _t119 = -_t118
+    _t120 = _t111 * _t27
+    _t121 = 2 * _t110 * q1
+    _t122 = _t121 * _t38
+    _t123 = -2 * _t32 * _t50 * q1 * r_p + _t61
+    _t124 = 2 * _t78
+    _t125 = _t59 + 2 * _t79
+    _t126 = _t15 * _t59
+    _t127 = _t121 * _t27
+    _t128 = _t110 * _t13
+    _t129 = _t118 + _t128 * _t38
+    _t130 = -_t13 * _t77
+    _t131 = _t126 + _t54
+    _t132 = _t128 * _t27
+    _t133 = _t110 * _t48
+    _t134 = -_t133 * _t38
+    _t135 = _t48 * _t77
+    _t136 = _t48 * _t64 + _t49
+    _t137 = _t133 * _t27
+    _t138 = _t126 + _t55
     _out_residual = casadi.SX.zeros(7)
-    _out_residual[0] = _t13
-    _out_residual[1] = (1 / 4) * _t10 * _t3 * r_p - _t14 - _t17 * _t25 - _t30
-    _out_residual[2] = (1 / 4) * _t12 - _t14 + _t17 * _t31 + _t30
-    _out_residual[3] = _t36 * (_t13**2 + _t34**2 + _t35**2 - l1**2)
-    _out_residual[4] = _t45 * (_t25**2 + _t41**2 + _t44**2 - l2**2)
-    _out_residual[5] = _t48 * (_t31**2 + _t46**2 + _t47**2 - l3**2)
-    _out_residual[6] = (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 + (1 / 2) * _t7 - 1 / 2
+    _out_residual[0] = -_t12
+    _out_residual[1] = -_t16 * _t24 - _t25 - _t30 + (1 / 2) * x
+    _out_residual[2] = _t16 * _t31 - _t25 + _t30 + (1 / 2) * x
+    _out_residual[3] = _t36 * (_t12**2 + _t34**2 + _t35**2 - l1**2)
+    _out_residual[4] = _t44 * (_t24**2 + _t40**2 + _t43**2 - l2**2)
+    _out_residual[5] = _t47 * (_t31**2 + _t45**2 + _t46**2 - l3**2)
+    _out_residual[6] = (1 / 2) * _t3 + (1 / 2) * _t4 + (1 / 2) * _t5 + (1 / 2) * _t6 - 1 / 2
     _out_jacobian = casadi.SX.zeros(7, 7)
-    _out_jacobian[0, 1] = 1
-    _out_jacobian[0, 3] = -_t54
-    _out_jacobian[0, 4] = -_t58
-    _out_jacobian[0, 5] = _t61
-    _out_jacobian[0, 6] = _t64
-    _out_jacobian[1, 0] = -_t17
-    _out_jacobian[1, 1] = -1 / 2
-    _out_jacobian[1, 3] = (
-        (1 / 2) * _t10 * q3 * r_p - _t17 * (_t22 * _t51 * q0 * r_p - _t65 - _t69) - _t71 - _t73
-    )
+    _out_jacobian[0, 0] = -1
+    _out_jacobian[0, 3] = _t53
+    _out_jacobian[0, 4] = _t57
+    _out_jacobian[0, 5] = -_t60
+    _out_jacobian[0, 6] = _t62
+    _out_jacobian[1, 0] = 1 / 2
+    _out_jacobian[1, 1] = -_t16
+    _out_jacobian[1, 3] = -_t16 * (-_t63 + _t65 + _t69) - _t70 + _t72 + _t74
     _out_jacobian[1, 4] = (
-        -_t17 * (_t22 * _t51 * q1 * r_p - _t74 - _t76) + (1 / 2) * _t55 - _t77 + _t79
+        -_t16 * (-_t76 + _t78 + _t80) + (1 / 2) * _t2 * _t50 * q1 * r_p - _t81 - _t83
     )
-    _out_jacobian[1, 5] = (1 / 2) * _t10 * q1 * r_p - _t17 * (_t80 - _t81 + _t84) - _t85 - _t86
-    _out_jacobian[1, 6] = (
-        -_t17 * (_t10 * q3 * r_p + _t22 * _t51 * q3 * r_p - _t87) + (1 / 2) * _t65 - _t88 + _t89
+    _out_jacobian[1, 5] = -_t16 * (_t21 * _t50 * q2 * r_p - _t75 - _t84) + _t73 * q2 - _t85 + _t86
+    _out_jacobian[1, 6] = -_t16 * (-_t87 + _t88 + _t90) + _t91 + _t92 + _t93
+    _out_jacobian[2, 0] = 1 / 2
+    _out_jacobian[2, 1] = _t16
+    _out_jacobian[2, 3] = _t16 * (_t21 * _t50 * q0 * r_p - _t63 - _t69) + _t70 - _t72 + _t74
+    _out_jacobian[2, 4] = _t16 * (_t76 - _t78 + _t80) + (1 / 2) * _t56 - _t81 + _t83
+    _out_jacobian[2, 5] = (
+        (1 / 2) * _t15 * (-_t75 + _t84 + _t94) + (1 / 2) * _t2 * _t50 * q2 * r_p - _t85 - _t86
     )
-    _out_jacobian[2, 0] = _t17
-    _out_jacobian[2, 1] = -1 / 2
-    _out_jacobian[2, 3] = _t17 * (-_t65 + _t69 + _t90) + (1 / 2) * _t66 - _t71 + _t73
-    _out_jacobian[2, 4] = (
-        (1 / 2) * _t10 * q2 * r_p + (1 / 2) * _t16 * (-_t74 + _t76 + _t91) - _t77 - _t79
-    )
-    _out_jacobian[2, 5] = _t17 * (-_t80 + _t81 + _t84) + (1 / 2) * _t74 - _t85 + _t86
-    _out_jacobian[2, 6] = (
-        (1 / 2) * _t10 * q0 * r_p + (1 / 2) * _t16 * (_t66 + _t87 + _t92) - _t88 - _t89
-    )
-    _out_jacobian[3, 0] = _t36 * (2 * _t23 + _t93 - 2 * r_b)
-    _out_jacobian[3, 1] = _t36 * (2 * _t12 + _t94)
-    _out_jacobian[3, 2] = _t36 * (2 * _t33 + _t95)
+    _out_jacobian[2, 6] = _t16 * (_t87 - _t88 + _t90) - _t91 - _t92 + _t93
+    _out_jacobian[3, 0] = _t36 * (2 * _t11 + _t95)
+    _out_jacobian[3, 1] = _t36 * (2 * _t22 + _t96 - 2 * r_b)
+    _out_jacobian[3, 2] = _t36 * (2 * _t33 + _t97)
     _out_jacobian[3, 3] = _t36 * (
-        _t13 * (-_t100 * q0 - _t99) + _t34 * (-_t67 * _t97 - _t96) + _t35 * (_t101 - 4 * _t90)
+        _t12 * (-_t100 - _t101 * q0) + _t34 * (-_t67 * _t99 + _t98) + _t35 * (_t102 - 4 * _t65)
     )
     _out_jacobian[3, 4] = _t36 * (
-        _t13 * (-_t100 * q1 + _t96)
-        + _t34 * (-_t102 * q1 - _t99)
-        + _t35 * (4 * _t10 * q1 * r_p - 4 * _t91)
+        _t12 * (-_t104 - 4 * _t56) + _t34 * (_t102 - _t103 * q1) + _t35 * (-4 * _t79 - _t98)
     )
     _out_jacobian[3, 5] = _t36 * (
-        _t13 * (_t103 - 4 * _t60) + _t34 * (-_t101 - _t102 * q2) + _t35 * (-4 * _t83 - _t96)
+        _t12 * (-_t101 * q2 + _t98) + _t34 * (_t100 - _t103 * q2) + _t35 * (-_t104 - 4 * _t94)
     )
     _out_jacobian[3, 6] = _t36 * (
-        _t13 * (-_t100 * q3 + _t101) + _t34 * (-_t102 * q3 + _t103) + _t35 * (-4 * _t92 - _t98)
+        _t12 * (-_t101 * q3 - _t102) + _t34 * (-_t103 * q3 + 4 * _t75) + _t35 * (-_t100 - 4 * _t89)
     )
-    _out_jacobian[4, 0] = _t45 * (_t104 + _t105)
-    _out_jacobian[4, 1] = _t45 * (-_t106 - _t12 + 2 * y)
-    _out_jacobian[4, 2] = _t45 * (_t107 - _t33 + _t95)
-    _out_jacobian[4, 3] = _t45 * (
-        _t25 * (-_t115 - _t117 + 2 * _t22 * _t51 * q0 * r_p)
-        + _t41 * (_t109 - _t112 + _t114)
-        + _t44 * (_t118 - _t119 + _t54)
+    _out_jacobian[4, 0] = _t44 * (_t105 - _t11 + _t95)
+    _out_jacobian[4, 1] = _t44 * (-_t106 + _t107)
+    _out_jacobian[4, 2] = _t44 * (-_t108 - _t33 + 2 * z)
+    _out_jacobian[4, 3] = _t44 * (
+        _t24 * (_t0 * _t64 + _t117 - _t61)
+        + _t40 * (_t0 * _t109 + _t112 + _t114)
+        + _t43 * (_t119 + _t120 + _t53)
     )
-    _out_jacobian[4, 4] = _t45 * (
-        _t25 * (-_t123 - _t126 + 2 * _t22 * _t51 * q1 * r_p)
-        + _t41 * (_t108 * _t2 + _t121 + _t122)
-        + _t44 * (-_t114 - _t127 + _t57)
+    _out_jacobian[4, 4] = _t44 * (
+        _t24 * (-_t113 + _t124 + _t125)
+        + _t40 * (-_t115 + _t122 - _t123)
+        + _t43 * (-_t126 + _t127 + _t57)
     )
-    _out_jacobian[4, 5] = _t45 * (
-        _t25 * (_t114 + _t132 - _t133)
-        + _t41 * (_t117 + _t129 - _t131)
-        + _t44 * (-_t125 - _t134 - _t61)
+    _out_jacobian[4, 5] = _t44 * (
+        _t24 * (-_t130 - _t131 + 2 * _t21 * _t50 * q2 * r_p)
+        + _t40 * (_t109 * _t13 + _t129 - _t49)
+        + _t43 * (_t114 + _t13 * _t52 + _t132)
     )
-    _out_jacobian[4, 6] = _t45 * (
-        _t25 * (-_t122 - _t138 + 2 * _t22 * _t51 * q3 * r_p)
-        + _t41 * (-_t126 - _t135 - _t137)
-        + _t44 * (-_t139 - _t64)
+    _out_jacobian[4, 6] = _t44 * (
+        _t24 * (_t119 + _t135 + _t136)
+        + _t40 * (-_t131 - _t134 + 2 * _t32 * _t50 * q3 * r_p)
+        + _t43 * (_t115 + _t137 + _t62)
     )
-    _out_jacobian[5, 0] = _t48 * (-_t104 + _t105)
-    _out_jacobian[5, 1] = _t48 * (_t106 - _t12 + _t94)
-    _out_jacobian[5, 2] = _t48 * (-_t107 - _t33 + 2 * z)
-    _out_jacobian[5, 3] = _t48 * (
-        _t31 * (_t0 * _t82 + _t115 + _t116 + _t141)
-        + _t46 * (_t109 + _t112 + _t140)
-        + _t47 * (-_t118 + _t119 + _t54)
+    _out_jacobian[5, 0] = _t47 * (-_t105 - _t11 + 2 * x)
+    _out_jacobian[5, 1] = _t47 * (_t106 + _t107)
+    _out_jacobian[5, 2] = _t47 * (_t108 - _t33 + _t97)
+    _out_jacobian[5, 3] = _t47 * (
+        _t31 * (-_t117 + 2 * _t21 * _t50 * q0 * r_p - _t61)
+        + _t45 * (-_t112 - _t113 + 2 * _t32 * _t50 * q0 * r_p - _t59)
+        + _t46 * (_t118 - _t120 + _t53)
     )
-    _out_jacobian[5, 4] = _t48 * (
-        _t31 * (_t123 + _t125 + _t2 * _t82 - _t59)
-        + _t46 * (-_t121 - _t142 + 2 * _t32 * _t51 * q1 * r_p)
-        + _t47 * (_t113 + _t127 + _t58)
+    _out_jacobian[5, 4] = _t47 * (
+        _t31 * (_t113 - _t124 + _t125)
+        + _t45 * (-_t116 - _t122 - _t123)
+        + _t46 * (_t126 - _t127 + _t57)
     )
-    _out_jacobian[5, 5] = _t48 * (
-        _t31 * (_t132 + _t133 + _t140)
-        + _t46 * (-_t116 + _t129 + _t131 + _t62)
-        + _t47 * (-_t124 + _t134 - _t61)
+    _out_jacobian[5, 5] = _t47 * (
+        _t31 * (_t13 * _t64 + _t130 + _t138)
+        + _t45 * (-_t129 + 2 * _t32 * _t50 * q2 * r_p - _t49)
+        + _t46 * (-_t113 - _t132 - _t60)
     )
-    _out_jacobian[5, 6] = _t48 * (
-        _t31 * (_t138 + _t142 + _t38 * _t82)
-        + _t46 * (-_t124 - _t135 + _t137 - _t59)
-        + _t47 * (_t139 + _t141 + _t63)
+    _out_jacobian[5, 6] = _t47 * (
+        _t31 * (_t118 - _t135 + _t136)
+        + _t45 * (_t109 * _t48 + _t134 + _t138)
+        + _t46 * (_t116 - _t137 + _t62)
     )
     _out_jacobian[6, 3] = q0
     _out_jacobian[6, 4] = q1
@@ -379,7 +367,7 @@ def loop_closure() -> casadi.Function:
 def loop_closure_actuated() -> casadi.Function:
     """Jacobian of the loop-closure residual with respect to the actuated variables (for passive rates).
 
-    Operations: 95.
+    Operations: 94.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -398,45 +386,46 @@ def loop_closure_actuated() -> casadi.Function:
     r_p = _in_params[1]
     _t0 = l1**2
     _t1 = 2 * q0
-    _t2 = q2**2
-    _t3 = q3**2
-    _t4 = q0**2
-    _t5 = q1**2
-    _t6 = _t4 + _t5
-    _t7 = r_p / (_t2 + _t3 + _t6)
-    _t8 = _t7 * (-_t1 * q2 + 2 * q1 * q3)
-    _t9 = _t1 * q3
-    _t10 = _t7 * (_t9 + 2 * q1 * q2)
-    _t11 = -_t3
-    _t12 = _t7 * (_t11 - _t2 + _t6)
-    _t13 = l2**2
-    _t14 = (1 / 2) * _t8
-    _t15 = casadi.sqrt(3)
-    _t16 = (1 / 2) * _t15 * _t7
-    _t17 = _t16 * (_t1 * q1 + 2 * q2 * q3)
-    _t18 = _t16 * (-_t9 + 2 * q1 * q2)
-    _t19 = (1 / 2) * r_b
-    _t20 = -1 / 2 * _t12 + _t19 + x
-    _t21 = (1 / 2) * _t10
-    _t22 = _t15 * _t19 - _t16 * (_t11 + _t2 + _t4 - _t5)
-    _t23 = l3**2
+    _t2 = 2 * q2
+    _t3 = q1**2
+    _t4 = q3**2
+    _t5 = q0**2
+    _t6 = q2**2
+    _t7 = _t5 + _t6
+    _t8 = r_p / (_t3 + _t4 + _t7)
+    _t9 = _t8 * (_t1 * q1 + _t2 * q3)
+    _t10 = _t1 * q3
+    _t11 = _t8 * (-_t10 + 2 * q1 * q2)
+    _t12 = -_t4
+    _t13 = _t8 * (_t12 - _t3 + _t7)
+    _t14 = l2**2
+    _t15 = (1 / 2) * _t9
+    _t16 = casadi.sqrt(3)
+    _t17 = (1 / 2) * _t16 * _t8
+    _t18 = _t17 * (-_t1 * q2 + 2 * q1 * q3)
+    _t19 = _t17 * (_t10 + _t2 * q1)
+    _t20 = (1 / 2) * r_b
+    _t21 = -1 / 2 * _t13 + _t20 + y
+    _t22 = (1 / 2) * _t11
+    _t23 = _t16 * _t20 - _t17 * (_t12 + _t3 + _t5 - _t6)
+    _t24 = l3**2
     _out_jacobian_actuated = casadi.SX.zeros(7, 3)
     _out_jacobian_actuated[3, 0] = (
-        -1 - 1 / 2 * (-_t0 + (_t10 + y) ** 2 + (_t8 + z) ** 2 + (_t12 - r_b + x) ** 2) / _t0
+        -1 - 1 / 2 * (-_t0 + (_t11 + x) ** 2 + (_t9 + z) ** 2 + (_t13 - r_b + y) ** 2) / _t0
     )
     _out_jacobian_actuated[4, 1] = (
         -1
         - 1
         / 2
-        * (-_t13 + (_t18 + _t20) ** 2 + (-_t14 + _t17 + z) ** 2 + (-_t21 - _t22 + y) ** 2)
-        / _t13
+        * (-_t14 + (-_t19 + _t21) ** 2 + (-_t15 - _t18 + z) ** 2 + (-_t22 + _t23 + x) ** 2)
+        / _t14
     )
     _out_jacobian_actuated[5, 2] = (
         -1
         - 1
         / 2
-        * (-_t23 + (-_t18 + _t20) ** 2 + (-_t14 - _t17 + z) ** 2 + (-_t21 + _t22 + y) ** 2)
-        / _t23
+        * (-_t24 + (_t19 + _t21) ** 2 + (-_t15 + _t18 + z) ** 2 + (-_t22 - _t23 + x) ** 2)
+        / _t24
     )
     return casadi.Function(
         "rps3_loop_closure_actuated",
@@ -462,7 +451,7 @@ def loop_closure_actuated() -> casadi.Function:
 def rate_jacobians() -> casadi.Function:
     """Input-output Jacobians of A twist = B actuated_rates. Constraint wrenches: constraints twist = 0.
 
-    Operations: 125.
+    Operations: 124.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -479,92 +468,92 @@ def rate_jacobians() -> casadi.Function:
     q3 = _in_passive[6]
     r_b = _in_params[0]
     r_p = _in_params[1]
-    _t0 = q2**2
-    _t1 = q3**2
-    _t2 = -_t1
-    _t3 = q0**2
-    _t4 = q1**2
-    _t5 = _t3 + _t4
-    _t6 = r_p / (_t0 + _t1 + _t5)
-    _t7 = _t6 * (-_t0 + _t2 + _t5)
-    _t8 = _t7 - r_b + x
-    _t9 = 2 * q0
-    _t10 = _t9 * q3
-    _t11 = _t6 * (_t10 + 2 * q1 * q2)
-    _t12 = _t11 + y
-    _t13 = _t6 * (-_t9 * q2 + 2 * q1 * q3)
-    _t14 = _t13 + z
-    _t15 = r_b - x
-    _t16 = -_t10 + 2 * q1 * q2
+    _t0 = 2 * q0
+    _t1 = _t0 * q3
+    _t2 = q1**2
+    _t3 = q3**2
+    _t4 = q0**2
+    _t5 = q2**2
+    _t6 = _t4 + _t5
+    _t7 = r_p / (_t2 + _t3 + _t6)
+    _t8 = _t7 * (-_t1 + 2 * q1 * q2)
+    _t9 = _t8 + x
+    _t10 = -_t3
+    _t11 = _t7 * (_t10 - _t2 + _t6)
+    _t12 = _t11 - r_b + y
+    _t13 = 2 * q2
+    _t14 = _t7 * (_t0 * q1 + _t13 * q3)
+    _t15 = _t14 + z
+    _t16 = r_b - y
     _t17 = casadi.sqrt(3)
     _t18 = (1 / 2) * _t17
-    _t19 = _t18 * _t6
-    _t20 = _t16 * _t19
-    _t21 = (1 / 2) * r_b
-    _t22 = _t21 + x
-    _t23 = _t22 - 1 / 2 * _t7
-    _t24 = _t20 + _t23
-    _t25 = _t17 * _t21
-    _t26 = _t25 - y
-    _t27 = (1 / 2) * _t11
-    _t28 = _t19 * (_t0 + _t2 + _t3 - _t4)
-    _t29 = -_t28
-    _t30 = _t27 + _t29
-    _t31 = -_t26 - _t30
-    _t32 = (1 / 2) * _t13
-    _t33 = _t9 * q1 + 2 * q2 * q3
+    _t19 = _t18 * _t7
+    _t20 = _t19 * (_t10 + _t2 + _t4 - _t5)
+    _t21 = -_t20
+    _t22 = (1 / 2) * _t8
+    _t23 = (1 / 2) * r_b
+    _t24 = _t17 * _t23
+    _t25 = _t24 + x
+    _t26 = _t21 - _t22 + _t25
+    _t27 = _t1 + _t13 * q1
+    _t28 = _t19 * _t27
+    _t29 = _t23 + y
+    _t30 = -1 / 2 * _t11 + _t29
+    _t31 = -_t28 + _t30
+    _t32 = (1 / 2) * _t14
+    _t33 = -_t0 * q2 + 2 * q1 * q3
     _t34 = _t19 * _t33
-    _t35 = -_t32 + _t34
-    _t36 = _t35 + z
-    _t37 = -_t22
-    _t38 = -_t20 + _t23
-    _t39 = _t25 + y
-    _t40 = -_t27 + _t29 + _t39
-    _t41 = _t32 + _t34
-    _t42 = -_t41 + z
-    _t43 = -_t39
-    _t44 = (1 / 4) * _t13
-    _t45 = (1 / 4) * _t17 * _t6
+    _t35 = _t32 + _t34
+    _t36 = -_t35 + z
+    _t37 = -_t29
+    _t38 = -_t25
+    _t39 = _t24 - x
+    _t40 = _t21 + _t22
+    _t41 = -_t39 - _t40
+    _t42 = _t28 + _t30
+    _t43 = -_t32 + _t34 + z
+    _t44 = (1 / 4) * _t14
+    _t45 = (1 / 4) * _t17 * _t7
     _t46 = _t33 * _t45
-    _t47 = _t16 * _t45
-    _t48 = (1 / 4) * _t7
+    _t47 = _t27 * _t45
+    _t48 = (1 / 4) * _t11
     _out_a = casadi.SX.zeros(3, 6)
-    _out_a[0, 0] = _t8
+    _out_a[0, 0] = _t9
     _out_a[0, 1] = _t12
-    _out_a[0, 2] = _t14
-    _out_a[0, 3] = _t12 * z - _t14 * y
-    _out_a[0, 4] = -_t14 * _t15 - _t8 * z
-    _out_a[0, 5] = _t12 * _t15 + _t8 * y
-    _out_a[1, 0] = _t24
+    _out_a[0, 2] = _t15
+    _out_a[0, 3] = _t12 * z + _t15 * _t16
+    _out_a[0, 4] = _t15 * x - _t9 * z
+    _out_a[0, 5] = -_t12 * x - _t16 * _t9
+    _out_a[1, 0] = _t26
     _out_a[1, 1] = _t31
     _out_a[1, 2] = _t36
-    _out_a[1, 3] = _t26 * _t36 + _t31 * z
-    _out_a[1, 4] = -_t24 * z - _t36 * _t37
-    _out_a[1, 5] = -_t24 * _t26 + _t31 * _t37
-    _out_a[2, 0] = _t38
-    _out_a[2, 1] = _t40
-    _out_a[2, 2] = _t42
-    _out_a[2, 3] = _t40 * z + _t42 * _t43
-    _out_a[2, 4] = -_t37 * _t42 - _t38 * z
-    _out_a[2, 5] = _t37 * _t40 - _t38 * _t43
+    _out_a[1, 3] = _t31 * z + _t36 * _t37
+    _out_a[1, 4] = -_t26 * z - _t36 * _t38
+    _out_a[1, 5] = -_t26 * _t37 + _t31 * _t38
+    _out_a[2, 0] = _t41
+    _out_a[2, 1] = _t42
+    _out_a[2, 2] = _t43
+    _out_a[2, 3] = _t37 * _t43 + _t42 * z
+    _out_a[2, 4] = -_t39 * _t43 - _t41 * z
+    _out_a[2, 5] = -_t37 * _t41 + _t39 * _t42
     _out_b = casadi.SX.zeros(3, 3)
     _out_b[0, 0] = l1
     _out_b[1, 1] = l2
     _out_b[2, 2] = l3
     _out_constraints = casadi.SX.zeros(3, 6)
-    _out_constraints[0, 1] = 1
-    _out_constraints[0, 3] = -_t13
-    _out_constraints[0, 5] = _t7
-    _out_constraints[1, 0] = -_t18
-    _out_constraints[1, 1] = -1 / 2
-    _out_constraints[1, 3] = -_t44 + _t46
-    _out_constraints[1, 4] = -_t18 * _t35
-    _out_constraints[1, 5] = -_t18 * _t30 - _t47 + _t48
-    _out_constraints[2, 0] = _t18
-    _out_constraints[2, 1] = -1 / 2
-    _out_constraints[2, 3] = -_t44 - _t46
-    _out_constraints[2, 4] = -_t18 * _t41
-    _out_constraints[2, 5] = -_t18 * (-_t27 - _t28) + _t47 + _t48
+    _out_constraints[0, 0] = -1
+    _out_constraints[0, 4] = -_t14
+    _out_constraints[0, 5] = _t11
+    _out_constraints[1, 0] = 1 / 2
+    _out_constraints[1, 1] = -_t18
+    _out_constraints[1, 3] = -_t18 * _t35
+    _out_constraints[1, 4] = -_t44 - _t46
+    _out_constraints[1, 5] = -_t18 * (-_t20 - _t22) + _t47 + _t48
+    _out_constraints[2, 0] = 1 / 2
+    _out_constraints[2, 1] = _t18
+    _out_constraints[2, 3] = -_t18 * (-_t32 + _t34)
+    _out_constraints[2, 4] = -_t44 + _t46
+    _out_constraints[2, 5] = -_t18 * _t40 - _t47 + _t48
     return casadi.Function(
         "rps3_rate_jacobians",
         [
@@ -593,7 +582,7 @@ def rate_jacobians() -> casadi.Function:
 def parameter_jacobians() -> casadi.Function:
     """Jacobians of the loop-closure residual and of the pose's 12 entries (r11, r12, r13, px, r21, ..., pz: row-major 3 x 4) with respect to the geometric parameters.
 
-    Operations: 133.
+    Operations: 132.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -612,63 +601,64 @@ def parameter_jacobians() -> casadi.Function:
     r_p = _in_params[1]
     _t0 = 2 * q0
     _t1 = _t0 * q3
-    _t2 = _t1 + 2 * q1 * q2
-    _t3 = q2**2
-    _t4 = q3**2
-    _t5 = q0**2
-    _t6 = q1**2
-    _t7 = _t5 + _t6
-    _t8 = 1 / (_t3 + _t4 + _t7)
-    _t9 = _t2 * _t8
-    _t10 = -_t4
-    _t11 = _t10 + _t3 + _t5 - _t6
+    _t2 = q1**2
+    _t3 = q3**2
+    _t4 = q0**2
+    _t5 = q2**2
+    _t6 = _t4 + _t5
+    _t7 = 1 / (_t2 + _t3 + _t6)
+    _t8 = _t7 * (-_t1 + 2 * q1 * q2)
+    _t9 = (1 / 4) * _t8
+    _t10 = -_t3
+    _t11 = _t10 + _t2 + _t4 - _t5
     _t12 = casadi.sqrt(3)
-    _t13 = _t12 * _t8
+    _t13 = _t12 * _t7
     _t14 = _t11 * _t13
     _t15 = (1 / 4) * _t14
-    _t16 = -_t1 + 2 * q1 * q2
-    _t17 = (1 / 2) * _t12
-    _t18 = _t17 * _t8
-    _t19 = _t16 * _t18
-    _t20 = _t8 * (_t10 - _t3 + _t7)
-    _t21 = (1 / 2) * _t20
-    _t22 = _t20 * r_p
-    _t23 = (1 / 2) / l1
-    _t24 = _t8 * (-_t0 * q2 + 2 * q1 * q3)
-    _t25 = _t24 * r_p
-    _t26 = _t9 * r_p
-    _t27 = (1 / 2) * _t26
-    _t28 = (1 / 2) * r_b
-    _t29 = _t18 * r_p
-    _t30 = -_t11 * _t29 + _t12 * _t28
-    _t31 = -_t27 - _t30 + y
-    _t32 = _t19 * r_p
-    _t33 = -_t21 * r_p + _t28 + x
-    _t34 = _t32 + _t33
-    _t35 = (1 / 2) / l2
-    _t36 = _t0 * q1 + 2 * q2 * q3
-    _t37 = _t13 * _t36
-    _t38 = (1 / 2) * _t25
-    _t39 = _t29 * _t36
-    _t40 = _t13 * _t16
-    _t41 = -_t27 + _t30 + y
-    _t42 = -_t32 + _t33
-    _t43 = (1 / 2) / l3
+    _t16 = 2 * q2
+    _t17 = _t1 + _t16 * q1
+    _t18 = (1 / 2) * _t12
+    _t19 = _t18 * _t7
+    _t20 = _t17 * _t19
+    _t21 = _t7 * (_t10 - _t2 + _t6)
+    _t22 = (1 / 2) * _t21
+    _t23 = _t21 * r_p
+    _t24 = (1 / 2) / l1
+    _t25 = _t7 * (_t0 * q1 + _t16 * q3)
+    _t26 = _t25 * r_p
+    _t27 = _t8 * r_p
+    _t28 = (1 / 2) * _t27
+    _t29 = (1 / 2) * r_b
+    _t30 = _t19 * r_p
+    _t31 = -_t11 * _t30 + _t12 * _t29
+    _t32 = -_t28 + _t31 + x
+    _t33 = _t20 * r_p
+    _t34 = -_t22 * r_p + _t29 + y
+    _t35 = -_t33 + _t34
+    _t36 = (1 / 2) / l2
+    _t37 = -_t0 * q2 + 2 * q1 * q3
+    _t38 = _t13 * _t37
+    _t39 = (1 / 2) * _t26
+    _t40 = _t30 * _t37
+    _t41 = _t13 * _t17
+    _t42 = -_t28 - _t31 + x
+    _t43 = _t33 + _t34
+    _t44 = (1 / 2) / l3
     _out_closure_parameters = casadi.SX.zeros(7, 2)
-    _out_closure_parameters[0, 1] = _t9
-    _out_closure_parameters[1, 1] = -_t15 - _t17 * (_t19 - _t21) + (1 / 4) * _t2 * _t8
-    _out_closure_parameters[2, 1] = _t15 + _t17 * (-_t19 - _t21) + (1 / 4) * _t9
-    _out_closure_parameters[3, 0] = _t23 * (-2 * _t22 + 2 * r_b - 2 * x)
-    _out_closure_parameters[3, 1] = _t23 * (
-        2 * _t20 * (_t22 - r_b + x) + 2 * _t24 * (_t25 + z) + 2 * _t9 * (_t26 + y)
+    _out_closure_parameters[0, 1] = -_t8
+    _out_closure_parameters[1, 1] = -_t15 - _t18 * (-_t20 - _t22) - _t9
+    _out_closure_parameters[2, 1] = _t15 + _t18 * (_t20 - _t22) - _t9
+    _out_closure_parameters[3, 0] = _t24 * (-2 * _t23 + 2 * r_b - 2 * y)
+    _out_closure_parameters[3, 1] = _t24 * (
+        2 * _t21 * (_t23 - r_b + y) + 2 * _t25 * (_t26 + z) + 2 * _t8 * (_t27 + x)
     )
-    _out_closure_parameters[4, 0] = _t35 * (-_t12 * _t31 + _t34)
-    _out_closure_parameters[4, 1] = _t35 * (
-        _t31 * (_t14 - _t9) + _t34 * (-_t20 + _t40) + (-_t24 + _t37) * (-_t38 + _t39 + z)
+    _out_closure_parameters[4, 0] = _t36 * (_t12 * _t32 + _t35)
+    _out_closure_parameters[4, 1] = _t36 * (
+        _t32 * (-_t14 - _t8) + _t35 * (-_t21 - _t41) + (-_t25 - _t38) * (-_t39 - _t40 + z)
     )
-    _out_closure_parameters[5, 0] = _t43 * (_t12 * _t41 + _t42)
-    _out_closure_parameters[5, 1] = _t43 * (
-        _t41 * (-_t14 - _t9) + _t42 * (-_t20 - _t40) + (-_t24 - _t37) * (-_t38 - _t39 + z)
+    _out_closure_parameters[5, 0] = _t44 * (-_t12 * _t42 + _t43)
+    _out_closure_parameters[5, 1] = _t44 * (
+        _t42 * (_t14 - _t8) + _t43 * (-_t21 + _t41) + (-_t25 + _t38) * (-_t39 + _t40 + z)
     )
     _out_pose_parameters = casadi.SX.zeros(12, 2)
     return casadi.Function(
@@ -697,7 +687,7 @@ def parameter_jacobians() -> casadi.Function:
 def singularity_factors() -> casadi.Function:
     """Every named singularity factor, then the determinants.
 
-    Operations: 416.
+    Operations: 412.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -714,163 +704,167 @@ def singularity_factors() -> casadi.Function:
     q3 = _in_passive[6]
     r_b = _in_params[0]
     r_p = _in_params[1]
-    _t0 = q2**2
+    _t0 = q1**2
     _t1 = q3**2
     _t2 = q0**2
-    _t3 = q1**2
+    _t3 = q2**2
     _t4 = _t2 + _t3
     _t5 = _t0 + _t1 + _t4
     _t6 = 2 * q0
-    _t7 = r_p * (-_t6 * q2 + 2 * q1 * q3)
+    _t7 = r_p * (_t6 * q1 + 2 * q2 * q3)
     _t8 = (1 / 2) * _t7
-    _t9 = casadi.sqrt(3)
-    _t10 = (1 / 2) * _t9
-    _t11 = r_p * (_t6 * q1 + 2 * q2 * q3)
-    _t12 = _t10 * _t11
-    _t13 = _t5 * z
-    _t14 = _t12 - _t13 + _t8
-    _t15 = -_t14
-    _t16 = (1 / 2) * _t0 + (1 / 2) * _t1 + (1 / 2) * _t2 + (1 / 2) * _t3
-    _t17 = -_t16
-    _t18 = _t10 * _t5
-    _t19 = (1 / 2) * _t16 * _t5 * _t9 - _t17 * _t18
-    _t20 = _t12 + _t13 - _t8
-    _t21 = _t13 + _t7
+    _t9 = _t5 * z
+    _t10 = casadi.sqrt(3)
+    _t11 = (1 / 2) * _t10
+    _t12 = r_p * (-_t6 * q2 + 2 * q1 * q3)
+    _t13 = _t11 * _t12
+    _t14 = _t13 - _t8 + _t9
+    _t15 = _t13 + _t8 - _t9
+    _t16 = -_t15
+    _t17 = _t6 * q3
+    _t18 = r_p * (-_t17 + 2 * q1 * q2)
+    _t19 = _t5 * x
+    _t20 = _t18 + _t19
+    _t21 = _t7 + _t9
     _t22 = -_t21
-    _t23 = _t6 * q3
-    _t24 = r_p * (_t23 + 2 * q1 * q2)
-    _t25 = _t5 * y
-    _t26 = _t24 + _t25
-    _t27 = r_b**2
-    _t28 = (1 / 2) * _t22 * _t26 * _t27
-    _t29 = _t10 * _t20
-    _t30 = _t5 * x
-    _t31 = -_t1
-    _t32 = r_p * (-_t0 + _t31 + _t4)
-    _t33 = _t30 + _t32
-    _t34 = _t33 * r_b
-    _t35 = _t10 * r_p
-    _t36 = _t35 * (_t0 + _t2 - _t3 + _t31)
-    _t37 = (1 / 2) * _t24
-    _t38 = _t25 - _t37
-    _t39 = _t36 + _t38
-    _t40 = (1 / 2) * r_b
-    _t41 = -_t23 + 2 * q1 * q2
-    _t42 = _t35 * _t41
-    _t43 = (1 / 2) * _t32
-    _t44 = _t30 - _t43
-    _t45 = _t42 + _t44
-    _t46 = _t10 * _t45 * r_b + _t39 * _t40
-    _t47 = _t10 * _t15
-    _t48 = -_t25 + _t37
-    _t49 = -_t36 - _t48
-    _t50 = _t40 * _t49 - 1 / 2 * _t9 * r_b * (_t30 - _t42 - _t43)
-    _t51 = _t22 * _t50 - _t34 * _t47
-    _t52 = (3 / 4) * r_b
-    _t53 = _t15**2 * _t52
-    _t54 = (1 / 4) * _t7
-    _t55 = (1 / 4) * _t9
-    _t56 = _t11 * _t55
-    _t57 = (1 / 2) * _t5 * z - _t54 - _t56
-    _t58 = _t15 * _t40
-    _t59 = -_t53 - _t57 * _t58
-    _t60 = _t26 * r_b
-    _t61 = _t41 * _t55 * r_p
-    _t62 = (1 / 2) * _t30
-    _t63 = (1 / 4) * _t32
-    _t64 = -_t10 * _t49 + _t61 - _t62 + _t63
-    _t65 = _t47 * r_b
-    _t66 = _t50 * _t57 - _t64 * _t65
-    _t67 = _t21 * r_b
-    _t68 = -_t5
-    _t69 = _t5 * _t68
-    _t70 = _t29 * _t69
-    _t71 = _t20**2 * _t52
-    _t72 = (1 / 2) * _t13 - _t54 + _t56
-    _t73 = _t20 * _t40
-    _t74 = -_t10 * _t39 + _t61 + _t62 - _t63
-    _t75 = -_t74
-    _t76 = _t29 * r_b
-    _t77 = _t47 * _t69
-    _t78 = (3 / 4) * _t15 * _t20 * r_b - _t58 * _t72
-    _t79 = _t50 * _t72 - _t65 * _t75
-    _t80 = _t15 * _t20 * _t52
-    _t81 = _t29 * _t64
-    _t82 = -_t46
-    _t83 = _t22 * _t82
+    _t23 = r_b**2
+    _t24 = (1 / 2) * _t20 * _t22 * _t23
+    _t25 = _t11 * _t16
+    _t26 = _t5 * y
+    _t27 = -_t1
+    _t28 = r_p * (-_t0 + _t27 + _t4)
+    _t29 = _t26 + _t28
+    _t30 = _t29 * r_b
+    _t31 = _t11 * r_p
+    _t32 = _t31 * (_t0 + _t2 + _t27 - _t3)
+    _t33 = (1 / 2) * _t18
+    _t34 = _t33 - _t5 * x
+    _t35 = -_t32 - _t34
+    _t36 = (1 / 2) * r_b
+    _t37 = _t17 + 2 * q1 * q2
+    _t38 = _t31 * _t37
+    _t39 = (1 / 2) * _t28
+    _t40 = _t11 * r_b
+    _t41 = _t35 * _t36 - _t40 * (_t26 - _t38 - _t39)
+    _t42 = -_t41
+    _t43 = _t21 * r_b
+    _t44 = (1 / 2) * _t0 + (1 / 2) * _t1 + (1 / 2) * _t2 + (1 / 2) * _t3
+    _t45 = _t10 * _t44 * _t5
+    _t46 = _t11 * _t14
+    _t47 = _t19 - _t33
+    _t48 = _t32 + _t47
+    _t49 = _t26 - _t39
+    _t50 = _t38 + _t49
+    _t51 = _t36 * _t48 + _t40 * _t50
+    _t52 = -_t51
+    _t53 = _t22 * _t52 - _t30 * _t46
+    _t54 = (3 / 4) * r_b
+    _t55 = _t16**2 * _t54
+    _t56 = (1 / 4) * _t7
+    _t57 = (1 / 4) * _t10
+    _t58 = _t12 * _t57
+    _t59 = (1 / 2) * _t9
+    _t60 = _t56 + _t58 - _t59
+    _t61 = -_t60
+    _t62 = _t16 * _t36
+    _t63 = _t20 * r_b
+    _t64 = _t37 * _t57 * r_p
+    _t65 = (1 / 2) * _t26
+    _t66 = (1 / 4) * _t28
+    _t67 = -1 / 2 * _t10 * _t35 + _t64 - _t65 + _t66
+    _t68 = _t25 * r_b
+    _t69 = -_t5
+    _t70 = _t5 * _t69
+    _t71 = _t46 * _t70
+    _t72 = _t14**2 * _t54
+    _t73 = -_t56 + _t58 + _t59
+    _t74 = _t14 * _t36
+    _t75 = -_t72 - _t73 * _t74
+    _t76 = (1 / 2) * _t10 * _t48 - _t64 - _t65 + _t66
+    _t77 = _t46 * r_b
+    _t78 = _t52 * _t73 - _t76 * _t77
+    _t79 = _t25 * _t70
+    _t80 = _t14 * _t16 * _t54
+    _t81 = _t25 * _t76
+    _t82 = -_t61 * _t74 + _t80
+    _t83 = _t52 * _t61 - _t67 * _t77
     _t84 = _t5 * r_b
     _t85 = (1 / 2) * _t84
-    _t86 = -_t42 + _t44 + _t85
-    _t87 = _t5 * _t86
-    _t88 = _t45 + _t85
-    _t89 = _t14 * _t5
-    _t90 = _t29 * _t57 + _t47 * _t72
-    _t91 = _t57 * _t74 + _t64 * _t72
-    _t92 = _t22 * _t60
-    _t93 = -_t33
-    _t94 = _t22 * _t64 + _t57 * _t93
-    _t95 = _t17 * _t88
-    _t96 = _t14 * _t95
-    _t97 = _t10 * _t84 - _t36
-    _t98 = _t48 + _t97
-    _t99 = _t10 * _t89
-    _t100 = _t98 * _t99
-    _t101 = _t17 * _t86
-    _t102 = _t38 + _t97
-    _t103 = -_t102 * _t18
-    _t104 = _t101 - _t103
-    _t105 = _t22 * _t75 + _t72 * _t93
-    _t106 = _t101 + _t103
-    _t107 = -_t26
-    _t108 = _t33 - _t84
-    _t109 = _t108 * _t14 * _t17
-    _t110 = -_t20
-    _t111 = _t107 * _t110 * _t18
-    _t112 = _t108 * _t110
-    _t113 = _t112 * _t17
-    _t114 = _t18 * _t98
-    _t115 = -_t50
-    _t116 = _t21 * _t5
-    _t117 = _t10 * _t116 * _t68
-    _t118 = _t40 * _t91
-    _t119 = _t47 * _t74 - _t81
-    _t120 = _t119 * r_b
-    _t121 = (
-        -_t117 * (_t59 * _t82 - _t66 * _t73 + _t76 * (_t47 * _t50 + _t58 * _t64))
-        - _t117 * (-_t73 * _t79 + _t76 * (-_t29 * _t50 + _t58 * _t75) + _t78 * _t82)
-        + _t15 * _t19 * (-_t20 * _t28 + _t21 * r_b * (_t22 * _t46 + _t29 * _t34))
-        - _t19 * _t20 * (-_t15 * _t28 + _t21 * _t51 * r_b)
-        + _t19 * _t21 * ((1 / 4) * _t15 * _t20 * _t27 * _t33 * _t9 - _t51 * _t73 - _t58 * _t83)
-        + _t70 * (_t59 * _t60 + _t66 * _t67)
-        + _t70 * (_t60 * _t78 + _t67 * _t79)
-        - _t77 * (_t60 * (-_t71 - _t72 * _t73) + _t67 * (_t46 * _t72 + _t75 * _t76))
-        - _t77 * (_t60 * (-_t57 * _t73 + _t80) + _t67 * (_t46 * _t57 + _t81 * r_b))
-        + (_t108 * _t89 + _t21 * _t87) * (-_t118 * _t20 + _t120 * _t29 + _t82 * _t90)
-        + (-_t112 * _t5 - _t116 * _t88) * (_t115 * _t90 - _t118 * _t15 - _t120 * _t47)
-        + (_t119 * _t22 + _t33 * _t90)
+    _t86 = _t50 + _t85
+    _t87 = -_t86
+    _t88 = _t69 * _t87
+    _t89 = -_t38 + _t49 + _t85
+    _t90 = -_t89
+    _t91 = -_t14
+    _t92 = _t69 * _t91
+    _t93 = _t25 * _t73 - _t46 * _t60
+    _t94 = -_t67
+    _t95 = _t61 * _t76 + _t73 * _t94
+    _t96 = _t20 * _t43
+    _t97 = -_t29
+    _t98 = _t22 * _t76 + _t73 * _t97
+    _t99 = _t11 * _t84 - _t32
+    _t100 = _t47 + _t99
+    _t101 = _t11 * _t5
+    _t102 = _t100 * _t101
+    _t103 = _t102 * _t91
+    _t104 = _t44 * _t90
+    _t105 = _t104 * _t91
+    _t106 = -_t34 - _t99
+    _t107 = _t101 * _t106
+    _t108 = _t44 * _t87
+    _t109 = -_t107 + _t108
+    _t110 = _t22 * _t67 + _t61 * _t97
+    _t111 = _t107 + _t108
+    _t112 = _t101 * _t20
+    _t113 = -_t29 + _t5 * r_b
+    _t114 = _t113 * _t44 * _t91
+    _t115 = _t112 * _t15
+    _t116 = _t113 * _t15
+    _t117 = _t116 * _t44
+    _t118 = _t21 * _t51
+    _t119 = _t21 * _t69
+    _t120 = _t101 * _t119
+    _t121 = _t36 * _t95
+    _t122 = -_t46 * _t94 + _t81
+    _t123 = _t122 * r_b
+    _t124 = (
+        -_t120 * (_t41 * _t75 - _t62 * _t78 - _t68 * (-_t46 * _t52 - _t74 * _t76))
+        - _t120 * (_t41 * _t82 - _t62 * _t83 - _t68 * ((1 / 2) * _t10 * _t16 * _t52 - _t67 * _t74))
+        + _t14 * _t45 * (_t16 * _t24 + _t43 * (_t22 * _t42 + _t25 * _t30))
+        - _t16 * _t45 * (_t14 * _t24 + _t43 * _t53)
+        + _t21
+        * _t45
+        * ((1 / 4) * _t10 * _t14 * _t16 * _t23 * _t29 - _t22 * _t41 * _t74 - _t53 * _t62)
+        - _t71 * (_t43 * (_t42 * _t73 + _t81 * r_b) - _t63 * (-_t62 * _t73 + _t80))
+        - _t71 * (_t21 * r_b * (_t42 * _t61 + _t67 * _t68) - _t63 * (-_t55 - _t61 * _t62))
+        + _t79 * (_t43 * _t83 - _t63 * _t82)
+        + _t79 * (_t21 * _t78 * r_b - _t63 * _t75)
+        + (_t113 * _t92 + _t21 * _t88) * (-_t121 * _t16 - _t123 * _t25 + _t41 * _t93)
+        + (-_t116 * _t69 - _t119 * _t90) * (-_t121 * _t14 + _t123 * _t46 + _t51 * _t93)
+        + (_t122 * _t21 + _t29 * _t93)
         * (
-            _t107 * (_t110 * _t86 + _t15 * _t88)
-            + _t108 * (_t102 * _t110 - _t15 * _t98)
-            + _t21 * (_t102 * _t88 + _t86 * _t98)
+            _t113 * (_t100 * _t14 + _t106 * _t15)
+            + _t20 * (_t14 * _t89 + _t15 * _t86)
+            + _t21 * (_t100 * _t86 + _t106 * _t90)
         )
-        + (-_t20 * _t87 - _t88 * _t89) * (_t60 * _t90 + _t67 * _t91)
-        + (_t47 * _t92 + _t67 * _t94) * (-_t100 + _t104 * _t20 + _t96)
-        + (_t105 * _t21 * r_b - _t29 * _t92) * (-_t100 - _t106 * _t20 - _t96)
-        + (-_t111 - _t113 - _t21 * (_t114 + _t95))
-        * (-_t105 * _t58 - _t115 * _t22 * _t29 + (3 / 4) * _t15 * _t20 * _t93 * r_b)
-        + (-_t111 + _t113 + _t21 * (-_t114 + _t95))
-        * ((1 / 2) * _t115 * _t15 * _t22 * _t9 - _t53 * _t93 - _t58 * _t94)
-        + (-_t104 * _t21 + (1 / 2) * _t107 * _t14 * _t5 * _t9 - _t109)
-        * (_t47 * _t83 - _t73 * _t94 + _t80 * _t93)
-        + (-_t105 * _t73 - _t29 * _t83 - _t71 * _t93) * (_t106 * _t21 + _t107 * _t99 + _t109)
+        + (-_t16 * _t88 - _t90 * _t92) * (_t43 * _t95 - _t63 * _t93)
+        + (_t43 * _t98 + _t46 * _t96) * (-_t103 + _t105 + _t109 * _t16)
+        + (_t110 * _t21 * r_b - _t25 * _t96) * (-_t103 - _t105 - _t111 * _t16)
+        + (-_t115 - _t117 - _t21 * (_t102 + _t104)) * (-_t110 * _t74 + _t118 * _t25 + _t80 * _t97)
+        + (-_t115 + _t117 + _t21 * (-_t102 + _t104)) * (-_t118 * _t46 - _t72 * _t97 - _t74 * _t98)
+        + (_t111 * _t21 + _t112 * _t91 + _t114)
+        * ((1 / 2) * _t10 * _t16 * _t21 * _t41 - _t110 * _t62 - _t55 * _t97)
+        + ((1 / 2) * _t10 * _t20 * _t5 * _t91 - _t109 * _t21 - _t114)
+        * ((3 / 4) * _t14 * _t16 * _t97 * r_b - _t21 * _t41 * _t46 - _t62 * _t98)
     ) / _t5**6
     _out_factors = casadi.SX.zeros(4)
     _out_factors[0] = l1
     _out_factors[1] = l2
     _out_factors[2] = l3
-    _out_factors[3] = _t121
+    _out_factors[3] = _t124
     _out_determinants = casadi.SX.zeros(2)
-    _out_determinants[0] = _t121
+    _out_determinants[0] = _t124
     _out_determinants[1] = l1 * l2 * l3
     return casadi.Function(
         "rps3_singularity_factors",
@@ -898,7 +892,7 @@ def singularity_factors() -> casadi.Function:
 def drawing() -> casadi.Function:
     """Named point sets (3 x n, in {B}) of the mechanism in one configuration, for plots.
 
-    Operations: 62.
+    Operations: 61.
     """
     _in_actuated = casadi.SX.sym("actuated", 3)
     _in_passive = casadi.SX.sym("passive", 7)
@@ -912,45 +906,46 @@ def drawing() -> casadi.Function:
     q3 = _in_passive[6]
     r_b = _in_params[0]
     r_p = _in_params[1]
-    _t0 = (1 / 2) * r_b
-    _t1 = -_t0
-    _t2 = casadi.sqrt(3)
-    _t3 = _t0 * _t2
-    _t4 = q2**2
-    _t5 = q3**2
-    _t6 = -_t5
-    _t7 = q0**2
-    _t8 = q1**2
-    _t9 = _t7 + _t8
-    _t10 = r_p / (_t4 + _t5 + _t9)
-    _t11 = _t10 * (-_t4 + _t6 + _t9)
-    _t12 = 2 * q0
-    _t13 = _t12 * q3
-    _t14 = (1 / 2) * _t10 * _t2
-    _t15 = _t14 * (-_t13 + 2 * q1 * q2)
-    _t16 = (1 / 2) * _t11
-    _t17 = _t10 * (_t13 + 2 * q1 * q2)
-    _t18 = (1 / 2) * _t17
-    _t19 = _t14 * (_t4 + _t6 + _t7 - _t8)
-    _t20 = _t10 * (-_t12 * q2 + 2 * q1 * q3)
-    _t21 = (1 / 2) * _t20
-    _t22 = _t14 * (_t12 * q1 + 2 * q2 * q3)
+    _t0 = casadi.sqrt(3)
+    _t1 = (1 / 2) * r_b
+    _t2 = _t0 * _t1
+    _t3 = -_t1
+    _t4 = 2 * q0
+    _t5 = _t4 * q3
+    _t6 = q2**2
+    _t7 = q3**2
+    _t8 = q0**2
+    _t9 = q1**2
+    _t10 = _t8 + _t9
+    _t11 = r_p / (_t10 + _t6 + _t7)
+    _t12 = _t11 * (-_t5 + 2 * q1 * q2)
+    _t13 = (1 / 2) * _t12
+    _t14 = -_t7
+    _t15 = (1 / 2) * _t0 * _t11
+    _t16 = _t15 * (_t10 + _t14 - _t6)
+    _t17 = _t11 * (_t14 + _t6 + _t8 - _t9)
+    _t18 = 2 * q2
+    _t19 = _t15 * (_t18 * q1 + _t5)
+    _t20 = (1 / 2) * _t17
+    _t21 = _t11 * (_t18 * q3 + _t4 * q1)
+    _t22 = (1 / 2) * _t21
+    _t23 = _t15 * (-_t4 * q2 + 2 * q1 * q3)
     _out_base = casadi.SX.zeros(3, 3)
-    _out_base[0, 0] = r_b
-    _out_base[0, 1] = _t1
-    _out_base[0, 2] = _t1
+    _out_base[0, 1] = -_t2
+    _out_base[0, 2] = _t2
+    _out_base[1, 0] = r_b
     _out_base[1, 1] = _t3
-    _out_base[1, 2] = -_t3
+    _out_base[1, 2] = _t3
     _out_platform = casadi.SX.zeros(3, 3)
-    _out_platform[0, 0] = _t11 + x
-    _out_platform[0, 1] = _t15 - _t16 + x
-    _out_platform[0, 2] = -_t15 - _t16 + x
+    _out_platform[0, 0] = _t12 + x
+    _out_platform[0, 1] = -_t13 - _t16 + x
+    _out_platform[0, 2] = -_t13 + _t16 + x
     _out_platform[1, 0] = _t17 + y
-    _out_platform[1, 1] = -_t18 + _t19 + y
-    _out_platform[1, 2] = -_t18 - _t19 + y
-    _out_platform[2, 0] = _t20 + z
-    _out_platform[2, 1] = -_t21 + _t22 + z
-    _out_platform[2, 2] = -_t21 - _t22 + z
+    _out_platform[1, 1] = -_t19 - _t20 + y
+    _out_platform[1, 2] = _t19 - _t20 + y
+    _out_platform[2, 0] = _t21 + z
+    _out_platform[2, 1] = -_t22 - _t23 + z
+    _out_platform[2, 2] = -_t22 + _t23 + z
     return casadi.Function(
         "rps3_drawing",
         [
@@ -996,24 +991,24 @@ def inverse_pose() -> casadi.Function:
     pz = _in_pose[11]
     r_b = _in_params[0]
     r_p = _in_params[1]
-    l1 = casadi.sqrt((py + r21 * r_p) ** 2 + (pz + r31 * r_p) ** 2 + (px + r11 * r_p - r_b) ** 2)
+    l1 = casadi.sqrt((px + r12 * r_p) ** 2 + (pz + r32 * r_p) ** 2 + (py + r22 * r_p - r_b) ** 2)
     _t0 = (1 / 2) * r_p
     _t1 = casadi.sqrt(3)
     _t2 = _t0 * _t1
     _t3 = (1 / 2) * r_b
     l2 = casadi.sqrt(
-        (-_t0 * r31 + _t2 * r32 + pz) ** 2
-        + (-_t0 * r11 + _t2 * r12 + _t3 + px) ** 2
-        + (-_t0 * r21 - _t1 * _t3 + _t2 * r22 + py) ** 2
+        (-_t0 * r32 - _t2 * r31 + pz) ** 2
+        + (-_t0 * r12 + _t1 * _t3 - _t2 * r11 + px) ** 2
+        + (-_t0 * r22 - _t2 * r21 + _t3 + py) ** 2
     )
     _t4 = (1 / 2) * r_p
     _t5 = casadi.sqrt(3)
     _t6 = _t4 * _t5
     _t7 = (1 / 2) * r_b
     l3 = casadi.sqrt(
-        (-_t4 * r31 - _t6 * r32 + pz) ** 2
-        + (-_t4 * r11 - _t6 * r12 + _t7 + px) ** 2
-        + (-_t4 * r21 + _t5 * _t7 - _t6 * r22 + py) ** 2
+        (-_t4 * r32 + _t6 * r31 + pz) ** 2
+        + (-_t4 * r12 - _t5 * _t7 + _t6 * r11 + px) ** 2
+        + (-_t4 * r22 + _t6 * r21 + _t7 + py) ** 2
     )
     x = px
     y = py
@@ -1189,16 +1184,16 @@ def inverse_pose() -> casadi.Function:
     q1 = quaternion_sum3_1 / quaternion_sum_norm
     q2 = quaternion_sum3_2 / quaternion_sum_norm
     q3 = quaternion_sum3_3 / quaternion_sum_norm
-    _t70 = r21 * r_p
+    _t70 = r12 * r_p
     _t71 = 1.0e-12 * r_b**2 + 1.0e-12 * r_p**2
-    _t72 = (1 / 2) * py
-    _t73 = casadi.sqrt(3)
-    _t74 = (1 / 2) * r_p
-    _t75 = _t73 * _t74 * r12
-    _t76 = -_t74 * r11 + px + (1 / 2) * r_b
-    _t77 = (1 / 2) * _t73
-    _t78 = (1 / 4) * _t73
-    _t79 = _t78 * r22 * r_p - _t78 * r_b
+    _t72 = casadi.sqrt(3)
+    _t73 = (1 / 2) * r_p
+    _t74 = _t72 * _t73 * r21
+    _t75 = -_t73 * r22 + py + (1 / 2) * r_b
+    _t76 = (1 / 2) * _t72
+    _t77 = (1 / 4) * _t70
+    _t78 = (1 / 4) * _t72
+    _t79 = _t78 * r11 * r_p - _t78 * r_b
     _out_actuated = casadi.SX.zeros(3)
     _out_actuated[0] = l1
     _out_actuated[1] = l2
@@ -1213,13 +1208,13 @@ def inverse_pose() -> casadi.Function:
     _out_passive[6] = q3
     _out_validity = casadi.SX.zeros(6)
     _out_validity[0] = l1
-    _out_validity[1] = -((_t70 + py) ** 2) / (_t71 + 1.0e-12 * l1**2) + 1
+    _out_validity[1] = -((-_t70 - px) ** 2) / (_t71 + 1.0e-12 * l1**2) + 1
     _out_validity[2] = l2
-    _out_validity[3] = 1 - (-_t72 - _t77 * (_t75 + _t76) - _t79 + (1 / 4) * r21 * r_p) ** 2 / (
+    _out_validity[3] = 1 - (-_t76 * (-_t74 + _t75) - _t77 - _t79 + (1 / 2) * px) ** 2 / (
         _t71 + 1.0e-12 * l2**2
     )
     _out_validity[4] = l3
-    _out_validity[5] = 1 - ((1 / 4) * _t70 - _t72 + _t77 * (-_t75 + _t76) + _t79) ** 2 / (
+    _out_validity[5] = 1 - (_t76 * (_t74 + _t75) - _t77 + _t79 + (1 / 2) * px) ** 2 / (
         _t71 + 1.0e-12 * l3**2
     )
     return casadi.Function(
@@ -1290,7 +1285,7 @@ def automatic_family() -> casadi.Function:
 def automatic_monomials() -> casadi.Function:
     """Each monomial's coefficient (the manifest's term table) at complex family values: the free parameters, then (C, S, D) of each angle (cos, sin, 1 at the inputs, a point of C^2 + S^2 = D^2 along the homotopy); real parts, imaginary parts.
 
-    Operations: 125.
+    Operations: 123.
     """
     _in_family_re = casadi.SX.sym("family_re", 5)
     _in_family_im = casadi.SX.sym("family_im", 5)
@@ -1305,14 +1300,14 @@ def automatic_monomials() -> casadi.Function:
     r_b_im = _in_family_im[3]
     r_p_im = _in_family_im[4]
     _t0 = 2 * r_p_re
-    _t1 = casadi.sqrt(3)
-    _t2 = 2 * _t1
-    _t3 = 8 * r_p_re
-    _t4 = _t0 * _t1
-    _t5 = 4 * r_p_re
+    _t1 = -_t0
+    _t2 = casadi.sqrt(3)
+    _t3 = 2 * _t2
+    _t4 = 8 * r_p_re
+    _t5 = _t0 * _t2
     _t6 = -_t5
-    _t7 = -_t4
-    _t8 = -_t0
+    _t7 = 4 * r_p_re
+    _t8 = -_t7
     _t9 = 2 * r_b_re
     _t10 = r_p_im**2
     _t11 = r_p_re**2
@@ -1323,72 +1318,72 @@ def automatic_monomials() -> casadi.Function:
     _t16 = -_t15
     _t17 = r_b_re**2
     _t18 = r_b_im**2
-    _t19 = _t1 * _t3
+    _t19 = _t2 * _t7
     _t20 = -_t19
-    _t21 = 4 * r_b_re
-    _t22 = _t1 * _t5
-    _t23 = -_t3
-    _t24 = -_t22
-    _t25 = _t1 * _t21
+    _t21 = -_t4
+    _t22 = 4 * r_b_re
+    _t23 = _t2 * _t22
+    _t24 = _t2 * _t4
+    _t25 = -_t24
     _t26 = -4 * _t10 + 4 * _t11
     _t27 = -8 * _t10 + 8 * _t11
     _t28 = 8 * r_p_im
-    _t29 = _t28 * r_b_im - _t3 * r_b_re
+    _t29 = _t28 * r_b_im - _t4 * r_b_re
     _t30 = 4 * r_p_im
-    _t31 = _t30 * r_b_im - 4 * r_b_re * r_p_re
+    _t31 = _t30 * r_b_im - _t7 * r_b_re
     _t32 = -_t31
     _t33 = -_t29
     _t34 = 4 * _t17 - 4 * _t18
-    _t35 = _t2 * r_p_im
-    _t36 = -_t30
-    _t37 = -_t35
-    _t38 = -_t14
+    _t35 = -_t14
+    _t36 = _t3 * r_p_im
+    _t37 = -_t36
+    _t38 = -_t30
     _t39 = _t0 * r_p_im
-    _t40 = _t5 * r_p_im
+    _t40 = _t7 * r_p_im
     _t41 = _t0 * r_b_im + _t9 * r_p_im
     _t42 = -_t41
-    _t43 = _t1 * _t28
+    _t43 = _t2 * _t30
     _t44 = -_t43
-    _t45 = 4 * r_b_im
-    _t46 = _t1 * _t30
-    _t47 = -_t28
-    _t48 = -_t46
-    _t49 = _t1 * _t45
-    _t50 = _t3 * r_p_im
+    _t45 = -_t28
+    _t46 = 4 * r_b_im
+    _t47 = _t2 * _t46
+    _t48 = _t2 * _t28
+    _t49 = -_t48
+    _t50 = _t4 * r_p_im
     _t51 = 16 * r_p_im * r_p_re
-    _t52 = _t28 * r_b_re + _t3 * r_b_im
+    _t52 = _t28 * r_b_re + _t4 * r_b_im
     _t53 = -_t52
-    _t54 = _t21 * r_p_im + _t5 * r_b_im
+    _t54 = _t22 * r_p_im + _t7 * r_b_im
     _t55 = -_t54
     _t56 = -8 * r_b_im * r_b_re
     _out_re = casadi.SX.zeros(121)
-    _out_re[0] = 1
+    _out_re[0] = -1
     _out_re[1] = _t0
-    _out_re[2] = _t0
-    _out_re[3] = -_t2
-    _out_re[4] = -2
-    _out_re[5] = _t3
-    _out_re[6] = _t4
-    _out_re[7] = _t6
-    _out_re[8] = _t7
-    _out_re[9] = _t2
-    _out_re[10] = -2
-    _out_re[11] = _t3
-    _out_re[12] = _t7
-    _out_re[13] = _t6
-    _out_re[14] = _t4
+    _out_re[2] = _t1
+    _out_re[3] = 2
+    _out_re[4] = -_t3
+    _out_re[5] = _t4
+    _out_re[6] = _t6
+    _out_re[7] = _t7
+    _out_re[8] = _t5
+    _out_re[9] = 2
+    _out_re[10] = _t3
+    _out_re[11] = _t4
+    _out_re[12] = _t5
+    _out_re[13] = _t7
+    _out_re[14] = _t6
     _out_re[15] = 1
-    _out_re[16] = _t0
-    _out_re[17] = _t0
-    _out_re[18] = _t8
-    _out_re[19] = _t8
-    _out_re[20] = -_t9
-    _out_re[21] = 1
-    _out_re[22] = _t5
-    _out_re[23] = _t5
+    _out_re[16] = _t8
+    _out_re[17] = _t7
+    _out_re[18] = 1
+    _out_re[19] = _t0
+    _out_re[20] = _t1
+    _out_re[21] = _t0
+    _out_re[22] = _t1
+    _out_re[23] = -_t9
     _out_re[24] = 1
-    _out_re[25] = _t6
-    _out_re[26] = _t5
+    _out_re[25] = _t7
+    _out_re[26] = _t7
     _out_re[27] = _t12
     _out_re[28] = _t13
     _out_re[29] = _t13
@@ -1397,34 +1392,34 @@ def automatic_monomials() -> casadi.Function:
     _out_re[32] = _t12
     _out_re[33] = _t13
     _out_re[34] = _t13
-    _out_re[35] = _t15
+    _out_re[35] = _t16
     _out_re[36] = _t12
     _out_re[37] = _t13
-    _out_re[38] = _t16
+    _out_re[38] = _t15
     _out_re[39] = _t12
     _out_re[40] = _t16
     _out_re[41] = _t17 - _t18 + l1_im**2 - l1_re**2
     _out_re[42] = 4
-    _out_re[43] = _t6
-    _out_re[44] = _t20
-    _out_re[45] = _t6
-    _out_re[46] = _t19
-    _out_re[47] = _t5
-    _out_re[48] = _t5
-    _out_re[49] = _t21
+    _out_re[43] = _t20
+    _out_re[44] = _t4
+    _out_re[45] = _t20
+    _out_re[46] = _t21
+    _out_re[47] = _t19
+    _out_re[48] = _t19
+    _out_re[49] = _t23
     _out_re[50] = 4
-    _out_re[51] = _t22
-    _out_re[52] = _t23
-    _out_re[53] = _t24
-    _out_re[54] = _t23
-    _out_re[55] = _t22
-    _out_re[56] = _t24
-    _out_re[57] = -_t25
+    _out_re[51] = _t8
+    _out_re[52] = _t25
+    _out_re[53] = _t7
+    _out_re[54] = _t25
+    _out_re[55] = _t8
+    _out_re[56] = _t7
+    _out_re[57] = _t22
     _out_re[58] = 4
-    _out_re[59] = _t19
-    _out_re[60] = _t3
-    _out_re[61] = _t23
-    _out_re[62] = _t19
+    _out_re[59] = _t21
+    _out_re[60] = _t24
+    _out_re[61] = _t25
+    _out_re[62] = _t21
     _out_re[63] = _t26
     _out_re[64] = _t27
     _out_re[65] = _t27
@@ -1433,35 +1428,35 @@ def automatic_monomials() -> casadi.Function:
     _out_re[68] = _t26
     _out_re[69] = _t27
     _out_re[70] = _t27
-    _out_re[71] = _t32
-    _out_re[72] = _t1 * _t33
+    _out_re[71] = _t31
+    _out_re[72] = _t2 * _t29
     _out_re[73] = _t26
     _out_re[74] = _t27
-    _out_re[75] = _t31
+    _out_re[75] = _t32
     _out_re[76] = _t26
     _out_re[77] = _t33
     _out_re[78] = _t34 + 4 * l2_im**2 - 4 * l2_re**2
     _out_re[79] = 4
-    _out_re[80] = _t6
-    _out_re[81] = _t19
-    _out_re[82] = _t6
-    _out_re[83] = _t20
-    _out_re[84] = _t5
-    _out_re[85] = _t5
-    _out_re[86] = _t21
+    _out_re[80] = _t19
+    _out_re[81] = _t4
+    _out_re[82] = _t19
+    _out_re[83] = _t21
+    _out_re[84] = _t20
+    _out_re[85] = _t20
+    _out_re[86] = -_t23
     _out_re[87] = 4
-    _out_re[88] = _t24
-    _out_re[89] = _t23
-    _out_re[90] = _t22
-    _out_re[91] = _t23
-    _out_re[92] = _t24
-    _out_re[93] = _t22
-    _out_re[94] = _t25
+    _out_re[88] = _t8
+    _out_re[89] = _t24
+    _out_re[90] = _t7
+    _out_re[91] = _t24
+    _out_re[92] = _t8
+    _out_re[93] = _t7
+    _out_re[94] = _t22
     _out_re[95] = 4
-    _out_re[96] = _t20
-    _out_re[97] = _t3
-    _out_re[98] = _t23
-    _out_re[99] = _t20
+    _out_re[96] = _t21
+    _out_re[97] = _t25
+    _out_re[98] = _t24
+    _out_re[99] = _t21
     _out_re[100] = _t26
     _out_re[101] = _t27
     _out_re[102] = _t27
@@ -1470,11 +1465,11 @@ def automatic_monomials() -> casadi.Function:
     _out_re[105] = _t26
     _out_re[106] = _t27
     _out_re[107] = _t27
-    _out_re[108] = _t32
-    _out_re[109] = _t1 * _t29
+    _out_re[108] = _t31
+    _out_re[109] = _t2 * _t33
     _out_re[110] = _t26
     _out_re[111] = _t27
-    _out_re[112] = _t31
+    _out_re[112] = _t32
     _out_re[113] = _t26
     _out_re[114] = _t33
     _out_re[115] = _t34 + 4 * l3_im**2 - 4 * l3_re**2
@@ -1485,23 +1480,23 @@ def automatic_monomials() -> casadi.Function:
     _out_re[120] = -1
     _out_im = casadi.SX.zeros(121)
     _out_im[1] = _t14
-    _out_im[2] = _t14
+    _out_im[2] = _t35
     _out_im[5] = _t28
-    _out_im[6] = _t35
-    _out_im[7] = _t36
-    _out_im[8] = _t37
+    _out_im[6] = _t37
+    _out_im[7] = _t30
+    _out_im[8] = _t36
     _out_im[11] = _t28
-    _out_im[12] = _t37
-    _out_im[13] = _t36
-    _out_im[14] = _t35
-    _out_im[16] = _t14
-    _out_im[17] = _t14
-    _out_im[18] = _t38
-    _out_im[19] = _t38
-    _out_im[20] = -2 * r_b_im
-    _out_im[22] = _t30
-    _out_im[23] = _t30
-    _out_im[25] = _t36
+    _out_im[12] = _t36
+    _out_im[13] = _t30
+    _out_im[14] = _t37
+    _out_im[16] = _t38
+    _out_im[17] = _t30
+    _out_im[19] = _t14
+    _out_im[20] = _t35
+    _out_im[21] = _t14
+    _out_im[22] = _t35
+    _out_im[23] = -2 * r_b_im
+    _out_im[25] = _t30
     _out_im[26] = _t30
     _out_im[27] = _t39
     _out_im[28] = _t40
@@ -1511,31 +1506,31 @@ def automatic_monomials() -> casadi.Function:
     _out_im[32] = _t39
     _out_im[33] = _t40
     _out_im[34] = _t40
-    _out_im[35] = _t42
+    _out_im[35] = _t41
     _out_im[36] = _t39
     _out_im[37] = _t40
-    _out_im[38] = _t41
+    _out_im[38] = _t42
     _out_im[39] = _t39
     _out_im[40] = _t41
     _out_im[41] = -2 * l1_im * l1_re + 2 * r_b_im * r_b_re
-    _out_im[43] = _t36
-    _out_im[44] = _t44
-    _out_im[45] = _t36
-    _out_im[46] = _t43
-    _out_im[47] = _t30
-    _out_im[48] = _t30
-    _out_im[49] = _t45
-    _out_im[51] = _t46
-    _out_im[52] = _t47
-    _out_im[53] = _t48
-    _out_im[54] = _t47
-    _out_im[55] = _t46
-    _out_im[56] = _t48
-    _out_im[57] = -_t49
-    _out_im[59] = _t43
-    _out_im[60] = _t28
-    _out_im[61] = _t47
-    _out_im[62] = _t43
+    _out_im[43] = _t44
+    _out_im[44] = _t28
+    _out_im[45] = _t44
+    _out_im[46] = _t45
+    _out_im[47] = _t43
+    _out_im[48] = _t43
+    _out_im[49] = _t47
+    _out_im[51] = _t38
+    _out_im[52] = _t49
+    _out_im[53] = _t30
+    _out_im[54] = _t49
+    _out_im[55] = _t38
+    _out_im[56] = _t30
+    _out_im[57] = _t46
+    _out_im[59] = _t45
+    _out_im[60] = _t48
+    _out_im[61] = _t49
+    _out_im[62] = _t45
     _out_im[63] = _t50
     _out_im[64] = _t51
     _out_im[65] = _t51
@@ -1544,32 +1539,32 @@ def automatic_monomials() -> casadi.Function:
     _out_im[68] = _t50
     _out_im[69] = _t51
     _out_im[70] = _t51
-    _out_im[71] = _t54
-    _out_im[72] = _t1 * _t52
+    _out_im[71] = _t55
+    _out_im[72] = _t2 * _t53
     _out_im[73] = _t50
     _out_im[74] = _t51
-    _out_im[75] = _t55
+    _out_im[75] = _t54
     _out_im[76] = _t50
     _out_im[77] = _t52
     _out_im[78] = -_t56 - 8 * l2_im * l2_re
-    _out_im[80] = _t36
-    _out_im[81] = _t43
-    _out_im[82] = _t36
-    _out_im[83] = _t44
-    _out_im[84] = _t30
-    _out_im[85] = _t30
-    _out_im[86] = _t45
-    _out_im[88] = _t48
-    _out_im[89] = _t47
-    _out_im[90] = _t46
-    _out_im[91] = _t47
-    _out_im[92] = _t48
-    _out_im[93] = _t46
-    _out_im[94] = _t49
-    _out_im[96] = _t44
-    _out_im[97] = _t28
-    _out_im[98] = _t47
-    _out_im[99] = _t44
+    _out_im[80] = _t43
+    _out_im[81] = _t28
+    _out_im[82] = _t43
+    _out_im[83] = _t45
+    _out_im[84] = _t44
+    _out_im[85] = _t44
+    _out_im[86] = -_t47
+    _out_im[88] = _t38
+    _out_im[89] = _t48
+    _out_im[90] = _t30
+    _out_im[91] = _t48
+    _out_im[92] = _t38
+    _out_im[93] = _t30
+    _out_im[94] = _t46
+    _out_im[96] = _t45
+    _out_im[97] = _t49
+    _out_im[98] = _t48
+    _out_im[99] = _t45
     _out_im[100] = _t50
     _out_im[101] = _t51
     _out_im[102] = _t51
@@ -1578,11 +1573,11 @@ def automatic_monomials() -> casadi.Function:
     _out_im[105] = _t50
     _out_im[106] = _t51
     _out_im[107] = _t51
-    _out_im[108] = _t54
-    _out_im[109] = _t1 * _t53
+    _out_im[108] = _t55
+    _out_im[109] = _t2 * _t52
     _out_im[110] = _t50
     _out_im[111] = _t51
-    _out_im[112] = _t55
+    _out_im[112] = _t54
     _out_im[113] = _t50
     _out_im[114] = _t52
     _out_im[115] = -_t56 - 8 * l3_im * l3_re

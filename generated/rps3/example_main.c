@@ -2,15 +2,15 @@
 // with template c_example.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 47
-//   loop_closure: 531
-//   loop_closure_actuated: 95
-//   rate_jacobians: 125
-//   parameter_jacobians: 133
-//   singularity_factors: 416
-//   drawing: 62
+//   loop_closure: 524
+//   loop_closure_actuated: 94
+//   rate_jacobians: 124
+//   parameter_jacobians: 132
+//   singularity_factors: 412
+//   drawing: 61
 //   inverse_pose: 439
 //   automatic_family: 0
-//   automatic_monomials: 125
+//   automatic_monomials: 123
 //   automatic_passive: 0
 
 // Example: the rps3 solvers from C. Build (from this folder):

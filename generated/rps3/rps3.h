@@ -2,15 +2,15 @@
 // with template c_header.h.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 47
-//   loop_closure: 531
-//   loop_closure_actuated: 95
-//   rate_jacobians: 125
-//   parameter_jacobians: 133
-//   singularity_factors: 416
-//   drawing: 62
+//   loop_closure: 524
+//   loop_closure_actuated: 94
+//   rate_jacobians: 124
+//   parameter_jacobians: 132
+//   singularity_factors: 412
+//   drawing: 61
 //   inverse_pose: 439
 //   automatic_family: 0
-//   automatic_monomials: 125
+//   automatic_monomials: 123
 //   automatic_passive: 0
 
 // Public C interface of the generated rps3 solvers: 3-RPS parallel manipulator (Lee and Shah 1988): height and two tilts, parasitic motion.
@@ -23,7 +23,7 @@
 // has 16 complex solutions.
 // 
 // Frames and conventions (SI, radians):
-// * {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 0, 120, 240 deg; the
+// * {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 90, 210, 330 deg; the
 //   revolute axis of leg i is the tangent u_i = (-sin eta_i, cos eta_i, 0): leg i stays in the
 //   vertical plane through A_i normal to u_i.
 // * {P}: platform joints c_i = r_p e_i.
@@ -121,6 +121,13 @@ typedef struct {
 } rps3_newton_job;
 
 int rps3_forward_pose(const rps3_newton_job* job);
+// one step of a tracker from its buffers (parakin.solvers.tracker): keeps the solutions before it
+// in previous (n x NQ) and previous_pose (n x 16), runs forward_pose, and returns how many entries
+// failed or need the mode checks (an orientation change against previous_orientation, a move
+// beyond jump_ratio times the first Newton step, a first step beyond trust_step); where none
+// does, mode_change is 0 and previous_orientation takes the new orientations
+long long rps3_forward_pose_step(const rps3_newton_job* job, double* previous, double* previous_pose,
+                                    int* previous_orientation, double jump_ratio, double trust_step, int* mode_change);
 
 // Every real assembly mode of n inputs. Per input, MAX_MODES slots (root r, branch b at slot
 // r * 1 + b, roots ascending, roots at infinity last): poses, passive, residual,

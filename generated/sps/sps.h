@@ -185,6 +185,24 @@ typedef struct {
 } sps_newton_job;
 
 int sps_forward_pose(const sps_newton_job* job);
+// One step of a tracker from its buffers (parakin.solvers.tracker): -1 where an actuated value is
+// outside [low, high] (n_a each) or not finite, and nothing done; else keeps the solutions before
+// it in previous (n x NQ) and previous_pose (n x 16), runs forward_pose, and returns how many
+// entries failed or need the mode checks (an orientation change against previous_orientation, a
+// move beyond jump_ratio times the first Newton step, a first step beyond trust_step); where none
+// does, mode_change is 0 and previous_orientation takes the new orientations
+typedef struct {
+    double* previous;
+    double* previous_pose;
+    int* previous_orientation;
+    int* mode_change;
+    const double* low;
+    const double* high;
+    double jump_ratio;
+    double trust_step;
+} sps_step_job;
+
+long long sps_forward_pose_step(const sps_newton_job* job, const sps_step_job* step);
 
 // Every real assembly mode of n inputs. Per input, MAX_MODES slots (root r, branch b at slot
 // r * 2 + b, roots ascending, roots at infinity last): poses, passive, residual,
