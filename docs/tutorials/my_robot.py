@@ -18,7 +18,7 @@ MODEL = joints.DistanceMechanism(
     [joints.prismatic_leg(as_points(base)[i], as_points(platform)[i], lengths[i]) for i in range(3)],
 )
 DEFAULTS = point_defaults(base, [(0, 0), (1, 0), (0.5, 0.9)])
-DEFAULTS |= point_defaults(platform, [(-0.2, -0.1), (0.2, -0.1), (0, 0.2)])
+DEFAULTS |= point_defaults(platform, [(-0.2, -0.1), (0.2, -0.1), (0.15, 0.25)])
 
 
 def build() -> Mechanism:
