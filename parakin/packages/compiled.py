@@ -312,6 +312,22 @@ _INT64 = ctypes.c_longlong
 _CTYPES = {"int64": ctypes.c_longlong, "double": ctypes.c_double}
 
 
+#: NAME_step_job of the C header (c_header.h.j2): a tracker's buffers for NAME_forward_pose_step
+STEP_JOB = (
+    ("actuated", "pointer"),
+    ("incoming", "pointer"),
+    ("previous_actuated", "pointer"),
+    ("previous", "pointer"),
+    ("previous_pose", "pointer"),
+    ("previous_orientation", "pointer"),
+    ("mode_change", "pointer"),
+    ("low", "pointer"),
+    ("high", "pointer"),
+    ("jump_ratio", "double"),
+    ("trust_step", "double"),
+)
+
+
 def job_structure(name: str, fields: tuple[tuple[str, str], ...]) -> type[ctypes.Structure]:
     """A ctypes structure with the manifest's field list (pointers as void*): the C header is
     printed from the same list, so the two layouts cannot drift apart."""
@@ -371,6 +387,13 @@ class CompiledBackend:
         self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
         self.newton.argtypes = [_POINTER]
+        # a tracker's step with its checks in C (ForwardPoseTracker.solve); a library of an older
+        # generator lacks it, and the tracker then checks in Python
+        self.newton_step: Any = getattr(self.library, f"{self.manifest.newton.symbol}_step", None)
+        if self.newton_step is not None:
+            self.newton_step.restype = ctypes.c_longlong
+            self.newton_step.argtypes = [_POINTER, _POINTER]
+        self.StepJob = job_structure("StepJob", STEP_JOB)
         self.ModesJob = job_structure("ModesJob", abi.modes_job)
         self.forward_pose_all = None
         # forward_pose_all that also sums what path tracking cost (``counting``); a library of an

@@ -75,6 +75,7 @@ class ForwardPoseTracker:
         self.single = theta.ndim == 1 and passive.ndim == 1
         tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
+        self._step_job: ctypes.Structure | None = None
         self.jump_ratio = positive_number(jump_ratio, "jump_ratio")
         self.trust_step = positive_number(trust_step, "trust_step")
         self.strict = bool(strict)
@@ -102,13 +103,16 @@ class ForwardPoseTracker:
         self.pose[...] = rigid_or_nan(kernel)[0]
         self._previous = self.passive.copy()
         self._previous_pose = self.pose.copy()
-        self._previous_orientation = self._orientation_at(self.actuated, self.passive)
+        # int32, updated in place: the compiled step writes it through a pointer
+        self._previous_orientation = np.ascontiguousarray(self._orientation_at(self.actuated, self.passive), np.int32)
         self._previous_theta = self.actuated.copy()
+        self._incoming = self.actuated.copy()  # the compiled step's new inputs
         self._angular = bool(mechanism._angular_passive.any())
         self._params = np.ascontiguousarray(mechanism.params)
         self._tolerance, self._max_iterations = tolerance, max_iterations
         backend = mechanism.backend
         self._compiled = backend.name == "compiled"
+        self._step = None
         if self._compiled:
             n_a, n_p = self.actuated.shape[1], self.passive.shape[1]
             self._job = backend.job(
@@ -125,6 +129,25 @@ class ForwardPoseTracker:
             )  # fmt: skip
             self._solve = backend.newton
             self._job_address = ctypes.addressof(self._job)
+            # the step with its checks in one foreign call (NAME_forward_pose_step), where the
+            # library has it: it keeps the previous solutions and says whether anything needs
+            # the checks below
+            self._step = getattr(backend, "newton_step", None)
+            if self._step is not None:
+                self._ranges = (mechanism._actuated_low, mechanism._actuated_high)  # the job points at them
+                self._step_job = backend.job(
+                    backend.StepJob,
+                    {
+                        "actuated": self.actuated, "incoming": self._incoming,
+                        "previous_actuated": self._previous_theta,
+                        "previous": self._previous, "previous_pose": self._previous_pose,
+                        "previous_orientation": self._previous_orientation, "mode_change": self.mode_change,
+                        "low": np.ascontiguousarray(self._ranges[0], dtype=float),
+                        "high": np.ascontiguousarray(self._ranges[1], dtype=float),
+                        "jump_ratio": self.jump_ratio, "trust_step": self.trust_step,
+                    },
+                )  # fmt: skip
+                self._step_address = ctypes.addressof(self._step_job)
 
     def _orientation_at(self, actuated: Array, passive: Array) -> Array:
         jacobian = self.mechanism.backend.call("loop_closure", actuated, passive, self.mechanism.params)["jacobian"]
@@ -154,27 +177,60 @@ class ForwardPoseTracker:
         """Newton from the previous solution for new actuated values (n, n_a) or (n_a,): passive
         values and poses, (n_p,) and (4, 4) for one input to a tracker of one configuration
         (``single``), else (n, n_p) and (n, 4, 4); views of the tracker's buffers."""
-        m = self.mechanism
-        # the control loop's case, a float array of inputs inside their ranges, checked in one
-        # comparison (NaN and inf fail it); anything else is validated, and named, in full
-        if not (
-            type(actuated) is np.ndarray
-            and actuated.dtype == np.float64
-            and 0 < actuated.ndim <= 2
-            and actuated.shape[-1] == self.actuated.shape[1]
-            and ((actuated >= m._actuated_low) & (actuated <= m._actuated_high)).all()
-        ):
-            actuated = m._actuated(actuated)
-        theta: Array = actuated  # type: ignore[assignment]
-        self._previous[...] = self.passive
-        self._previous_pose[...] = self.pose
         previous_theta = self._previous_theta
-        previous_theta[...] = self.actuated
-        try:
-            self.actuated[...] = theta
-        except ValueError as error:
-            raise BadInputError(f"actuated must broadcast to {self.actuated.shape}: {error}") from error
-        if self._compiled:
+        if self._step is not None and type(actuated) is np.ndarray and actuated.dtype == np.float64:
+            # the control loop's case: the C checks the inputs' ranges (and finiteness), keeps the
+            # previous inputs and solutions, solves and checks every entry; nothing unusual, done
+            try:
+                self._incoming[...] = actuated
+            except ValueError:
+                step = -1
+            else:
+                step = self._step(self._job_address, self._step_address)
+            if not step:
+                single = self.single and actuated.ndim == 1
+                return (self.passive[0], self.pose[0]) if single else (self.passive, self.pose)
+            if step > 0:
+                return self._checked(actuated, previous_theta, stepped=True)
+            # -1: a bad input, nothing changed; named below
+        return self._checked(self.mechanism._actuated(actuated), previous_theta, stepped=False)
+
+    @property
+    def jump_ratio(self) -> float:
+        """A solution that moved more than this times the first Newton step is suspect."""
+        return self._jump_ratio
+
+    @jump_ratio.setter
+    def jump_ratio(self, value: float) -> None:
+        self._jump_ratio = positive_number(value, "jump_ratio")
+        if self._step_job is not None:
+            self._step_job.jump_ratio = self._jump_ratio
+
+    @property
+    def trust_step(self) -> float:
+        """A first Newton step beyond this leaves the linearisation's reach: suspect."""
+        return self._trust_step
+
+    @trust_step.setter
+    def trust_step(self, value: float) -> None:
+        self._trust_step = positive_number(value, "trust_step")
+        if self._step_job is not None:
+            self._step_job.trust_step = self._trust_step
+
+    def _checked(self, theta: Array, previous_theta: Array, stepped: bool) -> tuple[Array, Array]:
+        """``solve`` from validated inputs, or after the compiled step (``stepped``) found an entry
+        that failed or needs the mode checks."""
+        if not stepped:
+            previous_theta[...] = self.actuated
+            try:
+                self.actuated[...] = theta
+            except ValueError as error:
+                raise BadInputError(f"actuated must broadcast to {self.actuated.shape}: {error}") from error
+            self._previous[...] = self.passive
+            self._previous_pose[...] = self.pose
+        if stepped:  # the compiled step has solved and kept the previous solutions
+            pass
+        elif self._compiled:
             self._solve(self._job_address)
         else:
             solved = self.mechanism._newton_python(
@@ -248,7 +304,7 @@ class ForwardPoseTracker:
                 index=i,
                 change=MODE_CHANGES[int(self.mode_change[i])],
             )
-        self._previous_orientation = np.where(self.orientation != 0, self.orientation, self._previous_orientation)
+        np.copyto(self._previous_orientation, self.orientation, where=self.orientation != 0)
 
     def _follow_branch(self, index: np.ndarray, previous_theta: Array) -> None:
         """Re-solve the suspect entries along the input segment in ``SUBSTEPS`` steps from their
