@@ -578,7 +578,7 @@ def analyse(
     seed: int = 20261128,
 ) -> Motion:
     """The screw analysis of a mechanism at its home and at ``count`` - 1 generic configurations
-    near it (the actuated values moved at random, 0.05 rad or 2 % of the mechanism's size, the
+    near it (the actuated values moved at random, by up to 0.05 rad or 1 % of each length, the
     passive ones found by Newton's method on the closure).
 
     Parameters
@@ -627,7 +627,7 @@ def analyse(
     for k in range(count):
         inputs = np.array([home[v] for v in actuated], dtype=float)
         if k:
-            steps = [0.05 if v in angular else 0.02 * size for v in actuated]
+            steps = [0.05 if v in angular else 0.01 * (abs(home[v]) or size) for v in actuated]
             inputs = inputs + np.array(steps) * rng.uniform(-1, 1, len(steps))
         guess = np.array([home[v] for v in unknowns], dtype=float)
         for _ in range(50):

@@ -31,6 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -281,14 +282,23 @@ def _loops(make_system, base: np.ndarray, found: np.ndarray, check, rng, loops: 
 
 
 def _monodromy(name: str, make_system, base: np.ndarray, found: np.ndarray, check, rng, loops: int = MAX_LOOPS):
-    """Every solution reached by monodromy loops, until enough loops in a row find nothing new."""
+    """Every solution reached by monodromy loops, until enough loops in a row find nothing new.
+    Every tenth loop is logged with the solutions so far and the quiet loops still needed."""
     stable = 0
-    for _ in range(loops):
+    began = time.perf_counter()
+    for loop in range(1, loops + 1):
         found, added = _loop(make_system, base, found, check, rng)
         stable = 0 if added else stable + 1
         # a larger set needs more quiet loops before it is believed (an unproven count rests on it)
-        if stable >= STABLE_LOOPS + len(found) // 8:
+        needed = STABLE_LOOPS + len(found) // 8
+        if stable >= needed:
             return found
+        if loop % 10 == 0:
+            each = (time.perf_counter() - began) / loop
+            logger.info(
+                "%s: monodromy loop %d: %d solutions, %d more quiet loops needed (about %.0f s at %.1f s a loop)",
+                name, loop, len(found), needed - stable, (needed - stable) * each, each,
+            )  # fmt: skip
     raise GenerationError(f"{name}: monodromy did not settle in {loops} loops ({len(found)} solutions)")
 
 
@@ -548,11 +558,20 @@ def _total_degree_bound(
     def agreeing() -> int:
         return sum(len(found) == len(joined) for found in runs)
 
+    paths = int(np.prod(degrees))
+    began = time.perf_counter()
     while len(runs) < TOTAL_DEGREE_MAX_RUNS and (len(runs) < TOTAL_DEGREE_RUNS or agreeing() < TOTAL_DEGREE_RUNS):
+        if runs:  # the runs are alike: the next takes about as long as the mean of those done
+            each = (time.perf_counter() - began) / len(runs)
+            logger.info(
+                "%s: total-degree run %d (%d paths; about %.0f s, as each so far), %d regular solutions so far",
+                name, len(runs) + 1, paths, each, len(joined),
+            )  # fmt: skip
+        else:
+            logger.info("%s: total-degree run 1 of at least %d (%d paths)", name, TOTAL_DEGREE_RUNS, paths)
         runs.append(total_degree_run(family, q, degrees, rng))
         joined = _closed(_add_new(joined, runs[-1])[0], flips)
     complete = agreeing() >= TOTAL_DEGREE_RUNS
-    paths = int(np.prod(degrees))
     counts = ", ".join(str(len(found)) for found in runs)
     method = f"{TOTAL_DEGREE_METHOD} ({len(runs)} independent runs of {paths} paths, regular endpoints {counts})"
     if not complete:
