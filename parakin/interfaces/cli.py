@@ -460,7 +460,9 @@ def _generate(args: argparse.Namespace) -> int:
 def _inspect(args: argparse.Namespace) -> int:
     from parakin.interfaces.inspect import inspect
 
-    print(inspect(args.name, args.format, args.width, args.lines))
+    with _Busy(f"{args.name}: reading and printing its symbolic model"):
+        text = inspect(args.name, args.format, args.width, args.lines)
+    print(text)
     return 0
 
 
