@@ -539,6 +539,53 @@ int five_bar_forward_pose(const five_bar_newton_job* job) {
     return 0;
 }
 
+// One control-loop step of a tracker (parakin.solvers.tracker.ForwardPoseTracker.solve, whose
+// buffers the jobs point at, the Newton job's guess aliasing its passive output) to the new
+// inputs step->incoming (n x NA, row-major). Returns -1, having done nothing, where one is outside
+// [step->low, step->high] or not finite (the caller names it). Otherwise keeps the inputs, passive
+// values and poses before the step (step->previous_actuated, previous, previous_pose), moves the
+// new inputs into step->actuated (n x NA, the buffer job->actuated reads), runs
+// five_bar_forward_pose, and returns how many entries
+// need the tracker's own checks: Newton failed (status), the closure Jacobian's determinant
+// changed sign (orientation against step->previous_orientation), or the step is suspect (moved,
+// angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a first
+// step beyond trust_step). Where none does, step->mode_change is 0 and previous_orientation takes
+// the new non-zero orientations; otherwise both are left to the caller.
+long long five_bar_forward_pose_step(const five_bar_newton_job* job, const five_bar_step_job* step) {
+    long long n = job->n, unusual = 0;
+    for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < NA; ++k) {
+            double a = step->incoming[i * NA + k];
+            if (!(a >= step->low[k] && a <= step->high[k])) return -1;
+        }
+    for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < NA; ++k) {
+            step->previous_actuated[i * NA + k] = step->actuated[i * NA + k];
+            step->actuated[i * NA + k] = step->incoming[i * NA + k];
+        }
+    memcpy(step->previous, job->passive, sizeof(double) * (size_t)(n * NQ));
+    memcpy(step->previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));
+    five_bar_forward_pose(job);
+    for (long long i = 0; i < n; ++i) {
+        if (job->status[i]) { unusual += 1; continue; }
+        double moved = 0.0;
+        for (int k = 0; k < NQ; ++k) {
+            double change = job->passive[i * NQ + k] - step->previous[i * NQ + k];
+            moved = fmax(moved, fabs(passive_revolute[k] ? wrap_angle(change) : change));
+        }
+        int crossed = job->orientation[i] * step->previous_orientation[i] < 0;
+        int jumped = moved > step->jump_ratio * job->first_step[i] + 100.0 * job->tolerance;
+        int coarse = !(job->first_step[i] <= step->trust_step);
+        unusual += crossed || jumped || coarse;
+    }
+    if (unusual) return unusual;
+    for (long long i = 0; i < n; ++i) {
+        step->mode_change[i] = 0;
+        if (job->orientation[i]) step->previous_orientation[i] = job->orientation[i];
+    }
+    return 0;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Every assembly mode: isolate every real root of the generated univariate polynomial, back
 // substitute each root x branch, recover the passive joints from the inverse kernels, polish by

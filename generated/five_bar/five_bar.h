@@ -148,6 +148,28 @@ typedef struct {
 } five_bar_newton_job;
 
 int five_bar_forward_pose(const five_bar_newton_job* job);
+// One step of a tracker from its buffers (parakin.solvers.tracker) to the inputs incoming (n x n_a):
+// -1 where one is outside [low, high] (n_a each) or not finite, and nothing done; else keeps the
+// inputs and solutions before it in previous_actuated (n x n_a), previous (n x NQ) and
+// previous_pose (n x 16), moves incoming into actuated, runs forward_pose, and returns how many
+// entries failed or need the mode checks (an orientation change against previous_orientation, a
+// move beyond jump_ratio times the first Newton step, a first step beyond trust_step); where none
+// does, mode_change is 0 and previous_orientation takes the new orientations
+typedef struct {
+    double* actuated;  // the buffer the Newton job's actuated reads (n x n_a, row-major)
+    const double* incoming;
+    double* previous_actuated;
+    double* previous;
+    double* previous_pose;
+    int* previous_orientation;
+    int* mode_change;
+    const double* low;
+    const double* high;
+    double jump_ratio;
+    double trust_step;
+} five_bar_step_job;
+
+long long five_bar_forward_pose_step(const five_bar_newton_job* job, const five_bar_step_job* step);
 
 // Every real assembly mode of n inputs. Per input, MAX_MODES slots (root r, branch b at slot
 // r * 1 + b, roots ascending, roots at infinity last): poses, passive, residual,

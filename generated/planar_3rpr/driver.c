@@ -535,35 +535,48 @@ int planar_3rpr_forward_pose(const planar_3rpr_newton_job* job) {
 }
 
 // One control-loop step of a tracker (parakin.solvers.tracker.ForwardPoseTracker.solve, whose
-// buffers the job points at, its guess aliasing its passive output): keeps the passive values and
-// poses before the step (previous, previous_pose), runs planar_3rpr_forward_pose, and returns how
-// many entries need the tracker's own checks: Newton failed (status), the closure Jacobian's
-// determinant changed sign (orientation against previous_orientation), or the step is suspect
-// (moved, angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a
-// first step beyond trust_step). Where none does, mode_change is 0 and previous_orientation takes
+// buffers the jobs point at, the Newton job's guess aliasing its passive output) to the new
+// inputs step->incoming (n x NA, row-major). Returns -1, having done nothing, where one is outside
+// [step->low, step->high] or not finite (the caller names it). Otherwise keeps the inputs, passive
+// values and poses before the step (step->previous_actuated, previous, previous_pose), moves the
+// new inputs into step->actuated (n x NA, the buffer job->actuated reads), runs
+// planar_3rpr_forward_pose, and returns how many entries
+// need the tracker's own checks: Newton failed (status), the closure Jacobian's determinant
+// changed sign (orientation against step->previous_orientation), or the step is suspect (moved,
+// angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a first
+// step beyond trust_step). Where none does, step->mode_change is 0 and previous_orientation takes
 // the new non-zero orientations; otherwise both are left to the caller.
-long long planar_3rpr_forward_pose_step(const planar_3rpr_newton_job* job, double* previous, double* previous_pose,
-                                    int* previous_orientation, double jump_ratio, double trust_step, int* mode_change) {
+long long planar_3rpr_forward_pose_step(const planar_3rpr_newton_job* job, const planar_3rpr_step_job* step) {
     long long n = job->n, unusual = 0;
-    memcpy(previous, job->passive, sizeof(double) * (size_t)(n * NQ));
-    memcpy(previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));
+    for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < NA; ++k) {
+            double a = step->incoming[i * NA + k];
+            if (!(a >= step->low[k] && a <= step->high[k])) return -1;
+        }
+    for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < NA; ++k) {
+            step->previous_actuated[i * NA + k] = step->actuated[i * NA + k];
+            step->actuated[i * NA + k] = step->incoming[i * NA + k];
+        }
+    memcpy(step->previous, job->passive, sizeof(double) * (size_t)(n * NQ));
+    memcpy(step->previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));
     planar_3rpr_forward_pose(job);
     for (long long i = 0; i < n; ++i) {
         if (job->status[i]) { unusual += 1; continue; }
         double moved = 0.0;
         for (int k = 0; k < NQ; ++k) {
-            double change = job->passive[i * NQ + k] - previous[i * NQ + k];
+            double change = job->passive[i * NQ + k] - step->previous[i * NQ + k];
             moved = fmax(moved, fabs(passive_revolute[k] ? wrap_angle(change) : change));
         }
-        int crossed = job->orientation[i] * previous_orientation[i] < 0;
-        int jumped = moved > jump_ratio * job->first_step[i] + 100.0 * job->tolerance;
-        int coarse = !(job->first_step[i] <= trust_step);
+        int crossed = job->orientation[i] * step->previous_orientation[i] < 0;
+        int jumped = moved > step->jump_ratio * job->first_step[i] + 100.0 * job->tolerance;
+        int coarse = !(job->first_step[i] <= step->trust_step);
         unusual += crossed || jumped || coarse;
     }
     if (unusual) return unusual;
     for (long long i = 0; i < n; ++i) {
-        mode_change[i] = 0;
-        if (job->orientation[i]) previous_orientation[i] = job->orientation[i];
+        step->mode_change[i] = 0;
+        if (job->orientation[i]) step->previous_orientation[i] = job->orientation[i];
     }
     return 0;
 }

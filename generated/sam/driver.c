@@ -540,10 +540,12 @@ int sam_forward_pose(const sam_newton_job* job) {
 }
 
 // One control-loop step of a tracker (parakin.solvers.tracker.ForwardPoseTracker.solve, whose
-// buffers the jobs point at, the Newton job's guess aliasing its passive output). Returns -1,
-// having done nothing, where an actuated value is outside [step->low, step->high] or not finite
-// (the caller names it). Otherwise keeps the passive values and poses before the step
-// (step->previous, step->previous_pose), runs sam_forward_pose, and returns how many entries
+// buffers the jobs point at, the Newton job's guess aliasing its passive output) to the new
+// inputs step->incoming (n x NA, row-major). Returns -1, having done nothing, where one is outside
+// [step->low, step->high] or not finite (the caller names it). Otherwise keeps the inputs, passive
+// values and poses before the step (step->previous_actuated, previous, previous_pose), moves the
+// new inputs into step->actuated (n x NA, the buffer job->actuated reads), runs
+// sam_forward_pose, and returns how many entries
 // need the tracker's own checks: Newton failed (status), the closure Jacobian's determinant
 // changed sign (orientation against step->previous_orientation), or the step is suspect (moved,
 // angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a first
@@ -553,8 +555,13 @@ long long sam_forward_pose_step(const sam_newton_job* job, const sam_step_job* s
     long long n = job->n, unusual = 0;
     for (long long i = 0; i < n; ++i)
         for (int k = 0; k < NA; ++k) {
-            double a = job->actuated[i * job->actuated_stride + k];
+            double a = step->incoming[i * NA + k];
             if (!(a >= step->low[k] && a <= step->high[k])) return -1;
+        }
+    for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < NA; ++k) {
+            step->previous_actuated[i * NA + k] = step->actuated[i * NA + k];
+            step->actuated[i * NA + k] = step->incoming[i * NA + k];
         }
     memcpy(step->previous, job->passive, sizeof(double) * (size_t)(n * NQ));
     memcpy(step->previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));

@@ -170,11 +170,12 @@ int stewart_forward_pose(const stewart_newton_job* job);
 // One step of a tracker from its buffers (parakin.solvers.tracker) to the inputs incoming (n x n_a):
 // -1 where one is outside [low, high] (n_a each) or not finite, and nothing done; else keeps the
 // inputs and solutions before it in previous_actuated (n x n_a), previous (n x NQ) and
-// previous_pose (n x 16), moves incoming into the job, runs forward_pose, and returns how many
+// previous_pose (n x 16), moves incoming into actuated, runs forward_pose, and returns how many
 // entries failed or need the mode checks (an orientation change against previous_orientation, a
 // move beyond jump_ratio times the first Newton step, a first step beyond trust_step); where none
 // does, mode_change is 0 and previous_orientation takes the new orientations
 typedef struct {
+    double* actuated;  // the buffer the Newton job's actuated reads (n x n_a, row-major)
     const double* incoming;
     double* previous_actuated;
     double* previous;

@@ -479,7 +479,8 @@ int tricept_forward_pose(const tricept_newton_job* job) {
 // inputs step->incoming (n x NA, row-major). Returns -1, having done nothing, where one is outside
 // [step->low, step->high] or not finite (the caller names it). Otherwise keeps the inputs, passive
 // values and poses before the step (step->previous_actuated, previous, previous_pose), moves the
-// new inputs into the job, runs tricept_forward_pose, and returns how many entries
+// new inputs into step->actuated (n x NA, the buffer job->actuated reads), runs
+// tricept_forward_pose, and returns how many entries
 // need the tracker's own checks: Newton failed (status), the closure Jacobian's determinant
 // changed sign (orientation against step->previous_orientation), or the step is suspect (moved,
 // angles wrapped, more than jump_ratio times the first Newton step + 100 tolerance, or a first
@@ -494,8 +495,8 @@ long long tricept_forward_pose_step(const tricept_newton_job* job, const tricept
         }
     for (long long i = 0; i < n; ++i)
         for (int k = 0; k < NA; ++k) {
-            step->previous_actuated[i * NA + k] = job->actuated[i * job->actuated_stride + k];
-            job->actuated[i * job->actuated_stride + k] = step->incoming[i * NA + k];
+            step->previous_actuated[i * NA + k] = step->actuated[i * NA + k];
+            step->actuated[i * NA + k] = step->incoming[i * NA + k];
         }
     memcpy(step->previous, job->passive, sizeof(double) * (size_t)(n * NQ));
     memcpy(step->previous_pose, job->pose, sizeof(double) * (size_t)(n * 16));
