@@ -193,6 +193,7 @@ def prismatic_leg(
     length: sp.Symbol,
     revolute_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
     universal_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
+    platform_universal_axis: Sequence[sp.Expr] | sp.Matrix | None = None,
 ) -> Leg:
     """A leg whose actuated prismatic joint sets the distance from the base joint to the
     platform joint.
@@ -213,6 +214,11 @@ def prismatic_leg(
     universal_axis : sequence of expressions or Matrix, optional
         The first (base) axis of a universal joint at A (a U-P-S leg; in the joint graph, the
         same distance and no constraint). None (default): a spherical joint there.
+    platform_universal_axis : sequence of expressions or Matrix, optional
+        The outer axis of a universal joint at the platform, fixed in {P} (a U-P-U leg: the
+        same distance; in the joint graph its second axis is normal to it and to the leg, so
+        that outer axes parallel at both ends leave the leg one constraint couple, the 3-UPU
+        of Tsai 1996). None (default): a spherical joint there.
 
     Returns
     -------
@@ -226,7 +232,11 @@ def prismatic_leg(
     if universal_axis is not None:
         first = Joint("U", "base", a, _unit("a universal joint's axis", _vector(universal_axis)))
     slide = Joint("P", "base", a, None, length, actuated=True)
-    chain = Chain("leg", (first, slide, Joint("S", "platform", _vector(platform_joint))))
+    c = _vector(platform_joint)
+    end = Joint("S", "platform", c)
+    if platform_universal_axis is not None:
+        end = Joint("U", "platform", c, _unit("a universal joint's axis", _vector(platform_universal_axis)))
+    chain = Chain("leg", (first, slide, end))
     return distance_form(chain)
 
 

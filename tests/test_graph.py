@@ -256,3 +256,37 @@ def test_the_graph_as_plain_data_names_every_body_and_joint():
     assert len(data["bodies"]) == 2 + 3 * 3  # base, platform, three links per leg
     assert data["loops"] == [{"leg": f"leg{k}", "joint": 3} for k in (1, 2, 3)]
     assert data["motion"]["mobility"] == 3 and data["motion"]["kind"] == "translation"
+
+
+def upu(outer: str) -> tuple[joints.DistanceMechanism, dict]:
+    """A 3-UPU on a translating platform: base universal joints A_i = 0.3 e_i, platform joints
+    c_i = 0.1 e_i, outer axes the tangent t_i at the base and ``outer`` ('tangent' or 'radial')
+    at the platform; home p = (0, 0, 0.4)."""
+    lengths = sp.symbols("l1:4", positive=True)
+    legs = []
+    for k in range(3):
+        angle = 2 * sp.pi * k / 3
+        e, t = sp.Matrix([sp.cos(angle), sp.sin(angle), 0]), sp.Matrix([-sp.sin(angle), sp.cos(angle), 0])
+        axis = t if outer == "tangent" else e
+        legs.append(joints.prismatic_leg(0.3 * e, 0.1 * e, lengths[k], universal_axis=t, platform_universal_axis=axis))
+    model = joints.DistanceMechanism(joints.platform("translation"), legs)
+    return model, model.home_at(sp.eye(3), sp.Matrix([0, 0, 0.4]), 0, {})
+
+
+def test_a_3upu_translates_only_with_its_outer_axes_parallel():
+    # Tsai (1996): a U-P-U leg whose outer axes are parallel (and so its inner ones) transmits
+    # one couple, normal to both universal joints' planes; three such legs keep the platform
+    # from turning. With the platform's outer axes radial instead, each leg transmits a wrench
+    # with a force, and the platform turns as it moves: the declared translation is refused.
+    for outer, translates in (("tangent", True), ("radial", False)):
+        model, home = upu(outer)
+        closure = model.closure().residual
+        found = graph.analyse(model.graph, closure, model.actuated, list(model.motion.coordinates), {}, home)
+        assert found.mobility == 3 and found.samples == 6
+        if translates:
+            assert found.kind == "translation"
+            graph.check_motion("upu", model.graph, found, 3)
+        else:
+            assert found.kind == "transform" and found.rotations > 0
+            with pytest.raises(GenerationError, match="declared pose kind 'translation'"):
+                graph.check_motion("upu", model.graph, found, 3)
