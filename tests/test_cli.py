@@ -41,7 +41,8 @@ def test_inspect_json_and_latex():
 
 def test_ik_fk_and_errors():
     out = run("ik", "sam", "--pose-deg", "0.02", "0.03", "0.68", "5", "3", "4").stdout
-    assert out.startswith("sam: 16 inverse branches, 16 valid") and "theta1 [deg]" in out and "L2 [m]" in out
+    heading = "sam at x = 0.02 m, y = 0.03 m, z = 0.68 m, alpha = 5 deg, beta = 3 deg, gamma = 4 deg"
+    assert out.startswith(f"{heading}: 16 inverse branches, 16 valid") and "theta1 [deg]" in out and "L2 [m]" in out
     out = run("fk", "sam", "--actuated-deg", "-2.43", "-18.07", "3.76", "-30.35", "10.95", "5.07").stdout
     assert "mode" in out
     failed = run("fk", "sam", "--actuated-deg", "0", "-15", "0", "0", "15", "0")

@@ -79,7 +79,7 @@ def test_five_bar_fk_table_is_the_two_hand_worked_points():
     planar_translation: columns x and y only."""
     done = run("fk", "five_bar", "--backend", "numpy", "--actuated", repr(np.pi / 2), repr(np.pi / 2))
     assert done.returncode == 0, done.stderr
-    assert done.stdout.startswith("five_bar: 2 assembly modes")
+    assert done.stdout.startswith("five_bar at theta1 = 1.5708 rad, theta2 = 1.5708 rad: 2 assembly modes")
     header, rows = _rows(done.stdout)
     assert header == ["mode", "slot", "x", "[m]", "y", "[m]", "residual"]
     points = sorted((float(r[2]), float(r[3])) for r in rows)
@@ -111,7 +111,7 @@ def test_ik_table_shows_the_hand_worked_delta_branches():
     = -2.892883 rad (the manifest's examples, worked by hand); aligned columns, one per input."""
     done = run("ik", "delta", "--backend", "numpy", "--pose", "0", "0", "-1.2")
     assert done.returncode == 0, done.stderr
-    assert done.stdout.startswith("delta: 8 inverse branches, 8 valid")
+    assert done.stdout.startswith("delta at x = 0 m, y = 0 m, z = -1.2 m: 8 inverse branches, 8 valid")
     header, rows = _rows(done.stdout)
     assert header[:2] == ["branch", "signs"] and header[-1] == "valid"
     by_branch = {int(r[0]): r for r in rows}

@@ -22,7 +22,7 @@ import numpy as np
 import parakin
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.packages.manifest import Manifest, Variable, unknown_name
-from parakin.pose import POSE_KINDS
+from parakin.pose import POSE_KINDS, transform_from_pose
 from parakin.results import Configuration
 from parakin.solvers.continuation import SelfMotion
 from parakin.tables import pose_headers, pose_values, text_table
@@ -134,6 +134,15 @@ def _print(record: dict[str, Any], as_json: bool) -> None:
         print(text)
 
 
+def _values_text(labelled: dict[str, float]) -> str:
+    """``{"x [m]": 0.02, "alpha [deg]": 5.0}`` as ``x = 0.02 m, alpha = 5 deg``."""
+    parts = []
+    for header, value in labelled.items():
+        name, _, unit = header.partition(" ")
+        parts.append(f"{name} = {_number(value)}" + (f" {unit.strip('[]')}" if unit else ""))
+    return ", ".join(parts)
+
+
 def _signs(signs: np.ndarray) -> str:
     return " ".join("+" if s > 0 else "-" for s in signs) or "(none)"
 
@@ -241,7 +250,9 @@ def _ik(args: argparse.Namespace) -> int:
         for record in records:
             _print(record, True)
     else:
-        _ik_tables(m, records, degrees)
+        shown = _describe_pose(m.manifest, transform_from_pose(pose, m.manifest.pose_kind), degrees)
+        pose_text = _values_text(shown)
+        _ik_tables(m, records, degrees, pose_text)
     if not result.valid.any():
         print(f"parakin: no valid inverse branch for this pose on {m.name}", file=sys.stderr)
         return 1
@@ -268,13 +279,13 @@ def _conditions(names: list[str]) -> str:
     return ", ".join(joined + others)
 
 
-def _ik_tables(m: parakin.Mechanism, records: list[dict[str, Any]], degrees: bool) -> None:
+def _ik_tables(m: parakin.Mechanism, records: list[dict[str, Any]], degrees: bool, pose_text: str) -> None:
     """Two aligned tables, one row per branch: its signs, whether it is valid (else which
     conditions failed) and the actuated values; then the passive values. A branch that is not
     reachable shows no values ("-": the solver's numbers there are no configuration); one that is
     only out of a range shows them."""
     valid = sum(r["valid"] for r in records)
-    print(f"{m.name}: {len(records)} inverse branch{'es' if len(records) != 1 else ''}, {valid} valid")
+    print(f"{m.name} at {pose_text}: {len(records)} inverse branch{'es' if len(records) != 1 else ''}, {valid} valid")
 
     def cells(record: dict[str, Any], variables: tuple[Variable, ...]) -> list[str]:
         shown = record["valid"] or all(f in _RANGE_FAILURES for f in record.get("failed", []))
@@ -301,6 +312,7 @@ def _fk(args: argparse.Namespace) -> int:
     actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
     with _Busy(f"{m.name}: every assembly mode"):
         modes = m.forward_pose_all(actuated)
+    given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
     for n, k in enumerate(np.nonzero(modes.valid)[0]):
@@ -313,7 +325,8 @@ def _fk(args: argparse.Namespace) -> int:
             _print(record, True)
     elif records:
         count = len(records)
-        print(f"{m.name}: {count} assembly mode{'s' if count != 1 else ''}")
+        at = _values_text(given)
+        print(f"{m.name} at {at}: {count} assembly mode{'s' if count != 1 else ''}")
         pose = pose_headers(m.manifest.pose_kind, degrees)
         headers = ["mode", "slot", *pose, "residual"]
         rows = [
