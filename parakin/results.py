@@ -66,7 +66,28 @@ class InversePose:
     pose: Array
 
     def branch(self, index: int) -> Configuration:
-        """Branch ``index`` as a configuration (batch shape of the pose)."""
+        """One inverse branch as a configuration.
+
+        Parameters
+        ----------
+        index : int
+            The branch, 0 <= index < n_branches (its signs: ``branches[index]``).
+
+        Returns
+        -------
+        Configuration
+            actuated (..., n_a), passive (..., n_p) and the pose (..., 4, 4), over the batch
+            shape of the pose; check ``valid[..., index]`` first (an invalid branch's values are
+            no configuration).
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("delta", backend="numpy")
+        >>> arms = m.inverse_pose([0.0, 0.0, -1.2]).branch(0).actuated   # by hand: every arm level
+        >>> bool(abs(arms).max() < 1e-12)
+        True
+        """
         return Configuration(self.actuated[..., index, :], self.passive[..., index, :], self.pose)
 
 
@@ -128,24 +149,78 @@ class AssemblyModes:
     pose_kind: str = ""
 
     def complete(self) -> Mask:
-        """Per input: every root is certified and every real one decided, with a proven root
-        count: no assembly mode can be missing (False where no certificate applies)."""
+        """Whether no assembly mode can be missing, per input.
+
+        Returns
+        -------
+        ndarray of bool, shape (...)
+            True where every root is certified and every real one decided, with a proven root
+            count; False where no certificate applies (a method without one).
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("planar_3rrr", backend="numpy")
+        >>> bool(m.forward_pose_all(np.deg2rad([-54.0, 174.0, -105.0])).complete())
+        True
+        """
         if self.certified_roots is None or self.root_count is None:
             return np.zeros(np.shape(self.count), dtype=bool)
         undecided = 0 if self.undecided_roots is None else self.undecided_roots
         return (self.certified_roots == self.root_count) & (undecided == 0) & self.root_count_proven
 
     def slot(self, index: int) -> Configuration:
-        """Slot ``index`` (0 <= index < M) as a configuration, whether or not it holds a mode
-        (``outcome[..., index]`` says; a slot that is not a mode need not close the loop)."""
+        """A raw slot of the solver, whether or not it holds a mode.
+
+        Parameters
+        ----------
+        index : int
+            The slot, 0 <= index < M (``outcome[..., index]`` says what it holds).
+
+        Returns
+        -------
+        Configuration
+            The slot's actuated (..., n_a), passive (..., n_p) and pose (..., 4, 4); a slot that
+            is not a mode need not close the loop.
+
+        Raises
+        ------
+        NoSuchModeError
+            ``index`` is not an integer in [0, M).
+        """
         slots = self.valid.shape[-1]
         if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not 0 <= index < slots:
             raise NoSuchModeError(f"slot index must be an integer in [0, {slots}), got {index!r}")
         return Configuration(self.actuated, self.passive[..., index, :], self.poses[..., index, :, :])
 
     def mode(self, index: int) -> Configuration:
-        """Mode ``index`` (0 <= index < count): the index-th valid slot, in slot order. For a batch,
-        mode ``index`` of every input. NoSuchModeError (naming count) when an input has fewer."""
+        """Assembly mode ``index``: the index-th valid slot, in slot order (row ``index`` of
+        ``print(modes)``).
+
+        Parameters
+        ----------
+        index : int
+            The mode, 0 <= index < count. For a batch, mode ``index`` of every input.
+
+        Returns
+        -------
+        Configuration
+            actuated (..., n_a), passive (..., n_p) and the pose ^B_P T (..., 4, 4) in {B}, metres.
+
+        Raises
+        ------
+        NoSuchModeError
+            An input has no mode ``index`` (the message names its count and the input), or
+            ``index`` is not an integer.
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> modes = m.forward_pose_all([np.pi / 2, np.pi / 2])   # by hand: P = (0, 0) or (0, 0.4)
+        >>> sorted(round(float(c.pose[1, 3]), 6) + 0.0 for c in modes)
+        [0.0, 0.4]
+        """
         count = np.asarray(self.count)
         if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer):
             raise NoSuchModeError(f"mode index must be an integer, got {type(index).__name__} {index!r}")
@@ -183,8 +258,19 @@ class AssemblyModes:
             yield self.mode(k)
 
     def ill_conditioned(self, singular_ratio: float = 1e-10) -> Mask:
-        """Valid modes whose closure Jacobian is singular to ``singular_ratio`` (a type II
-        singularity: the mode is reported, but its pose is sensitive to the inputs)."""
+        """Modes at a type II singularity: reported, but their pose is sensitive to the inputs.
+
+        Parameters
+        ----------
+        singular_ratio : float
+            The pivot ratio of the closure Jacobian (``conditioning``) at or below which a mode
+            counts as singular.
+
+        Returns
+        -------
+        ndarray of bool, shape (..., M)
+            Per slot: a valid mode whose conditioning is at most ``singular_ratio``.
+        """
         return self.valid & ~(self.conditioning > singular_ratio)
 
     def __repr__(self) -> str:

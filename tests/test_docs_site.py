@@ -78,3 +78,14 @@ def test_the_plotting_reference_examples_run(tmp_path, monkeypatch):
         plt.close("all")
     assert result.attempted >= 12 and result.failed == 0, result
     assert (tmp_path / "five_bar.gif").stat().st_size > 1000
+
+
+def test_the_results_reference_examples_run():
+    """The Examples sections of parakin.results (the Results API page): hand-worked values (the
+    delta's level arms, the five-bar's two circle intersections, the 3-RRR's certificate)."""
+    import doctest
+
+    from parakin import results
+
+    result = doctest.testmod(results, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted >= 7 and result.failed == 0, result
