@@ -152,7 +152,11 @@ def test_a_warning_is_one_line_without_source_path():
 
 @pytest.mark.parametrize(
     ("args", "suggestion"),
-    [(["plto", "sam"], "did you mean 'plot'?"), (["plot", "sam", "--outptu", "x.png"], "did you mean '--output'?")],
+    [
+        (["plto", "sam"], "did you mean 'plot'?"),
+        (["plot", "sam", "--outptu", "x.png"], "did you mean '--output'?"),
+        (["fk", "sam", "--acutated", "0", "0", "0", "0", "0", "0"], "did you mean '--actuated'?"),  # "required"
+    ],
 )
 def test_did_you_mean(args, suggestion, capsys):
     with pytest.raises(SystemExit) as exit_:

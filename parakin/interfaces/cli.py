@@ -545,14 +545,15 @@ def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
     import re
 
     choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+    known = sorted(_option_strings(parser))
     if choice:
         known, given = re.findall(r"'([^']*)'", choice[2]), [choice[1]]
+    elif "unrecognized arguments: " in message:
+        given = [word for word in message.split("unrecognized arguments: ")[1].split() if word.startswith("--")]
+    elif "required" in message:  # a mistyped required option is reported as missing: name it
+        given = [word.split("=")[0] for word in _GIVEN if word.startswith("--") and word.split("=")[0] not in known]
     else:
-        unknown = re.search(r"unrecognized arguments: (.*)", message)
-        if not unknown:
-            return ""
-        given = [word for word in unknown[1].split() if word.startswith("--")]
-        known = sorted(_option_strings(parser))
+        return ""
     hints = []
     for word in given:
         close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
@@ -561,6 +562,10 @@ def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
                 f"did you mean {close[0]!r} for {word!r}?" if len(given) > 1 else f"did you mean {close[0]!r}?"
             )
     return "; " + " ".join(hints) if hints else ""
+
+
+#: the command line being parsed (``_main``): what a "required" error's suggestion looks through
+_GIVEN: list[str] = []
 
 
 def _option_strings(parser: argparse.ArgumentParser) -> set[str]:
@@ -772,6 +777,7 @@ def _main(argv: list[str] | None) -> int:
     given = sys.argv[1:] if argv is None else list(argv)
     if given[:1] == ["view"]:  # its own options, --help included (argparse would take those)
         return _view(argparse.Namespace(arguments=given[1:]))
+    _GIVEN[:] = given
     args = _parser().parse_args(given)
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:
