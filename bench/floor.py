@@ -165,6 +165,39 @@ def tracker_rows() -> list[str]:
     return rows
 
 
+#: tracker.solve calls per timing (the best of SOLVE_REPEATS)
+SOLVE_CALLS, SOLVE_REPEATS = 5000, 5
+
+
+def tracker_solve_rows() -> list[str]:
+    """The 1 kHz loop: ``tracker.solve`` of one input from Python (inputs alternating by a small
+    step, so that every call runs Newton), against the same Newton step called bare (the input
+    written into the tracker's buffer and the foreign call alone): microseconds per call, best of
+    SOLVE_REPEATS, and their difference, what Python adds."""
+    rows = []
+    for name in ("stewart", "planar_3rrr", "prs3"):
+        if name not in parakin.available():
+            continue
+        m = parakin.load(name, backend="compiled")
+        tracker = m.tracker(m.forward_pose(m.home_actuated))
+        step = np.where([v.revolute for v in m.manifest.actuated], np.radians(0.01), 1e-4)
+        targets = [m.home_actuated.copy(), m.home_actuated + step]
+        solve, bare = [], []
+        for _ in range(SOLVE_REPEATS):
+            began = time.perf_counter()
+            for i in range(SOLVE_CALLS):
+                tracker.solve(targets[i & 1])
+            solve.append((time.perf_counter() - began) / SOLVE_CALLS)
+            began = time.perf_counter()
+            for i in range(SOLVE_CALLS):
+                tracker.actuated[...] = targets[i & 1]
+                tracker.call()
+            bare.append((time.perf_counter() - began) / SOLVE_CALLS)
+        best, floor = min(solve) * 1e6, min(bare) * 1e6
+        rows.append(f"{name:12s} {best:9.2f} {floor:9.2f} {best - floor:9.2f}")
+    return rows
+
+
 def main() -> None:
     warnings.simplefilter("ignore", parakin.ArchitectureSingularityWarning)
     os.environ["PARAKIN_THREADS"] = "1"
@@ -179,6 +212,12 @@ def main() -> None:
     print(header)
     print("-" * len(header))
     for line in tracker_rows():
+        print(line)
+    print("\ntracker.solve of one input from Python against its Newton step called bare (us per call, best of 5)")
+    header = f"{'mechanism':12s} {'solve':>9s} {'C step':>9s} {'Python':>9s}"
+    print(header)
+    print("-" * len(header))
+    for line in tracker_solve_rows():
         print(line)
 
 
