@@ -256,4 +256,4 @@ def test_ctrl_c_stops_the_viewer_as_any_command():
         if process.poll() is None:
             process.kill()
     assert code == 130 and elapsed <= 2.0
-    assert process.stderr.read().strip() == "parakin: interrupted (the viewer stopped)"
+    assert process.stderr.read().strip() == "parakin: interrupted"

@@ -1074,7 +1074,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         threading.Event().wait()
     except KeyboardInterrupt:  # the way to stop it: as every command, "interrupted" and 130
-        print("\nparakin: interrupted (the viewer stopped)", file=sys.stderr)
+        print("\nparakin: interrupted", file=sys.stderr)
         return 130
     finally:
         viewer.close()
