@@ -65,6 +65,13 @@ class InversePose:
     failures: dict[str, Mask]
     pose: Array
 
+    def __repr__(self) -> str:
+        """A summary line and, for one pose, a table of its branches (signs, validity, actuated)."""
+        return inverse_text(self)
+
+    def _repr_html_(self) -> str:
+        return inverse_html(self)
+
     def branch(self, index: int) -> Configuration:
         """One inverse branch as a configuration.
 
@@ -431,4 +438,54 @@ def modes_html(modes: AssemblyModes) -> str:
     if np.ndim(modes.count) == 0 and int(modes.count):
         kind = modes.pose_kind
         out += [f"<p>{html.escape(modes_convention(kind))}</p>", html_table(mode_headers(kind), modes_rows(modes))]
+    return "<div class='parakin'>" + "".join(out) + "</div>"
+
+
+# ---------------------------------------------------------------- the inverse branches as tables
+#: failure names that leave a branch's values real (only out of a range): its values are shown
+RANGE_FAILURES = ("limits", "actuator_range")
+
+
+def inverse_summary(result: InversePose) -> str:
+    """One line: the branches, their sign symbols and how many are valid (per pose in a batch)."""
+    valid = np.asarray(result.valid)
+    count = valid.shape[-1]
+    signs = f" over the signs of ({', '.join(result.branch_names)})" if result.branch_names else ""
+    if valid.ndim == 1:
+        return f"InversePose: {count} branch{'es' if count != 1 else ''}{signs}, {int(valid.sum())} valid"
+    per = valid.sum(-1)
+    return (
+        f"InversePose: a batch of poses, shape {per.shape}, {count} branches each{signs}; "
+        f"{int(per.min())} to {int(per.max())} valid per pose"
+    )
+
+
+def inverse_rows(result: InversePose) -> Rows:
+    """One row per branch of a single pose: number, signs, actuated values (SI: m, rad; "-" where
+    the branch is not reachable, its numbers being no configuration) and validity (or the
+    conditions that failed)."""
+    rows = []
+    for k in range(np.asarray(result.valid).shape[-1]):
+        failed = [name for name, mask in result.failures.items() if np.asarray(mask)[k]]
+        real = bool(result.valid[k]) or all(name in RANGE_FAILURES for name in failed)
+        values = ", ".join(f"{round(float(v), 12) + 0.0:.6g}" for v in result.actuated[k]) if real else "-"
+        signs = " ".join("+" if s > 0 else "-" for s in result.branches[k]) or "(none)"
+        rows.append([str(k), signs, values, "yes" if result.valid[k] else "no: " + ", ".join(failed)])
+    return rows
+
+
+INVERSE_HEADERS = ["branch", "signs", "actuated (m, rad)", "valid"]
+
+
+def inverse_text(result: InversePose) -> str:
+    lines = [inverse_summary(result)]
+    if np.ndim(result.valid) == 1:
+        lines.append(text_table(INVERSE_HEADERS, inverse_rows(result)))
+    return "\n".join(lines)
+
+
+def inverse_html(result: InversePose) -> str:
+    out = [f"<p><b>{html.escape(inverse_summary(result))}</b></p>"]
+    if np.ndim(result.valid) == 1:
+        out.append(html_table(INVERSE_HEADERS, inverse_rows(result)))
     return "<div class='parakin'>" + "".join(out) + "</div>"

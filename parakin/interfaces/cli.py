@@ -23,7 +23,7 @@ import parakin
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS, transform_from_pose
-from parakin.results import Configuration
+from parakin.results import RANGE_FAILURES, Configuration
 from parakin.solvers.continuation import SelfMotion
 from parakin.tables import pose_headers, pose_values, text_table
 
@@ -145,10 +145,6 @@ def _values_text(labelled: dict[str, float]) -> str:
 
 def _signs(signs: np.ndarray) -> str:
     return " ".join("+" if s > 0 else "-" for s in signs) or "(none)"
-
-
-#: failures that leave a branch's values real (only out of a range): its values are still shown
-_RANGE_FAILURES = ("limits", "actuator_range")
 
 
 class _Busy:
@@ -288,7 +284,7 @@ def _ik_tables(m: parakin.Mechanism, records: list[dict[str, Any]], degrees: boo
     print(f"{m.name} at {pose_text}: {len(records)} inverse branch{'es' if len(records) != 1 else ''}, {valid} valid")
 
     def cells(record: dict[str, Any], variables: tuple[Variable, ...]) -> list[str]:
-        shown = record["valid"] or all(f in _RANGE_FAILURES for f in record.get("failed", []))
+        shown = record["valid"] or all(f in RANGE_FAILURES for f in record.get("failed", []))
         return [_number(record[_header(v, degrees)]) if shown else "-" for v in variables]
 
     def status(record: dict[str, Any]) -> str:
