@@ -67,3 +67,20 @@ def test_row_titles_do_not_touch_the_panels_above():
     finally:
         plt.close(figure)
     assert np.isfinite(lowest)
+
+
+def test_a_single_3d_drawing_keeps_its_axis_labels_inside_the_figure():
+    """A GIF frame or a single drawing once clipped its z label at the right edge."""
+    m = parakin.load("stewart", backend="numpy")
+    ax = m.plot(m.forward_pose(m.home_actuated))
+    figure = ax.figure
+    try:
+        figure.canvas.draw()
+        renderer = figure.canvas.get_renderer()
+        frame = figure.bbox
+        for label, text in ((ax.xaxis.label, "x [m]"), (ax.yaxis.label, "y [m]"), (ax.zaxis.label, "z [m]")):
+            box = label.get_window_extent(renderer)
+            assert label.get_text() == text
+            assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, text
+    finally:
+        plt.close(figure)

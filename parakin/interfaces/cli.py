@@ -401,6 +401,13 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _inputs(m: parakin.Mechanism, actuated: np.ndarray) -> str:
+    """Inputs by name with units, revolute ones in degrees (as the pictures' titles)."""
+    from parakin.interfaces.plot import inputs_text
+
+    return inputs_text(m, actuated).replace("\u00a0", " ")
+
+
 def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np.ndarray, degrees: bool) -> int:
     """``parakin plot NAME --animate OUT.gif``: a straight line to ``--to``, or else a loop through
     the start (``actuated_loop``), shrunk up to three times while it crosses a singularity or
@@ -414,7 +421,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
         end = _from_cli_units(m.manifest.actuated, args.to, degrees)
         with _Busy(f"{m.name}: {frames} frames to {args.animate}"):
             animate(m, actuated_line(m, actuated, end, frames), args.animate, start=start)
-        print(f"wrote {args.animate}: {frames} frames from {actuated} to {end}")
+        print(f"wrote {args.animate}: {frames} frames from {_inputs(m, actuated)} to {_inputs(m, end)}")
         return 0
     scales = (1.0, 0.5, 0.25, 0.125)
     for scale in scales:
@@ -426,7 +433,7 @@ def _plot_animation(args: argparse.Namespace, m: parakin.Mechanism, actuated: np
                 raise
             print(f"{m.name}: the loop at scale {scale:g} fails ({type(error).__name__}); trying {scale / 2:g}")
             continue
-        print(f"wrote {args.animate}: {frames} frames, a loop through {actuated} (scale {scale:g})")
+        print(f"wrote {args.animate}: {frames} frames, a loop through {_inputs(m, actuated)} (scale {scale:g})")
         return 0
     raise AssertionError("unreachable")
 

@@ -321,7 +321,7 @@ def decorate(ax: Any, scene: Scene, small: bool = False) -> None:
         for name in names:
             getattr(ax, f"{name}axis").set_major_locator(MaxNLocator(3))
     if three:
-        ax.set_box_aspect((1, 1, 1), zoom=1.15 if small else 1.0)
+        ax.set_box_aspect((1, 1, 1), zoom=1.15 if small else 0.9)  # room for the z label
         ax.view_init(elev=22, azim=-58)
         if scene.sphere is not None:
             _sphere_surface(ax, scene)
