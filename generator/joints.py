@@ -767,7 +767,13 @@ class DistanceMechanism:
         held = [row for leg in self.passive for row in leg.rows(self.motion.rotation, self.motion.position)]
         residual = sp.Matrix([*planes, *held, *rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
-        return ClosureModel(residual, sp.Matrix([sp.Integer(1)]), pose)
+        # a passive leg's line closes with the platform on either side of its universal joint: only
+        # the side its prismatic joint reaches, (C0 - A) . R w > 0, is a closure (a mode there)
+        alignment = [
+            passive_measures(leg, self.motion.rotation, self.motion.position)[f"{leg.name}_extension_reachable"]
+            for leg in self.passive
+        ]
+        return ClosureModel(residual, sp.Matrix(alignment or [sp.Integer(1)]), pose)
 
     def _rows(self, points: list[sp.Matrix], origin: sp.Matrix) -> sp.Matrix:
         """Rows (d_i, (point_i - origin) x d_i) over the platform's twist components."""

@@ -8,7 +8,8 @@ Checked against this test's own NumPy geometry (not the package's expressions):
   (the platform moved off the leg's line, or turned about the leg) is invalid, the passive leg's
   condition named;
 * the forward pose of those lengths holds the pose among its modes (a round trip from random
-  poses);
+  poses), and every mode is a configuration of this geometry: the platform on the passive leg's
+  line on the far side of its universal joint, not turned about the leg, at the lengths;
 * the forward rates are the central differences of the poses along random input rates;
 * the screw analysis gives three degrees of freedom, two rotations and a translation at the
   home (Siciliano 1999: the passive leg's two angles and its length).
@@ -88,6 +89,12 @@ def test_forward_pose_round_trips_random_poses(m):
         modes = m.forward_pose_all(lengths(pose))
         errors = [np.abs(modes.mode(k).pose - pose).max() for k in range(int(modes.count))]
         assert min(errors) < 1e-9
+        for k in range(int(modes.count)):  # every mode a configuration of this test's geometry
+            found = modes.mode(k).pose
+            line = found[:3, 2]  # the passive leg along R z, the platform on its far side
+            assert np.linalg.norm(np.cross(found[:3, 3], line)) < 1e-9 and found[:3, 3] @ line > 0
+            assert abs(found[0, 1]) < 1e-9  # no turn about the leg: R y stays normal to x
+            assert np.abs(lengths(found) - lengths(pose)).max() < 1e-9
         checked += 1
     assert checked == 6
 
