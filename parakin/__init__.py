@@ -15,7 +15,6 @@ packages you trust.
 
 from __future__ import annotations
 
-from parakin.calibration import CalibrationData, CalibrationResult, PoseDesign, calibrate, design_poses
 from parakin.errors import (
     ArchitectureSingularityWarning,
     AssemblyModeChangeError,
@@ -59,13 +58,19 @@ from parakin.studies.sweep import sweep
 __version__ = "0.2.0"
 
 
-def __getattr__(name: str) -> object:
-    """``parakin.mujoco``: the MuJoCo bridge, imported on first use (MuJoCo is optional: the
-    ``sim`` extra)."""
-    if name == "mujoco":
-        import importlib
+#: the calibration's public names, imported from ``parakin.calibration`` on first use
+_CALIBRATION = ("CalibrationData", "CalibrationResult", "PoseDesign", "calibrate", "design_poses")
 
+
+def __getattr__(name: str) -> object:
+    """``parakin.mujoco`` (the MuJoCo bridge; MuJoCo is optional: the ``sim`` extra) and the
+    calibration's names, imported on first use."""
+    import importlib
+
+    if name == "mujoco":
         return importlib.import_module("parakin.mujoco_bridge")
+    if name in _CALIBRATION:  # imported on first use: it costs most of a command's start-up
+        return getattr(importlib.import_module("parakin.calibration"), name)
     raise AttributeError(f"module 'parakin' has no attribute {name!r}")
 
 

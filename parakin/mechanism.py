@@ -590,7 +590,7 @@ class Mechanism:
                 np.full(one.shape, np.nan), one, one, one.sum(-1), ~one,
                 outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.full(one.shape, -1, dtype=np.int32),
                 conditioning=np.ones(one.shape), real_roots=zero, near_roots=zero, at_infinity=zero, status=zero,
-                outcomes=self.manifest.abi.mode_outcomes,
+                outcomes=self.manifest.abi.mode_outcomes, pose_kind=self.manifest.pose_kind,
             )  # fmt: skip
         flat = theta.reshape(-1, theta.shape[-1])
         count = flat.shape[0]

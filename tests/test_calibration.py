@@ -454,9 +454,7 @@ def test_command_line_from_csv(delta_campaign, tmp_path, capsys):
     """``parakin calibrate delta FILE.csv --kind position``: the CSV written here (readings in
     degrees) gives the same forearm length as the truth within 5 sigma, names R + r, and writes
     the calibrated values; an unknown column is a named error."""
-    import argparse
-
-    from parakin.calibration import cli
+    from parakin.interfaces.cli import main
 
     m, true, offsets, readings, positions, rng = delta_campaign
     measured = positions + rng.normal(0.0, 1e-5, positions.shape)
@@ -464,20 +462,17 @@ def test_command_line_from_csv(delta_campaign, tmp_path, capsys):
     lines = ["# a simulated delta campaign", "theta1,theta2,theta3,x,y,z"]
     lines += [",".join(f"{v:.12g}" for v in [*np.rad2deg(t), *p]) for t, p in zip(readings, measured, strict=True)]
     path.write_text("\n".join(lines) + "\n")
-    parser = argparse.ArgumentParser()
-    cli.add_arguments(parser)
     out = tmp_path / "calibrated.json"
-    args = parser.parse_args(["delta", str(path), "--kind", "position", "--sigma", "1e-5", "--deg", "--json"])
-    args.output = str(out)
-    assert cli.run(args) == 0
+    command = ["calibrate", "delta", str(path), "--kind", "position", "--sigma", "1e-5", "--deg", "--json"]
+    assert main([*command, "--output", str(out)]) == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed["rank"] == 6 and printed["unidentifiable"] == ["R + r"]
     assert abs(printed["values"]["l"] - true["l"]) < 5 * printed["standard_errors"]["l"]
     assert abs(printed["offsets"]["theta2_offset"] - offsets[1]) < 5 * printed["standard_errors"]["theta2_offset"]
     assert json.loads(out.read_text())["parameters"]["l"] == printed["values"]["l"]
     path.write_text("theta1,theta2,theta3,x,y,zz\n0,0,0,0,0,-1.2\n")
-    with pytest.raises(CalibrationDataError, match="unknown column 'zz'"):
-        cli.run(parser.parse_args(["delta", str(path), "--kind", "position", "--sigma", "1e-5"]))
+    assert main(["calibrate", "delta", str(path), "--kind", "position", "--sigma", "1e-5"]) == 2
+    assert "unknown column 'zz'" in capsys.readouterr().err
 
 
 #: a Delta whose every leg has its own geometry (the issue's 16 parameters with the offsets:

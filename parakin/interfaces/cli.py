@@ -705,7 +705,22 @@ def _parser() -> argparse.ArgumentParser:
         add_help=False,
     )
     view.add_argument("arguments", nargs=argparse.REMAINDER, help="NAME [--port P] [--open] (parakin view --help)")
+    from parakin.calibration import cli as calibration_cli
+
+    calibrate = commands.add_parser(
+        "calibrate",
+        help="identify the geometric parameters from measured poses, positions or probe heights (a CSV)",
+        description=calibration_cli.__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    calibration_cli.add_arguments(calibrate)
     return parser
+
+
+def _calibrate(args: argparse.Namespace) -> int:
+    from parakin.calibration.cli import run
+
+    return run(args)
 
 
 def _view(args: argparse.Namespace) -> int:
@@ -725,6 +740,7 @@ COMMANDS = {
     "export": _export,
     "sweep": _sweep,
     "view": _view,
+    "calibrate": _calibrate,
 }
 
 

@@ -954,4 +954,5 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         path_certified=shaped("path_certified") if "path_certified" in out else None,
         retracked=shaped("retracked") if "retracked" in out else None,
         undecided_roots=shaped("undecided") if "undecided" in out else None,
+        pose_kind=m.manifest.pose_kind,
     )
