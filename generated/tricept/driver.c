@@ -2,7 +2,7 @@
 // with template c_driver.c.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 47
-//   loop_closure: 543
+//   loop_closure: 567
 //   loop_closure_actuated: 95
 //   rate_jacobians: 128
 //   parameter_jacobians: 116
@@ -31,7 +31,7 @@
 #define SZ_ARG 3
 #define SZ_RES 4
 #define SZ_IW (0 + 1)
-#define SZ_W (78 + 1)
+#define SZ_W (83 + 1)
 
 int tricept_platform_pose_batch(long long n, const double** inputs, const long long* strides, double** outputs) {
     const casadi_real* arg[3];
@@ -56,7 +56,7 @@ int tricept_loop_closure_batch(long long n, const double** inputs, const long lo
     const casadi_real* arg[3];
     casadi_real* res[3];
     casadi_int iw[0 + 1];
-    casadi_real w[78 + 1];
+    casadi_real w[83 + 1];
     casadi_real out_residual[7 + 1];
     casadi_real out_jacobian[49 + 1];
     casadi_real out_alignment[1 + 1];

@@ -2,7 +2,7 @@
 // with template c_header.h.j2. Do not modify by hand: run `make generate`.
 // Operation counts (after common-subexpression elimination):
 //   platform_pose: 47
-//   loop_closure: 543
+//   loop_closure: 567
 //   loop_closure_actuated: 95
 //   rate_jacobians: 128
 //   parameter_jacobians: 116
