@@ -192,9 +192,11 @@ def _projection(
     if mechanism.rates is None or mechanism.rates.constraints is None or mechanism.inverse is None:
         return None
     rows = [row for row in residual if not row.has(*mechanism.actuated)]
-    if not rows or platform.has(*mechanism.actuated):
+    if platform.has(*mechanism.actuated):
         return None
-    constraint = sp.Matrix(rows)
+    # no such row: the coordinates are the constrained motion's own (a Tricept's passive leg
+    # joints), and the pose they place from the inverse's reading is on the set
+    constraint = sp.Matrix(rows) if rows else sp.zeros(0, 1)
     variables = [*mechanism.passive, *mechanism.parameters]
     numeric = sp.lambdify(variables, [constraint, constraint.jacobian(mechanism.passive)], modules="numpy", cse=True)
     placed = sp.lambdify(variables, platform, modules="mpmath")
@@ -214,7 +216,7 @@ def _projection(
             value = value.ravel()
             if not np.all(np.isfinite(value)) or not np.all(np.isfinite(matrix)):
                 return pose
-            if np.abs(value).max() <= tolerance:
+            if np.abs(value).max(initial=0.0) <= tolerance:
                 # the pose at the working precision from the coordinates, as sample_pose builds it
                 transform = placed(*(mpmath.mpf(v) for v in passive), *(mpmath.mpf(v) for v in parameters))
                 entries = mpmath.matrix(transform)

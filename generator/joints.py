@@ -50,6 +50,7 @@ unknowns), and the generator derives from the legs:
 from __future__ import annotations
 
 import math
+import random
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
@@ -733,12 +734,40 @@ class DistanceMechanism:
                 f"{len(self.motion.twist)} twist components of pose kind {self.motion.kind!r} "
                 f"({', '.join(self.motion.twist)}): one leg per degree of freedom, one constraint per missing one"
             )
+        if self.passive_in_coordinates:
+            self._check_passive_coordinates()
         signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
         self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed] + list(self.motion.branches)
 
     @property
     def actuated(self) -> list[sp.Symbol]:
         return [leg.joint for leg in self.legs]
+
+    @property
+    def passive_in_coordinates(self) -> bool:
+        """Whether the platform's coordinates are the passive legs' own joints (a Tricept's two
+        universal joint angles and its length: fewer coordinates than the pose kind's twist has,
+        less the extra rows), so that the passive legs close by construction and add no row."""
+        free = len(self.motion.coordinates) - len(self.motion.extra_residual)
+        return bool(self.passive) and free < len(self.motion.twist)
+
+    def _passive_rows(self) -> list[sp.Expr]:
+        return [row for leg in self.passive for row in leg.rows(self.motion.rotation, self.motion.position)]
+
+    def _check_passive_coordinates(self) -> None:
+        """The passive legs' rows vanish at random coordinates (1e-12), else ValueError."""
+        rng = random.Random(20261128)
+        rows = self._passive_rows()
+        free = sorted(set().union(*(sp.sympify(r).free_symbols for r in rows)), key=str)
+        for _ in range(3):
+            values = {v: sp.Float(rng.uniform(-1, 1), 30) for v in free}
+            worst = max(abs(float(sp.sympify(r).xreplace(values).evalf(30))) for r in rows)
+            if worst > 1e-12:
+                raise ValueError(
+                    f"DistanceMechanism: the platform's {len(self.motion.coordinates)} coordinates are fewer than pose "
+                    f"kind {self.motion.kind!r} has, but its passive legs do not close in them (a row is {worst:.3g} "
+                    "at random values): write the rotation and position as the passive legs' joints make them"
+                )
 
     @property
     def constrained(self) -> list[int]:
@@ -764,7 +793,7 @@ class DistanceMechanism:
         ]
         joints = self.platform_joints()
         planes = [(joints[k] - self.legs[k].base).dot(self.legs[k].plane_normal) for k in self.constrained]
-        held = [row for leg in self.passive for row in leg.rows(self.motion.rotation, self.motion.position)]
+        held = [] if self.passive_in_coordinates else self._passive_rows()
         residual = sp.Matrix([*planes, *held, *rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
         # a passive leg's line closes with the platform on either side of its universal joint: only

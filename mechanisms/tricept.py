@@ -10,8 +10,9 @@ Frames and conventions (SI, radians):
   (-y_P at the platform's zero orientation), a passive prismatic joint, the leg fixed to the
   platform: p = s R z_P, s > 0, and R = Rot_x(a) Rot_y(b) (no turn about the leg). Three
   degrees of freedom: the leg's two angles and its length; the platform's position fixes them.
-* Actuated: the leg lengths l1..l3 = |p + R c_i - A_i|. Passive: x, y, z and the unit quaternion
-  q0..q3 of R (scalar first, q0 >= 0 from the inverse).
+* Actuated: the leg lengths l1..l3 = |p + R c_i - A_i|. Passive: the passive leg's joints a, b
+  (radians) and s (metres), read from a pose as a = atan2(r32, r22), b = atan2(r13, r11),
+  s = p . R z_P: the closure is the three lengths, the passive leg closed by construction.
 * Inverse pose: each length; a pose the passive leg cannot take (p off the line along R z_P, or
   the platform turned about its leg) is invalid, ``leg4_line_reachable`` /
   ``leg4_u_joint_reachable`` naming it, and ``leg4_extension_reachable`` a leg pointing away.
@@ -24,7 +25,8 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.frames import rot_x, rot_y
+from parakin.generator.model import POSE_POSITION, POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p = sp.symbols("r_b r_p", positive=True)
 lengths = sp.symbols("l1:4", positive=True)
@@ -34,8 +36,26 @@ RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
 DEFAULTS = {r_b: 0.3, r_p: 0.1}
 HOME_HEIGHT = 0.5
 
+#: the platform's coordinates: the passive leg's joints, its universal joint's angles a (about
+#: x_B) and b (about the leg's second axis) and its length s: R = Rot_x(a) Rot_y(b), p = s R z_P
+a, b, s = sp.symbols("a b s", real=True)
+TURN = rot_x(a) * rot_y(b)
+MOTION = joints.Platform(
+    "transform",
+    (a, b, s),
+    TURN,
+    s * TURN[:, 2],
+    read=(
+        (a, sp.atan2(POSE_ROTATION[2, 1], POSE_ROTATION[1, 1])),
+        (b, sp.atan2(POSE_ROTATION[0, 2], POSE_ROTATION[0, 0])),
+        (s, POSE_POSITION.dot(POSE_ROTATION[:, 2])),
+    ),
+    pose=(POSE_ROTATION, POSE_POSITION),
+    angular=(a, b),
+)
+
 MODEL = joints.DistanceMechanism(
-    joints.platform("transform"),
+    MOTION,
     [
         *(
             joints.prismatic_leg(r_b * e, r_p * e, length, universal_axis=[0, 0, 1])
