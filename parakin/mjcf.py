@@ -70,6 +70,7 @@ from numpy.typing import ArrayLike
 from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
+from parakin.results import Configuration
 
 if TYPE_CHECKING:
     from parakin.mechanism import Mechanism
@@ -498,12 +499,18 @@ def _xml_body(model: _Model, body: _Body, indent: int) -> list[str]:
 
 
 def _build(
-    m: Mechanism, graph: JointGraph, link_mass: float, platform_mass: float, platform_radius: float, payload: float
-) -> tuple[_Model, str, _Geometry]:
-    """The tree of bodies at the home, its cuts, and how the platform is held."""
-    home = m.forward_pose(m.home_actuated, guess=m.home_passive)  # the home, polished
-    actuated = np.asarray(home.actuated, dtype=float).reshape(-1)
-    passive = np.asarray(home.passive, dtype=float).reshape(-1)
+    m: Mechanism, graph: JointGraph, reference: Configuration | None, link_mass: float, platform_mass: float,
+    platform_radius: float, payload: float,
+) -> tuple[_Model, str, _Geometry]:  # fmt: skip
+    """The tree of bodies at the reference (default the home), its cuts, how the platform is held."""
+    if reference is None:
+        reference = m.forward_pose(m.home_actuated, guess=m.home_passive)  # the home, polished
+    elif not isinstance(reference, Configuration):
+        raise BadInputError(f"reference must be a Configuration (from a solver), got {type(reference).__name__}")
+    actuated = np.asarray(reference.actuated, dtype=float).reshape(-1)
+    passive = np.asarray(reference.passive, dtype=float).reshape(-1)
+    if actuated.shape != (len(m.actuated_names),) or passive.shape != (len(m.passive_names),):
+        raise BadInputError("reference must be one configuration (no batch) of this mechanism")
     geometry = _Geometry(m, graph, actuated, passive)
     builder = _Builder(m, graph, geometry, link_mass)
     carrier, how = _carrier(graph, builder)
@@ -533,6 +540,25 @@ def _build(
         body.mass = link_mass
         body.centre, body.inertia = _rod(link_mass, start, end)
     return builder.model, how, geometry
+
+
+def _servo_gain(model: _Model, joint: str, load: float, step: float) -> float:
+    """The default servo stiffness of an actuated joint: 1e4 N/m (slide) or 1e3 N m/rad (hinge)
+    per kg of platform and payload (at least 1 kg), at most 0.25 m_eff / step^2 (the body it
+    carries: its mass, or its inertia about the hinge), so that the explicit spring stays stable
+    (omega step <= 0.5)."""
+    body = next(b for b in model.bodies if any(j.name == joint for j in b.joints))
+    moved = next(j for j in body.joints if j.name == joint)
+    per_kg = 1e3 if moved.kind == "hinge" else 1e4
+    gain = per_kg * max(load, 1.0)
+    if body.mass > 0 and body.centre is not None and body.inertia is not None:
+        effective = body.mass
+        if moved.kind == "hinge" and moved.axis is not None:
+            r = body.centre - body.position
+            about = body.inertia + body.mass * (float(r @ r) * np.eye(3) - np.outer(r, r))
+            effective = float(moved.axis @ about @ moved.axis)
+        gain = min(gain, 0.25 * effective / step**2)
+    return gain
 
 
 def _compile(text: str) -> Any:
@@ -662,11 +688,12 @@ def to_mjcf(
     m: Mechanism,
     actuated: ArrayLike | None = None,
     modes: str | Sequence[int] | None = "all",
+    reference: Configuration | None = None,
     timestep: float | None = None,
     accuracy: str = "fast",
     actuator: str = "position",
     kp: float | None = None,
-    link_mass: float = 0.1,
+    link_mass: float = 1.0,
     platform_mass: float = 1.0,
     platform_radius: float = 0.05,
     payload: float = 0.0,
@@ -679,9 +706,14 @@ def to_mjcf(
     m : Mechanism
         A loaded mechanism whose package carries its joint graph (the manifest's ``joints``).
     actuated : array_like (n_a,), optional
-        The actuated values (rad, m) whose assembly modes become keyframes; default the home.
+        The actuated values (rad, m) whose assembly modes become keyframes; default those of
+        ``reference`` (the home).
     modes : "all", "none" or sequence of int
         Which modes of ``m.forward_pose_all(actuated)`` become ``<key name="mode{k}">``.
+    reference : Configuration, optional
+        The closed configuration the bodies are laid out at, qpos0 (from ``forward_pose``,
+        ``inverse_pose``...); default the home (``m.home_actuated``, ``m.home_passive``,
+        polished by ``forward_pose``). Every passive joint is 0 there.
     timestep : float, optional
         The simulation step (s); default the preset's. The connects' time constant is two steps.
     accuracy : {"fast", "accurate"}
@@ -689,8 +721,9 @@ def to_mjcf(
     actuator : {"position", "motor"}
         Position servos (``kp``, ``kv`` = kp / 50) holding the keyframe's ``ctrl``, or motors.
     kp : float, optional
-        The servos' stiffness (N m/rad on hinges, N/m on slides); default 1e3 and 1e4 x the
-        platform's and payload's mass in kg.
+        The servos' stiffness (N m/rad on hinges, N/m on slides); default 1e3 and 1e4 per kg of
+        platform and payload, capped where the explicit spring would be unstable on the body it
+        moves (``_servo_gain``).
     link_mass, platform_mass, payload : float
         Masses (kg): each link (a thin rod), the platform (a solid sphere of ``platform_radius``
         m), the payload body at the platform's origin (none when 0).
@@ -739,9 +772,9 @@ def to_mjcf(
         raise BadInputError(f"kp must be a finite number > 0, got {kp!r}")
     if link_mass == 0 and platform_mass == 0:
         raise BadInputError("link_mass and platform_mass are both 0: MuJoCo needs mass on a moving body")
-    chosen = m.home_actuated if actuated is None else m._actuated(actuated)
-    chosen = np.asarray(chosen, dtype=float).reshape(-1)
-    model, how, geometry = _build(m, graph, link_mass, platform_mass, platform_radius, payload)
+    model, how, geometry = _build(m, graph, reference, link_mass, platform_mass, platform_radius, payload)
+    default = [geometry.joint_values[name] for name in m.actuated_names]  # the reference's
+    chosen = np.asarray(default if actuated is None else m._actuated(actuated), dtype=float).reshape(-1)
     planar = m.manifest.pose_kind in PLANAR_KINDS
     gravity = (0.0, -GRAVITY, 0.0) if planar else (0.0, 0.0, -GRAVITY)
     solref = f"{_format(2 * step)} 1"
@@ -750,7 +783,7 @@ def to_mjcf(
         f"     Parameters: {', '.join(f'{k} = {v:g}' for k, v in m.parameters.items())} (SI units).",
         f"     Actuated joints (qpos = parakin's actuated values, rad or m): {', '.join(m.actuated_names)}.",
         f"     Base {{B}} = the world frame; platform frame {{P}} = site 'platform'; {how}.",
-        f"     qpos0: the home; keyframes mode<k>: assembly mode k of the actuated values {_numbers(chosen)}.",
+        f"     qpos0: {'the home' if reference is None else 'the reference configuration'}; keyframes mode<k>: assembly mode k of the actuated values {_numbers(chosen)}.",
         f"     Preset '{accuracy}': timestep {step:g} s, connects' solref {solref} (time constant two steps), "
         f"solimp {_numbers(preset.solimp)}.",
         f"     Expected loop gap under load: {preset.gap}.",
@@ -785,7 +818,7 @@ def to_mjcf(
         if actuator == "motor":
             lines.append(f'    <motor name="{name}" joint="{name}"/>')
             continue
-        gain = kp if kp is not None else (1e3 if kinds[name] == "hinge" else 1e4) * max(masses, 1.0)
+        gain = kp if kp is not None else _servo_gain(model, name, masses, step)
         lines.append(f'    <position name="{name}" joint="{name}" kp="{_format(gain)}" kv="{_format(gain / 50)}"/>')
     lines.append("  </actuator>")
     body_xml = "\n".join(lines + ["</mujoco>"]) + "\n"
