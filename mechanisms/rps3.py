@@ -15,7 +15,7 @@ Frames and conventions (SI, radians):
   joint out of its leg's plane) is invalid, ``leg<i>_plane_reachable`` naming the leg.
 * Forward pose: the generator's automatic homotopy, 32 paths (16 poses, each with its two
   quaternion signs).
-* Defaults (illustrative): r_b = 0.2 m, r_p = 0.1 m; home: the platform level at z = 0.3 m.
+* Defaults (illustrative): r_b = 1 m, r_p = 0.5 m; home: the platform level at z = 1 m.
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ lengths = sp.symbols("l1:4", positive=True)
 ANGLES = [(sp.Integer(0), sp.Integer(1)), (-sp.sqrt(3) / 2, -sp.Rational(1, 2)), (sp.sqrt(3) / 2, -sp.Rational(1, 2))]
 RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
 TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
-DEFAULTS = {r_b: 0.2, r_p: 0.1}
-HOME_HEIGHT = 0.3
+DEFAULTS = {r_b: 1.0, r_p: 0.5}
+HOME_HEIGHT = 1.0
 
 MODEL = joints.DistanceMechanism(
     joints.platform("transform"),
@@ -47,11 +47,11 @@ MODEL = joints.DistanceMechanism(
 EXAMPLES = [
     Example(
         name="home",
-        description="the platform level at p = (0, 0, 0.3): by hand every leg spans r_b - r_p = 0.1 m "
-        "across and 0.3 m up, l = sqrt(0.1) = 0.3162277660 m",
+        description="the platform level at p = (0, 0, 1): by hand every leg spans r_b - r_p = 0.5 m "
+        "across and 1 m up, l = sqrt(1.25) = 1.1180339887 m",
         pose=[[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, HOME_HEIGHT], [0.0, 0.0, 0.0, 1.0]],
         branch=0,
-        expected={"actuated": [math.sqrt(0.1)] * 3},
+        expected={"actuated": [math.sqrt(1.25)] * 3},
         tolerance=1e-12,
     ),
 ]
@@ -73,7 +73,7 @@ def build() -> Mechanism:
         **MODEL.fields(),
         forward=None,
         home=home,
-        limits={length: (0.05, 1.0) for length in lengths},
+        limits={length: (0.25, 3.0) for length in lengths},
         parameter_info={
             r_b: ParameterInfo("m", "radius of the circle of the base revolute joints A_i", "positive"),
             r_p: ParameterInfo("m", "radius of the circle of the platform spherical joints c_i", "positive"),

@@ -16,7 +16,7 @@ import pytest
 
 import parakin
 
-R_B, R_P = 0.2, 0.1
+R_B, R_P = 1.0, 0.5
 ETA = np.radians([90.0, 210.0, 330.0])
 RADIAL = np.stack([np.cos(ETA), np.sin(ETA), np.zeros(3)], -1)
 TANGENT = np.stack([-np.sin(ETA), np.cos(ETA), np.zeros(3)], -1)
@@ -46,7 +46,7 @@ def test_every_mode_closes_in_its_legs_planes_and_inverts_back(m):
     home = np.array([v.home for v in m.manifest.actuated])
     checked = parasitic = 0
     for _ in range(8):
-        lengths = home + 0.05 * rng.uniform(-1, 1, 3)
+        lengths = home + 0.15 * rng.uniform(-1, 1, 3)
         modes = m.forward_pose_all(lengths)
         for k in range(int(modes.count)):
             pose = modes.mode(k).pose
