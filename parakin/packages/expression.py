@@ -185,8 +185,11 @@ def evaluate(text: str, values: Mapping[str, float]) -> float:
             return VARIADIC[node.func.id](*(value(a) for a in node.args))
         return FUNCTIONS[node.func.id](value(node.args[0]))
 
+    tree = _tree(text)  # BrokenPackageError (a ValueError) before any arithmetic
     try:
-        result = value(_tree(text))
+        result = value(tree)
+    except BrokenPackageError:
+        raise
     except (ZeroDivisionError, OverflowError, ValueError) as error:
         raise BadInputError(f"expression {text[:80]!r} is undefined at these parameters ({error})") from None
     if isinstance(result, complex) or not math.isfinite(result):

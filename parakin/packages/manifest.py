@@ -1212,10 +1212,24 @@ def _root_count(value: object, path: str, paths: int) -> RootCount:
 
 
 # ---------------------------------------------------------------- the joint graph
+def _expression(value: object, path: str, parameters: list[str]) -> str:
+    """An expression of the parameters (``parakin.packages.expression``), as text."""
+    if not isinstance(value, str):
+        raise _bad(path, value, "is not an expression (text)")
+    try:
+        used = expression.names(value)
+    except BrokenPackageError as error:
+        raise _bad(path, value, f"is not an allowed expression ({error})") from None
+    unknown = sorted(used - set(parameters))
+    if unknown:
+        raise _bad(path, value, f"names {unknown}, not parameters")
+    return value
+
+
 def _vector_text(value: object, path: str, parameters: list[str]) -> tuple[str, str, str]:
     """Three expressions of the parameters (a point or an axis)."""
     entries = _list(value, path, 3)
-    x, y, z = (expression.check(e, parameters, f"{path}[{k}]") for k, e in enumerate(entries))
+    x, y, z = (_expression(e, f"{path}[{k}]", parameters) for k, e in enumerate(entries))
     return x, y, z
 
 
@@ -1268,12 +1282,12 @@ def _graph_leg(value: object, path: str, parameters: list[str]) -> GraphLeg:
     if reach is not None:
         reach_data = _object(reach, f"{path}.reach")
         reach = (
-            expression.check(_member(reach_data, "length", f"{path}.reach"), parameters, f"{path}.reach.length"),
+            _expression(_member(reach_data, "length", f"{path}.reach"), f"{path}.reach.length", parameters),
             _vector_text(_member(reach_data, "direction", f"{path}.reach"), f"{path}.reach.direction", parameters),
         )
     link = _member(data, "link", path)
     if link is not None:
-        link = expression.check(link, parameters, f"{path}.link")
+        link = _expression(link, f"{path}.link", parameters)
     actuated = _flag(_member(data, "actuated", path), f"{path}.actuated")
     if actuated != any(j.actuated for j in joints):
         raise _bad(f"{path}.actuated", actuated, "disagrees with its joints' actuated marks")
