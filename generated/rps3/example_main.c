@@ -32,9 +32,9 @@ static void print_pose(const double* pose) {
 int main(void) {
     rps3_params params = RPS3_PARAMS_DEFAULT;
     // the actuated inputs [l1 [m], l2 [m], l3 [m]]
-    double actuated[RPS3_NUM_ACTUATED] = { 0.31622776601683794, 0.31622776601683794, 0.31622776601683794 };
+    double actuated[RPS3_NUM_ACTUATED] = { 1.118033988749895, 1.118033988749895, 1.118033988749895 };
     // a guess of the passive values [x [m], y [m], z [m], q0 [], q1 [], q2 [], q3 []]
-    double guess[7] = { 0.0, 0.0, 0.3, 1.0, 0.0, 0.0, 0.0 };
+    double guess[7] = { 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0 };
     int failed = 0;
     printf("rps3: actuated");
     for (int k = 0; k < RPS3_NUM_ACTUATED; ++k) printf(" %.17g", actuated[k]);

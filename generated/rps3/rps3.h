@@ -33,7 +33,7 @@
 //   joint out of its leg's plane) is invalid, ``leg<i>_plane_reachable`` naming the leg.
 // * Forward pose: the generator's automatic homotopy, 32 paths (16 poses, each with its two
 //   quaternion signs).
-// * Defaults (illustrative): r_b = 0.2 m, r_p = 0.1 m; home: the platform level at z = 0.3 m.
+// * Defaults (illustrative): r_b = 1 m, r_p = 0.5 m; home: the platform level at z = 1 m.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "rps3_", so the C of several mechanisms links into one program. Nothing
@@ -57,7 +57,7 @@ typedef struct {
 } rps3_params;
 
 // The paper's geometry: rps3_params p = RPS3_PARAMS_DEFAULT;
-#define RPS3_PARAMS_DEFAULT { 0.2, 0.1 }
+#define RPS3_PARAMS_DEFAULT { 1.0, 0.5 }
 
 // Newton status (forward_pose, and the polish of every mode)
 enum {
