@@ -32,8 +32,9 @@
   joints solved by Newton (from the home) so that each cut closes (residual <= 1e-12 m).
 * **Simulation presets** (``accuracy``): "fast", 1 ms steps and connects of time constant two
   steps (``solref``), ``implicitfast``; "accurate", 0.2 ms and a stiff ``solimp`` (0.99 0.999).
-  The gap the loops open under load is written in the file's header (measured on a 10 kg
-  Stewart platform: about 0.17 mm fast, 0.6 um accurate). Gravity is -9.81 m/s^2 along -z, or
+  The gap the loops open under load is written in the file's header (measured on a regular
+  Stewart platform with 1 kg links under 10 kg: about 0.03 mm / 0.003 deg fast, 0.1 um / 1e-5 deg
+  accurate; lighter links open wider gaps: 0.18 mm / 0.015 deg fast with 0.1 kg links). Gravity is -9.81 m/s^2 along -z, or
   along -y for a planar mechanism (its motion is in z = 0). No contacts (every geom has
   ``contype`` and ``conaffinity`` 0).
 * **Inertia** (documented defaults, the graph carries no values yet): every link a uniform thin
@@ -67,7 +68,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
+from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
 from parakin.results import Configuration
@@ -104,13 +105,18 @@ class Preset:
     gap: str
 
 
-#: ``accuracy`` presets (issue 34's measurements on a 10 kg Stewart platform)
+#: ``accuracy`` presets; the gaps measured (tests/test_mjcf.py) on the exported regular 6-UPS
+#: Stewart platform (0.5 m / 0.3 m joint circles, 0.6 m high) with 1 kg links and 10 kg payload,
+#: settled 1 s on its servos: pose against forward_pose at the settled leg lengths
 PRESETS = {
-    "fast": Preset(1e-3, DEFAULT_SOLIMP, "implicitfast", "about 0.17 mm and 0.005 deg (10 kg Stewart platform)"),
-    "accurate": Preset(
-        2e-4, (0.99, 0.999, 0.001, 0.5, 2.0), "implicitfast", "about 0.6 um and 2e-5 deg (10 kg Stewart platform)"
+    "fast": Preset(
+        1e-3, DEFAULT_SOLIMP, "implicitfast", "about 0.03 mm and 0.003 deg (a 10 kg load on a 0.6 m Stewart platform)"
     ),
-}
+    "accurate": Preset(
+        2e-4, (0.99, 0.999, 0.001, 0.5, 2.0), "implicitfast",
+        "about 0.1 um and 1e-5 deg (a 10 kg load on a 0.6 m Stewart platform)",
+    ),
+}  # fmt: skip
 
 
 @dataclass
@@ -504,7 +510,13 @@ def _build(
 ) -> tuple[_Model, str, _Geometry]:  # fmt: skip
     """The tree of bodies at the reference (default the home), its cuts, how the platform is held."""
     if reference is None:
-        reference = m.forward_pose(m.home_actuated, guess=m.home_passive)  # the home, polished
+        try:
+            reference = m.forward_pose(m.home_actuated, guess=m.home_passive)  # the home, polished
+        except (ConvergenceError, SingularConfigurationError) as error:
+            raise type(error)(
+                f"{m.name}: the manifest's home does not close at these parameters ({error}); pass reference=, a "
+                "closed configuration of them (from forward_pose or inverse_pose), to lay the bodies out at"
+            ) from error
     elif not isinstance(reference, Configuration):
         raise BadInputError(f"reference must be a Configuration (from a solver), got {type(reference).__name__}")
     actuated = np.asarray(reference.actuated, dtype=float).reshape(-1)

@@ -32,7 +32,7 @@ import pytest
 import sympy as sp
 
 import parakin
-from parakin.errors import BadInputError, BrokenPackageError, UnsupportedOperationError
+from parakin.errors import BadInputError, BrokenPackageError, ParakinError, UnsupportedOperationError
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import Manifest
 
@@ -258,6 +258,14 @@ def test_a_package_without_joint_graph_is_refused_by_name(packages, tmp_path):
     for bad in (dict(accuracy="exact"), dict(timestep=-1.0), dict(modes="some"), dict(modes=[7]), dict(payload=-1.0)):
         with pytest.raises(BadInputError):
             mjcf.to_mjcf(with_graph, **bad)
+
+
+def test_a_home_that_does_not_close_asks_for_a_reference(packages):
+    """The Stewart platform with the regular hexapod's joints: the manifest's home lengths (the
+    default geometry's) do not close; the error says to pass reference=."""
+    m = load(packages, "stewart", base=STEWART_BASE, platform=STEWART_PLATFORM)
+    with pytest.raises(ParakinError, match="reference="):
+        mjcf.to_mjcf(m, modes="none")
 
 
 def test_serial_chain_legs_are_refused_by_name(packages, tmp_path):
