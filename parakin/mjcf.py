@@ -803,6 +803,7 @@ def to_mjcf(
         "-->",
     ]
     masses = platform_mass + payload
+    head = ["<!-- " + head[0][5:].replace("--", "- -"), *(line.replace("--", "- -") for line in head[1:-1]), head[-1]]
     lines = [
         *head,
         f'<mujoco model="{m.name}">',
