@@ -19,8 +19,7 @@
 // 3-RPS parallel manipulator (Lee and Shah 1988): three legs, each a revolute joint on the base
 // whose axis is tangent to the base circle, an actuated prismatic joint and a spherical joint on
 // the platform. Three degrees of freedom, the height and two tilts, with parasitic motion (the
-// platform's centre moves sideways and it turns about the vertical as it tilts); the forward pose
-// has 16 complex solutions.
+// platform's centre moves sideways as it tilts); the forward pose has 16 complex solutions.
 // 
 // Frames and conventions (SI, radians):
 // * {B}: base joints A_i = r_b e_i, e_i = (cos eta_i, sin eta_i, 0), eta_i = 90, 210, 330 deg; the
