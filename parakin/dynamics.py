@@ -48,7 +48,7 @@ from parakin.solvers.statics import actuator_forces, constraint_forces, overall_
 from parakin.validation import bounded_vector
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism as Mechanism
 
 #: standard gravity in {B} (m/s^2), z up
 STANDARD_GRAVITY = (0.0, 0.0, -9.80665)

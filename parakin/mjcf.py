@@ -74,7 +74,7 @@ from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
 from parakin.results import Configuration
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism as Mechanism
 
 #: the short sides of a parallelogram, relative to its bars' length
 PARALLELOGRAM_WIDTH = 0.2

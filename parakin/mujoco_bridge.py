@@ -52,7 +52,7 @@ from parakin.pose import LEG_TWIST
 from parakin.results import Array, Configuration
 
 if TYPE_CHECKING:
-    from parakin.mechanism import Mechanism
+    from parakin.solvers.loaded import LoadedMechanism as Mechanism
 
 #: a loop Jacobian's singular values below this ratio of the largest are rank-deficient
 RANK_RATIO = 1e-10

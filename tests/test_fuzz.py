@@ -1189,7 +1189,16 @@ def make_variant(op: Op, m, cls: str, k: Knobs, name: str | None = None) -> Vari
 
 
 # ---------------------------------------------------------------------------- judging answers
-IGNORED_FIELDS = {"branches", "branch_names", "outcomes", "branch_count", "method", "root_count", "root_count_proven"}
+IGNORED_FIELDS = {
+    "branches",
+    "branch_names",
+    "outcomes",
+    "branch_count",
+    "method",
+    "root_count",
+    "root_count_proven",
+    "pose_kind",
+}
 #: fields left out of the backend comparison (diagnostics that legitimately differ)
 NOT_COMPARED = {"iterations", "conditioning", "outcome", "root_kind", "root", "real", "near_roots", "at_infinity",
                 "real_roots", "status", "input_independent", "min_conditioning", "path_certified", "retracked"}  # fmt: skip

@@ -18,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from parakin.packages.backends import Backend
 from parakin.packages.manifest import Capabilities, Manifest
-from parakin.results import Array, Configuration, ForwardPose, NewtonOutcome
+from parakin.packages.package import GeneratedPackage
+from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, NewtonOutcome
 from parakin.solvers.tracker import ForwardPoseTracker
 
 
@@ -27,6 +28,7 @@ class LoadedMechanism(Protocol):
     methods' conventions are those of ``parakin.Mechanism``."""
 
     name: str
+    package: GeneratedPackage
     manifest: Manifest
     backend: Backend
     params: Array
@@ -57,6 +59,14 @@ class LoadedMechanism(Protocol):
     def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]: ...
 
     def forward_pose(self, actuated: ArrayLike, guess: Configuration | ArrayLike | None = None) -> ForwardPose: ...
+
+    def forward_pose_all(
+        self, actuated: ArrayLike, strict: bool = True, method: str | None = None, certify: str = "exact"
+    ) -> AssemblyModes: ...
+
+    def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array: ...
+
+    def _actuated(self, value: ArrayLike) -> Array: ...
 
     def tracker(self, start: Configuration, *, strict: bool = True) -> ForwardPoseTracker: ...
 
