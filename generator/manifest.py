@@ -161,6 +161,8 @@ def build_manifest(
         "singularity_factors": meta["singularity_factors"],
         "determinants": meta["determinants"],
         "capabilities": capabilities,
+        # the bodies and joints (``generator.graph.to_json``): what the MJCF export builds from
+        "joints": meta.get("joints"),
         "examples": [_example(e) for e in mechanism.examples],
         "tolerances": DEFAULT_TOLERANCES,
         "kernels": _kernels(mechanism.name, lowered, sizes),
