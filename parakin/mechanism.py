@@ -980,6 +980,15 @@ class Mechanism:
         g = dynamics.STANDARD_GRAVITY if gravity is None else gravity
         return dynamics.dynamics_regressor(self, state, rates, accelerations, gravity=g, leg_inertias=leg_inertias)
 
+    def to_mjcf(self, actuated: ArrayLike | None = None, **options: Any) -> str:
+        """The MJCF text of this mechanism for MuJoCo: its legs as bodies, its loops cut by site
+        connects, the home as qpos0 and every assembly mode of ``actuated`` (default: the home's)
+        a keyframe (``parakin.mjcf.to_mjcf``, which lists the ``options``: modes, accuracy,
+        timestep, masses, payload, actuators)."""
+        from parakin.mjcf import to_mjcf
+
+        return to_mjcf(self, actuated, **options)
+
     def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
         """Actuator efforts that hold the platform against an external wrench (virtual work; see
         ``parakin.solvers.statics.actuator_forces`` for the wrench convention)."""

@@ -372,11 +372,20 @@ def settle(chain: ClosedChain, data: Any, duration: float = 5.0, speed: float = 
     model = chain.model
     start, still_since = data.time, None
     fastest = np.inf
-    while data.time - start < duration:
+    # a step count, not the clock: MuJoCo resets a diverged simulation (time back to 0), so a
+    # bound on data.time alone can loop for ever
+    steps = int(np.ceil(duration / model.opt.timestep))
+    diverged = int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
+    for _ in range(steps):
+        before = data.time
         mujoco.mj_step(model, data)
         fastest = float(np.abs(data.qvel).max(initial=0.0))
-        if not np.isfinite(fastest):
-            raise ConvergenceError(f"settle: the simulation diverged at t = {data.time:.4g} s (non-finite qvel)")
+        reset = data.time < before or int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > diverged
+        if not np.isfinite(fastest) or reset:
+            raise ConvergenceError(
+                f"settle: the simulation diverged at t = {before:.4g} s (MuJoCo reset it: non-finite accelerations); "
+                "a smaller timestep or stiffer/softer constraints (accuracy preset) may help"
+            )
         if fastest < speed:
             still_since = data.time if still_since is None else still_since
             if data.time - still_since >= 0.1:

@@ -22,7 +22,7 @@ import pytest
 
 import parakin
 from parakin.dynamics import inverse_dynamics, rigid_inertia
-from parakin.errors import BadInputError, UnsupportedOperationError
+from parakin.errors import BadInputError, ConvergenceError, UnsupportedOperationError
 
 mujoco = pytest.importorskip("mujoco")
 from parakin import mujoco_bridge as bridge  # noqa: E402
@@ -356,3 +356,16 @@ def test_bridge_refuses_what_it_cannot_read():
     )
     with pytest.raises(UnsupportedOperationError, match="site1/site2"):
         bridge.closed_chain(anchored, ["j"], "s")
+
+
+def test_settle_refuses_a_simulation_that_diverges():
+    """A step far too long for the model (1e-9 kg legs, 0.5 s steps): MuJoCo's accelerations go
+    non-finite and it resets the state and its clock; ``settle`` says so by name, after a bounded
+    number of steps, instead of stepping for ever (its bound was on the clock, which the reset
+    moved back)."""
+    model, chain, m = five_bar()
+    model.opt.timestep = 0.5
+    data = mujoco.MjData(model)
+    data.qvel[:] = 50.0
+    with pytest.raises(ConvergenceError, match="diverged"):
+        bridge.settle(chain, data, duration=1e4)

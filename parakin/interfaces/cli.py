@@ -714,11 +714,23 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     calibration_cli.add_arguments(calibrate)
+    from parakin import mjcf
+
+    mjcf_parser = commands.add_parser(
+        "mjcf", help="a MuJoCo model (MJCF) of the mechanism: bodies, closed loops, a keyframe per assembly mode"
+    )
+    mjcf.add_arguments(mjcf_parser)
     return parser
 
 
 def _calibrate(args: argparse.Namespace) -> int:
     from parakin.calibration.cli import run
+
+    return run(args)
+
+
+def _mjcf(args: argparse.Namespace) -> int:
+    from parakin.mjcf import run
 
     return run(args)
 
@@ -741,6 +753,7 @@ COMMANDS = {
     "sweep": _sweep,
     "view": _view,
     "calibrate": _calibrate,
+    "mjcf": _mjcf,
 }
 
 
