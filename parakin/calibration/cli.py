@@ -47,7 +47,18 @@ COLUMNS = {
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``parakin calibrate`` (module docstring)."""
     parser.add_argument("name", help="mechanism name (parakin list) or generated package folder")
-    parser.add_argument("data", help="CSV of measurements: actuated columns, then the kind's columns")
+    parser.add_argument(
+        "data", nargs="?", default=None, help="CSV of measurements: actuated columns, then the kind's columns"
+    )
+    parser.add_argument(
+        "--simulate",
+        type=int,
+        metavar="N",
+        help="instead of a CSV: N simulated measurements of a robot whose length parameters differ from the "
+        "nominal by N(0, --perturb), read with noise --sigma (what a campaign would identify)",
+    )
+    parser.add_argument("--perturb", type=float, default=1e-3, help="--simulate: the build errors, m (default 1e-3)")
+    parser.add_argument("--seed", type=int, default=0, help="--simulate: the random seed (default 0)")
     parser.add_argument("--kind", choices=KINDS, default="pose", help="what was measured (default pose)")
     parser.add_argument("--sigma", type=float, required=True, help="measurement noise, one standard deviation (m)")
     parser.add_argument(
@@ -149,7 +160,13 @@ def run(args: argparse.Namespace) -> int:
         except ValueError as error:
             raise CalibrationDataError(f"--param {name}: {text!r} is not a number or a JSON list") from error
     m = load(args.name, backend=args.backend, **parameters)
-    readings, measured = read_csv(args.data, m, args.kind, args.deg)
+    truth: dict[str, float] | None = None
+    if (args.data is None) == (args.simulate is None):
+        raise CalibrationDataError("give the measurements DATA.csv, or --simulate N for a simulated campaign")
+    if args.simulate is not None:
+        readings, measured, truth = simulate(m, args.kind, args.simulate, args.sigma, args.sigma_angle, args)
+    else:
+        readings, measured = read_csv(args.data, m, args.kind, args.deg)
     sigma: float | tuple[float, float] = args.sigma
     if args.kind == "pose":
         if args.sigma_angle is None:
@@ -166,8 +183,71 @@ def run(args: argparse.Namespace) -> int:
             Path(args.output).write_text(json.dumps(output, indent=2) + "\n")
         except OSError as error:
             raise CalibrationDataError(f"cannot write {args.output!r}: {error.strerror}") from error
+    if truth is not None:
+        errors = {
+            name: (abs(m.parameters[name] - value), abs(result.values.get(name, m.parameters[name]) - value))
+            for name, value in truth.items()
+        }
+        output["simulated"] = {"truth": truth, "error_before": {k: v[0] for k, v in errors.items()},
+                               "error_after": {k: v[1] for k, v in errors.items()}}  # fmt: skip
     print(json.dumps(output) if args.json else result.summary())
+    if truth is not None and not args.json:
+        identified = [name for name in errors if name in result.identifiable] or list(errors)
+        worst_before = max(errors[name][0] for name in identified)
+        worst_after = max(errors[name][1] for name in identified)
+        print(
+            f"simulated: {len(readings)} measurements of a robot built {args.perturb:g} m (1 sigma) off its "
+            f"drawing: largest error of an identifiable length parameter {worst_before:.3g} m before, "
+            f"{worst_after:.3g} m after"
+        )
     return 0
 
 
-__all__ = ["COLUMNS", "add_arguments", "read_csv", "record", "run"]
+def simulate(
+    m: Mechanism, kind: str, count: int, sigma: float, sigma_angle: float | None, args: argparse.Namespace
+) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+    """A simulated campaign: encoder readings (N, n_a), the kind's measurements with noise, and
+    the true length parameters (the nominal ones plus N(0, ``args.perturb``)). The measurements
+    come from the true robot's own forward kinematics (``forward_pose`` from sampled inputs near
+    its home), not from the residual the fit uses."""
+    from parakin.mechanism import Mechanism as Model
+    from parakin.studies.sampling import sample_configurations
+
+    if kind not in ("pose", "position", "z"):
+        raise CalibrationDataError(f"--simulate makes pose, position or z measurements, not {kind!r}")
+    if count < 1 or not np.isfinite(args.perturb) or args.perturb < 0:
+        raise CalibrationDataError(f"--simulate N >= 1 and --perturb >= 0 needed, got {count}, {args.perturb}")
+    rng = np.random.default_rng(args.seed)
+    truth = {
+        p.name: float(m.parameters[p.name] + rng.normal(0.0, args.perturb))
+        for p in m.manifest.parameters
+        if p.unit == "m"
+    }
+    robot = Model(m.package, m.backend, {**m.parameters, **truth}, m.limits, m.actuated_ranges)
+    state = sample_configurations(robot, count, spread=0.05, seed=args.seed)
+    if len(state.actuated) == 0:
+        raise CalibrationDataError(f"no configuration of {m.name} near its home closed for the simulated robot")
+    pose = np.array(state.pose, dtype=float)
+    position = pose[:, :3, 3] + rng.normal(0.0, sigma, (len(pose), 3))
+    if kind == "pose":
+        turn = rng.normal(0.0, sigma_angle or 0.0, (len(pose), 3))
+        noisy = pose.copy()
+        noisy[:, :3, :3] = pose[:, :3, :3] @ _rotations(turn)
+        noisy[:, :3, 3] = position
+        return np.asarray(state.actuated), noisy, truth
+    return np.asarray(state.actuated), position if kind == "position" else position[:, 2], truth
+
+
+def _rotations(vectors: np.ndarray) -> np.ndarray:
+    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3) (Rodrigues)."""
+    angle = np.linalg.norm(vectors, axis=-1)[:, None, None]
+    skew = np.zeros((len(vectors), 3, 3))
+    skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -vectors[:, 2], vectors[:, 1], -vectors[:, 0]
+    skew = skew - np.swapaxes(skew, 1, 2)
+    with np.errstate(all="ignore"):
+        a = np.where(angle > 0, np.sin(angle) / angle, 1.0)
+        b = np.where(angle > 0, (1 - np.cos(angle)) / angle**2, 0.5)
+    return np.eye(3) + a * skew + b * skew @ skew
+
+
+__all__ = ["COLUMNS", "add_arguments", "read_csv", "record", "run", "simulate"]
