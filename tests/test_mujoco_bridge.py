@@ -358,11 +358,12 @@ def test_bridge_refuses_what_it_cannot_read():
         bridge.closed_chain(anchored, ["j"], "s")
 
 
-def test_settle_refuses_a_simulation_that_diverges():
+def test_settle_refuses_a_simulation_that_diverges(tmp_path, monkeypatch):
     """A step far too long for the model (1e-9 kg legs, 0.5 s steps): MuJoCo's accelerations go
     non-finite and it resets the state and its clock; ``settle`` says so by name, after a bounded
     number of steps, instead of stepping for ever (its bound was on the clock, which the reset
     moved back)."""
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes MUJOCO_LOG.TXT where it runs
     model, chain, m = five_bar()
     model.opt.timestep = 0.5
     data = mujoco.MjData(model)
