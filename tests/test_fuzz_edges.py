@@ -125,7 +125,16 @@ def reachable_actuated(name: str, count: int) -> np.ndarray:
     rng = np.random.default_rng(h.seed(name, "reachable actuated", count))
     if m.capabilities.inverse is None:
         return np.stack([h.perturb_actuated(m, m.home_actuated, rng) for _ in range(count)])
-    targets = np.stack([move_within(name, poses[i % len(poses)], rng, 1.0) for i in range(count)])
+    graph = m.manifest.joints
+    if graph is not None and graph.motion is not None and graph.motion.parasitic:
+        # lower mobility with parasitic motion: a pose moved along x, y, z or a turn is off the
+        # reachable set (its inverse is rightly invalid), so the targets are the forward poses of
+        # actuated values near home: reachable by construction
+        theta = np.stack([h.perturb_actuated(m, m.home_actuated, rng) for _ in range(count)])
+        solved = m.forward_pose(theta, np.broadcast_to(m.home_passive, (count, m.home_passive.size)), strict=False)
+        targets = solved.pose[np.asarray(solved.converged)]
+    else:
+        targets = np.stack([move_within(name, poses[i % len(poses)], rng, 1.0) for i in range(count)])
     ik = m.inverse_pose(targets, strict=False)
     rows = []
     for i in np.flatnonzero(ik.valid.any(-1)):
