@@ -17,8 +17,10 @@ setup(
         "parakin.solvers",
         "parakin.studies",
         "parakin.interfaces",
+        "parakin.calibration",
         "parakin.generator",
         "parakin.generator.templates",
+        "parakin.generator.runtime",
         "parakin.mechanisms",
         "parakin.generated",
         *(f"parakin.generated.{name}" for name in FOLDERS),
@@ -27,6 +29,7 @@ setup(
         "parakin": ["py.typed"],
         "parakin.interfaces": ["viewer.html"],
         "parakin.generator.templates": ["*.j2", "*.h"],
+        "parakin.generator.runtime": ["*.c", "*.h"],
         **{f"parakin.generated.{name}": ["*.json", "*.c", "*.h", "*.md"] for name in FOLDERS},
     },
 )
