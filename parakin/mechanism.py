@@ -326,9 +326,12 @@ class Mechanism:
         where the input has no mode. Only valid modes seed Newton: a slot that is not a mode
         (a complex endpoint, a candidate that did not close) can hold any value."""
         modes = self.forward_pose_all(actuated, strict=False)
-        difference = modes.passive - self.home_passive
-        difference = np.where(self._angular_passive, wrap_angle(difference), difference)
-        distance = np.where(modes.valid, np.abs(difference).max(-1), np.inf)
+        # nearest by pose, not by passive values: a quaternion and its negative, or two Euler
+        # readings, are one pose far apart in the passive values
+        home = np.asarray(self.platform_pose(self.home_actuated, self.home_passive))
+        turn = np.abs(modes.poses[..., :3, :3] - home[:3, :3]).max((-2, -1))
+        move = np.abs(modes.poses[..., :3, 3] - home[:3, 3]).max(-1) / length_scale(self)
+        distance = np.where(modes.valid, np.maximum(turn, move), np.inf)
         distance = np.where(np.isfinite(distance), distance, np.inf)  # argmin would pick a NaN
         best = np.argmin(distance, axis=-1)
         fallback = np.broadcast_to(self.home_passive, modes.passive.shape[:-2] + self.home_passive.shape)
