@@ -892,9 +892,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """``parakin mjcf``: write the MJCF of a mechanism; 0 on success."""
-    import parakin
+    from parakin.loading import load
 
-    m = parakin.load(args.name)
+    m = load(args.name)
     actuated = None
     if args.actuated:
         try:
