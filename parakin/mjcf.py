@@ -890,11 +890,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-modes", action="store_true", help="write no keyframes")
 
 
-def run(args: argparse.Namespace) -> int:
-    """``parakin mjcf``: write the MJCF of a mechanism; 0 on success."""
-    from parakin.loading import load
-
-    m = load(args.name)
+def run(args: argparse.Namespace, m: Mechanism) -> int:
+    """``parakin mjcf``: write the MJCF of ``m`` (loaded by the command line from ``args.name``);
+    0 on success."""
     actuated = None
     if args.actuated:
         try:

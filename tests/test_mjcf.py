@@ -21,7 +21,6 @@ the same mechanism file added to their manifest (a copy under a temporary folder
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import shutil
@@ -293,11 +292,10 @@ def test_parallelograms_are_four_bars(packages):
 
 
 def test_command_line_writes_the_file(packages, tmp_path):
-    parser = argparse.ArgumentParser()
-    mjcf.add_arguments(parser)
+    from parakin.interfaces.cli import main
+
     out = tmp_path / "five_bar.xml"
-    args = parser.parse_args([str(packages("five_bar")), "--out", str(out), "--accuracy", "accurate"])
-    assert mjcf.run(args) == 0
+    assert main(["mjcf", str(packages("five_bar")), "--out", str(out), "--accuracy", "accurate"]) == 0
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.nkey == 2 and math.isclose(model.opt.timestep, 2e-4)
 

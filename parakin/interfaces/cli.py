@@ -730,9 +730,10 @@ def _calibrate(args: argparse.Namespace) -> int:
 
 
 def _mjcf(args: argparse.Namespace) -> int:
+    from parakin.loading import load
     from parakin.mjcf import run
 
-    return run(args)
+    return run(args, load(args.name))
 
 
 def _view(args: argparse.Namespace) -> int:
