@@ -880,10 +880,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``parakin mjcf NAME``."""
     parser.add_argument("name", metavar="NAME", help="a mechanism's name or a generated package's folder")
     parser.add_argument("--out", metavar="FILE.xml", help="where to write the MJCF (default: standard output)")
-    parser.add_argument(
-        "--actuated", metavar="VALUES", help="comma-separated actuated values (rad, m) whose modes become keyframes "
-        "(default: the home)"
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
+        "--actuated", nargs="+", type=float, metavar="V",
+        help="actuated values (m, rad) whose assembly modes become keyframes (default: the home's)",
     )  # fmt: skip
+    group.add_argument(
+        "--actuated-deg", nargs="+", type=float, metavar="V", help="the same, revolute in degrees, prismatic in m"
+    )
     parser.add_argument("--accuracy", choices=list(PRESETS), default="fast", help="simulation preset (default fast)")
     parser.add_argument("--timestep", type=float, help="simulation step in s (default: the preset's)")
     parser.add_argument("--payload", type=float, default=0.0, help="payload mass in kg (default 0)")
@@ -893,12 +897,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace, m: Mechanism) -> int:
     """``parakin mjcf``: write the MJCF of ``m`` (loaded by the command line from ``args.name``);
     0 on success."""
-    actuated = None
-    if args.actuated:
-        try:
-            actuated = [float(v) for v in args.actuated.split(",")]
-        except ValueError:
-            raise BadInputError(f"--actuated: {args.actuated!r} is not comma-separated numbers") from None
+    actuated = args.actuated  # in SI units (the command line converts --actuated-deg)
     text = to_mjcf(
         m, actuated=actuated, modes="none" if args.no_modes else "all", timestep=args.timestep,
         accuracy=args.accuracy, payload=args.payload,

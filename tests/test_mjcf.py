@@ -384,3 +384,21 @@ def test_hostile_joint_graph_fields_are_named():
             Manifest.from_dict(broken)
         checked += 1
     assert checked == len(HOSTILE_GRAPH)
+
+
+def test_command_line_keyframes_of_given_inputs_in_degrees(packages, tmp_path):
+    """``parakin mjcf five_bar --actuated-deg A B``: the keyframes are the modes of those inputs,
+    their ctrl the inputs in radians (as ``--actuated`` in radians gives), and a wrong count of
+    values is a named error (exit 2)."""
+    from parakin.interfaces.cli import main
+
+    m = parakin.load(str(packages("five_bar")), backend="numpy")
+    theta = m.home_actuated + np.array([0.05, -0.04])
+    out = tmp_path / "deg.xml"
+    degrees = [f"{v:.15g}" for v in np.rad2deg(theta)]
+    assert main(["mjcf", str(packages("five_bar")), "--out", str(out), "--actuated-deg", *degrees]) == 0
+    model = mujoco.MjModel.from_xml_path(str(out))
+    modes = m.forward_pose_all(theta)
+    assert model.nkey == int(modes.count) >= 1
+    np.testing.assert_allclose(model.key_ctrl.reshape(model.nkey, -1), np.tile(theta, (model.nkey, 1)), atol=1e-12)
+    assert main(["mjcf", str(packages("five_bar")), "--out", str(out), "--actuated-deg", "100"]) == 2

@@ -733,7 +733,10 @@ def _mjcf(args: argparse.Namespace) -> int:
     from parakin.loading import load
     from parakin.mjcf import run
 
-    return run(args, load(args.name))
+    m = load(args.name)
+    if args.actuated_deg is not None:
+        args.actuated = list(_from_cli_units(m.manifest.actuated, args.actuated_deg, True))
+    return run(args, m)
 
 
 def _view(args: argparse.Namespace) -> int:
