@@ -7,6 +7,7 @@ backend, and return named results. Conventions are those of the mechanism's gene
 from __future__ import annotations
 
 import ctypes
+import functools
 import threading
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -632,12 +633,14 @@ class Mechanism:
         numbers in millimetres, metres or kilometres, and the modes are scaled back."""
         if info.homotopy is None:
             return self._every_mode_here(info, flat, exact)
-        unit_free = self._unit_free()
+        unit_free = self._unit_free
         if unit_free is None:
             return self._every_mode_here(info, flat, exact)
         scaled, unit = unit_free
-        out = scaled._every_mode_here(info, np.where(self._length_actuated, flat / unit, flat), exact)
-        out["passive"] = np.where(self._length_passive, out["passive"] * unit, out["passive"])
+        length_actuated = np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool)
+        length_passive = np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool)
+        out = scaled._every_mode_here(info, np.where(length_actuated, flat / unit, flat), exact)
+        out["passive"] = np.where(length_passive, out["passive"] * unit, out["passive"])
         out["poses"][..., :3, 3] *= unit
         # the closure residual in the caller's units, at the modes' own values
         where = np.isfinite(out["residual"]) & np.isfinite(out["passive"]).all(-1)
@@ -647,42 +650,29 @@ class Mechanism:
             out["residual"][rows, slots] = np.abs(residual["residual"]).max(-1, initial=0.0)
         return out
 
+    @functools.cached_property
     def _unit_free(self) -> tuple[Mechanism, float] | None:
         """This mechanism with every length divided by a power of two near its size, and that
         power (an exact scaling in floating point); None where no rescaling is needed or where a
         parameter's unit is not a length, an angle or a pure number (its scaling is not known)."""
-        if "_unit_free_cache" in self.__dict__:
-            return self.__dict__["_unit_free_cache"]
         known = all(p.unit in ("m", "rad", "") for p in self.manifest.parameters)
         unit = float(np.exp2(np.round(np.log2(length_scale(self)))))
-        result = None
-        if known and unit != 1.0:
+        if not known or unit == 1.0:
+            return None
 
-            def scaled(variables: Sequence[Variable], values: Mapping[str, tuple[float, float]]) -> dict:
-                lengths = {v.name for v in variables if v.unit == "m"}
-                return {k: (lo / unit, hi / unit) if k in lengths else (lo, hi) for k, (lo, hi) in values.items()}
+        def scaled(variables: Sequence[Variable], values: Mapping[str, tuple[float, float]]) -> dict:
+            lengths = {v.name for v in variables if v.unit == "m"}
+            return {k: (lo / unit, hi / unit) if k in lengths else (lo, hi) for k, (lo, hi) in values.items()}
 
-            parameters = {
-                p.name: value / unit if p.unit == "m" else value
-                for p, value in zip(self.manifest.parameters, self.params, strict=True)
-            }
-            result = (
-                Mechanism(
-                    self.package, self.backend, parameters, scaled(self.manifest.passive, self.limits),
-                    scaled(self.manifest.actuated, self.actuated_ranges),
-                ),
-                unit,
-            )  # fmt: skip
-        self.__dict__["_unit_free_cache"] = result
-        return result
-
-    @property
-    def _length_actuated(self) -> np.ndarray:
-        return np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool)
-
-    @property
-    def _length_passive(self) -> np.ndarray:
-        return np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool)
+        parameters = {
+            p.name: value / unit if p.unit == "m" else value
+            for p, value in zip(self.manifest.parameters, self.params, strict=True)
+        }
+        limits, ranges = (
+            scaled(self.manifest.passive, self.limits),
+            scaled(self.manifest.actuated, self.actuated_ranges),
+        )
+        return Mechanism(self.package, self.backend, parameters, limits, ranges), unit
 
     def _every_mode_here(self, info: Forward, flat: Array, exact: bool) -> dict[str, np.ndarray]:
         """The all-modes pipeline in this mechanism's own numbers: compiled C or NumPy, then certified."""

@@ -32,6 +32,7 @@ import numpy as np
 from parakin.calibration.data import KINDS, CalibrationData
 from parakin.calibration.errors import CalibrationDataError
 from parakin.calibration.fit import CalibrationResult, calibrate
+from parakin.calibration.frames import rotation
 from parakin.mechanism import Mechanism
 from parakin.pose import pose_from_xyz_euler
 
@@ -232,22 +233,10 @@ def simulate(
     if kind == "pose":
         turn = rng.normal(0.0, sigma_angle or 0.0, (len(pose), 3))
         noisy = pose.copy()
-        noisy[:, :3, :3] = pose[:, :3, :3] @ _rotations(turn)
+        noisy[:, :3, :3] = pose[:, :3, :3] @ np.stack([rotation(t) for t in turn])
         noisy[:, :3, 3] = position
         return np.asarray(state.actuated), noisy, truth
     return np.asarray(state.actuated), position if kind == "position" else position[:, 2], truth
-
-
-def _rotations(vectors: np.ndarray) -> np.ndarray:
-    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3) (Rodrigues)."""
-    angle = np.linalg.norm(vectors, axis=-1)[:, None, None]
-    skew = np.zeros((len(vectors), 3, 3))
-    skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -vectors[:, 2], vectors[:, 1], -vectors[:, 0]
-    skew = skew - np.swapaxes(skew, 1, 2)
-    with np.errstate(all="ignore"):
-        a = np.where(angle > 0, np.sin(angle) / angle, 1.0)
-        b = np.where(angle > 0, (1 - np.cos(angle)) / angle**2, 0.5)
-    return np.eye(3) + a * skew + b * skew @ skew
 
 
 __all__ = ["COLUMNS", "add_arguments", "read_csv", "record", "run", "simulate"]
