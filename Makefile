@@ -25,7 +25,7 @@ demo: generate
 	$(BIN)/parakin demo
 
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n auto --durations=15
 
 bench: $(STAMP)
 	$(BIN)/python -m bench
