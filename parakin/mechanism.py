@@ -209,8 +209,31 @@ class Mechanism:
         return self._actuated_low, self._actuated_high
 
     def within_limits(self, passive: ArrayLike) -> np.ndarray:
-        """Whether passive values (..., n_p) lie inside ``limits`` (open interval), over the batch;
-        a NaN or infinite entry is never within them."""
+        """Whether passive values lie inside the passive joint limits ``limits`` (open intervals).
+
+        Parameters
+        ----------
+        passive : array_like, shape (..., n_p)
+            Passive joint values (m or rad, in ``passive_names`` order), any leading batch shape.
+            NaN and infinite entries are accepted and are never within the limits.
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (...)
+            True where every limited passive value lies strictly inside its limits.
+
+        Raises
+        ------
+        BadInputError
+            ``passive`` is not numeric or its last axis is not n_p long.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.within_limits([[0.0, 0.33], [float("nan"), 0.33]]).tolist()
+        [True, False]
+        """
         checked = as_array(passive, "passive", (len(self.passive_names),), finite=False)
         values = checked[..., self._limit_index]
         finite = np.isfinite(checked).all(-1)
@@ -218,12 +241,39 @@ class Mechanism:
 
     # ------------------------------------------------------------------ pose kernels
     def platform_pose(self, actuated: ArrayLike, passive: ArrayLike) -> Array:
-        """^B_P T from joint values through the mechanism's pose kernel (e.g. the first leg's
-        forward chain, eq 2-3): always a rigid transform (rotation orthonormal to rounding).
-        A kernel that reads the platform from several legs gives a rigid pose only where the
-        joint values close the loop: elsewhere (rotation off orthonormal by more than 1e-6, the
-        tolerance of a pose input) InconsistentInputError names the batch index and the
-        loop-closure residual."""
+        """The platform pose ^B_P T from joint values, through the mechanism's pose kernel.
+
+        The kernel is e.g. the first leg's forward chain (eq 2-3); the result is always a rigid
+        transform (rotation orthonormal to rounding). A kernel that reads the platform from several
+        legs gives a rigid pose only where the joint values close the loop.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad), inside ``actuated_ranges``.
+        passive : array_like, shape (..., n_p)
+            Passive values (m or rad); batch axes broadcast against ``actuated``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 4, 4)
+            ^B_P T: the platform frame {P} in the base frame {B} (metres).
+
+        Raises
+        ------
+        BadInputError
+            A value outside its range, non-finite, or a kernel output that is not finite.
+        InconsistentInputError
+            The joint values do not close the loop and give no rigid pose (rotation off orthonormal
+            by more than 1e-6): the message names the batch index and the loop-closure residual.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.platform_pose(m.home_actuated, m.home_passive)[:3, 3].round(3).tolist()
+        [0.0, 0.33, 0.0]
+        """
         theta, q = self._actuated(actuated), self._passive(passive)
         kernel = self._finite("platform_pose", theta, q)["pose"]
         pose, rigid = rigid_or_nan(kernel)
@@ -243,7 +293,36 @@ class Mechanism:
         return pose
 
     def loop_closure(self, actuated: ArrayLike, passive: ArrayLike) -> dict[str, Array]:
-        """Loop-closure residual and its passive Jacobian (see ``parakin inspect``)."""
+        """The loop-closure residual and its passive Jacobian (``parakin inspect`` shows them symbolically).
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad), inside ``actuated_ranges``.
+        passive : array_like, shape (..., n_p)
+            Passive values (m or rad); batch axes broadcast.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``residual`` (..., n_p): position difference (m) and rotation error (rad) between the
+            legs, zero where the loop closes; ``jacobian`` (..., n_p, n_p): its derivative in the
+            passive values; ``alignment`` (..., k): measures that are positive on a true closure
+            (not a half-turn or mirror).
+
+        Raises
+        ------
+        BadInputError
+            An input out of range or non-finite, or an output that is not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> out = m.loop_closure(m.home_actuated, m.home_passive)
+        >>> sorted(out), bool(abs(out["residual"]).max() < 1e-12)
+        (['alignment', 'jacobian', 'residual'], True)
+        """
         return self._finite("loop_closure", self._actuated(actuated), self._passive(passive))
 
     def _as_transform(self, pose: ArrayLike, name: str = "pose") -> Array:
@@ -255,11 +334,47 @@ class Mechanism:
         return transform
 
     def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
-        """Every closed-form inverse branch for ^B_P T (..., 4, 4) (or R (..., 3, 3) for an
-        orienting platform).
+        """Every closed-form inverse branch for a platform pose.
 
-        With ``strict``, a pose with no valid branch raises UnreachablePoseError (limits) or
-        SingularConfigurationError (every branch at a serial singularity), naming the pose index.
+        Branch k has the signs ``InversePose.branches[k]`` (branch 0: all +1, then binary counting
+        with -1 as the set bit, most significant first).
+
+        Parameters
+        ----------
+        pose : array_like, shape (..., 4, 4)
+            ^B_P T in metres, or the short form of the pose kind (``m.manifest.pose_kind``, e.g.
+            R (..., 3, 3) for an orienting platform, see ``parakin.pose.POSE_KINDS``).
+        strict : bool
+            Raise when a pose has no valid branch (default); with False such poses come back with
+            every ``valid`` entry False and the reasons in ``failures``.
+
+        Returns
+        -------
+        InversePose
+            ``actuated`` (..., K, n_a), ``passive`` (..., K, n_p), ``valid`` (..., K) for the K
+            branches; ``branch(k)`` is one branch as a Configuration.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no closed-form inverse.
+        BadInputError
+            A pose that is not rigid, not finite, or too far away.
+        UnreachablePoseError
+            With ``strict``: joint limits, actuator ranges or reach conditions fail on every branch
+            (the message names the pose index).
+        SingularConfigurationError
+            With ``strict``: every branch is at a serial singularity.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> branches = m.inverse_pose(m.platform_pose(m.home_actuated, m.home_passive))
+        >>> branches.valid.tolist()
+        [True, True, True, True]
+        >>> branches.actuated[0].round(3).tolist()  # branch 0 is the home input
+        [1.865, 1.276]
         """
         info = self.capabilities.inverse
         self._require(info, "inverse_pose", "closed-form inverse")
@@ -340,7 +455,35 @@ class Mechanism:
         return np.where(np.asarray(modes.valid.any(-1))[..., None], chosen, fallback)
 
     def passive_from_pose(self, actuated: ArrayLike, pose: ArrayLike) -> Array:
-        """The passive values of the inverse branch whose actuated values match ``actuated``."""
+        """The passive values of the inverse branch whose actuated values match ``actuated``.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad).
+        pose : array_like, shape (..., 4, 4)
+            ^B_P T (metres) or the pose kind's short form; batch axes broadcast.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_p)
+            Passive values (m or rad) of the best-matching valid branch.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no closed-form inverse.
+        BadInputError
+            An input out of range, non-finite or not rigid.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> pose = m.platform_pose(m.home_actuated, m.home_passive)
+        >>> m.passive_from_pose(m.home_actuated, pose).round(3).tolist()
+        [0.0, 0.33]
+        """
         theta = self._actuated(actuated)
         branches = self.inverse_pose(pose, strict=False)
         difference = np.where(
@@ -366,17 +509,52 @@ class Mechanism:
     ) -> ForwardPose:
         """Forward pose by Newton on the loop closure in the passive variables.
 
-        ``guess``: a previous result (tracking), passive values (..., n_p), a pose (..., 4, 4), or
-        None: then the valid assembly mode nearest the home configuration (eq 15 for SAM) seeds
-        Newton, or the home configuration itself when there is no closed form or no mode. The
-        residual is the position difference and rotation error between the legs (max-norm,
-        metres and radians). With ``strict``, non-convergence raises ConvergenceError (with the
-        residual reached), a singular Newton matrix SingularConfigurationError, and a loop
-        closure that is not defined at the guess (e.g. a zero quaternion) BadInputError naming
-        it, the same on every backend. Poses are rigid: a converged entry whose pose kernel is
-        not rigid at the tolerance asked for gets the nearest rotation; an entry that did not
-        converge (``strict=False``) keeps its guess as ``passive``, and its ``pose`` is NaN
-        unless that guess gives a rigid pose.
+        The residual is the position difference and rotation error between the legs (max-norm,
+        metres and radians). Poses are rigid: a converged entry whose pose kernel is not rigid at
+        the tolerance asked for gets the nearest rotation; an entry that did not converge
+        (``strict=False``) keeps its guess as ``passive``, and its ``pose`` is NaN unless that guess
+        gives a rigid pose.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad), inside ``actuated_ranges``.
+        guess : Configuration or array_like or None
+            A previous result (tracking), passive values (..., n_p), a pose ^B_P T (..., 4, 4), or
+            None: the valid assembly mode nearest the home configuration (eq 15 for SAM) seeds
+            Newton, or the home configuration itself when there is no closed form or no mode.
+        tolerance : float
+            Newton stops when the residual's max-norm is below this (m and rad).
+        max_iterations : int
+            The most Newton steps.
+        max_step : float
+            The largest step in any passive value (m or rad).
+        strict : bool
+            Raise on any entry that did not converge (default); with False, read ``converged``.
+
+        Returns
+        -------
+        ForwardPose
+            A Configuration (``actuated``, ``passive`` (..., n_p), ``pose`` (..., 4, 4)) with
+            ``residual``, ``iterations``, ``converged`` and ``within_limits`` per entry.
+
+        Raises
+        ------
+        BadInputError
+            An input out of range or non-finite, or a loop closure undefined at the guess (e.g. a
+            zero quaternion).
+        ConvergenceError
+            With ``strict``: Newton did not converge (the residual reached is in the message).
+        SingularConfigurationError
+            With ``strict``: the Newton matrix is singular (a type II singularity).
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> solved = m.forward_pose(m.home_actuated)
+        >>> bool(solved.converged), solved.passive.round(3).tolist()
+        (True, [0.0, 0.33])
         """
         theta = self._actuated(actuated)
         tolerance = newton_tolerance(tolerance)
@@ -543,22 +721,61 @@ class Mechanism:
         jump_ratio: float = tracking.JUMP_RATIO,
         trust_step: float = tracking.TRUST_STEP,
     ) -> ForwardPoseTracker:
-        """A ForwardPoseTracker from ``start`` (a solved configuration, batch allowed): Newton from
-        the previous solution with preallocated buffers; the fast path of a control loop. It
-        reports every change of assembly mode (a crossed type II singularity, a jump to another
-        branch) in ``mode_change``, and with ``strict`` raises AssemblyModeChangeError."""
+        """A ForwardPoseTracker from ``start``: the fast path of a control loop.
+
+        Newton runs from the previous solution with preallocated buffers. The tracker reports every
+        change of assembly mode (a crossed type II singularity, a jump to another branch) in
+        ``mode_change``.
+
+        Parameters
+        ----------
+        start : Configuration
+            A solved configuration (from ``forward_pose``, ``forward_pose_all(...).mode(k)`` or
+            ``inverse_pose(...).branch(k)``); a batch tracks every entry.
+        tolerance : float
+            Newton tolerance on the residual's max-norm (m and rad).
+        max_iterations : int
+            The most Newton steps per call.
+        strict : bool
+            Raise AssemblyModeChangeError on a change of assembly mode (default).
+        jump_ratio : float
+            A solution that moved more than this times the first Newton step is suspect.
+        trust_step : float
+            The largest Newton step trusted without a check (m or rad).
+
+        Returns
+        -------
+        ForwardPoseTracker
+            Call ``solve(actuated)`` for each new input.
+
+        Raises
+        ------
+        BadInputError
+            ``start`` is not a Configuration, or a setting is out of range.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> tracker = m.tracker(m.forward_pose(m.home_actuated))
+        >>> passive, pose = tracker.solve(m.home_actuated + 0.01)
+        >>> passive.round(4).tolist(), tracker.mode_change.tolist()
+        ([-0.0023, 0.33], [0])
+        """
         return ForwardPoseTracker(self, start, tolerance, max_iterations, strict, jump_ratio, trust_step)
 
     # ------------------------------------------------------------------ forward pose, all modes
     def forward_pose_all(
         self, actuated: ArrayLike, strict: bool = True, method: str | None = None, certify: str = "exact"
     ) -> AssemblyModes:
-        """Every real assembly mode, by ``method`` (``capabilities.forward_methods``; None: the
-        default, the fastest complete one): "elimination", the generated univariate polynomial of
-        a closed form written with the mechanism; "homotopy", the mechanism's own polynomial
-        system; "automatic", the polynomial form the generator derives from the loop closure,
-        whose generic root count is proven at generation time (total-degree bound or trace test). A homotopy
-        follows one path per solution of its generated start system (``root_count`` paths).
+        """Every real assembly mode for each input.
+
+        Methods (``capabilities.forward_methods``): "elimination", the generated univariate
+        polynomial of a closed form written with the mechanism; "homotopy", the mechanism's own
+        polynomial system; "automatic", the polynomial form the generator derives from the loop
+        closure, whose generic root count is proven at generation time (total-degree bound or trace
+        test). A homotopy follows one path per solution of its generated start system
+        (``root_count`` paths).
 
         Every real root of the polynomial is isolated (none is lost: roots are separated by the
         roots of the derivative; near-double roots and roots at infinity are reported), back
@@ -567,14 +784,51 @@ class Mechanism:
         Slots: M = degree x branch combinations; ``valid`` marks modes, ``outcome`` says what
         became of every other slot and ``certificate()`` accounts for every root. A mode at a
         type II singularity is kept with its ``conditioning`` near 0 (``ill_conditioned()``).
-        With ``strict``, a degenerate elimination with no isolated mode (e.g. SAM with parallel
-        U-joint axes: a self-motion) raises SelfMotionError or SingularConfigurationError.
 
-        ``certify`` (homotopy methods): "exact" (default) tests every endpoint that the
-        double-precision Krawczyk test cannot certify again in exact dyadic arithmetic
-        (``parakin.solvers.exact_certify``: milliseconds per such root; ill-conditioned roots near
-        infinity need it), "double" only in double precision (faster; such roots stay
-        uncertified and the input incomplete).
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad), inside ``actuated_ranges``; any leading batch shape. A
+            batch of at least ``BAR_STEP`` inputs shows a progress bar (``parakin.log.progress``).
+        strict : bool
+            Raise when an input's elimination is degenerate with no isolated mode (default).
+        method : str or None
+            One of ``capabilities.forward_methods``; None: the default, the fastest complete one.
+        certify : {"exact", "double"}
+            Homotopy methods: "exact" (default) tests every endpoint that the double-precision
+            Krawczyk test cannot certify again in exact dyadic arithmetic
+            (``parakin.solvers.exact_certify``: milliseconds per such root; ill-conditioned roots
+            near infinity need it); "double" only in double precision (faster; such roots stay
+            uncertified and the input incomplete).
+
+        Returns
+        -------
+        AssemblyModes
+            ``poses`` (..., M, 4, 4), ``passive`` (..., M, n_p), ``valid`` (..., M), ``count``
+            (...), ``conditioning`` (..., M) and the accounting of every slot; ``mode(k)`` is the
+            k-th mode of each input as a Configuration.
+
+        Raises
+        ------
+        BadInputError
+            An input out of range or non-finite, or ``certify`` not "exact" or "double".
+        UnsupportedOperationError
+            No forward method (use ``forward_pose``), or an unknown ``method``.
+        SelfMotionError
+            With ``strict``: the platform moves with the actuators locked (e.g. SAM with parallel
+            U-joint axes); the solution set is attached (``.solution_set``).
+        SingularConfigurationError
+            With ``strict``: a degenerate elimination with no closed configuration near home.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> modes = m.forward_pose_all(m.home_actuated)
+        >>> int(modes.count), modes.passive[modes.valid].round(4).tolist()
+        (2, [[0.0, 0.0528], [0.0, 0.33]])
+        >>> m.forward_pose_all([[1.8, 1.3], [1.9, 1.2]]).count.tolist()  # a batch of two inputs
+        [2, 2]
         """
         if certify not in ("exact", "double"):
             raise BadInputError(f"certify must be 'exact' or 'double', got {certify!r}")
@@ -732,8 +986,35 @@ class Mechanism:
         return methods[method]
 
     def forward_pose_all_chunks(self, actuated: ArrayLike, chunk: int = 65536, strict: bool = True):
-        """``forward_pose_all`` over a flat batch (N, n_a), one ``(start, AssemblyModes)`` per
-        chunk of at most ``chunk`` inputs: memory bounded by the chunk whatever N."""
+        """``forward_pose_all`` over a flat batch, chunk by chunk: memory bounded by the chunk.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad); flattened to (N, n_a).
+        chunk : int
+            The most inputs per chunk, positive.
+        strict : bool
+            As in ``forward_pose_all``.
+
+        Yields
+        ------
+        tuple of (int, AssemblyModes)
+            The flat index of the chunk's first input and its modes, chunk by chunk in order.
+
+        Raises
+        ------
+        BadInputError
+            An input out of range, or ``chunk`` not a positive integer.
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> inputs = np.stack([m.home_actuated] * 3)
+        >>> [(start, modes.count.tolist()) for start, modes in m.forward_pose_all_chunks(inputs, chunk=2)]
+        [(0, [2, 2]), (2, [2])]
+        """
         theta = self._actuated(actuated).reshape(-1, len(self.actuated_names))
         if not (isinstance(chunk, int | np.integer) and chunk > 0):
             raise BadInputError(f"chunk must be a positive integer, got {chunk!r}")
@@ -741,9 +1022,37 @@ class Mechanism:
             yield start, self.forward_pose_all(theta[start : start + chunk], strict=strict)
 
     def count_modes(self, actuated: ArrayLike, chunk: int = 65536) -> dict[str, Array]:
-        """Per input (batch shape of ``actuated``): ``count`` of assembly modes, ``real_roots``,
-        ``near_roots``, ``at_infinity``, ``status`` and ``min_conditioning`` over the modes,
-        computed chunk by chunk (peak memory set by ``chunk``, not by the batch)."""
+        """The number of assembly modes per input, computed chunk by chunk.
+
+        Peak memory is set by ``chunk``, not by the batch; one progress bar counts the inputs.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (..., n_a)
+            Actuated values (m or rad).
+        chunk : int
+            The most inputs solved at once.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray, each shape (...)
+            ``count`` of assembly modes, ``real_roots``, ``near_roots``, ``at_infinity``,
+            ``status`` and ``min_conditioning`` over the modes (NaN without a mode).
+
+        Raises
+        ------
+        BadInputError
+            An input out of range or non-finite, or ``chunk`` not a positive integer.
+        UnsupportedOperationError
+            The mechanism has no forward method.
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.count_modes(np.stack([m.home_actuated, m.home_actuated]))["count"].tolist()
+        [2, 2]
+        """
         theta = self._actuated(actuated)
         shape = theta.shape[:-1]
         keys = ("count", "real_roots", "near_roots", "at_infinity", "status")
@@ -760,9 +1069,40 @@ class Mechanism:
         return {key: value.reshape(shape) for key, value in result.items()}
 
     def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
-        """The solution set of the loop closure for one locked input where it is a curve (a
-        self-motion), traced by continuation from ``starts`` (k, n_p) or from the home
-        configuration and random perturbations of it (see ``parakin.solvers.continuation``)."""
+        """The solution set of the loop closure for one locked input, traced by continuation.
+
+        Where the set is a curve (a self-motion), points are traced along it from ``starts`` or from
+        the home configuration and random perturbations of it (``parakin.solvers.continuation``);
+        where the modes are isolated the points found are those modes.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (n_a,)
+            One locked input (m or rad).
+        starts : array_like, shape (k, n_p), optional
+            Passive values to start the continuation from.
+        step : float
+            The continuation step (m or rad), positive.
+
+        Returns
+        -------
+        SelfMotion
+            ``passive`` (k, n_p), ``poses`` (k, 4, 4), ``residual`` (k,), ``curve`` (k,) and
+            ``closed`` per traced curve.
+
+        Raises
+        ------
+        BadInputError
+            A batch of inputs, an input out of range, or ``step`` not positive.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> motion = m.self_motion(m.home_actuated)
+        >>> bool(motion.count > 0 and (motion.residual < 1e-9).all())
+        True
+        """
         theta = self._actuated(actuated)
         step = positive_number(step, "step")
         if theta.ndim != 1:
@@ -771,9 +1111,35 @@ class Mechanism:
         return trace_self_motion(self, theta, start, step)
 
     def least_squares(self, actuated: ArrayLike, start: Configuration | ArrayLike) -> LeastSquares:
-        """For locked inputs that no configuration satisfies exactly: the passive values that
-        minimise the loop-closure residual (Levenberg-Marquardt from ``start``); its ``norm`` is
-        the distance from compatible inputs (0 where they are compatible)."""
+        """For locked inputs that no configuration satisfies exactly: the passive values that minimise
+        the loop-closure residual (Levenberg-Marquardt from ``start``).
+
+        Parameters
+        ----------
+        actuated : array_like, shape (n_a,)
+            One input (m or rad).
+        start : Configuration or array_like, shape (n_p,)
+            Where Levenberg-Marquardt starts.
+
+        Returns
+        -------
+        LeastSquares
+            ``passive`` (n_p,), ``pose`` (4, 4), ``residual`` (n_p,), ``norm`` (the distance from
+            compatible inputs: 0 where they are compatible) and ``iterations``.
+
+        Raises
+        ------
+        BadInputError
+            A batch of inputs, or an input out of range or non-finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> fit = m.least_squares(m.home_actuated, m.home_passive)
+        >>> bool(fit.norm < 1e-12), fit.passive.round(3).tolist()
+        (True, [0.0, 0.33])
+        """
         theta = self._actuated(actuated)
         if theta.ndim != 1:
             raise BadInputError(f"least_squares takes one input (n_a,), got shape {theta.shape}")
@@ -782,13 +1148,68 @@ class Mechanism:
 
     # ------------------------------------------------------------------ rates
     def rate_jacobians(self, state: Configuration) -> dict[str, Array]:
-        """A and B of A twist = B actuated_rates (mechanisms with a rate model, e.g. the SPM)."""
+        """A and B of A twist = B actuated_rates (mechanisms with a rate model, e.g. the SPM).
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration (from a solver); batch allowed.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``a`` (..., n_t, n_t) and ``b`` (..., n_t, n_a) over the twist components
+            ``capabilities.rates.twist`` (v of the origin of {P}, w; in {B}); a lower-mobility
+            platform adds ``constraints`` (..., n_c, 6), its constraint wrenches.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no A/B rate model.
+        BadInputError
+            ``state`` is not a Configuration, or an output is not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> jacobians = m.rate_jacobians(m.forward_pose(m.home_actuated))
+        >>> {name: value.shape for name, value in jacobians.items()}
+        {'a': (2, 2), 'b': (2, 2)}
+        """
         self._require(self.capabilities.rates, "rate_jacobians", "A/B rate model")
         theta, passive = self._state(state)
         return self._finite("rate_jacobians", theta, passive)
 
     def passive_rates(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
-        """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot."""
+        """Passive joint rates from the loop closure: J_q qdot = -J_theta theta_dot.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        actuated_rates : array_like, shape (..., n_a)
+            Actuated rates (m/s or rad/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_p)
+            Passive rates (m/s or rad/s).
+
+        Raises
+        ------
+        BadInputError
+            ``state`` is not a Configuration, or a rate is not finite.
+        SingularConfigurationError
+            The loop-closure Jacobian is singular (a type II singularity).
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.passive_rates(m.forward_pose(m.home_actuated), [0.1, 0.0]).round(4).tolist()
+        [-0.0115, -0.0173]
+        """
         theta, passive = self._state(state)
         rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         out = self.backend.call("loop_closure", theta, passive, self.params)
@@ -797,22 +1218,79 @@ class Mechanism:
         return self._solve(out["jacobian"], right, "loop-closure Jacobian", "a type II (parallel) singularity")
 
     def leg_jacobians(self, state: Configuration) -> dict[str, Array]:
-        """Each leg's 6x6 Jacobian (eq 9): twist (v of the origin of {P}, w; in {B}) per joint
-        rate, columns in the leg's joint order (``m.capabilities.legs``)."""
+        """Each leg's 6x6 Jacobian (eq 9): twist per joint rate, columns in the leg's joint order.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray, each shape (..., 6, 6)
+            Per leg (``capabilities.legs``): the twist (v of the origin of {P}, w; in {B}) per
+            joint rate.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no serial legs.
+        BadInputError
+            ``state`` is not a Configuration, or an output is not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("sam", backend="numpy")
+        >>> jacobians = m.leg_jacobians(m.forward_pose(m.home_actuated))
+        >>> {leg: value.shape for leg, value in jacobians.items()}
+        {'left': (6, 6), 'right': (6, 6)}
+        """
         self._require(self.capabilities.legs, "leg_jacobians", "serial legs")
         theta, passive = self._state(state)
         return self._finite("leg_jacobians", theta, passive)
 
     def inverse_rate(self, state: Configuration, twist: ArrayLike, damping: float | None = None) -> Rates:
-        """Joint rates for a platform twist (..., 6) = (v, w) in {B} (eq 10), leg by leg.
+        """Joint rates for a platform twist (eq 10), leg by leg or through the rate model.
 
-        ``damping``: None solves exactly and raises SingularConfigurationError at a singular
-        Jacobian; a value lambda > 0 uses the damped pseudo-inverse J^T (J J^T + lambda^2 I)^-1 of
-        the matrix that maps joint rates to the twist (each leg's J, or B of A twist = B rates),
-        the paper's recommendation near a serial singularity (the motion is then not exactly as
-        commanded). A single state broadcasts against a batch of twists and the reverse. A
-        lower-mobility platform (a rate model with constraint wrenches C) takes only twists it can
-        make, |C_i . twist| <= CONSTRAINT_TOLERANCE |C_i| |twist|, and raises BadInputError otherwise.
+        A single state broadcasts against a batch of twists and the reverse. A lower-mobility
+        platform (a rate model with constraint wrenches C) takes only twists it can make,
+        |C_i . twist| <= CONSTRAINT_TOLERANCE |C_i| |twist|.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        twist : array_like, shape (..., n_t)
+            The platform twist over ``capabilities.rates.twist`` (or the six (v, w) of a leg
+            model): v of the origin of {P} (m/s) and w (rad/s), both in {B}.
+        damping : float or None
+            None solves exactly; lambda > 0 uses the damped pseudo-inverse
+            J^T (J J^T + lambda^2 I)^-1, the paper's recommendation near a serial singularity (the
+            motion is then not exactly as commanded).
+
+        Returns
+        -------
+        Rates
+            ``actuated`` (..., n_a) and ``passive`` (..., n_p) joint rates (m/s or rad/s).
+
+        Raises
+        ------
+        SingularConfigurationError
+            Without damping: a singular Jacobian (a serial, type I singularity).
+        BadInputError
+            A twist the platform cannot make, a non-finite twist, or ``damping`` not positive.
+        UnsupportedOperationError
+            The mechanism has neither a rate model nor serial legs.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> state = m.forward_pose(m.home_actuated)
+        >>> twist = m.forward_rate(state, [0.1, 0.0])
+        >>> m.inverse_rate(state, twist).actuated.round(6).tolist()  # the round trip
+        [0.1, 0.0]
         """
         if damping is not None:
             damping = positive_number(damping, "damping")
@@ -875,8 +1353,33 @@ class Mechanism:
             )
 
     def rate_matrix(self, state: Configuration) -> Array:
-        """M of eq (11): actuated rates = M @ twist; rows of each leg's inverse Jacobian that
-        belong to actuated joints, in actuated order."""
+        """M of eq (11): actuated rates = M @ twist, from the legs' inverse Jacobians.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_a, 6)
+            Rows of each leg's inverse Jacobian that belong to actuated joints, in actuated order;
+            columns (v, w) in {B}.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no serial legs.
+        SingularConfigurationError
+            A leg Jacobian is singular.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("sam", backend="numpy")
+        >>> m.rate_matrix(m.forward_pose(m.home_actuated)).shape
+        (6, 6)
+        """
         jacobians = self.leg_jacobians(state)
         rows: list[np.ndarray] = [np.zeros(0)] * len(self.actuated_names)
         for leg, jacobian in jacobians.items():
@@ -890,9 +1393,38 @@ class Mechanism:
         return np.stack(rows, axis=-2)
 
     def forward_rate(self, state: Configuration, actuated_rates: ArrayLike) -> Array:
-        """Platform twist (v, w) in {B} from actuator rates: twist = M^-1 theta_dot (eq 12), or
-        A twist = B theta_dot with a rate model (and constraints twist = 0 for a lower-mobility
-        platform: its parasitic components come out with the rest)."""
+        """Platform twist from actuator rates: twist = M^-1 theta_dot (eq 12), or A twist = B theta_dot.
+
+        With a rate model, a lower-mobility platform also satisfies constraints @ twist = 0: its
+        parasitic components come out with the rest.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        actuated_rates : array_like, shape (..., n_a)
+            Actuated rates (m/s or rad/s).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_t)
+            The twist over ``capabilities.rates.twist`` (six (v, w) for a leg model): v of the
+            origin of {P} (m/s), w (rad/s), in {B}.
+
+        Raises
+        ------
+        SingularConfigurationError
+            A type II (parallel) singularity.
+        BadInputError
+            ``state`` is not a Configuration, or a rate is not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.forward_rate(m.forward_pose(m.home_actuated), [0.1, 0.0]).round(4).tolist()  # vx, vy
+        [-0.0115, -0.0173]
+        """
         rates = bounded_vector(actuated_rates, "actuated_rates", self.actuated_names)
         if self.capabilities.rates is not None:
             from parakin.solvers.statics import overall_jacobian
@@ -947,9 +1479,48 @@ class Mechanism:
         gravity: ArrayLike | None = None,
         leg_inertias: object = None,
     ) -> Any:
-        """Actuator efforts that move the platform with the given actuated rates and accelerations
-        (``parakin.dynamics.inverse_dynamics``: the platform's Newton-Euler wrench through the rate
-        model; massless legs). Returns ``parakin.dynamics.InverseDynamics``."""
+        """Actuator efforts that move the platform with the given actuated rates and accelerations.
+
+        ``parakin.dynamics.inverse_dynamics``: the platform's Newton-Euler wrench through the rate
+        model; massless legs.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        rates, accelerations : array_like, shape (..., n_a)
+            Actuated rates (m/s, rad/s) and accelerations (m/s^2, rad/s^2).
+        platform_inertia : RigidInertia or array_like, shape (10,)
+            The platform's mass, centre (in {P}) and inertia, or its ten inertial parameters.
+        gravity : array_like, shape (3,), optional
+            In {B} (m/s^2); default ``parakin.dynamics.STANDARD_GRAVITY`` (z up).
+        leg_inertias : None
+            Reserved (legs are massless).
+
+        Returns
+        -------
+        parakin.dynamics.InverseDynamics
+            ``efforts`` (..., n_a) in N or N m, with the twist, its rate and the wrench.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            No rate model, or ``leg_inertias`` given.
+        SingularConfigurationError
+            A type II singularity.
+        BadInputError
+            A non-physical inertia or a wrongly shaped input.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> from parakin.dynamics import rigid_inertia
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> state = m.forward_pose(m.home_actuated)
+        >>> held = m.inverse_dynamics(state, [0, 0], [0, 0], platform_inertia=rigid_inertia(0.5), gravity=[0, -9.81, 0])
+        >>> held.efforts.round(3).tolist()  # at rest: the efforts that hold 0.5 kg
+        [-0.847, 0.847]
+        """
         from parakin import dynamics
 
         g = dynamics.STANDARD_GRAVITY if gravity is None else gravity
@@ -966,39 +1537,192 @@ class Mechanism:
         gravity: ArrayLike | None = None,
         leg_inertias: object = None,
     ) -> Array:
-        """Y (..., n_a, 10) with efforts tau = Y theta over the platform's ten inertial parameters
-        (``parakin.dynamics.dynamics_regressor``)."""
+        """Y with efforts tau = Y theta, linear in the platform's ten inertial parameters theta.
+
+        ``parakin.dynamics.dynamics_regressor``; theta in ``parakin.dynamics.INERTIAL_PARAMETERS``
+        order (inertia about the origin of {P}).
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        rates, accelerations : array_like, shape (..., n_a)
+            Actuated rates (m/s, rad/s) and accelerations (m/s^2, rad/s^2).
+        gravity : array_like, shape (3,), optional
+            In {B} (m/s^2); default ``parakin.dynamics.STANDARD_GRAVITY``.
+        leg_inertias : None
+            Reserved (legs are massless).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_a, 10)
+            Y.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            No rate model, or ``leg_inertias`` given.
+        SingularConfigurationError
+            A type II singularity.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> state = m.forward_pose(m.home_actuated)
+        >>> m.dynamics_regressor(state, [0, 0], [0, 0], gravity=[0, -9.81, 0]).shape
+        (2, 10)
+        """
         from parakin import dynamics
 
         g = dynamics.STANDARD_GRAVITY if gravity is None else gravity
         return dynamics.dynamics_regressor(self, state, rates, accelerations, gravity=g, leg_inertias=leg_inertias)
 
     def to_mjcf(self, actuated: ArrayLike | None = None, **options: Any) -> str:
-        """The MJCF text of this mechanism for MuJoCo: its legs as bodies, its loops cut by site
-        connects, the home as qpos0 and every assembly mode of ``actuated`` (default: the home's)
-        a keyframe (``parakin.mjcf.to_mjcf``, which lists the ``options``: modes, accuracy,
-        timestep, masses, payload, actuators)."""
+        """The MJCF text of this mechanism for MuJoCo.
+
+        Its legs become bodies, its loops are cut by site connects, the home is qpos0 and every
+        assembly mode of ``actuated`` a keyframe (``parakin.mjcf.to_mjcf``, which lists the
+        ``options``: modes, accuracy, timestep, masses, payload, actuators).
+
+        Parameters
+        ----------
+        actuated : array_like, shape (n_a,), optional
+            The input whose modes become keyframes (default: the home's); m or rad.
+        **options
+            Passed to ``parakin.mjcf.to_mjcf``.
+
+        Returns
+        -------
+        str
+            The MJCF XML.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            A joint or attachment the exporter does not handle (the message names it).
+        BadInputError
+            An input out of range or an unknown option.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.to_mjcf().lstrip().startswith("<!-- five_bar")
+        True
+        """
         from parakin.mjcf import to_mjcf
 
         return to_mjcf(self, actuated, **options)
 
     def actuator_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
-        """Actuator efforts that hold the platform against an external wrench (virtual work; see
-        ``parakin.solvers.statics.actuator_forces`` for the wrench convention)."""
+        """Actuator efforts that hold the platform against an external wrench (virtual work).
+
+        See ``parakin.solvers.statics.actuator_forces`` for the convention: positive along
+        increasing actuated values.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        wrench : array_like, shape (..., n_t)
+            The external wrench on the platform over the twist components (force in N at the
+            origin of {P}, moment in N m; in {B}).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_a)
+            Efforts (N for prismatic, N m for revolute actuators).
+
+        Raises
+        ------
+        SingularConfigurationError
+            A type II singularity: some wrench cannot be held.
+        UnsupportedOperationError
+            The mechanism has no rate model.
+        BadInputError
+            A wrench of the wrong length or not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.actuator_forces(m.forward_pose(m.home_actuated), [0.0, -10.0]).round(3).tolist()
+        [-1.727, 1.727]
+        """
         from parakin.solvers.statics import actuator_forces
 
         return actuator_forces(self, state, wrench)
 
     def constraint_forces(self, state: Configuration, wrench: ArrayLike) -> Array:
         """Intensities of the constraint wrenches a lower-mobility platform's legs apply while its
-        actuators hold ``wrench`` (``parakin.solvers.statics.constraint_forces``)."""
+        actuators hold ``wrench`` (``parakin.solvers.statics.constraint_forces``).
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        wrench : array_like, shape (..., 6)
+            The external wrench on the platform (N at the origin of {P}, N m; in {B}).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_c)
+            One intensity per row of ``rate_jacobians(state)["constraints"]``.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The platform has no constraint wrenches (its actuators alone hold every wrench).
+        SingularConfigurationError
+            A type II singularity.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("tricept", backend="numpy")
+        >>> state = m.forward_pose(m.home_actuated)
+        >>> m.constraint_forces(state, [0, 0, -100, 0, 0, 0]).round(6).tolist()  # a centred load
+        [0.0, 0.0, 0.0]
+        """
         from parakin.solvers.statics import constraint_forces
 
         return constraint_forces(self, state, wrench)
 
     def stiffness(self, state: Configuration, actuator_stiffness: ArrayLike | None = None) -> Array:
-        """Platform stiffness K = G^T K_q G from actuator stiffnesses (default: the ones the
-        mechanism declares as parameters, ``m.capabilities.statics``)."""
+        """Platform stiffness K = G^T K_q G from actuator stiffnesses.
+
+        Parameters
+        ----------
+        state : Configuration
+            A closed configuration.
+        actuator_stiffness : array_like, shape (n_a,) or (n_a, n_a), optional
+            K_q (N/m or N m/rad): a positive diagonal, or symmetric positive definite. Default: the
+            stiffnesses the mechanism declares as parameters (``capabilities.statics``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_t, n_t)
+            K over the twist components: the extra wrench dw = K (twist dt) that holds a small
+            displacement.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            No ``actuator_stiffness`` and none declared, or no rate model.
+        BadInputError
+            A stiffness that is not positive (definite).
+        SingularConfigurationError
+            A serial singularity (an actuator rate is not defined).
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> K = m.stiffness(m.forward_pose(m.home_actuated), [1000.0, 1000.0])
+        >>> K.shape, bool(abs(K - K.T).max() < 1e-9)
+        ((2, 2), True)
+        """
         from parakin.solvers.statics import stiffness
 
         if actuator_stiffness is None:
@@ -1010,7 +1734,32 @@ class Mechanism:
 
     # ------------------------------------------------------------------ drawing
     def drawing(self, state: Configuration) -> dict[str, Array]:
-        """The named point sets (..., 3, n) in {B} (metres) of the drawing kernel."""
+        """The named point sets of the drawing kernel, in {B} (metres).
+
+        Parameters
+        ----------
+        state : Configuration
+            A configuration (from a solver).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray, each shape (..., 3, n)
+            Per named set (``capabilities.drawing.points``): n points as columns.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no drawing kernel.
+        BadInputError
+            ``state`` is not a Configuration.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> {name: points.shape for name, points in m.drawing(m.forward_pose(m.home_actuated)).items()}
+        {'base': (3, 2), 'elbow': (3, 2), 'platform': (3, 2)}
+        """
         self._require(self.capabilities.drawing, "drawing", "drawing kernel")
         theta, passive = self._state(state)
         points = self.backend.call("drawing", theta, passive, self.params)
@@ -1031,27 +1780,95 @@ class Mechanism:
         mode: int | None = None,
         all_modes: bool = False,
     ) -> Any:
-        """Draw the mechanism (metres; 2-D for a planar drawing, on its sphere for a spherical
-        one) in a configuration, mode ``mode`` of an AssemblyModes, or all its modes as a grid;
-        a PNG is written to ``path`` when given (``parakin.interfaces.plot.plot``). Needs matplotlib."""
+        """Draw the mechanism (``parakin.interfaces.plot.plot``; needs matplotlib).
+
+        Metres; 2-D for a planar drawing, on its sphere for a spherical one.
+
+        Parameters
+        ----------
+        state : Configuration or AssemblyModes
+            The configuration to draw, or the modes of one input.
+        path : str, optional
+            Write a PNG there.
+        ax : matplotlib.axes.Axes, optional
+            Draw into these axes (not with ``all_modes``).
+        title : str, optional
+            The heading (default: the mechanism's title).
+        mode : int, optional
+            Draw mode (or entry) ``mode`` alone.
+        all_modes : bool
+            Draw every mode as a grid of small multiples, each titled "mode k".
+
+        Returns
+        -------
+        matplotlib.axes.Axes or numpy.ndarray of Axes
+            The axes drawn on; for a grid a 1-D array, entry k the panel of mode k.
+
+        Raises
+        ------
+        UnsupportedOperationError
+            The mechanism has no drawing kernel, or matplotlib is missing.
+        BadInputError
+            Both ``mode`` and ``all_modes``, ``all_modes`` with ``ax``, or axes of the wrong kind.
+        NoSuchModeError
+            ``mode`` is not a mode of ``state``, or there is no mode to draw.
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> panels = m.plot(m.forward_pose_all(m.home_actuated), all_modes=True)
+        >>> [ax.get_title().splitlines()[0] for ax in panels]
+        ['mode 0', 'mode 1']
+        """
         from parakin.interfaces.plot import plot
 
         return plot(self, state, path, ax, title, mode=mode, all_modes=all_modes)
 
     # ------------------------------------------------------------------ singularities
     def is_architecturally_singular(self) -> bool:
-        """Whether this geometry is singular at every pose (a useless design): one of the
-        mechanism's normalised architecture measures (``architecture()``) is below its declared
-        tolerance. False for mechanisms without such conditions."""
+        """Whether this geometry is singular at every pose (a useless design).
+
+        One of the mechanism's normalised architecture measures (``architecture()``) is below its
+        declared tolerance; False for mechanisms without such conditions.
+
+        Returns
+        -------
+        bool
+            True when the design is architecturally singular.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> parakin.load("gough", backend="numpy").is_architecturally_singular()
+        False
+        """
         info = self.capabilities.architecture
         if info is None:
             return False
         return any(abs(value) < info.tolerance for value in self.architecture().values())
 
     def architecture(self) -> dict[str, float]:
-        """The mechanism's architecture-singularity measures at its parameters (``parakin inspect``
-        shows them symbolically; zero means singular at every pose); empty for mechanisms
-        without such conditions."""
+        """The mechanism's architecture-singularity measures at its parameters.
+
+        ``parakin inspect`` shows them symbolically; zero means singular at every pose.
+
+        Returns
+        -------
+        dict of str to float
+            One normalised measure per declared condition; empty for mechanisms without such
+            conditions.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> parakin.load("five_bar", backend="numpy").architecture()
+        {}
+        >>> len(parakin.load("gough", backend="numpy").architecture()) > 0
+        True
+        """
         info = self.capabilities.architecture
         if info is None:
             return {}
@@ -1059,8 +1876,35 @@ class Mechanism:
         return {name: float(values[k]) for k, name in enumerate(info.measures)}
 
     def singularities(self, state: Configuration) -> dict[str, Array]:
-        """Every named singularity factor (serial: leg determinants, eq 13-14; parallel: the
-        closed-loop matrix), then the determinants themselves; zero means singular."""
+        """Every named singularity factor, then the determinants themselves; zero means singular.
+
+        Serial: leg determinants (eq 13-14); parallel: the closed-loop matrix.
+
+        Parameters
+        ----------
+        state : Configuration
+            A configuration (from a solver).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray, each shape (...)
+            Per factor (``manifest.singularity_factors``) and determinant (``manifest.determinants``).
+
+        Raises
+        ------
+        BadInputError
+            ``state`` is not a Configuration, or a factor is not finite.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> factors = m.singularities(m.forward_pose(m.home_actuated))
+        >>> list(factors)
+        ['leg1_links_aligned', 'leg2_links_aligned', 'distal_links_aligned', 'det_A', 'det_B']
+        >>> round(float(factors["det_A"]), 4)
+        0.0577
+        """
         theta, passive = self._state(state)
         out = self._finite("singularity_factors", theta, passive)
         names = self.manifest.singularity_factors + self.manifest.determinants
