@@ -8,6 +8,7 @@ packages you trust.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import warnings
@@ -23,14 +24,55 @@ from parakin.validation import as_array, in_domain, in_magnitude, real_number
 
 
 def available() -> list[str]:
-    """Names of the generated packages found (shipped ones, then ``$PARAKIN_PATH``); a package
-    whose manifest cannot be read is skipped with a BrokenPackageWarning naming it."""
+    """Names of the generated packages found: the shipped ones, then those on ``$PARAKIN_PATH``.
+
+    Returns
+    -------
+    list of str
+        Mechanism names, each one ``load`` and ``metadata`` accept.
+
+    Raises
+    ------
+    BrokenPackageWarning
+        A warning, not an error: a package whose manifest cannot be read is skipped, named in
+        the warning.
+
+    Examples
+    --------
+    >>> import parakin
+    >>> "five_bar" in parakin.available() and "stewart" in parakin.available()
+    True
+    """
     return readable_names()
 
 
 def metadata(name: str | os.PathLike[str]) -> Manifest:
-    """The typed manifest of a mechanism (by name or package folder): variables with units and
-    limits, parameters, kernels, capabilities, examples."""
+    """The typed manifest of a mechanism, read without loading it.
+
+    Parameters
+    ----------
+    name : str or os.PathLike
+        A mechanism name (``available()``) or a generated package folder.
+
+    Returns
+    -------
+    Manifest
+        Variables with units and limits, parameters, kernels, capabilities, examples.
+
+    Raises
+    ------
+    UnknownMechanismError
+        No package of that name or folder (the message suggests the closest names).
+    BrokenPackageError
+        The package's manifest cannot be read (the message names the field).
+
+    Examples
+    --------
+    >>> import parakin
+    >>> manifest = parakin.metadata("five_bar")
+    >>> manifest.actuated_names, manifest.passive_names
+    (['theta1', 'theta2'], ['x', 'y'])
+    """
     return GeneratedPackage.find(name).manifest
 
 
@@ -55,6 +97,26 @@ def _parameter_values(manifest: Manifest, given: dict[str, object]) -> dict[str,
     return values
 
 
+#: ``load``'s own keywords (everything else it takes is a parameter of the mechanism)
+LOAD_KEYWORDS = ("backend", "limits")
+
+
+def _misspelt_keywords(manifest: Manifest, given: Mapping[str, object]) -> None:
+    """A keyword that is no parameter of the mechanism but a misspelling of one of ``load``'s own
+    keywords (``backnd=``, ``Limits=``) is named as that keyword, not as an unknown parameter."""
+    names = manifest.parameter_names
+    for key in given:
+        if key in names:
+            continue
+        same_case = [k for k in LOAD_KEYWORDS if k.lower() == key.lower()]
+        close = same_case or difflib.get_close_matches(key, [*LOAD_KEYWORDS, *names], n=1, cutoff=0.6)
+        if close and close[0] in LOAD_KEYWORDS:
+            raise BadInputError(
+                f"unknown keyword {key!r} of parakin.load; did you mean {close[0]!r}? load's keywords: "
+                f"{list(LOAD_KEYWORDS)}, and the parameters of {manifest.name!r}: {names}"
+            )
+
+
 def _bound(value: object, key: str) -> float:
     """One side of a joint range: a finite real, or -inf / inf for an open side."""
     if isinstance(value, float) and math.isinf(value):
@@ -69,22 +131,62 @@ def load(
     limits: dict[str, tuple[float, float]] | None = None,
     **parameters: Any,
 ) -> Mechanism:
-    """Load a mechanism, by name or generated-package folder, with its paper's default
-    parameters overridden by ``parameters`` (scalars by name, vector parameters such as point
-    lists by their group name).
-
-    ``backend``: 'auto' (compiled C if a compiler and the cache work, else NumPy with a
-    BackendFallbackWarning naming the cause), 'compiled', 'numpy' or 'casadi'. ``limits``
-    overrides joint ranges (name -> (low, high), SI units): passive joint limits, and actuated
-    ranges (actuator strokes), which every solver then checks instead of the declared ones. An unknown parameter or limit
-    is a BadInputError suggesting the closest names. Warns (ArchitectureSingularityWarning) when
-    the geometry is singular at every pose.
+    """Load a mechanism, by name or generated-package folder, with its paper's default parameters.
 
     Loading a package runs its code: its generated Python modules are imported and, on the
     compiled backend, its C sources are compiled and loaded. Load only packages you trust.
+
+    Parameters
+    ----------
+    name : str or os.PathLike
+        A mechanism name (``available()``) or a generated package folder.
+    backend : {"auto", "compiled", "numpy", "casadi"}
+        "auto": compiled C if a compiler and the cache work, else NumPy with a
+        BackendFallbackWarning naming the cause. "numpy" loads fastest (no compilation).
+    limits : dict of str to (float, float), optional
+        Joint ranges by variable name, (low, high) in SI units (m or rad; ``-inf``/``inf`` for
+        an open side): passive joint limits, and actuated ranges (actuator strokes), which
+        every solver then checks instead of the declared ones.
+    **parameters : float or array_like
+        The mechanism's parameters overridden, scalars by name (m, rad or the unit
+        ``metadata(name).parameters`` gives), vector parameters such as point lists by their
+        group name (with the group's shape).
+
+    Returns
+    -------
+    Mechanism
+        Every solver of the mechanism with these parameters bound.
+
+    Raises
+    ------
+    UnknownMechanismError
+        No package of that name or folder (the message suggests the closest names).
+    BadInputError
+        An unknown parameter, limit or keyword (the message suggests the closest names: a
+        misspelt ``backend`` or ``limits`` is named as such), a value out of its domain, a
+        malformed limit, or an unknown backend.
+    CompiledUnavailableError
+        ``backend="compiled"`` without a working compiler or cache.
+
+    Warns
+    -----
+    ArchitectureSingularityWarning
+        The geometry is singular at every pose.
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy", d=0.2)
+    >>> m.parameters["d"], m.backend.name
+    (0.2, 'numpy')
+    >>> parakin.load("five_bar", backnd="numpy")
+    Traceback (most recent call last):
+        ...
+    parakin.errors.BadInputError: unknown keyword 'backnd' of parakin.load; did you mean 'backend'? ...
     """
     package = GeneratedPackage.find(name)
     manifest = package.manifest
+    _misspelt_keywords(manifest, parameters)
     values = _parameter_values(manifest, parameters)
     bounds = {v.name: v.limits for v in manifest.passive if v.limits != (-math.inf, math.inf)}
     if limits is not None and not isinstance(limits, Mapping):
@@ -111,9 +213,33 @@ def load(
 
 
 def symbolic(name: str | os.PathLike[str]) -> dict[str, object]:
-    """The derived SymPy objects of a mechanism (needs SymPy, the ``generator`` extra): loop
-    closure, leg Jacobians, determinants, named singularity factors, inverse steps, forward
-    polynomial."""
+    """The derived SymPy objects of a mechanism (needs SymPy, the ``generator`` extra).
+
+    Parameters
+    ----------
+    name : str or os.PathLike
+        A mechanism name (``available()``) or a generated package folder.
+
+    Returns
+    -------
+    dict of str to object
+        SymPy expressions and matrices by name: loop closure, leg Jacobians or rate matrices,
+        determinants, named singularity factors, inverse steps, forward polynomial.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        SymPy is not installed (``pip install 'parakin[generator]'``).
+    UnknownMechanismError
+        No package of that name or folder.
+
+    Examples
+    --------
+    >>> import parakin
+    >>> expressions = parakin.symbolic("five_bar")
+    >>> "loop_closure" in expressions and "forward_polynomial" in expressions
+    True
+    """
     try:
         import sympy  # noqa: F401
     except ImportError as error:
