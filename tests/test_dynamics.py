@@ -241,8 +241,12 @@ def test_power_balance_along_a_trajectory(name):
 def test_bad_inputs_are_named_errors():
     m = parakin.load("five_bar", backend="numpy")
     state = home(m)
-    with pytest.raises(UnsupportedOperationError, match="leg inertias"):
+    with pytest.raises(BadInputError, match="leg_inertias must be"):
         inverse_dynamics(m, state, [0, 0], [0, 0], platform_inertia=rigid_inertia(1.0), leg_inertias=[1.0])
+    with pytest.raises(BadInputError, match="not link bodies of five_bar"):
+        inverse_dynamics(m, state, [0, 0], [0, 0], platform_inertia=rigid_inertia(1.0), leg_inertias={"leg9": 1.0})
+    with pytest.raises(BadInputError, match="mass of leg1_link1"):
+        inverse_dynamics(m, state, [0, 0], [0, 0], platform_inertia=rigid_inertia(1.0), leg_inertias={"leg1_link1": -1})
     with pytest.raises(BadInputError, match="mass"):
         rigid_inertia(-1.0)
     with pytest.raises(BadInputError, match="triangle"):
