@@ -411,8 +411,8 @@ def inverse_dynamics(
     leg_inertias : None, float or mapping, optional
         None: massless legs. A link mass (kg): every link body of ``leg_tree(m)`` a uniform thin
         rod of that mass (``to_mjcf``'s ``link_mass``: the same robot). A mapping body name ->
-        ``RigidInertia`` (in the body's frame), a mass (a rod) or ten inertial parameters; bodies
-        not named are massless (``link_inertias``).
+        ``RigidInertia`` (in the body's frame) or a mass (a rod); bodies not named are massless
+        (``link_inertias``).
 
     Returns
     -------
@@ -1036,8 +1036,9 @@ def link_inertias(m: Mechanism, leg_inertias: object) -> dict[str, RigidInertia 
         A mass (kg): every link a uniform thin rod of that mass along its segment (a body of no
         length: a point with a 1 cm radius of gyration), the meaning of ``to_mjcf``'s
         ``link_mass``; or a mapping body name -> ``RigidInertia`` (in the body's frame: origin at
-        its first joint, axes those of {B} at the home, as ``to_mjcf`` writes it), a mass (that
-        body a rod of that mass) or ten inertial parameters; bodies not named are massless.
+        its first joint, axes those of {B} at the home, as ``to_mjcf`` writes it) or a mass (that
+        body a rod of that mass); bodies not named are massless. ``to_mjcf``'s ``link_mass``
+        takes the same forms.
 
     Returns
     -------
@@ -1082,7 +1083,7 @@ def link_inertias(m: Mechanism, leg_inertias: object) -> dict[str, RigidInertia 
             elif isinstance(value, int | float) and not isinstance(value, bool):
                 out[name] = rod(name, value)
             else:
-                out[name] = RigidInertia.from_parameters(value)
+                raise BadInputError(f"the inertia of {name} must be a mass (kg) or a RigidInertia, got {value!r}")
         return out
     if isinstance(leg_inertias, int | float) and not isinstance(leg_inertias, bool):
         return {name: rod(name, leg_inertias) for name in links}

@@ -38,7 +38,8 @@
   along -y for a planar mechanism (its motion is in z = 0). No contacts (every geom has
   ``contype`` and ``conaffinity`` 0).
 * **Inertia** (documented defaults, the graph carries no values yet): every link a uniform thin
-  rod of ``link_mass`` kg along its segment (a body of no length: a point of that mass with a
+  rod of ``link_mass`` kg along its segment (or, ``link_mass`` a mapping, each body its own mass
+  or ``RigidInertia``: the forms of ``parakin.dynamics``' ``leg_inertias``, one robot in both) (a body of no length: a point of that mass with a
   radius of gyration of 1 cm), the platform ``platform_mass`` kg with the inertia of a solid
   sphere of radius ``platform_radius`` about its origin, and a separate body ``payload`` fixed
   at the platform's origin with ``payload`` kg (none when 0).
@@ -60,7 +61,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -92,6 +93,8 @@ DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 #: gravity (m/s^2)
 GRAVITY = 9.81
 PLANAR_KINDS = ("planar", "planar_translation")
+#: a link mass (kg) for every link, or body name -> mass or rigid body (``to_mjcf``'s link_mass)
+LinkMass = float | Mapping[str, Any]
 
 
 @dataclass(frozen=True)
@@ -270,8 +273,8 @@ def _idle_spin(leg: GraphLeg) -> int | None:
 
 
 class _Builder:
-    def __init__(self, m: Mechanism, graph: JointGraph, geometry: _Geometry, link_mass: float) -> None:
-        self.m, self.graph, self.geometry, self.link_mass = m, graph, geometry, link_mass
+    def __init__(self, m: Mechanism, graph: JointGraph, geometry: _Geometry) -> None:
+        self.m, self.graph, self.geometry = m, graph, geometry
         self.model = _Model()
         self.placed = {leg.name: _place(leg, geometry) for leg in graph.legs}
         points = [np.zeros(3)] + [p for placed in self.placed.values() for p in (placed.base, placed.end)]
@@ -505,7 +508,7 @@ def _xml_body(model: _Model, body: _Body, indent: int) -> list[str]:
 
 
 def _build(
-    m: Mechanism, graph: JointGraph, reference: Configuration | None, link_mass: float, platform_mass: float,
+    m: Mechanism, graph: JointGraph, reference: Configuration | None, link_mass: LinkMass, platform_mass: float,
     platform_radius: float, payload: float,
 ) -> tuple[_Model, str, _Geometry]:  # fmt: skip
     """The tree of bodies at the reference (default the home), its cuts, how the platform is held."""
@@ -524,7 +527,7 @@ def _build(
     if actuated.shape != (len(m.actuated_names),) or passive.shape != (len(m.passive_names),):
         raise BadInputError("reference must be one configuration (no batch) of this mechanism")
     geometry = _Geometry(m, graph, actuated, passive)
-    builder = _Builder(m, graph, geometry, link_mass)
+    builder = _Builder(m, graph, geometry)
     carrier, how = _carrier(graph, builder)
     platform = _Body("platform", None, geometry.origin, geometry.rotation)
     platform.sites.append(("platform", geometry.origin))
@@ -545,13 +548,41 @@ def _build(
             _Body("payload", "platform", geometry.origin, geometry.rotation, mass=payload, centre=geometry.origin,
                   inertia=payload * 1e-6 * np.eye(3), comment=f"{payload:g} kg at the platform's origin")
         )  # fmt: skip
-    for body in builder.model.bodies:
-        if body.name in ("platform", "payload") or link_mass <= 0:
+    links = [body for body in builder.model.bodies if body.name not in ("platform", "payload")]
+    if isinstance(link_mass, Mapping):
+        unknown = sorted(set(map(str, link_mass)) - {body.name for body in links})
+        if unknown:
+            raise BadInputError(
+                f"link masses name {unknown}, which are not link bodies of {m.name} (bodies: {[b.name for b in links]})"
+            )
+    for body in links:
+        value = link_mass.get(body.name, 0.0) if isinstance(link_mass, Mapping) else link_mass
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            _check_mass(f"the mass of {body.name}", value)
+            if value > 0:
+                start, end = body.segments[0] if body.segments else (body.position, body.position)
+                body.mass = float(value)
+                body.centre, body.inertia = _rod(float(value), start, end)
             continue
-        start, end = body.segments[0] if body.segments else (body.position, body.position)
-        body.mass = link_mass
-        body.centre, body.inertia = _rod(link_mass, start, end)
+        try:  # a rigid body in the body's frame (parakin.dynamics.RigidInertia)
+            mass = float(value.mass)
+            centre, inertia = np.asarray(value.centre, dtype=float), np.asarray(value.inertia, dtype=float)
+        except (AttributeError, TypeError, ValueError):
+            raise BadInputError(
+                f"the inertia of {body.name} must be a mass (kg) or a parakin.dynamics.RigidInertia, got {value!r}"
+            ) from None
+        if centre.shape != (3,) or inertia.shape != (3, 3):
+            raise BadInputError(f"the inertia of {body.name} must be a parakin.dynamics.RigidInertia, got {value!r}")
+        _check_mass(f"the mass of {body.name}", mass)
+        body.mass = mass
+        body.centre = body.rotation @ centre + body.position
+        body.inertia = body.rotation @ inertia @ body.rotation.T
     return builder.model, how, geometry
+
+
+def _check_mass(name: str, value: object) -> None:
+    if not (isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value) and value >= 0):
+        raise BadInputError(f"{name} must be a finite number >= 0 (kg), got {value!r}")
 
 
 def _servo_gain(model: _Model, joint: str, load: float, step: float) -> float:
@@ -705,7 +736,7 @@ def to_mjcf(
     accuracy: str = "fast",
     actuator: str = "position",
     kp: float | None = None,
-    link_mass: float = 1.0,
+    link_mass: LinkMass = 1.0,
     platform_mass: float = 1.0,
     platform_radius: float = 0.05,
     payload: float = 0.0,
@@ -736,9 +767,15 @@ def to_mjcf(
         The servos' stiffness (N m/rad on hinges, N/m on slides); default 1e3 and 1e4 per kg of
         platform and payload, capped where the explicit spring would be unstable on the body it
         moves (``_servo_gain``).
-    link_mass, platform_mass, payload : float
-        Masses (kg): each link (a thin rod), the platform (a solid sphere of ``platform_radius``
-        m), the payload body at the platform's origin (none when 0).
+    link_mass : float or mapping
+        Each link's mass (kg, a uniform thin rod along its segment), or a mapping body name ->
+        mass (that body a rod) or ``parakin.dynamics.RigidInertia`` (its mass, centre and
+        inertia in the body's frame: origin at its first joint, axes those of {B} at the home);
+        bodies not named are massless. The same forms and meaning as ``leg_inertias`` of
+        ``parakin.dynamics.inverse_dynamics``: one robot in both.
+    platform_mass, payload : float
+        Masses (kg): the platform (a solid sphere of ``platform_radius`` m), the payload body at
+        the platform's origin (none when 0).
     platform_radius : float
         m.
 
@@ -777,12 +814,13 @@ def to_mjcf(
     for name, value in (("timestep", step), ("platform_radius", platform_radius)):
         if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
             raise BadInputError(f"{name} must be a finite number > 0, got {value!r}")
-    for name, value in (("link_mass", link_mass), ("platform_mass", platform_mass), ("payload", payload)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-            raise BadInputError(f"{name} must be a finite number >= 0 (kg), got {value!r}")
+    for name, value in (("platform_mass", platform_mass), ("payload", payload)):
+        _check_mass(name, value)
+    if not isinstance(link_mass, Mapping):
+        _check_mass("link_mass", link_mass)
     if kp is not None and not (isinstance(kp, int | float) and math.isfinite(kp) and kp > 0):
         raise BadInputError(f"kp must be a finite number > 0, got {kp!r}")
-    if link_mass == 0 and platform_mass == 0:
+    if (isinstance(link_mass, Mapping) and not link_mass or link_mass == 0) and platform_mass == 0:
         raise BadInputError("link_mass and platform_mass are both 0: MuJoCo needs mass on a moving body")
     model, how, geometry = _build(m, graph, reference, link_mass, platform_mass, platform_radius, payload)
     default = [geometry.joint_values[name] for name in m.actuated_names]  # the reference's

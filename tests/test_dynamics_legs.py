@@ -1,0 +1,332 @@
+"""parakin.dynamics with legs of mass (issue 34): the tree of the legs' serial chains, its loop
+closures and its recursive Newton-Euler, checked against two engines and two identities.
+
+Claims, each against an independent source:
+* projected ``mj_inverse`` of the exported MJCF (``to_mjcf`` with the same link inertias: one
+  robot in both) = ``inverse_dynamics(..., leg_inertias=...)`` to 1e-6 relative at 8 samples of a
+  trajectory for five_bar, delta (parallelograms as four bars), stewart and the lower-mobility
+  prs3; MuJoCo closes the loops and differentiates them with its own site Jacobians and
+  ``mj_jacDot`` (``parakin.mujoco_bridge``), parakin with its own tree code;
+* Pinocchio's RNEA on the same MJCF (``pinocchio.buildModelFromMJCF``, its own loop Jacobians
+  from the cut sites' frames and J_dot v from ``getFrameClassicalAcceleration``), projected onto
+  the actuated joints = parakin's to 1e-6 (five_bar, delta);
+* tau = Y theta with the legs' columns to 1e-12 (a batch; Y by Jacobian transposes of each
+  body's force per parameter, tau by the recursive pass);
+* power balance: tau . q_dot = dK/dt + dV/dt along a trajectory to 1e-6, K summed over the
+  platform (from ``forward_rate``) and every link (from the tree's body twists), dK/dt by
+  fourth-order central differences;
+* the tree's own kinematics carry a free platform exactly as the generated rate model does:
+  the platform's inertia put on the tree's platform body gives the massless-leg efforts.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin import dynamics
+from parakin.dynamics import (
+    RigidInertia,
+    dynamics_regressor,
+    inverse_dynamics,
+    leg_parameters,
+    leg_tree,
+    link_inertias,
+    rigid_inertia,
+)
+from parakin.errors import BadInputError
+
+SAMPLES = 8
+#: the trajectory's amplitude per mechanism (rad for cranks, m for sliders)
+AMPLITUDE = {"five_bar": 0.15, "delta": 0.15, "stewart": 0.01, "prs3": 0.02}
+#: the platform (2 kg) as to_mjcf writes it: a sphere of this radius (a point platform turns with
+#: the link it ends in MuJoCo, not in parakin: its rotational inertia, 8e-9 kg m^2, is negligible)
+PLATFORM_MASS, PLATFORM_RADIUS = 2.0, 1e-4
+PLATFORM = rigid_inertia(PLATFORM_MASS, inertia=np.full(3, 0.4 * PLATFORM_MASS * PLATFORM_RADIUS**2))
+
+
+def gravity(m: parakin.Mechanism) -> np.ndarray:
+    """to_mjcf's gravity: 9.81 m/s^2 along -y for a planar mechanism, -z otherwise."""
+    planar = m.manifest.pose_kind in ("planar", "planar_translation")
+    return np.array((0.0, -9.81, 0.0) if planar else (0.0, 0.0, -9.81))
+
+
+def trajectory(m: parakin.Mechanism, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """q(t) = home + A sin(2 t + phase): smooth, every derivative non-zero."""
+    amplitude = AMPLITUDE[m.name]
+    phase = np.arange(len(m.actuated_names))
+    q = m.home_actuated + amplitude * np.sin(2.0 * t + phase)
+    return q, 2.0 * amplitude * np.cos(2.0 * t + phase), -4.0 * amplitude * np.sin(2.0 * t + phase)
+
+
+def random_links(m: parakin.Mechanism, seed: int) -> dict[str, RigidInertia]:
+    """Every link its own body: a mass of 0.2 to 1.5 kg, a centre off the rod's, a full inertia."""
+    rng = np.random.default_rng(seed)
+    out = {}
+    for name, rod in link_inertias(m, 1.0).items():
+        assert rod is not None
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        principal = rng.uniform(0.5, 1.0, 3) * 1e-3
+        out[name] = rigid_inertia(
+            rng.uniform(0.2, 1.5), rod.centre + rng.normal(size=3) * 0.02, q @ np.diag(principal) @ q.T
+        )
+    return out
+
+
+def home(m: parakin.Mechanism) -> parakin.Configuration:
+    return m.forward_pose(m.home_actuated, guess=m.home_passive)
+
+
+# ------------------------------------------------------------------------------------ MuJoCo
+@pytest.mark.parametrize("name", ["five_bar", "delta", "stewart", "prs3"])
+def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
+    mujoco = pytest.importorskip("mujoco")
+    from parakin import mujoco_bridge as bridge
+
+    m = parakin.load(name, backend="numpy")
+    links = random_links(m, 1)
+    xml = m.to_mjcf(modes="none", link_mass=links, platform_mass=PLATFORM_MASS, platform_radius=PLATFORM_RADIUS)
+    model = mujoco.MjModel.from_xml_string(xml)
+    chain = bridge.closed_chain(model, list(m.actuated_names), "platform")
+    data = mujoco.MjData(model)  # qpos0: the home
+    g = gravity(m)
+    assert np.allclose(model.opt.gravity, g, rtol=0, atol=1e-15)
+    state = home(m)
+    errors, legs_share = [], []
+    for t in np.linspace(0.0, 1.4, SAMPLES):
+        q, qd, qdd = trajectory(m, t)
+        assert bridge.assemble(chain, data, q, qd, qdd) < 1e-12
+        state = m.forward_pose(q, guess=state)
+        assert np.abs(bridge.platform_pose(chain, data)[:3, 3] - state.pose[:3, 3]).max() < 1e-9
+        engine = bridge.projected_inverse(chain, data)
+        ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=PLATFORM, gravity=g, leg_inertias=links).efforts
+        massless = inverse_dynamics(m, state, qd, qdd, platform_inertia=PLATFORM, gravity=g).efforts
+        errors.append(np.abs(engine - ours).max() / np.abs(engine).max())
+        legs_share.append(np.abs(ours - massless).max() / np.abs(ours).max())
+    assert len(errors) == SAMPLES
+    assert min(legs_share) > 0.05, f"{name}: the legs change the efforts by only {min(legs_share):.3g}"
+    assert max(errors) < 1e-6, f"{name}: projected mj_inverse vs inverse_dynamics with legs {max(errors):.3g} relative"
+
+
+# --------------------------------------------------------------------------------- Pinocchio
+def pinocchio_projected_rnea(pin, mujoco, model, pmodel, pdata, qpos, qd, qdd, actuated):
+    """Pinocchio's RNEA of the tree at MuJoCo's closed qpos, its velocities and accelerations from
+    its own loop Jacobian (the cut sites' frames) and J_dot v, projected on the actuated joints."""
+    q = np.zeros(pmodel.nq)
+    for j in range(model.njnt):
+        name, address = model.joint(j).name, int(model.jnt_qposadr[j])
+        start = pmodel.idx_qs[pmodel.getJointId(name)]
+        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):  # (x y z, w x y z) -> (x y z, x y z w)
+            q[start : start + 7] = np.concatenate(
+                [qpos[address : address + 3], qpos[address + 4 : address + 7], qpos[address + 3 : address + 4]]
+            )
+        else:
+            q[start] = qpos[address]
+    world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    pin.computeJointJacobians(pmodel, pdata, q)
+    pin.updateFramePlacements(pmodel, pdata)
+    pairs = [
+        tuple(
+            pmodel.getFrameId(model.site(int(s)).name, pin.FrameType.OP_FRAME)
+            for s in (model.eq_obj1id[e], model.eq_obj2id[e])
+        )
+        for e in range(model.neq)
+    ]
+    gaps = [pdata.oMf[a].translation - pdata.oMf[b].translation for a, b in pairs]
+    assert np.abs(gaps).max() < 1e-11
+    jacobian = np.concatenate(
+        [
+            pin.getFrameJacobian(pmodel, pdata, a, world)[:3] - pin.getFrameJacobian(pmodel, pdata, b, world)[:3]
+            for a, b in pairs
+        ]
+    )
+    act = [pmodel.idx_vs[pmodel.getJointId(name)] for name in actuated]
+    passive = [i for i in range(pmodel.nv) if i not in act]
+    gamma = np.zeros((pmodel.nv, len(act)))
+    gamma[act] = np.eye(len(act))
+    gamma[passive] = np.linalg.lstsq(jacobian[:, passive], -jacobian[:, act], rcond=None)[0]
+    velocity = gamma @ qd
+    pin.forwardKinematics(pmodel, pdata, q, velocity, np.zeros(pmodel.nv))
+    bias = np.concatenate(
+        [
+            pin.getFrameClassicalAcceleration(pmodel, pdata, a, world).linear
+            - pin.getFrameClassicalAcceleration(pmodel, pdata, b, world).linear
+            for a, b in pairs
+        ]
+    )
+    acceleration = np.zeros(pmodel.nv)
+    acceleration[act] = qdd
+    acceleration[passive] = np.linalg.lstsq(jacobian[:, passive], -jacobian[:, act] @ qdd - bias, rcond=None)[0]
+    return gamma.T @ pin.rnea(pmodel, pdata, q, velocity, acceleration)
+
+
+@pytest.mark.parametrize("name", ["five_bar", "delta"])
+def test_legs_equal_pinocchio_rnea_projected(name, tmp_path):
+    mujoco = pytest.importorskip("mujoco")
+    pin = pytest.importorskip("pinocchio")
+    from parakin import mujoco_bridge as bridge
+
+    m = parakin.load(name, backend="numpy")
+    links = random_links(m, 2)
+    xml = m.to_mjcf(modes="none", link_mass=links, platform_mass=PLATFORM_MASS, platform_radius=PLATFORM_RADIUS)
+    model = mujoco.MjModel.from_xml_string(xml)
+    chain = bridge.closed_chain(model, list(m.actuated_names), "platform")
+    data = mujoco.MjData(model)
+    # Pinocchio's MJCF reader takes one tree: the legs and the platform under one fixed base body
+    path = Path(tmp_path) / f"{name}.xml"
+    path.write_text(
+        xml.replace("<worldbody>", '<worldbody><body name="base">').replace("</worldbody>", "</body></worldbody>")
+    )
+    pmodel = pin.buildModelFromMJCF(str(path))
+    pmodel.gravity.linear = gravity(m)
+    pdata = pmodel.createData()
+    assert pmodel.nv == model.nv
+    state, errors = home(m), []
+    for t in np.linspace(0.0, 1.4, SAMPLES):
+        q, qd, qdd = trajectory(m, t)
+        bridge.assemble(chain, data, q)  # positions only: Pinocchio does the rates itself
+        engine = pinocchio_projected_rnea(
+            pin, mujoco, model, pmodel, pdata, np.array(data.qpos), qd, qdd, m.actuated_names
+        )
+        state = m.forward_pose(q, guess=state)
+        ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=PLATFORM, gravity=gravity(m), leg_inertias=links)
+        errors.append(np.abs(engine - ours.efforts).max() / np.abs(engine).max())
+    assert len(errors) == SAMPLES
+    assert max(errors) < 1e-6, f"{name}: Pinocchio's projected RNEA vs inverse_dynamics with legs {max(errors):.3g}"
+
+
+# ------------------------------------------------------------------------- identities
+@pytest.mark.parametrize("name", ["five_bar", "delta", "stewart", "prs3"])
+def test_regressor_with_legs_times_parameters_equals_efforts(name):
+    """Y theta = tau to 1e-12 relative over a batch of 4 samples, theta the platform's ten and
+    every link's; the batch equals each sample alone."""
+    m = parakin.load(name, backend="numpy")
+    links = random_links(m, 3)
+    samples = [trajectory(m, t) for t in (0.1, 0.5, 0.9, 1.3)]
+    states = [m.forward_pose(s[0], guess=home(m)) for s in samples]
+    batch = parakin.Configuration(
+        np.stack([s.actuated for s in states]),
+        np.stack([s.passive for s in states]),
+        np.stack([s.pose for s in states]),
+    )
+    qd, qdd = np.stack([s[1] for s in samples]), np.stack([s[2] for s in samples])
+    platform = rigid_inertia(
+        3.0, (0.01, -0.02, 0.005), [[0.02, 0.001, 0.0], [0.001, 0.03, -0.002], [0.0, -0.002, 0.04]]
+    )
+    y = dynamics_regressor(m, batch, qd, qdd, gravity=gravity(m), leg_inertias=links)
+    assert y.shape == (4, len(m.actuated_names), 10 * (1 + len(leg_tree(m).links)))
+    theta = np.concatenate([platform.parameters(), leg_parameters(m, links)])
+    tau = inverse_dynamics(m, batch, qd, qdd, platform_inertia=platform, gravity=gravity(m), leg_inertias=links).efforts
+    checked = 0
+    for k in range(4):
+        assert np.abs(y[k] @ theta - tau[k]).max() <= 1e-12 * np.abs(tau[k]).max()
+        alone = inverse_dynamics(
+            m, states[k], qd[k], qdd[k], platform_inertia=platform, gravity=gravity(m), leg_inertias=links
+        )
+        assert np.abs(alone.efforts - tau[k]).max() <= 1e-13 * np.abs(tau[k]).max()
+        checked += 1
+    assert checked == 4
+
+
+def body_energy(body: RigidInertia, rotation, origin, twist, g) -> tuple[float, float]:
+    """Kinetic energy and gravity's power on a body of spatial velocity ``twist`` (w; v at the
+    origin of {B}) with its frame at (rotation, origin)."""
+    w, v0 = twist[:3], twist[3:]
+    centre = rotation @ body.centre + origin
+    v_c = v0 + np.cross(w, centre)
+    inertia = rotation @ body.inertia @ rotation.T
+    return 0.5 * body.mass * v_c @ v_c + 0.5 * w @ inertia @ w, body.mass * g @ v_c
+
+
+@pytest.mark.parametrize("name", ["five_bar", "stewart", "prs3"])
+def test_power_balance_with_legs(name):
+    """tau . q_dot = dK/dt - (power of gravity) at 8 instants to 1e-6 relative, K over the
+    platform (its twist from forward_rate) and every link (its twist from the tree's joint rates),
+    dK/dt by fourth-order central differences (step 1e-4) along q(t)."""
+    m = parakin.load(name, backend="numpy")
+    links = random_links(m, 4)
+    tree = leg_tree(m)
+    bodies = dynamics._tree_bodies(m, links)
+    g = gravity(m)
+
+    def energy(t, near):
+        q, qd, qdd = trajectory(m, t)
+        state = m.forward_pose(q, guess=near)
+        twist = np.zeros(6)
+        for column, component in enumerate(m.manifest.capabilities.rates.twist):
+            twist[("vx", "vy", "vz", "wx", "wy", "wz").index(component)] = m.forward_rate(state, qd)[column]
+        v, w = twist[:3], twist[3:]
+        origin = state.pose[:3, 3]
+        kinetic, power = body_energy(PLATFORM, state.rotation, origin, np.concatenate([w, v - np.cross(w, origin)]), g)
+        (joints,) = dynamics._tree_states(m, tree, q[None], state.pose[None])
+        motion = dynamics._tree_motion(tree, m, joints, qd, qdd, g)
+        for i, body in enumerate(bodies):
+            if body is not None:
+                k, p = body_energy(body, *motion.frames[i], motion.velocities[i], g)
+                kinetic, power = kinetic + k, power + p
+        return kinetic, power
+
+    checked, state = 0, home(m)
+    for t in np.linspace(0.0, 1.4, SAMPLES):
+        q, qd, qdd = trajectory(m, t)
+        state = m.forward_pose(q, guess=state)
+        h = 1e-4
+        k = [energy(t + s * h, state)[0] for s in (-2, -1, 1, 2)]
+        kinetic_rate = (8 * (k[2] - k[1]) - (k[3] - k[0])) / (12 * h)
+        gravity_power = energy(t, state)[1]
+        tau = inverse_dynamics(m, state, qd, qdd, platform_inertia=PLATFORM, gravity=g, leg_inertias=links).efforts
+        power = tau @ qd
+        scale = np.linalg.norm(tau) * np.linalg.norm(qd)
+        assert abs(power - (kinetic_rate - gravity_power)) <= 1e-6 * scale, (
+            f"{name} t = {t}: tau . qdot = {power:.12g} W, dK/dt - P_gravity = {kinetic_rate - gravity_power:.12g} W"
+        )
+        checked += 1
+    assert checked == SAMPLES
+
+
+@pytest.mark.parametrize("name", ["delta", "stewart", "prs3"])
+def test_the_tree_moves_a_free_platform_as_the_rate_model_does(name):
+    """The platform's inertia on the tree's platform body (legs massless) gives the efforts of the
+    generated rate model's Newton-Euler path to 1e-9 relative: the tree's closure kinematics
+    (positions by Newton, rates and accelerations from the cuts) against the generated ones."""
+    m = parakin.load(name, backend="numpy")
+    tree = leg_tree(m)
+    platform = rigid_inertia(4.0, (0.01, 0.02, -0.03), [[0.05, 0.002, 0.0], [0.002, 0.04, 0.001], [0.0, 0.001, 0.06]])
+    bodies = [platform if body.platform else None for body in tree.bodies]
+    g = np.array([0.5, -0.3, -9.81])
+    checked, state = 0, home(m)
+    for t in (0.2, 0.7, 1.2):
+        q, qd, qdd = trajectory(m, t)
+        state = m.forward_pose(q, guess=state)
+        (joints,) = dynamics._tree_states(m, tree, q[None], state.pose[None])
+        through_tree = dynamics._tree_efforts(tree, dynamics._tree_motion(tree, m, joints, qd, qdd, g), bodies)
+        expected = inverse_dynamics(m, state, qd, qdd, platform_inertia=platform, gravity=g).efforts
+        assert np.abs(through_tree - expected).max() <= 1e-9 * np.abs(expected).max()
+        checked += 1
+    assert checked == 3
+
+
+def test_leg_inertias_forms_and_errors():
+    """A link mass is every link a rod (to_mjcf's link_mass: the MJCF's inertials are those
+    bodies'), a mapping names bodies (others massless), bad forms are BadInputErrors."""
+    m = parakin.load("five_bar", backend="numpy")
+    rods = link_inertias(m, 0.5)
+    assert list(rods) == ["leg1_link1", "leg1_link2", "leg2_link1", "leg2_link2"]
+    first = rods["leg1_link1"]
+    assert first is not None and first.mass == 0.5
+    a = m.parameters["a1"]
+    # a uniform rod of length a1 from the base joint: centre at a1 / 2, m a^2 / 12 + m 1e-4 across it
+    assert abs(np.linalg.norm(first.centre) - a / 2) < 1e-15
+    assert abs(first.inertia[2, 2] - 0.5 * (a**2 / 12 + 1e-4)) < 1e-15
+    only = link_inertias(m, {"leg2_link2": 0.3})
+    assert only["leg1_link1"] is None and only["leg2_link2"] is not None
+    for bad, match in (
+        ([1.0], "leg_inertias must be"),
+        ({"leg9": 1.0}, "not link bodies"),
+        ({"leg1_link1": "x"}, "inertia of leg1_link1"),
+    ):
+        with pytest.raises(BadInputError, match=match):
+            link_inertias(m, bad)
+    with pytest.raises(BadInputError, match="not link bodies"):
+        m.to_mjcf(modes="none", link_mass={"leg9": 1.0})
