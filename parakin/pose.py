@@ -75,7 +75,30 @@ def rigid_or_nan(pose: Array, keep: ArrayLike = False) -> tuple[Array, NDArray[n
 
 
 def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> Array:
-    """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), eq (2) of Williams & Poling; radians."""
+    """R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma): Z-Y-X Euler angles, eq (2) of Williams & Poling.
+
+    Parameters
+    ----------
+    alpha, beta, gamma : array_like, broadcastable shapes (...)
+        The angles about z, then the new y, then the new x (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3, 3)
+        The rotation matrix of the frame turned by the angles, in the frame it was turned from.
+
+    Raises
+    ------
+    BadInputError
+        An angle not finite, or shapes that do not broadcast.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from parakin import euler_zyx_to_rotation
+    >>> (euler_zyx_to_rotation(np.pi / 2, 0.0, 0.0).round(12) + 0.0).tolist()  # a quarter turn about z
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
     angles = [as_array(x, n, ()) for x, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma"))]
     try:
         a, b, g = np.broadcast_arrays(*angles)
@@ -93,7 +116,31 @@ def euler_zyx_to_rotation(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -
 
 
 def pose_from_xyz_euler(xyz_euler: ArrayLike) -> Array:
-    """^B_P T from (..., 6) values {x, y, z, alpha, beta, gamma}: metres, Z-Y-X radians (eq 2)."""
+    """^B_P T from positions and Z-Y-X Euler angles (eq 2).
+
+    Parameters
+    ----------
+    xyz_euler : array_like, shape (..., 6)
+        x, y, z of the origin of {P} in {B} (m), then alpha, beta, gamma (rad, Z-Y-X).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 4, 4)
+        The homogeneous transform ^B_P T.
+
+    Raises
+    ------
+    BadInputError
+        Not six values per pose, or a value not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from parakin import pose_from_xyz_euler
+    >>> pose = pose_from_xyz_euler([0.1, 0.0, 0.5, np.pi / 2, 0.0, 0.0])
+    >>> pose[:3, 3].tolist(), pose[:2, :2].round(12).tolist()
+    ([0.1, 0.0, 0.5], [[0.0, -1.0], [1.0, 0.0]])
+    """
     values = as_array(xyz_euler, "xyz_euler", (6,))
     pose = np.zeros(values.shape[:-1] + (4, 4))
     pose[..., :3, :3] = euler_zyx_to_rotation(values[..., 3], values[..., 4], values[..., 5])
@@ -103,8 +150,33 @@ def pose_from_xyz_euler(xyz_euler: ArrayLike) -> Array:
 
 
 def xyz_euler_from_pose(pose: ArrayLike) -> Array:
-    """(..., 6) {x, y, z, alpha, beta, gamma} from ^B_P T, Z-Y-X radians with beta in
-    [-pi/2, pi/2]. At beta = +-pi/2 (gimbal lock) alpha is set to 0 and gamma absorbs the rest."""
+    """Positions and Z-Y-X Euler angles from ^B_P T, the inverse of ``pose_from_xyz_euler``.
+
+    Beta lies in [-pi/2, pi/2]. At beta = +-pi/2 (gimbal lock) alpha is set to 0 and gamma
+    absorbs the rest.
+
+    Parameters
+    ----------
+    pose : array_like, shape (..., 4, 4)
+        ^B_P T (metres), rigid.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 6)
+        x, y, z (m), alpha, beta, gamma (rad).
+
+    Raises
+    ------
+    BadInputError
+        Not a rigid 4 x 4 transform, or a value not finite.
+
+    Examples
+    --------
+    >>> from parakin import pose_from_xyz_euler, xyz_euler_from_pose
+    >>> values = [0.1, -0.2, 0.5, 0.3, -0.4, 0.5]
+    >>> xyz_euler_from_pose(pose_from_xyz_euler(values)).round(12).tolist()  # the round trip
+    [0.1, -0.2, 0.5, 0.3, -0.4, 0.5]
+    """
     transform = as_pose(pose)
     r = transform[..., :3, :3]
     beta = np.arctan2(-r[..., 2, 0], np.hypot(r[..., 0, 0], r[..., 1, 0]))
@@ -119,14 +191,58 @@ def xyz_euler_from_pose(pose: ArrayLike) -> Array:
 
 
 def pose_from_xyz_euler_deg(xyz_euler_deg: ArrayLike) -> Array:
-    """As ``pose_from_xyz_euler`` with the three angles in degrees (lengths still in metres)."""
+    """As ``pose_from_xyz_euler`` with the three angles in degrees (lengths still in metres).
+
+    Parameters
+    ----------
+    xyz_euler_deg : array_like, shape (..., 6)
+        x, y, z (m), then alpha, beta, gamma (degrees, Z-Y-X).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 4, 4)
+        ^B_P T.
+
+    Raises
+    ------
+    BadInputError
+        Not six values per pose, or a value not finite.
+
+    Examples
+    --------
+    >>> from parakin import pose_from_xyz_euler_deg
+    >>> (pose_from_xyz_euler_deg([0, 0, 0.5, 0, 0, 90])[1:3, 1:3].round(12) + 0.0).tolist()  # 90 deg about x
+    [[0.0, -1.0], [1.0, 0.0]]
+    """
     values = as_array(xyz_euler_deg, "xyz_euler_deg", (6,)).copy()
     values[..., 3:] = np.deg2rad(values[..., 3:])
     return pose_from_xyz_euler(values)
 
 
 def xyz_euler_deg_from_pose(pose: ArrayLike) -> Array:
-    """As ``xyz_euler_from_pose`` with the three angles in degrees."""
+    """As ``xyz_euler_from_pose`` with the three angles in degrees.
+
+    Parameters
+    ----------
+    pose : array_like, shape (..., 4, 4)
+        ^B_P T (metres), rigid.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 6)
+        x, y, z (m), alpha, beta, gamma (degrees).
+
+    Raises
+    ------
+    BadInputError
+        Not a rigid 4 x 4 transform, or a value not finite.
+
+    Examples
+    --------
+    >>> from parakin import pose_from_xyz_euler_deg, xyz_euler_deg_from_pose
+    >>> xyz_euler_deg_from_pose(pose_from_xyz_euler_deg([0, 0, 0.5, 30, -20, 10])).round(9).tolist()
+    [0.0, 0.0, 0.5, 30.0, -20.0, 10.0]
+    """
     values = xyz_euler_from_pose(pose)
     values[..., 3:] = np.rad2deg(values[..., 3:])
     return values
