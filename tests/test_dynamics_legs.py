@@ -197,7 +197,9 @@ def test_legs_equal_pinocchio_rnea_projected(name, tmp_path):
 
 
 # ------------------------------------------------------------------------- identities
-@pytest.mark.parametrize("name", ["five_bar", "delta", "stewart", "prs3"])
+@pytest.mark.parametrize(
+    "name", ["five_bar", "prs3", *(pytest.param(n, marks=pytest.mark.slow) for n in ("delta", "stewart"))]
+)
 def test_regressor_with_legs_times_parameters_equals_efforts(name):
     """Y theta = tau to 1e-12 relative over a batch of 4 samples, theta the platform's ten and
     every link's; the batch equals each sample alone."""
@@ -239,7 +241,7 @@ def body_energy(body: RigidInertia, rotation, origin, twist, g) -> tuple[float, 
     return 0.5 * body.mass * v_c @ v_c + 0.5 * w @ inertia @ w, body.mass * g @ v_c
 
 
-@pytest.mark.parametrize("name", ["five_bar", "stewart", "prs3"])
+@pytest.mark.parametrize("name", ["five_bar", "prs3", pytest.param("stewart", marks=pytest.mark.slow)])
 def test_power_balance_with_legs(name):
     """tau . q_dot = dK/dt - (power of gravity) at 8 instants to 1e-6 relative, K over the
     platform (its twist from forward_rate) and every link (its twist from the tree's joint rates),
