@@ -87,6 +87,11 @@ class InversePose:
             shape of the pose; check ``valid[..., index]`` first (an invalid branch's values are
             no configuration).
 
+        Raises
+        ------
+        NoSuchModeError
+            ``index`` is not an integer in [0, n_branches).
+
         Examples
         --------
         >>> import parakin
@@ -95,6 +100,9 @@ class InversePose:
         >>> bool(abs(arms).max() < 1e-12)
         True
         """
+        branches = self.valid.shape[-1]
+        if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not 0 <= index < branches:
+            raise NoSuchModeError(f"branch index must be an integer in [0, {branches}), got {index!r}")
         return Configuration(self.actuated[..., index, :], self.passive[..., index, :], self.pose)
 
 
@@ -194,6 +202,14 @@ class AssemblyModes:
         ------
         NoSuchModeError
             ``index`` is not an integer in [0, M).
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> modes = m.forward_pose_all(m.home_actuated)
+        >>> modes.outcomes[modes.outcome[1]], modes.slot(1).passive.round(3).tolist()
+        ('mode', [0.0, 0.33])
         """
         slots = self.valid.shape[-1]
         if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not 0 <= index < slots:
@@ -277,6 +293,13 @@ class AssemblyModes:
         -------
         ndarray of bool, shape (..., M)
             Per slot: a valid mode whose conditioning is at most ``singular_ratio``.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> m.forward_pose_all(m.home_actuated).ill_conditioned().tolist()  # two regular modes
+        [False, False]
         """
         return self.valid & ~(self.conditioning > singular_ratio)
 
@@ -288,21 +311,38 @@ class AssemblyModes:
         return modes_html(self)
 
     def certificate(self) -> dict[str, NDArray[np.int64]]:
-        """Per input: every isolated root accounted for. ``roots`` = real + near-real + at
-        infinity; ``with_modes`` roots gave at least one mode; ``rejected[reason]`` counts the
-        others by the furthest stage any of their branches reached. roots == with_modes +
-        sum(rejected) holds for every input.
+        """Per input: every isolated root accounted for.
+
+        ``roots`` = real + near-real + at infinity; ``with_modes`` roots gave at least one mode;
+        ``rejected[reason]`` counts the others by the furthest stage any of their branches
+        reached. roots == with_modes + sum(rejected) holds for every input.
 
         A homotopy method adds ``root_count`` (the family's generic number of solutions, proven
         at generation time, by the total-degree bound or the trace test, where
-        ``root_count_proven``), ``certified_roots``
-        (distinct roots of the system at the input, each in a Krawczyk box holding exactly one
-        root: ``parakin.solvers.certify``), ``complete`` (the two are equal and the count is proven: no
-        solution can be missing, so the modes returned are all of them), ``uncertified_paths``
-        (per input, the paths whose endpoint has no such box) and ``retracked`` (the first run
-        was not complete: its suspect paths, then if need be every path from each start
-        instance, tracked again in projective space, where roots near infinity stay bounded;
-        the run with the most certified roots kept)."""
+        ``root_count_proven``), ``certified_roots`` (distinct roots of the system at the input,
+        each in a Krawczyk box holding exactly one root: ``parakin.solvers.certify``),
+        ``complete`` (the two are equal and the count is proven: no solution can be missing, so
+        the modes returned are all of them), ``uncertified_paths`` (per input, the paths whose
+        endpoint has no such box) and ``retracked`` (the first run was not complete: its suspect
+        paths, then if need be every path from each start instance, tracked again in projective
+        space, where roots near infinity stay bounded; the run with the most certified roots
+        kept).
+
+        Returns
+        -------
+        dict of str to ndarray, each shape (...)
+            The counts above per input; ``rejected`` is itself a dict, reason to count.
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("planar_3rrr", backend="numpy")
+        >>> found = m.forward_pose_all(np.deg2rad([-54.0, 174.0, -105.0])).certificate()
+        >>> [int(found[key]) for key in ("roots", "with_modes", "root_count", "certified_roots")]
+        [6, 6, 6, 6]
+        >>> bool(found["complete"]), sum(int(n) for n in found["rejected"].values())
+        (True, 0)
+        """
         extra: dict[str, object] = {}
         if self.certified_roots is not None and self.root_count is not None and self.path_certified is not None:
             extra = {
