@@ -88,24 +88,71 @@ class Progress:
         return self.bar is not None or (self.into is not None and self.into.active)
 
     def update(self, count: int = 1) -> None:
-        """``count`` more units done."""
+        """``count`` more units done.
+
+        Parameters
+        ----------
+        count : int
+            Units finished since the last update.
+
+        Examples
+        --------
+        >>> from parakin.log import progress
+        >>> with progress(4, "four points", unit="point", show=False) as bar:
+        ...     bar.update(4)
+        >>> bar.active
+        False
+        """
         if self.bar is not None:
             self.bar.update(count)
         elif self.into is not None:
             self.into.update(count)
 
     def restart(self, total: int) -> None:
-        """Count to ``total`` from zero (work whose size is known once it starts: a dask graph)."""
+        """Count to ``total`` from zero (work whose size is known once it starts: a dask graph).
+
+        Parameters
+        ----------
+        total : int
+            The units of work now known.
+
+        Examples
+        --------
+        >>> from parakin.log import progress
+        >>> with progress(None, "a graph", unit="task", show=False) as bar:
+        ...     bar.restart(12)
+        ...     bar.update(12)
+        """
         if self.bar is not None:
             self.bar.reset(total=total)
 
     def describe(self, text: str) -> None:
-        """What is being done now, shown after the bar."""
+        """What is being done now, shown after the bar.
+
+        Parameters
+        ----------
+        text : str
+            A short note (e.g. the current chunk).
+
+        Examples
+        --------
+        >>> from parakin.log import progress
+        >>> with progress(2, "sweep", unit="point", show=False) as bar:
+        ...     bar.describe("chunk 1 of 2")
+        """
         if self.bar is not None:
             self.bar.set_postfix_str(text, refresh=False)
 
     def close(self) -> None:
-        """Remove the bar (once); a nested request leaves the bar it fed open."""
+        """Remove the bar (once); a nested request leaves the bar it fed open.
+
+        Examples
+        --------
+        >>> from parakin.log import progress
+        >>> bar = progress(2, "two inputs", show=False)
+        >>> bar.close()
+        >>> bar.close()  # a second close does nothing
+        """
         if not self.owner:
             return
         self.owner = False
@@ -127,8 +174,24 @@ class Progress:
 
 
 def progress_setting() -> str:
-    """``PARAKIN_PROGRESS`` ('auto' unless set): 'auto', 'on' or 'off' (module docstring);
-    BadInputError for any other value."""
+    """The ``PARAKIN_PROGRESS`` setting: where progress bars appear (module docstring).
+
+    Returns
+    -------
+    str
+        'auto' (unset or empty: a bar only when stderr is a terminal), 'on' or 'off'.
+
+    Raises
+    ------
+    BadInputError
+        ``PARAKIN_PROGRESS`` holds any other value.
+
+    Examples
+    --------
+    >>> from parakin.log import progress_setting
+    >>> progress_setting() in ("auto", "on", "off")
+    True
+    """
     setting = os.environ.get("PARAKIN_PROGRESS", "auto").strip().lower() or "auto"
     if setting not in PROGRESS_SETTINGS:
         raise BadInputError(f"PARAKIN_PROGRESS must be 'auto', 'on' or 'off', got {setting!r}")
@@ -151,12 +214,49 @@ def progress(
     size: int | None = None,
     delay: float = BAR_DELAY,
 ) -> Progress:
-    """A progress bar over ``total`` ``unit``s on stderr (None: known once the work starts, then
-    ``restart``), or a silent ``Progress``. ``show``: True or False decides; None (the default): a
-    bar when the work's ``size`` (default ``total``) is at least ``minimum`` and ``PARAKIN_PROGRESS``
-    allows it (module docstring), appearing after ``delay`` seconds unless the setting is 'on'.
+    """A progress bar over ``total`` units on stderr, or a silent ``Progress``.
+
     While a bar is open in this process, a request from the same thread with the same unit counts
-    into it (``count_modes``' chunks into one bar over the whole batch) and every other stays silent."""
+    into it (``count_modes``' chunks into one bar over the whole batch) and every other stays
+    silent.
+
+    Parameters
+    ----------
+    total : int or None
+        The units of work; None: known once the work starts (then ``restart``).
+    description : str
+        What the bar counts, shown before it.
+    unit : str
+        The unit counted ("input", "point", "pose").
+    show : bool or None
+        True or False decides; None (the default): a bar when the work's ``size`` is at least
+        ``minimum`` and ``PARAKIN_PROGRESS`` allows it.
+    minimum : int
+        The least size that gets a bar when ``show`` is None.
+    size : int or None
+        The work's size for that test (default ``total``).
+    delay : float
+        Seconds before the bar appears (s), unless the setting is 'on' or ``show`` is True.
+
+    Returns
+    -------
+    Progress
+        A context manager: ``update``, ``describe`` and ``close`` work whether or not a bar is drawn.
+
+    Raises
+    ------
+    BadInputError
+        ``PARAKIN_PROGRESS`` is not 'auto', 'on' or 'off'.
+
+    Examples
+    --------
+    >>> from parakin.log import progress
+    >>> with progress(3, "three inputs", show=False) as outer:
+    ...     inner = progress(3, "nested", show=True)  # counts into the open one, draws nothing
+    ...     inner.update(3)
+    >>> outer.active, inner.owner
+    (False, False)
+    """
     setting = progress_setting()
     thread = threading.get_ident()
     with _lock:
