@@ -9,12 +9,12 @@ Claims, each against an independent source:
   ``mj_jacDot`` (``parakin.mujoco_bridge``), parakin with its own tree code;
 * Pinocchio's RNEA on the same MJCF (``pinocchio.buildModelFromMJCF``, its own loop Jacobians
   from the cut sites' frames and J_dot v from ``getFrameClassicalAcceleration``), projected onto
-  the actuated joints = parakin's to 1e-6 (five_bar, delta);
-* tau = Y theta with the legs' columns to 1e-12 (a batch; Y by Jacobian transposes of each
+  the actuated joints = parakin's to 1e-6 (five_bar, prs3; delta and stewart slow);
+* tau = Y theta with the legs' columns to 1e-12 (five_bar, prs3; delta and stewart slow; a batch; Y by Jacobian transposes of each
   body's force per parameter, tau by the recursive pass);
 * power balance: tau . q_dot = dK/dt + dV/dt along a trajectory to 1e-6, K summed over the
   platform (from ``forward_rate``) and every link (from the tree's body twists), dK/dt by
-  fourth-order central differences;
+  fourth-order central differences (five_bar, prs3; stewart slow);
 * the tree's own kinematics carry a free platform exactly as the generated rate model does:
   the platform's inertia put on the tree's platform body gives the massless-leg efforts.
 """
@@ -113,16 +113,19 @@ def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
 def pinocchio_projected_rnea(pin, mujoco, model, pmodel, pdata, qpos, qd, qdd, actuated):
     """Pinocchio's RNEA of the tree at MuJoCo's closed qpos, its velocities and accelerations from
     its own loop Jacobian (the cut sites' frames) and J_dot v, projected on the actuated joints."""
-    q = np.zeros(pmodel.nq)
+    # both readers lay the joints out depth first in the file's order (a body's two hinges are
+    # one composite joint in Pinocchio): the same coordinates, but for a free joint, whose
+    # Pinocchio coordinates are its body's pose relative to the body's placement in the file
+    assert pmodel.nq == model.nq
+    q = np.array(qpos, dtype=float)
     for j in range(model.njnt):
-        name, address = model.joint(j).name, int(model.jnt_qposadr[j])
-        start = pmodel.idx_qs[pmodel.getJointId(name)]
-        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):  # (x y z, w x y z) -> (x y z, x y z w)
-            q[start : start + 7] = np.concatenate(
-                [qpos[address : address + 3], qpos[address + 4 : address + 7], qpos[address + 3 : address + 4]]
-            )
-        else:
-            q[start] = qpos[address]
+        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):
+            address = int(model.jnt_qposadr[j])
+            rotation = np.zeros(9)
+            mujoco.mju_quat2Mat(rotation, qpos[address + 3 : address + 7])
+            world = pin.SE3(rotation.reshape(3, 3), qpos[address : address + 3])
+            placement = pmodel.jointPlacements[pmodel.getJointId(model.joint(j).name)]
+            q[address : address + 7] = pin.SE3ToXYZQUAT(placement.inverse() * world)
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     pin.computeJointJacobians(pmodel, pdata, q)
     pin.updateFramePlacements(pmodel, pdata)
@@ -161,7 +164,9 @@ def pinocchio_projected_rnea(pin, mujoco, model, pmodel, pdata, qpos, qd, qdd, a
     return gamma.T @ pin.rnea(pmodel, pdata, q, velocity, acceleration)
 
 
-@pytest.mark.parametrize("name", ["five_bar", "delta"])
+@pytest.mark.parametrize(
+    "name", ["five_bar", "prs3", *(pytest.param(n, marks=pytest.mark.slow) for n in ("delta", "stewart"))]
+)
 def test_legs_equal_pinocchio_rnea_projected(name, tmp_path):
     mujoco = pytest.importorskip("mujoco")
     pin = pytest.importorskip("pinocchio")
