@@ -174,9 +174,49 @@ class ForwardPoseTracker:
         return self._max_iterations
 
     def solve(self, actuated: ArrayLike) -> tuple[Array, Array]:
-        """Newton from the previous solution for new actuated values (n, n_a) or (n_a,): passive
-        values and poses, (n_p,) and (4, 4) for one input to a tracker of one configuration
-        (``single``), else (n, n_p) and (n, 4, 4); views of the tracker's buffers."""
+        """Newton from the previous solution for new actuated values.
+
+        Every entry is checked for a change of assembly mode (module docstring); ``mode_change``
+        says what happened, and the last ``residual``, ``iterations``, ``status``,
+        ``conditioning`` and ``orientation`` stay readable.
+
+        Parameters
+        ----------
+        actuated : array_like, shape (n, n_a) or (n_a,)
+            The new inputs (m or rad), inside the actuators' ranges; (n_a,) for a tracker of one
+            configuration.
+
+        Returns
+        -------
+        tuple of (numpy.ndarray, numpy.ndarray)
+            Passive values and poses ^B_P T (metres, in {B}): (n_p,) and (4, 4) for one input to a
+            tracker of one configuration (``single``), else (n, n_p) and (n, 4, 4). Views of the
+            tracker's buffers: copy them to keep them.
+
+        Raises
+        ------
+        BadInputError
+            An input outside its range, non-finite, or of a shape that does not match the tracker.
+        ConvergenceError
+            Newton did not converge (as ``Mechanism.forward_pose``).
+        SingularConfigurationError
+            A singular Newton matrix.
+        AssemblyModeChangeError
+            With ``strict``: a crossed singularity, a left branch or a step too coarse; the entries
+            keep their previous solution.
+
+        Examples
+        --------
+        >>> import numpy as np, parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> tracker = m.tracker(m.forward_pose(m.home_actuated))
+        >>> for inputs in m.home_actuated + np.linspace(0.0, 0.1, 5)[:, None] * [1.0, -1.0]:
+        ...     passive, pose = tracker.solve(inputs)
+        >>> passive.round(6).tolist(), tracker.mode_change.tolist()
+        ([0.0, 0.289656], [0])
+        >>> m.forward_pose(inputs).passive.round(6).tolist()  # the same mode, solved afresh
+        [0.0, 0.289656]
+        """
         previous_theta = self._previous_theta
         if self._step is not None and type(actuated) is np.ndarray and actuated.dtype == np.float64:
             # the control loop's case: the C checks the inputs' ranges (and finiteness), keeps the
