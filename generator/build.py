@@ -111,12 +111,20 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
     error in the file is a GenerationError naming the file and the line where it happened: any
     exception, SystemExit included (a file that calls ``sys.exit`` would otherwise end the
     generator with that status and no package). KeyboardInterrupt and ``Terminated`` pass: they
-    interrupt."""
+    interrupt.
+
+    The file's own folder is importable while it loads and builds, so that it may import an
+    accelerator module beside it (``import _mine_forward``: a hand elimination, ``_``-prefixed so
+    that ``discover`` skips it); such sibling modules are forgotten afterwards, so that a file in
+    another folder gets its own module of the same name."""
     name = validate_name(name or path.stem)
     spec = importlib.util.spec_from_file_location(f"parakin_mechanism_{name}", path)
     if spec is None or spec.loader is None:
         raise GenerationError(f"{path}: not a Python file")
     module = importlib.util.module_from_spec(spec)
+    folder = str(path.resolve().parent)
+    loaded = set(sys.modules)
+    sys.path.insert(0, folder)
     try:
         spec.loader.exec_module(module)
         if not callable(getattr(module, "build", None)):
@@ -140,10 +148,23 @@ def load_definition(path: Path, name: str | None = None) -> tuple[Mechanism, Mod
         line = _last_line_in(error.__traceback__, path)
         where = f", line {line}" if line is not None else ""
         raise GenerationError(f"{path}{where}: {type(error).__name__}: {error}") from error
+    finally:
+        _forget_siblings(folder, loaded)
     if not isinstance(mechanism, Mechanism):
         raise GenerationError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
     mechanism.name = name
     return mechanism, module
+
+
+def _forget_siblings(folder: str, loaded: set[str]) -> None:
+    """Take ``folder`` off the import path again and forget the top-level modules imported from it
+    since ``loaded`` (a mechanism file's accelerators)."""
+    if folder in sys.path:
+        sys.path.remove(folder)
+    for key in set(sys.modules) - loaded:
+        where = getattr(sys.modules[key], "__file__", None)
+        if "." not in key and where is not None and str(Path(where).resolve().parent) == folder:
+            del sys.modules[key]
 
 
 def _same_file(filename: str | None, path: Path) -> bool:
@@ -263,7 +284,9 @@ TOOLS = ("sympy", "casadi", "jinja2", "ruff")
 
 def _mechanism_sources(path: Path) -> list[Path]:
     """The mechanism file and every sibling mechanism module it imports (``from
-    parakin.mechanisms.stewart import ...``), transitively, found by reading the imports."""
+    parakin.mechanisms.stewart import ...``, an accelerator ``from parakin.mechanisms import
+    _sps_forward``, or a module beside a user's file, ``import _mine_forward`` or ``from
+    _mine_forward import ...``), transitively, found by reading the imports."""
     found: list[Path] = []
     pending = [path.resolve()]
     while pending:
@@ -276,9 +299,14 @@ def _mechanism_sources(path: Path) -> list[Path]:
         except SyntaxError:  # reported by the build itself
             continue
         for node in ast.walk(tree):
-            if not isinstance(node, ast.ImportFrom) or node.module is None:
+            if isinstance(node, ast.Import):  # import _mine_forward: a module beside the file
+                pending += [current.parent / f"{alias.name}.py" for alias in node.names if "." not in alias.name]
+                continue
+            if not isinstance(node, ast.ImportFrom) or node.module is None or node.level:
                 continue
             parts = node.module.split(".")
+            if len(parts) == 1 and (current.parent / f"{parts[0]}.py").is_file():
+                pending.append(current.parent / f"{parts[0]}.py")
             if parts[-1] == "mechanisms" and parts[:-1] in ([], ["parakin"]):
                 pending += [current.parent / f"{alias.name}.py" for alias in node.names]
             elif len(parts) >= 2 and parts[-2] == "mechanisms" and parts[:-2] in ([], ["parakin"]):

@@ -1,0 +1,145 @@
+"""Mechanism files as descriptions (issue 32, item 4): a hand elimination lives in an optional
+accelerator module beside the mechanism file (``_``-prefixed, skipped by ``discover``), the
+package's input digest covers it, and a user's file outside ``mechanisms/`` may import one from
+its own folder."""
+
+from __future__ import annotations
+
+import ast
+import io
+import shutil
+import sys
+import tokenize
+from pathlib import Path
+
+import pytest
+from parakin.generator.build import MECHANISMS, discover, input_digest, load_definition
+
+#: the mechanisms re-expressed as descriptions, with the accelerator each imports
+DESCRIPTIONS = {"sps": "_sps_forward", "gough": "_gough_forward", "prs3": "_prs3_reading"}
+#: what only an accelerator writes: a hand elimination or a hand closure
+HAND_NAMES = {"ForwardElimination", "ClosureModel", "biquadratic_resultant", "half_angle_grid"}
+
+
+def model_lines(path: Path) -> int:
+    """Lines of code of a Python file: not blank, comment, docstring or import lines."""
+    source = path.read_text()
+    tree = ast.parse(source)
+    skipped: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            skipped.update(range(node.lineno, (node.end_lineno or node.lineno) + 1))
+        body = getattr(node, "body", None)
+        if isinstance(node, ast.Module | ast.FunctionDef | ast.ClassDef) and body:
+            first = body[0]
+            if (
+                isinstance(first, ast.Expr)
+                and isinstance(first.value, ast.Constant)
+                and isinstance(first.value.value, str)
+            ):
+                skipped.update(range(first.lineno, (first.end_lineno or first.lineno) + 1))
+    code: set[int] = set()
+    ignored = {tokenize.COMMENT, tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT, tokenize.ENDMARKER}
+    for token in tokenize.generate_tokens(io.StringIO(source).readline):
+        if token.type not in ignored:
+            code.update(range(token.start[0], token.end[0] + 1))
+    return len(code - skipped)
+
+
+def test_model_lines_counts_code_only(tmp_path):
+    source = tmp_path / "sample.py"
+    source.write_text(
+        '"""Doc\nstring."""\n\nimport math\n\n# a comment\nX = [\n    1,\n    2,\n]\n\n\ndef f():\n    """Doc."""\n    return math.pi\n'
+    )
+    assert model_lines(source) == 6  # X = [ 1, 2, ] (4 lines), def f, return
+
+
+@pytest.mark.parametrize("name", sorted(DESCRIPTIONS))
+def test_a_description_imports_its_accelerator_and_holds_no_elimination(name):
+    path = MECHANISMS / f"{name}.py"
+    tree = ast.parse(path.read_text())
+    imported = {alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) for alias in node.names}
+    modules = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    assert DESCRIPTIONS[name] in imported or f"parakin.mechanisms.{DESCRIPTIONS[name]}" in modules
+    names = {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)} | imported
+    assert not names & HAND_NAMES, f"{name}.py writes {sorted(names & HAND_NAMES)}: an accelerator's job"
+    docstring = ast.get_docstring(tree) or ""
+    assert len(docstring.splitlines()) <= 25, f"{name}.py: {len(docstring.splitlines())} docstring lines"
+    assert model_lines(path) <= 130, f"{name}.py: {model_lines(path)} lines of model code"
+
+
+def test_discover_skips_the_accelerators():
+    accelerators = sorted(p.stem for p in MECHANISMS.glob("_*.py") if p.stem != "__init__")
+    assert set(DESCRIPTIONS.values()) <= set(accelerators)
+    assert not set(discover()) & set(accelerators)
+    assert set(DESCRIPTIONS) <= set(discover())
+
+
+def test_the_input_digest_covers_the_accelerator(tmp_path):
+    """A shipped description copied with its accelerator: editing the accelerator changes the
+    package's input digest (the package is out of date); an unrelated file beside it does not."""
+    for source in (MECHANISMS / "sps.py", MECHANISMS / "_sps_forward.py"):
+        shutil.copy(source, tmp_path / source.name)
+    before = input_digest("sps", tmp_path / "sps.py")
+    (tmp_path / "_unrelated.py").write_text("X = 1\n")
+    assert input_digest("sps", tmp_path / "sps.py") == before
+    with (tmp_path / "_sps_forward.py").open("a") as accelerator:
+        accelerator.write("# edited\n")
+    assert input_digest("sps", tmp_path / "sps.py") != before
+
+
+USER_FILE = '''"""A five-bar whose title comes from its accelerator beside it."""
+import _mine_forward
+
+from parakin.mechanisms.five_bar import build as five_bar
+
+
+def build():
+    mechanism = five_bar()
+    mechanism.title = _mine_forward.TITLE
+    return mechanism
+'''
+
+
+def _user_folder(folder: Path, title: str) -> Path:
+    folder.mkdir()
+    (folder / "mine.py").write_text(USER_FILE)
+    (folder / "_mine_forward.py").write_text(f"TITLE = {title!r}\n")
+    return folder / "mine.py"
+
+
+def test_a_users_file_imports_the_accelerator_beside_it(tmp_path):
+    """Two folders, each a mine.py with its own _mine_forward.py: each file loads its own
+    accelerator (none left cached or on the import path), and each digest covers its own."""
+    first, second = _user_folder(tmp_path / "a", "first five-bar"), _user_folder(tmp_path / "b", "second five-bar")
+    assert load_definition(first)[0].title == "first five-bar"
+    assert load_definition(second)[0].title == "second five-bar"
+    assert "_mine_forward" not in sys.modules
+    assert str(tmp_path / "a") not in sys.path and str(tmp_path / "b") not in sys.path
+    before = input_digest("mine", first)
+    (tmp_path / "a" / "_mine_forward.py").write_text("TITLE = 'renamed'\n")
+    assert input_digest("mine", first) != before
+    assert load_definition(first)[0].title == "renamed"
+    (tmp_path / "a" / "_mine_forward.py").write_text("from _mine_helper import TITLE\n")
+    (tmp_path / "a" / "_mine_helper.py").write_text("TITLE = 'helper'\n")
+    with_helper = input_digest("mine", first)
+    (tmp_path / "a" / "_mine_helper.py").write_text("TITLE = 'helper, edited'\n")
+    assert input_digest("mine", first) != with_helper  # transitively
+    assert load_definition(first)[0].title == "helper, edited"
+
+
+@pytest.mark.slow
+def test_parakin_generate_of_a_users_file_with_an_accelerator(tmp_path):
+    """``parakin generate`` end to end: the package carries the accelerator's title and is up to
+    date until the accelerator changes."""
+    from parakin.generator.build import generate_file, up_to_date
+
+    import parakin
+
+    source = _user_folder(tmp_path / "src", "five-bar with an accelerator")
+    package = tmp_path / "mine_package"
+    generate_file(source, package)
+    assert parakin.load(package).manifest.title == "five-bar with an accelerator"
+    assert up_to_date("mine", source, package)
+    (tmp_path / "src" / "_mine_forward.py").write_text("TITLE = 'changed'\n")
+    assert not up_to_date("mine", source, package)
