@@ -1,44 +1,23 @@
-"""SAM, the Spherically-Actuated platform Manipulator (2-SPU, 6 dof).
+"""SAM, the Spherically-Actuated platform Manipulator (2-SPU, 6 dof): R. L. Williams II and
+D. B. Poling, "Spherically-Actuated Platform Manipulator", Journal of Robotic Systems, 2000
+(``shared/papers/000_0fd26f24943f9b56.txt``).
 
-Reference: R. L. Williams II and D. B. Poling, "Spherically-Actuated Platform Manipulator",
-Journal of Robotic Systems, 2000 (``shared/papers/000_0fd26f24943f9b56.txt``).
-
-Conventions, as in the paper:
+Conventions, as in the paper (metres, radians; derivation: ``docs/derivations/sam.md``):
 * Frames: fixed base {B}; platform {P}; each leg is a modified-DH chain (Craig), Table I, from
   its actuator frame {0} (^B_0 T: {0} at y = -L1 in {B}) to the U-joint frame {6}, and
   ^6_P T places {P} with its origin at x6 = -L4 (eq 3). Both U joints lie on the Y_P axis.
 * Left leg: active S joint (theta1 roll, theta2 yaw, theta3 pitch), passive prismatic L2 and
   U joint (phi2, phi3). Right leg: the same table with theta4..6, L3, phi5, phi6 and the signs of
   L1 and L4 reversed.
-* Pose: ^B_P T, or {x, y, z, alpha, beta, gamma} with Z-Y-X Euler angles (eq 2).
-* Leg Jacobians (eq 9): columns (theta, theta, theta, L, phi, phi); rows (v, w) of {P}, the
-  linear velocity of the origin of {P} and the angular velocity, both in {B}.
-* Inverse branches per leg, signs (epsilon, delta): epsilon = sign of sin(phi2) (the two U-joint
-  sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
-  (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
-* Lengths in metres, angles in radians.
-
-What is written here: Table I per leg with eq (3)'s fixed transforms (``spu_leg``), the actuated
-S joints, the parameters, the home, the examples, and the closed-form forward pose
-(``forward_elimination``, an accelerator). The generator (``parakin.generator.chains``) reads the
-S-P-U structure from the table and derives the rest: the inverse of section 3.1 as subproblems
-(L2 the distance of the S and U centres, eq 5; the U joint pointing the leg line, eq 5's two sets,
-its sign the one above: sin(phi2) = sign * rho / L2; the S joint's Euler decomposition, eqs 6-8,
-its sign that of cos(theta2) = sin(theta2 + 90 deg)), the validity conditions
-``<leg>_u_joint_not_aligned`` (the leg along the U joint's platform axis Z_P: phi3 undetermined)
-and ``<leg>_s_joint_not_locked`` (|cos(theta2)|: gimbal lock), the leg determinants' factors
-(eq 13-14: ``<leg>_leg_length``, ``<leg>_s_joint_gimbal_lock``, ``<leg>_u_joint_aligned``), the
-closed-loop factors (``u_joint_axes_parallel``: the axes z4 of both U joints and Z_P parallel to
-one plane; ``legs_coplanar_with_platform_x``: both leg lines and X_P; ``platform_span`` = 2 L4),
-the joint limits (L2, L3 >= 0) and the drawing (S centres, U centres as each leg reaches them,
-the platform bar with a marker at L4 along X_P).
-* Home (the default Newton guess, ``parakin plot sam``, exported C examples): the last pose of
-  section 4.2's inverse-pose trajectory, {x y z alpha beta gamma} = {0.05 0.05 0.714 0 0 5 deg}
-  (ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} from eq (15), ``SECTION42_HOME``), on the
-  paper's branch 2 (``PAPER_BRANCH``): a regular configuration (closure Jacobian pivot ratio 0.50,
-  four assembly modes). The paper's nominal pose eq (15) itself is a type II singularity (both
-  U-joint axes z4 parallel to X_B, a self-motion; tests/test_sam_paper.py): it stays the named
-  example ``eq15_nominal``, never the home.
+* Pose: ^B_P T, or {x, y, z, alpha, beta, gamma} with Z-Y-X Euler angles (eq 2). Leg Jacobians
+  (eq 9): columns (theta, theta, theta, L, phi, phi); rows (v, w) of {P} in {B}.
+* Inverse branches per leg, signs (epsilon, delta): epsilon = sign of sin(phi2) (eq 5), delta =
+  sign of cos(theta2) (eq 8); branch 0 of a leg is (+, +), Table II's first row; SAM branch
+  k = 4 * left branch + right branch.
+* Forward pose: closed form (accelerator ``_sam_forward.py``), 2 x 2 modes.
+* Home: section 4.2's last trajectory pose {0.05 0.05 0.714 0 0 5 deg} on the paper's branch 2
+  (``SECTION42_HOME``, ``PAPER_BRANCH``), regular; eq (15)'s nominal pose is a type II
+  singularity (a self-motion), the named example ``eq15_nominal``.
 """
 
 from __future__ import annotations
@@ -48,15 +27,8 @@ import math
 import sympy as sp
 from parakin.generator import chains
 from parakin.generator.frames import ModifiedDHLink, euler_zyx_rotation, homogeneous, translation
-from parakin.generator.model import (
-    POSE_POSITION,
-    Citation,
-    Example,
-    ForwardElimination,
-    Mechanism,
-    ParameterInfo,
-    SerialChain,
-)
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo, SerialChain
+from parakin.mechanisms._sam_forward import forward_elimination
 
 L1, L4 = sp.symbols("L1 L4", positive=True)
 theta = sp.symbols("theta1:7", real=True)
@@ -87,71 +59,6 @@ def spu_leg(name: str, thetas, length, phis, base_offset, platform_offset) -> Se
     base = translation(0, -base_offset, 0)
     tool = homogeneous(sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]), [-platform_offset, 0, 0])
     return SerialChain(name, base, links, tool, [t1, t2, t3, length, p2, p3])
-
-
-def forward_elimination(left: SerialChain, right: SerialChain) -> ForwardElimination:
-    """Closed-form forward pose (not in the paper, which uses Newton only).
-
-    In Table I, z4 = z5 (alpha4 = 0) depends on the S-joint angles only, and z6 of both legs is the
-    platform Z axis; the U joint makes z6 normal to z5. So Z_P = sign * (z4_L x z4_R) / |.|.
-    The U joints are U_L = S_L + L2 x3_L and U_R = S_R + L3 x3_R (x3 is the leg line), and
-    U_R - U_L = 2 L4 Y_P with Y_P normal to Z_P: one linear equation (dot with Z_P) and one
-    quadratic (|U_R - U_L| = 2 L4). On the line (L2, L3) = p0 + t d of the linear equation the
-    quadratic becomes a univariate quadratic in t. Both signs of Z_P give a pose: 2 x 2 modes.
-    """
-    frames_left, frames_right = left.frames(), right.frames()
-    z4_left, z4_right = frames_left[4][:3, 2], frames_right[4][:3, 2]
-    x3_left, x3_right = frames_left[3][:3, 0], frames_right[3][:3, 0]
-    s_left, s_right = left.base[:3, 3], right.base[:3, 3]
-    t, sign = sp.symbols("t sigma", real=True)
-    normal = sp.Matrix(sp.symbols("n_x n_y n_z", real=True))
-    # the linear equation a L2 + b L3 + c = 0 (dot with the unnormalised normal)
-    a_lin, b_lin, c_lin = sp.symbols("a_lin b_lin c_lin", real=True)
-    line_norm2 = sp.Symbol("line_norm2", positive=True)
-    normal_norm = sp.Symbol("normal_norm", positive=True)
-    length_left, length_right = sp.symbols("L2_t L3_t", real=True)
-    normal_expr = z4_left.cross(z4_right)
-    span = (s_right - s_left) + length_right * x3_right - length_left * x3_left
-    # coefficients of |span|^2 - (2 L4)^2 in t, with L2 = p0_2 + t d_2, L3 = p0_3 + t d_3
-    base_point = sp.Matrix([-c_lin * a_lin, -c_lin * b_lin]) / line_norm2
-    direction = sp.Matrix([b_lin, -a_lin])
-    on_line = {length_left: base_point[0] + t * direction[0], length_right: base_point[1] + t * direction[1]}
-    quadratic = sp.expand((span.dot(span) - (2 * L4) ** 2).subs(on_line))
-    coefficients = [quadratic.coeff(t, k) for k in range(3)]
-    auxiliary = [
-        (normal[0], normal_expr[0]),
-        (normal[1], normal_expr[1]),
-        (normal[2], normal_expr[2]),
-        (a_lin, -x3_left.dot(normal)),
-        (b_lin, x3_right.dot(normal)),
-        (c_lin, (s_right - s_left).dot(normal)),
-        (line_norm2, a_lin**2 + b_lin**2),
-        (normal_norm, sp.sqrt(normal.dot(normal))),
-    ]
-    # back substitution: pose from the root t and the sign of Z_P
-    y_axis_sym = sp.Matrix(sp.symbols("yP_x yP_y yP_z", real=True))
-    z_axis_sym = sp.Matrix(sp.symbols("zP_x zP_y zP_z", real=True))
-    u_left_sym = sp.Matrix(sp.symbols("UL_x UL_y UL_z", real=True))
-    back = [
-        (length_left, on_line[length_left]),
-        (length_right, on_line[length_right]),
-    ]
-    back += [(z_axis_sym[k], sign * normal[k] / normal_norm) for k in range(3)]
-    u_left = s_left + length_left * x3_left
-    back += [(u_left_sym[k], u_left[k]) for k in range(3)]
-    back += [(y_axis_sym[k], span[k] / (2 * L4)) for k in range(3)]
-    x_axis = y_axis_sym.cross(z_axis_sym)
-    origin = u_left_sym + L4 * y_axis_sym  # left U joint sits at y = -L4 in {P}
-    pose = homogeneous(sp.Matrix.hstack(x_axis, y_axis_sym, z_axis_sym), origin)
-    return ForwardElimination(
-        unknown=t,
-        coefficients=coefficients,
-        branches=[sign],
-        auxiliary=auxiliary,
-        back_substitution=back,
-        pose=pose,
-        degeneracies={"u_joint_axes_parallel": normal_norm, "legs_parallel_to_platform": line_norm2},
-    )
 
 
 def table2(row: int, t1: float, t2: float, t3: float, length: float, p2: float, p3: float) -> list[float]:
@@ -224,7 +131,7 @@ def build() -> Mechanism:
         ),
         parameters=parameters,
         **model.fields(),
-        forward=forward_elimination(left, right),
+        forward=forward_elimination(left, right, L4),
         # section 4.2's last trajectory pose (module docstring), not eq (15): that is singular
         home=model.home_at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters),
         parameter_info={
@@ -237,6 +144,3 @@ def build() -> Mechanism:
         },
         examples=examples(),
     )
-
-
-__all__ = ["build", "POSE_POSITION"]
