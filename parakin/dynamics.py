@@ -85,7 +85,22 @@ class RigidInertia:
 
     def parameters(self) -> Array:
         """theta (10,): (m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz) with I the inertia about the
-        origin of the body frame (parallel axes): the vector ``dynamics_regressor`` multiplies."""
+        origin of the body frame (parallel axes): the vector ``dynamics_regressor`` multiplies.
+
+        Returns
+        -------
+        ndarray (10,)
+            kg, kg m, kg m^2 (``INERTIAL_PARAMETERS``).
+
+        Raises
+        ------
+        Nothing: a ``RigidInertia`` is valid when built.
+
+        Examples
+        --------
+        >>> rigid_inertia(2.0, (0.0, 0.0, 0.1)).parameters()[:4]
+        array([2. , 0. , 0. , 0.2])
+        """
         c = self.centre
         about_origin = self.inertia + self.mass * (float(c @ c) * np.eye(3) - np.outer(c, c))
         entries = [about_origin[i, j] for i, j in _INERTIA_ENTRIES]
@@ -93,8 +108,27 @@ class RigidInertia:
 
     @classmethod
     def from_parameters(cls, theta: ArrayLike) -> RigidInertia:
-        """The body of inertial parameters ``theta`` (10,) (``parameters``'s order); BadInputError
-        for a non-positive mass or an inertia that no body has."""
+        """The body of inertial parameters ``theta`` (10,) (``parameters``'s order).
+
+        Parameters
+        ----------
+        theta : array_like (10,)
+            (m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz), I about the body frame's origin.
+
+        Returns
+        -------
+        RigidInertia
+
+        Raises
+        ------
+        BadInputError
+            A wrong shape, a non-positive mass or an inertia that no body has.
+
+        Examples
+        --------
+        >>> RigidInertia.from_parameters(rigid_inertia(2.0, (0, 0, 0.1)).parameters()).centre
+        array([0. , 0. , 0.1])
+        """
         values = as_array(theta, "theta", (10,))
         if values.shape != (10,):
             raise BadInputError(f"theta must have shape (10,) {INERTIAL_PARAMETERS}, got {values.shape}")
@@ -133,8 +167,8 @@ def rigid_inertia(mass: float, centre: ArrayLike = (0.0, 0.0, 0.0), inertia: Arr
         A non-positive or non-finite mass, a centre that is not 3 finite numbers, an inertia that
         is not symmetric, has a negative principal moment or violates the triangle inequality.
 
-    Example
-    -------
+    Examples
+    --------
     >>> body = rigid_inertia(10.0, (0, 0, 0.02), (0.1, 0.1, 0.18))
     >>> body.parameters()[:4]
     array([10. ,  0. ,  0. ,  0.2])
@@ -262,8 +296,8 @@ def velocity_product(m: Mechanism, state: Configuration, twist: ArrayLike, actua
     SingularConfigurationError
         The loop-closure Jacobian is singular (the passive rates are not defined).
 
-    Example
-    -------
+    Examples
+    --------
     >>> m = parakin.load("five_bar")
     >>> state = m.forward_pose([2.0, 1.0])
     >>> qd = np.array([0.3, -0.2])
@@ -324,8 +358,8 @@ def platform_acceleration(
     UnsupportedOperationError
         Without an A/B rate model.
 
-    Example
-    -------
+    Examples
+    --------
     >>> m = parakin.load("five_bar")
     >>> t, t_dot = platform_acceleration(m, m.forward_pose([2.0, 1.0]), [0.3, -0.2], [0.0, 1.0])
     """
@@ -433,8 +467,8 @@ def inverse_dynamics(
     ConvergenceError
         With leg inertias: the legs' joints could not be placed at ``state`` (not closed).
 
-    Example
-    -------
+    Examples
+    --------
     >>> m = parakin.load("five_bar")
     >>> body = rigid_inertia(1.0)
     >>> out = inverse_dynamics(m, m.forward_pose([2.0, 1.0]), [0.3, -0.2], [0.0, 1.0],
@@ -494,8 +528,8 @@ def dynamics_regressor(
     ------
     As ``inverse_dynamics``.
 
-    Example
-    -------
+    Examples
+    --------
     >>> m = parakin.load("five_bar")
     >>> y = dynamics_regressor(m, m.forward_pose([2.0, 1.0]), [0.3, -0.2], [0.0, 1.0], gravity=(0, -9.81, 0))
     >>> y.shape
@@ -621,8 +655,8 @@ def leg_tree(m: Mechanism) -> LegTree:
         No joint graph, or a leg the export does not write (a serial chain, a U, C, P or planar
         joint at the platform).
 
-    Example
-    -------
+    Examples
+    --------
     >>> leg_tree(parakin.load("five_bar")).links
     ('leg1_link1', 'leg1_link2', 'leg2_link1', 'leg2_link2')
     """
@@ -1058,8 +1092,8 @@ def link_inertias(m: Mechanism, leg_inertias: object) -> dict[str, RigidInertia 
     UnsupportedOperationError
         As ``leg_tree``.
 
-    Example
-    -------
+    Examples
+    --------
     >>> link_inertias(parakin.load("five_bar"), 0.5)["leg1_link1"].mass
     0.5
     """
@@ -1103,8 +1137,25 @@ def leg_parameters(m: Mechanism, leg_inertias: object) -> Array:
     zero for a massless one) in ``leg_tree(m).links`` order: the columns ``dynamics_regressor``
     adds after the platform's ten with ``leg_inertias``.
 
-    Example
+    Parameters
+    ----------
+    m : Mechanism
+        A loaded mechanism with a joint graph.
+    leg_inertias : float or mapping
+        As ``link_inertias``.
+
+    Returns
     -------
+    ndarray (10 n_links,)
+        (m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz) per link, in its frame, I about its origin.
+
+    Raises
+    ------
+    BadInputError, UnsupportedOperationError
+        As ``link_inertias``.
+
+    Examples
+    --------
     >>> leg_parameters(parakin.load("five_bar"), 1.0).shape
     (40,)
     """

@@ -795,8 +795,8 @@ def to_mjcf(
     ConvergenceError
         A mode's legs could not be assembled from the home (the residual and the mode named).
 
-    Example
-    -------
+    Examples
+    --------
     >>> xml = to_mjcf(parakin.load("stewart"), accuracy="accurate", payload=10.0)
     """
     graph = m.manifest.joints

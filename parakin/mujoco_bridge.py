@@ -107,8 +107,8 @@ def closed_chain(model: Any, actuated: Sequence[str], platform_site: str) -> Clo
         An active equality constraint that is not a site-form connect (body/anchor connects, welds,
         joint or tendon equalities), or a model without any.
 
-    Example
-    -------
+    Examples
+    --------
     >>> chain = closed_chain(model, ["l1", "l2", "l3", "l4", "l5", "l6"], "platform")
     """
     mujoco = _mujoco()
@@ -155,13 +155,55 @@ def _positions(chain: ClosedChain, data: Any) -> None:
 
 
 def loop_residual(chain: ClosedChain, data: Any) -> Array:
-    """site1 - site2 positions (3 k,) of the k connects at ``data.qpos`` (m, world frame)."""
+    """site1 - site2 positions (3 k,) of the k connects at ``data.qpos`` (m, world frame).
+
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        Its qpos is read (positions recomputed: ``mj_kinematics``).
+
+    Returns
+    -------
+    ndarray (3 k,)
+        m, in the world frame {B}.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        Without the mujoco module.
+
+    Examples
+    --------
+    >>> bridge.loop_residual(chain, data)  # zero once assembled
+    """
     _positions(chain, data)
     return np.concatenate([data.site_xpos[a] - data.site_xpos[b] for a, b in chain.connects])
 
 
 def loop_jacobian(chain: ClosedChain, data: Any) -> Array:
-    """J (3 k, nv): d(site1 - site2)/dqvel of the connects at ``data.qpos`` (world frame)."""
+    """J (3 k, nv): d(site1 - site2)/dqvel of the connects at ``data.qpos`` (world frame).
+
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        Its qpos is read.
+
+    Returns
+    -------
+    ndarray (3 k, nv)
+        m per unit of each dof's velocity (rad/s, m/s), world frame.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        Without the mujoco module.
+
+    Examples
+    --------
+    >>> model.nv - np.linalg.matrix_rank(bridge.loop_jacobian(chain, data), tol=1e-9)  # the mobility
+    """
     mujoco = _mujoco()
     _positions(chain, data)
     rows = []
@@ -174,7 +216,28 @@ def loop_jacobian(chain: ClosedChain, data: Any) -> Array:
 
 
 def loop_bias(chain: ClosedChain, data: Any) -> Array:
-    """J_dot qvel (3 k,) at ``data.qpos``, ``data.qvel`` (``mj_jacDot``; m/s^2)."""
+    """J_dot qvel (3 k,) at ``data.qpos``, ``data.qvel`` (``mj_jacDot``; m/s^2).
+
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        Its qpos and qvel are read.
+
+    Returns
+    -------
+    ndarray (3 k,)
+        m/s^2, world frame: the connects' relative acceleration at qacc = 0.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        Without the mujoco module.
+
+    Examples
+    --------
+    >>> bias = bridge.loop_bias(chain, data)
+    """
     mujoco = _mujoco()
     _positions(chain, data)
     mujoco.mj_comVel(chain.model, data)
@@ -209,9 +272,27 @@ def _passive_solve(chain: ClosedChain, jacobian: Array, right: Array, what: str)
 def actuated_basis(chain: ClosedChain, data: Any) -> Array:
     """Gamma (nv, n_a): closed-chain velocities qvel = Gamma q_dot_a at ``data.qpos``.
 
-    Raises SingularConfigurationError where the actuated joints do not determine the chain, and
-    also where they cannot move independently (J Gamma != 0: fewer degrees of freedom than
-    actuated joints)."""
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        Its qpos is read (a closed configuration).
+
+    Returns
+    -------
+    ndarray (nv, n_a)
+        Its actuated rows the identity, J Gamma = 0.
+
+    Raises
+    ------
+    SingularConfigurationError
+        Where the actuated joints do not determine the chain, and also where they cannot move
+        independently (J Gamma != 0: fewer degrees of freedom than actuated joints).
+
+    Examples
+    --------
+    >>> data.qvel[:] = bridge.actuated_basis(chain, data) @ rates
+    """
     jacobian = loop_jacobian(chain, data)
     actuated = jacobian[:, chain.actuated_dofs]
     gamma = np.zeros((chain.model.nv, len(chain.actuated)))
@@ -263,6 +344,11 @@ def assemble(
         Newton did not close the loops (residual in the message).
     SingularConfigurationError
         The passive joints are not determined by the actuated ones.
+
+    Examples
+    --------
+    >>> data = mujoco.MjData(model)  # qpos0 near the mode wanted
+    >>> bridge.assemble(chain, data, [2.0, 1.0], rates=[0.3, -0.2], accelerations=[0.0, 1.0])
     """
     mujoco = _mujoco()
     count = len(chain.actuated)
@@ -311,7 +397,29 @@ def _vector(value: ArrayLike | None, name: str, count: int) -> Array:
 def projected_inverse(chain: ClosedChain, data: Any) -> Array:
     """Actuator efforts tau (n_a,) (N m for a hinge, N for a slide) that move the closed chain
     with ``data.qpos``, ``qvel``, ``qacc`` (consistent: ``assemble``): Gamma^T qfrc_inverse of
-    ``mj_inverse``. Raises SingularConfigurationError as ``actuated_basis``."""
+    ``mj_inverse``.
+
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        A closed state with consistent qvel and qacc (``assemble``).
+
+    Returns
+    -------
+    ndarray (n_a,)
+        Positive along increasing actuated values.
+
+    Raises
+    ------
+    SingularConfigurationError
+        As ``actuated_basis``.
+
+    Examples
+    --------
+    >>> bridge.assemble(chain, data, q, rates, accelerations)
+    >>> bridge.projected_inverse(chain, data)
+    """
     mujoco = _mujoco()
     mujoco.mj_inverse(chain.model, data)
     force = np.array(data.qfrc_inverse)
@@ -320,7 +428,28 @@ def projected_inverse(chain: ClosedChain, data: Any) -> Array:
 
 
 def platform_pose(chain: ClosedChain, data: Any) -> Array:
-    """^B_P T (4, 4) of the platform site at ``data.qpos`` (the world frame is {B})."""
+    """^B_P T (4, 4) of the platform site at ``data.qpos`` (the world frame is {B}).
+
+    Parameters
+    ----------
+    chain : ClosedChain
+    data : mujoco.MjData
+        Its qpos is read.
+
+    Returns
+    -------
+    ndarray (4, 4)
+        Rotation and position (m) of the platform site.
+
+    Raises
+    ------
+    UnsupportedOperationError
+        Without the mujoco module.
+
+    Examples
+    --------
+    >>> bridge.platform_pose(chain, data)[:3, 3]  # the platform's origin, m
+    """
     _positions(chain, data)
     pose = np.eye(4)
     pose[:3, :3] = np.asarray(data.site_xmat[chain.platform_site]).reshape(3, 3)
@@ -365,6 +494,11 @@ def settle(chain: ClosedChain, data: Any, duration: float = 5.0, speed: float = 
     ------
     BadInputError
         A non-positive duration or speed.
+
+    Examples
+    --------
+    >>> mujoco.mj_resetDataKeyframe(model, data, 0)
+    >>> bridge.settle(chain, data, duration=2.0).pose[:3, 3]
     """
     mujoco = _mujoco()
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(speed) and speed > 0):
@@ -438,6 +572,10 @@ def nearest_mode(m: Mechanism, chain: ClosedChain, data: Any, length: float = 1.
         ``m``'s actuated variables differ in number from the chain's.
     UnsupportedOperationError
         ``m`` has no all-modes solver; NoSuchModeError (a BadInputError) when it finds no mode.
+
+    Examples
+    --------
+    >>> bridge.nearest_mode(parakin.load("five_bar"), chain, data).mode
     """
     if len(m.actuated_names) != len(chain.actuated):
         raise BadInputError(
