@@ -6,7 +6,8 @@ Claims, each against an independent source:
   robot in both) = ``inverse_dynamics(..., leg_inertias=...)`` to 1e-6 relative at 8 samples of a
   trajectory for five_bar, delta (parallelograms as four bars), stewart and the lower-mobility
   prs3; MuJoCo closes the loops and differentiates them with its own site Jacobians and
-  ``mj_jacDot`` (``parakin.mujoco_bridge``), parakin with its own tree code;
+  ``mj_jacDot`` (``parakin.mujoco_bridge``), parakin with its own tree code; slow: every
+  mechanism whose legs the export writes (12);
 * Pinocchio's RNEA on the same MJCF (``pinocchio.buildModelFromMJCF``, its own loop Jacobians
   from the cut sites' frames and J_dot v from ``getFrameClassicalAcceleration``), projected onto
   the actuated joints = parakin's to 1e-6 (five_bar, prs3; delta and stewart slow);
@@ -38,8 +39,8 @@ from parakin.dynamics import (
 from parakin.errors import BadInputError
 
 SAMPLES = 8
-#: the trajectory's amplitude per mechanism (rad for cranks, m for sliders)
-AMPLITUDE = {"five_bar": 0.15, "delta": 0.15, "stewart": 0.01, "prs3": 0.02}
+#: the trajectory's amplitude: rad for a revolute actuator, m for a prismatic one
+AMPLITUDE = {True: 0.15, False: 0.01}
 #: the platform (2 kg) as to_mjcf writes it: a sphere of this radius (a point platform turns with
 #: the link it ends in MuJoCo, not in parakin: its rotational inertia, 8e-9 kg m^2, is negligible)
 PLATFORM_MASS, PLATFORM_RADIUS = 2.0, 1e-4
@@ -54,7 +55,7 @@ def gravity(m: parakin.Mechanism) -> np.ndarray:
 
 def trajectory(m: parakin.Mechanism, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """q(t) = home + A sin(2 t + phase): smooth, every derivative non-zero."""
-    amplitude = AMPLITUDE[m.name]
+    amplitude = np.array([AMPLITUDE[variable.revolute] for variable in m.manifest.actuated])
     phase = np.arange(len(m.actuated_names))
     q = m.home_actuated + amplitude * np.sin(2.0 * t + phase)
     return q, 2.0 * amplitude * np.cos(2.0 * t + phase), -4.0 * amplitude * np.sin(2.0 * t + phase)
@@ -79,13 +80,14 @@ def home(m: parakin.Mechanism) -> parakin.Configuration:
 
 
 # ------------------------------------------------------------------------------------ MuJoCo
-@pytest.mark.parametrize("name", ["five_bar", "delta", "stewart", "prs3"])
-def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
+def mujoco_agreement(name: str, seed: int) -> tuple[list[float], list[float]]:
+    """At 8 samples: |projected mj_inverse - inverse_dynamics| / |tau| with the same random link
+    inertias in both, and the legs' share of the efforts."""
     mujoco = pytest.importorskip("mujoco")
     from parakin import mujoco_bridge as bridge
 
     m = parakin.load(name, backend="numpy")
-    links = random_links(m, 1)
+    links = random_links(m, seed)
     xml = m.to_mjcf(modes="none", link_mass=links, platform_mass=PLATFORM_MASS, platform_radius=PLATFORM_RADIUS)
     model = mujoco.MjModel.from_xml_string(xml)
     chain = bridge.closed_chain(model, list(m.actuated_names), "platform")
@@ -104,9 +106,30 @@ def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
         massless = inverse_dynamics(m, state, qd, qdd, platform_inertia=PLATFORM, gravity=g).efforts
         errors.append(np.abs(engine - ours).max() / np.abs(engine).max())
         legs_share.append(np.abs(ours - massless).max() / np.abs(ours).max())
+    return errors, legs_share
+
+
+@pytest.mark.parametrize("name", ["five_bar", "delta", "stewart", "prs3"])
+def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
+    errors, legs_share = mujoco_agreement(name, 1)
     assert len(errors) == SAMPLES
     assert min(legs_share) > 0.05, f"{name}: the legs change the efforts by only {min(legs_share):.3g}"
     assert max(errors) < 1e-6, f"{name}: projected mj_inverse vs inverse_dynamics with legs {max(errors):.3g} relative"
+
+
+@pytest.mark.slow
+def test_every_exported_mechanism_with_legs_equals_projected_mj_inverse():
+    """Every mechanism whose legs to_mjcf writes (all with a joint graph but the serial-chain
+    legs), 8 samples each, 1e-6 relative."""
+    checked = {}
+    for name in parakin.available():
+        graph = parakin.load(name, backend="numpy").manifest.joints
+        if graph is None or any(leg.serial for leg in graph.legs):
+            continue
+        errors, legs_share = mujoco_agreement(name, 5)
+        assert max(errors) < 1e-6 and min(legs_share) > 0.01, (name, max(errors), min(legs_share))
+        checked[name] = max(errors)
+    assert len(checked) >= 12, checked
 
 
 # --------------------------------------------------------------------------------- Pinocchio
