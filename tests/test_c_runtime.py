@@ -75,13 +75,49 @@ def test_c_tracker_as_the_numpy_reference(runtime_output: list[str]) -> None:
     assert checked == 5
 
 
+@pytest.fixture(scope="module")
+def krawczyk_output(tmp_path_factory: pytest.TempPathFactory) -> list[str]:
+    compiler = shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    binary = tmp_path_factory.mktemp("krawczyk") / "test_krawczyk"
+    flags = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-ffp-contract=off"]
+    subprocess.run([compiler, *flags, str(RUNTIME / "test_krawczyk.c"), "-o", str(binary), "-lm"], check=True)
+    result = subprocess.run([str(binary)], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return result.stdout.splitlines()
+
+
+def test_c_krawczyk_unit_tests_pass(krawczyk_output: list[str]) -> None:
+    """krawczyk.h's C tests: outward rounding against exact rounding errors (TwoSum, fma), the
+    univariate and projective certificates against closed-form roots, the refused jobs."""
+    assert not [line for line in krawczyk_output if line.startswith("failed")]
+    checked = [int(line.split()[1]) for line in krawczyk_output if line.startswith("checked ")]
+    assert checked and checked[0] >= 800
+
+
+def test_c_krawczyk_constants_are_the_numpy_references() -> None:
+    """krawczyk.h's NEAR, MULTIPLIERS, NEWTON_STEPS and FLOOR are certify.py's."""
+    from parakin.solvers import certify
+
+    text = (RUNTIME / "krawczyk.h").read_text()
+    assert f"#define KW_NEAR {certify.NEAR!r}" in text
+    assert "kw_multipliers[KW_RADII] = {" + ", ".join(map(repr, certify.MULTIPLIERS.tolist())) + "}" in text
+    assert f"#define KW_RADII {certify.MULTIPLIERS.size}" in text
+    assert f"#define KW_NEWTON_STEPS {certify.NEWTON_STEPS}" in text
+    assert certify.FLOOR == 2.0**-600 and "#define KW_FLOOR 0x1p-600" in text
+
+
 @pytest.mark.parametrize("name", [n for n in parakin.available() if (GENERATED / n / "driver.c").is_file()])
 def test_homotopy_drivers_hold_the_runtime(name: str) -> None:
     """A homotopy package's driver holds each runtime header verbatim (self-contained: nothing
-    to include from parakin); a closed-form one holds none."""
+    to include from parakin); a closed-form one holds only the certificate (krawczyk.h), which
+    every package exports."""
     driver = (GENERATED / name / "driver.c").read_text()
     homotopy_package = parakin.metadata(name).capabilities.forward is not None and (
         parakin.metadata(name).capabilities.forward.homotopy is not None  # type: ignore[union-attr]
     )
     for header in sorted(RUNTIME.glob("*.h")):
-        assert (header.read_text().rstrip() in driver) == homotopy_package, header.name
+        expected = homotopy_package or header.name == "krawczyk.h"
+        assert (header.read_text().rstrip() in driver) == expected, header.name
+    assert f"int {name}_certify_roots(const {name}_certify_job* job)" in driver

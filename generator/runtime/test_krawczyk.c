@@ -1,0 +1,140 @@
+// Unit tests of the parakin C runtime's Krawczyk certificate (krawczyk.h) on its own;
+// tests/test_c_runtime.py compiles and runs this with the system compiler. Prints "failed: ..."
+// for each check that fails and "checked N" at the end; exits 1 if any failed.
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "krawczyk.h"
+
+static int failures = 0, checks = 0;
+
+static void check(int ok, const char* what) {
+    checks += 1;
+    if (!ok) {
+        printf("failed: %s\n", what);
+        failures += 1;
+    }
+}
+
+// kw_up / kw_down against the exact rounding error of a sum (Knuth's TwoSum) and of a product
+// (fma: a * b - fl(a b) exactly), on values across the exponent range
+static void test_rounding(void) {
+    double values[] = {0.1, 1.0 / 3.0, 2.0 / 3.0, 1e-300, 3e-310, 1e300, 12345.678, 0x1p-1074, 1.0 - 0x1p-53, 7.0};
+    int count = (int)(sizeof(values) / sizeof(values[0]));
+    for (int i = 0; i < count; ++i)
+        for (int j = 0; j < count; ++j)
+            for (int sign = -1; sign <= 1; sign += 2) {
+                double a = values[i], b = sign * values[j];
+                double s = a + b, bb = s - a, err = (a - (s - bb)) + (b - bb);  // a + b = s + err exactly
+                check(kw_up(s) - s >= err || err <= 0.0, "kw_up: a sum's exact value above the bound");
+                check(s - kw_down(s) >= -err || err >= 0.0, "kw_down: a sum's exact value below the bound");
+                check(kw_up(s) > s && kw_down(s) < s, "kw_up/kw_down: not strictly outside");
+                double p = a * b, perr = fma(a, b, -p);  // exact when the product does not underflow
+                if (fabs(p) >= 0x1p-1000 && isfinite(p)) {
+                    check(kw_up(p) - p >= perr, "kw_up: a product's exact value above the bound");
+                    check(p - kw_down(p) >= -perr, "kw_down: a product's exact value below the bound");
+                }
+            }
+    // |3 + 4i| = 5 exactly; the bounds enclose it
+    check(kw_abs_up(3.0, 4.0) >= 5.0 && kw_abs_down(3.0, 4.0) <= 5.0, "kw_abs: |3 + 4i| = 5 not enclosed");
+    check(kw_abs_up(1e300, 1e300) >= 1e300 * sqrt(2.0) * (1 - 1e-15), "kw_abs_up: overflowing squares");
+}
+
+// one system: terms (c, a, eq), candidates z; outputs per candidate
+typedef struct {
+    int unique[8], real[8];
+    double radius[8], center[8 * 2 * 2], radii[8 * 2];
+} outcome;
+
+static int certify(long long terms, long long n, const double* c, const long long* a, const long long* eq,
+                   long long candidates, const double* z, const long long* group, long long groups, long long patch,
+                   outcome* out) {
+    static char space[1 << 16];
+    kw_job job = {1, candidates, terms, n, c, a, eq, z, 1, group, groups, patch, out->unique, out->real,
+                  out->radius, out->center, out->radii, space, (long long)sizeof(space)};
+    return kw_certify(&job);
+}
+
+// z^2 - 2 = 0: +-sqrt 2 are real, simple roots; z^2 + 1: +-i are non-real; (z - 1)^2: a double root
+// is never unique; a candidate far from any root is not certified; a non-finite row is no candidate
+static void test_univariate(void) {
+    long long a[] = {2, 0}, eq[] = {0, 0};
+    double two[] = {1.0, 0.0, -2.0, 0.0};
+    double z[] = {1.41421356, 1e-9, -1.4142135623730951, 0.0, 0.5, 0.0, NAN, 0.0};
+    outcome out;
+    check(certify(2, 1, two, a, eq, 4, z, NULL, 0, -1, &out) == 0, "z^2 - 2: refused");
+    check(out.unique[0] && out.unique[1], "z^2 - 2: a simple root not certified");
+    check(out.real[0] == 1 && out.real[1] == 1, "z^2 - 2: a real root not certified real");
+    for (int p = 0; p < 2; ++p) {
+        double root = p ? -sqrt(2.0) : sqrt(2.0);
+        check(fabs(out.center[2 * p] - root) <= out.radii[p] && fabs(out.center[2 * p + 1]) <= out.radii[p],
+              "z^2 - 2: the box misses the root");
+        check(out.radii[p] < 1e-12, "z^2 - 2: the box is not tight");
+    }
+    check(!out.unique[2] && out.real[2] == 0 && isnan(out.radius[2]), "z^2 - 2: a candidate far from a root certified");
+    check(!out.unique[3] && isnan(out.center[6]), "z^2 - 2: a non-finite row is a candidate");
+    double one[] = {1.0, 0.0, 1.0, 0.0};
+    double zi[] = {1e-12, 1.0, 0.0, -1.0};
+    check(certify(2, 1, one, a, eq, 2, zi, NULL, 0, -1, &out) == 0, "z^2 + 1: refused");
+    check(out.unique[0] && out.unique[1] && out.real[0] == -1 && out.real[1] == -1, "z^2 + 1: +-i not non-real");
+    long long a3[] = {2, 1, 0}, eq3[] = {0, 0, 0};
+    double square[] = {1.0, 0.0, -2.0, 0.0, 1.0, 0.0};
+    double near[] = {1.0 + 1e-9, 0.0, 1.0, 0.0};
+    check(certify(3, 1, square, a3, eq3, 2, near, NULL, 0, -1, &out) == 0, "(z - 1)^2: refused");
+    check(!out.unique[0] && !out.unique[1] && out.real[0] == 0, "(z - 1)^2: a double root certified unique");
+}
+
+// the projective system x^2 - 4 y^2 = 0 with the patch (1 + i) x + (2 - i) y - 1 = 0: the real
+// projective points (2 : 1) and (-2 : 1) in complex coordinates, certified real in the chart;
+// x^2 + 4 y^2 = 0 has (2i : 1), (-2i : 1): non-real
+static void test_homogeneous(void) {
+    long long a[] = {2, 0, 0, 2, 1, 0, 0, 1, 0, 0}, eq[] = {0, 0, 1, 1, 1}, group[] = {0, 1};
+    double c[] = {1.0, 0.0, -4.0, 0.0, 1.0, 1.0, 2.0, -1.0, -1.0, 0.0};
+    double z[8];
+    for (int p = 0; p < 2; ++p) {  // y = 1 / ((1 + i) x0 + (2 - i)), x = x0 y with x0 = +-2
+        double x0 = p ? -2.0 : 2.0, dr = x0 + 2.0, di = x0 - 1.0, d = dr * dr + di * di;
+        double yr = dr / d, yi = -di / d;
+        z[4 * p] = x0 * yr; z[4 * p + 1] = x0 * yi; z[4 * p + 2] = yr; z[4 * p + 3] = yi;
+    }
+    outcome out;
+    check(certify(5, 2, c, a, eq, 2, z, group, 2, 1, &out) == 0, "homogeneous: refused");
+    check(out.unique[0] && out.unique[1] && out.real[0] == 1 && out.real[1] == 1, "homogeneous: real points not real");
+    c[2] = 4.0;
+    for (int p = 0; p < 2; ++p) {  // x0 = +-2i
+        double x0i = p ? -2.0 : 2.0;
+        // (1 + i)(i x0i) + 2 - i = -x0i + 2 + i (x0i - 1)
+        double dr = 2.0 - x0i, di = x0i - 1.0, d = dr * dr + di * di, yr = dr / d, yi = -di / d;
+        z[4 * p] = -x0i * yi; z[4 * p + 1] = x0i * yr; z[4 * p + 2] = yr; z[4 * p + 3] = yi;
+    }
+    check(certify(5, 2, c, a, eq, 2, z, group, 2, 1, &out) == 0, "homogeneous: refused");
+    check(out.unique[0] && out.unique[1] && out.real[0] == -1 && out.real[1] == -1, "homogeneous: (+-2i : 1) not non-real");
+    long long bad[] = {2, 0, 0, 1, 1, 0, 0, 1, 0, 0};  // x^2 - 4 y: not homogeneous
+    check(certify(5, 2, c, bad, eq, 2, z, group, 2, 1, &out) == -1, "homogeneous: a non-homogeneous equation accepted");
+}
+
+static void test_refusals(void) {
+    long long a[] = {2, 0}, eq[] = {0, 0}, wrong[] = {0, 1};
+    double c[] = {1.0, 0.0, -2.0, 0.0}, z[] = {1.41421356, 0.0};
+    int unique[1], real[1];
+    double radius[1], center[2], radii[1], space[8];
+    kw_job job = {1, 1, 2, 1, c, a, eq, z, 1, NULL, 0, -1, unique, real, radius, center, radii, space, sizeof(space)};
+    check(kw_certify(&job) == -1, "a workspace too small accepted");
+    static char big[1 << 12];
+    job.workspace = big;
+    job.workspace_bytes = sizeof(big);
+    job.equation = wrong;
+    check(kw_certify(&job) == -1, "an equation index out of range accepted");
+    job.equation = eq;
+    check(kw_certify(&job) == 0 && unique[0] && real[0] == 1, "the repaired job fails");
+}
+
+int main(void) {
+    test_rounding();
+    test_univariate();
+    test_homogeneous();
+    test_refusals();
+    printf("checked %d\n", checks);
+    if (failures) printf("%d checks failed\n", failures);
+    return failures ? 1 : 0;
+}
