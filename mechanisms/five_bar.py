@@ -2,41 +2,17 @@
 Angeles (1990) for the three kinds of singularity: the output point P is where the two distal
 links meet.
 
-Frames and conventions (SI, radians):
-* {B}: the plane of motion is z = 0; base joints A1 = (-d, 0, 0) and A2 = (d, 0, 0) (d: half the
-  base length), the y axis through their midpoint.
-* Leg i: proximal (actuated) link of length a_i at the angle theta_i from the x axis (counter-
-  clockwise, right-handed about z), elbow C_i = A_i + a_i (cos theta_i, sin theta_i, 0); distal
-  link of length b_i from C_i to the output point P = (x, y, 0).
-* {P}: origin at P, R = I (pose_kind 'planar_translation': ^B_P T = [I, (x, y, 0)]);
-  ``inverse_pose`` also takes (x, y) and refuses a pose off the plane z = 0 or with a rotation.
-* Passive variables (the Newton unknowns): x, y. Residual: (|P - C_i|^2 - b_i^2) / (2 b_i)
-  (metres; |P - C_i| - b_i to first order), two rows; no false closure (alignment 1).
-* Model: two R-R-R legs (``parakin.generator.joints.crank_leg``) meeting at P; closure, rates,
-  factors, inverse and drawing (base joints, elbows C_i, P) are derived from them.
-* Inverse: with v = P - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i v_x,
-  F = -2 a_i v_y, G = |v|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic:
-  theta_i = angle(v) + s_i sigma_i gamma_i, gamma_i = acos((|v|^2 + a_i^2 - b_i^2) / (2 a_i |v|))
-  the angle at A_i, with s_1 = +1 and s_2 = -1: sigma_i = +1 puts elbow i outside (leg 1 turned
-  counter-clockwise from A1 -> P, leg 2 clockwise from A2 -> P). With P above the base line,
-  branch 0 (+, +) is the usual '+-' working mode with both elbows out; branch k has the signs
-  ``InversePose.branches[k]`` of (sigma1, sigma2). Validity ``leg<i>_reachable`` = (E^2 + F^2 -
-  G^2) / (E^2 + F^2 + G^2), the discriminant (2 a_i |v|)^2 - G^2 made unitless (positive where
-  |a_i - b_i| < |v| < a_i + b_i; the same tolerance at any size).
-* Forward (two circles): with e = C2 - C1, w = |e|^2 and alpha = (w + b1^2 - b2^2) / (2 w),
-  P = C1 + alpha e + mu J e / |e| (J: a quarter turn counter-clockwise) with mu^2 + alpha^2 w -
-  b1^2 = 0: the forward polynomial is this quadratic in mu (degree 2; mu > 0: P to the left of
-  C1 -> C2, the mode 'above' the elbows when C2 is right of C1). Degeneracy ``elbows_coincide``:
-  |e| / (b1 + b2) (then the circles are concentric: no isolated solution, or a self-motion when
-  b1 = b2).
-* Rates: A (vx, vy) = B theta_dot from |P - C_i|^2 = b_i^2, with d_i = P - C_i: rows of A are
-  d_i^T, B = diag(a_i d_i . (-sin theta_i, cos theta_i)). Type I (serial, det B = 0):
-  ``leg<i>_links_aligned``, proximal and distal link i aligned (stretched or folded, the
-  workspace boundary). Type II (det A = 0): ``distal_links_aligned``, d_1 x d_2 = 0.
-* Defaults (illustrative): d = 0.15, a1 = a2 = 0.2, b1 = b2 = 0.25 m. At P = (0, 0.4) both
-  proximal links are vertical (theta = pi/2): (d, 0.4 - a_i, b_i) = (0.15, 0.2, 0.25) is a 3-4-5
-  triangle (the examples). The home configuration, P = (0, 0.33) with the elbows out, is better
-  conditioned (at P = (0, 0.4), |P - A1| = 0.427 m is 0.023 m short of a1 + b1).
+Conventions (SI, radians; derivation: ``docs/derivations/five_bar.md``):
+* {B}: the plane of motion z = 0; base joints A1 = (-d, 0, 0), A2 = (d, 0, 0).
+* Leg i: proximal (actuated) link a_i at the angle theta_i from the x axis (counter-clockwise),
+  elbow C_i = A_i + a_i (cos theta_i, sin theta_i, 0); distal link b_i from C_i to P = (x, y, 0).
+* {P}: at P, R = I (pose_kind 'planar_translation'); passive x, y.
+* Inverse branches: sigma_i = +1 puts elbow i outside; branch 0 (+, +) both elbows out, branch k
+  the signs ``InversePose.branches[k]``. Validity ``leg<i>_reachable``. Type I
+  ``leg<i>_links_aligned``, type II ``distal_links_aligned``.
+* Forward pose: the two-circle intersection, a quadratic (accelerator ``_five_bar_forward.py``).
+* Defaults (illustrative): d = 0.15, a1 = a2 = 0.2, b1 = b2 = 0.25 m; home P = (0, 0.33) m with
+  the elbows out; at P = (0, 0.4) both proximal links are vertical (a 3-4-5 triangle).
 """
 
 from __future__ import annotations
@@ -45,14 +21,9 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.frames import homogeneous, translation
-from parakin.generator.model import (
-    Citation,
-    Example,
-    ForwardElimination,
-    Mechanism,
-    ParameterInfo,
-)
+from parakin.generator.frames import homogeneous
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+from parakin.mechanisms._five_bar_forward import forward
 
 d = sp.Symbol("d", positive=True)
 a = sp.symbols("a1 a2", positive=True)
@@ -63,22 +34,9 @@ x, y = sp.symbols("x y", real=True)
 OUTSIDE = (1, -1)
 
 
-def base_point(i: int) -> sp.Matrix:
-    return sp.Matrix([(-d, d)[i], 0])
-
-
-def direction(angle: sp.Expr) -> sp.Matrix:
-    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
-
-
-def elbow(i: int, angle: sp.Expr) -> sp.Matrix:
-    """C_i = A_i + a_i (cos theta_i, sin theta_i)."""
-    return base_point(i) + a[i] * direction(angle)
-
-
 #: the model: two R-R-R legs (cranks about z from the x axis, distal links) meeting at the output
 #: point P, a platform that only translates in the plane; closure, rates, factors, inverse and
-#: drawing are derived from it (the forward elimination below is written by hand)
+#: drawing are derived from it (the forward elimination is the accelerator's)
 MODEL = joints.DistanceMechanism(
     joints.platform("planar_translation"),
     [
@@ -87,32 +45,6 @@ MODEL = joints.DistanceMechanism(
     ],
     parallel_name="distal_links_aligned",
 )
-
-
-def forward() -> ForwardElimination:
-    mu = sp.Symbol("mu", real=True)
-    c1 = sp.Matrix(sp.symbols("C1_x C1_y", real=True))
-    e = sp.Matrix(sp.symbols("e_x e_y", real=True))
-    w, norm, alpha = sp.symbols("e_squared e_norm alpha", real=True)
-    elbow2 = elbow(1, theta[1])
-    auxiliary = [(c1[k], elbow(0, theta[0])[k]) for k in range(2)]
-    auxiliary += [(e[k], elbow2[k] - c1[k]) for k in range(2)]
-    auxiliary += [
-        (w, e.dot(e)),
-        (norm, sp.sqrt(w)),
-        (alpha, (w + b[0] ** 2 - b[1] ** 2) / (2 * sp.Max(w, 1e-300))),
-    ]
-    quarter_turn = sp.Matrix([-e[1], e[0]])
-    point = c1 + alpha * e + mu * quarter_turn / sp.Max(norm, 1e-300)
-    return ForwardElimination(
-        unknown=mu,
-        coefficients=[alpha**2 * w - b[0] ** 2, sp.Integer(0), sp.Integer(1)],
-        branches=[],
-        auxiliary=auxiliary,
-        back_substitution=[],
-        pose=translation(point[0], point[1], 0),
-        degeneracies={"elbows_coincide": norm / (b[0] + b[1])},
-    )
 
 
 HOME_Y = 0.4
@@ -184,7 +116,7 @@ def build() -> Mechanism:
         ),
         parameters={d: 0.15, a[0]: 0.2, a[1]: 0.2, b[0]: 0.25, b[1]: 0.25},
         **MODEL.fields(),
-        forward=forward(),
+        forward=forward(d, a, b, theta),
         home=home(),
         parameter_info={
             d: ParameterInfo("m", "half the base length: the base joints are A1 = (-d, 0), A2 = (d, 0)", "positive"),
