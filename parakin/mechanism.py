@@ -49,17 +49,7 @@ from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, In
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import pivoted_solve
-from parakin.solvers.modes import (
-    RETRACKS,
-    Retrack,
-    assemble,
-    certify,
-    compiled_modes,
-    length_scale,
-    numpy_modes,
-    reconcile,
-    suspect_paths,
-)
+from parakin.solvers.modes import assemble, certified_modes, compiled_modes, length_scale, numpy_modes
 from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
@@ -939,40 +929,10 @@ class Mechanism:
         return out
 
     def _certified(self, info: Forward, flat: Array, out: dict[str, np.ndarray], exact: bool) -> dict[str, np.ndarray]:
-        """Certify every input's endpoints (``exact``: what double precision cannot certify or
-        decide is tested in exact arithmetic); an input whose certified roots fall short of the
-        root count is tracked again in projective space (its suspect paths, then ``RETRACKS``:
-        every path from the second start instance, then the first) and keeps the run with the
-        most certified roots; then the modes are the certified real roots (``modes.reconcile``):
-        never a silent loss, the certificate says what remains."""
-        if flat.shape[0] == 0:  # an empty batch: nothing to certify
-            paths = out["endpoints"].shape[1]
-            empty = {"certified": np.zeros(0, np.int64), "path_certified": np.zeros((0, paths), bool)}
-            return out | empty | {"retracked": np.zeros(0, bool), "undecided": np.zeros(0, np.int64)}
-        found = certify(self, info, flat, out["endpoints"], exact)
-        assert info.homotopy is not None and info.homotopy.root_count is not None
-        count = info.homotopy.root_count.count
-        retracked = np.zeros(flat.shape[0], dtype=bool)
-        for instance in (None, *RETRACKS):
-            short = np.nonzero((found.certified < count) & np.isfinite(flat).all(-1))[0]
-            if not short.size:
-                break
-            retracked[short] = True
-            if instance is None:  # the first run's suspect paths only, projectively, from the same start
-                ends = out["endpoints"][short]
-                plan = Retrack(0, suspect_paths(ends, found.unique[short]), ends[..., 0] + 1j * ends[..., 1])
-            else:
-                plan = Retrack(instance)
-            again = numpy_modes(self, flat[short], info, retrack=plan)
-            second = certify(self, info, flat[short], again["endpoints"], exact)
-            better = second.certified > found.certified[short]
-            rows = short[better]
-            for key, value in again.items():
-                out[key][rows] = value[better]
-            for mine, theirs in zip(found, second, strict=True):
-                mine[rows] = theirs[better]
-        out = reconcile(self, info, flat, out, found)
-        return out | {"certified": found.certified, "path_certified": found.unique, "retracked": retracked}
+        """Certify and complete every input's roots (``exact``: what double precision cannot
+        certify or decide is tested in exact arithmetic), re-tracking an input short of the root
+        count, then the modes are the certified real roots: ``modes.certified_modes``."""
+        return certified_modes(self, info, flat, out, exact)
 
     def _forward_method(self, method: str | None) -> Forward | None:
         if method is None:

@@ -23,6 +23,7 @@ from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NE
 from parakin.pose import pose_vector, wrap_angle
 from parakin.results import Array, AssemblyModes
 from parakin.solvers.certify import (
+    UNIT,
     Certificate,
     certify_roots,
     cluster_labels,
@@ -630,6 +631,138 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     out["near_roots"] = np.where(finite, undecided.sum(-1), out["near_roots"]).astype(np.int32)
     out["undecided"] = undecided.sum(-1).astype(np.int64)
     return out
+
+
+def certified_modes(
+    m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], exact: bool
+) -> dict[str, np.ndarray]:
+    """A homotopy's arrays ``out`` (flat batch ``theta``) certified and completed: every input's
+    endpoints certified (``exact``: what double precision cannot certify or decide is tested in
+    exact arithmetic, ``certify_inputs``); the complex conjugates of its certified non-real roots
+    added (``add_conjugates``); an input still short of the root count is tracked again in
+    projective space (its suspect paths, then ``RETRACKS``: every path from the second start
+    instance, then the first), each run's certified roots merged into the input's slots that no
+    certified box holds (``merge_roots``) until it is complete; then the modes are the certified
+    real roots (``reconcile``). Never a silent loss: the certificate says what remains.
+
+    Returns ``out`` updated, with ``certified`` (n,) the distinct certified roots,
+    ``path_certified`` (n, P) the slots whose root has a box of its own, ``retracked`` (n,) and
+    ``undecided`` (n,) (``reconcile``)."""
+    homotopy = info.homotopy
+    assert homotopy is not None and homotopy.root_count is not None
+    if theta.shape[0] == 0:  # an empty batch: nothing to certify
+        paths = out["endpoints"].shape[1]
+        empty = {"certified": np.zeros(0, np.int64), "path_certified": np.zeros((0, paths), bool)}
+        return out | empty | {"retracked": np.zeros(0, bool), "undecided": np.zeros(0, np.int64)}
+    found = certify(m, info, theta, out["endpoints"], exact)
+    count = homotopy.root_count.count
+    retracked = np.zeros(theta.shape[0], dtype=bool)
+    finite = np.isfinite(theta).all(-1)
+    add_conjugates(m, info, theta, out, found, np.nonzero((found.certified < count) & finite)[0])
+    for instance in (None, *RETRACKS):
+        short = np.nonzero((found.certified < count) & finite)[0]
+        if not short.size:
+            break
+        retracked[short] = True
+        if instance is None:  # the suspect paths only, projectively, from the same start
+            ends = out["endpoints"][short]
+            plan = Retrack(0, suspect_paths(ends, found.unique[short]), ends[..., 0] + 1j * ends[..., 1])
+        else:
+            plan = Retrack(instance)
+        again = numpy_modes(m, theta[short], info, retrack=plan)
+        merge_roots(out, found, short, again, certify(m, info, theta[short], again["endpoints"], exact))
+        add_conjugates(m, info, theta, out, found, short[found.certified[short] < count])
+    out = reconcile(m, info, theta, out, found)
+    return out | {"certified": found.certified, "path_certified": found.unique, "retracked": retracked}
+
+
+def _slot_keys(out: dict[str, np.ndarray], paths: int) -> list[str]:
+    """The arrays of ``out`` that hold one entry per slot (n, P, ...), a slot per path."""
+    return [key for key, value in out.items() if value.ndim >= 2 and value.shape[1] == paths]
+
+
+def _place(
+    out: dict[str, np.ndarray], found: PathCertificate, i: int, values: dict[str, np.ndarray], box: tuple
+) -> bool:
+    """Put a certified root (``box``: centre (n_z,), radii (n_z,), realness) with its slot's
+    ``values`` into a slot of input ``i`` whose path has no certified root of its own (else a
+    slot whose box overlaps an earlier one: the same root twice), in place; only if the box
+    overlaps no certified box of the input (a root already held is not added twice). Returns
+    whether it was placed."""
+    centre, radii, real = box
+    unique = found.unique[i]
+    # disjoint as in ``certify.cluster_labels`` (with its rounding margins)
+    gap = np.abs(found.centre[i] - centre) * (1 - 8 * UNIT)
+    apart = (gap > (np.where(unique[:, None], found.radii[i], 0.0) + radii) * (1 + 8 * UNIT)).any(-1)
+    if (unique & ~apart).any():
+        return False
+    free = np.nonzero(~unique)[0]
+    if not free.size:
+        labels, _ = cluster_labels(found.centre[i], np.where(unique[:, None], found.radii[i], 0.0), unique)
+        free = np.nonzero(unique & (labels != np.arange(unique.size)))[0]
+        if not free.size:
+            return False
+    slot = int(free[0])
+    for key, value in values.items():
+        out[key][i, slot] = value
+    found.unique[i, slot], found.real[i, slot] = True, real
+    found.centre[i, slot], found.radii[i, slot] = centre, radii
+    return True
+
+
+def _recount(found: PathCertificate, rows: np.ndarray) -> None:
+    """The distinct certified roots of the inputs ``rows`` after slots changed, in place."""
+    if rows.size:
+        unique = found.unique[rows]
+        radii = np.where(unique[..., None], found.radii[rows], 0.0)
+        found.certified[rows] = distinct_clusters(found.centre[rows], radii, unique)[1]
+
+
+def merge_roots(
+    out: dict[str, np.ndarray], found: PathCertificate, rows: np.ndarray, again: dict[str, np.ndarray],
+    second: PathCertificate,
+) -> None:  # fmt: skip
+    """Another run ``again`` (its certificate ``second``) of the inputs ``rows`` of ``out``
+    (certificate ``found``), in place: each root it certified that no certified box of the input
+    overlaps takes a free slot (``_place``) with that run's values. Each box holds exactly one
+    root and boxes of distinct clusters are disjoint, so the clusters stay a lower bound on the
+    distinct roots whatever run each box came from."""
+    paths = found.unique.shape[1]
+    keys = _slot_keys(out, paths)
+    for k, i in enumerate(rows):
+        for p in np.nonzero(second.unique[k])[0]:
+            values = {key: again[key][k, p] for key in keys}
+            _place(out, found, int(i), values, (second.centre[k, p], second.radii[k, p], second.real[k, p]))
+    _recount(found, rows)
+
+
+def add_conjugates(
+    m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], found: PathCertificate, rows: np.ndarray
+) -> None:
+    """The complex conjugates of the certified non-real roots of the inputs ``rows``, in place,
+    where the system has real coefficients (no complex patch; exactly real as rounded): F(conj z)
+    = conj F(z), so the conjugate of a box holding exactly one root holds exactly one root, its
+    conjugate, and a box that misses the real space is disjoint from its conjugate. Each such
+    image that overlaps no certified box takes a free slot (``_place``), as a complex root."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    if not rows.size or homotopy.patch_equation is not None:
+        return
+    free, angles = _family(m, info, theta[rows])
+    with np.errstate(all="ignore"):
+        coefficients = target_coefficients(_monomials(m, info), free, angles)
+    real_system = np.asarray(np.isfinite(coefficients).all(-1) & (coefficients.imag == 0).all(-1))
+    codes, kinds = _codes(m), m.manifest.abi.root_kinds
+    paths = found.unique.shape[1]
+    keys = _slot_keys(out, paths)
+    for i in rows[real_system]:
+        for p in np.nonzero(found.unique[i] & (found.real[i] == -1))[0]:
+            values = {key: out[key][i, p].copy() for key in keys}
+            values["endpoints"][..., 1] *= -1
+            values["outcome"], values["root_kind"] = codes["complex"], kinds.index("complex")
+            box = (np.conj(found.centre[i, p]), found.radii[i, p].copy(), -1)
+            _place(out, found, int(i), values, box)
+    _recount(found, rows)
 
 
 def _paired_ends(pairs: PathPairs | None, roots: np.ndarray) -> np.ndarray:
