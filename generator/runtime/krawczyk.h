@@ -66,11 +66,12 @@ typedef struct { double re, im, r; } kw_disc;
 static inline kw_disc kw_point(double re, double im) { return (kw_disc){re, im, 0.0}; }
 
 // An upper bound on the exact value of a non-negative expression v computed in round to nearest
-// from exact non-negative doubles by at most 32 additions and multiplications (no subtraction, no
-// division; each product of at most two factors, underflowing at most 32 times): each rounding
-// is relative, at most 2^-53, or absolute, at most 2^-1075 (an underflowing product; sums are
-// never amplified afterwards), so exact <= v (1 + 2^-53)^32 + 32 * 2^-1075 <= v (1 + 2^-46) + 2^-1068,
-// and the rounding of this sum is covered by the slack (a group of operations rounded up at once).
+// by at most 32 operations: a sum of products, each factor a double or a sum of doubles (no
+// subtraction, no division, no product of a product that may underflow): each rounding is
+// relative, at most 2^-53, or absolute, at most 2^-1075 (an underflowing product, summed, never
+// multiplied afterwards), so exact <= v (1 + 2^-53)^32 + 32 * 2^-1075 <= v (1 + 2^-46) + 2^-1068,
+// and the rounding of this last sum is covered by the slack (a group of operations rounded up
+// at once).
 static inline double kw_up_expression(double v) { return v + (v * 0x1p-46 + 0x1p-1066); }
 
 // The same for at most 4096 such operations (sums of products of two factors): exact <= v (1 +
@@ -88,10 +89,11 @@ static inline kw_disc kw_mul(kw_disc a, kw_disc b) {
     kw_disc out = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re, 0.0};
     // ma = |re| + |im| >= |a~|, so |a b - a~ b~| <= ma r_b + mb r_a + r_a r_b; the midpoint's six
     // roundings are each within 2^-53 of their results, whose magnitudes sum to at most
-    // 2 (1 + 2^-53) ma mb (the four products sum to ma mb, each part of the result to its two),
-    // + 2^-1075 for each product that underflows: 2^-51 ma mb + 2^-1072 bounds them all
+    // 2 (1 + 2^-53)^2 ma mb (the four products sum to ma mb, each part of the result to its two),
+    // + 2^-1075 for each product that underflows: 2^-51 ma mb (its own two roundings at most
+    // 2^-1074 below) + 2^-1068 bounds them all
     double ma = fabs(a.re) + fabs(a.im), mb = fabs(b.re) + fabs(b.im);
-    out.r = kw_up_expression(ma * (mb * 0x1p-51 + b.r) + mb * a.r + a.r * b.r + 0x1p-1072);
+    out.r = kw_up_expression(ma * mb * 0x1p-51 + ma * b.r + mb * a.r + a.r * b.r + 0x1p-1068);
     return out;
 }
 
@@ -661,8 +663,10 @@ static int kw_certify(const kw_job* job) {
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]);
-                job->radii[at * n + i] = r * f;
+                double f = ldexp(1.0, (int)shift[i]), v = r * f;
+                // exact unless it (or the centre) left the normal range: widened over both roundings
+                if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
+                job->radii[at * n + i] = v;
                 smallest = fmin(smallest, f);
             }
             job->unique[at] = 1;
