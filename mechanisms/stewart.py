@@ -3,27 +3,13 @@
 Stewart-Gough platform of general geometry can have 40 real postures", Advances in Robot
 Kinematics, 1998), as quoted with its pose by the issue that added this file.
 
-Frames and conventions (SI, radians):
-* {B}: base frame, base points A_i (parameter group ``base``, 6 x 3, in {B}); {P}: platform frame,
-  platform points b_i (group ``platform``, 6 x 3, in {P}). Pose ^B_P T = (R, p); leg vector
-  d_i = R b_i + p - A_i (Dietmaier's R x_i + t - X_i), actuated leg lengths l_i = |d_i|.
-* Passive variables (the Newton unknowns): the position p = (x, y, z) of the origin of {P} and the
-  unit quaternion q = (q0, q1, q2, q3) of R (scalar first, R(q) v = q v q* / |q|^2). The closure
-  is square: six leg residuals (d_i . d_i - l_i^2) / (2 l_i) (metres; |d_i| - l_i to first order)
-  and the normalisation (q . q - 1) / 2. Newton steps in (p, q) have no parametrisation
-  singularity (Euler angles have one at beta = +-pi/2): the closure Jacobian is singular only at
-  type II singularities. q and -q are the same pose; the inverse returns q0 >= 0.
-* Rates: A twist = diag(l) l_dot with row i of A the Pluecker coordinates (d_i ; (A_i - p) x d_i)
-  of leg line i (twist = (v of the origin of {P}, w), both in {B}); det A = 0 is the type II
-  singularity (``leg_lines_dependent``), l_i = 0 the serial one.
-* Forward pose (every assembly mode): the Study coordinates (e, g) of the pose, R = R(e) and
-  p = 2 vec(g e*) / (e . e), with the Study quadric e . g = 0 turn each leg equation times
-  e . e into a quadric in (e, g) (Wampler 1996; Husty 1996):
-  (e.e)(|b_i|^2 + |A_i|^2 - l_i^2) + 4 g.g + 4 <g, e b_i> - 2 A_i . vec(e b_i e*) - 4 A_i . vec(g e*) = 0
-  (<,> the 4-D inner product, products of quaternions). Seven homogeneous quadrics in the eight
-  (e, g) have 40 isolated solutions for a general geometry (Raghavan; Ronga and Vust; Lazard;
-  Mourrain), found by a parameter homotopy from a generic complex instance solved at generation
-  time (``ForwardHomotopy``).
+Conventions (SI, radians; derivation: ``docs/derivations/stewart.md``):
+* {B}: base points A_i (parameter group ``base``, 6 x 3); {P}: platform points b_i (group
+  ``platform``, 6 x 3). Pose ^B_P T = (R, p); actuated leg lengths l_i = |R b_i + p - A_i|.
+* Passive: p = (x, y, z) and the unit quaternion q0..q3 of R (scalar first; q0 >= 0 from the
+  inverse). Type II singularity ``leg_lines_dependent``.
+* Forward pose: every assembly mode by a parameter homotopy on the Study-coordinate quadrics
+  (accelerator ``_stewart_forward.py``), 40 for a general geometry.
 """
 
 from __future__ import annotations
@@ -31,27 +17,15 @@ from __future__ import annotations
 import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import point_defaults, point_info, point_parameters
-from parakin.generator.frames import (
-    pure_quaternion,
-    quaternion_conjugate,
-    quaternion_from_rotation,
-    quaternion_product,
-    quaternion_rotation_unnormalised,
-)
-from parakin.generator.model import (
-    Citation,
-    Example,
-    ForwardHomotopy,
-    Mechanism,
-)
+from parakin.generator.frames import quaternion_from_rotation
+from parakin.generator.model import Citation, Example, Mechanism
+from parakin.mechanisms._stewart_forward import forward
 
 BASE = point_parameters("base", 6)
 PLATFORM = point_parameters("platform", 6)
 lengths = sp.symbols("l1:7", positive=True)
 x, y, z = sp.symbols("x y z", real=True)
 quaternion = sp.symbols("q0:4", real=True)
-study_e = sp.symbols("e0:4")
-study_g = sp.symbols("g0:4")
 
 #: Dietmaier (1998): base points X_i, platform points x_i, leg lengths with 40 real modes
 DIETMAIER_BASE = [
@@ -88,27 +62,6 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-def study_leg_equation(base: sp.Matrix, platform: sp.Matrix, length: sp.Expr) -> sp.Expr:
-    """Leg |R b + p - A|^2 = l^2 times e . e in Study coordinates (module docstring)."""
-    e, g = sp.Matrix(study_e), sp.Matrix(study_g)
-    norm = e.dot(e)
-    e_b = quaternion_product(e, pure_quaternion(platform))
-    rotated = quaternion_rotation_unnormalised(e) * platform  # vec(e b e*)
-    translated = quaternion_product(g, quaternion_conjugate(e))[1:, 0]  # vec(g e*)
-    constant = platform.dot(platform) + base.dot(base) - length**2
-    return norm * constant + 4 * g.dot(g) + 4 * g.dot(e_b) - 2 * base.dot(rotated) - 4 * base.dot(translated)
-
-
-def forward() -> ForwardHomotopy:
-    e, g = sp.Matrix(study_e), sp.Matrix(study_g)
-    rows = [BASE.row(k).T for k in range(6)], [PLATFORM.row(k).T for k in range(6)]
-    equations = [e.dot(g)] + [study_leg_equation(a, b, n) for a, b, n in zip(*rows, lengths, strict=True)]
-    norm = e.dot(e)
-    position = 2 * quaternion_product(g, quaternion_conjugate(e))[1:, 0] / norm
-    passive = list(position) + [c / sp.sqrt(norm) for c in e]
-    return ForwardHomotopy(list(study_e) + list(study_g), equations, list(study_e), passive)
-
-
 def examples() -> list[Example]:
     pose = [row + [t] for row, t in zip(DIETMAIER_ROTATION, DIETMAIER_POSITION, strict=True)] + [[0, 0, 0, 1]]
     return [
@@ -142,7 +95,7 @@ def build() -> Mechanism:
         ),
         parameters={**point_defaults(BASE, DIETMAIER_BASE), **point_defaults(PLATFORM, DIETMAIER_PLATFORM)},
         **MODEL.fields(),
-        forward=forward(),
+        forward=forward(BASE, PLATFORM, lengths),
         home={
             **dict(zip(lengths, DIETMAIER_LENGTHS, strict=True)),
             **dict(zip((x, y, z), DIETMAIER_POSITION, strict=True)),
