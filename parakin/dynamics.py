@@ -652,7 +652,7 @@ def leg_tree(m: Mechanism) -> LegTree:
     Raises
     ------
     UnsupportedOperationError
-        No joint graph, or a leg the export does not write (a serial chain, a U, C, P or planar
+        No joint graph, or a leg the export does not write (a serial chain, a C, P or planar
         joint at the platform).
 
     Examples
@@ -662,7 +662,7 @@ def leg_tree(m: Mechanism) -> LegTree:
     """
     from parakin import mjcf
 
-    key = (str(m.package.path), tuple(np.asarray(m.params, dtype=float).tolist()))
+    key = (str(m.package.path), tuple(np.asarray(m.params, dtype=float).tolist()), m.manifest.joints)
     with _PRODUCTS_LOCK:
         if key in _TREES:
             return _TREES[key]

@@ -12,8 +12,11 @@
   platform then ends that leg) or every leg meets it at one point (a point has no orientation:
   the platform then ends the first leg). Every other leg is cut where it meets the platform, by
   ``<connect site1=... site2=...>`` (never the ``anchor`` form): a spherical joint by one
-  connect, a revolute joint by two along its axis (``{leg}_cut``, ``{leg}_cut_axis``). Other
-  joint kinds at the platform are refused (UnsupportedOperationError).
+  connect, a revolute joint by two along its axis (``{leg}_cut``, ``{leg}_cut_axis``), a
+  universal joint by a cross body (``{leg}_cross``, a point of ``link_mass``) hinged to the leg's
+  last link about its first axis and cut as a revolute joint about its second (fixed in the
+  platform: the graph's axis, or both axes normal to the link at the home). Other joint kinds at
+  the platform (C, P, planar) are refused (UnsupportedOperationError).
 * **Parallelograms** (kind Pa) are four bars, not one: the short side at the elbow (on the body
   before), two bars hinged to it about the normal of the parallelogram's plane, and the short
   side at the platform (the graph's body) hinged to the first bar; the second bar is cut from it
@@ -357,7 +360,7 @@ class _Builder:
             parent = body.name
         end_body = self.model.body(str(parent))
         if not carries_platform:
-            self.cut(leg, end_body, placed)
+            self.cut(leg, end_body, placed, line)
         return end_body.name, placed.end
 
     def parallelogram(
@@ -394,18 +397,24 @@ class _Builder:
         )
         return lower
 
-    def cut(self, leg: GraphLeg, end_body: _Body, placed: _Leg) -> None:
+    def cut(self, leg: GraphLeg, end_body: _Body, placed: _Leg, line: np.ndarray) -> None:
+        """Cut the leg from the platform at its last joint: S by one connect, R by two along its
+        axis, U by a cross body hinged to the leg's last link and cut as an R from the platform."""
         joint = leg.joints[-1]
         platform = self.model.body("platform")
         offsets = [("", np.zeros(3))]
+        what = f"leg {leg.name}'s platform joint"
         if joint.kind == "R":
-            axis = _axis(joint, placed, self.geometry, f"leg {leg.name}'s platform joint")
+            axis = _axis(joint, placed, self.geometry, what)
             assert axis is not None
+            offsets.append(("_axis", self.spacing * axis))
+        elif joint.kind == "U":
+            end_body, axis = self.cross(leg, end_body, placed, line)
             offsets.append(("_axis", self.spacing * axis))
         elif joint.kind != "S":
             raise UnsupportedOperationError(
                 f"leg {leg.name} meets the platform with a {joint.kind} joint: only S (one connect), R (two "
-                "connects along its axis) and F (the platform ends the leg) are cut"
+                "connects along its axis), U (a cross body and two connects) and F (the platform ends the leg) are cut"
             )
         for suffix, offset in offsets:
             end_body.sites.append((f"{leg.name}_end{suffix}", placed.end + offset))
@@ -413,6 +422,30 @@ class _Builder:
             self.model.connects.append(
                 (f"{leg.name}_cut{suffix}", f"{leg.name}_end{suffix}", f"{leg.name}_platform{suffix}")
             )
+
+    def cross(self, leg: GraphLeg, end_body: _Body, placed: _Leg, line: np.ndarray) -> tuple[_Body, np.ndarray]:
+        """A universal joint at the platform: its cross ``{leg}_cross`` (a body at the joint,
+        hinged to the leg's last link about the first axis) and the second axis, fixed in the
+        platform (the graph's axis, in {P}; without one both axes are normal to the link at the
+        home, so that the link cannot spin about itself). Returns the cross and that axis."""
+        what = f"leg {leg.name}'s platform joint (U)"
+        towards = _unit(line, f"leg {leg.name}'s link")
+        given = _axis(leg.joints[-1], placed, self.geometry, what)
+        if given is None:
+            first = _normal(towards)
+            second = _unit(np.cross(first, towards), what)
+        else:
+            second = given
+            first = _unit(np.cross(towards, second), f"{what}: its axis along the link")
+        body = self.add_body(
+            _Body(f"{leg.name}_cross", end_body.name, placed.end.copy(),
+                  joints=[_Joint(self.joint_name(f"{leg.name}_cross", 0), "hinge", first)])
+        )  # fmt: skip
+        self.model.notes.append(
+            f"leg {leg.name}: its U joint at the platform as a cross body ({body.name}) hinged to {end_body.name}, "
+            "cut from the platform by two connects along its second axis"
+        )
+        return body, second
 
 
 def _carrier(graph: JointGraph, builder: _Builder) -> tuple[GraphLeg | None, str]:
@@ -788,7 +821,7 @@ def to_mjcf(
     ------
     UnsupportedOperationError
         The package carries no joint graph (regenerate it with a generator that writes one), a
-        leg of a kind not exported (a serial chain; a U, C, P or planar joint at the platform;
+        leg of a kind not exported (a serial chain; a C, P or planar joint at the platform;
         several legs ending rigidly in it), or the mujoco module is missing.
     BadInputError
         Bad ``actuated``, ``modes``, ``timestep``, ``accuracy``, ``actuator`` or masses.

@@ -1,0 +1,105 @@
+"""A universal joint at the platform, cut on its own (issue 34): the 6-SPS ``gough`` exported with
+each leg's platform joint a U (the link's idle spin locked at the platform, its base joint then a
+ball) instead of the S the package has. Kinematically the same mechanism, so MuJoCo must agree
+with parakin as for the export the package describes:
+
+* every real assembly mode a keyframe, assembled (loop gap < 1e-9 m at ``mj_forward``, actuated
+  qpos = parakin's to 1e-12), mobility nv - rank J = 6 at each;
+* projected ``mj_inverse`` of a payload at rest (with minus without) = ``actuator_forces`` of
+  its weight to 1e-7 relative at every keyframe;
+* with legs of mass (the cross bodies included) projected ``mj_inverse`` = ``inverse_dynamics``
+  at 8 samples of a trajectory to 1e-6 relative (parakin's tree has the same cross bodies and
+  ball joints).
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.dynamics import inverse_dynamics, leg_tree, link_inertias, rigid_inertia
+from parakin.mjcf import to_mjcf
+
+mujoco = pytest.importorskip("mujoco")
+from parakin import mujoco_bridge as bridge  # noqa: E402
+
+
+class WithGraph:
+    """A loaded mechanism seen through another joint graph (its kinematics unchanged)."""
+
+    def __init__(self, m: parakin.Mechanism, graph) -> None:
+        self._m, self.manifest = m, dataclasses.replace(m.manifest, joints=graph)
+
+    def __getattr__(self, name):
+        return getattr(self._m, name)
+
+
+def gough_with_universal_cuts():
+    m = parakin.load("gough", backend="numpy")
+    graph = m.manifest.joints
+    legs = tuple(
+        dataclasses.replace(leg, joints=(*leg.joints[:-1], dataclasses.replace(leg.joints[-1], kind="U")))
+        for leg in graph.legs
+    )
+    return WithGraph(m, dataclasses.replace(graph, legs=legs))
+
+
+def test_universal_cut_keyframes_mobility_and_statics():
+    m = gough_with_universal_cuts()
+    payload = 10.0
+    loaded = mujoco.MjModel.from_xml_string(to_mjcf(m, payload=payload))
+    empty = mujoco.MjModel.from_xml_string(to_mjcf(m, payload=0.0))
+    assert 'type="ball"' in to_mjcf(m, modes="none") and "anchor=" not in to_mjcf(m, modes="none")
+    modes = m.forward_pose_all(m.home_actuated)
+    real = int(modes.count)
+    assert loaded.nkey == real >= 2
+    chain = bridge.closed_chain(loaded, list(m.actuated_names), "platform")
+    chain0 = bridge.closed_chain(empty, list(m.actuated_names), "platform")
+    crosses = [loaded.body(f"leg{i}_cross") for i in range(1, 7)]
+    assert all(int(loaded.body_dofnum[b.id]) == 1 for b in crosses)  # one hinge each, cut along the other axis
+    errors, checked = [], 0
+    for k in range(real):
+        data, data0 = mujoco.MjData(loaded), mujoco.MjData(empty)
+        mujoco.mj_resetDataKeyframe(loaded, data, k)
+        mujoco.mj_resetDataKeyframe(empty, data0, k)
+        mujoco.mj_forward(loaded, data)
+        mujoco.mj_forward(empty, data0)
+        assert np.abs(bridge.loop_residual(chain, data)).max() < 1e-9
+        assert np.abs(data.qpos[chain.actuated_qpos] - m.home_actuated).max() < 1e-12
+        jacobian = bridge.loop_jacobian(chain, data)
+        assert loaded.nv - np.linalg.matrix_rank(jacobian, tol=1e-9) == 6
+        assert np.abs(bridge.platform_pose(chain, data) - modes.mode(k).pose).max() < 1e-9
+        for state in (data, data0):  # at rest: mj_forward left the accelerations of a free fall there
+            state.qacc[:] = 0.0
+        weight = bridge.projected_inverse(chain, data) - bridge.projected_inverse(chain0, data0)
+        expected = m.actuator_forces(modes.mode(k), np.array([0.0, 0.0, -9.81 * payload, 0.0, 0.0, 0.0]))
+        errors.append(np.abs(weight - expected).max() / np.abs(expected).max())
+        checked += 1
+    assert checked == real
+    assert max(errors) < 1e-7, f"payload's projected mj_inverse vs actuator_forces: {max(errors):.3g}"
+
+
+def test_universal_cut_with_legs_of_mass_equals_inverse_dynamics():
+    m = gough_with_universal_cuts()
+    assert "leg1_cross" in leg_tree(m).links
+    links = {
+        name: rigid_inertia(0.5 + 0.1 * i, rod.centre, rod.inertia * 0.7)
+        for i, (name, rod) in enumerate(link_inertias(m, 1.0).items())
+    }
+    platform = rigid_inertia(10.0, inertia=np.full(3, 0.4 * 10.0 * 0.05**2))
+    model = mujoco.MjModel.from_xml_string(to_mjcf(m, modes="none", link_mass=links, platform_mass=10.0))
+    chain = bridge.closed_chain(model, list(m.actuated_names), "platform")
+    data = mujoco.MjData(model)
+    state = m.forward_pose(m.home_actuated, guess=m.home_passive)
+    errors = []
+    for t in np.linspace(0.0, 1.4, 8):
+        phase = 2.0 * t + np.arange(6)
+        q, qd, qdd = m.home_actuated + 0.05 * np.sin(phase), 0.1 * np.cos(phase), -0.2 * np.sin(phase)
+        assert bridge.assemble(chain, data, q, qd, qdd) < 1e-12
+        state = m.forward_pose(q, guess=state)
+        engine = bridge.projected_inverse(chain, data)
+        ours = inverse_dynamics(m, state, qd, qdd, platform_inertia=platform, gravity=(0, 0, -9.81), leg_inertias=links)
+        errors.append(np.abs(engine - ours.efforts).max() / np.abs(engine).max())
+    assert len(errors) == 8
+    assert max(errors) < 1e-6, f"U cuts, legs of mass: projected mj_inverse vs inverse_dynamics {max(errors):.3g}"
