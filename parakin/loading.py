@@ -31,11 +31,10 @@ def available() -> list[str]:
     list of str
         Mechanism names, each one ``load`` and ``metadata`` accept.
 
-    Raises
-    ------
+    Warns
+    -----
     BrokenPackageWarning
-        A warning, not an error: a package whose manifest cannot be read is skipped, named in
-        the warning.
+        A package whose manifest cannot be read is skipped, named in the warning.
 
     Examples
     --------

@@ -898,6 +898,11 @@ def figure_html(figure: Any, alt: str, width: int | None = None, dpi: int = 100)
     str
         ``<img alt="..." src="data:image/png;base64,...">``.
 
+    Raises
+    ------
+    UnsupportedOperationError
+        matplotlib is not installed.
+
     Examples
     --------
     >>> import matplotlib.pyplot as plt

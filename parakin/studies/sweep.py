@@ -36,7 +36,7 @@ Results are an ``xarray.Dataset`` with one dimension per axis. The grid is cut i
 whole slabs of the first axis (about ``chunk`` points each): memory is bounded by the chunk, not
 the grid. ``scheduler``: None (dask's local threads), 'synchronous', or a ``dask.distributed``
 scheduler address (the same call then runs on a cluster). ``progress``: a bar on stderr over the
-graph's tasks (over the store's chunks with a ``store``): True always, False never, None (the
+grid's points, advanced as each chunk finishes: True always, False never, None (the
 default) as ``parakin.log.progress`` decides: a sweep of at least ``parakin.log.LARGE_BATCH``
 points (workspace points included) on a terminal; on a ``dask.distributed`` scheduler without a
 store, the cluster's dashboard shows the tasks instead. With ``store`` (a zarr folder) every
@@ -55,9 +55,11 @@ started after, it resumes the store.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import functools
 import hashlib
+import itertools
 import json
 import os
 import socket
@@ -90,12 +92,14 @@ OUTSIDE_RANGE = "outside_range"
 RECORD, RECORD_FORMAT = "finished.json", 2
 POSE_QUANTITIES = ("reachable", "branches", "type_i_distance", "type_ii_distance")
 QUANTITIES = (*POSE_QUANTITIES, "modes", "architecture", "workspace_volume")
-#: the task states of dask's local scheduler: their sizes add up to the graph's tasks
-_TASK_STATES = ("ready", "waiting", "running", "finished")
 #: the stores this process is writing (resolved paths): threads of one process exclude each other
 #: here, as file systems whose flock is emulated by POSIX record locks (NFS) do not between them
 _WRITING: set[Path] = set()
 _WRITING_GUARD = threading.Lock()
+#: the progress bar of each sweep computing in memory in this process, by the sweep's token
+_BARS: dict[str, Any] = {}
+_BARS_GUARD = threading.Lock()
+_SWEEP_IDS = itertools.count()
 
 
 def _needs_dask() -> tuple[Any, Any]:
@@ -290,6 +294,27 @@ def _variable_kinds(
     return kinds
 
 
+def _pose_unit(name: str) -> str:
+    """The unit of a pose coordinate: metres for a position, radians for an angle."""
+    return "m" if name in ("x", "y", "z") else "rad"
+
+
+def _axis_units(m: Mechanism, kinds: Mapping[str, str], parameter_axes: Mapping[str, str]) -> dict[str, str]:
+    """Each name a sweep takes -> its unit (the manifest's for actuated variables and parameters;
+    "" for a pure number), written on the dataset's coordinates for the maps' axis labels."""
+    actuated = {v.name: v.unit for v in m.manifest.actuated}
+    parameters = {p.name: p.unit for p in m.manifest.parameters}
+    units = {}
+    for name, kind in kinds.items():
+        if kind == "pose coordinate":
+            units[name] = _pose_unit(name)
+        elif kind == "actuated variable":
+            units[name] = actuated.get(name, "")
+        else:
+            units[name] = parameters.get(parameter_axes[name], "")
+    return units
+
+
 def _readers(quantities: Sequence[str]) -> dict[str, list[str]]:
     """Kind of variable -> the requested quantities that read it (a parameter: every quantity;
     workspace_volume reads the pose coordinates outside its workspace grid as fixed values)."""
@@ -376,8 +401,66 @@ def sweep(
     progress: bool | None = None,
     backend: str = "auto",
 ) -> xarray.Dataset:
-    """Evaluate ``quantities`` over the grid ``axes`` (see the module docstring); returns a labelled
-    ``xarray.Dataset`` (lazy, over the zarr ``store`` when one is given)."""
+    """Evaluate ``quantities`` over the grid ``axes`` (the module docstring says how).
+
+    Parameters
+    ----------
+    mechanism : str or Path or Mechanism
+        A mechanism name, a package folder, or a loaded mechanism (its parameters and limits).
+    quantities : sequence of str
+        Names from ``QUANTITIES``: pose space (reachable, branches, type_i_distance,
+        type_ii_distance), actuated space (modes), parameter space (architecture,
+        workspace_volume).
+    axes : mapping of str to array_like, each 1-D
+        The grid: pose coordinates (m, rad), actuated variables or parameters (their manifest
+        units) to their values, in order; the first axis is cut into chunks.
+    fixed : mapping of str to float, optional
+        Values of names not swept (default: the home pose and input, the loaded parameters).
+    workspace : mapping of str to array_like, optional
+        The pose grid of ``workspace_volume`` per design: evenly spaced ascending values.
+    branch : int, optional
+        The inverse branch of pose-space quantities (default: the first valid).
+    chunk : int
+        About this many grid points per chunk (memory is bounded by the chunk).
+    scheduler : str, optional
+        None (dask's local threads), 'synchronous', 'processes', or a ``dask.distributed``
+        scheduler address.
+    store : str or Path, optional
+        A zarr folder: each finished chunk is written and checksummed; a rerun resumes.
+    progress : bool, optional
+        A bar over the grid's points: True always, False never, None as
+        ``parakin.log.progress`` decides.
+    backend : str
+        The backend a mechanism given by name is loaded with.
+
+    Returns
+    -------
+    xarray.Dataset
+        One variable per quantity (with ``modes_status`` for modes) over one dimension per
+        axis, each coordinate carrying its ``units``; lazy over the store when one is given.
+
+    Raises
+    ------
+    BadInputError
+        An unknown quantity, axis or fixed name, a name no quantity reads, a fixed value for a
+        swept name, an axis that is not a non-empty 1-D array, a workspace grid that is not
+        evenly spaced, a store that is a file or holds another sweep, or a chunk that fails its
+        checksum on read.
+    UnsupportedOperationError
+        Quantities the mechanism cannot compute (no closed-form inverse, no forward
+        elimination), or dask and xarray are not installed.
+    StoreInUseError
+        Another sweep is writing ``store``.
+
+    Examples
+    --------
+    >>> from parakin import sweep
+    >>> ds = sweep("five_bar", ["reachable", "type_ii_distance"], {"x": [0.0, 0.5], "y": [0.33]}, backend="numpy")
+    >>> ds["reachable"].values.tolist(), ds["type_ii_distance"].values.round(3).tolist()
+    ([[True], [False]], [[0.666], [nan]])
+    >>> ds["x"].attrs["units"]
+    'm'
+    """
     from parakin.mechanism import Mechanism as MechanismClass
     from parakin.validation import integer_in_range
 
@@ -496,9 +579,13 @@ def sweep(
     )
     template = da.zeros(shape, chunks=chunks, dtype=float)
 
+    token = f"{os.getpid()}-{next(_SWEEP_IDS)}"  # this call's progress bar, in this process
+
     def compute_block(_: np.ndarray, block_info: dict | None = None) -> np.ndarray:
         assert block_info is not None
-        return _block(spec, grid, names, block_info[0]["array-location"])
+        block = _block(spec, grid, names, block_info[0]["array-location"])
+        _advance(token, int(np.prod(block.shape[:-1], dtype=np.int64)))
+        return block
 
     values = template.map_blocks(compute_block, new_axis=len(shape), chunks=(*chunks, (len(names),)), dtype=float)
     dims = list(grid)
@@ -531,11 +618,18 @@ def sweep(
         "spec": fingerprint,
         "workspace": json.dumps({k: [float(v[0]), float(v[-1]), int(v.size)] for k, v in workspace_grid.items()}),
     }
-    dataset = xr.Dataset(data, coords={name: values for name, values in grid.items()}, attrs=described_attributes)
+    units = _axis_units(m, kinds, parameter_axes)
+    coordinates = {name: (name, values, {"units": units[name]}) for name, values in grid.items()}
+    if "workspace_volume" in data:  # the product of the workspace axes' units
+        dims_w, array_w, attributes_w = data["workspace_volume"]
+        powers = collections.Counter(_pose_unit(name) for name in workspace_grid)
+        volume_unit = " ".join(unit if n == 1 else f"{unit}^{n}" for unit, n in sorted(powers.items()))
+        data["workspace_volume"] = (dims_w, array_w, {**attributes_w, "units": volume_unit})
+    dataset = xr.Dataset(data, coords=coordinates, attrs=described_attributes)
     # the bar's decision (parakin.log.progress) weighs the points computed, workspace points included
     size = int(np.prod(shape, dtype=np.int64)) * int(np.prod([v.size for v in workspace_grid.values()], dtype=np.int64))
     if store is None:
-        return _compute(dataset, scheduler, progress, size)
+        return _compute(dataset, token, scheduler, progress, size)
     return _compute_into(dataset, Path(store), chunks[0], scheduler, progress, size)
 
 
@@ -550,25 +644,42 @@ def _client(scheduler: str | None) -> Any:
         raise BadInputError(f"no dask scheduler at {scheduler!r}: {error}") from error
 
 
-def _compute(dataset: xarray.Dataset, scheduler: str | None, progress: bool | None, size: int) -> xarray.Dataset:
-    from dask.callbacks import Callback
+def _advance(token: str, points: int) -> None:
+    """``points`` more grid points done for the sweep ``token``: its bar, where this process
+    holds one (a worker process of a cluster or of the 'processes' scheduler holds none)."""
+    with _BARS_GUARD:
+        bar = _BARS.get(token)
+    if bar is not None:
+        bar.update(points)
 
+
+def _compute(
+    dataset: xarray.Dataset, token: str, scheduler: str | None, progress: bool | None, size: int
+) -> xarray.Dataset:
+    """The sweep computed in memory, with a bar over the grid's points: each block adds its
+    points as it finishes (``_advance``), whichever tasks dask fuses it into."""
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
-    # a bar over the graph's tasks; a dask.distributed cluster reports to its own dashboard instead
-    show = False if client is not None else progress
+    # a dask.distributed cluster reports to its own dashboard instead; worker processes cannot
+    # reach this process's bar
+    show = False if client is not None or local == "processes" else progress
     try:
-        with (
-            bar_over(None, f"sweep of {dataset.attrs['mechanism']}", "task", show, size=size) as bar,
-            Callback(
-                start_state=lambda graph, state: bar.restart(sum(len(state[k]) for k in _TASK_STATES)),
-                posttask=lambda *task: bar.update(),
-            ),
-        ):
-            return dataset.compute(scheduler=client or local)
+        with bar_over(_points(dataset), f"sweep of {dataset.attrs['mechanism']}", "point", show, size=size) as bar:
+            with _BARS_GUARD:
+                _BARS[token] = bar
+            try:
+                return dataset.compute(scheduler=client or local)
+            finally:
+                with _BARS_GUARD:
+                    _BARS.pop(token, None)
     finally:
         if client is not None:
             client.close()
+
+
+def _points(dataset: xarray.Dataset) -> int:
+    """The number of grid points of a sweep (the product of its axes' sizes)."""
+    return int(np.prod([int(size) for size in dataset.sizes.values()], dtype=np.int64))
 
 
 def _checksum(values: np.ndarray) -> str:
@@ -831,8 +942,12 @@ def _write_store(
     client = _client(scheduler)
     local = scheduler if scheduler in ("threads", "synchronous", "processes") else None
     workers = max(1, len(client.scheduler_info()["workers"])) if client is not None else 2
-    bar = bar_over(len(rows), f"sweep of {dataset.attrs['mechanism']} into {store.name}", "chunk", progress, size=size)
-    bar.update(len(finished))
+    # a bar over the grid's points (a chunk is ``rows[k]`` slabs of the first axis)
+    slab = _points(dataset) // max(int(bounds[-1]), 1)
+    bar = bar_over(
+        _points(dataset), f"sweep of {dataset.attrs['mechanism']} into {store.name}", "point", progress, size=size
+    )
+    bar.update(slab * sum(rows[k] for k in finished))
     try:
         for start in range(0, len(pending), workers):
             batch = pending[start : start + workers]
@@ -846,7 +961,7 @@ def _write_store(
                 # the checksums of the arrays written, recorded only after the write returned
                 finished[k] = {name: _checksum(part[name].values) for name in names}
             _write_record(store, spec, finished)
-            bar.update(len(batch))
+            bar.update(slab * sum(rows[k] for k in batch))
     finally:
         bar.close()
         if client is not None:
