@@ -9,20 +9,23 @@ Run alone: ``python -m bench.floor``; ``make bench`` prints the same table.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import sys
 import time
 import types
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 import parakin
-from parakin.packages.compiled import CompiledBackend
+from parakin.packages.compiled import CompiledBackend, certify_roots_compiled
+from parakin.solvers import modes as modes_module
+from parakin.solvers.certify import certify_roots
 from parakin.solvers.modes import compiled_modes
 from parakin.studies.sampling import sample_configurations
 
@@ -92,14 +95,94 @@ def interleaved(contenders: dict[str, Callable[[], object]], rounds: int = ROUND
     return {name: np.array(value) for name, value in times.items()}
 
 
+@contextlib.contextmanager
+def c_certificate(backend: CompiledBackend) -> Iterator[None]:
+    """Inside the block, ``forward_pose_all`` certifies its endpoints with the C certificate
+    (``certify_roots_compiled``) instead of NumPy's ``certify_roots``: a bench-only swap of the
+    name ``parakin.solvers.modes`` calls, to measure what the wiring will gain."""
+    original = modes_module.certify_roots
+
+    def in_c(*args: Any, **kwargs: Any) -> Any:
+        return certify_roots_compiled(backend, *args, **kwargs)
+
+    modes_module.certify_roots = in_c  # type: ignore[assignment]
+    try:
+        yield
+    finally:
+        modes_module.certify_roots = original  # type: ignore[assignment]
+
+
+def certify_calls(m: Any, theta: np.ndarray) -> list[tuple[tuple, dict]]:
+    """The arguments of every ``certify_roots`` call that ``forward_pose_all(theta)`` makes."""
+    calls: list[tuple[tuple, dict]] = []
+    original = modes_module.certify_roots
+
+    def spy(*args: Any, **kwargs: Any) -> Any:
+        calls.append((args, kwargs))
+        return original(*args, **kwargs)
+
+    modes_module.certify_roots = spy  # type: ignore[assignment]
+    try:
+        m.forward_pose_all(theta, strict=False)
+    finally:
+        modes_module.certify_roots = original  # type: ignore[assignment]
+    return calls
+
+
+def certificate_rows() -> list[str]:
+    """The Krawczyk certificate of one input's endpoints, NumPy (``certify_roots``) against C
+    (``certify_roots_compiled``), interleaved, CPU ms per input: Dietmaier's input of the
+    Stewart platform (homogeneous, the real chart) and an input of rus6 near home (affine,
+    scaled); candidates certified unique and real by each."""
+    rows = []
+    inputs = {"stewart": DIETMAIER_LEGS.copy()}
+    if "rus6" in parakin.available():
+        rus6 = parakin.load("rus6", backend="compiled")
+        inputs["rus6"] = sample_configurations(rus6, 3, spread=0.05, seed=5).actuated[0]
+    for name, theta in inputs.items():
+        m = parakin.load(name, backend="compiled")
+        backend = compiled(m)
+        calls = certify_calls(m, theta)
+
+        def numpy_side(calls: list = calls) -> None:
+            for args, kwargs in calls:
+                certify_roots(*args, **kwargs)
+
+        def c_side(calls: list = calls, backend: CompiledBackend = backend) -> None:
+            for args, kwargs in calls:
+                certify_roots_compiled(backend, *args, **kwargs)
+
+        times = interleaved({"NumPy": numpy_side, "C": c_side})
+        reference = [certify_roots(*args, **kwargs) for args, kwargs in calls]
+        ours = [certify_roots_compiled(backend, *args, **kwargs) for args, kwargs in calls]
+        candidates = sum(int(np.isfinite(args[3]).all(-1).sum()) for args, _ in calls)
+        for label, result in (("NumPy", reference), ("C", ours)):
+            unique = sum(int(r.unique.sum()) for r in result)
+            real = sum(int((r.real == 1).sum()) for r in result)
+            ms = times[label] * 1e3
+            rows.append(
+                f"{name:8s} {label:6s} {np.median(ms):9.3f} {np.percentile(ms, 10):9.3f} {np.percentile(ms, 90):9.3f} "
+                f"{np.median(times[label]) / np.median(times['NumPy']):8.3f} {candidates:5d} {unique:6d} {real:5d}"
+            )
+    return rows
+
+
 def dietmaier_row() -> list[str]:
     """Dietmaier's 40 modes: parakin (certified) and fkSGP, CPU ms per input (median, 10th and
     90th percentile), their ratio in this run, modes each finds, and the tracker's counts."""
     m = parakin.load("stewart", backend="compiled")
     theta = DIETMAIER_LEGS.copy()
     solver = load_fksgp()
+    backend = compiled(m)
+
+    def with_c_certificate() -> object:
+        with c_certificate(backend):
+            return m.forward_pose_all(theta, strict=False)
+
     contenders: dict[str, Callable[[], object]] = {
         "parakin": lambda: m.forward_pose_all(theta, strict=False),
+        # the same with the endpoints certified in C (certify_roots_compiled; bench-only swap)
+        "C cert.": with_c_certificate,
         # the generated C pipeline alone: tracking, settling; no certificate, no Python
         "C only": lambda: compiled_modes(m, theta[None]),
     }
@@ -119,6 +202,11 @@ def dietmaier_row() -> list[str]:
             assert solver is not None
             found = len(solver(DIETMAIER_BASE, DIETMAIER_PLATFORM, squared, 1)[0])
             extra = f"{found:5d} {'-':>8s}"
+        elif name == "C cert.":
+            with c_certificate(backend):
+                swapped = m.forward_pose_all(theta, strict=False)
+            swapped_complete = bool(np.all(swapped.certificate().get("complete", False)))
+            extra = f"{int(swapped.count):5d} {str(swapped_complete):>8s}"
         elif name == "C only":
             extra = f"{int((compiled_modes(m, theta[None])['outcome'] == 0).sum()):5d} {'-':>8s}"
         else:
@@ -206,6 +294,18 @@ def main() -> None:
     print(header)
     print("-" * len(header))
     for line in dietmaier_row():
+        print(line)
+    print(
+        "\nKrawczyk's certificate of one input's endpoints: NumPy (certify_roots) against C "
+        "(certify_roots_compiled), CPU ms per input, interleaved"
+    )
+    header = (
+        f"{'input':8s} {'engine':6s} {'median':>9s} {'p10':>9s} {'p90':>9s} {'/NumPy':>8s} {'cand.':>5s} "
+        f"{'unique':>6s} {'real':>5s}"
+    )
+    print(header)
+    print("-" * len(header))
+    for line in certificate_rows():
         print(line)
     print("\nThe C path tracker per homotopy family (inputs near home, certified, one input per call)")
     header = f"{'mechanism':12s} {'n':>4s} {'ms/input':>9s}   work per path"

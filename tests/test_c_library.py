@@ -161,6 +161,8 @@ def test_exported_example_program_runs(tmp_path, name):
         # every printed mode is a Python mode and the reverse (printed to 9 decimals)
         distance = np.abs(printed[:, None, :] - python[None, :, :]).max(axis=-1)
         assert distance.min(axis=1).max() < 2e-9 and distance.min(axis=0).max() < 2e-9
+    # the certificate of z^2 - 2 near its closed-form roots +-sqrt 2: both unique and real
+    assert "certificate of z^2 - 2: unique 1 1, real 1 1" in lines[-2], lines[-2]
     newton = lines[-1]
     assert newton.startswith("forward_pose from the guess: status 0"), newton
     solved = m.forward_pose(actuated, np.array(chosen["guess"]) if chosen["guess"] else None)
