@@ -175,6 +175,8 @@ MODULES = (
     "parakin.studies.sweep",
     "parakin.studies.atlas",
 )
+#: modules of the API pages that other tests cover (their owners' examples and dependencies)
+OTHERS = ("parakin.calibration", "parakin.dynamics", "parakin.mujoco_bridge", "parakin.packages", "parakin.errors")
 #: Examples left to the docs build: slower than the default suite's budget allows
 SLOW_EXAMPLES = {"parakin.loading.symbolic"}  # derives the SymPy model: about 1.5 s
 
@@ -201,3 +203,20 @@ def test_the_reference_examples_run(module, tmp_path, monkeypatch):
         plt.close("all")
     result = runner.summarize(verbose=False)
     assert result.failed == 0 and result.attempted >= 3, result
+
+
+def test_the_docs_build_runs_every_reference_example():
+    """``make docs`` runs the Examples of every module behind the API pages (the hook), the slow
+    ones included: a module whose docstrings carry Examples is in the hook's list."""
+    import importlib.util
+
+    assert "docs/hooks/doctests.py" in (ROOT / "mkdocs.yml").read_text()
+    spec = importlib.util.spec_from_file_location("doctests_hook", ROOT / "docs" / "hooks" / "doctests.py")
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    shown = {function.module.path for function in _shown_functions().values()}
+    # every module of ours the pages show is run (calibration, dynamics, the MuJoCo bridge and the
+    # manifest keep their own tests)
+    ours = {module for module in shown if not module.startswith(OTHERS)}
+    assert ours <= set(hook.MODULES), sorted(ours - set(hook.MODULES))
+    assert set(MODULES) <= set(hook.MODULES)
