@@ -197,7 +197,7 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
         w->f[k] = kw_add(w->f[k], q ? kw_mul(c, m) : c);
         for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
             long long i = support[u];
-            kw_disc d = kw_mul(c, kw_point((double)a[i], 0.0));
+            kw_disc d = a[i] == 1 ? c : kw_mul(c, kw_point((double)a[i], 0.0));  // c * 1 is exact
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], e = a[j] - (j == i);
                 if (e) d = kw_mul(d, w->powers[j * (deg + 1) + e]);
