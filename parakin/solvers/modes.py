@@ -41,13 +41,12 @@ from parakin.solvers.homotopy import (
     path_coefficients,
     path_pairs,
     phase_normalised,
-    sparse_system,
     target_coefficients,
     track,
     track_symmetric,
 )
 from parakin.solvers.polynomial import isolate_real_roots
-from parakin.solvers.projective import projective_family, projective_table, to_affine, to_projective
+from parakin.solvers.projective import family_system, projective_family, projective_table, to_affine, to_projective
 
 if TYPE_CHECKING:
     from parakin.packages.manifest import Forward, Homotopy
@@ -59,8 +58,7 @@ CERTIFY_CHUNK = 256
 #: the least work a thread of a compiled batch gets: homotopy paths, or closed-form inputs
 THREAD_PATHS = 64
 THREAD_INPUTS = 512
-#: paths re-tracked per call of the NumPy tracker in a partial re-track (each carries its own
-#: coefficient table, tens of kilobytes)
+#: paths re-tracked per call of the NumPy tracker in a partial re-track (bounds its temporaries)
 RETRACK_PATHS = 1024
 #: two ends this close relative to their size may be one root (``suspect_paths``)
 TWIN = 1e-4
@@ -342,12 +340,12 @@ def _track_family(
         extended = projective_table(family, table)
 
         def on_patch(per_input: int):
-            return sparse_system(extended, family.exponents, family.equation, per_input)
+            return family_system(extended, family.exponents, family.equation, per_input)
 
         return to_affine(track_symmetric(on_patch, to_projective(family, start), count, tolerance, family.pairs))
 
     def system_for(per_input: int):
-        return sparse_system(table, homotopy.exponents, homotopy.equation, per_input)
+        return family_system(table, homotopy.exponents, homotopy.equation, per_input)
 
     return track_symmetric(system_for, start, count, tolerance, pairs)
 
@@ -370,9 +368,13 @@ def _track_some(
     z = np.array(ends, dtype=complex)
     status = np.where(np.isfinite(z).all(-1), PATH_REACHED, PATH_FAILED).astype(np.int32)
     rows, columns = np.nonzero(tracked)
+    every = family_system(extended, family.exponents, family.equation, 1)  # path index = its input
     for a in range(0, rows.size, RETRACK_PATHS):
         r, c = rows[a : a + RETRACK_PATHS], columns[a : a + RETRACK_PATHS]
-        system = sparse_system(extended[r], family.exponents, family.equation, 1)
+
+        def system(index: np.ndarray, z: np.ndarray, s: np.ndarray, r: np.ndarray = r):
+            return every(r[index], z, s)
+
         again = to_affine(track(system, to_projective(family, start[c]), tolerance))
         z[r, c], status[r, c] = again.z, again.status
     if pairs is not None:  # the partner of a path tracked ends at the image of its end
@@ -824,7 +826,7 @@ def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, in
     paths = alternative.shape[0]
     rows = np.unique(np.nonzero(ended.status == PATH_FAILED)[0] // paths)
     # every path, as the generated C driver's retry does (failures are rare; the two agree)
-    system = sparse_system(_path_table(m, info, theta[rows], 1), homotopy.exponents, homotopy.equation, paths)
+    system = family_system(_path_table(m, info, theta[rows], 1), homotopy.exponents, homotopy.equation, paths)
     second = track(system, np.tile(alternative, (rows.size, 1)), tolerance)
     z, status = ended.z.copy(), ended.status.copy()
     for j, i in enumerate(rows):

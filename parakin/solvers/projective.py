@@ -14,12 +14,13 @@ flips, so that the symmetric pairs of paths (``parakin.solvers.homotopy.path_pai
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from parakin.solvers.homotopy import PATH_DIVERGED, PATH_REACHED, PathPairs, Paths
+from parakin.solvers.homotopy import PATH_DIVERGED, PATH_REACHED, PathPairs, Paths, System
 
 #: the patch's seed: fixed so that a run is reproducible
 PATCH_SEED = 20261127
@@ -84,3 +85,111 @@ def to_affine(paths: Paths) -> Paths:
         escaped = (paths.status == PATH_REACHED) & ~(np.abs(w[:, 0]) > AT_INFINITY * np.abs(paths.z).max(-1))
     status = np.where(escaped, PATH_DIVERGED, paths.status).astype(np.int32)
     return Paths(affine, status, paths.steps, paths.update)
+
+
+#: inputs up to which ``family_system`` forms the coefficients input by input
+GROUPED_INPUTS = 8
+
+
+class _Terms:
+    """Where each term of H, H_s and H_z goes, fixed by the family (``exponents`` (T, n),
+    ``equation`` (T,)): the distinct monomials ``rows`` of H and H_z (term t's own, and its
+    derivative's d/dz_i, a_ti z^(a_t - e_i)), and per entry of the sum: the coefficient (of
+    [c(s), c'(s)], 2 T), the monomial, the weight a_ti (1 for H and H_s) and the output
+    (H: 0..n-1, H_s: n..2n-1, H_z: 2n + k n + i), sorted by output so that one ``reduceat``
+    sums them all."""
+
+    def __init__(self, exponents: np.ndarray, equation: np.ndarray) -> None:
+        terms, n = exponents.shape
+        self.n = n
+        tj, ij = np.nonzero(exponents > 0)
+        rows = np.concatenate([exponents, exponents[tj] - np.eye(n, dtype=np.int64)[ij]])
+        self.rows, where = np.unique(rows, axis=0, return_inverse=True)
+        where = where.reshape(-1)
+        coefficient = np.concatenate([np.arange(terms), terms + np.arange(terms), tj])
+        monomial = np.concatenate([where[:terms], where[:terms], where[terms:]])
+        weight = np.concatenate([np.ones(2 * terms), exponents[tj, ij]]).astype(float)
+        output = np.concatenate([equation, n + equation, 2 * n + equation[tj] * n + ij])
+        order = np.argsort(output, kind="stable")
+        self.coefficient, self.monomial, self.weight = coefficient[order], monomial[order], weight[order]
+        ordered = output[order]
+        self.starts = np.r_[0, np.nonzero(np.diff(ordered))[0] + 1]
+        self.present = ordered[self.starts]
+        self.outputs = 2 * n + n * n
+        self.top = int(self.rows.max(initial=0))
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_terms(exponents: bytes, shape: tuple[int, int], equation: bytes) -> _Terms:
+    return _Terms(np.frombuffer(exponents, np.int64).reshape(shape), np.frombuffer(equation, np.int64))
+
+
+def family_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray, paths: int) -> System:
+    """The system of a family from its coefficients in s (inputs, powers, terms), as
+    ``parakin.solvers.homotopy.sparse_system`` (path p belongs to input p // ``paths``; the same
+    values up to the order of the sums), evaluated over the family's distinct monomials and one
+    sum per output (``_Terms``, computed once per family): a few times cheaper for the re-tracks
+    of a family of hundreds of terms.
+
+    Parameters
+    ----------
+    table : ndarray, shape (inputs, powers, T), complex
+        Term t's coefficient in equation ``equation[t]`` is sum_d table[., d, t] s^d.
+    exponents : ndarray, shape (T, n), int
+        Term t is that coefficient times prod_i z_i^exponents[t, i].
+    equation : ndarray, shape (T,), int
+        The equation of each term.
+    paths : int
+        Paths per input.
+
+    Returns
+    -------
+    System
+        ``system(index, z, s)`` -> H (k, n), H_z (k, n, n), H_s (k, n) of the paths ``index``.
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> table = np.zeros((1, 2, 2), complex)
+    >>> table[0, 0], table[0, 1] = [1.0, -4.0], [0.0, 3.0]  # z^2 - (4 - 3 s)
+    >>> system = family_system(table, np.array([[2], [0]]), np.array([0, 0]), 1)
+    >>> value, jacobian, rate = system(np.array([0]), np.array([[1.0 + 0j]]), np.array([1.0]))
+    >>> complex(value[0, 0]), complex(jacobian[0, 0, 0]), complex(rate[0, 0])
+    ((0j), (2+0j), (-3+0j))
+    """
+    e = np.ascontiguousarray(exponents, dtype=np.int64)
+    structure = _cached_terms(e.tobytes(), e.shape, np.ascontiguousarray(equation, dtype=np.int64).tobytes())
+    n, distinct = structure.n, structure.rows
+    degrees = np.arange(table.shape[1])
+
+    def system(index: np.ndarray, z: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        inputs = index // paths
+        count = index.size
+        weights = (s[:, None] ** degrees).astype(complex)
+        rates = (degrees * s[:, None] ** np.maximum(degrees - 1, 0)).astype(complex)
+        terms = table.shape[2]
+        coefficients = np.empty((count, 2 * terms), dtype=complex)  # c(s) and c'(s) per path
+        which, inverse = np.unique(inputs, return_inverse=True)
+        if which.size <= GROUPED_INPUTS:  # one product per input (a gathered table costs more)
+            for j, own in enumerate(which):
+                mine = np.nonzero(inverse.reshape(-1) == j)[0]
+                both = np.concatenate([weights[mine], rates[mine]]) @ table[own]
+                coefficients[mine, :terms], coefficients[mine, terms:] = both[: mine.size], both[mine.size :]
+        else:
+            gathered = table[inputs]
+            coefficients[:, :terms] = np.einsum("kd,kdt->kt", weights, gathered)
+            coefficients[:, terms:] = np.einsum("kd,kdt->kt", rates, gathered)
+        power = np.empty((count, n, structure.top + 1), dtype=complex)
+        power[..., 0] = 1.0
+        for k in range(1, structure.top + 1):
+            power[..., k] = power[..., k - 1] * z
+        monomials = power[:, 0, distinct[:, 0]]
+        for i in range(1, n):
+            monomials = monomials * power[:, i, distinct[:, i]]
+        entries = coefficients[:, structure.coefficient] * monomials[:, structure.monomial] * structure.weight
+        out = np.zeros((count, structure.outputs), dtype=complex)
+        if count:
+            out[:, structure.present] = np.add.reduceat(entries, structure.starts, axis=1)
+        return out[:, :n], out[:, 2 * n :].reshape(count, n, n), out[:, n : 2 * n]
+
+    return system
