@@ -652,8 +652,8 @@ def leg_tree(m: Mechanism) -> LegTree:
     Raises
     ------
     UnsupportedOperationError
-        No joint graph, or a leg the export does not write (a serial chain, a C, P or planar
-        joint at the platform).
+        No joint graph, or a leg the export does not write (``parakin.mjcf.to_mjcf``: a C, P or
+        planar joint at the platform, a serial chain of other joints than R and P).
 
     Examples
     --------

@@ -17,6 +17,10 @@
   last link about its first axis and cut as a revolute joint about its second (fixed in the
   platform: the graph's axis, or both axes normal to the link at the home). Other joint kinds at
   the platform (C, P, planar) are refused (UnsupportedOperationError).
+* **Serial chains** (a leg whose joints sit at site "chain", placed by products of exponentials
+  from their screws at the chain's zero): R and P joints only, each body at its joint's home
+  point and axis (the exponentials of the joints before it at their home values), the chain cut
+  from a free platform at its last joint, a revolute one (two connects along its axis).
 * **Parallelograms** (kind Pa) are four bars, not one: the short side at the elbow (on the body
   before), two bars hinged to it about the normal of the parallelogram's plane, and the short
   side at the platform (the graph's body) hinged to the first bar; the second bar is cut from it
@@ -251,6 +255,35 @@ def _place(leg: GraphLeg, geometry: _Geometry) -> _Leg:
     return _Leg(base, elbow, end, carried)
 
 
+def _chain(leg: GraphLeg, geometry: _Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
+    """A serial chain's joints at the home: (point, unit axis) in {B}, from their screws at the
+    chain's zero (the graph's point and axis) moved by the product of exponentials of the joints
+    before: T_k = exp([S_1] q_1) ... exp([S_(k-1)] q_(k-1)) (space frame; R: a turn by q about the
+    axis through the point, P: a slide by q along the axis)."""
+    turn, shift = np.eye(3), np.zeros(3)
+    out = []
+    for k, joint in enumerate(leg.joints):
+        what = f"leg {leg.name}'s joint {k + 1} ({joint.kind})"
+        point0 = geometry.vector(joint.point, what)
+        axis0 = _unit(geometry.vector(joint.axis, what), what)
+        out.append((turn @ point0 + shift, _unit(turn @ axis0, what)))
+        if joint.variable is None or joint.variable not in geometry.joint_values:
+            raise UnsupportedOperationError(
+                f"{what} of a serial chain carries no variable of the mechanism ({joint.variable!r}): the chain "
+                "cannot be placed by its product of exponentials"
+            )
+        q = geometry.joint_values[joint.variable]
+        if joint.kind == "R":
+            rotation = _rotation(axis0, q)
+            step_turn, step_shift = rotation, point0 - rotation @ point0
+        elif joint.kind == "P":
+            step_turn, step_shift = np.eye(3), q * axis0
+        else:
+            raise UnsupportedOperationError(f"{what}: a serial chain of R and P joints only is exported")
+        turn, shift = turn @ step_turn, turn @ step_shift + shift
+    return out
+
+
 def _axis(joint: GraphJoint, placed: _Leg, geometry: _Geometry, what: str) -> np.ndarray | None:
     if joint.axis is None:
         return None
@@ -279,7 +312,13 @@ class _Builder:
     def __init__(self, m: Mechanism, graph: JointGraph, geometry: _Geometry) -> None:
         self.m, self.graph, self.geometry = m, graph, geometry
         self.model = _Model()
-        self.placed = {leg.name: _place(leg, geometry) for leg in graph.legs}
+        self.chains = {leg.name: _chain(leg, geometry) for leg in graph.legs if leg.serial}
+        self.placed = {
+            leg.name: _place(leg, geometry) if not leg.serial else _Leg(
+                self.chains[leg.name][0][0], None, self.chains[leg.name][-1][0], np.eye(3)
+            )
+            for leg in graph.legs
+        }  # fmt: skip
         points = [np.zeros(3)] + [p for placed in self.placed.values() for p in (placed.base, placed.end)]
         self.size = max(float(np.linalg.norm(p)) for p in points) or 1.0
         self.spacing = AXIS_SPACING * self.size
@@ -294,10 +333,7 @@ class _Builder:
     def leg(self, leg: GraphLeg, carries_platform: bool) -> tuple[str, np.ndarray]:
         """The leg's bodies up to its last link; returns that body's name and C."""
         if leg.serial:
-            raise UnsupportedOperationError(
-                f"leg {leg.name} is a serial chain placed by products of exponentials (site 'chain'): "
-                "its export to MJCF is not written yet"
-            )
+            return self.serial(leg, carries_platform)
         placed = self.placed[leg.name]
         start = placed.elbow if placed.elbow is not None else placed.base
         line = placed.end - start  # made a unit vector where a joint slides along it
@@ -362,6 +398,40 @@ class _Builder:
         if not carries_platform:
             self.cut(leg, end_body, placed, line)
         return end_body.name, placed.end
+
+    def serial(self, leg: GraphLeg, carries_platform: bool) -> tuple[str, np.ndarray]:
+        """A serial chain's bodies (R and P joints at their home points and axes, ``_chain``),
+        cut from the platform at its last joint (an R: two connects along its axis)."""
+        frames = self.chains[leg.name]
+        if carries_platform or leg.joints[-1].kind != "R":
+            raise UnsupportedOperationError(
+                f"leg {leg.name} is a serial chain ending in a {leg.joints[-1].kind} joint"
+                + (" that carries the platform" if carries_platform else "")
+                + ": only a chain cut from the platform at a revolute joint is exported"
+            )
+        parent: str | None = None
+        for k, joint in enumerate(leg.joints[:-1]):
+            point, axis = frames[k]
+            body = _Body(leg.bodies[k], parent, point, segments=[(point, frames[k + 1][0])])
+            name = str(joint.variable) if joint.actuated else self.joint_name(leg.bodies[k], 0)
+            ref = self.geometry.variable(joint, leg.name) if joint.actuated else 0.0
+            kind = {"R": "hinge", "P": "slide"}.get(joint.kind)
+            if kind is None:
+                raise UnsupportedOperationError(
+                    f"leg {leg.name}: a {joint.kind} joint in a serial chain (R and P only are exported)"
+                )
+            body.joints.append(_Joint(name, kind, axis, ref, joint.actuated))
+            parent = self.add_body(body).name
+        end_body = self.model.body(str(parent))
+        end, axis = frames[-1]
+        platform = self.model.body("platform")
+        for suffix, offset in (("", np.zeros(3)), ("_axis", self.spacing * axis)):
+            end_body.sites.append((f"{leg.name}_end{suffix}", end + offset))
+            platform.sites.append((f"{leg.name}_platform{suffix}", end + offset))
+            self.model.connects.append(
+                (f"{leg.name}_cut{suffix}", f"{leg.name}_end{suffix}", f"{leg.name}_platform{suffix}")
+            )
+        return end_body.name, end
 
     def parallelogram(
         self, leg: GraphLeg, k: int, parent: str | None, elbow: np.ndarray, end: np.ndarray, axis: np.ndarray | None
@@ -821,7 +891,8 @@ def to_mjcf(
     ------
     UnsupportedOperationError
         The package carries no joint graph (regenerate it with a generator that writes one), a
-        leg of a kind not exported (a serial chain; a C, P or planar joint at the platform;
+        leg of a kind not exported (a serial chain of other joints than R and P, or not ending in an
+        R; a C, P or planar joint at the platform;
         several legs ending rigidly in it), or the mujoco module is missing.
     BadInputError
         Bad ``actuated``, ``modes``, ``timestep``, ``accuracy``, ``actuator`` or masses.

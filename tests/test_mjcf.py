@@ -267,9 +267,10 @@ def test_a_home_that_does_not_close_asks_for_a_reference(packages):
         mjcf.to_mjcf(m, modes="none")
 
 
-def test_serial_chain_legs_are_refused_by_name(packages, tmp_path):
-    """A leg placed by products of exponentials (SAM's; here the five-bar's legs marked so) is
-    refused by name, not exported wrong."""
+def test_serial_chain_legs_without_joint_variables_are_refused_by_name(packages, tmp_path):
+    """A leg placed by products of exponentials needs every joint's value (SAM's carry them and
+    export: tests/test_mjcf_cuts.py); the five-bar's legs marked so, whose passive joints carry
+    no variable, are refused by name, not exported wrong."""
     folder = tmp_path / "five_bar"
     shutil.copytree(packages("five_bar"), folder)
     manifest = json.loads((folder / "manifest.json").read_text())
@@ -277,7 +278,7 @@ def test_serial_chain_legs_are_refused_by_name(packages, tmp_path):
         for joint in leg["joints"]:
             joint["site"], joint["point"] = "chain", joint["point"] or ["0", "0", "0"]
     (folder / "manifest.json").write_text(json.dumps(manifest))
-    with pytest.raises(UnsupportedOperationError, match="serial chain"):
+    with pytest.raises(UnsupportedOperationError, match="joint 2 \\(R\\) of a serial chain carries no variable"):
         mjcf.to_mjcf(parakin.load(folder), modes="none")
 
 

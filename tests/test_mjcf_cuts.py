@@ -1,4 +1,4 @@
-"""A universal joint at the platform, cut on its own (issue 34): the 6-SPS ``gough`` exported with
+"""Legs the MJCF export writes beyond S and R cuts (issue 34). A universal joint at the platform, cut on its own: the 6-SPS ``gough`` exported with
 each leg's platform joint a U (the link's idle spin locked at the platform, its base joint then a
 ball) instead of the S the package has. Kinematically the same mechanism, so MuJoCo must agree
 with parakin as for the export the package describes:
@@ -10,6 +10,9 @@ with parakin as for the export the package describes:
 * with legs of mass (the cross bodies included) projected ``mj_inverse`` = ``inverse_dynamics``
   at 8 samples of a trajectory to 1e-6 relative (parakin's tree has the same cross bodies and
   ball joints).
+
+And serial-chain legs (sam: two RRRPRR chains placed by products of exponentials): keyframes,
+mobility 6 and the payload's statics as above, the actuated joints parakin's.
 """
 
 import dataclasses
@@ -45,20 +48,17 @@ def gough_with_universal_cuts():
     return WithGraph(m, dataclasses.replace(graph, legs=legs))
 
 
-def test_universal_cut_keyframes_mobility_and_statics():
-    m = gough_with_universal_cuts()
-    payload = 10.0
+def keyframes_mobility_and_statics(m, payload: float = 10.0) -> float:
+    """Every keyframe assembled with the mechanism's mobility and the mode's pose; returns the
+    largest relative difference between the payload's projected mj_inverse and actuator_forces."""
     loaded = mujoco.MjModel.from_xml_string(to_mjcf(m, payload=payload))
     empty = mujoco.MjModel.from_xml_string(to_mjcf(m, payload=0.0))
-    assert 'type="ball"' in to_mjcf(m, modes="none") and "anchor=" not in to_mjcf(m, modes="none")
     modes = m.forward_pose_all(m.home_actuated)
     real = int(modes.count)
     assert loaded.nkey == real >= 2
     chain = bridge.closed_chain(loaded, list(m.actuated_names), "platform")
     chain0 = bridge.closed_chain(empty, list(m.actuated_names), "platform")
-    crosses = [loaded.body(f"leg{i}_cross") for i in range(1, 7)]
-    assert all(int(loaded.body_dofnum[b.id]) == 1 for b in crosses)  # one hinge each, cut along the other axis
-    errors, checked = [], 0
+    errors = []
     for k in range(real):
         data, data0 = mujoco.MjData(loaded), mujoco.MjData(empty)
         mujoco.mj_resetDataKeyframe(loaded, data, k)
@@ -68,16 +68,47 @@ def test_universal_cut_keyframes_mobility_and_statics():
         assert np.abs(bridge.loop_residual(chain, data)).max() < 1e-9
         assert np.abs(data.qpos[chain.actuated_qpos] - m.home_actuated).max() < 1e-12
         jacobian = bridge.loop_jacobian(chain, data)
-        assert loaded.nv - np.linalg.matrix_rank(jacobian, tol=1e-9) == 6
+        assert loaded.nv - np.linalg.matrix_rank(jacobian, tol=1e-9) == len(m.actuated_names)
         assert np.abs(bridge.platform_pose(chain, data) - modes.mode(k).pose).max() < 1e-9
         for state in (data, data0):  # at rest: mj_forward left the accelerations of a free fall there
             state.qacc[:] = 0.0
         weight = bridge.projected_inverse(chain, data) - bridge.projected_inverse(chain0, data0)
         expected = m.actuator_forces(modes.mode(k), np.array([0.0, 0.0, -9.81 * payload, 0.0, 0.0, 0.0]))
         errors.append(np.abs(weight - expected).max() / np.abs(expected).max())
+    assert len(errors) == real
+    return max(errors)
+
+
+def test_universal_cut_keyframes_mobility_and_statics():
+    m = gough_with_universal_cuts()
+    text = to_mjcf(m, modes="none")
+    assert 'type="ball"' in text and "anchor=" not in text
+    model = mujoco.MjModel.from_xml_string(text)
+    crosses = [model.body(f"leg{i}_cross") for i in range(1, 7)]
+    assert all(int(model.body_dofnum[b.id]) == 1 for b in crosses)  # one hinge each, cut along the other axis
+    error = keyframes_mobility_and_statics(m)
+    assert error < 1e-7, f"payload's projected mj_inverse vs actuator_forces: {error:.3g}"
+
+
+def test_serial_chain_legs_export():
+    """sam's two RRRPRR chains (placed by products of exponentials): each chain's bodies at the
+    home, cut from a free platform at its last revolute joint. Every mode a keyframe, mobility 6,
+    the payload's statics; the actuated joints moved and MuJoCo's loops closed by its own Newton
+    put the platform where forward_pose does (1e-9)."""
+    m = parakin.load("sam", backend="numpy")
+    error = keyframes_mobility_and_statics(m)
+    assert error < 1e-7, f"sam: payload's projected mj_inverse vs actuator_forces: {error:.3g}"
+    model = mujoco.MjModel.from_xml_string(to_mjcf(m, modes="none"))
+    chain = bridge.closed_chain(model, list(m.actuated_names), "platform")
+    data = mujoco.MjData(model)
+    state, checked = m.forward_pose(m.home_actuated, guess=m.home_passive), 0
+    for step in (0.01, 0.02, 0.03):
+        moved = m.home_actuated + step * np.array([1.0, -1.0, 0.5, -0.5, 0.75, -0.25])
+        assert bridge.assemble(chain, data, moved) < 1e-12
+        state = m.forward_pose(moved, guess=state)
+        assert np.abs(bridge.platform_pose(chain, data) - state.pose).max() < 1e-9
         checked += 1
-    assert checked == real
-    assert max(errors) < 1e-7, f"payload's projected mj_inverse vs actuator_forces: {max(errors):.3g}"
+    assert checked == 3
 
 
 def test_universal_cut_with_legs_of_mass_equals_inverse_dynamics():
