@@ -78,6 +78,10 @@ static inline double kw_up_expression(double v) { return v + (v * 0x1p-46 + 0x1p
 // 2^-53)^4096 + 4096 * 2^-1075 <= v (1 + 2^-40) + 2^-1050, with the slack covering this sum
 static inline double kw_up_long(double v) { return v + (v * 0x1p-40 + 0x1p-1050); }
 
+// The same for a sum of at most `count` (< 2^40) such operations: exact <= v (1 + 2^-53)^count
+// + count 2^-1075 <= v (1 + count 2^-51) + count 2^-1073
+static inline double kw_up_count(double v, double count) { return v + (v * (count * 0x1p-51) + count * 0x1p-1073); }
+
 static inline kw_disc kw_add(kw_disc a, kw_disc b) {
     kw_disc out = {a.re + b.re, a.im + b.im, 0.0};
     // radii plus the two roundings: 2^-53 (|re| + |im|) (additions do not underflow)
@@ -121,6 +125,7 @@ typedef struct {
     kw_disc* powers;  // n x (deg + 1): x_i^e
     kw_disc* f;       // n
     kw_disc* jac;     // n x n, row-major
+    double* mag;      // n + n x n: kw_evaluate's sums of partial sums' magnitudes
     double* lu;       // n x n complex
     double* y;        // n x n complex: the approximate inverse
     double* absy;     // n x n: |y|, rounded up
@@ -128,6 +133,15 @@ typedef struct {
     double* rho;      // n x (deg + 1): rho_i^e, rounded up
     double* step;     // n complex
 } kw_scratch;
+
+// sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
+// midpoint's |re| + |im| to mag: kw_evaluate widens both at the end (kw_up_count), not each time
+static inline void kw_accumulate(kw_disc* sum, double* mag, kw_disc term) {
+    sum->re += term.re;
+    sum->im += term.im;
+    sum->r += term.r;
+    *mag += fabs(sum->re) + fabs(sum->im);
+}
 
 // F~ and J~ in round to nearest from the powers' midpoints (radii left 0): the Newton steps
 static int kw_evaluate_midpoints(const kw_system* s, kw_scratch* w) {
@@ -182,6 +196,7 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
     }
     for (long long k = 0; k < n * n; ++k) w->jac[k] = kw_point(0.0, 0.0);
     if (!rigorous) return kw_evaluate_midpoints(s, w);
+    for (long long k = 0; k < n + n * n; ++k) w->mag[k] = 0.0;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
         long long k = s->eq[t];
@@ -194,7 +209,7 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
                 m = q ? kw_mul(m, p) : p;
                 support[q++] = i;
             }
-        w->f[k] = kw_add(w->f[k], q ? kw_mul(c, m) : c);
+        kw_accumulate(w->f + k, w->mag + k, q ? kw_mul(c, m) : c);
         for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
             long long i = support[u];
             kw_disc d = a[i] == 1 ? c : kw_mul(c, kw_point((double)a[i], 0.0));  // c * 1 is exact
@@ -202,9 +217,14 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
                 long long j = support[v], e = a[j] - (j == i);
                 if (e) d = kw_mul(d, w->powers[j * (deg + 1) + e]);
             }
-            w->jac[k * n + i] = kw_add(w->jac[k * n + i], d);
+            kw_accumulate(w->jac + k * n + i, w->mag + n + k * n + i, d);
         }
     }
+    // each entry: its midpoint's roundings (2^-53 of each partial sum's |re| + |im|, summed in
+    // mag) and its terms' radii (summed in r), at most 4 terms + 4 roundings per term
+    double count = 8.0 * (double)s->terms + 8.0;
+    for (long long i = 0; i < n; ++i) w->f[i].r = kw_up_count(w->f[i].r + w->mag[i] * 0x1p-52, count);
+    for (long long k = 0; k < n * n; ++k) w->jac[k].r = kw_up_count(w->jac[k].r + w->mag[n + k] * 0x1p-52, count);
     for (long long i = 0; i < n; ++i)
         if (!kw_finite(w->f[i])) return 0;
     for (long long k = 0; k < n * n; ++k)
@@ -450,6 +470,7 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(kw_disc));  // powers
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // f
     b += KW_ALIGN(n * n * (long long)sizeof(kw_disc));  // jac
+    b += KW_ALIGN((n + n * n) * (long long)sizeof(double));  // mag
     b += 2 * KW_ALIGN(2 * n * n * (long long)sizeof(double));  // lu, y
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy
     b += KW_ALIGN(n * (long long)sizeof(long long));  // pivot
@@ -536,6 +557,7 @@ static int kw_certify(const kw_job* job) {
     w.powers = (kw_disc*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(kw_disc));
     w.f = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.jac = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
+    w.mag = (double*)kw_take(&cursor, (n + n * n) * (long long)sizeof(double));
     w.lu = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
     w.y = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
     w.absy = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
