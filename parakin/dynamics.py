@@ -654,6 +654,8 @@ def leg_tree(m: Mechanism) -> LegTree:
     UnsupportedOperationError
         No joint graph, or a leg the export does not write (``parakin.mjcf.to_mjcf``: a C, P or
         planar joint at the platform, a serial chain of other joints than R and P).
+    ConvergenceError, SingularConfigurationError
+        The manifest's home does not close at the mechanism's parameters.
 
     Examples
     --------
@@ -672,7 +674,13 @@ def leg_tree(m: Mechanism) -> LegTree:
             f"{m.name}: leg inertias need the mechanism's bodies and joints (the manifest's 'joints' field), which "
             "its package does not carry; regenerate it, or pass leg_inertias=None (massless legs)"
         )
-    model, _, geometry = mjcf._build(m, graph, None, 1.0, 0.0, 1.0, 0.0)
+    try:
+        model, _, geometry = mjcf._build(m, graph, None, 1.0, 0.0, 1.0, 0.0)
+    except (ConvergenceError, SingularConfigurationError) as error:
+        raise type(error)(
+            f"{m.name}: leg inertias need the legs laid out at the manifest's home, which does not close at these "
+            f"parameters ({error.__cause__ or error}); load the mechanism with parameters whose home closes"
+        ) from error
     order = _parents_first(model.bodies)
     actuated_index = {name: i for i, name in enumerate(m.actuated_names)}
     bodies: list[_TreeBody] = []

@@ -36,7 +36,7 @@ from parakin.dynamics import (
     link_inertias,
     rigid_inertia,
 )
-from parakin.errors import BadInputError
+from parakin.errors import BadInputError, ParakinError
 
 SAMPLES = 8
 #: the trajectory's amplitude: rad for a revolute actuator, m for a prismatic one
@@ -360,3 +360,15 @@ def test_leg_inertias_forms_and_errors():
             link_inertias(m, bad)
     with pytest.raises(BadInputError, match="not link bodies"):
         m.to_mjcf(modes="none", link_mass={"leg9": 1.0})
+    # a Stewart platform of other joints: the manifest's home lengths do not close, so the legs
+    # cannot be laid out there (the bodies' frames are the home's)
+    angles = np.radians([-15, 15, 105, 135, 225, 255]), np.radians([-40, 40, 80, 160, 200, 280])
+    base, plat = (
+        [[r * np.cos(a), r * np.sin(a), 0.0] for a in angle] for r, angle in zip((0.5, 0.3), angles, strict=True)
+    )
+    other = parakin.load("stewart", backend="numpy", base=base, platform=plat)
+    pose = np.eye(4)
+    pose[2, 3] = 0.6
+    state = other.inverse_pose(pose).branch(0)
+    with pytest.raises(ParakinError, match="laid out at the manifest's home, which does not close"):
+        inverse_dynamics(other, state, np.zeros(6), np.zeros(6), platform_inertia=PLATFORM, leg_inertias=1.0)
