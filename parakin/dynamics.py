@@ -652,8 +652,8 @@ def leg_tree(m: Mechanism) -> LegTree:
     Raises
     ------
     UnsupportedOperationError
-        No joint graph, or a leg the export does not write (``parakin.mjcf.to_mjcf``: a C, P or
-        planar joint at the platform, a serial chain of other joints than R and P).
+        No joint graph, or a leg the export does not write (``parakin.mjcf.to_mjcf``: a planar
+        joint at the platform, a serial chain of other joints than R and P).
     ConvergenceError, SingularConfigurationError
         The manifest's home does not close at the mechanism's parameters.
 

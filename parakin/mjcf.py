@@ -15,8 +15,10 @@
   connect, a revolute joint by two along its axis (``{leg}_cut``, ``{leg}_cut_axis``), a
   universal joint by a cross body (``{leg}_cross``, a point of ``link_mass``) hinged to the leg's
   last link about its first axis and cut as a revolute joint about its second (fixed in the
-  platform: the graph's axis, or both axes normal to the link at the home). Other joint kinds at
-  the platform (C, P, planar) are refused (UnsupportedOperationError).
+  platform: the graph's axis, or both axes normal to the link at the home), a cylindrical or
+  prismatic joint by a slider body (``{leg}_slider``) along its axis, cut as a revolute joint (C)
+  or rigidly by three connects (P). A planar joint at the platform is refused
+  (UnsupportedOperationError).
 * **Serial chains** (a leg whose joints sit at site "chain", placed by products of exponentials
   from their screws at the chain's zero): R and P joints only, each body at its joint's home
   point and axis (the exponentials of the joints before it at their home values), the chain cut
@@ -469,7 +471,9 @@ class _Builder:
 
     def cut(self, leg: GraphLeg, end_body: _Body, placed: _Leg, line: np.ndarray) -> None:
         """Cut the leg from the platform at its last joint: S by one connect, R by two along its
-        axis, U by a cross body hinged to the leg's last link and cut as an R from the platform."""
+        axis, U by a cross body hinged to the leg's last link and cut as an R from the platform,
+        C by a slider along the axis cut as an R, P by a slider along the axis cut rigidly (three
+        connects not on one line)."""
         joint = leg.joints[-1]
         platform = self.model.body("platform")
         offsets = [("", np.zeros(3))]
@@ -481,10 +485,19 @@ class _Builder:
         elif joint.kind == "U":
             end_body, axis = self.cross(leg, end_body, placed, line)
             offsets.append(("_axis", self.spacing * axis))
+        elif joint.kind in ("C", "P"):
+            axis = _axis(joint, placed, self.geometry, what)
+            if axis is None:
+                raise BadInputError(f"{what} ({joint.kind}) has no axis in the joint graph")
+            end_body = self.slider(leg, end_body, placed, axis, joint.kind)
+            offsets.append(("_axis", self.spacing * axis))
+            if joint.kind == "P":  # a third point off the axis: no turn about it either
+                offsets.append(("_side", self.spacing * _normal(axis)))
         elif joint.kind != "S":
             raise UnsupportedOperationError(
                 f"leg {leg.name} meets the platform with a {joint.kind} joint: only S (one connect), R (two "
-                "connects along its axis), U (a cross body and two connects) and F (the platform ends the leg) are cut"
+                "connects along its axis), U, C, P (a cross body or slider and two or three connects) and F (the "
+                "platform ends the leg) are cut"
             )
         for suffix, offset in offsets:
             end_body.sites.append((f"{leg.name}_end{suffix}", placed.end + offset))
@@ -492,6 +505,20 @@ class _Builder:
             self.model.connects.append(
                 (f"{leg.name}_cut{suffix}", f"{leg.name}_end{suffix}", f"{leg.name}_platform{suffix}")
             )
+
+    def slider(self, leg: GraphLeg, end_body: _Body, placed: _Leg, axis: np.ndarray, kind: str) -> _Body:
+        """A C or P joint at the platform: a slider ``{leg}_slider`` (a body at the joint sliding
+        on the leg's last link along the axis, fixed in the platform: the graph's, in {P})."""
+        body = self.add_body(
+            _Body(f"{leg.name}_slider", end_body.name, placed.end.copy(),
+                  joints=[_Joint(self.joint_name(f"{leg.name}_slider", 0), "slide", axis)])
+        )  # fmt: skip
+        cut = "as a revolute joint (two connects along the axis)" if kind == "C" else "rigidly (three connects)"
+        self.model.notes.append(
+            f"leg {leg.name}: its {kind} joint at the platform as a slider ({body.name}) on {end_body.name}, cut "
+            f"from the platform {cut}"
+        )
+        return body
 
     def cross(self, leg: GraphLeg, end_body: _Body, placed: _Leg, line: np.ndarray) -> tuple[_Body, np.ndarray]:
         """A universal joint at the platform: its cross ``{leg}_cross`` (a body at the joint,
@@ -892,7 +919,7 @@ def to_mjcf(
     UnsupportedOperationError
         The package carries no joint graph (regenerate it with a generator that writes one), a
         leg of a kind not exported (a serial chain of other joints than R and P, or not ending in an
-        R; a C, P or planar joint at the platform;
+        R; a planar joint at the platform;
         several legs ending rigidly in it), or the mujoco module is missing.
     BadInputError
         Bad ``actuated``, ``modes``, ``timestep``, ``accuracy``, ``actuator`` or masses.
