@@ -58,6 +58,7 @@ def with_platform_joint(name: str, kind: str, legs: int = 1) -> WithGraph:
     """``name`` with the platform joint of its first ``legs`` legs of another kind (same axis)."""
     m = parakin.load(name, backend="numpy")
     graph = m.manifest.joints
+    assert graph is not None
     changed = tuple(
         dataclasses.replace(leg, joints=(*leg.joints[:-1], dataclasses.replace(leg.joints[-1], kind=kind)))
         if i < legs
@@ -133,9 +134,12 @@ def test_serial_chain_legs_export():
 def legs_of_mass_agreement(m, amplitude: float) -> float:
     """Projected mj_inverse vs inverse_dynamics with every link its own inertia (the cut's
     cross or slider included) at 8 samples of a trajectory; the largest relative difference."""
+    rods = link_inertias(m, 1.0)
+    assert all(rod is not None for rod in rods.values())
     links = {
         name: rigid_inertia(0.5 + 0.1 * i, rod.centre, rod.inertia * 0.7)
-        for i, (name, rod) in enumerate(link_inertias(m, 1.0).items())
+        for i, (name, rod) in enumerate(rods.items())
+        if rod is not None
     }
     platform = rigid_inertia(10.0, inertia=np.full(3, 0.4 * 10.0 * 0.05**2))
     model = mujoco.MjModel.from_xml_string(to_mjcf(m, modes="none", link_mass=links, platform_mass=10.0))
