@@ -22,53 +22,20 @@
 // The Delta robot (3-RUU, Clavel 1988): three actuated revolute joints on the base, each driving an
 // upper arm whose end is joined to the platform by a parallelogram forearm, so the platform only
 // translates. Closed forms as in the literature (e.g. R. L. Williams II, "The Delta parallel robot:
-// kinematics solutions", 2016; Zsombor-Murray 2004): per leg a tan-half-angle quadratic (inverse),
-// and the intersection of three spheres (forward).
+// kinematics solutions", 2016; Zsombor-Murray 2004).
 // 
-// Frames and conventions (SI, radians), textbook notation R, r, L, l:
-// * {B}: origin at the centre of the base, z up. Leg i sits at eta_i = 2 pi (i - 1) / 3 about z:
-//   radial unit e_i = (cos eta_i, sin eta_i, 0), motor axis along t_i = z x e_i through the motor
-//   joint b_i = R e_i (R: base radius).
-// * The upper arm (length L) points along u_i = cos(theta_i) e_i - sin(theta_i) z: theta_i = 0 is
-//   horizontal and outward, theta_i > 0 turns it down (a right-handed rotation about t_i). Elbow
-//   c_i = b_i + L u_i.
-// * {P}: origin at the centre of the platform (the tool point), R = I always (pose_kind
-//   'translation': ^B_P T = [I, p], p = (x, y, z); ``inverse_pose`` reads p and ignores R, and also
-//   takes p itself). Platform joints P_i = p + r e_i (r: platform radius). The forearm (length l)
-//   joins c_i to P_i; its parallelogram is drawn as one bar.
-// * Passive variables (the Newton unknowns): x, y, z. Residual: (|d_i|^2 - l^2) / (2 l) (metres;
-//   |d_i| - l to first order) with the forearm d_i = p + r e_i - c_i; no false closure (alignment
-//   1).
-// * Inverse: with a_i = p + (r - R) e_i (the platform joint seen from the motor joint), leg i is
-//   E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 L a_i . e_i, F = 2 L a_i . z,
-//   G = |a_i|^2 + L^2 - l^2; with tau = tan(theta_i / 2) the quadratic (G - E) tau^2 + 2 F tau +
-//   (G + E) = 0, theta_i = 2 atan2(-F - sigma_i sqrt(E^2 + F^2 - G^2), G - E). sigma_i = +1 turns
-//   the arm from the line b_i -> P_i towards smaller theta_i: the elbow outside, the usual working
-//   mode with the platform below the base. Validity ``leg<i>_reachable`` = (E^2 + F^2 - G^2) /
-//   (E^2 + F^2 + G^2), the discriminant made unitless.
-//   Branch k: signs (sigma1, sigma2, sigma3) of ``InversePose.branches[k]``, branch 0 = all +1
-//   (every elbow out), branch 7 = all -1.
-// * Forward (three spheres): p is at distance l from the shifted elbows c'_i = c_i - r e_i =
-//   (R - r) e_i + L u_i. With n_a = c'_2 - c'_1, n_b = c'_3 - c'_1, n = n_a x n_b, the circumcentre
-//   of the c'_i is c'_1 + v0, v0 = (|n_a|^2 n_b x n + |n_b|^2 n x n_a) / (2 |n|^2), and
-//   p = c'_1 + v0 + mu n / |n| with mu^2 + |v0|^2 - l^2 = 0: the forward polynomial is this
-//   quadratic in mu (degree 2, two modes mirrored through the plane of the c'_i; the platform below
-//   them is the working one). No branch signs. Degeneracy ``elbow_centres_collinear``: |n| / l^2
-//   (then the spheres meet in a circle or not at all).
-// * Rates: A p_dot = B theta_dot (twist vx, vy, vz of the platform, in {B}) from d_i . d_i = l^2:
-//   rows of A are d_i^T, B = diag(L d_i . du_i/dtheta_i) = diag(t_i . ((c_i - b_i) x d_i)),
-//   du_i/dtheta_i = -sin(theta_i) e_i - cos(theta_i) z. Serial (type I): ``leg<i>_forearm_in_arm_plane``, L d_i . du_i/dtheta_i = 0,
-//   the forearm in the plane of the arm and the motor axis (arm and forearm stretched or folded as
-//   seen along the axis, the workspace boundary). Type II: ``forearms_coplanar``, det[d_1 d_2 d_3]
-//   = 0 (the three forearms parallel to one plane: the platform gains a motion).
-// * Model: three R-U-U legs (``parakin.generator.joints.crank_leg``: the crank about t_i from e_i,
-//   the forearm a distance; in the joint graph a parallelogram hinged about t_i, which the screw
-//   analysis finds holds the platform to three translations) on a translating platform; closure,
-//   rates, factors, inverse and drawing are derived from them, the forward three-sphere
-//   elimination is written here.
-// * Defaults (illustrative, of the size of a picking Delta): R = 0.2, r = 0.05, L = 0.35, l = 1.3 m.
-//   Then R - r + L = 0.5 and (0.5, 1.2, 1.3) is a 5-12-13 triangle: at p = (0, 0, -1.2) every arm
-//   is horizontal (theta = 0, the home configuration).
+// Conventions (SI, radians, textbook notation R, r, L, l; derivation: ``docs/derivations/delta.md``):
+// * {B}: origin at the base centre, z up; leg i at eta_i = 2 pi (i - 1) / 3, e_i = (cos eta_i,
+//   sin eta_i, 0), motor axis t_i = z x e_i through b_i = R e_i.
+// * Upper arm (length L) along u_i = cos(theta_i) e_i - sin(theta_i) z: theta_i = 0 horizontal and
+//   outward, theta_i > 0 down. Elbow c_i = b_i + L u_i.
+// * {P}: at the tool point, R = I always (pose_kind 'translation', p = (x, y, z)); platform joints
+//   P_i = p + r e_i; the forearm (length l, a parallelogram) joins c_i to P_i.
+// * Inverse branches: sigma_i = +1 the elbow outside (branch 0 = all +1, branch 7 = all -1);
+//   validity ``leg<i>_reachable``.
+// * Forward pose: the three-sphere intersection, a quadratic (accelerator ``_delta_forward.py``).
+// * Defaults (illustrative, a picking Delta): R = 0.2, r = 0.05, L = 0.35, l = 1.3 m; home p = (0, 0,
+//   -1.2) with every arm horizontal (a 5-12-13 triangle).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "delta_", so the C of several mechanisms links into one program. Nothing
@@ -227,6 +194,44 @@ int delta_forward_pose_all(const delta_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int delta_forward_pose_all_counted(const delta_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// delta_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} delta_certify_job;
+
+long long delta_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int delta_certify_roots(const delta_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

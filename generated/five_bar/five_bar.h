@@ -23,41 +23,17 @@
 // Angeles (1990) for the three kinds of singularity: the output point P is where the two distal
 // links meet.
 // 
-// Frames and conventions (SI, radians):
-// * {B}: the plane of motion is z = 0; base joints A1 = (-d, 0, 0) and A2 = (d, 0, 0) (d: half the
-//   base length), the y axis through their midpoint.
-// * Leg i: proximal (actuated) link of length a_i at the angle theta_i from the x axis (counter-
-//   clockwise, right-handed about z), elbow C_i = A_i + a_i (cos theta_i, sin theta_i, 0); distal
-//   link of length b_i from C_i to the output point P = (x, y, 0).
-// * {P}: origin at P, R = I (pose_kind 'planar_translation': ^B_P T = [I, (x, y, 0)]);
-//   ``inverse_pose`` also takes (x, y) and refuses a pose off the plane z = 0 or with a rotation.
-// * Passive variables (the Newton unknowns): x, y. Residual: (|P - C_i|^2 - b_i^2) / (2 b_i)
-//   (metres; |P - C_i| - b_i to first order), two rows; no false closure (alignment 1).
-// * Model: two R-R-R legs (``parakin.generator.joints.crank_leg``) meeting at P; closure, rates,
-//   factors, inverse and drawing (base joints, elbows C_i, P) are derived from them.
-// * Inverse: with v = P - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i v_x,
-//   F = -2 a_i v_y, G = |v|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic:
-//   theta_i = angle(v) + s_i sigma_i gamma_i, gamma_i = acos((|v|^2 + a_i^2 - b_i^2) / (2 a_i |v|))
-//   the angle at A_i, with s_1 = +1 and s_2 = -1: sigma_i = +1 puts elbow i outside (leg 1 turned
-//   counter-clockwise from A1 -> P, leg 2 clockwise from A2 -> P). With P above the base line,
-//   branch 0 (+, +) is the usual '+-' working mode with both elbows out; branch k has the signs
-//   ``InversePose.branches[k]`` of (sigma1, sigma2). Validity ``leg<i>_reachable`` = (E^2 + F^2 -
-//   G^2) / (E^2 + F^2 + G^2), the discriminant (2 a_i |v|)^2 - G^2 made unitless (positive where
-//   |a_i - b_i| < |v| < a_i + b_i; the same tolerance at any size).
-// * Forward (two circles): with e = C2 - C1, w = |e|^2 and alpha = (w + b1^2 - b2^2) / (2 w),
-//   P = C1 + alpha e + mu J e / |e| (J: a quarter turn counter-clockwise) with mu^2 + alpha^2 w -
-//   b1^2 = 0: the forward polynomial is this quadratic in mu (degree 2; mu > 0: P to the left of
-//   C1 -> C2, the mode 'above' the elbows when C2 is right of C1). Degeneracy ``elbows_coincide``:
-//   |e| / (b1 + b2) (then the circles are concentric: no isolated solution, or a self-motion when
-//   b1 = b2).
-// * Rates: A (vx, vy) = B theta_dot from |P - C_i|^2 = b_i^2, with d_i = P - C_i: rows of A are
-//   d_i^T, B = diag(a_i d_i . (-sin theta_i, cos theta_i)). Type I (serial, det B = 0):
-//   ``leg<i>_links_aligned``, proximal and distal link i aligned (stretched or folded, the
-//   workspace boundary). Type II (det A = 0): ``distal_links_aligned``, d_1 x d_2 = 0.
-// * Defaults (illustrative): d = 0.15, a1 = a2 = 0.2, b1 = b2 = 0.25 m. At P = (0, 0.4) both
-//   proximal links are vertical (theta = pi/2): (d, 0.4 - a_i, b_i) = (0.15, 0.2, 0.25) is a 3-4-5
-//   triangle (the examples). The home configuration, P = (0, 0.33) with the elbows out, is better
-//   conditioned (at P = (0, 0.4), |P - A1| = 0.427 m is 0.023 m short of a1 + b1).
+// Conventions (SI, radians; derivation: ``docs/derivations/five_bar.md``):
+// * {B}: the plane of motion z = 0; base joints A1 = (-d, 0, 0), A2 = (d, 0, 0).
+// * Leg i: proximal (actuated) link a_i at the angle theta_i from the x axis (counter-clockwise),
+//   elbow C_i = A_i + a_i (cos theta_i, sin theta_i, 0); distal link b_i from C_i to P = (x, y, 0).
+// * {P}: at P, R = I (pose_kind 'planar_translation'); passive x, y.
+// * Inverse branches: sigma_i = +1 puts elbow i outside; branch 0 (+, +) both elbows out, branch k
+//   the signs ``InversePose.branches[k]``. Validity ``leg<i>_reachable``. Type I
+//   ``leg<i>_links_aligned``, type II ``distal_links_aligned``.
+// * Forward pose: the two-circle intersection, a quadratic (accelerator ``_five_bar_forward.py``).
+// * Defaults (illustrative): d = 0.15, a1 = a2 = 0.2, b1 = b2 = 0.25 m; home P = (0, 0.33) m with
+//   the elbows out; at P = (0, 0.4) both proximal links are vertical (a 3-4-5 triangle).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "five_bar_", so the C of several mechanisms links into one program. Nothing
@@ -217,6 +193,44 @@ int five_bar_forward_pose_all(const five_bar_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int five_bar_forward_pose_all_counted(const five_bar_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// five_bar_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} five_bar_certify_job;
+
+long long five_bar_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int five_bar_certify_roots(const five_bar_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

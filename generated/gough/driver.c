@@ -823,3 +823,796 @@ int gough_forward_pose_all_counted(const gough_modes_job* job, long long* counts
     counts[3] = sum.evaluations; counts[4] = sum.factorisations;
     return 0;
 }
+
+// parakin C runtime: Krawczyk's certificate of candidate roots of square polynomial systems in
+// complex interval arithmetic with outward rounding (parakin.solvers.certify.certify_roots is
+// its NumPy reference: the same test, radii, scaling and realness arguments; there the rounding
+// errors are bounded by an a-priori model, here every operation is enclosed as it is done).
+// Copied into every homotopy package's driver by the generator (generator/emit.py), which
+// exports it as NAME_certify_roots; compiled on its own by tests/test_c_runtime.py.
+//
+// A system of n equations in n unknowns z: term t is c_t prod_i z_i^a_ti in equation e_t. For a
+// centre x, any matrix Y and the polydisc B(x, r) = {z : |z_i - x_i| <= r}, if
+//     ||Y F(x)|| + (||I - Y J(x)|| + ||Y|| L(r)) r < r,   L(r) >= max_{z in B} ||J(z) - J(x)||
+// (max-norm, operator infinity norm), B holds exactly one root (Krawczyk 1969; Rump, Acta
+// Numerica 2010). Row k of J(z) - J(x) sums to at most r H_k(|x| + r), H_k(rho) = sum_{t in k}
+// |c_t| sum_{i,j} a_ti (a_tj - [i = j]) rho^(a_t - e_i - e_j) (certify.py's module docstring);
+// here ||Y|| L(r) is bounded by max_k sum_i |Y_ki| H_i r (certify.py: ||Y|| max_i H_i r), never
+// larger, and much smaller where the equations' scales differ (roots of very different sizes).
+//
+// Rounding: IEEE double, round to nearest, no FMA contraction needed nor harmful, no -ffast-math.
+// A rounded result c of one operation is within 2^-53 |c| + 2^-1075 of the exact one, so
+// kw_up(c) >= exact >= kw_down(c) (kw_up's result is at least the next double above c). F(x) and
+// J(x) are evaluated in circular complex arithmetic (kw_disc: a midpoint and a radius that
+// encloses the rounding errors so far); every upper bound (norms, radii, H, the test's left
+// side) is a chain of operations on non-negative upper bounds, each rounded up by kw_up. The
+// test is therefore exact: a box that passes holds exactly one root of the given coefficients.
+//
+// Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
+#ifndef PARAKIN_RUNTIME_KRAWCZYK_H
+#define PARAKIN_RUNTIME_KRAWCZYK_H
+
+// certify.py's constants: NEAR, MULTIPLIERS, NEWTON_STEPS, FLOOR, UNIT
+#define KW_NEAR 1e-06
+#define KW_RADII 5
+static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
+#define KW_NEWTON_STEPS 2
+#define KW_FLOOR 0x1p-600
+#define KW_UNIT 0x1p-53
+// the most unknowns a system may have (a job with more is refused)
+#define KW_MAX_UNKNOWNS 64
+
+// the least double above every real within 2^-53 |v| + 2^-1075 of v (at least the next double)
+static inline double kw_up(double v) { return v + (fabs(v) * 0x1p-52 + 0x1p-1074); }
+static inline double kw_down(double v) { return v - (fabs(v) * 0x1p-52 + 0x1p-1074); }
+// rounded-up sum and product of non-negative upper bounds
+static inline double kw_add_up(double a, double b) { return kw_up(a + b); }
+static inline double kw_mul_up(double a, double b) { return kw_up(a * b); }
+// a bound on the rounding errors of operations whose rounded results have magnitudes summing to
+// s (at most 16 of them, s computed in round to nearest): 2^-53 s + 16 * 2^-1075 and more
+static inline double kw_error(double s) { return s * 0x1p-52 + 0x1p-1070; }
+
+// upper and lower bounds on |re + i im|
+static double kw_abs_up(double re, double im) {
+    double v = kw_up(sqrt(kw_add_up(kw_mul_up(re, re), kw_mul_up(im, im))));
+    if (isinf(v) && isfinite(re) && isfinite(im)) v = kw_add_up(fabs(re), fabs(im));  // squares overflow
+    return v;
+}
+static double kw_abs_down(double re, double im) {
+    double a = fabs(re), b = fabs(im), big = a > b ? a : b;
+    double s = kw_down(kw_down(a * a) + kw_down(b * b));
+    double v = s > 0.0 ? kw_down(sqrt(s)) : 0.0;
+    if (!(v <= INFINITY) || isinf(v) || v < big) v = big;  // max(|re|, |im|) <= |z| always
+    return v;
+}
+
+// the complex numbers within r of re + i im
+typedef struct { double re, im, r; } kw_disc;
+
+static inline kw_disc kw_point(double re, double im) { return (kw_disc){re, im, 0.0}; }
+
+// An upper bound on the exact value of a non-negative expression v computed in round to nearest
+// by at most 32 operations: a sum of products, each factor a double or a sum of doubles (no
+// subtraction, no division, no product of a product that may underflow): each rounding is
+// relative, at most 2^-53, or absolute, at most 2^-1075 (an underflowing product, summed, never
+// multiplied afterwards), so exact <= v (1 + 2^-53)^32 + 32 * 2^-1075 <= v (1 + 2^-46) + 2^-1068,
+// and the rounding of this last sum is covered by the slack (a group of operations rounded up
+// at once).
+static inline double kw_up_expression(double v) { return v + (v * 0x1p-46 + 0x1p-1066); }
+
+// The same for at most 4096 such operations (sums of products of two factors): exact <= v (1 +
+// 2^-53)^4096 + 4096 * 2^-1075 <= v (1 + 2^-40) + 2^-1050, with the slack covering this sum
+static inline double kw_up_long(double v) { return v + (v * 0x1p-40 + 0x1p-1050); }
+
+// The same for a sum of at most `count` (< 2^40) such operations: exact <= v (1 + 2^-53)^count
+// + count 2^-1075 <= v (1 + count 2^-51) + count 2^-1073
+static inline double kw_up_count(double v, double count) { return v + (v * (count * 0x1p-51) + count * 0x1p-1073); }
+
+static inline kw_disc kw_add(kw_disc a, kw_disc b) {
+    kw_disc out = {a.re + b.re, a.im + b.im, 0.0};
+    // radii plus the two roundings: 2^-53 (|re| + |im|) (additions do not underflow)
+    out.r = kw_up_expression(a.r + b.r + (fabs(out.re) + fabs(out.im)) * 0x1p-52);
+    return out;
+}
+
+static inline kw_disc kw_mul(kw_disc a, kw_disc b) {
+    kw_disc out = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re, 0.0};
+    // ma = |re| + |im| >= |a~|, so |a b - a~ b~| <= ma r_b + mb r_a + r_a r_b; the midpoint's six
+    // roundings are each within 2^-53 of their results, whose magnitudes sum to at most
+    // 2 (1 + 2^-53)^2 ma mb (the four products sum to ma mb, each part of the result to its two),
+    // + 2^-1075 for each product that underflows: 2^-51 ma mb (its own two roundings at most
+    // 2^-1074 below) + 2^-1068 bounds them all
+    double ma = fabs(a.re) + fabs(a.im), mb = fabs(b.re) + fabs(b.im);
+    out.r = kw_up_expression(ma * mb * 0x1p-51 + ma * b.r + mb * a.r + a.r * b.r + 0x1p-1068);
+    return out;
+}
+
+static inline double kw_disc_abs_up(kw_disc a) { return kw_add_up(kw_abs_up(a.re, a.im), a.r); }
+static inline int kw_finite(kw_disc a) { return isfinite(a.re) && isfinite(a.im) && isfinite(a.r); }
+
+// One system: term t has coefficient (c[2t], c[2t + 1]) within cr[t], exponents a[t * n ...],
+// equation eq[t]; deg the largest exponent of any unknown.
+typedef struct {
+    long long terms, n, deg;
+    const double* c;
+    const double* cr;
+    const long long* a;
+    const long long* eq;
+    double* size;  // |c_t| + cr_t rounded up (kw_sizes)
+} kw_system;
+
+// the coefficients' sizes of a system, once per set of coefficients
+static void kw_sizes(kw_system* s) {
+    for (long long t = 0; t < s->terms; ++t) s->size[t] = kw_add_up(kw_abs_up(s->c[2 * t], s->c[2 * t + 1]), s->cr[t]);
+}
+
+// Scratch of one candidate (carved from the caller's workspace by kw_carve)
+typedef struct {
+    kw_disc* powers;  // n x (deg + 1): x_i^e
+    kw_disc* f;       // n
+    kw_disc* jac;     // n x n, row-major
+    double* mag;      // n + n x n: kw_evaluate's sums of partial sums' magnitudes
+    double* lu;       // n x n complex
+    double* y;        // n x n complex: the approximate inverse
+    double* absy;     // n x n: |y|, rounded up
+    long long* pivot; // n
+    double* rho;      // n x (deg + 1): rho_i^e, rounded up
+    double* step;     // n complex
+} kw_scratch;
+
+// sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
+// midpoint's |re| + |im| to mag: kw_evaluate widens both at the end (kw_up_count), not each time
+static inline void kw_accumulate(kw_disc* sum, double* mag, kw_disc term) {
+    sum->re += term.re;
+    sum->im += term.im;
+    sum->r += term.r;
+    *mag += fabs(sum->re) + fabs(sum->im);
+}
+
+// F~ and J~ in round to nearest from the powers' midpoints (radii left 0): the Newton steps
+static int kw_evaluate_midpoints(const kw_system* s, kw_scratch* w) {
+    long long n = s->n, deg = s->deg;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long k = s->eq[t];
+        double cr = s->c[2 * t], ci = s->c[2 * t + 1], mr = 1.0, mi = 0.0;
+        long long support[KW_MAX_UNKNOWNS], q = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) {
+                const kw_disc* p = w->powers + i * (deg + 1) + a[i];
+                double r = mr * p->re - mi * p->im;
+                mi = mr * p->im + mi * p->re;
+                mr = r;
+                support[q++] = i;
+            }
+        w->f[k].re += cr * mr - ci * mi;
+        w->f[k].im += cr * mi + ci * mr;
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            double dr = cr * (double)a[i], di = ci * (double)a[i];
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], e = a[j] - (j == i);
+                if (!e) continue;
+                const kw_disc* p = w->powers + j * (deg + 1) + e;
+                double r = dr * p->re - di * p->im;
+                di = dr * p->im + di * p->re;
+                dr = r;
+            }
+            w->jac[k * n + i].re += dr;
+            w->jac[k * n + i].im += di;
+        }
+    }
+    for (long long i = 0; i < n; ++i)
+        if (!kw_finite(w->f[i])) return 0;
+    for (long long k = 0; k < n * n; ++k)
+        if (!kw_finite(w->jac[k])) return 0;
+    return 1;
+}
+
+// F and J at the point x (n complex) in disc arithmetic (rigorous: 1), or their midpoints alone
+// (0); 0 when not finite
+static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int rigorous) {
+    long long n = s->n, deg = s->deg;
+    for (long long i = 0; i < n; ++i) {
+        kw_disc* p = w->powers + i * (deg + 1);
+        p[0] = kw_point(1.0, 0.0);
+        if (deg >= 1) p[1] = kw_point(x[2 * i], x[2 * i + 1]);
+        for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        w->f[i] = kw_point(0.0, 0.0);
+    }
+    for (long long k = 0; k < n * n; ++k) w->jac[k] = kw_point(0.0, 0.0);
+    if (!rigorous) return kw_evaluate_midpoints(s, w);
+    for (long long k = 0; k < n + n * n; ++k) w->mag[k] = 0.0;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long k = s->eq[t];
+        kw_disc c = {s->c[2 * t], s->c[2 * t + 1], s->cr[t]};
+        kw_disc m = kw_point(1.0, 0.0);
+        long long support[KW_MAX_UNKNOWNS], q = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) {
+                kw_disc p = w->powers[i * (deg + 1) + a[i]];
+                m = q ? kw_mul(m, p) : p;
+                support[q++] = i;
+            }
+        kw_accumulate(w->f + k, w->mag + k, q ? kw_mul(c, m) : c);
+        for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
+            long long i = support[u];
+            kw_disc d = a[i] == 1 ? c : kw_mul(c, kw_point((double)a[i], 0.0));  // c * 1 is exact
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], e = a[j] - (j == i);
+                if (e) d = kw_mul(d, w->powers[j * (deg + 1) + e]);
+            }
+            kw_accumulate(w->jac + k * n + i, w->mag + n + k * n + i, d);
+        }
+    }
+    // each entry: its midpoint's roundings (2^-53 of each partial sum's |re| + |im|, summed in
+    // mag) and its terms' radii (summed in r), at most 4 terms + 4 roundings per term
+    double count = 8.0 * (double)s->terms + 8.0;
+    for (long long i = 0; i < n; ++i) w->f[i].r = kw_up_count(w->f[i].r + w->mag[i] * 0x1p-52, count);
+    for (long long k = 0; k < n * n; ++k) w->jac[k].r = kw_up_count(w->jac[k].r + w->mag[n + k] * 0x1p-52, count);
+    for (long long i = 0; i < n; ++i)
+        if (!kw_finite(w->f[i])) return 0;
+    for (long long k = 0; k < n * n; ++k)
+        if (!kw_finite(w->jac[k])) return 0;
+    return 1;
+}
+
+// LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
+// 0 when a pivot is exactly zero
+static int kw_factor(long long n, kw_scratch* w) {
+    double* a = w->lu;
+    for (long long k = 0; k < n * n; ++k) { a[2 * k] = w->jac[k].re; a[2 * k + 1] = w->jac[k].im; }
+    for (long long k = 0; k < n; ++k) {
+        long long best = k;
+        double largest = fabs(a[2 * (k * n + k)]) + fabs(a[2 * (k * n + k) + 1]);
+        for (long long r = k + 1; r < n; ++r) {
+            double v = fabs(a[2 * (r * n + k)]) + fabs(a[2 * (r * n + k) + 1]);
+            if (v > largest) { best = r; largest = v; }
+        }
+        if (!(largest > 0.0)) return 0;
+        w->pivot[k] = best;
+        if (best != k)
+            for (long long j = 0; j < 2 * n; ++j) {
+                double t = a[2 * k * n + j];
+                a[2 * k * n + j] = a[2 * best * n + j];
+                a[2 * best * n + j] = t;
+            }
+        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double ir = pr / d, ii = -pi / d;
+        for (long long r = k + 1; r < n; ++r) {
+            double* row = a + 2 * r * n;
+            double fr = row[2 * k] * ir - row[2 * k + 1] * ii, fi = row[2 * k] * ii + row[2 * k + 1] * ir;
+            row[2 * k] = fr; row[2 * k + 1] = fi;
+            for (long long j = k + 1; j < n; ++j) {
+                double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
+                row[2 * j] -= fr * ur - fi * ui;
+                row[2 * j + 1] -= fr * ui + fi * ur;
+            }
+        }
+    }
+    return 1;
+}
+
+// v (n complex) = (L U)^-1 P v in place from kw_factor's factors; 0 when not finite
+static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
+    const double* a = w->lu;
+    for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
+        long long p = w->pivot[k];
+        if (p != k) {
+            double tr = v[2 * k], ti = v[2 * k + 1];
+            v[2 * k] = v[2 * p]; v[2 * k + 1] = v[2 * p + 1]; v[2 * p] = tr; v[2 * p + 1] = ti;
+        }
+    }
+    for (long long k = 0; k < n; ++k)
+        for (long long r = k + 1; r < n; ++r) {
+            double fr = a[2 * (r * n + k)], fi = a[2 * (r * n + k) + 1];
+            v[2 * r] -= fr * v[2 * k] - fi * v[2 * k + 1];
+            v[2 * r + 1] -= fr * v[2 * k + 1] + fi * v[2 * k];
+        }
+    for (long long k = n - 1; k >= 0; --k) {
+        double sr = v[2 * k], si = v[2 * k + 1];
+        for (long long j = k + 1; j < n; ++j) {
+            double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
+            sr -= ur * v[2 * j] - ui * v[2 * j + 1];
+            si -= ur * v[2 * j + 1] + ui * v[2 * j];
+        }
+        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        v[2 * k] = (sr * pr + si * pi) / d;
+        v[2 * k + 1] = (si * pr - sr * pi) / d;
+    }
+    for (long long k = 0; k < 2 * n; ++k)
+        if (!isfinite(v[k])) return 0;
+    return 1;
+}
+
+// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular
+static int kw_inverse(long long n, kw_scratch* w) {
+    if (!kw_factor(n, w)) return 0;
+    for (long long col = 0; col < n; ++col) {
+        double* v = w->step;
+        for (long long k = 0; k < n; ++k) { v[2 * k] = (k == col); v[2 * k + 1] = 0.0; }
+        if (!kw_lu_solve(n, w, v)) return 0;
+        for (long long k = 0; k < n; ++k) {
+            w->y[2 * (k * n + col)] = v[2 * k];
+            w->y[2 * (k * n + col) + 1] = v[2 * k + 1];
+        }
+    }
+    return 1;
+}
+
+// The Newton step J~^-1 F~ at x into w->step (round to nearest: it only sharpens the centre); 0
+// when F or J is not finite or J~ is singular
+static int kw_newton(const kw_system* s, const double* x, kw_scratch* w) {
+    long long n = s->n;
+    if (!kw_evaluate(s, x, w, 0) || !kw_factor(n, w)) return 0;
+    for (long long k = 0; k < n; ++k) { w->step[2 * k] = w->f[k].re; w->step[2 * k + 1] = w->f[k].im; }
+    return kw_lu_solve(n, w, w->step);
+}
+
+// The test's ingredients at x: a >= ||Y F(x)||, b >= ||I - Y J(x)||, c >= ||Y|| (Y the inverse of
+// J~); 0 when F or J is not finite or J~ is singular.
+typedef struct { double a, b, c; } kw_bounds;
+
+static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
+    long long n = s->n;
+    if (!kw_evaluate(s, x, w, 1) || !kw_inverse(n, w)) return 0;
+    double a = 0.0, b = 0.0, c = 0.0;
+    for (long long k = 0; k < n; ++k) {
+        double ra = 0.0, rc = 0.0;
+        for (long long i = 0; i < n; ++i) {
+            double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
+            w->absy[k * n + i] = size;
+            rc = kw_add_up(rc, size);
+            ra = kw_add_up(ra, kw_mul_up(size, kw_disc_abs_up(w->f[i])));
+        }
+        double rb = 0.0;
+        for (long long j = 0; j < n; ++j) {
+            // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
+            // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the
+            // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
+            double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
+            for (long long i = 0; i < n; ++i) {
+                double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1];
+                const kw_disc* jac = w->jac + i * n + j;
+                double p1 = yr * jac->re, p2 = yi * jac->im, p3 = yr * jac->im, p4 = yi * jac->re;
+                double pr = p1 - p2, pi = p3 + p4;
+                mr -= pr;
+                mi -= pi;
+                mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
+                spread += w->absy[k * n + i] * jac->r;
+            }
+            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
+        }
+        a = fmax(a, ra);
+        b = fmax(b, rb);
+        c = fmax(c, rc);
+    }
+    out->a = a;
+    out->b = b;
+    out->c = c;
+    return isfinite(a) && isfinite(b) && isfinite(c);
+}
+
+// The test on B(x, r) with the bounds at x: 1 when it passes (its box holds exactly one root)
+static int kw_passes(const kw_system* s, const double* x, double r, const kw_bounds* bounds, kw_scratch* w) {
+    long long n = s->n, deg = s->deg;
+    if (!(r > 0.0) || !isfinite(r)) return 0;
+    for (long long i = 0; i < n; ++i) {  // rho_i^e >= (|x_i| + r)^e
+        double* p = w->rho + i * (deg + 1);
+        p[0] = 1.0;
+        if (deg >= 1) p[1] = kw_add_up(kw_abs_up(x[2 * i], x[2 * i + 1]), r);
+        for (long long e = 2; e <= deg; ++e) p[e] = kw_mul_up(p[e - 1], p[1]);
+    }
+    // H_k(rho), k = 0 .. n - 1, in w->step (reused: real values)
+    double* h = w->step;
+    for (long long k = 0; k < n; ++k) h[k] = 0.0;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long support[KW_MAX_UNKNOWNS], q = 0, total = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) { support[q++] = i; total += a[i]; }
+        if (total < 2) continue;  // an affine term: no second derivative
+        double size = s->size[t], sum = 0.0;
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], pair = a[i] * (a[j] - (i == j));
+                if (pair <= 0) continue;
+                double m = (double)pair;  // an exact small integer
+                for (long long o = 0; o < q; ++o) {
+                    long long l = support[o], e = a[l] - (l == i) - (l == j);
+                    if (e) m = kw_mul_up(m, w->rho[l * (deg + 1) + e]);
+                }
+                sum = kw_add_up(sum, m);
+            }
+        }
+        if (sum > 0.0) h[s->eq[t]] = kw_add_up(h[s->eq[t]], kw_mul_up(size, sum));
+    }
+    // ||Y (J(z) - J(x))|| <= max_k sum_i |Y_ki| H_i r: each row of |Y| weighs the rows of J
+    // (tighter than ||Y|| max_i H_i where the equations' scales differ)
+    double spread = 0.0;
+    for (long long k = 0; k < n; ++k) {
+        double sum = 0.0;
+        for (long long i = 0; i < n; ++i) sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], h[i]));
+        spread = fmax(spread, sum);
+    }
+    double inner = kw_add_up(bounds->b, kw_mul_up(spread, r));
+    double left = kw_add_up(bounds->a, kw_mul_up(inner, r));
+    return left < r;
+}
+
+// The smallest passing radius of MULTIPLIERS * max(need, a) + floor, at most limit (0 when none)
+static double kw_radius(const kw_system* s, const double* x, const kw_bounds* bounds, double need, double floor,
+                        double limit, kw_scratch* w) {
+    double base = fmax(need, bounds->a);
+    for (int m = 0; m < KW_RADII; ++m) {
+        double r = kw_multipliers[m] * base + floor;
+        if (!(r <= limit)) return 0.0;
+        if (kw_passes(s, x, r, bounds, w)) return r;
+    }
+    return 0.0;
+}
+
+static inline double kw_cabs(const double* z) { return hypot(z[0], z[1]); }
+
+static double kw_max_abs(long long n, const double* z) {
+    double v = 0.0;
+    for (long long i = 0; i < n; ++i) v = fmax(v, kw_cabs(z + 2 * i));
+    return v;
+}
+
+// The job of kw_certify (a package's NAME_certify_job has the same fields; see its header)
+typedef struct {
+    long long systems, candidates, terms, unknowns;
+    const double* coefficients;  // systems x terms x 2 (re, im)
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2; a non-finite row: no candidate
+    long long real_coefficients;
+    const long long* homogeneous;  // homogeneous_count unknowns (0: the affine certificate)
+    long long homogeneous_count;
+    long long patch_equation;
+    int* unique;        // systems x candidates
+    int* real;          // systems x candidates: +1 real, -1 non-real, 0 undecided
+    double* radius;     // systems x candidates (NaN where not unique)
+    double* center;     // systems x candidates x unknowns x 2
+    double* radii;      // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} kw_job;
+
+static long long kw_degree(long long terms, long long n, const long long* a) {
+    long long d = 0;
+    for (long long k = 0; k < terms * n; ++k) d = a[k] > d ? a[k] : d;
+    return d;
+}
+
+#define KW_ALIGN(b) (((b) + 15) / 16 * 16)
+
+// bytes of workspace for a job of these sizes (deg: the largest exponent)
+static long long kw_workspace_bytes(long long candidates, long long terms, long long n, long long deg) {
+    long long b = 0;
+    b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(kw_disc));  // powers
+    b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // f
+    b += KW_ALIGN(n * n * (long long)sizeof(kw_disc));  // jac
+    b += KW_ALIGN((n + n * n) * (long long)sizeof(double));  // mag
+    b += 2 * KW_ALIGN(2 * n * n * (long long)sizeof(double));  // lu, y
+    b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy
+    b += KW_ALIGN(n * (long long)sizeof(long long));  // pivot
+    b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(double));  // rho
+    b += KW_ALIGN(2 * n * (long long)sizeof(double));  // step
+    b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
+    b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
+    b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
+    b += KW_ALIGN((terms + 2) * (n + 1) * (long long)sizeof(long long));  // chart exponents, equation
+    b += KW_ALIGN(n * (long long)sizeof(long long));  // shifts
+    return b;
+}
+
+static void* kw_take(char** cursor, long long bytes) {
+    void* p = *cursor;
+    *cursor += KW_ALIGN(bytes);
+    return p;
+}
+
+// median of v[0 .. count) (sorted in place; count >= 1)
+static double kw_median(double* v, long long count) {
+    for (long long i = 1; i < count; ++i) {
+        double key = v[i];
+        long long j = i - 1;
+        while (j >= 0 && v[j] > key) { v[j + 1] = v[j]; --j; }
+        v[j + 1] = key;
+    }
+    return count % 2 ? v[count / 2] : 0.5 * (v[count / 2 - 1] + v[count / 2]);
+}
+
+static int kw_row_finite(long long n, const double* z) {
+    for (long long i = 0; i < 2 * n; ++i)
+        if (!isfinite(z[i])) return 0;
+    return 1;
+}
+
+// 1 when every equation but the patch is homogeneous in the group and the patch is linear in it
+static int kw_homogeneous(const kw_job* job) {
+    long long n = job->unknowns;
+    int present[KW_MAX_UNKNOWNS] = {0};
+    long long degree[KW_MAX_UNKNOWNS];
+    for (long long t = 0; t < job->terms; ++t) {
+        const long long* a = job->exponents + t * n;
+        long long d = 0, other = 0, k = job->equation[t];
+        for (long long i = 0; i < n; ++i) {
+            int member = 0;
+            for (long long g = 0; g < job->homogeneous_count; ++g) member |= job->homogeneous[g] == i;
+            if (member) d += a[i]; else other += a[i];
+        }
+        if (k == job->patch_equation) {
+            if (other || d > 1) return 0;
+            continue;
+        }
+        if (present[k] && degree[k] != d) return 0;
+        present[k] = 1;
+        degree[k] = d;
+    }
+    return 1;
+}
+
+// Krawczyk's certificate of every candidate of every system (certify_roots' semantics). Returns
+// 0, or -1 when the job is malformed (sizes, indices, a workspace smaller than
+// kw_workspace_bytes): nothing is written then.
+static int kw_certify(const kw_job* job) {
+    long long n = job->unknowns, terms = job->terms, paths = job->candidates;
+    if (n < 1 || n > KW_MAX_UNKNOWNS || terms < 0 || paths < 0 || job->systems < 0) return -1;
+    for (long long t = 0; t < terms; ++t) {
+        if (job->equation[t] < 0 || job->equation[t] >= n) return -1;
+        for (long long i = 0; i < n; ++i)
+            if (job->exponents[t * n + i] < 0) return -1;
+    }
+    long long deg = kw_degree(terms, n, job->exponents);
+    deg = deg > 1 ? deg : 1;
+    if (job->workspace_bytes < kw_workspace_bytes(paths, terms, n, deg)) return -1;
+    int homogeneous = job->homogeneous_count > 0;
+    if (homogeneous) {
+        if (job->patch_equation < 0 || job->patch_equation >= n) return -1;
+        for (long long g = 0; g < job->homogeneous_count; ++g)
+            if (job->homogeneous[g] < 0 || job->homogeneous[g] >= n) return -1;
+    }
+    if (homogeneous && !kw_homogeneous(job)) return -1;
+    char* cursor = (char*)job->workspace;
+    kw_scratch w;
+    w.powers = (kw_disc*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(kw_disc));
+    w.f = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
+    w.jac = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
+    w.mag = (double*)kw_take(&cursor, (n + n * n) * (long long)sizeof(double));
+    w.lu = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.y = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.absy = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.pivot = (long long*)kw_take(&cursor, n * (long long)sizeof(long long));
+    w.rho = (double*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(double));
+    w.step = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    double* scale = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    double* sizes = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
+    double* coefficients = (double*)kw_take(&cursor, 5 * (terms + 2) * (long long)sizeof(double));
+    double* radii_c = coefficients + 2 * (terms + 2);
+    double* sizes_main = radii_c + (terms + 2);
+    double* sizes_chart = sizes_main + (terms + 2);
+    long long* chart_a = (long long*)kw_take(&cursor, (terms + 2) * (n + 1) * (long long)sizeof(long long));
+    long long* chart_eq = chart_a + (terms + 2) * n;
+    long long* shift = (long long*)kw_take(&cursor, n * (long long)sizeof(long long));
+    // the real chart's terms (homogeneous): every term but the patch's, then z_j and -1 in the patch
+    long long chart_terms = 0;
+    int in_group[KW_MAX_UNKNOWNS];
+    if (homogeneous) {
+        
+        for (long long i = 0; i < n; ++i) in_group[i] = 0;
+        for (long long g = 0; g < job->homogeneous_count; ++g) in_group[job->homogeneous[g]] = 1;
+        for (long long t = 0; t < terms; ++t) {
+            if (job->equation[t] == job->patch_equation) continue;
+            for (long long i = 0; i < n; ++i) chart_a[chart_terms * n + i] = job->exponents[t * n + i];
+            chart_eq[chart_terms++] = job->equation[t];
+        }
+        for (long long i = 0; i < 2 * n; ++i) chart_a[chart_terms * n + i] = 0;
+        chart_eq[chart_terms] = chart_eq[chart_terms + 1] = job->patch_equation;
+        chart_terms += 2;
+    }
+    for (long long sys = 0; sys < job->systems; ++sys) {
+        const double* c = job->coefficients + 2 * sys * terms;
+        int real_system = job->real_coefficients != 0;
+        for (long long t = 0; t < terms; ++t)
+            if (c[2 * t + 1] != 0.0 && !(homogeneous && job->equation[t] == job->patch_equation)) real_system = 0;
+        // affine: each coordinate measured in a power of two near its typical size (median of the
+        // finite nonzero |z_i| over the system's finite candidates; 1 where there is none)
+        for (long long i = 0; i < n && !homogeneous; ++i) {
+            long long count = 0;
+            for (long long p = 0; p < paths; ++p) {
+                const double* z = job->roots + 2 * ((sys * paths + p) * n);
+                if (!kw_row_finite(n, z)) continue;
+                double v = kw_cabs(z + 2 * i);
+                if (v > 0.0) sizes[count++] = v;
+            }
+            double typical = 1.0;
+            if (count) {
+                double median = kw_median(sizes, count);
+                if (isfinite(median) && median > 0.0) typical = exp2(nearbyint(log2(median)));
+            }
+            scale[2 * i] = typical;
+        }
+        for (long long p = 0; p < paths; ++p) {
+            long long at = sys * paths + p;
+            const double* z = job->roots + 2 * at * n;
+            double* centre = job->center + 2 * at * n;
+            int present = kw_row_finite(n, z);
+            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main};
+            double unit = 1e-150;
+            for (long long i = 0; i < n; ++i) shift[i] = 0;
+            if (!homogeneous) {
+                unit = 0.5;
+                for (long long i = 0; i < n; ++i) {
+                    double v = kw_cabs(z + 2 * i);
+                    if (isfinite(z[2 * i]) && isfinite(z[2 * i + 1]))
+                        shift[i] = (long long)ceil(log2(fmax(v, scale[2 * i])));
+                }
+                for (long long t = 0; t < terms; ++t) {
+                    long long e = 0;
+                    for (long long i = 0; i < n; ++i) e += shift[i] * job->exponents[t * n + i];
+                    if (e > 4000) e = 4000;
+                    if (e < -4000) e = -4000;
+                    double re = ldexp(c[2 * t], (int)e), im = ldexp(c[2 * t + 1], (int)e);
+                    coefficients[2 * t] = re;
+                    coefficients[2 * t + 1] = im;
+                    // exact unless it left the normal range: then within 2^-1074 (or infinite)
+                    int exact = (re == 0.0 || fabs(re) >= 0x1p-1022) && (im == 0.0 || fabs(im) >= 0x1p-1022) &&
+                                (re != 0.0 || c[2 * t] == 0.0) && (im != 0.0 || c[2 * t + 1] == 0.0);
+                    radii_c[t] = exact ? 0.0 : 0x1p-1073;
+                }
+                s.c = coefficients;
+                kw_sizes(&s);
+            } else {
+                for (long long t = 0; t < terms; ++t) radii_c[t] = 0.0;
+                if (p == 0) kw_sizes(&s);  // the system's own coefficients: one set for every candidate
+            }
+            for (long long i = 0; i < n; ++i) {
+                double f = ldexp(1.0, (int)shift[i]);
+                given[2 * i] = z[2 * i] / f;
+                given[2 * i + 1] = z[2 * i + 1] / f;
+                x[2 * i] = present ? given[2 * i] : 1.0;
+                x[2 * i + 1] = present ? given[2 * i + 1] : 0.0;
+            }
+            job->unique[at] = 0;
+            job->real[at] = 0;
+            job->radius[at] = NAN;
+            for (long long i = 0; i < n; ++i) job->radii[at * n + i] = NAN;
+            if (!present) {
+                for (long long i = 0; i < 2 * n; ++i) centre[i] = NAN;
+                continue;
+            }
+            kw_bounds bounds;
+            for (int k = 0; k < KW_NEWTON_STEPS; ++k) {  // sharpen; a step leaving the finite numbers is dropped
+                if (!kw_newton(&s, x, &w)) continue;
+                int finite = 1;
+                for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
+                if (finite)
+                    for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
+            }
+            for (long long i = 0; i < n; ++i) {
+                double f = ldexp(1.0, (int)shift[i]);
+                centre[2 * i] = x[2 * i] * f;
+                centre[2 * i + 1] = x[2 * i + 1] * f;
+            }
+            double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+            double moved = 0.0;
+            for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+            if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) continue;
+            double floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
+            double r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+            if (!(r > 0.0)) continue;
+            double smallest = INFINITY;
+            for (long long i = 0; i < n; ++i) {
+                double f = ldexp(1.0, (int)shift[i]), v = r * f;
+                // exact unless it (or the centre) left the normal range: widened over both roundings
+                if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
+                job->radii[at * n + i] = v;
+                smallest = fmin(smallest, f);
+            }
+            job->unique[at] = 1;
+            job->radius[at] = r * smallest;
+            // realness: a box missing the real space holds a non-real root
+            int nonreal = 0;
+            for (long long i = 0; i < n; ++i)
+                if ((!homogeneous || !in_group[i]) && fabs(x[2 * i + 1]) > r) nonreal = 1;
+            if (!homogeneous) {
+                if (!nonreal && real_system) {
+                    // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
+                    double imag = 0.0;
+                    for (long long i = 0; i < n; ++i) {
+                        imag = fmax(imag, fabs(x[2 * i + 1]));
+                        chart_x[2 * i] = x[2 * i];
+                        chart_x[2 * i + 1] = 0.0;
+                    }
+                    double need = kw_add_up(imag, r);
+                    if (kw_bound(&s, chart_x, &w, &bounds) && kw_radius(&s, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
+                        job->real[at] = 1;
+                }
+                if (nonreal) job->real[at] = -1;
+                continue;
+            }
+            // homogeneous: j the group's unknown of largest |x_j|; a real projective point has
+            // Im(z_i conj z_j) = 0, which moves at most r (|x_i| + |x_j| + r) over B(x, r)
+            long long j = job->homogeneous[0];
+            for (long long g = 1; g < job->homogeneous_count; ++g)
+                if (kw_cabs(x + 2 * job->homogeneous[g]) > kw_cabs(x + 2 * j)) j = job->homogeneous[g];
+            double xjr = x[2 * j], xji = x[2 * j + 1];
+            double mj = kw_abs_up(xjr, xji), mj_low = kw_abs_down(xjr, xji);
+            for (long long i = 0; i < n && !nonreal; ++i) {
+                if (!in_group[i]) continue;
+                double p1 = x[2 * i + 1] * xjr, p2 = x[2 * i] * xji, cross = p1 - p2;
+                double low = kw_down(fabs(cross) - kw_error(fabs(p1) + fabs(p2) + fabs(cross)));
+                double mi = kw_abs_up(x[2 * i], x[2 * i + 1]);
+                double slack = kw_mul_up(r, kw_add_up(kw_add_up(mi, mj), r));
+                if (low > slack) nonreal = 1;
+            }
+            if (nonreal) {
+                job->real[at] = -1;
+                continue;
+            }
+            if (!real_system || !(4.0 * r <= mj_low)) continue;
+            // the real chart z_j = 1: w_i = Re(x_i / x_j) on the group, Re x_i elsewhere; the chart
+            // image of B(x, r) lies in B(w, need) (certify.py's argument; 4 r <= |x_j|)
+            double d = xjr * xjr + xji * xji, need = 0.0;
+            for (long long i = 0; i < n; ++i) {
+                double gap;
+                if (in_group[i]) {
+                    double wi = i == j ? 1.0 : (x[2 * i] * xjr + x[2 * i + 1] * xji) / d;
+                    chart_x[2 * i] = wi;
+                    // |x_i - w_i x_j| / |x_j| + 2 r (|x_i| + |x_j|) / |x_j|^2, rounded up
+                    kw_disc v = kw_add(kw_point(x[2 * i], x[2 * i + 1]), kw_mul(kw_point(-wi, 0.0), kw_point(xjr, xji)));
+                    double mi = kw_abs_up(x[2 * i], x[2 * i + 1]);
+                    double spread = kw_up(kw_mul_up(2.0 * r, kw_add_up(mi, mj)) / mj_low);
+                    gap = kw_up(kw_add_up(kw_disc_abs_up(v), spread) / mj_low);
+                } else {
+                    chart_x[2 * i] = x[2 * i];
+                    gap = kw_add_up(fabs(x[2 * i + 1]), r);
+                }
+                chart_x[2 * i + 1] = 0.0;
+                need = fmax(need, gap);
+            }
+            for (long long t = 0, q = 0; t < terms; ++t) {
+                if (job->equation[t] == job->patch_equation) continue;
+                coefficients[2 * q] = c[2 * t];
+                coefficients[2 * q + 1] = c[2 * t + 1];
+                radii_c[q++] = 0.0;
+            }
+            for (long long i = 0; i < n; ++i) chart_a[(chart_terms - 2) * n + i] = i == j;
+            coefficients[2 * (chart_terms - 2)] = 1.0;
+            coefficients[2 * (chart_terms - 1)] = -1.0;
+            coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
+            radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
+            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart};
+            kw_sizes(&chart);
+            if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
+                job->real[at] = 1;
+        }
+    }
+    return 0;
+}
+
+#endif
+
+// Krawczyk's certificate of candidate roots of any sparse polynomial system (krawczyk.h above):
+// the workspace in bytes, and the certificate (the job as gough.h documents it)
+long long gough_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree) {
+    return kw_workspace_bytes(candidates, terms, unknowns, degree > 1 ? degree : 1);
+}
+
+int gough_certify_roots(const gough_certify_job* job) {
+    kw_job kw = {
+        job->systems, job->candidates, job->terms, job->unknowns, job->coefficients, job->exponents,
+        job->equation, job->roots, job->real_coefficients, job->homogeneous, job->homogeneous_count,
+        job->patch_equation, job->unique, job->real, job->radius, job->center, job->radii, job->workspace,
+        job->workspace_bytes,
+    };
+    return kw_certify(&kw);
+}

@@ -24,52 +24,20 @@
 // Kong & Gosselin, "Generation of architecturally singular 6-SPS parallel manipulators with linearly
 // related planar platforms" (``shared/papers/004_407e258733e8e5c8.txt``).
 // 
-// Frames and conventions (paper section 2; SI, radians):
-// * {B}: origin O = A1, base plane z = 0, A_i = (xA_i, yA_i, 0), i = 2..6. The paper also puts X
-//   through A2 (yA2 = 0), but its own section 5.4 example has yA2 = -5; nothing below needs it.
-// * {P}: origin O_P = B1, platform plane z_P = 0. Eq (1): B_i^(P) = (t11 xA_i + t12 yA_i,
-//   t22 yA_i, 0), t11 t22 != 0 (also true for i = 1: both points at the origin).
-// * Pose ^B_P T: position p = O_P = B1 = (x, y, z) and R = [i_P j_P k_P] (columns: the platform
-//   axes in {B}); B_i = p + R B_i^(P). Leg i joins A_i to B_i; the actuated variables are the leg
-//   lengths l1..l6.
-// * Passive variables (the Newton unknowns): x, y, z and the Z-Y-X Euler angles alpha, beta, gamma
-//   of R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma), as everywhere in parakin. The parametrisation is
-//   singular at beta = +-pi/2 (i_P vertical): there Newton reports a singular Jacobian although the
-//   platform is not at a type II singularity; the closed form (forward_pose_all) is unaffected.
-// * Residual: |B_i - A_i| - l_i (metres), one per leg; there is no false closure (alignment 1).
-//   The legs are S-P-S joint chains (``parakin.generator.joints``): closure, rates, factors,
-//   inverse and drawing are derived, the closure in this unsquared form (``squared=False``)
-//   because the polynomial family it gives has its root count (32) proven by the trace test,
-//   which the squared form's family does not reach at generation.
-// * Rates: A twist = B l_dot with row i of A the leg line's Pluecker coordinates (d_i ; (A_i - p) x
-//   d_i), d_i = B_i - A_i (moment about the origin of {P}, since the twist is (v of O_P, w) in {B}),
-//   and B = diag(l_i). det A = prod(l_i) det J, J the unit-line Pluecker matrix (rows s_i, moments
-//   about O_P; the same determinant as with moments about O). det A = 0: type II singularity.
-// * Forward pose (paper section 3 with the procedure of sections 5.1-5.3, u3 known): the linear
-//   system (8) M u = L in u1..u5 (Cramer: adj(M) L / det M), i_x = -u3 / t11, j_x and j_y affine in
-//   i_y (eqs 19-22), the quartic (23) in i_y, then i_z = sigma sqrt(1 - i_x^2 - i_y^2) (24) and j_z
-//   with i_z j_z = -(i_x j_x + i_y j_y) (25, written without the division by i_z), and the position
-//   from (9), (10), (5) as a line-sphere intersection p = p0 + tau h d (the same equations as (26),
-//   (27) without Q^-1, which fails when the solution line is parallel to the base). 4 roots x 2 x 2
-//   = 16 complex candidates; real ones come in mirror pairs through the base plane (at most 8).
-// * Architecture: det M (eq 14) is a polynomial of degree 8 in the base coordinates, equal to the
-//   6-point conic determinant with A1 = O; it vanishes iff A1..A6 lie on a conic (eq 15). The
-//   declared measure is det M normalised (scale-free, |measure| <= 1), singular below the
-//   architecture tolerance 1e-9 (``parakin.load`` warns). Then
-//   M u = L has a one-parameter family of solutions and the platform has a self-motion
-//   (traced generically by ``m.self_motion``; the paper's own analysis is ``examples/gough_architecture.py``); ``forward_pose_all`` reports the degeneracy ``base_points_on_a_conic``.
-// * Defaults: a usable (not architecturally singular) PMlpp, the general case of section 3 (det M
-//   != 0, M u = L has one solution): section 5.4's base and platform map with one base joint moved
-//   off the conic, A4 = (13, 0) instead of (10, 0) (the base hexagon stays convex; the normalised
-//   conic measure is -6.4e-3, far from the 1e-9 tolerance), i.e. xA2..xA6 = 5, 9, 13, 9, 5,
-//   yA2..yA6 = -5, -3, 0, 3, 5, t11 = t12 = t22 = 1 (the paper gives no unit: read as metres).
-//   Home: {x y z alpha beta gamma} = {5, 2, 5, -0.3, -0.5, 0.3} (m, rad, ``HOME_POSE``), the
-//   platform tilted over the base (every B_i at z > 3.7 m), a regular configuration: closure
-//   Jacobian pivot ratio 0.14, eight real assembly modes. Level poses (platform parallel to the
-//   base) are type II singular for linearly related platforms, so the home is tilted about all
-//   three axes. Section 5.4's own geometry (base on the conic (x - 5)^2 + y^2 = 25: singular at
-//   every pose, ``parakin.load`` warns) is the named example ``section54_self_motion``
-//   (``SECTION_54_PARAMETERS``); its walkthrough is ``examples/gough_architecture.py``.
+// Conventions (paper section 2; SI, radians; derivation: ``docs/derivations/gough.md``):
+// * {B}: origin O = A1, base plane z = 0, A_i = (xA_i, yA_i, 0), i = 2..6. {P}: origin O_P = B1,
+//   platform plane z_P = 0, B_i^(P) = (t11 xA_i + t12 yA_i, t22 yA_i, 0) (eq 1), t11 t22 != 0.
+// * Pose: p = B1 = (x, y, z), R = Rot_z(alpha) Rot_y(beta) Rot_x(gamma) (passive x, y, z, alpha,
+//   beta, gamma; singular at beta = +-pi/2, a singularity of the angles only); B_i = p + R B_i^(P).
+// * Actuated: the leg lengths l1..l6 = |B_i - A_i|; the closure unsquared (|B_i - A_i| - l_i).
+// * Forward pose: the paper's quartic (23) in i_y (accelerator ``_gough_forward.py``), 16 complex
+//   candidates, real ones in mirror pairs through the base plane.
+// * Architecture: det M (eq 14), normalised (|measure| <= 1), vanishes iff A1..A6 lie on a conic
+//   (self-motion; ``parakin.load`` warns below 1e-9; degeneracy ``base_points_on_a_conic``).
+// * Defaults: section 5.4's geometry with A4 moved off the conic to (13, 0) (the paper gives no
+//   unit: metres); home ``HOME_POSE`` = (5, 2, 5 m, -0.3, -0.5, 0.3 rad), tilted (level poses are
+//   type II singular for these platforms). Section 5.4's own singular geometry is the example
+//   ``section54_self_motion`` (``examples/gough_architecture.py``).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "gough_", so the C of several mechanisms links into one program. Nothing
@@ -237,6 +205,44 @@ int gough_forward_pose_all(const gough_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int gough_forward_pose_all_counted(const gough_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// gough_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} gough_certify_job;
+
+long long gough_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int gough_certify_roots(const gough_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

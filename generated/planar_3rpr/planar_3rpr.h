@@ -24,45 +24,17 @@
 // Sefrioui & Richard (1992) (also Hunt 1983, Merlet's "Parallel Robots"): a polynomial of degree 6
 // in t = tan(phi / 2), so at most 6 assembly modes.
 // 
-// Frames and conventions (SI, radians):
-// * {B}: the plane of motion is z = 0; base joints A_i = (base_x<i>, base_y<i>, 0) in {B}.
-// * {P}: platform joints b_i = (platform_x<i>, platform_y<i>, 0) in {P}. The pose is planar
-//   (pose_kind 'planar'): ^B_P T = [Rot_z(phi), (x, y, 0)]; ``inverse_pose`` also takes (x, y, phi).
-//   It reads x = px, y = py, phi = atan2(r21, r11) and nothing else of ^B_P T.
-// * Leg i joins A_i to B_i = p + R b_i; d_i = B_i - A_i; the actuated variables are the leg lengths
-//   rho_i = |d_i| (rho1..rho3, metres). Passive variables (the Newton unknowns): x, y, phi.
-// * Residual: (|d_i|^2 - rho_i^2) / (2 rho_i) (metres; |d_i| - rho_i to first order), one per leg,
-//   a polynomial whose Jacobian stays finite where a leg has zero length (|d_i| - rho_i has a 0 / 0
-//   derivative there, e.g. at a trial pose with B1 = A1); no false closure (alignment 1).
-// * Inverse: rho_i = |d_i|, one branch (no signs); validity ``leg<i>_length`` = rho_i > 0.
-// * Rates: A (vx, vy, wz) = B rho_dot with (vx, vy) the velocity of the origin of {P} and wz the
-//   angular rate, in {B}; row i of A = (d_x, d_y, ((A_i - p) x d_i) . z) (the planar Pluecker
-//   coordinates of leg line i, moment about the origin of {P}), B = diag(rho_i). det B = 0: a leg
-//   of zero length (serial factors ``leg<i>_length``); det A = 0: the three leg lines meet in one
-//   point or are parallel (type II, ``leg_lines_concurrent_or_parallel``).
-// * Forward pose (the classical elimination): with q = B1 - A1 = p + R b1 - A1, u_i = b_i - b1,
-//   w_i = A_i - A1 and m_i = R u_i - w_i (i = 2, 3), legs 2 and 3 minus leg 1 give the linear system
-//   m_i . q = g_i = (rho_i^2 - rho1^2 - |m_i|^2) / 2 in q (q is (x, y) up to the known shift
-//   R b1 - A1). Cramer: q = adj(M) g / det M. Leg 1, |q| = rho1, becomes |adj(M) g|^2 - rho1^2
-//   det(M)^2 = 0, of degree 4 in (cos phi, sin phi); times (1 + t^2)^4 a polynomial of degree 8 in
-//   t = tan(phi / 2), from which ``remove_spurious_factors`` divides the factor (1 + t^2) (the
-//   trigonometric polynomial has harmonic degree 3 only): degree 6. Back-substitution: phi =
-//   2 atan(t), q by Cramer, p = A1 + q - R b1. Every real root is one mode (no branch signs).
-//   Blind spots: a mode with phi = pi exactly is at t = infinity (the degree drops and the mode is
-//   not found), and a mode where det M = 0 (a root at which Cramer's rule fails) gives no pose.
-//   An example of the latter: congruent base and platform (b_i = A_i) have M = 0 at phi = 0, so
-//   t = 0 is a root for every input; with equal legs the platform translates on a circle there (a
-//   self-motion, not reported by forward_pose_all: ``m.self_motion`` traces it), otherwise that
-//   root is no mode.
-// * Degeneracies: ``cramer_determinant_vanishes_for_every_phi`` (det M = 0 identically in phi) and
-//   ``polynomial_vanishes_identically`` (every coefficient zero: a self-motion along which phi
-//   varies), both normalised by the size of the geometry and the inputs.
-// * Defaults: the example attributed to Gosselin, Sefrioui & Richard (1992) in the literature on
-//   the 3-RPR (e.g. Merlet, "Parallel Robots"), numbers as recalled, no unit given (read as
-//   metres): A1 = (0, 0), A2 = (15.91, 0), A3 = (0, 10); b1 = (0, 0), b2 = (17.04, 0), b3 =
-//   20.84 (cos 0.8824, sin 0.8824); rho = (14.98, 15.38, 12). These inputs have 6 real assembly
-//   modes (example ``six_real_modes``), checked by an independent scan of the leg-1 equation over
-//   phi in tests/test_planar_3rpr.py.
+// Conventions (SI, radians; derivation: ``docs/derivations/planar_3rpr.md``):
+// * {B}: the plane of motion z = 0, base joints A_i = (base_x<i>, base_y<i>, 0). {P}: platform joints
+//   b_i = (platform_x<i>, platform_y<i>, 0). Pose planar: ^B_P T = [Rot_z(phi), (x, y, 0)]; the
+//   inverse reads x = px, y = py, phi = atan2(r21, r11) and nothing else.
+// * Actuated: the leg lengths rho_i = |p + R b_i - A_i| (metres); passive x, y, phi. Inverse: one
+//   branch, validity ``leg<i>_length``. Type II: ``leg_lines_concurrent_or_parallel``.
+// * Forward pose: the degree-6 polynomial (accelerator ``_planar_3rpr_forward.py``); a mode with
+//   phi = pi exactly (t = infinity) or det M = 0 (Cramer fails) is not found.
+// * Defaults: the example attributed to Gosselin, Sefrioui & Richard (1992) in the literature,
+//   numbers as recalled, no unit (read as metres): A = (0, 0), (15.91, 0), (0, 10); b = (0, 0),
+//   (17.04, 0), 20.84 (cos 0.8824, sin 0.8824); rho = (14.98, 15.38, 12): 6 real assembly modes.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "planar_3rpr_", so the C of several mechanisms links into one program. Nothing
@@ -229,6 +201,44 @@ int planar_3rpr_forward_pose_all(const planar_3rpr_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int planar_3rpr_forward_pose_all_counted(const planar_3rpr_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// planar_3rpr_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} planar_3rpr_certify_job;
+
+long long planar_3rpr_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int planar_3rpr_certify_roots(const planar_3rpr_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

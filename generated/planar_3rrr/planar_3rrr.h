@@ -18,50 +18,21 @@
 //
 // Planar 3-RRR parallel manipulator: three legs, each an actuated revolute joint on the base
 // driving a crank, a passive revolute elbow, a link and a passive revolute joint on the platform
-// (Gosselin & Angeles 1988; Merlet, "Parallel Robots", 2006). With the cranks locked the elbows are
-// fixed points and the links rigid bars: the forward pose is that of a 3-RPR on the elbows
-// (Gosselin, Sefrioui & Richard 1992), a polynomial of degree 6, so at most 6 assembly modes.
+// (Gosselin & Angeles 1988; Merlet, "Parallel Robots", 2006). With the cranks locked the forward pose
+// is that of a 3-RPR on the elbows: at most 6 assembly modes.
 // 
-// Frames and conventions (SI, radians):
-// * {B}: the plane of motion is z = 0; base joints A_i = (base_x<i>, base_y<i>, 0) in {B}.
-// * Leg i: crank of length a_i at the angle theta_i from the x axis of {B} (counter-clockwise,
-//   right-handed about z), elbow E_i = A_i + a_i (cos theta_i, sin theta_i, 0); link of length b_i
-//   from E_i to the platform joint B_i.
-// * {P}: platform joints c_i = (platform_x<i>, platform_y<i>, 0) in {P}. The pose is planar
-//   (pose_kind 'planar'): ^B_P T = [Rot_z(phi), (x, y, 0)]; ``inverse_pose`` also takes (x, y, phi).
-//   It reads x = px, y = py, phi = atan2(r21, r11) and nothing else of ^B_P T. B_i = p + R c_i.
-// * Actuated variables: theta1..theta3 (revolute). Passive variables (the Newton unknowns): x, y,
-//   phi. Residual: (|d_i|^2 - b_i^2) / (2 b_i) with the link d_i = B_i - E_i (metres; |d_i| - b_i
-//   to first order), one per leg: a polynomial in (x, y, cos phi, sin phi, cos theta_i, sin
-//   theta_i); no false closure (alignment 1).
-// * Inverse: with v_i = B_i - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i
-//   v_x, F = -2 a_i v_y, G = |v_i|^2 + a_i^2 - b_i^2, solved through its tan-half-angle quadratic
-//   (``half_angle_solution``): theta_i = angle(v_i) + sigma_i gamma_i, gamma_i = acos(G / (2 a_i
-//   |v_i|)) the angle of the triangle A_i E_i B_i at A_i. sigma_i = +1 turns the crank
-//   counter-clockwise from the line A_i -> B_i (the elbow to the left of A_i -> B_i), -1 clockwise.
-//   Branch k: signs (sigma1, sigma2, sigma3) of ``InversePose.branches[k]``, branch 0 = all +1.
-//   Validity ``leg<i>_reachable`` = (E^2 + F^2 - G^2) / (E^2 + F^2 + G^2), the discriminant made
-//   unitless (positive where |a_i - b_i| < |v_i| < a_i + b_i).
-// * Rates: A (vx, vy, wz) = B theta_dot with (vx, vy) the velocity of the origin of {P} and wz the
-//   angular rate, in {B}, from d_i . d_i = b_i^2: row i of A = (d_x, d_y, ((E_i - p) x d_i) . z)
-//   (the planar Pluecker coordinates of link line i, moment about the origin of {P}), B =
-//   diag(((E_i - A_i) x d_i) . z). Type I (serial, det B = 0): ``leg<i>_links_aligned``, crank and
-//   link i aligned (stretched or folded: the workspace boundary). Type II (det A = 0): the three
-//   link lines meet in one point or are parallel (``link_lines_concurrent_or_parallel``, written
-//   with the moments about E_1: the same determinant in smaller expressions).
-// * Forward pose: none in closed form here (``forward=None``): Newton on the closure from a guess
-//   (``forward_pose``), or the generic all-modes stage built from the closure residual.
-// * Defaults (illustrative, not from a paper): a symmetric design, base joints on a circle of radius
-//   0.5 m and platform joints on a circle of radius 0.3 m, both at 210, 330 and 90 degrees; cranks
-//   a_i = 0.3 m, links b_i = 0.35 m. Home: the platform centred, p = 0, phi = 0, on branch 0 (every
-//   elbow to the left of A_i -> B_i; closure Jacobian well conditioned, pivot ratio about 0.36).
-// * Six real assembly modes: at the defaults the cranks theta = (-54, 174, -105) degrees
-//   (``SIX_MODES_INPUT``) admit 6 real assembly modes (``SIX_MODES``, the most a 3-RRR can have),
-//   found by a numerical search over whole-degree inputs for the best-conditioned modes, and
-//   checked by an independent sign-change scan over phi in tests/test_planar_3rrr.py. It is no
-//   actuated ``Example`` yet: the contract test of actuated examples needs ``forward_pose_all``,
-//   which a mechanism without a forward model does not have; the example ``six_modes_pose`` checks
-//   one of the six poses through the inverse instead.
+// Conventions (SI, radians; derivation: ``docs/derivations/planar_3rrr.md``):
+// * {B}: the plane of motion z = 0; base joints A_i = (base_x<i>, base_y<i>, 0). Crank a_i at the
+//   angle theta_i from the x axis (counter-clockwise), elbow E_i = A_i + a_i (cos theta_i,
+//   sin theta_i, 0); link b_i from E_i to the platform joint B_i = p + R c_i.
+// * {P}: platform joints c_i = (platform_x<i>, platform_y<i>, 0). Pose planar: ^B_P T =
+//   [Rot_z(phi), (x, y, 0)]; the inverse reads x = px, y = py, phi = atan2(r21, r11); passive x, y, phi.
+// * Inverse branches: sigma_i = +1 the elbow to the left of A_i -> B_i; branch 0 = all +1; validity
+//   ``leg<i>_reachable``. Type I ``leg<i>_links_aligned``, type II ``link_lines_concurrent_or_parallel``.
+// * Forward pose: the generator's polynomial form (``forward=None``).
+// * Defaults (illustrative): base joints on a circle of 0.5 m, platform joints on one of 0.3 m, at
+//   210, 330 and 90 deg; cranks 0.3 m, links 0.35 m; home p = 0, phi = 0 on branch 0. The cranks
+//   theta = (-54, 174, -105) deg admit 6 real assembly modes (``SIX_MODES``).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "planar_3rrr_", so the C of several mechanisms links into one program. Nothing
@@ -234,6 +205,44 @@ int planar_3rrr_forward_pose_all(const planar_3rrr_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int planar_3rrr_forward_pose_all_counted(const planar_3rrr_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// planar_3rrr_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} planar_3rrr_certify_job;
+
+long long planar_3rrr_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int planar_3rrr_certify_roots(const planar_3rrr_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

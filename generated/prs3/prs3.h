@@ -19,83 +19,23 @@
 // 3-PRS parallel manipulator: three vertical rails, each carrying an actuated slider, a passive
 // revolute joint on the slider, a link of fixed length and a spherical joint on the platform. Three
 // degrees of freedom (the height and two tilts) with parasitic motion: the horizontal position and
-// the rotation about the vertical follow from them. The classical architecture of L.-W. Tsai,
-// "Robot Analysis" (1999), and of Carretero, Podhorodeski, Nahon & Gosselin (2000), "Kinematic
-// analysis and optimization of a new three degree-of-freedom spatial parallel manipulator", J. Mech.
-// Design 122(1); the formulas below are derived here (and checked by tests/test_prs3.py), not
-// copied from either text.
+// the rotation about the vertical follow from them. The architecture of L.-W. Tsai, "Robot Analysis"
+// (1999), and of Carretero, Podhorodeski, Nahon & Gosselin (2000); the formulas are derived here
+// (``docs/derivations/prs3.md``, checked by tests/test_prs3.py), not copied from either text.
 // 
-// Frames and conventions (SI, radians):
-// * {B}: z = k along the rails; rail i stands at A_i = r_b (cos theta_i, sin theta_i, 0) with
-//   theta_i = 0, 120, 240 deg. Its radial direction e_i = (cos theta_i, sin theta_i, 0), its
-//   tangent u_i = (-sin theta_i, cos theta_i, 0).
-// * Actuated: the slider strokes d1..d3 (metres) along the rails, S_i = A_i + d_i k. Their ranges
-//   (``limits``) are the rails, 0 <= d_i <= RAIL_LENGTH.
-// * Leg i: a revolute joint at S_i with axis u_i (horizontal, tangent to the base circle), a link
-//   of length L from S_i to the spherical joint C_i = R c_i + p, c_i = r_p e_i in {P} (the same
-//   angles). The revolute joint keeps the link in the plane through S_i normal to u_i, the plane
-//   of the rail and the centre: (C_i - A_i) . u_i = 0; the link: |C_i - S_i| = L.
-// * Passive variables (the Newton unknowns) as in ``stewart``: the position p = (x, y, z) of the
-//   origin of {P} (the platform centre) and the unit quaternion q = (q0, q1, q2, q3) of R (scalar
-//   first, R(q) v = q v q* / |q|^2). The closure is square, 7 equations in 7 unknowns, rational in
-//   (p, q, d) (no trigonometric or piecewise function): the three plane constraints
-//   (C_i - A_i) . u_i (metres), the three link residuals (|C_i - S_i|^2 - L^2) / (2 L) (metres;
-//   |C_i - S_i| - L to first order) and (q . q - 1) / 2. q and -q are the same pose.
-// * Parasitic motion (derived here; tests/test_prs3.py checks it symbolically, and numerically in
-//   the Euler form): write n = R^T k = (r31, r32, r33), the base vertical seen from {P}, which fixes
-//   the tilt. Every rotation with that n is Rot_z(psi) R0, R0 the tilt about a horizontal axis (no
-//   torsion: Z-Y-Z Euler angles (alpha, beta, -alpha)); the sum of the three plane constraints is
-//   free of x and y (sum u_i = 0) and reads a cos psi + b sin psi = 0, so two rotations keep the
-//   joints in their planes: R0 itself (psi = 0), with the platform centre at
-//       x0 = -r_p (n_x^2 - n_y^2) / (2 (1 + n_z)),  y0 = r_p n_x n_y / (1 + n_z)
-//   (x0 = r_p (cos beta - 1) cos(2 alpha) / 2, y0 = r_p (1 - cos beta) sin(2 alpha) / 2 in Euler
-//   angles), and its half-turn about the vertical, Rot_z(pi) R0 at (-x0, -y0) (each platform joint
-//   on the far side of the centre from its rail; reachable only with long links). The height z is
-//   free. So the reachable poses are a 3-D set, parametrised by (z, n) and the half-turn, and
-//   every reachable rotation has q3 = 0 (R0) or q0 = 0 (its half-turn).
-// * Inverse pose (pose_kind 'transform', 8 branches): a pose of the platform has 6 coordinates but
-//   the mechanism reaches only a 3-D set of them, so ``inverse_pose`` reads what the actuators
-//   control, as sphere2r's inverse reads only the pointing axis: the height z = pz, the tilt
-//   n = (r31, r32, r33), and which of the two rotations above is nearer R (the sign of the cosine
-//   of the angle about the vertical from R0 to R, (R R0^T)_11; +1 where it is 0). x, y and the rotation about the
-//   vertical of the given pose are NOT read: the inverse returns the reachable pose with the given
-//   height and tilt (its passive values and ``platform_pose``), which is the given pose exactly
-//   when that pose is reachable. Compare ``m.platform_pose(ik.actuated[k], ik.passive[k])`` with
-//   your pose to see how far off the reachable set it was. Then per leg, with h_i the horizontal
-//   part of C_i - A_i: d_i = (C_i - A_i) . k - sigma_i sqrt(L^2 - |h_i|^2); branch sign
-//   sigma_i = +1 puts the slider below the platform joint (the link rises to the platform),
-//   -1 above it; validity ``leg<i>_reachable`` = (L^2 - |h_i|^2) / L^2 (the link reaches the
-//   joint's rail distance; 0: the link is horizontal, a serial singularity).
-// * The model (``MODEL``) is three P-R-S legs of the joint language (``generator/joints.py``):
-//   a slider on rail i, a revolute joint with axis u_i, a link of length L, a spherical joint at
-//   c_i; every derivation below comes from it, the inverse's reading of the pose (``motion``)
-//   aside.
-// * Rates (derived: Joshi & Tsai 2002, "Jacobian analysis of limited-DOF parallel manipulators",
-//   J. Mech. Design 124(2)): A twist = B d_dot over the whole twist (vx, vy, vz, wx, wy, wz), A's
-//   row i the actuation wrench of leg i, the force along the link (C_i - S_i, (C_i - p) x (C_i -
-//   S_i)), B = diag((C_i - S_i) . k); and three constraint wrenches, the force along each
-//   revolute axis through C_i, (u_i, (C_i - p) x u_i): every motion has constraints twist = 0.
-//   ``forward_rate`` returns the whole twist, parasitic (vx, vy, wz) included; ``inverse_rate``
-//   takes only twists the platform can make (BadInputError otherwise); ``actuator_forces`` and
-//   ``constraint_forces`` hold a wrench together; ``stiffness`` acts on the feasible motions.
-// * Singularity factors (``m.singularities``): ``leg<i>_link_horizontal`` = (C_i - S_i) . k
-//   (metres; the link perpendicular to its rail: the stroke is stationary, a serial singularity),
-//   and ``platform_moves_with_sliders_locked`` = det [A; constraints], the six wrenches the legs
-//   transmit dependent: zero where the platform can move with the sliders locked (the type II
-//   singularity, where the loop-closure Jacobian is singular), written by Laplace's expansion in
-//   3 x 3 blocks with polynomial entries in the quaternion.
-// * Forward pose: none written (``forward=None``): ``forward_pose_all`` tracks the polynomial
-//   form the generator derives from the closure. By the parametrisation of the links in their planes,
-//   C_i = S_i + L (cos t_i e_i + sin t_i k), the forward problem is three equations
-//   |C_i - C_j|^2 = 3 r_p^2 of bidegree (2, 2) in the half-angle tangents of (t_i, t_j): at most
-//   16 assembly modes (the multihomogeneous Bezout number, reached over the complex numbers),
-//   32 solutions (p, q) with q ~ -q. ``MODE_COUNTS`` holds inputs whose real modes an independent
-//   solver (tests/test_prs3.py) has counted; at the input with 16 real modes, 8 have q3 = 0 and 8
-//   q0 = 0.
-// * Defaults (not from a paper: a compact design chosen here, links longer than r_b + r_p so that
-//   every kind of mode can occur): r_b = 0.2 m, r_p = 0.1 m, L = 0.35 m, rails of 1 m. Home: the
-//   platform level at z = 0.6 m (every stroke 0.6 - sqrt(L^2 - (r_b - r_p)^2) = 0.2646 m), links
-//   rising (branch 0), a regular configuration.
+// Conventions (SI, radians):
+// * {B}: z = k along the rails; rail i at A_i = r_b e_i, e_i = (cos theta_i, sin theta_i, 0),
+//   theta_i = 0, 120, 240 deg, tangent u_i = (-sin theta_i, cos theta_i, 0). {P}: c_i = r_p e_i.
+// * Actuated: the slider strokes d1..d3 (metres), S_i = A_i + d_i k, 0 <= d_i <= RAIL_LENGTH.
+// * Leg i: a revolute joint at S_i about u_i, a link of length L, a spherical joint at C_i = p + R c_i.
+// * Passive: p = (x, y, z) and the unit quaternion q0..q3 (scalar first); q and -q are one pose.
+// * Inverse pose (8 branches, sigma_i = +1: the link rises to the platform): it reads what the
+//   actuators control, the height z and the tilt n = R^T k (and the half-turn about the vertical
+//   nearer R), and returns the reachable pose with them (accelerator ``_prs3_reading.py``); x, y
+//   and the turn about the vertical of the given pose are not read. Validity ``leg<i>_reachable``.
+// * Forward pose: the generator's polynomial form, at most 16 assembly modes (``MODE_COUNTS``).
+// * Defaults (a compact design chosen here): r_b = 0.2 m, r_p = 0.1 m, L = 0.35 m, rails of 1 m;
+//   home: the platform level at z = 0.6 m, links rising (branch 0).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "prs3_", so the C of several mechanisms links into one program. Nothing
@@ -253,6 +193,44 @@ int prs3_forward_pose_all(const prs3_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int prs3_forward_pose_all_counted(const prs3_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// prs3_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} prs3_certify_job;
+
+long long prs3_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int prs3_certify_roots(const prs3_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

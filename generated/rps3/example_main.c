@@ -92,6 +92,18 @@ int main(void) {
     (void)root_kind;
     (void)passive;
     failed |= status != RPS3_INPUT_OK || count == 0;
+    // Krawczyk's certificate of candidate roots of any square polynomial system (here z^2 - 2 = 0
+    // near +-1.41421356): each box holds exactly one root, and that root is real
+    double coefficients[4] = {1.0, 0.0, -2.0, 0.0}, candidates[4] = {1.41421356, 0.0, -1.41421356, 0.0};
+    long long exponents[2] = {2, 0}, equation[2] = {0, 0};
+    int unique[2] = {0, 0}, real[2] = {0, 0};
+    double radius[2] = {0.0, 0.0}, center[4], radii[2], space[256];
+    rps3_certify_job certificate = {1, 2, 2, 1, coefficients, exponents, equation, candidates, 1, NULL, 0, -1,
+                                     unique, real, radius, center, radii, space, (long long)sizeof(space)};
+    int refused = rps3_certify_workspace(2, 2, 1, 2) > (long long)sizeof(space) || rps3_certify_roots(&certificate) != 0;
+    printf("certificate of z^2 - 2: unique %d %d, real %d %d, radius %.1e\n", unique[0], unique[1], real[0], real[1],
+           radius[0]);
+    failed |= refused || !unique[0] || !unique[1] || real[0] != 1 || real[1] != 1;
     // Newton from a guess (a tracker would pass its last solution and alias guess and passive)
     double solved[7], pose[16], norm, ratio, first_step;
     int iterations, newton_status, orientation;

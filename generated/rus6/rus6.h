@@ -19,60 +19,22 @@
 // 6-RUS rotary hexapod: six legs, each an actuated revolute joint on the base turning a crank, a
 // universal joint at the crank tip, a rod of fixed length and a spherical joint on the platform
 // (Hunt 1983, the rotary-actuated variant of the 6-SPS; Merlet, "Parallel Robots", 2006). With the
-// cranks locked the crank tips are fixed points and the rods legs of fixed length: the forward pose
-// is that of a general 6-6 Gough-Stewart platform on the crank tips (40 complex assembly modes,
-// all real for Dietmaier's geometry: example ``dietmaier_cranks``).
+// cranks locked the forward pose is that of a general 6-6 Gough-Stewart platform on the crank tips
+// (40 complex assembly modes, all real for Dietmaier's geometry: example ``dietmaier_cranks``).
 // 
-// Frames and conventions (SI, radians):
-// * {B}: base frame. Motor i turns about the axis u_i (parameter group ``axis``, 6 x 3, unit
-//   vectors in {B}) through the shaft point A_i (group ``base``, in {B}). Its crank, of length a_i,
-//   points along e1_i (group ``crank_zero``, unit vectors normal to u_i) at theta_i = 0 and along
-//   e2_i = u_i x e1_i at theta_i = pi/2 (theta_i right-handed about u_i): crank tip
-//   E_i = A_i + a_i (cos theta_i e1_i + sin theta_i e2_i). The closure is polynomial in the
-//   parameters; e1_i . u_i = 0 and |u_i| = |e1_i| = 1 are the user's to keep (the defaults do).
-// * {P}: platform frame, platform joints c_i (group ``platform``, in {P}); B_i = R c_i + p with
-//   ^B_P T = (R, p). The rod (length b_i) joins E_i to B_i; d_i = B_i - E_i.
-// * Actuated variables: theta1..theta6 (revolute). Passive variables (the Newton unknowns), as in
-//   ``stewart``: the position p = (x, y, z) of the origin of {P} and the unit quaternion q = (q0,
-//   q1, q2, q3) of R (scalar first, R(q) v = q v q* / |q|^2). The closure is square: six rod
-//   residuals (d_i . d_i - b_i^2) / (2 b_i) (metres; |d_i| - b_i to first order), polynomial in
-//   (p, cos theta_i, sin theta_i) and rational in q, and the normalisation (q . q - 1) / 2; no
-//   false closure (alignment 1). q and -q are the same pose; the inverse returns q0 >= 0.
-// * Inverse: with v_i = B_i - A_i, leg i is E cos(theta_i) + F sin(theta_i) + G = 0, E = -2 a_i
-//   v_i . e1_i, F = -2 a_i v_i . e2_i, G = |v_i|^2 + a_i^2 - b_i^2 (a delta-robot leg), solved
-//   through its tan-half-angle quadratic: theta_i = angle_i - sigma_i gamma_i, angle_i the angle of
-//   the projection of v_i on the crank plane (from e1_i towards e2_i), gamma_i = acos(G / (2 a_i
-//   |v_i projected|)). sigma_i = +1 turns the crank from that projection backwards about u_i: in the
-//   default layout the crank below the line from its shaft to the platform joint, the usual
-//   working mode (home: every crank level). Branch k: signs (sigma1, ..., sigma6) of
-//   ``InversePose.branches[k]`` (64 combinations), branch 0 = all +1. Validity ``leg<i>_reachable``
-//   = (E^2 + F^2 - G^2) / (E^2 + F^2 + G^2), the discriminant made unitless.
-// * Rates: A twist = B theta_dot (twist = (v of the origin of {P}, w), both in {B}), from
-//   d_i . d_i = b_i^2: row i of A = (d_i ; (E_i - p) x d_i), the Pluecker coordinates of rod line i
-//   (moment about the origin of {P}); B = diag(u_i . ((E_i - A_i) x d_i)) (d_i . dE_i/dtheta_i).
-//   Type I (det B = 0): ``leg<i>_rod_in_crank_axis_plane``, the rod in the plane of the crank and
-//   the motor axis (its tip moves normal to the rod). Type II (det A = 0): ``rod_lines_dependent``.
-// * Model: six R-U-S legs (``parakin.generator.joints.crank_leg``); closure, rates, factors,
-//   inverse and drawing (shafts, crank tips ``elbow``, platform joints) are derived from them.
-// * Forward pose: none in closed form here (``forward=None``): Newton on the closure from a guess
-//   (``forward_pose``), or the generic all-modes stage built from the closure residual.
-// * Defaults (illustrative, not from a paper: a servo hexapod of the usual layout): three motor
-//   pairs centred at 0, 120 and 240 degrees about z, the shafts on a circle of radius 0.4 m at
-//   +-10 degrees from each pair's centre, horizontal axes along the pair's radial line (outwards for
-//   the second motor of a pair, inwards for the first), each crank level at theta = 0 pointing away
-//   from its pair's centre and rising for theta > 0 (e2_i = z); cranks a_i = 0.15 m, rods b_i =
-//   0.6 m; platform joints on a circle of radius 0.3 m at +-50 degrees from each pair's centre (in
-//   pairs about 60, 180 and 300 degrees). Home: R = I, p = (0, 0, HOME_Z) with every crank level
-//   (theta = 0, branch 0), HOME_Z = sqrt(b^2 - h^2) = 0.5652 m with h the horizontal distance from
-//   a level crank tip to its platform joint (example ``home_cranks_level``); the closure Jacobian
-//   there has a pivot ratio of about 0.11. Crank range: theta_i in [-pi/2, pi/2] (``limits``: from
-//   straight down to straight up, a servo's half turn about level).
-// * Dietmaier's geometry as a 6-RUS (example ``dietmaier_cranks``): platform joints, rods and the
-//   quoted pose of Dietmaier (1998) (``stewart``'s DIETMAIER_* constants), the default motor axes,
-//   crank directions and cranks, and the shafts placed at A_i = X_i - a_i (cos t e1_i + sin t e2_i)
-//   with t = DIETMAIER_THETA = pi/6 for every crank: at theta = (pi/6, ..., pi/6) the crank tips are
-//   Dietmaier's base points X_i, so the forward problem there is Dietmaier's 40-real-mode one
-//   (checked against ``stewart``'s forward_pose_all in tests/test_rus6.py).
+// Conventions (SI, radians; derivation: ``docs/derivations/rus6.md``):
+// * {B}: motor i turns about the unit axis u_i (group ``axis``) through the shaft point A_i (group
+//   ``base``); its crank a_i points along e1_i (group ``crank_zero``, normal to u_i) at theta_i = 0
+//   and along u_i x e1_i at pi/2: E_i = A_i + a_i (cos theta_i e1_i + sin theta_i u_i x e1_i).
+// * {P}: platform joints c_i (group ``platform``), B_i = R c_i + p; the rod b_i joins E_i to B_i.
+// * Actuated theta1..theta6 in [-pi/2, pi/2]; passive p = (x, y, z) and the unit quaternion q0..q3
+//   (scalar first, q0 >= 0 from the inverse).
+// * Inverse branches: sigma_i = +1 turns the crank back from the line to its platform joint (the
+//   usual working mode); 64 combinations, branch 0 = all +1; validity ``leg<i>_reachable``. Type I
+//   ``leg<i>_rod_in_crank_axis_plane``, type II ``rod_lines_dependent``.
+// * Defaults (illustrative, a servo hexapod): motor pairs at 0, 120, 240 deg, shafts on a circle of
+//   0.4 m at +-10 deg, cranks 0.15 m, rods 0.6 m, platform joints on a circle of 0.3 m at +-50 deg;
+//   home R = I, p = (0, 0, HOME_Z) with every crank level (branch 0).
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "rus6_", so the C of several mechanisms links into one program. Nothing
@@ -311,6 +273,44 @@ int rus6_forward_pose_all(const rus6_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// rus6_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} rus6_certify_job;
+
+long long rus6_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int rus6_certify_roots(const rus6_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -19,47 +19,26 @@
 // Public C interface of the generated sam solvers: Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000).
 // R. L. Williams II, D. B. Poling (2000)
 //
-// SAM, the Spherically-Actuated platform Manipulator (2-SPU, 6 dof).
+// SAM, the Spherically-Actuated platform Manipulator (2-SPU, 6 dof): R. L. Williams II and
+// D. B. Poling, "Spherically-Actuated Platform Manipulator", Journal of Robotic Systems, 2000
+// (``shared/papers/000_0fd26f24943f9b56.txt``).
 // 
-// Reference: R. L. Williams II and D. B. Poling, "Spherically-Actuated Platform Manipulator",
-// Journal of Robotic Systems, 2000 (``shared/papers/000_0fd26f24943f9b56.txt``).
-// 
-// Conventions, as in the paper:
+// Conventions, as in the paper (metres, radians; derivation: ``docs/derivations/sam.md``):
 // * Frames: fixed base {B}; platform {P}; each leg is a modified-DH chain (Craig), Table I, from
 //   its actuator frame {0} (^B_0 T: {0} at y = -L1 in {B}) to the U-joint frame {6}, and
 //   ^6_P T places {P} with its origin at x6 = -L4 (eq 3). Both U joints lie on the Y_P axis.
 // * Left leg: active S joint (theta1 roll, theta2 yaw, theta3 pitch), passive prismatic L2 and
 //   U joint (phi2, phi3). Right leg: the same table with theta4..6, L3, phi5, phi6 and the signs of
 //   L1 and L4 reversed.
-// * Pose: ^B_P T, or {x, y, z, alpha, beta, gamma} with Z-Y-X Euler angles (eq 2).
-// * Leg Jacobians (eq 9): columns (theta, theta, theta, L, phi, phi); rows (v, w) of {P}, the
-//   linear velocity of the origin of {P} and the angular velocity, both in {B}.
-// * Inverse branches per leg, signs (epsilon, delta): epsilon = sign of sin(phi2) (the two U-joint
-//   sets of eq 5), delta = sign of cos(theta2) (the two S-joint sets of eq 8). Branch 0 of a leg is
-//   (+, +), the first row of Table II; SAM branch k = 4 * left branch + right branch.
-// * Lengths in metres, angles in radians.
-// 
-// What is written here: Table I per leg with eq (3)'s fixed transforms (``spu_leg``), the actuated
-// S joints, the parameters, the home, the examples, and the closed-form forward pose
-// (``forward_elimination``, an accelerator). The generator (``parakin.generator.chains``) reads the
-// S-P-U structure from the table and derives the rest: the inverse of section 3.1 as subproblems
-// (L2 the distance of the S and U centres, eq 5; the U joint pointing the leg line, eq 5's two sets,
-// its sign the one above: sin(phi2) = sign * rho / L2; the S joint's Euler decomposition, eqs 6-8,
-// its sign that of cos(theta2) = sin(theta2 + 90 deg)), the validity conditions
-// ``<leg>_u_joint_not_aligned`` (the leg along the U joint's platform axis Z_P: phi3 undetermined)
-// and ``<leg>_s_joint_not_locked`` (|cos(theta2)|: gimbal lock), the leg determinants' factors
-// (eq 13-14: ``<leg>_leg_length``, ``<leg>_s_joint_gimbal_lock``, ``<leg>_u_joint_aligned``), the
-// closed-loop factors (``u_joint_axes_parallel``: the axes z4 of both U joints and Z_P parallel to
-// one plane; ``legs_coplanar_with_platform_x``: both leg lines and X_P; ``platform_span`` = 2 L4),
-// the joint limits (L2, L3 >= 0) and the drawing (S centres, U centres as each leg reaches them,
-// the platform bar with a marker at L4 along X_P).
-// * Home (the default Newton guess, ``parakin plot sam``, exported C examples): the last pose of
-//   section 4.2's inverse-pose trajectory, {x y z alpha beta gamma} = {0.05 0.05 0.714 0 0 5 deg}
-//   (ten steps of {5 mm, 5 mm, 5 mm, 0, 0, 0.5 deg} from eq (15), ``SECTION42_HOME``), on the
-//   paper's branch 2 (``PAPER_BRANCH``): a regular configuration (closure Jacobian pivot ratio 0.50,
-//   four assembly modes). The paper's nominal pose eq (15) itself is a type II singularity (both
-//   U-joint axes z4 parallel to X_B, a self-motion; tests/test_sam_paper.py): it stays the named
-//   example ``eq15_nominal``, never the home.
+// * Pose: ^B_P T, or {x, y, z, alpha, beta, gamma} with Z-Y-X Euler angles (eq 2). Leg Jacobians
+//   (eq 9): columns (theta, theta, theta, L, phi, phi); rows (v, w) of {P} in {B}.
+// * Inverse branches per leg, signs (epsilon, delta): epsilon = sign of sin(phi2) (eq 5), delta =
+//   sign of cos(theta2) (eq 8); branch 0 of a leg is (+, +), Table II's first row; SAM branch
+//   k = 4 * left branch + right branch.
+// * Forward pose: closed form (accelerator ``_sam_forward.py``), 2 x 2 modes.
+// * Home: section 4.2's last trajectory pose {0.05 0.05 0.714 0 0 5 deg} on the paper's branch 2
+//   (``SECTION42_HOME``, ``PAPER_BRANCH``), regular; eq (15)'s nominal pose is a type II
+//   singularity (a self-motion), the named example ``eq15_nominal``.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "sam_", so the C of several mechanisms links into one program. Nothing
@@ -216,6 +195,44 @@ int sam_forward_pose_all(const sam_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int sam_forward_pose_all_counted(const sam_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// sam_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} sam_certify_job;
+
+long long sam_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int sam_certify_roots(const sam_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -15,20 +15,13 @@
 // The 2R spherical serial chain of section 2 of the ED5314 report
 // (``shared/papers/001_cec8c69b51cbfe6d.txt``): two revolute joints whose axes meet at the centre O.
 // 
-// Conventions (SI, radians): fixed axis u = Z_B, angle reference k = X_B (normal to u). Link 1 turns
-// by theta1 about u, link 2 by theta2 about the intermediate axis v; alpha1 = angle(u, v),
-// alpha2 = angle(v, w), w the end (pointing) axis. With Rot(a, t) a right-handed rotation about a:
-//     m = Rot(u, theta1) k            (eq 1)
-//     v = Rot(m, alpha1) u            (eq 2; printed as Rot(u, alpha1) u, which is u itself)
-//     n = Rot(v, theta2) m            (eq 3)
-//     w = Rot(n, alpha2) v            (eq 4)
-// The end frame is ^B_P R = [n, w x n, w] (pose_kind 'rotation'); inverse pose uses only its Z axis w.
-// Inverse (eqs 5-13, corrected): v . u = cos(alpha1), v . w = cos(alpha2) (eqs 5, 6 swap the two),
-// |v| = 1 give v = p u + q w + sigma r (u x w), two branches sigma = +-1; then m = u x v / sin(alpha1),
-// n = v x w / sin(alpha2) (eqs 8, 9 without the normalisation), theta1 = atan2((k x m) . u, k . m),
-// theta2 = atan2((m x n) . v, m . n) (eq 13 takes the sign about u, which is wrong: the rotation is
-// about v). Defaults: the report gives no numbers for the chain; alpha1 = 45, alpha2 = 90 deg are the
-// SPM example's link angles.
+// Conventions (SI, radians; derivation: ``docs/derivations/sphere2r.md``): fixed axis u = Z_B, angle
+// reference k = X_B. Link 1 turns by theta1 about u, link 2 by theta2 about the intermediate axis v;
+// alpha1 = angle(u, v), alpha2 = angle(v, w), w the end (pointing) axis; with Rot(a, t) right-handed
+// about a: m = Rot(u, theta1) k, v = Rot(m, alpha1) u, n = Rot(v, theta2) m, w = Rot(n, alpha2) v
+// (eqs 1-4). The end frame is ^B_P R = [n, w x n, w] (pose_kind 'rotation'); the inverse uses only w,
+// two branches sigma = +-1 (accelerator ``_sphere2r_inverse.py``). Defaults: the report gives no
+// numbers for the chain; alpha1 = 45, alpha2 = 90 deg are the SPM example's link angles.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "sphere2r_", so the C of several mechanisms links into one program. Nothing
@@ -137,6 +130,44 @@ typedef struct {
 } sphere2r_step_job;
 
 long long sphere2r_forward_pose_step(const sphere2r_newton_job* job, const sphere2r_step_job* step);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// sphere2r_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} sphere2r_certify_job;
+
+long long sphere2r_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int sphere2r_certify_roots(const sphere2r_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -22,37 +22,20 @@
 // The 3-RRR spherical parallel manipulator (SPM), with the parametrisation of Bai, Hansen and
 // Angeles (2009), as analysed in the ED5314 report (``shared/papers/001_cec8c69b51cbfe6d.txt``).
 // 
-// Frames and conventions (SI, radians):
-// * {B} and {P} have their origin at the centre of rotation; the pose is a pure rotation R = ^B_P R
-//   (pose_kind 'rotation': ^B_P T has zero translation).
-// * eta_i = 2 pi (i - 1) / 3. Actuated axes u_i = Rz(eta_i) (0, sin gamma, -cos gamma) (gamma: base
-//   pyramid half-angle). Intermediate axes w_i = cos(alpha1) u_i + sin(alpha1) (cos(theta_i) e1_i +
-//   sin(theta_i) e2_i) with e1_i = Rz(eta_i) (0, -cos gamma, -sin gamma), e2_i = u_i x e1_i: theta_i
-//   is a right-handed rotation about u_i. Platform axes v_i = R v0_i, v0_i = Rz(eta_i) (0, sin beta,
-//   cos beta) (beta: platform half-angle). Leg closure: w_i . v_i = cos(alpha2).
-//   alpha1 is the proximal link angle (u to w), alpha2 the distal one (w to v).
-// * The model (``MODEL``) is three crank legs of the joint language on the unit sphere: w_i turns
-//   on the cone of half-angle alpha1 about u_i (a crank of radius sin(alpha1) about the axis u_i
-//   through cos(alpha1) u_i), and |v_i - w_i| = 2 sin(alpha2 / 2) is w_i . v_i = cos(alpha2). The
-//   passive variables are the unit quaternion q0..q3 of R (scalar first); closure, rates (A rows
-//   (w_i x v_i)^T, B = diag((u_i x w_i) . v_i): ``leg<i>_axes_coplanar``, zero where the distal link
-//   lies in the proximal plane), the parallel factor det A (``distal_plane_normals_coplanar``),
-//   the inverse and the drawing are derived from it; the Agile Eye's folded poses (a zero
-//   ``leg<i>_axes_coplanar`` at every input) are flagged input-independent.
-// * Distal angles phi_i (the elimination's unknowns): v_i = cos(alpha2) w_i + sin(alpha2)
-//   (cos(phi_i) n1_i + sin(phi_i) n2_i), n1_i = (u_i x w_i) / sin(alpha1), n2_i = w_i x n1_i.
-//   phi_i = +-90 deg puts the distal link in the proximal plane (a serial singularity).
+// Conventions (SI, radians; derivation: ``docs/derivations/spm.md``):
+// * {B} and {P} at the centre of rotation; the pose is a rotation R (pose_kind 'rotation').
+// * eta_i = 2 pi (i - 1) / 3. Actuated axes u_i = Rz(eta_i) (0, sin gamma, -cos gamma); intermediate
+//   axes w_i = cos(alpha1) u_i + sin(alpha1) (cos(theta_i) e1_i + sin(theta_i) e2_i), e1_i =
+//   Rz(eta_i) (0, -cos gamma, -sin gamma), e2_i = u_i x e1_i (theta_i right-handed about u_i);
+//   platform axes v_i = R v0_i, v0_i = Rz(eta_i) (0, sin beta, cos beta). Leg closure: w_i . v_i =
+//   cos(alpha2); alpha1 the proximal link angle, alpha2 the distal one.
+// * Passive: the unit quaternion q0..q3 of R (scalar first).
 // * Inverse branches: sigma_i = +-1 in theta_i = atan2(B, A) + sigma_i acos(-C / sqrt(A^2 + B^2)),
-//   8 combinations numbered as in ``parakin.Mechanism`` (branch 0 = all +).
-// * Defaults: the report's example (section 3.2.3) read with alpha1 and alpha2 swapped, the only
-//   reading that reproduces its "8 independent solutions": alpha1 = 45 deg (proximal), alpha2 =
-//   90 deg (distal), beta = 60 deg, gamma = 45 deg (see tests/test_spm.py). Home: R = I on inverse
-//   branch 0 (theta_i = -74.46 deg, phi_i = 158.53 deg), a regular, symmetric configuration.
-// * Forward pose (an accelerator; the generator also derives the polynomial form from the closure,
-//   method "automatic"): x = tan((phi1 - 1/2) / 2). Two equations in (x, y = tan(phi2 / 2)), E1 = v1.v2 - cos(psi)
-//   and E2 = w3 . v3(v1, v2) - cos(alpha2), with leg 3 imposed on the rigid platform (which fixes its
-//   handedness, so the report's mirror solutions never enter), are biquadratic; their resultant in y
-//   (formed over generic coefficients) has degree 8 in x, the bound of Gosselin et al. (1994).
+//   8 combinations (branch 0 = all +).
+// * Forward pose: a degree-8 resultant in x = tan((phi1 - 1/2) / 2) (accelerator ``_spm_forward.py``).
+// * Defaults: the report's example (section 3.2.3) with alpha1 and alpha2 swapped, the only reading
+//   with its "8 independent solutions": alpha1 = 45, alpha2 = 90, beta = 60, gamma = 45 deg
+//   (tests/test_spm.py). Home: R = I on inverse branch 0, regular and symmetric.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "spm_", so the C of several mechanisms links into one program. Nothing
@@ -211,6 +194,44 @@ int spm_forward_pose_all(const spm_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int spm_forward_pose_all_counted(const spm_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// spm_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} spm_certify_job;
+
+long long spm_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int spm_certify_roots(const spm_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -22,68 +22,21 @@
 // The 3(SPS)-S spherical platform of Knapczyk and Tora (``shared/papers/002_91f1e7509f31240b.txt``):
 // an orienting platform on a central spherical joint Q, driven by three linear actuators A_i B_i.
 // 
-// Frames and conventions (SI, radians), as in section 2 of the paper:
-// * {B} and {P} both have their origin at Q (pose_kind 'rotation': ^B_P T has zero translation).
-//   x_b points from Q to A1 and y_b lies in the plane Q A1 A2 (A2 on the +y side); x_p points from Q
-//   to B1 and y_p lies in the plane Q B1 B2 (B2 on the +y side). So a1 = (a1x, 0, 0),
-//   a2 = (a2x, a2y, 0) with a2y > 0, a3 = (a3x, a3y, a3z), and the platform points are fixed by
-//   |QB_i| = b_i and |B_i B_j| = b_ij: b1p = b1 (1, 0, 0), b2p = b2 (q12, sqrt(1 - q12^2), 0),
-//   b3p = b3 (q13, (q23 - q12 q13) / s, chi sqrt(D3) / s) with s = sqrt(1 - q12^2), q_ij the cosines
-//   of eq (1c) and D3 their Gram determinant (eq 5). The distances do not fix the handedness chi of
-//   the platform (the sign of det[b1p b2p b3p]); chi = -1 reproduces the paper's printed b_3.
-// * Orientation: b_i = R b_ip (eq 8) with the Euler set of eq (9), R = Rx(alpha) Ry(beta) Rx(gamma)
-//   (Craig's X'-Y'-X' set; the paper's text calls it "R_{y',y',y'}", a typo). The passive
-//   variables are (alpha, beta, gamma). Inverse branch sigma = sign(sin beta): the two Euler triples
-//   of one rotation; both give the same leg lengths. sin beta = 0 is a singularity of the Euler set
-//   only (validity ``euler_angles_regular``).
-// * Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7). Their strokes d_i_min <= d_i <= d_i_max
-//   (section 5, ``STROKES``) are the actuated ranges (``limits``): every solver refuses lengths
-//   outside them (BadInputError) and the inverse pose flags the branches whose lengths leave them
-//   (failure ``actuator_range``), one check in one place for forward_pose, forward_pose_all, the
-//   tracker and the inverse. k1..k3 (N/m, section 5) are the actuator stiffnesses, delta f_i = k_i delta d_i with f_i > 0
-//   a compression (the leg pushes the platform along u_i = (B_i - A_i) / d_i), declared as the
-//   mechanism's ``actuator_stiffness``; the kinematics do not use them (statics, section 4:
-//   ``examples/sps_section5.py``).
-// * Model: three S-P-S legs (``parakin.generator.joints``) on a platform with this Euler set as
-//   coordinates: rates, the singularity factor, the inverse (with validity ``leg<i>_length`` and
-//   ``euler_angles_regular``) and the drawing are derived; the closure below is the paper's.
-// * Loop closure: g_i = a_i^2 + b_i^2 - 2 a_i . R b_ip - d_i^2 = 0 (eq 7), square in (alpha, beta,
-//   gamma). Its passive Jacobian is U_omega (eq 11a) and its actuated Jacobian W = -2 diag(d) (eq
-//   12), so the closure's passive rates are J_omega^-1 = -U_omega^-1 W (eq 17 lacks the minus sign).
-//   R(alpha, beta, gamma) is always a proper rotation, so every zero of g is a true closure: the
-//   alignment output is the constant 1 (there is no mirror or half-turn to reject).
-// * Rates (A omega = B d_dot, omega in {B}): d_i d_i_dot = (a_i x b_i) . omega, so A has rows
-//   (a_i x b_i)^T and B = diag(d_i). det A = det[a_i x b_i] vanishes at the type II singularities
-//   (the three leg moment vectors about Q coplanar); det U_omega = 8 sin(beta) det[b_i x a_i].
-// * Forward pose (eqs 2-6): the paper's unknown is v = a2o . b1o (eq 2); eq (3) gives b1o and eq
-//   (4) b2o with the roots r1 = s1 sqrt(D1), r2 = s2 sqrt(D2) (the printed "1/2 sqrt(D1)", "1/2
-//   sqrt(D2)" read +-sqrt); the sign in eq (5) is not a branch: sqrt(D3) enters as chi sqrt(D3), a
-//   platform constant. Rationalising F(v) (squaring out r1, r2) gives a degree-12 polynomial with
-//   the spurious factor (v^2 - 1)^2, and v folds the two configurations s1 = +-1 onto one value, so
-//   that at D1 ~ 0 or near v = 1 distinct configurations make clustered, ill-conditioned roots in v.
-//   The generated code therefore eliminates in angles instead: b1o = p1 a1o + rho1 (cos phi y_b +
-//   sin phi z_b) on the cone of leg 1 and b2o = p2 a2o + rho2 (cos psi (z_b x a2o) + sin psi z_b)
-//   on that of leg 2 (rho_i = sqrt(1 - p_i^2)); eq (4)'s condition E1 = b1o . b2o - q12 = 0 and
-//   eq (6)'s E2 = a3o . b3o - p3 = 0 with b3o = k1 b1o + k2 b2o + k3 b1o x b2o (eq 5) are bilinear
-//   in (1, cos, sin) of phi and psi, so biquadratic in x = tan(phi / 2), y = tan(psi / 2); their
-//   resultant in y (generator.elimination) is the degree-8 forward polynomial in t = x, without
-//   square roots or spurious factors (8 = the Bezout number of the quaternion formulation; at the
-//   real roots, v = c12 p1 + s12 rho1 cos phi gives the paper's roots). Distinct real roots t are
-//   distinct b1o, so D1's fold and v = 1 are gone. For each root t and branch tau = +-1 the back
-//   substitution takes a zero psi of E = |E1| E1 + |E2| E2 (each E_n = alpha_n + beta_n cos psi +
-//   gamma_n sin psi at that t, |E_n| its coefficient norm, so that neither degenerate case, E1 = 0
-//   at b1o = +-a2o or E2 = 0, loses the root), builds b1o, b2o and R, then takes six gated
-//   Cayley-Newton steps on the leg equations. At a (near-)double root t (two configurations with
-//   nearly the same b1o), rounding may split the pair into a complex pair close to the real axis:
-//   the root isolation reports it as a near-real root (a local minimum of |p| within the near-real
-//   tolerance), and the two branches tau give the two configurations. Candidates that do not close are dropped by the runtime, and
-//   duplicates merged, so a mode's (root, branch) slot does not label it:
-//   ``paper_labels`` of ``examples/sps_section5.py`` computes (v, s1, s2) from the configuration (paper order
-//   v1..v4 = branches (s1, s2) = (+, +), (+, -), (-, +), (-, -)), and
-//   ``polynomial_roots`` of ``examples/sps_section5.py`` maps the roots t to v.
-// * Defaults: section 5 (Baukema SHM4-120A), with a3x = +2.720 m (printed -2.720: with it no
-//   configuration exists, and the printed b_3 is 5.07 m from A3 instead of d3 = 1.32 m; see
-//   tests/test_sps.py), chi = -1, strokes and stiffnesses as printed.
+// Conventions (SI, radians; section 2 of the paper; derivation: ``docs/derivations/sps.md``):
+// * {B} and {P} at Q (pose_kind 'rotation'). x_b from Q to A1, y_b in the plane Q A1 A2 (A2 on its
+//   +y side): a1 = (a1x, 0, 0), a2 = (a2x, a2y, 0), a3 = (a3x, a3y, a3z). x_p from Q to B1, y_p in
+//   the plane Q B1 B2: the platform points b_ip follow from |QB_i| = b_i and |B_i B_j| = b_ij (eq 1c)
+//   up to the handedness chi = sign det[b1p b2p b3p] (chi = -1: the paper's printed b_3).
+// * Orientation R = Rx(alpha) Ry(beta) Rx(gamma) (eq 9, X'-Y'-X'); passive (alpha, beta, gamma);
+//   inverse branch sigma = sign(sin beta), sin beta = 0 a singularity of the Euler set only
+//   (validity ``euler_angles_regular``).
+// * Actuated: the leg lengths d_i = |a_i - R b_ip| (eq 7) within their strokes (section 5,
+//   ``STROKES``: the actuated ranges). k1..k3 (N/m): actuator stiffnesses, delta f_i = k_i delta d_i,
+//   f_i > 0 a compression (``actuator_stiffness``; statics: ``examples/sps_section5.py``).
+// * Forward pose: a degree-8 polynomial in t = tan(phi / 2) (accelerator ``_sps_forward.py``);
+//   its (root, branch) slot does not label a mode (``paper_labels`` of ``examples/sps_section5.py``).
+// * Defaults: section 5 (Baukema SHM4-120A) with a3x = +2.720 m (printed -2.720: no configuration
+//   exists with it; tests/test_sps.py), chi = -1, strokes and stiffnesses as printed.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "sps_", so the C of several mechanisms links into one program. Nothing
@@ -254,6 +207,44 @@ int sps_forward_pose_all(const sps_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int sps_forward_pose_all_counted(const sps_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// sps_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} sps_certify_job;
+
+long long sps_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int sps_certify_roots(const sps_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

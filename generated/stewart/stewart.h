@@ -25,27 +25,13 @@
 // Stewart-Gough platform of general geometry can have 40 real postures", Advances in Robot
 // Kinematics, 1998), as quoted with its pose by the issue that added this file.
 // 
-// Frames and conventions (SI, radians):
-// * {B}: base frame, base points A_i (parameter group ``base``, 6 x 3, in {B}); {P}: platform frame,
-//   platform points b_i (group ``platform``, 6 x 3, in {P}). Pose ^B_P T = (R, p); leg vector
-//   d_i = R b_i + p - A_i (Dietmaier's R x_i + t - X_i), actuated leg lengths l_i = |d_i|.
-// * Passive variables (the Newton unknowns): the position p = (x, y, z) of the origin of {P} and the
-//   unit quaternion q = (q0, q1, q2, q3) of R (scalar first, R(q) v = q v q* / |q|^2). The closure
-//   is square: six leg residuals (d_i . d_i - l_i^2) / (2 l_i) (metres; |d_i| - l_i to first order)
-//   and the normalisation (q . q - 1) / 2. Newton steps in (p, q) have no parametrisation
-//   singularity (Euler angles have one at beta = +-pi/2): the closure Jacobian is singular only at
-//   type II singularities. q and -q are the same pose; the inverse returns q0 >= 0.
-// * Rates: A twist = diag(l) l_dot with row i of A the Pluecker coordinates (d_i ; (A_i - p) x d_i)
-//   of leg line i (twist = (v of the origin of {P}, w), both in {B}); det A = 0 is the type II
-//   singularity (``leg_lines_dependent``), l_i = 0 the serial one.
-// * Forward pose (every assembly mode): the Study coordinates (e, g) of the pose, R = R(e) and
-//   p = 2 vec(g e*) / (e . e), with the Study quadric e . g = 0 turn each leg equation times
-//   e . e into a quadric in (e, g) (Wampler 1996; Husty 1996):
-//   (e.e)(|b_i|^2 + |A_i|^2 - l_i^2) + 4 g.g + 4 <g, e b_i> - 2 A_i . vec(e b_i e*) - 4 A_i . vec(g e*) = 0
-//   (<,> the 4-D inner product, products of quaternions). Seven homogeneous quadrics in the eight
-//   (e, g) have 40 isolated solutions for a general geometry (Raghavan; Ronga and Vust; Lazard;
-//   Mourrain), found by a parameter homotopy from a generic complex instance solved at generation
-//   time (``ForwardHomotopy``).
+// Conventions (SI, radians; derivation: ``docs/derivations/stewart.md``):
+// * {B}: base points A_i (parameter group ``base``, 6 x 3); {P}: platform points b_i (group
+//   ``platform``, 6 x 3). Pose ^B_P T = (R, p); actuated leg lengths l_i = |R b_i + p - A_i|.
+// * Passive: p = (x, y, z) and the unit quaternion q0..q3 of R (scalar first; q0 >= 0 from the
+//   inverse). Type II singularity ``leg_lines_dependent``.
+// * Forward pose: every assembly mode by a parameter homotopy on the Study-coordinate quadrics
+//   (accelerator ``_stewart_forward.py``), 40 for a general geometry.
 //
 // Units: SI (metres, radians). Arrays are row-major doubles; a 4 x 4 pose is ^B_P T. Every symbol
 // is prefixed with "stewart_", so the C of several mechanisms links into one program. Nothing
@@ -236,6 +222,44 @@ int stewart_forward_pose_all(const stewart_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int stewart_forward_pose_all_counted(const stewart_modes_job* job, long long* counts);
+
+// Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
+// coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
+// arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
+// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
+// real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
+// power of two near its typical size over the system's candidates; with one (homogeneous_count
+// unknowns, every equation but patch_equation homogeneous in them, the patch linear in them)
+// realness is decided in the real chart. Complex numbers are (re, im) pairs of doubles; a
+// candidate row that is not finite is no candidate. The workspace: at least
+// stewart_certify_workspace(candidates, terms, unknowns, largest exponent) bytes, 16-byte aligned.
+// Returns 0, or -1 (nothing written) for a malformed job: sizes, indices, more than 64 unknowns,
+// a group in which the equations are not homogeneous, a workspace too small.
+typedef struct {
+    long long systems;          // systems certified (a batch)
+    long long candidates;       // candidate roots per system
+    long long terms;
+    long long unknowns;
+    const double* coefficients;  // systems x terms x 2
+    const long long* exponents;  // terms x unknowns
+    const long long* equation;   // terms
+    const double* roots;         // systems x candidates x unknowns x 2
+    long long real_coefficients; // 0: never certify realness
+    const long long* homogeneous;  // homogeneous_count unknowns (0: none)
+    long long homogeneous_count;
+    long long patch_equation;    // with a homogeneous group: the patch's equation
+    int* unique;                 // systems x candidates
+    int* real;                   // systems x candidates
+    double* radius;              // systems x candidates (NaN where not unique)
+    double* center;              // systems x candidates x unknowns x 2
+    double* radii;               // systems x candidates x unknowns (NaN where not unique)
+    void* workspace;
+    long long workspace_bytes;
+} stewart_certify_job;
+
+long long stewart_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
+int stewart_certify_roots(const stewart_certify_job* job);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.
