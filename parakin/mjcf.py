@@ -1060,6 +1060,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--accuracy", choices=list(PRESETS), default="fast", help="simulation preset (default fast)")
     parser.add_argument("--timestep", type=float, help="simulation step in s (default: the preset's)")
     parser.add_argument("--payload", type=float, default=0.0, help="payload mass in kg (default 0)")
+    parser.add_argument(
+        "--link-mass", type=float, default=1.0, metavar="KG",
+        help="each link's mass, a uniform thin rod (default 1; inverse_dynamics' leg_inertias=KG is the same robot)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--platform-mass", type=float, default=1.0, metavar="KG", help="the platform's mass (default 1)"
+    )
     parser.add_argument("--no-modes", action="store_true", help="write no keyframes")
 
 
@@ -1069,7 +1076,7 @@ def run(args: argparse.Namespace, m: Mechanism) -> int:
     actuated = args.actuated  # in SI units (the command line converts --actuated-deg)
     text = to_mjcf(
         m, actuated=actuated, modes="none" if args.no_modes else "all", timestep=args.timestep,
-        accuracy=args.accuracy, payload=args.payload,
+        accuracy=args.accuracy, payload=args.payload, link_mass=args.link_mass, platform_mass=args.platform_mass,
     )  # fmt: skip
     if args.out:
         Path(args.out).write_text(text)

@@ -299,6 +299,13 @@ def test_command_line_writes_the_file(packages, tmp_path):
     assert main(["mjcf", str(packages("five_bar")), "--out", str(out), "--accuracy", "accurate"]) == 0
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.nkey == 2 and math.isclose(model.opt.timestep, 2e-4)
+    # the masses: --link-mass the links' (thin rods, as inverse_dynamics' leg_inertias=0.3)
+    assert (
+        main(["mjcf", str(packages("five_bar")), "--out", str(out), "--link-mass", "0.3", "--platform-mass", "2"]) == 0
+    )
+    model = mujoco.MjModel.from_xml_path(str(out))
+    masses = {model.body(b).name: float(model.body_mass[b]) for b in range(1, model.nbody)}
+    assert masses == {"leg1_link1": 0.3, "leg1_link2": 0.3, "platform": 2.0, "leg2_link1": 0.3, "leg2_link2": 0.3}
 
 
 # ---------------------------------------------------------------------------- the manifest's graph
