@@ -24,12 +24,22 @@ Conventions:
 
 Example
 -------
+The five-bar as ``parakin.mjcf.to_mjcf`` writes it (1 kg links and platform; the function
+Examples below continue from here):
+
 >>> import mujoco
->>> model = mujoco.MjModel.from_xml_path("five_bar.xml")
->>> chain = closed_chain(model, ["theta1", "theta2"], "platform")
+>>> import numpy as np
+>>> import parakin
+>>> from parakin import mujoco_bridge as bridge
+>>> m = parakin.load("five_bar", backend="numpy")
+>>> model = mujoco.MjModel.from_xml_string(m.to_mjcf())
+>>> chain = bridge.closed_chain(model, ["theta1", "theta2"], "platform")
 >>> data = mujoco.MjData(model)
->>> assemble(chain, data, [2.0, 1.0], rates=[0.3, -0.2], accelerations=[0.0, 1.0])
->>> projected_inverse(chain, data)  # actuator torques, N m
+>>> q, rates, accelerations = m.home_actuated + 0.1, np.array([0.3, -0.2]), np.array([0.0, 1.0])
+>>> bridge.assemble(chain, data, q, rates, accelerations) < 1e-12
+True
+>>> bridge.projected_inverse(chain, data).round(4)  # actuator torques, N m
+array([-4.2667,  3.6985])
 """
 
 from __future__ import annotations
@@ -109,7 +119,9 @@ def closed_chain(model: Any, actuated: Sequence[str], platform_site: str) -> Clo
 
     Examples
     --------
-    >>> chain = closed_chain(model, ["l1", "l2", "l3", "l4", "l5", "l6"], "platform")
+    >>> chain = bridge.closed_chain(model, ["theta1", "theta2"], "platform")
+    >>> chain.actuated_dofs, chain.passive_dofs
+    (array([0, 2]), array([1, 3]))
     """
     mujoco = _mujoco()
     names = tuple(str(name) for name in actuated)
@@ -175,7 +187,8 @@ def loop_residual(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> bridge.loop_residual(chain, data)  # zero once assembled
+    >>> float(np.abs(bridge.loop_residual(chain, data)).max()) < 1e-12  # closed once assembled
+    True
     """
     _positions(chain, data)
     return np.concatenate([data.site_xpos[a] - data.site_xpos[b] for a, b in chain.connects])
@@ -202,7 +215,8 @@ def loop_jacobian(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> model.nv - np.linalg.matrix_rank(bridge.loop_jacobian(chain, data), tol=1e-9)  # the mobility
+    >>> int(model.nv - np.linalg.matrix_rank(bridge.loop_jacobian(chain, data), tol=1e-9))  # the mobility
+    2
     """
     mujoco = _mujoco()
     _positions(chain, data)
@@ -236,7 +250,8 @@ def loop_bias(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> bias = bridge.loop_bias(chain, data)
+    >>> bridge.loop_bias(chain, data).shape  # two connects (the revolute cut)
+    (6,)
     """
     mujoco = _mujoco()
     _positions(chain, data)
@@ -291,7 +306,9 @@ def actuated_basis(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> data.qvel[:] = bridge.actuated_basis(chain, data) @ rates
+    >>> gamma = bridge.actuated_basis(chain, data)
+    >>> np.abs(gamma @ rates - data.qvel).max() < 1e-12  # what assemble set
+    np.True_
     """
     jacobian = loop_jacobian(chain, data)
     actuated = jacobian[:, chain.actuated_dofs]
@@ -347,8 +364,9 @@ def assemble(
 
     Examples
     --------
-    >>> data = mujoco.MjData(model)  # qpos0 near the mode wanted
-    >>> bridge.assemble(chain, data, [2.0, 1.0], rates=[0.3, -0.2], accelerations=[0.0, 1.0])
+    >>> data = mujoco.MjData(model)  # qpos0 (the home) near the mode wanted
+    >>> bridge.assemble(chain, data, m.home_actuated + 0.1, rates=[0.3, -0.2], accelerations=[0.0, 1.0]) < 1e-12
+    True
     """
     mujoco = _mujoco()
     count = len(chain.actuated)
@@ -417,8 +435,10 @@ def projected_inverse(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> bridge.assemble(chain, data, q, rates, accelerations)
-    >>> bridge.projected_inverse(chain, data)
+    >>> bridge.assemble(chain, data, q, rates, accelerations) < 1e-12
+    True
+    >>> bridge.projected_inverse(chain, data).round(4)
+    array([-4.2667,  3.6985])
     """
     mujoco = _mujoco()
     mujoco.mj_inverse(chain.model, data)
@@ -448,7 +468,8 @@ def platform_pose(chain: ClosedChain, data: Any) -> Array:
 
     Examples
     --------
-    >>> bridge.platform_pose(chain, data)[:3, 3]  # the platform's origin, m
+    >>> bridge.platform_pose(chain, data)[:3, 3].round(4)  # the platform's origin, m
+    array([-0.023 ,  0.3293,  0.    ])
     """
     _positions(chain, data)
     pose = np.eye(4)
@@ -497,8 +518,10 @@ def settle(chain: ClosedChain, data: Any, duration: float = 5.0, speed: float = 
 
     Examples
     --------
-    >>> mujoco.mj_resetDataKeyframe(model, data, 0)
-    >>> bridge.settle(chain, data, duration=2.0).pose[:3, 3]
+    >>> mujoco.mj_resetDataKeyframe(model, data, 1)  # assembly mode 1, servos holding the home
+    >>> settled = bridge.settle(chain, data, duration=2.0)
+    >>> settled.settled, settled.time < 2.0
+    (True, True)
     """
     mujoco = _mujoco()
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(speed) and speed > 0):
@@ -575,7 +598,9 @@ def nearest_mode(m: Mechanism, chain: ClosedChain, data: Any, length: float = 1.
 
     Examples
     --------
-    >>> bridge.nearest_mode(parakin.load("five_bar"), chain, data).mode
+    >>> mujoco.mj_resetDataKeyframe(model, data, 1)
+    >>> bridge.nearest_mode(m, chain, data).mode
+    1
     """
     if len(m.actuated_names) != len(chain.actuated):
         raise BadInputError(

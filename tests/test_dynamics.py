@@ -280,3 +280,16 @@ def test_mechanism_methods_are_the_free_functions():
     regressor = m.dynamics_regressor(state, rates, accelerations)
     np.testing.assert_allclose(regressor @ inertia.parameters(), method.efforts, rtol=1e-12, atol=1e-15)
     assert parakin.mujoco is parakin.mujoco_bridge
+
+
+def test_the_reference_examples_run():
+    """Every Example of parakin.dynamics runs and prints what it shows (``import numpy as np``
+    and ``import parakin`` assumed, as the API page says)."""
+    import doctest
+
+    from parakin import dynamics
+
+    result = doctest.testmod(
+        dynamics, extraglobs={"np": np, "parakin": parakin}, optionflags=doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
+    )
+    assert result.failed == 0 and result.attempted >= 15, result
