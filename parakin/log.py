@@ -11,8 +11,9 @@ Progress bars (tqdm, on stderr) show how far a long piece of work is: generating
 (``make generate``, ``parakin generate``: one bar over every package's stages), and a batch of at
 least ``LARGE_BATCH`` inputs (``forward_pose_all``, ``count_modes``) or a ``sweep`` that is still
 running after ``BAR_DELAY`` seconds. ``PARAKIN_PROGRESS`` decides where they appear: ``auto``
-(the default) only when stderr is a terminal, so never in a log file, a pipe or a test's captured
-output; ``on`` also when it is not; ``off`` never (the generator then reports each stage as a
+(the default) only when stderr is a terminal or the process is a Jupyter kernel (a notebook
+widget with ipywidgets, else a text bar in the cell's output), so never in a log file, a pipe or
+a test's captured output; ``on`` also when it is not; ``off`` never (the generator then reports each stage as a
 logger line, as it does whenever no bar is shown). ``sweep(progress=True / False)`` asks for its
 bar or refuses it whatever the setting. Logger lines written while a bar is shown appear above it.
 """
@@ -205,6 +206,30 @@ def _terminal() -> bool:
         return False
 
 
+def _notebook() -> bool:
+    """Whether this process is a Jupyter kernel (its stderr is no terminal, but a person reads
+    the cell's output): the 'auto' setting shows bars there too."""
+    ipython = sys.modules.get("IPython")
+    shell = getattr(ipython, "get_ipython", lambda: None)() if ipython is not None else None
+    return type(shell).__name__ == "ZMQInteractiveShell"
+
+
+def _bar_class() -> Any:
+    """tqdm's notebook widget in a Jupyter kernel with ipywidgets, else its text bar (in a
+    notebook without ipywidgets the text bar redraws in the cell's output)."""
+    if _notebook():
+        try:
+            import ipywidgets  # noqa: F401
+            from tqdm.notebook import tqdm as notebook_bar
+
+            return notebook_bar
+        except ImportError:
+            pass
+    from tqdm import tqdm
+
+    return tqdm
+
+
 def progress(
     total: int | None,
     description: str,
@@ -266,16 +291,15 @@ def progress(
             return Progress(into=outer if nested else None, unit=unit, owner=False)
         large = (size if size is not None else total or 0) >= minimum
         wanted = show if show is not None else (setting != "off" and large)
-        wanted = wanted and (show is True or setting == "on" or _terminal())
+        wanted = wanted and (show is True or setting == "on" or _terminal() or _notebook())
         handle = Progress(unit=unit)
         _open.append(handle)
         if wanted:
             _shown.append(handle)
     if wanted:
-        from tqdm import tqdm
-
+        bar = _bar_class()
         delay = 0.0 if show is True or setting == "on" else delay
-        handle.bar = tqdm(total=total, desc=description, unit=unit, file=sys.stderr, delay=delay, dynamic_ncols=True)
+        handle.bar = bar(total=total, desc=description, unit=unit, file=sys.stderr, delay=delay, dynamic_ncols=True)
     return handle
 
 

@@ -28,8 +28,40 @@ MAX_ITERATIONS = 1_000_000
 
 
 def as_array(value: ArrayLike, name: str, trailing: tuple[int, ...], finite: bool = True) -> Array:
-    """``value`` as a float array whose last axes are ``trailing``; finite (unless ``finite`` is
-    False: then NaN and inf pass, for functions that flag them), or BadInputError."""
+    """``value`` as a float array whose last axes are ``trailing``, checked.
+
+    Parameters
+    ----------
+    value : array_like
+        Real numbers (int or float), any leading batch shape.
+    name : str
+        The argument's name, for messages.
+    trailing : tuple of int
+        The shape of the last axes, e.g. ``(6,)`` for a wrench or ``(4, 4)`` for a pose.
+    finite : bool
+        Refuse NaN and infinite values (default); False lets them pass, for functions that flag them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., *trailing)
+        The values as float64.
+
+    Raises
+    ------
+    BadInputError
+        Not numeric (a string, None, complex, boolean or object values), ragged, of the wrong
+        trailing shape, or (with ``finite``) not finite, naming the first bad index.
+
+    Examples
+    --------
+    >>> from parakin.validation import as_array
+    >>> as_array([[1, 2], [3, 4]], "points", (2,)).dtype.name
+    'float64'
+    >>> as_array([1.0, float("nan")], "rates", (2,))
+    Traceback (most recent call last):
+        ...
+    parakin.errors.BadInputError: rates has a non-finite value at index (1,)
+    """
     if isinstance(value, str | bytes) or value is None:
         raise BadInputError(f"{name} must be numeric, got {type(value).__name__}")
     try:
@@ -132,9 +164,39 @@ def within_ranges(values: Array, names: Sequence[str], low: Array, high: Array, 
 
 
 def bounded_vector(value: ArrayLike, name: str, components: Sequence[str], bound: float = MAX_MAGNITUDE) -> Array:
-    """``value`` as (..., len(components)): finite reals of magnitude at most ``bound`` (SI), the
-    bound every input has (beyond it, products with the kinematics overflow to inf and NaN), or
-    BadInputError naming the component and the batch index."""
+    """``value`` as (..., len(components)): finite reals of magnitude at most ``bound``.
+
+    ``bound`` (SI units) is the one every input has: beyond it, products with the kinematics
+    overflow to inf and NaN.
+
+    Parameters
+    ----------
+    value : array_like, shape (..., len(components))
+        The vectors (SI units).
+    name : str
+        The argument's name, for messages.
+    components : sequence of str
+        The components' names (e.g. ``("fx", "fy", "fz")``), for messages.
+    bound : float
+        The largest magnitude accepted.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., len(components))
+        The vectors as float64.
+
+    Raises
+    ------
+    BadInputError
+        Not numeric, of the wrong length, not finite, or a component beyond ``bound`` (naming the
+        component and the batch index).
+
+    Examples
+    --------
+    >>> from parakin.validation import bounded_vector
+    >>> bounded_vector([0.0, -10.0], "wrench", ("fx", "fy")).tolist()
+    [0.0, -10.0]
+    """
     array = as_array(value, name, (len(components),))
     limit = np.full(len(components), bound)
     within_ranges(array, components, -limit, limit, name)
@@ -142,9 +204,39 @@ def bounded_vector(value: ArrayLike, name: str, components: Sequence[str], bound
 
 
 def stiffness_matrix(value: ArrayLike, name: str, size: int) -> Array:
-    """A stiffness (size, size): given as its positive diagonal (size,) (every entry > 0) or as a
-    full matrix, symmetric (to 1e-10 relative) and positive definite; real finite numbers only
-    (``as_array``). BadInputError naming the entry, the asymmetry or the smallest eigenvalue."""
+    """A stiffness matrix (size, size), checked: positive diagonal, or symmetric positive definite.
+
+    Parameters
+    ----------
+    value : array_like, shape (size,) or (size, size)
+        The diagonal (every entry > 0), or a full matrix, symmetric to 1e-10 relative and
+        positive definite (N/m or N m/rad).
+    name : str
+        The argument's name, for messages.
+    size : int
+        The number of actuators.
+
+    Returns
+    -------
+    numpy.ndarray, shape (size, size)
+        The matrix (a diagonal given as a vector is expanded).
+
+    Raises
+    ------
+    BadInputError
+        A diagonal entry not > 0, the wrong shape, an asymmetric matrix (naming the entry) or
+        one that is not positive definite (naming its smallest eigenvalue).
+
+    Examples
+    --------
+    >>> from parakin.validation import stiffness_matrix
+    >>> stiffness_matrix([1000.0, 2000.0], "actuator_stiffness", 2).tolist()
+    [[1000.0, 0.0], [0.0, 2000.0]]
+    >>> stiffness_matrix([[1.0, 2.0], [2.0, 1.0]], "actuator_stiffness", 2)
+    Traceback (most recent call last):
+        ...
+    parakin.errors.BadInputError: actuator_stiffness is not positive definite: smallest eigenvalue -1 (must be > 0)
+    """
     k = as_array(value, name, ())
     if k.shape == (size,):
         bad = ~(k > 0)

@@ -174,6 +174,7 @@ MODULES = (
     "parakin.solvers.tracker",
     "parakin.studies.sweep",
     "parakin.studies.atlas",
+    "parakin.validation",
 )
 #: modules of the API pages that other tests cover (their owners' examples and dependencies)
 OTHERS = ("parakin.calibration", "parakin.dynamics", "parakin.mujoco_bridge", "parakin.packages", "parakin.errors")

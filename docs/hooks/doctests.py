@@ -28,6 +28,7 @@ MODULES = (
     "parakin.studies.sweep",
     "parakin.studies.atlas",
     "parakin.interfaces.plot",
+    "parakin.validation",
 )
 SCRIPT = """
 import doctest, importlib, sys
