@@ -1,7 +1,9 @@
 """The solver core against its floor (issue 33): Dietmaier's 40 modes of the general Stewart
-platform by parakin's certified ``forward_pose_all`` and by fkSGP (Martyushev 2025, an
-elimination template in NumPy/SciPy: ``../shared/peers/fkSGP``), single thread, CPU time, the two
-contenders interleaved in one process with their order rotated; and per homotopy family what the
+platform by parakin's certified ``forward_pose_all`` (with NumPy's certificate, and with the C
+certificate ``certify_roots_compiled`` swapped in) and by fkSGP (Martyushev 2025, an elimination
+template in NumPy/SciPy: ``../shared/peers/fkSGP``), single thread, CPU time, the contenders
+interleaved in one process with their order rotated; the Krawczyk certificate alone, NumPy
+against C; forward_pose_all per family with either certificate; and per homotopy family what the
 C path tracker does per path (step attempts, rejections, evaluations, LU factorisations).
 
 Run alone: ``python -m bench.floor``; ``make bench`` prints the same table.
@@ -167,6 +169,43 @@ def certificate_rows() -> list[str]:
     return rows
 
 
+#: rounds of the interleaved forward_pose_all comparison with either certificate (rus6 is slow)
+SWAP_ROUNDS = 3
+
+
+def swap_rows() -> list[str]:
+    """Per homotopy family: forward_pose_all (certified, one input per call, the inputs near home
+    of the tracker rows) with NumPy's certificate against the same with the C certificate
+    swapped in, interleaved: CPU ms per input, their ratio, and the inputs certified complete by
+    each (the exact-arithmetic fallback runs where the double-precision test leaves a root)."""
+    rows = []
+    for name, count in COUNT_INPUTS.items():
+        if name not in parakin.available():
+            continue
+        m = parakin.load(name, backend="compiled")
+        backend = compiled(m)
+        inputs = sample_configurations(m, 3 * count, spread=0.05, seed=5).actuated[:count]
+
+        def numpy_side(m: Any = m, inputs: np.ndarray = inputs) -> list:
+            return [m.forward_pose_all(theta, strict=False) for theta in inputs]
+
+        def c_side(m: Any = m, inputs: np.ndarray = inputs, backend: CompiledBackend = backend) -> list:
+            with c_certificate(backend):
+                return [m.forward_pose_all(theta, strict=False) for theta in inputs]
+
+        times = interleaved({"NumPy": numpy_side, "C": c_side}, rounds=SWAP_ROUNDS)
+        complete = {
+            label: sum(bool(np.all(r.certificate().get("complete", False))) for r in side())
+            for label, side in (("NumPy", numpy_side), ("C", c_side))
+        }
+        ms = {label: float(np.median(value)) * 1e3 / len(inputs) for label, value in times.items()}
+        rows.append(
+            f"{name:12s} {len(inputs):4d} {ms['NumPy']:10.3f} {ms['C']:10.3f} {ms['C'] / ms['NumPy']:8.3f} "
+            f"{complete['NumPy']:9d} {complete['C']:9d}"
+        )
+    return rows
+
+
 def dietmaier_row() -> list[str]:
     """Dietmaier's 40 modes: parakin (certified) and fkSGP, CPU ms per input (median, 10th and
     90th percentile), their ratio in this run, modes each finds, and the tracker's counts."""
@@ -306,6 +345,17 @@ def main() -> None:
     print(header)
     print("-" * len(header))
     for line in certificate_rows():
+        print(line)
+    print(
+        "\nforward_pose_all (certified, one input per call, inputs near home) with NumPy's certificate and with the "
+        f"C certificate swapped in (bench only), interleaved ({SWAP_ROUNDS} rounds): CPU ms per input"
+    )
+    header = (
+        f"{'mechanism':12s} {'n':>4s} {'NumPy ms':>10s} {'C ms':>10s} {'C/NumPy':>8s} {'complete':>9s} {'complete':>9s}"
+    )
+    print(header)
+    print("-" * len(header))
+    for line in swap_rows():
         print(line)
     print("\nThe C path tracker per homotopy family (inputs near home, certified, one input per call)")
     header = f"{'mechanism':12s} {'n':>4s} {'ms/input':>9s}   work per path"
