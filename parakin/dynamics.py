@@ -42,6 +42,9 @@ Conventions (those of ``parakin.solvers.statics``, SI units and radians):
   The legs' efforts add to the platform's (its inertia stays ``platform_inertia``, moved as
   above). ``constraint_forces`` is then None: a lower-mobility platform's constraint wrenches
   no longer split the legs' own inertial forces.
+* A mechanism without an A/B rate model (a leg-Jacobian model such as sam's serial chains) is
+  all tree: the platform is the tree's platform body (its frame {P}), its twist and twist rate
+  those of that body, the efforts Gamma^T tau_tree with or without the legs' inertias.
 """
 
 from __future__ import annotations
@@ -462,8 +465,8 @@ def inverse_dynamics(
     SingularConfigurationError
         At a type II singularity.
     UnsupportedOperationError
-        Without an A/B rate model; with leg inertias, without a joint graph or with a leg the
-        MJCF export does not write.
+        Without an A/B rate model and without a joint graph; with leg inertias (or without an
+        A/B rate model), without a joint graph or with a leg the MJCF export does not write.
     ConvergenceError
         With leg inertias: the legs' joints could not be placed at ``state`` (not closed).
 
@@ -478,23 +481,29 @@ def inverse_dynamics(
     """
     body = _platform(platform_inertia)
     g = _gravity(gravity)
+    if m.manifest.capabilities.rates is None:
+        return _tree_inverse_dynamics(m, state, rates, accelerations, body, g, leg_inertias)
     legs = None if leg_inertias is None else _tree_bodies(m, leg_inertias)
     twist, twist_rate = platform_acceleration(m, state, rates, accelerations)
     _, w = _full(m, twist)  # v enters only through the closure's velocity product
     a, alpha = _full(m, twist_rate)
-    rotation = np.asarray(state.rotation, dtype=float)
+    wrench = _platform_wrench(body, np.asarray(state.rotation, dtype=float), w, a, alpha, g)
+    tau, reactions = _efforts(m, state, wrench)
+    if legs is not None:
+        tau = tau + _legs(m, state, rates, accelerations, g, legs)
+        reactions = None
+    return InverseDynamics(tau, reactions, twist, twist_rate, wrench)
+
+
+def _platform_wrench(body: RigidInertia, rotation: Array, w: Array, a: Array, alpha: Array, g: Array) -> Array:
+    """(F, n) (..., 6) about the origin O of {P}, in {B}: Newton-Euler of the platform."""
     r = np.einsum("...ij,j->...i", rotation, body.centre)
     inertia = rotation @ body.inertia @ np.swapaxes(rotation, -1, -2)  # about the centre, in {B}
     centre_acceleration = a + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
     force = body.mass * (centre_acceleration - g)
     spin = np.einsum("...ij,...j->...i", inertia, alpha) + np.cross(w, np.einsum("...ij,...j->...i", inertia, w))
     moment = spin + np.cross(r, force)  # about O: the moment about the centre plus r x F
-    wrench = np.concatenate([force, moment], axis=-1)
-    tau, reactions = _efforts(m, state, wrench)
-    if legs is not None:
-        tau = tau + _legs(m, state, rates, accelerations, g, legs)
-        reactions = None
-    return InverseDynamics(tau, reactions, twist, twist_rate, wrench)
+    return np.concatenate([force, moment], axis=-1)
 
 
 def dynamics_regressor(
@@ -538,6 +547,8 @@ def dynamics_regressor(
     g = _gravity(gravity)
     if leg_inertias is not None:
         link_inertias(m, leg_inertias)  # its values do not enter Y: only checked
+    if m.manifest.capabilities.rates is None:
+        return _tree_regressor_samples(m, state, rates, accelerations, g, leg_inertias is not None)
     twist, twist_rate = platform_acceleration(m, state, rates, accelerations)
     _, w = _full(m, twist)
     a, alpha = _full(m, twist_rate)
@@ -1225,6 +1236,62 @@ def _legs(
 def _tree_bodies(m: Mechanism, leg_inertias: object) -> list[RigidInertia | None]:
     named = link_inertias(m, leg_inertias)
     return [None if body.platform else named[body.name] for body in leg_tree(m).bodies]
+
+
+# ----------------------------------------------------- a mechanism without an A/B rate model
+def _whole_tree(m: Mechanism) -> LegTree:
+    """The tree of a mechanism without an A/B rate model, which carries its platform too."""
+    try:
+        return leg_tree(m)
+    except UnsupportedOperationError as error:
+        raise UnsupportedOperationError(
+            f"{m.name} has no A/B rate model (rate_jacobians), and its legs cannot be made a tree either ({error}): "
+            "inverse dynamics needs one of them"
+        ) from error
+
+
+def _tree_inverse_dynamics(
+    m: Mechanism, state: Configuration, rates: ArrayLike, accelerations: ArrayLike, body: RigidInertia, g: Array,
+    leg_inertias: object,
+) -> InverseDynamics:  # fmt: skip
+    """``inverse_dynamics`` on the tree alone (the platform one of its bodies, in {P}): the
+    efforts Gamma^T tau_tree, the platform's twist and its rate from the tree's closure."""
+    tree = _whole_tree(m)
+    legs = None if leg_inertias is None else _tree_bodies(m, leg_inertias)
+    bodies = [body if node.platform else (None if legs is None else legs[i]) for i, node in enumerate(tree.bodies)]
+    shape, actuated, poses, qd, qdd = _samples(m, state, rates, accelerations)
+    platform = tree.platform_index()
+    efforts, twists, rates_of_twist = [], [], []
+    for k, q in enumerate(_tree_states(m, tree, actuated, poses)):
+        motion = _tree_motion(tree, m, q, qd[k], qdd[k], g)
+        efforts.append(_tree_efforts(tree, motion, bodies))
+        v, a = motion.velocities[platform], motion.accelerations[platform]
+        origin = poses[k][:3, 3]
+        velocity = v[3:] + _cross(v[:3], origin)  # of the origin of {P}
+        acceleration = a[3:] + g + _cross(a[:3], origin) + _cross(v[:3], velocity)  # gravity taken out of A
+        twists.append(np.concatenate([velocity, v[:3]]))
+        rates_of_twist.append(np.concatenate([acceleration, a[:3]]))
+    n = len(m.actuated_names)
+    twist = np.asarray(twists, dtype=float).reshape(shape + (6,))
+    twist_rate = np.asarray(rates_of_twist, dtype=float).reshape(shape + (6,))
+    rotation = poses[:, :3, :3].reshape(shape + (3, 3))
+    wrench = _platform_wrench(body, rotation, twist[..., 3:], twist_rate[..., :3], twist_rate[..., 3:], g)
+    return InverseDynamics(np.asarray(efforts, dtype=float).reshape(shape + (n,)), None, twist, twist_rate, wrench)
+
+
+def _tree_regressor_samples(
+    m: Mechanism, state: Configuration, rates: ArrayLike, accelerations: ArrayLike, g: Array, legs: bool
+) -> Array:
+    """``dynamics_regressor`` on the tree alone: the platform body's ten columns, then each
+    link's with ``legs``."""
+    tree = _whole_tree(m)
+    chosen = [tree.platform_index()] + ([i for i, node in enumerate(tree.bodies) if not node.platform] if legs else [])
+    shape, actuated, poses, qd, qdd = _samples(m, state, rates, accelerations)
+    out = [
+        _tree_regressor(tree, _tree_motion(tree, m, q, qd[k], qdd[k], g), chosen)
+        for k, q in enumerate(_tree_states(m, tree, actuated, poses))
+    ]
+    return np.asarray(out, dtype=float).reshape(shape + (len(m.actuated_names), 10 * len(chosen)))
 
 
 __all__ = [

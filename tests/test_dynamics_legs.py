@@ -7,7 +7,7 @@ Claims, each against an independent source:
   trajectory for five_bar, delta (parallelograms as four bars), stewart and the lower-mobility
   prs3; MuJoCo closes the loops and differentiates them with its own site Jacobians and
   ``mj_jacDot`` (``parakin.mujoco_bridge``), parakin with its own tree code; slow: every
-  mechanism whose legs the export writes (12);
+  mechanism with a joint graph (13);
 * Pinocchio's RNEA on the same MJCF (``pinocchio.buildModelFromMJCF``, its own loop Jacobians
   from the cut sites' frames and J_dot v from ``getFrameClassicalAcceleration``), projected onto
   the actuated joints = parakin's to 1e-6 (five_bar, prs3; delta and stewart slow);
@@ -17,7 +17,9 @@ Claims, each against an independent source:
   platform (from ``forward_rate``) and every link (from the tree's body twists), dK/dt by
   fourth-order central differences (five_bar; prs3 and stewart slow);
 * the tree's own kinematics carry a free platform exactly as the generated rate model does:
-  the platform's inertia put on the tree's platform body gives the massless-leg efforts.
+  the platform's inertia put on the tree's platform body gives the massless-leg efforts;
+* without an A/B rate model (sam) the tree carries the platform: twist = forward_rate, twist
+  rate = its differences, efforts = projected mj_inverse, Y theta = tau.
 """
 
 from pathlib import Path
@@ -53,9 +55,9 @@ def gravity(m: parakin.Mechanism) -> np.ndarray:
     return np.array((0.0, -9.81, 0.0) if planar else (0.0, 0.0, -9.81))
 
 
-def trajectory(m: parakin.Mechanism, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def trajectory(m: parakin.Mechanism, t: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """q(t) = home + A sin(2 t + phase): smooth, every derivative non-zero."""
-    amplitude = np.array([AMPLITUDE[variable.revolute] for variable in m.manifest.actuated])
+    amplitude = scale * np.array([AMPLITUDE[variable.revolute] for variable in m.manifest.actuated])
     phase = np.arange(len(m.actuated_names))
     q = m.home_actuated + amplitude * np.sin(2.0 * t + phase)
     return q, 2.0 * amplitude * np.cos(2.0 * t + phase), -4.0 * amplitude * np.sin(2.0 * t + phase)
@@ -80,7 +82,7 @@ def home(m: parakin.Mechanism) -> parakin.Configuration:
 
 
 # ------------------------------------------------------------------------------------ MuJoCo
-def mujoco_agreement(name: str, seed: int) -> tuple[list[float], list[float]]:
+def mujoco_agreement(name: str, seed: int, scale: float = 1.0) -> tuple[list[float], list[float]]:
     """At 8 samples: |projected mj_inverse - inverse_dynamics| / |tau| with the same random link
     inertias in both, and the legs' share of the efforts."""
     mujoco = pytest.importorskip("mujoco")
@@ -97,7 +99,7 @@ def mujoco_agreement(name: str, seed: int) -> tuple[list[float], list[float]]:
     state = home(m)
     errors, legs_share = [], []
     for t in np.linspace(0.0, 1.4, SAMPLES):
-        q, qd, qdd = trajectory(m, t)
+        q, qd, qdd = trajectory(m, t, scale)
         assert bridge.assemble(chain, data, q, qd, qdd) < 1e-12
         state = m.forward_pose(q, guess=state)
         assert np.abs(bridge.platform_pose(chain, data)[:3, 3] - state.pose[:3, 3]).max() < 1e-9
@@ -119,17 +121,17 @@ def test_legs_equal_projected_mj_inverse_of_the_exported_model(name):
 
 @pytest.mark.slow
 def test_every_exported_mechanism_with_legs_equals_projected_mj_inverse():
-    """Every mechanism whose legs to_mjcf writes (all with a joint graph but the serial-chain
-    legs), 8 samples each, 1e-6 relative."""
+    """Every mechanism with a joint graph (all but sphere2r; sam's serial chains along a fifth
+    of the amplitude, where MuJoCo's Newton keeps its branch), 8 samples each, 1e-6 relative."""
     checked = {}
     for name in parakin.available():
         graph = parakin.load(name, backend="numpy").manifest.joints
-        if graph is None or any(leg.serial for leg in graph.legs):
+        if graph is None:
             continue
-        errors, legs_share = mujoco_agreement(name, 5)
+        errors, legs_share = mujoco_agreement(name, 5, 0.2 if any(leg.serial for leg in graph.legs) else 1.0)
         assert max(errors) < 1e-6 and min(legs_share) > 0.01, (name, max(errors), min(legs_share))
         checked[name] = max(errors)
-    assert len(checked) >= 12, checked
+    assert len(checked) >= 13, checked
 
 
 # --------------------------------------------------------------------------------- Pinocchio
@@ -372,3 +374,36 @@ def test_leg_inertias_forms_and_errors():
     state = other.inverse_pose(pose).branch(0)
     with pytest.raises(ParakinError, match="laid out at the manifest's home, which does not close"):
         inverse_dynamics(other, state, np.zeros(6), np.zeros(6), platform_inertia=PLATFORM, leg_inertias=1.0)
+
+
+def test_without_a_rate_model_the_tree_carries_the_platform():
+    """sam (two RRRPRR chains, no A/B rate model): inverse_dynamics runs on the tree alone, the
+    platform one of its bodies. Its twist = forward_rate (the leg-Jacobian model) to 1e-12, its
+    twist rate = fourth-order central differences of forward_rate to 1e-7; the efforts with legs
+    of mass = projected mj_inverse of the exported MJCF to 1e-6 at 8 samples; Y theta = tau."""
+    m = parakin.load("sam", backend="numpy")
+    errors, legs_share = mujoco_agreement("sam", 6, scale=0.2)
+    assert len(errors) == SAMPLES and min(legs_share) > 0.05
+    assert max(errors) < 1e-6, f"sam: projected mj_inverse vs inverse_dynamics {max(errors):.3g}"
+    links = random_links(m, 7)
+    platform = rigid_inertia(
+        3.0, (0.01, -0.02, 0.005), [[0.02, 0.001, 0.0], [0.001, 0.03, -0.002], [0.0, -0.002, 0.04]]
+    )
+    state, h, checked = home(m), 1e-3, 0
+    for t in (0.3, 0.9):
+        q, qd, qdd = trajectory(m, t, 0.2)
+        state = m.forward_pose(q, guess=state)
+        out = inverse_dynamics(m, state, qd, qdd, platform_inertia=platform, gravity=(0, 0, -9.81), leg_inertias=links)
+        assert np.abs(out.twist - m.forward_rate(state, qd)).max() <= 1e-12 * np.abs(out.twist).max()
+
+        def twist(s, near=state):
+            q_s, qd_s, _ = trajectory(m, s, 0.2)
+            return m.forward_rate(m.forward_pose(q_s, guess=near), qd_s)
+
+        differences = (8 * (twist(t + h) - twist(t - h)) - (twist(t + 2 * h) - twist(t - 2 * h))) / (12 * h)
+        assert np.abs(out.twist_rate - differences).max() <= 1e-7 * np.abs(differences).max()
+        y = dynamics_regressor(m, state, qd, qdd, gravity=(0, 0, -9.81), leg_inertias=links)
+        theta = np.concatenate([platform.parameters(), leg_parameters(m, links)])
+        assert np.abs(y @ theta - out.efforts).max() <= 1e-12 * np.abs(out.efforts).max()
+        checked += 1
+    assert checked == 2
