@@ -290,7 +290,7 @@ def _mechanism_sources(path: Path) -> list[Path]:
     found: list[Path] = []
     pending = [path.resolve()]
     while pending:
-        current = pending.pop()
+        current = pending.pop().resolve()
         if current in found or not current.is_file():
             continue
         found.append(current)
@@ -307,10 +307,12 @@ def _mechanism_sources(path: Path) -> list[Path]:
             parts = node.module.split(".")
             if len(parts) == 1 and (current.parent / f"{parts[0]}.py").is_file():
                 pending.append(current.parent / f"{parts[0]}.py")
+            # parakin.mechanisms is the shipped folder, wherever the importing file lies (a user's
+            # copy of a shipped file imports the shipped accelerator, not one beside the copy)
             if parts[-1] == "mechanisms" and parts[:-1] in ([], ["parakin"]):
-                pending += [current.parent / f"{alias.name}.py" for alias in node.names]
+                pending += [MECHANISMS / f"{alias.name}.py" for alias in node.names]
             elif len(parts) >= 2 and parts[-2] == "mechanisms" and parts[:-2] in ([], ["parakin"]):
-                pending.append(current.parent / f"{parts[-1]}.py")
+                pending.append(MECHANISMS / f"{parts[-1]}.py")
     return [found[0], *sorted(found[1:])]
 
 

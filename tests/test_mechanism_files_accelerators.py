@@ -124,17 +124,31 @@ def test_discover_skips_the_accelerators():
     assert set(DESCRIPTIONS) <= set(discover())
 
 
-def test_the_input_digest_covers_the_accelerator(tmp_path):
-    """A shipped description copied with its accelerator: editing the accelerator changes the
-    package's input digest (the package is out of date); an unrelated file beside it does not."""
+def test_the_input_digest_covers_the_accelerator(tmp_path, monkeypatch):
+    """The shipped folder copied with sps and its accelerator (standing for parakin.mechanisms):
+    editing the accelerator changes the package's input digest (the package is out of date); an
+    unrelated file beside it does not. A user's copy of sps.py elsewhere depends on the shipped
+    accelerator, the module it imports."""
+    from parakin.generator import build
+
+    assert build._mechanism_sources(MECHANISMS / "sps.py") == [
+        (MECHANISMS / n).resolve() for n in ("sps.py", "_sps_forward.py")
+    ]
+    copy = tmp_path / "user" / "sps.py"
+    copy.parent.mkdir()
+    shutil.copy(MECHANISMS / "sps.py", copy)
+    assert build._mechanism_sources(copy)[1:] == [(MECHANISMS / "_sps_forward.py").resolve()]
+    shipped = tmp_path / "mechanisms"
+    shipped.mkdir()
     for source in (MECHANISMS / "sps.py", MECHANISMS / "_sps_forward.py"):
-        shutil.copy(source, tmp_path / source.name)
-    before = input_digest("sps", tmp_path / "sps.py")
-    (tmp_path / "_unrelated.py").write_text("X = 1\n")
-    assert input_digest("sps", tmp_path / "sps.py") == before
-    with (tmp_path / "_sps_forward.py").open("a") as accelerator:
+        shutil.copy(source, shipped / source.name)
+    monkeypatch.setattr(build, "MECHANISMS", shipped)
+    before = input_digest("sps", shipped / "sps.py")
+    (shipped / "_unrelated.py").write_text("X = 1\n")
+    assert input_digest("sps", shipped / "sps.py") == before
+    with (shipped / "_sps_forward.py").open("a") as accelerator:
         accelerator.write("# edited\n")
-    assert input_digest("sps", tmp_path / "sps.py") != before
+    assert input_digest("sps", shipped / "sps.py") != before
 
 
 USER_FILE = '''"""A five-bar whose title comes from its accelerator beside it."""
