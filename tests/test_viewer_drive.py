@@ -47,9 +47,18 @@ def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_pat
                     value = home[k] + (spec[end] - home[k]) * step / STEPS
                     count = _updates(browser)
                     _set_slider(browser, element, value)
+                    # the page keeps one request in flight and sends the latest values after it: the
+                    # first reply drawn may still be the previous step's, so wait for this one's
                     _wait(
                         browser,
-                        lambda count=count: _updates(browser) > count,
+                        lambda count=count, e=element, k=k, value=value: (
+                            _updates(browser) > count
+                            and (
+                                "bad" in browser.find_element(By.ID, "status").get_attribute("class")
+                                or viewer.session.state()["actuated"][k]
+                                == pytest.approx(float(e.get_attribute("value")), abs=1e-9 * max(1.0, abs(value)))
+                            )
+                        ),
                         f"the reply to {spec['name']} = {value}",
                     )
                     state = viewer.session.state()
@@ -85,7 +94,10 @@ def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_pat
                     reached += 1
         assert browser.get_log("browser") == []
     assert refused + reached == 2 * len(sliders)
-    assert np.isfinite(refused)
+    # the viewer's home has room to move (test_viewer_home): at least half the slider ends are
+    # reached (from the paper's home 1 of planar_3rpr's 6 and 1 of stewart's 12 were)
+    print(f"{mechanism}: {reached} of {2 * len(sliders)} slider ends reached, {refused} refused")
+    assert reached >= len(sliders), (reached, refused)
 
 
 def test_a_spherical_mechanism_is_drawn_on_its_sphere(browser, loaded, tmp_path):  # noqa: F811

@@ -223,6 +223,12 @@ def _drawn_row(listing: dict) -> list[str] | None:
 WALKS = [(1, 0, 1), (1, 1, -1), (2, 0, 1), (2, 1, -1), (0, 0, 1), (0, 1, 1), (3, 0, 1), (4, 2, -1)]
 
 
+def _at_paper_home(m) -> ViewerSession:
+    """A session started at the manifest's home (the paper's input, 6 modes), not at the viewer's
+    own home with room to move (tests/test_viewer_home.py): the walks below start there."""
+    return ViewerSession(m, start=m.forward_pose(m.home_actuated, guess=m.home_passive))
+
+
 def _solver_number(m, reply) -> int:
     """The followed configuration's number in the solver's own order at its input."""
     modes = m.forward_pose_all(reply["actuated"])
@@ -236,7 +242,7 @@ def test_a_followed_mode_keeps_its_number(planar):
     order the followed mode changes number on the way; the viewer goes on calling it by the number
     it was chosen by, in each move's reply, in its state and in its table (whose numbers stay 0 to
     count - 1), and a number from the table selects that row."""
-    session = ViewerSession(planar)
+    session = _at_paper_home(planar)
     home = session.state()["actuated"]
     sliders = session.scene()["sliders"]
     components = session.scene()["pose_components"]
@@ -280,7 +286,7 @@ def test_a_move_past_a_fold_says_so_in_the_users_terms(planar):
     """rho1 pushed to its top: the followed mode ends at a fold of the forward kinematics (it meets
     another mode; beyond, both are gone). The message names the input and where, and is true: the
     configuration is singular there and the input just beyond has two modes fewer."""
-    session = ViewerSession(planar)
+    session = _at_paper_home(planar)
     home = session.state()["actuated"]
     target = list(home)
     slider = session.scene()["sliders"][0]
@@ -304,7 +310,7 @@ def test_a_move_past_a_fold_says_so_in_the_users_terms(planar):
 
 
 def test_a_mode_the_input_lacks_is_named_with_the_modes_it_has(planar):
-    session = ViewerSession(planar)
+    session = _at_paper_home(planar)
     session.modes()
     reply = session.select(99)
     assert reply["error"]["type"] == "NoSuchModeError"

@@ -4,6 +4,10 @@ A small standard-library HTTP server (``http.server`` in a thread, bound to 127.
 otherwise) serves one self-contained page (``viewer.html``: inline JavaScript and a canvas, no
 network) and a JSON API over a ``ViewerSession``:
 
+- the viewer starts (and "Home" returns) at a closed configuration with room to move: the
+  manifest's home, or where a paper's example input sits among folds (stewart's 40 modes) a
+  configuration near it found by a seeded search for the most predicted room before a fold
+  towards each slider's ends (``ViewerSession._roomy``), always a mode its input's list shows;
 - a slider per actuated input (SI units in the API and on the wire; revolute inputs labelled in
   degrees) drives the runtime's tracker (``m.tracker``): the assembly mode is followed
   continuously, and a step the tracker refuses (a crossed type II singularity, a branch it
@@ -115,6 +119,13 @@ ECHO = 120
 SAME_MODE = 1e-7
 #: pose shown on the page: position of {P} in {B} and Z-Y-X Euler angles of ^B_P R
 POSE_LABELS = tuple(POSE_HEADERS)
+#: the viewer's home (``ViewerSession._roomy``): rounds and inputs per round of the random search
+#: for a start with room to move, its seed (the same home every time), the first round's spread
+#: (rad for a revolute input, a fraction of the input for a prismatic one), the finite-difference
+#: step (a fraction of the slider's range), how far inside the sliders' ranges a start lies, the
+#: margin a candidate must beat the manifest's home by, and the weight of the type II measure
+HOME_ROUNDS, HOME_CANDIDATES, HOME_SEED, HOME_SPREAD = 4, 48, 0, 0.2
+HOME_STEP, HOME_INSIDE, HOME_MARGIN, HOME_DETERMINANT = 1e-4, 0.01, 0.05, 0.1
 
 
 def _finite_or_none(value: float) -> float | None:
@@ -187,19 +198,103 @@ class ViewerSession:
         self._reference: _Table | None = None
         self._followed: int | None = None
         self._tracker: ForwardPoseTracker | None = None
-        self._config = self._restart(start if start is not None else self._home())
-        self._home_measures = dict(self._measures(self._config))
-        self._home_conditioning = self._conditioning(self._config)
+        manifest_home = start if start is not None else self._manifest_home()
+        self._config = self._restart(manifest_home)
         self._scale = self._drawing_scale(self._config)
         self._sphere = self._sphere_of(self._config)
         self._sliders = self.sliders()
         self._span = np.array([s["high"] - s["low"] for s in self._sliders], dtype=float)
+        # the viewer's home: the manifest's, or a closed configuration near it with more room to
+        # move before a fold (a paper's example input may sit among folds: stewart's 40 modes)
+        self._start = self._config if start is not None else self._roomy(self._config)
+        self._config = self._restart(self._start)
+        for slider, value in zip(self._sliders, self._start.actuated, strict=True):
+            slider["home"] = float(value)
+        self._home_measures = dict(self._measures(self._config))
+        self._home_conditioning = self._conditioning(self._config)
 
     # ------------------------------------------------------------------ configurations
-    def _home(self) -> Configuration:
-        """The home configuration, closed by Newton from the manifest's home values (every
+    def _manifest_home(self) -> Configuration:
+        """The manifest's home configuration, closed by Newton from its home values (every
         package's home closes: the contract tests check it)."""
         return self.m.forward_pose(self.m.home_actuated, guess=self.m.home_passive)
+
+    def _home(self) -> Configuration:
+        """The viewer's home: where the session started (``_roomy``)."""
+        return self._start
+
+    # ------------------------------------------------------------------ a home with room to move
+    def _room(self, candidates: Configuration) -> np.ndarray:
+        """Each candidate's predicted room to move (n,): over the 2 n_a slider directions, the
+        mean of min(1, distance to a fold / distance to the slider's end), the distance to a fold
+        the linear extrapolation of the type II measure (``closure_singularity``: 0 at a fold)
+        from central differences of the followed mode; plus ``HOME_DETERMINANT`` x |measure| to
+        prefer the better conditioned of candidates that both reach every end."""
+        from parakin.studies.sampling import closure_singularity
+
+        m = self.m
+        count, inputs = candidates.actuated.shape
+        low = np.array([s["low"] for s in self._sliders])
+        high = np.array([s["high"] for s in self._sliders])
+        measure = closure_singularity(m, candidates)
+        total = np.zeros(count)
+        for k in range(inputs):
+            h = HOME_STEP * self._span[k]
+            ends = []
+            for sign in (1.0, -1.0):
+                moved = np.array(candidates.actuated, dtype=float)
+                moved[:, k] += sign * h
+                solved = m.forward_pose(moved, candidates.passive, strict=False)
+                value = closure_singularity(m, Configuration(moved, solved.passive, solved.pose))
+                ends.append(np.where(np.asarray(solved.converged), value, np.nan))
+            with np.errstate(all="ignore"):
+                crossing = -measure / ((ends[0] - ends[1]) / (2 * h))  # where the measure reaches 0
+                for end, sign in ((high[k], 1.0), (low[k], -1.0)):
+                    to_end = np.abs(end - candidates.actuated[:, k])
+                    fold = np.where(np.sign(crossing) == sign, np.abs(crossing), np.inf)
+                    share = np.where(to_end > 0, np.minimum(1.0, fold / np.maximum(to_end, 1e-300)), 1.0)
+                    total += np.nan_to_num(share, nan=0.0)
+        return total / (2 * inputs) + HOME_DETERMINANT * np.abs(np.nan_to_num(measure, nan=0.0))
+
+    def _roomy(self, home: Configuration) -> Configuration:
+        """A start with room to move: a seeded random search over closed configurations around
+        ``home`` (HOME_ROUNDS rounds of HOME_CANDIDATES inputs, each round around the best so far
+        with half the spread) for the most ``_room``; ``home`` itself unless a candidate has
+        HOME_MARGIN more of it. A serial chain, or a search the solver refuses, keeps ``home``."""
+        m = self.m
+        if not m.passive_names or not self._sliders:
+            return home
+        rng = np.random.default_rng(HOME_SEED)
+        low = np.array([s["low"] for s in self._sliders]) + HOME_INSIDE * self._span
+        high = np.array([s["high"] for s in self._sliders]) - HOME_INSIDE * self._span
+        revolute = np.array([s["revolute"] for s in self._sliders])
+        try:
+            one = Configuration(home.actuated[None], home.passive[None], home.pose[None])
+            inside = bool(((home.actuated >= low) & (home.actuated <= high)).all())
+            best, score = home, float(self._room(one)[0]) + HOME_MARGIN if inside else -np.inf
+            spread = HOME_SPREAD
+            for _ in range(HOME_ROUNDS):
+                scale = np.where(revolute, 1.0, np.maximum(np.abs(best.actuated), self._scale * 1e-3))
+                inputs = best.actuated + spread * scale * rng.standard_normal((HOME_CANDIDATES, best.actuated.size))
+                inputs = inputs[((inputs >= low) & (inputs <= high)).all(-1)]
+                spread /= 2
+                if not inputs.size:
+                    continue
+                guess = np.broadcast_to(best.passive, (inputs.shape[0], best.passive.size))
+                solved = m.forward_pose(inputs, guess, strict=False)
+                # closed, and a mode the page can list (forward_pose_all keeps the joint limits)
+                closed = np.asarray(solved.converged & solved.within_limits) & np.isfinite(solved.pose).all((-2, -1))
+                if not closed.any():
+                    continue
+                found = Configuration(inputs[closed], solved.passive[closed], solved.pose[closed])
+                room = self._room(found)
+                k = int(np.argmax(room))
+                if room[k] > score:
+                    score = float(room[k])
+                    best = Configuration(found.actuated[k].copy(), found.passive[k].copy(), found.pose[k].copy())
+        except ParakinError:
+            return home
+        return best
 
     def _restart(self, start: Configuration) -> Configuration:
         """A new tracker from ``start`` (strict: a change of mode raises); a serial chain has no
@@ -317,7 +412,8 @@ class ViewerSession:
         if table is None or table.modes is not modes:
             count = len(modes)
             prints = np.array([self._fingerprint(modes.mode(k)) for k in range(count)], dtype=float)
-            table = _Table(modes, prints.reshape(count, -1), self._continued(prints.reshape(count, -1)))
+            prints = prints.reshape(count, -1) if count else np.zeros((0, 0))  # an input without a mode
+            table = _Table(modes, prints, self._continued(prints))
             self._tables[key] = table
             while len(self._tables) > MODES_CACHED:
                 self._tables.popitem(last=False)
