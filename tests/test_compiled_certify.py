@@ -147,6 +147,24 @@ def test_c_certificate_adversarial(library: Any) -> None:
     assert (ours.radii[:, 0] < 1e-5).all()
 
 
+def test_c_certificate_close_roots_in_double_word(library: Any) -> None:
+    """Two simple roots 2^-30 apart (every coefficient exact): double precision's rounding leaves
+    both undecided in NumPy; the C's double-word second attempt certifies each in its own box,
+    as the exact-arithmetic certificate does."""
+    gap = 2.0**-30
+    args = ([1, -(2 + gap), 1 + gap], [[2], [1], [0]], [0, 0, 0], [[1.0], [1 + gap]])
+    assert not certify_roots(*args).unique.any()
+    ours = certify_roots_compiled(library, *args)
+    assert ours.unique.all() and (ours.real == 1).all() and ours.certified_distinct == 2
+    roots = np.array([1.0, 1 + gap])
+    assert (abs(ours.center[:, 0] - roots) <= ours.radii[:, 0]).all() and (ours.radii < gap / 4).all()
+    for root in roots:
+        box = certify_root_exactly(
+            np.array(args[0], complex), np.array(args[1]), np.array(args[2]), np.array([root]), True
+        )
+        assert box.unique and box.real == 1
+
+
 def test_c_certificate_batch_and_errors(library: Any) -> None:
     """A batch of systems broadcast against candidates as in NumPy; bad inputs are the NumPy
     reference's BadInputErrors."""

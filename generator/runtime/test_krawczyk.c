@@ -85,6 +85,24 @@ static void test_univariate(void) {
     check(!out.unique[0] && !out.unique[1] && out.real[0] == 0, "(z - 1)^2: a double root certified unique");
 }
 
+// (z - 1)(z - 1 - 2^-30) = z^2 - (2 + 2^-30) z + 1 + 2^-30, every coefficient exact: two simple
+// roots 2^-30 apart, where double precision's rounding (2^-52 of terms of size 1, over a
+// derivative of 2^-30) leaves a Newton step above the test's reach; the double-word second
+// attempt certifies both, each box holding its own root alone
+static void test_close_roots(void) {
+    long long a[] = {2, 1, 0}, eq[] = {0, 0, 0};
+    double gap = 0x1p-30, c[] = {1.0, 0.0, -(2.0 + gap), 0.0, 1.0 + gap, 0.0};
+    double z[] = {1.0, 0.0, 1.0 + gap, 0.0};
+    outcome out;
+    check(certify(3, 1, c, a, eq, 2, z, NULL, 0, -1, &out) == 0, "close roots: refused");
+    check(out.unique[0] && out.unique[1], "close roots: not both certified");
+    check(out.real[0] == 1 && out.real[1] == 1, "close roots: not both real");
+    for (int p = 0; p < 2; ++p) {
+        check(fabs(out.center[2 * p] - z[2 * p]) <= out.radii[p], "close roots: a box misses its root");
+        check(out.radii[p] < gap / 4, "close roots: a box reaches the other root");
+    }
+}
+
 // the projective system x^2 - 4 y^2 = 0 with the patch (1 + i) x + (2 - i) y - 1 = 0: the real
 // projective points (2 : 1) and (-2 : 1) in complex coordinates, certified real in the chart;
 // x^2 + 4 y^2 = 0 has (2i : 1), (-2i : 1): non-real
@@ -132,6 +150,7 @@ static void test_refusals(void) {
 int main(void) {
     test_rounding();
     test_univariate();
+    test_close_roots();
     test_homogeneous();
     test_refusals();
     printf("checked %d\n", checks);
