@@ -832,8 +832,15 @@ int delta_forward_pose_all_counted(const delta_modes_job* job, long long* counts
 // kw_up(c) >= exact >= kw_down(c) (kw_up's result is at least the next double above c). F(x) and
 // J(x) are evaluated in circular complex arithmetic (kw_disc: a midpoint and a radius that
 // encloses the rounding errors so far); every upper bound (norms, radii, H, the test's left
-// side) is a chain of operations on non-negative upper bounds, each rounded up by kw_up. The
-// test is therefore exact: a box that passes holds exactly one root of the given coefficients.
+// side) is a chain of operations on non-negative upper bounds, each rounded up by kw_up (or a
+// short group of them at once, kw_up_expression / kw_up_count, with a proven slack). The test
+// is therefore exact: a box that passes holds exactly one root of the given coefficients.
+//
+// Where the first attempt fails although its candidate is near a root (the Newton step stalls
+// at double precision's rounding of F: terms that cancel by many orders, close roots), a second
+// attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
+// sizes): certify.py leaves such roots to its exact-arithmetic certificate. So every box the
+// NumPy reference certifies is certified here too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -926,6 +933,7 @@ typedef struct {
     const long long* a;
     const long long* eq;
     double* size;  // |c_t| + cr_t rounded up (kw_sizes)
+    int accurate;  // F in double-word arithmetic (kw_accurate_f): the second attempt
 } kw_system;
 
 // the coefficients' sizes of a system, once per set of coefficients
@@ -945,6 +953,7 @@ typedef struct {
     long long* pivot; // n
     double* rho;      // n x (deg + 1): rho_i^e, rounded up
     double* step;     // n complex
+    double* dw;       // n x (deg + 1) x 5: double-word powers (kw_accurate_f)
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -1045,6 +1054,100 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
     return 1;
 }
 
+// Double-word arithmetic (Joldes, Muller, Popescu, "Tight and rigorous error bounds for basic
+// building blocks of double-word arithmetic", ACM TOMS 44(2), 2017): a value h + l, |l| <= ulp(h)/2.
+// AccurateDWPlusDW (their Algorithm 6) has relative error below 3u^2/(1 - 4u) and DWTimesDW3
+// (Algorithm 12, with fma) below 4u^2, u = 2^-53, without underflow. A complex double-word
+// product then errs by at most 2 (4u^2 + 3u^2 (1 + 4u^2)) (ma mb) < 2^-100 ma mb (ma: |re| + |im|),
+// a sum by at most 3u^2 (1 + 4u)^-1 (|a| + |b|) < 2^-102 (ma + mb). Underflow is kept out: a part
+// below 2^-400 (a low part below 2^-500) moves into the radius, so every product of two parts is
+// above 2^-1000 and normal, and the few subnormal intermediates err by 2^-1075, far below the
+// relative bounds (products above 2^-800 carry a bound above 2^-900).
+typedef struct { double h, l; } kw_dw;
+typedef struct { kw_dw re, im; double r; } kw_dw_disc;
+
+static inline kw_dw kw_two_sum(double a, double b) {
+    double s = a + b, bb = s - a;
+    return (kw_dw){s, (a - (s - bb)) + (b - bb)};
+}
+static inline kw_dw kw_fast_two_sum(double a, double b) {  // |a| >= |b| or a = 0
+    double s = a + b;
+    return (kw_dw){s, b - (s - a)};
+}
+static inline kw_dw kw_dw_add(kw_dw x, kw_dw y) {  // AccurateDWPlusDW
+    kw_dw s = kw_two_sum(x.h, y.h), t = kw_two_sum(x.l, y.l);
+    kw_dw v = kw_fast_two_sum(s.h, s.l + t.h);
+    return kw_fast_two_sum(v.h, t.l + v.l);
+}
+static inline kw_dw kw_dw_mul(kw_dw x, kw_dw y) {  // DWTimesDW3
+    double ch = x.h * y.h, cl1 = fma(x.h, y.h, -ch);
+    double tl1 = fma(x.h, y.l, x.l * y.l), cl2 = fma(x.l, y.h, tl1);
+    return kw_fast_two_sum(ch, cl1 + cl2);
+}
+static inline kw_dw kw_dw_neg(kw_dw x) { return (kw_dw){-x.h, -x.l}; }
+static inline double kw_dw_size(kw_dw_disc a) {  // >= |re| + |im| of the midpoint
+    return kw_add_up(kw_add_up(fabs(a.re.h), fabs(a.re.l)), kw_add_up(fabs(a.im.h), fabs(a.im.l)));
+}
+// a part too small for the error bounds moves into the radius
+static inline void kw_dw_flush(kw_dw* v, double* r) {
+    if (fabs(v->h) < 0x1p-400) { *r = kw_add_up(*r, kw_add_up(fabs(v->h), fabs(v->l))); v->h = v->l = 0.0; }
+    else if (fabs(v->l) < 0x1p-500) { *r = kw_add_up(*r, fabs(v->l)); v->l = 0.0; }
+}
+static inline kw_dw_disc kw_dw_disc_mul(kw_dw_disc a, kw_dw_disc b) {
+    kw_dw_disc out;
+    out.re = kw_dw_add(kw_dw_mul(a.re, b.re), kw_dw_neg(kw_dw_mul(a.im, b.im)));
+    out.im = kw_dw_add(kw_dw_mul(a.re, b.im), kw_dw_mul(a.im, b.re));
+    double ma = kw_dw_size(a), mb = kw_dw_size(b);
+    double spread = kw_add_up(kw_add_up(kw_mul_up(ma, b.r), kw_mul_up(mb, a.r)), kw_mul_up(a.r, b.r));
+    out.r = kw_add_up(spread, kw_mul_up(kw_mul_up(ma, mb), 0x1p-100));
+    kw_dw_flush(&out.re, &out.r);
+    kw_dw_flush(&out.im, &out.r);
+    return out;
+}
+static inline kw_dw_disc kw_dw_disc_add(kw_dw_disc a, kw_dw_disc b) {
+    kw_dw_disc out = {kw_dw_add(a.re, b.re), kw_dw_add(a.im, b.im), 0.0};
+    out.r = kw_add_up(kw_add_up(a.r, b.r), kw_mul_up(kw_add_up(kw_dw_size(a), kw_dw_size(b)), 0x1p-102));
+    kw_dw_flush(&out.re, &out.r);
+    kw_dw_flush(&out.im, &out.r);
+    return out;
+}
+static inline kw_dw_disc kw_dw_point(double re, double im) {
+    kw_dw_disc out = {{re, 0.0}, {im, 0.0}, 0.0};
+    kw_dw_flush(&out.re, &out.r);
+    kw_dw_flush(&out.im, &out.r);
+    return out;
+}
+
+// F at the point x in double-word disc arithmetic, replacing w->f (midpoint the high parts, the
+// low parts added to the radius): its rounding errors about 2^-100 of the terms' sizes, where
+// double's are 2^-52 (roots of large size, whose terms cancel by many orders); 0 when not finite
+static int kw_accurate_f(const kw_system* s, const double* x, kw_scratch* w) {
+    long long n = s->n, deg = s->deg;
+    kw_dw_disc* powers = (kw_dw_disc*)w->dw;
+    kw_dw_disc f[KW_MAX_UNKNOWNS];
+    for (long long i = 0; i < n; ++i) {
+        kw_dw_disc* p = powers + i * (deg + 1);
+        p[0] = kw_dw_point(1.0, 0.0);
+        p[1] = kw_dw_point(x[2 * i], x[2 * i + 1]);
+        for (long long e = 2; e <= deg; ++e) p[e] = kw_dw_disc_mul(p[e - 1], p[1]);
+        f[i] = kw_dw_point(0.0, 0.0);
+    }
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        kw_dw_disc m = kw_dw_point(s->c[2 * t], s->c[2 * t + 1]);
+        m.r = kw_add_up(m.r, s->cr[t]);
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) m = kw_dw_disc_mul(m, powers[i * (deg + 1) + a[i]]);
+        f[s->eq[t]] = kw_dw_disc_add(f[s->eq[t]], m);
+    }
+    for (long long k = 0; k < n; ++k) {
+        double r = kw_add_up(kw_add_up(f[k].r, fabs(f[k].re.l)), fabs(f[k].im.l));
+        w->f[k] = (kw_disc){f[k].re.h, f[k].im.h, r};
+        if (!kw_finite(w->f[k])) return 0;
+    }
+    return 1;
+}
+
 // LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
 // 0 when a pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
@@ -1132,7 +1235,7 @@ static int kw_inverse(long long n, kw_scratch* w) {
 // when F or J is not finite or J~ is singular
 static int kw_newton(const kw_system* s, const double* x, kw_scratch* w) {
     long long n = s->n;
-    if (!kw_evaluate(s, x, w, 0) || !kw_factor(n, w)) return 0;
+    if (!kw_evaluate(s, x, w, 0) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_factor(n, w)) return 0;
     for (long long k = 0; k < n; ++k) { w->step[2 * k] = w->f[k].re; w->step[2 * k + 1] = w->f[k].im; }
     return kw_lu_solve(n, w, w->step);
 }
@@ -1143,7 +1246,7 @@ typedef struct { double a, b, c; } kw_bounds;
 
 static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
     long long n = s->n;
-    if (!kw_evaluate(s, x, w, 1) || !kw_inverse(n, w)) return 0;
+    if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
         double ra = 0.0, rc = 0.0;
@@ -1289,6 +1392,7 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (long long)sizeof(long long));  // pivot
     b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(double));  // rho
     b += KW_ALIGN(2 * n * (long long)sizeof(double));  // step
+    b += KW_ALIGN(5 * n * (deg + 1) * (long long)sizeof(double));  // dw
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -1377,6 +1481,7 @@ static int kw_certify(const kw_job* job) {
     w.pivot = (long long*)kw_take(&cursor, n * (long long)sizeof(long long));
     w.rho = (double*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(double));
     w.step = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    w.dw = (double*)kw_take(&cursor, 5 * n * (deg + 1) * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -1432,7 +1537,7 @@ static int kw_certify(const kw_job* job) {
             const double* z = job->roots + 2 * at * n;
             double* centre = job->center + 2 * at * n;
             int present = kw_row_finite(n, z);
-            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main};
+            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0};
             double unit = 1e-150;
             for (long long i = 0; i < n; ++i) shift[i] = 0;
             if (!homogeneous) {
@@ -1477,7 +1582,13 @@ static int kw_certify(const kw_job* job) {
                 continue;
             }
             kw_bounds bounds;
-            for (int k = 0; k < KW_NEWTON_STEPS; ++k) {  // sharpen; a step leaving the finite numbers is dropped
+            double r = 0.0, floor = 0.0;
+            for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
+            // the first attempt in double, a second with F in double-word arithmetic where the
+            // first's centre stalled (its Newton step still above the test's reach)
+            if (s.accurate)
+                for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
+            for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
                 if (!kw_newton(&s, x, &w)) continue;
                 int finite = 1;
                 for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
@@ -1492,9 +1603,11 @@ static int kw_certify(const kw_job* job) {
             double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
             double moved = 0.0;
             for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
-            if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) continue;
-            double floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
-            double r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+            if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) break;
+            floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
+            r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+            if (r > 0.0) break;
+            }
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
@@ -1577,7 +1690,7 @@ static int kw_certify(const kw_job* job) {
             coefficients[2 * (chart_terms - 1)] = -1.0;
             coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
             radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
-            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart};
+            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate};
             kw_sizes(&chart);
             if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
                 job->real[at] = 1;

@@ -3270,8 +3270,15 @@ int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts) 
 // kw_up(c) >= exact >= kw_down(c) (kw_up's result is at least the next double above c). F(x) and
 // J(x) are evaluated in circular complex arithmetic (kw_disc: a midpoint and a radius that
 // encloses the rounding errors so far); every upper bound (norms, radii, H, the test's left
-// side) is a chain of operations on non-negative upper bounds, each rounded up by kw_up. The
-// test is therefore exact: a box that passes holds exactly one root of the given coefficients.
+// side) is a chain of operations on non-negative upper bounds, each rounded up by kw_up (or a
+// short group of them at once, kw_up_expression / kw_up_count, with a proven slack). The test
+// is therefore exact: a box that passes holds exactly one root of the given coefficients.
+//
+// Where the first attempt fails although its candidate is near a root (the Newton step stalls
+// at double precision's rounding of F: terms that cancel by many orders, close roots), a second
+// attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
+// sizes): certify.py leaves such roots to its exact-arithmetic certificate. So every box the
+// NumPy reference certifies is certified here too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
