@@ -7,6 +7,7 @@ Raises and Examples sections; and the Examples of the modules behind the pages r
 from __future__ import annotations
 
 import doctest
+import functools
 import re
 from pathlib import Path
 
@@ -77,6 +78,7 @@ def _passes(name: str, filters: list[str]) -> bool:
     return not positive or any(re.search(pattern, name) for pattern in positive)
 
 
+@functools.cache
 def _shown_functions() -> dict[str, griffe.Function]:
     """Every function the API pages render (public, with a docstring), by its full path."""
     loader = griffe.GriffeLoader(search_paths=[str(ROOT)], docstring_parser=griffe.Parser.numpy)
