@@ -206,3 +206,40 @@ def test_parakin_generate_of_a_users_file_with_an_accelerator(tmp_path):
     assert up_to_date("mine", source, package)
     (tmp_path / "src" / "_mine_forward.py").write_text("TITLE = 'changed'\n")
     assert not up_to_date("mine", source, package)
+
+
+PLAIN_FIVE_BAR = """\"\"\"The shipped five-bar without its accelerator.\"\"\"
+import dataclasses
+
+from parakin.mechanisms import five_bar
+
+
+def build():
+    return dataclasses.replace(five_bar.build(), forward=None)
+"""
+
+
+def test_an_accelerator_is_optional(tmp_path):  # about 2 s
+    """The five-bar generated without its accelerator (forward=None: the generator's own polynomial
+    form) finds the same assembly modes as the shipped package with the hand two-circle
+    elimination, at 40 seeded inputs near the home."""
+    import numpy as np
+    from parakin.generator.build import generate_file
+
+    import parakin
+
+    source = tmp_path / "five_bar_plain.py"
+    source.write_text(PLAIN_FIVE_BAR)
+    generate_file(source, tmp_path / "plain")
+    plain, shipped = parakin.load(tmp_path / "plain", backend="numpy"), parakin.load("five_bar", backend="numpy")
+    rng = np.random.default_rng(32)
+    checked = 0
+    for _ in range(40):
+        actuated = shipped.home_actuated + rng.uniform(-0.3, 0.3, 2)
+        modes = [m.forward_pose_all(actuated) for m in (plain, shipped)]
+        assert (modes[0].method, modes[1].method) == ("automatic", "elimination")
+        found = [np.sort(m.passive[m.valid], axis=0) for m in modes]
+        assert found[0].shape == found[1].shape, (actuated, found)
+        assert np.allclose(found[0], found[1], atol=1e-9, rtol=0), (actuated, found)
+        checked += len(found[0]) > 0
+    assert checked >= 30
