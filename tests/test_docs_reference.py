@@ -87,9 +87,9 @@ def _shown_functions() -> dict[str, griffe.Function]:
     shown: dict[str, griffe.Function] = {}
 
     def visit(obj: griffe.Object | griffe.Alias, members: object, filters: list[str]) -> None:
-        if obj.is_alias:
+        if isinstance(obj, griffe.Alias):
             obj = obj.final_target
-        if obj.is_function:
+        if isinstance(obj, griffe.Function):
             if obj.docstring and "property" not in obj.labels:
                 shown[obj.path] = obj
             return
