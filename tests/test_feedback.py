@@ -207,7 +207,7 @@ def test_count_modes_chunks_feed_one_bar(monkeypatch, capfd):
 
 
 def test_a_sweep_bar_follows_its_progress_argument(monkeypatch, capfd):
-    """sweep(progress=True) shows its bar over dask's tasks even below LARGE_BATCH points and with
+    """sweep(progress=True) shows its bar over the grid's points even below LARGE_BATCH points and with
     stderr not a terminal; progress=False never, whatever PARAKIN_PROGRESS says."""
     import numpy as np
 
@@ -218,7 +218,7 @@ def test_a_sweep_bar_follows_its_progress_argument(monkeypatch, capfd):
     axes = {"x": np.linspace(-0.5, 0.5, 5), "y": np.linspace(-0.3, 0.7, 5)}
     shown = sweep("five_bar", ["reachable"], axes, chunk=5, progress=True)
     err = capfd.readouterr().err
-    assert "sweep of five_bar" in err and "task" in err, err
+    assert "sweep of five_bar" in err and "point" in err and "25/25" in err, err
     monkeypatch.setenv("PARAKIN_PROGRESS", "on")
     hidden = sweep("five_bar", ["reachable"], axes, chunk=5, progress=False)
     assert capfd.readouterr().err == ""
