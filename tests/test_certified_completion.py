@@ -134,3 +134,62 @@ def test_every_root_of_the_formerly_incomplete_rus6_inputs_is_certified_exactly(
     boxes = [_exact_box(homotopy, coefficients, root) for root in z]
     assert _pairwise_disjoint(boxes)  # 80 distinct roots, each alone in its box
     assert sum(box.real == 1 for box in boxes) == int(modes.real_roots[0])
+
+
+def _first_run(m, theta):
+    """The compiled first run of one input in the certificate's own numbers, and its certificate."""
+    scaled, _ = m._unit_free or (m, 1.0)
+    info = scaled.capabilities.forward
+    out = modes_module.compiled_modes(scaled, theta[None])
+    return scaled, info, out, modes_module.certify(scaled, info, theta[None], out["endpoints"], True)
+
+
+def _forget(out, found, slots):
+    """The slots as if their paths had failed: no endpoint, no box."""
+    out["endpoints"][0, slots] = np.nan
+    found.unique[0, slots] = False
+    found.centre[0, slots] = np.nan
+    found.radii[0, slots] = np.nan
+    modes_module._recount(found, np.array([0]))
+
+
+def test_conjugates_and_other_runs_fill_the_slots_no_box_holds_and_count_each_root_once(rus6):
+    theta = np.array(FORMERLY_INCOMPLETE[178])
+    m, info, out, found = _first_run(rus6, theta)
+    nonreal = np.nonzero(found.unique[0] & (found.real[0] == -1))[0]
+    z = found.centre[0]
+    # the certified non-real roots whose conjugate is also a certified root of the run: forget
+    # one of each of a few such pairs
+    partner = {}
+    for p in nonreal:
+        distance = np.abs(z - np.conj(z[p])).max(-1)
+        q = int(np.argmin(np.where(found.unique[0], distance, np.inf)))
+        if np.abs(z[q] - np.conj(z[p])).max() <= found.radii[0, p].max() + found.radii[0, q].max():
+            partner[int(p)] = q
+    assert len(partner) >= 20
+    forgotten = sorted({max(p, q) for p, q in list(partner.items())[:12]})
+    assert len(forgotten) >= 4
+    before = int(found.certified[0])
+    kept = {key: value.copy() for key, value in out.items()}
+    _forget(out, found, forgotten)
+    assert int(found.certified[0]) == before - len(forgotten)
+    held = found.unique[0].copy()
+    modes_module.add_conjugates(m, info, theta[None], out, found, np.array([0]))
+    restored = int(found.certified[0])
+    filled = np.nonzero(found.unique[0] & ~held)[0]
+    # each forgotten root is back, as its conjugate's image (and any other missing conjugate)
+    assert restored >= before and filled.size == restored - before + len(forgotten)
+    homotopy, coefficients = _system(rus6, theta)
+    for slot in filled:
+        box = _exact_box(homotopy, coefficients, found.centre[0, slot])  # independently certified
+        assert box.real == -1
+    # another run holding the same roots adds none (no root counted twice); one holding the
+    # forgotten ones restores them
+    again = {key: value.copy() for key, value in kept.items()}
+    second = modes_module.certify(m, info, theta[None], again["endpoints"], True)
+    modes_module.merge_roots(out, found, np.array([0]), again, second)
+    assert int(found.certified[0]) == restored
+    _forget(out, found, filled)
+    assert int(found.certified[0]) == restored - filled.size
+    modes_module.merge_roots(out, found, np.array([0]), again, second)
+    assert int(found.certified[0]) == restored - filled.size + len(forgotten)
