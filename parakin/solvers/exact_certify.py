@@ -8,8 +8,11 @@ holds exactly one root. Here every number is a dyadic rational m 2^e (every doub
 Python integers: x, the coefficients and Y are dyadic, and F(x), J(x), Y F(x), I - Y J(x) and the
 Hessian bound H_k(rho) are computed exactly (sums and products of dyadics are dyadic); each
 modulus |a + bi| is bounded above by |a| + |b|. The inequality is decided exactly on upper bounds
-of its terms, so no rounding model is needed. The centre is first refined by Newton steps
-x <- x - Y F(x) with F exact, rounded to ``BITS`` fractional bits between steps.
+of its terms, so no rounding model is needed. Y is J(x)^-1 by Gauss-Jordan elimination in
+``FIXED``-bit fixed point (``_inverse``): a root whose Jacobian is conditioned far beyond 1e16 (rus6
+roots of size 4e7, next to a singular root at infinity: ~1e19) gets a Y for which ||I - Y J|| is
+small, where a double-precision inverse leaves it above 1. The centre is first refined by Newton
+steps x <- x - Y F(x) with F exact and the same Y, rounded to ``BITS`` fractional bits between steps.
 """
 
 from __future__ import annotations
