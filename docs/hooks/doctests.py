@@ -29,6 +29,10 @@ MODULES = (
     "parakin.studies.atlas",
     "parakin.interfaces.plot",
     "parakin.validation",
+    "parakin.calibration.data",
+    "parakin.calibration.fit",
+    "parakin.calibration.design",
+    "parakin.packages.manifest",
 )
 SCRIPT = """
 import doctest, importlib, sys

@@ -89,10 +89,23 @@ class CalibrationData:
     CalibrationDataError
         A shape that does not match the kind, a non-positive sigma, an unknown kind or frame name.
 
-    Example
-    -------
-    >>> data = CalibrationData(readings, poses, kind="pose", sigma=(20e-6, np.deg2rad(0.002)),
-    ...                        unknown=("tracker", "tool"))
+    Examples
+    --------
+    Positions of a delta's platform seen by a laser tracker placed at an unknown pose: the
+    readings are the encoders' values there (here the drawing's own inverse, branch 0).
+
+    >>> import parakin
+    >>> from parakin.calibration import CalibrationData
+    >>> m = parakin.load("delta", backend="numpy")
+    >>> points = m.home_passive + [[0.0, 0.0, 0.0], [0.05, 0.0, 0.0], [0.0, 0.05, 0.0], [0.0, 0.0, -0.05]]
+    >>> readings = m.inverse_pose(points).actuated[:, 0]
+    >>> data = CalibrationData(readings, points, kind="position", sigma=20e-6, unknown=["tracker"])
+    >>> len(data), data.size, data.sigma
+    (4, 3, (2e-05, 2e-05))
+    >>> CalibrationData(readings, points[:3], kind="position")
+    Traceback (most recent call last):
+    ...
+    parakin.errors.CalibrationDataError: measured must have shape (4, 3) for kind 'position' and 4 poses, got (3, 3)
     """
 
     actuated: Array
@@ -168,16 +181,79 @@ class CalibrationData:
         return SIZES[self.kind]
 
     def frame_values(self) -> dict[str, float]:
-        """The starting values of the twelve frame parameters (tracker then tool)."""
+        """The starting values of the twelve frame parameters (tracker then tool).
+
+        Returns
+        -------
+        dict of str to float
+            ``tracker_x``, ``tracker_y``, ``tracker_z`` (m: the origin of {W} in {B}),
+            ``tracker_rx``, ``tracker_ry``, ``tracker_rz`` (rad: the rotation vector of ^B_W R),
+            then the same six of ``tool`` (^P_T T); the calibration's starting values for unknown
+            frames, its held values for known ones.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from parakin.calibration import CalibrationData
+        >>> tracker = np.eye(4)
+        >>> tracker[:3, 3] = [1.5, 0.0, 0.25]  # the tracker 1.5 m along x of {B}, 0.25 m up
+        >>> data = CalibrationData([[0.1, 0.2, 0.3]], [[0.0, 0.0, -1.0]], kind="position", tracker=tracker)
+        >>> {name: value for name, value in data.frame_values().items() if value}
+        {'tracker_x': 1.5, 'tracker_z': 0.25}
+        """
         values = np.concatenate([frame_values(self.tracker), frame_values(self.tool)])
         return dict(zip(frame_names("tracker") + frame_names("tool"), (float(v) for v in values), strict=True))
 
     def free_frames(self) -> list[str]:
-        """The frame parameters an unknown frame frees for this kind (``UNKNOWN_FRAME``)."""
+        """The frame parameters an unknown frame frees for this kind (``UNKNOWN_FRAME``): the
+        ones that change this kind's measurement independently (a position does not see the
+        tool's rotation; a height sees only the tracker's z and its tilt).
+
+        Returns
+        -------
+        list of str
+            Names as in ``frame_values``, tracker first; empty when both frames are known.
+
+        Examples
+        --------
+        >>> from parakin.calibration import CalibrationData
+        >>> data = CalibrationData([[0.1, 0.2, 0.3]], [-1.0], kind="z", unknown=["tracker", "tool"])
+        >>> data.free_frames()
+        ['tracker_z', 'tracker_rx', 'tracker_ry', 'tool_x', 'tool_y', 'tool_z']
+        """
         return [f"{frame}_{c}" for frame in self.unknown for c in UNKNOWN_FRAME[self.kind][frame]]
 
     def subset(self, rows: ArrayLike) -> CalibrationData:
-        """The measurements at ``rows`` (indices or a mask), same kind, sigma and frames."""
+        """The measurements at ``rows`` (indices or a mask), same kind, sigma and frames: a
+        campaign split into the poses that calibrate and the poses held out to check it.
+
+        Parameters
+        ----------
+        rows : array_like of int, shape (k,), or of bool, shape (N,)
+            Indices of the poses to keep (in this order, repeats allowed), or a mask over all N.
+
+        Returns
+        -------
+        CalibrationData
+            The k poses' readings, measurements and starting passive joints (if given).
+
+        Raises
+        ------
+        CalibrationDataError
+            ``rows`` selects no pose.
+        IndexError
+            An index out of range, a mask of another length than N, or a float index (NumPy's
+            indexing error, with the sizes).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from parakin.calibration import CalibrationData
+        >>> data = CalibrationData(np.zeros((5, 3)), np.arange(5.0), kind="distance", sigma=1e-5)
+        >>> fit, held_out = data.subset([0, 1, 2]), data.subset(np.arange(5) >= 3)
+        >>> len(fit), held_out.measured.tolist(), held_out.sigma
+        (3, [3.0, 4.0], (1e-05, 1e-05))
+        """
         index = np.asarray(rows)
         return CalibrationData(
             self.actuated[index],

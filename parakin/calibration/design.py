@@ -149,17 +149,38 @@ def design_poses(
     Returns
     -------
     PoseDesign
+        The chosen candidates' indices, poses and actuated joints (what to command), the
+        criterion's value after the greedy pass and after exchange, and the chosen set's rank and
+        observability indices.
 
     Raises
     ------
     CalibrationDataError
-        An unknown criterion, n < 1 or more than the eligible candidates.
+        An unknown criterion, n < 1 or more than the eligible candidates, a branch the inverse
+        does not have, candidates that are not a batch, or a measurement (``kind``, ``sigma``,
+        frames) that ``CalibrationData`` refuses.
+    BadInputError
+        Candidates that are not poses of the mechanism's kind, or an unknown name in ``free`` or
+        ``fixed`` (the message suggests the closest names).
 
-    Example
-    -------
-    >>> grid = random_workspace_poses(500)
-    >>> design = design_poses(m, grid, 40, criterion="D")
-    >>> campaign_poses = design.poses
+    Examples
+    --------
+    Where to measure a delta's platform with a tracker: 8 of 200 random points within 0.1 m of
+    home, D-optimal for its parameters and encoder offsets:
+
+    >>> import numpy as np, parakin
+    >>> from parakin.calibration import design_poses
+    >>> m = parakin.load("delta", backend="numpy")
+    >>> candidates = m.home_passive + np.random.default_rng(1).uniform(-0.1, 0.1, (200, 3))
+    >>> design = design_poses(m, candidates, 8, criterion="D", kind="position", sigma=20e-6)
+    >>> design.eligible, design.rank, design.actuated.shape  # rank 6 of 7: R + r is one direction
+    (200, 6, (8, 3))
+    >>> bool(design.value >= design.greedy_value)  # exchange never loses what greedy found
+    True
+    >>> design_poses(m, candidates, 8, criterion="A", kind="position")
+    Traceback (most recent call last):
+    ...
+    parakin.errors.CalibrationDataError: criterion must be one of ('O1', 'D', 'E'), got 'A'
     """
     if criterion not in CRITERIA:
         raise CalibrationDataError(f"criterion must be one of {CRITERIA}, got {criterion!r}")

@@ -347,8 +347,40 @@ class CalibrationResult:
         return frame_transform(np.array([self.values[n] for n in frame_names("tool")]))
 
     def joints(self, readings: ArrayLike) -> Array:
-        """The calibrated model's actuated joints (..., n_a) for encoder readings (..., n_a):
-        scale * reading + offset."""
+        """The calibrated model's actuated joints for encoder readings: scale * reading + offset,
+        with the calibrated ``<actuated>_scale`` and ``<actuated>_offset``.
+
+        Parameters
+        ----------
+        readings : array_like, shape (..., n_a)
+            Encoder readings (m or rad), in ``mechanism.actuated_names`` order; any leading
+            batch shape.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_a)
+            The joints (m or rad) of ``mechanism``, the calibrated model, at those readings.
+
+        Raises
+        ------
+        ValueError
+            ``readings`` whose last axis is not n_a, or not numbers (NumPy's broadcasting or
+            conversion error).
+
+        Examples
+        --------
+        A delta whose first encoder reads 2 mrad low, calibrated from 12 measured positions:
+
+        >>> import numpy as np, parakin
+        >>> from parakin.calibration import CalibrationData, calibrate
+        >>> m = parakin.load("delta", backend="numpy")
+        >>> built = parakin.load("delta", backend="numpy", L=0.351)
+        >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+        >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+        >>> result = calibrate(m, CalibrationData(readings, points, kind="position", sigma=20e-6))
+        >>> bool(np.allclose(result.joints(readings), readings + [0.002, 0.0, 0.0], rtol=0, atol=1e-9))
+        True
+        """
         names = self.mechanism.actuated_names
         reading = np.asarray(readings, dtype=float)
         scale = np.array([self.values[f"{a}_scale"] for a in names])
@@ -357,14 +389,91 @@ class CalibrationResult:
 
     def readings(self, joints: ArrayLike) -> Array:
         """The encoder readings that put the calibrated model's joints at ``joints`` (inverse of
-        ``joints``): what to command."""
+        ``joints``): what to command.
+
+        Parameters
+        ----------
+        joints : array_like, shape (..., n_a)
+            Actuated joints (m or rad) of ``mechanism``, the calibrated model (e.g. from its
+            ``inverse_pose``), in ``mechanism.actuated_names`` order; any leading batch shape.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n_a)
+            The encoder readings (m or rad): (joint - offset) / scale.
+
+        Raises
+        ------
+        ValueError
+            ``joints`` whose last axis is not n_a, or not numbers (NumPy's broadcasting or
+            conversion error).
+
+        Examples
+        --------
+        The readings that put the calibrated delta's platform at a wanted point (the setup of
+        ``joints``: encoder 1 reads 2 mrad low):
+
+        >>> import numpy as np, parakin
+        >>> from parakin.calibration import CalibrationData, calibrate
+        >>> m = parakin.load("delta", backend="numpy")
+        >>> built = parakin.load("delta", backend="numpy", L=0.351)
+        >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+        >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+        >>> result = calibrate(m, CalibrationData(readings, points, kind="position", sigma=20e-6))
+        >>> target = result.mechanism.inverse_pose(m.home_passive).actuated[0]
+        >>> (result.readings(target) - target).round(9).tolist()
+        [-0.002, 0.0, 0.0]
+        """
         names = self.mechanism.actuated_names
         scale = np.array([self.values[f"{a}_scale"] for a in names])
         offset = np.array([self.values[f"{a}_offset"] for a in names])
         return (np.asarray(joints, dtype=float) - offset) / scale
 
     def interval(self, name: str, level: float = 0.95) -> tuple[float, float]:
-        """The two-sided normal confidence interval of a free parameter (``level`` 0.95 or 0.99)."""
+        """The two-sided normal confidence interval of a free parameter: value -+ z sigma, with
+        its standard error sigma (first order, from the covariance at the solution).
+
+        Parameters
+        ----------
+        name : str
+            A free parameter (``names``), e.g. ``"L"`` or ``"theta1_offset"``.
+        level : float
+            The confidence level: 0.95 (z = 1.96) or 0.99 (z = 2.576).
+
+        Returns
+        -------
+        tuple of (float, float)
+            The interval's ends, in the parameter's unit (m, rad or 1); (nan, nan) for a
+            parameter that the measurements do not identify (``unidentifiable``).
+
+        Raises
+        ------
+        CalibrationDataError
+            ``level`` not 0.95 or 0.99.
+        BadInputError
+            ``name`` not a free parameter (the message suggests the closest names).
+
+        Examples
+        --------
+        The delta of ``joints`` (upper arms 1 mm longer than drawn, L = 0.351 m):
+
+        >>> import numpy as np, parakin
+        >>> from parakin.calibration import CalibrationData, calibrate
+        >>> m = parakin.load("delta", backend="numpy")
+        >>> built = parakin.load("delta", backend="numpy", L=0.351)
+        >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+        >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+        >>> result = calibrate(m, CalibrationData(readings, points, kind="position", sigma=20e-6))
+        >>> low, high = result.interval("L")
+        >>> bool(low < 0.351 < high), round(high - low, 5)
+        (True, 0.00165)
+        >>> result.interval("R")  # only R + r is determined by positions
+        (nan, nan)
+        >>> result.interval("L", level=0.9)
+        Traceback (most recent call last):
+        ...
+        parakin.errors.CalibrationDataError: level must be 0.95 or 0.99, got 0.9
+        """
         z = {0.95: 1.959963984540054, 0.99: 2.5758293035489004, 0.6826894921370859: 1.0}.get(level)
         if z is None:
             raise CalibrationDataError(f"level must be 0.95 or 0.99, got {level!r}")
@@ -375,7 +484,40 @@ class CalibrationResult:
 
     def summary(self) -> str:
         """A text table: every free parameter (nominal, calibrated, one sigma), then the null
-        combinations, the rms before and after and O1..O5."""
+        combinations, the rms before and after and O1..O5.
+
+        Returns
+        -------
+        str
+            Lines of ``parameter nominal calibrated sigma`` (the unit of each parameter; an
+            unidentifiable one shows ``(unid.)``), the rank, each unidentifiable combination,
+            the rms of each residual component before and after (m or rad), the observability
+            indices and the iterations and seconds taken.
+
+        Examples
+        --------
+        The delta of ``joints``:
+
+        >>> import numpy as np, parakin
+        >>> from parakin.calibration import CalibrationData, calibrate
+        >>> m = parakin.load("delta", backend="numpy")
+        >>> built = parakin.load("delta", backend="numpy", L=0.351)
+        >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+        >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+        >>> result = calibrate(m, CalibrationData(readings, points, kind="position", sigma=20e-6))
+        >>> print(result.summary())
+        parameter              nominal    calibrated      sigma
+        R                          0.2           0.2   (unid.)
+        r                         0.05          0.05   (unid.)
+        L                         0.35         0.351    0.00042
+        l                          1.3           1.3     0.0011
+        theta1_offset                0         0.002    0.00295
+        ...
+        rank 6 of 7; 1 unidentifiable combination(s)
+          unidentifiable: R + r
+        rms position: 0.001137 before, ... after
+        observability: O1 = 0.0681, ...
+        """
         lines = [f"{'parameter':<16} {'nominal':>13} {'calibrated':>13} {'sigma':>10}"]
         for name in self.names:
             error = self.standard_errors[name]
@@ -440,6 +582,9 @@ def calibrate(
     Returns
     -------
     CalibrationResult
+        The calibrated values with their standard errors and covariance, what is identifiable
+        and the null combinations, the residuals before and after, and the calibrated model
+        (``.mechanism``).
 
     Raises
     ------
@@ -450,11 +595,26 @@ def calibrate(
     ConvergenceError
         A pose whose loop cannot be closed from its starting guess.
 
-    Example
-    -------
-    >>> m = parakin.load("stewart")
-    >>> result = calibrate(m, CalibrationData(readings, poses, sigma=(20e-6, 3.5e-5)))
-    >>> result.rank, result.rms_after["position"], result.mechanism.parameters["base_x2"]
+    Examples
+    --------
+    A delta built with upper arms 1 mm longer than drawn (L = 0.351 m) and its first encoder
+    reading 2 mrad low; a tracker measured its platform at 12 points (exact here):
+
+    >>> import numpy as np, parakin
+    >>> from parakin.calibration import CalibrationData, calibrate
+    >>> m = parakin.load("delta", backend="numpy")  # the drawing
+    >>> built = parakin.load("delta", backend="numpy", L=0.351)
+    >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+    >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+    >>> result = calibrate(m, CalibrationData(readings, points, kind="position", sigma=20e-6))
+    >>> round(result.values["L"], 9), round(result.values["theta1_offset"], 9)
+    (0.351, 0.002)
+    >>> result.rank, [str(c) for c in result.unidentifiable]  # positions cannot tell R from r
+    (6, ['R + r'])
+    >>> calibrate(m, CalibrationData(readings, points, kind="position"), free=["L", "theta1_ofset"])
+    Traceback (most recent call last):
+    ...
+    parakin.errors.BadInputError: unknown calibration parameter 'theta1_ofset' for 'delta'; did you mean 'theta1_offset' ...
     """
     began = time.perf_counter()
     problem = Problem(m, data, free, fixed, prior)
@@ -553,6 +713,7 @@ def prediction_covariance(
     Parameters
     ----------
     result : CalibrationResult
+        What ``calibrate`` returned: its model, values and covariance.
     readings : array_like (N, n_a)
         Encoder readings (m or rad), the same kind as the calibration's.
     guess : array_like, optional
@@ -567,10 +728,36 @@ def prediction_covariance(
         Covariance (m^2) of the origin of {P} in {B}, from the covariance of the free geometric
         and joint parameters (the frames' do not move the platform).
 
-    Example
-    -------
-    >>> poses, cov = prediction_covariance(result, held_out_readings)
-    >>> predicted_rms = np.sqrt(np.trace(cov, axis1=1, axis2=2).mean())
+    Raises
+    ------
+    BadInputError
+        Readings whose joints are non-finite or outside the model's actuated ranges
+        (``Mechanism.forward_pose``).
+    ConvergenceError, SingularConfigurationError
+        Newton did not close a pose from ``guess``, or met a type II singularity.
+    ValueError
+        ``readings`` whose last axis is not n_a (NumPy's broadcasting error).
+
+    Examples
+    --------
+    The delta of ``calibrate``'s example, fitted on 8 of its 12 positions (20 um noise assumed);
+    the other 4 are predicted, with the error the parameters' covariance implies:
+
+    >>> import numpy as np, parakin
+    >>> from parakin.calibration import CalibrationData, calibrate, prediction_covariance
+    >>> m = parakin.load("delta", backend="numpy")
+    >>> built = parakin.load("delta", backend="numpy", L=0.351)
+    >>> points = m.home_passive + np.random.default_rng(0).uniform(-0.05, 0.05, (12, 3))
+    >>> readings = built.inverse_pose(points).actuated[:, 0] - [0.002, 0.0, 0.0]
+    >>> data = CalibrationData(readings, points, kind="position", sigma=20e-6)
+    >>> result = calibrate(m, data.subset(np.arange(8)))
+    >>> poses, cov = prediction_covariance(result, readings[8:])
+    >>> poses.shape, cov.shape
+    ((4, 4, 4), (4, 3, 3))
+    >>> bool(np.abs(poses[:, :3, 3] - points[8:]).max() < 1e-9)  # the built robot's positions
+    True
+    >>> np.sqrt(np.trace(cov, axis1=1, axis2=2)).round(6).tolist()  # predicted 1-sigma (m)
+    [...]
     """
     m = result.mechanism
     theta = np.asarray(readings, dtype=float)

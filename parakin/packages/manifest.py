@@ -445,7 +445,39 @@ class Manifest:
     def read(cls, path: Path) -> Manifest:
         """Read and check ``path`` (a manifest.json): every field (``from_dict``), and every file
         entry a plain file name that resolves inside the package folder. BrokenPackageError
-        (a BadInputError) naming the file, the field and the bad value otherwise."""
+        (a BadInputError) naming the file, the field and the bad value otherwise.
+
+        Parameters
+        ----------
+        path : pathlib.Path or str
+            The ``manifest.json`` of a generated package folder (``m.package.path``).
+
+        Returns
+        -------
+        Manifest
+            The typed manifest: variables with units and limits, parameters, kernels,
+            capabilities, examples, tolerances.
+
+        Raises
+        ------
+        BrokenPackageError
+            The file cannot be read or is no JSON, a field is missing or malformed (named with its
+            path in the manifest and the bad value), or a C file it lists resolves outside the
+            package folder.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> from parakin.packages.manifest import Manifest
+        >>> folder = parakin.load("five_bar", backend="numpy").package.path
+        >>> manifest = Manifest.read(folder / "manifest.json")
+        >>> manifest.name, manifest.actuated_names, manifest.passive_names, manifest.pose_kind
+        ('five_bar', ['theta1', 'theta2'], ['x', 'y'], 'planar_translation')
+        >>> Manifest.read(folder / "missing.json")
+        Traceback (most recent call last):
+        ...
+        parakin.errors.BrokenPackageError: cannot read the manifest .../missing.json: [Errno 2] No such file ...
+        """
         path = Path(path)
         try:
             data = json.loads(path.read_text())
@@ -468,7 +500,40 @@ class Manifest:
         type, shape and range, and against the fields it must agree with (sizes of variables,
         branches, unknowns, the kernels each capability calls), so that a manifest read here
         cannot make a solver fail later with a raw error; anything else is a BrokenPackageError
-        naming the field's path and the bad value."""
+        naming the field's path and the bad value.
+
+        Parameters
+        ----------
+        data : object
+            The parsed JSON (``json.loads``): a dict with the manifest's fields, of schema
+            ``SUPPORTED_SCHEMA``; any other value is refused with the reason.
+
+        Returns
+        -------
+        Manifest
+            The typed manifest (no file is checked: ``read`` checks the listed files).
+
+        Raises
+        ------
+        BrokenPackageError
+            Not a JSON object, an unsupported schema (regenerate the package), or a field
+            missing, of the wrong type, shape or range, or disagreeing with another (named by its
+            path, e.g. ``actuated[0].limits``, with the bad value).
+
+        Examples
+        --------
+        >>> import json, parakin
+        >>> from parakin.packages.manifest import Manifest
+        >>> folder = parakin.load("five_bar", backend="numpy").package.path
+        >>> data = json.loads((folder / "manifest.json").read_text())
+        >>> Manifest.from_dict(data).actuated[0]
+        Variable(name='theta1', kind='revolute', unit='rad', home=1.86..., limits=(-inf, inf))
+        >>> data["actuated"][0]["limits"] = [2.0, 1.0]
+        >>> Manifest.from_dict(data)
+        Traceback (most recent call last):
+        ...
+        parakin.errors.BrokenPackageError: field actuated.limits: [2.0, 1.0] is not a range (low > high) (at actuated[0].limits)
+        """
         if not isinstance(data, dict):
             raise BrokenPackageError(f"a manifest is a JSON object, got {type(data).__name__}")
         schema = data.get("schema")
