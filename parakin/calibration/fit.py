@@ -721,10 +721,10 @@ def prediction_covariance(
 
     Returns
     -------
-    poses : (N, 4, 4)
+    poses : numpy.ndarray, shape (N, 4, 4)
         ^B_P T of the calibrated model (its joints ``result.joints(readings)``), by Newton from
         ``guess``.
-    covariance : (N, 3, 3)
+    covariance : numpy.ndarray, shape (N, 3, 3)
         Covariance (m^2) of the origin of {P} in {B}, from the covariance of the free geometric
         and joint parameters (the frames' do not move the platform).
 
