@@ -1187,29 +1187,29 @@ static int kw_certify(const kw_job* job) {
             kw_bounds bounds;
             double r = 0.0, floor = 0.0;
             for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
-            // the first attempt in double, a second with F in double-word arithmetic where the
-            // first's centre stalled (its Newton step still above the test's reach)
-            if (s.accurate)
-                for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
-            for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
-                if (!kw_newton(&s, x, &w)) continue;
-                int finite = 1;
-                for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
-                if (finite)
-                    for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
-            }
-            for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]);
-                centre[2 * i] = x[2 * i] * f;
-                centre[2 * i + 1] = x[2 * i + 1] * f;
-            }
-            double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
-            double moved = 0.0;
-            for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
-            if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) break;
-            floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
-            r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
-            if (r > 0.0) break;
+                // the first attempt in double, a second with F in double-word arithmetic where the
+                // first's centre stalled (its Newton step still above the test's reach)
+                if (s.accurate)
+                    for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
+                for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
+                    if (!kw_newton(&s, x, &w)) continue;
+                    int finite = 1;
+                    for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
+                    if (finite)
+                        for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
+                }
+                for (long long i = 0; i < n; ++i) {
+                    double f = ldexp(1.0, (int)shift[i]);
+                    centre[2 * i] = x[2 * i] * f;
+                    centre[2 * i + 1] = x[2 * i + 1] * f;
+                }
+                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double moved = 0.0;
+                for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) break;
+                floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
+                r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+                if (r > 0.0) break;
             }
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
