@@ -8,22 +8,23 @@ test_viewer's browser test."""
 
 import numpy as np
 import pytest
-from test_viewer import _canvas, _updates, _wait, browser, loaded  # noqa: F401 (fixtures)
+from test_viewer import (  # noqa: F401 (fixtures: browser, chromium, loaded)
+    _answered,
+    _canvas,
+    _drawn,
+    _set_slider,
+    _updates,
+    _wait,
+    browser,
+    chromium,
+    loaded,
+)
 
 from parakin.interfaces.viewer import serve
 
 #: steps from the home to a slider's end (the page asks the server once per step)
 STEPS = 8
 API_WORDS = ("batch index", "guess", "tracker", "strict", "iterations", "Traceback")
-
-
-def _set_slider(driver, slider, value):
-    driver.execute_script(
-        "const s = arguments[0]; s.value = arguments[1];"
-        "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));",
-        slider,
-        value,
-    )
 
 
 @pytest.mark.parametrize("mechanism", ["planar_3rpr", pytest.param("stewart", marks=pytest.mark.slow)])
@@ -38,36 +39,42 @@ def test_a_scripted_drive_across_each_slider(browser, loaded, mechanism, tmp_pat
         sliders = viewer.session.scene()["sliders"]
         for k, spec in enumerate(sliders):
             for end in ("high", "low"):
+                # nothing in flight (a refused step's second request may be), then Home: the only
+                # reply drawn after it is Home's (requested None), so the home read is Home's
+                _wait(browser, lambda: not _drawn(browser)["busy"], "no slider request in flight")
                 count = _updates(browser)
                 browser.find_element(By.ID, "home").click()
-                _wait(browser, lambda count=count: _updates(browser) > count, "home drawn")
+                _wait(
+                    browser,
+                    lambda count=count: _updates(browser) > count and _drawn(browser)["requested"] is None,
+                    "home drawn",
+                )
                 home = viewer.session.state()["actuated"]
+                assert _drawn(browser)["actuated"] == home
                 element = browser.find_element(By.ID, f"slider-{k}")
                 for step in range(1, STEPS + 1):
                     value = home[k] + (spec[end] - home[k]) * step / STEPS
-                    count = _updates(browser)
-                    _set_slider(browser, element, value)
-                    # the page keeps one request in flight and sends the latest values after it: the
-                    # first reply drawn may still be the previous step's, so wait for this one's
+                    asked = _set_slider(browser, element, value)  # as the slider rounds it to its step
+                    # the page keeps one request in flight and sends the latest values after it: wait
+                    # until it has drawn the reply to this step's values and has nothing more to send
+                    # (a reply drawn earlier may be the previous step's, or this step's first request
+                    # answered while the second is in flight)
                     _wait(
                         browser,
-                        lambda count=count, e=element, k=k, value=value: (
-                            _updates(browser) > count
-                            and (
-                                "bad" in browser.find_element(By.ID, "status").get_attribute("class")
-                                or viewer.session.state()["actuated"][k]
-                                == pytest.approx(float(e.get_attribute("value")), abs=1e-9 * max(1.0, abs(value)))
-                            )
-                        ),
-                        f"the reply to {spec['name']} = {value}",
+                        lambda k=k, asked=asked: _answered(browser, k, asked),
+                        f"the reply to {spec['name']} = {asked}",
                     )
-                    state = viewer.session.state()
+                    # nothing in flight: the server's configuration is the one the page draws
+                    state, drawn_reply = viewer.session.state(), _drawn(browser)
+                    assert drawn_reply["actuated"] == state["actuated"]
                     box = browser.find_element(By.ID, "status")
-                    if "bad" not in box.get_attribute("class"):
+                    assert ("bad" in box.get_attribute("class")) == (not drawn_reply["ok"]), box.text
+                    if drawn_reply["ok"]:
                         # the drawn input is the slider's (as the page rounds it to the slider's step)
                         assert state["ok"] and state["actuated"][k] == pytest.approx(
-                            float(element.get_attribute("value")), abs=1e-9 * max(1.0, abs(value))
+                            asked, abs=1e-9 * max(1.0, abs(value))
                         )
+                        assert float(element.get_attribute("value")) == asked
                         assert box.text.startswith("following mode"), box.text
                         continue
                     message = box.text
