@@ -13,6 +13,7 @@ the 80 roots by the exact certifier, boxes pairwise disjoint.
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 
@@ -20,6 +21,7 @@ import numpy as np
 import pytest
 
 import parakin
+from parakin.solvers import exact_certify
 from parakin.solvers import modes as modes_module
 from parakin.solvers.certify import certify_roots
 from parakin.solvers.exact_certify import certify_root_exactly
@@ -193,3 +195,13 @@ def test_conjugates_and_other_runs_fill_the_slots_no_box_holds_and_count_each_ro
     assert int(found.certified[0]) == restored - filled.size
     modes_module.merge_roots(out, found, np.array([0]), again, second)
     assert int(found.certified[0]) == restored - filled.size + len(forgotten)
+
+
+def test_an_exact_radius_with_a_mantissa_beyond_the_double_range_is_reported_rounded_up():
+    # the fixed-point inverse makes Y's mantissas hundreds of bits long, so the exact radius can
+    # have a mantissa far beyond 2^1024 (float(int) overflows) while its value is small
+    value = (3 * 2**1200 + 1, -1200)  # 3 + 2^-1200
+    reported = exact_certify._upper_float(value)
+    assert 3.0 < reported <= 3.0 * (1 + 2**-50)
+    assert exact_certify._upper_float((2**1100, 0)) == math.inf
+    assert exact_certify._upper_float((1, -1074)) >= 2.0**-1074

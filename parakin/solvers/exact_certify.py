@@ -300,6 +300,18 @@ def _newton(system: _ExactSystem, x: list[Complex], scale: float) -> list[Comple
     return x
 
 
+def _upper_float(value: Real) -> float:
+    """A double >= the non-negative dyadic ``value`` (mantissa of any size: a 384-bit mantissa does
+    not convert to a float; inf where the value is beyond the double range)."""
+    mantissa, exponent = value
+    shift = max(0, mantissa.bit_length() - 60)
+    upper = -((-mantissa) >> shift)  # rounded up to 60 bits
+    try:
+        return math.nextafter(math.ldexp(float(upper), exponent + shift), math.inf)
+    except OverflowError:
+        return math.inf
+
+
 def certify_root_exactly(
     coefficients: np.ndarray, exponents: np.ndarray, equation: np.ndarray, root: np.ndarray, real_coefficients: bool
 ) -> ExactCertificate:
@@ -319,7 +331,7 @@ def certify_root_exactly(
     for v, c in zip(x, center, strict=True):
         rounding = _rmax(rounding, _modulus_bound(_add(v, _complex(-c))))
     total = _radd(radius, rounding)
-    reported = math.nextafter(math.ldexp(total[0], total[1]), math.inf)
+    reported = _upper_float(total)
     real = 0
     if real_coefficients and system.real_coefficients:
         if any(_less(radius, (abs(v[1]), v[2])) for v in x):
