@@ -305,6 +305,24 @@ def _answered(driver, k, value) -> bool:
     )
 
 
+def test_a_closed_viewers_page_is_left_before_the_next_test(browser, loaded):
+    """The failure the ``browser`` fixture prevents, reproduced: a page whose viewer server has
+    closed logs its next request as refused (as the mode list's /api/modes did into the spm test's
+    log on CI); leaving the page (about:blank, the log drained) leaves nothing for the next test."""
+    with serve(loaded("planar_3rpr")) as viewer:
+        browser.get(viewer.url)
+        _wait(browser, lambda: _updates(browser) >= 1, "the first state drawn")
+    browser.execute_script("call('modes', {}).catch(() => null)")  # the page asks once more
+    _wait(browser, lambda: (log := browser.get_log("browser")) and _refused(log), "the refused request logged")
+    browser.execute_script("call('modes', {}).catch(() => null)")
+    _leave_page(browser)
+    assert browser.current_url == "about:blank" and browser.get_log("browser") == []
+
+
+def _refused(log: list[dict]) -> bool:
+    return any("ERR_CONNECTION_REFUSED" in entry["message"] and "/api/modes" in entry["message"] for entry in log)
+
+
 @pytest.mark.parametrize("mechanism", ["planar_3rpr", "stewart"])
 def test_the_page_in_a_headless_browser(browser, loaded, mechanism, tmp_path):
     from selenium.webdriver.common.action_chains import ActionChains
