@@ -65,6 +65,19 @@ TRACE_MAX_SOLUTIONS = 24
 WITNESS_LOOPS = 3
 #: random Newton starts in a row that find nothing new before every component is believed found
 COMPONENT_PROBES = 48
+#: the value-space proof (``value_monodromy``, ``value_trace_test``): quiet value loops before a
+#: trace test (and one more per 16 solutions), fibre solutions carried along this many lines to seed the witnesses, rounds of
+#: witness loops with a trace after each, the pencil's |t| over the fibre's median |a . z - 1|,
+#: and the trace tests tried (each after more value loops) before the older methods take over
+VALUE_QUIET_LOOPS = 3
+VALUE_SEED_LINES = 3
+VALUE_TRACE_ROUNDS = 6
+VALUE_PENCIL_T = 0.5
+VALUE_ATTEMPTS = 3
+#: the value curve's trace test closes below this (stricter than TRACE_TOLERANCE, which the
+#: manifest states: a complete set measures ~1e-12, one missing solution ~1e-3)
+VALUE_TRACE_TOLERANCE = 1e-10
+VALUE_TRACE_METHOD = "trace test (Leykin, Rodriguez, Sottile 2018) on the value curve F(z; q) + l w = 0"
 CACHE_VERSION = 3
 #: the proof's fields in the manifest, in this order
 PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation", "bezout_paths", "regular_endpoints")
@@ -168,6 +181,14 @@ class Family:
         self._jz = sp.lambdify(args, substituted(jacobian_z), modules="numpy", cse=True)
         self._jq = sp.lambdify(args, substituted(jacobian_q), modules="numpy", cse=True)
         self.jacobian_z = sp.Matrix(jacobian_z.rows, jacobian_z.cols, substituted(jacobian_z))
+        self._terms: MonomialTable | None = None
+
+    def terms(self) -> MonomialTable:
+        """The equations as monomials in the unknowns with coefficients in the parameters (built
+        once, for the 40-digit refinement)."""
+        if self._terms is None:
+            self._terms = MonomialTable(self.equations, self.unknowns, self.parameters)
+        return self._terms
 
     def _call(self, function, z: np.ndarray, q: np.ndarray, width: int) -> np.ndarray:
         shape = np.broadcast_shapes(z.shape[:-1], q.shape[:-1])
@@ -185,6 +206,53 @@ class Family:
 
     def parameter_jacobian(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
         return self._call(self._jq, z, q, self.m)
+
+
+class MonomialTable:
+    """Equations sum_t c_t(q) z^e_t in mpmath: the coefficients as one function of the parameters,
+    the values and the Jacobian from the exponent table."""
+
+    def __init__(self, equations: list[sp.Expr], unknowns: list[sp.Symbol], parameters: list[sp.Symbol]) -> None:
+        self.rows: list[list[tuple[int, ...]]] = []
+        expressions: list[sp.Expr] = []
+        for equation in equations:
+            poly = sp.Poly(sp.expand(equation), *unknowns)
+            self.rows.append([tuple(int(e) for e in monomial) for monomial in poly.monoms()])
+            expressions += poly.coeffs()
+        self.n = len(unknowns)
+        self.degree = max(max(sum(m) for m in row) for row in self.rows)
+        self._coefficients = sp.lambdify(parameters, expressions, modules="mpmath")
+
+    def coefficients(self, *parameters: mpmath.mpc) -> list:
+        return list(self._coefficients(*parameters))
+
+    def evaluate(self, coefficients: list, z: list) -> tuple[mpmath.matrix, mpmath.matrix]:
+        """F(z) and its Jacobian in z, at the working precision."""
+        n = self.n
+        powers = [[mpmath.mpc(1)] for _ in range(n)]
+        for j in range(n):
+            for _ in range(self.degree):
+                powers[j].append(powers[j][-1] * z[j])
+        value = mpmath.matrix(len(self.rows), 1)
+        jacobian = mpmath.matrix(len(self.rows), n)
+        index = 0
+        for k, row in enumerate(self.rows):
+            for exponents in row:
+                c = coefficients[index]
+                index += 1
+                factors = [powers[j][e] for j, e in enumerate(exponents)]
+                product = c
+                for f in factors:
+                    product = product * f
+                value[k] += product
+                for j, e in enumerate(exponents):
+                    if e:
+                        partial = c * e * powers[j][e - 1]
+                        for i, f in enumerate(factors):
+                            if i != j:
+                                partial = partial * f
+                        jacobian[k, j] += partial
+        return value, jacobian
 
 
 def _segment(family: Family, q_from: np.ndarray, q_to: np.ndarray):
@@ -463,6 +531,176 @@ def trace_test(name: str, family: Family, q: np.ndarray, solutions: np.ndarray, 
     return {"witnesses": len(witnesses), "deviation": deviation, "complete": deviation < TRACE_TOLERANCE}
 
 
+def _value_system(family: Family, q: np.ndarray, c_from: np.ndarray, c_to: np.ndarray):
+    """The tracker's system F(z; q) = c with the values c on the segment from c_from (s = 1) to
+    c_to (s = 0): the family moved in its equations' values, not its parameters."""
+    step = c_from - c_to
+    qq = q[None, :]
+
+    def system(index, z, s):
+        at = np.broadcast_to(qq, (len(s), q.size))
+        c = c_to[None, :] + s[:, None] * step[None, :]
+        return family.value(z, at) - c, family.jacobian(z, at), np.broadcast_to(-step, z.shape).copy()
+
+    return system
+
+
+def _value_slice_system(family: Family, q: np.ndarray, w: np.ndarray, base: np.ndarray, target: np.ndarray):
+    """The value curve's points on a hyperplane, in (z, l): F(z; q) + l w = 0, a . z - 1 = 0, with
+    a on the segment from ``base`` (s = 1; one row per path, or one for all) to ``target``."""
+    n = family.n
+    steps = np.atleast_2d(base - target)
+    qq = q[None, :]
+
+    def system(index, v, s):
+        step = steps[index] if steps.shape[0] > 1 else np.broadcast_to(steps, (len(s), n))
+        a = target[None, :] + s[:, None] * step
+        z, lam = v[:, :n], v[:, n]
+        at = np.broadcast_to(qq, (len(s), q.size))
+        value = np.concatenate([family.value(z, at) + lam[:, None] * w[None, :], ((a * z).sum(-1) - 1)[:, None]], 1)
+        top = np.concatenate([family.jacobian(z, at), np.broadcast_to(w[None, :, None], (len(s), n, 1))], axis=2)
+        bottom = np.concatenate([a, np.zeros((len(s), 1))], axis=1)[:, None, :]
+        rate = np.concatenate([np.zeros((len(s), n), complex), (z * step).sum(-1)[:, None]], axis=1)
+        return value, np.concatenate([top, bottom], axis=1), rate
+
+    return system
+
+
+def _value_pencil_system(family: Family, q: np.ndarray, w: np.ndarray, a: np.ndarray, t_to: complex):
+    """The pencil on the value curve, in (z, l): F(z; q) + l w = 0, (a . z - 1) l + t = 0, t on the
+    segment from 0 (s = 1) to ``t_to`` (s = 0)."""
+    n = family.n
+    qq = q[None, :]
+
+    def system(index, v, s):
+        z, lam = v[:, :n], v[:, n]
+        at = np.broadcast_to(qq, (len(s), q.size))
+        linear = (a[None, :] * z).sum(-1) - 1
+        value = np.concatenate(
+            [family.value(z, at) + lam[:, None] * w[None, :], (linear * lam + t_to * (1 - s))[:, None]], 1
+        )
+        top = np.concatenate([family.jacobian(z, at), np.broadcast_to(w[None, :, None], (len(s), n, 1))], axis=2)
+        bottom = np.concatenate([lam[:, None] * a[None, :], linear[:, None]], axis=1)[:, None, :]
+        rate = np.zeros((len(s), n + 1), dtype=complex)
+        rate[:, n] = -t_to
+        return value, np.concatenate([top, bottom], axis=1), rate
+
+    return system
+
+
+def value_scale(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Each equation's natural size near the solutions z (P, n) of F(.; q): the norm of its
+    Jacobian row times 1 + |z|, the change of its value over a move of z by its own size (the
+    value loops and the trace test's direction w move each equation by about this)."""
+    at = np.broadcast_to(q, (len(z), q.size))
+    rows = np.abs(family.jacobian(z, at)).max(-1) * (1 + np.abs(z).max(-1))[:, None]
+    return np.maximum(np.median(rows, axis=0), 1e-12)
+
+
+def value_monodromy(
+    name: str, family: Family, q: np.ndarray, found: np.ndarray, flips, rng, quiet_loops: int = VALUE_QUIET_LOOPS
+) -> np.ndarray:
+    """The solutions of F(z; q) = 0 that monodromy in the equations' values reaches: loops
+    0 -> c1 -> c2 -> 0 of F(z; q) = c (random complex c1, c2 at each equation's scale) permute the
+    solutions, until ``quiet_loops`` loops in a row bring nothing new. The z-space is irreducible,
+    so when 0 is a generic value these loops act transitively on the solutions (no component is
+    out of reach as in the parameters' monodromy); completeness is the trace test's to judge
+    (``value_trace_test``), not this stopping rule's."""
+    check = _solves(family, q)
+    scale = value_scale(family, q, found)
+    base = np.zeros(family.n, complex)
+    quiet = 0
+    began = time.perf_counter()
+    for loop in range(1, MAX_LOOPS + 1):
+        found, added = _loop(lambda b0, b1: _value_system(family, q, scale * b0, scale * b1), base, found, check, rng)
+        grown = _closed(found, flips)
+        added += len(grown) - len(found)
+        found = grown
+        quiet = 0 if added else quiet + 1
+        if quiet >= quiet_loops + len(found) // 16:
+            break
+        if loop % 10 == 0:
+            logger.info(
+                "%s: value monodromy loop %d: %d solutions (%.1f s a loop)",
+                name, loop, len(found), (time.perf_counter() - began) / loop,
+            )  # fmt: skip
+    return found
+
+
+def value_trace_test(name: str, family: Family, q: np.ndarray, solutions: np.ndarray, rng) -> dict[str, object]:
+    """Prove that ``solutions`` are every isolated solution of F(z; q) = 0 by the trace test
+    (Leykin, Rodriguez and Sottile 2018) on the value curve C = {(z, l): F(z; q) + l w = 0}, w a
+    random complex direction: C is the preimage of a generic line through 0 under the map
+    z -> F(z; q) of the irreducible z-space, so (Zariski: a generic line's loops reach the whole
+    monodromy group) it is irreducible wherever 0 is a generic value, and every regular isolated
+    solution is a point of C over l = 0. The witness points of the pencil (a . z - 1) l + t = 0 at
+    t = 0 are the fibre's solutions and C's points on a . z = 1 (found by monodromy of that
+    hyperplane); their sum moves on a line as t moves iff the set is complete. A missing
+    solution, a singular one, or solutions at infinity over l = 0 (0 not a generic value) each
+    leave the trace off its line: the test then fails, it never passes short.
+
+    The deviation is scale-free: the trace's secant slopes to two random t differ by
+    ``deviation`` times the sum of the points' own secant slopes (0 for a complete set; a missing
+    point leaves its own slope's curvature, a fraction of one point's in the sum).
+
+    Returns the witnesses on C's hyperplane section, the deviation and the verdict (below
+    ``TRACE_TOLERANCE``)."""
+    n = family.n
+    w = value_scale(family, q, solutions) * _random_complex(rng, n)
+    a = _random_complex(rng, n)
+    a = a / np.median(np.abs(solutions @ a))
+    qq = np.broadcast_to(q, (1, q.size))
+
+    def on_slice(v: np.ndarray) -> np.ndarray:
+        if not len(v):
+            return np.zeros(0, bool)
+        at = np.broadcast_to(qq, (len(v), q.size))
+        size = 1 + np.abs(v).max(-1)
+        residual = np.abs(family.value(v[:, :n], at) + v[:, n : n + 1] * w[None, :]) / value_scale(family, q, v[:, :n])
+        return (residual.max(-1) < 1e-8 * size) & (np.abs(v[:, :n] @ a - 1) < 1e-8 * size) & (size < 1e6)
+
+    # witnesses from the fibre: its solutions carried to a few l of the curve, each on its own
+    # hyperplane a . z = c there; moving c to 1 takes each to a witness
+    seeds, bases = [], []
+    for lam in _random_complex(rng, VALUE_SEED_LINES):
+        moved, reached = _track(_value_system(family, q, np.zeros(n, complex), -lam * w), solutions)
+        for z in moved[reached]:
+            c = a @ z
+            if abs(c) > 1e-8:
+                seeds.append(np.concatenate([z, [lam]]))
+                bases.append(a / c)
+    witnesses = np.zeros((0, n + 1), complex)
+    if seeds:
+        ended, reached = _track(_value_slice_system(family, q, w, np.array(bases), a), np.array(seeds))
+        witnesses, _ = _add_new(witnesses, ended[reached][on_slice(ended[reached])])
+    points0 = np.concatenate([np.concatenate([solutions, np.zeros((len(solutions), 1))], axis=1), witnesses])
+    deviation = np.inf
+    spread = float(np.median(np.abs(solutions @ a - 1)))
+    for _ in range(VALUE_TRACE_ROUNDS):
+        witnesses = _loops(
+            lambda b0, b1: _value_slice_system(family, q, w, b0, b1), a, witnesses, on_slice, rng, WITNESS_LOOPS
+        )
+        points0 = np.concatenate([np.concatenate([solutions, np.zeros((len(solutions), 1))], axis=1), witnesses])
+        slopes: list[np.ndarray] = []
+        for _ in range(8):
+            if len(slopes) == 2:
+                break
+            t = complex(np.exp(2j * np.pi * rng.random())) * VALUE_PENCIL_T * spread
+            ended, reached = _track(_value_pencil_system(family, q, w, a, t), points0)
+            # a path that failed or met another (a jump) spoils the sum: another t
+            if reached.all() and _smallest_gap(ended) > 1e-8:
+                slopes.append((ended - points0) / t)
+        if len(slopes) < 2:
+            raise GenerationError(f"{name}: trace test: the pencil's paths failed or met at every t tried")
+        difference = np.linalg.norm(slopes[0].sum(0) - slopes[1].sum(0))
+        total = float(np.linalg.norm(slopes[0], axis=1).sum() + np.linalg.norm(slopes[1], axis=1).sum())
+        deviation = float(difference / total) if total > 0 else np.inf
+        logger.info("%s: trace test: %d witnesses, deviation %.1e", name, len(witnesses), deviation)
+        if deviation < VALUE_TRACE_TOLERANCE:
+            break
+    return {"witnesses": len(witnesses), "deviation": deviation, "complete": deviation < VALUE_TRACE_TOLERANCE}
+
+
 def _total_degree_system(family: Family, q: np.ndarray, degrees: np.ndarray, gamma: complex, patch: np.ndarray):
     """H(w, t) = (1 - t) F^h(w; q) + t gamma G(w), t = ENDGAME_T + (1 - ENDGAME_T) s, with the
     random patch p . w = 1, w = (z0, z): F^h_k = z0^d_k F_k(z / z0) (values and derivatives by the
@@ -593,18 +831,21 @@ def _total_degree_bound(
 def _refine_exact(family: Family, q: np.ndarray, found: np.ndarray) -> list[list[complex]]:
     """Newton in 40-digit arithmetic from each double-precision solution, then rounded to the
     nearest double and sorted: the stored start system is the same on every machine."""
-    arguments = family.unknowns + family.parameters
-    residual = sp.lambdify(arguments, family.equations, modules="mpmath")
-    matrix = sp.lambdify(arguments, family.jacobian_z, modules="mpmath")
     refined = []
     with mpmath.workdps(40):
         parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in q]
+        # the equations as sums of monomials in z with coefficients evaluated once at q: each
+        # Newton step costs the monomials, not the coefficients' expressions again
+        terms = family.terms()
+        coefficients = terms.coefficients(*parameters)
         for row in found:
             z = [mpmath.mpc(complex(c)) for c in row]
             for _ in range(8):
-                value = mpmath.matrix(residual(*z, *parameters))
-                step = mpmath.lu_solve(mpmath.matrix(matrix(*z, *parameters)), value)
+                value, jacobian = terms.evaluate(coefficients, z)
+                step = mpmath.lu_solve(jacobian, value)
                 z = [a - b for a, b in zip(z, step, strict=True)]
+                if mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z))):
+                    break  # converged: quadratically, z is now at the working precision
             # converged: the last Newton step is at 40-digit rounding relative to |z| (a residual
             # threshold would depend on how the equations are scaled)
             if not mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z))):
@@ -655,7 +896,7 @@ def start_systems(
         if stored is None:
             continue
         if _verified(family, stored, flips) is not None:
-            if bounded and not _total_degree_settled(stored["proof"]):
+            if bounded and not (_total_degree_settled(stored["proof"]) or _value_trace_proof(stored["proof"])):
                 # a record proven (or counted) another way gets the total-degree bound on its own
                 # instance: seconds, where a new monodromy takes minutes
                 q = np.array([complex(*v) for v in stored["instance"]])
@@ -680,10 +921,33 @@ def start_systems(
             record["second_solutions"] = [_pairs(row) for row in second_solutions]
             _store(cached, record)
             return family, {**record, "key": key.hexdigest()}
-    proof_text = "total-degree runs" if bounded else "the trace test"
-    logger.info("%s (%s): new start systems: monodromy and %s (minutes; then cached)", name, method, proof_text)
+    logger.info("%s (%s): new start systems: monodromy and the trace test (then cached)", name, method)
     rng = np.random.default_rng(seed)
     q, point = _start_instance(name, family, rng)
+    fast = _value_proof(name, family, q, point, flips, np.random.default_rng(seed + 5))
+    if fast is not None:
+        solutions, value_proof = fast
+        second, second_solutions = _second_start(name, family, q, solutions, seed)
+        record = {
+            "instance": _pairs(q),
+            "solutions": [_pairs(row) for row in solutions],
+            "second_instance": _pairs(second),
+            "second_solutions": [_pairs(row) for row in second_solutions],
+            "proof": {
+                "method": f"{VALUE_TRACE_METHOD} after monodromy in the values",
+                "proven": True,
+                "stable_rule": STABLE_RULE,
+                "witnesses": value_proof["witnesses"],
+                "trace_deviation": float(f"{float(value_proof['deviation']):.2e}"),  # type: ignore[arg-type]
+                "tolerance": TRACE_TOLERANCE,
+            },
+        }
+        _store(cached, record)
+        return family, {**record, "key": key.hexdigest()}
+    proof_text = "total-degree runs" if bounded else "the trace test"
+    logger.info(
+        "%s (%s): the value curve's trace test did not close: monodromy and %s (minutes)", name, method, proof_text
+    )
     found = point[None, :]
     proof: dict[str, object] = {}
     if bounded:
@@ -860,6 +1124,39 @@ def _from_package(name: str, method: str, key: str) -> dict | None:
         }
     except (OSError, ValueError, KeyError, TypeError):
         return None
+
+
+def _value_trace_proof(proof: dict) -> bool:
+    """A count proven by the value curve's trace test (``value_trace_test``)."""
+    return str(proof.get("method", "")).startswith(VALUE_TRACE_METHOD) and bool(proof.get("proven"))
+
+
+def _value_proof(
+    name: str, family: Family, q: np.ndarray, point: np.ndarray, flips, rng
+) -> tuple[np.ndarray, dict[str, object]] | None:
+    """The solutions of F(z; q) = 0 from ``point`` by monodromy in the values, refined, with the
+    value curve's trace test that proves them complete; more loops after a test that does not
+    close, up to ``VALUE_ATTEMPTS`` tests; None when none closes (the older methods take over)."""
+    found = point[None, :]
+    began = time.perf_counter()
+    for attempt in range(1, VALUE_ATTEMPTS + 1):
+        found = value_monodromy(name, family, q, found, flips, rng)
+        solutions = np.array(_refine_exact(family, q, found))
+        if not len(solutions) or not _smallest_gap(solutions) > 1e-6:
+            return None
+        logger.info(
+            "%s: %d solutions by monodromy in the values (%.0f s); trace test %d of at most %d",
+            name, len(solutions), time.perf_counter() - began, attempt, VALUE_ATTEMPTS,
+        )  # fmt: skip
+        try:
+            proof = value_trace_test(name, family, q, solutions, rng)
+        except GenerationError as error:
+            logger.info("%s: %s", name, error)
+            return None
+        if proof["complete"]:
+            return solutions, proof
+        found = solutions
+    return None
 
 
 def _total_degree_proof(proof: dict) -> bool:
