@@ -730,7 +730,7 @@ def merge_roots(
     root and boxes of distinct clusters are disjoint, so the clusters stay a lower bound on the
     distinct roots whatever run each box came from."""
     paths = found.unique.shape[1]
-    keys = _slot_keys(out, paths)
+    keys = [key for key in _slot_keys(out, paths) if key in again]  # what both runs hold per slot
     for k, i in enumerate(rows):
         for p in np.nonzero(second.unique[k])[0]:
             values = {key: again[key][k, p] for key in keys}
