@@ -162,10 +162,11 @@ def run(args: argparse.Namespace) -> int:
             raise CalibrationDataError(f"--param {name}: {text!r} is not a number or a JSON list") from error
     m = load(args.name, backend=args.backend, **parameters)
     truth: dict[str, float] | None = None
+    planned: np.ndarray | None = None
     if (args.data is None) == (args.simulate is None):
         raise CalibrationDataError("give the measurements DATA.csv, or --simulate N for a simulated campaign")
     if args.simulate is not None:
-        readings, measured, truth = simulate(m, args.kind, args.simulate, args.sigma, args.sigma_angle, args)
+        readings, measured, truth, planned = simulate(m, args.kind, args.simulate, args.sigma, args.sigma_angle, args)
     else:
         readings, measured = read_csv(args.data, m, args.kind, args.deg)
     sigma: float | tuple[float, float] = args.sigma
@@ -175,7 +176,9 @@ def run(args: argparse.Namespace) -> int:
         sigma = (args.sigma, args.sigma_angle)
     elif args.sigma_angle is not None:
         raise CalibrationDataError(f"--sigma-angle is for --kind pose, not {args.kind!r}")
-    data = CalibrationData(readings, measured, kind=args.kind, sigma=sigma, unknown=tuple(args.unknown))
+    data = CalibrationData(
+        readings, measured, kind=args.kind, sigma=sigma, unknown=tuple(args.unknown), passive=planned
+    )
     free = None if args.free is None else [name.strip() for name in args.free.split(",") if name.strip()]
     result = calibrate(m, data, free=free, fixed=args.fix)
     output = record(result)
@@ -206,11 +209,15 @@ def run(args: argparse.Namespace) -> int:
 
 def simulate(
     m: Mechanism, kind: str, count: int, sigma: float, sigma_angle: float | None, args: argparse.Namespace
-) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
-    """A simulated campaign: encoder readings (N, n_a), the kind's measurements with noise, and
-    the true length parameters (the nominal ones plus N(0, ``args.perturb``)). The measurements
-    come from the true robot's own forward kinematics (``forward_pose`` from sampled inputs near
-    its home), not from the residual the fit uses."""
+) -> tuple[np.ndarray, np.ndarray, dict[str, float], np.ndarray]:
+    """A simulated campaign: encoder readings (N, n_a), the kind's measurements with noise, the
+    true length parameters (the nominal ones plus N(0, ``args.perturb``)). The readings are
+    the drawing's inverse at poses ``design_poses`` chooses near the home; the measurements come
+    from the true robot's own forward kinematics there, not from the residual the fit uses; and
+    the planned passive values (N, n_p): the modes the campaign commanded, the fit's start."""
+    from parakin.calibration.design import design_poses
+    from parakin.errors import BadInputError
+    from parakin.log import logger
     from parakin.mechanism import Mechanism as Model
     from parakin.studies.sampling import sample_configurations
 
@@ -218,6 +225,11 @@ def simulate(
         raise CalibrationDataError(f"--simulate makes pose, position or z measurements, not {kind!r}")
     if count < 1 or not np.isfinite(args.perturb) or args.perturb < 0:
         raise CalibrationDataError(f"--simulate N >= 1 and --perturb >= 0 needed, got {count}, {args.perturb}")
+    for flag, value in (("--sigma", sigma), ("--sigma-angle", sigma_angle)):
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise CalibrationDataError(
+                f"{flag} must be a positive number (the noise's standard deviation), got {value}"
+            )
     rng = np.random.default_rng(args.seed)
     truth = {
         p.name: float(m.parameters[p.name] + rng.normal(0.0, args.perturb))
@@ -225,18 +237,42 @@ def simulate(
         if p.unit == "m"
     }
     robot = Model(m.package, m.backend, {**m.parameters, **truth}, m.limits, m.actuated_ranges)
-    state = sample_configurations(robot, count, spread=0.05, seed=args.seed)
-    if len(state.actuated) == 0:
-        raise CalibrationDataError(f"no configuration of {m.name} near its home closed for the simulated robot")
-    pose = np.array(state.pose, dtype=float)
+    # the campaign as one would plan it: poses chosen by design_poses (O1) among configurations
+    # near the home of the drawing, away from singularities (its margin), commanded through the
+    # drawing's inverse; the robot as built goes where its own forward kinematics take it
+    candidates = sample_configurations(m, max(8 * count, 200), spread=0.1, seed=args.seed)
+    plan_sigma = sigma if kind != "pose" else (sigma, sigma_angle or sigma)
+    try:
+        eligible = (
+            len(candidates.pose)
+            and design_poses(m, candidates.pose, 1, kind=kind, sigma=plan_sigma, exchange=False).eligible
+        )
+        design = design_poses(m, candidates.pose, min(count, eligible), kind=kind, sigma=plan_sigma)
+    except (CalibrationDataError, BadInputError) as error:
+        raise CalibrationDataError(f"no campaign of {m.name} near its home could be planned: {error}") from error
+    state = robot.forward_pose(design.actuated, guess=design.poses, strict=False)
+    built = np.asarray(state.converged)
+    if not built.any():
+        raise CalibrationDataError(f"no planned configuration of {m.name} closed for the simulated robot")
+    if built.sum() < count:
+        logger.warning(
+            "the simulated campaign has %d of the %d measurements asked for: %s",
+            int(built.sum()), count,
+            f"{eligible} configurations near the home are away from singularities"
+            if eligible < count else f"{int((~built).sum())} did not close on the robot as built",
+        )  # fmt: skip
+    readings = np.asarray(design.actuated, dtype=float)[built]
+    # the planned configurations (the drawing's): the modes the robot was commanded in
+    planned = np.asarray(candidates.passive, dtype=float)[design.indices][built]
+    pose = np.array(state.pose, dtype=float)[built]
     position = pose[:, :3, 3] + rng.normal(0.0, sigma, (len(pose), 3))
     if kind == "pose":
         turn = rng.normal(0.0, sigma_angle or 0.0, (len(pose), 3))
         noisy = pose.copy()
         noisy[:, :3, :3] = pose[:, :3, :3] @ np.stack([rotation(t) for t in turn])
         noisy[:, :3, 3] = position
-        return np.asarray(state.actuated), noisy, truth
-    return np.asarray(state.actuated), position if kind == "position" else position[:, 2], truth
+        return readings, noisy, truth, planned
+    return readings, position if kind == "position" else position[:, 2], truth, planned
 
 
 __all__ = ["COLUMNS", "add_arguments", "read_csv", "record", "run", "simulate"]
