@@ -43,7 +43,7 @@
   steps (``solref``), ``implicitfast``; "accurate", 0.2 ms and a stiff ``solimp`` (0.99 0.999).
   The gap the loops open under load is written in the file's header (measured on a regular
   Stewart platform with 1 kg links under 10 kg: about 0.03 mm / 0.003 deg fast, 0.1 um / 1e-5 deg
-  accurate; lighter links open wider gaps: 0.18 mm / 0.015 deg fast with 0.1 kg links). Gravity is -9.81 m/s^2 along -z, or
+  accurate; lighter links open wider gaps: 0.18 mm / 0.015 deg fast with 0.1 kg links). Gravity is -9.80665 m/s^2 along -z, or
   along -y for a planar mechanism (its motion is in z = 0). No contacts (every geom has
   ``contype`` and ``conaffinity`` 0).
 * **Inertia** (documented defaults, the graph carries no values yet): every link a uniform thin
@@ -99,8 +99,9 @@ KEY_STARTS = 200
 KEY_SEED = 20261128
 #: MuJoCo's default solimp (the "fast" preset keeps it)
 DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
-#: gravity (m/s^2)
-GRAVITY = 9.81
+#: gravity (m/s^2): standard gravity, as ``parakin.dynamics.STANDARD_GRAVITY`` (the exported
+#: model and ``inverse_dynamics`` with its default gravity describe one robot)
+GRAVITY = 9.80665
 PLANAR_KINDS = ("planar", "planar_translation")
 #: a link mass (kg) for every link, or body name -> mass or rigid body (``to_mjcf``'s link_mass)
 LinkMass = float | Mapping[str, Any]
@@ -1078,6 +1079,13 @@ def run(args: argparse.Namespace, m: Mechanism) -> int:
         m, actuated=actuated, modes="none" if args.no_modes else "all", timestep=args.timestep,
         accuracy=args.accuracy, payload=args.payload, link_mass=args.link_mass, platform_mass=args.platform_mass,
     )  # fmt: skip
+    if not args.no_modes and "<key " not in text:
+        print(
+            f"parakin: no real assembly mode of {m.name} for these inputs, so no keyframe to write; "
+            "choose reachable inputs (parakin fk), or --no-modes for the model alone",
+            file=sys.stderr,
+        )
+        return 1
     if args.out:
         Path(args.out).write_text(text)
         print(f"wrote {args.out}: {m.name} with {text.count('<key ')} assembly modes as keyframes")

@@ -397,6 +397,8 @@ def modes_summary(modes: AssemblyModes) -> str:
     method = f" by {modes.method}" if modes.method else ""
     if count.ndim == 0:
         found = f"{int(count)} assembly mode{'s' if int(count) != 1 else ''}"
+    elif count.size == 0:
+        found = f"an empty batch, shape {count.shape}: no inputs"
     else:
         found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
     certificate = ""

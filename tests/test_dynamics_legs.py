@@ -50,9 +50,9 @@ PLATFORM = rigid_inertia(PLATFORM_MASS, inertia=np.full(3, 0.4 * PLATFORM_MASS *
 
 
 def gravity(m: parakin.Mechanism) -> np.ndarray:
-    """to_mjcf's gravity: 9.81 m/s^2 along -y for a planar mechanism, -z otherwise."""
+    """to_mjcf's gravity: standard gravity, 9.80665 m/s^2, along -y for a planar mechanism, -z otherwise."""
     planar = m.manifest.pose_kind in ("planar", "planar_translation")
-    return np.array((0.0, -9.81, 0.0) if planar else (0.0, 0.0, -9.81))
+    return np.array((0.0, -9.80665, 0.0) if planar else (0.0, 0.0, -9.80665))
 
 
 def trajectory(m: parakin.Mechanism, t: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -410,3 +410,27 @@ def test_command_line_keyframes_of_given_inputs_in_degrees(packages, tmp_path):
     assert model.nkey == int(modes.count) >= 1
     np.testing.assert_allclose(model.key_ctrl.reshape(model.nkey, -1), np.tile(theta, (model.nkey, 1)), atol=1e-12)
     assert main(["mjcf", str(packages("five_bar")), "--out", str(out), "--actuated-deg", "100"]) == 2
+
+
+def test_inputs_without_an_assembly_mode_write_no_model(tmp_path, capsys):
+    """The five-bar cannot close with its cranks at (pi, 0): no keyframe, so no file and exit 1
+    (as `parakin fk` for the same inputs), not a model that looks like success."""
+    from parakin.interfaces.cli import main
+
+    out = tmp_path / "none.xml"
+    assert main(["fk", "five_bar", "--actuated", "3.14159", "0"]) == 1
+    capsys.readouterr()
+    assert main(["mjcf", "five_bar", "--actuated", "3.14159", "0", "--out", str(out)]) == 1
+    assert "no real assembly mode" in capsys.readouterr().err and not out.exists()
+    assert main(["mjcf", "five_bar", "--actuated", "3.14159", "0", "--no-modes", "--out", str(out)]) == 0
+    assert out.exists() and "<key " not in out.read_text()
+
+
+def test_the_exported_gravity_is_the_dynamics_default():
+    """One robot: MuJoCo's gravity in the exported file is parakin.dynamics' default."""
+    mujoco = pytest.importorskip("mujoco")
+    from parakin.dynamics import STANDARD_GRAVITY
+
+    m = parakin.load("stewart")
+    model = mujoco.MjModel.from_xml_string(m.to_mjcf(modes="none"))
+    assert np.array_equal(np.asarray(model.opt.gravity), np.asarray(STANDARD_GRAVITY))

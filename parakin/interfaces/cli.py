@@ -1,4 +1,5 @@
-"""Command line: ``parakin list | inspect | demo | ik | fk | plot | sweep | view | generate | export``.
+"""Command line: ``parakin list | inspect | demo | ik | fk | plot | sweep | view | generate | export |
+calibrate | mjcf``.
 
 Values are SI (metres, radians) unless a flag ends in ``-deg``: those convert revolute
 variables (and Euler angles) from degrees and leave prismatic ones in metres. Exit status: 0 on
@@ -605,8 +606,8 @@ def _parser() -> argparse.ArgumentParser:
     inspect = commands.add_parser("inspect", help="symbolic closure, Jacobians, factored singularity conditions")
     inspect.add_argument("name", help="mechanism name (parakin list) or generated package folder")
     inspect.add_argument("--format", choices=["text", "latex", "json"], default="text")
-    inspect.add_argument("--width", type=int, default=100, help="line width of text expressions")
-    inspect.add_argument("--lines", type=int, default=12, help="lines shown per expression (text)")
+    inspect.add_argument("--width", type=_positive, default=100, help="line width of text expressions")
+    inspect.add_argument("--lines", type=_positive, default=12, help="lines shown per expression (text)")
     demo = commands.add_parser("demo", help="reproduce the named examples of the papers")
     demo.add_argument("name", nargs="?", help="one mechanism (default: every one, in parakin list's order)")
     demo.add_argument(
@@ -737,6 +738,17 @@ def _mjcf(args: argparse.Namespace) -> int:
     if args.actuated_deg is not None:
         args.actuated = list(_from_cli_units(m.manifest.actuated, args.actuated_deg, True))
     return run(args, m)
+
+
+def _positive(text: str) -> int:
+    """A whole number >= 1, for argparse (its usage message, exit 2, on anything else)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} must be at least 1")
+    return value
 
 
 def _view(args: argparse.Namespace) -> int:

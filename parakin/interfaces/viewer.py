@@ -1131,6 +1131,17 @@ def show(m: Mechanism, port: int = 0, width: str = "100%", height: int = 640) ->
     return frame
 
 
+def _port(text: str) -> int:
+    """A TCP port number, 0 (any free port) to 65535, for argparse (its message on anything else)."""
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number (0 to 65535)") from None
+    if not 0 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"{port} is not a port number (0 to 65535; 0: any free port)")
+    return port
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """``parakin view NAME [--port P] [--open]``: serve a viewer of NAME, print its URL, run until
     interrupted (Ctrl-C: ``parakin: interrupted``, exit status 130). Exit status 2 for an
@@ -1143,7 +1154,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "input, its assembly modes, singularity measures), print its address and run until Ctrl-C.",
     )
     parser.add_argument("name", help="a mechanism name (parakin list) or package folder")
-    parser.add_argument("--port", type=int, default=0, help="port to listen on (default: any free port)")
+    parser.add_argument("--port", type=_port, default=0, help="port to listen on (default: any free port)")
     parser.add_argument(
         "--host",
         default="127.0.0.1",

@@ -1,0 +1,40 @@
+"""Bad arguments found by a new-user review: each is a usage error (exit 2, one line naming the
+option and what it takes), never a traceback or an internal error; and an empty batch prints."""
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.interfaces.cli import main
+
+
+@pytest.mark.parametrize(
+    ("arguments", "words"),
+    [
+        (["view", "five_bar", "--port", "99999"], "not a port number (0 to 65535"),
+        (["view", "five_bar", "--port", "-1"], "not a port number (0 to 65535"),
+        (["inspect", "five_bar", "--width", "-5"], "--width: -5 must be at least 1"),
+        (["inspect", "five_bar", "--lines", "0"], "--lines: 0 must be at least 1"),
+        (["inspect", "five_bar", "--lines", "many"], "'many' is not a whole number"),
+    ],
+)
+def test_a_bad_number_is_a_usage_error(arguments, words, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(arguments)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err and "internal error" not in err, err
+
+
+def test_the_command_list_names_every_command(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    description = out[out.index("Command line:") :].split("\n\n")[0]  # the summary, not the usage line
+    assert all(command in description for command in ("calibrate", "mjcf", "sweep", "view", "export", "generate"))
+
+
+def test_an_empty_batch_of_modes_prints():
+    m = parakin.load("five_bar", backend="numpy")
+    modes = m.forward_pose_all(np.zeros((0, 2)))
+    assert "an empty batch" in repr(modes) and "an empty batch" in modes._repr_html_()
