@@ -42,9 +42,10 @@ def test_fksgp_finds_dietmaier_s_forty_postures() -> None:
         np.testing.assert_allclose(lengths, floor.DIETMAIER_LEGS, rtol=1e-6)
 
 
-def test_c_certificate_swap_is_local_and_keeps_the_modes() -> None:
-    """bench's c_certificate swaps the certificate forward_pose_all uses for the C one inside
-    its block only; the 3-RRR's modes and their certificate are the same with either."""
+def test_numpy_certificate_swap_is_local_and_keeps_the_modes() -> None:
+    """bench's numpy_certificate swaps the certificate forward_pose_all uses (the package's C on
+    the compiled backend) for NumPy's inside its block only; the 3-RRR's modes and their
+    certificate are the same with either."""
     import parakin
     from parakin.solvers import certify, modes
 
@@ -52,11 +53,11 @@ def test_c_certificate_swap_is_local_and_keeps_the_modes() -> None:
     theta = m.home_actuated
     reference = m.forward_pose_all(theta, strict=False)
     calls = floor.certify_calls(m, theta)
-    assert calls and modes.certify_roots is certify.certify_roots
-    with floor.c_certificate(floor.compiled(m)):
-        assert modes.certify_roots is not certify.certify_roots
+    assert calls and modes.certify_roots_compiled is certify.certify_roots_compiled
+    with floor.numpy_certificate():
+        assert modes.certify_roots_compiled is not certify.certify_roots_compiled
         swapped = m.forward_pose_all(theta, strict=False)
-    assert modes.certify_roots is certify.certify_roots
+    assert modes.certify_roots_compiled is certify.certify_roots_compiled
     assert swapped.count == reference.count >= 2
     assert swapped.certificate()["complete"] == reference.certificate()["complete"]
     np.testing.assert_allclose(swapped.poses, reference.poses)

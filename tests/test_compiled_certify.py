@@ -16,9 +16,9 @@ import pytest
 
 import parakin
 from parakin.errors import BadInputError
-from parakin.packages.compiled import CERTIFY_JOB, CompiledBackend, certify_roots_compiled
+from parakin.packages.compiled import CERTIFY_JOB, CompiledBackend
 from parakin.solvers import modes
-from parakin.solvers.certify import Certificate, certify_roots
+from parakin.solvers.certify import Certificate, certify_roots, certify_roots_compiled
 from parakin.solvers.exact_certify import certify_root_exactly
 from parakin.studies.sampling import sample_configurations
 
@@ -49,6 +49,8 @@ def endpoints(
         return original(*args, **kwargs)
 
     monkeypatch.setattr(modes, "certify_roots", spy)
+    # the NumPy certificate, whose calls are recorded, in place of the package's C (the default)
+    monkeypatch.setattr(modes, "certify_roots_compiled", lambda backend, *args, **kwargs: spy(*args, **kwargs))
     sample = sample_configurations(m, 3 * inputs, spread=0.05, seed=11).actuated if given is None else given
     extra = {} if method is None else {"method": method}
     for theta in sample[:inputs]:

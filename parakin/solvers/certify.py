@@ -31,14 +31,19 @@ rejects. Overflow gives inf or NaN, which fails the test.
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.errors import BadInputError
+from parakin.errors import BadInputError, StaleLibraryError
+
+if TYPE_CHECKING:
+    from parakin.packages.compiled import CompiledBackend
 
 UNIT = 2.0**-53
 #: Newton may move a candidate at most this times its max-norm, and a box is at most that wide: a
@@ -448,3 +453,125 @@ def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple
     coordinate) and the number of connected clusters of overlapping ones."""
     labels, distinct = cluster_labels(x, r, unique)
     return distinct, (labels == np.arange(unique.shape[-1])).sum(-1)
+
+
+def _certify_arguments(
+    coefficients: Any, exponents: Any, equation: Any, roots: Any, homogeneous: list[int] | None, patch: int | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]]:
+    """``certify_roots``' inputs checked (its BadInputErrors) and broadcast: coefficients (N, T),
+    exponents, equation, roots (N, P, n) and the batch shape."""
+    exponents = np.ascontiguousarray(exponents, dtype=np.int64)
+    equation = np.ascontiguousarray(equation, dtype=np.int64)
+    c = np.asarray(coefficients, dtype=np.complex128)
+    z = np.asarray(roots, dtype=np.complex128)
+    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
+        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    terms, n = exponents.shape
+    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
+        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
+    if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
+        raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
+    try:
+        batch = np.broadcast_shapes(c.shape[:-1], z.shape[:-2])
+    except ValueError as error:
+        raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
+    if homogeneous is not None:
+        group = np.zeros(n, bool)
+        if not all(0 <= int(i) < n for i in homogeneous) or patch not in range(n):
+            raise BadInputError(f"homogeneous {homogeneous} and patch_equation {patch}: indices in [0, {n})")
+        group[list(homogeneous)] = True
+        in_patch = equation == patch
+        degree = (exponents * group).sum(1)
+        linear = ((exponents * ~group).sum(1) > 0) | (degree > 1)
+        if not group.any() or linear[in_patch].any() or not in_patch.any():
+            raise BadInputError(f"homogeneous {homogeneous} needs a linear patch_equation in them, got {patch}")
+        if any(np.ptp(degree[equation == k]) for k in set(equation[~in_patch].tolist())):
+            raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {homogeneous}")
+    c = np.ascontiguousarray(np.broadcast_to(c, batch + (terms,)).reshape(-1, terms))
+    z = np.ascontiguousarray(np.broadcast_to(z, batch + z.shape[-2:]).reshape(-1, *z.shape[-2:]))
+    return c, exponents, equation, z, batch
+
+
+def certify_roots_compiled(
+    library: CompiledBackend,
+    coefficients: Any,
+    exponents: Any,
+    equation: Any,
+    roots: Any,
+    real_coefficients: bool = True,
+    homogeneous: list[int] | None = None,
+    patch_equation: int | None = None,
+) -> Certificate:
+    """``parakin.solvers.certify.certify_roots`` in the package's C (``NAME_certify_roots``):
+    Krawczyk's test in complex interval arithmetic with outward rounding, the same scaling, radii
+    and realness arguments; the clusters of overlapping boxes are counted here, in NumPy.
+
+    Parameters
+    ----------
+    library : CompiledBackend
+        A homotopy package's compiled backend (``m.backend`` of ``parakin.load(name,
+        backend="compiled")``); any package's serves any system.
+    coefficients : array_like, complex, shape (..., T)
+        Term coefficients of each system (leading axes: a batch).
+    exponents : array_like, int, shape (T, n)
+        Term t is ``coefficients[..., t] * prod_i z_i ** exponents[t, i]``.
+    equation : array_like, int, shape (T,)
+        The equation each term adds to.
+    roots : array_like, complex, shape (..., P, n)
+        Candidates per system (a non-finite row: no candidate).
+    real_coefficients : bool
+        Whether realness may be certified (the coefficients' imaginary parts must also be 0).
+    homogeneous : list of int, optional
+        Unknowns of one projective group (with ``patch_equation``, the linear patch in them).
+    patch_equation : int, optional
+        The patch's equation.
+
+    Returns
+    -------
+    Certificate
+        As ``certify_roots``: unique, radius, real, distinct, certified_distinct, center, radii.
+
+    Raises
+    ------
+    BadInputError
+        Shapes, indices or a homogeneous group as ``certify_roots`` refuses them.
+    StaleLibraryError
+        The library has no C certificate (a closed-form package, or an older generator).
+
+    Example
+    -------
+    >>> m = parakin.load("rus6", backend="compiled")  # doctest: +SKIP
+    >>> certify_roots_compiled(m.backend, [1, -4], [[2], [0]], [0], [[2.0], [-2.0 + 1e-9j]]).real  # doctest: +SKIP
+    array([1, 1], dtype=int8)
+    """
+    if getattr(library, "certify", None) is None or getattr(library, "certify_workspace", None) is None:
+        raise StaleLibraryError(f"{getattr(library, 'path', library)} has no C certificate (NAME_certify_roots)")
+    c, a, e, z, batch = _certify_arguments(coefficients, exponents, equation, roots, homogeneous, patch_equation)
+    systems, paths, n = z.shape
+    degree = int(a.max(initial=0))
+    workspace = np.empty(int(library.certify_workspace(paths, a.shape[0], n, degree)) // 8 + 2)
+    group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
+    unique, real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
+    radius, radii = np.empty((systems, paths)), np.empty((systems, paths, n))
+    centre = np.empty((systems, paths, n), np.complex128)
+    job = library.CertifyJob(
+        systems, paths, a.shape[0], n, c.ctypes.data, a.ctypes.data, e.ctypes.data, z.ctypes.data,
+        int(bool(real_coefficients)), group.ctypes.data, group.size,
+        -1 if patch_equation is None else int(patch_equation),
+        unique.ctypes.data, real.ctypes.data, radius.ctypes.data, centre.ctypes.data, radii.ctypes.data,
+        workspace.ctypes.data, workspace.nbytes,
+    )  # fmt: skip
+    if library.certify(ctypes.byref(job)) != 0:
+        raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
+    known = unique.astype(bool)
+    distinct, count = distinct_clusters(centre, np.where(known[..., None], radii, 0.0), known)
+    shape = batch + (paths,)
+    return Certificate(
+        known.reshape(shape),
+        radius.reshape(shape),
+        real.astype(np.int8).reshape(shape),
+        distinct.reshape(batch)[()],  # a scalar for one system, as certify_roots
+        count.reshape(batch)[()],
+        centre.reshape(shape + (n,)),
+        radii.reshape(shape + (n,)),
+    )

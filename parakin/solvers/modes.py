@@ -15,7 +15,7 @@ import ctypes
 import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from parakin.solvers.certify import (
     UNIT,
     Certificate,
     certify_roots,
+    certify_roots_compiled,
     cluster_labels,
     distinct_clusters,
     homogeneous_group,
@@ -500,7 +501,7 @@ def certify_inputs(
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
     pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     paired = _paired_ends(pairs, roots)
-    result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired)
+    result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired, m.backend)
     counts, unique, real = result.certified_distinct.copy(), result.unique.copy(), result.real.copy()
     centre, radii = result.center.copy(), result.radii.copy()
     if not exact or homotopy.root_count is None:
@@ -779,19 +780,29 @@ def _paired_ends(pairs: PathPairs | None, roots: np.ndarray) -> np.ndarray:
 
 
 def _certify_endpoints(
-    homotopy: Homotopy, coefficients: np.ndarray, roots: np.ndarray, pairs: PathPairs | None, paired: np.ndarray
+    homotopy: Homotopy,
+    coefficients: np.ndarray,
+    roots: np.ndarray,
+    pairs: PathPairs | None,
+    paired: np.ndarray,
+    backend: Any = None,
 ) -> Certificate:
-    """``certify_roots`` of every endpoint; with a sign symmetry, only the first path of each
-    pair where the other ended at its image S z (as tracked): a box B holding exactly one root of
-    F gives S B holding exactly one root, since F(S z) = D F(z) with D = diag(+-1), so the
-    image's certificate is the image of the box (an input whose ends do not pair up, after a
-    retry, is certified path by path)."""
+    """``certify_roots`` of every endpoint (in the package's C where its compiled ``backend``
+    has the certificate, ``certify_roots_compiled``: the same test, every bound rounded
+    outward, and a double-word second attempt where double precision stalls); with a sign
+    symmetry, only the first path of each pair where the other ended at its image S z (as
+    tracked): a box B holding exactly one root of F gives S B holding exactly one root, since
+    F(S z) = D F(z) with D = diag(+-1), so the image's certificate is the image of the box (an
+    input whose ends do not pair up, after a retry, is certified path by path)."""
+    in_c = getattr(backend, "certify", None) is not None and getattr(backend, "certify_workspace", None) is not None
 
     def certified(c: np.ndarray, z: np.ndarray) -> Certificate:
-        return certify_roots(
-            c, homotopy.exponents, homotopy.equation, z,
-            homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,
-        )  # fmt: skip
+        group, patch = _certified_group(homotopy), homotopy.patch_equation
+        if in_c:
+            return certify_roots_compiled(
+                backend, c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch
+            )
+        return certify_roots(c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch)
 
     if pairs is None or not paired.any():
         return certified(coefficients, roots)
