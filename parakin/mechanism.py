@@ -779,7 +779,8 @@ class Mechanism:
         ----------
         actuated : array_like, shape (..., n_a)
             Actuated values (m or rad), inside ``actuated_ranges``; any leading batch shape. A
-            batch of at least ``BAR_STEP`` inputs shows a progress bar (``parakin.log.progress``).
+            batch of at least ``parakin.log.LARGE_BATCH`` inputs shows a progress bar
+            (``parakin.log.progress``).
         strict : bool
             Raise when an input's elimination is degenerate with no isolated mode (default).
         method : str or None
@@ -1442,7 +1443,8 @@ class Mechanism:
         """Actuator efforts that move the platform with the given actuated rates and accelerations.
 
         ``parakin.dynamics.inverse_dynamics``: the platform's Newton-Euler wrench through the rate
-        model; massless legs.
+        model, plus the legs' links by recursive Newton-Euler on their tree where ``leg_inertias``
+        gives them mass (massless otherwise).
 
         Parameters
         ----------
@@ -1454,8 +1456,10 @@ class Mechanism:
             The platform's mass, centre (in {P}) and inertia, or its ten inertial parameters.
         gravity : array_like, shape (3,), optional
             In {B} (m/s^2); default ``parakin.dynamics.STANDARD_GRAVITY`` (z up).
-        leg_inertias : None
-            Reserved (legs are massless).
+        leg_inertias : float or mapping, optional
+            The legs' links: one link mass in kg (every link a thin rod), or body name -> mass or
+            ``RigidInertia`` in that body's frame (the bodies ``to_mjcf`` writes); None: massless
+            legs.
 
         Returns
         -------
@@ -1465,7 +1469,7 @@ class Mechanism:
         Raises
         ------
         UnsupportedOperationError
-            No rate model, or ``leg_inertias`` given.
+            Neither a rate model nor a joint graph (the legs' tree).
         SingularConfigurationError
             A type II singularity.
         BadInputError
@@ -1510,18 +1514,20 @@ class Mechanism:
             Actuated rates (m/s, rad/s) and accelerations (m/s^2, rad/s^2).
         gravity : array_like, shape (3,), optional
             In {B} (m/s^2); default ``parakin.dynamics.STANDARD_GRAVITY``.
-        leg_inertias : None
-            Reserved (legs are massless).
+        leg_inertias : float or mapping, optional
+            The legs' links: one link mass in kg (every link a thin rod), or body name -> mass or
+            ``RigidInertia`` in that body's frame (the bodies ``to_mjcf`` writes); None: massless
+            legs.
 
         Returns
         -------
-        numpy.ndarray, shape (..., n_a, 10)
-            Y.
+        numpy.ndarray, shape (..., n_a, 10) or (..., n_a, 10 (1 + n_links)) with ``leg_inertias``
+            Y (the links' ten parameters after the platform's).
 
         Raises
         ------
         UnsupportedOperationError
-            No rate model, or ``leg_inertias`` given.
+            Neither a rate model nor a joint graph (the legs' tree).
         SingularConfigurationError
             A type II singularity.
 

@@ -325,8 +325,8 @@ class AssemblyModes:
         the modes returned are all of them), ``uncertified_paths`` (per input, the paths whose
         endpoint has no such box) and ``retracked`` (the first run was not complete: its suspect
         paths, then if need be every path from each start instance, tracked again in projective
-        space, where roots near infinity stay bounded; the run with the most certified roots
-        kept).
+        space, where roots near infinity stay bounded; each run's certified roots merged, and the
+        complex conjugates of certified non-real roots added).
 
         Returns
         -------
