@@ -563,7 +563,9 @@ def _carrier(graph: JointGraph, builder: _Builder) -> tuple[GraphLeg | None, str
 
 
 def _format(value: float) -> str:
-    text = format(float(value), ".17g")
+    """The shortest text that reads back as the same double (0.9, not 0.90000000000000002)."""
+    text = repr(float(value))
+    text = text[:-2] if text.endswith(".0") else text
     return "0" if text in ("-0", "0") else text
 
 

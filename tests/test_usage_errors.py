@@ -38,3 +38,20 @@ def test_an_empty_batch_of_modes_prints():
     m = parakin.load("five_bar", backend="numpy")
     modes = m.forward_pose_all(np.zeros((0, 2)))
     assert "an empty batch" in repr(modes) and "an empty batch" in modes._repr_html_()
+
+
+def test_degrees_given_as_radians_are_pointed_out(caplog):
+    """90 for a crank is legal (radians, 14 turns) but most often meant as degrees: a one-line
+    warning names the inputs and the -deg flags; the answer is still given (exit 0)."""
+    assert main(["fk", "five_bar", "--actuated", "90", "90"]) == 0
+    assert "theta1 = 90, theta2 = 90 rad: more than a full turn" in caplog.text and "-deg" in caplog.text
+    caplog.clear()
+    assert main(["fk", "five_bar", "--actuated-deg", "90", "90"]) in (0, 1)
+    assert "more than a full turn" not in caplog.text
+
+
+def test_an_output_path_that_cannot_be_written_is_named(tmp_path, capsys):
+    missing = tmp_path / "no" / "such" / "folder" / "x.png"
+    assert main(["plot", "five_bar", "--out", str(missing)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == f"parakin: cannot use {missing}: No such file or directory", err

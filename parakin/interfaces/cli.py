@@ -22,6 +22,7 @@ import numpy as np
 
 import parakin
 from parakin.errors import BadInputError, ParakinError, SelfMotionError
+from parakin.log import logger
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS, transform_from_pose
 from parakin.results import RANGE_FAILURES, Configuration
@@ -78,6 +79,16 @@ def _from_cli_units(variables: tuple[Variable, ...], values: list[float], degree
     if degrees:
         revolute = np.array([v.revolute for v in variables])
         array = np.where(revolute, np.deg2rad(array), array)
+    else:
+        # more than a full turn is legal but rarely meant: most often degrees given as radians
+        turns = [
+            f"{v.name} = {x:g}" for v, x in zip(variables, array, strict=True) if v.revolute and abs(x) > 2 * np.pi
+        ]
+        if turns:
+            logger.warning(
+                "%s rad: more than a full turn; values are radians (the flags ending in -deg take degrees)",
+                ", ".join(turns),
+            )
     return array
 
 
@@ -640,7 +651,7 @@ def _parser() -> argparse.ArgumentParser:
         "--mode K draws mode K alone. --animate OUT.gif tracks one mode (--mode K, default the mode nearest "
         "the home) along a loop through the inputs, or a straight line --to other inputs, instead.",
     )
-    plot.add_argument("--output", default=None, help="PNG path (default NAME.png)")
+    plot.add_argument("--output", "--out", default=None, help="image path, its format by the suffix (default NAME.png)")
     group = plot.add_mutually_exclusive_group()
     group.add_argument("--actuated", nargs="+", type=float, metavar="V", help="actuated values (default: home)")
     group.add_argument("--actuated-deg", nargs="+", type=float, metavar="V", help="revolute in degrees, prismatic in m")
@@ -842,7 +853,8 @@ def _main(argv: list[str] | None) -> int:
         print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
         return 2
     except OSError as error:  # an output path that cannot be written, a missing folder
-        print(f"parakin: {type(error).__name__}: {error}", file=sys.stderr)
+        where = f" {error.filename}" if error.filename else ""
+        print(f"parakin: cannot use{where}: {error.strerror or error}", file=sys.stderr)
         return 2
     except Exception as error:  # a bug: one line, not a traceback, and not 1 ("no solution")
         message = " ".join(str(error).split())
