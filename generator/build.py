@@ -48,7 +48,7 @@ from . import emit, stages
 from .checks import check_inverse, check_variables
 from .derive import derive
 from .errors import GenerationError
-from .manifest import build_manifest
+from .manifest_writer import build_manifest
 from .model import Mechanism
 from .program import LoweredProgram
 

@@ -14,9 +14,9 @@ forward kinematics and constraint Jacobians, and simulates. Claims, for the five
   within 0.3 mm / 0.01 deg (preset "fast") of ``forward_pose`` at the settled actuated values, and
   the nearest parakin mode is the keyframe's; 10 um / 2e-3 deg with "accurate".
 
-Until the generator's manifest writer carries the joint graph (``generator/manifest.py``), the
-packages here are the shipped ones with the graph that ``generator.graph.to_json`` derives from
-the same mechanism file added to their manifest (a copy under a temporary folder).
+The packages here are the shipped ones: their manifests carry the joint graph
+(``generator/manifest_writer.py``); a package without one is tested on a copy given the graph
+that ``generator.graph.to_json`` derives from the same mechanism file.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The manifest of a generated package: everything the runtime needs, language neutral (JSON).
 
 ``parakin/packages/manifest.py`` reads it into typed objects; nothing in the runtime knows a mechanism by
-name. Bump ``SCHEMA`` whenever a field changes meaning or is removed.
+name. Bump ``SUPPORTED_SCHEMA`` there whenever a field changes meaning or is removed.
 """
 
 from __future__ import annotations
@@ -12,13 +12,16 @@ from typing import Any
 
 import sympy as sp
 
+from parakin.packages.manifest import SUPPORTED_SCHEMA
+
 from . import abi
 from .derive import Derivation
 from .emit import package_version
 from .model import Mechanism
 from .program import LoweredProgram
 
-SCHEMA = 2
+#: the schema written: the one the runtime's reader supports (one number, in one place)
+SCHEMA = SUPPORTED_SCHEMA
 
 #: numerical thresholds of the runtime, per mechanism (a mechanism file may override them)
 DEFAULT_TOLERANCES = {
