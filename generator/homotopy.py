@@ -22,6 +22,18 @@ monodromy); their sum moves on a line as t moves iff the set is complete. Genera
 why, when the test does not close. Solutions are refined in 40-digit mpmath arithmetic and sorted,
 so the stored doubles do not depend on the machine.
 
+That curve's hyperplane section grows fast with the family (the Hexaglide's 80 solutions: more
+than 1200 witnesses), so it is tried only up to ``TRACE_MAX_SOLUTIONS``; families with a Bezout
+number up to ``TOTAL_DEGREE_MAX`` are proven by total-degree runs instead (``_total_degree_bound``),
+minutes for 8192 paths. Families above ``VALUE_FIRST_PATHS`` paths first try the value curve
+(issue 32 item 3): C = {(z, l): F(z; q) + l w = 0}, the preimage of a random line through 0 under
+z -> F(z; q). The z-space is irreducible, so monodromy in the values (loops of F(z; q) = c) reaches
+every solution and C is irreducible where 0 is a generic value; the same pencil's trace test
+(``value_trace_test``) then needs C's points on a . z = 1, far fewer (the Hexaglide's: 128). Where
+0 is not a generic value (solutions at infinity over it: the tricept's) the trace stays off its
+line and the older methods take over; the test never closes on a short set. Measured, generation
+with the count proven, seconds of CPU: Hexaglide 232 -> 45 (80 solutions, 128 witnesses).
+
 The runtime form is sparse: a table of monomials (equation, exponents) and, per input, each
 monomial's coefficient as a polynomial in s.
 """
@@ -66,17 +78,25 @@ WITNESS_LOOPS = 3
 #: random Newton starts in a row that find nothing new before every component is believed found
 COMPONENT_PROBES = 48
 #: the value-space proof (``value_monodromy``, ``value_trace_test``): quiet value loops before a
-#: trace test (and one more per 16 solutions), fibre solutions carried along this many lines to seed the witnesses, rounds of
-#: witness loops with a trace after each, the pencil's |t| over the fibre's median |a . z - 1|,
-#: and the trace tests tried (each after more value loops) before the older methods take over
+#: trace test (and one more per 16 solutions); fibre solutions carried along this many lines to
+#: seed the witnesses; rounds of witness loops (a trace after each) that find no new witness
+#: before the test is given up, and the most rounds; the pencil's |t| over the fibre's median
+#: |a . z - 1|; the witness loops' size over the random offsets' (larger loops reach the far
+#: witnesses: the Hexaglide's 128 in 3 rounds in 4 of 5 seeds, at 1.0 in 2 of 4); the trace tests
+#: tried (each after more value loops) before the older methods
 VALUE_QUIET_LOOPS = 3
 VALUE_SEED_LINES = 3
-VALUE_TRACE_ROUNDS = 6
+VALUE_TRACE_ROUNDS = 3
+VALUE_TRACE_MAX_ROUNDS = 20
 VALUE_PENCIL_T = 0.5
-VALUE_ATTEMPTS = 3
-#: the value curve's trace test closes below this (stricter than TRACE_TOLERANCE, which the
-#: manifest states: a complete set measures ~1e-12, one missing solution ~1e-3)
-VALUE_TRACE_TOLERANCE = 1e-10
+VALUE_LOOP_SIZE = 3.0
+VALUE_ATTEMPTS = 2
+#: families whose Bezout number is above this try the value curve's trace test first
+VALUE_FIRST_PATHS = 2048
+#: the value curve's trace test closes below this twice in a row (stricter than TRACE_TOLERANCE,
+#: which the manifest states: complete sets measure 1e-16..2e-12, one missing solution of the
+#: Hexaglide or the 3-RPR 1e-3..5e-2, one missing far witness of the Hexaglide 9e-11..3e-9)
+VALUE_TRACE_TOLERANCE = 1e-11
 VALUE_TRACE_METHOD = "trace test (Leykin, Rodriguez, Sottile 2018) on the value curve F(z; q) + l w = 0"
 CACHE_VERSION = 3
 #: the proof's fields in the manifest, in this order
@@ -662,7 +682,7 @@ def value_trace_test(name: str, family: Family, q: np.ndarray, solutions: np.nda
     # witnesses from the fibre: its solutions carried to a few l of the curve, each on its own
     # hyperplane a . z = c there; moving c to 1 takes each to a witness
     seeds, bases = [], []
-    for lam in _random_complex(rng, VALUE_SEED_LINES):
+    for lam in _random_complex(rng, VALUE_SEED_LINES) * np.logspace(-1, 1, VALUE_SEED_LINES):
         moved, reached = _track(_value_system(family, q, np.zeros(n, complex), -lam * w), solutions)
         for z in moved[reached]:
             c = a @ z
@@ -676,10 +696,22 @@ def value_trace_test(name: str, family: Family, q: np.ndarray, solutions: np.nda
     points0 = np.concatenate([np.concatenate([solutions, np.zeros((len(solutions), 1))], axis=1), witnesses])
     deviation = np.inf
     spread = float(np.median(np.abs(solutions @ a - 1)))
-    for _ in range(VALUE_TRACE_ROUNDS):
+    quiet = 0
+    previous = (np.inf, 0)
+    began = time.perf_counter()
+    for round_ in range(1, VALUE_TRACE_MAX_ROUNDS + 1):
+        before = len(witnesses)
         witnesses = _loops(
-            lambda b0, b1: _value_slice_system(family, q, w, b0, b1), a, witnesses, on_slice, rng, WITNESS_LOOPS
+            lambda b0, b1: _value_slice_system(
+                family, q, w, a + VALUE_LOOP_SIZE * (b0 - a), a + VALUE_LOOP_SIZE * (b1 - a)
+            ),
+            a,
+            witnesses,
+            on_slice,
+            rng,
+            WITNESS_LOOPS,
         )
+        quiet = 0 if len(witnesses) > before else quiet + 1
         points0 = np.concatenate([np.concatenate([solutions, np.zeros((len(solutions), 1))], axis=1), witnesses])
         slopes: list[np.ndarray] = []
         for _ in range(8):
@@ -695,10 +727,22 @@ def value_trace_test(name: str, family: Family, q: np.ndarray, solutions: np.nda
         difference = np.linalg.norm(slopes[0].sum(0) - slopes[1].sum(0))
         total = float(np.linalg.norm(slopes[0], axis=1).sum() + np.linalg.norm(slopes[1], axis=1).sum())
         deviation = float(difference / total) if total > 0 else np.inf
-        logger.info("%s: trace test: %d witnesses, deviation %.1e", name, len(witnesses), deviation)
-        if deviation < VALUE_TRACE_TOLERANCE:
+        logger.info(
+            "%s: trace test round %d: %d witnesses, deviation %.1e (%.1f s a round; at most %d more)",
+            name, round_, len(witnesses), deviation, (time.perf_counter() - began) / round_,
+            min(VALUE_TRACE_ROUNDS - quiet, VALUE_TRACE_MAX_ROUNDS - round_),
+        )  # fmt: skip
+        # the witnesses are complete when the trace closes; while loops still find new ones it
+        # may yet, and a set that stopped growing for VALUE_TRACE_ROUNDS rounds is given up
+        # closed: below the tolerance at two pairs of t in a row, with the same witnesses (a far
+        # witness or solution moves almost on a line: a single small deviation is not enough)
+        closed = deviation < VALUE_TRACE_TOLERANCE and previous[0] < VALUE_TRACE_TOLERANCE
+        if closed and previous[1] == len(witnesses):
+            return {"witnesses": len(witnesses), "deviation": max(deviation, previous[0]), "complete": True}
+        previous = (deviation, len(witnesses))
+        if quiet >= VALUE_TRACE_ROUNDS:
             break
-    return {"witnesses": len(witnesses), "deviation": deviation, "complete": deviation < VALUE_TRACE_TOLERANCE}
+    return {"witnesses": len(witnesses), "deviation": max(deviation, previous[0]), "complete": False}
 
 
 def _total_degree_system(family: Family, q: np.ndarray, degrees: np.ndarray, gamma: complex, patch: np.ndarray):
@@ -921,10 +965,19 @@ def start_systems(
             record["second_solutions"] = [_pairs(row) for row in second_solutions]
             _store(cached, record)
             return family, {**record, "key": key.hexdigest()}
-    logger.info("%s (%s): new start systems: monodromy and the trace test (then cached)", name, method)
+    paths = int(np.prod(degrees))
+    first = "the value curve's trace test" if paths > VALUE_FIRST_PATHS else None
+    first = first or ("total-degree runs" if bounded else "the trace test")
+    logger.info("%s (%s): new start systems: monodromy and %s (then cached)", name, method, first)
     rng = np.random.default_rng(seed)
     q, point = _start_instance(name, family, rng)
-    fast = _value_proof(name, family, q, point, flips, np.random.default_rng(seed + 5))
+    # small Bezout numbers: the total-degree runs take seconds (tricept 864 paths: 30 s in all,
+    # rps3 1024: 18 s); larger ones try the value curve's trace test first (the Hexaglide's 8192)
+    fast = (
+        None
+        if paths <= VALUE_FIRST_PATHS
+        else _value_proof(name, family, q, point, flips, np.random.default_rng(seed + 5))
+    )
     if fast is not None:
         solutions, value_proof = fast
         second, second_solutions = _second_start(name, family, q, solutions, seed)
@@ -944,10 +997,11 @@ def start_systems(
         }
         _store(cached, record)
         return family, {**record, "key": key.hexdigest()}
-    proof_text = "total-degree runs" if bounded else "the trace test"
-    logger.info(
-        "%s (%s): the value curve's trace test did not close: monodromy and %s (minutes)", name, method, proof_text
-    )
+    if paths > VALUE_FIRST_PATHS:
+        proof_text = "total-degree runs" if bounded else "the trace test"
+        logger.info(
+            "%s (%s): the value curve's trace test did not close: monodromy and %s (minutes)", name, method, proof_text
+        )
     found = point[None, :]
     proof: dict[str, object] = {}
     if bounded:
