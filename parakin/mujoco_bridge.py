@@ -39,7 +39,7 @@ Examples below continue from here):
 >>> bridge.assemble(chain, data, q, rates, accelerations) < 1e-12
 True
 >>> bridge.projected_inverse(chain, data).round(4)  # actuator torques, N m
-array([-4.2667,  3.6985])
+array([-4.2653,  3.6973])
 """
 
 from __future__ import annotations
@@ -438,7 +438,7 @@ def projected_inverse(chain: ClosedChain, data: Any) -> Array:
     >>> bridge.assemble(chain, data, q, rates, accelerations) < 1e-12
     True
     >>> bridge.projected_inverse(chain, data).round(4)
-    array([-4.2667,  3.6985])
+    array([-4.2653,  3.6973])
     """
     mujoco = _mujoco()
     mujoco.mj_inverse(chain.model, data)
