@@ -21,7 +21,7 @@ from parakin.generator.build import discover, generate
 import bench.floor
 import parakin
 from bench.timing import best_time
-from parakin.solvers.homotopy import path_pairs
+from parakin.solvers.path_tracking import path_pairs
 from parakin.studies.sampling import sample_configurations
 
 BATCHES = [1, 1000]
@@ -193,7 +193,7 @@ METHOD_INPUTS = 40
 
 def tracked_paths(info) -> int:
     """Paths tracked per input: a homotopy with a sign symmetry tracks one path of each pair
-    (``parakin.solvers.homotopy.path_pairs``); a closed form has one slot per root."""
+    (``parakin.solvers.path_tracking.path_pairs``); a closed form has one slot per root."""
     homotopy = info.homotopy
     if homotopy is None:
         return int(info.degree)

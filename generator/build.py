@@ -322,7 +322,7 @@ def _generator_digest() -> bytes:
     shared-subtree form of ``symbolic.py``), and the versions of the tools: what every package is
     generated from besides its mechanism."""
     import parakin.packages.subtrees
-    import parakin.solvers.homotopy
+    import parakin.solvers.path_tracking
 
     digest = hashlib.sha256()
     here = Path(__file__).resolve().parent
@@ -334,7 +334,7 @@ def _generator_digest() -> bytes:
         ]
     )
     runtime = [
-        Path(module.__file__ or "").resolve() for module in (parakin.solvers.homotopy, parakin.packages.subtrees)
+        Path(module.__file__ or "").resolve() for module in (parakin.solvers.path_tracking, parakin.packages.subtrees)
     ]
     for source in [*files, *runtime]:
         label = (

@@ -15,7 +15,7 @@ import sympy as sp
 
 from parakin.log import logger
 
-from . import configurations, graph, homotopy, polynomial_form, stages
+from . import configurations, graph, polynomial_form, stages, start_systems
 from .checks import check_closure, check_pose_kind, check_program_symbols
 from .drawing import drawing_metadata
 from .errors import GenerationError
@@ -542,7 +542,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             ["the mechanism's own polynomial system (ForwardHomotopy)"],
         )
         stages.begin("own homotopy")
-        setup = homotopy.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
+        setup = start_systems.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
         programs += setup.programs
         methods["homotopy"] = setup.metadata
         symbolic.update(setup.symbolic)
@@ -585,7 +585,7 @@ def derive(mechanism: Mechanism) -> Derivation:
         )
         stages.begin("automatic homotopy")
         try:
-            setup = homotopy.build(mechanism.name, form, actuated, params, "automatic")
+            setup = start_systems.build(mechanism.name, form, actuated, params, "automatic")
         except GenerationError as error:
             if not methods:
                 raise

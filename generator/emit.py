@@ -19,8 +19,8 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from parakin.packages.package import export_name
 from parakin.packages.subtrees import shared_subtrees
-from parakin.solvers import homotopy as tracking
-from parakin.solvers.homotopy import path_pairs
+from parakin.solvers import path_tracking as tracking
+from parakin.solvers.path_tracking import path_pairs
 
 from .program import LoweredProgram
 
@@ -28,7 +28,7 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: the fixed C every homotopy package's driver holds (ordinary sources, tested on their own by
 #: tests/test_c_runtime.py), printed into the driver where the template names them
 RUNTIME = Path(__file__).parent / "runtime"
-#: the step control the C tracker shares with parakin.solvers.homotopy, printed as #defines
+#: the step control the C tracker shares with parakin.solvers.path_tracking, printed as #defines
 TRACKER_CONSTANTS = (
     "CORRECTIONS",
     "INITIAL_STEP",
@@ -193,7 +193,7 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
 
 
 def _symmetry(chosen: dict) -> dict[str, object]:
-    """The family's sign symmetry and the start paths it pairs (``parakin.solvers.homotopy``): the C
+    """The family's sign symmetry and the start paths it pairs (``parakin.solvers.path_tracking``): the C
     driver tracks one path of each pair and takes the image of its end for the other, as the
     NumPy pipeline does; empty when there is none."""
     exponents = np.array([e for _, e in chosen["terms"]], dtype=np.int64)
@@ -316,7 +316,7 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
         "version": manifest["generator"]["version"],
         "at_infinity": repr(float(manifest["tolerances"]["at_infinity"])),
         # the C tracker (generator/runtime/tracker.h) and its constants: the NumPy reference's
-        # (parakin.solvers.homotopy.track_hermite)
+        # (parakin.solvers.path_tracking.track_hermite)
         "tracker": [(name, repr(getattr(tracking, name))) for name in TRACKER_CONSTANTS],
         "path_codes": {
             "reached": tracking.PATH_REACHED,

@@ -1,5 +1,5 @@
 """The polynomial form of a loop closure, derived: the square polynomial system whose isolated
-solutions are the assembly modes, for the all-modes homotopy (``generator/homotopy.py``).
+solutions are the assembly modes, for the all-modes homotopy (``generator/start_systems.py``).
 
 From the closure residual r(passive; actuated, parameters) (``derive``'s, either model style):
 * a passive revolute variable phi becomes two unknowns (c_phi, s_phi) with c^2 + s^2 - 1 = 0

@@ -132,7 +132,7 @@ def test_the_trace_test_rejects_an_incomplete_solution_set() -> None:
     """The generation-time proof closes on the generated start system and fails when one of its
     solutions is withheld."""
     pytest.importorskip("sympy")
-    from parakin.generator import homotopy
+    from parakin.generator import start_systems as homotopy
     from parakin.generator.polynomial_form import derive
     from parakin.mechanisms import planar_3rpr
 
@@ -156,7 +156,7 @@ def test_the_total_degree_bound_completes_and_proves_a_partial_set() -> None:
     (as a component monodromy never reaches would be) and prove the count; a run that lost a
     solution would disagree with the joined set and leave it unproven."""
     pytest.importorskip("sympy")
-    from parakin.generator import homotopy
+    from parakin.generator import start_systems as homotopy
     from parakin.generator.polynomial_form import derive
     from parakin.mechanisms import planar_3rpr
 
@@ -263,7 +263,7 @@ def test_stewart_automatic_gives_dietmaier_40_modes_certified() -> None:
 def test_the_circle_parametrisation_covers_every_real_angle() -> None:
     """u(x) is finite for every real angle (pi included), (C, S, D)(u(x)) is proportional to
     (cos x, sin x, 1) and C^2 + S^2 = D^2 identically."""
-    from parakin.solvers.homotopy import circle_parameter, circle_point
+    from parakin.solvers.path_tracking import circle_parameter, circle_point
 
     sympy = pytest.importorskip("sympy")
     from parakin.generator.polynomial_form import MOEBIUS_A, MOEBIUS_B, circle_parametrisation

@@ -1,7 +1,7 @@
 """The C runtime (generator/runtime/) on its own: its C unit tests compiled with the system
 compiler and run (the complex LU, the Hermite predictor, the tracker on homotopies with
 closed-form paths), and each tracked path compared with the NumPy reference
-``parakin.solvers.homotopy.track_hermite`` on the same homotopy: the same endpoint, the same
+``parakin.solvers.path_tracking.track_hermite`` on the same homotopy: the same endpoint, the same
 step attempts, rejections and evaluations. Every homotopy package's driver prints these sources
 (generator/emit.py): the packages' drivers are checked to hold them verbatim."""
 
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.solvers import homotopy
+from parakin.solvers import path_tracking as homotopy
 
 ROOT = Path(__file__).resolve().parent.parent
 RUNTIME = ROOT / "generator" / "runtime"

@@ -280,7 +280,7 @@ def toy_family():
 
 
 def start_systems(**patches):
-    from parakin.generator import homotopy
+    from parakin.generator import start_systems as homotopy
 
     form, equations = toy_family()
     with pytest.MonkeyPatch.context() as patch:
@@ -334,7 +334,7 @@ def test_a_planted_start_system_record_cannot_shrink_the_root_count(tmp_path, mo
     passed every content check and became the proven root count. Now a record is used only from a
     folder and file this user owns and no one else can write, naming the family it is for; any
     other is ignored and the start systems computed again (4 roots, proven)."""
-    from parakin.generator import homotopy
+    from parakin.generator import start_systems as homotopy
 
     key = toy_record["key"]
     for case, root in hostile_records(tmp_path):
@@ -366,7 +366,7 @@ def test_a_planted_start_system_record_cannot_shrink_the_root_count(tmp_path, mo
 def test_a_record_parakin_wrote_is_reused_and_private(tmp_path, monkeypatch, toy_record):
     """The record the generator stores names its family and is private (folder 0700, file not
     writable by others, whatever the umask); the next build reuses it without recomputing."""
-    from parakin.generator import homotopy
+    from parakin.generator import start_systems as homotopy
 
     root = tmp_path / "cache"
     monkeypatch.setenv("PARAKIN_CACHE", str(root))

@@ -27,7 +27,7 @@ import oracle_modes as om
 import parakin
 from parakin.solvers import modes as modes_module
 from parakin.solvers.exact_certify import certify_root_exactly
-from parakin.solvers.homotopy import target_coefficients
+from parakin.solvers.path_tracking import target_coefficients
 
 AT_FOLD = ("planar_3rrr", 5, ("-0x1.041a1065d3419p-1", "0x1.adc7b051a76fap+0", "-0x1.0d7022fcb6292p-3"))
 

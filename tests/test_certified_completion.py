@@ -25,7 +25,7 @@ from parakin.solvers import exact_certify
 from parakin.solvers import modes as modes_module
 from parakin.solvers.certify import certify_roots
 from parakin.solvers.exact_certify import certify_root_exactly
-from parakin.solvers.homotopy import target_coefficients
+from parakin.solvers.path_tracking import target_coefficients
 
 #: actuated values (rad) of the formerly incomplete inputs (the census's inputs 13, 156, 178, 195)
 FORMERLY_INCOMPLETE = {

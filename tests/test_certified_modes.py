@@ -15,7 +15,7 @@ import pytest
 import parakin
 from parakin.solvers import modes as modes_module
 from parakin.solvers.certify import certify_roots
-from parakin.solvers.homotopy import phase_normalised
+from parakin.solvers.path_tracking import phase_normalised
 
 
 def _geometry(name: str, seed: int, spread: float = 0.15) -> dict[str, float]:

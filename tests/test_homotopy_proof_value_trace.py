@@ -1,4 +1,4 @@
-"""The value curve's trace test (generator/homotopy.py, ``value_trace_test``), the proof of a new
+"""The value curve's trace test (generator/start_systems.py, ``value_trace_test``), the proof of a new
 family's root count: it closes on a complete solution set whose size is known independently and
 stays open when one solution is withheld.
 
@@ -19,7 +19,7 @@ import pytest
 pytest.importorskip("sympy")
 
 import sympy as sp  # noqa: E402
-from parakin.generator import homotopy  # noqa: E402
+from parakin.generator import start_systems as homotopy  # noqa: E402
 from parakin.generator.polynomial_form import PolynomialForm, derive  # noqa: E402
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.solvers.homotopy import PATH_REACHED, path_pairs, sparse_system, track, track_symmetric
+from parakin.solvers.path_tracking import PATH_REACHED, path_pairs, sparse_system, track, track_symmetric
 from parakin.solvers.projective import projective_family, projective_table, to_affine, to_projective
 
 

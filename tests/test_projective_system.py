@@ -1,5 +1,5 @@
 """``parakin.solvers.projective.family_system`` (the re-tracks' evaluation of a family over its
-distinct monomials) against ``parakin.solvers.homotopy.sparse_system`` (term by term) and against
+distinct monomials) against ``parakin.solvers.path_tracking.sparse_system`` (term by term) and against
 central finite differences of itself in z and s, on rus6's projective family and a random one."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from parakin.solvers.homotopy import path_pairs, sparse_system
+from parakin.solvers.path_tracking import path_pairs, sparse_system
 from parakin.solvers.projective import family_system, projective_family, projective_table, to_projective
 
 

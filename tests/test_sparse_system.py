@@ -1,4 +1,4 @@
-"""parakin.solvers.homotopy.sparse_system: the value, Jacobian and s-rate of a generated homotopy's sparse
+"""parakin.solvers.path_tracking.sparse_system: the value, Jacobian and s-rate of a generated homotopy's sparse
 form against a direct term-by-term evaluation and complex finite differences, at random points and
 at points with coordinates exactly 0 (where the Jacobian cannot divide by z_i)."""
 
@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from parakin.solvers.homotopy import sparse_system
+from parakin.solvers.path_tracking import sparse_system
 
 
 def _direct(table, exponents, equation, inputs, z, s):

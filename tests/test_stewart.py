@@ -293,8 +293,8 @@ def test_a_failed_path_is_recovered_from_the_second_start_system(backend):
     """A path of the first start system that fails (here: marked failed after the run, the way
     the tracker marks a path it cannot follow) is recovered from the second start system, along
     another segment: its slot gets the very root the first run had reached, and no other."""
-    from parakin.solvers.homotopy import PATH_FAILED, PATH_REACHED, Paths, sparse_system, track
     from parakin.solvers.modes import _path_table, _retry_failed
+    from parakin.solvers.path_tracking import PATH_FAILED, PATH_REACHED, Paths, sparse_system, track
 
     m = parakin.load("stewart", backend=backend, base=RETRY_BASE, platform=RETRY_PLATFORM)
     lengths = m.inverse_pose(np.array(RETRY_POSE)).actuated[0]

@@ -1,4 +1,4 @@
-"""Sign symmetries of a homotopy family (``parakin.solvers.homotopy.sign_symmetry``): where every
+"""Sign symmetries of a homotopy family (``parakin.solvers.path_tracking.sign_symmetry``): where every
 equation is even or odd under z -> S z (q -> -q of a quaternion), the paths pair up and one of
 each pair is tracked. Checked against the full tracking (each partner path followed on its own
 ends at the image of its representative's end) and against the generated C driver's table."""
@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.solvers.homotopy import (
+from parakin.solvers.modes import _path_table
+from parakin.solvers.path_tracking import (
     path_pairs,
     sign_symmetry,
     sparse_system,
@@ -19,7 +20,6 @@ from parakin.solvers.homotopy import (
     track,
     track_symmetric,
 )
-from parakin.solvers.modes import _path_table
 from parakin.studies.sampling import sample_configurations
 
 
@@ -78,7 +78,6 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
     pair, their images for the other) has the same certified paths and the same count of distinct
     certified roots as certifying every endpoint, and every image box holds its path's end."""
     from parakin.solvers.certify import certify_roots
-    from parakin.solvers.homotopy import target_coefficients
     from parakin.solvers.modes import (
         _certified_group,
         _certify_endpoints,
@@ -87,6 +86,7 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
         _paired_ends,
         compiled_modes,
     )
+    from parakin.solvers.path_tracking import target_coefficients
 
     m = parakin.load("prs3", backend="compiled")
     info = m.capabilities.forward

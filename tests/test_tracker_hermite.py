@@ -13,7 +13,7 @@ import pytest
 
 import parakin
 from parakin.packages.compiled import CompiledBackend
-from parakin.solvers import homotopy
+from parakin.solvers import path_tracking as homotopy
 from parakin.solvers.modes import _path_table, compiled_modes
 from parakin.studies.sampling import sample_configurations
 

@@ -2,7 +2,7 @@
 // with the system compiler): the complex LU with two right-hand sides, the Hermite predictor, and
 // the path tracker on test homotopies whose paths are known in closed form. Prints one line per
 // tracked path ("path <kind> <start> <status> <z re/im ...> <steps> <rejected> <evaluations>
-// <factorisations>") for the Python side to compare with parakin.solvers.homotopy.track_hermite,
+// <factorisations>") for the Python side to compare with parakin.solvers.path_tracking.track_hermite,
 // and "failed: ..." for each check that fails; exits 1 if any did.
 #include <math.h>
 #include <stdio.h>

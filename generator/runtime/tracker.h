@@ -1,12 +1,12 @@
 // parakin C runtime: the path tracker of a parameter homotopy H(z, s) = 0, from a start solution
-// at s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite is its NumPy reference: the same
+// at s = 1 to s = 0 (parakin.solvers.path_tracking.track_hermite is its NumPy reference: the same
 // algorithm and constants). Copied into every homotopy package's driver by the generator
 // (generator/emit.py), and compiled on its own with a test homotopy by tests/test_c_runtime.py.
 //
 // The includer defines, before including it (after complex.h):
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
-//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.homotopy)
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
 //   static void coefficients(const sparse_system*, double s, coefficients_at*)
@@ -104,7 +104,7 @@ static void predict(int history, double s0, const cplx* z0, const cplx* v0, doub
 // too large for a small thread stack
 typedef struct { coefficients_at here, target; } step_coefficients;
 
-// One path from s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite, the same algorithm): each
+// One path from s = 1 to s = 0 (parakin.solvers.path_tracking.track_hermite, the same algorithm): each
 // step predicts by the cubic Hermite extrapolation of the last two points and their slopes, and
 // corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
 // the last one leaves (the update itself after one step; after more, estimated from the

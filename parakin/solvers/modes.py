@@ -32,7 +32,7 @@ from parakin.solvers.certify import (
     homogeneous_group,
 )
 from parakin.solvers.exact_certify import certify_root_exactly, realness_in_chart
-from parakin.solvers.homotopy import (
+from parakin.solvers.path_tracking import (
     PATH_DIVERGED,
     PATH_FAILED,
     PATH_REACHED,
@@ -263,7 +263,7 @@ def _numpy_chunk(m: Mechanism, theta: Array, info: Forward, retrack: Retrack | N
 def _homotopy_candidates(
     m: Mechanism, theta: Array, info: Forward, retrack: Retrack | None = None
 ) -> dict[str, np.ndarray]:
-    """Every path of the generated homotopy followed to the inputs (``parakin.solvers.homotopy``); real
+    """Every path of the generated homotopy followed to the inputs (``parakin.solvers.path_tracking``); real
     and near-real endpoints become candidates (passive values from the generated kernel), the
     others are accounted for as complex, at infinity or failed. ``retrack``: again, in
     projective space (``Retrack``)."""
@@ -333,7 +333,7 @@ def _track_family(
     homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float, projective: bool = False
 ) -> Paths:
     """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
-    a sign symmetry (``parakin.solvers.homotopy.track_symmetric``), as the generated C driver does;
+    a sign symmetry (``parakin.solvers.path_tracking.track_symmetric``), as the generated C driver does;
     ``projective``: tracked on the homogenised family and returned as affine endpoints."""
     pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
     if projective:

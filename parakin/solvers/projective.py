@@ -9,7 +9,7 @@ bounded points (z / w = the affine root); a root near infinity is a point with s
 conditioned as any other (Morgan, "Solving polynomial systems using continuation", 1987, ch. 3;
 HomotopyContinuation.jl tracks in projective space the same way). The patch is a fixed
 pseudo-random complex vector (generic for any family), zero on the unknowns a sign symmetry
-flips, so that the symmetric pairs of paths (``parakin.solvers.homotopy.path_pairs``) stay pairs.
+flips, so that the symmetric pairs of paths (``parakin.solvers.path_tracking.path_pairs``) stay pairs.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from parakin.solvers.homotopy import PATH_DIVERGED, PATH_REACHED, PathPairs, Paths, System
+from parakin.solvers.path_tracking import PATH_DIVERGED, PATH_REACHED, PathPairs, Paths, System
 
 #: the patch's seed: fixed so that a run is reproducible
 PATCH_SEED = 20261127
@@ -126,7 +126,7 @@ def _cached_terms(exponents: bytes, shape: tuple[int, int], equation: bytes) -> 
 
 def family_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray, paths: int) -> System:
     """The system of a family from its coefficients in s (inputs, powers, terms), as
-    ``parakin.solvers.homotopy.sparse_system`` (path p belongs to input p // ``paths``; the same
+    ``parakin.solvers.path_tracking.sparse_system`` (path p belongs to input p // ``paths``; the same
     values up to the order of the sums), evaluated over the family's distinct monomials and one
     sum per output (``_Terms``, computed once per family): a few times cheaper for the re-tracks
     of a family of hundreds of terms.

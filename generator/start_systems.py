@@ -333,14 +333,14 @@ def _pencil_system(family: Family, q: np.ndarray, v: np.ndarray, a: np.ndarray, 
 
 
 def _track(system, start: np.ndarray):
-    from parakin.solvers.homotopy import PATH_REACHED, track
+    from parakin.solvers.path_tracking import PATH_REACHED, track
 
     paths = track(system, start)
     return paths.z, paths.status == PATH_REACHED
 
 
 def _add_new(known: np.ndarray, candidates: np.ndarray) -> tuple[np.ndarray, int]:
-    from parakin.solvers.homotopy import is_known
+    from parakin.solvers.path_tracking import is_known
 
     added = 0
     for candidate in candidates:
@@ -472,7 +472,7 @@ def _closed(found: np.ndarray, flips: list[np.ndarray]) -> np.ndarray:
 def newton_size(family: Family, z: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The size of a Newton step at solutions z (P, n) of F(.; q), relative to 1 + |z|: how far
     each is from a solution, whatever the scale of the equations' coefficients."""
-    from parakin.solvers.homotopy import _solve
+    from parakin.solvers.path_tracking import _solve
 
     with np.errstate(all="ignore"):
         jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
@@ -785,7 +785,7 @@ def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng) -> 
     fails is tracked again with 100 times tighter steps; endpoints, and the last points of paths
     that fail again, are kept where Newton on F takes them to a regular solution (``_regular``).
     Returns the distinct ones."""
-    from parakin.solvers.homotopy import PATH_REACHED, _solve, track
+    from parakin.solvers.path_tracking import PATH_REACHED, _solve, track
 
     n = family.n
     d = np.asarray(degrees, dtype=np.int64)
