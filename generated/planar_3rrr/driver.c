@@ -598,12 +598,12 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
 // ---------------------------------------------------------------------------------------------
 // The generated parameter homotopy: each of the NPATHS start solutions of the generated complex
 // instance is followed to the inputs (s = 1 -> 0) by the same predictor-corrector as
-// parakin.solvers.homotopy.track_hermite (track_path), refined at s = 0; real and near-real
+// parakin.solvers.path_tracking.track_hermite (track_path), refined at s = 0; real and near-real
 // endpoints are completed to passive values by a generated kernel and settled. The step
 // constants are that module's.
 #define NZ 4
 #define NH 0
-// the tracker's constants (parakin.solvers.homotopy)
+// the tracker's constants (parakin.solvers.path_tracking)
 #define CORRECTIONS 3
 #define INITIAL_STEP 0.05
 #define PREDICTOR_TARGET 0.003
@@ -701,7 +701,7 @@ static const double circle_a[2] = { 0.317, -1.291 };
 static const double circle_b[2] = { -1.733, 0.557 };
 
 // The coefficients in s of every monomial along the segment from start instance `which` (0: the
-// first, 1: the second, 'alternative') to the inputs, as parakin.solvers.homotopy.path_coefficients: the
+// first, 1: the second, 'alternative') to the inputs, as parakin.solvers.path_tracking.path_coefficients: the
 // family (free values linear in s, circle parameters u linear in s, (C, S, D) from u) at the
 // POWERS-th roots of unity, the generated monomials kernel at each, one DFT.
 static int load_system(workspace* ws, const double* theta, const double* params, int which, sparse_system* system) {
@@ -1019,14 +1019,14 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 }
 
 // parakin C runtime: the path tracker of a parameter homotopy H(z, s) = 0, from a start solution
-// at s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite is its NumPy reference: the same
+// at s = 1 to s = 0 (parakin.solvers.path_tracking.track_hermite is its NumPy reference: the same
 // algorithm and constants). Copied into every homotopy package's driver by the generator
 // (generator/emit.py), and compiled on its own with a test homotopy by tests/test_c_runtime.py.
 //
 // The includer defines, before including it (after complex.h):
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
-//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.homotopy)
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
 //   static void coefficients(const sparse_system*, double s, coefficients_at*)
@@ -1124,7 +1124,7 @@ static void predict(int history, double s0, const cplx* z0, const cplx* v0, doub
 // too large for a small thread stack
 typedef struct { coefficients_at here, target; } step_coefficients;
 
-// One path from s = 1 to s = 0 (parakin.solvers.homotopy.track_hermite, the same algorithm): each
+// One path from s = 1 to s = 0 (parakin.solvers.path_tracking.track_hermite, the same algorithm): each
 // step predicts by the cubic Hermite extrapolation of the last two points and their slopes, and
 // corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
 // the last one leaves (the update itself after one step; after more, estimated from the
