@@ -274,6 +274,30 @@ def _typical_size(z: np.ndarray) -> np.ndarray:
 
 
 @np.errstate(all="ignore")  # NaN rows and overflow are handled: never a warning
+def _checked_system(
+    coefficients: ArrayLike, exponents: ArrayLike, equation: ArrayLike, roots: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]]:
+    """The systems and candidates of a certificate checked (BadInputError naming what is wrong)
+    and broadcast to one batch: coefficients (..., T), exponents (T, n), equation (T,), roots
+    (..., P, n) and the batch shape."""
+    exponents = np.asarray(exponents, dtype=np.int64)
+    equation = np.asarray(equation, dtype=np.int64)
+    c = np.asarray(coefficients, dtype=np.complex128)
+    z = np.asarray(roots, dtype=np.complex128)
+    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
+        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    terms, n = exponents.shape
+    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
+        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
+    if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
+        raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
+    try:
+        batch = np.broadcast_shapes(c.shape[:-1], z.shape[:-2])
+    except ValueError as error:
+        raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
+    return np.broadcast_to(c, batch + (terms,)), exponents, equation, np.broadcast_to(z, batch + z.shape[-2:]), batch
+
+
 def certify_roots(
     coefficients: ArrayLike,
     exponents: ArrayLike,
@@ -290,22 +314,8 @@ def certify_roots(
     exactly 0 (the patch's excepted). With ``homogeneous`` unknowns and the complex linear
     ``patch_equation`` sum a_i z_i - 1 over them (every other equation homogeneous in them),
     realness is decided in the real chart z_j = 1, j the homogeneous unknown of largest |z_j|."""
-    exponents = np.asarray(exponents, dtype=np.int64)
-    equation = np.asarray(equation, dtype=np.int64)
-    c = np.asarray(coefficients, dtype=np.complex128)
-    z = np.asarray(roots, dtype=np.complex128)
-    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
-        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    c, exponents, equation, z, batch = _checked_system(coefficients, exponents, equation, roots)
     terms, n = exponents.shape
-    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
-        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
-    if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
-        raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
-    try:
-        batch = np.broadcast_shapes(c.shape[:-1], z.shape[:-2])
-    except ValueError as error:
-        raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
-    c, z = np.broadcast_to(c, batch + (terms,)), np.broadcast_to(z, batch + z.shape[-2:])
     if homogeneous is None:
         # each candidate in its own coordinates w = z / D, D = diag of powers of two >= |z_i|:
         # the test's max-norm box becomes a box of radius r D_i per coordinate, fitting roots of
@@ -458,23 +468,11 @@ def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple
 def _certify_arguments(
     coefficients: Any, exponents: Any, equation: Any, roots: Any, homogeneous: list[int] | None, patch: int | None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]]:
-    """``certify_roots``' inputs checked (its BadInputErrors) and broadcast: coefficients (N, T),
-    exponents, equation, roots (N, P, n) and the batch shape."""
-    exponents = np.ascontiguousarray(exponents, dtype=np.int64)
-    equation = np.ascontiguousarray(equation, dtype=np.int64)
-    c = np.asarray(coefficients, dtype=np.complex128)
-    z = np.asarray(roots, dtype=np.complex128)
-    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
-        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    """``certify_roots``' inputs checked (``_checked_system``) with the homogeneous group, and
+    flattened for C: coefficients (N, T), exponents, equation, roots (N, P, n), the batch shape."""
+    c, exponents, equation, z, batch = _checked_system(coefficients, exponents, equation, roots)
+    exponents, equation = np.ascontiguousarray(exponents), np.ascontiguousarray(equation)
     terms, n = exponents.shape
-    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
-        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
-    if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
-        raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
-    try:
-        batch = np.broadcast_shapes(c.shape[:-1], z.shape[:-2])
-    except ValueError as error:
-        raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
     if homogeneous is not None:
         group = np.zeros(n, bool)
         if not all(0 <= int(i) < n for i in homogeneous) or patch not in range(n):
