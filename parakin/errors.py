@@ -19,6 +19,12 @@ class UnknownMechanismError(BadInputError, KeyError):
         return str(self.args[0])
 
 
+class UnknownKeywordError(BadInputError, TypeError):
+    """A method called with a keyword it does not take (``forward_pose(gues=...)``), or with a
+    missing or extra argument: the message names it and the closest keywords. A TypeError too,
+    as Python answers a call its signature does not allow."""
+
+
 class NoSuchModeError(BadInputError, IndexError):
     """An assembly mode (or slot) index outside the result: the message names the count."""
 

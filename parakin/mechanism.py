@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import inspect
 import threading
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -56,6 +57,7 @@ from parakin.validation import (
     bounded_vector,
     broadcast_shapes,
     integer_in_range,
+    keywords_checked,
     newton_tolerance,
     positive_number,
     within_ranges,
@@ -1877,5 +1879,11 @@ class Mechanism:
         values = np.concatenate([out["factors"], out["determinants"]], axis=-1)
         return {name: values[..., k] for k, name in enumerate(names)}
 
+
+# every public method names a misspelt keyword (forward_pose(gues=...)) as the command line and
+# parakin.load do, instead of Python's TypeError
+for _name, _method in list(vars(Mechanism).items()):
+    if not _name.startswith("_") and inspect.isfunction(_method):
+        setattr(Mechanism, _name, keywords_checked(_method))
 
 __all__ = ["Mechanism"]

@@ -9,14 +9,18 @@ leading (batch) axes of the inputs broadcast (``broadcast_shapes``), or a BadInp
 
 from __future__ import annotations
 
+import difflib
+import functools
+import inspect
 import math
 import numbers
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from parakin.errors import BadInputError, at_index, first_index
+from parakin.errors import BadInputError, UnknownKeywordError, at_index, first_index
 
 Array = NDArray[np.float64]
 
@@ -285,3 +289,62 @@ def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Ar
         else:  # the size is explicit: an empty batch has no -1 to infer
             flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + (size,)).reshape(count, size)))
     return shape, flat
+
+
+Method = TypeVar("Method", bound=Callable[..., Any])
+
+
+def keywords_checked(method: Method) -> Method:
+    """``method`` with its calling errors in the user's terms: a misspelt keyword (``gues=``) is an
+    UnknownKeywordError (a BadInputError and a TypeError) naming it with the closest keywords of
+    the method ("did you mean 'guess'?"), a missing or extra argument one naming the method;
+    other TypeErrors pass unchanged.
+
+    Parameters
+    ----------
+    method : callable
+        A public method (its signature decides what a calling error is).
+
+    Returns
+    -------
+    callable
+        The same method, its errors of calling named.
+
+    Raises
+    ------
+    UnknownKeywordError
+        When called with arguments its signature does not accept.
+
+    Examples
+    --------
+    >>> def move(distance, speed=1.0):
+    ...     return distance / speed
+    >>> keywords_checked(move)(2.0, sped=4.0)
+    Traceback (most recent call last):
+    ...
+    parakin.errors.UnknownKeywordError: unknown keyword 'sped' of move; did you mean 'speed'? its keywords: ['distance', 'speed']
+    """
+    signature = inspect.signature(method)
+    names = [p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    names = [name for name in names if name != "self"]
+    open_keywords = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
+
+    @functools.wraps(method)
+    def checked(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(*args, **kwargs)
+        except TypeError as error:
+            try:
+                signature.bind(*args, **kwargs)
+            except TypeError as calling:
+                unknown = [key for key in kwargs if key not in names] if not open_keywords else []
+                if unknown:
+                    close = difflib.get_close_matches(unknown[0], names, n=1, cutoff=0.6)
+                    hint = f"; did you mean {close[0]!r}?" if close else ";"
+                    raise UnknownKeywordError(
+                        f"unknown keyword {unknown[0]!r} of {method.__name__}{hint} its keywords: {names}"
+                    ) from None
+                raise UnknownKeywordError(f"{method.__name__}: {calling}") from None
+            raise error
+
+    return checked  # type: ignore[return-value]

@@ -1640,15 +1640,17 @@ def test_solver_options_are_validated(name):
 @pytest.mark.parametrize("name", NAMES)
 def test_unknown_keyword_arguments_are_refused_naming_the_keyword(name):
     """A misspelt or unknown keyword argument (tol=, foo=, damping= where there is none) is a
-    call the method's signature does not allow: Python's TypeError naming the keyword, as every
-    Python library answers it (a ParakinError is for values, not for the call's shape); the
-    keywords ``load`` collects as parameters raise a BadInputError naming the keyword."""
+    call the method's signature does not allow: a TypeError naming the keyword, as every Python
+    library answers it, and a parakin error (UnknownKeywordError, a BadInputError) suggesting the
+    closest keyword; the keywords ``load`` collects as parameters raise a BadInputError naming the
+    keyword."""
     checked = 0
     for backend in ("numpy", "compiled"):
         for op in (op for op in ops_of(name, backend) if op.role == "kwargs"):
             for keyword in ("tol", "foo", "dampening"):
-                with pytest.raises(TypeError, match=keyword):
+                with pytest.raises(TypeError, match=keyword) as raised:
                     op.call({keyword: 1.0})
+                assert isinstance(raised.value, parakin.UnknownKeywordError), (op, raised.value)
                 checked += 1
     assert checked >= 6
     with pytest.raises(parakin.BadInputError, match="no_such_parameter"):

@@ -55,3 +55,21 @@ def test_an_output_path_that_cannot_be_written_is_named(tmp_path, capsys):
     assert main(["plot", "five_bar", "--out", str(missing)]) == 2
     err = capsys.readouterr().err
     assert err.strip() == f"parakin: cannot use {missing}: No such file or directory", err
+
+
+def test_a_misspelt_keyword_of_a_method_suggests_the_closest():
+    """The review's misspellings: each a parakin error (and a TypeError, as Python answers a call
+    its signature refuses) naming the keyword and the one meant."""
+    m = parakin.load("five_bar", backend="numpy")
+    calls = {
+        "guess": lambda: m.forward_pose(m.home_actuated, gues=None),
+        "method": lambda: m.forward_pose_all(m.home_actuated, methd="automatic"),
+        "strict": lambda: m.tracker(m.forward_pose(m.home_actuated), strikt=True),
+    }
+    for meant, call in calls.items():
+        with pytest.raises(parakin.UnknownKeywordError, match=f"did you mean '{meant}'") as raised:
+            call()
+        assert isinstance(raised.value, TypeError) and isinstance(raised.value, parakin.BadInputError)
+    with pytest.raises(parakin.UnknownKeywordError, match="inverse_pose: missing a required argument: 'pose'"):
+        m.inverse_pose()
+    assert len(calls) == 3
