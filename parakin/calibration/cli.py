@@ -243,13 +243,14 @@ def simulate(
     candidates = sample_configurations(m, max(8 * count, 200), spread=0.1, seed=args.seed)
     plan_sigma = sigma if kind != "pose" else (sigma, sigma_angle or sigma)
     try:
-        eligible = (
-            len(candidates.pose)
-            and design_poses(m, candidates.pose, 1, kind=kind, sigma=plan_sigma, exchange=False).eligible
-        )
-        design = design_poses(m, candidates.pose, min(count, eligible), kind=kind, sigma=plan_sigma)
+        try:
+            design = design_poses(m, candidates.pose, count, kind=kind, sigma=plan_sigma)
+        except CalibrationDataError:  # fewer candidates away from singularities than asked for: all of them
+            probe = design_poses(m, candidates.pose, 1, kind=kind, sigma=plan_sigma, exchange=False)
+            design = design_poses(m, candidates.pose, probe.eligible, kind=kind, sigma=plan_sigma)
     except (CalibrationDataError, BadInputError) as error:
         raise CalibrationDataError(f"no campaign of {m.name} near its home could be planned: {error}") from error
+    eligible = design.eligible
     state = robot.forward_pose(design.actuated, guess=design.poses, strict=False)
     built = np.asarray(state.converged)
     if not built.any():
