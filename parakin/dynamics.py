@@ -58,7 +58,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
-from parakin.pose import LEG_TWIST, as_array
+from parakin.pose import LEG_TWIST, as_array, axis_rotation, skew
 from parakin.results import Array, Configuration
 from parakin.solvers.statics import actuator_forces, constraint_forces, overall_jacobian, twist_names
 from parakin.validation import bounded_vector
@@ -784,18 +784,9 @@ def _cross(a: Array, b: Array) -> Array:
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
-def _skew(v: Array) -> Array:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _turn(axis: Array, angle: float) -> Array:
-    k = _skew(axis)
-    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
-
-
 def _exp(vector: Array) -> Array:
     angle = float(np.linalg.norm(vector))
-    return np.eye(3) if angle == 0 else _turn(vector / angle, angle)
+    return np.eye(3) if angle == 0 else axis_rotation(vector / angle, angle)
 
 
 @dataclass
@@ -830,7 +821,7 @@ def _placements(tree: LegTree, q: _TreeState) -> tuple[list[tuple[Array, Array]]
             if p.kind == "hinge":
                 u = rotation @ p.axis
                 axes[:3, p.dof], axes[3:, p.dof] = u, _cross(origin, u)
-                rotation = rotation @ _turn(p.axis, q.scalars[p.dof])
+                rotation = rotation @ axis_rotation(p.axis, q.scalars[p.dof])
             elif p.kind == "slide":
                 u = rotation @ p.axis
                 axes[3:, p.dof] = u
@@ -875,7 +866,7 @@ def _motion(tree: LegTree, axes: Array, qd: Array, qdd: Array, base: Array) -> t
 def _point_jacobian(tree: LegTree, axes: Array, body: int, point: Array) -> Array:
     """d x / d qd (3, nv) of the point ``point`` (in {B}) fixed to ``body``: v0 + w x point."""
     masked = np.where(tree.support[body], axes, 0.0)
-    return np.asarray(masked[3:] - _skew(point) @ masked[:3])
+    return np.asarray(masked[3:] - skew(point) @ masked[:3])
 
 
 def _point_acceleration(v: Array, a: Array, point: Array) -> Array:

@@ -81,6 +81,7 @@ from numpy.typing import ArrayLike
 from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
+from parakin.pose import axis_rotation
 from parakin.results import Configuration
 
 if TYPE_CHECKING:
@@ -173,11 +174,6 @@ def _unit(vector: np.ndarray, what: str) -> np.ndarray:
     return vector / norm
 
 
-def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * (k @ k)
-
-
 def _normal(direction: np.ndarray) -> np.ndarray:
     """A unit vector normal to the unit ``direction``."""
     other = np.eye(3)[int(np.argmin(np.abs(direction)))]
@@ -246,7 +242,7 @@ def _place(leg: GraphLeg, geometry: _Geometry) -> _Leg:
         if first.kind == "R":
             if leg.reach is None:
                 raise BadInputError(f"leg {leg.name}: a crank (R then a link) without its reach in the joint graph")
-            carried = _rotation(axis, q)
+            carried = axis_rotation(axis, q)
             zero = geometry.vector(leg.reach[1], f"leg {leg.name}'s reach")
             elbow = base + geometry.scalar(leg.reach[0]) * (carried @ zero)
         elif first.kind == "P":
@@ -277,7 +273,7 @@ def _chain(leg: GraphLeg, geometry: _Geometry) -> list[tuple[np.ndarray, np.ndar
             )
         q = geometry.joint_values[joint.variable]
         if joint.kind == "R":
-            rotation = _rotation(axis0, q)
+            rotation = axis_rotation(axis0, q)
             step_turn, step_shift = rotation, point0 - rotation @ point0
         elif joint.kind == "P":
             step_turn, step_shift = np.eye(3), q * axis0

@@ -7,6 +7,7 @@ leading batch axes.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -246,6 +247,17 @@ def xyz_euler_deg_from_pose(pose: ArrayLike) -> Array:
     values = xyz_euler_from_pose(pose)
     values[..., 3:] = np.rad2deg(values[..., 3:])
     return values
+
+
+def skew(v: Array) -> Array:
+    """[v]x (3, 3) of a vector v (3,): [v]x u = v x u."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def axis_rotation(axis: Array, angle: float) -> Array:
+    """The rotation (3, 3) by ``angle`` (rad) about the unit ``axis`` (3,) (Rodrigues)."""
+    k = skew(axis)
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
 
 
 def pose_vector(pose: Array) -> Array:

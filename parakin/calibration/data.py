@@ -29,9 +29,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.calibration.errors import CalibrationDataError
-from parakin.calibration.frames import frame_values, rotation_derivatives, skew
+from parakin.calibration.frames import frame_values, rotation_derivatives
 from parakin.errors import BadInputError
-from parakin.pose import as_pose
+from parakin.pose import as_pose, skew
 from parakin.results import Array
 from parakin.validation import as_array
 

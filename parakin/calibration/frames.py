@@ -12,15 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from parakin.pose import axis_rotation, skew
 from parakin.results import Array
 
 #: below this |r| (rad) the derivative is taken at r = 0 ([e_i]x R, first order in |r|)
 SMALL_ANGLE = 1e-9
-
-
-def skew(v: Array) -> Array:
-    """[v]x (3, 3) of a vector (3,): [v]x u = v x u."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def rotation(r: Array) -> Array:
@@ -28,8 +24,7 @@ def rotation(r: Array) -> Array:
     angle = float(np.linalg.norm(r))
     if angle < SMALL_ANGLE:
         return np.eye(3) + skew(r)
-    k = skew(r / angle)
-    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * (k @ k)
+    return axis_rotation(r / angle, angle)
 
 
 def rotation_vector(matrix: Array) -> Array:
