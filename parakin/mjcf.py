@@ -39,6 +39,13 @@
   actuated values (``m.forward_pose_all(actuated).mode(k)``; default: the home values), with
   ``ctrl`` the actuated values: the platform placed at the mode's pose and every leg's passive
   joints solved by Newton (from the home) so that each cut closes (residual <= 1e-12 m).
+* **Near-singular modes.** A keyframe whose mode is near a type II (parallel) singularity, its
+  ``type II`` distance (``parakin.interfaces.plot.singularity_distance``: 1/cond of the closure
+  Jacobian d closure / d passive, the measure ``parakin plot`` labels) below ``NEAR_SINGULAR``
+  (0.02), carries an XML comment with the measure and what it means, and ``to_mjcf`` warns once
+  (``NearSingularModeWarning``, one ``parakin: warning:`` line from ``parakin mjcf``): there the
+  actuators barely hold the platform, which a small load moves far, so the simulation may drift
+  or not come to rest.
 * **Simulation presets** (``accuracy``): "fast", 1 ms steps and connects of time constant two
   steps (``solref``), ``implicitfast``; "accurate", 0.2 ms and a stiff ``solimp`` (0.99 0.999).
   The gap the loops open under load is written in the file's header (measured on a regular
@@ -70,6 +77,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -79,6 +87,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
+from parakin.interfaces.plot import NEAR_SINGULAR, singularity_distance
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
 from parakin.pose import axis_rotation
@@ -106,6 +115,12 @@ GRAVITY = 9.80665
 PLANAR_KINDS = ("planar", "planar_translation")
 #: a link mass (kg) for every link, or body name -> mass or rigid body (``to_mjcf``'s link_mass)
 LinkMass = float | Mapping[str, Any]
+
+
+class NearSingularModeWarning(UserWarning):
+    """Keyframes of assembly modes near a type II (parallel) singularity: the message names them
+    and the range of their measure (1/cond of the closure Jacobian, below ``NEAR_SINGULAR``); each
+    such keyframe's XML comment gives its own value."""
 
 
 @dataclass(frozen=True)
@@ -925,6 +940,12 @@ def to_mjcf(
     ConvergenceError
         A mode's legs could not be assembled from the home (the residual and the mode named).
 
+    Warns
+    -----
+    NearSingularModeWarning
+        Keyframes of modes near a type II singularity (1/cond of the closure Jacobian below
+        ``NEAR_SINGULAR``), named; each carries an XML comment with its value.
+
     Examples
     --------
     >>> xml = to_mjcf(parakin.load("stewart"), accuracy="accurate", payload=10.0)
@@ -1022,7 +1043,8 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
     twist = m.manifest.capabilities.rates.twist if m.manifest.capabilities.rates is not None else ("wx",)
     rotates = any(name.startswith("w") for name in twist)
     ctrl = _numbers(chosen) if actuator == "position" else _numbers(np.zeros(len(chosen)))
-    keys = []
+    keys: list[str] = []
+    near: dict[int, float] = {}  # mode -> its type II distance, where below NEAR_SINGULAR
     for k in wanted:
         pose = np.asarray(found.mode(k).pose, dtype=float)
         data = mujoco.MjData(model)
@@ -1039,8 +1061,36 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
                 residual=residual,
             )
         data.qpos[actuated_qpos] = chosen
+        measure = singularity_distance(m, found.mode(k)).get("type II")
+        if measure is not None and measure < NEAR_SINGULAR:
+            near[k] = measure
+            keys.append(f"    <!-- {_near_singular_note(k, measure)} -->")
         keys.append(f'    <key name="mode{k}" qpos="{_numbers(data.qpos)}" ctrl="{ctrl}"/>')
+    if near:
+        values = sorted(near.values())
+        span = f"{values[0]:.2g}" if len(values) == 1 else f"from {values[0]:.2g} to {values[-1]:.2g}"
+        warnings.warn(
+            NearSingularModeWarning(
+                f"{m.name}: {len(near)} of {len(wanted)} keyframes ({', '.join(f'mode{k}' for k in near)}) are near a "
+                f"type II (parallel) singularity: 1/cond of the closure Jacobian d closure / d passive {span}, below "
+                f"{NEAR_SINGULAR:g} (1 far from, 0 at a singularity; the 'type II' of parakin plot). There the "
+                "actuators barely hold the platform: a small load moves it far, and the simulation may drift or not "
+                "come to rest. Each such keyframe's comment in the file gives its value."
+            ),
+            stacklevel=3,
+        )
     return keys
+
+
+def _near_singular_note(k: int, measure: float) -> str:
+    """The XML comment before the keyframe of mode ``k``, near a type II singularity (``measure``:
+    its 1/cond of the closure Jacobian, below ``NEAR_SINGULAR``)."""
+    return (
+        f"mode{k} is near a type II (parallel) singularity: 1/cond of the closure Jacobian d closure / d passive "
+        f"= {measure:.2g}, below {NEAR_SINGULAR:g} (1 far from, 0 at a singularity; the 'type II' of parakin plot). "
+        "The actuators barely hold the platform here: a small load moves it far, and the simulation may drift "
+        "or not come to rest."
+    )
 
 
 # ---------------------------------------------------------------- the command line
@@ -1092,4 +1142,4 @@ def run(args: argparse.Namespace, m: Mechanism) -> int:
     return 0
 
 
-__all__ = ["PRESETS", "Preset", "add_arguments", "run", "to_mjcf"]
+__all__ = ["NEAR_SINGULAR", "PRESETS", "NearSingularModeWarning", "Preset", "add_arguments", "run", "to_mjcf"]

@@ -85,6 +85,11 @@ class Scene:
     high: Array
 
 
+#: a distance to singularity (``singularity_distance``, 1/cond) below this is near a singularity: the
+#: grid's panels and the MJCF export's keyframes say so (``parakin sweep``'s maps draw this level)
+NEAR_SINGULAR = 0.02
+
+
 def _inverse_condition(matrix: Array) -> float:
     values = np.linalg.svd(matrix, compute_uv=False)
     return float(values[-1] / values[0]) if values[0] > 0 else 0.0

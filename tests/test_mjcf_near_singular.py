@@ -1,0 +1,105 @@
+"""The MJCF export warns of keyframes near a type II singularity (issue 36's review: stewart's
+near-singular keyframes drift in simulation and the file did not say so).
+
+The measure is the one ``parakin plot`` labels "type II" (``parakin.interfaces.plot.
+singularity_distance``: 1/cond of the closure Jacobian d closure / d passive); here it is checked
+against an independent computation: central finite differences of the closure residual and
+NumPy's ``cond``. Which modes are near-singular is decided from the finite differences alone.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.interfaces.plot import NEAR_SINGULAR, singularity_distance
+
+mujoco = pytest.importorskip("mujoco")
+from parakin import mjcf  # noqa: E402
+
+#: central-difference step on the passive values (m, quaternion components)
+STEP = 1e-6
+
+
+def finite_difference_measure(m: parakin.Mechanism, actuated: np.ndarray, passive: np.ndarray) -> np.ndarray:
+    """1 / numpy.linalg.cond of the closure residual's Jacobian in the passive values, by central
+    differences, for each row of ``passive`` (k, n_p): independent of the generated Jacobian."""
+    k, n = passive.shape
+    shifts = STEP * np.eye(n)
+    ahead = passive[:, None, :] + shifts  # (k, n, n): column j shifted
+    behind = passive[:, None, :] - shifts
+    theta = np.broadcast_to(actuated, (k * n, actuated.size))
+    plus = m.loop_closure(theta, ahead.reshape(k * n, n))["residual"].reshape(k, n, -1)
+    minus = m.loop_closure(theta, behind.reshape(k * n, n))["residual"].reshape(k, n, -1)
+    jacobian = np.swapaxes((plus - minus) / (2 * STEP), 1, 2)  # (k, residuals, passive)
+    return 1.0 / np.linalg.cond(jacobian)
+
+
+@pytest.fixture(scope="module")
+def stewart():
+    """Dietmaier's Stewart platform at its home inputs: 40 modes, their measure by differences."""
+    m = parakin.load("stewart")
+    modes = m.forward_pose_all(m.home_actuated)
+    passive = np.stack([np.asarray(modes.mode(k).passive) for k in range(int(modes.count))])
+    return m, modes, finite_difference_measure(m, np.asarray(m.home_actuated), passive)
+
+
+def comment_before(text: str, k: int) -> str | None:
+    """The XML comment on the line before ``<key name="mode{k}"``, or None."""
+    lines = text.splitlines()
+    index = next(i for i, line in enumerate(lines) if f'<key name="mode{k}"' in line)
+    previous = lines[index - 1].strip()
+    return previous[4:-3].strip() if previous.startswith("<!--") and previous.endswith("-->") else None
+
+
+def test_the_measure_is_one_over_cond_of_the_closure_jacobian(stewart):
+    """The plot's type II measure at each of the 40 modes equals 1/cond of the finite-difference
+    closure Jacobian (numpy) to 1e-4 relative, over values from ~1e-5 to ~0.16."""
+    m, modes, measured = stewart
+    ours = np.array([singularity_distance(m, modes.mode(k))["type II"] for k in range(int(modes.count))])
+    assert ours.size == 40
+    np.testing.assert_allclose(ours, measured, rtol=1e-4)
+    assert measured.min() < 1e-4 and measured.max() > 0.1  # both kinds are present
+
+
+def test_a_near_singular_keyframe_carries_the_warning_and_a_regular_one_does_not(stewart):
+    """The worst- and best-conditioned modes (by finite differences) exported: the first's keyframe
+    has the comment with its value (to its 2 printed digits) and the warning names it; the
+    second's has no comment and the warning does not name it."""
+    m, _, measured = stewart
+    bad, good = int(np.argmin(measured)), int(np.argmax(measured))
+    assert measured[bad] < NEAR_SINGULAR < measured[good]
+    with pytest.warns(mjcf.NearSingularModeWarning) as caught:
+        text = mjcf.to_mjcf(m, modes=[bad, good])
+    assert mujoco.MjModel.from_xml_string(text).nkey == 2
+    note = comment_before(text, bad)
+    assert note is not None and "near a type II (parallel) singularity" in note and "1/cond" in note
+    printed = float(re.search(r"d passive = ([0-9.e+-]+),", note).group(1))
+    assert printed == pytest.approx(measured[bad], rel=0.05)
+    assert comment_before(text, good) is None
+    message = " ".join(str(w.message) for w in caught)
+    assert f"mode{bad}" in message and f"mode{good}" not in re.findall(r"mode\d+", message)
+
+
+def test_command_line_warns_on_stderr_of_exactly_the_near_singular_modes(stewart, tmp_path, capsys):
+    """``parakin mjcf stewart``: one ``parakin: warning:`` line naming exactly the modes whose
+    finite-difference measure is below NEAR_SINGULAR (25 of Dietmaier's 40), and one comment per
+    such keyframe in the file; the file still loads in MuJoCo with all 40 keyframes."""
+    m, _, measured = stewart
+    from parakin.interfaces.cli import main
+
+    out = tmp_path / "stewart.xml"
+    assert main(["mjcf", "stewart", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    warned = [line for line in err.splitlines() if line.startswith("parakin: warning:")]
+    assert len(warned) == 1 and "near a type II (parallel) singularity" in warned[0], err
+    expected = {k for k in range(measured.size) if measured[k] < NEAR_SINGULAR}
+    named = {int(k) for k in re.findall(r"\bmode(\d+)\b", warned[0])}
+    assert named == expected and len(expected) == 25
+    text = out.read_text()
+    commented = {k for k in range(measured.size) if comment_before(text, k) is not None}
+    assert commented == expected
+    assert mujoco.MjModel.from_xml_path(str(out)).nkey == 40
