@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import textwrap
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -69,6 +69,8 @@ class Drawn:
     lines: dict[str, Array]
     joints: dict[str, Array]
     distance: dict[str, float]
+    #: per joint kind, each joint's shortest polyline segment to another joint (n,), m (inf: none)
+    gaps: dict[str, Array] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -184,8 +186,14 @@ def compose_scene(m: LoadedMechanism, configurations: list[Configuration], dista
     drawn = []
     for config, p in zip(configurations, points, strict=True):
         lines = {}
+        gap = dict.fromkeys(used, math.inf)  # each joint's shortest segment to another joint
         for name, vertices in drawing.polylines.items():
             xyz = np.stack([p[s][:, i] for s, i in vertices], axis=-1)
+            steps = np.linalg.norm(np.diff(xyz, axis=-1), axis=0)
+            for k, step in enumerate(steps.tolist()):
+                if step > SHAPE_TOLERANCE * scale:  # a segment, not a repeated point
+                    for vertex in vertices[k : k + 2]:
+                        gap[vertex] = min(gap[vertex], step)
             if sphere is not None and xyz.shape[1] > 1:
                 arcs = [great_circle(xyz[:, k], xyz[:, k + 1], sphere) for k in range(xyz.shape[1] - 1)]
                 xyz = np.concatenate([arcs[0]] + [arc[:, 1:] for arc in arcs[1:]], axis=-1)
@@ -196,7 +204,10 @@ def compose_scene(m: LoadedMechanism, configurations: list[Configuration], dista
             else np.zeros((3, 0))
             for kind in ("fixed", "moving")
         }
-        drawn.append(Drawn(lines, joints, singularity_distance(m, config) if distances else {}))
+        gaps = {
+            kind: np.array([gap[v] for v in sorted(used) if (v[0] in fixed) == (kind == "fixed")]) for kind in joints
+        }
+        drawn.append(Drawn(lines, joints, singularity_distance(m, config) if distances else {}, gaps))
     if sphere is not None:
         low, high = sphere.centre - 1.05 * sphere.radius, sphere.centre + 1.05 * sphere.radius
     elif cloud.size:
@@ -217,12 +228,21 @@ PART_STYLE: dict[str, dict[str, Any]] = {
 }
 #: what each part is called in a legend
 PART_LABEL = {"base": "base", "leg": "legs", "platform": "platform"}
-#: joint markers: fixed (on the base) and moving
+#: joint markers: fixed (on the base) and moving; ``s`` (points^2) is the largest size, shrunk
+#: where joints lie close on screen (``marker_size``)
 JOINT_STYLE: dict[str, dict[str, Any]] = {
     "fixed": {"marker": "s", "s": 26, "c": "#111111", "edgecolors": "#111111"},
     "moving": {"marker": "o", "s": 20, "c": "white", "edgecolors": "#222222"},
 }
 JOINT_LABEL = {"fixed": "fixed joints", "moving": "moving joints"}
+#: a joint marker's width is at most this share of the shortest segment between two joints on
+#: screen, so that a small body (a delta's platform) is not hidden under its joints' markers
+MARKER_SHARE = 0.35
+#: the smallest marker width (points): joints closer on screen get none
+MIN_MARKER = 1.5
+#: the share of a 3-D panel's width that one side of its cube of limits spans on screen (at the
+#: view and zoom ``decorate`` sets; measured on rendered panels)
+CUBE_ON_SCREEN = 0.5
 
 
 def _pyplot() -> Any:
@@ -289,11 +309,36 @@ def draw_configuration(
         ax.plot(*(xyz if three else xyz[:2]), label=legend, solid_capstyle="round", **style)
         if part == "platform" and scene.sphere is None:
             _fill(ax, xyz, style["color"])
+    if three:  # the parts in their drawing order (base, legs, platform, joints), not by depth
+        ax.computed_zorder = False
     for kind, xyz in drawn.joints.items():
         if not xyz.shape[1] or (kind == "fixed" and not base):
             continue
         options: dict[str, Any] = {"depthshade": False} if three else {}
-        ax.scatter(*(xyz if three else xyz[:2]), zorder=5, linewidths=0.8, **JOINT_STYLE[kind], **options)
+        sizes = marker_sizes(ax, scene, drawn.gaps.get(kind, np.full(xyz.shape[1], np.inf)), JOINT_STYLE[kind]["s"])
+        style = {**JOINT_STYLE[kind], "s": sizes}
+        widths = np.minimum(0.8, 0.25 * np.sqrt(sizes))
+        ax.scatter(*(xyz if three else xyz[:2]), zorder=5, linewidths=widths, **style, **options)
+
+
+def points_per_metre(ax: Any, scene: Scene) -> float:
+    """About how many points (1/72 in) one metre of the scene spans on ``ax`` (its limits the
+    scene's box: a square in 2-D, a cube seen at ``decorate``'s view in 3-D)."""
+    box = ax.get_position()
+    inches = min(box.width * ax.figure.get_figwidth(), box.height * ax.figure.get_figheight())
+    three = is_3d(ax)
+    span = float(np.max((scene.high - scene.low)[: 3 if three else 2]))
+    return inches * 72 * (CUBE_ON_SCREEN if three else 1.0) / max(span, 1e-300)
+
+
+def marker_sizes(ax: Any, scene: Scene, gaps: Array, largest: float) -> Array:
+    """Joint markers' areas (points^2) on ``ax``, one per joint: at most ``largest``, and no wider
+    than ``MARKER_SHARE`` of the joint's shortest segment to another joint (``gaps``, m) at the
+    panel's scale (``points_per_metre``; in 3-D before foreshortening), so that markers do not
+    cover the bodies between close joints; 0 (no marker) where that is under ``MIN_MARKER``:
+    joints too close to show apart (the body's lines show where they are)."""
+    room = MARKER_SHARE * np.asarray(gaps, dtype=float) * points_per_metre(ax, scene)
+    return np.where(room >= MIN_MARKER, np.minimum(largest, room**2), 0.0)
 
 
 def _sphere_surface(ax: Any, scene: Scene) -> None:
