@@ -41,6 +41,7 @@ TRACKER_CONSTANTS = (
     "MAX_STEPS",
     "REFINE",
     "END_GAP",
+    "RATIONAL_GUARD",
 )
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 

@@ -1,5 +1,5 @@
 // Unit tests of the parakin C runtime on its own (tests/test_c_runtime.py compiles and runs this
-// with the system compiler): the complex LU with two right-hand sides, the Hermite predictor, and
+// with the system compiler): the complex LU with two right-hand sides, the predictors (cubic and rational Hermite), and
 // the path tracker on test homotopies whose paths are known in closed form. Prints one line per
 // tracked path ("path <kind> <start> <status> <z re/im ...> <steps> <rejected> <evaluations>
 // <factorisations>") for the Python side to compare with parakin.solvers.path_tracking.track_hermite,
@@ -22,6 +22,7 @@
 #define MAX_STEPS 2000
 #define REFINE 8
 #define END_GAP 1e-13
+#define RATIONAL_GUARD 0.3
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 
 // The test homotopies, equation k in z_k alone:
@@ -87,7 +88,7 @@ static void test_solve(void) {
     check(!c_solve(singular, b, NULL), "c_solve: a zero row is not singular");
 }
 
-static void test_predict(void) {
+static void test_hermite_cubic(void) {
     // z(s) = p0 + p1 s + p2 s^2 + p3 s^3: Hermite from (s0, s1) reproduces it beyond s1
     cplx p[4][NZ] = {{{1, 2}, {0, -1}}, {{-2, 0.5}, {3, 0}}, {{0.25, -1}, {1, 1}}, {{4, 0}, {-0.5, 2}}};
     double s0 = 0.9, s1 = 0.7, target = 0.45;
@@ -103,13 +104,57 @@ static void test_predict(void) {
         v0[k] = c_add(p[1][k], c_add(c_scale(2 * s0, p[2][k]), c_scale(3 * s0 * s0, p[3][k])));
         v1[k] = c_add(p[1][k], c_add(c_scale(2 * s1, p[2][k]), c_scale(3 * s1 * s1, p[3][k])));
     }
-    predict(1, s0, z0, v0, s1, z1, v1, target, out);
-    for (int k = 0; k < NZ; ++k) check(c_abs(c_sub(out[k], exact[k])) < 1e-12, "predict: a cubic is not reproduced");
-    predict(0, s0, z0, v0, s1, z1, v1, target, out);
-    for (int k = 0; k < NZ; ++k) {
-        cplx euler = c_add(z1[k], c_scale(target - s1, v1[k]));
-        check(c_abs(c_sub(out[k], euler)) < 1e-15, "predict: without history it is not Euler");
+    hermite_cubic(1, s0, z0, v0, s1, z1, v1, target, out);
+    for (int k = 0; k < NZ; ++k) check(c_abs(c_sub(out[k], exact[k])) < 1e-12, "hermite_cubic: a cubic is not reproduced");
+    for (int history = 0; history < 2; ++history) {
+        hermite_cubic(history, s0, z0, v0, s1, z1, v1, target, out);
+        if (!history) {
+            for (int k = 0; k < NZ; ++k) {
+                cplx euler = c_add(z1[k], c_scale(target - s1, v1[k]));
+                check(c_abs(c_sub(out[k], euler)) < 1e-15, "hermite_cubic: without history it is not Euler");
+            }
+        }
+        cplx predicted[NZ];
+        predict(history, s0, z0, v0, s1, z1, v1, target, predicted);
+        if (!history)
+            for (int k = 0; k < NZ; ++k)
+                check(c_abs(c_sub(predicted[k], out[k])) < 1e-15, "predict: without history it is not Euler");
     }
+}
+
+// z_k(s) = c_k / (s - pole_k) + b_k: the rational predictor is exact where the pole is away from
+// the step (the cubic is not: its error is checked to be far larger), and falls back to the cubic
+// for an unknown whose pole lies in the step
+static void test_predict(void) {
+    cplx c[NZ] = {{1.0, 0.5}, {-0.25, 2.0}}, b[NZ] = {{0.5, -1.0}, {3.0, 0.0}};
+    cplx pole[NZ] = {{0.3, 0.02}, {0.52, 0.0}};  // 0.52: inside the step from 0.7 to 0.45
+    double s0 = 0.9, s1 = 0.7, target = 0.45;
+    cplx z0[NZ], v0[NZ], z1[NZ], v1[NZ], exact[NZ], out[NZ], cubic[NZ];
+    double at[3] = {s0, s1, target};
+    cplx* values[3] = {z0, z1, exact};
+    cplx* slopes[2] = {v0, v1};
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < NZ; ++k) {
+            cplx gap = c_sub((cplx){at[i], 0.0}, pole[k]);
+            values[i][k] = c_add(c_div(c[k], gap), b[k]);
+            if (i < 2) slopes[i][k] = c_sub((cplx){0.0, 0.0}, c_div(c[k], c_mul(gap, gap)));
+        }
+    predict(1, s0, z0, v0, s1, z1, v1, target, out);
+    hermite_cubic(1, s0, z0, v0, s1, z1, v1, target, cubic);
+    double scale = c_abs(exact[0]);
+    check(c_abs(c_sub(out[0], exact[0])) < 1e-12 * scale, "predict: a simple pole is not followed exactly");
+    check(c_abs(c_sub(cubic[0], exact[0])) > 1e-3 * scale, "predict: the test pole is too far for the cubic to miss");
+    check(c_abs(c_sub(out[1], cubic[1])) == 0.0, "predict: a pole inside the step does not fall back to the cubic");
+    // a quadratic b + c s + e s^2 (q = 0: no pole) is exact too
+    cplx e[NZ] = {{-2.0, 1.0}, {0.75, 0.25}};
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < NZ; ++k) {
+            double s = at[i];
+            values[i][k] = c_add(b[k], c_add(c_scale(s, c[k]), c_scale(s * s, e[k])));
+            if (i < 2) slopes[i][k] = c_add(c[k], c_scale(2.0 * s, e[k]));
+        }
+    predict(1, s0, z0, v0, s1, z1, v1, target, out);
+    for (int k = 0; k < NZ; ++k) check(c_abs(c_sub(out[k], exact[k])) < 1e-12, "predict: a quadratic is not reproduced");
 }
 
 static void track(const sparse_system* system, const cplx* start, int label) {
@@ -140,6 +185,7 @@ static void track(const sparse_system* system, const cplx* start, int label) {
 
 int main(void) {
     test_solve();
+    test_hermite_cubic();
     test_predict();
     sparse_system roots = {0, {{4.0, 1.0}, {-9.0, 0.5}}};
     cplx starts[4][NZ] = {{{1, 0}, {1, 0}}, {{-1, 0}, {1, 0}}, {{1, 0}, {-1, 0}}, {{-1, 0}, {-1, 0}}};

@@ -41,6 +41,9 @@ PREDICTOR_TARGET = 3e-3
 STEP_SAFETY = 0.8
 STEP_GROW = 2.0
 STEP_SHRINK = 0.25
+#: rational_predict takes the cubic Hermite value for an unknown whose rational interpolant's
+#: denominator comes this close to 0 along the step (a pole in or next to the step)
+RATIONAL_GUARD = 0.3
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -156,11 +159,13 @@ def _newton_with_slope(
     system: System, index: np.ndarray, z: np.ndarray, s: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One Newton step at (z, s) with the slope dz/ds = -H_z^-1 H_s from the same LU (both
-    right-hand sides in one solve): the new points, their slopes and the update relative to |z|."""
+    right-hand sides in one solve): the new points, their slopes and the update relative to |z|,
+    inf where the system is singular or not finite there (as the C tracker's ``newton_step``)."""
     value, jacobian, rate = system(index, z, s)
     both = _solve_two(jacobian, value, rate)
     moved = z - both[..., 0]
-    return moved, -both[..., 1], np.abs(both[..., 0]).max(-1) / _size(moved)
+    size = np.abs(both[..., 0]).max(-1) / _size(moved)
+    return moved, -both[..., 1], np.where(np.isfinite(both).all((-2, -1)), size, np.inf)
 
 
 def _solve_two(matrix: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
@@ -203,11 +208,93 @@ def hermite_predict(
     return np.where(history[:, None], cubic, euler)
 
 
+def _c_divide(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a / b as the C runtime divides (complex.h's c_div: a times conj(b) / |b|^2), so that the
+    NumPy reference rounds as the C tracker does."""
+    d = b.real * b.real + b.imag * b.imag
+    inverse = np.empty(np.broadcast(a, b).shape, dtype=complex)
+    inverse.real, inverse.imag = b.real / d, -b.imag / d
+    return a * inverse
+
+
+def rational_predict(
+    history: np.ndarray,
+    s0: np.ndarray,
+    z0: np.ndarray,
+    v0: np.ndarray,
+    s1: np.ndarray,
+    z1: np.ndarray,
+    v1: np.ndarray,
+    target: np.ndarray,
+) -> np.ndarray:
+    """The tracker's predictor: each unknown at ``target`` from the rational Hermite interpolant
+    of a path's last two points (s0, z0) and (s1, z1) with their slopes v = dz/ds, a quadratic
+    over a linear polynomial in t = s - s1,
+
+        r(t) = (z1 + (v1 + q z1) t + p2 t^2) / (1 + q t),
+
+    with r = z and r' = v at t = 0 and t = a = s0 - s1: with the secant d = (z0 - z1) / a,
+    q = (v0 + v1 - 2 d) / (a (d - v0)) and p2 = (d - v1) / a + q d. Of the cubic's order (error
+    ~ step^4), and exact on a simple pole z = c / (s - s*) + b (a path passing near a singular
+    point of the homotopy, or heading to infinity), where polynomials need tiny steps. An
+    unknown whose interpolant is not finite, or whose denominator |1 + q t| comes within
+    ``RATIONAL_GUARD`` of 0 between s1 and ``target``, takes the cubic Hermite value
+    (``hermite_predict``); Euler where ``history`` is False. The C tracker's ``predict``
+    (generator/runtime/tracker.h), operation for operation.
+
+    Parameters
+    ----------
+    history : ndarray, shape (k,), bool
+        Whether the path has an earlier point (s0, z0, v0).
+    s0, s1 : ndarray, shape (k,)
+        The homotopy parameter at the earlier and at the last point.
+    z0, v0, z1, v1 : ndarray, shape (k, n), complex
+        The points and their slopes dz/ds.
+    target : ndarray, shape (k,)
+        Where to predict.
+
+    Returns
+    -------
+    ndarray, shape (k, n), complex
+        The predicted points.
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> def z(s): return 1 / (s - 0.2 - 0.01j)  # a pole just off the path
+    >>> s0, s1, target = np.array([0.5]), np.array([0.45]), np.array([0.4])
+    >>> v = lambda s: -z(s) ** 2
+    >>> one = np.ones(1, bool)
+    >>> out = rational_predict(one, s0, z(s0)[:, None], v(s0)[:, None], s1, z(s1)[:, None], v(s1)[:, None], target)
+    >>> bool(np.allclose(out[:, 0], z(target), rtol=1e-12))
+    True
+    """
+    cubic = hermite_predict(history, s0, z0, v0, s1, z1, v1, target)
+    a = np.where(history, s0 - s1, 1.0)[:, None]
+    t = (target - s1)[:, None]
+    with np.errstate(all="ignore"):
+        secant = (1.0 / a) * (z0 - z1)
+        q = _c_divide((v0 + v1) - 2.0 * secant, a * (secant - v0))
+        p2 = (1.0 / a) * (secant - v1) + q * secant
+        w = t * q
+        ww = w.real * w.real + w.imag * w.imag
+        along = np.where(ww > 0.0, np.minimum(1.0, np.maximum(0.0, -w.real / np.where(ww > 0.0, ww, 1.0))), 0.0)
+        low = np.empty(w.shape, dtype=complex)
+        low.real, low.imag = 1.0 + along * w.real, along * w.imag
+        numerator = (z1 + t * (v1 + q * z1)) + (t * t) * p2
+        denominator = np.empty(w.shape, dtype=complex)
+        denominator.real, denominator.imag = 1.0 + w.real, w.imag
+        rational = _c_divide(numerator, denominator)
+        usable = np.isfinite(rational) & (np.abs(low) > RATIONAL_GUARD) & history[:, None]
+    return np.where(usable, rational, cubic)
+
+
 def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) -> TrackedPaths:
     """Follow every start solution (P, n) from s = 1 to s = 0 with the predictor of the generated
     C driver (its ``track_path``, the same algorithm and constants): each step predicts by the
-    cubic Hermite extrapolation of the path's last two points and slopes (``hermite_predict``;
-    Euler on the first step) and corrects by at most ``CORRECTIONS`` contracting Newton steps at
+    rational Hermite extrapolation of the path's last two points and slopes (``rational_predict``:
+    quadratic over linear, the cubic where that has a pole near the step; Euler on the first
+    step) and corrects by at most ``CORRECTIONS`` contracting Newton steps at
     the new s, accepted when the error the last one leaves is below ``tolerance`` (relative to
     |z|): the update itself after one Newton step, after more the estimate of quadratic
     convergence from the last two (size^3 / previous^2, each at most half the one before). The last Newton step's LU also gives the slope at the new point, so an accepted step
@@ -260,7 +347,7 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
             active = np.nonzero(status < 0)[0]
             step = np.minimum(h[active], s[active])
             target = np.where(s[active] - step < END_GAP, 0.0, s[active] - step)
-            corrected = hermite_predict(
+            corrected = rational_predict(
                 history[active],
                 s_previous[active],
                 z_previous[active],
