@@ -41,10 +41,12 @@ monomial's coefficient as a polynomial in s.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import json
 import os
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -57,6 +59,7 @@ from parakin.log import logger
 from .errors import GenerationError
 from .polynomial_form import MOEBIUS_A, MOEBIUS_B, PolynomialForm, circle_parametrisation
 from .program import Program
+from .subfamily import Relations, family_relations
 
 STABLE_LOOPS = 6
 START_ATTEMPTS = 8
@@ -203,17 +206,32 @@ class Family:
         self._jq = sp.lambdify(args, substituted(jacobian_q), modules="numpy", cse=True)
         self.jacobian_z = sp.Matrix(jacobian_z.rows, jacobian_z.cols, substituted(jacobian_z))
         self._terms: MonomialTable | None = None
+        #: None: q is the family's values; else q is the coordinates t of the subfamily
+        self.relations: Relations | None = None
+
+    def restricted(self, relations: Relations) -> Family:
+        """The same family on the subfamily of ``relations`` (``generator/subfamily.py``): its
+        parameters q are the subfamily's coordinates t, every method maps them to the family's
+        values, so that monodromy, trace tests and total-degree runs move inside the subfamily."""
+        restricted = copy.copy(self)
+        restricted.relations, restricted.m, restricted._terms = relations, relations.size, None
+        return restricted
+
+    def full(self, q: np.ndarray) -> np.ndarray:
+        """The family's values at parameters q (the subfamily's coordinates where restricted)."""
+        return q if self.relations is None else self.relations.full(q)
 
     def terms(self) -> MonomialTable:
         """The equations as monomials in the unknowns with coefficients in the parameters (built
         once, for the 40-digit refinement)."""
         if self._terms is None:
-            self._terms = MonomialTable(self.equations, self.unknowns, self.parameters)
+            self._terms = MonomialTable(self.equations, self.unknowns, self.parameters, self.relations)
         return self._terms
 
     def _call(self, function, z: np.ndarray, q: np.ndarray, width: int) -> np.ndarray:
+        q = self.full(q)
         shape = np.broadcast_shapes(z.shape[:-1], q.shape[:-1])
-        columns = [z[..., k] for k in range(self.n)] + [q[..., k] for k in range(self.m)]
+        columns = [z[..., k] for k in range(self.n)] + [q[..., k] for k in range(len(self.parameters))]
         out = function(*columns)
         return np.stack([np.broadcast_to(np.asarray(o, dtype=complex), shape) for o in out], axis=-1).reshape(
             shape + ((len(out) // width, width) if width > 1 else (len(out),))
@@ -226,14 +244,22 @@ class Family:
         return self._call(self._jz, z, q, self.n)
 
     def parameter_jacobian(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
-        return self._call(self._jq, z, q, self.m)
+        jacobian = self._call(self._jq, z, q, len(self.parameters))
+        return jacobian if self.relations is None else jacobian @ self.relations.matrix()
 
 
 class MonomialTable:
     """Equations sum_t c_t(q) z^e_t in mpmath: the coefficients as one function of the parameters,
     the values and the Jacobian from the exponent table."""
 
-    def __init__(self, equations: list[sp.Expr], unknowns: list[sp.Symbol], parameters: list[sp.Symbol]) -> None:
+    def __init__(
+        self,
+        equations: list[sp.Expr],
+        unknowns: list[sp.Symbol],
+        parameters: list[sp.Symbol],
+        relations: Relations | None = None,
+    ) -> None:
+        self.relations = relations
         self.rows: list[list[tuple[int, ...]]] = []
         expressions: list[sp.Expr] = []
         for equation in equations:
@@ -245,7 +271,9 @@ class MonomialTable:
         self._coefficients = sp.lambdify(parameters, expressions, modules="mpmath")
 
     def coefficients(self, *parameters: mpmath.mpc) -> list:
-        return list(self._coefficients(*parameters))
+        """The coefficients at the parameters (the subfamily's coordinates where restricted)."""
+        values = parameters if self.relations is None else self.relations.full_mp(parameters)
+        return list(self._coefficients(*values))
 
     def evaluate(self, coefficients: list, z: list) -> tuple[mpmath.matrix, mpmath.matrix]:
         """F(z) and its Jacobian in z, at the working precision."""
@@ -924,9 +952,21 @@ def _pairs(values) -> list[list[float]]:
 
 
 def start_systems(
-    name: str, form: PolynomialForm, equations: list[sp.Expr], seed: int, method: str
+    name: str,
+    form: PolynomialForm,
+    equations: list[sp.Expr],
+    seed: int,
+    method: str,
+    parameter_values: Mapping[sp.Symbol, float] | None = None,
 ) -> tuple[Family, dict]:
-    """The two start instances with their solutions and the trace test's record (cached)."""
+    """The two start instances with their solutions and the proof of their count (cached).
+
+    Where the mechanism imposes relations on the family's values (``generator/subfamily.py``:
+    constant angles; with ``parameter_values``, parameters sharing a value) and the family's
+    generic count is not the subfamily's (a stored generic record is tried first: its solutions
+    followed to a random member of the subfamily must all stay finite and distinct), the start
+    instances are drawn in the subfamily and the count is proven there; the record then carries
+    the ``Relations`` (key ``relations``) for the manifest."""
     family = Family(form, equations)
     key = hashlib.sha256(
         repr(
@@ -936,8 +976,68 @@ def start_systems(
     cached = _cache_path(key.hexdigest())
     flips = sign_symmetries(family, np.random.default_rng(seed + 2))
     degrees = [int(sp.Poly(e, *form.unknowns).total_degree()) for e in equations]
+    angles = {u: angle for u, angle, _ in form.circles}
+    relations = family_relations(family.parameters, dict(form.family), angles, parameter_values)
+    if relations is not None:
+        sub_key = hashlib.sha256(repr((key.hexdigest(), relations.key())).encode()).hexdigest()
+        for stored in (_from_cache(_cache_path(sub_key)), _from_package(name, method, sub_key)):
+            if stored is not None and _verified(family, stored, flips) is not None and _in(relations, stored):
+                return family, {**stored, "key": sub_key, "relations": relations}
+    record = _stored_record(name, family, key.hexdigest(), cached, method, flips, degrees, seed)
+    if record is not None and (relations is None or _keeps_count(name, family, record, relations, seed)):
+        return family, record
+    if relations is None:
+        record = _new_record(name, family, degrees, flips, seed, method)
+        _store(cached, record)
+        return family, {**record, "key": key.hexdigest()}
+    logger.info(
+        "%s (%s): the count is proven where %s (the mechanism's own relations)", name, method, relations.describe()
+    )
+    restricted = family.restricted(relations)
+    record = _new_record(
+        name, restricted, degrees, sign_symmetries(restricted, np.random.default_rng(seed + 2)), seed, method
+    )
+    _store(_cache_path(sub_key), record)
+    return family, {**record, "key": sub_key, "relations": relations}
+
+
+def _in(relations: Relations, record: dict) -> bool:
+    """Whether a record's two start instances lie in the subfamily of ``relations``."""
+    try:
+        return all(
+            relations.holds(np.array([complex(*v) for v in record[instance]]))
+            for instance in ("instance", "second_instance")
+        )
+    except (KeyError, TypeError, ValueError):
+        return False
+
+
+def _keeps_count(name: str, family: Family, record: dict, relations: Relations, seed: int) -> bool:
+    """Whether the generic count of ``record`` is the subfamily's too: its solutions followed from
+    its instance to a random member of the subfamily all end at distinct regular solutions there
+    (the count at a generic member is at most the family's; every one reached makes it equal)."""
+    q = np.array([complex(*v) for v in record["instance"]])
+    solutions = np.array([[complex(*c) for c in row] for row in record["solutions"]])
+    target = relations.full(_random_complex(np.random.default_rng(seed + 7), relations.size))
+    moved, reached = _track(_segment(family, q, target), solutions)
+    ends = moved[reached]
+    ends = ends[_regular(family, target, ends)]
+    kept = len(_add_new(np.zeros((0, family.n), complex), ends)[0])
+    if kept < len(solutions):
+        logger.info(
+            "%s: where %s (the mechanism's own relations) %d of the family's %d solutions stay finite",
+            name, relations.describe(), kept, len(solutions),
+        )  # fmt: skip
+    return kept == len(solutions)
+
+
+def _stored_record(
+    name: str, family: Family, key: str, cached: Path, method: str, flips, degrees: list[int], seed: int
+) -> dict | None:
+    """The family's record from the cache or the committed package, verified (and completed
+    where an older rule left it short), or None."""
     bounded = int(np.prod(degrees)) <= TOTAL_DEGREE_MAX
-    for stored in (_from_cache(cached), _from_package(name, method, key.hexdigest())):
+    for stored in (_from_cache(cached), _from_package(name, method, key)):
         if stored is None:
             continue
         if _verified(family, stored, flips) is not None:
@@ -954,8 +1054,8 @@ def start_systems(
                     record |= {"solutions": [_pairs(row) for row in refined], "second_instance": _pairs(second)}
                     record["second_solutions"] = [_pairs(row) for row in second_solutions]
                 _store(cached, record)
-                return family, {**record, "key": key.hexdigest()}
-            return family, {**stored, "key": key.hexdigest()}
+                return {**record, "key": key}
+            return {**stored, "key": key}
         if _verified(family, stored, flips, second=False) is not None:
             # the first start system and its proof hold, the second does not (a record written
             # before its solutions were counted): only the second is computed again
@@ -965,7 +1065,14 @@ def start_systems(
             record = {**stored, "second_instance": _pairs(second)}
             record["second_solutions"] = [_pairs(row) for row in second_solutions]
             _store(cached, record)
-            return family, {**record, "key": key.hexdigest()}
+            return {**record, "key": key}
+    return None
+
+
+def _new_record(name: str, family: Family, degrees: list[int], flips, seed: int, method: str) -> dict:
+    """New start systems of ``family`` (restricted to a subfamily or not) and the proof of their
+    count: the record, its instances as the family's values."""
+    bounded = int(np.prod(degrees)) <= TOTAL_DEGREE_MAX
     paths = int(np.prod(degrees))
     first = "the value curve's trace test" if paths > VALUE_FIRST_PATHS else None
     first = first or ("total-degree runs" if bounded else "the trace test")
@@ -996,8 +1103,7 @@ def start_systems(
                 "tolerance": TRACE_TOLERANCE,
             },
         }
-        _store(cached, record)
-        return family, {**record, "key": key.hexdigest()}
+        return _lifted(family, record)
     if paths > VALUE_FIRST_PATHS:
         proof_text = "total-degree runs" if bounded else "the trace test"
         logger.info(
@@ -1019,8 +1125,7 @@ def start_systems(
             "second_solutions": [_pairs(row) for row in second_solutions],
             "proof": proof,
         }
-        _store(cached, record)
-        return family, {**record, "key": key.hexdigest()}
+        return _lifted(family, record)
     for _ in range(TRACE_ROUNDS):
         # loops until the trace test proves the set complete: a missed solution shows there
         found = _closed(_monodromy(name, lambda a, b: _segment(family, a, b), q, found, _solves(family, q), rng), flips)
@@ -1060,8 +1165,19 @@ def start_systems(
             "tolerance": TRACE_TOLERANCE,
         },
     }
-    _store(cached, record)
-    return family, {**record, "key": key.hexdigest()}
+    return _lifted(family, record)
+
+
+def _lifted(family: Family, record: dict) -> dict:
+    """``record`` with its instances as the family's values (a restricted family's are its
+    subfamily's coordinates)."""
+    if family.relations is None:
+        return record
+    lift = family.relations.full
+    instances = {
+        key: _pairs(lift(np.array([complex(*v) for v in record[key]]))) for key in ("instance", "second_instance")
+    }
+    return {**record, **instances}
 
 
 def _store(cached: Path, record: dict) -> None:
@@ -1261,12 +1377,16 @@ def build(
     params: tuple[str, list[sp.Symbol]],
     prefix: str,
     seed: int = 2026,
+    parameter_values: Mapping[sp.Symbol, float] | None = None,
 ) -> HomotopySetup:
     """Kernels ``{prefix}_family``, ``{prefix}_monomials`` and ``{prefix}_passive`` and the
     manifest's record. Along H(z, s) each coefficient is a polynomial of degree < ``powers`` in s;
     the runtime gets its coefficients by evaluating the monomials kernel at the ``powers``-th roots
     of unity of the s-plane and one discrete Fourier transform (exact for a polynomial of that
-    degree, and perfectly conditioned), so that no expansion in s is generated."""
+    degree, and perfectly conditioned), so that no expansion in s is generated. With the
+    mechanism's ``parameter_values``, parameters that share a value are relations of the family
+    (``start_systems``): where they lower its count, the count is proven on their subfamily and
+    the manifest's ``subfamily`` names them."""
     rng = np.random.default_rng(seed)
     equations = list(form.equations)
     patch_index = None
@@ -1277,7 +1397,7 @@ def build(
     n = len(form.unknowns)
     if len(equations) != n:
         raise GenerationError(f"{name}: the homotopy has {len(equations)} equations for {n} unknowns")
-    family, record = start_systems(name, form, equations, seed, prefix)
+    family, record = start_systems(name, form, equations, seed, prefix, parameter_values)
 
     # the monomials of every equation, with (C, S, D) and the free parameters as coefficients
     terms: list[tuple[int, tuple[int, ...]]] = []
@@ -1370,5 +1490,10 @@ def build(
         },
         "notes": list(form.notes),
     }
+    relations = record.get("relations")
+    if isinstance(relations, Relations):
+        # the count is the subfamily's: proven where these relations hold (parameters loaded
+        # with other values break them, and with them the count)
+        metadata["subfamily"] = relations.manifest()
     symbolic = {f"{prefix}_equations": sp.Matrix(form.equations)}
     return HomotopySetup([values, monomials, recover], metadata, symbolic)
