@@ -197,6 +197,9 @@ class JointGraph:
     legs: list[Chain]
     base: Body = field(default_factory=lambda: Body("base"))
     platform: Body = field(default_factory=lambda: Body("platform"))
+    #: a lower-mobility platform's controlled and parasitic coordinates, in words, where the inverse
+    #: reads a pose onto its reachable set (``generator.readings``); None otherwise
+    controlled: str | None = None
 
     @property
     def bodies(self) -> list[Body]:
@@ -668,7 +671,8 @@ def _text(value: sp.Matrix | sp.Expr | None) -> list[str] | str | None:
 def to_json(graph: JointGraph, found: Motion | None = None) -> dict[str, object]:
     """The graph as plain data (for a manifest): bodies with their inertial symbols, legs with
     their joints (kind, site, point and axis as expression strings, variable, actuated mark,
-    limits), the loops, and what the screw analysis found.
+    limits), the loops, and what the screw analysis found (its text followed by the controlled
+    coordinates where the inverse reads a pose onto a lower-mobility platform's reachable set).
 
     Parameters
     ----------
@@ -736,7 +740,7 @@ def to_json(graph: JointGraph, found: Motion | None = None) -> dict[str, object]
             "rotations": found.rotations,
             "parasitic": found.parasitic,
             "samples": found.samples,
-            "text": found.text(),
+            "text": found.text() + ("" if graph.controlled is None else f"; {graph.controlled}"),
         }
     return {
         "pose_kind": graph.pose_kind,

@@ -39,10 +39,13 @@ unknowns), and the generator derives from the legs:
 * the inverse per leg in closed form: l = |C - A|; a crank's E cos + F sin + G = 0 by its
   tangent-half-angle quadratic with branch sign sigma_i; a slider's quadratic
   s = (C - A) . k - sigma_i sqrt(L^2 - |h|^2); with the validity of each (the discriminant made
-  unitless); crank angles in (-pi, pi], the runtime's range (``crank_angle``); and where the
-  platform's pose is read as given, one validity measure per plane constraint,
+  unitless); crank angles in (-pi, pi], the runtime's range (``crank_angle``); where the legs'
+  three planes contain one axis (3-PRS, 3-RPS, 3-RRS), the pose read onto the reachable set
+  (``readings``: the height and tilt controlled, the rest parasitic), so that the values are a
+  configuration that closes; and one validity measure per plane constraint at the given pose,
   ``leg<i>_plane_reachable`` (``plane_measure``: the plane row relative to the leg's size), so
-  that a pose off a lower-mobility platform's reachable set is invalid, naming the leg;
+  that a pose off a lower-mobility platform's reachable set is invalid, naming the leg (unless
+  the file declares ``unreachable="read"``);
 * the drawing: base joints, elbows (crank tips, sliders), platform joints, each leg as a
   polyline, the base and platform polygons.
 """
@@ -60,6 +63,7 @@ from .blocks import TWIST, block_laplace_det, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .graph import Chain, Joint, JointGraph
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
+from .readings import AxisReading, common_axis
 
 ZERO = sp.Matrix([0, 0, 0])
 
@@ -696,12 +700,21 @@ class DistanceMechanism:
     legs: list[Leg]
     #: the name of the parallel (type II) factor det A
     parallel_name: str = "leg_lines_dependent"
+    #: what the inverse says of a pose off a lower-mobility platform's reachable set, where it reads
+    #: the pose onto that set (``reading``): "invalid" (the given pose's plane constraints fail,
+    #: ``leg<i>_plane_reachable`` naming each leg) or "read" (valid: the reachable pose of the
+    #: controlled coordinates is the answer, as prs3 documents). Either way its values are the
+    #: reachable pose's, a configuration that closes.
+    unreachable: str = "invalid"
     #: the inverse's branch signs: sigma<k> of each crank or slider leg k, then the platform's
     branch_names: list[sp.Symbol] = field(init=False)
     #: the mechanism's bodies and joints, from which every derivation below starts
     graph: JointGraph = field(init=False)
     #: the passive legs (``passive_leg``), numbered after the actuated ones
     passive: list[PassiveLeg] = field(init=False)
+    #: the reading of a pose onto the reachable set derived from the legs' planes
+    #: (``readings.common_axis``); None where the platform reads the pose as given
+    reading: AxisReading | None = field(init=False)
 
     def __post_init__(self) -> None:
         if not self.legs:
@@ -736,6 +749,15 @@ class DistanceMechanism:
             )
         if self.passive_in_coordinates:
             self._check_passive_coordinates()
+        self.reading = self._derive_reading()
+        if self.unreachable not in ("invalid", "read"):
+            raise ValueError(f"DistanceMechanism: unreachable={self.unreachable!r}, not 'invalid' or 'read'")
+        if self.unreachable == "read" and self.reading is None:
+            raise ValueError(
+                "DistanceMechanism: unreachable='read' needs a reading of the pose onto the reachable set, and none "
+                "is derived for these legs (three plane constraints whose planes contain one axis, on a 'transform' "
+                "platform with its standard coordinates)"
+            )
         signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
         self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed] + list(self.motion.branches)
 
@@ -884,13 +906,34 @@ class DistanceMechanism:
         rows = rows if constraints is None else sp.Matrix.vstack(rows, constraints)
         return {self.parallel_name: block_laplace_det(rows) if rows.cols == 6 else laplace_det(rows)}
 
+    def _derive_reading(self) -> AxisReading | None:
+        """The reading of a pose onto the reachable set (``readings``), where the platform is a
+        'transform' one with its standard reading and the legs' three planes contain one axis;
+        the platform's ``read`` and ``pose`` become the reading's."""
+        standard = platform("transform")
+        if self.motion.kind != "transform" or self.motion.read != standard.read or self.passive:
+            return None
+        if len(self.constrained) != 3:
+            return None
+        legs = [self.legs[k] for k in self.constrained]
+        normals = [leg.plane_normal for leg in legs]
+        assert all(n is not None for n in normals)
+        found = common_axis(normals, [leg.base for leg in legs], [leg.platform_joint for leg in legs])  # type: ignore[arg-type]
+        if found is not None:
+            steps, pose = found.steps(self.motion.coordinates)
+            self.motion = replace(self.motion, read=tuple(steps), pose=pose)
+            self.graph.controlled = found.describe()
+        return found
+
     @property
     def checks_planes(self) -> bool:
-        """Whether the inverse checks each plane constraint (``plane_measure``): where it reads the
-        pose's coordinates as given (the pose kind's own reading), a pose off the reachable set
-        puts platform joints out of their planes. A platform that writes its own reading (prs3's
-        ``motion()``: the reachable pose of the given height and tilt) keeps the joints in their
-        planes by construction and answers for what it reads."""
+        """Whether the inverse checks each plane constraint at the given pose (``plane_measure``):
+        where it reads the pose's coordinates as given (the pose kind's own reading), a pose off
+        the reachable set puts platform joints out of their planes; where it reads the pose onto
+        the reachable set (``reading``), unless the file declares ``unreachable='read'``. A
+        platform that writes its own reading answers for what it reads."""
+        if self.reading is not None:
+            return self.unreachable == "invalid"
         standard = platform(self.motion.kind)
         return self.motion.read == standard.read and all(
             mine == theirs for mine, theirs in zip(self.motion.pose, standard.pose, strict=True)
@@ -926,8 +969,9 @@ class DistanceMechanism:
                 # sign +1 puts the slider below the platform joint along the axis
                 steps.append((leg.joint, along - leg.sign * next(signs) * sp.sqrt(sp.Max(0, disc))))
                 validity[f"leg{k + 1}_reachable"] = disc / leg.link**2
-            if planes and leg.plane_normal is not None:
-                validity[f"leg{k + 1}_plane_reachable"] = plane_measure(leg, v)
+            if planes and leg.plane_normal is not None:  # the given pose's joint, off its plane or not
+                given = POSE_POSITION + POSE_ROTATION * leg.platform_joint if self.reading is not None else c
+                validity[f"leg{k + 1}_plane_reachable"] = plane_measure(leg, given - leg.base)
         for held in self.passive:
             validity.update(passive_measures(held, rotation, position))
         validity.update(self.motion.validity)

@@ -13,8 +13,8 @@ Conventions (SI, radians):
 * Passive: p = (x, y, z) and the unit quaternion q0..q3 (scalar first); q and -q are one pose.
 * Inverse pose (8 branches, sigma_i = +1: the link rises to the platform): it reads what the
   actuators control, the height z and the tilt n = R^T k (and the half-turn about the vertical
-  nearer R), and returns the reachable pose with them (accelerator ``_prs3_reading.py``); x, y
-  and the turn about the vertical of the given pose are not read. Validity ``leg<i>_reachable``.
+  nearer R), and returns the reachable pose with them (derived); x, y and the turn about the
+  vertical are not read, off the set too (``unreachable="read"``). Validity ``leg<i>_reachable``.
 * Forward pose: the generator's polynomial form, at most 16 assembly modes (``MODE_COUNTS``).
 * Defaults (a compact design chosen here): r_b = 0.2 m, r_p = 0.1 m, L = 0.35 m, rails of 1 m;
   home: the platform level at z = 0.6 m, links rising (branch 0).
@@ -30,10 +30,10 @@ from parakin.generator import joints
 from parakin.generator.frames import homogeneous, rot_y, rot_z
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms import _prs3_reading as reading
+from parakin.mechanisms._prs3_reading import K
 
 r_b, r_p, L = sp.symbols("r_b r_p L", positive=True)
 strokes = sp.symbols("d1:4", real=True)
-K = sp.Matrix([0, 0, 1])
 #: rail angles theta_i: 0, 120, 240 deg, exactly (cos, sin)
 ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
 RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
@@ -43,14 +43,15 @@ RAIL_LENGTH = 1.0  # the rails: 0 <= d_i <= RAIL_LENGTH (metres)
 HOME_HEIGHT = 0.6  # the home: the platform level at this height (metres), links rising
 tilt = partial(reading.tilt, r_p)
 
-#: three P-R-S legs on a spatial platform whose inverse reads the reachable pose (``_prs3_reading``)
+#: three P-R-S legs; the inverse reads the reachable pose of the given height and tilt (derived)
 MODEL = joints.DistanceMechanism(
-    reading.motion(r_p),
+    joints.platform("transform"),
     [
         joints.slider_leg(r_b * e, K, L, r_p * e, d, serial_name="leg{k}_link_horizontal", revolute_axis=u)
         for e, u, d in zip(RADIAL, TANGENT, strokes, strict=True)
     ],
     parallel_name="platform_moves_with_sliders_locked",
+    unreachable="read",
 )
 
 #: a constructed input: the strokes of the reachable pose with Z-Y-Z Euler angles (30, 10, -30) deg

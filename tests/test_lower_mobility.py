@@ -27,6 +27,7 @@ import pytest
 import sympy as sp
 from parakin.generator import joints
 from parakin.generator.model import POSE_POSITION, POSE_ROTATION
+from scipy.spatial.transform import Rotation
 
 import parakin
 from parakin.errors import UnreachablePoseError
@@ -88,6 +89,16 @@ def moved(pose: np.ndarray, how: str, scale: float) -> np.ndarray:
     return result
 
 
+def plane_offsets(pose: np.ndarray, scale: float) -> np.ndarray:
+    """(C_i - A_i) . u_i of the fixture 3-RPS (r_b = 0.2, r_p = 0.1 times ``scale``; legs at 0, 120,
+    240 deg), computed here."""
+    angles = np.radians([0.0, 120.0, 240.0])
+    radial = np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], 1)
+    tangent = np.stack([-np.sin(angles), np.cos(angles), np.zeros(3)], 1)
+    joints_at = pose[:3, 3] + (0.1 * scale * radial) @ pose[:3, :3].T
+    return ((joints_at - 0.2 * scale * radial) * tangent).sum(-1)
+
+
 def check(m: parakin.Mechanism, scale: float) -> int:
     """Every mode's pose valid and round-tripping; the same poses moved off the set invalid on
     every branch, each with a plane condition failing on every branch. Returns the poses checked."""
@@ -104,11 +115,18 @@ def check(m: parakin.Mechanism, scale: float) -> int:
             assert not off.valid.any(), (how, off.failures)
             planes = [name for name in off.failures if name.endswith("_plane_reachable") and off.failures[name].all()]
             assert planes, f"{how}: no plane condition fails on every branch: {off.failures}"
-            # the legs it names are out of their planes (their closure rows beyond the tolerance,
-            # relative to legs of at least r_b = 0.2 m), the farthest by about the move
-            rows = np.abs(m.loop_closure(off.actuated[0], off.passive[0])["residual"][:3])
+            # the legs it names are out of their planes at the given pose (this test's geometry,
+            # beyond the tolerance relative to legs of at least r_b = 0.2 m), the farthest by about the move
+            rows = np.abs(plane_offsets(moved(pose, how, scale), scale))
             assert all(rows[int(name[3]) - 1] > joints.PLANE_TOLERANCE * 0.2 * scale for name in planes)
             assert rows.max() > 0.2 * OFF * scale
+            # and its values are the pose read onto the reachable set: a configuration that closes,
+            # with the given pose's height and tilt R^T k, its joints in their planes
+            read = m.platform_pose(off.actuated[0], off.passive[0])
+            assert np.abs(m.loop_closure(off.actuated[0], off.passive[0])["residual"]).max() < 1e-12 * scale
+            assert abs(read[2, 3] - pose[2, 3]) < 1e-12 * scale
+            assert np.abs(read[2, :3] - moved(pose, how, scale)[2, :3]).max() < 1e-12
+            assert np.abs(plane_offsets(read, scale)).max() < 1e-12 * scale
             with pytest.raises(UnreachablePoseError, match="plane_reachable"):
                 m.inverse_pose(moved(pose, how, scale))
         checked += 1
@@ -196,13 +214,82 @@ def test_legs_take_a_revolute_axis_as_a_documented_keyword():
         joints.prismatic_leg([0, 0, 0], [0, 0, 0], length, revolute_axis=[0, 2, 0])
 
 
-def test_a_platform_that_reads_its_own_pose_keeps_its_inverse():
-    """prs3 reads the reachable pose of the given height and tilt itself (``motion()``): its
-    joints are in their planes by construction, and its inverse is unchanged (no plane measure)."""
+def test_prs3_declares_an_off_set_pose_valid_and_the_others_invalid():
+    """The generator derives the same reading for prs3, rps3 and rrs3 (their three planes contain
+    the vertical axis, and the turn about it is 0 or a half-turn at every tilt); prs3 declares
+    ``unreachable="read"`` (its documented convention: no plane measure), the others check the
+    given pose's planes. Each names its controlled coordinates in its joint graph."""
     from parakin.mechanisms import prs3
 
-    assert not prs3.MODEL.checks_planes
-    assert not any("plane" in name for name in prs3.MODEL.inverse().validity)
+    models = {"prs3": prs3.MODEL, "rps3": fixture("rps3").MODEL, "rrs3": fixture("rrs3").MODEL}
+    for name, model in models.items():
+        assert model.reading is not None and model.reading.symmetric, name
+        assert list(model.reading.axis) == [0, 0, 1], name
+        assert model.graph.controlled is not None and "height p . k and the tilt n = R^T k" in model.graph.controlled
+        planes = [n for n in model.inverse().validity if "plane" in n]
+        assert planes == ([] if name == "prs3" else [f"leg{k}_plane_reachable" for k in (1, 2, 3)]), name
+    with pytest.raises(ValueError, match="unreachable='read' needs a reading"):
+        legs = [joints.prismatic_leg([k, 0, 0], [0, 0, 0], sp.Symbol(f"l{k}")) for k in range(3)]
+        joints.DistanceMechanism(joints.platform("translation"), legs, unreachable="read")
+
+
+def test_the_derived_reading_returns_a_reachable_pose_with_the_given_height_and_tilt():
+    """The 3-RRS fixture's reading at 40 random poses (any rotation, any position; 30 digits): the
+    pose it returns keeps every platform joint in its leg's plane (this test's geometry, 1e-15 m),
+    has the given pose's height and tilt R^T k, is a rotation whose quaternion (q0 >= 0) is the
+    one returned (1e-14: the input rotation's own rounding), and is the given pose itself where that was reachable (its own output, read
+    again, 1e-12: the round to double precision, amplified at tilts near upside down)."""
+    module = fixture("rrs3")
+    run = numeric_inverse(module.MODEL, module.DEFAULTS)
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(40):
+        rotation = Rotation.random(random_state=rng.integers(1 << 30)).as_matrix()
+        if rng.uniform() < 0.5:  # and tilts below 90 deg
+            rotation = Rotation.from_rotvec(rng.normal(scale=0.5, size=3)).as_matrix()
+        position = np.array([*rng.normal(scale=0.05, size=2), rng.uniform(0.1, 0.4)])
+        values = run(rotation, position, (1, 1, 1))
+        read, p = read_pose(values)
+        assert abs(p[2] - position[2]) < 1e-25
+        assert np.abs(np.array(read.T * sp.Matrix([0, 0, 1]), dtype=float).ravel() - rotation[2]).max() < 1e-14
+        assert float((read.T * read - sp.eye(3)).norm()) < 1e-14  # the input's own rounding
+        offsets = rrs3_plane_offsets(read, p)
+        assert max(abs(o) for o in offsets) < 1e-15
+        q = [values[sp.Symbol(f"q{k}", real=True)] for k in range(4)]
+        assert q[0] >= 0 and float((quaternion_matrix(q) - read).norm()) < 1e-14
+        again = run(np.array(read, dtype=float), np.array(p, dtype=float), (1, 1, 1))
+        assert float((read_pose(again)[0] - read).norm()) < 1e-12 and float((read_pose(again)[1] - p).norm()) < 1e-12
+        checked += 1
+    assert checked == 40
+
+
+def read_pose(values: dict) -> tuple[sp.Matrix, sp.Matrix]:
+    """The rotation and position the reading returned (its quaternion and x, y, z)."""
+    q = [values[sp.Symbol(f"q{k}", real=True)] for k in range(4)]
+    p = sp.Matrix([values[sp.Symbol(c, real=True)] for c in "xyz"])
+    return quaternion_matrix(q), p
+
+
+def quaternion_matrix(q: list) -> sp.Matrix:
+    """R of a unit quaternion (scalar first), written here."""
+    w, x, y, z = q
+    return sp.Matrix(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def rrs3_plane_offsets(rotation: sp.Matrix, position: sp.Matrix) -> list:
+    """(C_i - A_i) . u_i of the fixture 3-RRS (r_b = 0.2, r_p = 0.1, legs at 0, 120, 240 deg)."""
+    out = []
+    for angle in (0, 2 * sp.pi / 3, 4 * sp.pi / 3):
+        e = sp.Matrix([sp.cos(angle), sp.sin(angle), 0])
+        u = sp.Matrix([-sp.sin(angle), sp.cos(angle), 0])
+        out.append(float(sp.N((position + rotation * (sp.Rational(1, 10) * e) - sp.Rational(1, 5) * e).dot(u), 30)))
+    return out
 
 
 @pytest.mark.slow

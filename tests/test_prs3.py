@@ -243,6 +243,28 @@ def test_the_tilt_and_its_half_turn_keep_the_joints_in_their_leg_planes_symbolic
             assert sp.simplify((joint - prs3.r_b * e).dot(u)) == 0
 
 
+def test_the_generators_reading_is_the_hand_tilt_and_centre():
+    """The inverse's reading that the generator derives from the three leg planes (no hand reading
+    in the model) is this file's tilt: n = (r31, r32, r33), the rotation diag(turn, turn, 1) R0, the
+    centre turn (x0, y0, z) and the quaternion of R0 or of its half-turn, for turn = +-1 (exactly)."""
+    steps = dict(prs3.MODEL.inverse().steps)
+    nx, ny, nz = sp.symbols("n_x n_y n_z", real=True)
+    rotation, q, centre = prs3.tilt(sp.Matrix([nx, ny, nz]))
+    names = sp.symbols("tilt11 tilt12 tilt13 tilt21 tilt22 tilt23 tilt31 tilt32 tilt33", real=True)
+    hand = dict(zip(names, rotation, strict=True))
+    assert [steps[s] for s in (nx, ny, nz)] == list(sp.symbols("r31 r32 r33", real=True))
+    assert all(sp.simplify(steps[s] - v) == 0 for s, v in hand.items())
+    x, y, z = sp.symbols("x y z", real=True)
+    turned = {1: list(q), -1: [0, -q[2], q[1], q[0]]}
+    for turn in (1, -1):
+        at = {**hand, sp.Symbol("turn", real=True): turn}
+        assert sp.simplify(steps[x].xreplace(at) - turn * centre[0]) == 0
+        assert sp.simplify(steps[y].xreplace(at) - turn * centre[1]) == 0
+        for k in range(4):
+            assert sp.simplify(steps[sp.Symbol(f"q{k}", real=True)].xreplace(at) - turned[turn][k]) == 0
+    assert steps[z] == sp.Symbol("pz", real=True)
+
+
 def branch_signs(m) -> np.ndarray:
     return np.array(m.capabilities.inverse.combinations, dtype=float)
 
