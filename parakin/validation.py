@@ -265,6 +265,9 @@ def stiffness_matrix(value: ArrayLike, name: str, size: int) -> Array:
 
 def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
     """``np.broadcast_shapes`` with the one batch rule of parakin: BadInputError naming them."""
+    distinct = {tuple(shape) for shape in shapes if len(shape)}
+    if len(distinct) <= 1:  # one batch shape, the others unbatched: the broadcast is that shape
+        return next(iter(distinct), ())
     try:
         return tuple(np.broadcast_shapes(*shapes))
     except ValueError as error:
@@ -279,14 +282,16 @@ def batch_shape(inputs: tuple[Array, ...]) -> tuple[int, ...]:
 def broadcast_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[Array]]:
     """The common batch shape and each input reshaped to (n, size) (or (1, size) to share)."""
     shape = batch_shape(inputs)
-    count = int(np.prod(shape, dtype=np.int64))
+    count = math.prod(shape)
     flat = []
     for x in inputs:
         array = np.asarray(x, dtype=float)
         size = array.shape[-1]
         if array.shape[:-1] == ():
             flat.append(np.ascontiguousarray(array.reshape(1, size)))
-        else:  # the size is explicit: an empty batch has no -1 to infer
+        elif array.shape[:-1] == shape:  # the size is explicit: an empty batch has no -1 to infer
+            flat.append(np.ascontiguousarray(array.reshape(count, size)))
+        else:
             flat.append(np.ascontiguousarray(np.broadcast_to(array, shape + (size,)).reshape(count, size)))
     return shape, flat
 

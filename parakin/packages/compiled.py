@@ -21,6 +21,7 @@ import contextlib
 import ctypes
 import dataclasses
 import hashlib
+import math
 import os
 import re
 import shutil
@@ -498,7 +499,7 @@ class CompiledBackend:
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
         shape, flat = broadcast_batch(inputs)
-        count = int(np.prod(shape, dtype=np.int64))
+        count = math.prod(shape)
         description = self.manifest.kernels[kernel]
         outputs = {output.name: np.empty((count, *output.shape)) for output in description.outputs}
         input_pointers = (_POINTER * len(flat))(*(x.ctypes.data for x in flat))

@@ -248,16 +248,26 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
 def homogeneous_group(exponents: ArrayLike, equation: ArrayLike, patch_equation: int, declared: list[int]) -> list[int]:
     """The unknowns in which every equation but the patch is homogeneous: ``declared`` where they
     suffice, else every unknown (Study coordinates: the quadrics are homogeneous in (e, g) jointly
-    while the patch normalises e alone). Raises BadInputError when neither is."""
-    exponents = np.asarray(exponents, dtype=np.int64)
-    equation = np.asarray(equation, dtype=np.int64)
-    others = equation != patch_equation
-    for group in (sorted(int(i) for i in declared), list(range(exponents.shape[1]))):
-        degree = exponents[:, group].sum(1)
-        if all(np.ptp(degree[others & (equation == k)]) == 0 for k in set(equation[others].tolist())):
-            return group
+    while the patch normalises e alone). Raises BadInputError when neither is. Decided once per
+    family (every certificate of a homotopy asks)."""
+    e = np.ascontiguousarray(exponents, dtype=np.int64)
+    k = np.ascontiguousarray(equation, dtype=np.int64)
+    return list(_cached_group(e.tobytes(), e.shape, k.tobytes(), k.shape, patch_equation, tuple(declared)))
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_group(
+    exponents: bytes, shape: tuple[int, ...], equation: bytes, length: tuple[int, ...], patch: int, declared: tuple
+) -> tuple[int, ...]:
+    e = np.frombuffer(exponents, np.int64).reshape(shape)
+    k = np.frombuffer(equation, np.int64).reshape(length)
+    others = k != patch
+    for group in (sorted(int(i) for i in declared), list(range(e.shape[1]))):
+        degree = e[:, group].sum(1)
+        if all(np.ptp(degree[others & (k == j)]) == 0 for j in set(k[others].tolist())):
+            return tuple(group)
     raise BadInputError(
-        f"the equations but the patch {patch_equation} are homogeneous neither in {declared} nor in all unknowns"
+        f"the equations but the patch {patch} are homogeneous neither in {list(declared)} nor in all unknowns"
     )
 
 
@@ -451,10 +461,14 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
     apart = (gap > (r[..., :, None, :] + r[..., None, :, :]) * (1 + 8 * UNIT)).any(-1)
     touch = unique[..., :, None] & unique[..., None, :] & ~apart
     distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))
-    reach = touch.astype(float)
-    for _ in range(int(np.ceil(np.log2(max(count, 2))))):  # transitive closure by squaring
-        reach = np.minimum(reach + reach @ reach, 1.0)
-    labels = np.where(unique, (reach > 0).argmax(-1), -1)
+    # a box that touches no other is its own cluster; the closure is needed only where boxes touch
+    labels = np.where(unique, np.arange(count), -1)
+    if not distinct.all():
+        some = ~distinct
+        reach = touch[some].astype(float)
+        for _ in range(int(np.ceil(np.log2(max(count, 2))))):  # transitive closure by squaring
+            reach = np.minimum(reach + reach @ reach, 1.0)
+        labels[some] = np.where(unique[some], (reach > 0).argmax(-1), -1)
     return labels, distinct
 
 
@@ -474,20 +488,30 @@ def _certify_arguments(
     exponents, equation = np.ascontiguousarray(exponents), np.ascontiguousarray(equation)
     terms, n = exponents.shape
     if homogeneous is not None:
-        group = np.zeros(n, bool)
-        if not all(0 <= int(i) < n for i in homogeneous) or patch not in range(n):
-            raise BadInputError(f"homogeneous {homogeneous} and patch_equation {patch}: indices in [0, {n})")
-        group[list(homogeneous)] = True
-        in_patch = equation == patch
-        degree = (exponents * group).sum(1)
-        linear = ((exponents * ~group).sum(1) > 0) | (degree > 1)
-        if not group.any() or linear[in_patch].any() or not in_patch.any():
-            raise BadInputError(f"homogeneous {homogeneous} needs a linear patch_equation in them, got {patch}")
-        if any(np.ptp(degree[equation == k]) for k in set(equation[~in_patch].tolist())):
-            raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {homogeneous}")
+        _check_group(exponents.tobytes(), exponents.shape, equation.tobytes(), tuple(homogeneous), patch)
     c = np.ascontiguousarray(np.broadcast_to(c, batch + (terms,)).reshape(-1, terms))
     z = np.ascontiguousarray(np.broadcast_to(z, batch + z.shape[-2:]).reshape(-1, *z.shape[-2:]))
     return c, exponents, equation, z, batch
+
+
+@functools.lru_cache(maxsize=64)
+def _check_group(exponents: bytes, shape: tuple[int, int], equation: bytes, homogeneous: tuple, patch: Any) -> None:
+    """BadInputError unless ``homogeneous`` (indices) and the equation ``patch`` are a projective
+    group of the family (``_certify_arguments``); checked once per family."""
+    a = np.frombuffer(exponents, np.int64).reshape(shape)
+    k = np.frombuffer(equation, np.int64)
+    n = shape[1]
+    group = np.zeros(n, bool)
+    if not all(0 <= int(i) < n for i in homogeneous) or patch not in range(n):
+        raise BadInputError(f"homogeneous {list(homogeneous)} and patch_equation {patch}: indices in [0, {n})")
+    group[list(homogeneous)] = True
+    in_patch = k == patch
+    degree = (a * group).sum(1)
+    linear = ((a * ~group).sum(1) > 0) | (degree > 1)
+    if not group.any() or linear[in_patch].any() or not in_patch.any():
+        raise BadInputError(f"homogeneous {list(homogeneous)} needs a linear patch_equation in them, got {patch}")
+    if any(np.ptp(degree[k == j]) for j in set(k[~in_patch].tolist())):
+        raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {list(homogeneous)}")
 
 
 def certify_roots_compiled(

@@ -479,9 +479,9 @@ def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, ex
             parts = list(pool.map(chunk, starts))
     else:
         parts = [chunk(a) for a in starts]
-    if not parts:
-        return certify_inputs(m, info, theta, endpoints, exact)
-    return _joined(parts)
+    if len(parts) != 1:
+        return _joined(parts) if parts else certify_inputs(m, info, theta, endpoints, exact)
+    return parts[0]
 
 
 def certify_inputs(
@@ -502,8 +502,9 @@ def certify_inputs(
     pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     paired = _paired_ends(pairs, roots)
     result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired, m.backend)
-    counts, unique, real = result.certified_distinct.copy(), result.unique.copy(), result.real.copy()
-    centre, radii = result.center.copy(), result.radii.copy()
+    # the certificate's arrays are its own (fresh from the test): updated in place from here
+    counts, unique, real = result.certified_distinct.copy(), result.unique, result.real
+    centre, radii = result.center, result.radii
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii)
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
@@ -560,18 +561,45 @@ def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int
     """Mark, in slot order, each mode (n, slots) whose pose (n, slots, 4, 4) repeats an earlier
     mode's as ``duplicate``, in place. Distinct certified roots can be one pose: a formulation's
     second name for it (a quaternion's q -> -q, Euler angles (a + pi, pi - b, c + pi)), which
-    gives the same pose to rounding; distinct poses of a near-fold differ by far more."""
+    gives the same pose to rounding; distinct poses of a near-fold differ by far more.
+
+    Every pair of modes of an input is compared at once (``_pose_pairs``); slot order then only
+    matters among the few slots that have a pair, walked in order as before (a slot marked a
+    repeat is no longer an earlier mode)."""
     valid = outcome == mode
-    position = np.where(valid[..., None], np.abs(poses[..., :3, 3]), 0.0).max((-2, -1))
-    for s in range(1, outcome.shape[-1]):
-        pending = outcome[:, s] == mode
-        if not pending.any():
+    rows = np.nonzero(valid.sum(-1) >= 2)[0]  # an input with one mode has no repeat
+    if not rows.size:
+        return
+    for a in range(0, rows.size, SAME_POSE_ROWS):
+        part = rows[a : a + SAME_POSE_ROWS]
+        same = _pose_pairs(poses[part], valid[part])  # (k, slot, earlier slot), modes only
+        if not same.any():
             continue
-        earlier = outcome[:, :s] == mode
-        rotation = np.abs(poses[:, :s, :3, :3] - poses[:, s, None, :3, :3]).max((-2, -1))
-        moved = np.abs(poses[:, :s, :3, 3] - poses[:, s, None, :3, 3]).max(-1)
-        same = earlier & (rotation <= SAME_POSE) & (moved <= SAME_POSE * position[:, None])
-        outcome[:, s] = np.where(pending & same.any(-1), duplicate, outcome[:, s])
+        local = outcome[part]
+        for s in np.nonzero(same.any((0, 2)))[0]:
+            earlier = local[:, :s] == mode
+            repeat = (local[:, s] == mode) & (same[:, s, :s] & earlier).any(-1)
+            local[:, s] = np.where(repeat, duplicate, local[:, s])
+        outcome[part] = local
+
+
+#: inputs whose pairs of slots ``_same_pose`` compares at once (temporaries k x slots x slots x 12)
+SAME_POSE_ROWS = 16
+
+
+def _pose_pairs(poses: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """Per input (k,) and pair of slots (s, t), t < s, both modes (``valid`` (k, slots)): whether
+    their poses (k, slots, 4, 4) are one (``SAME_POSE``: rotations within it, positions within it
+    times the largest position of the input's modes)."""
+    slots = valid.shape[-1]
+    position = np.where(valid[..., None], np.abs(poses[..., :3, 3]), 0.0).max((-2, -1))
+    top = poses[..., :3, :].reshape(poses.shape[:-2] + (12,))  # rows of the rotation, then position
+    difference = np.abs(top[:, :, None, :] - top[:, None, :, :]).reshape(valid.shape + (slots, 3, 4))
+    rotation = difference[..., :3].max((-2, -1))
+    moved = difference[..., 3].max(-1)
+    below = np.tri(slots, k=-1, dtype=bool)
+    pair = valid[:, :, None] & valid[:, None, :] & below
+    return pair & (rotation <= SAME_POSE) & (moved <= SAME_POSE * position[:, None, None])
 
 
 def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
@@ -587,25 +615,37 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     assert homotopy is not None
     codes, kinds = _codes(m), m.manifest.abi.root_kinds
     n, paths = cert.unique.shape
-    out = {key: value.copy() for key, value in out.items()}
+    # the arrays changed here are copies (the caller's stay as they were); the others are shared
+    out = dict(out, outcome=out["outcome"].copy(), root_kind=out["root_kind"].copy())
     outcome, kind = out["outcome"], out["root_kind"]
     radii = np.where(cert.unique[..., None], cert.radii, 0.0)
-    labels, _ = cluster_labels(cert.centre, radii, cert.unique)
-    member = (labels[..., :, None] == np.arange(paths)) & cert.unique[..., None]  # (n, path, group)
-    positive = (member & (cert.real == 1)[..., None]).any(-2)
-    negative = (member & (cert.real == -1)[..., None]).any(-2)
-    first = labels == np.arange(paths)
-    real = first & positive & ~negative
-    nonreal = first & negative & ~positive
-    undecided = first & ~real & ~nonreal
-    group = np.where(labels >= 0, labels, 0)
-    in_real = np.take_along_axis(real, group, -1) & cert.unique
-    in_nonreal = np.take_along_axis(nonreal, group, -1) & cert.unique
-    in_undecided = np.take_along_axis(undecided, group, -1) & cert.unique
-    real_centre, _ = phase_normalised(cert.centre, list(homotopy.homogeneous))
+    labels, distinct = cluster_labels(cert.centre, radii, cert.unique)
+    if distinct.all():  # every certified box its own group: the group's root is the slot's
+        first = cert.unique
+        real = first & (cert.real == 1)
+        nonreal = first & (cert.real == -1)
+        undecided = first & ~real & ~nonreal
+        in_real, in_nonreal, in_undecided = real, nonreal, undecided
+    else:
+        member = (labels[..., :, None] == np.arange(paths)) & cert.unique[..., None]  # (n, path, group)
+        positive = (member & (cert.real == 1)[..., None]).any(-2)
+        negative = (member & (cert.real == -1)[..., None]).any(-2)
+        first = labels == np.arange(paths)
+        real = first & positive & ~negative
+        nonreal = first & negative & ~positive
+        undecided = first & ~real & ~nonreal
+        group = np.where(labels >= 0, labels, 0)
+        in_real = np.take_along_axis(real, group, -1) & cert.unique
+        in_nonreal = np.take_along_axis(nonreal, group, -1) & cert.unique
+        in_undecided = np.take_along_axis(undecided, group, -1) & cert.unique
     real_roots = real.sum(-1)
     mode = codes["mode"]
-    kept = np.isin(outcome, [mode, codes["outside_limits"], codes["false_closure"], codes["input_independent"]])
+    kept = (
+        (outcome == mode)
+        | (outcome == codes["outside_limits"])
+        | (outcome == codes["false_closure"])
+        | (outcome == codes["input_independent"])
+    )
     # a real root the first pass did not settle (called complex, not closed, a pose repeat): again
     # from its certified centre
     redo = real & ~kept
@@ -617,8 +657,10 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     kind[in_nonreal] = kinds.index("complex")
     kind[in_undecided] = kinds.index("near_real")
     if redo.any():
+        out.update({key: out[key].copy() for key in ("passive", "poses", "residual", "conditioning")})
         rows, columns = np.nonzero(redo)
-        q, pose = _configuration(m, info, theta[rows], real_centre[rows, columns].real)
+        real_centre, _ = phase_normalised(cert.centre[rows, columns], list(homotopy.homogeneous))
+        q, pose = _configuration(m, info, theta[rows], real_centre.real)
         q, pose, result, residual, conditioning = _check_candidates(
             m, theta[rows], q, pose, np.full(rows.size, -1, dtype=np.int32)
         )
@@ -1078,7 +1120,7 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         root=shaped("roots"),
         # real: a root kind that is real (a simple root or a cluster of real roots), or a slot
         # polished into a mode; near-real pairs, complex endpoints and failed paths are not
-        real=np.isin(kind, [kinds.index("simple"), kinds.index("cluster")]) | valid,
+        real=(kind == kinds.index("simple")) | (kind == kinds.index("cluster")) | valid,
         valid=valid,
         count=shaped("count"),
         input_independent=outcome == codes["input_independent"],
