@@ -2,24 +2,30 @@
 
 The kernel returns named point sets (3 x n, in {B}, metres) for a configuration; the manifest
 lists the polylines through them. ``plot`` draws one configuration, a chosen assembly mode, every
-mode overlaid on given axes, or every mode as a grid of small multiples (common limits, each panel
-titled "mode k"); ``animate`` draws a GIF along an actuated trajectory, tracking one mode. How a
-drawing is drawn comes from the package alone (``compose_scene``):
+mode overlaid on given axes, or the modes as a grid of small multiples (common limits, each panel
+titled "mode k"; by default the first ``MAX_PANELS``, the others named in the title, and every
+one with ``all_modes``); ``animate`` draws a GIF along an actuated trajectory, tracking one mode.
+How a drawing is drawn comes from the package alone (``compose_scene``):
 
 - a drawing in one plane z = const is drawn on 2-D axes (the x-y plane);
 - a spherical one (pose kind ``rotation``, every point at one distance from the fixed centre) on
   its translucent sphere, with great-circle arcs between consecutive points instead of chords;
 - polylines are parts (base, legs, platform) as the manifest says (``Drawing.parts``), each with
   its own colour and width; joints of the manifest's fixed point sets are squares, moving joints
-  circles; a legend names the parts;
+  circles, each no wider than a share of the segments it ends (``marker_sizes``: a small
+  platform is not hidden under its joints); in 3-D the parts are drawn in that order, not by
+  depth; a legend names the parts;
 - every panel shows the distance to singularity: ``type II`` (1/cond of the loop-closure Jacobian)
-  and ``type I`` (1/cond of the rate model's B, or of the worst leg Jacobian), 1 far, 0 singular.
+  and ``type I`` (1/cond of the rate model's B, or of the worst leg Jacobian), 1 far, 0 singular;
+  a grid's panel below ``NEAR_SINGULAR`` in type II is titled in red, "near-singular" (the MJCF
+  export warns of such keyframes with the same measure).
 """
 
 from __future__ import annotations
 
 import math
 import textwrap
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -115,9 +121,53 @@ def singularity_distance(m: LoadedMechanism, config: Configuration) -> dict[str,
     return out
 
 
-def distance_text(distance: dict[str, float]) -> str:
-    """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures."""
-    return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
+def distance_text(distance: dict[str, float], flag: bool = False) -> str:
+    """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures;
+    ``flag`` adds 'near-singular' after a type II value below ``NEAR_SINGULAR``."""
+    return " · ".join(
+        f"{name} {value:.2g}" + (" near-singular" if flag and name == "type II" and value < NEAR_SINGULAR else "")
+        for name, value in distance.items()
+    )
+
+
+def is_near_singular(distance: dict[str, float]) -> bool:
+    """Whether a configuration's type II distance (``singularity_distance``) is below
+    ``NEAR_SINGULAR``: near a parallel singularity (the actuators barely hold the platform)."""
+    value = distance.get("type II")
+    return value is not None and value < NEAR_SINGULAR
+
+
+def numbers_text(numbers: Sequence[int]) -> str:
+    """Integers as runs: [0, 1, 2, 5, 7, 8] -> '0-2, 5, 7-8'."""
+    runs: list[list[int]] = []
+    for n in sorted(numbers):
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return ", ".join(f"{run[0]}-{run[-1]}" if len(run) > 1 else f"{run[0]}" for run in runs)
+
+
+def labels_text(labels: Sequence[str]) -> str:
+    """Panel labels as runs: ['mode 0', 'mode 1', 'mode 2', 'mode 5'] -> 'modes 0-2, 5' (entries
+    '#k' of a batch: 'entries ...')."""
+    if not labels:
+        return ""
+    many = len(labels) > 1
+    kind = ("modes" if many else "mode") if labels[0].startswith("mode") else ("entries" if many else "entry")
+    return f"{kind} {numbers_text([int(label.split()[-1].lstrip('#')) for label in labels])}"
+
+
+def rest_text(m: LoadedMechanism, rest: list[Configuration], labels: list[str], distances: bool = True) -> str:
+    """The line of a grid that names the modes it leaves out (``labels``: 'mode 12', ...), those
+    of them near a type II singularity, and how to draw them."""
+    text = f"not drawn: {labels_text(labels)}"
+    if distances:
+        near = [label for label, c in zip(labels, rest, strict=True) if is_near_singular(singularity_distance(m, c))]
+        if near:
+            text += f" (near-singular: {labels_text(near).split(' ', 1)[1]})"
+    every = len(rest) + MAX_PANELS
+    return f"{text}; all_modes=True (parakin plot --all-modes) draws all {every}, mode=k (--mode K) one"
 
 
 def inputs_text(m: LoadedMechanism, actuated: ArrayLike, digits: int = 4) -> str:
@@ -421,13 +471,17 @@ def new_axes(plt: Any, scene: Scene, size: float = 6.4) -> tuple[Any, Any]:
     return figure, ax
 
 
-def grid(plt: Any, scene: Scene, titles: list[str], suptitle: str) -> tuple[Any, np.ndarray]:
-    """Small multiples: one panel per configuration of ``scene``, titled ``titles[k]``, common
-    limits, one legend of parts for the figure. Returns the figure and the panels (in order)."""
+def grid(
+    plt: Any, scene: Scene, titles: list[str], suptitle: str, many: bool = False, near: Sequence[bool] = ()
+) -> tuple[Any, np.ndarray]:
+    """Small multiples: one panel per configuration of ``scene``, titled ``titles[k]`` (in
+    ``NEAR_COLOUR`` where ``near[k]``), common limits, one legend of parts for the figure; ``many``
+    (a picture of more than ``MAX_PANELS`` modes) gets larger panels. Returns the figure and the
+    panels (in order)."""
     count = len(scene.drawn)
     cols = math.ceil(math.sqrt(count))
     rows = math.ceil(count / cols)
-    panel = 2.7 if count > 4 else 3.6
+    panel = MANY_PANEL if many else 2.7 if count > 4 else 3.6
     figure = plt.figure(figsize=(cols * panel, rows * panel + 1.1), layout="constrained")
     figure.get_layout_engine().set(
         h_pad=0.15, w_pad=0.05, hspace=0.02
@@ -440,7 +494,8 @@ def grid(plt: Any, scene: Scene, titles: list[str], suptitle: str) -> tuple[Any,
             continue
         draw_configuration(ax, scene, k)
         decorate(ax, scene, small=True)
-        ax.set_title(titles[k], fontsize=8, pad=4)
+        warn = k < len(near) and near[k]
+        ax.set_title(titles[k], fontsize=8, pad=4, color=NEAR_COLOUR if warn else "black")
         axes.append(ax)
     figure.suptitle(wrap(suptitle, cols * panel), fontsize=10)
     handles = part_handles(scene)
@@ -686,6 +741,13 @@ def track(m: LoadedMechanism, path: ArrayLike, start: Configuration | None = Non
 
 
 # ---------------------------------------------------------- plot and animate
+#: the default grid draws at most this many modes, the first ones, and names the others in its
+#: title; ``all_modes=True`` (``parakin plot --all-modes``) draws every one
+MAX_PANELS = 12
+#: a panel's size (inches) in a grid of more than ``MAX_PANELS`` modes
+MANY_PANEL = 3.4
+#: the colour of a panel's title near a type II singularity (``is_near_singular``)
+NEAR_COLOUR = "#b2182b"
 #: the explanation of the distance measures under a figure
 DISTANCE_NOTE = "type I / type II: 1/cond of the serial / closure Jacobian (1 far from, 0 at a singularity)"
 
@@ -733,8 +795,12 @@ def plot(
 
     Without ``mode`` or ``all_modes``, given ``ax`` gets every configuration overlaid (coloured by
     mode, a legend by mode number), and ``ax=None`` gets one drawing for a single Configuration
-    and the grid otherwise. Lengths are metres in {B}; a planar drawing is drawn in the x-y plane,
-    a spherical one on its sphere with great-circle arcs.
+    and the grid otherwise: the first ``MAX_PANELS`` (12) modes, larger panels where there are
+    more, the others named in the figure's title (those near a type II singularity too);
+    ``all_modes=True`` draws every one. A grid's panels share their limits and view; each is
+    titled with its mode number and distances to singularity, in red and marked
+    "near-singular" where type II is below ``NEAR_SINGULAR``. Lengths are metres in {B}; a planar
+    drawing is drawn in the x-y plane, a spherical one on its sphere with great-circle arcs.
 
     Parameters
     ----------
@@ -752,14 +818,16 @@ def plot(
     mode : int, optional
         Draw mode (or entry) ``mode`` alone.
     all_modes : bool
-        Draw every mode as a grid of small multiples, each titled "mode k".
+        Draw every mode as a grid of small multiples, each titled "mode k", however many (the
+        default grid draws the first ``MAX_PANELS``).
     distances : bool
         Show each drawing's distance to singularity (type I and type II) in its title.
 
     Returns
     -------
     Axes or ndarray of Axes
-        The axes drawn on; for a grid a 1-D array, entry k the panel of mode k.
+        The axes drawn on; for a grid a 1-D array, entry k the panel of mode k (k below
+        ``MAX_PANELS`` in the default grid).
 
     Raises
     ------
@@ -793,20 +861,36 @@ def plot(
         raise BadInputError("all_modes draws a grid on a figure of its own: leave ax None (or pass mode=k)")
     if as_grid and not configurations:
         raise NoSuchModeError("no mode to draw: there are 0 modes (count 0)")
+    rest: list[Configuration] = []  # modes the default grid leaves out (named in its title)
+    labels_rest: list[str] = []
+    if as_grid and not all_modes and len(configurations) > MAX_PANELS:
+        rest, labels_rest = configurations[MAX_PANELS:], labels[MAX_PANELS:]
+        configurations, labels = configurations[:MAX_PANELS], labels[:MAX_PANELS]
     plt = _pyplot()
     picture = compose_scene(m, configurations, distances=distances) if configurations else None
     heading = title or m.manifest.title
     if as_grid:
         assert picture is not None
+        near = [is_near_singular(d.distance) for d in picture.drawn]
         titles = [
-            "\n".join(t for t in (label or f"#{k}", distance_text(d.distance)) if t)
+            "\n".join(t for t in (label or f"#{k}", distance_text(d.distance, flag=True)) if t)
             for k, (label, d) in enumerate(zip(labels, picture.drawn, strict=True))
         ]
         note = f"; {DISTANCE_NOTE}" if distances else ""
         what = "assembly modes" if isinstance(state, AssemblyModes) else "configurations"
         at = inputs_text(m, configurations[0].actuated)
+        drawn = f"; the first {len(configurations)} drawn" if rest else ""  # the others named below
+        lines = [heading, f"{len(configurations) + len(rest)} {what} at {at}{drawn}", f"{axes_note(picture)}{note}"]
+        if any(near):
+            lines.append(
+                f"red titles: near a type II singularity (type II below {NEAR_SINGULAR:g}: the actuators barely "
+                "hold the platform): "
+                + labels_text([label for label, flagged in zip(labels, near, strict=True) if flagged])
+            )
+        if rest:
+            lines.append(rest_text(m, rest, labels_rest, distances))
         figure, axes = grid(
-            plt, picture, titles, f"{heading}\n{len(configurations)} {what} at {at}\n{axes_note(picture)}{note}"
+            plt, picture, titles, "\n".join(lines), many=bool(rest) or len(configurations) > MAX_PANELS, near=near
         )
         if path is not None:
             figure.savefig(path, dpi=110)
