@@ -1,6 +1,8 @@
 """Bad arguments found by a new-user review: each is a usage error (exit 2, one line naming the
 option and what it takes), never a traceback or an internal error; and an empty batch prints."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -73,3 +75,24 @@ def test_a_misspelt_keyword_of_a_method_suggests_the_closest():
     with pytest.raises(parakin.UnknownKeywordError, match="inverse_pose: missing a required argument: 'pose'"):
         m.inverse_pose()
     assert len(calls) == 3
+
+
+def test_negative_values_in_exponent_notation_are_values(capsys):
+    """``-1e-3`` (and ``-3.5e-17``, as ``fk`` prints a home at x = 0) read as numbers, not options:
+    the command's result equals the API's at the same pose."""
+    assert main(["ik", "five_bar", "--pose", "-1e-3", "3.3E-1", "--json"]) == 0
+    printed = capsys.readouterr().out
+    m = parakin.load("five_bar")
+    expected = m.inverse_pose([-0.001, 0.33]).actuated
+    for branch, line in enumerate(printed.strip().splitlines()):
+        row = json.loads(line)
+        got = [row["theta1 [rad]"], row["theta2 [rad]"]]
+        np.testing.assert_allclose(got, expected[branch], rtol=0, atol=1e-12)
+    assert branch == 3  # four branches checked
+
+
+@pytest.mark.parametrize("value", ["-inf", "nan"])
+def test_a_non_finite_pose_value_is_named_in_the_command_line_terms(value, capsys):
+    assert main(["ik", "five_bar", "--pose", value, "0.3"]) == 2
+    err = capsys.readouterr().err
+    assert f"pose value 1 of 2 (x y (m)) is {float(value)}" in err and "index" not in err, err

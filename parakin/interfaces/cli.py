@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 from typing import Any, NoReturn
 
@@ -112,6 +113,11 @@ def _pose_from_cli(manifest: Manifest, values: list[float], degrees: bool) -> np
     array = np.array(values, dtype=float)
     if array.shape != (count,):
         raise BadInputError(f"{manifest.name} poses ({kind}) take {count} values: {described}; got {len(values)}")
+    if not np.isfinite(array).all():  # before any conversion: the message names the value given
+        first = int(np.flatnonzero(~np.isfinite(array))[0])
+        raise BadInputError(
+            f"pose value {first + 1} of {count} ({described}) is {values[first]}: values must be finite"
+        )
     if kind == "transform":
         angles = np.deg2rad(array[3:]) if degrees else array[3:]
         return parakin.pose_from_xyz_euler(np.concatenate([array[:3], angles]))
@@ -547,7 +553,14 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with a suggestion for a mistyped command or option (``did you mean 'plot'?``)."""
+    """argparse with a suggestion for a mistyped command or option (``did you mean 'plot'?``), and
+    negative numbers in any float notation taken as values (``--pose -1e-3 0 0.4``: argparse's own
+    pattern takes only ``-1`` and ``-0.5`` as numbers, so ``-3.5e-17``, as ``fk`` prints it, would
+    read as an option)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message: str) -> NoReturn:
         self.print_usage(sys.stderr)
@@ -578,6 +591,9 @@ def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
             )
     return "; " + " ".join(hints) if hints else ""
 
+
+#: a negative number as a value: -1, -0.5, -.5, -1e-3, -2.5E+4, -inf
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$")
 
 #: the command line being parsed (``_main``): what a "required" error's suggestion looks through
 _GIVEN: list[str] = []
