@@ -615,6 +615,7 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
 #define MAX_STEPS 2000
 #define REFINE 8
 #define END_GAP 1e-13
+#define RATIONAL_GUARD 0.3
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -1026,7 +1027,8 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 // The includer defines, before including it (after complex.h):
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
-//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP   the step control (parakin.solvers.path_tracking)
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD
+//                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
 //   static void coefficients(const sparse_system*, double s, coefficients_at*)
@@ -1105,8 +1107,8 @@ static double newton_step(const coefficients_at* at, cplx* z, cplx* velocity, tr
 // z at s = target extrapolated from the path's last two points (s0, z0, v0) and (s1, z1, v1), v
 // the slope dz/ds: the cubic Hermite interpolant of both (third order), or Euler from (s1, z1,
 // v1) alone where the path has no earlier point (history 0)
-static void predict(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1, const cplx* v1,
-                    double target, cplx* out) {
+static void hermite_cubic(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1,
+                          const cplx* v1, double target, cplx* out) {
     if (!history) {
         double d = target - s1;
         for (int k = 0; k < NZ; ++k) out[k] = (cplx){z1[k].re + d * v1[k].re, z1[k].im + d * v1[k].im};
@@ -1120,12 +1122,44 @@ static void predict(int history, double s0, const cplx* z0, const cplx* v0, doub
                         a0 * z0[k].im + b0 * v0[k].im + a1 * z1[k].im + b1 * v1[k].im};
 }
 
+// The tracker's predictor (parakin.solvers.path_tracking.rational_predict): each unknown at s =
+// target from the rational Hermite interpolant of the path's last two points and slopes, a
+// quadratic over a linear polynomial in t = s - s1,
+//     r(t) = (z1 + (v1 + q z1) t + p2 t^2) / (1 + q t),
+// with r = z and r' = v at t = 0 and at t = a = s0 - s1; with the secant d = (z0 - z1) / a,
+//     q = (v0 + v1 - 2 d) / (a (d - v0)),   p2 = (d - v1) / a + q d.
+// It has the cubic's order (error ~ step^4) and follows a simple pole of the path (z ~ c / (s -
+// s*), a path passing near a singular point of the homotopy or heading to infinity) exactly,
+// where a polynomial needs tiny steps. An unknown whose interpolant is not finite or whose
+// denominator comes within RATIONAL_GUARD of 0 between s1 and target (a pole in or next to the
+// step) takes the cubic Hermite value instead (hermite_cubic); Euler where there is no history.
+static void predict(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1, const cplx* v1,
+                    double target, cplx* out) {
+    hermite_cubic(history, s0, z0, v0, s1, z1, v1, target, out);
+    if (!history) return;
+    double a = s0 - s1, t = target - s1;
+    for (int k = 0; k < NZ; ++k) {
+        cplx secant = c_scale(1.0 / a, c_sub(z0[k], z1[k]));
+        cplx q = c_div(c_sub(c_add(v0[k], v1[k]), c_scale(2.0, secant)), c_scale(a, c_sub(secant, v0[k])));
+        cplx p2 = c_add(c_scale(1.0 / a, c_sub(secant, v1[k])), c_mul(q, secant));
+        cplx w = c_scale(t, q);
+        // the smallest |1 + w l| over l in [0, 1]: the denominator along the step
+        double ww = w.re * w.re + w.im * w.im;
+        double l = ww > 0.0 ? fmin(1.0, fmax(0.0, -w.re / ww)) : 0.0;
+        cplx low = {1.0 + l * w.re, l * w.im};
+        cplx numerator = c_add(c_add(z1[k], c_scale(t, c_add(v1[k], c_mul(q, z1[k])))), c_scale(t * t, p2));
+        cplx r = c_div(numerator, (cplx){1.0 + w.re, w.im});
+        if (isfinite(r.re) && isfinite(r.im) && c_abs(low) > RATIONAL_GUARD) out[k] = r;
+    }
+}
+
 // The coefficient sets of one step: in the caller's storage, as with hundreds of terms they are
 // too large for a small thread stack
 typedef struct { coefficients_at here, target; } step_coefficients;
 
 // One path from s = 1 to s = 0 (parakin.solvers.path_tracking.track_hermite, the same algorithm): each
-// step predicts by the cubic Hermite extrapolation of the last two points and their slopes, and
+// step predicts by the rational Hermite extrapolation of the last two points and their slopes
+// (predict: quadratic over linear, the cubic where that has a pole near the step), and
 // corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
 // the last one leaves (the update itself after one step; after more, estimated from the
 // quadratic convergence of the last two) is below tolerance: contraction keeps the path on its

@@ -8,7 +8,7 @@
 #   parameter_jacobians: 163
 #   singularity_factors: 447
 #   drawing: 62
-#   inverse_pose: 218
+#   inverse_pose: 213
 #   automatic_family: 0
 #   automatic_monomials: 173
 #   automatic_passive: 0
@@ -997,7 +997,7 @@ def drawing() -> casadi.Function:
 def inverse_pose() -> casadi.Function:
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 218.
+    Operations: 213.
     """
     _in_pose = casadi.SX.sym("pose", 12)
     _in_branch = casadi.SX.sym("branch", 3)
@@ -1027,12 +1027,10 @@ def inverse_pose() -> casadi.Function:
     tilt31 = n_x
     tilt32 = n_y
     tilt33 = (-(n_x**2) - n_y**2) / (n_z + 1) + 1
-    x0 = -r_p * (n_x**2 - n_y**2) / (2 * n_z + 2)
-    y0 = n_x * n_y * r_p / (n_z + 1)
     _t0 = casadi.sign(r11 * tilt11 + r12 * tilt12 + r13 * tilt13)
     turn = _t0 - casadi.fabs(_t0) + 1
-    x = turn * x0
-    y = turn * y0
+    x = (1 / 2) * r_p * turn * (tilt11 - tilt22)
+    y = -1 / 2 * r_p * turn * (tilt12 + tilt21)
     z = pz
     q0 = (n_z + 1) * ((1 / 2) * turn + 1 / 2) / casadi.sqrt(2 * n_z + 2)
     _t1 = (1 / 2) * turn

@@ -8,7 +8,7 @@
 //   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
-//   inverse_pose: 218
+//   inverse_pose: 213
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0

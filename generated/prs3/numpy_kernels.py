@@ -8,7 +8,7 @@
 #   parameter_jacobians: 163
 #   singularity_factors: 447
 #   drawing: 62
-#   inverse_pose: 218
+#   inverse_pose: 213
 #   automatic_family: 0
 #   automatic_monomials: 173
 #   automatic_passive: 0
@@ -898,7 +898,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 218.
+    Operations: 213.
     """
     _in_pose, _in_branch, _in_params = pose, branch, params
     _shape = numpy.broadcast_shapes(
@@ -931,12 +931,10 @@ def inverse_pose(pose, branch, params):
     tilt31 = n_x
     tilt32 = n_y
     tilt33 = (-(n_x**2) - n_y**2) / (n_z + 1) + 1
-    x0 = -r_p * (n_x**2 - n_y**2) / (2 * n_z + 2)
-    y0 = n_x * n_y * r_p / (n_z + 1)
     _t0 = numpy.sign(r11 * tilt11 + r12 * tilt12 + r13 * tilt13)
     turn = _t0 - numpy.abs(_t0) + 1
-    x = turn * x0
-    y = turn * y0
+    x = (1 / 2) * r_p * turn * (tilt11 - tilt22)
+    y = -1 / 2 * r_p * turn * (tilt12 + tilt21)
     z = pz
     q0 = (n_z + 1) * ((1 / 2) * turn + 1 / 2) / numpy.sqrt(2 * n_z + 2)
     _t1 = (1 / 2) * turn

@@ -8,7 +8,7 @@
 //   parameter_jacobians: 163
 //   singularity_factors: 447
 //   drawing: 62
-//   inverse_pose: 218
+//   inverse_pose: 213
 //   automatic_family: 0
 //   automatic_monomials: 173
 //   automatic_passive: 0
@@ -31,8 +31,8 @@
 // * Passive: p = (x, y, z) and the unit quaternion q0..q3 (scalar first); q and -q are one pose.
 // * Inverse pose (8 branches, sigma_i = +1: the link rises to the platform): it reads what the
 //   actuators control, the height z and the tilt n = R^T k (and the half-turn about the vertical
-//   nearer R), and returns the reachable pose with them (accelerator ``_prs3_reading.py``); x, y
-//   and the turn about the vertical of the given pose are not read. Validity ``leg<i>_reachable``.
+//   nearer R), and returns the reachable pose with them (derived); x, y and the turn about the
+//   vertical are not read, off the set too (``unreachable="read"``). Validity ``leg<i>_reachable``.
 // * Forward pose: the generator's polynomial form, at most 16 assembly modes (``MODE_COUNTS``).
 // * Defaults (a compact design chosen here): r_b = 0.2 m, r_p = 0.1 m, L = 0.35 m, rails of 1 m;
 //   home: the platform level at z = 0.6 m, links rising (branch 0).

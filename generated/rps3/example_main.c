@@ -8,7 +8,7 @@
 //   parameter_jacobians: 132
 //   singularity_factors: 412
 //   drawing: 61
-//   inverse_pose: 439
+//   inverse_pose: 223
 //   automatic_family: 0
 //   automatic_monomials: 123
 //   automatic_passive: 0

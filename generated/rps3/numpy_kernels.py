@@ -8,7 +8,7 @@
 #   parameter_jacobians: 132
 #   singularity_factors: 412
 #   drawing: 61
-#   inverse_pose: 439
+#   inverse_pose: 223
 #   automatic_family: 0
 #   automatic_monomials: 123
 #   automatic_passive: 0
@@ -876,7 +876,7 @@ def drawing(actuated, passive, params):
 def inverse_pose(pose, branch, params):
     """Closed-form inverse pose for one branch-sign combination: pose (r11..r33, px, py, pz) -> joints.
 
-    Operations: 439.
+    Operations: 223.
     """
     _in_pose, _in_branch, _in_params = pose, branch, params
     _shape = numpy.broadcast_shapes(
@@ -889,7 +889,6 @@ def inverse_pose(pose, branch, params):
     r13 = _in_pose[..., 2]
     r21 = _in_pose[..., 3]
     r22 = _in_pose[..., 4]
-    r23 = _in_pose[..., 5]
     r31 = _in_pose[..., 6]
     r32 = _in_pose[..., 7]
     r33 = _in_pose[..., 8]
@@ -898,209 +897,66 @@ def inverse_pose(pose, branch, params):
     pz = _in_pose[..., 11]
     r_b = _in_params[..., 0]
     r_p = _in_params[..., 1]
-    l1 = numpy.sqrt((px + r12 * r_p) ** 2 + (pz + r32 * r_p) ** 2 + (py + r22 * r_p - r_b) ** 2)
-    _t0 = (1 / 2) * r_p
-    _t1 = numpy.sqrt(3)
-    _t2 = _t0 * _t1
-    _t3 = (1 / 2) * r_b
-    l2 = numpy.sqrt(
-        (-_t0 * r32 - _t2 * r31 + pz) ** 2
-        + (-_t0 * r12 + _t1 * _t3 - _t2 * r11 + px) ** 2
-        + (-_t0 * r22 - _t2 * r21 + _t3 + py) ** 2
-    )
-    _t4 = (1 / 2) * r_p
-    _t5 = numpy.sqrt(3)
-    _t6 = _t4 * _t5
-    _t7 = (1 / 2) * r_b
-    l3 = numpy.sqrt(
-        (-_t4 * r32 + _t6 * r31 + pz) ** 2
-        + (-_t4 * r12 - _t5 * _t7 + _t6 * r11 + px) ** 2
-        + (-_t4 * r22 + _t6 * r21 + _t7 + py) ** 2
-    )
-    x = px
-    y = py
+    n_x = r31
+    n_y = r32
+    n_z = r33
+    tilt11 = -(n_x**2) / (n_z + 1) + 1
+    tilt12 = -n_x * n_y / (n_z + 1)
+    tilt13 = -n_x
+    tilt21 = -n_x * n_y / (n_z + 1)
+    tilt22 = -(n_y**2) / (n_z + 1) + 1
+    tilt23 = -n_y
+    tilt31 = n_x
+    tilt32 = n_y
+    tilt33 = (-(n_x**2) - n_y**2) / (n_z + 1) + 1
+    _t0 = numpy.sign(r11 * tilt11 + r12 * tilt12 + r13 * tilt13)
+    turn = _t0 - numpy.abs(_t0) + 1
+    x = -1 / 2 * r_p * turn * (tilt12 + tilt21)
+    y = (1 / 2) * r_p * turn * (-tilt11 + tilt22)
     z = pz
-    _t8 = r23 - r32
-    _t9 = -_t8
-    _t10 = r13 + r31
-    _t11 = r12 - r21
-    _t12 = (r12 + r21) * (r13 - r31)
-    _t13 = r11 + 1
-    _t14 = _t13 + r22 + r33
-    _t15 = _t13 - r22 - r33
-    quaternion_sum1_0 = _t14 + _t9 * (
-        -numpy.abs(numpy.sign(_t10 * _t11 - _t12 + _t14 * _t8 + _t15 * _t8))
-        + numpy.sign(-_t10 * _t11 + _t12 + _t14 * _t9 + _t15 * _t9)
-        + 1
+    q0 = (n_z + 1) * ((1 / 2) * turn + 1 / 2) / numpy.sqrt(2 * n_z + 2)
+    _t1 = (1 / 2) * turn
+    _t2 = 1 / numpy.sqrt(2 * n_z + 2)
+    q1 = _t2 * n_x * (1 / 2 - _t1) + _t2 * n_y * (_t1 + 1 / 2)
+    _t3 = (1 / 2) * turn
+    _t4 = 1 / numpy.sqrt(2 * n_z + 2)
+    q2 = -_t4 * n_x * (_t3 + 1 / 2) + _t4 * n_y * (1 / 2 - _t3)
+    q3 = (1 / 2 - 1 / 2 * turn) * (n_z + 1) / numpy.sqrt(2 * n_z + 2)
+    _t5 = r_p * turn
+    l1 = numpy.sqrt(
+        (_t5 * tilt12 + x) ** 2 + (r_p * tilt32 + z) ** 2 + (_t5 * tilt22 - r_b + y) ** 2
     )
-    _t16 = r11 + 1
-    _t17 = _t16 - r22 - r33
-    _t18 = r13 + r31
-    _t19 = r12 - r21
-    _t20 = (r12 + r21) * (r13 - r31)
-    _t21 = r23 - r32
-    _t22 = -_t21
-    _t23 = _t16 + r22 + r33
-    quaternion_sum1_1 = (
-        _t17
-        * (
-            -numpy.abs(numpy.sign(_t17 * _t21 + _t18 * _t19 - _t20 + _t21 * _t23))
-            + numpy.sign(_t17 * _t22 - _t18 * _t19 + _t20 + _t22 * _t23)
-            + 1
-        )
-        - r23
-        + r32
+    _t6 = (1 / 2) * r_p
+    _t7 = numpy.sqrt(3)
+    _t8 = _t6 * _t7
+    _t9 = (1 / 2) * r_b
+    _t10 = _t6 * turn
+    _t11 = _t8 * turn
+    l2 = numpy.sqrt(
+        (-_t6 * tilt32 - _t8 * tilt31 + z) ** 2
+        + (-_t10 * tilt12 - _t11 * tilt11 + _t7 * _t9 + x) ** 2
+        + (-_t10 * tilt22 - _t11 * tilt21 + _t9 + y) ** 2
     )
-    _t24 = r12 + r21
-    _t25 = r13 + r31
-    _t26 = r12 - r21
-    _t27 = r13 - r31
-    _t28 = _t24 * _t27
-    _t29 = r23 - r32
-    _t30 = -_t29
-    _t31 = r11 + 1
-    _t32 = _t31 + r22 + r33
-    _t33 = _t31 - r22 - r33
-    quaternion_sum1_2 = (
-        _t24
-        * (
-            -numpy.abs(numpy.sign(_t25 * _t26 - _t28 + _t29 * _t32 + _t29 * _t33))
-            + numpy.sign(-_t25 * _t26 + _t28 + _t30 * _t32 + _t30 * _t33)
-            + 1
-        )
-        + _t27
+    _t12 = (1 / 2) * r_p
+    _t13 = numpy.sqrt(3)
+    _t14 = _t12 * _t13
+    _t15 = (1 / 2) * r_b
+    _t16 = _t12 * turn
+    l3 = numpy.sqrt(
+        (-_t12 * tilt32 + _t14 * tilt31 + z) ** 2
+        + (-_t13 * _t15 + (1 / 2) * _t13 * r_p * tilt11 * turn - _t16 * tilt12 + x) ** 2
+        + (_t14 * tilt21 * turn + _t15 - _t16 * tilt22 + y) ** 2
     )
-    _t34 = r13 + r31
-    _t35 = r12 - r21
-    _t36 = (r12 + r21) * (r13 - r31)
-    _t37 = r23 - r32
-    _t38 = -_t37
-    _t39 = r11 + 1
-    _t40 = _t39 + r22 + r33
-    _t41 = _t39 - r22 - r33
-    quaternion_sum1_3 = (
-        _t34
-        * (
-            -numpy.abs(numpy.sign(_t34 * _t35 - _t36 + _t37 * _t40 + _t37 * _t41))
-            + numpy.sign(-_t34 * _t35 + _t36 + _t38 * _t40 + _t38 * _t41)
-            + 1
-        )
-        - r12
-        + r21
-    )
-    _t42 = r13 - r31
-    _t43 = numpy.sign(
-        _t42 * quaternion_sum1_0
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_0 = _t42 * (_t43 - numpy.abs(_t43) + 1) + quaternion_sum1_0
-    _t44 = r12 + r21
-    _t45 = numpy.sign(
-        _t44 * quaternion_sum1_1
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_1 = _t44 * (_t45 - numpy.abs(_t45) + 1) + quaternion_sum1_1
-    _t46 = -r11 + r22 - r33 + 1
-    _t47 = numpy.sign(
-        _t46 * quaternion_sum1_2
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_3 * (r23 + r32)
-    )
-    quaternion_sum2_2 = _t46 * (_t47 - numpy.abs(_t47) + 1) + quaternion_sum1_2
-    _t48 = r23 + r32
-    _t49 = numpy.sign(
-        _t48 * quaternion_sum1_3
-        + quaternion_sum1_0 * (r13 - r31)
-        + quaternion_sum1_1 * (r12 + r21)
-        + quaternion_sum1_2 * (-r11 + r22 - r33 + 1)
-    )
-    quaternion_sum2_3 = _t48 * (_t49 - numpy.abs(_t49) + 1) + quaternion_sum1_3
-    _t50 = r12 - r21
-    _t51 = -_t50
-    _t52 = quaternion_sum2_1 * (r13 + r31)
-    _t53 = quaternion_sum2_2 * (r23 + r32)
-    _t54 = r11 + r22 - r33 - 1
-    quaternion_sum3_0 = (
-        _t51
-        * (
-            -numpy.abs(
-                numpy.sign(_t50 * quaternion_sum2_0 - _t52 - _t53 + _t54 * quaternion_sum2_3)
-            )
-            + numpy.sign(_t51 * quaternion_sum2_0 + _t52 + _t53 - _t54 * quaternion_sum2_3)
-            + 1
-        )
-        + quaternion_sum2_0
-    )
-    _t55 = r13 + r31
-    _t56 = _t55 * quaternion_sum2_1
-    _t57 = quaternion_sum2_2 * (r23 + r32)
-    _t58 = r12 - r21
-    _t59 = r11 + r22 - r33 - 1
-    quaternion_sum3_1 = (
-        _t55
-        * (
-            -numpy.abs(
-                numpy.sign(_t56 + _t57 - _t58 * quaternion_sum2_0 - _t59 * quaternion_sum2_3)
-            )
-            + numpy.sign(_t56 + _t57 - _t58 * quaternion_sum2_0 - _t59 * quaternion_sum2_3)
-            + 1
-        )
-        + quaternion_sum2_1
-    )
-    _t60 = r23 + r32
-    _t61 = quaternion_sum2_1 * (r13 + r31)
-    _t62 = _t60 * quaternion_sum2_2
-    _t63 = r12 - r21
-    _t64 = r11 + r22 - r33 - 1
-    quaternion_sum3_2 = (
-        _t60
-        * (
-            -numpy.abs(
-                numpy.sign(_t61 + _t62 - _t63 * quaternion_sum2_0 - _t64 * quaternion_sum2_3)
-            )
-            + numpy.sign(_t61 + _t62 - _t63 * quaternion_sum2_0 - _t64 * quaternion_sum2_3)
-            + 1
-        )
-        + quaternion_sum2_2
-    )
-    _t65 = r11 + r22 - r33 - 1
-    _t66 = -_t65
-    _t67 = quaternion_sum2_1 * (r13 + r31)
-    _t68 = quaternion_sum2_2 * (r23 + r32)
-    _t69 = r12 - r21
-    quaternion_sum3_3 = (
-        _t66
-        * (
-            -numpy.abs(
-                numpy.sign(_t65 * quaternion_sum2_3 - _t67 - _t68 + _t69 * quaternion_sum2_0)
-            )
-            + numpy.sign(_t66 * quaternion_sum2_3 + _t67 + _t68 - _t69 * quaternion_sum2_0)
-            + 1
-        )
-        + quaternion_sum2_3
-    )
-    quaternion_sum_norm = numpy.sqrt(
-        quaternion_sum3_0**2 + quaternion_sum3_1**2 + quaternion_sum3_2**2 + quaternion_sum3_3**2
-    )
-    q0 = quaternion_sum3_0 / quaternion_sum_norm
-    q1 = quaternion_sum3_1 / quaternion_sum_norm
-    q2 = quaternion_sum3_2 / quaternion_sum_norm
-    q3 = quaternion_sum3_3 / quaternion_sum_norm
-    _t70 = r12 * r_p
-    _t71 = 1.0e-12 * r_b**2 + 1.0e-12 * r_p**2
-    _t72 = numpy.sqrt(3)
-    _t73 = (1 / 2) * r_p
-    _t74 = _t72 * _t73 * r21
-    _t75 = -_t73 * r22 + py + (1 / 2) * r_b
-    _t76 = (1 / 2) * _t72
-    _t77 = (1 / 4) * _t70
-    _t78 = (1 / 4) * _t72
-    _t79 = _t78 * r11 * r_p - _t78 * r_b
+    _t17 = r12 * r_p
+    _t18 = 1.0e-12 * r_b**2 + 1.0e-12 * r_p**2
+    _t19 = numpy.sqrt(3)
+    _t20 = (1 / 2) * r_p
+    _t21 = _t19 * _t20 * r21
+    _t22 = -_t20 * r22 + py + (1 / 2) * r_b
+    _t23 = (1 / 2) * _t19
+    _t24 = (1 / 4) * _t17
+    _t25 = (1 / 4) * _t19
+    _t26 = _t25 * r11 * r_p - _t25 * r_b
     _out_actuated = numpy.zeros(_shape + (3,))
     _out_actuated[..., 0] = l1
     _out_actuated[..., 1] = l2
@@ -1115,14 +971,14 @@ def inverse_pose(pose, branch, params):
     _out_passive[..., 6] = q3
     _out_validity = numpy.zeros(_shape + (6,))
     _out_validity[..., 0] = l1
-    _out_validity[..., 1] = -((-_t70 - px) ** 2) / (_t71 + 1.0e-12 * l1**2) + 1
+    _out_validity[..., 1] = -((-_t17 - px) ** 2) / (_t18 + 1.0e-12 * l1**2) + 1
     _out_validity[..., 2] = l2
-    _out_validity[..., 3] = 1 - (-_t76 * (-_t74 + _t75) - _t77 - _t79 + (1 / 2) * px) ** 2 / (
-        _t71 + 1.0e-12 * l2**2
+    _out_validity[..., 3] = 1 - (-_t23 * (-_t21 + _t22) - _t24 - _t26 + (1 / 2) * px) ** 2 / (
+        _t18 + 1.0e-12 * l2**2
     )
     _out_validity[..., 4] = l3
-    _out_validity[..., 5] = 1 - (_t76 * (_t74 + _t75) - _t77 + _t79 + (1 / 2) * px) ** 2 / (
-        _t71 + 1.0e-12 * l3**2
+    _out_validity[..., 5] = 1 - (_t23 * (_t21 + _t22) - _t24 + _t26 + (1 / 2) * px) ** 2 / (
+        _t18 + 1.0e-12 * l3**2
     )
     return {
         "actuated": _out_actuated,
