@@ -841,13 +841,18 @@ def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng) -> 
     return _add_new(np.zeros((0, n), complex), x[_regular(family, q, x)])[0]
 
 
-def _regular(family: Family, q: np.ndarray, z: np.ndarray) -> np.ndarray:
+def _regular(family: Family, q: np.ndarray, z: np.ndarray, equilibrated: bool = False) -> np.ndarray:
     """Which points z (P, n) are regular solutions of F(.; q): a Newton step below 1e-10 of 1 + |z|
-    and a Jacobian far from singular (a point of a positive-dimensional component is neither)."""
+    and a Jacobian far from singular (a point of a positive-dimensional component is neither);
+    ``equilibrated``: the Jacobian's rows and then columns scaled to unit size first (a member far
+    from the start instance can have coefficients of very different sizes: the spm's at 1e21)."""
     if not len(z):
         return np.zeros(0, bool)
     with np.errstate(all="ignore"):
         jacobian = family.jacobian(z, np.broadcast_to(q, (len(z), q.size)))
+        if equilibrated:
+            jacobian = jacobian / np.maximum(np.abs(jacobian).max(-1, keepdims=True), 1e-300)
+            jacobian = jacobian / np.maximum(np.abs(jacobian).max(-2, keepdims=True), 1e-300)
         finite = np.isfinite(jacobian).all((-2, -1))
         condition = np.full(len(z), np.inf)
         if finite.any():
@@ -1021,7 +1026,7 @@ def _keeps_count(name: str, family: Family, record: dict, relations: Relations, 
     target = relations.full(_random_complex(np.random.default_rng(seed + 7), relations.size))
     moved, reached = _track(_segment(family, q, target), solutions)
     ends = moved[reached]
-    ends = ends[_regular(family, target, ends)]
+    ends = ends[_regular(family, target, ends, equilibrated=True)]
     kept = len(_add_new(np.zeros((0, family.n), complex), ends)[0])
     if kept < len(solutions):
         logger.info(
