@@ -121,13 +121,9 @@ def singularity_distance(m: LoadedMechanism, config: Configuration) -> dict[str,
     return out
 
 
-def distance_text(distance: dict[str, float], flag: bool = False) -> str:
-    """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures;
-    ``flag`` adds 'near-singular' after a type II value below ``NEAR_SINGULAR``."""
-    return " · ".join(
-        f"{name} {value:.2g}" + (" near-singular" if flag and name == "type II" and value < NEAR_SINGULAR else "")
-        for name, value in distance.items()
-    )
+def distance_text(distance: dict[str, float]) -> str:
+    """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures."""
+    return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
 
 
 def is_near_singular(distance: dict[str, float]) -> bool:
@@ -873,8 +869,8 @@ def plot(
         assert picture is not None
         near = [is_near_singular(d.distance) for d in picture.drawn]
         titles = [
-            "\n".join(t for t in (label or f"#{k}", distance_text(d.distance, flag=True)) if t)
-            for k, (label, d) in enumerate(zip(labels, picture.drawn, strict=True))
+            "\n".join(t for t in (label or f"#{k}", distance_text(d.distance), "near-singular" * flagged) if t)
+            for k, (label, d, flagged) in enumerate(zip(labels, picture.drawn, near, strict=True))
         ]
         note = f"; {DISTANCE_NOTE}" if distances else ""
         what = "assembly modes" if isinstance(state, AssemblyModes) else "configurations"
