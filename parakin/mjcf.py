@@ -948,6 +948,7 @@ def to_mjcf(
 
     Examples
     --------
+    >>> import parakin
     >>> xml = to_mjcf(parakin.load("stewart"), accuracy="accurate", payload=10.0)
     """
     graph = m.manifest.joints
