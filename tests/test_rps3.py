@@ -60,3 +60,36 @@ def test_every_mode_closes_in_its_legs_planes_and_inverts_back(m):
             checked += 1
     assert checked >= 16
     assert parasitic >= 4
+
+
+def test_a_pose_off_the_reachable_set_is_read_onto_it_and_invalid(m):
+    """A mode's pose moved 5 cm sideways and turned 0.2 rad about the vertical: every branch
+    invalid with the planes its joints leave named (this test's geometry: > 1e-6 of the legs'
+    size), and the values returned are the reachable pose with the given height and tilt R^T k
+    (the controlled coordinates the manifest names): a configuration that closes, its joints in
+    their planes (1e-12), the mode's own values where nothing was moved (1e-12)."""
+    assert "controlled: the height p . k and the tilt n = R^T k" in m.manifest.joints.motion.text
+    home = np.array([v.home for v in m.manifest.actuated])
+    modes = m.forward_pose_all(home + np.array([0.1, -0.05, 0.02]))
+    checked = 0
+    for k in range(int(modes.count)):
+        pose = modes.mode(k).pose
+        c, s = np.cos(0.2), np.sin(0.2)
+        off = pose.copy()
+        off[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ pose[:3, :3]
+        off[:2, 3] += 0.05
+        ik = m.inverse_pose(off, strict=False)
+        assert not ik.valid.any()
+        offsets = np.abs(((off[:3, 3] + R_P * RADIAL @ off[:3, :3].T - R_B * RADIAL) * TANGENT).sum(-1))
+        named = [int(n[3]) for n, failed in ik.failures.items() if n.endswith("plane_reachable") and failed.all()]
+        assert named and all(offsets[i - 1] > 1e-6 for i in named)
+        for branch in range(ik.actuated.shape[0]):
+            read = m.platform_pose(ik.actuated[branch], ik.passive[branch])
+            joints = read[:3, 3] + R_P * RADIAL @ read[:3, :3].T - R_B * RADIAL
+            assert np.abs((joints * TANGENT).sum(-1)).max() < 1e-12
+            assert np.abs(m.loop_closure(ik.actuated[branch], ik.passive[branch])["residual"]).max() < 1e-12
+            assert abs(read[2, 3] - off[2, 3]) < 1e-12 and np.abs(read[2, :3] - off[2, :3]).max() < 1e-12
+        same = m.inverse_pose(pose, strict=False)
+        assert np.abs(m.platform_pose(same.actuated[0], same.passive[0]) - pose).max() < 1e-12
+        checked += 1
+    assert checked >= 2
