@@ -457,8 +457,10 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
     coordinate): per root its cluster's first member (-1 where not ``unique``), and per input
     whether no two boxes overlap."""
     count = unique.shape[-1]
-    gap = abs(x[..., :, None, :] - x[..., None, :, :]) * (1 - 8 * UNIT)
-    apart = (gap > (r[..., :, None, :] + r[..., None, :, :]) * (1 + 8 * UNIT)).any(-1)
+    # coordinates first: the test over them is then over whole planes (n, ..., P, P)
+    xs, rs = (np.ascontiguousarray(np.moveaxis(v, -1, 0)) for v in (x, r))
+    gap = abs(xs[..., :, None] - xs[..., None, :]) * (1 - 8 * UNIT)
+    apart = (gap > (rs[..., :, None] + rs[..., None, :]) * (1 + 8 * UNIT)).any(0)
     touch = unique[..., :, None] & unique[..., None, :] & ~apart
     distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))
     # a box that touches no other is its own cluster; the closure is needed only where boxes touch

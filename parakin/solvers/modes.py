@@ -590,13 +590,14 @@ SAME_POSE_ROWS = 16
 def _pose_pairs(poses: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per input (k,) and pair of slots (s, t), t < s, both modes (``valid`` (k, slots)): whether
     their poses (k, slots, 4, 4) are one (``SAME_POSE``: rotations within it, positions within it
-    times the largest position of the input's modes)."""
+    times the largest position of the input's modes). The pose entries lead the temporaries, so
+    that the maxima over them are over whole planes (short trailing axes reduce slowly)."""
     slots = valid.shape[-1]
-    position = np.where(valid[..., None], np.abs(poses[..., :3, 3]), 0.0).max((-2, -1))
-    top = poses[..., :3, :].reshape(poses.shape[:-2] + (12,))  # rows of the rotation, then position
-    difference = np.abs(top[:, :, None, :] - top[:, None, :, :]).reshape(valid.shape + (slots, 3, 4))
-    rotation = difference[..., :3].max((-2, -1))
-    moved = difference[..., 3].max(-1)
+    planes = np.ascontiguousarray(np.moveaxis(poses[..., :3, :], (-2, -1), (0, 1)))  # (3, 4, k, slots)
+    position = np.where(valid, np.abs(planes[:, 3]), 0.0).max(0).max(-1)
+    difference = np.abs(planes[..., :, None] - planes[..., None, :])  # (3, 4, k, slots, slots)
+    rotation = difference[:, :3].max((0, 1))
+    moved = difference[:, 3].max(0)
     below = np.tri(slots, k=-1, dtype=bool)
     pair = valid[:, :, None] & valid[:, None, :] & below
     return pair & (rotation <= SAME_POSE) & (moved <= SAME_POSE * position[:, None, None])
