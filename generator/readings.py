@@ -25,6 +25,7 @@ is reachable.
 
 from __future__ import annotations
 
+import random
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -35,8 +36,17 @@ from .model import POSE_POSITION, POSE_ROTATION
 
 
 def _zero(expr: sp.Expr) -> bool:
-    """Whether an expression of the parameters (and free symbols) vanishes identically."""
-    return sp.simplify(sp.expand(expr)) == 0
+    """Whether an expression of the parameters (and free symbols) vanishes identically: at three
+    random points of its symbols (30 digits, within 1e-12: a design given in floating-point
+    numbers has rounding in it), a polynomial identity test for the rational expressions here."""
+    expr = sp.sympify(expr)
+    free = sorted(expr.free_symbols, key=str)
+    rng = random.Random(20261128)
+    for _ in range(3):
+        value = expr.xreplace({v: sp.Float(rng.uniform(0.5, 1.5), 30) for v in free}).evalf(30)
+        if not value.is_number or abs(complex(value)) > 1e-12:
+            return False
+    return True
 
 
 def _skew(v: sp.Matrix) -> sp.Matrix:
@@ -160,7 +170,9 @@ class AxisReading:
              for base, joint, normal in zip(self.bases, self.joints, self.normals, strict=True)),
             height * k,
         )  # fmt: skip
-        position = (solve * right).applyfunc(lambda entry: sp.factor_terms(sp.simplify(entry)))
+        position = solve * right
+        if self.symmetric:  # small (prs3: x = r_p turn (tilt11 - tilt22) / 2); elsewhere slow to simplify
+            position = position.applyfunc(lambda entry: sp.factor_terms(sp.simplify(entry)))
         steps += list(zip((x, y, z), position, strict=True))
         # the quaternion: Rot_k(pi)^h Rot_k(psi*) R0, q0 >= 0
         q = _product(q_turn, list(q_tilt))

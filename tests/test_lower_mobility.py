@@ -234,7 +234,7 @@ def test_prs3_declares_an_off_set_pose_valid_and_the_others_invalid():
 
 
 def test_the_derived_reading_returns_a_reachable_pose_with_the_given_height_and_tilt():
-    """The 3-RRS fixture's reading at 40 random poses (any rotation, any position; 30 digits): the
+    """The 3-RRS fixture's reading at 12 random poses (any rotation, any position; 30 digits): the
     pose it returns keeps every platform joint in its leg's plane (this test's geometry, 1e-15 m),
     has the given pose's height and tilt R^T k, is a rotation whose quaternion (q0 >= 0) is the
     one returned (1e-14: the input rotation's own rounding), and is the given pose itself where that was reachable (its own output, read
@@ -243,7 +243,7 @@ def test_the_derived_reading_returns_a_reachable_pose_with_the_given_height_and_
     run = numeric_inverse(module.MODEL, module.DEFAULTS)
     rng = np.random.default_rng(11)
     checked = 0
-    for _ in range(40):
+    for _ in range(12):
         rotation = Rotation.random(random_state=rng.integers(1 << 30)).as_matrix()
         if rng.uniform() < 0.5:  # and tilts below 90 deg
             rotation = Rotation.from_rotvec(rng.normal(scale=0.5, size=3)).as_matrix()
@@ -260,7 +260,7 @@ def test_the_derived_reading_returns_a_reachable_pose_with_the_given_height_and_
         again = run(np.array(read, dtype=float), np.array(p, dtype=float), (1, 1, 1))
         assert float((read_pose(again)[0] - read).norm()) < 1e-12 and float((read_pose(again)[1] - p).norm()) < 1e-12
         checked += 1
-    assert checked == 40
+    assert checked == 12
 
 
 def read_pose(values: dict) -> tuple[sp.Matrix, sp.Matrix]:
@@ -308,3 +308,69 @@ def test_rrs3_generated_poses_on_and_off_the_reachable_set(tmp_path):
             assert any(name.endswith("_plane_reachable") and mask.all() for name, mask in off.failures.items())
         checked += 1
     assert checked >= 6
+
+
+#: an asymmetric 3-RPS made up here: legs at 0, 120, 240 deg (r_b = 0.2 m), platform joints at
+#: other angles and radii, so that the turn that keeps the joints in their planes varies with the tilt
+ASYMMETRIC = {
+    "angles": (0.0, 2 * math.pi / 3, 4 * math.pi / 3),
+    "offsets": (0.4, -0.2, 1 / 3),
+    "radii": (0.1, 0.12, 0.08),
+}
+
+
+def asymmetric_geometry() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A_i, u_i, c_i) of ASYMMETRIC, one row per leg, in NumPy."""
+    theta = np.array(ASYMMETRIC["angles"])
+    twist = theta + np.array(ASYMMETRIC["offsets"])
+    bases = 0.2 * np.stack([np.cos(theta), np.sin(theta), np.zeros(3)], 1)
+    normals = np.stack([-np.sin(theta), np.cos(theta), np.zeros(3)], 1)
+    platform_joints = np.array(ASYMMETRIC["radii"])[:, None] * np.stack([np.cos(twist), np.sin(twist), np.zeros(3)], 1)
+    return bases, normals, platform_joints
+
+
+def test_an_asymmetric_design_reads_the_turn_its_planes_force():
+    """The asymmetric 3-RPS: the reading is derived (not the symmetric case), and at 16 random
+    poses it returns a pose in the planes (this test's geometry, 1e-15 m) with the given height and
+    tilt; a reachable pose found independently (scipy's root finder on the three plane equations
+    in x, y and a turn about the vertical from the given pose) reads as itself (1e-12), the two
+    turns half a turn apart both occurring."""
+    from scipy.optimize import fsolve
+
+    bases, normals, platform_joints = asymmetric_geometry()
+    lengths = sp.symbols("l1:4", positive=True)
+    legs = [
+        joints.prismatic_leg(sp.Matrix(a), sp.Matrix(c), length, revolute_axis=sp.Matrix(u))
+        for a, u, c, length in zip(bases, normals, platform_joints, lengths, strict=True)
+    ]
+    model = joints.DistanceMechanism(joints.platform("transform"), legs)
+    assert model.reading is not None and not model.reading.symmetric
+    run = numeric_inverse(model, {})
+
+    def offsets(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
+        return ((position + platform_joints @ rotation.T - bases) * normals).sum(-1)
+
+    def turned(angle: float) -> np.ndarray:
+        return Rotation.from_rotvec([0.0, 0.0, angle]).as_matrix()
+
+    rng = np.random.default_rng(12)
+    turns, checked = set(), 0
+    for _ in range(16):
+        rotation = Rotation.from_rotvec(rng.normal(scale=0.5, size=3)).as_matrix()
+        position = np.array([*rng.normal(scale=0.05, size=2), rng.uniform(0.1, 0.4)])
+        read, p = (np.array(v, dtype=float) for v in read_pose(run(rotation, position, ())))
+        assert np.abs(offsets(read, p.ravel())).max() < 1e-15
+        assert abs(p[2, 0] - position[2]) < 1e-15 and np.abs(read[2] - rotation[2]).max() < 1e-14
+        start = float(rng.uniform(-np.pi, np.pi))
+
+        def planes(unknowns: np.ndarray, rotation: np.ndarray = rotation, height: float = position[2]) -> np.ndarray:
+            return offsets(turned(unknowns[2]) @ rotation, np.array([unknowns[0], unknowns[1], height]))
+
+        x, y, angle = fsolve(planes, [0.0, 0.0, start], xtol=1e-14)
+        reachable = turned(angle) @ rotation
+        assert np.abs(planes(np.array([x, y, angle]))).max() < 1e-14
+        again, q = (np.array(v, dtype=float) for v in read_pose(run(reachable, np.array([x, y, position[2]]), ())))
+        assert np.abs(again - reachable).max() < 1e-12 and np.abs(q.ravel() - [x, y, position[2]]).max() < 1e-12
+        turns.add(int(np.sign(np.trace(reachable @ read.T) - 1 + 1e-9)))  # the same turn or half a turn apart
+        checked += 1
+    assert checked == 16 and turns == {-1, 1}
