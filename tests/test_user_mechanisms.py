@@ -97,8 +97,9 @@ def two_circles(s1: float, s2: float, l1: float, l2: float) -> list[tuple[float,
 def test_biglide_modes_are_the_two_circles_meeting_and_certified_complete(biglide_folder: Path, links) -> None:
     l1, l2 = links
     m = parakin.load(biglide_folder, backend="numpy", L1=l1, L2=l2)
-    root_count = m.capabilities.forward_methods["automatic"].homotopy.root_count
-    assert root_count.count == 2 and root_count.proven  # two circles meet in two points
+    homotopy = m.capabilities.forward_methods["automatic"].homotopy
+    assert homotopy is not None and homotopy.root_count is not None
+    assert homotopy.root_count.count == 2 and homotopy.root_count.proven  # two circles meet in two points
     rng = np.random.default_rng(7)
     inputs = rng.uniform(-0.9, 0.9, (40, 2))
     modes = m.forward_pose_all(inputs)
