@@ -65,7 +65,8 @@ class Certificate:
     about the centre inside that box; ``real`` +1 that root is certified real (in the real chart
     for homogeneous unknowns), -1 certified non-real, 0 undecided; per input, ``distinct`` no two
     certified boxes overlap, ``certified_distinct`` the number of clusters of overlapping certified
-    boxes (a lower bound on the number of distinct roots)."""
+    boxes (a lower bound on the number of distinct roots), and ``labels`` (..., P) per root its
+    cluster's first member (-1 where not ``unique``: ``cluster_labels``)."""
 
     unique: NDArray[np.bool_]
     radius: NDArray[np.float64]
@@ -74,6 +75,7 @@ class Certificate:
     certified_distinct: NDArray[np.int64]
     center: NDArray[np.complex128]
     radii: NDArray[np.float64]
+    labels: NDArray[np.intp] | None = None
 
 
 #: a polynomial map is evaluated through a dense per-input table of monomial by output (a matrix
@@ -340,13 +342,14 @@ def certify_roots(
         unique, radius, code, x = _certify(scaled, exponents, equation, w, real_coefficients, None, None, unit=0.5)
         scale = np.ldexp(1.0, k)
         centre, radii = x[..., 0, :] * scale, radius[..., 0, None] * scale
-        distinct, count = distinct_clusters(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
+        labels, distinct = cluster_labels(centre, np.where(unique[..., 0, None], radii, 0.0), unique[..., 0])
         inner = radius[..., 0] * scale.min(-1)
-        return Certificate(unique[..., 0], inner, code[..., 0], distinct, count, centre, radii)
+        count = _cluster_count(labels)
+        return Certificate(unique[..., 0], inner, code[..., 0], distinct, count, centre, radii, labels)
     unique, radius, code, x = _certify(c, exponents, equation, z, real_coefficients, homogeneous, patch_equation)
     radii = radius[..., None] * np.ones(n)
-    distinct, count = distinct_clusters(x, np.where(unique[..., None], radii, 0.0), unique)
-    return Certificate(unique, radius, code, distinct, count, x, radii)
+    labels, distinct = cluster_labels(x, np.where(unique[..., None], radii, 0.0), unique)
+    return Certificate(unique, radius, code, distinct, _cluster_count(labels), x, radii, labels)
 
 
 def _certify(
@@ -478,7 +481,12 @@ def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple
     """Disjointness of the certified boxes (centres x (..., P, n), radii r (..., P, n) per
     coordinate) and the number of connected clusters of overlapping ones."""
     labels, distinct = cluster_labels(x, r, unique)
-    return distinct, (labels == np.arange(unique.shape[-1])).sum(-1)
+    return distinct, _cluster_count(labels)
+
+
+def _cluster_count(labels: np.ndarray) -> np.ndarray:
+    """The clusters of ``cluster_labels``' labels (..., P): the roots that are their cluster's first."""
+    return (labels == np.arange(labels.shape[-1])).sum(-1)
 
 
 def _certify_arguments(
@@ -553,7 +561,7 @@ def certify_roots_compiled(
     Returns
     -------
     Certificate
-        As ``certify_roots``: unique, radius, real, distinct, certified_distinct, center, radii.
+        As ``certify_roots``: unique, radius, real, distinct, certified_distinct, center, radii, labels.
 
     Raises
     ------
@@ -588,14 +596,15 @@ def certify_roots_compiled(
     if library.certify(ctypes.byref(job)) != 0:
         raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
     known = unique.astype(bool)
-    distinct, count = distinct_clusters(centre, np.where(known[..., None], radii, 0.0), known)
+    labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known)
     shape = batch + (paths,)
     return Certificate(
         known.reshape(shape),
         radius.reshape(shape),
         real.astype(np.int8).reshape(shape),
         distinct.reshape(batch)[()],  # a scalar for one system, as certify_roots
-        count.reshape(batch)[()],
+        _cluster_count(labels).reshape(batch)[()],
         centre.reshape(shape + (n,)),
         radii.reshape(shape + (n,)),
+        labels.reshape(shape),
     )

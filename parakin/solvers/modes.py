@@ -28,7 +28,6 @@ from parakin.solvers.certify import (
     certify_roots,
     certify_roots_compiled,
     cluster_labels,
-    distinct_clusters,
     homogeneous_group,
 )
 from parakin.solvers.exact_certify import certify_root_exactly, realness_in_chart
@@ -446,13 +445,16 @@ class PathCertificate(NamedTuple):
     overlapping Krawczyk boxes, a lower bound on the roots; complete where it equals the root
     count); per path (n, P): ``unique`` its box holds exactly one root, ``real`` +1 that root is
     certified real, -1 certified non-real, 0 undecided; ``centre`` (n, P, n_z) and ``radii``
-    (n, P, n_z) the box (NaN where not ``unique``)."""
+    (n, P, n_z) the box (NaN where not ``unique``); ``labels`` (n, P) the cluster of overlapping
+    boxes each path's belongs to, by its first member (-1 where not ``unique``:
+    ``certify.cluster_labels``), kept with the boxes wherever they change (``_recount``)."""
 
     certified: np.ndarray
     unique: np.ndarray
     real: np.ndarray
     centre: np.ndarray
     radii: np.ndarray
+    labels: np.ndarray
 
     def rows(self, index: np.ndarray) -> PathCertificate:
         return PathCertificate(*(value[index] for value in self))
@@ -504,9 +506,11 @@ def certify_inputs(
     result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired, m.backend)
     # the certificate's arrays are its own (fresh from the test): updated in place from here
     counts, unique, real = result.certified_distinct.copy(), result.unique, result.real
-    centre, radii = result.center, result.radii
+    centre, radii, labels = result.center, result.radii, result.labels
+    if labels is None:  # a certificate without its clusters' labels
+        labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
     if not exact or homotopy.root_count is None:
-        return PathCertificate(counts, unique, real, centre, radii)
+        return PathCertificate(counts, unique, real, centre, radii, labels)
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
@@ -538,8 +542,9 @@ def certify_inputs(
                 # the same root: the exact polydisc lies inside the box, coordinate by coordinate
                 # (each box radius is in its coordinate's own size), and the box holds one root
                 real[i, p] = exact_box.real
-        counts[i] = int(distinct_clusters(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[1])
-    return PathCertificate(counts, unique, real, centre, radii)
+        labels[i] = cluster_labels(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[0]
+        counts[i] = int((labels[i] == np.arange(labels.shape[-1])).sum())
+    return PathCertificate(counts, unique, real, centre, radii, labels)
 
 
 def _configuration(m: Mechanism, info: Forward, theta: Array, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -619,9 +624,8 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     # the arrays changed here are copies (the caller's stay as they were); the others are shared
     out = dict(out, outcome=out["outcome"].copy(), root_kind=out["root_kind"].copy())
     outcome, kind = out["outcome"], out["root_kind"]
-    radii = np.where(cert.unique[..., None], cert.radii, 0.0)
-    labels, distinct = cluster_labels(cert.centre, radii, cert.unique)
-    if distinct.all():  # every certified box its own group: the group's root is the slot's
+    labels = cert.labels
+    if (labels == np.where(cert.unique, np.arange(paths), -1)).all():  # no two boxes overlap
         first = cert.unique
         real = first & (cert.real == 1)
         nonreal = first & (cert.real == -1)
@@ -761,7 +765,9 @@ def _recount(found: PathCertificate, rows: np.ndarray) -> None:
     if rows.size:
         unique = found.unique[rows]
         radii = np.where(unique[..., None], found.radii[rows], 0.0)
-        found.certified[rows] = distinct_clusters(found.centre[rows], radii, unique)[1]
+        labels = cluster_labels(found.centre[rows], radii, unique)[0]
+        found.labels[rows] = labels
+        found.certified[rows] = (labels == np.arange(labels.shape[-1])).sum(-1)
 
 
 def merge_roots(
@@ -865,8 +871,9 @@ def _certify_endpoints(
     source = np.ix_(np.nonzero(paired)[0], first)
     unique[mirror], real[mirror], radius[mirror] = unique[source], real[source], radius[source]
     centre[mirror], radii[mirror] = centre[source] * pairs.flip, radii[source]
-    distinct, count = distinct_clusters(centre, np.where(unique[..., None], radii, 0.0), unique)
-    return Certificate(unique, radius, real, distinct, count, centre, radii)
+    labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
+    count = (labels == np.arange(paths)).sum(-1)
+    return Certificate(unique, radius, real, distinct, count, centre, radii, labels)
 
 
 def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, info: Forward) -> Paths:
