@@ -884,8 +884,7 @@ class Mechanism:
         if unit_free is None:
             return self._every_mode_here(info, flat, exact)
         scaled, unit = unit_free
-        length_actuated = np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool)
-        length_passive = np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool)
+        length_actuated, length_passive = self._length_variables
         out = scaled._every_mode_here(info, np.where(length_actuated, flat / unit, flat), exact)
         out["passive"] = np.where(length_passive, out["passive"] * unit, out["passive"])
         out["poses"][..., :3, 3] *= unit
@@ -896,6 +895,14 @@ class Mechanism:
             residual = self.backend.call("loop_closure", flat[rows], out["passive"][rows, slots], self.params)
             out["residual"][rows, slots] = np.abs(residual["residual"]).max(-1, initial=0.0)
         return out
+
+    @functools.cached_property
+    def _length_variables(self) -> tuple[Array, Array]:
+        """Masks of the actuated (n_a,) and passive (n_p,) variables that are lengths (unit m)."""
+        return (
+            np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool),
+            np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool),
+        )
 
     @functools.cached_property
     def _unit_free(self) -> tuple[Mechanism, float] | None:
