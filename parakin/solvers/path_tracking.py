@@ -208,15 +208,6 @@ def hermite_predict(
     return np.where(history[:, None], cubic, euler)
 
 
-def _c_divide(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a / b as the C runtime divides (complex.h's c_div: a times conj(b) / |b|^2), so that the
-    NumPy reference rounds as the C tracker does."""
-    d = b.real * b.real + b.imag * b.imag
-    inverse = np.empty(np.broadcast(a, b).shape, dtype=complex)
-    inverse.real, inverse.imag = b.real / d, -b.imag / d
-    return a * inverse
-
-
 def rational_predict(
     history: np.ndarray,
     s0: np.ndarray,
@@ -234,13 +225,14 @@ def rational_predict(
         r(t) = (z1 + (v1 + q z1) t + p2 t^2) / (1 + q t),
 
     with r = z and r' = v at t = 0 and t = a = s0 - s1: with the secant d = (z0 - z1) / a,
-    q = (v0 + v1 - 2 d) / (a (d - v0)) and p2 = (d - v1) / a + q d. Of the cubic's order (error
-    ~ step^4), and exact on a simple pole z = c / (s - s*) + b (a path passing near a singular
-    point of the homotopy, or heading to infinity), where polynomials need tiny steps. An
-    unknown whose interpolant is not finite, or whose denominator |1 + q t| comes within
-    ``RATIONAL_GUARD`` of 0 between s1 and ``target``, takes the cubic Hermite value
-    (``hermite_predict``); Euler where ``history`` is False. The C tracker's ``predict``
-    (generator/runtime/tracker.h), operation for operation.
+    q = n / m, n = v0 + v1 - 2 d, m = a (d - v0), and p2 = (d - v1) / a + q d; evaluated as
+    r = (m (z1 + v1 t + (d - v1) t^2 / a) + n (z1 t + d t^2)) / (m + n t), one division. Of the
+    cubic's order (error ~ step^4), and exact on a simple pole z = c / (s - s*) + b (a path
+    passing near a singular point of the homotopy, or heading to infinity), where polynomials
+    need tiny steps. An unknown whose interpolant is not finite, or whose denominator
+    |1 + q t'| comes within ``RATIONAL_GUARD`` of 0 for t' between 0 and t, takes the cubic
+    Hermite value (``hermite_predict``); Euler where ``history`` is False. The C tracker's
+    ``predict`` (generator/runtime/tracker.h), operation for operation.
 
     Parameters
     ----------
@@ -272,20 +264,33 @@ def rational_predict(
     cubic = hermite_predict(history, s0, z0, v0, s1, z1, v1, target)
     a = np.where(history, s0 - s1, 1.0)[:, None]
     t = (target - s1)[:, None]
+    inverse, t2 = 1.0 / a, t * t
+    guard = RATIONAL_GUARD * RATIONAL_GUARD
+    # in real and imaginary parts, each operation as the C's (complex.h), so that both round alike
+    # (NumPy's complex product may fuse or reorder)
+    z0r, z0i, z1r, z1i = z0.real, z0.imag, z1.real, z1.imag
+    v0r, v0i, v1r, v1i = v0.real, v0.imag, v1.real, v1.imag
     with np.errstate(all="ignore"):
-        secant = (1.0 / a) * (z0 - z1)
-        q = _c_divide((v0 + v1) - 2.0 * secant, a * (secant - v0))
-        p2 = (1.0 / a) * (secant - v1) + q * secant
-        w = t * q
-        ww = w.real * w.real + w.imag * w.imag
-        along = np.where(ww > 0.0, np.minimum(1.0, np.maximum(0.0, -w.real / np.where(ww > 0.0, ww, 1.0))), 0.0)
-        low = np.empty(w.shape, dtype=complex)
-        low.real, low.imag = 1.0 + along * w.real, along * w.imag
-        numerator = (z1 + t * (v1 + q * z1)) + (t * t) * p2
-        denominator = np.empty(w.shape, dtype=complex)
-        denominator.real, denominator.imag = 1.0 + w.real, w.imag
-        rational = _c_divide(numerator, denominator)
-        usable = np.isfinite(rational) & (np.abs(low) > RATIONAL_GUARD) & history[:, None]
+        dr, di = inverse * (z0r - z1r), inverse * (z0i - z1i)
+        nr, ni = (v0r + v1r) - 2.0 * dr, (v0i + v1i) - 2.0 * di
+        mr, mi = a * (dr - v0r), a * (di - v0i)
+        c = t2 * inverse
+        qr = (z1r + t * v1r) + c * (dr - v1r)
+        qi = (z1i + t * v1i) + c * (di - v1i)
+        wr, wi = t * z1r + t2 * dr, t * z1i + t2 * di
+        above_r = (mr * qr - mi * qi) + (nr * wr - ni * wi)
+        above_i = (mr * qi + mi * qr) + (nr * wi + ni * wr)
+        below_r, below_i = mr + t * nr, mi + t * ni
+        mm, nn, mn = mr * mr + mi * mi, nr * nr + ni * ni, mr * nr + mi * ni
+        positive = t2 * nn > 0.0
+        along = np.where(positive, -(t * mn) / np.where(positive, t2 * nn, 1.0), 0.0)
+        along = np.where(along < 0.0, 0.0, np.where(along > 1.0, 1.0, along))
+        least = mm + 2.0 * along * t * mn + along * along * t2 * nn
+        scale = 1.0 / (below_r * below_r + below_i * below_i)
+        rational = np.empty(z1.shape, dtype=complex)
+        rational.real = (above_r * below_r + above_i * below_i) * scale
+        rational.imag = (above_i * below_r - above_r * below_i) * scale
+        usable = (least > guard * mm) & np.isfinite(rational) & history[:, None]
     return np.where(usable, rational, cubic)
 
 
