@@ -133,9 +133,9 @@ def is_rigid(pose: np.ndarray, tolerance: float = 1e-9) -> bool:
 # ---------------------------------------------------------------------------- scales
 def length_scale(m: Mechanism) -> float:
     """A characteristic length: the home platform distance from {B}, else the largest home
-    value of a prismatic joint, else 1 (metres)."""
+    value of a length (a quaternion's unit components are not lengths), else 1 (metres)."""
     position = float(np.linalg.norm(home_pose(m)[:3, 3]))
-    lengths = [abs(v.home or 0.0) for v in (*m.manifest.actuated, *m.manifest.passive) if not v.revolute]
+    lengths = [abs(v.home or 0.0) for v in (*m.manifest.actuated, *m.manifest.passive) if v.kind == "prismatic"]
     return max(position, *lengths, 0.0) or 1.0
 
 
