@@ -33,6 +33,14 @@ class ArchitectureSingularityWarning(UserWarning):
     """The loaded geometry is singular at every pose (an architecture singularity): unusable."""
 
 
+class NearSingularModeWarning(UserWarning):
+    """The MJCF export (``parakin.mjcf.to_mjcf``) wrote keyframes of assembly modes near a type II
+    (parallel) singularity: the message names them and the range of their measure (1/cond of the
+    closure Jacobian, below ``parakin.singularity.NEAR_SINGULAR``); each such keyframe's XML comment
+    gives its own value. There the actuators barely hold the platform: a simulation from it may
+    drift or not come to rest."""
+
+
 class BrokenPackageError(BadInputError):
     """A package's manifest fails its checks (a missing field, a value of the wrong type, shape or
     range): the message names the field's path and the bad value. Such a package is skipped by

@@ -40,12 +40,12 @@
   ``ctrl`` the actuated values: the platform placed at the mode's pose and every leg's passive
   joints solved by Newton (from the home) so that each cut closes (residual <= 1e-12 m).
 * **Near-singular modes.** A keyframe whose mode is near a type II (parallel) singularity, its
-  ``type II`` distance (``parakin.interfaces.plot.singularity_distance``: 1/cond of the closure
-  Jacobian d closure / d passive, the measure ``parakin plot`` labels) below ``NEAR_SINGULAR``
-  (0.02), carries an XML comment with the measure and what it means, and ``to_mjcf`` warns once
-  (``NearSingularModeWarning``, one ``parakin: warning:`` line from ``parakin mjcf``): there the
-  actuators barely hold the platform, which a small load moves far, so the simulation may drift
-  or not come to rest.
+  ``type II`` distance (``parakin.singularity.type_ii_distance``: 1/cond of the closure Jacobian
+  d closure / d passive, the measure ``parakin plot`` labels and ``parakin sweep`` maps) below
+  ``parakin.singularity.NEAR_SINGULAR`` (0.02), carries an XML comment with the measure and what
+  it means, and ``to_mjcf`` warns once (``parakin.errors.NearSingularModeWarning``, one
+  ``parakin: warning:`` line from ``parakin mjcf``): there the actuators barely hold the
+  platform, which a small load moves far, so the simulation may drift or not come to rest.
 * **Simulation presets** (``accuracy``): "fast", 1 ms steps and connects of time constant two
   steps (``solref``), ``implicitfast``; "accurate", 0.2 ms and a stiff ``solimp`` (0.99 0.999).
   The gap the loops open under load is written in the file's header (measured on a regular
@@ -86,12 +86,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.errors import BadInputError, ConvergenceError, SingularConfigurationError, UnsupportedOperationError
-from parakin.interfaces.plot import NEAR_SINGULAR, singularity_distance
+from parakin.errors import (
+    BadInputError,
+    ConvergenceError,
+    NearSingularModeWarning,
+    SingularConfigurationError,
+    UnsupportedOperationError,
+)
 from parakin.packages.expression import evaluate
 from parakin.packages.manifest import GraphJoint, GraphLeg, JointGraph
 from parakin.pose import axis_rotation
 from parakin.results import Configuration
+from parakin.singularity import NEAR_SINGULAR, type_ii_distance
 
 if TYPE_CHECKING:
     from parakin.solvers.loaded import LoadedMechanism as Mechanism
@@ -115,12 +121,6 @@ GRAVITY = 9.80665
 PLANAR_KINDS = ("planar", "planar_translation")
 #: a link mass (kg) for every link, or body name -> mass or rigid body (``to_mjcf``'s link_mass)
 LinkMass = float | Mapping[str, Any]
-
-
-class NearSingularModeWarning(UserWarning):
-    """Keyframes of assembly modes near a type II (parallel) singularity: the message names them
-    and the range of their measure (1/cond of the closure Jacobian, below ``NEAR_SINGULAR``); each
-    such keyframe's XML comment gives its own value."""
 
 
 @dataclass(frozen=True)
@@ -1045,9 +1045,13 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
     rotates = any(name.startswith("w") for name in twist)
     ctrl = _numbers(chosen) if actuator == "position" else _numbers(np.zeros(len(chosen)))
     keys: list[str] = []
+    configurations = [found.mode(k) for k in wanted]
+    # every wanted mode's type II distance at once (none for a mechanism without a loop to close)
+    measured = type_ii_distance(m, _stacked(configurations)) if configurations else None
+    distances = dict(zip(wanted, measured.tolist(), strict=True)) if measured is not None else {}
     near: dict[int, float] = {}  # mode -> its type II distance, where below NEAR_SINGULAR
-    for k in wanted:
-        pose = np.asarray(found.mode(k).pose, dtype=float)
+    for k, configuration in zip(wanted, configurations, strict=True):
+        pose = np.asarray(configuration.pose, dtype=float)
         data = mujoco.MjData(model)
         data.qpos[actuated_qpos] = chosen
         if free_id >= 0:
@@ -1062,10 +1066,9 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
                 residual=residual,
             )
         data.qpos[actuated_qpos] = chosen
-        measure = singularity_distance(m, found.mode(k)).get("type II")
-        if measure is not None and measure < NEAR_SINGULAR:
-            near[k] = measure
-            keys.append(f"    <!-- {_near_singular_note(k, measure)} -->")
+        if distances.get(k, math.nan) < NEAR_SINGULAR:  # NaN (a Jacobian not finite): no verdict
+            near[k] = distances[k]
+            keys.append(f"    <!-- {_near_singular_note(k, distances[k])} -->")
         keys.append(f'    <key name="mode{k}" qpos="{_numbers(data.qpos)}" ctrl="{ctrl}"/>')
     if near:
         values = sorted(near.values())
@@ -1081,6 +1084,13 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
             stacklevel=3,
         )
     return keys
+
+
+def _stacked(configurations: Sequence[Configuration]) -> Configuration:
+    """Configurations of one input, one after the other along a new first axis: a batch (k, ...)."""
+    return Configuration(
+        *(np.stack([np.asarray(getattr(c, part)) for c in configurations]) for part in ("actuated", "passive", "pose"))
+    )
 
 
 def _near_singular_note(k: int, measure: float) -> str:
@@ -1143,4 +1153,4 @@ def run(args: argparse.Namespace, m: Mechanism) -> int:
     return 0
 
 
-__all__ = ["NEAR_SINGULAR", "PRESETS", "NearSingularModeWarning", "Preset", "add_arguments", "run", "to_mjcf"]
+__all__ = ["PRESETS", "Preset", "add_arguments", "run", "to_mjcf"]

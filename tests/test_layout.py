@@ -150,7 +150,7 @@ def test_the_runtime_has_no_import_circle():
 #: on them: the Mechanism with parakin.load (the facade), design studies and interfaces
 LOWER_PARTS = ("foundation", "packages", "solvers")
 #: the model's facade and the algorithms over a loaded mechanism beside it (dynamics, the MJCF
-#: export, the MuJoCo bridge), which the Mechanism's methods call
+#: export, the MuJoCo bridge, the distances to singularity), which the Mechanism's methods call
 FACADE = {
     "parakin",
     "parakin.__main__",
@@ -159,6 +159,7 @@ FACADE = {
     "parakin.dynamics",
     "parakin.mjcf",
     "parakin.mujoco_bridge",
+    "parakin.singularity",
 }
 
 
@@ -184,6 +185,33 @@ def test_the_lower_parts_import_nothing_above_them():
     )
     assert upward == [], "\n".join(upward)
     assert sum(parts[m] in LOWER_PARTS for m in graph) >= 20
+
+
+#: the facade's algorithms beside the Mechanism: built on the loaded mechanism alone, they serve
+#: the studies and interfaces and import none of them (the Mechanism's own methods may: m.plot)
+FACADE_ALGORITHMS = (
+    "parakin.loading",
+    "parakin.dynamics",
+    "parakin.mjcf",
+    "parakin.mujoco_bridge",
+    "parakin.singularity",
+)
+
+
+def test_the_facades_algorithms_import_no_study_or_interface():
+    """The MJCF export takes its near-singular measure from parakin.singularity, not from the
+    plot interface; no algorithm beside the Mechanism imports a study, the calibration or an
+    interface."""
+    graph = import_graph()
+    assert set(FACADE_ALGORITHMS) <= set(graph) and set(FACADE_ALGORITHMS) <= FACADE
+    upward = sorted(
+        f"{module} -> {target}"
+        for module in FACADE_ALGORITHMS
+        for target in graph[module]
+        if _part(target) in ("studies", "calibration", "interfaces")
+    )
+    assert upward == [], "\n".join(upward)
+    assert "parakin.singularity" in graph["parakin.mjcf"]  # the edges were read
 
 
 def test_the_circle_finder_finds_circles(tmp_path):

@@ -1,7 +1,7 @@
 """The MJCF export warns of keyframes near a type II singularity (issue 36's review: stewart's
 near-singular keyframes drift in simulation and the file did not say so).
 
-The measure is the one ``parakin plot`` labels "type II" (``parakin.interfaces.plot.
+The measure is the one ``parakin plot`` labels "type II" (``parakin.singularity.
 singularity_distance``: 1/cond of the closure Jacobian d closure / d passive); here it is checked
 against an independent computation: central finite differences of the closure residual and
 NumPy's ``cond``. Which modes are near-singular is decided from the finite differences alone.
@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.interfaces.plot import NEAR_SINGULAR, singularity_distance
+from parakin.errors import NearSingularModeWarning
+from parakin.singularity import NEAR_SINGULAR, singularity_distance
 
 mujoco = pytest.importorskip("mujoco")
 from parakin import mjcf  # noqa: E402
@@ -73,7 +74,7 @@ def test_a_near_singular_keyframe_carries_the_warning_and_a_regular_one_does_not
     m, _, measured = stewart
     bad, good = int(np.argmin(measured)), int(np.argmax(measured))
     assert measured[bad] < NEAR_SINGULAR < measured[good]
-    with pytest.warns(mjcf.NearSingularModeWarning) as caught:
+    with pytest.warns(NearSingularModeWarning) as caught:
         text = mjcf.to_mjcf(m, modes=[bad, good])
     assert mujoco.MjModel.from_xml_string(text).nkey == 2
     note = comment_before(text, bad)
@@ -119,7 +120,7 @@ def test_near_singular_keyframes_drift_and_regular_ones_settle_under_stiff_servo
     order = np.argsort(measured)
     worst, best = order[:5].tolist(), order[-5:].tolist()
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", mjcf.NearSingularModeWarning)
+        warnings.simplefilter("ignore", NearSingularModeWarning)
         model = mujoco.MjModel.from_xml_string(mjcf.to_mjcf(m, kp=1e6))
     data = mujoco.MjData(model)
     chain = bridge.closed_chain(model, m.actuated_names, "platform")

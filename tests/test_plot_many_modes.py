@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.interfaces.plot import MAX_PANELS, NEAR_COLOUR, NEAR_SINGULAR, numbers_text
+from parakin.interfaces.plot import MAX_PANELS, NEAR_COLOUR, numbers_text
+from parakin.singularity import NEAR_SINGULAR
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

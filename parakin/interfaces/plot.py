@@ -15,10 +15,11 @@ How a drawing is drawn comes from the package alone (``compose_scene``):
   circles, each no wider than a share of the segments it ends (``marker_sizes``: a small
   platform is not hidden under its joints); in 3-D the parts are drawn in that order, not by
   depth; a legend names the parts;
-- every panel shows the distance to singularity: ``type II`` (1/cond of the loop-closure Jacobian)
-  and ``type I`` (1/cond of the rate model's B, or of the worst leg Jacobian), 1 far, 0 singular;
-  a grid's panel below ``NEAR_SINGULAR`` in type II is titled in red, "near-singular" (the MJCF
-  export warns of such keyframes with the same measure).
+- every panel shows the distance to singularity (``parakin.singularity``): ``type II`` (1/cond of
+  the loop-closure Jacobian) and ``type I`` (1/cond of the rate model's B, or of the worst leg
+  Jacobian), 1 far, 0 singular; a grid's panel below ``NEAR_SINGULAR`` in type II is titled in
+  red, "near-singular" (the MJCF export warns of such keyframes with the same measure and level,
+  and ``parakin sweep`` maps it).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from parakin.errors import (
 )
 from parakin.packages.manifest import DRAWING_PARTS
 from parakin.results import Array, AssemblyModes, Configuration
+from parakin.singularity import NEAR_SINGULAR, is_near_singular, singularity_distance
 
 if TYPE_CHECKING:
     from parakin.solvers.loaded import LoadedMechanism
@@ -93,44 +95,9 @@ class Scene:
     high: Array
 
 
-#: a distance to singularity (``singularity_distance``, 1/cond) below this is near a singularity: the
-#: grid's panels and the MJCF export's keyframes say so (``parakin sweep``'s maps draw this level)
-NEAR_SINGULAR = 0.02
-
-
-def _inverse_condition(matrix: Array) -> float:
-    values = np.linalg.svd(matrix, compute_uv=False)
-    return float(values[-1] / values[0]) if values[0] > 0 else 0.0
-
-
-def singularity_distance(m: LoadedMechanism, config: Configuration) -> dict[str, float]:
-    """Distance to singularity of one configuration, as ``parakin sweep`` measures it (1 far,
-    0 singular): ``type II`` is 1/cond of the loop-closure Jacobian d closure / d passive (a parallel
-    singularity), ``type I`` 1/cond of the rate model's B (A twist = B actuated rates), or of the
-    worst leg Jacobian (a serial singularity). A measure the mechanism lacks is left out."""
-    out: dict[str, float] = {}
-    try:
-        if m.passive_names:
-            out["type II"] = _inverse_condition(m.loop_closure(config.actuated, config.passive)["jacobian"])
-        if m.capabilities.rates is not None:
-            out["type I"] = _inverse_condition(m.rate_jacobians(config)["b"])
-        elif m.capabilities.legs:
-            out["type I"] = min(_inverse_condition(j) for j in m.leg_jacobians(config).values())
-    except ParakinError:  # a measure undefined here (non-finite model values): not shown
-        pass
-    return out
-
-
 def distance_text(distance: dict[str, float]) -> str:
     """'type II 0.012 · type I 0.31' (1/cond: 0 at a singularity), or '' without measures."""
     return " · ".join(f"{name} {value:.2g}" for name, value in distance.items())
-
-
-def is_near_singular(distance: dict[str, float]) -> bool:
-    """Whether a configuration's type II distance (``singularity_distance``) is below
-    ``NEAR_SINGULAR``: near a parallel singularity (the actuators barely hold the platform)."""
-    value = distance.get("type II")
-    return value is not None and value < NEAR_SINGULAR
 
 
 def numbers_text(numbers: Sequence[int]) -> str:

@@ -22,6 +22,7 @@ import numpy as np
 
 from parakin.errors import BadInputError
 from parakin.interfaces.plot import _pyplot
+from parakin.singularity import NEAR_SINGULAR
 
 if TYPE_CHECKING:
     import xarray
@@ -36,8 +37,6 @@ HATCHES = ("//", "\\\\", "xx", "..", "++")
 
 #: the grey of values that are not defined (an unreachable pose), and of flagged regions under their hatch
 MISSING_GREY = "0.85"
-#: the level of a singularity distance drawn as a contour: closer than this is near a singularity
-NEAR_SINGULAR = 0.02
 #: pose-space quantities: a value is missing exactly where the pose is unreachable
 POSE_SPACE = ("reachable", "branches", "type_i_distance", "type_ii_distance")
 

@@ -17,7 +17,8 @@ pose space (one configuration per inverse branch; ``branch`` picks one, default 
 - ``type_i_distance``: 1/cond of the matrix that maps actuated rates to the twist's inverse (B of
   A twist = B rates, or the worst leg Jacobian): 0 at a serial (type I) singularity;
 - ``type_ii_distance``: 1/cond of the closure Jacobian d closure / d passive: 0 at a parallel
-  (type II) singularity (both NaN where the pose is unreachable);
+  (type II) singularity (both NaN where the pose is unreachable or the matrix not finite; the
+  measures of ``parakin.singularity``, which ``parakin plot`` labels and the MJCF export warns by);
 actuated space:
 - ``modes``: the number of real assembly modes (``forward_pose_all``), NaN where it is not
   defined, with ``modes_status`` saying why (codes of the manifest's ``abi.input_status``, named in
@@ -74,6 +75,7 @@ import numpy as np
 from parakin.errors import ArchitectureSingularityWarning, BadInputError, StoreInUseError, UnsupportedOperationError
 from parakin.log import progress as bar_over
 from parakin.pose import POSE_KINDS
+from parakin.singularity import type_i_distance, type_ii_distance
 from parakin.validation import as_array
 
 if TYPE_CHECKING:
@@ -147,14 +149,6 @@ def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
     return pose_from_xyz_euler(six)
 
 
-def _inverse_condition(matrix: np.ndarray) -> np.ndarray:
-    """sigma_min / sigma_max per matrix (..., r, c); NaN where not finite."""
-    finite = np.isfinite(matrix).all(axis=(-2, -1))
-    values = np.linalg.svd(np.where(finite[..., None, None], matrix, 0.0), compute_uv=False)
-    ratio = values[..., -1] / np.where(values[..., 0] > 0, values[..., 0], 1.0)
-    return np.where(finite, ratio, np.nan)
-
-
 def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: Sequence[str], branch: int | None):
     from parakin.results import Configuration
 
@@ -174,16 +168,13 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
     q = np.where(reachable[:, None], inverse.passive[rows, chosen], m.home_passive)
     state = Configuration(theta, q, pose)
     if "type_ii_distance" in wanted:
-        if not m.passive_names:
+        measure = type_ii_distance(m, state)
+        if measure is None:
             raise UnsupportedOperationError(f"{m.name} has no passive joints: no type II singularity to measure")
-        jacobian = m.backend.call("loop_closure", theta, q, m.params)["jacobian"]
-        out["type_ii_distance"] = np.where(reachable, _inverse_condition(jacobian), np.nan)
+        out["type_ii_distance"] = np.where(reachable, measure, np.nan)
     if "type_i_distance" in wanted:
-        if m.capabilities.rates is not None:
-            measure = _inverse_condition(m.rate_jacobians(state)["b"])
-        elif m.capabilities.legs:
-            measure = np.min([_inverse_condition(j) for j in m.leg_jacobians(state).values()], axis=0)
-        else:
+        measure = type_i_distance(m, state)
+        if measure is None:
             raise UnsupportedOperationError(f"{m.name} has no rate model: type_i_distance is not available")
         out["type_i_distance"] = np.where(reachable, measure, np.nan)
     return out
