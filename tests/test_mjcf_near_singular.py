@@ -132,3 +132,14 @@ def test_near_singular_keyframes_drift_and_regular_ones_settle_under_stiff_servo
         drift[k], settled[k] = float(np.linalg.norm(done.pose[:3, 3] - start)), done.settled
     assert sum(settled[k] for k in best) >= 4 and np.median([drift[k] for k in best]) < 0.01, (drift, settled)
     assert sum(settled[k] for k in worst) <= 1 and np.median([drift[k] for k in worst]) > 0.02, (drift, settled)
+
+
+def test_the_readme_names_the_warning_and_its_level():
+    """The README's mjcf row says which keyframes get the comment and the warning, at the level
+    the export uses (NEAR_SINGULAR)."""
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    (row,) = [line for line in readme.splitlines() if line.startswith("| `parakin mjcf ")]
+    assert f"1/cond of the closure Jacobian below {NEAR_SINGULAR:g}" in row
+    assert "XML comment" in row and "`parakin: warning:`" in row

@@ -84,3 +84,21 @@ def test_numbers_as_runs():
     assert numbers_text([0, 1, 2, 5, 7, 8]) == "0-2, 5, 7-8"
     assert numbers_text([39]) == "39" and numbers_text([]) == ""
     assert numbers_text([3, 1, 2]) == "1-3"
+
+
+def test_the_help_and_the_readme_say_what_the_default_grid_draws():
+    """``parakin plot --help`` and the README's plot row once said the default grid is every mode:
+    they name the first MAX_PANELS modes and --all-modes for every one."""
+    from pathlib import Path
+
+    from parakin.interfaces import cli
+
+    plot = next(a for a in cli._parser()._actions if a.dest == "command").choices["plot"]
+    all_modes = next(a for a in plot._actions if "--all-modes" in a.option_strings)
+    assert f"the first {MAX_PANELS}," in all_modes.help and "named in the title" in all_modes.help
+    description = " ".join(plot.description.split())
+    assert f"a grid of the first {MAX_PANELS} assembly modes" in description
+    assert "--all-modes draws every mode" in description and "the title names the modes left out" in description
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    (row,) = [line for line in readme.splitlines() if line.startswith("| `parakin plot ")]
+    assert f"default: the first {MAX_PANELS}, the others named in the title" in row and "`--all-modes`" in row

@@ -661,11 +661,13 @@ def _parser() -> argparse.ArgumentParser:
     plot = commands.add_parser(
         "plot",
         parents=[mechanism],
-        help="draw the assembly modes (PNG: a grid of every mode, or one) or animate one (GIF)",
-        description="Draw the mechanism at the actuated inputs (default: home). Default: a grid of every "
-        "assembly mode, each panel titled 'mode k' (k = 0 .. count-1) with its distance to singularity; "
-        "--mode K draws mode K alone. --animate OUT.gif tracks one mode (--mode K, default the mode nearest "
-        "the home) along a loop through the inputs, or a straight line --to other inputs, instead.",
+        help="draw the assembly modes (PNG: a grid of the first 12, all with --all-modes, or one) or animate one (GIF)",
+        description="Draw the mechanism at the actuated inputs (default: home). Default: a grid of the first 12 "
+        "assembly modes (all of them where there are at most 12), each panel titled 'mode k' (k = 0 .. count-1) "
+        "with its distance to singularity, in red where near a type II singularity; the title names the modes "
+        "left out. --all-modes draws every mode; --mode K draws mode K alone. --animate OUT.gif tracks one mode "
+        "(--mode K, default the mode nearest the home) along a loop through the inputs, or a straight line --to "
+        "other inputs, instead.",
     )
     plot.add_argument("--output", "--out", default=None, help="image path, its format by the suffix (default NAME.png)")
     group = plot.add_mutually_exclusive_group()
@@ -673,7 +675,11 @@ def _parser() -> argparse.ArgumentParser:
     group.add_argument("--actuated-deg", nargs="+", type=float, metavar="V", help="revolute in degrees, prismatic in m")
     which = plot.add_mutually_exclusive_group()
     which.add_argument("--mode", type=int, default=None, metavar="K", help="draw (or animate from) mode K only")
-    which.add_argument("--all-modes", action="store_true", help="every mode as a grid of small multiples (default)")
+    which.add_argument(
+        "--all-modes",
+        action="store_true",
+        help="draw every mode in the grid (default: the first 12, the others named in the title)",
+    )
     plot.add_argument("--animate", default=None, metavar="OUT.gif", help="write a GIF along an actuated path")
     plot.add_argument("--frames", type=int, default=None, metavar="N", help="frames of the animation (default 24)")
     plot.add_argument(
