@@ -219,9 +219,15 @@ def threads() -> int:
     """Threads a compiled batch spreads over: ``$PARAKIN_THREADS``, else every core."""
     setting = os.environ.get("PARAKIN_THREADS", "")
     try:
-        return max(1, int(setting)) if setting else max(1, os.cpu_count() or 1)
+        return max(1, int(setting)) if setting else _cores()
     except ValueError:
         raise BadInputError(f"PARAKIN_THREADS must be a positive integer, got {setting!r}") from None
+
+
+@functools.cache
+def _cores() -> int:
+    """The machine's cores (asked once: ``os.cpu_count`` reads the system each time)."""
+    return max(1, os.cpu_count() or 1)
 
 
 def _thread_parts(m: Mechanism, count: int) -> list[tuple[int, int]]:
@@ -860,15 +866,19 @@ def _certify_endpoints(
     unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
     radius, centre = np.full((n, paths), np.nan), np.full((n, paths, size), np.nan + 0j)
     radii = np.full((n, paths, size), np.nan)
+    everyone = bool(paired.all())  # the usual case: plain column indexing, no index grids
+
+    def cells(rows: np.ndarray, columns: np.ndarray) -> tuple:
+        return (slice(None), columns) if everyone else np.ix_(np.nonzero(rows)[0], columns)
+
     for rows, columns in ((paired, first), (~paired, np.arange(paths))):
         if not rows.any():
             continue
         part = certified(coefficients[rows], roots[rows][:, columns])
-        block = np.ix_(np.nonzero(rows)[0], columns)
+        block = cells(rows, columns)
         unique[block], real[block], radius[block] = part.unique, part.real, part.radius
         centre[block], radii[block] = part.center, part.radii
-    mirror = np.ix_(np.nonzero(paired)[0], second)
-    source = np.ix_(np.nonzero(paired)[0], first)
+    mirror, source = cells(paired, second), cells(paired, first)
     unique[mirror], real[mirror], radius[mirror] = unique[source], real[source], radius[source]
     centre[mirror], radii[mirror] = centre[source] * pairs.flip, radii[source]
     labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
