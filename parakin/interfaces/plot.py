@@ -762,8 +762,9 @@ def plot(
     more, the others named in the figure's title (those near a type II singularity too);
     ``all_modes=True`` draws every one. A grid's panels share their limits and view; each is
     titled with its mode number and distances to singularity, in red and marked
-    "near-singular" where type II is below ``NEAR_SINGULAR``. Lengths are metres in {B}; a planar
-    drawing is drawn in the x-y plane, a spherical one on its sphere with great-circle arcs.
+    "near-singular" where type II is below ``parakin.singularity.NEAR_SINGULAR`` (0.02). Lengths
+    are metres in {B}; a planar drawing is drawn in the x-y plane, a spherical one on its sphere
+    with great-circle arcs.
 
     Parameters
     ----------
