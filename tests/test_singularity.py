@@ -139,6 +139,7 @@ def test_one_level_defines_near_singular():
     defined = [
         path.relative_to(ROOT).as_posix()
         for path in sorted((ROOT / "parakin").rglob("*.py"))
+        if "NEAR_SINGULAR" in path.read_text()  # parse only the files that name it
         for node in ast.walk(ast.parse(path.read_text()))
         if isinstance(node, ast.Assign | ast.AnnAssign)
         and any(
