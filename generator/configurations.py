@@ -197,32 +197,40 @@ def _projection(
     # no such row: the coordinates are the constrained motion's own (a Tricept's passive leg
     # joints), and the pose they place from the inverse's reading is on the set
     constraint = sp.Matrix(rows) if rows else sp.zeros(0, 1)
-    variables = [*mechanism.passive, *mechanism.parameters]
-    numeric = sp.lambdify(variables, [constraint, constraint.jacobian(mechanism.passive)], modules="numpy", cse=True)
-    placed = sp.lambdify(variables, platform, modules="mpmath")
+    # constraints that turn with the actuated joints (a skew R-R-S leg: fewer rows free of them
+    # than constraint wrenches): Newton on the whole closure, actuated joints (from the home) and
+    # passive coordinates together
+    joint = 0 < len(rows) < mechanism.rates.constraints.rows
+    unknowns = [*mechanism.actuated, *mechanism.passive] if joint else list(mechanism.passive)
+    constraint = residual if joint else constraint
+    variables = [*unknowns, *mechanism.parameters]
+    numeric = sp.lambdify(variables, [constraint, constraint.jacobian(unknowns)], modules="numpy", cse=True)
+    placed = sp.lambdify([*mechanism.passive, *mechanism.parameters], platform, modules="mpmath")
     parameters = [float(v) for v in mechanism.parameters.values()]
     read = inverse_function(mechanism)
     signs = branch_signs(mechanism)[0]
     tolerance = 1e-14 * (1 + length)
+    start = [float(mechanism.home.get(v, 0.0)) for v in mechanism.actuated] if joint else []
 
     def project(pose: list) -> list:
         values = read(pose, signs)
         coordinates = [values[v] for v in mechanism.passive]
         if not all(isinstance(v, mpmath.mpf) for v in coordinates):
             return pose
-        passive = np.array([float(v) for v in coordinates])
+        state = np.array([*start, *(float(v) for v in coordinates)])
         for _ in range(50):
-            value, matrix = (np.asarray(v, dtype=float) for v in numeric(*passive, *parameters))
+            value, matrix = (np.asarray(v, dtype=float) for v in numeric(*state, *parameters))
             value = value.ravel()
             if not np.all(np.isfinite(value)) or not np.all(np.isfinite(matrix)):
                 return pose
             if np.abs(value).max(initial=0.0) <= tolerance:
                 # the pose at the working precision from the coordinates, as sample_pose builds it
+                passive = state[len(start) :]
                 transform = placed(*(mpmath.mpf(v) for v in passive), *(mpmath.mpf(v) for v in parameters))
                 entries = mpmath.matrix(transform)
                 return [entries[i, j] for i in range(3) for j in range(3)] + [entries[i, 3] for i in range(3)]
-            step = np.linalg.lstsq(matrix.reshape(value.size, passive.size), -value, rcond=None)[0]
-            passive = passive + step
+            step = np.linalg.lstsq(matrix.reshape(value.size, state.size), -value, rcond=None)[0]
+            state = state + step
         return pose
 
     return project

@@ -63,7 +63,7 @@ from .blocks import TWIST, block_laplace_det, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .graph import Chain, Joint, JointGraph
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
-from .readings import AxisReading, common_axis
+from .readings import AxisReading, common_axis, vanishes
 
 ZERO = sp.Matrix([0, 0, 0])
 
@@ -154,6 +154,19 @@ class Leg:
     plane_normal: sp.Matrix | None = None
     #: the leg's joints in the joint graph (``generator.graph``), of which this is the distance form
     chain: Chain | None = field(default=None, compare=False, repr=False)
+    #: a crank's elbow revolute axis h0 (at angle 0, turning with the crank) that is not parallel
+    #: to the crank's axis (an R-R-S leg with skew axes): the link stays normal to h(theta), a
+    #: constraint that turns with the crank; no closed-form inverse matches it, so the inverse
+    #: solves the leg numerically (``numeric_leg_steps``) from ``start``; None: no such joint
+    elbow_axis: sp.Matrix | None = None
+    #: the numeric inverse's starting value of the joint (the middle of its limits, else 0)
+    start: float = 0.0
+
+    def turned_axis(self, value: sp.Expr | None = None) -> sp.Matrix:
+        """h(theta) = Rot_u(theta) h0, the elbow axis at the joint value (default: the joint)."""
+        assert self.elbow_axis is not None and self.axis is not None
+        t, u, h = self.joint if value is None else value, self.axis, self.elbow_axis
+        return sp.cos(t) * h + sp.sin(t) * u.cross(h) + (1 - sp.cos(t)) * u.dot(h) * u
 
     def elbow(self, value: sp.Expr | None = None) -> sp.Matrix:
         """E, the base-side end of the distance, at the joint value (default: the joint)."""
@@ -502,14 +515,104 @@ def distance_form(chain: Chain, pose_kind: str = "transform") -> Leg:
         return Leg("prismatic", drive.variable, a, c, plane_normal=normal, chain=chain)
     if chain.link is not None and drive is joints[0] and drive.kind == "R" and chain.reach is not None:
         crank, zero = chain.reach
+        assert drive.axis is not None
+        skew = normal is not None and not vanishes(normal.cross(drive.axis).norm() ** 2)
+        start = 0.0 if drive.limits is None else (drive.limits[0] + drive.limits[1]) / 2
         return Leg(
-            "crank", drive.variable, a, c, chain.link, drive.axis, zero, crank, chain.sign, chain.serial_name, normal, chain
+            "crank", drive.variable, a, c, chain.link, drive.axis, zero, crank, chain.sign, chain.serial_name,
+            None if skew else normal, chain, elbow_axis=normal if skew else None, start=start,
         )  # fmt: skip
     if chain.link is not None and drive is joints[0] and drive.kind == "P" and drive.axis is not None:
         return Leg(
             "slider", drive.variable, a, c, chain.link, drive.axis, None, None, chain.sign, chain.serial_name, normal, chain
         )  # fmt: skip
     raise ValueError(f"leg {chain.name} ({chain.kinds}) is not a distance leg; {shapes}")
+
+
+#: Gauss-Newton steps of a leg's numeric inverse (``numeric_leg_steps``), unrolled into the program:
+#: from a start within the basin the residual falls quadratically, below 1e-16 of the leg's size
+NEWTON_STEPS = 12
+
+
+def _leg_residuals(leg: Leg, joint: sp.Matrix, cosine: sp.Expr, sine: sp.Expr) -> tuple[list[sp.Expr], list[sp.Expr]]:
+    """A turning leg's closure at the joint value theta (given by its cosine and sine):
+    ((|d|^2 - L^2) / (2 L), d . h) with d = C - E (metres), and their derivatives in theta."""
+    return _residuals_of(leg, *_leg_vectors(leg, joint, cosine, sine))
+
+
+def _leg_vectors(leg: Leg, joint: sp.Matrix, cosine: sp.Expr, sine: sp.Expr) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """d = C - E, h(theta) and dE / dtheta of a turning leg, in {B}."""
+    assert leg.axis is not None and leg.zero is not None and leg.crank is not None and leg.elbow_axis is not None
+    u, zero, h0 = leg.axis, leg.zero, leg.elbow_axis
+    d = joint - leg.base - leg.crank * (cosine * zero + sine * u.cross(zero))
+    h = cosine * h0 + sine * u.cross(h0) + (1 - cosine) * u.dot(h0) * u
+    return d, h, leg.crank * (-sine * zero + cosine * u.cross(zero))
+
+
+def _residuals_of(leg: Leg, d: sp.Matrix, h: sp.Matrix, along: sp.Matrix) -> tuple[list[sp.Expr], list[sp.Expr]]:
+    """The two residuals and their derivatives in theta from d, h and dE / dtheta (dh / dtheta = u x h)."""
+    assert leg.link is not None and leg.axis is not None
+    values = [(d.dot(d) - leg.link**2) / (2 * leg.link), d.dot(h)]
+    return values, [-d.dot(along) / leg.link, -along.dot(h) + d.dot(leg.axis.cross(h))]
+
+
+def numeric_leg_steps(leg: Leg, joint: sp.Matrix, number: int) -> tuple[list[tuple[sp.Symbol, sp.Expr]], sp.Expr]:
+    """The inverse of a leg that no closed form matches, solved numerically: NEWTON_STEPS
+    Gauss-Newton steps on the leg's own closure (its distance and its turning constraint, two
+    equations in its joint value) from ``leg.start``, unrolled into the inverse's program.
+
+    Parameters
+    ----------
+    leg : Leg
+        A crank leg with a skew elbow axis (``Leg.elbow_axis``).
+    joint : Matrix
+        Its platform joint C at the pose, in {B} (3 x 1).
+    number : int
+        The leg's number (1-based), for the step symbols.
+
+    Returns
+    -------
+    tuple
+        The steps (one assigns the joint, in (-pi, pi]) and the validity measure
+        1 - |residual|^2 / (PLANE_TOLERANCE s)^2 with s^2 = |A|^2 + |c|^2 + L^2 + r^2: negative
+        where the closure at the computed joint value is not met, the pose off this leg's
+        reachable set or Newton from the start not reaching it (``leg<i>_numeric_reachable``).
+    """
+    point = sp.Matrix(sp.symbols(f"leg{number}_joint_x leg{number}_joint_y leg{number}_joint_z", real=True))
+    steps: list[tuple[sp.Symbol, sp.Expr]] = list(zip(point, joint, strict=True))
+    value: sp.Expr = sp.Float(leg.start)
+    for j in range(NEWTON_STEPS + 1):
+        cosine, sine = sp.symbols(f"theta{number}_cos{j} theta{number}_sin{j}", real=True)
+        steps += [(cosine, sp.cos(value)), (sine, sp.sin(value))]
+        vectors = _leg_vectors(leg, point, cosine, sine)
+        names = [sp.Matrix(sp.symbols(f"theta{number}_{v}{j}_0:3", real=True)) for v in ("d", "h", "along")]
+        steps += [
+            (n, e) for name, vector in zip(names, vectors, strict=True) for n, e in zip(name, vector, strict=True)
+        ]
+        (f, g), (df, dg) = _residuals_of(leg, *names)
+        named = sp.symbols(f"theta{number}_f{j} theta{number}_g{j} theta{number}_df{j} theta{number}_dg{j}", real=True)
+        steps += list(zip(named, (f, g, df, dg), strict=True))
+        f, g, df, dg = named
+        if j == NEWTON_STEPS:
+            break
+        following = sp.Symbol(f"theta{number}_newton{j + 1}", real=True)
+        steps.append((following, value - (df * f + dg * g) / (df**2 + dg**2)))
+        value = following
+    steps.append((leg.joint, sp.atan2(sine, cosine)))
+    assert leg.link is not None and leg.crank is not None
+    size = leg.base.dot(leg.base) + leg.platform_joint.dot(leg.platform_joint) + leg.link**2 + leg.crank**2
+    return steps, 1 - (f**2 + g**2) / (PLANE_TOLERANCE**2 * size)
+
+
+def turning_force(leg: Leg, joint: sp.Matrix) -> sp.Matrix:
+    """The constraint force through C of a turning leg: of the forces the leg holds with its crank
+    locked, along d = C - E and along h(theta), the combination whose work leaves the crank's rate
+    out: L (g' grad f - f' grad g) for f = (|d|^2 - L^2) / (2 L), g = d . h, so
+    F = (d . h' - E' . h) d + (d . E') h (E', h' the derivatives in theta)."""
+    _, (df, dg) = _leg_residuals(leg, joint, sp.cos(leg.joint), sp.sin(leg.joint))
+    assert leg.link is not None
+    d = joint - leg.elbow()
+    return dg * d - df * leg.link * leg.turned_axis()  # L times dg grad f1 - df grad f2
 
 
 #: a platform joint this far from its leg's plane, relative to the leg's size (``plane_measure``),
@@ -738,7 +841,7 @@ class DistanceMechanism:
             )
         rest = [chain for chain in self.graph.legs if not chain.actuated and chain not in centres]
         self.passive = [passive_form(chain) for chain in rest]
-        planes = len(self.constrained)
+        planes = len(self.constrained) + len(self.turning)
         held = 3 * len(self.passive)
         if len(self.legs) + planes + held != len(self.motion.twist):
             passive = f" and {len(self.passive)} passive legs ({held} constraints)" if self.passive else ""
@@ -758,7 +861,7 @@ class DistanceMechanism:
                 "is derived for these legs (three plane constraints whose planes contain one axis, on a 'transform' "
                 "platform with its standard coordinates)"
             )
-        signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic"]
+        signed = [k for k, leg in enumerate(self.legs) if leg.kind != "prismatic" and leg.elbow_axis is None]
         self.branch_names = [sp.Symbol(f"sigma{k + 1}", real=True) for k in signed] + list(self.motion.branches)
 
     @property
@@ -796,6 +899,12 @@ class DistanceMechanism:
         """The legs whose revolute joint keeps the platform joint in a plane (lower mobility)."""
         return [k for k, leg in enumerate(self.legs) if leg.plane_normal is not None]
 
+    @property
+    def turning(self) -> list[int]:
+        """The crank legs whose skew elbow axis keeps the link normal to it (``Leg.elbow_axis``):
+        a constraint that turns with the crank, and a numeric inverse."""
+        return [k for k, leg in enumerate(self.legs) if leg.elbow_axis is not None]
+
     def platform_joints(self, rotation: sp.Matrix | None = None, position: sp.Matrix | None = None) -> list[sp.Matrix]:
         """C_i = p + R c_i in {B} (default: the platform's coordinates)."""
         rotation = self.motion.rotation if rotation is None else rotation
@@ -815,6 +924,7 @@ class DistanceMechanism:
         ]
         joints = self.platform_joints()
         planes = [(joints[k] - self.legs[k].base).dot(self.legs[k].plane_normal) for k in self.constrained]
+        planes += [(joints[k] - self.legs[k].elbow()).dot(self.legs[k].turned_axis()) for k in self.turning]
         held = [] if self.passive_in_coordinates else self._passive_rows()
         residual = sp.Matrix([*planes, *held, *rows, *self.motion.extra_residual])
         pose = homogeneous(self.motion.rotation, self.motion.position)
@@ -856,7 +966,7 @@ class DistanceMechanism:
     def _constraint_rows(self, origin: sp.Matrix | None = None) -> sp.Matrix | None:
         """One row per plane: the force along its normal n through the platform joint C,
         (n, (C - origin) x n) over the platform's twist components (origin: p)."""
-        if not self.constrained and not self.passive:
+        if not self.constrained and not self.passive and not self.turning:
             return None
         origin = self.motion.position if origin is None else origin
         columns = [TWIST.index(name) for name in self.motion.twist]
@@ -866,6 +976,10 @@ class DistanceMechanism:
             n = self.legs[k].plane_normal
             assert n is not None
             full = list(n) + list((joints[k] - origin).cross(n))
+            rows.append([full[c] for c in columns])
+        for k in self.turning:  # the force through C whose work leaves the crank's rate out
+            force = turning_force(self.legs[k], joints[k])
+            full = list(force) + list((joints[k] - origin).cross(force))
             rows.append([full[c] for c in columns])
         rotation = self.motion.rotation
         for leg in self.passive:  # forces through A along R b, R (w x b); the couple a1 x R b
@@ -883,7 +997,7 @@ class DistanceMechanism:
         elbows = [leg.elbow() for leg in self.legs]
         q = self.motion.dimensionless
         quaternion = len(q) == 4 and self.motion.rotation == quaternion_rotation(q)
-        if self.motion.kind == "transform" and quaternion and not self.passive:
+        if self.motion.kind == "transform" and quaternion and not self.passive and not self.turning:
             # rows (d_i ; (E_i - p) x d_i) times n = q . q, less [p]x times the first three
             # columns: (R_u c_i + n (p - E_i) ; E_i x (R_u c_i + n p)), polynomial in q, and
             # det A = det P / n^6 by Laplace's expansion in 3 x 3 blocks (600 entry occurrences
@@ -911,7 +1025,7 @@ class DistanceMechanism:
         'transform' one with its standard reading and the legs' three planes contain one axis;
         the platform's ``read`` and ``pose`` become the reading's."""
         standard = platform("transform")
-        if self.motion.kind != "transform" or self.motion.read != standard.read or self.passive:
+        if self.motion.kind != "transform" or self.motion.read != standard.read or self.passive or self.turning:
             return None
         if len(self.constrained) != 3:
             return None
@@ -953,6 +1067,10 @@ class DistanceMechanism:
             if leg.kind == "prismatic":
                 steps.append((leg.joint, sp.sqrt(v.dot(v))))
                 validity[f"leg{k + 1}_length"] = leg.joint
+            elif leg.elbow_axis is not None:  # no subproblem matches: Newton on the leg's own closure
+                solved, measure = numeric_leg_steps(leg, c, k + 1)
+                steps += solved
+                validity[f"leg{k + 1}_numeric_reachable"] = measure
             elif leg.kind == "crank":
                 assert leg.axis is not None and leg.zero is not None and leg.crank is not None and leg.link is not None
                 e, f, g = sp.symbols(f"E{k + 1} F{k + 1} G{k + 1}", real=True)

@@ -35,7 +35,7 @@ from .frames import sign_or_plus
 from .model import POSE_POSITION, POSE_ROTATION
 
 
-def _zero(expr: sp.Expr) -> bool:
+def vanishes(expr: sp.Expr) -> bool:
     """Whether an expression of the parameters (and free symbols) vanishes identically: at three
     random points of its symbols (30 digits, within 1e-12: a design given in floating-point
     numbers has rounding in it), a polynomial identity test for the rational expressions here."""
@@ -198,7 +198,7 @@ def _normal_to(k: sp.Matrix) -> sp.Matrix:
     """A unit vector normal to k: x (or y) less its part along k."""
     for guess in (sp.Matrix([1, 0, 0]), sp.Matrix([0, 1, 0])):
         e = guess - guess.dot(k) * k
-        if not _zero(e.dot(e)):
+        if not vanishes(e.dot(e)):
             return sp.simplify(e / sp.sqrt(e.dot(e)))
     raise ValueError("no direction normal to the axis")  # k is a unit vector: unreachable
 
@@ -237,25 +237,25 @@ def common_axis(
     if len(normals) != 3:
         return None
     cross = normals[0].cross(normals[1])
-    if _zero(cross.dot(cross)):
+    if vanishes(cross.dot(cross)):
         return None
     k = sp.simplify(cross / sp.sqrt(cross.dot(cross)))
     if not k.free_symbols:  # the direction whose last non-zero component is positive
         last = [float(c) for c in k if abs(float(c)) > 1e-12][-1]
         k = -k if last < 0 else k
-    if not _zero(normals[2].dot(k)):
+    if not vanishes(normals[2].dot(k)):
         return None
     # a point o on planes 1 and 2 (and o . k = 0) must lie on plane 3
     rows = sp.Matrix.vstack(normals[0].T, normals[1].T, k.T)
     point = rows.inv() * sp.Matrix([bases[0].dot(normals[0]), bases[1].dot(normals[1]), 0])
-    if not _zero((bases[2] - point).dot(normals[2])):
+    if not vanishes((bases[2] - point).dot(normals[2])):
         return None
     weights = tuple(sp.simplify(normals[(i + 1) % 3].cross(normals[(i + 2) % 3]).dot(k)) for i in range(3))
     found = AxisReading(k, tuple(normals), tuple(bases), tuple(joints), weights, symmetric=False)
     n = sp.Matrix(sp.symbols("n_x n_y n_z", real=True))
     a, b = found._coefficients(tilt(k, n)[0])
-    if _zero(a):
+    if vanishes(a):
         return AxisReading(k, tuple(normals), tuple(bases), tuple(joints), weights, symmetric=True)
-    if _zero(b):
+    if vanishes(b):
         return None
     return found

@@ -332,10 +332,10 @@ def asymmetric_geometry() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def test_an_asymmetric_design_reads_the_turn_its_planes_force():
     """The asymmetric 3-RPS: the reading is derived (not the symmetric case), and at 16 random
     poses it returns a pose in the planes (this test's geometry, 1e-15 m) with the given height and
-    tilt; a reachable pose found independently (scipy's root finder on the three plane equations
+    tilt; a reachable pose found independently (scipy's least squares on the three plane equations
     in x, y and a turn about the vertical from the given pose) reads as itself (1e-12), the two
     turns half a turn apart both occurring."""
-    from scipy.optimize import fsolve
+    from scipy.optimize import least_squares
 
     bases, normals, platform_joints = asymmetric_geometry()
     lengths = sp.symbols("l1:4", positive=True)
@@ -366,7 +366,7 @@ def test_an_asymmetric_design_reads_the_turn_its_planes_force():
         def planes(unknowns: np.ndarray, rotation: np.ndarray = rotation, height: float = position[2]) -> np.ndarray:
             return offsets(turned(unknowns[2]) @ rotation, np.array([unknowns[0], unknowns[1], height]))
 
-        x, y, angle = fsolve(planes, [0.0, 0.0, start], xtol=1e-14)
+        x, y, angle = least_squares(planes, [0.0, 0.0, start], xtol=1e-15, ftol=1e-15, gtol=1e-15).x
         reachable = turned(angle) @ rotation
         assert np.abs(planes(np.array([x, y, angle]))).max() < 1e-14
         again, q = (np.array(v, dtype=float) for v in read_pose(run(reachable, np.array([x, y, position[2]]), ())))
