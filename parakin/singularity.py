@@ -213,6 +213,11 @@ def singularity_distance(m: LoadedMechanism, config: Configuration) -> dict[str,
         defined here (a matrix that is not finite), is left out, and so are both for a
         configuration the mechanism refuses (values outside the actuated ranges).
 
+    Raises
+    ------
+    Nothing
+        A configuration the mechanism refuses gives an empty dict: a label, not a check.
+
     Examples
     --------
     >>> import parakin
@@ -241,6 +246,11 @@ def is_near_singular(distance: Mapping[str, float]) -> bool:
     -------
     bool
         True where ``distance['type II']`` is below ``NEAR_SINGULAR``; False without it.
+
+    Raises
+    ------
+    Nothing
+        A mapping without ``type II`` is not near-singular by this measure.
 
     Examples
     --------

@@ -5,6 +5,7 @@ and a demo that needs no compiled library. Values are checked against hand-worke
 an independent Euler decomposition (SciPy), never against the printing code's own output."""
 
 import dataclasses
+import json
 import os
 import select
 import signal
@@ -257,3 +258,22 @@ def test_ctrl_c_stops_the_viewer_as_any_command():
             process.kill()
     assert code == 130 and elapsed <= 2.0
     assert process.stderr.read().strip() == "parakin: interrupted"
+
+
+@pytest.mark.parametrize(("name", "actuated"), [("stewart", None), ("planar_3rrr", [0.0, 0.0, 0.0])])
+def test_fk_says_whether_its_modes_are_certified_complete(name, actuated, capsys):
+    """``fk`` prints the certificate's verdict (a new user's Hexaglide printed 4 modes, exit 0, and
+    nothing about 8 of its 80 paths failing) in the heading and as ``certified_complete`` per JSON
+    line, the same verdict as the API's certificate at the same input."""
+    m = parakin.load(name)
+    values = m.home_actuated if actuated is None else np.array(actuated)
+    certificate = m.forward_pose_all(values).certificate()
+    words = [f"{v!r}" for v in values.tolist()]
+    assert cli.main(["fk", name, "--actuated", *words]) == 0
+    heading = capsys.readouterr().out.splitlines()[0]
+    expected = "certified complete" if certificate["complete"] else "not certified complete"
+    assert heading.endswith(expected) or f"; {expected}:" in heading, heading
+    assert cli.main(["fk", name, "--actuated", *words, "--json"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == certificate["with_modes"] >= 2
+    assert all(json.loads(line)["certified_complete"] is bool(certificate["complete"]) for line in lines)

@@ -163,6 +163,7 @@ MODULES = (
     "parakin.solvers.tracker",
     "parakin.studies.sweep",
     "parakin.studies.atlas",
+    "parakin.singularity",
     "parakin.validation",
     "parakin.calibration.data",
     "parakin.calibration.fit",

@@ -27,6 +27,7 @@ MODULES = (
     "parakin.solvers.tracker",
     "parakin.studies.sweep",
     "parakin.studies.atlas",
+    "parakin.singularity",
     "parakin.interfaces.plot",
     "parakin.validation",
     "parakin.calibration.data",

@@ -26,7 +26,7 @@ from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.log import logger
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS, transform_from_pose
-from parakin.results import RANGE_FAILURES, Configuration
+from parakin.results import RANGE_FAILURES, Configuration, modes_summary
 from parakin.solvers.continuation import SelfMotion
 from parakin.tables import pose_headers, pose_values, text_table
 
@@ -327,12 +327,17 @@ def _fk(args: argparse.Namespace) -> int:
     with _Busy(f"{m.name}: every assembly mode"):
         modes = m.forward_pose_all(actuated)
     given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
+    # the certificate's verdict in modes_summary's words ("certified complete", or what is missing)
+    verdict = modes_summary(modes).partition("; ")[2]
+    complete = bool(np.all(modes.complete())) if modes.certified_roots is not None else None
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
     for n, k in enumerate(np.nonzero(modes.valid)[0]):
         record: dict[str, Any] = {"mode": n, "slot": int(k), **_describe_pose(m.manifest, modes.poses[k], degrees)}
         record.update(_labelled(m.manifest.passive, modes.passive[k], degrees))
         record["residual"] = float(modes.residual[k])
+        if complete is not None:  # a homotopy's certificate (an elimination's modes have none)
+            record["certified_complete"] = complete
         records.append(record)
     if args.json:
         for record in records:
@@ -340,7 +345,7 @@ def _fk(args: argparse.Namespace) -> int:
     elif records:
         count = len(records)
         at = _values_text(given)
-        print(f"{m.name} at {at}: {count} assembly mode{'s' if count != 1 else ''}")
+        print(f"{m.name} at {at}: {count} assembly mode{'s' if count != 1 else ''}{'; ' + verdict if verdict else ''}")
         pose = pose_headers(m.manifest.pose_kind, degrees)
         headers = ["mode", "slot", *pose, "residual"]
         rows = [
@@ -353,7 +358,8 @@ def _fk(args: argparse.Namespace) -> int:
             rows = [[str(r["mode"]), *(_number(r[_header(v, degrees)]) for v in passive)] for r in records]
             print(text_table(["mode", *(_header(v, degrees) for v in passive)], rows, indent="", rows_shown=count))
     if int(modes.count) == 0:
-        print(f"parakin: no real assembly mode of {m.name} for these inputs", file=sys.stderr)
+        said = f" ({verdict})" if verdict else ""
+        print(f"parakin: no real assembly mode of {m.name} for these inputs{said}", file=sys.stderr)
         return 1
     return 0
 
