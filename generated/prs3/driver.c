@@ -870,8 +870,8 @@ static int load_system(workspace* ws, const double* theta, const double* params,
 }
 
 // The term coefficients c_t(s) and their s-derivatives at one s: a step evaluates the homotopy
-// at three values of s only (its start, midpoint and end), so each set is computed once and
-// shared by the evaluations at that s.
+// at its target s only (each of its corrections), so the set is computed once per step and
+// shared by those evaluations.
 typedef struct {
     double re[TERMS], im[TERMS], rate_re[TERMS], rate_im[TERMS];
 } coefficients_at;
@@ -1785,29 +1785,38 @@ static void hermite_cubic(int history, double s0, const cplx* z0, const cplx* v0
 // quadratic over a linear polynomial in t = s - s1,
 //     r(t) = (z1 + (v1 + q z1) t + p2 t^2) / (1 + q t),
 // with r = z and r' = v at t = 0 and at t = a = s0 - s1; with the secant d = (z0 - z1) / a,
-//     q = (v0 + v1 - 2 d) / (a (d - v0)),   p2 = (d - v1) / a + q d.
-// It has the cubic's order (error ~ step^4) and follows a simple pole of the path (z ~ c / (s -
-// s*), a path passing near a singular point of the homotopy or heading to infinity) exactly,
-// where a polynomial needs tiny steps. An unknown whose interpolant is not finite or whose
-// denominator comes within RATIONAL_GUARD of 0 between s1 and target (a pole in or next to the
-// step) takes the cubic Hermite value instead (hermite_cubic); Euler where there is no history.
+//     q = n / m,  n = v0 + v1 - 2 d,  m = a (d - v0),  p2 = (d - v1) / a + q d,
+// evaluated as r = (m (z1 + v1 t + (d - v1) t^2 / a) + n (z1 t + d t^2)) / (m + n t): one
+// division. It has the cubic's order (error ~ step^4) and follows a simple pole of the path (z
+// ~ c / (s - s*), a path passing near a singular point of the homotopy or heading to infinity)
+// exactly, where a polynomial needs tiny steps. An unknown whose interpolant is not finite or
+// whose denominator |1 + q t'| comes within RATIONAL_GUARD of 0 for t' between 0 and t (a pole
+// in or next to the step) takes the cubic Hermite value instead (hermite_cubic); Euler where
+// there is no history.
 static void predict(int history, double s0, const cplx* z0, const cplx* v0, double s1, const cplx* z1, const cplx* v1,
                     double target, cplx* out) {
     hermite_cubic(history, s0, z0, v0, s1, z1, v1, target, out);
     if (!history) return;
-    double a = s0 - s1, t = target - s1;
+    double a = s0 - s1, t = target - s1, inverse = 1.0 / a, t2 = t * t;
+    double guard = RATIONAL_GUARD * RATIONAL_GUARD;
     for (int k = 0; k < NZ; ++k) {
-        cplx secant = c_scale(1.0 / a, c_sub(z0[k], z1[k]));
-        cplx q = c_div(c_sub(c_add(v0[k], v1[k]), c_scale(2.0, secant)), c_scale(a, c_sub(secant, v0[k])));
-        cplx p2 = c_add(c_scale(1.0 / a, c_sub(secant, v1[k])), c_mul(q, secant));
-        cplx w = c_scale(t, q);
-        // the smallest |1 + w l| over l in [0, 1]: the denominator along the step
-        double ww = w.re * w.re + w.im * w.im;
-        double l = ww > 0.0 ? fmin(1.0, fmax(0.0, -w.re / ww)) : 0.0;
-        cplx low = {1.0 + l * w.re, l * w.im};
-        cplx numerator = c_add(c_add(z1[k], c_scale(t, c_add(v1[k], c_mul(q, z1[k])))), c_scale(t * t, p2));
-        cplx r = c_div(numerator, (cplx){1.0 + w.re, w.im});
-        if (isfinite(r.re) && isfinite(r.im) && c_abs(low) > RATIONAL_GUARD) out[k] = r;
+        cplx d = c_scale(inverse, c_sub(z0[k], z1[k]));
+        cplx n = c_sub(c_add(v0[k], v1[k]), c_scale(2.0, d));
+        cplx m = c_scale(a, c_sub(d, v0[k]));
+        cplx quadratic = c_add(c_add(z1[k], c_scale(t, v1[k])), c_scale(t2 * inverse, c_sub(d, v1[k])));
+        cplx above = c_add(c_mul(m, quadratic), c_mul(n, c_add(c_scale(t, z1[k]), c_scale(t2, d))));
+        cplx below = c_add(m, c_scale(t, n));
+        // |m + l t n|^2 = mm + 2 l t mn + l^2 t^2 nn, least over l in [0, 1]: against guard^2 mm
+        double mm = m.re * m.re + m.im * m.im, nn = n.re * n.re + n.im * n.im, mn = m.re * n.re + m.im * n.im;
+        double l = 0.0;
+        if (t2 * nn > 0.0) {
+            l = -(t * mn) / (t2 * nn);
+            l = l < 0.0 ? 0.0 : (l > 1.0 ? 1.0 : l);
+        }
+        double least = mm + 2.0 * l * t * mn + l * l * t2 * nn;
+        double size = below.re * below.re + below.im * below.im, scale = 1.0 / size;
+        cplx r = {(above.re * below.re + above.im * below.im) * scale, (above.im * below.re - above.re * below.im) * scale};
+        if (least > guard * mm && isfinite(r.re) && isfinite(r.im)) out[k] = r;
     }
 }
 
