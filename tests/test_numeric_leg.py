@@ -128,3 +128,34 @@ def test_a_pose_off_the_legs_reach_names_the_leg(skew):
     best = least_squares(lambda t: residuals(skew, np.array([t[0], 0.0, 0.0]), rotation, position)[:2], [0.0])
     assert np.abs(best.fun).max() > 1e-4
     assert found["validity"]["leg1_numeric_reachable"] < 0
+
+
+@pytest.mark.slow
+def test_the_generated_package_inverts_the_skew_legs(skew, tmp_path):
+    """``parakin generate`` of the fixture (about 5 minutes: its root count is searched by
+    monodromy and total-degree runs): at 10 poses that close with random cranks (this file's least
+    squares), inverse_pose in both backends gives the cranks back (1e-12 rad), and Newton's forward
+    pose from the home gives the pose back (1e-9)."""
+    import subprocess
+    import sys
+
+    import parakin
+
+    folder = tmp_path / "package"
+    done = subprocess.run(
+        [sys.executable, "-m", "parakin", "generate", str(FIXTURE), "--out", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=1800,
+    )
+    assert done.returncode == 0, done.stderr
+    rng = np.random.default_rng(3)
+    cases = [(crank, *reachable_pose(skew, crank)) for crank in rng.uniform(-0.3, 0.3, (10, 3))]
+    for backend in ("numpy", "compiled"):
+        m = parakin.load(folder, backend=backend)
+        for crank, rotation, position in cases:
+            pose = np.eye(4)
+            pose[:3, :3], pose[:3, 3] = rotation, position
+            ik = m.inverse_pose(pose)
+            assert ik.valid[0] and np.abs(ik.actuated[0] - crank).max() < 1e-12
+            assert np.abs(m.forward_pose(crank, guess=m.home_passive).pose - pose).max() < 1e-9
