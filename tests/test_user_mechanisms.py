@@ -13,8 +13,11 @@ of the generated code:
 * the 3-RPS and 3-RRS (``fixtures/rps3.py``, ``fixtures/rrs3.py``): 16 poses (Lee and Shah 1988;
   the 3-RRS at locked cranks is the same problem, each platform joint on a circle in its leg's
   plane), 32 roots with the two quaternion signs;
-* the Tricept (``mechanisms/tricept.py``): 24 roots, counted here independently as the dimension
-  of the quotient ring of its closure (a Groebner basis over the rationals);
+* the Tricept, as shipped (``mechanisms/tricept.py``: its platform written in the passive leg's
+  coordinates) and only as joints (``fixtures/tricept_joints.py``: a spatial platform and
+  ``passive_leg``): 24 poses, counted here independently as the dimension of the quotient ring of
+  the closure (a Groebner basis over the rationals), 48 roots in the quaternion form; the two
+  packages give the same modes, pose by pose;
 * the Hexaglide (6-PUS, ``fixtures/hexaglide.py``): at locked sliders a 6-6 Gough-Stewart
   platform, 40 poses (Raghavan 1993, Dietmaier 1998), 80 roots.
 
@@ -53,6 +56,7 @@ KINDS = {
     "rps3": (FIXTURES / "rps3.py", 32),
     "rrs3": (FIXTURES / "rrs3.py", 32),
     "tricept": (MECHANISMS / "tricept.py", 24),
+    "tricept_joints": (FIXTURES / "tricept_joints.py", 48),
     "hexaglide": (FIXTURES / "hexaglide.py", 80),
 }
 #: closure and pose agreement of double-precision solutions (metres at unit scale)
@@ -315,7 +319,30 @@ def test_the_tricept_count_is_the_quotient_ring_dimension_of_its_closure() -> No
         standard += new
         if new == 0:
             break
-    assert standard == KINDS["tricept"][1] == 24
+    assert standard == KINDS["tricept"][1] == KINDS["tricept_joints"][1] // 2 == 24
+
+
+@pytest.mark.slow
+def test_the_tricept_only_as_joints_has_the_shipped_tricepts_modes(packages) -> None:
+    # the same robot from two files: the user's (a spatial platform, the passive leg's constraints
+    # derived) and the shipped one (the platform in the passive leg's coordinates, read by hand)
+    joints_only = parakin.load(packages("tricept_joints"), backend="compiled")
+    shipped = parakin.load(packages("tricept"), backend="compiled")
+    inputs = near_home(shipped, 20, 0.05, 2)
+    ours, theirs = joints_only.forward_pose_all(inputs), shipped.forward_pose_all(inputs)
+    assert ours.certificate()["complete"].all() and theirs.certificate()["complete"].all()
+    assert (ours.count == theirs.count).all() and ours.count.min() >= 2
+    for k in range(len(inputs)):
+        mine, other = ours.poses[k][ours.valid[k]], theirs.poses[k][theirs.valid[k]]
+        distance = np.abs(mine[:, None] - other[None]).max(axis=(2, 3))
+        assert distance.min(axis=1).max() < 1e-9 and distance.min(axis=0).max() < 1e-9
+    for pose, failing in (
+        ([0, 0, 0.5, 0.1, 0, 0], "leg4_u_joint_reachable"),
+        ([0.05, 0, 0.5, 0, 0, 0], "leg4_line_reachable"),
+    ):
+        # turned about the passive leg, or off its line: out of reach, the failing condition named
+        ik = joints_only.inverse_pose(parakin.pose_from_xyz_euler(pose), strict=False)
+        assert not ik.valid.any() and ik.failures[failing].all()
 
 
 @pytest.mark.slow
