@@ -254,12 +254,19 @@ def homogeneous_group(exponents: ArrayLike, equation: ArrayLike, patch_equation:
     family (every certificate of a homotopy asks)."""
     e = np.ascontiguousarray(exponents, dtype=np.int64)
     k = np.ascontiguousarray(equation, dtype=np.int64)
-    return list(_cached_group(e.tobytes(), e.shape, k.tobytes(), k.shape, patch_equation, tuple(declared)))
+    shown = f"{declared}"  # the message names them as the caller wrote them
+    return list(_cached_group(e.tobytes(), e.shape, k.tobytes(), k.shape, patch_equation, tuple(declared), shown))
 
 
 @functools.lru_cache(maxsize=64)
 def _cached_group(
-    exponents: bytes, shape: tuple[int, ...], equation: bytes, length: tuple[int, ...], patch: int, declared: tuple
+    exponents: bytes,
+    shape: tuple[int, ...],
+    equation: bytes,
+    length: tuple[int, ...],
+    patch: int,
+    declared: tuple,
+    shown: str,
 ) -> tuple[int, ...]:
     e = np.frombuffer(exponents, np.int64).reshape(shape)
     k = np.frombuffer(equation, np.int64).reshape(length)
@@ -268,9 +275,7 @@ def _cached_group(
         degree = e[:, group].sum(1)
         if all(np.ptp(degree[others & (k == j)]) == 0 for j in set(k[others].tolist())):
             return tuple(group)
-    raise BadInputError(
-        f"the equations but the patch {patch} are homogeneous neither in {list(declared)} nor in all unknowns"
-    )
+    raise BadInputError(f"the equations but the patch {patch} are homogeneous neither in {shown} nor in all unknowns")
 
 
 def _typical_size(z: np.ndarray) -> np.ndarray:
@@ -296,11 +301,8 @@ def _checked_system(
     equation = np.asarray(equation, dtype=np.int64)
     c = np.asarray(coefficients, dtype=np.complex128)
     z = np.asarray(roots, dtype=np.complex128)
-    if exponents.ndim != 2 or exponents.shape[1] < 1 or (exponents < 0).any():
-        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {exponents.shape}")
+    _check_structure(exponents.tobytes(), exponents.shape, equation.tobytes(), equation.shape)
     terms, n = exponents.shape
-    if equation.shape != (terms,) or ((equation < 0) | (equation >= n)).any():
-        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {equation}")
     if c.ndim < 1 or c.shape[-1] != terms or z.ndim < 2 or z.shape[-1] != n:
         raise BadInputError(f"coefficients (..., {terms}) and roots (..., P, {n}) expected: {c.shape}, {z.shape}")
     try:
@@ -308,6 +310,19 @@ def _checked_system(
     except ValueError as error:
         raise BadInputError(f"batch shapes {c.shape[:-1]} and {z.shape[:-2]} do not broadcast") from error
     return np.broadcast_to(c, batch + (terms,)), exponents, equation, np.broadcast_to(z, batch + z.shape[-2:]), batch
+
+
+@functools.lru_cache(maxsize=64)
+def _check_structure(exponents: bytes, shape: tuple[int, ...], equation: bytes, length: tuple[int, ...]) -> None:
+    """BadInputError unless the exponents (T, n) are non-negative and the equation (T,) indices in
+    [0, n) (``_checked_system``); checked once per family (every certificate of a homotopy asks)."""
+    a = np.frombuffer(exponents, np.int64).reshape(shape)
+    k = np.frombuffer(equation, np.int64).reshape(length)
+    if a.ndim != 2 or a.shape[1] < 1 or (a < 0).any():
+        raise BadInputError(f"exponents must be (terms, unknowns) non-negative integers, got shape {a.shape}")
+    terms, n = a.shape
+    if k.shape != (terms,) or ((k < 0) | (k >= n)).any():
+        raise BadInputError(f"equation must be ({terms},) indices in [0, {n}), got {k}")
 
 
 def certify_roots(
@@ -498,30 +513,35 @@ def _certify_arguments(
     exponents, equation = np.ascontiguousarray(exponents), np.ascontiguousarray(equation)
     terms, n = exponents.shape
     if homogeneous is not None:
-        _check_group(exponents.tobytes(), exponents.shape, equation.tobytes(), tuple(homogeneous), patch)
+        _check_group(
+            exponents.tobytes(), exponents.shape, equation.tobytes(), tuple(homogeneous), patch, f"{homogeneous}"
+        )
     c = np.ascontiguousarray(np.broadcast_to(c, batch + (terms,)).reshape(-1, terms))
     z = np.ascontiguousarray(np.broadcast_to(z, batch + z.shape[-2:]).reshape(-1, *z.shape[-2:]))
     return c, exponents, equation, z, batch
 
 
 @functools.lru_cache(maxsize=64)
-def _check_group(exponents: bytes, shape: tuple[int, int], equation: bytes, homogeneous: tuple, patch: Any) -> None:
-    """BadInputError unless ``homogeneous`` (indices) and the equation ``patch`` are a projective
-    group of the family (``_certify_arguments``); checked once per family."""
+def _check_group(
+    exponents: bytes, shape: tuple[int, int], equation: bytes, homogeneous: tuple, patch: Any, shown: str
+) -> None:
+    """BadInputError unless ``homogeneous`` (indices; ``shown`` as the caller wrote them) and the
+    equation ``patch`` are a projective group of the family (``_certify_arguments``); checked once
+    per family."""
     a = np.frombuffer(exponents, np.int64).reshape(shape)
     k = np.frombuffer(equation, np.int64)
     n = shape[1]
     group = np.zeros(n, bool)
     if not all(0 <= int(i) < n for i in homogeneous) or patch not in range(n):
-        raise BadInputError(f"homogeneous {list(homogeneous)} and patch_equation {patch}: indices in [0, {n})")
+        raise BadInputError(f"homogeneous {shown} and patch_equation {patch}: indices in [0, {n})")
     group[list(homogeneous)] = True
     in_patch = k == patch
     degree = (a * group).sum(1)
     linear = ((a * ~group).sum(1) > 0) | (degree > 1)
     if not group.any() or linear[in_patch].any() or not in_patch.any():
-        raise BadInputError(f"homogeneous {list(homogeneous)} needs a linear patch_equation in them, got {patch}")
+        raise BadInputError(f"homogeneous {shown} needs a linear patch_equation in them, got {patch}")
     if any(np.ptp(degree[k == j]) for j in set(k[~in_patch].tolist())):
-        raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {list(homogeneous)}")
+        raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {shown}")
 
 
 def certify_roots_compiled(
