@@ -51,7 +51,15 @@ def _same_pose_reference(outcome: np.ndarray, poses: np.ndarray) -> np.ndarray:
     return outcome
 
 
-def test_a_chain_of_near_poses_marks_only_repeats_of_a_mode_still_standing():
+@pytest.fixture(params=["one by one", "slot by slot"])
+def walk(request, monkeypatch):
+    """Both walks of ``_same_pose``: its pairs one by one (few), or slot by slot in NumPy (many)."""
+    if request.param == "slot by slot":
+        monkeypatch.setattr(modes_module, "SAME_POSE_PAIRS", 0)
+    return request.param
+
+
+def test_a_chain_of_near_poses_marks_only_repeats_of_a_mode_still_standing(walk):
     # B is within 0.8e-9 of A, C within 0.8e-9 of B but 1.6e-9 from A: B repeats A; C would repeat
     # B, but B is no longer a mode, so C stays one
     step = 0.8 * modes_module.SAME_POSE
@@ -61,7 +69,7 @@ def test_a_chain_of_near_poses_marks_only_repeats_of_a_mode_still_standing():
     assert outcome.tolist() == [[MODE, DUPLICATE, MODE]]
 
 
-def test_repeats_of_poses_agree_with_the_slot_by_slot_rule_on_many_inputs():
+def test_repeats_of_poses_agree_with_the_slot_by_slot_rule_on_many_inputs(walk):
     rng = np.random.default_rng(11)
     inputs, slots = 3 * modes_module.SAME_POSE_ROWS + 5, 12  # several chunks of rows
     poses = np.stack([[_pose(rng.uniform(-3, 3), rng.uniform(-1, 1, 3)) for _ in range(slots)] for _ in range(inputs)])

@@ -584,34 +584,48 @@ def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int
     for a in range(0, rows.size, SAME_POSE_ROWS):
         part = rows[a : a + SAME_POSE_ROWS]
         same = _pose_pairs(poses[part], valid[part])  # (k, slot, earlier slot), modes only
-        if not same.any():
+        pairs = np.count_nonzero(same)
+        if not pairs:
             continue
-        local = outcome[part]
+        if pairs <= SAME_POSE_PAIRS:  # the pairs one by one, in slot order (each slot's earlier are settled)
+            local = outcome[part].tolist()
+            for row, slot, earlier in zip(*(index.tolist() for index in np.nonzero(same)), strict=True):
+                line = local[row]
+                if line[slot] == mode and line[earlier] == mode:
+                    line[slot] = duplicate
+            outcome[part] = local
+            continue
+        block = outcome[part]
         for s in np.nonzero(same.any((0, 2)))[0]:
-            earlier = local[:, :s] == mode
-            repeat = (local[:, s] == mode) & (same[:, s, :s] & earlier).any(-1)
-            local[:, s] = np.where(repeat, duplicate, local[:, s])
-        outcome[part] = local
+            earlier = block[:, :s] == mode
+            repeat = (block[:, s] == mode) & (same[:, s, :s] & earlier).any(-1)
+            block[:, s] = np.where(repeat, duplicate, block[:, s])
+        outcome[part] = block
 
 
-#: inputs whose pairs of slots ``_same_pose`` compares at once (temporaries k x slots x slots x 12)
-SAME_POSE_ROWS = 16
+#: inputs whose pairs of slots ``_same_pose`` compares at once (temporaries k x slots x slots x 3)
+SAME_POSE_ROWS = 64
+#: pairs of one pose walked one by one in Python; more (a degenerate batch) slot by slot in NumPy
+SAME_POSE_PAIRS = 256
 
 
 def _pose_pairs(poses: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per input (k,) and pair of slots (s, t), t < s, both modes (``valid`` (k, slots)): whether
     their poses (k, slots, 4, 4) are one (``SAME_POSE``: rotations within it, positions within it
-    times the largest position of the input's modes). The pose entries lead the temporaries, so
-    that the maxima over them are over whole planes (short trailing axes reduce slowly)."""
+    times the largest position of the input's modes). Positions first, over every pair (the pose
+    entries lead the temporaries: maxima over whole planes, not over short trailing axes); the
+    rotations only of the pairs whose positions agree."""
     slots = valid.shape[-1]
-    planes = np.ascontiguousarray(np.moveaxis(poses[..., :3, :], (-2, -1), (0, 1)))  # (3, 4, k, slots)
-    position = np.where(valid, np.abs(planes[:, 3]), 0.0).max(0).max(-1)
-    difference = np.abs(planes[..., :, None] - planes[..., None, :])  # (3, 4, k, slots, slots)
-    rotation = difference[:, :3].max((0, 1))
-    moved = difference[:, 3].max(0)
-    below = np.tri(slots, k=-1, dtype=bool)
-    pair = valid[:, :, None] & valid[:, None, :] & below
-    return pair & (rotation <= SAME_POSE) & (moved <= SAME_POSE * position[:, None, None])
+    position = np.ascontiguousarray(np.moveaxis(poses[..., :3, 3], -1, 0))  # (3, k, slots)
+    largest = np.where(valid, np.abs(position), 0.0).max(0).max(-1)
+    moved = np.abs(position[..., :, None] - position[..., None, :]).max(0)  # (k, slots, slots)
+    pair = valid[:, :, None] & valid[:, None, :] & np.tri(slots, k=-1, dtype=bool)
+    same = pair & (moved <= SAME_POSE * largest[:, None, None])
+    if same.any():
+        i, s, t = np.nonzero(same)
+        rotation = np.abs(poses[i, s, :3, :3] - poses[i, t, :3, :3]).max((-2, -1))
+        same[i, s, t] = rotation <= SAME_POSE
+    return same
 
 
 def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
