@@ -523,6 +523,12 @@ def distance_form(chain: Chain, pose_kind: str = "transform") -> Leg:
             None if skew else normal, chain, elbow_axis=normal if skew else None, start=start,
         )  # fmt: skip
     if chain.link is not None and drive is joints[0] and drive.kind == "P" and drive.axis is not None:
+        if normal is not None and not vanishes(normal.dot(drive.axis)):
+            raise ValueError(
+                f"leg {chain.name} ({chain.kinds}): the revolute joint on the slider has axis {list(normal)}, not "
+                f"normal to the slider's axis {list(drive.axis)}: the link's plane would move with the stroke, a leg "
+                "no subproblem matches; turn the revolute axis normal to the rail (a P-R-S leg)"
+            )
         return Leg(
             "slider", drive.variable, a, c, chain.link, drive.axis, None, None, chain.sign, chain.serial_name, normal, chain
         )  # fmt: skip

@@ -56,6 +56,13 @@ def test_legs_refuse_directions_that_are_not_unit_or_not_normal():
     # directions written with parameters are accepted as given (their values are not known here)
     u = sp.Matrix(sp.symbols("u_x u_y u_z"))
     assert joints.crank_leg([0, 0, 0], u, [1, 0, 0], 0.1, 0.3, [0, 0, 0], theta).axis == u
+    # the same slider leg written joint by joint: refused by the distance form (it was taken for a
+    # fixed plane, (C - A) . n = 0, where the plane moves with the stroke)
+    rail = joints.Joint("P", "base", sp.Matrix([0, 0, 0]), sp.Matrix([0, 0, 1]), theta, actuated=True)
+    tilted = joints.Joint("R", "elbow", None, sp.Matrix([0, 0.6, 0.8]))
+    end = joints.Joint("S", "platform", sp.Matrix([0, 0, 0]))
+    with pytest.raises(ValueError, match="not normal to the slider's axis .* no subproblem matches"):
+        joints.distance_form(joints.Chain("leg", (rail, tilted, end), link=0.3))
 
 
 def test_a_model_refuses_a_leg_count_that_does_not_match_its_motion():
