@@ -1772,7 +1772,11 @@ class Mechanism:
         mode : int, optional
             Draw mode (or entry) ``mode`` alone.
         all_modes : bool
-            Draw every mode as a grid of small multiples, each titled "mode k".
+            Draw every mode in the grid. By default the modes of one input are drawn as a grid of
+            the first 12 (``parakin.interfaces.plot.MAX_PANELS``), each titled "mode k" with its
+            distances to singularity (in red, "near-singular", where type II is below
+            ``parakin.singularity.NEAR_SINGULAR``), the others named in the figure's title;
+            ``all_modes=True`` draws every one.
 
         Returns
         -------
