@@ -245,6 +245,26 @@ def test_certificate_is_complete_at_the_home_and_near_it(packages, name: str) ->
     assert certificate["complete"].all()
 
 
+@pytest.mark.slow
+def test_the_hexaglide_with_its_rails_apart_is_certified_complete(packages) -> None:
+    # the default geometry puts two sliders on each rail (y1 = y2, y3 = y6, y4 = y5), a point of
+    # the family where 8 of its 80 solutions leave and their paths fail; with every slider on a
+    # rail of its own every root is found and certified, and each input's pose is among the modes
+    m = parakin.load(packages("hexaglide"), backend="compiled", y2=-0.25, y5=0.2, y6=0.08)
+    rng = np.random.default_rng(9)
+    checked = 0
+    for _ in range(3):
+        pose = parakin.pose_from_xyz_euler(np.array([0.0, 0.0, -0.44, 0.0, 0.0, 0.0]) + 0.03 * rng.uniform(-1, 1, 6))
+        ik = m.inverse_pose(pose)
+        branch = int(np.flatnonzero(ik.valid)[0])
+        modes = m.forward_pose_all(ik.actuated[branch])
+        certificate = modes.certificate()
+        assert certificate["complete"] and int(certificate["certified_roots"]) == KINDS["hexaglide"][1]
+        assert np.abs(modes.poses[modes.valid] - pose).max(axis=(1, 2)).min() < 1e-9
+        checked += 1
+    assert checked == 3
+
+
 #: quaternion platforms whose all-modes solver returns the home pose with q0 < 0 (the inverse gives
 #: q0 >= 0), so that forward_pose from the home's inputs, seeded by that mode, lands on -q:
 #: reported to the runtime's owners; strict, so that the fix shows
