@@ -28,8 +28,9 @@
 // * {P}: platform joints c_i = r_p e_i.
 // * Actuated: the leg lengths l1..l3 = |C_i - A_i| (metres). Passive: the platform position x, y,
 //   z and its unit quaternion q0..q3 (scalar first, q0 >= 0 from the inverse).
-// * Inverse pose: every leg length of the given pose; a pose off the reachable set (a platform
-//   joint out of its leg's plane) is invalid, ``leg<i>_plane_reachable`` naming the leg.
+// * Inverse pose: reads the height z and the tilt R^T k (the controlled coordinates) and returns
+//   the reachable pose with them, the given pose where it is reachable; a pose off the set is
+//   invalid, ``leg<i>_plane_reachable`` naming the legs whose joints leave their planes.
 // * Forward pose: the generator's automatic homotopy, 32 paths (16 poses, each with its two
 //   quaternion signs).
 // * Defaults (illustrative): r_b = 1 m, r_p = 0.5 m; home: the platform level at z = 1 m.
