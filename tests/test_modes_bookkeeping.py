@@ -9,6 +9,7 @@ vectorised."""
 import numpy as np
 import pytest
 
+import parakin
 from parakin.errors import BadInputError
 from parakin.solvers import modes as modes_module
 from parakin.solvers.certify import UNIT, certify_roots, cluster_labels
@@ -161,3 +162,36 @@ def test_broadcast_batch_is_numpy_broadcasting_of_the_batch_axes(shapes, batch):
 def test_broadcast_batch_names_shapes_that_do_not_broadcast():
     with pytest.raises(BadInputError, match=r"\(3,\), \(4,\)"):
         broadcast_batch((np.zeros((3, 2)), np.zeros((4, 2))))
+
+
+@pytest.mark.parametrize("name", ["prs3", "rps3"])
+def test_a_modes_quaternion_is_the_same_on_every_backend_and_is_the_homes(name):
+    """q and -q are one rotation: the modes' passive values carry the inverse's sign (first
+    component beyond rounding positive), so both backends give the same values (prs3's half-turn
+    modes differed by sign between them) and forward_pose from the home's inputs returns the home's
+    passive values (a user's 3-RPS returned -q). The quaternion is checked against the mode's own
+    rotation matrix by the textbook formula."""
+    from parakin.solvers.modes import QUATERNION_ZERO
+
+    compiled, numpy = (parakin.load(name, backend=b) for b in ("compiled", "numpy"))
+    rng = np.random.default_rng(5)
+    inputs = compiled.home_actuated * (1 + 0.02 * rng.uniform(-1, 1, (12, compiled.home_actuated.size)))
+    inputs = np.vstack([compiled.home_actuated, inputs])
+    a, b = (m.forward_pose_all(inputs) for m in (compiled, numpy))
+    assert np.array_equal(a.valid, b.valid) and a.valid.sum() >= 60
+    k = [v.name for v in compiled.manifest.passive].index("q0")
+    q = a.passive[a.valid][:, k : k + 4]
+    np.testing.assert_allclose(q, b.passive[a.valid][:, k : k + 4], rtol=0, atol=1e-9)
+    first = np.take_along_axis(q, np.argmax(np.abs(q) > QUATERNION_ZERO, -1)[:, None], -1)[:, 0]
+    assert (first > 0).all()
+    w, x, y, z = q.T  # R(q), Shuster's convention for a unit q = (w, x, y, z)
+    rotation = np.stack(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    ).transpose(2, 0, 1)
+    np.testing.assert_allclose(rotation, a.poses[a.valid][:, :3, :3], rtol=0, atol=1e-9)
+    for m in (compiled, numpy):
+        np.testing.assert_allclose(m.forward_pose(m.home_actuated).passive, m.home_passive, rtol=0, atol=1e-9)

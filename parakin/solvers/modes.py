@@ -1132,6 +1132,44 @@ def _passive_from_pose(m: Mechanism, theta: Array, pose: Array, validity_floor: 
     return np.where(np.isfinite(chosen).all(-1)[..., None], q, np.nan)
 
 
+def quaternion_blocks(m: Mechanism) -> tuple[int, ...]:
+    """The first index of each unit quaternion among the passive values: four consecutive
+    dimensionless variables (``parakin.packages.manifest.Variable``: dimensionless means a
+    quaternion component)."""
+    kinds = [v.kind for v in m.manifest.passive]
+    starts, k = [], 0
+    while k + 4 <= len(kinds):
+        if all(kind == "dimensionless" for kind in kinds[k : k + 4]):
+            starts.append(k)
+            k += 4
+        else:
+            k += 1
+    return tuple(starts)
+
+
+#: a unit quaternion's component this small is zero for its sign (a half-turn's q0 is rounding
+#: noise of either sign; the components are unit-free and at most 1)
+QUATERNION_ZERO = 1e-9
+
+
+def canonical_quaternions(passive: np.ndarray, blocks: tuple[int, ...]) -> np.ndarray:
+    """``passive`` (..., n_p) with each quaternion q of ``blocks`` replaced by -q where its first
+    component larger than ``QUATERNION_ZERO`` in size is negative (q0 > 0, the inverse's
+    convention, and for a half-turn (q0 = 0) the next component): q and -q are one rotation, and
+    which of the two a root or a backend's settling lands on is an accident of the path, so a
+    mode's passive values would otherwise differ between backends and between a mode and the
+    home it is. NaN stays NaN."""
+    if not blocks:
+        return passive
+    out = passive.copy()
+    for k in blocks:
+        q = out[..., k : k + 4]
+        nonzero = np.abs(q) > QUATERNION_ZERO
+        first = np.take_along_axis(q, np.argmax(nonzero, axis=-1)[..., None], axis=-1)[..., 0]
+        out[..., k : k + 4] = np.where((first < 0.0)[..., None], -q, q)
+    return out
+
+
 def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forward) -> AssemblyModes:
     """The result object over the caller's batch shape."""
     shape = theta.shape[:-1]
@@ -1147,7 +1185,7 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
     return AssemblyModes(
         actuated=theta,
         poses=shaped("poses"),
-        passive=shaped("passive"),
+        passive=canonical_quaternions(shaped("passive"), quaternion_blocks(m)),
         residual=shaped("residual"),
         root=shaped("roots"),
         # real: a root kind that is real (a simple root or a cluster of real roots), or a slot
