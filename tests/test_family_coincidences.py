@@ -125,7 +125,8 @@ def _hexaglide_form(source: Path) -> tuple[dict, PolynomialForm]:
 
     mechanism, _ = load_definition(source)
     state = [("actuated", mechanism.actuated), ("passive", mechanism.passive), ("params", list(mechanism.parameters))]
-    closed = derive._from_legs(mechanism, state)
+    build = derive._from_closure if mechanism.closure is not None else derive._from_legs
+    closed = build(mechanism, state)
     form = polynomial_form(
         list(closed.residual), mechanism.passive, mechanism.actuated, list(mechanism.parameters), mechanism.angular
     )
@@ -189,3 +190,18 @@ def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(
     assert len(distinct) == 72 and len(ends) == 72
     finite = reached & start_systems._regular(family, target, moved)
     assert finite.sum() == 72 and np.all(np.abs(moved[~finite]).max(-1) > 1e5), "8 paths leave every bound"
+
+
+def test_the_runtime_check_flags_inputs_whose_parameters_break_a_relation() -> None:
+    """parakin.solvers.subfamily: parameters loaded with the generation's coincidences are inside
+    (equal to rounding), a rail moved by 1 mm or a NaN is outside; angles (radians) compare too."""
+    from parakin.solvers.subfamily import outside_subfamily
+
+    free = np.array([[0.1, -0.28, -0.28, 0.23], [0.1, -0.28, -0.28 * (1 + 1e-15), 0.23], [0.2, -0.28, -0.279, 0.23]])
+    angles = np.array([[0.5, 0.5], [0.5, 0.5], [0.5, 0.5]])
+    outside = outside_subfamily([[1, 2], [4, 5]], free, angles, 1e-12)
+    assert outside.tolist() == [False, False, True]
+    angles[0, 1] = 0.5001
+    free[1, 0] = np.nan
+    assert outside_subfamily([[1, 2], [4, 5]], free, angles, 1e-12).tolist() == [True, True, True]
+    assert outside_subfamily([], free[:1], angles[:1], 1e-12).tolist() == [False]
