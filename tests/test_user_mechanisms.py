@@ -26,8 +26,7 @@ input back through the inverse, Newton from each mode's passive values moved by 
 that mode, the certificate is complete (every root found and certified) at the home and at inputs
 near it, the command line answers (``fk --json``, ``plot``, ``export``, and the exported C example
 compiled and run). Known failures, reported to the runtime's owners, are strict xfails: the
-Hexaglide's certificate (8 of its 80 paths fail at every input), and forward_pose from the home's
-inputs landing on the other quaternion sign (the user's 3-RPS, the joints-only Tricept). The
+Hexaglide's certificate (8 of its 80 paths fail at every input). The
 biglide runs by default (its generation takes about two seconds of CPU); the others are marked
 slow (generation 2 s to 1 min of CPU each).
 """
@@ -265,22 +264,10 @@ def test_the_hexaglide_with_its_rails_apart_is_certified_complete(packages) -> N
     assert checked == 3
 
 
-#: quaternion platforms whose all-modes solver returns the home pose with q0 < 0 (the inverse gives
-#: q0 >= 0), so that forward_pose from the home's inputs, seeded by that mode, lands on -q:
-#: reported to the runtime's owners; strict, so that the fix shows
-QUATERNION_SIGN = {"rps3", "tricept_joints"}
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "name",
-    [
-        pytest.param(name, marks=pytest.mark.xfail(strict=True, reason="modes with q0 < 0"))
-        if name in QUATERNION_SIGN
-        else name
-        for name in sorted(KINDS)
-        if name != "hexaglide"  # its home is 1/cond 0.01 from a type II singularity (tested above)
-    ],
+    [name for name in sorted(KINDS) if name != "hexaglide"],  # its home is 1/cond 0.01 from a type II singularity
 )
 def test_forward_pose_from_the_homes_inputs_returns_the_home(packages, name: str) -> None:
     m = parakin.load(packages(name), backend="compiled")
