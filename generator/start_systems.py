@@ -35,6 +35,15 @@ line and the older methods take over; the test never closes on a short set. Meas
 with the count proven, seconds of CPU: Hexaglide 232 -> 31 (80 solutions, 128 witnesses; the
 same 80 as two total-degree runs of 8192 paths found).
 
+Where the mechanism's own values satisfy relations that lower the generic count (parameters
+sharing a value: a user's Hexaglide with two sliders on each of three shared rails keeps 72 of the
+family's 80 solutions, 8 at infinity for every input; ``generator/subfamily.py``), the start
+instances are drawn in the subfamily those relations cut out (linear: the runtime's segment from a
+start instance there to the mechanism's inputs stays in it) and its count is proven (Hexaglide: 72
+by the value curve's trace test, 28 s of CPU); the manifest's ``subfamily`` names the relations,
+which parameters loaded with other values break. A stored record of the family is kept where its
+solutions, followed to a random member of the subfamily, all stay finite and distinct.
+
 The runtime form is sparse: a table of monomials (equation, exponents) and, per input, each
 monomial's coefficient as a polynomial in s.
 """

@@ -10,6 +10,7 @@ is the slow test."""
 from __future__ import annotations
 
 import itertools
+import json
 import time
 from pathlib import Path
 
@@ -128,6 +129,11 @@ def test_the_hexaglide_generates_with_its_count_proven_within_a_minute(tmp_path:
     proof = parakin.load(tmp_path / "pkg", backend="numpy").capabilities.forward_methods["automatic"]
     assert proof.homotopy is not None and proof.homotopy.root_count is not None
     count = proof.homotopy.root_count
-    assert count.count == 80 and count.proven and count.method.startswith(homotopy.VALUE_TRACE_METHOD)
+    # 80 for the family; 72 where the derivation passes the parameter values: the fixture's rails
+    # are shared (y1 = y2, y3 = y6, y4 = y5), and 8 of the 80 are at infinity there
+    # (tests/test_family_coincidences.py)
+    subfamily = json.loads(first)["capabilities"]["forward"]["methods"]["automatic"].get("subfamily", {})
+    expected = 72 if subfamily.get("identical") else 80
+    assert count.count == expected and count.proven and count.method.startswith(homotopy.VALUE_TRACE_METHOD)
     assert count.deviation < homotopy.VALUE_TRACE_TOLERANCE
     assert seconds < 60, f"{seconds:.0f} s of CPU"
