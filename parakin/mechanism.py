@@ -74,6 +74,9 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 CONSTRAINT_TOLERANCE = 1e-6
 #: the fewest inputs per step of a batch of ``forward_pose_all`` that shows a progress bar
 BAR_STEP = 256
+#: the continuation step ``self_motion`` takes by default (m or rad): a traced curve that moves by
+#: half of it is a self-motion, not an isolated configuration found again and again
+SELF_MOTION_STEP = 0.02
 
 
 def _home(variable: Variable) -> float:
@@ -863,15 +866,41 @@ class Mechanism:
                 if info.homotopy is not None
                 else f"degenerate elimination ({', '.join(info.degeneracies) or 'the polynomial vanishes'})"
             )
+            where = f" at batch index {index}" if index else ""  # one input has no batch index
             message = (
-                f"forward pose at batch index {index}: {cause} and no isolated mode; "
+                f"forward pose{where}: {cause} and no isolated mode; "
                 "the platform is not determined by the actuators here"
             )
             # a positive-dimensional solution set (a self-motion): report it, not a random point
             motion = self.self_motion(theta[index])
-            if motion.count:
+            # a self-motion is a curve that moves; continuation at an isolated configuration
+            # returns that point over and over (a step is SELF_MOTION_STEP in every variable)
+            curves = [motion.passive[motion.curve == c] for c in np.unique(motion.curve)] if motion.count else []
+            if any(np.ptp(points, axis=0).max() >= SELF_MOTION_STEP / 2 for points in curves):
                 raise SelfMotionError(f"{message}; the solution set is attached (.solution_set)", motion)
-            raise SingularConfigurationError(f"{message}; no closed configuration was found near the home pose")
+            distinct: list[np.ndarray] = []  # the curves' points, each isolated configuration once
+            for points in curves:
+                if all(np.abs(points[0] - other).max() >= SELF_MOTION_STEP / 2 for other in distinct):
+                    distinct.append(points[0])
+            found = (
+                f"{len(distinct)} isolated closed configuration(s) near the home pose, found by "
+                "continuation (self_motion)"
+                if distinct
+                else "no closed configuration near the home pose"
+            )
+            if info.homotopy is not None and modes.certified_roots is not None:
+                # failed paths and no mode: what is proven is said, not a self-motion (a user's
+                # Hexaglide on shared rails: 72 roots certified non-real, 8 paths failed)
+                certified = int(np.asarray(modes.certified_roots)[index])
+                failed_code = self.manifest.abi.code("mode_outcomes", "path_failed")
+                failed = int(np.sum(np.asarray(modes.outcome)[index] == failed_code))
+                raise SingularConfigurationError(
+                    f"forward pose{where}: no real assembly mode found, and the search is not complete: "
+                    f"{failed} homotopy path(s) failed, {certified} of {modes.root_count} roots certified "
+                    f"(none real); {found}. The input may be at or near a singularity; strict=False returns "
+                    "the modes with their certificate"
+                )
+            raise SingularConfigurationError(f"{message}; {found}")
         return modes
 
     def _every_mode(self, info: Forward, flat: Array, exact: bool) -> dict[str, np.ndarray]:
@@ -1038,7 +1067,9 @@ class Mechanism:
                 result["min_conditioning"][start:stop] = np.where(np.isfinite(conditioning), conditioning, np.nan)
         return {key: value.reshape(shape) for key, value in result.items()}
 
-    def self_motion(self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = 0.02) -> SelfMotion:
+    def self_motion(
+        self, actuated: ArrayLike, starts: ArrayLike | None = None, step: float = SELF_MOTION_STEP
+    ) -> SelfMotion:
         """The solution set of the loop closure for one locked input, traced by continuation.
 
         Where the set is a curve (a self-motion), points are traced along it from ``starts`` or from

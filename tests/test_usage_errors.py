@@ -2,6 +2,7 @@
 option and what it takes), never a traceback or an internal error; and an empty batch prints."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -96,3 +97,32 @@ def test_a_non_finite_pose_value_is_named_in_the_command_line_terms(value, capsy
     assert main(["ik", "five_bar", "--pose", value, "0.3"]) == 2
     err = capsys.readouterr().err
     assert f"pose value 1 of 2 (x y (m)) is {float(value)}" in err and "index" not in err, err
+
+
+def test_failed_paths_without_a_mode_are_not_called_a_self_motion(monkeypatch):
+    """An input whose homotopy paths partly fail, with every certified root non-real and no
+    self-motion near home, is refused saying what is proven (a user's Hexaglide on shared rails:
+    8 of 80 paths failed, 72 roots certified complex), not "the platform is not determined by the
+    actuators". The pipeline's outcome is forced here: 3 of stewart's 40 paths failed, the rest
+    complex."""
+    m = parakin.load("stewart", backend="numpy")
+    real = m._every_mode_here
+
+    def forced(info, flat, exact):
+        out = real(info, flat, exact)
+        outcomes = m.manifest.abi.mode_outcomes
+        out["outcome"][:] = outcomes.index("complex")
+        out["outcome"][:, :3] = outcomes.index("path_failed")
+        out["count"][:] = 0
+        out["certified"][:] = 37
+        out["status"][:] = m.manifest.abi.code("input_status", "degenerate")
+        return out
+
+    monkeypatch.setattr(m, "_every_mode_here", forced)
+    with pytest.raises(parakin.SingularConfigurationError) as error:
+        m.forward_pose_all(m.home_actuated)
+    message = str(error.value)
+    assert "3 homotopy path(s) failed, 37 of 40 roots certified (none real)" in message, message
+    assert "not determined" not in message and "batch index" not in message, message
+    # continuation from home and its perturbations finds some of stewart's 40 isolated modes
+    assert re.search(r"; ([1-9]|[1-3][0-9]|40) isolated closed configuration\(s\) near the home pose", message), message
