@@ -19,7 +19,6 @@ from parakin.generator.build import MECHANISMS, discover, input_digest, load_def
 DESCRIPTIONS = {
     "sps": "_sps_forward",
     "gough": "_gough_forward",
-    "prs3": "_prs3_reading",
     "sam": "_sam_forward",
     "spm": "_spm_forward",
     "planar_3rpr": "_planar_3rpr_forward",

@@ -4,8 +4,8 @@ The references are written here:
 * geometry in NumPy: rails A_i = r_b e_i, sliders S_i = A_i + d_i k, platform joints
   C_i = R c_i + p, and a reachable pose from Z-Y-Z Euler angles (alpha, beta, -alpha) with the
   parasitic centre x = r_p (cos beta - 1) cos(2 alpha) / 2, y = r_p (1 - cos beta) sin(2 alpha) / 2
-  (the form of Carretero et al. 2000 for this architecture; the mechanism file writes the same
-  set in the tilt vector n, rationally);
+  (the form of Carretero et al. 2000 for this architecture; ``tilt`` below writes the same set
+  in the tilt vector n, rationally, the hand reference for the reading the generator derives);
 * the assembly modes of given strokes by an exact elimination: each link turns in its plane,
   C_i = S_i + L (cos t_i e_i + sin t_i k), and the platform triangle |C_i - C_j|^2 = 3 r_p^2
   gives three polynomials of bidegree (2, 2) in the half-angle tangents tau_i, tau_j. Two
@@ -35,6 +35,37 @@ ANGLES = np.radians([0.0, 120.0, 240.0])
 RADIAL = np.stack([np.cos(ANGLES), np.sin(ANGLES), np.zeros(3)], 1)
 TANGENT = np.stack([-np.sin(ANGLES), np.cos(ANGLES), np.zeros(3)], 1)
 K = np.array([0.0, 0.0, 1.0])
+VERTICAL = sp.Matrix([0, 0, 1])
+
+
+def tilt(n: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """The 3-PRS's reachable set by hand (Carretero et al.'s form, rationally; derivation:
+    docs/derivations/prs3.md), the reference the generator's derived reading is compared with.
+
+    Parameters
+    ----------
+    n : sympy.Matrix, shape (3, 1)
+        A unit vector, the tilt n = R^T k of the platform (dimensionless).
+
+    Returns
+    -------
+    rotation : sympy.Matrix, shape (3, 3)
+        The tilt R0 about a horizontal axis with R0^T k = n: R0 = I + [v]x + [v]x^2 / (1 + n_z),
+        v = n x k.
+    q : sympy.Matrix, shape (4, 1)
+        Its unit quaternion (scalar first, q0 > 0): (1 + n_z, n x k) / sqrt(2 (1 + n_z)).
+    centre : sympy.Matrix, shape (3, 1)
+        The platform centre (x0, y0, 0) in metres that the leg planes force at R0 (platform joints
+        on the circle of radius r_p, the mechanism's symbol).
+    """
+    v = n.cross(VERTICAL)
+    skew = sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    rotation = sp.eye(3) + skew + (v * v.T - v.dot(v) * sp.eye(3)) / (1 + n[2])
+    root = sp.sqrt(2 * (1 + n[2]))
+    q = sp.Matrix([(1 + n[2]) / root, v[0] / root, v[1] / root, 0])
+    r_p = prs3.r_p
+    centre = sp.Matrix([-r_p * (n[0] ** 2 - n[1] ** 2) / (2 * (1 + n[2])), r_p * n[0] * n[1] / (1 + n[2]), 0])
+    return rotation, q, centre
 
 
 @pytest.fixture(scope="module", params=["numpy", "compiled"])
@@ -223,21 +254,22 @@ def multistart_modes(strokes, starts: int = 1500, seed: int = 3) -> list[np.ndar
 
 # ------------------------------------------------------------------ loop closure and inverse
 def test_the_tilt_and_its_half_turn_keep_the_joints_in_their_leg_planes_symbolically():
-    """prs3.tilt(n) for a unit n (n_z = sqrt(1 - n_x^2 - n_y^2)): R0 is a rotation with
-    R0^T k = n, its quaternion gives R0, and (C_i - A_i) . u_i = 0 for i = 1..3 both at R0 with
-    the centre (x0, y0) and at Rot_z(pi) R0 with (-x0, -y0), for every height z (exactly)."""
+    """tilt(n) (this file's hand form) for a unit n (n_z = sqrt(1 - n_x^2 - n_y^2)): R0 is a
+    rotation with R0^T k = n, its quaternion gives R0, and (C_i - A_i) . u_i = 0 for i = 1..3 both
+    at R0 with the centre (x0, y0) and at Rot_z(pi) R0 with (-x0, -y0), for every height z
+    (exactly)."""
     nx, ny, height = sp.symbols("n_x n_y z", real=True)
     nz = sp.sqrt(1 - nx**2 - ny**2)
-    rotation, q, centre = prs3.tilt(sp.Matrix([nx, ny, nz]))
+    rotation, q, centre = tilt(sp.Matrix([nx, ny, nz]))
     assert sp.simplify(rotation.T * rotation - sp.eye(3)) == sp.zeros(3, 3)
-    assert sp.simplify(rotation.T * prs3.K - sp.Matrix([nx, ny, nz])) == sp.zeros(3, 1)
+    assert sp.simplify(rotation.T * VERTICAL - sp.Matrix([nx, ny, nz])) == sp.zeros(3, 1)
     unit = q / sp.sqrt(q.dot(q))
     w, v = unit[0], unit[1:, 0]
     skew = sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
     assert sp.simplify(sp.eye(3) + 2 * w * skew + 2 * skew * skew - rotation) == sp.zeros(3, 3)
     half_turn = sp.diag(-1, -1, 1)
     for turn in (sp.eye(3), half_turn):
-        position = turn * (centre + height * prs3.K)
+        position = turn * (centre + height * VERTICAL)
         for e, u in zip(prs3.RADIAL, prs3.TANGENT, strict=True):
             joint = turn * rotation * (prs3.r_p * e) + position
             assert sp.simplify((joint - prs3.r_b * e).dot(u)) == 0
@@ -249,7 +281,7 @@ def test_the_generators_reading_is_the_hand_tilt_and_centre():
     centre turn (x0, y0, z) and the quaternion of R0 or of its half-turn, for turn = +-1 (exactly)."""
     steps = dict(prs3.MODEL.inverse().steps)
     nx, ny, nz = sp.symbols("n_x n_y n_z", real=True)
-    rotation, q, centre = prs3.tilt(sp.Matrix([nx, ny, nz]))
+    rotation, q, centre = tilt(sp.Matrix([nx, ny, nz]))
     names = sp.symbols("tilt11 tilt12 tilt13 tilt21 tilt22 tilt23 tilt31 tilt32 tilt33", real=True)
     hand = dict(zip(names, rotation, strict=True))
     assert [steps[s] for s in (nx, ny, nz)] == list(sp.symbols("r31 r32 r33", real=True))
