@@ -154,3 +154,31 @@ def test_latex_is_one_document_that_compiles(tmp_path):
     )
     assert done.returncode == 0, done.stdout[-2000:]
     assert (tmp_path / "five_bar.pdf").stat().st_size > 1000
+
+
+def test_the_header_states_the_platforms_motion_with_the_controlled_coordinates(capsys):
+    """``parakin inspect prs3`` (the command line, text and JSON): the header's motion line is the
+    manifest's joints.motion.text, read here from manifest.json with json, and names the
+    coordinates the actuators control (height and tilt) and the parasitic ones; a package
+    without a screw analysis (sphere2r) prints none and its JSON says null."""
+    from parakin.interfaces.cli import main
+    from parakin.packages.package import GeneratedPackage
+
+    manifest = json.loads((GeneratedPackage.find("prs3").path / "manifest.json").read_text())
+    expected = manifest["joints"]["motion"]["text"]
+    assert "controlled: the height p . k and the tilt n = R^T k" in expected and "parasitic: " in expected
+    assert main(["inspect", "prs3"]) == 0
+    header = capsys.readouterr().out.partition("\n== ")[0].splitlines()
+    start = [k for k, line in enumerate(header) if line.startswith("motion: ")]
+    assert len(start) == 1, header
+    wrapped = [header[start[0]]]
+    for line in header[start[0] + 1 :]:
+        if not line.startswith("    "):
+            break
+        wrapped.append(line[4:])
+    assert max(len(line) for line in header[start[0] : start[0] + len(wrapped)]) <= 100
+    assert " ".join(wrapped) == f"motion: {expected}"
+    assert main(["inspect", "prs3", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["motion"] == expected
+    assert "\nmotion: " not in inspect("sphere2r").partition("\n== ")[0]
+    assert json.loads(inspect("sphere2r", "json"))["motion"] is None

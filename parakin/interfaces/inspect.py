@@ -2,7 +2,10 @@
 
 Needs SymPy (the ``generator`` extra). Three formats of one report:
 
-* ``text`` (the default): each object as the generator named it; a matrix as a grid with its rows
+* ``text`` (the default): the header names the variables, the parameters and the platform's
+  motion (the generator's screw analysis, ``manifest.joints.motion.text``: for a lower-mobility
+  mechanism the coordinates the actuators control and the parasitic ones that follow); then each
+  object as the generator named it; a matrix as a grid with its rows
   and columns labelled (the equation, the variable), or entry by entry with (row, column) labels
   where an entry is too long for a grid; large expressions with their repeated subexpressions
   named (``shared_k``, defined below them); lines wrapped to ``width`` and cut after ``lines``
@@ -18,6 +21,7 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
     {
       "schema": "parakin.interfaces.inspect/1",
       "manifest": NAME, "title": TEXT, "citation": TEXT,
+      "motion": TEXT | null (the platform's motion, the manifest's joints.motion.text),
       "symbols": {DISPLAY: {
           "name": SYMPY_NAME, "assumptions": {"real": true, ...},
           "kind": "actuated" | "passive" | "parameter" | "defined" | "input" | "branch"
@@ -465,6 +469,13 @@ def _wrapped(rows: list[tuple[str, Any]], width: int, lines: int, name: str) -> 
     return out
 
 
+def _motion(manifest: Any) -> str | None:
+    """The platform's motion as the generator's screw analysis states it (mobility, nTmR; for a
+    lower-mobility mechanism the controlled and the parasitic coordinates); None without one."""
+    graph = manifest.joints
+    return None if graph is None or graph.motion is None else str(graph.motion.text)
+
+
 def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> str:
     manifest = report.manifest
     header = [
@@ -475,6 +486,9 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
         "actuated: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.actuated),
         "passive: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.passive),
     ]
+    motion = _motion(manifest)
+    if motion is not None:
+        header += textwrap.wrap(f"motion: {motion}", width=width, subsequent_indent="    ")
     others = _others(report)
     if others:
         header.append("other symbols:")
@@ -555,6 +569,11 @@ def _as_latex(sympy: Any, report: _Report) -> str:
         r"\date{\texttt{parakin inspect " + _escape(manifest.name) + r" --format latex}}",
         r"\begin{document}",
         r"\maketitle",
+    ]
+    motion = _motion(manifest)
+    if motion is not None:
+        out.append(r"\noindent\textbf{Motion:} " + _escape(motion) + r"\par")
+    out += [
         r"\section*{Symbols}",
         r"\begin{description}",
     ]
@@ -684,6 +703,7 @@ def _as_json(sympy: Any, report: _Report) -> str:
         "manifest": manifest.name,
         "title": manifest.title,
         "citation": str(manifest.citation),
+        "motion": _motion(manifest),
         "symbols": symbols,
         "shared": [[str(symbol), str(value)] for symbol, value in shared],
         "objects": objects,
@@ -693,8 +713,38 @@ def _as_json(sympy: Any, report: _Report) -> str:
 
 
 def inspect(name: str | os.PathLike[str], fmt: str = "text", width: int = 100, lines: int = 12) -> str:
-    """The inspect report of a mechanism: ``fmt`` "text", "latex" (a complete document) or
-    "json" (the schema of the module docstring)."""
+    """The inspect report of a mechanism (the formats of the module docstring).
+
+    Parameters
+    ----------
+    name : str or path
+        A generated package: a shipped mechanism's name or a package folder.
+    fmt : {"text", "latex", "json"}
+        "text" (readable, wrapped), "latex" (one complete document) or "json" (the schema of the
+        module docstring); any other value gives the text.
+    width : int
+        Characters per line of the text format.
+    lines : int
+        Lines of one expression shown in the text format before it is cut (with a pointer to the
+        full forms).
+
+    Returns
+    -------
+    str
+        The report. Its header names the variables, the parameters and the platform's motion
+        (``manifest.joints.motion.text``; the JSON's ``"motion"``).
+
+    Raises
+    ------
+    parakin.errors.UnsupportedOperationError
+        SymPy is not installed (the ``generator`` extra).
+
+    Example
+    -------
+    >>> from parakin.interfaces.inspect import inspect
+    >>> "controlled: the height p . k" in inspect("prs3", width=10_000)
+    True
+    """
     sympy = _sympy()
     report = _report(name)
     if fmt == "json":
