@@ -1,8 +1,11 @@
-"""The path tracker at its floor (issue 33): the cubic Hermite predictor, the NumPy reference
-``track_hermite`` against the Runge-Kutta tracker ``track`` (an independent algorithm) and against
-the generated C driver (the same algorithm: equal endpoints and equal work), the C tracker's work
-per path on Dietmaier's 40 modes, and the modes the C pipeline finds against the NumPy pipeline
-(which tracks with ``track``) on random inputs near home."""
+"""The path tracker at its floor (issue 33): the cubic Hermite interpolant, which the predictor
+falls back to (the predictor is rational, quadratic over linear through the last two points and
+slopes, and takes the cubic where that has a pole near the step: ``rational_predict``,
+generator/runtime/tracker.h's ``predict``; tests/test_rational_predict.py checks it), the NumPy
+reference ``track_hermite`` against the Runge-Kutta tracker ``track`` (an independent algorithm)
+and against the generated C driver (the same algorithm: equal endpoints and equal work), the C
+tracker's work per path on Dietmaier's 40 modes, and the modes the C pipeline finds against the
+NumPy pipeline (which tracks with ``track``) on random inputs near home."""
 
 from __future__ import annotations
 
