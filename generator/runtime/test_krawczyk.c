@@ -103,6 +103,41 @@ static void test_close_roots(void) {
     }
 }
 
+// With M = 2^30, M x^2 + M y^2 - 5 M = 0 and M x^2 + (M + 1) y^2 - (5 M + 3) = 0 (every
+// coefficient exact; their difference is y^2 - 3): the roots (+-sqrt 2, +-sqrt 3).
+// J's rows are ~2^31 and nearly parallel, ||J^-1|| ~ 1, the Hessian bound ~2^32 (rus6's roots near
+// infinity in the scaled chart): at a double centre F is ~2^30 ulp, so || |Y| |F| || ~ 1e-6 is far
+// above the radius the Hessian allows (~1e-10), while ||Y F|| is at the centre's rounding; the
+// double-word attempt bounds Y F itself and certifies all four (the loose bound certified none).
+// A candidate 1e-5 (relative) from sqrt 2, beyond KW_NEAR, is certified by that attempt.
+static void test_ill_conditioned(void) {
+    long long a[] = {2, 0, 0, 2, 0, 0, 2, 0, 0, 2, 0, 0}, eq[] = {0, 0, 0, 1, 1, 1};
+    double m = 0x1p30, c[] = {m, 0.0, m, 0.0, -5.0 * m, 0.0, m, 0.0, m + 1.0, 0.0, -(5.0 * m + 3.0), 0.0};
+    double z[16];
+    for (int p = 0; p < 4; ++p) {
+        z[4 * p] = (p & 1 ? -1.0 : 1.0) * sqrt(2.0) * (1.0 + 1e-9);
+        z[4 * p + 1] = 1e-12;
+        z[4 * p + 2] = (p & 2 ? -1.0 : 1.0) * sqrt(3.0);
+        z[4 * p + 3] = 0.0;
+    }
+    outcome out;
+    check(certify(6, 2, c, a, eq, 4, z, NULL, 0, -1, &out) == 0, "ill-conditioned: refused");
+    for (int p = 0; p < 4; ++p) {
+        check(out.unique[p] && out.real[p] == 1, "ill-conditioned: a simple real root not certified real");
+        double x = (p & 1 ? -1.0 : 1.0) * sqrt(2.0), y = (p & 2 ? -1.0 : 1.0) * sqrt(3.0);
+        // the doubles nearest sqrt 2 and sqrt 3 are within 2^-52 of them
+        check(fabs(out.center[4 * p] - x) <= out.radii[2 * p] + 0x1p-52 &&
+                  fabs(out.center[4 * p + 2] - y) <= out.radii[2 * p + 1] + 0x1p-52,
+              "ill-conditioned: the box misses the root");
+        check(out.radii[2 * p] < 1e-12, "ill-conditioned: the box is not tight");
+    }
+    long long a1[] = {2, 0}, eq1[] = {0, 0};
+    double two[] = {1.0, 0.0, -2.0, 0.0}, far[] = {sqrt(2.0) * (1.0 + 1e-5), 0.0};
+    check(certify(2, 1, two, a1, eq1, 1, far, NULL, 0, -1, &out) == 0, "z^2 - 2: refused");
+    check(out.unique[0] && out.real[0] == 1 && fabs(out.center[0] - sqrt(2.0)) <= out.radii[0] + 0x1p-52,
+          "z^2 - 2: a candidate 1e-5 from sqrt 2 not certified in the double-word attempt");
+}
+
 // the projective system x^2 - 4 y^2 = 0 with the patch (1 + i) x + (2 - i) y - 1 = 0: the real
 // projective points (2 : 1) and (-2 : 1) in complex coordinates, certified real in the chart;
 // x^2 + 4 y^2 = 0 has (2i : 1), (-2i : 1): non-real
@@ -151,6 +186,7 @@ int main(void) {
     test_rounding();
     test_univariate();
     test_close_roots();
+    test_ill_conditioned();
     test_homogeneous();
     test_refusals();
     printf("checked %d\n", checks);
