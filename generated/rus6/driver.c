@@ -3306,7 +3306,9 @@ int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts) 
 // Numerica 2010). Row k of J(z) - J(x) sums to at most r H_k(|x| + r), H_k(rho) = sum_{t in k}
 // |c_t| sum_{i,j} a_ti (a_tj - [i = j]) rho^(a_t - e_i - e_j) (certify.py's module docstring);
 // here ||Y|| L(r) is bounded by max_k sum_i |Y_ki| H_i r (certify.py: ||Y|| max_i H_i r), never
-// larger, and much smaller where the equations' scales differ (roots of very different sizes).
+// larger, and much smaller where the equations' scales differ (roots of very different sizes);
+// and ||Y F(x)|| by the computed Y F~ with its rounding and Y's image of F's radius (certify.py:
+// || |Y| |F~| ||), far smaller where J is ill conditioned (kw_bound).
 //
 // Rounding: IEEE double, round to nearest, no FMA contraction needed nor harmful, no -ffast-math.
 // A rounded result c of one operation is within 2^-53 |c| + 2^-1075 of the exact one, so
@@ -3320,8 +3322,11 @@ int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts) 
 // Where the first attempt fails although its candidate is near a root (the Newton step stalls
 // at double precision's rounding of F: terms that cancel by many orders, close roots), a second
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
-// sizes): certify.py leaves such roots to its exact-arithmetic certificate. So every box the
-// NumPy reference certifies is certified here too, and some more.
+// sizes), with Newton reaching KW_NEAR_ACCURATE (a candidate tracked in double near an
+// ill-conditioned root stops up to ~1e-5 from it): certify.py leaves such roots to its
+// exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
+// are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
+// too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -3329,6 +3334,9 @@ int rus6_forward_pose_all_counted(const rus6_modes_job* job, long long* counts) 
 
 // certify.py's constants: NEAR, MULTIPLIERS, NEWTON_STEPS, FLOOR, UNIT
 #define KW_NEAR 1e-06
+// the second (double-word) attempt's reach: a candidate that double precision could not bring
+// within KW_NEAR (an endpoint tracked in double near an ill-conditioned root stops ~1e-6 from it)
+#define KW_NEAR_ACCURATE 1e-04
 #define KW_RADII 5
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
@@ -3730,13 +3738,24 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
     if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
-        double ra = 0.0, rc = 0.0;
+        // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
+        // 2^-53 mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill
+        // conditioned (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2),
+        // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
+        double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
         for (long long i = 0; i < n; ++i) {
             double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
             w->absy[k * n + i] = size;
             rc = kw_add_up(rc, size);
-            ra = kw_add_up(ra, kw_mul_up(size, kw_disc_abs_up(w->f[i])));
+            const kw_disc* f = w->f + i;
+            double p1 = yr * f->re, p2 = yi * f->im, p3 = yr * f->im, p4 = yi * f->re;
+            double pr = p1 - p2, pi = p3 + p4;
+            fr += pr;
+            fi += pi;
+            fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
+            fspread += size * f->r;
         }
+        double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
         double rb = 0.0;
         for (long long j = 0; j < n; ++j) {
             // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
@@ -4066,7 +4085,8 @@ static int kw_certify(const kw_job* job) {
             double r = 0.0, floor = 0.0;
             for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
                 // the first attempt in double, a second with F in double-word arithmetic where the
-                // first's centre stalled (its Newton step still above the test's reach)
+                // first's centre stalled (its Newton step still above the test's reach) or Newton
+                // in double moved it beyond KW_NEAR (the second may move it KW_NEAR_ACCURATE)
                 if (s.accurate)
                     for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
                 for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
@@ -4081,10 +4101,10 @@ static int kw_certify(const kw_job* job) {
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double limit = (s.accurate ? KW_NEAR_ACCURATE : KW_NEAR) * fmax(kw_max_abs(n, given), unit);
                 double moved = 0.0;
                 for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
-                if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) break;
+                if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
                 if (r > 0.0) break;
