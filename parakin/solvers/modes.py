@@ -14,6 +14,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
+import weakref
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -118,12 +119,96 @@ def _allocate(info: Forward, m: Mechanism, count: int) -> dict[str, np.ndarray]:
 
 
 def length_scale(m: Mechanism) -> float:
-    """The size of the geometry: the largest length parameter (1 m where none is nonzero). The
+    """The size of the geometry: the largest length parameter (1 m where none is nonzero, and
+    where the closure does not scale with the length parameters: ``scales_with_lengths``). The
     thresholds on closure residuals and pose distances are multiples of it, so the same geometry
-    in millimetres or kilometres gets the same modes, scaled."""
+    in millimetres or kilometres gets the same modes, scaled; and the all-modes solver works in
+    this size (``Mechanism._unit_free``: a size of 1 m is not rescaled)."""
     lengths = [abs(v) for p, v in zip(m.manifest.parameters, m.params, strict=True) if p.unit == "m"]
     largest = max((v for v in lengths if np.isfinite(v)), default=0.0)
-    return float(largest) if largest > 0 else 1.0
+    if not largest > 0 or not scales_with_lengths(m):
+        return 1.0
+    return float(largest)
+
+
+#: per mechanism object: (its parameter values, whether its closure scales with its lengths)
+_SCALES: weakref.WeakKeyDictionary[Any, tuple[bytes, bool]] = weakref.WeakKeyDictionary()
+#: the test of ``scales_with_lengths``: every length halved (exact in binary floating point)
+SCALE_TEST_UNIT = 2.0
+#: the degrees in the lengths a closure row may have (a rotation error 0, a position
+#: difference 1, a squared distance 2, ...)
+SCALE_DEGREES = np.arange(-2, 5)
+
+
+def scales_with_lengths(m: Mechanism) -> bool:
+    """Whether the mechanism's loop closure is the same geometry when every length (parameters,
+    actuated and passive variables in m) is divided by one unit: each residual row then scales
+    by a power of the unit (its degree in the lengths). A model that writes a length as a
+    number instead of a parameter (a user's ``R_B = 0.2`` in a joint's point) does not: its
+    closure with the length parameters rescaled is another mechanism, whose modes do not close
+    this one (the skew 3-RRS fixture: modes 0.09-0.17 m off, the home lost). Tested at one
+    generic configuration near the home (rows that vanish at both scales say nothing); cached
+    per mechanism and parameter values.
+
+    Parameters
+    ----------
+    m : Mechanism
+        A loaded mechanism (its ``params``, home and the kernel ``loop_closure``).
+
+    Returns
+    -------
+    bool
+        True where every nonzero residual row scales by a power of the unit (to 1e-9 relative);
+        also True where the test cannot be evaluated (a closure undefined there).
+
+    Examples
+    --------
+    >>> import parakin
+    >>> from parakin.solvers.modes import scales_with_lengths
+    >>> scales_with_lengths(parakin.load("five_bar", backend="numpy"))
+    True
+    """
+    key = np.ascontiguousarray(m.params, dtype=float).tobytes()
+    known = _SCALES.get(m)
+    if known is not None and known[0] == key:
+        return known[1]
+    manifest = m.manifest
+    parameters = np.array([p.unit == "m" for p in manifest.parameters], dtype=bool)
+    actuated = np.array([v.unit == "m" for v in manifest.actuated], dtype=bool)
+    passive = np.array([v.unit == "m" for v in manifest.passive], dtype=bool)
+    lengths = [abs(v) for v, is_length in zip(m.params, parameters, strict=True) if is_length and np.isfinite(v)]
+    size = max(lengths, default=1.0) or 1.0
+    # a generic configuration near the home: every variable moved by an irrational fraction
+    theta = np.asarray(m.home_actuated, dtype=float)
+    q = np.asarray(m.home_passive, dtype=float)
+    moves = 0.05 * np.sin(1.0 + np.arange(theta.size + q.size))
+    theta = theta + moves[: theta.size] * np.where(actuated, size, 1.0)
+    q = q + moves[theta.size :] * np.where(passive, size, 1.0)
+    unit = SCALE_TEST_UNIT
+    with np.errstate(all="ignore"):
+        here = m.backend.call("loop_closure", theta, q, m.params)["residual"]
+        scaled = m.backend.call(
+            "loop_closure",
+            np.where(actuated, theta / unit, theta),
+            np.where(passive, q / unit, q),
+            np.where(parameters, m.params / unit, m.params),
+        )["residual"]
+    result = bool(_rows_scale(np.asarray(here, dtype=float), np.asarray(scaled, dtype=float), unit))
+    _SCALES[m] = (key, result)
+    return result
+
+
+def _rows_scale(here: np.ndarray, scaled: np.ndarray, unit: float) -> bool:
+    """Whether each residual row ``here`` (n_r,) is its row ``scaled`` (n_r,) times a power of
+    ``unit`` (``SCALE_DEGREES``) to 1e-9 relative; rows below 1e-12 of the largest at both
+    scales are not tested, and a closure undefined at either is taken to scale."""
+    if not (np.isfinite(here).all() and np.isfinite(scaled).all()):
+        return True
+    floor = 1e-12 * max(np.abs(here).max(initial=0.0), np.abs(scaled).max(initial=0.0), 1e-300)
+    tested = (np.abs(here) > floor) | (np.abs(scaled) > floor)
+    candidates = scaled[tested, None] * unit ** SCALE_DEGREES.astype(float)
+    agree = np.abs(candidates - here[tested, None]) <= 1e-9 * np.abs(here[tested, None])
+    return bool(agree.any(-1).all())
 
 
 def _settings(m: Mechanism) -> dict[str, float | int]:
@@ -1170,6 +1255,23 @@ def canonical_quaternions(passive: np.ndarray, blocks: tuple[int, ...]) -> np.nd
     return out
 
 
+def closure_tolerance(m: Mechanism) -> float:
+    """What a mode's loop closure must reach in the caller's units, max-norm over the rows (m and
+    rad): the package's closure tolerance times the size of the geometry (``length_scale``)."""
+    return float(m.tolerances["closure"]) * length_scale(m)
+
+
+def _closed_modes(
+    m: Mechanism, outcome: np.ndarray, residual: np.ndarray, codes: dict[str, int]
+) -> tuple[np.ndarray, np.ndarray]:
+    """The last check of every mode (..., M), whatever produced it: its closure ``residual`` in
+    the caller's units (the rescaled solver's modes are measured again in the caller's geometry,
+    ``Mechanism._every_mode``) below ``closure_tolerance``; a mode that does not close is "not
+    closed", never a mode. Returns the outcomes and the modes taken away per input (...)."""
+    opened = (outcome == codes["mode"]) & ~(residual <= closure_tolerance(m))
+    return np.where(opened, codes["not_closed"], outcome).astype(outcome.dtype), opened.sum(-1)
+
+
 def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forward) -> AssemblyModes:
     """The result object over the caller's batch shape."""
     shape = theta.shape[:-1]
@@ -1179,7 +1281,10 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         value = out[key]
         return value.reshape(shape + value.shape[1:])
 
-    outcome = shaped("outcome")
+    # a mode that does not close is none (counted undecided: the input is then not complete)
+    outcome, dropped = _closed_modes(m, shaped("outcome"), shaped("residual"), codes)
+    count = (shaped("count") - dropped).astype(np.int32)
+    undecided = shaped("undecided") + dropped if "undecided" in out else None
     valid = outcome == codes["mode"]
     kind, kinds = shaped("root_kind"), m.manifest.abi.root_kinds
     return AssemblyModes(
@@ -1192,7 +1297,7 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         # polished into a mode; near-real pairs, complex endpoints and failed paths are not
         real=(kind == kinds.index("simple")) | (kind == kinds.index("cluster")) | valid,
         valid=valid,
-        count=shaped("count"),
+        count=count,
         input_independent=outcome == codes["input_independent"],
         outcome=outcome,
         root_kind=kind,
@@ -1211,6 +1316,6 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         certified_roots=shaped("certified") if "certified" in out else None,
         path_certified=shaped("path_certified") if "path_certified" in out else None,
         retracked=shaped("retracked") if "retracked" in out else None,
-        undecided_roots=shaped("undecided") if "undecided" in out else None,
+        undecided_roots=undecided,
         pose_kind=m.manifest.pose_kind,
     )
