@@ -23,14 +23,11 @@ Conventions (SI, radians):
 from __future__ import annotations
 
 import math
-from functools import partial
 
 import sympy as sp
 from parakin.generator import joints
 from parakin.generator.frames import homogeneous, rot_y, rot_z
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
-from parakin.mechanisms import _prs3_reading as reading
-from parakin.mechanisms._prs3_reading import K
 
 r_b, r_p, L = sp.symbols("r_b r_p L", positive=True)
 strokes = sp.symbols("d1:4", real=True)
@@ -39,9 +36,9 @@ ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), 
 RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
 TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
 DEFAULTS = {r_b: 0.2, r_p: 0.1, L: 0.35}
+K = sp.Matrix([0, 0, 1])  # the rails' direction, the vertical of {B}
 RAIL_LENGTH = 1.0  # the rails: 0 <= d_i <= RAIL_LENGTH (metres)
 HOME_HEIGHT = 0.6  # the home: the platform level at this height (metres), links rising
-tilt = partial(reading.tilt, r_p)
 
 #: three P-R-S legs; the inverse reads the reachable pose of the given height and tilt (derived)
 MODEL = joints.DistanceMechanism(
