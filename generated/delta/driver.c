@@ -841,8 +841,8 @@ int delta_forward_pose_all_counted(const delta_modes_job* job, long long* counts
 // Where the first attempt fails although its candidate is near a root (the Newton step stalls
 // at double precision's rounding of F: terms that cancel by many orders, close roots), a second
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
-// sizes), with Newton reaching KW_NEAR_ACCURATE (a candidate tracked in double near an
-// ill-conditioned root stops up to ~1e-5 from it): certify.py leaves such roots to its
+// sizes), whose Newton steps may move the candidate KW_REACH (a candidate tracked in double near
+// an ill-conditioned root stops up to ~0.2 of its size from it): certify.py leaves such roots to its
 // exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
 // are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
 // too, and some more.
@@ -853,9 +853,13 @@ int delta_forward_pose_all_counted(const delta_modes_job* job, long long* counts
 
 // certify.py's constants: NEAR, MULTIPLIERS, NEWTON_STEPS, FLOOR, UNIT
 #define KW_NEAR 1e-06
-// the second (double-word) attempt's reach: a candidate that double precision could not bring
-// within KW_NEAR (an endpoint tracked in double near an ill-conditioned root stops ~1e-6 from it)
-#define KW_NEAR_ACCURATE 1e-04
+// How far (times the candidate's max-norm) the second (double-word) attempt's Newton steps may
+// move a candidate that double precision could not certify within KW_NEAR: rus6's endpoints
+// near roots of size 1e5..1e8 (near infinity) stop 1e-7..0.2 of their size from the root. Any
+// root certified is a root, and distinct ones are counted as distinct however far their
+// candidates moved (the exact-arithmetic certificate, which this one replaces there, moves
+// them without a limit); its box is still at most KW_NEAR of the centre's size wide.
+#define KW_REACH 0.25
 #define KW_RADII 5
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
@@ -1605,7 +1609,7 @@ static int kw_certify(const kw_job* job) {
             for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
                 // the first attempt in double, a second with F in double-word arithmetic where the
                 // first's centre stalled (its Newton step still above the test's reach) or Newton
-                // in double moved it beyond KW_NEAR (the second may move it KW_NEAR_ACCURATE)
+                // in double moved it beyond KW_NEAR (the second may move it KW_REACH)
                 if (s.accurate)
                     for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
                 for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
@@ -1620,10 +1624,11 @@ static int kw_certify(const kw_job* job) {
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = (s.accurate ? KW_NEAR_ACCURATE : KW_NEAR) * fmax(kw_max_abs(n, given), unit);
+                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double reach = s.accurate ? KW_REACH / KW_NEAR * limit : limit;
                 double moved = 0.0;
                 for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
-                if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) continue;
+                if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
                 if (r > 0.0) break;

@@ -841,8 +841,8 @@ int sam_forward_pose_all_counted(const sam_modes_job* job, long long* counts) {
 // Where the first attempt fails although its candidate is near a root (the Newton step stalls
 // at double precision's rounding of F: terms that cancel by many orders, close roots), a second
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
-// sizes), with Newton reaching KW_NEAR_ACCURATE (a candidate tracked in double near an
-// ill-conditioned root stops up to ~1e-5 from it): certify.py leaves such roots to its
+// sizes), whose Newton steps may move the candidate KW_REACH (a candidate tracked in double near
+// an ill-conditioned root stops up to ~0.2 of its size from it): certify.py leaves such roots to its
 // exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
 // are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
 // too, and some more.
@@ -853,9 +853,13 @@ int sam_forward_pose_all_counted(const sam_modes_job* job, long long* counts) {
 
 // certify.py's constants: NEAR, MULTIPLIERS, NEWTON_STEPS, FLOOR, UNIT
 #define KW_NEAR 1e-06
-// the second (double-word) attempt's reach: a candidate that double precision could not bring
-// within KW_NEAR (an endpoint tracked in double near an ill-conditioned root stops ~1e-6 from it)
-#define KW_NEAR_ACCURATE 1e-04
+// How far (times the candidate's max-norm) the second (double-word) attempt's Newton steps may
+// move a candidate that double precision could not certify within KW_NEAR: rus6's endpoints
+// near roots of size 1e5..1e8 (near infinity) stop 1e-7..0.2 of their size from the root. Any
+// root certified is a root, and distinct ones are counted as distinct however far their
+// candidates moved (the exact-arithmetic certificate, which this one replaces there, moves
+// them without a limit); its box is still at most KW_NEAR of the centre's size wide.
+#define KW_REACH 0.25
 #define KW_RADII 5
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
@@ -962,6 +966,10 @@ typedef struct {
     double* rho;      // n x (deg + 1): rho_i^e, rounded up
     double* step;     // n complex
     double* dw;       // n x (deg + 1) x 5: double-word powers (kw_accurate_f)
+    double* y1;       // n x n complex: kw_precondition's first inverse
+    kw_disc* m;       // n x n: its Y1 J
+    kw_disc* g;       // n: its Y1 F
+    double* absy2;    // n x n: |Y| kept while kw_precondition tries
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -1252,9 +1260,10 @@ static int kw_newton(const kw_system* s, const double* x, kw_scratch* w) {
 // J~); 0 when F or J is not finite or J~ is singular.
 typedef struct { double a, b, c; } kw_bounds;
 
-static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
-    long long n = s->n;
-    if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
+// a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
+// doubles) and the enclosures f (n) and jac (n x n) of F and J; 0 when not finite
+static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
+                          kw_bounds* out) {
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
         // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
@@ -1263,16 +1272,16 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
         // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
         double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
         for (long long i = 0; i < n; ++i) {
-            double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
-            w->absy[k * n + i] = size;
+            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
+            absy[k * n + i] = size;
             rc = kw_add_up(rc, size);
-            const kw_disc* f = w->f + i;
-            double p1 = yr * f->re, p2 = yi * f->im, p3 = yr * f->im, p4 = yi * f->re;
+            const kw_disc* fi_ = f + i;
+            double p1 = yr * fi_->re, p2 = yi * fi_->im, p3 = yr * fi_->im, p4 = yi * fi_->re;
             double pr = p1 - p2, pi = p3 + p4;
             fr += pr;
             fi += pi;
             fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
-            fspread += size * f->r;
+            fspread += size * fi_->r;
         }
         double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
         double rb = 0.0;
@@ -1282,14 +1291,14 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
             // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
             double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
             for (long long i = 0; i < n; ++i) {
-                double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1];
-                const kw_disc* jac = w->jac + i * n + j;
-                double p1 = yr * jac->re, p2 = yi * jac->im, p3 = yr * jac->im, p4 = yi * jac->re;
+                double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1];
+                const kw_disc* e = jac + i * n + j;
+                double p1 = yr * e->re, p2 = yi * e->im, p3 = yr * e->im, p4 = yi * e->re;
                 double pr = p1 - p2, pi = p3 + p4;
                 mr -= pr;
                 mi -= pi;
                 mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
-                spread += w->absy[k * n + i] * jac->r;
+                spread += absy[k * n + i] * e->r;
             }
             rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
         }
@@ -1301,6 +1310,87 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
     out->b = b;
     out->c = c;
     return isfinite(a) && isfinite(b) && isfinite(c);
+}
+
+// a double-word disc as a disc: the high parts, the low parts added to the radius
+static inline kw_disc kw_dw_round(kw_dw_disc v) {
+    return (kw_disc){v.re.h, v.im.h, kw_add_up(kw_add_up(v.r, fabs(v.re.l)), fabs(v.im.l))};
+}
+
+// Where J is conditioned beyond double precision (||I - Y J|| >= 1 for Y the inverse of J~ in
+// double: rus6's roots of size 1e6..1e8), Y = Y2 Y1 (Rump, "Inversion of extremely
+// ill-conditioned matrices in floating-point", Japan J. Indust. Appl. Math. 26, 2009: one step
+// of his preconditioning): Y1 the inverse of J~, M = Y1 J(x) and g = Y1 F(x) enclosed in
+// double-word disc arithmetic (about 2^-100 of |Y1| |J| where double's rounding of Y1 J is the
+// whole trouble), Y2 the inverse of M's midpoint. Y is never formed: ||Y F|| <= ||Y2 g||,
+// ||I - Y J|| <= ||I - Y2 M|| (kw_ingredients on Y2, g, M), and |Y| <= |Y2| |Y1| (rounded up) for
+// ||Y|| and the Lipschitz term. Any Y keeps the test sound. On success w->absy, w->y, w->f and
+// w->jac hold |Y2| |Y1|, Y2, g and M (kw_passes reads absy alone) and out the bounds; 0 when a
+// part is not finite or M~ is singular (w's F, J and Y are then no longer the originals).
+static int kw_precondition(long long n, kw_scratch* w, kw_bounds* out) {
+    double* y1 = w->y1;
+    for (long long k = 0; k < 2 * n * n; ++k) y1[k] = w->y[k];
+    for (long long k = 0; k < n; ++k) {
+        kw_dw_disc g = kw_dw_point(0.0, 0.0);
+        for (long long i = 0; i < n; ++i) {
+            kw_dw_disc f = kw_dw_point(w->f[i].re, w->f[i].im);
+            f.r = kw_add_up(f.r, w->f[i].r);
+            g = kw_dw_disc_add(g, kw_dw_disc_mul(kw_dw_point(y1[2 * (k * n + i)], y1[2 * (k * n + i) + 1]), f));
+        }
+        w->g[k] = kw_dw_round(g);
+        for (long long j = 0; j < n; ++j) {
+            kw_dw_disc m = kw_dw_point(0.0, 0.0);
+            for (long long i = 0; i < n; ++i) {
+                const kw_disc* e = w->jac + i * n + j;
+                kw_dw_disc v = kw_dw_point(e->re, e->im);
+                v.r = kw_add_up(v.r, e->r);
+                m = kw_dw_disc_add(m, kw_dw_disc_mul(kw_dw_point(y1[2 * (k * n + i)], y1[2 * (k * n + i) + 1]), v));
+            }
+            w->m[k * n + j] = kw_dw_round(m);
+        }
+    }
+    for (long long k = 0; k < n; ++k) {
+        w->f[k] = w->g[k];
+        if (!kw_finite(w->f[k])) return 0;
+    }
+    for (long long k = 0; k < n * n; ++k) {
+        w->jac[k] = w->m[k];
+        if (!kw_finite(w->jac[k])) return 0;
+    }
+    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out)) return 0;
+    // |Y2| |Y1| rounded up, into absy (|Y2| is in absy now: row k is read before it is written)
+    double c = 0.0, row[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < n; ++k) {
+        double rc = 0.0;
+        for (long long j = 0; j < n; ++j) {
+            double sum = 0.0;
+            for (long long i = 0; i < n; ++i)
+                sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], kw_abs_up(y1[2 * (i * n + j)], y1[2 * (i * n + j) + 1])));
+            row[j] = sum;
+            rc = kw_add_up(rc, sum);
+        }
+        for (long long j = 0; j < n; ++j) w->absy[k * n + j] = row[j];
+        c = fmax(c, rc);
+    }
+    out->c = c;
+    return isfinite(c);
+}
+
+static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
+    long long n = s->n;
+    if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
+    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out);
+    if (!s->accurate || (ok && out->b < 0.5)) return ok;
+    // the double-word attempt, Y J far from I: Rump's preconditioner (kw_precondition) where
+    // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
+    kw_bounds other;
+    for (long long k = 0; k < n * n; ++k) w->absy2[k] = w->absy[k];
+    if (kw_precondition(n, w, &other) && (!ok || other.b < out->b)) {
+        *out = other;
+        return 1;
+    }
+    for (long long k = 0; k < n * n; ++k) w->absy[k] = w->absy2[k];
+    return ok;
 }
 
 // The test on B(x, r) with the bounds at x: 1 when it passes (its box holds exactly one root)
@@ -1412,6 +1502,10 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(double));  // rho
     b += KW_ALIGN(2 * n * (long long)sizeof(double));  // step
     b += KW_ALIGN(5 * n * (deg + 1) * (long long)sizeof(double));  // dw
+    b += KW_ALIGN(2 * n * n * (long long)sizeof(double));  // y1
+    b += KW_ALIGN(n * n * (long long)sizeof(kw_disc));  // m
+    b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
+    b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -1501,6 +1595,10 @@ static int kw_certify(const kw_job* job) {
     w.rho = (double*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(double));
     w.step = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     w.dw = (double*)kw_take(&cursor, 5 * n * (deg + 1) * (long long)sizeof(double));
+    w.y1 = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.m = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
+    w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
+    w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -1605,7 +1703,7 @@ static int kw_certify(const kw_job* job) {
             for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
                 // the first attempt in double, a second with F in double-word arithmetic where the
                 // first's centre stalled (its Newton step still above the test's reach) or Newton
-                // in double moved it beyond KW_NEAR (the second may move it KW_NEAR_ACCURATE)
+                // in double moved it beyond KW_NEAR (the second may move it KW_REACH)
                 if (s.accurate)
                     for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
                 for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
@@ -1620,10 +1718,11 @@ static int kw_certify(const kw_job* job) {
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = (s.accurate ? KW_NEAR_ACCURATE : KW_NEAR) * fmax(kw_max_abs(n, given), unit);
+                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double reach = s.accurate ? KW_REACH / KW_NEAR * limit : limit;
                 double moved = 0.0;
                 for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
-                if (!(moved <= limit) || !kw_bound(&s, x, &w, &bounds)) continue;
+                if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
                 if (r > 0.0) break;
