@@ -138,6 +138,24 @@ static void test_ill_conditioned(void) {
           "z^2 - 2: a candidate 1e-5 from sqrt 2 not certified in the double-word attempt");
 }
 
+// J = [[2^30 + 6, 2^30 - 2], [2^30 + 5, 2^30 - 3]] (det -8, condition ~2^60, every entry exact)
+// and F = J (z - (1, 1)): J~'s LU in double has its last pivot 16 times the true one (-2^-23 for
+// -8 / (2^30 + 6)), so ||I - Y J|| is far above 1; Rump's preconditioner
+// (kw_precondition: Y = Y2 Y1, Y1 J in double-word) certifies the root (1, 1), real, in a tight
+// box, as exact arithmetic would (F(1, 1) = 0 exactly and J is regular).
+static void test_beyond_double(void) {
+    double m = 0x1p30;
+    long long a[] = {1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0}, eq[] = {0, 0, 0, 1, 1, 1};
+    double c[] = {m + 6.0, 0.0, m - 2.0, 0.0, -(2.0 * m + 4.0), 0.0, m + 5.0, 0.0, m - 3.0, 0.0, -(2.0 * m + 2.0), 0.0};
+    double z[] = {1.0, 0.0, 1.0, 0.0};
+    outcome out;
+    check(certify(6, 2, c, a, eq, 1, z, NULL, 0, -1, &out) == 0, "beyond double: refused");
+    check(out.unique[0] && out.real[0] == 1, "beyond double: the simple real root (1, 1) not certified real");
+    check(fabs(out.center[0] - 1.0) <= out.radii[0] && fabs(out.center[2] - 1.0) <= out.radii[1] &&
+              out.radii[0] < 1e-9 && out.radii[1] < 1e-9,
+          "beyond double: the box misses (1, 1) or is not tight");
+}
+
 // the projective system x^2 - 4 y^2 = 0 with the patch (1 + i) x + (2 - i) y - 1 = 0: the real
 // projective points (2 : 1) and (-2 : 1) in complex coordinates, certified real in the chart;
 // x^2 + 4 y^2 = 0 has (2i : 1), (-2i : 1): non-real
@@ -187,6 +205,7 @@ int main(void) {
     test_univariate();
     test_close_roots();
     test_ill_conditioned();
+    test_beyond_double();
     test_homogeneous();
     test_refusals();
     printf("checked %d\n", checks);
