@@ -30,9 +30,10 @@
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
 // sizes), whose Newton steps may move the candidate KW_REACH (a candidate tracked in double near
 // an ill-conditioned root stops up to ~0.2 of its size from it): certify.py leaves such roots to its
-// exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
-// are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
-// too, and some more.
+// exact-arithmetic certificate (rus6's roots near infinity, ~20 ms each in Python, are decided
+// here in ~0.3 ms each). Where J is conditioned beyond double, that attempt also takes Y = Y2 Y1
+// (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
+// certified here too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
