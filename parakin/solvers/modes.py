@@ -200,15 +200,16 @@ def scales_with_lengths(m: Mechanism) -> bool:
 
 def _rows_scale(here: np.ndarray, scaled: np.ndarray, unit: float) -> bool:
     """Whether each residual row ``here`` (n_r,) is its row ``scaled`` (n_r,) times a power of
-    ``unit`` (``SCALE_DEGREES``) to 1e-9 relative; rows below 1e-12 of the largest at both
-    scales are not tested, and a closure undefined at either is taken to scale."""
+    ``unit`` (``SCALE_DEGREES``), to 1e-9 relative plus 1e-12 of the largest row (rounding in a
+    row that cancels); rows below 1e-9 of the largest at both scales are not tested, and a
+    closure undefined at either is taken to scale."""
     if not (np.isfinite(here).all() and np.isfinite(scaled).all()):
         return True
-    floor = 1e-12 * max(np.abs(here).max(initial=0.0), np.abs(scaled).max(initial=0.0), 1e-300)
-    tested = (np.abs(here) > floor) | (np.abs(scaled) > floor)
+    largest = max(np.abs(here).max(initial=0.0), np.abs(scaled).max(initial=0.0))
+    tested = (np.abs(here) > 1e-9 * largest) | (np.abs(scaled) > 1e-9 * largest)
     candidates = scaled[tested, None] * unit ** SCALE_DEGREES.astype(float)
-    agree = np.abs(candidates - here[tested, None]) <= 1e-9 * np.abs(here[tested, None])
-    return bool(agree.any(-1).all())
+    slack = 1e-9 * np.abs(here[tested, None]) + 1e-12 * largest
+    return bool((np.abs(candidates - here[tested, None]) <= slack).any(-1).all())
 
 
 def _settings(m: Mechanism) -> dict[str, float | int]:
