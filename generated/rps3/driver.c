@@ -1983,9 +1983,10 @@ int rps3_forward_pose_all_counted(const rps3_modes_job* job, long long* counts) 
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
 // sizes), whose Newton steps may move the candidate KW_REACH (a candidate tracked in double near
 // an ill-conditioned root stops up to ~0.2 of its size from it): certify.py leaves such roots to its
-// exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
-// are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
-// too, and some more.
+// exact-arithmetic certificate (rus6's roots near infinity, ~20 ms each in Python, are decided
+// here in ~0.3 ms each). Where J is conditioned beyond double, that attempt also takes Y = Y2 Y1
+// (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
+// certified here too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -2000,6 +2001,8 @@ int rps3_forward_pose_all_counted(const rps3_modes_job* job, long long* counts) 
 // candidates moved (the exact-arithmetic certificate, which this one replaces there, moves
 // them without a limit); its box is still at most KW_NEAR of the centre's size wide.
 #define KW_REACH 0.25
+// Newton steps with the preconditioned Y (kw_precondition) where the double-word attempt's test fails
+#define KW_PRECONDITIONED_STEPS 2
 #define KW_RADII 5
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
@@ -2106,6 +2109,11 @@ typedef struct {
     double* rho;      // n x (deg + 1): rho_i^e, rounded up
     double* step;     // n complex
     double* dw;       // n x (deg + 1) x 5: double-word powers (kw_accurate_f)
+    double* y1;       // n x n complex: kw_precondition's first inverse
+    kw_disc* m;       // n x n: its Y1 J
+    kw_disc* g;       // n: its Y1 F
+    double* absy2;    // n x n: |Y| kept while kw_precondition tries
+    double* dwj;      // n x n x 5: double-word J (kw_accurate_j)
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -2300,6 +2308,38 @@ static int kw_accurate_f(const kw_system* s, const double* x, kw_scratch* w) {
     return 1;
 }
 
+// J at the point of the last kw_accurate_f (its double-word powers in w->dw) in double-word disc
+// arithmetic, replacing w->jac (midpoints the high parts, the low parts added to the radii): for
+// kw_precondition, where J's enclosure in double (2^-52 of its terms' sizes) times |Y1| would be
+// all of ||I - Y J||; 0 when not finite
+static int kw_accurate_j(const kw_system* s, kw_scratch* w) {
+    long long n = s->n, deg = s->deg;
+    const kw_dw_disc* powers = (const kw_dw_disc*)w->dw;
+    kw_dw_disc* jac = (kw_dw_disc*)w->dwj;
+    for (long long k = 0; k < n * n; ++k) jac[k] = kw_dw_point(0.0, 0.0);
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long k = s->eq[t];
+        kw_dw_disc c = kw_dw_point(s->c[2 * t], s->c[2 * t + 1]);
+        c.r = kw_add_up(c.r, s->cr[t]);
+        for (long long i = 0; i < n; ++i) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
+            if (!a[i]) continue;
+            kw_dw_disc d = a[i] == 1 ? c : kw_dw_disc_mul(c, kw_dw_point((double)a[i], 0.0));
+            for (long long j = 0; j < n; ++j) {
+                long long e = a[j] - (j == i);
+                if (e) d = kw_dw_disc_mul(d, powers[j * (deg + 1) + e]);
+            }
+            jac[k * n + i] = kw_dw_disc_add(jac[k * n + i], d);
+        }
+    }
+    for (long long k = 0; k < n * n; ++k) {
+        double r = kw_add_up(kw_add_up(jac[k].r, fabs(jac[k].re.l)), fabs(jac[k].im.l));
+        w->jac[k] = (kw_disc){jac[k].re.h, jac[k].im.h, r};
+        if (!kw_finite(w->jac[k])) return 0;
+    }
+    return 1;
+}
+
 // LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
 // 0 when a pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
@@ -2394,11 +2434,15 @@ static int kw_newton(const kw_system* s, const double* x, kw_scratch* w) {
 
 // The test's ingredients at x: a >= ||Y F(x)||, b >= ||I - Y J(x)||, c >= ||Y|| (Y the inverse of
 // J~); 0 when F or J is not finite or J~ is singular.
-typedef struct { double a, b, c; } kw_bounds;
+typedef struct {
+    double a, b, c;
+    int preconditioned;  // Y = Y2 Y1 (kw_precondition): w->y holds Y2 and w->f Y1 F
+} kw_bounds;
 
-static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
-    long long n = s->n;
-    if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
+// a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
+// doubles) and the enclosures f (n) and jac (n x n) of F and J; 0 when not finite
+static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
+                          kw_bounds* out) {
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
         // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
@@ -2407,16 +2451,16 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
         // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
         double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
         for (long long i = 0; i < n; ++i) {
-            double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
-            w->absy[k * n + i] = size;
+            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
+            absy[k * n + i] = size;
             rc = kw_add_up(rc, size);
-            const kw_disc* f = w->f + i;
-            double p1 = yr * f->re, p2 = yi * f->im, p3 = yr * f->im, p4 = yi * f->re;
+            const kw_disc* fi_ = f + i;
+            double p1 = yr * fi_->re, p2 = yi * fi_->im, p3 = yr * fi_->im, p4 = yi * fi_->re;
             double pr = p1 - p2, pi = p3 + p4;
             fr += pr;
             fi += pi;
             fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
-            fspread += size * f->r;
+            fspread += size * fi_->r;
         }
         double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
         double rb = 0.0;
@@ -2426,14 +2470,14 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
             // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
             double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
             for (long long i = 0; i < n; ++i) {
-                double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1];
-                const kw_disc* jac = w->jac + i * n + j;
-                double p1 = yr * jac->re, p2 = yi * jac->im, p3 = yr * jac->im, p4 = yi * jac->re;
+                double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1];
+                const kw_disc* e = jac + i * n + j;
+                double p1 = yr * e->re, p2 = yi * e->im, p3 = yr * e->im, p4 = yi * e->re;
                 double pr = p1 - p2, pi = p3 + p4;
                 mr -= pr;
                 mi -= pi;
                 mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
-                spread += w->absy[k * n + i] * jac->r;
+                spread += absy[k * n + i] * e->r;
             }
             rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
         }
@@ -2444,7 +2488,107 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
     out->a = a;
     out->b = b;
     out->c = c;
+    out->preconditioned = 0;
     return isfinite(a) && isfinite(b) && isfinite(c);
+}
+
+// a double-word disc as a disc: the high parts, the low parts added to the radius
+static inline kw_disc kw_dw_round(kw_dw_disc v) {
+    return (kw_disc){v.re.h, v.im.h, kw_add_up(kw_add_up(v.r, fabs(v.re.l)), fabs(v.im.l))};
+}
+
+// Where J is conditioned beyond double precision (||I - Y J|| >= 1 for Y the inverse of J~ in
+// double: rus6's roots of size 1e6..1e8), Y = Y2 Y1 (Rump, "Inversion of extremely
+// ill-conditioned matrices in floating-point", Japan J. Indust. Appl. Math. 26, 2009: one step
+// of his preconditioning): Y1 the inverse of J~, J (kw_accurate_j), M = Y1 J(x) and g = Y1 F(x)
+// enclosed in double-word disc arithmetic (about 2^-100 of |Y1| |J| where double's rounding of J
+// and of Y1 J is the whole trouble), Y2 the inverse of M's midpoint. Y is never formed: ||Y F|| <= ||Y2 g||,
+// ||I - Y J|| <= ||I - Y2 M|| (kw_ingredients on Y2, g, M), and |Y| <= |Y2| |Y1| (rounded up) for
+// ||Y|| and the Lipschitz term. Any Y keeps the test sound. On success w->absy, w->y, w->f and
+// w->jac hold |Y2| |Y1|, Y2, g and M (kw_passes reads absy alone) and out the bounds; 0 when a
+// part is not finite or M~ is singular (w's F, J and Y are then no longer the originals).
+static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
+    long long n = s->n;
+    if (!kw_accurate_j(s, w)) return 0;
+    double* y1 = w->y1;
+    for (long long k = 0; k < 2 * n * n; ++k) y1[k] = w->y[k];
+    for (long long k = 0; k < n; ++k) {
+        kw_dw_disc g = kw_dw_point(0.0, 0.0);
+        for (long long i = 0; i < n; ++i) {
+            kw_dw_disc f = kw_dw_point(w->f[i].re, w->f[i].im);
+            f.r = kw_add_up(f.r, w->f[i].r);
+            g = kw_dw_disc_add(g, kw_dw_disc_mul(kw_dw_point(y1[2 * (k * n + i)], y1[2 * (k * n + i) + 1]), f));
+        }
+        w->g[k] = kw_dw_round(g);
+        for (long long j = 0; j < n; ++j) {
+            kw_dw_disc m = kw_dw_point(0.0, 0.0);
+            for (long long i = 0; i < n; ++i) {
+                const kw_disc* e = w->jac + i * n + j;
+                kw_dw_disc v = kw_dw_point(e->re, e->im);
+                v.r = kw_add_up(v.r, e->r);
+                m = kw_dw_disc_add(m, kw_dw_disc_mul(kw_dw_point(y1[2 * (k * n + i)], y1[2 * (k * n + i) + 1]), v));
+            }
+            w->m[k * n + j] = kw_dw_round(m);
+        }
+    }
+    for (long long k = 0; k < n; ++k) {
+        w->f[k] = w->g[k];
+        if (!kw_finite(w->f[k])) return 0;
+    }
+    for (long long k = 0; k < n * n; ++k) {
+        w->jac[k] = w->m[k];
+        if (!kw_finite(w->jac[k])) return 0;
+    }
+    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out)) return 0;
+    // |Y2| |Y1| rounded up, into absy (|Y2| is in absy now: row k is read before it is written)
+    double c = 0.0, row[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < n; ++k) {
+        double rc = 0.0;
+        for (long long j = 0; j < n; ++j) {
+            double sum = 0.0;
+            for (long long i = 0; i < n; ++i)
+                sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], kw_abs_up(y1[2 * (i * n + j)], y1[2 * (i * n + j) + 1])));
+            row[j] = sum;
+            rc = kw_add_up(rc, sum);
+        }
+        for (long long j = 0; j < n; ++j) w->absy[k * n + j] = row[j];
+        c = fmax(c, rc);
+    }
+    out->c = c;
+    out->preconditioned = 1;
+    return isfinite(c);
+}
+
+// The Newton step Y2 (Y1 F~) of kw_precondition's Y into w->step (round to nearest: it only
+// sharpens the centre, where J~'s LU in double stalls)
+static void kw_preconditioned_step(long long n, kw_scratch* w) {
+    for (long long k = 0; k < n; ++k) {
+        double sr = 0.0, si = 0.0;
+        for (long long i = 0; i < n; ++i) {
+            double yr = w->y[2 * (k * n + i)], yi = w->y[2 * (k * n + i) + 1];
+            sr += yr * w->f[i].re - yi * w->f[i].im;
+            si += yr * w->f[i].im + yi * w->f[i].re;
+        }
+        w->step[2 * k] = sr;
+        w->step[2 * k + 1] = si;
+    }
+}
+
+static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
+    long long n = s->n;
+    if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
+    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out);
+    if (!s->accurate || (ok && out->b < 0.5)) return ok;
+    // the double-word attempt, Y J far from I: Rump's preconditioner (kw_precondition) where
+    // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
+    kw_bounds other;
+    for (long long k = 0; k < n * n; ++k) w->absy2[k] = w->absy[k];
+    if (kw_precondition(s, w, &other) && (!ok || other.b < out->b)) {
+        *out = other;
+        return 1;
+    }
+    for (long long k = 0; k < n * n; ++k) w->absy[k] = w->absy2[k];
+    return ok;
 }
 
 // The test on B(x, r) with the bounds at x: 1 when it passes (its box holds exactly one root)
@@ -2556,6 +2700,11 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (deg + 1) * (long long)sizeof(double));  // rho
     b += KW_ALIGN(2 * n * (long long)sizeof(double));  // step
     b += KW_ALIGN(5 * n * (deg + 1) * (long long)sizeof(double));  // dw
+    b += KW_ALIGN(2 * n * n * (long long)sizeof(double));  // y1
+    b += KW_ALIGN(n * n * (long long)sizeof(kw_disc));  // m
+    b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
+    b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
+    b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -2645,6 +2794,11 @@ static int kw_certify(const kw_job* job) {
     w.rho = (double*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(double));
     w.step = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     w.dw = (double*)kw_take(&cursor, 5 * n * (deg + 1) * (long long)sizeof(double));
+    w.y1 = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.m = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
+    w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
+    w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -2771,6 +2925,26 @@ static int kw_certify(const kw_job* job) {
                 if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+                // a centre that J~'s LU left short (J conditioned beyond double: its Newton steps
+                // stall ~1e-14 away, where the Lipschitz term wants ~1e-15): steps x - Y2 (Y1 F~)
+                // with kw_precondition's Y, each followed by the test
+                for (int k = 0; !(r > 0.0) && bounds.preconditioned && k < KW_PRECONDITIONED_STEPS; ++k) {
+                    kw_preconditioned_step(n, &w);
+                    int finite = 1;
+                    for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
+                    if (!finite) break;
+                    for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
+                    moved = 0.0;
+                    for (long long i = 0; i < n; ++i) {
+                        double f = ldexp(1.0, (int)shift[i]);
+                        centre[2 * i] = x[2 * i] * f;
+                        centre[2 * i + 1] = x[2 * i + 1] * f;
+                        moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                    }
+                    if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) break;
+                    floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
+                    r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
+                }
                 if (r > 0.0) break;
             }
             if (!(r > 0.0)) continue;

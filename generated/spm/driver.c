@@ -847,9 +847,10 @@ int spm_forward_pose_all_counted(const spm_modes_job* job, long long* counts) {
 // attempt evaluates F in double-word arithmetic (kw_accurate_f, about 2^-100 of the terms'
 // sizes), whose Newton steps may move the candidate KW_REACH (a candidate tracked in double near
 // an ill-conditioned root stops up to ~0.2 of its size from it): certify.py leaves such roots to its
-// exact-arithmetic certificate (rus6's roots near infinity, ~4 per input, ~20 ms each in Python,
-// are decided here in ~0.1 ms). So every box the NumPy reference certifies is certified here
-// too, and some more.
+// exact-arithmetic certificate (rus6's roots near infinity, ~20 ms each in Python, are decided
+// here in ~0.3 ms each). Where J is conditioned beyond double, that attempt also takes Y = Y2 Y1
+// (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
+// certified here too, and some more.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -976,6 +977,7 @@ typedef struct {
     kw_disc* m;       // n x n: its Y1 J
     kw_disc* g;       // n: its Y1 F
     double* absy2;    // n x n: |Y| kept while kw_precondition tries
+    double* dwj;      // n x n x 5: double-word J (kw_accurate_j)
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -1170,6 +1172,38 @@ static int kw_accurate_f(const kw_system* s, const double* x, kw_scratch* w) {
     return 1;
 }
 
+// J at the point of the last kw_accurate_f (its double-word powers in w->dw) in double-word disc
+// arithmetic, replacing w->jac (midpoints the high parts, the low parts added to the radii): for
+// kw_precondition, where J's enclosure in double (2^-52 of its terms' sizes) times |Y1| would be
+// all of ||I - Y J||; 0 when not finite
+static int kw_accurate_j(const kw_system* s, kw_scratch* w) {
+    long long n = s->n, deg = s->deg;
+    const kw_dw_disc* powers = (const kw_dw_disc*)w->dw;
+    kw_dw_disc* jac = (kw_dw_disc*)w->dwj;
+    for (long long k = 0; k < n * n; ++k) jac[k] = kw_dw_point(0.0, 0.0);
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long k = s->eq[t];
+        kw_dw_disc c = kw_dw_point(s->c[2 * t], s->c[2 * t + 1]);
+        c.r = kw_add_up(c.r, s->cr[t]);
+        for (long long i = 0; i < n; ++i) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
+            if (!a[i]) continue;
+            kw_dw_disc d = a[i] == 1 ? c : kw_dw_disc_mul(c, kw_dw_point((double)a[i], 0.0));
+            for (long long j = 0; j < n; ++j) {
+                long long e = a[j] - (j == i);
+                if (e) d = kw_dw_disc_mul(d, powers[j * (deg + 1) + e]);
+            }
+            jac[k * n + i] = kw_dw_disc_add(jac[k * n + i], d);
+        }
+    }
+    for (long long k = 0; k < n * n; ++k) {
+        double r = kw_add_up(kw_add_up(jac[k].r, fabs(jac[k].re.l)), fabs(jac[k].im.l));
+        w->jac[k] = (kw_disc){jac[k].re.h, jac[k].im.h, r};
+        if (!kw_finite(w->jac[k])) return 0;
+    }
+    return 1;
+}
+
 // LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
 // 0 when a pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
@@ -1330,14 +1364,16 @@ static inline kw_disc kw_dw_round(kw_dw_disc v) {
 // Where J is conditioned beyond double precision (||I - Y J|| >= 1 for Y the inverse of J~ in
 // double: rus6's roots of size 1e6..1e8), Y = Y2 Y1 (Rump, "Inversion of extremely
 // ill-conditioned matrices in floating-point", Japan J. Indust. Appl. Math. 26, 2009: one step
-// of his preconditioning): Y1 the inverse of J~, M = Y1 J(x) and g = Y1 F(x) enclosed in
-// double-word disc arithmetic (about 2^-100 of |Y1| |J| where double's rounding of Y1 J is the
-// whole trouble), Y2 the inverse of M's midpoint. Y is never formed: ||Y F|| <= ||Y2 g||,
+// of his preconditioning): Y1 the inverse of J~, J (kw_accurate_j), M = Y1 J(x) and g = Y1 F(x)
+// enclosed in double-word disc arithmetic (about 2^-100 of |Y1| |J| where double's rounding of J
+// and of Y1 J is the whole trouble), Y2 the inverse of M's midpoint. Y is never formed: ||Y F|| <= ||Y2 g||,
 // ||I - Y J|| <= ||I - Y2 M|| (kw_ingredients on Y2, g, M), and |Y| <= |Y2| |Y1| (rounded up) for
 // ||Y|| and the Lipschitz term. Any Y keeps the test sound. On success w->absy, w->y, w->f and
 // w->jac hold |Y2| |Y1|, Y2, g and M (kw_passes reads absy alone) and out the bounds; 0 when a
 // part is not finite or M~ is singular (w's F, J and Y are then no longer the originals).
-static int kw_precondition(long long n, kw_scratch* w, kw_bounds* out) {
+static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
+    long long n = s->n;
+    if (!kw_accurate_j(s, w)) return 0;
     double* y1 = w->y1;
     for (long long k = 0; k < 2 * n * n; ++k) y1[k] = w->y[k];
     for (long long k = 0; k < n; ++k) {
@@ -1411,7 +1447,7 @@ static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bound
     // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
     kw_bounds other;
     for (long long k = 0; k < n * n; ++k) w->absy2[k] = w->absy[k];
-    if (kw_precondition(n, w, &other) && (!ok || other.b < out->b)) {
+    if (kw_precondition(s, w, &other) && (!ok || other.b < out->b)) {
         *out = other;
         return 1;
     }
@@ -1532,6 +1568,7 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * n * (long long)sizeof(kw_disc));  // m
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
+    b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -1625,6 +1662,7 @@ static int kw_certify(const kw_job* job) {
     w.m = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
     w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
