@@ -186,6 +186,29 @@ def test_c_certificate_close_roots_in_double_word(library: Any) -> None:
         assert box.unique and box.real == 1
 
 
+def test_c_certificate_decides_rus6_roots_near_infinity(library: Any) -> None:
+    """Three of rus6's endpoints near roots of size 5e4..3e6 (near infinity), as forward_pose_all
+    handed them to the certificate (tests/fixtures/rus6_near_infinity.npz: the system's 311 terms
+    and the candidate): J conditioned ~1e9..1e17 in the scaled chart, the candidates 1e-7..5e-4 of
+    their size from the root. The C certificate before issue 33's rus6 work decided none of them
+    (|Y| |F| bounded ||Y F||; Newton in double moved them beyond 1e-6; ||I - Y J|| > 1 with the
+    double LU); the exact-arithmetic certificate (the oracle, ~20 ms each) proves each non-real:
+    the C's box holds the exact box's root, non-real too, and NumPy's reference leaves them."""
+    data = np.load(Path(__file__).resolve().parent / "fixtures" / "rus6_near_infinity.npz")
+    exponents, equation = data["exponents"].astype(np.int64), data["equation"].astype(np.int64)
+    checked = 0
+    for coefficients, candidate in zip(data["coefficients"], data["candidates"], strict=True):
+        assert not certify_roots(coefficients, exponents, equation, candidate[None]).unique.any()
+        ours = certify_roots_compiled(library, coefficients, exponents, equation, candidate[None])
+        assert ours.unique.all() and (ours.real == -1).all()
+        box = certify_root_exactly(coefficients, exponents, equation, candidate, True)
+        assert box.unique and box.real == -1
+        assert (abs(box.center - ours.center[0]) <= box.radius + ours.radii[0]).all()
+        assert (ours.radii[0] <= 1e-6 * abs(ours.center[0]).max()).all()
+        checked += 1
+    assert checked == 3
+
+
 def test_c_certificate_batch_and_errors(library: Any) -> None:
     """A batch of systems broadcast against candidates as in NumPy; bad inputs are the NumPy
     reference's BadInputErrors."""
