@@ -558,6 +558,13 @@ def certify_roots_compiled(
     Krawczyk's test in complex interval arithmetic with outward rounding, the same scaling, radii
     and realness arguments; the clusters of overlapping boxes are counted here, in NumPy.
 
+    Every box the reference certifies is certified here too, and more: ||Y F(x)|| is bounded by
+    the computed Y F~ (not |Y| |F~|), and a candidate double precision leaves undecided is tried
+    again with F in double-word arithmetic, Newton steps that may move it a quarter of its size,
+    and where J is conditioned beyond double Rump's preconditioner Y = Y2 Y1 (J and Y1 J in
+    double-word). Roots near infinity (rus6's, size 1e4..1e8) that need the exact-arithmetic
+    certificate (``parakin.solvers.exact_certify``) in NumPy are decided here in ~0.3 ms each.
+
     Parameters
     ----------
     library : CompiledBackend
