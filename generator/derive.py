@@ -585,7 +585,11 @@ def derive(mechanism: Mechanism) -> Derivation:
         )
         stages.begin("automatic homotopy")
         try:
-            setup = start_systems.build(mechanism.name, form, actuated, params, "automatic")
+            # with the parameter values: parameters sharing a value (sliders on shared rails) can
+            # lower the root count, which is then proven where that relation holds
+            setup = start_systems.build(
+                mechanism.name, form, actuated, params, "automatic", parameter_values=mechanism.parameters
+            )
         except GenerationError as error:
             if not methods:
                 raise

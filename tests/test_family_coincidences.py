@@ -134,9 +134,7 @@ def _hexaglide_form(source: Path) -> tuple[dict, PolynomialForm]:
 
 
 @pytest.mark.slow
-def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(
-    tmp_path: Path, private_cache: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(tmp_path: Path, private_cache: Path) -> None:
     """The user's Hexaglide (six rail parameters, pairwise equal: three shared rails) generates with
     its count proven on the subfamily of its coincidences, 72, in under a minute of CPU, and inputs
     near home are certified complete (at 80 none was). Independent check of 72: the family's 80
@@ -147,15 +145,6 @@ def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(
 
     source = Path(__file__).parent / "fixtures" / "hexaglide.py"
     values, form = _hexaglide_form(source)
-    # the derivation passes the mechanism's parameter values (generator/derive.py); where it
-    # does not yet, they are added here
-    original = start_systems.build
-
-    def with_values(*args, **kwargs):  # type: ignore[no-untyped-def]
-        kwargs.setdefault("parameter_values", values)
-        return original(*args, **kwargs)
-
-    monkeypatch.setattr(start_systems, "build", with_values)
     began = time.process_time()
     assert main(["generate", str(source), "--out", str(tmp_path / "pkg")]) == 0
     seconds = time.process_time() - began
@@ -175,6 +164,12 @@ def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(
         checked += 1
         complete += bool(m.forward_pose_all(theta).certificate()["complete"])
     assert checked == 40 and complete >= 0.95 * checked, f"{complete} of {checked} complete"
+    # loaded with the rails apart the relations break, the 8 roots are back (80 at such inputs)
+    # and the 72 no longer bound them: never "complete"
+    apart = parakin.load(tmp_path / "pkg", backend="compiled", y2=-0.25, y5=0.2, y6=0.08)
+    modes = apart.forward_pose_all(apart.home_actuated)
+    assert int(modes.certificate()["certified_roots"]) == 72 and not modes.complete()
+    assert "the root count is not proven" in str(modes)
 
     # independent: the generic family's count, proven without the relations, followed into them
     family, generic = start_systems.start_systems("hexaglide", form, list(form.equations), 2026, "automatic")
@@ -208,3 +203,54 @@ def test_the_runtime_check_flags_inputs_whose_parameters_break_a_relation() -> N
     free[1, 0] = np.nan
     assert outside_subfamily([[1, 2], [4, 5]], free, angles, 1e-12).tolist() == [True, True, True]
     assert outside_subfamily([], free[:1], angles[:1], 1e-12).tolist() == [False]
+
+
+def _with_subfamily(tmp_path: Path, subfamily: object) -> Path:
+    """A copy of planar_3rrr whose automatic method says its count was proven where a1 = a2 (the
+    family's values 12 and 13: the crank lengths, equal at its defaults)."""
+    import json
+    import shutil
+
+    folder = tmp_path / "planar_3rrr"
+    shutil.copytree(Path(__file__).parents[1] / "generated" / "planar_3rrr", folder)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["capabilities"]["forward"]["methods"]["automatic"]["subfamily"] = subfamily
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+    return folder
+
+
+def test_a_count_proven_on_a_subfamily_bounds_only_parameters_inside_it(tmp_path: Path, caplog) -> None:
+    """Loaded with the generation's coincidence (a1 = a2 = 0.3 m) the certificate is complete as
+    before; loaded with a2 = 0.31 m the relation breaks, the count no longer bounds the roots, and
+    no certificate says complete (one warning names the relation). The modes themselves are the
+    same solver's: the pose the inverse gives at a2 = 0.31 is among them."""
+    import parakin
+
+    folder = _with_subfamily(tmp_path, {"identical": [[12, 13]], "tolerance": 1e-12, "relations": "a1 = a2"})
+    inside = parakin.load(folder, backend="numpy")
+    theta = np.deg2rad([-54.0, 174.0, -105.0])
+    assert inside.forward_pose_all(theta).complete()
+    outside = parakin.load(folder, backend="numpy", a2=0.31)
+    with caplog.at_level("WARNING", logger="parakin"):
+        modes = outside.forward_pose_all(theta)
+    assert not modes.complete() and int(modes.certificate()["certified_roots"]) == 6
+    assert "proven where a1 = a2" in caplog.text
+    pose = modes.poses[modes.valid][0]
+    ik = outside.inverse_pose(pose)
+    assert np.abs(ik.actuated[ik.valid] - theta).max(-1).min() < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("subfamily", "words"),
+    [
+        ({"identical": [[12]], "tolerance": 1e-12}, "fewer than two values"),
+        ({"identical": [[12, 99]], "tolerance": 1e-12}, "identical[0][1]"),
+        ({"identical": [[12, 13]], "tolerance": -1.0}, "tolerance"),
+        ({"identical": [[12, 13]]}, "tolerance"),
+    ],
+)
+def test_a_broken_subfamily_in_a_manifest_is_named(tmp_path: Path, subfamily: object, words: str) -> None:
+    import parakin
+
+    with pytest.raises(parakin.BrokenPackageError, match=words.replace("[", r"\[").replace("]", r"\]")):
+        parakin.load(_with_subfamily(tmp_path, subfamily), backend="numpy")

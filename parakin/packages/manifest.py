@@ -148,6 +148,12 @@ class Homotopy:
     #: the start instances (free parameters, then one u per angle), complex
     start_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
     alternative_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
+    #: where the root count was proven on a subfamily (the mechanism's parameters sharing a value,
+    #: ``parakin.solvers.subfamily``): groups of indices into the start instance's values that are
+    #: equal there, their relative tolerance and the relations in words; () for the whole family
+    subfamily_identical: tuple[tuple[int, ...], ...] = ()
+    subfamily_tolerance: float = 0.0
+    subfamily_relations: str = ""
 
 
 @dataclass(frozen=True)
@@ -1259,7 +1265,24 @@ def _homotopy(data: dict[str, Any], path: str, paths: int) -> Homotopy:
         (a, b),
         _complex_vector(_member(data, "start_instance", path), f"{path}.start_instance", instance),
         _complex_vector(_member(data, "alternative_instance", path), f"{path}.alternative_instance", instance),
+        *_subfamily(data.get("subfamily"), f"{path}.subfamily", instance),
     )
+
+
+def _subfamily(value: object, path: str, instance: int) -> tuple[tuple[tuple[int, ...], ...], float, str]:
+    """The optional ``subfamily`` of a homotopy: its groups of identical values (indices into the
+    start instance, ``instance`` values), their tolerance and the relations in words."""
+    if value is None:
+        return (), 0.0, ""
+    data = _object(value, path)
+    groups = tuple(
+        _indices(group, f"{path}.identical[{k}]", 0, instance - 1)
+        for k, group in enumerate(_list(_member(data, "identical", path), f"{path}.identical"))
+    )
+    if any(len(group) < 2 for group in groups):
+        raise _bad(f"{path}.identical", data["identical"], "has a group of fewer than two values")
+    tolerance = _number(_member(data, "tolerance", path), f"{path}.tolerance", 0.0)
+    return groups, tolerance, _text(data.get("relations", ""), f"{path}.relations")
 
 
 def _root_count(value: object, path: str, paths: int) -> RootCount:
