@@ -326,7 +326,11 @@ def certify_root_exactly(
     center = np.array([_float_of(v) for v in x])
     if radius is None:
         return ExactCertificate(False, center, math.nan, 0)
-    # the reported double centre is within its rounding of the exact one: the radius covers it
+    # the reported double centre is within its rounding of the exact one: the radius covers it.
+    # The reported box holds the root; that it holds only one is proven for B(x, r) inside it.
+    # Nothing downstream needs more: disjoint boxes are distinct roots, overlapping ones one
+    # cluster, realness is decided about x here (a test about the rounded centre itself fails for
+    # rus6's roots of size 1e4 and beyond)
     rounding: Real = (0, 0)
     for v, c in zip(x, center, strict=True):
         rounding = _rmax(rounding, _modulus_bound(_add(v, _complex(-c))))
