@@ -992,14 +992,16 @@ def start_systems(
     degrees = [int(sp.Poly(e, *form.unknowns).total_degree()) for e in equations]
     angles = {u: angle for u, angle, _ in form.circles}
     relations = family_relations(family.parameters, dict(form.family), angles, parameter_values)
+    # the generic record first, wherever one is stored: a subfamily record that another build left
+    # in the cache must not change what a build with the committed packages writes
+    record = _stored_record(name, family, key.hexdigest(), cached, method, flips, degrees, seed)
+    if record is not None and (relations is None or _keeps_count(name, family, record, relations, seed)):
+        return family, record
     if relations is not None:
         sub_key = hashlib.sha256(repr((key.hexdigest(), relations.key())).encode()).hexdigest()
         for stored in (_from_cache(_cache_path(sub_key)), _from_package(name, method, sub_key)):
             if stored is not None and _verified(family, stored, flips) is not None and _in(relations, stored):
                 return family, {**stored, "key": sub_key, "relations": relations}
-    record = _stored_record(name, family, key.hexdigest(), cached, method, flips, degrees, seed)
-    if record is not None and (relations is None or _keeps_count(name, family, record, relations, seed)):
-        return family, record
     if relations is None:
         record = _new_record(name, family, degrees, flips, seed, method)
         _store(cached, record)
