@@ -889,8 +889,8 @@ class Mechanism:
                 if all(np.abs(points[0] - other).max() >= SELF_MOTION_STEP / 2 for other in distinct):
                     distinct.append(points[0])
             found = (
-                f"{len(distinct)} isolated closed configuration(s) near the home pose, found by "
-                "continuation (self_motion)"
+                f"{len(distinct)} isolated configuration(s) near the home pose that continuation "
+                "(self_motion) closes to its tolerance"
                 if distinct
                 else "no closed configuration near the home pose"
             )

@@ -328,7 +328,7 @@ def _fk(args: argparse.Namespace) -> int:
         modes = m.forward_pose_all(actuated)
     given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
     # the certificate's verdict in modes_summary's words ("certified complete", or what is missing)
-    verdict = modes_summary(modes).partition("; ")[2]
+    verdict = modes_summary(modes).partition("; ")[2].replace(" (path_certified: which paths)", "")
     complete = bool(np.all(modes.complete())) if modes.certified_roots is not None else None
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
