@@ -7,7 +7,6 @@ backend, and return named results. Conventions are those of the mechanism's gene
 from __future__ import annotations
 
 import ctypes
-import dataclasses
 import functools
 import inspect
 import threading
@@ -33,7 +32,7 @@ from parakin.errors import (
     first_index,
     raise_for_newton_status,
 )
-from parakin.log import logger, progress
+from parakin.log import progress
 from parakin.packages.backends import Backend
 from parakin.packages.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.packages.package import GeneratedPackage
@@ -51,9 +50,7 @@ from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, In
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import pivoted_solve
-from parakin.solvers.modes import _family as modes_family
 from parakin.solvers.modes import assemble, certified_modes, compiled_modes, length_scale, numpy_modes
-from parakin.solvers.subfamily import outside_subfamily
 from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
@@ -861,9 +858,6 @@ class Mechanism:
                 bar.update(parts[-1]["count"].shape[0])
         out = parts[0] if len(parts) == 1 else {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
         modes = assemble(self, theta, out, info)
-        if info.method in self._root_count_not_bounding:
-            # proven on a subfamily these parameters leave: the family's other roots are back
-            modes = dataclasses.replace(modes, root_count_proven=False)
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
             index = first_index(degenerate)
@@ -938,34 +932,6 @@ class Mechanism:
             np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool),
             np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool),
         )
-
-    @functools.cached_property
-    def _root_count_not_bounding(self) -> frozenset[str]:
-        """The homotopy methods whose root count was proven on a subfamily (parameters sharing a
-        value: a Hexaglide's sliders on shared rails) that this mechanism's parameters leave:
-        their counts do not bound the roots here, so no input is certified complete
-        (``parakin.solvers.subfamily``). The relations hold for every input or none."""
-        left = set()
-        methods = {
-            info.method: info
-            for info in (self.capabilities.forward, *self.capabilities.forward_methods.values())
-            if info
-        }
-        for info in methods.values():
-            homotopy = info.homotopy
-            if homotopy is None or not homotopy.subfamily_identical:
-                continue
-            free, angles = modes_family(self, info, self.home_actuated[None])
-            if outside_subfamily(homotopy.subfamily_identical, free, angles, homotopy.subfamily_tolerance)[0]:
-                logger.warning(
-                    "%s: the %s root count was proven where %s; these parameters break that, so its "
-                    "certificates cannot say complete",
-                    self.name,
-                    info.method,
-                    homotopy.subfamily_relations or "the generation's parameter values hold",
-                )
-                left.add(info.method)
-        return frozenset(left)
 
     @functools.cached_property
     def _unit_free(self) -> tuple[Mechanism, float] | None:

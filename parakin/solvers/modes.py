@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from parakin.errors import NEWTON_NO_CONVERGENCE, NEWTON_OK, NEWTON_SINGULAR, NEWTON_WRONG_BASIN, BadInputError
+from parakin.log import logger
 from parakin.pose import pose_vector, wrap_angle
 from parakin.results import Array, AssemblyModes
 from parakin.solvers.certify import (
@@ -48,6 +49,7 @@ from parakin.solvers.path_tracking import (
 )
 from parakin.solvers.polynomial import isolate_real_roots
 from parakin.solvers.projective import family_system, projective_family, projective_table, to_affine, to_projective
+from parakin.solvers.subfamily import outside_subfamily
 
 if TYPE_CHECKING:
     from parakin.packages.manifest import Forward, Homotopy
@@ -1273,6 +1275,41 @@ def _closed_modes(
     return np.where(opened, codes["not_closed"], outcome).astype(outcome.dtype), opened.sum(-1)
 
 
+#: per mechanism object: (its parameter values, method -> whether its root count bounds the roots)
+_BOUNDS: weakref.WeakKeyDictionary[Any, tuple[bytes, dict[str, bool]]] = weakref.WeakKeyDictionary()
+
+
+def root_count_bounds(m: Mechanism, info: Forward) -> bool:
+    """Whether the homotopy's root count is proven and bounds the roots at ``m``'s parameters.
+    A count proven on a subfamily (parameters sharing a value: a Hexaglide's sliders on shared
+    rails, ``parakin.solvers.subfamily``) does not where these parameters break its relations: the
+    family's other roots are back, and no input may be certified complete (one warning names the
+    relation). The relations hold for every input or none; cached per mechanism and parameters."""
+    homotopy = info.homotopy
+    if homotopy is None or homotopy.root_count is None or not homotopy.root_count.proven:
+        return False
+    if not homotopy.subfamily_identical:
+        return True
+    key = np.ascontiguousarray(m.params, dtype=float).tobytes()
+    known = _BOUNDS.get(m)
+    if known is None or known[0] != key:
+        known = (key, {})
+        _BOUNDS[m] = known
+    if info.method not in known[1]:
+        free, angles = _family(m, info, np.asarray(m.home_actuated, dtype=float)[None])
+        outside = bool(outside_subfamily(homotopy.subfamily_identical, free, angles, homotopy.subfamily_tolerance)[0])
+        if outside:
+            logger.warning(
+                "%s: the %s root count was proven where %s; these parameters break that, so its "
+                "certificates cannot say complete",
+                m.name,
+                info.method,
+                homotopy.subfamily_relations or "the generation's parameter values hold",
+            )
+        known[1][info.method] = not outside
+    return known[1][info.method]
+
+
 def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forward) -> AssemblyModes:
     """The result object over the caller's batch shape."""
     shape = theta.shape[:-1]
@@ -1311,9 +1348,7 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         branch_count=len(info.combinations),
         method=info.method,
         root_count=info.homotopy.root_count.count if info.homotopy and info.homotopy.root_count else None,
-        root_count_proven=bool(info.homotopy.root_count.proven)
-        if info.homotopy and info.homotopy.root_count
-        else False,
+        root_count_proven=root_count_bounds(m, info),
         certified_roots=shaped("certified") if "certified" in out else None,
         path_certified=shaped("path_certified") if "path_certified" in out else None,
         retracked=shaped("retracked") if "retracked" in out else None,
