@@ -391,6 +391,33 @@ class Rates:
 
 
 # ---------------------------------------------------------------- the modes as tables
+def certificate_verdict(modes: AssemblyModes, api_hints: bool = True) -> str:
+    """The certificate's verdict in words ("certified complete", or what keeps it from being),
+    or "" for modes without a certificate; ``api_hints`` names the result's field to look at."""
+    if modes.certified_roots is None or modes.root_count is None:
+        return ""
+    count = np.asarray(modes.count)
+    complete = modes.complete()
+    undecided = int(np.sum(modes.undecided_roots)) if modes.undecided_roots is not None else 0
+    if complete.all():
+        return "certified complete"
+    if count.ndim == 0 and not modes.root_count_proven:
+        return "not certified complete: the root count is not proven"
+    if count.ndim == 0 and int(modes.certified_roots) < modes.root_count:  # type: ignore[call-overload]
+        missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
+        hint = " (path_certified: which paths)" if api_hints else ""
+        return (
+            f"not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
+            f"certified, {missing} not{hint}"
+        )
+    if count.ndim == 0:  # every root certified, the realness of some undecided
+        return (
+            f"not certified complete: {undecided} certified root{'s' if undecided != 1 else ''} "
+            "of undecided realness (outcome 'uncertified')"
+        )
+    return f"certified complete for {int(complete.sum())} of {complete.size} inputs"
+
+
 def modes_summary(modes: AssemblyModes) -> str:
     """One line: input batch, modes found, method, certificate."""
     count = np.asarray(modes.count)
@@ -401,27 +428,8 @@ def modes_summary(modes: AssemblyModes) -> str:
         found = f"an empty batch, shape {count.shape}: no inputs"
     else:
         found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
-    certificate = ""
-    if modes.certified_roots is not None and modes.root_count is not None:
-        complete = modes.complete()
-        undecided = int(np.sum(modes.undecided_roots)) if modes.undecided_roots is not None else 0
-        if complete.all():
-            certificate = "; certified complete"
-        elif count.ndim == 0 and not modes.root_count_proven:
-            certificate = "; not certified complete: the root count is not proven"
-        elif count.ndim == 0 and int(modes.certified_roots) < modes.root_count:  # type: ignore[call-overload]
-            missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
-            certificate = (
-                f"; not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
-                f"certified, {missing} not (path_certified: which paths)"
-            )
-        elif count.ndim == 0:  # every root certified, the realness of some undecided
-            certificate = (
-                f"; not certified complete: {undecided} certified root{'s' if undecided != 1 else ''} "
-                "of undecided realness (outcome 'uncertified')"
-            )
-        else:
-            certificate = f"; certified complete for {int(complete.sum())} of {complete.size} inputs"
+    verdict = certificate_verdict(modes)
+    certificate = f"; {verdict}" if verdict else ""
     return f"AssemblyModes: {found}{method}{certificate}"
 
 

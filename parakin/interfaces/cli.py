@@ -26,7 +26,7 @@ from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.log import logger
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS, transform_from_pose
-from parakin.results import RANGE_FAILURES, Configuration, modes_summary
+from parakin.results import RANGE_FAILURES, Configuration, certificate_verdict
 from parakin.solvers.continuation import SelfMotion
 from parakin.tables import pose_headers, pose_values, text_table
 
@@ -327,8 +327,7 @@ def _fk(args: argparse.Namespace) -> int:
     with _Busy(f"{m.name}: every assembly mode"):
         modes = m.forward_pose_all(actuated)
     given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
-    # the certificate's verdict in modes_summary's words ("certified complete", or what is missing)
-    verdict = modes_summary(modes).partition("; ")[2].replace(" (path_certified: which paths)", "")
+    verdict = certificate_verdict(modes, api_hints=False)
     complete = bool(np.all(modes.complete())) if modes.certified_roots is not None else None
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
