@@ -106,9 +106,13 @@ class AxisReading:
     def describe(self) -> str:
         """The controlled and parasitic coordinates, in words (for the manifest)."""
         k = [str(c) for c in self.axis]
+        if self.symmetric:  # psi* = 0 at every tilt
+            turn = "the turn about k, none (the platform only tilts) or a half-turn"
+        else:
+            turn = "the turn about k, which the tilt fixes up to a half-turn"
         return (
             f"controlled: the height p . k and the tilt n = R^T k, k = ({', '.join(k)}); parasitic: the position "
-            "across k and the turn about k (two turns, half a turn apart)"
+            f"across k, and {turn}: two separate sets of reachable poses, one per turn"
         )
 
     def steps(

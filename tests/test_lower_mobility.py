@@ -345,6 +345,7 @@ def test_an_asymmetric_design_reads_the_turn_its_planes_force():
     ]
     model = joints.DistanceMechanism(joints.platform("transform"), legs)
     assert model.reading is not None and not model.reading.symmetric
+    assert "the turn about k, which the tilt fixes up to a half-turn: two separate sets" in model.reading.describe()
     run = numeric_inverse(model, {})
 
     def offsets(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
@@ -374,3 +375,39 @@ def test_an_asymmetric_design_reads_the_turn_its_planes_force():
         turns.add(int(np.sign(np.trace(reachable @ read.T) - 1 + 1e-9)))  # the same turn or half a turn apart
         checked += 1
     assert checked == 16 and turns == {-1, 1}
+
+
+@pytest.mark.parametrize("name", ["prs3", "rps3"])
+def test_the_motion_text_says_the_turn_is_none_or_a_half_turn_and_it_is(name):
+    """``parakin inspect prs3`` once said "(two turns, half a turn apart)", which a new user could
+    not read. The text now says what it means: the turn about k is none (a pure tilt) or a
+    half-turn, two separate sets of reachable poses. Checked here: every assembly mode at the home
+    and at three inputs around it, decomposed independently as R = Rot_k(psi) R0 (R0 the pure tilt
+    taking n = R^T k to k, Rodrigues), has psi = 0 or pi (1e-9 rad), and both occur."""
+    m = parakin.load(name, backend="numpy")
+    text = m.manifest.joints.motion.text
+    assert "two turns, half a turn apart" not in text
+    assert (
+        "the turn about k, none (the platform only tilts) or a half-turn: two separate sets of reachable poses" in text
+    )
+    k = np.array([0.0, 0.0, 1.0])
+    assert "k = (0, 0, 1)" in text
+
+    def skew(v: np.ndarray) -> np.ndarray:
+        return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+    rng = np.random.default_rng(1)
+    home = m.home_actuated
+    turns, checked = set(), 0
+    for actuated in [home, *(home + 0.02 * rng.uniform(-1, 1, home.size) for _ in range(3))]:
+        for mode in m.forward_pose_all(actuated):
+            n = mode.rotation.T @ k
+            v = np.cross(n, k)
+            tilt = np.eye(3) + skew(v) + skew(v) @ skew(v) / (1 + n @ k)
+            turn = mode.rotation @ tilt.T  # Rot_k(psi)
+            assert np.abs(turn[:, 2] - k).max() < 1e-12
+            psi = math.atan2(turn[1, 0], turn[0, 0])
+            assert min(abs(psi), abs(abs(psi) - math.pi)) < 1e-9, f"{name}: turn {psi} rad about k"
+            turns.add(abs(psi) > 1)
+            checked += 1
+    assert checked >= 8 and turns == {False, True}
