@@ -391,11 +391,68 @@ class Rates:
 
 
 # ---------------------------------------------------------------- the modes as tables
-def certificate_verdict(modes: AssemblyModes, api_hints: bool = True) -> str:
-    """The certificate's verdict in words ("certified complete", or what keeps it from being),
-    or "" for modes without a certificate; ``api_hints`` names the result's field to look at."""
+def certified_complete(modes: AssemblyModes) -> bool | None:
+    """Whether the certificate proves that no assembly mode is missing, for every input: True or
+    False from a homotopy's certificate (``AssemblyModes.complete``); None where the method that
+    found the modes has no certificate (an elimination), so that nothing is claimed either way.
+
+    Parameters
+    ----------
+    modes : AssemblyModes
+        The result of ``Mechanism.forward_pose_all``, any batch shape.
+
+    Returns
+    -------
+    bool or None
+        True: certified complete at every input; False: a certificate, not complete at some input;
+        None: no certificate (``certificate_verdict`` says why in words).
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> certified_complete(m.forward_pose_all(m.home_actuated)) is None  # an elimination
+    True
+    """
     if modes.certified_roots is None or modes.root_count is None:
-        return ""
+        return None
+    return bool(np.all(modes.complete()))
+
+
+def certificate_verdict(modes: AssemblyModes, api_hints: bool = True) -> str:
+    """The certificate's verdict in words: "certified complete", what keeps it from being, or, for
+    modes of a method without a certificate (an elimination), that nothing certifies them
+    complete; ``api_hints`` names the result's field to look at. Never empty.
+
+    Parameters
+    ----------
+    modes : AssemblyModes
+        The result of ``Mechanism.forward_pose_all``, any batch shape.
+    api_hints : bool
+        Name the result's field that says more (the API's repr), or not (the command line).
+
+    Returns
+    -------
+    str
+        One clause, "certified complete" or starting "not certified complete: ".
+
+    Examples
+    --------
+    >>> import parakin
+    >>> m = parakin.load("five_bar", backend="numpy")
+    >>> certificate_verdict(m.forward_pose_all(m.home_actuated))
+    'not certified complete: elimination (the real roots of a degree-2 univariate polynomial, in floating point) has no certificate'
+    """
+    if modes.certified_roots is None or modes.root_count is None:
+        slots = int(np.shape(modes.outcome)[-1]) if np.ndim(modes.outcome) else 0
+        degree = slots // max(modes.branch_count, 1)
+        method = modes.method or "a method without a certificate"
+        how = (
+            f" (the real roots of a degree-{degree} univariate polynomial, in floating point)"
+            if modes.method == "elimination"
+            else ""
+        )
+        return f"not certified complete: {method}{how} has no certificate"
     count = np.asarray(modes.count)
     complete = modes.complete()
     undecided = int(np.sum(modes.undecided_roots)) if modes.undecided_roots is not None else 0
@@ -428,9 +485,7 @@ def modes_summary(modes: AssemblyModes) -> str:
         found = f"an empty batch, shape {count.shape}: no inputs"
     else:
         found = f"a batch of {count.size} inputs, shape {count.shape}: {int(count.min())} to {int(count.max())} modes"
-    verdict = certificate_verdict(modes)
-    certificate = f"; {verdict}" if verdict else ""
-    return f"AssemblyModes: {found}{method}{certificate}"
+    return f"AssemblyModes: {found}{method}; {certificate_verdict(modes)}"
 
 
 def modes_rows(modes: AssemblyModes, residual: bool = False, pose_kind: str | None = None) -> Rows:

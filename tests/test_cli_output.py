@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 import parakin
 from parakin.interfaces import cli
 from parakin.results import modes_html, modes_table
+from parakin.tables import pose_headers
 
 
 def run(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
@@ -277,3 +278,82 @@ def test_fk_says_whether_its_modes_are_certified_complete(name, actuated, capsys
     lines = capsys.readouterr().out.strip().splitlines()
     assert len(lines) == certificate["with_modes"] >= 2
     assert all(json.loads(line)["certified_complete"] is bool(certificate["complete"]) for line in lines)
+
+
+def _stewart_has_no_mode_with_legs(length: float) -> bool:
+    """No 6-SPS pose closes with every leg ``length`` where two platform joints are farther apart, or
+    nearer, than their base joints allow (triangle inequality: | |B_i - B_j| - |P_i - P_j| | <= 2
+    length), from the default parameters alone."""
+    p = parakin.load("stewart", backend="numpy").parameters
+    base = np.array([[p[f"base_{c}{i}"] for c in "xyz"] for i in range(1, 7)])
+    platform = np.array([[p[f"platform_{c}{i}"] for c in "xyz"] for i in range(1, 7)])
+    gaps = [
+        abs(np.linalg.norm(base[i] - base[j]) - np.linalg.norm(platform[i] - platform[j]))
+        for i in range(6)
+        for j in range(i)
+    ]
+    return max(gaps) > 2 * length
+
+
+@pytest.mark.parametrize(
+    ("name", "actuated", "certified"),
+    [
+        # elbows at (-0.15 - 0.2, 0) and (0.15 + 0.2, 0): 0.7 m apart, the distal links reach 0.25 + 0.25
+        ("five_bar", ["3.141592653589793", "0"], None),
+        ("stewart", ["0.1"] * 6, True),  # _stewart_has_no_mode_with_legs(0.1)
+    ],
+)
+def test_fk_json_with_no_mode_is_one_summary_object_and_exit_1(name, actuated, certified, capsys):
+    """``parakin fk NAME ... --json`` with no mode once printed nothing on stdout (exit 1, a line on
+    stderr): a JSON reader got no answer to parse. Now one object: modes 0, certified_complete
+    (null for an elimination, which has no certificate; true for the 6-SPS homotopy's certificate)
+    and the verdict in words; exit status 1 (no solution) as documented in ``fk --help``. That no
+    mode exists is shown independently (the five-bar's elbows too far apart; the 6-SPS's triangle
+    inequality)."""
+    if name == "stewart":
+        assert _stewart_has_no_mode_with_legs(0.1)
+    assert cli.main(["fk", name, "--backend", "numpy", "--actuated", *actuated, "--json"]) == 1
+    out, err = capsys.readouterr()
+    lines = out.splitlines()
+    assert len(lines) == 1, out
+    answer = json.loads(lines[0])
+    assert set(answer) == set(cli.FK_SUMMARY_KEYS) and answer["modes"] == 0
+    assert answer["certified_complete"] is certified
+    expected = (
+        "certified complete" if certified else "not certified complete: elimination (the real roots of a degree-2"
+    )
+    assert answer["verdict"].startswith(expected)
+    assert err.startswith(f"parakin: no real assembly mode of {name} for these inputs; {answer['verdict']}")
+    with pytest.raises(SystemExit):
+        cli.main(["fk", "--help"])
+    helped = " ".join(capsys.readouterr().out.split())
+    assert '{"modes": 0, "certified_complete": ..., "verdict": ...} and exit status 1' in helped
+
+
+def test_fk_prints_the_same_keys_and_a_verdict_for_an_elimination_and_a_homotopy(capsys):
+    """An elimination's modes (five_bar's quadratic, Gosselin & Angeles' circle intersection) once
+    carried no completeness statement: no ``certified_complete`` key and no verdict in the heading,
+    where a homotopy's (stewart) had both. Now every mechanism's lines have the same keys besides
+    the pose and passive columns, and the heading always ends with the verdict; the elimination is
+    not called complete (null: nothing certifies it). The five-bar at theta = (pi/2, pi/2): the two
+    hand-worked points P = (0, 0) and (0, 0.4) (0.15^2 + 0.2^2 = 0.25^2)."""
+    keys = {}
+    for name, actuated in (("five_bar", [repr(np.pi / 2)] * 2), ("stewart", None)):
+        m = parakin.load(name, backend="numpy")
+        words = actuated or [repr(v) for v in m.home_actuated.tolist()]
+        assert cli.main(["fk", name, "--backend", "numpy", "--actuated", *words]) == 0
+        heading = capsys.readouterr().out.splitlines()[0]
+        assert cli.main(["fk", name, "--backend", "numpy", "--actuated", *words, "--json"]) == 0
+        records = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+        assert records and all(r["verdict"] == records[0]["verdict"] for r in records)
+        assert heading.endswith(f"assembly modes; {records[0]['verdict']}"), heading
+        columns = {*(cli._header(v, False) for v in m.manifest.passive), *pose_headers(m.manifest.pose_kind, False)}
+        keys[name] = {frozenset(set(r) - columns) for r in records}
+        if name == "five_bar":
+            assert all(r["certified_complete"] is None and r["modes"] == 2 for r in records)
+            assert records[0]["verdict"].startswith("not certified complete: elimination")
+            points = sorted((r["x [m]"], r["y [m]"]) for r in records)
+            np.testing.assert_allclose(points, [(0.0, 0.0), (0.0, 0.4)], atol=1e-12)
+        else:
+            assert all(r["certified_complete"] is True and r["modes"] == 40 for r in records)  # Dietmaier's 40
+    assert keys["five_bar"] == keys["stewart"] == {frozenset({"mode", "slot", "residual", *cli.FK_SUMMARY_KEYS})}

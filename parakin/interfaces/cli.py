@@ -26,7 +26,7 @@ from parakin.errors import BadInputError, ParakinError, SelfMotionError
 from parakin.log import logger
 from parakin.packages.manifest import Manifest, Variable, unknown_name
 from parakin.pose import POSE_KINDS, transform_from_pose
-from parakin.results import RANGE_FAILURES, Configuration, certificate_verdict
+from parakin.results import RANGE_FAILURES, Configuration, certificate_verdict, certified_complete
 from parakin.solvers.continuation import SelfMotion
 from parakin.tables import pose_headers, pose_values, text_table
 
@@ -321,30 +321,35 @@ def _ik_tables(m: parakin.Mechanism, records: list[dict[str, Any]], degrees: boo
 
 
 def _fk(args: argparse.Namespace) -> int:
+    """Every assembly mode: a table (text) or one JSON object per mode; each says the certificate's
+    verdict (``certified_complete``: true, false, or null where the method has no certificate).
+    With no mode: the verdict on stderr (text) or one object ``{"modes": 0, ...}`` (JSON), exit 1."""
     m = _load(args)
     degrees = args.actuated_deg is not None
     actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
     with _Busy(f"{m.name}: every assembly mode"):
         modes = m.forward_pose_all(actuated)
     given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
-    verdict = certificate_verdict(modes, api_hints=False)
-    complete = bool(np.all(modes.complete())) if modes.certified_roots is not None else None
+    count = int(modes.count)
+    # the same keys for every mechanism and method (FK_SUMMARY_KEYS), on every line
+    summary: dict[str, Any] = {
+        "modes": count,
+        "certified_complete": certified_complete(modes),
+        "verdict": certificate_verdict(modes, api_hints=False),
+    }
     # "mode" numbers as modes.mode(n) does (0 .. count - 1); "slot" is the raw slot of modes.slot(s)
     records = []
     for n, k in enumerate(np.nonzero(modes.valid)[0]):
         record: dict[str, Any] = {"mode": n, "slot": int(k), **_describe_pose(m.manifest, modes.poses[k], degrees)}
         record.update(_labelled(m.manifest.passive, modes.passive[k], degrees))
         record["residual"] = float(modes.residual[k])
-        if complete is not None:  # a homotopy's certificate (an elimination's modes have none)
-            record["certified_complete"] = complete
-        records.append(record)
+        records.append(record | summary)
     if args.json:
-        for record in records:
+        for record in records or [summary]:  # no mode: the summary alone, so the answer still parses
             _print(record, True)
     elif records:
-        count = len(records)
         at = _values_text(given)
-        print(f"{m.name} at {at}: {count} assembly mode{'s' if count != 1 else ''}{'; ' + verdict if verdict else ''}")
+        print(f"{m.name} at {at}: {count} assembly mode{'s' if count != 1 else ''}; {summary['verdict']}")
         pose = pose_headers(m.manifest.pose_kind, degrees)
         headers = ["mode", "slot", *pose, "residual"]
         rows = [
@@ -356,11 +361,21 @@ def _fk(args: argparse.Namespace) -> int:
             print("\npassive joints per mode:")
             rows = [[str(r["mode"]), *(_number(r[_header(v, degrees)]) for v in passive)] for r in records]
             print(text_table(["mode", *(_header(v, degrees) for v in passive)], rows, indent="", rows_shown=count))
-    if int(modes.count) == 0:
-        said = f" ({verdict})" if verdict else ""
-        print(f"parakin: no real assembly mode of {m.name} for these inputs{said}", file=sys.stderr)
+    if count == 0:
+        print(f"parakin: no real assembly mode of {m.name} for these inputs; {summary['verdict']}", file=sys.stderr)
         return 1
     return 0
+
+
+#: the keys of ``parakin fk --json`` on every line, with or without a mode (``_fk``)
+FK_SUMMARY_KEYS = ("modes", "certified_complete", "verdict")
+
+FK_JSON_HELP = (
+    "one JSON object per assembly mode: mode, slot, the pose and passive values (keys with units), "
+    "residual, and on every line modes (the count), certified_complete (true, false, or null where the "
+    "method has no certificate, e.g. an elimination) and verdict (in words); with no mode one object "
+    '{"modes": 0, "certified_complete": ..., "verdict": ...} and exit status 1'
+)
 
 
 def _demo(args: argparse.Namespace) -> int:
@@ -656,7 +671,16 @@ def _parser() -> argparse.ArgumentParser:
     group.add_argument("--pose-deg", nargs="+", type=float, metavar="V", help="the same with angles in degrees")
     ik.epilog = "pose values per pose kind: " + "; ".join(f"{k}: {v[0]}" for k, v in POSE_ARGUMENTS.items())
 
-    fk = commands.add_parser("fk", parents=[mechanism, as_json], help="every assembly mode for actuated values")
+    fk = commands.add_parser(
+        "fk",
+        parents=[mechanism],
+        help="every assembly mode for actuated values",
+        description="Every real assembly mode for the actuated values, with the certificate's verdict: 'certified "
+        "complete' (no mode can be missing) or why not (a homotopy whose certificate failed, or a method without one, "
+        "such as an elimination). Exit status 0 with at least one mode, 1 with none (the verdict on stderr), 2 on "
+        "bad input.",
+    )
+    fk.add_argument("--json", action="store_true", help=FK_JSON_HELP)
     group = fk.add_mutually_exclusive_group(required=True)
     group.add_argument("--actuated", nargs="+", type=float, metavar="V", help="actuated values (m, rad)")
     group.add_argument(
