@@ -15,13 +15,21 @@
 * ``half_angle_forms`` and ``remove_spurious_factors``: build a univariate elimination polynomial
   in t = tan(phi / 2) with exact polynomial arithmetic and strip what the elimination introduced
   (numeric or symbolic content, powers of (1 + t^2) or other known factors, powers of t).
+* Layouts and declarations a mechanism file would otherwise write by hand: ``circle_points`` and
+  ``paired_circle_points`` (default joint positions on circles, numerically), ``radial_directions``
+  (exact unit vectors at equal angles), ``point_group`` / ``leg_parameters`` with
+  ``parameter_fields`` (parameters, their defaults and meaning in one declaration),
+  ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list) and ``home_from_pose``
+  (a home read by the inverse at a pose).
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import sympy as sp
 
@@ -64,6 +72,344 @@ def point_info(points: sp.Matrix, description: str, unit: str = "m") -> dict[sp.
 def as_points(points: sp.Matrix) -> list[sp.Matrix]:
     """The rows of a point list as 3x1 column vectors (missing coordinates are 0)."""
     return [sp.Matrix([points[k, j] if j < points.cols else 0 for j in range(3)]) for k in range(points.rows)]
+
+
+# ------------------------------------------------------------------ default layouts
+def pair_sides(centres: Sequence[float]) -> list[tuple[float, int]]:
+    """The pair centre (radians) and side of every point of a paired layout: two points per
+    centre, side -1 first, then +1.
+
+    Parameters
+    ----------
+    centres : sequence of float, length n
+        The pair centres, degrees.
+
+    Returns
+    -------
+    list of (float, int), length 2 n
+        (math.radians(centre), side) for the points in order.
+
+    Example
+    -------
+    >>> pair_sides([0.0, 90.0])
+    [(0.0, -1), (0.0, 1), (1.5707963267948966, -1), (1.5707963267948966, 1)]
+    """
+    return [(math.radians(centre), side) for centre in centres for side in (-1, 1)]
+
+
+def _on_circle(radius: float, angle: float, dims: int) -> list[float]:
+    if dims not in (2, 3):
+        raise ValueError(f"a point on a circle has 2 or 3 coordinates, got dims={dims}")
+    return [radius * math.cos(angle), radius * math.sin(angle), 0.0][:dims]
+
+
+def circle_points(radius: float, angles: Sequence[float], dims: int = 3) -> list[list[float]]:
+    """Points on a circle about the origin in the plane z = 0: r (cos t, sin t, 0) per angle.
+
+    Parameters
+    ----------
+    radius : float
+        The circle's radius r, metres.
+    angles : sequence of float
+        The points' angles t from the x axis, counter-clockwise, degrees.
+    dims : int
+        3 for (x, y, 0), 2 for (x, y) (a planar mechanism's point group).
+
+    Returns
+    -------
+    list of list of float, shape (len(angles), dims)
+        One row per point, in the order of ``angles``.
+
+    Raises
+    ------
+    ValueError
+        ``dims`` is not 2 or 3.
+
+    Example
+    -------
+    >>> [[round(v, 12) for v in p] for p in circle_points(2.0, [0.0, 90.0], dims=2)]
+    [[2.0, 0.0], [0.0, 2.0]]
+    """
+    return [_on_circle(radius, math.radians(angle), dims) for angle in angles]
+
+
+def paired_circle_points(radius: float, centres: Sequence[float], offset: float, dims: int = 3) -> list[list[float]]:
+    """Points in pairs on a circle about the origin (z = 0): two per centre c, at c - offset and
+    c + offset, the usual hexapod layout (three pairs at 0, 120, 240 deg).
+
+    Parameters
+    ----------
+    radius : float
+        The circle's radius, metres.
+    centres : sequence of float, length n
+        The pair centres, degrees from the x axis, counter-clockwise.
+    offset : float
+        Half the angle between the two points of a pair, degrees.
+    dims : int
+        3 for (x, y, 0), 2 for (x, y).
+
+    Returns
+    -------
+    list of list of float, shape (2 n, dims)
+        Point 2 k at centres[k] - offset, point 2 k + 1 at centres[k] + offset (``pair_sides``).
+
+    Raises
+    ------
+    ValueError
+        ``dims`` is not 2 or 3.
+
+    Example
+    -------
+    >>> [[round(v, 12) for v in p] for p in paired_circle_points(1.0, [90.0], 90.0)]
+    [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
+    """
+    sides = pair_sides(centres)
+    return [_on_circle(radius, centre + side * math.radians(offset), dims) for centre, side in sides]
+
+
+def radial_directions(count: int) -> list[sp.Matrix]:
+    """Exact unit vectors (cos eta_k, sin eta_k, 0), eta_k = 2 pi k / count, k = 0 .. count - 1:
+    the directions of legs spaced evenly about the z axis (for three legs the entries are 1, 0,
+    -1/2, +-sqrt(3)/2), so that the derived closure carries no rounded constant.
+
+    Parameters
+    ----------
+    count : int
+        The number of directions, at least 1.
+
+    Returns
+    -------
+    list of sympy.Matrix, each 3 x 1
+        e_k in {B}; z x e_k = (-sin eta_k, cos eta_k, 0) is the tangent.
+
+    Raises
+    ------
+    ValueError
+        ``count`` < 1.
+
+    Example
+    -------
+    >>> radial_directions(3)[1].T
+    Matrix([[-1/2, sqrt(3)/2, 0]])
+    """
+    if count < 1:
+        raise ValueError(f"radial_directions: count must be at least 1, got {count}")
+    angles = [2 * sp.pi * k / count for k in range(count)]
+    return [sp.Matrix([sp.cos(eta), sp.sin(eta), 0]) for eta in angles]
+
+
+# ------------------------------------------------------------------ parameter declarations
+@dataclass(frozen=True)
+class ParameterGroup:
+    """Parameters declared once: their symbols, default values and meaning. ``name`` is the
+    group's name in ``Mechanism.parameter_groups`` (a point list a user passes whole), None for
+    parameters passed one by one (``leg_parameters``)."""
+
+    name: str | None
+    symbols: sp.Matrix
+    defaults: dict[sp.Symbol, float]
+    info: dict[sp.Symbol, ParameterInfo]
+
+    @property
+    def points(self) -> list[sp.Matrix]:
+        """The rows as 3x1 column vectors (``as_points``)."""
+        return as_points(self.symbols)
+
+
+def point_group(name: str, values: Sequence[Sequence[float]], description: str, unit: str = "m") -> ParameterGroup:
+    """A point list as parameters, with its default values and meaning in one declaration.
+
+    Parameters
+    ----------
+    name : str
+        The group's name: symbols ``name_x1, name_y1, ...`` (``point_parameters``).
+    values : sequence of sequence of float, shape (n, dims)
+        The default points, one row per point (dims 1 to 3), in the group's frame and ``unit``.
+    description : str
+        What point k is, with ``{k}`` for its number (``point_info``), e.g. 'base joint A{k},
+        in {B}'.
+    unit : str
+        The coordinates' unit ('m'; '' for a unit vector).
+
+    Returns
+    -------
+    ParameterGroup
+        ``symbols`` the n x dims matrix, ``points`` its rows as 3-vectors.
+
+    Raises
+    ------
+    ValueError
+        The rows are not all of one length from 1 to 3.
+
+    Example
+    -------
+    >>> group = point_group("base", [(0.0, 0.0), (1.0, 0.0)], "base joint A{k}, in {B}")
+    >>> group.defaults[group.symbols[1, 0]], group.info[group.symbols[1, 0]].description
+    (1.0, 'x of base joint A2, in {B}')
+    """
+    if not values or len({len(row) for row in values}) != 1:
+        raise ValueError(f"point_group {name!r}: give one or more rows of equal length")
+    symbols = point_parameters(name, len(values), len(values[0]))
+    return ParameterGroup(name, symbols, point_defaults(symbols, values), point_info(symbols, description, unit))
+
+
+def leg_parameters(
+    symbols: Sequence[sp.Symbol], value: float, description: str, unit: str = "m", domain: str = "positive"
+) -> ParameterGroup:
+    """One parameter per leg with the same default, e.g. the crank lengths a1..a6.
+
+    Parameters
+    ----------
+    symbols : sequence of sympy.Symbol
+        The parameters, leg 1 first.
+    value : float
+        The default of every one, in ``unit``.
+    description : str
+        What the parameter of leg k is, with ``{k}`` for the leg's number.
+    unit : str
+        Its unit ('m').
+    domain : str
+        The values it may take (``model.DOMAINS``; 'positive' for a length).
+
+    Returns
+    -------
+    ParameterGroup
+        Without a group name: a user passes each parameter by its own name.
+
+    Example
+    -------
+    >>> a = sp.symbols("a1:3", positive=True)
+    >>> leg_parameters(a, 0.15, "crank {k} length").info[a[1]].description
+    'crank 2 length'
+    """
+    info = {s: ParameterInfo(unit, description.replace("{k}", str(k + 1)), domain) for k, s in enumerate(symbols)}
+    return ParameterGroup(None, sp.Matrix(list(symbols)), dict.fromkeys(symbols, value), info)
+
+
+def parameter_fields(*groups: ParameterGroup) -> dict[str, object]:
+    """The ``Mechanism`` fields ``parameters``, ``parameter_info`` and ``parameter_groups`` of
+    declared parameters, in the order given (the order of the generated parameter vector).
+
+    Parameters
+    ----------
+    *groups : ParameterGroup
+        From ``point_group`` and ``leg_parameters``.
+
+    Returns
+    -------
+    dict
+        For ``Mechanism(**parameter_fields(...), ...)``.
+
+    Raises
+    ------
+    ValueError
+        A parameter is declared twice.
+
+    Example
+    -------
+    >>> a = sp.symbols("a1:3", positive=True)
+    >>> fields = parameter_fields(point_group("base", [(0.0, 0.0)], "A{k}"), leg_parameters(a, 0.2, "a{k}"))
+    >>> [str(s) for s in fields["parameters"]], list(fields["parameter_groups"])
+    (['base_x1', 'base_y1', 'a1', 'a2'], ['base'])
+    """
+    parameters: dict[sp.Symbol, float] = {}
+    info: dict[sp.Symbol, ParameterInfo] = {}
+    for group in groups:
+        if set(group.defaults) & set(parameters):
+            raise ValueError(f"parameter_fields: {sorted(map(str, set(group.defaults) & set(parameters)))} twice")
+        parameters |= group.defaults
+        info |= group.info
+    named = {group.name: group.symbols for group in groups if group.name is not None}
+    return {"parameters": parameters, "parameter_info": info, "parameter_groups": named}
+
+
+# ------------------------------------------------------------------ example poses and homes
+def pose_values(
+    rotation: sp.Matrix | Sequence[Sequence[float]], position: Sequence[float] | sp.Matrix
+) -> list[list[float]]:
+    """^B_P T as the 4x4 nested list of floats an ``Example`` or a home takes.
+
+    Parameters
+    ----------
+    rotation : 3 x 3 sympy.Matrix or nested sequence
+        ^B_P R (numbers; a sympy matrix is converted entry by entry, ``float(entry)``).
+    position : 3 numbers
+        The origin of {P} in {B}, metres.
+
+    Returns
+    -------
+    list of list of float, shape (4, 4)
+        [[R, p], [0, 0, 0, 1]].
+
+    Example
+    -------
+    >>> pose_values([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [0.0, 0.0, 0.5])[2]
+    [0.0, 0.0, 1.0, 0.5]
+    """
+    rows = sp.Matrix(rotation).tolist()
+    return [[*map(float, row), float(t)] for row, t in zip(rows, list(position), strict=True)] + [[0.0, 0.0, 0.0, 1.0]]
+
+
+def planar_pose_values(x: float, y: float, phi: float) -> list[list[float]]:
+    """``planar_pose`` numerically: [[Rot_z(phi), (x, y, 0)], [0, 0, 0, 1]] as floats.
+
+    Parameters
+    ----------
+    x, y : float
+        The origin of {P} in {B}, metres.
+    phi : float
+        The platform's angle about z, radians (evaluated to 17 digits).
+
+    Returns
+    -------
+    list of list of float, shape (4, 4)
+
+    Example
+    -------
+    >>> planar_pose_values(0.1, 0.2, 0.0)[0]
+    [1.0, 0.0, 0.0, 0.1]
+    """
+    return pose_values(rot_z(sp.Float(phi, 17)), [x, y, 0.0])
+
+
+class _HasHome(Protocol):
+    def home_at(
+        self, rotation: sp.Matrix, position: sp.Matrix, branch: int, parameters: dict[sp.Symbol, float]
+    ) -> dict[sp.Symbol, float]: ...
+
+
+def home_from_pose(
+    model: _HasHome, pose: Sequence[Sequence[float]], branch: int, parameters: dict[sp.Symbol, float]
+) -> dict[sp.Symbol, float]:
+    """A home configuration read by the model's inverse at a pose: every actuated and passive
+    value of ``pose`` on inverse branch ``branch`` (``DistanceMechanism.home_at``,
+    ``ChainMechanism.home_at``).
+
+    Parameters
+    ----------
+    model : joints.DistanceMechanism or chains.ChainMechanism
+        The mechanism's model.
+    pose : 4 x 4 nested sequence, or 3 x 3 for an orienting platform
+        ^B_P T (or ^B_P R), e.g. from ``pose_values``.
+    branch : int
+        The inverse branch.
+    parameters : dict
+        Parameter values (the defaults).
+
+    Returns
+    -------
+    dict
+        The actuated and passive values (angles in (-pi, pi] for a distance model), for
+        ``Mechanism(home=...)``.
+
+    Example
+    -------
+    See ``mechanisms/rus6.py``: ``home=home_from_pose(MODEL, HOME_POSE, 0, defaults)``.
+    """
+    matrix = sp.Matrix(pose)
+    if matrix.shape == (3, 3):
+        return model.home_at(matrix, None, branch, parameters)  # type: ignore[arg-type]
+    return model.home_at(matrix[:3, :3], matrix[:3, 3], branch, parameters)
 
 
 # ------------------------------------------------------------------ planar poses
@@ -305,9 +651,20 @@ def _divide_out(poly: sp.Poly, factor: sp.Poly) -> tuple[sp.Poly, list[tuple[sp.
 
 __all__ = [
     "CleanPolynomial",
+    "ParameterGroup",
     "PrismaticLegs",
     "TWIST",
     "as_points",
+    "circle_points",
+    "home_from_pose",
+    "leg_parameters",
+    "pair_sides",
+    "paired_circle_points",
+    "parameter_fields",
+    "planar_pose_values",
+    "point_group",
+    "pose_values",
+    "radial_directions",
     "half_angle_forms",
     "half_angle_solution",
     "laplace_det",

@@ -25,8 +25,17 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import point_defaults, point_info, point_parameters
-from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.blocks import (
+    home_from_pose,
+    leg_parameters,
+    pair_sides,
+    paired_circle_points,
+    parameter_fields,
+    point_defaults,
+    point_group,
+    pose_values,
+)
+from parakin.generator.model import Citation, Example, Mechanism
 from parakin.mechanisms.stewart import (
     DIETMAIER_BASE,
     DIETMAIER_LENGTHS,
@@ -34,16 +43,6 @@ from parakin.mechanisms.stewart import (
     DIETMAIER_POSITION,
     DIETMAIER_ROTATION,
 )
-
-BASE = point_parameters("base", 6)
-AXIS = point_parameters("axis", 6)
-CRANK_ZERO = point_parameters("crank_zero", 6)
-PLATFORM = point_parameters("platform", 6)
-a = sp.symbols("a1:7", positive=True)
-b = sp.symbols("b1:7", positive=True)
-theta = sp.symbols("theta1:7", real=True)
-x, y, z = sp.symbols("x y z", real=True)
-quaternion = sp.symbols("q0:4", real=True)
 
 #: the default layout (module docstring): pair centres, shaft and platform-joint offsets
 PAIR_CENTRES = (0.0, 120.0, 240.0)
@@ -53,39 +52,33 @@ CRANK, ROD = 0.15, 0.6
 #: crank angle of the Dietmaier example (every leg), and the crank range of the defaults
 DIETMAIER_THETA = math.pi / 6
 CRANK_RANGE = (-math.pi / 2, math.pi / 2)
+#: motor axis u_i = side * (radial direction of the pair's centre); crank at theta = 0 along
+#: e1_i = u_i x z = side * (tangent of the pair's centre)
+AXES = [[side * math.cos(centre), side * math.sin(centre), 0.0] for centre, side in pair_sides(PAIR_CENTRES)]
+ZEROS = [[-side * math.sin(centre), side * math.cos(centre), 0.0] for centre, side in pair_sides(PAIR_CENTRES)]
 
+SHAFTS = paired_circle_points(SHAFT_RADIUS, PAIR_CENTRES, SHAFT_OFFSET)
+JOINTS = paired_circle_points(PLATFORM_RADIUS, PAIR_CENTRES, PLATFORM_OFFSET)
 
-def _side(i: int) -> int:
-    """-1 for the first motor of a pair, +1 for the second."""
-    return -1 if i % 2 == 0 else 1
-
-
-def _layout() -> dict[str, list[list[float]]]:
-    """The default shafts, axes, crank directions at theta = 0 and platform joints."""
-    shafts, axes, zeros, joints = [], [], [], []
-    for i in range(6):
-        centre, side = math.radians(PAIR_CENTRES[i // 2]), _side(i)
-        shaft = centre + side * math.radians(SHAFT_OFFSET)
-        joint = centre + side * math.radians(PLATFORM_OFFSET)
-        shafts.append([SHAFT_RADIUS * math.cos(shaft), SHAFT_RADIUS * math.sin(shaft), 0.0])
-        # e1 = side * (tangent of the pair's centre), u = e1 x z = side * (radial direction)
-        zeros.append([-side * math.sin(centre), side * math.cos(centre), 0.0])
-        axes.append([side * math.cos(centre), side * math.sin(centre), 0.0])
-        joints.append([PLATFORM_RADIUS * math.cos(joint), PLATFORM_RADIUS * math.sin(joint), 0.0])
-    return {"base": shafts, "axis": axes, "crank_zero": zeros, "platform": joints}
-
-
-LAYOUT = _layout()
-#: the home height: every crank level, R = I (module docstring)
-HOME_Z = math.sqrt(
-    ROD**2
-    - sum((LAYOUT["platform"][0][k] - LAYOUT["base"][0][k] - CRANK * LAYOUT["crank_zero"][0][k]) ** 2 for k in range(2))
+BASE = point_group("base", SHAFTS, "motor shaft point A{k} (on the motor axis), in {B}")
+AXIS = point_group("axis", AXES, "motor axis u{k} (unit vector; theta{k} right-handed about it), in {B}", unit="")
+CRANK_ZERO = point_group(
+    "crank_zero", ZEROS, "crank direction e1_{k} at theta{k} = 0 (unit, normal to u{k}), in {B}", ""
 )
-
-
-def row(points: sp.Matrix, i: int) -> sp.Matrix:
-    return points.row(i).T
-
+PLATFORM = point_group("platform", JOINTS, "platform joint c{k}, in {P}")
+a = sp.symbols("a1:7", positive=True)
+b = sp.symbols("b1:7", positive=True)
+PARAMETERS = parameter_fields(
+    BASE,
+    AXIS,
+    CRANK_ZERO,
+    leg_parameters(a, CRANK, "crank {k} length |E{k} - A{k}|"),
+    leg_parameters(b, ROD, "rod {k} length |B{k} - E{k}|"),
+    PLATFORM,
+)
+theta = sp.symbols("theta1:7", real=True)
+#: the home height: every crank level, R = I (module docstring)
+HOME_Z = math.sqrt(ROD**2 - sum((JOINTS[0][k] - SHAFTS[0][k] - CRANK * ZEROS[0][k]) ** 2 for k in range(2)))
 
 #: the model: six R-U-S legs (crank about u_i from e1_i, rod to c_i; branch sign +1 the crank
 #: turned back about u_i) on a spatial platform; closure, rates, factors, inverse and drawing are
@@ -94,12 +87,12 @@ MODEL = joints.DistanceMechanism(
     joints.platform("transform"),
     [
         joints.crank_leg(
-            row(BASE, i),
-            row(AXIS, i),
-            row(CRANK_ZERO, i),
+            BASE.points[i],
+            AXIS.points[i],
+            CRANK_ZERO.points[i],
             a[i],
             b[i],
-            row(PLATFORM, i),
+            PLATFORM.points[i],
             theta[i],
             sign=-1,
             serial_name="leg{k}_rod_in_crank_axis_plane",
@@ -110,24 +103,13 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-def defaults() -> dict[sp.Symbol, float]:
-    return {
-        **point_defaults(BASE, LAYOUT["base"]),
-        **point_defaults(AXIS, LAYOUT["axis"]),
-        **point_defaults(CRANK_ZERO, LAYOUT["crank_zero"]),
-        **dict.fromkeys(a, CRANK),
-        **dict.fromkeys(b, ROD),
-        **point_defaults(PLATFORM, LAYOUT["platform"]),
-    }
-
-
 def dietmaier_shafts() -> list[list[float]]:
     """A_i = X_i - a_i (cos t e1_i + sin t e2_i), t = DIETMAIER_THETA, default crank frames: the
     crank tips are Dietmaier's base points X_i at theta_i = t."""
     c, s = math.cos(DIETMAIER_THETA), math.sin(DIETMAIER_THETA)
     shafts = []
     for i in range(6):
-        u, e1 = LAYOUT["axis"][i], LAYOUT["crank_zero"][i]
+        u, e1 = AXES[i], ZEROS[i]
         e2 = [u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2], u[0] * e1[1] - u[1] * e1[0]]
         shafts.append([DIETMAIER_BASE[i][k] - CRANK * (c * e1[k] + s * e2[k]) for k in range(3)])
     return shafts
@@ -135,25 +117,12 @@ def dietmaier_shafts() -> list[list[float]]:
 
 #: example ``dietmaier_cranks``: the parameters that differ from the defaults, by name
 DIETMAIER_PARAMETERS = {
-    **{str(k): v for k, v in point_defaults(BASE, dietmaier_shafts()).items()},
-    **{str(k): v for k, v in point_defaults(PLATFORM, DIETMAIER_PLATFORM).items()},
+    **{str(k): v for k, v in point_defaults(BASE.symbols, dietmaier_shafts()).items()},
+    **{str(k): v for k, v in point_defaults(PLATFORM.symbols, DIETMAIER_PLATFORM).items()},
     **{str(b[i]): DIETMAIER_LENGTHS[i] for i in range(6)},
 }
-
-
-def pose_list(rotation: list[list[float]], position: list[float]) -> list[list[float]]:
-    return [[*map(float, r), float(t)] for r, t in zip(rotation, position, strict=True)] + [[0.0, 0.0, 0.0, 1.0]]
-
-
-HOME_POSE = pose_list([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], [0.0, 0.0, HOME_Z])
-DIETMAIER_POSE = pose_list(DIETMAIER_ROTATION, DIETMAIER_POSITION)
-
-
-def home() -> dict[sp.Symbol, float]:
-    """The inverse of HOME_POSE on branch 0 at the defaults (theta = 0 to rounding)."""
-    pose = sp.Matrix(HOME_POSE)
-    values = MODEL.inverse().at(pose[:3, :3], pose[:3, 3], 0, defaults())
-    return {v: values[v] for v in (*theta, x, y, z, *quaternion)}
+HOME_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_Z])
+DIETMAIER_POSE = pose_values(DIETMAIER_ROTATION, DIETMAIER_POSITION)
 
 
 EXAMPLES = [
@@ -201,19 +170,10 @@ def build() -> Mechanism:
             1983,
             "ASME Journal of Mechanisms, Transmissions, and Automation in Design 105(4), pp. 705-712",
         ),
-        parameters=defaults(),
+        **PARAMETERS,
         **MODEL.fields(),
         forward=None,
-        home=home(),
+        home=home_from_pose(MODEL, HOME_POSE, 0, PARAMETERS["parameters"]),
         limits=dict.fromkeys(theta, CRANK_RANGE),
-        parameter_info={
-            **point_info(BASE, "motor shaft point A{k} (on the motor axis), in {B}"),
-            **point_info(AXIS, "motor axis u{k} (unit vector; theta{k} right-handed about it), in {B}", unit=""),
-            **point_info(CRANK_ZERO, "crank direction e1_{k} at theta{k} = 0 (unit, normal to u{k}), in {B}", unit=""),
-            **{a[i]: ParameterInfo("m", f"crank {i + 1} length |E{i + 1} - A{i + 1}|", "positive") for i in range(6)},
-            **{b[i]: ParameterInfo("m", f"rod {i + 1} length |B{i + 1} - E{i + 1}|", "positive") for i in range(6)},
-            **point_info(PLATFORM, "platform joint c{k}, in {P}"),
-        },
-        parameter_groups={"base": BASE, "axis": AXIS, "crank_zero": CRANK_ZERO, "platform": PLATFORM},
         examples=EXAMPLES,
     )

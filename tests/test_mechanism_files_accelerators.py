@@ -44,7 +44,7 @@ MODEL_LINES = {
     "gough": 100,
     "prs3": 112,
     "sam": 89,
-    "rus6": 142,
+    "rus6": 111,
     "spm": 79,
     "planar_3rpr": 53,
     "delta": 85,

@@ -1,0 +1,107 @@
+"""The generic builders of ``generator/blocks.py`` that mechanism files use instead of hand
+boilerplate (issue 32, item 4), each against an independent fact: layouts by their radius and
+angles, exact directions by their norm and spacing, declarations by what they declare, example
+poses by their structure, and ``home_from_pose`` by closing the loop at the pose."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from parakin.generator import joints
+from parakin.generator.blocks import (
+    circle_points,
+    home_from_pose,
+    leg_parameters,
+    pair_sides,
+    paired_circle_points,
+    parameter_fields,
+    planar_pose_values,
+    point_group,
+    pose_values,
+    radial_directions,
+)
+
+
+def test_circle_points_lie_on_the_circle_at_their_angles():
+    points = circle_points(0.5, [210.0, 330.0, 90.0])
+    for (x, y, z), angle in zip(points, [210.0, 330.0, 90.0], strict=True):
+        assert math.hypot(x, y) == pytest.approx(0.5, abs=1e-15) and z == 0.0
+        assert math.degrees(math.atan2(y, x)) % 360 == pytest.approx(angle, abs=1e-12)
+    assert [len(p) for p in circle_points(0.5, [0.0], dims=2)] == [2]
+    with pytest.raises(ValueError, match="dims"):
+        circle_points(1.0, [0.0], dims=1)
+
+
+def test_paired_points_straddle_their_centres():
+    """Six points on a 0.4 m circle, pairs at 0, 120, 240 deg +- 10 deg: each at the radius, the
+    first of a pair 10 deg clockwise of its centre, the second 10 deg counter-clockwise, so that
+    consecutive pairs are 100 deg apart (the hexapod's alternating 20 / 100 deg gaps)."""
+    points = paired_circle_points(0.4, [0.0, 120.0, 240.0], 10.0)
+    angles = [math.degrees(math.atan2(y, x)) % 360 for x, y, _ in points]
+    assert np.allclose([math.hypot(x, y) for x, y, _ in points], 0.4, atol=1e-15)
+    assert np.allclose(angles, [350.0, 10.0, 110.0, 130.0, 230.0, 250.0], atol=1e-12)
+    assert [side for _, side in pair_sides([0.0, 120.0])] == [-1, 1, -1, 1]
+
+
+def test_radial_directions_are_exact_unit_vectors_evenly_spaced():
+    directions = radial_directions(3)
+    assert directions[0].T.tolist() == [[1, 0, 0]]
+    assert directions[2].T.tolist() == [[-sp.Rational(1, 2), -sp.sqrt(3) / 2, 0]]
+    for k, e in enumerate(directions):
+        assert sp.simplify(e.dot(e)) == 1
+        assert sp.simplify(e.dot(directions[(k + 1) % 3]) - sp.cos(2 * sp.pi / 3)) == 0
+    with pytest.raises(ValueError, match="count"):
+        radial_directions(0)
+
+
+def test_declarations_give_defaults_meaning_and_groups_in_order():
+    lengths = sp.symbols("a1:4", positive=True)
+    base = point_group("base", [(0.0, 1.0), (2.0, 3.0), (4.0, 5.0)], "base joint A{k}, in {B}")
+    fields = parameter_fields(base, leg_parameters(lengths, 0.3, "crank {k} length"))
+    names = [str(s) for s in fields["parameters"]]  # type: ignore[attr-defined]
+    assert names == ["base_x1", "base_y1", "base_x2", "base_y2", "base_x3", "base_y3", "a1", "a2", "a3"]
+    assert list(fields["parameters"].values()) == [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 0.3, 0.3, 0.3]  # type: ignore[attr-defined]
+    info = fields["parameter_info"]
+    assert info[base.symbols[2, 1]].description == "y of base joint A3, in {B}"  # type: ignore[index]
+    assert (info[lengths[1]].unit, info[lengths[1]].domain) == ("m", "positive")  # type: ignore[index]
+    assert fields["parameter_groups"] == {"base": base.symbols}
+    assert base.points[1].T.tolist() == [[base.symbols[1, 0], base.symbols[1, 1], 0]]
+    with pytest.raises(ValueError, match="twice"):
+        parameter_fields(base, base)
+    with pytest.raises(ValueError, match="equal length"):
+        point_group("bad", [(0.0, 1.0), (2.0,)], "p{k}")
+
+
+def test_pose_values_is_the_homogeneous_transform():
+    rotation = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    pose = np.array(pose_values(rotation, [0.1, 0.2, 0.3]))
+    point = np.array([1.0, 0.0, 0.0, 1.0])
+    assert np.allclose(pose @ point, [0.1, 1.2, 0.3, 1.0], atol=0)  # Rot_z(90 deg) x + p
+    planar = np.array(planar_pose_values(0.1, 0.2, math.pi / 2))
+    assert np.allclose(planar, pose_values(rotation, [0.1, 0.2, 0.0]), rtol=0, atol=1e-16)
+    assert all(isinstance(v, float) for row in pose_values(sp.eye(3), [0, 0, 1]) for v in row)
+
+
+def test_home_from_pose_closes_the_loop_at_the_pose():
+    """A planar 3-RPR (prismatic legs between two triangles): the home read at a tilted pose has
+    leg lengths equal to the distances |p + R c_i - A_i| computed here with NumPy, and passive
+    values equal to the pose's (x, y, phi)."""
+    base = point_group("base", circle_points(0.5, [210.0, 330.0, 90.0], dims=2), "A{k}")
+    platform = point_group("platform", circle_points(0.2, [200.0, 320.0, 80.0], dims=2), "c{k}")
+    lengths = sp.symbols("l1:4", positive=True)
+    model = joints.DistanceMechanism(
+        joints.platform("planar"),
+        [joints.prismatic_leg(a, c, n) for a, c, n in zip(base.points, platform.points, lengths, strict=True)],
+    )
+    defaults = parameter_fields(base, platform)["parameters"]
+    x, y, phi = 0.05, -0.02, 0.3
+    home = home_from_pose(model, planar_pose_values(x, y, phi), 0, defaults)  # type: ignore[arg-type]
+    rotation = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+    for k in range(3):
+        a = np.array(circle_points(0.5, [210.0, 330.0, 90.0], dims=2)[k])
+        c = np.array(circle_points(0.2, [200.0, 320.0, 80.0], dims=2)[k])
+        assert home[lengths[k]] == pytest.approx(np.linalg.norm([x, y] + rotation @ c - a), abs=1e-14)
+    assert [home[s] for s in model.motion.coordinates] == pytest.approx([x, y, phi], abs=1e-14)
