@@ -22,7 +22,8 @@ into the file's other entries): inputs, certified complete, not complete by reas
 mode-count histogram, median/p90/max ms per input, and per input its mode count, completeness,
 re-track, time and a digest of its sorted modes. ``--modes-file``: the modes themselves (passive
 values, NaN-padded) per entry, for a comparison with a tolerance. ``--budget`` stops an entry
-after that many seconds of CPU time (the entry says how many inputs it reached).
+after that many seconds of CPU time (the entry says how many inputs it reached). ``--table
+census.json`` prints a JSON file's entries as a Markdown table.
 
 Measured (issue 31, item 4; compiled backend, OPENBLAS_NUM_THREADS=1, a loaded 2-core machine):
 rus6 on 1000 inputs 100 % complete (12 re-tracked), median 233 ms, max 1525 ms (6.5 x), and with
@@ -192,6 +193,26 @@ def revision() -> str:
     return head + ("+dirty" if dirty else "")
 
 
+def markdown(entries: dict[str, Any]) -> str:
+    """A census JSON file's entries as a Markdown table (per input statistics left out)."""
+    lines = [
+        "| mechanism | method | backend | inputs | certified complete | not complete (why) | re-tracked "
+        "| modes per input: inputs | median ms | p90 ms | max ms | revision |",
+        "|---|---|---|---:|---:|---|---:|---|---:|---:|---:|---|",
+    ]
+    for entry in entries.values():
+        share = entry["complete"] / max(entry["inputs"], 1)
+        why = ", ".join(f"{count} {reason}" for reason, count in entry["not_complete"].items()) or "-"
+        histogram = ", ".join(f"{k}: {v}" for k, v in entry["mode_counts"].items())
+        reached = "" if entry["inputs"] == entry["inputs_requested"] else f" of {entry['inputs_requested']}"
+        lines.append(
+            f"| {entry['mechanism']} | {entry['method']} | {entry['backend']} | {entry['inputs']}{reached} "
+            f"| {entry['complete']} ({share:.2%}) | {why} | {entry['retracked']} | {histogram} "
+            f"| {entry['median_ms']:.2f} | {entry['p90_ms']:.2f} | {entry['max_ms']:.1f} | {entry['revision'][:7]} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--inputs", type=int, default=200)
@@ -204,7 +225,11 @@ def main() -> None:
     parser.add_argument("--json", type=Path, default=None, help="merge the entries into this JSON file")
     parser.add_argument("--modes-file", type=Path, default=None, help=".npz of the modes per entry")
     parser.add_argument("--budget", type=float, default=float("inf"), help="CPU seconds per entry at most")
+    parser.add_argument("--table", type=Path, default=None, help="print this JSON file's entries as Markdown, run none")
     args = parser.parse_args()
+    if args.table is not None:
+        print(markdown(json.loads(args.table.read_text())), end="")
+        return
     store: dict[str, np.ndarray] = {}
     if args.inputs_file is not None and args.inputs_file.exists():
         with np.load(args.inputs_file) as saved:
