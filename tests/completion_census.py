@@ -23,7 +23,9 @@ mode-count histogram, median/p90/max ms per input, and per input its mode count,
 re-track, time and a digest of its sorted modes. ``--modes-file``: the modes themselves (passive
 values, NaN-padded) per entry, for a comparison with a tolerance. ``--budget`` stops an entry
 after that many seconds of CPU time (the entry says how many inputs it reached). ``--table
-census.json`` prints a JSON file's entries as a Markdown table.
+census.json`` prints a JSON file's entries as a Markdown table; ``--like census.json`` runs
+every entry of that file again (its mechanism, method and backend, on as many inputs as it
+reached; with ``--mechanisms``, only theirs).
 
 Measured (issue 31, item 4; compiled backend, OPENBLAS_NUM_THREADS=1, a loaded 2-core machine):
 rus6 on 1000 inputs 100 % complete (12 re-tracked), median 233 ms, max 1525 ms (6.5 x), and with
@@ -226,6 +228,7 @@ def main() -> None:
     parser.add_argument("--modes-file", type=Path, default=None, help=".npz of the modes per entry")
     parser.add_argument("--budget", type=float, default=float("inf"), help="CPU seconds per entry at most")
     parser.add_argument("--table", type=Path, default=None, help="print this JSON file's entries as Markdown, run none")
+    parser.add_argument("--like", type=Path, default=None, help="run every entry of this census JSON file again")
     args = parser.parse_args()
     if args.table is not None:
         print(markdown(json.loads(args.table.read_text())), end="")
@@ -236,38 +239,45 @@ def main() -> None:
             store = {key: saved[key] for key in saved.files}
     print(f"{'mechanism':12s} {'method':10s} {'inputs':>6s} {'complete':>9s} {'retracked':>9s} "
           f"{'median ms':>9s} {'p90 ms':>8s} {'max ms':>8s} {'max/med':>7s}")  # fmt: skip
-    for name in args.mechanisms or parakin.available():
-        m = parakin.load(name, backend="numpy")
-        for method, info in m.capabilities.forward_methods.items():
-            if info.homotopy is None or (args.methods and method not in args.methods):
-                continue
-            sampled = name not in store
-            theta = census_inputs(name, args.inputs, args.seed, store)
-            if args.inputs_file is not None and sampled:  # the file is only ever added to
-                np.savez(args.inputs_file, **dict[str, Any](store))
-            entry, padded = census(name, method, theta, args.backend, args.list, args.budget)
-            entry["seed"] = args.seed
-            entry["revision"] = revision()
-            entry["date"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-            share = entry["complete"] / max(entry["inputs"], 1)
-            print(
-                f"{name:12s} {method:10s} {entry['inputs']:6d} {share:9.2%} {entry['retracked']:9d} "
-                f"{entry['median_ms']:9.2f} {entry['p90_ms']:8.2f} {entry['max_ms']:8.1f} "
-                f"{entry['max_ms'] / entry['median_ms']:7.1f}",
-                flush=True,
-            )
-            key = entry_key(name, method, args.backend)
-            if args.json is not None:
-                merged = json.loads(args.json.read_text()) if args.json.exists() else {}
-                merged[key] = entry
-                args.json.write_text(json.dumps(merged, indent=1))
-            if args.modes_file is not None:
-                modes: dict[str, np.ndarray] = {}
-                if args.modes_file.exists():
-                    with np.load(args.modes_file) as saved:
-                        modes = {k: saved[k] for k in saved.files}
-                modes[key.replace("/", "__")] = padded
-                np.savez_compressed(args.modes_file, **dict[str, Any](modes))
+    jobs: list[tuple[str, str, str, int]] = []  # mechanism, method, backend, inputs
+    if args.like is not None:  # every entry of an earlier run, on as many inputs as it reached
+        for entry in json.loads(args.like.read_text()).values():
+            if args.mechanisms is None or entry["mechanism"] in args.mechanisms:
+                jobs.append((entry["mechanism"], entry["method"], entry["backend"], entry["inputs"]))
+    else:
+        for name in args.mechanisms or parakin.available():
+            methods = parakin.load(name, backend="numpy").capabilities.forward_methods
+            jobs += [(name, k, args.backend, args.inputs) for k, info in methods.items() if info.homotopy is not None]
+    for name, method, backend, inputs in jobs:
+        if args.methods and method not in args.methods:
+            continue
+        sampled = name not in store
+        theta = census_inputs(name, inputs, args.seed, store)
+        if args.inputs_file is not None and sampled:  # the file is only ever added to
+            np.savez(args.inputs_file, **dict[str, Any](store))
+        entry, padded = census(name, method, theta, backend, args.list, args.budget)
+        entry["seed"] = args.seed
+        entry["revision"] = revision()
+        entry["date"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+        share = entry["complete"] / max(entry["inputs"], 1)
+        print(
+            f"{name:12s} {method:10s} {entry['inputs']:6d} {share:9.2%} {entry['retracked']:9d} "
+            f"{entry['median_ms']:9.2f} {entry['p90_ms']:8.2f} {entry['max_ms']:8.1f} "
+            f"{entry['max_ms'] / entry['median_ms']:7.1f}",
+            flush=True,
+        )
+        key = entry_key(name, method, backend)
+        if args.json is not None:
+            merged = json.loads(args.json.read_text()) if args.json.exists() else {}
+            merged[key] = entry
+            args.json.write_text(json.dumps(merged, indent=1))
+        if args.modes_file is not None:
+            modes: dict[str, np.ndarray] = {}
+            if args.modes_file.exists():
+                with np.load(args.modes_file) as saved:
+                    modes = {k: saved[k] for k in saved.files}
+            modes[key.replace("/", "__")] = padded
+            np.savez_compressed(args.modes_file, **dict[str, Any](modes))
 
 
 if __name__ == "__main__":
