@@ -29,7 +29,7 @@ import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, TypedDict
 
 import sympy as sp
 
@@ -286,7 +286,15 @@ def leg_parameters(
     return ParameterGroup(None, sp.Matrix(list(symbols)), dict.fromkeys(symbols, value), info)
 
 
-def parameter_fields(*groups: ParameterGroup) -> dict[str, object]:
+class ParameterFields(TypedDict):
+    """``Mechanism`` fields of declared parameters (``parameter_fields``)."""
+
+    parameters: dict[sp.Symbol, float]
+    parameter_info: dict[sp.Symbol, ParameterInfo]
+    parameter_groups: dict[str, sp.Matrix]
+
+
+def parameter_fields(*groups: ParameterGroup) -> ParameterFields:
     """The ``Mechanism`` fields ``parameters``, ``parameter_info`` and ``parameter_groups`` of
     declared parameters, in the order given (the order of the generated parameter vector).
 
@@ -297,8 +305,8 @@ def parameter_fields(*groups: ParameterGroup) -> dict[str, object]:
 
     Returns
     -------
-    dict
-        For ``Mechanism(**parameter_fields(...), ...)``.
+    ParameterFields
+        A dict for ``Mechanism(**parameter_fields(...), ...)``; ``["parameters"]`` the defaults.
 
     Raises
     ------
@@ -651,6 +659,7 @@ def _divide_out(poly: sp.Poly, factor: sp.Poly) -> tuple[sp.Poly, list[tuple[sp.
 
 __all__ = [
     "CleanPolynomial",
+    "ParameterFields",
     "ParameterGroup",
     "PrismaticLegs",
     "TWIST",

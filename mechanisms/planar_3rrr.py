@@ -23,30 +23,36 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import as_points, point_defaults, point_info, point_parameters
-from parakin.generator.frames import homogeneous, rot_z
-from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
-
-base = point_parameters("base", 3, dims=2)
-platform = point_parameters("platform", 3, dims=2)
-a = sp.symbols("a1:4", positive=True)
-b = sp.symbols("b1:4", positive=True)
-theta = sp.symbols("theta1:4", real=True)
-x, y, phi = sp.symbols("x y phi", real=True)
-X, Z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
+from parakin.generator.blocks import (
+    circle_points,
+    home_from_pose,
+    leg_parameters,
+    parameter_fields,
+    planar_pose_values,
+    point_group,
+)
+from parakin.generator.model import Citation, Example, Mechanism
 
 #: the default geometry (module docstring): joints at 210, 330 and 90 degrees on two circles
 JOINT_ANGLES = (210.0, 330.0, 90.0)
 BASE_RADIUS, PLATFORM_RADIUS, CRANK, LINK = 0.5, 0.3, 0.3, 0.35
-DEFAULT_BASE = [
-    (BASE_RADIUS * math.cos(math.radians(t)), BASE_RADIUS * math.sin(math.radians(t))) for t in JOINT_ANGLES
-]
-DEFAULT_PLATFORM = [
-    (PLATFORM_RADIUS * math.cos(math.radians(t)), PLATFORM_RADIUS * math.sin(math.radians(t))) for t in JOINT_ANGLES
-]
+base = point_group("base", circle_points(BASE_RADIUS, JOINT_ANGLES, dims=2), "base joint A{k} (crank axis), in {B}")
+platform = point_group("platform", circle_points(PLATFORM_RADIUS, JOINT_ANGLES, dims=2), "platform joint c{k}, in {P}")
+a = sp.symbols("a1:4", positive=True)
+b = sp.symbols("b1:4", positive=True)
+PARAMETERS = parameter_fields(
+    base,
+    platform,
+    leg_parameters(a, CRANK, "crank {k} length |E{k} - A{k}|"),
+    leg_parameters(b, LINK, "link {k} length |B{k} - E{k}|"),
+)
+theta = sp.symbols("theta1:4", real=True)
+x, y, phi = sp.symbols("x y phi", real=True)
+X, Z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
 #: the home pose (x, y, phi) and its branch (module docstring)
 HOME_POSE = (0.0, 0.0, 0.0)
 HOME_BRANCH = 0
+pose_list = planar_pose_values
 #: crank angles with 6 real assembly modes at the defaults, and those modes (x, y, phi), found
 #: by a scan over phi polished by Newton (tests/test_planar_3rrr.py repeats it independently)
 SIX_MODES_INPUT = [math.radians(-54.0), math.radians(174.0), math.radians(-105.0)]
@@ -64,30 +70,18 @@ SIX_MODES = [
 #: platform; closure, rates, singularity factors, inverse and drawing are derived from it
 MODEL = joints.DistanceMechanism(
     joints.platform("planar"),
-    [joints.crank_leg(as_points(base)[i], Z, X, a[i], b[i], as_points(platform)[i], theta[i]) for i in range(3)],
+    [joints.crank_leg(base.points[i], Z, X, a[i], b[i], platform.points[i], theta[i]) for i in range(3)],
     parallel_name="link_lines_concurrent_or_parallel",
 )
 
 
 def defaults() -> dict[sp.Symbol, float]:
-    return (
-        point_defaults(base, DEFAULT_BASE)
-        | point_defaults(platform, DEFAULT_PLATFORM)
-        | dict.fromkeys(a, CRANK)
-        | dict.fromkeys(b, LINK)
-    )
-
-
-def pose_list(px: float, py: float, angle: float) -> list[list[float]]:
-    transform = homogeneous(rot_z(sp.Float(angle, 17)), [px, py, 0])
-    return [[float(transform[i, j]) for j in range(4)] for i in range(4)]
+    return dict(PARAMETERS["parameters"])
 
 
 def home() -> dict[sp.Symbol, float]:
     """The inverse of HOME_POSE on HOME_BRANCH at the default geometry."""
-    pose = sp.Matrix(pose_list(*HOME_POSE))
-    values = MODEL.inverse().at(pose[:3, :3], pose[:3, 3], HOME_BRANCH, defaults())
-    return {v: values[v] for v in (*theta, x, y, phi)}
+    return home_from_pose(MODEL, pose_list(*HOME_POSE), HOME_BRANCH, defaults())
 
 
 EXAMPLES = [
@@ -122,14 +116,9 @@ def build() -> Mechanism:
             1988,
             "ASME Journal of Mechanisms, Transmissions, and Automation in Design 110(1), pp. 35-41",
         ),
-        parameters=defaults(),
+        **PARAMETERS,
         **MODEL.fields(),
         forward=None,
         home=home(),
-        parameter_info=point_info(base, "base joint A{k} (crank axis), in {B}")
-        | point_info(platform, "platform joint c{k}, in {P}")
-        | {a[i]: ParameterInfo("m", f"crank {i + 1} length |E{i + 1} - A{i + 1}|", "positive") for i in range(3)}
-        | {b[i]: ParameterInfo("m", f"link {i + 1} length |B{i + 1} - E{i + 1}|", "positive") for i in range(3)},
-        parameter_groups={"base": base, "platform": platform},
         examples=EXAMPLES,
     )

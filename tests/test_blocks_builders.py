@@ -61,12 +61,12 @@ def test_declarations_give_defaults_meaning_and_groups_in_order():
     lengths = sp.symbols("a1:4", positive=True)
     base = point_group("base", [(0.0, 1.0), (2.0, 3.0), (4.0, 5.0)], "base joint A{k}, in {B}")
     fields = parameter_fields(base, leg_parameters(lengths, 0.3, "crank {k} length"))
-    names = [str(s) for s in fields["parameters"]]  # type: ignore[attr-defined]
+    names = [str(s) for s in fields["parameters"]]
     assert names == ["base_x1", "base_y1", "base_x2", "base_y2", "base_x3", "base_y3", "a1", "a2", "a3"]
-    assert list(fields["parameters"].values()) == [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 0.3, 0.3, 0.3]  # type: ignore[attr-defined]
+    assert list(fields["parameters"].values()) == [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 0.3, 0.3, 0.3]
     info = fields["parameter_info"]
-    assert info[base.symbols[2, 1]].description == "y of base joint A3, in {B}"  # type: ignore[index]
-    assert (info[lengths[1]].unit, info[lengths[1]].domain) == ("m", "positive")  # type: ignore[index]
+    assert info[base.symbols[2, 1]].description == "y of base joint A3, in {B}"
+    assert (info[lengths[1]].unit, info[lengths[1]].domain) == ("m", "positive")
     assert fields["parameter_groups"] == {"base": base.symbols}
     assert base.points[1].T.tolist() == [[base.symbols[1, 0], base.symbols[1, 1], 0]]
     with pytest.raises(ValueError, match="twice"):
@@ -98,7 +98,7 @@ def test_home_from_pose_closes_the_loop_at_the_pose():
     )
     defaults = parameter_fields(base, platform)["parameters"]
     x, y, phi = 0.05, -0.02, 0.3
-    home = home_from_pose(model, planar_pose_values(x, y, phi), 0, defaults)  # type: ignore[arg-type]
+    home = home_from_pose(model, planar_pose_values(x, y, phi), 0, defaults)
     rotation = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
     for k in range(3):
         a = np.array(circle_points(0.5, [210.0, 330.0, 90.0], dims=2)[k])

@@ -49,7 +49,7 @@ MODEL_LINES = {
     "planar_3rpr": 53,
     "delta": 85,
     "five_bar": 79,
-    "planar_3rrr": 86,
+    "planar_3rrr": 72,
     "stewart": 77,
     "sphere2r": 45,
     "rps3": 49,
