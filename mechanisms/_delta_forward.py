@@ -6,7 +6,7 @@ tool point. Without it the generator derives the polynomial form from the closur
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Sequence
 
 import sympy as sp
 from parakin.generator.frames import translation
@@ -21,7 +21,7 @@ def arm(radial: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
 
 
 def forward(
-    radial: Callable[[int], sp.Matrix],
+    radial: Sequence[sp.Matrix],
     big_r: sp.Symbol,
     r: sp.Symbol,
     big_l: sp.Symbol,
@@ -29,7 +29,7 @@ def forward(
     theta: tuple[sp.Symbol, ...],
 ) -> ForwardElimination:
     """The three-sphere intersection as a quadratic in mu: the platform at distance ``ell`` from the
-    shifted elbows (R - r) e_i + L u_i(theta_i), e_i = ``radial(i)``."""
+    shifted elbows (R - r) e_i + L u_i(theta_i), e_i = ``radial[i]``."""
     mu = sp.Symbol("mu", real=True)
     centres = [sp.Matrix(sp.symbols(f"c{i + 1}_x c{i + 1}_y c{i + 1}_z", real=True)) for i in range(3)]
     n_a = sp.Matrix(sp.symbols("na_x na_y na_z", real=True))
@@ -39,7 +39,7 @@ def forward(
     n2, n_norm, v0_sq = sp.symbols("n_squared n_norm v0_squared", real=True)
     auxiliary: list[tuple[sp.Symbol, sp.Expr]] = []
     for i in range(3):
-        shifted = (big_r - r) * radial(i) + big_l * arm(radial(i), theta[i])
+        shifted = (big_r - r) * radial[i] + big_l * arm(radial[i], theta[i])
         auxiliary += [(centres[i][k], shifted[k]) for k in range(3)]
     auxiliary += [(n_a[k], centres[1][k] - centres[0][k]) for k in range(3)]
     auxiliary += [(n_b[k], centres[2][k] - centres[0][k]) for k in range(3)]

@@ -23,38 +23,32 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.frames import homogeneous, rot_z
+from parakin.generator.blocks import pose_values, radial_directions
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms._delta_forward import drawing, forward
 
 R, r, L, ell = sp.symbols("R r L l", positive=True)  # ell: the forearm length, named l
 theta = sp.symbols("theta1:4", real=True)
 x, y, z = sp.symbols("x y z", real=True)
-ETA = [2 * sp.pi * i / 3 for i in range(3)]
 Z = sp.Matrix([0, 0, 1])
-
-
-def radial(i: int) -> sp.Matrix:
-    """e_i = (cos eta_i, sin eta_i, 0)."""
-    return rot_z(ETA[i]) * sp.Matrix([1, 0, 0])
-
+RADIAL = radial_directions(3)  # e_i = (cos eta_i, sin eta_i, 0), eta_i = 2 pi (i - 1) / 3
 
 MODEL = joints.DistanceMechanism(
     joints.platform("translation"),
     [
         joints.crank_leg(
-            R * radial(i),
-            Z.cross(radial(i)),
-            radial(i),
+            R * e,
+            Z.cross(e),
+            e,
             L,
             ell,
-            r * radial(i),
-            theta[i],
+            r * e,
+            t,
             sign=-1,
             serial_name="leg{k}_forearm_in_arm_plane",
-            parallelogram=Z.cross(radial(i)),
+            parallelogram=Z.cross(e),
         )
-        for i in range(3)
+        for e, t in zip(RADIAL, theta, strict=True)
     ],
     parallel_name="forearms_coplanar",
 )
@@ -63,11 +57,7 @@ MODEL = joints.DistanceMechanism(
 #: the home pose: arms horizontal, (R - r + L, -z, l) = (0.5, 1.2, 1.3), a 5-12-13 triangle
 HOME_Z = -1.2
 FOLDED = -2 * math.atan(8.0)
-
-
-def pose_list(px: float, py: float, pz: float) -> list[list[float]]:
-    transform = homogeneous(sp.eye(3), [px, py, pz])
-    return [[float(transform[i, j]) for j in range(4)] for i in range(4)]
+HOME_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_Z])
 
 
 EXAMPLES = [
@@ -75,7 +65,7 @@ EXAMPLES = [
         name="home_elbows_out",
         description="p = (0, 0, -1.2) m at the defaults, branch 0: every arm horizontal, theta = 0 "
         "(by hand: R - r + L = 0.5, and 0.5^2 + 1.2^2 = 1.3^2 = l^2, a 5-12-13 triangle)",
-        pose=pose_list(0.0, 0.0, HOME_Z),
+        pose=HOME_POSE,
         branch=0,
         expected={"actuated": [0.0, 0.0, 0.0], "passive": [0.0, 0.0, HOME_Z]},
         tolerance=1e-12,
@@ -86,7 +76,7 @@ EXAMPLES = [
         "-1.2), E = 0.105, F = -0.84, G = -0.105, so the quadratic (G - E) tau^2 + 2 F tau + "
         "(G + E) = -0.21 tau^2 - 1.68 tau = 0 gives tau = 0 (branch 0) and tau = -8: theta = "
         "-2 atan(8) = -2.8929 rad on every leg (symmetry)",
-        pose=pose_list(0.0, 0.0, HOME_Z),
+        pose=HOME_POSE,
         branch=7,
         expected={"actuated": [FOLDED, FOLDED, FOLDED], "passive": [0.0, 0.0, HOME_Z]},
         tolerance=1e-12,
@@ -96,7 +86,7 @@ EXAMPLES = [
         description="theta = (0, 0, 0): the shifted elbows lie on the circle of radius 0.5 m at z = 0, "
         "so p = (0, 0, -1.2) or its mirror (0, 0, 1.2) (by hand: 1.3^2 - 0.5^2 = 1.2^2); 2 modes",
         actuated=[0.0, 0.0, 0.0],
-        expected={"mode_count": 2, "poses": [pose_list(0.0, 0.0, HOME_Z), pose_list(0.0, 0.0, -HOME_Z)]},
+        expected={"mode_count": 2, "poses": [HOME_POSE, pose_values(sp.eye(3), [0.0, 0.0, -HOME_Z])]},
         tolerance=1e-12,
     ),
 ]
@@ -114,7 +104,7 @@ def build() -> Mechanism:
         ),
         parameters={R: 0.2, r: 0.05, L: 0.35, ell: 1.3},
         **MODEL.fields() | {"drawing": drawing(MODEL.drawing(), sp.Matrix([x, y, z]))},
-        forward=forward(radial, R, r, L, ell, theta),
+        forward=forward(RADIAL, R, r, L, ell, theta),
         home={**dict.fromkeys(theta, 0.0), x: 0.0, y: 0.0, z: HOME_Z},
         parameter_info={
             R: ParameterInfo("m", "base radius: distance from the base centre to each motor joint b_i", "positive"),

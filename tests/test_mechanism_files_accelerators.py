@@ -47,7 +47,7 @@ MODEL_LINES = {
     "rus6": 111,
     "spm": 79,
     "planar_3rpr": 53,
-    "delta": 85,
+    "delta": 81,
     "five_bar": 79,
     "planar_3rrr": 72,
     "stewart": 77,
