@@ -3,6 +3,7 @@ matrices, the JSON reads back to the very objects of ``parakin.symbolic``, and t
 report is a document that compiles."""
 
 import json
+import math
 import shutil
 import subprocess
 from functools import cache
@@ -90,8 +91,8 @@ def test_text_defines_every_symbol_it_prints(mechanism):
     assert printed <= shown, sorted(map(str, printed - shown))
     listed = header.split("other symbols:\n", 1)[1] if "other symbols:" in header else ""
     for display, entry in report.symbols.items():
-        if entry.kind in ("actuated", "passive"):
-            assert f"{display} [" in header
+        if entry.kind in ("actuated", "passive"):  # with its home value, or its unit where it has none
+            assert f" {display} = " in header or f" {display} [" in header, display
         elif entry.kind == "parameter":
             assert f"{display} = " in header
         else:
@@ -182,3 +183,54 @@ def test_the_header_states_the_platforms_motion_with_the_controlled_coordinates(
     assert json.loads(capsys.readouterr().out)["motion"] == expected
     assert "\nmotion: " not in inspect("sphere2r").partition("\n== ")[0]
     assert json.loads(inspect("sphere2r", "json"))["motion"] is None
+
+
+def _home_line(header: list[str], title: str) -> dict[str, tuple[float, str]]:
+    """``name: (value, unit)`` from the header's ``TITLE (at home): ...`` line and its continuations."""
+    import re
+
+    start = next(k for k, line in enumerate(header) if line.startswith(f"{title} (at home): "))
+    text = header[start].partition(": ")[2]
+    for line in header[start + 1 :]:
+        if not line.startswith("    "):
+            break
+        text += " " + line.strip()
+    found = {}
+    for part in text.split(", "):
+        match = re.fullmatch(r"(\w+) = (\S+)(?: (m|rad))?(?: \((\S+) deg\))?", part)
+        assert match is not None, part
+        found[match[1]] = (float(match[2]), match[3] or "")
+        if match[4] is not None:  # a revolute value is also given in degrees: the same angle
+            assert abs(float(match[4]) - math.degrees(float(match[2]))) < 1e-3, part
+    return found
+
+
+def test_the_header_gives_the_home_configuration_with_units(capsys):
+    """``parakin inspect NAME`` once named the variables without their home values. Now the header
+    gives the home configuration, actuated and passive, each value with its unit (a revolute one
+    also in degrees). Checked by hand geometry at the printed digits (6 significant): the
+    five-bar's home P = (0, 0.33) m with the distal links b = 0.25 m from the elbows
+    A_i + a (cos theta_i, sin theta_i), A_i = (-+0.15, 0), a = 0.2 m; the 3-PRS at z = 0.6 m, no
+    tilt, each rail at d = 0.6 - sqrt(0.35^2 - (0.2 - 0.1)^2) m; the JSON gives the same homes."""
+    from parakin.interfaces.cli import main
+
+    assert main(["inspect", "five_bar"]) == 0
+    header = capsys.readouterr().out.partition("\n== ")[0].splitlines()
+    actuated, passive = _home_line(header, "actuated"), _home_line(header, "passive")
+    assert set(actuated) == {"theta1", "theta2"} and {u for _, u in actuated.values()} == {"rad"}
+    assert passive == {"x": (0.0, "m"), "y": (0.33, "m")}
+    for (theta, _), base in zip(actuated.values(), (-0.15, 0.15), strict=True):
+        elbow = (base + 0.2 * math.cos(theta), 0.2 * math.sin(theta))
+        assert abs(math.dist(elbow, (0.0, 0.33)) - 0.25) < 1e-5, theta
+
+    assert main(["inspect", "prs3"]) == 0
+    header = capsys.readouterr().out.partition("\n== ")[0].splitlines()
+    rail = 0.6 - math.sqrt(0.35**2 - 0.1**2)
+    actuated = _home_line(header, "actuated")
+    assert set(actuated) == {"d1", "d2", "d3"} and all(u == "m" and abs(d - rail) < 1e-5 for d, u in actuated.values())
+    assert _home_line(header, "passive") == {
+        "x": (0.0, "m"), "y": (0.0, "m"), "z": (0.6, "m"), "q0": (1.0, ""), "q1": (0.0, ""), "q2": (0.0, ""), "q3": (0.0, "")
+    }  # fmt: skip
+    symbols = json.loads(inspect("prs3", "json"))["symbols"]
+    assert abs(symbols["d1"]["home"] - rail) < 1e-12 and symbols["z"]["home"] == 0.6
+    assert all(len(line) <= 100 for line in header if "(at home): " in line or line.startswith("    "))

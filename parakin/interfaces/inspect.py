@@ -2,7 +2,8 @@
 
 Needs SymPy (the ``generator`` extra). Three formats of one report:
 
-* ``text`` (the default): the header names the variables, the parameters and the platform's
+* ``text`` (the default): the header names the parameters, the variables with their home values
+  (the home configuration: SI units, a revolute one also in degrees) and the platform's
   motion (the generator's screw analysis, ``manifest.joints.motion.text``: for a lower-mobility
   mechanism the coordinates the actuators control and the parasitic ones that follow); then each
   object as the generator named it; a matrix as a grid with its rows
@@ -26,7 +27,8 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
           "name": SYMPY_NAME, "assumptions": {"real": true, ...},
           "kind": "actuated" | "passive" | "parameter" | "defined" | "input" | "branch"
                   | "unknown" | "family" | "other",
-          "description": TEXT, "unit": TEXT (variables, parameters), "value": NUMBER (parameters)}},
+          "description": TEXT, "unit": TEXT (variables, parameters), "value": NUMBER (parameters),
+          "home": NUMBER (variables: the home configuration, SI)}},
       "shared": [[DISPLAY, VALUE], ...],
       "objects": {KEY: OBJECT},
       "sections": [{"title": TEXT, "object": KEY}, ...]
@@ -57,6 +59,7 @@ Needs SymPy (the ``generator`` extra). Three formats of one report:
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import textwrap
@@ -108,6 +111,8 @@ class _Entry:
     description: str
     unit: str | None = None
     value: float | None = None
+    #: a variable's home value (SI: m, rad; a quaternion component has no unit), None if none
+    home: float | None = None
     #: the symbol of ``parakin.symbolic`` (``symbol`` under another name where two share one)
     original: Any = None
 
@@ -343,7 +348,8 @@ def _report(name: str | os.PathLike[str]) -> _Report:
     for original, display in names.items():
         symbol = renamed.get(original, original)
         if display in variables and display == original.name:
-            symbols[display] = _Entry(symbol, kinds[display], f"{kinds[display]} variable", variables[display].unit)
+            v = variables[display]
+            symbols[display] = _Entry(symbol, kinds[display], f"{kinds[display]} variable", v.unit, home=v.home)
         elif display in parameters and display == original.name:
             p = parameters[display]
             symbols[display] = _Entry(symbol, "parameter", p.description or "parameter", p.unit, p.default)
@@ -483,9 +489,9 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
         f"citation: {manifest.citation}",
         "",
         "parameters: " + ", ".join(f"{p.name} = {p.default:g} {p.unit}".rstrip() for p in manifest.parameters),
-        "actuated: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.actuated),
-        "passive: " + ", ".join(f"{v.name} [{v.unit}]" for v in manifest.passive),
     ]
+    for title, variables in (("actuated", manifest.actuated), ("passive", manifest.passive)):
+        header += _wrapped_parts(f"{title} (at home): ", _home_values(variables), width)
     motion = _motion(manifest)
     if motion is not None:
         header += textwrap.wrap(f"motion: {motion}", width=width, subsequent_indent="    ")
@@ -502,6 +508,36 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
         title = "\n".join(textwrap.wrap(f"== {section.title}", width=width, subsequent_indent="   "))
         body.append(f"{title}\n{shown}\n")
     return "\n".join([*header, "", *body])
+
+
+def _home_values(variables: Any) -> list[str]:
+    """``d1 = 0.26459 m`` per variable at the home configuration, with its unit (SI), a revolute
+    one also in degrees (labelled); a variable without a home value as ``name [unit]``."""
+    parts = []
+    for v in variables:
+        if v.home is None:
+            parts.append(f"{v.name} [{v.unit}]" if v.unit else v.name)
+            continue
+        shown = f"{v.name} = {float(v.home) + 0.0:.6g}" + (f" {v.unit}" if v.unit else "")
+        if v.kind == "revolute":
+            shown += f" ({math.degrees(v.home) + 0.0:.6g} deg)"
+        parts.append(shown)
+    return parts
+
+
+def _wrapped_parts(lead: str, parts: list[str], width: int) -> list[str]:
+    """``lead`` and the parts joined by ", ", lines broken between parts only (never inside
+    ``l6 = 0.771071 m``), continuation lines indented by four spaces."""
+    if not parts:
+        return [lead + "none"]
+    lines = [lead + parts[0]]
+    for k, part in enumerate(parts[1:], 1):
+        if len(lines[-1]) + 2 + len(part) + (1 if k < len(parts) - 1 else 0) > width:
+            lines[-1] += ","
+            lines.append("    " + part)
+        else:
+            lines[-1] += ", " + part
+    return lines
 
 
 def _others(report: _Report) -> list[tuple[list[str], str]]:
@@ -583,6 +619,7 @@ def _as_latex(sympy: Any, report: _Report) -> str:
         if entry is not None:
             what = entry.description + (f" [{entry.unit}]" if entry.unit else "")
             what += f", default {entry.value:g}" if entry.value is not None else ""
+            what += f", home {entry.home:.6g}" if entry.home is not None else ""
             out.append(rf"\item[${tex(entry.symbol)}$] {_escape(what)}")
     for group, description in _others(report):
         shown = ", ".join(tex(report.symbols[n].symbol) for n in group)
@@ -697,6 +734,8 @@ def _as_json(sympy: Any, report: _Report) -> str:
             item["unit"] = entry.unit
         if entry.value is not None:
             item["value"] = entry.value
+        if entry.home is not None:
+            item["home"] = entry.home
         symbols[display] = item
     data = {
         "schema": "parakin.interfaces.inspect/1",
