@@ -25,14 +25,13 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
+from parakin.generator.blocks import radial_directions
 from parakin.generator.frames import rot_x, rot_y
 from parakin.generator.model import POSE_POSITION, POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p = sp.symbols("r_b r_p", positive=True)
 lengths = sp.symbols("l1:4", positive=True)
-#: leg angles 0, 120, 240 deg, exactly (cos, sin)
-ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
-RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
+RADIAL = radial_directions(3)  # (cos eta_i, sin eta_i, 0), eta_i = 0, 120, 240 deg, exactly
 DEFAULTS = {r_b: 0.3, r_p: 0.1}
 HOME_HEIGHT = 0.5
 
