@@ -26,17 +26,17 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.frames import homogeneous, rot_y, rot_z
+from parakin.generator.blocks import home_from_pose, pose_values, radial_directions
+from parakin.generator.frames import rot_y, rot_z
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p, L = sp.symbols("r_b r_p L", positive=True)
 strokes = sp.symbols("d1:4", real=True)
-#: rail angles theta_i: 0, 120, 240 deg, exactly (cos, sin)
-ANGLES = [(sp.Integer(1), sp.Integer(0)), (-sp.Rational(1, 2), sp.sqrt(3) / 2), (-sp.Rational(1, 2), -sp.sqrt(3) / 2)]
-RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
-TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
 DEFAULTS = {r_b: 0.2, r_p: 0.1, L: 0.35}
 K = sp.Matrix([0, 0, 1])  # the rails' direction, the vertical of {B}
+#: rail directions e_i at theta_i = 0, 120, 240 deg (exact) and their tangents u_i = k x e_i
+RADIAL = radial_directions(3)
+TANGENT = [K.cross(e) for e in RADIAL]
 RAIL_LENGTH = 1.0  # the rails: 0 <= d_i <= RAIL_LENGTH (metres)
 HOME_HEIGHT = 0.6  # the home: the platform level at this height (metres), links rising
 
@@ -76,7 +76,7 @@ HALF_TURN_MODE = [
     [-0.14280067235409538, -0.11905242933573337, 0.9825652584151744, 0.39652384979467187],
     [0.0, 0.0, 0.0, 1.0],
 ]
-LEVEL_POSE = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, HOME_HEIGHT], [0.0, 0.0, 0.0, 1.0]]
+LEVEL_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT])
 #: the level platform's strokes: its joints are r_b - r_p from the rails, d = z - sqrt(L^2 - (r_b - r_p)^2)
 LEVEL_STROKE = HOME_HEIGHT - math.sqrt(DEFAULTS[L] ** 2 - (DEFAULTS[r_b] - DEFAULTS[r_p]) ** 2)
 
@@ -84,10 +84,9 @@ LEVEL_STROKE = HOME_HEIGHT - math.sqrt(DEFAULTS[L] ** 2 - (DEFAULTS[r_b] - DEFAU
 def euler_pose(alpha: float, beta: float, height: float) -> list[list[float]]:
     """The reachable pose with Z-Y-Z Euler angles (alpha, beta, -alpha) at ``height``, its centre
     x0 = r_p (cos beta - 1) cos(2 alpha) / 2, y0 = r_p (1 - cos beta) sin(2 alpha) / 2 (17 digits)."""
-    rotation = rot_z(alpha) * rot_y(beta) * rot_z(-alpha)
     x0 = DEFAULTS[r_p] * (math.cos(beta) - 1) * math.cos(2 * alpha) / 2
     y0 = DEFAULTS[r_p] * (1 - math.cos(beta)) * math.sin(2 * alpha) / 2
-    return [[float(v) for v in row] for row in homogeneous(rotation, [x0, y0, height]).evalf(17).tolist()]
+    return pose_values((rot_z(alpha) * rot_y(beta) * rot_z(-alpha)).evalf(17), [x0, y0, height])
 
 
 EXAMPLES = [
@@ -138,7 +137,6 @@ EXAMPLES = [
 
 
 def build() -> Mechanism:
-    level = sp.Matrix(LEVEL_POSE)
     return Mechanism(
         name="prs3",
         title="3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion)",
@@ -151,7 +149,7 @@ def build() -> Mechanism:
         parameters=dict(DEFAULTS),
         **MODEL.fields(),
         forward=None,
-        home=MODEL.home_at(level[:3, :3], level[:3, 3], 0, DEFAULTS),
+        home=home_from_pose(MODEL, LEVEL_POSE, 0, DEFAULTS),
         limits={d: (0.0, RAIL_LENGTH) for d in strokes},
         parameter_info={
             r_b: ParameterInfo("m", "radius of the circle of the rails A_i (base)", "positive"),

@@ -42,7 +42,7 @@ HAND_NAMES = {
 MODEL_LINES = {
     "sps": 114,
     "gough": 100,
-    "prs3": 112,
+    "prs3": 109,
     "sam": 89,
     "rus6": 111,
     "spm": 79,
