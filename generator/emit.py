@@ -42,6 +42,9 @@ TRACKER_CONSTANTS = (
     "REFINE",
     "END_GAP",
     "RATIONAL_GUARD",
+    "ONE_STEP_BASIN",
+    "ONE_STEP_ERROR",
+    "OMEGA_DECAY",
 )
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 

@@ -128,3 +128,16 @@ def test_homotopy_drivers_hold_the_runtime(name: str) -> None:
         expected = homotopy_package or header.name == "krawczyk.h"
         assert (header.read_text().rstrip() in driver) == expected, header.name
     assert f"int {name}_certify_roots(const {name}_certify_job* job)" in driver
+
+
+def test_c_runtime_test_constants_are_the_numpy_references() -> None:
+    """test_runtime.c tracks with the constants of parakin.solvers.path_tracking (what every
+    package's driver prints, generator/emit.py), so that the C-against-NumPy comparison above
+    runs the shipped step control."""
+    from parakin.generator.emit import TRACKER_CONSTANTS
+
+    text = (RUNTIME / "test_runtime.c").read_text()
+    for name in TRACKER_CONSTANTS:
+        line = next(line for line in text.splitlines() if line.startswith(f"#define {name} "))
+        assert float(line.split()[2]) == float(getattr(homotopy, name)), name
+    assert len(TRACKER_CONSTANTS) >= 15

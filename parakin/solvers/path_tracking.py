@@ -37,13 +37,22 @@ END_GAP = 1e-13
 #: track_hermite's (and the C driver's) step control: the first Newton correction of a step (the
 #: predictor's error, relative to |z|) that the next step is sized to reach; the step's safety
 #: factor, and the most it grows after an accepted step and shrinks after a rejected one
-PREDICTOR_TARGET = 3e-3
+PREDICTOR_TARGET = 1e-2
 STEP_SAFETY = 0.8
 STEP_GROW = 2.0
 STEP_SHRINK = 0.25
 #: rational_predict takes the cubic Hermite value for an unknown whose rational interpolant's
 #: denominator comes this close to 0 along the step (a pole in or next to the step)
 RATIONAL_GUARD = 0.3
+#: track_hermite's (and the C driver's) corrector stops after one Newton correction of size d
+#: where the path's Newton constant omega (the last measured size / update^2 of a step's first two
+#: corrections, at least OMEGA_DECAY times the one before; unknown after a rejection) gives
+#: omega d <= ONE_STEP_BASIN (well inside the basin, Kantorovich's condition) and an error left
+#: omega d^2 below ONE_STEP_ERROR (relative to |z|: the iterate only has to stay in its own path's
+#: basin during the path; the endpoint is refined at s = 0)
+ONE_STEP_BASIN = 0.25
+ONE_STEP_ERROR = 1e-4
+OMEGA_DECAY = 0.5
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -302,7 +311,9 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     step) and corrects by at most ``CORRECTIONS`` contracting Newton steps at
     the new s, accepted when the error the last one leaves is below ``tolerance`` (relative to
     |z|): the update itself after one Newton step, after more the estimate of quadratic
-    convergence from the last two (size^3 / previous^2, each at most half the one before). The last Newton step's LU also gives the slope at the new point, so an accepted step
+    convergence from the last two (size^3 / previous^2, each at most half the one before). One
+    correction of size d also suffices where the path's running Newton constant omega gives
+    omega d <= ``ONE_STEP_BASIN`` and omega d^2 < ``ONE_STEP_ERROR`` (module constants). The last Newton step's LU also gives the slope at the new point, so an accepted step
     costs its corrector's evaluations and LUs only. The first correction measures the predictor's
     error: the next step is sized to bring it to ``PREDICTOR_TARGET`` (it grows as the step^4, on
     the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
@@ -341,6 +352,7 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     s, s_previous = np.ones(count), np.ones(count)
     h = np.full(count, INITIAL_STEP)
     history = np.zeros(count, bool)
+    omega = np.full(count, np.inf)
     steps, rejected, evaluations = (np.zeros(count, dtype=np.int32) for _ in range(3))
     status = np.full(count, -1, dtype=np.int32)
     with np.errstate(all="ignore"):
@@ -363,7 +375,7 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
                 target,
             )
             next_slope = np.zeros_like(corrected)
-            first, update, error = (np.full(active.size, np.inf) for _ in range(3))
+            first, update, error, measured = (np.full(active.size, np.inf) for _ in range(4))
             contracting, live = np.ones(active.size, bool), np.ones(active.size, bool)
             for iteration in range(CORRECTIONS):
                 rows = np.nonzero(live)[0]
@@ -376,9 +388,15 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
                     # quadratic convergence: the error left after this update is about
                     # omega size^2 with omega = size / previous^2
                     error[rows] = size * (size / update[rows]) ** 2
+                    if iteration == 1:
+                        measured[rows] = size / update[rows] ** 2
                 else:
                     first[rows] = size
-                    error[rows] = size
+                    # one correction suffices where the running Newton constant omega says it
+                    # started well inside the basin and left an error below ONE_STEP_ERROR
+                    known = omega[active[rows]]
+                    enough = (known * size <= ONE_STEP_BASIN) & (known * size * size < ONE_STEP_ERROR)
+                    error[rows] = np.where(enough, 0.0, size)
                 update[rows] = size
                 live[rows] = ~(error[rows] < tolerance) & contracting[rows]
                 if not live.any():
@@ -398,6 +416,14 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
             z_previous[good], slope_previous[good], s_previous[good] = z[good], slope[good], s[good]
             z[good], slope[good], s[good] = corrected[accepted], next_slope[accepted], target[accepted]
             history[good] = True
+            fresh = np.isfinite(measured[accepted]) & (measured[accepted] > 0.0)
+            known = omega[good]
+            omega[good] = np.where(
+                fresh,
+                np.where(np.isfinite(known), np.maximum(measured[accepted], OMEGA_DECAY * known), measured[accepted]),
+                known,
+            )
+            omega[bad] = np.inf
             h[good] = step[accepted] * np.minimum(STEP_GROW, np.maximum(0.5, factor[accepted]))
             h[bad] = step[~accepted] * np.minimum(0.5, np.maximum(STEP_SHRINK, factor[~accepted]))
             status[good[s[good] <= 0.0]] = PATH_REACHED
