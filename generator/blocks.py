@@ -19,8 +19,9 @@
   ``paired_circle_points`` (default joint positions on circles, numerically), ``radial_directions``
   (exact unit vectors at equal angles), ``point_group`` / ``leg_parameters`` with
   ``parameter_fields`` (parameters, their defaults and meaning in one declaration),
-  ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list) and ``home_from_pose``
-  (a home read by the inverse at a pose).
+  ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list), ``home_from_pose``
+  (a home read by the inverse at a pose) and ``euler_platform`` (Euler-angle coordinates and
+  their reading from a pose, any sequence).
 """
 
 from __future__ import annotations
@@ -29,12 +30,15 @@ import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Protocol, TypedDict
+from typing import TYPE_CHECKING, Protocol, TypedDict
 
 import sympy as sp
 
-from .frames import homogeneous, rot_z
+from .frames import homogeneous, rot_x, rot_y, rot_z
 from .model import POSE_POSITION, POSE_ROTATION, ParameterInfo, RateModel
+
+if TYPE_CHECKING:
+    from .joints import Platform
 
 AXES = "xyz"
 #: twist components of a rigid body, in the order of a Pluecker row (v of the origin of {P}, w)
@@ -432,6 +436,104 @@ def planar_coordinates() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return POSE_POSITION[0], POSE_POSITION[1], sp.atan2(POSE_ROTATION[1, 0], POSE_ROTATION[0, 0])
 
 
+# ------------------------------------------------------------------ Euler-angle platforms
+_AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
+_ROTATIONS = {"x": rot_x, "y": rot_y, "z": rot_z}
+
+
+def euler_platform(
+    sequence: str,
+    angles: Sequence[sp.Symbol],
+    position: Sequence[sp.Symbol] | None = None,
+    branch: str = "sigma",
+) -> Platform:
+    """A platform whose orientation coordinates are Euler angles, with the inverse's reading of
+    them from a pose: R = R_i(alpha) R_j(beta) R_k(gamma) for the axes of ``sequence`` (intrinsic,
+    e.g. 'zyx': Rot_z(alpha) Rot_y(beta) Rot_x(gamma)).
+
+    A Tait-Bryan sequence (three different axes) reads beta in [-pi/2, pi/2], with e = +1 for a
+    cyclic sequence (xyz, yzx, zxy), -1 otherwise:
+    alpha = atan2(-e r_jk, r_kk), beta = atan2(e r_ik, sqrt(r_kk^2 + r_jk^2)),
+    gamma = atan2(-e r_ij, r_ii); singular (gimbal lock) at beta = +-pi/2, a singularity of the
+    angles only. A proper sequence (i j i, k the third axis) has two triples per rotation, chosen
+    by the inverse branch sign ``branch`` = sign(sin beta): sin_beta = sqrt(r_ij^2 + r_ik^2),
+    beta = atan2(sigma sin_beta, r_ii), alpha = atan2(sigma r_ji, -e sigma r_ki), gamma =
+    atan2(sigma r_ij, e sigma r_ik), with the validity ``euler_angles_regular`` (sin_beta^2,
+    zero where the set is singular).
+
+    Parameters
+    ----------
+    sequence : str
+        Three axis letters, e.g. 'zyx' or 'xyx'.
+    angles : three sympy.Symbol
+        (alpha, beta, gamma), radians.
+    position : three sympy.Symbol, optional
+        The coordinates (x, y, z) of the origin of {P} in {B}, metres, read from the pose (pose
+        kind 'transform'); None for a platform that only turns about the origin (kind 'rotation').
+    branch : str
+        The name of the branch sign of a proper sequence.
+
+    Returns
+    -------
+    joints.Platform
+        Coordinates (x, y, z, alpha, beta, gamma) or (alpha, beta, gamma), the angles angular.
+
+    Raises
+    ------
+    ValueError
+        ``sequence`` is not three of x, y, z with no two consecutive alike.
+
+    Example
+    -------
+    >>> alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
+    >>> euler_platform("xyx", (alpha, beta, gamma)).read[1]
+    (beta, atan2(sigma*sin_beta, r11))
+    """
+    from .joints import Platform  # joints imports this module
+
+    if (
+        len(sequence) != 3
+        or set(sequence) - set(_AXIS_INDEX)
+        or sequence[0] == sequence[1]
+        or sequence[1] == sequence[2]
+    ):
+        raise ValueError(f"euler_platform: {sequence!r} is not an Euler sequence (e.g. 'zyx', 'xyx')")
+    alpha, beta, gamma = angles
+    rotation = _ROTATIONS[sequence[0]](alpha) * _ROTATIONS[sequence[1]](beta) * _ROTATIONS[sequence[2]](gamma)
+    i, j = _AXIS_INDEX[sequence[0]], _AXIS_INDEX[sequence[1]]
+    k = 3 - i - j
+    e = 1 if (j - i) % 3 == 1 else -1  # +1 for a cyclic sequence i -> j -> k
+    r = POSE_ROTATION
+    branches: tuple[sp.Symbol, ...] = ()
+    validity: tuple[tuple[str, sp.Expr], ...] = ()
+    if sequence[2] != sequence[0]:
+        read: tuple[tuple[sp.Symbol, sp.Expr], ...] = (
+            (alpha, sp.atan2(-e * r[j, k], r[k, k])),
+            (beta, sp.atan2(e * r[i, k], sp.sqrt(r[k, k] ** 2 + r[j, k] ** 2))),
+            (gamma, sp.atan2(-e * r[i, j], r[i, i])),
+        )
+    else:
+        sign, sine = sp.Symbol(branch, real=True), sp.Symbol(f"sin_{beta}", real=True)
+        read = (
+            (sine, sp.sqrt(r[i, j] ** 2 + r[i, k] ** 2)),
+            (beta, sp.atan2(sign * sine, r[i, i])),
+            (alpha, sp.atan2(sign * r[j, i], -e * sign * r[k, i])),
+            (gamma, sp.atan2(sign * r[i, j], e * sign * r[i, k])),
+        )
+        branches, validity = (sign,), (("euler_angles_regular", sine**2),)
+    if position is None:
+        zero = sp.zeros(3, 1)
+        return Platform(
+            "rotation", tuple(angles), rotation, zero, read, (r, zero), angular=tuple(angles),
+            branches=branches, validity=validity,
+        )  # fmt: skip
+    located = tuple(zip(position, POSE_POSITION, strict=True))
+    return Platform(
+        "transform", (*position, *angles), rotation, sp.Matrix(list(position)), located + read, (r, POSE_POSITION),
+        angular=tuple(angles), branches=branches, validity=validity,
+    )  # fmt: skip
+
+
 # ------------------------------------------------------------------ prismatic legs
 @dataclass(frozen=True)
 class PrismaticLegs:
@@ -665,6 +767,7 @@ __all__ = [
     "TWIST",
     "as_points",
     "circle_points",
+    "euler_platform",
     "home_from_pose",
     "leg_parameters",
     "pair_sides",

@@ -24,8 +24,9 @@ from functools import partial
 
 import sympy as sp
 from parakin.generator import joints
+from parakin.generator.blocks import euler_platform
 from parakin.generator.frames import euler_zyx_rotation, homogeneous
-from parakin.generator.model import POSE_POSITION, POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms import _gough_forward as accelerator
 
 XA = sp.symbols("xA2:7", real=True)
@@ -54,22 +55,7 @@ PLATFORM = [sp.zeros(3, 1)] + [sp.Matrix([t11 * XA[k] + t12 * YA[k], t22 * YA[k]
 system8_matrix = partial(accelerator.system8_matrix, XA, YA)
 conic_matrix = partial(accelerator.conic_matrix, XA, YA)
 
-MOTION = joints.Platform(
-    "transform",
-    (x, y, z, alpha, beta, gamma),
-    euler_zyx_rotation(alpha, beta, gamma),
-    sp.Matrix([x, y, z]),
-    read=(
-        (x, POSE_POSITION[0]),
-        (y, POSE_POSITION[1]),
-        (z, POSE_POSITION[2]),
-        (alpha, sp.atan2(POSE_ROTATION[1, 0], POSE_ROTATION[0, 0])),
-        (beta, sp.atan2(-POSE_ROTATION[2, 0], sp.sqrt(POSE_ROTATION[0, 0] ** 2 + POSE_ROTATION[1, 0] ** 2))),
-        (gamma, sp.atan2(POSE_ROTATION[2, 1], POSE_ROTATION[2, 2])),
-    ),
-    pose=(POSE_ROTATION, POSE_POSITION),
-    angular=(alpha, beta, gamma),
-)
+MOTION = euler_platform("zyx", (alpha, beta, gamma), (x, y, z))  # Z-Y-X Euler angles
 MODEL = joints.DistanceMechanism(
     MOTION, [joints.prismatic_leg(a, b, lengths[k]) for k, (a, b) in enumerate(zip(BASE, PLATFORM, strict=True))]
 )

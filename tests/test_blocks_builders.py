@@ -13,6 +13,7 @@ import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import (
     circle_points,
+    euler_platform,
     home_from_pose,
     leg_parameters,
     pair_sides,
@@ -105,3 +106,47 @@ def test_home_from_pose_closes_the_loop_at_the_pose():
         c = np.array(circle_points(0.2, [200.0, 320.0, 80.0], dims=2)[k])
         assert home[lengths[k]] == pytest.approx(np.linalg.norm([x, y] + rotation @ c - a), abs=1e-14)
     assert [home[s] for s in model.motion.coordinates] == pytest.approx([x, y, phi], abs=1e-14)
+
+
+@pytest.mark.parametrize(
+    "sequence", ["xyz", "xzy", "yxz", "yzx", "zxy", "zyx", "xyx", "xzx", "yxy", "yzy", "zxz", "zyz"]
+)
+def test_euler_platform_reads_back_the_angles_of_its_rotation(sequence):
+    """Every Euler sequence: the rotation built from seeded angles (beta within the reading's
+    range: (-pi/2, pi/2) Tait-Bryan, (0, pi) or (-pi, 0) proper) is a rotation, and the reading
+    evaluated at it, with the branch sign sign(sin beta) for a proper set, returns the angles and
+    position; the proper set's validity is sin^2 beta."""
+    from parakin.generator.model import POSE_POSITION, POSE_ROTATION
+
+    angles, position = sp.symbols("alpha beta gamma", real=True), sp.symbols("x y z", real=True)
+    platform = euler_platform(sequence, angles, position)
+    assert platform.kind == "transform" and platform.coordinates == (*position, *angles)
+    rng = np.random.default_rng(32)
+    checked = 0
+    for _ in range(3):
+        tait_bryan = sequence[0] != sequence[2]
+        beta = rng.uniform(-1.5, 1.5) if tait_bryan else rng.choice([-1, 1]) * rng.uniform(0.05, 3.1)
+        values = dict(zip(angles, [rng.uniform(-3.1, 3.1), beta, rng.uniform(-3.1, 3.1)], strict=True))
+        values |= dict(zip(position, rng.uniform(-1, 1, 3), strict=True))
+        rotation = np.array(sp.lambdify(angles, platform.rotation)(*(values[a] for a in angles)), dtype=float)
+        assert np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-14) and np.linalg.det(rotation) > 0
+        known = {POSE_ROTATION[i, j]: rotation[i, j] for i in range(3) for j in range(3)}
+        known |= {POSE_POSITION[i]: values[position[i]] for i in range(3)}
+        known |= {sign: float(np.sign(np.sin(beta))) for sign in platform.branches}
+        for symbol, expression in platform.read:
+            known[symbol] = float(expression.subs(known))
+        assert [known[s] for s in (*position, *angles)] == pytest.approx(
+            [values[s] for s in (*position, *angles)], abs=1e-12
+        )
+        for _, condition in platform.validity:
+            assert float(condition.subs(known)) == pytest.approx(np.sin(beta) ** 2, abs=1e-12)
+        checked += 1
+    assert checked == 3
+    assert euler_platform(sequence, angles).kind == "rotation"
+
+
+def test_euler_platform_refuses_what_is_no_euler_sequence():
+    angles = sp.symbols("alpha beta gamma", real=True)
+    for sequence in ("xxy", "xyy", "xy", "xyw"):
+        with pytest.raises(ValueError, match="not an Euler sequence"):
+            euler_platform(sequence, angles)
