@@ -22,8 +22,9 @@ from __future__ import annotations
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.frames import homogeneous, rot_x, rot_y
-from parakin.generator.model import POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.blocks import euler_platform
+from parakin.generator.frames import homogeneous
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms._sps_forward import closure, drawing, forward
 
 a1x, a2x, a2y, a3x, a3y, a3z = sp.symbols("a1x a2x a2y a3x a3y a3z", real=True)
@@ -61,23 +62,7 @@ def platform_points() -> list[sp.Matrix]:
     ]
 
 
-SIGMA, SIN_BETA = sp.Symbol("sigma", real=True), sp.Symbol("sin_beta", real=True)
-MOTION = joints.Platform(
-    "rotation",
-    (alpha, beta, gamma),
-    rot_x(alpha) * rot_y(beta) * rot_x(gamma),
-    sp.zeros(3, 1),
-    read=(
-        (SIN_BETA, sp.sqrt(POSE_ROTATION[0, 1] ** 2 + POSE_ROTATION[0, 2] ** 2)),
-        (beta, sp.atan2(SIGMA * SIN_BETA, POSE_ROTATION[0, 0])),
-        (alpha, sp.atan2(SIGMA * POSE_ROTATION[1, 0], -SIGMA * POSE_ROTATION[2, 0])),
-        (gamma, sp.atan2(SIGMA * POSE_ROTATION[0, 1], SIGMA * POSE_ROTATION[0, 2])),
-    ),
-    pose=(POSE_ROTATION, sp.zeros(3, 1)),
-    angular=(alpha, beta, gamma),
-    branches=(SIGMA,),
-    validity=(("euler_angles_regular", SIN_BETA**2),),
-)
+MOTION = euler_platform("xyx", (alpha, beta, gamma))  # X'-Y'-X' Euler angles (eq 9), sigma = sign(sin beta)
 MODEL = joints.DistanceMechanism(
     MOTION,
     [

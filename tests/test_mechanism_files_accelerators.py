@@ -40,7 +40,7 @@ HAND_NAMES = {
 #: sps 290, gough 185, prs3 138, sam 141, rus6 142, spm 153, planar_3rpr 123, delta 122, five_bar
 #: 109, planar_3rrr 86, stewart 95, sphere2r 78
 MODEL_LINES = {
-    "sps": 114,
+    "sps": 98,
     "gough": 85,
     "prs3": 109,
     "sam": 89,
