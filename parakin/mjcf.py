@@ -45,12 +45,15 @@
   ``parakin.singularity.NEAR_SINGULAR`` (0.02), carries an XML comment with the measure and what
   it means, and ``to_mjcf`` warns once (``parakin.errors.NearSingularModeWarning``, one
   ``parakin: warning:`` line from ``parakin mjcf``): there the actuators barely hold the
-  platform, which a small load moves far, so the simulation may drift or not come to rest.
+  platform, which a small load moves far, so the simulation may drift or not come to rest. The
+  header's qpos0 line names the keyframe that is the home and says so too where the home is
+  near-singular.
 * **Simulation presets** (``accuracy``): "fast", 1 ms steps and connects of time constant two
   steps (``solref``), ``implicitfast``; "accurate", 0.2 ms and a stiff ``solimp`` (0.99 0.999).
-  The gap the loops open under load is written in the file's header (measured on a regular
-  Stewart platform with 1 kg links under 10 kg: about 0.03 mm / 0.003 deg fast, 0.1 um / 1e-5 deg
-  accurate; lighter links open wider gaps: 0.18 mm / 0.015 deg fast with 0.1 kg links). Gravity is -9.80665 m/s^2 along -z, or
+  The gap the loops open under load depends on the model (masses, servos, geometry), so the
+  file's header gives no figure for it; measured on a regular Stewart platform with 1 kg links
+  under 10 kg: about 0.03 mm / 0.003 deg fast, 0.1 um / 1e-5 deg accurate; lighter links open
+  wider gaps: 0.18 mm / 0.015 deg fast with 0.1 kg links (``PRESETS``). Gravity is -9.80665 m/s^2 along -z, or
   along -y for a planar mechanism (its motion is in z = 0). No contacts (every geom has
   ``contype`` and ``conaffinity`` 0).
 * **Inertia** (documented defaults, the graph carries no values yet): every link a uniform thin
@@ -217,6 +220,14 @@ class _Geometry:
         }
         pose = np.asarray(m.platform_pose(actuated, passive), dtype=float)
         self.rotation, self.origin = pose[:3, :3], pose[:3, 3]
+
+    def configuration(self, m: Mechanism) -> Configuration:
+        """The configuration the bodies are laid out at (qpos0)."""
+        actuated = np.array([self.joint_values[name] for name in m.actuated_names])
+        passive = np.array([self.joint_values[name] for name in m.passive_names])
+        pose = np.eye(4)
+        pose[:3, :3], pose[:3, 3] = self.rotation, self.origin
+        return Configuration(actuated, passive, pose)
 
     def scalar(self, text: str) -> float:
         return evaluate(text, self.values)
@@ -975,27 +986,14 @@ def to_mjcf(
     if (isinstance(link_mass, Mapping) and not link_mass or link_mass == 0) and platform_mass == 0:
         raise BadInputError("link_mass and platform_mass are both 0: MuJoCo needs mass on a moving body")
     model, how, geometry = _build(m, graph, reference, link_mass, platform_mass, platform_radius, payload)
+    laid_out = geometry.configuration(m)  # qpos0
     default = [geometry.joint_values[name] for name in m.actuated_names]  # the reference's
     chosen = np.asarray(default if actuated is None else m._actuated(actuated), dtype=float).reshape(-1)
     planar = m.manifest.pose_kind in PLANAR_KINDS
     gravity = (0.0, -GRAVITY, 0.0) if planar else (0.0, 0.0, -GRAVITY)
     solref = f"{_format(2 * step)} 1"
-    head = [
-        f"<!-- {m.name}: {m.manifest.title}, exported by parakin.mjcf.to_mjcf from its joint graph.",
-        f"     Parameters: {', '.join(f'{k} = {v:g}' for k, v in m.parameters.items())} (SI units).",
-        f"     Actuated joints (qpos = parakin's actuated values, rad or m): {', '.join(m.actuated_names)}.",
-        f"     Base {{B}} = the world frame; platform frame {{P}} = site 'platform'; {how}.",
-        f"     qpos0: {'the home' if reference is None else 'the reference configuration'}; keyframes mode<k>: assembly mode k of the actuated values {_numbers(chosen)}.",
-        f"     Preset '{accuracy}': timestep {step:g} s, connects' solref {solref} (time constant two steps), "
-        f"solimp {_numbers(preset.solimp)}.",
-        f"     Expected loop gap under load: {preset.gap}.",
-        *(f"     {note}." for note in model.notes),
-        "-->",
-    ]
     masses = platform_mass + payload
-    head = ["<!-- " + head[0][5:].replace("--", "- -"), *(line.replace("--", "- -") for line in head[1:-1]), head[-1]]
     lines = [
-        *head,
         f'<mujoco model="{m.name}">',
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{_format(step)}" gravity="{_numbers(gravity)}" integrator="{preset.integrator}"/>',
@@ -1024,17 +1022,43 @@ def to_mjcf(
         gain = kp if kp is not None else _servo_gain(model, name, masses, step)
         lines.append(f'    <position name="{name}" joint="{name}" kp="{_format(gain)}" kv="{_format(gain / 50)}"/>')
     lines.append("  </actuator>")
-    body_xml = "\n".join(lines + ["</mujoco>"]) + "\n"
-    keys = _keys(m, body_xml, chosen, modes, actuator)
+    keys, home_key = _keys(m, "\n".join(lines + ["</mujoco>"]) + "\n", chosen, modes, actuator, laid_out)
+    qpos0 = "the home" if reference is None else "the reference configuration"
+    if home_key is not None:
+        qpos0 += f" (keyframe mode{home_key})"
+    home_measure = type_ii_distance(m, laid_out)
+    if home_measure is not None and float(home_measure) < NEAR_SINGULAR:
+        qpos0 += (
+            f", near a type II (parallel) singularity: 1/cond of the closure Jacobian = {float(home_measure):.2g}, below "
+            f"{NEAR_SINGULAR:g}, where the actuators barely hold the platform and a simulation may drift"
+        )
+    head = [
+        f"<!-- {m.name}: {m.manifest.title}, exported by parakin.mjcf.to_mjcf from its joint graph.",
+        f"     Parameters: {', '.join(f'{k} = {v:g}' for k, v in m.parameters.items())} (SI units).",
+        f"     Actuated joints (qpos = parakin's actuated values, rad or m): {', '.join(m.actuated_names)}.",
+        f"     Base {{B}} = the world frame; platform frame {{P}} = site 'platform'; {how}.",
+        f"     qpos0: {qpos0}.",
+        f"     Keyframes mode<k>: assembly mode k of the actuated values {_numbers(chosen)}.",
+        f"     Preset '{accuracy}': timestep {step:g} s, connects' solref {solref} (time constant two steps), "
+        f"solimp {_numbers(preset.solimp)}.",
+        "     Loop gap under load: not estimated for this model (it depends on its masses, servos and geometry); "
+        "measure it by settling a keyframe (parakin.mujoco_bridge.settle) against forward_pose at the settled inputs.",
+        *(f"     {note}." for note in model.notes),
+        "-->",
+    ]
+    head = ["<!-- " + head[0][5:].replace("--", "- -"), *(line.replace("--", "- -") for line in head[1:-1]), head[-1]]
     if not keys:
-        return body_xml
-    return "\n".join(lines + ["  <keyframe>", *keys, "  </keyframe>", "</mujoco>"]) + "\n"
+        return "\n".join(head + lines + ["</mujoco>"]) + "\n"
+    return "\n".join(head + lines + ["  <keyframe>", *keys, "  </keyframe>", "</mujoco>"]) + "\n"
 
 
-def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: str) -> list[str]:
-    """One <key> per wanted assembly mode of ``chosen``."""
+def _keys(
+    m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: str, home: Configuration
+) -> tuple[list[str], int | None]:
+    """One <key> per wanted assembly mode of ``chosen`` (near-singular ones with a comment), and
+    which of them is the configuration ``home`` (qpos0), None if none is."""
     if modes is None or modes == "none":
-        return []
+        return [], None
     found = m.forward_pose_all(chosen)
     wanted = _modes_wanted(modes, int(found.count))
     mujoco, model = _compile(xml)
@@ -1046,6 +1070,15 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
     ctrl = _numbers(chosen) if actuator == "position" else _numbers(np.zeros(len(chosen)))
     keys: list[str] = []
     configurations = [found.mode(k) for k in wanted]
+    home_key = next(
+        (
+            k
+            for k, c in zip(wanted, configurations, strict=True)
+            if np.abs(np.asarray(c.actuated) - np.asarray(home.actuated)).max() < 1e-9
+            and np.abs(np.asarray(c.pose) - np.asarray(home.pose)).max() < 1e-9
+        ),
+        None,
+    )
     # every wanted mode's type II distance at once (none for a mechanism without a loop to close)
     measured = type_ii_distance(m, _stacked(configurations)) if configurations else None
     distances = dict(zip(wanted, measured.tolist(), strict=True)) if measured is not None else {}
@@ -1083,7 +1116,7 @@ def _keys(m: Mechanism, xml: str, chosen: np.ndarray, modes: object, actuator: s
             ),
             stacklevel=3,
         )
-    return keys
+    return keys, home_key
 
 
 def _stacked(configurations: Sequence[Configuration]) -> Configuration:

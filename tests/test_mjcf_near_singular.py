@@ -143,3 +143,49 @@ def test_the_readme_names_the_warning_and_its_level():
     (row,) = [line for line in readme.splitlines() if line.startswith("| `parakin mjcf ")]
     assert f"1/cond of the closure Jacobian below {NEAR_SINGULAR:g}" in row
     assert "XML comment" in row and "`parakin: warning:`" in row
+
+
+def _home_mode(m: parakin.Mechanism, modes) -> tuple[int, object]:
+    """The mode of the home inputs that is the home (its pose equal to forward_pose from the
+    manifest's home, 1e-9), and that configuration."""
+    home = m.forward_pose(m.home_actuated, guess=m.home_passive)
+    found = [k for k in range(int(modes.count)) if np.abs(modes.mode(k).pose - home.pose).max() < 1e-9]
+    assert len(found) == 1, found
+    return found[0], home
+
+
+def _qpos0_line(text: str) -> str:
+    header = text.partition("-->")[0]
+    lines = [line.strip() for line in header.splitlines() if line.strip().startswith("qpos0: ")]
+    assert len(lines) == 1, header
+    return lines[0]
+
+
+def test_the_header_names_the_home_keyframe_says_it_is_near_singular_and_gives_no_foreign_gap(stewart):
+    """The MJCF header once said "qpos0: the home" without saying that the home's keyframe is one
+    of the flagged near-singular ones, and gave a loop gap "about 0.03 mm and 0.003 deg (a 10 kg
+    load on a 0.6 m Stewart platform)": another model's figure. Now the qpos0 line names the home's
+    keyframe and, where the finite-difference measure of the home is below NEAR_SINGULAR
+    (Dietmaier's home: about 0.011), says it is near a type II singularity with its value; the
+    five-bar's home (measure about 0.67) is not called so; no header gives a gap figure."""
+    m, modes, measured = stewart
+    k, home = _home_mode(m, modes)
+    at_home = float(finite_difference_measure(m, np.asarray(home.actuated), np.asarray(home.passive)[None])[0])
+    assert at_home == pytest.approx(measured[k], rel=1e-6) and at_home < NEAR_SINGULAR
+    good = int(np.argmax(measured))
+    with pytest.warns(NearSingularModeWarning):
+        text = mjcf.to_mjcf(m, modes=[k, good])
+    line = _qpos0_line(text)
+    assert line.startswith(f"qpos0: the home (keyframe mode{k}), near a type II (parallel) singularity"), line
+    assert float(re.search(r"Jacobian = ([0-9.e+-]+),", line).group(1)) == pytest.approx(at_home, rel=0.05)
+    header = text.partition("-->")[0]
+    assert "a 0.6 m Stewart platform" not in header and not re.search(r"\d mm|\d um|\d(\.\d+)? deg", header), header
+
+    five_bar = parakin.load("five_bar")
+    both = five_bar.forward_pose_all(five_bar.home_actuated)
+    j, home = _home_mode(five_bar, both)
+    regular = float(finite_difference_measure(five_bar, np.asarray(home.actuated), np.asarray(home.passive)[None])[0])
+    assert regular > NEAR_SINGULAR
+    text = mjcf.to_mjcf(five_bar)
+    assert _qpos0_line(text) == f"qpos0: the home (keyframe mode{j})."
+    assert not re.search(r"\d mm|\d um", text.partition("-->")[0])
