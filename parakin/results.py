@@ -488,14 +488,17 @@ def modes_summary(modes: AssemblyModes) -> str:
     return f"AssemblyModes: {found}{method}; {certificate_verdict(modes)}"
 
 
-def modes_rows(modes: AssemblyModes, residual: bool = False, pose_kind: str | None = None) -> Rows:
+def modes_rows(
+    modes: AssemblyModes, residual: bool = False, pose_kind: str | None = None, degrees: bool = True
+) -> Rows:
     """One row per mode of a single input: mode k (as ``modes.mode(k)``), the pose coordinates of
-    its pose kind (``pose_kind``, default ``modes.pose_kind``: ``parakin.tables.pose_headers``),
-    the closure residual (with ``residual``) and the conditioning."""
+    its pose kind (``pose_kind``, default ``modes.pose_kind``: ``parakin.tables.pose_headers``;
+    angles in degrees with ``degrees``, else radians, as ``mode_headers`` labels them), the
+    closure residual (with ``residual``) and the conditioning."""
     kind = modes.pose_kind if pose_kind is None else pose_kind
     valid = np.flatnonzero(np.asarray(modes.valid))
     width = len(pose_headers(kind))
-    poses = pose_values(kind, modes.poses[valid]) if valid.size else np.zeros((0, width))
+    poses = pose_values(kind, modes.poses[valid], degrees) if valid.size else np.zeros((0, width))
     conditioning = np.asarray(modes.conditioning)[valid]
     residuals = np.asarray(modes.residual)[valid]
     return [
@@ -508,9 +511,10 @@ def modes_rows(modes: AssemblyModes, residual: bool = False, pose_kind: str | No
 MODE_HEADERS = ["mode", *POSE_HEADERS, "conditioning"]
 
 
-def mode_headers(pose_kind: str, residual: bool = False) -> list[str]:
-    """The headers of ``modes_rows`` for pose kind ``pose_kind``."""
-    return ["mode", *pose_headers(pose_kind), *(["residual"] if residual else []), "conditioning"]
+def mode_headers(pose_kind: str, residual: bool = False, degrees: bool = True) -> list[str]:
+    """The headers of ``modes_rows`` for pose kind ``pose_kind`` (angles labelled deg with
+    ``degrees``, else rad)."""
+    return ["mode", *pose_headers(pose_kind, degrees), *(["residual"] if residual else []), "conditioning"]
 
 
 def modes_convention(pose_kind: str) -> str:
@@ -519,20 +523,27 @@ def modes_convention(pose_kind: str) -> str:
 
 
 def modes_table(
-    modes: AssemblyModes, residual: bool = False, rows_shown: int = ROWS_SHOWN, pose_kind: str | None = None
+    modes: AssemblyModes,
+    residual: bool = False,
+    rows_shown: int = ROWS_SHOWN,
+    pose_kind: str | None = None,
+    degrees: bool = True,
 ) -> str:
-    """The convention line and the table of the modes of a single input (``modes_rows``)."""
+    """The convention line and the table of the modes of a single input (``modes_rows``; angles
+    in degrees with ``degrees``, else radians, the headers saying which)."""
     kind = modes.pose_kind if pose_kind is None else pose_kind
-    headers = mode_headers(kind, residual)
+    headers = mode_headers(kind, residual, degrees)
     return f"  {modes_convention(kind)}\n" + text_table(
-        headers, modes_rows(modes, residual, kind), rows_shown=rows_shown
+        headers, modes_rows(modes, residual, kind, degrees), rows_shown=rows_shown
     )
 
 
 def modes_text(modes: AssemblyModes) -> str:
+    """``repr(modes)``: the summary line and, for one input, the table of its modes, angles in
+    radians as everywhere in the API and on the command line (without a ``-deg`` flag)."""
     lines = [modes_summary(modes)]
     if np.ndim(modes.count) == 0 and int(modes.count):
-        lines.append(modes_table(modes))
+        lines.append(modes_table(modes, degrees=False))
     elif np.ndim(modes.count):
         lines.append("  modes per input (count): " + np.array2string(np.asarray(modes.count), threshold=20))
     return "\n".join(lines)
@@ -542,7 +553,10 @@ def modes_html(modes: AssemblyModes) -> str:
     out = [f"<p><b>{html.escape(modes_summary(modes))}</b></p>"]
     if np.ndim(modes.count) == 0 and int(modes.count):
         kind = modes.pose_kind
-        out += [f"<p>{html.escape(modes_convention(kind))}</p>", html_table(mode_headers(kind), modes_rows(modes))]
+        out += [
+            f"<p>{html.escape(modes_convention(kind))}</p>",
+            html_table(mode_headers(kind, degrees=False), modes_rows(modes, degrees=False)),
+        ]
     return "<div class='parakin'>" + "".join(out) + "</div>"
 
 

@@ -64,8 +64,8 @@ def test_a_spherical_mode_table_has_angles_only_and_they_are_the_zyx_angles(spm_
     for k, row in enumerate(rows):
         expected = Rotation.from_matrix(modes.mode(k).rotation).as_euler("ZYX", degrees=True)
         np.testing.assert_allclose([float(v) for v in row[1:4]], expected, atol=1e-3)
-    html = modes_html(dataclasses.replace(modes, pose_kind=kind))
-    assert "<th>alpha [deg]</th>" in html and "<th>x [m]</th>" not in html
+    html = modes_html(dataclasses.replace(modes, pose_kind=kind))  # the notebook's repr: radians
+    assert "<th>alpha [rad]</th>" in html and "<th>x [m]</th>" not in html
 
 
 def test_unknown_pose_kind_keeps_all_six_columns(spm_modes):
@@ -357,3 +357,26 @@ def test_fk_prints_the_same_keys_and_a_verdict_for_an_elimination_and_a_homotopy
         else:
             assert all(r["certified_complete"] is True and r["modes"] == 40 for r in records)  # Dietmaier's 40
     assert keys["five_bar"] == keys["stewart"] == {frozenset({"mode", "slot", "residual", *cli.FK_SUMMARY_KEYS})}
+
+
+def test_the_repr_of_modes_and_the_command_line_print_the_same_radians(spm_modes, capsys):
+    """``print(modes)`` once showed Z-Y-X angles in degrees where ``parakin fk`` shows radians
+    (the API's unit). Now both print radians, labelled rad, the same numbers: the spherical SPM's
+    8 modes at theta = (105, 60, 105) deg, each row equal to SciPy's Z-Y-X decomposition of the
+    mode's rotation in radians (1e-5); the notebook's HTML too; degrees only where labelled deg
+    (``fk --actuated-deg``)."""
+    m, modes = spm_modes
+    header, rows = _rows(repr(modes))
+    assert header == ["mode", "alpha", "[rad]", "beta", "[rad]", "gamma", "[rad]", "conditioning"]
+    assert len(rows) == int(modes.count) == 8
+    for k, row in enumerate(rows):
+        expected = Rotation.from_matrix(modes.mode(k).rotation).as_euler("ZYX")
+        np.testing.assert_allclose([float(v) for v in row[1:4]], expected, atol=1e-5)
+    words = [repr(v) for v in np.deg2rad([105.0, 60.0, 105.0]).tolist()]
+    assert cli.main(["fk", "spm", "--backend", "numpy", "--actuated", *words]) == 0
+    cli_header, cli_rows = _rows(capsys.readouterr().out)
+    assert cli_header[2:8] == header[1:7]
+    assert [r[2:5] for r in cli_rows] == [r[1:4] for r in rows]
+    assert "<th>gamma [rad]</th>" in modes._repr_html_()
+    assert cli.main(["fk", "spm", "--backend", "numpy", "--actuated-deg", "105", "60", "105"]) == 0
+    assert "alpha [deg]" in capsys.readouterr().out
