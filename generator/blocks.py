@@ -21,7 +21,7 @@
   ``parameter_fields`` (parameters, their defaults and meaning in one declaration),
   ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list), ``home_from_pose``
   (a home read by the inverse at a pose) and ``euler_platform`` (Euler-angle coordinates and
-  their reading from a pose, any sequence).
+  their reading from a pose, any sequence; ``euler_pose`` / ``euler_pose_values`` a pose of such angles).
 """
 
 from __future__ import annotations
@@ -391,7 +391,7 @@ class _HasHome(Protocol):
 
 
 def home_from_pose(
-    model: _HasHome, pose: Sequence[Sequence[float]], branch: int, parameters: dict[sp.Symbol, float]
+    model: _HasHome, pose: sp.Matrix | Sequence[Sequence[float]], branch: int, parameters: dict[sp.Symbol, float]
 ) -> dict[sp.Symbol, float]:
     """A home configuration read by the model's inverse at a pose: every actuated and passive
     value of ``pose`` on inverse branch ``branch`` (``DistanceMechanism.home_at``,
@@ -532,6 +532,47 @@ def euler_platform(
         "transform", (*position, *angles), rotation, sp.Matrix(list(position)), located + read, (r, POSE_POSITION),
         angular=tuple(angles), branches=branches, validity=validity,
     )  # fmt: skip
+
+
+def euler_pose(sequence: str, angles: Sequence[float], position: Sequence[float]) -> sp.Matrix:
+    """^B_P T of Euler angles and a position, numerically to 17 digits: R = R_i(alpha) R_j(beta)
+    R_k(gamma) for the axes of ``sequence`` (as ``euler_platform``).
+
+    Parameters
+    ----------
+    sequence : str
+        Three axis letters, e.g. 'zyx'.
+    angles : three floats
+        (alpha, beta, gamma), radians.
+    position : three floats
+        The origin of {P} in {B}, metres.
+
+    Returns
+    -------
+    sympy.Matrix, 4 x 4
+        Entries sympy Floats of 17 digits (``euler_pose_values``: as floats; ``home_from_pose``
+        takes either).
+
+    Example
+    -------
+    >>> euler_pose("zyx", (0.0, 0.0, 0.0), (1.0, 2.0, 3.0))[:3, 3].T
+    Matrix([[1.0, 2.0, 3.0]])
+    """
+    rotations = [_ROTATIONS[axis](sp.Float(value, 17)) for axis, value in zip(sequence, angles, strict=True)]
+    transform = homogeneous(rotations[0] * rotations[1] * rotations[2], [sp.Float(v, 17) for v in position])
+    return transform.evalf(17)
+
+
+def euler_pose_values(sequence: str, angles: Sequence[float], position: Sequence[float]) -> list[list[float]]:
+    """``euler_pose`` as the 4x4 list of floats an ``Example`` takes.
+
+    Example
+    -------
+    >>> [round(v, 12) for v in euler_pose_values("zyx", (math.pi / 2, 0.0, 0.0), (1.0, 2.0, 3.0))[0]]
+    [0.0, -1.0, 0.0, 1.0]
+    """
+    transform = euler_pose(sequence, angles, position)
+    return pose_values(transform[:3, :3], transform[:3, 3])
 
 
 # ------------------------------------------------------------------ prismatic legs
@@ -768,6 +809,8 @@ __all__ = [
     "as_points",
     "circle_points",
     "euler_platform",
+    "euler_pose",
+    "euler_pose_values",
     "home_from_pose",
     "leg_parameters",
     "pair_sides",

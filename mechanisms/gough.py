@@ -24,8 +24,7 @@ from functools import partial
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import euler_platform
-from parakin.generator.frames import euler_zyx_rotation, homogeneous
+from parakin.generator.blocks import euler_platform, euler_pose, euler_pose_values, home_from_pose
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms import _gough_forward as accelerator
 
@@ -76,24 +75,9 @@ PARAMETER_INFO = {
 }
 
 
-def xyz_euler_transform(values: tuple[float, ...]) -> sp.Matrix:
-    """^B_P T of {x y z alpha beta gamma} (Z-Y-X Euler angles), numerically."""
-    rotation = euler_zyx_rotation(*(sp.Float(v, 17) for v in values[3:]))
-    return homogeneous(rotation, [sp.Float(v, 17) for v in values[:3]]).evalf(17)
-
-
-def home() -> dict[sp.Symbol, float]:
-    """``HOME_POSE`` with its leg lengths l_i = |p + R B_i^(P) - A_i| on the default geometry."""
-    pose = xyz_euler_transform(HOME_POSE)
-    legs = [pose[:3, 3] + pose[:3, :3] * b - a for a, b in zip(BASE, PLATFORM, strict=True)]
-    values = {lengths[k]: float(sp.sqrt(d.dot(d)).xreplace(DEFAULTS)) for k, d in enumerate(legs)}
-    return values | dict(zip(MOTION.coordinates, HOME_POSE, strict=True))
-
-
 def examples() -> list[Example]:
     """Section 5.4 prints a singular geometry and lengths locking a self-motion, no pose: the example
     is a pose of that self-motion whose lengths are the printed ones to their rounding (5e-3 m)."""
-    pose = xyz_euler_transform(SECTION_54_POSE)
     return [
         Example(
             name="section54_self_motion",
@@ -102,7 +86,7 @@ def examples() -> list[Example]:
             "self-motion of its locked inputs has the printed lengths l1..l6 = 33.17, 32.02, 35.12, 37.57, "
             "39.01, 38.32 to their rounding (5e-3 m); forward_pose_all at these lengths raises (a self-motion, "
             "not isolated modes: examples/gough_architecture.py)",
-            pose=[[float(pose[i, j]) for j in range(4)] for i in range(4)],
+            pose=euler_pose_values("zyx", SECTION_54_POSE[3:], SECTION_54_POSE[:3]),
             parameters=dict(SECTION_54_PARAMETERS),
             expected={"actuated": list(SECTION_54_LENGTHS)},
             tolerance=5e-3,
@@ -123,7 +107,7 @@ def build() -> Mechanism:
         parameters=dict(DEFAULTS),
         **MODEL.fields() | {"closure": MODEL.closure(squared=False)},
         forward=accelerator.forward(XA, YA, (t11, t12, t22), PLATFORM, lengths),
-        home=home(),
+        home=home_from_pose(MODEL, euler_pose("zyx", HOME_POSE[3:], HOME_POSE[:3]), 0, DEFAULTS),
         limits={length: (0.0, float("inf")) for length in lengths},
         architecture=accelerator.architecture(XA, YA),
         architecture_tolerance=1e-9,  # the normalised measure (|.| <= 1) below which the base lies on a conic

@@ -14,6 +14,8 @@ from parakin.generator import joints
 from parakin.generator.blocks import (
     circle_points,
     euler_platform,
+    euler_pose,
+    euler_pose_values,
     home_from_pose,
     leg_parameters,
     pair_sides,
@@ -150,3 +152,17 @@ def test_euler_platform_refuses_what_is_no_euler_sequence():
     for sequence in ("xxy", "xyy", "xy", "xyw"):
         with pytest.raises(ValueError, match="not an Euler sequence"):
             euler_platform(sequence, angles)
+
+
+@pytest.mark.parametrize("sequence", ["zyx", "xyx", "zyz", "xzy"])
+def test_euler_pose_agrees_with_scipys_intrinsic_euler_angles(sequence):
+    """``euler_pose`` (and ``euler_pose_values``) against SciPy's intrinsic Euler rotation
+    (upper-case sequence): R_i(alpha) R_j(beta) R_k(gamma), the position in the last column."""
+    from scipy.spatial.transform import Rotation
+
+    angles, position = (0.4, -0.7, 1.9), (0.1, -0.2, 0.3)
+    expected = Rotation.from_euler(sequence.upper(), angles).as_matrix()
+    pose = np.array(euler_pose(sequence, angles, position), dtype=float)
+    assert np.allclose(pose[:3, :3], expected, rtol=0, atol=1e-15)
+    assert pose[:3, 3].tolist() == list(position) and pose[3].tolist() == [0.0, 0.0, 0.0, 1.0]
+    assert np.array(euler_pose_values(sequence, angles, position)).tolist() == pose.tolist()

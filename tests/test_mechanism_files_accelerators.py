@@ -41,7 +41,7 @@ HAND_NAMES = {
 #: 109, planar_3rrr 86, stewart 95, sphere2r 78
 MODEL_LINES = {
     "sps": 98,
-    "gough": 85,
+    "gough": 76,
     "prs3": 109,
     "sam": 89,
     "rus6": 111,
