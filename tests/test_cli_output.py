@@ -292,7 +292,7 @@ def _stewart_has_no_mode_with_legs(length: float) -> bool:
         for i in range(6)
         for j in range(i)
     ]
-    return max(gaps) > 2 * length
+    return bool(max(gaps) > 2 * length)
 
 
 @pytest.mark.parametrize(
