@@ -7,18 +7,18 @@ l1..l3 (m), passive x, y (m) and phi (rad).
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import as_points, point_defaults, point_parameters
+from parakin.generator.blocks import home_from_pose, parameter_fields, planar_pose_values, point_group
 from parakin.generator.model import Citation, Mechanism
 
-base = point_parameters("base", 3, dims=2)
-platform = point_parameters("platform", 3, dims=2)
+base = point_group("base", [(0, 0), (1, 0), (0.5, 0.9)], "base joint A{k}, in {B}")
+platform = point_group("platform", [(-0.2, -0.1), (0.2, -0.1), (0.15, 0.25)], "platform joint c{k}, in {P}")
 lengths = sp.symbols("l1:4", positive=True)
 MODEL = joints.DistanceMechanism(
     joints.platform("planar"),
-    [joints.prismatic_leg(as_points(base)[i], as_points(platform)[i], lengths[i]) for i in range(3)],
+    [joints.prismatic_leg(a, c, length) for a, c, length in zip(base.points, platform.points, lengths, strict=True)],
 )
-DEFAULTS = point_defaults(base, [(0, 0), (1, 0), (0.5, 0.9)])
-DEFAULTS |= point_defaults(platform, [(-0.2, -0.1), (0.2, -0.1), (0.15, 0.25)])
+#: parameters, their defaults and meaning; groups pass whole: load(..., base=[[x, y], ...])
+PARAMETERS = parameter_fields(base, platform)
 
 
 def build() -> Mechanism:
@@ -26,9 +26,8 @@ def build() -> Mechanism:
         name="my_robot",
         title="My planar 3-RPR",
         citation=Citation(("A. User",), "A planar 3-RPR described by its joints", 2026),
-        parameters=DEFAULTS,
-        parameter_groups={"base": base, "platform": platform},  # load(..., base=[[x, y], ...])
+        **PARAMETERS,
         **MODEL.fields(),
-        home=MODEL.home_at(sp.eye(3), sp.Matrix([0.5, 0.3, 0]), 0, DEFAULTS),
+        home=home_from_pose(MODEL, planar_pose_values(0.5, 0.3, 0.0), 0, PARAMETERS["parameters"]),
         limits={length: (0.0, 2.0) for length in lengths},
     )
