@@ -697,7 +697,7 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 // the tracker's constants (parakin.solvers.path_tracking)
 #define CORRECTIONS 3
 #define INITIAL_STEP 0.05
-#define PREDICTOR_TARGET 0.003
+#define PREDICTOR_TARGET 0.01
 #define STEP_SAFETY 0.8
 #define STEP_GROW 2.0
 #define STEP_SHRINK 0.25
@@ -707,6 +707,9 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 #define REFINE 8
 #define END_GAP 1e-13
 #define RATIONAL_GUARD 0.3
+#define ONE_STEP_BASIN 0.25
+#define ONE_STEP_ERROR 0.0001
+#define OMEGA_DECAY 0.5
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -1973,7 +1976,8 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 // The includer defines, before including it (after complex.h):
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
-//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD
+//   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD, ONE_STEP_BASIN, ONE_STEP_ERROR,
+//   OMEGA_DECAY
 //                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
@@ -2118,13 +2122,18 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // corrects by at most CORRECTIONS contracting Newton steps at the new s, accepted when the error
 // the last one leaves (the update itself after one step; after more, estimated from the
 // quadratic convergence of the last two) is below tolerance: contraction keeps the path on its
-// own branch. The last Newton step's LU also gives the slope at the new point, so an accepted
-// step costs the evaluations and LUs of its corrector only. The first correction is the predictor's error: the next step is
+// own branch. One correction is enough where the path's Newton constant omega (the contraction
+// size / update^2 measured by the last step that took two, reset by a rejection) says the
+// first update started well inside the basin (omega size <= ONE_STEP_BASIN, Kantorovich's
+// condition) and left an error omega size^2 below ONE_STEP_ERROR: during the path the iterate
+// only has to stay in its own path's basin, the endpoint is refined at s = 0. The last Newton
+// step's LU also gives the slope at the new point, so an accepted step costs the evaluations
+// and LUs of its corrector only. The first correction is the predictor's error: the next step is
 // sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
 // the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
 // shorter from the same point.
 static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
-    double s = 1.0, s_previous = 1.0, h = INITIAL_STEP;
+    double s = 1.0, s_previous = 1.0, h = INITIAL_STEP, omega = INFINITY;
     int history = 0;
     cplx slope[NZ], z_previous[NZ], slope_previous[NZ];
     counts->paths += 1;
@@ -2137,7 +2146,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
         coefficients(system, target, &at->target);
         predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
         counts->steps += 1;
-        double first = INFINITY, update = INFINITY, error = INFINITY;
+        double first = INFINITY, update = INFINITY, error = INFINITY, measured = INFINITY;
         int contracting = 1;
         for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
             double size = newton_step(&at->target, corrected, next_slope, counts);
@@ -2147,8 +2156,13 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
                 // omega = size / update^2 from the two last updates
                 double ratio = size / update;
                 error = size * ratio * ratio;
+                if (iteration == 1) measured = ratio / update;
             } else {
                 first = error = size;
+                // one correction suffices where the path's running Newton constant omega says
+                // that it started well inside the basin (omega size <= ONE_STEP_BASIN, as in
+                // Kantorovich's theorem) and left an error omega size^2 below ONE_STEP_ERROR
+                if (omega * size <= ONE_STEP_BASIN && omega * size * size < ONE_STEP_ERROR) error = 0.0;
             }
             update = size;
             // converged iterates stop: at an ill-conditioned solution further updates are
@@ -2167,10 +2181,14 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
             memcpy(slope, next_slope, sizeof(slope));
             s = target;
             history = 1;
+            // the Newton constant of the path: the latest measured (size / update^2 of a step's
+            // first two corrections), at least OMEGA_DECAY times the one before
+            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? fmax(measured, OMEGA_DECAY * omega) : measured;
             h = step * fmin(STEP_GROW, fmax(0.5, factor));
             if (s <= 0.0) break;
         } else {
             counts->rejected += 1;
+            omega = INFINITY;  // measured anew before one correction suffices again
             h = step * fmin(0.5, fmax(STEP_SHRINK, factor));
             if (h < MIN_STEP) return PATH_FAILED;
         }
