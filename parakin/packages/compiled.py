@@ -360,6 +360,25 @@ def job_structure(name: str, fields: tuple[tuple[str, str], ...]) -> type[ctypes
     return type(name, (ctypes.Structure,), {"_fields_": [(n, _CTYPES.get(t, _POINTER)) for n, t in fields]})
 
 
+def _plain_batch(inputs: tuple[Array, ...]) -> tuple[tuple[int, ...], list[np.ndarray]] | None:
+    """``broadcast_batch`` for the common case, without its general broadcasting: every input a
+    C-contiguous float64 array (size,) or (n, size), the batched ones sharing n (n > 0). The
+    same shape and rows as ``broadcast_batch`` gives them; None for anything else."""
+    rows = 0
+    flat = []
+    for x in inputs:
+        if type(x) is not np.ndarray or x.dtype != np.float64 or not x.flags.c_contiguous:
+            return None
+        if x.ndim == 1:
+            flat.append(x.reshape(1, x.shape[0]))
+        elif x.ndim == 2 and x.shape[0] > 0 and rows in (0, x.shape[0]):
+            rows = x.shape[0]
+            flat.append(x)
+        else:
+            return None
+    return ((rows,) if rows else ()), flat
+
+
 @dataclasses.dataclass
 class TrackCounts:
     """What the C path tracker did, summed over calls (``CompiledBackend.counting``): paths
@@ -409,6 +428,11 @@ class CompiledBackend:
                 "backend='numpy'"
             )
         self.functions = {kernel: getattr(self.library, d.c_symbol) for kernel, d in self.manifest.kernels.items()}
+        #: per kernel: (name, shape) of each output (read once: every call allocates them)
+        self._outputs = {
+            kernel: tuple((output.name, tuple(output.shape)) for output in d.outputs)
+            for kernel, d in self.manifest.kernels.items()
+        }
         self.NewtonJob = job_structure("NewtonJob", abi.newton_job)
         self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
@@ -498,10 +522,10 @@ class CompiledBackend:
         return casadi.external(f"{self.manifest.name}_{kernel}", str(self.path))
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
-        shape, flat = broadcast_batch(inputs)
+        plain = _plain_batch(inputs)  # the solvers' usual call: float arrays (n_i,) or (n, n_i)
+        shape, flat = plain if plain is not None else broadcast_batch(inputs)
         count = math.prod(shape)
-        description = self.manifest.kernels[kernel]
-        outputs = {output.name: np.empty((count, *output.shape)) for output in description.outputs}
+        outputs = {name: np.empty((count, *size)) for name, size in self._outputs[kernel]}
         input_pointers = (_POINTER * len(flat))(*(x.ctypes.data for x in flat))
         strides = (_INT64 * len(flat))(*(x.shape[1] if x.shape[0] == count and count > 1 else 0 for x in flat))
         output_pointers = (_POINTER * len(outputs))(*(o.ctypes.data for o in outputs.values()))

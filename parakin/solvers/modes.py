@@ -125,12 +125,21 @@ def length_scale(m: Mechanism) -> float:
     where the closure does not scale with the length parameters: ``scales_with_lengths``). The
     thresholds on closure residuals and pose distances are multiples of it, so the same geometry
     in millimetres or kilometres gets the same modes, scaled; and the all-modes solver works in
-    this size (``Mechanism._unit_free``: a size of 1 m is not rescaled)."""
+    this size (``Mechanism._unit_free``: a size of 1 m is not rescaled). Cached per mechanism
+    and parameter values (every all-modes call asks)."""
+    key = np.ascontiguousarray(m.params, dtype=float).tobytes()
+    known = _SIZES.get(m)
+    if known is not None and known[0] == key:
+        return known[1]
     lengths = [abs(v) for p, v in zip(m.manifest.parameters, m.params, strict=True) if p.unit == "m"]
     largest = max((v for v in lengths if np.isfinite(v)), default=0.0)
-    if not largest > 0 or not scales_with_lengths(m):
-        return 1.0
-    return float(largest)
+    size = float(largest) if largest > 0 and scales_with_lengths(m) else 1.0
+    _SIZES[m] = (key, size)
+    return size
+
+
+#: per mechanism object: (its parameter values, its ``length_scale``)
+_SIZES: weakref.WeakKeyDictionary[Any, tuple[bytes, float]] = weakref.WeakKeyDictionary()
 
 
 #: per mechanism object: (its parameter values, whether its closure scales with its lengths)
@@ -716,6 +725,25 @@ def _pose_pairs(poses: np.ndarray, valid: np.ndarray) -> np.ndarray:
     return same
 
 
+def _repeats_earlier_mode(
+    valid: np.ndarray, poses: np.ndarray, rows: np.ndarray, columns: np.ndarray, pose: np.ndarray
+) -> np.ndarray:
+    """Per candidate (k,) of input ``rows`` (k,) in slot ``columns`` (k,) with pose ``pose`` (k, 4, 4):
+    whether a mode (``valid`` (n, slots)) in an earlier slot of its input has that pose
+    (``SAME_POSE``, positions relative to the largest position of the input's modes and the
+    candidate, as ``_pose_pairs``)."""
+    earlier = valid[rows] & (np.arange(valid.shape[-1]) < columns[:, None])  # (k, slots)
+    if not earlier.any():
+        return np.zeros(rows.shape, dtype=bool)
+    position = poses[rows, :, :3, 3]  # (k, slots, 3)
+    largest = np.maximum(
+        np.where(valid[rows][..., None], np.abs(position), 0.0).max((-2, -1)), np.abs(pose[:, :3, 3]).max(-1)
+    )
+    moved = np.abs(position - pose[:, None, :3, 3]).max(-1)
+    turned = np.abs(poses[rows, :, :3, :3] - pose[:, None, :3, :3]).max((-2, -1))
+    return (earlier & (moved <= SAME_POSE * largest[:, None]) & (turned <= SAME_POSE)).any(-1)
+
+
 def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
     """The modes of a homotopy's inputs decided by the certificate, not by thresholds on the
     endpoints: certified roots are grouped by overlapping boxes (and, where the family's sign
@@ -774,14 +802,22 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
         rows, columns = np.nonzero(redo)
         real_centre, _ = phase_normalised(cert.centre[rows, columns], list(homotopy.homogeneous))
         q, pose = _configuration(m, info, theta[rows], real_centre.real)
-        q, pose, result, residual, conditioning = _check_candidates(
-            m, theta[rows], q, pose, np.full(rows.size, -1, dtype=np.int32)
+        # a pose repeat of the first pass whose certified centre gives an earlier mode's pose
+        # again (a formulation's second name for it: prs3's 16 of 32 roots) is that repeat:
+        # polishing it again would only mark it a duplicate again
+        repeat = (outcome[rows, columns] == codes["duplicate"]) & _repeats_earlier_mode(
+            outcome == mode, out["poses"], rows, columns, pose
         )
-        outcome[rows, columns] = np.where(result < 0, mode, result)
-        out["passive"][rows, columns] = np.nan_to_num(q)
-        out["poses"][rows, columns] = pose
-        out["residual"][rows, columns] = residual
-        out["conditioning"][rows, columns] = conditioning
+        rows, columns, q, pose = rows[~repeat], columns[~repeat], q[~repeat], pose[~repeat]
+        if rows.size:
+            q, pose, result, residual, conditioning = _check_candidates(
+                m, theta[rows], q, pose, np.full(rows.size, -1, dtype=np.int32)
+            )
+            outcome[rows, columns] = np.where(result < 0, mode, result)
+            out["passive"][rows, columns] = np.nan_to_num(q)
+            out["poses"][rows, columns] = pose
+            out["residual"][rows, columns] = residual
+            out["conditioning"][rows, columns] = conditioning
     _same_pose(outcome, out["poses"], mode, codes["duplicate"])
     finite = np.isfinite(theta).all(-1)
     out["count"] = (outcome == mode).sum(-1).astype(np.int32)
