@@ -17,7 +17,7 @@
   (numeric or symbolic content, powers of (1 + t^2) or other known factors, powers of t).
 * Layouts and declarations a mechanism file would otherwise write by hand: ``circle_points`` and
   ``paired_circle_points`` (default joint positions on circles, numerically), ``radial_directions``
-  (exact unit vectors at equal angles), ``point_group`` / ``leg_parameters`` with
+  (exact unit vectors at equal angles), ``point_group`` / ``leg_parameters`` / ``scalar_parameter`` with
   ``parameter_fields`` (parameters, their defaults and meaning in one declaration),
   ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list), ``home_from_pose``
   (a home read by the inverse at a pose) and ``euler_platform`` (Euler-angle coordinates and
@@ -255,6 +255,40 @@ def point_group(name: str, values: Sequence[Sequence[float]], description: str, 
         raise ValueError(f"point_group {name!r}: give one or more rows of equal length")
     symbols = point_parameters(name, len(values), len(values[0]))
     return ParameterGroup(name, symbols, point_defaults(symbols, values), point_info(symbols, description, unit))
+
+
+def scalar_parameter(
+    symbol: sp.Symbol, value: float, description: str, unit: str = "m", domain: str = "real"
+) -> ParameterGroup:
+    """One parameter with its default and meaning, declared together (for ``parameter_fields``).
+
+    Parameters
+    ----------
+    symbol : sympy.Symbol
+        The parameter.
+    value : float
+        Its default, in ``unit``.
+    description : str
+        What it is, in the user's terms.
+    unit : str
+        Its unit ('m'; '' for a number without one, 'N/m', ...).
+    domain : str
+        The values it may take (``model.DOMAINS``: 'real', 'positive', 'nonzero', 'sign').
+
+    Returns
+    -------
+    ParameterGroup
+        Without a group name.
+
+    Example
+    -------
+    >>> r = sp.Symbol("r", positive=True)
+    >>> scalar_parameter(r, 0.05, "platform radius", domain="positive").info[r]
+    ParameterInfo(unit='m', description='platform radius', domain='positive')
+    """
+    return ParameterGroup(
+        None, sp.Matrix([symbol]), {symbol: value}, {symbol: ParameterInfo(unit, description, domain)}
+    )
 
 
 def leg_parameters(
@@ -830,4 +864,5 @@ __all__ = [
     "point_parameters",
     "prismatic_legs",
     "remove_spurious_factors",
+    "scalar_parameter",
 ]

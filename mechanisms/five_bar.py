@@ -21,8 +21,8 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.frames import homogeneous
-from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.blocks import home_from_pose, leg_parameters, parameter_fields, pose_values, scalar_parameter
+from parakin.generator.model import Citation, Example, Mechanism
 from parakin.mechanisms._five_bar_forward import forward
 
 d = sp.Symbol("d", positive=True)
@@ -30,6 +30,11 @@ a = sp.symbols("a1 a2", positive=True)
 b = sp.symbols("b1 b2", positive=True)
 theta = sp.symbols("theta1 theta2", real=True)
 x, y = sp.symbols("x y", real=True)
+PARAMETERS = parameter_fields(
+    scalar_parameter(d, 0.15, "half the base length: the base joints are A1 = (-d, 0), A2 = (d, 0)", domain="positive"),
+    leg_parameters(a, 0.2, "proximal (actuated) link {k} length |C{k} - A{k}|"),
+    leg_parameters(b, 0.25, "distal link {k} length |P - C{k}|"),
+)
 #: s_i of the module docstring: sigma_i = +1 is the elbow outside for both legs
 OUTSIDE = (1, -1)
 
@@ -53,24 +58,11 @@ HOME_Y = 0.4
 HOME_POINT = (0.0, 0.33)
 
 
-def home() -> dict[sp.Symbol, float]:
-    """theta_1 = angle(A1 -> P) + the angle at A1 (law of cosines); theta_2 = pi - theta_1 by
-    the symmetry of the default geometry about the y axis."""
-    values = {d: 0.15, a[0]: 0.2, b[0]: 0.25}
-    px, py = HOME_POINT[0] + values[d], HOME_POINT[1]
-    reach = math.hypot(px, py)
-    inner = math.acos((reach**2 + values[a[0]] ** 2 - values[b[0]] ** 2) / (2 * values[a[0]] * reach))
-    first = math.atan2(py, px) + inner
-    return {theta[0]: first, theta[1]: math.pi - first, x: HOME_POINT[0], y: HOME_POINT[1]}
-
-
 #: branch 3 at P = (0, 0.4), by reflecting the home elbows across the lines A_i -> P
 ELBOW_IN = 2 * math.atan2(0.4, 0.15) - math.pi / 2
 
 
-def pose_list(px: float, py: float) -> list[list[float]]:
-    transform = homogeneous(sp.eye(3), [px, py, 0])
-    return [[float(transform[i, j]) for j in range(4)] for i in range(4)]
+HOME_POSE = pose_values(sp.eye(3), [0.0, HOME_Y, 0.0])
 
 
 EXAMPLES = [
@@ -79,7 +71,7 @@ EXAMPLES = [
         description="P = (0, 0.4) m at the defaults, branch 0: both proximal links vertical, theta = "
         "(pi/2, pi/2) (by hand: C1 = (-0.15, 0.2), |P - C1| = |(0.15, 0.2)| = 0.25 = b1, a 3-4-5 "
         "triangle; leg 2 by symmetry)",
-        pose=pose_list(0.0, HOME_Y),
+        pose=HOME_POSE,
         branch=0,
         expected={"actuated": [math.pi / 2, math.pi / 2], "passive": [0.0, HOME_Y]},
         tolerance=1e-12,
@@ -88,7 +80,7 @@ EXAMPLES = [
         name="home_elbows_in",
         description="the same P, branch 3 (both elbows in): the elbows reflected across the lines "
         "A_i -> P, by hand theta1 = 2 atan2(0.4, 0.15) - pi/2 = 0.8532 rad and theta2 = pi - theta1",
-        pose=pose_list(0.0, HOME_Y),
+        pose=HOME_POSE,
         branch=3,
         expected={"actuated": [ELBOW_IN, math.pi - ELBOW_IN], "passive": [0.0, HOME_Y]},
         tolerance=1e-12,
@@ -98,7 +90,7 @@ EXAMPLES = [
         description="theta = (pi/2, pi/2): elbows (-0.15, 0.2) and (0.15, 0.2), circles of radius "
         "0.25 m meeting at P = (0, 0.4) and (0, 0) (by hand: 0.15^2 + 0.2^2 = 0.25^2); 2 modes",
         actuated=[math.pi / 2, math.pi / 2],
-        expected={"mode_count": 2, "poses": [pose_list(0.0, HOME_Y), pose_list(0.0, 0.0)]},
+        expected={"mode_count": 2, "poses": [HOME_POSE, pose_values(sp.eye(3), [0.0, 0.0, 0.0])]},
         tolerance=1e-12,
     ),
 ]
@@ -114,16 +106,9 @@ def build() -> Mechanism:
             1990,
             "IEEE Transactions on Robotics and Automation 6(3), pp. 281-290",
         ),
-        parameters={d: 0.15, a[0]: 0.2, a[1]: 0.2, b[0]: 0.25, b[1]: 0.25},
+        **PARAMETERS,
         **MODEL.fields(),
         forward=forward(d, a, b, theta),
-        home=home(),
-        parameter_info={
-            d: ParameterInfo("m", "half the base length: the base joints are A1 = (-d, 0), A2 = (d, 0)", "positive"),
-            a[0]: ParameterInfo("m", "proximal (actuated) link 1 length |C1 - A1|", "positive"),
-            a[1]: ParameterInfo("m", "proximal (actuated) link 2 length |C2 - A2|", "positive"),
-            b[0]: ParameterInfo("m", "distal link 1 length |P - C1|", "positive"),
-            b[1]: ParameterInfo("m", "distal link 2 length |P - C2|", "positive"),
-        },
+        home=home_from_pose(MODEL, pose_values(sp.eye(3), [*HOME_POINT, 0.0]), 0, PARAMETERS["parameters"]),
         examples=EXAMPLES,
     )

@@ -25,6 +25,7 @@ from parakin.generator.blocks import (
     point_group,
     pose_values,
     radial_directions,
+    scalar_parameter,
 )
 
 
@@ -74,6 +75,9 @@ def test_declarations_give_defaults_meaning_and_groups_in_order():
     assert base.points[1].T.tolist() == [[base.symbols[1, 0], base.symbols[1, 1], 0]]
     with pytest.raises(ValueError, match="twice"):
         parameter_fields(base, base)
+    r = sp.Symbol("r", positive=True)
+    scalar = parameter_fields(scalar_parameter(r, 0.05, "platform radius", domain="positive"), base)
+    assert list(scalar["parameters"].items())[0] == (r, 0.05) and scalar["parameter_info"][r].domain == "positive"
     with pytest.raises(ValueError, match="equal length"):
         point_group("bad", [(0.0, 1.0), (2.0,)], "p{k}")
 

@@ -48,7 +48,7 @@ MODEL_LINES = {
     "spm": 79,
     "planar_3rpr": 53,
     "delta": 81,
-    "five_bar": 79,
+    "five_bar": 68,
     "planar_3rrr": 72,
     "stewart": 77,
     "sphere2r": 45,
