@@ -60,13 +60,13 @@ def test_assembly_modes_repr_is_a_table_of_modes_in_the_stated_convention():
     modes = m.forward_pose_all(m.home_actuated)
     lines = repr(modes).splitlines()
     assert lines[0] == f"AssemblyModes: {int(modes.count)} assembly modes by homotopy; certified complete"
-    assert "Z-Y-X Euler angles" in lines[1] and len(lines) == 4 + int(modes.count)
+    assert "Z-Y-X Euler angles" in lines[1] and "alpha [rad]" in lines[2] and len(lines) == 4 + int(modes.count)
     checked = 0
     for k, line in enumerate(lines[4:]):
         fields = line.split()
         assert int(fields[0]) == k
         pose = modes.mode(k).pose
-        euler = Rotation.from_matrix(pose[:3, :3]).as_euler("ZYX", degrees=True)  # intrinsic z, y', x''
+        euler = Rotation.from_matrix(pose[:3, :3]).as_euler("ZYX")  # intrinsic z, y', x'', radians
         assert np.allclose([float(v) for v in fields[1:4]], pose[:3, 3], rtol=1e-5, atol=1e-6)
         assert np.allclose([float(v) for v in fields[4:7]], euler, rtol=1e-5, atol=1e-4)
         checked += 1
