@@ -16,13 +16,11 @@ from __future__ import annotations
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import point_defaults, point_info, point_parameters
+from parakin.generator.blocks import parameter_fields, point_group
 from parakin.generator.frames import quaternion_from_rotation
 from parakin.generator.model import Citation, Example, Mechanism
 from parakin.mechanisms._stewart_forward import forward
 
-BASE = point_parameters("base", 6)
-PLATFORM = point_parameters("platform", 6)
 lengths = sp.symbols("l1:7", positive=True)
 x, y, z = sp.symbols("x y z", real=True)
 quaternion = sp.symbols("q0:4", real=True)
@@ -45,6 +43,9 @@ DIETMAIER_PLATFORM = [
     [-0.137087, -0.235121, 0.353913],
 ]
 DIETMAIER_LENGTHS = [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071]
+BASE_POINTS = point_group("base", DIETMAIER_BASE, "base joint A{k}, in {B}")
+PLATFORM_POINTS = point_group("platform", DIETMAIER_PLATFORM, "platform joint b{k}, in {P}")
+BASE, PLATFORM = BASE_POINTS.symbols, PLATFORM_POINTS.symbols
 #: one of the 40 modes, as quoted (15 digits)
 DIETMAIER_ROTATION = [
     [-0.040450357031281, -0.932229494397471, 0.359599691867884],
@@ -58,7 +59,7 @@ DIETMAIER_POSITION = [0.955868038233880, -0.046995628998516, -0.290013283037649]
 #: rates, singularity factor, inverse and drawing are derived from it
 MODEL = joints.DistanceMechanism(
     joints.platform("transform"),
-    [joints.prismatic_leg(BASE.row(k).T, PLATFORM.row(k).T, lengths[k]) for k in range(6)],
+    [joints.prismatic_leg(BASE_POINTS.points[k], PLATFORM_POINTS.points[k], lengths[k]) for k in range(6)],
 )
 
 
@@ -93,7 +94,7 @@ def build() -> Mechanism:
             1998,
             "Advances in Robot Kinematics: Analysis and Control",
         ),
-        parameters={**point_defaults(BASE, DIETMAIER_BASE), **point_defaults(PLATFORM, DIETMAIER_PLATFORM)},
+        **parameter_fields(BASE_POINTS, PLATFORM_POINTS),
         **MODEL.fields(),
         forward=forward(BASE, PLATFORM, lengths),
         home={
@@ -102,10 +103,5 @@ def build() -> Mechanism:
             **{q: float(v) for q, v in zip(quaternion, home_quaternion.evalf(17), strict=True)},
         },
         limits={length: (0.0, float("inf")) for length in lengths},
-        parameter_info={
-            **point_info(BASE, "base joint A{k}, in {B}"),
-            **point_info(PLATFORM, "platform joint b{k}, in {P}"),
-        },
-        parameter_groups={"base": BASE, "platform": PLATFORM},
         examples=examples(),
     )

@@ -50,7 +50,7 @@ MODEL_LINES = {
     "delta": 81,
     "five_bar": 68,
     "planar_3rrr": 72,
-    "stewart": 77,
+    "stewart": 73,
     "sphere2r": 45,
     "rps3": 49,
     "tricept": 70,
