@@ -36,7 +36,7 @@ static void print_pose(const double* pose) {
 int main(void) {
     gough_params params = GOUGH_PARAMS_DEFAULT;
     // the actuated inputs [l1 [m], l2 [m], l3 [m], l4 [m], l5 [m], l6 [m]]
-    double actuated[GOUGH_NUM_ACTUATED] = { 7.3484692283495345, 4.383518522164386, 7.146552869010115, 11.681397278931835, 13.296465899149135, 14.381731917229825 };
+    double actuated[GOUGH_NUM_ACTUATED] = { 7.3484692283495345, 4.383518522164386, 7.146552869010115, 11.681397278931835, 13.296465899149135, 14.381731917229823 };
     // a guess of the passive values [x [m], y [m], z [m], alpha [rad], beta [rad], gamma [rad]]
     double guess[6] = { 5.0, 2.0, 5.0, -0.3, -0.5, 0.3 };
     int failed = 0;
