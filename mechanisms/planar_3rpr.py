@@ -22,12 +22,10 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import as_points, point_defaults, point_info, point_parameters
+from parakin.generator.blocks import parameter_fields, point_group
 from parakin.generator.model import Citation, Example, Mechanism
 from parakin.mechanisms._planar_3rpr_forward import forward
 
-base = point_parameters("base", 3, dims=2)
-platform = point_parameters("platform", 3, dims=2)
 rho = sp.symbols("rho1:4", positive=True)
 x, y, phi = sp.symbols("x y phi", real=True)
 PLANAR_TWIST = ("vx", "vy", "wz")
@@ -36,6 +34,9 @@ PLANAR_TWIST = ("vx", "vy", "wz")
 GSR_BASE = [(0.0, 0.0), (15.91, 0.0), (0.0, 10.0)]
 GSR_PLATFORM = [(0.0, 0.0), (17.04, 0.0), (20.84 * math.cos(0.8824), 20.84 * math.sin(0.8824))]
 GSR_LENGTHS = [14.98, 15.38, 12.0]
+base = point_group("base", GSR_BASE, "base joint A{k}, in {B}")
+platform = point_group("platform", GSR_PLATFORM, "platform joint b{k}, in {P}")
+PARAMETERS = parameter_fields(base, platform)
 #: the home pose (x, y, phi): one of the example's assembly modes, rounded
 HOME_POSE = (-14.9, 1.6, 0.245)
 
@@ -44,14 +45,14 @@ HOME_POSE = (-14.9, 1.6, 0.245)
 #: inverse and drawing are derived from it (the forward elimination is the accelerator's)
 MODEL = joints.DistanceMechanism(
     joints.platform("planar"),
-    [joints.prismatic_leg(as_points(base)[i], as_points(platform)[i], rho[i]) for i in range(3)],
+    [joints.prismatic_leg(base.points[i], platform.points[i], rho[i]) for i in range(3)],
     parallel_name="leg_lines_concurrent_or_parallel",
 )
 
 
 def home() -> dict[sp.Symbol, float]:
     """HOME_POSE and its leg lengths at the default geometry."""
-    values = point_defaults(base, GSR_BASE) | point_defaults(platform, GSR_PLATFORM)
+    values = PARAMETERS["parameters"]
     pose = dict(zip((x, y, phi), HOME_POSE, strict=True))
     steps = dict(MODEL.inverse().steps)
     lengths = [float(steps[r].subs(values).subs(pose)) for r in rho]
@@ -83,13 +84,10 @@ def build() -> Mechanism:
             1992,
             "Mechanism and Machine Theory 27(2)",
         ),
-        parameters=point_defaults(base, GSR_BASE) | point_defaults(platform, GSR_PLATFORM),
+        **PARAMETERS,
         **MODEL.fields(),
-        forward=forward(base, platform, rho),
+        forward=forward(base.symbols, platform.symbols, rho),
         home=home(),
         limits={r: (0.0, math.inf) for r in rho},
-        parameter_info=point_info(base, "base joint A{k}, in {B}")
-        | point_info(platform, "platform joint b{k}, in {P}"),
-        parameter_groups={"base": base, "platform": platform},
         examples=EXAMPLES,
     )

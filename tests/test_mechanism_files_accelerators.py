@@ -46,7 +46,7 @@ MODEL_LINES = {
     "sam": 89,
     "rus6": 111,
     "spm": 79,
-    "planar_3rpr": 53,
+    "planar_3rpr": 51,
     "delta": 81,
     "five_bar": 68,
     "planar_3rrr": 72,
