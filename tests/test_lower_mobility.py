@@ -377,13 +377,15 @@ def test_an_asymmetric_design_reads_the_turn_its_planes_force():
     assert checked == 16 and turns == {-1, 1}
 
 
-@pytest.mark.parametrize("name", ["prs3", "rps3"])
-def test_the_motion_text_says_the_turn_is_none_or_a_half_turn_and_it_is(name):
+@pytest.mark.parametrize(("name", "stretch"), [("prs3", 1.0), ("rps3", 1.5)])
+def test_the_motion_text_says_the_turn_is_none_or_a_half_turn_and_it_is(name, stretch):
     """``parakin inspect prs3`` once said "(two turns, half a turn apart)", which a new user could
     not read. The text now says what it means: the turn about k is none (a pure tilt) or a
     half-turn, two separate sets of reachable poses. Checked here: every assembly mode at the home
     and at three inputs around it, decomposed independently as R = Rot_k(psi) R0 (R0 the pure tilt
-    taking n = R^T k to k, Rodrigues), has psi = 0 or pi (1e-9 rad), and both occur."""
+    taking n = R^T k to k, Rodrigues), has psi = 0 or pi (1e-9 rad), and both occur (the 3-RPS
+    at 1.5 times its home leg lengths: at the home only psi = 0 is reached, the legs too short for
+    the half-turn)."""
     m = parakin.load(name, backend="numpy")
     text = m.manifest.joints.motion.text
     assert "two turns, half a turn apart" not in text
@@ -397,7 +399,7 @@ def test_the_motion_text_says_the_turn_is_none_or_a_half_turn_and_it_is(name):
         return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
 
     rng = np.random.default_rng(1)
-    home = m.home_actuated
+    home = stretch * m.home_actuated
     turns, checked = set(), 0
     for actuated in [home, *(home + 0.02 * rng.uniform(-1, 1, home.size) for _ in range(3))]:
         for mode in m.forward_pose_all(actuated):
