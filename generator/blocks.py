@@ -202,6 +202,47 @@ def radial_directions(count: int) -> list[sp.Matrix]:
     return [sp.Matrix([sp.cos(eta), sp.sin(eta), 0]) for eta in angles]
 
 
+def crank_bases(
+    tips: Sequence[Sequence[float]],
+    axes: Sequence[Sequence[float]],
+    zeros: Sequence[Sequence[float]],
+    crank: float,
+    angle: float,
+) -> list[list[float]]:
+    """The crank shafts A_i that put each crank tip at a given point at a given crank angle:
+    A_i = X_i - a (cos t e1_i + sin t e2_i), e2_i = u_i x e1_i (the tip of a crank of length a
+    turned by t about u_i from e1_i, as ``joints.crank_leg`` turns it), e.g. to place cranks under
+    another mechanism's base points.
+
+    Parameters
+    ----------
+    tips : sequence of 3 floats per leg
+        The tip positions X_i, in {B}, metres.
+    axes, zeros : sequence of 3 floats per leg
+        The crank axes u_i and the directions e1_i at angle 0 (unit, normal to u_i), in {B}.
+    crank : float
+        The crank length a, metres.
+    angle : float
+        The crank angle t, radians.
+
+    Returns
+    -------
+    list of list of float, shape (n, 3)
+        The shaft points A_i.
+
+    Example
+    -------
+    >>> crank_bases([[1.0, 0.0, 0.0]], [[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]], 0.5, 0.0)
+    [[0.5, 0.0, 0.0]]
+    """
+    c, s = math.cos(angle), math.sin(angle)
+    shafts = []
+    for tip, u, e1 in zip(tips, axes, zeros, strict=True):
+        e2 = [u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2], u[0] * e1[1] - u[1] * e1[0]]
+        shafts.append([tip[k] - crank * (c * e1[k] + s * e2[k]) for k in range(3)])
+    return shafts
+
+
 # ------------------------------------------------------------------ parameter declarations
 @dataclass(frozen=True)
 class ParameterGroup:
@@ -292,7 +333,11 @@ def scalar_parameter(
 
 
 def leg_parameters(
-    symbols: Sequence[sp.Symbol], value: float, description: str, unit: str = "m", domain: str = "positive"
+    symbols: Sequence[sp.Symbol],
+    value: float | Sequence[float],
+    description: str,
+    unit: str = "m",
+    domain: str = "positive",
 ) -> ParameterGroup:
     """One parameter per leg with the same default, e.g. the crank lengths a1..a6.
 
@@ -300,8 +345,8 @@ def leg_parameters(
     ----------
     symbols : sequence of sympy.Symbol
         The parameters, leg 1 first.
-    value : float
-        The default of every one, in ``unit``.
+    value : float or sequence of float
+        The default of every one, or one default per leg, in ``unit``.
     description : str
         What the parameter of leg k is, with ``{k}`` for the leg's number.
     unit : str
@@ -314,6 +359,11 @@ def leg_parameters(
     ParameterGroup
         Without a group name: a user passes each parameter by its own name.
 
+    Raises
+    ------
+    ValueError
+        A sequence of defaults of another length than ``symbols``.
+
     Example
     -------
     >>> a = sp.symbols("a1:3", positive=True)
@@ -321,6 +371,10 @@ def leg_parameters(
     'crank 2 length'
     """
     info = {s: ParameterInfo(unit, description.replace("{k}", str(k + 1)), domain) for k, s in enumerate(symbols)}
+    if isinstance(value, Sequence):
+        if len(value) != len(symbols):
+            raise ValueError(f"leg_parameters: {len(symbols)} parameters but {len(value)} defaults")
+        return ParameterGroup(None, sp.Matrix(list(symbols)), dict(zip(symbols, value, strict=True)), info)
     return ParameterGroup(None, sp.Matrix(list(symbols)), dict.fromkeys(symbols, value), info)
 
 
@@ -416,6 +470,34 @@ def planar_pose_values(x: float, y: float, phi: float) -> list[list[float]]:
     [1.0, 0.0, 0.0, 0.1]
     """
     return pose_values(rot_z(sp.Float(phi, 17)), [x, y, 0.0])
+
+
+def frame_pose_values(
+    x_toward: Sequence[float], y_toward: Sequence[float], origin: Sequence[float] = (0.0, 0.0, 0.0)
+) -> list[list[float]]:
+    """^B_P T of the frame at ``origin`` with x_P along ``x_toward`` and y_P toward ``y_toward``
+    (Gram-Schmidt: the part of ``y_toward`` across x_P), z_P = x_P x y_P; e.g. a platform frame from
+    printed points, x_P through one, the x_P y_P plane through another.
+
+    Parameters
+    ----------
+    x_toward, y_toward : 3 floats each
+        Directions in {B} (not parallel), relative to ``origin``.
+    origin : 3 floats
+        The origin of {P} in {B}, metres.
+
+    Returns
+    -------
+    list of list of float, shape (4, 4)
+
+    Example
+    -------
+    >>> frame_pose_values([2.0, 0.0, 0.0], [1.0, 3.0, 0.0])[1]
+    [0.0, 1.0, 0.0, 0.0]
+    """
+    x_axis = sp.Matrix(x_toward).normalized()
+    y_axis = (sp.Matrix(y_toward) - x_axis.dot(sp.Matrix(y_toward)) * x_axis).normalized()
+    return pose_values(sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis)), list(origin))
 
 
 class _HasHome(Protocol):
@@ -842,9 +924,11 @@ __all__ = [
     "TWIST",
     "as_points",
     "circle_points",
+    "crank_bases",
     "euler_platform",
     "euler_pose",
     "euler_pose_values",
+    "frame_pose_values",
     "home_from_pose",
     "leg_parameters",
     "pair_sides",

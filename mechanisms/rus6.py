@@ -26,6 +26,7 @@ import math
 import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import (
+    crank_bases,
     home_from_pose,
     leg_parameters,
     pair_sides,
@@ -103,21 +104,12 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-def dietmaier_shafts() -> list[list[float]]:
-    """A_i = X_i - a_i (cos t e1_i + sin t e2_i), t = DIETMAIER_THETA, default crank frames: the
-    crank tips are Dietmaier's base points X_i at theta_i = t."""
-    c, s = math.cos(DIETMAIER_THETA), math.sin(DIETMAIER_THETA)
-    shafts = []
-    for i in range(6):
-        u, e1 = AXES[i], ZEROS[i]
-        e2 = [u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2], u[0] * e1[1] - u[1] * e1[0]]
-        shafts.append([DIETMAIER_BASE[i][k] - CRANK * (c * e1[k] + s * e2[k]) for k in range(3)])
-    return shafts
-
-
+#: A_i = X_i - a_i (cos t e1_i + sin t e2_i), t = DIETMAIER_THETA: the shafts that put the default
+#: cranks' tips on Dietmaier's base points X_i at theta_i = t
+DIETMAIER_SHAFTS = crank_bases(DIETMAIER_BASE, AXES, ZEROS, CRANK, DIETMAIER_THETA)
 #: example ``dietmaier_cranks``: the parameters that differ from the defaults, by name
 DIETMAIER_PARAMETERS = {
-    **{str(k): v for k, v in point_defaults(BASE.symbols, dietmaier_shafts()).items()},
+    **{str(k): v for k, v in point_defaults(BASE.symbols, DIETMAIER_SHAFTS).items()},
     **{str(k): v for k, v in point_defaults(PLATFORM.symbols, DIETMAIER_PLATFORM).items()},
     **{str(b[i]): DIETMAIER_LENGTHS[i] for i in range(6)},
 }

@@ -22,9 +22,14 @@ from __future__ import annotations
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import euler_platform
-from parakin.generator.frames import homogeneous
-from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.blocks import (
+    euler_platform,
+    frame_pose_values,
+    leg_parameters,
+    parameter_fields,
+    scalar_parameter,
+)
+from parakin.generator.model import Citation, Example, Mechanism
 from parakin.mechanisms._sps_forward import closure, drawing, forward
 
 a1x, a2x, a2y, a3x, a3y, a3z = sp.symbols("a1x a2x a2y a3x a3y a3z", real=True)
@@ -74,36 +79,27 @@ MODEL = joints.DistanceMechanism(
     ],
     parallel_name="leg_moments_coplanar",
 )
-PARAMETERS: dict[sp.Symbol, float] = {
-    **dict(zip((a1x, a2x, a2y, a3x, a3y, a3z), (2.470, 2.250, 1.020, 2.720, 0.130, -0.460), strict=True)),
-    **dict(zip((b1, b2, b3, b12, b23, b13, chi), (2.400, 2.400, 2.635, 1.030, 0.240, 1.070, -1.0), strict=True)),
-    **dict(zip(stiffness, (-7.7292e6, -2.30083e8, -1.0165e7), strict=True)),
-}
-PARAMETER_INFO = {
-    a1x: ParameterInfo("m", "x of the base point A1 (on the x_b axis), section 5"),
-    a2x: ParameterInfo("m", "x of the base point A2 (in the x_b y_b plane)"),
-    a2y: ParameterInfo("m", "y of the base point A2 (> 0)", "positive"),
-    a3x: ParameterInfo("m", "x of the base point A3 (printed -2.720: a typo for +2.720)"),
-    a3y: ParameterInfo("m", "y of the base point A3"),
-    a3z: ParameterInfo("m", "z of the base point A3"),
-    b12: ParameterInfo("m", "distance between the platform points B1 and B2", "positive"),
-    b23: ParameterInfo("m", "distance between the platform points B2 and B3", "positive"),
-    b13: ParameterInfo("m", "distance between the platform points B1 and B3", "positive"),
-    chi: ParameterInfo("", "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)", "sign"),
-}
-for i, (b, k) in enumerate(zip((b1, b2, b3), stiffness, strict=True)):
-    PARAMETER_INFO[b] = ParameterInfo("m", f"distance |Q B{i + 1}| from the centre Q to the platform point", "positive")
-    PARAMETER_INFO[k] = ParameterInfo(
-        "N/m", f"stiffness of actuator {i + 1}, delta f = k delta d (section 4; f > 0 compresses)", "nonzero"
-    )
-
-
-def platform_frame(b1_printed: list[float], b2_printed: list[float]) -> list[list[float]]:
-    """^B_P T from the printed b_1, b_2 (in {B}): the Gram-Schmidt frame of x_p along b_1, y_p toward b_2."""
-    x_axis = sp.Matrix(b1_printed).normalized()
-    y_axis = (sp.Matrix(b2_printed) - x_axis.dot(sp.Matrix(b2_printed)) * x_axis).normalized()
-    pose = homogeneous(sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis)), [0, 0, 0])
-    return [[float(pose[i, j]) for j in range(4)] for i in range(4)]
+#: section 5 (Baukema SHM4-120A), with a3x = +2.720 (module docstring)
+PARAMETERS = parameter_fields(
+    scalar_parameter(a1x, 2.470, "x of the base point A1 (on the x_b axis), section 5"),
+    scalar_parameter(a2x, 2.250, "x of the base point A2 (in the x_b y_b plane)"),
+    scalar_parameter(a2y, 1.020, "y of the base point A2 (> 0)", domain="positive"),
+    scalar_parameter(a3x, 2.720, "x of the base point A3 (printed -2.720: a typo for +2.720)"),
+    scalar_parameter(a3y, 0.130, "y of the base point A3"),
+    scalar_parameter(a3z, -0.460, "z of the base point A3"),
+    leg_parameters((b1, b2, b3), (2.400, 2.400, 2.635), "distance |Q B{k}| from the centre Q to the platform point"),
+    scalar_parameter(b12, 1.030, "distance between the platform points B1 and B2", domain="positive"),
+    scalar_parameter(b23, 0.240, "distance between the platform points B2 and B3", domain="positive"),
+    scalar_parameter(b13, 1.070, "distance between the platform points B1 and B3", domain="positive"),
+    scalar_parameter(chi, -1.0, "platform handedness, the sign of det[b1p b2p b3p] (+1 or -1)", "", "sign"),
+    leg_parameters(
+        stiffness,
+        (-7.7292e6, -2.30083e8, -1.0165e7),
+        "stiffness of actuator {k}, delta f = k delta d (section 4; f > 0 compresses)",
+        "N/m",
+        "nonzero",
+    ),
+)
 
 
 #: section 5: the printed points agree with the configurations to 5.2e-3 m only (the paper's roots
@@ -117,7 +113,7 @@ EXAMPLES = [
         "b_1 = (2.278, 0.290, -0.698), b_2 = (2.000, 1.250, -0.454) m, to 5e-3: the printed "
         "points are 5e-3 m off the data's configuration (the printed roots are off at 1e-3)",
         actuated=[0.780, 0.570, 1.320],
-        expected={"mode_count": 4, "poses": [platform_frame([2.278, 0.290, -0.698], [2.000, 1.250, -0.454])]},
+        expected={"mode_count": 4, "poses": [frame_pose_values([2.278, 0.290, -0.698], [2.000, 1.250, -0.454])]},
         tolerance=5e-3,
     )
 ]
@@ -134,7 +130,7 @@ def build() -> Mechanism:
             ("J. Knapczyk", "G. Tora"),
             "Displacement and force analysis of the spherical platform mechanism 3(SPS)-S with compliancies of linear actuators taken into account",
         ),
-        parameters=dict(PARAMETERS),
+        **PARAMETERS,
         **derived,  # type: ignore[arg-type]
         forward=forward(base_points(), platform_points(), d, (b1, b2, b3), platform_cosines(), chi),
         home={
@@ -142,7 +138,6 @@ def build() -> Mechanism:
             **dict(zip(MOTION.coordinates, HOME_EULER, strict=True)),
         },
         limits=dict(zip(d, STROKES, strict=True)),
-        parameter_info=PARAMETER_INFO,
         examples=EXAMPLES,
         actuator_stiffness=list(stiffness),
     )

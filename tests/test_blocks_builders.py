@@ -13,9 +13,11 @@ import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import (
     circle_points,
+    crank_bases,
     euler_platform,
     euler_pose,
     euler_pose_values,
+    frame_pose_values,
     home_from_pose,
     leg_parameters,
     pair_sides,
@@ -170,3 +172,37 @@ def test_euler_pose_agrees_with_scipys_intrinsic_euler_angles(sequence):
     assert np.allclose(pose[:3, :3], expected, rtol=0, atol=1e-15)
     assert pose[:3, 3].tolist() == list(position) and pose[3].tolist() == [0.0, 0.0, 0.0, 1.0]
     assert np.array(euler_pose_values(sequence, angles, position)).tolist() == pose.tolist()
+
+
+def test_crank_bases_put_the_crank_tips_on_the_given_points():
+    """Shafts from ``crank_bases`` with seeded unit axes u_i and directions e1_i normal to them:
+    the tip A_i + a (cos t e1_i + sin t u_i x e1_i), computed here with NumPy's cross product,
+    is the given point, and the shaft lies the crank length from it."""
+    rng = np.random.default_rng(32)
+    axes = [v / np.linalg.norm(v) for v in rng.normal(size=(4, 3))]
+    zeros = [np.cross(u, rng.normal(size=3)) for u in axes]
+    zeros = [e / np.linalg.norm(e) for e in zeros]
+    tips = rng.uniform(-1, 1, (4, 3))
+    shafts = crank_bases(tips.tolist(), [u.tolist() for u in axes], [e.tolist() for e in zeros], 0.15, 0.4)
+    for shaft, tip, u, e1 in zip(shafts, tips, axes, zeros, strict=True):
+        reached = np.array(shaft) + 0.15 * (math.cos(0.4) * e1 + math.sin(0.4) * np.cross(u, e1))
+        assert np.allclose(reached, tip, rtol=0, atol=1e-15)
+        assert np.linalg.norm(np.array(shaft) - tip) == pytest.approx(0.15, abs=1e-15)
+
+
+def test_frame_pose_values_is_the_orthonormal_frame_through_the_points():
+    pose = np.array(frame_pose_values([2.278, 0.290, -0.698], [2.000, 1.250, -0.454], (0.1, 0.0, 0.0)))
+    rotation = pose[:3, :3]
+    assert np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-15) and np.linalg.det(rotation) == pytest.approx(1)
+    x_toward, y_toward = np.array([2.278, 0.290, -0.698]), np.array([2.000, 1.250, -0.454])
+    assert np.allclose(rotation[:, 0], x_toward / np.linalg.norm(x_toward), atol=1e-15)
+    assert rotation[:, 1] @ y_toward > 0 and abs(rotation[:, 2] @ y_toward) < 1e-15  # y toward, z across
+    assert pose[:3, 3].tolist() == [0.1, 0.0, 0.0]
+
+
+def test_leg_parameters_take_one_default_per_leg():
+    k = sp.symbols("k1:4", real=True)
+    group = leg_parameters(k, (1.0, 2.0, 3.0), "stiffness {k}", "N/m", "nonzero")
+    assert list(group.defaults.values()) == [1.0, 2.0, 3.0] and group.info[k[2]].unit == "N/m"
+    with pytest.raises(ValueError, match="3 parameters but 2 defaults"):
+        leg_parameters(k, (1.0, 2.0), "stiffness {k}")

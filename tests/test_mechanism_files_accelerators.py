@@ -40,11 +40,11 @@ HAND_NAMES = {
 #: sps 290, gough 185, prs3 138, sam 141, rus6 142, spm 153, planar_3rpr 123, delta 122, five_bar
 #: 109, planar_3rrr 86, stewart 95, sphere2r 78
 MODEL_LINES = {
-    "sps": 98,
+    "sps": 90,
     "gough": 76,
     "prs3": 109,
     "sam": 89,
-    "rus6": 111,
+    "rus6": 104,
     "spm": 79,
     "planar_3rpr": 51,
     "delta": 81,
