@@ -38,7 +38,9 @@ HAND_NAMES = {
 }
 #: lines of model code (``model_lines``) of each mechanism file at most: before the descriptions
 #: sps 290, gough 185, prs3 138, sam 141, rus6 142, spm 153, planar_3rpr 123, delta 122, five_bar
-#: 109, planar_3rrr 86, stewart 95, sphere2r 78
+#: 109, planar_3rrr 86, stewart 95, sphere2r 78; before the generic builders of generator/blocks.py
+#: (layouts, declarations, example poses, homes, Euler platforms) sps 114, gough 100, prs3 112,
+#: rus6 142, delta 85, five_bar 79, planar_3rrr 86, stewart 77, planar_3rpr 53, tricept 71
 MODEL_LINES = {
     "sps": 90,
     "gough": 76,
@@ -56,7 +58,7 @@ MODEL_LINES = {
     "tricept": 70,
 }
 #: a mechanism file added since: a description as long as the longest above at most
-NEW_MODEL_LINES = 142
+NEW_MODEL_LINES = max(MODEL_LINES.values())
 
 
 def model_lines(path: Path) -> int:
