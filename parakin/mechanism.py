@@ -47,6 +47,7 @@ from parakin.pose import (
     wrap_angle,
 )
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
+from parakin.singularity import inverse_condition
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import pivoted_solve
@@ -801,8 +802,9 @@ class Mechanism:
         -------
         AssemblyModes
             ``poses`` (..., M, 4, 4), ``passive`` (..., M, n_p), ``valid`` (..., M), ``count``
-            (...), ``conditioning`` (..., M) and the accounting of every slot; ``mode(k)`` is the
-            k-th mode of each input as a Configuration.
+            (...), ``conditioning`` (..., M: each mode's distance to a type II singularity,
+            ``parakin.singularity.type_ii_distance``, NaN in a slot that is no mode) and the
+            accounting of every slot; ``mode(k)`` is the k-th mode of each input as a Configuration.
 
         Raises
         ------
@@ -907,22 +909,39 @@ class Mechanism:
         """The all-modes pipeline's arrays for a flat batch. A homotopy solves the geometry in its
         own size (``_unit_free``): the paths, the certificate and every threshold then see the same
         numbers in millimetres, metres or kilometres, and the modes are scaled back."""
-        if info.homotopy is None:
-            return self._every_mode_here(info, flat, exact)
-        unit_free = self._unit_free
+        unit_free = self._unit_free if info.homotopy is not None else None
         if unit_free is None:
-            return self._every_mode_here(info, flat, exact)
+            return self._measured(flat, self._every_mode_here(info, flat, exact), rescaled=False)
         scaled, unit = unit_free
         length_actuated, length_passive = self._length_variables
         out = scaled._every_mode_here(info, np.where(length_actuated, flat / unit, flat), exact)
         out["passive"] = np.where(length_passive, out["passive"] * unit, out["passive"])
         out["poses"][..., :3, 3] *= unit
-        # the closure residual in the caller's units, at the modes' own values
-        where = np.isfinite(out["residual"]) & np.isfinite(out["passive"]).all(-1)
-        if where.any():
+        return self._measured(flat, out, rescaled=True)
+
+    def _measured(self, flat: Array, out: dict[str, np.ndarray], rescaled: bool) -> dict[str, np.ndarray]:
+        """``out`` with each mode's ``conditioning`` measured in the caller's units: the type II
+        distance of ``parakin.singularity`` (sigma_min / sigma_max of d closure / d passive at the
+        mode, from one call of the closure kernel and one batched SVD), the same measure whatever
+        backend or pipeline found the mode; NaN in a slot that is no mode. ``rescaled``: the modes
+        were solved in the unit-free geometry (``_unit_free``), so the closure residual of every
+        slot with a configuration is measured again in the caller's units from the same call."""
+        mode = self.manifest.abi.code("mode_outcomes", "mode")
+        located = np.isfinite(out["passive"]).all(-1)
+        modes = (out["outcome"] == mode) & located
+        where = (np.isfinite(out["residual"]) & located) | modes if rescaled else modes
+        conditioning = np.full(modes.shape, np.nan)
+        if not self.passive_names:  # no loop to close: no type II singularity
+            conditioning[modes] = 1.0
+        elif where.any():
             rows, slots = np.nonzero(where)
-            residual = self.backend.call("loop_closure", flat[rows], out["passive"][rows, slots], self.params)
-            out["residual"][rows, slots] = np.abs(residual["residual"]).max(-1, initial=0.0)
+            with np.errstate(all="ignore"):
+                closure = self.backend.call("loop_closure", flat[rows], out["passive"][rows, slots], self.params)
+            if rescaled:  # the closure residual in the caller's units, at the modes' own values
+                out["residual"][rows, slots] = np.abs(closure["residual"]).max(-1, initial=0.0)
+            measured = modes[rows, slots]
+            conditioning[rows[measured], slots[measured]] = inverse_condition(closure["jacobian"][measured])
+        out["conditioning"] = conditioning
         return out
 
     @functools.cached_property
@@ -1036,7 +1055,8 @@ class Mechanism:
         -------
         dict of str to numpy.ndarray, each shape (...)
             ``count`` of assembly modes, ``real_roots``, ``near_roots``, ``at_infinity``,
-            ``status`` and ``min_conditioning`` over the modes (NaN without a mode).
+            ``status`` and ``min_conditioning``, the smallest type II distance
+            (``parakin.singularity.type_ii_distance``) over the modes (NaN without a mode).
 
         Raises
         ------

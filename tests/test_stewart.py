@@ -102,7 +102,7 @@ def test_dietmaier_near_singular_cluster_is_kept(dietmaier):
     worst = np.argsort(-condition)[:6]
     assert condition[worst].min() > 2e3 and 3e4 < condition.max() < 1e6
     assert np.sort(condition)[-5] > 1e4 > np.sort(condition)[-6]
-    # the reported conditioning (pivot ratio of the closure Jacobian) ranks the five worst alike
+    # the reported conditioning (sigma_min / sigma_max of the closure Jacobian) ranks the five worst alike
     ratio = modes.conditioning[modes.valid]
     assert set(np.argsort(ratio)[:5]) == set(worst[:5])
     assert modes.residual[modes.valid][worst].max() < 1e-12

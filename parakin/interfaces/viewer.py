@@ -72,7 +72,7 @@ from parakin.errors import (
 )
 from parakin.pose import xyz_euler_deg_from_pose
 from parakin.results import AssemblyModes, Configuration
-from parakin.solvers.linalg import pivoted_solve
+from parakin.singularity import inverse_condition
 from parakin.tables import POSE_HEADERS
 from parakin.validation import within_ranges
 
@@ -109,8 +109,12 @@ REQUEST_TIMEOUT = 10.0
 READ_ONLY_CALLS = ("scene", "state")
 #: bisection steps that locate where a refused move stops being trackable
 BISECTIONS = 40
-#: closure conditioning (pivot ratio) at or below which the place a move stops is a singularity
-#: (at a fold it falls as the square root of the distance: ~1e-6 after the bisection)
+#: closure conditioning (sigma_min / sigma_max of d closure / d passive), relative to the
+#: home's where that is below 1, at or below which the place a move stops is a singularity. The
+#: ratio depends on the units the closure mixes (gough's, stewart's and planar_3rpr's homes are
+#: at 0.008-0.011, the others' at 0.14-0.69), so it is read against the home's; at a fold it
+#: falls as the square root of the distance (~1e-6 of the home's after the bisection), while a
+#: regular stop stays within a small factor of it
 SINGULAR_CONDITIONING = 1e-3
 #: a message quotes at most this many characters of what a request held
 ECHO = 120
@@ -180,8 +184,8 @@ class ViewerSession:
     Replies are JSON-ready dicts. A state reply (``state``, ``move``, ``select``, ``home``) holds
     ``ok``, ``error`` ({type, message} of the parakin error, or None), ``actuated`` (the input the
     drawing shows, SI), ``requested`` (what was asked), ``polylines`` (name -> 3 x k vertices in
-    {B}, metres), ``measures`` ([name, value] of ``m.singularities``), ``conditioning`` (pivot ratio
-    of the closure Jacobian: 1 well conditioned, 0 singular), ``residual`` (max-norm of the loop
+    {B}, metres), ``measures`` ([name, value] of ``m.singularities``), ``conditioning`` (sigma_min /
+    sigma_max of the closure Jacobian: 1 well conditioned, 0 singular), ``residual`` (max-norm of the loop
     closure at the drawn configuration), ``pose`` (x, y, z in m, Z-Y-X Euler in deg) and ``mode``
     (the viewer's number of the followed mode, None until it is known). A refused move's error
     keeps the class name of the solver's error and says in the user's terms what happened.
@@ -212,6 +216,8 @@ class ViewerSession:
             slider["home"] = float(value)
         self._home_measures = dict(self._measures(self._config))
         self._home_conditioning = self._conditioning(self._config)
+        #: what ``SINGULAR_CONDITIONING`` is relative to: the home's conditioning, at most 1
+        self._conditioning_scale = min(1.0, self._home_conditioning or 1.0)
 
     # ------------------------------------------------------------------ configurations
     def _manifest_home(self) -> Configuration:
@@ -360,17 +366,16 @@ class ViewerSession:
         return _finite_or_none(np.abs(closure).max(initial=0.0))
 
     def _conditioning(self, config: Configuration) -> float | None:
-        """Pivot ratio of the closure Jacobian d closure / d passive (1 well conditioned, 0 at a
-        type II singularity; the tracker's and the mode finder's measure)."""
+        """Distance to a type II singularity: sigma_min / sigma_max of the closure Jacobian
+        d closure / d passive (``parakin.singularity.inverse_condition``: 1 well conditioned, 0
+        singular; the measure ``forward_pose_all`` reports per mode and the tracker's)."""
         if not self.m.passive_names:
             return None
         try:
             jacobian = self.m.loop_closure(config.actuated, config.passive)["jacobian"]
         except ParakinError:
             return None
-        if jacobian.shape[-1] != jacobian.shape[-2]:
-            return None
-        return _finite_or_none(float(pivoted_solve(jacobian, np.zeros(jacobian.shape[-1]))[1]))
+        return _finite_or_none(float(inverse_condition(jacobian)))
 
     def _report(self, error: dict[str, str] | None = None, requested: Any = None) -> dict[str, Any]:
         config = self._config
@@ -643,7 +648,7 @@ class ViewerSession:
         mode = "the followed assembly mode" if self._followed is None else f"mode {self._followed}"
         where = self._inputs_text(reached.actuated, direction)
         conditioning = self._conditioning(reached)
-        if conditioning is not None and conditioning <= SINGULAR_CONDITIONING:
+        if conditioning is not None and conditioning <= SINGULAR_CONDITIONING * self._conditioning_scale:
             if self._continues_through(reached, direction):
                 message = (
                     f"{mode} reaches a type II singularity near {where} (closure conditioning "

@@ -509,6 +509,9 @@ def _certify_arguments(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]]:
     """``certify_roots``' inputs checked (``_checked_system``) with the homogeneous group, and
     flattened for C: coefficients (N, T), exponents, equation, roots (N, P, n), the batch shape."""
+    plain = _plain_arguments(coefficients, exponents, equation, roots, homogeneous, patch)
+    if plain is not None:
+        return plain
     c, exponents, equation, z, batch = _checked_system(coefficients, exponents, equation, roots)
     exponents, equation = np.ascontiguousarray(exponents), np.ascontiguousarray(equation)
     terms, n = exponents.shape
@@ -519,6 +522,44 @@ def _certify_arguments(
     c = np.ascontiguousarray(np.broadcast_to(c, batch + (terms,)).reshape(-1, terms))
     z = np.ascontiguousarray(np.broadcast_to(z, batch + z.shape[-2:]).reshape(-1, *z.shape[-2:]))
     return c, exponents, equation, z, batch
+
+
+#: the families ``_plain_arguments`` has checked, by the identity of their arrays (which it
+#: keeps, so an identity is never reused): (exponents, equation, group, patch) -> the arrays
+_CHECKED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _plain_arguments(
+    coefficients: Any, exponents: Any, equation: Any, roots: Any, homogeneous: list[int] | None, patch: int | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]] | None:
+    """``_certify_arguments`` for the solvers' usual call, without its conversions: C-contiguous
+    complex coefficients (N, T) and roots (N, P, n), int64 exponents (T, n) and equation (T,) of
+    a family already checked (by the identity of its arrays: a homotopy's, every call). The
+    family's checks run once, as in ``_certify_arguments``; None for anything else."""
+    arrays = (coefficients, roots, exponents, equation)
+    if any(type(x) is not np.ndarray or not x.flags.c_contiguous for x in arrays):
+        return None
+    if coefficients.dtype != np.complex128 or roots.dtype != np.complex128:
+        return None
+    if exponents.dtype != np.int64 or equation.dtype != np.int64 or exponents.ndim != 2 or equation.ndim != 1:
+        return None
+    terms, n = exponents.shape
+    if coefficients.ndim != 2 or roots.ndim != 3 or coefficients.shape != (roots.shape[0], terms):
+        return None
+    if roots.shape[2] != n or equation.shape != (terms,):
+        return None
+    key = (id(exponents), id(equation), None if homogeneous is None else tuple(homogeneous), patch)
+    known = _CHECKED.get(key)
+    if known is None or known[0] is not exponents or known[1] is not equation:
+        _check_structure(exponents.tobytes(), exponents.shape, equation.tobytes(), equation.shape)
+        if homogeneous is not None:
+            _check_group(
+                exponents.tobytes(), exponents.shape, equation.tobytes(), tuple(homogeneous), patch, f"{homogeneous}"
+            )
+        if len(_CHECKED) >= 64:
+            _CHECKED.clear()
+        _CHECKED[key] = (exponents, equation)
+    return coefficients, exponents, equation, roots, (roots.shape[0],)
 
 
 @functools.lru_cache(maxsize=64)

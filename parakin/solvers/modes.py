@@ -674,6 +674,9 @@ def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int
     Every pair of modes of an input is compared at once (``_pose_pairs``); slot order then only
     matters among the few slots that have a pair, walked in order as before (a slot marked a
     repeat is no longer an earlier mode)."""
+    if outcome.shape[0] == 1:  # one input (a control loop's call): over its modes only
+        _same_pose_one(outcome[0], poses[0], mode, duplicate)
+        return
     valid = outcome == mode
     rows = np.nonzero(valid.sum(-1) >= 2)[0]  # an input with one mode has no repeat
     if not rows.size:
@@ -698,6 +701,23 @@ def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int
             repeat = (block[:, s] == mode) & (same[:, s, :s] & earlier).any(-1)
             block[:, s] = np.where(repeat, duplicate, block[:, s])
         outcome[part] = block
+
+
+def _same_pose_one(line: np.ndarray, poses: np.ndarray, mode: int, duplicate: int) -> None:
+    """``_same_pose`` for one input's outcomes (slots,) and poses (slots, 4, 4), in place: the
+    pairs of its modes compared as ``_pose_pairs`` compares them, walked in slot order."""
+    slots = np.flatnonzero(line == mode)
+    if slots.size < 2:
+        return
+    chosen = poses[slots]
+    position = chosen[:, :3, 3]
+    largest = np.abs(position).max()
+    moved = np.abs(position[:, None, :] - position[None, :, :]).max(-1)
+    turned = np.abs(chosen[:, None, :3, :3] - chosen[None, :, :3, :3]).max((-2, -1))
+    same = np.tri(slots.size, k=-1, dtype=bool) & (moved <= SAME_POSE * largest) & (turned <= SAME_POSE)
+    for later, earlier in zip(*(index.tolist() for index in np.nonzero(same)), strict=True):
+        if line[slots[later]] == mode and line[slots[earlier]] == mode:
+            line[slots[later]] = duplicate
 
 
 #: inputs whose pairs of slots ``_same_pose`` compares at once (temporaries k x slots x slots x 3)
@@ -1375,7 +1395,8 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         input_independent=outcome == codes["input_independent"],
         outcome=outcome,
         root_kind=kind,
-        conditioning=shaped("conditioning"),
+        # measured at every mode (``Mechanism._measured``); none in a slot that is no mode
+        conditioning=np.where(valid, shaped("conditioning"), np.nan),
         real_roots=shaped("real_roots"),
         near_roots=shaped("near_roots"),
         at_infinity=shaped("at_infinity"),

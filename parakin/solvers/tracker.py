@@ -30,6 +30,7 @@ from parakin.errors import (
 )
 from parakin.pose import rigid_or_nan, wrap_angle
 from parakin.results import Array, Configuration
+from parakin.singularity import inverse_condition
 from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
@@ -48,8 +49,9 @@ class ForwardPoseTracker:
     (n, n_p) and poses (n, 4, 4) as views of internal buffers (copy them to keep them); a
     tracker started from one configuration (no batch axis) given one input (n_a,) returns one
     result, (n_p,) and (4, 4), as ``Mechanism.forward_pose`` does. The
-    last ``residual``, ``iterations``, ``status``, ``conditioning`` (pivot ratio of the closure
-    Jacobian), ``orientation`` (sign of its determinant) and ``mode_change`` stay readable.
+    last ``residual``, ``iterations``, ``status``, ``conditioning`` (the type II distance of
+    ``parakin.singularity`` at the current solutions, measured when read), ``orientation`` (sign
+    of the closure Jacobian's determinant) and ``mode_change`` stay readable.
     Raises ConvergenceError or SingularConfigurationError like ``Mechanism.forward_pose``, and
     with ``strict`` AssemblyModeChangeError (see the module docstring).
     """
@@ -92,7 +94,9 @@ class ForwardPoseTracker:
         self.residual = np.zeros(self.count)
         self.iterations = np.zeros(self.count, dtype=np.int32)
         self.status = np.zeros(self.count, dtype=np.int32)
-        self.conditioning = np.zeros(self.count)
+        # the Newton's pivot ratio of the closure Jacobian (its singularity test); what a user
+        # reads is ``conditioning``, the one measure of every solver
+        self._pivot_ratio = np.zeros(self.count)
         self.orientation = np.zeros(self.count, dtype=np.int32)
         self.first_step = np.zeros(self.count)
         self.mode_change = np.zeros(self.count, dtype=np.int32)
@@ -122,7 +126,7 @@ class ForwardPoseTracker:
                     "guess_stride": n_p, "params": self._params, "max_iterations": max_iterations,
                     "tolerance": tolerance, "max_step": 0.5,
                     "singular_ratio": mechanism.tolerances["singular_ratio"], "passive": self.passive,
-                    "pose": self.pose, "residual": self.residual, "conditioning": self.conditioning,
+                    "pose": self.pose, "residual": self.residual, "conditioning": self._pivot_ratio,
                     "orientation": self.orientation, "first_step": self.first_step,
                     "iterations": self.iterations, "status": self.status,
                 },
@@ -162,6 +166,28 @@ class ForwardPoseTracker:
     def call(self) -> None:
         """One compiled Newton solve on the buffers as they are (no checks)."""
         self._solve(self._job_address)
+
+    @property
+    def conditioning(self) -> Array:
+        """Distance to a type II singularity at the current solutions: ``parakin.singularity``'s
+        sigma_min / sigma_max of the closure Jacobian d closure / d passive, shape (n,) (1 far
+        from, 0 at a singularity; NaN where the Jacobian is not finite), the measure
+        ``forward_pose_all`` reports per mode. Measured when read (one closure call and one
+        batched SVD), so a control loop that does not read it does not pay for it.
+
+        Examples
+        --------
+        >>> import parakin
+        >>> m = parakin.load("five_bar", backend="numpy")
+        >>> tracker = m.tracker(m.forward_pose(m.home_actuated))
+        >>> _ = tracker.solve(m.home_actuated)
+        >>> tracker.conditioning.round(4).tolist()
+        [0.6662]
+        """
+        m = self.mechanism
+        with np.errstate(all="ignore"):
+            jacobian = m.backend.call("loop_closure", self.actuated, self.passive, m.params)["jacobian"]
+        return inverse_condition(jacobian)
 
     @property
     def tolerance(self) -> float:
@@ -282,7 +308,7 @@ class ForwardPoseTracker:
                 solved.iterations,
                 solved.status,
             )
-            self.conditioning[...], self.orientation[...] = solved.conditioning, solved.orientation
+            self._pivot_ratio[...], self.orientation[...] = solved.conditioning, solved.orientation
             self.first_step[...] = solved.first_step
         if self.status.any():  # the whole batch goes back to its previous, consistent state
             self._restore(np.ones(self.count, dtype=bool), previous_theta)
