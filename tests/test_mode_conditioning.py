@@ -81,3 +81,22 @@ def test_tracker_reads_the_same_measure(backend):
     slot = int(np.argmin(distance))
     assert distance[slot] < 1e-9
     assert abs(float(modes.conditioning[slot]) - float(reading[0])) <= 1e-12
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_count_modes_min_conditioning_is_the_smallest_type_ii_distance(backend):
+    """A closed-form mechanism (five_bar's elimination, not a homotopy): count_modes'
+    ``min_conditioning`` per input is the smallest SVD ratio of a central-difference closure
+    Jacobian over that input's modes (1e-7), so a sweep's map reads on the scale of
+    parakin.singularity.NEAR_SINGULAR."""
+    m = parakin.load("five_bar", backend=backend)
+    inputs = m.home_actuated + np.array([[0.0, 0.0], [0.05, -0.03], [-0.04, 0.02]])
+    summary = m.count_modes(inputs)
+    modes = m.forward_pose_all(inputs)
+    checked = 0
+    for i, theta in enumerate(inputs):
+        values = [svd_of_finite_differences(m, theta, modes.passive[i, s]) for s in np.nonzero(modes.valid[i])[0]]
+        assert len(values) == int(summary["count"][i]) >= 2
+        assert abs(float(summary["min_conditioning"][i]) - min(values)) <= 1e-7, (i, summary["min_conditioning"][i])
+        checked += 1
+    assert checked == 3
