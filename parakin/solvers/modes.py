@@ -15,6 +15,7 @@ import ctypes
 import functools
 import os
 import weakref
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -88,6 +89,20 @@ class Retrack(NamedTuple):
 #: (``suspect_paths``): its missing roots are mostly near infinity, where affine paths meet or
 #: escape. The second instance's segment is another path through parameter space
 RETRACKS = (1, 0)
+
+
+#: what the solvers read from a fixed object (a manifest, its homotopy) on every call, by kind and
+#: the object's identity; each entry keeps its object, so an identity is never reused meanwhile
+_FIXED: dict[tuple[str, int], tuple[Any, Any]] = {}
+
+
+def _fixed(kind: str, owner: Any, compute: Callable[[], Any]) -> Any:
+    """``compute()`` for ``owner``, computed once per owner object (``_FIXED``)."""
+    known = _FIXED.get((kind, id(owner)))
+    if known is None or known[0] is not owner:
+        known = (owner, compute())
+        _FIXED[(kind, id(owner))] = known
+    return known[1]
 
 
 def _codes(m: Mechanism) -> dict[str, int]:
@@ -604,7 +619,7 @@ def certify_inputs(
     with np.errstate(all="ignore"):
         coefficients = target_coefficients(_monomials(m, info), free, angles)
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
-    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
+    pairs = _fixed("pairs", homotopy, lambda: path_pairs(homotopy.exponents, homotopy.equation, homotopy.start))
     paired = _paired_ends(pairs, roots)
     result = _certify_endpoints(homotopy, coefficients, roots, pairs, paired, m.backend)
     # the certificate's arrays are its own (fresh from the test): updated in place from here
@@ -709,11 +724,10 @@ def _same_pose_one(line: np.ndarray, poses: np.ndarray, mode: int, duplicate: in
     slots = np.flatnonzero(line == mode)
     if slots.size < 2:
         return
-    chosen = poses[slots]
-    position = chosen[:, :3, 3]
-    largest = np.abs(position).max()
-    moved = np.abs(position[:, None, :] - position[None, :, :]).max(-1)
-    turned = np.abs(chosen[:, None, :3, :3] - chosen[None, :, :3, :3]).max((-2, -1))
+    chosen = poses[slots, :3, :]  # (k, 3, 4): rotation and position
+    largest = np.abs(chosen[:, :, 3]).max()
+    difference = np.abs(chosen[:, None] - chosen[None, :])  # (k, k, 3, 4)
+    moved, turned = difference[..., 3].max(-1), difference[..., :3].max((-2, -1))
     same = np.tri(slots.size, k=-1, dtype=bool) & (moved <= SAME_POSE * largest) & (turned <= SAME_POSE)
     for later, earlier in zip(*(index.tolist() for index in np.nonzero(same)), strict=True):
         if line[slots[later]] == mode and line[slots[earlier]] == mode:
@@ -752,16 +766,19 @@ def _repeats_earlier_mode(
     whether a mode (``valid`` (n, slots)) in an earlier slot of its input has that pose
     (``SAME_POSE``, positions relative to the largest position of the input's modes and the
     candidate, as ``_pose_pairs``)."""
-    earlier = valid[rows] & (np.arange(valid.shape[-1]) < columns[:, None])  # (k, slots)
-    if not earlier.any():
-        return np.zeros(rows.shape, dtype=bool)
-    position = poses[rows, :, :3, 3]  # (k, slots, 3)
-    largest = np.maximum(
-        np.where(valid[rows][..., None], np.abs(position), 0.0).max((-2, -1)), np.abs(pose[:, :3, 3]).max(-1)
-    )
-    moved = np.abs(position - pose[:, None, :3, 3]).max(-1)
-    turned = np.abs(poses[rows, :, :3, :3] - pose[:, None, :3, :3]).max((-2, -1))
-    return (earlier & (moved <= SAME_POSE * largest[:, None]) & (turned <= SAME_POSE)).any(-1)
+    found = np.zeros(rows.shape, dtype=bool)
+    candidate, slot = np.nonzero(valid[rows] & (np.arange(valid.shape[-1]) < columns[:, None]))
+    if not candidate.size:
+        return found
+    inputs = np.unique(rows)
+    sizes = np.zeros(valid.shape[0])
+    sizes[inputs] = np.where(valid[inputs][..., None], np.abs(poses[inputs, :, :3, 3]), 0.0).max((-2, -1))
+    largest = np.maximum(sizes[rows], np.abs(pose[:, :3, 3]).max(-1))[candidate]
+    earlier = poses[rows[candidate], slot, :3, :]  # (pairs, 3, 4): rotation and position
+    difference = np.abs(earlier - pose[candidate, :3, :])
+    same = (difference[:, :, 3].max(-1) <= SAME_POSE * largest) & (difference[:, :, :3].max((-2, -1)) <= SAME_POSE)
+    found[candidate[same]] = True
+    return found
 
 
 def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
@@ -1280,7 +1297,10 @@ def quaternion_blocks(m: Mechanism) -> tuple[int, ...]:
     """The first index of each unit quaternion among the passive values: four consecutive
     dimensionless variables (``parakin.packages.manifest.Variable``: dimensionless means a
     quaternion component)."""
-    kinds = [v.kind for v in m.manifest.passive]
+    return _fixed("quaternion_blocks", m.manifest, lambda: _quaternion_starts([v.kind for v in m.manifest.passive]))
+
+
+def _quaternion_starts(kinds: list[str]) -> tuple[int, ...]:
     starts, k = [], 0
     while k + 4 <= len(kinds):
         if all(kind == "dimensionless" for kind in kinds[k : k + 4]):
