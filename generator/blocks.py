@@ -171,15 +171,17 @@ def paired_circle_points(radius: float, centres: Sequence[float], offset: float,
     return [_on_circle(radius, centre + side * math.radians(offset), dims) for centre, side in sides]
 
 
-def radial_directions(count: int) -> list[sp.Matrix]:
-    """Exact unit vectors (cos eta_k, sin eta_k, 0), eta_k = 2 pi k / count, k = 0 .. count - 1:
-    the directions of legs spaced evenly about the z axis (for three legs the entries are 1, 0,
-    -1/2, +-sqrt(3)/2), so that the derived closure carries no rounded constant.
+def radial_directions(count: int, start: sp.Expr | int = 0) -> list[sp.Matrix]:
+    """Exact unit vectors (cos eta_k, sin eta_k, 0), eta_k = start + 2 pi k / count, k = 0 ..
+    count - 1: the directions of legs spaced evenly about the z axis (for three legs from 0 the
+    entries are 1, 0, -1/2, +-sqrt(3)/2), so that the derived closure carries no rounded constant.
 
     Parameters
     ----------
     count : int
         The number of directions, at least 1.
+    start : sympy expression
+        eta_0, radians (exact, e.g. ``sp.pi / 2``).
 
     Returns
     -------
@@ -198,7 +200,7 @@ def radial_directions(count: int) -> list[sp.Matrix]:
     """
     if count < 1:
         raise ValueError(f"radial_directions: count must be at least 1, got {count}")
-    angles = [2 * sp.pi * k / count for k in range(count)]
+    angles = [start + 2 * sp.pi * k / count for k in range(count)]
     return [sp.Matrix([sp.cos(eta), sp.sin(eta), 0]) for eta in angles]
 
 

@@ -24,14 +24,14 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
+from parakin.generator.blocks import pose_values, radial_directions
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p = sp.symbols("r_b r_p", positive=True)
 lengths = sp.symbols("l1:4", positive=True)
-#: leg angles 90, 210, 330 deg, exactly (cos, sin)
-ANGLES = [(sp.Integer(0), sp.Integer(1)), (-sp.sqrt(3) / 2, -sp.Rational(1, 2)), (sp.sqrt(3) / 2, -sp.Rational(1, 2))]
-RADIAL = [sp.Matrix([c, s, 0]) for c, s in ANGLES]
-TANGENT = [sp.Matrix([-s, c, 0]) for c, s in ANGLES]
+#: leg directions at 90, 210, 330 deg (exact) and their tangents z x e_i, the revolute axes
+RADIAL = radial_directions(3, start=sp.pi / 2)
+TANGENT = [sp.Matrix([0, 0, 1]).cross(e) for e in RADIAL]
 DEFAULTS = {r_b: 1.0, r_p: 0.5}
 HOME_HEIGHT = 1.0
 
@@ -49,7 +49,7 @@ EXAMPLES = [
         name="home",
         description="the platform level at p = (0, 0, 1): by hand every leg spans r_b - r_p = 0.5 m "
         "across and 1 m up, l = sqrt(1.25) = 1.1180339887 m",
-        pose=[[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, HOME_HEIGHT], [0.0, 0.0, 0.0, 1.0]],
+        pose=pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT]),
         branch=0,
         expected={"actuated": [math.sqrt(1.25)] * 3},
         tolerance=1e-12,

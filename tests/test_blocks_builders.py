@@ -59,6 +59,8 @@ def test_radial_directions_are_exact_unit_vectors_evenly_spaced():
     for k, e in enumerate(directions):
         assert sp.simplify(e.dot(e)) == 1
         assert sp.simplify(e.dot(directions[(k + 1) % 3]) - sp.cos(2 * sp.pi / 3)) == 0
+    turned = radial_directions(3, start=sp.pi / 2)  # 90, 210, 330 deg
+    assert turned[0].T.tolist() == [[0, 1, 0]] and turned[2].T.tolist() == [[sp.sqrt(3) / 2, -sp.Rational(1, 2), 0]]
     with pytest.raises(ValueError, match="count"):
         radial_directions(0)
 

@@ -54,7 +54,7 @@ MODEL_LINES = {
     "planar_3rrr": 72,
     "stewart": 73,
     "sphere2r": 45,
-    "rps3": 49,
+    "rps3": 48,
     "tricept": 70,
 }
 #: a mechanism file added since: a description as long as the longest above at most
