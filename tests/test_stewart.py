@@ -4,6 +4,8 @@ random geometries, an independent multi-start search and special geometries."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from scipy.optimize import least_squares
@@ -118,7 +120,7 @@ def test_backends_agree_on_dietmaier():
     assert np.abs(found["numpy"] - found["compiled"]).max() < 1e-9
 
 
-def random_design(rng: np.random.Generator) -> dict[str, list[list[float]]]:
+def random_design(rng: np.random.Generator) -> dict[str, Any]:
     return {"base": rng.uniform(-1, 1, (6, 3)).tolist(), "platform": rng.uniform(-0.6, 0.6, (6, 3)).tolist()}
 
 
