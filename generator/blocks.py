@@ -15,13 +15,17 @@
 * ``half_angle_forms`` and ``remove_spurious_factors``: build a univariate elimination polynomial
   in t = tan(phi / 2) with exact polynomial arithmetic and strip what the elimination introduced
   (numeric or symbolic content, powers of (1 + t^2) or other known factors, powers of t).
-* Layouts and declarations a mechanism file would otherwise write by hand: ``circle_points`` and
-  ``paired_circle_points`` (default joint positions on circles, numerically), ``radial_directions``
-  (exact unit vectors at equal angles), ``point_group`` / ``leg_parameters`` / ``scalar_parameter`` with
-  ``parameter_fields`` (parameters, their defaults and meaning in one declaration),
-  ``pose_values`` / ``planar_pose_values`` (an example pose as a 4x4 list), ``home_from_pose``
-  (a home read by the inverse at a pose) and ``euler_platform`` (Euler-angle coordinates and
-  their reading from a pose, any sequence; ``euler_pose`` / ``euler_pose_values`` a pose of such angles).
+* What a mechanism file would otherwise write by hand (issue 32, item 4):
+  - layouts: ``circle_points``, ``paired_circle_points`` and ``pair_sides`` (default joint
+    positions on circles, numerically), ``radial_directions`` (exact unit vectors at equal
+    angles), ``crank_bases`` (shafts that put crank tips on given points);
+  - declarations: ``point_group``, ``leg_parameters`` and ``scalar_parameter`` with
+    ``parameter_fields`` (the parameters, their defaults and meaning, declared once);
+  - poses and homes: ``pose_values``, ``planar_pose_values``, ``euler_pose_values`` and
+    ``frame_pose_values`` (an example pose as a 4x4 list; ``euler_pose`` as a 17-digit matrix),
+    ``home_from_pose`` (a home read by the model's inverse at a pose);
+  - ``euler_platform``: Euler-angle platform coordinates and their reading from a pose, for any
+    of the twelve sequences.
 """
 
 from __future__ import annotations
