@@ -24,6 +24,7 @@ from dataclasses import replace
 
 import sympy as sp
 from parakin.generator import joints
+from parakin.generator.blocks import home_from_pose
 from parakin.generator.frames import rot_z
 from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 from parakin.mechanisms._spm_forward import Geometry, forward
@@ -96,9 +97,6 @@ def build() -> Mechanism:
     # drawn on the unit sphere: each leg from its actuated axis u_i (not the centre of w_i's circle)
     axes = sp.Matrix.hstack(*(base_axes(i)[0] for i in range(3)))
     fields["drawing"] = replace(fields["drawing"], points={**fields["drawing"].points, "base": axes})
-    # home: the platform at R = I on inverse branch 0 (all sigma_i = +1), symmetric and far from
-    # both singularity kinds
-    home = MODEL.home_at(sp.eye(3), None, 0, parameters)
     return Mechanism(
         name="spm",
         title="3-RRR spherical parallel manipulator (Bai, Hansen & Angeles 2009 parametrisation)",
@@ -111,9 +109,9 @@ def build() -> Mechanism:
         parameters=parameters,
         **fields,
         forward=forward(Geometry(base_axes, platform_axis, theta, alpha1, alpha2, beta)),
-        home={
-            symbol: math.remainder(value, 2 * math.pi) if symbol in theta else value for symbol, value in home.items()
-        },
+        # home: the platform at R = I on inverse branch 0 (all sigma_i = +1), symmetric and far from
+        # both singularity kinds
+        home=home_from_pose(MODEL, sp.eye(3), 0, parameters),
         parameter_info={
             alpha1: ParameterInfo(
                 "rad", "proximal link angle, between the actuated axis u_i and the intermediate axis w_i", "positive"

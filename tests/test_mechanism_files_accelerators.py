@@ -47,7 +47,7 @@ MODEL_LINES = {
     "prs3": 109,
     "sam": 89,
     "rus6": 104,
-    "spm": 79,
+    "spm": 76,
     "planar_3rpr": 51,
     "delta": 81,
     "five_bar": 68,
