@@ -475,12 +475,20 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
     coordinate): per root its cluster's first member (-1 where not ``unique``), and per input
     whether no two boxes overlap."""
     count = unique.shape[-1]
-    # coordinates first: the test over them is then over whole planes (n, ..., P, P)
-    xs, rs = (np.ascontiguousarray(np.moveaxis(v, -1, 0)) for v in (x, r))
-    gap = abs(xs[..., :, None] - xs[..., None, :]) * (1 - 8 * UNIT)
-    apart = (gap > (rs[..., :, None] + rs[..., None, :]) * (1 + 8 * UNIT)).any(0)
-    touch = unique[..., :, None] & unique[..., None, :] & ~apart
-    distinct = ~(touch & ~np.eye(count, dtype=bool)).any((-2, -1))
+    both = unique[..., :, None] & unique[..., None, :]
+    others = ~np.eye(count, dtype=bool)
+    # two boxes are apart where they are apart in some coordinate: coordinate by coordinate,
+    # until every pair of distinct certified boxes is apart (distinct roots mostly are in the
+    # first), each coordinate over whole planes (..., P, P)
+    apart = np.zeros(both.shape, dtype=bool)
+    for k in range(x.shape[-1]):
+        xk, rk = x[..., k], r[..., k]
+        gap = abs(xk[..., :, None] - xk[..., None, :]) * (1 - 8 * UNIT)
+        apart |= gap > (rk[..., :, None] + rk[..., None, :]) * (1 + 8 * UNIT)
+        if not (both & others & ~apart).any():
+            break
+    touch = both & ~apart
+    distinct = ~(touch & others).any((-2, -1))
     # a box that touches no other is its own cluster; the closure is needed only where boxes touch
     labels = np.where(unique, np.arange(count), -1)
     if not distinct.all():
