@@ -432,7 +432,7 @@ def main() -> None:
             print(line)
     print(
         f"\nforward_pose_all on the papers' named inputs: {EXAMPLE_REPEATS} single-threaded calls each (us); worst = "
-        f"smallest conditioning (pivot ratio of the closure Jacobian) of a mode; multi-start = scipy.optimize.root from "
+        f"smallest conditioning (type II distance sigma_min/sigma_max of the closure Jacobian) of a mode; multi-start = scipy.optimize.root from "
         f"{EXAMPLE_STARTS} random starts on the same input\n"
     )
     header = (

@@ -124,8 +124,9 @@ class AssemblyModes:
     says whether it is a mode).
     ``outcome`` (..., M) says what became of every slot (codes: ``OUTCOMES``); ``root_kind`` is
     the kind of the slot's root (0 simple, 1 cluster of numerically multiple roots, 2 complex
-    pair near the real axis, -1 no root). ``conditioning``: pivot ratio of the closure Jacobian
-    (1 well conditioned, 0 at a type II singularity). Per input: ``real_roots`` (distinct finite
+    pair near the real axis, -1 no root). ``conditioning``: the type II distance
+    (``parakin.singularity.type_ii_distance``: sigma_min / sigma_max of d closure / d passive), 1
+    far from, 0 at a type II singularity; NaN in a slot that is no mode. Per input: ``real_roots`` (distinct finite
     real roots), ``near_roots``, ``at_infinity`` and ``status`` (``INPUT_STATUS``)."""
 
     actuated: Array
@@ -286,8 +287,8 @@ class AssemblyModes:
         Parameters
         ----------
         singular_ratio : float
-            The pivot ratio of the closure Jacobian (``conditioning``) at or below which a mode
-            counts as singular.
+            The type II distance (``conditioning``: sigma_min / sigma_max of the closure
+            Jacobian) at or below which a mode counts as singular.
 
         Returns
         -------
