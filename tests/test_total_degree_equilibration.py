@@ -67,3 +67,22 @@ def test_a_badly_scaled_system_keeps_its_known_count_only_equilibrated() -> None
     # unscaled, the 1e-6 equation is still the start system's at the endgame's t = 1e-6: some
     # paths end outside their solution's Newton basin (at these seeds one run of five loses one)
     assert min(_matched(f, solutions) for f in unscaled) < 9
+
+
+def test_a_stored_solution_at_the_rounding_level_is_verified_in_40_digits() -> None:
+    """A Wilkinson polynomial prod_k (z - 0.7 k), k = 1..12, expanded, beside y = s (its roots
+    0.7 k are ill-conditioned: rounding in the expanded form leaves Newton steps in doubles of
+    1e-10 to 2e-9 at the roots rounded to doubles, as at the skew 3-RRS's). ``_solutions_at``
+    accepts those (40-digit Newton returns each to itself) and rejects a root moved by 1e-9 of
+    its size, which 40-digit Newton moves back."""
+    z, y, r, s = sp.symbols("z y r s")
+    equations = [sp.expand(sp.prod([z - k * sp.Rational(7, 10) for k in range(1, 13)])) - r, y - s]
+    family = homotopy.Family(PolynomialForm([z, y], equations, [(r, r), (s, s)], [z, y]), equations)
+    q = np.zeros(2, complex)
+    roots = np.array([[0.7 * k, 0.0] for k in range(1, 13)], dtype=complex)
+    size = homotopy.newton_size(family, roots, q)
+    assert 1e-10 < size.max() < homotopy.REGULAR_RECHECK  # the doubles' own check cannot tell
+    assert homotopy._solutions_at(family, q, roots)
+    moved = roots.copy()
+    moved[8, 0] *= 1 + 1e-9
+    assert not homotopy._solutions_at(family, q, moved)
