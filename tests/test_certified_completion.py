@@ -160,13 +160,16 @@ def test_conjugates_and_other_runs_fill_the_slots_no_box_holds_and_count_each_ro
     m, info, out, found = _first_run(rus6, theta)
     nonreal = np.nonzero(found.unique[0] & (found.real[0] == -1))[0]
     z = found.centre[0]
-    # the certified non-real roots whose conjugate is also a certified root of the run: forget
-    # one of each of a few such pairs
+    # the certified non-real roots whose conjugate is also a certified root of the run, each
+    # alone in its cluster (two paths may end at one root: their boxes form one cluster, and
+    # forgetting one of them takes no root away): forget one of each of a few such pairs
+    alone = np.bincount(found.labels[0][found.unique[0]], minlength=z.shape[0]) == 1
     partner = {}
-    for p in nonreal:
+    for p in nonreal[alone[found.labels[0][nonreal]]]:
         distance = np.abs(z - np.conj(z[p])).max(-1)
         q = int(np.argmin(np.where(found.unique[0], distance, np.inf)))
-        if np.abs(z[q] - np.conj(z[p])).max() <= found.radii[0, p].max() + found.radii[0, q].max():
+        close = np.abs(z[q] - np.conj(z[p])).max() <= found.radii[0, p].max() + found.radii[0, q].max()
+        if close and alone[found.labels[0][q]]:
             partner[int(p)] = q
     assert len(partner) >= 20
     forgotten = sorted({max(p, q) for p, q in list(partner.items())[:12]})
