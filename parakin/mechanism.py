@@ -838,15 +838,20 @@ class Mechanism:
                     f"{self.name} has no closed-form forward elimination: forward_pose_all is not available; "
                     "use forward_pose (Newton from a guess)"
                 )
-            single = self.forward_pose(theta)  # a serial chain has exactly one forward pose
+            # a serial chain (no passive joint) has exactly one forward pose, a function of its
+            # joints: complete by construction, so its certificate says so
+            single = self.forward_pose(theta)
             one = np.ones(theta.shape[:-1] + (1,), dtype=bool)
             zero = np.zeros(theta.shape[:-1], dtype=np.int32)
             return AssemblyModes(
                 theta, single.pose[..., None, :, :], single.passive[..., None, :], single.residual[..., None],
                 np.full(one.shape, np.nan), one, one, one.sum(-1), ~one,
-                outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.full(one.shape, -1, dtype=np.int32),
-                conditioning=np.ones(one.shape), real_roots=zero, near_roots=zero, at_infinity=zero, status=zero,
+                outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.zeros(one.shape, dtype=np.int32),
+                conditioning=np.ones(one.shape), real_roots=zero + 1, near_roots=zero, at_infinity=zero, status=zero,
                 outcomes=self.manifest.abi.mode_outcomes, pose_kind=self.manifest.pose_kind,
+                method="serial chain", root_count=1, root_count_proven=True,
+                certified_roots=np.ones(theta.shape[:-1], dtype=np.int64), path_certified=one,
+                undecided_roots=np.zeros(theta.shape[:-1], dtype=np.int64),
             )  # fmt: skip
         flat = theta.reshape(-1, theta.shape[-1])
         count = flat.shape[0]
