@@ -113,7 +113,7 @@ def _fewer_steps(monkeypatch: pytest.MonkeyPatch, name: str, theta: np.ndarray |
     """track_hermite with the rational predictor against the same tracker with the cubic Hermite
     predictor it replaced: the same ends and endpoints, at least 15 % fewer step attempts and 10 %
     fewer evaluations (most steps take one correction either way since the corrector stops after
-    one where the path's Newton constant allows: planar_3rrr 14.6 % fewer), rejections under
+    one where the path's Newton constant allows: planar_3rrr 15 % fewer), rejections under
     15 %; returns the paths compared."""
     system, start, tolerance = _homotopy(name, theta, count)
     rational = tracking.track_hermite(system, start, tolerance)

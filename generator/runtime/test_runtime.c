@@ -13,7 +13,7 @@
 #define NZ 2
 #define CORRECTIONS 3
 #define INITIAL_STEP 0.05
-#define PREDICTOR_TARGET 0.01
+#define PREDICTOR_TARGET 0.005
 #define STEP_SAFETY 0.8
 #define STEP_GROW 2.0
 #define STEP_SHRINK 0.25
@@ -24,7 +24,7 @@
 #define END_GAP 1e-13
 #define RATIONAL_GUARD 0.3
 #define ONE_STEP_BASIN 0.25
-#define ONE_STEP_ERROR 1e-4
+#define ONE_STEP_ERROR 1e-5
 #define OMEGA_DECAY 0.5
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 

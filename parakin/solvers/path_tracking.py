@@ -37,7 +37,7 @@ END_GAP = 1e-13
 #: track_hermite's (and the C driver's) step control: the first Newton correction of a step (the
 #: predictor's error, relative to |z|) that the next step is sized to reach; the step's safety
 #: factor, and the most it grows after an accepted step and shrinks after a rejected one
-PREDICTOR_TARGET = 1e-2
+PREDICTOR_TARGET = 5e-3
 STEP_SAFETY = 0.8
 STEP_GROW = 2.0
 STEP_SHRINK = 0.25
@@ -51,7 +51,7 @@ RATIONAL_GUARD = 0.3
 #: omega d^2 below ONE_STEP_ERROR (relative to |z|: the iterate only has to stay in its own path's
 #: basin during the path; the endpoint is refined at s = 0)
 ONE_STEP_BASIN = 0.25
-ONE_STEP_ERROR = 1e-4
+ONE_STEP_ERROR = 1e-5
 OMEGA_DECAY = 0.5
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
