@@ -129,6 +129,9 @@ TOTAL_DEGREE_MAX = 10000
 TOTAL_DEGREE_RUNS = 2
 TOTAL_DEGREE_MAX_RUNS = 4
 TOTAL_DEGREE_METHOD = "total-degree homotopy"
+#: a run's paths are tracked in parts of at least this many, a progress line with an estimate
+#: after each (the same endpoints: paths are tracked independently)
+TOTAL_DEGREE_PART = 512
 #: in the method of runs that tracked the equilibrated system (``equilibration``): an unproven
 #: record without it (21-22 of the skew 3-RRS's 32 per run) is run again by today's rule
 TOTAL_DEGREE_EQUILIBRATED = "equations equilibrated"
@@ -908,7 +911,9 @@ class _Scaled:
         return self.rows[:, None] * self.family.jacobian(y * self.columns, q) * self.columns
 
 
-def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng, equilibrate: bool = True) -> np.ndarray:
+def total_degree_run(
+    family: Family, q: np.ndarray, degrees: list[int], rng, equilibrate: bool = True, name: str = ""
+) -> np.ndarray:
     """Every regular isolated solution of F(z; q) = 0 that one total-degree homotopy of
     prod(degrees) paths reaches (Morgan and Sommese; Bates, Hauenstein, Sommese and Wampler,
     "Numerically solving polynomial systems with Bertini", 2013, ch. 2): with a random gamma
@@ -937,6 +942,8 @@ def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng, equ
         The run's gamma and projective patch.
     equilibrate : bool
         Whether the equations are equilibrated first.
+    name : str
+        The family's name in the progress lines (one per ``TOTAL_DEGREE_PART`` paths).
 
     Returns
     -------
@@ -959,7 +966,7 @@ def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng, equ
     judge = _Scaled(family, *equilibration(family, q))
     tracked = judge if equilibrate else _Scaled(family, np.ones(n), np.ones(n))
     system = _total_degree_system(tracked, q, d, gamma, patch)
-    ended = track(system, start)
+    ended = _tracked_in_parts(system, start, name)
     z = ended.z.copy()
     again = np.nonzero(ended.status != PATH_REACHED)[0]
     if again.size:
@@ -979,6 +986,36 @@ def total_degree_run(family: Family, q: np.ndarray, degrees: list[int], rng, equ
     near = newton_size(judge, x / judge.columns, q) < REGULAR_RECHECK
     candidates = _add_new(found, x[~regular & near])[0][known:]
     return _add_new(found, _regular_in_40_digits(judge, q, candidates))[0]
+
+
+def _part_of(system, part: np.ndarray):
+    """``system`` for the paths ``part`` of a run (the tracker's indices are the part's)."""
+
+    def restricted(index, w, s):
+        return system(part[index], w, s)
+
+    return restricted
+
+
+def _tracked_in_parts(system, start: np.ndarray, name: str):
+    """``track`` of every start point, in parts of ``TOTAL_DEGREE_PART`` paths or more with a
+    progress line and an estimate of the time left after each but the last (a Hexaglide's run of
+    8192 paths takes minutes); the endpoints are the same as one call's."""
+    from parakin.solvers.path_tracking import Paths, track
+
+    parts = np.array_split(np.arange(len(start)), max(1, len(start) // TOTAL_DEGREE_PART))
+    began = time.perf_counter()
+    ended = []
+    for k, part in enumerate(parts, 1):
+        ended.append(track(_part_of(system, part), start[part]))
+        if k < len(parts):
+            spent = time.perf_counter() - began
+            done = sum(len(p) for p in parts[:k])
+            logger.info(
+                "%s: total-degree run: %d of %d paths tracked in %.0f s, about %.0f s left",
+                name, done, len(start), spent, spent * (len(start) - done) / done,
+            )  # fmt: skip
+    return Paths(*(np.concatenate(field) for field in zip(*ended, strict=True)))
 
 
 def _regular_in_40_digits(judge: _Scaled, q: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -1046,7 +1083,7 @@ def _total_degree_bound(
             )  # fmt: skip
         else:
             logger.info("%s: total-degree run 1 of at least %d (%d paths)", name, TOTAL_DEGREE_RUNS, paths)
-        runs.append(total_degree_run(family, q, degrees, rng))
+        runs.append(total_degree_run(family, q, degrees, rng, True, name))
         joined = _closed(_add_new(joined, runs[-1])[0], flips)
     complete = agreeing() >= TOTAL_DEGREE_RUNS
     counts = ", ".join(str(len(found)) for found in runs)
