@@ -464,10 +464,15 @@ def certificate_verdict(modes: AssemblyModes, api_hints: bool = True) -> str:
     if count.ndim == 0 and int(modes.certified_roots) < modes.root_count:  # type: ignore[call-overload]
         missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
         hint = " (path_certified: which paths)" if api_hints else ""
-        return (
-            f"not certified complete: {int(modes.certified_roots)} of {modes.root_count} roots "  # type: ignore[call-overload]
-            f"certified, {missing} not{hint}"
-        )
+        certified = f"{int(modes.certified_roots)} of {modes.root_count} roots certified"  # type: ignore[call-overload]
+        if int(modes.at_infinity) >= missing:  # type: ignore[call-overload]
+            # their paths end at 1e6 times the mechanism's size or beyond, or head there (``modes.FAR_ROOT``)
+            return (
+                f"not certified complete: {certified}, the other {missing} paths head to infinity "
+                "(roots at infinity: the input is degenerate, as a home configuration often is; "
+                f"no finite root beyond the certified ones is proven absent){hint}"
+            )
+        return f"not certified complete: {certified}, {missing} not{hint}"
     if count.ndim == 0:  # every root certified, the realness of some undecided
         return (
             f"not certified complete: {undecided} certified root{'s' if undecided != 1 else ''} "

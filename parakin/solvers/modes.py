@@ -89,6 +89,24 @@ class Retrack(NamedTuple):
 #: (``suspect_paths``): its missing roots are mostly near infinity, where affine paths meet or
 #: escape. The second instance's segment is another path through parameter space
 RETRACKS = (1, 0)
+#: an end this large (the largest of its unknowns, in the mechanism's own length scale:
+#: ``length_scale``) is far: a root there is 1e6 times the mechanism's size, at or near infinity.
+#: At a degenerate input (a home configuration, often) some of the family's roots go to infinity:
+#: their paths grow as s^(-1/c) (c their winding number) and, with the input rounded, end at
+#: 1e8-1e9 or beyond, where no certificate holds (rus6 at home: 24 of 80 paths, each ending
+#: uncertified at 3e8-7e8 in the projective re-track). Budget: an input whose missing roots are
+#: all accounted for by far, uncertified ends of its suspect paths' projective re-track is not
+#: tracked again from ``RETRACKS`` (those runs end on the same far points), nor are far ends
+#: tested in exact arithmetic (``certify_inputs``); its ``at_infinity`` counts them and the
+#: verdict says so. Only work is skipped: nothing is certified that was not
+FAR_ROOT = 1e6
+#: the values of s (1 at the start, 0 at the input) at which ``toward_infinity`` reads a path's
+#: homogenising coordinate w, relative to its point on the patch: toward a root at infinity |w|
+#: falls as s^(1/c) (c the path's winding number; planar_3rrr at home: 0.36, 0.11, 0.036, c = 2),
+#: toward a finite root, singular or not, it tends to the root's own, nonzero
+PROBE_S = (1e-3, 1e-4, 1e-5)
+#: the least factor |w| falls by from each of ``PROBE_S`` to the next: 10^(1/c) for c <= 5
+PROBE_FALL = 1.5
 
 
 #: what the solvers read from a fixed object (a manifest, its homotopy) on every call, by kind and
@@ -132,6 +150,7 @@ def _allocate(info: Forward, m: Mechanism, count: int) -> dict[str, np.ndarray]:
         "status": np.empty(count, dtype=np.int32),
         # a homotopy's complex endpoints (re, im) per path, for the certificate
         "endpoints": np.full((count, slots, info.homotopy.start.shape[1] if info.homotopy else 0, 2), np.nan),
+        **({"end_size": np.zeros((count, slots))} if info.homotopy else {}),
     }
 
 
@@ -430,7 +449,11 @@ def _homotopy_candidates(
     shape = (n, paths)
     failed = (ended.status == PATH_FAILED).reshape(shape)
     endpoints = np.where((ended.status == PATH_REACHED)[:, None], ended.z, np.nan)
+    with np.errstate(invalid="ignore"):
+        size = np.where(ended.status == PATH_DIVERGED, np.inf, np.abs(ended.z).max(-1))
     return {
+        # how large each path's end is, however it ended (inf: diverged): ``FAR_ROOT``
+        "end_size": np.nan_to_num(size, nan=0.0).reshape(shape),
         "endpoints": np.stack([endpoints.real, endpoints.imag], axis=-1).reshape(shape + (-1, 2)),
         "pose": pose.reshape(shape + (4, 4)),
         "q": q.reshape(shape + (-1,)),
@@ -503,6 +526,65 @@ def _track_some(
         status[images] = status[images[0], source[images[1]]]
     steps = np.zeros(count * paths, dtype=np.int32)
     return Paths(z.reshape(-1, size), status.reshape(-1), steps, np.full(count * paths, np.nan))
+
+
+def toward_infinity(m: Mechanism, info: Forward, theta: Array, paths: np.ndarray) -> np.ndarray:
+    """Per input and path (inputs, P): which of the paths ``paths`` (inputs, P) of the inputs
+    ``theta`` (inputs, n_a) head to infinity: tracked in projective space from the first start
+    (``parakin.solvers.projective``) to each s of ``PROBE_S`` in turn, their w relative to the
+    point falls by ``PROBE_FALL`` or more from each to the next. Evidence, not a proof (a path
+    toward a finite root of size beyond 1e5 could show the same): it decides only where work
+    stops and what the verdict says of the paths (``certified_modes``); it certifies nothing.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism (its own length scale).
+    info : Forward
+        A homotopy's method.
+    theta : ndarray, shape (inputs, n_a)
+        Actuated values, m or rad.
+    paths : ndarray of bool, shape (inputs, P)
+        The paths to follow.
+
+    Returns
+    -------
+    ndarray of bool, shape (inputs, P)
+        True where the path heads to infinity; False elsewhere and where not asked.
+    """
+    homotopy = info.homotopy
+    assert homotopy is not None
+    heading = np.zeros(paths.shape, dtype=bool)
+    rows, columns = np.nonzero(paths)
+    if not rows.size:
+        return heading
+    family = projective_family(homotopy.exponents, homotopy.equation, path_pairs(
+        homotopy.exponents, homotopy.equation, homotopy.start))  # fmt: skip
+    every = family_system(
+        projective_table(family, _path_table(m, info, theta, 0)), family.exponents, family.equation, 1
+    )
+    tolerance = float(_settings(m)["path_tolerance"])
+    z = to_projective(family, homotopy.start[columns])
+    alive = np.ones(rows.size, dtype=bool)
+    size = np.full((len(PROBE_S), rows.size), np.nan)
+    high = 1.0
+    for k, low in enumerate(PROBE_S):
+        live = np.nonzero(alive)[0]
+        if not live.size:
+            break
+
+        def system(index: np.ndarray, point: np.ndarray, s: np.ndarray, r=rows[live], a=low, b=high):
+            value, jacobian, rate = every(r[index], point, a + (b - a) * s)  # s in [0, 1] onto [a, b]
+            return value, jacobian, rate * (b - a)
+
+        ended = track(system, z[live], tolerance)
+        z[live], alive[live] = ended.z, ended.status == PATH_REACHED
+        size[k, live] = np.abs(ended.z[:, -1]) / np.abs(ended.z).max(-1)
+        high = low
+    with np.errstate(invalid="ignore"):
+        falls = (size[1:] * PROBE_FALL <= size[:-1]).all(0)
+    heading[rows, columns] = alive & falls
+    return heading
 
 
 def suspect_paths(endpoints: np.ndarray, unique: np.ndarray) -> np.ndarray:
@@ -629,7 +711,9 @@ def certify_inputs(
         labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii, labels)
-    finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
+    with np.errstate(invalid="ignore"):  # a far end (``FAR_ROOT``) is not tried exactly: a budget
+        near = np.abs(roots).max(-1) <= FAR_ROOT
+    finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None] & near
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
         source[np.ix_(np.nonzero(paired)[0], pairs.second)] = pairs.first
@@ -890,8 +974,9 @@ def certified_modes(
     retracked = np.zeros(theta.shape[0], dtype=bool)
     finite = np.isfinite(theta).all(-1)
     add_conjugates(m, info, theta, out, found, np.nonzero((found.certified < count) & finite)[0])
+    far = np.zeros(theta.shape[0], dtype=bool)  # the missing roots' paths all end far (``FAR_ROOT``)
     for instance in (None, *RETRACKS):
-        short = np.nonzero((found.certified < count) & finite)[0]
+        short = np.nonzero((found.certified < count) & finite & ~far)[0]
         if not short.size:
             break
         retracked[short] = True
@@ -901,8 +986,17 @@ def certified_modes(
         else:
             plan = Retrack(instance)
         again = numpy_modes(m, theta[short], info, retrack=plan)
-        merge_roots(out, found, short, again, certify(m, info, theta[short], again["endpoints"], exact))
+        second = certify(m, info, theta[short], again["endpoints"], exact)
+        merge_roots(out, found, short, again, second)
         add_conjugates(m, info, theta, out, found, short[found.certified[short] < count])
+        if instance is None and plan.redo is not None:  # the re-tracked paths that end far or head there
+            left = plan.redo & ~second.unique
+            far_end = left & (again["end_size"] > FAR_ROOT)
+            open_paths = left & ~far_end
+            could = found.certified[short] + left.sum(-1) >= count  # the probe could account for all
+            heading = far_end | toward_infinity(m, info, theta[short], open_paths & could[:, None])
+            out["at_infinity"][short] = heading.sum(-1)
+            far[short] = found.certified[short] + heading.sum(-1) >= count
     out = reconcile(m, info, theta, out, found)
     return out | {"certified": found.certified, "path_certified": found.unique, "retracked": retracked}
 
@@ -1253,6 +1347,7 @@ def _settle(
             if "endpoints" in found
             else {}
         ),
+        **({"end_size": np.where(finite_input[:, None], found["end_size"], 0.0)} if "end_size" in found else {}),
     }
 
 
