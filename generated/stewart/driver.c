@@ -697,7 +697,7 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 // the tracker's constants (parakin.solvers.path_tracking)
 #define CORRECTIONS 3
 #define INITIAL_STEP 0.05
-#define PREDICTOR_TARGET 0.01
+#define PREDICTOR_TARGET 0.005
 #define STEP_SAFETY 0.8
 #define STEP_GROW 2.0
 #define STEP_SHRINK 0.25
@@ -708,7 +708,7 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 #define END_GAP 1e-13
 #define RATIONAL_GUARD 0.3
 #define ONE_STEP_BASIN 0.25
-#define ONE_STEP_ERROR 0.0001
+#define ONE_STEP_ERROR 1e-05
 #define OMEGA_DECAY 0.5
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
