@@ -51,12 +51,17 @@ import numpy as np
 import parakin
 from parakin.studies.sampling import sample_configurations
 
-DIGITS = 8  # significant digits of a mode's passive values in its digest (modes are polished to 1e-13)
+DECIMALS = 6  # a mode's passive values (m, rad) in its digest: rounded to 1e-6 (modes are polished to 1e-13)
 
 
 def mode_digest(passive: np.ndarray) -> str:
-    """A short digest of a set of modes, (k, n_p) passive values, independent of their order."""
-    rows = sorted(tuple(float(f"{value:.{DIGITS - 1}e}") + 0.0 for value in row) for row in passive)
+    """A short digest of a set of modes, (k, n_p) passive values, independent of their order.
+
+    Values are rounded to ``DECIMALS`` decimals (not significant digits: a value near zero must not
+    change its digest with its sign), so two runs whose modes agree to 1e-13 give the same digest
+    unless a value lies within 1e-13 of a rounding boundary (about one value in 10^6): the digest is
+    a quick check, ``tests/census_compare.py --modes`` the comparison within a tolerance."""
+    rows = sorted(tuple(round(float(value), DECIMALS) + 0.0 for value in row) for row in passive)
     return hashlib.sha1(repr(rows).encode()).hexdigest()[:16]
 
 

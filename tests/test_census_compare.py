@@ -19,6 +19,8 @@ def test_mode_digest_ignores_order_and_rounding_noise_not_a_moved_mode():
     assert mode_digest(modes * (1 + 1e-13)) == digest  # polishing noise far below the 8 digits kept
     assert mode_digest(modes + [[0, 0, 1e-5], [0, 0, 0]]) != digest
     assert mode_digest(modes[:1]) != digest
+    near_zero = np.array([[1e-13, 0.5], [-0.25, 2.0]])  # a coordinate at zero, its sign noise
+    assert mode_digest(near_zero) == mode_digest(near_zero * [[-1, 1], [1, 1]])
 
 
 def test_same_modes_matches_one_to_one_within_tolerance_and_whole_turns():
