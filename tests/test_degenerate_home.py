@@ -48,6 +48,18 @@ def _round_trip(m: parakin.Mechanism, modes: Any) -> int:
     return checked
 
 
+def _accounted(m: parakin.Mechanism, modes: Any, at_infinity: int) -> None:
+    """Every slot accounted for once: ``at_infinity`` slots are roots at infinity (kind and
+    rejection), the others modes or their duplicates, and the certificate's sums hold."""
+    kinds = list(m.manifest.abi.root_kinds)
+    certificate = modes.certificate()
+    assert int((np.asarray(modes.root_kind) == kinds.index("at_infinity")).sum()) == at_infinity
+    assert int(certificate["rejected"]["at_infinity"]) == at_infinity
+    assert int(certificate["roots"]) == int(certificate["with_modes"]) + sum(
+        int(v) for v in certificate["rejected"].values()
+    )
+
+
 def _certified_sizes(m: parakin.Mechanism, theta: np.ndarray) -> np.ndarray:
     """The sizes (largest unknown) of the certified roots at one input, certified complete."""
     info = m.capabilities.forward
@@ -82,6 +94,7 @@ def test_planar_3rrr_at_home_names_its_roots_at_infinity_after_one_retrack(monke
     assert "not proven" in verdict or "proven absent" in verdict
     assert not modes.complete() and int(modes.at_infinity) == 4 and np.asarray(modes.certified_roots) == 2
     assert counts["retracks"] == 1  # the suspect paths once; before: also every path from both starts
+    _accounted(m, modes, 4)
     assert int(modes.count) == 2 and _round_trip(m, modes) == 2
 
 
@@ -99,4 +112,5 @@ def test_rus6_at_home_answers_after_one_retrack_with_its_24_paths_toward_infinit
     assert verdict.startswith("not certified complete: 56 of 80 roots certified, the other 24 paths head to infinity")
     assert not modes.complete() and int(modes.at_infinity) == 24
     assert counts == {"retracks": 1, "exact": 0}
+    _accounted(m, modes, 24)
     assert int(modes.count) == 8 and _round_trip(m, modes) == 8

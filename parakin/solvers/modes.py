@@ -995,10 +995,27 @@ def certified_modes(
             open_paths = left & ~far_end
             could = found.certified[short] + left.sum(-1) >= count  # the probe could account for all
             heading = far_end | toward_infinity(m, info, theta[short], open_paths & could[:, None])
-            out["at_infinity"][short] = heading.sum(-1)
-            far[short] = found.certified[short] + heading.sum(-1) >= count
+            explained = found.certified[short] + heading.sum(-1) >= count
+            far[short] = explained
+            _mark_at_infinity(m, out, found, short[explained], heading[explained])
     out = reconcile(m, info, theta, out, found)
     return out | {"certified": found.certified, "path_certified": found.unique, "retracked": retracked}
+
+
+def _mark_at_infinity(
+    m: Mechanism, out: dict[str, np.ndarray], found: PathCertificate, rows: np.ndarray, heading: np.ndarray
+) -> None:
+    """The inputs ``rows`` whose missing roots' paths head to infinity (``heading`` (rows, P),
+    ``toward_infinity`` or far ends), in place: as many of their slots that no certified box
+    holds, those paths' own first, become roots at infinity (outcome and kind), and
+    ``at_infinity`` counts the slots so marked, so that every slot stays accounted for once."""
+    codes, kinds = _codes(m), m.manifest.abi.root_kinds
+    for i, own in zip(rows, heading, strict=True):
+        free = np.nonzero(~found.unique[i])[0]
+        marked = free[np.argsort(~own[free], kind="stable")][: int(own.sum())]
+        out["outcome"][i, marked] = codes["at_infinity"]
+        out["root_kind"][i, marked] = kinds.index("at_infinity")
+        out["at_infinity"][i] = int((out["root_kind"][i] == kinds.index("at_infinity")).sum())
 
 
 def _slot_keys(out: dict[str, np.ndarray], paths: int) -> list[str]:
