@@ -258,17 +258,19 @@ class Family:
             self._terms = MonomialTable(self.equations, self.unknowns, self.parameters, self.relations)
         return self._terms
 
-    def _call(self, function, z: np.ndarray, q: np.ndarray, width: int) -> np.ndarray:
+    def _call(self, function, z: np.ndarray, q: np.ndarray, width: int | None) -> np.ndarray:
+        """``function``'s outputs at (z, q), broadcast: a vector, or rows of ``width`` columns
+        (a matrix even when one row or one column, as with a single unknown)."""
         q = self.full(q)
         shape = np.broadcast_shapes(z.shape[:-1], q.shape[:-1])
         columns = [z[..., k] for k in range(self.n)] + [q[..., k] for k in range(len(self.parameters))]
         out = function(*columns)
         return np.stack([np.broadcast_to(np.asarray(o, dtype=complex), shape) for o in out], axis=-1).reshape(
-            shape + ((len(out) // width, width) if width > 1 else (len(out),))
+            shape + ((len(out),) if width is None else (len(out) // width, width))
         )
 
     def value(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
-        return self._call(self._value, z, q, 1)
+        return self._call(self._value, z, q, None)
 
     def jacobian(self, z: np.ndarray, q: np.ndarray) -> np.ndarray:
         return self._call(self._jz, z, q, self.n)
