@@ -90,15 +90,18 @@ class Retrack(NamedTuple):
 #: escape. The second instance's segment is another path through parameter space
 RETRACKS = (1, 0)
 #: an end this large (the largest of its unknowns, in the mechanism's own length scale:
-#: ``length_scale``) is far: a root there is 1e6 times the mechanism's size, at or near infinity.
+#: ``length_scale``) is far: a root there is 1e6 times the mechanism's size, at or near infinity
+#: (near a degenerate input roots of 1e6-1e8 are still certified, some only in exact arithmetic:
+#: rus6 3e-3 from home along a random direction, 24 roots of 3e5-9e7, all 80 certified).
 #: At a degenerate input (a home configuration, often) some of the family's roots go to infinity:
 #: their paths grow as s^(-1/c) (c their winding number) and, with the input rounded, end at
 #: 1e8-1e9 or beyond, where no certificate holds (rus6 at home: 24 of 80 paths, each ending
 #: uncertified at 3e8-7e8 in the projective re-track). Budget: an input whose missing roots are
 #: all accounted for by far, uncertified ends of its suspect paths' projective re-track is not
-#: tracked again from ``RETRACKS`` (those runs end on the same far points), nor are far ends
-#: tested in exact arithmetic (``certify_inputs``); its ``at_infinity`` counts them and the
-#: verdict says so. Only work is skipped: nothing is certified that was not
+#: tracked again from ``RETRACKS`` (those runs end on the same far points); its ``at_infinity``
+#: counts them and the verdict says so. Only work is skipped: nothing is certified that was not.
+#: Far ends are still tried in exact arithmetic (``certify_inputs``): some succeed (rus6 3e-3
+#: from home along a random direction: complete only with them)
 FAR_ROOT = 1e6
 #: the values of s (1 at the start, 0 at the input) at which ``toward_infinity`` reads a path's
 #: homogenising coordinate w, relative to its point on the patch: toward a root at infinity |w|
@@ -711,9 +714,7 @@ def certify_inputs(
         labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii, labels)
-    with np.errstate(invalid="ignore"):  # a far end (``FAR_ROOT``) is not tried exactly: a budget
-        near = np.abs(roots).max(-1) <= FAR_ROOT
-    finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None] & near
+    finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
         source[np.ix_(np.nonzero(paired)[0], pairs.second)] = pairs.first
@@ -990,9 +991,12 @@ def certified_modes(
         merge_roots(out, found, short, again, second)
         add_conjugates(m, info, theta, out, found, short[found.certified[short] < count])
         if instance is None and plan.redo is not None:  # the re-tracked paths that end far or head there
+            # a far end counts whether or not a box holds it: an exact box there may hold a root
+            # already counted (it adds no distinct root: rus6 at home, 8 of the 24 far ends)
             left = plan.redo & ~second.unique
-            far_end = left & (again["end_size"] > FAR_ROOT)
-            open_paths = left & ~far_end
+            far_end = plan.redo & (again["end_size"] > FAR_ROOT)
+            # a path the re-track took to a finite end is no path toward infinity: only failed ones are probed
+            open_paths = left & ~far_end & (again["root_kind"] == m.manifest.abi.root_kinds.index("failed"))
             could = found.certified[short] + left.sum(-1) >= count  # the probe could account for all
             heading = far_end | toward_infinity(m, info, theta[short], open_paths & could[:, None])
             explained = found.certified[short] + heading.sum(-1) >= count
