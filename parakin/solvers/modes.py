@@ -959,7 +959,11 @@ def certified_modes(
     projective space (its suspect paths, then ``RETRACKS``: every path from the second start
     instance, then the first), each run's certified roots merged into the input's slots that no
     certified box holds (``merge_roots``) until it is complete; then the modes are the certified
-    real roots (``reconcile``). Never a silent loss: the certificate says what remains.
+    real roots (``reconcile``). Never a silent loss: the certificate says what remains. An input
+    whose missing roots are all accounted for, after the suspect paths' re-track, by paths that
+    end far (``FAR_ROOT``) or head to infinity (``toward_infinity``) is not tracked again: a
+    degenerate input (a home, often), whose slots for those paths become roots at infinity
+    (``_mark_at_infinity``); it stays not complete.
 
     Returns ``out`` updated, with ``certified`` (n,) the distinct certified roots,
     ``path_certified`` (n, P) the slots whose root has a box of its own, ``retracked`` (n,) and
