@@ -151,11 +151,11 @@ def family_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray
     -------
     >>> import numpy as np
     >>> table = np.zeros((1, 2, 2), complex)
-    >>> table[0, 0], table[0, 1] = [1.0, -4.0], [0.0, 3.0]  # z^2 - (4 - 3 s)
+    >>> table[0, 0], table[0, 1] = [1.0, -4.0], [0.0, 3.0]  # z^2 - (4 - 3 s): H_s = 3
     >>> system = family_system(table, np.array([[2], [0]]), np.array([0, 0]), 1)
     >>> value, jacobian, rate = system(np.array([0]), np.array([[1.0 + 0j]]), np.array([1.0]))
     >>> complex(value[0, 0]), complex(jacobian[0, 0, 0]), complex(rate[0, 0])
-    ((0j), (2+0j), (-3+0j))
+    (0j, (2+0j), (3+0j))
     """
     e = np.ascontiguousarray(exponents, dtype=np.int64)
     structure = _cached_terms(e.tobytes(), e.shape, np.ascontiguousarray(equation, dtype=np.int64).tobytes())
@@ -173,7 +173,12 @@ def family_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray
         if which.size <= GROUPED_INPUTS:  # one product per input (a gathered table costs more)
             for j, own in enumerate(which):
                 mine = np.nonzero(inverse.reshape(-1) == j)[0]
-                both = np.concatenate([weights[mine], rates[mine]]) @ table[own]
+                stacked = np.concatenate([weights[mine], rates[mine]])
+                # a sum over the few powers, not a matrix product: a threaded BLAS spends far
+                # more on these small products than they cost (rus6 at home: 35 s against 2.8 s)
+                both = stacked[:, :1] * table[own, 0]
+                for d in range(1, degrees.size):
+                    both = both + stacked[:, d : d + 1] * table[own, d]
                 coefficients[mine, :terms], coefficients[mine, terms:] = both[: mine.size], both[mine.size :]
         else:
             gathered = table[inputs]
