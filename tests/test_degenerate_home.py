@@ -102,7 +102,7 @@ def test_planar_3rrr_at_home_names_its_roots_at_infinity_after_one_retrack(monke
 def test_rus6_at_home_answers_after_one_retrack_with_its_24_paths_toward_infinity(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """rus6 at home (~4 s of CPU; 7-29 s before): 56 of 80 roots certified, the 24 others'
+    """rus6 at home (0.7-0.8 s of CPU; 2.8-39 s before): 56 of 80 roots certified, the 24 others'
     paths end beyond 1e8 in the projective re-track; one re-track and 11 exact attempts (before:
     three runs and 22 exact attempts), the 8 modes, each round-tripping through the inverse."""
     m = parakin.load("rus6")
