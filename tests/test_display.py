@@ -79,8 +79,10 @@ def test_assembly_modes_repr_is_a_table_of_modes_in_the_stated_convention():
 
 
 def test_an_incomplete_certificate_of_one_input_says_how_far_it_got():
-    """A symmetric design at its centre has double complex roots, which no Krawczyk box
-    certifies: the summary line counts the certified roots instead of 'complete for 0 of 1'."""
+    """planar_3rrr at its symmetric home is a degenerate input: 4 of its 6 paths head to infinity
+    (tests/test_degenerate_home.py shows the roots growing as the input nears home); the summary
+    line counts the certified roots and says what the others are, instead of 'complete for 0 of
+    1'."""
     m = parakin.load("planar_3rrr")
     modes = m.forward_pose_all(m.home_actuated)
     certificate = modes.certificate()
@@ -90,8 +92,9 @@ def test_an_incomplete_certificate_of_one_input_says_how_far_it_got():
         repr(modes)
         .splitlines()[0]
         .endswith(
-            f"; not certified complete: {certified} of {total} roots certified, {total - certified} not "
-            "(path_certified: which paths)"
+            f"; not certified complete: {certified} of {total} roots certified, the other {total - certified} paths "
+            "head to infinity (roots at infinity: the input is degenerate, as a home configuration often is; "
+            "no finite root beyond the certified ones is proven absent) (path_certified: which paths)"
         )
     )
     assert int((~modes.path_certified).sum()) == total - certified
