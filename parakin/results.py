@@ -127,7 +127,8 @@ class AssemblyModes:
     pair near the real axis, -1 no root). ``conditioning``: the type II distance
     (``parakin.singularity.type_ii_distance``: sigma_min / sigma_max of d closure / d passive), 1
     far from, 0 at a type II singularity; NaN in a slot that is no mode. Per input: ``real_roots`` (distinct finite
-    real roots), ``near_roots``, ``at_infinity`` and ``status`` (``INPUT_STATUS``)."""
+    real roots), ``near_roots``, ``at_infinity`` (roots at infinity; at a degenerate input also
+    the paths found heading there) and ``status`` (``INPUT_STATUS``)."""
 
     actuated: Array
     poses: Array
