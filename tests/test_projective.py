@@ -108,26 +108,29 @@ def test_symmetric_pairs_stay_pairs_on_the_patch():
 
 @pytest.mark.slow
 def test_a_6rus_input_missing_roots_near_infinity_is_completed_by_the_projective_retrack():
-    """A sampled rus6 input whose first (affine, generated C) run certifies 72 of 80 roots: the
-    re-track in projective space certifies all 80, and the roots it adds are large (near infinity)."""
+    """A rus6 input whose first (affine, generated C) run certifies fewer than 80 roots and is
+    re-tracked (input 13 of tests/test_certified_completion.py's formerly incomplete census
+    inputs: with the one-correction tracker no sample of 600 near home needs a re-track): the
+    re-track in projective space certifies all 80, and the roots it adds are large (near
+    infinity)."""
     from parakin.solvers.modes import certify, compiled_modes
-    from parakin.studies.sampling import sample_configurations
 
     m = parakin.load("rus6", backend="compiled")
     info = m.capabilities.forward
-    theta = sample_configurations(m, 24, spread=0.08, seed=19).actuated[1:2]
+    theta = np.array([[-0.012545665489522118, -0.037207343640052376, 0.018596055218490403,
+                       -0.05543893581877939, -0.009847219432879686, 0.025557614774868002]])  # fmt: skip
     first = compiled_modes(m, theta)
     certified, unique = certify(m, info, theta, first["endpoints"], exact=True)[:2]
-    assert certified[0] < 80, "the first run of this input is expected to fall short"
+    assert certified[0] < 80
     modes = m.forward_pose_all(theta[0])
     certificate = modes.certificate()
     assert int(certificate["certified_roots"]) == 80 and bool(certificate["complete"])
     assert bool(certificate["retracked"])
     ends = first["endpoints"][0, ..., 0] + 1j * first["endpoints"][0, ..., 1]
-    # the first run's uncertified paths did not end (diverged or failed) or ended far out: what
-    # affine tracking handles badly
+    # the first run's shortfall: paths that did not end (diverged or failed), ended far out, or
+    # ended on a root another path holds (two paths on one far root): what affine tracking
+    # handles badly
     lost = ends[~unique[0]]
-    assert lost.shape[0] >= 80 - certified[0]
     assert (np.isnan(lost).all(-1) | (np.abs(lost).max(-1) > 1e2)).all(), np.abs(lost).max(-1)
 
 
