@@ -52,6 +52,17 @@ by the value curve's trace test, 28 s of CPU); the manifest's ``subfamily`` name
 which parameters loaded with other values break. A stored record of the family is kept where its
 solutions, followed to a random member of the subfamily, all stay finite and distinct.
 
+Parameters that share a value only by the user's choice (a layout with coordinates at zero: the
+planar 3-RPR of docs/tutorials/my_robot.py, base_x1 = base_y1 = base_y2 = 0) must not tie the
+proof to that choice. The rule (budget ``GENERIC_MAX_PATHS``): where the relations pair parameters,
+no record is stored and the Bezout number is at most ``GENERIC_MAX_PATHS`` (total-degree runs of
+seconds), the count is first proven for any parameter values (the family, restricted to its
+constant values only: those no parameter changes) and kept, with no ``subfamily`` in the
+manifest, where it is proven and its solutions, followed to a random member of the subfamily,
+all stay finite, regular and distinct (the rule for stored records); otherwise (the shared-rail
+Hexaglide: 8 of 80 go to infinity, and 8192 paths are over the budget) the subfamily's proof
+follows. A generic count that is not proven is never kept (nor stored).
+
 The runtime form is sparse: a table of monomials (equation, exponents) and, per input, each
 monomial's coefficient as a polynomial in s.
 """
@@ -122,6 +133,10 @@ VALUE_TRACE_METHOD = "trace test (Leykin, Rodriguez, Sottile 2018) on the value 
 CACHE_VERSION = 3
 #: the proof's fields in the manifest, in this order
 PROOF_KEYS = ("method", "proven", "stable_rule", "witnesses", "trace_deviation", "bezout_paths", "regular_endpoints")
+#: a family whose mechanism's parameters share values (``generator/subfamily.py``) and that has no
+#: stored record gets the proof for any parameter values first where its Bezout number is at most
+#: this (see start_systems: total-degree runs of these paths take seconds, 30 s at 864)
+GENERIC_MAX_PATHS = 1024
 #: families with a Bezout number up to this get the total-degree bound (see ``total_degree_run``)
 TOTAL_DEGREE_MAX = 10000
 #: the total-degree homotopy's independent runs (another gamma and patch each) that must each
@@ -1186,7 +1201,9 @@ def start_systems(
     generic count is not the subfamily's (a stored generic record is tried first: its solutions
     followed to a random member of the subfamily must all stay finite and distinct), the start
     instances are drawn in the subfamily and the count is proven there; the record then carries
-    the ``Relations`` (key ``relations``) for the manifest."""
+    the ``Relations`` (key ``relations``) for the manifest. Where parameters share a value and the
+    family is small (``GENERIC_MAX_PATHS``), the count for any parameter values is tried first
+    (``_generic_record``)."""
     family = Family(form, equations)
     key = hashlib.sha256(
         repr(
@@ -1203,6 +1220,10 @@ def start_systems(
     record = _stored_record(name, family, key.hexdigest(), cached, method, flips, degrees, seed)
     if record is not None and (relations is None or _keeps_count(name, family, record, relations, seed)):
         return family, record
+    if record is None and relations is not None and relations.groups and int(np.prod(degrees)) <= GENERIC_MAX_PATHS:
+        generic = _generic_record(name, family, key.hexdigest(), cached, relations, degrees, seed, method)
+        if generic is not None:
+            return family, generic
     if relations is not None:
         sub_key = hashlib.sha256(repr((key.hexdigest(), relations.key())).encode()).hexdigest()
         for stored in (_from_cache(_cache_path(sub_key)), _from_package(name, method, sub_key)):
@@ -1221,6 +1242,56 @@ def start_systems(
     )
     _store(_cache_path(sub_key), record)
     return family, {**record, "key": sub_key, "relations": relations}
+
+
+def _generic_record(
+    name: str,
+    family: Family,
+    key: str,
+    cached: Path,
+    relations: Relations,
+    degrees: list[int],
+    seed: int,
+    method: str,
+) -> dict | None:
+    """The count proven for any values of the parameters that share a value in ``relations``
+    (the module docstring's budget rule): new start systems of the family (restricted to its
+    constant values only, which no parameter changes), kept where proven and where their
+    solutions, followed to a random member of the subfamily, all stay finite, regular and
+    distinct (``_keeps_count``); None otherwise (the subfamily's proof takes over)."""
+    constants = relations.constants_only()
+    generic_key = key if constants is None else hashlib.sha256(repr((key, constants.key())).encode()).hexdigest()
+    where = cached if constants is None else _cache_path(generic_key)
+    if constants is not None:
+        # a constants-only record that an earlier build proved
+        for stored in (_from_cache(where), _from_package(name, method, generic_key)):
+            flips = sign_symmetries(family, np.random.default_rng(seed + 2))
+            if stored is not None and _verified(family, stored, flips) is not None and _in(constants, stored):
+                if bool(stored["proof"].get("proven")) and _keeps_count(name, family, stored, relations, seed):
+                    return {**stored, "key": generic_key, "relations": constants}
+                return None
+    began = time.perf_counter()
+    logger.info(
+        "%s (%s): the count is proven for any parameter values first (%d paths at most %d; then %s is checked)",
+        name, method, int(np.prod(degrees)), GENERIC_MAX_PATHS, relations.describe(),
+    )  # fmt: skip
+    proven_on = family if constants is None else family.restricted(constants)
+    record = _new_record(
+        name, proven_on, degrees, sign_symmetries(proven_on, np.random.default_rng(seed + 2)), seed, method
+    )
+    if not record["proof"].get("proven"):
+        # never a generic count not proven: the subfamily's proof takes over (nothing stored)
+        logger.info("%s: the count for any parameter values is not proven: proven where %s", name, relations.describe())
+        return None
+    _store(where, record)
+    if not _keeps_count(name, family, record, relations, seed):
+        return None
+    logger.info(
+        "%s: %d solutions for any parameter values (%.1f s; they stay finite where %s)",
+        name, len(record["solutions"]), time.perf_counter() - began, relations.describe(),
+    )  # fmt: skip
+    out = {**record, "key": generic_key}
+    return out if constants is None else {**out, "relations": constants}
 
 
 def _in(relations: Relations, record: dict) -> bool:

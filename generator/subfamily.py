@@ -100,6 +100,16 @@ class Relations:
         back = self.full(self.coordinates(q))
         return bool(np.all(np.abs(q - back) <= tolerance * np.maximum(np.abs(q), np.abs(back))))
 
+    def constants_only(self) -> Relations | None:
+        """The relations without the identical values: the constants only (values no parameter
+        can change), every other value a coordinate of its own; None when there is no constant."""
+        if not self.constants:
+            return None
+        coordinate: list[int] = []
+        for c in self.coordinate:
+            coordinate.append(-1 if c < 0 else max(coordinate, default=-1) + 1)
+        return Relations(tuple(coordinate), self.constant, self.names)
+
     def key(self) -> str:
         """The relations as text: part of a subfamily record's cache key."""
         constants = [(i, repr(complex(self.constant[i]))) for i in self.constants]
