@@ -17,7 +17,8 @@
   (numeric or symbolic content, powers of (1 + t^2) or other known factors, powers of t).
 * What a mechanism file would otherwise write by hand (issue 32, item 4):
   - layouts: ``circle_points``, ``paired_circle_points`` and ``pair_sides`` (default joint
-    positions on circles, numerically), ``radial_directions`` (exact unit vectors at equal
+    positions on circles, numerically; their angles in degrees, keyword-only ``angles_deg``,
+    ``centres_deg``, ``offset_deg``), ``radial_directions`` (exact unit vectors at equal
     angles), ``crank_bases`` (shafts that put crank tips on given points);
   - declarations: ``point_group``, ``leg_parameters`` and ``scalar_parameter`` with
     ``parameter_fields`` (the parameters, their defaults and meaning, declared once);
@@ -38,8 +39,10 @@ from typing import TYPE_CHECKING, Protocol, TypedDict
 
 import sympy as sp
 
+from parakin.errors import BadInputError
+
 from .frames import homogeneous, rot_x, rot_y, rot_z
-from .model import POSE_POSITION, POSE_ROTATION, ParameterInfo, RateModel
+from .model import POSE_POSITION, POSE_ROTATION, InverseSolution, ParameterInfo, RateModel
 
 if TYPE_CHECKING:
     from .joints import Platform
@@ -83,26 +86,30 @@ def as_points(points: sp.Matrix) -> list[sp.Matrix]:
 
 
 # ------------------------------------------------------------------ default layouts
-def pair_sides(centres: Sequence[float]) -> list[tuple[float, int]]:
+# The layout builders take their angles in DEGREES, as a paper prints a layout (joints at 0, 120,
+# 240 deg), and every such argument says so in its name (``angles_deg``, ``centres_deg``,
+# ``offset_deg``) and is keyword-only: radians passed by position (the unit of the rest of the
+# API) would otherwise give joints a few degrees apart and a near-singular home without a word.
+def pair_sides(*, centres_deg: Sequence[float]) -> list[tuple[float, int]]:
     """The pair centre (radians) and side of every point of a paired layout: two points per
     centre, side -1 first, then +1.
 
     Parameters
     ----------
-    centres : sequence of float, length n
-        The pair centres, degrees.
+    centres_deg : sequence of float, length n
+        The pair centres, DEGREES from the x axis (keyword-only).
 
     Returns
     -------
     list of (float, int), length 2 n
-        (math.radians(centre), side) for the points in order.
+        (math.radians(centre), side) for the points in order: the centre in radians.
 
     Example
     -------
-    >>> pair_sides([0.0, 90.0])
+    >>> pair_sides(centres_deg=[0.0, 90.0])
     [(0.0, -1), (0.0, 1), (1.5707963267948966, -1), (1.5707963267948966, 1)]
     """
-    return [(math.radians(centre), side) for centre in centres for side in (-1, 1)]
+    return [(math.radians(centre), side) for centre in centres_deg for side in (-1, 1)]
 
 
 def _on_circle(radius: float, angle: float, dims: int) -> list[float]:
@@ -111,22 +118,22 @@ def _on_circle(radius: float, angle: float, dims: int) -> list[float]:
     return [radius * math.cos(angle), radius * math.sin(angle), 0.0][:dims]
 
 
-def circle_points(radius: float, angles: Sequence[float], dims: int = 3) -> list[list[float]]:
+def circle_points(radius: float, *, angles_deg: Sequence[float], dims: int = 3) -> list[list[float]]:
     """Points on a circle about the origin in the plane z = 0: r (cos t, sin t, 0) per angle.
 
     Parameters
     ----------
     radius : float
         The circle's radius r, metres.
-    angles : sequence of float
-        The points' angles t from the x axis, counter-clockwise, degrees.
+    angles_deg : sequence of float
+        The points' angles t from the x axis, counter-clockwise, DEGREES (keyword-only).
     dims : int
         3 for (x, y, 0), 2 for (x, y) (a planar mechanism's point group).
 
     Returns
     -------
-    list of list of float, shape (len(angles), dims)
-        One row per point, in the order of ``angles``.
+    list of list of float, shape (len(angles_deg), dims)
+        One row per point, in the order of ``angles_deg``.
 
     Raises
     ------
@@ -135,13 +142,15 @@ def circle_points(radius: float, angles: Sequence[float], dims: int = 3) -> list
 
     Example
     -------
-    >>> [[round(v, 12) for v in p] for p in circle_points(2.0, [0.0, 90.0], dims=2)]
+    >>> [[round(v, 12) for v in p] for p in circle_points(2.0, angles_deg=[0.0, 90.0], dims=2)]
     [[2.0, 0.0], [0.0, 2.0]]
     """
-    return [_on_circle(radius, math.radians(angle), dims) for angle in angles]
+    return [_on_circle(radius, math.radians(angle), dims) for angle in angles_deg]
 
 
-def paired_circle_points(radius: float, centres: Sequence[float], offset: float, dims: int = 3) -> list[list[float]]:
+def paired_circle_points(
+    radius: float, *, centres_deg: Sequence[float], offset_deg: float, dims: int = 3
+) -> list[list[float]]:
     """Points in pairs on a circle about the origin (z = 0): two per centre c, at c - offset and
     c + offset, the usual hexapod layout (three pairs at 0, 120, 240 deg).
 
@@ -149,17 +158,18 @@ def paired_circle_points(radius: float, centres: Sequence[float], offset: float,
     ----------
     radius : float
         The circle's radius, metres.
-    centres : sequence of float, length n
-        The pair centres, degrees from the x axis, counter-clockwise.
-    offset : float
-        Half the angle between the two points of a pair, degrees.
+    centres_deg : sequence of float, length n
+        The pair centres, DEGREES from the x axis, counter-clockwise (keyword-only).
+    offset_deg : float
+        Half the angle between the two points of a pair, DEGREES (keyword-only).
     dims : int
         3 for (x, y, 0), 2 for (x, y).
 
     Returns
     -------
     list of list of float, shape (2 n, dims)
-        Point 2 k at centres[k] - offset, point 2 k + 1 at centres[k] + offset (``pair_sides``).
+        Point 2 k at centres_deg[k] - offset_deg, point 2 k + 1 at centres_deg[k] + offset_deg
+        (``pair_sides``).
 
     Raises
     ------
@@ -168,11 +178,11 @@ def paired_circle_points(radius: float, centres: Sequence[float], offset: float,
 
     Example
     -------
-    >>> [[round(v, 12) for v in p] for p in paired_circle_points(1.0, [90.0], 90.0)]
+    >>> [[round(v, 12) for v in p] for p in paired_circle_points(1.0, centres_deg=[90.0], offset_deg=90.0)]
     [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
     """
-    sides = pair_sides(centres)
-    return [_on_circle(radius, centre + side * math.radians(offset), dims) for centre, side in sides]
+    sides = pair_sides(centres_deg=centres_deg)
+    return [_on_circle(radius, centre + side * math.radians(offset_deg), dims) for centre, side in sides]
 
 
 def radial_directions(count: int, start: sp.Expr | int = 0) -> list[sp.Matrix]:
@@ -267,6 +277,16 @@ class ParameterGroup:
         return as_points(self.symbols)
 
 
+def _check_numbered(what: str, description: str, count: int, item: str) -> None:
+    """Refuse a description of several items without ``{k}``: each item's meaning (shown by
+    ``parakin info``, the parameter table) would be the same text."""
+    if count > 1 and "{k}" not in description:
+        raise ValueError(
+            f"{what}: the description {description!r} has no {{k}}, so all {count} would read the same; "
+            f"write {{k}} where the {item}'s number goes (e.g. 'base joint A{{k}}, in {{B}}')"
+        )
+
+
 def point_group(name: str, values: Sequence[Sequence[float]], description: str, unit: str = "m") -> ParameterGroup:
     """A point list as parameters, with its default values and meaning in one declaration.
 
@@ -290,7 +310,8 @@ def point_group(name: str, values: Sequence[Sequence[float]], description: str, 
     Raises
     ------
     ValueError
-        The rows are not all of one length from 1 to 3.
+        The rows are not all of one length from 1 to 3, or there are two or more points and
+        ``description`` has no ``{k}`` (every point would be described the same).
 
     Example
     -------
@@ -300,6 +321,7 @@ def point_group(name: str, values: Sequence[Sequence[float]], description: str, 
     """
     if not values or len({len(row) for row in values}) != 1:
         raise ValueError(f"point_group {name!r}: give one or more rows of equal length")
+    _check_numbered(f"point_group {name!r}", description, len(values), "point")
     symbols = point_parameters(name, len(values), len(values[0]))
     return ParameterGroup(name, symbols, point_defaults(symbols, values), point_info(symbols, description, unit))
 
@@ -368,7 +390,8 @@ def leg_parameters(
     Raises
     ------
     ValueError
-        A sequence of defaults of another length than ``symbols``.
+        A sequence of defaults of another length than ``symbols``, or two or more parameters and
+        ``description`` has no ``{k}`` (every leg's parameter would be described the same).
 
     Example
     -------
@@ -376,6 +399,7 @@ def leg_parameters(
     >>> leg_parameters(a, 0.15, "crank {k} length").info[a[1]].description
     'crank 2 length'
     """
+    _check_numbered(f"leg_parameters {[str(s) for s in symbols]}", description, len(symbols), "leg")
     info = {s: ParameterInfo(unit, description.replace("{k}", str(k + 1)), domain) for k, s in enumerate(symbols)}
     if isinstance(value, Sequence):
         if len(value) != len(symbols):
@@ -506,7 +530,42 @@ def frame_pose_values(
     return pose_values(sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis)), list(origin))
 
 
+def check_branch(branch: int, signs: int, what: str) -> None:
+    """Refuse an inverse branch outside 0 .. 2 ** signs - 1 (``InverseSolution.at`` reads only the
+    low bits: branch 8 of three signs would silently be branch 0, -1 branch 7).
+
+    Parameters
+    ----------
+    branch : int
+        The branch asked for.
+    signs : int
+        The inverse's number of sign choices (``len(InverseSolution.branches)``).
+    what : str
+        The caller, for the message.
+
+    Raises
+    ------
+    BadInputError
+        ``branch`` is not an integer in 0 .. 2 ** signs - 1; the message names the count.
+
+    Example
+    -------
+    >>> check_branch(1, 0, "home_from_pose")
+    Traceback (most recent call last):
+    ...
+    parakin.errors.BadInputError: home_from_pose: branch 1 is not one of this inverse's 1 branch (0 .. 0)
+    """
+    count = 2**signs
+    if isinstance(branch, bool) or not isinstance(branch, int) or not 0 <= branch < count:
+        raise BadInputError(
+            f"{what}: branch {branch!r} is not one of this inverse's {count} branch{'es' if count > 1 else ''} "
+            f"(0 .. {count - 1})"
+        )
+
+
 class _HasHome(Protocol):
+    def inverse(self) -> InverseSolution: ...
+
     def home_at(
         self, rotation: sp.Matrix, position: sp.Matrix, branch: int, parameters: dict[sp.Symbol, float]
     ) -> dict[sp.Symbol, float]: ...
@@ -536,10 +595,17 @@ def home_from_pose(
         The actuated and passive values (angles in (-pi, pi] for a distance model), for
         ``Mechanism(home=...)``.
 
+    Raises
+    ------
+    BadInputError
+        ``branch`` is not one of the inverse's branches 0 .. count - 1 (count = 2 ** the number of
+        its sign choices; the message names it).
+
     Example
     -------
     See ``mechanisms/rus6.py``: ``home=home_from_pose(MODEL, HOME_POSE, 0, defaults)``.
     """
+    check_branch(branch, len(model.inverse().branches), "home_from_pose")
     matrix = sp.Matrix(pose)
     if matrix.shape == (3, 3):
         return model.home_at(matrix, None, branch, parameters)  # type: ignore[arg-type]

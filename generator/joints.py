@@ -59,7 +59,7 @@ from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
-from .blocks import TWIST, block_laplace_det, laplace_det, planar_coordinates
+from .blocks import TWIST, block_laplace_det, check_branch, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .graph import Chain, Joint, JointGraph
 from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
@@ -1134,7 +1134,9 @@ class DistanceMechanism:
     ) -> dict[sp.Symbol, float]:
         """A home configuration: the actuated and passive values of the pose (^B_P R, position)
         on inverse branch ``branch`` at the parameters (every step of the inverse evaluated),
-        angles in (-pi, pi] as the runtime's inverse returns them."""
+        angles in (-pi, pi] as the runtime's inverse returns them; a branch outside 0 ..
+        2 ** len(branch_names) - 1 is refused (BadInputError naming the count)."""
+        check_branch(branch, len(self.branch_names), "home_at")
         values = self.inverse().at(rotation, position, branch, parameters)
         angular = {leg.joint for leg in self.legs if leg.kind == "crank"} | set(self.motion.angular)
         return {

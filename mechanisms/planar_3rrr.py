@@ -36,8 +36,12 @@ from parakin.generator.model import Citation, Example, Mechanism
 #: the default geometry (module docstring): joints at 210, 330 and 90 degrees on two circles
 JOINT_ANGLES = (210.0, 330.0, 90.0)
 BASE_RADIUS, PLATFORM_RADIUS, CRANK, LINK = 0.5, 0.3, 0.3, 0.35
-base = point_group("base", circle_points(BASE_RADIUS, JOINT_ANGLES, dims=2), "base joint A{k} (crank axis), in {B}")
-platform = point_group("platform", circle_points(PLATFORM_RADIUS, JOINT_ANGLES, dims=2), "platform joint c{k}, in {P}")
+base = point_group(
+    "base", circle_points(BASE_RADIUS, angles_deg=JOINT_ANGLES, dims=2), "base joint A{k} (crank axis), in {B}"
+)
+platform = point_group(
+    "platform", circle_points(PLATFORM_RADIUS, angles_deg=JOINT_ANGLES, dims=2), "platform joint c{k}, in {P}"
+)
 a = sp.symbols("a1:4", positive=True)
 b = sp.symbols("b1:4", positive=True)
 PARAMETERS = parameter_fields(

@@ -55,11 +55,15 @@ DIETMAIER_THETA = math.pi / 6
 CRANK_RANGE = (-math.pi / 2, math.pi / 2)
 #: motor axis u_i = side * (radial direction of the pair's centre); crank at theta = 0 along
 #: e1_i = u_i x z = side * (tangent of the pair's centre)
-AXES = [[side * math.cos(centre), side * math.sin(centre), 0.0] for centre, side in pair_sides(PAIR_CENTRES)]
-ZEROS = [[-side * math.sin(centre), side * math.cos(centre), 0.0] for centre, side in pair_sides(PAIR_CENTRES)]
+AXES = [
+    [side * math.cos(centre), side * math.sin(centre), 0.0] for centre, side in pair_sides(centres_deg=PAIR_CENTRES)
+]
+ZEROS = [
+    [-side * math.sin(centre), side * math.cos(centre), 0.0] for centre, side in pair_sides(centres_deg=PAIR_CENTRES)
+]
 
-SHAFTS = paired_circle_points(SHAFT_RADIUS, PAIR_CENTRES, SHAFT_OFFSET)
-JOINTS = paired_circle_points(PLATFORM_RADIUS, PAIR_CENTRES, PLATFORM_OFFSET)
+SHAFTS = paired_circle_points(SHAFT_RADIUS, centres_deg=PAIR_CENTRES, offset_deg=SHAFT_OFFSET)
+JOINTS = paired_circle_points(PLATFORM_RADIUS, centres_deg=PAIR_CENTRES, offset_deg=PLATFORM_OFFSET)
 
 BASE = point_group("base", SHAFTS, "motor shaft point A{k} (on the motor axis), in {B}")
 AXIS = point_group("axis", AXES, "motor axis u{k} (unit vector; theta{k} right-handed about it), in {B}", unit="")

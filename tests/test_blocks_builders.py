@@ -32,24 +32,41 @@ from parakin.generator.blocks import (
 
 
 def test_circle_points_lie_on_the_circle_at_their_angles():
-    points = circle_points(0.5, [210.0, 330.0, 90.0])
+    points = circle_points(0.5, angles_deg=[210.0, 330.0, 90.0])
     for (x, y, z), angle in zip(points, [210.0, 330.0, 90.0], strict=True):
         assert math.hypot(x, y) == pytest.approx(0.5, abs=1e-15) and z == 0.0
         assert math.degrees(math.atan2(y, x)) % 360 == pytest.approx(angle, abs=1e-12)
-    assert [len(p) for p in circle_points(0.5, [0.0], dims=2)] == [2]
+    assert [len(p) for p in circle_points(0.5, angles_deg=[0.0], dims=2)] == [2]
     with pytest.raises(ValueError, match="dims"):
-        circle_points(1.0, [0.0], dims=1)
+        circle_points(1.0, angles_deg=[0.0], dims=1)
 
 
 def test_paired_points_straddle_their_centres():
     """Six points on a 0.4 m circle, pairs at 0, 120, 240 deg +- 10 deg: each at the radius, the
     first of a pair 10 deg clockwise of its centre, the second 10 deg counter-clockwise, so that
     consecutive pairs are 100 deg apart (the hexapod's alternating 20 / 100 deg gaps)."""
-    points = paired_circle_points(0.4, [0.0, 120.0, 240.0], 10.0)
+    points = paired_circle_points(0.4, centres_deg=[0.0, 120.0, 240.0], offset_deg=10.0)
     angles = [math.degrees(math.atan2(y, x)) % 360 for x, y, _ in points]
     assert np.allclose([math.hypot(x, y) for x, y, _ in points], 0.4, atol=1e-15)
     assert np.allclose(angles, [350.0, 10.0, 110.0, 130.0, 230.0, 250.0], atol=1e-12)
-    assert [side for _, side in pair_sides([0.0, 120.0])] == [-1, 1, -1, 1]
+    assert [side for _, side in pair_sides(centres_deg=[0.0, 120.0])] == [-1, 1, -1, 1]
+
+
+def test_layout_angles_are_degrees_by_name_never_by_position():
+    """The layout builders take degrees (as a paper prints a layout) and the API's unit is the
+    radian: the degree arguments are keyword-only and named ``..._deg``, so radians passed by
+    position (what a new user wrote: joints 2 deg apart, a near-singular home) are refused, and
+    the same layout in radians converted by ``math.degrees`` gives the points 120 deg apart."""
+    radians = [0.0, 2 * math.pi / 3, 4 * math.pi / 3]
+    with pytest.raises(TypeError):
+        circle_points(1.0, radians)  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        paired_circle_points(1.0, radians, 0.1)  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        pair_sides(radians)  # type: ignore[misc]
+    points = np.array(circle_points(1.0, angles_deg=[math.degrees(t) for t in radians]))
+    gaps = [np.linalg.norm(points[k] - points[(k + 1) % 3]) for k in range(3)]
+    assert gaps == pytest.approx([math.sqrt(3)] * 3, abs=1e-15)  # the side of an inscribed equilateral triangle
 
 
 def test_radial_directions_are_exact_unit_vectors_evenly_spaced():
@@ -86,6 +103,17 @@ def test_declarations_give_defaults_meaning_and_groups_in_order():
         point_group("bad", [(0.0, 1.0), (2.0,)], "p{k}")
 
 
+def test_a_description_of_several_items_must_number_them():
+    """Without ``{k}`` every point (or every leg's parameter) would be described by the same text:
+    refused, naming the count and the remedy; a single point needs no number."""
+    with pytest.raises(ValueError, match=r"has no \{k\}, so all 3 would read the same"):
+        point_group("base", [(0.0, 1.0), (2.0, 3.0), (4.0, 5.0)], "base joint, in {B}")
+    with pytest.raises(ValueError, match=r"no \{k\}, so all 2 would read the same"):
+        leg_parameters(sp.symbols("a1:3", positive=True), 0.3, "crank length")
+    single = point_group("tool", [(0.0, 0.0, 0.1)], "tool centre point, in {P}")
+    assert single.info[single.symbols[0, 2]].description == "z of tool centre point, in {P}"
+
+
 def test_pose_values_is_the_homogeneous_transform():
     rotation = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
     pose = np.array(pose_values(rotation, [0.1, 0.2, 0.3]))
@@ -100,8 +128,8 @@ def test_home_from_pose_closes_the_loop_at_the_pose():
     """A planar 3-RPR (prismatic legs between two triangles): the home read at a tilted pose has
     leg lengths equal to the distances |p + R c_i - A_i| computed here with NumPy, and passive
     values equal to the pose's (x, y, phi)."""
-    base = point_group("base", circle_points(0.5, [210.0, 330.0, 90.0], dims=2), "A{k}")
-    platform = point_group("platform", circle_points(0.2, [200.0, 320.0, 80.0], dims=2), "c{k}")
+    base = point_group("base", circle_points(0.5, angles_deg=[210.0, 330.0, 90.0], dims=2), "A{k}")
+    platform = point_group("platform", circle_points(0.2, angles_deg=[200.0, 320.0, 80.0], dims=2), "c{k}")
     lengths = sp.symbols("l1:4", positive=True)
     model = joints.DistanceMechanism(
         joints.platform("planar"),
@@ -112,10 +140,42 @@ def test_home_from_pose_closes_the_loop_at_the_pose():
     home = home_from_pose(model, planar_pose_values(x, y, phi), 0, defaults)
     rotation = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
     for k in range(3):
-        a = np.array(circle_points(0.5, [210.0, 330.0, 90.0], dims=2)[k])
-        c = np.array(circle_points(0.2, [200.0, 320.0, 80.0], dims=2)[k])
+        a = np.array(circle_points(0.5, angles_deg=[210.0, 330.0, 90.0], dims=2)[k])
+        c = np.array(circle_points(0.2, angles_deg=[200.0, 320.0, 80.0], dims=2)[k])
         assert home[lengths[k]] == pytest.approx(np.linalg.norm([x, y] + rotation @ c - a), abs=1e-14)
     assert [home[s] for s in model.motion.coordinates] == pytest.approx([x, y, phi], abs=1e-14)
+
+
+def test_home_from_pose_refuses_a_branch_the_inverse_does_not_have():
+    """The inverse's branch numbers only its sign choices: a planar 3-RPR (leg lengths are
+    distances) has one inverse branch, three R-R-R legs two elbows each, 2^3 = 8 branches. Branch
+    1 of the 3-RPR and branches 8 and -1 of the 3-RRR were read as branches 0 and 7 (low bits
+    only); they are refused with the count, and branch 7 of the 3-RRR (every elbow flipped) is a
+    different home from branch 0 with the same pose."""
+    base = point_group("base", circle_points(0.5, angles_deg=[210.0, 330.0, 90.0], dims=2), "A{k}")
+    platform = point_group("platform", circle_points(0.2, angles_deg=[210.0, 330.0, 90.0], dims=2), "c{k}")
+    lengths = sp.symbols("l1:4", positive=True)
+    rpr = joints.DistanceMechanism(
+        joints.platform("planar"),
+        [joints.prismatic_leg(a, c, n) for a, c, n in zip(base.points, platform.points, lengths, strict=True)],
+    )
+    defaults = parameter_fields(base, platform)["parameters"]
+    pose = planar_pose_values(0.0, 0.0, 0.0)
+    from parakin.errors import BadInputError
+
+    with pytest.raises(BadInputError, match=r"branch 1 is not one of this inverse's 1 branch \(0 \.\. 0\)"):
+        home_from_pose(rpr, pose, 1, defaults)
+    with pytest.raises(BadInputError, match="1 branch"):
+        rpr.home_at(sp.eye(3), sp.Matrix([0, 0, 0]), 1, defaults)
+    from parakin.mechanisms import planar_3rrr
+
+    rrr_defaults = planar_3rrr.defaults()
+    for bad in (8, -1):
+        with pytest.raises(BadInputError, match=rf"branch {bad} is not one of this inverse's 8 branches \(0 \.\. 7\)"):
+            home_from_pose(planar_3rrr.MODEL, pose, bad, rrr_defaults)
+    first, last = (home_from_pose(planar_3rrr.MODEL, pose, b, rrr_defaults) for b in (0, 7))
+    cranks = planar_3rrr.MODEL.actuated
+    assert all(abs(first[t] - last[t]) > 0.1 for t in cranks)
 
 
 @pytest.mark.parametrize(
