@@ -1265,8 +1265,10 @@ def _generic_record(
     if constants is not None:
         # a constants-only record that an earlier build proved
         for stored in (_from_cache(where), _from_package(name, method, generic_key)):
+            if stored is None or not _in(constants, stored):
+                continue
             flips = sign_symmetries(family, np.random.default_rng(seed + 2))
-            if stored is not None and _verified(family, stored, flips) is not None and _in(constants, stored):
+            if _verified(family, stored, flips) is not None:
                 if bool(stored["proof"].get("proven")) and _keeps_count(name, family, stored, relations, seed):
                     return {**stored, "key": generic_key, "relations": constants}
                 return None
