@@ -282,19 +282,23 @@ class AssemblyModes:
         for k in range(len(self)):
             yield self.mode(k)
 
-    def ill_conditioned(self, singular_ratio: float = 1e-10) -> Mask:
-        """Modes at a type II singularity: reported, but their pose is sensitive to the inputs.
+    def ill_conditioned(self, level: float | None = None) -> Mask:
+        """Modes near a type II singularity: reported, but their pose is sensitive to the inputs.
+
+        The same notion as ``parakin plot``'s red titles and the MJCF export's warnings: the
+        type II distance ``conditioning`` (sigma_min / sigma_max of the closure Jacobian, 1 far
+        from, 0 at a singularity) at or below ``level``.
 
         Parameters
         ----------
-        singular_ratio : float
-            The type II distance (``conditioning``: sigma_min / sigma_max of the closure
-            Jacobian) at or below which a mode counts as singular.
+        level : float, optional
+            The type II distance at or below which a mode counts as near a singularity;
+            default ``parakin.singularity.NEAR_SINGULAR`` (0.02).
 
         Returns
         -------
         ndarray of bool, shape (..., M)
-            Per slot: a valid mode whose conditioning is at most ``singular_ratio``.
+            Per slot: a valid mode whose conditioning is at most ``level``.
 
         Examples
         --------
@@ -303,7 +307,11 @@ class AssemblyModes:
         >>> m.forward_pose_all(m.home_actuated).ill_conditioned().tolist()  # two regular modes
         [False, False]
         """
-        return self.valid & ~(self.conditioning > singular_ratio)
+        if level is None:
+            from parakin.singularity import NEAR_SINGULAR  # here: parakin.singularity imports this module
+
+            level = NEAR_SINGULAR
+        return self.valid & ~(self.conditioning > level)
 
     def __repr__(self) -> str:
         """A summary line and, for one input, a table of its modes (numbered 0 .. count - 1)."""
@@ -464,13 +472,13 @@ def certificate_verdict(modes: AssemblyModes, api_hints: bool = True) -> str:
         return "not certified complete: the root count is not proven"
     if count.ndim == 0 and int(modes.certified_roots) < modes.root_count:  # type: ignore[call-overload]
         missing = int(modes.root_count) - int(modes.certified_roots)  # type: ignore[call-overload]
-        hint = " (path_certified: which paths)" if api_hints else ""
+        hint = " (modes.path_certified says which paths)" if api_hints else ""
         certified = f"{int(modes.certified_roots)} of {modes.root_count} roots certified"  # type: ignore[call-overload]
         if int(modes.at_infinity) >= missing:  # type: ignore[call-overload]
             # their paths end at 1e6 times the mechanism's size or beyond, or head there (``modes.FAR_ROOT``)
             return (
                 f"not certified complete: {certified}, the other {missing} paths head to infinity "
-                "(roots at infinity: the input is degenerate, as a home configuration often is; "
+                "(roots at infinity: the input is degenerate; "
                 f"no finite root beyond the certified ones is proven absent){hint}"
             )
         return f"not certified complete: {certified}, {missing} not{hint}"
@@ -526,7 +534,7 @@ def mode_headers(pose_kind: str, residual: bool = False, degrees: bool = True) -
 
 def modes_convention(pose_kind: str) -> str:
     """The line above a table of modes: the pose convention and what conditioning means."""
-    return f"{pose_convention(pose_kind)}; conditioning: 1 well conditioned, 0 singular"
+    return f"{pose_convention(pose_kind)}; conditioning (type II distance): 1 far from, 0 at a singularity"
 
 
 def modes_table(

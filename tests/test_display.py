@@ -93,8 +93,8 @@ def test_an_incomplete_certificate_of_one_input_says_how_far_it_got():
         .splitlines()[0]
         .endswith(
             f"; not certified complete: {certified} of {total} roots certified, the other {total - certified} paths "
-            "head to infinity (roots at infinity: the input is degenerate, as a home configuration often is; "
-            "no finite root beyond the certified ones is proven absent) (path_certified: which paths)"
+            "head to infinity (roots at infinity: the input is degenerate; "
+            "no finite root beyond the certified ones is proven absent) (modes.path_certified says which paths)"
         )
     )
     assert int((~modes.path_certified).sum()) == total - certified

@@ -224,7 +224,11 @@ def _list(args: argparse.Namespace) -> int:
             flag
             for flag, present in (
                 ("inverse", caps.inverse),
-                (f"forward(deg {caps.forward.degree})" if caps.forward else "forward", caps.forward),
+                # a serial chain (no passive joint) has its forward pose by evaluating the chain
+                (
+                    f"forward(deg {caps.forward.degree})" if caps.forward else "forward(chain)",
+                    caps.forward or not manifest.passive,
+                ),
                 ("rates", caps.rates or caps.legs),
                 ("drawing", caps.drawing),
                 ("architecture", caps.architecture),
@@ -257,8 +261,9 @@ def _ik(args: argparse.Namespace) -> int:
         }
         if not result.valid[k]:
             record["failed"] = [name for name, mask in result.failures.items() if mask[k]]
-        record.update(_labelled(m.manifest.actuated, result.actuated[k], degrees))
-        record.update(_labelled(m.manifest.passive, result.passive[k], degrees))
+        # JSON keys and values in SI units and radians however the pose was typed
+        record.update(_labelled(m.manifest.actuated, result.actuated[k], degrees and not args.json))
+        record.update(_labelled(m.manifest.passive, result.passive[k], degrees and not args.json))
         records.append(record)
     if args.json:
         for record in records:
@@ -325,10 +330,19 @@ def _fk(args: argparse.Namespace) -> int:
     verdict (``certified_complete``: true, false, or null where the method has no certificate).
     With no mode: the verdict on stderr (text) or one object ``{"modes": 0, ...}`` (JSON), exit 1."""
     m = _load(args)
-    degrees = args.actuated_deg is not None
-    actuated = _from_cli_units(m.manifest.actuated, args.actuated_deg if degrees else args.actuated, degrees)
+    typed_degrees = args.actuated_deg is not None
+    actuated = _from_cli_units(
+        m.manifest.actuated, args.actuated_deg if typed_degrees else args.actuated, typed_degrees
+    )
+    methods = list(m.manifest.capabilities.forward_methods)
+    if args.method is not None and args.method not in methods:
+        known = ", ".join(repr(name) for name in methods) or "none (a serial chain: its forward pose is evaluated)"
+        raise BadInputError(f"--method {args.method!r}: {m.name}'s forward methods are {known}")
     with _Busy(f"{m.name}: every assembly mode"):
-        modes = m.forward_pose_all(actuated)
+        modes = m.forward_pose_all(actuated, method=args.method)
+    # JSON keys and values in SI units and radians however the inputs were typed; the text
+    # follows --actuated-deg, its columns labelled [deg]
+    degrees = typed_degrees and not args.json
     given = _labelled(m.manifest.actuated, actuated, degrees)  # the inputs as the user gave them
     count = int(modes.count)
     # the same keys for every mechanism and method (FK_SUMMARY_KEYS), on every line
@@ -362,7 +376,8 @@ def _fk(args: argparse.Namespace) -> int:
             rows = [[str(r["mode"]), *(_number(r[_header(v, degrees)]) for v in passive)] for r in records]
             print(text_table(["mode", *(_header(v, degrees) for v in passive)], rows, indent="", rows_shown=count))
     if count == 0:
-        print(f"parakin: no real assembly mode of {m.name} for these inputs; {summary['verdict']}", file=sys.stderr)
+        verdict = "proven: none exists (certified complete)" if summary["certified_complete"] else summary["verdict"]
+        print(f"parakin: no real assembly mode of {m.name} for these inputs; {verdict}", file=sys.stderr)
         return 1
     return 0
 
@@ -681,6 +696,12 @@ def _parser() -> argparse.ArgumentParser:
         "bad input.",
     )
     fk.add_argument("--json", action="store_true", help=FK_JSON_HELP)
+    fk.add_argument(
+        "--method",
+        default=None,
+        help="a forward method of the mechanism (parakin inspect NAME lists them, e.g. 'automatic': a "
+        "homotopy whose certificate proves no mode missing); default: the mechanism's fastest complete one",
+    )
     group = fk.add_mutually_exclusive_group(required=True)
     group.add_argument("--actuated", nargs="+", type=float, metavar="V", help="actuated values (m, rad)")
     group.add_argument(
@@ -888,7 +909,11 @@ def _main(argv: list[str] | None) -> int:
     if given[:1] == ["view"]:  # its own options, --help included (argparse would take those)
         return _view(argparse.Namespace(arguments=given[1:]))
     _GIVEN[:] = given
-    args = _parser().parse_args(given)
+    parser = _parser()
+    args, extra = parser.parse_known_args(given)
+    if extra:  # reported by the command's own parser: its usage, and suggestions from its options
+        commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        commands.choices[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     np.set_printoptions(precision=6, suppress=True, linewidth=120)
     try:
         status = COMMANDS[args.command](args)

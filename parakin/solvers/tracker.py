@@ -25,12 +25,14 @@ from numpy.typing import ArrayLike
 from parakin.errors import (
     AssemblyModeChangeError,
     BadInputError,
+    ConvergenceError,
     UnsupportedOperationError,
+    at_index,
     raise_for_newton_status,
 )
 from parakin.pose import rigid_or_nan, wrap_angle
 from parakin.results import Array, Configuration
-from parakin.singularity import inverse_condition
+from parakin.singularity import NEAR_SINGULAR, inverse_condition
 from parakin.solvers.linalg import pivoted_solve
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
@@ -75,6 +77,8 @@ class ForwardPoseTracker:
         theta, passive = mechanism._state(start)
         #: started from one configuration: one input gives one result, not a batch of one
         self.single = theta.ndim == 1 and passive.ndim == 1
+        #: the last answer was one result (no batch axis): ``conditioning`` has the same shape
+        self._unbatched = self.single
         tolerance = newton_tolerance(tolerance)
         max_iterations = integer_in_range(max_iterations, "max_iterations")
         self._step_job: ctypes.Structure | None = None
@@ -164,14 +168,18 @@ class ForwardPoseTracker:
             self._job.tolerance, self._job.max_iterations, self._job.max_step = tolerance, max_iterations, max_step
 
     def call(self) -> None:
-        """One compiled Newton solve on the buffers as they are (no checks)."""
+        """One compiled Newton solve on the buffers as they are (no checks); ``conditioning``
+        then answers per buffer entry, (n,)."""
+        self._unbatched = False
         self._solve(self._job_address)
 
     @property
     def conditioning(self) -> Array:
         """Distance to a type II singularity at the current solutions: ``parakin.singularity``'s
-        sigma_min / sigma_max of the closure Jacobian d closure / d passive, shape (n,) (1 far
-        from, 0 at a singularity; NaN where the Jacobian is not finite), the measure
+        sigma_min / sigma_max of the closure Jacobian d closure / d passive (1 far from, 0 at a
+        singularity; NaN where the Jacobian is not finite), shaped as ``solve``'s answer: a 0-d
+        array for one result (a tracker of one configuration given one input, or not yet
+        solved), else (n,) (also after ``call``); the measure
         ``forward_pose_all`` reports per mode. Measured when read (one closure call and one
         batched SVD), so a control loop that does not read it does not pay for it.
 
@@ -181,13 +189,14 @@ class ForwardPoseTracker:
         >>> m = parakin.load("five_bar", backend="numpy")
         >>> tracker = m.tracker(m.forward_pose(m.home_actuated))
         >>> _ = tracker.solve(m.home_actuated)
-        >>> tracker.conditioning.round(4).tolist()
-        [0.6662]
+        >>> round(float(tracker.conditioning), 4)
+        0.6662
         """
         m = self.mechanism
         with np.errstate(all="ignore"):
             jacobian = m.backend.call("loop_closure", self.actuated, self.passive, m.params)["jacobian"]
-        return inverse_condition(jacobian)
+        measure = inverse_condition(jacobian)
+        return measure[0] if self._unbatched else measure
 
     @property
     def tolerance(self) -> float:
@@ -254,7 +263,7 @@ class ForwardPoseTracker:
             else:
                 step = self._step(self._job_address, self._step_address)
             if not step:
-                single = self.single and actuated.ndim == 1
+                single = self._unbatched = self.single and actuated.ndim == 1
                 return (self.passive[0], self.pose[0]) if single else (self.passive, self.pose)
             if step > 0:
                 return self._checked(actuated, previous_theta, stepped=True)
@@ -310,21 +319,56 @@ class ForwardPoseTracker:
             )
             self._pivot_ratio[...], self.orientation[...] = solved.conditioning, solved.orientation
             self.first_step[...] = solved.first_step
+        unbatched = self.single and theta.ndim == 1
         if self.status.any():  # the whole batch goes back to its previous, consistent state
             self._restore(np.ones(self.count, dtype=bool), previous_theta)
+            self._raise_for_status(unbatched)
+        self._check_mode(previous_theta, unbatched)
+        self._unbatched = unbatched
+        if unbatched:
+            return self.passive[0], self.pose[0]
+        return self.passive, self.pose
+
+    def _raise_for_status(self, unbatched: bool) -> None:
+        """The error of the first failed entry, the solutions already restored. Newton that does
+        not converge from a solution near a type II singularity (conditioning below
+        ``NEAR_SINGULAR``) is at a fold: the tracked mode ends there, and the message says so
+        instead of advising a closer guess (a tracker's user gives none)."""
+        pick = 0 if unbatched else slice(None)  # one result: no batch index in the message
+        try:
             raise_for_newton_status(
-                self.status,
-                self.residual,
-                self.iterations,
+                self.status[pick],
+                self.residual[pick],
+                self.iterations[pick],
                 "tracker",
                 self._tolerance,
                 self._max_iterations,
-                self._previous,
+                self._previous[pick],
             )
-        self._check_mode(previous_theta)
-        if self.single and theta.ndim == 1:
-            return self.passive[0], self.pose[0]
-        return self.passive, self.pose
+        except ConvergenceError as error:
+            i = int(np.argmax(self.status != 0))
+            with np.errstate(all="ignore"):
+                m = self.mechanism
+                jacobian = m.backend.call("loop_closure", self.actuated[i : i + 1], self.passive[i : i + 1], m.params)[
+                    "jacobian"
+                ]
+            kept = float(inverse_condition(jacobian)[0])
+            at = "" if unbatched else at_index((i,))
+            reached = float(self.residual[i])
+            if kept < NEAR_SINGULAR:
+                message = (
+                    f"tracker{at}: the assembly mode ends at a type II singularity near here: Newton did not "
+                    f"converge (residual {reached:.3g}) past the kept solution, whose conditioning is {kept:.3g} "
+                    "(type II distance: 1 far from, 0 at a singularity); beyond this fold the mode has no real "
+                    "solution: reverse the path, or re-solve with forward_pose_all for the modes there"
+                )
+            else:
+                message = (
+                    f"tracker{at} did not converge in {self._max_iterations} iterations: residual {reached:.3g} > "
+                    f"tolerance {self._tolerance:g}; the previous solution is kept (conditioning {kept:.3g}): "
+                    "try a smaller step"
+                )
+            raise ConvergenceError(message, residual=error.residual) from error
 
     def _restore(self, entries: np.ndarray, previous_theta: Array) -> None:
         """Entries back to the state before this solve: inputs, solution and pose together."""
@@ -336,7 +380,7 @@ class ForwardPoseTracker:
         change = passive - reference
         return np.abs(np.where(self.mechanism._angular_passive, wrap_angle(change), change)).max(-1, initial=0.0)
 
-    def _check_mode(self, previous_theta: Array) -> None:
+    def _check_mode(self, previous_theta: Array, unbatched: bool = False) -> None:
         crossed = self.orientation * self._previous_orientation < 0
         # the first step is the linearised prediction: a quadratically converging Newton moves
         # within a small multiple of it, a jump to another branch moves much further; a first
@@ -365,7 +409,7 @@ class ForwardPoseTracker:
                 f"trust_step {self.trust_step:g} even in {SUBSTEPS} substeps)",
             }[int(self.mode_change[i])]
             raise AssemblyModeChangeError(
-                f"tracker at batch index {i}: {what}; the previous solution is kept (a smaller step, or "
+                f"tracker{'' if unbatched else at_index((i,))}: {what}; the previous solution is kept (a smaller step, or "
                 "strict=False to accept the new mode)",
                 index=i,
                 change=MODE_CHANGES[int(self.mode_change[i])],

@@ -1,0 +1,149 @@
+"""What the runtime and the command line say (new-user review): one notion of "near a type II
+singularity", a command's own usage and suggestions, ``fk --method``, a serial chain listed with
+its forward, JSON keys that do not depend on how the input was typed, and a tracker that says
+where its assembly mode ends. Values are checked against an independent computation (the
+singularity module's measure, a fresh ``forward_pose_all``, the hand-worked five-bar points),
+never against the printing code's own output. Every test runs in well under a second."""
+
+import json
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.interfaces import cli
+from parakin.singularity import NEAR_SINGULAR, is_near_singular, singularity_distance
+
+
+def test_ill_conditioned_is_the_near_singular_of_plot_and_mjcf():
+    """stewart at home: 40 modes, 25 of them with a type II distance below NEAR_SINGULAR (0.02)
+    as parakin.singularity measures each mode afresh (the measure plot and the MJCF export use).
+    ill_conditioned() flags exactly those; its old default (1e-10) flagged none, though five
+    modes lie at 1.1e-5 .. 6.4e-5."""
+    m = parakin.load("stewart")
+    modes = m.forward_pose_all(m.home_actuated)
+    assert int(modes.count) == 40
+    near = [is_near_singular(singularity_distance(m, mode)) for mode in modes]
+    flagged = modes.ill_conditioned()[modes.valid].tolist()
+    assert flagged == near and sum(near) == 25, (sum(flagged), sum(near))
+    assert not modes.ill_conditioned(level=1e-10).any()  # an explicit level still applies
+    assert NEAR_SINGULAR == 0.02
+
+
+def _error(args: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(args)
+    assert exit_.value.code == 2
+    return capsys.readouterr().err
+
+
+def test_an_unknown_option_of_fk_gets_fk_usage_and_fk_suggestions(capsys):
+    """`fk five_bar --mode 0`: fk has no --mode (plot has); the error shows fk's usage and
+    suggests only fk's own options (--method), never plot's --mode or --output."""
+    err = _error(["fk", "five_bar", "--backend", "numpy", "--mode", "0", "--actuated", "1.5", "1.5"], capsys)
+    assert err.startswith("usage: parakin fk ") and "parakin fk: error: unrecognized arguments: --mode 0" in err
+    assert err.rstrip().endswith("did you mean '--method'?")
+    err = _error(["fk", "five_bar", "--backend", "numpy", "--outptu", "x.png", "--actuated", "1.5", "1.5"], capsys)
+    assert err.startswith("usage: parakin fk ") and "did you mean" not in err  # --output is plot's
+
+
+def test_fk_method_automatic_certifies_the_hand_worked_five_bar(capsys):
+    """theta = (pi/2, pi/2): P = (0, 0) and (0, 0.4) by hand (circles of radius 0.25 m about
+    (-0.15, 0.2) and (0.15, 0.2)). The default elimination has no certificate; --method
+    automatic (a homotopy) finds the same two points, certified complete."""
+    half_pi = repr(np.pi / 2)
+    args = ["fk", "five_bar", "--backend", "numpy", "--json", "--actuated", half_pi, half_pi]
+    assert cli.main(args) == 0
+    default = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert cli.main([*args, "--method", "automatic"]) == 0
+    lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert default[0]["certified_complete"] is None and len(lines) == 2
+    assert all(line["certified_complete"] is True for line in lines)
+    points = sorted((line["x [m]"], line["y [m]"]) for line in lines)
+    np.testing.assert_allclose(points, [(0.0, 0.0), (0.0, 0.4)], atol=1e-9)
+    err = _error_status(["fk", "five_bar", "--backend", "numpy", "--method", "newton", "--actuated", "1", "1"], capsys)
+    assert err == "parakin: BadInputError: --method 'newton': five_bar's forward methods are 'elimination', 'automatic'"
+
+
+def _error_status(args: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    assert cli.main(args) == 2
+    return capsys.readouterr().err.strip()
+
+
+def test_list_gives_the_serial_chain_its_forward(capsys):
+    """sphere2r (no passive joint) has its forward pose by evaluating the chain, certified
+    complete (one mode): list says forward, and fk answers one certified mode."""
+    assert cli.main(["list"]) == 0
+    line = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("sphere2r "))
+    assert "forward(chain)" in line.split("[")[-1], line
+    assert cli.main(["fk", "sphere2r", "--backend", "numpy", "--json", "--actuated", "0.5", "1.0"]) == 0
+    (record,) = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert record["modes"] == 1 and record["certified_complete"] is True
+
+
+def test_fk_json_keys_and_values_are_radians_however_the_input_was_typed(capsys):
+    """sphere2r at (30, 60) deg and at (pi/6, pi/3) rad: the same JSON keys ("[rad]") and the
+    same values; the text output with --actuated-deg labels its angles [deg] (30 deg = pi/6)."""
+    common = ["fk", "sphere2r", "--backend", "numpy", "--json"]
+    assert cli.main([*common, "--actuated-deg", "30", "60"]) == 0
+    typed_deg = json.loads(capsys.readouterr().out)
+    assert cli.main([*common, "--actuated", repr(np.pi / 6), repr(np.pi / 3)]) == 0
+    typed_rad = json.loads(capsys.readouterr().out)
+    assert list(typed_deg) == list(typed_rad) and not any("[deg]" in key for key in typed_deg)
+    for key, value in typed_rad.items():
+        assert typed_deg[key] == pytest.approx(value, abs=1e-12), key
+    assert cli.main(["fk", "sphere2r", "--backend", "numpy", "--actuated-deg", "30", "60"]) == 0
+    text = capsys.readouterr().out
+    assert "theta1 = 30 deg" in text and "alpha [deg]" in text
+
+
+def test_a_tracker_at_a_fold_says_its_mode_ends_at_a_type_ii_singularity():
+    """five_bar from home along theta + s (1, -1): its two modes merge near s = 0.229 (a fresh
+    forward_pose_all finds 2 modes at 0.229, none at 0.2295). Tracked in steps of 0.001 the
+    tracker fails past the fold: the message says the mode ends at a type II singularity with
+    the kept solution's conditioning (below NEAR_SINGULAR), not "try a closer guess"; a single
+    tracker's message has no batch index, and its conditioning is a 0-d value."""
+    m = parakin.load("five_bar", backend="numpy")
+    direction = np.array([1.0, -1.0])
+    assert int(m.forward_pose_all(m.home_actuated + 0.229 * direction).count) == 2
+    assert int(m.forward_pose_all(m.home_actuated + 0.2295 * direction).count) == 0
+    tracker = m.tracker(m.forward_pose(m.home_actuated))
+    assert np.shape(tracker.conditioning) == ()
+    steps = 0
+    with pytest.raises(parakin.ConvergenceError) as error:
+        for s in np.arange(0.2, 0.3, 0.001):
+            tracker.solve(m.home_actuated + s * direction)
+            steps += 1
+    message = str(error.value)
+    assert steps >= 25 and message.startswith("tracker: the assembly mode ends at a type II singularity near here")
+    assert "closer guess" not in message and "batch index" not in message
+    kept = float(tracker.conditioning)
+    assert np.shape(tracker.conditioning) == () and kept < NEAR_SINGULAR
+    assert f"conditioning is {kept:.3g}" in message
+    fresh = m.forward_pose_all(tracker.actuated[0]).conditioning
+    assert kept == pytest.approx(float(np.nanmin(fresh)), rel=1e-6)  # the merging modes' measure
+
+
+def test_tracker_messages_name_a_batch_index_in_one_form():
+    """Every batched message names an entry as `at batch index (i,)` (parakin.errors.at_index):
+    a batch of two planar_3rpr trackers whose second entry is sent across a type II singularity
+    (1.6 (1, -0.5, 0.3) from home, as test_tracking does) says "(1,)" (it said "batch index 1");
+    a tracker of one configuration names no index (it said "batch index 0"). A five-bar batch
+    whose second entry leaves the workspace: the same form for a ConvergenceError."""
+    m = parakin.load("planar_3rpr", backend="numpy")
+    home, direction = m.home_actuated, np.array([1.0, -0.5, 0.3])
+    batch = m.tracker(m.forward_pose(np.stack([home, home])))
+    with pytest.raises(parakin.AssemblyModeChangeError) as crossed:
+        batch.solve(np.stack([home, home + 1.6 * direction]))
+    assert str(crossed.value).startswith("tracker at batch index (1,): ") and crossed.value.index == 1
+    single = m.tracker(m.forward_pose(home))
+    with pytest.raises(parakin.AssemblyModeChangeError) as crossed:
+        single.solve(home + 1.6 * direction)
+    assert str(crossed.value).startswith("tracker: ") and "batch index" not in str(crossed.value)
+    bar = parakin.load("five_bar", backend="numpy")
+    start = bar.home_actuated
+    tracker = bar.tracker(bar.forward_pose(np.stack([start, start])))
+    assert np.shape(tracker.conditioning) == (2,)
+    with pytest.raises(parakin.ConvergenceError) as error:
+        tracker.solve(np.stack([start + [0.05, 0.0], start + [1.5, 0.0]]))
+    assert str(error.value).startswith("tracker at batch index (1,)"), str(error.value)
