@@ -5,8 +5,12 @@ past what CasADi wrote. Each raises a GenerationError naming the mechanism and t
 from __future__ import annotations
 
 import math
+import warnings
 
+import numpy as np
 import sympy as sp
+
+from parakin.singularity import inverse_condition
 
 from .errors import GenerationError
 from .model import POSE_KINDS, POSE_SYMBOLS, Mechanism
@@ -146,3 +150,98 @@ def check_program_symbols(m: Mechanism, name: str, inputs: list[sp.Symbol], step
         free = sorted(str(s) for s in sp.Matrix(matrix).free_symbols - known)
         if free:
             raise GenerationError(f"{m.name}: {name} uses undefined symbols {free}")
+
+
+#: a default home whose type II distance (``home_type_ii_distance``: sigma_min / sigma_max of
+#: d closure / d passive, the measure of ``parakin.singularity``) is below this is near a parallel
+#: singularity and the generator warns (``NearSingularHomeWarning``). The shipped homes range
+#: down to 0.0077 (planar_3rpr; gough 0.0079, stewart 0.011, the rest above 0.13).
+NEAR_SINGULAR_HOME = 1e-3
+#: below this the home is singular to double precision: a GenerationError
+SINGULAR_HOME = 1e-12
+
+
+class NearSingularHomeWarning(UserWarning):
+    """A mechanism's default home is near a type II (parallel) singularity: its distance
+    sigma_min / sigma_max of d closure / d passive is below ``NEAR_SINGULAR_HOME``. The package is
+    generated, but the runtime starts from the home (``plot``, the viewer, ``forward_pose`` near
+    it): there the actuators barely hold the platform and Newton steps are ill-conditioned. Move
+    the home (another pose or branch), or check the layout (angles in degrees where a builder's
+    argument says ``_deg``)."""
+
+
+def home_type_ii_distance(m: Mechanism, jacobian_passive: sp.Matrix) -> float | None:
+    """The home's distance to a type II singularity: 1/cond of d closure / d passive evaluated at
+    the home and the default parameters (``parakin.singularity.inverse_condition``).
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism model (its ``home`` and ``parameters``).
+    jacobian_passive : sympy.Matrix, shape (n_p, n_p)
+        d closure / d passive, symbolic in the variables and parameters.
+
+    Returns
+    -------
+    float or None
+        In [0, 1]; None without passive variables, with a home that does not give every variable
+        a value, or where the Jacobian at the home is not a finite real matrix.
+    """
+    if not m.passive or jacobian_passive.cols == 0:
+        return None
+    values = {**m.parameters, **m.home}
+    if any(v not in values for v in (*m.actuated, *m.passive)):
+        return None
+    numeric = jacobian_passive.xreplace({s: sp.Float(float(v), 17) for s, v in values.items()})
+    try:
+        matrix = np.array(numeric.evalf(17).tolist(), dtype=float)
+    except TypeError:  # a symbol left, or a complex entry: no number to judge by
+        return None
+    if not np.isfinite(matrix).all():
+        return None
+    return float(inverse_condition(matrix))
+
+
+def check_home_regular(m: Mechanism, jacobian_passive: sp.Matrix) -> float | None:
+    """Warn of a default home near a type II singularity, refuse one at it.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The mechanism model.
+    jacobian_passive : sympy.Matrix, shape (n_p, n_p)
+        d closure / d passive.
+
+    Returns
+    -------
+    float or None
+        The home's type II distance (``home_type_ii_distance``).
+
+    Raises
+    ------
+    GenerationError
+        The distance is below ``SINGULAR_HOME`` (singular to double precision).
+
+    Warns
+    -----
+    NearSingularHomeWarning
+        The distance is below ``NEAR_SINGULAR_HOME``; the message gives it.
+    """
+    distance = home_type_ii_distance(m, jacobian_passive)
+    if distance is None:
+        return None
+    where = "sigma_min / sigma_max of d closure / d passive at the home"
+    if distance < SINGULAR_HOME:
+        raise GenerationError(
+            f"{m.name}: the default home is at a type II (parallel) singularity ({where} = {distance:.3g}): "
+            "the actuators do not hold the platform there; choose another home pose or branch"
+        )
+    if distance < NEAR_SINGULAR_HOME:
+        warnings.warn(
+            f"{m.name}: the default home is near a type II (parallel) singularity ({where} = {distance:.3g}, "
+            f"below {NEAR_SINGULAR_HOME:g}); choose another home pose or branch, or check the layout "
+            "(angles in degrees where a builder's argument says _deg)",
+            NearSingularHomeWarning,
+            stacklevel=2,
+        )
+    return distance

@@ -16,7 +16,7 @@ import sympy as sp
 from parakin.log import logger
 
 from . import configurations, graph, polynomial_form, stages, start_systems
-from .checks import check_closure, check_pose_kind, check_program_symbols
+from .checks import check_closure, check_home_regular, check_pose_kind, check_program_symbols
 from .drawing import drawing_metadata
 from .errors import GenerationError
 from .frames import vee
@@ -423,6 +423,7 @@ def derive(mechanism: Mechanism) -> Derivation:
     if mechanism.passive:
         jacobian_passive = residual.jacobian(mechanism.passive)
         jacobian_actuated = residual.jacobian(mechanism.actuated)
+        check_home_regular(mechanism, jacobian_passive)  # warns near a type II singularity
     else:  # nothing to solve for: a serial chain
         jacobian_passive = sp.zeros(residual.rows, 0)
         jacobian_actuated = sp.zeros(residual.rows, len(mechanism.actuated))
