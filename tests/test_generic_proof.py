@@ -17,8 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import sympy as sp
 from parakin.generator import start_systems
 from parakin.generator.build import generate_file
+from parakin.generator.polynomial_form import PolynomialForm
 from parakin.generator.subfamily import Relations
 
 import parakin
@@ -115,3 +117,44 @@ def test_constants_only_keeps_the_constants_and_frees_the_identical_values() -> 
     assert free is not None and free.coordinate == (0, 1, -1, 2) and free.groups == []
     assert free.constants == [2] and free.full(np.array([1.0, 3.0, 5.0]))[2] == 2
     assert Relations((0, 0, 1), (0j, 0j, 0j), ("a", "b", "c")).constants_only() is None
+
+
+# ------------------------------------------------- the rule on a family whose solutions are known
+z1, z2, b1, b2, c1, c2 = sp.symbols("z1 z2 b1 b2 c1 c2")
+#: (b1 - b2) z1^2 + z1 - c1 = 0, z2^2 - c2 = 0: 4 solutions for generic values, 2 where b1 = b2
+#: (the other z1 goes to infinity), 4 where c1 = c2 (nothing degenerates)
+EQUATIONS = [(b1 - b2) * z1**2 + z1 - c1, z2**2 - c2]
+
+
+def _start(values: dict, cache: Path) -> dict:
+    form = PolynomialForm([z1, z2], EQUATIONS, [(s, s) for s in (b1, b2, c1, c2)], [z1, z2])
+    with pytest.MonkeyPatch.context() as patch:
+        cache.mkdir(mode=0o700, exist_ok=True)
+        patch.setenv("PARAKIN_CACHE", str(cache))
+        return start_systems.start_systems("generic_rule_test", form, EQUATIONS, 7, "automatic", values)[1]
+
+
+def _closed_form_count(record: dict) -> int:
+    """The number of solutions at the record's instance, from the quadratic formula."""
+    q = np.array([complex(*v) for v in record["instance"]])
+    return (1 if q[0] == q[1] else 2) * 2
+
+
+def test_with_no_record_a_relation_that_keeps_the_count_gets_the_count_for_any_values(tmp_path) -> None:
+    record = _start({b1: 0.3, b2: 0.4, c1: 0.5, c2: 0.5}, tmp_path / "cache")
+    q = np.array([complex(*v) for v in record["instance"]])
+    assert "relations" not in record and record["proof"]["proven"]
+    assert q[2] != q[3], "drawn for any values: c1 and c2 apart"
+    assert len(record["solutions"]) == _closed_form_count(record) == 4
+
+
+def test_with_no_record_a_relation_that_loses_roots_is_proven_on_its_subfamily(tmp_path) -> None:
+    record = _start({b1: 0.3, b2: 0.3, c1: 0.5, c2: 0.7}, tmp_path / "cache")
+    q = np.array([complex(*v) for v in record["instance"]])
+    assert record["relations"].describe() == "b1 = b2" and record["proof"]["proven"]
+    assert q[0] == q[1] and len(record["solutions"]) == _closed_form_count(record) == 2
+    # the count for any values was tried first (small family), proven (4) and stored, then not kept
+    stored = sorted(
+        len(json.loads(p.read_text())["solutions"]) for p in (tmp_path / "cache" / "homotopy").glob("*.json")
+    )
+    assert stored == [2, 4]
