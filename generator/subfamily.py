@@ -17,7 +17,9 @@ it: the runtime's homotopy from a start instance drawn there to any input of the
 Inputs never enter a relation: the actuated variables stay generic. A relation between parameter
 values holds for the mechanism as generated; parameters loaded with other values break it, and
 the count proven on the subfamily does not hold for them (``holds`` says so; the manifest's
-``subfamily`` names the relations for the runtime to check).
+``subfamily`` names the relations for the runtime to check). So where the family is small
+(``start_systems.GENERIC_MAX_PATHS``) the count for any parameter values is proven first and kept
+where the subfamily loses none of it (``constants_only``: the relations no parameter changes).
 
 The subfamily is q = lift(t): one coordinate t_j per group of identical values (and per value in
 no relation), constants fixed.
