@@ -5,6 +5,7 @@ where its assembly mode ends. Values are checked against an independent computat
 singularity module's measure, a fresh ``forward_pose_all``, the hand-worked five-bar points),
 never against the printing code's own output. Every test runs in well under a second."""
 
+import dataclasses
 import json
 
 import numpy as np
@@ -147,3 +148,42 @@ def test_tracker_messages_name_a_batch_index_in_one_form():
     with pytest.raises(parakin.ConvergenceError) as error:
         tracker.solve(np.stack([start + [0.05, 0.0], start + [1.5, 0.0]]))
     assert str(error.value).startswith("tracker at batch index (1,)"), str(error.value)
+
+
+def test_inspect_gives_each_parameter_its_meaning_one_per_line(capsys):
+    """`parakin inspect five_bar`: the header once had one `parameters: ...` line without
+    meanings (stewart's ran to ~1200 characters). Now one line per parameter, `name = value
+    unit: meaning`, the meaning and value as the manifest gives them, every header line within
+    the width (100), the citation wrapped too."""
+    assert cli.main(["inspect", "five_bar"]) == 0
+    header = capsys.readouterr().out.partition("\n== ")[0].splitlines()
+    manifest = parakin.metadata("five_bar")
+    start = header.index("parameters:")
+    for k, p in enumerate(manifest.parameters, start + 1):
+        assert header[k] == f"  {p.name} = {p.default:g} {p.unit}: {p.description}", header[k]
+    assert max(len(line) for line in header) <= 100
+
+
+def test_home_values_that_are_rounding_noise_print_as_0():
+    """rus6's home cranks are 0 up to rounding (theta1 = 2.88e-16 rad in the manifest): shown as
+    `theta1 = 0 rad (0 deg)` and named in the note; a value at 1e-12 of its unit's scale or above
+    is kept (rule: |v| < 1e-12 max(1, the largest |value| in that unit))."""
+    from parakin.interfaces.inspect import NOISE, _home_values, _scales
+
+    manifest = parakin.metadata("rus6")
+    raw = [float(v.home) for v in manifest.actuated]
+    assert all(0.0 < abs(v) < 1e-15 for v in raw[:1]), raw  # the noise is really there
+    noise: list[str] = []
+    shown = _home_values(manifest.actuated, _scales(manifest), noise)
+    assert shown[0] == "theta1 = 0 rad (0 deg)" and noise[0] == "theta1"
+    scales = _scales(manifest)
+    assert scales["rad"] >= 1.0 and scales["m"] == max(
+        [1.0] + [abs(p.default) for p in manifest.parameters if p.unit == "m"]
+        + [abs(float(v.home)) for v in manifest.passive if v.unit == "m" and v.home is not None]
+    )  # fmt: skip
+    kept: list[str] = []
+    variable = dataclasses.replace(manifest.actuated[0], home=3 * NOISE)
+    assert _home_values([variable], {"rad": 1.0}, kept) == [
+        f"theta1 = {3 * NOISE:.6g} rad ({np.degrees(3 * NOISE):.6g} deg)"
+    ]
+    assert kept == []

@@ -2,8 +2,11 @@
 
 Needs SymPy (the ``generator`` extra). Three formats of one report:
 
-* ``text`` (the default): the header names the parameters, the variables with their home values
-  (the home configuration: SI units, a revolute one also in degrees) and the platform's
+* ``text`` (the default): the header gives the parameters one per line (value, unit and meaning),
+  the variables with their home values (the home configuration: SI units, a revolute one also
+  in degrees; a value below ``NOISE`` = 1e-12 times its unit's scale, the largest magnitude
+  among the parameters and home values in that unit and at least 1, is rounding noise and
+  prints as 0, a note naming it) and the platform's
   motion (the generator's screw analysis, ``manifest.joints.motion.text``: for a lower-mobility
   mechanism the coordinates the actuators control and the parasitic ones that follow); then each
   object as the generator named it; a matrix as a grid with its rows
@@ -486,12 +489,26 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
     manifest = report.manifest
     header = [
         manifest.title,
-        f"citation: {manifest.citation}",
+        *textwrap.wrap(f"citation: {manifest.citation}", width=width, subsequent_indent="    "),
         "",
-        "parameters: " + ", ".join(f"{p.name} = {p.default:g} {p.unit}".rstrip() for p in manifest.parameters),
     ]
+    scales = _scales(manifest)
+    noise: list[str] = []  # the values shown as 0 (rounding noise)
+    header.append("parameters:" if manifest.parameters else "parameters: none")
+    for p in manifest.parameters:
+        value = _denoised(p.default, scales, p.unit, p.name, noise)
+        shown = f"{p.name} = {value:g} {p.unit}".rstrip() + (f": {p.description}" if p.description else "")
+        header += textwrap.wrap(shown, width=width, initial_indent="  ", subsequent_indent="      ")
     for title, variables in (("actuated", manifest.actuated), ("passive", manifest.passive)):
-        header += _wrapped_parts(f"{title} (at home): ", _home_values(variables), width)
+        header += _wrapped_parts(f"{title} (at home): ", _home_values(variables, scales, noise), width)
+    if noise:
+        header += textwrap.wrap(
+            f"({', '.join(noise)}: below {NOISE:g} times the scale of {'its' if len(noise) == 1 else 'their'} "
+            "unit (the largest magnitude among the parameters and home values of that unit, at least 1), "
+            "rounding noise, shown as 0)",
+            width=width,
+            subsequent_indent="    ",
+        )
     motion = _motion(manifest)
     if motion is not None:
         header += textwrap.wrap(f"motion: {motion}", width=width, subsequent_indent="    ")
@@ -510,17 +527,46 @@ def _as_text(sympy: Any, report: _Report, width: int, lines: int, name: str) -> 
     return "\n".join([*header, "", *body])
 
 
-def _home_values(variables: Any) -> list[str]:
+#: a value whose magnitude is below this times its unit's scale (``_scales``) is rounding noise
+#: and prints as 0 (rus6's home theta1 = 2.88e-16 rad)
+NOISE = 1e-12
+
+
+def _scales(manifest: Any) -> dict[str, float]:
+    """Per unit: the largest magnitude among the parameters' defaults and the variables' home
+    values in that unit, at least 1 (``NOISE`` is relative to it)."""
+    scales: dict[str, float] = {}
+    values = [(p.unit, p.default) for p in manifest.parameters]
+    values += [(v.unit, v.home) for v in (*manifest.actuated, *manifest.passive) if v.home is not None]
+    for unit, value in values:
+        if math.isfinite(float(value)):
+            scales[unit] = max(scales.get(unit, 1.0), abs(float(value)))
+    return scales
+
+
+def _denoised(value: float, scales: dict[str, float], unit: str, name: str, noise: list[str]) -> float:
+    """``value``, or 0.0 where it is rounding noise (``NOISE``), its name then added to ``noise``."""
+    value = float(value)
+    if value != 0.0 and abs(value) < NOISE * scales.get(unit, 1.0):
+        noise.append(name)
+        return 0.0
+    return value + 0.0  # no -0
+
+
+def _home_values(variables: Any, scales: dict[str, float] | None = None, noise: list[str] | None = None) -> list[str]:
     """``d1 = 0.26459 m`` per variable at the home configuration, with its unit (SI), a revolute
-    one also in degrees (labelled); a variable without a home value as ``name [unit]``."""
+    one also in degrees (labelled); a variable without a home value as ``name [unit]``; a value
+    below ``NOISE`` times its unit's scale (``scales``, default 1) as 0, its name added to
+    ``noise``."""
     parts = []
     for v in variables:
         if v.home is None:
             parts.append(f"{v.name} [{v.unit}]" if v.unit else v.name)
             continue
-        shown = f"{v.name} = {float(v.home) + 0.0:.6g}" + (f" {v.unit}" if v.unit else "")
+        home = _denoised(v.home, scales or {}, v.unit, v.name, [] if noise is None else noise)
+        shown = f"{v.name} = {home:.6g}" + (f" {v.unit}" if v.unit else "")
         if v.kind == "revolute":
-            shown += f" ({math.degrees(v.home) + 0.0:.6g} deg)"
+            shown += f" ({math.degrees(home) + 0.0:.6g} deg)"
         parts.append(shown)
     return parts
 
