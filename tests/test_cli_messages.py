@@ -187,3 +187,17 @@ def test_home_values_that_are_rounding_noise_print_as_0():
         f"theta1 = {3 * NOISE:.6g} rad ({np.degrees(3 * NOISE):.6g} deg)"
     ]
     assert kept == []
+
+
+def test_the_mode_table_legend_names_the_type_ii_distance():
+    """repr(modes) above its table: the conditioning column is the type II distance, 1 far from,
+    0 at a singularity (it read "conditioning: 1 well conditioned, 0 singular", like a count next
+    to "2 assembly modes"); five_bar's two home modes have type II distance 0.6662 as
+    parakin.singularity measures them (0.6662, its docstring example), printed to 3 digits."""
+    m = parakin.load("five_bar", backend="numpy")
+    modes = m.forward_pose_all(m.home_actuated)
+    lines = repr(modes).splitlines()
+    assert lines[1].endswith("; conditioning (type II distance): 1 far from, 0 at a singularity"), lines[1]
+    assert "well conditioned" not in repr(modes)
+    measured = [round(singularity_distance(m, mode)["type II"], 3) for mode in modes]  # printed to 3 digits
+    assert [float(row.split()[-1]) for row in lines[4:]] == measured == [0.666, 0.666]
