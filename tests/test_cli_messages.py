@@ -201,3 +201,15 @@ def test_the_mode_table_legend_names_the_type_ii_distance():
     assert "well conditioned" not in repr(modes)
     measured = [round(singularity_distance(m, mode)["type II"], 3) for mode in modes]  # printed to 3 digits
     assert [float(row.split()[-1]) for row in lines[4:]] == measured == [0.666, 0.666]
+
+
+def test_ik_json_keys_are_radians_however_the_pose_was_typed(capsys):
+    """delta at p = (0, 0, -1.2): `--pose-deg` (no angle in a translation pose) and `--pose` give
+    the same JSON keys and values, its revolute inputs in radians ("theta1 [rad]"); branch 7's
+    theta = -2 atan(8) = -2.892883 rad by hand (the manifest's example)."""
+    answers = []
+    for flag in ("--pose", "--pose-deg"):
+        assert cli.main(["ik", "delta", "--backend", "numpy", flag, "0", "0", "-1.2", "--json"]) == 0
+        answers.append([json.loads(line) for line in capsys.readouterr().out.splitlines()])
+    assert answers[0] == answers[1] and len(answers[0]) == 8
+    assert answers[1][7]["theta1 [rad]"] == pytest.approx(-2 * np.arctan(8.0), abs=1e-9)
