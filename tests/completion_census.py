@@ -32,6 +32,13 @@ rus6 on 1000 inputs 100 % complete (12 re-tracked), median 233 ms, max 1525 ms (
 --seed 7 100 % (10 re-tracked), 227 ms, 1286 ms (5.7 x); was 98.67 % on 300 with max 75 x median
 (roots near infinity uncertified, 7-20 s NumPy re-tracks). Every other shipped homotopy method:
 100 % on 300 (or as many as the sampler gives), max <= 3.7 x median.
+
+Issue 33, "before" at 96a3846 (seed 31, 10^4 inputs unless stopped by --budget; compiled backend,
+one loaded core): every entry 100 % complete but rus6, 9997 of 10^4 (3 inputs with 4-8 of 80
+roots uncertified, 133 re-tracked); stewart 'homotopy' 9 re-tracked, spm 1; modes per input as the
+sampler's spread gives (stewart 4-28, prs3 12-16). Entries: planar_3rrr, tricept, prs3, rps3,
+five_bar, delta, stewart (homotopy), sam, planar_3rpr, rus6 on 10^4; sps 6619, spm 6533, gough
+2007, stewart (automatic) 1932; NumPy backend planar_3rrr and prs3 on 10^3.
 """
 
 from __future__ import annotations
