@@ -39,10 +39,8 @@ from typing import TYPE_CHECKING, Protocol, TypedDict
 
 import sympy as sp
 
-from parakin.errors import BadInputError
-
 from .frames import homogeneous, rot_x, rot_y, rot_z
-from .model import POSE_POSITION, POSE_ROTATION, InverseSolution, ParameterInfo, RateModel
+from .model import POSE_POSITION, POSE_ROTATION, InverseSolution, ParameterInfo, RateModel, check_branch
 
 if TYPE_CHECKING:
     from .joints import Platform
@@ -528,39 +526,6 @@ def frame_pose_values(
     x_axis = sp.Matrix(x_toward).normalized()
     y_axis = (sp.Matrix(y_toward) - x_axis.dot(sp.Matrix(y_toward)) * x_axis).normalized()
     return pose_values(sp.Matrix.hstack(x_axis, y_axis, x_axis.cross(y_axis)), list(origin))
-
-
-def check_branch(branch: int, signs: int, what: str) -> None:
-    """Refuse an inverse branch outside 0 .. 2 ** signs - 1 (``InverseSolution.at`` reads only the
-    low bits: branch 8 of three signs would silently be branch 0, -1 branch 7).
-
-    Parameters
-    ----------
-    branch : int
-        The branch asked for.
-    signs : int
-        The inverse's number of sign choices (``len(InverseSolution.branches)``).
-    what : str
-        The caller, for the message.
-
-    Raises
-    ------
-    BadInputError
-        ``branch`` is not an integer in 0 .. 2 ** signs - 1; the message names the count.
-
-    Example
-    -------
-    >>> check_branch(1, 0, "home_from_pose")
-    Traceback (most recent call last):
-    ...
-    parakin.errors.BadInputError: home_from_pose: branch 1 is not one of this inverse's 1 branch (0 .. 0)
-    """
-    count = 2**signs
-    if isinstance(branch, bool) or not isinstance(branch, int) or not 0 <= branch < count:
-        raise BadInputError(
-            f"{what}: branch {branch!r} is not one of this inverse's {count} branch{'es' if count > 1 else ''} "
-            f"(0 .. {count - 1})"
-        )
 
 
 class _HasHome(Protocol):

@@ -20,6 +20,8 @@ from functools import cached_property
 
 import sympy as sp
 
+from parakin.errors import BadInputError
+
 from .frames import ModifiedDHLink, inverse_transform
 from .graph import JointGraph
 from .trigpoly import factor_list
@@ -147,6 +149,39 @@ class SerialChain:
         return sp.Matrix.hstack(*(columns[joint] for joint in self.joints))
 
 
+def check_branch(branch: int, signs: int, what: str) -> None:
+    """Refuse an inverse branch outside 0 .. 2 ** signs - 1 (``InverseSolution.at`` reads only the
+    low bits: branch 8 of three signs would silently be branch 0, -1 branch 7).
+
+    Parameters
+    ----------
+    branch : int
+        The branch asked for.
+    signs : int
+        The inverse's number of sign choices (``len(InverseSolution.branches)``).
+    what : str
+        The caller, for the message.
+
+    Raises
+    ------
+    BadInputError
+        ``branch`` is not an integer in 0 .. 2 ** signs - 1; the message names the count.
+
+    Example
+    -------
+    >>> check_branch(1, 0, "home_from_pose")
+    Traceback (most recent call last):
+    ...
+    parakin.errors.BadInputError: home_from_pose: branch 1 is not one of this inverse's 1 branch (0 .. 0)
+    """
+    count = 2**signs
+    if isinstance(branch, bool) or not isinstance(branch, int) or not 0 <= branch < count:
+        raise BadInputError(
+            f"{what}: branch {branch!r} is not one of this inverse's {count} branch{'es' if count > 1 else ''} "
+            f"(0 .. {count - 1})"
+        )
+
+
 @dataclass
 class InverseSolution:
     """Closed-form inverse pose: ordered assignments from the pose symbols to the joint variables.
@@ -174,6 +209,7 @@ class InverseSolution:
         if position is not None:
             values.update(zip(POSE_POSITION, position, strict=True))
         count = len(self.branches)
+        check_branch(branch, count, "inverse")
         values.update({b: -1 if (branch >> (count - 1 - k)) & 1 else 1 for k, b in enumerate(self.branches)})
         for target, expression in self.steps:
             values[target] = sp.N(expression.xreplace(values), 17)

@@ -268,3 +268,18 @@ def test_leg_parameters_take_one_default_per_leg():
     assert list(group.defaults.values()) == [1.0, 2.0, 3.0] and group.info[k[2]].unit == "N/m"
     with pytest.raises(ValueError, match="3 parameters but 2 defaults"):
         leg_parameters(k, (1.0, 2.0), "stiffness {k}")
+
+
+def test_every_inverse_refuses_a_branch_it_does_not_have():
+    """InverseSolution.at, under every home (a chain mechanism's home_at too): x = sigma sqrt(p)
+    has branches 0 (sigma = +1) and 1 (sigma = -1) only; 2 and -1 were read as 0 and 1."""
+    from parakin.errors import BadInputError
+    from parakin.generator.model import InverseSolution
+
+    sigma, p, x = sp.symbols("sigma p x")
+    inverse = InverseSolution(steps=[(x, sigma * sp.sqrt(p))], branches=[sigma])
+    assert inverse.at(sp.eye(3), None, 0, {p: 4.0})[x] == 2.0
+    assert inverse.at(sp.eye(3), None, 1, {p: 4.0})[x] == -2.0
+    for branch in (2, -1, True, 0.0):
+        with pytest.raises(BadInputError, match=r"inverse: branch .* 2 branches \(0 \.\. 1\)"):
+            inverse.at(sp.eye(3), None, branch, {p: 4.0})
