@@ -273,8 +273,9 @@ def test_leg_parameters_take_one_default_per_leg():
 def test_every_inverse_refuses_a_branch_it_does_not_have():
     """InverseSolution.at, under every home (a chain mechanism's home_at too): x = sigma sqrt(p)
     has branches 0 (sigma = +1) and 1 (sigma = -1) only; 2 and -1 were read as 0 and 1."""
-    from parakin.errors import BadInputError
     from parakin.generator.model import InverseSolution
+
+    from parakin.errors import BadInputError
 
     sigma, p, x = sp.symbols("sigma p x")
     inverse = InverseSolution(steps=[(x, sigma * sp.sqrt(p))], branches=[sigma])
