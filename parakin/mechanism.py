@@ -846,8 +846,8 @@ class Mechanism:
             return AssemblyModes(
                 theta, single.pose[..., None, :, :], single.passive[..., None, :], single.residual[..., None],
                 np.full(one.shape, np.nan), one, one, one.sum(-1), ~one,
-                outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.zeros(one.shape, dtype=np.int32),
-                conditioning=np.ones(one.shape), real_roots=zero + 1, near_roots=zero, at_infinity=zero, status=zero,
+                outcome=np.zeros(one.shape, dtype=np.int32), root_kind=np.full(one.shape, -1, dtype=np.int32),
+                conditioning=np.ones(one.shape), real_roots=zero, near_roots=zero, at_infinity=zero, status=zero,
                 outcomes=self.manifest.abi.mode_outcomes, pose_kind=self.manifest.pose_kind,
                 method="serial chain", root_count=1, root_count_proven=True,
                 certified_roots=np.ones(theta.shape[:-1], dtype=np.int64), path_certified=one,

@@ -36,7 +36,10 @@ def test_a_serial_chain_has_one_mode_certified_complete(backend):
     modes = m.forward_pose_all(inputs)
     assert modes.count.tolist() == [1] * 12 and modes.complete().all()
     found = modes.certificate()
-    assert found["roots"].tolist() == found["with_modes"].tolist() == found["certified_roots"].tolist() == [1] * 12
+    # no polynomial, so no root slot (root_kind -1, as documented); the one configuration is the
+    # certified count
+    assert found["certified_roots"].tolist() == found["root_count"].tolist() == [1] * 12
+    assert (modes.root_kind == -1).all() and found["uncertified_paths"].tolist() == [0] * 12
     checked = 0
     for theta, pose in zip(inputs, modes.mode(0).pose, strict=True):
         assert np.allclose(pose[:3, 2], pointing_axis(*theta, alpha1, alpha2), atol=1e-12)
