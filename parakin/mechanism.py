@@ -47,10 +47,9 @@ from parakin.pose import (
     wrap_angle,
 )
 from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
-from parakin.singularity import inverse_condition
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
-from parakin.solvers.linalg import pivoted_solve
+from parakin.solvers.linalg import inverse_condition, pivoted_solve
 from parakin.solvers.modes import assemble, certified_modes, compiled_modes, length_scale, numpy_modes
 from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (

@@ -24,6 +24,11 @@ from parakin.tables import (
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
+#: a distance to singularity (1/cond) below this is near a singularity: ``ill_conditioned()``
+#: marks such modes, ``parakin plot``'s grid titles them in red, the MJCF export warns of such
+#: keyframes and ``parakin sweep``'s maps draw this level as a contour (``parakin.singularity``
+#: re-exports it: here because that module builds on this one)
+NEAR_SINGULAR = 0.02
 
 
 @dataclass(frozen=True)
@@ -308,8 +313,6 @@ class AssemblyModes:
         [False, False]
         """
         if level is None:
-            from parakin.singularity import NEAR_SINGULAR  # here: parakin.singularity imports this module
-
             level = NEAR_SINGULAR
         return self.valid & ~(self.conditioning > level)
 

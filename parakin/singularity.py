@@ -21,56 +21,14 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from parakin.errors import BadInputError, ParakinError
-from parakin.results import Array, Configuration
+from parakin.results import NEAR_SINGULAR, Array, Configuration
+from parakin.solvers.linalg import inverse_condition
 from parakin.validation import bounded_vector
 
 if TYPE_CHECKING:
     from parakin.solvers.loaded import LoadedMechanism
-
-#: a distance to singularity (1/cond) below this is near a singularity: ``parakin plot``'s grid
-#: titles such a mode in red, the MJCF export warns of such keyframes, and ``parakin sweep``'s maps
-#: draw this level as a contour
-NEAR_SINGULAR = 0.02
-
-
-def inverse_condition(matrix: ArrayLike) -> Array:
-    """sigma_min / sigma_max of each matrix of a batch: 1/cond in the 2-norm, 0 for a singular
-    (or zero) matrix.
-
-    Parameters
-    ----------
-    matrix : array_like, shape (..., r, c)
-        Real matrices (any units: the ratio is scale-free).
-
-    Returns
-    -------
-    numpy.ndarray, shape (...)
-        The ratio in [0, 1] per matrix; NaN where a matrix has an entry that is not finite.
-
-    Raises
-    ------
-    BadInputError
-        ``matrix`` has fewer than two axes.
-
-    Examples
-    --------
-    >>> from parakin.singularity import inverse_condition
-    >>> inverse_condition([[[2.0, 0.0], [0.0, 0.5]], [[1.0, 1.0], [1.0, 1.0]]]).tolist()
-    [0.25, 0.0]
-    """
-    values = np.asarray(matrix, dtype=float)
-    if values.ndim < 2:
-        raise BadInputError(f"inverse_condition takes matrices (..., r, c), got shape {values.shape}")
-    if np.isfinite(values).all():  # the usual case (every mode of a solver): nothing to mask
-        sigma = np.linalg.svd(values, compute_uv=False)
-        return np.asarray(sigma[..., -1] / np.where(sigma[..., 0] > 0, sigma[..., 0], 1.0))
-    finite = np.isfinite(values).all(axis=(-2, -1))
-    sigma = np.linalg.svd(np.where(finite[..., None, None], values, 0.0), compute_uv=False)
-    ratio = sigma[..., -1] / np.where(sigma[..., 0] > 0, sigma[..., 0], 1.0)
-    return np.where(finite, ratio, np.nan)
 
 
 def _kernel(m: LoadedMechanism, kernel: str, state: Configuration) -> dict[str, Array]:

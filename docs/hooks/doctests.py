@@ -28,6 +28,7 @@ MODULES = (
     "parakin.studies.sweep",
     "parakin.studies.atlas",
     "parakin.singularity",
+    "parakin.solvers.linalg",
     "parakin.interfaces.plot",
     "parakin.validation",
     "parakin.calibration.data",

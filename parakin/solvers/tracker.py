@@ -31,9 +31,8 @@ from parakin.errors import (
     raise_for_newton_status,
 )
 from parakin.pose import rigid_or_nan, wrap_angle
-from parakin.results import Array, Configuration
-from parakin.singularity import NEAR_SINGULAR, inverse_condition
-from parakin.solvers.linalg import pivoted_solve
+from parakin.results import NEAR_SINGULAR, Array, Configuration
+from parakin.solvers.linalg import inverse_condition, pivoted_solve
 from parakin.validation import integer_in_range, newton_tolerance, positive_number
 
 #: ``ForwardPoseTracker.mode_change`` codes
