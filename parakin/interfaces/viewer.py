@@ -185,7 +185,7 @@ class ViewerSession:
     ``ok``, ``error`` ({type, message} of the parakin error, or None), ``actuated`` (the input the
     drawing shows, SI), ``requested`` (what was asked), ``polylines`` (name -> 3 x k vertices in
     {B}, metres), ``measures`` ([name, value] of ``m.singularities``), ``conditioning`` (sigma_min /
-    sigma_max of the closure Jacobian: 1 well conditioned, 0 singular), ``residual`` (max-norm of the loop
+    sigma_max of the closure Jacobian: 1 far from, 0 at a singularity), ``residual`` (max-norm of the loop
     closure at the drawn configuration), ``pose`` (x, y, z in m, Z-Y-X Euler in deg) and ``mode``
     (the viewer's number of the followed mode, None until it is known). A refused move's error
     keeps the class name of the solver's error and says in the user's terms what happened.
