@@ -97,9 +97,12 @@ RETRACKS = (1, 0)
 #: their paths grow as s^(-1/c) (c their winding number) and, with the input rounded, end at
 #: 1e8-1e9 or beyond, where no certificate holds (rus6 at home: 24 of 80 paths, each ending
 #: uncertified at 3e8-7e8 in the projective re-track). Budget: an input whose missing roots are
-#: all accounted for by far, uncertified ends of its suspect paths' projective re-track is not
-#: tracked again from ``RETRACKS`` (those runs end on the same far points); its ``at_infinity``
-#: counts them and the verdict says so. Only work is skipped: nothing is certified that was not.
+#: all accounted for by far, uncertified ends of its suspect paths' projective re-track, at least
+#: one of them seen heading to infinity by ``toward_infinity``, is not tracked again from
+#: ``RETRACKS``; its ``at_infinity`` counts them and the verdict says so. Far ends alone do not stop
+#: the search: rus6 has roots of 1e7 at ordinary inputs, which the later runs certify (5 of 10^4
+#: census inputs were left incomplete when they did). Only work is skipped: nothing is certified
+#: that was not.
 #: Far ends are still tried in exact arithmetic (``certify_inputs``): some succeed (rus6 3e-3
 #: from home along a random direction: complete only with them)
 FAR_ROOT = 1e6
@@ -1002,8 +1005,11 @@ def certified_modes(
             # a path the re-track took to a finite end is no path toward infinity: only failed ones are probed
             open_paths = left & ~far_end & (again["root_kind"] == m.manifest.abi.root_kinds.index("failed"))
             could = found.certified[short] + left.sum(-1) >= count  # the probe could account for all
-            heading = far_end | toward_infinity(m, info, theta[short], open_paths & could[:, None])
-            explained = found.certified[short] + heading.sum(-1) >= count
+            probed = toward_infinity(m, info, theta[short], open_paths & could[:, None])
+            heading = far_end | probed
+            # only paths seen heading to infinity stop the work: a far end alone may be a large
+            # finite root (rus6 has roots of size 1e7 at ordinary inputs) that a later run certifies
+            explained = (found.certified[short] + heading.sum(-1) >= count) & probed.any(-1)
             far[short] = explained
             _mark_at_infinity(m, out, found, short[explained], heading[explained])
     out = reconcile(m, info, theta, out, found)
