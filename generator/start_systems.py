@@ -1329,10 +1329,12 @@ def _keeps_count(name: str, family: Family, record: dict, relations: Relations, 
 def _stored_record(
     name: str, family: Family, key: str, cached: Path, method: str, flips, degrees: list[int], seed: int
 ) -> dict | None:
-    """The family's record from the cache or the committed package, verified (and completed
-    where an older rule left it short), or None."""
+    """The family's record from the committed package or the cache, verified (and completed
+    where an older rule left it short), or None. The package's comes first: regeneration must
+    give the committed bytes whatever the cache holds (another mechanism of the same family,
+    a test's, may have left a record of its own there, proven with other words)."""
     bounded = int(np.prod(degrees)) <= TOTAL_DEGREE_MAX
-    for stored in (_from_cache(cached), _from_package(name, method, key)):
+    for stored in (_from_package(name, method, key), _from_cache(cached)):
         if stored is None:
             continue
         if _verified(family, stored, flips) is not None:
