@@ -964,9 +964,9 @@ def certified_modes(
     certified box holds (``merge_roots``) until it is complete; then the modes are the certified
     real roots (``reconcile``). Never a silent loss: the certificate says what remains. An input
     whose missing roots are all accounted for, after the suspect paths' re-track, by paths that
-    end far (``FAR_ROOT``) or head to infinity (``toward_infinity``) is not tracked again: a
-    degenerate input (a home, often), whose slots for those paths become roots at infinity
-    (``_mark_at_infinity``); it stays not complete.
+    end far (``FAR_ROOT``) or head to infinity, at least one of them seen heading there
+    (``toward_infinity``), is not tracked again: a degenerate input (a home, often), whose slots
+    for those paths become roots at infinity (``_mark_at_infinity``); it stays not complete.
 
     Returns ``out`` updated, with ``certified`` (n,) the distinct certified roots,
     ``path_certified`` (n, P) the slots whose root has a box of its own, ``retracked`` (n,) and
@@ -982,7 +982,8 @@ def certified_modes(
     retracked = np.zeros(theta.shape[0], dtype=bool)
     finite = np.isfinite(theta).all(-1)
     add_conjugates(m, info, theta, out, found, np.nonzero((found.certified < count) & finite)[0])
-    far = np.zeros(theta.shape[0], dtype=bool)  # the missing roots' paths all end far (``FAR_ROOT``)
+    # the inputs whose missing roots' paths were seen heading to infinity: searched no further
+    far = np.zeros(theta.shape[0], dtype=bool)
     for instance in (None, *RETRACKS):
         short = np.nonzero((found.certified < count) & finite & ~far)[0]
         if not short.size:
