@@ -56,6 +56,35 @@ MODEL = joints.DistanceMechanism(
 
 #: the home pose: arms horizontal, (R - r + L, -z, l) = (0.5, 1.2, 1.3), a 5-12-13 triangle
 HOME_Z = -1.2
+
+
+def build() -> Mechanism:
+    return Mechanism(
+        name="delta",
+        title="Delta robot (3-RUU, Clavel 1988): translational platform, three-sphere forward pose",
+        citation=Citation(
+            ("R. Clavel",),
+            "DELTA, a fast robot with parallel geometry",
+            1988,
+            "Proceedings of the 18th International Symposium on Industrial Robots, Lausanne, pp. 91-100",
+        ),
+        parameters={R: 0.2, r: 0.05, L: 0.35, ell: 1.3},
+        **MODEL.fields() | {"drawing": drawing(MODEL.drawing(), sp.Matrix([x, y, z]))},
+        forward=forward(RADIAL, R, r, L, ell, theta),
+        home={**dict.fromkeys(theta, 0.0), x: 0.0, y: 0.0, z: HOME_Z},
+        parameter_info={
+            R: ParameterInfo("m", "base radius: distance from the base centre to each motor joint b_i", "positive"),
+            r: ParameterInfo(
+                "m", "platform radius: distance from the tool point to each platform joint P_i", "positive"
+            ),
+            L: ParameterInfo("m", "upper arm length |c_i - b_i| (the actuated link)", "positive"),
+            ell: ParameterInfo("m", "forearm (parallelogram) length |P_i - c_i|", "positive"),
+        },
+        examples=EXAMPLES,
+    )
+
+
+# Examples
 FOLDED = -2 * math.atan(8.0)
 HOME_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_Z])
 
@@ -90,29 +119,3 @@ EXAMPLES = [
         tolerance=1e-12,
     ),
 ]
-
-
-def build() -> Mechanism:
-    return Mechanism(
-        name="delta",
-        title="Delta robot (3-RUU, Clavel 1988): translational platform, three-sphere forward pose",
-        citation=Citation(
-            ("R. Clavel",),
-            "DELTA, a fast robot with parallel geometry",
-            1988,
-            "Proceedings of the 18th International Symposium on Industrial Robots, Lausanne, pp. 91-100",
-        ),
-        parameters={R: 0.2, r: 0.05, L: 0.35, ell: 1.3},
-        **MODEL.fields() | {"drawing": drawing(MODEL.drawing(), sp.Matrix([x, y, z]))},
-        forward=forward(RADIAL, R, r, L, ell, theta),
-        home={**dict.fromkeys(theta, 0.0), x: 0.0, y: 0.0, z: HOME_Z},
-        parameter_info={
-            R: ParameterInfo("m", "base radius: distance from the base centre to each motor joint b_i", "positive"),
-            r: ParameterInfo(
-                "m", "platform radius: distance from the tool point to each platform joint P_i", "positive"
-            ),
-            L: ParameterInfo("m", "upper arm length |c_i - b_i| (the actuated link)", "positive"),
-            ell: ParameterInfo("m", "forearm (parallelogram) length |P_i - c_i|", "positive"),
-        },
-        examples=EXAMPLES,
-    )

@@ -50,12 +50,31 @@ MODEL = joints.DistanceMechanism(
     ],
     parallel_name="distal_links_aligned",
 )
-
-
-HOME_Y = 0.4
 #: the home configuration: P = (0, 0.33) m, elbows out, where proximal and distal links are
 #: nearly perpendicular (det B near its largest) and the distal links meet at about 50 degrees
 HOME_POINT = (0.0, 0.33)
+
+
+def build() -> Mechanism:
+    return Mechanism(
+        name="five_bar",
+        title="Planar five-bar linkage (RRRRR), two actuated base joints (Gosselin & Angeles 1990)",
+        citation=Citation(
+            ("C. Gosselin", "J. Angeles"),
+            "Singularity analysis of closed-loop kinematic chains",
+            1990,
+            "IEEE Transactions on Robotics and Automation 6(3), pp. 281-290",
+        ),
+        **PARAMETERS,
+        **MODEL.fields(),
+        forward=forward(d, a, b, theta),
+        home=home_from_pose(MODEL, pose_values(sp.eye(3), [*HOME_POINT, 0.0]), 0, PARAMETERS["parameters"]),
+        examples=EXAMPLES,
+    )
+
+
+# Examples
+HOME_Y = 0.4
 
 
 #: branch 3 at P = (0, 0.4), by reflecting the home elbows across the lines A_i -> P
@@ -94,21 +113,3 @@ EXAMPLES = [
         tolerance=1e-12,
     ),
 ]
-
-
-def build() -> Mechanism:
-    return Mechanism(
-        name="five_bar",
-        title="Planar five-bar linkage (RRRRR), two actuated base joints (Gosselin & Angeles 1990)",
-        citation=Citation(
-            ("C. Gosselin", "J. Angeles"),
-            "Singularity analysis of closed-loop kinematic chains",
-            1990,
-            "IEEE Transactions on Robotics and Automation 6(3), pp. 281-290",
-        ),
-        **PARAMETERS,
-        **MODEL.fields(),
-        forward=forward(d, a, b, theta),
-        home=home_from_pose(MODEL, pose_values(sp.eye(3), [*HOME_POINT, 0.0]), 0, PARAMETERS["parameters"]),
-        examples=EXAMPLES,
-    )

@@ -34,19 +34,7 @@ t11, t12, t22 = sp.symbols("t11 t12 t22", real=True)
 lengths = sp.symbols("l1:7", positive=True)
 x, y, z = sp.symbols("x y z", real=True)
 alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
-#: section 5.4 (A2..A6, then t11, t12, t22): on the conic (x - 5)^2 + y^2 = 25, singular
-SECTION_54_BASE = [(5.0, -5.0), (9.0, -3.0), (10.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
 SECTION_54_T = (1.0, 1.0, 1.0)
-#: section 5.4: the locked inputs, printed to two decimals
-SECTION_54_LENGTHS = [33.17, 32.02, 35.12, 37.57, 39.01, 38.32]
-SECTION_54_PARAMETERS = {
-    **{f"xA{k + 2}": SECTION_54_BASE[k][0] for k in range(5)},
-    **{f"yA{k + 2}": SECTION_54_BASE[k][1] for k in range(5)},
-    **dict(zip(("t11", "t12", "t22"), SECTION_54_T, strict=True)),
-}
-#: a pose {x y z alpha beta gamma} (m, rad) on section 5.4's self-motion (the mode at i_x = 0.044) for
-#: the compatible lengths nearest the printed ones: its lengths are the printed l1..l6 to 4.2e-3
-SECTION_54_POSE = (11.100315736401, 24.869206220077, 18.934814882557, -1.110996974574, -1.471482307985, 0.496304779502)
 DEFAULT_BASE = [(5.0, -5.0), (9.0, -3.0), (13.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
 HOME_POSE = (5.0, 2.0, 5.0, -0.3, -0.5, 0.3)
 BASE = [sp.zeros(3, 1)] + [sp.Matrix([XA[k], YA[k], 0]) for k in range(5)]  # A_1..A_6 in {B}
@@ -75,25 +63,6 @@ PARAMETER_INFO = {
 }
 
 
-def examples() -> list[Example]:
-    """Section 5.4 prints a singular geometry and lengths locking a self-motion, no pose: the example
-    is a pose of that self-motion whose lengths are the printed ones to their rounding (5e-3 m)."""
-    return [
-        Example(
-            name="section54_self_motion",
-            description="section 5.4's architecturally singular geometry (base A2..A6 = (5,-5) (9,-3) (10,0) "
-            "(9,3) (5,5) on the conic (x - 5)^2 + y^2 = 25, t11 = t12 = t22 = 1; load warns): a pose on the "
-            "self-motion of its locked inputs has the printed lengths l1..l6 = 33.17, 32.02, 35.12, 37.57, "
-            "39.01, 38.32 to their rounding (5e-3 m); forward_pose_all at these lengths raises (a self-motion, "
-            "not isolated modes: examples/gough_architecture.py)",
-            pose=euler_pose_values("zyx", SECTION_54_POSE[3:], SECTION_54_POSE[:3]),
-            parameters=dict(SECTION_54_PARAMETERS),
-            expected={"actuated": list(SECTION_54_LENGTHS)},
-            tolerance=5e-3,
-        )
-    ]
-
-
 def build() -> Mechanism:
     return Mechanism(
         name="gough",
@@ -113,5 +82,42 @@ def build() -> Mechanism:
         architecture_tolerance=1e-9,  # the normalised measure (|.| <= 1) below which the base lies on a conic
         parameter_info=PARAMETER_INFO,
         parameter_groups={"base": sp.Matrix([[XA[k], YA[k]] for k in range(5)])},
-        examples=examples(),
+        examples=EXAMPLES,
     )
+
+
+# Examples
+#: section 5.4 (A2..A6, then t11, t12, t22): on the conic (x - 5)^2 + y^2 = 25, singular
+SECTION_54_BASE = [(5.0, -5.0), (9.0, -3.0), (10.0, 0.0), (9.0, 3.0), (5.0, 5.0)]
+#: section 5.4: the locked inputs, printed to two decimals
+SECTION_54_LENGTHS = [33.17, 32.02, 35.12, 37.57, 39.01, 38.32]
+SECTION_54_PARAMETERS = {
+    **{f"xA{k + 2}": SECTION_54_BASE[k][0] for k in range(5)},
+    **{f"yA{k + 2}": SECTION_54_BASE[k][1] for k in range(5)},
+    **dict(zip(("t11", "t12", "t22"), SECTION_54_T, strict=True)),
+}
+#: a pose {x y z alpha beta gamma} (m, rad) on section 5.4's self-motion (the mode at i_x = 0.044) for
+#: the compatible lengths nearest the printed ones: its lengths are the printed l1..l6 to 4.2e-3
+SECTION_54_POSE = (11.100315736401, 24.869206220077, 18.934814882557, -1.110996974574, -1.471482307985, 0.496304779502)
+
+
+def examples() -> list[Example]:
+    """Section 5.4 prints a singular geometry and lengths locking a self-motion, no pose: the example
+    is a pose of that self-motion whose lengths are the printed ones to their rounding (5e-3 m)."""
+    return [
+        Example(
+            name="section54_self_motion",
+            description="section 5.4's architecturally singular geometry (base A2..A6 = (5,-5) (9,-3) (10,0) "
+            "(9,3) (5,5) on the conic (x - 5)^2 + y^2 = 25, t11 = t12 = t22 = 1; load warns): a pose on the "
+            "self-motion of its locked inputs has the printed lengths l1..l6 = 33.17, 32.02, 35.12, 37.57, "
+            "39.01, 38.32 to their rounding (5e-3 m); forward_pose_all at these lengths raises (a self-motion, "
+            "not isolated modes: examples/gough_architecture.py)",
+            pose=euler_pose_values("zyx", SECTION_54_POSE[3:], SECTION_54_POSE[:3]),
+            parameters=dict(SECTION_54_PARAMETERS),
+            expected={"actuated": list(SECTION_54_LENGTHS)},
+            tolerance=5e-3,
+        )
+    ]
+
+
+EXAMPLES = examples()

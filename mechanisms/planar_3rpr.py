@@ -33,7 +33,6 @@ PLANAR_TWIST = ("vx", "vy", "wz")
 #: the Gosselin-Sefrioui-Richard example (module docstring): base points, platform points, inputs
 GSR_BASE = [(0.0, 0.0), (15.91, 0.0), (0.0, 10.0)]
 GSR_PLATFORM = [(0.0, 0.0), (17.04, 0.0), (20.84 * math.cos(0.8824), 20.84 * math.sin(0.8824))]
-GSR_LENGTHS = [14.98, 15.38, 12.0]
 base = point_group("base", GSR_BASE, "base joint A{k}, in {B}")
 platform = point_group("platform", GSR_PLATFORM, "platform joint b{k}, in {P}")
 PARAMETERS = parameter_fields(base, platform)
@@ -59,20 +58,6 @@ def home() -> dict[sp.Symbol, float]:
     return dict(zip(rho, lengths, strict=True)) | pose
 
 
-EXAMPLES = [
-    Example(
-        name="six_real_modes",
-        description="Gosselin, Sefrioui & Richard (1992) as reproduced in the 3-RPR literature (the "
-        "default geometry, numbers recalled, not re-read from the paper): rho = (14.98, 15.38, 12) "
-        "has 6 real assembly modes, the most a 3-RPR can have; confirmed by an independent sign-change "
-        "scan of the leg-1 equation over phi (tests/test_planar_3rpr.py)",
-        actuated=GSR_LENGTHS,
-        expected={"mode_count": 6},
-        tolerance=0.0,
-    )
-]
-
-
 def build() -> Mechanism:
     return Mechanism(
         name="planar_3rpr",
@@ -91,3 +76,21 @@ def build() -> Mechanism:
         limits={r: (0.0, math.inf) for r in rho},
         examples=EXAMPLES,
     )
+
+
+# Examples
+GSR_LENGTHS = [14.98, 15.38, 12.0]
+
+
+EXAMPLES = [
+    Example(
+        name="six_real_modes",
+        description="Gosselin, Sefrioui & Richard (1992) as reproduced in the 3-RPR literature (the "
+        "default geometry, numbers recalled, not re-read from the paper): rho = (14.98, 15.38, 12) "
+        "has 6 real assembly modes, the most a 3-RPR can have; confirmed by an independent sign-change "
+        "scan of the leg-1 equation over phi (tests/test_planar_3rpr.py)",
+        actuated=GSR_LENGTHS,
+        expected={"mode_count": 6},
+        tolerance=0.0,
+    )
+]

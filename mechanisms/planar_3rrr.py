@@ -57,17 +57,6 @@ X, Z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
 HOME_POSE = (0.0, 0.0, 0.0)
 HOME_BRANCH = 0
 pose_list = planar_pose_values
-#: crank angles with 6 real assembly modes at the defaults, and those modes (x, y, phi), found
-#: by a scan over phi polished by Newton (tests/test_planar_3rrr.py repeats it independently)
-SIX_MODES_INPUT = [math.radians(-54.0), math.radians(174.0), math.radians(-105.0)]
-SIX_MODES = [
-    (-0.0633914913184828, -0.247787436524072, -0.837992137130137),
-    (0.238213420821159, -0.100651144776091, -0.113264983674809),
-    (-0.341310190669869, -0.330965073705309, -0.0340015587181958),
-    (-0.229881224647207, 0.108128382939028, 0.58075102844872),
-    (0.169458684891306, -0.370815903618212, 0.661504482043328),
-    (-0.0244549608248963, -0.0982334363585854, 1.38545159861974),
-]
 
 
 #: the model: three R-R-R legs (an actuated crank about z from the x axis, a link) on a planar
@@ -86,6 +75,38 @@ def defaults() -> dict[sp.Symbol, float]:
 def home() -> dict[sp.Symbol, float]:
     """The inverse of HOME_POSE on HOME_BRANCH at the default geometry."""
     return home_from_pose(MODEL, pose_list(*HOME_POSE), HOME_BRANCH, defaults())
+
+
+def build() -> Mechanism:
+    return Mechanism(
+        name="planar_3rrr",
+        title="Planar 3-RRR parallel manipulator (Gosselin & Angeles 1988): three actuated cranks",
+        citation=Citation(
+            ("C. Gosselin", "J. Angeles"),
+            "The optimum kinematic design of a planar three-degree-of-freedom parallel manipulator",
+            1988,
+            "ASME Journal of Mechanisms, Transmissions, and Automation in Design 110(1), pp. 35-41",
+        ),
+        **PARAMETERS,
+        **MODEL.fields(),
+        forward=None,
+        home=home(),
+        examples=EXAMPLES,
+    )
+
+
+# Examples
+#: crank angles with 6 real assembly modes at the defaults, and those modes (x, y, phi), found
+#: by a scan over phi polished by Newton (tests/test_planar_3rrr.py repeats it independently)
+SIX_MODES_INPUT = [math.radians(-54.0), math.radians(174.0), math.radians(-105.0)]
+SIX_MODES = [
+    (-0.0633914913184828, -0.247787436524072, -0.837992137130137),
+    (0.238213420821159, -0.100651144776091, -0.113264983674809),
+    (-0.341310190669869, -0.330965073705309, -0.0340015587181958),
+    (-0.229881224647207, 0.108128382939028, 0.58075102844872),
+    (0.169458684891306, -0.370815903618212, 0.661504482043328),
+    (-0.0244549608248963, -0.0982334363585854, 1.38545159861974),
+]
 
 
 EXAMPLES = [
@@ -108,21 +129,3 @@ EXAMPLES = [
         tolerance=1e-9,
     ),
 ]
-
-
-def build() -> Mechanism:
-    return Mechanism(
-        name="planar_3rrr",
-        title="Planar 3-RRR parallel manipulator (Gosselin & Angeles 1988): three actuated cranks",
-        citation=Citation(
-            ("C. Gosselin", "J. Angeles"),
-            "The optimum kinematic design of a planar three-degree-of-freedom parallel manipulator",
-            1988,
-            "ASME Journal of Mechanisms, Transmissions, and Automation in Design 110(1), pp. 35-41",
-        ),
-        **PARAMETERS,
-        **MODEL.fields(),
-        forward=None,
-        home=home(),
-        examples=EXAMPLES,
-    )

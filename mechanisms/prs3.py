@@ -50,7 +50,34 @@ MODEL = joints.DistanceMechanism(
     parallel_name="platform_moves_with_sliders_locked",
     unreachable="read",
 )
+LEVEL_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT])
 
+
+def build() -> Mechanism:
+    return Mechanism(
+        name="prs3",
+        title="3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion)",
+        citation=Citation(
+            ("M. Carretero", "R. P. Podhorodeski", "M. A. Nahon", "C. M. Gosselin"),
+            "Kinematic analysis and optimization of a new three degree-of-freedom spatial parallel manipulator",
+            2000,
+            "Journal of Mechanical Design 122(1)",
+        ),
+        parameters=dict(DEFAULTS),
+        **MODEL.fields(),
+        forward=None,
+        home=home_from_pose(MODEL, LEVEL_POSE, 0, DEFAULTS),
+        limits={d: (0.0, RAIL_LENGTH) for d in strokes},
+        parameter_info={
+            r_b: ParameterInfo("m", "radius of the circle of the rails A_i (base)", "positive"),
+            r_p: ParameterInfo("m", "radius of the circle of the spherical joints c_i (platform)", "positive"),
+            L: ParameterInfo("m", "length of each link, revolute joint S_i to spherical joint C_i", "positive"),
+        },
+        examples=EXAMPLES,
+    )
+
+
+# Examples
 #: a constructed input: the strokes of the reachable pose with Z-Y-Z Euler angles (30, 10, -30) deg
 #: at z = 0.55 m, links rising (branch 0), computed by tests/test_prs3.py's own geometry
 CONSTRUCTED_EULER = (math.radians(30.0), math.radians(10.0), 0.55)
@@ -76,7 +103,6 @@ HALF_TURN_MODE = [
     [-0.14280067235409538, -0.11905242933573337, 0.9825652584151744, 0.39652384979467187],
     [0.0, 0.0, 0.0, 1.0],
 ]
-LEVEL_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT])
 #: the level platform's strokes: its joints are r_b - r_p from the rails, d = z - sqrt(L^2 - (r_b - r_p)^2)
 LEVEL_STROKE = HOME_HEIGHT - math.sqrt(DEFAULTS[L] ** 2 - (DEFAULTS[r_b] - DEFAULTS[r_p]) ** 2)
 
@@ -134,27 +160,3 @@ EXAMPLES = [
         tolerance=1e-12,
     ),
 ]
-
-
-def build() -> Mechanism:
-    return Mechanism(
-        name="prs3",
-        title="3-PRS parallel manipulator (vertical rails, 3 DOF with parasitic motion)",
-        citation=Citation(
-            ("M. Carretero", "R. P. Podhorodeski", "M. A. Nahon", "C. M. Gosselin"),
-            "Kinematic analysis and optimization of a new three degree-of-freedom spatial parallel manipulator",
-            2000,
-            "Journal of Mechanical Design 122(1)",
-        ),
-        parameters=dict(DEFAULTS),
-        **MODEL.fields(),
-        forward=None,
-        home=home_from_pose(MODEL, LEVEL_POSE, 0, DEFAULTS),
-        limits={d: (0.0, RAIL_LENGTH) for d in strokes},
-        parameter_info={
-            r_b: ParameterInfo("m", "radius of the circle of the rails A_i (base)", "positive"),
-            r_p: ParameterInfo("m", "radius of the circle of the spherical joints c_i (platform)", "positive"),
-            L: ParameterInfo("m", "length of each link, revolute joint S_i to spherical joint C_i", "positive"),
-        },
-        examples=EXAMPLES,
-    )

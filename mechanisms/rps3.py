@@ -44,18 +44,6 @@ MODEL = joints.DistanceMechanism(
     parallel_name="platform_moves_with_legs_locked",
 )
 
-EXAMPLES = [
-    Example(
-        name="home",
-        description="the platform level at p = (0, 0, 1): by hand every leg spans r_b - r_p = 0.5 m "
-        "across and 1 m up, l = sqrt(1.25) = 1.1180339887 m",
-        pose=pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT]),
-        branch=0,
-        expected={"actuated": [math.sqrt(1.25)] * 3},
-        tolerance=1e-12,
-    ),
-]
-
 
 def build() -> Mechanism:
     home = MODEL.home_at(sp.eye(3), sp.Matrix([0, 0, HOME_HEIGHT]), 0, DEFAULTS)
@@ -80,3 +68,17 @@ def build() -> Mechanism:
         },
         examples=EXAMPLES,
     )
+
+
+# Examples
+EXAMPLES = [
+    Example(
+        name="home",
+        description="the platform level at p = (0, 0, 1): by hand every leg spans r_b - r_p = 0.5 m "
+        "across and 1 m up, l = sqrt(1.25) = 1.1180339887 m",
+        pose=pose_values(sp.eye(3), [0.0, 0.0, HOME_HEIGHT]),
+        branch=0,
+        expected={"actuated": [math.sqrt(1.25)] * 3},
+        tolerance=1e-12,
+    ),
+]

@@ -50,8 +50,7 @@ PAIR_CENTRES = (0.0, 120.0, 240.0)
 SHAFT_RADIUS, SHAFT_OFFSET = 0.4, 10.0
 PLATFORM_RADIUS, PLATFORM_OFFSET = 0.3, 50.0
 CRANK, ROD = 0.15, 0.6
-#: crank angle of the Dietmaier example (every leg), and the crank range of the defaults
-DIETMAIER_THETA = math.pi / 6
+#: the crank range of the defaults
 CRANK_RANGE = (-math.pi / 2, math.pi / 2)
 #: motor axis u_i = side * (radial direction of the pair's centre); crank at theta = 0 along
 #: e1_i = u_i x z = side * (tangent of the pair's centre)
@@ -106,6 +105,31 @@ MODEL = joints.DistanceMechanism(
     ],
     parallel_name="rod_lines_dependent",
 )
+HOME_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_Z])
+
+
+def build() -> Mechanism:
+    return Mechanism(
+        name="rus6",
+        title="6-RUS rotary hexapod (Hunt 1983): six actuated cranks with rods to a spherical-jointed platform",
+        citation=Citation(
+            ("K. H. Hunt",),
+            "Structural kinematics of in-parallel-actuated robot-arms",
+            1983,
+            "ASME Journal of Mechanisms, Transmissions, and Automation in Design 105(4), pp. 705-712",
+        ),
+        **PARAMETERS,
+        **MODEL.fields(),
+        forward=None,
+        home=home_from_pose(MODEL, HOME_POSE, 0, PARAMETERS["parameters"]),
+        limits=dict.fromkeys(theta, CRANK_RANGE),
+        examples=EXAMPLES,
+    )
+
+
+# Examples
+#: crank angle of the Dietmaier example (every leg)
+DIETMAIER_THETA = math.pi / 6
 
 
 #: A_i = X_i - a_i (cos t e1_i + sin t e2_i), t = DIETMAIER_THETA: the shafts that put the default
@@ -117,7 +141,6 @@ DIETMAIER_PARAMETERS = {
     **{str(k): v for k, v in point_defaults(PLATFORM.symbols, DIETMAIER_PLATFORM).items()},
     **{str(b[i]): DIETMAIER_LENGTHS[i] for i in range(6)},
 }
-HOME_POSE = pose_values(sp.eye(3), [0.0, 0.0, HOME_Z])
 DIETMAIER_POSE = pose_values(DIETMAIER_ROTATION, DIETMAIER_POSITION)
 
 
@@ -154,22 +177,3 @@ EXAMPLES = [
         tolerance=5e-6,
     ),
 ]
-
-
-def build() -> Mechanism:
-    return Mechanism(
-        name="rus6",
-        title="6-RUS rotary hexapod (Hunt 1983): six actuated cranks with rods to a spherical-jointed platform",
-        citation=Citation(
-            ("K. H. Hunt",),
-            "Structural kinematics of in-parallel-actuated robot-arms",
-            1983,
-            "ASME Journal of Mechanisms, Transmissions, and Automation in Design 105(4), pp. 705-712",
-        ),
-        **PARAMETERS,
-        **MODEL.fields(),
-        forward=None,
-        home=home_from_pose(MODEL, HOME_POSE, 0, PARAMETERS["parameters"]),
-        limits=dict.fromkeys(theta, CRANK_RANGE),
-        examples=EXAMPLES,
-    )

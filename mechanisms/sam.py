@@ -61,6 +61,45 @@ def spu_leg(name: str, thetas, length, phis, base_offset, platform_offset) -> Se
     return SerialChain(name, base, links, tool, [t1, t2, t3, length, p2, p3])
 
 
+def build() -> Mechanism:
+    left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
+    right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
+    # the derived branch signs are (epsilon, delta) of the module docstring, in the paper's names
+    model = chains.ChainMechanism(
+        [
+            chains.chain_leg(left, theta[:3], ("epsilon_left", "delta_left")),
+            chains.chain_leg(right, theta[3:], ("epsilon_right", "delta_right")),
+        ]
+    )
+    parameters = {L1: 0.5334, L4: 0.3556}  # section 4.1, metres
+    x, y, z, alpha, beta, gamma = SECTION42_HOME
+    return Mechanism(
+        name="sam",
+        title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
+        citation=Citation(
+            ("R. L. Williams II", "D. B. Poling"),
+            "Spherically-actuated platform manipulator",
+            2000,
+            "Journal of Robotic Systems (final manuscript, December 2000)",
+        ),
+        parameters=parameters,
+        **model.fields(),
+        forward=forward_elimination(left, right, L4),
+        # section 4.2's last trajectory pose (module docstring), not eq (15): that is singular
+        home=model.home_at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters),
+        parameter_info={
+            L1: ParameterInfo(
+                "m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)", "positive"
+            ),
+            L4: ParameterInfo(
+                "m", "U-joint centres at y = -L4 (left), +L4 (right) on the platform's Y_P axis, eq (3)", "positive"
+            ),
+        },
+        examples=EXAMPLES,
+    )
+
+
+# Examples
 def table2(row: int, t1: float, t2: float, t3: float, length: float, p2: float, p3: float) -> list[float]:
     """Table II: row ``row`` of one leg's four inverse solutions, from the first row (eqs 5, 8).
     Row r is leg branch r - 1 of the module docstring (signs of sin(phi2), cos(theta2))."""
@@ -108,39 +147,4 @@ def examples() -> list[Example]:
     return result
 
 
-def build() -> Mechanism:
-    left = spu_leg("left", theta[:3], L2, (phi2, phi3), L1, L4)
-    right = spu_leg("right", theta[3:], L3, (phi5, phi6), -L1, -L4)
-    # the derived branch signs are (epsilon, delta) of the module docstring, in the paper's names
-    model = chains.ChainMechanism(
-        [
-            chains.chain_leg(left, theta[:3], ("epsilon_left", "delta_left")),
-            chains.chain_leg(right, theta[3:], ("epsilon_right", "delta_right")),
-        ]
-    )
-    parameters = {L1: 0.5334, L4: 0.3556}  # section 4.1, metres
-    x, y, z, alpha, beta, gamma = SECTION42_HOME
-    return Mechanism(
-        name="sam",
-        title="Spherically-Actuated platform Manipulator (2-SPU), Williams & Poling (2000)",
-        citation=Citation(
-            ("R. L. Williams II", "D. B. Poling"),
-            "Spherically-actuated platform manipulator",
-            2000,
-            "Journal of Robotic Systems (final manuscript, December 2000)",
-        ),
-        parameters=parameters,
-        **model.fields(),
-        forward=forward_elimination(left, right, L4),
-        # section 4.2's last trajectory pose (module docstring), not eq (15): that is singular
-        home=model.home_at(euler_zyx_rotation(alpha, beta, gamma), sp.Matrix([x, y, z]), PAPER_BRANCH, parameters),
-        parameter_info={
-            L1: ParameterInfo(
-                "m", "S-joint (actuator) centres at y = -L1 (left), +L1 (right) in {B}, eq (3)", "positive"
-            ),
-            L4: ParameterInfo(
-                "m", "U-joint centres at y = -L4 (left), +L4 (right) on the platform's Y_P axis, eq (3)", "positive"
-            ),
-        },
-        examples=examples(),
-    )
+EXAMPLES = examples()

@@ -70,6 +70,9 @@ def build() -> Mechanism:
                 "rad", "link 2 angle at O, between the intermediate axis v and the end axis w", "positive"
             ),
         },
-        # section 2 prints no numbers (no link angles, no joint values): no named example
         drawing=drawing(U, K, v, w),
     )
+
+
+# Examples
+# none: section 2 prints no numbers (no link angles, no joint values)

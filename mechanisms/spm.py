@@ -73,21 +73,6 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-#: The report prints no numbers for the Agile Eye (alpha1 = alpha2 = 90 deg, beta = gamma =
-#: atan(sqrt 2)); its input-independent modes are checked in tests/test_spm.py, not as an example.
-EXAMPLES = [
-    Example(
-        name="section323",
-        description="section 3.2.3: theta = (105, 60, 105) deg, the report's 'eight independent "
-        "solutions' (section 3.2.1, Fig. 3); with the printed link labels swapped (alpha1 = 45 "
-        "proximal, alpha2 = 90 deg distal, the defaults), the only reading with 8 real modes",
-        actuated=[math.radians(105.0), math.radians(60.0), math.radians(105.0)],
-        expected={"mode_count": 8},
-        tolerance=0.0,
-    )
-]
-
-
 def build() -> Mechanism:
     deg = sp.pi / 180
     parameters = {alpha1: float(45 * deg), alpha2: float(90 * deg), beta: float(60 * deg), gamma: float(45 * deg)}
@@ -128,3 +113,19 @@ def build() -> Mechanism:
         },
         examples=EXAMPLES,
     )
+
+
+# Examples
+#: The report prints no numbers for the Agile Eye (alpha1 = alpha2 = 90 deg, beta = gamma =
+#: atan(sqrt 2)); its input-independent modes are checked in tests/test_spm.py, not as an example.
+EXAMPLES = [
+    Example(
+        name="section323",
+        description="section 3.2.3: theta = (105, 60, 105) deg, the report's 'eight independent "
+        "solutions' (section 3.2.1, Fig. 3); with the printed link labels swapped (alpha1 = 45 "
+        "proximal, alpha2 = 90 deg distal, the defaults), the only reading with 8 real modes",
+        actuated=[math.radians(105.0), math.radians(60.0), math.radians(105.0)],
+        expected={"mode_count": 8},
+        tolerance=0.0,
+    )
+]

@@ -63,26 +63,6 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-def examples() -> list[Example]:
-    pose = [row + [t] for row, t in zip(DIETMAIER_ROTATION, DIETMAIER_POSITION, strict=True)] + [[0, 0, 0, 1]]
-    return [
-        Example(
-            "dietmaier_40",
-            "Dietmaier (1998): leg lengths with 40 real assembly modes, among them the quoted pose",
-            actuated=DIETMAIER_LENGTHS,
-            expected={"mode_count": 40, "poses": [pose]},
-            tolerance=5e-6,  # the lengths are printed to 6 decimals
-        ),
-        Example(
-            "dietmaier_pose",
-            "The quoted pose of Dietmaier's example: its leg lengths are the printed ones",
-            pose=pose,
-            expected={"actuated": DIETMAIER_LENGTHS},
-            tolerance=5e-7,
-        ),
-    ]
-
-
 def build() -> Mechanism:
     home_quaternion = quaternion_from_rotation(sp.Matrix(DIETMAIER_ROTATION))
     return Mechanism(
@@ -103,5 +83,29 @@ def build() -> Mechanism:
             **{q: float(v) for q, v in zip(quaternion, home_quaternion.evalf(17), strict=True)},
         },
         limits={length: (0.0, float("inf")) for length in lengths},
-        examples=examples(),
+        examples=EXAMPLES,
     )
+
+
+# Examples
+def examples() -> list[Example]:
+    pose = [row + [t] for row, t in zip(DIETMAIER_ROTATION, DIETMAIER_POSITION, strict=True)] + [[0, 0, 0, 1]]
+    return [
+        Example(
+            "dietmaier_40",
+            "Dietmaier (1998): leg lengths with 40 real assembly modes, among them the quoted pose",
+            actuated=DIETMAIER_LENGTHS,
+            expected={"mode_count": 40, "poses": [pose]},
+            tolerance=5e-6,  # the lengths are printed to 6 decimals
+        ),
+        Example(
+            "dietmaier_pose",
+            "The quoted pose of Dietmaier's example: its leg lengths are the printed ones",
+            pose=pose,
+            expected={"actuated": DIETMAIER_LENGTHS},
+            tolerance=5e-7,
+        ),
+    ]
+
+
+EXAMPLES = examples()

@@ -66,27 +66,6 @@ MODEL = joints.DistanceMechanism(
 )
 
 
-def tilted(a: float, b: float, s: float) -> list[list[float]]:
-    """The pose of the passive leg's angles a (about x_B), b (about the leg's second axis) and its
-    length s: R = Rot_x(a) Rot_y(b), p = s R z_P."""
-    ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
-    rotation = [[cb, 0.0, sb], [sa * sb, ca, -sa * cb], [-ca * sb, sa, ca * cb]]
-    return [[*row, s * row[2]] for row in rotation] + [[0.0, 0.0, 0.0, 1.0]]
-
-
-EXAMPLES = [
-    Example(
-        name="home",
-        description="the platform level at p = (0, 0, 0.5): by hand every leg spans r_b - r_p = 0.2 m "
-        "across and 0.5 m up, l = sqrt(0.29) = 0.5385164807 m",
-        pose=tilted(0.0, 0.0, HOME_HEIGHT),
-        branch=0,
-        expected={"actuated": [math.sqrt(0.29)] * 3},
-        tolerance=1e-12,
-    ),
-]
-
-
 def build() -> Mechanism:
     home = MODEL.home_at(sp.eye(3), sp.Matrix([0, 0, HOME_HEIGHT]), 0, DEFAULTS)
     return Mechanism(
@@ -111,3 +90,25 @@ def build() -> Mechanism:
         },
         examples=EXAMPLES,
     )
+
+
+# Examples
+def tilted(a: float, b: float, s: float) -> list[list[float]]:
+    """The pose of the passive leg's angles a (about x_B), b (about the leg's second axis) and its
+    length s: R = Rot_x(a) Rot_y(b), p = s R z_P."""
+    ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+    rotation = [[cb, 0.0, sb], [sa * sb, ca, -sa * cb], [-ca * sb, sa, ca * cb]]
+    return [[*row, s * row[2]] for row in rotation] + [[0.0, 0.0, 0.0, 1.0]]
+
+
+EXAMPLES = [
+    Example(
+        name="home",
+        description="the platform level at p = (0, 0, 0.5): by hand every leg spans r_b - r_p = 0.2 m "
+        "across and 0.5 m up, l = sqrt(0.29) = 0.5385164807 m",
+        pose=tilted(0.0, 0.0, HOME_HEIGHT),
+        branch=0,
+        expected={"actuated": [math.sqrt(0.29)] * 3},
+        tolerance=1e-12,
+    ),
+]

@@ -6,11 +6,13 @@ its own folder."""
 from __future__ import annotations
 
 import ast
+import importlib
 import io
 import shutil
 import sys
 import tokenize
 from pathlib import Path
+from typing import NamedTuple
 
 import pytest
 from parakin.generator.build import MECHANISMS, discover, input_digest, load_definition
@@ -36,33 +38,57 @@ HAND_NAMES = {
     "half_angle_grid",
     "remove_spurious_factors",
 }
-#: lines of model code (``model_lines``) of each mechanism file at most: before the descriptions
-#: sps 290, gough 185, prs3 138, sam 141, rus6 142, spm 153, planar_3rpr 123, delta 122, five_bar
-#: 109, planar_3rrr 86, stewart 95, sphere2r 78; before the generic builders of generator/blocks.py
-#: (layouts, declarations, example poses, homes, Euler platforms) sps 114, gough 100, prs3 112,
-#: rus6 142, delta 85, five_bar 79, planar_3rrr 86, stewart 77, planar_3rpr 53, tricept 71
+#: lines of model code (``model_lines``: the model part, before the examples marker) of each
+#: mechanism file at most. Whole files before the descriptions: sps 290, gough 185, prs3 138, sam
+#: 141, rus6 142, spm 153, planar_3rpr 123, delta 122, five_bar 109, planar_3rrr 86, stewart 95,
+#: sphere2r 78. Whole files (model and examples together, this counter) at 96a3846: sps 114, gough
+#: 100, prs3 112, sam 89, rus6 142, spm 79, planar_3rpr 53, delta 85, five_bar 79, planar_3rrr 86,
+#: stewart 77, sphere2r 45, rps3 49, tricept 71 (1181); at 7940229: 1060.
 MODEL_LINES = {
-    "sps": 90,
-    "gough": 76,
-    "prs3": 109,
-    "sam": 89,
-    "rus6": 108,
-    "spm": 76,
-    "planar_3rpr": 51,
-    "delta": 81,
-    "five_bar": 68,
-    "planar_3rrr": 76,
-    "stewart": 73,
+    "sps": 77,
+    "gough": 53,
+    "prs3": 40,
+    "sam": 55,
+    "rus6": 67,
+    "spm": 65,
+    "planar_3rpr": 38,
+    "delta": 49,
+    "five_bar": 36,
+    "planar_3rrr": 47,
+    "stewart": 55,
     "sphere2r": 45,
-    "rps3": 48,
-    "tricept": 70,
+    "rps3": 37,
+    "tricept": 55,
 }
 #: a mechanism file added since: a description as long as the longest above at most
 NEW_MODEL_LINES = max(MODEL_LINES.values())
+#: lines of the shipped files' examples parts together at most (the papers' and constructed
+#: inputs and expected values: bounded overall, never shortened by dropping an example)
+EXAMPLE_LINES = 344
 
 
-def model_lines(path: Path) -> int:
-    """Lines of code of a Python file: not blank, comment, docstring or import lines."""
+#: the comment line that ends a mechanism file's model and begins its examples (the papers' and
+#: constructed inputs, their expected values, EXAMPLES); only model code stands before it
+EXAMPLES_MARKER = "# Examples"
+
+
+class Lines(NamedTuple):
+    """Lines of code of a mechanism file before its examples marker and after it."""
+
+    model: int
+    examples: int
+
+
+def _marker_line(source: str) -> int | None:
+    """The line number of the examples marker (a whole line, at column 0), or None."""
+    lines = [n for n, line in enumerate(source.splitlines(), 1) if line.rstrip() == EXAMPLES_MARKER]
+    assert len(lines) <= 1, f"{len(lines)} lines {EXAMPLES_MARKER!r}"
+    return lines[0] if lines else None
+
+
+def model_lines(path: Path) -> Lines:
+    """Lines of code of a Python file, not blank, comment, docstring or import lines: those before
+    the examples marker (all of them when it has none) and those after it."""
     source = path.read_text()
     tree = ast.parse(source)
     skipped: set[int] = set()
@@ -83,7 +109,35 @@ def model_lines(path: Path) -> int:
     for token in tokenize.generate_tokens(io.StringIO(source).readline):
         if token.type not in ignored:
             code.update(range(token.start[0], token.end[0] + 1))
-    return len(code - skipped)
+    code -= skipped
+    marker = _marker_line(source) or len(source.splitlines()) + 1
+    return Lines(sum(n < marker for n in code), sum(n > marker for n in code))
+
+
+def _bound(node: ast.stmt) -> set[str]:
+    """The names a top-level statement binds: an assignment's targets, a function or a class."""
+    if isinstance(node, ast.FunctionDef | ast.ClassDef):
+        return {node.name}
+    targets = node.targets if isinstance(node, ast.Assign) else [getattr(node, "target", None)]
+    return {n.id for t in targets if t is not None for n in ast.walk(t) if isinstance(n, ast.Name)}
+
+
+def example_names(path: Path) -> tuple[set[str], set[str]]:
+    """The names the examples part binds, and those of them the model part reads."""
+    source = path.read_text()
+    marker = _marker_line(source)
+    if marker is None:
+        return set(), set()
+    body = ast.parse(source).body
+    bound = set().union(*(_bound(node) for node in body if node.lineno > marker))
+    read = {
+        name.id
+        for node in body
+        if node.lineno < marker
+        for name in ast.walk(node)
+        if isinstance(name, ast.Name) and isinstance(name.ctx, ast.Load)
+    }
+    return bound, read & bound
 
 
 def test_model_lines_counts_code_only(tmp_path):
@@ -91,7 +145,17 @@ def test_model_lines_counts_code_only(tmp_path):
     source.write_text(
         '"""Doc\nstring."""\n\nimport math\n\n# a comment\nX = [\n    1,\n    2,\n]\n\n\ndef f():\n    """Doc."""\n    return math.pi\n'
     )
-    assert model_lines(source) == 6  # X = [ 1, 2, ] (4 lines), def f, return
+    assert model_lines(source) == (6, 0)  # X = [ 1, 2, ] (4 lines), def f, return
+    assert example_names(source) == (set(), set())
+    source.write_text(
+        '"""Doc."""\n\nA = 1\n\n\ndef build():\n    return A, EXAMPLES\n\n\n# Examples\nB: int = A + 1  # its own\nEXAMPLES = [\n    B,\n]\n'
+    )
+    assert model_lines(source) == (3, 4)  # A =, def build, return | B =, EXAMPLES = [ B, ]
+    assert example_names(source) == ({"B", "EXAMPLES"}, {"EXAMPLES"})
+    source.write_text(
+        '"""Doc."""\n\n\ndef build():\n    return B\n\n\n# Examples\nB, C = 1, 2\n\n\ndef d():\n    return C\n'
+    )
+    assert example_names(source) == ({"B", "C", "d"}, {"B"})  # the model reads an example's name
 
 
 @pytest.mark.parametrize("name", sorted(DESCRIPTIONS))
@@ -107,18 +171,40 @@ def test_a_description_imports_its_accelerator_and_holds_no_elimination(name):
 def test_every_mechanism_file_is_a_short_description():
     """Conventions once, in a docstring of at most 20 lines (the derivation prose lives in
     docs/derivations/NAME.md, linked from the site's navigation), and no more model code than
-    recorded."""
+    recorded: the model part of each file, before its examples marker, and the examples of all
+    files together."""
     navigation = (MECHANISMS.parent / "mkdocs.yml").read_text()
     assert set(MODEL_LINES) <= set(discover())
+    examples = 0
     for name, path in discover().items():
         docstring = ast.get_docstring(ast.parse(path.read_text())) or ""
         assert 0 < len(docstring.splitlines()) <= 20, f"{name}.py: {len(docstring.splitlines())} docstring lines"
-        bound = MODEL_LINES.get(name, NEW_MODEL_LINES)
-        assert model_lines(path) <= bound, f"{name}.py: {model_lines(path)} lines of model code, at most {bound}"
+        bound, lines = MODEL_LINES.get(name, NEW_MODEL_LINES), model_lines(path)
+        assert lines.model <= bound, f"{name}.py: {lines.model} lines of model code, at most {bound}"
+        examples += lines.examples
         if name in MODEL_LINES and name not in ("rps3", "tricept"):  # those two: descriptions from the start
             assert f"docs/derivations/{name}.md" in docstring.replace("``", "")
             assert (MECHANISMS.parent / "docs" / "derivations" / f"{name}.md").is_file()
             assert f"derivations/{name}.md" in navigation
+    assert examples <= EXAMPLE_LINES, f"{examples} lines of examples, at most {EXAMPLE_LINES}"
+
+
+@pytest.mark.parametrize("name", sorted(MODEL_LINES))
+def test_a_mechanism_file_is_its_model_then_its_examples(name):
+    """Each shipped file: the model (symbols, parameters, joints, home, citation, build()), then the
+    marker, then the examples; the model reads no name the examples bind but EXAMPLES, which
+    build() hands on (read when build() is called, the module loaded), and the examples loaded
+    from the file are build()'s."""
+    path = MECHANISMS / f"{name}.py"
+    assert model_lines(path).model > 0
+    bound, read = example_names(path)
+    assert read <= {"EXAMPLES"}, f"{name}.py: the model reads {sorted(read - {'EXAMPLES'})} of the examples"
+    assert "build" not in bound
+    if name == "sphere2r":  # its paper prints no numbers: an examples part with none
+        assert bound == set() and not load_definition(path)[0].examples
+    else:
+        module = importlib.import_module(f"parakin.mechanisms.{name}")
+        assert "EXAMPLES" in bound and module.build().examples == module.EXAMPLES != []
 
 
 def test_discover_skips_the_accelerators():
