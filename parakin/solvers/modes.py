@@ -717,13 +717,16 @@ def certify_inputs(
         labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii, labels)
+    short = counts < homotopy.root_count.count
+    undecided = unique & (real == 0)
+    again = np.nonzero(short | undecided.any(-1))[0]
+    if not again.size:  # every input complete and decided (the usual case)
+        return PathCertificate(counts, unique, real, centre, radii, labels)
     finite = np.isfinite(roots).all(-1) & np.isfinite(coefficients).all(-1)[:, None]
     source = np.full(roots.shape[:2], -1)  # the earlier path whose end this one's is the image of
     if pairs is not None:
         source[np.ix_(np.nonzero(paired)[0], pairs.second)] = pairs.first
-    short = counts < homotopy.root_count.count
-    undecided = unique & (real == 0)
-    for i in np.nonzero(short | undecided.any(-1))[0]:
+    for i in again:
         retry = (~unique[i] & finite[i] & short[i]) | undecided[i]
         for p in np.nonzero(retry)[0]:
             if pairs is not None and source[i, p] >= 0:  # the image of an earlier path's end: its box's image
@@ -812,14 +815,28 @@ def _same_pose_one(line: np.ndarray, poses: np.ndarray, mode: int, duplicate: in
     slots = np.flatnonzero(line == mode)
     if slots.size < 2:
         return
-    chosen = poses[slots, :3, :]  # (k, 3, 4): rotation and position
-    largest = np.abs(chosen[:, :, 3]).max()
-    difference = np.abs(chosen[:, None] - chosen[None, :])  # (k, k, 3, 4)
-    moved, turned = difference[..., 3].max(-1), difference[..., :3].max((-2, -1))
-    same = np.tri(slots.size, k=-1, dtype=bool) & (moved <= SAME_POSE * largest) & (turned <= SAME_POSE)
-    for later, earlier in zip(*(index.tolist() for index in np.nonzero(same)), strict=True):
-        if line[slots[later]] == mode and line[slots[earlier]] == mode:
-            line[slots[later]] = duplicate
+    # positions first, over every pair, coordinate by coordinate (3, k, k: a maximum over whole
+    # planes, not over a short trailing axis); the rotations only of the pairs whose positions
+    # agree (most have none: Stewart's 40 modes)
+    position = np.ascontiguousarray(poses[slots, :3, 3].T)
+    largest = np.abs(position).max()
+    moved = np.abs(position[:, :, None] - position[:, None, :]).max(0)
+    later, earlier = np.nonzero(_lower_triangle(slots.size) & (moved <= SAME_POSE * largest))
+    if not later.size:
+        return
+    turned = np.abs(poses[slots[later], :3, :3] - poses[slots[earlier], :3, :3]).max((-2, -1))
+    chosen = turned <= SAME_POSE
+    for a, b in zip(slots[later[chosen]].tolist(), slots[earlier[chosen]].tolist(), strict=True):
+        if line[a] == mode and line[b] == mode:
+            line[a] = duplicate
+
+
+@functools.cache
+def _lower_triangle(size: int) -> np.ndarray:
+    """The pairs (later, earlier) of ``size`` slots, earlier < later: (size, size), read only."""
+    tri = np.tri(size, k=-1, dtype=bool)
+    tri.flags.writeable = False
+    return tri
 
 
 #: inputs whose pairs of slots ``_same_pose`` compares at once (temporaries k x slots x slots x 3)
@@ -1152,8 +1169,9 @@ def _certify_endpoints(
     input whose ends do not pair up, after a retry, is certified path by path)."""
     in_c = getattr(backend, "certify", None) is not None and getattr(backend, "certify_workspace", None) is not None
 
+    group, patch = _certified_group(homotopy), homotopy.patch_equation
+
     def certified(c: np.ndarray, z: np.ndarray) -> Certificate:
-        group, patch = _certified_group(homotopy), homotopy.patch_equation
         if in_c:
             return certify_roots_compiled(
                 backend, c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch
