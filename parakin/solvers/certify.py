@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import threading
 import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -476,28 +477,37 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
     whether no two boxes overlap."""
     count = unique.shape[-1]
     both = unique[..., :, None] & unique[..., None, :]
-    others = ~np.eye(count, dtype=bool)
+    pending = both & _off_diagonal(count)  # pairs of distinct certified boxes
     # two boxes are apart where they are apart in some coordinate: coordinate by coordinate,
     # until every pair of distinct certified boxes is apart (distinct roots mostly are in the
     # first), each coordinate over whole planes (..., P, P)
     apart = np.zeros(both.shape, dtype=bool)
+    touching = pending
     for k in range(x.shape[-1]):
         xk, rk = x[..., k], r[..., k]
         gap = abs(xk[..., :, None] - xk[..., None, :]) * (1 - 8 * UNIT)
         apart |= gap > (rk[..., :, None] + rk[..., None, :]) * (1 + 8 * UNIT)
-        if not (both & others & ~apart).any():
+        touching = pending & ~apart
+        if not touching.any():
             break
-    touch = both & ~apart
-    distinct = ~(touch & others).any((-2, -1))
+    distinct = ~touching.any((-2, -1))
     # a box that touches no other is its own cluster; the closure is needed only where boxes touch
     labels = np.where(unique, np.arange(count), -1)
     if not distinct.all():
         some = ~distinct
-        reach = touch[some].astype(float)
+        reach = (both & ~apart)[some].astype(float)
         for _ in range(int(np.ceil(np.log2(max(count, 2))))):  # transitive closure by squaring
             reach = np.minimum(reach + reach @ reach, 1.0)
         labels[some] = np.where(unique[some], (reach > 0).argmax(-1), -1)
     return labels, distinct
+
+
+@functools.cache
+def _off_diagonal(count: int) -> np.ndarray:
+    """(count, count): every pair of distinct indices (read only)."""
+    others = ~np.eye(count, dtype=bool)
+    others.flags.writeable = False
+    return others
 
 
 def distinct_clusters(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -655,32 +665,118 @@ def certify_roots_compiled(
     if getattr(library, "certify", None) is None or getattr(library, "certify_workspace", None) is None:
         raise StaleLibraryError(f"{getattr(library, 'path', library)} has no C certificate (NAME_certify_roots)")
     c, a, e, z, batch = _certify_arguments(coefficients, exponents, equation, roots, homogeneous, patch_equation)
+    known, radius, real, centre, radii = _compiled_boxes(
+        library, c, a, e, z, real_coefficients, homogeneous, patch_equation
+    )
     systems, paths, n = z.shape
-    degree = int(a.max(initial=0))
-    workspace = np.empty(int(library.certify_workspace(paths, a.shape[0], n, degree)) // 8 + 2)
-    group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
-    unique, real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
-    radius, radii = np.empty((systems, paths)), np.empty((systems, paths, n))
-    centre = np.empty((systems, paths, n), np.complex128)
-    job = library.CertifyJob(
-        systems, paths, a.shape[0], n, c.ctypes.data, a.ctypes.data, e.ctypes.data, z.ctypes.data,
-        int(bool(real_coefficients)), group.ctypes.data, group.size,
-        -1 if patch_equation is None else int(patch_equation),
-        unique.ctypes.data, real.ctypes.data, radius.ctypes.data, centre.ctypes.data, radii.ctypes.data,
-        workspace.ctypes.data, workspace.nbytes,
-    )  # fmt: skip
-    if library.certify(ctypes.byref(job)) != 0:
-        raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
-    known = unique.astype(bool)
     labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known)
     shape = batch + (paths,)
     return Certificate(
         known.reshape(shape),
         radius.reshape(shape),
-        real.astype(np.int8).reshape(shape),
+        real.reshape(shape),
         distinct.reshape(batch)[()],  # a scalar for one system, as certify_roots
         _cluster_count(labels).reshape(batch)[()],
         centre.reshape(shape + (n,)),
         radii.reshape(shape + (n,)),
         labels.reshape(shape),
     )
+
+
+#: jobs of at most this many systems keep their buffers per thread (``_ReusedJob``): a control
+#: loop's one input; larger batches allocate theirs per call
+REUSED_SYSTEMS = 4
+#: per thread: (library id, sizes, family arrays' ids) -> its ``_ReusedJob``
+_REUSED = threading.local()
+
+
+class _ReusedJob:
+    """A certificate job over buffers allocated once (inputs, outputs, workspace) for one library,
+    job size and family (its exponents, equation and homogeneous group, kept alive here so that
+    their identities are not reused): a call copies the inputs in and the outputs out."""
+
+    def __init__(self, library: CompiledBackend, shape: tuple[int, int, int, int], family: tuple) -> None:
+        systems, paths, terms, n = shape
+        a, e, group, real_coefficients, patch = family
+        self.library, self.family = library, family
+        degree = int(a.max(initial=0))
+        self.workspace = np.empty(int(library.certify_workspace(paths, terms, n, degree)) // 8 + 2)
+        self.c = np.empty((systems, terms), np.complex128)
+        self.z = np.empty((systems, paths, n), np.complex128)
+        self.unique, self.real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
+        self.radius, self.radii = np.empty((systems, paths)), np.empty((systems, paths, n))
+        self.centre = np.empty((systems, paths, n), np.complex128)
+        self.job = _certify_job(
+            library, shape, self.c, a, e, self.z, real_coefficients, group, patch,
+            (self.unique, self.real, self.radius, self.centre, self.radii), self.workspace,
+        )  # fmt: skip
+        self.pointer = ctypes.byref(self.job)
+
+    def run(self, c: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, ...]:
+        self.c[...] = c
+        self.z[...] = z
+        if self.library.certify(self.pointer) != 0:
+            raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
+        return (
+            self.unique.astype(bool), self.radius.copy(), self.real.astype(np.int8), self.centre.copy(),
+            self.radii.copy(),
+        )  # fmt: skip
+
+
+def _certify_job(
+    library: CompiledBackend, shape: tuple[int, int, int, int], c: np.ndarray, a: np.ndarray, e: np.ndarray,
+    z: np.ndarray, real_coefficients: bool, group: np.ndarray, patch: int | None, outputs: tuple, workspace: np.ndarray,
+) -> ctypes.Structure:  # fmt: skip
+    """The C certificate's job structure over these arrays (the caller keeps them alive)."""
+    systems, paths, terms, n = shape
+    unique, real, radius, centre, radii = outputs
+    return library.CertifyJob(  # type: ignore[no-any-return]
+        systems, paths, terms, n, c.ctypes.data, a.ctypes.data, e.ctypes.data, z.ctypes.data,
+        int(bool(real_coefficients)), group.ctypes.data, group.size, -1 if patch is None else int(patch),
+        unique.ctypes.data, real.ctypes.data, radius.ctypes.data, centre.ctypes.data, radii.ctypes.data,
+        workspace.ctypes.data, workspace.nbytes,
+    )  # fmt: skip
+
+
+def _compiled_boxes(
+    library: CompiledBackend,
+    c: np.ndarray,
+    a: np.ndarray,
+    e: np.ndarray,
+    z: np.ndarray,
+    real_coefficients: bool = True,
+    homogeneous: list[int] | None = None,
+    patch_equation: int | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The C certificate's boxes of checked, flat arguments (``_certify_arguments``: coefficients
+    c (N, T), exponents a (T, n), equation e (T,), roots z (N, P, n)), without their clusters:
+    unique (N, P) bool, radius (N, P), real (N, P) int8, centre (N, P, n) complex and radii
+    (N, P, n), each array the caller's own. A job of at most ``REUSED_SYSTEMS`` systems reuses
+    this thread's buffers for its sizes and family (``_ReusedJob``)."""
+    systems, paths, n = z.shape
+    if systems <= REUSED_SYSTEMS:
+        group_key = None if homogeneous is None else tuple(homogeneous)
+        key = (id(library), systems, paths, a.shape[0], n, id(a), id(e), group_key, real_coefficients, patch_equation)
+        jobs = getattr(_REUSED, "jobs", None)
+        if jobs is None:
+            jobs = _REUSED.jobs = {}
+        reused = jobs.get(key)
+        if reused is None or reused.library is not library or reused.family[0] is not a or reused.family[1] is not e:
+            if len(jobs) >= 32:
+                jobs.clear()
+            group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
+            family = (a, e, group, real_coefficients, patch_equation)
+            reused = jobs[key] = _ReusedJob(library, (systems, paths, a.shape[0], n), family)
+        return reused.run(c, z)  # type: ignore[return-value]
+    degree = int(a.max(initial=0))
+    workspace = np.empty(int(library.certify_workspace(paths, a.shape[0], n, degree)) // 8 + 2)
+    group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
+    unique, real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
+    radius, radii = np.empty((systems, paths)), np.empty((systems, paths, n))
+    centre = np.empty((systems, paths, n), np.complex128)
+    outputs = (unique, real, radius, centre, radii)
+    job = _certify_job(library, z.shape[:2] + (a.shape[0], n), c, a, e, z, real_coefficients, group, patch_equation,
+                       outputs, workspace)  # fmt: skip
+    if library.certify(ctypes.byref(job)) != 0:
+        raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
+    return unique.astype(bool), radius, real.astype(np.int8), centre, radii
