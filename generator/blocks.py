@@ -26,7 +26,10 @@
     ``frame_pose_values`` (an example pose as a 4x4 list; ``euler_pose`` as a 17-digit matrix),
     ``home_from_pose`` (a home read by the model's inverse at a pose);
   - ``euler_platform``: Euler-angle platform coordinates and their reading from a pose, for any
-    of the twelve sequences.
+    of the twelve sequences; ``universal_prismatic_platform``: the coordinates of a passive U-P
+    leg carrying the platform (a Tricept's) and their reading;
+  - bodies from distances: ``distance_points`` (three points of a body from their distances to
+    its origin and to one another) and ``distance_cosines`` (their cosines, Gram determinant).
 """
 
 from __future__ import annotations
@@ -577,6 +580,75 @@ def home_from_pose(
     return model.home_at(matrix[:3, :3], matrix[:3, 3], branch, parameters)
 
 
+# ------------------------------------------------------------------ bodies from distances
+def distance_cosines(
+    radii: Sequence[sp.Expr], distances: Sequence[sp.Expr]
+) -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
+    """The cosines of the angles at a centre Q between three points of a body, from their distances
+    to Q and to one another (the law of cosines), and their Gram determinant.
+
+    Parameters
+    ----------
+    radii : 3 sympy expressions
+        r_i = |Q B_i|, metres (nonzero).
+    distances : 3 sympy expressions
+        r_12 = |B_1 B_2|, r_23 = |B_2 B_3|, r_13 = |B_1 B_3|, metres (in that order).
+
+    Returns
+    -------
+    tuple of 4 sympy expressions
+        q12, q13, q23 (q_ij = (r_i^2 + r_j^2 - r_ij^2) / (2 r_i r_j), the cosine of the angle B_i Q
+        B_j) and D = 1 - q12^2 - q13^2 - q23^2 + 2 q12 q13 q23, the determinant of the matrix of
+        cosines (zero when Q, B_1, B_2 and B_3 are coplanar, negative when no such points exist).
+
+    Example
+    -------
+    >>> r = sp.Integer(1)
+    >>> distance_cosines((r, r, r), (sp.sqrt(2), sp.sqrt(2), sp.sqrt(2)))
+    (0, 0, 0, 1)
+    """
+    (r1, r2, r3), (r12, r23, r13) = radii, distances
+    q12 = (r1**2 + r2**2 - r12**2) / (2 * r1 * r2)
+    q13 = (r1**2 + r3**2 - r13**2) / (2 * r1 * r3)
+    q23 = (r2**2 + r3**2 - r23**2) / (2 * r2 * r3)
+    return q12, q13, q23, 1 - q12**2 - q13**2 - q23**2 + 2 * q12 * q13 * q23
+
+
+def distance_points(radii: Sequence[sp.Expr], distances: Sequence[sp.Expr], handedness: sp.Expr) -> list[sp.Matrix]:
+    """Three points of a body located by their distances to its origin Q and to one another, in
+    the body's frame with x along Q B_1 and y in the plane Q B_1 B_2 (B_2 on its +y side); B_3 on
+    the side of the x y plane that ``handedness`` says (the sign of det[B_1 B_2 B_3]).
+
+    Parameters
+    ----------
+    radii, distances : 3 sympy expressions each
+        As ``distance_cosines``: |Q B_i| and |B_1 B_2|, |B_2 B_3|, |B_1 B_3|, metres.
+    handedness : sympy expression
+        +1 or -1 (or a parameter taking those values).
+
+    Returns
+    -------
+    list of 3 sympy.Matrix, each 3 x 1
+        B_1 = r_1 (1, 0, 0), B_2 = r_2 (q12, s, 0) and B_3 = r_3 (q13, (q23 - q12 q13) / s,
+        handedness sqrt(max(0, D)) / s), s = sqrt(1 - q12^2) (``distance_cosines``); D < 0 (no
+        such points) is clamped to 0.
+
+    Example
+    -------
+    >>> r, d = sp.Integer(1), sp.sqrt(2)
+    >>> [list(p) for p in distance_points((r, r, r), (d, d, d), -1)]
+    [[1, 0, 0], [0, 1, 0], [0, 0, -1]]
+    """
+    q12, q13, q23, gram = distance_cosines(radii, distances)
+    s = sp.sqrt(1 - q12**2)
+    r1, r2, r3 = radii
+    return [
+        r1 * sp.Matrix([1, 0, 0]),
+        r2 * sp.Matrix([q12, s, 0]),
+        r3 * sp.Matrix([q13, (q23 - q12 * q13) / s, handedness * sp.sqrt(sp.Max(0, gram)) / s]),
+    ]
+
+
 # ------------------------------------------------------------------ planar poses
 def planar_pose(x: sp.Expr, y: sp.Expr, phi: sp.Expr) -> sp.Matrix:
     """^B_P T of a platform moving in the plane z = 0: Rot_z(phi), origin of {P} at (x, y, 0)."""
@@ -685,6 +757,47 @@ def euler_platform(
         "transform", (*position, *angles), rotation, sp.Matrix(list(position)), located + read, (r, POSE_POSITION),
         angular=tuple(angles), branches=branches, validity=validity,
     )  # fmt: skip
+
+
+def universal_prismatic_platform(angles: Sequence[sp.Symbol], length: sp.Symbol) -> Platform:
+    """A platform carried by a passive U-P leg fixed to it (a Tricept's central leg), with the
+    inverse's reading of the leg's coordinates from a pose: the universal joint at the origin of
+    {B} turns about x_B by a, then about the turned y axis by b; the prismatic joint slides the
+    origin of {P} along the leg, z_P, to the length s. R = Rot_x(a) Rot_y(b), p = s R z_P; read
+    back as a = atan2(r32, r22), b = atan2(r13, r11), s = p . R z_P (a in (-pi/2, pi/2) where the
+    leg is not folded onto the base plane; the reading of a pose off the set keeps the leg's
+    coordinates nearest it).
+
+    Parameters
+    ----------
+    angles : two sympy.Symbol
+        (a, b), the universal joint's angles, radians.
+    length : sympy.Symbol
+        s, the leg's length from the origin of {B} to the origin of {P}, metres.
+
+    Returns
+    -------
+    joints.Platform
+        Of pose kind 'transform', coordinates (a, b, s), a and b angular.
+
+    Example
+    -------
+    >>> a, b, s = sp.symbols("a b s", real=True)
+    >>> universal_prismatic_platform((a, b), s).position.T
+    Matrix([[s*sin(b), -s*sin(a)*cos(b), s*cos(a)*cos(b)]])
+    """
+    from .joints import Platform  # joints imports this module
+
+    a, b = angles
+    turn = rot_x(a) * rot_y(b)
+    read = (
+        (a, sp.atan2(POSE_ROTATION[2, 1], POSE_ROTATION[1, 1])),
+        (b, sp.atan2(POSE_ROTATION[0, 2], POSE_ROTATION[0, 0])),
+        (length, POSE_POSITION.dot(POSE_ROTATION[:, 2])),
+    )
+    return Platform(
+        "transform", (a, b, length), turn, length * turn[:, 2], read, (POSE_ROTATION, POSE_POSITION), angular=(a, b)
+    )
 
 
 def euler_pose(sequence: str, angles: Sequence[float], position: Sequence[float]) -> sp.Matrix:

@@ -90,18 +90,8 @@ HOME_Z = math.sqrt(ROD**2 - sum((JOINTS[0][k] - SHAFTS[0][k] - CRANK * ZEROS[0][
 MODEL = joints.DistanceMechanism(
     joints.platform("transform"),
     [
-        joints.crank_leg(
-            BASE.points[i],
-            AXIS.points[i],
-            CRANK_ZERO.points[i],
-            a[i],
-            b[i],
-            PLATFORM.points[i],
-            theta[i],
-            sign=-1,
-            serial_name="leg{k}_rod_in_crank_axis_plane",
-        )
-        for i in range(6)
+        joints.crank_leg(*leg, sign=-1, serial_name="leg{k}_rod_in_crank_axis_plane")
+        for leg in zip(BASE.points, AXIS.points, CRANK_ZERO.points, a, b, PLATFORM.points, theta, strict=True)
     ],
     parallel_name="rod_lines_dependent",
 )

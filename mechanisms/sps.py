@@ -23,6 +23,8 @@ from __future__ import annotations
 import sympy as sp
 from parakin.generator import joints
 from parakin.generator.blocks import (
+    distance_cosines,
+    distance_points,
     euler_platform,
     frame_pose_values,
     leg_parameters,
@@ -44,37 +46,16 @@ STROKES = ((0.530, 1.780), (0.530, 1.780), (0.810, 2.060))
 HOME_EULER = (0.38623430068232256, 0.32043813812493704, -0.2199222510816914)
 
 
-def base_points() -> list[sp.Matrix]:
-    return [sp.Matrix([a1x, 0, 0]), sp.Matrix([a2x, a2y, 0]), sp.Matrix([a3x, a3y, a3z])]
-
-
-def platform_cosines() -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
-    """q12, q13, q23 (eq 1c) and D3 (eq 5), from the distances."""
-    q12 = (b1**2 + b2**2 - b12**2) / (2 * b1 * b2)
-    q13 = (b1**2 + b3**2 - b13**2) / (2 * b1 * b3)
-    q23 = (b2**2 + b3**2 - b23**2) / (2 * b2 * b3)
-    return q12, q13, q23, 1 - q12**2 - q13**2 - q23**2 + 2 * q12 * q13 * q23
-
-
-def platform_points() -> list[sp.Matrix]:
-    """b_ip in {P}: b1 (1, 0, 0), b2 (q12, s, 0), b3 (q13, (q23 - q12 q13) / s, chi sqrt(D3) / s), s = sqrt(1 - q12^2)."""
-    q12, q13, q23, d3 = platform_cosines()
-    s = sp.sqrt(1 - q12**2)
-    return [
-        sp.Matrix([b1, 0, 0]),
-        b2 * sp.Matrix([q12, s, 0]),
-        b3 * sp.Matrix([q13, (q23 - q12 * q13) / s, chi * sp.sqrt(sp.Max(0, d3)) / s]),
-    ]
-
-
+#: a_i in {B} (A1 on x_b, A2 in the x_b y_b plane); b_ip in {P} from |QB_i| = b_i and |B_i B_j| = b_ij
+#: (eq 1c), their cosines q12, q13, q23 (eq 1c) and Gram determinant D3 (eq 5)
+BASE_POINTS = [sp.Matrix([a1x, 0, 0]), sp.Matrix([a2x, a2y, 0]), sp.Matrix([a3x, a3y, a3z])]
+PLATFORM_POINTS = distance_points((b1, b2, b3), (b12, b23, b13), chi)
+PLATFORM_COSINES = distance_cosines((b1, b2, b3), (b12, b23, b13))
 MOTION = euler_platform("xyx", (alpha, beta, gamma))  # X'-Y'-X' Euler angles (eq 9), sigma = sign(sin beta)
 MODEL = joints.DistanceMechanism(
     MOTION,
     [
-        *(
-            joints.prismatic_leg(a, bp, d[i])
-            for i, (a, bp) in enumerate(zip(base_points(), platform_points(), strict=True))
-        ),
+        *(joints.prismatic_leg(a, bp, length) for a, bp, length in zip(BASE_POINTS, PLATFORM_POINTS, d, strict=True)),
         joints.central_joint(),
     ],
     parallel_name="leg_moments_coplanar",
@@ -104,7 +85,7 @@ PARAMETERS = parameter_fields(
 
 def build() -> Mechanism:
     derived = MODEL.fields()
-    derived |= {"closure": closure(base_points(), platform_points(), d, MOTION.rotation)}
+    derived |= {"closure": closure(BASE_POINTS, PLATFORM_POINTS, d, MOTION.rotation)}
     derived["drawing"] = drawing(derived["drawing"])  # type: ignore[arg-type]
     return Mechanism(
         name="sps",
@@ -115,7 +96,7 @@ def build() -> Mechanism:
         ),
         **PARAMETERS,
         **derived,  # type: ignore[arg-type]
-        forward=forward(base_points(), platform_points(), d, (b1, b2, b3), platform_cosines(), chi),
+        forward=forward(BASE_POINTS, PLATFORM_POINTS, d, (b1, b2, b3), PLATFORM_COSINES, chi),
         home={
             **dict(zip(d, (0.780, 0.570, 1.320), strict=True)),
             **dict(zip(MOTION.coordinates, HOME_EULER, strict=True)),

@@ -25,9 +25,8 @@ import math
 
 import sympy as sp
 from parakin.generator import joints
-from parakin.generator.blocks import radial_directions
-from parakin.generator.frames import rot_x, rot_y
-from parakin.generator.model import POSE_POSITION, POSE_ROTATION, Citation, Example, Mechanism, ParameterInfo
+from parakin.generator.blocks import radial_directions, universal_prismatic_platform
+from parakin.generator.model import Citation, Example, Mechanism, ParameterInfo
 
 r_b, r_p = sp.symbols("r_b r_p", positive=True)
 lengths = sp.symbols("l1:4", positive=True)
@@ -35,23 +34,10 @@ RADIAL = radial_directions(3)  # (cos eta_i, sin eta_i, 0), eta_i = 0, 120, 240 
 DEFAULTS = {r_b: 0.3, r_p: 0.1}
 HOME_HEIGHT = 0.5
 
-#: the platform's coordinates: the passive leg's joints, its universal joint's angles a (about
-#: x_B) and b (about the leg's second axis) and its length s: R = Rot_x(a) Rot_y(b), p = s R z_P
+#: the platform's coordinates: the passive leg's universal joint's angles a (about x_B) and b
+#: (about the leg's second axis) and its length s: R = Rot_x(a) Rot_y(b), p = s R z_P
 a, b, s = sp.symbols("a b s", real=True)
-TURN = rot_x(a) * rot_y(b)
-MOTION = joints.Platform(
-    "transform",
-    (a, b, s),
-    TURN,
-    s * TURN[:, 2],
-    read=(
-        (a, sp.atan2(POSE_ROTATION[2, 1], POSE_ROTATION[1, 1])),
-        (b, sp.atan2(POSE_ROTATION[0, 2], POSE_ROTATION[0, 0])),
-        (s, POSE_POSITION.dot(POSE_ROTATION[:, 2])),
-    ),
-    pose=(POSE_ROTATION, POSE_POSITION),
-    angular=(a, b),
-)
+MOTION = universal_prismatic_platform((a, b), s)
 
 MODEL = joints.DistanceMechanism(
     MOTION,

@@ -14,6 +14,8 @@ from parakin.generator import joints
 from parakin.generator.blocks import (
     circle_points,
     crank_bases,
+    distance_cosines,
+    distance_points,
     euler_platform,
     euler_pose,
     euler_pose_values,
@@ -28,7 +30,9 @@ from parakin.generator.blocks import (
     pose_values,
     radial_directions,
     scalar_parameter,
+    universal_prismatic_platform,
 )
+from parakin.generator.model import POSE_POSITION, POSE_ROTATION
 
 
 def test_circle_points_lie_on_the_circle_at_their_angles():
@@ -284,3 +288,51 @@ def test_every_inverse_refuses_a_branch_it_does_not_have():
     for branch in (2, -1, True, 0.0):
         with pytest.raises(BadInputError, match=r"inverse: branch .* 2 branches \(0 \.\. 1\)"):
             inverse.at(sp.eye(3), None, branch, {p: 4.0})
+
+
+def test_distance_points_are_congruent_to_the_points_they_are_measured_from():
+    """Three random points measured (their distances to the origin and to one another, the sign of
+    their determinant), then built from those numbers: the points built have the same distances and
+    handedness (congruent: a rotation of the measured ones), B_1 on x, B_2 in the x y plane on its
+    +y side; the cosines' determinant is det[B_1 B_2 B_3]^2 / (r_1 r_2 r_3)^2, a volume."""
+    rng = np.random.default_rng(32)
+    checked = 0
+    for _ in range(20):
+        points = rng.normal(size=(3, 3))
+        radii = [sp.Float(v, 17) for v in np.linalg.norm(points, axis=1)]
+        pairs = [(0, 1), (1, 2), (0, 2)]
+        distances = [sp.Float(np.linalg.norm(points[i] - points[j]), 17) for i, j in pairs]
+        sign = int(np.sign(np.linalg.det(points)))
+        built = np.array([[float(v) for v in p] for p in distance_points(radii, distances, sign)])
+        assert np.allclose(np.linalg.norm(built, axis=1), np.linalg.norm(points, axis=1), atol=1e-12)
+        for i, j in pairs:
+            assert np.linalg.norm(built[i] - built[j]) == pytest.approx(
+                np.linalg.norm(points[i] - points[j]), abs=1e-12
+            )
+        assert np.linalg.det(built) == pytest.approx(np.linalg.det(points), abs=1e-12)
+        assert built[0, 1] == built[0, 2] == built[1, 2] == 0.0 and built[1, 1] > 0
+        gram = float(distance_cosines(radii, distances)[3])
+        assert gram == pytest.approx(np.linalg.det(points) ** 2 / np.prod(np.linalg.norm(points, axis=1)) ** 2)
+        checked += 1
+    assert checked == 20
+
+
+def test_universal_prismatic_platform_reads_back_its_leg():
+    """The platform of a passive U-P leg: at random joint values its rotation is Rot_x(a) Rot_y(b)
+    (written out with NumPy), its origin lies on the leg's axis z_P at the distance s from the
+    universal joint, and the inverse's reading of that pose returns a, b and s."""
+    a, b, s = sp.symbols("a b s", real=True)
+    platform = universal_prismatic_platform((a, b), s)
+    assert platform.kind == "transform" and platform.coordinates == (a, b, s) and platform.angular == (a, b)
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        values = {a: rng.uniform(-1.5, 1.5), b: rng.uniform(-3.1, 3.1), s: rng.uniform(0.1, 2.0)}
+        ca, sa, cb, sb = np.cos(values[a]), np.sin(values[a]), np.cos(values[b]), np.sin(values[b])
+        expected = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]]) @ np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+        rotation = np.array(platform.rotation.subs(values), dtype=float)
+        position = np.array(platform.position.subs(values), dtype=float).ravel()
+        assert np.allclose(rotation, expected, atol=1e-14)
+        assert np.allclose(position, values[s] * rotation[:, 2], atol=1e-14)
+        pose = dict(zip(POSE_ROTATION, rotation.ravel(), strict=True)) | dict(zip(POSE_POSITION, position, strict=True))
+        read = {symbol: float(expression.subs(pose)) for symbol, expression in platform.read}
+        assert read == pytest.approx(values, abs=1e-12)

@@ -45,11 +45,11 @@ HAND_NAMES = {
 #: 100, prs3 112, sam 89, rus6 142, spm 79, planar_3rpr 53, delta 85, five_bar 79, planar_3rrr 86,
 #: stewart 77, sphere2r 45, rps3 49, tricept 71 (1181); at 7940229: 1060.
 MODEL_LINES = {
-    "sps": 77,
+    "sps": 62,
     "gough": 53,
     "prs3": 40,
     "sam": 55,
-    "rus6": 67,
+    "rus6": 57,
     "spm": 65,
     "planar_3rpr": 38,
     "delta": 49,
@@ -58,7 +58,7 @@ MODEL_LINES = {
     "stewart": 55,
     "sphere2r": 45,
     "rps3": 37,
-    "tricept": 55,
+    "tricept": 42,
 }
 #: a mechanism file added since: a description as long as the longest above at most
 NEW_MODEL_LINES = max(MODEL_LINES.values())
