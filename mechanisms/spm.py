@@ -47,12 +47,7 @@ def platform_axis(i: int) -> sp.Matrix:
     return rot_z(ETA[i]) * sp.Matrix([0, sp.sin(beta), sp.cos(beta)])
 
 
-#: the model: three R-R-R legs whose axes meet at the centre, written as crank legs on the unit
-#: sphere (the intermediate axis w_i turns on the cone of half-angle alpha1 about u_i: a crank of
-#: radius sin(alpha1) about the axis u_i through cos(alpha1) u_i; the platform axis v_i = R v0_i
-#: lies at the distal angle alpha2 from it, |v_i - w_i| = 2 sin(alpha2 / 2)) on a platform that
-#: turns about the centre (unit quaternion); closure, rates, singularity factor, inverse (the
-#: report's branch signs) and drawing are derived from it
+#: three R-R-R legs whose axes meet at the centre, as crank legs on the unit sphere (docs/derivations/spm.md)
 MODEL = joints.DistanceMechanism(
     joints.platform("rotation"),
     [
