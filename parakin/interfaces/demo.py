@@ -129,25 +129,13 @@ def _forward_example(modes: AssemblyModes, example: Example) -> list[Comparison]
 
 def library_cached(name: str | os.PathLike[str]) -> bool:
     """Whether the compiled C library of package ``name`` is already in the cache (so that
-    backend 'compiled' loads it without running the compiler). Mirrors the cache key of
-    ``parakin.packages.compiled.build_library``: the SHA-256 of the package's C sources and
-    headers, the compiler's path and the flags; anything unreadable counts as not cached."""
-    import hashlib
-    import shutil
-
+    backend 'compiled' loads it without running the compiler): where
+    ``parakin.packages.compiled.library_target`` puts it; anything unreadable counts as not cached."""
     from parakin.packages import compiled
     from parakin.packages.package import GeneratedPackage
 
     try:
-        package = GeneratedPackage.find(name)
-        compiler = shutil.which(os.environ.get("CC", "cc"))
-        if compiler is None:
-            return False
-        digest = hashlib.sha256()
-        for path in [*package.c_sources(), *package.c_headers()]:
-            digest.update(path.read_bytes())
-        digest.update(" ".join([compiler, *compiled.FLAGS]).encode())
-        return (compiled.cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so").is_file()
+        return compiled.library_target(GeneratedPackage.find(name))[2].is_file()
     except (OSError, ParakinError):
         return False
 

@@ -20,9 +20,11 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import dataclasses
+import functools
 import hashlib
 import math
 import os
+import platform
 import re
 import shutil
 import socket
@@ -58,6 +60,10 @@ FLAGS = [
     "-fno-semantic-interposition",
     "-fno-math-errno",
 ]  # no FMA: bit-equal to NumPy
+#: added where the CPU has AVX2 (x86-64): the same IEEE operations in wider registers, so the
+#: library stays bit-equal to the plain build and to NumPy, with 10-35 % less CPU in the path
+#: tracker (bench.floor's packages). Not -march=native: its other extensions change roundings.
+WIDE_FLAGS = ["-mavx2"]
 
 
 #: a scratch file older than this belongs to a dead compile whatever its process id says (ids are reused)
@@ -232,6 +238,68 @@ def remove_dead_scratch(cache: Path) -> list[Path]:
     return removed
 
 
+@functools.cache
+def _has_avx2() -> bool:
+    if platform.machine().lower() not in {"x86_64", "amd64"}:
+        return False
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:  # not Linux: the plain flags
+        return False
+    # the kernel lists avx2 only where it also saves the wide registers
+    return any(line.startswith("flags") and "avx2" in line.split() for line in text.splitlines())
+
+
+def compile_flags() -> list[str]:
+    """The C compiler's flags for a package's library on this machine.
+
+    Returns
+    -------
+    list of str
+        FLAGS, and WIDE_FLAGS where the CPU has AVX2 (Linux on x86-64): both builds give the same
+        bits.
+    """
+    return [*FLAGS, *WIDE_FLAGS] if _has_avx2() else list(FLAGS)
+
+
+def library_target(package: GeneratedPackage) -> tuple[str, list[str], Path]:
+    """Where a package's library is cached: its C sources, the compiler and its flags name it.
+
+    Parameters
+    ----------
+    package : GeneratedPackage
+        The package.
+
+    Returns
+    -------
+    compiler : str
+        The C compiler (``$CC``, else ``cc``) as found on the path.
+    flags : list of str
+        ``compile_flags()``.
+    target : Path
+        The library's path in ``cache_directory()`` (it may not exist yet).
+
+    Raises
+    ------
+    CompilerUnavailableError
+        No C compiler.
+    BadInputError
+        A C file of the package cannot be read.
+    """
+    compiler = shutil.which(os.environ.get("CC", "cc"))
+    if compiler is None:
+        raise CompilerUnavailableError("no C compiler found (looked for $CC or 'cc')")
+    flags = compile_flags()
+    digest = hashlib.sha256()
+    for path in [*package.c_sources(), *package.c_headers()]:
+        try:
+            digest.update(path.read_bytes())
+        except OSError as error:
+            raise BadInputError(f"package {package.path}: cannot read its C file {path.name} ({error})") from error
+    digest.update(" ".join([compiler, *flags]).encode())
+    return compiler, flags, cache_directory() / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
+
+
 def build_library(package: GeneratedPackage) -> Path:
     """Compile (or find in the cache) the shared library of a generated package.
 
@@ -253,20 +321,8 @@ def build_library(package: GeneratedPackage) -> Path:
         The cache cannot be created or written; UntrustedCacheError where it, or the library,
         is not private.
     """
-    sources = package.c_sources()
-    headers = package.c_headers()
-    compiler = shutil.which(os.environ.get("CC", "cc"))
-    if compiler is None:
-        raise CompilerUnavailableError("no C compiler found (looked for $CC or 'cc')")
-    digest = hashlib.sha256()
-    for path in [*sources, *headers]:
-        try:
-            digest.update(path.read_bytes())
-        except OSError as error:
-            raise BadInputError(f"package {package.path}: cannot read its C file {path.name} ({error})") from error
-    digest.update(" ".join([compiler, *FLAGS]).encode())
+    compiler, flags, target = library_target(package)
     cache = cache_directory()
-    target = cache / f"{package.manifest.name}-{digest.hexdigest()[:16]}.so"
     if target.resolve().parent != cache.resolve():  # the manifest check makes this unreachable
         raise CacheUnavailableError(f"the library path {target} leads outside the cache {cache}")
     try:
@@ -289,7 +345,8 @@ def build_library(package: GeneratedPackage) -> Path:
     except OSError as error:
         raise _cache_error(error, "creating the library") from error
     os.close(handle)
-    command = [compiler, *FLAGS, "-I", str(package.path), *map(str, sources), "-o", scratch, "-lm"]
+    sources = map(str, package.c_sources())
+    command = [compiler, *flags, "-I", str(package.path), *sources, "-o", scratch, "-lm"]
     logger.info("compiling the C library of %s (first use; cached in %s)", package.manifest.name, cache)
     start = time.perf_counter()
     try:
