@@ -879,10 +879,14 @@ def _repeats_earlier_mode(
     sizes = np.zeros(valid.shape[0])
     sizes[inputs] = np.where(valid[inputs][..., None], np.abs(poses[inputs, :, :3, 3]), 0.0).max((-2, -1))
     largest = np.maximum(sizes[rows], np.abs(pose[:, :3, 3]).max(-1))[candidate]
-    earlier = poses[rows[candidate], slot, :3, :]  # (pairs, 3, 4): rotation and position
-    difference = np.abs(earlier - pose[candidate, :3, :])
-    same = (difference[:, :, 3].max(-1) <= SAME_POSE * largest) & (difference[:, :, :3].max((-2, -1)) <= SAME_POSE)
-    found[candidate[same]] = True
+    # positions first, coordinate by coordinate (3, pairs); the rotations only of the pairs whose
+    # positions agree
+    moved = np.abs(poses[rows[candidate], slot, :3, 3] - pose[candidate, :3, 3]).T
+    close = np.nonzero(np.maximum(np.maximum(moved[0], moved[1]), moved[2]) <= SAME_POSE * largest)[0]
+    if close.size:
+        rotation = poses[rows[candidate[close]], slot[close], :3, :3] - pose[candidate[close], :3, :3]
+        turned = np.abs(rotation).reshape(close.size, 9).max(-1)
+        found[candidate[close[turned <= SAME_POSE]]] = True
     return found
 
 
@@ -998,10 +1002,11 @@ def certified_modes(
     count = homotopy.root_count.count
     retracked = np.zeros(theta.shape[0], dtype=bool)
     finite = np.isfinite(theta).all(-1)
-    add_conjugates(m, info, theta, out, found, np.nonzero((found.certified < count) & finite)[0])
+    incomplete = np.nonzero((found.certified < count) & finite)[0]
+    add_conjugates(m, info, theta, out, found, incomplete)
     # the inputs whose missing roots' paths were seen heading to infinity: searched no further
     far = np.zeros(theta.shape[0], dtype=bool)
-    for instance in (None, *RETRACKS):
+    for instance in (None, *RETRACKS) if incomplete.size else ():  # none: every input complete
         short = np.nonzero((found.certified < count) & finite & ~far)[0]
         if not short.size:
             break
