@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 import sympy as sp
 
-from parakin.singularity import inverse_condition
+from parakin.solvers.linalg import inverse_condition
 
 from .errors import GenerationError
 from .model import POSE_KINDS, POSE_SYMBOLS, Mechanism
@@ -172,7 +172,7 @@ class NearSingularHomeWarning(UserWarning):
 
 def home_type_ii_distance(m: Mechanism, jacobian_passive: sp.Matrix) -> float | None:
     """The home's distance to a type II singularity: 1/cond of d closure / d passive evaluated at
-    the home and the default parameters (``parakin.singularity.inverse_condition``).
+    the home and the default parameters (``parakin.solvers.linalg.inverse_condition``).
 
     Parameters
     ----------
