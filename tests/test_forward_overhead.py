@@ -149,6 +149,8 @@ def test_cluster_labels_equal_a_union_of_overlapping_pairs(unknowns: int) -> Non
         expected, apart = clusters_by_pairs(x[b], np.where(unique[b][:, None], r[b], 0.0), unique[b])
         assert labels[b].tolist() == expected, b
         assert bool(distinct[b]) == apart
+        alone, alone_distinct = cluster_labels(x[b], np.where(unique[b][:, None], r[b], 0.0), unique[b])
+        assert alone.tolist() == expected and bool(alone_distinct) == apart  # no batch axis
         overlapping += not apart
     assert overlapping >= 8
 
