@@ -678,6 +678,9 @@ def certify_roots_compiled(
     )
     systems, paths, n = z.shape
     labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known)
+    if batch == (systems,):  # the solvers' flat batch: every array has its shape already
+        count = _cluster_count(labels)
+        return Certificate(known, radius, real, distinct, count, centre, radii, labels)
     shape = batch + (paths,)
     return Certificate(
         known.reshape(shape),

@@ -939,7 +939,8 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     outcome[~cert.unique & (outcome == mode)] = codes["uncertified"]
     outcome[in_nonreal] = codes["complex"]
     outcome[in_undecided] = codes["uncertified"]
-    outcome[in_real & ~first] = codes["duplicate"]
+    if in_real is not real:  # an overlapping box's root is its cluster's first's duplicate
+        outcome[in_real & ~first] = codes["duplicate"]
     kind[in_real] = kinds.index("simple")
     kind[in_nonreal] = kinds.index("complex")
     kind[in_undecided] = kinds.index("near_real")
@@ -968,8 +969,9 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     finite = np.isfinite(theta).all(-1)
     out["count"] = (outcome == mode).sum(-1).astype(np.int32)
     out["real_roots"] = np.where(finite, real_roots, out["real_roots"]).astype(np.int32)
-    out["near_roots"] = np.where(finite, undecided.sum(-1), out["near_roots"]).astype(np.int32)
-    out["undecided"] = undecided.sum(-1).astype(np.int64)
+    undecided_count = undecided.sum(-1)
+    out["near_roots"] = np.where(finite, undecided_count, out["near_roots"]).astype(np.int32)
+    out["undecided"] = undecided_count.astype(np.int64)
     return out
 
 
