@@ -141,3 +141,126 @@ def test_c_runtime_test_constants_are_the_numpy_references() -> None:
         line = next(line for line in text.splitlines() if line.startswith(f"#define {name} "))
         assert float(line.split()[2]) == float(getattr(homotopy, name)), name
     assert len(TRACKER_CONSTANTS) >= 15
+
+
+#: c_solve's harness: tracker.h for NZ unknowns with a homotopy that is never called, and the
+#: solve exported with its arrays as interleaved doubles (cplx)
+_LU_HARNESS = """
+#include <math.h>
+#include <string.h>
+#include "complex.h"
+#define NZ {size}
+{constants}
+enum {{ PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 }};
+typedef struct {{ int unused; }} sparse_system;
+typedef struct {{ int unused; }} coefficients_at;
+static void coefficients(const sparse_system* system, double s, coefficients_at* at) {{ (void)system; (void)s; (void)at; }}
+static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, cplx* jacobian, cplx* rate) {{
+    (void)at; (void)z; (void)value; (void)jacobian; (void)rate;
+    return 0;
+}}
+#include "tracker.h"
+int lu_solve(double* a, double* b, double* c) {{ return c_solve((cplx*)a, (cplx*)b, (cplx*)c); }}
+"""
+
+
+def _textbook_solve(
+    a: list[list[tuple[float, float]]], rhs: list[list[tuple[float, float]]]
+) -> list[list[tuple[float, float]]] | None:
+    """Gaussian elimination with partial pivoting in Python's floats (IEEE double, each operation
+    rounded once), complex numbers as (re, im) pairs: the pivot the first row of largest |re| +
+    |im|, 1/p = (re / |p|^2, -im / |p|^2), a_rj -= (a_rk / p) a_kj, the back substitution's sum
+    from j = k + 1 up and times 1/p. None when singular."""
+
+    def mul(x: tuple[float, float], y: tuple[float, float]) -> tuple[float, float]:
+        return (x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0])
+
+    def sub(x: tuple[float, float], y: tuple[float, float]) -> tuple[float, float]:
+        return (x[0] - y[0], x[1] - y[1])
+
+    n = len(a)
+    a = [row[:] for row in a]
+    rhs = [column[:] for column in rhs]
+    inverses = []
+    for k in range(n):
+        best, largest = k, abs(a[k][k][0]) + abs(a[k][k][1])
+        for r in range(k + 1, n):
+            if abs(a[r][k][0]) + abs(a[r][k][1]) > largest:
+                best, largest = r, abs(a[r][k][0]) + abs(a[r][k][1])
+        if not largest > 0.0:
+            return None
+        a[k], a[best] = a[best], a[k]
+        for column in rhs:
+            column[k], column[best] = column[best], column[k]
+        size = a[k][k][0] * a[k][k][0] + a[k][k][1] * a[k][k][1]
+        inverse = (a[k][k][0] / size, -a[k][k][1] / size)
+        inverses.append(inverse)
+        for r in range(k + 1, n):
+            f = mul(a[r][k], inverse)
+            for j in range(k + 1, n):
+                a[r][j] = sub(a[r][j], mul(f, a[k][j]))
+            for column in rhs:
+                column[r] = sub(column[r], mul(f, column[k]))
+    for k in reversed(range(n)):
+        for column in rhs:
+            total = column[k]
+            for j in range(k + 1, n):
+                total = sub(total, mul(a[k][j], column[j]))
+            column[k] = mul(total, inverses[k])
+    return rhs
+
+
+@pytest.mark.parametrize("size", [3, 8])
+def test_c_solve_is_the_textbook_elimination_bit_for_bit(size: int, tmp_path: Path) -> None:
+    """tracker.h's c_solve (laid out for vector lanes: augmented rows, real and imaginary parts
+    apart, dead columns updated, branchless pivots) against Gaussian elimination written out
+    in Python's floats, bit for bit, on random systems, systems whose entries tie in |re| + |im|
+    (the first row of the largest must win) and with zeros, with one and with two right-hand
+    sides; singular ones refused; the solutions solve the systems (LAPACK's, to rounding)."""
+    import ctypes
+
+    from parakin.generator.emit import TRACKER_CONSTANTS
+
+    compiler = shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    constants = "\n".join(f"#define {name} {getattr(homotopy, name)!r}" for name in TRACKER_CONSTANTS)
+    source = tmp_path / "lu.c"
+    source.write_text(_LU_HARNESS.format(size=size, constants=constants))
+    library = tmp_path / "lu.so"
+    flags = ["-std=c99", "-O3", "-shared", "-fPIC", "-Wall", "-Wextra", "-Werror", "-Wno-unused-function"]
+    subprocess.run([compiler, *flags, "-ffp-contract=off", f"-I{RUNTIME}", str(source), "-o", str(library)], check=True)
+    solve = ctypes.CDLL(str(library)).lu_solve
+    pointer = np.ctypeslib.ndpointer(dtype=np.complex128, flags="C_CONTIGUOUS")
+    solve.argtypes = [pointer, pointer, ctypes.c_void_p]
+    rng = np.random.default_rng(size)
+    ties = np.array([1.0, -1.0, 1j, -1j, 0.5 + 0.5j, -0.25 - 0.75j, 0.0])
+    checked = refused = 0
+    for case in range(150):
+        if case % 3 == 0:  # entries tying in |re| + |im| = 1, and zeros
+            a = rng.choice(ties, (size, size)) * 2.0 ** rng.integers(-2, 3)
+        else:
+            a = rng.normal(size=(size, size)) + 1j * rng.normal(size=(size, size))
+            a *= 10.0 ** rng.uniform(-3, 3, size=(size, 1))
+        if case % 25 == 24:
+            a[:, rng.integers(size)] = 0.0  # singular: a column of zeros
+        b, c = rng.normal(size=(2, size)) + 1j * rng.normal(size=(2, size))
+        two = case % 4 != 0
+        pairs = [[(float(v.real), float(v.imag)) for v in row] for row in a]
+        columns = [[(float(v.real), float(v.imag)) for v in column] for column in ([b, c] if two else [b])]
+        expected = _textbook_solve(pairs, columns)
+        a_c, b_c, c_c = a.copy(), b.copy(), c.copy()
+        status = solve(a_c, b_c, c_c.ctypes.data if two else None)
+        if expected is None:
+            assert status == 0
+            refused += 1
+            continue
+        assert status == 1
+        for got, want in zip([b_c, c_c] if two else [b_c], expected, strict=True):
+            assert got.tolist() == [complex(*v) for v in want]
+            if np.linalg.cond(a) < 1e8:
+                np.testing.assert_allclose(
+                    a @ got, b if got is b_c else c, rtol=0, atol=1e-7 * np.abs(a).max() * np.abs(got).max()
+                )
+        checked += 1
+    assert checked >= 120 and refused >= 6
