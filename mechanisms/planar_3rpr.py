@@ -28,7 +28,6 @@ from parakin.mechanisms._planar_3rpr_forward import forward
 
 rho = sp.symbols("rho1:4", positive=True)
 x, y, phi = sp.symbols("x y phi", real=True)
-PLANAR_TWIST = ("vx", "vy", "wz")
 
 #: the Gosselin-Sefrioui-Richard example (module docstring): base points, platform points, inputs
 GSR_BASE = [(0.0, 0.0), (15.91, 0.0), (0.0, 10.0)]

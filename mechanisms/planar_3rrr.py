@@ -51,7 +51,6 @@ PARAMETERS = parameter_fields(
     leg_parameters(b, LINK, "link {k} length |B{k} - E{k}|"),
 )
 theta = sp.symbols("theta1:4", real=True)
-x, y, phi = sp.symbols("x y phi", real=True)
 X, Z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
 #: the home pose (x, y, phi) and its branch (module docstring)
 HOME_POSE = (0.0, 0.0, 0.0)

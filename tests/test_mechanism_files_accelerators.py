@@ -51,10 +51,10 @@ MODEL_LINES = {
     "sam": 55,
     "rus6": 57,
     "spm": 65,
-    "planar_3rpr": 38,
+    "planar_3rpr": 37,
     "delta": 49,
     "five_bar": 36,
-    "planar_3rrr": 47,
+    "planar_3rrr": 46,
     "stewart": 55,
     "sphere2r": 45,
     "rps3": 37,
@@ -122,22 +122,22 @@ def _bound(node: ast.stmt) -> set[str]:
     return {n.id for t in targets if t is not None for n in ast.walk(t) if isinstance(n, ast.Name)}
 
 
-def example_names(path: Path) -> tuple[set[str], set[str]]:
-    """The names the examples part binds, and those of them the model part reads."""
+def _reads(nodes: list[ast.stmt]) -> set[str]:
+    return {n.id for node in nodes for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+
+
+def example_names(path: Path) -> tuple[set[str], set[str], set[str]]:
+    """The names the examples part binds; those of them the model part reads; and the names the
+    model part binds that only the examples read (example data standing in the model)."""
     source = path.read_text()
     marker = _marker_line(source)
     if marker is None:
-        return set(), set()
+        return set(), set(), set()
     body = ast.parse(source).body
-    bound = set().union(*(_bound(node) for node in body if node.lineno > marker))
-    read = {
-        name.id
-        for node in body
-        if node.lineno < marker
-        for name in ast.walk(node)
-        if isinstance(name, ast.Name) and isinstance(name.ctx, ast.Load)
-    }
-    return bound, read & bound
+    model, examples = [n for n in body if n.lineno < marker], [n for n in body if n.lineno > marker]
+    bound = set().union(*map(_bound, examples))
+    in_model = set().union(*map(_bound, model))
+    return bound, _reads(model) & bound, (in_model & _reads(examples)) - _reads(model)
 
 
 def test_model_lines_counts_code_only(tmp_path):
@@ -146,16 +146,17 @@ def test_model_lines_counts_code_only(tmp_path):
         '"""Doc\nstring."""\n\nimport math\n\n# a comment\nX = [\n    1,\n    2,\n]\n\n\ndef f():\n    """Doc."""\n    return math.pi\n'
     )
     assert model_lines(source) == (6, 0)  # X = [ 1, 2, ] (4 lines), def f, return
-    assert example_names(source) == (set(), set())
+    assert example_names(source) == (set(), set(), set())
     source.write_text(
         '"""Doc."""\n\nA = 1\n\n\ndef build():\n    return A, EXAMPLES\n\n\n# Examples\nB: int = A + 1  # its own\nEXAMPLES = [\n    B,\n]\n'
     )
     assert model_lines(source) == (3, 4)  # A =, def build, return | B =, EXAMPLES = [ B, ]
-    assert example_names(source) == ({"B", "EXAMPLES"}, {"EXAMPLES"})
+    assert example_names(source) == ({"B", "EXAMPLES"}, {"EXAMPLES"}, set())
     source.write_text(
-        '"""Doc."""\n\n\ndef build():\n    return B\n\n\n# Examples\nB, C = 1, 2\n\n\ndef d():\n    return C\n'
+        '"""Doc."""\n\nP = 2\n\n\ndef build():\n    return B\n\n\n# Examples\nB, C = 1, P\n\n\ndef d():\n    return C\n'
     )
-    assert example_names(source) == ({"B", "C", "d"}, {"B"})  # the model reads an example's name
+    # the model reads an example's name, B; the examples alone read P, a name the model binds
+    assert example_names(source) == ({"B", "C", "d"}, {"B"}, {"P"})
 
 
 @pytest.mark.parametrize("name", sorted(DESCRIPTIONS))
@@ -193,12 +194,13 @@ def test_every_mechanism_file_is_a_short_description():
 def test_a_mechanism_file_is_its_model_then_its_examples(name):
     """Each shipped file: the model (symbols, parameters, joints, home, citation, build()), then the
     marker, then the examples; the model reads no name the examples bind but EXAMPLES, which
-    build() hands on (read when build() is called, the module loaded), and the examples loaded
-    from the file are build()'s."""
+    build() hands on (read when build() is called, the module loaded), binds none that only the
+    examples read, and the examples loaded from the file are build()'s."""
     path = MECHANISMS / f"{name}.py"
     assert model_lines(path).model > 0
-    bound, read = example_names(path)
+    bound, read, data = example_names(path)
     assert read <= {"EXAMPLES"}, f"{name}.py: the model reads {sorted(read - {'EXAMPLES'})} of the examples"
+    assert not data, f"{name}.py: {sorted(data)} stand in the model but only the examples read them"
     assert "build" not in bound
     if name == "sphere2r":  # its paper prints no numbers: an examples part with none
         assert bound == set() and not load_definition(path)[0].examples
