@@ -16,6 +16,7 @@ from typing import NamedTuple
 
 import pytest
 from parakin.generator.build import MECHANISMS, discover, input_digest, load_definition
+from parakin.generator.model import Example
 
 #: the mechanisms whose hand derivations moved to an accelerator, with the accelerator each imports
 DESCRIPTIONS = {
@@ -194,19 +195,23 @@ def test_every_mechanism_file_is_a_short_description():
 def test_a_mechanism_file_is_its_model_then_its_examples(name):
     """Each shipped file: the model (symbols, parameters, joints, home, citation, build()), then the
     marker, then the examples; the model reads no name the examples bind but EXAMPLES, which
-    build() hands on (read when build() is called, the module loaded), binds none that only the
-    examples read, and the examples loaded from the file are build()'s."""
+    build() hands to the Mechanism (read when build() is called, the module loaded), and binds
+    none that only the examples read. Read from the source and the imported module (build() is
+    not called: generating takes seconds; the golden tests compare what it builds)."""
     path = MECHANISMS / f"{name}.py"
-    assert model_lines(path).model > 0
+    assert model_lines(path).model > 0 and _marker_line(path.read_text()) is not None
     bound, read, data = example_names(path)
     assert read <= {"EXAMPLES"}, f"{name}.py: the model reads {sorted(read - {'EXAMPLES'})} of the examples"
     assert not data, f"{name}.py: {sorted(data)} stand in the model but only the examples read them"
     assert "build" not in bound
+    build = next(n for n in ast.parse(path.read_text()).body if isinstance(n, ast.FunctionDef) and n.name == "build")
+    handed = [k.value for n in ast.walk(build) if isinstance(n, ast.Call) for k in n.keywords if k.arg == "examples"]
     if name == "sphere2r":  # its paper prints no numbers: an examples part with none
-        assert bound == set() and not load_definition(path)[0].examples
+        assert bound == set() and handed == []
     else:
-        module = importlib.import_module(f"parakin.mechanisms.{name}")
-        assert "EXAMPLES" in bound and module.build().examples == module.EXAMPLES != []
+        assert [ast.dump(v) for v in handed] == [ast.dump(ast.Name("EXAMPLES", ast.Load()))]
+        examples = importlib.import_module(f"parakin.mechanisms.{name}").EXAMPLES
+        assert examples and all(isinstance(e, Example) for e in examples)
 
 
 def test_discover_skips_the_accelerators():
