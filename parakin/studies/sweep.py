@@ -11,7 +11,8 @@ mechanism's values. A fixed value for a swept name, an unknown name, or a name t
 requested quantities reads is refused (BadInputError naming it), as is an axis that none reads.
 Quantities (``QUANTITIES``):
 
-pose space (one configuration per inverse branch; ``branch`` picks one, default the first valid):
+pose space (one configuration per inverse branch; ``branch`` picks the one the distances are measured in,
+default the home's, so that a sweep stays in the home's assembly mode):
 - ``reachable``: some inverse branch is valid (validity measures, joint limits, actuator ranges);
 - ``branches``: how many are;
 - ``type_i_distance``: 1/cond of the matrix that maps actuated rates to the twist's inverse (B of
@@ -378,6 +379,39 @@ def _home_pose(m: Mechanism) -> np.ndarray:
         return np.zeros(6)
 
 
+def home_branch(m: Mechanism) -> int | None:
+    """The inverse branch of the home: the valid branch whose actuated values at the home pose are
+    the home input.
+
+    Parameters
+    ----------
+    m : Mechanism
+        A loaded mechanism with an inverse.
+
+    Returns
+    -------
+    int or None
+        The branch index, or None where no valid branch gives the home input back (to 1e-9
+        relative; angles modulo a whole turn) or the mechanism has no inverse.
+
+    Example
+    -------
+    >>> import parakin
+    >>> home_branch(parakin.load("planar_3rrr", backend="numpy"))
+    0
+    """
+    if m.capabilities.inverse is None:
+        return None
+    pose = m.platform_pose(m.home_actuated, m.home_passive)
+    inverse = m.inverse_pose(pose, strict=False)
+    difference = inverse.actuated - m.home_actuated
+    turns = np.where(m._angular_actuated, np.round(difference / (2 * np.pi)) * 2 * np.pi, 0.0)
+    with np.errstate(invalid="ignore"):
+        gap = np.where(inverse.valid, np.abs(difference - turns).max(-1), np.inf)
+    k = int(np.argmin(gap))
+    return k if gap[k] <= 1e-9 * (1.0 + np.abs(m.home_actuated).max(initial=0.0)) else None
+
+
 def sweep(
     mechanism: str | Path | Mechanism,
     quantities: Sequence[str],
@@ -410,7 +444,9 @@ def sweep(
     workspace : mapping of str to array_like, optional
         The pose grid of ``workspace_volume`` per design: evenly spaced ascending values.
     branch : int, optional
-        The inverse branch of pose-space quantities (default: the first valid).
+        The inverse branch the distances (type_i_distance, type_ii_distance) are measured in,
+        NaN where it is not valid (default: the branch of the home pose, ``home_branch``; the
+        first valid one at each pose where the home is no branch of the inverse).
     chunk : int
         About this many grid points per chunk (memory is bounded by the chunk).
     scheduler : str, optional
@@ -468,6 +504,8 @@ def sweep(
     if branch is not None:
         n_branches = len(m.capabilities.inverse.combinations) if m.capabilities.inverse else 0
         branch = integer_in_range(branch, "branch", 0, max(n_branches - 1, 0))
+    elif {"type_i_distance", "type_ii_distance"} & set(quantities):
+        branch = home_branch(m)
     kind = m.manifest.pose_kind
     if kind not in POSE_COORDINATES:
         raise UnsupportedOperationError(
