@@ -57,6 +57,12 @@ class BrokenPackageWarning(UserWarning):
     ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
 
 
+class ShadowedPackageWarning(UserWarning):
+    """Two folders of the search path hold a package of the same name: loading by that name takes
+    the first (the shipped packages, then ``$PARAKIN_PATH`` in order); the message names both. Load
+    the other by its folder path, or generate it under a name of its own."""
+
+
 class BackendFallbackWarning(UserWarning):
     """Backend 'auto' could not use compiled C (no compiler, a failed build, a cache that cannot
     be written) and runs on NumPy instead; the message names the cause."""

@@ -25,7 +25,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from parakin.errors import BadInputError, BrokenPackageWarning, UnknownMechanismError
+from parakin.errors import BadInputError, BrokenPackageWarning, ShadowedPackageWarning, UnknownMechanismError
 from parakin.packages.manifest import Manifest
 
 MANIFEST = "manifest.json"
@@ -45,15 +45,59 @@ def search_path() -> list[Path]:
     return [shipped, *extra]
 
 
-def discover() -> dict[str, Path]:
-    """Every generated package on the search path: name -> folder (first found wins)."""
-    found: dict[str, Path] = {}
+def _every_folder() -> dict[str, list[Path]]:
+    """Every package folder on the search path by name, in search order."""
+    found: dict[str, list[Path]] = {}
     for folder in search_path():
         if not folder.is_dir():
             continue
         for manifest in sorted(folder.glob(f"*/{MANIFEST}")):
-            found.setdefault(manifest.parent.name, manifest.parent)
-    return dict(sorted(found.items()))
+            found.setdefault(manifest.parent.name, []).append(manifest.parent)
+    return found
+
+
+def discover() -> dict[str, Path]:
+    """Every generated package on the search path: name -> folder (first found wins; ``find``
+    warns when it loads a name that another folder also holds)."""
+    return {name: folders[0] for name, folders in sorted(_every_folder().items())}
+
+
+def shadowing(name: str) -> str | None:
+    """What hides a package: a message where more than one folder of the search path holds ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A package name.
+
+    Returns
+    -------
+    str or None
+        Which folder loading by that name takes, which it hides and how to load the other; None
+        where one folder at most holds the name.
+    """
+    folders = _every_folder().get(name, [])
+    if len(folders) < 2:
+        return None
+    hidden = ", ".join(str(f) for f in folders[1:])
+    return (
+        f"two packages are named {name!r}: {folders[0]} is the one loaded by that name, {hidden} is hidden "
+        f"(the search path: the shipped packages, then $PARAKIN_PATH in order); load the other by its folder "
+        f"path, e.g. parakin.load({str(folders[1])!r}), or generate it under a name of its own"
+    )
+
+
+def warn_if_shadowed(name: str) -> None:
+    """A ShadowedPackageWarning (``shadowing``'s message) where two folders hold ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A package name.
+    """
+    message = shadowing(name)
+    if message is not None:
+        warnings.warn(message, ShadowedPackageWarning, stacklevel=4)
 
 
 def survey() -> tuple[dict[str, Manifest], dict[str, str]]:
@@ -71,10 +115,13 @@ def survey() -> tuple[dict[str, Manifest], dict[str, str]]:
 
 def readable_names() -> list[str]:
     """The names of the packages whose manifest reads; each broken one is skipped with a
-    BrokenPackageWarning that names it and says why."""
+    BrokenPackageWarning that names it and says why, and a name that two folders hold gets a
+    ShadowedPackageWarning."""
     readable, broken = survey()
     for name, reason in broken.items():
         warnings.warn(f"skipped the package {name!r}: {reason}", BrokenPackageWarning, stacklevel=3)
+    for name in readable:
+        warn_if_shadowed(name)
     return list(readable)
 
 
@@ -108,6 +155,7 @@ class GeneratedPackage:
             raise UnknownMechanismError(
                 f"unknown mechanism {shown!r}: not a package folder; {hint}available: {sorted(packages)}"
             )
+        warn_if_shadowed(str(name_or_path))
         return cls(packages[str(name_or_path)])
 
     def _module(self, filename: str) -> ModuleType:
