@@ -35,6 +35,8 @@ def available() -> list[str]:
     -----
     BrokenPackageWarning
         A package whose manifest cannot be read is skipped, named in the warning.
+    ShadowedPackageWarning
+        Two folders hold a package of one name: the warning says which one the name loads.
 
     Examples
     --------
@@ -171,6 +173,8 @@ def load(
     -----
     ArchitectureSingularityWarning
         The geometry is singular at every pose.
+    ShadowedPackageWarning
+        Another folder of the search path holds a package of the same name (hidden by this one).
 
     Examples
     --------

@@ -23,6 +23,7 @@ DEFAULT_FILTERS = ["!^_"]
 NO_RAISES = {
     "parakin.loading.available",  # skips an unreadable package with a warning (its Warns section)
     "parakin.mechanism.Mechanism.architecture",  # reads the loaded (already checked) parameters
+    "parakin.studies.sweep.home_branch",  # reads the loaded mechanism's own home
     "parakin.mechanism.Mechanism.is_architecturally_singular",
     "parakin.log.Progress.update",  # a bar's counters: nothing to refuse
     "parakin.log.Progress.restart",

@@ -394,8 +394,8 @@ def home_branch(m: Mechanism) -> int | None:
         The branch index, or None where no valid branch gives the home input back (to 1e-9
         relative; angles modulo a whole turn) or the mechanism has no inverse.
 
-    Example
-    -------
+    Examples
+    --------
     >>> import parakin
     >>> home_branch(parakin.load("planar_3rrr", backend="numpy"))
     0
