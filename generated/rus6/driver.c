@@ -1084,9 +1084,13 @@ static void coefficients(const sparse_system* system, double s, coefficients_at*
 // H, dH/dz (row-major) and dH/ds at (z, s) from the coefficients at s (value, rate: NULL when not
 // wanted: a velocity needs no value, a Newton step no rate, and the compiler's clones for the
 // constant NULLs at those call sites drop that work); 0 when not finite. The monomials are
-// unrolled from the term table: each touches only its own variables.
-static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, cplx* jacobian, cplx* rate) {
+// unrolled from the term table: each touches only its own variables. The sums are local arrays,
+// copied out at the end: the caller's jacobian might alias the coefficients for all the
+// compiler knows, which would order every coefficient load after the store before it (with the
+// local, rps3's library took 0.87 ms per input instead of 1.91, stewart's 3.8 instead of 4.4).
+static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, cplx* jacobian_out, cplx* rate) {
     const double *c_re = at->re, *c_im = at->im, *cs_re = at->rate_re, *cs_im = at->rate_im;
+    cplx jacobian[NZ * NZ];
     cplx pw[NZ][MAXDEG + 1];
     for (int j = 0; j < NZ; ++j) {
         pw[j][0] = (cplx){1.0, 0.0};
@@ -2939,6 +2943,7 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
         finite &= isfinite(h[k].re) && isfinite(h[k].im) && isfinite(hs[k].re) && isfinite(hs[k].im);
     }
     for (int k = 0; k < NZ * NZ; ++k) finite &= isfinite(jacobian[k].re) && isfinite(jacobian[k].im);
+    memcpy(jacobian_out, jacobian, sizeof(jacobian));
     return finite;
 }
 
