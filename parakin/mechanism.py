@@ -38,6 +38,7 @@ from parakin.packages.manifest import Capabilities, Forward, Manifest, Variable
 from parakin.packages.package import GeneratedPackage
 from parakin.pose import (
     LEG_TWIST,
+    POSE_KINDS,
     RIGID_TOLERANCE,
     as_array,
     pose_vector,
@@ -46,7 +47,16 @@ from parakin.pose import (
     transform_from_pose,
     wrap_angle,
 )
-from parakin.results import Array, AssemblyModes, Configuration, ForwardPose, InversePose, NewtonOutcome, Rates
+from parakin.results import (
+    Array,
+    AssemblyModes,
+    Configuration,
+    ForwardPose,
+    InversePose,
+    Mask,
+    NewtonOutcome,
+    Rates,
+)
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import inverse_condition, pivoted_solve
@@ -393,6 +403,8 @@ class Mechanism:
             )
         failures["finite"] = np.asarray(~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1)))
         valid = ~np.logical_or.reduce(list(failures.values()))
+        if len(self.actuated_names) < len(POSE_KINDS[self.manifest.pose_kind].coordinates):
+            transform = self._reached_pose(actuated, passive, valid, transform)
         result = InversePose(actuated, passive, valid, combinations, info.branches, failures, transform)
         if strict:
             none = ~valid.any(-1)
@@ -413,6 +425,18 @@ class Mechanism:
                     "(serial singularity: the leg joints cannot be resolved)"
                 )
         return result
+
+    def _reached_pose(self, actuated: Array, passive: Array, valid: Mask, pose: Array) -> Array:
+        """The pose a lower-mobility platform reaches for ``pose``: its inverse reads the
+        coordinates the actuators control and returns the configuration on the reachable set
+        (prs3's parasitic motion, a pointing chain's roll), whose pose the configurations must
+        carry. The same for every valid branch; the given pose where no branch is valid."""
+        first = np.argmax(valid, axis=-1)[..., None, None]
+        chosen_actuated = np.take_along_axis(actuated, first, axis=-2)[..., 0, :]
+        chosen_passive = np.take_along_axis(passive, first, axis=-2)[..., 0, :]
+        with np.errstate(all="ignore"):
+            reached = np.asarray(self.platform_pose(chosen_actuated, chosen_passive))
+        return np.where(np.asarray(valid.any(-1))[..., None, None], reached, pose)
 
     # ------------------------------------------------------------------ forward pose (Newton)
     def _passive_guess(self, actuated: Array, guess: Any) -> Array:
