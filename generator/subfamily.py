@@ -120,8 +120,8 @@ class Relations:
     def describe(self) -> str:
         """The relations in words, by the values' names."""
         parts = [" = ".join(self.names[i] for i in group) for group in self.groups]
-        if self.constants:
-            parts.append("constant " + ", ".join(self.names[i] for i in self.constants))
+        if self.constants:  # numbers of the design (fixed angles): no parameter changes them
+            parts.append(f"{', '.join(self.names[i] for i in self.constants)} fixed by the design")
         return "; ".join(parts)
 
     def manifest(self) -> dict[str, object]:

@@ -108,7 +108,7 @@ def test_relations_found_from_the_values() -> None:
     relations = family_relations([s, y1, y2, y3, p, u, v], expressions, circles, values)
     assert relations is not None
     assert relations.groups == [[1, 2]] and relations.constants == [5]
-    assert relations.describe() == "y1 = y2; constant u"
+    assert relations.describe() == "y1 = y2; u fixed by the design"
     assert relations.constant[5] == complex(sp.N(circle_parameter(7 * sp.pi / 18), 30))
     t = np.array([1.0 + 2j, 3.0, 4.0, 5.0, 6.0])
     q = relations.full(t)

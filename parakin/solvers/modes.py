@@ -1529,7 +1529,8 @@ def root_count_bounds(m: Mechanism, info: Forward) -> bool:
         if outside:
             logger.warning(
                 "%s: the %s root count was proven where %s; these parameters break that, so its "
-                "certificates cannot say complete",
+                "certificates cannot say complete (to prove a count that holds for them, generate the "
+                "mechanism with these values as its defaults)",
                 m.name,
                 info.method,
                 homotopy.subfamily_relations or "the generation's parameter values hold",
