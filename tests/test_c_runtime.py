@@ -212,11 +212,11 @@ def _textbook_solve(
 
 @pytest.mark.parametrize("size", [3, 8])
 def test_c_solve_is_the_textbook_elimination_bit_for_bit(size: int, tmp_path: Path) -> None:
-    """tracker.h's c_solve (laid out for vector lanes: augmented rows, real and imaginary parts
-    apart, dead columns updated, branchless pivots) against Gaussian elimination written out
-    in Python's floats, bit for bit, on random systems, systems whose entries tie in |re| + |im|
-    (the first row of the largest must win) and with zeros, with one and with two right-hand
-    sides; singular ones refused; the solutions solve the systems (LAPACK's, to rounding)."""
+    """tracker.h's c_solve against Gaussian elimination written out in Python's floats, bit for
+    bit (a layout for the compiler must keep every operation), on random systems, systems whose
+    entries tie in |re| + |im| (the first row of the largest must win) and with zeros, with one
+    and with two right-hand sides; singular ones refused; the solutions solve the systems
+    (LAPACK's, to rounding)."""
     import ctypes
 
     from parakin.generator.emit import TRACKER_CONSTANTS
