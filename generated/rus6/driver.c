@@ -3035,10 +3035,14 @@ static int c_solve(cplx* a, cplx* b, cplx* c) {
 }
 
 // max_k |v_k|: one square root of the largest squared modulus instead of a hypot per entry (the
-// sizes of a tracked path are far from overflow: ESCAPE)
+// sizes of a tracked path are far from overflow: ESCAPE); a comparison, not fmax, which is a
+// call into the C library on x86 (its result is the same: a NaN modulus is skipped by both)
 static double c_max_abs(const cplx* v) {
     double largest = 0.0;
-    for (int k = 0; k < NZ; ++k) largest = fmax(largest, v[k].re * v[k].re + v[k].im * v[k].im);
+    for (int k = 0; k < NZ; ++k) {
+        double size = v[k].re * v[k].re + v[k].im * v[k].im;
+        largest = size > largest ? size : largest;
+    }
     return sqrt(largest);
 }
 
