@@ -2969,68 +2969,44 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 #ifndef PARAKIN_RUNTIME_TRACKER_H
 #define PARAKIN_RUNTIME_TRACKER_H
 
-// a x = b, and a y = c where c is not NULL, by Gaussian elimination with partial pivoting (the
-// first row of largest |re| + |im| in the column; a destroyed): one factorisation serves both
-// right-hand sides; 0 when singular. The work is laid out for the compiler, the arithmetic is
-// the textbook one element by element (tests/test_c_runtime.py checks it bit for bit against
-// that done in Python's floats): the augmented rows [a | b | c] with real and imaginary parts in
-// arrays apart (a row update is the same operation on contiguous doubles: vector lanes), padded
-// to a multiple of 4 and updated from the multiple of 4 at or before the first live column (the
-// columns left of it are dead: never read again), the rows swapped and the pivot chosen without
-// branches, the pivots' inverses kept for the back substitution, where both right-hand sides go
-// together.
-#define LU_WIDTH (NZ + 2)
-#define LU_PAD ((LU_WIDTH + 3) / 4 * 4)
+// a x = b, and a y = c where c is not NULL, in place by Gaussian elimination with partial
+// pivoting (a destroyed): one factorisation serves both right-hand sides; 0 when singular.
+// tests/test_c_runtime.py checks its arithmetic bit for bit against the same elimination in
+// Python's floats. Measured and not kept (issue 33): the augmented rows [a | b | c] with real
+// and imaginary parts apart, padded for vector lanes, branchless pivots, the pivots' inverses
+// kept for the back substitution, all bit-equal: 0.34 -> 0.27 us on stewart's Jacobians alone,
+// but in the packages' pipelines stewart within noise, rps3 3 % and planar_3rrr 10 % slower
+// (the elimination is a chain of dependent divisions and updates, not a throughput problem).
 static int c_solve(cplx* a, cplx* b, cplx* c) {
-    double re[NZ][LU_PAD], im[NZ][LU_PAD], inverse_re[NZ], inverse_im[NZ];
-    for (int r = 0; r < NZ; ++r) {
-        for (int j = 0; j < NZ; ++j) { re[r][j] = a[r * NZ + j].re; im[r][j] = a[r * NZ + j].im; }
-        re[r][NZ] = b[r].re; im[r][NZ] = b[r].im;
-        re[r][NZ + 1] = c ? c[r].re : 0.0; im[r][NZ + 1] = c ? c[r].im : 0.0;
-        for (int j = NZ + 2; j < LU_PAD; ++j) re[r][j] = im[r][j] = 0.0;
-    }
     for (int k = 0; k < NZ; ++k) {
         int best = k;
-        double largest = fabs(re[k][k]) + fabs(im[k][k]);
-        for (int r = k + 1; r < NZ; ++r) {
-            double size = fabs(re[r][k]) + fabs(im[r][k]);
-            best = size > largest ? r : best;
-            largest = size > largest ? size : largest;
-        }
+        double largest = c_norm1(a[k * NZ + k]);
+        for (int r = k + 1; r < NZ; ++r)
+            if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
         if (!(largest > 0.0)) return 0;
-        for (int j = 0; j < LU_PAD; ++j) {  // best == k swaps a row with itself
-            double t = re[k][j]; re[k][j] = re[best][j]; re[best][j] = t;
-            t = im[k][j]; im[k][j] = im[best][j]; im[best][j] = t;
+        if (best != k) {
+            for (int j = 0; j < NZ; ++j) { cplx t = a[k * NZ + j]; a[k * NZ + j] = a[best * NZ + j]; a[best * NZ + j] = t; }
+            cplx t = b[k]; b[k] = b[best]; b[best] = t;
+            if (c) { t = c[k]; c[k] = c[best]; c[best] = t; }
         }
-        // 1 / pivot, as c_inv; the multiplier f = a_rk / pivot, as c_mul; a_rj -= f a_kj
-        double size = re[k][k] * re[k][k] + im[k][k] * im[k][k];
-        double ir = re[k][k] / size, ii = -im[k][k] / size;
-        inverse_re[k] = ir; inverse_im[k] = ii;
+        cplx inverse = c_inv(a[k * NZ + k]);
         for (int r = k + 1; r < NZ; ++r) {
-            double fr = re[r][k] * ir - im[r][k] * ii, fi = re[r][k] * ii + im[r][k] * ir;
-            for (int j = (k + 1) & ~3; j < LU_PAD; ++j) {
-                double xr = re[k][j], xi = im[k][j];
-                re[r][j] = re[r][j] - (fr * xr - fi * xi);
-                im[r][j] = im[r][j] - (fr * xi + fi * xr);
-            }
+            cplx f = c_mul(a[r * NZ + k], inverse);
+            for (int j = k + 1; j < NZ; ++j) a[r * NZ + j] = c_sub(a[r * NZ + j], c_mul(f, a[k * NZ + j]));
+            b[r] = c_sub(b[r], c_mul(f, b[k]));
+            if (c) c[r] = c_sub(c[r], c_mul(f, c[k]));
         }
     }
-    // x_k = (b_k - sum_j>k a_kj x_j) / pivot_k, the sum from j = k + 1 up
-    double xr[2][NZ], xi[2][NZ];
     for (int k = NZ - 1; k >= 0; --k) {
-        double br = re[k][NZ], bi = im[k][NZ], cr = re[k][NZ + 1], ci = im[k][NZ + 1];
-        for (int j = k + 1; j < NZ; ++j) {
-            double ar = re[k][j], ai = im[k][j];
-            br = br - (ar * xr[0][j] - ai * xi[0][j]); bi = bi - (ar * xi[0][j] + ai * xr[0][j]);
-            cr = cr - (ar * xr[1][j] - ai * xi[1][j]); ci = ci - (ar * xi[1][j] + ai * xr[1][j]);
+        cplx inverse = c_inv(a[k * NZ + k]), sum = b[k];
+        for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], b[j]));
+        b[k] = c_mul(sum, inverse);
+        if (c) {
+            sum = c[k];
+            for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], c[j]));
+            c[k] = c_mul(sum, inverse);
         }
-        double ir = inverse_re[k], ii = inverse_im[k];
-        xr[0][k] = br * ir - bi * ii; xi[0][k] = br * ii + bi * ir;
-        xr[1][k] = cr * ir - ci * ii; xi[1][k] = cr * ii + ci * ir;
     }
-    for (int k = 0; k < NZ; ++k) b[k] = (cplx){xr[0][k], xi[0][k]};
-    if (c)
-        for (int k = 0; k < NZ; ++k) c[k] = (cplx){xr[1][k], xi[1][k]};
     return 1;
 }
 
