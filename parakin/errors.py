@@ -57,6 +57,12 @@ class BrokenPackageWarning(UserWarning):
     ``parakin.available()`` and ``parakin list``; loading it raises BadInputError."""
 
 
+class FixedModelError(ParakinError, TypeError):
+    """A loaded mechanism's model (its parameters, joint limits and actuator ranges) was assigned
+    to: it is fixed when the mechanism is loaded, so that every solver and cached value agrees with
+    it. Load another: ``parakin.load(name, d=0.3, limits=...)``."""
+
+
 class ShadowedPackageWarning(UserWarning):
     """Two folders of the search path hold a package of the same name: loading by that name takes
     the first (the shipped packages, then ``$PARAKIN_PATH`` in order); the message names both. Load

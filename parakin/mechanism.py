@@ -23,6 +23,7 @@ from parakin.errors import (
     NEWTON_SINGULAR,
     NEWTON_WRONG_BASIN,
     BadInputError,
+    FixedModelError,
     InconsistentInputError,
     SelfMotionError,
     SingularConfigurationError,
@@ -93,6 +94,27 @@ def _home(variable: Variable) -> float:
     return 0.0 if variable.home is None else variable.home
 
 
+class FixedMapping(dict):  # type: ignore[type-arg]
+    """A loaded mechanism's parameters, limits or actuator ranges: read like a dict (and written
+    to JSON as one); any assignment raises FixedModelError, since every solver and cached value
+    was set up from them (an assignment that changed nothing would be an ignored option)."""
+
+    def __init__(self, what: str, values: Mapping[str, Any]) -> None:
+        super().__init__(values)
+        self._what = what
+
+    def __reduce__(self) -> tuple[type, tuple[str, dict[str, Any]]]:  # copies and pickles: built anew
+        return (FixedMapping, (self._what, dict(self)))
+
+    def _refuse(self, *args: object, **kwargs: object) -> None:
+        raise FixedModelError(
+            f"a loaded mechanism's {self._what} are fixed (every solver was set up with them); load another "
+            "with other values: parakin.load(name, <parameter>=value, limits={...}, actuated_ranges={...})"
+        )
+
+    __setitem__ = __delitem__ = update = pop = popitem = clear = setdefault = __ior__ = _refuse  # type: ignore[assignment]
+
+
 class Mechanism:
     """A loaded mechanism. Build with ``parakin.load(name, **parameters)``.
 
@@ -114,20 +136,21 @@ class Mechanism:
         manifest = self.manifest
         self.name: str = manifest.name
         self.backend = backend
-        self.parameters = dict(parameters)
+        self.parameters: dict[str, float] = FixedMapping("parameters", parameters)
         self.params = np.array([parameters[p.name] for p in manifest.parameters], dtype=float)
+        self.params.flags.writeable = False  # the model is fixed: load another for other values
         self.actuated_names: list[str] = manifest.actuated_names
         self.passive_names: list[str] = manifest.passive_names
         self.tolerances = manifest.tolerances
-        self.limits = limits
+        self.limits: dict[str, tuple[float, float]] = FixedMapping("limits", limits)
         self._limit_index = np.array([self.passive_names.index(name) for name in limits], dtype=np.intp)
         self._limit_low = np.array([low for low, _ in limits.values()], dtype=float)
         self._limit_high = np.array([high for _, high in limits.values()], dtype=float)
         #: per actuated variable (low, high): the manifest's declared range (actuator strokes, leg
         #: lengths >= 0) unless ``load(limits=...)`` overrides it; every solver checks these
-        self.actuated_ranges: dict[str, tuple[float, float]] = {
-            v.name: (actuated_ranges or {}).get(v.name, v.limits) for v in manifest.actuated
-        }
+        self.actuated_ranges: dict[str, tuple[float, float]] = FixedMapping(
+            "actuated_ranges", {v.name: (actuated_ranges or {}).get(v.name, v.limits) for v in manifest.actuated}
+        )
         bounds = np.array(list(self.actuated_ranges.values()), dtype=float).reshape(-1, 2)
         self._actuated_low = np.maximum(bounds[:, 0], -MAX_MAGNITUDE)
         self._actuated_high = np.minimum(bounds[:, 1], MAX_MAGNITUDE)

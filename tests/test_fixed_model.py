@@ -1,0 +1,45 @@
+"""A loaded mechanism's model is fixed (issue 33 item 5: an immutable model): assigning to its
+parameters, limits or actuator ranges raises FixedModelError (it changed nothing before: the
+solvers had read them at load time, an ignored option), and its parameter vector is read-only;
+another model is loaded with other values, and copies and pickles keep the values and the rule."""
+
+from __future__ import annotations
+
+import copy
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin import FixedModelError
+
+
+def test_assignments_to_a_loaded_model_are_refused():
+    m = parakin.load("five_bar", backend="numpy", d=0.2)
+    home = m.forward_pose(m.home_actuated).passive.copy()
+    with pytest.raises(FixedModelError, match="parakin.load"):
+        m.parameters["d"] = 0.3
+    with pytest.raises(FixedModelError):
+        m.parameters.update(d=0.3)
+    with pytest.raises(FixedModelError):
+        m.limits["x"] = (0.0, 1.0)
+    with pytest.raises(FixedModelError):
+        m.actuated_ranges.pop("theta1")
+    with pytest.raises(ValueError, match="read-only"):
+        m.params[0] = 0.3
+    assert m.parameters["d"] == 0.2 and m.params[m.manifest.parameter_names.index("d")] == 0.2
+    assert np.array_equal(m.forward_pose(m.home_actuated).passive, home)
+    wider = parakin.load("five_bar", backend="numpy", d=0.21)  # the way to other values
+    assert wider.parameters["d"] == 0.21 and not np.allclose(wider.forward_pose(wider.home_actuated).passive, home)
+
+
+def test_the_fixed_values_read_copy_and_serialise_as_a_dict():
+    m = parakin.load("five_bar", backend="numpy")
+    assert json.loads(json.dumps(m.parameters)) == dict(m.parameters)
+    for twin in (copy.deepcopy(m.parameters), pickle.loads(pickle.dumps(m.parameters))):
+        assert twin == m.parameters
+        with pytest.raises(FixedModelError):
+            twin["d"] = 1.0
+    assert {**m.parameters, "d": 1.0}["d"] == 1.0  # a new dict is the caller's
