@@ -56,6 +56,13 @@ MULTIPLIERS = np.array([2.0, 8.0, 64.0, 1024.0, 65536.0])
 NEWTON_STEPS = 2
 #: absolute radius floor (an exact root has a zero Newton step)
 FLOOR = 2.0**-600
+#: a coordinate of a candidate at most this times the candidate's largest is a zero to rounding
+#: (a coordinate that is 0 at the root, left at 1e-30..1e-15 by the tracker): it has no size to
+#: measure its coordinate by (``_typical_size``). Were it counted, a coordinate that is 0 at half
+#: of the roots or more (a symmetric input: a 3-RRS at its home, x = y = 0 at 18 of 32 endpoints
+#: after one path ended on another's root) would get a typical size of 2e-15, and no box about
+#: such a root could be that narrow in it: 4 real roots of undecided realness, the home pose lost
+ZERO_SIZE = 2.0**-40
 
 
 @dataclass(frozen=True)
@@ -281,9 +288,12 @@ def _cached_group(
 
 def _typical_size(z: np.ndarray) -> np.ndarray:
     """Per system and coordinate (..., 1, n): a power of two near the median size of that
-    coordinate over the system's finite nonzero candidates z (..., P, n) (1 where there is none)."""
+    coordinate over the system's finite candidates z (..., P, n) where it is not zero to rounding
+    (``ZERO_SIZE`` times the candidate's largest coordinate, or less); 1 where there is none."""
     size = np.where(np.isfinite(z).all(-1)[..., None], abs(z), np.nan)
-    size = np.where(size > 0, size, np.nan)  # a root at 0 has no size to measure by
+    largest = np.where(np.isnan(size), -np.inf, size).max(-1, keepdims=True)
+    # a root at 0 has no size to measure by, nor one whose coordinate is 0 to rounding
+    size = np.where((size > 0) & (size > ZERO_SIZE * largest), size, np.nan)
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN slice: no candidate
         median = np.nanmedian(size, axis=-2, keepdims=True)

@@ -751,6 +751,12 @@ def certify_inputs(
                 # the same root: the exact polydisc lies inside the box, coordinate by coordinate
                 # (each box radius is in its coordinate's own size), and the box holds one root
                 real[i, p] = exact_box.real
+            elif exact_box.unique and exact_box.real != 0:
+                # a box narrower than the exact polydisc in some coordinate (one measured in a
+                # tiny typical size): the polydisc, which holds exactly one root as well, is this
+                # path's box in its place, with its decided realness (the clusters are counted
+                # again below: a lower bound on the distinct roots whichever box each path has)
+                centre[i, p], radii[i, p], real[i, p] = exact_box.center, exact_box.radius, exact_box.real
         labels[i] = cluster_labels(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[0]
         counts[i] = int((labels[i] == np.arange(labels.shape[-1])).sum())
     return PathCertificate(counts, unique, real, centre, radii, labels)
