@@ -75,6 +75,11 @@ static double c_max_abs(const cplx* v) {
 
 static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
 
+// fmax(a, b) and fmin(a, b) where a is not NaN (a NaN b gives a, as there), by a comparison:
+// fmax and fmin are calls into the C library on x86
+static inline double larger(double a, double b) { return b > a ? b : a; }
+static inline double smaller(double a, double b) { return b < a ? b : a; }
+
 // What tracking cost, summed over paths (a package's NAME_forward_pose_all_counted returns it)
 typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
 
@@ -181,7 +186,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
     // the start's slope (and its start solution refined once)
     if (!isfinite(newton_step(&at->here, z, slope, counts))) return PATH_FAILED;
     for (int steps = 0; steps < MAX_STEPS; ++steps) {
-        double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
+        double step = smaller(h, s), target = s - step < END_GAP ? 0.0 : s - step;
         cplx corrected[NZ], next_slope[NZ];
         coefficients(system, target, &at->target);
         predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
@@ -223,13 +228,13 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
             history = 1;
             // the Newton constant of the path: the latest measured (size / update^2 of a step's
             // first two corrections), at least OMEGA_DECAY times the one before
-            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? fmax(measured, OMEGA_DECAY * omega) : measured;
-            h = step * fmin(STEP_GROW, fmax(0.5, factor));
+            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
+            h = step * smaller(STEP_GROW, larger(0.5, factor));
             if (s <= 0.0) break;
         } else {
             counts->rejected += 1;
             omega = INFINITY;  // measured anew before one correction suffices again
-            h = step * fmin(0.5, fmax(STEP_SHRINK, factor));
+            h = step * smaller(0.5, larger(STEP_SHRINK, factor));
             if (h < MIN_STEP) return PATH_FAILED;
         }
         if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
