@@ -857,6 +857,9 @@ int sps_forward_pose_all_counted(const sps_modes_job* job, long long* counts) {
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
 #define KW_FLOOR 0x1p-600
+// certify.py's ZERO_SIZE: a coordinate of a candidate at most this times the candidate's largest
+// is a zero to rounding and gives its coordinate no typical size
+#define KW_ZERO_SIZE 0x1p-40
 #define KW_UNIT 0x1p-53
 // the most unknowns a system may have (a job with more is refused)
 #define KW_MAX_UNKNOWNS 64
@@ -1683,14 +1686,15 @@ static int kw_certify(const kw_job* job) {
         for (long long t = 0; t < terms; ++t)
             if (c[2 * t + 1] != 0.0 && !(homogeneous && job->equation[t] == job->patch_equation)) real_system = 0;
         // affine: each coordinate measured in a power of two near its typical size (median of the
-        // finite nonzero |z_i| over the system's finite candidates; 1 where there is none)
+        // |z_i| over the system's finite candidates where it is not zero to rounding, at most
+        // KW_ZERO_SIZE times the candidate's largest |z_j|; 1 where there is none)
         for (long long i = 0; i < n && !homogeneous; ++i) {
             long long count = 0;
             for (long long p = 0; p < paths; ++p) {
                 const double* z = job->roots + 2 * ((sys * paths + p) * n);
                 if (!kw_row_finite(n, z)) continue;
                 double v = kw_cabs(z + 2 * i);
-                if (v > 0.0) sizes[count++] = v;
+                if (v > 0.0 && v > KW_ZERO_SIZE * kw_max_abs(n, z)) sizes[count++] = v;
             }
             double typical = 1.0;
             if (count) {

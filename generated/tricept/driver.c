@@ -1283,6 +1283,11 @@ static double c_max_abs(const cplx* v) {
 
 static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
 
+// fmax(a, b) and fmin(a, b) where a is not NaN (a NaN b gives a, as there), by a comparison:
+// fmax and fmin are calls into the C library on x86
+static inline double larger(double a, double b) { return b > a ? b : a; }
+static inline double smaller(double a, double b) { return b < a ? b : a; }
+
 // What tracking cost, summed over paths (a package's NAME_forward_pose_all_counted returns it)
 typedef struct { long long paths, steps, rejected, evaluations, factorisations; } track_counts;
 
@@ -1389,7 +1394,7 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
     // the start's slope (and its start solution refined once)
     if (!isfinite(newton_step(&at->here, z, slope, counts))) return PATH_FAILED;
     for (int steps = 0; steps < MAX_STEPS; ++steps) {
-        double step = fmin(h, s), target = s - step < END_GAP ? 0.0 : s - step;
+        double step = smaller(h, s), target = s - step < END_GAP ? 0.0 : s - step;
         cplx corrected[NZ], next_slope[NZ];
         coefficients(system, target, &at->target);
         predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
@@ -1431,13 +1436,13 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
             history = 1;
             // the Newton constant of the path: the latest measured (size / update^2 of a step's
             // first two corrections), at least OMEGA_DECAY times the one before
-            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? fmax(measured, OMEGA_DECAY * omega) : measured;
-            h = step * fmin(STEP_GROW, fmax(0.5, factor));
+            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
+            h = step * smaller(STEP_GROW, larger(0.5, factor));
             if (s <= 0.0) break;
         } else {
             counts->rejected += 1;
             omega = INFINITY;  // measured anew before one correction suffices again
-            h = step * fmin(0.5, fmax(STEP_SHRINK, factor));
+            h = step * smaller(0.5, larger(STEP_SHRINK, factor));
             if (h < MIN_STEP) return PATH_FAILED;
         }
         if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
@@ -1641,6 +1646,9 @@ int tricept_forward_pose_all_counted(const tricept_modes_job* job, long long* co
 static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0};
 #define KW_NEWTON_STEPS 2
 #define KW_FLOOR 0x1p-600
+// certify.py's ZERO_SIZE: a coordinate of a candidate at most this times the candidate's largest
+// is a zero to rounding and gives its coordinate no typical size
+#define KW_ZERO_SIZE 0x1p-40
 #define KW_UNIT 0x1p-53
 // the most unknowns a system may have (a job with more is refused)
 #define KW_MAX_UNKNOWNS 64
@@ -2467,14 +2475,15 @@ static int kw_certify(const kw_job* job) {
         for (long long t = 0; t < terms; ++t)
             if (c[2 * t + 1] != 0.0 && !(homogeneous && job->equation[t] == job->patch_equation)) real_system = 0;
         // affine: each coordinate measured in a power of two near its typical size (median of the
-        // finite nonzero |z_i| over the system's finite candidates; 1 where there is none)
+        // |z_i| over the system's finite candidates where it is not zero to rounding, at most
+        // KW_ZERO_SIZE times the candidate's largest |z_j|; 1 where there is none)
         for (long long i = 0; i < n && !homogeneous; ++i) {
             long long count = 0;
             for (long long p = 0; p < paths; ++p) {
                 const double* z = job->roots + 2 * ((sys * paths + p) * n);
                 if (!kw_row_finite(n, z)) continue;
                 double v = kw_cabs(z + 2 * i);
-                if (v > 0.0) sizes[count++] = v;
+                if (v > 0.0 && v > KW_ZERO_SIZE * kw_max_abs(n, z)) sizes[count++] = v;
             }
             double typical = 1.0;
             if (count) {
