@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import random
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath
 import sympy as sp
@@ -20,7 +21,7 @@ from .checks import check_closure, check_home_regular, check_pose_kind, check_pr
 from .drawing import drawing_metadata
 from .errors import GenerationError
 from .frames import vee
-from .model import POSE_SYMBOLS, ForwardHomotopy, Mechanism
+from .model import POSE_SYMBOLS, ForwardHomotopy, InverseReading, Mechanism
 from .polynomial_form import PolynomialForm
 from .program import Program
 
@@ -227,6 +228,21 @@ def _branch_groups(mechanism: Mechanism) -> dict[str, list]:
     return {
         "groups": groups,
         **{f"{name}_groups": [group(symbols) for symbols in sets] for name, sets in outputs.items()},
+    }
+
+
+def _reading_metadata(reading: InverseReading | None) -> dict[str, Any] | None:
+    """The manifest's ``capabilities.inverse.reading``: the axis k of the controlled height and
+    tilt (expressions of the parameters), the coordinates in words, what the inverse says of a
+    pose off the reachable set and the validity conditions that test it; None where the inverse
+    takes the pose as given."""
+    if reading is None:
+        return None
+    return {
+        "axis": [str(component) for component in reading.axis],
+        "controlled": reading.controlled,
+        "unreachable": reading.unreachable,
+        "reachable": list(reading.reachable),
     }
 
 
@@ -526,6 +542,7 @@ def derive(mechanism: Mechanism) -> Derivation:
             "validity": list(inverse.validity),
             **groups,
             "patterns": _pattern_signs(groups["groups"], len(inverse.branches)),
+            "reading": _reading_metadata(inverse.reading),
         }
         if mechanism.forward is not None:
             programs.append(_inverse_patterns(mechanism, params, groups["groups"]))

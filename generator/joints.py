@@ -62,7 +62,16 @@ import sympy as sp
 from .blocks import TWIST, block_laplace_det, check_branch, laplace_det, planar_coordinates
 from .frames import homogeneous, quaternion_rotation, quaternion_rotation_unnormalised, quaternion_steps, rot_z
 from .graph import Chain, Joint, JointGraph
-from .model import POSE_KINDS, POSE_POSITION, POSE_ROTATION, ClosureModel, Drawing, InverseSolution, RateModel
+from .model import (
+    POSE_KINDS,
+    POSE_POSITION,
+    POSE_ROTATION,
+    ClosureModel,
+    Drawing,
+    InverseReading,
+    InverseSolution,
+    RateModel,
+)
 from .readings import AxisReading, common_axis, vanishes
 
 ZERO = sp.Matrix([0, 0, 0])
@@ -1068,6 +1077,7 @@ class DistanceMechanism:
         joints = self.platform_joints(rotation, position)
         signs = iter(self.branch_names)
         planes = self.checks_planes
+        on_set: list[str] = []  # the conditions that test the given pose against the reachable set
         for k, (leg, c) in enumerate(zip(self.legs, joints, strict=True)):
             v = c - leg.base
             if leg.kind == "prismatic":
@@ -1096,13 +1106,17 @@ class DistanceMechanism:
             if planes and leg.plane_normal is not None:  # the given pose's joint, off its plane or not
                 given = POSE_POSITION + POSE_ROTATION * leg.platform_joint if self.reading is not None else c
                 validity[f"leg{k + 1}_plane_reachable"] = plane_measure(leg, given - leg.base)
+                on_set.append(f"leg{k + 1}_plane_reachable")
         for held in self.passive:
             validity.update(passive_measures(held, rotation, position))
         validity.update(self.motion.validity)
         read = list(self.motion.read)
         uses_coordinates = sp.Matrix.hstack(*self.motion.pose).has(*self.motion.coordinates)
         steps = read + steps if uses_coordinates else steps + read
-        return InverseSolution(steps, self.branch_names, validity)
+        reading = None
+        if self.reading is not None:  # the values are the reached pose's; on_set tests the given one
+            reading = InverseReading(self.reading.axis, self.reading.describe(), self.unreachable, tuple(on_set))
+        return InverseSolution(steps, self.branch_names, validity, reading)
 
     def drawing(self) -> Drawing:
         """Base joints, elbows (where a leg has one), platform joints; each leg as a polyline, the

@@ -182,6 +182,23 @@ def check_branch(branch: int, signs: int, what: str) -> None:
         )
 
 
+@dataclass(frozen=True)
+class InverseReading:
+    """How an inverse reads a pose onto a lower-mobility platform's reachable set (``readings``):
+    its values are those of the reachable pose with the pose's controlled coordinates.
+
+    ``axis`` is the unit axis k (3 x 1, in {B}, an expression of the parameters) of the height
+    p . k and the tilt R^T k; ``controlled`` says the controlled and parasitic coordinates in
+    words; ``unreachable`` is "invalid" (a pose off the set is invalid, through the validity
+    conditions named in ``reachable``, which test the given pose against the set) or "read" (the
+    reached pose is the answer, ``reachable`` empty)."""
+
+    axis: sp.Matrix
+    controlled: str
+    unreachable: str
+    reachable: tuple[str, ...] = ()
+
+
 @dataclass
 class InverseSolution:
     """Closed-form inverse pose: ordered assignments from the pose symbols to the joint variables.
@@ -197,6 +214,9 @@ class InverseSolution:
     steps: list[tuple[sp.Symbol, sp.Expr]]
     branches: list[sp.Symbol]
     validity: dict[str, sp.Expr] = field(default_factory=dict)
+    #: where the inverse reads a pose onto a lower-mobility platform's reachable set: how (the
+    #: runtime's ``inverse_pose(onto_reachable=True)``); None where it takes the pose as given
+    reading: InverseReading | None = None
 
     def at(
         self, rotation: sp.Matrix, position: sp.Matrix | None, branch: int, parameters: dict[sp.Symbol, float]

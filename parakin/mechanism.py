@@ -361,7 +361,7 @@ class Mechanism:
         within_ranges(transform[..., :3, 3], ["x", "y", "z"], -bound, bound, f"{name} position")
         return transform
 
-    def inverse_pose(self, pose: ArrayLike, strict: bool = True) -> InversePose:
+    def inverse_pose(self, pose: ArrayLike, strict: bool = True, onto_reachable: bool = False) -> InversePose:
         """Every closed-form inverse branch for a platform pose.
 
         Branch k has the signs ``InversePose.branches[k]`` (branch 0: all +1, then binary counting
@@ -375,17 +375,29 @@ class Mechanism:
         strict : bool
             Raise when a pose has no valid branch (default); with False such poses come back with
             every ``valid`` entry False and the reasons in ``failures``.
+        onto_reachable : bool
+            For a lower-mobility platform whose inverse reads a pose onto its reachable set
+            (``m.manifest.capabilities.inverse.reading``: the controlled coordinates, e.g. a
+            3-RPS's height p . k and tilt R^T k, kept and the parasitic ones as the platform
+            reaches them): True answers with the configurations of the reached pose, valid
+            where they are (their pose in ``InversePose.pose``), instead of marking a pose off
+            the reachable set invalid (default False: the asked pose must be reachable as given).
+            A mechanism declared ``unreachable="read"`` (prs3) already answers so: True changes
+            nothing there.
 
         Returns
         -------
         InversePose
             ``actuated`` (..., K, n_a), ``passive`` (..., K, n_p), ``valid`` (..., K) for the K
-            branches; ``branch(k)`` is one branch as a Configuration.
+            branches; ``branch(k)`` is one branch as a Configuration; ``pose`` the pose the
+            configurations reach (a lower-mobility platform's reading of the asked pose).
 
         Raises
         ------
         UnsupportedOperationError
-            The mechanism has no closed-form inverse.
+            The mechanism has no closed-form inverse; or ``onto_reachable`` where its inverse
+            reads no pose onto a reachable set (full mobility: every pose is taken as given; or
+            a lower-mobility platform with no derived reading).
         BadInputError
             A pose that is not rigid, not finite, or too far away.
         UnreachablePoseError
@@ -403,10 +415,21 @@ class Mechanism:
         [True, True, True, True]
         >>> branches.actuated[0].round(3).tolist()  # branch 0 is the home input
         [1.865, 1.276]
+
+        A 3-RPS asked for a height and a tilt (x = y = 0 is off its reachable set when tilted):
+
+        >>> rps3 = parakin.load("rps3", backend="numpy")
+        >>> tilted = parakin.pose_from_xyz_euler([0.0, 0.0, 1.0, 0.0, 0.2, 0.0])
+        >>> rps3.inverse_pose(tilted, strict=False).valid.tolist()
+        [False]
+        >>> reached = rps3.inverse_pose(tilted, onto_reachable=True)
+        >>> reached.valid.tolist(), round(float(reached.pose[1, 3]), 4)  # the parasitic y
+        ([True], 0.005)
         """
         info = self.capabilities.inverse
         self._require(info, "inverse_pose", "closed-form inverse")
         assert info is not None
+        ignored = self._reading_conditions(info) if onto_reachable else ()
         transform = self._as_transform(pose)
         combinations = np.array(info.combinations, dtype=np.int8)
         with np.errstate(all="ignore"):  # singular or unreachable branches: masked below
@@ -425,6 +448,8 @@ class Mechanism:
                 ~((actuated >= self._actuated_low) & (actuated <= self._actuated_high)).all(-1)
             )
         failures["finite"] = np.asarray(~(np.isfinite(actuated).all(-1) & np.isfinite(passive).all(-1)))
+        for name in ignored:  # the asked pose off the set: the reached pose's values answer
+            del failures[name]
         valid = ~np.logical_or.reduce(list(failures.values()))
         if len(self.actuated_names) < len(POSE_KINDS[self.manifest.pose_kind].coordinates):
             transform = self._reached_pose(actuated, passive, valid, transform)
@@ -448,6 +473,28 @@ class Mechanism:
                     "(serial singularity: the leg joints cannot be resolved)"
                 )
         return result
+
+    def _reading_conditions(self, info: Any) -> tuple[str, ...]:
+        """The validity conditions ``inverse_pose(onto_reachable=True)`` leaves out: those the
+        manifest names as testing the asked pose against the reachable set its inverse reads
+        onto; UnsupportedOperationError where the inverse reads no pose onto a reachable set."""
+        if info.reading is not None:
+            return tuple(info.reading.reachable)
+        freedoms = len(self.actuated_names)
+        coordinates = len(POSE_KINDS[self.manifest.pose_kind].coordinates)
+        if freedoms >= coordinates:
+            raise UnsupportedOperationError(
+                f"{self.name}: onto_reachable=True reads a pose onto a lower-mobility platform's reachable set, and "
+                f"{self.name}'s platform has full mobility ({freedoms} actuated variables for the {coordinates} "
+                f"coordinates of pose kind {self.manifest.pose_kind!r}): every pose it reaches is taken as given; "
+                "leave the option out"
+            )
+        raise UnsupportedOperationError(
+            f"{self.name}: onto_reachable=True needs an inverse that reads a pose onto the reachable set, and "
+            f"{self.name}'s inverse ({freedoms} actuated variables for the {coordinates} coordinates of pose kind "
+            f"{self.manifest.pose_kind!r}) takes the pose as given: ask for a reachable pose (inverse_pose's "
+            "failures name the conditions it breaks)"
+        )
 
     def _reached_pose(self, actuated: Array, passive: Array, valid: Mask, pose: Array) -> Array:
         """The pose a lower-mobility platform reaches for ``pose``: its inverse reads the

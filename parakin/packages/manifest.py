@@ -104,6 +104,21 @@ class Kernel:
 
 
 @dataclass(frozen=True)
+class Reading:
+    """How a lower-mobility platform's inverse reads a pose onto its reachable set: its values
+    are those of the reachable pose with the pose's controlled coordinates, the height p . k and
+    the tilt R^T k about the unit ``axis`` k (three expressions of the parameters, in {B});
+    ``controlled`` says the controlled and parasitic coordinates in words. ``unreachable``:
+    "invalid" (a pose off the set is invalid through the validity conditions ``reachable``, which
+    test the given pose) or "read" (the reached pose is the answer; ``reachable`` empty)."""
+
+    axis: tuple[str, str, str]
+    controlled: str
+    unreachable: str
+    reachable: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class Inverse:
     """Closed-form inverse: branch k has the signs ``combinations[k]`` of ``branches``.
 
@@ -119,6 +134,9 @@ class Inverse:
     passive_groups: tuple[int, ...] = ()
     validity_groups: tuple[int, ...] = ()
     patterns: tuple[tuple[int, ...], ...] = ()
+    #: the reading onto a lower-mobility platform's reachable set (optional field
+    #: ``reading``); None where the inverse takes the pose as given
+    reading: Reading | None = None
 
 
 @dataclass(frozen=True)
@@ -149,7 +167,7 @@ class Homotopy:
     start_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
     alternative_instance: np.ndarray = field(compare=False, default_factory=lambda: np.zeros(0, dtype=complex))
     #: where the root count was proven on a subfamily (the mechanism's parameters sharing a value,
-    #: ``parakin.solvers.subfamily``): groups of indices into the start instance's values that are
+    #: ``parakin.solvers.subfamily_membership``): groups of indices into the start instance's values that are
     #: equal there, their relative tolerance and the relations in words; () for the whole family
     subfamily_identical: tuple[tuple[int, ...], ...] = ()
     subfamily_tolerance: float = 0.0
@@ -602,7 +620,12 @@ class Manifest:
             singularity_factors=_names(_member(data, "singularity_factors", ""), "singularity_factors"),
             determinants=_names(_member(data, "determinants", ""), "determinants"),
             capabilities=Capabilities(
-                inverse=_inverse(_member(caps, "inverse", "capabilities"), len(actuated), len(passive)),
+                inverse=_inverse(
+                    _member(caps, "inverse", "capabilities"),
+                    len(actuated),
+                    len(passive),
+                    [p.name for p in parsed_parameters],
+                ),
                 forward=forward,
                 forward_methods=forward_methods,
                 legs=_legs(_member(caps, "legs", "capabilities")),
@@ -954,7 +977,7 @@ def _variable(value: object, path: str) -> Variable:
     )
 
 
-def _inverse(value: object, n_actuated: int, n_passive: int) -> Inverse | None:
+def _inverse(value: object, n_actuated: int, n_passive: int, parameters: list[str]) -> Inverse | None:
     path = "capabilities.inverse"
     data = _optional_object(value, path)
     if data is None:
@@ -982,6 +1005,31 @@ def _inverse(value: object, n_actuated: int, n_passive: int) -> Inverse | None:
         group_of("passive_groups", n_passive),
         group_of("validity_groups", len(validity)),
         _signs(_member(data, "patterns", path), f"{path}.patterns", len(branches)),
+        _reading(data.get("reading"), validity, parameters),
+    )
+
+
+def _reading(value: object, validity: tuple[str, ...], parameters: list[str]) -> Reading | None:
+    """``capabilities.inverse.reading`` (optional): the axis, the coordinates in words, "invalid"
+    or "read", and validity names of the inverse's own."""
+    path = "capabilities.inverse.reading"
+    data = _optional_object(value, path)
+    if data is None:
+        return None
+    unreachable = _member(data, "unreachable", path)
+    if unreachable not in ("invalid", "read"):
+        raise _bad(f"{path}.unreachable", unreachable, "is not 'invalid' or 'read'")
+    reachable = _names(_member(data, "reachable", path), f"{path}.reachable")
+    stray = [name for name in reachable if name not in validity]
+    if stray:
+        raise _bad(f"{path}.reachable", list(reachable), f"names {stray}, not validity conditions of the inverse")
+    if unreachable == "read" and reachable:
+        raise _bad(f"{path}.reachable", list(reachable), "is not empty, and the inverse reads every pose ('read')")
+    return Reading(
+        _vector_text(_member(data, "axis", path), f"{path}.axis", parameters),
+        _text(_member(data, "controlled", path), f"{path}.controlled"),
+        str(unreachable),
+        reachable,
     )
 
 
