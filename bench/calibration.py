@@ -22,7 +22,7 @@ import numpy as np
 import parakin
 from bench.timing import best_time
 from parakin.calibration import CalibrationData, calibrate, prediction_covariance
-from parakin.calibration.frames import rotation
+from parakin.calibration.rotation_vectors import rotation
 
 SIGMA = (20e-6, np.deg2rad(0.002))
 

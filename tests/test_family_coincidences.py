@@ -191,9 +191,9 @@ def test_the_shared_rail_hexaglide_proves_72_and_certifies_its_inputs(tmp_path: 
 
 
 def test_the_runtime_check_flags_inputs_whose_parameters_break_a_relation() -> None:
-    """parakin.solvers.subfamily: parameters loaded with the generation's coincidences are inside
+    """parakin.solvers.subfamily_membership: parameters loaded with the generation's coincidences are inside
     (equal to rounding), a rail moved by 1 mm or a NaN is outside; angles (radians) compare too."""
-    from parakin.solvers.subfamily import outside_subfamily
+    from parakin.solvers.subfamily_membership import outside_subfamily
 
     free = np.array([[0.1, -0.28, -0.28, 0.23], [0.1, -0.28, -0.28 * (1 + 1e-15), 0.23], [0.2, -0.28, -0.279, 0.23]])
     angles = np.array([[0.5, 0.5], [0.5, 0.5], [0.5, 0.5]])

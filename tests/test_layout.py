@@ -267,3 +267,22 @@ def test_the_public_api_is_what_all_lists():
     from parakin import sweep
 
     assert sweep is parakin.sweep is sweep_module.sweep and isinstance(sweep, types.FunctionType)
+
+
+def test_no_two_modules_share_a_name_across_the_layers():
+    """Names say where they live (issue 32, item 5): outside package markers, no two modules of
+    parakin/ and generator/ share a file name, except each layer's own ``errors.py`` (the generator's
+    GenerationError; the runtime's named errors)."""
+    root = Path(__file__).resolve().parent.parent
+    seen: dict[str, list[str]] = {}
+    for folder in ("parakin", "generator"):
+        for path in (root / folder).rglob("*.py"):
+            seen.setdefault(path.name, []).append(str(path.relative_to(root)))
+    shared = {
+        name: paths
+        for name, paths in seen.items()
+        if len(paths) > 1
+        and name not in ("__init__.py", "__main__.py")
+        and sorted(paths) != ["generator/errors.py", "parakin/errors.py"]
+    }
+    assert not shared, shared

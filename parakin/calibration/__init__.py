@@ -7,9 +7,9 @@ from __future__ import annotations
 
 from parakin.calibration.data import CalibrationData
 from parakin.calibration.design import PoseDesign, design_poses
-from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
 from parakin.calibration.fit import CalibrationResult, calibrate, prediction_covariance
 from parakin.calibration.identifiability import Combination
+from parakin.errors import CalibrationDataError, CalibrationUnavailableError
 
 __all__ = [
     "CalibrationData",

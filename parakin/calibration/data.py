@@ -6,7 +6,7 @@ Frames (SI, radians): {B} and {P} are the mechanism's base and platform frames
 coordinate-measuring arm, a printer's bed), placed in {B} by ^B_W T (``tracker``); it sees a
 target or probe {T} fixed on the platform, placed in {P} by ^P_T T (``tool``). Either may be
 known (held at the value given) or unknown (six more parameters, ``tracker_x`` .. ``tracker_rz``,
-``tool_x`` .. ``tool_rz``: origin and rotation vector, ``parakin.calibration.frames``).
+``tool_x`` .. ``tool_rz``: origin and rotation vector, ``parakin.calibration.rotation_vectors``).
 
 Kinds, their measurement per pose and their residual (prediction minus measurement, over sigma):
 
@@ -28,9 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from parakin.calibration.errors import CalibrationDataError
-from parakin.calibration.frames import frame_values, rotation_derivatives
-from parakin.errors import BadInputError
+from parakin.calibration.rotation_vectors import frame_values, rotation_derivatives
+from parakin.errors import BadInputError, CalibrationDataError
 from parakin.pose import as_pose, skew
 from parakin.results import Array
 from parakin.validation import as_array
@@ -289,7 +288,7 @@ def predict(
     d_tracker, d_tool : (N, 12, 6)
         dy / d(tracker values), dy / d(tool values).
     """
-    from parakin.calibration.frames import rotation
+    from parakin.calibration.rotation_vectors import rotation
 
     n = platform.shape[0]
     r_x, t_x = rotation(tracker[3:]), tracker[:3]

@@ -23,9 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from parakin.calibration.data import CalibrationData
-from parakin.calibration.errors import CalibrationDataError
 from parakin.calibration.fit import Problem
 from parakin.calibration.identifiability import observability, thin_svd
+from parakin.errors import CalibrationDataError
 from parakin.mechanism import Mechanism
 from parakin.results import Array
 

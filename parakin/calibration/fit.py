@@ -31,10 +31,17 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from parakin.calibration.data import CalibrationData, frame_names, predict, residual, residual_in_units
-from parakin.calibration.errors import CalibrationDataError, CalibrationUnavailableError
-from parakin.calibration.frames import frame_transform
 from parakin.calibration.identifiability import RANK_TOLERANCE, Combination, analyse, thin_svd
-from parakin.errors import BadInputError, ConvergenceError, ParakinError, at_index, first_index
+from parakin.calibration.rotation_vectors import frame_transform
+from parakin.errors import (
+    BadInputError,
+    CalibrationDataError,
+    CalibrationUnavailableError,
+    ConvergenceError,
+    ParakinError,
+    at_index,
+    first_index,
+)
 from parakin.mechanism import Mechanism
 from parakin.packages.manifest import unknown_name
 from parakin.results import Array

@@ -50,7 +50,7 @@ from parakin.solvers.path_tracking import (
 )
 from parakin.solvers.polynomial import isolate_real_roots
 from parakin.solvers.projective import family_system, projective_family, projective_table, to_affine, to_projective
-from parakin.solvers.subfamily import outside_subfamily
+from parakin.solvers.subfamily_membership import outside_subfamily
 
 if TYPE_CHECKING:
     from parakin.packages.manifest import Forward, Homotopy
@@ -1516,7 +1516,7 @@ _BOUNDS: weakref.WeakKeyDictionary[Any, tuple[bytes, dict[str, bool]]] = weakref
 def root_count_bounds(m: Mechanism, info: Forward) -> bool:
     """Whether the homotopy's root count is proven and bounds the roots at ``m``'s parameters.
     A count proven on a subfamily (parameters sharing a value: a Hexaglide's sliders on shared
-    rails, ``parakin.solvers.subfamily``) does not where these parameters break its relations: the
+    rails, ``parakin.solvers.subfamily_membership``) does not where these parameters break its relations: the
     family's other roots are back, and no input may be certified complete (one warning names the
     relation). The relations hold for every input or none; cached per mechanism and parameters."""
     homotopy = info.homotopy

@@ -30,9 +30,9 @@ from typing import Any
 import numpy as np
 
 from parakin.calibration.data import KINDS, CalibrationData
-from parakin.calibration.errors import CalibrationDataError
 from parakin.calibration.fit import CalibrationResult, calibrate
-from parakin.calibration.frames import rotation
+from parakin.calibration.rotation_vectors import rotation
+from parakin.errors import CalibrationDataError
 from parakin.mechanism import Mechanism
 from parakin.pose import pose_from_xyz_euler
 
