@@ -47,6 +47,7 @@ from parakin.solvers.path_tracking import (
     target_coefficients,
     track,
     track_symmetric,
+    typical_root_size,
 )
 from parakin.solvers.polynomial import isolate_real_roots
 from parakin.solvers.projective import family_system, projective_family, projective_table, to_affine, to_projective
@@ -425,8 +426,9 @@ def _homotopy_candidates(
         ended = _track_family(homotopy, table, start, n, tolerance, projective=retrack is not None)
     if retrack is None and (ended.status == PATH_FAILED).any():
         ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
-    z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous))
     reached = ended.status == PATH_REACHED
+    typical = typical_root_size(ended.z.reshape(n, paths, -1), reached.reshape(n, paths))
+    z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous), np.repeat(typical, paths))
     real = reached & (imaginary < tol["real_endpoint"])
     near = reached & ~real & (imaginary < tol["near_real_endpoint"])
     kinds = m.manifest.abi.root_kinds

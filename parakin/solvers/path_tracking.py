@@ -17,6 +17,7 @@ C alike.
 from __future__ import annotations
 
 import functools
+import warnings
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -562,10 +563,15 @@ def is_known(known: np.ndarray, candidate: np.ndarray) -> bool:
     return bool(known.size) and bool(np.abs(known - candidate).max(-1).min() <= 1e-6 * (1 + np.abs(candidate).max()))
 
 
-def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray, np.ndarray]:
+def phase_normalised(
+    z: np.ndarray, homogeneous: list[int], typical: np.ndarray | float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """An endpoint of a homogeneous system is a complex multiple of a real solution when one
     exists: scale it so that its largest homogeneous entry is real and positive, and return it
-    with the size of its imaginary part relative to |z| (0 for a real solution)."""
+    with the size of its imaginary part relative to |z|, or to ``typical`` (the input's typical
+    root size, ``typical_root_size``; broadcast against z[..., 0]) where that is larger (0 for a
+    real solution). A root at the origin (a translating platform at home) has coordinates of
+    rounding size whose imaginary parts are as large: measured against themselves, 0/0."""
     if homogeneous:
         block = z[..., homogeneous]
         largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
@@ -573,9 +579,30 @@ def phase_normalised(z: np.ndarray, homogeneous: list[int]) -> tuple[np.ndarray,
             z = z * (np.abs(largest) / largest)
     with np.errstate(all="ignore"):
         largest_imaginary = np.abs(z.imag).max(-1)
-        # a root at the origin (a translating platform at home) is real, not 0/0
-        imaginary = np.where(largest_imaginary == 0, 0.0, largest_imaginary / np.abs(z).max(-1))
+        imaginary = np.where(largest_imaginary == 0, 0.0, largest_imaginary / np.fmax(np.abs(z).max(-1), typical))
     return z, imaginary
+
+
+def typical_root_size(z: np.ndarray, reached: np.ndarray) -> np.ndarray:
+    """Per input, the median over its reached endpoints of max_k |z_k| (NaN where none is reached,
+    which ``phase_normalised``'s fmax ignores), as the C driver's ``median_of``.
+
+    Parameters
+    ----------
+    z : ndarray, shape (n, P, nz)
+        The endpoints of each input's P paths (complex).
+    reached : ndarray of bool, shape (n, P)
+        Which paths reached s = 0.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The typical size of each input's roots (in the units of z).
+    """
+    sizes = np.where(reached, np.abs(z).max(-1, initial=0.0), np.nan)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an input with no reached path
+        return np.nanmedian(sizes, axis=-1)
 
 
 # ---------------------------------------------------------------------------------- symmetry
