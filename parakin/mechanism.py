@@ -500,13 +500,18 @@ class Mechanism:
         """The pose a lower-mobility platform reaches for ``pose``: its inverse reads the
         coordinates the actuators control and returns the configuration on the reachable set
         (prs3's parasitic motion, a pointing chain's roll), whose pose the configurations must
-        carry. The same for every valid branch; the given pose where no branch is valid."""
+        carry. The same for every valid branch; the given pose where no branch is valid (only
+        valid values are evaluated: an invalid branch's may leave a range, which platform_pose
+        refuses)."""
         first = np.argmax(valid, axis=-1)[..., None, None]
         chosen_actuated = np.take_along_axis(actuated, first, axis=-2)[..., 0, :]
         chosen_passive = np.take_along_axis(passive, first, axis=-2)[..., 0, :]
-        with np.errstate(all="ignore"):
-            reached = np.asarray(self.platform_pose(chosen_actuated, chosen_passive))
-        return np.where(np.asarray(valid.any(-1))[..., None, None], reached, pose)
+        some = np.asarray(valid.any(-1))
+        reached = np.array(np.broadcast_to(pose, some.shape + (4, 4)), dtype=float)
+        if some.any():
+            with np.errstate(all="ignore"):
+                reached[some] = self.platform_pose(chosen_actuated[some], chosen_passive[some])
+        return reached
 
     # ------------------------------------------------------------------ forward pose (Newton)
     def _passive_guess(self, actuated: Array, guess: Any) -> Array:

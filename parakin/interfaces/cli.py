@@ -248,12 +248,22 @@ def _list(args: argparse.Namespace) -> int:
     return 0
 
 
+#: the help of ik's and sweep's --onto-reachable (Mechanism.inverse_pose's onto_reachable)
+ONTO_REACHABLE_HELP = (
+    "a lower-mobility platform (e.g. a 3-RPS): the pose read onto its reachable set, the controlled "
+    "coordinates (height and tilt) kept, the parasitic ones as the platform reaches them; the "
+    "configurations of that pose answer (an error for a mechanism whose inverse reads no pose so)"
+)
+
+
 def _ik(args: argparse.Namespace) -> int:
     m = _load(args)
     degrees = args.pose_deg is not None
     pose = _pose_from_cli(m.manifest, args.pose_deg if degrees else args.pose, degrees)
-    result = m.inverse_pose(pose, strict=False)
+    result = m.inverse_pose(pose, strict=False, onto_reachable=args.onto_reachable)
     count = result.actuated.shape[-2]
+    # with --onto-reachable: the pose the configurations reach (a lower-mobility reading)
+    reached = _describe_pose(m.manifest, result.pose, degrees and not args.json) if args.onto_reachable else None
     records = []
     for k in range(count):
         record: dict[str, Any] = {
@@ -266,6 +276,8 @@ def _ik(args: argparse.Namespace) -> int:
         # JSON keys and values in SI units and radians however the pose was typed
         record.update(_labelled(m.manifest.actuated, result.actuated[k], degrees and not args.json))
         record.update(_labelled(m.manifest.passive, result.passive[k], degrees and not args.json))
+        if reached is not None:
+            record["reached_pose"] = reached
         records.append(record)
     if args.json:
         for record in records:
@@ -273,6 +285,8 @@ def _ik(args: argparse.Namespace) -> int:
     else:
         shown = _describe_pose(m.manifest, transform_from_pose(pose, m.manifest.pose_kind), degrees)
         pose_text = _values_text(shown)
+        if reached is not None:
+            pose_text += f" (read onto the reachable set: {_values_text(reached)})"
         _ik_tables(m, records, degrees, pose_text)
     if not result.valid.any():
         print(f"parakin: no valid inverse branch for this pose on {m.name}", file=sys.stderr)
@@ -569,7 +583,7 @@ def _sweep(args: argparse.Namespace) -> int:
     workspace = dict(_axis(a) for a in args.workspace) or None
     result = sweep(
         m, args.quantities, axes, fixed=fixed, workspace=workspace, branch=args.branch, chunk=args.chunk,
-        scheduler=args.scheduler, store=args.store, progress=args.progress,
+        scheduler=args.scheduler, store=args.store, progress=args.progress, onto_reachable=args.onto_reachable,
     )  # fmt: skip
     if args.netcdf:
         result.to_netcdf(args.netcdf)
@@ -686,6 +700,7 @@ def _parser() -> argparse.ArgumentParser:
     group = ik.add_mutually_exclusive_group(required=True)
     group.add_argument("--pose", nargs="+", type=float, metavar="V", help="pose values, SI and radians (see list)")
     group.add_argument("--pose-deg", nargs="+", type=float, metavar="V", help="the same with angles in degrees")
+    ik.add_argument("--onto-reachable", action="store_true", help=ONTO_REACHABLE_HELP)
     ik.epilog = "pose values per pose kind: " + "; ".join(f"{k}: {v[0]}" for k, v in POSE_ARGUMENTS.items())
 
     fk = commands.add_parser(
@@ -761,6 +776,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     sweeping.add_argument("--workspace", action="append", default=[], metavar="NAME=START:STOP:COUNT")
     sweeping.add_argument("--branch", type=int, default=None, help="inverse branch of the configurations")
+    sweeping.add_argument("--onto-reachable", action="store_true", help=ONTO_REACHABLE_HELP)
     sweeping.add_argument("--chunk", type=int, default=65536, help="points per chunk (memory bound)")
     sweeping.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local)")
     sweeping.add_argument("--store", default=None, help="zarr folder: written chunk by chunk, resumable")
@@ -791,7 +807,7 @@ def _parser() -> argparse.ArgumentParser:
         add_help=False,
     )
     view.add_argument("arguments", nargs=argparse.REMAINDER, help="NAME [--port P] [--open] (parakin view --help)")
-    from parakin.calibration import cli as calibration_cli
+    from parakin.calibration import command as calibration_cli
 
     calibrate = commands.add_parser(
         "calibrate",
@@ -810,7 +826,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from parakin.calibration.cli import run
+    from parakin.calibration.command import run
 
     return run(args)
 

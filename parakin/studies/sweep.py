@@ -150,11 +150,17 @@ def _pose_from(kind: str, values: dict[str, np.ndarray]) -> np.ndarray:
     return pose_from_xyz_euler(six)
 
 
-def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: Sequence[str], branch: int | None):
+def _pose_quantities(
+    m: Mechanism,
+    coordinates: dict[str, np.ndarray],
+    wanted: Sequence[str],
+    branch: int | None,
+    onto_reachable: bool = False,
+):
     from parakin.results import Configuration
 
     pose = _pose_from(m.manifest.pose_kind, coordinates)
-    inverse = m.inverse_pose(pose, strict=False)
+    inverse = m.inverse_pose(pose, strict=False, onto_reachable=onto_reachable)
     low, high = m.actuated_bounds
     with np.errstate(invalid="ignore"):
         ranged = ((inverse.actuated >= low) & (inverse.actuated <= high)).all(-1)
@@ -167,7 +173,7 @@ def _pose_quantities(m: Mechanism, coordinates: dict[str, np.ndarray], wanted: S
     rows = np.arange(valid.shape[0])
     theta = np.where(reachable[:, None], inverse.actuated[rows, chosen], m.home_actuated)
     q = np.where(reachable[:, None], inverse.passive[rows, chosen], m.home_passive)
-    state = Configuration(theta, q, pose)
+    state = Configuration(theta, q, inverse.pose)  # the pose reached (a lower-mobility reading)
     if "type_ii_distance" in wanted:
         measure = type_ii_distance(m, state)
         if measure is None:
@@ -214,7 +220,7 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
     if pose_wanted:
         pose_values = {**spec["fixed"], **coordinates}
         pose_values = {k: np.broadcast_to(v, (n,)) for k, v in pose_values.items() if k in spec["pose_names"]}
-        computed = _pose_quantities(m, pose_values, pose_wanted, spec["branch"])
+        computed = _pose_quantities(m, pose_values, pose_wanted, spec["branch"], spec["onto_reachable"])
         out.update({q: computed[q] for q in pose_wanted})
     if "modes" in wanted:
         theta = np.stack(
@@ -247,7 +253,8 @@ def _evaluate_design(m: Mechanism, spec: dict[str, Any], coordinates: dict[str, 
         reachable = 0
         for start in range(0, total, spec["chunk"]):
             part = {k: np.broadcast_to(v, (total,))[start : start + spec["chunk"]] for k, v in pose_values.items()}
-            reachable += int(_pose_quantities(m, part, ["reachable"], spec["branch"])["reachable"].sum())
+            found = _pose_quantities(m, part, ["reachable"], spec["branch"], spec["onto_reachable"])
+            reachable += int(found["reachable"].sum())
         out["workspace_volume"] = np.full(n, reachable * _grid_volume(grid))
     return out
 
@@ -425,6 +432,7 @@ def sweep(
     store: str | Path | None = None,
     progress: bool | None = None,
     backend: str = "auto",
+    onto_reachable: bool = False,
 ) -> xarray.Dataset:
     """Evaluate ``quantities`` over the grid ``axes`` (the module docstring says how).
 
@@ -459,6 +467,11 @@ def sweep(
         ``parakin.log.progress`` decides.
     backend : str
         The backend a mechanism given by name is loaded with.
+    onto_reachable : bool
+        Pose-space quantities at the pose a lower-mobility platform reaches for each grid pose
+        (``Mechanism.inverse_pose(onto_reachable=True)``: a 3-RPS swept over its height and
+        tilt gets reachability, branches and distances at the reached poses, the parasitic
+        coordinates as it takes them); default False: at the grid pose as given.
 
     Returns
     -------
@@ -475,7 +488,8 @@ def sweep(
         checksum on read.
     UnsupportedOperationError
         Quantities the mechanism cannot compute (no closed-form inverse, no forward
-        elimination), or dask and xarray are not installed.
+        elimination), ``onto_reachable`` where its inverse reads no pose onto a reachable set,
+        or dask and xarray are not installed.
     StoreInUseError
         Another sweep is writing ``store``.
 
@@ -537,6 +551,16 @@ def sweep(
         raise BadInputError("a sweep needs at least one axis")
     if any(q in POSE_QUANTITIES for q in quantities) and m.capabilities.inverse is None:
         raise UnsupportedOperationError(f"{m.name} has no closed-form inverse: pose-space quantities need one")
+    if not isinstance(onto_reachable, bool):
+        raise BadInputError(f"onto_reachable must be True or False, got {onto_reachable!r}")
+    if onto_reachable:
+        if not any(q in POSE_QUANTITIES or q == "workspace_volume" for q in quantities):
+            raise BadInputError(
+                f"onto_reachable reads grid poses onto the reachable set, and none of {list(quantities)} is a "
+                f"pose-space quantity {POSE_QUANTITIES}: leave it out"
+            )
+        # refused here, before any chunk runs, in inverse_pose's words (full mobility, no reading)
+        m.inverse_pose(m.platform_pose(m.home_actuated, m.home_passive), strict=False, onto_reachable=True)
     if "modes" in quantities and m.capabilities.forward is None:
         raise UnsupportedOperationError(f"{m.name} has no forward elimination: 'modes' is not available")
     workspace_grid = {}
@@ -597,6 +621,7 @@ def sweep(
         "fixed": fixed_values,
         "quantities": list(quantities),
         "branch": branch,
+        "onto_reachable": onto_reachable,
         "workspace": workspace_grid,
         "chunk": chunk,
     }
