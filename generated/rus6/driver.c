@@ -3208,11 +3208,23 @@ static int track_path(const sparse_system* system, double tolerance, cplx* z, st
 #endif
 // The endpoint with its largest homogeneous entry made real and positive (a complex multiple of
 // a real solution becomes real); returns the imaginary part relative to |z|.
-static double phase_normalise(cplx* z) {
+// the root's imaginary part relative to its size, or to the input's typical root size where that
+// is larger (a root at the origin, a translating platform at home, has coordinates of rounding
+// size whose imaginary parts are as large: 0/0 measured against itself); as
+// parakin.solvers.path_tracking.phase_normalised
+static double phase_normalise(cplx* z, double typical) {
     double imaginary = 0.0, magnitude = 0.0;
     for (int k = 0; k < NZ; ++k) { imaginary = fmax(imaginary, fabs(z[k].im)); magnitude = fmax(magnitude, c_abs(z[k])); }
-    // a root at the origin (a translating platform at home) is real, not 0/0
-    return imaginary == 0.0 ? 0.0 : imaginary / magnitude;
+    return imaginary == 0.0 ? 0.0 : imaginary / fmax(magnitude, typical);
+}
+
+// the median of values[0..count) (sorted in place; the mean of the middle two for an even count,
+// as numpy.median), 0 where count is 0
+static double median_of(double* values, int count) {
+    for (int a = 1; a < count; ++a)
+        for (int b = a; b > 0 && values[b - 1] > values[b]; --b) { double t = values[b]; values[b] = values[b - 1]; values[b - 1] = t; }
+    if (!count) return 0.0;
+    return count % 2 ? values[count / 2] : (values[count / 2 - 1] + values[count / 2]) / 2;
 }
 
 static void modes_one(workspace* ws, const rus6_modes_job* job, long long i, track_counts* counts) {
@@ -3275,6 +3287,16 @@ static void modes_one(workspace* ws, const rus6_modes_job* job, long long i, tra
                 out[0] = ended[p] == PATH_REACHED ? ends[p][k].re : NAN;
                 out[1] = ended[p] == PATH_REACHED ? ends[p][k].im : NAN;
             }
+    // the input's typical root size: the median over its reached endpoints of max_k |z_k|
+    double sizes[DEGREE];
+    int reached = 0;
+    for (int p = 0; p < DEGREE; ++p) {
+        if (ended[p] != PATH_REACHED) continue;
+        double size = 0.0;
+        for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(ends[p][k]));
+        sizes[reached++] = size;
+    }
+    double typical = median_of(sizes, reached);
     for (int p = 0; p < DEGREE; ++p) {
         cplx* z = ends[p];
         if (ended[p] == PATH_DIVERGED) {
@@ -3285,7 +3307,7 @@ static void modes_one(workspace* ws, const rus6_modes_job* job, long long i, tra
             outcome[p] = RUS6_OUTCOME_PATH_FAILED; kind[p] = PK_ROOT_FAILED; failed = 1;
             continue;
         }
-        double imaginary = phase_normalise(z);
+        double imaginary = phase_normalise(z, typical);
         job->roots[i * M + p] = imaginary;
         if (!(imaginary < job->near_real_endpoint)) {
             outcome[p] = RUS6_OUTCOME_COMPLEX; kind[p] = PK_ROOT_COMPLEX;
