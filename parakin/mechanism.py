@@ -399,7 +399,7 @@ class Mechanism:
             reads no pose onto a reachable set (full mobility: every pose is taken as given; or
             a lower-mobility platform with no derived reading).
         BadInputError
-            A pose that is not rigid, not finite, or too far away.
+            A pose that is not rigid, not finite, or too far away; ``onto_reachable`` not a bool.
         UnreachablePoseError
             With ``strict``: joint limits, actuator ranges or reach conditions fail on every branch
             (the message names the pose index).
@@ -429,6 +429,8 @@ class Mechanism:
         info = self.capabilities.inverse
         self._require(info, "inverse_pose", "closed-form inverse")
         assert info is not None
+        if not isinstance(onto_reachable, (bool, np.bool_)):
+            raise BadInputError(f"onto_reachable must be True or False, got {onto_reachable!r}")
         ignored = self._reading_conditions(info) if onto_reachable else ()
         transform = self._as_transform(pose)
         combinations = np.array(info.combinations, dtype=np.int8)

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import parakin
-from parakin.errors import BrokenPackageError, UnsupportedOperationError
+from parakin.errors import BadInputError, BrokenPackageError, UnsupportedOperationError
 from parakin.interfaces import cli
 from parakin.packages.manifest import Manifest
 
@@ -131,6 +131,12 @@ def test_no_reading_refuses_the_option(name, words):
     with pytest.raises(UnsupportedOperationError, match=words) as error:
         m.inverse_pose(pose, onto_reachable=True)
     assert "onto_reachable" in str(error.value)
+
+
+def test_the_option_is_a_bool(rps3):
+    pose = rps3.platform_pose(rps3.home_actuated, rps3.home_passive)
+    with pytest.raises(BadInputError, match="onto_reachable must be True or False"):
+        rps3.inverse_pose(pose, onto_reachable="yes")
 
 
 def test_a_reading_naming_no_validity_condition_is_a_broken_package(rps3):
