@@ -486,13 +486,13 @@ class Mechanism:
         coordinates = len(POSE_KINDS[self.manifest.pose_kind].coordinates)
         if freedoms >= coordinates:
             raise UnsupportedOperationError(
-                f"{self.name}: onto_reachable=True reads a pose onto a lower-mobility platform's reachable set, and "
+                f"{self.name}: onto_reachable=True (--onto-reachable) reads a pose onto a lower-mobility platform's reachable set, and "
                 f"{self.name}'s platform has full mobility ({freedoms} actuated variables for the {coordinates} "
                 f"coordinates of pose kind {self.manifest.pose_kind!r}): every pose it reaches is taken as given; "
                 "leave the option out"
             )
         raise UnsupportedOperationError(
-            f"{self.name}: onto_reachable=True needs an inverse that reads a pose onto the reachable set, and "
+            f"{self.name}: onto_reachable=True (--onto-reachable) needs an inverse that reads a pose onto the reachable set, and "
             f"{self.name}'s inverse ({freedoms} actuated variables for the {coordinates} coordinates of pose kind "
             f"{self.manifest.pose_kind!r}) takes the pose as given: ask for a reachable pose (inverse_pose's "
             "failures name the conditions it breaks)"

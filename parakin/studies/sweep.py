@@ -556,7 +556,7 @@ def sweep(
     if onto_reachable:
         if not any(q in POSE_QUANTITIES or q == "workspace_volume" for q in quantities):
             raise BadInputError(
-                f"onto_reachable reads grid poses onto the reachable set, and none of {list(quantities)} is a "
+                f"onto_reachable (--onto-reachable) reads grid poses onto the reachable set, and none of {list(quantities)} is a "
                 f"pose-space quantity {POSE_QUANTITIES}: leave it out"
             )
         # refused here, before any chunk runs, in inverse_pose's words (full mobility, no reading)
