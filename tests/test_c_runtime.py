@@ -52,6 +52,26 @@ def test_c_runtime_unit_tests_pass(runtime_output: list[str]) -> None:
     assert sum(line.startswith("path ") for line in runtime_output) == 5
 
 
+def test_c_two_lane_tracker_is_the_one_path_tracker(runtime_output: list[str]) -> None:
+    """track_paths (two paths advanced together, newton_step2, c_solve2) ran its comparisons with
+    track_path one path at a time (test_runtime.c: every status, endpoint and count bit for bit,
+    checked there; a mismatch prints "failed"), on 4, 3 (one lane alone at the end) and 3
+    diverging paths; and its counts are the one-path runs' sums printed by the "path" lines."""
+    assert not [line for line in runtime_output if line.startswith("failed")]
+    paths = {
+        (int(f[1]), int(f[2])): [int(v) for v in f[-4:]]
+        for f in (line.split() for line in runtime_output if line.startswith("path "))
+    }
+    paired = [[int(v) for v in line.split()[1:]] for line in runtime_output if line.startswith("paired ")]
+    assert [p[0] for p in paired] == [4, 3, 3]
+    for (count, steps, evaluations, factorisations), chosen in zip(paired[:2], ([0, 1, 2, 3], [2, 0, 3]), strict=True):
+        assert count == len(chosen)
+        assert steps == sum(paths[(0, p)][0] for p in chosen)
+        assert evaluations == factorisations == sum(paths[(0, p)][2] for p in chosen)
+    # the escaping paths (from starts 2, 0, 3): compared with track_path in C alone
+    assert paired[2][2] == paired[2][3] > 0
+
+
 def test_c_tracker_as_the_numpy_reference(runtime_output: list[str]) -> None:
     a = np.array([4.0 + 1.0j, -9.0 + 0.5j])  # test_runtime.c's roots homotopy
     starts = np.array([[1, 1], [-1, 1], [1, -1], [-1, -1]], dtype=complex)
@@ -159,8 +179,15 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
     (void)at; (void)z; (void)value; (void)jacobian; (void)rate;
     return 0;
 }}
+static int homotopy_eval2(const coefficients_at* at, const coefficients_at* at2, const cplx* z, const cplx* z2, cplx* value,
+                          cplx* value2, cplx* jacobian, cplx* jacobian2, cplx* rate, cplx* rate2) {{
+    return homotopy_eval(at, z, value, jacobian, rate) | homotopy_eval(at2, z2, value2, jacobian2, rate2) << 1;
+}}
 #include "tracker.h"
 int lu_solve(double* a, double* b, double* c) {{ return c_solve((cplx*)a, (cplx*)b, (cplx*)c); }}
+int lu_solve2(double* a, double* b, double* c, double* a2, double* b2, double* c2) {{
+    return c_solve2((cplx*)a, (cplx*)b, (cplx*)c, (cplx*)a2, (cplx*)b2, (cplx*)c2);
+}}
 """
 
 
@@ -233,9 +260,13 @@ def test_c_solve_is_the_textbook_elimination_bit_for_bit(size: int, tmp_path: Pa
     solve = ctypes.CDLL(str(library)).lu_solve
     pointer = np.ctypeslib.ndpointer(dtype=np.complex128, flags="C_CONTIGUOUS")
     solve.argtypes = [pointer, pointer, ctypes.c_void_p]
+    # c_solve2: this case's system beside the previous one (each c_solve's, the pair's verdicts)
+    solve2 = ctypes.CDLL(str(library)).lu_solve2
+    solve2.argtypes = [pointer, pointer, ctypes.c_void_p, pointer, pointer, ctypes.c_void_p]
+    previous: tuple[np.ndarray, np.ndarray, list[list[tuple[float, float]]] | None] | None = None
     rng = np.random.default_rng(size)
     ties = np.array([1.0, -1.0, 1j, -1j, 0.5 + 0.5j, -0.25 - 0.75j, 0.0])
-    checked = refused = 0
+    checked = refused = pairs_checked = 0
     for case in range(150):
         if case % 3 == 0:  # entries tying in |re| + |im| = 1, and zeros
             a = rng.choice(ties, (size, size)) * 2.0 ** rng.integers(-2, 3)
@@ -251,6 +282,18 @@ def test_c_solve_is_the_textbook_elimination_bit_for_bit(size: int, tmp_path: Pa
         expected = _textbook_solve(pairs, columns)
         a_c, b_c, c_c = a.copy(), b.copy(), c.copy()
         status = solve(a_c, b_c, c_c.ctypes.data if two else None)
+        if previous is not None:
+            a2, b2, expected2 = previous[0].copy(), previous[1].copy(), previous[2]
+            a1, b1, c1 = a.copy(), b.copy(), c.copy()
+            both = solve2(a1, b1, c1.ctypes.data if two else None, a2, b2, None)
+            assert both == (expected is not None) | (expected2 is not None) << 1
+            if expected is not None:
+                assert b1.tolist() == [complex(*v) for v in expected[0]]
+                assert not two or c1.tolist() == [complex(*v) for v in expected[1]]
+            if expected2 is not None:
+                assert b2.tolist() == [complex(*v) for v in expected2[0]]
+            pairs_checked += 1
+        previous = (a, b, _textbook_solve(pairs, columns[:1]))
         if expected is None:
             assert status == 0
             refused += 1
@@ -263,4 +306,4 @@ def test_c_solve_is_the_textbook_elimination_bit_for_bit(size: int, tmp_path: Pa
                     a @ got, b if got is b_c else c, rtol=0, atol=1e-7 * np.abs(a).max() * np.abs(got).max()
                 )
         checked += 1
-    assert checked >= 120 and refused >= 6
+    assert checked >= 120 and refused >= 6 and pairs_checked == 149

@@ -58,6 +58,13 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
     return 1;
 }
 
+// the two-point evaluation the runtime's newton_step2 calls (a generated package pairs the two in
+// one unrolled body; here the two evaluations one after the other)
+static int homotopy_eval2(const coefficients_at* at, const coefficients_at* at2, const cplx* z, const cplx* z2, cplx* value,
+                          cplx* value2, cplx* jacobian, cplx* jacobian2, cplx* rate, cplx* rate2) {
+    return homotopy_eval(at, z, value, jacobian, rate) | homotopy_eval(at2, z2, value2, jacobian2, rate2) << 1;
+}
+
 #include "tracker.h"
 
 static int failures = 0;
@@ -186,6 +193,54 @@ static void track(const sparse_system* system, const cplx* start, int label) {
     }
 }
 
+// c_solve2 gives each of its two systems c_solve's results bit for bit, a singular one too
+static void test_solve2(void) {
+    cplx systems[3][NZ * NZ] = {{{2, 1}, {-1, 0.5}, {0.25, -3}, {1, 1}},
+                                {{0.1, 0}, {7, -2}, {3, 0.5}, {-0.5, 0.25}},
+                                {{1, 1}, {2, 2}, {0.5, 0.5}, {1, 1}}};  // the last singular
+    cplx rhs[3][NZ] = {{{1, 0}, {0, -1}}, {{-2, 3}, {0.5, 0.5}}, {{1, 0}, {1, 0}}};
+    int checked = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            cplx a[NZ * NZ], b[NZ], c[NZ], a2[NZ * NZ], b2[NZ], c2[NZ], ra[2][NZ * NZ], rb[2][NZ], rc[2][NZ];
+            memcpy(a, systems[i], sizeof(a)); memcpy(b, rhs[i], sizeof(b)); memcpy(c, rhs[j], sizeof(c));
+            memcpy(a2, systems[j], sizeof(a)); memcpy(b2, rhs[j], sizeof(b)); memcpy(c2, rhs[i], sizeof(c));
+            memcpy(ra[0], a, sizeof(a)); memcpy(rb[0], b, sizeof(b)); memcpy(rc[0], c, sizeof(c));
+            memcpy(ra[1], a2, sizeof(a)); memcpy(rb[1], b2, sizeof(b)); memcpy(rc[1], c2, sizeof(c));
+            int alone = c_solve(ra[0], rb[0], rc[0]) | c_solve(ra[1], rb[1], NULL) << 1;
+            int together = c_solve2(a, b, c, a2, b2, NULL);
+            check(alone == together, "c_solve2: another singular verdict than c_solve");
+            check(alone == ((i != 2) | (j != 2) << 1), "c_solve: the singular system not found singular");
+            if (alone & 1) check(!memcmp(b, rb[0], sizeof(b)) && !memcmp(c, rc[0], sizeof(c)), "c_solve2: first not c_solve's");
+            if (alone & 2) check(!memcmp(b2, rb[1], sizeof(b)), "c_solve2: second not c_solve's");
+            checked += 1;
+        }
+    check(checked == 9, "c_solve2: not every pair checked");
+}
+
+// track_paths (two lanes) against track_path one at a time: every endpoint, status and count bit
+// for bit, for paths in a given order (an odd count: the last runs alone)
+static void test_track_paths(const sparse_system* system, cplx (*starts)[NZ], const int* order, int count) {
+    cplx alone[4][NZ], together[4][NZ];
+    int status[4], ended[4];
+    step_coefficients at[2];
+    track_counts one = {0, 0, 0, 0, 0}, two = {0, 0, 0, 0, 0};
+    memcpy(alone, starts, sizeof(alone));
+    memcpy(together, starts, sizeof(together));
+    for (int i = 0; i < count; ++i) status[order[i]] = track_path(system, 1e-7, alone[order[i]], &at[0], &one);
+    track_paths(system, 1e-7, together, order, count, ended, at, &two);
+    for (int i = 0; i < count; ++i) {
+        int p = order[i];
+        check(status[p] == ended[p], "track_paths: another status than track_path");
+        check(!memcmp(alone[p], together[p], sizeof(alone[p])), "track_paths: another endpoint than track_path");
+    }
+    check(one.paths == count && two.paths == count, "track_paths: paths not counted");
+    check(one.steps == two.steps && one.rejected == two.rejected && one.evaluations == two.evaluations &&
+              one.factorisations == two.factorisations,
+          "track_paths: other counts than track_path");
+    printf("paired %d %lld %lld %lld\n", count, two.steps, two.evaluations, two.factorisations);
+}
+
 int main(void) {
     test_solve();
     test_hermite_cubic();
@@ -195,6 +250,11 @@ int main(void) {
     for (int p = 0; p < 4; ++p) track(&roots, starts[p], p);
     sparse_system escaping = {1, {{0.0, 0.0}, {0.0, 0.0}}};
     track(&escaping, starts[0], 0);
+    test_solve2();
+    int all[4] = {0, 1, 2, 3}, some[3] = {2, 0, 3};
+    test_track_paths(&roots, starts, all, 4);
+    test_track_paths(&roots, starts, some, 3);
+    test_track_paths(&escaping, starts, some, 3);
     if (failures) printf("%d checks failed\n", failures);
     return failures ? 1 : 0;
 }

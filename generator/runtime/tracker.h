@@ -20,6 +20,56 @@
 #ifndef PARAKIN_RUNTIME_TRACKER_H
 #define PARAKIN_RUNTIME_TRACKER_H
 
+// Row k of a (and of b, c) swapped with the row at or below it whose column-k entry is largest;
+// 0 where that column is zero from row k down (singular). A second call at the same k swaps
+// nothing: the largest is already there.
+static inline int c_pivot(cplx* a, cplx* b, cplx* c, int k) {
+    int best = k;
+    double largest = c_norm1(a[k * NZ + k]);
+    for (int r = k + 1; r < NZ; ++r)
+        if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
+    if (!(largest > 0.0)) return 0;
+    if (best != k) {
+        for (int j = 0; j < NZ; ++j) { cplx t = a[k * NZ + j]; a[k * NZ + j] = a[best * NZ + j]; a[best * NZ + j] = t; }
+        cplx t = b[k]; b[k] = b[best]; b[best] = t;
+        if (c) { t = c[k]; c[k] = c[best]; c[best] = t; }
+    }
+    return 1;
+}
+
+// Column k's elimination below the pivot (row k already pivoted)
+static inline void c_eliminate(cplx* a, cplx* b, cplx* c, int k) {
+    cplx inverse = c_inv(a[k * NZ + k]);
+    for (int r = k + 1; r < NZ; ++r) {
+        cplx f = c_mul(a[r * NZ + k], inverse);
+        for (int j = k + 1; j < NZ; ++j) a[r * NZ + j] = c_sub(a[r * NZ + j], c_mul(f, a[k * NZ + j]));
+        b[r] = c_sub(b[r], c_mul(f, b[k]));
+        if (c) c[r] = c_sub(c[r], c_mul(f, c[k]));
+    }
+}
+
+// Row k of the back substitution (rows below it solved)
+static inline void c_back(const cplx* a, cplx* b, cplx* c, int k) {
+    cplx inverse = c_inv(a[k * NZ + k]), sum = b[k];
+    for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], b[j]));
+    b[k] = c_mul(sum, inverse);
+    if (c) {
+        sum = c[k];
+        for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], c[j]));
+        c[k] = c_mul(sum, inverse);
+    }
+}
+
+// c_solve's elimination from column first on (the columns before it done)
+static int c_solve_from(cplx* a, cplx* b, cplx* c, int first) {
+    for (int k = first; k < NZ; ++k) {
+        if (!c_pivot(a, b, c, k)) return 0;
+        c_eliminate(a, b, c, k);
+    }
+    for (int k = NZ - 1; k >= 0; --k) c_back(a, b, c, k);
+    return 1;
+}
+
 // a x = b, and a y = c where c is not NULL, in place by Gaussian elimination with partial
 // pivoting (a destroyed): one factorisation serves both right-hand sides; 0 when singular.
 // tests/test_c_runtime.py checks its arithmetic bit for bit against the same elimination in
@@ -28,37 +78,24 @@
 // kept for the back substitution, all bit-equal: 0.34 -> 0.27 us on stewart's Jacobians alone,
 // but in the packages' pipelines stewart within noise, rps3 3 % and planar_3rrr 10 % slower
 // (the elimination is a chain of dependent divisions and updates, not a throughput problem).
-static int c_solve(cplx* a, cplx* b, cplx* c) {
+static int c_solve(cplx* a, cplx* b, cplx* c) { return c_solve_from(a, b, c, 0); }
+
+// Two systems (a, b, c) and (a2, b2, c2) solved side by side, each by exactly c_solve's operations
+// (its own pivots): the two dependency chains overlap. Bit 0 set where the first is solved, bit 1
+// the second (a singular one's arrays are left part-eliminated, as c_solve leaves them). Measured
+// on stewart's Jacobians (issue 33): two c_solve 0.70-0.77 us, c_solve2 0.48-0.57 us.
+static int c_solve2(cplx* a, cplx* b, cplx* c, cplx* a2, cplx* b2, cplx* c2) {
     for (int k = 0; k < NZ; ++k) {
-        int best = k;
-        double largest = c_norm1(a[k * NZ + k]);
-        for (int r = k + 1; r < NZ; ++r)
-            if (c_norm1(a[r * NZ + k]) > largest) { best = r; largest = c_norm1(a[r * NZ + k]); }
-        if (!(largest > 0.0)) return 0;
-        if (best != k) {
-            for (int j = 0; j < NZ; ++j) { cplx t = a[k * NZ + j]; a[k * NZ + j] = a[best * NZ + j]; a[best * NZ + j] = t; }
-            cplx t = b[k]; b[k] = b[best]; b[best] = t;
-            if (c) { t = c[k]; c[k] = c[best]; c[best] = t; }
-        }
-        cplx inverse = c_inv(a[k * NZ + k]);
-        for (int r = k + 1; r < NZ; ++r) {
-            cplx f = c_mul(a[r * NZ + k], inverse);
-            for (int j = k + 1; j < NZ; ++j) a[r * NZ + j] = c_sub(a[r * NZ + j], c_mul(f, a[k * NZ + j]));
-            b[r] = c_sub(b[r], c_mul(f, b[k]));
-            if (c) c[r] = c_sub(c[r], c_mul(f, c[k]));
-        }
+        if (!c_pivot(a, b, c, k)) return c_solve_from(a2, b2, c2, k) ? 2 : 0;
+        if (!c_pivot(a2, b2, c2, k)) return c_solve_from(a, b, c, k);
+        c_eliminate(a, b, c, k);
+        c_eliminate(a2, b2, c2, k);
     }
     for (int k = NZ - 1; k >= 0; --k) {
-        cplx inverse = c_inv(a[k * NZ + k]), sum = b[k];
-        for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], b[j]));
-        b[k] = c_mul(sum, inverse);
-        if (c) {
-            sum = c[k];
-            for (int j = k + 1; j < NZ; ++j) sum = c_sub(sum, c_mul(a[k * NZ + j], c[j]));
-            c[k] = c_mul(sum, inverse);
-        }
+        c_back(a, b, c, k);
+        c_back(a2, b2, c2, k);
     }
-    return 1;
+    return 3;
 }
 
 // max_k |v_k|: one square root of the largest squared modulus instead of a hypot per entry (the
@@ -87,16 +124,39 @@ typedef struct { long long paths, steps, rejected, evaluations, factorisations; 
 // velocity is not NULL it receives dz/ds = -H_z^-1 H_s from the same LU (the path's slope for the
 // next prediction: no factorisation of its own). Returns the update relative to |z| (inf when
 // singular or not finite).
+// The end of a Newton step whose LU solved value (and velocity): z -= the update, the slope's
+// sign; the update relative to |z|.
+static double newton_update(cplx* z, const cplx* value, cplx* velocity) {
+    for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
+    if (velocity)
+        for (int k = 0; k < NZ; ++k) velocity[k] = (cplx){-velocity[k].re, -velocity[k].im};
+    return c_max_abs(value) / c_size(z);
+}
+
 static double newton_step(const coefficients_at* at, cplx* z, cplx* velocity, track_counts* counts) {
     cplx value[NZ], jacobian[NZ * NZ];
     counts->evaluations += 1;
     if (!homotopy_eval(at, z, value, jacobian, velocity)) return INFINITY;
     counts->factorisations += 1;
     if (!c_solve(jacobian, value, velocity)) return INFINITY;
-    for (int k = 0; k < NZ; ++k) z[k] = c_sub(z[k], value[k]);
-    if (velocity)
-        for (int k = 0; k < NZ; ++k) velocity[k] = (cplx){-velocity[k].re, -velocity[k].im};
-    return c_max_abs(value) / c_size(z);
+    return newton_update(z, value, velocity);
+}
+
+// Two independent Newton steps (newton_step's at, z, velocity for each) side by side: each
+// path's arithmetic is newton_step's, operation for operation (so its results are bit for bit
+// newton_step's); the evaluation (homotopy_eval2: both paths' terms together) and the LU
+// (c_solve2) of the two overlap. The two updates in size[0], size[1].
+static void newton_step2(const coefficients_at* at, cplx* z, cplx* velocity, const coefficients_at* at2, cplx* z2,
+                         cplx* velocity2, track_counts* counts, double* size) {
+    cplx value[NZ], jacobian[NZ * NZ], value2[NZ], jacobian2[NZ * NZ];
+    counts->evaluations += 2;
+    int finite = homotopy_eval2(at, at2, z, z2, value, value2, jacobian, jacobian2, velocity, velocity2), solved = 0;
+    counts->factorisations += (finite & 1) + (finite >> 1);
+    if (finite == 3) solved = c_solve2(jacobian, value, velocity, jacobian2, value2, velocity2);
+    else if (finite == 1) solved = c_solve(jacobian, value, velocity);
+    else if (finite == 2) solved = 2 * c_solve(jacobian2, value2, velocity2);
+    size[0] = solved & 1 ? newton_update(z, value, velocity) : INFINITY;
+    size[1] = solved & 2 ? newton_update(z2, value2, velocity2) : INFINITY;
 }
 
 // z at s = target extrapolated from the path's last two points (s0, z0, v0) and (s1, z1, v1), v
@@ -177,82 +237,189 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
 // the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
 // shorter from the same point.
-static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
-    double s = 1.0, s_previous = 1.0, h = INITIAL_STEP, omega = INFINITY;
-    int history = 0;
-    cplx slope[NZ], z_previous[NZ], slope_previous[NZ];
+//
+// Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
+// resumes with that step's update (lane_resume), so that two paths can be advanced together
+// (track_paths): each path's sequence of operations is the same either way.
+typedef struct {
+    const sparse_system* system;
+    double tolerance;
+    cplx* z;
+    step_coefficients* at;
+    track_counts* counts;
+    double s, s_previous, h, omega, step, target, first, update, error, measured;
+    int history, steps, iteration, contracting, phase, result;
+    cplx slope[NZ], z_previous[NZ], slope_previous[NZ], corrected[NZ], next_slope[NZ], trial[NZ];
+    const coefficients_at* want_at;  // the Newton step the lane waits for
+    cplx *want_z, *want_velocity;
+} path_lane;
+
+enum { LANE_START, LANE_CORRECT, LANE_REFINE };
+
+static int lane_wants(path_lane* lane, const coefficients_at* at, cplx* z, cplx* velocity) {
+    lane->want_at = at;
+    lane->want_z = z;
+    lane->want_velocity = velocity;
+    return 1;
+}
+
+static int lane_ends(path_lane* lane, int result) {
+    lane->result = result;
+    return 0;
+}
+
+// the next step's prediction and its first correction
+static int lane_step(path_lane* lane) {
+    lane->step = smaller(lane->h, lane->s);
+    lane->target = lane->s - lane->step < END_GAP ? 0.0 : lane->s - lane->step;
+    coefficients(lane->system, lane->target, &lane->at->target);
+    predict(lane->history, lane->s_previous, lane->z_previous, lane->slope_previous, lane->s, lane->z, lane->slope,
+            lane->target, lane->corrected);
+    lane->counts->steps += 1;
+    lane->first = lane->update = lane->error = lane->measured = INFINITY;
+    lane->contracting = 1;
+    lane->iteration = 0;
+    lane->phase = LANE_CORRECT;
+    return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
+}
+
+// at s = 0: refined while the update shrinks
+static int lane_refine(path_lane* lane) {
+    if (!(c_size(lane->z) - 1.0 < ESCAPE)) return lane_ends(lane, PATH_DIVERGED);
+    coefficients(lane->system, 0.0, &lane->at->target);
+    lane->update = INFINITY;
+    lane->iteration = 0;
+    lane->phase = LANE_REFINE;
+    if (!(lane->iteration < REFINE && lane->update > 1e-15)) return lane_ends(lane, PATH_REACHED);
+    memcpy(lane->trial, lane->z, sizeof(lane->trial));
+    return lane_wants(lane, &lane->at->target, lane->trial, NULL);
+}
+
+// A path's start (s = 1): its first Newton step wanted
+static void lane_begin(path_lane* lane, const sparse_system* system, double tolerance, cplx* z, step_coefficients* at,
+                       track_counts* counts) {
+    lane->system = system;
+    lane->tolerance = tolerance;
+    lane->z = z;
+    lane->at = at;
+    lane->counts = counts;
+    lane->s = lane->s_previous = 1.0;
+    lane->h = INITIAL_STEP;
+    lane->omega = INFINITY;
+    lane->history = 0;
+    lane->steps = 0;
+    lane->phase = LANE_START;
     counts->paths += 1;
-    coefficients(system, s, &at->here);
+    coefficients(system, lane->s, &at->here);
     // the start's slope (and its start solution refined once)
-    if (!isfinite(newton_step(&at->here, z, slope, counts))) return PATH_FAILED;
-    for (int steps = 0; steps < MAX_STEPS; ++steps) {
-        double step = smaller(h, s), target = s - step < END_GAP ? 0.0 : s - step;
-        cplx corrected[NZ], next_slope[NZ];
-        coefficients(system, target, &at->target);
-        predict(history, s_previous, z_previous, slope_previous, s, z, slope, target, corrected);
-        counts->steps += 1;
-        double first = INFINITY, update = INFINITY, error = INFINITY, measured = INFINITY;
-        int contracting = 1;
-        for (int iteration = 0; iteration < CORRECTIONS; ++iteration) {
-            double size = newton_step(&at->target, corrected, next_slope, counts);
-            if (iteration) {
-                contracting &= size <= 0.5 * update;
-                // quadratic convergence: the error this update leaves is about omega size^2,
-                // omega = size / update^2 from the two last updates
-                double ratio = size / update;
-                error = size * ratio * ratio;
-                if (iteration == 1) measured = ratio / update;
-            } else {
-                first = error = size;
-                // one correction suffices where the path's running Newton constant omega says
-                // that it started well inside the basin (omega size <= ONE_STEP_BASIN, as in
-                // Kantorovich's theorem) and left an error omega size^2 below ONE_STEP_ERROR
-                if (omega * size <= ONE_STEP_BASIN && omega * size * size < ONE_STEP_ERROR) error = 0.0;
+    lane_wants(lane, &at->here, z, lane->slope);
+}
+
+// The lane resumed with the update of the Newton step it wanted: 1 where it wants another (in
+// want_*), 0 where the path has ended (result: PATH_REACHED, PATH_FAILED or PATH_DIVERGED).
+static int lane_resume(path_lane* lane, double size) {
+    if (lane->phase == LANE_START) {
+        if (!isfinite(size)) return lane_ends(lane, PATH_FAILED);
+        return lane_step(lane);
+    }
+    if (lane->phase == LANE_REFINE) {
+        if (!(size < lane->update)) return lane_ends(lane, PATH_REACHED);
+        memcpy(lane->z, lane->trial, sizeof(lane->trial));
+        lane->update = size;
+        lane->iteration += 1;
+        if (!(lane->iteration < REFINE && lane->update > 1e-15)) return lane_ends(lane, PATH_REACHED);
+        memcpy(lane->trial, lane->z, sizeof(lane->trial));
+        return lane_wants(lane, &lane->at->target, lane->trial, NULL);
+    }
+    if (lane->iteration) {
+        lane->contracting &= size <= 0.5 * lane->update;
+        // quadratic convergence: the error this update leaves is about omega size^2,
+        // omega = size / update^2 from the two last updates
+        double ratio = size / lane->update;
+        lane->error = size * ratio * ratio;
+        if (lane->iteration == 1) lane->measured = ratio / lane->update;
+    } else {
+        lane->first = lane->error = size;
+        // one correction suffices where the path's running Newton constant omega says
+        // that it started well inside the basin (omega size <= ONE_STEP_BASIN, as in
+        // Kantorovich's theorem) and left an error omega size^2 below ONE_STEP_ERROR
+        if (lane->omega * size <= ONE_STEP_BASIN && lane->omega * size * size < ONE_STEP_ERROR) lane->error = 0.0;
+    }
+    lane->update = size;
+    // converged iterates stop: at an ill-conditioned solution further updates are
+    // rounding noise, which need not contract
+    if (!(lane->error < lane->tolerance || !lane->contracting) && ++lane->iteration < CORRECTIONS)
+        return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
+    int accepted = lane->contracting && lane->error < lane->tolerance && isfinite(lane->update);
+    double first = lane->first, step = lane->step;
+    double factor = !isfinite(first) ? 0.0
+                    : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, lane->history ? 0.25 : 0.5)
+                                    : STEP_GROW;
+    if (accepted) {
+        memcpy(lane->z_previous, lane->z, sizeof(lane->slope));
+        memcpy(lane->slope_previous, lane->slope, sizeof(lane->slope));
+        lane->s_previous = lane->s;
+        memcpy(lane->z, lane->corrected, sizeof(lane->slope));
+        memcpy(lane->slope, lane->next_slope, sizeof(lane->slope));
+        lane->s = lane->target;
+        lane->history = 1;
+        // the Newton constant of the path: the latest measured (size / update^2 of a step's
+        // first two corrections), at least OMEGA_DECAY times the one before
+        double measured = lane->measured, omega = lane->omega;
+        if (isfinite(measured) && measured > 0.0) lane->omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
+        lane->h = step * smaller(STEP_GROW, larger(0.5, factor));
+        if (lane->s <= 0.0) return lane_refine(lane);
+    } else {
+        lane->counts->rejected += 1;
+        lane->omega = INFINITY;  // measured anew before one correction suffices again
+        lane->h = step * smaller(0.5, larger(STEP_SHRINK, factor));
+        if (lane->h < MIN_STEP) return lane_ends(lane, PATH_FAILED);
+    }
+    if (!(c_size(lane->z) - 1.0 < ESCAPE)) return lane_ends(lane, PATH_DIVERGED);
+    if (lane->steps == MAX_STEPS - 1) return lane_ends(lane, PATH_FAILED);
+    lane->steps += 1;
+    return lane_step(lane);
+}
+
+static int track_path(const sparse_system* system, double tolerance, cplx* z, step_coefficients* at, track_counts* counts) {
+    path_lane lane;
+    lane_begin(&lane, system, tolerance, z, at, counts);
+    while (lane_resume(&lane, newton_step(lane.want_at, lane.want_z, lane.want_velocity, counts))) {
+    }
+    return lane.result;
+}
+
+// The paths starting at z[order[0]], ..., z[order[count - 1]] (each tracked in place, its end
+// in ended[order[i]]), two at a time: two lanes advanced together, each Newton step of the one
+// paired with the other's (newton_step2); a lane whose path ends takes the next path, and the
+// last path runs alone. Each path's arithmetic is track_path's, bit for bit, and the counts are
+// the same sums. at: two coefficient sets, one per lane.
+static void track_paths(const sparse_system* system, double tolerance, cplx (*z)[NZ], const int* order, int count,
+                        int* ended, step_coefficients* at, track_counts* counts) {
+    path_lane lane[2];
+    int path[2] = {0, 0}, live[2] = {0, 0}, next = 0;
+    for (;;) {
+        for (int l = 0; l < 2; ++l)
+            if (!live[l] && next < count) {
+                path[l] = order[next++];
+                lane_begin(&lane[l], system, tolerance, z[path[l]], &at[l], counts);
+                live[l] = 1;
             }
-            update = size;
-            // converged iterates stop: at an ill-conditioned solution further updates are
-            // rounding noise, which need not contract
-            if (error < tolerance || !contracting) break;
-        }
-        int accepted = contracting && error < tolerance && isfinite(update);
-        double factor = !isfinite(first) ? 0.0
-                        : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, history ? 0.25 : 0.5)
-                                        : STEP_GROW;
-        if (accepted) {
-            memcpy(z_previous, z, sizeof(slope));
-            memcpy(slope_previous, slope, sizeof(slope));
-            s_previous = s;
-            memcpy(z, corrected, sizeof(slope));
-            memcpy(slope, next_slope, sizeof(slope));
-            s = target;
-            history = 1;
-            // the Newton constant of the path: the latest measured (size / update^2 of a step's
-            // first two corrections), at least OMEGA_DECAY times the one before
-            if (isfinite(measured) && measured > 0.0) omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
-            h = step * smaller(STEP_GROW, larger(0.5, factor));
-            if (s <= 0.0) break;
-        } else {
-            counts->rejected += 1;
-            omega = INFINITY;  // measured anew before one correction suffices again
-            h = step * smaller(0.5, larger(STEP_SHRINK, factor));
-            if (h < MIN_STEP) return PATH_FAILED;
-        }
-        if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
-        if (steps == MAX_STEPS - 1) return PATH_FAILED;
+        double size[2];
+        if (live[0] && live[1])
+            newton_step2(lane[0].want_at, lane[0].want_z, lane[0].want_velocity, lane[1].want_at, lane[1].want_z,
+                         lane[1].want_velocity, counts, size);
+        else if (live[0] || live[1]) {
+            int l = live[1];
+            size[l] = newton_step(lane[l].want_at, lane[l].want_z, lane[l].want_velocity, counts);
+        } else
+            return;
+        for (int l = 0; l < 2; ++l)
+            if (live[l] && !lane_resume(&lane[l], size[l])) {
+                ended[path[l]] = lane[l].result;
+                live[l] = 0;
+            }
     }
-    if (!(c_size(z) - 1.0 < ESCAPE)) return PATH_DIVERGED;
-    // refine at s = 0 while the update shrinks
-    coefficients(system, 0.0, &at->target);
-    double update = INFINITY;
-    for (int iteration = 0; iteration < REFINE && update > 1e-15; ++iteration) {
-        cplx trial[NZ];
-        memcpy(trial, z, sizeof(trial));
-        double size = newton_step(&at->target, trial, NULL, counts);
-        if (!(size < update)) break;
-        memcpy(z, trial, sizeof(trial));
-        update = size;
-    }
-    return PATH_REACHED;
 }
 
 #endif
