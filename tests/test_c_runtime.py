@@ -179,10 +179,6 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
     (void)at; (void)z; (void)value; (void)jacobian; (void)rate;
     return 0;
 }}
-static int homotopy_eval2(const coefficients_at* at, const coefficients_at* at2, const cplx* z, const cplx* z2, cplx* value,
-                          cplx* value2, cplx* jacobian, cplx* jacobian2, cplx* rate, cplx* rate2) {{
-    return homotopy_eval(at, z, value, jacobian, rate) | homotopy_eval(at2, z2, value2, jacobian2, rate2) << 1;
-}}
 #include "tracker.h"
 int lu_solve(double* a, double* b, double* c) {{ return c_solve((cplx*)a, (cplx*)b, (cplx*)c); }}
 int lu_solve2(double* a, double* b, double* c, double* a2, double* b2, double* c2) {{

@@ -58,13 +58,6 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
     return 1;
 }
 
-// the two-point evaluation the runtime's newton_step2 calls (a generated package pairs the two in
-// one unrolled body; here the two evaluations one after the other)
-static int homotopy_eval2(const coefficients_at* at, const coefficients_at* at2, const cplx* z, const cplx* z2, cplx* value,
-                          cplx* value2, cplx* jacobian, cplx* jacobian2, cplx* rate, cplx* rate2) {
-    return homotopy_eval(at, z, value, jacobian, rate) | homotopy_eval(at2, z2, value2, jacobian2, rate2) << 1;
-}
-
 #include "tracker.h"
 
 static int failures = 0;
