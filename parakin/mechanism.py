@@ -172,6 +172,18 @@ class Mechanism:
             ]
             for leg in manifest.capabilities.legs or ()
         }
+        self._sealed = True
+
+    #: the model's values: fixed (FixedModelError), as every solver and cached value was set up with them
+    _FIXED = frozenset({"parameters", "params", "limits", "actuated_ranges"})
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in self._FIXED and getattr(self, "_sealed", False):
+            raise FixedModelError(
+                f"{self.name}.{name} is fixed (every solver was set up with it); load another with other values: "
+                f"parakin.load({self.name!r}, <parameter>=value, limits={{...}}, actuated_ranges={{...}})"
+            )
+        super().__setattr__(name, value)
 
     @property
     def capabilities(self) -> Capabilities:
@@ -467,9 +479,14 @@ class Mechanism:
                 if failed and all(
                     name in ("limits", "actuator_range") or name.endswith("reachable") for name in failed
                 ):
-                    raise UnreachablePoseError(
-                        f"pose{at} is unreachable on every branch: {', '.join(failed)} (joint limits {self.limits})"
-                    )
+                    detail = f" (joint limits {dict(self.limits)})" if "limits" in failed else ""
+                    reading = info.reading
+                    if reading is not None and set(reading.reachable) & set(failed) and not onto_reachable:
+                        detail += (
+                            f"; the pose is off the set {self.name}'s platform reaches: "
+                            "inverse_pose(pose, onto_reachable=True) (--onto-reachable) answers with the pose it reaches"
+                        )
+                    raise UnreachablePoseError(f"pose{at} is unreachable on every branch: {', '.join(failed)}{detail}")
                 raise SingularConfigurationError(
                     f"pose{at} has no valid inverse branch: {', '.join(failed) or 'mixed failures'} "
                     "(serial singularity: the leg joints cannot be resolved)"

@@ -34,6 +34,10 @@ def test_assignments_to_a_loaded_model_are_refused():
         m.actuated_ranges.pop("theta1")
     with pytest.raises(ValueError, match="read-only"):
         m.params[0] = 0.3
+    with pytest.raises(FixedModelError, match="five_bar.parameters is fixed"):
+        m.parameters = {"d": 0.3}
+    with pytest.raises(FixedModelError):
+        m.params = np.zeros(5)
     assert m.parameters["d"] == d and m.params[m.manifest.parameter_names.index("d")] == d
     assert gap(m) < 1e-12
     wider = parakin.load("five_bar", backend="numpy", d=d + 0.01)  # the way to other values

@@ -7,8 +7,10 @@ pose, 2.5e-3 rad and 2.5e-4 m away from where those joints put the platform)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 import parakin
+from parakin.errors import UnreachablePoseError
 
 
 def test_prs3_configurations_carry_the_pose_they_reach():
@@ -36,3 +38,11 @@ def test_a_platform_of_full_mobility_keeps_the_pose_asked_for():
     m = parakin.load("stewart", backend="numpy")
     asked = m.platform_pose(m.home_actuated, m.home_passive) @ parakin.pose_from_xyz_euler([0.01, 0, 0.02, 0, 0.05, 0])
     assert np.array_equal(m.inverse_pose(asked).pose, asked)
+
+
+def test_a_pose_off_the_reachable_set_names_the_option_that_reads_it_on():
+    m = parakin.load("rps3", backend="numpy")
+    tilted = parakin.pose_from_xyz_euler([0.0, 0.0, 1.0, 0.0, 0.2, 0.0])
+    with pytest.raises(UnreachablePoseError, match=r"onto_reachable=True\) \(--onto-reachable\)") as caught:
+        m.inverse_pose(tilted)
+    assert "joint limits" not in str(caught.value)  # no joint limit failed: not named

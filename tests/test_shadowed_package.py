@@ -38,7 +38,14 @@ def test_loading_a_shadowed_name_says_which_folder_is_taken(user_copy: Path) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert parakin.load(str(user_copy), backend="numpy").package.path == user_copy.resolve()
-    with pytest.warns(ShadowedPackageWarning):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # once per process: a command loads a package many times
+        parakin.load(NAME, backend="numpy")
+        assert NAME in parakin.available()
+
+
+def test_available_warns_too(user_copy: Path) -> None:
+    with pytest.warns(ShadowedPackageWarning, match=str(user_copy)):
         assert NAME in parakin.available()
 
 

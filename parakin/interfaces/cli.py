@@ -263,7 +263,9 @@ def _ik(args: argparse.Namespace) -> int:
     result = m.inverse_pose(pose, strict=False, onto_reachable=args.onto_reachable)
     count = result.actuated.shape[-2]
     # with --onto-reachable: the pose the configurations reach (a lower-mobility reading)
-    reached = _describe_pose(m.manifest, result.pose, degrees and not args.json) if args.onto_reachable else None
+    # (none where no branch is valid: then no configuration reaches a pose to report)
+    reading = args.onto_reachable and bool(result.valid.any())
+    reached = _describe_pose(m.manifest, result.pose, degrees and not args.json) if reading else None
     records = []
     for k in range(count):
         record: dict[str, Any] = {
@@ -775,7 +777,12 @@ def _parser() -> argparse.ArgumentParser:
         help="a fixed coordinate: pose, actuated input or parameter",
     )
     sweeping.add_argument("--workspace", action="append", default=[], metavar="NAME=START:STOP:COUNT")
-    sweeping.add_argument("--branch", type=int, default=None, help="inverse branch of the configurations")
+    sweeping.add_argument(
+        "--branch",
+        type=int,
+        default=None,
+        help="the inverse branch singularity distances are measured in (default: the home's branch)",
+    )
     sweeping.add_argument("--onto-reachable", action="store_true", help=ONTO_REACHABLE_HELP)
     sweeping.add_argument("--chunk", type=int, default=65536, help="points per chunk (memory bound)")
     sweeping.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local)")

@@ -88,7 +88,8 @@ def shadowing(name: str) -> str | None:
 
 
 def warn_if_shadowed(name: str) -> None:
-    """A ShadowedPackageWarning (``shadowing``'s message) where two folders hold ``name``.
+    """A ShadowedPackageWarning (``shadowing``'s message) where two folders hold ``name``, once
+    per process and pair of folders.
 
     Parameters
     ----------
@@ -96,8 +97,13 @@ def warn_if_shadowed(name: str) -> None:
         A package name.
     """
     message = shadowing(name)
-    if message is not None:
+    if message is not None and message not in _WARNED:  # once per process: a command loads a package often
+        _WARNED.add(message)
         warnings.warn(message, ShadowedPackageWarning, stacklevel=4)
+
+
+#: the ShadowedPackageWarning messages given in this process
+_WARNED: set[str] = set()
 
 
 def survey() -> tuple[dict[str, Manifest], dict[str, str]]:
