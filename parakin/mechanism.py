@@ -465,7 +465,7 @@ class Mechanism:
         for name in ignored:  # the asked pose off the set: the reached pose's values answer
             del failures[name]
         valid = ~np.logical_or.reduce(list(failures.values()))
-        if len(self.actuated_names) < len(POSE_KINDS[self.manifest.pose_kind].coordinates):
+        if self._freedoms[0] < self._freedoms[1]:  # lower mobility: the inverse reads the pose
             transform = self._reached_pose(actuated, passive, valid, transform)
         result = InversePose(actuated, passive, valid, combinations, info.branches, failures, transform)
         if strict:
@@ -493,14 +493,19 @@ class Mechanism:
                 )
         return result
 
+    @functools.cached_property
+    def _freedoms(self) -> tuple[int, int]:
+        """(actuated variables, coordinates of the pose kind): fewer of the first, a lower-mobility
+        platform, whose inverse reads a pose onto the set it reaches."""
+        return len(self.actuated_names), len(POSE_KINDS[self.manifest.pose_kind].coordinates)
+
     def _reading_conditions(self, info: Any) -> tuple[str, ...]:
         """The validity conditions ``inverse_pose(onto_reachable=True)`` leaves out: those the
         manifest names as testing the asked pose against the reachable set its inverse reads
         onto; UnsupportedOperationError where the inverse reads no pose onto a reachable set."""
         if info.reading is not None:
             return tuple(info.reading.reachable)
-        freedoms = len(self.actuated_names)
-        coordinates = len(POSE_KINDS[self.manifest.pose_kind].coordinates)
+        freedoms, coordinates = self._freedoms
         if freedoms >= coordinates:
             raise UnsupportedOperationError(
                 f"{self.name}: onto_reachable=True (--onto-reachable) reads a pose onto a lower-mobility platform's reachable set, and "

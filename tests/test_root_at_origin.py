@@ -3,7 +3,7 @@ its home, whose root there has coordinates of rounding size, 1e-16, with imagina
 its exported C found 1 of its 2 modes). An endpoint's imaginary part is measured against its own
 size or the input's typical root size, the median over its reached endpoints of max |z_k|,
 whichever is larger: in NumPy (``typical_root_size``, ``phase_normalised``) and in the C driver
-(``median_of``, ``phase_normalise``; the user's package, slow)."""
+(``kw_median``, ``phase_normalise``; the user's package, slow)."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ def test_a_root_at_the_origin_is_measured_against_the_inputs_roots():
         ]
     )
     reached = np.array([[True, True, True], [True, False, False]])
-    typical = typical_root_size(z, reached)
+    typical = typical_root_size(np.abs(z).max(-1), reached)
     sizes = np.abs(z[0]).max(-1)
     assert typical[0] == np.median(sizes) and typical[1] == np.abs(z[1, 0]).max()
     _, imaginary = phase_normalised(z.reshape(-1, 3), [], np.repeat(typical, 3))

@@ -213,13 +213,15 @@ class _Busy:
 
 
 def _list(args: argparse.Namespace) -> int:
-    from parakin.packages.package import shadowing, survey
+    from parakin.packages.package import shadowings, survey
 
     readable, broken = survey()
     for name, reason in broken.items():  # reported and skipped: the others are still listed
         print(f"parakin: skipped the package {name!r}: {reason}", file=sys.stderr)
-    for message in filter(None, map(shadowing, readable)):
-        print(f"parakin: {message}", file=sys.stderr)
+    hidden = shadowings()
+    for name in readable:
+        if name in hidden:
+            print(f"parakin: {hidden[name]}", file=sys.stderr)
     for name, manifest in readable.items():
         caps = manifest.capabilities
         flags = [

@@ -62,21 +62,8 @@ def discover() -> dict[str, Path]:
     return {name: folders[0] for name, folders in sorted(_every_folder().items())}
 
 
-def shadowing(name: str) -> str | None:
-    """What hides a package: a message where more than one folder of the search path holds ``name``.
-
-    Parameters
-    ----------
-    name : str
-        A package name.
-
-    Returns
-    -------
-    str or None
-        Which folder loading by that name takes, which it hides and how to load the other; None
-        where one folder at most holds the name.
-    """
-    folders = _every_folder().get(name, [])
+def _shadow_message(name: str, folders: list[Path]) -> str | None:
+    """The message where more than one folder holds ``name`` (``folders`` in search order)."""
     if len(folders) < 2:
         return None
     hidden = ", ".join(str(f) for f in folders[1:])
@@ -87,17 +74,24 @@ def shadowing(name: str) -> str | None:
     )
 
 
-def warn_if_shadowed(name: str) -> None:
-    """A ShadowedPackageWarning (``shadowing``'s message) where two folders hold ``name``, once
-    per process and pair of folders.
+def shadowings() -> dict[str, str]:
+    """What hides packages: per name that more than one folder of the search path holds, which
+    folder loading by that name takes, which it hides and how to load the other (one look at
+    the search path).
 
-    Parameters
-    ----------
-    name : str
-        A package name.
+    Returns
+    -------
+    dict of str to str
+        Package name -> the message; no entry for a name that one folder holds.
     """
-    message = shadowing(name)
-    if message is not None and message not in _WARNED:  # once per process: a command loads a package often
+    found = ((name, _shadow_message(name, folders)) for name, folders in _every_folder().items())
+    return {name: message for name, message in found if message is not None}
+
+
+def _warn_shadowed(message: str | None) -> None:
+    """A ShadowedPackageWarning with ``message``, once per process (a command loads a package
+    often)."""
+    if message is not None and message not in _WARNED:
         _WARNED.add(message)
         warnings.warn(message, ShadowedPackageWarning, stacklevel=4)
 
@@ -126,8 +120,9 @@ def readable_names() -> list[str]:
     readable, broken = survey()
     for name, reason in broken.items():
         warnings.warn(f"skipped the package {name!r}: {reason}", BrokenPackageWarning, stacklevel=3)
+    messages = shadowings()
     for name in readable:
-        warn_if_shadowed(name)
+        _warn_shadowed(messages.get(name))
     return list(readable)
 
 
@@ -153,7 +148,8 @@ class GeneratedPackage:
             is_package = False
         if is_package:
             return cls(candidate)
-        packages = discover()
+        every = _every_folder()  # one look at the search path: the package, and any it hides
+        packages = {name: folders[0] for name, folders in every.items()}
         if str(name_or_path) not in packages:
             shown = str(name_or_path) if len(str(name_or_path)) <= 80 else f"{str(name_or_path)[:77]}..."
             close = difflib.get_close_matches(str(name_or_path).lower(), sorted(packages), n=3, cutoff=0.6)
@@ -161,7 +157,7 @@ class GeneratedPackage:
             raise UnknownMechanismError(
                 f"unknown mechanism {shown!r}: not a package folder; {hint}available: {sorted(packages)}"
             )
-        warn_if_shadowed(str(name_or_path))
+        _warn_shadowed(_shadow_message(str(name_or_path), every[str(name_or_path)]))
         return cls(packages[str(name_or_path)])
 
     def _module(self, filename: str) -> ModuleType:

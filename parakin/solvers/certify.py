@@ -712,51 +712,51 @@ _REUSED = threading.local()
 
 
 class _ReusedJob:
-    """A certificate job over buffers allocated once (inputs, outputs, workspace) for one library,
-    job size and family (its exponents, equation and homogeneous group, kept alive here so that
-    their identities are not reused): a call copies the inputs in and the outputs out."""
+    """A certificate job and its buffers (outputs, workspace) for one library, job size and family
+    (its exponents, equation and homogeneous group, kept alive here so that their identities are
+    not reused). Kept per thread for small jobs (``_compiled_boxes``): a call copies the inputs in
+    and the outputs out. Built for one call over the caller's own inputs ``c`` and ``z``: it reads
+    them in place and hands its outputs over."""
 
-    def __init__(self, library: CompiledBackend, shape: tuple[int, int, int, int], family: tuple) -> None:
+    def __init__(
+        self,
+        library: CompiledBackend,
+        shape: tuple[int, int, int, int],
+        family: tuple,
+        c: np.ndarray | None = None,
+        z: np.ndarray | None = None,
+    ) -> None:
         systems, paths, terms, n = shape
         a, e, group, real_coefficients, patch = family
-        self.library, self.family = library, family
+        self.library, self.family, self.reused = library, family, c is None
         degree = int(a.max(initial=0))
         self.workspace = np.empty(int(library.certify_workspace(paths, terms, n, degree)) // 8 + 2)
-        self.c = np.empty((systems, terms), np.complex128)
-        self.z = np.empty((systems, paths, n), np.complex128)
+        self.c = np.empty((systems, terms), np.complex128) if c is None else c
+        self.z = np.empty((systems, paths, n), np.complex128) if z is None else z
         self.unique, self.real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
         self.radius, self.radii = np.empty((systems, paths)), np.empty((systems, paths, n))
         self.centre = np.empty((systems, paths, n), np.complex128)
-        self.job = _certify_job(
-            library, shape, self.c, a, e, self.z, real_coefficients, group, patch,
-            (self.unique, self.real, self.radius, self.centre, self.radii), self.workspace,
+        self.job = library.CertifyJob(
+            systems, paths, terms, n, self.c.ctypes.data, a.ctypes.data, e.ctypes.data, self.z.ctypes.data,
+            int(bool(real_coefficients)), group.ctypes.data, group.size, -1 if patch is None else int(patch),
+            self.unique.ctypes.data, self.real.ctypes.data, self.radius.ctypes.data, self.centre.ctypes.data,
+            self.radii.ctypes.data, self.workspace.ctypes.data, self.workspace.nbytes,
         )  # fmt: skip
         self.pointer = ctypes.byref(self.job)
 
-    def run(self, c: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, ...]:
-        self.c[...] = c
-        self.z[...] = z
+    def run(
+        self, c: np.ndarray | None = None, z: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        if self.reused:
+            self.c[...] = c
+            self.z[...] = z
         if self.library.certify(self.pointer) != 0:
             raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
+        keep = np.copy if self.reused else np.asarray  # a reused job's buffers are overwritten next call
         return (
-            self.unique.astype(bool), self.radius.copy(), self.real.astype(np.int8), self.centre.copy(),
-            self.radii.copy(),
+            self.unique.astype(bool), keep(self.radius), self.real.astype(np.int8), keep(self.centre),
+            keep(self.radii),
         )  # fmt: skip
-
-
-def _certify_job(
-    library: CompiledBackend, shape: tuple[int, int, int, int], c: np.ndarray, a: np.ndarray, e: np.ndarray,
-    z: np.ndarray, real_coefficients: bool, group: np.ndarray, patch: int | None, outputs: tuple, workspace: np.ndarray,
-) -> ctypes.Structure:  # fmt: skip
-    """The C certificate's job structure over these arrays (the caller keeps them alive)."""
-    systems, paths, terms, n = shape
-    unique, real, radius, centre, radii = outputs
-    return library.CertifyJob(  # type: ignore[no-any-return]
-        systems, paths, terms, n, c.ctypes.data, a.ctypes.data, e.ctypes.data, z.ctypes.data,
-        int(bool(real_coefficients)), group.ctypes.data, group.size, -1 if patch is None else int(patch),
-        unique.ctypes.data, real.ctypes.data, radius.ctypes.data, centre.ctypes.data, radii.ctypes.data,
-        workspace.ctypes.data, workspace.nbytes,
-    )  # fmt: skip
 
 
 def _compiled_boxes(
@@ -775,29 +775,22 @@ def _compiled_boxes(
     (N, P, n), each array the caller's own. A job of at most ``REUSED_SYSTEMS`` systems reuses
     this thread's buffers for its sizes and family (``_ReusedJob``)."""
     systems, paths, n = z.shape
-    if systems <= REUSED_SYSTEMS:
-        group_key = None if homogeneous is None else tuple(homogeneous)
-        key = (id(library), systems, paths, a.shape[0], n, id(a), id(e), group_key, real_coefficients, patch_equation)
-        jobs = getattr(_REUSED, "jobs", None)
-        if jobs is None:
-            jobs = _REUSED.jobs = {}
-        reused = jobs.get(key)
-        if reused is None or reused.library is not library or reused.family[0] is not a or reused.family[1] is not e:
-            if len(jobs) >= 32:
-                jobs.clear()
-            group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
-            family = (a, e, group, real_coefficients, patch_equation)
-            reused = jobs[key] = _ReusedJob(library, (systems, paths, a.shape[0], n), family)
-        return reused.run(c, z)  # type: ignore[return-value]
-    degree = int(a.max(initial=0))
-    workspace = np.empty(int(library.certify_workspace(paths, a.shape[0], n, degree)) // 8 + 2)
-    group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
-    unique, real = np.zeros((systems, paths), np.int32), np.zeros((systems, paths), np.int32)
-    radius, radii = np.empty((systems, paths)), np.empty((systems, paths, n))
-    centre = np.empty((systems, paths, n), np.complex128)
-    outputs = (unique, real, radius, centre, radii)
-    job = _certify_job(library, z.shape[:2] + (a.shape[0], n), c, a, e, z, real_coefficients, group, patch_equation,
-                       outputs, workspace)  # fmt: skip
-    if library.certify(ctypes.byref(job)) != 0:
-        raise BadInputError("the C certificate refused its job (sizes or indices out of range)")
-    return unique.astype(bool), radius, real.astype(np.int8), centre, radii
+    shape = (systems, paths, a.shape[0], n)
+
+    def family() -> tuple:
+        group = np.ascontiguousarray(homogeneous if homogeneous is not None else [], dtype=np.int64)
+        return (a, e, group, real_coefficients, patch_equation)
+
+    if systems > REUSED_SYSTEMS:
+        return _ReusedJob(library, shape, family(), c, z).run()
+    group_key = None if homogeneous is None else tuple(homogeneous)
+    key = (id(library), systems, paths, a.shape[0], n, id(a), id(e), group_key, real_coefficients, patch_equation)
+    jobs = getattr(_REUSED, "jobs", None)
+    if jobs is None:
+        jobs = _REUSED.jobs = {}
+    reused = jobs.get(key)
+    if reused is None or reused.library is not library or reused.family[0] is not a or reused.family[1] is not e:
+        if len(jobs) >= 32:
+            jobs.clear()
+        reused = jobs[key] = _ReusedJob(library, shape, family())
+    return reused.run(c, z)

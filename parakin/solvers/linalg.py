@@ -83,10 +83,8 @@ def inverse_condition(matrix: ArrayLike) -> Array:
     values = np.asarray(matrix, dtype=float)
     if values.ndim < 2:
         raise BadInputError(f"inverse_condition takes matrices (..., r, c), got shape {values.shape}")
-    if np.isfinite(values).all():  # the usual case (every mode of a solver): nothing to mask
-        sigma = np.linalg.svd(values, compute_uv=False)
-        return np.asarray(sigma[..., -1] / np.where(sigma[..., 0] > 0, sigma[..., 0], 1.0))
     finite = np.isfinite(values).all(axis=(-2, -1))
-    sigma = np.linalg.svd(np.where(finite[..., None, None], values, 0.0), compute_uv=False)
+    every = bool(finite.all())  # the usual case (every mode of a solver): nothing to mask
+    sigma = np.linalg.svd(values if every else np.where(finite[..., None, None], values, 0.0), compute_uv=False)
     ratio = sigma[..., -1] / np.where(sigma[..., 0] > 0, sigma[..., 0], 1.0)
-    return np.where(finite, ratio, np.nan)
+    return np.asarray(ratio) if every else np.where(finite, ratio, np.nan)

@@ -427,7 +427,9 @@ def _homotopy_candidates(
     if retrack is None and (ended.status == PATH_FAILED).any():
         ended = _retry_failed(m, theta, ended, float(tol["path_tolerance"]), info)
     reached = ended.status == PATH_REACHED
-    typical = typical_root_size(ended.z.reshape(n, paths, -1), reached.reshape(n, paths))
+    with np.errstate(invalid="ignore"):
+        end_size = np.abs(ended.z).max(-1)  # each end's size: its typical root size, and far ends
+    typical = typical_root_size(end_size.reshape(n, paths), reached.reshape(n, paths))
     z, imaginary = phase_normalised(ended.z, list(homotopy.homogeneous), np.repeat(typical, paths))
     real = reached & (imaginary < tol["real_endpoint"])
     near = reached & ~real & (imaginary < tol["near_real_endpoint"])
@@ -456,9 +458,8 @@ def _homotopy_candidates(
             ]
     shape = (n, paths)
     failed = (ended.status == PATH_FAILED).reshape(shape)
-    endpoints = np.where((ended.status == PATH_REACHED)[:, None], ended.z, np.nan)
-    with np.errstate(invalid="ignore"):
-        size = np.where(ended.status == PATH_DIVERGED, np.inf, np.abs(ended.z).max(-1))
+    endpoints = np.where(reached[:, None], ended.z, np.nan)
+    size = np.where(ended.status == PATH_DIVERGED, np.inf, end_size)
     return {
         # how large each path's end is, however it ended (inf: diverged): ``FAR_ROOT``
         "end_size": np.nan_to_num(size, nan=0.0).reshape(shape),

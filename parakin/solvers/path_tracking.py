@@ -583,26 +583,25 @@ def phase_normalised(
     return z, imaginary
 
 
-def typical_root_size(z: np.ndarray, reached: np.ndarray) -> np.ndarray:
-    """Per input, the median over its reached endpoints of max_k |z_k| (NaN where none is reached,
-    which ``phase_normalised``'s fmax ignores), as the C driver's ``median_of``.
+def typical_root_size(size: np.ndarray, reached: np.ndarray) -> np.ndarray:
+    """Per input, the median over its reached endpoints of their sizes max_k |z_k| (NaN where none
+    is reached, which ``phase_normalised``'s fmax ignores), as the C driver (krawczyk.h's ``kw_median``).
 
     Parameters
     ----------
-    z : ndarray, shape (n, P, nz)
-        The endpoints of each input's P paths (complex).
+    size : ndarray, shape (n, P)
+        max_k |z_k| of each input's P path ends (in the units of z).
     reached : ndarray of bool, shape (n, P)
         Which paths reached s = 0.
 
     Returns
     -------
     ndarray, shape (n,)
-        The typical size of each input's roots (in the units of z).
+        The typical size of each input's roots.
     """
-    sizes = np.where(reached, np.abs(z).max(-1, initial=0.0), np.nan)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # an input with no reached path
-        return np.nanmedian(sizes, axis=-1)
+        return np.nanmedian(np.where(reached, size, np.nan), axis=-1)
 
 
 # ---------------------------------------------------------------------------------- symmetry

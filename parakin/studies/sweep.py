@@ -75,7 +75,7 @@ import numpy as np
 
 from parakin.errors import ArchitectureSingularityWarning, BadInputError, StoreInUseError, UnsupportedOperationError
 from parakin.log import progress as bar_over
-from parakin.pose import POSE_KINDS
+from parakin.pose import POSE_KINDS, wrap_angle
 from parakin.singularity import type_i_distance, type_ii_distance
 from parakin.validation import as_array
 
@@ -412,9 +412,9 @@ def home_branch(m: Mechanism) -> int | None:
     pose = m.platform_pose(m.home_actuated, m.home_passive)
     inverse = m.inverse_pose(pose, strict=False)
     difference = inverse.actuated - m.home_actuated
-    turns = np.where(m._angular_actuated, np.round(difference / (2 * np.pi)) * 2 * np.pi, 0.0)
     with np.errstate(invalid="ignore"):
-        gap = np.where(inverse.valid, np.abs(difference - turns).max(-1), np.inf)
+        difference = np.where(m._angular_actuated, wrap_angle(difference), difference)
+        gap = np.where(inverse.valid, np.abs(difference).max(-1), np.inf)
     k = int(np.argmin(gap))
     return k if gap[k] <= 1e-9 * (1.0 + np.abs(m.home_actuated).max(initial=0.0)) else None
 
