@@ -1476,14 +1476,9 @@ static double phase_normalise(cplx* z, double typical) {
     return imaginary == 0.0 ? 0.0 : imaginary / fmax(magnitude, typical);
 }
 
-// the median of values[0..count) (sorted in place; the mean of the middle two for an even count,
-// as numpy.median), 0 where count is 0
-static double median_of(double* values, int count) {
-    for (int a = 1; a < count; ++a)
-        for (int b = a; b > 0 && values[b - 1] > values[b]; --b) { double t = values[b]; values[b] = values[b - 1]; values[b - 1] = t; }
-    if (!count) return 0.0;
-    return count % 2 ? values[count / 2] : (values[count / 2 - 1] + values[count / 2]) / 2;
-}
+// the median of v[0..count), count > 0 (sorted in place; the mean of the middle two for an even
+// count, as numpy.median): krawczyk.h's, included below
+static double kw_median(double* v, long long count);
 
 static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long i, track_counts* counts) {
     const double* theta = job->actuated + i * job->actuated_stride;
@@ -1552,7 +1547,7 @@ static void modes_one(workspace* ws, const planar_3rrr_modes_job* job, long long
         for (int k = 0; k < NZ; ++k) size = fmax(size, c_abs(ends[p][k]));
         sizes[reached++] = size;
     }
-    double typical = median_of(sizes, reached);
+    double typical = reached ? kw_median(sizes, reached) : 0.0;
     for (int p = 0; p < DEGREE; ++p) {
         cplx* z = ends[p];
         if (ended[p] == PATH_DIVERGED) {
