@@ -71,6 +71,12 @@ static inline double kw_mul_up(double a, double b) { return kw_up(a * b); }
 // s (at most 16 of them, s computed in round to nearest): 2^-53 s + 16 * 2^-1075 and more
 static inline double kw_error(double s) { return s * 0x1p-52 + 0x1p-1070; }
 
+// fmax and fmin without the library call (x86-64 has no instruction with their NaN rule): the
+// larger (smaller) of a and b, and the other where one is NaN; where both are zeros, a (fmax may
+// give either: every caller's zeros are +0)
+static inline double kw_max(double a, double b) { return (b > a || a != a) ? b : a; }
+static inline double kw_min(double a, double b) { return (b < a || a != a) ? b : a; }
+
 // upper and lower bounds on |re + i im|
 static double kw_abs_up(double re, double im) {
     double v = kw_up(sqrt(kw_add_up(kw_mul_up(re, re), kw_mul_up(im, im))));
@@ -139,7 +145,26 @@ typedef struct {
     const long long* eq;
     double* size;  // |c_t| + cr_t rounded up (kw_sizes)
     int accurate;  // F in double-word arithmetic (kw_accurate_f): the second attempt
+    // the terms' supports (kw_supports): term t's unknowns of nonzero exponent, increasing, at
+    // support[t * n ...], count[t] of them, total[t] its degree
+    long long* support;
+    long long* count;
+    long long* total;
 } kw_system;
+
+// the supports of a system's terms, once per set of exponents (the loops over a term's unknowns
+// visit its support alone, in the same order: the same operations as a scan of all n)
+static void kw_supports(kw_system* s) {
+    long long n = s->n;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long q = 0, total = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) { s->support[t * n + q++] = i; total += a[i]; }
+        s->count[t] = q;
+        s->total[t] = total;
+    }
+}
 
 // the coefficients' sizes of a system, once per set of coefficients
 static void kw_sizes(kw_system* s) {
@@ -164,6 +189,11 @@ typedef struct {
     kw_disc* g;       // n: its Y1 F
     double* absy2;    // n x n: |Y| kept while kw_precondition tries
     double* dwj;      // n x n x 5: double-word J (kw_accurate_j)
+    double* jre;      // n x n: jac's midpoints' real parts, imaginary parts and radii (kw_ingredients)
+    double* jim;
+    double* jrad;
+    double* vre;      // n x n: kw_inverse's n solves side by side (column col: the solve for e_col)
+    double* vim;
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -178,40 +208,42 @@ static inline void kw_accumulate(kw_disc* sum, double* mag, kw_disc term) {
 // F~ and J~ in round to nearest from the powers' midpoints (radii left 0): the Newton steps
 static int kw_evaluate_midpoints(const kw_system* s, kw_scratch* w) {
     long long n = s->n, deg = s->deg;
+    const kw_disc* powers = w->powers;
+    kw_disc* f = w->f;
+    kw_disc* jac = w->jac;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         double cr = s->c[2 * t], ci = s->c[2 * t + 1], mr = 1.0, mi = 0.0;
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                const kw_disc* p = w->powers + i * (deg + 1) + a[i];
-                double r = mr * p->re - mi * p->im;
-                mi = mr * p->im + mi * p->re;
-                mr = r;
-                support[q++] = i;
-            }
-        w->f[k].re += cr * mr - ci * mi;
-        w->f[k].im += cr * mi + ci * mr;
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            const kw_disc* p = powers + i * (deg + 1) + a[i];
+            double r = mr * p->re - mi * p->im;
+            mi = mr * p->im + mi * p->re;
+            mr = r;
+        }
+        f[k].re += cr * mr - ci * mi;
+        f[k].im += cr * mi + ci * mr;
         for (long long u = 0; u < q; ++u) {
             long long i = support[u];
             double dr = cr * (double)a[i], di = ci * (double)a[i];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], e = a[j] - (j == i);
                 if (!e) continue;
-                const kw_disc* p = w->powers + j * (deg + 1) + e;
+                const kw_disc* p = powers + j * (deg + 1) + e;
                 double r = dr * p->re - di * p->im;
                 di = dr * p->im + di * p->re;
                 dr = r;
             }
-            w->jac[k * n + i].re += dr;
-            w->jac[k * n + i].im += di;
+            jac[k * n + i].re += dr;
+            jac[k * n + i].im += di;
         }
     }
     for (long long i = 0; i < n; ++i)
-        if (!kw_finite(w->f[i])) return 0;
+        if (!kw_finite(f[i])) return 0;
     for (long long k = 0; k < n * n; ++k)
-        if (!kw_finite(w->jac[k])) return 0;
+        if (!kw_finite(jac[k])) return 0;
     return 1;
 }
 
@@ -223,7 +255,13 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
         kw_disc* p = w->powers + i * (deg + 1);
         p[0] = kw_point(1.0, 0.0);
         if (deg >= 1) p[1] = kw_point(x[2 * i], x[2 * i + 1]);
-        for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        if (rigorous)
+            for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        else  // kw_mul's midpoint alone (the radii are not read)
+            for (long long e = 2; e <= deg; ++e) {
+                double ar = p[e - 1].re, ai = p[e - 1].im, br = p[1].re, bi = p[1].im;
+                p[e] = (kw_disc){ar * br - ai * bi, ar * bi + ai * br, 0.0};
+            }
         w->f[i] = kw_point(0.0, 0.0);
     }
     for (long long k = 0; k < n * n; ++k) w->jac[k] = kw_point(0.0, 0.0);
@@ -231,16 +269,15 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
     for (long long k = 0; k < n + n * n; ++k) w->mag[k] = 0.0;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         kw_disc c = {s->c[2 * t], s->c[2 * t + 1], s->cr[t]};
         kw_disc m = kw_point(1.0, 0.0);
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                kw_disc p = w->powers[i * (deg + 1) + a[i]];
-                m = q ? kw_mul(m, p) : p;
-                support[q++] = i;
-            }
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            kw_disc p = w->powers[i * (deg + 1) + a[i]];
+            m = u ? kw_mul(m, p) : p;
+        }
         kw_accumulate(w->f + k, w->mag + k, q ? kw_mul(c, m) : c);
         for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
             long long i = support[u];
@@ -390,36 +427,45 @@ static int kw_accurate_j(const kw_system* s, kw_scratch* w) {
     return 1;
 }
 
-// LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
-// 0 when a pivot is exactly zero
+// LU with partial pivoting of the midpoints of jac into w->lu (n x n real parts, then n x n
+// imaginary parts: rows contiguous, so that the loops over a row run in vector registers; each
+// entry's operations are the same, in the same order) and w->pivot (round to nearest); 0 when a
+// pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
-    double* a = w->lu;
-    for (long long k = 0; k < n * n; ++k) { a[2 * k] = w->jac[k].re; a[2 * k + 1] = w->jac[k].im; }
+    double* are = w->lu;
+    double* aim = w->lu + n * n;
+    for (long long k = 0; k < n * n; ++k) { are[k] = w->jac[k].re; aim[k] = w->jac[k].im; }
     for (long long k = 0; k < n; ++k) {
         long long best = k;
-        double largest = fabs(a[2 * (k * n + k)]) + fabs(a[2 * (k * n + k) + 1]);
+        double largest = fabs(are[k * n + k]) + fabs(aim[k * n + k]);
         for (long long r = k + 1; r < n; ++r) {
-            double v = fabs(a[2 * (r * n + k)]) + fabs(a[2 * (r * n + k) + 1]);
+            double v = fabs(are[r * n + k]) + fabs(aim[r * n + k]);
             if (v > largest) { best = r; largest = v; }
         }
         if (!(largest > 0.0)) return 0;
         w->pivot[k] = best;
         if (best != k)
-            for (long long j = 0; j < 2 * n; ++j) {
-                double t = a[2 * k * n + j];
-                a[2 * k * n + j] = a[2 * best * n + j];
-                a[2 * best * n + j] = t;
+            for (long long j = 0; j < n; ++j) {
+                double t = are[k * n + j];
+                are[k * n + j] = are[best * n + j];
+                are[best * n + j] = t;
+                t = aim[k * n + j];
+                aim[k * n + j] = aim[best * n + j];
+                aim[best * n + j] = t;
             }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         double ir = pr / d, ii = -pi / d;
+        const double* ur = are + k * n;
+        const double* ui = aim + k * n;
         for (long long r = k + 1; r < n; ++r) {
-            double* row = a + 2 * r * n;
-            double fr = row[2 * k] * ir - row[2 * k + 1] * ii, fi = row[2 * k] * ii + row[2 * k + 1] * ir;
-            row[2 * k] = fr; row[2 * k + 1] = fi;
+            double* rr = are + r * n;
+            double* ri = aim + r * n;
+            double fr = rr[k] * ir - ri[k] * ii, fi = rr[k] * ii + ri[k] * ir;
+            rr[k] = fr;
+            ri[k] = fi;
             for (long long j = k + 1; j < n; ++j) {
-                double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
-                row[2 * j] -= fr * ur - fi * ui;
-                row[2 * j + 1] -= fr * ui + fi * ur;
+                rr[j] -= fr * ur[j] - fi * ui[j];
+                ri[j] -= fr * ui[j] + fi * ur[j];
             }
         }
     }
@@ -428,7 +474,8 @@ static int kw_factor(long long n, kw_scratch* w) {
 
 // v (n complex) = (L U)^-1 P v in place from kw_factor's factors; 0 when not finite
 static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
-    const double* a = w->lu;
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
     for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
         long long p = w->pivot[k];
         if (p != k) {
@@ -438,18 +485,18 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     }
     for (long long k = 0; k < n; ++k)
         for (long long r = k + 1; r < n; ++r) {
-            double fr = a[2 * (r * n + k)], fi = a[2 * (r * n + k) + 1];
+            double fr = are[r * n + k], fi = aim[r * n + k];
             v[2 * r] -= fr * v[2 * k] - fi * v[2 * k + 1];
             v[2 * r + 1] -= fr * v[2 * k + 1] + fi * v[2 * k];
         }
     for (long long k = n - 1; k >= 0; --k) {
         double sr = v[2 * k], si = v[2 * k + 1];
         for (long long j = k + 1; j < n; ++j) {
-            double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
+            double ur = are[k * n + j], ui = aim[k * n + j];
             sr -= ur * v[2 * j] - ui * v[2 * j + 1];
             si -= ur * v[2 * j + 1] + ui * v[2 * j];
         }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         v[2 * k] = (sr * pr + si * pi) / d;
         v[2 * k + 1] = (si * pr - sr * pi) / d;
     }
@@ -458,19 +505,75 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     return 1;
 }
 
-// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular
+// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular.
+// The n solves of kw_lu_solve for the unit vectors, side by side: column col of (vre, vim) is
+// the solve for e_col, each entry's operations those of kw_lu_solve in its order (the loops over
+// the columns run in vector registers)
 static int kw_inverse(long long n, kw_scratch* w) {
     if (!kw_factor(n, w)) return 0;
-    for (long long col = 0; col < n; ++col) {
-        double* v = w->step;
-        for (long long k = 0; k < n; ++k) { v[2 * k] = (k == col); v[2 * k + 1] = 0.0; }
-        if (!kw_lu_solve(n, w, v)) return 0;
-        for (long long k = 0; k < n; ++k) {
-            w->y[2 * (k * n + col)] = v[2 * k];
-            w->y[2 * (k * n + col) + 1] = v[2 * k + 1];
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
+    double* vre = w->vre;
+    double* vim = w->vim;
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < n; ++col) {
+            vre[k * n + col] = (k == col);
+            vim[k * n + col] = 0.0;
+        }
+    for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
+        long long p = w->pivot[k];
+        if (p != k)
+            for (long long col = 0; col < n; ++col) {
+                double t = vre[k * n + col];
+                vre[k * n + col] = vre[p * n + col];
+                vre[p * n + col] = t;
+                t = vim[k * n + col];
+                vim[k * n + col] = vim[p * n + col];
+                vim[p * n + col] = t;
+            }
+    }
+    for (long long k = 0; k < n; ++k) {
+        const double* kr = vre + k * n;
+        const double* ki = vim + k * n;
+        for (long long r = k + 1; r < n; ++r) {
+            double fr = are[r * n + k], fi = aim[r * n + k];
+            double* rr = vre + r * n;
+            double* ri = vim + r * n;
+            for (long long col = 0; col < n; ++col) {
+                double vr = kr[col], vi = ki[col];
+                rr[col] -= fr * vr - fi * vi;
+                ri[col] -= fr * vi + fi * vr;
+            }
         }
     }
-    return 1;
+    double sr[KW_MAX_UNKNOWNS], si[KW_MAX_UNKNOWNS];
+    for (long long k = n - 1; k >= 0; --k) {
+        for (long long col = 0; col < n; ++col) {
+            sr[col] = vre[k * n + col];
+            si[col] = vim[k * n + col];
+        }
+        for (long long j = k + 1; j < n; ++j) {
+            double ur = are[k * n + j], ui = aim[k * n + j];
+            const double* jr = vre + j * n;
+            const double* ji = vim + j * n;
+            for (long long col = 0; col < n; ++col) {
+                sr[col] -= ur * jr[col] - ui * ji[col];
+                si[col] -= ur * ji[col] + ui * jr[col];
+            }
+        }
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
+        for (long long col = 0; col < n; ++col) {
+            vre[k * n + col] = (sr[col] * pr + si[col] * pi) / d;
+            vim[k * n + col] = (si[col] * pr - sr[col] * pi) / d;
+        }
+    }
+    int finite = 1;
+    for (long long k = 0; k < n * n; ++k) {
+        finite &= isfinite(vre[k]) && isfinite(vim[k]);
+        w->y[2 * k] = vre[k];
+        w->y[2 * k + 1] = vim[k];
+    }
+    return finite;
 }
 
 // The Newton step J~^-1 F~ at x into w->step (round to nearest: it only sharpens the centre); 0
@@ -490,10 +593,19 @@ typedef struct {
 } kw_bounds;
 
 // a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
-// doubles) and the enclosures f (n) and jac (n x n) of F and J; 0 when not finite
+// doubles) and the enclosures f (n) and jac (n x n) of F and J (w: scratch for jac's parts); 0
+// when not finite
 static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
-                          kw_bounds* out) {
+                          kw_bounds* out, kw_scratch* w) {
     double a = 0.0, b = 0.0, c = 0.0;
+    double* jre = w->jre;
+    double* jim = w->jim;
+    double* jrad = w->jrad;
+    for (long long k = 0; k < n * n; ++k) {
+        jre[k] = jac[k].re;
+        jim[k] = jac[k].im;
+        jrad[k] = jac[k].r;
+    }
     for (long long k = 0; k < n; ++k) {
         // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
         // 2^-53 mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill
@@ -513,27 +625,35 @@ static int kw_ingredients(long long n, const double* y, const kw_disc* f, const 
             fspread += size * fi_->r;
         }
         double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
-        double rb = 0.0;
+        // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
+        // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the spread
+        // sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075. Every
+        // j of row k at once (each j's sums over i in order, as one j at a time)
+        double mr[KW_MAX_UNKNOWNS], mi[KW_MAX_UNKNOWNS], mag[KW_MAX_UNKNOWNS], spread[KW_MAX_UNKNOWNS];
         for (long long j = 0; j < n; ++j) {
-            // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
-            // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the
-            // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
-            double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
-            for (long long i = 0; i < n; ++i) {
-                double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1];
-                const kw_disc* e = jac + i * n + j;
-                double p1 = yr * e->re, p2 = yi * e->im, p3 = yr * e->im, p4 = yi * e->re;
-                double pr = p1 - p2, pi = p3 + p4;
-                mr -= pr;
-                mi -= pi;
-                mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
-                spread += absy[k * n + i] * e->r;
-            }
-            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
+            mr[j] = k == j ? 1.0 : 0.0;
+            mi[j] = mag[j] = spread[j] = 0.0;
         }
-        a = fmax(a, ra);
-        b = fmax(b, rb);
-        c = fmax(c, rc);
+        for (long long i = 0; i < n; ++i) {
+            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = absy[k * n + i];
+            const double* er = jre + i * n;
+            const double* ei = jim + i * n;
+            const double* erad = jrad + i * n;
+            for (long long j = 0; j < n; ++j) {
+                double p1 = yr * er[j], p2 = yi * ei[j], p3 = yr * ei[j], p4 = yi * er[j];
+                double pr = p1 - p2, pi = p3 + p4, r = mr[j] - pr, m = mi[j] - pi;
+                mr[j] = r;
+                mi[j] = m;
+                mag[j] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(r) + fabs(m);
+                spread[j] += size * erad[j];
+            }
+        }
+        double rb = 0.0;
+        for (long long j = 0; j < n; ++j)
+            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr[j], mi[j]), kw_up_long(mag[j] * 0x1p-52 + spread[j])));
+        a = kw_max(a, ra);
+        b = kw_max(b, rb);
+        c = kw_max(c, rc);
     }
     out->a = a;
     out->b = b;
@@ -589,7 +709,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
         w->jac[k] = w->m[k];
         if (!kw_finite(w->jac[k])) return 0;
     }
-    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out)) return 0;
+    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w)) return 0;
     // |Y2| |Y1| rounded up, into absy (|Y2| is in absy now: row k is read before it is written)
     double c = 0.0, row[KW_MAX_UNKNOWNS];
     for (long long k = 0; k < n; ++k) {
@@ -602,7 +722,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
             rc = kw_add_up(rc, sum);
         }
         for (long long j = 0; j < n; ++j) w->absy[k * n + j] = row[j];
-        c = fmax(c, rc);
+        c = kw_max(c, rc);
     }
     out->c = c;
     out->preconditioned = 1;
@@ -627,7 +747,7 @@ static void kw_preconditioned_step(long long n, kw_scratch* w) {
 static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
     long long n = s->n;
     if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
-    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out);
+    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w);
     if (!s->accurate || (ok && out->b < 0.5)) return ok;
     // the double-word attempt, Y J far from I: Rump's preconditioner (kw_precondition) where
     // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
@@ -656,10 +776,9 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     for (long long k = 0; k < n; ++k) h[k] = 0.0;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long support[KW_MAX_UNKNOWNS], q = 0, total = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) { support[q++] = i; total += a[i]; }
-        if (total < 2) continue;  // an affine term: no second derivative
+        const long long* support = s->support + t * n;
+        long long q = s->count[t];
+        if (s->total[t] < 2) continue;  // an affine term: no second derivative
         double size = s->size[t], sum = 0.0;
         for (long long u = 0; u < q; ++u) {
             long long i = support[u];
@@ -682,7 +801,7 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     for (long long k = 0; k < n; ++k) {
         double sum = 0.0;
         for (long long i = 0; i < n; ++i) sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], h[i]));
-        spread = fmax(spread, sum);
+        spread = kw_max(spread, sum);
     }
     double inner = kw_add_up(bounds->b, kw_mul_up(spread, r));
     double left = kw_add_up(bounds->a, kw_mul_up(inner, r));
@@ -692,7 +811,7 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
 // The smallest passing radius of MULTIPLIERS * max(need, a) + floor, at most limit (0 when none)
 static double kw_radius(const kw_system* s, const double* x, const kw_bounds* bounds, double need, double floor,
                         double limit, kw_scratch* w) {
-    double base = fmax(need, bounds->a);
+    double base = kw_max(need, bounds->a);
     for (int m = 0; m < KW_RADII; ++m) {
         double r = kw_multipliers[m] * base + floor;
         if (!(r <= limit)) return 0.0;
@@ -705,7 +824,7 @@ static inline double kw_cabs(const double* z) { return hypot(z[0], z[1]); }
 
 static double kw_max_abs(long long n, const double* z) {
     double v = 0.0;
-    for (long long i = 0; i < n; ++i) v = fmax(v, kw_cabs(z + 2 * i));
+    for (long long i = 0; i < n; ++i) v = kw_max(v, kw_cabs(z + 2 * i));
     return v;
 }
 
@@ -755,6 +874,9 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
     b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
+    b += 5 * KW_ALIGN(n * n * (long long)sizeof(double));  // jre, jim, jrad, vre, vim
+    b += 2 * KW_ALIGN((terms + 2) * (n + 2) * (long long)sizeof(long long));  // supports: main, chart
+    b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // candidates' sizes
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -849,6 +971,14 @@ static int kw_certify(const kw_job* job) {
     w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
     w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
+    w.jre = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.jim = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.jrad = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.vre = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.vim = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    long long* support_main = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* support_chart = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    double* largest = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -885,13 +1015,17 @@ static int kw_certify(const kw_job* job) {
         // affine: each coordinate measured in a power of two near its typical size (median of the
         // |z_i| over the system's finite candidates where it is not zero to rounding, at most
         // KW_ZERO_SIZE times the candidate's largest |z_j|; 1 where there is none)
+        for (long long p = 0; p < paths && !homogeneous; ++p) {  // each candidate's largest |z_j|, once
+            const double* z = job->roots + 2 * ((sys * paths + p) * n);
+            largest[p] = kw_row_finite(n, z) ? kw_max_abs(n, z) : NAN;
+        }
         for (long long i = 0; i < n && !homogeneous; ++i) {
             long long count = 0;
             for (long long p = 0; p < paths; ++p) {
                 const double* z = job->roots + 2 * ((sys * paths + p) * n);
-                if (!kw_row_finite(n, z)) continue;
+                if (!(largest[p] == largest[p])) continue;  // not finite (kw_max_abs of a finite row is not NaN)
                 double v = kw_cabs(z + 2 * i);
-                if (v > 0.0 && v > KW_ZERO_SIZE * kw_max_abs(n, z)) sizes[count++] = v;
+                if (v > 0.0 && v > KW_ZERO_SIZE * largest[p]) sizes[count++] = v;
             }
             double typical = 1.0;
             if (count) {
@@ -905,7 +1039,9 @@ static int kw_certify(const kw_job* job) {
             const double* z = job->roots + 2 * at * n;
             double* centre = job->center + 2 * at * n;
             int present = kw_row_finite(n, z);
-            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0};
+            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0,
+                           support_main, support_main + (terms + 2) * n, support_main + (terms + 2) * (n + 1)};
+            if (sys == 0 && p == 0) kw_supports(&s);  // one set of exponents for every system
             double unit = 1e-150;
             for (long long i = 0; i < n; ++i) shift[i] = 0;
             if (!homogeneous) {
@@ -913,7 +1049,7 @@ static int kw_certify(const kw_job* job) {
                 for (long long i = 0; i < n; ++i) {
                     double v = kw_cabs(z + 2 * i);
                     if (isfinite(z[2 * i]) && isfinite(z[2 * i + 1]))
-                        shift[i] = (long long)ceil(log2(fmax(v, scale[2 * i])));
+                        shift[i] = (long long)ceil(log2(kw_max(v, scale[2 * i])));
                 }
                 for (long long t = 0; t < terms; ++t) {
                     long long e = 0;
@@ -969,10 +1105,10 @@ static int kw_certify(const kw_job* job) {
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double limit = KW_NEAR * kw_max(kw_max_abs(n, given), unit);
                 double reach = s.accurate ? KW_REACH / KW_NEAR * limit : limit;
                 double moved = 0.0;
-                for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                for (long long i = 0; i < n; ++i) moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                 if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
@@ -990,7 +1126,7 @@ static int kw_certify(const kw_job* job) {
                         double f = ldexp(1.0, (int)shift[i]);
                         centre[2 * i] = x[2 * i] * f;
                         centre[2 * i + 1] = x[2 * i + 1] * f;
-                        moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                        moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                     }
                     if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) break;
                     floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
@@ -1005,7 +1141,7 @@ static int kw_certify(const kw_job* job) {
                 // exact unless it (or the centre) left the normal range: widened over both roundings
                 if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
                 job->radii[at * n + i] = v;
-                smallest = fmin(smallest, f);
+                smallest = kw_min(smallest, f);
             }
             job->unique[at] = 1;
             job->radius[at] = r * smallest;
@@ -1018,7 +1154,7 @@ static int kw_certify(const kw_job* job) {
                     // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
                     double imag = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        imag = fmax(imag, fabs(x[2 * i + 1]));
+                        imag = kw_max(imag, fabs(x[2 * i + 1]));
                         chart_x[2 * i] = x[2 * i];
                         chart_x[2 * i + 1] = 0.0;
                     }
@@ -1067,7 +1203,7 @@ static int kw_certify(const kw_job* job) {
                     gap = kw_add_up(fabs(x[2 * i + 1]), r);
                 }
                 chart_x[2 * i + 1] = 0.0;
-                need = fmax(need, gap);
+                need = kw_max(need, gap);
             }
             for (long long t = 0, q = 0; t < terms; ++t) {
                 if (job->equation[t] == job->patch_equation) continue;
@@ -1080,8 +1216,10 @@ static int kw_certify(const kw_job* job) {
             coefficients[2 * (chart_terms - 1)] = -1.0;
             coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
             radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
-            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate};
+            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate,
+                               support_chart, support_chart + (terms + 2) * n, support_chart + (terms + 2) * (n + 1)};
             kw_sizes(&chart);
+            kw_supports(&chart);
             if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
                 job->real[at] = 1;
         }
