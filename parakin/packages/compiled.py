@@ -31,6 +31,7 @@ import socket
 import stat
 import subprocess
 import tempfile
+import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -490,6 +491,10 @@ class CompiledBackend:
             kernel: tuple((output.name, tuple(output.shape)) for output in d.outputs)
             for kernel, d in self.manifest.kernels.items()
         }
+        #: per thread: each kernel's foreign-call arrays (``_KernelCall``), made at its first call
+        self._local = threading.local()
+        #: id -> (array, data address) of read-only inputs (``_address``)
+        self._addresses: dict[int, tuple[np.ndarray, int]] = {}
         self.NewtonJob = job_structure("NewtonJob", abi.newton_job)
         self.newton = getattr(self.library, self.manifest.newton.symbol)
         self.newton.restype = ctypes.c_int
@@ -579,7 +584,96 @@ class CompiledBackend:
         return casadi.external(f"{self.manifest.name}_{kernel}", str(self.path))
 
     def call(self, kernel: str, *inputs: Array) -> dict[str, Array]:
-        plain = _plain_batch(inputs)  # the solvers' usual call: float arrays (n_i,) or (n, n_i)
+        """One kernel over a batch: each input (n_i,) or (..., n_i), broadcast over the leading
+        axes; each output (..., *shape) in fresh arrays.
+
+        The solvers' usual call (every input a C-contiguous float64 array (n_i,) or (n, n_i), the
+        batched ones sharing n) takes the short way: the thread's pointer arrays of the kernel
+        (``_KernelCall``) are filled in place, with no reshaped views; anything else is broadcast
+        first (``broadcast_batch``). Both give the same outputs."""
+        try:
+            prepared: _KernelCall = self._local.calls[kernel]
+        except AttributeError:
+            self._local.calls = {}
+            prepared = self._prepare(kernel)
+        except KeyError:
+            prepared = self._prepare(kernel)
+        if len(inputs) == prepared.size:
+            rows = 0
+            input_pointers, strides = prepared.inputs, prepared.strides
+            for k, x in enumerate(inputs):
+                if (
+                    type(x) is not np.ndarray
+                    or (x.dtype is not _FLOAT64 and x.dtype != _FLOAT64)
+                    or not x.flags.c_contiguous
+                ):
+                    break
+                if x.ndim == 2 and x.shape[0] > 0 and rows in (0, x.shape[0]):
+                    rows = x.shape[0]
+                    strides[k] = x.shape[1]
+                elif x.ndim == 1:
+                    strides[k] = 0
+                else:
+                    break
+                input_pointers[k] = self._address(x)
+            else:
+                count = rows or 1
+                if count == 1:  # one row: every input shared (the C reads row 0)
+                    for k in range(prepared.size):
+                        strides[k] = 0
+                outputs = []
+                output_pointers = prepared.outputs
+                for k, size in enumerate(prepared.shapes):
+                    value = np.empty((count, *size))
+                    output_pointers[k] = _writable_address(value)
+                    outputs.append(value)
+                if prepared.function(_INT64(count), input_pointers, strides, output_pointers) != 0:
+                    raise ParakinError(f"compiled kernel {kernel} failed")
+                if rows:
+                    return dict(zip(prepared.names, outputs, strict=True))
+                return {
+                    name: value.reshape(value.shape[1:]) for name, value in zip(prepared.names, outputs, strict=True)
+                }
+        return self._call_broadcast(kernel, inputs)
+
+    def _prepare(self, kernel: str) -> _KernelCall:
+        """This thread's foreign-call arrays of ``kernel`` (made at its first call in the thread)."""
+        description = self.manifest.kernels[kernel]
+        size = len(description.inputs)
+        prepared = _KernelCall(
+            function=self.functions[kernel],
+            size=size,
+            names=tuple(name for name, _ in self._outputs[kernel]),
+            shapes=tuple(shape for _, shape in self._outputs[kernel]),
+            inputs=(_POINTER * size)(),
+            strides=(_INT64 * size)(),
+            outputs=(_POINTER * len(self._outputs[kernel]))(),
+        )
+        self._local.calls[kernel] = prepared
+        return prepared
+
+    def _address(self, x: np.ndarray) -> int:
+        """The data address of a C-contiguous float array: through the buffer protocol for a
+        writable one (a third of ``x.ctypes.data``'s cost); a read-only one's (the parameters,
+        the same array at every call) is remembered with the array itself, so that its id names
+        it while remembered."""
+        known = self._addresses.get(id(x))
+        if known is not None and known[0] is x:
+            return known[1]
+        try:
+            return ctypes.addressof(ctypes.c_char.from_buffer(x))  # type: ignore[arg-type]  # a NumPy array is a buffer
+        except (TypeError, ValueError):  # read-only, or empty (no byte to point at)
+            pass
+        address = int(x.ctypes.data)
+        if x.size and x.size <= _REMEMBERED_SIZE:
+            if len(self._addresses) >= _REMEMBERED_ARRAYS:
+                self._addresses.clear()
+            self._addresses[id(x)] = (x, address)
+        return address
+
+    def _call_broadcast(self, kernel: str, inputs: tuple[Array, ...]) -> dict[str, Array]:
+        """``call`` for inputs that are not plain: broadcast, made contiguous float64, then called."""
+        plain = _plain_batch(inputs)
         shape, flat = plain if plain is not None else broadcast_batch(inputs)
         count = math.prod(shape)
         outputs = {name: np.empty((count, *size)) for name, size in self._outputs[kernel]}
@@ -590,3 +684,35 @@ class CompiledBackend:
         if function(_INT64(count), input_pointers, strides, output_pointers) != 0:
             raise ParakinError(f"compiled kernel {kernel} failed")
         return {name: value.reshape(shape + value.shape[1:]) for name, value in outputs.items()}
+
+
+#: float64, the one dtype a plain kernel input has (NumPy keeps one instance of each builtin dtype:
+#: compared by identity first)
+_FLOAT64 = np.dtype(np.float64)
+#: read-only arrays whose address ``CompiledBackend._address`` remembers: at most this many
+#: elements each (parameter vectors), at most this many arrays (then it starts again)
+_REMEMBERED_SIZE = 4096
+_REMEMBERED_ARRAYS = 64
+
+
+def _writable_address(x: np.ndarray) -> int:
+    """The data address of a fresh (writable, C-contiguous) array; ``x.ctypes.data`` for an empty one."""
+    try:
+        return ctypes.addressof(ctypes.c_char.from_buffer(x))  # type: ignore[arg-type]  # a NumPy array is a buffer
+    except ValueError:  # no byte to point at
+        return int(x.ctypes.data)
+
+
+@dataclasses.dataclass(frozen=True)
+class _KernelCall:
+    """One kernel's foreign call as one thread makes it: the function, its output names and
+    shapes, and the pointer and stride arrays that each call fills in place (one set per
+    thread: a batch's threads call kernels side by side)."""
+
+    function: Any
+    size: int
+    names: tuple[str, ...]
+    shapes: tuple[tuple[int, ...], ...]
+    inputs: Any
+    strides: Any
+    outputs: Any
