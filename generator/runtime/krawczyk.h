@@ -77,11 +77,21 @@ static inline double kw_error(double s) { return s * 0x1p-52 + 0x1p-1070; }
 static inline double kw_max(double a, double b) { return (b > a || a != a) ? b : a; }
 static inline double kw_min(double a, double b) { return (b < a || a != a) ? b : a; }
 
+// 2^e for -1022 <= e <= 1023 (a normal double), from its bits
+static inline double kw_pow2(long long e) {
+    union { unsigned long long bits; double value; } v;
+    v.bits = (unsigned long long)(e + 1023) << 52;
+    return v.value;
+}
+// ldexp(v, e) without the library call where 2^e is a normal double: v 2^e rounded once, as
+// ldexp rounds it (exact unless it leaves the normal range)
+static inline double kw_ldexp(double v, long long e) { return e >= -1022 && e <= 1023 ? v * kw_pow2(e) : ldexp(v, (int)e); }
+
 // upper and lower bounds on |re + i im|
-static double kw_abs_up(double re, double im) {
+static inline double kw_abs_up(double re, double im) {
     double v = kw_up(sqrt(kw_add_up(kw_mul_up(re, re), kw_mul_up(im, im))));
-    if (isinf(v) && isfinite(re) && isfinite(im)) v = kw_add_up(fabs(re), fabs(im));  // squares overflow
-    return v;
+    double other = kw_add_up(fabs(re), fabs(im));  // where the squares overflow (a select: loops over it vectorize)
+    return isinf(v) && isfinite(re) && isfinite(im) ? other : v;
 }
 static double kw_abs_down(double re, double im) {
     double a = fabs(re), b = fabs(im), big = a > b ? a : b;
@@ -1056,7 +1066,7 @@ static int kw_certify(const kw_job* job) {
                     for (long long i = 0; i < n; ++i) e += shift[i] * job->exponents[t * n + i];
                     if (e > 4000) e = 4000;
                     if (e < -4000) e = -4000;
-                    double re = ldexp(c[2 * t], (int)e), im = ldexp(c[2 * t + 1], (int)e);
+                    double re = kw_ldexp(c[2 * t], e), im = kw_ldexp(c[2 * t + 1], e);
                     coefficients[2 * t] = re;
                     coefficients[2 * t + 1] = im;
                     // exact unless it left the normal range: then within 2^-1074 (or infinite)
@@ -1071,7 +1081,7 @@ static int kw_certify(const kw_job* job) {
                 if (p == 0) kw_sizes(&s);  // the system's own coefficients: one set for every candidate
             }
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]);
+                double f = kw_ldexp(1.0, shift[i]);
                 given[2 * i] = z[2 * i] / f;
                 given[2 * i + 1] = z[2 * i + 1] / f;
                 x[2 * i] = present ? given[2 * i] : 1.0;
@@ -1101,7 +1111,7 @@ static int kw_certify(const kw_job* job) {
                         for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                 }
                 for (long long i = 0; i < n; ++i) {
-                    double f = ldexp(1.0, (int)shift[i]);
+                    double f = kw_ldexp(1.0, shift[i]);
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
@@ -1123,7 +1133,7 @@ static int kw_certify(const kw_job* job) {
                     for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                     moved = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        double f = ldexp(1.0, (int)shift[i]);
+                        double f = kw_ldexp(1.0, shift[i]);
                         centre[2 * i] = x[2 * i] * f;
                         centre[2 * i + 1] = x[2 * i + 1] * f;
                         moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
@@ -1137,7 +1147,7 @@ static int kw_certify(const kw_job* job) {
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]), v = r * f;
+                double f = kw_ldexp(1.0, shift[i]), v = r * f;
                 // exact unless it (or the centre) left the normal range: widened over both roundings
                 if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
                 job->radii[at * n + i] = v;
