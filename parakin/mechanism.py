@@ -1061,13 +1061,15 @@ class Mechanism:
         if not self.passive_names:  # no loop to close: no type II singularity
             conditioning[modes] = 1.0
         elif where.any():
-            rows, slots = np.nonzero(where)
+            # the slots in row-major order (a mask's order); one input's actuated values are
+            # shared by its slots (the kernel reads the one row for each)
+            actuated = flat[0] if flat.shape[0] == 1 else flat[np.nonzero(where)[0]]
             with np.errstate(all="ignore"):
-                closure = self.backend.call("loop_closure", flat[rows], out["passive"][rows, slots], self.params)
+                closure = self.backend.call("loop_closure", actuated, out["passive"][where], self.params)
             if rescaled:  # the closure residual in the caller's units, at the modes' own values
-                out["residual"][rows, slots] = np.abs(closure["residual"]).max(-1, initial=0.0)
-            measured = modes[rows, slots]
-            conditioning[rows[measured], slots[measured]] = inverse_condition(closure["jacobian"][measured])
+                out["residual"][where] = np.abs(closure["residual"]).max(-1, initial=0.0)
+            jacobian = closure["jacobian"] if where is modes else closure["jacobian"][modes[where]]
+            conditioning[modes] = inverse_condition(jacobian)  # the modes, in the same order
         out["conditioning"] = conditioning
         return out
 
