@@ -60,6 +60,8 @@ static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0}
 #define KW_UNIT 0x1p-53
 // the most unknowns a system may have (a job with more is refused)
 #define KW_MAX_UNKNOWNS 64
+// n rounded up to a multiple of 4: rows of this stride let loops over a row run in whole vectors
+#define KW_PAD(n) (((n) + 3) / 4 * 4)
 
 // the least double above every real within 2^-53 |v| + 2^-1075 of v (at least the next double)
 static inline double kw_up(double v) { return v + (fabs(v) * 0x1p-52 + 0x1p-1074); }
@@ -204,6 +206,7 @@ typedef struct {
     double* jrad;
     double* vre;      // n x n: kw_inverse's n solves side by side (column col: the solve for e_col)
     double* vim;
+    double* term;     // n x n: kw_ingredients' bounds on |(I - Y J)_kj|
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -525,31 +528,32 @@ static int kw_inverse(long long n, kw_scratch* w) {
     const double* aim = w->lu + n * n;
     double* vre = w->vre;
     double* vim = w->vim;
+    long long m = KW_PAD(n);  // the rows' stride: the columns beyond n (zero, then whatever) pad the loops to whole vectors
     for (long long k = 0; k < n; ++k)
-        for (long long col = 0; col < n; ++col) {
-            vre[k * n + col] = (k == col);
-            vim[k * n + col] = 0.0;
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (k == col);
+            vim[k * m + col] = 0.0;
         }
     for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
         long long p = w->pivot[k];
         if (p != k)
-            for (long long col = 0; col < n; ++col) {
-                double t = vre[k * n + col];
-                vre[k * n + col] = vre[p * n + col];
-                vre[p * n + col] = t;
-                t = vim[k * n + col];
-                vim[k * n + col] = vim[p * n + col];
-                vim[p * n + col] = t;
+            for (long long col = 0; col < m; ++col) {
+                double t = vre[k * m + col];
+                vre[k * m + col] = vre[p * m + col];
+                vre[p * m + col] = t;
+                t = vim[k * m + col];
+                vim[k * m + col] = vim[p * m + col];
+                vim[p * m + col] = t;
             }
     }
     for (long long k = 0; k < n; ++k) {
-        const double* kr = vre + k * n;
-        const double* ki = vim + k * n;
+        const double* kr = vre + k * m;
+        const double* ki = vim + k * m;
         for (long long r = k + 1; r < n; ++r) {
             double fr = are[r * n + k], fi = aim[r * n + k];
-            double* rr = vre + r * n;
-            double* ri = vim + r * n;
-            for (long long col = 0; col < n; ++col) {
+            double* rr = vre + r * m;
+            double* ri = vim + r * m;
+            for (long long col = 0; col < m; ++col) {
                 double vr = kr[col], vi = ki[col];
                 rr[col] -= fr * vr - fi * vi;
                 ri[col] -= fr * vi + fi * vr;
@@ -558,31 +562,33 @@ static int kw_inverse(long long n, kw_scratch* w) {
     }
     double sr[KW_MAX_UNKNOWNS], si[KW_MAX_UNKNOWNS];
     for (long long k = n - 1; k >= 0; --k) {
-        for (long long col = 0; col < n; ++col) {
-            sr[col] = vre[k * n + col];
-            si[col] = vim[k * n + col];
+        for (long long col = 0; col < m; ++col) {
+            sr[col] = vre[k * m + col];
+            si[col] = vim[k * m + col];
         }
         for (long long j = k + 1; j < n; ++j) {
             double ur = are[k * n + j], ui = aim[k * n + j];
-            const double* jr = vre + j * n;
-            const double* ji = vim + j * n;
-            for (long long col = 0; col < n; ++col) {
+            const double* jr = vre + j * m;
+            const double* ji = vim + j * m;
+            for (long long col = 0; col < m; ++col) {
                 sr[col] -= ur * jr[col] - ui * ji[col];
                 si[col] -= ur * ji[col] + ui * jr[col];
             }
         }
         double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
-        for (long long col = 0; col < n; ++col) {
-            vre[k * n + col] = (sr[col] * pr + si[col] * pi) / d;
-            vim[k * n + col] = (si[col] * pr - sr[col] * pi) / d;
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (sr[col] * pr + si[col] * pi) / d;
+            vim[k * m + col] = (si[col] * pr - sr[col] * pi) / d;
         }
     }
     int finite = 1;
-    for (long long k = 0; k < n * n; ++k) {
-        finite &= isfinite(vre[k]) && isfinite(vim[k]);
-        w->y[2 * k] = vre[k];
-        w->y[2 * k + 1] = vim[k];
-    }
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < n; ++col) {
+            double re = vre[k * m + col], im = vim[k * m + col];
+            finite &= isfinite(re) && isfinite(im);
+            w->y[2 * (k * n + col)] = re;
+            w->y[2 * (k * n + col) + 1] = im;
+        }
     return finite;
 }
 
@@ -603,67 +609,95 @@ typedef struct {
 } kw_bounds;
 
 // a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
-// doubles) and the enclosures f (n) and jac (n x n) of F and J (w: scratch for jac's parts); 0
-// when not finite
+// doubles) and the enclosures f (n) and jac (n x n) of F and J (w: scratch); 0 when not finite.
+// Every sum runs over its index in order, as a row at a time would, but the n rows' sums side by
+// side (their chains of dependent roundings overlap, and the loops run in vector registers).
 static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
                           kw_bounds* out, kw_scratch* w) {
-    double a = 0.0, b = 0.0, c = 0.0;
-    double* jre = w->jre;
+    long long m = KW_PAD(n);  // the stride of the scratch rows (zeros beyond n: whole vectors)
+    double* jre = w->jre;  // jac's parts
     double* jim = w->jim;
     double* jrad = w->jrad;
-    for (long long k = 0; k < n * n; ++k) {
-        jre[k] = jac[k].re;
-        jim[k] = jac[k].im;
-        jrad[k] = jac[k].r;
-    }
-    for (long long k = 0; k < n; ++k) {
-        // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
-        // 2^-53 mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill
-        // conditioned (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2),
-        // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
-        double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
-        for (long long i = 0; i < n; ++i) {
-            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
-            absy[k * n + i] = size;
-            rc = kw_add_up(rc, size);
-            const kw_disc* fi_ = f + i;
-            double p1 = yr * fi_->re, p2 = yi * fi_->im, p3 = yr * fi_->im, p4 = yi * fi_->re;
-            double pr = p1 - p2, pi = p3 + p4;
-            fr += pr;
-            fi += pi;
-            fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
-            fspread += size * fi_->r;
+    double* tre = w->vre;  // y's parts and |y| transposed (tre[i m + k] = Re Y_ki)
+    double* tim = w->vim;
+    double* tabs = w->term;
+    for (long long i = 0; i < n; ++i)
+        for (long long j = 0; j < m; ++j) {
+            int in = j < n;
+            const kw_disc* e = jac + i * n + (in ? j : 0);
+            jre[i * m + j] = in ? e->re : 0.0;
+            jim[i * m + j] = in ? e->im : 0.0;
+            jrad[i * m + j] = in ? e->r : 0.0;
         }
-        double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
-        // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
-        // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the spread
-        // sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075. Every
-        // j of row k at once (each j's sums over i in order, as one j at a time)
-        double mr[KW_MAX_UNKNOWNS], mi[KW_MAX_UNKNOWNS], mag[KW_MAX_UNKNOWNS], spread[KW_MAX_UNKNOWNS];
-        for (long long j = 0; j < n; ++j) {
+    for (long long k = 0; k < n * n; ++k) absy[k] = kw_abs_up(y[2 * k], y[2 * k + 1]);
+    for (long long i = 0; i < n; ++i)
+        for (long long k = 0; k < m; ++k) {
+            int in = k < n;
+            tre[i * m + k] = in ? y[2 * (k * n + i)] : 0.0;
+            tim[i * m + k] = in ? y[2 * (k * n + i) + 1] : 0.0;
+            tabs[i * m + k] = in ? absy[k * n + i] : 0.0;
+        }
+    // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| + 2^-53
+    // mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill conditioned
+    // (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2), F~ at a
+    // converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
+    double rc[KW_PAD(KW_MAX_UNKNOWNS)], fr[KW_PAD(KW_MAX_UNKNOWNS)], fi[KW_PAD(KW_MAX_UNKNOWNS)];
+    double fmag[KW_PAD(KW_MAX_UNKNOWNS)], fspread[KW_PAD(KW_MAX_UNKNOWNS)], ra[KW_MAX_UNKNOWNS], rb[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < m; ++k) rc[k] = fr[k] = fi[k] = fmag[k] = fspread[k] = 0.0;
+    for (long long i = 0; i < n; ++i) {
+        double er = f[i].re, ei = f[i].im, erad = f[i].r;
+        const double* yr = tre + i * m;
+        const double* yi = tim + i * m;
+        const double* ya = tabs + i * m;
+        for (long long k = 0; k < m; ++k) {
+            double size = ya[k];
+            rc[k] = kw_add_up(rc[k], size);
+            double p1 = yr[k] * er, p2 = yi[k] * ei, p3 = yr[k] * ei, p4 = yi[k] * er;
+            double pr = p1 - p2, pi = p3 + p4, sr = fr[k] + pr, si = fi[k] + pi;
+            fr[k] = sr;
+            fi[k] = si;
+            fmag[k] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(sr) + fabs(si);
+            fspread[k] += size * erad;
+        }
+    }
+    for (long long k = 0; k < n; ++k) ra[k] = kw_add_up(kw_abs_up(fr[k], fi[k]), kw_up_long(fmag[k] * 0x1p-52 + fspread[k]));
+    // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed (each
+    // rounding within 2^-53 of its result, + 2^-1075 for a product) and the spread sum_i |Y_ki|
+    // r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075. Row k's entries at
+    // once (each j's sums over i in order), its bounds into term (tabs no longer read)
+    double* term = w->term;
+    for (long long k = 0; k < n; ++k) {
+        double mr[KW_PAD(KW_MAX_UNKNOWNS)], mi[KW_PAD(KW_MAX_UNKNOWNS)], mag[KW_PAD(KW_MAX_UNKNOWNS)];
+        double spread[KW_PAD(KW_MAX_UNKNOWNS)];
+        for (long long j = 0; j < m; ++j) {
             mr[j] = k == j ? 1.0 : 0.0;
             mi[j] = mag[j] = spread[j] = 0.0;
         }
         for (long long i = 0; i < n; ++i) {
             double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = absy[k * n + i];
-            const double* er = jre + i * n;
-            const double* ei = jim + i * n;
-            const double* erad = jrad + i * n;
-            for (long long j = 0; j < n; ++j) {
+            const double* er = jre + i * m;
+            const double* ei = jim + i * m;
+            const double* erad = jrad + i * m;
+            for (long long j = 0; j < m; ++j) {
                 double p1 = yr * er[j], p2 = yi * ei[j], p3 = yr * ei[j], p4 = yi * er[j];
-                double pr = p1 - p2, pi = p3 + p4, r = mr[j] - pr, m = mi[j] - pi;
+                double pr = p1 - p2, pi = p3 + p4, r = mr[j] - pr, q = mi[j] - pi;
                 mr[j] = r;
-                mi[j] = m;
-                mag[j] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(r) + fabs(m);
+                mi[j] = q;
+                mag[j] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(r) + fabs(q);
                 spread[j] += size * erad[j];
             }
         }
-        double rb = 0.0;
         for (long long j = 0; j < n; ++j)
-            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr[j], mi[j]), kw_up_long(mag[j] * 0x1p-52 + spread[j])));
-        a = kw_max(a, ra);
-        b = kw_max(b, rb);
-        c = kw_max(c, rc);
+            term[k * m + j] = kw_add_up(kw_abs_up(mr[j], mi[j]), kw_up_long(mag[j] * 0x1p-52 + spread[j]));
+    }
+    for (long long k = 0; k < n; ++k) rb[k] = 0.0;
+    for (long long j = 0; j < n; ++j)  // b's row sums over j in order, the rows side by side
+        for (long long k = 0; k < n; ++k) rb[k] = kw_add_up(rb[k], term[k * m + j]);
+    double a = 0.0, b = 0.0, c = 0.0;
+    for (long long k = 0; k < n; ++k) {
+        a = kw_max(a, ra[k]);
+        b = kw_max(b, rb[k]);
+        c = kw_max(c, rc[k]);
     }
     out->a = a;
     out->b = b;
@@ -884,7 +918,7 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
     b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
-    b += 5 * KW_ALIGN(n * n * (long long)sizeof(double));  // jre, jim, jrad, vre, vim
+    b += 6 * KW_ALIGN(n * KW_PAD(n) * (long long)sizeof(double));  // jre, jim, jrad, vre, vim, term
     b += 2 * KW_ALIGN((terms + 2) * (n + 2) * (long long)sizeof(long long));  // supports: main, chart
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // candidates' sizes
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
@@ -981,11 +1015,12 @@ static int kw_certify(const kw_job* job) {
     w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
     w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
-    w.jre = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
-    w.jim = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
-    w.jrad = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
-    w.vre = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
-    w.vim = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.jre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jrad = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.term = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
     long long* support_main = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
     long long* support_chart = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
     double* largest = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
