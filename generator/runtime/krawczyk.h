@@ -162,6 +162,11 @@ typedef struct {
     long long* support;
     long long* count;
     long long* total;
+    // the terms by equation taken in turn (each equation's terms in order: kw_passes' sums over
+    // them run side by side), and for a term of degree 2 its sum of second-derivative weights
+    // (kw_passes: no power of rho in it)
+    long long* turns;
+    double* fixed;
 } kw_system;
 
 // the supports of a system's terms, once per set of exponents (the loops over a term's unknowns
@@ -175,7 +180,27 @@ static void kw_supports(kw_system* s) {
             if (a[i]) { s->support[t * n + q++] = i; total += a[i]; }
         s->count[t] = q;
         s->total[t] = total;
+        // kw_passes' sum for a term of degree 2: every pair's factors have exponent 0
+        double sum = 0.0;
+        const long long* support = s->support + t * n;
+        for (long long u = 0; u < q && total == 2; ++u) {
+            long long i = support[u];
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], pair = a[i] * (a[j] - (i == j));
+                if (pair > 0) sum = kw_add_up(sum, (double)pair);
+            }
+        }
+        s->fixed[t] = sum;
     }
+    // turns: term t is its equation's rank-th; the terms by rank, then in order (a counting sort)
+    long long* rank = s->turns + s->terms;  // scratch: terms + 1 counts, then the ranks
+    long long* seen = rank + s->terms + 1;
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t <= s->terms; ++t) rank[t] = 0;
+    for (long long t = 0; t < s->terms; ++t) ++rank[seen[s->eq[t]]++ + 1];
+    for (long long t = 1; t <= s->terms; ++t) rank[t] += rank[t - 1];
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t < s->terms; ++t) s->turns[rank[seen[s->eq[t]]++]++] = t;
 }
 
 // the coefficients' sizes of a system, once per set of coefficients
@@ -818,13 +843,14 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     // H_k(rho), k = 0 .. n - 1, in w->step (reused: real values)
     double* h = w->step;
     for (long long k = 0; k < n; ++k) h[k] = 0.0;
-    for (long long t = 0; t < s->terms; ++t) {
+    for (long long turn = 0; turn < s->terms; ++turn) {  // each h_k's sum over its terms in order
+        long long t = s->turns[turn];
         const long long* a = s->a + t * n;
         const long long* support = s->support + t * n;
         long long q = s->count[t];
         if (s->total[t] < 2) continue;  // an affine term: no second derivative
-        double size = s->size[t], sum = 0.0;
-        for (long long u = 0; u < q; ++u) {
+        double size = s->size[t], sum = s->fixed[t];
+        for (long long u = 0; u < q && s->total[t] > 2; ++u) {
             long long i = support[u];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], pair = a[i] * (a[j] - (i == j));
@@ -841,12 +867,11 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     }
     // ||Y (J(z) - J(x))|| <= max_k sum_i |Y_ki| H_i r: each row of |Y| weighs the rows of J
     // (tighter than ||Y|| max_i H_i where the equations' scales differ)
-    double spread = 0.0;
-    for (long long k = 0; k < n; ++k) {
-        double sum = 0.0;
-        for (long long i = 0; i < n; ++i) sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], h[i]));
-        spread = kw_max(spread, sum);
-    }
+    double spread = 0.0, sum[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < n; ++k) sum[k] = 0.0;
+    for (long long i = 0; i < n; ++i)  // each row's sum over i in order, the rows side by side
+        for (long long k = 0; k < n; ++k) sum[k] = kw_add_up(sum[k], kw_mul_up(w->absy[k * n + i], h[i]));
+    for (long long k = 0; k < n; ++k) spread = kw_max(spread, sum[k]);
     double inner = kw_add_up(bounds->b, kw_mul_up(spread, r));
     double left = kw_add_up(bounds->a, kw_mul_up(inner, r));
     return left < r;
@@ -920,6 +945,8 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
     b += 6 * KW_ALIGN(n * KW_PAD(n) * (long long)sizeof(double));  // jre, jim, jrad, vre, vim, term
     b += 2 * KW_ALIGN((terms + 2) * (n + 2) * (long long)sizeof(long long));  // supports: main, chart
+    b += 2 * KW_ALIGN((3 * (terms + 2) + n) * (long long)sizeof(long long));  // turns: main, chart
+    b += 2 * KW_ALIGN((terms + 2) * (long long)sizeof(double));  // fixed: main, chart
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // candidates' sizes
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
@@ -1023,6 +1050,10 @@ static int kw_certify(const kw_job* job) {
     w.term = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
     long long* support_main = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
     long long* support_chart = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* turns_main = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    long long* turns_chart = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    double* fixed_main = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
+    double* fixed_chart = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
     double* largest = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -1085,7 +1116,8 @@ static int kw_certify(const kw_job* job) {
             double* centre = job->center + 2 * at * n;
             int present = kw_row_finite(n, z);
             kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0,
-                           support_main, support_main + (terms + 2) * n, support_main + (terms + 2) * (n + 1)};
+                           support_main, support_main + (terms + 2) * n, support_main + (terms + 2) * (n + 1),
+                           turns_main, fixed_main};
             if (sys == 0 && p == 0) kw_supports(&s);  // one set of exponents for every system
             double unit = 1e-150;
             for (long long i = 0; i < n; ++i) shift[i] = 0;
@@ -1262,7 +1294,8 @@ static int kw_certify(const kw_job* job) {
             coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
             radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
             kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate,
-                               support_chart, support_chart + (terms + 2) * n, support_chart + (terms + 2) * (n + 1)};
+                               support_chart, support_chart + (terms + 2) * n, support_chart + (terms + 2) * (n + 1),
+                               turns_chart, fixed_chart};
             kw_sizes(&chart);
             kw_supports(&chart);
             if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
