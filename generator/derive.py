@@ -7,6 +7,7 @@ SymPy objects for inspection. Conventions: Jacobians give (v, w) of the origin o
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from dataclasses import dataclass, field
 from typing import Any
@@ -424,6 +425,27 @@ def check_mobility(mechanism: Mechanism, residual: sp.Matrix) -> graph.Motion:
     return found
 
 
+def _home_values(mechanism: Mechanism) -> dict[sp.Symbol, float] | None:
+    """The actuated values at the mechanism's home and its parameter values, where the start
+    instance near home is placed (``generator/near_start.py``), in the numbers the runtime's
+    all-modes solver works in: every length divided by the power of two nearest the largest
+    length parameter (``parakin.mechanism.Mechanism._unit_free``). None where the home does not
+    give every actuated value."""
+    if not all(a in mechanism.home for a in mechanism.actuated):
+        return None
+    units = {
+        p: (mechanism.parameter_info[p].unit if p in mechanism.parameter_info else "") for p in mechanism.parameters
+    }
+    lengths = [abs(float(v)) for p, v in mechanism.parameters.items() if units[p] == "m"]
+    largest = max(lengths, default=0.0)
+    known = all(u in ("m", "rad", "") for u in units.values())
+    unit = float(2.0 ** round(math.log2(largest))) if known and largest > 0 else 1.0
+    prismatic = [a for a in mechanism.actuated if a not in mechanism.angular and a not in mechanism.dimensionless]
+    return {a: float(mechanism.home[a]) / (unit if a in prismatic else 1.0) for a in mechanism.actuated} | {
+        p: float(v) / (unit if units[p] == "m" else 1.0) for p, v in mechanism.parameters.items()
+    }
+
+
 def derive(mechanism: Mechanism) -> Derivation:
     actuated = ("actuated", mechanism.actuated)
     passive = ("passive", mechanism.passive)
@@ -560,7 +582,9 @@ def derive(mechanism: Mechanism) -> Derivation:
             ["the mechanism's own polynomial system (ForwardHomotopy)"],
         )
         stages.begin("own homotopy")
-        setup = start_systems.build(mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed)
+        setup = start_systems.build(
+            mechanism.name, form, actuated, params, "homotopy", forward_homotopy.seed, home=_home_values(mechanism)
+        )
         programs += setup.programs
         methods["homotopy"] = setup.metadata
         symbolic.update(setup.symbolic)
@@ -606,7 +630,13 @@ def derive(mechanism: Mechanism) -> Derivation:
             # with the parameter values: parameters sharing a value (sliders on shared rails) can
             # lower the root count, which is then proven where that relation holds
             setup = start_systems.build(
-                mechanism.name, form, actuated, params, "automatic", parameter_values=mechanism.parameters
+                mechanism.name,
+                form,
+                actuated,
+                params,
+                "automatic",
+                parameter_values=mechanism.parameters,
+                home=_home_values(mechanism),
             )
         except GenerationError as error:
             if not methods:

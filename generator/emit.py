@@ -196,6 +196,23 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
     )
 
 
+def _near_start(near: dict | None) -> dict:
+    """The template's view of the start near home (generator/near_start.py); {} where none."""
+    if near is None:
+        return {}
+    solutions = near["solutions"]
+    return {
+        "near_real": [[repr(float(v)) for v in row] for row in solutions["real"]],
+        "near_imag": [[repr(float(v)) for v in row] for row in solutions["imag"]],
+        "near_center": [
+            [repr(float(re)), repr(float(im))]
+            for re, im in zip(near["center"]["real"], near["center"]["imag"], strict=True)
+        ],
+        "near_scale": [repr(float(v)) for v in near["scale"]],
+        "near_radius": repr(float(near["radius"])),
+    }
+
+
 def _symmetry(chosen: dict) -> dict[str, object]:
     """The family's sign symmetry and the start paths it pairs (``parakin.solvers.path_tracking``): the C
     driver tracks one path of each pair and takes the image of its end for the other, as the
@@ -274,7 +291,9 @@ def _c_context(mechanism: str, programs: list[LoweredProgram], manifest: dict[st
                 "instances": [
                     [[repr(float(re)), repr(float(im))] for re, im in zip(i["real"], i["imag"], strict=True)]
                     for i in (chosen["start_instance"], chosen["alternative_instance"])
+                    + ((chosen["near"]["instance"],) if "near" in chosen else ())
                 ],
+                **_near_start(chosen.get("near")),
                 "circle_a": [repr(float(v)) for v in chosen["circle_constants"][0]],
                 "circle_b": [repr(float(v)) for v in chosen["circle_constants"][1]],
                 **_symmetry(chosen),

@@ -1695,6 +1695,7 @@ def build(
     prefix: str,
     seed: int = 2026,
     parameter_values: Mapping[sp.Symbol, float] | None = None,
+    home: Mapping[sp.Symbol, float] | None = None,
 ) -> HomotopySetup:
     """Kernels ``{prefix}_family``, ``{prefix}_monomials`` and ``{prefix}_passive`` and the
     manifest's record. Along H(z, s) each coefficient is a polynomial of degree < ``powers`` in s;
@@ -1703,7 +1704,8 @@ def build(
     degree, and perfectly conditioned), so that no expansion in s is generated. With the
     mechanism's ``parameter_values``, parameters that share a value are relations of the family
     (``start_systems``): where they lower its count, the count is proven on their subfamily and
-    the manifest's ``subfamily`` names them."""
+    the manifest's ``subfamily`` names them. With ``home`` (the actuated values at the mechanism's
+    home and its parameter values), a third start instance next to it (``near_start``)."""
     rng = np.random.default_rng(seed)
     equations = list(form.equations)
     patch_index = None
@@ -1808,6 +1810,13 @@ def build(
         "notes": list(form.notes),
     }
     relations = record.get("relations")
+    if home is not None and not isinstance(relations, Relations):
+        # inside a subfamily the offset would break its relations: those start as before
+        from .near_start import near_record
+
+        near = near_record(name, family, form, record, home, seed)
+        if near is not None:
+            metadata["near"] = near
     if isinstance(relations, Relations):
         # the count is the subfamily's: proven where these relations hold (parameters loaded
         # with other values break them, and with them the count)

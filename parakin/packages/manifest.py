@@ -172,6 +172,22 @@ class Homotopy:
     subfamily_identical: tuple[tuple[int, ...], ...] = ()
     subfamily_tolerance: float = 0.0
     subfamily_relations: str = ""
+    #: the start near the mechanism's home (``NearStart``), None where the package has none
+    near: NearStart | None = field(compare=False, default=None)
+
+
+@dataclass(frozen=True)
+class NearStart:
+    """A third start instance next to the mechanism's home (generator/near_start.py): inputs
+    whose family values lie within ``radius`` of ``center`` (max over values of |q - center| /
+    ``scale``) start here, on shorter paths; ``solutions`` (paths, unknowns) in the first start's
+    order (its sign symmetry's pairs are the same)."""
+
+    instance: np.ndarray = field(compare=False)
+    solutions: np.ndarray = field(compare=False)
+    center: np.ndarray = field(compare=False)
+    scale: np.ndarray = field(compare=False)
+    radius: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -1314,6 +1330,24 @@ def _homotopy(data: dict[str, Any], path: str, paths: int) -> Homotopy:
         _complex_vector(_member(data, "start_instance", path), f"{path}.start_instance", instance),
         _complex_vector(_member(data, "alternative_instance", path), f"{path}.alternative_instance", instance),
         *_subfamily(data.get("subfamily"), f"{path}.subfamily", instance),
+        _near(data.get("near"), f"{path}.near", paths, n, instance),
+    )
+
+
+def _near(value: object, path: str, paths: int, n: int, instance: int) -> NearStart | None:
+    """The optional ``near`` start of a homotopy (``NearStart``)."""
+    if value is None:
+        return None
+    data = _object(value, path)
+    scale = np.array(_numbers(_member(data, "scale", path), f"{path}.scale", instance))
+    if not (scale > 0).all():
+        raise _bad(f"{path}.scale", data["scale"], "has a value that is not positive")
+    return NearStart(
+        _complex_vector(_member(data, "instance", path), f"{path}.instance", instance),
+        _complex_matrix(_member(data, "solutions", path), f"{path}.solutions", paths, n),
+        _complex_vector(_member(data, "center", path), f"{path}.center", instance),
+        scale,
+        _number(_member(data, "radius", path), f"{path}.radius", 0.0),
     )
 
 

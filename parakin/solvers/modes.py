@@ -41,6 +41,7 @@ from parakin.solvers.path_tracking import (
     PathPairs,
     Paths,
     is_known,
+    near_home,
     path_coefficients,
     path_pairs,
     phase_normalised,
@@ -69,10 +70,16 @@ RETRACK_PATHS = 1024
 TWIN = 1e-4
 
 
+#: a re-track's start: each input's own first start (the one near home where it is near home:
+#: ``first_instances``)
+OWN_START = -1
+
+
 class Retrack(NamedTuple):
     """A re-track in projective space (``parakin.solvers.projective``) from start instance
-    ``instance`` (0 the first, 1 the second): every path, or with ``redo`` (inputs, paths) only
-    those, the others keeping their earlier ends ``ends`` (inputs, paths, unknowns)."""
+    ``instance`` (0 the first, 1 the second, ``OWN_START`` each input's own first): every path,
+    or with ``redo`` (inputs, paths) only those, the others keeping their earlier ends ``ends``
+    (inputs, paths, unknowns)."""
 
     instance: int
     redo: np.ndarray | None = None
@@ -414,10 +421,11 @@ def _homotopy_candidates(
     assert homotopy is not None
     codes = _codes(m)
     tol = _settings(m)
-    instance = 0 if retrack is None else retrack.instance
-    start = homotopy.alternative if instance else homotopy.start
-    paths = start.shape[0]
     n = theta.shape[0]
+    own = retrack is None or retrack.instance == OWN_START
+    instance = first_instances(m, info, theta) if own else np.full(n, retrack.instance)  # type: ignore[union-attr]
+    start = _start_rows(homotopy, instance)
+    paths = start.shape[1]
     table = _path_table(m, info, theta, instance)
     tolerance = float(tol["path_tolerance"])
     if retrack is not None and retrack.redo is not None and retrack.ends is not None:
@@ -478,13 +486,41 @@ def _homotopy_candidates(
     }
 
 
+def first_instances(m: Mechanism, info: Forward, theta: Array) -> np.ndarray:
+    """(inputs,) the start instance each input's paths begin at: 2 (the start near home, the
+    manifest's ``near``) where its family values lie near the home's
+    (``parakin.solvers.path_tracking.near_home``), else 0 (the first stored start); as the
+    generated C driver chooses."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    near = homotopy.near
+    if near is None or not theta.shape[0]:
+        return np.zeros(theta.shape[0], dtype=np.intp)
+    free, angles = _family(m, info, theta)
+    close = near_home(near.center, near.scale, near.radius, free, angles, homotopy.circle_constants)
+    return np.where(close, 2, 0)
+
+
+def _start_rows(homotopy: Homotopy, instance: np.ndarray) -> np.ndarray:
+    """The start solutions (inputs, paths, unknowns) of each input's start ``instance`` (0 the
+    first, 1 the alternative, 2 the start near home)."""
+    solutions = [homotopy.start, homotopy.alternative, homotopy.near.solutions if homotopy.near else homotopy.start]
+    if (instance == instance[:1]).all():
+        return np.broadcast_to(
+            solutions[int(instance[0]) if instance.size else 0], (instance.size,) + homotopy.start.shape
+        )
+    return np.stack([solutions[int(k)] for k in instance])
+
+
 def _track_family(
     homotopy: Homotopy, table: np.ndarray, start: np.ndarray, count: int, tolerance: float, projective: bool = False
 ) -> Paths:
-    """The paths of ``count`` inputs from ``start``: one of each symmetric pair when the family has
-    a sign symmetry (``parakin.solvers.path_tracking.track_symmetric``), as the generated C driver does;
-    ``projective``: tracked on the homogenised family and returned as affine endpoints."""
-    pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
+    """The paths of ``count`` inputs from ``start`` (inputs, paths, unknowns): one of each
+    symmetric pair when the family has a sign symmetry
+    (``parakin.solvers.path_tracking.track_symmetric``), as the generated C driver does;
+    ``projective``: tracked on the homogenised family and returned as affine endpoints. The
+    pairs are the first start's: every start instance keeps its order."""
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     if projective:
         family = projective_family(homotopy.exponents, homotopy.equation, pairs)
         extended = projective_table(family, table)
@@ -504,11 +540,11 @@ def _track_some(
     homotopy: Homotopy, table: np.ndarray, start: np.ndarray, redo: np.ndarray, ends: np.ndarray, tolerance: float
 ) -> Paths:
     """The paths ``redo`` (inputs, paths) of the inputs of ``table`` tracked again in projective
-    space from ``start``, the others reached at their earlier ``ends`` (inputs, paths, unknowns):
+    space from ``start`` (inputs, paths, unknowns), the others reached at their earlier ``ends`` (inputs, paths, unknowns):
     one per symmetric pair (``redo`` is closed under partners), each path with its own input's
     coefficients, ``RETRACK_PATHS`` at a time."""
     count, paths, size = ends.shape
-    pairs = path_pairs(homotopy.exponents, homotopy.equation, start)
+    pairs = path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
     redo = redo | redo[:, pairs.partner] if pairs is not None else redo.copy()
     tracked = redo.copy()
     if pairs is not None:
@@ -525,7 +561,7 @@ def _track_some(
         def system(index: np.ndarray, z: np.ndarray, s: np.ndarray, r: np.ndarray = r):
             return every(r[index], z, s)
 
-        again = to_affine(track(system, to_projective(family, start[c]), tolerance))
+        again = to_affine(track(system, to_projective(family, start[r, c]), tolerance))
         z[r, c], status[r, c] = again.z, again.status
     if pairs is not None:  # the partner of a path tracked ends at the image of its end
         source = np.full(paths, -1)
@@ -569,11 +605,12 @@ def toward_infinity(m: Mechanism, info: Forward, theta: Array, paths: np.ndarray
         return heading
     family = projective_family(homotopy.exponents, homotopy.equation, path_pairs(
         homotopy.exponents, homotopy.equation, homotopy.start))  # fmt: skip
+    instance = first_instances(m, info, theta)  # each input's paths from where they began
     every = family_system(
-        projective_table(family, _path_table(m, info, theta, 0)), family.exponents, family.equation, 1
+        projective_table(family, _path_table(m, info, theta, instance)), family.exponents, family.equation, 1
     )
     tolerance = float(_settings(m)["path_tolerance"])
-    z = to_projective(family, homotopy.start[columns])
+    z = to_projective(family, _start_rows(homotopy, instance)[rows, columns])
     alive = np.ones(rows.size, dtype=bool)
     size = np.full((len(PROBE_S), rows.size), np.nan)
     high = 1.0
@@ -632,14 +669,24 @@ def _family(m: Mechanism, info: Forward, theta: Array) -> tuple[np.ndarray, np.n
     return values["free"][:, : len(homotopy.free)], values["angles"][:, : len(homotopy.circles)]
 
 
-def _path_table(m: Mechanism, info: Forward, theta: Array, which: int) -> np.ndarray:
-    """Coefficients in s (inputs, powers, terms) from the first (0) or second (1) start instance."""
+def _path_table(m: Mechanism, info: Forward, theta: Array, which: int | np.ndarray) -> np.ndarray:
+    """Coefficients in s (inputs, powers, terms) from the first (0), second (1) or near-home (2)
+    start instance, one for every input or one per input (an array)."""
     homotopy = info.homotopy
     assert homotopy is not None
     free, angles = _family(m, info, theta)
-    start = homotopy.alternative_instance if which else homotopy.start_instance
-    with np.errstate(all="ignore"):
-        return path_coefficients(_monomials(m, info), free, angles, start, homotopy.powers, homotopy.circle_constants)
+    which = np.broadcast_to(np.asarray(which), (theta.shape[0],))
+    near = homotopy.near.instance if homotopy.near is not None else homotopy.start_instance
+    instances = (homotopy.start_instance, homotopy.alternative_instance, near)
+    monomials = _monomials(m, info)
+    table = np.empty((theta.shape[0], homotopy.powers, homotopy.exponents.shape[0]), dtype=complex)
+    for k in np.unique(which):
+        rows = which == k
+        with np.errstate(all="ignore"):
+            table[rows] = path_coefficients(
+                monomials, free[rows], angles[rows], instances[k], homotopy.powers, homotopy.circle_constants
+            )
+    return table
 
 
 def _certified_group(homotopy: Homotopy) -> list[int] | None:
@@ -1024,7 +1071,7 @@ def certified_modes(
         retracked[short] = True
         if instance is None:  # the suspect paths only, projectively, from the same start
             ends = out["endpoints"][short]
-            plan = Retrack(0, suspect_paths(ends, found.unique[short]), ends[..., 0] + 1j * ends[..., 1])
+            plan = Retrack(OWN_START, suspect_paths(ends, found.unique[short]), ends[..., 0] + 1j * ends[..., 1])
         else:
             plan = Retrack(instance)
         again = numpy_modes(m, theta[short], info, retrack=plan)

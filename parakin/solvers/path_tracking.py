@@ -502,6 +502,23 @@ def path_coefficients(
     return np.fft.fft(values, axis=1) / powers
 
 
+def near_home(
+    center: np.ndarray,
+    scale: np.ndarray,
+    radius: float,
+    free: np.ndarray,
+    angles: np.ndarray,
+    constants: tuple[complex, complex],
+) -> np.ndarray:
+    """(inputs,) bool: the inputs whose family values (free values (inputs, F), angles (inputs,
+    A) as circle parameters u) all lie within ``radius`` of ``center`` (F + A, complex), each
+    relative to its ``scale``: those start at the instance near home (the manifest's ``near``;
+    the generated C driver's ``near_home``). NaN values are not near."""
+    point = np.concatenate([free + 0j, circle_parameter(angles, *constants)], axis=-1)
+    with np.errstate(invalid="ignore"):
+        return (np.abs(point - center) / scale <= radius).all(-1)
+
+
 def target_coefficients(
     monomials: Callable[[np.ndarray], np.ndarray], free: np.ndarray, angles: np.ndarray
 ) -> np.ndarray:
@@ -696,19 +713,20 @@ def _cached_pairs(
 def track_symmetric(
     system_for: Callable[[int], System], start: np.ndarray, count: int, tolerance: float, pairs: PathPairs | None
 ) -> Paths:
-    """``track`` of ``count`` inputs' paths from ``start`` (P, n); with ``pairs`` (``path_pairs``
-    of ``start``), one path of each pair (z, S z) is tracked and its partner's path is its image:
+    """``track`` of ``count`` inputs' paths from ``start`` (P, n), or each input's own (count, P,
+    n); with ``pairs`` (``path_pairs`` of ``start``), one path of each pair (z, S z) is tracked and its partner's path is its image:
     H(S z, s) = D H(z, s) along the whole homotopy, so the partner ends at S times its end, the
     same way (reached, failed or diverged). ``system_for(paths per input)`` builds the system;
     results are (count * P, ...) in path order either way."""
-    paths = start.shape[0]
+    start = np.broadcast_to(start, (count,) + start.shape[-2:])
+    paths, size = start.shape[1:]
     if pairs is None:
-        return track(system_for(paths), np.tile(start, (count, 1)), tolerance)
+        return track(system_for(paths), start.reshape(-1, size), tolerance)
     tracked = pairs.first
-    half = track(system_for(tracked.size), np.tile(start[tracked], (count, 1)), tolerance)
+    half = track(system_for(tracked.size), start[:, tracked].reshape(-1, size), tolerance)
     source = np.empty(paths, dtype=np.intp)
     source[tracked], source[pairs.second] = np.arange(tracked.size), np.arange(tracked.size)
-    signs = np.ones((paths, start.shape[1]))
+    signs = np.ones((paths, size))
     signs[pairs.second] = pairs.flip
     rows = (np.arange(count)[:, None] * tracked.size + source[None, :]).ravel()
     return Paths(half.z[rows] * np.tile(signs, (count, 1)), half.status[rows], half.steps[rows], half.update[rows])
