@@ -52,6 +52,7 @@ from parakin.results import (
     Array,
     AssemblyModes,
     Configuration,
+    DeferredConditioning,
     ForwardPose,
     InversePose,
     Mask,
@@ -85,6 +86,10 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_SINGULAR, STATUS_WRONG_BASIN = (
 CONSTRAINT_TOLERANCE = 1e-6
 #: the fewest inputs per step of a batch of ``forward_pose_all`` that shows a progress bar
 BAR_STEP = 256
+#: ``forward_pose_all`` of at most this many inputs measures its modes' conditioning when it is
+#: first read (``results.DeferredConditioning``: the closure Jacobians are kept until then); a
+#: larger batch measures it at once
+DEFER_CONDITIONING = 64
 #: the continuation step ``self_motion`` takes by default (m or rad): a traced curve that moves by
 #: half of it is a self-motion, not an isolated configuration found again and again
 SELF_MOTION_STEP = 0.02
@@ -925,7 +930,8 @@ class Mechanism:
         AssemblyModes
             ``poses`` (..., M, 4, 4), ``passive`` (..., M, n_p), ``valid`` (..., M), ``count``
             (...), ``conditioning`` (..., M: each mode's distance to a type II singularity,
-            ``parakin.singularity.type_ii_distance``, NaN in a slot that is no mode) and the
+            ``parakin.singularity.type_ii_distance``, NaN in a slot that is no mode; for at most
+            ``DEFER_CONDITIONING`` inputs measured when first read) and the
             accounting of every slot; ``mode(k)`` is the k-th mode of each input as a Configuration.
 
         Raises
@@ -981,12 +987,20 @@ class Mechanism:
             # with a bar, in about a hundred steps so that it moves (each input is solved on its
             # own: the same answers); without one, in one step
             step = max(BAR_STEP, -(-count // 100)) if bar.active else max(count, 1)
+            # a few inputs in one step: their conditioning is measured when first read (most
+            # callers of one input never read it: a control loop picking its mode)
+            defer = step >= count and count <= DEFER_CONDITIONING
             parts = []
             for start in range(0, max(count, 1), step):
-                parts.append(self._every_mode(info, flat[start : start + step], certify == "exact"))
+                parts.append(self._every_mode(info, flat[start : start + step], certify == "exact", defer))
                 bar.update(parts[-1]["count"].shape[0])
         out = parts[0] if len(parts) == 1 else {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
         modes = assemble(self, theta, out, info)
+        if "conditioning_jacobians" in out:
+            modes._defer(
+                "conditioning",
+                DeferredConditioning(out["conditioning_measured"], out["conditioning_jacobians"], modes.valid),
+            )
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
             index = first_index(degenerate)
@@ -1032,21 +1046,24 @@ class Mechanism:
             raise SingularConfigurationError(f"{message}; {found}")
         return modes
 
-    def _every_mode(self, info: Forward, flat: Array, exact: bool) -> dict[str, np.ndarray]:
+    def _every_mode(self, info: Forward, flat: Array, exact: bool, defer: bool = False) -> dict[str, np.ndarray]:
         """The all-modes pipeline's arrays for a flat batch. A homotopy solves the geometry in its
         own size (``_unit_free``): the paths, the certificate and every threshold then see the same
-        numbers in millimetres, metres or kilometres, and the modes are scaled back."""
+        numbers in millimetres, metres or kilometres, and the modes are scaled back. ``defer``:
+        the modes' conditioning is left to its first reading (``_measured``)."""
         unit_free = self._unit_free if info.homotopy is not None else None
         if unit_free is None:
-            return self._measured(flat, self._every_mode_here(info, flat, exact), rescaled=False)
+            return self._measured(flat, self._every_mode_here(info, flat, exact), rescaled=False, defer=defer)
         scaled, unit = unit_free
         length_actuated, length_passive = self._length_variables
         out = scaled._every_mode_here(info, np.where(length_actuated, flat / unit, flat), exact)
         out["passive"] = np.where(length_passive, out["passive"] * unit, out["passive"])
         out["poses"][..., :3, 3] *= unit
-        return self._measured(flat, out, rescaled=True)
+        return self._measured(flat, out, rescaled=True, defer=defer)
 
-    def _measured(self, flat: Array, out: dict[str, np.ndarray], rescaled: bool) -> dict[str, np.ndarray]:
+    def _measured(
+        self, flat: Array, out: dict[str, np.ndarray], rescaled: bool, defer: bool = False
+    ) -> dict[str, np.ndarray]:
         """``out`` with each mode's ``conditioning`` measured in the caller's units: the type II
         distance of ``parakin.singularity`` (sigma_min / sigma_max of d closure / d passive at the
         mode, from one call of the closure kernel and one batched SVD), the same measure whatever
@@ -1069,7 +1086,10 @@ class Mechanism:
             if rescaled:  # the closure residual in the caller's units, at the modes' own values
                 out["residual"][where] = np.abs(closure["residual"]).max(-1, initial=0.0)
             jacobian = closure["jacobian"] if where is modes else closure["jacobian"][modes[where]]
-            conditioning[modes] = inverse_condition(jacobian)  # the modes, in the same order
+            if defer:  # measured when first read: the modes and their Jacobians (DeferredConditioning)
+                out["conditioning_measured"], out["conditioning_jacobians"] = modes, jacobian
+            else:
+                conditioning[modes] = inverse_condition(jacobian)  # the modes, in the same order
         out["conditioning"] = conditioning
         return out
 

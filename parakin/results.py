@@ -5,7 +5,7 @@ from __future__ import annotations
 import html
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -112,6 +112,27 @@ class InversePose:
 
 
 @dataclass(frozen=True)
+class DeferredConditioning:
+    """An ``AssemblyModes.conditioning`` computed when first read (``Mechanism.forward_pose_all``
+    of a few inputs): ``inverse_condition`` of the closure Jacobians ``jacobians`` (k, n_c, n_p)
+    of the measured modes ``measured`` (n, M) (flat batch, the Jacobians in row-major order of
+    the mask), NaN in every other slot and where ``valid`` (..., M) is False, over the batch
+    shape of ``valid``: the array the mechanism would have computed at once."""
+
+    measured: Mask
+    jacobians: Array
+    valid: Mask
+
+    def value(self) -> Array:
+        """The conditioning (..., M)."""
+        from parakin.solvers.linalg import inverse_condition  # (that module builds on this one)
+
+        conditioning = np.full(self.measured.shape, np.nan)
+        conditioning[self.measured] = inverse_condition(self.jacobians)
+        return np.where(self.valid, conditioning.reshape(self.valid.shape), np.nan)
+
+
+@dataclass(frozen=True)
 class AssemblyModes:
     """Every forward-pose solution, in M = degree x branch-combination slots: arrays (..., M, ...).
 
@@ -131,7 +152,8 @@ class AssemblyModes:
     the kind of the slot's root (0 simple, 1 cluster of numerically multiple roots, 2 complex
     pair near the real axis, -1 no root). ``conditioning``: the type II distance
     (``parakin.singularity.type_ii_distance``: sigma_min / sigma_max of d closure / d passive), 1
-    far from, 0 at a type II singularity; NaN in a slot that is no mode. Per input: ``real_roots`` (distinct finite
+    far from, 0 at a type II singularity; NaN in a slot that is no mode (for a call of a few inputs
+    measured when first read: ``DeferredConditioning``). Per input: ``real_roots`` (distinct finite
     real roots), ``near_roots``, ``at_infinity`` (roots at infinity; at a degenerate input also
     the paths found heading there) and ``status`` (``INPUT_STATUS``)."""
 
@@ -169,6 +191,27 @@ class AssemblyModes:
     #: the mechanism's pose kind (``parakin.pose.POSE_KINDS``): the tables show its coordinates
     #: only; "" (unknown) shows all six of a transform
     pose_kind: str = ""
+
+    def _defer(self, name: str, deferred: DeferredConditioning) -> None:
+        """Field ``name`` computed at its first reading (``deferred.value()``), not now: the
+        value any reading gets is the one computing it now would give."""
+        self.__dict__.pop(name)
+        self.__dict__.setdefault("_deferred", {})[name] = deferred
+
+    if not TYPE_CHECKING:  # (a static checker keeps seeing the fields alone)
+
+        def __getattr__(self, name: str) -> Any:
+            """A deferred field's value, computed at its first reading (``_defer``) and kept."""
+            deferred = self.__dict__.get("_deferred", {}).get(name)
+            if deferred is None:
+                if name in self.__dict__:  # another thread computed it meanwhile
+                    return self.__dict__[name]
+                raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}", name=name, obj=self)
+            value = deferred.value()
+            self.__dict__[name] = value
+            # a new dict, not this one emptied: a copy (copy.copy) shares this one until it reads
+            self.__dict__["_deferred"] = {key: d for key, d in self.__dict__["_deferred"].items() if key != name}
+            return value
 
     def complete(self) -> Mask:
         """Whether no assembly mode can be missing, per input.
