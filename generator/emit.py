@@ -199,7 +199,7 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
 def _near_start(near: dict | None) -> dict:
     """The template's view of the start near home (generator/near_start.py); {} where none."""
     if near is None:
-        return {}
+        return {"near_real": []}
     solutions = near["solutions"]
     return {
         "near_real": [[repr(float(v)) for v in row] for row in solutions["real"]],

@@ -6,7 +6,7 @@ discriminant gives a valid homotopy; the farther it lies from the input, the lon
 the more steps they take. The stored start instance is random with unit-size values, often far
 from a mechanism's geometry (its lengths in metres, its angles' circle parameters). This module
 places one more instance, ``near``, at the family's values at the mechanism's home plus a complex
-offset of relative size ``OFFSET`` in a random direction (seeded), and follows every stored start
+offset of relative size ``OFFSETS[0]`` in a random direction (seeded), and follows every stored start
 solution to it. An input whose family values lie within ``RADIUS`` of home (per value, relative to
 ``scale``) starts there; any other input (another geometry loaded, a far pose) starts from the
 stored instance as before. Measured on the seed mechanisms' inputs near home: steps per path
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import mpmath
 import numpy as np
 import sympy as sp
 
@@ -31,8 +32,10 @@ from parakin.log import logger
 
 from .polynomial_form import MOEBIUS_A, MOEBIUS_B, PolynomialForm
 
-#: the offset of the near instance from the home's family values, relative to ``scale``
-OFFSET = 0.15
+#: the offsets of the near instance from the home's family values, relative to ``scale``, tried
+#: in turn until every stored start solution reaches it apart (a home with roots near infinity,
+#: rus6's, may need a larger one)
+OFFSETS = (0.15, 0.3, 0.6)
 #: inputs whose family values lie within this distance of home (max over values of |q - home| /
 #: scale) start at the near instance: measured on planar_3rrr inputs a radian from home, still 3x
 #: fewer steps than from the stored instance with every endpoint the same
@@ -76,11 +79,42 @@ def _rounded(value: complex) -> list[float]:
     return [float(f"{value.real:.{DIGITS}g}"), float(f"{value.imag:.{DIGITS}g}")]
 
 
+def _newton_40(family, q: np.ndarray, found: np.ndarray) -> list[list[complex] | None]:
+    """Newton in 40-digit arithmetic from each double-precision point, rounded to the nearest
+    double (the stored doubles then do not depend on the machine); None for a point whose last
+    step (of at most 8) is not below 1e-30 of 1 + |z|. The equations and their Jacobian as
+    lambdified functions: the start systems' monomial table (``start_systems._newton_40``) is
+    built once per family for its cache, and costs minutes on the larger families (sam)."""
+    arguments = family.unknowns + family.parameters
+    value = sp.lambdify(arguments, family.equations, modules="mpmath", cse=True)
+    jacobian = sp.lambdify(arguments, list(family.jacobian_z), modules="mpmath", cse=True)
+    n = family.n
+    refined: list[list[complex] | None] = []
+    with mpmath.workdps(40):
+        parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in q]
+        for row in found:
+            z = [mpmath.mpc(complex(c)) for c in row]
+            converged = False
+            for _ in range(8):
+                entries = jacobian(*z, *parameters)
+                matrix = mpmath.matrix([[entries[i * n + j] for j in range(n)] for i in range(n)])
+                try:
+                    step = mpmath.lu_solve(matrix, mpmath.matrix(value(*z, *parameters)))
+                except ZeroDivisionError:
+                    break
+                z = [a - b for a, b in zip(z, step, strict=True)]
+                converged = mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z)))
+                if converged:
+                    break
+            refined.append([complex(float(c.real), float(c.imag)) for c in z] if converged else None)
+    return refined
+
+
 def near_record(name: str, family, form: PolynomialForm, record: dict, values: Mapping[sp.Symbol, float], seed: int):
     """The manifest's ``near`` entry (instance, solutions in the stored start's order, center,
     scale, radius), or None where the home gives no family point or the stored start's paths do
     not all reach distinct regular solutions there (then no input starts near home)."""
-    from .start_systems import _newton_40, _segment, _smallest_gap, _track
+    from .start_systems import _segment, _smallest_gap, _track
 
     center = home_point(form, list(family.free), values)
     if center is None or len(center) != family.m:
@@ -89,13 +123,21 @@ def near_record(name: str, family, form: PolynomialForm, record: dict, values: M
     scale = scale_of(center)
     rng = np.random.default_rng(seed + 3)
     direction = (rng.normal(size=center.size) + 1j * rng.normal(size=center.size)) / np.sqrt(2)
-    instance = np.array([complex(*_rounded(v)) for v in center + OFFSET * scale * direction])
     start_q = np.array([complex(*v) for v in record["instance"]])
     start = np.array([[complex(*c) for c in row] for row in record["solutions"]])
-    moved, reached = _track(_segment(family, start_q, instance), start)
-    refined = _newton_40(family, instance, moved) if reached.all() else [None]
-    if any(row is None for row in refined) or not _smallest_gap(np.array(refined)) > 1e-6:
-        logger.warning("%s: no start near home (its paths from the stored start did not all stay apart)", name)
+    for offset in OFFSETS:
+        instance = np.array([complex(*_rounded(v)) for v in center + offset * scale * direction])
+        moved, reached = _track(_segment(family, start_q, instance), start)
+        refined = _newton_40(family, instance, moved) if reached.all() else []
+        regular = sum(row is not None for row in refined)
+        if regular == len(start) and _smallest_gap(np.array(refined)) > 1e-6:
+            break
+        logger.info(
+            "%s: no start at offset %g from home: of its %d paths from the stored start %d reached, %d regular there",
+            name, offset, len(start), int(reached.sum()), regular,
+        )  # fmt: skip
+    else:
+        logger.warning("%s: no start near home (its paths from the stored start did not all reach it apart)", name)
         return None
     solutions = np.array(refined)
     return {
