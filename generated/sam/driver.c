@@ -873,6 +873,8 @@ static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0}
 #define KW_UNIT 0x1p-53
 // the most unknowns a system may have (a job with more is refused)
 #define KW_MAX_UNKNOWNS 64
+// n rounded up to a multiple of 4: rows of this stride let loops over a row run in whole vectors
+#define KW_PAD(n) (((n) + 3) / 4 * 4)
 
 // the least double above every real within 2^-53 |v| + 2^-1075 of v (at least the next double)
 static inline double kw_up(double v) { return v + (fabs(v) * 0x1p-52 + 0x1p-1074); }
@@ -884,11 +886,27 @@ static inline double kw_mul_up(double a, double b) { return kw_up(a * b); }
 // s (at most 16 of them, s computed in round to nearest): 2^-53 s + 16 * 2^-1075 and more
 static inline double kw_error(double s) { return s * 0x1p-52 + 0x1p-1070; }
 
+// fmax and fmin without the library call (x86-64 has no instruction with their NaN rule): the
+// larger (smaller) of a and b, and the other where one is NaN; where both are zeros, a (fmax may
+// give either: every caller's zeros are +0)
+static inline double kw_max(double a, double b) { return (b > a || a != a) ? b : a; }
+static inline double kw_min(double a, double b) { return (b < a || a != a) ? b : a; }
+
+// 2^e for -1022 <= e <= 1023 (a normal double), from its bits
+static inline double kw_pow2(long long e) {
+    union { unsigned long long bits; double value; } v;
+    v.bits = (unsigned long long)(e + 1023) << 52;
+    return v.value;
+}
+// ldexp(v, e) without the library call where 2^e is a normal double: v 2^e rounded once, as
+// ldexp rounds it (exact unless it leaves the normal range)
+static inline double kw_ldexp(double v, long long e) { return e >= -1022 && e <= 1023 ? v * kw_pow2(e) : ldexp(v, (int)e); }
+
 // upper and lower bounds on |re + i im|
-static double kw_abs_up(double re, double im) {
+static inline double kw_abs_up(double re, double im) {
     double v = kw_up(sqrt(kw_add_up(kw_mul_up(re, re), kw_mul_up(im, im))));
-    if (isinf(v) && isfinite(re) && isfinite(im)) v = kw_add_up(fabs(re), fabs(im));  // squares overflow
-    return v;
+    double other = kw_add_up(fabs(re), fabs(im));  // where the squares overflow (a select: loops over it vectorize)
+    return isinf(v) && isfinite(re) && isfinite(im) ? other : v;
 }
 static double kw_abs_down(double re, double im) {
     double a = fabs(re), b = fabs(im), big = a > b ? a : b;
@@ -952,7 +970,51 @@ typedef struct {
     const long long* eq;
     double* size;  // |c_t| + cr_t rounded up (kw_sizes)
     int accurate;  // F in double-word arithmetic (kw_accurate_f): the second attempt
+    // the terms' supports (kw_supports): term t's unknowns of nonzero exponent, increasing, at
+    // support[t * n ...], count[t] of them, total[t] its degree
+    long long* support;
+    long long* count;
+    long long* total;
+    // the terms by equation taken in turn (each equation's terms in order: kw_passes' sums over
+    // them run side by side), and for a term of degree 2 its sum of second-derivative weights
+    // (kw_passes: no power of rho in it)
+    long long* turns;
+    double* fixed;
 } kw_system;
+
+// the supports of a system's terms, once per set of exponents (the loops over a term's unknowns
+// visit its support alone, in the same order: the same operations as a scan of all n)
+static void kw_supports(kw_system* s) {
+    long long n = s->n;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long q = 0, total = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) { s->support[t * n + q++] = i; total += a[i]; }
+        s->count[t] = q;
+        s->total[t] = total;
+        // kw_passes' sum for a term of degree 2: every pair's factors have exponent 0
+        double sum = 0.0;
+        const long long* support = s->support + t * n;
+        for (long long u = 0; u < q && total == 2; ++u) {
+            long long i = support[u];
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], pair = a[i] * (a[j] - (i == j));
+                if (pair > 0) sum = kw_add_up(sum, (double)pair);
+            }
+        }
+        s->fixed[t] = sum;
+    }
+    // turns: term t is its equation's rank-th; the terms by rank, then in order (a counting sort)
+    long long* rank = s->turns + s->terms;  // scratch: terms + 1 counts, then the ranks
+    long long* seen = rank + s->terms + 1;
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t <= s->terms; ++t) rank[t] = 0;
+    for (long long t = 0; t < s->terms; ++t) ++rank[seen[s->eq[t]]++ + 1];
+    for (long long t = 1; t <= s->terms; ++t) rank[t] += rank[t - 1];
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t < s->terms; ++t) s->turns[rank[seen[s->eq[t]]++]++] = t;
+}
 
 // the coefficients' sizes of a system, once per set of coefficients
 static void kw_sizes(kw_system* s) {
@@ -977,6 +1039,12 @@ typedef struct {
     kw_disc* g;       // n: its Y1 F
     double* absy2;    // n x n: |Y| kept while kw_precondition tries
     double* dwj;      // n x n x 5: double-word J (kw_accurate_j)
+    double* jre;      // n x n: jac's midpoints' real parts, imaginary parts and radii (kw_ingredients)
+    double* jim;
+    double* jrad;
+    double* vre;      // n x n: kw_inverse's n solves side by side (column col: the solve for e_col)
+    double* vim;
+    double* term;     // n x n: kw_ingredients' bounds on |(I - Y J)_kj|
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -991,40 +1059,42 @@ static inline void kw_accumulate(kw_disc* sum, double* mag, kw_disc term) {
 // F~ and J~ in round to nearest from the powers' midpoints (radii left 0): the Newton steps
 static int kw_evaluate_midpoints(const kw_system* s, kw_scratch* w) {
     long long n = s->n, deg = s->deg;
+    const kw_disc* powers = w->powers;
+    kw_disc* f = w->f;
+    kw_disc* jac = w->jac;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         double cr = s->c[2 * t], ci = s->c[2 * t + 1], mr = 1.0, mi = 0.0;
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                const kw_disc* p = w->powers + i * (deg + 1) + a[i];
-                double r = mr * p->re - mi * p->im;
-                mi = mr * p->im + mi * p->re;
-                mr = r;
-                support[q++] = i;
-            }
-        w->f[k].re += cr * mr - ci * mi;
-        w->f[k].im += cr * mi + ci * mr;
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            const kw_disc* p = powers + i * (deg + 1) + a[i];
+            double r = mr * p->re - mi * p->im;
+            mi = mr * p->im + mi * p->re;
+            mr = r;
+        }
+        f[k].re += cr * mr - ci * mi;
+        f[k].im += cr * mi + ci * mr;
         for (long long u = 0; u < q; ++u) {
             long long i = support[u];
             double dr = cr * (double)a[i], di = ci * (double)a[i];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], e = a[j] - (j == i);
                 if (!e) continue;
-                const kw_disc* p = w->powers + j * (deg + 1) + e;
+                const kw_disc* p = powers + j * (deg + 1) + e;
                 double r = dr * p->re - di * p->im;
                 di = dr * p->im + di * p->re;
                 dr = r;
             }
-            w->jac[k * n + i].re += dr;
-            w->jac[k * n + i].im += di;
+            jac[k * n + i].re += dr;
+            jac[k * n + i].im += di;
         }
     }
     for (long long i = 0; i < n; ++i)
-        if (!kw_finite(w->f[i])) return 0;
+        if (!kw_finite(f[i])) return 0;
     for (long long k = 0; k < n * n; ++k)
-        if (!kw_finite(w->jac[k])) return 0;
+        if (!kw_finite(jac[k])) return 0;
     return 1;
 }
 
@@ -1036,7 +1106,13 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
         kw_disc* p = w->powers + i * (deg + 1);
         p[0] = kw_point(1.0, 0.0);
         if (deg >= 1) p[1] = kw_point(x[2 * i], x[2 * i + 1]);
-        for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        if (rigorous)
+            for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        else  // kw_mul's midpoint alone (the radii are not read)
+            for (long long e = 2; e <= deg; ++e) {
+                double ar = p[e - 1].re, ai = p[e - 1].im, br = p[1].re, bi = p[1].im;
+                p[e] = (kw_disc){ar * br - ai * bi, ar * bi + ai * br, 0.0};
+            }
         w->f[i] = kw_point(0.0, 0.0);
     }
     for (long long k = 0; k < n * n; ++k) w->jac[k] = kw_point(0.0, 0.0);
@@ -1044,16 +1120,15 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
     for (long long k = 0; k < n + n * n; ++k) w->mag[k] = 0.0;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         kw_disc c = {s->c[2 * t], s->c[2 * t + 1], s->cr[t]};
         kw_disc m = kw_point(1.0, 0.0);
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                kw_disc p = w->powers[i * (deg + 1) + a[i]];
-                m = q ? kw_mul(m, p) : p;
-                support[q++] = i;
-            }
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            kw_disc p = w->powers[i * (deg + 1) + a[i]];
+            m = u ? kw_mul(m, p) : p;
+        }
         kw_accumulate(w->f + k, w->mag + k, q ? kw_mul(c, m) : c);
         for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
             long long i = support[u];
@@ -1203,36 +1278,45 @@ static int kw_accurate_j(const kw_system* s, kw_scratch* w) {
     return 1;
 }
 
-// LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
-// 0 when a pivot is exactly zero
+// LU with partial pivoting of the midpoints of jac into w->lu (n x n real parts, then n x n
+// imaginary parts: rows contiguous, so that the loops over a row run in vector registers; each
+// entry's operations are the same, in the same order) and w->pivot (round to nearest); 0 when a
+// pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
-    double* a = w->lu;
-    for (long long k = 0; k < n * n; ++k) { a[2 * k] = w->jac[k].re; a[2 * k + 1] = w->jac[k].im; }
+    double* are = w->lu;
+    double* aim = w->lu + n * n;
+    for (long long k = 0; k < n * n; ++k) { are[k] = w->jac[k].re; aim[k] = w->jac[k].im; }
     for (long long k = 0; k < n; ++k) {
         long long best = k;
-        double largest = fabs(a[2 * (k * n + k)]) + fabs(a[2 * (k * n + k) + 1]);
+        double largest = fabs(are[k * n + k]) + fabs(aim[k * n + k]);
         for (long long r = k + 1; r < n; ++r) {
-            double v = fabs(a[2 * (r * n + k)]) + fabs(a[2 * (r * n + k) + 1]);
+            double v = fabs(are[r * n + k]) + fabs(aim[r * n + k]);
             if (v > largest) { best = r; largest = v; }
         }
         if (!(largest > 0.0)) return 0;
         w->pivot[k] = best;
         if (best != k)
-            for (long long j = 0; j < 2 * n; ++j) {
-                double t = a[2 * k * n + j];
-                a[2 * k * n + j] = a[2 * best * n + j];
-                a[2 * best * n + j] = t;
+            for (long long j = 0; j < n; ++j) {
+                double t = are[k * n + j];
+                are[k * n + j] = are[best * n + j];
+                are[best * n + j] = t;
+                t = aim[k * n + j];
+                aim[k * n + j] = aim[best * n + j];
+                aim[best * n + j] = t;
             }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         double ir = pr / d, ii = -pi / d;
+        const double* ur = are + k * n;
+        const double* ui = aim + k * n;
         for (long long r = k + 1; r < n; ++r) {
-            double* row = a + 2 * r * n;
-            double fr = row[2 * k] * ir - row[2 * k + 1] * ii, fi = row[2 * k] * ii + row[2 * k + 1] * ir;
-            row[2 * k] = fr; row[2 * k + 1] = fi;
+            double* rr = are + r * n;
+            double* ri = aim + r * n;
+            double fr = rr[k] * ir - ri[k] * ii, fi = rr[k] * ii + ri[k] * ir;
+            rr[k] = fr;
+            ri[k] = fi;
             for (long long j = k + 1; j < n; ++j) {
-                double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
-                row[2 * j] -= fr * ur - fi * ui;
-                row[2 * j + 1] -= fr * ui + fi * ur;
+                rr[j] -= fr * ur[j] - fi * ui[j];
+                ri[j] -= fr * ui[j] + fi * ur[j];
             }
         }
     }
@@ -1241,7 +1325,8 @@ static int kw_factor(long long n, kw_scratch* w) {
 
 // v (n complex) = (L U)^-1 P v in place from kw_factor's factors; 0 when not finite
 static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
-    const double* a = w->lu;
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
     for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
         long long p = w->pivot[k];
         if (p != k) {
@@ -1251,18 +1336,18 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     }
     for (long long k = 0; k < n; ++k)
         for (long long r = k + 1; r < n; ++r) {
-            double fr = a[2 * (r * n + k)], fi = a[2 * (r * n + k) + 1];
+            double fr = are[r * n + k], fi = aim[r * n + k];
             v[2 * r] -= fr * v[2 * k] - fi * v[2 * k + 1];
             v[2 * r + 1] -= fr * v[2 * k + 1] + fi * v[2 * k];
         }
     for (long long k = n - 1; k >= 0; --k) {
         double sr = v[2 * k], si = v[2 * k + 1];
         for (long long j = k + 1; j < n; ++j) {
-            double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
+            double ur = are[k * n + j], ui = aim[k * n + j];
             sr -= ur * v[2 * j] - ui * v[2 * j + 1];
             si -= ur * v[2 * j + 1] + ui * v[2 * j];
         }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         v[2 * k] = (sr * pr + si * pi) / d;
         v[2 * k + 1] = (si * pr - sr * pi) / d;
     }
@@ -1271,19 +1356,78 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     return 1;
 }
 
-// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular
+// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular.
+// The n solves of kw_lu_solve for the unit vectors, side by side: column col of (vre, vim) is
+// the solve for e_col, each entry's operations those of kw_lu_solve in its order (the loops over
+// the columns run in vector registers)
 static int kw_inverse(long long n, kw_scratch* w) {
     if (!kw_factor(n, w)) return 0;
-    for (long long col = 0; col < n; ++col) {
-        double* v = w->step;
-        for (long long k = 0; k < n; ++k) { v[2 * k] = (k == col); v[2 * k + 1] = 0.0; }
-        if (!kw_lu_solve(n, w, v)) return 0;
-        for (long long k = 0; k < n; ++k) {
-            w->y[2 * (k * n + col)] = v[2 * k];
-            w->y[2 * (k * n + col) + 1] = v[2 * k + 1];
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
+    double* vre = w->vre;
+    double* vim = w->vim;
+    long long m = KW_PAD(n);  // the rows' stride: the columns beyond n (zero, then whatever) pad the loops to whole vectors
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (k == col);
+            vim[k * m + col] = 0.0;
+        }
+    for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
+        long long p = w->pivot[k];
+        if (p != k)
+            for (long long col = 0; col < m; ++col) {
+                double t = vre[k * m + col];
+                vre[k * m + col] = vre[p * m + col];
+                vre[p * m + col] = t;
+                t = vim[k * m + col];
+                vim[k * m + col] = vim[p * m + col];
+                vim[p * m + col] = t;
+            }
+    }
+    for (long long k = 0; k < n; ++k) {
+        const double* kr = vre + k * m;
+        const double* ki = vim + k * m;
+        for (long long r = k + 1; r < n; ++r) {
+            double fr = are[r * n + k], fi = aim[r * n + k];
+            double* rr = vre + r * m;
+            double* ri = vim + r * m;
+            for (long long col = 0; col < m; ++col) {
+                double vr = kr[col], vi = ki[col];
+                rr[col] -= fr * vr - fi * vi;
+                ri[col] -= fr * vi + fi * vr;
+            }
         }
     }
-    return 1;
+    double sr[KW_MAX_UNKNOWNS], si[KW_MAX_UNKNOWNS];
+    for (long long k = n - 1; k >= 0; --k) {
+        for (long long col = 0; col < m; ++col) {
+            sr[col] = vre[k * m + col];
+            si[col] = vim[k * m + col];
+        }
+        for (long long j = k + 1; j < n; ++j) {
+            double ur = are[k * n + j], ui = aim[k * n + j];
+            const double* jr = vre + j * m;
+            const double* ji = vim + j * m;
+            for (long long col = 0; col < m; ++col) {
+                sr[col] -= ur * jr[col] - ui * ji[col];
+                si[col] -= ur * ji[col] + ui * jr[col];
+            }
+        }
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (sr[col] * pr + si[col] * pi) / d;
+            vim[k * m + col] = (si[col] * pr - sr[col] * pi) / d;
+        }
+    }
+    int finite = 1;
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < n; ++col) {
+            double re = vre[k * m + col], im = vim[k * m + col];
+            finite &= isfinite(re) && isfinite(im);
+            w->y[2 * (k * n + col)] = re;
+            w->y[2 * (k * n + col) + 1] = im;
+        }
+    return finite;
 }
 
 // The Newton step J~^-1 F~ at x into w->step (round to nearest: it only sharpens the centre); 0
@@ -1303,50 +1447,95 @@ typedef struct {
 } kw_bounds;
 
 // a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
-// doubles) and the enclosures f (n) and jac (n x n) of F and J; 0 when not finite
+// doubles) and the enclosures f (n) and jac (n x n) of F and J (w: scratch); 0 when not finite.
+// Every sum runs over its index in order, as a row at a time would, but the n rows' sums side by
+// side (their chains of dependent roundings overlap, and the loops run in vector registers).
 static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
-                          kw_bounds* out) {
+                          kw_bounds* out, kw_scratch* w) {
+    long long m = KW_PAD(n);  // the stride of the scratch rows (zeros beyond n: whole vectors)
+    double* jre = w->jre;  // jac's parts
+    double* jim = w->jim;
+    double* jrad = w->jrad;
+    double* tre = w->vre;  // y's parts and |y| transposed (tre[i m + k] = Re Y_ki)
+    double* tim = w->vim;
+    double* tabs = w->term;
+    for (long long i = 0; i < n; ++i)
+        for (long long j = 0; j < m; ++j) {
+            int in = j < n;
+            const kw_disc* e = jac + i * n + (in ? j : 0);
+            jre[i * m + j] = in ? e->re : 0.0;
+            jim[i * m + j] = in ? e->im : 0.0;
+            jrad[i * m + j] = in ? e->r : 0.0;
+        }
+    for (long long k = 0; k < n * n; ++k) absy[k] = kw_abs_up(y[2 * k], y[2 * k + 1]);
+    for (long long i = 0; i < n; ++i)
+        for (long long k = 0; k < m; ++k) {
+            int in = k < n;
+            tre[i * m + k] = in ? y[2 * (k * n + i)] : 0.0;
+            tim[i * m + k] = in ? y[2 * (k * n + i) + 1] : 0.0;
+            tabs[i * m + k] = in ? absy[k * n + i] : 0.0;
+        }
+    // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| + 2^-53
+    // mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill conditioned
+    // (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2), F~ at a
+    // converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
+    double rc[KW_PAD(KW_MAX_UNKNOWNS)], fr[KW_PAD(KW_MAX_UNKNOWNS)], fi[KW_PAD(KW_MAX_UNKNOWNS)];
+    double fmag[KW_PAD(KW_MAX_UNKNOWNS)], fspread[KW_PAD(KW_MAX_UNKNOWNS)], ra[KW_MAX_UNKNOWNS], rb[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < m; ++k) rc[k] = fr[k] = fi[k] = fmag[k] = fspread[k] = 0.0;
+    for (long long i = 0; i < n; ++i) {
+        double er = f[i].re, ei = f[i].im, erad = f[i].r;
+        const double* yr = tre + i * m;
+        const double* yi = tim + i * m;
+        const double* ya = tabs + i * m;
+        for (long long k = 0; k < m; ++k) {
+            double size = ya[k];
+            rc[k] = kw_add_up(rc[k], size);
+            double p1 = yr[k] * er, p2 = yi[k] * ei, p3 = yr[k] * ei, p4 = yi[k] * er;
+            double pr = p1 - p2, pi = p3 + p4, sr = fr[k] + pr, si = fi[k] + pi;
+            fr[k] = sr;
+            fi[k] = si;
+            fmag[k] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(sr) + fabs(si);
+            fspread[k] += size * erad;
+        }
+    }
+    for (long long k = 0; k < n; ++k) ra[k] = kw_add_up(kw_abs_up(fr[k], fi[k]), kw_up_long(fmag[k] * 0x1p-52 + fspread[k]));
+    // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed (each
+    // rounding within 2^-53 of its result, + 2^-1075 for a product) and the spread sum_i |Y_ki|
+    // r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075. Row k's entries at
+    // once (each j's sums over i in order), its bounds into term (tabs no longer read)
+    double* term = w->term;
+    for (long long k = 0; k < n; ++k) {
+        double mr[KW_PAD(KW_MAX_UNKNOWNS)], mi[KW_PAD(KW_MAX_UNKNOWNS)], mag[KW_PAD(KW_MAX_UNKNOWNS)];
+        double spread[KW_PAD(KW_MAX_UNKNOWNS)];
+        for (long long j = 0; j < m; ++j) {
+            mr[j] = k == j ? 1.0 : 0.0;
+            mi[j] = mag[j] = spread[j] = 0.0;
+        }
+        for (long long i = 0; i < n; ++i) {
+            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = absy[k * n + i];
+            const double* er = jre + i * m;
+            const double* ei = jim + i * m;
+            const double* erad = jrad + i * m;
+            for (long long j = 0; j < m; ++j) {
+                double p1 = yr * er[j], p2 = yi * ei[j], p3 = yr * ei[j], p4 = yi * er[j];
+                double pr = p1 - p2, pi = p3 + p4, r = mr[j] - pr, q = mi[j] - pi;
+                mr[j] = r;
+                mi[j] = q;
+                mag[j] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(r) + fabs(q);
+                spread[j] += size * erad[j];
+            }
+        }
+        for (long long j = 0; j < n; ++j)
+            term[k * m + j] = kw_add_up(kw_abs_up(mr[j], mi[j]), kw_up_long(mag[j] * 0x1p-52 + spread[j]));
+    }
+    for (long long k = 0; k < n; ++k) rb[k] = 0.0;
+    for (long long j = 0; j < n; ++j)  // b's row sums over j in order, the rows side by side
+        for (long long k = 0; k < n; ++k) rb[k] = kw_add_up(rb[k], term[k * m + j]);
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
-        // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
-        // 2^-53 mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill
-        // conditioned (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2),
-        // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
-        double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
-        for (long long i = 0; i < n; ++i) {
-            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
-            absy[k * n + i] = size;
-            rc = kw_add_up(rc, size);
-            const kw_disc* fi_ = f + i;
-            double p1 = yr * fi_->re, p2 = yi * fi_->im, p3 = yr * fi_->im, p4 = yi * fi_->re;
-            double pr = p1 - p2, pi = p3 + p4;
-            fr += pr;
-            fi += pi;
-            fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
-            fspread += size * fi_->r;
-        }
-        double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
-        double rb = 0.0;
-        for (long long j = 0; j < n; ++j) {
-            // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
-            // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the
-            // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
-            double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
-            for (long long i = 0; i < n; ++i) {
-                double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1];
-                const kw_disc* e = jac + i * n + j;
-                double p1 = yr * e->re, p2 = yi * e->im, p3 = yr * e->im, p4 = yi * e->re;
-                double pr = p1 - p2, pi = p3 + p4;
-                mr -= pr;
-                mi -= pi;
-                mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
-                spread += absy[k * n + i] * e->r;
-            }
-            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
-        }
-        a = fmax(a, ra);
-        b = fmax(b, rb);
-        c = fmax(c, rc);
+        a = kw_max(a, ra[k]);
+        b = kw_max(b, rb[k]);
+        c = kw_max(c, rc[k]);
     }
     out->a = a;
     out->b = b;
@@ -1402,7 +1591,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
         w->jac[k] = w->m[k];
         if (!kw_finite(w->jac[k])) return 0;
     }
-    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out)) return 0;
+    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w)) return 0;
     // |Y2| |Y1| rounded up, into absy (|Y2| is in absy now: row k is read before it is written)
     double c = 0.0, row[KW_MAX_UNKNOWNS];
     for (long long k = 0; k < n; ++k) {
@@ -1415,7 +1604,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
             rc = kw_add_up(rc, sum);
         }
         for (long long j = 0; j < n; ++j) w->absy[k * n + j] = row[j];
-        c = fmax(c, rc);
+        c = kw_max(c, rc);
     }
     out->c = c;
     out->preconditioned = 1;
@@ -1440,7 +1629,7 @@ static void kw_preconditioned_step(long long n, kw_scratch* w) {
 static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
     long long n = s->n;
     if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
-    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out);
+    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w);
     if (!s->accurate || (ok && out->b < 0.5)) return ok;
     // the double-word attempt, Y J far from I: Rump's preconditioner (kw_precondition) where
     // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
@@ -1467,14 +1656,14 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     // H_k(rho), k = 0 .. n - 1, in w->step (reused: real values)
     double* h = w->step;
     for (long long k = 0; k < n; ++k) h[k] = 0.0;
-    for (long long t = 0; t < s->terms; ++t) {
+    for (long long turn = 0; turn < s->terms; ++turn) {  // each h_k's sum over its terms in order
+        long long t = s->turns[turn];
         const long long* a = s->a + t * n;
-        long long support[KW_MAX_UNKNOWNS], q = 0, total = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) { support[q++] = i; total += a[i]; }
-        if (total < 2) continue;  // an affine term: no second derivative
-        double size = s->size[t], sum = 0.0;
-        for (long long u = 0; u < q; ++u) {
+        const long long* support = s->support + t * n;
+        long long q = s->count[t];
+        if (s->total[t] < 2) continue;  // an affine term: no second derivative
+        double size = s->size[t], sum = s->fixed[t];
+        for (long long u = 0; u < q && s->total[t] > 2; ++u) {
             long long i = support[u];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], pair = a[i] * (a[j] - (i == j));
@@ -1491,12 +1680,11 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     }
     // ||Y (J(z) - J(x))|| <= max_k sum_i |Y_ki| H_i r: each row of |Y| weighs the rows of J
     // (tighter than ||Y|| max_i H_i where the equations' scales differ)
-    double spread = 0.0;
-    for (long long k = 0; k < n; ++k) {
-        double sum = 0.0;
-        for (long long i = 0; i < n; ++i) sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], h[i]));
-        spread = fmax(spread, sum);
-    }
+    double spread = 0.0, sum[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < n; ++k) sum[k] = 0.0;
+    for (long long i = 0; i < n; ++i)  // each row's sum over i in order, the rows side by side
+        for (long long k = 0; k < n; ++k) sum[k] = kw_add_up(sum[k], kw_mul_up(w->absy[k * n + i], h[i]));
+    for (long long k = 0; k < n; ++k) spread = kw_max(spread, sum[k]);
     double inner = kw_add_up(bounds->b, kw_mul_up(spread, r));
     double left = kw_add_up(bounds->a, kw_mul_up(inner, r));
     return left < r;
@@ -1505,7 +1693,7 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
 // The smallest passing radius of MULTIPLIERS * max(need, a) + floor, at most limit (0 when none)
 static double kw_radius(const kw_system* s, const double* x, const kw_bounds* bounds, double need, double floor,
                         double limit, kw_scratch* w) {
-    double base = fmax(need, bounds->a);
+    double base = kw_max(need, bounds->a);
     for (int m = 0; m < KW_RADII; ++m) {
         double r = kw_multipliers[m] * base + floor;
         if (!(r <= limit)) return 0.0;
@@ -1518,7 +1706,7 @@ static inline double kw_cabs(const double* z) { return hypot(z[0], z[1]); }
 
 static double kw_max_abs(long long n, const double* z) {
     double v = 0.0;
-    for (long long i = 0; i < n; ++i) v = fmax(v, kw_cabs(z + 2 * i));
+    for (long long i = 0; i < n; ++i) v = kw_max(v, kw_cabs(z + 2 * i));
     return v;
 }
 
@@ -1568,6 +1756,11 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
     b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
+    b += 6 * KW_ALIGN(n * KW_PAD(n) * (long long)sizeof(double));  // jre, jim, jrad, vre, vim, term
+    b += 2 * KW_ALIGN((terms + 2) * (n + 2) * (long long)sizeof(long long));  // supports: main, chart
+    b += 2 * KW_ALIGN((3 * (terms + 2) + n) * (long long)sizeof(long long));  // turns: main, chart
+    b += 2 * KW_ALIGN((terms + 2) * (long long)sizeof(double));  // fixed: main, chart
+    b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // candidates' sizes
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -1662,6 +1855,19 @@ static int kw_certify(const kw_job* job) {
     w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
     w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
+    w.jre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jrad = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.term = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    long long* support_main = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* support_chart = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* turns_main = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    long long* turns_chart = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    double* fixed_main = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
+    double* fixed_chart = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
+    double* largest = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -1698,13 +1904,17 @@ static int kw_certify(const kw_job* job) {
         // affine: each coordinate measured in a power of two near its typical size (median of the
         // |z_i| over the system's finite candidates where it is not zero to rounding, at most
         // KW_ZERO_SIZE times the candidate's largest |z_j|; 1 where there is none)
+        for (long long p = 0; p < paths && !homogeneous; ++p) {  // each candidate's largest |z_j|, once
+            const double* z = job->roots + 2 * ((sys * paths + p) * n);
+            largest[p] = kw_row_finite(n, z) ? kw_max_abs(n, z) : NAN;
+        }
         for (long long i = 0; i < n && !homogeneous; ++i) {
             long long count = 0;
             for (long long p = 0; p < paths; ++p) {
                 const double* z = job->roots + 2 * ((sys * paths + p) * n);
-                if (!kw_row_finite(n, z)) continue;
+                if (!(largest[p] == largest[p])) continue;  // not finite (kw_max_abs of a finite row is not NaN)
                 double v = kw_cabs(z + 2 * i);
-                if (v > 0.0 && v > KW_ZERO_SIZE * kw_max_abs(n, z)) sizes[count++] = v;
+                if (v > 0.0 && v > KW_ZERO_SIZE * largest[p]) sizes[count++] = v;
             }
             double typical = 1.0;
             if (count) {
@@ -1718,7 +1928,10 @@ static int kw_certify(const kw_job* job) {
             const double* z = job->roots + 2 * at * n;
             double* centre = job->center + 2 * at * n;
             int present = kw_row_finite(n, z);
-            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0};
+            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0,
+                           support_main, support_main + (terms + 2) * n, support_main + (terms + 2) * (n + 1),
+                           turns_main, fixed_main};
+            if (sys == 0 && p == 0) kw_supports(&s);  // one set of exponents for every system
             double unit = 1e-150;
             for (long long i = 0; i < n; ++i) shift[i] = 0;
             if (!homogeneous) {
@@ -1726,14 +1939,14 @@ static int kw_certify(const kw_job* job) {
                 for (long long i = 0; i < n; ++i) {
                     double v = kw_cabs(z + 2 * i);
                     if (isfinite(z[2 * i]) && isfinite(z[2 * i + 1]))
-                        shift[i] = (long long)ceil(log2(fmax(v, scale[2 * i])));
+                        shift[i] = (long long)ceil(log2(kw_max(v, scale[2 * i])));
                 }
                 for (long long t = 0; t < terms; ++t) {
                     long long e = 0;
                     for (long long i = 0; i < n; ++i) e += shift[i] * job->exponents[t * n + i];
                     if (e > 4000) e = 4000;
                     if (e < -4000) e = -4000;
-                    double re = ldexp(c[2 * t], (int)e), im = ldexp(c[2 * t + 1], (int)e);
+                    double re = kw_ldexp(c[2 * t], e), im = kw_ldexp(c[2 * t + 1], e);
                     coefficients[2 * t] = re;
                     coefficients[2 * t + 1] = im;
                     // exact unless it left the normal range: then within 2^-1074 (or infinite)
@@ -1748,7 +1961,7 @@ static int kw_certify(const kw_job* job) {
                 if (p == 0) kw_sizes(&s);  // the system's own coefficients: one set for every candidate
             }
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]);
+                double f = kw_ldexp(1.0, shift[i]);
                 given[2 * i] = z[2 * i] / f;
                 given[2 * i + 1] = z[2 * i + 1] / f;
                 x[2 * i] = present ? given[2 * i] : 1.0;
@@ -1778,14 +1991,14 @@ static int kw_certify(const kw_job* job) {
                         for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                 }
                 for (long long i = 0; i < n; ++i) {
-                    double f = ldexp(1.0, (int)shift[i]);
+                    double f = kw_ldexp(1.0, shift[i]);
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double limit = KW_NEAR * kw_max(kw_max_abs(n, given), unit);
                 double reach = s.accurate ? KW_REACH / KW_NEAR * limit : limit;
                 double moved = 0.0;
-                for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                for (long long i = 0; i < n; ++i) moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                 if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
@@ -1800,10 +2013,10 @@ static int kw_certify(const kw_job* job) {
                     for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                     moved = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        double f = ldexp(1.0, (int)shift[i]);
+                        double f = kw_ldexp(1.0, shift[i]);
                         centre[2 * i] = x[2 * i] * f;
                         centre[2 * i + 1] = x[2 * i + 1] * f;
-                        moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                        moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                     }
                     if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) break;
                     floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
@@ -1814,11 +2027,11 @@ static int kw_certify(const kw_job* job) {
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]), v = r * f;
+                double f = kw_ldexp(1.0, shift[i]), v = r * f;
                 // exact unless it (or the centre) left the normal range: widened over both roundings
                 if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
                 job->radii[at * n + i] = v;
-                smallest = fmin(smallest, f);
+                smallest = kw_min(smallest, f);
             }
             job->unique[at] = 1;
             job->radius[at] = r * smallest;
@@ -1831,7 +2044,7 @@ static int kw_certify(const kw_job* job) {
                     // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
                     double imag = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        imag = fmax(imag, fabs(x[2 * i + 1]));
+                        imag = kw_max(imag, fabs(x[2 * i + 1]));
                         chart_x[2 * i] = x[2 * i];
                         chart_x[2 * i + 1] = 0.0;
                     }
@@ -1880,7 +2093,7 @@ static int kw_certify(const kw_job* job) {
                     gap = kw_add_up(fabs(x[2 * i + 1]), r);
                 }
                 chart_x[2 * i + 1] = 0.0;
-                need = fmax(need, gap);
+                need = kw_max(need, gap);
             }
             for (long long t = 0, q = 0; t < terms; ++t) {
                 if (job->equation[t] == job->patch_equation) continue;
@@ -1893,8 +2106,11 @@ static int kw_certify(const kw_job* job) {
             coefficients[2 * (chart_terms - 1)] = -1.0;
             coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
             radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
-            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate};
+            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate,
+                               support_chart, support_chart + (terms + 2) * n, support_chart + (terms + 2) * (n + 1),
+                               turns_chart, fixed_chart};
             kw_sizes(&chart);
+            kw_supports(&chart);
             if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
                 job->real[at] = 1;
         }

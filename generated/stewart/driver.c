@@ -925,17 +925,128 @@ typedef struct {
 #define NFREE 42
 #define NCIRCLES 0
 #define NFAMILY (NFREE + 3 * NCIRCLES)
-static const double start_instance[2][NFREE + NCIRCLES > 0 ? NFREE + NCIRCLES : 1][2] = {
+static const double start_instance[3][NFREE + NCIRCLES > 0 ? NFREE + NCIRCLES : 1][2] = {
     { { -0.357, 0.508 }, { -0.108, -1.424 }, { -0.437, 0.73 }, { -0.22, -0.147 }, { 0.621, 1.922 }, { -0.869, 1.374 }, { -0.994, 0.311 }, { -1.391, 1.567 }, { 0.677, 1.265 }, { -0.784, 0.483 }, { -0.539, -0.398 }, { 0.733, 0.859 }, { 0.146, -0.416 }, { -0.621, 1.354 }, { 0.459, 0.522 }, { 2.152, -0.739 }, { 2.685, 3.16 }, { 1.724, 0.748 }, { -0.604, 0.804 }, { -0.63, 0.097 }, { -0.213, 0.318 }, { 0.99, -0.458 }, { -0.946, -1.186 }, { -1.255, -1.772 }, { -0.946, 1.341 }, { -0.799, 0.438 }, { -1.392, 0.4 }, { -1.809, -0.637 }, { 2.3, -0.569 }, { 1.181, 0.424 }, { -0.131, -0.701 }, { 1.304, -0.456 }, { 1.494, -0.772 }, { 0.054, 0.287 }, { 0.47, -1.16 }, { -0.563, -0.282 }, { -0.861, 0.626 }, { 0.528, -1.949 }, { -1.944, -1.204 }, { 0.33, 1.994 }, { -0.308, 0.283 }, { -1.221, -1.366 },  },
     { { 0.111, -0.084 }, { -0.804, -2.152 }, { 1.212, -0.482 }, { -0.195, -0.883 }, { -0.583, -1.046 }, { -0.074, 0.11 }, { -0.258, 0.599 }, { -1.428, 0.909 }, { -0.998, -0.415 }, { -0.902, -0.53 }, { -0.454, 0.462 }, { 2.427, -1.022 }, { -0.138, -2.073 }, { -0.111, 0.167 }, { 1.25, 1.462 }, { 1.327, 0.22 }, { 0.487, -0.431 }, { 2.338, -0.318 }, { -1.263, -0.137 }, { 2.179, 0.646 }, { 1.506, 1.225 }, { 0.333, -1.663 }, { 1.652, -0.678 }, { -1.089, -1.369 }, { -1.407, -0.281 }, { 0.122, -1.245 }, { -1.068, -0.57 }, { -0.695, -0.837 }, { -1.281, -0.809 }, { -2.362, -0.137 }, { -0.546, 0.151 }, { 0.199, -1.543 }, { 1.149, 1.047 }, { 0.612, -0.717 }, { 0.228, -0.399 }, { 0.823, -0.572 }, { -1.426, -1.039 }, { -0.811, 0.562 }, { -1.076, -0.141 }, { 0.989, -0.355 }, { 0.202, 3.001 }, { 0.715, 1.302 },  },
+    { { 0.971802, -0.0828413 }, { 0.692008, 0.0604715 }, { 0.996941, 0.159015 }, { 1.74274, 0.156641 }, { 1.28628, 0.0659438 }, { 0.83902, -0.0393023 }, { 0.0059607, -0.0113107 }, { -0.00128497, -0.000836382 }, { -0.00570429, -0.00835438 }, { 1.01638, -0.0517972 }, { 0.00736558, -0.00821681 }, { 0.00653483, 0.000193821 }, { 0.573733, 0.10593 }, { 0.785797, -0.0514758 }, { -0.0019964, -0.00156977 }, { 0.758216, -0.0301669 }, { -0.235546, 0.0361233 }, { 0.416764, 0.0157497 }, { 0.503829, -0.0179401 }, { -0.488689, -0.0496575 }, { -0.363724, 0.0934288 }, { 0.626576, 0.0149714 }, { 0.0923163, 0.00566148 }, { -0.196671, 0.0343169 }, { 0.00839225, -0.00665514 }, { 0.00228525, -0.0044141 }, { -0.0104006, -8.72897e-05 }, { 0.651961, -0.0628637 }, { -0.00574234, -0.00574698 }, { 0.00126977, -0.0021383 }, { 0.795635, -0.0904934 }, { -0.570529, 0.00133676 }, { 0.00331796, -0.00359916 }, { 0.711066, -0.117692 }, { -0.294527, 0.0280581 }, { 1.35301, -0.0106003 }, { 0.490477, 0.00268838 }, { 1.24142, -0.113306 }, { 0.0946551, 0.00753401 }, { -0.103193, -0.0212403 }, { -0.182919, -0.00911813 }, { 0.312845, 0.0533493 },  },
 };
 static const double circle_a[2] = { 0.317, -1.291 };
 static const double circle_b[2] = { -1.733, 0.557 };
 
-// The coefficients in s of every monomial along the segment from start instance `which` (0: the
-// first, 1: the second, 'alternative') to the inputs, as parakin.solvers.path_tracking.path_coefficients: the
-// family (free values linear in s, circle parameters u linear in s, (C, S, D) from u) at the
-// POWERS-th roots of unity, the generated monomials kernel at each, one DFT.
+#define START_FIRST 0
+#define START_ALTERNATIVE 1
+#define START_NEAR 2
+// the first start an input takes: START_NEAR where it is near home, else START_FIRST
+#define START_CHOSEN (-1)
+// the start near the mechanism's home (the manifest's 'near'; generator/near_start.py): its
+// solutions in the first start's order, and where it is taken: within NEAR_RADIUS of the home's
+// family values, each value relative to its scale
+static const double near_real[DEGREE][NZ] = {
+    { -0.12560041863508908, -0.34909879233064933, 0.08112855465262034, 0.35671702274427947, 0.014463257644848475, -0.073584890350332, -0.28445231294525253, 0.0004286263789199105 },
+    { -0.2814162735552072, -0.24221957532360291, -0.12477182670852588, -0.3074641234262868, 0.0036565342379436517, -0.18460984860109927, 0.21929308177737467, 0.01826473350527166 },
+    { 0.08761725017293065, -0.23993465556043045, 0.48098227656321896, -0.14599411219229813, -0.09625715830532276, -0.08077264907095828, 0.1458904739657912, 0.28758153340561926 },
+    { -1.7696872515180682, 0.11504313905471941, -2.9558599905761413, -1.7621741658375052, 0.4421132526492587, -1.0619248093522315, 0.49647506007742687, -0.6787469300891492 },
+    { -0.1703153781444005, -0.34734859878359503, -0.02326852832150793, 0.2551165300860365, 0.10285715959539113, 0.07463850814521011, -0.17845236414601798, 0.11933806000734362 },
+    { -0.030845849230431602, -0.27620787833088056, 0.012462155455878554, -0.37097260565132095, 0.15284327816166662, 0.029584828996999327, 0.198984503659634, -0.02238060634782786 },
+    { 0.3010810293142481, -0.43062554096030664, -0.21956429694155355, -0.23197095280608765, -0.10115706474481644, 0.04811346365468465, 0.08219084756932124, -0.24392002673726101 },
+    { 0.14359221515685364, -0.2680657785361601, -0.01876662040209991, -0.5391669250872204, 0.1498531437070288, -0.021797699388459935, 0.2974654291932247, 0.03309559988340115 },
+    { -0.3725624807985408, -0.15835895890521942, -0.11337237753040212, -0.404646211327823, -0.04771963596322794, -0.12907594100926464, 0.3123127161596647, -0.0030538320166136816 },
+    { -0.04015619094770654, -0.3452929542509145, -0.05031659954642412, 0.2371678859858148, 0.15370079547889454, -0.04103459292479689, -0.25807188549269683, -0.15596162898163413 },
+    { -0.169853239941755, -0.21745255224940763, 0.040560263813299906, -0.2775957851394224, 0.12948312447716043, -0.14102068050517338, 0.14167053335468452, 0.06251623254597301 },
+    { -0.23116174656455135, -0.7470114501394866, -0.9367576849361546, 1.1356620888050108, 0.09407182281856014, -0.28292976119380553, -0.5314369148158259, -0.6376717642989301 },
+    { -0.19899929915471026, -0.4033902238378398, -0.06430987954843358, 0.533807796008451, 0.11780436643386782, -0.1624885928976248, -0.15743826155107182, -0.1038884896519175 },
+    { 0.007603884771912178, -0.28951416380974615, -0.038464375559674184, -0.21206718999202004, -0.04449340493212208, 0.05091287954611924, 0.14096801649985252, -0.09723678525555406 },
+    { -0.14092411729090648, -0.23357675702269742, 0.13974100512558266, -0.14312056993124922, -0.019347634086431413, -0.09039519336424358, 0.09391445356126851, 0.22465417032833027 },
+    { 0.08690820304808466, -0.4155695850237419, -0.0766879983095896, -0.05393877514606919, 0.15381868498757464, 0.046216094035047506, -0.0961130387536894, -0.19148686157035222 },
+    { -0.14432247309379084, -0.26649070269426167, 0.30909155256620574, 0.269887018295661, 0.07704281544510656, -0.08554689854321933, -0.1176998401121118, 0.03177667800098273 },
+    { 0.03793150272656503, -0.19608600200687212, 0.2053159552041774, 0.1468797852898371, -0.08938933430276143, 0.02489755323485069, 0.02147560653685519, 0.04131332868523553 },
+    { 0.28669956931372925, -0.4555576188478311, -0.10351329760758027, -0.1611007259717001, -0.11203659501810825, 0.08624827167225516, 0.19772027427355982, -0.24372030898723784 },
+    { 0.3470973207831337, 0.6084699877507191, 2.3242340320256476, -0.8901283503484982, 0.12156146211615065, 0.03804649298416795, 0.22285935332745052, 1.095349523468425 },
+    { 0.25408879062517037, -0.36456781424244017, 0.08038753142827665, -0.2537139910879164, -0.020769891404950024, 0.078245419372719, 0.2979335255004199, 0.002519293090289884 },
+    { -0.027796209193503656, -0.1790759970941201, 0.22158405323448319, -0.20481500712029801, 0.07204306189789368, -0.021534645125942577, -0.04846956164020719, 0.05658578357333758 },
+    { 0.23255805084062367, -0.50632561159889, -0.0653942552064201, 0.28416011291582627, 0.09611242271127372, -0.0705180281513218, -0.13505381334020627, -0.22054451684372667 },
+    { 0.16657493490627173, -0.40966363355079055, 0.05215851022483011, -0.20420545200943901, 0.12633806197932498, 0.11318876154420761, 0.23933898932958927, 0.08032724739209263 },
+    { 0.45534020369110334, -1.8772295010946651, -4.552969094387503, 1.4696476980951851, -0.28633737424940786, 0.7158755174073211, -0.5637514811939742, -2.1203708701750577 },
+    { 0.36716779554072965, -0.6539865371001073, -0.4365929729081892, 0.25229982039137006, 0.14488994875496614, 0.2918612859216152, -0.2670742188986062, -0.0726277837353431 },
+    { -0.1248619809343571, -0.25718783571016063, 0.1418239815666032, -0.01730321694789047, -0.03891681116413406, -0.03683071565445925, -0.052408010945437636, 0.11832244038326462 },
+    { -0.08025300208146453, -0.36539530846184276, 0.03931337736740825, 0.18885229728002004, 0.10938811207499452, 0.0013833141245937416, -0.2551422575800277, 0.16171923275487107 },
+    { -0.12599979802839031, -0.27741052048683074, 0.07427431454391538, -0.11822466446945629, -0.005447579655037386, -0.05248396841535173, 0.03083283706085237, 0.16661343029744732 },
+    { 0.09559129069116269, -0.4383914329726149, -0.03769945539834126, 0.37175691321583815, 0.1119225588627078, -0.1271020495813395, -0.2012034049246113, -0.15797890960371197 },
+    { 0.08806113970784142, -0.16434329840506912, 0.4531198522672889, -0.20417035397437652, -0.14328490550709294, 0.04311686015346271, 0.15989820230448287, 0.30984000012037916 },
+    { -0.6975061048869396, 0.40813523739268404, 1.3027522598296015, -0.9613689780056202, -0.025364831130425494, 0.1650832271463385, 0.47475540654211323, 0.7624507490380812 },
+    { -1.4439647867310503, -1.8134222284543569, -0.31994006966909355, 6.461588169099543, -5.149385836141696, 0.2526680382919286, -1.7092844063227353, -0.12083470674326306 },
+    { 0.01788354013594975, -0.27744033361081777, 0.08516902370545143, -0.22018406406893096, -0.036343603804834916, 0.06638305175665064, 0.20088765190714541, -0.006911209953446724 },
+    { 0.5047012260753725, -1.0857435198265593, -1.394699929575202, -0.020557048960905835, 0.42319946479290976, 0.23648763070027543, -0.2908730293445306, -0.16609992682859487 },
+    { -0.3902598829022326, -0.406409146071597, 0.19293507003475785, 0.897865293028255, 0.040774958819873405, 0.1213741445557623, -0.4886771735703095, 0.20932389804475585 },
+    { -0.25957047003465517, -0.1989326972426958, 0.08071883438531914, -0.21955473161878694, 0.026653286869573637, -0.13052321341954534, 0.19068730888516358, 0.09798128969849709 },
+    { -0.22965204610028506, -0.3380160516710906, -0.027674228493412206, 1.0013496019198727, -0.8229144383504001, 0.4514625849313663, -0.22618180379134414, -0.33376527809305834 },
+    { -0.04799214991085585, -0.26233501795937675, 0.16997660917171467, -0.1561907122951544, -0.04816436432534522, 0.045208829649641555, 0.14371202821864265, 0.09997953648123145 },
+    { 0.06075360825560049, -0.376906758187551, 0.24564420984604546, 0.35706356141744927, -0.012825022685376676, -0.12890038199528916, -0.1852536641407232, 0.0916522883561713 },
+};
+static const double near_imag[DEGREE][NZ] = {
+    { 0.19796263576739576, -0.20071398868098453, 0.41975328036216003, 0.1875409205695925, -0.042635173080771915, -0.04914160254400414, -0.11164677590845179, 0.247350620441701 },
+    { -0.0458625594962566, -0.20762032703297967, 0.09634563262789254, 0.09131440432820565, 0.12102677493465512, -0.038132552655700064, -0.04028299472905711, 0.13387107465660325 },
+    { -0.26964439181639416, -0.18616343264260166, -0.0111148521633659, 0.1956427518812266, -0.008576628088563614, -0.12493786379607927, -0.2427396331844612, 0.055521481681788235 },
+    { 3.210053501632492, -2.049708344260088, -1.3022254745661812, 1.8313157259214825, 0.83062358547153, 1.6344379470187191, 0.21337026167279793, -0.11706265015251087 },
+    { -0.07105118052345488, -0.15953149666437882, 0.05969409525661436, -0.14325217312237762, 0.011810613414842432, -0.04710681673802477, 0.05983925138197072, 0.13329092391980205 },
+    { -0.1344580845301741, -0.19708951058994553, 0.023563181337850382, -0.045174315772589874, 0.11819457782414482, -0.06757645328031657, -0.009967674679533236, -0.015599586940682045 },
+    { -0.08913783790452906, -0.3847314503925582, -0.5756886402375697, -0.32740813824025283, -0.10201850499786391, 0.04093207534247584, 0.15681928113168586, -0.2574586349096639 },
+    { 0.1596807554131499, -0.3091685823928238, -0.056895913457368094, -0.23969164956543068, 0.17614867080935664, 0.03304666021696534, 0.08416914636712858, 0.03832922332683643 },
+    { -0.1883011227627721, -0.24582876571566464, -0.5186845586602638, -0.37266345123841427, -0.10339315104245443, -0.039029374465869945, 0.22808787950009038, -0.2503305205061838 },
+    { 0.23892663792602895, -0.3577908134142564, -0.18055497476992702, -0.10002127336716249, 0.012645124859742361, 0.09330153113337701, 0.09790063594576814, -0.3202393503345228 },
+    { 0.036075443961552094, -0.2198533819797582, 0.026826091122833365, -0.11340345568437685, 0.16403188956649997, 0.05546424737479125, 0.02553541681176895, -0.023417222389895853 },
+    { -0.26456819120769154, -0.4653999817874487, -0.7147401036101304, 0.5013888098549334, 0.12731743987529714, -0.265437540596178, -0.07185128667065334, -0.3549172694632248 },
+    { 0.10808995522795485, -0.1344681287080495, 0.396906092749895, -0.024273089904074157, 0.01835440444042238, 0.022810803882882518, -0.0010310103190557282, 0.07150770355114422 },
+    { 0.211644363444306, -0.32718386589440057, -0.02051613931373684, -0.05175875609051058, 0.0072903721628639695, 0.025295919286676936, 0.06845562891660838, -0.15954901049791892 },
+    { 0.011725232448337043, -0.22844529700683994, 0.07430898078077786, 0.08620003751605634, 0.0974088787455823, -0.027162807410899638, -0.1656840546567961, 0.11341395869360535 },
+    { -0.14586867990797117, -0.21415400526544745, 0.1568209535508857, 0.2197656077538923, 0.06646562214792122, -0.17890045667439985, -0.13757184929529695, 0.021925803904908395 },
+    { -0.3718275305877053, -0.4020581285040336, -0.7344077229428222, 0.5564022416600432, 0.10594173643645285, -0.23375353136408586, -0.18422758195746747, -0.370261056916628 },
+    { 0.6141191222743901, -0.4181632830925859, -0.49345428017105636, -0.9258912846319971, -0.06375187292861813, -0.20588900554832573, 0.5439768525361562, -0.2415924803586003 },
+    { -0.14058035733770466, -0.2607098025345005, -0.003697913636319057, 0.05709667491440477, 0.12439980023725644, 0.1040694838363161, -0.09274968569405434, -0.14603192012368663 },
+    { 1.2687003084074044, -1.07145580805041, -1.4004735114839766, 0.37082682218280455, -0.173853915208697, 0.5482964785325711, -0.49990045508713565, -0.765138686160281 },
+    { 0.09932028603457513, -0.1908640413989089, 0.36728070274878993, -0.09891396983629039, -0.04120448512429129, 0.09605147491474512, 0.08970806866293539, 0.2124576130771548 },
+    { 0.237319573911929, -0.45005336358940157, -0.4135131411716071, 0.056506689480110894, 0.039455368723461726, 0.20437098952764363, -0.16668205704164757, -0.12010589626348199 },
+    { -0.11735844068889689, -0.19506546791227872, 0.07909306496793904, -0.10235102761299182, 0.007466118716236389, 0.008151001594575637, 0.04269125424118194, -0.032322088689165314 },
+    { -0.9900020440497563, 0.15568031560657292, -0.36713876934790507, -1.1326519481525026, 0.0021202914096300324, -0.5174683103173089, 0.5436078439929215, -0.22336427032068912 },
+    { 1.9909641639872249, -0.5945121321850925, 1.0338286890676103, -1.6881166488791923, -0.23925011130759485, 0.6623119298983149, 0.4525096095368803, 0.9604935763229032 },
+    { -0.07709807509066208, -0.15564241487886568, 0.25686728824363125, -0.3210748446205292, 0.08866543074589889, -0.07742841054224209, 0.06972156158164554, 0.19472119492194967 },
+    { 0.14151266495774048, -0.18848067346762756, 0.2952020056969718, -0.007436036565286775, -0.04443313955451302, -0.035486356866486234, 0.01855750330564714, 0.13814914591129765 },
+    { -0.1519375679434718, -0.10831648159217648, 0.19421546257061417, -0.10813213568759922, -0.06211727704807229, -0.07880497087194757, 0.10104134314370909, 0.24387988196378682 },
+    { -0.16323102153966484, -0.2019139247040728, -0.014229846811397127, 0.08952860026990092, 0.06312873453853361, 0.007754609122054503, -0.05476442580076004, 0.09973697622376232 },
+    { 0.0954933062551007, -0.2698947435550683, -0.008180645569544124, -0.10948591901450062, 0.05356027113698662, 0.022315825761146154, 0.06600991406816854, -0.15274164083529368 },
+    { 0.3057785601784312, -0.2741270943988411, 0.07780065980981786, -0.2425637841563299, -0.010864296099272024, 0.1653860008632364, 0.29506134880554497, -0.06263092130798886 },
+    { 0.05929126282860195, 0.1940862779419909, 0.8906202770306334, -0.3775379061444542, -0.007335200672309481, 0.1027939785993826, 0.09109422172720953, 0.34456344182436943 },
+    { -4.414355136808443, 1.9720432114375464, 2.1449878536728013, 0.988154822025403, 0.06384656305500397, 4.617501708751789, -0.18314624827840834, -1.7080345459807817 },
+    { 0.0372765189421374, -0.23565184154972144, 0.03323987832678287, -0.11653662986294937, 0.053338985736040706, 0.06592236505262603, 0.09301039324563717, -0.08596984509324622 },
+    { -1.607139082383755, 0.4492089940592162, 0.27557076974723416, -1.2643805479137467, -0.31652441358304506, -0.7820732743050861, 0.17776164815658665, -0.12618762077312004 },
+    { -0.3351433639707571, -0.03416216425560047, 0.4937571944346071, 0.6434982373133364, -0.03078921528181309, 0.11060748817517908, -0.255657787341778, 0.23016996546428653 },
+    { -0.3568158987308036, -0.1432691087806485, -0.3998913514360248, -0.42025163768053414, -0.08167967443169205, -0.1478862928072835, 0.26641062971171625, -0.16449642781078802 },
+    { 0.7804863362503108, -0.4786069587200592, -0.30015183320535366, -0.37727287832555556, -0.5135678337380385, -0.731217919943917, 0.4117863577499089, 0.31040878301403846 },
+    { -0.03982344493629808, -0.14917105776487372, 0.20276366199812265, -0.09977373687239303, -0.0022371225876741717, 0.061878211973656255, 0.07711843365800176, 0.07248407594403468 },
+    { -0.261221968464879, -0.12789119420980805, -0.06773177855801739, -0.2188562530446543, -0.046697055613428275, -0.029263987240887582, 0.0785562889614926, -0.11150385246399473 },
+};
+static const double near_center[NFREE + NCIRCLES][2] = {
+{ 1.0, 0.0 }, { 0.645275, 0.0 }, { 1.08628, 0.0 }, { 1.50344, 0.0 }, { 1.28193, 0.0 }, { 0.771071, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 1.10791, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 0.549094, 0.0 }, { 0.756063, 0.0 }, { 0.0, 0.0 }, { 0.735077, 0.0 }, { -0.223935, 0.0 }, { 0.525991, 0.0 }, { 0.514188, 0.0 }, { -0.526063, 0.0 }, { -0.368418, 0.0 }, { 0.590473, 0.0 }, { 0.094733, 0.0 }, { -0.205018, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 0.542805, 0.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }, { 0.956919, 0.0 }, { -0.528915, 0.0 }, { 0.0, 0.0 }, { 0.665885, 0.0 }, { -0.353482, 0.0 }, { 1.40254, 0.0 }, { 0.478359, 0.0 }, { 1.15874, 0.0 }, { 0.107672, 0.0 }, { -0.137087, 0.0 }, { -0.235121, 0.0 }, { 0.353913, 0.0 }, };
+static const double near_scale[NFREE + NCIRCLES] = { 1.04621, 0.691481, 1.13249, 1.54964, 1.32814, 0.817277, 0.0462057, 0.0462057, 0.0462057, 1.15412, 0.0462057, 0.0462057, 0.5953, 0.802269, 0.0462057, 0.781283, 0.270141, 0.572197, 0.560394, 0.572269, 0.414624, 0.636679, 0.140939, 0.251224, 0.0462057, 0.0462057, 0.0462057, 0.589011, 0.0462057, 0.0462057, 1.00312, 0.575121, 0.0462057, 0.712091, 0.399688, 1.44874, 0.524565, 1.20495, 0.153878, 0.183293, 0.281327, 0.400119 };
+#define NEAR_RADIUS 1.0
+
+// as parakin.solvers.path_tracking.near_home: NaN values are not near
+static int near_home(const double* free_target, const cplx* u_target) {
+    int near = 1;
+    for (int k = 0; k < NFREE; ++k)
+        near &= fabs(free_target[k] - near_center[k][0]) / near_scale[k] <= NEAR_RADIUS;
+    for (int k = 0; k < NCIRCLES; ++k) {
+        cplx center = {near_center[NFREE + k][0], near_center[NFREE + k][1]};
+        near &= c_abs(c_sub(u_target[k], center)) / near_scale[NFREE + k] <= NEAR_RADIUS;
+    }
+    return near;
+}
+
+// The coefficients in s of every monomial along the segment from start instance `which`
+// (START_*; START_CHOSEN: the input's first) to the inputs, as
+// parakin.solvers.path_tracking.path_coefficients: the family (free values linear in s, circle
+// parameters u linear in s, (C, S, D) from u) at the POWERS-th roots of unity, the generated
+// monomials kernel at each, one DFT. Returns the instance taken, -1 where a coefficient is not finite.
 static int load_system(workspace* ws, const double* theta, const double* params, int which, sparse_system* system) {
     double free_target[NFREE > 0 ? NFREE : 1], angles[NCIRCLES > 0 ? NCIRCLES : 1];
     ws->arg[0] = theta; ws->arg[1] = params;
@@ -947,6 +1058,7 @@ static int load_system(workspace* ws, const double* theta, const double* params,
         double hs = sin(angles[k] / 2), hc = cos(angles[k] / 2);
         u_target[k] = c_div(c_sub((cplx){hs, 0.0}, c_scale(hc, a)), c_sub((cplx){hs, 0.0}, c_scale(hc, b)));
     }
+    if (which == START_CHOSEN) which = near_home(free_target, u_target) ? START_NEAR : START_FIRST;
     double values_re[POWERS][TERMS], values_im[POWERS][TERMS];
     for (int j = 0; j < POWERS; ++j) {
         cplx node = {cos(2 * PI * j / POWERS), sin(2 * PI * j / POWERS)};
@@ -983,7 +1095,7 @@ static int load_system(workspace* ws, const double* theta, const double* params,
             system->im[d][t] = im / POWERS;
             finite &= isfinite(re) && isfinite(im);
         }
-    return finite;
+    return finite ? which : -1;
 }
 
 // The term coefficients c_t(s) and their s-derivatives at one s: a step evaluates the homotopy
@@ -2443,11 +2555,14 @@ static void modes_one(workspace* ws, const stewart_modes_job* job, long long i, 
     if (!finite) { job->status[i] = STEWART_INPUT_NONFINITE; return; }
     sparse_system system;
     step_coefficients at[2];
-    if (!load_system(ws, theta, params, 0, &system)) { job->status[i] = STEWART_INPUT_DEGENERATE; return; }
+    int first = load_system(ws, theta, params, START_CHOSEN, &system);
+    if (first < 0) { job->status[i] = STEWART_INPUT_DEGENERATE; return; }
+    const double (*begin_real)[NZ] = first == START_NEAR ? near_real : start_real;
+    const double (*begin_imag)[NZ] = first == START_NEAR ? near_imag : start_imag;
     cplx ends[DEGREE][NZ];
     int ended[DEGREE], order[DEGREE], tracked = 0, failures = 0;
     for (int p = 0; p < DEGREE; ++p) {
-        for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){start_real[p][k], start_imag[p][k]};
+        for (int k = 0; k < NZ; ++k) ends[p][k] = (cplx){begin_real[p][k], begin_imag[p][k]};
         order[tracked++] = p;
     }
     // two paths at a time (each bit for bit as alone: the runtime's track_paths)
@@ -2458,7 +2573,7 @@ static void modes_one(workspace* ws, const stewart_modes_job* job, long long i, 
     // a failed path came too close to another: track again from the second start system, along
     // another segment, and give each failed slot an endpoint the first run did not reach (the
     // same solution has the same coordinates in both: one patch); as parakin.solvers.modes._retry_failed
-    if (failures && load_system(ws, theta, params, 1, &system)) {
+    if (failures && load_system(ws, theta, params, START_ALTERNATIVE, &system) >= 0) {
         for (int p = 0; p < DEGREE && failures; ++p) {
             cplx z[NZ];
             for (int k = 0; k < NZ; ++k) z[k] = (cplx){alternative_real[p][k], alternative_imag[p][k]};
@@ -2619,6 +2734,8 @@ static const double kw_multipliers[KW_RADII] = {2.0, 8.0, 64.0, 1024.0, 65536.0}
 #define KW_UNIT 0x1p-53
 // the most unknowns a system may have (a job with more is refused)
 #define KW_MAX_UNKNOWNS 64
+// n rounded up to a multiple of 4: rows of this stride let loops over a row run in whole vectors
+#define KW_PAD(n) (((n) + 3) / 4 * 4)
 
 // the least double above every real within 2^-53 |v| + 2^-1075 of v (at least the next double)
 static inline double kw_up(double v) { return v + (fabs(v) * 0x1p-52 + 0x1p-1074); }
@@ -2630,11 +2747,27 @@ static inline double kw_mul_up(double a, double b) { return kw_up(a * b); }
 // s (at most 16 of them, s computed in round to nearest): 2^-53 s + 16 * 2^-1075 and more
 static inline double kw_error(double s) { return s * 0x1p-52 + 0x1p-1070; }
 
+// fmax and fmin without the library call (x86-64 has no instruction with their NaN rule): the
+// larger (smaller) of a and b, and the other where one is NaN; where both are zeros, a (fmax may
+// give either: every caller's zeros are +0)
+static inline double kw_max(double a, double b) { return (b > a || a != a) ? b : a; }
+static inline double kw_min(double a, double b) { return (b < a || a != a) ? b : a; }
+
+// 2^e for -1022 <= e <= 1023 (a normal double), from its bits
+static inline double kw_pow2(long long e) {
+    union { unsigned long long bits; double value; } v;
+    v.bits = (unsigned long long)(e + 1023) << 52;
+    return v.value;
+}
+// ldexp(v, e) without the library call where 2^e is a normal double: v 2^e rounded once, as
+// ldexp rounds it (exact unless it leaves the normal range)
+static inline double kw_ldexp(double v, long long e) { return e >= -1022 && e <= 1023 ? v * kw_pow2(e) : ldexp(v, (int)e); }
+
 // upper and lower bounds on |re + i im|
-static double kw_abs_up(double re, double im) {
+static inline double kw_abs_up(double re, double im) {
     double v = kw_up(sqrt(kw_add_up(kw_mul_up(re, re), kw_mul_up(im, im))));
-    if (isinf(v) && isfinite(re) && isfinite(im)) v = kw_add_up(fabs(re), fabs(im));  // squares overflow
-    return v;
+    double other = kw_add_up(fabs(re), fabs(im));  // where the squares overflow (a select: loops over it vectorize)
+    return isinf(v) && isfinite(re) && isfinite(im) ? other : v;
 }
 static double kw_abs_down(double re, double im) {
     double a = fabs(re), b = fabs(im), big = a > b ? a : b;
@@ -2698,7 +2831,51 @@ typedef struct {
     const long long* eq;
     double* size;  // |c_t| + cr_t rounded up (kw_sizes)
     int accurate;  // F in double-word arithmetic (kw_accurate_f): the second attempt
+    // the terms' supports (kw_supports): term t's unknowns of nonzero exponent, increasing, at
+    // support[t * n ...], count[t] of them, total[t] its degree
+    long long* support;
+    long long* count;
+    long long* total;
+    // the terms by equation taken in turn (each equation's terms in order: kw_passes' sums over
+    // them run side by side), and for a term of degree 2 its sum of second-derivative weights
+    // (kw_passes: no power of rho in it)
+    long long* turns;
+    double* fixed;
 } kw_system;
+
+// the supports of a system's terms, once per set of exponents (the loops over a term's unknowns
+// visit its support alone, in the same order: the same operations as a scan of all n)
+static void kw_supports(kw_system* s) {
+    long long n = s->n;
+    for (long long t = 0; t < s->terms; ++t) {
+        const long long* a = s->a + t * n;
+        long long q = 0, total = 0;
+        for (long long i = 0; i < n; ++i)
+            if (a[i]) { s->support[t * n + q++] = i; total += a[i]; }
+        s->count[t] = q;
+        s->total[t] = total;
+        // kw_passes' sum for a term of degree 2: every pair's factors have exponent 0
+        double sum = 0.0;
+        const long long* support = s->support + t * n;
+        for (long long u = 0; u < q && total == 2; ++u) {
+            long long i = support[u];
+            for (long long v = 0; v < q; ++v) {
+                long long j = support[v], pair = a[i] * (a[j] - (i == j));
+                if (pair > 0) sum = kw_add_up(sum, (double)pair);
+            }
+        }
+        s->fixed[t] = sum;
+    }
+    // turns: term t is its equation's rank-th; the terms by rank, then in order (a counting sort)
+    long long* rank = s->turns + s->terms;  // scratch: terms + 1 counts, then the ranks
+    long long* seen = rank + s->terms + 1;
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t <= s->terms; ++t) rank[t] = 0;
+    for (long long t = 0; t < s->terms; ++t) ++rank[seen[s->eq[t]]++ + 1];
+    for (long long t = 1; t <= s->terms; ++t) rank[t] += rank[t - 1];
+    for (long long k = 0; k < n; ++k) seen[k] = 0;
+    for (long long t = 0; t < s->terms; ++t) s->turns[rank[seen[s->eq[t]]++]++] = t;
+}
 
 // the coefficients' sizes of a system, once per set of coefficients
 static void kw_sizes(kw_system* s) {
@@ -2723,6 +2900,12 @@ typedef struct {
     kw_disc* g;       // n: its Y1 F
     double* absy2;    // n x n: |Y| kept while kw_precondition tries
     double* dwj;      // n x n x 5: double-word J (kw_accurate_j)
+    double* jre;      // n x n: jac's midpoints' real parts, imaginary parts and radii (kw_ingredients)
+    double* jim;
+    double* jrad;
+    double* vre;      // n x n: kw_inverse's n solves side by side (column col: the solve for e_col)
+    double* vim;
+    double* term;     // n x n: kw_ingredients' bounds on |(I - Y J)_kj|
 } kw_scratch;
 
 // sum += term in round to nearest, the term's radius added to sum's (a plain sum) and the new
@@ -2737,40 +2920,42 @@ static inline void kw_accumulate(kw_disc* sum, double* mag, kw_disc term) {
 // F~ and J~ in round to nearest from the powers' midpoints (radii left 0): the Newton steps
 static int kw_evaluate_midpoints(const kw_system* s, kw_scratch* w) {
     long long n = s->n, deg = s->deg;
+    const kw_disc* powers = w->powers;
+    kw_disc* f = w->f;
+    kw_disc* jac = w->jac;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         double cr = s->c[2 * t], ci = s->c[2 * t + 1], mr = 1.0, mi = 0.0;
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                const kw_disc* p = w->powers + i * (deg + 1) + a[i];
-                double r = mr * p->re - mi * p->im;
-                mi = mr * p->im + mi * p->re;
-                mr = r;
-                support[q++] = i;
-            }
-        w->f[k].re += cr * mr - ci * mi;
-        w->f[k].im += cr * mi + ci * mr;
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            const kw_disc* p = powers + i * (deg + 1) + a[i];
+            double r = mr * p->re - mi * p->im;
+            mi = mr * p->im + mi * p->re;
+            mr = r;
+        }
+        f[k].re += cr * mr - ci * mi;
+        f[k].im += cr * mi + ci * mr;
         for (long long u = 0; u < q; ++u) {
             long long i = support[u];
             double dr = cr * (double)a[i], di = ci * (double)a[i];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], e = a[j] - (j == i);
                 if (!e) continue;
-                const kw_disc* p = w->powers + j * (deg + 1) + e;
+                const kw_disc* p = powers + j * (deg + 1) + e;
                 double r = dr * p->re - di * p->im;
                 di = dr * p->im + di * p->re;
                 dr = r;
             }
-            w->jac[k * n + i].re += dr;
-            w->jac[k * n + i].im += di;
+            jac[k * n + i].re += dr;
+            jac[k * n + i].im += di;
         }
     }
     for (long long i = 0; i < n; ++i)
-        if (!kw_finite(w->f[i])) return 0;
+        if (!kw_finite(f[i])) return 0;
     for (long long k = 0; k < n * n; ++k)
-        if (!kw_finite(w->jac[k])) return 0;
+        if (!kw_finite(jac[k])) return 0;
     return 1;
 }
 
@@ -2782,7 +2967,13 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
         kw_disc* p = w->powers + i * (deg + 1);
         p[0] = kw_point(1.0, 0.0);
         if (deg >= 1) p[1] = kw_point(x[2 * i], x[2 * i + 1]);
-        for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        if (rigorous)
+            for (long long e = 2; e <= deg; ++e) p[e] = kw_mul(p[e - 1], p[1]);
+        else  // kw_mul's midpoint alone (the radii are not read)
+            for (long long e = 2; e <= deg; ++e) {
+                double ar = p[e - 1].re, ai = p[e - 1].im, br = p[1].re, bi = p[1].im;
+                p[e] = (kw_disc){ar * br - ai * bi, ar * bi + ai * br, 0.0};
+            }
         w->f[i] = kw_point(0.0, 0.0);
     }
     for (long long k = 0; k < n * n; ++k) w->jac[k] = kw_point(0.0, 0.0);
@@ -2790,16 +2981,15 @@ static int kw_evaluate(const kw_system* s, const double* x, kw_scratch* w, int r
     for (long long k = 0; k < n + n * n; ++k) w->mag[k] = 0.0;
     for (long long t = 0; t < s->terms; ++t) {
         const long long* a = s->a + t * n;
-        long long k = s->eq[t];
+        const long long* support = s->support + t * n;
+        long long k = s->eq[t], q = s->count[t];
         kw_disc c = {s->c[2 * t], s->c[2 * t + 1], s->cr[t]};
         kw_disc m = kw_point(1.0, 0.0);
-        long long support[KW_MAX_UNKNOWNS], q = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) {
-                kw_disc p = w->powers[i * (deg + 1) + a[i]];
-                m = q ? kw_mul(m, p) : p;
-                support[q++] = i;
-            }
+        for (long long u = 0; u < q; ++u) {
+            long long i = support[u];
+            kw_disc p = w->powers[i * (deg + 1) + a[i]];
+            m = u ? kw_mul(m, p) : p;
+        }
         kw_accumulate(w->f + k, w->mag + k, q ? kw_mul(c, m) : c);
         for (long long u = 0; u < q; ++u) {  // d/dz_i: a_ti c_t z^(a_t - e_i)
             long long i = support[u];
@@ -2949,36 +3139,45 @@ static int kw_accurate_j(const kw_system* s, kw_scratch* w) {
     return 1;
 }
 
-// LU with partial pivoting of the midpoints of jac into w->lu and w->pivot (round to nearest);
-// 0 when a pivot is exactly zero
+// LU with partial pivoting of the midpoints of jac into w->lu (n x n real parts, then n x n
+// imaginary parts: rows contiguous, so that the loops over a row run in vector registers; each
+// entry's operations are the same, in the same order) and w->pivot (round to nearest); 0 when a
+// pivot is exactly zero
 static int kw_factor(long long n, kw_scratch* w) {
-    double* a = w->lu;
-    for (long long k = 0; k < n * n; ++k) { a[2 * k] = w->jac[k].re; a[2 * k + 1] = w->jac[k].im; }
+    double* are = w->lu;
+    double* aim = w->lu + n * n;
+    for (long long k = 0; k < n * n; ++k) { are[k] = w->jac[k].re; aim[k] = w->jac[k].im; }
     for (long long k = 0; k < n; ++k) {
         long long best = k;
-        double largest = fabs(a[2 * (k * n + k)]) + fabs(a[2 * (k * n + k) + 1]);
+        double largest = fabs(are[k * n + k]) + fabs(aim[k * n + k]);
         for (long long r = k + 1; r < n; ++r) {
-            double v = fabs(a[2 * (r * n + k)]) + fabs(a[2 * (r * n + k) + 1]);
+            double v = fabs(are[r * n + k]) + fabs(aim[r * n + k]);
             if (v > largest) { best = r; largest = v; }
         }
         if (!(largest > 0.0)) return 0;
         w->pivot[k] = best;
         if (best != k)
-            for (long long j = 0; j < 2 * n; ++j) {
-                double t = a[2 * k * n + j];
-                a[2 * k * n + j] = a[2 * best * n + j];
-                a[2 * best * n + j] = t;
+            for (long long j = 0; j < n; ++j) {
+                double t = are[k * n + j];
+                are[k * n + j] = are[best * n + j];
+                are[best * n + j] = t;
+                t = aim[k * n + j];
+                aim[k * n + j] = aim[best * n + j];
+                aim[best * n + j] = t;
             }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         double ir = pr / d, ii = -pi / d;
+        const double* ur = are + k * n;
+        const double* ui = aim + k * n;
         for (long long r = k + 1; r < n; ++r) {
-            double* row = a + 2 * r * n;
-            double fr = row[2 * k] * ir - row[2 * k + 1] * ii, fi = row[2 * k] * ii + row[2 * k + 1] * ir;
-            row[2 * k] = fr; row[2 * k + 1] = fi;
+            double* rr = are + r * n;
+            double* ri = aim + r * n;
+            double fr = rr[k] * ir - ri[k] * ii, fi = rr[k] * ii + ri[k] * ir;
+            rr[k] = fr;
+            ri[k] = fi;
             for (long long j = k + 1; j < n; ++j) {
-                double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
-                row[2 * j] -= fr * ur - fi * ui;
-                row[2 * j + 1] -= fr * ui + fi * ur;
+                rr[j] -= fr * ur[j] - fi * ui[j];
+                ri[j] -= fr * ui[j] + fi * ur[j];
             }
         }
     }
@@ -2987,7 +3186,8 @@ static int kw_factor(long long n, kw_scratch* w) {
 
 // v (n complex) = (L U)^-1 P v in place from kw_factor's factors; 0 when not finite
 static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
-    const double* a = w->lu;
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
     for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
         long long p = w->pivot[k];
         if (p != k) {
@@ -2997,18 +3197,18 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     }
     for (long long k = 0; k < n; ++k)
         for (long long r = k + 1; r < n; ++r) {
-            double fr = a[2 * (r * n + k)], fi = a[2 * (r * n + k) + 1];
+            double fr = are[r * n + k], fi = aim[r * n + k];
             v[2 * r] -= fr * v[2 * k] - fi * v[2 * k + 1];
             v[2 * r + 1] -= fr * v[2 * k + 1] + fi * v[2 * k];
         }
     for (long long k = n - 1; k >= 0; --k) {
         double sr = v[2 * k], si = v[2 * k + 1];
         for (long long j = k + 1; j < n; ++j) {
-            double ur = a[2 * (k * n + j)], ui = a[2 * (k * n + j) + 1];
+            double ur = are[k * n + j], ui = aim[k * n + j];
             sr -= ur * v[2 * j] - ui * v[2 * j + 1];
             si -= ur * v[2 * j + 1] + ui * v[2 * j];
         }
-        double pr = a[2 * (k * n + k)], pi = a[2 * (k * n + k) + 1], d = pr * pr + pi * pi;
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
         v[2 * k] = (sr * pr + si * pi) / d;
         v[2 * k + 1] = (si * pr - sr * pi) / d;
     }
@@ -3017,19 +3217,78 @@ static int kw_lu_solve(long long n, const kw_scratch* w, double* v) {
     return 1;
 }
 
-// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular
+// y = inverse of the midpoints of jac (any matrix keeps the test sound); 0 when J~ is singular.
+// The n solves of kw_lu_solve for the unit vectors, side by side: column col of (vre, vim) is
+// the solve for e_col, each entry's operations those of kw_lu_solve in its order (the loops over
+// the columns run in vector registers)
 static int kw_inverse(long long n, kw_scratch* w) {
     if (!kw_factor(n, w)) return 0;
-    for (long long col = 0; col < n; ++col) {
-        double* v = w->step;
-        for (long long k = 0; k < n; ++k) { v[2 * k] = (k == col); v[2 * k + 1] = 0.0; }
-        if (!kw_lu_solve(n, w, v)) return 0;
-        for (long long k = 0; k < n; ++k) {
-            w->y[2 * (k * n + col)] = v[2 * k];
-            w->y[2 * (k * n + col) + 1] = v[2 * k + 1];
+    const double* are = w->lu;
+    const double* aim = w->lu + n * n;
+    double* vre = w->vre;
+    double* vim = w->vim;
+    long long m = KW_PAD(n);  // the rows' stride: the columns beyond n (zero, then whatever) pad the loops to whole vectors
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (k == col);
+            vim[k * m + col] = 0.0;
+        }
+    for (long long k = 0; k < n; ++k) {  // the row swaps in order, then L
+        long long p = w->pivot[k];
+        if (p != k)
+            for (long long col = 0; col < m; ++col) {
+                double t = vre[k * m + col];
+                vre[k * m + col] = vre[p * m + col];
+                vre[p * m + col] = t;
+                t = vim[k * m + col];
+                vim[k * m + col] = vim[p * m + col];
+                vim[p * m + col] = t;
+            }
+    }
+    for (long long k = 0; k < n; ++k) {
+        const double* kr = vre + k * m;
+        const double* ki = vim + k * m;
+        for (long long r = k + 1; r < n; ++r) {
+            double fr = are[r * n + k], fi = aim[r * n + k];
+            double* rr = vre + r * m;
+            double* ri = vim + r * m;
+            for (long long col = 0; col < m; ++col) {
+                double vr = kr[col], vi = ki[col];
+                rr[col] -= fr * vr - fi * vi;
+                ri[col] -= fr * vi + fi * vr;
+            }
         }
     }
-    return 1;
+    double sr[KW_MAX_UNKNOWNS], si[KW_MAX_UNKNOWNS];
+    for (long long k = n - 1; k >= 0; --k) {
+        for (long long col = 0; col < m; ++col) {
+            sr[col] = vre[k * m + col];
+            si[col] = vim[k * m + col];
+        }
+        for (long long j = k + 1; j < n; ++j) {
+            double ur = are[k * n + j], ui = aim[k * n + j];
+            const double* jr = vre + j * m;
+            const double* ji = vim + j * m;
+            for (long long col = 0; col < m; ++col) {
+                sr[col] -= ur * jr[col] - ui * ji[col];
+                si[col] -= ur * ji[col] + ui * jr[col];
+            }
+        }
+        double pr = are[k * n + k], pi = aim[k * n + k], d = pr * pr + pi * pi;
+        for (long long col = 0; col < m; ++col) {
+            vre[k * m + col] = (sr[col] * pr + si[col] * pi) / d;
+            vim[k * m + col] = (si[col] * pr - sr[col] * pi) / d;
+        }
+    }
+    int finite = 1;
+    for (long long k = 0; k < n; ++k)
+        for (long long col = 0; col < n; ++col) {
+            double re = vre[k * m + col], im = vim[k * m + col];
+            finite &= isfinite(re) && isfinite(im);
+            w->y[2 * (k * n + col)] = re;
+            w->y[2 * (k * n + col) + 1] = im;
+        }
+    return finite;
 }
 
 // The Newton step J~^-1 F~ at x into w->step (round to nearest: it only sharpens the centre); 0
@@ -3049,50 +3308,95 @@ typedef struct {
 } kw_bounds;
 
 // a >= ||Y F||, b >= ||I - Y J||, c >= ||Y|| and |Y| rounded up (absy) for y (n x n complex, as
-// doubles) and the enclosures f (n) and jac (n x n) of F and J; 0 when not finite
+// doubles) and the enclosures f (n) and jac (n x n) of F and J (w: scratch); 0 when not finite.
+// Every sum runs over its index in order, as a row at a time would, but the n rows' sums side by
+// side (their chains of dependent roundings overlap, and the loops run in vector registers).
 static int kw_ingredients(long long n, const double* y, const kw_disc* f, const kw_disc* jac, double* absy,
-                          kw_bounds* out) {
+                          kw_bounds* out, kw_scratch* w) {
+    long long m = KW_PAD(n);  // the stride of the scratch rows (zeros beyond n: whole vectors)
+    double* jre = w->jre;  // jac's parts
+    double* jim = w->jim;
+    double* jrad = w->jrad;
+    double* tre = w->vre;  // y's parts and |y| transposed (tre[i m + k] = Re Y_ki)
+    double* tim = w->vim;
+    double* tabs = w->term;
+    for (long long i = 0; i < n; ++i)
+        for (long long j = 0; j < m; ++j) {
+            int in = j < n;
+            const kw_disc* e = jac + i * n + (in ? j : 0);
+            jre[i * m + j] = in ? e->re : 0.0;
+            jim[i * m + j] = in ? e->im : 0.0;
+            jrad[i * m + j] = in ? e->r : 0.0;
+        }
+    for (long long k = 0; k < n * n; ++k) absy[k] = kw_abs_up(y[2 * k], y[2 * k + 1]);
+    for (long long i = 0; i < n; ++i)
+        for (long long k = 0; k < m; ++k) {
+            int in = k < n;
+            tre[i * m + k] = in ? y[2 * (k * n + i)] : 0.0;
+            tim[i * m + k] = in ? y[2 * (k * n + i) + 1] : 0.0;
+            tabs[i * m + k] = in ? absy[k * n + i] : 0.0;
+        }
+    // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| + 2^-53
+    // mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill conditioned
+    // (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2), F~ at a
+    // converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
+    double rc[KW_PAD(KW_MAX_UNKNOWNS)], fr[KW_PAD(KW_MAX_UNKNOWNS)], fi[KW_PAD(KW_MAX_UNKNOWNS)];
+    double fmag[KW_PAD(KW_MAX_UNKNOWNS)], fspread[KW_PAD(KW_MAX_UNKNOWNS)], ra[KW_MAX_UNKNOWNS], rb[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < m; ++k) rc[k] = fr[k] = fi[k] = fmag[k] = fspread[k] = 0.0;
+    for (long long i = 0; i < n; ++i) {
+        double er = f[i].re, ei = f[i].im, erad = f[i].r;
+        const double* yr = tre + i * m;
+        const double* yi = tim + i * m;
+        const double* ya = tabs + i * m;
+        for (long long k = 0; k < m; ++k) {
+            double size = ya[k];
+            rc[k] = kw_add_up(rc[k], size);
+            double p1 = yr[k] * er, p2 = yi[k] * ei, p3 = yr[k] * ei, p4 = yi[k] * er;
+            double pr = p1 - p2, pi = p3 + p4, sr = fr[k] + pr, si = fi[k] + pi;
+            fr[k] = sr;
+            fi[k] = si;
+            fmag[k] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(sr) + fabs(si);
+            fspread[k] += size * erad;
+        }
+    }
+    for (long long k = 0; k < n; ++k) ra[k] = kw_add_up(kw_abs_up(fr[k], fi[k]), kw_up_long(fmag[k] * 0x1p-52 + fspread[k]));
+    // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed (each
+    // rounding within 2^-53 of its result, + 2^-1075 for a product) and the spread sum_i |Y_ki|
+    // r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075. Row k's entries at
+    // once (each j's sums over i in order), its bounds into term (tabs no longer read)
+    double* term = w->term;
+    for (long long k = 0; k < n; ++k) {
+        double mr[KW_PAD(KW_MAX_UNKNOWNS)], mi[KW_PAD(KW_MAX_UNKNOWNS)], mag[KW_PAD(KW_MAX_UNKNOWNS)];
+        double spread[KW_PAD(KW_MAX_UNKNOWNS)];
+        for (long long j = 0; j < m; ++j) {
+            mr[j] = k == j ? 1.0 : 0.0;
+            mi[j] = mag[j] = spread[j] = 0.0;
+        }
+        for (long long i = 0; i < n; ++i) {
+            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = absy[k * n + i];
+            const double* er = jre + i * m;
+            const double* ei = jim + i * m;
+            const double* erad = jrad + i * m;
+            for (long long j = 0; j < m; ++j) {
+                double p1 = yr * er[j], p2 = yi * ei[j], p3 = yr * ei[j], p4 = yi * er[j];
+                double pr = p1 - p2, pi = p3 + p4, r = mr[j] - pr, q = mi[j] - pi;
+                mr[j] = r;
+                mi[j] = q;
+                mag[j] += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(r) + fabs(q);
+                spread[j] += size * erad[j];
+            }
+        }
+        for (long long j = 0; j < n; ++j)
+            term[k * m + j] = kw_add_up(kw_abs_up(mr[j], mi[j]), kw_up_long(mag[j] * 0x1p-52 + spread[j]));
+    }
+    for (long long k = 0; k < n; ++k) rb[k] = 0.0;
+    for (long long j = 0; j < n; ++j)  // b's row sums over j in order, the rows side by side
+        for (long long k = 0; k < n; ++k) rb[k] = kw_add_up(rb[k], term[k * m + j]);
     double a = 0.0, b = 0.0, c = 0.0;
     for (long long k = 0; k < n; ++k) {
-        // (Y F~)_k in round to nearest, bounded as (I - Y J~)_kj below: |(Y F(x))_k| <= |m| +
-        // 2^-53 mag + sum_i |Y_ki| r(F_i) + 4 n 2^-1075. Not || |Y| |F| ||: where J is ill
-        // conditioned (rus6's roots near infinity: rows of J ~1e9 in the scaled chart, ||Y|| ~ 2),
-        // F~ at a converged centre is ~1e-8 and only Y F~ is at the centre's rounding, ~1e-16.
-        double rc = 0.0, fr = 0.0, fi = 0.0, fmag = 0.0, fspread = 0.0;
-        for (long long i = 0; i < n; ++i) {
-            double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1], size = kw_abs_up(yr, yi);
-            absy[k * n + i] = size;
-            rc = kw_add_up(rc, size);
-            const kw_disc* fi_ = f + i;
-            double p1 = yr * fi_->re, p2 = yi * fi_->im, p3 = yr * fi_->im, p4 = yi * fi_->re;
-            double pr = p1 - p2, pi = p3 + p4;
-            fr += pr;
-            fi += pi;
-            fmag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(fr) + fabs(fi);
-            fspread += size * fi_->r;
-        }
-        double ra = kw_add_up(kw_abs_up(fr, fi), kw_up_long(fmag * 0x1p-52 + fspread));
-        double rb = 0.0;
-        for (long long j = 0; j < n; ++j) {
-            // (I - Y J~)_kj in round to nearest, the magnitudes of its 8 n rounded results summed
-            // (each rounding within 2^-53 of its result, + 2^-1075 for a product) and the
-            // spread sum_i |Y_ki| r(J_ij): |(I - Y J(x))_kj| <= |m| + 2^-53 mag + spread + 4 n 2^-1075
-            double mr = k == j ? 1.0 : 0.0, mi = 0.0, mag = 0.0, spread = 0.0;
-            for (long long i = 0; i < n; ++i) {
-                double yr = y[2 * (k * n + i)], yi = y[2 * (k * n + i) + 1];
-                const kw_disc* e = jac + i * n + j;
-                double p1 = yr * e->re, p2 = yi * e->im, p3 = yr * e->im, p4 = yi * e->re;
-                double pr = p1 - p2, pi = p3 + p4;
-                mr -= pr;
-                mi -= pi;
-                mag += fabs(p1) + fabs(p2) + fabs(p3) + fabs(p4) + fabs(pr) + fabs(pi) + fabs(mr) + fabs(mi);
-                spread += absy[k * n + i] * e->r;
-            }
-            rb = kw_add_up(rb, kw_add_up(kw_abs_up(mr, mi), kw_up_long(mag * 0x1p-52 + spread)));
-        }
-        a = fmax(a, ra);
-        b = fmax(b, rb);
-        c = fmax(c, rc);
+        a = kw_max(a, ra[k]);
+        b = kw_max(b, rb[k]);
+        c = kw_max(c, rc[k]);
     }
     out->a = a;
     out->b = b;
@@ -3148,7 +3452,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
         w->jac[k] = w->m[k];
         if (!kw_finite(w->jac[k])) return 0;
     }
-    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out)) return 0;
+    if (!kw_inverse(n, w) || !kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w)) return 0;
     // |Y2| |Y1| rounded up, into absy (|Y2| is in absy now: row k is read before it is written)
     double c = 0.0, row[KW_MAX_UNKNOWNS];
     for (long long k = 0; k < n; ++k) {
@@ -3161,7 +3465,7 @@ static int kw_precondition(const kw_system* s, kw_scratch* w, kw_bounds* out) {
             rc = kw_add_up(rc, sum);
         }
         for (long long j = 0; j < n; ++j) w->absy[k * n + j] = row[j];
-        c = fmax(c, rc);
+        c = kw_max(c, rc);
     }
     out->c = c;
     out->preconditioned = 1;
@@ -3186,7 +3490,7 @@ static void kw_preconditioned_step(long long n, kw_scratch* w) {
 static int kw_bound(const kw_system* s, const double* x, kw_scratch* w, kw_bounds* out) {
     long long n = s->n;
     if (!kw_evaluate(s, x, w, 1) || (s->accurate && !kw_accurate_f(s, x, w)) || !kw_inverse(n, w)) return 0;
-    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out);
+    int ok = kw_ingredients(n, w->y, w->f, w->jac, w->absy, out, w);
     if (!s->accurate || (ok && out->b < 0.5)) return ok;
     // the double-word attempt, Y J far from I: Rump's preconditioner (kw_precondition) where
     // it gives a smaller ||I - Y J|| (w->absy restored otherwise)
@@ -3213,14 +3517,14 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     // H_k(rho), k = 0 .. n - 1, in w->step (reused: real values)
     double* h = w->step;
     for (long long k = 0; k < n; ++k) h[k] = 0.0;
-    for (long long t = 0; t < s->terms; ++t) {
+    for (long long turn = 0; turn < s->terms; ++turn) {  // each h_k's sum over its terms in order
+        long long t = s->turns[turn];
         const long long* a = s->a + t * n;
-        long long support[KW_MAX_UNKNOWNS], q = 0, total = 0;
-        for (long long i = 0; i < n; ++i)
-            if (a[i]) { support[q++] = i; total += a[i]; }
-        if (total < 2) continue;  // an affine term: no second derivative
-        double size = s->size[t], sum = 0.0;
-        for (long long u = 0; u < q; ++u) {
+        const long long* support = s->support + t * n;
+        long long q = s->count[t];
+        if (s->total[t] < 2) continue;  // an affine term: no second derivative
+        double size = s->size[t], sum = s->fixed[t];
+        for (long long u = 0; u < q && s->total[t] > 2; ++u) {
             long long i = support[u];
             for (long long v = 0; v < q; ++v) {
                 long long j = support[v], pair = a[i] * (a[j] - (i == j));
@@ -3237,12 +3541,11 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
     }
     // ||Y (J(z) - J(x))|| <= max_k sum_i |Y_ki| H_i r: each row of |Y| weighs the rows of J
     // (tighter than ||Y|| max_i H_i where the equations' scales differ)
-    double spread = 0.0;
-    for (long long k = 0; k < n; ++k) {
-        double sum = 0.0;
-        for (long long i = 0; i < n; ++i) sum = kw_add_up(sum, kw_mul_up(w->absy[k * n + i], h[i]));
-        spread = fmax(spread, sum);
-    }
+    double spread = 0.0, sum[KW_MAX_UNKNOWNS];
+    for (long long k = 0; k < n; ++k) sum[k] = 0.0;
+    for (long long i = 0; i < n; ++i)  // each row's sum over i in order, the rows side by side
+        for (long long k = 0; k < n; ++k) sum[k] = kw_add_up(sum[k], kw_mul_up(w->absy[k * n + i], h[i]));
+    for (long long k = 0; k < n; ++k) spread = kw_max(spread, sum[k]);
     double inner = kw_add_up(bounds->b, kw_mul_up(spread, r));
     double left = kw_add_up(bounds->a, kw_mul_up(inner, r));
     return left < r;
@@ -3251,7 +3554,7 @@ static int kw_passes(const kw_system* s, const double* x, double r, const kw_bou
 // The smallest passing radius of MULTIPLIERS * max(need, a) + floor, at most limit (0 when none)
 static double kw_radius(const kw_system* s, const double* x, const kw_bounds* bounds, double need, double floor,
                         double limit, kw_scratch* w) {
-    double base = fmax(need, bounds->a);
+    double base = kw_max(need, bounds->a);
     for (int m = 0; m < KW_RADII; ++m) {
         double r = kw_multipliers[m] * base + floor;
         if (!(r <= limit)) return 0.0;
@@ -3264,7 +3567,7 @@ static inline double kw_cabs(const double* z) { return hypot(z[0], z[1]); }
 
 static double kw_max_abs(long long n, const double* z) {
     double v = 0.0;
-    for (long long i = 0; i < n; ++i) v = fmax(v, kw_cabs(z + 2 * i));
+    for (long long i = 0; i < n; ++i) v = kw_max(v, kw_cabs(z + 2 * i));
     return v;
 }
 
@@ -3314,6 +3617,11 @@ static long long kw_workspace_bytes(long long candidates, long long terms, long 
     b += KW_ALIGN(n * (long long)sizeof(kw_disc));  // g
     b += KW_ALIGN(n * n * (long long)sizeof(double));  // absy2
     b += KW_ALIGN(5 * n * n * (long long)sizeof(double));  // dwj
+    b += 6 * KW_ALIGN(n * KW_PAD(n) * (long long)sizeof(double));  // jre, jim, jrad, vre, vim, term
+    b += 2 * KW_ALIGN((terms + 2) * (n + 2) * (long long)sizeof(long long));  // supports: main, chart
+    b += 2 * KW_ALIGN((3 * (terms + 2) + n) * (long long)sizeof(long long));  // turns: main, chart
+    b += 2 * KW_ALIGN((terms + 2) * (long long)sizeof(double));  // fixed: main, chart
+    b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // candidates' sizes
     b += 4 * KW_ALIGN(2 * n * (long long)sizeof(double));  // x, previous, chart point, scale
     b += KW_ALIGN((candidates > 0 ? candidates : 1) * (long long)sizeof(double));  // sizes
     b += KW_ALIGN(5 * (terms + 2) * (long long)sizeof(double));  // coefficients, radii, sizes
@@ -3408,6 +3716,19 @@ static int kw_certify(const kw_job* job) {
     w.g = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
     w.absy2 = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
     w.dwj = (double*)kw_take(&cursor, 5 * n * n * (long long)sizeof(double));
+    w.jre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jrad = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.term = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    long long* support_main = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* support_chart = (long long*)kw_take(&cursor, (terms + 2) * (n + 2) * (long long)sizeof(long long));
+    long long* turns_main = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    long long* turns_chart = (long long*)kw_take(&cursor, (3 * (terms + 2) + n) * (long long)sizeof(long long));
+    double* fixed_main = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
+    double* fixed_chart = (double*)kw_take(&cursor, (terms + 2) * (long long)sizeof(double));
+    double* largest = (double*)kw_take(&cursor, (paths > 0 ? paths : 1) * (long long)sizeof(double));
     double* x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* chart_x = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
     double* given = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
@@ -3444,13 +3765,17 @@ static int kw_certify(const kw_job* job) {
         // affine: each coordinate measured in a power of two near its typical size (median of the
         // |z_i| over the system's finite candidates where it is not zero to rounding, at most
         // KW_ZERO_SIZE times the candidate's largest |z_j|; 1 where there is none)
+        for (long long p = 0; p < paths && !homogeneous; ++p) {  // each candidate's largest |z_j|, once
+            const double* z = job->roots + 2 * ((sys * paths + p) * n);
+            largest[p] = kw_row_finite(n, z) ? kw_max_abs(n, z) : NAN;
+        }
         for (long long i = 0; i < n && !homogeneous; ++i) {
             long long count = 0;
             for (long long p = 0; p < paths; ++p) {
                 const double* z = job->roots + 2 * ((sys * paths + p) * n);
-                if (!kw_row_finite(n, z)) continue;
+                if (!(largest[p] == largest[p])) continue;  // not finite (kw_max_abs of a finite row is not NaN)
                 double v = kw_cabs(z + 2 * i);
-                if (v > 0.0 && v > KW_ZERO_SIZE * kw_max_abs(n, z)) sizes[count++] = v;
+                if (v > 0.0 && v > KW_ZERO_SIZE * largest[p]) sizes[count++] = v;
             }
             double typical = 1.0;
             if (count) {
@@ -3464,7 +3789,10 @@ static int kw_certify(const kw_job* job) {
             const double* z = job->roots + 2 * at * n;
             double* centre = job->center + 2 * at * n;
             int present = kw_row_finite(n, z);
-            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0};
+            kw_system s = {terms, n, deg, c, radii_c, job->exponents, job->equation, sizes_main, 0,
+                           support_main, support_main + (terms + 2) * n, support_main + (terms + 2) * (n + 1),
+                           turns_main, fixed_main};
+            if (sys == 0 && p == 0) kw_supports(&s);  // one set of exponents for every system
             double unit = 1e-150;
             for (long long i = 0; i < n; ++i) shift[i] = 0;
             if (!homogeneous) {
@@ -3472,14 +3800,14 @@ static int kw_certify(const kw_job* job) {
                 for (long long i = 0; i < n; ++i) {
                     double v = kw_cabs(z + 2 * i);
                     if (isfinite(z[2 * i]) && isfinite(z[2 * i + 1]))
-                        shift[i] = (long long)ceil(log2(fmax(v, scale[2 * i])));
+                        shift[i] = (long long)ceil(log2(kw_max(v, scale[2 * i])));
                 }
                 for (long long t = 0; t < terms; ++t) {
                     long long e = 0;
                     for (long long i = 0; i < n; ++i) e += shift[i] * job->exponents[t * n + i];
                     if (e > 4000) e = 4000;
                     if (e < -4000) e = -4000;
-                    double re = ldexp(c[2 * t], (int)e), im = ldexp(c[2 * t + 1], (int)e);
+                    double re = kw_ldexp(c[2 * t], e), im = kw_ldexp(c[2 * t + 1], e);
                     coefficients[2 * t] = re;
                     coefficients[2 * t + 1] = im;
                     // exact unless it left the normal range: then within 2^-1074 (or infinite)
@@ -3494,7 +3822,7 @@ static int kw_certify(const kw_job* job) {
                 if (p == 0) kw_sizes(&s);  // the system's own coefficients: one set for every candidate
             }
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]);
+                double f = kw_ldexp(1.0, shift[i]);
                 given[2 * i] = z[2 * i] / f;
                 given[2 * i + 1] = z[2 * i + 1] / f;
                 x[2 * i] = present ? given[2 * i] : 1.0;
@@ -3524,14 +3852,14 @@ static int kw_certify(const kw_job* job) {
                         for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                 }
                 for (long long i = 0; i < n; ++i) {
-                    double f = ldexp(1.0, (int)shift[i]);
+                    double f = kw_ldexp(1.0, shift[i]);
                     centre[2 * i] = x[2 * i] * f;
                     centre[2 * i + 1] = x[2 * i + 1] * f;
                 }
-                double limit = KW_NEAR * fmax(kw_max_abs(n, given), unit);
+                double limit = KW_NEAR * kw_max(kw_max_abs(n, given), unit);
                 double reach = s.accurate ? KW_REACH / KW_NEAR * limit : limit;
                 double moved = 0.0;
-                for (long long i = 0; i < n; ++i) moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                for (long long i = 0; i < n; ++i) moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                 if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) continue;
                 floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
                 r = kw_radius(&s, x, &bounds, 0.0, floor, limit, &w);
@@ -3546,10 +3874,10 @@ static int kw_certify(const kw_job* job) {
                     for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
                     moved = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        double f = ldexp(1.0, (int)shift[i]);
+                        double f = kw_ldexp(1.0, shift[i]);
                         centre[2 * i] = x[2 * i] * f;
                         centre[2 * i + 1] = x[2 * i + 1] * f;
-                        moved = fmax(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
+                        moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], x[2 * i + 1] - given[2 * i + 1]));
                     }
                     if (!(moved <= reach) || !kw_bound(&s, x, &w, &bounds)) break;
                     floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
@@ -3560,11 +3888,11 @@ static int kw_certify(const kw_job* job) {
             if (!(r > 0.0)) continue;
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
-                double f = ldexp(1.0, (int)shift[i]), v = r * f;
+                double f = kw_ldexp(1.0, shift[i]), v = r * f;
                 // exact unless it (or the centre) left the normal range: widened over both roundings
                 if (v < 0x1p-1000) v = kw_up(v) + 0x1p-1073;
                 job->radii[at * n + i] = v;
-                smallest = fmin(smallest, f);
+                smallest = kw_min(smallest, f);
             }
             job->unique[at] = 1;
             job->radius[at] = r * smallest;
@@ -3577,7 +3905,7 @@ static int kw_certify(const kw_job* job) {
                     // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
                     double imag = 0.0;
                     for (long long i = 0; i < n; ++i) {
-                        imag = fmax(imag, fabs(x[2 * i + 1]));
+                        imag = kw_max(imag, fabs(x[2 * i + 1]));
                         chart_x[2 * i] = x[2 * i];
                         chart_x[2 * i + 1] = 0.0;
                     }
@@ -3626,7 +3954,7 @@ static int kw_certify(const kw_job* job) {
                     gap = kw_add_up(fabs(x[2 * i + 1]), r);
                 }
                 chart_x[2 * i + 1] = 0.0;
-                need = fmax(need, gap);
+                need = kw_max(need, gap);
             }
             for (long long t = 0, q = 0; t < terms; ++t) {
                 if (job->equation[t] == job->patch_equation) continue;
@@ -3639,8 +3967,11 @@ static int kw_certify(const kw_job* job) {
             coefficients[2 * (chart_terms - 1)] = -1.0;
             coefficients[2 * (chart_terms - 2) + 1] = coefficients[2 * (chart_terms - 1) + 1] = 0.0;
             radii_c[chart_terms - 2] = radii_c[chart_terms - 1] = 0.0;
-            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate};
+            kw_system chart = {chart_terms, n, deg, coefficients, radii_c, chart_a, chart_eq, sizes_chart, s.accurate,
+                               support_chart, support_chart + (terms + 2) * n, support_chart + (terms + 2) * (n + 1),
+                               turns_chart, fixed_chart};
             kw_sizes(&chart);
+            kw_supports(&chart);
             if (kw_bound(&chart, chart_x, &w, &bounds) && kw_radius(&chart, chart_x, &bounds, need, floor, INFINITY, &w) > 0.0)
                 job->real[at] = 1;
         }
