@@ -817,9 +817,9 @@ def _configuration(m: Mechanism, info: Forward, theta: Array, z: np.ndarray) -> 
     inputs ``theta`` (k, n_a), from the generated kernels (identity where a pose is undefined)."""
     with np.errstate(all="ignore"):
         q = m.backend.call(f"{info.method}_passive", np.ascontiguousarray(z), m.params)["passive"]
-        pose = m.backend.call("platform_pose", theta, np.nan_to_num(q), m.params)["pose"]
+        pose = m.backend.call("platform_pose", theta, q if np.isfinite(q).all() else np.nan_to_num(q), m.params)["pose"]
     defined = np.asarray(np.isfinite(pose).all((-2, -1)))
-    return q, np.where(defined[:, None, None], pose, np.eye(4))
+    return q, pose if defined.all() else np.where(defined[:, None, None], pose, np.eye(4))
 
 
 #: two modes whose rotations differ by at most this, and their positions by at most this times
@@ -931,7 +931,7 @@ def _repeats_earlier_mode(
     candidate, slot = np.nonzero(valid[rows] & (np.arange(valid.shape[-1]) < columns[:, None]))
     if not candidate.size:
         return found
-    inputs = np.unique(rows)
+    inputs = np.unique(rows) if valid.shape[0] > 1 else rows[:1]  # one input: row 0 (candidates exist)
     sizes = np.zeros(valid.shape[0])
     sizes[inputs] = np.where(valid[inputs][..., None], np.abs(poses[inputs, :, :3, 3]), 0.0).max((-2, -1))
     largest = np.maximum(sizes[rows], np.abs(pose[:, :3, 3]).max(-1))[candidate]
@@ -1537,8 +1537,11 @@ def canonical_quaternions(passive: np.ndarray, blocks: tuple[int, ...]) -> np.nd
     for k in blocks:
         q = out[..., k : k + 4]
         nonzero = np.abs(q) > QUATERNION_ZERO
-        first = np.take_along_axis(q, np.argmax(nonzero, axis=-1)[..., None], axis=-1)[..., 0]
-        out[..., k : k + 4] = np.where((first < 0.0)[..., None], -q, q)
+        # the first component larger than QUATERNION_ZERO (q0 where none is), picked last to first
+        first = q[..., 0]
+        for j in (3, 2, 1, 0):
+            first = np.where(nonzero[..., j], q[..., j], first)
+        np.negative(q, out=q, where=(first < 0.0)[..., None])
     return out
 
 
