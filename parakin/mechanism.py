@@ -999,7 +999,9 @@ class Mechanism:
         if "conditioning_jacobians" in out:
             modes._defer(
                 "conditioning",
-                DeferredConditioning(out["conditioning_measured"], out["conditioning_jacobians"], modes.valid),
+                DeferredConditioning(
+                    out["conditioning_measured"], out["conditioning_jacobians"], modes.valid, inverse_condition
+                ),
             )
         degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
         if strict and np.any(degenerate):
@@ -1857,7 +1859,7 @@ class Mechanism:
         >>> import parakin
         >>> m = parakin.load("tricept", backend="numpy")
         >>> state = m.forward_pose(m.home_actuated)
-        >>> m.constraint_forces(state, [0, 0, -100, 0, 0, 0]).round(6).tolist()  # a centred load
+        >>> (m.constraint_forces(state, [0, 0, -100, 0, 0, 0]).round(6) + 0.0).tolist()  # a centred load (+ 0.0: no -0.0)
         [0.0, 0.0, 0.0]
         """
         from parakin.solvers.statics import constraint_forces

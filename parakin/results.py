@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import html
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -114,21 +114,21 @@ class InversePose:
 @dataclass(frozen=True)
 class DeferredConditioning:
     """An ``AssemblyModes.conditioning`` computed when first read (``Mechanism.forward_pose_all``
-    of a few inputs): ``inverse_condition`` of the closure Jacobians ``jacobians`` (k, n_c, n_p)
-    of the measured modes ``measured`` (n, M) (flat batch, the Jacobians in row-major order of
-    the mask), NaN in every other slot and where ``valid`` (..., M) is False, over the batch
-    shape of ``valid``: the array the mechanism would have computed at once."""
+    of a few inputs): ``measure`` (the solvers' ``inverse_condition``, passed in: this module
+    sits below them) of the closure Jacobians ``jacobians`` (k, n_c, n_p) of the measured modes
+    ``measured`` (n, M) (flat batch, the Jacobians in row-major order of the mask), NaN in every
+    other slot and where ``valid`` (..., M) is False, over the batch shape of ``valid``: the
+    array the mechanism would have computed at once."""
 
     measured: Mask
     jacobians: Array
     valid: Mask
+    measure: Callable[[Array], Array]
 
     def value(self) -> Array:
         """The conditioning (..., M)."""
-        from parakin.solvers.linalg import inverse_condition  # (that module builds on this one)
-
         conditioning = np.full(self.measured.shape, np.nan)
-        conditioning[self.measured] = inverse_condition(self.jacobians)
+        conditioning[self.measured] = self.measure(self.jacobians)
         return np.where(self.valid, conditioning.reshape(self.valid.shape), np.nan)
 
 

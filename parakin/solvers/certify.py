@@ -630,6 +630,7 @@ def certify_roots_compiled(
     real_coefficients: bool = True,
     homogeneous: list[int] | None = None,
     patch_equation: int | None = None,
+    clusters: bool = True,
 ) -> Certificate:
     """``parakin.solvers.certify.certify_roots`` in the package's C (``NAME_certify_roots``):
     Krawczyk's test in complex interval arithmetic with outward rounding, the same scaling, radii
@@ -661,6 +662,9 @@ def certify_roots_compiled(
         Unknowns of one projective group (with ``patch_equation``, the linear patch in them).
     patch_equation : int, optional
         The patch's equation.
+    clusters : bool, optional
+        False: the boxes only, for a caller that clusters them itself with others (a flat batch
+        only: ``distinct``, ``certified_distinct`` and ``labels`` are then None).
 
     Returns
     -------
@@ -687,6 +691,8 @@ def certify_roots_compiled(
         library, c, a, e, z, real_coefficients, homogeneous, patch_equation
     )
     systems, paths, n = z.shape
+    if not clusters and batch == (systems,):  # the caller counts the clusters itself
+        return Certificate(known, radius, real, None, None, centre, radii, None)  # type: ignore[arg-type]
     labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known)
     if batch == (systems,):  # the solvers' flat batch: every array has its shape already
         count = _cluster_count(labels)

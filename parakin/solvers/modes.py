@@ -1093,6 +1093,9 @@ def certified_modes(
             explained = (found.certified[short] + heading.sum(-1) >= count) & probed.any(-1)
             far[short] = explained
             _mark_at_infinity(m, out, found, short[explained], heading[explained])
+    if retracked.any():  # a slot whose path escaped in the first run may now hold a certified root
+        at_infinity = out["root_kind"][retracked] == m.manifest.abi.root_kinds.index("at_infinity")
+        out["at_infinity"][retracked] = at_infinity.sum(-1)
     out = reconcile(m, info, theta, out, found)
     return out | {"certified": found.certified, "path_certified": found.unique, "retracked": retracked}
 
@@ -1234,11 +1237,12 @@ def _certify_endpoints(
 
     group, patch = _certified_group(homotopy), homotopy.patch_equation
 
-    def certified(c: np.ndarray, z: np.ndarray) -> Certificate:
+    def certified(c: np.ndarray, z: np.ndarray, clusters: bool = True) -> Certificate:
         if in_c:
             return certify_roots_compiled(
-                backend, c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch
-            )
+                backend, c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch,
+                clusters=clusters,
+            )  # fmt: skip
         return certify_roots(c, homotopy.exponents, homotopy.equation, z, homogeneous=group, patch_equation=patch)
 
     if pairs is None or not paired.any():
@@ -1256,7 +1260,7 @@ def _certify_endpoints(
     for rows, columns in ((paired, first), (~paired, np.arange(paths))):
         if not rows.any():
             continue
-        part = certified(coefficients[rows], roots[rows][:, columns])
+        part = certified(coefficients[rows], roots[rows][:, columns], clusters=False)  # counted below, all paths
         block = cells(rows, columns)
         unique[block], real[block], radius[block] = part.unique, part.real, part.radius
         centre[block], radii[block] = part.center, part.radii

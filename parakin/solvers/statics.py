@@ -225,7 +225,7 @@ def constraint_forces(m: LoadedMechanism, state: Configuration, wrench: ArrayLik
     >>> m = parakin.load("tricept", backend="numpy")
     >>> state = m.forward_pose(m.home_actuated)
     >>> load = [0, 0, -100, 0, 0, 0]  # 100 N down, centred: the three legs share it
-    >>> constraint_forces(m, state, load).round(9).tolist(), actuator_forces(m, state, load).round(2).tolist()
+    >>> (constraint_forces(m, state, load).round(9) + 0.0).tolist(), actuator_forces(m, state, load).round(2).tolist()
     ([0.0, 0.0, 0.0], [35.9, 35.9, 35.9])
     """
     rates = m.manifest.capabilities.rates
