@@ -48,6 +48,16 @@ def test_an_unknown_option_of_fk_gets_fk_usage_and_fk_suggestions(capsys):
     assert err.startswith("usage: parakin fk ") and "did you mean" not in err  # --output is plot's
 
 
+def test_a_format_given_as_an_option_names_format(capsys):
+    """`inspect prs3 --json`: inspect writes formats through --format; the error says so (fk's
+    own --json stays what a near miss of it suggests)."""
+    err = _error(["inspect", "prs3", "--json"], capsys)
+    assert err.startswith("usage: parakin inspect ")
+    assert err.rstrip().endswith("did you mean '--format json'?")
+    err = _error(["fk", "five_bar", "--backend", "numpy", "--jsn", "--actuated", "1.5", "1.5"], capsys)
+    assert err.rstrip().endswith("did you mean '--json'?")
+
+
 def test_fk_method_automatic_certifies_the_hand_worked_five_bar(capsys):
     """theta = (pi/2, pi/2): P = (0, 0) and (0, 0.4) by hand (circles of radius 0.25 m about
     (-0.15, 0.2) and (0.15, 0.2)). The default elimination has no certificate; --method

@@ -638,13 +638,24 @@ def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
     else:
         return ""
     hints = []
+    formats = _format_choices(parser)
     for word in given:
         close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
+        if word[2:] in formats:  # --json where the command writes formats: --format json
+            close = [f"--format {word[2:]}"]
         if close:
             hints.append(
                 f"did you mean {close[0]!r} for {word!r}?" if len(given) > 1 else f"did you mean {close[0]!r}?"
             )
     return "; " + " ".join(hints) if hints else ""
+
+
+def _format_choices(parser: argparse.ArgumentParser) -> list[str]:
+    """The choices of the parser's ``--format`` option (none where it has none)."""
+    for action in parser._actions:
+        if "--format" in action.option_strings and action.choices is not None:
+            return [str(choice) for choice in action.choices]
+    return []
 
 
 #: a negative number as a value: -1, -0.5, -.5, -1e-3, -2.5E+4, -inf
