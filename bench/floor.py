@@ -374,6 +374,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ.setdefault(variable, "1")
-    main()
+    main()  # single-threaded BLAS: set in bench/__init__.py, before NumPy loads
