@@ -13,7 +13,7 @@ own size at home plus a tenth of the mean size: a coordinate that is zero at hom
 room, about 5 % of the mechanism's size), starts there; any other input (a far pose, a geometry
 loaded far from the default) starts from the stored instance as before. Measured by ``make bench``
 on inputs near home (the C tracker, steps per path): prs3 26.9 -> 5.0, planar_3rrr 34.5 -> 8.5,
-Stewart at Dietmaier's input 48.2 -> 13.6, rus6 104.7 -> 21.1; the same modes on the 10^4-input
+Stewart at Dietmaier's input 48.2 -> 13.6, rus6 104.7 -> 22.4; the same modes on the 10^4-input
 census. The values are those of the all-modes solver (lengths over its power-of-two unit:
 ``parakin.mechanism.Mechanism._unit_free``): the exported C, called with other numbers, starts
 from the stored instance.
