@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-import mpmath
 import numpy as np
 import sympy as sp
 
@@ -85,42 +84,11 @@ def _rounded(value: complex) -> list[float]:
     return [float(f"{value.real:.{DIGITS}g}"), float(f"{value.imag:.{DIGITS}g}")]
 
 
-def _newton_40(family, q: np.ndarray, found: np.ndarray) -> list[list[complex] | None]:
-    """Newton in 40-digit arithmetic from each double-precision point, rounded to the nearest
-    double (the stored doubles then do not depend on the machine); None for a point whose last
-    step (of at most 8) is not below 1e-30 of 1 + |z|. The equations and their Jacobian as
-    lambdified functions: the start systems' monomial table (``start_systems._newton_40``) is
-    built once per family for its cache, and costs minutes on the larger families (sam)."""
-    arguments = family.unknowns + family.parameters
-    value = sp.lambdify(arguments, family.equations, modules="mpmath", cse=True)
-    jacobian = sp.lambdify(arguments, list(family.jacobian_z), modules="mpmath", cse=True)
-    n = family.n
-    refined: list[list[complex] | None] = []
-    with mpmath.workdps(40):
-        parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in q]
-        for row in found:
-            z = [mpmath.mpc(complex(c)) for c in row]
-            converged = False
-            for _ in range(8):
-                entries = jacobian(*z, *parameters)
-                matrix = mpmath.matrix([[entries[i * n + j] for j in range(n)] for i in range(n)])
-                try:
-                    step = mpmath.lu_solve(matrix, mpmath.matrix(value(*z, *parameters)))
-                except ZeroDivisionError:
-                    break
-                z = [a - b for a, b in zip(z, step, strict=True)]
-                converged = mpmath.norm(step) < mpmath.mpf(10) ** -30 * (1 + mpmath.norm(mpmath.matrix(z)))
-                if converged:
-                    break
-            refined.append([complex(float(c.real), float(c.imag)) for c in z] if converged else None)
-    return refined
-
-
 def near_record(name: str, family, form: PolynomialForm, record: dict, values: Mapping[sp.Symbol, float], seed: int):
     """The manifest's ``near`` entry (instance, solutions in the stored start's order, center,
     scale, radius), or None where the home gives no family point or the stored start's paths do
     not all reach distinct regular solutions there (then no input starts near home)."""
-    from .start_systems import _segment, _smallest_gap, _track
+    from .start_systems import _newton_40, _segment, _smallest_gap, _track
 
     center = home_point(form, list(family.free), values)
     if center is None or len(center) != family.m:
@@ -134,7 +102,7 @@ def near_record(name: str, family, form: PolynomialForm, record: dict, values: M
     for offset in OFFSETS:
         instance = np.array([complex(*_rounded(v)) for v in center + offset * scale * direction])
         moved, reached = _track(_segment(family, start_q, instance), start)
-        refined = _newton_40(family, instance, moved) if reached.all() else []
+        refined = _newton_40(family, instance, moved, lambdified=True) if reached.all() else []
         regular = sum(row is not None for row in refined)
         if regular == len(start) and _smallest_gap(np.array(refined)) > 1e-6:
             break

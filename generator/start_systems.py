@@ -1124,26 +1124,46 @@ def _total_degree_bound(
     }
 
 
-def _newton_40(family: Family, q: np.ndarray, found: np.ndarray) -> list[list[complex] | None]:
+def _newton_40(
+    family: Family, q: np.ndarray, found: np.ndarray, lambdified: bool = False
+) -> list[list[complex] | None]:
     """Newton in 40-digit arithmetic from each double-precision point, rounded to the nearest
     double; None for a point whose last step (of at most 8) is not below 1e-30 of 1 + |z| (no
-    regular isolated solution: a singular point converges linearly, if at all)."""
+    regular isolated solution: a singular point converges linearly, if at all). The equations as
+    sums of monomials in z with coefficients evaluated once at q (the family's monomial table,
+    built once per family), or with ``lambdified`` as the lambdified equations and Jacobian (no
+    table: it costs minutes on the larger families, sam's, where only a few points are refined)."""
     refined: list[list[complex] | None] = []
     with mpmath.workdps(40):
         parameters = [mpmath.mpc(mpmath.mpf(repr(float(v.real))), mpmath.mpf(repr(float(v.imag)))) for v in q]
-        # the equations as sums of monomials in z with coefficients evaluated once at q: each
-        # Newton step costs the monomials, not the coefficients' expressions again
-        terms = family.terms()
-        coefficients = terms.coefficients(*parameters)
+        if lambdified:
+            arguments = family.unknowns + family.parameters
+            value = sp.lambdify(arguments, family.equations, modules="mpmath", cse=True)
+            jacobian = sp.lambdify(arguments, list(family.jacobian_z), modules="mpmath", cse=True)
+            n = family.n
+
+            def evaluate(z: list) -> tuple:
+                entries = jacobian(*z, *parameters)
+                matrix = mpmath.matrix([[entries[i * n + j] for j in range(n)] for i in range(n)])
+                return mpmath.matrix(value(*z, *parameters)), matrix
+
+        else:
+            # each Newton step costs the monomials, not the coefficients' expressions again
+            terms = family.terms()
+            coefficients = terms.coefficients(*parameters)
+
+            def evaluate(z: list) -> tuple:
+                return terms.evaluate(coefficients, z)  # type: ignore[no-any-return]
+
         for row in found:
             z = [mpmath.mpc(complex(c)) for c in row]
             # converged: the last Newton step is at 40-digit rounding relative to |z| (a residual
             # threshold would depend on how the equations are scaled)
             converged = False
             for _ in range(8):
-                value, jacobian = terms.evaluate(coefficients, z)
+                f, jacobian_z = evaluate(z)
                 try:
-                    step = mpmath.lu_solve(jacobian, value)
+                    step = mpmath.lu_solve(jacobian_z, f)
                 except ZeroDivisionError:  # an exactly singular Jacobian: no regular solution
                     converged = False
                     break
