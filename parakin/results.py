@@ -192,6 +192,20 @@ class AssemblyModes:
     #: only; "" (unknown) shows all six of a transform
     pose_kind: str = ""
 
+    def __getstate__(self) -> dict[str, Any]:
+        """A pickle holds values, not the Jacobians a deferred field waits on: such fields are
+        computed first (the values their reading gives; ``_defer``)."""
+        for name in list(self.__dict__.get("_deferred", {})):
+            getattr(self, name)
+        return self.__dict__
+
+    def __copy__(self) -> AssemblyModes:
+        """A shallow copy that keeps its deferred fields deferred (each copy computes its own at
+        its first reading)."""
+        copied = object.__new__(type(self))
+        copied.__dict__.update(self.__dict__)
+        return copied
+
     def _defer(self, name: str, deferred: DeferredConditioning) -> None:
         """Field ``name`` computed at its first reading (``deferred.value()``), not now: the
         value any reading gets is the one computing it now would give."""
