@@ -62,7 +62,15 @@ from parakin.results import (
 from parakin.solvers import tracker as tracking
 from parakin.solvers.continuation import LeastSquares, SelfMotion, least_squares_configuration, trace_self_motion
 from parakin.solvers.linalg import inverse_condition, pivoted_solve
-from parakin.solvers.modes import assemble, certified_modes, compiled_modes, length_scale, numpy_modes
+from parakin.solvers.modes import (
+    SCALED_UNITS,
+    assemble,
+    certified_modes,
+    compiled_modes,
+    length_scale,
+    length_unit,
+    numpy_modes,
+)
 from parakin.solvers.tracker import ForwardPoseTracker
 from parakin.validation import (
     MAX_MAGNITUDE,
@@ -1108,8 +1116,8 @@ class Mechanism:
         """This mechanism with every length divided by a power of two near its size, and that
         power (an exact scaling in floating point); None where no rescaling is needed or where a
         parameter's unit is not a length, an angle or a pure number (its scaling is not known)."""
-        known = all(p.unit in ("m", "rad", "") for p in self.manifest.parameters)
-        unit = float(np.exp2(np.round(np.log2(length_scale(self)))))
+        known = all(p.unit in SCALED_UNITS for p in self.manifest.parameters)
+        unit = length_unit(length_scale(self))
         if not known or unit == 1.0:
             return None
 

@@ -70,6 +70,9 @@ RETRACK_PATHS = 1024
 TWIN = 1e-4
 
 
+#: the start instances, numbered as the generated C driver numbers them (its START_*): the first
+#: stored, the second stored ('alternative'), the one near home (the manifest's ``near``)
+START_FIRST, START_ALTERNATIVE, START_NEAR = 0, 1, 2
 #: a re-track's start: each input's own first start (the one near home where it is near home:
 #: ``first_instances``)
 OWN_START = -1
@@ -96,7 +99,7 @@ class Retrack(NamedTuple):
 #: projective space, after the paths of its first run that no certified box holds alone were
 #: (``suspect_paths``): its missing roots are mostly near infinity, where affine paths meet or
 #: escape. The second instance's segment is another path through parameter space
-RETRACKS = (1, 0)
+RETRACKS = (START_ALTERNATIVE, START_FIRST)
 #: an end this large (the largest of its unknowns, in the mechanism's own length scale:
 #: ``length_scale``) is far: a root there is 1e6 times the mechanism's size, at or near infinity
 #: (near a degenerate input roots of 1e6-1e8 are still certified, some only in exact arithmetic:
@@ -184,6 +187,17 @@ def length_scale(m: Mechanism) -> float:
     size = float(largest) if largest > 0 and scales_with_lengths(m) else 1.0
     _SIZES[m] = (key, size)
     return size
+
+
+#: parameter units whose scaling with a mechanism's size is known: a length, an angle, a number
+SCALED_UNITS = ("m", "rad", "")
+
+
+def length_unit(size: float) -> float:
+    """The unit the all-modes solver divides every length by (``Mechanism._unit_free``): the power
+    of two nearest ``size`` (``length_scale``) in log scale, exact in binary floating point; 1
+    where ``size`` is not positive. The generator places its start near home in these numbers."""
+    return float(np.exp2(np.round(np.log2(size)))) if size > 0 else 1.0
 
 
 #: per mechanism object: (its parameter values, its ``length_scale``)
@@ -422,11 +436,12 @@ def _homotopy_candidates(
     codes = _codes(m)
     tol = _settings(m)
     n = theta.shape[0]
+    free, angles = _family(m, info, theta)
     own = retrack is None or retrack.instance == OWN_START
-    instance = first_instances(m, info, theta) if own else np.full(n, retrack.instance)  # type: ignore[union-attr]
+    instance = _first_of(homotopy, free, angles) if own else np.full(n, retrack.instance)  # type: ignore[union-attr]
     start = _start_rows(homotopy, instance)
     paths = start.shape[1]
-    table = _path_table(m, info, theta, instance)
+    table = _table(m, info, free, angles, instance)
     tolerance = float(tol["path_tolerance"])
     if retrack is not None and retrack.redo is not None and retrack.ends is not None:
         ended = _track_some(homotopy, table, start, retrack.redo, retrack.ends, tolerance)
@@ -487,27 +502,43 @@ def _homotopy_candidates(
 
 
 def first_instances(m: Mechanism, info: Forward, theta: Array) -> np.ndarray:
-    """(inputs,) the start instance each input's paths begin at: 2 (the start near home, the
-    manifest's ``near``) where its family values lie near the home's
-    (``parakin.solvers.path_tracking.near_home``), else 0 (the first stored start); as the
-    generated C driver chooses."""
+    """(inputs,) the start instance each input's paths begin at: ``START_NEAR`` (the manifest's
+    ``near``) where its family values lie near the home's
+    (``parakin.solvers.path_tracking.near_home``), else ``START_FIRST``; as the generated C
+    driver chooses."""
     homotopy = info.homotopy
     assert homotopy is not None
+    if homotopy.near is None:
+        return np.full(theta.shape[0], START_FIRST)
+    return _first_of(homotopy, *_family(m, info, theta))
+
+
+def _first_of(homotopy: Homotopy, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """``first_instances`` from the inputs' family values (``_family``)."""
     near = homotopy.near
-    if near is None or not theta.shape[0]:
-        return np.zeros(theta.shape[0], dtype=np.intp)
-    free, angles = _family(m, info, theta)
+    if near is None:
+        return np.full(free.shape[0], START_FIRST)
     close = near_home(near.center, near.scale, near.radius, free, angles, homotopy.circle_constants)
-    return np.where(close, 2, 0)
+    return np.where(close, START_NEAR, START_FIRST)
+
+
+def _starts(homotopy: Homotopy) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """(instance, solutions) of each start, indexed by START_*; a package without a start near
+    home repeats its first there (no input takes it: ``first_instances``)."""
+    near = homotopy.near
+    return (
+        (homotopy.start_instance, homotopy.start),
+        (homotopy.alternative_instance, homotopy.alternative),
+        (near.instance, near.solutions) if near is not None else (homotopy.start_instance, homotopy.start),
+    )
 
 
 def _start_rows(homotopy: Homotopy, instance: np.ndarray) -> np.ndarray:
-    """The start solutions (inputs, paths, unknowns) of each input's start ``instance`` (0 the
-    first, 1 the alternative, 2 the start near home)."""
-    solutions = [homotopy.start, homotopy.alternative, homotopy.near.solutions if homotopy.near else homotopy.start]
+    """The start solutions (inputs, paths, unknowns) of each input's start ``instance`` (START_*)."""
+    solutions = [pair[1] for pair in _starts(homotopy)]
     if (instance == instance[:1]).all():
         return np.broadcast_to(
-            solutions[int(instance[0]) if instance.size else 0], (instance.size,) + homotopy.start.shape
+            solutions[int(instance[0]) if instance.size else START_FIRST], (instance.size,) + homotopy.start.shape
         )
     return np.stack([solutions[int(k)] for k in instance])
 
@@ -605,9 +636,10 @@ def toward_infinity(m: Mechanism, info: Forward, theta: Array, paths: np.ndarray
         return heading
     family = projective_family(homotopy.exponents, homotopy.equation, path_pairs(
         homotopy.exponents, homotopy.equation, homotopy.start))  # fmt: skip
-    instance = first_instances(m, info, theta)  # each input's paths from where they began
+    free, angles = _family(m, info, theta)
+    instance = _first_of(homotopy, free, angles)  # each input's paths from where they began
     every = family_system(
-        projective_table(family, _path_table(m, info, theta, instance)), family.exponents, family.equation, 1
+        projective_table(family, _table(m, info, free, angles, instance)), family.exponents, family.equation, 1
     )
     tolerance = float(_settings(m)["path_tolerance"])
     z = to_projective(family, _start_rows(homotopy, instance)[rows, columns])
@@ -670,16 +702,19 @@ def _family(m: Mechanism, info: Forward, theta: Array) -> tuple[np.ndarray, np.n
 
 
 def _path_table(m: Mechanism, info: Forward, theta: Array, which: int | np.ndarray) -> np.ndarray:
-    """Coefficients in s (inputs, powers, terms) from the first (0), second (1) or near-home (2)
-    start instance, one for every input or one per input (an array)."""
+    """Coefficients in s (inputs, powers, terms) from the start instance ``which`` (START_*), one
+    for every input or one per input (an array)."""
+    return _table(m, info, *_family(m, info, theta), which)
+
+
+def _table(m: Mechanism, info: Forward, free: np.ndarray, angles: np.ndarray, which: int | np.ndarray) -> np.ndarray:
+    """``_path_table`` from the inputs' family values (``_family``)."""
     homotopy = info.homotopy
     assert homotopy is not None
-    free, angles = _family(m, info, theta)
-    which = np.broadcast_to(np.asarray(which), (theta.shape[0],))
-    near = homotopy.near.instance if homotopy.near is not None else homotopy.start_instance
-    instances = (homotopy.start_instance, homotopy.alternative_instance, near)
+    which = np.broadcast_to(np.asarray(which), (free.shape[0],))
+    instances = [pair[0] for pair in _starts(homotopy)]
     monomials = _monomials(m, info)
-    table = np.empty((theta.shape[0], homotopy.powers, homotopy.exponents.shape[0]), dtype=complex)
+    table = np.empty((free.shape[0], homotopy.powers, homotopy.exponents.shape[0]), dtype=complex)
     for k in np.unique(which):
         rows = which == k
         with np.errstate(all="ignore"):
@@ -1093,7 +1128,7 @@ def certified_modes(
             explained = (found.certified[short] + heading.sum(-1) >= count) & probed.any(-1)
             far[short] = explained
             _mark_at_infinity(m, out, found, short[explained], heading[explained])
-    if retracked.any():  # a slot whose path escaped in the first run may now hold a certified root
+    if retracked.any():  # marked at infinity, or a slot whose path escaped may now hold a certified root
         at_infinity = out["root_kind"][retracked] == m.manifest.abi.root_kinds.index("at_infinity")
         out["at_infinity"][retracked] = at_infinity.sum(-1)
     out = reconcile(m, info, theta, out, found)
@@ -1105,15 +1140,15 @@ def _mark_at_infinity(
 ) -> None:
     """The inputs ``rows`` whose missing roots' paths head to infinity (``heading`` (rows, P),
     ``toward_infinity`` or far ends), in place: as many of their slots that no certified box
-    holds, those paths' own first, become roots at infinity (outcome and kind), and
-    ``at_infinity`` counts the slots so marked, so that every slot stays accounted for once."""
+    holds, those paths' own first, become roots at infinity (outcome and kind); ``certified_modes``
+    counts them in ``at_infinity`` once every run is merged, so that every slot stays accounted
+    for once."""
     codes, kinds = _codes(m), m.manifest.abi.root_kinds
     for i, own in zip(rows, heading, strict=True):
         free = np.nonzero(~found.unique[i])[0]
         marked = free[np.argsort(~own[free], kind="stable")][: int(own.sum())]
         out["outcome"][i, marked] = codes["at_infinity"]
         out["root_kind"][i, marked] = kinds.index("at_infinity")
-        out["at_infinity"][i] = int((out["root_kind"][i] == kinds.index("at_infinity")).sum())
 
 
 def _slot_keys(out: dict[str, np.ndarray], paths: int) -> list[str]:
@@ -1283,7 +1318,9 @@ def _retry_failed(m: Mechanism, theta: Array, ended: Paths, tolerance: float, in
     paths = alternative.shape[0]
     rows = np.unique(np.nonzero(ended.status == PATH_FAILED)[0] // paths)
     # every path, as the generated C driver's retry does (failures are rare; the two agree)
-    system = family_system(_path_table(m, info, theta[rows], 1), homotopy.exponents, homotopy.equation, paths)
+    system = family_system(
+        _path_table(m, info, theta[rows], START_ALTERNATIVE), homotopy.exponents, homotopy.equation, paths
+    )
     second = track(system, np.tile(alternative, (rows.size, 1)), tolerance)
     z, status = ended.z.copy(), ended.status.copy()
     for j, i in enumerate(rows):
