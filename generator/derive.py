@@ -7,7 +7,6 @@ SymPy objects for inspection. Conventions: Jacobians give (v, w) of the origin o
 from __future__ import annotations
 
 import itertools
-import math
 import random
 from dataclasses import dataclass, field
 from typing import Any
@@ -16,6 +15,7 @@ import mpmath
 import sympy as sp
 
 from parakin.log import logger
+from parakin.solvers.modes import SCALED_UNITS, length_unit
 
 from . import configurations, graph, polynomial_form, stages, start_systems
 from .checks import check_closure, check_home_regular, check_pose_kind, check_program_symbols
@@ -437,9 +437,8 @@ def _home_values(mechanism: Mechanism) -> dict[sp.Symbol, float] | None:
         p: (mechanism.parameter_info[p].unit if p in mechanism.parameter_info else "") for p in mechanism.parameters
     }
     lengths = [abs(float(v)) for p, v in mechanism.parameters.items() if units[p] == "m"]
-    largest = max(lengths, default=0.0)
-    known = all(u in ("m", "rad", "") for u in units.values())
-    unit = float(2.0 ** round(math.log2(largest))) if known and largest > 0 else 1.0
+    known = all(u in SCALED_UNITS for u in units.values())
+    unit = length_unit(max(lengths, default=0.0)) if known else 1.0
     prismatic = [a for a in mechanism.actuated if a not in mechanism.angular and a not in mechanism.dimensionless]
     return {a: float(mechanism.home[a]) / (unit if a in prismatic else 1.0) for a in mechanism.actuated} | {
         p: float(v) / (unit if units[p] == "m" else 1.0) for p, v in mechanism.parameters.items()

@@ -197,7 +197,8 @@ def render_casadi(mechanism: str, programs: list[LoweredProgram]) -> str:
 
 
 def _near_start(near: dict | None) -> dict:
-    """The template's view of the start near home (generator/near_start.py); {} where none."""
+    """The template's view of the start near home (generator/near_start.py); an empty
+    ``near_real`` where the package has none (the template then leaves it out)."""
     if near is None:
         return {"near_real": []}
     solutions = near["solutions"]

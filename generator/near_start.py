@@ -34,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from parakin.log import logger
+from parakin.solvers.path_tracking import circle_parameter
 
 from .polynomial_form import MOEBIUS_A, MOEBIUS_B, PolynomialForm
 
@@ -60,17 +61,14 @@ def home_point(form: PolynomialForm, free: list[sp.Symbol], values: Mapping[sp.S
     for symbol, expression in form.family:
         if symbol not in known:
             known[symbol] = expression.xreplace(known)
-    a, b = complex(MOEBIUS_A), complex(MOEBIUS_B)
-    point: list[complex] = []
     try:
-        point += [complex(sp.N(known[symbol])) for symbol in free]
-        for _, angle, _ in form.circles:
-            value = float(sp.N(angle.xreplace(known)))
-            half_sin, half_cos = np.sin(value / 2), np.cos(value / 2)
-            point.append((half_sin - a * half_cos) / (half_sin - b * half_cos))
+        free_values = np.array([complex(sp.N(known[symbol])) for symbol in free], dtype=complex)
+        angles = np.array([float(sp.N(angle.xreplace(known))) for _, angle, _ in form.circles])
     except (KeyError, TypeError, ValueError):
         return None
-    array = np.array(point, dtype=complex)
+    # u as the runtime computes it from an input's angles
+    circles = circle_parameter(angles, complex(MOEBIUS_A), complex(MOEBIUS_B))
+    array = np.concatenate([free_values, circles]).astype(complex)
     return array if np.isfinite(array).all() else None
 
 
