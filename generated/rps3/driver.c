@@ -2324,6 +2324,21 @@ int rps3_forward_pose_all_counted(const rps3_modes_job* job, long long* counts) 
 // (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
 // certified here too, and some more.
 //
+// Realness (affine): a box B(x, r) that passes holds one root z*; where some |Im x_i| > r it
+// misses the real space, so z* is not real. For a system of real coefficients (the given ones,
+// and the scaled ones: real numbers times powers of two, in discs about themselves) whose box
+// has a REAL centre x, the box is its own conjugate: |conj(z)_i - x_i| = |z_i - x_i| for real
+// x_i, so conj(z*), a root too (conj F(z) = F(conj z)), lies in B(x, r); the box holds only one
+// root, so conj(z*) = z*, real. One test at a real centre thus proves both uniqueness and
+// realness (it never passes where two conjugate roots z, conj z != z lie in the box: they are two
+// roots, and a box that passes holds exactly one). So a real system's candidate whose imaginary
+// parts are within the test's reach (KW_NEAR of its size) is first projected on the real space,
+// sharpened by Newton steps kept real and tested there alone (kw_real_centre); where that fails
+// (a non-real root near the real space, a stalled Newton step) it takes the complex sequence
+// below, unchanged: a test at its complex centre, then for realness a second test at Re x with
+// the radius max |Im x_i| + r, whose box B(Re x, need) holds B(x, r) and is its own conjugate.
+// The outward rounding is the same in both: the argument needs only that the test passes.
+//
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
 #define PARAKIN_RUNTIME_KRAWCZYK_H
@@ -3186,6 +3201,34 @@ static double kw_max_abs(long long n, const double* z) {
     return v;
 }
 
+// The real centre's test (a system of real coefficients, s->accurate 0): x = Re given, sharpened by
+// KW_NEWTON_STEPS Newton steps kept real (each step's imaginary parts dropped: on real F~ and J~
+// they are zeros, +0 or -0, and a centre only needs to be a real point), then one test on
+// B(x, r) with r at most limit and x within limit of given. Returns r (0 when it fails); on
+// success x is real (imaginary parts +0) and *floor the radius floor used. Where B(x, r) passes,
+// its one root is real (the header's argument: the box is its own conjugate).
+static double kw_real_centre(const kw_system* s, const double* given, double limit, double* x, double* floor,
+                             kw_scratch* w) {
+    long long n = s->n;
+    for (long long i = 0; i < n; ++i) {
+        x[2 * i] = given[2 * i];
+        x[2 * i + 1] = 0.0;
+    }
+    for (int k = 0; k < KW_NEWTON_STEPS; ++k) {  // a step leaving the finite numbers is dropped
+        if (!kw_newton(s, x, w)) continue;
+        int finite = 1;
+        for (long long i = 0; i < n; ++i) finite &= isfinite(x[2 * i] - w->step[2 * i]);
+        if (finite)
+            for (long long i = 0; i < n; ++i) x[2 * i] -= w->step[2 * i];
+    }
+    double moved = 0.0;
+    for (long long i = 0; i < n; ++i) moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], given[2 * i + 1]));
+    kw_bounds bounds;
+    if (!(moved <= limit) || !kw_bound(s, x, w, &bounds)) return 0.0;
+    *floor = 4 * KW_UNIT * kw_max_abs(n, x) + KW_FLOOR;
+    return kw_radius(s, x, &bounds, 0.0, *floor, limit, w);
+}
+
 // The job of kw_certify (a package's NAME_certify_job has the same fields; see its header)
 typedef struct {
     long long systems, candidates, terms, unknowns;
@@ -3453,12 +3496,22 @@ static int kw_certify(const kw_job* job) {
             }
             kw_bounds bounds;
             double r = 0.0, floor = 0.0;
-            for (s.accurate = 0; s.accurate < 2; ++s.accurate) {
+            // a real system's candidate whose imaginary parts are within the test's reach: first
+            // one test at a real centre, which decides uniqueness and realness at once (the
+            // header's argument); where it fails, the sequence below as if it had not been tried
+            int real_centre = 0;
+            if (real_system && !homogeneous) {
+                double limit = KW_NEAR * kw_max(kw_max_abs(n, given), unit), imag = 0.0;
+                for (long long i = 0; i < n; ++i) imag = kw_max(imag, fabs(given[2 * i + 1]));
+                s.accurate = 0;
+                if (imag <= limit) r = kw_real_centre(&s, given, limit, x, &floor, &w);
+                real_centre = r > 0.0;
+            }
+            for (s.accurate = 0; s.accurate < 2 && !real_centre; ++s.accurate) {
                 // the first attempt in double, a second with F in double-word arithmetic where the
                 // first's centre stalled (its Newton step still above the test's reach) or Newton
                 // in double moved it beyond KW_NEAR (the second may move it KW_REACH)
-                if (s.accurate)
-                    for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
+                for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
                 for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
                     if (!kw_newton(&s, x, &w)) continue;
                     int finite = 1;
@@ -3501,6 +3554,11 @@ static int kw_certify(const kw_job* job) {
                 if (r > 0.0) break;
             }
             if (!(r > 0.0)) continue;
+            if (real_centre)
+                for (long long i = 0; i < n; ++i) {
+                    centre[2 * i] = x[2 * i] * kw_ldexp(1.0, shift[i]);
+                    centre[2 * i + 1] = 0.0;
+                }
             double smallest = INFINITY;
             for (long long i = 0; i < n; ++i) {
                 double f = kw_ldexp(1.0, shift[i]), v = r * f;
@@ -3511,6 +3569,10 @@ static int kw_certify(const kw_job* job) {
             }
             job->unique[at] = 1;
             job->radius[at] = r * smallest;
+            if (real_centre) {  // B(x, r) is its own conjugate: its one root is real
+                job->real[at] = 1;
+                continue;
+            }
             // realness: a box missing the real space holds a non-real root
             int nonreal = 0;
             for (long long i = 0; i < n; ++i)
