@@ -45,6 +45,9 @@ TRACKER_CONSTANTS = (
     "ONE_STEP_BASIN",
     "ONE_STEP_ERROR",
     "OMEGA_DECAY",
+    "ONE_STEP_GOAL",
+    "OMEGA_FADE",
+    "REFINE_ERROR",
 )
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 

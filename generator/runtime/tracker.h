@@ -7,7 +7,7 @@
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
 //   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD, ONE_STEP_BASIN, ONE_STEP_ERROR,
-//   OMEGA_DECAY
+//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, REFINE_ERROR
 //                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
@@ -239,9 +239,15 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // only has to stay in its own path's basin, the endpoint is refined at s = 0. The last Newton
 // step's LU also gives the slope at the new point, so an accepted step costs the evaluations
 // and LUs of its corrector only. The first correction is the predictor's error: the next step is
-// sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
-// the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
-// shorter from the same point.
+// sized to bring it to a goal (it grows as the step^4; Euler's, on the first step, as the step^2),
+// within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried shorter from the same
+// point. The goal is PREDICTOR_TARGET, or where the path's omega is large the first correction
+// that the one-correction rule accepts, sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega) (one LU per
+// step instead of two or three, and fewer rejections: issue 33, Dietmaier's paths near s = 0);
+// the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
+// endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
+// error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
+// is the final step's last correction).
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together
@@ -252,7 +258,7 @@ typedef struct {
     cplx* z;
     step_coefficients* at;
     track_counts* counts;
-    double s, s_previous, h, omega, step, target, first, update, error, measured;
+    double s, s_previous, h, omega, fade, step, target, first, update, error, measured, before;
     int history, steps, iteration, contracting, phase, result;
     cplx slope[NZ], z_previous[NZ], slope_previous[NZ], corrected[NZ], next_slope[NZ], trial[NZ];
     const coefficients_at* want_at;  // the Newton step the lane waits for
@@ -292,6 +298,7 @@ static int lane_step(path_lane* lane) {
 static int lane_refine(path_lane* lane) {
     if (!(c_size(lane->z) - 1.0 < ESCAPE)) return lane_ends(lane, PATH_DIVERGED);
     coefficients(lane->system, 0.0, &lane->at->target);
+    lane->before = lane->update;  // the final step's last correction
     lane->update = INFINITY;
     lane->iteration = 0;
     lane->phase = LANE_REFINE;
@@ -311,6 +318,7 @@ static void lane_begin(path_lane* lane, const sparse_system* system, double tole
     lane->s = lane->s_previous = 1.0;
     lane->h = INITIAL_STEP;
     lane->omega = INFINITY;
+    lane->fade = 1.0;
     lane->history = 0;
     lane->steps = 0;
     lane->phase = LANE_START;
@@ -332,7 +340,10 @@ static int lane_resume(path_lane* lane, double size) {
         memcpy(lane->z, lane->trial, sizeof(lane->trial));
         lane->update = size;
         lane->iteration += 1;
-        if (!(lane->iteration < REFINE && lane->update > 1e-15)) return lane_ends(lane, PATH_REACHED);
+        double ratio = size / lane->before;
+        lane->before = size;
+        if (!(lane->iteration < REFINE && lane->update > 1e-15) || size * ratio * ratio < REFINE_ERROR)
+            return lane_ends(lane, PATH_REACHED);
         memcpy(lane->trial, lane->z, sizeof(lane->trial));
         return lane_wants(lane, &lane->at->target, lane->trial, NULL);
     }
@@ -357,8 +368,16 @@ static int lane_resume(path_lane* lane, double size) {
         return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
     int accepted = lane->contracting && lane->error < lane->tolerance && isfinite(lane->update);
     double first = lane->first, step = lane->step;
+    // the omega of the next step: this step's measurement (at least OMEGA_DECAY times the one
+    // before), else the one before faded once more; the goal, the first correction it aims at
+    double measured = lane->measured, omega = lane->omega;
+    int fresh = isfinite(measured) && measured > 0.0;
+    double ahead = fresh ? (isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured)
+                         : omega * (lane->fade * OMEGA_FADE);
+    double goal = isfinite(ahead) ? smaller(PREDICTOR_TARGET, sqrt(ONE_STEP_GOAL * ONE_STEP_ERROR / ahead))
+                                  : PREDICTOR_TARGET;
     double factor = !isfinite(first) ? 0.0
-                    : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, lane->history ? 0.25 : 0.5)
+                    : first > 0.0   ? STEP_SAFETY * pow(goal / first, lane->history ? 0.25 : 0.5)
                                     : STEP_GROW;
     if (accepted) {
         memcpy(lane->z_previous, lane->z, sizeof(lane->slope));
@@ -370,13 +389,14 @@ static int lane_resume(path_lane* lane, double size) {
         lane->history = 1;
         // the Newton constant of the path: the latest measured (size / update^2 of a step's
         // first two corrections), at least OMEGA_DECAY times the one before
-        double measured = lane->measured, omega = lane->omega;
-        if (isfinite(measured) && measured > 0.0) lane->omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
+        if (fresh) lane->omega = ahead;
+        lane->fade = fresh ? 1.0 : lane->fade * OMEGA_FADE;
         lane->h = step * smaller(STEP_GROW, larger(0.5, factor));
         if (lane->s <= 0.0) return lane_refine(lane);
     } else {
         lane->counts->rejected += 1;
         lane->omega = INFINITY;  // measured anew before one correction suffices again
+        lane->fade = 1.0;
         lane->h = step * smaller(0.5, larger(STEP_SHRINK, factor));
         if (lane->h < MIN_STEP) return lane_ends(lane, PATH_FAILED);
     }

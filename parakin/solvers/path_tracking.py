@@ -54,6 +54,20 @@ RATIONAL_GUARD = 0.3
 ONE_STEP_BASIN = 0.25
 ONE_STEP_ERROR = 1e-5
 OMEGA_DECAY = 0.5
+#: track_hermite's (and the C driver's) step control aims the predictor's error at the smaller of
+#: PREDICTOR_TARGET and sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega), the first correction that the
+#: one-correction rule accepts (omega d^2 < ONE_STEP_ERROR with a margin): where the path's Newton
+#: constant is large (the target system of Dietmaier's 40 modes near s = 0) a step one correction
+#: finishes costs one LU where a longer one costs two or three and is often rejected. The omega the
+#: goal uses fades by OMEGA_FADE per accepted step that measured none (one-correction steps measure
+#: nothing: without the fade a large omega would keep the steps short for the rest of the path);
+#: the one-correction rule itself uses the omega last measured, unfaded
+ONE_STEP_GOAL = 0.7
+OMEGA_FADE = 0.7
+#: the refinement at s = 0 stops once the error its last update of size d leaves, estimated from
+#: quadratic convergence as d (d / previous)^2 (previous: the update before, the final step's last
+#: correction for the first), is below REFINE_ERROR: a further update would be rounding
+REFINE_ERROR = 1e-16
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -316,10 +330,12 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     correction of size d also suffices where the path's running Newton constant omega gives
     omega d <= ``ONE_STEP_BASIN`` and omega d^2 < ``ONE_STEP_ERROR`` (module constants). The last Newton step's LU also gives the slope at the new point, so an accepted step
     costs its corrector's evaluations and LUs only. The first correction measures the predictor's
-    error: the next step is sized to bring it to ``PREDICTOR_TARGET`` (it grows as the step^4, on
-    the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
+    error: the next step is sized to bring it to ``PREDICTOR_TARGET``, or where the path's omega
+    is large to what one correction finishes, sqrt(``ONE_STEP_GOAL`` ``ONE_STEP_ERROR`` / omega)
+    (it grows as the step^4, on the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
     step and [STEP_SHRINK, 1/2] after a rejected one, retried from the same point. The endpoint is
-    refined at s = 0 (``refine``).
+    refined at s = 0 (``refine``, stopped where quadratic convergence says a further update would
+    be below ``REFINE_ERROR``).
 
     Parameters
     ----------
@@ -354,6 +370,8 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     h = np.full(count, INITIAL_STEP)
     history = np.zeros(count, bool)
     omega = np.full(count, np.inf)
+    fade = np.ones(count)  # OMEGA_FADE^(accepted steps since omega was last measured)
+    last = np.full(count, np.inf)  # the last correction of the last accepted step
     steps, rejected, evaluations = (np.zeros(count, dtype=np.int32) for _ in range(3))
     status = np.full(count, -1, dtype=np.int32)
     with np.errstate(all="ignore"):
@@ -404,27 +422,35 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
                     break
             accepted = contracting & (error < tolerance) & np.isfinite(update)
             power = np.where(history[active], 0.25, 0.5)
+            # the omega of the next step: this step's measurement (at least OMEGA_DECAY times the
+            # one before), else the one before faded once more
+            known = omega[active]
+            fresh = np.isfinite(measured) & (measured > 0.0)
+            ahead = np.where(
+                fresh,
+                np.where(np.isfinite(known), np.maximum(measured, OMEGA_DECAY * known), measured),
+                known * (fade[active] * OMEGA_FADE),
+            )
+            goal = np.where(
+                np.isfinite(ahead),
+                np.minimum(PREDICTOR_TARGET, np.sqrt(ONE_STEP_GOAL * ONE_STEP_ERROR / ahead)),
+                PREDICTOR_TARGET,
+            )
             factor = np.where(
                 ~np.isfinite(first),
                 0.0,
-                np.where(
-                    first > 0, STEP_SAFETY * (PREDICTOR_TARGET / np.where(first > 0, first, 1.0)) ** power, STEP_GROW
-                ),
+                np.where(first > 0, STEP_SAFETY * (goal / np.where(first > 0, first, 1.0)) ** power, STEP_GROW),
             )
             steps[active] += 1
             good, bad = active[accepted], active[~accepted]
             rejected[bad] += 1
             z_previous[good], slope_previous[good], s_previous[good] = z[good], slope[good], s[good]
             z[good], slope[good], s[good] = corrected[accepted], next_slope[accepted], target[accepted]
+            last[good] = update[accepted]
             history[good] = True
-            fresh = np.isfinite(measured[accepted]) & (measured[accepted] > 0.0)
-            known = omega[good]
-            omega[good] = np.where(
-                fresh,
-                np.where(np.isfinite(known), np.maximum(measured[accepted], OMEGA_DECAY * known), measured[accepted]),
-                known,
-            )
-            omega[bad] = np.inf
+            omega[good] = np.where(fresh[accepted], ahead[accepted], omega[good])
+            fade[good] = np.where(fresh[accepted], 1.0, fade[good] * OMEGA_FADE)
+            omega[bad], fade[bad] = np.inf, 1.0
             h[good] = step[accepted] * np.minimum(STEP_GROW, np.maximum(0.5, factor[accepted]))
             h[bad] = step[~accepted] * np.minimum(0.5, np.maximum(STEP_SHRINK, factor[~accepted]))
             status[good[s[good] <= 0.0]] = PATH_REACHED
@@ -435,17 +461,27 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
         reached = np.nonzero(status == PATH_REACHED)[0]
         if reached.size:
             refined = np.zeros(reached.size, dtype=np.int32)
-            z[reached], update[reached] = refine(system, reached, z[reached], evaluations=refined)
+            z[reached], update[reached] = refine(
+                system, reached, z[reached], evaluations=refined, previous=last[reached]
+            )
             evaluations[reached] += refined
     return TrackedPaths(z, status, steps, update, rejected, evaluations)
 
 
 def refine(
-    system: System, index: np.ndarray, z: np.ndarray, iterations: int = REFINE, evaluations: np.ndarray | None = None
+    system: System,
+    index: np.ndarray,
+    z: np.ndarray,
+    iterations: int = REFINE,
+    evaluations: np.ndarray | None = None,
+    previous: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Newton on H(z, 0) until the update stops shrinking or reaches rounding; returns the
     points and the last update relative to |z|. ``evaluations`` (per row of z), where given,
-    counts each row's Newton evaluations."""
+    counts each row's Newton evaluations. ``previous`` (per row), where given, is the update
+    before the first (the tracker's last correction): a row also stops once the error its last
+    update d leaves, d (d / previous)^2 from quadratic convergence, is below ``REFINE_ERROR``."""
+    before = None if previous is None else np.array(previous, dtype=float)
     zero = np.zeros(index.size)
     update = np.full(index.size, np.inf)
     live = np.ones(index.size, bool)
@@ -463,6 +499,9 @@ def refine(
             z[rows[improving]] -= correction[improving]
             update[rows] = np.where(improving, size, update[rows])
             live[rows] = improving & (size > 1e-15)
+            if before is not None:
+                live[rows] &= ~(size * (size / before[rows]) ** 2 < REFINE_ERROR)
+                before[rows] = np.where(improving, size, before[rows])
     return z, update
 
 
