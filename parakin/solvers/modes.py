@@ -45,7 +45,6 @@ from parakin.solvers.path_tracking import (
     path_coefficients,
     path_pairs,
     phase_normalised,
-    target_coefficients,
     track,
     track_symmetric,
     typical_root_size,
@@ -693,6 +692,31 @@ def _monomials(m: Mechanism, info: Forward):
     return evaluate
 
 
+def _target_coefficients(m: Mechanism, info: Forward, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """``path_tracking.target_coefficients(_monomials(m, info), free, angles)``, the same numbers
+    with fewer temporaries: the kernel's real input written in place (free values, then (cos,
+    sin, 1) per angle) and its imaginary input a shared zero array. Each entry is what the
+    complex values' real part is there: x + 0.0 (a -0.0 becomes 0.0, as in x + 0j)."""
+    rows, size, circles = free.shape[0], free.shape[1], angles.shape[1]
+    real = np.empty((rows, size + 3 * circles))
+    with np.errstate(all="ignore"):
+        np.add(free, 0.0, out=real[:, :size])
+        np.cos(angles, out=real[:, size::3])
+        np.sin(angles, out=real[:, size + 1 :: 3])
+        np.add(real[:, size:], 0.0, out=real[:, size:])
+        real[:, size + 2 :: 3] = 1.0
+        out = m.backend.call(f"{info.method}_monomials", real, _zeros(real.shape))
+        return out["re"] + 1j * out["im"]
+
+
+@functools.cache
+def _zeros(shape: tuple[int, ...]) -> np.ndarray:
+    """Zeros of a shape (read only: shared by every call)."""
+    zeros = np.zeros(shape)
+    zeros.flags.writeable = False
+    return zeros
+
+
 def _family(m: Mechanism, info: Forward, theta: Array) -> tuple[np.ndarray, np.ndarray]:
     """The family's free values and angles at the inputs (the generated ``*_family`` kernel)."""
     homotopy = info.homotopy
@@ -788,9 +812,7 @@ def certify_inputs(
     decide, are tested again in exact dyadic arithmetic (``parakin.solvers.exact_certify``)."""
     homotopy = info.homotopy
     assert homotopy is not None
-    free, angles = _family(m, info, theta)
-    with np.errstate(all="ignore"):
-        coefficients = target_coefficients(_monomials(m, info), free, angles)
+    coefficients = _target_coefficients(m, info, *_family(m, info, theta))
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
     pairs = _fixed("pairs", homotopy, lambda: path_pairs(homotopy.exponents, homotopy.equation, homotopy.start))
     paired = _paired_ends(pairs, roots)
@@ -955,6 +977,18 @@ def _pose_pairs(poses: np.ndarray, valid: np.ndarray) -> np.ndarray:
     return same
 
 
+def _real_centres(centres: np.ndarray, homogeneous: tuple[int, ...] | list[int]) -> np.ndarray:
+    """The real parts of certified centres (k, n_z), each first scaled, where the family has a
+    homogeneous group, so that its largest homogeneous entry is real and positive: the real
+    point of ``path_tracking.phase_normalised``, without its measure of the imaginary part."""
+    if homogeneous:
+        block = centres[..., list(homogeneous)]
+        largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
+        with np.errstate(all="ignore"):
+            centres = centres * (np.abs(largest) / largest)
+    return centres.real
+
+
 def _repeats_earlier_mode(
     valid: np.ndarray, poses: np.ndarray, rows: np.ndarray, columns: np.ndarray, pose: np.ndarray
 ) -> np.ndarray:
@@ -1036,18 +1070,24 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     kind[in_nonreal] = kinds.index("complex")
     kind[in_undecided] = kinds.index("near_real")
     if redo.any():
-        out.update({key: out[key].copy() for key in ("passive", "poses", "residual", "conditioning")})
         rows, columns = np.nonzero(redo)
-        real_centre, _ = phase_normalised(cert.centre[rows, columns], list(homotopy.homogeneous))
-        q, pose = _configuration(m, info, theta[rows], real_centre.real)
+        # one input: its actuated values shared by the candidates (the kernels read the one row)
+        q, pose = _configuration(
+            m,
+            info,
+            theta[0] if n == 1 else theta[rows],
+            _real_centres(cert.centre[rows, columns], homotopy.homogeneous),
+        )
         # a pose repeat of the first pass whose certified centre gives an earlier mode's pose
         # again (a formulation's second name for it: prs3's 16 of 32 roots) is that repeat:
         # polishing it again would only mark it a duplicate again
         repeat = (outcome[rows, columns] == codes["duplicate"]) & _repeats_earlier_mode(
             outcome == mode, out["poses"], rows, columns, pose
         )
-        rows, columns, q, pose = rows[~repeat], columns[~repeat], q[~repeat], pose[~repeat]
-        if rows.size:
+        if not repeat.all():
+            rows, columns, q, pose = rows[~repeat], columns[~repeat], q[~repeat], pose[~repeat]
+            # the arrays changed below are copies (the caller's stay as they were)
+            out.update({key: out[key].copy() for key in ("passive", "poses", "residual", "conditioning")})
             q, pose, result, residual, conditioning = _check_candidates(
                 m, theta[rows], q, pose, np.full(rows.size, -1, dtype=np.int32)
             )
@@ -1225,9 +1265,7 @@ def add_conjugates(
     assert homotopy is not None
     if not rows.size or homotopy.patch_equation is not None:
         return
-    free, angles = _family(m, info, theta[rows])
-    with np.errstate(all="ignore"):
-        coefficients = target_coefficients(_monomials(m, info), free, angles)
+    coefficients = _target_coefficients(m, info, *_family(m, info, theta[rows]))
     real_system = np.asarray(np.isfinite(coefficients).all(-1) & (coefficients.imag == 0).all(-1))
     codes, kinds = _codes(m), m.manifest.abi.root_kinds
     paths = found.unique.shape[1]
@@ -1251,6 +1289,18 @@ def _paired_ends(pairs: PathPairs | None, roots: np.ndarray) -> np.ndarray:
     image = roots[:, pairs.first] * pairs.flip
     later = roots[:, pairs.second]
     return ((later == image) | (np.isnan(later) & np.isnan(image))).all((-2, -1))
+
+
+def _pair_order(pairs: PathPairs, paths: int) -> np.ndarray | None:
+    """Where each of ``paths`` paths stands in the first paths of ``pairs`` followed by their
+    partners (an index array (paths,)), or None where the pairs do not cover every path exactly
+    once."""
+    joined = np.concatenate([pairs.first, pairs.second])
+    if joined.size != paths or not np.array_equal(np.sort(joined), np.arange(paths)):
+        return None
+    order = np.argsort(joined)
+    order.flags.writeable = False
+    return order
 
 
 def _certify_endpoints(
@@ -1284,6 +1334,20 @@ def _certify_endpoints(
         return certified(coefficients, roots)
     first, second = pairs.first, pairs.second
     n, paths, size = roots.shape
+    order = _fixed("pair_order", pairs, lambda: _pair_order(pairs, paths))
+    if order is not None and paired.all():
+        # every input paired (the usual case) and the pairs cover every path once: each array
+        # is its first paths' values and their images side by side, put in path order (the
+        # values the general assembly below writes, slot by slot)
+        part = certified(coefficients, roots[:, first], clusters=False)
+        unique, real, radius, radii = (
+            np.concatenate([value, value], axis=1)[:, order]
+            for value in (part.unique, part.real, part.radius, part.radii)
+        )
+        centre = np.concatenate([part.center, part.center * pairs.flip], axis=1)[:, order]
+        labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
+        count = (labels == np.arange(paths)).sum(-1)
+        return Certificate(unique, radius, real, distinct, count, centre, radii, labels)
     unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
     radius, centre = np.full((n, paths), np.nan), np.full((n, paths, size), np.nan + 0j)
     radii = np.full((n, paths, size), np.nan)
@@ -1594,13 +1658,18 @@ def closure_tolerance(m: Mechanism) -> float:
 
 def _closed_modes(
     m: Mechanism, outcome: np.ndarray, residual: np.ndarray, codes: dict[str, int]
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The last check of every mode (..., M), whatever produced it: its closure ``residual`` in
     the caller's units (the rescaled solver's modes are measured again in the caller's geometry,
     ``Mechanism._every_mode``) below ``closure_tolerance``; a mode that does not close is "not
-    closed", never a mode. Returns the outcomes and the modes taken away per input (...)."""
-    opened = (outcome == codes["mode"]) & ~(residual <= closure_tolerance(m))
-    return np.where(opened, codes["not_closed"], outcome).astype(outcome.dtype), opened.sum(-1)
+    closed", never a mode. Returns the outcomes (``outcome`` itself where every mode closes, the
+    rule), the modes taken away per input (...) and the modes left (..., M)."""
+    valid = outcome == codes["mode"]
+    opened = valid & ~(residual <= closure_tolerance(m))
+    if not opened.any():
+        return outcome, opened.sum(-1), valid
+    outcome = np.where(opened, codes["not_closed"], outcome).astype(outcome.dtype)
+    return outcome, opened.sum(-1), outcome == codes["mode"]
 
 
 #: per mechanism object: (its parameter values, method -> whether its root count bounds the roots)
@@ -1649,10 +1718,9 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         return value.reshape(shape + value.shape[1:])
 
     # a mode that does not close is none (counted undecided: the input is then not complete)
-    outcome, dropped = _closed_modes(m, shaped("outcome"), shaped("residual"), codes)
+    outcome, dropped, valid = _closed_modes(m, shaped("outcome"), shaped("residual"), codes)
     count = (shaped("count") - dropped).astype(np.int32)
     undecided = shaped("undecided") + dropped if "undecided" in out else None
-    valid = outcome == codes["mode"]
     kind, kinds = shaped("root_kind"), m.manifest.abi.root_kinds
     return AssemblyModes(
         actuated=theta,
@@ -1668,8 +1736,11 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
         input_independent=outcome == codes["input_independent"],
         outcome=outcome,
         root_kind=kind,
-        # measured at every mode (``Mechanism._measured``); none in a slot that is no mode
-        conditioning=np.where(valid, shaped("conditioning"), np.nan),
+        # measured at every mode (``Mechanism._measured``); none in a slot that is no mode (a
+        # deferred measure is NaN until read: the caller puts it in its place)
+        conditioning=shaped("conditioning")
+        if "conditioning_jacobians" in out
+        else np.where(valid, shaped("conditioning"), np.nan),
         real_roots=shaped("real_roots"),
         near_roots=shaped("near_roots"),
         at_infinity=shaped("at_infinity"),

@@ -1,0 +1,96 @@
+"""The Python around the C of one ``forward_pose_all`` call (issue 33), cut to fewer array
+operations: each shortened step is checked against the longer formula it replaces, bit for bit,
+including the signs of zeros, NaN and infinities."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import parakin
+from parakin.solvers import modes as modes_module
+from parakin.solvers.path_tracking import target_coefficients
+from parakin.studies.sampling import sample_configurations
+
+
+def _bits(x: np.ndarray) -> np.ndarray:
+    """The bit patterns of a float or complex array (so that -0.0 differs from 0.0, and NaNs compare)."""
+    return np.ascontiguousarray(x).view(np.uint64)
+
+
+@pytest.mark.parametrize("name", ["planar_3rrr", "prs3"])
+def test_target_coefficients_written_in_place_are_the_complex_formulas_bits(name):
+    m = parakin.load(name, backend="numpy")
+    info = m.capabilities.forward
+    theta = sample_configurations(m, 12, spread=0.5, seed=3).actuated
+    free, angles = modes_module._family(m, info, theta)
+    free, angles = free.copy(), angles.copy()
+    # the awkward values: signed zeros (x + 0j turns -0.0 into 0.0), NaN and infinities
+    free[0, 0], free[1, 1], free[2, -1] = -0.0, np.nan, np.inf
+    if angles.shape[1]:  # prs3's family has no circle
+        angles[0, 0], angles[1, 0], angles[2, -1], angles[3, 0] = -0.0, np.nan, np.inf, -np.pi
+    assert theta.shape[0] >= 6
+    checked = 0
+    with np.errstate(all="ignore"):
+        expected = target_coefficients(modes_module._monomials(m, info), free, angles)
+        for rows in (slice(None), slice(0, 1), slice(4, 5)):  # a batch, the awkward row, a plain one
+            got = modes_module._target_coefficients(m, info, free[rows], angles[rows])
+            assert got.dtype == expected.dtype and got.shape == expected[rows].shape
+            assert np.array_equal(_bits(got), _bits(expected[rows]))
+            checked += got.size
+    assert checked == (theta.shape[0] + 2) * expected.shape[1]
+    assert np.isnan(expected[1]).any() and np.isfinite(expected[4]).all()  # the cases are there
+
+
+def test_paired_certificate_side_by_side_equals_the_slot_by_slot_assembly(monkeypatch):
+    # prs3's 32 paths pair up under q -> -q (16 tracked, 16 images): the certificate of the first
+    # paths and their images put side by side in path order must be the arrays the general
+    # assembly writes slot by slot (forced here by refusing the pairs' order)
+    m = parakin.load("prs3", backend="numpy")
+    info = m.capabilities.forward
+    homotopy = info.homotopy
+    theta = sample_configurations(m, 2, spread=0.05, seed=7).actuated
+    out = modes_module.numpy_modes(m, theta, info)
+    coefficients = modes_module._target_coefficients(m, info, *modes_module._family(m, info, theta))
+    roots = out["endpoints"][..., 0] + 1j * out["endpoints"][..., 1]
+    pairs = modes_module.path_pairs(homotopy.exponents, homotopy.equation, homotopy.start)
+    paired = modes_module._paired_ends(pairs, roots)
+    assert pairs is not None and paired.all() and theta.shape[0] == 2
+    assert modes_module._pair_order(pairs, roots.shape[1]) is not None
+    fast = modes_module._certify_endpoints(homotopy, coefficients, roots, pairs, paired)
+    monkeypatch.setattr(
+        modes_module, "_fixed", lambda kind, owner, compute: None if kind == "pair_order" else compute()
+    )
+    general = modes_module._certify_endpoints(homotopy, coefficients, roots, pairs, paired)
+    for field in ("unique", "radius", "real", "distinct", "certified_distinct", "center", "radii", "labels"):
+        a, b = getattr(fast, field), getattr(general, field)
+        assert a.dtype == b.dtype and a.shape == b.shape, field
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"), field
+    assert (fast.certified_distinct == 32).all() and fast.unique.all()  # the case is the usual one
+
+
+def test_pairs_that_miss_a_path_have_no_side_by_side_order():
+    pairs = modes_module.PathPairs(np.array([1.0, -1.0]), np.array([1, 0, 2]), np.array([0]), np.array([1]))
+    assert modes_module._pair_order(pairs, 3) is None
+    assert modes_module._pair_order(pairs, 2).tolist() == [0, 1]
+    swapped = modes_module.PathPairs(pairs.flip, np.array([1, 0]), np.array([1]), np.array([0]))
+    assert modes_module._pair_order(swapped, 2).tolist() == [1, 0]
+
+
+@pytest.mark.parametrize("name", ["prs3", "planar_3rrr"])
+def test_one_input_gets_the_modes_it_gets_in_a_batch(name):
+    # one input takes the single-input shortcuts (its actuated row shared by the re-checked
+    # roots, reused buffers, deferred conditioning); the same input in a batch takes none
+    m = parakin.load(name, backend="compiled")
+    theta = sample_configurations(m, 6, spread=0.05, seed=9).actuated
+    batch = m.forward_pose_all(theta, strict=False)
+    fields = ("poses", "passive", "valid", "count", "outcome", "root_kind", "conditioning", "certified_roots")
+    checked = 0
+    for i in range(theta.shape[0]):
+        one = m.forward_pose_all(theta[i], strict=False)
+        for field in fields:
+            a, b = getattr(one, field), getattr(batch, field)[i]
+            assert np.array_equal(a, b, equal_nan=True), (i, field)
+        checked += int(one.count)
+    assert checked >= theta.shape[0]
+    assert batch.complete().all()
