@@ -85,37 +85,33 @@ static void test_univariate(void) {
     check(!out.unique[0] && !out.unique[1] && out.real[0] == 0, "(z - 1)^2: a double root certified unique");
 }
 
-// A real system's candidate near the real space is tested once at a real centre (kw_real_centre):
-// (z - 3)(z^2 - 2 z + 1 + b^2) = z^3 - 5 z^2 + (7 + b^2) z - 3 (1 + b^2), b = 2^-21 (every
-// coefficient exact): the real root 3 and the conjugate pair 1 +- i b, 2b apart across the real
-// axis, b within the test's reach (KW_NEAR). The root 3 is certified real at a real centre; the
-// pair's candidates are tried there first and must not be called real: any box about a real point
-// that holds 1 + i b holds 1 - i b too, two roots, so the test fails there at every radius (checked
-// directly on kw_passes at the real centre 1); they are certified non-real at their complex
-// centres. A real root's candidate whose imaginary part is beyond the reach takes the complex
-// sequence (its centre keeps an imaginary part) and is still certified real by its second test.
-static void test_real_centre(void) {
+// Realness from the one test (the header's argument): (z - 3)(z^2 - 2 z + 1 + b^2) = z^3 - 5 z^2 +
+// (7 + b^2) z - 3 (1 + b^2), b = 2^-21 (every coefficient exact): the real root 3 and the
+// conjugate pair 1 +- i b, 2b apart across the real axis. At a centre x = 3 + 5e-7 i the test's
+// bounds at x pass on B(x, r) and on B(x, r + 2 |Im x|), which holds the root's conjugate: the
+// root is real. At the pair's centres 1 +- i b the widened box holds both roots, so the test must
+// fail there, and at the real centre 1 at every radius (a box about a real point holds both or
+// neither); the pair's candidates are certified non-real, 3's real, whatever their imaginary parts.
+static void test_realness_in_one_test(void) {
     long long a[] = {3, 2, 1, 0}, eq[] = {0, 0, 0, 0};
     double b = 0x1p-21, c[] = {1.0, 0.0, -5.0, 0.0, 7.0 + b * b, 0.0, -3.0 * (1.0 + b * b), 0.0};
-    check(c[4] - 7.0 == b * b && c[6] + 3.0 == -3.0 * b * b, "real centre: a coefficient not exact");
+    check(c[4] - 7.0 == b * b && c[6] + 3.0 == -3.0 * b * b, "one test: a coefficient not exact");
     double z[] = {3.0 * (1.0 + 1e-10), 5e-7, 1.0, b, 1.0, -b, 1.0 + 1e-9, 0.0, 3.0, 1e-4};
     outcome out;
-    check(certify(4, 1, c, a, eq, 5, z, NULL, 0, -1, &out) == 0, "real centre: refused");
-    check(out.unique[0] && out.real[0] == 1 && out.center[1] == 0.0 && !signbit(out.center[1]),
-          "real centre: the real root 3 not certified real at a real centre");
-    check(fabs(out.center[0] - 3.0) <= out.radii[0] && out.radii[0] < 1e-12, "real centre: the box misses 3");
+    check(certify(4, 1, c, a, eq, 5, z, NULL, 0, -1, &out) == 0, "one test: refused");
+    check(out.unique[0] && out.real[0] == 1, "one test: the real root 3 not certified real");
+    check(fabs(out.center[0] - 3.0) <= out.radii[0] && out.radii[0] < 1e-12, "one test: the box misses 3");
     for (int p = 1; p <= 2; ++p) {
         double im = p == 1 ? b : -b;
-        check(out.unique[p] && out.real[p] == -1, "real centre: a root of the conjugate pair not certified non-real");
+        check(out.unique[p] && out.real[p] == -1, "one test: a root of the conjugate pair not certified non-real");
         check(fabs(out.center[2 * p] - 1.0) <= out.radii[p] && fabs(out.center[2 * p + 1] - im) <= out.radii[p] &&
                   out.radii[p] < b,
-              "real centre: the box misses its root of the pair or reaches the other");
+              "one test: the box misses its root of the pair or reaches the other");
     }
-    check(out.real[3] != 1 || fabs(out.center[6] - 1.0) > 1.0, "real centre: the point between the pair called real");
-    check(out.unique[4] && out.real[4] == 1 && out.center[9] != 0.0 && fabs(out.center[8] - 3.0) <= out.radii[4],
-          "real centre: a candidate beyond the reach not certified real by the complex sequence");
-    // the test at the real centre 1, directly: it fails at every radius (the box is its own
-    // conjugate: it holds both roots of the pair or none of them, never exactly one)
+    check(out.real[3] != 1 || fabs(out.center[6] - 1.0) > 1.0, "one test: the point between the pair called real");
+    check(out.unique[4] && out.real[4] == 1 && fabs(out.center[8] - 3.0) <= out.radii[4],
+          "one test: a candidate 1e-4 off the real axis not certified real");
+    // the test itself at chosen centres
     static char space[1 << 16];
     long long support[4 * 3], count[4], total[4], turns[3 * 4 + 1 + 1], deg = 3;
     double radii_c[4] = {0.0, 0.0, 0.0, 0.0}, sizes[4], fixed[4];
@@ -141,12 +137,22 @@ static void test_real_centre(void) {
     w.vre = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
     w.vim = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
     w.term = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    double centre[] = {1.0, 0.0};
     kw_bounds bounds;
-    check(kw_bound(&s, centre, &w, &bounds), "real centre: no bounds at 1");
+    double three[] = {3.0, 5e-7};
+    check(kw_bound(&s, three, &w, &bounds), "one test: no bounds at 3 + 5e-7 i");
+    double r = kw_radius(&s, three, &bounds, 0.0, 0x1p-600, INFINITY, &w);
+    check(r >= 5e-7 && r < 1e-5, "one test: B(3 + 5e-7 i, r) does not reach 3 or is not tight");
+    check(kw_passes(&s, three, kw_add_up(r, 2.0 * three[1]), &bounds, &w), "one test: the widened box about 3 fails");
+    double pair[] = {1.0, b};
+    check(kw_bound(&s, pair, &w, &bounds), "one test: no bounds at 1 + i b");
+    r = kw_radius(&s, pair, &bounds, 0.0, 0x1p-600, INFINITY, &w);
+    check(r > 0.0 && r < b, "one test: 1 + i b not certified in a box of its own");
+    check(!kw_passes(&s, pair, kw_add_up(r, 2.0 * b), &bounds, &w), "one test: the widened box about 1 + i b passed");
+    double centre[] = {1.0, 0.0};
+    check(kw_bound(&s, centre, &w, &bounds), "one test: no bounds at 1");
     int passed = 0;
-    for (double r = b / 64.0; r <= 4.0; r *= 1.5) passed |= kw_passes(&s, centre, r, &bounds, &w);
-    check(!passed, "real centre: the test passed on a real box about the conjugate pair");
+    for (double radius = b / 64.0; radius <= 4.0; radius *= 1.5) passed |= kw_passes(&s, centre, radius, &bounds, &w);
+    check(!passed, "one test: the test passed on a real box about the conjugate pair");
 }
 
 // (z - 1)(z - 1 - 2^-30) = z^2 - (2 + 2^-30) z + 1 + 2^-30, every coefficient exact: two simple
@@ -267,7 +273,7 @@ static void test_refusals(void) {
 int main(void) {
     test_rounding();
     test_univariate();
-    test_real_centre();
+    test_realness_in_one_test();
     test_close_roots();
     test_ill_conditioned();
     test_beyond_double();
