@@ -94,3 +94,38 @@ def test_one_input_gets_the_modes_it_gets_in_a_batch(name):
         checked += int(one.count)
     assert checked >= theta.shape[0]
     assert batch.complete().all()
+
+
+def test_one_inputs_decision_slot_by_slot_is_the_array_decision():
+    # reconcile's decision of one input in plain Python (``_decided_one``) against the array
+    # version (``_decided``) on random certificates: certified or not, real, non-real or
+    # undecided, every outcome code in every slot; overlapping boxes are left to the arrays
+    m = parakin.load("prs3", backend="numpy")
+    codes = len(m.manifest.abi.mode_outcomes)
+    rng = np.random.default_rng(5)
+    decided = overlapping = 0
+    for _ in range(300):
+        paths = int(rng.integers(1, 40))
+        unique = rng.random((1, paths)) < 0.8
+        real = rng.choice(np.array([-1, 0, 1], dtype=np.int8), size=(1, paths), p=[0.4, 0.1, 0.5])
+        labels = np.where(unique, np.arange(paths), -1)
+        if rng.random() < 0.2 and unique.sum() >= 2:  # two boxes overlap: the later joins the earlier's cluster
+            a, b = np.sort(rng.choice(np.flatnonzero(unique[0]), 2, replace=False))
+            labels[0, b] = a
+        cert = modes_module.PathCertificate(
+            unique.sum(-1), unique, real, np.zeros((1, paths, 2), complex), np.zeros((1, paths, 2)), labels
+        )
+        outcome = rng.integers(0, codes, size=(1, paths)).astype(np.int32)
+        kind = rng.integers(-1, 4, size=(1, paths)).astype(np.int32)
+        one_outcome, one_kind = outcome.copy(), kind.copy()
+        one = modes_module._decided_one(m, cert, one_outcome, one_kind)
+        if one is None:
+            assert (labels != np.where(unique, np.arange(paths), -1)).any()
+            overlapping += 1
+            continue
+        expected = modes_module._decided(m, cert, outcome, kind)
+        assert np.array_equal(one_outcome, outcome) and np.array_equal(one_kind, kind)
+        for got, want in zip(one, expected, strict=True):
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+        decided += 1
+    assert decided >= 200 and overlapping >= 20

@@ -1015,23 +1015,17 @@ def _repeats_earlier_mode(
     return found
 
 
-def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
-    """The modes of a homotopy's inputs decided by the certificate, not by thresholds on the
-    endpoints: certified roots are grouped by overlapping boxes (and, where the family's sign
-    symmetry keeps the pose, their images: one mode); a group whose root is certified real is
-    a mode unless a physical check rejects it (it is settled again from its certified centre if
-    the first pass had rejected its endpoint), one certified non-real is "complex" (a near-real
-    pair is never a mode), one undecided is "uncertified", and so is a real-looking endpoint
-    that no box holds alone. Returns the updated arrays and ``undecided`` (n,): certified roots
-    whose realness is not decided (the input is then not complete)."""
-    homotopy = info.homotopy
-    assert homotopy is not None
+def _decided(
+    m: Mechanism, cert: PathCertificate, outcome: np.ndarray, kind: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``reconcile``'s decision by the certificate (n inputs, P slots), in place on ``outcome``
+    and ``kind`` (n, P): certified roots grouped by overlapping boxes, each group real, non-real
+    or undecided. Returns the slots (rows, columns) of the real roots the first pass did not
+    settle (to settle again from their certified centres), and per input (n,) the real roots and
+    the undecided ones."""
     codes, kinds = _codes(m), m.manifest.abi.root_kinds
-    n, paths = cert.unique.shape
-    # the arrays changed here are copies (the caller's stay as they were); the others are shared
-    out = dict(out, outcome=out["outcome"].copy(), root_kind=out["root_kind"].copy())
-    outcome, kind = out["outcome"], out["root_kind"]
     labels = cert.labels
+    paths = labels.shape[-1]
     if (labels == np.where(cert.unique, np.arange(paths), -1)).all():  # no two boxes overlap
         first = cert.unique
         real = first & (cert.real == 1)
@@ -1050,7 +1044,6 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
         in_real = np.take_along_axis(real, group, -1) & cert.unique
         in_nonreal = np.take_along_axis(nonreal, group, -1) & cert.unique
         in_undecided = np.take_along_axis(undecided, group, -1) & cert.unique
-    real_roots = real.sum(-1)
     mode = codes["mode"]
     kept = (
         (outcome == mode)
@@ -1069,8 +1062,67 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     kind[in_real] = kinds.index("simple")
     kind[in_nonreal] = kinds.index("complex")
     kind[in_undecided] = kinds.index("near_real")
-    if redo.any():
-        rows, columns = np.nonzero(redo)
+    rows, columns = np.nonzero(redo)
+    return rows, columns, real.sum(-1), undecided.sum(-1)
+
+
+def _decided_one(
+    m: Mechanism, cert: PathCertificate, outcome: np.ndarray, kind: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """``_decided`` for one input (``outcome`` and ``kind`` (1, P)) whose certified boxes do not
+    overlap (each is its own group), slot by slot in plain Python (a few dozen slots: cheaper
+    than a score of array operations on them); None where boxes overlap (``_decided`` then)."""
+    unique, real, labels = cert.unique[0].tolist(), cert.real[0].tolist(), cert.labels[0].tolist()
+    if any(label != (p if alone else -1) for p, (label, alone) in enumerate(zip(labels, unique, strict=True))):
+        return None
+    codes, kinds = _codes(m), m.manifest.abi.root_kinds
+    mode, uncertified, complex_code = codes["mode"], codes["uncertified"], codes["complex"]
+    kept = (mode, codes["outside_limits"], codes["false_closure"], codes["input_independent"])
+    simple, complex_kind, near_real = kinds.index("simple"), kinds.index("complex"), kinds.index("near_real")
+    line, kind_line = outcome[0].tolist(), kind[0].tolist()
+    redo, real_roots, undecided = [], 0, 0
+    for p, alone in enumerate(unique):
+        if not alone:  # no box holds this slot's root alone: no mode
+            if line[p] == mode:
+                line[p] = uncertified
+        elif real[p] == 1:  # a real root: a mode unless a check rejects it (settled again if the first pass did not)
+            real_roots += 1
+            kind_line[p] = simple
+            if line[p] not in kept:
+                redo.append(p)
+        elif real[p] == -1:
+            line[p], kind_line[p] = complex_code, complex_kind
+        else:  # realness undecided
+            undecided += 1
+            line[p], kind_line[p] = uncertified, near_real
+    outcome[0], kind[0] = line, kind_line
+    columns = np.array(redo, dtype=np.intp)
+    return np.zeros(columns.size, dtype=np.intp), columns, np.array([real_roots]), np.array([undecided])
+
+
+def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
+    """The modes of a homotopy's inputs decided by the certificate, not by thresholds on the
+    endpoints: certified roots are grouped by overlapping boxes (and, where the family's sign
+    symmetry keeps the pose, their images: one mode); a group whose root is certified real is
+    a mode unless a physical check rejects it (it is settled again from its certified centre if
+    the first pass had rejected its endpoint), one certified non-real is "complex" (a near-real
+    pair is never a mode), one undecided is "uncertified", and so is a real-looking endpoint
+    that no box holds alone. Returns the updated arrays and ``undecided`` (n,): certified roots
+    whose realness is not decided (the input is then not complete)."""
+    homotopy = info.homotopy
+    assert homotopy is not None
+    codes = _codes(m)
+    n = cert.unique.shape[0]
+    # the arrays changed here are copies (the caller's stay as they were); the others are shared
+    out = dict(out, outcome=out["outcome"].copy(), root_kind=out["root_kind"].copy())
+    outcome, kind = out["outcome"], out["root_kind"]
+    mode = codes["mode"]
+    decided = _decided_one(m, cert, outcome, kind) if n == 1 else None
+    if decided is not None:  # one input whose boxes do not overlap (a control loop's call)
+        rows, columns, real_roots, undecided_count = decided
+    else:
+        rows, columns, real_roots, undecided_count = _decided(m, cert, outcome, kind)
+    if rows.size:
         # one input: its actuated values shared by the candidates (the kernels read the one row)
         q, pose = _configuration(
             m,
@@ -1100,7 +1152,6 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
     finite = np.isfinite(theta).all(-1)
     out["count"] = (outcome == mode).sum(-1).astype(np.int32)
     out["real_roots"] = np.where(finite, real_roots, out["real_roots"]).astype(np.int32)
-    undecided_count = undecided.sum(-1)
     out["near_roots"] = np.where(finite, undecided_count, out["near_roots"]).astype(np.int32)
     out["undecided"] = undecided_count.astype(np.int64)
     return out
