@@ -848,20 +848,29 @@ int five_bar_forward_pose_all_counted(const five_bar_modes_job* job, long long* 
 // (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
 // certified here too, and some more.
 //
-// Realness (affine): a box B(x, r) that passes holds one root z*; where some |Im x_i| > r it
-// misses the real space, so z* is not real. For a system of real coefficients (the given ones,
-// and the scaled ones: real numbers times powers of two, in discs about themselves) whose box
-// has a REAL centre x, the box is its own conjugate: |conj(z)_i - x_i| = |z_i - x_i| for real
-// x_i, so conj(z*), a root too (conj F(z) = F(conj z)), lies in B(x, r); the box holds only one
-// root, so conj(z*) = z*, real. One test at a real centre thus proves both uniqueness and
-// realness (it never passes where two conjugate roots z, conj z != z lie in the box: they are two
-// roots, and a box that passes holds exactly one). So a real system's candidate whose imaginary
-// parts are within the test's reach (KW_NEAR of its size) is first projected on the real space,
-// sharpened by Newton steps kept real and tested there alone (kw_real_centre); where that fails
-// (a non-real root near the real space, a stalled Newton step) it takes the complex sequence
-// below, unchanged: a test at its complex centre, then for realness a second test at Re x with
-// the radius max |Im x_i| + r, whose box B(Re x, need) holds B(x, r) and is its own conjugate.
-// The outward rounding is the same in both: the argument needs only that the test passes.
+// Realness: a box B(x, r) that passes holds one root z*; where some |Im x_i| > r (affine) it
+// misses the real space, so z* is not real. Where the system's coefficients are real (the given
+// ones, and the scaled ones: real numbers times powers of two, in discs about themselves), the
+// conjugate of a root is a root (conj F(z) = F(conj z)), and |conj(z*)_i - x_i| <= |z*_i - x_i| +
+// 2 |Im x_i|: conj z* lies in B(x, R), R = r + 2 max |Im x_i|. Where the test passes on B(x, R)
+// as well, that box holds exactly one root, both z* and conj z* lie in it, so conj z* = z*: real.
+// The test never passes on a box holding two conjugate roots z != conj z: it proves exactly one.
+// So one evaluation, inverse and bound at x decide uniqueness and realness together:
+// - at a real centre (R = r: the box is its own conjugate) for a real system's candidate whose
+//   imaginary parts are within the test's reach (KW_NEAR of its size): projected on the real
+//   space, sharpened by Newton steps kept real, tested there alone (kw_real_centre). Where that
+//   fails (a non-real root near the real space, a stalled step) the complex sequence below runs
+//   as if it had not been tried;
+// - there, at the complex centre, the same bounds (||Y F(x)||, ||I - Y J(x)||, ||Y||) on B(x, R)
+//   too: kw_passes once more (the Lipschitz term, O(terms)); where that fails, a second test at
+//   Re x with the radius max |Im x_i| + r, whose box B(Re x, need) holds B(x, r) and is its own
+//   conjugate;
+// - homogeneous (projective): the same with the patched system's mirror s (kw_mirror_radius: a
+//   root's conjugate moved back into the complex patch, a root again; its fixed points are the
+//   real projective points) on a box about x holding B(x, r) and its image, before the test in
+//   the real chart.
+// The outward rounding is the same throughout: each argument needs only that a test passes, on
+// a radius bounded above with every operation rounded up.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -1773,6 +1782,45 @@ typedef struct {
     long long workspace_bytes;
 } kw_job;
 
+// The radius about a homogeneous candidate's centre x (the patch's chart) that holds both B(x, r)
+// and the image of every point of it under the patched system's mirror (0 when it cannot be
+// bounded): for a root z of a system real but for its patch L(z) = sum_t c_t z_(k_t) + c0 (each
+// term linear in one unknown of the group G, or constant), conj z is a root of the homogeneous
+// equations, and so is s(z) = (m conj z_G, conj z_rest), m = -c0 / sum_t c_t conj(z_(k_t)), which
+// also solves the patch: a root in the patch again. s(z) = z exactly where z_rest is real and z_G
+// is a complex multiple of a real vector (|m| = 1): a real projective point. Over B(x, r), with
+// M enclosing sum_t c_t conj(v_(k_t)) (|M| > 0), |s(v)_i - x_i| = |-c0 conj v_i - x_i M| / |M| on
+// G and |conj v_i - x_i| <= r + 2 |Im x_i| elsewhere, all rounded up (disc arithmetic).
+static double kw_mirror_radius(const kw_job* job, const double* c, const int* in_group, const double* x, double r) {
+    long long n = job->unknowns;
+    kw_disc sum = kw_point(0.0, 0.0), c0 = kw_point(0.0, 0.0);
+    for (long long t = 0; t < job->terms; ++t) {
+        if (job->equation[t] != job->patch_equation) continue;
+        long long k = -1;
+        for (long long i = 0; i < n; ++i)
+            if (job->exponents[t * n + i]) k = i;  // (kw_homogeneous: at most one, of exponent 1, in G)
+        kw_disc ct = kw_point(c[2 * t], c[2 * t + 1]);
+        if (k < 0) c0 = kw_add(c0, ct);
+        else sum = kw_add(sum, kw_mul(ct, (kw_disc){x[2 * k], -x[2 * k + 1], r}));
+    }
+    double low = kw_down(kw_abs_down(sum.re, sum.im) - sum.r);
+    if (!(low > 0.0) || !kw_finite(sum) || !kw_finite(c0)) return 0.0;
+    kw_disc minus_c0 = {-c0.re, -c0.im, c0.r};
+    double wide = r;
+    for (long long i = 0; i < n; ++i) {
+        double gap;
+        if (in_group[i]) {
+            kw_disc top = kw_add(kw_mul(minus_c0, (kw_disc){x[2 * i], -x[2 * i + 1], r}),
+                                 kw_mul(kw_point(-x[2 * i], -x[2 * i + 1]), sum));
+            gap = kw_up(kw_disc_abs_up(top) / low);
+        } else {
+            gap = kw_add_up(r, 2.0 * fabs(x[2 * i + 1]));
+        }
+        wide = kw_max(wide, gap);
+    }
+    return isfinite(wide) ? wide : 0.0;
+}
+
 static long long kw_degree(long long terms, long long n, const long long* a) {
     long long d = 0;
     for (long long k = 0; k < terms * n; ++k) d = a[k] > d ? a[k] : d;
@@ -2103,10 +2151,16 @@ static int kw_certify(const kw_job* job) {
                 if ((!homogeneous || !in_group[i]) && fabs(x[2 * i + 1]) > r) nonreal = 1;
             if (!homogeneous) {
                 if (!nonreal && real_system) {
-                    // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
                     double imag = 0.0;
+                    for (long long i = 0; i < n; ++i) imag = kw_max(imag, fabs(x[2 * i + 1]));
+                    // the same test (its bounds at x) on B(x, r + 2 max |Im x_i|), which holds the
+                    // root and its conjugate: where it passes they are one, real
+                    if (kw_passes(&s, x, kw_add_up(r, 2.0 * imag), &bounds, &w)) {
+                        job->real[at] = 1;
+                        continue;
+                    }
+                    // else a second test: B(x, r) lies in the conjugation-symmetric B(Re x, need)
                     for (long long i = 0; i < n; ++i) {
-                        imag = kw_max(imag, fabs(x[2 * i + 1]));
                         chart_x[2 * i] = x[2 * i];
                         chart_x[2 * i + 1] = 0.0;
                     }
@@ -2136,7 +2190,15 @@ static int kw_certify(const kw_job* job) {
                 job->real[at] = -1;
                 continue;
             }
-            if (!real_system || !(4.0 * r <= mj_low)) continue;
+            if (!real_system) continue;
+            // the same test (its bounds at x) on a box that holds B(x, r) and its mirror image
+            // (kw_mirror_radius): where it passes, the root is its own mirror image, real
+            double wide = kw_mirror_radius(job, c, in_group, x, r);
+            if (wide > 0.0 && kw_passes(&s, x, wide, &bounds, &w)) {
+                job->real[at] = 1;
+                continue;
+            }
+            if (!(4.0 * r <= mj_low)) continue;
             // the real chart z_j = 1: w_i = Re(x_i / x_j) on the group, Re x_i elsewhere; the chart
             // image of B(x, r) lies in B(w, need) (certify.py's argument; 4 r <= |x_j|)
             double d = xjr * xjr + xji * xji, need = 0.0;

@@ -710,6 +710,9 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 #define ONE_STEP_BASIN 0.25
 #define ONE_STEP_ERROR 1e-05
 #define OMEGA_DECAY 0.5
+#define ONE_STEP_GOAL 0.7
+#define OMEGA_FADE 0.7
+#define REFINE_ERROR 1e-16
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -2096,7 +2099,7 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
 //   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD, ONE_STEP_BASIN, ONE_STEP_ERROR,
-//   OMEGA_DECAY
+//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, REFINE_ERROR
 //                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
@@ -2328,9 +2331,15 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // only has to stay in its own path's basin, the endpoint is refined at s = 0. The last Newton
 // step's LU also gives the slope at the new point, so an accepted step costs the evaluations
 // and LUs of its corrector only. The first correction is the predictor's error: the next step is
-// sized to bring it to PREDICTOR_TARGET (it grows as the step^4; Euler's, on the first step, as
-// the step^2), within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried
-// shorter from the same point.
+// sized to bring it to a goal (it grows as the step^4; Euler's, on the first step, as the step^2),
+// within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried shorter from the same
+// point. The goal is PREDICTOR_TARGET, or where the path's omega is large the first correction
+// that the one-correction rule accepts, sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega) (one LU per
+// step instead of two or three, and fewer rejections: issue 33, Dietmaier's paths near s = 0);
+// the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
+// endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
+// error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
+// is the final step's last correction).
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together
@@ -2341,7 +2350,7 @@ typedef struct {
     cplx* z;
     step_coefficients* at;
     track_counts* counts;
-    double s, s_previous, h, omega, step, target, first, update, error, measured;
+    double s, s_previous, h, omega, fade, step, target, first, update, error, measured, before;
     int history, steps, iteration, contracting, phase, result;
     cplx slope[NZ], z_previous[NZ], slope_previous[NZ], corrected[NZ], next_slope[NZ], trial[NZ];
     const coefficients_at* want_at;  // the Newton step the lane waits for
@@ -2381,6 +2390,7 @@ static int lane_step(path_lane* lane) {
 static int lane_refine(path_lane* lane) {
     if (!(c_size(lane->z) - 1.0 < ESCAPE)) return lane_ends(lane, PATH_DIVERGED);
     coefficients(lane->system, 0.0, &lane->at->target);
+    lane->before = lane->update;  // the final step's last correction
     lane->update = INFINITY;
     lane->iteration = 0;
     lane->phase = LANE_REFINE;
@@ -2400,6 +2410,7 @@ static void lane_begin(path_lane* lane, const sparse_system* system, double tole
     lane->s = lane->s_previous = 1.0;
     lane->h = INITIAL_STEP;
     lane->omega = INFINITY;
+    lane->fade = 1.0;
     lane->history = 0;
     lane->steps = 0;
     lane->phase = LANE_START;
@@ -2421,7 +2432,10 @@ static int lane_resume(path_lane* lane, double size) {
         memcpy(lane->z, lane->trial, sizeof(lane->trial));
         lane->update = size;
         lane->iteration += 1;
-        if (!(lane->iteration < REFINE && lane->update > 1e-15)) return lane_ends(lane, PATH_REACHED);
+        double ratio = size / lane->before;
+        lane->before = size;
+        if (!(lane->iteration < REFINE && lane->update > 1e-15) || size * ratio * ratio < REFINE_ERROR)
+            return lane_ends(lane, PATH_REACHED);
         memcpy(lane->trial, lane->z, sizeof(lane->trial));
         return lane_wants(lane, &lane->at->target, lane->trial, NULL);
     }
@@ -2446,8 +2460,16 @@ static int lane_resume(path_lane* lane, double size) {
         return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
     int accepted = lane->contracting && lane->error < lane->tolerance && isfinite(lane->update);
     double first = lane->first, step = lane->step;
+    // the omega of the next step: this step's measurement (at least OMEGA_DECAY times the one
+    // before), else the one before faded once more; the goal, the first correction it aims at
+    double measured = lane->measured, omega = lane->omega;
+    int fresh = isfinite(measured) && measured > 0.0;
+    double ahead = fresh ? (isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured)
+                         : omega * (lane->fade * OMEGA_FADE);
+    double goal = isfinite(ahead) ? smaller(PREDICTOR_TARGET, sqrt(ONE_STEP_GOAL * ONE_STEP_ERROR / ahead))
+                                  : PREDICTOR_TARGET;
     double factor = !isfinite(first) ? 0.0
-                    : first > 0.0   ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, lane->history ? 0.25 : 0.5)
+                    : first > 0.0   ? STEP_SAFETY * pow(goal / first, lane->history ? 0.25 : 0.5)
                                     : STEP_GROW;
     if (accepted) {
         memcpy(lane->z_previous, lane->z, sizeof(lane->slope));
@@ -2459,13 +2481,14 @@ static int lane_resume(path_lane* lane, double size) {
         lane->history = 1;
         // the Newton constant of the path: the latest measured (size / update^2 of a step's
         // first two corrections), at least OMEGA_DECAY times the one before
-        double measured = lane->measured, omega = lane->omega;
-        if (isfinite(measured) && measured > 0.0) lane->omega = isfinite(omega) ? larger(measured, OMEGA_DECAY * omega) : measured;
+        if (fresh) lane->omega = ahead;
+        lane->fade = fresh ? 1.0 : lane->fade * OMEGA_FADE;
         lane->h = step * smaller(STEP_GROW, larger(0.5, factor));
         if (lane->s <= 0.0) return lane_refine(lane);
     } else {
         lane->counts->rejected += 1;
         lane->omega = INFINITY;  // measured anew before one correction suffices again
+        lane->fade = 1.0;
         lane->h = step * smaller(0.5, larger(STEP_SHRINK, factor));
         if (lane->h < MIN_STEP) return lane_ends(lane, PATH_FAILED);
     }
@@ -2709,20 +2732,29 @@ int stewart_forward_pose_all_counted(const stewart_modes_job* job, long long* co
 // (kw_precondition, Rump's preconditioner). So every box the NumPy reference certifies is
 // certified here too, and some more.
 //
-// Realness (affine): a box B(x, r) that passes holds one root z*; where some |Im x_i| > r it
-// misses the real space, so z* is not real. For a system of real coefficients (the given ones,
-// and the scaled ones: real numbers times powers of two, in discs about themselves) whose box
-// has a REAL centre x, the box is its own conjugate: |conj(z)_i - x_i| = |z_i - x_i| for real
-// x_i, so conj(z*), a root too (conj F(z) = F(conj z)), lies in B(x, r); the box holds only one
-// root, so conj(z*) = z*, real. One test at a real centre thus proves both uniqueness and
-// realness (it never passes where two conjugate roots z, conj z != z lie in the box: they are two
-// roots, and a box that passes holds exactly one). So a real system's candidate whose imaginary
-// parts are within the test's reach (KW_NEAR of its size) is first projected on the real space,
-// sharpened by Newton steps kept real and tested there alone (kw_real_centre); where that fails
-// (a non-real root near the real space, a stalled Newton step) it takes the complex sequence
-// below, unchanged: a test at its complex centre, then for realness a second test at Re x with
-// the radius max |Im x_i| + r, whose box B(Re x, need) holds B(x, r) and is its own conjugate.
-// The outward rounding is the same in both: the argument needs only that the test passes.
+// Realness: a box B(x, r) that passes holds one root z*; where some |Im x_i| > r (affine) it
+// misses the real space, so z* is not real. Where the system's coefficients are real (the given
+// ones, and the scaled ones: real numbers times powers of two, in discs about themselves), the
+// conjugate of a root is a root (conj F(z) = F(conj z)), and |conj(z*)_i - x_i| <= |z*_i - x_i| +
+// 2 |Im x_i|: conj z* lies in B(x, R), R = r + 2 max |Im x_i|. Where the test passes on B(x, R)
+// as well, that box holds exactly one root, both z* and conj z* lie in it, so conj z* = z*: real.
+// The test never passes on a box holding two conjugate roots z != conj z: it proves exactly one.
+// So one evaluation, inverse and bound at x decide uniqueness and realness together:
+// - at a real centre (R = r: the box is its own conjugate) for a real system's candidate whose
+//   imaginary parts are within the test's reach (KW_NEAR of its size): projected on the real
+//   space, sharpened by Newton steps kept real, tested there alone (kw_real_centre). Where that
+//   fails (a non-real root near the real space, a stalled step) the complex sequence below runs
+//   as if it had not been tried;
+// - there, at the complex centre, the same bounds (||Y F(x)||, ||I - Y J(x)||, ||Y||) on B(x, R)
+//   too: kw_passes once more (the Lipschitz term, O(terms)); where that fails, a second test at
+//   Re x with the radius max |Im x_i| + r, whose box B(Re x, need) holds B(x, r) and is its own
+//   conjugate;
+// - homogeneous (projective): the same with the patched system's mirror s (kw_mirror_radius: a
+//   root's conjugate moved back into the complex patch, a root again; its fixed points are the
+//   real projective points) on a box about x holding B(x, r) and its image, before the test in
+//   the real chart.
+// The outward rounding is the same throughout: each argument needs only that a test passes, on
+// a radius bounded above with every operation rounded up.
 //
 // Needs <math.h>. No allocation: the caller passes a workspace of kw_workspace_bytes().
 #ifndef PARAKIN_RUNTIME_KRAWCZYK_H
@@ -3634,6 +3666,45 @@ typedef struct {
     long long workspace_bytes;
 } kw_job;
 
+// The radius about a homogeneous candidate's centre x (the patch's chart) that holds both B(x, r)
+// and the image of every point of it under the patched system's mirror (0 when it cannot be
+// bounded): for a root z of a system real but for its patch L(z) = sum_t c_t z_(k_t) + c0 (each
+// term linear in one unknown of the group G, or constant), conj z is a root of the homogeneous
+// equations, and so is s(z) = (m conj z_G, conj z_rest), m = -c0 / sum_t c_t conj(z_(k_t)), which
+// also solves the patch: a root in the patch again. s(z) = z exactly where z_rest is real and z_G
+// is a complex multiple of a real vector (|m| = 1): a real projective point. Over B(x, r), with
+// M enclosing sum_t c_t conj(v_(k_t)) (|M| > 0), |s(v)_i - x_i| = |-c0 conj v_i - x_i M| / |M| on
+// G and |conj v_i - x_i| <= r + 2 |Im x_i| elsewhere, all rounded up (disc arithmetic).
+static double kw_mirror_radius(const kw_job* job, const double* c, const int* in_group, const double* x, double r) {
+    long long n = job->unknowns;
+    kw_disc sum = kw_point(0.0, 0.0), c0 = kw_point(0.0, 0.0);
+    for (long long t = 0; t < job->terms; ++t) {
+        if (job->equation[t] != job->patch_equation) continue;
+        long long k = -1;
+        for (long long i = 0; i < n; ++i)
+            if (job->exponents[t * n + i]) k = i;  // (kw_homogeneous: at most one, of exponent 1, in G)
+        kw_disc ct = kw_point(c[2 * t], c[2 * t + 1]);
+        if (k < 0) c0 = kw_add(c0, ct);
+        else sum = kw_add(sum, kw_mul(ct, (kw_disc){x[2 * k], -x[2 * k + 1], r}));
+    }
+    double low = kw_down(kw_abs_down(sum.re, sum.im) - sum.r);
+    if (!(low > 0.0) || !kw_finite(sum) || !kw_finite(c0)) return 0.0;
+    kw_disc minus_c0 = {-c0.re, -c0.im, c0.r};
+    double wide = r;
+    for (long long i = 0; i < n; ++i) {
+        double gap;
+        if (in_group[i]) {
+            kw_disc top = kw_add(kw_mul(minus_c0, (kw_disc){x[2 * i], -x[2 * i + 1], r}),
+                                 kw_mul(kw_point(-x[2 * i], -x[2 * i + 1]), sum));
+            gap = kw_up(kw_disc_abs_up(top) / low);
+        } else {
+            gap = kw_add_up(r, 2.0 * fabs(x[2 * i + 1]));
+        }
+        wide = kw_max(wide, gap);
+    }
+    return isfinite(wide) ? wide : 0.0;
+}
+
 static long long kw_degree(long long terms, long long n, const long long* a) {
     long long d = 0;
     for (long long k = 0; k < terms * n; ++k) d = a[k] > d ? a[k] : d;
@@ -3964,10 +4035,16 @@ static int kw_certify(const kw_job* job) {
                 if ((!homogeneous || !in_group[i]) && fabs(x[2 * i + 1]) > r) nonreal = 1;
             if (!homogeneous) {
                 if (!nonreal && real_system) {
-                    // B(x, r) lies in the conjugation-symmetric B(Re x, need): a real centre
                     double imag = 0.0;
+                    for (long long i = 0; i < n; ++i) imag = kw_max(imag, fabs(x[2 * i + 1]));
+                    // the same test (its bounds at x) on B(x, r + 2 max |Im x_i|), which holds the
+                    // root and its conjugate: where it passes they are one, real
+                    if (kw_passes(&s, x, kw_add_up(r, 2.0 * imag), &bounds, &w)) {
+                        job->real[at] = 1;
+                        continue;
+                    }
+                    // else a second test: B(x, r) lies in the conjugation-symmetric B(Re x, need)
                     for (long long i = 0; i < n; ++i) {
-                        imag = kw_max(imag, fabs(x[2 * i + 1]));
                         chart_x[2 * i] = x[2 * i];
                         chart_x[2 * i + 1] = 0.0;
                     }
@@ -3997,7 +4074,15 @@ static int kw_certify(const kw_job* job) {
                 job->real[at] = -1;
                 continue;
             }
-            if (!real_system || !(4.0 * r <= mj_low)) continue;
+            if (!real_system) continue;
+            // the same test (its bounds at x) on a box that holds B(x, r) and its mirror image
+            // (kw_mirror_radius): where it passes, the root is its own mirror image, real
+            double wide = kw_mirror_radius(job, c, in_group, x, r);
+            if (wide > 0.0 && kw_passes(&s, x, wide, &bounds, &w)) {
+                job->real[at] = 1;
+                continue;
+            }
+            if (!(4.0 * r <= mj_low)) continue;
             // the real chart z_j = 1: w_i = Re(x_i / x_j) on the group, Re x_i elsewhere; the chart
             // image of B(x, r) lies in B(w, need) (certify.py's argument; 4 r <= |x_j|)
             double d = xjr * xjr + xji * xji, need = 0.0;
