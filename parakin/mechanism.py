@@ -1011,8 +1011,8 @@ class Mechanism:
                     out["conditioning_measured"], out["conditioning_jacobians"], modes.valid, inverse_condition
                 ),
             )
-        degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate")
-        if strict and np.any(degenerate):
+        degenerate = modes.status == self.manifest.abi.code("input_status", "degenerate") if strict else None
+        if degenerate is not None and degenerate.any():
             index = first_index(degenerate)
             cause = (
                 "homotopy paths that end nowhere (no isolated solution to reach)"
@@ -1065,9 +1065,10 @@ class Mechanism:
         if unit_free is None:
             return self._measured(flat, self._every_mode_here(info, flat, exact), rescaled=False, defer=defer)
         scaled, unit = unit_free
-        length_actuated, length_passive = self._length_variables
-        out = scaled._every_mode_here(info, np.where(length_actuated, flat / unit, flat), exact)
-        out["passive"] = np.where(length_passive, out["passive"] * unit, out["passive"])
+        down, up = self._length_factors
+        # the unit is a power of two: x * (1 / unit) is x / unit exactly, and x * 1.0 is x
+        out = scaled._every_mode_here(info, flat * down, exact)
+        out["passive"] = out["passive"] * up
         out["poses"][..., :3, 3] *= unit
         return self._measured(flat, out, rescaled=True, defer=defer)
 
@@ -1110,6 +1111,19 @@ class Mechanism:
             np.array([v.unit == "m" for v in self.manifest.actuated], dtype=bool),
             np.array([v.unit == "m" for v in self.manifest.passive], dtype=bool),
         )
+
+    @functools.cached_property
+    def _length_factors(self) -> tuple[Array, Array]:
+        """Per actuated (n_a,) and passive (n_p,) variable, the factor into the unit-free
+        geometry's numbers and the factor back (``_unit_free``): 1 / unit and unit for a length,
+        1 for any other (read only); none without a rescaling."""
+        unit_free = self._unit_free
+        unit = 1.0 if unit_free is None else unit_free[1]
+        length_actuated, length_passive = self._length_variables
+        down = np.where(length_actuated, 1.0 / unit, 1.0)
+        up = np.where(length_passive, unit, 1.0)
+        down.flags.writeable = up.flags.writeable = False
+        return down, up
 
     @functools.cached_property
     def _unit_free(self) -> tuple[Mechanism, float] | None:

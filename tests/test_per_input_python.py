@@ -129,3 +129,27 @@ def test_one_inputs_decision_slot_by_slot_is_the_array_decision():
             assert got.dtype == want.dtype and np.array_equal(got, want)
         decided += 1
     assert decided >= 200 and overlapping >= 20
+
+
+@pytest.mark.parametrize("name", ["prs3", "planar_3rrr"])
+def test_length_factors_scale_as_the_division_by_the_unit_does(name):
+    # the unit-free geometry's inputs x * (1 / unit) and its passive values back p * unit (1.0
+    # for what is no length) must be the bits of np.where(length, x / unit, x), signed zeros,
+    # subnormals and infinities included
+    m = parakin.load(name, backend="numpy")
+    scaled, unit = m._unit_free
+    assert unit != 1.0 and np.log2(unit) == np.round(np.log2(unit))  # a power of two
+    down, up = m._length_factors
+    length_actuated, length_passive = m._length_variables
+    rng = np.random.default_rng(2)
+    specials = np.array([0.0, -0.0, 5e-324, -2.5e-310, 1e308, -np.inf, np.nan, 1.0])
+    for variables, factor, mask, forward in (
+        (len(m.actuated_names), down, length_actuated, True),
+        (len(m.passive_names), up, length_passive, False),
+    ):
+        x = rng.normal(size=(50, variables)) * 10.0 ** rng.integers(-300, 300, (50, 1))
+        x = np.concatenate([x, np.repeat(specials[:, None], variables, axis=1)])
+        with np.errstate(all="ignore"):  # 1e308 / 0.25 overflows on both sides alike
+            expected = np.where(mask, x / unit, x) if forward else np.where(mask, x * unit, x)
+            assert np.array_equal(_bits(x * factor), _bits(expected))
+    assert not down.flags.writeable and not up.flags.writeable

@@ -786,6 +786,8 @@ def certify(m: Mechanism, info: Forward, theta: Array, endpoints: np.ndarray, ex
     work). Each input's certificate is its own: the same whatever the chunks."""
     workers = threads()
     size = max(1, CERTIFY_CHUNK // workers)
+    if theta.shape[0] <= size:  # one chunk (a control loop's one input)
+        return certify_inputs(m, info, theta, endpoints, exact)
 
     def chunk(a: int) -> PathCertificate:
         return certify_inputs(m, info, theta[a : a + size], endpoints[a : a + size], exact)
@@ -1219,7 +1221,9 @@ def certified_modes(
             explained = (found.certified[short] + heading.sum(-1) >= count) & probed.any(-1)
             far[short] = explained
             _mark_at_infinity(m, out, found, short[explained], heading[explained])
-    if retracked.any():  # marked at infinity, or a slot whose path escaped may now hold a certified root
+    if (
+        incomplete.size and retracked.any()
+    ):  # marked at infinity, or a slot whose path escaped may now hold a certified root
         at_infinity = out["root_kind"][retracked] == m.manifest.abi.root_kinds.index("at_infinity")
         out["at_infinity"][retracked] = at_infinity.sum(-1)
     out = reconcile(m, info, theta, out, found)
