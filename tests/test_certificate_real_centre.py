@@ -99,3 +99,42 @@ def test_a_candidate_beyond_the_reach_takes_the_complex_sequence(library: Any) -
     assert (result.center.imag != 0.0).any()
     for p in range(4):
         assert contains(result.center[p], result.radii[p], roots[p].real)
+
+
+#: x^2 + e x y + f y^2 = 0 in the projective group (x, y), patched by (1 + i) x + (2 - i) y = 1
+HOMOGENEOUS_EXPONENTS = np.array([[2, 0], [1, 1], [0, 2], [1, 0], [0, 1], [0, 0]])
+HOMOGENEOUS_EQUATION = np.array([0, 0, 0, 1, 1, 1])
+
+
+def patched_roots(e: sympy.Rational, f: sympy.Rational) -> tuple[np.ndarray, list[bool]]:
+    """The two roots in the patch by SymPy (P, 2) and whether each is a real projective point."""
+    t = sympy.symbols("t")
+    points, real = [], []
+    for ratio in sympy.solve(t**2 + e * t + f, t):  # x = ratio y
+        y = 1 / ((1 + sympy.I) * ratio + 2 - sympy.I)
+        points.append([complex(sympy.N(ratio * y, 40)), complex(sympy.N(y, 40))])
+        real.append(bool(sympy.im(ratio) == 0))
+    return np.array(points), real
+
+
+@pytest.mark.parametrize(
+    "e, f, real",
+    [
+        (sympy.Integer(0), sympy.Integer(-4), 1),  # (2 : 1), (-2 : 1)
+        (sympy.Integer(-2), 1 - sympy.Rational(1, 2**42), 1),  # (1 +- 2^-21 : 1): real, close
+        (sympy.Integer(-2), 1 + sympy.Rational(1, 2**42), -1),  # (1 +- i 2^-21 : 1): a conjugate pair
+    ],
+)
+def test_homogeneous_realness_by_the_patched_system_s_mirror(library: Any, e: Any, f: Any, real: int) -> None:
+    """Real projective points certified real, a conjugate pair of points 2^-21 from the real ones
+    never real (each in a box of its own, non-real), against SymPy's roots."""
+    roots, exact_real = patched_roots(e, f)
+    assert exact_real == [real == 1] * 2
+    c = np.array([1.0, float(e), float(f), 1 + 1j, 2 - 1j, -1.0])
+    result = certify_roots_compiled(
+        library, c, HOMOGENEOUS_EXPONENTS, HOMOGENEOUS_EQUATION, roots * (1 + 1e-13), homogeneous=[0, 1],
+        patch_equation=1,
+    )  # fmt: skip
+    assert result.unique.all() and (result.real == real).all() and result.certified_distinct == 2
+    for p in range(2):
+        assert contains(result.center[p], result.radii[p], roots[p])

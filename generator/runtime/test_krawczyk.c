@@ -85,6 +85,30 @@ static void test_univariate(void) {
     check(!out.unique[0] && !out.unique[1] && out.real[0] == 0, "(z - 1)^2: a double root certified unique");
 }
 
+// the scratch kw_bound and kw_passes use (the first attempt's: no double-word parts) for n unknowns
+static kw_scratch scratch(char* space, long long n, long long deg) {
+    char* cursor = space;
+    kw_scratch w;
+    memset(&w, 0, sizeof(w));
+    w.powers = (kw_disc*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(kw_disc));
+    w.f = (kw_disc*)kw_take(&cursor, n * (long long)sizeof(kw_disc));
+    w.jac = (kw_disc*)kw_take(&cursor, n * n * (long long)sizeof(kw_disc));
+    w.mag = (double*)kw_take(&cursor, (n + n * n) * (long long)sizeof(double));
+    w.lu = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.y = (double*)kw_take(&cursor, 2 * n * n * (long long)sizeof(double));
+    w.absy = (double*)kw_take(&cursor, n * n * (long long)sizeof(double));
+    w.pivot = (long long*)kw_take(&cursor, n * (long long)sizeof(long long));
+    w.rho = (double*)kw_take(&cursor, n * (deg + 1) * (long long)sizeof(double));
+    w.step = (double*)kw_take(&cursor, 2 * n * (long long)sizeof(double));
+    w.jre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.jrad = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vre = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.vim = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    w.term = (double*)kw_take(&cursor, n * KW_PAD(n) * (long long)sizeof(double));
+    return w;
+}
+
 // Realness from the one test (the header's argument): (z - 3)(z^2 - 2 z + 1 + b^2) = z^3 - 5 z^2 +
 // (7 + b^2) z - 3 (1 + b^2), b = 2^-21 (every coefficient exact): the real root 3 and the
 // conjugate pair 1 +- i b, 2b apart across the real axis. At a centre x = 3 + 5e-7 i the test's
@@ -118,25 +142,7 @@ static void test_realness_in_one_test(void) {
     kw_system s = {4, 1, deg, c, radii_c, a, eq, sizes, 0, support, count, total, turns, fixed};
     kw_supports(&s);
     kw_sizes(&s);
-    char* cursor = space;
-    kw_scratch w;
-    memset(&w, 0, sizeof(w));
-    w.powers = (kw_disc*)kw_take(&cursor, (deg + 1) * (long long)sizeof(kw_disc));
-    w.f = (kw_disc*)kw_take(&cursor, (long long)sizeof(kw_disc));
-    w.jac = (kw_disc*)kw_take(&cursor, (long long)sizeof(kw_disc));
-    w.mag = (double*)kw_take(&cursor, 2 * (long long)sizeof(double));
-    w.lu = (double*)kw_take(&cursor, 2 * (long long)sizeof(double));
-    w.y = (double*)kw_take(&cursor, 2 * (long long)sizeof(double));
-    w.absy = (double*)kw_take(&cursor, (long long)sizeof(double));
-    w.pivot = (long long*)kw_take(&cursor, (long long)sizeof(long long));
-    w.rho = (double*)kw_take(&cursor, (deg + 1) * (long long)sizeof(double));
-    w.step = (double*)kw_take(&cursor, 2 * (long long)sizeof(double));
-    w.jre = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    w.jim = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    w.jrad = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    w.vre = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    w.vim = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
-    w.term = (double*)kw_take(&cursor, KW_PAD(1) * (long long)sizeof(double));
+    kw_scratch w = scratch(space, 1, deg);
     kw_bounds bounds;
     double three[] = {3.0, 5e-7};
     check(kw_bound(&s, three, &w, &bounds), "one test: no bounds at 3 + 5e-7 i");
@@ -250,6 +256,37 @@ static void test_homogeneous(void) {
     }
     check(certify(5, 2, c, a, eq, 2, z, group, 2, 1, &out) == 0, "homogeneous: refused");
     check(out.unique[0] && out.unique[1] && out.real[0] == -1 && out.real[1] == -1, "homogeneous: (+-2i : 1) not non-real");
+    // the mirror's box (kw_mirror_radius) directly: x^2 - 2 x y + (1 -+ 2^-42) y^2 = 0 has the real
+    // points (1 +- 2^-21 : 1) and the conjugate pair (1 +- i 2^-21 : 1); at the real point the
+    // test passes on the box holding B(x, r) and its mirror image; at a point of the pair that box
+    // holds its conjugate's point too, and the test fails
+    long long a2[] = {2, 0, 1, 1, 0, 2, 1, 0, 0, 1, 0, 0}, eq2[] = {0, 0, 0, 1, 1, 1};
+    double b = 0x1p-21;
+    for (int pair = 0; pair < 2; ++pair) {
+        double c2[] = {1.0, 0.0, -2.0, 0.0, pair ? 1.0 + b * b : 1.0 - b * b, 0.0, 1.0, 1.0, 2.0, -1.0, -1.0, 0.0};
+        kw_job job = {1, 0, 6, 2, c2, a2, eq2, NULL, 1, group, 2, 1, NULL, NULL, NULL, NULL, NULL, NULL, 0};
+        // x0 = 1 + b (real) or 1 + i b: y = 1 / ((1 + i) x0 + 2 - i), x = x0 y
+        double x0r = pair ? 1.0 : 1.0 + b, x0i = pair ? b : 0.0;
+        double dr = x0r - x0i + 2.0, di = x0r + x0i - 1.0, d = dr * dr + di * di, yr = dr / d, yi = -di / d;
+        double point[] = {x0r * yr - x0i * yi, x0r * yi + x0i * yr, yr, yi};
+        static char space2[1 << 16];
+        long long support[6 * 2], count[6], total[6], turns[3 * 6 + 2 + 2];
+        double radii_c[6] = {0.0}, sizes[6], fixed[6];
+        kw_system s = {6, 2, 2, c2, radii_c, a2, eq2, sizes, 0, support, count, total, turns, fixed};
+        kw_supports(&s);
+        kw_sizes(&s);
+        kw_scratch w = scratch(space2, 2, 2);
+        kw_bounds bounds;
+        int in_group[2] = {1, 1};
+        check(kw_bound(&s, point, &w, &bounds), "mirror: no bounds");
+        double r = kw_radius(&s, point, &bounds, 0.0, 0x1p-600, INFINITY, &w);
+        check(r > 0.0 && r < b / 4, "mirror: the point not certified in a box of its own");
+        double wide = kw_mirror_radius(&job, c2, in_group, point, r);
+        check(wide >= r && isfinite(wide), "mirror: no radius");
+        int passes = kw_passes(&s, point, wide, &bounds, &w);
+        check(pair ? !passes : passes, pair ? "mirror: the box about a point of the conjugate pair passed"
+                                            : "mirror: the box about the real point failed");
+    }
     long long bad[] = {2, 0, 0, 1, 1, 0, 0, 1, 0, 0};  // x^2 - 4 y: not homogeneous
     check(certify(5, 2, c, bad, eq, 2, z, group, 2, 1, &out) == -1, "homogeneous: a non-homogeneous equation accepted");
 }
