@@ -1085,7 +1085,8 @@ class Mechanism:
         located = np.isfinite(out["passive"]).all(-1)
         modes = (out["outcome"] == mode) & located
         where = (np.isfinite(out["residual"]) & located) | modes if rescaled else modes
-        conditioning = np.full(modes.shape, np.nan)
+        conditioning = np.empty(modes.shape)
+        conditioning.fill(np.nan)
         if not self.passive_names:  # no loop to close: no type II singularity
             conditioning[modes] = 1.0
         elif where.any():

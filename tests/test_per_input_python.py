@@ -153,3 +153,19 @@ def test_length_factors_scale_as_the_division_by_the_unit_does(name):
             expected = np.where(mask, x / unit, x) if forward else np.where(mask, x * unit, x)
             assert np.array_equal(_bits(x * factor), _bits(expected))
     assert not down.flags.writeable and not up.flags.writeable
+
+
+def test_real_centres_are_the_phase_normalised_centres_real_parts():
+    # reconcile's real point of a certified centre: path_tracking.phase_normalised's, without
+    # its measure of the imaginary part, bit for bit (NaN rows, zero blocks, infinities too)
+    from parakin.solvers.path_tracking import phase_normalised
+
+    rng = np.random.default_rng(4)
+    z = rng.normal(size=(40, 7)) + 1j * rng.normal(size=(40, 7))
+    z[3], z[4, 3:], z[5, 3], z[6, 4] = np.nan, 0.0, np.inf, -0.0 - 1e-300j
+    for homogeneous in ((3, 4, 5, 6), (0,), ()):
+        with np.errstate(all="ignore"):
+            expected = phase_normalised(z, list(homogeneous))[0].real
+            got = modes_module._real_centres(z, homogeneous)
+        assert got.shape == (40, 7) and np.array_equal(_bits(got), _bits(expected)), homogeneous
+        assert (homogeneous == ()) == np.array_equal(_bits(got), _bits(z.real))  # the scaling acts

@@ -695,7 +695,7 @@ def _monomials(m: Mechanism, info: Forward):
 def _target_coefficients(m: Mechanism, info: Forward, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
     """``path_tracking.target_coefficients(_monomials(m, info), free, angles)``, the same numbers
     with fewer temporaries: the kernel's real input written in place (free values, then (cos,
-    sin, 1) per angle) and its imaginary input a shared zero array. Each entry is what the
+    sin, 1) per angle) and its imaginary input one shared row of zeros. Each entry is what the
     complex values' real part is there: x + 0.0 (a -0.0 becomes 0.0, as in x + 0j)."""
     rows, size, circles = free.shape[0], free.shape[1], angles.shape[1]
     real = np.empty((rows, size + 3 * circles))
@@ -705,14 +705,14 @@ def _target_coefficients(m: Mechanism, info: Forward, free: np.ndarray, angles: 
         np.sin(angles, out=real[:, size + 1 :: 3])
         np.add(real[:, size:], 0.0, out=real[:, size:])
         real[:, size + 2 :: 3] = 1.0
-        out = m.backend.call(f"{info.method}_monomials", real, _zeros(real.shape))
+        out = m.backend.call(f"{info.method}_monomials", real, _zeros(real.shape[1]))
         return out["re"] + 1j * out["im"]
 
 
 @functools.cache
-def _zeros(shape: tuple[int, ...]) -> np.ndarray:
-    """Zeros of a shape (read only: shared by every call)."""
-    zeros = np.zeros(shape)
+def _zeros(size: int) -> np.ndarray:
+    """Zeros (size,), read only: shared by every call (a kernel input shared by every row)."""
+    zeros = np.zeros(size)
     zeros.flags.writeable = False
     return zeros
 
@@ -927,7 +927,7 @@ def _same_pose(outcome: np.ndarray, poses: np.ndarray, mode: int, duplicate: int
 def _same_pose_one(line: np.ndarray, poses: np.ndarray, mode: int, duplicate: int) -> None:
     """``_same_pose`` for one input's outcomes (slots,) and poses (slots, 4, 4), in place: the
     pairs of its modes compared as ``_pose_pairs`` compares them, walked in slot order."""
-    slots = np.flatnonzero(line == mode)
+    slots = np.nonzero(line == mode)[0]
     if slots.size < 2:
         return
     # positions first, over every pair, coordinate by coordinate (3, k, k: a maximum over whole
@@ -984,8 +984,8 @@ def _real_centres(centres: np.ndarray, homogeneous: tuple[int, ...] | list[int])
     homogeneous group, so that its largest homogeneous entry is real and positive: the real
     point of ``path_tracking.phase_normalised``, without its measure of the imaginary part."""
     if homogeneous:
-        block = centres[..., list(homogeneous)]
-        largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
+        block = centres[:, list(homogeneous)]
+        largest = block[np.arange(block.shape[0]), np.abs(block).argmax(-1)][:, None]
         with np.errstate(all="ignore"):
             centres = centres * (np.abs(largest) / largest)
     return centres.real
