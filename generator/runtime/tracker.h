@@ -247,7 +247,7 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
 // endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
 // error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
-// is the final step's last correction).
+// is the final step's last correction; the certificate begins with Newton steps of its own).
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together

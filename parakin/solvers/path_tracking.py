@@ -66,8 +66,10 @@ ONE_STEP_GOAL = 0.7
 OMEGA_FADE = 0.7
 #: the refinement at s = 0 stops once the error its last update of size d leaves, estimated from
 #: quadratic convergence as d (d / previous)^2 (previous: the update before, the final step's last
-#: correction for the first), is below REFINE_ERROR: a further update would be rounding
-REFINE_ERROR = 1e-16
+#: correction for the first), is below REFINE_ERROR (relative to |z|): four orders below what the
+#: mode assembly separates (real_endpoint 1e-8, duplicate 1e-7), and the certificate begins with
+#: Newton steps of its own (krawczyk.h's KW_NEWTON_STEPS); most paths stop after one update
+REFINE_ERROR = 1e-12
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -334,8 +336,8 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     is large to what one correction finishes, sqrt(``ONE_STEP_GOAL`` ``ONE_STEP_ERROR`` / omega)
     (it grows as the step^4, on the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
     step and [STEP_SHRINK, 1/2] after a rejected one, retried from the same point. The endpoint is
-    refined at s = 0 (``refine``, stopped where quadratic convergence says a further update would
-    be below ``REFINE_ERROR``).
+    refined at s = 0 (``refine``, stopped where quadratic convergence puts the error left below
+    ``REFINE_ERROR``).
 
     Parameters
     ----------
