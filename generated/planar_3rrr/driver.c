@@ -621,7 +621,7 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
 #define OMEGA_DECAY 0.5
 #define ONE_STEP_GOAL 0.7
 #define OMEGA_FADE 0.7
-#define REFINE_ERROR 1e-16
+#define REFINE_ERROR 1e-12
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -1325,7 +1325,7 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
 // endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
 // error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
-// is the final step's last correction).
+// is the final step's last correction; the certificate begins with Newton steps of its own).
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together

@@ -712,7 +712,7 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 #define OMEGA_DECAY 0.5
 #define ONE_STEP_GOAL 0.7
 #define OMEGA_FADE 0.7
-#define REFINE_ERROR 1e-16
+#define REFINE_ERROR 1e-12
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -2339,7 +2339,7 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
 // endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
 // error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
-// is the final step's last correction).
+// is the final step's last correction; the certificate begins with Newton steps of its own).
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together
@@ -2697,8 +2697,9 @@ int stewart_forward_pose_all_counted(const stewart_modes_job* job, long long* co
 
 // parakin C runtime: Krawczyk's certificate of candidate roots of square polynomial systems in
 // complex interval arithmetic with outward rounding (parakin.solvers.certify.certify_roots is
-// its NumPy reference: the same test, radii, scaling and realness arguments; there the rounding
-// errors are bounded by an a-priori model, here every operation is enclosed as it is done).
+// its NumPy reference: the same test, radii, scaling and realness arguments, here each tried
+// after realness from the one test's own box (below); there the rounding errors are bounded by
+// an a-priori model, here every operation is enclosed as it is done).
 // Copied into every homotopy package's driver by the generator (generator/emit.py), which
 // exports it as NAME_certify_roots; compiled on its own by tests/test_c_runtime.py.
 //
