@@ -64,7 +64,7 @@ def test_paired_certificate_side_by_side_equals_the_slot_by_slot_assembly(monkey
     general = modes_module._certify_endpoints(homotopy, coefficients, roots, pairs, paired)
     for field in ("unique", "radius", "real", "distinct", "certified_distinct", "center", "radii", "labels"):
         a, b = getattr(fast, field), getattr(general, field)
-        assert a.dtype == b.dtype and a.shape == b.shape, field
+        assert a.dtype == b.dtype and a.shape == b.shape and a.strides == b.strides, field
         assert np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"), field
     assert (fast.certified_distinct == 32).all() and fast.unique.all()  # the case is the usual one
 

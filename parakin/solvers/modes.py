@@ -1395,11 +1395,11 @@ def _certify_endpoints(
         # is its first paths' values and their images side by side, put in path order (the
         # values the general assembly below writes, slot by slot)
         part = certified(coefficients, roots[:, first], clusters=False)
+        source = order % first.size  # each path's first path: itself or its partner
         unique, real, radius, radii = (
-            np.concatenate([value, value], axis=1)[:, order]
-            for value in (part.unique, part.real, part.radius, part.radii)
+            np.take(value, source, axis=1) for value in (part.unique, part.real, part.radius, part.radii)
         )
-        centre = np.concatenate([part.center, part.center * pairs.flip], axis=1)[:, order]
+        centre = np.take(np.concatenate([part.center, part.center * pairs.flip], axis=1), order, axis=1)
         labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
         count = (labels == np.arange(paths)).sum(-1)
         return Certificate(unique, radius, real, distinct, count, centre, radii, labels)
@@ -1770,7 +1770,11 @@ def assemble(m: Mechanism, theta: Array, out: dict[str, np.ndarray], info: Forwa
 
     def shaped(key: str) -> np.ndarray:
         value = out[key]
+        if one and value.ndim > 1:  # the input's row: the same view, indexed (a reshape costs 10x)
+            return value[0]
         return value.reshape(shape + value.shape[1:])
+
+    one = shape == ()  # one input, no batch axis
 
     # a mode that does not close is none (counted undecided: the input is then not complete)
     outcome, dropped, valid = _closed_modes(m, shaped("outcome"), shaped("residual"), codes)
