@@ -108,10 +108,9 @@ def test_c_tracker_is_the_numpy_reference() -> None:
     # on a few paths
     assert abs(counts.evaluations - reference.evaluations.sum()) <= 0.01 * counts.evaluations
     assert counts.evaluations == counts.factorisations
-    # the refinement stops where quadratic convergence puts the next update below REFINE_ERROR:
-    # the endpoints are at rounding all the same (cond(H_z) up to ~2e5 here), far inside what
-    # the mode assembly separates (real_endpoint 1e-8, duplicate 1e-7): LAPACK's Newton update
-    # at each C endpoint
+    # the refinement stops where quadratic convergence puts the error left below REFINE_ERROR
+    # (1e-12): LAPACK's Newton update at each C endpoint, far inside what the mode assembly
+    # separates (real_endpoint 1e-8, duplicate 1e-7)
     value, jacobian, _ = system(np.arange(40), ends, np.zeros(40))
     update = np.abs(np.linalg.solve(jacobian, value[..., None])[..., 0]).max(-1) / (1 + np.abs(ends).max(-1))
     assert update.max() < 1e-10
