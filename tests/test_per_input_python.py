@@ -84,13 +84,17 @@ def test_one_input_gets_the_modes_it_gets_in_a_batch(name):
     m = parakin.load(name, backend="compiled")
     theta = sample_configurations(m, 6, spread=0.05, seed=9).actuated
     batch = m.forward_pose_all(theta, strict=False)
-    fields = ("poses", "passive", "valid", "count", "outcome", "root_kind", "conditioning", "certified_roots")
+    fields = (
+        "poses", "passive", "residual", "root", "real", "valid", "count", "outcome", "root_kind", "conditioning",
+        "real_roots", "near_roots", "at_infinity", "status", "certified_roots", "path_certified", "retracked",
+        "undecided_roots",
+    )  # fmt: skip
     checked = 0
     for i in range(theta.shape[0]):
         one = m.forward_pose_all(theta[i], strict=False)
         for field in fields:
-            a, b = getattr(one, field), getattr(batch, field)[i]
-            assert np.array_equal(a, b, equal_nan=True), (i, field)
+            a, b = np.asarray(getattr(one, field)), np.asarray(getattr(batch, field)[i])
+            assert a.dtype == b.dtype and np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), (i, field)
         checked += int(one.count)
     assert checked >= theta.shape[0]
     assert batch.complete().all()

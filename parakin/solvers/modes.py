@@ -1151,6 +1151,13 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
             out["residual"][rows, columns] = residual
             out["conditioning"][rows, columns] = conditioning
     _same_pose(outcome, out["poses"], mode, codes["duplicate"])
+    if n == 1:  # one input: its counts as plain numbers (the same arrays, a few operations fewer)
+        defined = bool(np.isfinite(theta).all())
+        out["count"] = np.array([np.count_nonzero(outcome == mode)], dtype=np.int32)
+        out["real_roots"] = np.array([real_roots[0] if defined else out["real_roots"][0]], dtype=np.int32)
+        out["near_roots"] = np.array([undecided_count[0] if defined else out["near_roots"][0]], dtype=np.int32)
+        out["undecided"] = np.array([undecided_count[0]], dtype=np.int64)
+        return out
     finite = np.isfinite(theta).all(-1)
     out["count"] = (outcome == mode).sum(-1).astype(np.int32)
     out["real_roots"] = np.where(finite, real_roots, out["real_roots"]).astype(np.int32)
