@@ -826,8 +826,10 @@ def certify_inputs(
         labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii, labels)
-    short = counts < homotopy.root_count.count
     undecided = unique & (real == 0)
+    if counts.size == 1 and counts[0] >= homotopy.root_count.count and not undecided.any():
+        return PathCertificate(counts, unique, real, centre, radii, labels)  # one input, complete and decided
+    short = counts < homotopy.root_count.count
     again = np.nonzero(short | undecided.any(-1))[0]
     if not again.size:  # every input complete and decided (the usual case)
         return PathCertificate(counts, unique, real, centre, radii, labels)
@@ -1194,6 +1196,10 @@ def certified_modes(
     found = certify(m, info, theta, out["endpoints"], exact)
     count = homotopy.root_count.count
     retracked = np.zeros(theta.shape[0], dtype=bool)
+    if theta.shape[0] == 1 and found.certified[0] >= count:  # one input, complete (the usual case)
+        return reconcile(m, info, theta, out, found) | {
+            "certified": found.certified, "path_certified": found.unique, "retracked": retracked
+        }  # fmt: skip
     finite = np.isfinite(theta).all(-1)
     incomplete = np.nonzero((found.certified < count) & finite)[0]
     add_conjugates(m, info, theta, out, found, incomplete)
