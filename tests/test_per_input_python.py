@@ -173,3 +173,36 @@ def test_real_centres_are_the_phase_normalised_centres_real_parts():
             got = modes_module._real_centres(z, homogeneous)
         assert got.shape == (40, 7) and np.array_equal(_bits(got), _bits(expected)), homogeneous
         assert (homogeneous == ()) == np.array_equal(_bits(got), _bits(z.real))  # the scaling acts
+
+
+@pytest.mark.parametrize("inputs", [1, 3])
+def test_a_partners_repeat_is_a_repeat_of_an_earlier_mode(inputs):
+    # reconcile asks the partner slot first (q and -q: prs3's 16 repeats) and every earlier mode
+    # only for the rest: the partner's answer must be one the full search gives, and the two
+    # together the full search's, on random poses near (1e-12), at (1e-9) and beyond the
+    # threshold, NaN poses and non-modes included
+    rng = np.random.default_rng(inputs)
+    slots = 32
+    partner = np.arange(slots) ^ 1  # 0 <-> 1, 2 <-> 3, ...
+    agreed = partners = 0
+    for _ in range(60):
+        poses = np.tile(np.eye(4), (inputs, slots, 1, 1))
+        poses[..., :3, :] = rng.normal(size=(inputs, slots, 3, 4))
+        valid = rng.random((inputs, slots)) < 0.7
+        rows = rng.integers(0, inputs, 12)
+        columns = rng.integers(0, slots, 12)
+        pose = poses[rows, partner[columns]].copy()  # the partner's pose, moved a little or more
+        pose[..., :3, :] += rng.choice([0.0, 1e-12, 1e-9, 1e-3], size=(12, 1, 1)) * rng.normal(size=(12, 3, 4))
+        pose[rng.random(12) < 0.1, 0, 3] = np.nan
+        poses[0, rng.integers(0, slots), 1, 1] = np.nan
+        full = modes_module._repeats_earlier_mode(valid, poses, rows, columns, pose)
+        first = modes_module._repeats_partner(valid, poses, rows, columns, pose, partner)
+        assert not (first & ~full).any()  # a partner's repeat is a repeat
+        both = first.copy()
+        rest = ~first
+        if rest.any():
+            both[rest] = modes_module._repeats_earlier_mode(valid, poses, rows[rest], columns[rest], pose[rest])
+        assert np.array_equal(both, full)
+        agreed += int(full.sum())
+        partners += int(first.sum())
+    assert partners >= 100 and agreed >= partners

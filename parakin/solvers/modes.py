@@ -993,6 +993,31 @@ def _real_centres(centres: np.ndarray, homogeneous: tuple[int, ...] | list[int])
     return centres.real
 
 
+def _repeats_partner(
+    valid: np.ndarray, poses: np.ndarray, rows: np.ndarray, columns: np.ndarray, pose: np.ndarray, partner: np.ndarray
+) -> np.ndarray:
+    """Per candidate (k,) of input ``rows`` (k,) in slot ``columns`` (k,) with pose ``pose`` (k, 4,
+    4): whether its partner slot (``partner`` (slots,), a sign symmetry's pairs of paths) is an
+    earlier mode (``valid`` (n, slots)) of its input with that pose, compared as
+    ``_repeats_earlier_mode`` compares a candidate with each earlier mode (the same numbers): a
+    True here is a True there; a False says nothing."""
+    hint = partner[columns]
+    found = (hint < columns) & valid[rows, hint]
+    if not found.any():
+        return found
+    if valid.shape[0] == 1:  # one input: its size once, its poses without the row index
+        sizes = np.where(valid[0, :, None], np.abs(poses[0, :, :3, 3]), 0.0).max()
+        apart = np.abs(poses[0][hint] - pose)  # (k, 4, 4): each entry's difference, as below
+    else:
+        sizes = np.where(valid[rows][..., None], np.abs(poses[rows, :, :3, 3]), 0.0).max((-2, -1))
+        apart = np.abs(poses[rows, hint] - pose)
+    largest = np.maximum(sizes, np.abs(pose[:, :3, 3]).max(-1))
+    moved = apart[:, :3, 3].T  # (3, k): a maximum of three, NaN-propagating
+    close = np.maximum(np.maximum(moved[0], moved[1]), moved[2]) <= SAME_POSE * largest
+    turned = apart[:, :3, :3].reshape(rows.size, 9).max(-1)
+    return found & close & (turned <= SAME_POSE)
+
+
 def _repeats_earlier_mode(
     valid: np.ndarray, poses: np.ndarray, rows: np.ndarray, columns: np.ndarray, pose: np.ndarray
 ) -> np.ndarray:
@@ -1137,9 +1162,18 @@ def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarr
         # a pose repeat of the first pass whose certified centre gives an earlier mode's pose
         # again (a formulation's second name for it: prs3's 16 of 32 roots) is that repeat:
         # polishing it again would only mark it a duplicate again
-        repeat = (outcome[rows, columns] == codes["duplicate"]) & _repeats_earlier_mode(
-            outcome == mode, out["poses"], rows, columns, pose
-        )
+        duplicate = outcome[rows, columns] == codes["duplicate"]
+        valid = outcome == mode
+        pairs = _fixed("pairs", homotopy, lambda: path_pairs(homotopy.exponents, homotopy.equation, homotopy.start))
+        if pairs is not None and pairs.partner.size == valid.shape[-1] and duplicate.any():
+            # the earlier mode a repeat repeats is, as a rule, its path's partner's (q and -q):
+            # that one pair first, every earlier mode only for the candidates it does not settle
+            repeat = duplicate & _repeats_partner(valid, out["poses"], rows, columns, pose, pairs.partner)
+            rest = duplicate & ~repeat
+            if rest.any():
+                repeat[rest] = _repeats_earlier_mode(valid, out["poses"], rows[rest], columns[rest], pose[rest])
+        else:
+            repeat = duplicate & _repeats_earlier_mode(valid, out["poses"], rows, columns, pose)
         if not repeat.all():
             rows, columns, q, pose = rows[~repeat], columns[~repeat], q[~repeat], pose[~repeat]
             # the arrays changed below are copies (the caller's stay as they were)
