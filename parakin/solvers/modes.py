@@ -1102,13 +1102,13 @@ def _decided_one(
     overlap (each is its own group), slot by slot in plain Python (a few dozen slots: cheaper
     than a score of array operations on them); None where boxes overlap (``_decided`` then)."""
     unique, real, labels = cert.unique[0].tolist(), cert.real[0].tolist(), cert.labels[0].tolist()
-    if any(label != (p if alone else -1) for p, (label, alone) in enumerate(zip(labels, unique, strict=True))):
+    if labels != [p if alone else -1 for p, alone in enumerate(unique)]:
         return None
-    codes, kinds = _codes(m), m.manifest.abi.root_kinds
-    mode, uncertified, complex_code = codes["mode"], codes["uncertified"], codes["complex"]
-    kept = (mode, codes["outside_limits"], codes["false_closure"], codes["input_independent"])
-    simple, complex_kind, near_real = kinds.index("simple"), kinds.index("complex"), kinds.index("near_real")
-    line, kind_line = outcome[0].tolist(), kind[0].tolist()
+    mode, uncertified, complex_code, kept, simple, complex_kind, near_real = _fixed(
+        "decision codes", m.manifest, lambda: _decision_codes(m)
+    )
+    before, kinds_before = outcome[0].tolist(), kind[0].tolist()
+    line, kind_line = before.copy(), kinds_before.copy()
     redo, real_roots, undecided = [], 0, 0
     for p, alone in enumerate(unique):
         if not alone:  # no box holds this slot's root alone: no mode
@@ -1124,9 +1124,22 @@ def _decided_one(
         else:  # realness undecided
             undecided += 1
             line[p], kind_line[p] = uncertified, near_real
-    outcome[0], kind[0] = line, kind_line
+    if line != before:  # (as a rule the first pass's outcomes and kinds stand)
+        outcome[0] = line
+    if kind_line != kinds_before:
+        kind[0] = kind_line
     columns = np.array(redo, dtype=np.intp)
     return np.zeros(columns.size, dtype=np.intp), columns, np.array([real_roots]), np.array([undecided])
+
+
+def _decision_codes(m: Mechanism) -> tuple[int, int, int, tuple[int, ...], int, int, int]:
+    """The outcome and root-kind codes ``_decided_one`` writes and reads (fixed per package)."""
+    codes, kinds = _codes(m), m.manifest.abi.root_kinds
+    kept = (codes["mode"], codes["outside_limits"], codes["false_closure"], codes["input_independent"])
+    return (
+        codes["mode"], codes["uncertified"], codes["complex"], kept,
+        kinds.index("simple"), kinds.index("complex"), kinds.index("near_real"),
+    )  # fmt: skip
 
 
 def reconcile(m: Mechanism, info: Forward, theta: Array, out: dict[str, np.ndarray], cert: PathCertificate) -> dict:
