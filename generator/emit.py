@@ -47,6 +47,7 @@ TRACKER_CONSTANTS = (
     "OMEGA_DECAY",
     "ONE_STEP_GOAL",
     "OMEGA_FADE",
+    "END_REACH",
     "REFINE_ERROR",
 )
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"

@@ -28,6 +28,7 @@
 #define OMEGA_DECAY 0.5
 #define ONE_STEP_GOAL 0.7
 #define OMEGA_FADE 0.7
+#define END_REACH 0.5
 #define REFINE_ERROR 1e-12
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 

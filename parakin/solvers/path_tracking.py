@@ -54,9 +54,10 @@ RATIONAL_GUARD = 0.3
 ONE_STEP_BASIN = 0.25
 ONE_STEP_ERROR = 1e-5
 OMEGA_DECAY = 0.5
-#: track_hermite's (and the C driver's) step control aims the predictor's error at the smaller of
-#: PREDICTOR_TARGET and sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega), the first correction that the
-#: one-correction rule accepts (omega d^2 < ONE_STEP_ERROR with a margin): where the path's Newton
+#: track_hermite's (and the C driver's) step control aims the predictor's error of the final
+#: steps (END_REACH) at the smaller of PREDICTOR_TARGET and sqrt(ONE_STEP_GOAL ONE_STEP_ERROR /
+#: omega), the first correction that the one-correction rule accepts (omega d^2 <
+#: ONE_STEP_ERROR with a margin): where the path's Newton
 #: constant is large (the target system of Dietmaier's 40 modes near s = 0) a step one correction
 #: finishes costs one LU where a longer one costs two or three and is often rejected. The omega the
 #: goal uses fades by OMEGA_FADE per accepted step that measured none (one-correction steps measure
@@ -64,6 +65,12 @@ OMEGA_DECAY = 0.5
 #: the one-correction rule itself uses the omega last measured, unfaded
 ONE_STEP_GOAL = 0.7
 OMEGA_FADE = 0.7
+#: the goal applies only where the next step, sized for PREDICTOR_TARGET, would cover at least
+#: END_REACH of the rest of the path (its final steps, where Dietmaier's paths were rejected):
+#: along the whole path it made rus6's paths to far and singular endpoints (omega growing
+#: without bound) take hundreds of short steps (the first correction there stops shrinking with
+#: the step)
+END_REACH = 0.5
 #: the refinement at s = 0 stops once the error its last update of size d leaves, estimated from
 #: quadratic convergence as d (d / previous)^2 (previous: the update before, the final step's last
 #: correction for the first), is below REFINE_ERROR (relative to |z|): four orders below what the
@@ -332,8 +339,9 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     correction of size d also suffices where the path's running Newton constant omega gives
     omega d <= ``ONE_STEP_BASIN`` and omega d^2 < ``ONE_STEP_ERROR`` (module constants). The last Newton step's LU also gives the slope at the new point, so an accepted step
     costs its corrector's evaluations and LUs only. The first correction measures the predictor's
-    error: the next step is sized to bring it to ``PREDICTOR_TARGET``, or where the path's omega
-    is large to what one correction finishes, sqrt(``ONE_STEP_GOAL`` ``ONE_STEP_ERROR`` / omega)
+    error: the next step is sized to bring it to ``PREDICTOR_TARGET``, or on the final steps
+    (``END_REACH``) where the path's omega is large to what one correction finishes,
+    sqrt(``ONE_STEP_GOAL`` ``ONE_STEP_ERROR`` / omega)
     (it grows as the step^4, on the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
     step and [STEP_SHRINK, 1/2] after a rejected one, retried from the same point. The endpoint is
     refined at s = 0 (``refine``, stopped where quadratic convergence puts the error left below
@@ -438,11 +446,22 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
                 np.minimum(PREDICTOR_TARGET, np.sqrt(ONE_STEP_GOAL * ONE_STEP_ERROR / ahead)),
                 PREDICTOR_TARGET,
             )
-            factor = np.where(
-                ~np.isfinite(first),
-                0.0,
-                np.where(first > 0, STEP_SAFETY * (goal / np.where(first > 0, first, 1.0)) ** power, STEP_GROW),
+            factor, plain = (
+                np.where(
+                    ~np.isfinite(first),
+                    0.0,
+                    np.where(first > 0, STEP_SAFETY * (aim / np.where(first > 0, first, 1.0)) ** power, STEP_GROW),
+                )
+                for aim in (goal, PREDICTOR_TARGET)
             )
+            # the goal only where the next step (by PREDICTOR_TARGET) would cover END_REACH of what
+            # is left of the path: the final steps
+            reach = np.where(
+                accepted,
+                step * np.minimum(STEP_GROW, np.maximum(0.5, plain)),
+                step * np.minimum(0.5, np.maximum(STEP_SHRINK, plain)),
+            )
+            factor = np.where(reach >= END_REACH * np.where(accepted, target, s[active]), factor, plain)
             steps[active] += 1
             good, bad = active[accepted], active[~accepted]
             rejected[bad] += 1
