@@ -712,6 +712,7 @@ static void settle(workspace* ws, const stewart_modes_job* job, long long i, int
 #define OMEGA_DECAY 0.5
 #define ONE_STEP_GOAL 0.7
 #define OMEGA_FADE 0.7
+#define END_REACH 0.5
 #define REFINE_ERROR 1e-12
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
@@ -2099,7 +2100,7 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
 //   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD, ONE_STEP_BASIN, ONE_STEP_ERROR,
-//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, REFINE_ERROR
+//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, END_REACH, REFINE_ERROR
 //                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
@@ -2333,10 +2334,11 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // and LUs of its corrector only. The first correction is the predictor's error: the next step is
 // sized to bring it to a goal (it grows as the step^4; Euler's, on the first step, as the step^2),
 // within [STEP_SHRINK, STEP_GROW] times this one; a rejected step is retried shorter from the same
-// point. The goal is PREDICTOR_TARGET, or where the path's omega is large the first correction
-// that the one-correction rule accepts, sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega) (one LU per
-// step instead of two or three, and fewer rejections: issue 33, Dietmaier's paths near s = 0);
-// the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
+// point. The goal is PREDICTOR_TARGET, or on the final steps (where the next step by that goal
+// would cover END_REACH of the rest of the path) and where the path's omega is large the first
+// correction that the one-correction rule accepts, sqrt(ONE_STEP_GOAL ONE_STEP_ERROR / omega)
+// (one LU per step instead of two or three, and fewer rejections: issue 33, Dietmaier's paths
+// near s = 0); the omega of the goal fades by OMEGA_FADE per accepted step that measured none. At s = 0 the
 // endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
 // error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
 // is the final step's last correction; the certificate begins with Newton steps of its own).
@@ -2468,9 +2470,13 @@ static int lane_resume(path_lane* lane, double size) {
                          : omega * (lane->fade * OMEGA_FADE);
     double goal = isfinite(ahead) ? smaller(PREDICTOR_TARGET, sqrt(ONE_STEP_GOAL * ONE_STEP_ERROR / ahead))
                                   : PREDICTOR_TARGET;
-    double factor = !isfinite(first) ? 0.0
-                    : first > 0.0   ? STEP_SAFETY * pow(goal / first, lane->history ? 0.25 : 0.5)
-                                    : STEP_GROW;
+    double power = lane->history ? 0.25 : 0.5;
+    double factor = !isfinite(first) ? 0.0 : first > 0.0 ? STEP_SAFETY * pow(goal / first, power) : STEP_GROW;
+    double plain = !isfinite(first) ? 0.0 : first > 0.0 ? STEP_SAFETY * pow(PREDICTOR_TARGET / first, power) : STEP_GROW;
+    // the goal only where the next step (by PREDICTOR_TARGET) would cover END_REACH of what is
+    // left of the path: the final steps
+    double reach = accepted ? step * smaller(STEP_GROW, larger(0.5, plain)) : step * smaller(0.5, larger(STEP_SHRINK, plain));
+    if (!(reach >= END_REACH * (accepted ? lane->target : lane->s))) factor = plain;
     if (accepted) {
         memcpy(lane->z_previous, lane->z, sizeof(lane->slope));
         memcpy(lane->slope_previous, lane->slope, sizeof(lane->slope));
