@@ -126,7 +126,7 @@ def test_c_krawczyk_unit_tests_pass(krawczyk_output: list[str]) -> None:
 
 
 def test_c_krawczyk_constants_are_the_numpy_references() -> None:
-    """krawczyk.h's NEAR, MULTIPLIERS, NEWTON_STEPS and FLOOR are certify.py's."""
+    """krawczyk.h's NEAR, MULTIPLIERS, NEWTON_STEPS, SETTLED and FLOOR are certify.py's."""
     from parakin.solvers import certify
 
     text = (RUNTIME / "krawczyk.h").read_text()
@@ -134,6 +134,7 @@ def test_c_krawczyk_constants_are_the_numpy_references() -> None:
     assert "kw_multipliers[KW_RADII] = {" + ", ".join(map(repr, certify.MULTIPLIERS.tolist())) + "}" in text
     assert f"#define KW_RADII {certify.MULTIPLIERS.size}" in text
     assert f"#define KW_NEWTON_STEPS {certify.NEWTON_STEPS}" in text
+    assert f"#define KW_SETTLED {certify.SETTLED!r}" in text
     assert certify.FLOOR == 2.0**-600 and "#define KW_FLOOR 0x1p-600" in text
 
 

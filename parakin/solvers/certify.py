@@ -54,6 +54,10 @@ NEAR = 1e-6
 MULTIPLIERS = np.array([2.0, 8.0, 64.0, 1024.0, 65536.0])
 #: Newton steps that sharpen each candidate before the test
 NEWTON_STEPS = 2
+#: the steps stop after one of at most this times the centre's max-norm: Newton converges
+#: quadratically, so the centre is then at rounding unless J is ill conditioned (the tracker's
+#: endpoints take one such step); any value is sound: Newton only sharpens the centre, the test decides
+SETTLED = 1e-10
 #: absolute radius floor (an exact root has a zero Newton step)
 FLOOR = 2.0**-600
 #: a coordinate of a candidate at most this times the candidate's largest is a zero to rounding
@@ -409,9 +413,13 @@ def _certify(
     given = np.asarray(np.isfinite(z).all(-1))
     valid = given.copy()
     x = np.where(given[..., None], z, 1.0)
+    settled = np.zeros(x.shape[:-1], bool)
     for _ in range(NEWTON_STEPS):  # sharpen; a step that leaves the finite numbers is dropped
-        new = x - system.bounds(x)[3]
-        x = np.where(np.isfinite(new).all(-1)[..., None], new, x)
+        step = system.bounds(x)[3]
+        new = x - step
+        take = np.isfinite(new).all(-1) & ~settled
+        x = np.where(take[..., None], new, x)
+        settled |= take & (abs(step).max(-1) <= SETTLED * abs(x).max(-1))
     bounds = system.bounds(x)
     # ``unit``: the least size a candidate is measured against (scaled coordinates: their
     # typical size, 1/2 after rounding; a root at the origin moves relative to that)
