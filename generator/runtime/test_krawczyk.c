@@ -307,7 +307,24 @@ static void test_refusals(void) {
     check(kw_certify(&job) == 0 && unique[0] && real[0] == 1, "the repaired job fails");
 }
 
+// kw_clusters: boxes on a line (one unknown): 0 and 3 overlap, 3 and 1 overlap (a chain: one
+// cluster labelled 0), 2 is apart, 4 is not unique; the gap exactly equal to the radii's sum is
+// not apart (the margins: (1 - 8u) gap < (1 + 8u) sum); a second system whose boxes are apart
+static void test_clusters(void) {
+    double x[] = {0.0, 0.0, 4.0, 0.0, 10.0, 0.0, 2.0, 0.0, 4.0, 0.0,   // system 0 (re, im)
+                  0.0, 0.0, 0.0, 3.0, 9.0, 0.0, -9.0, 0.0, 0.0, -3.0};  // system 1
+    double r[] = {1.0, 1.0, 1.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+    unsigned char unique[] = {1, 1, 1, 1, 0, 1, 1, 1, 1, 1}, distinct[2];
+    long long labels[10];
+    kw_clusters(2, 5, 1, x, r, unique, labels, distinct);
+    check(labels[0] == 0 && labels[1] == 0 && labels[2] == 2 && labels[3] == 0 && labels[4] == -1,
+          "the chain 0-3-1 is not one cluster labelled 0");
+    check(!distinct[0] && distinct[1], "distinct flags wrong");
+    for (int p = 0; p < 5; ++p) check(labels[5 + p] == p, "apart boxes share a label");
+}
+
 int main(void) {
+    test_clusters();
     test_rounding();
     test_univariate();
     test_realness_in_one_test();

@@ -518,6 +518,12 @@ class CompiledBackend:
             self.certify.argtypes = [_POINTER]
             self.certify_workspace.restype = ctypes.c_longlong
             self.certify_workspace.argtypes = [_INT64, _INT64, _INT64, _INT64]
+        # the clusters of overlapping certified boxes (certify.cluster_labels) in C; a library of an
+        # older generator lacks it (the NumPy function serves then)
+        self.certify_clusters: Any = getattr(self.library, f"{self.manifest.name}_certify_clusters", None)
+        if self.certify_clusters is not None:
+            self.certify_clusters.restype = None
+            self.certify_clusters.argtypes = [_INT64, _INT64, _INT64, *[_POINTER] * 5]
         # forward_pose_all that also sums what path tracking cost (``counting``); a library of an
         # older generator lacks it
         self._counted: Any = None

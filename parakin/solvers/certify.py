@@ -489,10 +489,21 @@ def _contains_where(
     return out
 
 
-def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def cluster_labels(
+    x: np.ndarray, r: np.ndarray, unique: np.ndarray, library: Any = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Clusters of overlapping certified boxes (centres x (..., P, n), radii r (..., P, n) per
     coordinate): per root its cluster's first member (-1 where not ``unique``), and per input
-    whether no two boxes overlap."""
+    whether no two boxes overlap. Two boxes are apart where in some coordinate the distance of
+    their centres (``np.hypot`` of its parts: the C library's ``hypot``, bit for bit) times
+    1 - 8 UNIT exceeds the sum of their radii times 1 + 8 UNIT.
+
+    Where ``library`` (a compiled backend) has ``certify_clusters`` (every homotopy package's
+    ``NAME_certify_clusters``, krawczyk.h's ``kw_clusters``), the same labels and flags are
+    computed there, bit for bit (``tests/test_clusters_in_c.py``)."""
+    clusters = getattr(library, "certify_clusters", None)
+    if clusters is not None and x.ndim >= 2 and r.shape == x.shape and unique.shape == x.shape[:-1]:
+        return _clusters_in_c(clusters, x, r, unique)
     count = unique.shape[-1]
     both = unique[..., :, None] & unique[..., None, :]
     pending = both & _off_diagonal(count)  # pairs of distinct certified boxes
@@ -505,7 +516,8 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
     if x.shape[-1] > 1 and touching.any():
         index = np.nonzero(touching)
         first, second = index[:-1], index[:-2] + index[-1:]
-        gap = abs(x[first][:, 1:] - x[second][:, 1:]) * (1 - 8 * UNIT)
+        d = x[first][:, 1:] - x[second][:, 1:]
+        gap = np.hypot(d.real, d.imag) * (1 - 8 * UNIT)
         separated = (gap > (r[first][:, 1:] + r[second][:, 1:]) * (1 + 8 * UNIT)).any(-1)
         apart[index] = separated
         touching[index] = ~separated
@@ -524,8 +536,25 @@ def cluster_labels(x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np
 def _apart(xk: np.ndarray, rk: np.ndarray) -> np.ndarray:
     """Per pair of boxes (..., P, P): apart in the coordinate of centres xk (..., P) and radii rk
     (..., P), with rounding margins."""
-    gap = abs(xk[..., :, None] - xk[..., None, :]) * (1 - 8 * UNIT)
+    d = xk[..., :, None] - xk[..., None, :]
+    gap = np.hypot(d.real, d.imag) * (1 - 8 * UNIT)
     return np.asarray(gap > (rk[..., :, None] + rk[..., None, :]) * (1 + 8 * UNIT))
+
+
+def _clusters_in_c(clusters: Any, x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``cluster_labels`` by a library's ``certify_clusters`` (shapes checked by the caller)."""
+    shape = unique.shape
+    count, n = x.shape[-2], x.shape[-1]
+    systems = int(np.prod(shape[:-1], dtype=np.int64))
+    xc = np.ascontiguousarray(x, np.complex128)
+    rc = np.ascontiguousarray(r, np.float64)
+    uc = np.ascontiguousarray(unique, np.bool_)
+    labels = np.empty(shape, np.int64)
+    distinct = np.empty(shape[:-1], np.bool_)
+    clusters(
+        systems, count, n, xc.ctypes.data, rc.ctypes.data, uc.ctypes.data, labels.ctypes.data, distinct.ctypes.data
+    )
+    return labels, distinct[()]
 
 
 @functools.cache
@@ -642,7 +671,8 @@ def certify_roots_compiled(
 ) -> Certificate:
     """``parakin.solvers.certify.certify_roots`` in the package's C (``NAME_certify_roots``):
     Krawczyk's test in complex interval arithmetic with outward rounding, the same scaling, radii
-    and realness arguments; the clusters of overlapping boxes are counted here, in NumPy.
+    and realness arguments; the clusters of overlapping boxes are counted in the library's C too
+    (``cluster_labels`` with the library), where it has them.
 
     Every box the reference certifies is certified here too, and more: ||Y F(x)|| is bounded by
     the computed Y F~ (not |Y| |F~|), and a candidate double precision leaves undecided is tried
@@ -710,7 +740,7 @@ def certify_roots_compiled(
     systems, paths, n = z.shape
     if not clusters and batch == (systems,):  # the caller counts the clusters itself
         return Certificate(known, radius, real, None, None, centre, radii, None)  # type: ignore[arg-type]
-    labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known)
+    labels, distinct = cluster_labels(centre, np.where(known[..., None], radii, 0.0), known, library)
     if batch == (systems,):  # the solvers' flat batch: every array has its shape already
         count = _cluster_count(labels)
         return Certificate(known, radius, real, distinct, count, centre, radii, labels)

@@ -823,7 +823,7 @@ def certify_inputs(
     counts, unique, real = result.certified_distinct.copy(), result.unique, result.real
     centre, radii, labels = result.center, result.radii, result.labels
     if labels is None:  # a certificate without its clusters' labels
-        labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)[0]
+        labels = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique, m.backend)[0]
     if not exact or homotopy.root_count is None:
         return PathCertificate(counts, unique, real, centre, radii, labels)
     undecided = unique & (real == 0)
@@ -868,7 +868,7 @@ def certify_inputs(
                 # path's box in its place, with its decided realness (the clusters are counted
                 # again below: a lower bound on the distinct roots whichever box each path has)
                 centre[i, p], radii[i, p], real[i, p] = exact_box.center, exact_box.radius, exact_box.real
-        labels[i] = cluster_labels(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i])[0]
+        labels[i] = cluster_labels(centre[i], np.where(unique[i][:, None], radii[i], 0.0), unique[i], m.backend)[0]
         counts[i] = int((labels[i] == np.arange(labels.shape[-1])).sum())
     return PathCertificate(counts, unique, real, centre, radii, labels)
 
@@ -1460,7 +1460,7 @@ def _certify_endpoints(
             np.take(value, source, axis=1) for value in (part.unique, part.real, part.radius, part.radii)
         )
         centre = np.take(np.concatenate([part.center, part.center * pairs.flip], axis=1), order, axis=1)
-        labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
+        labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique, backend)
         count = (labels == np.arange(paths)).sum(-1)
         return Certificate(unique, radius, real, distinct, count, centre, radii, labels)
     unique, real = np.zeros((n, paths), bool), np.zeros((n, paths), np.int8)
@@ -1481,7 +1481,7 @@ def _certify_endpoints(
     mirror, source = cells(paired, second), cells(paired, first)
     unique[mirror], real[mirror], radius[mirror] = unique[source], real[source], radius[source]
     centre[mirror], radii[mirror] = centre[source] * pairs.flip, radii[source]
-    labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique)
+    labels, distinct = cluster_labels(centre, np.where(unique[..., None], radii, 0.0), unique, backend)
     count = (labels == np.arange(paths)).sum(-1)
     return Certificate(unique, radius, real, distinct, count, centre, radii, labels)
 
