@@ -2256,6 +2256,50 @@ static int kw_certify(const kw_job* job) {
     return 0;
 }
 
+
+// certify.py's cluster_labels, bit for bit: the clusters of overlapping certified boxes of each
+// of systems x count candidates (centre: x 2 doubles per complex coordinate, radii: per
+// coordinate, unique: 1 byte each, 0 or 1). Two certified boxes are apart where in some
+// coordinate k |x_pk - x_qk| (1 - 8 u) > (r_pk + r_qk) (1 + 8 u) (hypot, as NumPy's np.hypot);
+// labels (int64, systems x count): each certified candidate's cluster by its least index (the
+// transitive closure of "not apart"), -1 where not unique; distinct (1 byte per system): no two
+// certified boxes touch. A union-find over the least indices (each link points to a smaller index).
+static void kw_clusters(long long systems, long long count, long long n, const double* centre, const double* radii,
+                        const unsigned char* unique, long long* labels, unsigned char* distinct) {
+    const double below = 1 - 8 * KW_UNIT, above = 1 + 8 * KW_UNIT;
+    for (long long s = 0; s < systems; ++s) {
+        const double* x = centre + 2 * s * count * n;
+        const double* r = radii + s * count * n;
+        const unsigned char* u = unique + s * count;
+        long long* label = labels + s * count;
+        int touching = 0;
+        for (long long p = 0; p < count; ++p) label[p] = u[p] ? p : -1;
+        for (long long p = 0; p < count; ++p) {
+            if (!u[p]) continue;
+            for (long long q = p + 1; q < count; ++q) {
+                if (!u[q]) continue;
+                int apart = 0;
+                for (long long k = 0; k < n && !apart; ++k) {
+                    const double* a = x + 2 * (p * n + k);
+                    const double* b = x + 2 * (q * n + k);
+                    double gap = hypot(a[0] - b[0], a[1] - b[1]) * below;
+                    apart = gap > (r[p * n + k] + r[q * n + k]) * above;
+                }
+                if (apart) continue;
+                touching = 1;
+                long long i = p, j = q;  // the two roots: least indices of their clusters so far
+                while (label[i] != i) i = label[i];
+                while (label[j] != j) j = label[j];
+                if (i < j) label[j] = i;
+                else if (j < i) label[i] = j;
+            }
+        }
+        for (long long p = 0; p < count && touching; ++p)  // each link's target is final before it
+            if (label[p] >= 0) label[p] = label[label[p]];
+        distinct[s] = !touching;
+    }
+}
+
 #endif
 
 // Krawczyk's certificate of candidate roots of any sparse polynomial system (krawczyk.h above):
@@ -2272,4 +2316,16 @@ int sps_certify_roots(const sps_certify_job* job) {
         job->workspace_bytes,
     };
     return kw_certify(&kw);
+}
+
+// The clusters of overlapping certified boxes (krawczyk.h's kw_clusters: certify.py's
+// cluster_labels bit for bit) of systems x candidates boxes: centre (x 2 doubles), radii per
+// unknown, unique (1 byte each) in; labels (int64) and distinct (1 byte per system) out
+void sps_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
+                               const double* radii, const unsigned char* unique, long long* labels,
+                               unsigned char* distinct);
+void sps_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
+                               const double* radii, const unsigned char* unique, long long* labels,
+                               unsigned char* distinct) {
+    kw_clusters(systems, candidates, unknowns, center, radii, unique, labels, distinct);
 }
