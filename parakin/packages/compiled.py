@@ -524,6 +524,12 @@ class CompiledBackend:
         if self.certify_clusters is not None:
             self.certify_clusters.restype = None
             self.certify_clusters.argtypes = [_INT64, _INT64, _INT64, *[_POINTER] * 5]
+        # the certificate's target system at the inputs in one call (modes._certificate_system); a
+        # library of an older generator, or of a closed-form package, lacks it
+        self.target_coefficients: Any = getattr(self.library, f"{self.manifest.name}_target_coefficients", None)
+        if self.target_coefficients is not None:
+            self.target_coefficients.restype = None
+            self.target_coefficients.argtypes = [_INT64, _POINTER, _INT64, _POINTER, _POINTER]
         # forward_pose_all that also sums what path tracking cost (``counting``); a library of an
         # older generator lacks it
         self._counted: Any = None

@@ -709,6 +709,22 @@ def _target_coefficients(m: Mechanism, info: Forward, free: np.ndarray, angles: 
         return out["re"] + 1j * out["im"]
 
 
+def _certificate_system(m: Mechanism, info: Forward, theta: Array) -> np.ndarray:
+    """The target system's term coefficients at the inputs (n, T) complex: ``_target_coefficients``
+    at ``_family``'s values, or the same numbers in one foreign call where the compiled package
+    has them for this method (``NAME_target_coefficients``: the same kernels, its (re, im) joined
+    here as ``_target_coefficients`` joins them)."""
+    targets = getattr(m.backend, "target_coefficients", None)
+    homotopy = info.homotopy
+    if targets is None or homotopy is None or info is not m.capabilities.forward:
+        return _target_coefficients(m, info, *_family(m, info, theta))
+    theta = np.ascontiguousarray(theta, dtype=float)
+    params = np.ascontiguousarray(m.params, dtype=float)
+    out = np.empty((theta.shape[0], homotopy.exponents.shape[0], 2))
+    targets(theta.shape[0], theta.ctypes.data, theta.shape[-1], params.ctypes.data, out.ctypes.data)
+    return out[..., 0] + 1j * out[..., 1]
+
+
 @functools.cache
 def _zeros(size: int) -> np.ndarray:
     """Zeros (size,), read only: shared by every call (a kernel input shared by every row)."""
@@ -814,7 +830,7 @@ def certify_inputs(
     decide, are tested again in exact dyadic arithmetic (``parakin.solvers.exact_certify``)."""
     homotopy = info.homotopy
     assert homotopy is not None
-    coefficients = _target_coefficients(m, info, *_family(m, info, theta))
+    coefficients = _certificate_system(m, info, theta)
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
     pairs = _fixed("pairs", homotopy, lambda: path_pairs(homotopy.exponents, homotopy.equation, homotopy.start))
     paired = _paired_ends(pairs, roots)
