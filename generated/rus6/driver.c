@@ -3620,6 +3620,40 @@ static double phase_normalise(cplx* z, double typical) {
 // count, as numpy.median): krawczyk.h's, included below
 static double kw_median(double* v, long long count);
 
+// The target system's term coefficients at the inputs, (re, im) per term into out: the generated
+// monomials kernel at the family's values there (free values, then (cos, sin, 1) per angle, each
+// value + 0.0, imaginary parts 0), as parakin.solvers.modes._target_coefficients computes them
+// for the certificate (the same kernels; libm's cos and sin, which NumPy's equal on x86-64 Linux)
+static void target_coefficients(workspace* ws, const double* theta, const double* params, double* out) {
+    double free_target[NFREE > 0 ? NFREE : 1], angles[NCIRCLES > 0 ? NCIRCLES : 1];
+    ws->arg[0] = theta; ws->arg[1] = params;
+    ws->res[0] = free_target; ws->res[1] = angles;
+    rus6_automatic_family(ws->arg, ws->res, ws->iw, ws->w, 0);
+    double real[NFAMILY > 0 ? NFAMILY : 1], imag[NFAMILY > 0 ? NFAMILY : 1], re[TERMS], im[TERMS];
+    for (int k = 0; k < NFREE; ++k) real[k] = free_target[k] + 0.0;
+    for (int k = 0; k < NCIRCLES; ++k) {
+        real[NFREE + 3 * k] = cos(angles[k]) + 0.0;
+        real[NFREE + 3 * k + 1] = sin(angles[k]) + 0.0;
+        real[NFREE + 3 * k + 2] = 1.0;
+    }
+    for (int k = 0; k < NFAMILY; ++k) imag[k] = 0.0;
+    ws->arg[0] = real; ws->arg[1] = imag;
+    ws->res[0] = re; ws->res[1] = im;
+    rus6_automatic_monomials(ws->arg, ws->res, ws->iw, ws->w, 0);
+    for (int t = 0; t < TERMS; ++t) { out[2 * t] = re[t]; out[2 * t + 1] = im[t]; }
+}
+
+// The target system's term coefficients at n inputs (actuated: input i at i * stride) into out
+// (n x TERMS x 2: re, im), the certificate's system: one call for what
+// parakin.solvers.modes._target_coefficients computes with two kernel calls
+void rus6_target_coefficients(long long n, const double* actuated, long long stride, const double* params,
+                                  double* out);
+void rus6_target_coefficients(long long n, const double* actuated, long long stride, const double* params,
+                                  double* out) {
+    workspace ws;
+    for (long long i = 0; i < n; ++i) target_coefficients(&ws, actuated + i * stride, params, out + i * TERMS * 2);
+}
+
 static void modes_one(workspace* ws, const rus6_modes_job* job, long long i, track_counts* counts) {
     const double* theta = job->actuated + i * job->actuated_stride;
     const double* params = job->params;
