@@ -541,20 +541,43 @@ def _apart(xk: np.ndarray, rk: np.ndarray) -> np.ndarray:
     return np.asarray(gap > (rk[..., :, None] + rk[..., None, :]) * (1 + 8 * UNIT))
 
 
+#: ``_clusters_in_c`` keeps per thread the buffers of a job of at most this many coordinates in all
+#: (a control loop's one input: copies into them cost less than fresh arrays' pointers)
+REUSED_CLUSTER_SIZE = 4096
+_CLUSTER_BUFFERS = threading.local()
+
+
+class _ClusterBuffers:
+    """Inputs and outputs of one shape (..., P, n) of ``NAME_certify_clusters``, with their pointers."""
+
+    def __init__(self, shape: tuple[int, ...]) -> None:
+        self.x, self.r = np.empty(shape, np.complex128), np.empty(shape)
+        self.unique, self.labels = np.empty(shape[:-1], np.bool_), np.empty(shape[:-1], np.int64)
+        self.distinct = np.empty(shape[:-2], np.bool_)
+        self.pointers = tuple(a.ctypes.data for a in (self.x, self.r, self.unique, self.labels, self.distinct))
+
+
 def _clusters_in_c(clusters: Any, x: np.ndarray, r: np.ndarray, unique: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``cluster_labels`` by a library's ``certify_clusters`` (shapes checked by the caller)."""
-    shape = unique.shape
-    count, n = x.shape[-2], x.shape[-1]
-    systems = int(np.prod(shape[:-1], dtype=np.int64))
-    xc = np.ascontiguousarray(x, np.complex128)
-    rc = np.ascontiguousarray(r, np.float64)
-    uc = np.ascontiguousarray(unique, np.bool_)
-    labels = np.empty(shape, np.int64)
-    distinct = np.empty(shape[:-1], np.bool_)
-    clusters(
-        systems, count, n, xc.ctypes.data, rc.ctypes.data, uc.ctypes.data, labels.ctypes.data, distinct.ctypes.data
-    )
-    return labels, distinct[()]
+    shape = x.shape
+    systems, count, n = int(np.prod(shape[:-2], dtype=np.int64)), shape[-2], shape[-1]
+    if x.size > REUSED_CLUSTER_SIZE:
+        buffers = _ClusterBuffers(shape)
+    else:
+        cache = getattr(_CLUSTER_BUFFERS, "cache", None)
+        if cache is None:
+            cache = _CLUSTER_BUFFERS.cache = {}
+        kept = cache.get(shape)
+        if kept is None:
+            if len(cache) >= 16:
+                cache.clear()
+            kept = cache[shape] = _ClusterBuffers(shape)
+        buffers = kept
+    np.copyto(buffers.x, x)
+    np.copyto(buffers.r, r)
+    np.copyto(buffers.unique, unique, casting="unsafe")
+    clusters(systems, count, n, *buffers.pointers)
+    return buffers.labels.copy(), buffers.distinct.copy()[()]
 
 
 @functools.cache
