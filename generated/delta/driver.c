@@ -2292,8 +2292,13 @@ static void kw_clusters(long long systems, long long count, long long n, const d
                 for (long long k = 0; k < n && !apart; ++k) {
                     const double* a = x + 2 * (p * n + k);
                     const double* b = x + 2 * (q * n + k);
-                    double gap = hypot(a[0] - b[0], a[1] - b[1]) * below;
-                    apart = gap > (r[p * n + k] + r[q * n + k]) * above;
+                    double re = a[0] - b[0], im = a[1] - b[1], sum = (r[p * n + k] + r[q * n + k]) * above;
+                    // hypot's result (within an ulp) is at least (1 - 2^-52) max(|re|, |im|): where
+                    // that times (1 - 16 u) exceeds sum, so does hypot's times below (rounding is
+                    // monotone), without the call (NaN parts: to hypot, which may give NaN or inf)
+                    double most = fabs(re) > fabs(im) ? fabs(re) : fabs(im);
+                    if (re == re && im == im && most * (1 - 16 * KW_UNIT) > sum) apart = 1;
+                    else apart = hypot(re, im) * below > sum;
                 }
                 if (apart) continue;
                 touching = 1;
