@@ -49,6 +49,7 @@ TRACKER_CONSTANTS = (
     "OMEGA_FADE",
     "END_REACH",
     "REFINE_ERROR",
+    "ACROSS_NOISE",
 )
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 

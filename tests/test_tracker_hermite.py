@@ -168,3 +168,60 @@ def test_modes_as_the_runge_kutta_pipeline_many(name: str, count: int) -> None:
     assert checked >= 0.9 * count
     assert differ == 0
     assert ours >= theirs
+
+
+# rps3 at spread 0.5 (sample_configurations(seed=23), input 7037 of 10^4): four symmetric paths
+# run to a far endpoint (|z| ~ 5e3) whose H_z has condition ~1e14, and their Newton updates near
+# s = 0 wander along the path by rounding (1e-5 of |z| at s = 7e-5, across it 1e-13): the
+# tracker accepts such a step by the updates across the path (ACROSS_NOISE; issue 33)
+RPS3_FAR = np.array([1.602715774784246, 0.9912383960712283, 0.9392043964066665])
+
+
+def _exact_root(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The root of the target system (the coefficients ``table`` (terms,) at s = 0) that Newton
+    in 40-digit arithmetic (mpmath) reaches from z, to 1e-25."""
+    import mpmath
+
+    with mpmath.workdps(40):
+        c = [mpmath.mpc(complex(x)) for x in table]
+        n = exponents.shape[1]
+        point = mpmath.matrix([mpmath.mpc(complex(x)) for x in z])
+        for _ in range(20):
+            value, jacobian = mpmath.matrix(n, 1), mpmath.matrix(n, n)
+            for t, (e, k) in enumerate(zip(exponents.tolist(), equation.tolist(), strict=True)):
+                powers = [point[i] ** e[i] for i in range(n)]
+                value[k] += c[t] * mpmath.fprod(powers)
+                for i in range(n):
+                    if e[i]:
+                        rest = [point[j] ** (e[j] - (j == i)) for j in range(n)]
+                        jacobian[k, i] += c[t] * e[i] * mpmath.fprod(rest)
+            update = mpmath.lu_solve(jacobian, value)
+            point -= update
+            if mpmath.norm(update, mpmath.inf) < 1e-25 * (1 + mpmath.norm(point, mpmath.inf)):
+                return np.array([complex(x) for x in point])
+    raise AssertionError("Newton in 40 digits did not converge")
+
+
+def test_tracker_reaches_far_ill_conditioned_roots() -> None:
+    """RPS3_FAR's 32 paths all reach s = 0, in the NumPy reference and in the C driver (before
+    ACROSS_NOISE four stalled at s ~ 7e-5, and the re-tracks too); the four far endpoints each lie
+    within 1e-3 of |z| of a root that 40-digit Newton confirms (the double-precision floor there:
+    H_z's condition ~1e14), four distinct roots (apart by 4 % of |z|: no two paths on one)."""
+    m = _load("rps3", "compiled")
+    info = m.capabilities.forward
+    assert info is not None and info.homotopy is not None
+    theta = RPS3_FAR[None]
+    system, start = _system(m, theta)
+    reference = homotopy.track_hermite(system, start, float(m.manifest.tolerances["path_tolerance"]))
+    assert (reference.status == homotopy.PATH_REACHED).all()
+    out = compiled_modes(m, theta)
+    ends = out["endpoints"][0, ..., 0] + 1j * out["endpoints"][0, ..., 1]
+    table = _path_table(m, info, theta, first_instances(m, info, theta))[0, 0]
+    far = np.nonzero(np.abs(reference.z).max(-1) > 1e3)[0]
+    assert far.size == 4
+    roots = np.array([_exact_root(table, info.homotopy.exponents, info.homotopy.equation, reference.z[p]) for p in far])
+    scale = 1 + np.abs(roots).max(-1)
+    apart = np.abs(roots[:, None] - roots[None]).max(-1) / scale[:, None] + np.eye(4)
+    assert apart.min() > 0.03
+    for found in (reference.z[far], ends[far]):
+        assert (np.abs(found - roots).max(-1) / scale < 1e-3).all()

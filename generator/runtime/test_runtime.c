@@ -30,6 +30,7 @@
 #define OMEGA_FADE 0.7
 #define END_REACH 0.5
 #define REFINE_ERROR 1e-12
+#define ACROSS_NOISE 1e-3
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 
 // The test homotopies, equation k in z_k alone:
@@ -238,8 +239,26 @@ static void test_track_paths(const sparse_system* system, cplx (*starts)[NZ], co
     printf("paired %d %lld %lld %lld\n", count, two.steps, two.evaluations, two.factorisations);
 }
 
+// c_across: an update along the slope v has no part across it; one along v plus w (v^H w = 0,
+// w = c (-conj v_1, conj v_0)) has w's, whatever the point it was made at
+static void test_across(void) {
+    cplx v[NZ] = {{1.0, 2.0}, {0.0, -0.5}}, along = {0.3, -0.7}, c = {-0.4, 1.1};
+    cplx w[NZ] = {c_mul(c, (cplx){-v[1].re, v[1].im}), c_mul(c, (cplx){v[0].re, -v[0].im})};
+    cplx after[NZ] = {{5.0, -1.0}, {0.25, 3.0}}, before[NZ], pure[NZ];
+    double largest = 0.0;
+    for (int k = 0; k < NZ; ++k) {
+        cplx d = c_mul(v[k], along);
+        pure[k] = c_add(after[k], d);
+        before[k] = c_add(pure[k], w[k]);
+        largest = c_abs(w[k]) > largest ? c_abs(w[k]) : largest;
+    }
+    check(c_across(pure, after, v) < 1e-15, "c_across: an update along the slope is across it");
+    check(fabs(c_across(before, after, v) - largest) < 1e-14, "c_across: the part across the slope is not w");
+}
+
 int main(void) {
     test_solve();
+    test_across();
     test_hermite_cubic();
     test_predict();
     sparse_system roots = {0, {{4.0, 1.0}, {-9.0, 0.5}}};

@@ -77,6 +77,17 @@ END_REACH = 0.5
 #: mode assembly separates (real_endpoint 1e-8, duplicate 1e-7), and the certificate begins with
 #: Newton steps of its own (krawczyk.h's KW_NEWTON_STEPS); most paths stop after one update
 REFINE_ERROR = 1e-12
+#: A step's corrections that stop contracting can be rounding noise along the path: where H_z is
+#: ill-conditioned its near-null direction is the slope's (a path to a large endpoint, z ~ c / s:
+#: H_z z ~ s H_s), and Newton's updates there wander along the path by ~cond(H_z) eps (rps3, issue
+#: 33: 1e-5 of |z| at s = 7e-5 with cond 1e11, across the slope 1e-13; no step size helps, and
+#: a rejection, which forgets omega, stalls the path). A step short of s = 0 whose updates stop
+#: contracting is accepted where its updates across the path (``_across``) converged (contracting
+#: to the tolerance, or two below it) and its last update is below ACROSS_NOISE: a point of its
+#: own path, shifted along it. Not a step whose updates contract but too slowly (Stewart: such
+#: steps so accepted jumped paths), nor at s = 0, where a shift along the path is an error of the
+#: endpoint (Stewart: a path into a near-singular endpoint converges linearly along its slope)
+ACROSS_NOISE = 1e-3
 
 #: system(index, z, s) -> (H (k, n), H_z (k, n, n), H_s (k, n)) for the paths ``index``
 System = Callable[
@@ -199,6 +210,13 @@ def _newton_with_slope(
     moved = z - both[..., 0]
     size = np.abs(both[..., 0]).max(-1) / _size(moved)
     return moved, -both[..., 1], np.where(np.isfinite(both).all((-2, -1)), size, np.inf)
+
+
+def _across(update: np.ndarray, slope: np.ndarray) -> np.ndarray:
+    """max |update - slope (slope^H update) / (slope^H slope)| per row: the part of each update
+    (k, n) across the path whose slope (k, n) it is (the C tracker's ``c_across``)."""
+    along = (np.conj(slope) * update).sum(-1) / (np.conj(slope) * slope).sum(-1).real
+    return np.abs(update - slope * along[:, None]).max(-1)
 
 
 def _solve_two(matrix: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
@@ -345,7 +363,9 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
     (it grows as the step^4, on the first step as the step^2), within [1/2, STEP_GROW] times the step after an accepted
     step and [STEP_SHRINK, 1/2] after a rejected one, retried from the same point. The endpoint is
     refined at s = 0 (``refine``, stopped where quadratic convergence puts the error left below
-    ``REFINE_ERROR``).
+    ``REFINE_ERROR``). A step short of s = 0 whose updates stop contracting is accepted where
+    those across the path (without their part along the slope) converged and the last update is
+    below ``ACROSS_NOISE`` (rounding noise along an ill-conditioned path).
 
     Parameters
     ----------
@@ -405,18 +425,33 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
             )
             next_slope = np.zeros_like(corrected)
             first, update, error, measured = (np.full(active.size, np.inf) for _ in range(4))
+            across, across_error = np.full(active.size, np.inf), np.full(active.size, np.inf)
             contracting, live = np.ones(active.size, bool), np.ones(active.size, bool)
+            across_contracting, across_done = np.ones(active.size, bool), np.zeros(active.size, bool)
             for iteration in range(CORRECTIONS):
                 rows = np.nonzero(live)[0]
+                before = corrected[rows]
                 corrected[rows], next_slope[rows], size = _newton_with_slope(
                     system, active[rows], corrected[rows], target[rows]
                 )
                 evaluations[active[rows]] += 1
+                # the update across the path: without its part along the slope (ACROSS_NOISE)
+                cross = np.where(
+                    np.isfinite(size),
+                    _across(before - corrected[rows], next_slope[rows]) / _size(corrected[rows]),
+                    np.inf,
+                )
                 if iteration:
                     contracting[rows] &= size <= 0.5 * update[rows]
+                    across_contracting[rows] &= cross <= 0.5 * across[rows]
                     # quadratic convergence: the error left after this update is about
                     # omega size^2 with omega = size / previous^2
                     error[rows] = size * (size / update[rows]) ** 2
+                    across_error[rows] = cross * (cross / across[rows]) ** 2
+                    # across the path converged: as the tolerance asks, or two updates below it
+                    across_done[rows] = (across_contracting[rows] & (across_error[rows] < tolerance)) | (
+                        (cross < tolerance) & (across[rows] < tolerance)
+                    )
                     if iteration == 1:
                         measured[rows] = size / update[rows] ** 2
                 else:
@@ -426,11 +461,25 @@ def track_hermite(system: System, start: np.ndarray, tolerance: float = 1e-7) ->
                     known = omega[active[rows]]
                     enough = (known * size <= ONE_STEP_BASIN) & (known * size * size < ONE_STEP_ERROR)
                     error[rows] = np.where(enough, 0.0, size)
-                update[rows] = size
-                live[rows] = ~(error[rows] < tolerance) & contracting[rows]
+                update[rows], across[rows] = size, cross
+                # a step whose updates stop contracting goes on while those across the path may
+                # still converge (rounding noise along the path: ACROSS_NOISE)
+                hope = (
+                    ~across_done[rows]
+                    & (size < ACROSS_NOISE)
+                    & (target[rows] > 0.0)
+                    & (across_contracting[rows] | (cross < tolerance))
+                )
+                live[rows] = ~(error[rows] < tolerance) & (contracting[rows] | hope)
                 if not live.any():
                     break
             accepted = contracting & (error < tolerance) & np.isfinite(update)
+            # else, updates that stopped contracting short of s = 0, where those across the path
+            # converged and the last is below ACROSS_NOISE: a point of its own path, shifted
+            # along it by rounding (no omega measured)
+            noisy = ~contracting & across_done & (update < ACROSS_NOISE) & (target > 0.0)
+            accepted |= noisy
+            measured[noisy] = np.inf
             power = np.where(history[active], 0.25, 0.5)
             # the omega of the next step: this step's measurement (at least OMEGA_DECAY times the
             # one before), else the one before faded once more
