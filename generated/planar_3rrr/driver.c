@@ -623,6 +623,7 @@ static void settle(workspace* ws, const planar_3rrr_modes_job* job, long long i,
 #define OMEGA_FADE 0.7
 #define END_REACH 0.5
 #define REFINE_ERROR 1e-12
+#define ACROSS_NOISE 0.001
 enum { PATH_REACHED = 0, PATH_FAILED = 1, PATH_DIVERGED = 2 };
 // root kinds of a path's end (manifest abi.root_kinds)
 #define PK_ROOT_SIMPLE 0
@@ -1086,7 +1087,7 @@ static int homotopy_eval(const coefficients_at* at, const cplx* z, cplx* value, 
 //   NZ                  the unknowns (a constant: every work array is on the stack)
 //   CORRECTIONS, INITIAL_STEP, PREDICTOR_TARGET, STEP_SAFETY, STEP_GROW, STEP_SHRINK,
 //   MIN_STEP, ESCAPE, MAX_STEPS, REFINE, END_GAP, RATIONAL_GUARD, ONE_STEP_BASIN, ONE_STEP_ERROR,
-//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, END_REACH, REFINE_ERROR
+//   OMEGA_DECAY, ONE_STEP_GOAL, OMEGA_FADE, END_REACH, REFINE_ERROR, ACROSS_NOISE
 //                       the step control and predictor (parakin.solvers.path_tracking)
 //   PATH_REACHED, PATH_FAILED, PATH_DIVERGED       how a path ends
 //   sparse_system       the homotopy of one input, and coefficients_at its coefficients at one s:
@@ -1190,6 +1191,28 @@ static double c_max_abs(const cplx* v) {
 }
 
 static double c_size(const cplx* z) { return 1.0 + c_max_abs(z); }
+
+// max_k |d_k - v_k (v^H d) / (v^H v)| of the update d = before - after: its part across the path
+// whose slope is v (an update along v moves the point along its own path); path_tracking._across
+static double c_across(const cplx* before, const cplx* after, const cplx* v) {
+    cplx d[NZ];
+    double vv = 0.0, re = 0.0, im = 0.0;
+    for (int k = 0; k < NZ; ++k) {
+        d[k] = c_sub(before[k], after[k]);
+        vv += v[k].re * v[k].re + v[k].im * v[k].im;
+        re += v[k].re * d[k].re + v[k].im * d[k].im;
+        im += v[k].re * d[k].im - v[k].im * d[k].re;
+    }
+    re /= vv;
+    im /= vv;
+    double largest = 0.0;
+    for (int k = 0; k < NZ; ++k) {
+        double x = d[k].re - (v[k].re * re - v[k].im * im), y = d[k].im - (v[k].re * im + v[k].im * re);
+        double size = x * x + y * y;
+        largest = size > largest ? size : largest;
+    }
+    return sqrt(largest);
+}
 
 // fmax(a, b) and fmin(a, b) where a is not NaN (a NaN b gives a, as there), by a comparison:
 // fmax and fmin are calls into the C library on x86
@@ -1328,6 +1351,11 @@ typedef struct { coefficients_at here, target; } step_coefficients;
 // endpoint is refined by Newton until the update stops shrinking, reaches rounding, or leaves an
 // error d (d / previous)^2 below REFINE_ERROR (quadratic convergence; the first update's previous
 // is the final step's last correction; the certificate begins with Newton steps of its own).
+// A step short of s = 0 whose updates stop contracting is accepted where its updates across
+// the path (c_across: without their part along the slope) converged, contracting to the
+// tolerance or twice below it, and its last update is below ACROSS_NOISE: near a large endpoint
+// H_z's near-null direction is the slope's and Newton's rounding noise runs along the path (issue
+// 33, rps3: 1e-5 of |z| along it, 1e-13 across it), which no step size removes.
 //
 // Written as a path_lane that stops before each Newton step (its at, z, velocity in want_*) and
 // resumes with that step's update (lane_resume), so that two paths can be advanced together
@@ -1338,8 +1366,8 @@ typedef struct {
     cplx* z;
     step_coefficients* at;
     track_counts* counts;
-    double s, s_previous, h, omega, fade, step, target, first, update, error, measured, before;
-    int history, steps, iteration, contracting, phase, result;
+    double s, s_previous, h, omega, fade, step, target, first, update, error, measured, before, across, across_error;
+    int history, steps, iteration, contracting, across_contracting, across_done, phase, result;
     cplx slope[NZ], z_previous[NZ], slope_previous[NZ], corrected[NZ], next_slope[NZ], trial[NZ];
     const coefficients_at* want_at;  // the Newton step the lane waits for
     cplx *want_z, *want_velocity;
@@ -1367,10 +1395,12 @@ static int lane_step(path_lane* lane) {
     predict(lane->history, lane->s_previous, lane->z_previous, lane->slope_previous, lane->s, lane->z, lane->slope,
             lane->target, lane->corrected);
     lane->counts->steps += 1;
-    lane->first = lane->update = lane->error = lane->measured = INFINITY;
-    lane->contracting = 1;
+    lane->first = lane->update = lane->error = lane->measured = lane->across = lane->across_error = INFINITY;
+    lane->contracting = lane->across_contracting = 1;
+    lane->across_done = 0;
     lane->iteration = 0;
     lane->phase = LANE_CORRECT;
+    memcpy(lane->trial, lane->corrected, sizeof(lane->trial));  // the point before the correction
     return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
 }
 
@@ -1427,12 +1457,20 @@ static int lane_resume(path_lane* lane, double size) {
         memcpy(lane->trial, lane->z, sizeof(lane->trial));
         return lane_wants(lane, &lane->at->target, lane->trial, NULL);
     }
+    // the update across the path: without its part along the slope (ACROSS_NOISE)
+    double cross = isfinite(size) ? c_across(lane->trial, lane->corrected, lane->next_slope) / c_size(lane->corrected)
+                                  : INFINITY;
     if (lane->iteration) {
         lane->contracting &= size <= 0.5 * lane->update;
+        lane->across_contracting &= cross <= 0.5 * lane->across;
         // quadratic convergence: the error this update leaves is about omega size^2,
         // omega = size / update^2 from the two last updates
-        double ratio = size / lane->update;
+        double ratio = size / lane->update, across_ratio = cross / lane->across;
         lane->error = size * ratio * ratio;
+        lane->across_error = cross * across_ratio * across_ratio;
+        // across the path converged: as the tolerance asks, or two updates below it
+        lane->across_done = (lane->across_contracting && lane->across_error < lane->tolerance) ||
+                            (cross < lane->tolerance && lane->across < lane->tolerance);
         if (lane->iteration == 1) lane->measured = ratio / lane->update;
     } else {
         lane->first = lane->error = size;
@@ -1442,11 +1480,23 @@ static int lane_resume(path_lane* lane, double size) {
         if (lane->omega * size <= ONE_STEP_BASIN && lane->omega * size * size < ONE_STEP_ERROR) lane->error = 0.0;
     }
     lane->update = size;
-    // converged iterates stop: at an ill-conditioned solution further updates are
-    // rounding noise, which need not contract
-    if (!(lane->error < lane->tolerance || !lane->contracting) && ++lane->iteration < CORRECTIONS)
+    lane->across = cross;
+    // converged iterates stop; so do those that stop contracting, unless the updates across
+    // the path may still converge (rounding noise along the path: ACROSS_NOISE)
+    int hope = !lane->across_done && size < ACROSS_NOISE && lane->target > 0.0 &&
+               (lane->across_contracting || cross < lane->tolerance);
+    if (!(lane->error < lane->tolerance) && (lane->contracting || hope) && ++lane->iteration < CORRECTIONS) {
+        memcpy(lane->trial, lane->corrected, sizeof(lane->trial));
         return lane_wants(lane, &lane->at->target, lane->corrected, lane->next_slope);
+    }
     int accepted = lane->contracting && lane->error < lane->tolerance && isfinite(lane->update);
+    // else, updates that stopped contracting short of s = 0, where those across the path
+    // converged and the last is below ACROSS_NOISE: a point of its own path, shifted along it by
+    // rounding (no omega measured)
+    if (!lane->contracting && lane->across_done && lane->update < ACROSS_NOISE && lane->target > 0.0) {
+        accepted = 1;
+        lane->measured = INFINITY;
+    }
     double first = lane->first, step = lane->step;
     // the omega of the next step: this step's measurement (at least OMEGA_DECAY times the one
     // before), else the one before faded once more; the goal, the first correction it aims at
