@@ -2338,9 +2338,6 @@ int delta_certify_roots(const delta_certify_job* job) {
 // unknown, unique (1 byte each) in; labels (int64) and distinct (1 byte per system) out
 void delta_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
                                const double* radii, const unsigned char* unique, long long* labels,
-                               unsigned char* distinct);
-void delta_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
-                               const double* radii, const unsigned char* unique, long long* labels,
                                unsigned char* distinct) {
     kw_clusters(systems, candidates, unknowns, center, radii, unique, labels, distinct);
 }

@@ -2333,9 +2333,6 @@ int planar_3rpr_certify_roots(const planar_3rpr_certify_job* job) {
 // unknown, unique (1 byte each) in; labels (int64) and distinct (1 byte per system) out
 void planar_3rpr_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
                                const double* radii, const unsigned char* unique, long long* labels,
-                               unsigned char* distinct);
-void planar_3rpr_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
-                               const double* radii, const unsigned char* unique, long long* labels,
                                unsigned char* distinct) {
     kw_clusters(systems, candidates, unknowns, center, radii, unique, labels, distinct);
 }

@@ -2260,8 +2260,6 @@ static void target_coefficients(workspace* ws, const double* theta, const double
 // (n x TERMS x 2: re, im), the certificate's system: one call for what
 // parakin.solvers.modes._target_coefficients computes with two kernel calls
 void rps3_target_coefficients(long long n, const double* actuated, long long stride, const double* params,
-                                  double* out);
-void rps3_target_coefficients(long long n, const double* actuated, long long stride, const double* params,
                                   double* out) {
     workspace ws;
     for (long long i = 0; i < n; ++i) target_coefficients(&ws, actuated + i * stride, params, out + i * TERMS * 2);
@@ -3925,9 +3923,6 @@ int rps3_certify_roots(const rps3_certify_job* job) {
 // The clusters of overlapping certified boxes (krawczyk.h's kw_clusters: certify.py's
 // cluster_labels bit for bit) of systems x candidates boxes: centre (x 2 doubles), radii per
 // unknown, unique (1 byte each) in; labels (int64) and distinct (1 byte per system) out
-void rps3_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
-                               const double* radii, const unsigned char* unique, long long* labels,
-                               unsigned char* distinct);
 void rps3_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
                                const double* radii, const unsigned char* unique, long long* labels,
                                unsigned char* distinct) {

@@ -211,7 +211,8 @@ int sps_forward_pose_all_counted(const sps_modes_job* job, long long* counts);
 // Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
 // coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
 // arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
-// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// unique = 1 where the box of centre center (the candidate after one or two Newton steps: they stop
+// after one that moved it at most 1e-10 of its size) and half-widths
 // radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
 // real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
 // power of two near its typical size over the system's candidates; with one (homogeneous_count
@@ -245,6 +246,13 @@ typedef struct {
 
 long long sps_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
 int sps_certify_roots(const sps_certify_job* job);
+// The clusters of overlapping certified boxes of systems x candidates candidates (as
+// sps_certify_roots wrote them: center x 2 doubles, radii per unknown; unique 1 byte each): a
+// cluster label per candidate (labels, int64: the least index in its cluster, -1 where not unique)
+// and, per system, distinct = 1 where no two unique boxes touch
+void sps_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
+                               const double* radii, const unsigned char* unique, long long* labels,
+                               unsigned char* distinct);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.

@@ -222,11 +222,16 @@ int stewart_forward_pose_all(const stewart_modes_job* job);
 // the same, also summing what path tracking cost into counts[5]: paths tracked, step attempts,
 // rejected steps, homotopy evaluations, LU factorisations (all 0 for a closed form)
 int stewart_forward_pose_all_counted(const stewart_modes_job* job, long long* counts);
+// The target system's term coefficients at n inputs (input i at actuated + i * stride) into out
+// (n x terms x 2: re, im): the system whose roots forward_pose_all tracks, for stewart_certify_roots
+void stewart_target_coefficients(long long n, const double* actuated, long long stride, const double* params,
+                                  double* out);
 
 // Krawczyk's certificate of candidate roots of a square polynomial system (any system: term t is
 // coefficients[t] * prod_i z_i^exponents[t][i] in equation equation[t]), in complex interval
 // arithmetic with outward rounding (parakin.solvers.certify.certify_roots's test): per candidate,
-// unique = 1 where the box of centre center (the candidate after two Newton steps) and half-widths
+// unique = 1 where the box of centre center (the candidate after one or two Newton steps: they stop
+// after one that moved it at most 1e-10 of its size) and half-widths
 // radii (per coordinate; radius the smallest) holds exactly one root; real = +1 that root is
 // real, -1 it is not, 0 undecided. Without a homogeneous group each coordinate is measured in a
 // power of two near its typical size over the system's candidates; with one (homogeneous_count
@@ -260,6 +265,13 @@ typedef struct {
 
 long long stewart_certify_workspace(long long candidates, long long terms, long long unknowns, long long degree);
 int stewart_certify_roots(const stewart_certify_job* job);
+// The clusters of overlapping certified boxes of systems x candidates candidates (as
+// stewart_certify_roots wrote them: center x 2 doubles, radii per unknown; unique 1 byte each): a
+// cluster label per candidate (labels, int64: the least index in its cluster, -1 where not unique)
+// and, per system, distinct = 1 where no two unique boxes touch
+void stewart_certify_clusters(long long systems, long long candidates, long long unknowns, const double* center,
+                               const double* radii, const unsigned char* unique, long long* labels,
+                               unsigned char* distinct);
 
 // Batched kernels: input k of entry i starts at inputs[k] + i * strides[k]; outputs are packed
 // row-major per entry. Returns 0 on success.
