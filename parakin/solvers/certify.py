@@ -27,6 +27,19 @@ g |Y| SJ~, so ||Y F(x)|| <= || |Y| (|F~| + g S~) || and ||I - Y J(x)|| <= || |fl
 The rest are sums of products of non-negative numbers (at most K roundings), so the computed left
 side times (1 + g) bounds the exact one: no box passes that the exact test with these bounds
 rejects. Overflow gives inf or NaN, which fails the test.
+
+Realness is decided by the one test's own bounds where it can be (krawczyk.h's argument, stated in
+its opening comment; here in this rounding model). For a system whose coefficients are real (the
+patch's excepted), the conjugate of a root is a root, and a passing box holds exactly one root: where
+it also holds that root's conjugate, the root is real. So: (1) an affine candidate within NEAR of the
+real space is projected onto it, sharpened by Newton steps kept real and tested there (a box about a
+real point is its own conjugate); (2) at a complex centre x, the bounds at x are tried once more on
+the radius (r + 2 max |Im x_i|) (1 + 4 u), which holds the root and its conjugate; (3) homogeneous
+unknowns: on a radius that holds B(x, r) and its image under the patched system's mirror
+(``_mirror_radius``: the conjugate moved back into the patch, whose fixed points are the real
+projective points). Where these fail, a second test at Re x (affine) or in the real chart z_j = 1
+(homogeneous) on a conjugation-symmetric box holding B(x, r); a box missing the real space (or the
+real projective points) holds a non-real root.
 """
 
 from __future__ import annotations
@@ -353,7 +366,9 @@ def certify_roots(
     ``coefficients`` (..., T), ``exponents`` (T, n), ``equation`` (T,) (module docstring).
 
     Realness (+1) needs ``real_coefficients`` and, per input, coefficients whose imaginary parts are
-    exactly 0 (the patch's excepted). With ``homogeneous`` unknowns and the complex linear
+    exactly 0 (the patch's excepted); it is decided from the one test's bounds first (module
+    docstring), as ``certify_roots_compiled`` does: a root certified at a real centre has that real
+    centre (imaginary parts 0). With ``homogeneous`` unknowns and the complex linear
     ``patch_equation`` sum a_i z_i - 1 over them (every other equation homogeneous in them),
     realness is decided in the real chart z_j = 1, j the homogeneous unknown of largest |z_j|."""
     c, exponents, equation, z, batch = _checked_system(coefficients, exponents, equation, roots)
@@ -409,35 +424,41 @@ def _certify(
             )
         if any(np.ptp(degree[equation == k]) for k in set(equation[~patch].tolist())):
             raise BadInputError(f"every equation but the patch must be homogeneous in the unknowns {homogeneous}")
-    system = _System(c, exponents, equation)
     given = np.asarray(np.isfinite(z).all(-1))
-    valid = given.copy()
-    x = np.where(given[..., None], z, 1.0)
-    settled = np.zeros(x.shape[:-1], bool)
-    for _ in range(NEWTON_STEPS):  # sharpen; a step that leaves the finite numbers is dropped
-        step = system.bounds(x)[3]
-        new = x - step
-        take = np.isfinite(new).all(-1) & ~settled
-        x = np.where(take[..., None], new, x)
-        settled |= take & (abs(step).max(-1) <= SETTLED * abs(x).max(-1))
-    bounds = system.bounds(x)
+    # the realness arguments need F (but the patch) to have exactly real coefficients
+    real_system = np.broadcast_to(
+        ((c.imag[..., ~patch] == 0).all(-1) & bool(real_coefficients))[..., None], given.shape
+    )
     # ``unit``: the least size a candidate is measured against (scaled coordinates: their
     # typical size, 1/2 after rounding; a root at the origin moves relative to that)
     scale = NEAR * np.fmax(abs(z).max(-1), unit)
-    valid &= abs(x - z).max(-1) <= scale
-    floor = 4 * UNIT * abs(x).max(-1) + FLOOR
-    radii = MULTIPLIERS * bounds[0][..., None] + floor[..., None]
-    ok = system.passes(x, radii, bounds) & (radii <= scale[..., None]) & valid[..., None]
-    unique = ok.any(-1)
-    radius = np.where(unique, np.take_along_axis(radii, ok.argmax(-1)[..., None], -1)[..., 0], np.nan)
+    unique, radius = np.zeros(given.shape, bool), np.full(given.shape, np.nan)
+    x, floor = np.where(given[..., None], z, 1.0 + 0j), np.zeros(given.shape)
+    wide, real = np.zeros(given.shape, bool), np.zeros(given.shape, bool)
+    todo = given
+    if homogeneous is None:  # within the test's reach of the real space: one test at a real centre
+        near = given & real_system & (abs(z.imag).max(-1) <= scale)
+        if near.any():
+            found = _attempt(c, exponents, equation, z, scale, near, True, unit, None, group)
+            real = found[0].copy()  # B(x, r) about a real x is its own conjugate: its one root is real
+            for out, value in zip((unique, radius, x, floor), found[:4], strict=True):
+                np.copyto(out, value, where=near[(...,) + (None,) * (out.ndim - near.ndim)])
+            todo = given & ~real
+    if todo.any():
+        mirror = (patch_equation, group, patch) if homogeneous is not None else None
+        found = _attempt(c, exponents, equation, z, scale, todo, False, unit, mirror, group)
+        for out, value in zip((unique, radius, x, floor, wide), found, strict=True):
+            np.copyto(out, value, where=todo[(...,) + (None,) * (out.ndim - todo.ndim)])
     r = np.where(unique, radius, 0.0)[..., None]
-    # the realness argument needs F (but the patch) to have exactly real coefficients
-    candidates = unique & (c.imag[..., ~patch] == 0).all(-1)[..., None] & bool(real_coefficients)
+    candidates = unique & real_system & ~real
     # a root whose box misses the real space is non-real
-    nonreal = (abs(x.imag) > r)[..., ~group].any(-1)
-    if homogeneous is None:  # B(x, r) lies in the conjugation-symmetric B(Re x, need)
+    nonreal = (abs(x.imag) > r)[..., ~group].any(-1) & ~real
+    if homogeneous is None:
+        # the one test's bounds at x passed on B(x, r + 2 max |Im x|) (wide): real; else a second
+        # test: B(x, r) lies in the conjugation-symmetric B(Re x, need)
+        real |= wide & candidates & ~nonreal
         need = (abs(x.imag).max(-1) + r[..., 0]) * (1 + 4 * UNIT)
-        real = _contains_where(c, exponents, equation, x.real + 0j, need, floor, candidates & ~nonreal)
+        real |= _contains_where(c, exponents, equation, x.real + 0j, need, floor, candidates & ~nonreal & ~real)
     else:
         jmax = np.asarray(homogeneous)[abs(x[..., homogeneous]).argmax(-1)]
         xj = np.take_along_axis(x, jmax[..., None], -1)
@@ -446,7 +467,8 @@ def _certify(
         cross = abs(x.imag * xj.real - x.real * xj.imag)
         slack = (r * (mi + mj + r) + 8 * UNIT * mi * mj) * (1 + 16 * UNIT)
         nonreal |= (cross > slack)[..., group].any(-1)
-        real = np.zeros(unique.shape, bool)
+        # the mirror's box (wide) passed: the root is its own mirror image, a real projective point
+        real = wide & candidates & ~nonreal
         keep = ~patch
         chart_exponents = np.concatenate([exponents[keep], np.zeros((2, n), np.int64)])
         chart_equation = np.r_[equation[keep], [patch_equation, patch_equation]]
@@ -461,10 +483,96 @@ def _certify(
             # |z_i/z_j - x_i/x_j| <= 2 r (|x_i| + |x_j|) / |x_j|^2 and |x_i/x_j - w_i| = |x_i - w_i x_j| / |x_j|
             gap = (abs(x - w * xj) + 2 * UNIT * abs(w) * mj + 2 * r * (mi + mj) / mj) / mj
             need = np.where(group, gap, abs(x.imag) + r).max(-1) * (1 + 16 * UNIT)
-            pick = candidates & ~nonreal & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
+            pick = candidates & ~nonreal & ~real & (jmax == j) & (4 * r[..., 0] <= mj[..., 0])
             real |= _contains_where(chart_c, chart_exponents, chart_equation, w + 0j, need, floor, pick)
     code = np.where(real, 1, np.where(unique & nonreal, -1, 0)).astype(np.int8)
     return unique, radius, code, np.where(given[..., None], x, np.nan)
+
+
+def _attempt(
+    c: np.ndarray,
+    exponents: np.ndarray,
+    equation: np.ndarray,
+    z: np.ndarray,
+    scale: np.ndarray,
+    mask: np.ndarray,
+    real_centre: bool,
+    unit: float,
+    mirror: tuple | None,
+    group: np.ndarray,
+) -> tuple[np.ndarray, ...]:
+    """One test per candidate z (..., m, n) where ``mask`` (..., m), on systems built for those
+    only: Newton steps (kept real from Re z where ``real_centre``), then the smallest passing radius
+    (at most ``scale``, the centre within ``scale`` of z). Returns, shaped as ``mask`` (and x as z),
+    unique, radius, the centre x, the radius floor and (a complex centre) whether the same bounds
+    at x pass on the box that holds the root's conjugate too (affine: r + 2 max |Im x|; homogeneous,
+    ``mirror`` = (patch equation, group, patch terms): ``_mirror_radius``)."""
+    index = np.nonzero(mask)
+    cs = np.broadcast_to(c[..., None, :], mask.shape + c.shape[-1:])[index]
+    given = z[index][:, None, :]
+    near = scale[index][:, None]
+    system = _System(cs, exponents, equation)
+    x = given.real + 0j if real_centre else given
+    settled = np.zeros(near.shape, bool)
+    for _ in range(NEWTON_STEPS):  # sharpen; a step that leaves the finite numbers is dropped
+        step = system.bounds(x)[3]
+        step = step.real + 0j if real_centre else step
+        new = x - step
+        take = np.isfinite(new).all(-1) & ~settled
+        x = np.where(take[..., None], new, x)
+        settled |= take & (abs(step).max(-1) <= SETTLED * abs(x).max(-1))
+    bounds = system.bounds(x)
+    valid = abs(x - given).max(-1) <= near
+    floor = 4 * UNIT * abs(x).max(-1) + FLOOR
+    radii = MULTIPLIERS * bounds[0][..., None] + floor[..., None]
+    ok = system.passes(x, radii, bounds) & (radii <= near[..., None]) & valid[..., None]
+    unique = ok.any(-1)
+    radius = np.where(unique, np.take_along_axis(radii, ok.argmax(-1)[..., None], -1)[..., 0], np.nan)
+    wide = np.zeros(unique.shape, bool)
+    if not real_centre and unique.any():
+        r = np.where(unique, radius, 0.0)
+        if mirror is None:  # B(x, R) holds the root and its conjugate (rounded up: one sum)
+            outer = (r + 2 * abs(x.imag).max(-1)) * (1 + 4 * UNIT)
+        else:
+            outer = _mirror_radius(cs, exponents, x, r, mirror, system.gain)
+        usable = unique & (outer > 0) & np.isfinite(outer)
+        wide = system.passes(x, np.where(usable, outer, 1.0)[..., None], bounds)[..., 0] & usable
+    out = [np.zeros(mask.shape, bool), np.full(mask.shape, np.nan), np.full(z.shape, np.nan + 0j), np.zeros(mask.shape)]
+    out.append(np.zeros(mask.shape, bool))
+    for target, value in zip(out, (unique, radius, x, floor, wide), strict=True):
+        target[index] = value[:, 0]
+    return tuple(out)
+
+
+def _mirror_radius(
+    c: np.ndarray, exponents: np.ndarray, x: np.ndarray, r: np.ndarray, mirror: tuple, gain: float
+) -> np.ndarray:
+    """A radius about homogeneous centres x (K, 1, n) that holds B(x, r) (r (K, 1)) and its image
+    under the patched system's mirror s(z) = (m conj z_G, conj z_rest), m = -c0 / M(z), M(z) =
+    sum_t c_t conj z_(k_t) over the patch's linear terms (krawczyk.h's kw_mirror_radius), 0 where
+    |M| has no positive lower bound over B(x, r). Over B(x, r): |M(v) - M~| <= g A + C r (A = sum
+    |c_t| |x_(k_t)|, C = sum |c_t|, g the system's ``gain`` >= 2 gamma of these few operations), so
+    |M| >= low; |s(v)_i - x_i| = |-c0 conj v_i - x_i M(v)| / |M(v)| on G, each term bounded as
+    in the module docstring's model (every computed non-negative bound times 1 + g)."""
+    _, group, patch = mirror
+    terms = np.nonzero(patch)[0]
+    linear = exponents[terms].sum(1) > 0
+    k = exponents[terms[linear]].argmax(1)
+    cl, constant = c[:, None, terms[linear]], c[:, None, terms[~linear]]
+    c0, c0_size = constant.sum(-1), abs(constant).sum(-1)
+    xk = x[..., k]
+    total = (cl * xk.conj()).sum(-1)
+    size, spread = (abs(cl) * abs(xk)).sum(-1), abs(cl).sum(-1)
+    g = gain
+    low = (abs(total) * (1 - g) - (g * size + spread * r) * (1 + g)) * (1 - g)
+    ax, rr = abs(x), r[..., None]
+    top = -c0[..., None] * x.conj() - x * total[..., None]
+    error = g * c0_size[..., None] * (ax + rr) + abs(c0)[..., None] * rr + ax * (g * size + spread * r)[..., None]
+    top_up = (abs(top) + error + g * ax * (abs(c0) + abs(total))[..., None]) * (1 + g)
+    with np.errstate(all="ignore"):
+        gap = np.where(group, top_up / low[..., None] * (1 + g), (rr + 2 * abs(x.imag)) * (1 + 4 * UNIT))
+    wide = np.fmax(gap.max(-1), r)
+    return np.where((low > 0) & np.isfinite(wide), wide, 0.0)
 
 
 def _contains_where(
