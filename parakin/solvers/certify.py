@@ -812,14 +812,15 @@ def certify_roots_compiled(
     double-word). Roots near infinity (rus6's, size 1e4..1e8) that need the exact-arithmetic
     certificate (``parakin.solvers.exact_certify``) in NumPy are decided here in ~0.3 ms each.
 
-    Realness of a real system's root is decided by its one test where it can be, before the
-    reference's second test: a box that passes holds exactly one root, so where it also holds
-    that root's conjugate (a root too) the root is real. A candidate within the test's reach of
-    the real space is tested at its projection (a box about a real point is its own conjugate);
-    otherwise the test's bounds at the complex centre x are tried on B(x, r + 2 max |Im x_i|);
-    a homogeneous system's on a box that holds the conjugate moved back into the patch; where
-    these fail, the reference's second test. A root certified at a real centre has that real
-    centre (its imaginary parts 0). Dietmaier's 40 real modes: 0.65 -> 0.36 ms, no second test.
+    Realness of a real system's root is decided by its one test where it can be, as in
+    ``certify_roots`` (the module docstring's argument), before a second test: a box that passes
+    holds exactly one root, so where it also holds that root's conjugate (a root too) the root is
+    real. A candidate within the test's reach of the real space is tested at its projection (a
+    box about a real point is its own conjugate); otherwise the test's bounds at the complex
+    centre x are tried on B(x, r + 2 max |Im x_i|); a homogeneous system's on a box that holds
+    the conjugate moved back into the patch; where these fail, the second test (at Re x, or in
+    the real chart). A root certified at a real centre has that real centre (its imaginary parts
+    0). Dietmaier's 40 real modes: 0.65 -> 0.36 ms, no second test.
 
     Parameters
     ----------
