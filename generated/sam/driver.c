@@ -813,9 +813,8 @@ int sam_forward_pose_all_counted(const sam_modes_job* job, long long* counts) {
 
 // parakin C runtime: Krawczyk's certificate of candidate roots of square polynomial systems in
 // complex interval arithmetic with outward rounding (parakin.solvers.certify.certify_roots is
-// its NumPy reference: the same test, radii, scaling and realness arguments, here each tried
-// after realness from the one test's own box (below); there the rounding errors are bounded by
-// an a-priori model, here every operation is enclosed as it is done).
+// its NumPy reference: the same test, radii, scaling and realness arguments; there the rounding
+// errors are bounded by an a-priori model, here every operation is enclosed as it is done).
 // Copied into every homotopy package's driver by the generator (generator/emit.py), which
 // exports it as NAME_certify_roots; compiled on its own by tests/test_c_runtime.py.
 //
