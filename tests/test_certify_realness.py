@@ -115,3 +115,14 @@ def test_the_mirror_radius_holds_the_conjugate_pair_s_other_root() -> None:
     wide = certify._mirror_radius(np.tile(c, (2, 1)), HOMOGENEOUS_EXPONENTS, x, r, (1, np.ones(2, bool), patch), 1e-13)
     gap = np.abs(roots[::-1] - roots).max(-1)  # each root's distance to the other
     assert (wide[:, 0] >= gap).all() and (wide[:, 0] <= 2 * gap).all()
+
+
+def test_an_overflowing_mirror_bound_proves_nothing() -> None:
+    """z0 - z1 = 0 with the patch z0 = 1e300, at a centre whose first coordinate is visibly
+    non-real: the group's bound |c0 x_i| ~ 1e600 overflows to inf - inf (NaN); the mirror must
+    give no radius (0), where dropping the NaN gave r and called the root real without proof."""
+    c = np.array([[1.0, -1.0, 1.0, -1e300]], complex)
+    exponents, equation = np.array([[1, 0], [0, 1], [1, 0], [0, 0]]), np.array([0, 0, 1, 1])
+    x, r = np.array([[[1e300 + 1e-3j, 1e300]]]), np.array([[1e285]])
+    wide = certify._mirror_radius(c, exponents, x, r, (1, np.ones(2, bool), equation == 1), 1e-13)
+    assert wide.shape == (1, 1) and wide[0, 0] == 0.0

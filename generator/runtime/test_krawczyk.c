@@ -287,6 +287,15 @@ static void test_homogeneous(void) {
         check(pair ? !passes : passes, pair ? "mirror: the box about a point of the conjugate pair passed"
                                             : "mirror: the box about the real point failed");
     }
+    // a bound that overflows (c0 x_i ~ 1e600: inf - inf) gives no mirror radius, not r: z0 - z1 = 0
+    // with the patch z0 = 1e300, at a centre whose first coordinate is visibly non-real
+    {
+        long long a3[] = {1, 0, 0, 1, 1, 0, 0, 0}, eq3[] = {0, 0, 1, 1};
+        double c3[] = {1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1e300, 0.0}, x3[] = {1e300, 1e-3, 1e300, 0.0};
+        kw_job job = {1, 0, 4, 2, c3, a3, eq3, NULL, 1, group, 2, 1, NULL, NULL, NULL, NULL, NULL, NULL, 0};
+        int in_group[2] = {1, 1};
+        check(kw_mirror_radius(&job, c3, in_group, x3, 1e285) == 0.0, "mirror: an overflowing bound dropped");
+    }
     long long bad[] = {2, 0, 0, 1, 1, 0, 0, 1, 0, 0};  // x^2 - 4 y: not homogeneous
     check(certify(5, 2, c, bad, eq, 2, z, group, 2, 1, &out) == -1, "homogeneous: a non-homogeneous equation accepted");
 }

@@ -566,12 +566,14 @@ def _mirror_radius(
     g = gain
     low = (abs(total) * (1 - g) - (g * size + spread * r) * (1 + g)) * (1 - g)
     ax, rr = abs(x), r[..., None]
-    top = -c0[..., None] * x.conj() - x * total[..., None]
-    error = g * c0_size[..., None] * (ax + rr) + abs(c0)[..., None] * rr + ax * (g * size + spread * r)[..., None]
-    top_up = (abs(top) + error + g * ax * (abs(c0) + abs(total))[..., None]) * (1 + g)
+    # a bound that overflowed to inf - inf is NaN: it proves nothing, so it must not be dropped
+    # (np.maximum keeps it, and the radius is then 0)
     with np.errstate(all="ignore"):
+        top = -c0[..., None] * x.conj() - x * total[..., None]
+        error = g * c0_size[..., None] * (ax + rr) + abs(c0)[..., None] * rr + ax * (g * size + spread * r)[..., None]
+        top_up = (abs(top) + error + g * ax * (abs(c0) + abs(total))[..., None]) * (1 + g)
         gap = np.where(group, top_up / low[..., None] * (1 + g), (rr + 2 * abs(x.imag)) * (1 + 4 * UNIT))
-    wide = np.fmax(gap.max(-1), r)
+    wide = np.maximum(gap.max(-1), r)
     return np.where((low > 0) & np.isfinite(wide), wide, 0.0)
 
 
