@@ -1828,6 +1828,7 @@ static double kw_mirror_radius(const kw_job* job, const double* c, const int* in
         } else {
             gap = kw_add_up(r, 2.0 * fabs(x[2 * i + 1]));
         }
+        if (!(gap <= INFINITY)) return 0.0;  // inf - inf in a bound: it proves nothing (kw_max would drop it)
         wide = kw_max(wide, gap);
     }
     return isfinite(wide) ? wide : 0.0;
