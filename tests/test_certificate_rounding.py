@@ -27,7 +27,6 @@ import oracle_modes as om
 import parakin
 from parakin.solvers import modes as modes_module
 from parakin.solvers.exact_certify import certify_root_exactly
-from parakin.solvers.path_tracking import target_coefficients
 
 AT_FOLD = ("planar_3rrr", 5, ("-0x1.041a1065d3419p-1", "0x1.adc7b051a76fap+0", "-0x1.0d7022fcb6292p-3"))
 
@@ -49,7 +48,7 @@ def test_a_certificate_proves_the_rounded_system_not_the_exact_input_at_a_fold()
     # the rounded system, as the certificate sees it (the geometry in its own size)
     scaled, _ = m._unit_free or (m, 1.0)
     free, angles = modes_module._family(scaled, info, values[None])
-    coefficients = target_coefficients(modes_module._monomials(scaled, info), free, angles)[0]
+    coefficients = modes_module._target_coefficients(scaled, info, free, angles)[0]
     homotopy = info.homotopy
     z = out["endpoints"][0, ..., 0] + 1j * out["endpoints"][0, ..., 1]
     boxes = []

@@ -25,7 +25,6 @@ from parakin.solvers import exact_certify
 from parakin.solvers import modes as modes_module
 from parakin.solvers.certify import certify_roots
 from parakin.solvers.exact_certify import certify_root_exactly
-from parakin.solvers.path_tracking import target_coefficients
 
 #: actuated values (rad) of the formerly incomplete inputs (the census's inputs 13, 156, 178, 195)
 FORMERLY_INCOMPLETE = {
@@ -52,7 +51,7 @@ def _system(m, theta):
     scaled, unit = m._unit_free or (m, 1.0)
     info = scaled.capabilities.forward
     free, angles = modes_module._family(scaled, info, theta[None])
-    coefficients = target_coefficients(modes_module._monomials(scaled, info), free, angles)[0]
+    coefficients = modes_module._target_coefficients(scaled, info, free, angles)[0]
     return info.homotopy, coefficients
 
 

@@ -82,11 +82,10 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
         _certified_group,
         _certify_endpoints,
         _family,
-        _monomials,
         _paired_ends,
+        _target_coefficients,
         compiled_modes,
     )
-    from parakin.solvers.path_tracking import target_coefficients
 
     m = parakin.load("prs3", backend="compiled")
     info = m.capabilities.forward
@@ -94,7 +93,7 @@ def test_certifying_one_path_of_each_pair_gives_the_full_certificate():
     theta = sample_configurations(m, 40, seed=31).actuated
     endpoints = compiled_modes(m, theta)["endpoints"]
     roots = endpoints[..., 0] + 1j * endpoints[..., 1]
-    coefficients = target_coefficients(_monomials(m, info), *_family(m, info, theta))
+    coefficients = _target_coefficients(m, info, *_family(m, info, theta))
     full = certify_roots(
         coefficients, homotopy.exponents, homotopy.equation, roots,
         homogeneous=_certified_group(homotopy), patch_equation=homotopy.patch_equation,

@@ -693,10 +693,10 @@ def _monomials(m: Mechanism, info: Forward):
 
 
 def _target_coefficients(m: Mechanism, info: Forward, free: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """``path_tracking.target_coefficients(_monomials(m, info), free, angles)``, the same numbers
-    with fewer temporaries: the kernel's real input written in place (free values, then (cos,
-    sin, 1) per angle) and its imaginary input one shared row of zeros. Each entry is what the
-    complex values' real part is there: x + 0.0 (a -0.0 becomes 0.0, as in x + 0j)."""
+    """The coefficients (inputs, terms) of the system at the inputs themselves, angles as (cos,
+    sin, 1): real but for a patch of homogeneous unknowns. The kernel's real input is written in
+    place (free values, then (cos, sin, 1) per angle) and its imaginary input is one shared row of
+    zeros; each entry is x + 0.0 (a -0.0 becomes 0.0, as x + 0j would make it)."""
     rows, size, circles = free.shape[0], free.shape[1], angles.shape[1]
     real = np.empty((rows, size + 3 * circles))
     with np.errstate(all="ignore"):

@@ -628,15 +628,6 @@ def near_home(
         return (np.abs(point - center) / scale <= radius).all(-1)
 
 
-def target_coefficients(
-    monomials: Callable[[np.ndarray], np.ndarray], free: np.ndarray, angles: np.ndarray
-) -> np.ndarray:
-    """The coefficients (inputs, terms) of the system at the inputs themselves, angles as
-    (cos, sin, 1): real but for a patch of homogeneous unknowns."""
-    circle = np.stack([np.cos(angles), np.sin(angles), np.ones_like(angles)], axis=-1)
-    return monomials(np.concatenate([free + 0j, circle.reshape(angles.shape[:-1] + (-1,)) + 0j], axis=-1))
-
-
 def sparse_system(table: np.ndarray, exponents: np.ndarray, equation: np.ndarray, paths: int) -> System:
     """The system of a generated homotopy from its coefficients in s (inputs, powers, terms):
     equation k is the sum over the monomials t with ``equation[t] == k`` of
