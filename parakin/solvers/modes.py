@@ -45,6 +45,7 @@ from parakin.solvers.path_tracking import (
     path_coefficients,
     path_pairs,
     phase_normalised,
+    real_phase,
     track,
     track_symmetric,
     typical_root_size,
@@ -1001,12 +1002,7 @@ def _real_centres(centres: np.ndarray, homogeneous: tuple[int, ...] | list[int])
     """The real parts of certified centres (k, n_z), each first scaled, where the family has a
     homogeneous group, so that its largest homogeneous entry is real and positive: the real
     point of ``path_tracking.phase_normalised``, without its measure of the imaginary part."""
-    if homogeneous:
-        block = centres[:, list(homogeneous)]
-        largest = block[np.arange(block.shape[0]), np.abs(block).argmax(-1)][:, None]
-        with np.errstate(all="ignore"):
-            centres = centres * (np.abs(largest) / largest)
-    return centres.real
+    return real_phase(centres, homogeneous).real
 
 
 def _repeats_partner(

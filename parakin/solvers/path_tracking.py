@@ -680,6 +680,17 @@ def is_known(known: np.ndarray, candidate: np.ndarray) -> bool:
     return bool(known.size) and bool(np.abs(known - candidate).max(-1).min() <= 1e-6 * (1 + np.abs(candidate).max()))
 
 
+def real_phase(z: np.ndarray, homogeneous: list[int] | tuple[int, ...]) -> np.ndarray:
+    """z (..., n) scaled, where there is a homogeneous group, so that its largest homogeneous
+    entry is real and positive (a complex multiple of a real solution becomes that solution)."""
+    if not homogeneous:
+        return z
+    block = z[..., list(homogeneous)]
+    largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
+    with np.errstate(all="ignore"):
+        return z * (np.abs(largest) / largest)
+
+
 def phase_normalised(
     z: np.ndarray, homogeneous: list[int], typical: np.ndarray | float = 0.0
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -689,11 +700,7 @@ def phase_normalised(
     root size, ``typical_root_size``; broadcast against z[..., 0]) where that is larger (0 for a
     real solution). A root at the origin (a translating platform at home) has coordinates of
     rounding size whose imaginary parts are as large: measured against themselves, 0/0."""
-    if homogeneous:
-        block = z[..., homogeneous]
-        largest = np.take_along_axis(block, np.abs(block).argmax(-1)[..., None], axis=-1)
-        with np.errstate(all="ignore"):
-            z = z * (np.abs(largest) / largest)
+    z = real_phase(z, homogeneous)
     with np.errstate(all="ignore"):
         largest_imaginary = np.abs(z.imag).max(-1)
         imaginary = np.where(largest_imaginary == 0, 0.0, largest_imaginary / np.fmax(np.abs(z).max(-1), typical))
