@@ -78,7 +78,7 @@ def test_the_complex_centre_s_widened_box(q: Any, real: bool) -> None:
     size = np.abs(candidates).max(-1)
     mask = np.ones(size.shape, bool)
     unique, radius, x, _, wide = certify._attempt(
-        coefficients(float(q)), EXPONENTS, EQUATION, candidates, 1e-6 * size, mask, False, 1e-150, None, np.zeros(2, bool)
+        coefficients(float(q)), EXPONENTS, EQUATION, candidates, 1e-6 * size, mask, False, None
     )  # fmt: skip
     assert unique.all() and (wide == real).all()
     for p in range(4):

@@ -439,14 +439,14 @@ def _certify(
     if homogeneous is None:  # within the test's reach of the real space: one test at a real centre
         near = given & real_system & (abs(z.imag).max(-1) <= scale)
         if near.any():
-            found = _attempt(c, exponents, equation, z, scale, near, True, unit, None, group)
+            found = _attempt(c, exponents, equation, z, scale, near, True, None)
             real = found[0].copy()  # B(x, r) about a real x is its own conjugate: its one root is real
             for out, value in zip((unique, radius, x, floor), found[:4], strict=True):
                 np.copyto(out, value, where=near[(...,) + (None,) * (out.ndim - near.ndim)])
             todo = given & ~real
     if todo.any():
         mirror = (patch_equation, group, patch) if homogeneous is not None else None
-        found = _attempt(c, exponents, equation, z, scale, todo, False, unit, mirror, group)
+        found = _attempt(c, exponents, equation, z, scale, todo, False, mirror)
         for out, value in zip((unique, radius, x, floor, wide), found, strict=True):
             np.copyto(out, value, where=todo[(...,) + (None,) * (out.ndim - todo.ndim)])
     r = np.where(unique, radius, 0.0)[..., None]
@@ -497,9 +497,7 @@ def _attempt(
     scale: np.ndarray,
     mask: np.ndarray,
     real_centre: bool,
-    unit: float,
     mirror: tuple | None,
-    group: np.ndarray,
 ) -> tuple[np.ndarray, ...]:
     """One test per candidate z (..., m, n) where ``mask`` (..., m), on systems built for those
     only: Newton steps (kept real from Re z where ``real_centre``), then the smallest passing radius
