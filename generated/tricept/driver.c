@@ -2926,6 +2926,21 @@ static int kw_settled(long long n, const double* x, const double* step, int real
     return move <= KW_SETTLED * size;
 }
 
+// At most steps Newton steps on x in place (a step leaving the finite numbers is dropped), after
+// a settled one (kw_settled) no more where stop; real_only: the real parts only (a real centre's
+// steps: on real F~ and J~ the imaginary parts are zeros, +0 or -0, and x stays a real point)
+static void kw_sharpen(const kw_system* s, double* x, kw_scratch* w, int steps, int real_only, int stop) {
+    long long n = s->n, stride = real_only ? 2 : 1;
+    for (int k = 0; k < steps; ++k) {
+        if (!kw_newton(s, x, w)) continue;
+        int finite = 1;
+        for (long long i = 0; i < 2 * n; i += stride) finite &= isfinite(x[i] - w->step[i]);
+        if (!finite) continue;
+        for (long long i = 0; i < 2 * n; i += stride) x[i] -= w->step[i];
+        if (stop && kw_settled(n, x, w->step, real_only)) break;
+    }
+}
+
 // The real centre's test (a system of real coefficients, s->accurate 0): x = Re given, sharpened by
 // KW_NEWTON_STEPS Newton steps kept real (each step's imaginary parts dropped: on real F~ and J~
 // they are zeros, +0 or -0, and a centre only needs to be a real point), then one test on
@@ -2939,14 +2954,7 @@ static double kw_real_centre(const kw_system* s, const double* given, double lim
         x[2 * i] = given[2 * i];
         x[2 * i + 1] = 0.0;
     }
-    for (int k = 0; k < KW_NEWTON_STEPS; ++k) {  // a step leaving the finite numbers is dropped
-        if (!kw_newton(s, x, w)) continue;
-        int finite = 1;
-        for (long long i = 0; i < n; ++i) finite &= isfinite(x[2 * i] - w->step[2 * i]);
-        if (!finite) continue;
-        for (long long i = 0; i < n; ++i) x[2 * i] -= w->step[2 * i];
-        if (kw_settled(n, x, w->step, 1)) break;
-    }
+    kw_sharpen(s, x, w, KW_NEWTON_STEPS, 1, 1);
     double moved = 0.0;
     for (long long i = 0; i < n; ++i) moved = kw_max(moved, hypot(x[2 * i] - given[2 * i], given[2 * i + 1]));
     kw_bounds bounds;
@@ -3278,14 +3286,7 @@ static int kw_certify(const kw_job* job) {
                 // first's centre stalled (its Newton step still above the test's reach) or Newton
                 // in double moved it beyond KW_NEAR (the second may move it KW_REACH)
                 for (long long i = 0; i < 2 * n; ++i) x[i] = given[i];
-                for (int k = 0; k < KW_NEWTON_STEPS + s.accurate; ++k) {  // sharpen; a step leaving the finite numbers is dropped
-                    if (!kw_newton(&s, x, &w)) continue;
-                    int finite = 1;
-                    for (long long i = 0; i < 2 * n; ++i) finite &= isfinite(x[i] - w.step[i]);
-                    if (!finite) continue;
-                    for (long long i = 0; i < 2 * n; ++i) x[i] -= w.step[i];
-                    if (!s.accurate && kw_settled(n, x, w.step, 0)) break;  // (double-word: every step)
-                }
+                kw_sharpen(&s, x, &w, KW_NEWTON_STEPS + s.accurate, 0, !s.accurate);  // (double-word: every step)
                 for (long long i = 0; i < n; ++i) {
                     double f = kw_ldexp(1.0, shift[i]);
                     centre[2 * i] = x[2 * i] * f;
